@@ -1,0 +1,1 @@
+"""Path following, approach adjustment and fuzzy approaching (paper 002)."""

@@ -1,0 +1,1 @@
+"""Bezier path planning of papers 000 and 001."""

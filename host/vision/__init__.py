@@ -1,0 +1,1 @@
+"""Fixed-point marker detectors of papers 000 and 002."""

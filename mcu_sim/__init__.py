@@ -1,0 +1,1 @@
+"""The emulated ATmega128 and the simulated hardware around both boards."""

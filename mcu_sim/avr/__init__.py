@@ -1,0 +1,1 @@
+"""Register-level peripheral models of the ATmega128 (timers, USART, pins), timed in simulated microseconds."""

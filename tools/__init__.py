@@ -1,0 +1,1 @@
+"""The ``mobigrasp`` command-line interface."""

@@ -1,0 +1,57 @@
+"""Entry point of the ``mobigrasp`` command: parses arguments and dispatches to a subcommand.
+
+Subcommands live in ``tools/commands/<name>.py`` and are discovered here, so that parallel work on
+different commands never edits this file. Each module defines ``register(subparsers)`` which adds
+its parser and sets ``func`` (a callable taking the parsed namespace and returning an exit code).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import pkgutil
+import sys
+from importlib.metadata import PackageNotFoundError, version
+
+import tools.commands
+
+
+def _version() -> str:
+    try:
+        return version("mobigrasp")
+    except PackageNotFoundError:  # running from a source tree without an install
+        return "0+unknown"
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Build the full argument parser, one subparser per module under ``tools/commands``."""
+    parser = argparse.ArgumentParser(
+        prog="mobigrasp",
+        description="Embedded mobile manipulator of papers 000-002: host, emulated MCU, world.",
+    )
+    parser.add_argument("--version", action="version", version=f"mobigrasp {_version()}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for info in sorted(pkgutil.iter_modules(tools.commands.__path__), key=lambda m: m.name):
+        if info.name.startswith("_"):
+            continue
+        module = importlib.import_module(f"tools.commands.{info.name}")
+        module.register(sub)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run ``mobigrasp``; returns the process exit code (2 for bad input, as argparse does)."""
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "func", None):
+        parser.print_help()
+        return 2
+    try:
+        return int(args.func(args) or 0)
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,1 @@
+"""Subcommands of ``mobigrasp``: each module defines ``register(subparsers)``; the CLI discovers them."""

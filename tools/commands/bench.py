@@ -1,0 +1,68 @@
+"""``mobigrasp bench NAME [--json PATH]``: run a benchmark, print a table, write its figures as JSON.
+
+Benchmarks live in ``tools/benches/<name>.py``; each defines ``NAME``, ``HELP``, optionally
+``add_arguments(parser)``, and ``run(args) -> dict``. Keys carry units (``parse_mb_per_s``); where
+a ratio is the point, the baseline is measured in the same run and stored next to it.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import pkgutil
+from pathlib import Path
+
+import tools.benches
+
+
+def _benches() -> dict:
+    found = {}
+    for info in pkgutil.iter_modules(tools.benches.__path__):
+        if info.name.startswith("_"):
+            continue
+        module = importlib.import_module(f"tools.benches.{info.name}")
+        found[module.NAME] = module
+    return found
+
+
+def format_table(results: dict, prefix: str = "") -> list[str]:
+    """Flatten nested result dicts into aligned ``key  value`` lines."""
+    lines: list[str] = []
+    for key, value in results.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            lines.extend(format_table(value, prefix=f"{name}."))
+        elif isinstance(value, float):
+            lines.append(f"{name:<48} {value:>14.4g}")
+        else:
+            lines.append(f"{name:<48} {value!s:>14}")
+    return lines
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``bench`` subcommand and one sub-subcommand per benchmark."""
+    parser = sub.add_parser("bench", help="run a benchmark; prints a table and writes JSON")
+    inner = parser.add_subparsers(dest="bench_name", metavar="NAME", required=True)
+    for name, module in sorted(_benches().items()):
+        p = inner.add_parser(name, help=module.HELP)
+        p.add_argument("--json", type=Path, default=None,
+                       help=f"where to write the figures (default bench-results/{name}.json)")
+        if hasattr(module, "add_arguments"):
+            module.add_arguments(p)
+        p.set_defaults(func=_runner(name, module))
+
+
+def _runner(name: str, module):
+    def run(args: argparse.Namespace) -> int:
+        results = module.run(args)
+        print(f"mobigrasp bench {name}")
+        for line in format_table(results):
+            print("  " + line)
+        path = args.json or Path("bench-results") / f"{name}.json"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps({"bench": name, **results}, indent=2, sort_keys=True) + "\n")
+        print(f"written {path}")
+        return 0
+
+    return run

@@ -1,0 +1,60 @@
+"""Rules import-linter cannot express: protocol/ is standard library only, and no wall clock.
+
+DESIGN.md: the protocol must port to the ATmega128 and host/protocol/firmware get time from a Clock.
+"""
+
+import ast
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _imports(path: Path) -> list[tuple[int, str]]:
+    tree = ast.parse(path.read_text(), filename=str(path))
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found += [(node.lineno, alias.name) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.level == 0 and node.module:
+            found.append((node.lineno, node.module))
+    return found
+
+
+def test_protocol_imports_only_stdlib():
+    bad = []
+    for path in sorted((ROOT / "protocol").rglob("*.py")):
+        for line, name in _imports(path):
+            top = name.split(".")[0]
+            if top != "protocol" and top not in sys.stdlib_module_names and top != "__future__":
+                bad.append(f"{path.relative_to(ROOT)}:{line} imports {name}")
+    assert not bad, "protocol/ must import only the standard library:\n" + "\n".join(bad)
+
+
+WALL_CLOCK = {("time", "time"), ("time", "sleep"), ("time", "monotonic"), ("time", "perf_counter"),
+              ("time", "time_ns"), ("time", "monotonic_ns"), ("datetime", "now")}
+
+
+def test_no_wall_clock_in_host_protocol_firmware():
+    bad = []
+    for sub in ("host", "protocol", "mcu_sim/firmware"):
+        for path in sorted((ROOT / sub).rglob("*.py")):
+            tree = ast.parse(path.read_text(), filename=str(path))
+            for node in ast.walk(tree):
+                if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+                    if (node.value.id, node.attr) in WALL_CLOCK:
+                        bad.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.value.id}.{node.attr}")
+                if isinstance(node, ast.ImportFrom) and node.module == "time":
+                    names = {a.name for a in node.names}
+                    if names & {"time", "sleep", "monotonic", "perf_counter"}:
+                        bad.append(f"{path.relative_to(ROOT)}:{node.lineno} from time import {names}")
+    assert not bad, "wall clock used where the simulated Clock belongs:\n" + "\n".join(bad)
+
+
+def test_host_does_not_import_simulator():
+    bad = []
+    for path in sorted((ROOT / "host").rglob("*.py")):
+        for line, name in _imports(path):
+            if name.split(".")[0] in {"mcu_sim", "pymunk", "tools"}:
+                bad.append(f"{path.relative_to(ROOT)}:{line} imports {name}")
+    assert not bad, "\n".join(bad)

@@ -1,0 +1,54 @@
+"""Integer RGB -> grey conversion, the first stage of every detector.
+
+Luma with the BT.601 weights scaled by 256 so the sum of weights is exactly 256:
+``Y = (77 R + 150 G + 29 B) >> 8``. A white pixel (255, 255, 255) maps to 255 and the
+result always fits in ``uint8``, so no clamp is needed. On the ARM920T each pixel costs three
+byte loads, three 16-bit multiplies, two adds, one shift and one byte store.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from host.budget import OpCounts
+
+W_R = 77
+W_G = 150
+W_B = 29
+SHIFT = 8  # W_R + W_G + W_B == 1 << SHIFT
+
+
+def grey_cost(height: int, width: int) -> OpCounts:
+    """Operation counts of :func:`to_grey` on an ``height x width`` RGB frame."""
+    n = int(height) * int(width)
+    return OpCounts(
+        pixels_read=3 * n,
+        pixels_written=n,
+        muls=3 * n,
+        alu=3 * n + n // 4,  # 2 adds + 1 shift per pixel, loop counter amortised over 4x unroll
+        branches=n // 4,
+        bytes_streamed=3 * n,
+    )
+
+
+def to_grey(rgb: np.ndarray) -> tuple[np.ndarray, OpCounts]:
+    """Integer luma of an ``(H, W, 3)`` uint8 RGB frame.
+
+    Returns the ``(H, W)`` uint8 grey image and the operation counts.
+    Raises ``ValueError`` if ``rgb`` is not a non-empty ``(H, W, 3)`` uint8 array.
+    """
+    if not isinstance(rgb, np.ndarray):
+        raise ValueError(f"to_grey: expected a numpy array, got {type(rgb).__name__}")
+    if rgb.dtype != np.uint8:
+        raise ValueError(f"to_grey: expected dtype uint8, got {rgb.dtype}")
+    if rgb.ndim != 3 or rgb.shape[2] != 3:
+        raise ValueError(f"to_grey: expected shape (H, W, 3), got {rgb.shape}")
+    h, w = rgb.shape[:2]
+    if h == 0 or w == 0:
+        raise ValueError(f"to_grey: empty frame {rgb.shape}")
+    # uint16 is enough: 255 * 256 = 65280 < 65536.
+    acc = rgb[..., 0].astype(np.uint16) * W_R
+    acc += rgb[..., 1].astype(np.uint16) * W_G
+    acc += rgb[..., 2].astype(np.uint16) * W_B
+    grey = (acc >> SHIFT).astype(np.uint8)
+    return grey, grey_cost(h, w)

@@ -1,0 +1,196 @@
+"""Frames of the serial protocol and the stream parser that finds them in any byte chunking.
+
+Wire format (see docs/protocol.md)::
+
+    COBS( version u8 | seq u8 | msg_type u8 | payload (0..64 bytes) | crc16 u16 LE ) | 0x00
+
+The CRC is CRC-16/CCITT-FALSE over version..payload. COBS guarantees that 0x00 appears only as the
+delimiter, so after any corruption the parser resumes at the very next 0x00 and never skips a good
+frame (the MAVLink resync pitfalls of DESIGN.md cannot happen: there is no length field to trust
+and no start byte that can occur inside a payload).
+"""
+
+from __future__ import annotations
+
+import binascii
+from dataclasses import dataclass, fields
+
+from protocol.cobs import cobs_encode, decode_zero_free
+
+PROTOCOL_VERSION = 1
+MAX_PAYLOAD = 64
+HEADER_LEN = 3  # version, seq, msg_type
+CRC_LEN = 2
+MIN_RAW = HEADER_LEN + CRC_LEN
+MAX_RAW = HEADER_LEN + MAX_PAYLOAD + CRC_LEN  # 69
+MAX_ENCODED = MAX_RAW + 1  # COBS adds one code byte per started 254 bytes: 70, delimiter excluded
+MAX_WIRE = MAX_ENCODED + 1  # with the 0x00 delimiter: 71 bytes
+DELIMITER = b"\x00"
+# HELLO keeps its frame layout in every protocol version, so a peer of another version is still
+# parsed and can be answered with NACK_BAD_VERSION instead of silence.
+VERSION_FREE_TYPES = frozenset({0x01})
+
+
+def _check_u8(name: str, value: object) -> None:
+    if isinstance(value, bool) or not isinstance(value, int) or not 0 <= value <= 0xFF:
+        raise ValueError(f"Frame.{name} must be an int in [0, 255], got {value!r}")
+
+
+@dataclass(frozen=True)
+class Frame:
+    """One checked frame: header fields and the raw message payload (at most MAX_PAYLOAD bytes)."""
+
+    version: int
+    seq: int
+    msg_type: int
+    payload: bytes
+
+    def __post_init__(self) -> None:
+        _check_u8("version", self.version)
+        _check_u8("seq", self.seq)
+        _check_u8("msg_type", self.msg_type)
+        if not isinstance(self.payload, bytes | bytearray | memoryview):
+            raise ValueError(f"Frame.payload must be bytes, got {type(self.payload).__name__}")
+        if len(self.payload) > MAX_PAYLOAD:
+            raise ValueError(
+                f"Frame.payload is {len(self.payload)} bytes, at most {MAX_PAYLOAD} allowed"
+            )
+        object.__setattr__(self, "payload", bytes(self.payload))
+
+
+def _trusted_frame(version: int, seq: int, msg_type: int, payload: bytes) -> Frame:
+    # The parser builds frames from bytes it has just range-checked; skipping __post_init__
+    # keeps it well above the 5 MB/s target.
+    frame = object.__new__(Frame)
+    object.__setattr__(frame, "version", version)
+    object.__setattr__(frame, "seq", seq)
+    object.__setattr__(frame, "msg_type", msg_type)
+    object.__setattr__(frame, "payload", payload)
+    return frame
+
+
+def encode_frame(frame: Frame) -> bytes:
+    """Wire bytes of ``frame``: COBS-encoded header+payload+CRC followed by the 0x00 delimiter."""
+    raw = bytes((frame.version, frame.seq, frame.msg_type)) + frame.payload
+    crc = binascii.crc_hqx(raw, 0xFFFF)
+    return cobs_encode(raw + bytes((crc & 0xFF, crc >> 8))) + DELIMITER
+
+
+@dataclass
+class ParserStats:
+    """What the parser accepted and rejected. Every rejected frame increments exactly one reason
+    counter and adds its encoded length to ``garbage_bytes``."""
+
+    frames_ok: int = 0
+    crc_errors: int = 0
+    oversize: int = 0  # more than MAX_ENCODED bytes before a delimiter
+    unknown_type: int = 0
+    bad_version: int = 0
+    truncated: int = 0  # runt: fewer than 5 bytes after COBS decoding, or cut at end of stream
+    cobs_errors: int = 0  # a COBS code byte pointing past the delimiter (bytes lost in transit)
+    garbage_bytes: int = 0
+    bytes_in: int = 0
+
+    def as_dict(self) -> dict[str, int]:
+        """The counters as a plain dict (for JSON and for Link.stats)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+class FrameParser:
+    """Turns a byte stream, in any chunking, into checked frames; counts what it rejects.
+
+    ``known_types``: the message types this end understands (None = accept every type and let
+    the message layer decide, which the firmware needs in order to answer NACK_UNKNOWN_TYPE).
+    The pending buffer never exceeds MAX_ENCODED bytes: a longer run without a delimiter is
+    counted once as ``oversize`` and skipped up to the next 0x00.
+    """
+
+    def __init__(self, known_types=None, version: int = PROTOCOL_VERSION) -> None:
+        self.known_types = None if known_types is None else frozenset(known_types)
+        self.version = version
+        self.stats = ParserStats()
+        self._buf = b""
+        self._skipping = False
+
+    @property
+    def pending(self) -> int:
+        """Bytes held while waiting for a delimiter (0..MAX_ENCODED)."""
+        return len(self._buf)
+
+    def reset(self) -> None:
+        """Forget any partial frame (counters are kept)."""
+        self._buf = b""
+        self._skipping = False
+
+    def flush(self) -> None:
+        """End of stream: a partial frame still pending is counted as truncated and dropped."""
+        if self._buf:
+            self.stats.truncated += 1
+            self.stats.garbage_bytes += len(self._buf)
+        self.reset()
+
+    def feed(self, chunk: bytes) -> list[Frame]:
+        """Consume ``chunk`` and return the complete valid frames it finished, in order."""
+        if not chunk:
+            return []
+        stats = self.stats
+        stats.bytes_in += len(chunk)
+        data = self._buf + bytes(chunk) if self._buf else bytes(chunk)
+        pieces = data.split(b"\x00")
+        tail = pieces.pop()
+        frames: list[Frame] = []
+        if self._skipping:
+            if not pieces:  # still inside an oversize run
+                stats.garbage_bytes += len(tail)
+                return frames
+            stats.garbage_bytes += len(pieces[0])
+            pieces[0] = b""
+            self._skipping = False
+        known = self.known_types
+        version = self.version
+        crc_hqx = binascii.crc_hqx
+        append = frames.append
+        for piece in pieces:
+            n = len(piece)
+            if n == 0:
+                continue  # idle delimiter: senders may emit extra 0x00 to force a resync
+            if n > MAX_ENCODED:
+                stats.oversize += 1
+                stats.garbage_bytes += n
+                continue
+            if piece[0] == n:
+                raw = piece[1:]
+            else:
+                try:
+                    raw = decode_zero_free(piece)
+                except ValueError:
+                    stats.cobs_errors += 1
+                    stats.garbage_bytes += n
+                    continue
+            m = len(raw)
+            if m < MIN_RAW:
+                stats.truncated += 1
+                stats.garbage_bytes += n
+                continue
+            if crc_hqx(raw[:-2], 0xFFFF) != raw[-2] | (raw[-1] << 8):
+                stats.crc_errors += 1
+                stats.garbage_bytes += n
+                continue
+            msg_type = raw[2]
+            if raw[0] != version and msg_type not in VERSION_FREE_TYPES:
+                stats.bad_version += 1
+                stats.garbage_bytes += n
+                continue
+            if known is not None and msg_type not in known:
+                stats.unknown_type += 1
+                stats.garbage_bytes += n
+                continue
+            stats.frames_ok += 1
+            append(_trusted_frame(raw[0], raw[1], msg_type, raw[3:-2]))
+        if len(tail) > MAX_ENCODED:
+            stats.oversize += 1
+            stats.garbage_bytes += len(tail)
+            tail = b""
+            self._skipping = True
+        self._buf = tail
+        return frames

@@ -1,0 +1,153 @@
+"""The 6-DOF arm on the base: joint servos, forward kinematics (eq. (3) of 000) and the grasp rule.
+
+Joint numbering per docs/conventions.md (paper 000): theta5 waist yaw, theta4 shoulder pitch
+(link l1), theta3 elbow pitch (l2), theta2 wrist pitch (l3), theta1 wrist roll, theta0 gripper.
+Pitch angles are from the horizontal, positive up; ``alpha = theta2 + theta3 + theta4`` is the
+pitch of l3 and of the camera's optical axis.
+
+Platform frame O_r (000, Fig. 2): origin on the waist axis at the shoulder height, Y_r forward,
+X_r right, Z_r up. The camera (and the gripper fingertips, 0 mm beyond it) is at eq. (3) of 000:
+
+    r     = l1 cos(theta4) + l2 cos(theta4 + theta3) + l3 cos(alpha)
+    P_crx = r sin(theta5),  P_cry = r cos(theta5)
+    P_crz = l1 sin(theta4) + l2 sin(theta4 + theta3) + l3 sin(alpha)
+
+Mounting (not given by the papers, chosen so the gripper reaches an object in front of the
+0.17 m footprint): the waist axis is ``ARM_MOUNT_FORWARD_M`` = 0.10 m ahead of the wheel-axle
+midpoint; the shoulder is 0.20 m above the ground (000, 002) or h_r = 0.108 m (001).
+
+Camera axes (OpenCV: x right, y down, z optical axis): z = direction of l3; with the roll at 0,
+x is the arm's horizontal right direction (X_r turned by the waist) and y = z cross x. The wrist
+roll theta1 turns x and y about z: x' = cos(theta1) x + sin(theta1) y, y' = z cross x'.
+
+Grasp rule: when the gripper *closes* past the object's grip width while the fingertip is
+within ``GRASP_TOL_XY_M`` = 15 mm horizontally and ``GRASP_TOL_Z_M`` = 20 mm vertically of the
+grasp point and |alpha - alpha_grasp| < ``GRASP_TOL_ALPHA_RAD`` = 0.3 rad, the object is grasped;
+alpha_grasp is -pi/2 (from above) for 000 and 001 and 0 (horizontal) for 002.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .actuators import N_CHANNELS, Servo, gripper_opening_m
+
+ARM_MOUNT_FORWARD_M = 0.10
+GRASP_TOL_XY_M = 0.015
+GRASP_TOL_Z_M = 0.020
+GRASP_TOL_ALPHA_RAD = 0.3
+
+# Power-on posture: every servo at its 1500 us centre (theta4 = pi/2, theta3 = theta2 = -pi/2):
+# l1 up, l2 forward, l3 and the camera looking straight down; gripper open.
+HOME_JOINTS: tuple[float, ...] = (0.0, 0.0, -math.pi / 2, -math.pi / 2, math.pi / 2, 0.0)
+
+
+@dataclass(frozen=True)
+class ArmGeometry:
+    """Link lengths (m), shoulder height above the ground (m), waist offset ahead of the axle."""
+
+    l1: float
+    l2: float
+    l3: float
+    h_shoulder_m: float
+    mount_forward_m: float = ARM_MOUNT_FORWARD_M
+
+
+ARM_BY_METHOD: dict[str, ArmGeometry] = {
+    "000": ArmGeometry(0.0955, 0.089, 0.097, 0.20),
+    "001": ArmGeometry(0.16, 0.16, 0.20, 0.108),
+    "002": ArmGeometry(0.097, 0.089, 0.0955, 0.20),
+}
+
+GRASP_ALPHA_BY_METHOD: dict[str, float] = {"000": -math.pi / 2, "001": -math.pi / 2, "002": 0.0}
+
+
+def camera_point_platform(geom: ArmGeometry, joints: list[float] | tuple[float, ...]
+                          ) -> tuple[float, float, float]:
+    """(P_crx, P_cry, P_crz) in O_r (X right, Y forward, Z up), eq. (3) of 000."""
+    t2, t3, t4, t5 = joints[2], joints[3], joints[4], joints[5]
+    alpha = t2 + t3 + t4
+    r = geom.l1 * math.cos(t4) + geom.l2 * math.cos(t4 + t3) + geom.l3 * math.cos(alpha)
+    z = geom.l1 * math.sin(t4) + geom.l2 * math.sin(t4 + t3) + geom.l3 * math.sin(alpha)
+    return r * math.sin(t5), r * math.cos(t5), z
+
+
+def camera_axes_platform(joints: list[float] | tuple[float, ...]) -> np.ndarray:
+    """3x3 matrix whose columns are the camera x (right), y (down), z (optical) axes in O_r."""
+    t1, t5 = joints[1], joints[5]
+    alpha = joints[2] + joints[3] + joints[4]
+    z = np.array([math.cos(alpha) * math.sin(t5), math.cos(alpha) * math.cos(t5),
+                  math.sin(alpha)])
+    x0 = np.array([math.cos(t5), -math.sin(t5), 0.0])
+    y0 = np.cross(z, x0)
+    x = math.cos(t1) * x0 + math.sin(t1) * y0
+    y = np.cross(z, x)
+    return np.column_stack([x, y, z])
+
+
+def platform_to_world(geom: ArmGeometry, base_pose: tuple[float, float, float]) -> np.ndarray:
+    """4x4 transform from O_r to the world for a base pose (x_m, y_m, heading_rad)."""
+    bx, by, h = base_pose
+    fwd = np.array([math.cos(h), math.sin(h), 0.0])
+    right = np.array([math.sin(h), -math.cos(h), 0.0])
+    up = np.array([0.0, 0.0, 1.0])
+    t = np.eye(4)
+    t[:3, 0], t[:3, 1], t[:3, 2] = right, fwd, up
+    t[:3, 3] = [bx + geom.mount_forward_m * fwd[0], by + geom.mount_forward_m * fwd[1],
+                geom.h_shoulder_m]
+    return t
+
+
+class Arm:
+    """Six servos plus the arm geometry; joint values are evaluated at a given time."""
+
+    def __init__(self, geom: ArmGeometry, initial: tuple[float, ...] = HOME_JOINTS):
+        if len(initial) != N_CHANNELS:
+            raise ValueError(f"Arm: expected {N_CHANNELS} initial joint values, got {len(initial)}")
+        self.geom = geom
+        self.servos = [Servo(ch, initial[ch]) for ch in range(N_CHANNELS)]
+
+    def set_pulse_us(self, ch: int, pulse_us: float, t_us: int) -> None:
+        """Route a servo pulse to its channel (channel checked by the servo table)."""
+        if not isinstance(ch, int) or not 0 <= ch < N_CHANNELS:
+            raise ValueError(f"servo channel must be an int 0..{N_CHANNELS - 1}, got {ch!r}")
+        self.servos[ch].set_pulse_us(pulse_us, t_us)
+
+    def joints(self, t_us: int) -> list[float]:
+        """[theta0 (closure 0..1), theta1 .. theta5 (rad)] at ``t_us``."""
+        return [s.angle_at(t_us) for s in self.servos]
+
+    def gripper_opening_m(self, t_us: int) -> float:
+        """Finger opening (m) at ``t_us``."""
+        return gripper_opening_m(self.servos[0].angle_at(t_us))
+
+    def camera_pose_world(self, base_pose: tuple[float, float, float], t_us: int
+                          ) -> tuple[np.ndarray, np.ndarray]:
+        """(position (3,), R_wc (3, 3)) of the camera in the world; columns of R_wc = x, y, z."""
+        q = self.joints(t_us)
+        t = platform_to_world(self.geom, base_pose)
+        p = np.array(camera_point_platform(self.geom, q))
+        pos = t[:3, :3] @ p + t[:3, 3]
+        r_wc = t[:3, :3] @ camera_axes_platform(q)
+        return pos, r_wc
+
+    def fingertip_world(self, base_pose: tuple[float, float, float], t_us: int) -> np.ndarray:
+        """World position of the fingertips (the camera point; 0 mm beyond it)."""
+        return self.camera_pose_world(base_pose, t_us)[0]
+
+
+def grasp_ok(fingertip: np.ndarray, grasp_point: tuple[float, float, float], alpha: float,
+             alpha_grasp: float = -math.pi / 2) -> bool:
+    """The position and orientation part of the grasp rule (the closing part is the caller's).
+
+    ``alpha_grasp`` is the gripper pitch the method grasps with: -pi/2 (from above, 000 and
+    001) or 0 (horizontal, the constraint theta1 + theta2 + theta3 = 0 of eq. (4) of 002).
+    """
+    dx = fingertip[0] - grasp_point[0]
+    dy = fingertip[1] - grasp_point[1]
+    return (math.hypot(dx, dy) <= GRASP_TOL_XY_M
+            and abs(fingertip[2] - grasp_point[2]) <= GRASP_TOL_Z_M
+            and abs(alpha - alpha_grasp) < GRASP_TOL_ALPHA_RAD)

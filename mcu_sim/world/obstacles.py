@@ -1,0 +1,201 @@
+"""Static obstacles, the graspable target object and contact counting in the pymunk space.
+
+Obstacles (circles, boxes with a heading, walls as thick segments) live on the space's static
+body. The target is a dynamic body that the base can push; ground friction is emulated as in
+pymunk's examples/tank.py (PivotJoint + GearJoint to the static body with ``max_bias = 0`` and
+``max_force`` = mu * m * g). A target with a ``[[target.path]]`` is kinematic instead and is
+dragged along the path by velocity (paper 002 moves the object by hand during the approach).
+
+Contacts are counted with pymunk 7 collision handlers (``space.on_collision``): every *begin* of
+a base-vs-obstacle or base-vs-target contact is an event with its simulated time. Base-vs-target
+contacts stop counting once the object is grasped (it is then out of the space anyway).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import pymunk
+
+from .scenario import ObstacleSpec, PathPoint, TargetSpec
+
+COLL_BASE = 1
+COLL_OBSTACLE = 2
+COLL_TARGET = 3
+
+GRAVITY_MPS2 = 9.81
+
+
+@dataclass(frozen=True)
+class TargetGeometry:
+    """Physical size of a target kind (m).
+
+    ``radius_m`` is the footprint for collisions, ``grip_width_m`` the width the fingers close
+    on, ``grasp_height_m`` the height of the grasp point above the ground (on the object's axis)
+    and ``height_m`` the top of the object.
+    """
+
+    radius_m: float
+    height_m: float
+    grip_width_m: float
+    grasp_height_m: float
+    mass_kg: float
+
+
+TARGET_GEOMETRY: dict[str, TargetGeometry] = {
+    # 000: a slender post; its top carries the radial symbol (L = 109 mm) at 0.10 m.
+    "radial-symbol": TargetGeometry(0.02, 0.10, 0.04, 0.08, 0.15),
+    # 002 approach guidance marker on a block; graspable like a post.
+    "double-cross": TargetGeometry(0.02, 0.10, 0.04, 0.08, 0.15),
+    # 002: red cylinder with two black rings 14.5 mm apart, grasped horizontally (alpha = 0):
+    # tall enough that a horizontal gripper on a 0.20 m shoulder reaches its grasp point.
+    "red-cylinder": TargetGeometry(0.02, 0.16, 0.04, 0.13, 0.10),
+}
+
+TARGET_FRICTION_MU = 0.5
+
+
+@dataclass
+class ContactEvent:
+    """One contact begin between the base and something else."""
+
+    t_us: int
+    kind: str  # "obstacle" or "target"
+    index: int  # obstacle index in the scenario, -1 for the target
+
+
+class ContactCounter:
+    """Collision handlers that record base-vs-obstacle and base-vs-target contact begins."""
+
+    def __init__(self, space: pymunk.Space, clock):
+        self.events: list[ContactEvent] = []
+        self._clock = clock  # callable -> current simulated t_us
+        self.count_target = True
+        space.on_collision(COLL_BASE, COLL_OBSTACLE, begin=self._begin_obstacle)
+        space.on_collision(COLL_BASE, COLL_TARGET, begin=self._begin_target)
+
+    def _begin_obstacle(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        shape = arbiter.shapes[1] if arbiter.shapes[0].collision_type == COLL_BASE \
+            else arbiter.shapes[0]
+        self.events.append(ContactEvent(self._clock(), "obstacle",
+                                        getattr(shape, "obstacle_index", -1)))
+
+    def _begin_target(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        if self.count_target:
+            self.events.append(ContactEvent(self._clock(), "target", -1))
+
+    def count(self, kind: str) -> int:
+        """Number of contact begins of ``kind`` ("obstacle" or "target")."""
+        return sum(1 for e in self.events if e.kind == kind)
+
+
+def add_obstacles(space: pymunk.Space, specs: tuple[ObstacleSpec, ...]) -> list[pymunk.Shape]:
+    """Add every obstacle to the static body in scenario order; returns the shapes."""
+    shapes: list[pymunk.Shape] = []
+    body = space.static_body
+    for i, o in enumerate(specs):
+        if o.shape == "circle":
+            shape = pymunk.Circle(body, o.radius_m, (o.x_m, o.y_m))
+        elif o.shape == "box":
+            c, s = math.cos(o.heading_rad), math.sin(o.heading_rad)
+            hw, hd = o.width_m / 2, o.depth_m / 2
+            # width along the heading, depth across it
+            corners = [(o.x_m + c * dx - s * dy, o.y_m + s * dx + c * dy)
+                       for dx, dy in ((-hw, -hd), (hw, -hd), (hw, hd), (-hw, hd))]
+            shape = pymunk.Poly(body, corners)
+        else:
+            shape = pymunk.Segment(body, (o.x_m, o.y_m), (o.x2_m, o.y2_m), o.thickness_m / 2)
+        shape.collision_type = COLL_OBSTACLE
+        shape.friction = 0.7
+        shape.obstacle_index = i
+        space.add(shape)
+        shapes.append(shape)
+    return shapes
+
+
+class TargetObject:
+    """The graspable object: a pushable dynamic body, or a kinematic one dragged along a path."""
+
+    def __init__(self, space: pymunk.Space, spec: TargetSpec):
+        self.spec = spec
+        self.geometry = TARGET_GEOMETRY[spec.kind]
+        self.space = space
+        self.path: tuple[PathPoint, ...] = spec.path
+        g = self.geometry
+        if self.path:
+            self.body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        else:
+            moment = pymunk.moment_for_circle(g.mass_kg, 0, g.radius_m)
+            self.body = pymunk.Body(g.mass_kg, moment)
+        self.body.position = (spec.x_m, spec.y_m)
+        self.body.angle = spec.heading_rad
+        self.shape = pymunk.Circle(self.body, g.radius_m)
+        self.shape.collision_type = COLL_TARGET
+        self.shape.filter = pymunk.ShapeFilter(categories=0b100)
+        self.shape.friction = 0.5
+        self.constraints: list[pymunk.Constraint] = []
+        if not self.path:
+            friction_n = TARGET_FRICTION_MU * g.mass_kg * GRAVITY_MPS2
+            pivot = pymunk.PivotJoint(space.static_body, self.body, (0, 0), (0, 0))
+            pivot.max_bias = 0
+            pivot.max_force = friction_n
+            gear = pymunk.GearJoint(space.static_body, self.body, 0.0, 1.0)
+            gear.max_bias = 0
+            gear.max_force = friction_n * g.radius_m
+            self.constraints = [pivot, gear]
+        space.add(self.body, self.shape, *self.constraints)
+        self.in_space = True
+        self.z_m = 0.0  # height of the object's base above the ground (lifted when grasped)
+
+    def path_point(self, t_s: float) -> tuple[float, float] | None:
+        """Linear interpolation of the path at ``t_s`` (None before the first way point)."""
+        p = self.path
+        if not p or t_s < p[0].t_s:
+            return None
+        if t_s >= p[-1].t_s:
+            return p[-1].x_m, p[-1].y_m
+        for a, b in zip(p, p[1:], strict=False):
+            if a.t_s <= t_s < b.t_s:
+                f = (t_s - a.t_s) / (b.t_s - a.t_s)
+                return a.x_m + f * (b.x_m - a.x_m), a.y_m + f * (b.y_m - a.y_m)
+        return p[-1].x_m, p[-1].y_m
+
+    def drag(self, t_us: int, horizon_us: int) -> None:
+        """Set the kinematic velocity that brings the object onto the path at t + horizon."""
+        if not self.path or not self.in_space:
+            return
+        goal = self.path_point((t_us + horizon_us) * 1e-6)
+        if goal is None:
+            self.body.velocity = (0.0, 0.0)
+            return
+        x, y = self.body.position
+        dt = horizon_us * 1e-6
+        self.body.velocity = ((goal[0] - x) / dt, (goal[1] - y) / dt)
+
+    def detach_from_space(self) -> None:
+        """Take the object out of the plane (it is held by the gripper)."""
+        if self.in_space:
+            self.space.remove(self.body, self.shape, *self.constraints)
+            self.in_space = False
+            self.path = ()
+
+    def drop_at(self, x_m: float, y_m: float) -> None:
+        """Put the object back on the ground at (x, y) at rest (released by the gripper)."""
+        self.body.position = (x_m, y_m)
+        self.body.velocity = (0.0, 0.0)
+        self.body.angular_velocity = 0.0
+        self.z_m = 0.0
+        if not self.in_space:
+            self.space.add(self.body, self.shape, *self.constraints)
+            self.in_space = True
+
+    def pose(self) -> tuple[float, float, float, float]:
+        """(x_m, y_m, z_m, heading_rad) of the object's base centre."""
+        x, y = self.body.position
+        return float(x), float(y), self.z_m, float(self.body.angle)
+
+    def grasp_point(self) -> tuple[float, float, float]:
+        """World position of the grasp point on the object's axis."""
+        x, y, z, _ = self.pose()
+        return x, y, z + self.geometry.grasp_height_m

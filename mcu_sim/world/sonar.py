@@ -1,0 +1,102 @@
+"""Ultrasonic sonar ring of paper 001 by ray casts in the pymunk space.
+
+Sensor k (k = 1..k_s) points at ``phi_k = -pi/2 + (k - 1) pi / (k_s - 1)`` from the heading
+(section III.C.2 of 001; k = 1 is the right side, since angles are counter-clockwise), sits on the
+footprint circle in that direction, and sees a cone of total width A_g = 1.05 rad up to
+D_e = 2.5 m. The cone is sampled by ``rays_per_cone`` segment queries spread evenly across it
+(both edges included); the reading is the nearest hit, i.e. the distance from the sensor to the
+closest surface any ray meets, like the first echo of a real sonar. No hit -> None (no echo; the
+paper's rho = D_e convention is the planner's business).
+
+Options, all seeded by a numpy Generator: Gaussian range noise ``noise_std_m`` and a
+``dropout_p`` probability that a sensor returns None on a reading.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pymunk
+
+from .base import FOOTPRINT_RADIUS_M
+
+
+@dataclass(frozen=True)
+class SonarConfig:
+    """Ring geometry and error options."""
+
+    k_s: int = 5
+    A_g: float = 1.05
+    D_e: float = 2.5
+    rays_per_cone: int = 9
+    mount_radius_m: float = FOOTPRINT_RADIUS_M
+    noise_std_m: float = 0.0
+    dropout_p: float = 0.0
+
+    def __post_init__(self):
+        if self.k_s < 2:
+            raise ValueError(f"SonarConfig.k_s: need at least 2 sensors, got {self.k_s}")
+        if self.rays_per_cone < 1 or self.A_g <= 0 or self.D_e <= 0:
+            raise ValueError("SonarConfig: rays_per_cone >= 1, A_g > 0 and D_e > 0 required")
+        if self.noise_std_m < 0 or not 0.0 <= self.dropout_p <= 1.0:
+            raise ValueError("SonarConfig: noise_std_m >= 0 and dropout_p in [0, 1] required")
+
+
+def sensor_angles(k_s: int) -> list[float]:
+    """phi_k of 001 for k = 1..k_s, relative to the heading (rad, counter-clockwise)."""
+    return [-math.pi / 2 + (k - 1) * math.pi / (k_s - 1) for k in range(1, k_s + 1)]
+
+
+class SonarRing:
+    """k_s sonars; ``read(space, pose)`` returns one range (m) or None per sensor."""
+
+    def __init__(self, config: SonarConfig, rng: np.random.Generator, ignore_group: int = 1):
+        self.config = config
+        self.rng = rng
+        self.angles = sensor_angles(config.k_s)
+        n = config.rays_per_cone
+        half = config.A_g / 2
+        self.ray_offsets = [0.0] if n == 1 else [-half + i * config.A_g / (n - 1)
+                                                  for i in range(n)]
+        # Rays skip the robot's own shape (same non-zero group).
+        self.filter = pymunk.ShapeFilter(group=ignore_group)
+
+    def read_exact(self, space: pymunk.Space, pose: tuple[float, float, float]
+                   ) -> list[float | None]:
+        """Noise-free nearest-hit ranges from the sensors at the base pose (x, y, heading)."""
+        x, y, h = pose
+        c = self.config
+        out: list[float | None] = []
+        for phi in self.angles:
+            a = h + phi
+            sx = x + c.mount_radius_m * math.cos(a)
+            sy = y + c.mount_radius_m * math.sin(a)
+            best: float | None = None
+            for off in self.ray_offsets:
+                ex = sx + c.D_e * math.cos(a + off)
+                ey = sy + c.D_e * math.sin(a + off)
+                hit = space.segment_query_first((sx, sy), (ex, ey), 0.0, self.filter)
+                if hit is not None:
+                    d = hit.alpha * c.D_e
+                    if best is None or d < best:
+                        best = d
+            out.append(best)
+        return out
+
+    def read(self, space: pymunk.Space, pose: tuple[float, float, float]) -> list[float | None]:
+        """Ranges with the configured noise and dropout (one rng draw pair per sensor)."""
+        c = self.config
+        exact = self.read_exact(space, pose)
+        if c.noise_std_m == 0.0 and c.dropout_p == 0.0:
+            return exact
+        out: list[float | None] = []
+        for d in exact:
+            noise = float(self.rng.normal(0.0, c.noise_std_m)) if c.noise_std_m > 0 else 0.0
+            drop = c.dropout_p > 0 and float(self.rng.random()) < c.dropout_p
+            if d is None or drop:
+                out.append(None)
+            else:
+                out.append(min(max(d + noise, 0.0), c.D_e))
+        return out

@@ -1,0 +1,219 @@
+"""Bezier planning among obstacles, paper 001 (§III, eqs. (5)-(18)).
+
+From the start q_s to each of the n_e end points q_e^i of the grasp circle (eqs. (5)-(6),
+:mod:`host.planning.grasp_circle`): t3 = |q_s P_i| / v0 (eq. (7)), N_i = t3 / T_s curves with
+
+    P1 = (x_s + uΔd_s ẋ̂_s, y_s + uΔd_s ŷ̂_s, uΔd_s / v0)            (8)
+    P2 = (x_e − uΔd_e ẋ̂_e, y_e − uΔd_e ŷ̂_e, t3 − uΔd_e / v3)       (9)
+    Δd_e = |q_s P_i| / N_i (10),  Δd_s = Δd_e / 4 (11),  v3 = v0,
+
+where (ẋ̂, ŷ̂) are unit directions (see 000's module for why): the start direction is the measured
+velocity (or the heading when standing still) and the end direction points at the object P_i.
+Constraints: v <= Vmax and a_t = v²κ <= Amax (eq. (14) as 001 writes it); no sample may enter an
+infeasible region (eq. (16), :mod:`host.planning.sonar_regions`) or the grasp circle. Cost eq. (17)
+k1·arc length + k2·∫κ dτ (arc length, not the printed ∫√(x²+y²)dτ); eq. (18): among the feasible
+paths prefer those whose clearance D_m to the infeasible regions exceeds T_D. 001 gives T_D = 15
+without a unit; we read it as centimetres (T_D = 0.15 m, ``t_d_m``), the only unit in which 15 is
+a sensible distance for a 0.2 m safety radius and a 2.5 m sonar range.
+
+ARM9 budget (one plan <= 100 ms with soft-float): all N_i·n_e candidates cannot be sampled finely
+on an ARM920T (1000+ curves at ~6000 cycles per sample). So, as engineering choices of ours:
+(a) end points on the far side of the object (angle between q_e − P_i and q_s − P_i larger than
+``endpoint_max_angle_rad``, default π/2) are skipped (set it to π to evaluate all 36);
+(b) coarse-to-fine: all candidates are checked at a budgeted number of samples (at least
+``n_coarse_min``; when even that does not fit, every stride-th u) against ``coarse_margin`` of
+the speed and acceleration limits (peaks between coarse samples), then the cheapest ones are
+re-checked at ``n_fine`` samples against the true limits in cost order until one passes (at most
+``max_fine``). (c) Echoes of the object itself are not obstacles (:func:`is_object_echo`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from host.budget import OpCounts
+from host.planning.bezier import sample_ops
+from host.planning.bezier000 import start_direction
+from host.planning.candidates import (
+    REASON_OK,
+    Candidate,
+    Limits,
+    Plan,
+    batch_ops,
+    candidates_from_batch,
+    choose_sampling,
+    evaluate_batch,
+    summarize_rejections,
+)
+from host.planning.grasp_circle import ArmGeometry001, end_points, grasp_radius, inside_circle
+from host.planning.sonar_regions import InfeasibleRegion, SonarConfig, infeasible_regions
+
+
+@dataclass(frozen=True)
+class Params001:
+    """Defaults of 001 §IV; the sampling/budget fields are ours (module docstring)."""
+
+    v_max: float = 0.4
+    a_max: float = 0.1
+    v0: float = 0.2
+    t_s: float = 0.5
+    k1: float = 0.8
+    k2: float = 0.2
+    t_d_m: float = 0.15  # T_D = 15, read as cm
+    n_e: int = 36
+    sonar: SonarConfig = SonarConfig()
+    arm: ArmGeometry001 = ArmGeometry001()
+    endpoint_max_angle_rad: float = math.pi / 2
+    n_coarse_min: int = 8
+    n_coarse_max: int = 32
+    n_fine: int = 48
+    max_fine: int = 12
+    coarse_margin: float = 0.9  # coarse samples check v, a_t against 90 % of the limits
+    budget_us: int = 80_000
+    moving_speed_mps: float = 0.02
+    object_echo_tol_m: float = 0.15  # a region whose echo arc passes this close to the object
+
+    def __post_init__(self) -> None:
+        for name in ("v_max", "a_max", "v0", "t_s"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"Params001.{name} must be > 0, got {getattr(self, name)}")
+        if self.n_e < 1 or self.n_coarse_min < 2 or self.n_fine < 2 or self.max_fine < 1:
+            raise ValueError("Params001: n_e >= 1, n_coarse_min >= 2, n_fine >= 2, max_fine >= 1")
+
+
+SETUP_OPS = OpCounts(float_ops=60, float_divs=6)
+CLEARANCE_FLOPS = 15  # per sample per region: offsets, bearing test by cross products, compare
+CLEARANCE_DIVS = 2  # two square roots (range and end-point distance)
+
+
+def control_points_001(p0, d0, ends: np.ndarray, obj, t3: float, n_i: int, dist: float,
+                       v0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Control points (eqs. (8)-(11)) for every (end point, u): (M, 4, 3), u and end index."""
+    dd_e = dist / n_i  # eq. (10)
+    dd_s = dd_e / 4.0  # eq. (11)
+    n_end = ends.shape[0]
+    u = np.tile(np.arange(1, n_i + 1, dtype=np.float64), n_end)
+    k = np.repeat(np.arange(n_end), n_i)
+    d3 = np.asarray(obj, dtype=np.float64)[None, :] - ends
+    d3 /= np.hypot(d3[:, 0], d3[:, 1])[:, None]
+    ctrl = np.zeros((u.size, 4, 3))
+    ctrl[:, 0, :2] = p0
+    ctrl[:, 1, :2] = p0 + (u * dd_s)[:, None] * d0
+    ctrl[:, 1, 2] = u * dd_s / v0
+    ctrl[:, 2, :2] = ends[k] - (u * dd_e)[:, None] * d3[k]
+    ctrl[:, 2, 2] = t3 - u * dd_e / v0  # v3 = v0
+    ctrl[:, 3, :2] = ends[k]
+    ctrl[:, 3, 2] = t3
+    return ctrl, u.astype(np.int64), k
+
+
+def is_object_echo(region: InfeasibleRegion, obj, tol_m: float) -> bool:
+    """True when the echo arc of ``region`` passes within ``tol_m`` of the object.
+
+    The sonars also see the object to be grasped; 001 handles the object through the grasp
+    circle, so such an echo must not make the grasp circle itself infeasible (our reading).
+    """
+    return bool(region.clearance(obj[0], obj[1]) + region.r_r_m <= tol_m)
+
+
+def _geometric_checks(obj, l_e: float, regions: list[InfeasibleRegion]):
+    def checks(s):
+        inside = inside_circle(s.x, s.y, obj, l_e, margin_m=1e-3)
+        blocked = np.zeros_like(inside)
+        for reg in regions:
+            blocked |= reg.contains(s.x, s.y)
+        blocked[..., 0] = False  # the present position is where the robot already is
+        return [("grasp_circle", inside), ("obstacle", blocked)]
+    return checks
+
+
+def _clearance(s, rows: np.ndarray, regions: list[InfeasibleRegion]) -> np.ndarray:
+    out = np.full(rows.size, np.inf)
+    for reg in regions:
+        c = reg.clearance(s.x[rows, 1:], s.y[rows, 1:])
+        out = np.minimum(out, c.min(axis=-1) if c.size else out)
+    return out
+
+
+def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sonar_mm,
+             params: Params001 = Params001(),
+             known_regions: list[InfeasibleRegion] | None = None) -> Plan:
+    """Plan from the present pose/velocity to the grasp circle of the object at ``target_xy_m``.
+
+    ``sonar_mm`` are the present ranges of S_1..S_k_s (mm); ``known_regions`` are infeasible
+    regions remembered from earlier readings (see :mod:`host.planning.replan`).
+    """
+    p0 = np.asarray(start_xy_m, dtype=np.float64).reshape(2)
+    vel = np.asarray(start_vel_xy_mps, dtype=np.float64).reshape(2)
+    obj = np.asarray(target_xy_m, dtype=np.float64).reshape(2)
+    if not (np.all(np.isfinite(p0)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(obj))
+            and math.isfinite(heading_rad)):
+        raise ValueError(f"plan_001: non-finite input {p0}, {vel}, {heading_rad}, {obj}")
+    scan = infeasible_regions(params.sonar, p0, heading_rad, sonar_mm)
+    regions = [r for r in list(known_regions or []) + scan.regions
+               if not is_object_echo(r, obj, params.object_echo_tol_m)]
+    ops = SETUP_OPS
+    l_e = grasp_radius(params.arm).l_e_m
+    dist = float(np.hypot(*(obj - p0)))
+    if dist <= l_e + 1e-3:
+        return Plan(None, [], ops, "already on the grasp circle")
+    ends = end_points(obj, l_e, params.n_e)
+    to_start = (p0 - obj) / dist
+    radial = (ends - obj) / l_e
+    keep = np.nonzero(radial @ to_start >= math.cos(params.endpoint_max_angle_rad) - 1e-12)[0]
+    ops = ops + OpCounts(float_ops=8 * params.n_e, luts=2 * params.n_e)
+    d0 = start_direction(vel, heading_rad, -to_start, params.moving_speed_mps)
+    t3 = dist / params.v0  # eq. (7)
+    n_i = max(1, int(t3 / params.t_s))
+    ctrl, us, ks = control_points_001(p0, d0, ends[keep], obj, t3, n_i, dist, params.v0)
+    ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)
+    kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 2}
+    per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
+    per_sample += (CLEARANCE_FLOPS * 60 + CLEARANCE_DIVS * 250) * len(regions)
+    n, stride = choose_sampling(len(us), per_sample, params.budget_us - ops.time_us(),
+                                params.n_coarse_min, params.n_coarse_max)
+    sel = np.arange(0, len(us), stride)
+    ctrl, us, ks = ctrl[sel], us[sel], ks[sel]
+    lim = Limits(params.v_max, params.a_max, None, accel_is_normal=True)
+    coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
+                    None, accel_is_normal=True)
+    checks = _geometric_checks(obj, l_e, regions)
+    s, reasons, first = evaluate_batch(ctrl, n, coarse, checks)
+    ops = ops + batch_ops(first, n, **kw)
+    ok_rows = np.array([i for i, r in enumerate(reasons) if r == REASON_OK], dtype=np.int64)
+    clear = np.full(len(us), np.inf)
+    if regions and ok_rows.size:
+        clear[ok_rows] = _clearance(s, ok_rows, regions)
+        ops = ops + OpCounts(float_ops=CLEARANCE_FLOPS * n * len(regions) * ok_rows.size,
+                             float_divs=CLEARANCE_DIVS * n * len(regions) * ok_rows.size)
+    cands = candidates_from_batch(ctrl, s, reasons, us, ks, params.k1, params.k2, clear)
+    feasible = cands.feasible_indices()
+    extra = {"t3_s": t3, "n_i": n_i, "l_e_m": l_e, "regions": regions,
+             "sonar_dropped": scan.dropped, "endpoints_kept": int(keep.size)}
+    if feasible.size == 0:
+        return Plan(None, cands, ops, summarize_rejections(cands), n, stride, extra=extra)
+    wide = feasible[cands.clearance[feasible] > params.t_d_m]  # eq. (18)
+    pool = wide if wide.size else feasible
+    order = pool[np.argsort(cands.cost[pool], kind="stable")][:params.max_fine]
+    best, fine_reason = _fine_check([cands[int(i)] for i in order], params, lim, checks, kw)
+    ops = ops + fine_reason[1]
+    if best is None:
+        return Plan(None, cands, ops, f"coarse-feasible candidates failed the fine check "
+                    f"({fine_reason[0]})", n, stride, extra=extra)
+    return Plan(best.curve, cands, ops, REASON_OK, n, stride, best, extra=extra)
+
+
+def _fine_check(pool: list[Candidate], params: Params001, lim: Limits, checks, kw):
+    """Re-check candidates at n_fine samples in cost order; the first that passes wins."""
+    ops = OpCounts()
+    last = "none tried"
+    for cand in pool:
+        s, reasons, first = evaluate_batch(cand.curve.array[None], params.n_fine, lim, checks)
+        ops = ops + batch_ops(first, params.n_fine, **kw)
+        if reasons[0] == REASON_OK:
+            return cand, (REASON_OK, ops)
+        last = reasons[0]
+    return None, (last, ops)

@@ -1,0 +1,196 @@
+"""Candidate sets of Bezier paths: constraint checks, cost, ARM9 cost, and the Plan result.
+
+Shared by the planners of 000 (:mod:`host.planning.bezier000`) and 001
+(:mod:`host.planning.bezier001`). A batch of curves is sampled at the same τ; each curve is
+checked sample by sample in the order a C loop would (time increasing, speed, acceleration,
+turning radius, then the planner's own geometric tests) and the index of its first violation is
+kept, so that the modelled ARM9 cost charges an early exit only for the samples a C loop would
+have evaluated.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from host.budget import OpCounts
+from host.planning.bezier import Curve, Samples, evaluate, sample_ops, taus
+
+REASON_OK = "ok"
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One planned curve of the candidate set, kept with its evaluation (for plots and tests)."""
+
+    u: int  # index u = 1..N_i of the P1/P2 spacing
+    endpoint: int  # index k_e of the grasp-circle end point (001), -1 for 000
+    curve: Curve
+    feasible: bool
+    reason: str  # "ok" or the first constraint violated
+    cost: float  # k1·length + k2·∫|κ|dτ (inf when infeasible before the end)
+    length_m: float
+    kappa_integral: float
+    clearance_m: float = float("inf")  # D_m of 001 (distance to the nearest infeasible region)
+
+
+@dataclass
+class Plan:
+    """Result of one planning call: the best curve (or None), every candidate, and the ARM9 ops."""
+
+    best: Curve | None
+    candidates: Sequence[Candidate]  # a CandidateList from the planners
+    ops: OpCounts
+    reason: str
+    n_samples: int = 0
+    stride: int = 1
+    best_candidate: Candidate | None = None
+    extra: dict = field(default_factory=dict)
+
+
+def choose_sampling(n_candidates: int, cycles_per_sample: int, budget_us: int,
+                    n_min: int, n_max: int) -> tuple[int, int]:
+    """Samples per curve and the stride over candidates so the set fits ``budget_us`` of ARM9.
+
+    Worst case (no early exit) is budgeted. When even ``n_min`` samples per curve do not fit, only
+    every ``stride``-th candidate is evaluated.
+    """
+    budget_samples = max(1, budget_us * 400 // max(1, cycles_per_sample))  # 400 cycles per us
+    n = int(min(n_max, max(n_min, budget_samples // max(1, n_candidates))))
+    stride = 1
+    while (n_candidates + stride - 1) // stride * n > budget_samples and stride < n_candidates:
+        stride += 1
+    return n, stride
+
+
+def first_violation(bad: np.ndarray) -> np.ndarray:
+    """Index of the first True per row (the row length when none)."""
+    any_bad = bad.any(axis=-1)
+    return np.where(any_bad, bad.argmax(axis=-1), bad.shape[-1])
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Kinematic constraints of a plan (SI)."""
+
+    v_max: float
+    a_max: float
+    r_min: float | None  # None: no turning-radius constraint (001 has none)
+    accel_is_normal: bool  # True: a_t = v²κ as eq. (14) of 001 writes it; False: dv/dt (000)
+
+
+def kinematic_violations(s: Samples, lim: Limits) -> list[tuple[str, np.ndarray]]:
+    """Per-sample violation masks in checking order: (reason, bool array like s.speed)."""
+    with np.errstate(invalid="ignore"):
+        time_bad = ~(s.t_tau > 0.0) | ~(s.ds_dtau > 0.0)
+        speed_bad = ~(s.speed <= lim.v_max)
+        acc = s.accel_normal if lim.accel_is_normal else np.abs(s.accel_tangential)
+        acc_bad = ~(acc <= lim.a_max)
+        out = [("time_not_increasing", time_bad), ("speed", speed_bad), ("accel", acc_bad)]
+        if lim.r_min is not None:
+            out.append(("radius", ~(np.abs(s.kappa) <= 1.0 / lim.r_min)))
+    return out
+
+
+def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
+                   extra_checks=None) -> tuple[Samples, list[str], np.ndarray]:
+    """Sample a batch (N, 4, 3); return samples, a reason per curve and its first bad sample index.
+
+    ``extra_checks(samples)`` may add (reason, mask) pairs (grasp circle, obstacles); a curve's
+    reason is the one whose violation comes first along the curve (ties: the earlier check).
+    """
+    s = evaluate(ctrl, taus(n_samples))
+    checks = kinematic_violations(s, lim)
+    if extra_checks is not None:
+        checks = list(extra_checks(s)) + checks
+    n = ctrl.shape[0]
+    first = np.full(n, n_samples, dtype=np.int64)
+    reasons = [REASON_OK] * n
+    for name, mask in checks:
+        idx = first_violation(mask)
+        for i in np.nonzero(idx < first)[0]:
+            first[i] = idx[i]
+            reasons[i] = name
+    return s, reasons, first
+
+
+def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
+    """ARM9 cost of a batch with early exit: a curve rejected at sample j costs j + 1 samples."""
+    total = OpCounts()
+    evaluated = np.minimum(first_bad + 1, n_samples)
+    for count, reps in zip(*np.unique(evaluated, return_counts=True), strict=True):
+        total = total + sample_ops(int(count), **kw).scaled(int(reps))
+    return total
+
+
+class CandidateList(Sequence):
+    """Read-only list of Candidate records built on access from the batch arrays.
+
+    Planning keeps hundreds of candidates for plots and tests; building a Python object for each
+    only when asked keeps one plan within a few milliseconds of wall time.
+    """
+
+    def __init__(self, ctrl: np.ndarray, reasons: list[str], us, endpoints, cost: np.ndarray,
+                 length: np.ndarray, kint: np.ndarray, clearance: np.ndarray) -> None:
+        self.ctrl = ctrl
+        self.reasons = reasons
+        self.us = np.asarray(us)
+        self.endpoints = np.asarray(endpoints)
+        self.cost = cost
+        self.length = length
+        self.kint = kint
+        self.clearance = clearance
+
+    def __len__(self) -> int:
+        return len(self.reasons)
+
+    def __getitem__(self, i):
+        if isinstance(i, slice):
+            return [self[j] for j in range(*i.indices(len(self)))]
+        if i < 0:
+            i += len(self)
+        if not 0 <= i < len(self):
+            raise IndexError(i)
+        ok = self.reasons[i] == REASON_OK
+        return Candidate(u=int(self.us[i]), endpoint=int(self.endpoints[i]),
+                         curve=Curve.from_array(self.ctrl[i]), feasible=ok,
+                         reason=self.reasons[i], cost=float(self.cost[i]),
+                         length_m=float(self.length[i]), kappa_integral=float(self.kint[i]),
+                         clearance_m=float(self.clearance[i]))
+
+    def feasible_indices(self) -> np.ndarray:
+        """Indices of the candidates that passed every check."""
+        return np.nonzero(np.isfinite(self.cost))[0]
+
+
+def candidates_from_batch(ctrl: np.ndarray, s: Samples, reasons: list[str], us, endpoints,
+                          k1: float, k2: float, clearance=None) -> CandidateList:
+    """Wrap a sampled batch into Candidate records with cost eq. (9) of 000 / (17) of 001."""
+    length = s.arc_length()
+    kint = s.kappa_integral()
+    ok = np.array([r == REASON_OK for r in reasons], dtype=bool)
+    cost = np.where(ok, k1 * length + k2 * kint, np.inf)
+    if clearance is None:
+        clearance = np.full(len(reasons), np.inf)
+    return CandidateList(ctrl, reasons, us, endpoints, cost, length, kint,
+                         np.asarray(clearance, dtype=np.float64))
+
+
+def summarize_rejections(cands: CandidateList) -> str:
+    """"no feasible candidate (speed: 3, accel: 10)" style summary."""
+    counts: dict[str, int] = {}
+    for r in cands.reasons:
+        if r != REASON_OK:
+            counts[r] = counts.get(r, 0) + 1
+    parts = ", ".join(f"{k}: {v}" for k, v in sorted(counts.items()))
+    return f"no feasible candidate ({parts})"
+
+
+def unit(v: np.ndarray) -> np.ndarray | None:
+    """v/|v|, or None for a (near) zero vector."""
+    n = float(np.hypot(v[0], v[1]))
+    if not np.isfinite(n) or n < 1e-9:
+        return None
+    return np.asarray(v, dtype=np.float64) / n

@@ -1,0 +1,103 @@
+"""The grasp circle of paper 001 (§III.B.1, eqs. (5)-(6)).
+
+The 3-DOF arm model of eq. (5) of 001 (as printed, θ3 on the link l3 that leaves the base):
+
+    h = l3 sin θ3 + l2 sin(θ2 + θ3) + l1 sin(θ1 + θ2 + θ3) + h_r
+    l = l3 cos θ3 + l2 cos(θ2 + θ3) + l1 cos(θ1 + θ2 + θ3)
+
+with θ1 ∈ [0, π], θ2, θ3 ∈ [−π/2, π/2]. Scanning all angle combinations at h = h_e gives
+l_m = max l and l_n = min l, and the grasp-circle radius l_e = (l_m + l_n)/2. Instead of a 3-D
+grid with a height tolerance we scan (θ2, θ3) on a grid and solve h = h_e for θ1 exactly
+(sin(θ1 + θ2 + θ3) = (h_e − h_r − l3 sin θ3 − l2 sin(θ2 + θ3)) / l1, two roots, kept when
+θ1 ∈ [0, π]); only reaches l >= 0 (in front of the base) count, since a grasp point behind the
+base axis is not a place to drive to. End points (eq. (6)):
+x_e^i = x_i + l_e cos φ_i, y_e^i = y_i + l_e sin φ_i, φ_i = 2π k_e / n_e, k_e = 1..n_e.
+
+This is configuration-time work (once per arm geometry, float64 on the PC or at boot), cached.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from host.budget import OpCounts
+
+
+@dataclass(frozen=True)
+class ArmGeometry001:
+    """Arm of 001 §IV: link lengths and mounting height (m), grasp height h_e (m)."""
+
+    l1: float = 0.16
+    l2: float = 0.16
+    l3: float = 0.2
+    h_r: float = 0.108
+    h_e: float = 0.208
+
+
+@dataclass(frozen=True)
+class GraspRadius:
+    """Result of the scan: l_m, l_n and l_e = (l_m + l_n)/2 in metres."""
+
+    l_max_m: float
+    l_min_m: float
+
+    @property
+    def l_e_m(self) -> float:
+        """Radius of the grasp circle."""
+        return 0.5 * (self.l_max_m + self.l_min_m)
+
+
+def arm_height_reach(arm: ArmGeometry001, th1, th2, th3) -> tuple[np.ndarray, np.ndarray]:
+    """Eq. (5) of 001: (h, l) for joint angles (arrays broadcast)."""
+    s3 = np.asarray(th3, dtype=np.float64)
+    s23 = s3 + th2
+    s123 = s23 + th1
+    h = arm.l3 * np.sin(s3) + arm.l2 * np.sin(s23) + arm.l1 * np.sin(s123) + arm.h_r
+    lr = arm.l3 * np.cos(s3) + arm.l2 * np.cos(s23) + arm.l1 * np.cos(s123)
+    return h, lr
+
+
+@lru_cache(maxsize=16)
+def grasp_radius(arm: ArmGeometry001 = ArmGeometry001(), grid: int = 721) -> GraspRadius:
+    """Scan (θ2, θ3) on a ``grid``² grid, solve θ1 for h = h_e, return l_m and l_n."""
+    th = np.linspace(-math.pi / 2, math.pi / 2, grid)
+    th2, th3 = np.meshgrid(th, th, indexing="ij")
+    rest = (arm.h_e - arm.h_r - arm.l3 * np.sin(th3) - arm.l2 * np.sin(th2 + th3)) / arm.l1
+    ok = np.abs(rest) <= 1.0
+    base = np.arcsin(np.clip(rest, -1.0, 1.0))  # θ1 + θ2 + θ3 ∈ {base, π − base} (mod 2π)
+    reaches = []
+    for s123 in (base, math.pi - base):
+        th1 = s123 - th2 - th3
+        th1 = np.where(th1 < 0.0, th1 + 2 * math.pi, th1)
+        th1 = np.where(th1 > 2 * math.pi, th1 - 2 * math.pi, th1)
+        valid = ok & (th1 >= 0.0) & (th1 <= math.pi)
+        _, lr = arm_height_reach(arm, th1, th2, th3)
+        reaches.append(lr[valid & (lr >= 0.0)])
+    allr = np.concatenate(reaches)
+    if allr.size == 0:
+        raise ValueError(f"grasp height h_e = {arm.h_e} m is out of reach of {arm}")
+    return GraspRadius(float(allr.max()), float(allr.min()))
+
+
+def end_points(object_xy_m, l_e_m: float, n_e: int = 36) -> np.ndarray:
+    """Eq. (6) of 001: the n_e end points (n_e, 2) at φ = 2πk/n_e, k = 1..n_e."""
+    if n_e < 1 or not l_e_m > 0:
+        raise ValueError(f"need n_e >= 1 and l_e > 0, got n_e={n_e}, l_e={l_e_m}")
+    phi = 2.0 * math.pi / n_e * np.arange(1, n_e + 1)
+    ox, oy = (float(v) for v in object_xy_m)
+    return np.stack([ox + l_e_m * np.cos(phi), oy + l_e_m * np.sin(phi)], axis=1)
+
+
+END_POINT_OPS_EACH = OpCounts(float_ops=4, luts=2)  # cos/sin from a table, 2 mul-adds
+
+
+def inside_circle(x: np.ndarray, y: np.ndarray, object_xy_m, radius_m: float,
+                  margin_m: float = 1e-6) -> np.ndarray:
+    """True where (x, y) is strictly inside the circle (less the margin): paths must not enter."""
+    dx = x - float(object_xy_m[0])
+    dy = y - float(object_xy_m[1])
+    return dx * dx + dy * dy < (radius_m - margin_m) ** 2

@@ -1,0 +1,311 @@
+"""The S3C2440 host program: control loop, vision scheduling and the ARM9 time budget.
+
+One ARM920T core at 400 MHz runs two activities (docs/cosim.md, "ARM9 budget"):
+
+- **control** (high priority, every ``control_period_us`` = 20 ms): read the newest telemetry,
+  step the task (:class:`host.task.Task`), send its outputs. Its modelled cost is a fixed
+  per-step cost plus the protocol bytes handled plus whatever the task reports (a Bezier plan
+  is charged at soft-float cost). If the step finishes after its deadline (the next tick) a
+  deadline miss is counted; a tick that falls entirely inside a busy step is skipped and counted.
+- **vision** (low priority, preempted by control): when a camera frame arrives and vision is idle,
+  the detectors the task needs now (``Task.detectors_needed()``) run on it; their OpCounts give
+  the modelled time, stretched by any control step that preempts it. A frame that arrives while
+  vision is still busy is dropped and counted, as on the board. Results reach the task at the
+  first control tick after vision finishes.
+
+Host load is the modelled busy time per ``load_window_us`` window. The Python wall time is never
+read here (host/ has no wall clock): the profiler wraps stages through the ``timer`` hook.
+Time only moves through :meth:`HostApp.advance_to` and the arrival times given with data.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+from host.app_link import HostLink
+from host.budget import OpCounts
+
+Detector = Callable[[Any], tuple[Any, OpCounts]]
+
+
+@dataclass(frozen=True)
+class HostConfig:
+    """Timing and cost parameters of the host program (integer µs / ARM9 cycles)."""
+
+    control_period_us: int = 20_000
+    heartbeat_period_us: int = 100_000
+    wheels_repeat_us: int = 100_000  # SetWheels is unreliable: repeat the last one this often
+    load_window_us: int = 500_000
+    control_base_cycles: int = 40_000  # telemetry decode, odometry, task bookkeeping: 100 µs
+    protocol_cycles_per_byte: int = 40  # COBS + CRC-16 + copy, both directions
+    frame_overhead_cycles: int = 20_000  # CAMIF buffer hand-over, cache maintenance: 50 µs
+    servo_slew_mrad_s: int = 0
+
+
+def jsonable(obj: Any) -> Any:
+    """Plain JSON data from task/detector results: dataclasses, tuples, numpy, non-finite floats."""
+    if obj is None or isinstance(obj, bool | int | str):
+        return obj
+    if isinstance(obj, float):
+        return obj if math.isfinite(obj) else None
+    if isinstance(obj, OpCounts):
+        return {"arm9_us": obj.time_us()}
+    if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
+        return {f.name: jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+    if isinstance(obj, dict):
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple | set | frozenset):
+        return [jsonable(v) for v in obj]
+    if hasattr(obj, "tolist"):  # numpy arrays and scalars
+        return jsonable(obj.tolist())
+    return str(obj)
+
+
+@dataclass
+class _VisionJob:
+    seq: int
+    capture_us: int
+    start_us: int
+    done_us: int
+    results: dict
+    arm9_us: int
+
+
+@dataclass
+class HostCounters:
+    """Budget figures of the run (issue 8: frames_*, deadline_misses, load)."""
+
+    frames_received: int = 0
+    frames_processed: int = 0
+    frames_dropped: int = 0
+    frames_idle: int = 0  # arrived while idle but the task needed no detector
+    control_steps: int = 0
+    deadline_misses: int = 0
+    ticks_skipped: int = 0
+    stage_us: dict = field(default_factory=dict)  # stage -> list of modelled µs per call
+
+
+class HostApp:
+    """The host program, driven in simulated time by a lockstep client or a real-board loop.
+
+    ``task`` has ``step(now_us, inputs) -> outputs`` and ``detectors_needed() -> list[str]``;
+    ``build_inputs(app, now_us, detections) -> inputs`` turns what the host knows (telemetry in
+    ``app.link.telemetry``) into the task's inputs; ``detectors`` maps names to
+    ``detect(rgb) -> (result | None, OpCounts)``; ``timer(stage, fn, *args)`` calls ``fn`` and
+    may measure it (the profiler's wall-clock hook; the default just calls).
+    """
+
+    def __init__(self, task: Any, detectors: dict[str, Detector],
+                 build_inputs: Callable[[HostApp, int, dict], Any],
+                 config: HostConfig | None = None, link: HostLink | None = None,
+                 timer: Callable[..., Any] | None = None) -> None:
+        self.task = task
+        self.detectors = detectors
+        self.build_inputs = build_inputs
+        self.config = config or HostConfig()
+        self.link = link or HostLink()
+        self.timer = timer or (lambda stage, fn, *a: fn(*a))
+        self.counters = HostCounters()
+        self.now_us = 0
+        self.state = "INIT"
+        self.finished = False
+        self._next_tick_us = 0
+        self._ctrl_free_us = 0
+        self._vision: _VisionJob | None = None
+        self._detections: dict = {}
+        self.last_frame: dict = {}
+        self._frames: list[tuple[int, int, int, Any]] = []  # (arrival_us, seq, capture_us, rgb)
+        self._events: list[dict] = []
+        self._load: dict[int, int] = {}  # window index -> busy µs
+        self._last = {"servos": None, "wheels": None, "gripper": None}
+        self._last_wheels_us = -(10**12)
+        self._last_heartbeat_us = -(10**12)
+        self._hello_sent = False
+
+    # ---- inputs from the driver --------------------------------------------------------------
+    def on_uart(self, data: bytes, arrival_us: int) -> None:
+        """Serial bytes that arrived at ``arrival_us`` (parsed now, used at the next tick)."""
+        self.link.receive(data, arrival_us)
+
+    def on_frame(self, seq: int, capture_us: int, arrival_us: int, rgb: Any) -> None:
+        """A camera frame the CAMIF delivered at ``arrival_us`` (handled in time order)."""
+        self._frames.append((arrival_us, seq, capture_us, rgb))
+
+    # ---- time -------------------------------------------------------------------------------
+    def advance_to(self, until_us: int) -> None:
+        """Run everything due before ``until_us``; never acts at or beyond it."""
+        if until_us < self.now_us:
+            raise ValueError(f"cannot run back from {self.now_us} to {until_us} us")
+        self._frames.sort(key=lambda f: (f[0], f[1]))
+        while True:
+            t_frame = self._frames[0][0] if self._frames else None
+            t_tick = self._next_tick_us
+            if t_tick < until_us and (t_frame is None or t_tick <= t_frame):
+                self._tick(t_tick)
+                self._next_tick_us += self.config.control_period_us
+            elif t_frame is not None and t_frame < until_us:
+                arrival, seq, capture_us, rgb = self._frames.pop(0)
+                self._frame(arrival, seq, capture_us, rgb)
+            else:
+                break
+        self.now_us = until_us
+
+    def take_output(self, before_us: int) -> list[tuple[int, bytes]]:
+        """Wire chunks to write to the serial port, with their send times (< before_us)."""
+        return self.link.take_output(before_us)
+
+    def take_events(self) -> list[dict]:
+        """Trace events since the last call (simulated-time data only)."""
+        out = self._events + self.link.events
+        self._events, self.link.events = [], []
+        return out
+
+    def load_windows(self) -> dict[int, float]:
+        """Modelled ARM9 load (busy fraction) of each window that has finished."""
+        w = self.config.load_window_us
+        done = self.now_us // w
+        return {k: v / w for k, v in sorted(self._load.items()) if k < done}
+
+    # ---- the two activities -----------------------------------------------------------------
+    def _busy(self, start_us: int, dur_us: int, stage: str) -> None:
+        self.counters.stage_us.setdefault(stage, []).append(dur_us)
+        w = self.config.load_window_us
+        t, end = start_us, start_us + dur_us
+        while t < end:
+            k = t // w
+            seg = min(end, (k + 1) * w) - t
+            self._load[k] = self._load.get(k, 0) + seg
+            t += seg
+
+    def _frame(self, arrival_us: int, seq: int, capture_us: int, rgb: Any) -> None:
+        c = self.counters
+        c.frames_received += 1
+        if self._vision is not None and self._vision.done_us > arrival_us:
+            c.frames_dropped += 1
+            self._events.append({"ev": "frame_dropped", "t_us": arrival_us, "seq": seq,
+                                 "busy_until_us": self._vision.done_us})
+            return
+        self._finish_vision(arrival_us)
+        needed = [n for n in self.task.detectors_needed() if n in self.detectors]
+        if not needed:
+            c.frames_idle += 1
+            return
+        start = max(arrival_us, self._ctrl_free_us)
+        total = self.config.frame_overhead_cycles * 1_000_000 // 400_000_000
+        self._busy(start, total, "frame")
+        results = {}
+        for name in needed:
+            result, ops = self.timer(name, self.detectors[name], rgb)
+            dur = ops.time_us()
+            self._busy(start + total, dur, name)
+            total += dur
+            results[name] = result
+        c.frames_processed += 1
+        self._vision = _VisionJob(seq, capture_us, start, start + total, results, total)
+
+    def _finish_vision(self, now_us: int) -> None:
+        job = self._vision
+        if job is None or job.done_us > now_us:
+            return
+        self._vision = None
+        self._detections = dict(job.results)
+        self.last_frame = {"seq": job.seq, "capture_us": job.capture_us, "done_us": job.done_us}
+        self._events.append({"ev": "detect", "t_us": job.done_us, "seq": job.seq,
+                             "capture_us": job.capture_us, "arm9_us": job.arm9_us,
+                             "results": jsonable(job.results)})
+
+    def _tick(self, t_us: int) -> None:
+        cfg, c = self.config, self.counters
+        if self._ctrl_free_us >= t_us + cfg.control_period_us:
+            c.ticks_skipped += 1
+            c.deadline_misses += 1
+            self._events.append({"ev": "deadline_miss", "t_us": t_us, "skipped": True})
+            return
+        start = max(t_us, self._ctrl_free_us)
+        self._finish_vision(start)
+        link = self.link
+        tx_before = link.counters.tx_bytes
+        link.service(start)
+        if not self._hello_sent:
+            link.hello(start)
+            self._hello_sent = True
+        cycles = cfg.control_base_cycles
+        if link.handshake_ok and link.telemetry is not None and not self.finished:
+            detections, self._detections = self._detections, {}
+            inputs = self.build_inputs(self, start, detections)
+            out = self.timer("task", self.task.step, start, inputs)
+            c.control_steps += 1
+            ops = getattr(out, "ops", None)
+            task_us = ops.time_us() if isinstance(ops, OpCounts) else 0
+            ctrl_us = cycles * 1_000_000 // 400_000_000 + task_us
+            done = start + ctrl_us
+            self._apply(out, done)
+        else:
+            done = start + cycles * 1_000_000 // 400_000_000
+        if done - self._last_heartbeat_us >= cfg.heartbeat_period_us:
+            link.send_heartbeat(done)
+            self._last_heartbeat_us = done
+        proto_bytes = link.rx_bytes_since_take + link.counters.tx_bytes - tx_before
+        link.rx_bytes_since_take = 0
+        proto_us = proto_bytes * cfg.protocol_cycles_per_byte * 1_000_000 // 400_000_000
+        self._busy(start, done - start, "control")
+        self._busy(done, proto_us, "protocol")
+        done += proto_us
+        if done > t_us + cfg.control_period_us:
+            c.deadline_misses += 1
+            self._events.append({"ev": "deadline_miss", "t_us": t_us, "done_us": done})
+        job = self._vision
+        if job is not None and job.start_us < done and job.done_us > start:
+            job.done_us += done - start  # control preempted vision for that long
+        self._ctrl_free_us = done
+
+    def _apply(self, out: Any, at_us: int) -> None:
+        link, last = self.link, self._last
+        for ev in getattr(out, "events", None) or []:
+            self._events.append({"ev": "state", **jsonable(ev)})
+        state = getattr(out, "state", None)
+        if state is not None and state != self.state:
+            self.state = str(state)
+        detail = getattr(out, "detail", None)
+        if detail:
+            self._events.append({"ev": "detail", "t_us": at_us, "state": self.state,
+                                 **jsonable(detail)})
+        servos = getattr(out, "servo_mrad", None)
+        if servos is not None and tuple(servos) != last["servos"]:
+            if link.send_servos_mrad(tuple(servos), at_us, self.config.servo_slew_mrad_s):
+                last["servos"] = tuple(servos)
+        gripper = getattr(out, "gripper_permille", None)
+        if gripper is not None and gripper != last["gripper"]:
+            if link.send_gripper(gripper, at_us):
+                last["gripper"] = gripper
+        wheels = getattr(out, "wheels_mmps", None)
+        if wheels is None:
+            wheels = last["wheels"]
+        if wheels is not None and (tuple(wheels) != last["wheels"]
+                                   or at_us - self._last_wheels_us >= self.config.wheels_repeat_us):
+            if link.send_wheels(wheels[0], wheels[1], at_us):
+                if tuple(wheels) != last["wheels"]:
+                    self._events.append({"ev": "wheels", "t_us": at_us,
+                                         "mmps": jsonable(list(wheels))})
+                last["wheels"] = tuple(wheels)
+                self._last_wheels_us = at_us
+        if self.state in ("DONE", "FAILED"):
+            self.finished = True
+
+    def stats(self) -> dict:
+        """Final figures: budget counters, stage costs, load and the protocol counters."""
+        c = self.counters
+        loads = list(self.load_windows().values())
+        return {
+            "frames_received": c.frames_received, "frames_processed": c.frames_processed,
+            "frames_dropped": c.frames_dropped, "frames_idle": c.frames_idle,
+            "control_steps": c.control_steps, "deadline_misses": c.deadline_misses,
+            "ticks_skipped": c.ticks_skipped,
+            "arm9_load_max": max(loads, default=0.0),
+            "arm9_load_mean": sum(loads) / len(loads) if loads else 0.0,
+            "stage_us": c.stage_us, "protocol": self.link.stats(), "state": self.state,
+        }

@@ -1,0 +1,212 @@
+"""The host program's side of the serial protocol: handshake, heartbeat, reliable commands.
+
+No I/O and no clock: bytes come in with their arrival time (:meth:`HostLink.receive`) and outgoing
+wire bytes are queued with the simulated time the host finished producing them
+(:meth:`HostLink.take_output`). The driver (lockstep client or a real-board loop) moves bytes
+between this object and the serial port. Reliable commands (docs/protocol.md) go through
+:class:`protocol.reliable.RetransmitQueue`: resent with the same seq until ACKed/NACKed.
+
+Every outgoing command is validated before it is encoded: a NaN, an infinity, a non-integer or a
+value outside the protocol's range is refused and counted (``rejected_outputs``), never sent and
+never a crash of the loop; servo targets are clamped to the joint table of docs/conventions.md.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from host import arm_calib
+from protocol import messages as m
+from protocol.frame import PROTOCOL_VERSION, FrameParser
+from protocol.reliable import RetransmitQueue, SequenceCounter
+
+HOST_ID = "mobigrasp-2440"  # at most 16 ASCII chars (protocol)
+
+
+@dataclass
+class LinkCounters:
+    """Protocol figures the run summary reports (issue 8: protocol {...})."""
+
+    tx_frames: int = 0
+    tx_bytes: int = 0
+    rx_frames: int = 0
+    rx_bytes: int = 0
+    decode_errors: int = 0
+    retransmits: int = 0
+    reliable_failed: int = 0
+    nacks: int = 0
+    rejected_outputs: int = 0
+    clamped_outputs: int = 0
+    telemetry: int = 0
+
+
+def _as_int(name: str, value: object) -> int:
+    """An int from an int-like value; ValueError naming ``name`` for NaN/inf/bool/non-numbers."""
+    if isinstance(value, bool) or value is None:
+        raise ValueError(f"{name} must be a number, got {value!r}")
+    if isinstance(value, int):
+        return value
+    try:
+        f = float(value)  # numpy scalars end up here
+    except (TypeError, ValueError) as exc:
+        raise ValueError(f"{name} must be a number, got {value!r}") from exc
+    if not math.isfinite(f):
+        raise ValueError(f"{name} must be finite, got {value!r}")
+    return int(round(f))
+
+
+class HostLink:
+    """Protocol state of the host: what it knows of the MCU, and the queue of bytes to send."""
+
+    def __init__(self, retransmit_timeout_us: int = 40_000, max_retries: int = 10) -> None:
+        self.parser = FrameParser()
+        self.seq = SequenceCounter()
+        self.reliable = RetransmitQueue(timeout_us=retransmit_timeout_us, max_retries=max_retries)
+        self.counters = LinkCounters()
+        self.telemetry: m.Telemetry | None = None
+        self.telemetry_us = -1
+        self.handshake_ok = False
+        self._hello_seq: int | None = None
+        self._outbox: list[tuple[int, bytes]] = []
+        self.events: list[dict] = []
+        self.rx_bytes_since_take = 0
+
+    # ---- receiving -------------------------------------------------------------------------
+    def receive(self, data: bytes, arrival_us: int) -> None:
+        """Bytes read from the serial port that arrived at ``arrival_us``."""
+        self.counters.rx_bytes += len(data)
+        self.rx_bytes_since_take += len(data)
+        for frame in self.parser.feed(data):
+            try:
+                msg = m.decode_frame(frame)
+            except ValueError:
+                self.counters.decode_errors += 1
+                continue
+            self.counters.rx_frames += 1
+            self._dispatch(msg, arrival_us)
+
+    def _dispatch(self, msg: m.Message, t_us: int) -> None:
+        if isinstance(msg, m.Telemetry):
+            self.telemetry = msg
+            self.telemetry_us = t_us
+            self.counters.telemetry += 1
+        elif isinstance(msg, m.Ack):
+            self.reliable.ack(msg.acked_seq)
+        elif isinstance(msg, m.Nack):
+            if self.reliable.ack(msg.acked_seq):
+                self.counters.nacks += 1
+                self.events.append({"ev": "nack", "t_us": t_us, "seq": msg.acked_seq,
+                                    "reason": msg.reason})
+        elif isinstance(msg, m.HelloAck):
+            if self._hello_seq is not None:
+                self.reliable.ack(self._hello_seq)
+            self.handshake_ok = msg.proto_version == PROTOCOL_VERSION
+            self.events.append({"ev": "hello_ack", "t_us": t_us,
+                                "firmware_id": msg.firmware_id, "ok": self.handshake_ok})
+        elif isinstance(msg, m.Log):
+            self.events.append({"ev": "mcu_log", "t_us": t_us, "code": msg.code,
+                                "text": msg.text})
+
+    # ---- sending ---------------------------------------------------------------------------
+    def send(self, msg: m.Message, at_us: int) -> int:
+        """Queue ``msg`` to leave at ``at_us``; reliable ones are tracked for retransmission."""
+        seq = self.seq.next()
+        while msg.RELIABLE and seq in self.reliable.in_flight():
+            seq = self.seq.next()  # never reuse a seq still waiting for its answer
+        wire = m.encode_message(msg, seq)
+        if msg.RELIABLE:
+            self.reliable.track(seq, wire, at_us)
+        self._queue(wire, at_us)
+        return seq
+
+    def _queue(self, wire: bytes, at_us: int) -> None:
+        self.counters.tx_frames += 1
+        self.counters.tx_bytes += len(wire)
+        self._outbox.append((at_us, wire))
+
+    def hello(self, at_us: int) -> None:
+        """Open the session (HELLO, reliable; the MCU answers ACK then HELLO_ACK)."""
+        self._hello_seq = self.send(m.Hello(proto_version=PROTOCOL_VERSION, host_id=HOST_ID,
+                                            capabilities=0), at_us)
+
+    def service(self, now_us: int) -> None:
+        """Resend reliable frames whose answer is overdue; report those that gave up."""
+        for wire in self.reliable.due(now_us):
+            self.counters.retransmits += 1
+            self._queue(wire, now_us)
+        for seq in self.reliable.failed():
+            self.counters.reliable_failed += 1
+            self.events.append({"ev": "reliable_failed", "t_us": now_us, "seq": seq})
+
+    def take_output(self, before_us: int) -> list[tuple[int, bytes]]:
+        """Wire chunks whose send time is before ``before_us``, in time order (removed)."""
+        self._outbox.sort(key=lambda c: c[0])
+        out = [c for c in self._outbox if c[0] < before_us]
+        self._outbox = [c for c in self._outbox if c[0] >= before_us]
+        return out
+
+    # ---- validated commands ----------------------------------------------------------------
+    def send_servos_mrad(self, joints_mrad, at_us: int, slew_mrad_s: int = 0) -> bool:
+        """SetServos in mrad for channels 1..5 (channel 0, the gripper, is sent as 0 and is
+        driven by :meth:`send_gripper`); clamped to the joint limits. False if refused."""
+        try:
+            if len(joints_mrad) != 6:
+                raise ValueError(f"servo targets must have 6 values, got {len(joints_mrad)}")
+            raw = [_as_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
+            targets = [0] + [arm_calib.clamp_mrad(ch, raw[ch]) for ch in range(1, 6)]
+            if targets[1:] != raw[1:]:
+                self.counters.clamped_outputs += 1
+            msg = m.SetServos(mode=m.SERVO_MODE_MRAD, targets=tuple(targets), slew=slew_mrad_s)
+        except ValueError as exc:
+            return self._reject("SetServos", exc, at_us)
+        self.send(msg, at_us)
+        return True
+
+    def send_wheels(self, left_mmps, right_mmps, at_us: int) -> bool:
+        """SetWheels (not reliable: repeated every control step), clamped to ±1000 mm/s."""
+        try:
+            left = _as_int("wheels.left_mmps", left_mmps)
+            right = _as_int("wheels.right_mmps", right_mmps)
+            lim = m.WHEEL_SPEED_LIMIT_MMPS
+            cl, cr = max(-lim, min(lim, left)), max(-lim, min(lim, right))
+            if (cl, cr) != (left, right):
+                self.counters.clamped_outputs += 1
+            msg = m.SetWheels(left_mmps=cl, right_mmps=cr)
+        except ValueError as exc:
+            return self._reject("SetWheels", exc, at_us)
+        self.send(msg, at_us)
+        return True
+
+    def send_gripper(self, close_permille, at_us: int) -> bool:
+        """Gripper (reliable), 0 = open .. 1000 = closed, clamped."""
+        try:
+            value = max(0, min(1000, _as_int("gripper_permille", close_permille)))
+            msg = m.Gripper(close_permille=value)
+        except ValueError as exc:
+            return self._reject("Gripper", exc, at_us)
+        self.send(msg, at_us)
+        return True
+
+    def send_heartbeat(self, at_us: int) -> None:
+        """Heartbeat carrying the host's time (keeps the MCU watchdog fed when idle)."""
+        self.send(m.Heartbeat(time_us=at_us & 0xFFFFFFFF), at_us)
+
+    def send_stop(self, at_us: int) -> None:
+        """Stop (reliable): wheels stopped, arm held."""
+        self.send(m.Stop(), at_us)
+
+    def _reject(self, what: str, exc: Exception, at_us: int) -> bool:
+        self.counters.rejected_outputs += 1
+        self.events.append({"ev": "output_rejected", "t_us": at_us, "msg": what,
+                            "why": str(exc)[:200]})
+        return False
+
+    def stats(self) -> dict:
+        """Counters for the summary, including the parser's rejections."""
+        out = dict(vars(self.counters))
+        out["retransmits"] = self.counters.retransmits
+        parser_stats = self.parser.stats
+        out["crc_errors"] = getattr(parser_stats, "crc_errors", 0)
+        out["parser"] = parser_stats.as_dict() if hasattr(parser_stats, "as_dict") else {}
+        return out

@@ -1,0 +1,130 @@
+"""Host side of the lockstep channel: a Clock and a Camera fed by GRANTs, and the serve loop.
+
+docs/cosim.md. For each GRANT the client reads exactly the announced number of UART bytes from the
+serial port (blocking, with a generous safety timeout and no sleeps), hands each chunk to the host
+program with its modelled arrival time, queues the granted frames on the :class:`LockstepCamera`,
+runs the host program up to ``until_us`` and never beyond, writes what it sent to the port and
+answers DONE with the chunks' send times and the trace events of the quantum.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from host.app import HostApp, jsonable
+from host.hal import Camera, CameraFrame, Clock
+from link import lockstep as ls
+
+
+class LockstepClock(Clock):
+    """The host's time: the start of the current grant, then its end once served."""
+
+    def __init__(self) -> None:
+        self._now_us = 0
+
+    def now_us(self) -> int:
+        """Current simulated time in microseconds."""
+        return self._now_us
+
+    def set_us(self, t_us: int) -> None:
+        """Move to ``t_us`` (granted by the rig); never backwards."""
+        if t_us < self._now_us:
+            raise ValueError(f"lockstep clock cannot go back from {self._now_us} to {t_us}")
+        self._now_us = t_us
+
+
+class LockstepCamera(Camera):
+    """Frames that crossed the lockstep channel, as the CAMIF would hand them over."""
+
+    def __init__(self) -> None:
+        self._queue: list[tuple[int, CameraFrame]] = []
+
+    def push(self, blob: ls.FrameBlob) -> None:
+        """Queue one frame of a GRANT (pixels copied into a uint8 H x W x C array)."""
+        rgb = np.frombuffer(blob.pixels, dtype=np.uint8).reshape(
+            blob.height, blob.width, blob.channels)
+        self._queue.append((blob.arrival_us, CameraFrame(blob.seq, blob.capture_us, rgb)))
+
+    def poll(self) -> CameraFrame | None:
+        """The oldest frame not yet returned, or None."""
+        return self._queue.pop(0)[1] if self._queue else None
+
+    def poll_with_arrival(self) -> tuple[int, CameraFrame] | None:
+        """Like :meth:`poll`, with the simulated arrival time of the frame."""
+        return self._queue.pop(0) if self._queue else None
+
+
+class LockstepClient:
+    """Serves GRANTs for one :class:`HostApp` over a serial ``port`` (link Transport)."""
+
+    def __init__(self, app: HostApp, port, read_timeout_s: float = 60.0) -> None:
+        self.app = app
+        self.port = port
+        self.clock = LockstepClock()
+        self.camera = LockstepCamera()
+        self.read_timeout_s = read_timeout_s
+        self._loads_sent = 0
+
+    def _read_exact(self, n: int) -> bytes:
+        buf = bytearray()
+        while len(buf) < n:
+            chunk = self.port.read()
+            if chunk:
+                buf += chunk
+            elif not self.port.wait_readable(self.read_timeout_s):
+                raise ls.LockstepError(f"grant announced {n} UART bytes, only {len(buf)} "
+                                       f"arrived within {self.read_timeout_s} s")
+        if len(buf) != n:
+            raise ls.LockstepError(f"grant announced {n} UART bytes, {len(buf)} were on the port")
+        return bytes(buf)
+
+    def serve(self, grant: ls.Grant) -> ls.Done:
+        """Run the host program through one granted quantum; returns the DONE to send."""
+        app = self.app
+        self.clock.set_us(grant.start_us)
+        data = self._read_exact(grant.uart_bytes)
+        offset = 0
+        for arrival_us, n in grant.uart:
+            app.on_uart(data[offset:offset + n], arrival_us)
+            offset += n
+        for blob in grant.frames:
+            self.camera.push(blob)
+        while (item := self.camera.poll_with_arrival()) is not None:
+            arrival_us, frame = item
+            app.on_frame(frame.seq, frame.capture_us, arrival_us, frame.rgb)
+        app.advance_to(grant.until_us)
+        out = app.take_output(grant.until_us)
+        if out:
+            self.port.write(b"".join(w for _, w in out))
+        self.clock.set_us(grant.until_us)
+        loads = app.load_windows()
+        new = {str(k): round(v, 6) for k, v in loads.items() if k >= self._loads_sent}
+        if new:
+            self._loads_sent = max(loads) + 1
+        events = app.take_events()
+        return ls.Done(until_us=grant.until_us, writes=tuple((t, len(w)) for t, w in out),
+                       events=tuple(jsonable(events)),
+                       load={"window_us": app.config.load_window_us, "windows": new,
+                             "state": app.state, "finished": app.finished})
+
+    def bye(self) -> ls.Bye:
+        """Final statistics of the host program."""
+        return ls.Bye(stats=jsonable(self.app.stats()))
+
+
+def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host") -> str:
+    """Serve a whole run over a byte stream pair (the Unix socket); returns the END reason."""
+    wfile.write(ls.encode(ls.Hello(host_id=host_id)))
+    wfile.flush()
+    while True:
+        msg = ls.read_message(rfile)
+        if isinstance(msg, ls.Grant):
+            reply = client.serve(msg)
+        elif isinstance(msg, ls.End):
+            wfile.write(ls.encode(client.bye()))
+            wfile.flush()
+            return msg.reason
+        else:
+            raise ls.LockstepError(f"host expected GRANT or END, got {type(msg).__name__}")
+        wfile.write(ls.encode(reply))
+        wfile.flush()

@@ -1,0 +1,279 @@
+"""The lockstep channel between the rig (time authority) and the host: message codec, stdlib only.
+
+Spec: docs/cosim.md. The rig grants the host a quantum of simulated time; the host processes up to
+``until_us`` (never beyond) and answers DONE. UART bytes do NOT travel here: they cross the real
+pty (or the in-process pair); the lockstep messages only say how many bytes each side will find and
+at which simulated time each chunk arrived or was sent, so the receiver reads exactly that many.
+Camera frames do travel here (pixels are too big for a 115200 baud line and are a different wire
+on the board: the camera bus into the S3C2440's CAMIF).
+
+Wire format of every message (little-endian)::
+
+    magic  4s  b"MGLS"
+    kind   u8  1 HELLO, 2 GRANT, 3 DONE, 4 END, 5 BYE
+    meta   u32 length of the JSON metadata that follows (UTF-8, sorted keys)
+    blob   u32 length of the binary blob after the metadata (frame pixels, concatenated)
+
+A GRANT's frames list ``offset``/``nbytes`` into the blob. JSON keeps the channel debuggable and
+lets host events (task transitions, detections) ride in DONE; all of it is simulated-time data.
+"""
+
+from __future__ import annotations
+
+import json
+import struct
+from dataclasses import dataclass, field
+from typing import Any, Protocol
+
+MAGIC = b"MGLS"
+LOCKSTEP_VERSION = 1
+HEADER = struct.Struct("<4sBII")
+MAX_META_BYTES = 16 << 20  # a DONE with many events stays far below this; a bigger one is a bug
+MAX_BLOB_BYTES = 64 << 20  # ~280 frames of 320x240x3
+
+KIND_HELLO = 1
+KIND_GRANT = 2
+KIND_DONE = 3
+KIND_END = 4
+KIND_BYE = 5
+
+
+class LockstepError(ValueError):
+    """A lockstep message that cannot be decoded (bad magic, kind, lengths or fields)."""
+
+
+class LockstepClosed(ConnectionError):
+    """The other side of the lockstep channel went away mid-message or between messages."""
+
+
+@dataclass(frozen=True)
+class FrameBlob:
+    """One camera frame as it crosses the channel: simulated times and raw pixels (row-major)."""
+
+    seq: int
+    capture_us: int
+    arrival_us: int
+    width: int
+    height: int
+    channels: int
+    pixels: bytes
+
+    def __post_init__(self) -> None:
+        expected = self.width * self.height * self.channels
+        if len(self.pixels) != expected:
+            raise LockstepError(f"frame {self.seq}: {len(self.pixels)} pixel bytes, "
+                                f"expected {self.width}x{self.height}x{self.channels}={expected}")
+        if self.arrival_us < self.capture_us:
+            raise LockstepError(f"frame {self.seq}: arrival_us {self.arrival_us} before "
+                                f"capture_us {self.capture_us}")
+
+
+@dataclass(frozen=True)
+class Hello:
+    """Host → rig, once after connecting: versions, so a mismatch fails loudly."""
+
+    version: int = LOCKSTEP_VERSION
+    host_id: str = "host"
+
+
+@dataclass(frozen=True)
+class Grant:
+    """Rig → host: run up to ``until_us``; UART chunks (arrival_us, nbytes) are on the pty."""
+
+    start_us: int
+    until_us: int
+    uart: tuple[tuple[int, int], ...] = ()
+    frames: tuple[FrameBlob, ...] = ()
+
+    @property
+    def uart_bytes(self) -> int:
+        """Total UART bytes the host must read from its port for this grant."""
+        return sum(n for _, n in self.uart)
+
+
+@dataclass(frozen=True)
+class Done:
+    """Host → rig: reached ``until_us``; wrote these chunks (send_us, nbytes) to the port."""
+
+    until_us: int
+    writes: tuple[tuple[int, int], ...] = ()
+    events: tuple[dict, ...] = ()
+    load: dict = field(default_factory=dict)
+
+    @property
+    def write_bytes(self) -> int:
+        """Total UART bytes the rig must read from the pty master for this quantum."""
+        return sum(n for _, n in self.writes)
+
+
+@dataclass(frozen=True)
+class End:
+    """Rig → host: the run is over (``reason``); the host answers BYE with its final stats."""
+
+    at_us: int
+    reason: str
+
+
+@dataclass(frozen=True)
+class Bye:
+    """Host → rig: last message; ``stats`` are the host's counters (protocol, budget)."""
+
+    stats: dict = field(default_factory=dict)
+
+
+Message = Hello | Grant | Done | End | Bye
+
+
+def _int(meta: dict, key: str, lo: int = 0, hi: int = (1 << 63) - 1) -> int:
+    value = meta.get(key)
+    if not isinstance(value, int) or isinstance(value, bool) or not lo <= value <= hi:
+        raise LockstepError(f"field {key!r} must be an integer in [{lo}, {hi}], got {value!r}")
+    return value
+
+
+def _chunks(meta: dict, key: str) -> tuple[tuple[int, int], ...]:
+    raw = meta.get(key, [])
+    if not isinstance(raw, list):
+        raise LockstepError(f"field {key!r} must be a list of [time_us, nbytes]")
+    out = []
+    last = -1
+    for item in raw:
+        if (not isinstance(item, list) or len(item) != 2
+                or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0
+                           for v in item)):
+            raise LockstepError(f"field {key!r}: bad chunk {item!r}, expected [time_us, nbytes]")
+        if item[0] < last:
+            raise LockstepError(f"field {key!r}: chunk times go backwards at {item!r}")
+        last = item[0]
+        out.append((item[0], item[1]))
+    return tuple(out)
+
+
+def encode(msg: Message) -> bytes:
+    """Wire bytes of one lockstep message."""
+    blob = b""
+    if isinstance(msg, Hello):
+        kind, meta = KIND_HELLO, {"version": msg.version, "host_id": msg.host_id}
+    elif isinstance(msg, Grant):
+        if msg.until_us < msg.start_us:
+            raise LockstepError(f"grant until_us {msg.until_us} < start_us {msg.start_us}")
+        frames, parts, offset = [], [], 0
+        for fr in msg.frames:
+            frames.append({"seq": fr.seq, "capture_us": fr.capture_us,
+                           "arrival_us": fr.arrival_us, "width": fr.width,
+                           "height": fr.height, "channels": fr.channels,
+                           "offset": offset, "nbytes": len(fr.pixels)})
+            parts.append(fr.pixels)
+            offset += len(fr.pixels)
+        blob = b"".join(parts)
+        kind, meta = KIND_GRANT, {"start_us": msg.start_us, "until_us": msg.until_us,
+                                  "uart": [list(c) for c in msg.uart], "frames": frames}
+    elif isinstance(msg, Done):
+        kind, meta = KIND_DONE, {"until_us": msg.until_us,
+                                 "writes": [list(c) for c in msg.writes],
+                                 "events": list(msg.events), "load": msg.load}
+    elif isinstance(msg, End):
+        kind, meta = KIND_END, {"at_us": msg.at_us, "reason": msg.reason}
+    elif isinstance(msg, Bye):
+        kind, meta = KIND_BYE, {"stats": msg.stats}
+    else:
+        raise LockstepError(f"not a lockstep message: {type(msg).__name__}")
+    try:
+        meta_bytes = json.dumps(meta, sort_keys=True, separators=(",", ":"),
+                                allow_nan=False).encode()
+    except (TypeError, ValueError) as exc:
+        raise LockstepError(f"{type(msg).__name__} metadata is not plain JSON: {exc}") from exc
+    return HEADER.pack(MAGIC, kind, len(meta_bytes), len(blob)) + meta_bytes + blob
+
+
+def decode_header(header: bytes) -> tuple[int, int, int]:
+    """(kind, meta_len, blob_len) of a 13-byte header; LockstepError when it is not one."""
+    if len(header) != HEADER.size:
+        raise LockstepError(f"header must be {HEADER.size} bytes, got {len(header)}")
+    magic, kind, meta_len, blob_len = HEADER.unpack(header)
+    if magic != MAGIC:
+        raise LockstepError(f"bad magic {magic!r}, expected {MAGIC!r}")
+    if kind not in (KIND_HELLO, KIND_GRANT, KIND_DONE, KIND_END, KIND_BYE):
+        raise LockstepError(f"unknown message kind {kind}")
+    if meta_len > MAX_META_BYTES or blob_len > MAX_BLOB_BYTES:
+        raise LockstepError(f"message too large: meta {meta_len} B, blob {blob_len} B")
+    return kind, meta_len, blob_len
+
+
+def decode_body(kind: int, meta_bytes: bytes, blob: bytes) -> Message:
+    """The message of a decoded header's kind from its metadata and blob."""
+    try:
+        meta: Any = json.loads(meta_bytes)
+    except (UnicodeDecodeError, ValueError) as exc:
+        raise LockstepError(f"metadata is not JSON: {exc}") from exc
+    if not isinstance(meta, dict):
+        raise LockstepError("metadata must be a JSON object")
+    if kind == KIND_HELLO:
+        return Hello(version=_int(meta, "version", 0, 255), host_id=str(meta.get("host_id", "")))
+    if kind == KIND_GRANT:
+        start, until = _int(meta, "start_us"), _int(meta, "until_us")
+        if until < start:
+            raise LockstepError(f"grant until_us {until} < start_us {start}")
+        frames = []
+        for fm in meta.get("frames", []):
+            if not isinstance(fm, dict):
+                raise LockstepError("each frame must be a JSON object")
+            off, n = _int(fm, "offset"), _int(fm, "nbytes")
+            if off + n > len(blob):
+                raise LockstepError(f"frame {fm.get('seq')} runs past the blob ({off}+{n} > "
+                                    f"{len(blob)})")
+            frames.append(FrameBlob(seq=_int(fm, "seq"), capture_us=_int(fm, "capture_us"),
+                                    arrival_us=_int(fm, "arrival_us"), width=_int(fm, "width"),
+                                    height=_int(fm, "height"), channels=_int(fm, "channels"),
+                                    pixels=bytes(blob[off:off + n])))
+        return Grant(start_us=start, until_us=until, uart=_chunks(meta, "uart"),
+                     frames=tuple(frames))
+    if kind == KIND_DONE:
+        events = meta.get("events", [])
+        load = meta.get("load", {})
+        if not isinstance(events, list) or not isinstance(load, dict):
+            raise LockstepError("DONE events must be a list and load an object")
+        return Done(until_us=_int(meta, "until_us"), writes=_chunks(meta, "writes"),
+                    events=tuple(events), load=load)
+    if kind == KIND_END:
+        return End(at_us=_int(meta, "at_us"), reason=str(meta.get("reason", "")))
+    stats = meta.get("stats", {})
+    if not isinstance(stats, dict):
+        raise LockstepError("BYE stats must be an object")
+    return Bye(stats=stats)
+
+
+def decode(data: bytes) -> Message:
+    """Decode one complete message (header + metadata + blob, nothing more)."""
+    kind, meta_len, blob_len = decode_header(bytes(data[:HEADER.size]))
+    if len(data) != HEADER.size + meta_len + blob_len:
+        raise LockstepError(f"message length {len(data)} does not match its header "
+                            f"({HEADER.size}+{meta_len}+{blob_len})")
+    body = memoryview(data)[HEADER.size:]
+    return decode_body(kind, bytes(body[:meta_len]), bytes(body[meta_len:]))
+
+
+class _Readable(Protocol):
+    def read(self, n: int) -> bytes: ...
+
+
+def read_message(stream: _Readable) -> Message:
+    """Read exactly one message from a blocking stream (e.g. ``socket.makefile('rb')``).
+
+    Raises LockstepClosed when the stream ends, even in the middle of a message.
+    """
+    header = _read_exact(stream, HEADER.size)
+    kind, meta_len, blob_len = decode_header(header)
+    meta = _read_exact(stream, meta_len)
+    blob = _read_exact(stream, blob_len)
+    return decode_body(kind, meta, blob)
+
+
+def _read_exact(stream: _Readable, n: int) -> bytes:
+    if n == 0:
+        return b""
+    data = stream.read(n)
+    if data is None or len(data) != n:
+        got = 0 if data is None else len(data)
+        raise LockstepClosed(f"lockstep channel closed after {got} of {n} bytes")
+    return data

@@ -1,0 +1,218 @@
+"""The rig: the time authority that couples the emulated MCU, the plant and the host in lockstep.
+
+Spec: docs/cosim.md. Simulated time advances in quanta of ``quantum_us``. For quantum [T, T+Q):
+
+1. :meth:`Rig.grant` writes the bytes the MCU sent in the previous quantum to the serial port (the
+   pty master, or the in-process pair) and returns a GRANT listing them with their arrival times
+   (the time their stop bit left the MCU) and the camera frames captured, each with its capture
+   time; the host may run up to T+Q and no further.
+2. The host answers DONE with the chunks it wrote and their send times. :meth:`Rig.complete`
+   reads exactly that many bytes from the port, puts each chunk on the simulated line at its send
+   time (serialised at the host's baud rate, so a command is not seen by the MCU before its last
+   byte arrived), then advances MCU and plant together to T+Q in ``couple_us`` steps, capturing
+   frames at the camera rate.
+
+The host thus sees MCU output with at most one quantum of extra latency (it polls its UART once
+per quantum), and the MCU sees host output at exactly the modelled line times. Nothing here reads
+the wall clock: pacing to real time is a policy of the caller (tools/commands/run.py).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any, Protocol
+
+from link.lockstep import Done, FrameBlob, Grant
+
+HOST_BAUD = 115_200
+BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
+
+
+def byte_time_us(n_bytes: int, baud: int = HOST_BAUD) -> int:
+    """Integer µs for the last stop bit of ``n_bytes`` sent back to back at ``baud`` 8N1."""
+    return -(-n_bytes * BITS_PER_BYTE * 1_000_000 // baud)
+
+
+class McuLike(Protocol):
+    """What the rig needs of mcu_sim.mcu.Mcu (helper B's API)."""
+
+    def advance_to(self, t_us: int) -> None: ...
+    def uart_rx(self, data: bytes, start_us: int) -> None: ...
+    def uart_tx_take(self) -> list[tuple[int, bytes]]: ...
+    def servo_pulse_us(self, ch: int) -> int | None: ...
+    def wheel_duty(self) -> tuple[int, int]: ...
+    def set_encoder_ticks(self, left: int, right: int, t_us: int) -> None: ...
+    def set_sonar_provider(self, fn: Callable[[int], float | None]) -> None: ...
+
+
+class PlantLike(Protocol):
+    """What the rig needs of the plant (world + camera): see mcu_sim/rig_plant.py."""
+
+    def step_to(self, t_us: int) -> None: ...
+    def set_servo_pulse_us(self, ch: int, pulse_us: int) -> None: ...
+    def set_wheel_duty(self, left: int, right: int) -> None: ...
+    def encoder_ticks(self) -> tuple[int, int]: ...
+    def sonar_range_m(self, index: int) -> float | None: ...
+    def capture(self, t_us: int) -> Any: ...  # uint8 (H, W, 3) array, or None without a camera
+
+
+class PortLike(Protocol):
+    """The rig's end of the serial line (link.base.Transport)."""
+
+    def write(self, data: bytes) -> None: ...
+    def read(self) -> bytes: ...
+    def wait_readable(self, timeout_s: float) -> bool: ...
+
+
+@dataclass(frozen=True)
+class RigConfig:
+    """Timing of the co-simulation. All integer microseconds of simulated time."""
+
+    quantum_us: int = 5_000
+    couple_us: int = 1_000  # MCU <-> plant exchange period (the 1 kHz physics step)
+    camera_fps: int = 15
+    host_baud: int = HOST_BAUD
+    read_timeout_s: float = 60.0  # safety limit only: a healthy peer answers at once
+
+    def __post_init__(self) -> None:
+        for name in ("quantum_us", "couple_us", "camera_fps", "host_baud"):
+            value = getattr(self, name)
+            if not isinstance(value, int) or isinstance(value, bool) or value <= 0:
+                raise ValueError(f"RigConfig.{name} must be a positive integer, got {value!r}")
+        if self.quantum_us % self.couple_us:
+            raise ValueError(f"RigConfig.quantum_us ({self.quantum_us}) must be a multiple of "
+                             f"couple_us ({self.couple_us})")
+
+    def capture_time_us(self, k: int) -> int:
+        """Capture time of frame ``k`` (k·10⁶/fps, rounded down: no drift over a long run)."""
+        return k * 1_000_000 // self.camera_fps
+
+
+class RigPortError(RuntimeError):
+    """The host announced bytes that never arrived on the serial port (within the safety limit)."""
+
+
+class Rig:
+    """Couples an MCU, a plant and a serial port end; grants the host time quantum by quantum."""
+
+    def __init__(self, mcu: McuLike, plant: PlantLike, port: PortLike,
+                 config: RigConfig | None = None,
+                 on_frame: Callable[[int, int, Any], None] | None = None) -> None:
+        self.mcu = mcu
+        self.plant = plant
+        self.port = port
+        self.config = config or RigConfig()
+        self.now_us = 0
+        self._on_frame = on_frame
+        self._tx_pending: list[tuple[int, bytes]] = []
+        self._frames_pending: list[tuple[int, int, Any]] = []
+        self._next_frame = 0
+        self._line_free_us = 0  # host -> MCU line busy until (serialises the host's chunks)
+        self._sonar_cache: dict[int, float | None] = {}
+        self._sonar_cache_us = -1
+        self.stats = {"quanta": 0, "uart_to_host_bytes": 0, "uart_to_mcu_bytes": 0,
+                      "frames_captured": 0}
+        mcu.set_sonar_provider(self._sonar)
+
+    def _sonar(self, index: int) -> float | None:
+        # The MCU polls one sonar at a time; the plant is at the last coupling step.
+        if self._sonar_cache_us != self.now_us:
+            self._sonar_cache.clear()
+            self._sonar_cache_us = self.now_us
+        if index not in self._sonar_cache:
+            self._sonar_cache[index] = self.plant.sonar_range_m(index)
+        return self._sonar_cache[index]
+
+    def grant(self) -> Grant:
+        """Start quantum [now, now+Q): hand over MCU bytes (on the port) and captured frames."""
+        chunks = []
+        if self._tx_pending:
+            data = b"".join(d for _, d in self._tx_pending)
+            self.port.write(data)
+            chunks = [(t, len(d)) for t, d in self._tx_pending if d]
+            self.stats["uart_to_host_bytes"] += len(data)
+            self._tx_pending.clear()
+        frames = []
+        for seq, capture_us, rgb in self._frames_pending:
+            h, w, c = rgb.shape
+            frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=self.now_us,
+                                    width=w, height=h, channels=c, pixels=rgb.tobytes()))
+        self._frames_pending.clear()
+        return Grant(start_us=self.now_us, until_us=self.now_us + self.config.quantum_us,
+                     uart=tuple(chunks), frames=tuple(frames))
+
+    def complete(self, done: Done) -> None:
+        """Finish the quantum: deliver the host's bytes at their times, advance everything."""
+        until = self.now_us + self.config.quantum_us
+        if done.until_us != until:
+            raise ValueError(f"DONE for until_us={done.until_us}, expected {until}")
+        data = self._read_exact(done.write_bytes)
+        self.stats["uart_to_mcu_bytes"] += len(data)
+        offset = 0
+        for send_us, n in done.writes:
+            if not self.now_us <= send_us < until:
+                raise ValueError(f"host chunk sent at {send_us} us outside its quantum "
+                                 f"[{self.now_us}, {until})")
+            start = max(send_us, self._line_free_us)
+            self.mcu.uart_rx(data[offset:offset + n], start)
+            self._line_free_us = start + byte_time_us(n, self.config.host_baud)
+            offset += n
+        self._advance_to(until)
+        self.stats["quanta"] += 1
+
+    def _read_exact(self, n: int) -> bytes:
+        buf = bytearray()
+        while len(buf) < n:
+            chunk = self.port.read()
+            if chunk:
+                buf += chunk
+                continue
+            if not self.port.wait_readable(self.config.read_timeout_s):
+                raise RigPortError(f"host announced {n} bytes, only {len(buf)} arrived within "
+                                   f"{self.config.read_timeout_s} s")
+        if len(buf) > n:
+            # The host never writes ahead of its DONE; more bytes mean the accounting broke.
+            raise RigPortError(f"host announced {n} bytes but {len(buf)} were on the port")
+        return bytes(buf)
+
+    def _advance_to(self, until: int) -> None:
+        step = self.config.couple_us
+        t = self.now_us
+        if self.config.capture_time_us(self._next_frame) <= t:  # frame 0 at t = 0
+            self._capture(t)
+        while t < until:
+            nxt = min(t - t % step + step, until)
+            cap = self.config.capture_time_us(self._next_frame)
+            if t < cap <= nxt:
+                nxt = cap
+            self._couple(nxt)
+            t = nxt
+            if t == cap:
+                self._capture(t)
+
+    def _couple(self, t_us: int) -> None:
+        mcu, plant = self.mcu, self.plant
+        mcu.advance_to(t_us)
+        for ch in range(6):
+            pulse = mcu.servo_pulse_us(ch)
+            if pulse is not None:
+                plant.set_servo_pulse_us(ch, pulse)
+        left, right = mcu.wheel_duty()
+        plant.set_wheel_duty(left, right)
+        plant.step_to(t_us)
+        self.now_us = t_us
+        enc_l, enc_r = plant.encoder_ticks()
+        mcu.set_encoder_ticks(enc_l, enc_r, t_us)
+        self._tx_pending.extend(mcu.uart_tx_take())
+
+    def _capture(self, t_us: int) -> None:
+        seq = self._next_frame
+        self._next_frame += 1
+        rgb = self.plant.capture(t_us)
+        if rgb is None:
+            return
+        self.stats["frames_captured"] += 1
+        self._frames_pending.append((seq, t_us, rgb))
+        if self._on_frame is not None:
+            self._on_frame(seq, t_us, rgb)

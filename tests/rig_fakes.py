@@ -1,0 +1,166 @@
+"""Small stand-ins for the MCU, the plant and the task, to test the lockstep frame on its own.
+
+FakeMcu models the line like the USART should: a byte is seen by the firmware only once its stop
+bit arrived (start + (i+1)·10 bits at 115200 baud), and it answers HELLO / reliable commands and
+sends telemetry at 50 Hz, so the host's handshake and ACK paths run.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from host.budget import OpCounts
+from protocol import messages as m
+from protocol.frame import FrameParser
+
+
+def byte_done_us(start_us: int, i: int) -> int:
+    return start_us + -(-(i + 1) * 10 * 1_000_000 // 115_200)
+
+
+class FakeMcu:
+    def __init__(self, telemetry_period_us: int = 20_000) -> None:
+        self.now_us = 0
+        self._line: list[tuple[int, int]] = []  # (time the byte is complete, byte)
+        self._parser = FrameParser()
+        self.seen: list[tuple[int, m.Message]] = []  # (time seen by firmware, message)
+        self.rx_chunks: list[tuple[int, bytes]] = []
+        self._tx: list[tuple[int, bytes]] = []
+        self._seq = 0
+        self._next_tel = telemetry_period_us
+        self._tel_period = telemetry_period_us
+        self.wheels = (0, 0)
+        self.enc = (0, 0)
+
+    def uart_rx(self, data: bytes, start_us: int) -> None:
+        assert start_us >= self.now_us, "bytes put on the line in the MCU's past"
+        self.rx_chunks.append((start_us, bytes(data)))
+        self._line += [(byte_done_us(start_us, i), b) for i, b in enumerate(data)]
+
+    def _send(self, msg: m.Message, t_us: int) -> None:
+        self._tx.append((t_us, m.encode_message(msg, self._seq)))
+        self._seq = (self._seq + 1) & 0xFF
+
+    def advance_to(self, t_us: int) -> None:
+        ready = [b for when, b in self._line if when <= t_us]
+        self._line = [(w, b) for w, b in self._line if w > t_us]
+        for frame in self._parser.feed(bytes(ready)):
+            msg = m.decode_frame(frame)
+            self.seen.append((t_us, msg))
+            if msg.RELIABLE:
+                self._send(m.Ack(acked_seq=frame.seq), t_us)
+            if isinstance(msg, m.Hello):
+                self._send(m.HelloAck(proto_version=1, firmware_id="fake", capabilities=0), t_us)
+            if isinstance(msg, m.SetWheels):
+                self.wheels = (msg.left_mmps, msg.right_mmps)
+        while self._next_tel <= t_us:
+            self._send(m.Telemetry(time_us=self._next_tel, enc_left=self.enc[0],
+                                   enc_right=self.enc[1], servo_us=(1500,) * 6,
+                                   sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=0, crc_errors=0,
+                                   overruns=0, limit_hits=0, watchdog_trips=0), self._next_tel)
+            self._next_tel += self._tel_period
+        self.now_us = t_us
+
+    def uart_tx_take(self):
+        out, self._tx = self._tx, []
+        return out
+
+    def servo_pulse_us(self, ch):
+        return 1500
+
+    def wheel_duty(self):
+        return (self.wheels[0] // 4, self.wheels[1] // 4)
+
+    def set_encoder_ticks(self, left, right, t_us):
+        self.enc = (left, right)
+
+    def set_sonar_provider(self, fn):
+        self.sonar = fn
+
+
+class FakePlant:
+    def __init__(self) -> None:
+        self.t_us = 0
+        self.duty = (0, 0)
+        self.ticks = [0, 0]
+
+    def step_to(self, t_us):
+        dt = t_us - self.t_us
+        self.ticks[0] += self.duty[0] * dt // 10_000
+        self.ticks[1] += self.duty[1] * dt // 10_000
+        self.t_us = t_us
+
+    def set_servo_pulse_us(self, ch, pulse_us):
+        pass
+
+    def set_wheel_duty(self, left, right):
+        self.duty = (left, right)
+
+    def encoder_ticks(self):
+        return tuple(self.ticks)
+
+    def sonar_range_m(self, index):
+        return None
+
+    def capture(self, t_us):
+        img = np.zeros((24, 32, 3), np.uint8)
+        img[:, :, 0] = (t_us // 1000) & 0xFF
+        return img
+
+    def truth(self, t_us):
+        return {"ticks": list(self.ticks)}
+
+
+@dataclass
+class FakeOutputs:
+    servo_mrad: tuple | None = None
+    wheels_mmps: tuple | None = None
+    gripper_permille: int | None = None
+    events: list = field(default_factory=list)
+    state: str = "SEARCH"
+    detail: dict = field(default_factory=dict)
+    ops: OpCounts | None = None
+
+
+class FakeTask:
+    """Drives forward after 3 detections of the fake detector, DONE at 300 ms."""
+
+    def __init__(self, plan_cycles: int = 0) -> None:
+        self.state = "SEARCH"
+        self.seen = 0
+        self.plan_cycles = plan_cycles
+        self.steps: list[int] = []
+
+    def detectors_needed(self):
+        return ["blob"] if self.state == "SEARCH" else []
+
+    def step(self, now_us, inputs):
+        self.steps.append(now_us)
+        events = []
+        ops = None
+        if inputs.get("blob") is not None:
+            self.seen += 1
+        if self.state == "SEARCH" and self.seen >= 3:
+            events.append({"t_us": now_us, "from": "SEARCH", "to": "APPROACH", "why": "seen"})
+            self.state = "APPROACH"
+            ops = OpCounts(alu=self.plan_cycles)
+        elif self.state == "APPROACH" and now_us >= 300_000:
+            events.append({"t_us": now_us, "from": "APPROACH", "to": "DONE", "why": "time"})
+            self.state = "DONE"
+        wheels = (200, 200) if self.state == "APPROACH" else (0, 0)
+        return FakeOutputs(servo_mrad=(0, 0, -1571, -1571, 1571, 0), wheels_mmps=wheels,
+                           events=events, state=self.state, ops=ops)
+
+
+def blob_detector(cost_alu: int = 4_000_000):
+    """A detector costing ``cost_alu`` cycles (10 ms at 400 MHz by default)."""
+    def detect(rgb):
+        return {"u_q4": 16 * 10, "v_q4": 16 * 12, "mean": int(rgb[..., 0].mean())}, \
+            OpCounts(alu=cost_alu)
+    return detect
+
+
+def build_inputs(app, now_us, detections):
+    return detections

@@ -1,0 +1,212 @@
+"""One closed-loop run: the rig's lockstep loop against a host over the pty or in process.
+
+The SIM side (this process) owns simulated time: it grants quanta to the host, writes the trace,
+samples ground truth, snapshots frames at state changes and paces to wall time when asked
+(``speed``; pacing never changes what is simulated). The HOST side is either a subprocess
+(``mobigrasp host --port /dev/pts/N --lockstep SOCK``) talking over a Unix socket and the real
+pty, or the same objects called directly (``inproc``) with the lockstep messages still passed
+through the codec, so both transports see byte-identical data.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from link import lockstep as ls
+
+TERMINAL_STATES = ("DONE", "FAILED")
+
+
+class InprocHost:
+    """The host program in this process; messages still go through encode/decode."""
+
+    def __init__(self, client: Any) -> None:
+        self.client = client
+
+    def exchange(self, grant: ls.Grant) -> ls.Done:
+        """Serve one grant."""
+        done = self.client.serve(ls.decode(ls.encode(grant)))
+        return ls.decode(ls.encode(done))
+
+    def finish(self, end: ls.End) -> ls.Bye:
+        """End the run; the host's final stats."""
+        return ls.decode(ls.encode(self.client.bye()))
+
+    def close(self) -> None:
+        """Nothing to release."""
+
+
+class SocketHost:
+    """A host subprocess on the other end of a Unix socket (and of the pty)."""
+
+    def __init__(self, argv: list[str], accept_timeout_s: float = 60.0) -> None:
+        self._dir = tempfile.TemporaryDirectory(prefix="mobigrasp-ls-")
+        self.path = os.path.join(self._dir.name, "lockstep.sock")
+        self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+        self._server.bind(self.path)
+        self._server.listen(1)
+        self._server.settimeout(accept_timeout_s)
+        self.proc = subprocess.Popen([*argv, "--lockstep", self.path])
+        try:
+            self.conn, _ = self._server.accept()
+        except TimeoutError as exc:
+            self.proc.kill()
+            raise ls.LockstepClosed(f"host process did not connect within {accept_timeout_s} s"
+                                    ) from exc
+        self.conn.settimeout(accept_timeout_s)  # safety limit only
+        self.rfile = self.conn.makefile("rb")
+        self.wfile = self.conn.makefile("wb")
+        hello = ls.read_message(self.rfile)
+        if not isinstance(hello, ls.Hello) or hello.version != ls.LOCKSTEP_VERSION:
+            raise ls.LockstepError(f"host said {hello!r}, expected HELLO v{ls.LOCKSTEP_VERSION}")
+
+    def _send(self, msg: ls.Message) -> None:
+        self.wfile.write(ls.encode(msg))
+        self.wfile.flush()
+
+    def exchange(self, grant: ls.Grant) -> ls.Done:
+        """Send a grant, wait for DONE."""
+        self._send(grant)
+        reply = ls.read_message(self.rfile)
+        if not isinstance(reply, ls.Done):
+            raise ls.LockstepError(f"expected DONE, got {type(reply).__name__}")
+        return reply
+
+    def finish(self, end: ls.End) -> ls.Bye:
+        """Send END, wait for BYE."""
+        self._send(end)
+        reply = ls.read_message(self.rfile)
+        if not isinstance(reply, ls.Bye):
+            raise ls.LockstepError(f"expected BYE, got {type(reply).__name__}")
+        return reply
+
+    def close(self) -> None:
+        """Close the socket and reap the host process."""
+        for f in (getattr(self, "rfile", None), getattr(self, "wfile", None)):
+            try:
+                if f is not None:
+                    f.close()
+            except OSError:
+                pass
+        if hasattr(self, "conn"):
+            self.conn.close()
+        self._server.close()
+        try:
+            self.proc.wait(timeout=30)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+        self._dir.cleanup()
+
+
+@dataclass
+class SessionResult:
+    """What the loop knows at its end (also when it ended by an exception)."""
+
+    reason: str = "running"
+    end_us: int = 0
+    wall_s: float = 0.0
+    host_state: str = "INIT"
+    host_finished: bool = False
+    host_stats: dict = field(default_factory=dict)
+    state_enter_us: dict = field(default_factory=dict)
+    state_durations_us: dict = field(default_factory=dict)
+    error: str | None = None
+
+
+def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
+                truth: Callable[[int], dict] | None = None, truth_period_us: int = 100_000,
+                on_host_event: Callable[[dict], None] | None = None,
+                on_quantum: Callable[[int], None] | None = None,
+                speed: float | None = None, settle_us: int = 500_000,
+                progress: Callable[[SessionResult, float], None] | None = None,
+                stop: Callable[[], str | None] | None = None) -> SessionResult:
+    """Run quanta until the host's task ends (plus ``settle_us``), ``stop()`` says so, or the
+    time limit. ``speed`` = None runs as fast as possible, else sim/wall = speed (pacing only)."""
+    res = SessionResult()
+    wall0 = time.perf_counter()
+    next_truth = 0
+    next_progress = 0.0
+    finished_at: int | None = None
+    state_since = 0
+    try:
+        while True:
+            now = rig.now_us
+            if truth is not None and now >= next_truth:
+                trace.write({"ev": "truth", "t_us": now, **truth(now)})
+                next_truth += truth_period_us
+            if finished_at is not None and now >= finished_at + settle_us:
+                res.reason = "task_" + res.host_state.lower()
+                break
+            if now >= time_limit_us:
+                res.reason = "time_limit"
+                break
+            if stop is not None and (why := stop()):
+                res.reason = why
+                break
+            done = host.exchange(rig.grant())
+            for ev in done.events:
+                trace.write({"src": "host", **ev})
+                if ev.get("ev") == "state" and "to" in ev:
+                    frm = str(ev.get("from", res.host_state))
+                    res.state_durations_us[frm] = (res.state_durations_us.get(frm, 0)
+                                                   + ev["t_us"] - state_since)
+                    state_since = ev["t_us"]
+                    res.state_enter_us.setdefault(str(ev["to"]), ev["t_us"])
+                    res.host_state = str(ev["to"])
+                if on_host_event is not None:
+                    on_host_event(ev)
+            for k, v in sorted((done.load.get("windows") or {}).items(), key=lambda i: int(i[0])):
+                trace.write({"ev": "load", "t_us": int(k) * done.load["window_us"],
+                             "window_us": done.load["window_us"], "load": v})
+            if done.load.get("finished") and finished_at is None:
+                finished_at = done.until_us
+                res.host_finished = True
+            rig.complete(done)
+            if on_quantum is not None:
+                on_quantum(rig.now_us)
+            wall = time.perf_counter() - wall0
+            if speed is not None:
+                ahead = rig.now_us / 1e6 / speed - wall
+                if ahead > 0:
+                    time.sleep(ahead)  # pacing policy of the tool, never of the simulation
+            if progress is not None and wall >= next_progress:
+                progress(res, wall)
+                next_progress = wall + 0.5
+    except BaseException as exc:
+        res.reason = "crashed"
+        res.error = f"{type(exc).__name__}: {exc}"
+        raise
+    finally:
+        res.end_us = rig.now_us
+        res.state_durations_us[res.host_state] = (res.state_durations_us.get(res.host_state, 0)
+                                                  + res.end_us - state_since)
+        res.wall_s = time.perf_counter() - wall0
+        if res.reason != "crashed":
+            bye = host.finish(ls.End(at_us=rig.now_us, reason=res.reason))
+            res.host_stats = bye.stats
+            trace.write({"ev": "end", "t_us": rig.now_us, "reason": res.reason,
+                         "host_state": res.host_state})
+    return res
+
+
+def host_argv(port_path: str, config_path: Path) -> list[str]:
+    """Command line of the host subprocess (without --lockstep, added by SocketHost)."""
+    return [sys.executable, "-m", "tools.cli", "host", "--port", port_path,
+            "--config", str(config_path)]
+
+
+def write_host_config(path: Path, config: dict) -> Path:
+    """The host's configuration file (method, parameters, camera intrinsics: no ground truth)."""
+    path.write_text(json.dumps(config, indent=2, sort_keys=True) + "\n")
+    return path

@@ -79,6 +79,14 @@ class RetransmitQueue:
         self.acked += 1
         return True
 
+    def cancel(self, seq: int) -> bool:
+        """Stop retransmitting ``seq`` (superseded by a newer command); True if it was waiting.
+
+        Needed when several reliable commands are outstanding: a retransmitted older command
+        would otherwise be executed after a newer one (the serial line itself never reorders).
+        """
+        return self._pending.pop(seq, None) is not None
+
     def due(self, now_us: int) -> list[bytes]:
         """Frames to resend now; seqs that used up their retries move to ``failed()``."""
         out: list[bytes] = []

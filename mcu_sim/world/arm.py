@@ -40,8 +40,8 @@ GRASP_TOL_XY_M = 0.015
 GRASP_TOL_Z_M = 0.020
 GRASP_TOL_ALPHA_RAD = 0.3
 
-# Power-on posture: every servo at its 1500 us centre (theta4 = pi/2, theta3 = theta2 = -pi/2):
-# l1 up, l2 forward, l3 and the camera looking straight down; gripper open.
+# Power-on posture (theta4 = pi/2, theta3 = theta2 = -pi/2; pulses 1545, 1455, 1455 us with the
+# conventions table): l1 up, l2 forward, l3 and the camera looking straight down; gripper open.
 HOME_JOINTS: tuple[float, ...] = (0.0, 0.0, -math.pi / 2, -math.pi / 2, math.pi / 2, 0.0)
 
 

@@ -44,13 +44,16 @@ class TargetGeometry:
 
 
 TARGET_GEOMETRY: dict[str, TargetGeometry] = {
-    # 000: a slender post; its top carries the radial symbol (L = 109 mm) at 0.10 m.
-    "radial-symbol": TargetGeometry(0.02, 0.10, 0.04, 0.08, 0.15),
-    # 002 approach guidance marker on a block; graspable like a post.
-    "double-cross": TargetGeometry(0.02, 0.10, 0.04, 0.08, 0.15),
-    # 002: red cylinder with two black rings 14.5 mm apart, grasped horizontally (alpha = 0):
-    # tall enough that a horizontal gripper on a 0.20 m shoulder reaches its grasp point.
-    "red-cylinder": TargetGeometry(0.02, 0.16, 0.04, 0.13, 0.10),
+    # Sizes agree with mcu_sim/world/markers.py (what the camera draws).
+    # 000: slender post (radius 20 mm) whose top card at 0.10 m carries the radial symbol;
+    # grasped from above just under the card.
+    "radial-symbol": TargetGeometry(0.020, 0.10, 0.040, 0.08, 0.15),
+    # 002 guidance board on a thin post, graspable like a post.
+    "double-cross": TargetGeometry(0.020, 0.10, 0.040, 0.08, 0.15),
+    # 002: red cylinder (radius 25 mm, 0.12 m tall, rings about 0.06 m), grasped horizontally
+    # (alpha = 0). With a 0.20 m shoulder and theta4 >= 0 a horizontal fingertip cannot go below
+    # about 0.111 m, so the grasp point is 0.10 m (inside the 20 mm tolerance).
+    "red-cylinder": TargetGeometry(0.025, 0.12, 0.050, 0.10, 0.10),
 }
 
 TARGET_FRICTION_MU = 0.5

@@ -182,6 +182,33 @@ class World:
         return Scene(self.t_us, tgt, obs, self.scenario.camera, self.base.pose(),
                      self.base.radius_m)
 
+    def camera_scene(self):
+        """The scene in the renderer's own types (mcu_sim.world.camera_scene.Scene).
+
+        Walls become thin boxes (the renderer draws circles and boxes). The renderer draws the
+        target standing on the ground; while it is held, it is drawn under the gripper.
+        """
+        from . import camera_scene as cs  # imported here: the renderer is optional for physics
+
+        x, y, _, h = self.target.pose()
+        obstacles = []
+        for o in self.scenario.obstacles:
+            if o.shape == "circle":
+                obstacles.append(cs.Obstacle("circle", o.x_m, o.y_m, radius_m=o.radius_m,
+                                             height_m=o.height_m))
+            elif o.shape == "box":
+                obstacles.append(cs.Obstacle("box", o.x_m, o.y_m, width_m=o.width_m,
+                                             depth_m=o.depth_m, heading_rad=o.heading_rad,
+                                             height_m=o.height_m))
+            else:
+                length = math.hypot(o.x2_m - o.x_m, o.y2_m - o.y_m)
+                obstacles.append(cs.Obstacle(
+                    "box", 0.5 * (o.x_m + o.x2_m), 0.5 * (o.y_m + o.y2_m), width_m=length,
+                    depth_m=o.thickness_m, heading_rad=math.atan2(o.y2_m - o.y_m, o.x2_m - o.x_m),
+                    height_m=o.height_m))
+        return cs.Scene(target=cs.Target(self.target.spec.kind, x, y, h),
+                        obstacles=tuple(obstacles), seed=self.seed)
+
     # ---- truth --------------------------------------------------------------------------
     def joint_angles_rad(self) -> list[float]:
         """[theta0 (gripper closure 0..1), theta1 .. theta5 (rad)] as the servos really are."""

@@ -1,0 +1,364 @@
+"""The eye-in-hand camera (the OV9653 of paper 000): pinhole projection and a 320x240 RGB renderer.
+
+Camera axes are OpenCV's: ``R_wc`` has as columns the camera x (right), y (down) and z (optical
+axis, forward) expressed in world coordinates (x east, y north, z up); a world point ``p`` is at
+``R_wc.T @ (p - cam_pos_w)`` in the camera. Pixel centres are at integer coordinates, so the
+pinhole image ``u = f x / z + u0`` of a point lies in pixel ``round(u)``.
+
+Rendering (painter's order): background, the seeded textured ground (a homography warp of one
+repeating tile), then objects far to near by the distance of their reference point, each as
+back-face-culled solid faces (``cv2.fillConvexPoly`` at 1/16 px) and planar textures (marker
+card, guidance board) warped by homography from a mip level that matches their projected size.
+Every polygon is clipped against the near plane in camera coordinates first, so nothing behind
+the camera is drawn. Then motion blur, brightness and Gaussian noise, all seeded.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import cv2
+import numpy as np
+
+from mcu_sim.world import markers as mk
+from mcu_sim.world.camera_scene import Item, Scene, Target, solids_of_scene
+
+Z_NEAR_M = 0.01
+_SKY_RGB = (196, 200, 206)
+_NOISE_BANK_SIZE = 1 << 21
+
+
+@dataclass(frozen=True)
+class Intrinsics:
+    """Pinhole intrinsics in pixels (000: f = 611; 002: f = 350, (u0, v0) = (160, 120))."""
+
+    f_px: float = 611.0
+    u0_px: float = 160.0
+    v0_px: float = 120.0
+    width: int = 320
+    height: int = 240
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.f_px) and self.f_px > 0):
+            raise ValueError(f"Intrinsics.f_px must be a positive number, got {self.f_px!r}")
+        for name in ("u0_px", "v0_px"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"Intrinsics.{name} must be finite, got {getattr(self, name)!r}")
+        for name in ("width", "height"):
+            v = getattr(self, name)
+            if not isinstance(v, int) or not 8 <= v <= 4096:
+                raise ValueError(f"Intrinsics.{name} must be an int in [8, 4096], got {v!r}")
+
+    def matrix(self) -> np.ndarray:
+        """The 3x3 camera matrix K."""
+        return np.array([[self.f_px, 0.0, self.u0_px], [0.0, self.f_px, self.v0_px],
+                         [0.0, 0.0, 1.0]])
+
+
+@dataclass(frozen=True)
+class CameraOptions:
+    """Image degradations, applied after rendering in this order: blur, brightness, noise.
+
+    noise_std: Gaussian noise sigma in grey levels, per channel; blur_px: length of a linear
+    motion-blur streak in pixels along ``blur_angle_rad`` (0 = image x); brightness: gain.
+    """
+
+    noise_std: float = 0.0
+    blur_px: float = 0.0
+    brightness: float = 1.0
+    blur_angle_rad: float = 0.0
+
+    def __post_init__(self) -> None:
+        checks = (
+            ("noise_std", 0.0, 128.0), ("blur_px", 0.0, 40.0), ("brightness", 0.01, 10.0),
+            ("blur_angle_rad", -10.0, 10.0),
+        )
+        for name, lo, hi in checks:
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int | float) or not lo <= v <= hi:
+                raise ValueError(f"CameraOptions.{name} must be a number in [{lo}, {hi}], "
+                                 f"got {v!r}")
+
+
+@dataclass(frozen=True)
+class Frame:
+    """A rendered frame: same fields as ``host.hal.CameraFrame`` (seq, capture_us, rgb)."""
+
+    seq: int
+    capture_us: int
+    rgb: np.ndarray
+
+
+def look_rotation(yaw_rad: float, pitch_rad: float, roll_rad: float = 0.0) -> np.ndarray:
+    """R_wc of a camera whose optical axis has heading ``yaw_rad`` (CCW from +x) and elevation
+    ``pitch_rad`` (negative looks down, -pi/2 straight down), rolled by ``roll_rad`` about it
+    (positive turns the camera x axis towards its y axis, i.e. the image content CCW)."""
+    cy, sy, cp, sp = math.cos(yaw_rad), math.sin(yaw_rad), math.cos(pitch_rad), math.sin(pitch_rad)
+    fwd = np.array([cp * cy, cp * sy, sp])
+    right = np.array([sy, -cy, 0.0])
+    down = np.cross(fwd, right)
+    cr, sr = math.cos(roll_rad), math.sin(roll_rad)
+    x, y = cr * right + sr * down, -sr * right + cr * down
+    return np.column_stack([x, y, fwd])
+
+
+def _check_pose(cam_pos_w, R_wc) -> tuple[np.ndarray, np.ndarray]:
+    c = np.asarray(cam_pos_w, dtype=float)
+    R = np.asarray(R_wc, dtype=float)
+    if c.shape != (3,) or not np.all(np.isfinite(c)):
+        raise ValueError(f"cam_pos_w must be 3 finite numbers, got shape {c.shape}")
+    if R.shape != (3, 3) or not np.all(np.isfinite(R)):
+        raise ValueError(f"R_wc must be a finite 3x3 matrix, got shape {R.shape}")
+    if not np.allclose(R.T @ R, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+        raise ValueError("R_wc must be a proper rotation (orthonormal, det +1)")
+    return c, R
+
+
+def project(points_w: np.ndarray, cam_pos_w, R_wc, intr: Intrinsics) -> np.ndarray:
+    """Pinhole image (N, 2) of world points (N, 3); NaN for points not in front of the camera."""
+    p = np.asarray(points_w, dtype=float)
+    if p.ndim != 2 or p.shape[1] != 3:
+        raise ValueError(f"points_w must have shape (N, 3), got {p.shape}")
+    c, R = _check_pose(cam_pos_w, R_wc)
+    pc = (p - c) @ R
+    out = np.full((len(p), 2), np.nan)
+    ok = pc[:, 2] > Z_NEAR_M
+    out[ok, 0] = intr.f_px * pc[ok, 0] / pc[ok, 2] + intr.u0_px
+    out[ok, 1] = intr.f_px * pc[ok, 1] / pc[ok, 2] + intr.v0_px
+    return out
+
+
+def _clip_near(pc: np.ndarray) -> np.ndarray:
+    """Sutherland-Hodgman clip of a convex polygon (K, 3) in camera coords to z >= Z_NEAR_M."""
+    inside = pc[:, 2] >= Z_NEAR_M
+    if inside.all():
+        return pc
+    if not inside.any():
+        return pc[:0]
+    out = []
+    k = len(pc)
+    for i in range(k):
+        a, b = pc[i], pc[(i + 1) % k]
+        ia, ib = a[2] >= Z_NEAR_M, b[2] >= Z_NEAR_M
+        if ia:
+            out.append(a)
+        if ia != ib:
+            t = (Z_NEAR_M - a[2]) / (b[2] - a[2])
+            out.append(a + t * (b - a))
+    return np.array(out)
+
+
+class _Painter:
+    """Draws into one image for one camera pose."""
+
+    def __init__(self, img: np.ndarray, c: np.ndarray, R: np.ndarray, intr: Intrinsics) -> None:
+        self.img, self.c, self.R, self.intr = img, c, R, intr
+        self.K = intr.matrix()
+        self.light = np.array([0.35, 0.25, 0.90]) / np.linalg.norm([0.35, 0.25, 0.90])
+
+    def _image_poly(self, poly_w: np.ndarray) -> tuple[np.ndarray | None, bool]:
+        pc = _clip_near((poly_w - self.c) @ self.R)
+        if len(pc) < 3:
+            return None, False
+        uv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
+        return uv, len(pc) != len(poly_w) or not np.array_equal(pc, (poly_w - self.c) @ self.R)
+
+    def item_faces(self, it: Item) -> None:
+        """The solid convex faces of one item, culled when seen from behind, shaded by a fixed
+        light. Vertices are moved to the camera frame in one product."""
+        if it.verts is None:
+            return
+        visible = np.einsum("ij,ij->i", it.normals, self.c - it.centres) > 0.0
+        if not visible.any():
+            return
+        vc = (it.verts - self.c) @ self.R
+        z = vc[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            uv = vc[:, :2] / z[:, None] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
+        for i in np.flatnonzero(visible):
+            a, b = it.starts[i], it.starts[i + 1]
+            if z[a:b].min() >= Z_NEAR_M:
+                fuv = uv[a:b]
+            else:
+                pc = _clip_near(vc[a:b])
+                if len(pc) < 3:
+                    continue
+                fuv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
+            _, normal, rgb = it.faces[i]
+            shade = 0.62 + 0.38 * max(0.0, float(np.dot(normal, self.light)))
+            colour = tuple(int(round(min(255.0, ch * shade))) for ch in rgb)
+            pts = np.clip(np.rint(fuv * 16), -(2**26), 2**26).astype(np.int32)
+            cv2.fillConvexPoly(self.img, pts, colour, lineType=cv2.LINE_8, shift=4)
+
+    def texture(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> None:
+        """Warp an RGBA planar texture (plane through origin_w spanned by unit ex_w, ey_w)."""
+        h = tex.half_m
+        normal = np.cross(ex_w, ey_w)
+        if float(np.dot(normal, self.c - origin_w)) <= 0.0:
+            return  # seen from behind
+        corners = np.array([origin_w + sx * h * ex_w + sy * h * ey_w
+                            for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+        uv, clipped = self._image_poly(corners)
+        if uv is None:
+            return
+        H_, W_ = self.img.shape[:2]
+        lo, hi = np.floor(uv.min(axis=0)), np.ceil(uv.max(axis=0)) + 1
+        x0, y0 = max(0, int(lo[0])), max(0, int(lo[1]))
+        x1, y1 = min(W_, int(hi[0])), min(H_, int(hi[1]))
+        if x1 <= x0 or y1 <= y0:
+            return
+        pc0 = self.R.T @ (origin_w - self.c)
+        M = self.K @ np.column_stack([self.R.T @ ex_w, self.R.T @ ey_w, pc0])
+        level = 0
+        if len(tex.levels) > 1 and pc0[2] > Z_NEAR_M:
+            # texels per pixel along each texture axis at the patch centre -> mip level
+            w = M[2, 2]
+            ppm = [np.linalg.norm(M[:2, k] * w - M[:2, 2] * M[2, k]) / w**2 for k in (0, 1)]
+            ratio = math.sqrt(max(1e-9, ppm[0] * ppm[1])) * tex.texel_m
+            level = int(min(len(tex.levels) - 1, max(0, math.floor(-math.log2(ratio)))))
+        src = tex.levels[level]
+        t = 2.0 * tex.half_m / src.shape[0]
+        A = np.array([[t, 0.0, t / 2 - tex.half_m], [0.0, -t, tex.half_m - t / 2], [0, 0, 1.0]])
+        T = np.array([[1.0, 0, -x0], [0, 1.0, -y0], [0, 0, 1.0]])
+        Hm = T @ M @ A
+        warped = cv2.warpPerspective(src, Hm, (x1 - x0, y1 - y0), flags=cv2.INTER_LINEAR,
+                                     borderMode=cv2.BORDER_CONSTANT, borderValue=(0, 0, 0, 0))
+        roi = self.img[y0:y1, x0:x1]
+        mask = None
+        if clipped:
+            mask = np.zeros((y1 - y0, x1 - x0), np.uint8)
+            pts = np.rint((uv - [x0, y0]) * 16).clip(-(2**26), 2**26).astype(np.int32)
+            cv2.fillConvexPoly(mask, pts, 1, lineType=cv2.LINE_8, shift=4)
+        alpha = warped[..., 3:4].astype(np.uint16)
+        if mask is not None:
+            alpha = alpha * mask[..., None]
+        mixed = (roi.astype(np.uint16) * (255 - alpha) + warped[..., :3] * alpha + 127) // 255
+        roi[...] = mixed.astype(np.uint8)
+
+
+def _draw_ground(p: _Painter, seed: int) -> None:
+    """Warp the repeating floor tile over the whole frame, then paint the sky above the horizon.
+
+    With the camera above the floor every ray that points downwards meets the floor in front of
+    the camera, so the floor is exactly the half-plane of the image below the horizon line; the
+    rays within 0.004 rad of the horizon (floor > ~100 m away) are painted as sky.
+    """
+    tex = mk.ground_texture(seed)
+    src = tex.levels[0][..., :3]
+    t = tex.texel_m
+    f, u0, v0 = p.intr.f_px, p.intr.u0_px, p.intr.v0_px
+    origin = np.array([round(p.c[0] / (2 * tex.half_m)) * 2 * tex.half_m,
+                       round(p.c[1] / (2 * tex.half_m)) * 2 * tex.half_m, 0.0])
+    M = p.K @ np.column_stack([p.R.T[:, 0], p.R.T[:, 1], p.R.T @ (origin - p.c)])
+    A = np.array([[t, 0.0, t / 2 - tex.half_m], [0.0, -t, tex.half_m - t / 2], [0, 0, 1.0]])
+    cv2.warpPerspective(src, M @ A, (p.intr.width, p.intr.height), dst=p.img,
+                        flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
+    # ray_z(u, v) = a u + b v + c; sky where ray_z >= -0.004
+    a, b = p.R[2, 0] / f, p.R[2, 1] / f
+    c0 = p.R[2, 2] - p.R[2, 0] * u0 / f - p.R[2, 1] * v0 / f + 0.004
+    W, H = p.intr.width, p.intr.height
+    rect = np.array([[-1.0, -1.0], [W + 1.0, -1.0], [W + 1.0, H + 1.0], [-1.0, H + 1.0]])
+    side = rect @ np.array([a, b]) + c0
+    poly = []
+    for i in range(4):
+        j = (i + 1) % 4
+        if side[i] >= 0:
+            poly.append(rect[i])
+        if (side[i] >= 0) != (side[j] >= 0):
+            poly.append(rect[i] + side[i] / (side[i] - side[j]) * (rect[j] - rect[i]))
+    if len(poly) >= 3:
+        pts = np.rint(np.array(poly) * 16).astype(np.int32)
+        cv2.fillConvexPoly(p.img, pts, _SKY_RGB, lineType=cv2.LINE_8, shift=4)
+
+
+@dataclass(frozen=True)
+class _Noise:
+    bank: np.ndarray
+
+
+_NOISE: list[_Noise] = []
+
+
+def _noise_bank() -> np.ndarray:
+    # one fixed bank of N(0, 1) samples; each frame reads a seeded random window of it, which is
+    # ~10x cheaper than drawing 230k normals per frame and still deterministic per seed
+    if not _NOISE:
+        _NOISE.append(_Noise(np.random.default_rng(0x0E9653).standard_normal(
+            _NOISE_BANK_SIZE + 320 * 240 * 3, dtype=np.float32)))
+    return _NOISE[0].bank
+
+
+@lru_cache(maxsize=32)
+def _motion_kernel(length_px: float, angle_rad: float) -> np.ndarray:
+    r = int(math.ceil(length_px / 2))
+    k = np.zeros((2 * r + 1, 2 * r + 1), np.float32)
+    n = max(8, int(length_px * 16))
+    for s in np.linspace(-length_px / 2, length_px / 2, n):
+        x, y = r + s * math.cos(angle_rad), r + s * math.sin(angle_rad)
+        ix, iy = int(math.floor(x)), int(math.floor(y))
+        fx, fy = x - ix, y - iy
+        for dx, dy, w in ((0, 0, (1 - fx) * (1 - fy)), (1, 0, fx * (1 - fy)),
+                          (0, 1, (1 - fx) * fy), (1, 1, fx * fy)):
+            if 0 <= ix + dx <= 2 * r and 0 <= iy + dy <= 2 * r:
+                k[iy + dy, ix + dx] += w
+    return k / k.sum()
+
+
+def apply_options(img: np.ndarray, options: CameraOptions, rng: np.random.Generator) -> np.ndarray:
+    """Motion blur, brightness gain and Gaussian noise (in that order), seeded by ``rng``."""
+    out = img
+    if options.blur_px > 0.0:
+        out = cv2.filter2D(out, -1, _motion_kernel(options.blur_px, options.blur_angle_rad),
+                           borderType=cv2.BORDER_REPLICATE)
+    if options.brightness != 1.0:
+        out = cv2.convertScaleAbs(out, alpha=float(options.brightness))
+    if options.noise_std > 0.0:
+        bank = _noise_bank()
+        n = out.size
+        start = int(rng.integers(0, len(bank) - n))
+        f = out.astype(np.float32)
+        f += bank[start:start + n].reshape(out.shape) * np.float32(options.noise_std)
+        np.clip(f, 0.0, 255.0, out=f)
+        out = np.rint(f).astype(np.uint8)
+    return out
+
+
+def render(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics(),
+           options: CameraOptions = CameraOptions(), rng: np.random.Generator | None = None,
+           t_us: int = 0) -> np.ndarray:
+    """Render what the camera at ``cam_pos_w`` with axes ``R_wc`` sees: uint8 (H, W, 3) RGB.
+
+    Deterministic: the same arguments and the same ``rng`` state give byte-identical frames.
+    With ``rng=None`` the noise is seeded from ``(scene.seed, t_us)``.
+    """
+    if not isinstance(scene, Scene):
+        raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
+    c, R = _check_pose(cam_pos_w, R_wc)
+    if rng is None:
+        rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
+    img = np.empty((intr.height, intr.width, 3), np.uint8)
+    p = _Painter(img, c, R, intr)
+    if c[2] > 0.0:
+        _draw_ground(p, scene.seed)
+    else:
+        img[...] = _SKY_RGB
+    items = sorted(solids_of_scene(scene), key=lambda it: -float(np.linalg.norm(it.ref_w - c)))
+    for it in items:
+        p.item_faces(it)
+        for args in it.textures:
+            p.texture(*args)
+    return apply_options(img, options, rng)
+
+
+def render_frame(seq: int, capture_us: int, scene: Scene, cam_pos_w, R_wc,
+                 intr: Intrinsics = Intrinsics(), options: CameraOptions = CameraOptions(),
+                 rng: np.random.Generator | None = None) -> Frame:
+    """:func:`render` stamped with its simulated capture time, ready for the host's Camera."""
+    return Frame(int(seq), int(capture_us),
+                 render(scene, cam_pos_w, R_wc, intr, options, rng, t_us=capture_us))
+
+
+__all__ = ["Intrinsics", "CameraOptions", "Frame", "Scene", "Target", "look_rotation",
+           "project", "render", "render_frame", "apply_options", "Z_NEAR_M"]

@@ -1,0 +1,389 @@
+"""The ATmega128 program: start-up, interrupt handlers and the cooperative main loop.
+
+Written to map one-to-one onto C: every buffer is allocated in ``__init__``/``setup`` (the C
+globals) and reused; the loop does integer arithmetic only. The handlers are what the vectors
+call: ``isr_usart_rx`` (USART0_RX: byte into the RX ring), ``isr_timer1_ovf`` (TIMER1_OVF: the
+servo widths written for this period were just latched, so compute and write the next ones),
+``isr_encoder`` (INT4..7, quadrature edges) and ``isr_echo`` (sonar echo edges). ``loop`` is one
+pass of ``for (;;)``: drain the RX ring into the frame parser and dispatch frames, then run what is
+due: wheel PI (100 Hz), watchdog, sonar slot, telemetry. It returns the earliest time (µs since
+reset) at which something will be due, which is when the emulator runs it again; on the part the
+loop spins or sleeps until the next interrupt, which is equivalent because nothing else changes.
+
+Command rules (docs/firmware.md): nothing actuates before HELLO (NACK_NOT_READY); a frame that does
+not decode is NACKed with the protocol's reason and never actuates; reliable commands are ACKed,
+and a retransmitted copy (same seq) is answered again but not executed twice; STOP and the
+watchdog stop the wheels and hold the arm.
+"""
+
+from __future__ import annotations
+
+from protocol import (
+    FLAG_GRIPPER_CLOSED,
+    FLAG_HANDSHAKE,
+    FLAG_LIMIT,
+    FLAG_RESET,
+    FLAG_STOPPED,
+    FLAG_WATCHDOG,
+    NACK_BAD_PARAM,
+    NACK_BAD_VERSION,
+    NACK_NOT_READY,
+    PROTOCOL_VERSION,
+    SERVO_MODE_MRAD,
+    Ack,
+    DuplicateFilter,
+    FrameParser,
+    Gripper,
+    Heartbeat,
+    Hello,
+    HelloAck,
+    MessageError,
+    Nack,
+    ParamGet,
+    ParamSet,
+    ParamValue,
+    SequenceCounter,
+    SetServos,
+    SetWheels,
+    Stop,
+    Telemetry,
+    decode_frame,
+    encode_message,
+)
+
+from mcu_sim.firmware import params as P
+from mcu_sim.firmware.ring import ByteRing
+from mcu_sim.firmware.servo_table import (
+    GRIPPER_OPEN_US,
+    SERVO_COUNT,
+    ServoBank,
+    mrad_slew_to_us,
+    mrad_to_us,
+)
+from mcu_sim.firmware.sonar_task import SonarTask
+from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
+from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
+
+FIRMWARE_ID = "mobigrasp-avr"
+CAP_SERVOS, CAP_WHEELS, CAP_SONARS, CAP_PARAMS = 1, 2, 4, 8
+CAPABILITIES = CAP_SERVOS | CAP_WHEELS | CAP_SONARS | CAP_PARAMS
+ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks
+TCCRA_SERVO = 0b1010_1010  # COMnA/B/C = 10 (non-inverting), WGMn1:0 = 10
+TCCRB_SERVO = 0b0001_1010  # WGMn3:2 = 11 (mode 14), CSn = 010 (clk/8)
+
+
+def _i32(x: int) -> int:
+    return ((x + 0x8000_0000) & 0xFFFF_FFFF) - 0x8000_0000
+
+
+class Firmware:
+    """Globals of the C program plus its handlers; ``hw`` is the :class:`mcu_sim.avr.board.Board`."""
+
+    def __init__(self, hw, param_overrides: dict[int, int] | None = None) -> None:
+        self.hw = hw
+        self.rx = ByteRing(RX_RING_BYTES)
+        self.parser = FrameParser()
+        self.dup = DuplicateFilter(DUP_WINDOW)
+        self.tx_seq = SequenceCounter()
+        self.servos = ServoBank()
+        self.params = P.Params()
+        self.wheels = (WheelPi(), WheelPi())
+        self.sonar = SonarTask()
+        self.enc_count = [0, 0]
+        self._overrides = dict(param_overrides or {})
+        for pid, value in self._overrides.items():
+            reason = self.params.check(pid, value)
+            if reason:
+                raise ValueError(f"parameter {pid}={value} refused (NACK reason {reason})")
+        self.setup()
+
+    # -- start-up ------------------------------------------------------------------------------
+    def setup(self) -> None:
+        """``main()`` before the loop: state to power-on values, peripherals configured."""
+        hw = self.hw
+        self.rx.clear()
+        self.rx.overruns = 0
+        self.parser.reset()
+        self.parser.stats.__init__()
+        self.dup.reset()
+        self.params.reset()
+        for pid, value in self._overrides.items():
+            self.params.set(pid, value)
+        self.servos.reset()
+        self._apply_servo_limits()
+        self.enc_count[0] = self.enc_count[1] = 0
+        for wheel in self.wheels:
+            wheel.reset(0)
+        self.drive_enabled = False
+        self.handshake = False
+        self.stopped = False
+        self.limit_flag = False
+        self.reset_flag = True
+        self.watchdog_tripped = False
+        self.limit_hits = 0
+        self.watchdog_trips = 0
+        self.bad_frames = 0
+        self.not_ready = 0
+        self.unexpected = 0
+        self.tx_dropped = 0
+        self.telemetry_sent = 0
+        for timer in (hw.timer1, hw.timer3):
+            timer.write_tccra(TCCRA_SERVO)
+            timer.write_icr(ICR_20MS)
+        for ch in range(SERVO_COUNT):
+            self._write_ocr(ch)
+        self.servos.latch()
+        for timer in (hw.timer1, hw.timer3):
+            timer.write_tccrb(TCCRB_SERVO, hw.cycle)
+        for wheel in (hw.wheel_left, hw.wheel_right):
+            wheel.start(hw.cycle)
+            wheel.write_direction(False, hw.cycle)
+            wheel.write_ocr(0, hw.cycle)
+        now = hw.micros()
+        self.last_valid_us = now
+        self.next_control_us = now + CONTROL_PERIOD_US
+        self.next_telemetry_us = now
+        self.sonar.reset(now)
+
+    # -- interrupt handlers --------------------------------------------------------------------
+    def isr_usart_rx(self, byte: int) -> None:
+        """USART0 RX complete: into the ring (overrun counted when full)."""
+        self.rx.put(byte)
+
+    def isr_timer1_ovf(self) -> None:
+        """Timer1 (and 3, started together) period start: latch, then write next period's OCRs."""
+        self.servos.latch()
+        for ch in range(SERVO_COUNT):
+            self._write_ocr(ch)
+
+    def isr_encoder(self, side: int, edges: int) -> None:
+        """Encoder edges of wheel ``side`` (0 left, 1 right): ``edges`` ISR calls of +-1."""
+        self.enc_count[side] += edges
+
+    def isr_echo(self, index: int, level: int) -> None:
+        """Echo pin of sonar ``index`` changed to ``level``."""
+        self.sonar.on_echo(index, level, self.hw.micros())
+
+    # -- main loop -----------------------------------------------------------------------------
+    def loop(self) -> int:
+        """One pass of the main loop; returns the next time (µs since reset) something is due."""
+        hw = self.hw
+        now = hw.micros()
+        data = self.rx.take_all()
+        if data:
+            for frame in self.parser.feed(data):
+                self._handle(frame, now)
+        params = self.params
+        if now >= self.next_control_us:
+            self._control()
+            self.next_control_us += CONTROL_PERIOD_US
+            if self.next_control_us <= now:
+                self.next_control_us = now + CONTROL_PERIOD_US
+        wd_us = params.get(P.P_WATCHDOG_MS) * 1000
+        if wd_us and not self.watchdog_tripped and now - self.last_valid_us >= wd_us:
+            self._trip_watchdog()
+        if now >= self.sonar.next_slot_us:
+            self.sonar.end_slot()
+            index = self.sonar.start_slot(params.get(P.P_SONAR_COUNT), now,
+                                          params.get(P.P_SONAR_SLOT_MS) * 1000)
+            if index is not None:
+                hw.sonars.trigger(index, hw.cycle)
+        hz = params.get(P.P_TELEMETRY_HZ)
+        if hz and now >= self.next_telemetry_us:
+            self._send_telemetry(now)
+            period = 1_000_000 // hz
+            self.next_telemetry_us += period
+            if self.next_telemetry_us <= now:
+                self.next_telemetry_us = now + period
+        due = min(self.next_control_us, self.sonar.next_slot_us)
+        if hz and self.next_telemetry_us < due:
+            due = self.next_telemetry_us
+        if wd_us and not self.watchdog_tripped and self.last_valid_us + wd_us < due:
+            due = self.last_valid_us + wd_us
+        return due
+
+    # -- outputs -------------------------------------------------------------------------------
+    def _write_ocr(self, ch: int) -> None:
+        timer, idx = self.hw.servo_timer(ch)
+        timer.write_ocr(idx, self.servos.next_pending(ch))
+
+    def _set_duty(self, side: int, duty: int) -> None:
+        wheel = self.hw.wheel_right if side else self.hw.wheel_left
+        cycle = self.hw.cycle
+        wheel.write_direction(duty < 0, cycle)
+        wheel.write_ocr(-duty if duty < 0 else duty, cycle)
+
+    def _stop_wheels(self) -> None:
+        self.drive_enabled = False
+        for side in (0, 1):
+            self.wheels[side].stop(self.enc_count[side])
+            self._set_duty(side, 0)
+
+    def _hold_arm(self) -> None:
+        self.servos.hold()
+        for ch in range(SERVO_COUNT):
+            self._write_ocr(ch)
+
+    def _trip_watchdog(self) -> None:
+        self.watchdog_tripped = True
+        self.watchdog_trips += 1
+        self._stop_wheels()
+        self._hold_arm()
+
+    def _control(self) -> None:
+        kp = self.params.get(P.P_WHEEL_KP)
+        ki = self.params.get(P.P_WHEEL_KI)
+        for side in (0, 1):
+            if self.drive_enabled:
+                duty = self.wheels[side].update(self.enc_count[side], kp, ki)
+            else:
+                self.wheels[side].last_count = self.enc_count[side]
+                duty = 0
+            self._set_duty(side, duty)
+
+    def _send(self, msg) -> None:
+        wire = encode_message(msg, self.tx_seq.next())
+        if not self.hw.usart0.tx_write(wire, self.hw.cycle):
+            self.tx_dropped += 1
+
+    def _flags(self) -> int:
+        flags = FLAG_HANDSHAKE if self.handshake else 0
+        if self.watchdog_tripped:
+            flags |= FLAG_WATCHDOG
+        if self.limit_flag:
+            flags |= FLAG_LIMIT
+        if self.stopped:
+            flags |= FLAG_STOPPED
+        if self.reset_flag:
+            flags |= FLAG_RESET
+        if self.servos.target_q8[0] >= (GRIPPER_OPEN_US + 500) << 8:
+            flags |= FLAG_GRIPPER_CLOSED
+        return flags
+
+    def corrupt_frames(self) -> int:
+        """Frames the parser rejected as damaged (CRC, COBS, runt, oversize, wrong version)."""
+        s = self.parser.stats
+        return s.crc_errors + s.cobs_errors + s.truncated + s.oversize + s.bad_version
+
+    def overruns(self) -> int:
+        """Bytes lost on reception: RX ring full, or more than the line could carry."""
+        return self.rx.overruns + self.hw.usart0.rx_line_dropped
+
+    def _send_telemetry(self, now: int) -> None:
+        servos = self.servos
+        msg = Telemetry(
+            time_us=now & 0xFFFF_FFFF,
+            enc_left=_i32(self.enc_count[0]),
+            enc_right=_i32(self.enc_count[1]),
+            servo_us=tuple(servos.latched_us(ch) for ch in range(SERVO_COUNT)),
+            sonar_mm=tuple(self.sonar.range_mm),
+            flags=self._flags(),
+            crc_errors=self.corrupt_frames() & 0xFFFF,
+            overruns=self.overruns() & 0xFFFF,
+            limit_hits=self.limit_hits & 0xFFFF,
+            watchdog_trips=self.watchdog_trips & 0xFFFF,
+        )
+        self._send(msg)
+        self.telemetry_sent += 1
+        self.limit_flag = False
+        self.reset_flag = False
+
+    # -- command handling ----------------------------------------------------------------------
+    def _handle(self, frame, now: int) -> None:
+        try:
+            msg = decode_frame(frame)
+        except MessageError as exc:
+            self.bad_frames += 1
+            self._send(Nack(frame.seq, exc.nack_reason))
+            return
+        self.last_valid_us = now
+        self.watchdog_tripped = False
+        seq = frame.seq
+        if isinstance(msg, Hello):
+            if msg.proto_version != PROTOCOL_VERSION:
+                self._send(Nack(seq, NACK_BAD_VERSION))
+                return
+            self.dup.reset()  # a (re)started host counts from 0 again
+            self.dup.is_new(seq)
+            self.handshake = True
+            self._send(Ack(seq))
+            self._send(HelloAck(PROTOCOL_VERSION, FIRMWARE_ID, CAPABILITIES))
+            return
+        if isinstance(msg, SetWheels):
+            if not self.handshake:
+                self.not_ready += 1
+                return
+            self._set_wheels(msg)
+            return
+        if not msg.RELIABLE:
+            if not isinstance(msg, Heartbeat):  # replies and logs are not for the MCU
+                self.unexpected += 1
+            return
+        if not self.handshake:
+            self.not_ready += 1
+            self._send(Nack(seq, NACK_NOT_READY))
+            return
+        if self.dup.is_new(seq):
+            reason = self._execute(msg)
+            self.dup.set_result(seq, reason)
+        else:
+            reason = self.dup.result(seq)
+        self._send(Nack(seq, reason) if reason else Ack(seq))
+        if not reason and isinstance(msg, ParamGet | ParamSet):
+            self._send(ParamValue(msg.param_id, self.params.get(msg.param_id)))
+
+    def _execute(self, msg) -> int:
+        """Carry out a new reliable command; 0 or a NACK reason."""
+        if isinstance(msg, SetServos):
+            mrad = msg.mode == SERVO_MODE_MRAD
+            slew_us = mrad_slew_to_us(msg.slew) if mrad else msg.slew
+            for ch in range(SERVO_COUNT):
+                value = msg.targets[ch]
+                pulse = mrad_to_us(ch, value) if mrad else value
+                if self.servos.set_target_us(ch, pulse, slew_us):
+                    self._count_limit()
+                self._write_ocr(ch)
+            self.stopped = False
+            return 0
+        if isinstance(msg, Gripper):
+            if self.servos.set_target_us(0, GRIPPER_OPEN_US + msg.close_permille, 0):
+                self._count_limit()
+            self._write_ocr(0)
+            return 0
+        if isinstance(msg, Stop):
+            self._stop_wheels()
+            self._hold_arm()
+            self.stopped = True
+            return 0
+        if isinstance(msg, ParamGet):
+            return 0 if self.params.get(msg.param_id) is not None else NACK_BAD_PARAM
+        if isinstance(msg, ParamSet):
+            reason = self.params.check(msg.param_id, msg.value)
+            if reason == 0:
+                self.params.set(msg.param_id, msg.value)
+                self._apply_servo_limits()
+            return reason
+        return NACK_BAD_PARAM  # a reliable type this firmware does not execute
+
+    def _count_limit(self) -> None:
+        self.limit_hits += 1
+        self.limit_flag = True
+
+    def _apply_servo_limits(self) -> None:
+        servos = self.servos
+        for ch in range(SERVO_COUNT):
+            servos.min_us[ch] = self.params.get(P.P_SERVO_MIN_BASE + ch)
+            servos.max_us[ch] = self.params.get(P.P_SERVO_MAX_BASE + ch)
+            self._write_ocr(ch)
+
+    def _set_wheels(self, msg) -> None:
+        limit = self.params.get(P.P_WHEEL_MAX_MMPS)
+        for side, mmps in ((0, msg.left_mmps), (1, msg.right_mmps)):
+            clamped = min(max(mmps, -limit), limit)
+            if clamped != mmps:
+                self._count_limit()
+            if not self.drive_enabled:
+                self.wheels[side].reset(self.enc_count[side])
+            self.wheels[side].set_target(clamped)
+        self.drive_enabled = True
+        self.stopped = False

@@ -1,0 +1,221 @@
+"""The emulated ATmega128: firmware plus peripheral models, driven by the caller's clock.
+
+``Mcu`` owns no clock of its own: the caller (a test, ``mobigrasp mcu``, the rig) moves it with
+``advance_to(t_us)``. Between two calls it runs an event loop in 16 MHz cycles: the next event is
+the earliest of a byte's stop bit on the RX line, a Timer1 BOTTOM (servo period start), a sonar
+echo edge and the firmware's own next due time; at each event the peripherals are brought up to
+that cycle, the interrupt handlers run in a fixed order (timer overflow, USART RX, echo edges,
+encoder edges) and then one pass of the main loop. Everything is integer and deterministic: the
+same inputs at the same simulated times give the same outputs, whatever the wall clock does.
+
+Outputs: servo pulse edges and widths on signal ports (``servo_port``, ``servo_pulse_us``), wheel
+duties (``wheel_duty``), bytes the firmware sent (``uart_tx_take``). Inputs: bytes on the RX line
+(``uart_rx``), encoder counts (``set_encoder_ticks``), sonar ranges (``set_sonar_provider``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+
+from mcu_sim.avr.board import CYCLES_PER_US, Board
+from mcu_sim.avr.signals import SignalPort
+from mcu_sim.avr.usart import baud_error_pct, baud_rate
+from mcu_sim.firmware.params import param_id
+from mcu_sim.firmware.program import Firmware
+from mcu_sim.firmware.sram import TX_RING_BYTES
+
+
+@dataclass(frozen=True)
+class McuConfig:
+    """Build-time choices: UART divisor, fitted sonars, line buffer, PARAM defaults to override."""
+
+    ubrr: int = 16
+    u2x: int = 1
+    sonar_count: int = 5
+    line_capacity_bytes: int = 4096
+    params: Mapping[str | int, int] = field(default_factory=dict)
+
+
+class Mcu:
+    """One emulated ATmega128 running the mobigrasp firmware."""
+
+    def __init__(self, config: McuConfig | None = None) -> None:
+        self.config = config or McuConfig()
+        cfg = self.config
+        self.board = Board(cfg.ubrr, cfg.u2x, TX_RING_BYTES, cfg.line_capacity_bytes,
+                           cfg.sonar_count)
+        overrides = {param_id(k): int(v) for k, v in cfg.params.items()}
+        self._cycle = 0
+        self._tx_out: list[tuple[int, bytes]] = []
+        self.events = 0
+        self.firmware = Firmware(self.board, overrides)
+        self._deadline = 0
+        self._step(0)
+
+    # -- time ----------------------------------------------------------------------------------
+    @property
+    def now_us(self) -> int:
+        """Current simulated time in µs."""
+        return self._cycle // CYCLES_PER_US
+
+    def advance_to(self, t_us: int) -> None:
+        """Run the MCU until simulated time ``t_us`` (inclusive of events at exactly ``t_us``)."""
+        target = int(t_us) * CYCLES_PER_US
+        if target < self._cycle:
+            raise ValueError(f"cannot go back in time from {self.now_us} to {t_us} us")
+        b = self.board
+        usart, timer1, sonars = b.usart0, b.timer1, b.sonars
+        while True:
+            nxt = self._deadline
+            r = usart.next_rx_cycle()
+            if r is not None and r < nxt:
+                nxt = r
+            tb = timer1.next_bottom
+            if tb is not None and tb < nxt:
+                nxt = tb
+            s = sonars.next_event()
+            if s is not None and s < nxt:
+                nxt = s
+            if nxt > target:
+                break
+            self._step(nxt)
+        self._cycle = target
+        b.cycle = target
+        self._peripherals_to(target)
+
+    def _peripherals_to(self, cycle: int) -> int:
+        b = self.board
+        bottoms = b.timer1.advance_to(cycle)
+        b.timer3.advance_to(cycle)
+        b.wheel_left.advance_to(cycle)
+        b.wheel_right.advance_to(cycle)
+        return bottoms
+
+    def _step(self, cycle: int) -> None:
+        self.events += 1
+        b = self.board
+        fw = self.firmware
+        self._cycle = cycle
+        b.cycle = cycle
+        for _ in range(self._peripherals_to(cycle)):
+            fw.isr_timer1_ovf()
+        data = b.usart0.rx_take_until(cycle)
+        for byte in data:
+            fw.isr_usart_rx(byte)
+        if b.sonars.next_event() is not None:
+            for _, index, level in b.sonars.take_events_until(cycle):
+                fw.isr_echo(index, level)
+        for side, enc in ((0, b.enc_left), (1, b.enc_right)):
+            edges = enc.take_edges(cycle)
+            if edges:
+                fw.isr_encoder(side, edges)
+        due = b.reset_cycle + fw.loop() * CYCLES_PER_US
+        self._deadline = due if due > cycle else cycle + CYCLES_PER_US
+
+    def reset(self) -> None:
+        """MCU reset now: bytes in flight are lost, the firmware starts again (FLAG_RESET)."""
+        self._tx_out.extend(self._take_tx())
+        self.board.reset(self._cycle)
+        self.firmware.setup()
+        self._step(self._cycle)
+
+    # -- UART ----------------------------------------------------------------------------------
+    def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
+        """Put ``data`` on the RX line starting at ``start_us`` (default and minimum: now);
+        returns the bytes accepted (the rest overflowed the line buffer and is counted)."""
+        start = self._cycle if start_us is None else max(int(start_us) * CYCLES_PER_US,
+                                                          self._cycle)
+        return self.board.usart0.line_put(bytes(data), start)
+
+    def _take_tx(self) -> list[tuple[int, bytes]]:
+        return [((c + CYCLES_PER_US - 1) // CYCLES_PER_US, d)
+                for c, d in self.board.usart0.tx_take_until(self._cycle)]
+
+    def uart_tx_take(self) -> list[tuple[int, bytes]]:
+        """Bytes the firmware sent since the last call: ``(t_us their last bit left, bytes)``."""
+        out = self._tx_out + self._take_tx()
+        self._tx_out = []
+        return out
+
+    @property
+    def baud(self) -> float:
+        """Actual USART0 baud rate."""
+        return baud_rate(self.config.ubrr, self.config.u2x)
+
+    @property
+    def baud_error_pct(self) -> float:
+        """Baud error against 115200 in percent (+2.1 for UBRR 16, U2X 1)."""
+        return baud_error_pct(self.config.ubrr, self.config.u2x)
+
+    # -- outputs -------------------------------------------------------------------------------
+    def servo_port(self, ch: int) -> SignalPort:
+        """Signal port of channel ``ch``'s pulse widths (value in ns, at each falling edge)."""
+        return self.board.bus.port(f"servo{self._check_ch(ch)}.pulse_ns")
+
+    def servo_pin(self, ch: int) -> SignalPort:
+        """Signal port of channel ``ch``'s pin edges (value 1 rising, 0 falling)."""
+        return self.board.bus.port(f"servo{self._check_ch(ch)}.pin")
+
+    def servo_pulse_ns(self, ch: int) -> int:
+        """Latest complete pulse width on channel ``ch`` in ns (0 before the first one)."""
+        timer, idx = self.board.servo_timer(self._check_ch(ch))
+        return timer.last_width_ns[idx]
+
+    def servo_pulse_us(self, ch: int) -> float:
+        """Latest complete pulse width on channel ``ch`` in µs (a multiple of 0.5)."""
+        return self.servo_pulse_ns(ch) / 1000.0
+
+    def subscribe_servo(self, ch: int, callback: Callable[[int, int], None]) -> Callable[[], None]:
+        """Call ``callback(t_us, width_ns)`` at every falling edge of channel ``ch``."""
+        return self.servo_port(ch).subscribe(callback)
+
+    def wheel_duty(self) -> tuple[int, int]:
+        """Signed duties (left, right), -255..255, as the motor drivers see them now."""
+        return self.board.wheel_left.signed_duty, self.board.wheel_right.signed_duty
+
+    @staticmethod
+    def _check_ch(ch: int) -> int:
+        if not 0 <= ch < 6:
+            raise ValueError(f"servo channel must be 0..5, got {ch}")
+        return ch
+
+    # -- inputs --------------------------------------------------------------------------------
+    def set_encoder_ticks(self, left: int, right: int, t_us: int | None = None) -> None:
+        """The wheels' cumulative quadrature counts are (left, right) at ``t_us`` (default now);
+        a future time spreads the edges from now until then."""
+        t = self._cycle if t_us is None else int(t_us) * CYCLES_PER_US
+        self.board.enc_left.set_ticks(left, t, self._cycle)
+        self.board.enc_right.set_ticks(right, t, self._cycle)
+
+    def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
+        """Set ``provider(index) -> metres | None`` consulted when a sonar is triggered."""
+        if provider is not None and not callable(provider):
+            raise TypeError(f"sonar provider must be callable or None, got {provider!r}")
+        self.board.sonars.provider = provider
+
+    # -- diagnostics ---------------------------------------------------------------------------
+    def stats(self) -> dict[str, int]:
+        """Counters of the firmware and the USART (what a debugger would read from SRAM)."""
+        fw = self.firmware
+        usart = self.board.usart0
+        out = {
+            "rx_bytes": usart.rx_bytes,
+            "tx_bytes": usart.tx_bytes,
+            "rx_ring_overruns": fw.rx.overruns,
+            "rx_line_dropped": usart.rx_line_dropped,
+            "overruns": fw.overruns(),
+            "corrupt_frames": fw.corrupt_frames(),
+            "bad_frames": fw.bad_frames,
+            "not_ready": fw.not_ready,
+            "unexpected": fw.unexpected,
+            "tx_dropped": fw.tx_dropped,
+            "limit_hits": fw.limit_hits,
+            "watchdog_trips": fw.watchdog_trips,
+            "telemetry_sent": fw.telemetry_sent,
+            "duplicates": fw.dup.duplicates,
+            "events": self.events,
+        }
+        for key, value in fw.parser.stats.as_dict().items():
+            out[f"parser_{key}"] = value
+        return out

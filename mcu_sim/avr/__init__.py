@@ -1,1 +1,1 @@
-"""Register-level peripheral models of the ATmega128 (timers, USART, pins), timed in simulated microseconds."""
+"""Register-level peripheral models of the ATmega128 (timers, USART, pins), in simulated time."""

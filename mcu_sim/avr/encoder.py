@@ -37,8 +37,8 @@ class QuadratureEncoder:
         return self._c0 + moved if dc >= 0 else self._c0 - moved
 
     def set_ticks(self, count: int, t_cycle: int, now_cycle: int) -> None:
-        """The shaft is at ``count`` at ``t_cycle``: in the future, edges spread from now until then;
-        at or before now, the count applies at once. Non-integers are counted and ignored."""
+        """The shaft is at ``count`` at ``t_cycle``: in the future, edges spread from now until
+        then; at or before now, the count applies at once. Non-integers are counted and ignored."""
         if isinstance(count, bool) or not isinstance(count, int):
             self.bad_inputs += 1
             return

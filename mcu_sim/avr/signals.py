@@ -27,7 +27,7 @@ class SignalPort:
         self._subscribers: list[Callback] = []
 
     def subscribe(self, callback: Callback) -> Callable[[], None]:
-        """Call ``callback(t_us, value)`` on every emitted sample; returns an unsubscribe function."""
+        """Call ``callback(t_us, value)`` on every sample; returns an unsubscribe function."""
         if not callable(callback):
             raise TypeError(f"signal {self.name}: callback must be callable, got {callback!r}")
         self._subscribers.append(callback)

@@ -65,7 +65,7 @@ class SonarArray:
         return d if d <= MAX_RANGE_M else None
 
     def trigger(self, index: int, cycle: int) -> None:
-        """Trigger sonar ``index`` at ``cycle``; schedules its echo edges if something is in range."""
+        """Trigger sonar ``index`` at ``cycle``; schedules echo edges if something is in range."""
         self.triggers += 1
         d = self._range_m(index)
         if d is None:

@@ -3,8 +3,8 @@
 Baud rate (datasheet, "USART Baud Rate Registers"): ``f_osc / (16 (UBRR + 1))`` with U2X = 0 and
 ``f_osc / (8 (UBRR + 1))`` with U2X = 1. At 16 MHz, 115200 is not exact: U2X = 1, UBRR = 16 gives
 117 647 baud (+2.1 %), U2X = 0, UBRR = 8 gives 111 111 baud (-3.5 %); ``baud_error_pct`` reports it.
-One 8N1 byte is 10 bit times, i.e. ``10 x 8 (UBRR + 1)`` = 1360 cycles (85 µs) for U2X = 1, UBRR = 16:
-always a whole number of cycles, so the model is exact in integer time.
+One 8N1 byte is 10 bit times, i.e. ``10 x 8 (UBRR + 1)`` = 1360 cycles (85 µs) for U2X = 1,
+UBRR = 16: always a whole number of cycles, so the model is exact in integer time.
 
 Receive: bytes put on the line at a start time follow each other back to back; a byte reaches the
 receiver (RXC, and the firmware's RX interrupt) only once its stop bit has arrived. The line side
@@ -79,7 +79,7 @@ class Usart:
 
     # -- receive -------------------------------------------------------------------------------
     def line_put(self, data: bytes, start_cycle: int) -> int:
-        """Put ``data`` on the RX line from ``start_cycle``; returns how many bytes were accepted."""
+        """Put ``data`` on the RX line from ``start_cycle``; returns the bytes accepted."""
         room = self.line_capacity - self._rx_pending
         if len(data) > room:
             self.rx_line_dropped += len(data) - max(room, 0)

@@ -18,6 +18,18 @@ watchdog stop the wheels and hold the arm.
 
 from __future__ import annotations
 
+from mcu_sim.firmware import params as P
+from mcu_sim.firmware.ring import ByteRing
+from mcu_sim.firmware.servo_table import (
+    GRIPPER_OPEN_US,
+    SERVO_COUNT,
+    ServoBank,
+    mrad_slew_to_us,
+    mrad_to_us,
+)
+from mcu_sim.firmware.sonar_task import SonarTask
+from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
+from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
 from protocol import (
     FLAG_GRIPPER_CLOSED,
     FLAG_HANDSHAKE,
@@ -51,19 +63,6 @@ from protocol import (
     encode_message,
 )
 
-from mcu_sim.firmware import params as P
-from mcu_sim.firmware.ring import ByteRing
-from mcu_sim.firmware.servo_table import (
-    GRIPPER_OPEN_US,
-    SERVO_COUNT,
-    ServoBank,
-    mrad_slew_to_us,
-    mrad_to_us,
-)
-from mcu_sim.firmware.sonar_task import SonarTask
-from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
-from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
-
 FIRMWARE_ID = "mobigrasp-avr"
 CAP_SERVOS, CAP_WHEELS, CAP_SONARS, CAP_PARAMS = 1, 2, 4, 8
 CAPABILITIES = CAP_SERVOS | CAP_WHEELS | CAP_SONARS | CAP_PARAMS
@@ -77,7 +76,7 @@ def _i32(x: int) -> int:
 
 
 class Firmware:
-    """Globals of the C program plus its handlers; ``hw`` is the :class:`mcu_sim.avr.board.Board`."""
+    """Globals of the C program plus its handlers; ``hw`` is a :class:`mcu_sim.avr.board.Board`."""
 
     def __init__(self, hw, param_overrides: dict[int, int] | None = None) -> None:
         self.hw = hw

@@ -58,7 +58,8 @@ def default_limits_us(ch: int) -> tuple[int, int]:
     pulse0, direction, lo, hi = JOINT_TABLE[ch]
     if ch == 0:
         return pulse0 + lo, pulse0 + hi
-    ends = sorted((pulse0 * K_DEN + direction * lo * K_NUM, pulse0 * K_DEN + direction * hi * K_NUM))
+    base = pulse0 * K_DEN
+    ends = sorted((base + direction * lo * K_NUM, base + direction * hi * K_NUM))
     lo_us = -((-ends[0]) // K_DEN)  # ceil
     hi_us = ends[1] // K_DEN  # floor
     return max(PULSE_MIN_US, lo_us), min(PULSE_MAX_US, hi_us)

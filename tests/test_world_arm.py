@@ -1,0 +1,176 @@
+"""Arm FK against eq. (3) of 000, camera axes, and the grasp / lift / release rule."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mcu_sim.world.actuators import JOINT_TABLE, pulse_for_angle
+from mcu_sim.world.arm import ARM_BY_METHOD, Arm, camera_point_platform
+from mcu_sim.world.scenario import loads_scenario
+from mcu_sim.world.world import World
+
+G000 = ARM_BY_METHOD["000"]
+
+
+def eq3_000(l1, l2, l3, t2, t3, t4, t5):
+    """Eq. (3) of 000 written out independently (X_r right, Y_r forward, Z_r up)."""
+    alpha = t2 + t3 + t4
+    r = l1 * math.cos(t4) + l2 * math.cos(t4 + t3) + l3 * math.cos(alpha)
+    return (r * math.sin(t5), r * math.cos(t5),
+            l1 * math.sin(t4) + l2 * math.sin(t4 + t3) + l3 * math.sin(alpha))
+
+
+def joint_strategy():
+    return st.tuples(*[st.floats(JOINT_TABLE[ch].min_rad, JOINT_TABLE[ch].max_rad)
+                       for ch in range(6)])
+
+
+@settings(max_examples=200, deadline=None)
+@given(q=joint_strategy())
+def test_fk_matches_eq3_of_000(q):
+    got = camera_point_platform(G000, q)
+    want = eq3_000(0.0955, 0.089, 0.097, q[2], q[3], q[4], q[5])
+    assert got == pytest.approx(want, abs=1e-12)
+
+
+def test_fk_known_postures():
+    # all pitch joints at 0: arm stretched forward, l1 + l2 + l3 ahead of the waist
+    assert camera_point_platform(G000, (0, 0, 0, 0, 0, 0)) == pytest.approx((0, 0.2815, 0))
+    # waist +pi/2 turns the stretched arm to the right (+X_r)
+    assert camera_point_platform(G000, (0, 0, 0, 0, 0, math.pi / 2)) == pytest.approx(
+        (0.2815, 0, 0), abs=1e-12)
+    # l1 straight up, l2 forward, l3 down
+    q = (0, 0, -math.pi / 2, -math.pi / 2, math.pi / 2, 0)
+    assert camera_point_platform(G000, q) == pytest.approx((0, 0.089, 0.0955 - 0.097))
+    g001 = ARM_BY_METHOD["001"]
+    assert camera_point_platform(g001, (0, 0, 0, 0, 0, 0)) == pytest.approx((0, 0.52, 0))
+
+
+@settings(max_examples=100, deadline=None)
+@given(q=joint_strategy(), x=st.floats(-3, 3), y=st.floats(-3, 3), h=st.floats(-3.1, 3.1))
+def test_camera_pose_in_the_world(q, x, y, h):
+    arm = Arm(G000, initial=q)
+    pos, r_wc = arm.camera_pose_world((x, y, h), 0)
+    px, py, pz = eq3_000(0.0955, 0.089, 0.097, q[2], q[3], q[4], q[5])
+    # the waist sits 0.10 m ahead of the axle, the shoulder 0.20 m above the ground
+    fx, fy = math.cos(h), math.sin(h)
+    rx, ry = math.sin(h), -math.cos(h)
+    want = (x + (0.10 + py) * fx + px * rx, y + (0.10 + py) * fy + px * ry, 0.20 + pz)
+    assert pos == pytest.approx(want, abs=1e-9)
+    assert r_wc.T @ r_wc == pytest.approx(np.eye(3), abs=1e-9)
+    assert np.linalg.det(r_wc) == pytest.approx(1.0, abs=1e-9)
+    alpha = q[2] + q[3] + q[4]
+    yaw = h - q[5]  # waist positive turns clockwise seen from above
+    z_axis = (math.cos(alpha) * math.cos(yaw), math.cos(alpha) * math.sin(yaw), math.sin(alpha))
+    assert r_wc[:, 2] == pytest.approx(z_axis, abs=1e-9)
+    # roll 0 would put x horizontal to the right; roll theta1 turns x about z by theta1
+    x0 = np.array([math.cos(yaw - math.pi / 2), math.sin(yaw - math.pi / 2), 0.0])
+    y0 = np.cross(r_wc[:, 2], x0)
+    assert math.atan2(r_wc[:, 0] @ y0, r_wc[:, 0] @ x0) == pytest.approx(q[1], abs=1e-9)
+
+
+def test_home_camera_looks_down_with_forward_at_the_top_of_the_image():
+    arm = Arm(G000)
+    pos, r_wc = arm.camera_pose_world((1.0, 2.0, math.pi / 2), 0)
+    assert pos == pytest.approx((1.0, 2.0 + 0.1 + 0.089, 0.2 + 0.0955 - 0.097))
+    assert r_wc[:, 2] == pytest.approx((0, 0, -1), abs=1e-12)
+    assert r_wc[:, 1] == pytest.approx((0, -1, 0), abs=1e-12)  # image down = backwards
+    assert r_wc[:, 0] == pytest.approx((1, 0, 0), abs=1e-12)  # image right = robot's right
+
+
+# ---- grasp ------------------------------------------------------------------------------
+
+SCEN = """
+[scenario]
+name = "grasp"
+method = "000"
+seed = 2
+time_limit_s = 30
+[robot]
+x_m = 0
+y_m = 0
+heading_rad = 0
+[target]
+kind = "radial-symbol"
+x_m = {x}
+y_m = {y}
+heading_rad = 0
+"""
+
+# theta4 = 0.3, theta3 = -0.9126, alpha = -pi/2: fingertip at z = 0.08 m (the grasp point)
+GRASP_Q = (0.0, 0.0, -math.pi / 2 + 0.9126 - 0.3, -0.9126, 0.3, 0.0)
+
+
+def fingertip_x(q):
+    return 0.10 + eq3_000(0.0955, 0.089, 0.097, q[2], q[3], q[4], q[5])[1]
+
+
+def posed_world(dx=0.0, q=GRASP_Q):
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0), "grasp.toml"))
+    for ch in range(1, 6):
+        w.set_servo_pulse_us(ch, pulse_for_angle(ch, q[ch]))
+    w.step_to(1_000_000)
+    return w
+
+
+def test_grasp_lift_carry_and_release():
+    w = posed_world()
+    tip = w.arm.fingertip_world(w.base.pose(), w.t_us)
+    assert tip[2] == pytest.approx(0.08, abs=0.003)
+    assert not w.gripper_grasped()
+    w.set_servo_pulse_us(0, 2000)  # close
+    w.step_to(1_500_000)
+    assert w.gripper_grasped()
+    assert w.truth()["collisions"]["target"] == 0
+    w.set_servo_pulse_us(4, pulse_for_angle(4, 0.9))  # lift the shoulder
+    w.step_to(2_500_000)
+    t = w.truth()
+    assert t["object"]["z_m"] > 0.04
+    tip = w.arm.fingertip_world(w.base.pose(), w.t_us)
+    assert t["object"]["x_m"] == pytest.approx(tip[0], abs=1e-6)
+    # the base drives away with the object in hand
+    w.set_wheel_duty(100, 100)
+    w.step_to(4_500_000)
+    w.set_wheel_duty(0, 0)
+    w.step_to(5_500_000)
+    t = w.truth()
+    assert t["attached"] and t["object"]["x_m"] > 0.5
+    # open: the object is put down under the gripper and is back in the plane
+    w.set_servo_pulse_us(0, 1000)
+    w.step_to(6_000_000)
+    t = w.truth()
+    assert not t["attached"] and t["object"]["z_m"] == 0.0
+    assert w.target.in_space
+    assert w.recorder.summary()["object_max_lift_m"] > 0.04
+
+
+@pytest.mark.parametrize("dx", [0.03, -0.025])
+def test_no_grasp_when_the_fingertip_misses_the_grasp_point(dx):
+    w = posed_world(dx=dx)
+    w.set_servo_pulse_us(0, 2000)
+    w.step_to(1_500_000)
+    assert not w.gripper_grasped()
+    assert w.truth()["object"]["z_m"] == 0.0
+
+
+def test_no_grasp_with_the_wrong_gripper_pitch():
+    # same fingertip height and reach, but alpha = -pi/2 + 0.5 (tilted)
+    q = (0.0, 0.0, GRASP_Q[2] + 0.5, GRASP_Q[3], GRASP_Q[4], 0.0)
+    w = posed_world(q=q)
+    w.target.body.position = tuple(w.arm.fingertip_world(w.base.pose(), w.t_us)[:2])
+    w.set_servo_pulse_us(0, 2000)
+    w.step_to(1_500_000)
+    assert not w.gripper_grasped()
+
+
+def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0), "grasp.toml"))
+    w.set_servo_pulse_us(0, 2000)  # closed while still at home
+    w.step_to(500_000)
+    for ch in range(1, 6):
+        w.set_servo_pulse_us(ch, pulse_for_angle(ch, GRASP_Q[ch]))
+    w.step_to(2_000_000)
+    assert not w.gripper_grasped()

@@ -189,8 +189,9 @@ class _Checker:
     def keys(self, table: dict, where: str, allowed: tuple[str, ...]) -> None:
         for k in table:
             if k not in allowed:
-                self.fail(f"{where}.{k}", f"no such key (allowed: {', '.join(allowed)})",
-                          present=False)
+                name = f"{where}.{k}" if where else k
+                raise ScenarioError(f"{self.source}: {name}: unknown key; expected one of: "
+                                    f"{', '.join(allowed)}")
 
     def number(self, table: dict, where: str, key: str, default: float | None = None,
                required: bool = True, positive: bool = False, nonneg: bool = False) -> Any:
@@ -337,7 +338,8 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
     for key, value in raw.items():
         name = f"params.{key}"
         if key not in table:
-            c.fail(name, f"a parameter of method {method} ({', '.join(table)})", present=False)
+            raise ScenarioError(f"{c.source}: {name}: unknown key; expected a parameter of "
+                                f"method {method}: {', '.join(table)}")
         kind = table[key][0]
         if kind is int:
             if isinstance(value, bool) or not isinstance(value, int):

@@ -1,0 +1,148 @@
+"""Scenario TOML: example files load; bad files give errors naming file, key and expectation."""
+
+import math
+from pathlib import Path
+
+import pytest
+
+from mcu_sim.world.scenario import (
+    PAPER_PARAMS,
+    ScenarioError,
+    load_scenario,
+    loads_scenario,
+)
+
+DATA = Path(__file__).parent / "data" / "scenarios"
+
+GOOD = """
+[scenario]
+name = "t"
+method = "001"
+seed = 4
+time_limit_s = 30.0
+
+[robot]
+x_m = 0.5
+y_m = -1
+heading_rad = 0.25
+
+[target]
+kind = "red-cylinder"
+x_m = 2.0
+y_m = 1.0
+heading_rad = 0.0
+
+[[obstacles]]
+shape = "circle"
+x_m = 1.0
+y_m = 0.0
+radius_m = 0.2
+
+[params]
+k_s = 7
+Vmax = 0.3
+"""
+
+
+@pytest.mark.parametrize("path", sorted(DATA.glob("*.toml")), ids=lambda p: p.name)
+def test_example_files_load(path):
+    s = load_scenario(path)
+    assert s.meta.method in ("000", "001", "002")
+    assert set(s.params) == set(PAPER_PARAMS[s.meta.method])
+    assert s.source == str(path)
+
+
+def test_values_and_defaults():
+    s = loads_scenario(GOOD, "good.toml")
+    assert s.meta.seed == 4 and s.meta.time_limit_s == 30.0
+    assert (s.robot.x_m, s.robot.y_m, s.robot.heading_rad) == (0.5, -1.0, 0.25)
+    assert s.obstacles[0].radius_m == 0.2 and s.obstacles[0].height_m == 0.3
+    assert s.params["k_s"] == 7 and s.params["Vmax"] == 0.3
+    assert s.params["A_g"] == 1.05 and s.params["D_e"] == 2.5  # 001 paper defaults
+    assert s.camera.f_px == 611.0 and s.camera.noise_std == 0.0
+    assert loads_scenario(GOOD.replace('"001"', '"002"').replace("k_s = 7\nVmax = 0.3", ""),
+                          "x").camera.f_px == 350.0
+    with pytest.raises(TypeError):
+        s.params["k_s"] = 3  # read-only
+    p = load_scenario(DATA / "method_002.toml").target.path
+    assert [(q.t_s, q.x_m, q.y_m) for q in p] == [(5.0, 0.5, 2.0), (20.0, 1.0, 2.4)]
+
+
+def bad(text, *fragments):
+    with pytest.raises(ScenarioError) as e:
+        loads_scenario(text, "bad.toml")
+    msg = str(e.value)
+    assert msg.startswith("bad.toml: ")
+    for f in fragments:
+        assert f in msg, msg
+    return msg
+
+
+def test_unknown_keys_are_errors():
+    bad(GOOD.replace("seed = 4", "seed = 4\ncolour = 3"), "scenario.colour", "unknown key")
+    bad(GOOD + "\n[extra]\na = 1\n", "bad.toml: extra: unknown key")
+    bad(GOOD.replace("radius_m = 0.2", "radius_m = 0.2\nwidth_m = 1.0"), "obstacles[0].width_m")
+    bad(GOOD.replace("Vmax = 0.3", "vmax_mps = 0.3"), "params.vmax_mps",
+        "a parameter of method 001")
+
+
+def test_wrong_types_are_errors():
+    bad(GOOD.replace("x_m = 0.5", 'x_m = "0.5"'), "robot.x_m", "expected a number", "'0.5'")
+    bad(GOOD.replace("seed = 4", "seed = 4.5"), "scenario.seed", "an integer")
+    bad(GOOD.replace("seed = 4", "seed = true"), "scenario.seed", "an integer")
+    bad(GOOD.replace('method = "001"', "method = 1"), "scenario.method", '"000"')
+    bad(GOOD.replace('kind = "red-cylinder"', 'kind = "blue-cube"'), "target.kind", "blue-cube")
+    bad(GOOD.replace("k_s = 7", "k_s = 7.5"), "params.k_s", "an integer")
+    bad(GOOD.replace('shape = "circle"', 'shape = "blob"'), "obstacles[0].shape")
+    robot = "[robot]\nx_m = 0.5\ny_m = -1\nheading_rad = 0.25\n"
+    assert robot in GOOD
+    bad("robot = 3\n" + GOOD.replace(robot, ""), "bad.toml: robot: expected a table")
+
+
+def test_missing_fields_are_errors():
+    bad(GOOD.replace("time_limit_s = 30.0", ""), "scenario.time_limit_s", "missing")
+    bad(GOOD.replace("radius_m = 0.2", ""), "obstacles[0].radius_m", "missing")
+    target = '[target]\nkind = "red-cylinder"\nx_m = 2.0\ny_m = 1.0\nheading_rad = 0.0\n'
+    assert target in GOOD
+    bad(GOOD.replace(target, ""), "bad.toml: target: expected a table")
+    bad(GOOD.replace('name = "t"', ""), "scenario.name", "a non-empty string")
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_nan_and_inf_are_rejected(value):
+    bad(GOOD.replace("y_m = -1", f"y_m = {value}"), "robot.y_m", "a finite number")
+    bad(GOOD.replace("Vmax = 0.3", f"Vmax = {value}"), "params.Vmax", "a finite number")
+
+
+def test_range_checks():
+    bad(GOOD.replace("time_limit_s = 30.0", "time_limit_s = 0"), "time_limit_s", "> 0")
+    bad(GOOD.replace("radius_m = 0.2", "radius_m = -0.2"), "radius_m", "> 0")
+    bad(GOOD.replace("seed = 4", "seed = -1"), "scenario.seed", ">= 0")
+    path = """
+[[target.path]]
+t_s = 2.0
+x_m = 0
+y_m = 0
+[[target.path]]
+t_s = 1.0
+x_m = 0
+y_m = 0
+"""
+    bad(GOOD.replace("[[obstacles]]", path + "\n[[obstacles]]"), "target.path[1].t_s",
+        "strictly increasing")
+
+
+def test_faults_must_be_a_table_but_its_content_is_kept():
+    s = loads_scenario(GOOD + "\n[faults]\nmotor_stuck = {side = \"left\", t_s = 3.0}\n", "f")
+    assert s.faults["motor_stuck"]["side"] == "left"
+    bad("faults = 3\n" + GOOD, "bad.toml: faults: expected a table", "3")
+
+
+def test_file_errors_name_the_file(tmp_path):
+    with pytest.raises(ScenarioError, match="missing.toml"):
+        load_scenario(tmp_path / "missing.toml")
+    p = tmp_path / "broken.toml"
+    p.write_text("[scenario\nname=")
+    with pytest.raises(ScenarioError, match="broken.toml: not valid TOML"):
+        load_scenario(p)
+    assert math.isfinite(load_scenario(DATA / "method_000.toml").params["rmin_m"])

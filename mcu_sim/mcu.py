@@ -1,12 +1,14 @@
 """The emulated ATmega128: firmware plus peripheral models, driven by the caller's clock.
 
 ``Mcu`` owns no clock of its own: the caller (a test, ``mobigrasp mcu``, the rig) moves it with
-``advance_to(t_us)``. Between two calls it runs an event loop in 16 MHz cycles: the next event is
-the earliest of a byte's stop bit on the RX line, a Timer1 BOTTOM (servo period start), a sonar
-echo edge and the firmware's own next due time; at each event the peripherals are brought up to
-that cycle, the interrupt handlers run in a fixed order (timer overflow, USART RX, echo edges,
-encoder edges) and then one pass of the main loop. Everything is integer and deterministic: the
-same inputs at the same simulated times give the same outputs, whatever the wall clock does.
+``advance_to(t_us)``. Between two calls it runs an event loop in 16 MHz cycles. The next event is
+the earliest of: the stop bit of a frame delimiter on the RX line (or of the byte that would fill
+the RX ring; see ``Usart.next_rx_wakeup`` for why bytes may be batched up to a delimiter), a
+Timer1 BOTTOM (servo period start), a sonar echo edge, and the firmware's own next due time. At
+each event the peripherals are brought up to that cycle, the interrupt handlers run in a fixed
+order (timer overflow, USART RX, echo edges, encoder edges), then one main-loop pass.
+Everything is integer and deterministic: the same inputs at the same simulated times give the
+same outputs, whatever the wall clock does.
 
 Outputs: servo pulse edges and widths on signal ports (``servo_port``, ``servo_pulse_us``), wheel
 duties (``wheel_duty``), bytes the firmware sent (``uart_tx_take``). Inputs: bytes on the RX line
@@ -23,7 +25,7 @@ from mcu_sim.avr.signals import SignalPort
 from mcu_sim.avr.usart import baud_error_pct, baud_rate
 from mcu_sim.firmware.params import param_id
 from mcu_sim.firmware.program import Firmware
-from mcu_sim.firmware.sram import TX_RING_BYTES
+from mcu_sim.firmware.sram import RX_RING_BYTES, TX_RING_BYTES
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,7 @@ class Mcu:
         self._cycle = 0
         self._tx_out: list[tuple[int, bytes]] = []
         self.events = 0
+        self._rx_batch = RX_RING_BYTES - 1  # what the ring holds: a batch can never overrun it
         self.firmware = Firmware(self.board, overrides)
         self._deadline = 0
         self._step(0)
@@ -68,7 +71,7 @@ class Mcu:
         usart, timer1, sonars = b.usart0, b.timer1, b.sonars
         while True:
             nxt = self._deadline
-            r = usart.next_rx_cycle()
+            r = usart.next_rx_wakeup(self._rx_batch)
             if r is not None and r < nxt:
                 nxt = r
             tb = timer1.next_bottom

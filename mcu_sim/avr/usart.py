@@ -99,6 +99,28 @@ class Usart:
         start, _, index = self._rx[0]
         return start + (index + 1) * self.byte_cycles
 
+    def next_rx_wakeup(self, max_bytes: int) -> int | None:
+        """Cycle by which the receiver must be serviced: the stop bit of the next 0x00 byte (a frame
+        delimiter) or of the ``max_bytes``-th pending byte, whichever comes first; None if idle.
+
+        Bytes before that are handed over in one batch at the next event; the firmware cannot tell
+        the difference because its main loop acts only on complete frames and every event takes
+        all bytes received so far."""
+        seen = 0
+        bc = self.byte_cycles
+        for start, data, index in self._rx:
+            end = min(len(data), index + max_bytes - seen)
+            z = data.find(0, index, end)
+            if z >= 0:
+                return start + (z + 1) * bc
+            if end < len(data) or seen + end - index >= max_bytes:
+                return start + end * bc
+            seen += end - index
+        if self._rx:
+            start, data, _ = self._rx[-1]
+            return start + len(data) * bc
+        return None
+
     def rx_take_until(self, cycle: int) -> bytes:
         """Bytes whose stop bit arrived at or before ``cycle``, in order."""
         out = bytearray()

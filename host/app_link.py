@@ -71,6 +71,7 @@ class HostLink:
         self._outbox: list[tuple[int, bytes]] = []
         self.events: list[dict] = []
         self.rx_bytes_since_take = 0
+        self.gripper_permille = 0
 
     # ---- receiving -------------------------------------------------------------------------
     def receive(self, data: bytes, arrival_us: int) -> None:
@@ -148,13 +149,15 @@ class HostLink:
 
     # ---- validated commands ----------------------------------------------------------------
     def send_servos_mrad(self, joints_mrad, at_us: int, slew_mrad_s: int = 0) -> bool:
-        """SetServos in mrad for channels 1..5 (channel 0, the gripper, is sent as 0 and is
-        driven by :meth:`send_gripper`); clamped to the joint limits. False if refused."""
+        """SetServos in mrad for channels 1..5, clamped to the joint limits; channel 0 (the
+        gripper, per mille in this mode) repeats the last gripper command so it is not
+        disturbed. False if refused."""
         try:
             if len(joints_mrad) != 6:
                 raise ValueError(f"servo targets must have 6 values, got {len(joints_mrad)}")
             raw = [_as_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
-            targets = [0] + [arm_calib.clamp_mrad(ch, raw[ch]) for ch in range(1, 6)]
+            targets = [self.gripper_permille]
+            targets += [arm_calib.clamp_mrad(ch, raw[ch]) for ch in range(1, 6)]
             if targets[1:] != raw[1:]:
                 self.counters.clamped_outputs += 1
             msg = m.SetServos(mode=m.SERVO_MODE_MRAD, targets=tuple(targets), slew=slew_mrad_s)
@@ -185,6 +188,7 @@ class HostLink:
             msg = m.Gripper(close_permille=value)
         except ValueError as exc:
             return self._reject("Gripper", exc, at_us)
+        self.gripper_permille = value
         self.send(msg, at_us)
         return True
 

@@ -109,6 +109,7 @@ class Rig:
         self._frames_pending: list[tuple[int, int, Any]] = []
         self._next_frame = 0
         self._line_free_us = 0  # host -> MCU line busy until (serialises the host's chunks)
+        self._pulses: list = [None] * 6
         self._sonar_cache: dict[int, float | None] = {}
         self._sonar_cache_us = -1
         self.stats = {"quanta": 0, "uart_to_host_bytes": 0, "uart_to_mcu_bytes": 0,
@@ -194,10 +195,12 @@ class Rig:
     def _couple(self, t_us: int) -> None:
         mcu, plant = self.mcu, self.plant
         mcu.advance_to(t_us)
+        pulses = self._pulses
         for ch in range(6):
             pulse = mcu.servo_pulse_us(ch)
-            if pulse is not None:
+            if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
                 plant.set_servo_pulse_us(ch, pulse)
+                pulses[ch] = pulse
         left, right = mcu.wheel_duty()
         plant.set_wheel_duty(left, right)
         plant.step_to(t_us)

@@ -1,0 +1,119 @@
+"""The plant as the rig sees it: the pymunk World plus the eye-in-hand camera renderer.
+
+Adapts :class:`mcu_sim.world.world.World` (helper C) and :func:`mcu_sim.world.camera.render`
+(helper D1) to :class:`mcu_sim.rig.PlantLike`. The camera's intrinsics and image options come from
+the scenario's ``[camera]``; its noise is seeded by (world seed, capture time), so a frame depends
+only on simulated state. Ground truth (:meth:`WorldPlant.truth`) goes to the trace, never to the
+host.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mcu_sim.world.camera import CameraOptions, Intrinsics, render
+from mcu_sim.world.scenario import Scenario
+from mcu_sim.world.world import World
+
+
+def _round(x: float, nd: int = 6) -> float | None:
+    return None if x is None or not math.isfinite(x) else round(float(x), nd)
+
+
+class WorldPlant:
+    """World + camera behind the rig's plant interface."""
+
+    def __init__(self, scenario: Scenario, seed: int | None = None) -> None:
+        self.scenario = scenario
+        self.world = World(scenario, seed)
+        cam = scenario.camera
+        self.intrinsics = Intrinsics(f_px=cam.f_px, u0_px=cam.u0_px, v0_px=cam.v0_px)
+        self.options = CameraOptions(noise_std=cam.noise_std, blur_px=cam.blur_px,
+                                     brightness=cam.brightness)
+        self._sonar_us = -1
+        self._sonar: list[float | None] = []
+        self.path_length_m = 0.0
+        self._last_xy = self._xy()
+        self._tip_error_mm: float | None = None
+        self.final_error_mm: float | None = None  # fingertip to grasp point when it attached
+        self.grasp_us: int | None = None
+        self._open_m = self.world.arm.gripper_opening_m(0) - 1e-4
+
+    def _xy(self) -> tuple[float, float]:
+        x, y, _ = self.world.base.pose()
+        return x, y
+
+    # ---- PlantLike ----------------------------------------------------------------------
+    def step_to(self, t_us: int) -> None:
+        """Advance the physics (whole 1 ms steps) and accumulate the base's path length."""
+        self.world.step_to(t_us)
+
+    def set_servo_pulse_us(self, ch: int, pulse_us: int) -> None:
+        """Servo pulse width from the MCU's timer output."""
+        self.world.set_servo_pulse_us(ch, pulse_us)
+
+    def set_wheel_duty(self, left: int, right: int) -> None:
+        """Motor duties from the MCU's 8-bit PWM."""
+        self.world.set_wheel_duty(left, right)
+
+    def encoder_ticks(self) -> tuple[int, int]:
+        """Cumulative encoder counts for the MCU."""
+        return self.world.encoder_ticks()
+
+    def sonar_range_m(self, index: int) -> float | None:
+        """Range of sonar ``index`` (ray casts done once per physics time, all sonars at once)."""
+        if self._sonar_us != self.world.t_us:
+            self._sonar = list(self.world.sonar_ranges_m())
+            self._sonar_us = self.world.t_us
+        return self._sonar[index] if 0 <= index < len(self._sonar) else None
+
+    def capture(self, t_us: int) -> np.ndarray:
+        """The eye-in-hand camera's frame now (uint8 H x W x 3 RGB)."""
+        pos, R = self.world.camera_pose_world()
+        return render(self.world.camera_scene(), pos, R, self.intrinsics, self.options, None,
+                      t_us=t_us)
+
+    # ---- truth for the trace ------------------------------------------------------------
+    def sample_path(self) -> None:
+        """Accumulate the base path length (called by the runner once per quantum)."""
+        x, y = self._xy()
+        self.path_length_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
+        self._last_xy = (x, y)
+        w = self.world
+        if w.attached:
+            if self.grasp_us is None:
+                self.grasp_us = w.t_us
+                self.final_error_mm = self._tip_error_mm
+        elif w.arm.gripper_opening_m(w.t_us) < self._open_m:  # closing: measure the error
+            tip = w.arm.fingertip_world(w.base.pose(), w.t_us)
+            gp = w.target.grasp_point()
+            self._tip_error_mm = 1000.0 * math.dist((float(tip[0]), float(tip[1]),
+                                                     float(tip[2])), gp)
+
+    def truth(self, t_us: int) -> dict:
+        """Compact ground-truth sample for the trace (rounded: the trace stays small)."""
+        t = self.world.truth()
+        b, o = t["base"], t["object"]
+        return {
+            "x_m": _round(b["x_m"]), "y_m": _round(b["y_m"]),
+            "heading_rad": _round(b["heading_rad"]),
+            "joints_rad": [_round(q, 5) for q in t["joints_rad"]],
+            "obj": [_round(o["x_m"]), _round(o["y_m"]), _round(o["z_m"])],
+            "camera_m": [_round(c) for c in t["camera_m"]],
+            "attached": bool(t["attached"]),
+            "collisions": t["collisions"],
+            "min_clearance_m": _round(t["min_clearance_m"]) if t["min_clearance_m"] is not None
+            else None,
+        }
+
+    def final(self) -> dict:
+        """Figures for the summary from the world's ground truth at the end."""
+        t = self.world.truth()
+        return {"grasped": bool(t["attached"]), "grasps": t["grasps"],
+                "collisions": t["collisions"],
+                "min_obstacle_clearance_m": t["min_clearance_m"],
+                "object": t["object"], "base": t["base"],
+                "path_length_m": self.path_length_m, "final_error_mm": self.final_error_mm,
+                "grasp_us": self.grasp_us}

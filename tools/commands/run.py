@@ -1,0 +1,46 @@
+"""``mobigrasp run SCENARIO``: the closed loop, SIM and HOST processes joined by a real pty.
+
+Exit code 0 when the grasp succeeded, 1 when the task failed (or the run crashed), 2 for bad
+input (unknown scenario, invalid file, bad option). Progress goes to stderr; the run folder
+(summary.json, trace.jsonl, plots/, frames/, report.html) is described in docs/cosim.md.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+
+def _run(args: argparse.Namespace) -> int:
+    from tools.run_job import BadInput, RunOptions, execute, parse_speed, summary_line
+
+    try:
+        speed = parse_speed(args.speed)
+        if args.seed is not None and args.seed < 0:
+            raise BadInput(f"--seed must be >= 0, got {args.seed}")
+        opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
+                          speed=speed, out=args.out, progress=not args.quiet,
+                          plots=not args.no_plots)
+        summary, code = execute(opts)
+    except BadInput as exc:
+        print(f"mobigrasp run: {exc}", file=sys.stderr)
+        return 2
+    out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
+    print(summary_line(summary, out))
+    return code
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``run`` subcommand."""
+    p = sub.add_parser("run", help="run a scenario in closed loop (SIM + HOST over a pty)")
+    p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
+    p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
+    p.add_argument("--transport", default="pty", help="pty (two processes, default) or inproc")
+    p.add_argument("--speed", default="max",
+                   help="simulated/wall time factor, or 'max' (default); pacing only")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run folder (default runs/<scenario>-<seed>/)")
+    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
+    p.set_defaults(func=_run)

@@ -1,0 +1,237 @@
+"""`mobigrasp run` as a function: resolve the scenario, wire SIM and HOST, run, write the folder.
+
+:func:`execute` returns the summary dict and the exit code (0 grasp succeeded, 1 task failed or
+crashed, 2 bad input). The summary is always written, also when the run crashes midway (status
+"crashed" with the error and what is known at that point).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import shutil
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+SCENARIO_DIR = Path(__file__).resolve().parents[1] / "scenarios"
+EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+
+
+class BadInput(ValueError):
+    """Unknown scenario, invalid file or bad option: exit code 2."""
+
+
+def shipped_scenarios() -> list[Path]:
+    """The scenario files shipped in scenarios/."""
+    return sorted(SCENARIO_DIR.glob("*.toml"))
+
+
+def resolve_scenario(name_or_path: str):
+    """(path, Scenario) for a file path or the name of a shipped scenario; BadInput otherwise."""
+    from mcu_sim.world.scenario import ScenarioError, load_scenario
+
+    p = Path(name_or_path)
+    if not p.exists():
+        cand = SCENARIO_DIR / f"{name_or_path}.toml"
+        if not cand.exists():
+            names = ", ".join(s.stem for s in shipped_scenarios())
+            raise BadInput(f"unknown scenario {name_or_path!r}: not a file and not one of "
+                           f"the shipped scenarios ({names})")
+        p = cand
+    try:
+        return p, load_scenario(p)
+    except ScenarioError as exc:
+        raise BadInput(str(exc)) from exc
+
+
+@dataclass
+class RunOptions:
+    """Options of one run (validated by :func:`check_options`)."""
+
+    scenario: str
+    seed: int | None = None
+    transport: str = "pty"
+    speed: float | None = None  # None = as fast as possible ("max")
+    out: Path | None = None
+    progress: bool = True
+    quantum_us: int = 5_000
+    plots: bool = True
+    time_limit_s: float | None = None
+
+
+def parse_speed(text: str) -> float | None:
+    """``max`` -> None, else a positive finite factor; BadInput otherwise."""
+    if text == "max":
+        return None
+    try:
+        v = float(text)
+    except ValueError as exc:
+        raise BadInput(f"--speed must be a positive number or 'max', got {text!r}") from exc
+    if not math.isfinite(v) or v <= 0:
+        raise BadInput(f"--speed must be a positive number or 'max', got {text!r}")
+    return v
+
+
+def host_config(scenario) -> dict:
+    """What the host program is told: the method, its parameters and the camera calibration.
+
+    This is the configuration a real board would be flashed with; no ground truth."""
+    cam = scenario.camera
+    return {"method": scenario.meta.method, "params": dict(scenario.params),
+            "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px}}
+
+
+def _progress(res, wall: float, now_us: int) -> None:
+    rtf = now_us / 1e6 / wall if wall > 0 else 0.0
+    print(f"\r  t={now_us / 1e6:7.2f} s  state={res.host_state:<14} rtf={rtf:6.1f}x ",
+          end="", file=sys.stderr, flush=True)
+
+
+def execute(opts: RunOptions) -> tuple[dict, int]:
+    """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
+    from host.app_factory import build_host_app
+
+    from host.lockstep_client import LockstepClient
+    from link.registry import inproc_pair, open_transport
+    from mcu_sim.mcu import Mcu
+    from mcu_sim.rig import Rig, RigConfig
+    from mcu_sim.rig_plant import WorldPlant
+    from tools.run_folder import Snapshots, TraceWriter, write_summary
+    from tools.runner import InprocHost, SocketHost, host_argv, run_session, write_host_config
+
+    if opts.transport not in ("pty", "inproc"):
+        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
+    path, scenario = resolve_scenario(opts.scenario)
+    seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    name = scenario.meta.name
+    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
+    if out.exists():
+        shutil.rmtree(out)
+    (out / "plots").mkdir(parents=True)
+    summary: dict[str, Any] = {
+        "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
+        "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
+        "grasped": False,
+    }
+    write_summary(out / "summary.json", summary)
+    trace = TraceWriter(out / "trace.jsonl")
+    snaps = Snapshots(out / "frames")
+    plant = WorldPlant(scenario, seed)
+    mcu = Mcu()
+    cfg = host_config(scenario)
+    limit_s = opts.time_limit_s or scenario.meta.time_limit_s
+    trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": scenario.meta.method,
+                 "seed": seed, "robot": [scenario.robot.x_m, scenario.robot.y_m,
+                                         scenario.robot.heading_rad],
+                 "target": [scenario.target.x_m, scenario.target.y_m],
+                 "obstacles": [vars(o) for o in scenario.obstacles]})
+    host = None
+    port = peer = None
+    res = None
+    tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
+    try:
+        if opts.transport == "pty":
+            port = open_transport("pty://")
+            cfg_path = write_host_config(Path(tmpdir.name) / "host.json", cfg)
+            host = SocketHost(host_argv(port.slave_path, cfg_path))
+        else:
+            port, peer = inproc_pair(f"run-{name}-{seed}")
+            host = InprocHost(LockstepClient(build_host_app(cfg), peer))
+        rig = Rig(mcu, plant, port, RigConfig(quantum_us=opts.quantum_us),
+                  on_frame=snaps.on_frame)
+        progress = None
+        if opts.progress:
+            def progress(r, wall):
+                _progress(r, wall, rig.now_us)
+        summary["status"] = "running"
+        res = run_session(rig, host, trace, time_limit_us=int(limit_s * 1e6),
+                          truth=plant.truth, on_host_event=snaps.on_host_event,
+                          on_quantum=lambda t: plant.sample_path(), speed=opts.speed,
+                          progress=progress)
+        summary["status"] = "finished"
+    except Exception as exc:
+        summary["status"] = "crashed"
+        summary["error"] = f"{type(exc).__name__}: {exc}"
+        print(f"\nrun crashed: {summary['error']}", file=sys.stderr)
+    finally:
+        if opts.progress:
+            print("", file=sys.stderr)
+        if host is not None:
+            host.close()
+        for t in (port, peer):
+            if t is not None:
+                t.close()
+        tmpdir.cleanup()
+        trace.close()
+        summary.update(_figures(res, plant, trace, snaps, limit_s))
+        write_summary(out / "summary.json", summary)
+    if opts.plots:
+        try:
+            from tools.report import write_report
+            write_report(out)
+        except Exception as exc:  # a plotting failure must not hide the run's result
+            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+    return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+
+
+def _figures(res, plant, trace, snaps, limit_s: float) -> dict:
+    fin = plant.final()
+    hs = (res.host_stats if res else {}) or {}
+    proto = hs.get("protocol", {})
+    mcu_t = hs.get("mcu", {})
+    end_us = res.end_us if res else 0
+    wall = res.wall_s if res else 0.0
+    state = res.host_state if res else "INIT"
+    grasped = bool(fin["grasped"] or fin["grasps"])
+    success = grasped and state == "DONE"
+    enter = res.state_enter_us if res else {}
+    grasp_us = fin.get("grasp_us")
+    return {
+        "success": success, "grasped": grasped, "task_state": state,
+        "end_reason": res.reason if res else "crashed",
+        "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
+        "final_error_mm": fin.get("final_error_mm"),
+        "collisions": int(fin["collisions"].get("obstacle", 0)),
+        "collisions_target": int(fin["collisions"].get("target", 0)),
+        "min_obstacle_clearance_m": fin["min_obstacle_clearance_m"],
+        "path_length_m": fin["path_length_m"],
+        "replans": int(hs.get("replans", 0)),
+        "frames_captured": int(hs.get("frames_received", 0)),
+        "frames_processed": int(hs.get("frames_processed", 0)),
+        "frames_dropped": int(hs.get("frames_dropped", 0)),
+        "deadline_misses": int(hs.get("deadline_misses", 0)),
+        "arm9_load_max": hs.get("arm9_load_max", 0.0),
+        "arm9_load_mean": hs.get("arm9_load_mean", 0.0),
+        "sim_time_s": end_us / 1e6, "time_limit_s": limit_s,
+        "wall_time_s": wall, "realtime_factor": (end_us / 1e6 / wall) if wall > 0 else None,
+        "protocol": {"tx_frames": proto.get("tx_frames", 0),
+                     "rx_frames": proto.get("rx_frames", 0),
+                     "crc_errors": proto.get("crc_errors", 0) + mcu_t.get("crc_errors", 0),
+                     "retransmits": proto.get("retransmits", 0),
+                     "watchdog_trips": mcu_t.get("watchdog_trips", 0),
+                     "nacks": proto.get("nacks", 0),
+                     "rejected_outputs": proto.get("rejected_outputs", 0)},
+        "state_durations_s": {k: v / 1e6 for k, v in
+                              (res.state_durations_us if res else {}).items()},
+        "state_enter_s": {k: v / 1e6 for k, v in enter.items()},
+        "snapshots": snaps.written,
+        "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
+        "host": {k: hs.get(k) for k in ("control_steps", "ticks_skipped", "frames_idle")},
+        "error": res.error if res and res.error else None,
+    }
+
+
+def summary_line(summary: dict, out: Path) -> str:
+    """One human line for the terminal."""
+    return (f"{summary['scenario']} seed {summary['seed']} over {summary['transport']}: "
+            f"{'SUCCESS' if summary['success'] else 'FAILED'} ({summary.get('task_state')}, "
+            f"{summary.get('end_reason')}) in {summary.get('sim_time_s', 0):.1f} s simulated, "
+            f"{summary.get('wall_time_s', 0):.1f} s wall; report: {out / 'report.html'}")
+
+
+def dumps(summary: dict) -> str:
+    """Summary as pretty JSON."""
+    return json.dumps(summary, indent=2, sort_keys=True)

@@ -1,0 +1,109 @@
+"""Build the host program from its configuration: the task of the method, the detectors, inputs.
+
+The configuration is what the board would be flashed with (method ``"000"``/``"001"``/``"002"``,
+the paper parameters, the camera calibration); nothing in it is ground truth. Used by
+``mobigrasp host`` (both modes) and by the in-process run.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from host import arm_calib
+from host.app import HostApp, HostConfig
+from host.odometry import Odometry
+from protocol import messages as m
+
+
+class InputBuilder:
+    """Telemetry + detections → the task's inputs (host.task.TaskInputs), integer units.
+
+    Odometry integrates the encoder counts of every new telemetry frame (host/odometry.py); the
+    joint angles come from the measured servo pulse widths through the joint table
+    (host/arm_calib.py); a sonar without echo (0xFFFF) is passed on as is.
+    """
+
+    def __init__(self) -> None:
+        self.odometry = Odometry()
+        self._tel_seen: Any = None
+        self.pose = self.odometry.pose
+
+    def joints_mrad(self, tel: m.Telemetry | None) -> tuple[int, ...] | None:
+        """Joint angles (ch 0 = gripper per mille) from the telemetry's pulse widths."""
+        if tel is None:
+            return None
+        return arm_calib.pulses_to_joints_mrad(tel.servo_us)
+
+    def __call__(self, app: HostApp, now_us: int, detections: dict) -> Any:
+        from host.task import TaskInputs
+
+        tel = app.link.telemetry
+        if tel is not None and tel is not self._tel_seen:
+            self._tel_seen = tel
+            self.pose = self.odometry.update(tel.time_us, tel.enc_left, tel.enc_right)
+        p = self.pose
+        return TaskInputs(
+            joints_mrad=self.joints_mrad(tel),
+            odometry=p,
+            sonar_mm=tuple(tel.sonar_mm) if tel is not None else (),
+            detections=detections,
+            grasp_closed=bool(tel is not None and tel.flags & m.FLAG_GRIPPER_CLOSED),
+        )
+
+
+def _detectors(cfg: dict, app_ref: list) -> dict:
+    """Detector callables ``rgb -> (result | None, OpCounts)`` by the names the task asks for.
+
+    Some detectors need the current arm pose (e.g. the double cross needs the camera yaw and
+    pitch): they read it from the host's newest telemetry, which is what the board would do.
+    """
+    cam = cfg.get("camera", {})
+    f_px = int(round(cam.get("f_px", 611.0)))
+    u0 = int(round(cam.get("u0_px", 160.0)))
+    v0 = int(round(cam.get("v0_px", 120.0)))
+
+    def joints() -> tuple[int, ...]:
+        tel = app_ref[0].link.telemetry if app_ref else None
+        if tel is None:
+            return (0, 0, -1571, 0, 0, 0)
+        return arm_calib.pulses_to_joints_mrad(tel.servo_us)
+
+    found: dict = {}
+    try:
+        from host.vision.radial_symbol import detect_radial_symbol
+
+        found["radial_symbol"] = lambda rgb: detect_radial_symbol(rgb, f_px, u0, v0)
+    except ImportError:
+        pass
+    try:
+        from host.vision.double_cross import detect_double_cross
+
+        def double_cross(rgb):
+            q = joints()
+            return detect_double_cross(rgb, yaw_mrad=q[5], pitch_mrad=q[2] + q[3] + q[4],
+                                       f_px=f_px)
+        found["double_cross"] = double_cross
+    except ImportError:
+        pass
+    for name, module, fn in (("dual_plus", "host.vision.dual_plus", "detect_dual_plus"),
+                             ("spoke", "host.vision.spoke", "detect_spoke"),
+                             ("red_cylinder", "host.vision.red_cylinder", "detect_red_cylinder")):
+        try:
+            mod = __import__(module, fromlist=[fn])
+            found[name] = getattr(mod, fn)
+        except (ImportError, AttributeError):
+            pass
+    return found
+
+
+def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> HostApp:
+    """The host program for ``cfg`` = {"method", "params", "camera"}."""
+    from host.task import Task
+
+    method = cfg.get("method", "000")
+    task = Task(method=method, params=dict(cfg.get("params", {})))
+    app_ref: list = []
+    app = HostApp(task, _detectors(cfg, app_ref), InputBuilder(), config or HostConfig(),
+                  timer=timer)
+    app_ref.append(app)
+    return app

@@ -1,0 +1,107 @@
+"""Run folder pieces: trace hashing and flushing, summary, report and plots, CLI exit codes."""
+
+import hashlib
+import json
+
+import numpy as np
+import pytest
+
+from tools.cli import main
+from tools.report import write_report
+from tools.run_folder import Snapshots, TraceWriter, read_trace, write_summary
+
+
+def test_trace_is_flushed_per_line_and_hashed(tmp_path):
+    tw = TraceWriter(tmp_path / "t.jsonl")
+    tw.write({"ev": "a", "t_us": 1, "x": 0.1 + 0.2, "arr": np.arange(3), "n": float("nan")})
+    # readable before close: a crash later loses nothing already written
+    raw = (tmp_path / "t.jsonl").read_bytes()
+    assert raw.count(b"\n") == 1
+    tw.write({"ev": "b", "t_us": 2})
+    tw.close()
+    raw = (tmp_path / "t.jsonl").read_bytes()
+    assert tw.sha256() == hashlib.sha256(raw).hexdigest()
+    ev = read_trace(tmp_path / "t.jsonl")
+    assert ev[0]["arr"] == [0, 1, 2] and ev[0]["n"] is None and ev[1]["ev"] == "b"
+    with pytest.raises(ValueError, match="t_us"):
+        tw.write({"ev": "no time"})
+
+
+def test_read_trace_skips_torn_last_line(tmp_path):
+    p = tmp_path / "t.jsonl"
+    p.write_text('{"ev":"a","t_us":0}\n{"ev":"b","t_')
+    assert [e["ev"] for e in read_trace(p)] == ["a"]
+
+
+def _fake_run(folder):
+    tw = TraceWriter(folder / "trace.jsonl")
+    tw.write({"ev": "start", "t_us": 0, "obstacles": [
+        {"shape": "circle", "x_m": 1.0, "y_m": 0.2, "radius_m": 0.2}]})
+    for k in range(30):
+        tw.write({"ev": "truth", "t_us": k * 100_000, "x_m": 0.05 * k, "y_m": 0.01 * k,
+                  "joints_rad": [0, 0, -1.5, -1.0, 1.5, 0.01 * k], "obj": [1.5, 0.5, 0.0]})
+    tw.write({"src": "host", "ev": "state", "t_us": 1_000_000, "from": "SEARCH",
+              "to": "APPROACH", "why": "seen"})
+    tw.write({"src": "host", "ev": "detail", "t_us": 1_000_000, "state": "APPROACH",
+              "plan": {"candidates": [[[0, 0], [500, 100], [1000, 300]]],
+                       "best": [[0, 0], [600, 50], [1200, 400]]}})
+    tw.write({"src": "host", "ev": "detail", "t_us": 1_100_000, "state": "APPROACH",
+              "fuzzy": {"e": 0.1, "e_c": -0.2, "u": 0.05}})
+    tw.write({"ev": "load", "t_us": 0, "window_us": 500_000, "load": 0.4})
+    tw.close()
+    write_summary(folder / "summary.json", {"scenario": "x", "seed": 1, "success": True,
+                                            "protocol": {"tx_frames": 3}})
+
+
+def test_report_links_plots_and_frames(tmp_path):
+    _fake_run(tmp_path)
+    snaps = Snapshots(tmp_path / "frames")
+    snaps.on_frame(4, 0, np.zeros((240, 320, 3), np.uint8))
+    snaps.on_host_event({"ev": "detect", "seq": 4, "t_us": 5,
+                         "results": {"radial_symbol": {"u_q4": 1600, "v_q4": 1920}}})
+    snaps.on_host_event({"ev": "state", "t_us": 9, "from": "SEARCH", "to": "APPROACH"})
+    assert len(snaps.written) == 1
+    path = write_report(tmp_path)
+    html = path.read_text()
+    for name in ("trajectory.png", "joints.png", "bezier.png", "fuzzy.png", "arm9_load.png"):
+        assert (tmp_path / "plots" / name).stat().st_size > 1000
+        assert f"plots/{name}" in html
+    assert f"frames/{snaps.written[0]}" in html
+    assert "SUCCESS" in html
+
+
+def test_summary_is_atomic_json(tmp_path):
+    write_summary(tmp_path / "summary.json", {"a": float("inf"), "b": np.float32(1.5)})
+    assert json.loads((tmp_path / "summary.json").read_text()) == {"a": None, "b": 1.5}
+
+
+@pytest.mark.parametrize("argv", [
+    ["run", "no-such-scenario"],
+    ["run", "paper000-exp1", "--transport", "carrier-pigeon"],
+    ["run", "paper000-exp1", "--speed", "fast"],
+    ["run", "paper000-exp1", "--speed", "-1"],
+])
+def test_run_bad_input_exits_2(argv, tmp_path):
+    assert main([*argv, "--out", str(tmp_path / "o")]) == 2
+
+
+def test_run_invalid_file_exits_2(tmp_path, capsys):
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[scenario]\nname = "x"\nmethod = "000"\nseed = 1\ntime_limit_s = 5\n'
+                   "[robot]\nx_m = 0\ny_m = 0\nheading_rad = 0\nwheels = 3\n")
+    assert main(["run", str(bad), "--out", str(tmp_path / "o")]) == 2
+    assert "bad.toml" in capsys.readouterr().err
+
+
+def test_run_bad_option_exits_2():
+    with pytest.raises(SystemExit) as exc:
+        main(["run", "paper000-exp1", "--frobnicate"])
+    assert exc.value.code == 2
+
+
+def test_scenarios_lists_the_six(capsys):
+    assert main(["scenarios"]) == 0
+    out = capsys.readouterr().out
+    for name in ("paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
+                 "paper002-marker", "paper002-cylinder-moving"):
+        assert name in out

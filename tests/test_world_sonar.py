@@ -90,3 +90,15 @@ def test_bad_config_is_rejected():
         SonarConfig(k_s=1)
     with pytest.raises(ValueError):
         SonarConfig(dropout_p=1.5)
+
+
+def test_read_one_matches_the_ring_and_checks_its_index():
+    space, base = space_with_robot(h=0.3)
+    space.add(pymunk.Circle(space.static_body, 0.3, (1.0, 1.0)))
+    space.add(pymunk.Segment(space.static_body, (-3, -1.0), (3, -1.0), 0.0))
+    r = ring()
+    all_ = r.read(space, base.pose())
+    assert [r.read_one(space, base.pose(), i) for i in range(5)] == all_
+    assert sum(v is not None for v in all_) >= 3
+    with pytest.raises(ValueError, match="sonar index"):
+        r.read_one(space, base.pose(), 5)

@@ -79,12 +79,12 @@ def camera_axes_platform(joints: list[float] | tuple[float, ...]) -> np.ndarray:
     """3x3 matrix whose columns are the camera x (right), y (down), z (optical) axes in O_r."""
     t1, t5 = joints[1], joints[5]
     alpha = joints[2] + joints[3] + joints[4]
-    z = np.array([math.cos(alpha) * math.sin(t5), math.cos(alpha) * math.cos(t5),
-                  math.sin(alpha)])
-    x0 = np.array([math.cos(t5), -math.sin(t5), 0.0])
-    y0 = np.cross(z, x0)
+    ca, sa, c5, s5 = math.cos(alpha), math.sin(alpha), math.cos(t5), math.sin(t5)
+    z = np.array([ca * s5, ca * c5, sa])
+    x0 = np.array([c5, -s5, 0.0])
+    y0 = np.array([sa * s5, sa * c5, -ca])  # z cross x0, written out (np.cross is slow)
     x = math.cos(t1) * x0 + math.sin(t1) * y0
-    y = np.cross(z, x)
+    y = math.cos(t1) * y0 - math.sin(t1) * x0  # z cross x for the rolled x
     return np.column_stack([x, y, z])
 
 
@@ -134,9 +134,17 @@ class Arm:
         r_wc = t[:3, :3] @ camera_axes_platform(q)
         return pos, r_wc
 
-    def fingertip_world(self, base_pose: tuple[float, float, float], t_us: int) -> np.ndarray:
-        """World position of the fingertips (the camera point; 0 mm beyond it)."""
-        return self.camera_pose_world(base_pose, t_us)[0]
+    def fingertip_world(self, base_pose: tuple[float, float, float], t_us: int
+                        ) -> tuple[float, float, float]:
+        """World position of the fingertips (the camera point; 0 mm beyond it).
+
+        Plain floats, no numpy: the world calls this on every 10 ms tick.
+        """
+        px, py, pz = camera_point_platform(self.geom, self.joints(t_us))
+        bx, by, h = base_pose
+        c, s = math.cos(h), math.sin(h)
+        fwd = self.geom.mount_forward_m + py
+        return bx + fwd * c + px * s, by + fwd * s - px * c, self.geom.h_shoulder_m + pz
 
 
 def grasp_ok(fingertip: np.ndarray, grasp_point: tuple[float, float, float], alpha: float,

@@ -76,6 +76,9 @@ class DiffDriveBase:
         self.left_m = 0.0
         self.right_m = 0.0
         self.steps = 0  # physics steps run so far (collision callbacks read it for their time)
+        # Set whenever bodies/shapes were added or removed: the next step then goes through
+        # Space.step so pymunk's own bookkeeping runs (see run_steps).
+        self.space_changed = True
 
     # ---- inputs -------------------------------------------------------------------------
     def set_duty(self, left: int, right: int) -> None:
@@ -112,9 +115,10 @@ class DiffDriveBase:
 
         The same work as pre_step / space.step / post_step, inlined and calling chipmunk through
         pymunk's cffi ``lib`` because this loop is the world's hot path (about 100 000 iterations
-        per wall second at the 100x target; the Python property wrappers cost 3x more). The
-        first step goes through ``Space.step`` so pymunk's add/remove bookkeeping runs; the
-        duties cannot change inside one call, so the motor lag is a constant factor per step.
+        per wall second at the 100x target; the Python property wrappers cost 3x more). After
+        anything was added to or removed from the space (``space_changed``), the first step goes
+        through ``Space.step`` so pymunk's bookkeeping runs. The duties cannot change inside one
+        call, so the motor lag is a constant factor per step.
         """
         if n <= 0:
             return
@@ -140,8 +144,9 @@ class DiffDriveBase:
             v = 0.5 * (vl + vr)
             set_vel(control_p, (v * cos(a0), v * sin(a0)))
             set_w(control_p, (vr - vl) / track)
-            if i == 0:
+            if i == 0 and self.space_changed:
                 self.space.step(dt_s)
+                self.space_changed = False
             else:
                 step(space_p, dt_s)
             p = get_pos(body_p)

@@ -63,40 +63,50 @@ class SonarRing:
         # Rays skip the robot's own shape (same non-zero group).
         self.filter = pymunk.ShapeFilter(group=ignore_group)
 
+    def _range_exact(self, space: pymunk.Space, pose: tuple[float, float, float], phi: float
+                     ) -> float | None:
+        x, y, h = pose
+        c = self.config
+        a = h + phi
+        sx = x + c.mount_radius_m * math.cos(a)
+        sy = y + c.mount_radius_m * math.sin(a)
+        best: float | None = None
+        for off in self.ray_offsets:
+            ex = sx + c.D_e * math.cos(a + off)
+            ey = sy + c.D_e * math.sin(a + off)
+            hit = space.segment_query_first((sx, sy), (ex, ey), 0.0, self.filter)
+            if hit is not None:
+                d = hit.alpha * c.D_e
+                if best is None or d < best:
+                    best = d
+        return best
+
+    def _noisy(self, d: float | None) -> float | None:
+        c = self.config
+        if c.noise_std_m == 0.0 and c.dropout_p == 0.0:
+            return d
+        noise = float(self.rng.normal(0.0, c.noise_std_m)) if c.noise_std_m > 0 else 0.0
+        drop = c.dropout_p > 0 and float(self.rng.random()) < c.dropout_p
+        if d is None or drop:
+            return None
+        return min(max(d + noise, 0.0), c.D_e)
+
     def read_exact(self, space: pymunk.Space, pose: tuple[float, float, float]
                    ) -> list[float | None]:
         """Noise-free nearest-hit ranges from the sensors at the base pose (x, y, heading)."""
-        x, y, h = pose
-        c = self.config
-        out: list[float | None] = []
-        for phi in self.angles:
-            a = h + phi
-            sx = x + c.mount_radius_m * math.cos(a)
-            sy = y + c.mount_radius_m * math.sin(a)
-            best: float | None = None
-            for off in self.ray_offsets:
-                ex = sx + c.D_e * math.cos(a + off)
-                ey = sy + c.D_e * math.sin(a + off)
-                hit = space.segment_query_first((sx, sy), (ex, ey), 0.0, self.filter)
-                if hit is not None:
-                    d = hit.alpha * c.D_e
-                    if best is None or d < best:
-                        best = d
-            out.append(best)
-        return out
+        return [self._range_exact(space, pose, phi) for phi in self.angles]
 
     def read(self, space: pymunk.Space, pose: tuple[float, float, float]) -> list[float | None]:
-        """Ranges with the configured noise and dropout (one rng draw pair per sensor)."""
-        c = self.config
-        exact = self.read_exact(space, pose)
-        if c.noise_std_m == 0.0 and c.dropout_p == 0.0:
-            return exact
-        out: list[float | None] = []
-        for d in exact:
-            noise = float(self.rng.normal(0.0, c.noise_std_m)) if c.noise_std_m > 0 else 0.0
-            drop = c.dropout_p > 0 and float(self.rng.random()) < c.dropout_p
-            if d is None or drop:
-                out.append(None)
-            else:
-                out.append(min(max(d + noise, 0.0), c.D_e))
-        return out
+        """Ranges of all sensors with the configured noise and dropout."""
+        return [self._noisy(d) for d in self.read_exact(space, pose)]
+
+    def read_one(self, space: pymunk.Space, pose: tuple[float, float, float], index: int
+                 ) -> float | None:
+        """Range of sensor ``index`` (0-based: k = index + 1) with noise and dropout.
+
+        The MCU fires its sonars one after another, so the rig asks for one at a time.
+        """
+        if not isinstance(index, int) or not 0 <= index < len(self.angles):
+            raise ValueError(f"sonar index must be an int 0..{len(self.angles) - 1}, "
+                             f"got {index!r}")
+        return self._noisy(self._range_exact(space, pose, self.angles[index]))

@@ -36,6 +36,7 @@ TICK_US = 10_000
 TICK_STEPS = TICK_US // PHYSICS_DT_US
 OBSTACLE_CATEGORY = 0b10
 CLEARANCE_MAX_M = 10.0
+_OBSTACLES_ONLY = pymunk.ShapeFilter(mask=OBSTACLE_CATEGORY)
 
 
 @dataclass(frozen=True)
@@ -166,6 +167,10 @@ class World:
         """One range per sonar (m), None when there is no echo within D_e."""
         return self.sonar.read(self.space, self.base.pose())
 
+    def sonar_range_m(self, index: int) -> float | None:
+        """Range of one sonar (0-based index), None when there is no echo within D_e."""
+        return self.sonar.read_one(self.space, self.base.pose(), index)
+
     def camera_pose_world(self) -> tuple[np.ndarray, np.ndarray]:
         """(position (3,), R_wc (3, 3)); R_wc columns = camera x right, y down, z optical axis."""
         return self.arm.camera_pose_world(self.base.pose(), self.t_us)
@@ -223,13 +228,13 @@ class World:
         x, y, h = self.base.pose()
         v, w = self.base.velocity()
         ox, oy, oz, oh = self.target.pose()
-        cam, _ = self.camera_pose_world()
+        cam = self.arm.fingertip_world((x, y, h), self.t_us)
         return {
             "t_us": self.t_us,
             "base": {"x_m": x, "y_m": y, "heading_rad": h, "v_mps": v, "w_radps": w},
             "joints_rad": self.joint_angles_rad(),
             "gripper_opening_m": self.arm.gripper_opening_m(self.t_us),
-            "camera_m": [float(c) for c in cam],
+            "camera_m": list(cam),
             "object": {"x_m": ox, "y_m": oy, "z_m": oz, "heading_rad": oh},
             "attached": self.attached,
             "grasps": self.grasp_count,
@@ -249,10 +254,11 @@ class World:
             tip = self.arm.fingertip_world(base_pose, t_us)
             if opening >= width:
                 self.attached = False
-                self.target.drop_at(float(tip[0]), float(tip[1]))
+                self.target.drop_at(tip[0], tip[1])
+                self.base.space_changed = True
             else:
-                self.target.body.position = (float(tip[0]), float(tip[1]))
-                self.target.z_m = float(tip[2]) - self.target.geometry.grasp_height_m
+                self.target.body.position = (tip[0], tip[1])
+                self.target.z_m = tip[2] - self.target.geometry.grasp_height_m
         elif self._last_opening_m >= width > opening:
             tip = self.arm.fingertip_world(base_pose, t_us)
             q = self.arm.joints(t_us)
@@ -261,13 +267,13 @@ class World:
                 self.grasp_count += 1
                 self.contacts.count_target = False
                 self.target.detach_from_space()
+                self.base.space_changed = True
         self._last_opening_m = opening
 
     def _update_clearance(self) -> None:
         if not self.obstacle_shapes:
             return
         x, y, _ = self.base.pose()
-        hit = self.space.point_query_nearest(
-            (x, y), CLEARANCE_MAX_M, pymunk.ShapeFilter(mask=OBSTACLE_CATEGORY))
+        hit = self.space.point_query_nearest((x, y), CLEARANCE_MAX_M, _OBSTACLES_ONLY)
         if hit is not None:
             self.min_clearance_m = min(self.min_clearance_m, hit.distance - self.base.radius_m)

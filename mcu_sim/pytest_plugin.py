@@ -1,5 +1,140 @@
 """pytest plugin (``pytest11`` entry point) exposing the emulated MCU to host-program tests.
 
-The fixtures are added by the MCU work; this module must stay importable at all times because
-pytest loads it for every test run of every project that installs mobigrasp.
+Fixtures:
+
+- ``emulated_mcu``: an :class:`EmulatedMcu` with the default configuration, on a new pty.
+- ``emulated_mcu_factory``: ``make(config=McuConfig(...))`` for other UART divisors or PARAMs.
+
+The test owns the simulated clock: nothing moves until it calls ``advance_ms`` / ``advance_us``.
+A host program under test opens ``emulated_mcu.port`` like a serial device; since a pty hands
+bytes over asynchronously, call ``wait_from_host(n)`` (n = bytes the host wrote so far) before
+advancing time when the exact arrival time matters. For quick tests the fixture also has its own
+host end: ``send(msg)`` writes a message on the slave and waits until the MCU side has it,
+``receive(n)`` returns what the host side read back.
+
+This module must stay cheap to import and must never break a pytest run: everything heavy is
+imported inside the fixtures.
 """
+
+from __future__ import annotations
+
+import pytest
+
+
+class EmulatedMcu:
+    """A :class:`mcu_sim.mcu_pty.PtyMcu` plus a host-side Link on its slave for convenience."""
+
+    def __init__(self, config=None) -> None:
+        from mcu_sim.mcu_pty import PtyMcu
+
+        self._pty = PtyMcu(config)
+        self.mcu = self._pty.mcu
+        self.port: str = self._pty.port
+        self._link = None
+
+    # -- clock ---------------------------------------------------------------------------------
+    @property
+    def now_us(self) -> int:
+        """Simulated time in µs."""
+        return self._pty.now_us
+
+    def advance_us(self, n: int) -> None:
+        """Pump pty bytes into the UART and run ``n`` µs of simulated time."""
+        self._pty.advance_us(n)
+
+    def advance_ms(self, n: int) -> None:
+        """Pump pty bytes into the UART and run ``n`` ms of simulated time."""
+        self._pty.advance_us(int(n) * 1000)
+
+    def wait_from_host(self, n_bytes: int, timeout_s: float = 10.0) -> bool:
+        """Wait (wall clock, simulated time frozen) until the MCU side has read ``n_bytes``."""
+        return self._pty.wait_from_host(n_bytes, timeout_s)
+
+    # -- outputs -------------------------------------------------------------------------------
+    def servo_pulses_us(self) -> tuple[float, ...]:
+        """Latest measured pulse width of each of the six channels, in µs."""
+        return tuple(self.mcu.servo_pulse_us(ch) for ch in range(6))
+
+    def wheel_duty(self) -> tuple[int, int]:
+        """Signed wheel duties (left, right), -255..255."""
+        return self.mcu.wheel_duty()
+
+    def telemetry(self) -> list:
+        """Telemetry messages the MCU has sent, decoded, oldest first."""
+        return self._pty.telemetry()
+
+    def sent(self) -> list[tuple[int, object]]:
+        """Every message the MCU has sent: ``(t_us, message)``."""
+        return list(self._pty.sent)
+
+    @property
+    def stats(self) -> dict[str, int]:
+        """Firmware and UART counters."""
+        return self.mcu.stats()
+
+    # -- built-in host end ---------------------------------------------------------------------
+    def host_link(self):
+        """A :class:`link.messages.Link` on the slave (opened on first use)."""
+        if self._link is None:
+            from link.messages import Link
+            from link.registry import open_transport
+
+            self._link = Link(open_transport(self.port))
+        return self._link
+
+    def send(self, msg, seq: int | None = None, timeout_s: float = 10.0) -> int:
+        """Send ``msg`` from the host end; returns its seq once the MCU side has the bytes."""
+        link = self.host_link()
+        if seq is None:
+            seq = link.send(msg)
+        else:
+            link.send_with_seq(msg, seq)
+        if not self.wait_from_host(self._host_written(), timeout_s):
+            raise TimeoutError(f"the MCU side did not receive the host's bytes in {timeout_s} s")
+        return seq
+
+    def send_raw(self, data: bytes, timeout_s: float = 10.0) -> None:
+        """Write raw bytes (garbage, floods) from the host end and wait until they arrived."""
+        self.host_link().send_wire(bytes(data))
+        if not self.wait_from_host(self._host_written(), timeout_s):
+            raise TimeoutError(f"the MCU side did not receive the host's bytes in {timeout_s} s")
+
+    def _host_written(self) -> int:
+        return self.host_link().tx_bytes
+
+    def receive(self, count: int = 1, timeout_s: float = 10.0) -> list:
+        """Messages the host end has received: waits until at least ``count`` or the timeout."""
+        link = self.host_link()
+        out = [r.msg for r in link.poll()]
+        while len(out) < count:
+            if not link.wait(timeout_s):
+                break
+            out.extend(r.msg for r in link.poll())
+        return out
+
+    def close(self) -> None:
+        """Close both ends."""
+        if self._link is not None:
+            self._link.close()
+        self._pty.close()
+
+
+@pytest.fixture
+def emulated_mcu_factory():
+    """``make(config=None) -> EmulatedMcu``; everything made is closed after the test."""
+    made: list[EmulatedMcu] = []
+
+    def make(config=None) -> EmulatedMcu:
+        emu = EmulatedMcu(config)
+        made.append(emu)
+        return emu
+
+    yield make
+    for emu in made:
+        emu.close()
+
+
+@pytest.fixture
+def emulated_mcu(emulated_mcu_factory) -> EmulatedMcu:
+    """An emulated ATmega128 on a new pty, default configuration, clock at 0."""
+    return emulated_mcu_factory()

@@ -3,6 +3,8 @@
 import math
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mcu_sim.world.base import (
     FOOTPRINT_RADIUS_M,
@@ -169,3 +171,31 @@ def test_bad_inputs_are_rejected_not_crashing():
     assert w.base.left.rejected == 1 and w.base.right.rejected == 1
     with pytest.raises(ValueError, match="channel"):
         w.set_servo_pulse_us(7, 1500)
+
+
+@settings(max_examples=30, deadline=None, derandomize=True)
+@given(approach=st.floats(-1.2, 1.2), r_obs=st.floats(0.02, 0.3), duty=st.integers(60, 255),
+       turn=st.integers(-40, 40))
+def test_base_never_passes_through_a_circle_obstacle(approach, r_obs, duty, turn):
+    # the obstacle stands 1 m ahead; the base comes at it from any angle, at any speed
+    extra = f"""
+[[obstacles]]
+shape = "circle"
+x_m = 1.0
+y_m = 0.0
+radius_m = {r_obs}
+"""
+    w = make_world(heading=0.0, extra=extra)
+    w.base.body.angle = w.base.control.angle = approach * 0.2
+    w.set_wheel_duty(duty - turn if duty - turn <= 255 else 255, min(duty + turn, 255))
+    worst = math.inf
+    for k in range(1, 301):
+        w.step_to(k * 10_000)
+        x, y, _ = w.base.pose()
+        worst = min(worst, math.hypot(x - 1.0, y) - r_obs - FOOTPRINT_RADIUS_M)
+    assert worst > -0.005  # contact, never more than a few mm of solver overlap
+    hit = w.truth()["collisions"]["obstacle"] > 0
+    if worst < -0.001:
+        assert hit
+    if worst > 0.002:
+        assert not hit

@@ -183,4 +183,6 @@ def new_space() -> pymunk.Space:
     space = pymunk.Space()
     space.iterations = 10
     space.gravity = (0.0, 0.0)
+    # pymunk's default slop (0.1) is in space units: 10 cm here. Allow 1 mm of overlap.
+    space.collision_slop = 0.001
     return space

@@ -125,6 +125,8 @@ class HostApp:
         self._last_wheels_us = -(10**12)
         self._last_heartbeat_us = -(10**12)
         self._hello_sent = False
+        self.replans = 0
+        self.plans = 0
 
     # ---- inputs from the driver --------------------------------------------------------------
     def on_uart(self, data: bytes, arrival_us: int) -> None:
@@ -266,12 +268,19 @@ class HostApp:
     def _apply(self, out: Any, at_us: int) -> None:
         link, last = self.link, self._last
         for ev in getattr(out, "events", None) or []:
-            self._events.append({"ev": "state", **jsonable(ev)})
+            d = jsonable(ev)
+            if "to_state" in d:  # host.task.TaskEvent
+                d = {"t_us": d["t_us"], "from": d["from_state"], "to": d["to_state"],
+                     "why": d.get("why", "")}
+            self._events.append({"ev": "state", **d})
         state = getattr(out, "state", None)
         if state is not None and state != self.state:
             self.state = str(state)
         detail = getattr(out, "detail", None)
         if detail:
+            if detail.get("plan") is not None:
+                self.plans += 1  # every plan after the first one is a replan (001 §III.E)
+                self.replans = max(0, self.plans - 1)
             self._events.append({"ev": "detail", "t_us": at_us, "state": self.state,
                                  **jsonable(detail)})
         servos = getattr(out, "servo_mrad", None)
@@ -307,5 +316,24 @@ class HostApp:
             "ticks_skipped": c.ticks_skipped,
             "arm9_load_max": max(loads, default=0.0),
             "arm9_load_mean": sum(loads) / len(loads) if loads else 0.0,
-            "stage_us": c.stage_us, "protocol": self.link.stats(), "state": self.state,
+            "stages": {k: stage_summary(v) for k, v in sorted(c.stage_us.items())},
+            "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
+            "replans": self.replans,
         }
+
+    def _mcu_counters(self) -> dict:
+        tel = self.link.telemetry
+        if tel is None:
+            return {}
+        return {"crc_errors": tel.crc_errors, "overruns": tel.overruns,
+                "limit_hits": tel.limit_hits, "watchdog_trips": tel.watchdog_trips}
+
+
+def stage_summary(values: list[int]) -> dict:
+    """calls, mean, p95 (nearest rank), max and total of modelled µs per call."""
+    if not values:
+        return {"calls": 0, "mean_us": 0.0, "p95_us": 0, "max_us": 0, "total_us": 0}
+    s = sorted(values)
+    p95 = s[min(len(s) - 1, max(0, -(-95 * len(s) // 100) - 1))]
+    return {"calls": len(s), "mean_us": sum(s) / len(s), "p95_us": p95, "max_us": s[-1],
+            "total_us": sum(s)}

@@ -44,7 +44,7 @@ class InputBuilder:
         p = self.pose
         return TaskInputs(
             joints_mrad=self.joints_mrad(tel),
-            odometry=p,
+            x_mm=p.x_mm, y_mm=p.y_mm, heading_mrad=p.heading_mrad, v_mmps=p.speed_mm_s,
             sonar_mm=tuple(tel.sonar_mm) if tel is not None else (),
             detections=detections,
             grasp_closed=bool(tel is not None and tel.flags & m.FLAG_GRIPPER_CLOSED),

@@ -60,6 +60,8 @@ class RunOptions:
     quantum_us: int = 5_000
     plots: bool = True
     time_limit_s: float | None = None
+    scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
+    timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
 
 
 def parse_speed(text: str) -> float | None:
@@ -93,7 +95,6 @@ def _progress(res, wall: float, now_us: int) -> None:
 def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
     from host.app_factory import build_host_app
-
     from host.lockstep_client import LockstepClient
     from link.registry import inproc_pair, open_transport
     from mcu_sim.mcu import Mcu
@@ -104,7 +105,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
 
     if opts.transport not in ("pty", "inproc"):
         raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
-    path, scenario = resolve_scenario(opts.scenario)
+    if opts.scenario_obj is not None:
+        path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
+    else:
+        path, scenario = resolve_scenario(opts.scenario)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
     out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
@@ -139,7 +143,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             host = SocketHost(host_argv(port.slave_path, cfg_path))
         else:
             port, peer = inproc_pair(f"run-{name}-{seed}")
-            host = InprocHost(LockstepClient(build_host_app(cfg), peer))
+            host = InprocHost(LockstepClient(build_host_app(cfg, timer=opts.timer), peer))
         rig = Rig(mcu, plant, port, RigConfig(quantum_us=opts.quantum_us),
                   on_frame=snaps.on_frame)
         progress = None
@@ -220,6 +224,7 @@ def _figures(res, plant, trace, snaps, limit_s: float) -> dict:
         "snapshots": snaps.written,
         "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
         "host": {k: hs.get(k) for k in ("control_steps", "ticks_skipped", "frames_idle")},
+        "stages": hs.get("stages", {}),
         "error": res.error if res and res.error else None,
     }
 

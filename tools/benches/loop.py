@@ -1,0 +1,94 @@
+"""``mobigrasp bench loop``: closed-loop speed over the pty and in process, and a random campaign.
+
+Real-time factor = simulated seconds / wall seconds of paper000-exp1 (capped at ``--rtf-limit-s``
+simulated seconds) over the pty (two processes) and in process. The campaign runs ``--runs`` seeded
+random scenarios per method in process (tools/random_scenarios.py) and reports the success rate,
+collisions and the median final error (issue 8 targets: success >= 95 %, zero collisions, median
+final_error_mm <= 10; real-time factor over the pty >= 10).
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import tempfile
+from pathlib import Path
+
+NAME = "loop"
+HELP = "closed-loop real-time factor (pty, inproc) and success rate of random scenarios"
+
+
+def add_arguments(parser) -> None:
+    """Options of the loop bench."""
+    parser.add_argument("--runs", type=int, default=3, help="random scenarios per method")
+    parser.add_argument("--methods", default="000,001,002")
+    parser.add_argument("--seed-base", type=int, default=1000)
+    parser.add_argument("--rtf-limit-s", type=float, default=20.0,
+                        help="simulated seconds of the real-time-factor runs")
+
+
+def _one(opts) -> dict:
+    from tools.run_job import execute
+
+    summary, _ = execute(opts)
+    return summary
+
+
+def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
+             progress: bool = True) -> dict:
+    """Run ``runs`` random scenarios per method in process; figures per method and overall."""
+    from tools.random_scenarios import random_scenario
+    from tools.run_job import RunOptions
+
+    out: dict = {}
+    for method in methods:
+        rows = []
+        for k in range(runs):
+            seed = seed_base + k
+            sc = random_scenario(method, seed)
+            s = _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed,
+                                transport="inproc", out=folder / f"{method}-{seed}",
+                                progress=False, plots=False))
+            rows.append(s)
+            if progress:
+                print(f"  {method} seed {seed}: {'ok ' if s['success'] else 'FAIL'} "
+                      f"{s.get('task_state')} t={s.get('sim_time_s', 0):.1f}s "
+                      f"err={s.get('final_error_mm')} mm", file=sys.stderr)
+        errs = [r["final_error_mm"] for r in rows if r.get("final_error_mm") is not None]
+        out[method] = {
+            "runs": len(rows),
+            "success_rate": sum(r["success"] for r in rows) / len(rows) if rows else 0.0,
+            "collisions_total": sum(r.get("collisions", 0) for r in rows),
+            "final_error_mm_median": statistics.median(errs) if errs else None,
+            "sim_time_s_median": statistics.median(r["sim_time_s"] for r in rows) if rows
+            else None,
+            "failed_seeds": [r["seed"] for r in rows if not r["success"]],
+        }
+    return out
+
+
+def run(args) -> dict:
+    """Figures of the loop bench (keys carry units)."""
+    from tools.run_job import RunOptions
+
+    methods = [m for m in args.methods.split(",") if m]
+    results: dict = {}
+    with tempfile.TemporaryDirectory(prefix="mobigrasp-bench-") as tmp:
+        folder = Path(tmp)
+        sha = {}
+        for transport in ("pty", "inproc"):
+            s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
+                                out=folder / f"rtf-{transport}", progress=False, plots=False,
+                                time_limit_s=args.rtf_limit_s))
+            results[f"realtime_factor_{transport}"] = s.get("realtime_factor")
+            results[f"sim_s_{transport}"] = s.get("sim_time_s")
+            results[f"wall_s_{transport}"] = s.get("wall_time_s")
+            sha[transport] = s.get("trace_sha256")
+        results["trace_equal_pty_inproc"] = sha["pty"] == sha["inproc"]
+        camp = campaign(methods, args.runs, args.seed_base, folder / "campaign")
+    results["campaign"] = camp
+    total = sum(v["runs"] for v in camp.values())
+    results["success_rate"] = (sum(v["success_rate"] * v["runs"] for v in camp.values()) / total
+                               if total else 0.0)
+    results["collisions_total"] = sum(v["collisions_total"] for v in camp.values())
+    return results

@@ -1,0 +1,109 @@
+"""``mobigrasp profile SCENARIO``: where the ARM9 budget goes, per host stage.
+
+Runs the scenario in process (the modelled figures are transport-independent) with a wall-clock
+timer around every host stage. For each stage (frame hand-over, each detector, the task step with
+planning/ranging/control, protocol) it reports the modelled ARM920T time per call (mean, p95, max),
+its share of the budget that applies (a frame period of 66.7 ms for vision stages, the 20 ms
+control period for control stages) and the Python wall time per call, as a table and JSON; the ARM9
+load over the run is plots/arm9_load.png of the run folder. It names the stage that would miss its
+budget first (highest worst-case share).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import time
+from pathlib import Path
+
+FRAME_BUDGET_US = 1_000_000 // 15
+CONTROL_BUDGET_US = 20_000
+CONTROL_STAGES = ("control", "protocol", "task")
+
+
+class WallTimer:
+    """``timer(stage, fn, *args)`` hook for HostApp: calls fn and records its wall time."""
+
+    def __init__(self) -> None:
+        self.wall_s: dict[str, list[float]] = {}
+
+    def __call__(self, stage, fn, *args):
+        t0 = time.perf_counter()
+        try:
+            return fn(*args)
+        finally:
+            self.wall_s.setdefault(stage, []).append(time.perf_counter() - t0)
+
+
+def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
+    """Rows per stage and the name of the stage with the highest worst-case budget share."""
+    rows = []
+    for name, st in sorted(stages.items()):
+        budget = CONTROL_BUDGET_US if name in CONTROL_STAGES else FRAME_BUDGET_US
+        wall = wall_s.get(name, [])
+        rows.append({
+            "stage": name, "calls": st["calls"], "arm9_mean_us": round(st["mean_us"], 1),
+            "arm9_p95_us": st["p95_us"], "arm9_max_us": st["max_us"], "budget_us": budget,
+            "share_mean": round(st["mean_us"] / budget, 4),
+            "share_max": round(st["max_us"] / budget, 4),
+            "wall_mean_ms": round(1e3 * sum(wall) / len(wall), 3) if wall else None,
+        })
+    for name, wall in sorted(wall_s.items()):  # wall-only stages (the task step's Python)
+        if name not in stages:
+            rows.append({"stage": name + " (python)", "calls": len(wall),
+                         "wall_mean_ms": round(1e3 * sum(wall) / len(wall), 3)})
+    ranked = [r for r in rows if "share_max" in r and r["calls"]]
+    first = max(ranked, key=lambda r: r["share_max"])["stage"] if ranked else None
+    return rows, first
+
+
+def _run(args: argparse.Namespace) -> int:
+    from tools.run_job import BadInput, RunOptions, execute
+
+    timer = WallTimer()
+    try:
+        summary, code = execute(RunOptions(scenario=args.scenario, seed=args.seed,
+                                           transport="inproc", out=args.out,
+                                           progress=not args.quiet, timer=timer))
+    except BadInput as exc:
+        print(f"mobigrasp profile: {exc}", file=sys.stderr)
+        return 2
+    rows, first = profile_table(summary.get("stages", {}), timer.wall_s)
+    hdr = (f"{'stage':<22}{'calls':>7}{'mean_us':>10}{'p95_us':>9}{'max_us':>9}"
+           f"{'budget':>8}{'share':>7}{'max':>7}{'py_ms':>8}")
+    print(hdr)
+    for r in rows:
+        if "arm9_mean_us" in r:
+            print(f"{r['stage']:<22}{r['calls']:>7}{r['arm9_mean_us']:>10.0f}{r['arm9_p95_us']:>9}"
+                  f"{r['arm9_max_us']:>9}{r['budget_us'] // 1000:>6}ms{r['share_mean']:>7.1%}"
+                  f"{r['share_max']:>7.0%}{(r['wall_mean_ms'] or 0):>8.2f}")
+        else:
+            print(f"{r['stage']:<22}{r['calls']:>7}{'':>50}{r['wall_mean_ms']:>8.2f}")
+    print(f"ARM9 load: max {summary.get('arm9_load_max', 0):.0%}, mean "
+          f"{summary.get('arm9_load_mean', 0):.0%}; frames dropped "
+          f"{summary.get('frames_dropped')}, deadline misses {summary.get('deadline_misses')}")
+    print(f"would miss its budget first: {first}")
+    out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
+    result = {"scenario": summary["scenario"], "seed": summary["seed"], "stages": rows,
+              "first_to_miss": first, "arm9_load_max": summary.get("arm9_load_max"),
+              "arm9_load_mean": summary.get("arm9_load_mean"),
+              "frames_dropped": summary.get("frames_dropped"),
+              "deadline_misses": summary.get("deadline_misses"),
+              "load_plot": str(out / "plots" / "arm9_load.png")}
+    path = args.json or out / "profile.json"
+    Path(path).write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
+    print(f"written {path} (load plot {result['load_plot']})")
+    return 0 if code in (0, 1) else code
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``profile`` subcommand."""
+    p = sub.add_parser("profile", help="ARM9 budget per host stage over a scenario run")
+    p.add_argument("scenario", help="scenario file or shipped scenario name")
+    p.add_argument("--seed", type=int, default=None)
+    p.add_argument("--out", type=Path, default=None, help="run folder")
+    p.add_argument("--json", type=Path, default=None,
+                   help="profile JSON (default OUT/profile.json)")
+    p.add_argument("--quiet", action="store_true")
+    p.set_defaults(func=_run)

@@ -59,6 +59,7 @@ def test_values_and_defaults():
     assert s.obstacles[0].radius_m == 0.2 and s.obstacles[0].height_m == 0.3
     assert s.params["k_s"] == 7 and s.params["Vmax"] == 0.3
     assert s.params["A_g"] == 1.05 and s.params["D_e"] == 2.5  # 001 paper defaults
+    assert dict(s.param_overrides) == {"k_s": 7, "Vmax": 0.3}
     assert s.camera.f_px == 611.0 and s.camera.noise_std == 0.0
     assert loads_scenario(GOOD.replace('"001"', '"002"').replace("k_s = 7\nVmax = 0.3", ""),
                           "x").camera.f_px == 350.0

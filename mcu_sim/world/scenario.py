@@ -135,7 +135,11 @@ class CameraSpec:
 
 @dataclass(frozen=True)
 class Scenario:
-    """A validated scenario; ``params`` holds every paper parameter of the method (read-only)."""
+    """A validated scenario (read-only).
+
+    ``params`` holds every paper parameter of the method (paper defaults, then the file's
+    ``[params]``); ``param_overrides`` only the keys the file itself set.
+    """
 
     source: str
     meta: ScenarioMeta
@@ -145,6 +149,7 @@ class Scenario:
     camera: CameraSpec
     params: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
     faults: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    param_overrides: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
 
 def load_scenario(path: str | Path) -> Scenario:
@@ -256,10 +261,13 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
     target = _parse_target(c, c.table(data, "target"))
     obstacles = _parse_obstacles(c, data.get("obstacles", []))
     camera = _parse_camera(c, c.table(data, "camera", required=False) or {}, method)
-    params = _parse_params(c, c.table(data, "params", required=False) or {}, method)
+    raw_params = c.table(data, "params", required=False) or {}
+    params = _parse_params(c, raw_params, method)
     faults = c.table(data, "faults", required=False) or {}
+    overrides = {k: params[k] for k in raw_params}
     return Scenario(source, meta, robot, target, obstacles, camera,
-                    MappingProxyType(params), MappingProxyType(dict(faults)))
+                    MappingProxyType(params), MappingProxyType(dict(faults)),
+                    MappingProxyType(overrides))
 
 
 def _parse_target(c: _Checker, t: dict) -> TargetSpec:

@@ -1,0 +1,93 @@
+"""How the task moves the base: approach planning and following, the close approach, fuzzy.
+
+Each function is the one place the task calls another helper's code (host.planning,
+host.control), so a change of API is a change here only:
+
+- :func:`plan_follower` calls the Bezier planner of 000 (eq. (9)) or 001 (eq. (17)) and wraps the
+  chosen curve in host.control.path_follow's integer :class:`PathFollower` (eq. (8) feed-forward
+  plus Kanayama feedback).  The planning ops (soft-float) are returned for the ARM9 budget.
+- :func:`close_in` is the close approach of 000 (vision-based approaching adjustment, §III.B):
+  integer proportional law driving until the object is ``grasp_r_mm`` ahead of the waist axis
+  and straight ahead; facing the object first, since turning in place swings the waist sideways.
+- :func:`make_fuzzy` builds 002's fuzzy approach (host.control.fuzzy: 35 rules, eq. (1) centroid,
+  eq. (2) wheel law, stop at d_pixel > T_d).
+
+Wheel speeds are (left, right) mm/s, positive forward; counter-clockwise turns have right > left.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from host.budget import OpCounts
+from host.control.fuzzy import FuzzyApproach, FuzzyParams
+from host.control.path_follow import PathFollower, Trajectory, wheel_speeds
+from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from host.odometry import Pose
+
+
+def make_pose(x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int) -> Pose:
+    """An odometry Pose from the task's inputs (mm, mrad, mm/s)."""
+    return Pose(int(x_mm) * 1000, int(y_mm) * 1000, int(heading_mrad), int(v_mmps), 0)
+
+
+def plan_follower(method: str, now_us: int, x_mm: int, y_mm: int, heading_mrad: int,
+                  v_mmps: int, obj_xy_mm: tuple[int, int], sonar_mm: tuple,
+                  planner_params: Any = None, v_limit_mmps: int | None = None
+                  ) -> tuple[PathFollower | None, OpCounts, dict]:
+    """Plan with 000's or 001's planner from the pose toward the object; (follower, ops, detail).
+
+    ``detail`` holds what the trace needs for the plots: candidate count, feasible count, the
+    reason, the chosen control points and the modelled ARM9 time of the plan."""
+    from host.planning.bezier000 import Params000, plan_000
+    from host.planning.bezier001 import Params001, plan_001
+
+    h = heading_mrad / 1000.0
+    c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
+    start = (x_mm / 1000.0, y_mm / 1000.0)
+    vel = (v_mmps * c / 4096 / 1000.0, v_mmps * s / 4096 / 1000.0)
+    target = (obj_xy_mm[0] / 1000.0, obj_xy_mm[1] / 1000.0)
+    if method == "001":
+        p = planner_params if planner_params is not None else Params001()
+        plan = plan_001(start, vel, h, target, [int(v) for v in sonar_mm], p)
+    else:
+        p = planner_params if planner_params is not None else Params000()
+        plan = plan_000(start, vel, target, p, heading_rad=h)
+    n_feasible = sum(1 for cand in plan.candidates if cand.feasible)
+    detail: dict = {"planner": method, "reason": plan.reason,
+                    "candidates": len(plan.candidates), "feasible": n_feasible,
+                    "plan_arm9_us": plan.ops.time_us()}
+    if plan.best is None:
+        return None, plan.ops, detail
+    traj = Trajectory.from_curve(plan.best)
+    limit = v_limit_mmps if v_limit_mmps is not None else int(round(p.v_max * 1000))
+    detail["best_ctrl"] = [list(map(float, row)) for row in plan.best.ctrl]
+    detail["duration_us"] = traj.duration_us
+    return PathFollower(traj, now_us, limit), plan.ops + traj.ops, detail
+
+
+def close_in(obj_platform_q4: tuple[int, int], grasp_r_mm: int, tol_mm: int,
+             bearing_tol_mrad: int, vmax_mmps: int) -> tuple[tuple[int, int], bool, dict]:
+    """Close approach toward an object at platform (X_r, Y_r) Q4 mm: (wheels, done, detail)."""
+    xr, yr = obj_platform_q4
+    bearing = atan2_mrad(xr, yr)  # right positive, as theta5
+    dist = isqrt(xr * xr + yr * yr) // 16
+    err = dist - grasp_r_mm
+    detail = {"dist_mm": dist, "bearing_mrad": bearing, "err_mm": err}
+    if abs(err) <= tol_mm and abs(bearing) <= bearing_tol_mrad:
+        return (0, 0), True, detail
+    v = max(-vmax_mmps, min(vmax_mmps, 2 * err))
+    if abs(bearing) > 4 * bearing_tol_mrad:
+        v = 0  # face the object first
+    omega = -2 * bearing  # object to the right -> turn clockwise (negative yaw rate)
+    return wheel_speeds(v, omega, vmax_mmps), False, detail
+
+
+def turn_in_place(direction: int, wheel_mmps: int) -> tuple[int, int]:
+    """Wheels turning the base on the spot: direction +1 counter-clockwise, -1 clockwise."""
+    return (-direction * wheel_mmps, direction * wheel_mmps)
+
+
+def make_fuzzy(params: FuzzyParams | None = None) -> FuzzyApproach:
+    """002's fuzzy approach controller (host.control.fuzzy)."""
+    return FuzzyApproach(params if params is not None else FuzzyParams())

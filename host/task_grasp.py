@@ -1,0 +1,152 @@
+"""Grasp states of the task: ROUGH_GRASP, PRECISE_GRASP and LIFT (000 §III.C, 002 §4).
+
+A mixin of host.task.Task (through host.task_states).  Targets in the platform frame, Q4 mm:
+
+- ROUGH_GRASP (000 §III.C.1): the gripper above the object top by ``hover_mm``, pitched
+  alpha_T = -pi/2, by eq. (11) of 000 (host.kinematics).  002: the pre-grasp point
+  ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
+  eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits).
+- PRECISE_GRASP (000 §III.C.2): roll theta1 to pi/2, then on each spoke reading turn the waist
+  until k_T = 0 and move up/down until w_T is in [20, 40] px; then down to the grasp height and
+  close.  No spoke for ``spoke_wait_us`` (or too many steps): go down on the rough position and
+  say so in the trace.  002: move in from the pre-grasp point to the axis and close.
+- LIFT: raise by ``lift_mm`` with the same pitch; DONE once settled with the object held.
+"""
+
+from __future__ import annotations
+
+from host import kinematics
+from host.fixedpoint import cos_q12, isqrt, sin_q12
+from host.task_sense import spoke_reading
+
+
+class GraspStates:
+    """Entry actions and handlers of the grasp states."""
+
+    def _object_target_q4(self, inp, height_mm: int, back_mm: int = 0) -> tuple[int, int, int]:
+        x, y = self.obj_platform(inp)
+        if back_mm:
+            rho = isqrt(x * x + y * y)
+            if rho > back_mm * 16:
+                x, y = x * (rho - back_mm * 16) // rho, y * (rho - back_mm * 16) // rho
+        return x, y, (height_mm - self.p.h_shoulder_mm) * 16
+
+    # --- ROUGH_GRASP --------------------------------------------------------------------------
+    def enter_ROUGH_GRASP(self, now: int, inp) -> None:
+        self.wheels = (0, 0)
+        self.gripper = 0
+        if self.method == "002":
+            target = self._object_target_q4(inp, self.p.grasp_height_mm, self.p.pregrasp_back_mm)
+        else:
+            target = self._object_target_q4(inp, self.p.object_top_mm + self.p.hover_mm)
+        pose = self.grasp_ik(target)
+        self.note(rough_target_mm=[v // 16 for v in target])
+        if isinstance(pose, kinematics.Unreachable):
+            self.fail(now, f"rough grasp IK: {pose.reason}")
+            return
+        self.grasp_alpha = pose.alpha_mrad
+        self.apply_pose(now, pose, 0)
+        self.note(rough_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad, pose.theta4_mrad,
+                                   pose.theta5_mrad])
+
+    def do_ROUGH_GRASP(self, now: int, inp, dets: dict) -> None:
+        self.wheels = (0, 0)
+        if self.settled(now):
+            self.go(now, "PRECISE_GRASP", "arm at the rough grasp pose")
+
+    # --- PRECISE_GRASP ------------------------------------------------------------------------
+    def enter_PRECISE_GRASP(self, now: int, inp) -> None:
+        self.precise_steps = 0
+        self.phase_us = now
+        if self.method == "002":
+            target = self._object_target_q4(inp, self.p.grasp_height_mm)
+            pose = self.grasp_ik(target, self.grasp_alpha)
+            if isinstance(pose, kinematics.Unreachable):
+                self.fail(now, f"precise grasp IK: {pose.reason}")
+                return
+            self.apply_pose(now, pose)
+            self.phase = "lower"
+            return
+        self.set_arm(now, *self.arm[2:6], th1=kinematics.ROLL_PRECISE_MRAD)
+        self.phase = "roll"
+
+    def _move_point(self, now: int, x: int, y: int, z: int, th1: int | None = None) -> bool:
+        pose = self.grasp_ik((x, y, z), self.grasp_alpha)
+        if isinstance(pose, kinematics.Unreachable):
+            self.note(precise_unreachable=pose.reason)
+            return False
+        self.apply_pose(now, pose, th1)
+        return True
+
+    def _descend(self, now: int, why: str) -> None:
+        x, y, _ = self.gripper_point_q4()
+        z = (self.p.grasp_height_mm - self.p.h_shoulder_mm) * 16
+        if not self._move_point(now, x, y, z):
+            self.fail(now, "precise grasp: grasp height unreachable")
+            return
+        self.phase = "lower"
+        self.note(precise_descend=why)
+
+    def do_PRECISE_GRASP(self, now: int, inp, dets: dict) -> None:
+        self.wheels = (0, 0)
+        if self.phase == "roll":
+            if self.settled(now):
+                self.phase, self.phase_us = "align", now
+            return
+        if self.phase == "align":
+            self._align(now, dets.get("spoke"))
+            return
+        if self.phase == "lower":
+            if self.settled(now):
+                self.gripper = 1000
+                self.phase, self.phase_us = "close", now
+            return
+        if self.phase == "close":
+            if inp.grasp_closed:
+                self.go(now, "LIFT", "gripper closed on the object")
+            elif now - self.phase_us >= self.p.grasp_close_timeout_us:
+                self.fail(now, "gripper closed but no object held")
+
+    def _align(self, now: int, det) -> None:
+        if not self.settled(now):
+            return  # the frame may predate the last move
+        try:
+            reading = spoke_reading(det)
+        except (ValueError, TypeError):
+            self.counters["bad_detections"] += 1
+            reading = None
+        if reading is None:
+            if now - self.phase_us >= self.p.spoke_wait_us:
+                self._descend(now, f"no spoke seen for {now - self.phase_us} us: rough position")
+            return
+        self.phase_us = now
+        self.precise_steps += 1
+        step = kinematics.precise_grasp_step(self.arm[5], reading[0], reading[1])
+        self.note(precise={"spoke_mrad": reading[0], "w_px": reading[1], "reason": step.reason,
+                           "step": self.precise_steps})
+        if step.aligned:
+            self._descend(now, f"k_T ~ 0 and w_T = {reading[1]} px")
+            return
+        if self.precise_steps >= self.p.precise_max_steps:
+            self._descend(now, f"not aligned after {self.precise_steps} steps: {step.reason}")
+            return
+        x, y, z = self.gripper_point_q4()
+        rho = isqrt(x * x + y * y)
+        nx = (rho * sin_q12(step.theta5_mrad) + 2048) >> 12
+        ny = (rho * cos_q12(step.theta5_mrad) + 2048) >> 12
+        self._move_point(now, nx, ny, z + step.dz_mm * 16, step.theta1_mrad)
+
+    # --- LIFT ---------------------------------------------------------------------------------
+    def enter_LIFT(self, now: int, inp) -> None:
+        x, y, z = self.gripper_point_q4()
+        if not self._move_point(now, x, y, z + self.p.lift_mm * 16):
+            # out of reach straight up: raise the shoulder instead
+            self.set_arm(now, self.arm[2], self.arm[3], self.arm[4] + 300, self.arm[5])
+
+    def do_LIFT(self, now: int, inp, dets: dict) -> None:
+        self.wheels = (0, 0)
+        if not inp.grasp_closed:
+            self.fail(now, "object dropped during the lift")
+            return
+        if self.settled(now):
+            self.go(now, "DONE", f"object lifted by {self.p.lift_mm} mm")

@@ -1,0 +1,294 @@
+"""State behaviours of the task (host.task): entry actions and per-step handlers.
+
+A mixin of :class:`host.task.Task`; see that module for the machine.  Everything is integer
+(mm, mrad, us, Q4 mm positions); the object estimate is kept in the odometry frame so it
+survives the base moving while the object is out of view (000 §III.B.2: "the encoder
+information is used and only the waist joint rotates accordingly to re-find the object").
+"""
+
+from __future__ import annotations
+
+from host import arm_calib, kinematics
+from host.fixedpoint import isqrt
+from host.posture import PostureParams, adjust_posture
+from host.search import ArmSearch, SearchParams
+from host.task_drive import close_in, make_fuzzy, make_pose, plan_follower, turn_in_place
+from host.task_grasp import GraspStates
+from host.task_sense import (
+    bearing_mrad,
+    d_pixel_px,
+    object_in_platform,
+    odom_to_platform_q4,
+    platform_to_odom_mm,
+)
+
+HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
+GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
+
+
+def _wrap(a: int) -> int:
+    return (a + 3142) % 6283 - 3142
+
+
+class TaskStates(GraspStates):
+    """Entry actions ``enter_<STATE>`` and handlers ``do_<STATE>`` of the task."""
+
+    def init_states(self, now_us: int) -> None:
+        self.arm = list(HOME_ARM)
+        self.joints = tuple(HOME_ARM)
+        self.gripper = 0
+        self.wheels = (0, 0)
+        self.entry_pending = True
+        self.failure = None
+        self.search = None
+        self.turn_from = None
+        self.obj = None  # odometry-frame (x_mm, y_mm) of the object
+        self.obj_seen_us = now_us
+        self.follower = None
+        self.plan_obj = None
+        self.plan_us = now_us
+        self.plan_attempts = 0
+        self.fuzzy = None
+        self.move_done_us = now_us
+        self.phase = ""
+        self.phase_us = now_us
+        self.precise_steps = 0
+        self.last_pose = (0, 0, 0, 0)
+        self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
+        self.e_mrad = 0
+
+    # --- helpers ------------------------------------------------------------------------------
+    def run_state(self, now: int, inp, dets: dict) -> None:
+        if self.entry_pending:
+            self.entry_pending = False
+            state = self.state
+            getattr(self, f"enter_{state}", lambda n, i: None)(now, inp)
+            if self.state != state:
+                return
+        getattr(self, f"do_{self.state}")(now, inp, dets)
+
+    def set_arm(self, now: int, th2: int, th3: int, th4: int, th5: int,
+                th1: int | None = None) -> None:
+        """New arm targets (clamped) and the time by which the servos will have got there."""
+        new = list(self.arm)
+        if th1 is not None:
+            new[1] = th1
+        new[2:6] = [th2, th3, th4, th5]
+        new = list(arm_calib.clamp_joints_mrad(new))
+        travel = max(abs(a - b) for a, b in zip(new[1:], self.arm[1:], strict=True))
+        self.arm = new
+        done = now + travel * 1_000_000 // self.p.servo_speed_mrad_per_s + self.p.settle_margin_us
+        self.move_done_us = max(self.move_done_us if travel == 0 else now, done)
+
+    def settled(self, now: int) -> bool:
+        return now >= self.move_done_us
+
+    def see_object(self, now: int, inp, name: str, det) -> bool:
+        """Update the object estimate from a detection; False if unusable (counted)."""
+        try:
+            p = object_in_platform(name, det, self.geom, self.joints, self.cam)
+        except (ValueError, TypeError, ZeroDivisionError):
+            self.counters["bad_detections"] += 1
+            return False
+        if p is None or isqrt(p[0] * p[0] + p[1] * p[1]) > 5000 * 16:
+            self.counters["bad_detections"] += 1
+            return False
+        self.obj = platform_to_odom_mm(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                       self.p.mount_forward_mm, p)
+        self.obj_seen_us = now
+        return True
+
+    def obj_platform(self, inp) -> tuple[int, int]:
+        return odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                   self.p.mount_forward_mm, self.obj[0], self.obj[1])
+
+    def look_at_object(self, inp, top: bool = True) -> None:
+        """Posture adjustment (eq. (10) of 000) toward the estimated object."""
+        if self.obj is None:
+            return
+        x, y = self.obj_platform(inp)
+        z = ((self.p.object_top_mm if top else self.p.grasp_height_mm) - self.p.h_shoulder_mm) * 16
+        pp = PostureParams(**{"max_step_mrad": self.p.posture_step_mrad, **self.p.posture})
+        adj = adjust_posture(self.geom, tuple(self.arm[2:6]), (x, y, z), pp)
+        self.arm[2:6] = [adj.theta2_mrad, adj.theta3_mrad, adj.theta4_mrad, adj.theta5_mrad]
+
+    def gripper_point_q4(self) -> tuple[int, int, int]:
+        return kinematics.fk_mm_q4(self.geom, *self.arm[2:6])
+
+    def grasp_ik(self, target_q4: tuple[int, int, int], alpha: int | None = None):
+        """IK for the method: 000/001 gripper down (eq. (11)); 002 horizontal (eq. (4)) first."""
+        if alpha is not None:
+            return kinematics.ik_pitch_mm_q4(self.geom, target_q4, alpha)
+        if self.method != "002":
+            return kinematics.ik_rough_grasp_000(self.geom, target_q4)
+        first = None
+        for a in GRASP_ALPHAS_002:
+            res = kinematics.ik_pitch_mm_q4(self.geom, target_q4, a)
+            if isinstance(res, kinematics.ArmPose):
+                return res
+            first = first or res
+        return first
+
+    def apply_pose(self, now: int, pose, th1: int | None = None) -> None:
+        self.set_arm(now, pose.theta2_mrad, pose.theta3_mrad, pose.theta4_mrad,
+                     pose.theta5_mrad, th1)
+
+    # --- SEARCH -------------------------------------------------------------------------------
+    def enter_SEARCH(self, now: int, inp) -> None:
+        self.search = ArmSearch(SearchParams(**self.p.search), self.arm[2], self.arm[5], now)
+        self.turn_from = None
+        self.gripper = 0
+
+    def do_SEARCH(self, now: int, inp, dets: dict) -> None:
+        name = "double_cross" if self.method == "002" else "radial_symbol"
+        det = dets.get(name)
+        if det is not None and not self.search.turning:
+            if self.method == "002":
+                e = bearing_mrad(det, self.joints[5], self.cam)
+                if e is not None:
+                    self.e_mrad, self.obj_seen_us = e, now
+                    self.wheels = (0, 0)
+                    self.go(now, "APPROACH", f"double cross seen at e = {e} mrad")
+                    return
+            elif self.see_object(now, inp, name, det):
+                self.wheels = (0, 0)
+                self.go(now, "APPROACH", f"radial symbol seen, object at {self.obj} mm")
+                return
+        cmd = self.search.step(now)
+        self.set_arm(now, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad, cmd.theta5_mrad, 0)
+        if not cmd.base_turn_mrad:
+            self.wheels = (0, 0)
+            return
+        if self.turn_from is None:
+            self.turn_from = inp.heading_mrad
+            self.note(base_turn_mrad=cmd.base_turn_mrad, search_cycle=cmd.cycle)
+        if abs(_wrap(inp.heading_mrad - self.turn_from)) >= cmd.base_turn_mrad:
+            self.search.base_turn_done(now)
+            self.turn_from = None
+            self.wheels = (0, 0)
+        else:
+            self.wheels = turn_in_place(1 if cmd.base_turn_mrad > 0 else -1,
+                                        self.p.turn_wheel_mmps)
+
+    # --- APPROACH -----------------------------------------------------------------------------
+    def enter_APPROACH(self, now: int, inp) -> None:
+        self.follower, self.plan_attempts = None, 0
+        if self.method == "002":
+            from host.control.fuzzy import FuzzyParams
+            self.fuzzy = make_fuzzy(FuzzyParams(**self.p.fuzzy))
+
+    def _plan(self, now: int, inp) -> None:
+        from host.planning.bezier000 import Params000
+        from host.planning.bezier001 import Params001
+        if self.method == "001":
+            pp = Params001(**self.p.planner)
+        else:
+            pp = Params000(**{"standoff_m": self.p.approach_standoff_mm / 1000, **self.p.planner})
+        follower, ops, detail = plan_follower(self.method, now, inp.x_mm, inp.y_mm,
+                                              inp.heading_mrad, inp.v_mmps, self.obj,
+                                              inp.sonar_mm, pp)
+        self.charge(ops)
+        self.counters["plans"] += 1
+        self.note(plan=detail)
+        self.plan_us, self.plan_obj = now, self.obj
+        if follower is not None:
+            self.follower = follower
+            return
+        if detail["reason"].startswith("already"):
+            self.go(now, "ADJUST", f"no path needed: {detail['reason']}")
+            return
+        self.plan_attempts += 1
+        if self.plan_attempts >= self.p.max_plan_attempts:
+            self.fail(now, f"no feasible approach path: {detail['reason']}")
+
+    def do_APPROACH(self, now: int, inp, dets: dict) -> None:
+        if self.method == "002":
+            self._approach_002(now, inp, dets)
+            return
+        det = dets.get("radial_symbol")
+        if det is not None:
+            self.see_object(now, inp, "radial_symbol", det)
+        moved = (self.plan_obj is not None and isqrt((self.obj[0] - self.plan_obj[0]) ** 2 + (
+            self.obj[1] - self.plan_obj[1]) ** 2) > self.p.replan_shift_mm)
+        due = self.method == "001" and now - self.plan_us >= self.p.replan_period_us
+        if self.follower is None or moved or due:
+            if self.follower is None and self.plan_attempts and now - self.plan_us < 1_000_000:
+                self.wheels = (0, 0)  # retry a failed plan once a second
+                return
+            self._plan(now, inp)
+            if self.state != "APPROACH" or self.follower is None:
+                self.wheels = (0, 0)
+                return
+        self.look_at_object(inp)
+        x, y = self.obj_platform(inp)
+        dist = isqrt(x * x + y * y) // 16
+        cmd = self.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
+        self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
+        if cmd.done or dist <= self.p.grasp_r_mm + 100:
+            self.go(now, "ADJUST", f"path followed (error {cmd.error_mm} mm), object {dist} mm "
+                    f"from the waist")
+
+    def _approach_002(self, now: int, inp, dets: dict) -> None:
+        rc = dets.get("red_cylinder")
+        d_px = d_pixel_px(rc)
+        if d_px is not None and d_px >= self.p.cylinder_near_px and \
+                self.see_object(now, inp, "red_cylinder", rc):
+            self.go(now, "ADJUST", f"red cylinder seen, d_pixel = {d_px} px")
+            return
+        if not dets:
+            return  # no new frame: keep the wheels as they are
+        dc = dets.get("double_cross")
+        e = bearing_mrad(dc, self.joints[5], self.cam) if dc is not None else None
+        if e is None and now - self.obj_seen_us >= self.p.lost_timeout_us:
+            self.go(now, "LOST", f"double cross not seen for {now - self.obj_seen_us} us")
+            return
+        cmd = self.fuzzy.step(now, e, None)
+        if e is not None:
+            self.obj_seen_us = now
+            th5 = max(-800, min(800, e))  # the waist faces the marker
+            self.set_arm(now, self.arm[2], self.arm[3], self.arm[4], th5)
+        self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
+        self.note(fuzzy={"e_mrad": e, "u_mrad": cmd.u_mrad, "wheels_mmps": list(self.wheels)})
+
+    # --- ADJUST -------------------------------------------------------------------------------
+    def do_ADJUST(self, now: int, inp, dets: dict) -> None:
+        name = "red_cylinder" if self.method == "002" else "dual_plus"
+        det = dets.get(name)
+        if det is not None:
+            self.see_object(now, inp, name, det)
+        if self.method == "002" and det is not None:
+            d_px = d_pixel_px(det)
+            if d_px is not None and d_px > self.p.t_d_px:
+                self.wheels = (0, 0)
+                self.go(now, "ROUGH_GRASP", f"d_pixel = {d_px} px > T_d = {self.p.t_d_px}")
+                return
+        x, y = self.obj_platform(inp)
+        vmax = self.p.slow_mmps if self.method == "002" else self.p.adjust_vmax_mmps
+        target_r = 0 if self.method == "002" else self.p.grasp_r_mm
+        wheels, done, d = close_in((x, y), target_r, self.p.grasp_r_tol_mm,
+                                   self.p.bearing_tol_mrad, vmax)
+        if self.method == "002":  # 002 §1: slow and straight on, the cylinder decides the stop
+            done = False
+        self.note(adjust=d)
+        unseen = now - self.obj_seen_us
+        if unseen >= self.p.lost_timeout_us and abs(d["err_mm"]) > self.p.blind_finish_mm:
+            self.wheels = (0, 0)
+            self.go(now, "LOST", f"{name} not seen for {unseen} us, {d['dist_mm']} mm away")
+            return
+        self.look_at_object(inp)
+        self.wheels = wheels
+        if done:
+            self.go(now, "ROUGH_GRASP", f"object {d['dist_mm']} mm ahead of the waist, "
+                    f"bearing {d['bearing_mrad']} mrad")
+
+    # --- LOST ---------------------------------------------------------------------------------
+    def enter_LOST(self, now: int, inp) -> None:
+        self.wheels = (0, 0)
+        self.counters["lost"] += 1
+        if self.counters["lost"] > self.p.max_lost:
+            self.fail(now, f"object lost {self.counters['lost']} times")
+
+    def do_LOST(self, now: int, inp, dets: dict) -> None:
+        self.wheels = (0, 0)
+        if now - self.entered_us >= self.p.lost_hold_us:
+            self.go(now, "SEARCH", "platform stopped: searching with the arm (000 Fig. 5)")

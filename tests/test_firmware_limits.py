@@ -1,0 +1,104 @@
+"""Joint limits are never exceeded, whatever the host sends: property tests over command sequences
+that mix valid commands, out-of-range raw payloads, garbage and bit-flipped frames."""
+
+import struct
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mcu_sim.firmware.servo_table import default_limits_us
+from mcu_sim.mcu import Mcu
+from mcu_sim.mcu_host import InProcessHost
+from protocol import (
+    PROTOCOL_VERSION,
+    Frame,
+    Gripper,
+    Hello,
+    ParamSet,
+    SetServos,
+    SetWheels,
+    encode_frame,
+    encode_message,
+)
+
+LIMITS = [default_limits_us(ch) for ch in range(6)]
+
+
+def raw_servos(mode, targets, slew, seq):
+    payload = struct.pack("<B6hH", mode, *targets, slew)
+    return encode_frame(Frame(PROTOCOL_VERSION, seq, SetServos.MSG_TYPE, payload))
+
+
+def raw_wheels(left, right, seq):
+    payload = struct.pack("<hh", left, right)
+    return encode_frame(Frame(PROTOCOL_VERSION, seq, SetWheels.MSG_TYPE, payload))
+
+
+seqs = st.integers(0, 255)
+actions = st.one_of(
+    st.builds(lambda t, s, q: encode_message(SetServos(0, tuple(t), s), q),
+              st.lists(st.integers(500, 2500), min_size=6, max_size=6), st.integers(0, 4000), seqs),
+    st.builds(lambda t, s, q: encode_message(SetServos(1, tuple(t), s), q),
+              st.lists(st.integers(-3142, 3142), min_size=6, max_size=6), st.integers(0, 4000),
+              seqs),
+    st.builds(raw_servos, st.integers(0, 3), st.lists(st.integers(-32768, 32767), min_size=6,
+                                                      max_size=6), st.integers(0, 65535), seqs),
+    st.builds(lambda p, q: encode_message(Gripper(p), q), st.integers(0, 1000), seqs),
+    st.builds(raw_wheels, st.integers(-32768, 32767), st.integers(-32768, 32767), seqs),
+    st.binary(min_size=1, max_size=80),
+    st.builds(lambda w, i: w[:i] + bytes([w[i] ^ 0x10]) + w[i + 1:],
+              st.builds(lambda q: encode_message(SetServos(0, (2500,) * 6, 0), q), seqs),
+              st.integers(0, 10)),
+)
+
+
+def run_sequence(cmds, extra_param=None):
+    mcu = Mcu()
+    widths = {ch: [] for ch in range(6)}
+    for ch in range(6):
+        mcu.subscribe_servo(ch, lambda t, w, ch=ch: widths[ch].append(w))
+    host = InProcessHost(mcu)
+    host.send(Hello(PROTOCOL_VERSION, "prop", 0))
+    host.run_ms(5)
+    if extra_param is not None:
+        host.send(extra_param)
+        host.run_ms(5)
+    duties = []
+    for wire, wait_ms in cmds:
+        host.send_raw(wire)
+        for _ in range(wait_ms):
+            host.run_ms(1)
+            duties.append(mcu.wheel_duty())
+    host.run_ms(45)
+    return mcu, widths, duties
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.tuples(actions, st.integers(1, 30)), min_size=1, max_size=8))
+def test_pulses_stay_within_joint_limits(cmds):
+    mcu, widths, duties = run_sequence(cmds)
+    for ch in range(6):
+        lo, hi = LIMITS[ch]
+        assert widths[ch], "every channel keeps pulsing"
+        assert all(lo * 1000 <= w <= hi * 1000 for w in widths[ch]), (ch, min(widths[ch]),
+                                                                      max(widths[ch]))
+    assert all(-255 <= d <= 255 for pair in duties for d in pair)
+    fw = mcu.firmware
+    assert all(abs(w.target_mmps) <= 800 for w in fw.wheels)
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 5), st.integers(500, 2500), st.integers(0, 5), st.integers(500, 2500),
+       st.lists(st.tuples(actions, st.integers(1, 20)), min_size=1, max_size=5))
+def test_limit_params_bound_pulses_once_in_force(ch_min, vmin, ch_max, vmax, cmds):
+    mcu, widths, _ = run_sequence(cmds, ParamSet(16 + ch_min, vmin))
+    host = InProcessHost(mcu)
+    host.send(ParamSet(24 + ch_max, vmax), seq=200)
+    host.run_ms(45)  # one period to latch the clamped value
+    servos = mcu.firmware.servos
+    for ch in range(6):
+        assert servos.min_us[ch] <= servos.max_us[ch]
+        assert 500 <= servos.min_us[ch] and servos.max_us[ch] <= 2500
+        assert all(500_000 <= w <= 2_500_000 for w in widths[ch])
+        w = mcu.servo_pulse_ns(ch)
+        assert servos.min_us[ch] * 1000 <= w <= servos.max_us[ch] * 1000, ch

@@ -22,7 +22,8 @@ on an ARM920T (1000+ curves at ~6000 cycles per sample). So, as engineering choi
 ``endpoint_max_angle_rad``, default π/2) are skipped (set it to π to evaluate all 36);
 (b) coarse-to-fine: all candidates are checked at a budgeted number of samples (at least
 ``n_coarse_min``; when even that does not fit, every stride-th u) against ``coarse_margin`` of
-the speed and acceleration limits (peaks between coarse samples), then the cheapest ones are
+the speed and acceleration limits and against infeasible regions grown by ``coarse_inflate_m``
+(peaks and intrusions between coarse samples), then the cheapest ones are
 re-checked at ``n_fine`` samples against the true limits in cost order until one passes (at most
 ``max_fine``). (c) Echoes of the object itself are not obstacles (:func:`is_object_echo`).
 """
@@ -30,7 +31,7 @@ re-checked at ``n_fine`` samples against the true limits in cost order until one
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -70,9 +71,11 @@ class Params001:
     n_coarse_min: int = 8
     n_coarse_max: int = 32
     n_fine: int = 48
-    max_fine: int = 12
+    max_fine: int = 24
     coarse_margin: float = 0.9  # coarse samples check v, a_t against 90 % of the limits
-    budget_us: int = 80_000
+    coarse_inflate_m: float = 0.1  # coarse samples test regions grown by this (R_r + 0.1 m)
+    budget_us: int = 75_000  # coarse pass (worst case, before early exits)
+    total_budget_us: int = 98_000  # fine checks stop before the whole plan exceeds this
     moving_speed_mps: float = 0.02
     object_echo_tol_m: float = 0.15  # a region whose echo arc passes this close to the object
 
@@ -181,7 +184,8 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)
     checks = _geometric_checks(obj, l_e, regions)
-    s, reasons, first = evaluate_batch(ctrl, n, coarse, checks)
+    grown = [replace(r, r_r_m=r.r_r_m + params.coarse_inflate_m) for r in regions]
+    s, reasons, first = evaluate_batch(ctrl, n, coarse, _geometric_checks(obj, l_e, grown))
     ops = ops + batch_ops(first, n, **kw)
     ok_rows = np.array([i for i, r in enumerate(reasons) if r == REASON_OK], dtype=np.int64)
     clear = np.full(len(us), np.inf)
@@ -198,7 +202,8 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     wide = feasible[cands.clearance[feasible] > params.t_d_m]  # eq. (18)
     pool = wide if wide.size else feasible
     order = pool[np.argsort(cands.cost[pool], kind="stable")][:params.max_fine]
-    best, fine_reason = _fine_check([cands[int(i)] for i in order], params, lim, checks, kw)
+    best, fine_reason = _fine_check([cands[int(i)] for i in order], params, lim, checks, kw,
+                                    params.total_budget_us - ops.time_us())
     ops = ops + fine_reason[1]
     if best is None:
         return Plan(None, cands, ops, f"coarse-feasible candidates failed the fine check "
@@ -206,11 +211,16 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     return Plan(best.curve, cands, ops, REASON_OK, n, stride, best, extra=extra)
 
 
-def _fine_check(pool: list[Candidate], params: Params001, lim: Limits, checks, kw):
+def _fine_check(pool: list[Candidate], params: Params001, lim: Limits, checks, kw,
+                budget_us: int):
     """Re-check candidates at n_fine samples in cost order; the first that passes wins."""
     ops = OpCounts()
     last = "none tried"
+    worst = sample_ops(params.n_fine, **kw).time_us()
     for cand in pool:
+        if ops.time_us() + worst > budget_us:
+            last = f"ARM9 budget spent, last: {last}"
+            break
         s, reasons, first = evaluate_batch(cand.curve.array[None], params.n_fine, lim, checks)
         ops = ops + batch_ops(first, params.n_fine, **kw)
         if reasons[0] == REASON_OK:

@@ -1,0 +1,100 @@
+"""Bezier path update of paper 001 (§III.E): replan from the present position and velocity
+whenever the sonars show the rest of the present path passing through an infeasible region.
+
+At every sonar reading the remaining part of the curve (from the τ of the present time to the
+end) is sampled and tested against the infeasible regions of the fresh reading (eq. (16)) and the
+regions remembered from earlier (re)plans; if any sample is inside, the path is blocked and
+:func:`host.planning.bezier001.plan_001` is called from the present position and velocity, with
+the remembered regions (001 Fig. 5: path 2 must still avoid region 1, which the sonars may no
+longer see). The regions present at each (re)plan are remembered (at most ``memory`` of them, the
+oldest forgotten first), so that memory stays small and the plan stays within its ARM9 budget.
+When no feasible path exists the decision says so and the caller stops the platform.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from host.budget import OpCounts
+from host.planning.bezier import FLOPS_PER_REGION, FLOPS_POSITION, Curve, evaluate
+from host.planning.bezier001 import Params001, is_object_echo, plan_001
+from host.planning.candidates import Plan
+from host.planning.sonar_regions import InfeasibleRegion, infeasible_regions
+
+
+@dataclass(frozen=True)
+class ReplanDecision:
+    """Outcome of one sonar update."""
+
+    blocked: bool  # the remaining path crosses an infeasible region
+    replanned: bool  # a new curve was planned (it starts at the present time)
+    curve: Curve | None  # the curve to follow from now on (None: stop, nothing feasible)
+    plan: Plan | None  # the new plan when one was made
+    reason: str
+    ops: OpCounts  # ARM9 cost of the check (and of the plan when one was made)
+
+
+class Replanner:
+    """Keeps the present 001 curve, checks it against fresh sonar readings, replans."""
+
+    def __init__(self, target_xy_m, params: Params001 | None = None, memory: int = 16,
+                 check_samples: int = 32) -> None:
+        self.target = np.asarray(target_xy_m, dtype=np.float64).reshape(2)
+        self.params = params if params is not None else Params001()
+        self.memory: deque[InfeasibleRegion] = deque(maxlen=int(memory))
+        self.check_samples = int(check_samples)
+        self.curve: Curve | None = None
+        self.start_us = 0
+        self.replans = 0
+
+    def _plan(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
+              sonar_mm) -> Plan:
+        plan = plan_001(position_xy_m, vel_xy_mps, heading_rad, self.target, sonar_mm,
+                        self.params, known_regions=list(self.memory))
+        fresh = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
+        for reg in fresh.regions:
+            if not is_object_echo(reg, self.target, self.params.object_echo_tol_m):
+                self.memory.append(reg)
+        self.curve = plan.best
+        self.start_us = int(t_us)
+        return plan
+
+    def start(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps, sonar_mm) -> Plan:
+        """First plan from the present pose; its curve starts at ``t_us``."""
+        return self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
+
+    def remaining_blocked(self, t_us: int,
+                          regions: list[InfeasibleRegion]) -> tuple[bool, OpCounts]:
+        """Does the rest of the present curve (after now) enter any of ``regions``?"""
+        if self.curve is None or not regions:
+            return False, OpCounts()
+        tau0 = self.curve.tau_at_time(self.curve.ctrl[0][2] + (t_us - self.start_us) / 1e6)
+        tau = np.linspace(tau0, 1.0, self.check_samples)[1:]
+        s = evaluate(self.curve.array, tau)
+        n = tau.size
+        ops = OpCounts(float_ops=n * (FLOPS_POSITION + FLOPS_PER_REGION * len(regions)) + 40 * 12,
+                       float_divs=0)
+        for reg in regions:
+            if reg.contains(s.x, s.y).any():
+                return True, ops
+        return False, ops
+
+    def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
+               sonar_mm) -> ReplanDecision:
+        """Check the present path against a fresh reading; replan when it is blocked."""
+        scan = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
+        fresh = [r for r in scan.regions
+                 if not is_object_echo(r, self.target, self.params.object_echo_tol_m)]
+        blocked, ops = self.remaining_blocked(t_us, fresh + list(self.memory))
+        if self.curve is not None and not blocked:
+            return ReplanDecision(False, False, self.curve, None, "path clear", ops)
+        plan = self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
+        self.replans += 1
+        ops = ops + plan.ops
+        why = "blocked" if blocked else "no path"
+        if plan.best is None:
+            return ReplanDecision(blocked, False, None, plan, f"{why}: {plan.reason}", ops)
+        return ReplanDecision(blocked, True, plan.best, plan, f"{why}: replanned", ops)

@@ -1,0 +1,81 @@
+"""Path update of 001 §III.E: blocked detection and replanning from the present state."""
+
+import math
+
+import numpy as np
+
+from host.planning.bezier import Curve, evaluate
+from host.planning.replan import Replanner
+
+CLEAR = [2500] * 5
+
+
+def state_on(curve, t_s):
+    tau = curve.tau_at_time(curve.ctrl[0][2] + t_s)
+    x, y, _ = curve.point(tau)
+    d = evaluate(curve.array, np.array([tau]))
+    return (x, y), float(d.heading[0]), (float(d.speed[0] * math.cos(d.heading[0])),
+                                         float(d.speed[0] * math.sin(d.heading[0])))
+
+
+def test_clear_sonar_keeps_the_path():
+    rp = Replanner((3.0, 1.0))
+    plan = rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)
+    assert plan.best is not None
+    pos, hd, vel = state_on(rp.curve, 2.0)
+    dec = rp.update(2_000_000, pos, hd, vel, CLEAR)
+    assert not dec.blocked and not dec.replanned and dec.curve is plan.best
+    assert dec.ops.float_ops == 0  # nothing to test against
+
+
+def test_obstacle_on_the_path_triggers_a_replan_from_the_present_state():
+    rp = Replanner((4.0, 1.0))
+    rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)
+    old = rp.curve
+    pos, hd, vel = state_on(old, 3.0)
+    sonar = [2500, 2500, 1500, 2500, 2500]  # something 1.5 m straight ahead
+    dec = rp.update(3_000_000, pos, hd, vel, sonar)
+    assert dec.blocked and dec.replanned
+    assert rp.replans == 1
+    new = dec.curve
+    assert new is not old and rp.curve is new and rp.start_us == 3_000_000
+    assert np.allclose(np.asarray(new.ctrl[0][:2]), pos)  # starts where the robot is
+    s = new.sample(200)
+    assert abs(s.heading[0] - hd) < 1e-6  # and keeps its direction of motion
+    assert dec.plan.extra["regions"]
+    for reg in dec.plan.extra["regions"]:
+        assert not reg.contains(s.x[1:], s.y[1:]).any()
+    assert 0 < dec.ops.time_us() <= 100_000
+    # later, the obstacle out of view: the remembered region does not block the new path
+    again = rp.update(3_500_000, *state_on(new, 0.5), CLEAR)
+    assert not again.blocked and not again.replanned and again.ops.float_ops > 0
+
+
+def test_blocked_without_a_feasible_path_says_stop():
+    rp = Replanner((4.0, 0.0))
+    rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)
+    pos, hd, vel = state_on(rp.curve, 3.0)
+    dec = rp.update(3_000_000, pos, hd, vel, [2500, 2500, 900, 2500, 2500])
+    assert dec.blocked and not dec.replanned
+    assert dec.curve is None and rp.curve is None and "no feasible" in dec.reason
+
+
+def test_obstacle_beside_the_path_does_not_trigger():
+    rp = Replanner((4.0, 0.0))
+    rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)
+    pos, hd, vel = state_on(rp.curve, 2.0)
+    dec = rp.update(2_000_000, pos, hd, vel, [2500, 2500, 2500, 2500, 600])  # left side
+    assert not dec.blocked and not dec.replanned
+    assert dec.ops.float_ops > 0
+
+
+def test_remembered_region_still_blocks_after_it_leaves_the_sonar_view():
+    rp = Replanner((4.0, 0.0))
+    rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), [2500, 2500, 1500, 2500, 2500])
+    assert len(rp.memory) >= 1
+    reg = rp.memory[0]
+    # a curve that goes straight through the remembered region is reported blocked
+    rp.curve = Curve(((0, 0, 0), (1, 0, 5), (2, 0, 10), (3, 0, 15)))
+    rp.start_us = 0
+    blocked, _ = rp.remaining_blocked(0, [reg])
+    assert blocked

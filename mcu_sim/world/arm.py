@@ -134,13 +134,15 @@ class Arm:
         r_wc = t[:3, :3] @ camera_axes_platform(q)
         return pos, r_wc
 
-    def fingertip_world(self, base_pose: tuple[float, float, float], t_us: int
-                        ) -> tuple[float, float, float]:
+    def fingertip_world(self, base_pose: tuple[float, float, float], t_us: int,
+                        joints: list[float] | None = None) -> tuple[float, float, float]:
         """World position of the fingertips (the camera point; 0 mm beyond it).
 
-        Plain floats, no numpy: the world calls this on every 10 ms tick.
+        Plain floats, no numpy: the world calls this on its ticks. ``joints`` may pass the
+        joint values at ``t_us`` when the caller already has them.
         """
-        px, py, pz = camera_point_platform(self.geom, self.joints(t_us))
+        q = self.joints(t_us) if joints is None else joints
+        px, py, pz = camera_point_platform(self.geom, q)
         bx, by, h = base_pose
         c, s = math.cos(h), math.sin(h)
         fwd = self.geom.mount_forward_m + py

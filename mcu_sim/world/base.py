@@ -168,14 +168,15 @@ class DiffDriveBase:
 
     def pose(self) -> tuple[float, float, float]:
         """(x_m, y_m, heading_rad) of the wheel-axle midpoint."""
-        x, y = self.body.position
-        return float(x), float(y), float(self.body.angle)
+        p = _lib.cpBodyGetPosition(self.body._body)
+        return p.x, p.y, _lib.cpBodyGetAngle(self.body._body)
 
     def velocity(self) -> tuple[float, float]:
         """(forward speed m/s, yaw rate rad/s) of the body."""
-        vx, vy = self.body.velocity
-        a = self.body.angle
-        return vx * math.cos(a) + vy * math.sin(a), float(self.body.angular_velocity)
+        v = _lib.cpBodyGetVelocity(self.body._body)
+        a = _lib.cpBodyGetAngle(self.body._body)
+        return (v.x * math.cos(a) + v.y * math.sin(a),
+                _lib.cpBodyGetAngularVelocity(self.body._body))
 
 
 def new_space() -> pymunk.Space:

@@ -73,6 +73,7 @@ class ContactCounter:
 
     def __init__(self, space: pymunk.Space, clock):
         self.events: list[ContactEvent] = []
+        self.counts = {"obstacle": 0, "target": 0}
         self._clock = clock  # callable -> current simulated t_us
         self.count_target = True
         space.on_collision(COLL_BASE, COLL_OBSTACLE, begin=self._begin_obstacle)
@@ -83,14 +84,16 @@ class ContactCounter:
             else arbiter.shapes[0]
         self.events.append(ContactEvent(self._clock(), "obstacle",
                                         getattr(shape, "obstacle_index", -1)))
+        self.counts["obstacle"] += 1
 
     def _begin_target(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
         if self.count_target:
             self.events.append(ContactEvent(self._clock(), "target", -1))
+            self.counts["target"] += 1
 
     def count(self, kind: str) -> int:
         """Number of contact begins of ``kind`` ("obstacle" or "target")."""
-        return sum(1 for e in self.events if e.kind == kind)
+        return self.counts[kind]
 
 
 def add_obstacles(space: pymunk.Space, specs: tuple[ObstacleSpec, ...]) -> list[pymunk.Shape]:

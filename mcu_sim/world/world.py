@@ -110,6 +110,7 @@ class World:
         self.grasp_count = 0
         self._last_opening_m = self.arm.gripper_opening_m(0)
         self.min_clearance_m = math.inf
+        self._clearance_at = (0.0, 0.0, -math.inf)  # (x, y, clearance) of the last query
         self.recorder = TruthRecorder(truth_rate_hz, TICK_US)
         self._tick()
 
@@ -228,18 +229,18 @@ class World:
         x, y, h = self.base.pose()
         v, w = self.base.velocity()
         ox, oy, oz, oh = self.target.pose()
-        cam = self.arm.fingertip_world((x, y, h), self.t_us)
+        q = self.arm.joints(self.t_us)
+        cam = self.arm.fingertip_world((x, y, h), self.t_us, q)
         return {
             "t_us": self.t_us,
             "base": {"x_m": x, "y_m": y, "heading_rad": h, "v_mps": v, "w_radps": w},
-            "joints_rad": self.joint_angles_rad(),
+            "joints_rad": q,
             "gripper_opening_m": self.arm.gripper_opening_m(self.t_us),
             "camera_m": list(cam),
             "object": {"x_m": ox, "y_m": oy, "z_m": oz, "heading_rad": oh},
             "attached": self.attached,
             "grasps": self.grasp_count,
-            "collisions": {"obstacle": self.contacts.count("obstacle"),
-                           "target": self.contacts.count("target")},
+            "collisions": dict(self.contacts.counts),
             "min_clearance_m": None if math.isinf(self.min_clearance_m)
             else self.min_clearance_m,
             "encoder_ticks": list(self.encoder_ticks()),
@@ -249,9 +250,8 @@ class World:
     def _update_grasp(self, t_us: int) -> None:
         opening = self.arm.gripper_opening_m(t_us)
         width = self.target.geometry.grip_width_m
-        base_pose = self.base.pose()
         if self.attached:
-            tip = self.arm.fingertip_world(base_pose, t_us)
+            tip = self.arm.fingertip_world(self.base.pose(), t_us)
             if opening >= width:
                 self.attached = False
                 self.target.drop_at(tip[0], tip[1])
@@ -260,7 +260,7 @@ class World:
                 self.target.body.position = (tip[0], tip[1])
                 self.target.z_m = tip[2] - self.target.geometry.grasp_height_m
         elif self._last_opening_m >= width > opening:
-            tip = self.arm.fingertip_world(base_pose, t_us)
+            tip = self.arm.fingertip_world(self.base.pose(), t_us)
             q = self.arm.joints(t_us)
             if grasp_ok(tip, self.target.grasp_point(), q[2] + q[3] + q[4], self.alpha_grasp):
                 self.attached = True
@@ -271,9 +271,19 @@ class World:
         self._last_opening_m = opening
 
     def _update_clearance(self) -> None:
+        """Track the minimum clearance between the footprint and any obstacle.
+
+        The clearance is 1-Lipschitz in the base position (obstacles are static), so while
+        ``last clearance - distance moved since`` stays above the minimum so far, no new minimum
+        is possible and the space query is skipped.
+        """
         if not self.obstacle_shapes:
             return
         x, y, _ = self.base.pose()
+        lx, ly, last = self._clearance_at
+        if last - math.hypot(x - lx, y - ly) > self.min_clearance_m:
+            return
         hit = self.space.point_query_nearest((x, y), CLEARANCE_MAX_M, _OBSTACLES_ONLY)
-        if hit is not None:
-            self.min_clearance_m = min(self.min_clearance_m, hit.distance - self.base.radius_m)
+        now = math.inf if hit is None else hit.distance - self.base.radius_m
+        self._clearance_at = (x, y, now)
+        self.min_clearance_m = min(self.min_clearance_m, now)

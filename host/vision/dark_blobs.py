@@ -1,0 +1,109 @@
+"""Shared integer steps of the paper-000 detectors: input check, dark threshold, dark components,
+sub-pixel edges and integer second moments.
+
+All symbols of 000 are black print on a white card, so every detector starts by splitting dark
+from light with one global threshold set from the image's bright level (the 99.8th percentile of
+the grey histogram scaled by 45/100: it follows exposure changes of ±30 % and keeps the floor,
+which is at least 55 % as bright as the card, on the light side; 0.2 % of a 320x240 frame is
+150 px, less than the white of a card 1.3 m away). Dark pixels are grouped by
+``cv2.connectedComponentsWithStats`` (integer labels and stats; the float centroids it also
+returns are not used).
+
+Costs are charged per call in :class:`host.budget.OpCounts` by the pixels each step touches.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+from host.budget import OpCounts
+
+THRESH_NUM, THRESH_DEN = 45, 100  # dark threshold as a fraction of the bright level
+THRESH_MIN, THRESH_MAX = 40, 130
+BRIGHT_FRACTION_DEN = 500  # bright level: the grey level of the brightest 0.2 % of pixels
+
+
+def check_rgb(rgb: np.ndarray, who: str) -> None:
+    """ValueError naming the problem unless ``rgb`` is a non-empty (H, W, 3) uint8 array."""
+    if not isinstance(rgb, np.ndarray):
+        raise ValueError(f"{who}: expected a numpy array, got {type(rgb).__name__}")
+    if rgb.dtype != np.uint8:
+        raise ValueError(f"{who}: expected dtype uint8, got {rgb.dtype}")
+    if rgb.ndim != 3 or rgb.shape[2] != 3 or rgb.shape[0] < 16 or rgb.shape[1] < 16:
+        raise ValueError(f"{who}: expected shape (H, W, 3) with H, W >= 16, got {rgb.shape}")
+
+
+def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
+    """(mask uint8 0/1, threshold, ops): dark = grey < threshold from the bright level."""
+    n = grey.size
+    hist = np.bincount(grey.ravel(), minlength=256)
+    cum = np.cumsum(hist[::-1])  # pixels at or above each level, from 255 down
+    k = int(np.searchsorted(cum, n // BRIGHT_FRACTION_DEN))
+    bright = 255 - k
+    t = min(THRESH_MAX, max(THRESH_MIN, bright * THRESH_NUM // THRESH_DEN))
+    mask = (grey < t).view(np.uint8)
+    ops = OpCounts(pixels_read=2 * n, pixels_written=n, alu=2 * n + 512, luts=n, branches=256)
+    return mask, t, ops
+
+
+def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]:
+    """8-connected components of a 0/1 mask: (count, labels int32, stats int32, ops).
+
+    Charged as a two-pass union-find labelling: each pixel read twice, four neighbour compares
+    and one label write, plus the stats accumulation.
+    """
+    n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
+                                                               ltype=cv2.CV_32S)
+    n = mask.size
+    ops = OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
+    return int(n_lab), labels, stats, ops
+
+
+def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
+    """Sub-pixel position (Q4 px, along ``line``) of the light-to-dark edge ending at ``i_dark``.
+
+    ``step`` is -1 when the light side is at lower indices, +1 when it is at higher ones. The
+    edge is where the grey level crosses the middle of the local light and dark levels, by
+    linear interpolation between the two pixels that straddle it (exact for a box-filtered
+    step edge). None if no straddling pair is found within 3 px.
+    """
+    n = len(line)
+    lo_i = [i_dark + k * -step for k in range(0, 3) if 0 <= i_dark + k * -step < n]
+    hi_i = [i_dark + k * step for k in range(1, 4) if 0 <= i_dark + k * step < n]
+    if not lo_i or not hi_i:
+        return None
+    g_dark = min(int(line[i]) for i in lo_i)
+    g_light = max(int(line[i]) for i in hi_i)
+    mid2 = g_dark + g_light  # twice the mid level: compare 2 g against it, no division
+    if g_light - g_dark < 8:
+        return None
+    # walk from the light side towards (and up to two pixels past) the first dark pixel: the
+    # mid-level crossing can lie just inside it when that pixel is only partly covered
+    for k in range(3, -3, -1):
+        a, b = i_dark + (k + 1) * step, i_dark + k * step  # a lighter side, b one step darker
+        if not (0 <= a < n and 0 <= b < n):
+            continue
+        ga2, gb2 = 2 * int(line[a]), 2 * int(line[b])
+        if ga2 >= mid2 > gb2:
+            frac_q4 = (16 * (ga2 - mid2)) // (ga2 - gb2)  # 0..15 from a towards b
+            return 16 * a - step * frac_q4
+    return None
+
+
+EDGE_OPS = OpCounts(pixels_read=14, alu=30, branches=10, divs=1)
+
+
+def moments(sel: np.ndarray, x0: int, y0: int) -> tuple[int, int, int, int, int, int]:
+    """Integer moments of a bool ROI at (x0, y0): (m00, m10, m01, m20, m11, m02) in px units."""
+    ys, xs = np.nonzero(sel)
+    xs = xs.astype(np.int64) + x0
+    ys = ys.astype(np.int64) + y0
+    return (len(xs), int(xs.sum()), int(ys.sum()), int((xs * xs).sum()), int((xs * ys).sum()),
+            int((ys * ys).sum()))
+
+
+def moments_ops(roi_px: int, hits: int) -> OpCounts:
+    """Cost of :func:`moments`: read the ROI, 3 MUL and 5 adds per hit."""
+    return OpCounts(pixels_read=roi_px, alu=roi_px + 5 * hits, branches=roi_px // 4,
+                    muls32=3 * hits)

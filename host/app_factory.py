@@ -96,12 +96,55 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
     return found
 
 
+def _mrad(x: float) -> int:
+    return int(round(1000 * x))
+
+
+# Paper parameter name (scenario [params], mcu_sim/world/scenario.py) -> (TaskParams table, field,
+# conversion to the host's integer or float unit). Names not listed are constants of a detector
+# or of the plant (L, D_act, D, T_h, n, k_s, A_g, D_e, h_e, R_r, l_w, alpha_T, w_min, w_max).
+PAPER_TO_TASK = {
+    "000": {"T_s": ("planner", "t_s", float), "k1": ("planner", "k1", float),
+            "k2": ("planner", "k2", float), "v0_mps": ("planner", "v0", float),
+            "vmax_mps": ("planner", "v_max", float), "amax_mps2": ("planner", "a_max", float),
+            "rmin_m": ("planner", "r_min", float),
+            "theta2_min": ("search", "theta2_min_mrad", _mrad),
+            "theta2_max": ("search", "theta2_max_mrad", _mrad),
+            "theta5_min": ("search", "theta5_min_mrad", _mrad),
+            "theta5_max": ("search", "theta5_max_mrad", _mrad),
+            "dtheta2_l": ("search", "d_theta2_mrad", _mrad)},
+    "001": {"Vmax": ("planner", "v_max", float), "Amax": ("planner", "a_max", float),
+            "v0": ("planner", "v0", float), "T_s": ("planner", "t_s", float),
+            "k1": ("planner", "k1", float), "k2": ("planner", "k2", float),
+            "T_D": ("planner", "t_d_m", lambda v: float(v) / 100.0),  # T_D read as cm
+            "n_e": ("planner", "n_e", int)},
+    "002": {"e_th": ("fuzzy", "e_th_mrad", _mrad), "e_cth": ("fuzzy", "e_cth_mrad_s", _mrad),
+            "u_th": ("fuzzy", "u_th_mrad", _mrad),
+            "V_avg": ("fuzzy", "v_avg_mm_s", _mrad),  # m/s -> mm/s
+            "k_u": ("fuzzy", "k_uc_q12", lambda v: int(round(4096 * v))),
+            "T_d": ("fuzzy", "t_d_px", lambda v: int(round(v)))},
+}
+
+
+def task_params(method: str, paper: dict) -> dict:
+    """TaskParams overrides from the scenario's paper parameters (only the mapped names)."""
+    table = PAPER_TO_TASK.get(method, {})
+    out: dict = {}
+    for name, value in paper.items():
+        if name in table:
+            group, key, conv = table[name]
+            out.setdefault(group, {})[key] = conv(value)
+    if "t_d_px" in out.get("fuzzy", {}):
+        out["t_d_px"] = out["fuzzy"]["t_d_px"]
+    return out
+
+
 def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> HostApp:
-    """The host program for ``cfg`` = {"method", "params", "camera"}."""
+    """The host program for ``cfg`` = {"method", "params" (paper names), "camera"}."""
     from host.task import Task
 
     method = cfg.get("method", "000")
-    task = Task(method=method, params=dict(cfg.get("params", {})))
+    task = Task(method=method, params=task_params(method, dict(cfg.get("params", {}))))
     app_ref: list = []
     app = HostApp(task, _detectors(cfg, app_ref), InputBuilder(), config or HostConfig(),
                   timer=timer)

@@ -82,7 +82,8 @@ def host_config(scenario) -> dict:
 
     This is the configuration a real board would be flashed with; no ground truth."""
     cam = scenario.camera
-    return {"method": scenario.meta.method, "params": dict(scenario.params),
+    params = getattr(scenario, "param_overrides", None) or scenario.params
+    return {"method": scenario.meta.method, "params": dict(params),
             "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px}}
 
 

@@ -56,7 +56,11 @@ class SocketHost:
         self._server.bind(self.path)
         self._server.listen(1)
         self._server.settimeout(accept_timeout_s)
-        self.proc = subprocess.Popen([*argv, "--lockstep", self.path])
+        env = dict(os.environ)
+        # the host process imports this source tree whatever the caller's working directory
+        root = str(Path(__file__).resolve().parents[1])
+        env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
+        self.proc = subprocess.Popen([*argv, "--lockstep", self.path], env=env)
         try:
             self.conn, _ = self._server.accept()
         except TimeoutError as exc:

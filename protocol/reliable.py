@@ -5,11 +5,12 @@ same code runs on the host (Python today, C on the S3C2440 tomorrow). Rules (doc
 every RELIABLE message is answered by ACK or NACK carrying its seq; the sender resends the same
 wire bytes (same seq) every ``timeout_us`` until answered, at most ``max_retries`` times, then
 reports the seq as failed. The receiver executes a reliable seq once and ACKs every copy.
+Senders keep one reliable command outstanding (or cancel superseded ones): a retransmission is
+the only way the serial line can reorder commands.
 """
 
 from __future__ import annotations
 
-from collections import deque
 from dataclasses import dataclass
 
 
@@ -120,41 +121,66 @@ class RetransmitQueue:
 
 
 class DuplicateFilter:
-    """Receiver side: remembers the last ``window`` reliable seqs executed.
+    """Receiver side: remembers recently executed reliable seqs and the answer given to each.
 
-    ``is_new(seq)`` is True the first time a seq is seen (execute it, then ACK) and False for a
-    retransmitted copy (ACK again, or repeat the stored NACK, but do not execute). Call
-    ``reset()`` on HELLO: a restarted host counts from 0 again.
+    ``is_new(seq, now_us)`` is True the first time a seq is seen (execute it, then ACK) and False
+    for a retransmitted copy (ACK again, or repeat the stored NACK, but do not execute). An entry
+    lives until ``expiry_us`` has passed (default 250 ms, longer than the sender's whole
+    retransmission span of 10 x 20 ms) or until ``window`` newer seqs pushed it out.
+
+    Pass ``now_us``: seq numbers wrap every 256 frames of the sender, and without the time a new
+    command that happens to reuse the seq of a recent one (sparse reliable commands between
+    many unreliable frames) would be taken for a copy and not executed. Without ``now_us`` entries
+    only leave by the window. ``live_evictions`` counts entries pushed out before their expiry:
+    a copy of those would be executed twice, so it should stay 0 (send fewer reliable commands
+    at once, or raise ``window``). Call ``reset()`` on HELLO: a restarted host counts from 0.
     """
 
-    def __init__(self, window: int = 16) -> None:
-        if isinstance(window, bool) or not isinstance(window, int) or not 1 <= window <= 128:
-            raise ValueError(f"window must be an int in [1, 128], got {window!r}")
+    def __init__(self, window: int = 16, expiry_us: int = 250_000) -> None:
+        if isinstance(window, bool) or not isinstance(window, int) or not 1 <= window <= 256:
+            raise ValueError(f"window must be an int in [1, 256], got {window!r}")
+        if isinstance(expiry_us, bool) or not isinstance(expiry_us, int) or expiry_us <= 0:
+            raise ValueError(f"expiry_us must be a positive int, got {expiry_us!r}")
         self.window = window
+        self.expiry_us = expiry_us
         self.duplicates = 0
-        self._seen: deque[int] = deque(maxlen=window)
-        self._result: dict[int, int] = {}
+        self.live_evictions = 0
+        # seq -> [time seen (or None), answer: 0 = ACK, else NACK reason]; insertion = age order
+        self._seen: dict[int, list] = {}
 
-    def is_new(self, seq: int) -> bool:
-        """True (and remember seq) if seq is not among the last ``window`` seen; else False."""
+    def _expire(self, now_us: int) -> None:
+        for seq in list(self._seen):
+            t = self._seen[seq][0]
+            if t is None or now_us - t < self.expiry_us:
+                break  # entries are in arrival order: the rest are younger
+            del self._seen[seq]
+
+    def is_new(self, seq: int, now_us: int | None = None) -> bool:
+        """True (and remember seq) unless seq was executed recently; False for a copy."""
+        if now_us is not None:
+            self._expire(now_us)
         if seq in self._seen:
             self.duplicates += 1
             return False
-        if len(self._seen) == self.window:
-            self._result.pop(self._seen[0], None)
-        self._seen.append(seq)
+        if len(self._seen) >= self.window:
+            oldest = next(iter(self._seen))
+            t = self._seen.pop(oldest)[0]
+            if now_us is None or t is None or now_us - t < self.expiry_us:
+                self.live_evictions += 1
+        self._seen[seq] = [now_us, 0]
         return True
 
     def set_result(self, seq: int, nack_reason: int) -> None:
-        """Store the answer given to ``seq`` (0 = ACK, else the NACK reason) for its duplicates."""
-        if seq in self._seen:
-            self._result[seq] = nack_reason
+        """Store the answer given to ``seq`` (0 = ACK, else the NACK reason) for its copies."""
+        entry = self._seen.get(seq)
+        if entry is not None:
+            entry[1] = nack_reason
 
     def result(self, seq: int) -> int:
         """The stored answer for ``seq`` (0 = ACK when nothing was stored)."""
-        return self._result.get(seq, 0)
+        entry = self._seen.get(seq)
+        return 0 if entry is None else entry[1]
 
     def reset(self) -> None:
         """Forget every seq (new session)."""
         self._seen.clear()
-        self._result.clear()

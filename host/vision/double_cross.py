@@ -1,0 +1,311 @@
+"""Double-cross approach-guidance marker of paper 002 (§2.1), integer only.
+
+The marker is two crosses side by side; each cross has a dark centre and four dark spokes of
+equal width separated by equal gaps. The four steps of 002 §2.1:
+
+1. **Ω_p1** — candidate centres: a pixel p_c is kept when it is dark and the ring around it is
+   centrally symmetric with both dark and light parts. We test this with the max and the min of
+   the grey level over an 8-point ring (one integer dilate and one erode with a ring kernel):
+   ``max_ring >= g(p_c) + T_h`` (light gaps exist), ``min_ring < g(p_c) + T_h`` (dark spokes
+   exist) and ``2 g(p_c) <= max_ring + min_ring`` (the centre is on the dark side).
+2. **Binarised ring template** — ``G_pc(i) = 0 if g(x_i) < g(p_c) + T_h else 1`` over ``n``
+   ring points (002 eq. in step 2; T_h = 30).
+3. **Ω_p2** — keep p_c whose 0/1 pattern has exactly 4 dark runs (4 spokes) and is within
+   ``RING_HAMMING`` points of an ideal ring of 4 equal spokes and 4 equal gaps, and the gaps
+   on average at least 2 T_h brighter than the spokes and than p_c (contrast of a printed
+   marker, not of the floor).
+4. **Two groups** — Ω_p2 points are grouped by pixel coordinates (connected cells of a coarse
+   grid) on each pyramid level; the pair of groups of one level with the most votes (and a
+   plausible spacing) are the crosses, their means are (u1, v1) and (u2, v2).
+
+Paper 002 uses n = 10 template points at one scale. Our ring has n = 24 points (a quarter turn
+is then 6 samples, so "equal width and equal gap" is a match against 24 ideal rings) and we
+run the same ring of radius 6 px on a 3-level 2x2-mean pyramid so one template covers crosses
+from about 7 to 80 px radius (0.2-2.5 m for the 50 mm crosses at f = 350). This is our
+choice; the paper does not say how it handles scale.
+
+The heading error e of 002 §3 (the angle between the platform heading and the line to the
+marker centre, right positive like θ5 in docs/conventions.md) is computed from the pixel offset
+of the midpoint of the two centres and the camera's yaw and pitch (inputs, mrad).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from host import fixedpoint as fp
+from host.budget import OpCounts
+from host.vision.grey import to_grey
+
+T_H = 30  # 002 §5: binarisation threshold above g(p_c)
+RING_N = 24  # template points on the ring (002 uses n = 10, see module docstring)
+RING_R_PX = 6  # ring radius at every pyramid level
+LEVELS = 3  # pyramid levels 0 (320x240), 1 (160x120), 2 (80x60)
+RING_HAMMING = 4  # template points allowed to differ from an ideal 4-spoke ring
+MIN_VOTES = 1  # Ω_p2 points a cross needs
+
+F_PX_002 = 350
+U0_PX = 160
+V0_PX = 120
+
+
+def _ring_offsets(radius: int, n: int) -> tuple[tuple[int, int], ...]:
+    # Configuration-time table (a const array on the board).
+    return tuple((round(radius * math.cos(2 * math.pi * k / n)),
+                  round(radius * math.sin(2 * math.pi * k / n))) for k in range(n))
+
+
+_RING = _ring_offsets(RING_R_PX, RING_N)
+_RING8 = _ring_offsets(RING_R_PX, 8)
+_KERNEL8 = np.zeros((2 * RING_R_PX + 1, 2 * RING_R_PX + 1), np.uint8)
+for _dx, _dy in _RING8:
+    _KERNEL8[_dy + RING_R_PX, _dx + RING_R_PX] = 1
+
+
+@dataclass(frozen=True)
+class DoubleCrossResult:
+    """Both cross centres (left one first in the image), their midpoint, spacing and e.
+
+    Pixel coordinates and lengths are Q4 (1/16 px); ``e_mrad`` is the bearing of the marker
+    midpoint from the platform heading, right positive; ``votes`` are the Ω_p2 counts.
+    """
+
+    u1_q4: int
+    v1_q4: int
+    u2_q4: int
+    v2_q4: int
+    um_q4: int
+    vm_q4: int
+    d_pixel_q4: int
+    e_mrad: int
+    votes: tuple[int, int]
+
+
+def _downsample(g: np.ndarray) -> np.ndarray:
+    h, w = (g.shape[0] // 2) * 2, (g.shape[1] // 2) * 2
+    s = g[0:h:2, 0:w:2].astype(np.uint16)
+    s += g[1:h:2, 0:w:2]
+    s += g[0:h:2, 1:w:2]
+    s += g[1:h:2, 1:w:2]
+    s += 2
+    s >>= 2
+    return s.astype(np.uint8)
+
+
+def _downsample_ops(out_pixels: int) -> OpCounts:
+    return OpCounts(pixels_read=4 * out_pixels, pixels_written=out_pixels, alu=5 * out_pixels)
+
+
+_MASK = (1 << RING_N) - 1
+
+
+def _rot(code: np.ndarray, k: int) -> np.ndarray:
+    """Rotate RING_N-bit ring codes by k samples (a barrel shift on the ARM)."""
+    return ((code << k) | (code >> (RING_N - k))) & _MASK
+
+
+def ring_codes(bits: np.ndarray) -> np.ndarray:
+    """Pack binarised rings (k, RING_N) bool, True = light, into RING_N-bit integer words."""
+    packed = np.packbits(bits, axis=1, bitorder="little").astype(np.int64)
+    code = np.zeros(bits.shape[0], np.int64)
+    for b in range(packed.shape[1]):
+        code |= packed[:, b] << (8 * b)
+    return code
+
+
+def _templates() -> np.ndarray:
+    """Ideal rings of 4 equal spokes (dark width w points) and 4 equal gaps, every phase."""
+    q = RING_N // 4
+    out = []
+    for w in range(1, q - 1):
+        quarter = [False] * w + [True] * (q - w)
+        for phase in range(q):
+            bits = np.array([quarter[(i + phase) % q] for i in range(RING_N)])
+            out.append(int(ring_codes(bits[None])[0]))
+    return np.array(out, np.int64)
+
+
+def ring_pattern_ok(code: np.ndarray) -> np.ndarray:
+    """Step 3 of 002 on ring words (bit i = template point i is light): the Ω_p2 mask.
+
+    Exactly four dark runs (popcount(code & ~rot(code, 1)) == 4 light runs start), and the word
+    is within ``RING_HAMMING`` points of an ideal ring of four equal spokes and four equal gaps
+    (any spoke width from 1 to RING_N/4 - 2 points, any phase): "spokes of equal width and equal
+    gaps", tolerant to the anti-aliased spoke edges and to perspective.
+    """
+    rises = np.bitwise_count(code & ~_rot(code, 1) & _MASK)
+    dist = np.bitwise_count(code[:, None] ^ _TEMPLATES[None, :]).min(axis=1)
+    return (rises == 4) & (dist <= RING_HAMMING)
+
+
+_TEMPLATES = _templates()
+
+
+def _level_candidates(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, OpCounts]:
+    """Ω_p1 and Ω_p2 of one pyramid level: returns (x, y) of Ω_p2 points and the op counts."""
+    h, w = g.shape
+    r = RING_R_PX
+    ops = OpCounts()
+    if h <= 2 * r or w <= 2 * r:
+        return np.empty(0, np.int64), np.empty(0, np.int64), ops
+    mx = cv2.dilate(g, _KERNEL8, borderType=cv2.BORDER_REPLICATE)
+    mn = cv2.erode(g, _KERNEL8, borderType=cv2.BORDER_REPLICATE)
+    # Ω_p1 with the contrast of step 3 already applied (gap mean >= centre + 2 T_h needs
+    # max >= centre + 2 T_h): cuts the candidates on the floor texture by ~10x. In saturating
+    # uint8 arithmetic: max - g >= 2 T_h, min - g < T_h, g - min <= max - g (centre dark side).
+    up = cv2.subtract(mx, g)
+    cand = (up >= 2 * T_H) & (cv2.subtract(mn, g) < T_H) & (cv2.subtract(g, mn) <= up)
+    cand[:r, :] = False
+    cand[h - r:, :] = False
+    cand[:, :r] = False
+    cand[:, w - r:] = False
+    n = h * w
+    # dilate + erode share the 8 reads; 2x8 min/max, 3 compares, 2 branches per pixel
+    ops += OpCounts(pixels_read=9 * n, alu=22 * n, branches=2 * n)
+    idx = np.flatnonzero(cand)
+    k = int(idx.size)
+    if k == 0:
+        return np.empty(0, np.int64), np.empty(0, np.int64), ops
+    flat = g.astype(np.int16).ravel()
+    # Step 1's central symmetry on the 8-point ring: opposite points on the same side of
+    # g(p_c) + T_h in at least 2 of the 4 pairs (the others may straddle spoke edges).
+    offs8 = np.array([dy * w + dx for dx, dy in _RING8], np.int64)
+    light8 = flat[idx[:, None] + offs8[None, :]] >= (flat[idx] + T_H)[:, None]
+    sym = np.count_nonzero(light8[:, :4] == light8[:, 4:], axis=1) >= 2
+    ops += OpCounts(pixels_read=9 * k, alu=20 * k, branches=2 * k)
+    idx = idx[sym]
+    k = int(idx.size)
+    offs = np.array([dy * w + dx for dx, dy in _RING], np.int64)
+    samples = flat[idx[:, None] + offs[None, :]]
+    centre = flat[idx].astype(np.int32)
+    bits = samples >= (centre + T_H)[:, None]
+    ok = ring_pattern_ok(ring_codes(bits))
+    # per Ω_p1 point: n reads, compares and shifts into a word; 4 rotate/xor/popcount-by-LUT
+    ops += OpCounts(pixels_read=k * (RING_N + 1), alu=k * (2 * RING_N + 16), luts=k * 12,
+                    branches=k * 4)
+    idx, samples, bits, centre = idx[ok], samples[ok], bits[ok], centre[ok]
+    m = int(idx.size)
+    # Contrast: gaps on average >= 2 T_h brighter than the spokes and than p_c (low-contrast
+    # floor texture can make a 4-run pattern at T_h, never a 2 T_h one); spokes on average
+    # no more than T_h darker than p_c (spokes and centre are the same ink).
+    n_light = np.count_nonzero(bits, axis=1).astype(np.int32)
+    n_dark = RING_N - n_light
+    s_light = np.where(bits, samples, 0).sum(axis=1, dtype=np.int32)
+    s_dark = np.where(bits, 0, samples).sum(axis=1, dtype=np.int32)
+    ok = s_light * n_dark - s_dark * n_light >= 2 * T_H * n_light * n_dark
+    ok &= s_light - centre * n_light >= 2 * T_H * n_light
+    ok &= s_dark >= (centre - T_H) * n_dark  # spokes as dark as the centre (same ink)
+    ops += OpCounts(alu=m * (2 * RING_N + 6), muls32=4 * m, branches=2 * m)
+    sel = idx[ok]
+    return sel % w, sel // w, ops
+
+
+@dataclass(frozen=True)
+class _Group:
+    votes: int
+    u_q4: int
+    v_q4: int
+
+
+def _group(xs_q4: np.ndarray, ys_q4: np.ndarray, level: int,
+           shape: tuple[int, int]) -> tuple[list[_Group], OpCounts]:
+    """Step 4 on one pyramid level: Ω_p2 points in 8-connected cells of 4 level pixels form a
+    group; returns the groups with their mean centres (level-0 Q4), most votes first."""
+    cell_shift = 4 + 2 + level  # Q4 level-0 coordinates -> cells of 4 level-l pixels
+    gh, gw = (shape[0] >> (2 + level)) + 1, (shape[1] >> (2 + level)) + 1
+    cx = xs_q4 >> cell_shift
+    cy = ys_q4 >> cell_shift
+    occ = np.zeros((gh, gw), np.uint8)
+    occ[cy, cx] = 1
+    nlab, lab = cv2.connectedComponents(occ, connectivity=8)
+    labels = lab[cy, cx]
+    cnt = np.bincount(labels, minlength=nlab)
+    su = np.zeros(nlab, np.int64)
+    sv = np.zeros(nlab, np.int64)
+    np.add.at(su, labels, xs_q4)
+    np.add.at(sv, labels, ys_q4)
+    groups = [_Group(int(cnt[i]), fp.div_round(int(su[i]), int(cnt[i])),
+                     fp.div_round(int(sv[i]), int(cnt[i])))
+              for i in range(1, nlab) if cnt[i] >= MIN_VOTES]
+    groups.sort(key=lambda g: (-g.votes, g.u_q4, g.v_q4))
+    m = xs_q4.size
+    ops = OpCounts(alu=8 * m + 8 * gh * gw, pixels_read=2 * gh * gw,
+                   pixels_written=m + gh * gw, branches=gh * gw, divs=2 * len(groups))
+    return groups, ops
+
+
+def _pick_pair(groups: list[_Group], level: int) -> tuple[int, _Group, _Group] | None:
+    """The two crosses on one level: the pair with the most votes standing between one ring
+    diameter (two crosses cannot overlap) and 24 ring radii (beyond that the ring would be far
+    smaller than the crosses, which the next level handles) apart."""
+    best = None
+    lo_q4 = (2 * RING_R_PX - 1) << (level + 4)
+    hi_q4 = (24 * RING_R_PX) << (level + 4)
+    for i in range(len(groups)):
+        for j in range(i + 1, len(groups)):
+            a, b = groups[i], groups[j]
+            du, dv = a.u_q4 - b.u_q4, a.v_q4 - b.v_q4
+            d2 = du * du + dv * dv
+            if not lo_q4 * lo_q4 <= d2 <= hi_q4 * hi_q4:
+                continue
+            score = a.votes + b.votes
+            if best is None or score > best[0]:
+                best = (score, a, b)
+    return best
+
+
+def bearing_mrad(u_q4: int, v_q4: int, yaw_mrad: int, pitch_mrad: int,
+                 f_px: int = F_PX_002, u0_px: int = U0_PX, v0_px: int = V0_PX) -> int:
+    """Horizontal bearing of pixel (u, v) from the platform heading, mrad, right positive.
+
+    Exact for a camera with yaw θ5 (right positive) and pitch α (up positive) and no roll: the
+    ray (x_n, y_n, 1) of OpenCV camera axes has forward component cos α + y_n sin α and right
+    component x_n in the platform, so the bearing is θ5 + atan2(x_n, cos α + y_n sin α).
+    """
+    xn_q4 = u_q4 - 16 * u0_px  # x_n * f in Q4 px
+    yn_q4 = v_q4 - 16 * v0_px
+    s, c = fp.sincos_q12(pitch_mrad)
+    fwd = c * 16 * f_px + s * yn_q4  # (cos α f + sin α y) in Q16 (Q12 x Q4)
+    return int(yaw_mrad) + fp.atan2_mrad(xn_q4 * fp.ONE_Q12, fwd)
+
+
+def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
+                        f_px: int = F_PX_002) -> tuple[DoubleCrossResult | None, OpCounts]:
+    """Find the 002 double cross in an RGB frame; ``(None, ops)`` when it is not there."""
+    grey, ops = to_grey(rgb)
+    levels = [grey]
+    for _ in range(1, LEVELS):
+        nxt = _downsample(levels[-1])
+        ops += _downsample_ops(nxt.size)
+        levels.append(nxt)
+    pair = None
+    for lvl, g in enumerate(levels):
+        x, y, o = _level_candidates(g)
+        ops += o
+        if x.size < 2:
+            continue
+        # centre of level-l pixel x in level-0 Q4: (x + 1/2) * 2^l - 1/2
+        xs = ((2 * x + 1) << (lvl + 3)) - 8
+        ys = ((2 * y + 1) << (lvl + 3)) - 8
+        groups, o = _group(xs, ys, lvl, grey.shape)
+        ops += o + OpCounts(alu=12 * len(groups) ** 2, muls32=2 * len(groups) ** 2)
+        best = _pick_pair(groups, lvl)
+        if best is not None and (pair is None or best[0] > pair[0]):
+            pair = best  # finer levels win ties: they locate the centres better
+    if pair is None:
+        return None, ops
+    pair = pair[1:]
+    g1, g2 = sorted(pair, key=lambda g: g.u_q4)
+    c1, c2 = (g1.u_q4, g1.v_q4), (g2.u_q4, g2.v_q4)
+    du, dv = c2[0] - c1[0], c2[1] - c1[1]
+    d_q4 = fp.isqrt(du * du + dv * dv)
+    ops += fp.isqrt_ops(du * du + dv * dv) + OpCounts(muls32=2, alu=4)
+    um, vm = (c1[0] + c2[0] + 1) >> 1, (c1[1] + c2[1] + 1) >> 1
+    e = bearing_mrad(um, vm, yaw_mrad, pitch_mrad, f_px)
+    ops += fp.sin_ops().scaled(2) + fp.atan2_ops() + OpCounts(muls32=3, alu=6)
+    return DoubleCrossResult(c1[0], c1[1], c2[0], c2[1], um, vm, d_q4, e,
+                             (g1.votes, g2.votes)), ops

@@ -11,7 +11,8 @@ import argparse
 import random
 import time
 
-import protocol as p
+from protocol import frame as pf
+from protocol import messages as p
 
 NAME = "protocol"
 HELP = "frame encode/parse throughput in MB/s and as a multiple of 115200 baud"
@@ -70,7 +71,7 @@ def run(args: argparse.Namespace) -> dict:
             p.encode_message(m, i & 0xFF)
 
     def parse_all() -> None:
-        parser = p.FrameParser(known_types=p.MESSAGE_TYPES)
+        parser = pf.FrameParser(known_types=p.MESSAGE_TYPES)
         n = 0
         for c in chunks:
             n += len(parser.feed(c))
@@ -78,7 +79,7 @@ def run(args: argparse.Namespace) -> dict:
             raise RuntimeError(f"parser returned {n} of {len(msgs)} frames")
 
     def parse_decode_all() -> None:
-        parser = p.FrameParser(known_types=p.MESSAGE_TYPES)
+        parser = pf.FrameParser(known_types=p.MESSAGE_TYPES)
         for c in chunks:
             for f in parser.feed(c):
                 p.decode_frame(f)

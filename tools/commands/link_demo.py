@@ -13,9 +13,12 @@ import subprocess
 import sys
 import time
 
-import protocol as p
-from link import Link, LinkClosed, open_transport
+# Submodule imports: they also work when an editable install maps these packages as namespaces.
+from link.base import LinkClosed
 from link.echo import READY_TEXT
+from link.messages import Link
+from link.registry import open_transport
+from protocol import messages as p
 
 REPLY_TIMEOUT_S = 5.0  # a safety limit for a lost frame, not a performance expectation
 

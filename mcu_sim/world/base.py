@@ -27,6 +27,10 @@ import math
 import pymunk
 from pymunk._chipmunk_cffi import lib as _lib
 
+# chipmunk entry points bound once (cffi attribute look-ups are not free in the hot loop)
+_GET_POS, _GET_ANGLE = _lib.cpBodyGetPosition, _lib.cpBodyGetAngle
+_SET_VEL, _SET_W, _STEP = _lib.cpBodySetVelocity, _lib.cpBodySetAngularVelocity, _lib.cpSpaceStep
+
 from .actuators import DcMotor
 from .obstacles import COLL_BASE
 
@@ -73,6 +77,7 @@ class DiffDriveBase:
         # Yaw torque the wheels can apply: traction at half the track.
         self.gear.max_force = traction_n * track_m / 2
         space.add(self.control, self.body, self.shape, self.pivot, self.gear)
+        self._ptrs = (self.body._body, self.control._body, space._space)
         self.left_m = 0.0
         self.right_m = 0.0
         self.steps = 0  # physics steps run so far (collision callbacks read it for their time)
@@ -122,7 +127,7 @@ class DiffDriveBase:
         """
         if n <= 0:
             return
-        body_p, control_p, space_p = self.body._body, self.control._body, self.space._space
+        body_p, control_p, space_p = self._ptrs
         tl, tr = self.left.target_speed_mps(), self.right.target_speed_mps()
         kl = 0.0 if self.left.stuck else self.left.decay(dt_us)
         kr = 0.0 if self.right.stuck else self.right.decay(dt_us)
@@ -130,9 +135,8 @@ class DiffDriveBase:
         track, half_track = self.track_m, 0.5 * self.track_m
         dt_s = dt_us * 1e-6
         cos, sin = math.cos, math.sin
-        get_pos, get_angle = _lib.cpBodyGetPosition, _lib.cpBodyGetAngle
-        set_vel, set_w, step = _lib.cpBodySetVelocity, _lib.cpBodySetAngularVelocity, \
-            _lib.cpSpaceStep
+        get_pos, get_angle = _GET_POS, _GET_ANGLE
+        set_vel, set_w, step = _SET_VEL, _SET_W, _STEP
         lm, rm = self.left_m, self.right_m
         p = get_pos(body_p)
         x0, y0 = p.x, p.y
@@ -168,8 +172,9 @@ class DiffDriveBase:
 
     def pose(self) -> tuple[float, float, float]:
         """(x_m, y_m, heading_rad) of the wheel-axle midpoint."""
-        p = _lib.cpBodyGetPosition(self.body._body)
-        return p.x, p.y, _lib.cpBodyGetAngle(self.body._body)
+        bp = self._ptrs[0]
+        p = _GET_POS(bp)
+        return p.x, p.y, _GET_ANGLE(bp)
 
     def velocity(self) -> tuple[float, float]:
         """(forward speed m/s, yaw rate rad/s) of the body."""

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 import pymunk
+from pymunk._chipmunk_cffi import ffi as _ffi
+from pymunk._chipmunk_cffi import lib as _lib
 
 from .base import FOOTPRINT_RADIUS_M
 
@@ -62,6 +64,7 @@ class SonarRing:
                                                   for i in range(n)]
         # Rays skip the robot's own shape (same non-zero group).
         self.filter = pymunk.ShapeFilter(group=ignore_group)
+        self._info = _ffi.new("cpSegmentQueryInfo *")
 
     def _range_exact(self, space: pymunk.Space, pose: tuple[float, float, float], phi: float
                      ) -> float | None:
@@ -71,12 +74,16 @@ class SonarRing:
         sx = x + c.mount_radius_m * math.cos(a)
         sy = y + c.mount_radius_m * math.sin(a)
         best: float | None = None
+        # chipmunk's cpSpaceSegmentQueryFirst directly: the same query as
+        # Space.segment_query_first without building a result object per ray
+        info, query, sp, filt = self._info, _lib.cpSpaceSegmentQueryFirst, space._space, \
+            self.filter
+        null = _ffi.NULL
         for off in self.ray_offsets:
             ex = sx + c.D_e * math.cos(a + off)
             ey = sy + c.D_e * math.sin(a + off)
-            hit = space.segment_query_first((sx, sy), (ex, ey), 0.0, self.filter)
-            if hit is not None:
-                d = hit.alpha * c.D_e
+            if query(sp, (sx, sy), (ex, ey), 0.0, filt, info) != null:
+                d = info.alpha * c.D_e
                 if best is None or d < best:
                     best = d
         return best

@@ -27,12 +27,12 @@ import math
 import pymunk
 from pymunk._chipmunk_cffi import lib as _lib
 
+from .actuators import DcMotor
+from .obstacles import COLL_BASE
+
 # chipmunk entry points bound once (cffi attribute look-ups are not free in the hot loop)
 _GET_POS, _GET_ANGLE = _lib.cpBodyGetPosition, _lib.cpBodyGetAngle
 _SET_VEL, _SET_W, _STEP = _lib.cpBodySetVelocity, _lib.cpBodySetAngularVelocity, _lib.cpSpaceStep
-
-from .actuators import DcMotor
-from .obstacles import COLL_BASE
 
 WHEEL_TRACK_M = 0.300
 WHEEL_RADIUS_M = 0.040

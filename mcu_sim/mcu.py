@@ -104,8 +104,8 @@ class Mcu:
         for _ in range(self._peripherals_to(cycle)):
             fw.isr_timer1_ovf()
         data = b.usart0.rx_take_until(cycle)
-        for byte in data:
-            fw.isr_usart_rx(byte)
+        if data:
+            fw.isr_usart_rx_bytes(data)
         if b.sonars.next_event() is not None:
             for _, index, level in b.sonars.take_events_until(cycle):
                 fw.isr_echo(index, level)

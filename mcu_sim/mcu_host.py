@@ -21,8 +21,10 @@ from protocol import (
 class InProcessHost:
     """Talks to one Mcu directly; ``received`` is the list of ``(t_us, message)`` from the MCU."""
 
-    def __init__(self, mcu: Mcu) -> None:
+    def __init__(self, mcu: Mcu, decode: bool = True) -> None:
         self.mcu = mcu
+        self.decode = decode  # False: only count frames (benchmarks measure the MCU, not us)
+        self.frames = 0
         self.seq = SequenceCounter()
         self.parser = FrameParser()
         self.received: list[tuple[int, object]] = []
@@ -45,6 +47,9 @@ class InProcessHost:
         """Decode what the MCU has sent so far."""
         for t_us, data in self.mcu.uart_tx_take():
             for frame in self.parser.feed(data):
+                self.frames += 1
+                if not self.decode:
+                    continue
                 try:
                     self.received.append((t_us, decode_frame(frame)))
                 except MessageError:

@@ -18,6 +18,8 @@ watchdog stop the wheels and hold the arm.
 
 from __future__ import annotations
 
+import struct
+
 from mcu_sim.firmware import params as P
 from mcu_sim.firmware.ring import ByteRing
 from mcu_sim.firmware.servo_table import (
@@ -44,6 +46,7 @@ from protocol import (
     SERVO_MODE_MRAD,
     Ack,
     DuplicateFilter,
+    Frame,
     FrameParser,
     Gripper,
     Heartbeat,
@@ -60,12 +63,17 @@ from protocol import (
     Stop,
     Telemetry,
     decode_frame,
+    encode_frame,
     encode_message,
 )
 
 FIRMWARE_ID = "mobigrasp-avr"
 CAP_SERVOS, CAP_WHEELS, CAP_SONARS, CAP_PARAMS = 1, 2, 4, 8
 CAPABILITIES = CAP_SERVOS | CAP_WHEELS | CAP_SONARS | CAP_PARAMS
+TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
+SET_WHEELS_STRUCT = struct.Struct("<hh")
+SET_WHEELS_TYPE = SetWheels.MSG_TYPE
+WHEEL_MMPS_MAX = 1000  # protocol range of SetWheels fields
 ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks
 TCCRA_SERVO = 0b1010_1010  # COMnA/B/C = 10 (non-inverting), WGMn1:0 = 10
 TCCRB_SERVO = 0b0001_1010  # WGMn3:2 = 11 (mode 14), CSn = 010 (clk/8)
@@ -89,6 +97,7 @@ class Firmware:
         self.wheels = (WheelPi(), WheelPi())
         self.sonar = SonarTask()
         self.enc_count = [0, 0]
+        self.duty_out = [0, 0]  # last duty written to the bridge registers
         self._overrides = dict(param_overrides or {})
         for pid, value in self._overrides.items():
             reason = self.params.check(pid, value)
@@ -111,6 +120,7 @@ class Firmware:
         self.servos.reset()
         self._apply_servo_limits()
         self.enc_count[0] = self.enc_count[1] = 0
+        self.duty_out[0] = self.duty_out[1] = 0
         for wheel in self.wheels:
             wheel.reset(0)
         self.drive_enabled = False
@@ -149,11 +159,18 @@ class Firmware:
         """USART0 RX complete: into the ring (overrun counted when full)."""
         self.rx.put(byte)
 
+    def isr_usart_rx_bytes(self, data: bytes) -> None:
+        """Several RX-complete interrupts in a row (the emulator batches them), oldest first."""
+        self.rx.put_bytes(data)
+
     def isr_timer1_ovf(self) -> None:
         """Timer1 (and 3, started together) period start: latch, then write next period's OCRs."""
-        self.servos.latch()
+        servos = self.servos
+        servos.latch()
         for ch in range(SERVO_COUNT):
-            self._write_ocr(ch)
+            # A channel at rest keeps its OCR value: nothing to write (saves ISR time in C too).
+            if servos.target_q8[ch] != servos.latched_q8[ch]:
+                self._write_ocr(ch)
 
     def isr_encoder(self, side: int, edges: int) -> None:
         """Encoder edges of wheel ``side`` (0 left, 1 right): ``edges`` ISR calls of +-1."""
@@ -207,6 +224,9 @@ class Firmware:
         timer.write_ocr(idx, self.servos.next_pending(ch))
 
     def _set_duty(self, side: int, duty: int) -> None:
+        if duty == self.duty_out[side]:
+            return
+        self.duty_out[side] = duty
         wheel = self.hw.wheel_right if side else self.hw.wheel_left
         cycle = self.hw.cycle
         wheel.write_direction(duty < 0, cycle)
@@ -269,26 +289,41 @@ class Firmware:
         return self.rx.overruns + self.hw.usart0.rx_line_dropped
 
     def _send_telemetry(self, now: int) -> None:
+        # Packed field by field into the frame buffer, as the C port fills a packed struct; the
+        # layout is Telemetry's (tests check the bytes against Telemetry.encode()).
         servos = self.servos
-        msg = Telemetry(
-            time_us=now & 0xFFFF_FFFF,
-            enc_left=_i32(self.enc_count[0]),
-            enc_right=_i32(self.enc_count[1]),
-            servo_us=tuple(servos.latched_us(ch) for ch in range(SERVO_COUNT)),
-            sonar_mm=tuple(self.sonar.range_mm),
-            flags=self._flags(),
-            crc_errors=self.corrupt_frames() & 0xFFFF,
-            overruns=self.overruns() & 0xFFFF,
-            limit_hits=self.limit_hits & 0xFFFF,
-            watchdog_trips=self.watchdog_trips & 0xFFFF,
+        sonar = self.sonar.range_mm
+        payload = TELEMETRY_STRUCT.pack(
+            now & 0xFFFF_FFFF, _i32(self.enc_count[0]), _i32(self.enc_count[1]),
+            servos.latched_us(0), servos.latched_us(1), servos.latched_us(2),
+            servos.latched_us(3), servos.latched_us(4), servos.latched_us(5),
+            sonar[0], sonar[1], sonar[2], sonar[3], sonar[4],
+            self._flags(), self.corrupt_frames() & 0xFFFF, self.overruns() & 0xFFFF,
+            self.limit_hits & 0xFFFF, self.watchdog_trips & 0xFFFF,
         )
-        self._send(msg)
+        wire = encode_frame(Frame(PROTOCOL_VERSION, self.tx_seq.next(), Telemetry.MSG_TYPE,
+                                  payload))
+        if not self.hw.usart0.tx_write(wire, self.hw.cycle):
+            self.tx_dropped += 1
         self.telemetry_sent += 1
         self.limit_flag = False
         self.reset_flag = False
 
     # -- command handling ----------------------------------------------------------------------
     def _handle(self, frame, now: int) -> None:
+        if frame.msg_type == SET_WHEELS_TYPE and len(frame.payload) == SET_WHEELS_STRUCT.size:
+            # Hot path (50 Hz stream): unpack the two int16 like the C switch does; anything odd
+            # falls through to the general decoder, which NACKs it with the protocol's reason.
+            left, right = SET_WHEELS_STRUCT.unpack(frame.payload)
+            lim = WHEEL_MMPS_MAX
+            if -lim <= left <= lim and -lim <= right <= lim:
+                self.last_valid_us = now
+                self.watchdog_tripped = False
+                if not self.handshake:
+                    self.not_ready += 1
+                    return
+                self._set_wheels(left, right)
+                return
         try:
             msg = decode_frame(frame)
         except MessageError as exc:
@@ -312,7 +347,7 @@ class Firmware:
             if not self.handshake:
                 self.not_ready += 1
                 return
-            self._set_wheels(msg)
+            self._set_wheels(msg.left_mmps, msg.right_mmps)
             return
         if not msg.RELIABLE:
             if not isinstance(msg, Heartbeat):  # replies and logs are not for the MCU
@@ -375,9 +410,9 @@ class Firmware:
             servos.max_us[ch] = self.params.get(P.P_SERVO_MAX_BASE + ch)
             self._write_ocr(ch)
 
-    def _set_wheels(self, msg) -> None:
+    def _set_wheels(self, left_mmps: int, right_mmps: int) -> None:
         limit = self.params.get(P.P_WHEEL_MAX_MMPS)
-        for side, mmps in ((0, msg.left_mmps), (1, msg.right_mmps)):
+        for side, mmps in ((0, left_mmps), (1, right_mmps)):
             clamped = min(max(mmps, -limit), limit)
             if clamped != mmps:
                 self._count_limit()

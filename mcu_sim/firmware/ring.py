@@ -39,6 +39,22 @@ class ByteRing:
         self.head = nxt
         return True
 
+    def put_bytes(self, data: bytes) -> int:
+        """``put`` for each byte of ``data`` in order (what back-to-back ISR calls do), done with
+        slices; returns how many were stored, the rest counted as overruns."""
+        free = self.size - 1 - len(self)
+        n = len(data)
+        if n > free:
+            self.overruns += n - free
+            n = free
+        head = self.head
+        first = min(n, self.size - head)
+        self.buf[head:head + first] = data[:first]
+        if n > first:
+            self.buf[0:n - first] = data[first:n]
+        self.head = (head + n) % self.size
+        return n
+
     def take_all(self) -> bytes:
         """Main-loop side: everything buffered, oldest first (the C loop reads byte by byte)."""
         head, tail = self.head, self.tail

@@ -1,0 +1,87 @@
+"""``mobigrasp bench mcu``: simulated seconds per wall second of the emulated ATmega128 alone.
+
+Telemetry at 50 Hz, an in-process host streaming SET_WHEELS at 50 Hz (plus a SET_SERVOS with
+slew every second), and the wheels-in-the-air plant closing the wheel PI loop every 10 ms. The
+wall time covers the MCU, the plant and the host stub; ``realtime_factor`` is the same number as
+``sim_s_per_wall_s`` (target >= 50).
+"""
+
+from __future__ import annotations
+
+import time
+
+NAME = "mcu"
+HELP = "emulated MCU speed: simulated s per wall s with 50 Hz telemetry and 50 Hz commands"
+
+
+def add_arguments(parser) -> None:
+    """Bench options."""
+    parser.add_argument("--seconds", type=int, default=20, help="simulated seconds (default 20)")
+    parser.add_argument("--telemetry-hz", type=int, default=50)
+    parser.add_argument("--command-hz", type=int, default=50)
+
+
+def run(args) -> dict:
+    """Run the scenario and return its figures."""
+    from mcu_sim.bench_plant import WheelsInTheAir
+    from mcu_sim.mcu import Mcu, McuConfig
+    from mcu_sim.mcu_host import InProcessHost
+    from protocol import (
+        PROTOCOL_VERSION,
+        Hello,
+        SequenceCounter,
+        SetServos,
+        SetWheels,
+        encode_message,
+    )
+
+    seconds = int(getattr(args, "seconds", 20))
+    tel_hz = int(getattr(args, "telemetry_hz", 50))
+    cmd_hz = int(getattr(args, "command_hz", 50))
+    if seconds <= 0 or not 1 <= cmd_hz <= 100 or not 0 <= tel_hz <= 100:
+        raise ValueError("need --seconds > 0, --command-hz 1..100, --telemetry-hz 0..100")
+    mcu = Mcu(McuConfig(params={"telemetry_hz": tel_hz}))
+    host = InProcessHost(mcu, decode=False)
+    plant = WheelsInTheAir()
+    step_us = 10_000
+    cmd_period_us = 1_000_000 // cmd_hz
+    end_us = seconds * 1_000_000
+    # The host's frames are encoded before the clock starts: the figure is the MCU's speed.
+    seq = SequenceCounter()
+    script: dict[int, list[bytes]] = {0: [encode_message(Hello(PROTOCOL_VERSION, "bench", 0),
+                                                         seq.next())]}
+    for t_cmd in range(0, end_us, cmd_period_us):
+        slot = t_cmd - t_cmd % step_us
+        phase = (t_cmd // 1_000_000) % 2
+        wires = script.setdefault(slot, [])
+        wires.append(encode_message(SetWheels(300 if phase else -200, 250), seq.next()))
+        if t_cmd % 1_000_000 == 0:
+            wires.append(encode_message(
+                SetServos(0, (1000 + 500 * phase, 1400, 1600, 1500, 1500, 1700), 800), seq.next()))
+    t = 0
+    wall0 = time.perf_counter()
+    while t < end_us:
+        for wire in script.get(t, ()):
+            host.send_raw(wire)
+        ticks = plant.step(mcu.wheel_duty(), step_us)
+        t += step_us
+        mcu.set_encoder_ticks(ticks[0], ticks[1], t)
+        host.run_us(step_us)
+    wall = time.perf_counter() - wall0
+    stats = mcu.stats()
+    ratio = seconds / wall
+    return {
+        "sim_s": seconds,
+        "wall_s": round(wall, 4),
+        "sim_s_per_wall_s": round(ratio, 2),
+        "realtime_factor": round(ratio, 2),
+        "target_realtime_factor": 50,
+        "meets_target": ratio >= 50,
+        "events": stats["events"],
+        "events_per_sim_s": stats["events"] // seconds,
+        "frames_from_mcu": host.frames,
+        "rx_bytes": stats["rx_bytes"],
+        "tx_bytes": stats["tx_bytes"],
+        "corrupt_frames": stats["corrupt_frames"],
+        "wheel_speed_left_mmps": round(plant.speed_mmps[0], 1),
+    }

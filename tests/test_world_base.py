@@ -62,7 +62,8 @@ def test_drive_straight_distance_is_v_times_t_within_one_percent(heading):
     assert math.atan2(y + 2.0, x - 1.0) == pytest.approx(heading, abs=1e-6)
     left, right = base.encoder_ticks()
     assert left == right
-    assert left == pytest.approx(dist * TICKS_PER_M, abs=1)
+    # 1024 counts per revolution of a 40 mm wheel (docs/conventions.md)
+    assert left == pytest.approx(dist / (2 * math.pi * 0.040) * 1024, abs=1)
 
 
 def test_world_duty_drive_includes_the_motor_lag():
@@ -86,6 +87,7 @@ def test_spin_in_place():
     assert left < 0 < right
     assert abs(left + right) <= 2
     assert right == pytest.approx(vr * 2.0 * TICKS_PER_M, rel=0.01)
+    assert TICKS_PER_M * 2 * math.pi * 0.040 == pytest.approx(1024)
 
 
 def test_turning_radius_is_respected():

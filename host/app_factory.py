@@ -23,8 +23,14 @@ class InputBuilder:
     (host/arm_calib.py); a sonar without echo (0xFFFF) is passed on as is.
     """
 
+    # The telemetry flag says the gripper was *commanded* closed; the hobby servo needs about
+    # 0.33 s for its 1000 us swing (60 deg / 0.17 s), so "closed" is reported once the flag has
+    # been up that long (with margin): lifting earlier would pull the fingers off the object.
+    GRIPPER_CLOSE_US = 450_000
+
     def __init__(self) -> None:
         self.odometry = Odometry()
+        self._closed_since_us: int | None = None
         self._tel_seen: Any = None
         self.pose = self.odometry.pose
 
@@ -42,12 +48,18 @@ class InputBuilder:
             self._tel_seen = tel
             self.pose = self.odometry.update(tel.time_us, tel.enc_left, tel.enc_right)
         p = self.pose
+        flag = bool(tel is not None and tel.flags & m.FLAG_GRIPPER_CLOSED)
+        if not flag:
+            self._closed_since_us = None
+        elif self._closed_since_us is None:
+            self._closed_since_us = now_us
+        closed = flag and now_us - self._closed_since_us >= self.GRIPPER_CLOSE_US
         return TaskInputs(
             joints_mrad=self.joints_mrad(tel),
             x_mm=p.x_mm, y_mm=p.y_mm, heading_mrad=p.heading_mrad, v_mmps=p.speed_mm_s,
             sonar_mm=tuple(tel.sonar_mm) if tel is not None else (),
             detections=detections,
-            grasp_closed=bool(tel is not None and tel.flags & m.FLAG_GRIPPER_CLOSED),
+            grasp_closed=closed,
         )
 
 

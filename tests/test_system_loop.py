@@ -1,0 +1,92 @@
+"""The closed loop with the real parts: MCU emulation, world, camera, host program, task.
+
+Fast: one short in-process run (a few simulated seconds) checking the whole wiring and the run
+folder. Slow (-m slow): every shipped scenario succeeds over the pty, pty == inproc traces on a
+whole scenario, speed 1 == speed max, and the randomized campaign of issue 8.
+"""
+
+import json
+
+import pytest
+
+from tools.run_job import RunOptions, execute
+
+SUMMARY_KEYS = (
+    "scenario", "method", "seed", "transport", "success", "grasped", "time_to_grasp_s",
+    "final_error_mm", "collisions", "min_obstacle_clearance_m", "path_length_m", "replans",
+    "frames_captured", "frames_processed", "frames_dropped", "deadline_misses",
+    "arm9_load_max", "arm9_load_mean", "sim_time_s", "wall_time_s", "realtime_factor",
+    "protocol", "state_durations_s", "trace_sha256",
+)
+
+
+def _run(tmp_path, name, transport="inproc", **kw):
+    opts = RunOptions(scenario=name, transport=transport, out=tmp_path / f"{name}-{transport}",
+                      progress=False, **kw)
+    return execute(opts)
+
+
+def test_inproc_smoke_run_writes_a_complete_folder(tmp_path):
+    summary, code = _run(tmp_path, "paper000-exp1", time_limit_s=3.0, plots=False)
+    folder = tmp_path / "paper000-exp1-inproc"
+    assert code == 1 and not summary["success"]  # 3 s is too short to grasp
+    assert summary["status"] == "finished" and summary["end_reason"] == "time_limit"
+    for key in SUMMARY_KEYS:
+        assert key in summary, key
+    for key in ("tx_frames", "rx_frames", "crc_errors", "retransmits", "watchdog_trips"):
+        assert key in summary["protocol"], key
+    assert summary["sim_time_s"] == pytest.approx(3.0)
+    # 15 fps: frames at 0, 66.7 ms, ... up to just before 3 s reach the host
+    assert summary["frames_captured"] == 45
+    assert summary["frames_processed"] + summary["frames_dropped"] <= 45
+    assert summary["protocol"]["rx_frames"] > 100  # 50 Hz telemetry from the MCU
+    assert summary["protocol"]["tx_frames"] > 10
+    assert summary["protocol"]["crc_errors"] == 0
+    on_disk = json.loads((folder / "summary.json").read_text())
+    assert on_disk["trace_sha256"] == summary["trace_sha256"]
+    lines = (folder / "trace.jsonl").read_text().splitlines()
+    assert json.loads(lines[0])["ev"] == "start" and json.loads(lines[-1])["ev"] == "end"
+    assert sum('"ev":"truth"' in line for line in lines) == 31
+
+
+SHIPPED = ("paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
+           "paper002-marker", "paper002-cylinder-moving")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", SHIPPED)
+def test_shipped_scenario_succeeds_over_pty(tmp_path, name):
+    summary, code = _run(tmp_path, name, transport="pty")
+    assert summary["success"], (summary["task_state"], summary["end_reason"], summary["error"])
+    assert code == 0
+    assert summary["collisions"] == 0
+    assert (tmp_path / f"{name}-pty" / "report.html").exists()
+
+
+@pytest.mark.slow
+def test_same_trace_over_pty_and_inproc(tmp_path):
+    a, _ = _run(tmp_path, "paper000-exp1", transport="pty", plots=False)
+    b, _ = _run(tmp_path, "paper000-exp1", transport="inproc", plots=False)
+    assert a["trace_lines"] == b["trace_lines"]
+    assert a["trace_sha256"] == b["trace_sha256"]
+
+
+@pytest.mark.slow
+def test_speed_one_and_max_give_the_same_trace(tmp_path):
+    a, _ = _run(tmp_path / "a", "paper002-marker", transport="pty", speed=1.0,
+                time_limit_s=2.0, plots=False)
+    b, _ = _run(tmp_path / "b", "paper002-marker", transport="pty", speed=None,
+                time_limit_s=2.0, plots=False)
+    assert a["wall_time_s"] >= 1.9  # really paced
+    assert a["trace_sha256"] == b["trace_sha256"]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("method", ["000", "001", "002"])
+def test_random_campaign(tmp_path, method):
+    from tools.benches.loop import campaign
+
+    res = campaign([method], 50, 1000, tmp_path, progress=False)[method]
+    assert res["success_rate"] >= 0.95, res["failed_seeds"]
+    assert res["collisions_total"] == 0
+    assert res["final_error_mm_median"] is not None and res["final_error_mm_median"] <= 10

@@ -67,7 +67,8 @@ class PtyMcu:
                 return False
         return self.bytes_from_host >= n_bytes
 
-    def _forward(self) -> None:
+    def forward_tx(self) -> None:
+        """Write what the MCU has sent by now to the pty (never blocks; drops are counted)."""
         fd = self.transport.fileno()
         for t_us, data in self.mcu.uart_tx_take():
             if self.record:
@@ -101,7 +102,7 @@ class PtyMcu:
             self.pump_from_host()
             t = min(target, self.mcu.now_us + step_us)
             self.mcu.advance_to(t)
-            self._forward()
+            self.forward_tx()
             if t >= target:
                 break
 

@@ -1,0 +1,80 @@
+"""``mobigrasp mcu`` as a separate process on a real pty, driven by ``mobigrasp console``."""
+
+import io
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from link.messages import Link
+from link.registry import open_transport
+from tools.cli import main
+from tools.commands.console import ConsoleShell
+
+ROOT = Path(__file__).resolve().parents[1]
+SAFETY_S = 60  # generous limits only; nothing asserts on speed
+
+
+@pytest.fixture
+def mcu_process():
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "tools.cli", "mcu", "--speed", "1", "--duration", "120"],
+        cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        port = proc.stdout.readline().strip()
+        assert port.startswith("/dev/"), port
+        yield proc, port
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+        proc.wait(SAFETY_S)
+
+
+def test_console_session_against_the_standalone_mcu(mcu_process):
+    proc, port = mcu_process
+    script = "\n".join([
+        "hello",
+        "servos 1500 1600 1700 1500 1500 1500",
+        "servos-mrad 0 0 -1571 -1571 1571 0 200",
+        "servos 100 1500 1500 1500 1500 1500",
+        "gripper 1000",
+        "wheels 200 200",
+        "param get watchdog_ms",
+        "param set telemetry_hz 20",
+        "param set watchdog_ms 99999",
+        "param get no_such_param",
+        "frobnicate",
+        "telemetry",
+        "stop",
+        "quit",
+    ]) + "\n"
+    out = io.StringIO()
+    with Link(open_transport(port)) as link:
+        shell = ConsoleShell(link, reply_timeout_s=SAFETY_S, stdin=io.StringIO(script), stdout=out)
+        shell.prompt = ""
+        shell.cmdloop()
+    text = out.getvalue()
+    assert "HELLO_ACK firmware=mobigrasp-avr protocol=1" in text
+    assert text.count("ACK seq=") >= 6
+    assert "watchdog_ms = 250" in text
+    assert "telemetry_hz = 20" in text
+    assert "reason=OUT_OF_RANGE" in text  # watchdog_ms 99999
+    assert "refused:" in text  # 100 µs rejected before sending; unknown parameter name
+    assert "unknown command 'frobnicate'" in text
+    assert "servo_us=[" in text and "flags=0x" in text
+    # Closing the host side ends the MCU process with a message.
+    _, err = proc.communicate(timeout=SAFETY_S)
+    assert proc.returncode == 0
+    assert "the host closed the port" in err
+    assert "+2.12 %" in err  # baud error reported at start-up
+
+
+def test_bad_arguments_are_reported(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["mcu", "--speed", "fast"])
+    assert exc.value.code == 2 and "--speed" in capsys.readouterr().err
+    assert main(["mcu", "--param", "nope=1", "--duration", "0.1"]) == 2
+    assert "unknown parameter 'nope'" in capsys.readouterr().err
+    assert main(["console", "/dev/nonexistent-mobigrasp-port"]) == 2
+    assert "cannot open" in capsys.readouterr().err

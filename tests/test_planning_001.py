@@ -196,3 +196,16 @@ def test_on_the_circle_and_bad_input():
     assert plan_001((0, 0), (0, 0), 0.0, (0.2, 0), CLEAR).best is None
     with pytest.raises(ValueError, match="non-finite"):
         plan_001((0, 0), (0, 0), float("inf"), (2, 0), CLEAR)
+
+
+def test_anytime_cut_marks_unevaluated_curves_and_keeps_the_budget():
+    prm = Params001(budget_us=15_000, total_budget_us=30_000)
+    plan = plan_001((0, 0), (0.2, 0), 0.0, (3.0, 1.1), [2500, 1400, 2500, 1800, 2100], prm)
+    reasons = list(plan.candidates.reasons)
+    assert "budget" in reasons
+    first_cut = reasons.index("budget")
+    assert all(r == "budget" for r in reasons[first_cut:])  # a cut, not holes
+    assert plan.ops.time_us() <= 30_000
+    # the end point facing the robot is evaluated first: the robot is at 200° seen from the
+    # object, end point k_e sits at φ = 10°·k_e (eq. (6), n_e = 36)
+    assert plan.candidates.endpoints[0] == 20

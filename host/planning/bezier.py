@@ -133,13 +133,17 @@ def evaluate(ctrl: np.ndarray, tau: np.ndarray) -> Samples:
     """
     k = coefficients(ctrl)
     tau = np.asarray(tau, dtype=np.float64)
-    kk = [k[..., i, :][..., None, :] for i in range(4)]  # (..., 1, 3) for broadcasting over tau
-    tt = tau[:, None]
-    pos = kk[0] + tt * (kk[1] + tt * (kk[2] + tt * kk[3]))
-    d1 = kk[1] + tt * (2.0 * kk[2] + tt * 3.0 * kk[3])
-    d2 = 2.0 * kk[2] + tt * 6.0 * kk[3]
-    x_t, y_t, t_t = d1[..., 0], d1[..., 1], d1[..., 2]
-    x_2t, y_2t, t_2t = d2[..., 0], d2[..., 1], d2[..., 2]
+    one, zero = np.ones_like(tau), np.zeros_like(tau)
+    # power bases of eqs. (6)-(7): position, first and second derivative, one matmul each
+    b0 = np.stack([one, tau, tau**2, tau**3], axis=-1)
+    b1 = np.stack([zero, one, 2.0 * tau, 3.0 * tau**2], axis=-1)
+    b2 = np.stack([zero, zero, 2.0 * one, 6.0 * tau], axis=-1)
+    kt = np.moveaxis(k, -1, -2)  # (..., 3, 4): coordinate, power
+    pos = kt @ b0.T  # (..., 3, n)
+    d1 = kt @ b1.T
+    d2 = kt @ b2.T
+    x_t, y_t, t_t = d1[..., 0, :], d1[..., 1, :], d1[..., 2, :]
+    x_2t, y_2t, t_2t = d2[..., 0, :], d2[..., 1, :], d2[..., 2, :]
     with np.errstate(divide="ignore", invalid="ignore"):
         s = np.hypot(x_t, y_t)
         v = s / t_t
@@ -147,8 +151,8 @@ def evaluate(ctrl: np.ndarray, tau: np.ndarray) -> Samples:
         dv_dtau = (s_dot * t_t - s * t_2t) / t_t**2
         a_t = dv_dtau / t_t
         kappa = (x_t * y_2t - x_2t * y_t) / s**3
-    return Samples(tau=tau, x=pos[..., 0], y=pos[..., 1], t=pos[..., 2], x_tau=x_t, y_tau=y_t,
-                   t_tau=t_t, x_2tau=x_2t, y_2tau=y_2t, t_2tau=t_2t, speed=v,
+    return Samples(tau=tau, x=pos[..., 0, :], y=pos[..., 1, :], t=pos[..., 2, :], x_tau=x_t,
+                   y_tau=y_t, t_tau=t_t, x_2tau=x_2t, y_2tau=y_2t, t_2tau=t_2t, speed=v,
                    accel_tangential=a_t, kappa=kappa, ds_dtau=s)
 
 

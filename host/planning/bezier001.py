@@ -20,12 +20,16 @@ ARM9 budget (one plan <= 100 ms with soft-float): all N_i·n_e candidates cannot
 on an ARM920T (1000+ curves at ~6000 cycles per sample). So, as engineering choices of ours:
 (a) end points on the far side of the object (angle between q_e − P_i and q_s − P_i larger than
 ``endpoint_max_angle_rad``, default π/2) are skipped (set it to π to evaluate all 36);
-(b) coarse-to-fine: all candidates are checked at a budgeted number of samples (at least
-``n_coarse_min``; when even that does not fit, every stride-th u) against ``coarse_margin`` of
-the speed and acceleration limits and against infeasible regions grown by ``coarse_inflate_m``
-(peaks and intrusions between coarse samples), then the cheapest ones are
-re-checked at ``n_fine`` samples against the true limits in cost order until one passes (at most
-``max_fine``). (c) Echoes of the object itself are not obstacles (:func:`is_object_echo`).
+(b) coarse-to-fine: the candidates are checked at a number of samples chosen so that the set
+fits the budget at ``expected_cost_fraction`` of the worst-case cost (curves are rejected at
+their first violation), at least ``n_coarse_min`` (below that, every stride-th u only); end
+points facing the robot come first, and curves after the point where the budget is actually
+spent are not evaluated (reason "budget": an anytime cut). The coarse check uses
+``coarse_margin`` of the speed and acceleration limits and infeasible regions grown by
+``coarse_inflate_m`` (peaks and intrusions between coarse samples); then the cheapest curves are
+re-checked at ``n_fine`` samples against the true limits, in cost order, until one passes (at
+most ``max_fine``, and only while the budget lasts).
+(c) Echoes of the object itself are not obstacles (:func:`is_object_echo`).
 """
 
 from __future__ import annotations
@@ -40,7 +44,6 @@ from host.planning.bezier import sample_ops
 from host.planning.bezier000 import start_direction
 from host.planning.candidates import (
     REASON_OK,
-    Candidate,
     Limits,
     Plan,
     batch_ops,
@@ -73,8 +76,9 @@ class Params001:
     n_fine: int = 48
     max_fine: int = 24
     coarse_margin: float = 0.9  # coarse samples check v, a_t against 90 % of the limits
-    coarse_inflate_m: float = 0.1  # coarse samples test regions grown by this (R_r + 0.1 m)
-    budget_us: int = 75_000  # coarse pass (worst case, before early exits)
+    coarse_inflate_m: float = 0.1  # coarse test: regions grown by max(this, spacing / 4)
+    budget_us: int = 75_000  # coarse pass: curves beyond it are not evaluated ("budget")
+    expected_cost_fraction: float = 0.5  # sample count chosen for this share of the worst case
     total_budget_us: int = 98_000  # fine checks stop before the whole plan exceeds this
     moving_speed_mps: float = 0.02
     object_echo_tol_m: float = 0.15  # a region whose echo arc passes this close to the object
@@ -166,7 +170,9 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     ends = end_points(obj, l_e, params.n_e)
     to_start = (p0 - obj) / dist
     radial = (ends - obj) / l_e
-    keep = np.nonzero(radial @ to_start >= math.cos(params.endpoint_max_angle_rad) - 1e-12)[0]
+    facing = radial @ to_start
+    keep = np.nonzero(facing >= math.cos(params.endpoint_max_angle_rad) - 1e-12)[0]
+    keep = keep[np.argsort(-facing[keep], kind="stable")]  # most promising end points first
     ops = ops + OpCounts(float_ops=8 * params.n_e, luts=2 * params.n_e)
     d0 = start_direction(vel, heading_rad, -to_start, params.moving_speed_mps)
     t3 = dist / params.v0  # eq. (7)
@@ -175,8 +181,8 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)
     kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 2}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
-    per_sample += (CLEARANCE_FLOPS * 60 + CLEARANCE_DIVS * 250) * len(regions)
-    n, stride = choose_sampling(len(us), per_sample, params.budget_us - ops.time_us(),
+    expected = max(1, int(per_sample * params.expected_cost_fraction))
+    n, stride = choose_sampling(len(us), expected, params.budget_us - ops.time_us(),
                                 params.n_coarse_min, params.n_coarse_max)
     sel = np.arange(0, len(us), stride)
     ctrl, us, ks = ctrl[sel], us[sel], ks[sel]
@@ -184,15 +190,32 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)
     checks = _geometric_checks(obj, l_e, regions)
-    grown = [replace(r, r_r_m=r.r_r_m + params.coarse_inflate_m) for r in regions]
+    # grow by a quarter of the straight-line spacing of coarse samples (>= coarse_inflate_m)
+    inflate = max(params.coarse_inflate_m, 0.25 * dist / (n - 1))
+    grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
     s, reasons, first = evaluate_batch(ctrl, n, coarse, _geometric_checks(obj, l_e, grown))
-    ops = ops + batch_ops(first, n, **kw)
+    # anytime cut: the C loop stops taking curves once the coarse budget is spent; curves after
+    # that point were never evaluated (reason "budget")
+    row_cycles = np.minimum(first + 1, n) * per_sample + sample_ops(0, **kw).cycles()
+    spent = np.cumsum(row_cycles)
+    cut = spent > (params.budget_us - ops.time_us()) * 400
+    for i in np.nonzero(cut)[0]:
+        reasons[i] = "budget"
+    ops = ops + batch_ops(first[~cut], n, **kw)
     ok_rows = np.array([i for i, r in enumerate(reasons) if r == REASON_OK], dtype=np.int64)
     clear = np.full(len(us), np.inf)
     if regions and ok_rows.size:
-        clear[ok_rows] = _clearance(s, ok_rows, regions)
-        ops = ops + OpCounts(float_ops=CLEARANCE_FLOPS * n * len(regions) * ok_rows.size,
-                             float_divs=CLEARANCE_DIVS * n * len(regions) * ok_rows.size)
+        # D_m of the coarse-feasible curves, as many as the budget leaves room for (the others
+        # keep D_m unknown = 0, so eq. (18) does not prefer them)
+        each = OpCounts(float_ops=CLEARANCE_FLOPS * n * len(regions),
+                        float_divs=CLEARANCE_DIVS * n * len(regions))
+        room = params.budget_us + 10_000 - ops.time_us()
+        fit = max(0, min(ok_rows.size, room // max(1, each.time_us())))
+        clear[ok_rows] = 0.0
+        if fit:
+            rows = ok_rows[np.argsort(_coarse_cost(s, ok_rows, params), kind="stable")][:fit]
+            clear[rows] = _clearance(s, rows, regions)
+            ops = ops + each.scaled(int(fit))
     cands = candidates_from_batch(ctrl, s, reasons, us, ks, params.k1, params.k2, clear)
     feasible = cands.feasible_indices()
     extra = {"t3_s": t3, "n_i": n_i, "l_e_m": l_e, "regions": regions,
@@ -202,7 +225,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     wide = feasible[cands.clearance[feasible] > params.t_d_m]  # eq. (18)
     pool = wide if wide.size else feasible
     order = pool[np.argsort(cands.cost[pool], kind="stable")][:params.max_fine]
-    best, fine_reason = _fine_check([cands[int(i)] for i in order], params, lim, checks, kw,
+    best, fine_reason = _fine_check((cands[int(i)] for i in order), params, lim, checks, kw,
                                     params.total_budget_us - ops.time_us())
     ops = ops + fine_reason[1]
     if best is None:
@@ -211,7 +234,13 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     return Plan(best.curve, cands, ops, REASON_OK, n, stride, best, extra=extra)
 
 
-def _fine_check(pool: list[Candidate], params: Params001, lim: Limits, checks, kw,
+def _coarse_cost(s, rows: np.ndarray, params: Params001) -> np.ndarray:
+    """Cost eq. (17) of the given rows of a sampled batch (to rank them before D_m is known)."""
+    length = s.arc_length()[rows]
+    return params.k1 * length + params.k2 * s.kappa_integral()[rows]
+
+
+def _fine_check(pool, params: Params001, lim: Limits, checks, kw,
                 budget_us: int):
     """Re-check candidates at n_fine samples in cost order; the first that passes wins."""
     ops = OpCounts()

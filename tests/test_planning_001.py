@@ -199,7 +199,7 @@ def test_on_the_circle_and_bad_input():
 
 
 def test_anytime_cut_marks_unevaluated_curves_and_keeps_the_budget():
-    prm = Params001(budget_us=15_000, total_budget_us=30_000)
+    prm = Params001(budget_us=15_000, total_budget_us=30_000, expected_cost_fraction=0.05)
     plan = plan_001((0, 0), (0.2, 0), 0.0, (3.0, 1.1), [2500, 1400, 2500, 1800, 2100], prm)
     reasons = list(plan.candidates.reasons)
     assert "budget" in reasons

@@ -1,5 +1,6 @@
 """Same scenario and seed -> identical trajectories, whatever the caller's time slicing."""
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -73,3 +74,19 @@ def test_truth_recorder_samples_on_its_grid():
     assert summ["samples"] == 21 and summ["path_length_m"] > 0.1
     assert summ["collisions"] == {"obstacle": 0, "target": 0}
     assert w.recorder.jsonl_lines()[0].startswith('{"attached": false')
+
+
+def test_trace_merges_contacts_in_time_order():
+    s = load_scenario(DATA / "method_001.toml")
+    w = World(s, truth_rate_hz=10)
+    w.set_wheel_duty(255, 255)  # straight into the circle obstacle at x = 1.5 m
+    w.step_to(6_000_000)
+    assert w.contacts.count("obstacle") >= 1
+    lines = w.recorder.trace_lines(w.contacts.events)
+    assert len(lines) == len(w.recorder.samples) + len(w.contacts.events)
+    rows = [json.loads(x) for x in lines]
+    assert [r["t_us"] for r in rows] == sorted(r["t_us"] for r in rows)
+    contact = [r for r in rows if r["type"] == "contact"][0]
+    assert contact["with"] == "obstacle" and contact["obstacle_index"] == 0
+    assert contact["t_us"] % 1000 == 0 and contact["t_us"] % 100_000 != 0
+    assert 0.45 < w.recorder.summary()["max_speed_mps"] <= 0.5

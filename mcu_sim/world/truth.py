@@ -39,6 +39,18 @@ class TruthRecorder:
         """One JSON object per sample (``{"type": "truth", ...}``), for the run's trace."""
         return [json.dumps({"type": "truth", **s}, sort_keys=True) for s in self.samples]
 
+    def trace_lines(self, contact_events) -> list[str]:
+        """Truth samples and contact events (``ContactEvent`` list) merged in time order.
+
+        Contacts are exact to the 1 ms physics step, samples are on the sampling grid; at equal
+        times a sample comes first.
+        """
+        rows = [(s["t_us"], 0, {"type": "truth", **s}) for s in self.samples]
+        rows += [(e.t_us, 1, {"type": "contact", "t_us": e.t_us, "with": e.kind,
+                              "obstacle_index": e.index}) for e in contact_events]
+        rows.sort(key=lambda r: (r[0], r[1]))
+        return [json.dumps(r[2], sort_keys=True) for r in rows]
+
     def summary(self) -> dict[str, Any]:
         """Figures for summary.json: path length, final pose, contacts, clearance, grasp."""
         if not self.samples:
@@ -62,4 +74,5 @@ class TruthRecorder:
             "object_max_lift_m": max_lift,
             "collisions": last["collisions"],
             "min_clearance_m": last["min_clearance_m"],
+            "max_speed_mps": max(abs(s["base"]["v_mps"]) for s in self.samples),
         }

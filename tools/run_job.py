@@ -58,6 +58,7 @@ class RunOptions:
     out: Path | None = None
     progress: bool = True
     quantum_us: int = 5_000
+    couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     plots: bool = True
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
@@ -145,7 +146,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         else:
             port, peer = inproc_pair(f"run-{name}-{seed}")
             host = InprocHost(LockstepClient(build_host_app(cfg, timer=opts.timer), peer))
-        rig = Rig(mcu, plant, port, RigConfig(quantum_us=opts.quantum_us),
+        rig = Rig(mcu, plant, port, RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us),
                   on_frame=snaps.on_frame)
         progress = None
         if opts.progress:

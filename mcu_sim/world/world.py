@@ -11,8 +11,9 @@ Every ``TICK_US`` = 10 ms of simulated time the world also: drags a moving targe
 minimum obstacle clearance, and lets the truth recorder sample.
 
 Inputs: ``set_servo_pulse_us(ch, pulse_us)``, ``set_wheel_duty(left, right)``.
-Outputs (what sensors see): ``encoder_ticks()``, ``sonar_ranges_m()``, ``camera_pose_world()``,
-``scene()`` (for the camera renderer). Truth (never for the host): ``truth()``,
+Outputs (what sensors see): ``encoder_ticks()``, ``sonar_ranges_m()`` / ``sonar_range_m(i)``,
+``camera_pose_world()``, ``camera_scene()`` (the renderer's own Scene type) and ``scene()``
+(plain dataclasses with heights and the lifted object). Truth (never for the host): ``truth()``,
 ``joint_angles_rad()``, ``gripper_grasped()``, ``recorder``.
 """
 

@@ -10,6 +10,12 @@ its own slave descriptor open until the first byte from the peer arrives (so not
 the peer has connected) and then closes it, after which EIO means "the peer vanished" and read()
 raises LinkClosed. Bytes written before the peer opens the slave may be discarded by the peer's
 open (pyserial flushes its input on open): peers should greet first, as HELLO does.
+
+``pty://?drop_unread=1`` (``PtyTransport(drop_unread=True)``): while no peer has spoken, a write
+that finds the pty buffer full (about 20 KB) flushes the unread old bytes instead of waiting
+(counted in ``unread_flushes``), as a UART with nobody listening loses its bytes; an emulated MCU
+that sends telemetry before any host connects then never stalls. Off by default, because a peer
+that only reads would silently lose data.
 """
 
 from __future__ import annotations
@@ -37,7 +43,8 @@ def set_raw(fd: int) -> None:
 class PtyTransport(Transport):
     """Master end of a fresh pty; ``slave_path`` is what the peer opens."""
 
-    def __init__(self) -> None:
+    def __init__(self, drop_unread: bool = False) -> None:
+        self.drop_unread = bool(drop_unread)
         self._master, slave = os.openpty()
         self._slave: int | None = slave
         set_raw(slave)
@@ -45,6 +52,7 @@ class PtyTransport(Transport):
         os.set_blocking(self._master, False)
         self.slave_path = os.ttyname(slave)
         self.url = f"pty://{self.slave_path}"
+        self.unread_flushes = 0
         self._closed = False
 
     def fileno(self) -> int | None:
@@ -86,6 +94,8 @@ class PtyTransport(Transport):
             try:
                 n = os.write(self._master, view)
             except BlockingIOError:
+                if self.drop_unread and self._slave is not None and self._flush_unread():
+                    continue
                 _, writable, _ = select.select([], [self._master], [], _WRITE_WAIT_S)
                 if not writable:
                     raise LinkClosed(
@@ -95,6 +105,13 @@ class PtyTransport(Transport):
             except OSError as exc:
                 raise LinkClosed(f"{self.url}: write failed: {exc}") from exc
             view = view[n:]
+
+    def _flush_unread(self) -> bool:
+        """Drop what sits unread on the way to the slave; True if that made room."""
+        termios.tcflush(self._slave, termios.TCIFLUSH)
+        self.unread_flushes += 1
+        _, writable, _ = select.select([], [self._master], [], 0)
+        return bool(writable)
 
     def wait_readable(self, timeout_s: float) -> bool:
         """select() on the master."""

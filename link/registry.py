@@ -1,6 +1,7 @@
 """Open a byte transport by URL; backends are registered by scheme (as python-can's interfaces).
 
-- ``pty://``         a new pseudo-terminal master (``.slave_path`` is what the peer opens)
+- ``pty://``         a new pseudo-terminal master (``.slave_path`` is what the peer opens);
+                     ``pty://?drop_unread=1`` never blocks before a peer has spoken
 - ``inproc://NAME``  one end of a named in-process pair (first open: end A, second: end B)
 - anything else      pyserial: a device path (``/dev/pts/3``, ``/dev/ttyUSB0``, ``/dev/ttyS1``)
                      or a pyserial URL (``loop://``, ``spy://``, ``socket://``, ``rfc2217://``)
@@ -31,9 +32,19 @@ def register_backend(scheme: str, factory: Callable[[str], Transport]) -> None:
 
 
 def _open_pty(url: str) -> Transport:
-    if url != "pty://":
+    rest = url[len("pty://"):]
+    path, _, query = rest.partition("?")
+    if path:
         raise ValueError(f"pty URL takes no path (it creates a new pty): use 'pty://', got {url!r}")
-    return PtyTransport()
+    options = dict(part.partition("=")[::2] for part in query.split("&") if part)
+    unknown = set(options) - {"drop_unread"}
+    if unknown:
+        raise ValueError(f"unknown pty URL option(s) {sorted(unknown)} in {url!r}; "
+                         "known: drop_unread")
+    drop = options.get("drop_unread", "0")
+    if drop not in ("0", "1"):
+        raise ValueError(f"pty URL option drop_unread must be 0 or 1, got {drop!r}")
+    return PtyTransport(drop_unread=drop == "1")
 
 
 register_backend("pty", _open_pty)

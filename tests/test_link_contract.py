@@ -163,3 +163,29 @@ def test_pty_master_before_any_peer_reads_empty():
         master.write(b"queued")  # accepted even though nobody has opened the slave yet
     finally:
         master.close()
+
+
+def test_pty_drop_unread_never_blocks_before_a_peer_and_keeps_the_newest_bytes():
+    master = open_transport("pty://?drop_unread=1")
+    try:
+        assert master.drop_unread
+        for i in range(200):  # 200 KB: ten times what the pty buffers
+            master.write(bytes([i % 255 + 1]) * 1024)
+        assert master.unread_flushes >= 5
+        slave = open_transport(master.slave_path)  # pyserial flushes stale input on open
+        master.write(b"fresh")
+        assert read_exactly(slave, 5) == b"fresh"
+        slave.write(b"!")
+        assert read_exactly(master, 1) == b"!"
+        slave.close()
+    finally:
+        master.close()
+
+
+def test_pty_url_options_checked():
+    with pytest.raises(ValueError, match="unknown pty URL option"):
+        open_transport("pty://?speed=9")
+    with pytest.raises(ValueError, match="drop_unread must be 0 or 1"):
+        open_transport("pty://?drop_unread=yes")
+    with open_transport("pty://?drop_unread=0") as t:
+        assert t.drop_unread is False

@@ -152,3 +152,13 @@ def test_corrupted_frames_never_actuate(emulated_mcu):
     assert emu.wheel_duty() == (0, 0)
     assert emu.stats["corrupt_frames"] == 2
     assert emu.telemetry()[-1].crc_errors == 2
+
+
+def test_plugin_example_of_docs_firmware_md(emulated_mcu):
+    seq = emulated_mcu.send(Hello(1, "me", 0))
+    emulated_mcu.advance_ms(12)
+    assert Ack(seq) in emulated_mcu.receive(2)
+    emulated_mcu.send(SetServos(0, (1500,) * 6, 0))
+    emulated_mcu.advance_ms(45)
+    assert emulated_mcu.servo_pulses_us()[1] == 1500.0
+    assert emulated_mcu.telemetry()[-1].flags & 4

@@ -45,6 +45,7 @@ SRAM_LAYOUT: dict[str, int] = {
     "wheels.integral": 2 * 4,
     "wheels.last_count": 2 * 4,
     "wheels.duty": 2 * 2,
+    "wheels.duty_out": 2 * 2,  # last duty written to OCR0/OCR2, to skip rewrites
     "enc_count": 2 * 4,
     "sonar.range_mm": SONARS * 2,
     "sonar.slot_state": 1 + 4 + 4 + 1 + 1 + 4,

@@ -1,0 +1,181 @@
+"""Red cylinder with two black rings of paper 002 (§2.2), integer only.
+
+Step 1 of 002 §2.2: the region of interest (ROI) by colour, its centre (u_c, v_c) taken as the
+target's centre. Step 2: scan the ROI perpendicular to the black rings (the cylinder stands
+upright, so down the image columns) and measure the pixel spacing d_pixel of the two rings,
+which gives the distance D_OC = D f / d_pixel (host.ranging, D = 14.5 mm).
+
+How we do it:
+
+1. Redness ``R - max(G, B)`` on every second pixel of every second row (a 160x120 grid);
+   ``redness >= T_RED`` is red. Colour differences scale with the exposure, so one threshold
+   holds from 0.7x to 1.3x brightness.
+2. The black rings cut the cylinder's red into stacked pieces: 8-connected red components
+   whose column ranges overlap by at least half of the narrower one are merged into one
+   candidate ROI (the biggest first).
+3. In the central half of the ROI's columns, the mean redness of each full-resolution row is a
+   profile; a ring is a run of rows below half the median red level with red rows above and
+   below it. Exactly two rings are required; anything red without them (clutter) is rejected.
+   Each ring's row is the darkness-weighted centroid of its run (sub-pixel, Q4).
+4. (u_c, v_c): u_c is the middle of the red extent of the rows between the rings (the
+   cylinder's axis), v_c the midpoint of the rings; the ROI box is returned as well.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from host import fixedpoint as fp
+from host.budget import OpCounts
+
+T_RED = 40  # redness threshold: red paint ~120-200, black rings / floor / sky < 15
+MIN_AREA_HALF_PX = 6  # smallest red piece kept on the 160x120 grid
+MIN_RING_GAP_PX = 2  # rings closer than this are not resolved
+
+
+@dataclass(frozen=True)
+class RedCylinderResult:
+    """Centre, ring rows and ring spacing in Q4 pixels; ROI (x, y, w, h) in pixels."""
+
+    u_c_q4: int
+    v_c_q4: int
+    ring1_v_q4: int  # upper ring in the image
+    ring2_v_q4: int
+    d_pixel_q4: int
+    width_q4: int  # red extent between the rings: the cylinder's diameter in pixels
+    roi: tuple[int, int, int, int]
+
+
+def _check(rgb: np.ndarray) -> None:
+    if not isinstance(rgb, np.ndarray) or rgb.dtype != np.uint8 or rgb.ndim != 3 \
+            or rgb.shape[2] != 3 or rgb.shape[0] < 8 or rgb.shape[1] < 8:
+        raise ValueError("detect_red_cylinder: expected an (H, W, 3) uint8 RGB frame, got "
+                         f"{getattr(rgb, 'shape', None)} {getattr(rgb, 'dtype', type(rgb))}")
+
+
+def redness(rgb: np.ndarray) -> np.ndarray:
+    """``R - max(G, B)`` clipped at 0, uint8 (saturating integer subtracts)."""
+    return cv2.subtract(rgb[..., 0], cv2.max(rgb[..., 1], rgb[..., 2]))
+
+
+def _candidates(mask: np.ndarray) -> tuple[list[tuple[int, int, int, int, int]], OpCounts]:
+    """Merge vertically stacked red components; returns [(area, x0, y0, x1, y1)] on the grid."""
+    n, _, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
+    comps = [(int(stats[i, cv2.CC_STAT_AREA]), int(stats[i, cv2.CC_STAT_LEFT]),
+              int(stats[i, cv2.CC_STAT_TOP]),
+              int(stats[i, cv2.CC_STAT_LEFT] + stats[i, cv2.CC_STAT_WIDTH]),
+              int(stats[i, cv2.CC_STAT_TOP] + stats[i, cv2.CC_STAT_HEIGHT]))
+             for i in range(1, n) if stats[i, cv2.CC_STAT_AREA] >= MIN_AREA_HALF_PX]
+    comps.sort(key=lambda c: (-c[0], c[1], c[2]))
+    used = [False] * len(comps)
+    out = []
+    for i, seed in enumerate(comps):
+        if used[i]:
+            continue
+        used[i] = True
+        area, x0, y0, x1, y1 = seed
+        changed = True
+        while changed:  # grow until no piece joins (pieces stack: top, middle, bottom)
+            changed = False
+            for j, c in enumerate(comps):
+                if used[j]:
+                    continue
+                overlap = min(x1, c[3]) - max(x0, c[1])
+                if 2 * overlap >= min(x1 - x0, c[3] - c[1]):
+                    used[j] = True
+                    area += c[0]
+                    x0, y0, x1, y1 = min(x0, c[1]), min(y0, c[2]), max(x1, c[3]), max(y1, c[4])
+                    changed = True
+        out.append((area, x0, y0, x1, y1))
+    out.sort(key=lambda c: -c[0])
+    px = mask.size
+    ops = OpCounts(pixels_read=2 * px, pixels_written=px, alu=6 * px, branches=px)
+    ops += OpCounts(alu=10 * len(comps) ** 2 + 10, branches=2 * len(comps) ** 2)
+    return out, ops
+
+
+def _rings(profile: np.ndarray) -> tuple[list[tuple[int, int]], int] | None:
+    """Runs of rows (start, end exclusive) darker than half the red level, inside red rows."""
+    level = int(np.median(profile))
+    thr = level // 2
+    if level < T_RED:
+        return None
+    dark = profile < thr
+    red_rows = np.flatnonzero(~dark)
+    if red_rows.size < 2:
+        return None
+    lo, hi = int(red_rows[0]), int(red_rows[-1])
+    runs = []
+    r = lo
+    while r <= hi:
+        if dark[r]:
+            s = r
+            while r <= hi and dark[r]:
+                r += 1
+            runs.append((s, r))
+        else:
+            r += 1
+    return runs, level
+
+
+def _centroid_q4(profile: np.ndarray, s: int, e: int, level: int) -> int:
+    """Darkness-weighted row of a ring run (one row of margin each side for blurred edges)."""
+    a, b = max(0, s - 1), min(profile.size, e + 1)
+    w = np.maximum(0, level - profile[a:b]).astype(np.int64)
+    rows = np.arange(a, b, dtype=np.int64)
+    tot = int(w.sum())
+    if tot == 0:
+        return ((s + e - 1) * 16) // 2
+    return fp.div_round(int((w * rows).sum()) * 16, tot)
+
+
+def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCounts]:
+    """Find the 002 red cylinder and its two black rings; ``(None, ops)`` when not found."""
+    _check(rgb)
+    h, w = rgb.shape[:2]
+    small = rgb[::2, ::2]
+    mask = (redness(small) >= T_RED).astype(np.uint8)
+    ops = OpCounts(pixels_read=3 * mask.size, pixels_written=mask.size, alu=4 * mask.size,
+                   bytes_streamed=3 * rgb.size // 2)  # every other row is fetched
+    cands, o = _candidates(mask)
+    ops += o
+    for _, gx0, gy0, gx1, gy1 in cands[:3]:
+        x0, y0, x1, y1 = 2 * gx0, 2 * gy0, min(w, 2 * gx1), min(h, 2 * gy1)
+        if x1 - x0 < 4 or y1 - y0 < 4:
+            continue
+        cx0, cx1 = x0 + (x1 - x0) // 4, x1 - (x1 - x0) // 4
+        red = redness(rgb[y0:y1, cx0:cx1]).astype(np.int32)
+        profile = red.sum(axis=1) // (cx1 - cx0)
+        n = red.size
+        ops += OpCounts(pixels_read=3 * n, alu=4 * n, divs=y1 - y0, bytes_streamed=3 * n)
+        found = _rings(profile)
+        if found is None:
+            continue
+        runs, level = found
+        if len(runs) != 2:
+            continue
+        (s1, e1), (s2, e2) = runs
+        ops += OpCounts(alu=8 * (e2 - s1 + 4) + 40, muls32=2 * (e2 - s1 + 4), divs=2,
+                        branches=2 * (y1 - y0))
+        r1 = y0 * 16 + _centroid_q4(profile, s1, e1, level)
+        r2 = y0 * 16 + _centroid_q4(profile, s2, e2, level)
+        d_q4 = r2 - r1
+        if d_q4 < MIN_RING_GAP_PX * 16 or 2 * max(e1 - s1, e2 - s2) * 16 > d_q4:
+            continue  # rings must be thin compared with their spacing (3 mm vs 14.5 mm)
+        # cylinder axis: middle of the red extent on the rows between the rings
+        band = redness(rgb[y0 + e1:y0 + s2, x0:x1]) >= T_RED
+        if band.size == 0:
+            continue
+        cols = np.flatnonzero(band.sum(axis=0) * 2 >= band.shape[0])
+        ops += OpCounts(pixels_read=3 * band.size, alu=5 * band.size, branches=band.shape[1])
+        if cols.size == 0:
+            continue
+        left, right = x0 + int(cols[0]), x0 + int(cols[-1])
+        u_c = (left + right) * 8  # (left + right) / 2 in Q4
+        res = RedCylinderResult(u_c, (r1 + r2 + 1) >> 1, r1, r2, d_q4,
+                                (right - left + 1) * 16, (x0, y0, x1 - x0, y1 - y0))
+        return res, ops
+    return None, ops

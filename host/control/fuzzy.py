@@ -22,6 +22,9 @@ rings of the red cylinder are more than T_d = 45 px apart (§4).
 Integer implementation: the quantised inputs are scaled so that set peaks are exact multiples of
 4096 (E: x = 3·e_q12, peaks at (j−3)·4096; E_c: x = 2·e_c,q12, peaks at (k−2)·4096), so each
 membership is max(0, 4096 − |x − peak|) exactly in Q12; the centroid is one integer division.
+Against a float64 reference over the whole input grid (e every 2 mrad in ±1.6 rad, e_c every
+20 mrad/s in ±5.6 rad/s, beyond saturation) the largest difference of u is 0.75 mrad
+(tests/test_fuzzy_approach.py checks <= 1.5 mrad on a coarser grid).
 """
 
 from __future__ import annotations

@@ -94,20 +94,36 @@ def joints(events: list[dict], folder: Path) -> str | None:
     return _save(fig, folder, "joints.png")
 
 
-def _paths(obj) -> list[list[tuple[float, float]]]:
-    """Poly-lines found in a plan record: lists of [x, y(, t)] points in metres or mm."""
-    found = []
-    if isinstance(obj, list) and len(obj) >= 2 and all(
-            isinstance(p, list) and len(p) >= 2 and all(isinstance(v, int | float) for v in p[:2])
-            for p in obj):
-        found.append([(p[0], p[1]) for p in obj])
-    elif isinstance(obj, list):
-        for item in obj:
-            found.extend(_paths(item))
-    elif isinstance(obj, dict):
-        for item in obj.values():
-            found.extend(_paths(item))
-    return found
+def cubic_points(ctrl: list, n: int = 40) -> list[tuple[float, float]]:
+    """Points of the cubic Bezier with control points ``ctrl`` ([x, y(, t)] each), eq. (4) of
+    000 with the Bernstein basis."""
+    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = [(p[0], p[1]) for p in ctrl[:4]]
+    out = []
+    for i in range(n + 1):
+        t = i / n
+        b0, b1, b2, b3 = (1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t * t * (1 - t), t ** 3
+        out.append((b0 * x0 + b1 * x1 + b2 * x2 + b3 * x3, b0 * y0 + b1 * y1 + b2 * y2 + b3 * y3))
+    return out
+
+
+def _curves(plan: dict, key: str) -> list[list[tuple[float, float]]]:
+    """Poly-lines of a plan entry: sampled paths, or control points of cubic Beziers."""
+    value = plan.get(key)
+    if not isinstance(value, list) or not value:
+        return []
+    if all(isinstance(p, list) and len(p) >= 2 and isinstance(p[0], int | float) for p in value):
+        return [cubic_points(value)] if len(value) == 4 else [[(p[0], p[1]) for p in value]]
+    out = []
+    for item in value:
+        out.extend(_curves({"c": item}, "c"))
+    return out
+
+
+def _odom_to_world(start: dict | None):
+    """The host plans in its odometry frame (the start pose); map to the world for plotting."""
+    x0, y0, h0 = (start or {}).get("robot", [0.0, 0.0, 0.0])
+    c, s = math.cos(h0), math.sin(h0)
+    return lambda p: (x0 + c * p[0] - s * p[1], y0 + s * p[0] + c * p[1])
 
 
 def bezier(events: list[dict], folder: Path) -> str | None:
@@ -118,23 +134,28 @@ def bezier(events: list[dict], folder: Path) -> str | None:
     fig, ax = plt.subplots(figsize=(6, 5))
     start = next((e for e in events if e["ev"] == "start"), None)
     _obstacles(ax, start)
-    scale = 1.0
+    to_world = _odom_to_world(start)
     for k, e in enumerate(plans):
         plan = e["plan"]
-        cands = _paths(plan.get("candidates", []))
-        best = _paths(plan.get("best", []))
+        cands = _curves(plan, "candidates_ctrl") or _curves(plan, "candidates")
+        best = _curves(plan, "best_ctrl") or _curves(plan, "best")
         pts = [p for path in cands + best for p in path]
-        if pts and max(abs(v) for p in pts for v in p) > 50:
-            scale = 1e-3  # the host plans in millimetres
+        scale = 1e-3 if pts and max(abs(v) for p in pts for v in p) > 50 else 1.0  # mm or m
+        cands = [[to_world((p[0] * scale, p[1] * scale)) for p in path] for path in cands]
+        best = [[to_world((p[0] * scale, p[1] * scale)) for p in path] for path in best]
         for path in cands:
-            ax.plot([p[0] * scale for p in path], [p[1] * scale for p in path], color="tab:red",
+            ax.plot([p[0] for p in path], [p[1] for p in path], color="tab:red",
                     lw=0.4, alpha=0.4)
         for path in best:
-            ax.plot([p[0] * scale for p in path], [p[1] * scale for p in path], color="tab:blue",
-                    lw=2, label="chosen" if k == 0 else None)
+            ax.plot([p[0] for p in path], [p[1] for p in path], color="tab:blue",
+                    lw=2 if k == len(plans) - 1 else 1, alpha=1.0 if k == len(plans) - 1 else 0.5,
+                    label="chosen (last plan)" if k == len(plans) - 1 else None)
     truth = [e for e in events if e["ev"] == "truth" and e.get("x_m") is not None]
     if truth:
         ax.plot([e["x_m"] for e in truth], [e["y_m"] for e in truth], "k:", lw=1, label="base")
+        obj = truth[0].get("obj")
+        if obj:
+            ax.plot(obj[0], obj[1], "r*", ms=12, label="object")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from link.base import Transport
+from link.base import LinkClosed, Transport
 from protocol.frame import Frame, FrameParser, encode_frame
 from protocol.messages import MESSAGE_TYPES, Message, MessageError, decode_frame, message_frame
 from protocol.reliable import SequenceCounter
@@ -48,6 +48,7 @@ class Link:
         self.rx_bytes = 0
         self.decode_errors = 0
         self.last_wire = b""
+        self._pending_close: LinkClosed | None = None
 
     def send(self, msg: Message) -> int:
         """Send ``msg`` with the next sequence number; returns that number."""
@@ -69,10 +70,22 @@ class Link:
         self.tx_bytes += len(wire)
 
     def poll(self) -> list[Received]:
-        """Read what the transport has now (never blocks) and return the decoded messages."""
+        """Read what the transport has now (never blocks) and return the decoded messages.
+
+        LinkClosed propagates, but only after the messages that arrived before the peer
+        vanished have been returned (by this call; the next call raises)."""
+        if self._pending_close is not None:
+            exc, self._pending_close = self._pending_close, None
+            raise exc
         out: list[Received] = []
         for _ in range(_MAX_READS_PER_POLL):
-            chunk = self.transport.read()
+            try:
+                chunk = self.transport.read()
+            except LinkClosed as exc:
+                if not out:
+                    raise
+                self._pending_close = exc
+                break
             if not chunk:
                 break
             self.rx_bytes += len(chunk)

@@ -124,3 +124,14 @@ def test_link_send_rejects_invalid_messages_before_writing():
     with pytest.raises(ValueError, match="SetWheels.left_mmps"):
         tx.send(msg)
     assert b.read() == b"" and tx.stats["tx_frames"] == 0
+
+
+def test_link_poll_returns_last_messages_before_raising_link_closed():
+    a, b = inproc_pair()
+    rx = Link(b)
+    Link(a).send(p.Heartbeat(1))
+    a.close()
+    got = rx.poll()  # the data, then the closed peer inside the same poll
+    assert [r.msg for r in got] == [p.Heartbeat(1)]
+    with pytest.raises(LinkClosed):
+        rx.poll()

@@ -1,24 +1,45 @@
-"""``mobigrasp demo``: the main job of ``make demo``.
+"""``mobigrasp demo``: the main job of ``make demo``: paper000-exp1 in closed loop over the pty.
 
-Until the closed loop (host + emulated MCU + world) exists, it runs the link demo and says so.
+The emulated MCU + world (this process) and the host program (a second process) are joined by a
+real pseudo-terminal in lockstep simulated time; at the end it prints where the report is.
+``--count N`` runs only the link demo instead (frames over a pty to an echo process and back).
 """
 
 from __future__ import annotations
 
 import argparse
-
-from tools.commands.link_demo import run_link_demo
+from pathlib import Path
 
 
 def _main(args: argparse.Namespace) -> int:
-    print("mobigrasp demo: the closed loop is not wired yet, so this runs the link demo "
-          "(mobigrasp link-demo): frames over a real pty to a second process and back.")
-    result = run_link_demo(args.count)
-    return 0 if result["lost"] == 0 else 1
+    if args.count is not None:
+        from tools.commands.link_demo import run_link_demo
+
+        print("mobigrasp demo --count: runs the link demo (mobigrasp link-demo): frames over a "
+              "real pty to a second process and back.")
+        result = run_link_demo(args.count)
+        return 0 if result["lost"] == 0 else 1
+    from tools.run_job import BadInput, RunOptions, execute, summary_line
+
+    out = args.out or Path("runs") / "demo-paper000-exp1"
+    print("mobigrasp demo: paper000-exp1 (paper 000, experiment 1) in closed loop: emulated "
+          "ATmega128 + pymunk world + eye-in-hand camera here, the S3C2440 host program in a "
+          "second process, joined by a real pty in lockstep simulated time.")
+    try:
+        summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty", out=out))
+    except BadInput as exc:
+        print(f"mobigrasp demo: {exc}")
+        return 2
+    print(summary_line(summary, out))
+    print(f"report: {(out / 'report.html').resolve()}")
+    return code
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``demo``."""
-    parser = sub.add_parser("demo", help="run the main demo (for now: the link demo)")
-    parser.add_argument("--count", type=int, default=300, help="messages for the link demo")
+    parser = sub.add_parser("demo", help="run paper000-exp1 in closed loop over the pty")
+    parser.add_argument("--out", type=Path, default=None,
+                        help="run folder (default runs/demo-paper000-exp1)")
+    parser.add_argument("--count", type=int, default=None,
+                        help="run only the link demo with this many messages")
     parser.set_defaults(func=_main)

@@ -10,10 +10,7 @@ due: wheel PI (100 Hz), watchdog, sonar slot, telemetry. It returns the earliest
 reset) at which something will be due, which is when the emulator runs it again; on the part the
 loop spins or sleeps until the next interrupt, which is equivalent because nothing else changes.
 
-Command rules (docs/firmware.md): nothing actuates before HELLO (NACK_NOT_READY); a frame that does
-not decode is NACKed with the protocol's reason and never actuates; reliable commands are ACKed,
-and a retransmitted copy (same seq) is answered again but not executed twice; STOP and the
-watchdog stop the wheels and hold the arm.
+What each command does is in ``dispatch.py`` (the C port's ``switch (msg_type)``).
 """
 
 from __future__ import annotations
@@ -21,14 +18,9 @@ from __future__ import annotations
 import struct
 
 from mcu_sim.firmware import params as P
+from mcu_sim.firmware.dispatch import handle_frame
 from mcu_sim.firmware.ring import ByteRing
-from mcu_sim.firmware.servo_table import (
-    GRIPPER_OPEN_US,
-    SERVO_COUNT,
-    ServoBank,
-    mrad_slew_to_us,
-    mrad_to_us,
-)
+from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
 from mcu_sim.firmware.sonar_task import SonarTask
 from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
 from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
@@ -39,41 +31,17 @@ from protocol import (
     FLAG_RESET,
     FLAG_STOPPED,
     FLAG_WATCHDOG,
-    NACK_BAD_PARAM,
-    NACK_BAD_VERSION,
-    NACK_NOT_READY,
     PROTOCOL_VERSION,
-    SERVO_MODE_MRAD,
-    Ack,
     DuplicateFilter,
     Frame,
     FrameParser,
-    Gripper,
-    Heartbeat,
-    Hello,
-    HelloAck,
-    MessageError,
-    Nack,
-    ParamGet,
-    ParamSet,
-    ParamValue,
     SequenceCounter,
-    SetServos,
-    SetWheels,
-    Stop,
     Telemetry,
-    decode_frame,
     encode_frame,
     encode_message,
 )
 
-FIRMWARE_ID = "mobigrasp-avr"
-CAP_SERVOS, CAP_WHEELS, CAP_SONARS, CAP_PARAMS = 1, 2, 4, 8
-CAPABILITIES = CAP_SERVOS | CAP_WHEELS | CAP_SONARS | CAP_PARAMS
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
-SET_WHEELS_STRUCT = struct.Struct("<hh")
-SET_WHEELS_TYPE = SetWheels.MSG_TYPE
-WHEEL_MMPS_MAX = 1000  # protocol range of SetWheels fields
 ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks
 TCCRA_SERVO = 0b1010_1010  # COMnA/B/C = 10 (non-inverting), WGMn1:0 = 10
 TCCRB_SERVO = 0b0001_1010  # WGMn3:2 = 11 (mode 14), CSn = 010 (clk/8)
@@ -118,7 +86,7 @@ class Firmware:
         for pid, value in self._overrides.items():
             self.params.set(pid, value)
         self.servos.reset()
-        self._apply_servo_limits()
+        self.apply_servo_limits()
         self.enc_count[0] = self.enc_count[1] = 0
         self.duty_out[0] = self.duty_out[1] = 0
         for wheel in self.wheels:
@@ -140,7 +108,7 @@ class Firmware:
             timer.write_tccra(TCCRA_SERVO)
             timer.write_icr(ICR_20MS)
         for ch in range(SERVO_COUNT):
-            self._write_ocr(ch)
+            self.write_ocr(ch)
         self.servos.latch()
         for timer in (hw.timer1, hw.timer3):
             timer.write_tccrb(TCCRB_SERVO, hw.cycle)
@@ -170,7 +138,7 @@ class Firmware:
         for ch in range(SERVO_COUNT):
             # A channel at rest keeps its OCR value: nothing to write (saves ISR time in C too).
             if servos.target_q8[ch] != servos.latched_q8[ch]:
-                self._write_ocr(ch)
+                self.write_ocr(ch)
 
     def isr_encoder(self, side: int, edges: int) -> None:
         """Encoder edges of wheel ``side`` (0 left, 1 right): ``edges`` ISR calls of +-1."""
@@ -188,7 +156,7 @@ class Firmware:
         data = self.rx.take_all()
         if data:
             for frame in self.parser.feed(data):
-                self._handle(frame, now)
+                handle_frame(self, frame, now)
         params = self.params
         if now >= self.next_control_us:
             self._control()
@@ -219,7 +187,8 @@ class Firmware:
         return due
 
     # -- outputs -------------------------------------------------------------------------------
-    def _write_ocr(self, ch: int) -> None:
+    def write_ocr(self, ch: int) -> None:
+        """Step channel ``ch`` towards its target and write its OCR (latched at BOTTOM)."""
         timer, idx = self.hw.servo_timer(ch)
         timer.write_ocr(idx, self.servos.next_pending(ch))
 
@@ -232,22 +201,24 @@ class Firmware:
         wheel.write_direction(duty < 0, cycle)
         wheel.write_ocr(-duty if duty < 0 else duty, cycle)
 
-    def _stop_wheels(self) -> None:
+    def stop_wheels(self) -> None:
+        """Bridges off now, PI state cleared, drive disabled until the next SET_WHEELS."""
         self.drive_enabled = False
         for side in (0, 1):
             self.wheels[side].stop(self.enc_count[side])
             self._set_duty(side, 0)
 
-    def _hold_arm(self) -> None:
+    def hold_arm(self) -> None:
+        """Every servo stays at the width in force."""
         self.servos.hold()
         for ch in range(SERVO_COUNT):
-            self._write_ocr(ch)
+            self.write_ocr(ch)
 
     def _trip_watchdog(self) -> None:
         self.watchdog_tripped = True
         self.watchdog_trips += 1
-        self._stop_wheels()
-        self._hold_arm()
+        self.stop_wheels()
+        self.hold_arm()
 
     def _control(self) -> None:
         kp = self.params.get(P.P_WHEEL_KP)
@@ -260,7 +231,8 @@ class Firmware:
                 duty = 0
             self._set_duty(side, duty)
 
-    def _send(self, msg) -> None:
+    def send(self, msg) -> None:
+        """Queue a message for the host (dropped and counted if the TX ring is full)."""
         wire = encode_message(msg, self.tx_seq.next())
         if not self.hw.usart0.tx_write(wire, self.hw.cycle):
             self.tx_dropped += 1
@@ -309,113 +281,27 @@ class Firmware:
         self.limit_flag = False
         self.reset_flag = False
 
-    # -- command handling ----------------------------------------------------------------------
-    def _handle(self, frame, now: int) -> None:
-        if frame.msg_type == SET_WHEELS_TYPE and len(frame.payload) == SET_WHEELS_STRUCT.size:
-            # Hot path (50 Hz stream): unpack the two int16 like the C switch does; anything odd
-            # falls through to the general decoder, which NACKs it with the protocol's reason.
-            left, right = SET_WHEELS_STRUCT.unpack(frame.payload)
-            lim = WHEEL_MMPS_MAX
-            if -lim <= left <= lim and -lim <= right <= lim:
-                self.last_valid_us = now
-                self.watchdog_tripped = False
-                if not self.handshake:
-                    self.not_ready += 1
-                    return
-                self._set_wheels(left, right)
-                return
-        try:
-            msg = decode_frame(frame)
-        except MessageError as exc:
-            self.bad_frames += 1
-            self._send(Nack(frame.seq, exc.nack_reason))
-            return
-        self.last_valid_us = now
-        self.watchdog_tripped = False
-        seq = frame.seq
-        if isinstance(msg, Hello):
-            if msg.proto_version != PROTOCOL_VERSION:
-                self._send(Nack(seq, NACK_BAD_VERSION))
-                return
-            self.dup.reset()  # a (re)started host counts from 0 again
-            self.dup.is_new(seq)
-            self.handshake = True
-            self._send(Ack(seq))
-            self._send(HelloAck(PROTOCOL_VERSION, FIRMWARE_ID, CAPABILITIES))
-            return
-        if isinstance(msg, SetWheels):
-            if not self.handshake:
-                self.not_ready += 1
-                return
-            self._set_wheels(msg.left_mmps, msg.right_mmps)
-            return
-        if not msg.RELIABLE:
-            if not isinstance(msg, Heartbeat):  # replies and logs are not for the MCU
-                self.unexpected += 1
-            return
-        if not self.handshake:
-            self.not_ready += 1
-            self._send(Nack(seq, NACK_NOT_READY))
-            return
-        if self.dup.is_new(seq):
-            reason = self._execute(msg)
-            self.dup.set_result(seq, reason)
-        else:
-            reason = self.dup.result(seq)
-        self._send(Nack(seq, reason) if reason else Ack(seq))
-        if not reason and isinstance(msg, ParamGet | ParamSet):
-            self._send(ParamValue(msg.param_id, self.params.get(msg.param_id)))
-
-    def _execute(self, msg) -> int:
-        """Carry out a new reliable command; 0 or a NACK reason."""
-        if isinstance(msg, SetServos):
-            mrad = msg.mode == SERVO_MODE_MRAD
-            slew_us = mrad_slew_to_us(msg.slew) if mrad else msg.slew
-            for ch in range(SERVO_COUNT):
-                value = msg.targets[ch]
-                pulse = mrad_to_us(ch, value) if mrad else value
-                if self.servos.set_target_us(ch, pulse, slew_us):
-                    self._count_limit()
-                self._write_ocr(ch)
-            self.stopped = False
-            return 0
-        if isinstance(msg, Gripper):
-            if self.servos.set_target_us(0, GRIPPER_OPEN_US + msg.close_permille, 0):
-                self._count_limit()
-            self._write_ocr(0)
-            return 0
-        if isinstance(msg, Stop):
-            self._stop_wheels()
-            self._hold_arm()
-            self.stopped = True
-            return 0
-        if isinstance(msg, ParamGet):
-            return 0 if self.params.get(msg.param_id) is not None else NACK_BAD_PARAM
-        if isinstance(msg, ParamSet):
-            reason = self.params.check(msg.param_id, msg.value)
-            if reason == 0:
-                self.params.set(msg.param_id, msg.value)
-                self._apply_servo_limits()
-            return reason
-        return NACK_BAD_PARAM  # a reliable type this firmware does not execute
-
-    def _count_limit(self) -> None:
+    # -- helpers the command dispatch (dispatch.py) calls ----------------------------------------
+    def count_limit(self) -> None:
+        """A command was clamped: count it and flag the next telemetry."""
         self.limit_hits += 1
         self.limit_flag = True
 
-    def _apply_servo_limits(self) -> None:
+    def apply_servo_limits(self) -> None:
+        """Copy the servo limit PARAMs into the servo bank and rewrite the OCRs (clamped)."""
         servos = self.servos
         for ch in range(SERVO_COUNT):
             servos.min_us[ch] = self.params.get(P.P_SERVO_MIN_BASE + ch)
             servos.max_us[ch] = self.params.get(P.P_SERVO_MAX_BASE + ch)
-            self._write_ocr(ch)
+            self.write_ocr(ch)
 
-    def _set_wheels(self, left_mmps: int, right_mmps: int) -> None:
+    def set_wheels(self, left_mmps: int, right_mmps: int) -> None:
+        """New wheel speed targets (mm/s), clamped to ``wheel_max_mmps``; enables the drive."""
         limit = self.params.get(P.P_WHEEL_MAX_MMPS)
         for side, mmps in ((0, left_mmps), (1, right_mmps)):
             clamped = min(max(mmps, -limit), limit)
             if clamped != mmps:
-                self._count_limit()
+                self.count_limit()
             if not self.drive_enabled:
                 self.wheels[side].reset(self.enc_count[side])
             self.wheels[side].set_target(clamped)

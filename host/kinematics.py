@@ -42,7 +42,8 @@ Q4 = 16  # 1 mm in Q4
 ALPHA_DOWN_MRAD = -1571  # alpha_T = -pi/2: gripper vertical, looking down (000)
 ALPHA_LEVEL_MRAD = 0  # horizontal gripper (002)
 REACH_TOL_MM_Q4 = 8  # 0.5 mm: rounding slack at the workspace boundary
-LIMIT_SNAP_MRAD = 3  # a solution this close outside a joint limit is put on the limit
+LIMIT_SNAP_MRAD = 30  # theta3..5 this close outside a limit are put on it (FK-checked after)
+ALPHA_SNAP_MRAD = 30  # theta2 too: alpha stays within 30 mrad of alpha_T (FK-checked)
 
 
 @dataclass(frozen=True)
@@ -176,12 +177,13 @@ def ik_pitch_mm_q4(geom: ArmGeometry, target_mm_q4: tuple[int, int, int],
     k1 = l1 * den + l2 * num
     k2 = -l2 * sin_den
     theta4_u = atan2_urad(k1 * b - k2 * a, k1 * a + k2 * b)
-    # Near a limit (e.g. the stretched arm, where acos is ill-conditioned) a solution a few
-    # mrad outside is pulled onto the limit; th2 is recomputed so alpha stays alpha_T.
+    # Near a limit (e.g. the stretched arm, where acos is ill-conditioned and 1/32 mm of input
+    # rounding moves the elbow by tens of mrad) a solution just outside is pulled onto the
+    # limit; the FK check below keeps the point within 1 mm.
     theta3 = _snap_to_limit(3, _urad_to_mrad(theta3_u))
     theta4 = _snap_to_limit(4, _urad_to_mrad(theta4_u))
-    pose = ArmPose(_snap_to_limit(2, alpha_t_mrad - theta3 - theta4), theta3, theta4,
-                   _snap_to_limit(5, theta5))
+    pose = ArmPose(_snap_to_limit(2, alpha_t_mrad - theta3 - theta4, ALPHA_SNAP_MRAD), theta3,
+                   theta4, _snap_to_limit(5, theta5))
     bad = _check_limits(pose)
     if bad is not None:
         return bad
@@ -194,11 +196,11 @@ def ik_pitch_mm_q4(geom: ArmGeometry, target_mm_q4: tuple[int, int, int],
     return pose
 
 
-def _snap_to_limit(ch: int, angle_mrad: int) -> int:
+def _snap_to_limit(ch: int, angle_mrad: int, snap_mrad: int = LIMIT_SNAP_MRAD) -> int:
     lo, hi = arm_calib.JOINT_LIMITS_MRAD[ch]
-    if lo - LIMIT_SNAP_MRAD <= angle_mrad < lo:
+    if lo - snap_mrad <= angle_mrad < lo:
         return lo
-    if hi < angle_mrad <= hi + LIMIT_SNAP_MRAD:
+    if hi < angle_mrad <= hi + snap_mrad:
         return hi
     return angle_mrad
 
@@ -243,6 +245,7 @@ class PreciseGraspStep:
     dz_mm: int
     aligned: bool
     reason: str
+    d_align_mrad: int = 0  # the turn asked for (applied to theta5 here; the caller may roll)
 
 
 def spoke_angle_mrad(slope_q12: int) -> int:
@@ -279,4 +282,5 @@ def precise_grasp_step(theta5_mrad: int, spoke_mrad: int, width_px: int, *,
     slope_ok = abs(ang) <= slope_tol_mrad
     aligned = slope_ok and dz == 0
     sreason = "k_T ~ 0" if slope_ok else f"spoke at {ang} mrad: turn waist"
-    return PreciseGraspStep(ROLL_PRECISE_MRAD, th5, dz, aligned, f"{sreason}; {wreason}")
+    return PreciseGraspStep(ROLL_PRECISE_MRAD, th5, dz, aligned, f"{sreason}; {wreason}",
+                            0 if slope_ok else step)

@@ -64,10 +64,10 @@ class TaskParams:
     h_shoulder_mm: int = 200  # 000, 002; 001: 108
     object_top_mm: int = 100  # object top above the ground (000 card; 002 cylinder 120)
     grasp_height_mm: int = 80  # grasp point above the ground
-    hover_mm: int = 100  # rough grasp: camera this far above the object top (000)
+    hover_mm: int = 60  # rough grasp: camera this far above the object top (000)
     lift_mm: int = 60
     approach_standoff_mm: int = 400  # 000 P3: axle this far from the object
-    grasp_r_mm: int = 140  # object this far ahead of the waist axis for the grasp
+    grasp_r_mm: int = 120  # object this far ahead of the waist axis for the grasp
     grasp_r_tol_mm: int = 20
     bearing_tol_mrad: int = 60
     adjust_vmax_mmps: int = 80
@@ -84,6 +84,7 @@ class TaskParams:
     posture_step_mrad: int = 60  # per control step
     spoke_wait_us: int = 3_000_000  # no spoke for this long: grasp on the rough position
     precise_max_steps: int = 30
+    precise_align_ch: int = 1  # joint that drives k_T to 0: 1 wrist roll, 5 waist (task_grasp)
     pregrasp_back_mm: int = 50  # 002: pre-grasp point this far short of the object
     grasp_close_timeout_us: int = 2_000_000
     cylinder_near_px: int = 20  # 002: ring spacing at which ADJUST (slow, straight) starts

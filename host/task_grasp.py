@@ -6,16 +6,20 @@ A mixin of host.task.Task (through host.task_states).  Targets in the platform f
   alpha_T = -pi/2, by eq. (11) of 000 (host.kinematics).  002: the pre-grasp point
   ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
   eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits).
-- PRECISE_GRASP (000 §III.C.2): roll theta1 to pi/2, then on each spoke reading turn the waist
+- PRECISE_GRASP (000 §III.C.2): roll theta1 to pi/2, then on each spoke reading turn
   until k_T = 0 and move up/down until w_T is in [20, 40] px; then down to the grasp height and
-  close.  No spoke for ``spoke_wait_us`` (or too many steps): go down on the rough position and
-  say so in the trace.  002: move in from the pre-grasp point to the axis and close.
+  close.  The turn is made with the wrist roll by default (``precise_align_ch`` = 1): with the
+  gripper vertical it turns the image like the waist does, but does not swing the gripper
+  sideways by r * d_theta5 (20 mm at r = 140 mm for 0.15 rad, more than the grasp tolerance);
+  ``precise_align_ch`` = 5 turns the waist as the brief reads 000.  No spoke for
+  ``spoke_wait_us`` (or too many steps): go down on the rough position and say so in the trace.
+  002: move in from the pre-grasp point to the axis and close.
 - LIFT: raise by ``lift_mm`` with the same pitch; DONE once settled with the object held.
 """
 
 from __future__ import annotations
 
-from host import kinematics
+from host import arm_calib, kinematics
 from host.fixedpoint import cos_q12, isqrt, sin_q12
 from host.task_sense import spoke_reading
 
@@ -131,6 +135,15 @@ class GraspStates:
             self._descend(now, f"not aligned after {self.precise_steps} steps: {step.reason}")
             return
         x, y, z = self.gripper_point_q4()
+        if self.p.precise_align_ch == 1:
+            # roll about the vertical l3: the gripper stays above the object; the spokes repeat
+            # every quarter turn, so stay inside the roll limits by taking the neighbour spoke
+            roll = self.arm[1] + step.d_align_mrad
+            lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
+            roll += -kinematics.QUARTER_TURN_MRAD if roll > hi else (
+                kinematics.QUARTER_TURN_MRAD if roll < lo else 0)
+            self._move_point(now, x, y, z + step.dz_mm * 16, roll)
+            return
         rho = isqrt(x * x + y * y)
         nx = (rho * sin_q12(step.theta5_mrad) + 2048) >> 12
         ny = (rho * cos_q12(step.theta5_mrad) + 2048) >> 12

@@ -57,16 +57,19 @@ def test_fk_matches_float_reference(t2, t3, t4, t5):
 
 
 @settings(max_examples=200, deadline=None)
-@given(t3=st.integers(-2800, 0), t4=st.integers(0, 3000), t5=st.integers(-1400, 1400))
+@given(t3=st.integers(-2800, -50), t4=st.integers(0, 3000), t5=st.integers(-1400, 1400))
 def test_rough_grasp_round_trip_within_1mm(t3, t4, t5):
-    """Reachable workspace of the rough grasp: every in-limit pose with alpha = -pi/2."""
+    """Reachable workspace of the rough grasp: every in-limit pose with alpha = -pi/2.
+
+    Within 50 mrad of the fully stretched elbow 1/32 mm of input rounding moves the elbow angle
+    by tens of mrad (cos is flat there), so the angles there are not a fair round trip."""
     t2 = -1571 - t3 - t4
     assume(-3000 <= t2 <= 0)
     target = fk_float(L000, t2 / 1000, t3 / 1000, t4 / 1000, t5 / 1000)
     assume(math.hypot(target[0], target[1]) > 10.0)  # the waist angle is ill-defined near the axis
     res = kin.ik_rough_grasp_000(G000, tuple(round(v * 16) for v in target))
     assert isinstance(res, kin.ArmPose), res
-    assert abs(res.alpha_mrad + 1571) <= kin.LIMIT_SNAP_MRAD
+    assert abs(res.alpha_mrad + 1571) <= kin.ALPHA_SNAP_MRAD
     for ch, v in ((2, res.theta2_mrad), (3, res.theta3_mrad), (4, res.theta4_mrad),
                   (5, res.theta5_mrad)):
         assert arm_calib.within_limits(ch, v)

@@ -1,0 +1,200 @@
+"""host/task in a small float kinematic world (test-only): the whole sequence in simulated time.
+
+The world here is a reference written from docs/conventions.md in float: a unicycle base
+(track 300 mm) driven by the task's wheel speeds, the arm at the commanded joints (eq. (3) of
+000 for the camera point, OpenCV camera axes as in conventions), a pinhole camera (f = 611 or
+350 px) that "detects" the markers by projecting their true positions, and the grasp rule of
+mcu_sim/world/arm.py (15 mm horizontally, 20 mm vertically, gripper closed).
+"""
+
+import math
+
+import pytest
+
+from host import arm_calib
+from host.task import Task, TaskInputs
+
+MOUNT_M = 0.10
+H_SHOULDER_M = 0.20
+
+
+def cam_axes(j):
+    t1, t5 = j[1] / 1000, j[5] / 1000
+    a = (j[2] + j[3] + j[4]) / 1000
+    z = (math.cos(a) * math.sin(t5), math.cos(a) * math.cos(t5), math.sin(a))
+    x0 = (math.cos(t5), -math.sin(t5), 0.0)
+    y0 = (z[1] * x0[2] - z[2] * x0[1], z[2] * x0[0] - z[0] * x0[2], z[0] * x0[1] - z[1] * x0[0])
+    x = tuple(math.cos(t1) * a_ + math.sin(t1) * b_ for a_, b_ in zip(x0, y0, strict=True))
+    y = (z[1] * x[2] - z[2] * x[1], z[2] * x[0] - z[0] * x[2], z[0] * x[1] - z[1] * x[0])
+    return x, y, z
+
+
+class World:
+    """Float reference world for one object; ``lengths`` in mm."""
+
+    def __init__(self, obj_xy, lengths=(95.5, 89.0, 97.0), f_px=611, grasp_h=0.08, top_h=0.10,
+                 pose=(0.0, 0.0, 0.0), spoke_rad=0.3):
+        self.obj = obj_xy
+        self.l = [v / 1000 for v in lengths]
+        self.f = f_px
+        self.grasp_h, self.top_h = grasp_h, top_h
+        self.x, self.y, self.h = pose
+        self.v = 0.0
+        self.spoke_rad = spoke_rad
+        self.joints = (0, 0, -1571, -1571, 1571, 0)
+        self.held = False
+
+    def platform_to_world(self, p):
+        fx, fy = math.cos(self.h), math.sin(self.h)
+        rx, ry = math.sin(self.h), -math.cos(self.h)
+        wx = self.x + MOUNT_M * fx + p[0] * rx + p[1] * fx
+        wy = self.y + MOUNT_M * fy + p[0] * ry + p[1] * fy
+        return wx, wy, H_SHOULDER_M + p[2]
+
+    def camera(self):
+        t2, t3, t4, t5 = (v / 1000 for v in self.joints[2:6])
+        a = t2 + t3 + t4
+        l1, l2, l3 = self.l
+        r = l1 * math.cos(t4) + l2 * math.cos(t4 + t3) + l3 * math.cos(a)
+        z = l1 * math.sin(t4) + l2 * math.sin(t4 + t3) + l3 * math.sin(a)
+        pos = self.platform_to_world((r * math.sin(t5), r * math.cos(t5), z))
+        axes = []
+        for ax in cam_axes(self.joints):
+            w = self.platform_to_world(ax)
+            o = self.platform_to_world((0, 0, 0))
+            axes.append(tuple(w[i] - o[i] for i in range(3)))
+        return pos, axes
+
+    def project(self, pw):
+        pos, (ax, ay, az) = self.camera()
+        d = [pw[i] - pos[i] for i in range(3)]
+        zc = sum(d[i] * az[i] for i in range(3))
+        if zc <= 0.02:
+            return None
+        u = 160 + self.f * sum(d[i] * ax[i] for i in range(3)) / zc
+        v = 120 + self.f * sum(d[i] * ay[i] for i in range(3)) / zc
+        if not (0 <= u < 320 and 0 <= v < 240):
+            return None
+        return u, v, zc
+
+    def detect(self, names):
+        out = {}
+        top = (self.obj[0], self.obj[1], self.top_h)
+        pr = self.project(top)
+        if pr is None or self.held:
+            return {n: None for n in names}
+        u, v, zc = pr
+        for n in names:
+            if n == "radial_symbol" and 0.25 <= zc <= 2.5:
+                out[n] = {"u_q4": round(u * 16), "v_q4": round(v * 16), "y_oc_mm": round(zc * 1000)}
+            elif n == "dual_plus" and zc <= 1.0:
+                out[n] = {"um_q4": round(u * 16), "vm_q4": round(v * 16),
+                          "d_is_mm": round(zc * 1000)}
+            elif n == "spoke" and zc <= 0.3:
+                a = (self.obj[0] + 0.005 * math.cos(self.spoke_rad),
+                     self.obj[1] + 0.005 * math.sin(self.spoke_rad), self.top_h)
+                pa = self.project(a)
+                if pa is not None:
+                    ang = math.atan2(pa[1] - v, pa[0] - u)
+                    out[n] = {"angle_mrad": round(ang * 1000),
+                              "w_px": round(6 * self.f / (zc * 1000))}
+            elif n == "double_cross":
+                out[n] = {"um_q4": round(u * 16), "vm_q4": round(v * 16)}
+            elif n == "red_cylinder":
+                out[n] = {"uc_q4": round(u * 16), "vc_q4": round(v * 16),
+                          "d_pixel_q4": round(16 * 14.5 * self.f / (zc * 1000))}
+            out.setdefault(n, None)
+        return out
+
+    def fingertip(self):
+        return self.camera()[0]
+
+    def apply(self, out, dt_s):
+        if out.servo_mrad is not None:
+            self.joints = tuple(out.servo_mrad)
+        left, right = out.wheels_mmps or (0, 0)
+        v = (left + right) / 2000
+        w = (right - left) / 300
+        self.h += w * dt_s
+        self.x += v * math.cos(self.h) * dt_s
+        self.y += v * math.sin(self.h) * dt_s
+        self.v = v
+        tip = self.fingertip()
+        near = (math.hypot(tip[0] - self.obj[0], tip[1] - self.obj[1]) <= 0.015
+                and abs(tip[2] - self.grasp_h) <= 0.020)
+        if out.gripper_permille == 1000 and near:
+            self.held = True
+        if out.gripper_permille == 0:
+            self.held = False
+
+    def inputs(self, task, frame):
+        dets = self.detect(task.detectors_needed()) if frame else {}
+        dets = {k: v for k, v in dets.items() if v is not None} if frame else {}
+        return TaskInputs(joints_mrad=self.joints, x_mm=round(self.x * 1000),
+                          y_mm=round(self.y * 1000), heading_mrad=round(self.h * 1000),
+                          v_mmps=round(self.v * 1000), sonar_mm=(2500,) * 5, detections=dets,
+                          grasp_closed=self.held)
+
+
+def run(task, world, t_end_us=240_000_000, period_us=20_000, frame_every=3):
+    events, t = [], 0
+    k = 0
+    while t < t_end_us and task.state not in ("DONE", "FAILED"):
+        out = task.step(t, world.inputs(task, k % frame_every == 0))
+        for ch, a in enumerate(out.servo_mrad):
+            assert arm_calib.within_limits(ch, a)
+        assert all(abs(w) <= 1000 for w in out.wheels_mmps)
+        events.extend(out.events)
+        world.apply(out, period_us / 1e6)
+        t += period_us
+        k += 1
+    return events
+
+
+@pytest.mark.parametrize("obj,heading", [((1.2, 0.3), 0.0), ((0.9, -0.4), 0.3),
+                                         ((-0.2, 1.1), 0.0)])
+def test_000_full_sequence_reaches_done(obj, heading):
+    task = Task("000")
+    world = World(obj, pose=(0.0, 0.0, heading))
+    events = run(task, world)
+    path = [e.to_state for e in events]
+    assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
+    for s in ("APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT", "DONE"):
+        assert s in path
+    assert all(b.t_us >= a.t_us for a, b in zip(events, events[1:], strict=False))
+    assert world.held
+    # the object was not run over: the base stayed outside its footprint
+    assert math.hypot(world.x - obj[0], world.y - obj[1]) > 0.17
+
+
+def test_001_full_sequence_reaches_done():
+    task = Task("001")
+    world = World((1.4, 0.2), lengths=(160.0, 160.0, 200.0))
+    world_h = 0.108
+    global H_SHOULDER_M
+    old, H_SHOULDER_M = H_SHOULDER_M, world_h
+    try:
+        events = run(task, world)
+    finally:
+        H_SHOULDER_M = old
+    assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
+    assert task.counters["plans"] >= 2  # 001 replans from the present pose
+
+
+def test_002_horizontal_grasp_below_shoulder_fails_with_reason():
+    """The red cylinder's 0.10 m grasp point needs theta2 > 0 with a level gripper."""
+    task = Task("002")
+    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12)
+    events = run(task, world)
+    path = [e.to_state for e in events]
+    assert path[:2] == ["APPROACH", "ADJUST"]
+    assert task.state == "FAILED" and "rough grasp IK" in task.failure
+    assert "theta" in task.failure
+
+
+def test_002_full_sequence_with_a_reachable_grasp_height():
+    task = Task("002", {"grasp_height_mm": 240, "object_top_mm": 260})
+    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.24, top_h=0.26)
+    events = run(task, world)
+    assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
+    assert [e.to_state for e in events][:2] == ["APPROACH", "ADJUST"]

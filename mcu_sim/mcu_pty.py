@@ -17,7 +17,8 @@ import os
 from link.base import LinkClosed
 from link.registry import open_transport
 from mcu_sim.mcu import Mcu, McuConfig
-from protocol import FrameParser, MessageError, Telemetry, decode_frame
+from protocol.frame import FrameParser
+from protocol.messages import MessageError, Telemetry, decode_frame
 
 
 class PtyMcu:

@@ -12,11 +12,11 @@ from __future__ import annotations
 import struct
 
 from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, mrad_slew_to_us, mrad_to_us
-from protocol import (
+from protocol.frame import PROTOCOL_VERSION
+from protocol.messages import (
     NACK_BAD_PARAM,
     NACK_BAD_VERSION,
     NACK_NOT_READY,
-    PROTOCOL_VERSION,
     SERVO_MODE_MRAD,
     Ack,
     Gripper,

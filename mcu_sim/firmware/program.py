@@ -24,22 +24,18 @@ from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
 from mcu_sim.firmware.sonar_task import SonarTask
 from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
 from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
-from protocol import (
+from protocol.frame import PROTOCOL_VERSION, Frame, FrameParser, encode_frame
+from protocol.messages import (
     FLAG_GRIPPER_CLOSED,
     FLAG_HANDSHAKE,
     FLAG_LIMIT,
     FLAG_RESET,
     FLAG_STOPPED,
     FLAG_WATCHDOG,
-    PROTOCOL_VERSION,
-    DuplicateFilter,
-    Frame,
-    FrameParser,
-    SequenceCounter,
     Telemetry,
-    encode_frame,
     encode_message,
 )
+from protocol.reliable import DuplicateFilter, SequenceCounter
 
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
 ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks

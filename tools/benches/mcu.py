@@ -26,14 +26,9 @@ def run(args) -> dict:
     from mcu_sim.bench_plant import WheelsInTheAir
     from mcu_sim.mcu import Mcu, McuConfig
     from mcu_sim.mcu_host import InProcessHost
-    from protocol import (
-        PROTOCOL_VERSION,
-        Hello,
-        SequenceCounter,
-        SetServos,
-        SetWheels,
-        encode_message,
-    )
+    from protocol.frame import PROTOCOL_VERSION
+    from protocol.messages import Hello, SetServos, SetWheels, encode_message
+    from protocol.reliable import SequenceCounter
 
     seconds = int(getattr(args, "seconds", 20))
     tel_hz = int(getattr(args, "telemetry_hz", 50))

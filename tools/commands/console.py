@@ -40,7 +40,7 @@ class ConsoleShell(cmd.Cmd):
         self.stdout.write(text + "\n")
 
     def _absorb(self, received) -> list:
-        from protocol import Telemetry
+        from protocol.messages import Telemetry
 
         rest = []
         for r in received:
@@ -53,7 +53,7 @@ class ConsoleShell(cmd.Cmd):
 
     def _send(self, msg, wait_for: tuple = ()) -> None:
         """Send; for reliable messages wait for the ACK/NACK (and ``wait_for`` types) and print."""
-        from protocol import Ack, Nack
+        from protocol.messages import Ack, Nack
 
         try:
             seq = self.link.send(msg)
@@ -89,7 +89,7 @@ class ConsoleShell(cmd.Cmd):
     @staticmethod
     def _describe(m) -> str:
         from mcu_sim.firmware.params import PARAM_TABLE
-        from protocol import HelloAck, ParamValue
+        from protocol.messages import HelloAck, ParamValue
 
         if isinstance(m, HelloAck):
             return (f"HELLO_ACK firmware={m.firmware_id} protocol={m.proto_version} "
@@ -135,12 +135,13 @@ class ConsoleShell(cmd.Cmd):
     # -- commands ------------------------------------------------------------------------------
     def do_hello(self, arg: str) -> None:
         """hello: open the session (HELLO -> ACK + HELLO_ACK)."""
-        from protocol import PROTOCOL_VERSION, Hello, HelloAck
+        from protocol.frame import PROTOCOL_VERSION
+        from protocol.messages import Hello, HelloAck
 
         self._send(Hello(PROTOCOL_VERSION, "console", 0), wait_for=(HelloAck,))
 
     def _servos(self, arg: str, mode: int) -> None:
-        from protocol import SetServos
+        from protocol.messages import SetServos
 
         values = self._ints(arg, (6, 7))
         if values is None:
@@ -160,7 +161,7 @@ class ConsoleShell(cmd.Cmd):
 
     def do_gripper(self, arg: str) -> None:
         """gripper PERMILLE: 0 = open, 1000 = closed."""
-        from protocol import Gripper
+        from protocol.messages import Gripper
 
         values = self._ints(arg, (1,))
         msg = values and self._make(Gripper, values[0])
@@ -169,7 +170,7 @@ class ConsoleShell(cmd.Cmd):
 
     def do_wheels(self, arg: str) -> None:
         """wheels LEFT_MMPS RIGHT_MMPS: wheel speed targets (streamed, no ACK)."""
-        from protocol import SetWheels
+        from protocol.messages import SetWheels
 
         values = self._ints(arg, (2,))
         msg = values and self._make(SetWheels, values[0], values[1])
@@ -178,20 +179,20 @@ class ConsoleShell(cmd.Cmd):
 
     def do_stop(self, arg: str) -> None:
         """stop: wheels off, arm holds."""
-        from protocol import Stop
+        from protocol.messages import Stop
 
         self._send(Stop())
 
     def do_heartbeat(self, arg: str) -> None:
         """heartbeat: keep the MCU watchdog fed."""
-        from protocol import Heartbeat
+        from protocol.messages import Heartbeat
 
         self._send(Heartbeat(int(time.monotonic() * 1e6) & 0xFFFF_FFFF))
 
     def do_param(self, arg: str) -> None:
         """param get NAME|ID  |  param set NAME|ID VALUE"""
         from mcu_sim.firmware.params import param_id
-        from protocol import ParamGet, ParamSet, ParamValue
+        from protocol.messages import ParamGet, ParamSet, ParamValue
 
         words = arg.split()
         try:

@@ -209,3 +209,15 @@ def test_anytime_cut_marks_unevaluated_curves_and_keeps_the_budget():
     # the end point facing the robot is evaluated first: the robot is at 200° seen from the
     # object, end point k_e sits at φ = 10°·k_e (eq. (6), n_e = 36)
     assert plan.candidates.endpoints[0] == 20
+
+
+def test_shared_echo_option_frees_the_single_sensor_parts():
+    rho = [2.5, 1.0, 1.02, 2.5, 2.5]  # S_2 and S_3 hear the same echo: it is in their overlap
+    as_written = [r.eta_m for r in sub_regions(SonarConfig(), rho)]
+    assert as_written[2] == 1.0 and as_written[3] == 1.02 and as_written[4] == 1.02
+    opt = [r.eta_m for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05), rho)]
+    assert opt[3] == 1.02  # the overlap keeps the echo
+    assert opt[2] == 2.5 and opt[4] == 2.5  # the single-sensor sub-regions are left free
+    far = [r.eta_m for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05), [2.5, 1.0, 1.5,
+                                                                               2.5, 2.5])]
+    assert far[2] == 1.0 and far[4] == 1.5  # different echoes: eq. (15) as written

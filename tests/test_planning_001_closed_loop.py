@@ -23,7 +23,7 @@ CFG = SonarConfig()
 FOOTPRINT_M = 0.17
 
 
-def sonar_mm(x, y, th, obstacles, rays=9):
+def sonar_mm(x, y, th, obstacles, rays=25):
     out = []
     for k in range(1, CFG.k_s + 1):
         phi = th + CFG.axis_rad(k)

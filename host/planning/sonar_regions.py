@@ -31,6 +31,10 @@ class SonarConfig:
     a_g_rad: float = 1.05
     d_e_m: float = 2.5
     r_r_m: float = 0.2  # safety circle radius R_r
+    # Not in 001 (None = eq. (15) as written): when two neighbouring sonars report the same echo
+    # within this tolerance, it is taken to come from their overlap only, and the sub-regions that
+    # only one of them sees are left free.
+    shared_echo_tol_m: float | None = None
 
     def __post_init__(self) -> None:
         if self.k_s < 2 or not 0 < self.a_g_rad < math.pi or not self.d_e_m > 0:
@@ -62,10 +66,17 @@ def sub_regions(cfg: SonarConfig, rho_m) -> list[SubRegion]:
     if cfg.a_g_rad <= math.pi / (cfg.k_s - 1):
         return [SubRegion(k + 1, lo[k], hi[k], rho[k]) for k in range(cfg.k_s)]
     out = []
+    tol = cfg.shared_echo_tol_m
+
+    def shared(a: int, b: int) -> bool:
+        return (tol is not None and 0 <= b < cfg.k_s and rho[a] < cfg.d_e_m
+                and abs(rho[a] - rho[b]) <= tol)
+
     for k in range(cfg.k_s):  # k is 0-based here: sensor S_{k+1}
         start = hi[k - 1] if k > 0 else lo[k]
         end = lo[k + 1] if k + 1 < cfg.k_s else hi[k]
-        out.append(SubRegion(2 * k + 1, start, end, rho[k]))
+        alone = cfg.d_e_m if shared(k, k - 1) or shared(k, k + 1) else rho[k]
+        out.append(SubRegion(2 * k + 1, start, end, alone))
         if k + 1 < cfg.k_s:
             out.append(SubRegion(2 * k + 2, lo[k + 1], hi[k], max(rho[k], rho[k + 1])))
     return out

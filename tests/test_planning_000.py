@@ -114,3 +114,15 @@ def test_control_points_function_matches_paper_formula():
     u = 2
     assert ctrl[u - 1, 1] == pytest.approx([1.0, 2.0 + u * dd_e / 4, u * dd_e / 4 / 0.2])
     assert ctrl[u - 1, 2] == pytest.approx([3.0 - u * dd_e, 2.0, 10.0 - u * dd_e / 0.2])
+
+
+def test_batch_ops_charges_only_the_samples_before_an_early_exit():
+    from host.planning.bezier import sample_ops
+    from host.planning.candidates import batch_ops
+
+    first = np.array([0, 3, 10, 10, 5])  # first violating sample per curve (10 = none)
+    kw = {"regions": 2, "grasp_circle": True, "divs_per_sample": 2}
+    ref = (sample_ops(1, **kw) + sample_ops(4, **kw) + sample_ops(10, **kw).scaled(2)
+           + sample_ops(6, **kw))
+    assert batch_ops(first, 10, **kw) == ref
+    assert batch_ops(np.array([], dtype=int), 10).cycles() == 0

@@ -118,11 +118,14 @@ def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
 
 def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
     """ARM9 cost of a batch with early exit: a curve rejected at sample j costs j + 1 samples."""
-    total = OpCounts()
-    evaluated = np.minimum(first_bad + 1, n_samples)
-    for count, reps in zip(*np.unique(evaluated, return_counts=True), strict=True):
-        total = total + sample_ops(int(count), **kw).scaled(int(reps))
-    return total
+    first_bad = np.asarray(first_bad)
+    if first_bad.size == 0:
+        return OpCounts()
+    samples = int(np.minimum(first_bad + 1, n_samples).sum())
+    setup = sample_ops(0, **kw)
+    per_sample = OpCounts(**{k: v - getattr(setup, k)
+                             for k, v in vars(sample_ops(1, **kw)).items()})
+    return per_sample.scaled(samples) + setup.scaled(first_bad.size)
 
 
 class CandidateList(Sequence):

@@ -170,7 +170,7 @@ def test_little_endian_layouts():
     assert enc[34:] == bytes([0x21, 0, 3, 0, 4, 0, 5, 0, 6, 0])
 
 
-@settings(max_examples=100, deadline=None)
+@settings(max_examples=50, deadline=None)
 @given(any_message, st.integers(0, 255))
 def test_wire_bytes_are_deterministic_and_bounded(msg, seq):
     a = p.encode_message(msg, seq)

@@ -13,7 +13,7 @@ from test_protocol_strategies import any_message
 import protocol as p
 from protocol.frame import MAX_ENCODED
 
-CORRUPT = settings(max_examples=100, deadline=None, derandomize=True)
+CORRUPT = settings(max_examples=60, deadline=None, derandomize=True)
 
 
 def _stream(msgs):
@@ -33,7 +33,7 @@ def _feed_all(parser, chunks):
 messages_list = st.lists(any_message, min_size=1, max_size=12)
 
 
-@settings(max_examples=150, deadline=None)
+@settings(max_examples=80, deadline=None)
 @given(messages_list, st.lists(st.integers(0, 10_000), max_size=30))
 def test_any_chunking_gives_the_same_frames(msgs, cuts):
     wires, sent = _stream(msgs)

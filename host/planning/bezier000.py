@@ -34,6 +34,7 @@ from host.budget import OpCounts
 from host.planning.bezier import sample_ops
 from host.planning.candidates import (
     REASON_OK,
+    CandidateList,
     Limits,
     Plan,
     batch_ops,
@@ -119,7 +120,7 @@ def plan_000(start_xy_m, start_vel_xy_mps, target_xy_m, params: Params000 = Para
     to_obj = obj - p0
     dist_obj = float(np.hypot(*to_obj))
     if dist_obj <= params.standoff_m + 1e-6:
-        return Plan(None, [], ops, "already within standoff of the object")
+        return Plan(None, CandidateList.empty(), ops, "already within standoff of the object")
     d3 = to_obj / dist_obj
     p3 = obj - params.standoff_m * d3
     d0 = start_direction(vel, heading_rad, d3, params.moving_speed_mps)

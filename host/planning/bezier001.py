@@ -44,6 +44,7 @@ from host.planning.bezier import sample_ops
 from host.planning.bezier000 import start_direction
 from host.planning.candidates import (
     REASON_OK,
+    CandidateList,
     Limits,
     Plan,
     batch_ops,
@@ -166,7 +167,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     l_e = grasp_radius(params.arm).l_e_m
     dist = float(np.hypot(*(obj - p0)))
     if dist <= l_e + 1e-3:
-        return Plan(None, [], ops, "already on the grasp circle")
+        return Plan(None, CandidateList.empty(), ops, "already on the grasp circle")
     ends = end_points(obj, l_e, params.n_e)
     to_start = (p0 - obj) / dist
     radial = (ends - obj) / l_e

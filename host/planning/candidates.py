@@ -163,6 +163,12 @@ class CandidateList(Sequence):
                          length_m=float(self.length[i]), kappa_integral=float(self.kint[i]),
                          clearance_m=float(self.clearance[i]))
 
+    @classmethod
+    def empty(cls) -> CandidateList:
+        """No candidates (nothing was planned)."""
+        z = np.zeros(0)
+        return cls(np.zeros((0, 4, 3)), [], z, z, z, z, z, z)
+
     def feasible_indices(self) -> np.ndarray:
         """Indices of the candidates that passed every check."""
         return np.nonzero(np.isfinite(self.cost))[0]

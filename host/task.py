@@ -89,6 +89,7 @@ class TaskParams:
     grasp_close_timeout_us: int = 2_000_000
     cylinder_near_px: int = 20  # 002: ring spacing at which ADJUST (slow, straight) starts
     slow_mmps: int = 60  # 002 ADJUST speed
+    safety_r_mm: int = 60  # 002 ADJUST: stop on the estimate this close to the waist (+ tol)
     t_d_px: int = 45  # 002 T_d
     search: dict = field(default_factory=dict)  # host.search.SearchParams fields
     posture: dict = field(default_factory=dict)  # host.posture.PostureParams fields
@@ -100,9 +101,9 @@ class TaskParams:
         """Defaults for a method, then ``overrides`` (unknown key -> ValueError naming it)."""
         base = cls()
         if method == "001":
-            base = replace(base, h_shoulder_mm=108, grasp_r_mm=250)
+            base = replace(base, h_shoulder_mm=108, grasp_r_mm=180, hover_mm=40)
         elif method == "002":
-            base = replace(base, object_top_mm=120, grasp_height_mm=100, grasp_r_mm=150)
+            base = replace(base, object_top_mm=120, grasp_height_mm=100)
         overrides = dict(overrides or {})
         known = {f.name: f for f in fields(cls)}
         for key, value in overrides.items():

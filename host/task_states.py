@@ -9,14 +9,15 @@ information is used and only the waist joint rotates accordingly to re-find the 
 from __future__ import annotations
 
 from host import arm_calib, kinematics
-from host.fixedpoint import isqrt
-from host.posture import PostureParams, adjust_posture
+from host.fixedpoint import atan2_mrad, isqrt
+from host.posture import PostureParams, adjust_posture, distribute_alpha
 from host.search import ArmSearch, SearchParams
 from host.task_drive import close_in, make_fuzzy, make_pose, plan_follower, turn_in_place
 from host.task_grasp import GraspStates
 from host.task_sense import (
     bearing_mrad,
     d_pixel_px,
+    field,
     object_in_platform,
     odom_to_platform_q4,
     platform_to_odom_mm,
@@ -245,10 +246,23 @@ class TaskStates(GraspStates):
         cmd = self.fuzzy.step(now, e, None)
         if e is not None:
             self.obj_seen_us = now
-            th5 = max(-800, min(800, e))  # the waist faces the marker
-            self.set_arm(now, self.arm[2], self.arm[3], self.arm[4], th5)
+            self._track_marker_002(now, dc, e)
         self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         self.note(fuzzy={"e_mrad": e, "u_mrad": cmd.u_mrad, "wheels_mmps": list(self.wheels)})
+
+    def _track_marker_002(self, now: int, det, e: int) -> None:
+        """Keep the marker in view: the waist faces it (theta5 = e) and d_alpha, the pitch of
+        its pixel row off the optical centre, is shared by eq. (10) of 000 (host.posture)."""
+        th5 = max(-800, min(800, e))
+        vm = field(det, "vm_q4", "v_q4")
+        d2 = d3 = d4 = 0
+        if vm is not None:
+            d_alpha = -atan2_mrad(vm - self.cam.v0_px * 16, self.cam.f_px * 16)
+            cap = self.p.posture_step_mrad
+            d_alpha = max(-cap, min(cap, d_alpha))
+            pp = PostureParams(**{"max_step_mrad": cap, **self.p.posture})
+            d2, d3, d4 = distribute_alpha(d_alpha, *self.arm[2:5], pp)
+        self.set_arm(now, self.arm[2] + d2, self.arm[3] + d3, self.arm[4] + d4, th5)
 
     # --- ADJUST -------------------------------------------------------------------------------
     def do_ADJUST(self, now: int, inp, dets: dict) -> None:
@@ -263,12 +277,14 @@ class TaskStates(GraspStates):
                 self.go(now, "ROUGH_GRASP", f"d_pixel = {d_px} px > T_d = {self.p.t_d_px}")
                 return
         x, y = self.obj_platform(inp)
-        vmax = self.p.slow_mmps if self.method == "002" else self.p.adjust_vmax_mmps
-        target_r = 0 if self.method == "002" else self.p.grasp_r_mm
+        # 002 §1: slowly on toward the cylinder until d_pixel > T_d; a safety stop on the
+        # estimate (``safety_r_mm`` from the waist) should the rings never be resolved
+        if self.method == "002":
+            vmax, target_r = self.p.slow_mmps, self.p.safety_r_mm
+        else:
+            vmax, target_r = self.p.adjust_vmax_mmps, self.p.grasp_r_mm
         wheels, done, d = close_in((x, y), target_r, self.p.grasp_r_tol_mm,
                                    self.p.bearing_tol_mrad, vmax)
-        if self.method == "002":  # 002 §1: slow and straight on, the cylinder decides the stop
-            done = False
         self.note(adjust=d)
         unseen = now - self.obj_seen_us
         if unseen >= self.p.lost_timeout_us and abs(d["err_mm"]) > self.p.blind_finish_mm:

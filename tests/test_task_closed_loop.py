@@ -128,8 +128,8 @@ class World:
             self.held = False
 
     def inputs(self, task, frame):
+        # a processed frame reports every detector run (None = not found); {} = no new frame
         dets = self.detect(task.detectors_needed()) if frame else {}
-        dets = {k: v for k, v in dets.items() if v is not None} if frame else {}
         return TaskInputs(joints_mrad=self.joints, x_mm=round(self.x * 1000),
                           y_mm=round(self.y * 1000), heading_mrad=round(self.h * 1000),
                           v_mmps=round(self.v * 1000), sonar_mm=(2500,) * 5, detections=dets,
@@ -193,8 +193,10 @@ def test_002_horizontal_grasp_below_shoulder_fails_with_reason():
 
 
 def test_002_full_sequence_with_a_reachable_grasp_height():
-    task = Task("002", {"grasp_height_mm": 240, "object_top_mm": 260})
-    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.24, top_h=0.26)
+    """A level gripper reaches only points well above the shoulder with theta2 <= 0."""
+    task = Task("002", {"grasp_height_mm": 300, "object_top_mm": 320})
+    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.30, top_h=0.32)
     events = run(task, world)
     assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
-    assert [e.to_state for e in events][:2] == ["APPROACH", "ADJUST"]
+    assert [e.to_state for e in events][:3] == ["APPROACH", "ADJUST", "ROUGH_GRASP"]
+    assert "T_d" in events[2].why  # 002's stop: ring spacing d_pixel > T_d = 45 px

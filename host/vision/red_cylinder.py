@@ -8,17 +8,20 @@ which gives the distance D_OC = D f / d_pixel (host.ranging, D = 14.5 mm).
 How we do it:
 
 1. Redness ``R - max(G, B)`` on every second pixel of every second row (a 160x120 grid);
-   ``redness >= T_RED`` is red. Colour differences scale with the exposure, so one threshold
-   holds from 0.7x to 1.3x brightness.
+   ``redness >= T_RED`` and ``2 R >= 5 max(G, B)`` is red. Colour differences and ratios scale
+   with the exposure, so the thresholds hold from 0.7x to 1.3x brightness.
 2. The black rings cut the cylinder's red into stacked pieces: 8-connected red components
    whose column ranges overlap by at least half of the narrower one are merged into one
-   candidate ROI (the biggest first).
-3. In the central half of the ROI's columns, the mean redness of each full-resolution row is a
+   candidate ROI (the biggest first); the scan columns are those common to all its pieces and,
+   among them, the run around the tallest red column (a red object touching one piece
+   widens the ROI, not the scan columns).
+3. In the central half of the scan columns, the mean redness of each full-resolution row is a
    profile; a ring is a run of rows below half the median red level with red rows above and
    below it. Exactly two rings are required; anything red without them (clutter) is rejected.
    Each ring's row is the darkness-weighted centroid of its run (sub-pixel, Q4).
-4. (u_c, v_c): u_c is the middle of the red extent of the rows between the rings (the
-   cylinder's axis), v_c the midpoint of the rings; the ROI box is returned as well.
+4. (u_c, v_c): u_c is the middle of the run of red columns, on the rows between the rings,
+   through the scan centre (the cylinder's axis), v_c the midpoint of the rings; the ROI box
+   is returned as well.
 """
 
 from __future__ import annotations
@@ -61,8 +64,19 @@ def redness(rgb: np.ndarray) -> np.ndarray:
     return cv2.subtract(rgb[..., 0], cv2.max(rgb[..., 1], rgb[..., 2]))
 
 
-def _candidates(mask: np.ndarray) -> tuple[list[tuple[int, int, int, int, int]], OpCounts]:
-    """Merge vertically stacked red components; returns [(area, x0, y0, x1, y1)] on the grid."""
+def red_mask(rgb: np.ndarray) -> np.ndarray:
+    """Red paint: ``R - max(G, B) >= T_RED`` and ``2 R >= 5 max(G, B)`` (hue close to red,
+    so orange and pink are not red), uint8 0/1."""
+    gb = cv2.max(rgb[..., 1], rgb[..., 2])
+    r = rgb[..., 0]
+    ok = (cv2.subtract(r, gb) >= T_RED) & (2 * r.astype(np.int16) >= 5 * gb.astype(np.int16))
+    return ok.astype(np.uint8)
+
+
+def _candidates(mask: np.ndarray) -> tuple[list[tuple[int, ...]], OpCounts]:
+    """Merge vertically stacked red components; returns [(area, x0, y0, x1, y1, ix0, ix1)] on
+    the grid, biggest first: the union box and the columns common to all merged pieces (the
+    cylinder's own columns even when a red object touches one piece)."""
     n, _, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
     comps = [(int(stats[i, cv2.CC_STAT_AREA]), int(stats[i, cv2.CC_STAT_LEFT]),
               int(stats[i, cv2.CC_STAT_TOP]),
@@ -77,24 +91,40 @@ def _candidates(mask: np.ndarray) -> tuple[list[tuple[int, int, int, int, int]],
             continue
         used[i] = True
         area, x0, y0, x1, y1 = seed
+        ix0, ix1 = x0, x1
         changed = True
         while changed:  # grow until no piece joins (pieces stack: top, middle, bottom)
             changed = False
             for j, c in enumerate(comps):
                 if used[j]:
                     continue
-                overlap = min(x1, c[3]) - max(x0, c[1])
-                if 2 * overlap >= min(x1 - x0, c[3] - c[1]):
+                overlap = min(ix1, c[3]) - max(ix0, c[1])
+                if 2 * overlap >= min(ix1 - ix0, c[3] - c[1]):
                     used[j] = True
                     area += c[0]
                     x0, y0, x1, y1 = min(x0, c[1]), min(y0, c[2]), max(x1, c[3]), max(y1, c[4])
+                    ix0, ix1 = max(ix0, c[1]), min(ix1, c[3])
                     changed = True
-        out.append((area, x0, y0, x1, y1))
+        out.append((area, x0, y0, x1, y1, ix0, ix1))
     out.sort(key=lambda c: -c[0])
     px = mask.size
     ops = OpCounts(pixels_read=2 * px, pixels_written=px, alu=6 * px, branches=px)
     ops += OpCounts(alu=10 * len(comps) ** 2 + 10, branches=2 * len(comps) ** 2)
     return out, ops
+
+
+def _tall_columns(mask: np.ndarray, x0: int, y0: int, x1: int, y1: int, ix0: int, ix1: int
+                  ) -> tuple[int, int]:
+    """Within the common columns [ix0, ix1), the run of columns around the tallest one whose
+    red count is at least half of it: the cylinder, not a flat red thing touching it."""
+    if ix1 - ix0 < 2:
+        return ix0, ix1
+    counts = mask[y0:y1, ix0:ix1].sum(axis=0, dtype=np.int32)
+    top = int(np.argmax(counts))
+    low = np.flatnonzero(2 * counts < int(counts[top]))
+    a = int(low[low < top].max()) + 1 if (low < top).any() else 0
+    b = int(low[low > top].min()) if (low > top).any() else ix1 - ix0
+    return ix0 + a, ix0 + b
 
 
 def _rings(profile: np.ndarray) -> tuple[list[tuple[int, int]], int] | None:
@@ -137,16 +167,22 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
     _check(rgb)
     h, w = rgb.shape[:2]
     small = rgb[::2, ::2]
-    mask = (redness(small) >= T_RED).astype(np.uint8)
-    ops = OpCounts(pixels_read=3 * mask.size, pixels_written=mask.size, alu=4 * mask.size,
+    mask = red_mask(small)
+    ops = OpCounts(pixels_read=3 * mask.size, pixels_written=mask.size, alu=7 * mask.size,
+                   muls=mask.size,
                    bytes_streamed=3 * rgb.size // 2)  # every other row is fetched
     cands, o = _candidates(mask)
     ops += o
-    for _, gx0, gy0, gx1, gy1 in cands[:3]:
-        x0, y0, x1, y1 = 2 * gx0, 2 * gy0, min(w, 2 * gx1), min(h, 2 * gy1)
-        if x1 - x0 < 4 or y1 - y0 < 4:
+    for _, gx0, gy0, gx1, gy1, gix0, gix1 in cands[:3]:
+        # grid box -> full resolution, one grid step of margin (the grid skips odd pixels)
+        x0, y0 = max(0, 2 * gx0 - 2), max(0, 2 * gy0 - 2)
+        x1, y1 = min(w, 2 * gx1 + 2), min(h, 2 * gy1 + 2)
+        gix0, gix1 = _tall_columns(mask, gx0, gy0, gx1, gy1, gix0, gix1)
+        ops += OpCounts(pixels_read=(gx1 - gx0) * (gy1 - gy0), alu=2 * (gx1 - gx0) * (gy1 - gy0))
+        ix0, ix1 = 2 * gix0, min(w, 2 * gix1)
+        if ix1 - ix0 < 4 or y1 - y0 < 4:
             continue
-        cx0, cx1 = x0 + (x1 - x0) // 4, x1 - (x1 - x0) // 4
+        cx0, cx1 = ix0 + (ix1 - ix0) // 4, ix1 - (ix1 - ix0) // 4
         red = redness(rgb[y0:y1, cx0:cx1]).astype(np.int32)
         profile = red.sum(axis=1) // (cx1 - cx0)
         n = red.size
@@ -169,11 +205,16 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
         band = redness(rgb[y0 + e1:y0 + s2, x0:x1]) >= T_RED
         if band.size == 0:
             continue
-        cols = np.flatnonzero(band.sum(axis=0) * 2 >= band.shape[0])
+        colred = band.sum(axis=0) * 2 >= band.shape[0]
         ops += OpCounts(pixels_read=3 * band.size, alu=5 * band.size, branches=band.shape[1])
-        if cols.size == 0:
+        mid = (cx0 + cx1) // 2 - x0
+        if not colred[mid]:
             continue
-        left, right = x0 + int(cols[0]), x0 + int(cols[-1])
+        # the run of red columns through the scan centre: a red neighbour touching the
+        # cylinder beside the rings does not widen it unless it fills the gap rows too
+        gaps = np.flatnonzero(~colred)
+        left = x0 + (int(gaps[gaps < mid].max()) + 1 if (gaps < mid).any() else 0)
+        right = x0 + (int(gaps[gaps > mid].min()) - 1 if (gaps > mid).any() else band.shape[1] - 1)
         u_c = (left + right) * 8  # (left + right) / 2 in Q4
         res = RedCylinderResult(u_c, (r1 + r2 + 1) >> 1, r1, r2, d_q4,
                                 (right - left + 1) * 16, (x0, y0, x1 - x0, y1 - y0))

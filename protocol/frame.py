@@ -181,7 +181,6 @@ class FrameParser:
                 stats.unknown_type += 1
                 stats.garbage_bytes += n
                 continue
-            stats.frames_ok += 1
             frame = new(Frame)
             d = frame.__dict__
             d["version"] = buf[1]
@@ -189,6 +188,7 @@ class FrameParser:
             d["msg_type"] = msg_type
             d["payload"] = bytes(buf[4:-2])
             append(frame)
+        stats.frames_ok += len(frames)
         if len(tail) > MAX_ENCODED:
             stats.oversize += 1
             stats.garbage_bytes += len(tail)

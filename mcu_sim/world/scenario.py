@@ -6,7 +6,8 @@ Contract (issue 5): ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_
 (width_m, depth_m, heading_rad), or "wall" (x2_m, y2_m, optional thickness_m), each with an
 optional height_m; ``[camera]`` optional f_px, u0_px, v0_px, noise_std, blur_px, brightness;
 ``[params]`` overrides of the method's paper parameters (names and defaults in
-:data:`PAPER_PARAMS`); ``[faults]`` a table reserved for the reliability work.
+:data:`PAPER_PARAMS`); ``[faults]`` the injected faults, validated into a
+:class:`mcu_sim.faults.plan.FaultPlan` (keys in docs/faults.md).
 
 Every problem raises :class:`ScenarioError` naming the file, the key and what was expected.
 """
@@ -19,6 +20,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any
+
+from mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
 
 METHODS = ("000", "001", "002")
 TARGET_KINDS = ("radial-symbol", "double-cross", "red-cylinder")
@@ -148,7 +151,7 @@ class Scenario:
     obstacles: tuple[ObstacleSpec, ...]
     camera: CameraSpec
     params: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
-    faults: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
+    faults: FaultPlan = field(default_factory=FaultPlan)
     param_overrides: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
 
@@ -263,10 +266,14 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
     camera = _parse_camera(c, c.table(data, "camera", required=False) or {}, method)
     raw_params = c.table(data, "params", required=False) or {}
     params = _parse_params(c, raw_params, method)
-    faults = c.table(data, "faults", required=False) or {}
+    faults_table = c.table(data, "faults", required=False) or {}
+    try:
+        faults = parse_faults(faults_table, source)
+    except FaultError as exc:
+        raise ScenarioError(str(exc)) from exc
     overrides = {k: params[k] for k in raw_params}
     return Scenario(source, meta, robot, target, obstacles, camera,
-                    MappingProxyType(params), MappingProxyType(dict(faults)),
+                    MappingProxyType(params), faults,
                     MappingProxyType(overrides))
 
 

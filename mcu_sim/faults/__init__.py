@@ -1,0 +1,25 @@
+"""Fault injection (issue 9): the ``[faults]`` plan, seeded injectors and the safety monitor.
+
+``plan``: :class:`FaultPlan`, :func:`parse_faults`, :func:`parse_fault_overrides`;
+``uart``: :class:`UartFaults`; ``injectors``: camera, host, MCU, motor, sonar, encoder faults and
+:class:`RunFaults`; ``safety``: :class:`SafetyMonitor`. docs/faults.md describes each key.
+"""
+
+from mcu_sim.faults.injectors import CameraFaults, EncoderSlip, RunFaults
+from mcu_sim.faults.plan import (
+    FAULT_KEYS,
+    FaultError,
+    FaultPlan,
+    MotorFail,
+    SonarFail,
+    Window,
+    parse_fault_overrides,
+    parse_faults,
+)
+from mcu_sim.faults.uart import UartFaults, derive_key
+
+__all__ = [
+    "FAULT_KEYS", "CameraFaults", "EncoderSlip", "FaultError", "FaultPlan", "MotorFail",
+    "RunFaults", "SonarFail", "UartFaults", "Window", "derive_key", "parse_fault_overrides",
+    "parse_faults",
+]

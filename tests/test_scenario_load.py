@@ -133,10 +133,12 @@ y_m = 0
         "strictly increasing")
 
 
-def test_faults_must_be_a_table_but_its_content_is_kept():
-    s = loads_scenario(GOOD + "\n[faults]\nmotor_stuck = {side = \"left\", t_s = 3.0}\n", "f")
-    assert s.faults["motor_stuck"]["side"] == "left"
+def test_faults_must_be_a_table_of_known_keys():
+    # the [faults] schema itself is tested in tests/test_faults_plan.py (issue 9)
+    s = loads_scenario(GOOD + "\n[faults]\nmotor_fail = {wheel = \"left\", at_s = 3.0}\n", "f")
+    assert s.faults.motor_fail.wheel == "left" and s.faults.motor_fail.at_s == 3.0
     bad("faults = 3\n" + GOOD, "bad.toml: faults: expected a table", "3")
+    bad(GOOD + "\n[faults]\nmotor_stuck = 1\n", "bad.toml: faults.motor_stuck: unknown key")
 
 
 def test_file_errors_name_the_file(tmp_path):

@@ -106,7 +106,7 @@ class TaskParams:
             base = replace(base, object_top_mm=120, grasp_height_mm=100)
         overrides = dict(overrides or {})
         known = {f.name: f for f in fields(cls)}
-        for key, value in overrides.items():
+        for key, value in list(overrides.items()):
             if key not in known:
                 raise ValueError(f"unknown task parameter {key!r}; known: {sorted(known)}")
             default = getattr(base, key)
@@ -117,7 +117,7 @@ class TaskParams:
                     bad = [s for s in value if s not in DEFAULT_TIMEOUTS_US]
                     if bad:
                         raise ValueError(f"timeouts_us: unknown state(s) {bad}")
-                    value = {**default, **value}
+                    overrides[key] = {**default, **value}
             elif not isinstance(value, int) or isinstance(value, bool):
                 raise ValueError(f"task parameter {key!r} must be an int, got {value!r}")
         return replace(base, **overrides) if overrides else base
@@ -247,8 +247,8 @@ class Task(TaskStates):
         now_us = int(now_us)
         self._events, self._detail, self._ops = [], {}, OpCounts()
         inp, dets = self._clean(inputs)
-        if inp.joints_mrad is not None:
-            self.joints = inp.joints_mrad
+        # joints from telemetry; without telemetry assume the arm is where it was sent
+        self.joints = inp.joints_mrad if inp.joints_mrad is not None else tuple(self.arm)
         if self.state not in TERMINAL:
             limit = self.p.timeouts_us.get(self.state)
             if limit is not None and now_us - self.entered_us >= limit:

@@ -1,0 +1,209 @@
+"""host/task: transitions on scripted inputs, timeouts, LOST, bad inputs, all in simulated time."""
+
+import pytest
+
+from host import arm_calib
+from host.task import DEFAULT_TIMEOUTS_US, STATES, Task, TaskInputs, TaskParams
+
+# a radial symbol straight ahead of the camera in the search posture (alpha near 0), 1 m away
+RADIAL_AHEAD = {"u_q4": 160 * 16, "v_q4": 150 * 16, "y_oc_mm": 1000}
+
+
+def step(task, t_us, **kw):
+    out = task.step(t_us, TaskInputs(**kw))
+    for ch, a in enumerate(out.servo_mrad):
+        assert arm_calib.within_limits(ch, a)
+    return out
+
+
+def test_starts_in_search_and_asks_for_the_search_detector():
+    assert Task("000").detectors_needed() == ["radial_symbol"]
+    assert Task("001").detectors_needed() == ["radial_symbol"]
+    assert Task("002").detectors_needed() == ["double_cross"]
+    out = step(Task("000"), 0)
+    assert out.state == "SEARCH" and out.events == [] and out.wheels_mmps == (0, 0)
+
+
+def test_found_goes_to_approach_with_a_logged_event_and_a_plan():
+    task = Task("000")
+    step(task, 0)
+    out = step(task, 40_000)
+    assert out.state == "SEARCH"
+    out = step(task, 60_000, detections={"radial_symbol": RADIAL_AHEAD})
+    assert out.state == "APPROACH"
+    (ev,) = out.events
+    assert (ev.t_us, ev.from_state, ev.to_state) == (60_000, "SEARCH", "APPROACH")
+    assert "radial symbol" in ev.why
+    # the object sits about 1 m ahead of the base
+    assert 900 < task.obj[0] < 1300 and abs(task.obj[1]) < 150
+    out = step(task, 80_000)
+    assert out.detail["plan"]["feasible"] > 0 and out.ops.float_ops > 0  # planning charged
+    assert out.wheels_mmps != (0, 0)
+    assert task.detectors_needed() == ["radial_symbol"]
+
+
+def test_a_not_found_result_does_not_trigger():
+    task = Task("000")
+    out = step(task, 0, detections={"radial_symbol": None})
+    assert out.state == "SEARCH"
+
+
+def test_search_sweeps_the_waist_and_turns_the_base_after_a_cycle():
+    task = Task("000", {"search": {"theta2_min_mrad": -2200, "theta2_max_mrad": -2100}})
+    waist, wheels = set(), set()
+    heading = 0
+    t = 0
+    turned = False
+    while t < 60_000_000 and not turned:
+        out = step(task, t, heading_mrad=heading)
+        waist.add(out.servo_mrad[5])
+        if out.wheels_mmps != (0, 0):
+            wheels.add(out.wheels_mmps)
+            heading += 30  # the base turns counter-clockwise under the test's feet
+            assert task.detectors_needed() == []  # no vision while the base spins
+        turned = any(d == "base_turn_mrad" for d in out.detail) or turned
+        t += 20_000
+    assert min(waist) == -800 and max(waist) == 800
+    assert wheels == {(-80, 80)}  # counter-clockwise turn in place
+    for _ in range(200):  # finish the 60 degree turn, then the search resumes
+        out = step(task, t, heading_mrad=heading)
+        if out.wheels_mmps == (0, 0):
+            break
+        heading += 30
+        t += 20_000
+    assert heading >= 1047 and out.wheels_mmps == (0, 0) and task.state == "SEARCH"
+
+
+def test_search_timeout_fails_with_reason():
+    task = Task("000", {"timeouts_us": {"SEARCH": 1_000_000}})
+    step(task, 0)
+    assert step(task, 999_999).state == "SEARCH"
+    out = step(task, 1_000_000)
+    assert out.state == "FAILED" and out.wheels_mmps == (0, 0)
+    assert out.events[0].to_state == "FAILED" and "timeout" in out.events[0].why
+    assert "SEARCH" in task.failure
+    assert step(task, 2_000_000).state == "FAILED"  # terminal
+
+
+def to_adjust(task, t=0):
+    step(task, t)
+    step(task, t + 20_000, detections={"radial_symbol": RADIAL_AHEAD})
+    step(task, t + 40_000)
+    task.go(t + 60_000, "ADJUST", "test: skip the path")
+    step(task, t + 60_000)
+    assert task.state == "ADJUST"
+    return t + 60_000
+
+
+def test_lost_in_adjust_goes_lost_then_search():
+    task = Task("000")
+    t0 = to_adjust(task)
+    assert task.detectors_needed() == ["dual_plus"]
+    t = t0
+    state = "ADJUST"
+    while state == "ADJUST":
+        t += 20_000
+        out = step(task, t, detections={"dual_plus": None})  # frames without the object
+        state = out.state
+    assert state == "LOST"
+    assert out.events[-1].from_state == "ADJUST" and "not seen" in out.events[-1].why
+    assert t - task.obj_seen_us >= task.p.lost_timeout_us
+    assert out.wheels_mmps == (0, 0)
+    t_lost = t
+    while state == "LOST":
+        t += 20_000
+        out = step(task, t)
+        state = out.state
+    assert state == "SEARCH" and t - t_lost >= task.p.lost_hold_us
+    assert task.counters["lost"] == 1
+
+
+def test_too_many_losses_fail():
+    task = Task("000", {"max_lost": 0})
+    to_adjust(task)
+    t = 100_000
+    while task.state not in ("FAILED",) and t < 10_000_000:
+        step(task, t, detections={"dual_plus": None})
+        t += 20_000
+    assert task.state == "FAILED" and "lost" in task.failure
+
+
+def test_grasp_closed_then_lift_then_done_and_drop_fails():
+    for drop in (False, True):
+        task = Task("000")
+        task.go(0, "PRECISE_GRASP", "test")
+        task.grasp_alpha = -1571
+        task.arm = [0, 0, -1324, -1216, 969, 0]
+        task.phase, task.gripper = "close", 1000
+        task.entry_pending = False
+        task.phase_us = 0
+        out = step(task, 20_000, grasp_closed=True)
+        assert out.state == "LIFT" and out.events[-1].why == "gripper closed on the object"
+        t = 20_000
+        while task.state == "LIFT":
+            t += 20_000
+            out = step(task, t, grasp_closed=not (drop and t > 100_000))
+        assert out.state == ("FAILED" if drop else "DONE")
+        if drop:
+            assert "dropped" in task.failure
+        else:
+            assert out.gripper_permille == 1000 and out.servo_mrad[0] == 1000
+
+
+def test_gripper_that_closes_on_nothing_fails():
+    task = Task("000")
+    task.go(0, "PRECISE_GRASP", "test")
+    task.phase, task.entry_pending, task.phase_us = "close", False, 0
+    out = step(task, 20_000)
+    assert out.state == "PRECISE_GRASP"
+    out = step(task, task.p.grasp_close_timeout_us)
+    assert out.state == "FAILED" and "no object" in task.failure
+
+
+def test_bad_inputs_are_counted_and_dropped():
+    task = Task("000")
+    out = step(task, 0, joints_mrad=(1, 2, 3))
+    assert out.state == "SEARCH" and task.counters["bad_inputs"] == 1
+    out = step(task, 20_000, joints_mrad=("a",) * 6)
+    assert task.counters["bad_inputs"] == 2
+    out = step(task, 40_000, detections=None)
+    assert task.counters["bad_inputs"] == 3 and out.state == "SEARCH"
+    out = step(task, 60_000, detections={"radial_symbol": {"u_q4": "x", "v_q4": 1,
+                                                           "y_oc_mm": 10}})
+    assert out.state == "SEARCH" and task.counters["bad_detections"] == 1
+    out = step(task, 80_000, detections={"radial_symbol": {"u_q4": 2560}})  # no depth
+    assert out.state == "SEARCH" and task.counters["bad_detections"] == 2
+
+
+def test_params_validation_and_method_defaults():
+    with pytest.raises(ValueError, match="unknown task parameter 'nope'"):
+        Task("000", {"nope": 1})
+    with pytest.raises(ValueError, match="unknown state"):
+        Task("000", {"timeouts_us": {"WALK": 1}})
+    with pytest.raises(ValueError, match="must be an int"):
+        Task("000", {"hover_mm": 1.5})
+    with pytest.raises(ValueError, match="method"):
+        Task("003")
+    with pytest.raises(ValueError, match="link_lengths"):
+        Task("000", link_lengths_mm=(1, 2))
+    p = TaskParams.for_method("001")
+    assert p.h_shoulder_mm == 108
+    assert TaskParams.for_method("000", {"timeouts_us": {"LIFT": 5}}).timeouts_us == {
+        **DEFAULT_TIMEOUTS_US, "LIFT": 5}
+    assert set(DEFAULT_TIMEOUTS_US) <= set(STATES)
+
+
+def test_002_search_then_fuzzy_approach_turns_toward_the_marker():
+    task = Task("002")
+    step(task, 0)
+    # the double cross left of the image centre: e < 0 (left), the platform turns left
+    dc = {"um_q4": 100 * 16, "vm_q4": 120 * 16}
+    out = step(task, 20_000, detections={"double_cross": dc})
+    assert out.state == "APPROACH" and "e = " in out.events[0].why
+    out = step(task, 40_000, detections={"double_cross": dc, "red_cylinder": None})
+    left, right = out.wheels_mmps
+    assert right > left > 0
+    assert out.detail["fuzzy"]["e_mrad"] < 0 and out.detail["fuzzy"]["u_mrad"] < 0
+    assert task.detectors_needed() == ["double_cross", "red_cylinder"]
+    # no new frame: the wheels are held, not re-decided
+    assert step(task, 60_000).wheels_mmps == (left, right)

@@ -1,4 +1,4 @@
-"""The [faults] schema (issue 9): scenario files and --fault KEY=VALUE, same checks, clear errors."""
+"""The [faults] schema (issue 9): scenario files and --fault KEY=VALUE, same checks and errors."""
 
 import pytest
 from hypothesis import given, settings
@@ -77,7 +77,8 @@ def test_no_faults_section_means_no_fault():
     ("uart_burst = { start_s = 1 }", ["faults.uart_burst.duration_s", "missing"]),
     ("uart_burst = { start_s = 1, duration_s = 1, end_s = 2 }",
      ["faults.uart_burst.end_s: unknown key"]),
-    ("host_stall = { at_s = -1, duration_s = 1 }", ["faults.host_stall.at_s", "[0.0, 1000000.0]", "-1"]),
+    ("host_stall = { at_s = -1, duration_s = 1 }",
+     ["faults.host_stall.at_s", "[0.0, 1000000.0]", "-1"]),
     ("host_crash_at_s = nan", ["faults.host_crash_at_s", "nan"]),
     ("mcu_reset_at_s = inf", ["faults.mcu_reset_at_s"]),
     ('motor_fail = { wheel = "middle", at_s = 1 }', ["faults.motor_fail.wheel", '"left"']),

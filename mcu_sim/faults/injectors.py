@@ -1,4 +1,4 @@
-"""Seeded fault injectors other than the UART (issue 9): camera, host, MCU, motors, sonars, encoders.
+"""Seeded fault injectors besides the UART (issue 9): camera, host, MCU, motors, sonars, encoders.
 
 All are pure functions of the plan, the run seed and simulated time (integer µs); none reads the
 wall clock or keeps a random state that depends on how often it is called. :class:`RunFaults`
@@ -36,7 +36,7 @@ class CameraFaults:
         return lost
 
     def noise(self, rgb: np.ndarray, t_us: int) -> np.ndarray:
-        """``rgb`` (uint8) plus Gaussian noise of ``noise_std`` grey levels seeded by (seed, t_us)."""
+        """``rgb`` (uint8) plus Gaussian noise of ``noise_std`` grey levels, seeded by (seed, t)."""
         if not self.noise_std:
             return rgb
         rng = np.random.Generator(np.random.PCG64([self.key, int(t_us)]))

@@ -78,9 +78,10 @@ def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     mid2 = g_dark + g_light  # twice the mid level: compare 2 g against it, no division
     if g_light - g_dark < 8:
         return None
-    # walk from the light side towards (and up to two pixels past) the first dark pixel: the
-    # mid-level crossing can lie just inside it when that pixel is only partly covered
-    for k in range(3, -3, -1):
+    # walk outwards from two pixels inside the dark side: the first crossing is this edge (the
+    # mid-level crossing can lie just inside the first dark pixel when it is partly covered);
+    # further out on the light side there may be other print (the inner ring)
+    for k in range(-2, 4):
         a, b = i_dark + (k + 1) * step, i_dark + k * step  # a lighter side, b one step darker
         if not (0 <= a < n and 0 <= b < n):
             continue

@@ -39,6 +39,9 @@ U0_PX = 160
 V0_PX = 120
 MIN_WIDTH_PX = 12  # narrower rings cannot be measured to 2 %
 MAX_CANDIDATES = 40
+MIN_CONTRAST = 90  # grey levels between print and card at the darkest exposure (0.7 x 235-20)
+FILL_MIN_PCT, FILL_MAX_PCT = 68, 84  # ring + interior over the box (ellipse: 78.5 %)
+SPAN_MIN_PCT, SPAN_MAX_PCT = 55, 90  # interior width over outer width at the centre row
 
 
 @dataclass(frozen=True)
@@ -57,26 +60,27 @@ def _is_ring(labels: np.ndarray, k: int, x: int, y: int, w: int, h: int
              ) -> tuple[np.ndarray | None, np.ndarray | None, OpCounts]:
     """(component mask, enclosed interior mask, ops) of component k if it is a closed ring.
 
-    The interior is the largest 4-connected non-component region of the box that does not
-    reach the box's border, and must hold the box's centre column; so a ring still passes when
-    something dark (the object's body) touches it from outside.
+    The interior is the union of the 4-connected non-component regions of the box that do not
+    reach the box's border (print inside the ring may split it); it must be a fair part of the
+    box and hold the box's centre column. A ring still passes when something dark (the
+    object's body) touches it from outside.
     """
     roi = labels[y:y + h, x:x + w] == k
     ops = OpCounts(pixels_read=w * h, alu=w * h)
     light = (~roi).view(np.uint8)
     n, lab, st, _ = cv2.connectedComponentsWithStats(light, connectivity=4, ltype=cv2.CV_32S)
-    ops += OpCounts(pixels_read=2 * w * h, pixels_written=w * h, alu=6 * w * h, branches=w * h)
-    best, best_area = 0, 0
-    for j in range(1, n):
-        bx, by, bw, bh, area = (int(v) for v in st[j])
-        if bx == 0 or by == 0 or bx + bw == w or by + bh == h:
-            continue  # reaches the border: outside, not enclosed
-        if area > best_area and bx <= w // 2 < bx + bw:
-            best, best_area = j, area
+    ops += OpCounts(pixels_read=3 * w * h, pixels_written=w * h, alu=7 * w * h, branches=w * h)
+    bx, by, bw, bh, area = (st[:, i] for i in range(5))
+    enclosed = (bx > 0) & (by > 0) & (bx + bw < w) & (by + bh < h)
+    enclosed[0] = False
     ops += OpCounts(alu=8 * n, branches=2 * n)
-    if best == 0 or best_area < 4 or 25 * best_area < w * h:
+    total = int(area[enclosed].sum())
+    if total < 4 or 25 * total < w * h:
         return None, None, ops
-    return roi, lab == best, ops
+    inner = enclosed[lab]
+    if not inner[:, w // 2].any():
+        return None, None, ops
+    return roi, inner, ops
 
 
 def _row_edges(grey: np.ndarray, roi: np.ndarray, x: int, y: int, r: int
@@ -92,29 +96,128 @@ def _row_edges(grey: np.ndarray, roi: np.ndarray, x: int, y: int, r: int
     return lq, rq
 
 
-def _local_ring(grey: np.ndarray, x: int, y: int, w: int, h: int
-                ) -> tuple[tuple[np.ndarray, np.ndarray, int, int, int, int, int] | None, OpCounts]:
-    """Re-threshold the box around a candidate at the middle of its own dark and light levels
-    (the card and the print), so thin far rings are not lost to the global threshold."""
+# Local thresholds tried in turn, as fractions of the box's dark-to-light range: the middle
+# keeps thin far arcs closed; a lower one separates the ring from a floor that exposure or
+# noise brought close to the middle. (Higher ones merge the ring with the floor.)
+LOCAL_FRACTIONS = ((1, 2), (1, 3))
+
+
+def _local_ring(grey: np.ndarray, x: int, y: int, w: int, h: int, num: int, den: int
+                ) -> tuple[tuple[np.ndarray, np.ndarray, int, int, int, int] | None, OpCounts]:
+    """Re-threshold the box around a candidate between its own dark and light levels (the
+    print and the card), so thin far rings are not lost to the global threshold."""
     H, W = grey.shape
     m, mx = max(3, w // 8), w + 3  # a candidate may be one side arc of the ring
     x0, y0, x1, y1 = max(0, x - mx), max(0, y - m), min(W, x + w + mx), min(H, y + h + m)
-    roi = grey[y0:y1, x0:x1]
-    t = (int(roi.max()) + int(roi.min())) // 2
+    # 1x3 horizontal sum (3x the mean): sensor noise drops by sqrt(3) while the far ring's
+    # top and bottom arcs, which run horizontally and may be only ~1 px tall, keep their contrast
+    g = grey[y0:y1, max(0, x0 - 1):min(W, x1 + 1)].astype(np.int16)
+    if x0 == 0:
+        g = np.concatenate([g[:, :1], g], axis=1)
+    if x1 == W:
+        g = np.concatenate([g, g[:, -1:]], axis=1)
+    roi = g[:, :-2] + g[:, 1:-1] + g[:, 2:]
+    lo, hi = int(roi.min()), int(roi.max())
+    if hi - lo < 3 * MIN_CONTRAST:
+        return None, OpCounts(pixels_read=4 * roi.size, alu=6 * roi.size)  # no print here
+    t = lo + (hi - lo) * num // den
     mask = (roi < t).view(np.uint8)
     n_lab, labels, stats, ops = db.components(mask)
-    ops += OpCounts(pixels_read=2 * roi.size, pixels_written=roi.size, alu=3 * roi.size)
+    ops += OpCounts(pixels_read=4 * roi.size, pixels_written=roi.size, alu=6 * roi.size, divs=1)
     if n_lab < 2:
         return None, ops
-    k = 1 + int(np.argmax(stats[1:, 2]))
-    bx, by, bw, bh = (int(v) for v in stats[k, :4])
-    if 10 * bw < 8 * w:
+    # the widest local component that covers the candidate's box centre (not a floor blob
+    # that noise made dark beside it)
+    sx, sy, sw, sh = stats[:, 0], stats[:, 1], stats[:, 2], stats[:, 3]
+    cx, cy = x + w // 2 - x0, y + h // 2 - y0
+    cover = (sx <= cx) & (cx < sx + sw) & (sy <= cy) & (cy < sy + sh) & (10 * sw >= 8 * w)
+    cover[0] = False
+    ops += OpCounts(alu=10 * n_lab, branches=n_lab)
+    if not cover.any():
         return None, ops
+    k = int(np.flatnonzero(cover)[np.argmax(sw[cover])])
+    bx, by, bw, bh = (int(v) for v in stats[k, :4])
     sel, inner, o = _is_ring(labels, k, bx, by, bw, bh)
     ops += o
     if sel is None:
         return None, ops
-    return (sel, inner, x0 + bx, y0 + by, bw, bh, t), ops
+    return (sel, inner, x0 + bx, y0 + by, bw, bh), ops
+
+
+def _interior_v_q4(grey: np.ndarray, inner: np.ndarray, xi: int, yi: int, u_px: int
+                   ) -> int | None:
+    """Middle (Q4 px) of the enclosed interior in column u_px: its top and bottom are the inner
+    edges of the ring, symmetric about the centre, and the object's body below the top cannot
+    shift them."""
+    col = inner[:, min(inner.shape[1] - 1, max(0, u_px - xi))]
+    if not col.any():
+        return None
+    top = int(np.argmax(col))
+    bot = len(col) - 1 - int(np.argmax(col[::-1]))
+    line = grey[:, u_px]
+    tq = db.edge_q4(line, yi + top - 1, +1)
+    bq = db.edge_q4(line, yi + bot + 1, -1)
+    if tq is None or bq is None:
+        return None
+    return (tq + bq) // 2
+
+
+def _measure(grey: np.ndarray, found, f_px: int, u0_px: int, v0_px: int
+             ) -> tuple[RadialSymbol | None, OpCounts]:
+    """Diameter, centre and position of a ring that passed the ring test, or None when it is
+    not an ellipse (merged with something beside it).
+
+    The ring is horizontally widest through its centre: v from the interior, then the outer
+    width on that row and its neighbours (the widest of the three) gives d_p + d_rp and u_r,
+    then v again in the column through u_r.
+    """
+    roi, inner, xi, yi, wi, hi = found
+    ops = OpCounts(pixels_read=roi.size, alu=roi.size, branches=hi) + db.EDGE_OPS.scaled(4)
+    v_q4 = _interior_v_q4(grey, inner, xi, yi, xi + wi // 2)
+    if v_q4 is None:
+        return None, ops
+    r0 = (v_q4 + 8) // 16 - yi
+    best = None
+    for r in (r0 - 1, r0, r0 + 1):
+        if 0 <= r < hi and roi[r].any():
+            e = _row_edges(grey, roi, xi, yi, r)
+            ops += db.EDGE_OPS.scaled(2)
+            if e is not None and (best is None or e[1] - e[0] > best[1] - best[0]):
+                best = e
+    if best is None:
+        return None, ops
+    d_q4 = best[1] - best[0]
+    u_q4 = (best[0] + best[1]) // 2
+    v_q4 = _interior_v_q4(grey, inner, xi, yi, (u_q4 + 8) // 16)
+    if v_q4 is None or d_q4 < 16 * MIN_WIDTH_PX:
+        return None, ops
+    # the interior of an ellipse is centred on it: reject a ring merged with something dark
+    # beside it (an occluder, a shadow, the floor)
+    irow = inner[min(hi - 1, max(0, (v_q4 + 8) // 16 - yi))]
+    if not irow.any():
+        return None, ops
+    il = int(np.argmax(irow))
+    ir = wi - 1 - int(np.argmax(irow[::-1]))
+    if abs(8 * (2 * xi + il + ir) - u_q4) > 16 * max(2, wi // 12):
+        return None, ops
+    # an ellipse fills pi/4 of its box; the interior spans 0.63-0.85 of the outer width
+    # (inside the inner ring, or inside the outer ring when the two are resolved)
+    # black print on a white card: the ring is less than half as bright as its interior
+    box = grey[yi:yi + hi, xi:xi + wi]
+    n_ring, n_in = int(roi.sum()), int(inner.sum())
+    if 2 * int(box[roi].sum()) * n_in >= int(box[inner].sum()) * n_ring:
+        return None, ops
+    ops += OpCounts(pixels_read=roi.size, alu=2 * roi.size, divs=0, muls32=2)
+    filled = n_ring + n_in
+    span = ir - il + 1
+    if not (FILL_MIN_PCT * wi * hi <= 100 * filled <= FILL_MAX_PCT * wi * hi
+            and SPAN_MIN_PCT * wi <= 100 * span <= SPAN_MAX_PCT * wi):
+        return None, ops
+    y_mm = fp.div_round(L_MM * f_px * 16, d_q4)
+    x_mm = fp.div_round((u0_px * 16 - u_q4) * y_mm, f_px * 16)
+    z_mm = fp.div_round((v0_px * 16 - v_q4) * y_mm, f_px * 16)
+    ops += OpCounts(divs=3, muls32=4, alu=30, pixels_read=2 * wi)
+    return RadialSymbol(u_q4, v_q4, d_q4, y_mm, x_mm, z_mm), ops
 
 
 def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
@@ -122,7 +225,7 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
     """Find the radial symbol; ``(None, ops)`` when no closed ring is seen (never a guess)."""
     db.check_rgb(rgb, "detect_radial_symbol")
     grey, ops = to_grey(rgb)
-    mask, t, o = db.dark_mask(grey)
+    mask, _, o = db.dark_mask(grey)
     ops += o
     n_lab, labels, stats, o = db.components(mask)
     ops += o
@@ -133,45 +236,13 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
     ops += OpCounts(alu=10 * len(st), branches=len(st))
     cand = cand[np.argsort(-w[cand], kind="stable")][:MAX_CANDIDATES]  # outermost ring first
     for i in cand:
-        found, o = _local_ring(grey, int(x[i]), int(y[i]), int(w[i]), int(h[i]))
-        ops += o
-        if found is None:
-            continue
-        roi, inner, xi, yi, wi, hi, _ = found
-        widths = roi.shape[1] - np.argmax(roi[:, ::-1], axis=1) - np.argmax(roi, axis=1)
-        widths[~roi.any(axis=1)] = 0
-        wmax = int(widths.max())
-        rows = np.flatnonzero(widths == wmax)
-        r0 = int(rows[len(rows) // 2])
-        best = None
-        for r in (r0 - 1, r0, r0 + 1):
-            if 0 <= r < hi:
-                e = _row_edges(grey, roi, xi, yi, r)
-                ops += db.EDGE_OPS.scaled(2)
-                if e is not None and (best is None or e[1] - e[0] > best[1] - best[0]):
-                    best = e
-        if best is None:
-            continue
-        d_q4 = best[1] - best[0]
-        u_q4 = (best[0] + best[1]) // 2
-        # v_r: middle of the enclosed interior in the column through u_r (its top and bottom
-        # are the inner edges of the ring, symmetric about the centre; the body below the
-        # object top cannot shift them)
-        col = inner[:, min(wi - 1, max(0, (u_q4 + 8) // 16 - xi))]
-        if not col.any():
-            continue
-        top = int(np.argmax(col))
-        bot = hi - 1 - int(np.argmax(col[::-1]))
-        line = grey[:, (u_q4 + 8) // 16]
-        tq = db.edge_q4(line, yi + top - 1, +1)
-        bq = db.edge_q4(line, yi + bot + 1, -1)
-        ops += db.EDGE_OPS.scaled(2)
-        if tq is None or bq is None:
-            continue
-        v_q4 = (tq + bq) // 2
-        y_mm = fp.div_round(L_MM * f_px * 16, d_q4)
-        x_mm = fp.div_round((u0_px * 16 - u_q4) * y_mm, f_px * 16)
-        z_mm = fp.div_round((v0_px * 16 - v_q4) * y_mm, f_px * 16)
-        ops += OpCounts(divs=3, muls32=4, alu=12)
-        return RadialSymbol(u_q4, v_q4, d_q4, y_mm, x_mm, z_mm), ops
+        for num, den in LOCAL_FRACTIONS:
+            found, o = _local_ring(grey, int(x[i]), int(y[i]), int(w[i]), int(h[i]), num, den)
+            ops += o
+            if found is None:
+                continue
+            res, o = _measure(grey, found, f_px, u0_px, v0_px)
+            ops += o
+            if res is not None:
+                return res, ops
     return None, ops

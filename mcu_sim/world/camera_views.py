@@ -6,7 +6,8 @@ detector should report, in the paper's camera axes where that is what the detect
 never given to the host). The pose ranges are the ones where the task uses each detector
 (docs/markers.md, "Operating ranges"):
 
-- ``radial_far``: searching / Bezier planning, symbol 0.45-1.3 m ahead (horizontally), camera
+- ``radial_far``: searching / Bezier planning, symbol 0.45-1.0 m ahead (horizontally; up to
+  ``max_dist_m``, where the detector degrades beyond 1.0 m, see docs/markers.md), camera
   0.28-0.48 m above the floor (the arm's reach) and the view ray at least 14 degrees below the
   horizontal (flatter, the 8 mm ring is under 1.5 px tall), no roll, the whole symbol anywhere
   in the image;
@@ -44,17 +45,27 @@ class View:
     truth: dict = field(default_factory=dict)
 
 
-def _clutter(rng: np.random.Generator, centre: np.ndarray, avoid_r: float, n: int
-             ) -> tuple[Clutter, ...]:
+def _seg_dist(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> float:
+    ab = b - a
+    t = float(np.clip(np.dot(p - a, ab) / max(float(np.dot(ab, ab)), 1e-12), 0.0, 1.0))
+    return float(np.linalg.norm(p - (a + t * ab)))
+
+
+def _clutter(rng: np.random.Generator, centre: np.ndarray, avoid_r: float, n: int,
+             cam_xy: np.ndarray | None = None) -> tuple[Clutter, ...]:
+    """n distractors around centre, none within avoid_r of it and, when cam_xy is given, none
+    within 0.2 m of the line of sight (the truth assumes the target is not occluded)."""
     out = []
     while len(out) < n:
         d = rng.uniform(avoid_r, avoid_r + 1.2)
         a = rng.uniform(-math.pi, math.pi)
+        pxy = np.array([centre[0] + d * math.cos(a), centre[1] + d * math.sin(a)])
+        if cam_xy is not None and _seg_dist(pxy, cam_xy, centre[:2]) < 0.2:
+            continue
         shape = ("box", "cylinder", "disc", "square", "stripe")[int(rng.integers(5))]
         rgb = tuple(int(v) for v in rng.integers(0, 256, 3))
         h = float(rng.uniform(0.03, 0.25)) if shape in ("box", "cylinder") else 0.0
-        out.append(Clutter(shape, float(centre[0] + d * math.cos(a)),
-                           float(centre[1] + d * math.sin(a)), float(rng.uniform(0.03, 0.15)),
+        out.append(Clutter(shape, float(pxy[0]), float(pxy[1]), float(rng.uniform(0.03, 0.15)),
                            rgb, float(rng.uniform(-math.pi, math.pi)), h))
     return tuple(out)
 
@@ -86,12 +97,13 @@ def _ring_points(t: Target, r: float, n: int = 16) -> np.ndarray:
                             np.full(n, mk.OBJECT_TOP_Z_M)])
 
 
-def radial_far(rng: np.random.Generator, clutter: int = 4) -> View:
+def radial_far(rng: np.random.Generator, clutter: int = 4, max_dist_m: float = 1.0) -> View:
     """Symbol far ahead (search); truth: symbol centre in paper camera axes."""
     while True:
         t = Target("radial-symbol", float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)),
                    float(rng.uniform(-math.pi, math.pi)))
-        dist, hc, beta = rng.uniform(0.45, 1.3), rng.uniform(0.28, 0.48), rng.uniform(-3.1, 3.1)
+        dist, hc = rng.uniform(0.45, max_dist_m), rng.uniform(0.28, 0.48)
+        beta = rng.uniform(-3.1, 3.1)
         if math.atan2(hc - mk.OBJECT_TOP_Z_M, dist) < MIN_ELEVATION_RAD:
             continue
         c = np.array([t.x_m - dist * math.cos(beta), t.y_m - dist * math.sin(beta), hc])
@@ -101,7 +113,8 @@ def radial_far(rng: np.random.Generator, clutter: int = 4) -> View:
         R = look_rotation(yaw, pitch)
         if _inside(project(_ring_points(t, mk.CARD_RADIUS_M), c, R, INTR_000), INTR_000, 3):
             break
-    scene = Scene(t, clutter=_clutter(rng, centre, 0.25, clutter), seed=int(rng.integers(1 << 16)))
+    scene = Scene(t, clutter=_clutter(rng, centre, 0.25, clutter, c[:2]),
+                  seed=int(rng.integers(1 << 16)))
     return View(scene, c, R, INTR_000, _truth_000(c, R, centre))
 
 
@@ -122,7 +135,8 @@ def dual_plus(rng: np.random.Generator, clutter: int = 4) -> View:
                for dx, dy in ((half, 0), (-half, 0), (0, half), (0, -half))]
         if _inside(project(np.array(pts), c, R, INTR_000), INTR_000, 2):
             break
-    scene = Scene(t, clutter=_clutter(rng, centre, 0.25, clutter), seed=int(rng.integers(1 << 16)))
+    scene = Scene(t, clutter=_clutter(rng, centre, 0.25, clutter, c[:2]),
+                  seed=int(rng.integers(1 << 16)))
     truth = _truth_000(c, R, centre)
     truth["plus_uv"] = project(np.array([kp["plus_1"], kp["plus_2"]]), c, R, INTR_000)
     truth["alpha_rad"] = pitch

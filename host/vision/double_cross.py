@@ -47,6 +47,7 @@ RING_R_PX = 6  # ring radius at every pyramid level
 LEVELS = 3  # pyramid levels 0 (320x240), 1 (160x120), 2 (80x60)
 RING_HAMMING = 4  # template points allowed to differ from an ideal 4-spoke ring
 MIN_VOTES = 1  # Ω_p2 points a cross needs
+STOP_VOTES = 3  # a pair with this many votes each ends the coarse-to-fine search
 
 F_PX_002 = 350
 U0_PX = 160
@@ -283,7 +284,10 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
         ops += _downsample_ops(nxt.size)
         levels.append(nxt)
     pair = None
-    for lvl, g in enumerate(levels):
+    # coarse to fine; a pair seen well on a coarse level (big crosses, close by) ends the
+    # search, so the many spoke-edge candidates of big crosses on level 0 are never paid for
+    for lvl in range(LEVELS - 1, -1, -1):
+        g = levels[lvl]
         x, y, o = _level_candidates(g)
         ops += o
         if x.size < 2:
@@ -294,8 +298,10 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
         groups, o = _group(xs, ys, lvl, grey.shape)
         ops += o + OpCounts(alu=12 * len(groups) ** 2, muls32=2 * len(groups) ** 2)
         best = _pick_pair(groups, lvl)
-        if best is not None and (pair is None or best[0] > pair[0]):
+        if best is not None and (pair is None or best[0] >= pair[0]):
             pair = best  # finer levels win ties: they locate the centres better
+        if pair is not None and min(pair[1].votes, pair[2].votes) >= STOP_VOTES:
+            break
     if pair is None:
         return None, ops
     pair = pair[1:]

@@ -164,18 +164,27 @@ def bezier(events: list[dict], folder: Path) -> str | None:
 
 
 def fuzzy(events: list[dict], folder: Path) -> str | None:
-    """e, e_c and u of the fuzzy controller over time (002)."""
+    """e, e_c and u of the fuzzy controller over time (002), whatever units the task logs."""
     rows = [e for e in events if e["ev"] == "detail" and isinstance(e.get("fuzzy"), dict)]
     if not rows:
         return None
+    keys = []
+    for want in ("e", "e_c", "u"):
+        found = sorted(k for k in rows[0]["fuzzy"] if k == want or k.startswith(want + "_"))
+        found = [k for k in found if not (want == "e" and k.startswith("e_c"))]
+        keys += found[:1]
+    keys = keys or [k for k, v in rows[0]["fuzzy"].items() if isinstance(v, int | float)][:3]
+    if not keys:
+        return None
     t = [e["t_us"] / 1e6 for e in rows]
-    fig, axes = plt.subplots(3, 1, figsize=(7, 5), sharex=True)
-    for ax, key in zip(axes, ("e", "e_c", "u"), strict=True):
+    fig, axes = plt.subplots(len(keys), 1, figsize=(7, 1.8 * len(keys) + 1), sharex=True,
+                             squeeze=False)
+    for ax, key in zip(axes[:, 0], keys, strict=True):
         ax.plot(t, [e["fuzzy"].get(key) for e in rows], lw=1)
         ax.set_ylabel(key)
         ax.grid(True, alpha=0.3)
-    axes[-1].set_xlabel("t (s)")
-    axes[0].set_title("Fuzzy approaching: e, e_c, u")
+    axes[-1, 0].set_xlabel("t (s)")
+    axes[0, 0].set_title("Fuzzy approaching (002): " + ", ".join(keys))
     return _save(fig, folder, "fuzzy.png")
 
 

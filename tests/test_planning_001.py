@@ -221,3 +221,19 @@ def test_shared_echo_option_frees_the_single_sensor_parts():
     far = [r.eta_m for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05), [2.5, 1.0, 1.5,
                                                                                2.5, 2.5])]
     assert far[2] == 1.0 and far[4] == 1.5  # different echoes: eq. (15) as written
+
+
+def test_vectorised_region_test_equals_eq16_per_region():
+    from host.planning.sonar_regions import any_region_contains
+
+    rng = np.random.default_rng(5)
+    scan = infeasible_regions(SonarConfig(), (0.3, -0.2), 0.4, [700, 1500, 2500, 1000, 2200])
+    assert len(scan.regions) >= 3
+    x = rng.uniform(-2, 3, (40, 50))
+    y = rng.uniform(-2, 3, (40, 50))
+    ref = np.zeros_like(x, dtype=bool)
+    for reg in scan.regions:
+        ref |= reg.contains(x, y)
+    assert ref.any() and not ref.all()
+    assert np.array_equal(any_region_contains(scan.regions, x, y), ref)
+    assert not any_region_contains([], x, y).any()

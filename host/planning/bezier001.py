@@ -54,7 +54,12 @@ from host.planning.candidates import (
     summarize_rejections,
 )
 from host.planning.grasp_circle import ArmGeometry001, end_points, grasp_radius, inside_circle
-from host.planning.sonar_regions import InfeasibleRegion, SonarConfig, infeasible_regions
+from host.planning.sonar_regions import (
+    InfeasibleRegion,
+    SonarConfig,
+    any_region_contains,
+    infeasible_regions,
+)
 
 
 @dataclass(frozen=True)
@@ -130,9 +135,7 @@ def is_object_echo(region: InfeasibleRegion, obj, tol_m: float) -> bool:
 def _geometric_checks(obj, l_e: float, regions: list[InfeasibleRegion]):
     def checks(s):
         inside = inside_circle(s.x, s.y, obj, l_e, margin_m=1e-3)
-        blocked = np.zeros_like(inside)
-        for reg in regions:
-            blocked |= reg.contains(s.x, s.y)
+        blocked = any_region_contains(regions, s.x, s.y)
         blocked[..., 0] = False  # the present position is where the robot already is
         return [("grasp_circle", inside), ("obstacle", blocked)]
     return checks

@@ -170,3 +170,28 @@ def infeasible_regions(cfg: SonarConfig, position_xy_m, heading_rad: float,
                                 sr.eta_m, cfg.r_r_m)
                for sr in sub_regions(cfg, rho) if sr.eta_m < cfg.d_e_m]
     return SonarScan(regions, dropped)
+
+
+def any_region_contains(regions: list[InfeasibleRegion], x, y) -> np.ndarray:
+    """Eq. (16) for many regions at once: True where (x, y) lies in at least one of them."""
+    x = np.asarray(x, dtype=np.float64)
+    y = np.asarray(y, dtype=np.float64)
+    if not regions:
+        return np.zeros(np.broadcast(x, y).shape, dtype=bool)
+    shape = (-1,) + (1,) * np.broadcast(x, y).ndim
+    mid = np.array([0.5 * (r.lo_rad + r.hi_rad) for r in regions]).reshape(shape)
+    tan_half = np.array([math.tan(r.half_angle) for r in regions]).reshape(shape)
+    apex = np.array([r.apex for r in regions])
+    qx, qy = apex[:, 0].reshape(shape), apex[:, 1].reshape(shape)
+    ox = np.array([r.ox for r in regions]).reshape(shape)
+    oy = np.array([r.oy for r in regions]).reshape(shape)
+    lo = np.array([r.eta_m - r.r_r_m for r in regions]).reshape(shape)
+    hi = np.array([r.eta_m + r.r_r_m for r in regions]).reshape(shape)
+    c, s = np.cos(mid), np.sin(mid)
+    px, py = x - qx, y - qy
+    along = px * c + py * s
+    across = np.abs(py * c - px * s)
+    d2 = (x - ox) ** 2 + (y - oy) ** 2
+    inside = (along > 0) & (across <= along * tan_half) & (d2 >= np.maximum(lo, 0.0) ** 2) \
+        & (d2 <= hi**2)
+    return inside.any(axis=0)

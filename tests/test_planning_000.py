@@ -126,3 +126,18 @@ def test_batch_ops_charges_only_the_samples_before_an_early_exit():
            + sample_ops(6, **kw))
     assert batch_ops(first, 10, **kw) == ref
     assert batch_ops(np.array([], dtype=int), 10).cycles() == 0
+
+
+def test_time_must_increase_between_samples_too():
+    from host.planning.candidates import Limits, evaluate_batch, min_t_tau
+
+    # t control points 0, 2, -1.9, 1: t_τ(0) = 6 > 0 and t_τ(1) = 8.7 > 0, but t_τ dips below 0
+    ctrl = np.array([[[0, 0, 0], [1, 0, 2], [2, 0, -1.9], [3, 0, 1]]], float)
+    tt = np.linspace(0, 1, 2001)
+    c = ctrl[0, :, 2]
+    dense = 3 * ((1 - tt) ** 2 * (c[1] - c[0]) + 2 * tt * (1 - tt) * (c[2] - c[1])
+                 + tt**2 * (c[3] - c[2]))
+    assert min_t_tau(ctrl)[0] == pytest.approx(dense.min(), abs=1e-5)
+    assert dense.min() < 0
+    _, reasons, first = evaluate_batch(ctrl, 2, Limits(10, 10, None, False))  # τ = 0 and 1 only
+    assert reasons == ["time_not_increasing"] and first[0] == 0

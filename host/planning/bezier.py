@@ -38,8 +38,8 @@ DIVS_PER_SAMPLE = 3
 FLOPS_POSITION = 9  # x, y, t by forward differences (3 adds each)
 FLOPS_GRASP_CIRCLE = 6  # dx, dy, dx²+dy², compare with l_e²
 FLOPS_PER_REGION = 17  # point-in-infeasible-region test of eq. (16) of 001, per sample
-FLOPS_CURVE_SETUP = 40  # control points, coefficients a_i, b_i, c_i, forward-difference seeds
-DIVS_CURVE_SETUP = 2
+FLOPS_CURVE_SETUP = 50  # control points, coefficients, forward-difference seeds, min of t_τ
+DIVS_CURVE_SETUP = 3
 
 
 def sample_ops(n_samples: int, *, positions: bool = False, grasp_circle: bool = False,

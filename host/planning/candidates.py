@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from host.budget import OpCounts
-from host.planning.bezier import Curve, Samples, evaluate, sample_ops, taus
+from host.planning.bezier import Curve, Samples, coefficients, evaluate, sample_ops, taus
 
 REASON_OK = "ok"
 
@@ -94,6 +94,18 @@ def kinematic_violations(s: Samples, lim: Limits) -> list[tuple[str, np.ndarray]
     return out
 
 
+def min_t_tau(ctrl: np.ndarray) -> np.ndarray:
+    """Exact minimum over τ ∈ [0, 1] of t_τ = c1 + 2c2τ + 3c3τ² (eq. (7) of 000) per curve."""
+    c = coefficients(ctrl)[..., 2]
+    c1, c2, c3 = c[..., 1], c[..., 2], c[..., 3]
+    ends = np.minimum(c1, c1 + 2 * c2 + 3 * c3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tv = np.where(c3 > 0, -c2 / (3 * c3), -1.0)
+    inner = (tv > 0) & (tv < 1)
+    vertex = c1 + 2 * c2 * tv + 3 * c3 * tv * tv
+    return np.where(inner, np.minimum(ends, vertex), ends)
+
+
 def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
                    extra_checks=None) -> tuple[Samples, list[str], np.ndarray]:
     """Sample a batch (N, 4, 3); return samples, a reason per curve and its first bad sample index.
@@ -103,6 +115,11 @@ def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
     """
     s = evaluate(ctrl, taus(n_samples))
     checks = kinematic_violations(s, lim)
+    # t(τ) must increase on the whole curve, not only at the samples: the minimum of the
+    # quadratic t_τ over [0, 1] is exact and cheap (checked before the first sample)
+    time_bad = np.zeros(s.t_tau.shape, dtype=bool)
+    time_bad[..., 0] = min_t_tau(ctrl) <= 0.0
+    checks = [("time_not_increasing", time_bad)] + checks
     if extra_checks is not None:
         checks = list(extra_checks(s)) + checks
     n = ctrl.shape[0]

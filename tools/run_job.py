@@ -136,7 +136,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                  "obstacles": [vars(o) for o in scenario.obstacles]})
     host = None
     port = peer = None
-    res = None
+    res = rig = None
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     try:
         if opts.transport == "pty":
@@ -173,6 +173,13 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         tmpdir.cleanup()
         trace.close()
         summary.update(_figures(res, plant, trace, snaps, limit_s))
+        summary["frames_captured"] = rig.stats["frames_captured"] if rig else 0
+        summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}
+        proto = summary["protocol"]
+        proto["crc_errors"] = (proto["crc_errors"]
+                               + summary["mcu"].get("parser_crc_errors", 0))
+        proto["watchdog_trips"] = max(proto["watchdog_trips"],
+                                      summary["mcu"].get("watchdog_trips", 0))
         write_summary(out / "summary.json", summary)
     if opts.plots:
         try:
@@ -215,7 +222,7 @@ def _figures(res, plant, trace, snaps, limit_s: float) -> dict:
         "wall_time_s": wall, "realtime_factor": (end_us / 1e6 / wall) if wall > 0 else None,
         "protocol": {"tx_frames": proto.get("tx_frames", 0),
                      "rx_frames": proto.get("rx_frames", 0),
-                     "crc_errors": proto.get("crc_errors", 0) + mcu_t.get("crc_errors", 0),
+                     "crc_errors": proto.get("crc_errors", 0),
                      "retransmits": proto.get("retransmits", 0),
                      "watchdog_trips": mcu_t.get("watchdog_trips", 0),
                      "nacks": proto.get("nacks", 0),

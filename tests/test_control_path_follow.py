@@ -135,3 +135,13 @@ def test_001_plan_is_followed_around_an_obstacle():
     end = plan.best.ctrl[3]
     assert math.hypot(fx - end[0], fy - end[1]) < 0.05
     assert t <= plan.best.duration_s * 1e6 + 3_000_000
+
+
+def test_reference_heading_interpolates_across_pi():
+    # moving along −x while turning slightly: the heading crosses ±π
+    c = Curve(((0, 0, 0), (-1, 0.05, 5), (-2, -0.05, 10), (-3, 0.0, 15)))
+    tr = Trajectory.from_curve(c, 41)
+    assert max(tr.heading_mrad) > 3000 and min(tr.heading_mrad) < -3000
+    for t in range(0, 15_000_000, 137_000):
+        h = tr.at(t)[2]
+        assert abs(h) > 3000  # never the wrong way round (a naive mean would give ~0)

@@ -33,7 +33,7 @@ OUTER_RING_R_OUT_M = L_M / 2  # 54.5 mm
 OUTER_RING_R_IN_M = 0.0465  # outer ring 8 mm wide
 INNER_RING_R_OUT_M = 0.0405  # 6 mm white gap between the rings
 INNER_RING_R_IN_M = 0.0345  # inner ring 6 mm wide
-PLUS_HALF_SPAN_M = 0.010  # each "+" spans 20 mm tip to tip
+PLUS_HALF_SPAN_M = 0.0085  # each "+" spans 17 mm tip to tip (2.35 mm clear of the inner ring)
 PLUS_ARM_WIDTH_M = 0.006  # spoke width: 20-40 px at 0.18-0.09 m with f = 611 px
 
 # ---- paper 002: red cylinder and double-cross guidance board ----------------------------------

@@ -1,0 +1,199 @@
+"""Dual "+" symbol of paper 000 (§III.A): centres (u1, v1), (u2, v2) of both "+" and the distance
+``D_is = D_act f / d_pixel`` with ``d_pixel = sqrt((u1 - u2)^2 + (v1 - v2)^2)`` (D_act = 47.3 mm),
+then ``X'_oc = D_is cos(alpha)``, ``Y'_oc = D_is sin(alpha)``,
+``Z'_oc = D_is (u0 - (u1 + u2) / 2) / f`` with ``alpha = theta2 + theta3 + theta4`` (given in
+mrad). Integer only.
+
+Used for the approach adjustment (docs/markers.md): the camera looks down at the object top
+from 0.2-0.45 m. Steps:
+
+1. grey, global dark threshold, 8-connected dark components (host.vision.dark_blobs);
+2. "+" candidates: small dark components, partly filling their box, dark at the centre,
+   solidity (area over convex-hull area) 0.45-0.88 — a "+" has four notches, which blobs,
+   bars and discs do not — and at least 2.2x lighter around (black print on a white card);
+3. the pair: similar areas (within 1.6:1), separation 2-5.5 times the square root of the
+   mean area (47.3 mm apart for 17 mm "+", seen at up to 2:1 foreshortening), a light point
+   between them; the pair with the largest "+" wins;
+4. centres: integer first moments in Q4 px.
+
+Foreshortening (ours, beyond 000): the paper's formula assumes the segment between the "+" is
+seen square-on. Seen obliquely it is shortened and D_is comes out too large (by up to 1/sin of
+the view elevation). A "+" with equal arms has an isotropic second-moment matrix on the card,
+so the image moment matrix C of the two "+" is proportional to A A^T (A: card -> image
+Jacobian). The largest singular value of A over the pair's length, i.e.
+``d_eff^2 = lambda_max(C) * p^T C^-1 p`` with p the image vector between the centres, is the
+pair's image length had it been seen square-on; we use d_eff for ``dist_mm`` and also return
+the paper's value ``dist_raw_mm`` from d_pixel.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from host import fixedpoint as fp
+from host.budget import OpCounts
+from host.vision import dark_blobs as db
+from host.vision.grey import to_grey
+
+D_ACT_DMM = 473  # 000 §IV: D_act = 47.3 mm, in 0.1 mm
+F_PX = 611
+U0_PX = 160
+MIN_AREA_PX = 12
+SOLIDITY_MIN_PCT, SOLIDITY_MAX_PCT = 45, 88
+SEP_MIN_Q4, SEP_MAX_Q4 = 32, 88  # separation / sqrt(mean area), x16
+
+
+@dataclass(frozen=True)
+class DualPlus:
+    """Both "+" centres (Q4 px), their distances and the object position (mm, 000 §III.A)."""
+
+    u1_q4: int
+    v1_q4: int
+    u2_q4: int
+    v2_q4: int
+    d_pixel_q4: int  # 000's d_pixel
+    d_eff_q4: int  # foreshortening-corrected d_pixel (module docstring)
+    dist_mm: int  # D_act f / d_eff
+    dist_raw_mm: int  # 000's D_is = D_act f / d_pixel
+    x_oc_mm: int  # X'_oc = D_is cos(alpha)
+    y_oc_mm: int  # Y'_oc = D_is sin(alpha)
+    z_oc_mm: int  # Z'_oc = D_is (u0 - (u1 + u2) / 2) / f
+
+
+@dataclass(frozen=True)
+class _Plus:
+    m: tuple[int, int, int, int, int, int]  # m00, m10, m01, m20, m11, m02 (px)
+    u_q4: int
+    v_q4: int
+
+
+def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
+    """100 x area / convex-hull area of a bool ROI (integer shoelace, hull of pixel corners)."""
+    contours, _ = cv2.findContours(sel.view(np.uint8), cv2.RETR_EXTERNAL,
+                                   cv2.CHAIN_APPROX_SIMPLE)
+    ops = OpCounts(pixels_read=2 * sel.size, alu=4 * sel.size, branches=sel.size)
+    if not contours:
+        return 0, ops
+    pts = np.concatenate(contours).reshape(-1, 2).astype(np.int64)
+    # pixel squares, not centres: the hull of the corners has the area the pixels cover
+    corners = np.concatenate([pts, pts + [1, 0], pts + [0, 1], pts + [1, 1]])
+    hull = cv2.convexHull(corners.astype(np.int32)).reshape(-1, 2).astype(np.int64)
+    x, y = hull[:, 0], hull[:, 1]
+    area2 = abs(int((x * np.roll(y, -1) - y * np.roll(x, -1)).sum()))  # twice the hull area
+    ops += OpCounts(alu=40 * len(pts), muls32=2 * len(hull), branches=8 * len(pts))
+    if area2 == 0:
+        return 0, ops
+    return 200 * int(sel.sum()) // area2, ops
+
+
+def _plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
+                     ) -> tuple[list[_Plus], OpCounts]:
+    H, W = grey.shape
+    x, y, w, h, area = (stats[1:, i] for i in range(5))
+    ok = (area >= MIN_AREA_PX) & (w >= 4) & (h >= 4) & (w <= W // 2) & (h <= H // 2) \
+        & (100 * area >= 25 * w * h) & (100 * area <= 80 * w * h) & (w <= 4 * h) & (h <= 4 * w)
+    ops = OpCounts(alu=12 * len(area), branches=len(area))
+    out: list[_Plus] = []
+    for i in np.flatnonzero(ok)[:64]:
+        k = int(i) + 1
+        xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
+        sel = labels[yi:yi + hi, xi:xi + wi] == k
+        ops += OpCounts(pixels_read=wi * hi, alu=wi * hi)
+        if not sel[hi // 2, wi // 2]:
+            continue  # a "+" is dark at its centre
+        sol, o = _solidity_pct(sel)
+        ops += o
+        if not SOLIDITY_MIN_PCT <= sol <= SOLIDITY_MAX_PCT:
+            continue
+        # lighter around: the mean of a 2 px frame around the box at least 2.2x the print's
+        # (black print on a white card is ~10x; a brown body on the floor is ~1.5x)
+        x0, y0, x1, y1 = max(0, xi - 2), max(0, yi - 2), min(W, xi + wi + 2), min(H, yi + hi + 2)
+        frame = grey[y0:y1, x0:x1].astype(np.int32)
+        inside = frame[yi - y0:yi - y0 + hi, xi - x0:xi - x0 + wi]
+        ring_sum = int(frame.sum()) - int(inside.sum())
+        ring_n = frame.size - inside.size
+        dark_sum, dark_n = int(inside[sel].sum()), int(sel.sum())
+        ops += OpCounts(pixels_read=2 * frame.size, alu=3 * frame.size, muls32=2)
+        if 10 * ring_sum * dark_n < 22 * dark_sum * ring_n:
+            continue
+        m = db.moments(sel, xi, yi)
+        ops += db.moments_ops(sel.size, m[0])
+        out.append(_Plus(m, (16 * m[1] + m[0] // 2) // m[0], (16 * m[2] + m[0] // 2) // m[0]))
+    return out, ops
+
+
+def _central(p: _Plus) -> tuple[int, int, int]:
+    """Central second moments (sums of squared deviations, px^2, rounded) of one "+"."""
+    m00, m10, m01, m20, m11, m02 = p.m
+    return ((m00 * m20 - m10 * m10) // m00, (m00 * m11 - m10 * m01) // m00,
+            (m00 * m02 - m01 * m01) // m00)
+
+
+def _d_eff_q4(a: _Plus, b: _Plus, du_q4: int, dv_q4: int) -> int | None:
+    ca, cb = _central(a), _central(b)
+    sa = a.m[0] * a.m[0]
+    sb = b.m[0] * b.m[0]
+    # sum of both shape matrices, each normalised by its squared area so the nearer "+" does
+    # not dominate: scale by sb * sa to stay integer
+    xx = ca[0] * sb + cb[0] * sa
+    xy = ca[1] * sb + cb[1] * sa
+    yy = ca[2] * sb + cb[2] * sa
+    det = xx * yy - xy * xy
+    if det <= 0:
+        return None
+    lam2 = xx + yy + fp.isqrt((xx - yy) * (xx - yy) + 4 * xy * xy)  # 2 lambda_max
+    quad = yy * du_q4 * du_q4 - 2 * xy * du_q4 * dv_q4 + xx * dv_q4 * dv_q4  # p^T adj(C) p
+    return fp.isqrt(lam2 * quad // (2 * det))
+
+
+def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
+                     u0_px: int = U0_PX) -> tuple[DualPlus | None, OpCounts]:
+    """Find both "+"; ``(None, ops)`` unless a consistent pair is seen (never a guess)."""
+    db.check_rgb(rgb, "detect_dual_plus")
+    if isinstance(alpha_mrad, bool) or not isinstance(alpha_mrad, int | np.integer):
+        raise ValueError(f"detect_dual_plus: alpha_mrad must be an int (mrad), got {alpha_mrad!r}")
+    grey, ops = to_grey(rgb)
+    mask, _, o = db.dark_mask(grey)
+    ops += o
+    _, labels, stats, o = db.components(mask)
+    ops += o
+    plus, o = _plus_candidates(grey, labels, stats)
+    ops += o
+    best = None
+    for i in range(len(plus)):
+        for j in range(i + 1, len(plus)):
+            a, b = plus[i], plus[j]
+            a0, b0 = a.m[0], b.m[0]
+            if 8 * min(a0, b0) < 5 * max(a0, b0):
+                continue  # the two "+" are the same size (within 1.6:1 seen obliquely)
+            du, dv = a.u_q4 - b.u_q4, a.v_q4 - b.v_q4
+            d_q4 = fp.isqrt(du * du + dv * dv)
+            r_q4 = fp.isqrt(256 * (a0 + b0) // 2)  # sqrt(mean area) in Q4
+            if not SEP_MIN_Q4 * r_q4 <= 16 * d_q4 <= SEP_MAX_Q4 * r_q4:
+                continue
+            mu, mv = (a.u_q4 + b.u_q4) // 32, (a.v_q4 + b.v_q4) // 32
+            if mask[mv, mu]:
+                continue  # the card is white between the "+"
+            if best is None or a0 + b0 > best[0]:
+                best = (a0 + b0, a, b, du, dv, d_q4)
+    ops += OpCounts(alu=30 * len(plus) ** 2, muls32=4 * len(plus) ** 2, branches=len(plus) ** 2)
+    if best is None:
+        return None, ops
+    _, a, b, du, dv, d_q4 = best
+    if a.u_q4 > b.u_q4:
+        a, b = b, a  # "+" 1 is the left one in the image
+    d_eff = _d_eff_q4(a, b, du, dv)
+    ops += OpCounts(muls32=24, alu=40, divs=3) + fp.isqrt_ops(1 << 62).scaled(4)
+    if d_eff is None or d_eff < d_q4 or d_q4 == 0:
+        return None, ops
+    dist = fp.div_round(D_ACT_DMM * f_px * 16, 10 * d_eff)
+    raw = fp.div_round(D_ACT_DMM * f_px * 16, 10 * d_q4)
+    c, s = fp.cos_q12(int(alpha_mrad)), fp.sin_q12(int(alpha_mrad))
+    x_mm, y_mm = fp.mul_q12(dist, c), fp.mul_q12(dist, s)
+    z_mm = fp.div_round(dist * (u0_px * 32 - a.u_q4 - b.u_q4), 32 * f_px)
+    ops += fp.sin_ops().scaled(2) + fp.mul_q12_ops(2) + OpCounts(divs=3, muls32=3)
+    return DualPlus(a.u_q4, a.v_q4, b.u_q4, b.v_q4, d_q4, d_eff, dist, raw, x_mm, y_mm,
+                    z_mm), ops

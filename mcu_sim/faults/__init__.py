@@ -16,10 +16,11 @@ from mcu_sim.faults.plan import (
     parse_fault_overrides,
     parse_faults,
 )
+from mcu_sim.faults.safety import SafetyMonitor
 from mcu_sim.faults.uart import UartFaults, derive_key
 
 __all__ = [
     "FAULT_KEYS", "CameraFaults", "EncoderSlip", "FaultError", "FaultPlan", "MotorFail",
-    "RunFaults", "SonarFail", "UartFaults", "Window", "derive_key", "parse_fault_overrides",
-    "parse_faults",
+    "RunFaults", "SafetyMonitor", "SonarFail", "UartFaults", "Window", "derive_key",
+    "parse_fault_overrides", "parse_faults",
 ]

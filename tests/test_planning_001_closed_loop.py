@@ -63,9 +63,10 @@ def run(seed, side):
     clearance = math.inf
     prev = (x - 0.02, y)
     t = 0
-    while t < 60_000_000:
+    stopped_cycles = 0
+    while t < 90_000_000:
         if t % 100_000 == 0:
-            if t > 0 and fol is not None:
+            if t > 0:
                 vel = ((x - prev[0]) / 0.1, (y - prev[1]) / 0.1)
                 dec = rp.update(t, (x, y), th, vel, sonar_mm(x, y, th, obstacles))
                 assert dec.ops.time_us() <= 100_000
@@ -73,9 +74,13 @@ def run(seed, side):
                     fol = PathFollower(Trajectory.from_curve(dec.curve), t, 400)
                 elif dec.curve is None:
                     fol = None
+                    stopped_cycles += 1
             prev = (x, y)
         if fol is None:
-            return "stopped", clearance
+            if stopped_cycles > 3:  # no path even slowly: the task must take over
+                return "stopped", clearance
+            t += 20_000  # standing still until the next sonar reading
+            continue
         heading = round(((th + math.pi) % (2 * math.pi) - math.pi) * 1000)
         cmd = fol.step(t, Pose(round(x * 1e6), round(y * 1e6), heading, 0, 0))
         if cmd.done:

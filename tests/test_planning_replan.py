@@ -79,3 +79,15 @@ def test_remembered_region_still_blocks_after_it_leaves_the_sonar_view():
     rp.start_us = 0
     blocked, _ = rp.remaining_blocked(0, [reg])
     assert blocked
+
+
+def test_no_path_makes_the_next_plan_slower():
+    target = (3.267732437050385, 0.0)
+    sonar = [2500, 2500, 1457, 1050, 2500]  # echoes ahead and ahead-left
+    rp = Replanner(target)
+    first = rp.start(0, (0.0, 0.0), 0.0, (0.0, 0.0), sonar)
+    assert first.best is None and rp.v0_mps == 0.1  # v0 = 0.2 found nothing
+    dec = rp.update(100_000, (0.0, 0.0), 0.0, (0.0, 0.0), sonar)
+    assert dec.replanned and dec.curve is not None
+    assert dec.curve.duration_s == math.hypot(*target) / 0.1  # t3 = dist / v0 (eq. (7))
+    assert len(rp.memory) == len(set(rp.memory))  # the same echoes are remembered once

@@ -8,13 +8,16 @@ regions remembered from earlier (re)plans; if any sample is inside, the path is 
 the remembered regions (001 Fig. 5: path 2 must still avoid region 1, which the sonars may no
 longer see). The regions present at each (re)plan are remembered (at most ``memory`` of them, the
 oldest forgotten first), so that memory stays small and the plan stays within its ARM9 budget.
-When no feasible path exists the decision says so and the caller stops the platform.
+When no feasible path exists the decision says so and the caller stops the platform; the next
+update plans again (``curve`` None counts as blocked) with v0 scaled by the next of
+``slow_factors`` (ours, not 001: with a_t = v²κ <= Amax a slower curve may bend where a fast one
+cannot); each call makes at most one plan, so it stays within one plan's ARM9 budget.
 """
 
 from __future__ import annotations
 
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,29 +44,47 @@ class Replanner:
     """Keeps the present 001 curve, checks it against fresh sonar readings, replans."""
 
     def __init__(self, target_xy_m, params: Params001 | None = None, memory: int = 16,
-                 check_samples: int = 32) -> None:
+                 check_samples: int = 32, slow_factors: tuple[float, ...] = (1.0, 0.5)) -> None:
         self.target = np.asarray(target_xy_m, dtype=np.float64).reshape(2)
         self.params = params if params is not None else Params001()
         self.memory: deque[InfeasibleRegion] = deque(maxlen=int(memory))
         self.check_samples = int(check_samples)
+        if not slow_factors or any(not 0 < f <= 1 for f in slow_factors):
+            raise ValueError(f"slow_factors must be in (0, 1], got {slow_factors}")
+        self.slow_factors = tuple(slow_factors)
+        self.level = 0
         self.curve: Curve | None = None
         self.start_us = 0
         self.replans = 0
 
+    @property
+    def v0_mps(self) -> float:
+        """The v0 the next plan uses (001's v0 times the present slow-down factor)."""
+        return self.params.v0 * self.slow_factors[self.level]
+
     def _plan(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
               sonar_mm) -> Plan:
+        params = replace(self.params, v0=self.v0_mps)
         plan = plan_001(position_xy_m, vel_xy_mps, heading_rad, self.target, sonar_mm,
-                        self.params, known_regions=list(self.memory))
+                        params, known_regions=list(self.memory))
         fresh = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
         for reg in fresh.regions:
-            if not is_object_echo(reg, self.target, self.params.object_echo_tol_m):
+            if (not is_object_echo(reg, self.target, self.params.object_echo_tol_m)
+                    and reg not in self.memory):
                 self.memory.append(reg)
+        # ours, not 001: no feasible curve -> the next attempt plans slower (a_t = v²κ shrinks
+        # with v²); a success lets the following replan try one step faster again
+        if plan.best is None:
+            self.level = min(self.level + 1, len(self.slow_factors) - 1)
+        else:
+            self.level = max(self.level - 1, 0)
         self.curve = plan.best
         self.start_us = int(t_us)
         return plan
 
     def start(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps, sonar_mm) -> Plan:
         """First plan from the present pose; its curve starts at ``t_us``."""
+        self.level = 0
         return self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
 
     def remaining_blocked(self, t_us: int,

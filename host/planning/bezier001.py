@@ -98,6 +98,9 @@ class Params001:
 
 
 SETUP_OPS = OpCounts(float_ops=60, float_divs=6)
+# per sonar region: world angles, apex Q_r (sin, divide, cos), the object-echo test (two
+# distances), and, in the coarse pass, the grown copy
+REGION_OPS = OpCounts(float_ops=45, float_divs=6, luts=4)
 CLEARANCE_FLOPS = 15  # per sample per region: offsets, bearing test by cross products, compare
 CLEARANCE_DIVS = 2  # two square roots (range and end-point distance)
 
@@ -166,7 +169,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     scan = infeasible_regions(params.sonar, p0, heading_rad, sonar_mm)
     regions = [r for r in list(known_regions or []) + scan.regions
                if not is_object_echo(r, obj, params.object_echo_tol_m)]
-    ops = SETUP_OPS
+    ops = SETUP_OPS + REGION_OPS.scaled(len(scan.regions) + len(known_regions or []))
     l_e = grasp_radius(params.arm).l_e_m
     dist = float(np.hypot(*(obj - p0)))
     if dist <= l_e + 1e-3:

@@ -1,0 +1,162 @@
+"""Fault campaigns (issue 9): scenario generation, aggregation, parallel runs, outputs, CLI.
+
+The aggregation is tested with a stand-in run function (no closed loop); one tiny real run checks
+the adapter to tools.run_job."""
+
+import json
+import math
+
+import pytest
+
+from mcu_sim.faults import FaultPlan, Window
+from tools.campaign import (
+    CampaignConfig,
+    aggregate,
+    format_table,
+    jobs_of,
+    make_scenario,
+    row_of,
+    run_campaign,
+    run_one,
+    scenario_toml,
+    write_outputs,
+)
+from tools.cli import main
+
+PLAN = FaultPlan(uart_bit_error_rate=1e-3, uart_burst=Window(3.0, 0.5), host_crash_at_s=20.0)
+
+
+@pytest.mark.parametrize("method", ["000", "001", "002"])
+def test_generated_scenarios_follow_the_brief_and_carry_the_faults(method):
+    bearings = []
+    for seed in range(40):
+        sc = make_scenario(method, seed, PLAN)
+        assert sc.faults == PLAN and sc.meta.method == method and sc.meta.seed == seed
+        dx, dy = sc.target.x_m - sc.robot.x_m, sc.target.y_m - sc.robot.y_m
+        dist = math.hypot(dx, dy)
+        assert 0.5 <= dist <= 3.0
+        bearings.append(math.atan2(dy, dx))
+        if method == "001" and dist > 1.4:
+            assert 1 <= len(sc.obstacles) <= 3
+        if method == "002":
+            assert len(sc.target.path) >= 2  # the target moves
+        else:
+            assert not sc.target.path
+    assert min(bearings) < -2 and max(bearings) > 2  # any bearing
+    assert scenario_toml(method, 3, PLAN) == scenario_toml(method, 3, PLAN)
+    assert scenario_toml(method, 3, PLAN) != scenario_toml(method, 4, PLAN)
+
+
+def test_jobs_are_seeded_one_per_run():
+    cfg = CampaignConfig("001", 5, PLAN, seed=100, out="/tmp/x")
+    jobs = jobs_of(cfg)
+    assert [j["seed"] for j in jobs] == [100, 101, 102, 103, 104]
+    assert len({j["out"] for j in jobs}) == 5 and all(j["faults"] == PLAN.as_table()
+                                                      for j in jobs)
+
+
+@pytest.mark.parametrize("kw, fragment", [
+    ({"method": "003"}, "--method"), ({"runs": 0}, "--runs"), ({"seed": -1}, "--seed"),
+    ({"jobs": 0}, "--jobs"), ({"time_limit_s": 0.0}, "--time-limit-s"),
+])
+def test_bad_config_is_named(kw, fragment):
+    args = {"method": "000", "runs": 2} | kw
+    with pytest.raises(ValueError, match=fragment):
+        CampaignConfig(**args)
+
+
+def fake_run(job):
+    """Stand-in for the closed loop: outcome is a function of the seed."""
+    seed = job["seed"]
+    if seed % 7 == 6:
+        raise RuntimeError(f"boom {seed}")
+    return {
+        "status": "finished", "success": seed % 3 != 0, "task_state": "DONE",
+        "sim_time_s": 10.0 + seed, "collisions": 1 if seed == 4 else 0,
+        "protocol": {"retransmits": seed, "crc_errors": 2 * seed, "watchdog_trips": 9},
+        "safety": {"unsafe_actuations": 2 if seed == 5 else 0, "watchdog_trips": seed % 2,
+                   "stop_latency_ms": [250.0 + seed], "recovery_ms": [100.0 * seed],
+                   "unrecovered": 0},
+        "faults": {"plan": job["faults"]},
+    }
+
+
+def test_aggregation_over_a_stand_in_run(tmp_path):
+    cfg = CampaignConfig("000", 10, PLAN, seed=0, jobs=1, out=tmp_path)
+    res = run_campaign(cfg, run_fn=fake_run, progress=None)
+    agg, rows = res["summary"], res["rows"]
+    assert [r["seed"] for r in rows] == list(range(10))
+    crashed = [6]
+    ok = [s for s in range(10) if s % 3 != 0 and s not in crashed]
+    assert agg["runs"] == 10 and agg["successes"] == len(ok)
+    assert agg["success_rate"] == pytest.approx(len(ok) / 10)
+    assert agg["crashed_runs"] == 1 and rows[6]["error"] == "RuntimeError: boom 6"
+    assert agg["unsafe_actuations"] == 1 + 2 and agg["runs_with_unsafe_actuation"] == 2
+    assert agg["collisions"] == 1
+    live = [s for s in range(10) if s not in crashed]
+    assert agg["watchdog_trips"] == sum(s % 2 for s in live)  # the monitor's count wins
+    assert agg["retransmits"] == sum(live) and agg["crc_errors"] == 2 * sum(live)
+    assert agg["stop_latency_ms"] == {"n": 9, "median": 254.0, "max": 259.0}
+    assert agg["recovery_ms"]["max"] == 900.0 and agg["recovery_ms"]["n"] == 9
+    assert agg["failed_seeds"] == sorted(set(range(10)) - set(ok))
+    assert agg["runs_safety_monitored"] == 9 and agg["runs_faults_applied"] == 9
+    text = format_table(agg)
+    assert "success rate" in text and f"{len(ok) / 10 * 100:.1f} %" in text
+    assert "unsafe actuations" in text and "retransmits" in text
+
+
+def test_parallel_runs_give_the_same_rows(tmp_path):
+    serial = run_campaign(CampaignConfig("002", 8, PLAN, seed=3, jobs=1, out=tmp_path),
+                          run_fn=fake_run, progress=None)
+    parallel = run_campaign(CampaignConfig("002", 8, PLAN, seed=3, jobs=2, out=tmp_path),
+                            run_fn=fake_run, progress=None)
+    assert parallel == serial
+
+
+def test_progress_bar_goes_to_the_stream(tmp_path, capsys):
+    import io
+
+    buf = io.StringIO()
+    run_campaign(CampaignConfig("000", 3, seed=0, jobs=1, out=tmp_path), run_fn=fake_run,
+                 progress=buf)
+    assert "3/3 runs" in buf.getvalue() and capsys.readouterr().out == ""
+
+
+def test_rows_without_a_safety_block_are_marked():
+    row = row_of({"seed": 1}, {"status": "finished", "success": True, "collisions": 2,
+                              "protocol": {"watchdog_trips": 3, "retransmits": 4}})
+    assert row["safety_monitored"] is False and row["unsafe_actuations"] == 2
+    assert row["watchdog_trips"] == 3 and row["retransmits"] == 4 and not row["faults_applied"]
+    agg = aggregate([row], CampaignConfig("000", 1, PLAN))
+    assert "only 0/1 runs carried a safety monitor" in format_table(agg)
+    assert "applied the faults in only 0/1" in format_table(agg)
+
+
+def test_outputs_json_and_plot(tmp_path):
+    res = run_campaign(CampaignConfig("001", 6, PLAN, jobs=1, out=tmp_path), run_fn=fake_run,
+                       progress=None)
+    js, png = write_outputs(res, tmp_path / "out")
+    assert json.loads(js.read_text()) == res
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and png.stat().st_size > 5000
+
+
+@pytest.mark.parametrize("argv, fragment", [
+    (["--method", "000", "--fault", "uart_bit_error_rate=2"], "faults.uart_bit_error_rate"),
+    (["--method", "000", "--fault", "nope=1"], "faults.nope: unknown key"),
+    (["--method", "009"], "--method"),
+    (["--method", "000", "--runs", "0"], "--runs"),
+])
+def test_cli_bad_input_exits_2(argv, fragment, capsys):
+    assert main(["campaign", *argv]) == 2
+    assert fragment in capsys.readouterr().err
+
+
+def test_one_tiny_real_run_through_the_adapter(tmp_path):
+    job = jobs_of(CampaignConfig("000", 1, FaultPlan(uart_bit_error_rate=1e-3), seed=11,
+                                 out=tmp_path, time_limit_s=2.0))[0]
+    summary = run_one(job)
+    assert summary["status"] == "finished" and summary["seed"] == 11
+    assert summary["sim_time_s"] == pytest.approx(2.0)
+    row = row_of(job, summary)
+    assert row["status"] == "finished" and row["seed"] == 11
+    assert (tmp_path / "runs" / "000-11" / "summary.json").exists()

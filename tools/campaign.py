@@ -1,0 +1,254 @@
+"""Fault campaigns (issue 9): N seeded random scenarios under a fault plan, run over the cores.
+
+Run ``k`` uses seed ``seed + k``: the scenario is ``tools.random_scenarios`` (target 0.5-3 m away
+at any bearing, random heading; obstacles for 001; a moving target for 002) plus the ``[faults]``
+section of the plan, and the rig seeds every injector from the same run seed, so one run can be
+repeated alone with ``mobigrasp run``. :func:`run_one` is the one adapter to the closed loop
+(``tools.run_job.execute`` in process); anything with the same signature can replace it.
+
+Aggregated figures: success rate, unsafe actuations (the run's safety monitor: servo pulses out of
+the joint table, motion during a watchdog stop, late stops after host silence, commands the MCU
+had to clamp; plus collisions), watchdog trips, retransmits, stop latencies and recovery times.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+from mcu_sim.faults.plan import FaultPlan, parse_faults
+from mcu_sim.world.scenario import Scenario, loads_scenario
+
+METHODS = ("000", "001", "002")
+
+
+@dataclass(frozen=True)
+class CampaignConfig:
+    """What to run: ``runs`` scenarios of ``method`` from seed ``seed`` under ``faults``."""
+
+    method: str
+    runs: int
+    faults: FaultPlan = field(default_factory=FaultPlan)
+    seed: int = 0
+    jobs: int | None = None  # None: every core
+    out: Path = Path("runs/campaign")
+    time_limit_s: float | None = None  # None: the scenario's own limit
+
+    def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise ValueError(f"--method must be one of {', '.join(METHODS)}, got {self.method!r}")
+        if isinstance(self.runs, bool) or not isinstance(self.runs, int) or self.runs < 1:
+            raise ValueError(f"--runs must be an integer >= 1, got {self.runs!r}")
+        if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
+            raise ValueError(f"--seed must be an integer >= 0, got {self.seed!r}")
+        if self.jobs is not None and (not isinstance(self.jobs, int) or self.jobs < 1):
+            raise ValueError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
+        if self.time_limit_s is not None and not self.time_limit_s > 0:
+            raise ValueError(f"--time-limit-s must be > 0, got {self.time_limit_s!r}")
+
+
+def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
+    """TOML of random scenario ``seed`` of ``method`` with the plan's ``[faults]``."""
+    from tools.random_scenarios import random_scenario_toml
+
+    return random_scenario_toml(method, seed) + "\n" + plan.to_toml()
+
+
+def make_scenario(method: str, seed: int, plan: FaultPlan) -> Scenario:
+    """The validated scenario of one campaign run."""
+    return loads_scenario(scenario_toml(method, seed, plan), source=f"campaign-{method}-{seed}")
+
+
+def jobs_of(cfg: CampaignConfig) -> list[dict]:
+    """One picklable job per run."""
+    return [{"method": cfg.method, "seed": cfg.seed + k, "faults": cfg.faults.as_table(),
+             "out": str(Path(cfg.out) / "runs" / f"{cfg.method}-{cfg.seed + k}"),
+             "time_limit_s": cfg.time_limit_s} for k in range(cfg.runs)]
+
+
+def run_one(job: dict) -> dict:
+    """The adapter: one closed-loop run in process (tools.run_job.execute) -> its summary."""
+    from tools.run_job import RunOptions, execute
+
+    sc = make_scenario(job["method"], job["seed"], parse_faults(job["faults"], "campaign"))
+    summary, _ = execute(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=job["seed"],
+                                    transport="inproc", out=Path(job["out"]), progress=False,
+                                    plots=False, time_limit_s=job["time_limit_s"]))
+    return summary
+
+
+def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
+    """The campaign's figures of one run, from its summary (None: the run function raised)."""
+    s = summary or {}
+    safety = s.get("safety")
+    proto = s.get("protocol") or {}
+    collisions = int(s.get("collisions") or 0)
+    monitored = isinstance(safety, dict)
+    unsafe = (int(safety.get("unsafe_actuations", 0)) if monitored else 0) + collisions
+    wd = safety.get("watchdog_trips") if monitored else None
+    return {
+        "seed": job["seed"], "success": bool(s.get("success")),
+        "status": s.get("status", "crashed") if summary is not None else "crashed",
+        "task_state": s.get("task_state"), "sim_time_s": s.get("sim_time_s"),
+        "collisions": collisions, "unsafe_actuations": unsafe, "safety_monitored": monitored,
+        "watchdog_trips": int(wd if wd is not None else proto.get("watchdog_trips", 0)),
+        "retransmits": int(proto.get("retransmits", 0)),
+        "crc_errors": int(proto.get("crc_errors", 0)),
+        "stop_latency_ms": list(safety.get("stop_latency_ms", [])) if monitored else [],
+        "recovery_ms": list(safety.get("recovery_ms", [])) if monitored else [],
+        "unrecovered": int(safety.get("unrecovered", 0)) if monitored else 0,
+        "faults_applied": "faults" in s,
+        "error": error or s.get("error"),
+    }
+
+
+def _stats(values: list[float]) -> dict:
+    if not values:
+        return {"n": 0, "median": None, "max": None}
+    return {"n": len(values), "median": statistics.median(values), "max": max(values)}
+
+
+def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
+    """Campaign figures over the rows of :func:`row_of`."""
+    n = len(rows)
+    stops = [v for r in rows for v in r["stop_latency_ms"]]
+    recov = [v for r in rows for v in r["recovery_ms"]]
+    out: dict[str, Any] = {
+        "runs": n,
+        "successes": sum(r["success"] for r in rows),
+        "success_rate": sum(r["success"] for r in rows) / n if n else 0.0,
+        "crashed_runs": sum(r["status"] == "crashed" for r in rows),
+        "unsafe_actuations": sum(r["unsafe_actuations"] for r in rows),
+        "runs_with_unsafe_actuation": sum(r["unsafe_actuations"] > 0 for r in rows),
+        "collisions": sum(r["collisions"] for r in rows),
+        "watchdog_trips": sum(r["watchdog_trips"] for r in rows),
+        "retransmits": sum(r["retransmits"] for r in rows),
+        "crc_errors": sum(r["crc_errors"] for r in rows),
+        "stop_latency_ms": _stats(stops),
+        "recovery_ms": _stats(recov),
+        "unrecovered_faults": sum(r["unrecovered"] for r in rows),
+        "runs_safety_monitored": sum(r["safety_monitored"] for r in rows),
+        "runs_faults_applied": sum(r["faults_applied"] for r in rows),
+        "failed_seeds": sorted(r["seed"] for r in rows if not r["success"]),
+    }
+    if cfg is not None:
+        out.update({"method": cfg.method, "seed": cfg.seed, "faults": cfg.faults.as_table()})
+    return out
+
+
+def _bar(done: int, total: int, ok: int, started: float, stream: TextIO) -> None:
+    width = 30
+    fill = width * done // total if total else width
+    elapsed = time.monotonic() - started  # progress display only, never in results
+    eta = elapsed / done * (total - done) if done else 0.0
+    stream.write(f"\r  [{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs, "
+                 f"{ok} ok, {done - ok} not, eta {eta:5.0f} s ")
+    stream.flush()
+
+
+def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
+                 progress: TextIO | None = sys.stderr) -> dict:
+    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}."""
+    jobs = jobs_of(cfg)
+    workers = min(cfg.jobs or os.cpu_count() or 1, len(jobs))
+    rows: list[dict] = []
+    started = time.monotonic()
+
+    def done(job: dict, summary: dict | None, error: str | None) -> None:
+        rows.append(row_of(job, summary, error))
+        if progress is not None:
+            _bar(len(rows), len(jobs), sum(r["success"] for r in rows), started, progress)
+
+    if workers <= 1:
+        for job in jobs:
+            try:
+                done(job, run_fn(job), None)
+            except Exception as exc:  # one broken run must not end the campaign
+                done(job, None, f"{type(exc).__name__}: {exc}")
+    else:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            futures = {pool.submit(run_fn, job): job for job in jobs}
+            for fut in as_completed(futures):
+                try:
+                    done(futures[fut], fut.result(), None)
+                except Exception as exc:
+                    done(futures[fut], None, f"{type(exc).__name__}: {exc}")
+    if progress is not None:
+        progress.write("\n")
+    rows.sort(key=lambda r: r["seed"])
+    return {"summary": aggregate(rows, cfg), "rows": rows}
+
+
+def format_table(agg: dict) -> str:
+    """The campaign figures as a small text table."""
+    def fmt(st: dict) -> str:
+        if not st["n"]:
+            return "-"
+        return f"median {st['median']:.1f}, max {st['max']:.1f} (n={st['n']})"
+
+    lines = [
+        f"method {agg.get('method', '?')}, {agg['runs']} runs from seed {agg.get('seed', '?')}, "
+        f"faults: {json.dumps(agg.get('faults', {}), sort_keys=True) or '{}'}",
+        f"  {'success rate':<28} {agg['success_rate'] * 100:6.1f} %  "
+        f"({agg['successes']}/{agg['runs']}, {agg['crashed_runs']} crashed)",
+        f"  {'unsafe actuations':<28} {agg['unsafe_actuations']:6d}    "
+        f"(in {agg['runs_with_unsafe_actuation']} runs; collisions {agg['collisions']})",
+        f"  {'watchdog trips':<28} {agg['watchdog_trips']:6d}",
+        f"  {'retransmits':<28} {agg['retransmits']:6d}    (CRC errors {agg['crc_errors']})",
+        f"  {'wheel stop latency ms':<28} {fmt(agg['stop_latency_ms'])}",
+        f"  {'recovery time ms':<28} {fmt(agg['recovery_ms'])}"
+        f"  unrecovered {agg['unrecovered_faults']}",
+    ]
+    if agg["runs_safety_monitored"] < agg["runs"]:
+        lines.append(f"  NOTE: only {agg['runs_safety_monitored']}/{agg['runs']} runs carried a "
+                     f"safety monitor; unsafe actuations of the others are collisions only")
+    if agg.get("faults") and agg["runs_faults_applied"] < agg["runs"]:
+        lines.append(f"  NOTE: the rig applied the faults in only {agg['runs_faults_applied']}/"
+                     f"{agg['runs']} runs (summary without a 'faults' block)")
+    return "\n".join(lines)
+
+
+def write_outputs(result: dict, out: Path) -> tuple[Path, Path]:
+    """campaign.json and campaign.png in ``out``."""
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    js = out / "campaign.json"
+    js.write_text(json.dumps(result, indent=2, sort_keys=True))
+    png = out / "campaign.png"
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    agg, rows = result["summary"], result["rows"]
+    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
+    ok = agg["successes"]
+    crashed = agg["crashed_runs"]
+    axes[0].bar(["success", "failed", "crashed"], [ok, agg["runs"] - ok - crashed, crashed],
+                color=["tab:green", "tab:orange", "tab:red"])
+    axes[0].set_title(f"outcome ({agg['success_rate'] * 100:.0f} % success)")
+    seeds = [r["seed"] for r in rows]
+    axes[1].bar(seeds, [r["unsafe_actuations"] for r in rows], color="tab:red", label="unsafe")
+    axes[1].plot(seeds, [r["watchdog_trips"] for r in rows], "k.", label="watchdog trips")
+    axes[1].set_xlabel("seed")
+    axes[1].set_title("unsafe actuations, watchdog trips")
+    axes[1].legend(fontsize=8)
+    stops = [v for r in rows for v in r["stop_latency_ms"]]
+    recov = [v for r in rows for v in r["recovery_ms"]]
+    if stops or recov:
+        axes[2].hist([stops, recov], bins=20, label=["wheel stop latency", "recovery"])
+        axes[2].legend(fontsize=8)
+    axes[2].set_xlabel("ms (simulated)")
+    axes[2].set_title("stop latency / recovery time")
+    fig.tight_layout()
+    fig.savefig(png, dpi=90)
+    plt.close(fig)
+    return js, png

@@ -237,3 +237,9 @@ def test_vectorised_region_test_equals_eq16_per_region():
     assert ref.any() and not ref.all()
     assert np.array_equal(any_region_contains(scan.regions, x, y), ref)
     assert not any_region_contains([], x, y).any()
+
+
+def test_sensor_offset_moves_eta_to_the_centre():
+    regs = sub_regions(SonarConfig(sensor_offset_m=0.17), [2.5, 1.0, 2.5, 2.5, 2.5])
+    assert regs[2].eta_m == pytest.approx(1.17)  # S_2 alone
+    assert regs[0].eta_m == 2.5  # no echo stays no echo

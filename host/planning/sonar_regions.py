@@ -35,6 +35,9 @@ class SonarConfig:
     # within this tolerance, it is taken to come from their overlap only, and the sub-regions that
     # only one of them sees are left free.
     shared_echo_tol_m: float | None = None
+    # Not in 001 (0 = as written): sonars mounted this far from the centre along their axes
+    # measure from there; η is then taken from the centre (ρ + offset), as D_n of eq. (16) is.
+    sensor_offset_m: float = 0.0
 
     def __post_init__(self) -> None:
         if self.k_s < 2 or not 0 < self.a_g_rad < math.pi or not self.d_e_m > 0:
@@ -57,7 +60,8 @@ class SubRegion:
 
 def sub_regions(cfg: SonarConfig, rho_m) -> list[SubRegion]:
     """Eq. (15) of 001: the sub-regions and η_R^v for ranges ρ_s^k (metres, k = 1..k_s)."""
-    rho = [min(float(r), cfg.d_e_m) for r in rho_m]
+    rho = [min(float(r) + cfg.sensor_offset_m, cfg.d_e_m) if float(r) < cfg.d_e_m else cfg.d_e_m
+           for r in rho_m]
     if len(rho) != cfg.k_s:
         raise ValueError(f"expected {cfg.k_s} sonar ranges, got {len(rho)}")
     half = cfg.a_g_rad / 2

@@ -1,0 +1,118 @@
+"""HostApp on its own: handshake and retransmission, output validation, the ARM9 CPU model."""
+
+import numpy as np
+from rig_fakes import FakeOutputs, FakeTask, blob_detector, build_inputs
+
+from host.app import HostApp, HostConfig, stage_summary
+from host.budget import OpCounts
+from protocol import messages as m
+from protocol.frame import FrameParser
+
+
+def _sent(app, until):
+    parser = FrameParser()
+    out = []
+    for t, wire in app.take_output(until):
+        for frame in parser.feed(wire):
+            out.append((t, m.decode_frame(frame), frame.seq))
+    return out
+
+
+def _ack_hello(app, at_us):
+    hello_seq = app.link._hello_seq
+    app.on_uart(m.encode_message(m.Ack(acked_seq=hello_seq), 0)
+                + m.encode_message(m.HelloAck(proto_version=1, firmware_id="t",
+                                              capabilities=0), 1), at_us)
+
+
+def _telemetry(app, at_us, flags=0):
+    app.on_uart(m.encode_message(m.Telemetry(
+        time_us=at_us, enc_left=0, enc_right=0, servo_us=(1000, 1500, 1500, 1500, 1500, 1500),
+        sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=flags, crc_errors=0, overruns=0, limit_hits=0,
+        watchdog_trips=0), 2), at_us)
+
+
+def test_hello_is_retransmitted_until_acked_then_given_up():
+    app = HostApp(FakeTask(), {}, build_inputs, HostConfig())
+    app.advance_to(1_000_000)
+    msgs = _sent(app, 1_000_000)
+    hellos = [(t, seq) for t, msg, seq in msgs if isinstance(msg, m.Hello)]
+    assert len(hellos) == 11  # first + 10 retries (RetransmitQueue max_retries)
+    assert len({seq for _, seq in hellos}) == 1  # same seq every time
+    assert all(b - a >= 40_000 for (a, _), (b, _) in zip(hellos, hellos[1:], strict=False))
+    st = app.stats()["protocol"]
+    assert st["retransmits"] == 10 and st["reliable_failed"] == 1
+    assert app.counters.control_steps == 0  # the task never runs without a handshake
+
+
+class _BadTask(FakeTask):
+    def __init__(self, servo, wheels):
+        super().__init__()
+        self.out = FakeOutputs(servo_mrad=servo, wheels_mmps=wheels, state="SEARCH")
+
+    def step(self, now_us, inputs):
+        return self.out
+
+
+def _handshaken(task):
+    app = HostApp(task, {}, build_inputs, HostConfig())
+    app.advance_to(1)
+    _ack_hello(app, 5_000)
+    _telemetry(app, 6_000)
+    app.advance_to(30_000)
+    return app
+
+
+def test_nan_servo_target_is_refused_and_wheels_clamped():
+    app = _handshaken(_BadTask((0, 0, float("nan"), -1571, 1571, 0), (5000, -2000)))
+    msgs = [msg for _, msg, _ in _sent(app, 30_000)]
+    assert not any(isinstance(x, m.SetServos) for x in msgs)
+    wheels = [x for x in msgs if isinstance(x, m.SetWheels)]
+    assert wheels and (wheels[-1].left_mmps, wheels[-1].right_mmps) == (1000, -1000)
+    st = app.stats()["protocol"]
+    assert st["rejected_outputs"] >= 1 and st["clamped_outputs"] >= 1
+    assert any(e["ev"] == "output_rejected" for e in app.take_events())
+
+
+def test_servo_targets_are_clamped_to_joint_limits():
+    app = _handshaken(_BadTask((0, 0, 500, -1571, 4000, 0), None))
+    servos = [x for _, x, _ in _sent(app, 30_000) if isinstance(x, m.SetServos)]
+    assert servos[-1].targets[2] == 0 and servos[-1].targets[4] == 3000  # conventions limits
+    assert servos[-1].mode == m.SERVO_MODE_MRAD
+
+
+def _frames_app(cost_alu):
+    app = HostApp(FakeTask(), {"blob": blob_detector(cost_alu)}, build_inputs, HostConfig())
+    rgb = np.zeros((4, 4, 3), np.uint8)
+    for k in range(15):  # one second of frames at 15 fps, delivered at 5 ms quantum bounds
+        cap = k * 1_000_000 // 15
+        app.on_frame(k, cap, -(-cap // 5000) * 5000, rgb)
+    app.advance_to(1_000_000)
+    return app
+
+
+def test_vision_slower_than_frame_period_drops_every_other_frame():
+    fast = _frames_app(12_000_000)  # 30 ms per frame
+    assert fast.counters.frames_dropped == 0 and fast.counters.frames_processed == 15
+    slow = _frames_app(32_000_000)  # 80 ms per frame: each job spans the next arrival
+    assert slow.counters.frames_processed == 8 and slow.counters.frames_dropped == 7
+    loads = slow.load_windows()  # 500 ms windows: jobs of 80.05 ms started at 0, 133, 267, 400
+    assert 4 * 80_050 / 500_000 <= loads[0] <= 4 * 80_050 / 500_000 + 0.01
+
+
+def test_plan_in_a_control_step_misses_deadlines():
+    class PlanTask(FakeTask):
+        def step(self, now_us, inputs):
+            out = super().step(now_us, inputs)
+            out.ops = OpCounts(alu=20_000_000) if len(self.steps) == 3 else None  # 50 ms
+            return out
+
+    app = _handshaken(PlanTask())
+    app.advance_to(200_000)
+    assert app.counters.deadline_misses >= 2 and app.counters.ticks_skipped >= 1
+
+
+def test_stage_summary_percentiles():
+    s = stage_summary(list(range(1, 101)))
+    assert (s["calls"], s["p95_us"], s["max_us"], s["mean_us"]) == (100, 95, 100, 50.5)
+    assert stage_summary([])["calls"] == 0

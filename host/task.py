@@ -79,6 +79,7 @@ class TaskParams:
     replan_period_us: int = 1_000_000  # 001
     replan_shift_mm: int = 150  # 000: replan when the object estimate moved this far
     max_plan_attempts: int = 3
+    direct_max_mm: int = 1200  # no feasible curve after all attempts: ADJUST if this close
     servo_speed_mrad_per_s: int = 3000  # for settle times
     settle_margin_us: int = 300_000
     posture_step_mrad: int = 60  # per control step

@@ -200,7 +200,24 @@ class TaskStates(GraspStates):
             return
         self.plan_attempts += 1
         if self.plan_attempts >= self.p.max_plan_attempts:
-            self.fail(now, f"no feasible approach path: {detail['reason']}")
+            x, y = self.obj_platform(inp)
+            dist = isqrt(x * x + y * y) // 16
+            if dist <= self.p.direct_max_mm:  # short range: the close approach can do it
+                self.go(now, "ADJUST", f"no feasible curve ({detail['reason']}); object "
+                        f"{dist} mm away: direct approach")
+            else:
+                self.fail(now, f"no feasible approach path: {detail['reason']}")
+
+    def _face_object(self, inp) -> bool:
+        """Turn the base in place toward the object; True once it faces it (ours, not the
+        papers': a curve from a standstill facing away can violate A_max or R_min)."""
+        x, y = self.obj_platform(inp)
+        bearing = atan2_mrad(x, y + self.p.mount_forward_mm * 16)  # seen from the axle
+        if abs(bearing) <= self.p.bearing_tol_mrad:
+            self.wheels = (0, 0)
+            return True
+        self.wheels = turn_in_place(-1 if bearing > 0 else 1, self.p.turn_wheel_mmps)
+        return False
 
     def do_APPROACH(self, now: int, inp, dets: dict) -> None:
         if self.method == "002":
@@ -213,9 +230,8 @@ class TaskStates(GraspStates):
             self.obj[1] - self.plan_obj[1]) ** 2) > self.p.replan_shift_mm)
         due = self.method == "001" and now - self.plan_us >= self.p.replan_period_us
         if self.follower is None or moved or due:
-            if self.follower is None and self.plan_attempts and now - self.plan_us < 1_000_000:
-                self.wheels = (0, 0)  # retry a failed plan once a second
-                return
+            if self.follower is None and self.plan_attempts and not self._face_object(inp):
+                return  # no feasible curve from here: face the object in place, then replan
             self._plan(now, inp)
             if self.state != "APPROACH" or self.follower is None:
                 self.wheels = (0, 0)

@@ -200,3 +200,39 @@ def test_002_full_sequence_with_a_reachable_grasp_height():
     assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
     assert [e.to_state for e in events][:3] == ["APPROACH", "ADJUST", "ROUGH_GRASP"]
     assert "T_d" in events[2].why  # 002's stop: ring spacing d_pixel > T_d = 45 px
+
+
+def _campaign(method, n, seed):
+    import random
+
+    global H_SHOULDER_M
+    rng = random.Random(seed)
+    ok = 0
+    for _ in range(n):
+        d, b, h = rng.uniform(0.6, 2.0), rng.uniform(-math.pi, math.pi), rng.uniform(-math.pi,
+                                                                                      math.pi)
+        obj = (d * math.cos(b), d * math.sin(b))
+        if method == "001":
+            H_SHOULDER_M = 0.108
+            task, world = Task("001"), World(obj, lengths=(160.0, 160.0, 200.0), pose=(0, 0, h))
+        elif method == "002":
+            H_SHOULDER_M = 0.20
+            task = Task("002", {"grasp_height_mm": 300, "object_top_mm": 320})
+            world = World(obj, lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.30, top_h=0.32,
+                          pose=(0, 0, h))
+        else:
+            H_SHOULDER_M = 0.20
+            task, world = Task("000"), World(obj, pose=(0, 0, h))
+        try:
+            run(task, world)
+        finally:
+            H_SHOULDER_M = 0.20
+        ok += task.state == "DONE" and world.held
+    return ok
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("method", ["000", "001", "002"])
+def test_randomized_starts_succeed_95_percent(method):
+    """100 seeded starts: object 0.6-2 m away in any direction, any heading (float world)."""
+    assert _campaign(method, 100, seed=7) >= 95

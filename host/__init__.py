@@ -1,1 +1,1 @@
-"""The S3C2440 program: vision, ranging, planning, control, kinematics and the task, in fixed point."""
+"""The S3C2440 program: vision, ranging, planning, control, kinematics and the task."""

@@ -43,11 +43,13 @@ def test_no_wall_clock_in_host_protocol_firmware():
             for node in ast.walk(tree):
                 if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
                     if (node.value.id, node.attr) in WALL_CLOCK:
-                        bad.append(f"{path.relative_to(ROOT)}:{node.lineno} {node.value.id}.{node.attr}")
+                        rel = path.relative_to(ROOT)
+                        bad.append(f"{rel}:{node.lineno} {node.value.id}.{node.attr}")
                 if isinstance(node, ast.ImportFrom) and node.module == "time":
                     names = {a.name for a in node.names}
                     if names & {"time", "sleep", "monotonic", "perf_counter"}:
-                        bad.append(f"{path.relative_to(ROOT)}:{node.lineno} from time import {names}")
+                        rel = path.relative_to(ROOT)
+                        bad.append(f"{rel}:{node.lineno} from time import {names}")
     assert not bad, "wall clock used where the simulated Clock belongs:\n" + "\n".join(bad)
 
 

@@ -1,1 +1,1 @@
-"""Benchmarks of ``mobigrasp bench NAME``: each module defines ``NAME``, ``HELP`` and ``run(args) -> dict``."""
+"""Benchmarks of ``mobigrasp bench NAME``: each module has NAME, HELP and run(args) -> dict."""

@@ -1,1 +1,1 @@
-"""Subcommands of ``mobigrasp``: each module defines ``register(subparsers)``; the CLI discovers them."""
+"""Subcommands of ``mobigrasp``: each module defines ``register(subparsers)``."""

@@ -1,4 +1,4 @@
-"""``mobigrasp bench NAME [--json PATH]``: run a benchmark, print a table, write its figures as JSON.
+"""``mobigrasp bench NAME [--json PATH]``: run a benchmark, print a table, write JSON.
 
 Benchmarks live in ``tools/benches/<name>.py``; each defines ``NAME``, ``HELP``, optionally
 ``add_arguments(parser)``, and ``run(args) -> dict``. Keys carry units (``parse_mb_per_s``); where

@@ -15,9 +15,11 @@ detector alone (p50, ms) and the modelled ARM9 time (p50 / max, ms) from its OpC
   centre anywhere in the image with both crosses fully inside; truth: cross pixels and the
   bearing e of the board centre from the platform heading.
 - ``red_cylinder``: end of the approach and grasp, camera 0.12-0.6 m from the cylinder axis,
-  within ±60° of the target heading, 0.02-0.20 m above the floor, both rings and some red above
-  and below them inside the image; truth: the axis point between the rings, camera-centred in
-  platform axes (distance and bearing).
+  within ±60° of the target heading, 0.02-0.16 m above the floor, the rings seen within ±20°
+  of level and pitch within ±0.6 rad (002 grasps with a horizontal gripper, α = 0), both
+  rings, some red above and below them and the whole width of the cylinder inside the image;
+  truth: the axis point between the rings, camera-centred in platform axes (distance and
+  bearing).
 
 Usage: ``python -m tools.vision_accuracy --frames 200`` or through ``mobigrasp bench vision``.
 """
@@ -136,18 +138,21 @@ def view_red_cylinder(rng: np.random.Generator, clutter: int = 4) -> View:
                    float(rng.uniform(-math.pi, math.pi)))
         kp = target_keypoints_w(t)
         centre = kp["cylinder_centre"]
-        dist, hc = rng.uniform(0.12, 0.6), rng.uniform(0.02, 0.20)
+        dist, hc = rng.uniform(0.12, 0.6), rng.uniform(0.02, 0.16)
         beta = t.heading_rad + rng.uniform(-1.05, 1.05)
         c = np.array([centre[0] + dist * math.cos(beta), centre[1] + dist * math.sin(beta), hc])
         yaw, pitch = _aim(c, centre, rng.uniform(-120, 120), rng.uniform(-90, 90),
                           INTR_002.f_px)
         R = look_rotation(yaw, pitch)
-        side = np.array([-math.sin(beta), math.cos(beta), 0.0]) * mk.RED_CYL_RADIUS_M
+        # silhouette edges with 15 % to spare (tangent points sit a little towards the camera)
+        side = np.array([-math.sin(beta), math.cos(beta), 0.0]) * mk.RED_CYL_RADIUS_M * 1.15
         z_lo = kp["ring_lo"][2] - 0.012
         z_hi = kp["ring_hi"][2] + 0.012
         pts = np.array([[centre[0] + s[0], centre[1] + s[1], z] for s in (side, -side)
                         for z in (z_lo, z_hi)])
-        if _inside(project(pts, c, R, INTR_002), INTR_002, 2) and abs(pitch) < 0.9:
+        elevation = math.atan2(centre[2] - hc, dist)
+        if _inside(project(pts, c, R, INTR_002), INTR_002, 3) and abs(pitch) < 0.6 \
+                and abs(elevation) <= 0.35:
             break
     theta5 = float(rng.uniform(-0.8, 0.8))
     truth = _platform_truth(c, yaw, theta5, centre)
@@ -419,13 +424,17 @@ def table(figs: list[dict]) -> str:
             ("wall ms p50", "wall_ms_p50", "{:.2f}"), ("ARM9 ms p50", "arm9_ms_p50", "{:.1f}"),
             ("ARM9 ms max", "arm9_ms_max", "{:.1f}")]
     rows = [[c[0] for c in cols]]
+    notes = []
     for f in figs:
         if not f.get("available", True):
-            rows.append([f["detector"], "not available: " + f.get("why", "")])
+            rows.append([f["detector"]] + ["n/a"] * (len(cols) - 1))
+            notes.append(f"{f['detector']}: not available ({f.get('why', '')})")
             continue
         rows.append([fmt.format(f[k]) if f.get(k) is not None else "-" for _, k, fmt in cols])
-    widths = [max(len(r[i]) for r in rows if i < len(r)) for i in range(len(cols))]
-    return "\n".join("  ".join(c.ljust(widths[i]) for i, c in enumerate(r)) for r in rows)
+        notes.append(f"{f['detector']}: {f['range']}")
+    widths = [max(len(r[i]) for r in rows) for i in range(len(cols))]
+    lines = ["  ".join(c.ljust(widths[i]) for i, c in enumerate(r)) for r in rows]
+    return "\n".join(lines + notes)
 
 
 def main(argv: list[str] | None = None) -> int:

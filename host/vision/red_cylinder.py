@@ -19,9 +19,14 @@ How we do it:
    profile; a ring is a run of rows below half the median red level with red rows above and
    below it. Exactly two rings are required; anything red without them (clutter) is rejected.
    Each ring's row is the darkness-weighted centroid of its run (sub-pixel, Q4).
-4. (u_c, v_c): u_c is the middle of the run of red columns, on the rows between the rings,
-   through the scan centre (the cylinder's axis), v_c the midpoint of the rings; the ROI box
-   is returned as well.
+4. The rings' own columns: on each ring row, the longest run of columns where the ring is
+   clearly less red than the red band between the rings (and the red outside them). The
+   rings exist only on the cylinder, so this is its width whatever red stands beside it.
+   The ring rows are measured again on the central half of that run. The silhouette is the
+   red run between the rings through it, each side trusted only if it is about as far out as
+   the other (else the nearer side is mirrored: a red neighbour touches the far one). u_c is
+   the silhouette's middle (the axis), v_c the midpoint of the rings; the ROI box is returned
+   as well.
 """
 
 from __future__ import annotations
@@ -162,6 +167,68 @@ def _centroid_q4(profile: np.ndarray, s: int, e: int, level: int) -> int:
     return fp.div_round(int((w * rows).sum()) * 16, tot)
 
 
+def _measure(rgb: np.ndarray, y0: int, y1: int, cx0: int, cx1: int
+             ) -> tuple[tuple[int, int, int, int, int], OpCounts] | None:
+    """Ring rows in columns [cx0, cx1) of rows [y0, y1): ((r1_q4, r2_q4, level, run1 length,
+    run2 length), ops) with rows in full-frame Q4, or None without exactly two thin rings."""
+    red = redness(rgb[y0:y1, cx0:cx1]).astype(np.int32)
+    profile = red.sum(axis=1) // (cx1 - cx0)
+    n = red.size
+    ops = OpCounts(pixels_read=3 * n, alu=4 * n, divs=y1 - y0, bytes_streamed=3 * n,
+                   branches=2 * (y1 - y0))
+    found = _rings(profile)
+    if found is None or len(found[0]) != 2:
+        return None
+    ((s1, e1), (s2, e2)), level = found
+    ops += OpCounts(alu=8 * (e2 - s1 + 4) + 40, muls32=2 * (e2 - s1 + 4), divs=2)
+    r1 = y0 * 16 + _centroid_q4(profile, s1, e1, level)
+    r2 = y0 * 16 + _centroid_q4(profile, s2, e2, level)
+    if r2 - r1 < MIN_RING_GAP_PX * 16 or 2 * max(e1 - s1, e2 - s2) * 16 > r2 - r1:
+        return None  # rings must be thin compared with their spacing (3 mm vs 14.5 mm)
+    return (r1, r2, level, e1 - s1, e2 - s2), ops
+
+
+def _ring_columns(rgb: np.ndarray, x0: int, x1: int, r1_q4: int, r2_q4: int, level: int
+                  ) -> tuple[tuple[int, int] | None, OpCounts]:
+    """Columns [left, right] of the rings: the longest run of columns where each ring row is
+    at least level/4 less red than the red band between the rings (and than the red half a
+    spacing outside, when that row is in the frame). The rings exist only on the cylinder, so
+    a red neighbour (or the background) never widens it."""
+    h = rgb.shape[0]
+    k = max(1, (r2_q4 - r1_q4 + 16) >> 5)  # half the spacing, whole rows
+    ra, rb = (r1_q4 + 8) >> 4, (r2_q4 + 8) >> 4
+    mid = (ra + rb) >> 1
+    rows = [r for r in (ra - k, ra, mid, rb, rb + k) if 0 <= r < h]
+    red = {r: redness(rgb[r, x0:x1]).astype(np.int16) for r in rows}
+    ok = np.ones(x1 - x0, bool)
+    for ring, outer in ((ra, ra - k), (rb, rb + k)):
+        ref = red[mid] if outer not in red else np.minimum(red[mid], red[outer])
+        ok &= ref - red[ring] >= level // 4
+    n = len(rows) * (x1 - x0)
+    ops = OpCounts(pixels_read=3 * n, alu=6 * n, branches=x1 - x0)
+    if not ok.any():
+        return None, ops
+    # longest run of True: starts and ends of runs from the padded difference
+    d = np.diff(np.concatenate(([0], ok.astype(np.int8), [0])))
+    starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
+    j = int(np.argmax(ends - starts))
+    return (x0 + int(starts[j]), x0 + int(ends[j]) - 1), ops
+
+
+def _red_run(rgb: np.ndarray, ya: int, yb: int, x0: int, x1: int, centre: int
+             ) -> tuple[int, int, OpCounts]:
+    """Columns of the red run through ``centre`` on rows [ya, yb) (majority red per column)."""
+    ya, yb = max(0, ya), max(ya + 1, yb)
+    band = redness(rgb[ya:yb, x0:x1]) >= T_RED
+    colred = band.sum(axis=0) * 2 >= band.shape[0]
+    ops = OpCounts(pixels_read=3 * band.size, alu=5 * band.size, branches=band.shape[1])
+    c = centre - x0
+    gaps = np.flatnonzero(~colred)
+    left = int(gaps[gaps < c].max()) + 1 if (gaps < c).any() else 0
+    right = int(gaps[gaps > c].min()) - 1 if (gaps > c).any() else colred.size - 1
+    return x0 + left, x0 + right, ops
+
+
 def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCounts]:
     """Find the 002 red cylinder and its two black rings; ``(None, ops)`` when not found."""
     _check(rgb)
@@ -182,41 +249,53 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
         ix0, ix1 = 2 * gix0, min(w, 2 * gix1)
         if ix1 - ix0 < 4 or y1 - y0 < 4:
             continue
+        # pass 1: rings in the central half of the scan columns; if a red neighbour spoils
+        # them, in narrow strips of the ROI, nearest the scan centre first
         cx0, cx1 = ix0 + (ix1 - ix0) // 4, ix1 - (ix1 - ix0) // 4
-        red = redness(rgb[y0:y1, cx0:cx1]).astype(np.int32)
-        profile = red.sum(axis=1) // (cx1 - cx0)
-        n = red.size
-        ops += OpCounts(pixels_read=3 * n, alu=4 * n, divs=y1 - y0, bytes_streamed=3 * n)
-        found = _rings(profile)
-        if found is None:
+        m = _measure(rgb, y0, y1, cx0, cx1)
+        if m is None:
+            sw = max(4, (x1 - x0) // 8)
+            mid = (cx0 + cx1) // 2
+            for sx in sorted(range(x0, x1 - sw + 1, sw // 2), key=lambda a: abs(a + sw // 2 - mid)):
+                m = _measure(rgb, y0, y1, sx, sx + sw)
+                if m is not None:
+                    cx0, cx1 = sx, sx + sw
+                    break
+                ops += OpCounts(pixels_read=3 * sw * (y1 - y0), alu=4 * sw * (y1 - y0))
+        if m is None:
             continue
-        runs, level = found
-        if len(runs) != 2:
+        (r1, r2, level, _, _), o = m
+        ops += o
+        # the rings' own columns: the cylinder's width and axis, whatever red is beside it
+        cols, o = _ring_columns(rgb, x0, x1, r1, r2, level)
+        ops += o
+        if cols is None or cols[1] - cols[0] < 3:
             continue
-        (s1, e1), (s2, e2) = runs
-        ops += OpCounts(alu=8 * (e2 - s1 + 4) + 40, muls32=2 * (e2 - s1 + 4), divs=2,
-                        branches=2 * (y1 - y0))
-        r1 = y0 * 16 + _centroid_q4(profile, s1, e1, level)
-        r2 = y0 * 16 + _centroid_q4(profile, s2, e2, level)
-        d_q4 = r2 - r1
-        if d_q4 < MIN_RING_GAP_PX * 16 or 2 * max(e1 - s1, e2 - s2) * 16 > d_q4:
-            continue  # rings must be thin compared with their spacing (3 mm vs 14.5 mm)
-        # cylinder axis: middle of the red extent on the rows between the rings
-        band = redness(rgb[y0 + e1:y0 + s2, x0:x1]) >= T_RED
-        if band.size == 0:
-            continue
-        colred = band.sum(axis=0) * 2 >= band.shape[0]
-        ops += OpCounts(pixels_read=3 * band.size, alu=5 * band.size, branches=band.shape[1])
-        mid = (cx0 + cx1) // 2 - x0
-        if not colred[mid]:
-            continue
-        # the run of red columns through the scan centre: a red neighbour touching the
-        # cylinder beside the rings does not widen it unless it fills the gap rows too
-        gaps = np.flatnonzero(~colred)
-        left = x0 + (int(gaps[gaps < mid].max()) + 1 if (gaps < mid).any() else 0)
-        right = x0 + (int(gaps[gaps > mid].min()) - 1 if (gaps > mid).any() else band.shape[1] - 1)
+        left, right = cols
+        (r1, r2, _, e1, e2), o = m
+        # silhouette: the red run between the rings through the rings' columns; the rings fade
+        # a little before the silhouette edges, so their run is a bit narrower. A side whose
+        # red reaches much further out than the other is a red neighbour: mirror the other.
+        red_l, red_r, o = _red_run(rgb, (r1 >> 4) + e1, (r2 >> 4) - e2 + 1, x0, x1,
+                                   (left + right) // 2)
+        ops += o
+        ml, mr = left - red_l, red_r - right
+        if abs(ml - mr) > max(3, (right - left) // 4):
+            ml = mr = max(0, min(ml, mr))
+        left, right = left - ml, right + mr
+        if left <= 0 or right >= w - 1:
+            continue  # cut by the image border: the axis cannot be located, say not found
+        q = (right - left + 1) // 4
+        if abs(left + q - cx0) + abs(right + 1 - q - cx1) > max(2, q // 2):
+            # pass 2: pass 1 scanned columns off the cylinder's (a red neighbour was merged);
+            # measure the rings again on the central half of the silhouette
+            m = _measure(rgb, y0, y1, left + q, right + 1 - q)
+            if m is None:
+                continue
+            (r1, r2, _, _, _), o = m
+            ops += o
         u_c = (left + right) * 8  # (left + right) / 2 in Q4
-        res = RedCylinderResult(u_c, (r1 + r2 + 1) >> 1, r1, r2, d_q4,
+        res = RedCylinderResult(u_c, (r1 + r2 + 1) >> 1, r1, r2, r2 - r1,
                                 (right - left + 1) * 16, (x0, y0, x1 - x0, y1 - y0))
         return res, ops
     return None, ops

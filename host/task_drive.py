@@ -25,6 +25,8 @@ from host.control.path_follow import PathFollower, Trajectory, wheel_speeds
 from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from host.odometry import Pose
 
+MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
+
 
 def make_pose(x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int) -> Pose:
     """An odometry Pose from the task's inputs (mm, mrad, mm/s)."""
@@ -54,9 +56,12 @@ def plan_follower(method: str, now_us: int, x_mm: int, y_mm: int, heading_mrad: 
         p = planner_params if planner_params is not None else Params000()
         plan = plan_000(start, vel, target, p, heading_rad=h)
     n_feasible = sum(1 for cand in plan.candidates if cand.feasible)
+    step = max(1, len(plan.candidates) // MAX_TRACE_CANDIDATES)
+    cands = [[list(map(float, row)) for row in plan.candidates[i].curve.ctrl]
+             for i in range(0, len(plan.candidates), step)]
     detail: dict = {"planner": method, "reason": plan.reason,
                     "candidates": len(plan.candidates), "feasible": n_feasible,
-                    "plan_arm9_us": plan.ops.time_us()}
+                    "plan_arm9_us": plan.ops.time_us(), "candidates_ctrl": cands}
     if plan.best is None:
         return None, plan.ops, detail
     traj = Trajectory.from_curve(plan.best)

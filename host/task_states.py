@@ -57,6 +57,7 @@ class TaskStates(GraspStates):
         self.last_pose = (0, 0, 0, 0)
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
+        self.prev_e = None
 
     # --- helpers ------------------------------------------------------------------------------
     def run_state(self, now: int, inp, dets: dict) -> None:
@@ -264,7 +265,12 @@ class TaskStates(GraspStates):
             self.obj_seen_us = now
             self._track_marker_002(now, dc, e)
         self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
-        self.note(fuzzy={"e_mrad": e, "u_mrad": cmd.u_mrad, "wheels_mmps": list(self.wheels)})
+        ec = None
+        if e is not None and self.prev_e is not None and now > self.prev_e[0]:
+            ec = (e - self.prev_e[1]) * 1_000_000 // (now - self.prev_e[0])
+        self.prev_e = (now, e) if e is not None else None
+        self.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
+                         "wheels_mmps": list(self.wheels)})
 
     def _track_marker_002(self, now: int, det, e: int) -> None:
         """Keep the marker in view: the waist faces it (theta5 = e) and d_alpha, the pitch of

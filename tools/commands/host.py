@@ -33,7 +33,6 @@ def _config(args: argparse.Namespace) -> dict:
 
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from host.app_factory import build_host_app
-
     from host.lockstep_client import LockstepClient, serve_stream
     from link.registry import open_transport
 
@@ -73,7 +72,6 @@ class _OpenCvCamera:
 
 def _free_running(args: argparse.Namespace, cfg: dict) -> int:
     from host.app_factory import build_host_app
-
     from link.base import LinkClosed
     from link.registry import open_transport
 
@@ -101,9 +99,15 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
             port.wait_readable(0.002)
     except LinkClosed:
         print("host: the MCU side closed the port", file=sys.stderr)
+    except KeyboardInterrupt:
+        print("host: interrupted", file=sys.stderr)
     finally:
         port.close()
-    print(json.dumps(app.stats().get("protocol", {}), sort_keys=True), file=sys.stderr)
+    st = app.stats()
+    print(f"host: state {st['state']}, control steps {st['control_steps']}, frames "
+          f"{st['frames_processed']}/{st['frames_received']}, protocol "
+          f"{json.dumps({k: v for k, v in st['protocol'].items() if k != 'parser'})}",
+          file=sys.stderr)
     return 0 if app.state == "DONE" else 1
 
 

@@ -28,7 +28,7 @@ def wait_for(emu, wanted, tries=3):
     """Messages received by the host end until ``wanted`` shows up (bounded)."""
     got = []
     for _ in range(tries):
-        got.extend(emu.receive(1, timeout_s=0.5))
+        got.extend(emu.receive(1, timeout_s=0.2))
         if wanted in got:
             break
     return got

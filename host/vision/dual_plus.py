@@ -64,10 +64,14 @@ class DualPlus:
 
 
 @dataclass(frozen=True)
-class _Plus:
+class Plus:
+    """One "+" candidate: its moments, centre (Q4 px), label and bounding box."""
+
     m: tuple[int, int, int, int, int, int]  # m00, m10, m01, m20, m11, m02 (px)
     u_q4: int
     v_q4: int
+    label: int = 0
+    box: tuple[int, int, int, int] = (0, 0, 0, 0)  # x, y, w, h
 
 
 def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
@@ -89,14 +93,15 @@ def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
     return 200 * int(sel.sum()) // area2, ops
 
 
-def _plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
-                     ) -> tuple[list[_Plus], OpCounts]:
+def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
+                     ) -> tuple[list[Plus], OpCounts]:
+    """The dark components of a labelled frame that look like a "+" on white (step 2)."""
     H, W = grey.shape
     x, y, w, h, area = (stats[1:, i] for i in range(5))
     ok = (area >= MIN_AREA_PX) & (w >= 4) & (h >= 4) & (w <= W // 2) & (h <= H // 2) \
         & (100 * area >= 25 * w * h) & (100 * area <= 80 * w * h) & (w <= 4 * h) & (h <= 4 * w)
     ops = OpCounts(alu=12 * len(area), branches=len(area))
-    out: list[_Plus] = []
+    out: list[Plus] = []
     for i in np.flatnonzero(ok)[:64]:
         k = int(i) + 1
         xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
@@ -121,18 +126,19 @@ def _plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
             continue
         m = db.moments(sel, xi, yi)
         ops += db.moments_ops(sel.size, m[0])
-        out.append(_Plus(m, (16 * m[1] + m[0] // 2) // m[0], (16 * m[2] + m[0] // 2) // m[0]))
+        out.append(Plus(m, (16 * m[1] + m[0] // 2) // m[0], (16 * m[2] + m[0] // 2) // m[0], k,
+                        (xi, yi, wi, hi)))
     return out, ops
 
 
-def _central(p: _Plus) -> tuple[int, int, int]:
+def _central(p: Plus) -> tuple[int, int, int]:
     """Central second moments (sums of squared deviations, px^2, rounded) of one "+"."""
     m00, m10, m01, m20, m11, m02 = p.m
     return ((m00 * m20 - m10 * m10) // m00, (m00 * m11 - m10 * m01) // m00,
             (m00 * m02 - m01 * m01) // m00)
 
 
-def _d_eff_q4(a: _Plus, b: _Plus, du_q4: int, dv_q4: int) -> int | None:
+def _d_eff_q4(a: Plus, b: Plus, du_q4: int, dv_q4: int) -> int | None:
     ca, cb = _central(a), _central(b)
     sa = a.m[0] * a.m[0]
     sb = b.m[0] * b.m[0]
@@ -160,7 +166,7 @@ def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
     ops += o
     _, labels, stats, o = db.components(mask)
     ops += o
-    plus, o = _plus_candidates(grey, labels, stats)
+    plus, o = plus_candidates(grey, labels, stats)
     ops += o
     best = None
     for i in range(len(plus)):

@@ -1,0 +1,189 @@
+"""Fault hooks around the rig's parts (issue 9): the rig itself stays unchanged.
+
+:func:`wrap_for_faults` puts a wrapper around each of the three things the rig talks to:
+
+- :class:`FaultedMcu` (``McuLike``): host->MCU bytes through :class:`UartFaults` (bit errors,
+  drops, bursts, latency) before the USART sees them; MCU->host bytes likewise, held back until
+  their delayed arrival; the MCU reset at ``mcu_reset_at_s`` (exactly at that time, inside
+  ``advance_to``); a failed motor gets no duty; encoder counts after wheel slip; a failed sonar
+  hears no echo. After every ``advance_to`` the :class:`SafetyMonitor` judges the MCU's outputs.
+- :class:`FaultedPlant` (``PlantLike``): frames dropped on the CAMIF or noisy.
+- :class:`FaultedHost` (the runner's host object): during ``host_stall`` and after
+  ``host_crash_at_s`` the host program gets no quantum: it reads and writes nothing. The bytes the
+  MCU sent meanwhile stay in its UART buffer and are handed over, with their original arrival
+  times clamped to the resume time, in the first quantum after a stall; frames are lost.
+
+Everything is decided by the plan, the run seed and simulated time.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import replace
+from typing import Any
+
+from link import lockstep as ls
+from mcu_sim.faults.injectors import RunFaults
+from mcu_sim.faults.plan import FaultPlan
+from mcu_sim.faults.safety import SafetyMonitor
+
+
+def _byte_us(n: int, baud: int) -> int:
+    return -(-n * 10_000_000 // baud)
+
+
+class FaultedMcu:
+    """An ``Mcu`` seen through the faults of the line, the motors, encoders and sonars."""
+
+    def __init__(self, mcu: Any, faults: RunFaults, monitor: SafetyMonitor) -> None:
+        self.inner = mcu
+        self.faults = faults
+        self.monitor = monitor
+        self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+    def advance_to(self, t_us: int) -> None:
+        """Run the MCU to ``t_us``, resetting it on the way if the plan says so."""
+        f, mcu = self.faults, self.inner
+        if f.mcu_reset_due(mcu.now_us, t_us):
+            mcu.advance_to(f.mcu_reset_us)
+            mcu.reset()
+            self.monitor.fault(f.mcu_reset_us)
+        mcu.advance_to(t_us)
+        fw = mcu.firmware
+        self.monitor.observe(t_us, mcu.wheel_duty(), [mcu.servo_pulse_us(ch) for ch in range(6)],
+                             fw.watchdog_tripped, fw.handshake, f.host_silent(t_us))
+
+    def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
+        """Host bytes onto the RX line, corrupted and delayed by the plan."""
+        u = self.faults.to_mcu
+        start = self.inner.now_us if start_us is None else start_us
+        out, _, _ = u.apply(bytes(data), start)
+        return self.inner.uart_rx(out, u.deliver_us(start)) if out else 0
+
+    def uart_tx_take(self) -> list[tuple[int, bytes]]:
+        """MCU bytes that reached the host's UART by now (corrupted, delayed)."""
+        u = self.faults.to_host
+        for t_us, data in self.inner.uart_tx_take():
+            out, _, _ = u.apply(data, t_us - _byte_us(len(data), u.baud))
+            if out:
+                self._held.append((u.deliver_us(t_us), out))
+        now = self.inner.now_us
+        ready = [c for c in self._held if c[0] <= now]
+        self._held = [c for c in self._held if c[0] > now]
+        return ready
+
+    def wheel_duty(self) -> tuple[int, int]:
+        """Duties that reach the motors (a failed motor gets none)."""
+        left, right = self.inner.wheel_duty()
+        return self.faults.wheel_duty(left, right, self.inner.now_us)
+
+    def set_encoder_ticks(self, left: int, right: int, t_us: int | None = None) -> None:
+        """True wheel counts in, slipped counts to the MCU."""
+        self.inner.set_encoder_ticks(*self.faults.encoder_ticks(left, right), t_us)
+
+    def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
+        """The plant's sonar ranges, with a failed sonar silent."""
+        if provider is None:
+            self.inner.set_sonar_provider(None)
+            return
+        f, mcu = self.faults, self.inner
+
+        def faulted(index: int) -> float | None:
+            return f.sonar_range_m(index, provider(index), mcu.now_us)
+
+        self.inner.set_sonar_provider(faulted)
+
+
+class FaultedPlant:
+    """A plant whose camera frames can be lost or noisy."""
+
+    def __init__(self, plant: Any, faults: RunFaults) -> None:
+        self.inner = plant
+        self.faults = faults
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.inner, name)
+
+    def capture(self, t_us: int) -> Any:
+        """The frame the CAMIF delivers at ``t_us``, or None when it is lost."""
+        rgb = self.inner.capture(t_us)
+        return None if rgb is None else self.faults.frame(rgb, t_us)
+
+
+class FaultedHost:
+    """The runner's host object, frozen during a stall and silent for good after a crash."""
+
+    def __init__(self, host: Any, faults: RunFaults) -> None:
+        self.inner = host
+        self.faults = faults
+        self._held: list[tuple[int, int]] = []
+        self._silent_reported: set[str] = set()
+        self.quanta_skipped = 0
+
+    def exchange(self, grant: ls.Grant) -> ls.Done:
+        """Serve the grant, or answer for a host that is not running (no bytes, no events)."""
+        f = self.faults
+        if f.host_silent(grant.start_us):
+            self.quanta_skipped += 1
+            self._held.extend(grant.uart)
+            kind = "host_crash" if f.host_crashed(grant.start_us) else "host_stall"
+            events: tuple[dict, ...] = ()
+            if kind not in self._silent_reported:
+                self._silent_reported.add(kind)
+                events = ({"ev": "fault", "fault": kind, "t_us": grant.start_us},)
+            return ls.Done(until_us=grant.until_us, events=events)
+        if self._held:
+            held = tuple((max(t, grant.start_us), n) for t, n in self._held)
+            grant = replace(grant, uart=held + tuple(grant.uart))
+            self._held = []
+            self._silent_reported.discard("host_stall")
+        return self.inner.exchange(grant)
+
+    def finish(self, end: ls.End) -> ls.Bye:
+        """End of run: the host's statistics (a crashed host's as they were)."""
+        return self.inner.finish(end)
+
+    def close(self) -> None:
+        """Release the host."""
+        self.inner.close()
+
+
+class FaultRig:
+    """The wrappers of one run, their injectors and their monitor."""
+
+    def __init__(self, plan: FaultPlan, seed: int, watchdog_us: int = 250_000) -> None:
+        self.faults = RunFaults(plan, seed)
+        self.monitor = SafetyMonitor(watchdog_us)
+        self.mcu: FaultedMcu | None = None
+        self.host: FaultedHost | None = None
+
+    def wrap(self, mcu: Any, plant: Any, host: Any | None = None):
+        """(mcu, plant, host) wrapped; ``host`` may be None (wrap it later with wrap_host)."""
+        self.mcu = FaultedMcu(mcu, self.faults, self.monitor)
+        return self.mcu, FaultedPlant(plant, self.faults), self.wrap_host(host)
+
+    def wrap_host(self, host: Any | None) -> Any:
+        """The runner's host object, silenced by the plan."""
+        if host is None:
+            return None
+        self.host = FaultedHost(host, self.faults)
+        return self.host
+
+    def summary(self) -> tuple[dict, dict]:
+        """(the ``faults`` block, the ``safety`` block) of summary.json."""
+        if self.mcu is not None:
+            self.monitor.set_limit_hits(int(self.mcu.inner.firmware.limit_hits))
+        faults = self.faults.stats()
+        if self.host is not None:
+            faults["host_quanta_skipped"] = self.host.quanta_skipped
+        return faults, self.monitor.summary()
+
+
+def wrap_for_faults(plan: FaultPlan, seed: int, mcu: Any, plant: Any, host: Any | None = None):
+    """(FaultRig, mcu, plant, host): the one call the run code needs (docs/faults.md)."""
+    fr = FaultRig(plan, seed)
+    m, p, h = fr.wrap(mcu, plant, host)
+    return fr, m, p, h

@@ -23,7 +23,7 @@ def _valid_int(value, lo, hi):
             and lo <= int(value) <= hi)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(st.lists(anything, min_size=0, max_size=8))
 def test_nothing_invalid_passes_servo_targets(values):
     guard = g.OutgoingGuard()
@@ -39,7 +39,7 @@ def test_nothing_invalid_passes_servo_targets(values):
         assert set(guard.rejections) <= set(g.REASONS)
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(anything, anything)
 def test_nothing_invalid_passes_wheels(left, right):
     guard = g.OutgoingGuard()
@@ -51,7 +51,7 @@ def test_nothing_invalid_passes_wheels(left, right):
         assert out is None and guard.rejected == 1
 
 
-@settings(max_examples=200, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(anything)
 def test_nothing_invalid_passes_gripper(value):
     guard = g.OutgoingGuard()

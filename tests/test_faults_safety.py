@@ -126,7 +126,7 @@ def test_bit_errors_never_execute_corrupt_or_twice_and_reliable_commands_arrive(
     _spy_wheels(mcu, executed)
     host = StandinHost(mcu, faults)
     sent_servos, sent_wheels = [], set()
-    end_us = 8_000_000
+    end_us = 5_000_000
     for t in range(STEP_US, end_us + 1, STEP_US):
         mcu.advance_to(t)
         host.poll(t)
@@ -146,7 +146,7 @@ def test_bit_errors_never_execute_corrupt_or_twice_and_reliable_commands_arrive(
     servos = [e[1] for e in executed if e[0] == "servos"]
     wheels = [e[1:] for e in executed if e[0] == "wheels"]
     assert servos == sent_servos  # each exactly once, in order, none corrupted, none lost
-    assert not host.failed and len(sent_servos) > 200
+    assert not host.failed and len(sent_servos) > 120
     assert set(wheels) <= sent_wheels and len(wheels) == len(set(wheels))
     assert {e[0] for e in executed} <= {"servos", "wheels"}
     st_ = mcu.stats()
@@ -178,7 +178,7 @@ def _run_until_crash(crash_us: int, end_us: int):
     return mcu, host, duties, pulses
 
 
-@settings(max_examples=12, deadline=None)
+@settings(max_examples=8, deadline=None)
 @given(crash_us=st.integers(400_000, 1_500_000))
 def test_host_crash_stops_the_wheels_within_watchdog_plus_50ms(crash_us):
     end_us = crash_us + 1_000_000

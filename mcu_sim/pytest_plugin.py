@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import pytest
 
+_PTY_CHUNK = 1024  # well below any pty buffer, so a host-side write never blocks
+
 
 class EmulatedMcu:
     """A :class:`mcu_sim.mcu_pty.PtyMcu` plus a host-side Link on its slave for convenience."""
@@ -94,10 +96,15 @@ class EmulatedMcu:
         return seq
 
     def send_raw(self, data: bytes, timeout_s: float = 10.0) -> None:
-        """Write raw bytes (garbage, floods) from the host end and wait until they arrived."""
-        self.host_link().send_wire(bytes(data))
-        if not self.wait_from_host(self._host_written(), timeout_s):
-            raise TimeoutError(f"the MCU side did not receive the host's bytes in {timeout_s} s")
+        """Write raw bytes (garbage, floods) from the host end and wait until they arrived.
+        Written in pieces the pty buffer can hold; simulated time does not move meanwhile, so
+        to the MCU it is one burst at the current time."""
+        data = bytes(data)
+        for i in range(0, len(data), _PTY_CHUNK):
+            self.host_link().send_wire(data[i:i + _PTY_CHUNK])
+            if not self.wait_from_host(self._host_written(), timeout_s):
+                raise TimeoutError(
+                    f"the MCU side did not receive the host's bytes in {timeout_s} s")
 
     def _host_written(self) -> int:
         return self.host_link().tx_bytes

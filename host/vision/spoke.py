@@ -32,6 +32,7 @@ from host.vision.grey import to_grey
 
 K_S = 5  # 000 §IV: central points per spoke
 W_MIN_PX, W_MAX_PX = 20, 40  # 000 §IV
+_COLUMN_OPS = db.EDGE_OPS.scaled(2) + OpCounts(pixels_read=20, alu=30, branches=20, divs=1)
 MAX_ANGLE_MRAD = 524  # arms within 30 degrees of image x (the roll joint turns the wrist first)
 
 
@@ -124,13 +125,12 @@ def _scan_arm(grey: np.ndarray, dark: np.ndarray, p: Plus, side: int, slope_q12:
         v_pred = (p.v_q4 + fp.div_round(16 * off * adv, adu)) // 16
         col = grey[:, u]
         rc = _run_centre(col, dark[:, u], v_pred)
-        ops += db.EDGE_OPS.scaled(2) + OpCounts(pixels_read=20, alu=30, branches=20, divs=1)
         if rc is None:
-            return [], [], ops
+            return [], [], ops + _COLUMN_OPS.scaled(j + 1)
         pts.append((16 * u, rc[0]))
         runs.append(rc[1])
     runs.append(reach)  # last entry: the arm's reach in px, for the cross check
-    return pts, runs, ops
+    return pts, runs, ops + _COLUMN_OPS.scaled(K_S)
 
 
 def _is_cross(grey: np.ndarray, t: int, uc_q4: int, vc_q4: int, angle_mrad: int,

@@ -158,3 +158,11 @@ def test_toml_and_command_line_round_trip(plan):
 def test_parse_faults_rejects_a_non_table():
     with pytest.raises(FaultError, match="src: faults: expected a table"):
         parse_faults([1, 2], "src")
+
+
+def test_every_key_is_documented():
+    from pathlib import Path
+
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "faults.md").read_text()
+    for key in FAULT_KEYS:
+        assert f"| `{key}` |" in doc, key

@@ -78,3 +78,18 @@ def test_bad_arguments_are_reported(capsys):
     assert "unknown parameter 'nope'" in capsys.readouterr().err
     assert main(["console", "/dev/nonexistent-mobigrasp-port"]) == 2
     assert "cannot open" in capsys.readouterr().err
+
+
+def test_console_ends_cleanly_when_the_mcu_goes_away():
+    from mcu_sim.mcu_pty import PtyMcu
+
+    pty = PtyMcu()
+    out = io.StringIO()
+    with Link(open_transport(pty.port)) as link:
+        pty.close()  # the MCU vanishes before the user types anything
+        shell = ConsoleShell(link, reply_timeout_s=2.0, stdin=io.StringIO("telemetry\nhello\n"),
+                             stdout=out)
+        shell.prompt = ""
+        shell.cmdloop()
+    assert "port closed" in out.getvalue() or "send failed" in out.getvalue()
+    assert shell.port_closed

@@ -33,11 +33,35 @@ class ConsoleShell(cmd.Cmd):
         self.reply_timeout_s = reply_timeout_s
         self.latest_telemetry = None
         self.telemetry_count = 0
+        self.port_closed = False
 
     # -- plumbing ------------------------------------------------------------------------------
     def say(self, text: str) -> None:
         """Print one line to the shell's output."""
         self.stdout.write(text + "\n")
+
+    def _poll(self) -> list:
+        """``link.poll()``; a vanished port is reported once and ends the shell."""
+        from link.base import LinkClosed
+
+        if self.port_closed:
+            return []
+        try:
+            return self.link.poll()
+        except LinkClosed as exc:
+            self.port_closed = True
+            self.say(f"port closed: {exc}")
+            return []
+
+    def _wait(self, timeout_s: float) -> None:
+        try:
+            self.link.wait(timeout_s)
+        except Exception:  # closed underneath us: the next poll reports it
+            self.port_closed = True
+
+    def postcmd(self, stop: bool, line: str) -> bool:
+        """Leave when the port went away."""
+        return stop or self.port_closed
 
     def _absorb(self, received) -> list:
         from protocol.messages import Telemetry
@@ -59,15 +83,16 @@ class ConsoleShell(cmd.Cmd):
             seq = self.link.send(msg)
         except Exception as exc:  # a vanished port must not kill the shell
             self.say(f"send failed: {exc}")
+            self.port_closed = True
             return
         if not msg.RELIABLE:
-            self._absorb(self.link.poll())
+            self._absorb(self._poll())
             self.say(f"sent {type(msg).__name__} seq={seq}")
             return
         need_ack, need_more = True, list(wait_for)
         deadline = time.monotonic() + self.reply_timeout_s
         while need_ack or need_more:
-            for m in self._absorb(self.link.poll()):
+            for m in self._absorb(self._poll()):
                 if isinstance(m, Ack) and m.acked_seq == seq:
                     self.say(f"ACK seq={seq}")
                     need_ack = False
@@ -83,8 +108,10 @@ class ConsoleShell(cmd.Cmd):
             if left <= 0:
                 self.say(f"no reply to seq={seq} within {self.reply_timeout_s} s")
                 return
+            if self.port_closed:
+                return
             if need_ack or need_more:
-                self.link.wait(min(left, 0.05))
+                self._wait(min(left, 0.05))
 
     @staticmethod
     def _describe(m) -> str:
@@ -217,12 +244,13 @@ class ConsoleShell(cmd.Cmd):
 
     def do_telemetry(self, arg: str) -> None:
         """telemetry: print the latest decoded telemetry."""
-        self._absorb(self.link.poll())
+        self._absorb(self._poll())
         if self.latest_telemetry is None:
             deadline = time.monotonic() + self.reply_timeout_s
-            while self.latest_telemetry is None and time.monotonic() < deadline:
-                self.link.wait(0.05)
-                self._absorb(self.link.poll())
+            while (self.latest_telemetry is None and not self.port_closed
+                   and time.monotonic() < deadline):
+                self._wait(0.05)
+                self._absorb(self._poll())
         t = self.latest_telemetry
         if t is None:
             self.say("no telemetry received yet")
@@ -234,7 +262,7 @@ class ConsoleShell(cmd.Cmd):
 
     def do_stats(self, arg: str) -> None:
         """stats: link counters on this side."""
-        self._absorb(self.link.poll())
+        self._absorb(self._poll())
         self.say(" ".join(f"{k}={v}" for k, v in self.link.stats.items()))
 
     def do_quit(self, arg: str) -> bool:

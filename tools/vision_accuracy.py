@@ -201,6 +201,16 @@ class Spec:
     range_note: str
 
 
+def _pitch_mrad(view: View) -> int:
+    """The camera pitch the host would know from its joint angles (α), from the pose."""
+    return round(1000 * math.asin(max(-1.0, min(1.0, float(view.R_wc[2, 2])))))
+
+
+def _theta5_mrad(view: View) -> int:
+    """The waist angle θ5 of the view (0 for views that do not set one)."""
+    return round(1000 * view.truth.get("theta5_rad", 0.0))
+
+
 def _ang_err_deg(a_deg: float, b_deg: float) -> float:
     return abs((a_deg - b_deg + 180.0) % 360.0 - 180.0)
 
@@ -214,8 +224,7 @@ def _judge_generic(dist_pct: float | None, bear_deg: float | None, dist_ok: floa
 
 def _run_double_cross(rgb: np.ndarray, view: View):
     from host.vision.double_cross import detect_double_cross
-    return detect_double_cross(rgb, yaw_mrad=round(1000 * view.truth["theta5_rad"]),
-                               pitch_mrad=round(1000 * view.truth["pitch_rad"]))
+    return detect_double_cross(rgb, yaw_mrad=_theta5_mrad(view), pitch_mrad=_pitch_mrad(view))
 
 
 def _judge_double_cross(res, view: View) -> Outcome:
@@ -234,8 +243,7 @@ def _run_red_cylinder(rgb: np.ndarray, view: View):
     if res is None:
         return None, ops
     fix = locate_ring_pair(res.d_pixel_q4, res.u_c_q4, res.v_c_q4, res.width_q4,
-                           round(1000 * view.truth["pitch_rad"]),
-                           round(1000 * view.truth["theta5_rad"]))
+                           _pitch_mrad(view), _theta5_mrad(view))
     return fix, ops + locate_ring_pair_ops()
 
 
@@ -260,7 +268,7 @@ def _judge_radial(res, view: View) -> Outcome:
 
 def _run_dual_plus(rgb: np.ndarray, view: View):
     from host.vision import dual_plus
-    return dual_plus.detect_dual_plus(rgb)
+    return dual_plus.detect_dual_plus(rgb, alpha_mrad=_pitch_mrad(view))
 
 
 def _first_attr(obj, *names):
@@ -292,8 +300,7 @@ def _judge_spoke(res, view: View) -> Outcome:
         ang = math.degrees(res.angle_mrad / 1000.0)
     else:
         ang = math.degrees(math.atan(_first_attr(res, "k_l_q12", "slope_q12") / 4096.0))
-    width = _first_attr(res, "width_px_q4", "w_l_q4") / 16.0 if hasattr(res, "width_px_q4") \
-        or hasattr(res, "w_l_q4") else float(_first_attr(res, "width_px", "w_l_px"))
+    width = _first_attr(res, "width_q4", "width_px_q4", "w_l_q4") / 16.0
     ang_err = abs((ang - t["angle_deg"] + 90.0) % 180.0 - 90.0)
     wid = 100.0 * (width - t["width_px"]) / t["width_px"]
     return _judge_generic(wid, ang_err)

@@ -190,29 +190,34 @@ def _measure(rgb: np.ndarray, y0: int, y1: int, cx0: int, cx1: int
 
 def _ring_columns(rgb: np.ndarray, x0: int, x1: int, r1_q4: int, r2_q4: int, level: int
                   ) -> tuple[tuple[int, int] | None, OpCounts]:
-    """Columns [left, right] of the rings: the longest run of columns where each ring row is
-    at least level/4 less red than the red band between the rings (and than the red half a
-    spacing outside, when that row is in the frame). The rings exist only on the cylinder, so
-    a red neighbour (or the background) never widens it."""
+    """Columns [left, right] of the rings: the longest run of columns where each ring is at
+    least level/4 less red than the red band between the rings (and than the red half a
+    spacing outside it, when in the frame). Per column the ring is the least red row within a
+    quarter spacing of the ring row (perspective slants the rings near the image edges). The
+    rings exist only on the cylinder, so a red neighbour (or the background) never widens it."""
     h = rgb.shape[0]
     k = max(1, (r2_q4 - r1_q4 + 16) >> 5)  # half the spacing, whole rows
+    j = max(1, k // 2)
     ra, rb = (r1_q4 + 8) >> 4, (r2_q4 + 8) >> 4
     mid = (ra + rb) >> 1
-    rows = [r for r in (ra - k, ra, mid, rb, rb + k) if 0 <= r < h]
-    red = {r: redness(rgb[r, x0:x1]).astype(np.int16) for r in rows}
+    lo, hi = max(0, ra - k - j), min(h, rb + k + j + 1)
+    red = redness(rgb[lo:hi, x0:x1]).astype(np.int16)
     ok = np.ones(x1 - x0, bool)
     for ring, outer in ((ra, ra - k), (rb, rb + k)):
-        ref = red[mid] if outer not in red else np.minimum(red[mid], red[outer])
-        ok &= ref - red[ring] >= level // 4
-    n = len(rows) * (x1 - x0)
+        dark = red[max(0, ring - j - lo):ring + j + 1 - lo].min(axis=0)
+        ref = red[mid - lo]
+        if lo <= outer < hi:
+            ref = np.minimum(ref, red[max(lo, outer - j) - lo:outer + j + 1 - lo].max(axis=0))
+        ok &= ref - dark >= level // 4
+    n = red.size
     ops = OpCounts(pixels_read=3 * n, alu=6 * n, branches=x1 - x0)
     if not ok.any():
         return None, ops
     # longest run of True: starts and ends of runs from the padded difference
     d = np.diff(np.concatenate(([0], ok.astype(np.int8), [0])))
     starts, ends = np.flatnonzero(d == 1), np.flatnonzero(d == -1)
-    j = int(np.argmax(ends - starts))
-    return (x0 + int(starts[j]), x0 + int(ends[j]) - 1), ops
+    i = int(np.argmax(ends - starts))
+    return (x0 + int(starts[i]), x0 + int(ends[i]) - 1), ops
 
 
 def _red_run(rgb: np.ndarray, ya: int, yb: int, x0: int, x1: int, centre: int
@@ -280,8 +285,8 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
                                    (left + right) // 2)
         ops += o
         ml, mr = left - red_l, red_r - right
-        if abs(ml - mr) > max(3, (right - left) // 4):
-            ml = mr = max(0, min(ml, mr))
+        if abs(ml - mr) > max(3, (right - left) // 8):
+            ml = mr = max(0, min(ml, mr))  # one side runs on into a red neighbour
         left, right = left - ml, right + mr
         if left <= 0 or right >= w - 1:
             continue  # cut by the image border: the axis cannot be located, say not found

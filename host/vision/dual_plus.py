@@ -62,6 +62,11 @@ class DualPlus:
     y_oc_mm: int  # Y'_oc = D_is sin(alpha)
     z_oc_mm: int  # Z'_oc = D_is (u0 - (u1 + u2) / 2) / f
 
+    @property
+    def d_is_mm(self) -> int:
+        """000's D_is as used downstream: the foreshortening-corrected distance."""
+        return self.dist_mm
+
 
 @dataclass(frozen=True)
 class Plus:

@@ -6,7 +6,9 @@ For each detector: views at poses where the task uses it (000 views from
 clutter of other shapes and colours. Figures: detection rate (a result close to the truth),
 wrong-result count (a result far from it), false-positive rate on the empty frames, distance
 error (median / p95, %), bearing error (median / p95 / max, degrees), Python wall time of the
-detector alone (p50, ms) and the modelled ARM9 time (p50 / max, ms) from its OpCounts.
+detector alone (p50 of single runs, and p50 of the best of 5 runs on every 10th frame, which
+shows the code's speed on a machine busy with other work), and the modelled ARM9 time
+(p50 / max, ms) from its OpCounts.
 
 002 views (f = 350, (u0, v0) = (160, 120)):
 
@@ -333,6 +335,21 @@ def _pct(xs: list[float], q: float) -> float | None:
     return None if not xs else float(np.percentile(np.asarray(xs, float), q))
 
 
+def _timed(spec: Spec, rgb: np.ndarray, view: View, best_of_5: bool):
+    """Run the detector; (result, ops, wall ms, best-of-5 wall ms or None)."""
+    t0 = time.perf_counter()
+    res, ops = spec.run(rgb, view)
+    ms = 1000.0 * (time.perf_counter() - t0)
+    best = None
+    if best_of_5:
+        best = ms
+        for _ in range(4):
+            t0 = time.perf_counter()
+            spec.run(rgb, view)
+            best = min(best, 1000.0 * (time.perf_counter() - t0))
+    return res, ops, ms, best
+
+
 def evaluate(name: str, frames: int, seed: int = 6, empty_frames: int | None = None,
              degraded_frames: int | None = None, progress: bool = False) -> dict:
     """Figures for one detector: ``frames`` clean target frames, as many degraded ones (same
@@ -349,6 +366,7 @@ def evaluate(name: str, frames: int, seed: int = 6, empty_frames: int | None = N
     dist_errs: list[float] = []
     bear_errs: list[float] = []
     wall_ms: list[float] = []
+    best_ms: list[float] = []  # best of 5 runs on every 10th frame: less scheduler noise
     arm_ms: list[float] = []
     deg_found = fp_count = 0
     total = frames + degraded_frames + empty_frames
@@ -358,9 +376,10 @@ def evaluate(name: str, frames: int, seed: int = 6, empty_frames: int | None = N
         opts = CameraOptions() if i < frames else degraded_options(rng)
         rgb = render(view.scene, view.cam_pos_w, view.R_wc, view.intr, opts,
                      np.random.default_rng([seed, i]))
-        t0 = time.perf_counter()
-        res, ops = spec.run(rgb, view)
-        wall_ms.append(1000.0 * (time.perf_counter() - t0))
+        res, ops, ms, best = _timed(spec, rgb, view, i % 10 == 0)
+        wall_ms.append(ms)
+        if best is not None:
+            best_ms.append(best)
         arm_ms.append(ops.time_us() / 1000.0)
         out = spec.judge(res, view) if res is not None else Outcome(False)
         if i < frames:
@@ -381,9 +400,10 @@ def evaluate(name: str, frames: int, seed: int = 6, empty_frames: int | None = N
         view = spec.empty(rng)
         rgb = render(view.scene, view.cam_pos_w, view.R_wc, view.intr, CameraOptions(),
                      np.random.default_rng([seed, 10_000 + j]))
-        t0 = time.perf_counter()
-        res, ops = spec.run(rgb, view)
-        wall_ms.append(1000.0 * (time.perf_counter() - t0))
+        res, ops, ms, best = _timed(spec, rgb, view, j % 10 == 0)
+        wall_ms.append(ms)
+        if best is not None:
+            best_ms.append(best)
         arm_ms.append(ops.time_us() / 1000.0)
         fp_count += res is not None
         done += 1
@@ -399,7 +419,8 @@ def evaluate(name: str, frames: int, seed: int = 6, empty_frames: int | None = N
         "dist_err_median_pct": _pct(dist_errs, 50), "dist_err_p95_pct": _pct(dist_errs, 95),
         "bearing_err_median_deg": _pct(bear_errs, 50), "bearing_err_p95_deg": _pct(bear_errs, 95),
         "bearing_err_max_deg": max(bear_errs) if bear_errs else None,
-        "wall_ms_p50": _pct(wall_ms, 50), "arm9_ms_p50": _pct(arm_ms, 50),
+        "wall_ms_p50": _pct(wall_ms, 50), "wall_ms_best_of_5_p50": _pct(best_ms, 50),
+        "arm9_ms_p50": _pct(arm_ms, 50),
         "arm9_ms_max": max(arm_ms) if arm_ms else None,
     }
 
@@ -428,7 +449,9 @@ def table(figs: list[dict]) -> str:
                                                       "{:.2f}"),
             ("dist p95 %", "dist_err_p95_pct", "{:.2f}"), ("bear p95 deg", "bearing_err_p95_deg",
                                                           "{:.3f}"),
-            ("wall ms p50", "wall_ms_p50", "{:.2f}"), ("ARM9 ms p50", "arm9_ms_p50", "{:.1f}"),
+            ("wall ms p50", "wall_ms_p50", "{:.2f}"),
+            ("best-of-5 ms p50", "wall_ms_best_of_5_p50", "{:.2f}"),
+            ("ARM9 ms p50", "arm9_ms_p50", "{:.1f}"),
             ("ARM9 ms max", "arm9_ms_max", "{:.1f}")]
     rows = [[c[0] for c in cols]]
     notes = []

@@ -6,9 +6,11 @@ frames, as many degraded ones (noise σ = 8, 2 px blur, brightness ±30 %) and a
 target-free frames with clutter, at the poses where the task uses the detector, from a fixed
 seed. Figures per detector: detection_pct, degraded_detection_pct, false_positive_pct,
 dist_err_median_pct / dist_err_p95_pct, bearing_err_median_deg / p95 / max, wall_ms_p50 (Python,
-this machine; target <= 3) and arm9_ms_p50 / arm9_ms_max (modelled from OpCounts; target
-<= 33). Issue 6 asks for >= 1000 frames per detector: ``--frames 1000`` (several minutes per
-detector); the default is smaller so the bench stays quick. Progress goes to stderr.
+this machine; target <= 3; wall_ms_best_of_5_p50 repeats every 10th frame 5 times and keeps
+the best, to see through the load of other processes) and arm9_ms_p50 / arm9_ms_max
+(modelled from OpCounts; target <= 33). Issue 6 asks for >= 1000 frames per detector:
+``--frames 1000`` (several minutes per detector); the default is smaller so the bench stays
+quick. Progress goes to stderr.
 """
 
 from __future__ import annotations
@@ -61,6 +63,7 @@ def run(args: argparse.Namespace) -> dict:
             "bearing_err_p95_deg": f["bearing_err_p95_deg"],
             "bearing_err_max_deg": f["bearing_err_max_deg"],
             "wall_ms_p50": f["wall_ms_p50"],
+            "wall_ms_best_of_5_p50": f["wall_ms_best_of_5_p50"],
             "arm9_ms_p50": f["arm9_ms_p50"],
             "arm9_ms_max": f["arm9_ms_max"],
             "meets_targets": va.meets(f),

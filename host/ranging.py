@@ -138,3 +138,13 @@ def locate_ring_pair_ops() -> OpCounts:
     """Cost of :func:`locate_ring_pair` (64-bit products counted as 32-bit MUL pairs)."""
     return (OpCounts(divs=9, muls32=24, alu=40) + fp.sin_ops().scaled(4) + fp.atan2_ops()
             + fp.isqrt_ops(1 << 40).scaled(2))
+
+
+def platform_bearing_mrad(cam_x_mm: int, cam_y_mm: int, bearing_mrad: int, dist_mm: int) -> int:
+    """Bearing of a target from the platform origin (right positive) given its bearing and
+    horizontal distance seen from the camera at (cam_x_mm, cam_y_mm) of the platform (eq. (3) of
+    000): the parallax correction for 002's e when the camera is ahead of the waist."""
+    s, c = fp.sincos_q12(bearing_mrad)
+    x = int(cam_x_mm) + fp.mul_q12(int(dist_mm), s)
+    y = int(cam_y_mm) + fp.mul_q12(int(dist_mm), c)
+    return fp.atan2_mrad(x, y)

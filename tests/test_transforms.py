@@ -161,3 +161,14 @@ def test_locate_ring_pair_exact_geometry(dist, lateral, height, alpha, t5):
     assert np.max(np.abs(got - true_mm)) <= 0.04 * true_dist + 3
     assert abs(fix.dist_mm - true_dist) <= 0.03 * true_dist + 2
     assert abs(fix.bearing_mrad - 1000 * math.atan2(true_mm[0], true_mm[1])) <= 12
+
+
+@settings(max_examples=100, deadline=None)
+@given(st.integers(-300, 300), st.integers(0, 400), st.integers(-1200, 1200),
+       st.integers(100, 3000))
+def test_platform_bearing_parallax(cx, cy, bearing, dist):
+    x = cx + dist * math.sin(bearing / 1000)
+    y = cy + dist * math.cos(bearing / 1000)
+    got = ranging.platform_bearing_mrad(cx, cy, bearing, dist)
+    err = abs(got - 1000 * math.atan2(x, y))
+    assert min(err, abs(err - 2000 * math.pi)) <= 3.0

@@ -18,15 +18,20 @@ equal width separated by equal gaps. The four steps of 002 §2.1:
    grid) on each pyramid level; the pair of groups of one level with the most votes (and a
    plausible spacing) are the crosses, their means are (u1, v1) and (u2, v2).
 
-Paper 002 uses n = 10 template points at one scale. Our ring has n = 24 points (a quarter turn
-is then 6 samples, so "equal width and equal gap" is a match against 24 ideal rings) and we
-run the same ring of radius 6 px on a 3-level 2x2-mean pyramid so one template covers crosses
-from about 7 to 80 px radius (0.2-2.5 m for the 50 mm crosses at f = 350). This is our
-choice; the paper does not say how it handles scale.
+Paper 002 §5 gives n = 10 for the template (its Fig. 2(b), the template drawing, is not in
+our copy, so whether n counts points or sets the radius is not known); 10 points cannot show
+four equal spokes and four equal gaps at every turn of the cross. Our ring has 24 points (a
+quarter turn is then 6 samples, so "equal width and equal gap" is a match against 24 ideal
+rings) and we run the same ring of radius 6 px on a 3-level 2x2-mean pyramid so one
+template covers crosses from about 7 to 80 px radius (0.2-2.5 m for the 50 mm crosses at
+f = 350). This is our choice; the paper does not say how it handles scale.
 
 The heading error e of 002 §3 (the angle between the platform heading and the line to the
 marker centre, right positive like θ5 in docs/conventions.md) is computed from the pixel offset
-of the midpoint of the two centres and the camera's yaw and pitch (inputs, mrad).
+of the midpoint of the two centres and the camera's yaw and pitch (inputs, mrad). It is the
+bearing seen from the camera; 002 measures e from the platform, which differs by the arm's
+parallax (the camera is ~0.2 m ahead of the waist): with a range,
+``host.ranging.platform_bearing_mrad`` converts it.
 """
 
 from __future__ import annotations

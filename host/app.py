@@ -156,6 +156,10 @@ class HostApp:
                 break
         self.now_us = until_us
 
+    def wants_frames(self) -> bool:
+        """Whether the task needs any detector now (the camera can be off otherwise)."""
+        return any(n in self.detectors for n in self.task.detectors_needed())
+
     def take_output(self, before_us: int) -> list[tuple[int, bytes]]:
         """Wire chunks to write to the serial port, with their send times (< before_us)."""
         return self.link.take_output(before_us)
@@ -193,7 +197,7 @@ class HostApp:
             return
         self._finish_vision(arrival_us)
         needed = [n for n in self.task.detectors_needed() if n in self.detectors]
-        if not needed:
+        if not needed or rgb is None:  # nothing to look for, or the camera was off
             c.frames_idle += 1
             return
         start = max(arrival_us, self._ctrl_free_us)

@@ -40,7 +40,11 @@ class LockstepCamera(Camera):
         self._queue: list[tuple[int, CameraFrame]] = []
 
     def push(self, blob: ls.FrameBlob) -> None:
-        """Queue one frame of a GRANT (pixels copied into a uint8 H x W x C array)."""
+        """Queue one frame of a GRANT (pixels copied into a uint8 H x W x C array; None for
+        a frame slot that passed while the host had the camera off)."""
+        if not blob.pixels:
+            self._queue.append((blob.arrival_us, CameraFrame(blob.seq, blob.capture_us, None)))
+            return
         rgb = np.frombuffer(blob.pixels, dtype=np.uint8).reshape(
             blob.height, blob.width, blob.channels)
         self._queue.append((blob.arrival_us, CameraFrame(blob.seq, blob.capture_us, rgb)))
@@ -105,7 +109,8 @@ class LockstepClient:
         return ls.Done(until_us=grant.until_us, writes=tuple((t, len(w)) for t, w in out),
                        events=tuple(jsonable(events)),
                        load={"window_us": app.config.load_window_us, "windows": new,
-                             "state": app.state, "finished": app.finished})
+                             "state": app.state, "finished": app.finished,
+                             "camera": app.wants_frames()})
 
     def bye(self) -> ls.Bye:
         """Final statistics of the host program."""

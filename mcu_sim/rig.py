@@ -113,7 +113,8 @@ class Rig:
         self._sonar_cache: dict[int, float | None] = {}
         self._sonar_cache_us = -1
         self.stats = {"quanta": 0, "uart_to_host_bytes": 0, "uart_to_mcu_bytes": 0,
-                      "frames_captured": 0}
+                      "frames_captured": 0, "frames_skipped": 0}
+        self.camera_on = True
         mcu.set_sonar_provider(self._sonar)
 
     def _sonar(self, index: int) -> float | None:
@@ -136,6 +137,10 @@ class Rig:
             self._tx_pending.clear()
         frames = []
         for seq, capture_us, rgb in self._frames_pending:
+            if rgb is None:  # the host had its camera off: the frame slot passes, no pixels
+                frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=self.now_us,
+                                        width=0, height=0, channels=0, pixels=b""))
+                continue
             h, w, c = rgb.shape
             frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=self.now_us,
                                     width=w, height=h, channels=c, pixels=rgb.tobytes()))
@@ -148,6 +153,9 @@ class Rig:
         until = self.now_us + self.config.quantum_us
         if done.until_us != until:
             raise ValueError(f"DONE for until_us={done.until_us}, expected {until}")
+        # The host says whether it will look at frames (its task needs a detector): rendering
+        # is skipped while it does not, as a CAMIF switched off would deliver nothing.
+        self.camera_on = bool(done.load.get("camera", True))
         data = self._read_exact(done.write_bytes)
         self.stats["uart_to_mcu_bytes"] += len(data)
         offset = 0
@@ -212,6 +220,10 @@ class Rig:
     def _capture(self, t_us: int) -> None:
         seq = self._next_frame
         self._next_frame += 1
+        if not self.camera_on:
+            self.stats["frames_skipped"] += 1
+            self._frames_pending.append((seq, t_us, None))
+            return
         rgb = self.plant.capture(t_us)
         if rgb is None:
             return

@@ -174,6 +174,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         trace.close()
         summary.update(_figures(res, plant, trace, snaps, limit_s))
         summary["frames_captured"] = rig.stats["frames_captured"] if rig else 0
+        summary["frames_skipped_camera_off"] = rig.stats["frames_skipped"] if rig else 0
         summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}
         proto = summary["protocol"]
         proto["crc_errors"] = (proto["crc_errors"]

@@ -145,6 +145,6 @@ def platform_bearing_mrad(cam_x_mm: int, cam_y_mm: int, bearing_mrad: int, dist_
     horizontal distance seen from the camera at (cam_x_mm, cam_y_mm) of the platform (eq. (3) of
     000): the parallax correction for 002's e when the camera is ahead of the waist."""
     s, c = fp.sincos_q12(bearing_mrad)
-    x = int(cam_x_mm) + fp.mul_q12(int(dist_mm), s)
-    y = int(cam_y_mm) + fp.mul_q12(int(dist_mm), c)
-    return fp.atan2_mrad(x, y)
+    x_um = 1000 * int(cam_x_mm) + fp.mul_q12(1000 * int(dist_mm), s)  # µm keep short ranges
+    y_um = 1000 * int(cam_y_mm) + fp.mul_q12(1000 * int(dist_mm), c)
+    return fp.atan2_mrad(x_um, y_um)

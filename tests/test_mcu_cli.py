@@ -93,3 +93,16 @@ def test_console_ends_cleanly_when_the_mcu_goes_away():
         shell.cmdloop()
     assert "port closed" in out.getvalue() or "send failed" in out.getvalue()
     assert shell.port_closed
+
+
+def test_mcu_bench_figures_have_units_and_plausible_counts():
+    import argparse
+
+    from tools.benches import mcu as bench
+
+    res = bench.run(argparse.Namespace(seconds=2, telemetry_hz=50, command_hz=50))
+    assert res["sim_s"] == 2 and res["sim_s_per_wall_s"] > 0
+    assert res["realtime_factor"] == res["sim_s_per_wall_s"]
+    assert 100 <= res["frames_from_mcu"] <= 110  # 2 s x 50 Hz telemetry + ACKs
+    assert res["corrupt_frames"] == 0
+    assert res["wheel_speed_left_mmps"] == pytest.approx(300, abs=10)  # second 1..2: 300 mm/s

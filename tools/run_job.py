@@ -63,6 +63,7 @@ class RunOptions:
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
+    faults: tuple = ()  # --fault KEY=VALUE overrides of the scenario's [faults] (docs/faults.md)
 
 
 def parse_speed(text: str) -> float | None:
@@ -76,6 +77,19 @@ def parse_speed(text: str) -> float | None:
     if not math.isfinite(v) or v <= 0:
         raise BadInput(f"--speed must be a positive number or 'max', got {text!r}")
     return v
+
+
+def _fault_plan(scenario, overrides):
+    """The scenario's [faults] plan with the --fault overrides applied; BadInput if invalid."""
+    plan = getattr(scenario, "faults", None)
+    if not overrides:
+        return plan
+    from mcu_sim.faults.plan import FaultError, parse_fault_overrides
+
+    try:
+        return parse_fault_overrides(list(overrides), base=plan)
+    except FaultError as exc:
+        raise BadInput(str(exc)) from exc
 
 
 def host_config(scenario) -> dict:
@@ -111,6 +125,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:
         path, scenario = resolve_scenario(opts.scenario)
+    plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
     out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
@@ -136,7 +151,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                  "obstacles": [vars(o) for o in scenario.obstacles]})
     host = None
     port = peer = None
-    res = rig = None
+    res = rig = fault_rig = None
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     try:
         if opts.transport == "pty":
@@ -146,7 +161,14 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         else:
             port, peer = inproc_pair(f"run-{name}-{seed}")
             host = InprocHost(LockstepClient(build_host_app(cfg, timer=opts.timer), peer))
-        rig = Rig(mcu, plant, port, RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us),
+        rig_mcu, rig_plant = mcu, plant
+        if plan is not None and plan.active():  # issue 9 fault injectors around MCU/plant/host
+            from mcu_sim.faults.wrappers import wrap_for_faults
+
+            fault_rig, rig_mcu, rig_plant, host = wrap_for_faults(plan, seed, mcu, plant, host)
+            summary["faults_plan"] = plan.as_table()
+        rig = Rig(rig_mcu, rig_plant, port,
+                  RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us),
                   on_frame=snaps.on_frame)
         progress = None
         if opts.progress:
@@ -176,6 +198,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         summary["frames_captured"] = rig.stats["frames_captured"] if rig else 0
         summary["frames_skipped_camera_off"] = rig.stats["frames_skipped"] if rig else 0
         summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}
+        if fault_rig is not None:
+            summary["faults"], summary["safety"] = fault_rig.summary()
         proto = summary["protocol"]
         proto["crc_errors"] = (proto["crc_errors"]
                                + summary["mcu"].get("parser_crc_errors", 0))

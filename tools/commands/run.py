@@ -21,7 +21,8 @@ def _run(args: argparse.Namespace) -> int:
             raise BadInput(f"--seed must be >= 0, got {args.seed}")
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
                           speed=speed, out=args.out, progress=not args.quiet,
-                          plots=not args.no_plots, time_limit_s=args.time_limit_s)
+                          plots=not args.no_plots, time_limit_s=args.time_limit_s,
+                          faults=tuple(args.fault or ()))
         if args.time_limit_s is not None and not args.time_limit_s > 0:
             raise BadInput(f"--time-limit-s must be > 0, got {args.time_limit_s}")
         summary, code = execute(opts)
@@ -45,6 +46,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="run folder (default runs/<scenario>-<seed>/)")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="stop after this many simulated seconds (default: the scenario's)")
+    p.add_argument("--fault", action="append", metavar="KEY=VALUE",
+                   help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
     p.set_defaults(func=_run)

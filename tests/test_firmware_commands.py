@@ -68,6 +68,18 @@ def test_duplicate_seq_is_acked_again_but_not_executed_twice():
     assert pulses(mcu)[1] == 1900.0
 
 
+
+def test_seq_reused_after_the_wrap_is_a_new_command():
+    # Sequence numbers wrap every 256 frames (a few seconds of 50 Hz traffic); a reliable command
+    # that reuses the seq of one seen more than the duplicate expiry ago must run, not be eaten.
+    mcu, host = ready()
+    host.send(SetServos(0, (1500, 1600, 1500, 1500, 1500, 1500), 0), seq=7)
+    host.run_ms(300)
+    host.send(SetServos(0, (1500, 1900, 1500, 1500, 1500, 1500), 0), seq=7)
+    host.run_ms(45)
+    assert pulses(mcu)[1] == 1900.0
+    assert mcu.stats()["duplicates"] == 0
+
 def frame(msg_type, payload, seq):
     return encode_frame(Frame(PROTOCOL_VERSION, seq, msg_type, payload))
 

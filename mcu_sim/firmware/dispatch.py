@@ -71,7 +71,7 @@ def handle_frame(fw, frame, now: int) -> None:
             fw.send(Nack(seq, NACK_BAD_VERSION))
             return
         fw.dup.reset()  # a (re)started host counts from 0 again
-        fw.dup.is_new(seq)
+        fw.dup.is_new(seq, now)
         fw.handshake = True
         fw.send(Ack(seq))
         fw.send(HelloAck(PROTOCOL_VERSION, FIRMWARE_ID, CAPABILITIES))
@@ -90,7 +90,7 @@ def handle_frame(fw, frame, now: int) -> None:
         fw.not_ready += 1
         fw.send(Nack(seq, NACK_NOT_READY))
         return
-    if fw.dup.is_new(seq):
+    if fw.dup.is_new(seq, now):
         reason = execute(fw, msg)
         fw.dup.set_result(seq, reason)
     else:

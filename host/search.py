@@ -146,6 +146,10 @@ class ArmSearch:
             self._index += 1
         return self._command(0)
 
+    def restart_dwell(self, now_us: int) -> None:
+        """Hold the current pose from ``now_us`` on (after the caller paused the search)."""
+        self._pose_start_us = int(now_us)
+
     @property
     def turning(self) -> bool:
         return self._turning

@@ -42,7 +42,7 @@ TERMINAL = ("DONE", "FAILED")
 # Detectors each state runs (names shared with the host app's detector table).
 DETECTORS: dict[str, dict[str, list[str]]] = {
     "000": {"SEARCH": ["radial_symbol"], "APPROACH": ["radial_symbol"],
-            "ADJUST": ["dual_plus"], "PRECISE_GRASP": ["spoke"]},
+            "ADJUST": ["dual_plus", "radial_symbol"], "PRECISE_GRASP": ["spoke"]},
     "002": {"SEARCH": ["double_cross"], "APPROACH": ["double_cross", "red_cylinder"],
             "ADJUST": ["red_cylinder"]},
 }
@@ -64,10 +64,10 @@ class TaskParams:
     h_shoulder_mm: int = 200  # 000, 002; 001: 108
     object_top_mm: int = 100  # object top above the ground (000 card; 002 cylinder 120)
     grasp_height_mm: int = 80  # grasp point above the ground
-    hover_mm: int = 60  # rough grasp: camera this far above the object top (000)
+    hover_mm: int = 110  # rough grasp: camera this far above the object top (000)
     lift_mm: int = 60
     approach_standoff_mm: int = 400  # 000 P3: axle this far from the object
-    grasp_r_mm: int = 120  # object this far ahead of the waist axis for the grasp
+    grasp_r_mm: int = 110  # object this far ahead of the waist axis for the grasp
     grasp_r_tol_mm: int = 20
     bearing_tol_mrad: int = 60
     adjust_vmax_mmps: int = 80
@@ -82,7 +82,9 @@ class TaskParams:
     direct_max_mm: int = 1200  # no feasible curve after all attempts: ADJUST if this close
     servo_speed_mrad_per_s: int = 3000  # for settle times
     settle_margin_us: int = 300_000
-    posture_step_mrad: int = 60  # per control step
+    posture_step_mrad: int = 20  # per control step (1 rad/s at 50 Hz: the servos follow)
+    frame_latency_us: int = 50_000  # a detection shows the scene this long ago (capture+vision)
+    confirm_us: int = 700_000  # SEARCH: hold the pose this long to see the object again
     spoke_wait_us: int = 3_000_000  # no spoke for this long: grasp on the rough position
     precise_max_steps: int = 30
     precise_align_ch: int = 1  # joint that drives k_T to 0: 1 wrist roll, 5 waist (task_grasp)
@@ -102,7 +104,7 @@ class TaskParams:
         """Defaults for a method, then ``overrides`` (unknown key -> ValueError naming it)."""
         base = cls()
         if method == "001":
-            base = replace(base, h_shoulder_mm=108, grasp_r_mm=180, hover_mm=40)
+            base = replace(base, h_shoulder_mm=108, grasp_r_mm=130, hover_mm=90)
         elif method == "002":
             base = replace(base, object_top_mm=120, grasp_height_mm=100)
         overrides = dict(overrides or {})
@@ -256,6 +258,7 @@ class Task(TaskStates):
                 self.fail(now_us, f"timeout: {self.state} exceeded {limit} us")
         if self.state not in TERMINAL:
             self.run_state(now_us, inp, dets)
+            self.remember(now_us, inp)
         if self.state in TERMINAL:
             self.wheels = (0, 0)
         servo = arm_calib.clamp_joints_mrad((self.gripper,) + tuple(self.arm[1:]))

@@ -23,6 +23,9 @@ from host import arm_calib, kinematics
 from host.fixedpoint import cos_q12, isqrt, sin_q12
 from host.task_sense import spoke_reading
 
+ROLL_SCAN_MRAD = 524  # 30 degrees
+ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn
+
 
 class GraspStates:
     """Entry actions and handlers of the grasp states."""
@@ -73,6 +76,7 @@ class GraspStates:
             return
         self.set_arm(now, *self.arm[2:6], th1=kinematics.ROLL_PRECISE_MRAD)
         self.phase = "roll"
+        self.roll_scan = 0
 
     def _move_point(self, now: int, x: int, y: int, z: int, th1: int | None = None) -> bool:
         pose = self.grasp_ik((x, y, z), self.grasp_alpha)
@@ -120,8 +124,16 @@ class GraspStates:
             self.counters["bad_detections"] += 1
             reading = None
         if reading is None:
-            if now - self.phase_us >= self.p.spoke_wait_us:
-                self._descend(now, f"no spoke seen for {now - self.phase_us} us: rough position")
+            waited = now - self.phase_us
+            if self.roll_scan < ROLL_SCAN_STEPS and waited >= self.p.spoke_wait_us // 3:
+                # the spoke detector sees arms within 30 degrees of the image x axis: roll the
+                # camera by 30 degrees at a time over the quarter turn the "+" repeats in
+                self.roll_scan += 1
+                x, y, z = self.gripper_point_q4()
+                self._move_point(now, x, y, z, self.arm[1] - ROLL_SCAN_MRAD)
+                self.phase_us = now
+            elif waited >= self.p.spoke_wait_us:
+                self._descend(now, f"no spoke seen for {waited} us: rough position")
             return
         self.phase_us = now
         self.precise_steps += 1

@@ -104,7 +104,7 @@ def object_in_platform(name: str, det: Any, geom: ArmGeometry, joints_mrad: tupl
         v1, v2 = field(det, "v1_q4"), field(det, "v2_q4")
         u = field(det, "um_q4") if u1 is None or u2 is None else (u1 + u2) // 2
         v = field(det, "vm_q4") if v1 is None or v2 is None else (v1 + v2) // 2
-        d_is = field(det, "d_is_mm")
+        d_is = field(det, "dist_mm", "d_is_mm")  # dist_mm: D1's foreshortening-corrected D_is
         depth = d_is * 16 if d_is is not None else _depth(
             DUAL_PLUS_D_ACT_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
     elif name == "red_cylinder":

@@ -55,6 +55,10 @@ class TaskStates(GraspStates):
         self.phase_us = now_us
         self.precise_steps = 0
         self.last_pose = (0, 0, 0, 0)
+        self.arm_hist: list = []
+        self.pose_hist: list = []
+        self.confirm_until = None
+        self.confirm_failed = None
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
         self.prev_e = None
@@ -85,18 +89,39 @@ class TaskStates(GraspStates):
     def settled(self, now: int) -> bool:
         return now >= self.move_done_us
 
+    def remember(self, now: int, inp) -> None:
+        """Keep the last second of arm targets and base poses: a detection describes the frame
+        captured ``frame_latency_us`` ago (capture + vision), not the arm and base of now."""
+        if not self.arm_hist or self.arm_hist[-1][1] != tuple(self.arm):
+            self.arm_hist.append((now, tuple(self.arm)))
+        self.pose_hist.append((now, inp.x_mm, inp.y_mm, inp.heading_mrad))
+        for hist in (self.arm_hist, self.pose_hist):
+            while len(hist) > 1 and hist[1][0] <= now - 1_000_000:
+                hist.pop(0)
+
+    @staticmethod
+    def _at(hist: list, t_us: int):
+        best = hist[0]
+        for item in hist:
+            if item[0] <= t_us:
+                best = item
+        return best
+
     def see_object(self, now: int, inp, name: str, det) -> bool:
         """Update the object estimate from a detection; False if unusable (counted)."""
+        t_cap = now - self.p.frame_latency_us
+        joints = self._at(self.arm_hist, t_cap)[1] if self.arm_hist else tuple(self.arm)
+        _, x, y, h = self._at(self.pose_hist, t_cap) if self.pose_hist else (
+            0, inp.x_mm, inp.y_mm, inp.heading_mrad)
         try:
-            p = object_in_platform(name, det, self.geom, self.joints, self.cam)
+            p = object_in_platform(name, det, self.geom, joints, self.cam)
         except (ValueError, TypeError, ZeroDivisionError):
             self.counters["bad_detections"] += 1
             return False
         if p is None or isqrt(p[0] * p[0] + p[1] * p[1]) > 5000 * 16:
             self.counters["bad_detections"] += 1
             return False
-        self.obj = platform_to_odom_mm(inp.x_mm, inp.y_mm, inp.heading_mrad,
-                                       self.p.mount_forward_mm, p)
+        self.obj = platform_to_odom_mm(x, y, h, self.p.mount_forward_mm, p)
         self.obj_seen_us = now
         return True
 
@@ -141,21 +166,52 @@ class TaskStates(GraspStates):
         self.turn_from = None
         self.gripper = 0
 
+    def _found(self, now: int, inp, name: str, det) -> bool:
+        """The search detector's result gives a usable object (000/001) or bearing (002)."""
+        if self.method != "002":
+            return self.see_object(now, inp, name, det)
+        joints = self._at(self.arm_hist, now - self.p.frame_latency_us)[1] \
+            if self.arm_hist else tuple(self.arm)
+        try:
+            e = bearing_mrad(det, joints[5], self.cam)
+        except (ValueError, TypeError):
+            self.counters["bad_detections"] += 1
+            return False
+        if e is None:
+            return False
+        self.e_mrad, self.obj_seen_us = e, now
+        return True
+
+    def _found_why(self) -> str:
+        if self.method == "002":
+            return f"double cross seen at e = {self.e_mrad} mrad"
+        return f"radial symbol seen, object at {self.obj} mm"
+
     def do_SEARCH(self, now: int, inp, dets: dict) -> None:
         name = "double_cross" if self.method == "002" else "radial_symbol"
         det = dets.get(name)
-        if det is not None and not self.search.turning:
-            if self.method == "002":
-                e = bearing_mrad(det, self.joints[5], self.cam)
-                if e is not None:
-                    self.e_mrad, self.obj_seen_us = e, now
-                    self.wheels = (0, 0)
-                    self.go(now, "APPROACH", f"double cross seen at e = {e} mrad")
-                    return
-            elif self.see_object(now, inp, name, det):
-                self.wheels = (0, 0)
-                self.go(now, "APPROACH", f"radial symbol seen, object at {self.obj} mm")
+        if self.confirm_until is not None:
+            self.wheels = (0, 0)
+            # holding the pose of the frame that showed the object: see it again, settled
+            if det is not None and now >= self.move_done_us + self.p.frame_latency_us \
+                    and self._found(now, inp, name, det):
+                self.confirm_until = None
+                self.go(now, "APPROACH", self._found_why() + " (confirmed)")
                 return
+            if now < self.confirm_until:
+                return
+            self.confirm_until = None  # not seen again: resume the pattern
+            self.confirm_failed = tuple(self.arm)
+            self.search.restart_dwell(now)
+        elif det is not None and not self.search.turning and self._found(now, inp, name, det):
+            held = self._at(self.arm_hist, now - self.p.frame_latency_us)[1] \
+                if self.arm_hist else tuple(self.arm)
+            if held == self.confirm_failed:  # that pose was tried: the frame is a newer one
+                held = tuple(self.arm)
+            self.set_arm(now, *held[2:6], th1=held[1])
+            self.confirm_until = self.move_done_us + self.p.confirm_us
+            self.note(search_seen=self._found_why())
+            return
         cmd = self.search.step(now)
         self.set_arm(now, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad, cmd.theta5_mrad, 0)
         if not cmd.base_turn_mrad:
@@ -292,6 +348,8 @@ class TaskStates(GraspStates):
         det = dets.get(name)
         if det is not None:
             self.see_object(now, inp, name, det)
+        elif dets.get("radial_symbol") is not None:  # the dual "+" out of its range: the rings
+            self.see_object(now, inp, "radial_symbol", dets["radial_symbol"])
         if self.method == "002" and det is not None:
             d_px = d_pixel_px(det)
             if d_px is not None and d_px > self.p.t_d_px:

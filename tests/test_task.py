@@ -24,19 +24,35 @@ def test_starts_in_search_and_asks_for_the_search_detector():
     assert out.state == "SEARCH" and out.events == [] and out.wheels_mmps == (0, 0)
 
 
-def test_found_goes_to_approach_with_a_logged_event_and_a_plan():
+def find(task, t, name, det, **kw):
+    """Feed the same detection every frame (every 3rd step) until the task leaves SEARCH."""
+    k = 0
+    while task.state == "SEARCH":
+        out = step(task, t, detections={name: det} if k % 3 == 0 else {}, **kw)
+        t += 20_000
+        k += 1
+        assert t < 5_000_000
+    return out, t
+
+
+def test_found_is_confirmed_then_approach_with_a_logged_event_and_a_plan():
     task = Task("000")
     step(task, 0)
     out = step(task, 40_000)
     assert out.state == "SEARCH"
     out = step(task, 60_000, detections={"radial_symbol": RADIAL_AHEAD})
+    assert out.state == "SEARCH" and "search_seen" in out.detail  # holds the pose, looks again
+    held = out.servo_mrad
+    out = step(task, 80_000, detections={"radial_symbol": RADIAL_AHEAD})
+    assert out.state == "SEARCH" and out.servo_mrad == held  # not yet settled: not trusted
+    out, t = find(task, 100_000, "radial_symbol", RADIAL_AHEAD)
     assert out.state == "APPROACH"
     (ev,) = out.events
-    assert (ev.t_us, ev.from_state, ev.to_state) == (60_000, "SEARCH", "APPROACH")
-    assert "radial symbol" in ev.why
+    assert (ev.from_state, ev.to_state) == ("SEARCH", "APPROACH") and ev.t_us == t - 20_000
+    assert "radial symbol" in ev.why and "confirmed" in ev.why
     # the object sits about 1 m ahead of the base
     assert 900 < task.obj[0] < 1300 and abs(task.obj[1]) < 150
-    out = step(task, 80_000)
+    out = step(task, t)
     assert out.detail["plan"]["feasible"] > 0 and out.ops.float_ops > 0  # planning charged
     assert out.wheels_mmps != (0, 0)
     assert task.detectors_needed() == ["radial_symbol"]
@@ -46,6 +62,21 @@ def test_a_not_found_result_does_not_trigger():
     task = Task("000")
     out = step(task, 0, detections={"radial_symbol": None})
     assert out.state == "SEARCH"
+
+
+def test_unconfirmed_sighting_resumes_the_search():
+    task = Task("000")
+    step(task, 0)
+    out = step(task, 20_000, detections={"radial_symbol": RADIAL_AHEAD})
+    held = out.servo_mrad
+    t = 40_000
+    while t < 2_000_000:
+        out = step(task, t, detections={"radial_symbol": None})
+        if out.servo_mrad != held:
+            break
+        t += 20_000
+    assert task.state == "SEARCH" and out.servo_mrad != held
+    assert t >= 20_000 + task.p.confirm_us  # held at least the confirmation time
 
 
 def test_search_sweeps_the_waist_and_turns_the_base_after_a_cycle():
@@ -87,18 +118,18 @@ def test_search_timeout_fails_with_reason():
 
 def to_adjust(task, t=0):
     step(task, t)
-    step(task, t + 20_000, detections={"radial_symbol": RADIAL_AHEAD})
-    step(task, t + 40_000)
-    task.go(t + 60_000, "ADJUST", "test: skip the path")
-    step(task, t + 60_000)
+    _, t = find(task, t + 20_000, "radial_symbol", RADIAL_AHEAD)
+    step(task, t)
+    task.go(t + 20_000, "ADJUST", "test: skip the path")
+    step(task, t + 20_000)
     assert task.state == "ADJUST"
-    return t + 60_000
+    return t + 20_000
 
 
 def test_lost_in_adjust_goes_lost_then_search():
     task = Task("000")
     t0 = to_adjust(task)
-    assert task.detectors_needed() == ["dual_plus"]
+    assert task.detectors_needed() == ["dual_plus", "radial_symbol"]
     t = t0
     state = "ADJUST"
     while state == "ADJUST":
@@ -198,12 +229,12 @@ def test_002_search_then_fuzzy_approach_turns_toward_the_marker():
     step(task, 0)
     # the double cross left of the image centre: e < 0 (left), the platform turns left
     dc = {"um_q4": 100 * 16, "vm_q4": 120 * 16}
-    out = step(task, 20_000, detections={"double_cross": dc})
+    out, t = find(task, 20_000, "double_cross", dc)
     assert out.state == "APPROACH" and "e = " in out.events[0].why
-    out = step(task, 40_000, detections={"double_cross": dc, "red_cylinder": None})
+    out = step(task, t, detections={"double_cross": dc, "red_cylinder": None})
     left, right = out.wheels_mmps
     assert right > left > 0
     assert out.detail["fuzzy"]["e_mrad"] < 0 and out.detail["fuzzy"]["u_mrad"] < 0
     assert task.detectors_needed() == ["double_cross", "red_cylinder"]
     # no new frame: the wheels are held, not re-decided
-    assert step(task, 60_000).wheels_mmps == (left, right)
+    assert step(task, t + 20_000).wheels_mmps == (left, right)

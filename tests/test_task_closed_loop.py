@@ -43,6 +43,7 @@ class World:
         self.spoke_rad = spoke_rad
         self.joints = (0, 0, -1571, -1571, 1571, 0)
         self.held = False
+        self.pending = {}
 
     def platform_to_world(self, p):
         fx, fy = math.cos(self.h), math.sin(self.h)
@@ -128,8 +129,9 @@ class World:
             self.held = False
 
     def inputs(self, task, frame):
-        # a processed frame reports every detector run (None = not found); {} = no new frame
-        dets = self.detect(task.detectors_needed()) if frame else {}
+        # a processed frame reports every detector run (None = not found); {} = no new frame.
+        # Results arrive one control step (20 ms) after the capture, as vision takes time.
+        dets, self.pending = self.pending, (self.detect(task.detectors_needed()) if frame else {})
         return TaskInputs(joints_mrad=self.joints, x_mm=round(self.x * 1000),
                           y_mm=round(self.y * 1000), heading_mrad=round(self.h * 1000),
                           v_mmps=round(self.v * 1000), sonar_mm=(2500,) * 5, detections=dets,

@@ -90,3 +90,23 @@ def test_random_campaign(tmp_path, method):
     assert res["success_rate"] >= 0.95, res["failed_seeds"]
     assert res["collisions_total"] == 0
     assert res["final_error_mm_median"] is not None and res["final_error_mm_median"] <= 10
+
+
+def test_a_crash_midway_leaves_summary_and_trace(tmp_path):
+    calls = []
+
+    def crashing_timer(stage, fn, *args):
+        calls.append(stage)
+        if stage == "task" and calls.count("task") == 30:
+            raise RuntimeError("boom in the task")
+        return fn(*args)
+
+    summary, code = _run(tmp_path, "paper000-exp1", time_limit_s=3.0, plots=False,
+                         timer=crashing_timer)
+    assert code == 1 and summary["status"] == "crashed"
+    assert "boom in the task" in summary["error"]
+    folder = tmp_path / "paper000-exp1-inproc"
+    on_disk = json.loads((folder / "summary.json").read_text())
+    assert on_disk["status"] == "crashed" and 0.5 < on_disk["sim_time_s"] < 1.0
+    lines = (folder / "trace.jsonl").read_text().splitlines()
+    assert len(lines) > 5 and all(json.loads(line) for line in lines)

@@ -117,7 +117,14 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     from mcu_sim.rig import Rig, RigConfig
     from mcu_sim.rig_plant import WorldPlant
     from tools.run_folder import Snapshots, TraceWriter, write_summary
-    from tools.runner import InprocHost, SocketHost, host_argv, run_session, write_host_config
+    from tools.runner import (
+        InprocHost,
+        SessionResult,
+        SocketHost,
+        host_argv,
+        run_session,
+        write_host_config,
+    )
 
     if opts.transport not in ("pty", "inproc"):
         raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
@@ -151,7 +158,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                  "obstacles": [vars(o) for o in scenario.obstacles]})
     host = None
     port = peer = None
-    res = rig = fault_rig = None
+    res = SessionResult()
+    rig = fault_rig = None
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     try:
         if opts.transport == "pty":
@@ -175,7 +183,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             def progress(r, wall):
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
-        res = run_session(rig, host, trace, time_limit_us=int(limit_s * 1e6),
+        run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
                           truth=plant.truth, on_host_event=snaps.on_host_event,
                           on_quantum=lambda t: plant.sample_path(), speed=opts.speed,
                           progress=progress)
@@ -194,7 +202,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                 t.close()
         tmpdir.cleanup()
         trace.close()
+        error = summary.get("error")
         summary.update(_figures(res, plant, trace, snaps, limit_s))
+        if error:
+            summary["error"] = error
         summary["frames_captured"] = rig.stats["frames_captured"] if rig else 0
         summary["frames_skipped_camera_off"] = rig.stats["frames_skipped"] if rig else 0
         summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}

@@ -134,10 +134,12 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
                 on_quantum: Callable[[int], None] | None = None,
                 speed: float | None = None, settle_us: int = 500_000,
                 progress: Callable[[SessionResult, float], None] | None = None,
-                stop: Callable[[], str | None] | None = None) -> SessionResult:
+                stop: Callable[[], str | None] | None = None,
+                result: SessionResult | None = None) -> SessionResult:
     """Run quanta until the host's task ends (plus ``settle_us``), ``stop()`` says so, or the
-    time limit. ``speed`` = None runs as fast as possible, else sim/wall = speed (pacing only)."""
-    res = SessionResult()
+    time limit. ``speed`` = None runs as fast as possible, else sim/wall = speed (pacing only).
+    ``result`` is filled in place, so a caller still has it when the loop raises."""
+    res = result if result is not None else SessionResult()
     wall0 = time.perf_counter()
     next_truth = 0
     next_progress = 0.0

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
+from host import arm_calib
 from host import fixedpoint as fp
 from host.budget import OpCounts
 from host.kinematics import ArmGeometry, fk_mm_q4
@@ -75,6 +76,14 @@ def platform_offset_to_platform_mm(offset_mm: Sequence[int], geom: ArmGeometry,
         raise ValueError(f"expected 3 coordinates, got {len(offset_mm)}")
     cr = camera_position_mm(geom, theta2_mrad, theta3_mrad, theta4_mrad, theta5_mrad)
     return tuple(int(o) + c for o, c in zip(offset_mm, cr, strict=True))  # type: ignore[return-value]
+
+
+def camera_to_platform_from_servo_us(p_cv_mm: Sequence[int], geom: ArmGeometry,
+                                     servo_us: Sequence[int]) -> tuple[int, int, int]:
+    """Eq. (2) with the joint angles read from MCU telemetry: the six servo pulse widths (µs,
+    index = channel, docs/conventions.md) through host.arm_calib's inverse servo law."""
+    j = arm_calib.pulses_to_joints_mrad(tuple(int(p) for p in servo_us))
+    return camera_to_platform_mm(p_cv_mm, geom, j[2], j[3], j[4], j[5])
 
 
 def camera_to_platform_ops() -> OpCounts:

@@ -172,3 +172,14 @@ def test_platform_bearing_parallax(cx, cy, bearing, dist):
     got = ranging.platform_bearing_mrad(cx, cy, bearing, dist)
     err = abs(got - 1000 * math.atan2(x, y))
     assert min(err, abs(err - 2000 * math.pi)) <= 3.0
+
+
+def test_from_telemetry_pulses():
+    from host import arm_calib
+    joints = (0, 0, -500, -800, 1300, 300)
+    pulses = arm_calib.joints_to_pulses_us(joints)
+    back = arm_calib.pulses_to_joints_mrad(pulses)
+    got = transforms.camera_to_platform_from_servo_us((10, -20, 500), PAPER_000, pulses)
+    assert got == transforms.camera_to_platform_mm((10, -20, 500), PAPER_000, *back[2:])
+    with pytest.raises(ValueError):
+        transforms.camera_to_platform_from_servo_us((0, 0, 1), PAPER_000, (1500,) * 5)

@@ -90,9 +90,10 @@ class TaskParams:
     precise_align_ch: int = 1  # joint that drives k_T to 0: 1 wrist roll, 5 waist (task_grasp)
     pregrasp_back_mm: int = 50  # 002: pre-grasp point this far short of the object
     grasp_close_timeout_us: int = 2_000_000
-    cylinder_near_px: int = 20  # 002: ring spacing at which ADJUST (slow, straight) starts
+    cylinder_near_px: int = 12  # 002: ring spacing at which ADJUST (slow, straight) starts
     slow_mmps: int = 60  # 002 ADJUST speed
-    safety_r_mm: int = 60  # 002 ADJUST: stop on the estimate this close to the waist (+ tol)
+    safety_r_mm: int = 130  # 002 ADJUST: stop on the estimate this close to the waist (+- tol):
+    # the 0.17 m footprint reaches 70 mm ahead of the waist, plus the cylinder's 25 mm radius
     t_d_px: int = 45  # 002 T_d
     search: dict = field(default_factory=dict)  # host.search.SearchParams fields
     posture: dict = field(default_factory=dict)  # host.posture.PostureParams fields

@@ -305,10 +305,16 @@ class TaskStates(GraspStates):
     def _approach_002(self, now: int, inp, dets: dict) -> None:
         rc = dets.get("red_cylinder")
         d_px = d_pixel_px(rc)
-        if d_px is not None and d_px >= self.p.cylinder_near_px and \
-                self.see_object(now, inp, "red_cylinder", rc):
+        if d_px is not None and self.see_object(now, inp, "red_cylinder", rc) and \
+                d_px >= self.p.cylinder_near_px:
             self.go(now, "ADJUST", f"red cylinder seen, d_pixel = {d_px} px")
             return
+        if self.obj is not None:  # the cylinder stands before the marker: do not run it over
+            x, y = self.obj_platform(inp)
+            dist = isqrt(x * x + y * y) // 16
+            if dist <= self.p.safety_r_mm + 150:
+                self.go(now, "ADJUST", f"red cylinder estimated {dist} mm from the waist")
+                return
         if not dets:
             return  # no new frame: keep the wheels as they are
         dc = dets.get("double_cross")

@@ -238,3 +238,17 @@ def test_002_search_then_fuzzy_approach_turns_toward_the_marker():
     assert task.detectors_needed() == ["double_cross", "red_cylinder"]
     # no new frame: the wheels are held, not re-decided
     assert step(task, t + 20_000).wheels_mmps == (left, right)
+
+
+def test_002_adjust_stops_at_t_d():
+    task = Task("002")
+    task.obj, task.obj_seen_us = (600, 0), 0  # cylinder 500 mm ahead of the waist
+    task.go(0, "ADJUST", "test")
+    out = step(task, 20_000, detections={"red_cylinder": None})
+    assert out.state == "ADJUST" and out.wheels_mmps[0] > 0 and out.wheels_mmps[1] > 0
+    rc = {"u_c_q4": 160 * 16, "v_c_q4": 200 * 16, "d_pixel_q4": 44 * 16}
+    assert step(task, 40_000, detections={"red_cylinder": rc}).state == "ADJUST"
+    rc = dict(rc, d_pixel_q4=46 * 16)
+    out = step(task, 60_000, detections={"red_cylinder": rc})
+    assert out.state == "ROUGH_GRASP" and out.wheels_mmps == (0, 0)
+    assert "T_d" in out.events[0].why

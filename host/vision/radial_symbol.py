@@ -40,7 +40,7 @@ V0_PX = 120
 MIN_WIDTH_PX = 12  # narrower rings cannot be measured to 2 %
 MAX_CANDIDATES = 40
 MIN_CONTRAST = 90  # grey levels between print and card at the darkest exposure (0.7 x 235-20)
-FILL_MIN_PCT, FILL_MAX_PCT = 68, 84  # ring + interior over the box (ellipse: 78.5 %)
+FILL_MIN_PCT, FILL_MAX_PCT = 62, 84  # ring + interior over the box (ellipse: 78.5 %)
 SPAN_MIN_PCT, SPAN_MAX_PCT = 55, 90  # interior width over outer width at the centre row
 
 
@@ -200,6 +200,19 @@ def _measure(grey: np.ndarray, found, f_px: int, u0_px: int, v0_px: int
     ir = wi - 1 - int(np.argmax(irow[::-1]))
     if abs(8 * (2 * xi + il + ir) - u_q4) > 16 * max(2, wi // 12):
         return None, ops
+    # and the ring is as thick on the left as on the right (not merged with a dark neighbour)
+    tl, tr = 16 * (xi + il) - best[0], best[1] - 16 * (xi + ir)
+    if abs(tl - tr) > max(32, (tl + tr) // 4):
+        return None, ops
+    # the card's white margin lies outside both outer edges: at least 70 % of the interior's
+    # light level within 3 px (a dark object touching the ring has the floor beyond it)
+    line = grey[min(grey.shape[0] - 1, (v_q4 + 8) // 16)]
+    light = int(line[xi + il:xi + ir + 1].max())
+    lo_x, hi_x = best[0] // 16, (best[1] + 15) // 16
+    outside = [int(line[max(0, lo_x - 3):lo_x + 1].max()),
+               int(line[hi_x:min(len(line), hi_x + 4)].max())]
+    if 10 * min(outside) < 7 * light:
+        return None, ops
     # an ellipse fills pi/4 of its box; the interior spans 0.63-0.85 of the outer width
     # (inside the inner ring, or inside the outer ring when the two are resolved)
     # black print on a white card: the ring is less than half as bright as its interior
@@ -208,9 +221,11 @@ def _measure(grey: np.ndarray, found, f_px: int, u0_px: int, v0_px: int
     if 2 * int(box[roi].sum()) * n_in >= int(box[inner].sum()) * n_ring:
         return None, ops
     ops += OpCounts(pixels_read=roi.size, alu=2 * roi.size, divs=0, muls32=2)
-    filled = n_ring + n_in
+    # rows of the ring only (the body below the top may hang from it): mirror the top about v
+    hr = min(hi, max(1, (2 * v_q4 - 32 * yi + 16) // 16 + 1))
+    filled = int(roi[:hr].sum()) + int(inner[:hr].sum())
     span = ir - il + 1
-    if not (FILL_MIN_PCT * wi * hi <= 100 * filled <= FILL_MAX_PCT * wi * hi
+    if not (FILL_MIN_PCT * wi * hr <= 100 * filled <= FILL_MAX_PCT * wi * hr
             and SPAN_MIN_PCT * wi <= 100 * span <= SPAN_MAX_PCT * wi):
         return None, ops
     y_mm = fp.div_round(L_MM * f_px * 16, d_q4)

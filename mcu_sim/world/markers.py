@@ -30,9 +30,9 @@ OBJECT_TOP_Z_M = 0.10  # height of the object's top above the ground
 OBJECT_BODY_RADIUS_M = 0.020  # slender body: a 40 mm cylinder fits the 60 mm gripper opening
 CARD_RADIUS_M = 0.060  # white top card carrying the symbol (5.5 mm margin outside the rings)
 OUTER_RING_R_OUT_M = L_M / 2  # 54.5 mm
-OUTER_RING_R_IN_M = 0.0465  # outer ring 8 mm wide
-INNER_RING_R_OUT_M = 0.0405  # 6 mm white gap between the rings
-INNER_RING_R_IN_M = 0.0345  # inner ring 6 mm wide
+OUTER_RING_R_IN_M = 0.0425  # outer ring 12 mm wide: still ~1.5 px tall seen at 1.2 m, 14 deg
+INNER_RING_R_OUT_M = 0.0385  # 4 mm white gap between the rings
+INNER_RING_R_IN_M = 0.0345  # inner ring 4 mm wide
 PLUS_HALF_SPAN_M = 0.0085  # each "+" spans 17 mm tip to tip (2.35 mm clear of the inner ring)
 PLUS_ARM_WIDTH_M = 0.006  # spoke width: 20-40 px at 0.18-0.09 m with f = 611 px
 

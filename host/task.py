@@ -71,6 +71,8 @@ class TaskParams:
     grasp_r_tol_mm: int = 20
     bearing_tol_mrad: int = 60
     adjust_vmax_mmps: int = 80
+    adjust_theta3_mrad: int = -1000  # ADJUST close-look posture (task_states.enter_ADJUST)
+    adjust_theta4_mrad: int = 1571
     blind_finish_mm: int = 80  # ADJUST may finish on odometry within this of its goal
     lost_timeout_us: int = 1_500_000
     lost_hold_us: int = 500_000
@@ -92,8 +94,6 @@ class TaskParams:
     grasp_close_timeout_us: int = 2_000_000
     cylinder_near_px: int = 12  # 002: ring spacing at which ADJUST (slow, straight) starts
     slow_mmps: int = 60  # 002 ADJUST speed
-    safety_r_mm: int = 130  # 002 ADJUST: stop on the estimate this close to the waist (+- tol):
-    # the 0.17 m footprint reaches 70 mm ahead of the waist, plus the cylinder's 25 mm radius
     t_d_px: int = 45  # 002 T_d
     search: dict = field(default_factory=dict)  # host.search.SearchParams fields
     posture: dict = field(default_factory=dict)  # host.posture.PostureParams fields
@@ -107,7 +107,9 @@ class TaskParams:
         if method == "001":
             base = replace(base, h_shoulder_mm=108, grasp_r_mm=130, hover_mm=90)
         elif method == "002":
-            base = replace(base, object_top_mm=120, grasp_height_mm=100)
+            # 150 mm: the 0.17 m footprint reaches 70 mm ahead of the waist, plus the cylinder's
+            # 25 mm radius and margin
+            base = replace(base, object_top_mm=120, grasp_height_mm=100, grasp_r_mm=150)
         overrides = dict(overrides or {})
         known = {f.name: f for f in fields(cls)}
         for key, value in list(overrides.items()):

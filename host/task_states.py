@@ -312,7 +312,7 @@ class TaskStates(GraspStates):
         if self.obj is not None:  # the cylinder stands before the marker: do not run it over
             x, y = self.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
-            if dist <= self.p.safety_r_mm + 150:
+            if dist <= self.p.grasp_r_mm + 150:
                 self.go(now, "ADJUST", f"red cylinder estimated {dist} mm from the waist")
                 return
         if not dets:
@@ -349,6 +349,13 @@ class TaskStates(GraspStates):
         self.set_arm(now, self.arm[2] + d2, self.arm[3] + d3, self.arm[4] + d4, th5)
 
     # --- ADJUST -------------------------------------------------------------------------------
+    def enter_ADJUST(self, now: int, inp) -> None:
+        """Close-look posture (ours): shoulder up, elbow bent, so that theta2 alone (000's
+        k_theta2 = 1) can pitch the camera down to the object at arm's length; alpha is kept."""
+        th3, th4 = self.p.adjust_theta3_mrad, self.p.adjust_theta4_mrad
+        alpha = self.arm[2] + self.arm[3] + self.arm[4]
+        self.set_arm(now, alpha - th3 - th4, th3, th4, self.arm[5])
+
     def do_ADJUST(self, now: int, inp, dets: dict) -> None:
         name = "red_cylinder" if self.method == "002" else "dual_plus"
         det = dets.get(name)
@@ -356,20 +363,21 @@ class TaskStates(GraspStates):
             self.see_object(now, inp, name, det)
         elif dets.get("radial_symbol") is not None:  # the dual "+" out of its range: the rings
             self.see_object(now, inp, "radial_symbol", dets["radial_symbol"])
+        x, y = self.obj_platform(inp)
         if self.method == "002" and det is not None:
             d_px = d_pixel_px(det)
-            if d_px is not None and d_px > self.p.t_d_px:
+            dist = isqrt(x * x + y * y) // 16
+            # T_d of 002 says "in the workspace" for 002's camera placement; ours also needs the
+            # estimate within reach, else it creeps on (close_in below)
+            if d_px is not None and d_px > self.p.t_d_px and \
+                    dist <= self.p.grasp_r_mm + self.p.grasp_r_tol_mm:
                 self.wheels = (0, 0)
                 self.go(now, "ROUGH_GRASP", f"d_pixel = {d_px} px > T_d = {self.p.t_d_px}")
                 return
-        x, y = self.obj_platform(inp)
-        # 002 §1: slowly on toward the cylinder until d_pixel > T_d; a safety stop on the
-        # estimate (``safety_r_mm`` from the waist) should the rings never be resolved
-        if self.method == "002":
-            vmax, target_r = self.p.slow_mmps, self.p.safety_r_mm
-        else:
-            vmax, target_r = self.p.adjust_vmax_mmps, self.p.grasp_r_mm
-        wheels, done, d = close_in((x, y), target_r, self.p.grasp_r_tol_mm,
+        # 002 §1: slowly on toward the cylinder until d_pixel > T_d; the estimate stops it at
+        # grasp_r_mm (clear of the footprint) should the rings never be resolved
+        vmax = self.p.slow_mmps if self.method == "002" else self.p.adjust_vmax_mmps
+        wheels, done, d = close_in((x, y), self.p.grasp_r_mm, self.p.grasp_r_tol_mm,
                                    self.p.bearing_tol_mrad, vmax)
         self.note(adjust=d)
         unseen = now - self.obj_seen_us

@@ -6,13 +6,21 @@ Used far from the object (search and Bezier planning; docs/markers.md): the obje
 obliquely, so the dual outer rings appear as an ellipse whose horizontal width is the ring's
 diameter (the camera does not roll while searching). Steps:
 
-1. grey, global dark threshold, 8-connected dark components (host.vision.dark_blobs);
-2. ring test per component: wide enough, partly filled, and its bounding-box centre is a light
-   pixel enclosed by the component (a light 4-connected region that does not reach the box's
-   border) — a closed ring around a light centre, which solid clutter never has;
-3. the outermost passing ring; its widest row gives ``d_p + d_rp`` between the sub-pixel outer
-   edges (dark/light mid-level crossings), its centre u_r; v_r is the middle of the sub-pixel
-   top and bottom outer edges in the column through u_r.
+1. grey, global dark threshold, 8-connected dark components (host.vision.dark_blobs); the
+   components at least 12 px wide and not solid are candidates, widest first;
+2. around each candidate (widened by its own width: it may be one side arc of the ring) the
+   grey is summed over 1x3 pixels (noise down, the thin horizontal far arcs kept) and
+   re-thresholded at 1/2, then 1/3, of its own dark-to-light range;
+3. ring test: the widest local component covering the candidate encloses light regions (not
+   reaching its box's border) that hold the box's centre column — a closed ring, which solid
+   clutter never is;
+4. measure: v_r = middle of the interior in the centre column (sub-pixel inner edges of the
+   ring), ``d_p + d_rp`` = the widest of the three rows around v_r between the sub-pixel outer
+   edges (dark/light mid-level crossings), u_r its middle, then v_r again through u_r;
+5. checks that it is the printed ellipse and nothing merged with it: interior centred on u_r,
+   ring as thick left as right, white card beyond both outer edges, ring under half as bright
+   as its interior, ring + interior filling 62-84 % of the ring's box (an ellipse: 78.5 %),
+   interior 55-90 % of the outer width.
 
 Paper 000 names ``d_p + d_rp`` without defining the two terms; we read them as the diameter
 between the ring's centre lines plus one ring width, i.e. the outer diameter, which matches the

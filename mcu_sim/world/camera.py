@@ -284,21 +284,12 @@ def _draw_ground(p: _Painter, seed: int) -> None:
         cv2.fillConvexPoly(p.img, pts, _SKY_RGB, lineType=cv2.LINE_8, shift=4)
 
 
-@dataclass(frozen=True)
-class _Noise:
-    bank: np.ndarray
-
-
-_NOISE: list[_Noise] = []
-
-
+@lru_cache(maxsize=1)
 def _noise_bank() -> np.ndarray:
-    # one fixed bank of N(0, 1) samples; each frame reads a seeded random window of it, which is
-    # ~10x cheaper than drawing 230k normals per frame and still deterministic per seed
-    if not _NOISE:
-        _NOISE.append(_Noise(np.random.default_rng(0x0E9653).standard_normal(
-            _NOISE_BANK_SIZE + 320 * 240 * 3, dtype=np.float32)))
-    return _NOISE[0].bank
+    """One fixed bank of N(0, 1) samples; each frame reads a seeded random window of it, which
+    is ~10x cheaper than drawing 230k normals per frame and still deterministic per seed."""
+    return np.random.default_rng(0x0E9653).standard_normal(
+        _NOISE_BANK_SIZE + 320 * 240 * 3, dtype=np.float32)
 
 
 @lru_cache(maxsize=32)
@@ -328,6 +319,8 @@ def apply_options(img: np.ndarray, options: CameraOptions, rng: np.random.Genera
     if options.noise_std > 0.0:
         bank = _noise_bank()
         n = out.size
+        if n > len(bank) // 2:  # frames larger than 320x240x3 draw their own samples
+            bank = rng.standard_normal(2 * n, dtype=np.float32)
         start = int(rng.integers(0, len(bank) - n))
         f = out.astype(np.float32)
         f += bank[start:start + n].reshape(out.shape) * np.float32(options.noise_std)

@@ -95,6 +95,7 @@ class TaskParams:
     cylinder_near_px: int = 12  # 002: ring spacing at which ADJUST (slow, straight) starts
     slow_mmps: int = 60  # 002 ADJUST speed
     t_d_px: int = 45  # 002 T_d
+    object_xy_mm: tuple = ()  # 001: P_i given in the odometry frame (skips SEARCH); () unknown
     search: dict = field(default_factory=dict)  # host.search.SearchParams fields
     posture: dict = field(default_factory=dict)  # host.posture.PostureParams fields
     planner: dict = field(default_factory=dict)  # Params000 / Params001 fields
@@ -124,6 +125,11 @@ class TaskParams:
                     if bad:
                         raise ValueError(f"timeouts_us: unknown state(s) {bad}")
                     overrides[key] = {**default, **value}
+            elif key == "object_xy_mm":
+                if len(value) not in (0, 2) or not all(
+                        isinstance(v, int) and not isinstance(v, bool) for v in value):
+                    raise ValueError(f"object_xy_mm must be two ints (mm) or empty, got {value!r}")
+                overrides[key] = tuple(value)
             elif not isinstance(value, int) or isinstance(value, bool):
                 raise ValueError(f"task parameter {key!r} must be an int, got {value!r}")
         return replace(base, **overrides) if overrides else base

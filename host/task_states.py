@@ -165,6 +165,11 @@ class TaskStates(GraspStates):
         self.search = ArmSearch(SearchParams(**self.p.search), self.arm[2], self.arm[5], now)
         self.turn_from = None
         self.gripper = 0
+        if self.p.object_xy_mm and self.obj is None and self.counters["lost"] == 0:
+            # 001 §II: the object position P_i is given; plan toward it, vision refines it
+            self.obj = tuple(self.p.object_xy_mm)
+            self.obj_seen_us = now
+            self.go(now, "APPROACH", f"object position given: {self.obj} mm")
 
     def _found(self, now: int, inp, name: str, det) -> bool:
         """The search detector's result gives a usable object (000/001) or bearing (002)."""

@@ -252,3 +252,13 @@ def test_002_adjust_stops_at_t_d():
     out = step(task, 60_000, detections={"red_cylinder": rc})
     assert out.state == "ROUGH_GRASP" and out.wheels_mmps == (0, 0)
     assert "T_d" in out.events[0].why
+
+
+def test_001_with_a_given_object_position_plans_at_once():
+    task = Task("001", {"object_xy_mm": [1500, 300]})
+    out = step(task, 0, sonar_mm=(2500,) * 5)
+    assert out.state == "APPROACH" and "given" in out.events[0].why
+    out = step(task, 20_000, sonar_mm=(2500,) * 5)
+    assert out.detail["plan"]["planner"] == "001" and out.wheels_mmps != (0, 0)
+    with pytest.raises(ValueError, match="object_xy_mm"):
+        Task("001", {"object_xy_mm": [1.5, 0.3]})

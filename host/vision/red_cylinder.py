@@ -16,9 +16,10 @@ How we do it:
    among them, the run around the tallest red column (a red object touching one piece
    widens the ROI, not the scan columns).
 3. In the central half of the scan columns, the mean redness of each full-resolution row is a
-   profile; a ring is a run of rows below half the median red level with red rows above and
-   below it. Exactly two rings are required; anything red without them (clutter) is rejected.
-   Each ring's row is the darkness-weighted centroid of its run (sub-pixel, Q4).
+   profile (red-hued pixels only); a ring is a run of rows below half the median red level
+   with red rows above and below it, and dark (R at most 2/3 of the red rows'). Exactly two
+   rings are required; anything red without them (clutter) is rejected. Each ring's row is
+   the darkness-weighted centroid of its run (sub-pixel, Q4).
 4. The rings' own columns: on each ring row, the longest run of columns where the ring is
    clearly less red than the red band between the rings (and the red outside them). The
    rings exist only on the cylinder, so this is its width whatever red stands beside it.
@@ -171,15 +172,24 @@ def _measure(rgb: np.ndarray, y0: int, y1: int, cx0: int, cx1: int
              ) -> tuple[tuple[int, int, int, int, int], OpCounts] | None:
     """Ring rows in columns [cx0, cx1) of rows [y0, y1): ((r1_q4, r2_q4, level, run1 length,
     run2 length), ops) with rows in full-frame Q4, or None without exactly two thin rings."""
-    red = redness(rgb[y0:y1, cx0:cx1]).astype(np.int32)
+    roi = rgb[y0:y1, cx0:cx1]
+    gb = cv2.max(roi[..., 1], roi[..., 2]).astype(np.int32)
+    r = roi[..., 0].astype(np.int32)
+    # redness of red-hued pixels only: pink, orange or grey between two red things is no ring
+    red = np.where(2 * r >= 5 * gb, r - gb, 0)
     profile = red.sum(axis=1) // (cx1 - cx0)
+    r_prof = r.sum(axis=1) // (cx1 - cx0)
     n = red.size
-    ops = OpCounts(pixels_read=3 * n, alu=4 * n, divs=y1 - y0, bytes_streamed=3 * n,
-                   branches=2 * (y1 - y0))
+    ops = OpCounts(pixels_read=3 * n, alu=9 * n, muls=n, divs=2 * (y1 - y0),
+                   bytes_streamed=3 * n, branches=2 * (y1 - y0))
     found = _rings(profile)
     if found is None or len(found[0]) != 2:
         return None
     ((s1, e1), (s2, e2)), level = found
+    # the rings are black: their darkest row has at most 2/3 of the red rows' R
+    r_level = int(np.median(r_prof))
+    if 3 * int(r_prof[s1:e1].min()) > 2 * r_level or 3 * int(r_prof[s2:e2].min()) > 2 * r_level:
+        return None
     ops += OpCounts(alu=8 * (e2 - s1 + 4) + 40, muls32=2 * (e2 - s1 + 4), divs=2)
     r1 = y0 * 16 + _centroid_q4(profile, s1, e1, level)
     r2 = y0 * 16 + _centroid_q4(profile, s2, e2, level)

@@ -125,6 +125,7 @@ class HostApp:
         self._last_wheels_us = -(10**12)
         self._last_heartbeat_us = -(10**12)
         self._hello_sent = False
+        self._resets_handled = 0
         self.replans = 0
         self.plans = 0
 
@@ -236,9 +237,12 @@ class HostApp:
         link = self.link
         tx_before = link.counters.tx_bytes
         link.service(start)
-        if not self._hello_sent:
-            link.hello(start)
+        if not self._hello_sent or (link.mcu_resets > self._resets_handled
+                                    and link.needs_hello):
+            link.hello(start)  # first session, or again after the MCU reset
             self._hello_sent = True
+            self._resets_handled = link.mcu_resets
+            self._last = {"servos": None, "wheels": None, "gripper": None}  # resend all
         cycles = cfg.control_base_cycles
         if link.handshake_ok and link.telemetry is not None and not self.finished:
             detections, self._detections = self._detections, {}
@@ -322,7 +326,7 @@ class HostApp:
             "arm9_load_mean": sum(loads) / len(loads) if loads else 0.0,
             "stages": {k: stage_summary(v) for k, v in sorted(c.stage_us.items())},
             "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
-            "replans": self.replans,
+            "replans": self.replans, "mcu_resets_seen": self.link.mcu_resets,
         }
 
     def _mcu_counters(self) -> dict:

@@ -17,6 +17,7 @@ import math
 from dataclasses import dataclass
 
 from host import arm_calib
+from host.mcu_watch import McuWatch
 from protocol import messages as m
 from protocol.frame import PROTOCOL_VERSION, FrameParser
 from protocol.reliable import RetransmitQueue, SequenceCounter
@@ -72,6 +73,9 @@ class HostLink:
         self.events: list[dict] = []
         self.rx_bytes_since_take = 0
         self.gripper_permille = 0
+        self.watch = McuWatch()
+        self.mcu_resets = 0
+        self._latest_seq: dict[type, int] = {}  # newest reliable seq per superseding type
 
     # ---- receiving -------------------------------------------------------------------------
     def receive(self, data: bytes, arrival_us: int) -> None:
@@ -92,6 +96,13 @@ class HostLink:
             self.telemetry = msg
             self.telemetry_us = t_us
             self.counters.telemetry += 1
+            why = self.watch.feed(msg.time_us, msg.flags)
+            if why is not None:  # the MCU reset and forgot the session: HELLO again
+                self.mcu_resets += 1
+                self.handshake_ok = False
+                self.reliable.clear()
+                self._latest_seq.clear()
+                self.events.append({"ev": "mcu_reset_seen", "t_us": t_us, "why": why})
         elif isinstance(msg, m.Ack):
             self.reliable.ack(msg.acked_seq)
         elif isinstance(msg, m.Nack):
@@ -103,6 +114,8 @@ class HostLink:
             if self._hello_seq is not None:
                 self.reliable.ack(self._hello_seq)
             self.handshake_ok = msg.proto_version == PROTOCOL_VERSION
+            if self.handshake_ok:
+                self.watch.handshake_done()
             self.events.append({"ev": "hello_ack", "t_us": t_us,
                                 "firmware_id": msg.firmware_id, "ok": self.handshake_ok})
         elif isinstance(msg, m.Log):
@@ -117,6 +130,13 @@ class HostLink:
             seq = self.seq.next()  # never reuse a seq still waiting for its answer
         wire = m.encode_message(msg, seq)
         if msg.RELIABLE:
+            # A newer SetServos/Gripper supersedes an unanswered older one: never let a late
+            # retransmission of the old command execute after the new one (protocol.reliable).
+            if isinstance(msg, m.SetServos | m.Gripper):
+                old = self._latest_seq.get(type(msg))
+                if old is not None:
+                    self.reliable.cancel(old)
+                self._latest_seq[type(msg)] = seq
             self.reliable.track(seq, wire, at_us)
         self._queue(wire, at_us)
         return seq
@@ -125,6 +145,12 @@ class HostLink:
         self.counters.tx_frames += 1
         self.counters.tx_bytes += len(wire)
         self._outbox.append((at_us, wire))
+
+    @property
+    def needs_hello(self) -> bool:
+        """True when no session is open and no HELLO is waiting for its answer."""
+        return not self.handshake_ok and (self._hello_seq is None
+                                          or self._hello_seq not in self.reliable.in_flight())
 
     def hello(self, at_us: int) -> None:
         """Open the session (HELLO, reliable; the MCU answers ACK then HELLO_ACK)."""

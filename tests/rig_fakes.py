@@ -33,6 +33,7 @@ class FakeMcu:
         self._tel_period = telemetry_period_us
         self.wheels = (0, 0)
         self.enc = (0, 0)
+        self.flags = 0
 
     def uart_rx(self, data: bytes, start_us: int) -> None:
         assert start_us >= self.now_us, "bytes put on the line in the MCU's past"
@@ -52,13 +53,15 @@ class FakeMcu:
             if msg.RELIABLE:
                 self._send(m.Ack(acked_seq=frame.seq), t_us)
             if isinstance(msg, m.Hello):
+                self.flags = m.FLAG_HANDSHAKE
                 self._send(m.HelloAck(proto_version=1, firmware_id="fake", capabilities=0), t_us)
             if isinstance(msg, m.SetWheels):
                 self.wheels = (msg.left_mmps, msg.right_mmps)
         while self._next_tel <= t_us:
             self._send(m.Telemetry(time_us=self._next_tel, enc_left=self.enc[0],
                                    enc_right=self.enc[1], servo_us=(1500,) * 6,
-                                   sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=0, crc_errors=0,
+                                   sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=self.flags,
+                                   crc_errors=0,
                                    overruns=0, limit_hits=0, watchdog_trips=0), self._next_tel)
             self._next_tel += self._tel_period
         self.now_us = t_us

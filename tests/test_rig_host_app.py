@@ -25,9 +25,10 @@ def _ack_hello(app, at_us):
                                               capabilities=0), 1), at_us)
 
 
-def _telemetry(app, at_us, flags=0):
+def _telemetry(app, at_us, flags=m.FLAG_HANDSHAKE, time_us=None):
     app.on_uart(m.encode_message(m.Telemetry(
-        time_us=at_us, enc_left=0, enc_right=0, servo_us=(1000, 1500, 1500, 1500, 1500, 1500),
+        time_us=at_us if time_us is None else time_us, enc_left=0, enc_right=0,
+        servo_us=(1000, 1500, 1500, 1500, 1500, 1500),
         sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=flags, crc_errors=0, overruns=0, limit_hits=0,
         watchdog_trips=0), 2), at_us)
 
@@ -116,3 +117,32 @@ def test_stage_summary_percentiles():
     s = stage_summary(list(range(1, 101)))
     assert (s["calls"], s["p95_us"], s["max_us"], s["mean_us"]) == (100, 95, 100, 50.5)
     assert stage_summary([])["calls"] == 0
+
+
+def test_mcu_reset_seen_in_telemetry_reopens_the_session_and_resends_commands():
+    app = _handshaken(_BadTask((0, 0, -1571, -1571, 1571, 0), (100, 100)))
+    _sent(app, 30_000)
+    _telemetry(app, 40_000, flags=m.FLAG_RESET, time_us=1_000)  # time went back, flag set
+    app.advance_to(60_000)
+    msgs = [msg for _, msg, _ in _sent(app, 60_000)]
+    assert any(isinstance(x, m.Hello) for x in msgs)
+    assert app.stats()["mcu_resets_seen"] == 1
+    _ack_hello(app, 65_000)
+    _telemetry(app, 66_000, time_us=2_000)
+    app.advance_to(100_000)
+    msgs = [msg for _, msg, _ in _sent(app, 100_000)]
+    assert any(isinstance(x, m.SetServos) for x in msgs)  # the MCU forgot them: sent again
+
+
+def test_newer_servo_command_supersedes_an_unanswered_one():
+    class Moving(FakeTask):
+        def step(self, now_us, inputs):
+            return FakeOutputs(servo_mrad=(0, 0, -1571, -1571, 1571, now_us // 20_000),
+                               state="SEARCH")
+
+    app = _handshaken(Moving())
+    app.advance_to(200_000)
+    servos = [seq for _, x, seq in _sent(app, 200_000) if isinstance(x, m.SetServos)]
+    assert len(servos) >= 5
+    in_flight = app.link.reliable.in_flight()
+    assert [s for s in servos if s in in_flight] == servos[-1:]  # only the newest is tracked

@@ -152,11 +152,15 @@ def task_params(method: str, paper: dict) -> dict:
 
 
 def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> HostApp:
-    """The host program for ``cfg`` = {"method", "params" (paper names), "camera"}."""
+    """The host program for ``cfg`` = {"method", "params" (paper names), "camera", "task"
+    (TaskParams overrides, e.g. ``object_xy_mm`` for 001)}."""
     from host.task import Task
 
     method = cfg.get("method", "000")
-    task = Task(method=method, params=task_params(method, dict(cfg.get("params", {}))))
+    params = task_params(method, dict(cfg.get("params", {})))
+    for key, value in dict(cfg.get("task", {})).items():  # task settings, e.g. 001's P_i
+        params[key] = tuple(value) if isinstance(value, list) else value
+    task = Task(method=method, params=params)
     app_ref: list = []
     app = HostApp(task, _detectors(cfg, app_ref), InputBuilder(), config or HostConfig(),
                   timer=timer)

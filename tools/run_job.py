@@ -93,13 +93,22 @@ def _fault_plan(scenario, overrides):
 
 
 def host_config(scenario) -> dict:
-    """What the host program is told: the method, its parameters and the camera calibration.
-
-    This is the configuration a real board would be flashed with; no ground truth."""
+    """What the host program is told: the method, its parameters and the camera calibration,
+    and for 001 the object position P_i the paper's task is given. This is the configuration a
+    real board would be given; nothing else of the ground truth."""
     cam = scenario.camera
     params = getattr(scenario, "param_overrides", None) or scenario.params
-    return {"method": scenario.meta.method, "params": dict(params),
-            "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px}}
+    cfg = {"method": scenario.meta.method, "params": dict(params),
+           "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px}}
+    if scenario.meta.method == "001":
+        # Paper 001 plans from the start to the object position P_i, which the task is given
+        # (001 §II); the host works in its odometry frame: the start pose, x forward, y left.
+        r, t = scenario.robot, scenario.target
+        dx, dy = t.x_m - r.x_m, t.y_m - r.y_m
+        c, s = math.cos(r.heading_rad), math.sin(r.heading_rad)
+        cfg["task"] = {"object_xy_mm": [round(1000 * (c * dx + s * dy)),
+                                        round(1000 * (-s * dx + c * dy))]}
+    return cfg
 
 
 def _progress(res, wall: float, now_us: int) -> None:

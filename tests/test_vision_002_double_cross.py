@@ -61,6 +61,18 @@ def test_not_found_without_marker_or_with_one_cross():
         assert dc.detect_double_cross(np.repeat(grey[..., None], 3, axis=2))[0] is None
 
 
+def test_heavy_noise_gives_not_found_not_a_phantom():
+    rng = np.random.default_rng(11)
+    for sigma in (30, 50):
+        base = draw_double_cross(20, 160, 120, crosses=()).astype(float)
+        noisy = np.clip(np.rint(base + rng.normal(0, sigma, base.shape)), 0, 255).astype(np.uint8)
+        assert dc.detect_double_cross(noisy)[0] is None
+    # the marker itself still comes through moderate noise (threshold follows the noise)
+    base = draw_double_cross(20, 160, 120).astype(float)
+    noisy = np.clip(np.rint(base + rng.normal(0, 16, base.shape)), 0, 255).astype(np.uint8)
+    assert dc.detect_double_cross(noisy)[0] is not None
+
+
 def test_bad_input():
     with pytest.raises(ValueError):
         dc.detect_double_cross(np.zeros((240, 320), np.uint8))

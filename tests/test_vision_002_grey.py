@@ -29,3 +29,17 @@ def test_grey_extremes_and_exact_formula():
 def test_grey_rejects_bad_input(bad):
     with pytest.raises(ValueError):
         to_grey(bad)
+
+
+@pytest.mark.parametrize("sigma", [0, 5, 12, 30])
+def test_noise_sigma_estimate(sigma):
+    from host.vision.grey import noise_sigma
+    rng = np.random.default_rng(sigma)
+    y, x = np.mgrid[0:240, 0:320]
+    smooth = 120 + 40 * np.sin(x / 40.0) * np.cos(y / 30.0)  # floor-like shading
+    grey = np.clip(np.rint(smooth + rng.normal(0, sigma, smooth.shape)), 0, 255).astype(np.uint8)
+    est, ops = noise_sigma(grey)
+    assert abs(est - sigma) <= max(1.0, 0.15 * sigma)
+    assert ops.pixels_read > 0
+    with pytest.raises(ValueError):
+        noise_sigma(np.zeros((4, 4, 3), np.uint8))

@@ -44,7 +44,7 @@ import numpy as np
 
 from host import fixedpoint as fp
 from host.budget import OpCounts
-from host.vision.grey import to_grey
+from host.vision.grey import noise_sigma, to_grey
 
 T_H = 30  # 002 §5: binarisation threshold above g(p_c)
 RING_N = 24  # template points on the ring (002 uses n = 10, see module docstring)
@@ -151,7 +151,8 @@ def ring_pattern_ok(code: np.ndarray) -> np.ndarray:
 _TEMPLATES = _templates()
 
 
-def _level_candidates(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, OpCounts]:
+def _level_candidates(g: np.ndarray, th: int = T_H
+                      ) -> tuple[np.ndarray, np.ndarray, OpCounts]:
     """Ω_p1 and Ω_p2 of one pyramid level: returns (x, y) of Ω_p2 points and the op counts."""
     h, w = g.shape
     r = RING_R_PX
@@ -164,7 +165,7 @@ def _level_candidates(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, OpCounts]:
     # max >= centre + 2 T_h): cuts the candidates on the floor texture by ~10x. In saturating
     # uint8 arithmetic: max - g >= 2 T_h, min - g < T_h, g - min <= max - g (centre dark side).
     up = cv2.subtract(mx, g)
-    cand = (up >= 2 * T_H) & (cv2.subtract(mn, g) < T_H) & (cv2.subtract(g, mn) <= up)
+    cand = (up >= 2 * th) & (cv2.subtract(mn, g) < th) & (cv2.subtract(g, mn) <= up)
     cand[:r, :] = False
     cand[h - r:, :] = False
     cand[:, :r] = False
@@ -180,7 +181,7 @@ def _level_candidates(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, OpCounts]:
     # Step 1's central symmetry on the 8-point ring: opposite points on the same side of
     # g(p_c) + T_h in at least 2 of the 4 pairs (the others may straddle spoke edges).
     offs8 = np.array([dy * w + dx for dx, dy in _RING8], np.int64)
-    light8 = flat[idx[:, None] + offs8[None, :]] >= (flat[idx] + T_H)[:, None]
+    light8 = flat[idx[:, None] + offs8[None, :]] >= (flat[idx] + th)[:, None]
     sym = np.count_nonzero(light8[:, :4] == light8[:, 4:], axis=1) >= 2
     ops += OpCounts(pixels_read=9 * k, alu=20 * k, branches=2 * k)
     idx = idx[sym]
@@ -188,7 +189,7 @@ def _level_candidates(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, OpCounts]:
     offs = np.array([dy * w + dx for dx, dy in _RING], np.int64)
     samples = flat[idx[:, None] + offs[None, :]]
     centre = flat[idx].astype(np.int32)
-    bits = samples >= (centre + T_H)[:, None]
+    bits = samples >= (centre + th)[:, None]
     ok = ring_pattern_ok(ring_codes(bits))
     # per Ω_p1 point: n reads, compares and shifts into a word; 4 rotate/xor/popcount-by-LUT
     ops += OpCounts(pixels_read=k * (RING_N + 1), alu=k * (2 * RING_N + 16), luts=k * 12,
@@ -202,9 +203,9 @@ def _level_candidates(g: np.ndarray) -> tuple[np.ndarray, np.ndarray, OpCounts]:
     n_dark = RING_N - n_light
     s_light = np.where(bits, samples, 0).sum(axis=1, dtype=np.int32)
     s_dark = np.where(bits, 0, samples).sum(axis=1, dtype=np.int32)
-    ok = s_light * n_dark - s_dark * n_light >= 2 * T_H * n_light * n_dark
-    ok &= s_light - centre * n_light >= 2 * T_H * n_light
-    ok &= s_dark >= (centre - T_H) * n_dark  # spokes as dark as the centre (same ink)
+    ok = s_light * n_dark - s_dark * n_light >= 2 * th * n_light * n_dark
+    ok &= s_light - centre * n_light >= 2 * th * n_light
+    ok &= s_dark >= (centre - th) * n_dark  # spokes as dark as the centre (same ink)
     ops += OpCounts(alu=m * (2 * RING_N + 6), muls32=4 * m, branches=2 * m)
     sel = idx[ok]
     return sel % w, sel // w, ops
@@ -288,12 +289,17 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
         nxt = _downsample(levels[-1])
         ops += _downsample_ops(nxt.size)
         levels.append(nxt)
+    # 002's T_h = 30 holds for a clean sensor; on a noisy frame the threshold follows the
+    # noise (4 sigma; halved per pyramid level by the 2x2 means) so that noise cannot draw
+    # spokes: a very noisy frame gives "not found", never a phantom marker.
+    sigma, o = noise_sigma(grey)
+    ops += o
     pair = None
     # coarse to fine; a pair seen well on a coarse level (big crosses, close by) ends the
     # search, so the many spoke-edge candidates of big crosses on level 0 are never paid for
     for lvl in range(LEVELS - 1, -1, -1):
         g = levels[lvl]
-        x, y, o = _level_candidates(g)
+        x, y, o = _level_candidates(g, max(T_H, (4 * sigma) >> lvl))
         ops += o
         if x.size < 2:
             continue

@@ -68,6 +68,8 @@ def test_uart_burst_trips_the_watchdog_and_recovers(tmp_path):
     assert faults["uart_to_mcu"]["bytes_lost"] > 0 and faults["uart_to_host"]["bytes_lost"] > 0
     assert safety["watchdog_trips"] == 1 and safety["unsafe_actuations"] == 0
     assert not mcu.firmware.watchdog_tripped  # the host's frames fed it again after the burst
+    assert len(safety["stop_latency_ms"]) == 1 and safety["stop_latency_ms"][0] <= 300.0
+    assert len(safety["recovery_ms"]) == 1 and safety["recovery_ms"][0] <= 150.0
 
 
 def test_mcu_reset_happens_at_its_time_and_is_safe(tmp_path):
@@ -102,3 +104,13 @@ def test_camera_drop_all_frames_reach_no_host(tmp_path, plan):
         assert received == 0 and faults["camera_frames_dropped"] == 8  # 0 .. 0.5 s at 15 fps
     else:
         assert received >= 7
+
+
+def test_host_stall_trips_the_watchdog_and_the_host_resumes(tmp_path):
+    res, faults, safety, mcu, _, trace = _run(
+        tmp_path, FaultPlan(host_stall=Window(start_s=0.5, duration_s=0.5)), 1.5)
+    assert faults["host_quanta_skipped"] == 100
+    assert safety["watchdog_trips"] == 1 and safety["unsafe_actuations"] == 0
+    assert len(safety["recovery_ms"]) == 1 and safety["recovery_ms"][0] <= 150.0
+    assert not mcu.firmware.watchdog_tripped and mcu.firmware.handshake
+    assert '"fault":"host_stall"' in trace.read_text()

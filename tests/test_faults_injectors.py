@@ -125,6 +125,10 @@ def test_schedules_of_host_mcu_motor_and_sonar():
     assert f.sonar_range_m(1, 0.7, 999_999) == 0.7 and f.sonar_range_m(1, 0.7, 10**6) is None
     assert f.sonar_range_m(0, 0.7, 10**7) == 0.7
     assert f.stats()["plan"]["mcu_reset_at_s"] == 4.0
+    assert f.recovery_points_us() == [2_500_000] and not f.line_dead(2_000_000)
+    g = RunFaults(FaultPlan(uart_burst=Window(1.0, 0.25), host_stall=Window(3.0, 1.0)), 0)
+    assert g.recovery_points_us() == [1_250_000, 4_000_000]
+    assert g.line_dead(1_000_000) and not g.line_dead(1_250_000)
 
 
 def test_frame_hook_drops_or_returns_the_noisy_frame():

@@ -108,6 +108,21 @@ class RunFaults:
         """Stalled or crashed at ``t_us``."""
         return self.host_stalled(t_us) or self.host_crashed(t_us)
 
+    def line_dead(self, t_us: int) -> bool:
+        """True inside ``uart_burst``: nothing crosses the line in either direction."""
+        return self.to_mcu.burst is not None and self.to_mcu.burst.contains_us(t_us)
+
+    def recovery_points_us(self) -> list[int]:
+        """Ends of the faults the system must recover from by itself (stall end, burst end);
+        the MCU reset is reported where it happens."""
+        out = []
+        if self.stall is not None:
+            out.append(self.host_stall_end_us())
+        b = self.plan.uart_burst
+        if b is not None:
+            out.append(round(b.start_s * 1e6) + round(b.duration_s * 1e6))
+        return sorted(out)
+
     # ---- MCU ---------------------------------------------------------------------------------
     def mcu_reset_due(self, prev_us: int, now_us: int) -> bool:
         """True once, for the step (prev_us, now_us] that contains ``mcu_reset_at_s``."""

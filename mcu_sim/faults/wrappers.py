@@ -6,7 +6,9 @@
   drops, bursts, latency) before the USART sees them; MCU->host bytes likewise, held back until
   their delayed arrival; the MCU reset at ``mcu_reset_at_s`` (exactly at that time, inside
   ``advance_to``); a failed motor gets no duty; encoder counts after wheel slip; a failed sonar
-  hears no echo. After every ``advance_to`` the :class:`SafetyMonitor` judges the MCU's outputs.
+  hears no echo. After every ``advance_to`` the :class:`SafetyMonitor` judges the MCU's outputs
+  (host silence = stall, crash or a dead line in a burst; recovery is timed from the end of a
+  stall or burst and from an MCU reset).
 - :class:`FaultedPlant` (``PlantLike``): frames dropped on the CAMIF or noisy.
 - :class:`FaultedHost` (the runner's host object): during ``host_stall`` and after
   ``host_crash_at_s`` the host program gets no quantum: it reads and writes nothing. The bytes the
@@ -40,6 +42,7 @@ class FaultedMcu:
         self.faults = faults
         self.monitor = monitor
         self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
+        self._recovery_points = faults.recovery_points_us()
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
@@ -52,9 +55,12 @@ class FaultedMcu:
             mcu.reset()
             self.monitor.fault(f.mcu_reset_us)
         mcu.advance_to(t_us)
+        while self._recovery_points and self._recovery_points[0] <= t_us:
+            self.monitor.fault(self._recovery_points.pop(0))
         fw = mcu.firmware
         self.monitor.observe(t_us, mcu.wheel_duty(), [mcu.servo_pulse_us(ch) for ch in range(6)],
-                             fw.watchdog_tripped, fw.handshake, f.host_silent(t_us))
+                             fw.watchdog_tripped, fw.handshake,
+                             f.host_silent(t_us) or f.line_dead(t_us))
 
     def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
         """Host bytes onto the RX line, corrupted and delayed by the plan."""

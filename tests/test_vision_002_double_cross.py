@@ -12,9 +12,9 @@ from host.vision import double_cross as dc
 
 def draw_double_cross(radius_px, cx, cy, rot=0.0, sep_ratio=2.6, disc_ratio=0.16, seed=0,
                       crosses=(-1, 1)):
-    """Frontal stand-in for the renderer: white board, 45-degree wedge crosses, 4x supersampled,
+    """Frontal stand-in for the renderer: white board, 45-degree wedge crosses, 3x supersampled,
     on a smooth floor-like background."""
-    h, w, s = 240, 320, 4
+    h, w, s = 240, 320, 3
     yy, xx = np.mgrid[0:h * s, 0:w * s]
     x = (xx + 0.5) / s - 0.5
     y = (yy + 0.5) / s - 0.5

@@ -59,6 +59,7 @@ class TaskStates(GraspStates):
         self.pose_hist: list = []
         self.confirm_until = None
         self.confirm_failed = None
+        self.trust_from_us = 0
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
         self.prev_e = None
@@ -110,6 +111,8 @@ class TaskStates(GraspStates):
     def see_object(self, now: int, inp, name: str, det) -> bool:
         """Update the object estimate from a detection; False if unusable (counted)."""
         t_cap = now - self.p.frame_latency_us
+        if t_cap < self.trust_from_us:
+            return False  # captured while the arm swung to a new posture: pose unknown
         joints = self._at(self.arm_hist, t_cap)[1] if self.arm_hist else tuple(self.arm)
         _, x, y, h = self._at(self.pose_hist, t_cap) if self.pose_hist else (
             0, inp.x_mm, inp.y_mm, inp.heading_mrad)
@@ -360,6 +363,8 @@ class TaskStates(GraspStates):
         th3, th4 = self.p.adjust_theta3_mrad, self.p.adjust_theta4_mrad
         alpha = self.arm[2] + self.arm[3] + self.arm[4]
         self.set_arm(now, alpha - th3 - th4, th3, th4, self.arm[5])
+        self.trust_from_us = self.move_done_us
+        self.obj_seen_us = max(self.obj_seen_us, self.move_done_us)  # LOST counts from then
 
     def do_ADJUST(self, now: int, inp, dets: dict) -> None:
         name = "red_cylinder" if self.method == "002" else "dual_plus"

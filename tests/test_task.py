@@ -67,16 +67,18 @@ def test_a_not_found_result_does_not_trigger():
 def test_unconfirmed_sighting_resumes_the_search():
     task = Task("000")
     step(task, 0)
-    out = step(task, 20_000, detections={"radial_symbol": RADIAL_AHEAD})
+    step(task, 80_000)
+    out = step(task, 100_000, detections={"radial_symbol": RADIAL_AHEAD})
+    assert "search_seen" in out.detail
     held = out.servo_mrad
-    t = 40_000
-    while t < 2_000_000:
+    t = 120_000
+    while t < 3_000_000:
         out = step(task, t, detections={"radial_symbol": None})
         if out.servo_mrad != held:
             break
         t += 20_000
     assert task.state == "SEARCH" and out.servo_mrad != held
-    assert t >= 20_000 + task.p.confirm_us  # held at least the confirmation time
+    assert t >= 100_000 + task.p.confirm_us  # held at least the confirmation time
 
 
 def test_search_sweeps_the_waist_and_turns_the_base_after_a_cycle():
@@ -246,6 +248,10 @@ def test_002_adjust_stops_at_t_d():
     task.go(0, "ADJUST", "test")
     out = step(task, 20_000, detections={"red_cylinder": None})
     assert out.state == "ADJUST" and out.wheels_mmps[0] > 0 and out.wheels_mmps[1] > 0
+    rc = {"u_c_q4": 160 * 16, "v_c_q4": 200 * 16, "d_pixel_q4": 46 * 16}
+    out = step(task, 30_000, detections={"red_cylinder": rc})
+    assert out.state == "ADJUST"  # d_pixel > T_d but the estimate is out of reach: creep on
+    task.obj = (215, 0)  # 115 mm ahead of the waist: within reach, closer than grasp_r
     rc = {"u_c_q4": 160 * 16, "v_c_q4": 200 * 16, "d_pixel_q4": 44 * 16}
     assert step(task, 40_000, detections={"red_cylinder": rc}).state == "ADJUST"
     rc = dict(rc, d_pixel_q4=46 * 16)

@@ -128,6 +128,7 @@ class FaultedHost:
         self._held: list[tuple[int, int]] = []
         self._silent_reported: set[str] = set()
         self.quanta_skipped = 0
+        self._resumed = False  # after a stall: writes dated inside it leave at resume time
 
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve the grant, or answer for a host that is not running (no bytes, no events)."""
@@ -141,12 +142,20 @@ class FaultedHost:
                 self._silent_reported.add(kind)
                 events = ({"ev": "fault", "fault": kind, "t_us": grant.start_us},)
             return ls.Done(until_us=grant.until_us, events=events)
+        if "host_stall" in self._silent_reported:
+            self._resumed = True
         if self._held:
             held = tuple((max(t, grant.start_us), n) for t, n in self._held)
             grant = replace(grant, uart=held + tuple(grant.uart))
             self._held = []
-            self._silent_reported.discard("host_stall")
-        return self.inner.exchange(grant)
+        self._silent_reported.discard("host_stall")
+        done = self.inner.exchange(grant)
+        if self._resumed and any(t < grant.start_us for t, _ in done.writes):
+            # what the frozen program had queued (or computes for the missed ticks) leaves when
+            # it runs again: no byte can go out while it was stalled
+            writes = tuple((max(t, grant.start_us), n) for t, n in done.writes)
+            done = replace(done, writes=writes)
+        return done
 
     def finish(self, end: ls.End) -> ls.Bye:
         """End of run: the host's statistics (a crashed host's as they were)."""

@@ -37,6 +37,7 @@ parallax (the camera is ~0.2 m ahead of the waist): with a range,
 from __future__ import annotations
 
 import math
+from collections import Counter
 from dataclasses import dataclass
 
 import cv2
@@ -156,9 +157,9 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     """Ω_p1 and Ω_p2 of one pyramid level: returns (x, y) of Ω_p2 points and the op counts."""
     h, w = g.shape
     r = RING_R_PX
-    ops = OpCounts()
+    ops: Counter = Counter()  # one OpCounts at the end: OpCounts.__add__ is slow in Python
     if h <= 2 * r or w <= 2 * r:
-        return np.empty(0, np.int64), np.empty(0, np.int64), ops
+        return np.empty(0, np.int64), np.empty(0, np.int64), OpCounts(**ops)
     mx = cv2.dilate(g, _KERNEL8, borderType=cv2.BORDER_REPLICATE)
     mn = cv2.erode(g, _KERNEL8, borderType=cv2.BORDER_REPLICATE)
     # Ω_p1 with the contrast of step 3 already applied (gap mean >= centre + 2 T_h needs
@@ -172,18 +173,18 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     cand[:, w - r:] = False
     n = h * w
     # dilate + erode share the 8 reads; 2x8 min/max, 3 compares, 2 branches per pixel
-    ops += OpCounts(pixels_read=9 * n, alu=22 * n, branches=2 * n)
+    ops.update(pixels_read=9 * n, alu=22 * n, branches=2 * n)
     idx = np.flatnonzero(cand)
     k = int(idx.size)
     if k == 0:
-        return np.empty(0, np.int64), np.empty(0, np.int64), ops
+        return np.empty(0, np.int64), np.empty(0, np.int64), OpCounts(**ops)
     flat = g.astype(np.int16).ravel()
     # Step 1's central symmetry on the 8-point ring: opposite points on the same side of
     # g(p_c) + T_h in at least 2 of the 4 pairs (the others may straddle spoke edges).
     offs8 = np.array([dy * w + dx for dx, dy in _RING8], np.int64)
     light8 = flat[idx[:, None] + offs8[None, :]] >= (flat[idx] + th)[:, None]
     sym = np.count_nonzero(light8[:, :4] == light8[:, 4:], axis=1) >= 2
-    ops += OpCounts(pixels_read=9 * k, alu=20 * k, branches=2 * k)
+    ops.update(pixels_read=9 * k, alu=20 * k, branches=2 * k)
     idx = idx[sym]
     k = int(idx.size)
     offs = np.array([dy * w + dx for dx, dy in _RING], np.int64)
@@ -192,7 +193,7 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     bits = samples >= (centre + th)[:, None]
     ok = ring_pattern_ok(ring_codes(bits))
     # per Ω_p1 point: n reads, compares and shifts into a word; 4 rotate/xor/popcount-by-LUT
-    ops += OpCounts(pixels_read=k * (RING_N + 1), alu=k * (2 * RING_N + 16), luts=k * 12,
+    ops.update(pixels_read=k * (RING_N + 1), alu=k * (2 * RING_N + 16), luts=k * 12,
                     branches=k * 4)
     idx, samples, bits, centre = idx[ok], samples[ok], bits[ok], centre[ok]
     m = int(idx.size)
@@ -206,9 +207,9 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     ok = s_light * n_dark - s_dark * n_light >= 2 * th * n_light * n_dark
     ok &= s_light - centre * n_light >= 2 * th * n_light
     ok &= s_dark >= (centre - th) * n_dark  # spokes as dark as the centre (same ink)
-    ops += OpCounts(alu=m * (2 * RING_N + 6), muls32=4 * m, branches=2 * m)
+    ops.update(alu=m * (2 * RING_N + 6), muls32=4 * m, branches=2 * m)
     sel = idx[ok]
-    return sel % w, sel // w, ops
+    return sel % w, sel // w, OpCounts(**ops)
 
 
 @dataclass(frozen=True)
@@ -283,46 +284,51 @@ def bearing_mrad(u_q4: int, v_q4: int, yaw_mrad: int, pitch_mrad: int,
 def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
                         f_px: int = F_PX_002) -> tuple[DoubleCrossResult | None, OpCounts]:
     """Find the 002 double cross in an RGB frame; ``(None, ops)`` when it is not there."""
-    grey, ops = to_grey(rgb)
+    grey, g_ops = to_grey(rgb)
+    ops: Counter = Counter(vars(g_ops))  # one OpCounts at the end (see _level_candidates)
     levels = [grey]
     for _ in range(1, LEVELS):
         nxt = _downsample(levels[-1])
-        ops += _downsample_ops(nxt.size)
+        ops.update(vars(_downsample_ops(nxt.size)))
         levels.append(nxt)
     # 002's T_h = 30 holds for a clean sensor; on a noisy frame the threshold follows the
     # noise (4 sigma; halved per pyramid level by the 2x2 means) so that noise cannot draw
     # spokes: a very noisy frame gives "not found", never a phantom marker.
     sigma, o = noise_sigma(grey)
-    ops += o
+    ops.update(vars(o))
     pair = None
     # coarse to fine; a pair seen well on a coarse level (big crosses, close by) ends the
     # search, so the many spoke-edge candidates of big crosses on level 0 are never paid for
     for lvl in range(LEVELS - 1, -1, -1):
         g = levels[lvl]
         x, y, o = _level_candidates(g, max(T_H, (4 * sigma) >> lvl))
-        ops += o
+        ops.update(vars(o))
         if x.size < 2:
             continue
         # centre of level-l pixel x in level-0 Q4: (x + 1/2) * 2^l - 1/2
         xs = ((2 * x + 1) << (lvl + 3)) - 8
         ys = ((2 * y + 1) << (lvl + 3)) - 8
         groups, o = _group(xs, ys, lvl, grey.shape)
-        ops += o + OpCounts(alu=12 * len(groups) ** 2, muls32=2 * len(groups) ** 2)
+        ops.update(vars(o))
+        ops.update(alu=12 * len(groups) ** 2, muls32=2 * len(groups) ** 2)
         best = _pick_pair(groups, lvl)
         if best is not None and (pair is None or best[0] >= pair[0]):
             pair = best  # finer levels win ties: they locate the centres better
         if pair is not None and min(pair[1].votes, pair[2].votes) >= STOP_VOTES:
             break
     if pair is None:
-        return None, ops
+        return None, OpCounts(**ops)
     pair = pair[1:]
     g1, g2 = sorted(pair, key=lambda g: g.u_q4)
     c1, c2 = (g1.u_q4, g1.v_q4), (g2.u_q4, g2.v_q4)
     du, dv = c2[0] - c1[0], c2[1] - c1[1]
     d_q4 = fp.isqrt(du * du + dv * dv)
-    ops += fp.isqrt_ops(du * du + dv * dv) + OpCounts(muls32=2, alu=4)
+    ops.update(vars(fp.isqrt_ops(du * du + dv * dv)))
+    ops.update(muls32=2, alu=4)
     um, vm = (c1[0] + c2[0] + 1) >> 1, (c1[1] + c2[1] + 1) >> 1
     e = bearing_mrad(um, vm, yaw_mrad, pitch_mrad, f_px)
-    ops += fp.sin_ops().scaled(2) + fp.atan2_ops() + OpCounts(muls32=3, alu=6)
+    ops.update(vars(fp.sin_ops().scaled(2)))
+    ops.update(vars(fp.atan2_ops()))
+    ops.update(muls32=3, alu=6)
     return DoubleCrossResult(c1[0], c1[1], c2[0], c2[1], um, vm, d_q4, e,
-                             (g1.votes, g2.votes)), ops
+                             (g1.votes, g2.votes)), OpCounts(**ops)

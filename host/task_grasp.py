@@ -21,13 +21,14 @@ from __future__ import annotations
 
 from host import arm_calib, kinematics
 from host.fixedpoint import cos_q12, isqrt, sin_q12
+from host.task_base import TaskBase
 from host.task_sense import spoke_reading
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
 ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn
 
 
-class GraspStates:
+class GraspStates(TaskBase):
     """Entry actions and handlers of the grasp states."""
 
     def _object_target_q4(self, inp, height_mm: int, back_mm: int = 0) -> tuple[int, int, int]:

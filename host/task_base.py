@@ -9,7 +9,12 @@ from __future__ import annotations
 from host import arm_calib, kinematics
 from host.fixedpoint import isqrt
 from host.posture import PostureParams, adjust_posture
-from host.task_sense import object_in_platform, odom_to_platform_q4, platform_to_odom_mm
+from host.task_sense import (
+    object_in_platform,
+    odom_to_platform_q4,
+    platform_to_odom_mm,
+    plus_positions,
+)
 
 GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
 
@@ -77,7 +82,24 @@ class TaskBase:
             return False
         self.obj = platform_to_odom_mm(x, y, h, self.p.mount_forward_mm, p)
         self.obj_seen_us = now
+        if name == "dual_plus":
+            self._remember_plus(det, joints, (x, y, h))
         return True
+
+    def _remember_plus(self, det, joints: tuple, pose: tuple) -> None:
+        """Keep both "+" in the odometry frame: the precise grasp looks at one of them (000:
+        "only a '+' symbol is used in the precise grasping")."""
+        try:
+            pair = plus_positions(det, self.geom, joints, self.cam)
+        except (ValueError, TypeError, ZeroDivisionError):
+            return
+        if pair is None:
+            return
+        (ax, ay, _), (bx, by, _) = pair
+        if not 30 * 16 <= isqrt((ax - bx) ** 2 + (ay - by) ** 2) <= 65 * 16:
+            return  # not 47.3 mm apart: a bad pair
+        self.plus_odom = tuple(platform_to_odom_mm(*pose, self.p.mount_forward_mm, q)
+                               for q in pair)
 
     def obj_platform(self, inp) -> tuple[int, int]:
         return odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,

@@ -22,7 +22,7 @@ from __future__ import annotations
 from host import arm_calib, kinematics
 from host.fixedpoint import cos_q12, isqrt, sin_q12
 from host.task_base import TaskBase
-from host.task_sense import spoke_reading
+from host.task_sense import odom_to_platform_q4, spoke_reading
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
 ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn
@@ -47,6 +47,12 @@ class GraspStates(TaskBase):
             target = self._object_target_q4(inp, self.p.grasp_height_mm, self.p.pregrasp_back_mm)
         else:
             target = self._object_target_q4(inp, self.p.object_top_mm + self.p.hover_mm)
+            self.grasp_xy_q4 = target[:2]
+            if self.plus_odom is not None:  # hover over the nearer "+", grasp on the axis
+                pts = [odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                           self.p.mount_forward_mm, *q) for q in self.plus_odom]
+                near = min(pts, key=lambda q: q[0] * q[0] + q[1] * q[1])
+                target = (near[0], near[1], target[2])
         pose = self.grasp_ik(target)
         self.note(rough_target_mm=[v // 16 for v in target])
         if isinstance(pose, kinematics.Unreachable):
@@ -89,6 +95,8 @@ class GraspStates(TaskBase):
 
     def _descend(self, now: int, why: str) -> None:
         x, y, _ = self.gripper_point_q4()
+        if self.grasp_xy_q4 is not None and self.p.precise_align_ch == 1:
+            x, y = self.grasp_xy_q4  # from above the "+" to the object's axis
         z = (self.p.grasp_height_mm - self.p.h_shoulder_mm) * 16
         if not self._move_point(now, x, y, z):
             self.fail(now, "precise grasp: grasp height unreachable")

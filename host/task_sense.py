@@ -117,6 +117,22 @@ def object_in_platform(name: str, det: Any, geom: ArmGeometry, joints_mrad: tupl
     return pixel_to_platform_mm_q4(geom, joints_mrad, cam, u, v, depth)
 
 
+def plus_positions(det: Any, geom: ArmGeometry, joints_mrad: tuple[int, ...],
+                   cam: CameraModel) -> tuple[tuple[int, int, int], ...] | None:
+    """Both "+" centres of a dual "+" detection in the platform frame (Q4 mm), at its depth."""
+    u1, v1, u2, v2 = (field(det, n) for n in ("u1_q4", "v1_q4", "u2_q4", "v2_q4"))
+    centre = object_in_platform("dual_plus", det, geom, joints_mrad, cam)
+    if None in (u1, v1, u2, v2) or centre is None:
+        return None
+    d_is = field(det, "dist_mm", "d_is_mm")
+    depth = d_is * 16 if d_is is not None else _depth(
+        DUAL_PLUS_D_ACT_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
+    if depth is None:
+        return None
+    return (pixel_to_platform_mm_q4(geom, joints_mrad, cam, u1, v1, depth),
+            pixel_to_platform_mm_q4(geom, joints_mrad, cam, u2, v2, depth))
+
+
 def bearing_mrad(det: Any, theta5_mrad: int, cam: CameraModel) -> int | None:
     """002's e: bearing of the marker midpoint from the platform heading, right positive.
 

@@ -56,6 +56,8 @@ class TaskStates(GraspStates):
         self.confirm_until = None
         self.confirm_failed = None
         self.trust_from_us = 0
+        self.plus_odom = None
+        self.grasp_xy_q4 = None
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
         self.prev_e = None

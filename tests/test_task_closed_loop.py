@@ -91,6 +91,12 @@ class World:
             elif n == "dual_plus" and zc <= 1.0:
                 out[n] = {"um_q4": round(u * 16), "vm_q4": round(v * 16),
                           "d_is_mm": round(zc * 1000)}
+                ends = [self.project((self.obj[0] + k * 0.02365 * math.cos(self.spoke_rad),
+                                      self.obj[1] + k * 0.02365 * math.sin(self.spoke_rad),
+                                      self.top_h)) for k in (-1, 1)]
+                if None not in ends:  # both "+" centres, 47.3 mm apart on the top
+                    out[n].update(u1_q4=round(ends[0][0] * 16), v1_q4=round(ends[0][1] * 16),
+                                  u2_q4=round(ends[1][0] * 16), v2_q4=round(ends[1][1] * 16))
             elif n == "spoke" and zc <= 0.3:
                 a = (self.obj[0] + 0.005 * math.cos(self.spoke_rad),
                      self.obj[1] + 0.005 * math.sin(self.spoke_rad), self.top_h)

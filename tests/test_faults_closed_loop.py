@@ -1,8 +1,9 @@
 """The fault wrappers in the real closed loop (issue 9), wired as tools/run_job does, in process.
 
 Short runs of paper000-exp1 (a few simulated seconds): a host crash stops the wheels within the
-watchdog period + 50 ms and the arm is held; bit errors at 1e-3 on both directions are seen by
-both parsers, retransmitted, and cause no unsafe actuation; an MCU reset happens at its time.
+watchdog period + 50 ms and the arm is held; bit errors on both directions are seen by both
+parsers and cause no unsafe actuation; a burst or a host stall trips the watchdog and the loop
+recovers; after an MCU reset the host opens the session again.
 """
 
 import pytest
@@ -76,12 +77,9 @@ def test_mcu_reset_happens_at_its_time_and_is_safe(tmp_path):
     res, faults, safety, mcu, _, _ = _run(tmp_path, FaultPlan(mcu_reset_at_s=0.8), 1.4)
     assert faults["mcu_resets"] == 1
     assert safety["unsafe_actuations"] == 0
-    # after the reset the firmware refuses commands until the host says HELLO again; the
-    # monitor records either the recovery time or an unrecovered fault
-    assert mcu.firmware.handshake or mcu.firmware.not_ready > 0
-    assert len(safety["recovery_ms"]) + safety["unrecovered"] == 1
-    if mcu.firmware.handshake:
-        assert safety["recovery_ms"] and safety["recovery_ms"][0] < 800.0
+    # the host sees the reset in the telemetry (host/mcu_watch), says HELLO again and resumes
+    assert mcu.firmware.handshake and safety["unrecovered"] == 0
+    assert len(safety["recovery_ms"]) == 1 and safety["recovery_ms"][0] <= 100.0
 
 
 @pytest.mark.slow

@@ -97,8 +97,17 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
         found["double_cross"] = double_cross
     except ImportError:
         pass
-    for name, module, fn in (("dual_plus", "host.vision.dual_plus", "detect_dual_plus"),
-                             ("spoke", "host.vision.spoke", "detect_spoke"),
+    try:
+        from host.vision.dual_plus import detect_dual_plus
+
+        def dual_plus(rgb):
+            q = joints()  # alpha = theta2 + theta3 + theta4: the camera's pitch (000 §III.A)
+            return detect_dual_plus(rgb, alpha_mrad=int(q[2] + q[3] + q[4]), f_px=f_px,
+                                    u0_px=u0)
+        found["dual_plus"] = dual_plus
+    except ImportError:
+        pass
+    for name, module, fn in (("spoke", "host.vision.spoke", "detect_spoke"),
                              ("red_cylinder", "host.vision.red_cylinder", "detect_red_cylinder")):
         try:
             mod = __import__(module, fromlist=[fn])

@@ -281,6 +281,6 @@ def precise_grasp_step(theta5_mrad: int, spoke_mrad: int, width_px: int, *,
         dz, wreason = 0, f"w_T {width_px} px in range"
     slope_ok = abs(ang) <= slope_tol_mrad
     aligned = slope_ok and dz == 0
-    sreason = "k_T ~ 0" if slope_ok else f"spoke at {ang} mrad: turn waist"
+    sreason = "k_T ~ 0" if slope_ok else f"spoke at {ang} mrad: turn"
     return PreciseGraspStep(ROLL_PRECISE_MRAD, th5, dz, aligned, f"{sreason}; {wreason}",
                             0 if slope_ok else step)

@@ -8,13 +8,14 @@ import math
 
 import pytest
 
-from mcu_sim.faults import FaultPlan, Window
+from mcu_sim.faults import FaultPlan, MotorFail, Window
 from tools.campaign import (
     CampaignConfig,
     aggregate,
     format_table,
     jobs_of,
     make_scenario,
+    randomize_times,
     row_of,
     run_campaign,
     run_one,
@@ -160,3 +161,17 @@ def test_one_tiny_real_run_through_the_adapter(tmp_path):
     row = row_of(job, summary)
     assert row["status"] == "finished" and row["seed"] == 11
     assert (tmp_path / "runs" / "000-11" / "summary.json").exists()
+
+
+def test_random_fault_times_are_seeded_and_in_range():
+    plan = FaultPlan(host_crash_at_s=60.0, uart_burst=Window(10.0, 0.5),
+                     motor_fail=MotorFail("left", 30.0), uart_bit_error_rate=1e-3)
+    draws = [randomize_times(plan, s) for s in range(50)]
+    assert randomize_times(plan, 7) == draws[7]
+    crash = [p.host_crash_at_s for p in draws]
+    assert all(0 <= c <= 60 for c in crash) and len(set(crash)) > 40 and max(crash) > 45
+    assert all(p.uart_burst.duration_s == 0.5 and 0 <= p.uart_burst.start_s <= 10 for p in draws)
+    assert all(p.motor_fail.wheel == "left" and p.uart_bit_error_rate == 1e-3 for p in draws)
+    assert randomize_times(FaultPlan(), 3) == FaultPlan()
+    cfg = CampaignConfig("000", 3, plan, seed=5, random_times=True)
+    assert [j["faults"]["host_crash_at_s"] for j in jobs_of(cfg)] == crash[5:8]

@@ -15,16 +15,17 @@ from __future__ import annotations
 
 import json
 import os
+import random
 import statistics
 import sys
 import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, TextIO
 
-from mcu_sim.faults.plan import FaultPlan, parse_faults
+from mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mcu_sim.world.scenario import Scenario, loads_scenario
 
 METHODS = ("000", "001", "002")
@@ -41,6 +42,7 @@ class CampaignConfig:
     jobs: int | None = None  # None: every core
     out: Path = Path("runs/campaign")
     time_limit_s: float | None = None  # None: the scenario's own limit
+    random_times: bool = False  # each run draws every fault time uniformly in [0, given time]
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -67,11 +69,40 @@ def make_scenario(method: str, seed: int, plan: FaultPlan) -> Scenario:
     return loads_scenario(scenario_toml(method, seed, plan), source=f"campaign-{method}-{seed}")
 
 
+def randomize_times(plan: FaultPlan, seed: int) -> FaultPlan:
+    """The plan with every fault time drawn uniformly in [0, its value], seeded by ``seed``
+    ("a host crash at any time": ``--fault host_crash_at_s=60 --random-times``)."""
+    rng = random.Random(f"fault-times-{seed}")
+
+    def draw(t_s: float) -> float:
+        return round(rng.uniform(0.0, t_s), 3)
+
+    changes: dict = {}
+    if plan.host_crash_at_s is not None:
+        changes["host_crash_at_s"] = draw(plan.host_crash_at_s)
+    if plan.mcu_reset_at_s is not None:
+        changes["mcu_reset_at_s"] = draw(plan.mcu_reset_at_s)
+    for key in ("uart_burst", "host_stall"):
+        w = getattr(plan, key)
+        if w is not None:
+            changes[key] = Window(draw(w.start_s), w.duration_s)
+    if plan.motor_fail is not None:
+        changes["motor_fail"] = MotorFail(plan.motor_fail.wheel, draw(plan.motor_fail.at_s))
+    if plan.sonar_fail is not None:
+        changes["sonar_fail"] = SonarFail(plan.sonar_fail.index, draw(plan.sonar_fail.at_s))
+    return replace(plan, **changes)
+
+
 def jobs_of(cfg: CampaignConfig) -> list[dict]:
     """One picklable job per run."""
-    return [{"method": cfg.method, "seed": cfg.seed + k, "faults": cfg.faults.as_table(),
-             "out": str(Path(cfg.out) / "runs" / f"{cfg.method}-{cfg.seed + k}"),
-             "time_limit_s": cfg.time_limit_s} for k in range(cfg.runs)]
+    jobs = []
+    for k in range(cfg.runs):
+        seed = cfg.seed + k
+        plan = randomize_times(cfg.faults, seed) if cfg.random_times else cfg.faults
+        jobs.append({"method": cfg.method, "seed": seed, "faults": plan.as_table(),
+                     "out": str(Path(cfg.out) / "runs" / f"{cfg.method}-{seed}"),
+                     "time_limit_s": cfg.time_limit_s})
+    return jobs
 
 
 def run_one(job: dict) -> dict:
@@ -95,7 +126,7 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     unsafe = (int(safety.get("unsafe_actuations", 0)) if monitored else 0) + collisions
     wd = safety.get("watchdog_trips") if monitored else None
     return {
-        "seed": job["seed"], "success": bool(s.get("success")),
+        "seed": job["seed"], "faults": job.get("faults", {}), "success": bool(s.get("success")),
         "status": s.get("status", "crashed") if summary is not None else "crashed",
         "task_state": s.get("task_state"), "sim_time_s": s.get("sim_time_s"),
         "collisions": collisions, "unsafe_actuations": unsafe, "safety_monitored": monitored,
@@ -140,7 +171,8 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
         "failed_seeds": sorted(r["seed"] for r in rows if not r["success"]),
     }
     if cfg is not None:
-        out.update({"method": cfg.method, "seed": cfg.seed, "faults": cfg.faults.as_table()})
+        out.update({"method": cfg.method, "seed": cfg.seed, "faults": cfg.faults.as_table(),
+                    "random_times": cfg.random_times})
     return out
 
 
@@ -196,7 +228,8 @@ def format_table(agg: dict) -> str:
 
     lines = [
         f"method {agg.get('method', '?')}, {agg['runs']} runs from seed {agg.get('seed', '?')}, "
-        f"faults: {json.dumps(agg.get('faults', {}), sort_keys=True) or '{}'}",
+        f"faults: {json.dumps(agg.get('faults', {}), sort_keys=True) or '{}'}"
+        f"{' (times random per run)' if agg.get('random_times') else ''}",
         f"  {'success rate':<28} {agg['success_rate'] * 100:6.1f} %  "
         f"({agg['successes']}/{agg['runs']}, {agg['crashed_runs']} crashed)",
         f"  {'unsafe actuations':<28} {agg['unsafe_actuations']:6d}    "

@@ -20,7 +20,8 @@ def _run(args: argparse.Namespace) -> int:
     try:
         plan = parse_fault_overrides(args.fault or [])
         cfg = CampaignConfig(method=args.method, runs=args.runs, faults=plan, seed=args.seed,
-                             jobs=args.jobs, out=args.out, time_limit_s=args.time_limit_s)
+                             jobs=args.jobs, out=args.out, time_limit_s=args.time_limit_s,
+                             random_times=args.random_times)
     except (FaultError, ValueError) as exc:
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
@@ -45,5 +46,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="folder for campaign.json, campaign.png and the run folders")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="simulated seconds per run (default: the scenario's limit)")
+    p.add_argument("--random-times", action="store_true",
+                   help="each run draws every fault time uniformly in [0, the given time]")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)

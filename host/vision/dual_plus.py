@@ -10,7 +10,8 @@ from 0.2-0.45 m. Steps:
 1. grey, global dark threshold, 8-connected dark components (host.vision.dark_blobs);
 2. "+" candidates: small dark components, partly filling their box, dark at the centre,
    solidity (area over convex-hull area) 0.45-0.88 — a "+" has four notches, which blobs,
-   bars and discs do not — and at least 2.2x lighter around (black print on a white card);
+   bars and discs do not — at least 2.2x lighter around (black print on a white card) and
+   not cut by the image border;
 3. the pair: similar areas (within 1.6:1), separation 2-5.5 times the square root of the
    mean area (47.3 mm apart for 17 mm "+", seen at up to 2:1 foreshortening), a light point
    between them; the pair with the largest "+" wins;
@@ -104,7 +105,8 @@ def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
     H, W = grey.shape
     x, y, w, h, area = (stats[1:, i] for i in range(5))
     ok = (area >= MIN_AREA_PX) & (w >= 4) & (h >= 4) & (w <= W // 2) & (h <= H // 2) \
-        & (100 * area >= 25 * w * h) & (100 * area <= 80 * w * h) & (w <= 4 * h) & (h <= 4 * w)
+        & (100 * area >= 25 * w * h) & (100 * area <= 80 * w * h) & (w <= 4 * h) & (h <= 4 * w) \
+        & (x > 0) & (y > 0) & (x + w < W) & (y + h < H)  # cut by the border: not a whole "+"
     ops = OpCounts(alu=12 * len(area), branches=len(area))
     out: list[Plus] = []
     # counts kept as plain ints in the loop and charged once (OpCounts additions are slow)

@@ -101,6 +101,9 @@ def test_aggregation_over_a_stand_in_run(tmp_path):
     assert agg["recovery_ms"]["max"] == 900.0 and agg["recovery_ms"]["n"] == 9
     assert agg["failed_seeds"] == sorted(set(range(10)) - set(ok))
     assert agg["runs_safety_monitored"] == 9 and agg["runs_faults_applied"] == 9
+    # recovery_ms present and nothing unrecovered in every live run
+    assert agg["fault_outcomes"] == {"recovered": 9, "failed_cleanly": 0, "stuck": 0}
+    assert agg["late_stops"] == 0
     text = format_table(agg)
     assert "success rate" in text and f"{len(ok) / 10 * 100:.1f} %" in text
     assert "unsafe actuations" in text and "retransmits" in text
@@ -175,3 +178,15 @@ def test_random_fault_times_are_seeded_and_in_range():
     assert randomize_times(FaultPlan(), 3) == FaultPlan()
     cfg = CampaignConfig("000", 3, plan, seed=5, random_times=True)
     assert [j["faults"]["host_crash_at_s"] for j in jobs_of(cfg)] == crash[5:8]
+
+
+@pytest.mark.parametrize("state, unsafe, unrecovered, recov, outcome", [
+    ("DONE", 0, 0, [], None), ("DONE", 0, 0, [30.0], "recovered"),
+    ("FAILED", 0, 1, [], "failed_cleanly"), ("FAILED", 1, 1, [], "stuck"),
+    ("SEARCH", 0, 1, [12.0], "stuck"),
+])
+def test_fault_outcome_of_a_run(state, unsafe, unrecovered, recov, outcome):
+    row = row_of({"seed": 0}, {"status": "finished", "task_state": state, "safety": {
+        "unsafe_actuations": unsafe, "unrecovered": unrecovered, "recovery_ms": recov,
+        "late_stops": 0}})
+    assert row["fault_outcome"] == outcome

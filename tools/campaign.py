@@ -125,7 +125,7 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     monitored = isinstance(safety, dict)
     unsafe = (int(safety.get("unsafe_actuations", 0)) if monitored else 0) + collisions
     wd = safety.get("watchdog_trips") if monitored else None
-    return {
+    row = {
         "seed": job["seed"], "faults": job.get("faults", {}), "success": bool(s.get("success")),
         "status": s.get("status", "crashed") if summary is not None else "crashed",
         "task_state": s.get("task_state"), "sim_time_s": s.get("sim_time_s"),
@@ -136,9 +136,24 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
         "stop_latency_ms": list(safety.get("stop_latency_ms", [])) if monitored else [],
         "recovery_ms": list(safety.get("recovery_ms", [])) if monitored else [],
         "unrecovered": int(safety.get("unrecovered", 0)) if monitored else 0,
+        "late_stops": int(safety.get("late_stops", 0)) if monitored else 0,
         "faults_applied": "faults" in s,
         "error": error or s.get("error"),
     }
+    row["fault_outcome"] = _fault_outcome(row)
+    return row
+
+
+def _fault_outcome(row: dict) -> str | None:
+    """For runs with a fault to recover from (stall, burst, MCU reset): "recovered",
+    "failed_cleanly" (the task ended FAILED without unsafe actuation) or "stuck"."""
+    if not row["recovery_ms"] and not row["unrecovered"]:
+        return None
+    if not row["unrecovered"]:
+        return "recovered"
+    if row["task_state"] == "FAILED" and row["unsafe_actuations"] == 0:
+        return "failed_cleanly"
+    return "stuck"
 
 
 def _stats(values: list[float]) -> dict:
@@ -166,6 +181,9 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
         "stop_latency_ms": _stats(stops),
         "recovery_ms": _stats(recov),
         "unrecovered_faults": sum(r["unrecovered"] for r in rows),
+        "late_stops": sum(r["late_stops"] for r in rows),
+        "fault_outcomes": {k: sum(r["fault_outcome"] == k for r in rows)
+                           for k in ("recovered", "failed_cleanly", "stuck")},
         "runs_safety_monitored": sum(r["safety_monitored"] for r in rows),
         "runs_faults_applied": sum(r["faults_applied"] for r in rows),
         "failed_seeds": sorted(r["seed"] for r in rows if not r["success"]),
@@ -236,9 +254,12 @@ def format_table(agg: dict) -> str:
         f"(in {agg['runs_with_unsafe_actuation']} runs; collisions {agg['collisions']})",
         f"  {'watchdog trips':<28} {agg['watchdog_trips']:6d}",
         f"  {'retransmits':<28} {agg['retransmits']:6d}    (CRC errors {agg['crc_errors']})",
-        f"  {'wheel stop latency ms':<28} {fmt(agg['stop_latency_ms'])}",
+        f"  {'wheel stop latency ms':<28} {fmt(agg['stop_latency_ms'])}"
+        f"  late stops {agg['late_stops']}",
         f"  {'recovery time ms':<28} {fmt(agg['recovery_ms'])}"
         f"  unrecovered {agg['unrecovered_faults']}",
+        f"  {'runs after a fault':<28} " + ", ".join(
+            f"{k.replace('_', ' ')} {v}" for k, v in agg["fault_outcomes"].items()),
     ]
     if agg["runs_safety_monitored"] < agg["runs"]:
         lines.append(f"  NOTE: only {agg['runs_safety_monitored']}/{agg['runs']} runs carried a "

@@ -99,14 +99,18 @@ def _run_centre(line: np.ndarray, dark: np.ndarray, v_pred: int
     return (tq + bq) // 2, bq - tq
 
 
-def _scan_arm(grey: np.ndarray, dark: np.ndarray, p: Plus, side: int, slope_q12: int | None
-              ) -> tuple[list[tuple[int, int]], list[int], OpCounts]:
+def _scan_arm(grey: np.ndarray, dark: np.ndarray, p: Plus, side: int, slope_q12: int | None,
+              arms: dict) -> tuple[list[tuple[int, int]], list[int], OpCounts]:
     """Central points and run lengths on one side arm (side -1 left, +1 right), the line to
-    follow predicted from the arm's pixels or, on the second pass, from ``slope_q12``."""
+    follow predicted from the arm's pixels or, on the second pass, from ``slope_q12``.
+    ``arms`` keeps each side's direction between the two passes."""
     x, y, w, h = p.box
-    sel = dark[y:y + h, x:x + w].astype(bool)
-    ops = OpCounts(pixels_read=2 * w * h, alu=6 * w * h, divs=2)
-    arm = _arm_direction(sel, x, y, p.u_q4, p.v_q4, side)
+    ops = OpCounts()
+    if side not in arms:
+        sel = dark[y:y + h, x:x + w].astype(bool)
+        ops = OpCounts(pixels_read=2 * w * h, alu=6 * w * h, divs=2)
+        arms[side] = _arm_direction(sel, x, y, p.u_q4, p.v_q4, side)
+    arm = arms[side]
     if arm is None:
         return [], [], ops
     adu, adv, reach = arm
@@ -155,11 +159,12 @@ def _is_cross(grey: np.ndarray, t: int, uc_q4: int, vc_q4: int, angle_mrad: int,
     return True
 
 
-def _template(grey: np.ndarray, dark: np.ndarray, p: Plus, slope_q12: int | None):
+def _template(grey: np.ndarray, dark: np.ndarray, p: Plus, slope_q12: int | None,
+              arms: dict):
     """One pass of the Fig. 3 template on both side arms: (points left, points right, runs,
     k_l, reach px) or None."""
-    pts_l, runs_l, ops = _scan_arm(grey, dark, p, -1, slope_q12)
-    pts_r, runs_r, o = _scan_arm(grey, dark, p, +1, slope_q12)
+    pts_l, runs_l, ops = _scan_arm(grey, dark, p, -1, slope_q12, arms)
+    pts_r, runs_r, o = _scan_arm(grey, dark, p, +1, slope_q12, arms)
     ops += o
     if len(pts_l) != K_S or len(pts_r) != K_S:
         return None, ops
@@ -219,12 +224,13 @@ def detect_spoke(rgb: np.ndarray) -> tuple[Spoke | None, OpCounts]:
     dark = np.zeros_like(mask)
     dark[y0:y1, x0:x1] = roi < t
     ops += OpCounts(pixels_read=3 * roi.size, pixels_written=roi.size, alu=3 * roi.size)
-    first, o = _template(grey, dark, p, None)
+    arms: dict = {}
+    first, o = _template(grey, dark, p, None, arms)
     ops += o
     if first is None:
         return None, ops
     # second pass: follow the line found by the first (a turned "+" misleads the first guess)
-    found, o = _template(grey, dark, p, first[3])
+    found, o = _template(grey, dark, p, first[3], arms)
     ops += o
     if found is None:
         return None, ops

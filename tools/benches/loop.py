@@ -9,6 +9,7 @@ final_error_mm <= 10; real-time factor over the pty >= 10).
 
 from __future__ import annotations
 
+import os
 import statistics
 import sys
 import tempfile
@@ -23,6 +24,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--runs", type=int, default=3, help="random scenarios per method")
     parser.add_argument("--methods", default="000,001,002")
     parser.add_argument("--seed-base", type=int, default=1000)
+    parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
     parser.add_argument("--rtf-limit-s", type=float, default=20.0,
                         help="simulated seconds of the real-time-factor runs")
 
@@ -34,24 +36,34 @@ def _one(opts) -> dict:
     return summary
 
 
-def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
-             progress: bool = True) -> dict:
-    """Run ``runs`` random scenarios per method in process; figures per method and overall."""
+def _random_run(method: str, seed: int, folder: Path) -> dict:
+    """One random scenario in process (a top-level function: it runs in worker processes)."""
     from tools.random_scenarios import random_scenario
     from tools.run_job import RunOptions
 
+    sc = random_scenario(method, seed)
+    return _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed, transport="inproc",
+                           out=folder / f"{method}-{seed}", progress=False, plots=False))
+
+
+def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
+             progress: bool = True, jobs: int | None = None) -> dict:
+    """Run ``runs`` random scenarios per method in process, ``jobs`` at a time (default: the
+    number of cores); figures per method and overall. Results do not depend on ``jobs``."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    jobs = jobs or os.cpu_count() or 1
     out: dict = {}
     for method in methods:
-        rows = []
-        for k in range(runs):
-            seed = seed_base + k
-            sc = random_scenario(method, seed)
-            s = _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed,
-                                transport="inproc", out=folder / f"{method}-{seed}",
-                                progress=False, plots=False))
-            rows.append(s)
+        seeds = [seed_base + k for k in range(runs)]
+        if jobs > 1 and runs > 1:
+            with ProcessPoolExecutor(max_workers=jobs) as pool:
+                rows = list(pool.map(_random_run, [method] * runs, seeds, [folder] * runs))
+        else:
+            rows = [_random_run(method, seed, folder) for seed in seeds]
+        for s in rows:
             if progress:
-                print(f"  {method} seed {seed}: {'ok ' if s['success'] else 'FAIL'} "
+                print(f"  {method} seed {s['seed']}: {'ok ' if s['success'] else 'FAIL'} "
                       f"{s.get('task_state')} t={s.get('sim_time_s', 0):.1f}s "
                       f"err={s.get('final_error_mm')} mm", file=sys.stderr)
         errs = [r["final_error_mm"] for r in rows if r.get("final_error_mm") is not None]
@@ -85,7 +97,7 @@ def run(args) -> dict:
             results[f"wall_s_{transport}"] = s.get("wall_time_s")
             sha[transport] = s.get("trace_sha256")
         results["trace_equal_pty_inproc"] = sha["pty"] == sha["inproc"]
-        camp = campaign(methods, args.runs, args.seed_base, folder / "campaign")
+        camp = campaign(methods, args.runs, args.seed_base, folder / "campaign", jobs=args.jobs)
     results["campaign"] = camp
     total = sum(v["runs"] for v in camp.values())
     results["success_rate"] = (sum(v["success_rate"] * v["runs"] for v in camp.values()) / total

@@ -256,6 +256,8 @@ class Task(TaskStates):
 
     def step(self, now_us: int, inputs: TaskInputs) -> TaskOutputs:
         """Advance the task to ``now_us`` (simulated) with this step's inputs."""
+        if not isinstance(inputs, TaskInputs):
+            raise TypeError(f"Task.step needs TaskInputs, got {type(inputs).__name__}")
         now_us = int(now_us)
         self._events, self._detail, self._ops = [], {}, OpCounts()
         inp, dets = self._clean(inputs)

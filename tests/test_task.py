@@ -208,6 +208,11 @@ def test_bad_inputs_are_counted_and_dropped():
     assert out.state == "SEARCH" and task.counters["bad_detections"] == 2
 
 
+def test_step_needs_task_inputs():
+    with pytest.raises(TypeError, match="TaskInputs"):
+        Task("000").step(0, {"detections": {}})
+
+
 def test_params_validation_and_method_defaults():
     with pytest.raises(ValueError, match="unknown task parameter 'nope'"):
         Task("000", {"nope": 1})

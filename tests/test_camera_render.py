@@ -187,3 +187,23 @@ def test_project_returns_nan_behind_the_camera():
     uv = project(np.array([[1.0, 0.0, 0.3], [-1.0, 0.0, 0.3]]), (0, 0, 0.3), R, INTR)
     assert uv[0] == pytest.approx([160.0, 120.0])
     assert np.isnan(uv[1]).all()
+
+
+def test_view_samplers_are_seeded_and_see_their_target():
+    from mcu_sim.world import camera_views as views
+
+    for sampler in (views.radial_far, views.dual_plus, views.spoke, views.empty):
+        a, b = sampler(np.random.default_rng(3)), sampler(np.random.default_rng(3))
+        assert a.scene == b.scene and np.array_equal(a.cam_pos_w, b.cam_pos_w)
+        if sampler is views.empty:
+            assert a.scene.target is None
+            continue
+        kp = target_keypoints_w(a.scene.target)
+        uv = project(kp["symbol_centre"][None], a.cam_pos_w, a.R_wc, a.intr)[0]
+        if sampler is views.spoke:  # straight over one "+", the symbol centre is out of view
+            uv = a.truth["centre_uv"]
+        assert 0 <= uv[0] < 320 and 0 <= uv[1] < 240
+        # truth depth is the symbol centre's depth along the optical axis
+        if "y_oc_mm" in a.truth:
+            depth = (a.R_wc.T @ (kp["symbol_centre"] - a.cam_pos_w))[2] * 1000
+            assert a.truth["y_oc_mm"] == pytest.approx(depth)

@@ -105,3 +105,12 @@ def test_scenarios_lists_the_six(capsys):
     for name in ("paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
                  "paper002-marker", "paper002-cylinder-moving"):
         assert name in out
+
+
+def test_detection_points_of_every_detector_are_drawn():
+    from tools.run_folder import _points
+
+    pts = _points({"double_cross": {"u1_q4": 160, "v1_q4": 320, "u2_q4": 480, "v2_q4": 320,
+                                    "um_q4": 320, "vm_q4": 320, "d_pixel_q4": 5},
+                   "red_cylinder": {"u_c_q4": 32, "v_c_q4": 48}, "spoke": None})
+    assert sorted(pts) == [(2, 3), (10, 20), (20, 20), (30, 20)]

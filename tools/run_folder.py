@@ -85,12 +85,13 @@ def write_summary(path: Path, summary: dict) -> None:
 
 
 def _points(result: Any) -> list[tuple[int, int]]:
-    """Pixel points a detection result names (any ``*u_q4``/``*v_q4`` or ``u``/``v`` pairs)."""
+    """Pixel points a detection result names: ``u<x>_q4`` with ``v<x>_q4`` (u_q4, u1_q4, um_q4,
+    u_c_q4, ...), in Q4 px."""
     pts: list[tuple[int, int]] = []
     if isinstance(result, dict):
         for key, value in result.items():
-            if isinstance(value, int | float) and key.endswith("u_q4"):
-                v = result.get(key[:-4] + "v_q4")
+            if isinstance(value, int | float) and key.startswith("u") and key.endswith("_q4"):
+                v = result.get("v" + key[1:])
                 if isinstance(v, int | float):
                     pts.append((int(value) // 16, int(v) // 16))
             elif isinstance(value, dict | list):

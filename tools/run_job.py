@@ -146,6 +146,9 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     name = scenario.meta.name
     out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
     if out.exists():
+        if any(out.iterdir()) and not (out / "summary.json").exists():
+            raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
+                           f"refusing to overwrite it")
         shutil.rmtree(out)
     (out / "plots").mkdir(parents=True)
     summary: dict[str, Any] = {
@@ -193,10 +196,13 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
         run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                          truth=plant.truth, on_host_event=snaps.on_host_event,
-                          on_quantum=lambda t: plant.sample_path(), speed=opts.speed,
-                          progress=progress)
+                    truth=plant.truth, on_host_event=snaps.on_host_event,
+                    on_quantum=lambda t: plant.sample_path(), speed=opts.speed,
+                    progress=progress)
         summary["status"] = "finished"
+    except KeyboardInterrupt:
+        summary["status"] = "interrupted"  # written below, then Ctrl-C goes on up
+        raise
     except Exception as exc:
         summary["status"] = "crashed"
         summary["error"] = f"{type(exc).__name__}: {exc}"

@@ -33,6 +33,7 @@ from host.vision.grey import to_grey
 K_S = 5  # 000 §IV: central points per spoke
 W_MIN_PX, W_MAX_PX = 20, 40  # 000 §IV
 _COLUMN_OPS = db.EDGE_OPS.scaled(2) + OpCounts(pixels_read=20, alu=30, branches=20, divs=1)
+SECOND_PASS_Q12 = 722  # tan(10 degrees) in Q12
 MAX_ANGLE_MRAD = 524  # arms within 30 degrees of image x (the roll joint turns the wrist first)
 
 
@@ -229,11 +230,14 @@ def detect_spoke(rgb: np.ndarray) -> tuple[Spoke | None, OpCounts]:
     ops += o
     if first is None:
         return None, ops
-    # second pass: follow the line found by the first (a turned "+" misleads the first guess)
-    found, o = _template(grey, dark, p, first[3], arms)
-    ops += o
-    if found is None:
-        return None, ops
+    # second pass: follow the line found by the first, for a turned "+" (beyond ~10 degrees
+    # the arm's pixel centroid can mislead the first guess into the neighbouring spoke)
+    found = first
+    if abs(first[3]) > SECOND_PASS_Q12:
+        found, o = _template(grey, dark, p, first[3], arms)
+        ops += o
+        if found is None:
+            return None, ops
     pts_l, pts_r, runs, k_l, reach = found
     angle = fp.atan2_mrad(k_l, 4096)
     if abs(angle) > MAX_ANGLE_MRAD:

@@ -78,7 +78,7 @@ class TaskParams:
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80
-    replan_period_us: int = 1_000_000  # 001
+    replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     replan_shift_mm: int = 150  # 000: replan when the object estimate moved this far
     max_plan_attempts: int = 3
     direct_max_mm: int = 1200  # no feasible curve after all attempts: ADJUST if this close

@@ -96,3 +96,47 @@ def turn_in_place(direction: int, wheel_mmps: int) -> tuple[int, int]:
 def make_fuzzy(params: FuzzyParams | None = None) -> FuzzyApproach:
     """002's fuzzy approach controller (host.control.fuzzy)."""
     return FuzzyApproach(params if params is not None else FuzzyParams())
+
+
+def _state_m(x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int):
+    c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
+    return ((x_mm / 1000.0, y_mm / 1000.0), heading_mrad / 1000.0,
+            (v_mmps * c / 4096 / 1000.0, v_mmps * s / 4096 / 1000.0))
+
+
+def _follower(curve, now_us: int, v_limit_mmps: int) -> tuple[PathFollower, OpCounts]:
+    traj = Trajectory.from_curve(curve)
+    return PathFollower(traj, now_us, v_limit_mmps), traj.ops
+
+
+def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
+              obj_xy_mm: tuple[int, int], sonar_mm: tuple, params=None):
+    """001's first plan through host.planning.replan.Replanner (which then watches the sonars):
+    (replanner, follower or None, ops, detail)."""
+    from host.planning.bezier001 import Params001
+    from host.planning.replan import Replanner
+
+    p = params if params is not None else Params001()
+    rp = Replanner((obj_xy_mm[0] / 1000.0, obj_xy_mm[1] / 1000.0), p)
+    pos, h, vel = _state_m(x_mm, y_mm, heading_mrad, v_mmps)
+    plan = rp.start(now_us, pos, h, vel, [int(v) for v in sonar_mm])
+    detail = {"planner": "001", "reason": plan.reason, "candidates": len(plan.candidates),
+              "feasible": sum(1 for c in plan.candidates if c.feasible),
+              "plan_arm9_us": plan.ops.time_us()}
+    if plan.best is None:
+        return rp, None, plan.ops, detail
+    follower, ops = _follower(plan.best, now_us, int(round(p.v_max * 1000)))
+    detail["best_ctrl"] = [list(map(float, row)) for row in plan.best.ctrl]
+    return rp, follower, plan.ops + ops, detail
+
+
+def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
+               sonar_mm: tuple):
+    """001 §III.E: check the rest of the path against fresh sonar, replan when blocked.
+    Returns (decision, new follower or None, ops)."""
+    pos, h, vel = _state_m(x_mm, y_mm, heading_mrad, v_mmps)
+    dec = rp.update(now_us, pos, h, vel, [int(v) for v in sonar_mm])
+    if not dec.replanned or dec.curve is None:
+        return dec, None, dec.ops
+    follower, ops = _follower(dec.curve, now_us, int(round(rp.params.v_max * 1000)))
+    return dec, follower, dec.ops + ops

@@ -12,7 +12,15 @@ from host import kinematics
 from host.fixedpoint import atan2_mrad, isqrt
 from host.posture import PostureParams, distribute_alpha
 from host.search import ArmSearch, SearchParams
-from host.task_drive import close_in, make_fuzzy, make_pose, plan_follower, turn_in_place
+from host.task_drive import (
+    close_in,
+    make_fuzzy,
+    make_pose,
+    plan_follower,
+    start_001,
+    turn_in_place,
+    update_001,
+)
 from host.task_grasp import GraspStates
 from host.task_sense import (
     bearing_mrad,
@@ -57,6 +65,7 @@ class TaskStates(GraspStates):
         self.confirm_failed = None
         self.trust_from_us = 0
         self.plus_odom = None
+        self.replanner = None
         self.grasp_xy_q4 = None
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
@@ -146,12 +155,14 @@ class TaskStates(GraspStates):
         from host.planning.bezier000 import Params000
         from host.planning.bezier001 import Params001
         if self.method == "001":
-            pp = Params001(**self.p.planner)
+            self.replanner, follower, ops, detail = start_001(
+                now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, self.obj, inp.sonar_mm,
+                Params001(**self.p.planner))
         else:
             pp = Params000(**{"standoff_m": self.p.approach_standoff_mm / 1000, **self.p.planner})
-        follower, ops, detail = plan_follower(self.method, now, inp.x_mm, inp.y_mm,
-                                              inp.heading_mrad, inp.v_mmps, self.obj,
-                                              inp.sonar_mm, pp)
+            follower, ops, detail = plan_follower(self.method, now, inp.x_mm, inp.y_mm,
+                                                  inp.heading_mrad, inp.v_mmps, self.obj,
+                                                  inp.sonar_mm, pp)
         self.charge(ops)
         self.counters["plans"] += 1
         self.note(plan=detail)
@@ -193,7 +204,24 @@ class TaskStates(GraspStates):
         moved = (self.plan_obj is not None and isqrt((self.obj[0] - self.plan_obj[0]) ** 2 + (
             self.obj[1] - self.plan_obj[1]) ** 2) > self.p.replan_shift_mm)
         due = self.method == "001" and now - self.plan_us >= self.p.replan_period_us
-        if self.follower is None or moved or due:
+        if due and self.follower is not None and not moved and self.replanner is not None:
+            # 001 §III.E: the sonars see the rest of the path blocked -> replan from here
+            dec, follower, ops = update_001(self.replanner, now, inp.x_mm, inp.y_mm,
+                                            inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
+            self.charge(ops)
+            self.plan_us = now
+            if dec.replanned:
+                self.follower = follower
+                self.counters["plans"] += 1
+                self.note(replan=dec.reason, plan={
+                    "planner": "001", "reason": dec.reason,
+                    "best_ctrl": [list(map(float, row)) for row in dec.curve.ctrl]})
+            elif dec.curve is None:
+                self.follower = None  # nothing feasible: stop; the next step plans afresh
+                self.note(replan=dec.reason)
+                self.wheels = (0, 0)
+                return
+        elif self.follower is None or moved:
             if self.follower is None and self.plan_attempts and not self._face_object(inp):
                 return  # no feasible curve from here: face the object in place, then replan
             self._plan(now, inp)

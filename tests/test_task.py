@@ -273,3 +273,26 @@ def test_001_with_a_given_object_position_plans_at_once():
     assert out.detail["plan"]["planner"] == "001" and out.wheels_mmps != (0, 0)
     with pytest.raises(ValueError, match="object_xy_mm"):
         Task("001", {"object_xy_mm": [1.5, 0.3]})
+
+
+def test_001_replans_when_the_sonar_sees_the_path_blocked():
+    task = Task("001", {"object_xy_mm": [2500, 0]})
+    clear = (2500,) * 5
+    step(task, 0, sonar_mm=clear)
+    out = step(task, 20_000, sonar_mm=clear)
+    assert out.detail["plan"]["feasible"] > 0
+    t, x = 40_000, 0
+    while t < 300_000:  # path clear: no replan
+        out = step(task, t, x_mm=x, v_mmps=200, sonar_mm=clear)
+        assert "replan" not in out.detail
+        t += 20_000
+        x += 4
+    blocked = (2500, 2500, 600, 2500, 2500)  # an obstacle 0.6 m straight ahead (S_3)
+    seen = []
+    while t < 1_500_000 and not seen:
+        out = step(task, t, x_mm=x, v_mmps=200, sonar_mm=blocked)
+        if "replan" in out.detail:
+            seen.append(out.detail["replan"])
+        t += 20_000
+    assert seen and seen[0].startswith("blocked")
+    assert out.ops.float_ops > 0  # the check and the plan are charged

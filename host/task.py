@@ -108,7 +108,7 @@ class TaskParams:
         if method == "001":
             # the long 001 arm puts the camera ahead of a close object: finish on odometry sooner
             base = replace(base, h_shoulder_mm=108, grasp_r_mm=130, hover_mm=90,
-                           blind_finish_mm=250)
+                           blind_finish_mm=250, max_plan_attempts=6)
         elif method == "002":
             # 150 mm: the 0.17 m footprint reaches 70 mm ahead of the waist, plus the cylinder's
             # 25 mm radius and margin

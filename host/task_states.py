@@ -154,7 +154,14 @@ class TaskStates(GraspStates):
     def _plan(self, now: int, inp) -> None:
         from host.planning.bezier000 import Params000
         from host.planning.bezier001 import Params001
-        if self.method == "001":
+        if self.method == "001" and self.replanner is not None and self.obj == self.plan_obj:
+            # same object: the replanner keeps its remembered regions and slows down (replan.py)
+            dec, follower, ops = update_001(self.replanner, now, inp.x_mm, inp.y_mm,
+                                            inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
+            detail = {"planner": "001", "reason": dec.reason}
+            if dec.curve is not None:
+                detail["best_ctrl"] = [list(map(float, row)) for row in dec.curve.ctrl]
+        elif self.method == "001":
             self.replanner, follower, ops, detail = start_001(
                 now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, self.obj, inp.sonar_mm,
                 Params001(**self.p.planner))
@@ -170,7 +177,7 @@ class TaskStates(GraspStates):
         if follower is not None:
             self.follower = follower
             return
-        if detail["reason"].startswith("already"):
+        if "already" in detail["reason"]:
             self.go(now, "ADJUST", f"no path needed: {detail['reason']}")
             return
         self.plan_attempts += 1
@@ -222,6 +229,10 @@ class TaskStates(GraspStates):
                 self.wheels = (0, 0)
                 return
         elif self.follower is None or moved:
+            if self.follower is None and self.method == "001" and self.replanner is not None and (
+                    now - self.plan_us < 500_000 or abs(inp.v_mmps) > 30):
+                self.wheels = (0, 0)  # 001: stop first, then replan from standstill
+                return
             if self.follower is None and self.plan_attempts and not self._face_object(inp):
                 return  # no feasible curve from here: face the object in place, then replan
             self._plan(now, inp)

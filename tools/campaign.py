@@ -292,6 +292,8 @@ def write_outputs(result: dict, out: Path) -> tuple[Path, Path]:
     seeds = [r["seed"] for r in rows]
     axes[1].bar(seeds, [r["unsafe_actuations"] for r in rows], color="tab:red", label="unsafe")
     axes[1].plot(seeds, [r["watchdog_trips"] for r in rows], "k.", label="watchdog trips")
+    axes[1].set_ylim(bottom=0, top=max([1] + [r["unsafe_actuations"] for r in rows]
+                                       + [r["watchdog_trips"] for r in rows]) * 1.2)
     axes[1].set_xlabel("seed")
     axes[1].set_title("unsafe actuations, watchdog trips")
     axes[1].legend(fontsize=8)

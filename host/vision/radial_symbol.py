@@ -47,6 +47,7 @@ U0_PX = 160
 V0_PX = 120
 MIN_WIDTH_PX = 12  # narrower rings cannot be measured to 2 %
 MAX_CANDIDATES = 12  # widest first; bounds the ARM9 time of a cluttered frame
+LOCAL_BUDGET_FRAMES = 2  # local re-thresholding may touch at most this many frames' pixels
 MIN_CONTRAST = 90  # grey levels between print and card at the darkest exposure (0.7 x 235-20)
 FILL_MIN_PCT, FILL_MAX_PCT = 62, 84  # ring + interior over the box (ellipse: 78.5 %)
 SPAN_MIN_PCT, SPAN_MAX_PCT = 55, 90  # interior width over outer width at the centre row
@@ -254,14 +255,21 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
     ops += o
     st = stats[1:]
     x, y, w, h, area = st[:, 0], st[:, 1], st[:, 2], st[:, 3], st[:, 4]
-    ok = (w >= MIN_WIDTH_PX) & (h >= 3) & (10 * w >= 8 * h) & (area * 100 <= 85 * w * h)
+    # not solid (a ring's box is at most ~55 % dark even when everything inside merges) and
+    # not nearer than 0.3 m
+    ok = (w >= MIN_WIDTH_PX) & (h >= 3) & (10 * w >= 8 * h) & (area * 100 <= 70 * w * h) \
+        & (4 * w <= 3 * grey.shape[1])
     cand = np.flatnonzero(ok)
     ops += OpCounts(alu=10 * len(st), branches=len(st))
     cand = cand[np.argsort(-w[cand], kind="stable")][:MAX_CANDIDATES]  # outermost ring first
+    budget = LOCAL_BUDGET_FRAMES * grey.size  # bound the local work of a cluttered frame
     for i in cand:
         for num, den in LOCAL_FRACTIONS:
             found, o = _local_ring(grey, int(x[i]), int(y[i]), int(w[i]), int(h[i]), num, den)
             ops += o
+            budget -= o.pixels_read // 4
+            if budget < 0:
+                return None, ops
             if found is None:
                 continue
             res, o = _measure(grey, found, f_px, u0_px, v0_px)

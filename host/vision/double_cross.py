@@ -28,7 +28,9 @@ f = 350). This is our choice; the paper does not say how it handles scale.
 
 The heading error e of 002 §3 (the angle between the platform heading and the line to the
 marker centre, right positive like θ5 in docs/conventions.md) is computed from the pixel offset
-of the midpoint of the two centres and the camera's yaw and pitch (inputs, mrad). It is the
+of the marker centre and the camera's yaw and pitch (inputs, mrad). The marker centre is the
+midpoint of the two cross centres weighted by their apparent heights (the nearer cross looks
+bigger; at 0.3 m with the board turned 35° the plain midpoint is 1° off). It is the
 bearing seen from the camera; 002 measures e from the platform, which differs by the arm's
 parallax (the camera is ~0.2 m ahead of the waist): with a range,
 ``host.ranging.platform_bearing_mrad`` converts it.
@@ -75,10 +77,11 @@ for _dx, _dy in _RING8:
 
 @dataclass(frozen=True)
 class DoubleCrossResult:
-    """Both cross centres (left one first in the image), their midpoint, spacing and e.
+    """Both cross centres (left one first in the image), the marker centre, spacing and e.
 
-    Pixel coordinates and lengths are Q4 (1/16 px); ``e_mrad`` is the bearing of the marker
-    midpoint from the platform heading, right positive; ``votes`` are the Ω_p2 counts.
+    Pixel coordinates and lengths are Q4 (1/16 px); (um, vm) is the marker centre (midpoint of
+    the cross centres weighted by apparent size, see the module docstring); ``e_mrad`` is its
+    bearing from the platform heading, right positive; ``votes`` are the Ω_p2 counts.
     """
 
     u1_q4: int
@@ -266,6 +269,36 @@ def _pick_pair(groups: list[_Group], level: int) -> tuple[int, _Group, _Group] |
     return best
 
 
+def _vertical_extent_q4(grey: np.ndarray, u_q4: int, v_q4: int, max_px: int = 120
+                        ) -> tuple[int | None, OpCounts]:
+    """Apparent height of a cross (Q4 px): its vertical spokes, from the centre up and down to
+    the dark/light mid-level crossings (sub-pixel). None when there is no clear crossing."""
+    h, w = grey.shape
+    x, y0 = (u_q4 + 8) >> 4, (v_q4 + 8) >> 4
+    if not (0 <= x < w and 1 <= y0 < h - 1):
+        return None, OpCounts()
+    lo, hi = max(0, y0 - max_px), min(h, y0 + max_px + 1)
+    col = grey[lo:hi, x].astype(np.int32)
+    c = y0 - lo
+    light = int(col.max())
+    dark = int(col[c - 1:c + 2].min())
+    ops = OpCounts(pixels_read=2 * (hi - lo), alu=3 * (hi - lo), divs=2, branches=hi - lo)
+    if light - dark < 2 * T_H:
+        return None, ops
+    mid2 = light + dark  # compare 2 g with light + dark: integer mid-level
+    total = 0
+    for seg in (col[c::-1], col[c:]):  # from the centre up, and down
+        over = np.flatnonzero(2 * seg >= mid2)
+        if over.size == 0:
+            return None, ops
+        k = int(over[0])  # first row at or above mid-level; k - 1 is still dark
+        if k == 0:
+            return None, ops
+        a, b = int(seg[k - 1]), int(seg[k])
+        total += 16 * (k - 1) + fp.div_round(16 * (mid2 - 2 * a), 2 * (b - a))
+    return total, ops
+
+
 def bearing_mrad(u_q4: int, v_q4: int, yaw_mrad: int, pitch_mrad: int,
                  f_px: int = F_PX_002, u0_px: int = U0_PX, v0_px: int = V0_PX) -> int:
     """Horizontal bearing of pixel (u, v) from the platform heading, mrad, right positive.
@@ -326,6 +359,16 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
     ops.update(vars(fp.isqrt_ops(du * du + dv * dv)))
     ops.update(muls32=2, alu=4)
     um, vm = (c1[0] + c2[0] + 1) >> 1, (c1[1] + c2[1] + 1) >> 1
+    # perspective: the board's centre is not at the midpoint of the two image centres when one
+    # cross is nearer; weight by the crosses' apparent sizes (depth ~ 1 / size)
+    r1, o1 = _vertical_extent_q4(grey, c1[0], c1[1])
+    r2, o2 = _vertical_extent_q4(grey, c2[0], c2[1])
+    ops.update(vars(o1))
+    ops.update(vars(o2))
+    if r1 and r2 and 5 * r1 >= 3 * r2 and 5 * r2 >= 3 * r1:
+        um = fp.div_round(r2 * c1[0] + r1 * c2[0], r1 + r2)
+        vm = fp.div_round(r2 * c1[1] + r1 * c2[1], r1 + r2)
+        ops.update(muls32=4, divs=2, alu=6)
     e = bearing_mrad(um, vm, yaw_mrad, pitch_mrad, f_px)
     ops.update(vars(fp.sin_ops().scaled(2)))
     ops.update(vars(fp.atan2_ops()))

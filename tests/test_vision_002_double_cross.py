@@ -11,7 +11,7 @@ from host.vision import double_cross as dc
 
 
 def draw_double_cross(radius_px, cx, cy, rot=0.0, sep_ratio=2.6, disc_ratio=0.16, seed=0,
-                      crosses=(-1, 1)):
+                      crosses=(-1, 1), right_scale=1.0):
     """Frontal stand-in for the renderer: white board, 45-degree wedge crosses, 3x supersampled,
     on a smooth floor-like background."""
     h, w, s = 240, 320, 3
@@ -22,11 +22,12 @@ def draw_double_cross(radius_px, cx, cy, rot=0.0, sep_ratio=2.6, disc_ratio=0.16
     board = (abs(x - cx) <= 3.0 * radius_px) & (abs(y - cy) <= 1.4 * radius_px)
     img[board] = 235
     for side in crosses:
+        rad = radius_px * (right_scale if side > 0 else 1.0)
         dx = x - (cx + side * sep_ratio * radius_px / 2)
         dy = y - cy
         r = np.hypot(dx, dy)
         a = np.mod(np.arctan2(dy, dx) + np.pi / 8 - rot, np.pi / 2)
-        dark = ((a < np.pi / 4) & (r <= radius_px)) | (r <= disc_ratio * radius_px)
+        dark = ((a < np.pi / 4) & (r <= rad)) | (r <= disc_ratio * rad)
         img[dark & board] = 20
     img = img.reshape(h, s, w, s).mean(axis=(1, 3))
     grey = np.clip(np.rint(img), 0, 255).astype(np.uint8)
@@ -47,6 +48,19 @@ def test_finds_both_centres(radius_px, rot):
     assert abs(res.d_pixel_q4 / 16 - 2 * half) <= 1.5 * tol
     assert res.u1_q4 < res.u2_q4
     assert 0 < ops.time_us() < 33_000
+
+
+def test_marker_centre_weighted_by_apparent_size():
+    """Seen in perspective, the board centre lies nearer the image of the farther (smaller)
+    cross: it divides the segment between the image centres as r2 : r1."""
+    cx, cy, r1, scale = 160.0, 120.0, 24, 1.4
+    res, _ = dc.detect_double_cross(draw_double_cross(r1, cx, cy, right_scale=scale))
+    assert res is not None
+    u1, u2 = cx - 1.3 * r1, cx + 1.3 * r1
+    r2 = r1 * scale
+    expected = (r2 * u1 + r1 * u2) / (r1 + r2)  # 3 px left of the plain midpoint
+    assert abs(res.um_q4 / 16 - expected) <= 1.0
+    assert abs(res.um_q4 / 16 - (u1 + u2) / 2) >= 2.0
 
 
 def test_not_found_without_marker_or_with_one_cross():

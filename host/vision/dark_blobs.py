@@ -18,6 +18,7 @@ import cv2
 import numpy as np
 
 from host.budget import OpCounts
+from host.vision.grey import to_grey
 
 THRESH_NUM, THRESH_DEN = 45, 100  # dark threshold as a fraction of the bright level
 THRESH_MIN, THRESH_MAX = 40, 130
@@ -59,6 +60,20 @@ def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]
     ops = OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
     return int(n_lab), labels, stats, ops
 
+
+
+def dark_components(rgb: np.ndarray, who: str
+                    ) -> tuple[np.ndarray, np.ndarray, int, np.ndarray, np.ndarray, OpCounts]:
+    """The front end the 000 detectors share: check, grey, dark mask, 8-connected components.
+
+    Returns ``(grey, mask, n_labels, labels, stats, ops)`` with the ops of all three stages.
+    """
+    check_rgb(rgb, who)
+    grey, ops = to_grey(rgb)
+    mask, _, o = dark_mask(grey)
+    ops += o
+    n_lab, labels, stats, o = components(mask)
+    return grey, mask, n_lab, labels, stats, ops + o
 
 def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     """Sub-pixel position (Q4 px, along ``line``) of the light-to-dark edge ending at ``i_dark``.

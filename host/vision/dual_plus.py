@@ -37,7 +37,6 @@ import numpy as np
 from host import fixedpoint as fp
 from host.budget import OpCounts
 from host.vision import dark_blobs as db
-from host.vision.grey import to_grey
 
 D_ACT_DMM = 473  # 000 §IV: D_act = 47.3 mm, in 0.1 mm
 F_PX = 611
@@ -169,14 +168,9 @@ def _d_eff_q4(a: Plus, b: Plus, du_q4: int, dv_q4: int) -> int | None:
 def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
                      u0_px: int = U0_PX) -> tuple[DualPlus | None, OpCounts]:
     """Find both "+"; ``(None, ops)`` unless a consistent pair is seen (never a guess)."""
-    db.check_rgb(rgb, "detect_dual_plus")
     if isinstance(alpha_mrad, bool) or not isinstance(alpha_mrad, int | np.integer):
         raise ValueError(f"detect_dual_plus: alpha_mrad must be an int (mrad), got {alpha_mrad!r}")
-    grey, ops = to_grey(rgb)
-    mask, _, o = db.dark_mask(grey)
-    ops += o
-    _, labels, stats, o = db.components(mask)
-    ops += o
+    grey, mask, _, labels, stats, ops = db.dark_components(rgb, "detect_dual_plus")
     plus, o = plus_candidates(grey, labels, stats)
     ops += o
     best = None

@@ -39,7 +39,6 @@ import numpy as np
 from host import fixedpoint as fp
 from host.budget import OpCounts
 from host.vision import dark_blobs as db
-from host.vision.grey import to_grey
 
 L_MM = 109  # 000 §IV: physical outer diameter of the dual outer rings
 F_PX = 611  # 000 §IV
@@ -247,12 +246,7 @@ def _measure(grey: np.ndarray, found, f_px: int, u0_px: int, v0_px: int
 def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
                          v0_px: int = V0_PX) -> tuple[RadialSymbol | None, OpCounts]:
     """Find the radial symbol; ``(None, ops)`` when no closed ring is seen (never a guess)."""
-    db.check_rgb(rgb, "detect_radial_symbol")
-    grey, ops = to_grey(rgb)
-    mask, _, o = db.dark_mask(grey)
-    ops += o
-    n_lab, labels, stats, o = db.components(mask)
-    ops += o
+    grey, mask, n_lab, labels, stats, ops = db.dark_components(rgb, "detect_radial_symbol")
     st = stats[1:]
     x, y, w, h, area = st[:, 0], st[:, 1], st[:, 2], st[:, 3], st[:, 4]
     # not solid (a ring's box is at most ~55 % dark even when everything inside merges) and

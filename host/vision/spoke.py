@@ -28,7 +28,6 @@ from host import fixedpoint as fp
 from host.budget import OpCounts
 from host.vision import dark_blobs as db
 from host.vision.dual_plus import Plus, plus_candidates
-from host.vision.grey import to_grey
 
 K_S = 5  # 000 §IV: central points per spoke
 W_MIN_PX, W_MAX_PX = 20, 40  # 000 §IV
@@ -203,12 +202,7 @@ def _template(grey: np.ndarray, dark: np.ndarray, p: Plus, slope_q12: int | None
 
 def detect_spoke(rgb: np.ndarray) -> tuple[Spoke | None, OpCounts]:
     """Measure the spoke of the "+" nearest the image centre; ``(None, ops)`` if none is seen."""
-    db.check_rgb(rgb, "detect_spoke")
-    grey, ops = to_grey(rgb)
-    mask, _, o = db.dark_mask(grey)
-    ops += o
-    _, labels, stats, o = db.components(mask)
-    ops += o
+    grey, mask, _, labels, stats, ops = db.dark_components(rgb, "detect_spoke")
     plus, o = plus_candidates(grey, labels, stats)
     ops += o
     if not plus:

@@ -58,7 +58,9 @@ def jsonable(obj: Any) -> Any:
         return {f.name: jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
     if isinstance(obj, dict):
         return {str(k): jsonable(v) for k, v in obj.items()}
-    if isinstance(obj, list | tuple | set | frozenset):
+    if isinstance(obj, set | frozenset):  # sorted: set order of strings varies per process
+        return sorted((jsonable(v) for v in obj), key=repr)
+    if isinstance(obj, list | tuple):
         return [jsonable(v) for v in obj]
     if hasattr(obj, "tolist"):  # numpy arrays and scalars
         return jsonable(obj.tolist())

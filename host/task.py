@@ -61,7 +61,7 @@ class TaskParams:
 
     timeouts_us: dict = field(default_factory=lambda: dict(DEFAULT_TIMEOUTS_US))
     mount_forward_mm: int = 100  # waist axis ahead of the wheel axle (mcu_sim/world/arm.py)
-    h_shoulder_mm: int = 200  # 000, 002; 001: 108
+    h_shoulder_mm: int = 200  # 000; 001: 108; 002: 50 (mcu_sim/world/arm.py ARM_BY_METHOD)
     object_top_mm: int = 100  # object top above the ground (000 card; 002 cylinder 120)
     grasp_height_mm: int = 80  # grasp point above the ground
     hover_mm: int = 110  # rough grasp: camera this far above the object top (000)
@@ -79,6 +79,8 @@ class TaskParams:
     max_lost: int = 5
     turn_wheel_mmps: int = 80
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
+    sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
+    sonar_offset_mm: int = 170  # 001: sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)
     replan_shift_mm: int = 150  # 000: replan when the object estimate moved this far
     max_plan_attempts: int = 3
     direct_max_mm: int = 1200  # no feasible curve after all attempts: ADJUST if this close
@@ -110,9 +112,11 @@ class TaskParams:
             base = replace(base, h_shoulder_mm=108, grasp_r_mm=130, hover_mm=90,
                            blind_finish_mm=250, max_plan_attempts=6)
         elif method == "002":
-            # 150 mm: the 0.17 m footprint reaches 70 mm ahead of the waist, plus the cylinder's
-            # 25 mm radius and margin
-            base = replace(base, object_top_mm=120, grasp_height_mm=100, grasp_r_mm=150)
+            # the level gripper of 002 (eq. (4)) with theta2 <= 0 reaches the grasp point 50 mm
+            # above the low shoulder only 230..275 mm ahead of the waist (pitch 0..-0.28 rad):
+            # stop the base 255 +- 15 mm short and come in from 40 mm short of the axis
+            base = replace(base, h_shoulder_mm=50, object_top_mm=120, grasp_height_mm=100,
+                           grasp_r_mm=255, grasp_r_tol_mm=15, pregrasp_back_mm=40)
         overrides = dict(overrides or {})
         known = {f.name: f for f in fields(cls)}
         for key, value in list(overrides.items()):

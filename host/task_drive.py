@@ -109,6 +109,17 @@ def _follower(curve, now_us: int, v_limit_mmps: int) -> tuple[PathFollower, OpCo
     return PathFollower(traj, now_us, v_limit_mmps), traj.ops
 
 
+def planner_params_001(task_params) -> Any:
+    """001's planner parameters for the task: ``task_params.planner`` (Params001 fields) over a
+    sonar ring whose sensors sit ``sonar_offset_mm`` from the centre (the 0.17 m footprint
+    circle): ranges are measured from there, η of eq. (15) is taken from the centre."""
+    from host.planning.bezier001 import Params001
+    from host.planning.sonar_regions import SonarConfig
+
+    sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0)
+    return Params001(**{"sonar": sonar, **task_params.planner})
+
+
 def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
               obj_xy_mm: tuple[int, int], sonar_mm: tuple, params=None):
     """001's first plan through host.planning.replan.Replanner (which then watches the sonars):

@@ -73,8 +73,10 @@ class GraspStates(TaskBase):
         self.precise_steps = 0
         self.phase_us = now
         if self.method == "002":
+            # the pitch is chosen again (level first, eq. (4) of 002): the pre-grasp point
+            # may only be reachable tilted, the axis often level
             target = self._object_target_q4(inp, self.p.grasp_height_mm)
-            pose = self.grasp_ik(target, self.grasp_alpha)
+            pose = self.grasp_ik(target)
             if isinstance(pose, kinematics.Unreachable):
                 self.fail(now, f"precise grasp IK: {pose.reason}")
                 return

@@ -17,6 +17,7 @@ from host.task_drive import (
     make_fuzzy,
     make_pose,
     plan_follower,
+    planner_params_001,
     start_001,
     turn_in_place,
     update_001,
@@ -153,7 +154,6 @@ class TaskStates(GraspStates):
 
     def _plan(self, now: int, inp) -> None:
         from host.planning.bezier000 import Params000
-        from host.planning.bezier001 import Params001
         if self.method == "001" and self.replanner is not None and self.obj == self.plan_obj:
             # same object: the replanner keeps its remembered regions and slows down (replan.py)
             dec, follower, ops = update_001(self.replanner, now, inp.x_mm, inp.y_mm,
@@ -164,7 +164,7 @@ class TaskStates(GraspStates):
         elif self.method == "001":
             self.replanner, follower, ops, detail = start_001(
                 now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, self.obj, inp.sonar_mm,
-                Params001(**self.p.planner))
+                planner_params_001(self.p))
         else:
             pp = Params000(**{"standoff_m": self.p.approach_standoff_mm / 1000, **self.p.planner})
             follower, ops, detail = plan_follower(self.method, now, inp.x_mm, inp.y_mm,
@@ -229,6 +229,10 @@ class TaskStates(GraspStates):
                 self.wheels = (0, 0)
                 return
         elif self.follower is None or moved:
+            if (self.method == "001" and self.replanner is None
+                    and now - self.entered_us < self.p.sonar_sweep_us):
+                self.wheels = (0, 0)  # 001: the first plan waits for one full sonar sweep
+                return
             if self.follower is None and self.method == "001" and self.replanner is not None and (
                     now - self.plan_us < 500_000 or abs(inp.v_mmps) > 30):
                 self.wheels = (0, 0)  # 001: stop first, then replan from standstill

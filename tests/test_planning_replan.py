@@ -46,7 +46,7 @@ def test_obstacle_on_the_path_triggers_a_replan_from_the_present_state():
     for reg in dec.plan.extra["regions"]:
         assert not reg.contains(s.x[1:], s.y[1:]).any()
     assert 0 < dec.ops.time_us() <= 100_000
-    # later, the obstacle out of view: the remembered region does not block the new path
+    # later, the sonars see that place clear: the remembered region is forgotten, no block
     again = rp.update(3_500_000, *state_on(new, 0.5), CLEAR)
     assert not again.blocked and not again.replanned and again.ops.float_ops > 0
 
@@ -91,3 +91,16 @@ def test_no_path_makes_the_next_plan_slower():
     assert dec.replanned and dec.curve is not None
     assert dec.curve.duration_s == math.hypot(*target) / 0.1  # t3 = dist / v0 (eq. (7))
     assert len(rp.memory) == len(set(rp.memory))  # the same echoes are remembered once
+
+
+def test_remembered_regions_are_forgotten_once_the_sonars_see_their_place_again():
+    """A region stays in memory only while its place is out of the sonars' view."""
+    rp = Replanner((4.0, 1.0))
+    rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), [2500, 2500, 1500, 2500, 2500])
+    assert len(rp.memory) == 1  # 1.5 m ahead, the S_3-only sub-region
+    # turned away by pi: the place is behind the ring's span, so it is kept
+    assert rp.forget_seen((0.0, 0.0), math.pi) == 0 and len(rp.memory) == 1
+    # farther than D_e: kept
+    assert rp.forget_seen((-1.5, 0.0), 0.0) == 0 and len(rp.memory) == 1
+    # facing it within D_e: the fresh reading describes that place now
+    assert rp.forget_seen((0.5, 0.0), 0.0) == 1 and len(rp.memory) == 0

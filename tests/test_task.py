@@ -270,13 +270,15 @@ def test_001_with_a_given_object_position_plans_at_once():
     out = step(task, 0, sonar_mm=(2500,) * 5)
     assert out.state == "APPROACH" and "given" in out.events[0].why
     out = step(task, 20_000, sonar_mm=(2500,) * 5)
+    assert "plan" not in out.detail and out.wheels_mmps == (0, 0)  # one sonar sweep first
+    out = step(task, 20_000 + task.p.sonar_sweep_us, sonar_mm=(2500,) * 5)
     assert out.detail["plan"]["planner"] == "001" and out.wheels_mmps != (0, 0)
     with pytest.raises(ValueError, match="object_xy_mm"):
         Task("001", {"object_xy_mm": [1.5, 0.3]})
 
 
 def test_001_replans_when_the_sonar_sees_the_path_blocked():
-    task = Task("001", {"object_xy_mm": [2500, 0]})
+    task = Task("001", {"object_xy_mm": [2500, 0], "sonar_sweep_us": 0})
     clear = (2500,) * 5
     step(task, 0, sonar_mm=clear)
     out = step(task, 20_000, sonar_mm=clear)

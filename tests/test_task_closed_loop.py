@@ -8,6 +8,7 @@ mcu_sim/world/arm.py (15 mm horizontally, 20 mm vertically, gripper closed).
 """
 
 import math
+import sys
 
 import pytest
 
@@ -190,19 +191,32 @@ def test_001_full_sequence_reaches_done():
 
 
 def test_002_horizontal_grasp_below_shoulder_fails_with_reason():
-    """The red cylinder's 0.10 m grasp point needs theta2 > 0 with a level gripper."""
-    task = Task("002")
+    """With a 0.20 m shoulder the cylinder's 0.10 m grasp point needs theta2 > 0 when level."""
+    task = Task("002", {"h_shoulder_mm": 200})
     world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12)
     events = run(task, world)
     path = [e.to_state for e in events]
     assert path[:2] == ["APPROACH", "ADJUST"]
-    assert task.state == "FAILED" and "rough grasp IK" in task.failure
-    assert "theta" in task.failure
+    assert task.state == "FAILED" and "IK" in task.failure
+    assert "theta" in task.failure or "reach" in task.failure
+
+
+def test_002_grasps_the_cylinder_with_the_low_shoulder(monkeypatch):
+    """002's arm on its 0.05 m mount (TaskParams.for_method, mcu_sim/world/arm.py) grasps the
+    red cylinder at 0.10 m level or tilted within the world's 0.3 rad."""
+    monkeypatch.setattr(sys.modules[__name__], "H_SHOULDER_M", 0.05)
+    task = Task("002")
+    assert task.p.h_shoulder_mm == 50
+    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12)
+    events = run(task, world)
+    assert task.state == "DONE" and world.held, (task.failure, [e.why for e in events])
+    assert abs(sum(world.joints[2:5])) <= 300  # gripper pitch at the grasp
 
 
 def test_002_full_sequence_with_a_reachable_grasp_height():
     """A level gripper reaches only points well above the shoulder with theta2 <= 0."""
-    task = Task("002", {"grasp_height_mm": 300, "object_top_mm": 320})
+    task = Task("002", {"grasp_height_mm": 300, "object_top_mm": 320, "h_shoulder_mm": 200,
+                        "grasp_r_mm": 150, "grasp_r_tol_mm": 20, "pregrasp_back_mm": 50})
     world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.30, top_h=0.32)
     events = run(task, world)
     assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
@@ -226,9 +240,9 @@ def _campaign(method, n, seed):
             H_SHOULDER_M = 0.108
             task, world = Task("001"), World(obj, lengths=(160.0, 160.0, 200.0), pose=(0, 0, h))
         elif method == "002":
-            H_SHOULDER_M = 0.20
-            task = Task("002", {"grasp_height_mm": 300, "object_top_mm": 320})
-            world = World(obj, lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.30, top_h=0.32,
+            H_SHOULDER_M = 0.05
+            task = Task("002")
+            world = World(obj, lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12,
                           pose=(0, 0, h))
         else:
             H_SHOULDER_M = 0.20

@@ -12,10 +12,19 @@ When no feasible path exists the decision says so and the caller stops the platf
 update plans again (``curve`` None counts as blocked) with v0 scaled by the next of
 ``slow_factors`` (ours, not 001: with a_t = v²κ <= Amax a slower curve may bend where a fast one
 cannot); each call makes at most one plan, so it stays within one plan's ARM9 budget.
+
+Memory (ours; 001 Fig. 5 only says path 2 must still avoid region 1 that the sonars no longer
+see): a remembered region is kept only while its place is out of the sonars' present view. Once
+the middle of its echo arc is again within D_e and inside the ring's angular span (S_1's right
+edge to S_k_s's left edge), the fresh reading describes that place and the old region is
+forgotten (:meth:`Replanner.forget_seen`). Without this the memory fills with the wide sectors of
+far-off first echoes (a sector A_g/2 wide about its bisector is ±0.8 m across at 2.3 m) taken
+from poses along the way, and they box in every replan long after better readings exist.
 """
 
 from __future__ import annotations
 
+import math
 from collections import deque
 from dataclasses import dataclass, replace
 
@@ -38,6 +47,9 @@ class ReplanDecision:
     plan: Plan | None  # the new plan when one was made
     reason: str
     ops: OpCounts  # ARM9 cost of the check (and of the plan when one was made)
+
+
+FLOPS_FORGET = 14  # per remembered region: arc middle, offset, distance, relative bearing
 
 
 class Replanner:
@@ -87,6 +99,24 @@ class Replanner:
         self.level = 0
         return self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
 
+    def forget_seen(self, position_xy_m, heading_rad: float) -> int:
+        """Forget remembered regions whose place the sonars see again now; how many."""
+        cfg = self.params.sonar
+        px, py = (float(v) for v in position_xy_m)
+        span = math.pi / 2 + cfg.a_g_rad / 2  # S_1's right edge .. S_k_s's left edge
+        keep = []
+        for reg in self.memory:
+            mid = 0.5 * (reg.lo_rad + reg.hi_rad)
+            ax = reg.ox + reg.eta_m * math.cos(mid) - px
+            ay = reg.oy + reg.eta_m * math.sin(mid) - py
+            rel = (math.atan2(ay, ax) - heading_rad + math.pi) % (2 * math.pi) - math.pi
+            if not (math.hypot(ax, ay) < cfg.d_e_m and abs(rel) <= span):
+                keep.append(reg)
+        dropped = len(self.memory) - len(keep)
+        if dropped:
+            self.memory = deque(keep, maxlen=self.memory.maxlen)
+        return dropped
+
     def remaining_blocked(self, t_us: int,
                           regions: list[InfeasibleRegion]) -> tuple[bool, OpCounts]:
         """Does the rest of the present curve (after now) enter any of ``regions``?"""
@@ -106,10 +136,13 @@ class Replanner:
     def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
                sonar_mm) -> ReplanDecision:
         """Check the present path against a fresh reading; replan when it is blocked."""
+        n_mem = len(self.memory)
+        self.forget_seen(position_xy_m, heading_rad)
         scan = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
         fresh = [r for r in scan.regions
                  if not is_object_echo(r, self.target, self.params.object_echo_tol_m)]
         blocked, ops = self.remaining_blocked(t_us, fresh + list(self.memory))
+        ops = ops + OpCounts(float_ops=FLOPS_FORGET * n_mem, luts=3 * n_mem)
         if self.curve is not None and not blocked:
             return ReplanDecision(False, False, self.curve, None, "path clear", ops)
         plan = self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)

@@ -14,7 +14,7 @@ X_r right, Z_r up. The camera (and the gripper fingertips, 0 mm beyond it) is at
 
 Mounting (not given by the papers, chosen so the gripper reaches an object in front of the
 0.17 m footprint): the waist axis is ``ARM_MOUNT_FORWARD_M`` = 0.10 m ahead of the wheel-axle
-midpoint; the shoulder is 0.20 m above the ground (000, 002) or h_r = 0.108 m (001).
+midpoint; the shoulder is 0.20 m above the ground (000), h_r = 0.108 m (001) or 0.05 m (002).
 
 Camera axes (OpenCV: x right, y down, z optical axis): z = direction of l3; with the roll at 0,
 x is the arm's horizontal right direction (X_r turned by the waist) and y = z cross x. The wrist
@@ -59,7 +59,10 @@ class ArmGeometry:
 ARM_BY_METHOD: dict[str, ArmGeometry] = {
     "000": ArmGeometry(0.0955, 0.089, 0.097, 0.20),
     "001": ArmGeometry(0.16, 0.16, 0.20, 0.108),
-    "002": ArmGeometry(0.097, 0.089, 0.0955, 0.20),
+    # 002's compact robot carries its arm low (0.05 m): with theta2 <= 0 a level gripper (eq. (4)
+    # of 002) is never below the shoulder and only near full stretch at its height, so the
+    # shoulder sits 50 mm under the cylinder's 0.10 m grasp point (see docs/conventions.md)
+    "002": ArmGeometry(0.097, 0.089, 0.0955, 0.05),
 }
 
 GRASP_ALPHA_BY_METHOD: dict[str, float] = {"000": -math.pi / 2, "001": -math.pi / 2, "002": 0.0}

@@ -1,0 +1,33 @@
+"""Every shipped scenario grasps in the closed loop (in process), through the entry point
+`mobigrasp run` uses (tools.run_job.execute): success, object held, no collision, and the closed
+gripper within 15 mm of the object's grasp point (issue 8's acceptance, over the pty, is the
+system test's business; the same seed gives the same trace over either transport)."""
+
+from __future__ import annotations
+
+import pytest
+
+from tools.run_job import RunOptions, execute, shipped_scenarios
+
+SHIPPED = sorted(p.stem for p in shipped_scenarios())
+
+
+def test_all_six_scenarios_are_shipped():
+    assert {"paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
+            "paper002-marker", "paper002-cylinder-moving"} <= set(SHIPPED)
+
+
+@pytest.mark.slow
+@pytest.mark.timeout(900)
+@pytest.mark.parametrize("name", SHIPPED)
+def test_shipped_scenario_grasps_in_process(name, tmp_path):
+    summary, code = execute(RunOptions(scenario=name, transport="inproc", out=tmp_path / name,
+                                       progress=False, plots=False))
+    brief = {k: summary.get(k) for k in ("end_reason", "task_state", "collisions",
+                                         "final_error_mm", "replans", "sim_time_s")}
+    assert code == 0 and summary["success"], brief
+    assert summary["grasped"], brief
+    assert summary["collisions"] == 0, brief
+    assert summary["final_error_mm"] is not None and summary["final_error_mm"] <= 15.0, brief
+    if name == "paper001-sim2":
+        assert summary["replans"] >= 1, brief  # sim2 is the cluttered one: the path is updated

@@ -110,7 +110,10 @@ class TaskBase:
         if self.obj is None:
             return
         x, y = self.obj_platform(inp)
-        z = ((self.p.object_top_mm if top else self.p.grasp_height_mm) - self.p.h_shoulder_mm) * 16
+        look_mm = self.p.object_top_mm if top else self.p.grasp_height_mm
+        if self.method == "002" and top:
+            look_mm //= 2  # the two rings sit at mid-height: keep them, not the top, in view
+        z = (look_mm - self.p.h_shoulder_mm) * 16
         pp = PostureParams(**{"max_step_mrad": self.p.posture_step_mrad, **self.p.posture})
         adj = adjust_posture(self.geom, tuple(self.arm[2:6]), (x, y, z), pp)
         self.arm[2:6] = [adj.theta2_mrad, adj.theta3_mrad, adj.theta4_mrad, adj.theta5_mrad]

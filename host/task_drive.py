@@ -112,11 +112,16 @@ def _follower(curve, now_us: int, v_limit_mmps: int) -> tuple[PathFollower, OpCo
 def planner_params_001(task_params) -> Any:
     """001's planner parameters for the task: ``task_params.planner`` (Params001 fields) over a
     sonar ring whose sensors sit ``sonar_offset_mm`` from the centre (the 0.17 m footprint
-    circle): ranges are measured from there, η of eq. (15) is taken from the centre."""
+    circle): ranges are measured from there, η of eq. (15) is taken from the centre. Two
+    neighbours reporting the same echo (within ``sonar_shared_echo_mm``) see it in their overlap
+    only: eq. (15) would also give each one's own sub-region that echo, and a wall of sectors
+    ±0.8 m wide at 2.4 m then blocks every path past an obstacle that is well off it."""
     from host.planning.bezier001 import Params001
     from host.planning.sonar_regions import SonarConfig
 
-    sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0)
+    tol = task_params.sonar_shared_echo_mm
+    sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
+                        shared_echo_tol_m=tol / 1000.0 if tol > 0 else None)
     return Params001(**{"sonar": sonar, **task_params.planner})
 
 

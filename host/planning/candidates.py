@@ -11,7 +11,7 @@ have evaluated.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -140,8 +140,9 @@ def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
         return OpCounts()
     samples = int(np.minimum(first_bad + 1, n_samples).sum())
     setup = sample_ops(0, **kw)
-    per_sample = OpCounts(**{k: v - getattr(setup, k)
-                             for k, v in vars(sample_ops(1, **kw)).items()})
+    one = sample_ops(1, **kw)
+    per_sample = OpCounts(**{f.name: getattr(one, f.name) - getattr(setup, f.name)
+                             for f in fields(OpCounts)})  # fields(): OpCounts may use slots
     return per_sample.scaled(samples) + setup.scaled(first_bad.size)
 
 

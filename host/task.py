@@ -81,7 +81,9 @@ class TaskParams:
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
     sonar_offset_mm: int = 170  # 001: sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)
-    sonar_shared_echo_mm: int = 50  # 001: same echo in two neighbours -> their overlap only
+    # 001: two neighbours' echoes this close are one echo in their overlap; their mounts on the
+    # 0.17 m circle are 2 x 0.17 sin(pi/8) = 130 mm apart, so one point's ranges differ that much
+    sonar_shared_echo_mm: int = 130
     replan_shift_mm: int = 150  # 000: replan when the object estimate moved this far
     max_plan_attempts: int = 3
     direct_max_mm: int = 1200  # no feasible curve after all attempts: ADJUST if this close

@@ -223,6 +223,8 @@ class TaskStates(GraspStates):
                 self.note(replan=dec.reason, plan={
                     "planner": "001", "reason": dec.reason,
                     "best_ctrl": [list(map(float, row)) for row in dec.curve.ctrl]})
+            elif dec.blocked and dec.curve is not None:
+                self.note(replan=dec.reason)  # blocked far ahead, no update yet: path kept
             elif dec.curve is None:
                 self.follower = None  # nothing feasible: stop; the next step plans afresh
                 self.note(replan=dec.reason)

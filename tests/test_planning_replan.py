@@ -104,3 +104,19 @@ def test_remembered_regions_are_forgotten_once_the_sonars_see_their_place_again(
     assert rp.forget_seen((-1.5, 0.0), 0.0) == 0 and len(rp.memory) == 1
     # facing it within D_e: the fresh reading describes that place now
     assert rp.forget_seen((0.5, 0.0), 0.0) == 1 and len(rp.memory) == 0
+
+
+def test_blocked_far_ahead_without_an_update_keeps_the_path_and_near_stops():
+    """No feasible update: the path is kept while the block is beyond keep_going_m."""
+    from dataclasses import replace
+
+    rp = Replanner((4.0, 0.0), keep_going_m=1.2)
+    rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)
+    old = rp.curve
+    rp.params = replace(rp.params, a_max=1e-6)  # no curve can bend now: every update fails
+    pos, hd, vel = state_on(old, 1.0)
+    far = rp.update(1_000_000, pos, hd, vel, [2500, 2500, 2000, 2500, 2500])
+    assert far.blocked and not far.replanned and far.curve is old and rp.curve is old
+    assert "path kept" in far.reason and rp.start_us == 0  # the old timing goes on
+    near = rp.update(1_300_000, *state_on(old, 1.3), [2500, 2500, 700, 2500, 2500])
+    assert near.blocked and near.curve is None and rp.curve is None

@@ -56,7 +56,8 @@ class Replanner:
     """Keeps the present 001 curve, checks it against fresh sonar readings, replans."""
 
     def __init__(self, target_xy_m, params: Params001 | None = None, memory: int = 16,
-                 check_samples: int = 32, slow_factors: tuple[float, ...] = (1.0, 0.5)) -> None:
+                 check_samples: int = 32, slow_factors: tuple[float, ...] = (1.0, 0.5),
+                 keep_going_m: float = 1.2) -> None:
         self.target = np.asarray(target_xy_m, dtype=np.float64).reshape(2)
         self.params = params if params is not None else Params001()
         self.memory: deque[InfeasibleRegion] = deque(maxlen=int(memory))
@@ -68,6 +69,8 @@ class Replanner:
         self.curve: Curve | None = None
         self.start_us = 0
         self.replans = 0
+        self.keep_going_m = float(keep_going_m)
+        self._old_start_us = 0
 
     @property
     def v0_mps(self) -> float:
@@ -90,6 +93,7 @@ class Replanner:
             self.level = min(self.level + 1, len(self.slow_factors) - 1)
         else:
             self.level = max(self.level - 1, 0)
+        self._old_start_us = self.start_us
         self.curve = plan.best
         self.start_us = int(t_us)
         return plan
@@ -120,18 +124,29 @@ class Replanner:
     def remaining_blocked(self, t_us: int,
                           regions: list[InfeasibleRegion]) -> tuple[bool, OpCounts]:
         """Does the rest of the present curve (after now) enter any of ``regions``?"""
+        where, ops = self.first_blocked(t_us, regions)
+        return where is not None, ops
+
+    def first_blocked(self, t_us: int, regions: list[InfeasibleRegion]
+                      ) -> tuple[tuple[float, float] | None, OpCounts]:
+        """The first point of the rest of the present curve inside any of ``regions`` (None:
+        clear) and the ARM9 cost of the test."""
         if self.curve is None or not regions:
-            return False, OpCounts()
+            return None, OpCounts()
         tau0 = self.curve.tau_at_time(self.curve.ctrl[0][2] + (t_us - self.start_us) / 1e6)
         tau = np.linspace(tau0, 1.0, self.check_samples)[1:]
         s = evaluate(self.curve.array, tau)
         n = tau.size
         ops = OpCounts(float_ops=n * (FLOPS_POSITION + FLOPS_PER_REGION * len(regions)) + 40 * 12,
                        float_divs=0)
+        first = n
         for reg in regions:
-            if reg.contains(s.x, s.y).any():
-                return True, ops
-        return False, ops
+            hit = reg.contains(s.x, s.y)
+            if hit.any():
+                first = min(first, int(np.argmax(hit)))
+        if first == n:
+            return None, ops
+        return (float(s.x[first]), float(s.y[first])), ops
 
     def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
                sonar_mm) -> ReplanDecision:
@@ -141,13 +156,25 @@ class Replanner:
         scan = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
         fresh = [r for r in scan.regions
                  if not is_object_echo(r, self.target, self.params.object_echo_tol_m)]
-        blocked, ops = self.remaining_blocked(t_us, fresh + list(self.memory))
+        where, ops = self.first_blocked(t_us, fresh + list(self.memory))
+        blocked = where is not None
         ops = ops + OpCounts(float_ops=FLOPS_FORGET * n_mem, luts=3 * n_mem)
         if self.curve is not None and not blocked:
             return ReplanDecision(False, False, self.curve, None, "path clear", ops)
+        old = self.curve
         plan = self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
         self.replans += 1
         ops = ops + plan.ops
+        ahead = None if where is None else math.hypot(where[0] - float(position_xy_m[0]),
+                                                      where[1] - float(position_xy_m[1]))
+        if plan.best is None and old is not None and ahead > self.keep_going_m:
+            # ours: no update exists yet, but the block is far: keep the path and look again at
+            # the next reading (closer echoes give narrower sectors, a far one often leaves the
+            # centre cone); stop only when the block comes within keep_going_m
+            self.curve = old
+            self.start_us = self._old_start_us
+            return ReplanDecision(True, False, old, plan, f"blocked {ahead:.2f} m ahead, no "
+                                  f"update yet ({plan.reason}): path kept", ops)
         why = "blocked" if blocked else "no path"
         if plan.best is None:
             return ReplanDecision(blocked, False, None, plan, f"{why}: {plan.reason}", ops)

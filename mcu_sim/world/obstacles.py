@@ -51,8 +51,8 @@ TARGET_GEOMETRY: dict[str, TargetGeometry] = {
     # 002 guidance board on a thin post, graspable like a post.
     "double-cross": TargetGeometry(0.020, 0.10, 0.040, 0.08, 0.15),
     # 002: red cylinder (radius 25 mm, 0.12 m tall, rings about 0.06 m), grasped horizontally
-    # (alpha = 0). With a 0.20 m shoulder and theta4 >= 0 a horizontal fingertip cannot go below
-    # about 0.111 m, so the grasp point is 0.10 m (inside the 20 mm tolerance).
+    # (alpha = 0) at 0.10 m, 50 mm above 002's low shoulder (0.05 m, arm.py ARM_BY_METHOD): with
+    # theta2 <= 0 a level fingertip never goes below the shoulder (docs/conventions.md).
     "red-cylinder": TargetGeometry(0.025, 0.12, 0.050, 0.10, 0.10),
 }
 

@@ -298,3 +298,16 @@ def test_001_replans_when_the_sonar_sees_the_path_blocked():
         t += 20_000
     assert seen and seen[0].startswith("blocked")
     assert out.ops.float_ops > 0  # the check and the plan are charged
+
+
+def test_001_planner_gets_the_sonar_mount_and_shared_echo_tolerance():
+    from host.task_drive import planner_params_001
+
+    p = TaskParams.for_method("001", {"sonar_offset_mm": 170, "sonar_shared_echo_mm": 130,
+                                      "planner": {"v0": 0.15}})
+    pp = planner_params_001(p)
+    assert pp.sonar.sensor_offset_m == pytest.approx(0.17)
+    assert pp.sonar.shared_echo_tol_m == pytest.approx(0.13)
+    assert pp.v0 == pytest.approx(0.15)  # the scenario's paper parameters still apply
+    off = planner_params_001(TaskParams.for_method("001", {"sonar_shared_echo_mm": 0}))
+    assert off.sonar.shared_echo_tol_m is None  # 0: eq. (15) as written

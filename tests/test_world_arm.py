@@ -174,3 +174,17 @@ def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
         w.set_servo_pulse_us(ch, pulse_for_angle(ch, GRASP_Q[ch]))
     w.step_to(2_000_000)
     assert not w.gripper_grasped()
+
+
+@pytest.mark.parametrize("method", ["000", "001", "002"])
+def test_world_and_host_agree_on_the_mount_per_method(method):
+    """docs/conventions.md (Base geometry): the world's shoulder height and waist offset are the
+    host's task parameters, per method (002's arm sits low: 0.05 m)."""
+    from host.task import TaskParams
+
+    geom, p = ARM_BY_METHOD[method], TaskParams.for_method(method)
+    assert round(geom.h_shoulder_m * 1000) == p.h_shoulder_mm
+    assert round(geom.mount_forward_m * 1000) == p.mount_forward_mm
+    # 002's level grasp point is above its shoulder (theta2 <= 0 cannot reach below it)
+    if method == "002":
+        assert p.grasp_height_mm > p.h_shoulder_mm

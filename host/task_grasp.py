@@ -13,7 +13,8 @@ A mixin of host.task.Task (through host.task_states).  Targets in the platform f
   sideways by r * d_theta5 (20 mm at r = 140 mm for 0.15 rad, more than the grasp tolerance);
   ``precise_align_ch`` = 5 turns the waist as the brief reads 000.  No spoke for
   ``spoke_wait_us`` (or too many steps): go down on the rough position and say so in the trace.
-  002: move in from the pre-grasp point to the axis and close.
+  002: move in from the pre-grasp point to the axis and close; the pitch is chosen again there
+  (level first), since with theta2 <= 0 the pre-grasp point may be reachable only tilted.
 - LIFT: raise by ``lift_mm`` with the same pitch; DONE once settled with the object held.
 """
 

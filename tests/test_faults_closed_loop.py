@@ -52,6 +52,8 @@ def test_host_crash_in_the_loop_stops_wheels_and_is_recorded(tmp_path):
     assert all(d == (0, 0) for t, d in duties if t >= crash_us + 300_000)
     assert faults["host_quanta_skipped"] == 100  # 0.5 s of 5 ms quanta
     assert '"fault":"host_crash"' in trace.read_text()
+    # telemetry at 50 Hz for 0.5 s that no one read, kept off the line (a pty would fill up)
+    assert faults["mcu_bytes_unread_by_host"] > 25 * 30
 
 
 def test_bit_errors_in_the_loop_are_caught_and_retransmitted(tmp_path):
@@ -84,9 +86,14 @@ def test_mcu_reset_happens_at_its_time_and_is_safe(tmp_path):
 
 @pytest.mark.slow
 def test_host_crash_while_driving_stops_the_wheels_in_time(tmp_path):
-    # paper000-exp1 drives its wheels from about 19.3 s (seed 1); crash in the middle of it
-    crash_us = 20_000_000
-    res, _, safety, mcu, duties, _ = _run(tmp_path, FaultPlan(host_crash_at_s=20.0), 21.0)
+    # find when paper000-exp1 drives, then crash the host in the middle of it (same seed: the
+    # run is identical up to the crash)
+    _, _, _, _, duties, _ = _run(tmp_path / "probe", FaultPlan(), 40.0)
+    moving = [t for t, d in duties if d != (0, 0)]
+    assert moving, "the robot never drove in 40 s"
+    crash_us = moving[len(moving) // 2] // 5_000 * 5_000
+    _, _, safety, _, duties, _ = _run(tmp_path / "crash", FaultPlan(host_crash_at_s=crash_us / 1e6),
+                                      crash_us / 1e6 + 1.0)
     assert any(d != (0, 0) for t, d in duties if crash_us - 100_000 <= t <= crash_us)
     assert safety["late_stops"] == 0 and safety["unsafe_actuations"] == 0
     # from the last valid frame before the crash, so at most the watchdog period after it
@@ -112,3 +119,17 @@ def test_host_stall_trips_the_watchdog_and_the_host_resumes(tmp_path):
     assert len(safety["recovery_ms"]) == 1 and safety["recovery_ms"][0] <= 150.0
     assert not mcu.firmware.watchdog_tripped and mcu.firmware.handshake
     assert '"fault":"host_stall"' in trace.read_text()
+
+
+@pytest.mark.slow
+def test_host_crash_over_the_pty_runs_to_the_time_limit(tmp_path):
+    # a crashed host process reads nothing: without the wrapper keeping the MCU's bytes off the
+    # line the pty fills up after a few simulated seconds and the rig gives up
+    from tools.run_job import RunOptions, execute
+
+    summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty",
+                                       out=tmp_path / "run", progress=False, plots=False,
+                                       time_limit_s=30.0, faults=("host_crash_at_s=1",)))
+    assert summary["status"] == "finished" and summary["end_reason"] == "time_limit", summary
+    assert summary["safety"]["unsafe_actuations"] == 0 and summary["safety"]["watchdog_trips"] == 1
+    assert summary["faults"]["mcu_bytes_unread_by_host"] > 50_000

@@ -11,9 +11,10 @@
   stall or burst and from an MCU reset).
 - :class:`FaultedPlant` (``PlantLike``): frames dropped on the CAMIF or noisy.
 - :class:`FaultedHost` (the runner's host object): during ``host_stall`` and after
-  ``host_crash_at_s`` the host program gets no quantum: it reads and writes nothing. The bytes the
-  MCU sent meanwhile stay in its UART buffer and are handed over, with their original arrival
-  times clamped to the resume time, in the first quantum after a stall; frames are lost.
+  ``host_crash_at_s`` the host program gets no quantum: it reads and writes nothing, its frames
+  are lost. The bytes the MCU sent meanwhile are kept off the line by :class:`FaultedMcu`: during
+  a stall they wait in the host's UART buffer and arrive at the stall's end; after a crash they
+  are never read (over a pty nobody would drain them).
 
 Everything is decided by the plan, the run seed and simulated time.
 """
@@ -43,6 +44,7 @@ class FaultedMcu:
         self.monitor = monitor
         self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
         self._recovery_points = faults.recovery_points_us()
+        self.unread_bytes = 0  # MCU bytes a crashed host never read
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
@@ -70,12 +72,22 @@ class FaultedMcu:
         return self.inner.uart_rx(out, u.deliver_us(start)) if out else 0
 
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
-        """MCU bytes that reached the host's UART by now (corrupted, delayed)."""
-        u = self.faults.to_host
+        """MCU bytes that reached the host's UART by now (corrupted, delayed).
+
+        A host that is not running reads nothing: bytes arriving during a stall wait in its
+        UART buffer and are handed over at the stall's end; bytes arriving after a crash are
+        never read (dropped here, so nothing piles up in a pty that no one reads)."""
+        u, f = self.faults.to_host, self.faults
         for t_us, data in self.inner.uart_tx_take():
             out, _, _ = u.apply(data, t_us - _byte_us(len(data), u.baud))
+            arrival = u.deliver_us(t_us)
+            if f.host_crashed(arrival):
+                self.unread_bytes += len(out)
+                continue
+            if f.host_stalled(arrival):
+                arrival = f.host_stall_end_us()
             if out:
-                self._held.append((u.deliver_us(t_us), out))
+                self._held.append((arrival, out))
         now = self.inner.now_us
         ready = [c for c in self._held if c[0] <= now]
         self._held = [c for c in self._held if c[0] > now]
@@ -125,7 +137,6 @@ class FaultedHost:
     def __init__(self, host: Any, faults: RunFaults) -> None:
         self.inner = host
         self.faults = faults
-        self._held: list[tuple[int, int]] = []
         self._silent_reported: set[str] = set()
         self.quanta_skipped = 0
         self._resumed = False  # after a stall: writes dated inside it leave at resume time
@@ -134,8 +145,8 @@ class FaultedHost:
         """Serve the grant, or answer for a host that is not running (no bytes, no events)."""
         f = self.faults
         if f.host_silent(grant.start_us):
+            # FaultedMcu keeps the MCU's bytes off the line meanwhile; the frames are lost
             self.quanta_skipped += 1
-            self._held.extend(grant.uart)
             kind = "host_crash" if f.host_crashed(grant.start_us) else "host_stall"
             events: tuple[dict, ...] = ()
             if kind not in self._silent_reported:
@@ -144,10 +155,6 @@ class FaultedHost:
             return ls.Done(until_us=grant.until_us, events=events)
         if "host_stall" in self._silent_reported:
             self._resumed = True
-        if self._held:
-            held = tuple((max(t, grant.start_us), n) for t, n in self._held)
-            grant = replace(grant, uart=held + tuple(grant.uart))
-            self._held = []
         self._silent_reported.discard("host_stall")
         done = self.inner.exchange(grant)
         if self._resumed and any(t < grant.start_us for t, _ in done.writes):
@@ -192,6 +199,8 @@ class FaultRig:
         if self.mcu is not None:
             self.monitor.set_limit_hits(int(self.mcu.inner.firmware.limit_hits))
         faults = self.faults.stats()
+        if self.mcu is not None:
+            faults["mcu_bytes_unread_by_host"] = self.mcu.unread_bytes
         if self.host is not None:
             faults["host_quanta_skipped"] = self.host.quanta_skipped
         return faults, self.monitor.summary()

@@ -150,6 +150,17 @@ def _clip_near(pc: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
+def _face_colours(it: Item, light: np.ndarray) -> list[tuple[int, ...]]:
+    """Shaded colour of every face of ``it`` (a fixed light, so computed once per item)."""
+    if it.colours is None:
+        out = []
+        for _, normal, rgb in it.faces:
+            shade = 0.62 + 0.38 * max(0.0, float(np.dot(normal, light)))
+            out.append(tuple(int(round(min(255.0, ch * shade))) for ch in rgb))
+        it.colours = out
+    return it.colours
+
+
 class _Painter:
     """Draws into one image for one camera pose."""
 
@@ -167,7 +178,8 @@ class _Painter:
 
     def item_faces(self, it: Item) -> None:
         """The solid convex faces of one item, culled when seen from behind, shaded by a fixed
-        light. Vertices are moved to the camera frame in one product."""
+        light. Vertices are moved to the camera frame and rounded to 1/16 px in one product
+        each; only faces that cross the near plane are clipped and rounded on their own."""
         if it.verts is None:
             return
         visible = np.einsum("ij,ij->i", it.normals, self.c - it.centres) > 0.0
@@ -177,20 +189,22 @@ class _Painter:
         z = vc[:, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             uv = vc[:, :2] / z[:, None] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
-        for i in np.flatnonzero(visible):
-            a, b = it.starts[i], it.starts[i + 1]
-            if z[a:b].min() >= Z_NEAR_M:
-                fuv = uv[a:b]
+            # rows behind the camera turn into garbage here; no face that uses them takes them
+            pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
+        starts = it.starts
+        z_min = np.minimum.reduceat(z, starts[:-1])
+        colours = _face_colours(it, self.light)
+        for i in np.flatnonzero(visible).tolist():
+            a, b = starts[i], starts[i + 1]
+            if z_min[i] >= Z_NEAR_M:
+                pts = pts_all[a:b]
             else:
                 pc = _clip_near(vc[a:b])
                 if len(pc) < 3:
                     continue
                 fuv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
-            _, normal, rgb = it.faces[i]
-            shade = 0.62 + 0.38 * max(0.0, float(np.dot(normal, self.light)))
-            colour = tuple(int(round(min(255.0, ch * shade))) for ch in rgb)
-            pts = np.clip(np.rint(fuv * 16), -(2**26), 2**26).astype(np.int32)
-            cv2.fillConvexPoly(self.img, pts, colour, lineType=cv2.LINE_8, shift=4)
+                pts = np.clip(np.rint(fuv * 16), -(2**26), 2**26).astype(np.int32)
+            cv2.fillConvexPoly(self.img, pts, colours[i], lineType=cv2.LINE_8, shift=4)
 
     def texture(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> None:
         """Warp an RGBA planar texture (plane through origin_w spanned by unit ex_w, ey_w)."""
@@ -254,6 +268,13 @@ class _Painter:
             roi[rim] = mixed.astype(np.uint8)
 
 
+@lru_cache(maxsize=8)
+def _ground_rgb(seed: int) -> np.ndarray:
+    """The floor tile's RGB channels, contiguous: a strided view would be copied by OpenCV on
+    every warp."""
+    return np.ascontiguousarray(mk.ground_texture(seed).levels[0][..., :3])
+
+
 def _draw_ground(p: _Painter, seed: int) -> None:
     """Warp the repeating floor tile over the whole frame, then paint the sky above the horizon.
 
@@ -262,7 +283,7 @@ def _draw_ground(p: _Painter, seed: int) -> None:
     rays within 0.004 rad of the horizon (floor > ~100 m away) are painted as sky.
     """
     tex = mk.ground_texture(seed)
-    src = tex.levels[0][..., :3]
+    src = _ground_rgb(seed)
     t = tex.texel_m
     f, u0, v0 = p.intr.f_px, p.intr.u0_px, p.intr.v0_px
     origin = np.array([round(p.c[0] / (2 * tex.half_m)) * 2 * tex.half_m,

@@ -140,6 +140,7 @@ class Item:
     starts: np.ndarray | None = None
     normals: np.ndarray | None = None
     centres: np.ndarray | None = None
+    colours: list | None = None  # shaded face colours, filled by the renderer on first use
 
     def pack(self) -> Item:
         """Stack face vertices, normals and centres so a pose is applied in one product."""

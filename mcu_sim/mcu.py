@@ -169,6 +169,13 @@ class Mcu:
         """Latest complete pulse width on channel ``ch`` in µs (a multiple of 0.5)."""
         return self.servo_pulse_ns(ch) / 1000.0
 
+    def servo_pulses_us(self) -> tuple[float, ...]:
+        """:meth:`servo_pulse_us` of channels 0..5 in one call (the rig reads all six per
+        coupling step)."""
+        w1, w3 = self.board.timer1.last_width_ns, self.board.timer3.last_width_ns
+        return (w1[0] / 1000.0, w1[1] / 1000.0, w1[2] / 1000.0,
+                w3[0] / 1000.0, w3[1] / 1000.0, w3[2] / 1000.0)
+
     def subscribe_servo(self, ch: int, callback: Callable[[int, int], None]) -> Callable[[], None]:
         """Call ``callback(t_us, width_ns)`` at every falling edge of channel ``ch``."""
         return self.servo_port(ch).subscribe(callback)

@@ -115,6 +115,8 @@ class Rig:
         self.stats = {"quanta": 0, "uart_to_host_bytes": 0, "uart_to_mcu_bytes": 0,
                       "frames_captured": 0, "frames_skipped": 0}
         self.camera_on = True
+        # a class of its own that has it (a delegating wrapper falls back to one per channel)
+        self._all_pulses = callable(getattr(type(mcu), "servo_pulses_us", None))
         mcu.set_sonar_provider(self._sonar)
 
     def _sonar(self, index: int) -> float | None:
@@ -204,8 +206,10 @@ class Rig:
         mcu, plant = self.mcu, self.plant
         mcu.advance_to(t_us)
         pulses = self._pulses
-        for ch in range(6):
-            pulse = mcu.servo_pulse_us(ch)
+        # one call for all six where the MCU's class offers it
+        now = (mcu.servo_pulses_us() if self._all_pulses
+               else [mcu.servo_pulse_us(ch) for ch in range(6)])
+        for ch, pulse in enumerate(now):
             if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
                 plant.set_servo_pulse_us(ch, pulse)
                 pulses[ch] = pulse

@@ -142,6 +142,10 @@ class Message:
             value = getattr(self, f.name)
             lo, hi = self._range(f)
             if f.count == 1:
+                # fast path for the common case (a plain int in range); the where-string of
+                # the error is only built when a value needs the full check
+                if type(value) is int and lo <= value <= hi:
+                    continue
                 v = check_int(f"{name}.{f.name}", value, lo, hi)
             else:
                 if isinstance(value, str | bytes) or not hasattr(value, "__len__"):
@@ -152,6 +156,9 @@ class Message:
                     raise FieldRangeError(
                         f"{name}.{f.name} must have exactly {f.count} values, got {len(value)}"
                     )
+                if type(value) is tuple and all(type(x) is int and lo <= x <= hi
+                                                 for x in value):
+                    continue
                 v = tuple(
                     check_int(f"{name}.{f.name}[{i}]", x, lo, hi) for i, x in enumerate(value)
                 )

@@ -28,6 +28,7 @@ from mcu_sim.world.camera_scene import Item, Scene, Target, solids_of_scene
 Z_NEAR_M = 0.01
 _SKY_RGB = (196, 200, 206)
 _NOISE_BANK_SIZE = 1 << 21
+_LIGHT = np.array([0.35, 0.25, 0.90]) / np.linalg.norm([0.35, 0.25, 0.90])
 
 
 @dataclass(frozen=True)
@@ -150,15 +151,25 @@ def _clip_near(pc: np.ndarray) -> np.ndarray:
     return np.array(out)
 
 
-def _face_colours(it: Item, light: np.ndarray) -> list[tuple[int, ...]]:
-    """Shaded colour of every face of ``it`` (a fixed light, so computed once per item)."""
+def _face_colours(it: Item) -> list[tuple[int, ...]]:
+    """Shaded colour of every face of ``it`` (a fixed light, so computed once per item, and
+    once per (normal, colour) across items: a moving target's items are rebuilt each frame)."""
     if it.colours is None:
-        out = []
-        for _, normal, rgb in it.faces:
-            shade = 0.62 + 0.38 * max(0.0, float(np.dot(normal, light)))
-            out.append(tuple(int(round(min(255.0, ch * shade))) for ch in rgb))
-        it.colours = out
+        it.colours = [_shade(normal.tobytes(), normal, rgb) for _, normal, rgb in it.faces]
     return it.colours
+
+
+_SHADES: dict = {}
+
+
+def _shade(key: bytes, normal: np.ndarray, rgb) -> tuple[int, ...]:
+    colour = _SHADES.get((key, tuple(rgb)))
+    if colour is None:
+        shade = 0.62 + 0.38 * max(0.0, float(np.dot(normal, _LIGHT)))
+        colour = tuple(int(round(min(255.0, ch * shade))) for ch in rgb)
+        if len(_SHADES) < 4096:
+            _SHADES[(key, tuple(rgb))] = colour
+    return colour
 
 
 class _Painter:
@@ -167,7 +178,7 @@ class _Painter:
     def __init__(self, img: np.ndarray, c: np.ndarray, R: np.ndarray, intr: Intrinsics) -> None:
         self.img, self.c, self.R, self.intr = img, c, R, intr
         self.K = intr.matrix()
-        self.light = np.array([0.35, 0.25, 0.90]) / np.linalg.norm([0.35, 0.25, 0.90])
+        self.light = _LIGHT
 
     def _image_poly(self, poly_w: np.ndarray) -> tuple[np.ndarray | None, bool]:
         pc = _clip_near((poly_w - self.c) @ self.R)
@@ -193,7 +204,7 @@ class _Painter:
             pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
         starts = it.starts
         z_min = np.minimum.reduceat(z, starts[:-1])
-        colours = _face_colours(it, self.light)
+        colours = _face_colours(it)
         for i in np.flatnonzero(visible).tolist():
             a, b = starts[i], starts[i + 1]
             if z_min[i] >= Z_NEAR_M:

@@ -148,7 +148,10 @@ class Item:
             self.verts = np.concatenate([f[0] for f in self.faces])
             self.starts = np.cumsum([0] + [len(f[0]) for f in self.faces])
             self.normals = np.array([f[1] for f in self.faces])
-            self.centres = np.array([f[0].mean(axis=0) for f in self.faces])
+            # what ndarray.mean(axis=0) computes (a sum along axis 0, divided by the count),
+            # without its per-call wrapper cost: a moving target is packed every frame
+            self.centres = np.array([np.add.reduce(f[0], axis=0) / len(f[0])
+                                     for f in self.faces])
         return self
 
 
@@ -239,25 +242,37 @@ def solids_of_scene(scene: Scene) -> tuple[Item, ...]:
     items: list[Item] = []
     if scene.target is not None:
         items.extend(_target_items(scene.target))
-    for o in scene.obstacles:
-        it = Item(np.array([o.x_m, o.y_m, o.height_m / 2]))
-        foot = (_circle_xy(o.x_m, o.y_m, o.radius_m) if o.shape == "circle"
-                else _rect_xy(o.x_m, o.y_m, o.width_m, o.depth_m, o.heading_rad))
-        _prism(it, foot, ((0.0, o.height_m, o.rgb),), o.rgb)
-        items.append(it)
-    for c in scene.clutter:
-        s = c.size_m
-        if c.shape in ("cylinder", "disc"):
-            foot = _circle_xy(c.x_m, c.y_m, s / 2)
-        else:
-            foot = _rect_xy(c.x_m, c.y_m, s, s / 5 if c.shape == "stripe" else s, c.heading_rad)
-        it = Item(np.array([c.x_m, c.y_m, max(c.height_m, 0.0) / 2]))
-        if c.shape in ("box", "cylinder"):
-            _prism(it, foot, ((0.0, c.height_m, c.rgb),), c.rgb)
-        else:
-            _flat(it, foot, c.rgb)
-        items.append(it)
-    return tuple(it.pack() for it in items)
+    items = [it.pack() for it in items]
+    items.extend(_obstacle_item(o) for o in scene.obstacles)
+    items.extend(_clutter_item(c) for c in scene.clutter)
+    return tuple(items)
+
+
+@lru_cache(maxsize=256)
+def _obstacle_item(o: Obstacle) -> Item:
+    """The packed item of one obstacle (cached: obstacles stay while a moving target makes a
+    new scene every frame; treat as read-only)."""
+    it = Item(np.array([o.x_m, o.y_m, o.height_m / 2]))
+    foot = (_circle_xy(o.x_m, o.y_m, o.radius_m) if o.shape == "circle"
+            else _rect_xy(o.x_m, o.y_m, o.width_m, o.depth_m, o.heading_rad))
+    _prism(it, foot, ((0.0, o.height_m, o.rgb),), o.rgb)
+    return it.pack()
+
+
+@lru_cache(maxsize=256)
+def _clutter_item(c: Clutter) -> Item:
+    """The packed item of one piece of clutter (cached like :func:`_obstacle_item`)."""
+    s = c.size_m
+    if c.shape in ("cylinder", "disc"):
+        foot = _circle_xy(c.x_m, c.y_m, s / 2)
+    else:
+        foot = _rect_xy(c.x_m, c.y_m, s, s / 5 if c.shape == "stripe" else s, c.heading_rad)
+    it = Item(np.array([c.x_m, c.y_m, max(c.height_m, 0.0) / 2]))
+    if c.shape in ("box", "cylinder"):
+        _prism(it, foot, ((0.0, c.height_m, c.rgb),), c.rgb)
+    else:
+        _flat(it, foot, c.rgb)
+    return it.pack()
 
 
 def target_keypoints_w(t: Target) -> dict[str, np.ndarray]:

@@ -78,6 +78,8 @@ class TaskParams:
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80
+    wander_mmps: int = 150  # SEARCH wander speed (host.search)
+    wander_clear_mm: int = 500  # a wander stops when a front sonar sees something this close
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
     sonar_offset_mm: int = 170  # 001: sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)
@@ -235,7 +237,8 @@ class Task(TaskStates):
 
     def detectors_needed(self) -> list[str]:
         """The detectors the current state uses (so the host runs and pays for only these)."""
-        if self.state == "SEARCH" and self.search is not None and self.search.turning:
+        if self.state == "SEARCH" and self.search is not None and self.search.turning \
+                and not self.search.wandering:  # blind while turning; looking while wandering
             return []
         return list(DETECTORS[self.method].get(self.state, []))
 

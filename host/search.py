@@ -1,9 +1,10 @@
 """Object search with the eye-in-hand camera, 000 §III.B.2 Fig. 5 and §III.A.
 
-The wrist pitch theta2 oscillates over [theta2_min, theta2_max] = [-2.8, -2.1] rad in steps of
-d_theta2 = 0.06 rad (000 §IV); for each theta2 the waist theta5 sweeps from one end of
-[theta5_min, theta5_max] = [-0.8, 0.8] rad to the other (boustrophedon: the next sweep goes back),
-in steps of d_theta5 (ours: 0.2 rad, under the 0.51 rad horizontal field of view at f = 611 px).
+The paper's pattern (``dense_cycles`` >= 1): the wrist pitch theta2 oscillates over
+[theta2_min, theta2_max] = [-2.8, -2.1] rad in steps of d_theta2 = 0.06 rad (000 §IV); for each
+theta2 the waist theta5 sweeps from one end of [theta5_min, theta5_max] = [-0.8, 0.8] rad to the
+other (boustrophedon: the next sweep goes back), in steps of d_theta5 (ours: 0.2 rad, under the
+0.51 rad horizontal field of view at f = 611 px).
 The search starts from the joints at hand (theta2s, theta5s of Fig. 5): the first sweep runs
 from theta5s to the far end, theta2 first climbs to theta2_max, then the levels below theta2s
 are visited down to theta2_min; every level is swept once per cycle.  When a whole cycle finds
@@ -18,12 +19,13 @@ sees something), then looks all around again.  Leg k (from 0) is ``wander_mm * (
 long; as each look-around turns the base by 270 degrees the legs make an expanding square spiral
 (1, 1, 2, 2, ... x wander_mm) around the start.  While driving the camera looks left, out of the
 spiral (level ``coarse_theta2_mrad[0]``, theta5_max) and the object may be found on the way.
-Cycles after the first (the paper's, at the start heading) visit only the theta2 levels in
-``coarse_theta2_mrad`` and turn by ``coarse_base_turn_mrad``: with the camera ~0.29 m up, f = 611
-px and 240 rows (0.39 rad vertical field), levels -2.25, -2.5, -2.75 rad see the object's top from
-0.52 m outward, 0.28-0.86 m and 0.17-0.4 m; a sweep of theta5 over +-0.8 rad with the 0.51 rad
-horizontal field spans 2.1 rad, so 90 degree turns still overlap.  At the paper's 0.06 rad step
-one cycle takes ~22 s and a full turn over two minutes; a coarse cycle takes ~5 s.
+Cycles after the first ``dense_cycles`` (the paper's d_theta2; 0 by default) visit only the
+theta2 levels in ``coarse_theta2_mrad``; turns after the first are ``coarse_base_turn_mrad``.
+Why: with the camera ~0.29 m up, f = 611 px and 240 rows (0.39 rad vertical field), the levels
+-2.25, -2.5, -2.75 rad see the object's top from 0.52 m outward, at 0.28-0.86 m and at
+0.17-0.4 m; a theta5 sweep over +-0.8 rad with the 0.51 rad horizontal field spans 2.1 rad, so
+90 degree turns still overlap.  At the paper's 0.06 rad step a cycle takes ~19 s and a full turn
+over two minutes; a coarse cycle takes ~5 s (plus the turn).
 
 Each pose is held for a dwell long enough for the servo travel and ``frames_per_pose`` camera
 frames (2 frames at 15 fps = 133 ms by default).  Time is simulated: the caller passes now_us.
@@ -51,6 +53,7 @@ class SearchParams:
     base_turn_mrad: int = 1047  # 60 degrees, counter-clockwise (left)
     coarse_theta2_mrad: tuple = (-2250, -2500, -2750)  # levels of the cycles after the first
     coarse_base_turn_mrad: int = 1571  # turns after the first: 90 degrees
+    dense_cycles: int = 0  # first cycles at the paper's d_theta2 (1 = the paper's first look)
     turns_per_wander: int = 4  # cycles per look-around (headings 0, 60, 150, 240 degrees)
     wander_mm: int = 1200  # first leg of the wander spiral (0 = never wander)
     frames_per_pose: int = 2
@@ -68,8 +71,9 @@ class SearchParams:
         lo, hi = self.theta2_min_mrad, self.theta2_max_mrad
         levels = tuple(dict.fromkeys(min(max(int(v), lo), hi) for v in self.coarse_theta2_mrad))
         object.__setattr__(self, "coarse_theta2_mrad", levels)
-        if self.wander_mm < 0:
-            raise ValueError(f"wander_mm must be >= 0, got {self.wander_mm}")
+        if self.wander_mm < 0 or self.dense_cycles < 0:
+            raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
+                             f"{self.dense_cycles}")
         for name in ("d_theta2_mrad", "d_theta5_mrad", "frames_per_pose", "frame_period_us",
                      "servo_speed_mrad_per_s", "coarse_base_turn_mrad", "turns_per_wander"):
             if getattr(self, name) <= 0:
@@ -126,6 +130,8 @@ def search_cycle(params: SearchParams, theta2_start_mrad: int, theta5_start_mrad
         levels = sorted(set(p.coarse_theta2_mrad))
         if abs(levels[-1] - theta2_start_mrad) < abs(levels[0] - theta2_start_mrad):
             levels.reverse()
+        if len(levels) == 1 and p.theta5_min_mrad < th5 < p.theta5_max_mrad:
+            levels *= 2  # one sweep from the middle sees only one side: come back over it
     else:
         levels = _levels(p.theta2_min_mrad, p.theta2_max_mrad, p.d_theta2_mrad,
                          theta2_start_mrad, upward)
@@ -151,7 +157,8 @@ class ArmSearch:
         self.params = params
         self.cycle = 0
         self._upward = True
-        self._poses = search_cycle(params, theta2_start_mrad, theta5_start_mrad, True)
+        self._poses = search_cycle(params, theta2_start_mrad, theta5_start_mrad, True,
+                                   coarse=params.dense_cycles <= 0)
         self._index = 0
         self._prev = (theta2_start_mrad, theta5_start_mrad)
         self._pose_start_us = int(now_us)
@@ -214,7 +221,8 @@ class ArmSearch:
         th2, th5 = at if at is not None else self._poses[self._index]
         # from the lower half climb first, from the upper half descend first
         self._upward = th2 <= (self.params.theta2_min_mrad + self.params.theta2_max_mrad) // 2
-        self._poses = search_cycle(self.params, th2, th5, self._upward, coarse=True)
+        self._poses = search_cycle(self.params, th2, th5, self._upward,
+                                   coarse=self.cycle >= self.params.dense_cycles)
         self._index = 0
         self._prev = (th2, th5)
         self._pose_start_us = int(now_us)

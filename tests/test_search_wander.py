@@ -70,6 +70,17 @@ def test_a_look_around_then_a_wander_then_coarse_cycles_and_a_longer_spiral():
     assert legs == [P.wander_mm, P.wander_mm, 2 * P.wander_mm, 2 * P.wander_mm]
 
 
+def test_one_coarse_level_from_the_middle_still_sweeps_both_ends():
+    p = se.SearchParams(coarse_theta2_mrad=(-2400,))
+    poses = se.search_cycle(p, -2100, 0, coarse=True)
+    assert {t5 for _, t5 in poses} >= {p.theta5_min_mrad, 0, p.theta5_max_mrad}
+    assert {t2 for t2, _ in poses} == {-2400}
+    dense = se.search_cycle(se.SearchParams(dense_cycles=1), -2100, 0)
+    first = se.ArmSearch(se.SearchParams(dense_cycles=1), -2100, 0, now_us=0)
+    assert first._poses == dense and se.ArmSearch(P, -2100, 0, now_us=0)._poses == \
+        se.search_cycle(P, -2100, 0, coarse=True)
+
+
 def test_wander_off_means_turns_forever():
     p = se.SearchParams(wander_mm=0, theta2_min_mrad=-2200, d_theta5_mrad=800)
     s = se.ArmSearch(p, -2100, -800, now_us=0)
@@ -127,3 +138,12 @@ def test_task_wander_stops_short_when_a_front_sonar_sees_something():
     near = task.p.wander_clear_mm - 1
     out = task.step(t + 60_000, TaskInputs(x_mm=140, sonar_mm=(65535, 65535, near, 65535, 65535)))
     assert out.wheels_mmps == (0, 0) and task.search.wanders == 1
+
+
+def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge():
+    from host.task import TaskParams
+
+    p = TaskParams.for_method("002", {"search": {"wander_mm": 0}})
+    sp = se.SearchParams(**p.search)
+    assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
+    assert se.SearchParams(**TaskParams.for_method("000").search) == P

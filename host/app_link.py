@@ -104,7 +104,11 @@ class HostLink:
                 self._latest_seq.clear()
                 self.events.append({"ev": "mcu_reset_seen", "t_us": t_us, "why": why})
         elif isinstance(msg, m.Ack):
-            self.reliable.ack(msg.acked_seq)
+            # The ACK of a HELLO is not the end of it: only HELLO_ACK opens the session, so a
+            # lost HELLO_ACK must leave the HELLO in the retransmit queue (the MCU answers a
+            # repeated HELLO with ACK and HELLO_ACK again).
+            if msg.acked_seq != self._hello_seq or self.handshake_ok:
+                self.reliable.ack(msg.acked_seq)
         elif isinstance(msg, m.Nack):
             if self.reliable.ack(msg.acked_seq):
                 self.counters.nacks += 1

@@ -1,14 +1,31 @@
 """Object search with the eye-in-hand camera, 000 §III.B.2 Fig. 5 and §III.A.
 
-The wrist pitch theta2 oscillates over [theta2_min, theta2_max] = [-2.8, -2.1] rad in steps of
-d_theta2 = 0.06 rad (000 §IV); for each theta2 the waist theta5 sweeps from one end of
-[theta5_min, theta5_max] = [-0.8, 0.8] rad to the other (boustrophedon: the next sweep goes back),
-in steps of d_theta5 (ours: 0.2 rad, under the 0.51 rad horizontal field of view at f = 611 px).
+The paper's pattern (``dense_cycles`` >= 1): the wrist pitch theta2 oscillates over
+[theta2_min, theta2_max] = [-2.8, -2.1] rad in steps of d_theta2 = 0.06 rad (000 §IV); for each
+theta2 the waist theta5 sweeps from one end of [theta5_min, theta5_max] = [-0.8, 0.8] rad to the
+other (boustrophedon: the next sweep goes back), in steps of d_theta5 (ours: 0.2 rad, under the
+0.51 rad horizontal field of view at f = 611 px).
 The search starts from the joints at hand (theta2s, theta5s of Fig. 5): the first sweep runs
 from theta5s to the far end, theta2 first climbs to theta2_max, then the levels below theta2s
 are visited down to theta2_min; every level is swept once per cycle.  When a whole cycle finds
 nothing the base turns by a fixed angle (60 degrees here) and a new cycle starts from the other
 end of the theta2 range.  theta3, theta4 hold a search posture (parameters) during the search.
+
+Wandering (000 §II: the robot "firstly wanders in the environment to search object"): the radial
+symbol on the object's top is measurable only to about 1.1 m from the arm camera, so once the base
+has looked all around (``turns_per_wander`` cycles) and found nothing, the search asks the caller
+to drive straight ahead instead of the next base turn (the caller stops early when a front sonar
+sees something), then looks all around again.  Leg k (from 0) is ``wander_mm * (1 + k // 2)``
+long; as each look-around turns the base by 270 degrees the legs make an expanding square spiral
+(1, 1, 2, 2, ... x wander_mm) around the start.  While driving the camera looks left, out of the
+spiral (level ``coarse_theta2_mrad[0]``, theta5_max) and the object may be found on the way.
+Cycles after the first ``dense_cycles`` (the paper's d_theta2; 0 by default) visit only the
+theta2 levels in ``coarse_theta2_mrad``; turns after the first are ``coarse_base_turn_mrad``.
+Why: with the camera ~0.29 m up, f = 611 px and 240 rows (0.39 rad vertical field), the levels
+-2.25, -2.5, -2.75 rad see the object's top from 0.52 m outward, at 0.28-0.86 m and at
+0.17-0.4 m; a theta5 sweep over +-0.8 rad with the 0.51 rad horizontal field spans 2.1 rad, so
+90 degree turns still overlap.  At the paper's 0.06 rad step a cycle takes ~19 s and a full turn
+over two minutes; a coarse cycle takes ~5 s (plus the turn).
 
 Each pose is held for a dwell long enough for the servo travel and ``frames_per_pose`` camera
 frames (2 frames at 15 fps = 133 ms by default).  Time is simulated: the caller passes now_us.
@@ -34,6 +51,11 @@ class SearchParams:
     theta3_mrad: int = -200  # search posture of the elbow and shoulder: with theta2 in the range
     theta4_mrad: int = 2300  # above, alpha = theta2 + 2.1 rad looks 0..0.7 rad below horizontal
     base_turn_mrad: int = 1047  # 60 degrees, counter-clockwise (left)
+    coarse_theta2_mrad: tuple = (-2250, -2500, -2750)  # levels of the cycles after the first
+    coarse_base_turn_mrad: int = 1571  # turns after the first: 90 degrees
+    dense_cycles: int = 0  # first cycles at the paper's d_theta2 (1 = the paper's first look)
+    turns_per_wander: int = 4  # cycles per look-around (headings 0, 60, 150, 240 degrees)
+    wander_mm: int = 1200  # first leg of the wander spiral (0 = never wander)
     frames_per_pose: int = 2
     frame_period_us: int = FRAME_PERIOD_US
     servo_speed_mrad_per_s: int = 5000  # hobby servo, about 0.2 s per 60 degrees
@@ -43,8 +65,17 @@ class SearchParams:
             raise ValueError("theta2_min_mrad must be below theta2_max_mrad")
         if self.theta5_min_mrad >= self.theta5_max_mrad:
             raise ValueError("theta5_min_mrad must be below theta5_max_mrad")
+        if not self.coarse_theta2_mrad:
+            raise ValueError("coarse_theta2_mrad must hold at least one theta2 level")
+        # levels outside [theta2_min, theta2_max] (a narrowed range) are clamped into it
+        lo, hi = self.theta2_min_mrad, self.theta2_max_mrad
+        levels = tuple(dict.fromkeys(min(max(int(v), lo), hi) for v in self.coarse_theta2_mrad))
+        object.__setattr__(self, "coarse_theta2_mrad", levels)
+        if self.wander_mm < 0 or self.dense_cycles < 0:
+            raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
+                             f"{self.dense_cycles}")
         for name in ("d_theta2_mrad", "d_theta5_mrad", "frames_per_pose", "frame_period_us",
-                     "servo_speed_mrad_per_s"):
+                     "servo_speed_mrad_per_s", "coarse_base_turn_mrad", "turns_per_wander"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
 
@@ -59,7 +90,8 @@ class SearchCommand:
     theta5_mrad: int
     base_turn_mrad: int
     pose_index: int  # index in the current cycle
-    cycle: int  # completed cycles (= base turns requested)
+    cycle: int  # completed cycles (= base turns + wanders requested)
+    drive_mm: int = 0  # a wander: drive this far straight ahead (0 = none)
 
 
 def _levels(lo: int, hi: int, step: int, start: int, upward: bool) -> list[int]:
@@ -86,15 +118,24 @@ def _sweep(lo: int, hi: int, step: int, frm: int, to_hi: bool) -> list[int]:
 
 
 def search_cycle(params: SearchParams, theta2_start_mrad: int, theta5_start_mrad: int,
-                 upward: bool = True) -> list[tuple[int, int]]:
-    """All (theta2, theta5) poses of one search cycle, in order (Fig. 5 of 000)."""
+                 upward: bool = True, coarse: bool = False) -> list[tuple[int, int]]:
+    """All (theta2, theta5) poses of one search cycle, in order (Fig. 5 of 000); ``coarse``
+    visits only the levels ``coarse_theta2_mrad``, nearest to ``theta2_start_mrad`` first."""
     p = params
     poses: list[tuple[int, int]] = []
     th5 = min(max(theta5_start_mrad, p.theta5_min_mrad), p.theta5_max_mrad)
     # first sweep toward the far end from theta5s
     to_hi = (th5 - p.theta5_min_mrad) <= (p.theta5_max_mrad - th5)
-    for th2 in _levels(p.theta2_min_mrad, p.theta2_max_mrad, p.d_theta2_mrad,
-                       theta2_start_mrad, upward):
+    if coarse:
+        levels = sorted(set(p.coarse_theta2_mrad))
+        if abs(levels[-1] - theta2_start_mrad) < abs(levels[0] - theta2_start_mrad):
+            levels.reverse()
+        if len(levels) == 1 and p.theta5_min_mrad < th5 < p.theta5_max_mrad:
+            levels *= 2  # one sweep from the middle sees only one side: come back over it
+    else:
+        levels = _levels(p.theta2_min_mrad, p.theta2_max_mrad, p.d_theta2_mrad,
+                         theta2_start_mrad, upward)
+    for th2 in levels:
         sweep = _sweep(p.theta5_min_mrad, p.theta5_max_mrad, p.d_theta5_mrad, th5, to_hi)
         poses.extend((th2, t5) for t5 in sweep)
         th5 = sweep[-1]
@@ -106,7 +147,9 @@ class ArmSearch:
     """The search as a state object over simulated time.
 
     ``step(now_us)`` returns the current :class:`SearchCommand`; after a cycle it carries a
-    ``base_turn_mrad`` request until the caller reports :meth:`base_turn_done`.
+    ``base_turn_mrad`` request until the caller reports :meth:`base_turn_done`, or after every
+    ``turns_per_wander``-th cycle a ``drive_mm`` request (a wander) until the caller reports
+    :meth:`wander_done`.
     """
 
     def __init__(self, params: SearchParams, theta2_start_mrad: int, theta5_start_mrad: int,
@@ -114,11 +157,14 @@ class ArmSearch:
         self.params = params
         self.cycle = 0
         self._upward = True
-        self._poses = search_cycle(params, theta2_start_mrad, theta5_start_mrad, True)
+        self._poses = search_cycle(params, theta2_start_mrad, theta5_start_mrad, True,
+                                   coarse=params.dense_cycles <= 0)
         self._index = 0
         self._prev = (theta2_start_mrad, theta5_start_mrad)
         self._pose_start_us = int(now_us)
         self._turning = False
+        self._wandering = False
+        self.wanders = 0
 
     def dwell_us(self, frm: tuple[int, int], to: tuple[int, int]) -> int:
         """Servo travel of the larger joint move plus the frames to look."""
@@ -127,22 +173,34 @@ class ArmSearch:
         return travel * 1_000_000 // p.servo_speed_mrad_per_s + p.frames_per_pose * \
             p.frame_period_us
 
-    def _command(self, turn: int) -> SearchCommand:
+    def _command(self, turn: int, drive: int = 0) -> SearchCommand:
         th2, th5 = self._poses[self._index]
         p = self.params
-        return SearchCommand(th2, p.theta3_mrad, p.theta4_mrad, th5, turn, self._index, self.cycle)
+        return SearchCommand(th2, p.theta3_mrad, p.theta4_mrad, th5, turn, self._index,
+                             self.cycle, drive)
+
+    def _moving_command(self) -> SearchCommand:
+        p = self.params
+        if self._wandering:  # look left, out of the spiral, while driving
+            return SearchCommand(p.coarse_theta2_mrad[0], p.theta3_mrad, p.theta4_mrad,
+                                 p.theta5_max_mrad, 0, self._index, self.cycle,
+                                 p.wander_mm * (1 + self.wanders // 2))
+        return self._command(p.base_turn_mrad if self.cycle <= 1 else p.coarse_base_turn_mrad)
 
     def step(self, now_us: int) -> SearchCommand:
         """Advance the pattern to ``now_us`` and return the command in force."""
-        if self._turning:
-            return self._command(self.params.base_turn_mrad)
+        if self._turning or self._wandering:
+            return self._moving_command()
         while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._poses[self._index]):
             self._pose_start_us += self.dwell_us(self._prev, self._poses[self._index])
             self._prev = self._poses[self._index]
             if self._index + 1 >= len(self._poses):
-                self._turning = True
                 self.cycle += 1
-                return self._command(self.params.base_turn_mrad)
+                p = self.params
+                # a full turn of the base found nothing here: wander instead of turning again
+                self._wandering = p.wander_mm > 0 and self.cycle % p.turns_per_wander == 0
+                self._turning = not self._wandering
+                return self._moving_command()
             self._index += 1
         return self._command(0)
 
@@ -152,17 +210,32 @@ class ArmSearch:
 
     @property
     def turning(self) -> bool:
-        return self._turning
+        """The base is asked to turn (the arm holds, nothing is looked for) or to wander."""
+        return self._turning or self._wandering
 
-    def base_turn_done(self, now_us: int) -> None:
-        """The base has turned: start a new cycle from the end of the theta2 range we are at."""
-        if not self._turning:
-            return
-        th2, th5 = self._poses[self._index]
+    @property
+    def wandering(self) -> bool:
+        return self._wandering
+
+    def _next_cycle(self, now_us: int, at: tuple[int, int] | None = None) -> None:
+        th2, th5 = at if at is not None else self._poses[self._index]
         # from the lower half climb first, from the upper half descend first
         self._upward = th2 <= (self.params.theta2_min_mrad + self.params.theta2_max_mrad) // 2
-        self._poses = search_cycle(self.params, th2, th5, self._upward)
+        self._poses = search_cycle(self.params, th2, th5, self._upward,
+                                   coarse=self.cycle >= self.params.dense_cycles)
         self._index = 0
         self._prev = (th2, th5)
         self._pose_start_us = int(now_us)
-        self._turning = False
+        self._turning = self._wandering = False
+
+    def base_turn_done(self, now_us: int) -> None:
+        """The base has turned: start a new cycle from the end of the theta2 range we are at."""
+        if self._turning:
+            self._next_cycle(now_us)
+
+    def wander_done(self, now_us: int) -> None:
+        """The base has driven its wander (or stopped short): search again from here."""
+        if self._wandering:
+            self.wanders += 1
+            p = self.params
+            self._next_cycle(now_us, (p.coarse_theta2_mrad[0], p.theta5_max_mrad))

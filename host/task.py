@@ -78,6 +78,8 @@ class TaskParams:
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80
+    wander_mmps: int = 200  # SEARCH wander speed (host.search); the planners' v_max is 250
+    wander_clear_mm: int = 500  # a wander stops when a front sonar sees something this close
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
     sonar_offset_mm: int = 170  # 001: sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)
@@ -119,7 +121,10 @@ class TaskParams:
             # above the low shoulder only 230..275 mm ahead of the waist (pitch 0..-0.28 rad):
             # stop the base 255 +- 15 mm short and come in from 40 mm short of the axis
             base = replace(base, h_shoulder_mm=50, object_top_mm=120, grasp_height_mm=100,
-                           grasp_r_mm=255, grasp_r_tol_mm=15, pregrasp_back_mm=40)
+                           grasp_r_mm=255, grasp_r_tol_mm=15, pregrasp_back_mm=40,
+                           # the double cross stands upright, far: the paper's first cycle,
+                           # then the level look (f = 350 px: 0.66 rad vertical field)
+                           search={"dense_cycles": 1, "coarse_theta2_mrad": (-2100, -2400)})
         overrides = dict(overrides or {})
         known = {f.name: f for f in fields(cls)}
         for key, value in list(overrides.items()):
@@ -133,6 +138,7 @@ class TaskParams:
                     bad = [s for s in value if s not in DEFAULT_TIMEOUTS_US]
                     if bad:
                         raise ValueError(f"timeouts_us: unknown state(s) {bad}")
+                if key in ("timeouts_us", "search"):  # on top of the method's defaults
                     overrides[key] = {**default, **value}
             elif key == "object_xy_mm":
                 if len(value) not in (0, 2) or not all(
@@ -235,7 +241,8 @@ class Task(TaskStates):
 
     def detectors_needed(self) -> list[str]:
         """The detectors the current state uses (so the host runs and pays for only these)."""
-        if self.state == "SEARCH" and self.search is not None and self.search.turning:
+        if self.state == "SEARCH" and self.search is not None and self.search.turning \
+                and not self.search.wandering:  # blind while turning; looking while wandering
             return []
         return list(DETECTORS[self.method].get(self.state, []))
 

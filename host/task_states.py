@@ -48,6 +48,7 @@ class TaskStates(GraspStates):
         self.failure = None
         self.search = None
         self.turn_from = None
+        self.wander_from = None
         self.obj = None  # odometry-frame (x_mm, y_mm) of the object
         self.obj_seen_us = now_us
         self.follower = None
@@ -76,6 +77,7 @@ class TaskStates(GraspStates):
     def enter_SEARCH(self, now: int, inp) -> None:
         self.search = ArmSearch(SearchParams(**self.p.search), self.arm[2], self.arm[5], now)
         self.turn_from = None
+        self.wander_from = None
         self.gripper = 0
         if self.p.object_xy_mm and self.obj is None and self.counters["lost"] == 0:
             # 001 §II: the object position P_i is given; plan toward it, vision refines it
@@ -120,7 +122,8 @@ class TaskStates(GraspStates):
             self.confirm_until = None  # not seen again: resume the pattern
             self.confirm_failed = tuple(self.arm)
             self.search.restart_dwell(now)
-        elif det is not None and not self.search.turning and self._found(now, inp, name, det):
+        elif det is not None and (self.search.wandering or not self.search.turning) \
+                and self._found(now, inp, name, det):
             held = self._at(self.arm_hist, now - self.p.frame_latency_us)[1] \
                 if self.arm_hist else tuple(self.arm)
             if held == self.confirm_failed:  # that pose was tried: the frame is a newer one
@@ -131,6 +134,9 @@ class TaskStates(GraspStates):
             return
         cmd = self.search.step(now)
         self.set_arm(now, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad, cmd.theta5_mrad, 0)
+        if cmd.drive_mm:
+            self._wander(now, inp, cmd)
+            return
         if not cmd.base_turn_mrad:
             self.wheels = (0, 0)
             return
@@ -144,6 +150,24 @@ class TaskStates(GraspStates):
         else:
             self.wheels = turn_in_place(1 if cmd.base_turn_mrad > 0 else -1,
                                         self.p.turn_wheel_mmps)
+
+    def _wander(self, now: int, inp, cmd) -> None:
+        """Drive the search's wander straight ahead on odometry (000 §II "wanders in the
+        environment"); stop short when a front sonar sees something within wander_clear_mm."""
+        if self.wander_from is None:
+            self.wander_from = (inp.x_mm, inp.y_mm)
+            self.note(wander_mm=cmd.drive_mm, search_cycle=cmd.cycle)
+        dx, dy = inp.x_mm - self.wander_from[0], inp.y_mm - self.wander_from[1]
+        n = len(inp.sonar_mm)
+        front = [int(v) for v in inp.sonar_mm[max(0, n // 2 - 1):n // 2 + 2]] if n else []
+        blocked = any(0 < v < self.p.wander_clear_mm for v in front)
+        if dx * dx + dy * dy >= cmd.drive_mm * cmd.drive_mm or blocked:
+            self.note(wander_done_mm=isqrt(dx * dx + dy * dy), wander_blocked=blocked)
+            self.search.wander_done(now)
+            self.wander_from = None
+            self.wheels = (0, 0)
+        else:
+            self.wheels = (self.p.wander_mmps, self.p.wander_mmps)
 
     # --- APPROACH -----------------------------------------------------------------------------
     def enter_APPROACH(self, now: int, inp) -> None:

@@ -6,8 +6,6 @@ a bit error rate of 1e-3, 2 of the first 3 random runs of method 000 stayed in I
 whole 150 s because host/app_link.HostLink takes the ACK as the end of the HELLO.
 """
 
-import pytest
-
 from host.app_link import HostLink
 from protocol import messages as m
 from protocol.frame import PROTOCOL_VERSION
@@ -19,9 +17,6 @@ def _hello(link: HostLink) -> int:
     return link._hello_seq
 
 
-@pytest.mark.xfail(reason="host/app_link.HostLink drops HELLO from the retransmit queue on its "
-                          "ACK; it should wait for HELLO_ACK (reported to the loop's owner)",
-                   strict=False)
 def test_hello_is_resent_when_only_the_ack_arrived():
     link = HostLink(retransmit_timeout_us=40_000)
     seq = _hello(link)

@@ -6,7 +6,7 @@ from hypothesis import strategies as st
 
 from host import search as se
 
-P = se.SearchParams()
+P = se.SearchParams(dense_cycles=1)  # the paper's pattern (000 Fig. 5) in the first cycle
 
 
 def levels_of(poses):
@@ -88,8 +88,9 @@ def test_full_cycle_then_base_turn_then_new_cycle():
     s.base_turn_done(t + 10_000_000)
     c2 = s.step(t + 10_000_000)
     assert c2.base_turn_mrad == 0 and c2.pose_index == 0 and not s.turning
-    # we ended at theta2_min: the next cycle climbs from there
-    assert c2.theta2_mrad == P.theta2_min_mrad
+    # we ended at theta2_min: the next (coarse, host.search wandering) cycle starts at the
+    # coarse level nearest to it
+    assert c2.theta2_mrad == min(P.coarse_theta2_mrad)
 
 
 def test_bad_params():

@@ -160,7 +160,10 @@ def test_locate_ring_pair_exact_geometry(dist, lateral, height, alpha, t5):
     # diameter at close range (tangent lines): a few percent of the distance
     assert np.max(np.abs(got - true_mm)) <= 0.04 * true_dist + 3
     assert abs(fix.dist_mm - true_dist) <= 0.03 * true_dist + 2
-    assert abs(fix.bearing_mrad - 1000 * math.atan2(true_mm[0], true_mm[1])) <= 12
+    # 12 mrad, plus the 2 mm by which the silhouette midpoint misses the axis projection at
+    # the closest ranges (perspective of the tangent points; same cause as the +3 mm above)
+    tol_mrad = 12 + 1000 * 2 / true_dist
+    assert abs(fix.bearing_mrad - 1000 * math.atan2(true_mm[0], true_mm[1])) <= tol_mrad
 
 
 @settings(max_examples=100, deadline=None)

@@ -1,0 +1,149 @@
+"""The wandering search (host.search, host.task_states._wander): 000 §II "wanders to search"."""
+
+from __future__ import annotations
+
+import pytest
+
+from host import search as se
+from host.task import Task, TaskInputs
+
+P = se.SearchParams()
+
+
+def _run_to_move(s: se.ArmSearch, t: int) -> tuple[se.SearchCommand, int]:
+    """Step the pattern in 10 ms steps until it asks the base to move."""
+    while True:
+        c = s.step(t)
+        if c.base_turn_mrad or c.drive_mm:
+            return c, t
+        t += 10_000
+        assert t < 200_000_000
+
+
+def test_coarse_cycle_visits_only_the_coarse_levels_nearest_first():
+    poses = se.search_cycle(P, -2800, -800, upward=True, coarse=True)
+    levels = list(dict.fromkeys(t2 for t2, _ in poses))
+    assert levels == sorted(P.coarse_theta2_mrad)  # from -2800 the lowest level is nearest
+    poses = se.search_cycle(P, -2100, 800, upward=False, coarse=True)
+    assert list(dict.fromkeys(t2 for t2, _ in poses)) == sorted(P.coarse_theta2_mrad,
+                                                                 reverse=True)
+    assert poses[0][1] == 800 and poses[8][1] == -800  # boustrophedon from theta5s
+    dense = se.search_cycle(P, -2100, -800, upward=False)
+    assert len(poses) * 3 < len(dense)
+
+
+def test_a_look_around_then_a_wander_then_coarse_cycles_and_a_longer_spiral():
+    s = se.ArmSearch(P, -2100, -800, now_us=0)
+    t = 0
+    turns = []
+    for k in range(1, P.turns_per_wander):
+        c, t = _run_to_move(s, t)
+        assert c.base_turn_mrad and c.drive_mm == 0 and c.cycle == k and not s.wandering
+        turns.append(c.base_turn_mrad)
+        s.base_turn_done(t)
+        assert {t2 for t2, _ in s._poses} == set(P.coarse_theta2_mrad)  # coarse from now on
+    # first turn as the paper's, the rest coarse; with the ~60 degrees each cycle sees on
+    # either side of its heading the headings cover the whole turn
+    assert turns == [P.base_turn_mrad] + [P.coarse_base_turn_mrad] * (P.turns_per_wander - 2)
+    assert sum(turns) + 2 * 1047 >= 6283 - 5
+    c, t = _run_to_move(s, t)
+    assert c.drive_mm == P.wander_mm and c.base_turn_mrad == 0
+    assert c.cycle == P.turns_per_wander and s.turning and s.wandering
+    assert (c.theta2_mrad, c.theta5_mrad) == (P.coarse_theta2_mrad[0], P.theta5_max_mrad)
+    # the request holds until the caller reports the wander done; a turn report does not end it
+    s.base_turn_done(t + 5_000_000)
+    assert s.step(t + 5_000_000).drive_mm == P.wander_mm
+    s.wander_done(t + 5_000_000)
+    c2 = s.step(t + 5_000_000)
+    assert c2.drive_mm == 0 and c2.base_turn_mrad == 0 and not s.turning and s.wanders == 1
+    assert (c2.theta2_mrad, c2.theta5_mrad) == (P.coarse_theta2_mrad[0], P.theta5_max_mrad)
+    legs = [P.wander_mm]
+    t += 5_000_000
+    for _ in range(3):
+        for _ in range(1, P.turns_per_wander):
+            c, t = _run_to_move(s, t)
+            assert c.base_turn_mrad == P.coarse_base_turn_mrad
+            s.base_turn_done(t)
+        c, t = _run_to_move(s, t)
+        legs.append(c.drive_mm)
+        s.wander_done(t)
+    assert legs == [P.wander_mm, P.wander_mm, 2 * P.wander_mm, 2 * P.wander_mm]
+
+
+def test_one_coarse_level_from_the_middle_still_sweeps_both_ends():
+    p = se.SearchParams(coarse_theta2_mrad=(-2400,))
+    poses = se.search_cycle(p, -2100, 0, coarse=True)
+    assert {t5 for _, t5 in poses} >= {p.theta5_min_mrad, 0, p.theta5_max_mrad}
+    assert {t2 for t2, _ in poses} == {-2400}
+    dense = se.search_cycle(se.SearchParams(dense_cycles=1), -2100, 0)
+    first = se.ArmSearch(se.SearchParams(dense_cycles=1), -2100, 0, now_us=0)
+    assert first._poses == dense and se.ArmSearch(P, -2100, 0, now_us=0)._poses == \
+        se.search_cycle(P, -2100, 0, coarse=True)
+
+
+def test_wander_off_means_turns_forever():
+    p = se.SearchParams(wander_mm=0, theta2_min_mrad=-2200, d_theta5_mrad=800)
+    s = se.ArmSearch(p, -2100, -800, now_us=0)
+    t = 0
+    for _ in range(3 * p.turns_per_wander):
+        c, t = _run_to_move(s, t)
+        assert c.base_turn_mrad and not c.drive_mm
+        s.base_turn_done(t)
+
+
+def test_bad_wander_params():
+    with pytest.raises(ValueError, match="wander_mm"):
+        se.SearchParams(wander_mm=-1)
+    with pytest.raises(ValueError, match="turns_per_wander"):
+        se.SearchParams(turns_per_wander=0)
+    assert se.SearchParams(coarse_theta2_mrad=(-2500, -3000, -2900)).coarse_theta2_mrad == \
+        (-2500, -2800)  # clamped into the theta2 range, duplicates dropped
+    with pytest.raises(ValueError, match="coarse_theta2_mrad"):
+        se.SearchParams(coarse_theta2_mrad=())
+    assert se.SearchParams(coarse_theta2_mrad=[-2300]).coarse_theta2_mrad == (-2300,)
+
+
+def _task_to_wander(sonar: tuple) -> tuple[Task, int]:
+    # a two-level, three-pose pattern and a wander after every cycle: the wander comes quickly
+    task = Task("000", {"search": {"theta2_min_mrad": -2200, "d_theta5_mrad": 800,
+                                   "turns_per_wander": 1, "wander_mm": 500,
+                                   "coarse_theta2_mrad": (-2200,)}})
+    t = 0
+    while t < 20_000_000:
+        out = task.step(t, TaskInputs(sonar_mm=sonar))
+        if out.wheels_mmps != (0, 0) and out.wheels_mmps is not None:
+            return task, t
+        t += 20_000
+    raise AssertionError("no wander within 20 s")
+
+
+def test_task_wanders_straight_ahead_until_odometry_says_the_distance_is_done():
+    task, t = _task_to_wander(())
+    out = task.step(t + 20_000, TaskInputs(x_mm=200, y_mm=0))
+    v = task.p.wander_mmps
+    assert out.wheels_mmps == (v, v) and out.state == "SEARCH"
+    assert task.detectors_needed() == ["radial_symbol"]  # the camera looks on the way
+    out = task.step(t + 40_000, TaskInputs(x_mm=300, y_mm=400))  # 500 mm from the start
+    assert out.wheels_mmps == (0, 0) and task.search.wanders == 1 and not task.search.turning
+
+
+def test_task_wander_stops_short_when_a_front_sonar_sees_something():
+    clear = (65535,) * 5
+    task, t = _task_to_wander(clear)
+    out = task.step(t + 20_000, TaskInputs(x_mm=100, sonar_mm=clear))
+    assert out.wheels_mmps[0] > 0
+    # a side sonar (index 0, to the right) close by does not stop the wander
+    out = task.step(t + 40_000, TaskInputs(x_mm=120, sonar_mm=(200,) + (65535,) * 4))
+    assert out.wheels_mmps[0] > 0 and task.search.wanders == 0
+    near = task.p.wander_clear_mm - 1
+    out = task.step(t + 60_000, TaskInputs(x_mm=140, sonar_mm=(65535, 65535, near, 65535, 65535)))
+    assert out.wheels_mmps == (0, 0) and task.search.wanders == 1
+
+
+def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge():
+    from host.task import TaskParams
+
+    p = TaskParams.for_method("002", {"search": {"wander_mm": 0}})
+    sp = se.SearchParams(**p.search)
+    assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
+    assert se.SearchParams(**TaskParams.for_method("000").search) == P

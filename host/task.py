@@ -80,6 +80,7 @@ class TaskParams:
     turn_wheel_mmps: int = 80
     wander_mmps: int = 200  # SEARCH wander speed (host.search); the planners' v_max is 250
     wander_clear_mm: int = 500  # a wander stops when a front sonar sees something this close
+    sighting_match_mm: int = 200  # SEARCH: an unconfirmed sighting seen again this close is it
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
     sonar_offset_mm: int = 170  # 001: sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)

@@ -28,6 +28,7 @@ from host.task_sense import (
     d_pixel_px,
     field,
 )
+from host.task_wander import seen_there_before, wander_step
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
 
@@ -65,6 +66,7 @@ class TaskStates(GraspStates):
         self.pose_hist: list = []
         self.confirm_until = None
         self.confirm_failed = None
+        self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
         self.trust_from_us = 0
         self.plus_odom = None
         self.replanner = None
@@ -121,9 +123,13 @@ class TaskStates(GraspStates):
                 return
             self.confirm_until = None  # not seen again: resume the pattern
             self.confirm_failed = tuple(self.arm)
+            self.sighting = self.obj if self.method != "002" else None
             self.search.restart_dwell(now)
         elif det is not None and (self.search.wandering or not self.search.turning) \
                 and self._found(now, inp, name, det):
+            if seen_there_before(self):
+                self.go(now, "APPROACH", self._found_why() + " (seen twice at that place)")
+                return
             held = self._at(self.arm_hist, now - self.p.frame_latency_us)[1] \
                 if self.arm_hist else tuple(self.arm)
             if held == self.confirm_failed:  # that pose was tried: the frame is a newer one
@@ -135,7 +141,7 @@ class TaskStates(GraspStates):
         cmd = self.search.step(now)
         self.set_arm(now, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad, cmd.theta5_mrad, 0)
         if cmd.drive_mm:
-            self._wander(now, inp, cmd)
+            wander_step(self, now, inp, cmd)
             return
         if not cmd.base_turn_mrad:
             self.wheels = (0, 0)
@@ -150,24 +156,6 @@ class TaskStates(GraspStates):
         else:
             self.wheels = turn_in_place(1 if cmd.base_turn_mrad > 0 else -1,
                                         self.p.turn_wheel_mmps)
-
-    def _wander(self, now: int, inp, cmd) -> None:
-        """Drive the search's wander straight ahead on odometry (000 §II "wanders in the
-        environment"); stop short when a front sonar sees something within wander_clear_mm."""
-        if self.wander_from is None:
-            self.wander_from = (inp.x_mm, inp.y_mm)
-            self.note(wander_mm=cmd.drive_mm, search_cycle=cmd.cycle)
-        dx, dy = inp.x_mm - self.wander_from[0], inp.y_mm - self.wander_from[1]
-        n = len(inp.sonar_mm)
-        front = [int(v) for v in inp.sonar_mm[max(0, n // 2 - 1):n // 2 + 2]] if n else []
-        blocked = any(0 < v < self.p.wander_clear_mm for v in front)
-        if dx * dx + dy * dy >= cmd.drive_mm * cmd.drive_mm or blocked:
-            self.note(wander_done_mm=isqrt(dx * dx + dy * dy), wander_blocked=blocked)
-            self.search.wander_done(now)
-            self.wander_from = None
-            self.wheels = (0, 0)
-        else:
-            self.wheels = (self.p.wander_mmps, self.p.wander_mmps)
 
     # --- APPROACH -----------------------------------------------------------------------------
     def enter_APPROACH(self, now: int, inp) -> None:
@@ -298,6 +286,12 @@ class TaskStates(GraspStates):
             if self.arm_hist else self.arm[5]  # the waist when the frame was taken
         try:
             e = bearing_mrad(dc, yaw, self.cam) if dc is not None else None
+            if e is None and rc is not None and field(rc, "u_c_q4") is not None:
+                # the double cross out of reach but the cylinder in view (far, a few px wide):
+                # steer on the cylinder's column, or the robot would stand still while the
+                # cylinder's sightings keep LOST away
+                e = yaw + atan2_mrad(field(rc, "u_c_q4") - self.cam.u0_px * 16,
+                                     self.cam.f_px * 16)
         except (ValueError, TypeError):
             self.counters["bad_detections"] += 1
             e = None

@@ -147,3 +147,18 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     sp = se.SearchParams(**p.search)
     assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
     assert se.SearchParams(**TaskParams.for_method("000").search) == P
+
+
+def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():
+    from types import SimpleNamespace
+
+    from host.task import TaskParams
+    from host.task_wander import seen_there_before
+
+    p = TaskParams.for_method("000")
+    t = SimpleNamespace(p=p, sighting=None, obj=(1800, 900))
+    assert not seen_there_before(t)  # nothing seen before
+    t.sighting = (1800 + p.sighting_match_mm, 900)
+    assert seen_there_before(t)
+    t.sighting = (1800, 900 + p.sighting_match_mm + 1)
+    assert not seen_there_before(t)

@@ -90,6 +90,9 @@ class TaskParams:
     replan_shift_mm: int = 150  # 000: replan when the object estimate moved this far
     max_plan_attempts: int = 3
     direct_max_mm: int = 1200  # no feasible curve after all attempts: ADJUST if this close
+    max_detours: int = 6  # 001: drive aside (host.task_wander) this often before giving up
+    detour_mm: int = 500  # length of one drive aside
+    detour_clear_mm: int = 900  # a sonar reading at least this is a free direction
     servo_speed_mrad_per_s: int = 3000  # for settle times
     settle_margin_us: int = 300_000
     posture_step_mrad: int = 20  # per control step (1 rad/s at 50 Hz: the servos follow)

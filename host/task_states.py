@@ -28,7 +28,7 @@ from host.task_sense import (
     d_pixel_px,
     field,
 )
-from host.task_wander import seen_there_before, wander_step
+from host.task_wander import detour_step, seen_there_before, start_detour, wander_step
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
 
@@ -67,6 +67,8 @@ class TaskStates(GraspStates):
         self.confirm_until = None
         self.confirm_failed = None
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
+        self.detour = None  # 001: a drive aside after no feasible curve (host.task_wander)
+        self.detours = 0
         self.trust_from_us = 0
         self.plus_odom = None
         self.replanner = None
@@ -196,10 +198,21 @@ class TaskStates(GraspStates):
         if self.plan_attempts >= self.p.max_plan_attempts:
             x, y = self.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
-            if dist <= self.p.direct_max_mm:  # short range: the close approach can do it
+            # 001: an echo straight ahead well short of the object (its own echo is ~170 mm
+            # short of the waist distance: ring 70 mm ahead of the waist plus its radius)
+            n = len(inp.sonar_mm)
+            echo = self.method == "001" and n >= 3 and 0 < int(inp.sonar_mm[n // 2]) < dist - 300
+            if dist <= self.p.direct_max_mm and not echo:  # the close approach can do it
                 self.go(now, "ADJUST", f"no feasible curve ({detail['reason']}); object "
                         f"{dist} mm away: direct approach")
-            else:
+            elif self.method == "001" and self.detours < self.p.max_detours:
+                # 001: obstacles across the way and no curve around them from here: drive
+                # aside through free sonar space, then plan again (host.task_wander)
+                self.detours += 1
+                self.detour = start_detour(inp, self.obj, self.p.detour_clear_mm)
+                self.plan_attempts, self.follower = 0, None
+                self.note(detour=dict(self.detour), detour_count=self.detours)
+            else:  # (not the direct approach into an echo: it collided, random 001 seeds)
                 self.fail(now, f"no feasible approach path: {detail['reason']}")
 
     def _face_object(self, inp) -> bool:
@@ -247,6 +260,10 @@ class TaskStates(GraspStates):
                     and now - self.entered_us < self.p.sonar_sweep_us):
                 self.wheels = (0, 0)  # 001: the first plan waits for one full sonar sweep
                 return
+            if self.detour is not None:
+                if not detour_step(self, inp):
+                    return
+                self.detour, self.plan_us = None, now  # done: stop, then plan afresh from here
             if self.follower is None and self.method == "001" and self.replanner is not None and (
                     now - self.plan_us < 500_000 or abs(inp.v_mmps) > 30):
                 self.wheels = (0, 0)  # 001: stop first, then replan from standstill

@@ -1,15 +1,47 @@
-"""The SEARCH wander and the sighting memory of the task (host.task_states uses them).
+"""The SEARCH wander, the sighting memory and the 001 detour of the task (host.task_states).
 
 The wander is the caller's half of host.search's wandering search (000 §II: the robot "firstly
 wanders in the environment to search object"): drive straight ahead on odometry for the leg the
 search asks, stop short when a front sonar sees something.  The sighting memory lets a sighting
 near the edge of the radial symbol's range count when it is seen again at the same place.
+The detour (ours, not 001's): when no candidate curve of 001 is feasible from where the robot
+stands (obstacles across the way) and the object is too far for the direct close approach, turn
+toward the free sonar direction (reading >= ``detour_clear_mm``) nearest the object's bearing and
+drive ``detour_mm`` that way, then plan again from there.
 Integer mm / us; no I/O and no clock.
 """
 
 from __future__ import annotations
 
-from host.fixedpoint import isqrt
+from host.fixedpoint import atan2_mrad, isqrt
+
+TURN_TOL_MRAD = 60
+DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
+DETOUR_DIAG_MM = 255
+
+
+def _wrap(a: int) -> int:
+    return (a + 3142) % 6283 - 3142
+
+
+def sonar_angles_mrad(n: int) -> list[int]:
+    """phi_k of 001 §III.C.2 (k = 1..n evenly from -pi/2, right, to pi/2, left), mrad."""
+    return [-1571 + k * 3142 // (n - 1) for k in range(n)] if n >= 2 else []
+
+
+def start_detour(inp, obj_xy_mm: tuple, clear_mm: int) -> dict:
+    """The detour's heading: the free sonar direction nearest the object's bearing; with none
+    free a quarter turn left (the next sonar sweep decides again)."""
+    bearing = atan2_mrad(obj_xy_mm[1] - inp.y_mm, obj_xy_mm[0] - inp.x_mm)
+    best = None
+    for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
+        h = _wrap(inp.heading_mrad + phi)
+        off = abs(_wrap(h - bearing))
+        if int(rng) >= clear_mm and (best is None or off < best[0]):
+            best = (off, h)
+    if best is None:
+        return {"heading_mrad": _wrap(inp.heading_mrad + 1571), "drive": False, "from": None}
+    return {"heading_mrad": best[1], "drive": True, "from": None}
 
 
 def seen_there_before(task) -> bool:
@@ -40,3 +72,37 @@ def wander_step(task, now: int, inp, cmd) -> None:
         task.wheels = (0, 0)
     else:
         task.wheels = (task.p.wander_mmps, task.p.wander_mmps)
+
+
+def _blocked_ahead(sonar_mm: tuple) -> bool:
+    """The detour passes close beside obstacles (that is its point): stop only for an echo
+    straight ahead within DETOUR_STOP_MM, or at 45 degrees within DETOUR_DIAG_MM (a surface
+    point there is DETOUR_DIAG_MM / sqrt(2) = 180 mm aside: the 0.17 m footprint would touch)."""
+    n = len(sonar_mm)
+    if n < 3:
+        return False
+    mid = n // 2
+    ahead = int(sonar_mm[mid])
+    diag = (int(sonar_mm[mid - 1]), int(sonar_mm[mid + 1])) if n >= 5 else ()
+    return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
+
+
+def detour_step(task, inp) -> bool:
+    """One step of the detour; True when it is over (the caller plans again)."""
+    d = task.detour
+    err = _wrap(d["heading_mrad"] - inp.heading_mrad)
+    if d["from"] is None and abs(err) > TURN_TOL_MRAD:
+        v = task.p.turn_wheel_mmps
+        task.wheels = (v, -v) if err < 0 else (-v, v)  # counter-clockwise for err > 0
+        return False
+    if not d["drive"]:
+        task.wheels = (0, 0)
+        return True
+    if d["from"] is None:
+        d["from"] = (inp.x_mm, inp.y_mm)
+    dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
+    if dx * dx + dy * dy >= task.p.detour_mm * task.p.detour_mm or _blocked_ahead(inp.sonar_mm):
+        task.wheels = (0, 0)
+        return True
+    task.wheels = (task.p.wander_mmps, task.p.wander_mmps)
+    return False

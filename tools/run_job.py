@@ -181,12 +181,14 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         else:
             port, peer = inproc_pair(f"run-{name}-{seed}")
             host = InprocHost(LockstepClient(build_host_app(cfg, timer=opts.timer), peer))
-        rig_mcu, rig_plant = mcu, plant
-        if plan is not None and plan.active():  # issue 9 fault injectors around MCU/plant/host
-            from mcu_sim.faults.wrappers import wrap_for_faults
+        # the fault wrappers carry the safety monitor, so every run gets them (an empty plan
+        # injects nothing and leaves the trace unchanged) and every summary a safety block
+        from mcu_sim.faults.plan import FaultPlan
+        from mcu_sim.faults.wrappers import wrap_for_faults
 
-            fault_rig, rig_mcu, rig_plant, host = wrap_for_faults(plan, seed, mcu, plant, host)
-            summary["faults_plan"] = plan.as_table()
+        plan = plan if plan is not None else FaultPlan()
+        fault_rig, rig_mcu, rig_plant, host = wrap_for_faults(plan, seed, mcu, plant, host)
+        summary["faults_plan"] = plan.as_table()
         rig = Rig(rig_mcu, rig_plant, port,
                   RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us),
                   on_frame=snaps.on_frame)

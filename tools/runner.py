@@ -78,10 +78,23 @@ class SocketHost:
         self.wfile.write(ls.encode(msg))
         self.wfile.flush()
 
+    def _vanished(self, exc: Exception, t_us: int) -> ls.LockstepClosed:
+        """A clear error for a host process that died or closed its end mid-run."""
+        try:
+            code = self.proc.wait(timeout=1.0)  # it is exiting: reap it to say how
+        except subprocess.TimeoutExpired:
+            code = None
+        how = "is hung" if code is None else f"exited with code {code}"
+        return ls.LockstepClosed(f"the host process vanished at t = {t_us / 1e6:.3f} s "
+                                 f"simulated (it {how}; {type(exc).__name__}: {exc})")
+
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Send a grant, wait for DONE."""
-        self._send(grant)
-        reply = ls.read_message(self.rfile)
+        try:
+            self._send(grant)
+            reply = ls.read_message(self.rfile)
+        except (OSError, ls.LockstepClosed) as exc:
+            raise self._vanished(exc, grant.start_us) from exc
         if not isinstance(reply, ls.Done):
             raise ls.LockstepError(f"expected DONE, got {type(reply).__name__}")
         return reply

@@ -34,6 +34,7 @@ def _config(args: argparse.Namespace) -> dict:
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from host.app_factory import build_host_app
     from host.lockstep_client import LockstepClient, serve_stream
+    from link.base import LinkClosed
     from link.registry import open_transport
 
     port = open_transport(args.port)
@@ -43,6 +44,13 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     client = LockstepClient(build_host_app(cfg), port)
     try:
         serve_stream(client, sock.makefile("rb"), sock.makefile("wb"), host_id="mobigrasp-host")
+    except (ConnectionError, LinkClosed, OSError) as exc:
+        # the simulator died or closed the pty/socket mid-run (LockstepClosed is a
+        # ConnectionError): say so in one line and exit non-zero at once (issue 9)
+        print(f"mobigrasp host: the simulator went away mid-run at t = "
+              f"{client.clock.now_us() / 1e6:.3f} s simulated ({type(exc).__name__}: {exc}); "
+              f"stopping", file=sys.stderr, flush=True)
+        return 1
     finally:
         sock.close()
         port.close()
@@ -80,6 +88,7 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
     camera = _OpenCvCamera(args.camera) if args.camera else None
     t0 = time.monotonic()
     next_frame = 0.0
+    vanished = False
     print(f"host on {args.port} (method {cfg['method']}), Ctrl-C to stop", file=sys.stderr)
     try:
         while not app.finished:
@@ -98,7 +107,10 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
                 port.write(b"".join(w for _, w in out))
             port.wait_readable(0.002)
     except LinkClosed:
-        print("host: the MCU side closed the port", file=sys.stderr)
+        # the MCU (or its pty) vanished: a failure whatever the task's state (issue 9)
+        print(f"mobigrasp host: the MCU side closed the port {args.port}; stopping",
+              file=sys.stderr, flush=True)
+        vanished = True
     except KeyboardInterrupt:
         print("host: interrupted", file=sys.stderr)
     finally:
@@ -108,7 +120,7 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
           f"{st['frames_processed']}/{st['frames_received']}, protocol "
           f"{json.dumps({k: v for k, v in st['protocol'].items() if k != 'parser'})}",
           file=sys.stderr)
-    return 0 if app.state == "DONE" else 1
+    return 0 if app.state == "DONE" and not vanished else 1
 
 
 def _run(args: argparse.Namespace) -> int:

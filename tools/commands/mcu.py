@@ -111,4 +111,5 @@ def run(args: argparse.Namespace) -> int:
           f"rx {stats['rx_bytes']} B, tx {stats['tx_bytes']} B, "
           f"corrupt frames {stats['corrupt_frames']}, overruns {stats['overruns']}, "
           f"watchdog trips {stats['watchdog_trips']}", file=sys.stderr, flush=True)
-    return 0
+    # the host going away mid-run is a failure for whoever waits on this process (issue 9)
+    return 1 if pty.host_closed else 0

@@ -75,6 +75,8 @@ class TaskParams:
     adjust_theta4_mrad: int = 1571
     blind_finish_mm: int = 80  # ADJUST may finish on odometry within this of its goal
     lost_timeout_us: int = 1_500_000
+    blind_approach_mm: int = 1000  # 002: drive on toward the marker's last bearing this far
+    blind_approach_us: int = 8_000_000  # ... and at most this long (1 m at 0.15 m/s: 6.7 s)
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80

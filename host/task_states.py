@@ -76,6 +76,7 @@ class TaskStates(GraspStates):
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
         self.prev_e = None
+        self.blind = None  # 002: (odometry bearing of the marker, x_mm, y_mm) when last seen
 
     # --- SEARCH -------------------------------------------------------------------------------
     def enter_SEARCH(self, now: int, inp) -> None:
@@ -165,6 +166,8 @@ class TaskStates(GraspStates):
         if self.method == "002":
             from host.control.fuzzy import FuzzyParams
             self.fuzzy = make_fuzzy(FuzzyParams(**self.p.fuzzy))
+            # the search's sighting is the first bearing to steer on if the next frames miss
+            self.blind = (inp.heading_mrad - self.e_mrad, inp.x_mm, inp.y_mm)
 
     def _plan(self, now: int, inp) -> None:
         from host.planning.bezier000 import Params000
@@ -312,12 +315,15 @@ class TaskStates(GraspStates):
         except (ValueError, TypeError):
             self.counters["bad_detections"] += 1
             e = None
+        if e is None and self._approach_blind_002(now, inp):
+            return
         if e is None and now - self.obj_seen_us >= self.p.lost_timeout_us:
             self.go(now, "LOST", f"double cross not seen for {now - self.obj_seen_us} us")
             return
         cmd = self.fuzzy.step(now, e, None)
         if e is not None:
             self.obj_seen_us = now
+            self.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm)
             self._track_marker_002(now, dc, e)
         self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         ec = None
@@ -326,6 +332,29 @@ class TaskStates(GraspStates):
         self.prev_e = (now, e) if e is not None else None
         self.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
                          "wheels_mmps": list(self.wheels)})
+
+    def _approach_blind_002(self, now: int, inp) -> bool:
+        """No marker in this frame: steer on the bearing it was last seen at, by odometry, for
+        up to ``blind_approach_mm`` of travel and ``blind_approach_us``; True while doing so.
+
+        Ours, not 002's (its fuzzy loop assumes the marker always in view): beyond ~2.5 m the
+        crosses are ~10 px wide and the detector misses them in most frames, although the
+        search (which holds still and confirms) did see them; standing still there, as before,
+        ended in LOST -> SEARCH -> LOST until the object was given up (random 002 runs)."""
+        if self.blind is None:
+            return False
+        goal, x0, y0 = self.blind
+        if (isqrt((inp.x_mm - x0) ** 2 + (inp.y_mm - y0) ** 2) >= self.p.blind_approach_mm
+                or now - self.obj_seen_us >= self.p.blind_approach_us):
+            return False
+        e = _wrap(inp.heading_mrad - goal)  # right positive, like the camera's e
+        cmd = self.fuzzy.step(now, e, None)
+        self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
+        self.set_arm(now, self.arm[2], self.arm[3], self.arm[4], max(-800, min(800, e)))
+        self.prev_e = None
+        self.note(fuzzy={"e_mrad": e, "e_c_mrad_s": None, "u_mrad": cmd.u_mrad,
+                         "wheels_mmps": list(self.wheels), "blind": True})
+        return True
 
     def _track_marker_002(self, now: int, det, e: int) -> None:
         """Keep the marker in view: the waist faces it (theta5 = e) and d_alpha, the pitch of

@@ -41,6 +41,12 @@ def test_generated_scenarios_follow_the_brief_and_carry_the_faults(method):
             assert 1 <= len(sc.obstacles) <= 3
         if method == "002":
             assert len(sc.target.path) >= 2  # the target moves
+            first, last = sc.target.path[0], sc.target.path[-1]
+            # during the approach only: over by the time a robot at 0.15 m/s, after a 1 s
+            # search, has done 60 % of the way; at a hand's pace
+            assert 0 < first.t_s < last.t_s <= 1.0 + 0.6 * dist / 0.15 + 0.01
+            moved = math.hypot(last.x_m - first.x_m, last.y_m - first.y_m)
+            assert 0 < moved / (last.t_s - first.t_s) <= 0.3
         else:
             assert not sc.target.path
     assert min(bearings) < -2 and max(bearings) > 2  # any bearing

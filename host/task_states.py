@@ -14,6 +14,7 @@ from host.posture import PostureParams, distribute_alpha
 from host.search import ArmSearch, SearchParams
 from host.task_drive import (
     close_in,
+    escape_001,
     make_fuzzy,
     make_pose,
     plan_follower,
@@ -212,7 +213,10 @@ class TaskStates(GraspStates):
                 # 001: obstacles across the way and no curve around them from here: drive
                 # aside through free sonar space, then plan again (host.task_wander)
                 self.detours += 1
-                self.detour = start_detour(inp, self.obj, self.p.detour_clear_mm)
+                head, ops = escape_001(self.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                       inp.sonar_mm, self.obj, self.p.detour_mm)
+                self.charge(ops)
+                self.detour = start_detour(inp, self.obj, self.p.detour_clear_mm, head)
                 self.plan_attempts, self.follower = 0, None
                 self.note(detour=dict(self.detour), detour_count=self.detours)
             else:  # (not the direct approach into an echo: it collided, random 001 seeds)

@@ -42,9 +42,10 @@ TERMINAL = ("DONE", "FAILED")
 # Detectors each state runs (names shared with the host app's detector table).
 DETECTORS: dict[str, dict[str, list[str]]] = {
     "000": {"SEARCH": ["radial_symbol"], "APPROACH": ["radial_symbol"],
-            "ADJUST": ["dual_plus", "radial_symbol"], "PRECISE_GRASP": ["spoke"]},
+            "ADJUST": ["dual_plus", "radial_symbol"], "PRECISE_GRASP": ["spoke"],
+            "LIFT": ["dual_plus", "radial_symbol"]},  # LIFT: the grasp check (task_grasp)
     "002": {"SEARCH": ["double_cross"], "APPROACH": ["double_cross", "red_cylinder"],
-            "ADJUST": ["red_cylinder"]},
+            "ADJUST": ["red_cylinder"], "LIFT": ["red_cylinder"]},
 }
 DETECTORS["001"] = DETECTORS["000"]
 

@@ -32,6 +32,7 @@ from host.task_sense import (
 from host.task_wander import detour_step, seen_there_before, start_detour, wander_step
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
+SIGHTING_MAX_TURN_MRAD_S = 500  # 001 APPROACH: sightings taken while turning faster are not used
 
 
 def _wrap(a: int) -> int:
@@ -222,6 +223,20 @@ class TaskStates(GraspStates):
             else:  # (not the direct approach into an echo: it collided, random 001 seeds)
                 self.fail(now, f"no feasible approach path: {detail['reason']}")
 
+    def _turning_fast(self, now: int, inp) -> bool:
+        """001: the base turned faster than SIGHTING_MAX_TURN_MRAD_S over the last frame
+        latency. Ours: the frame's capture time is known only as ``frame_latency_us`` ago (the
+        vision time varies by 10-25 ms), and the arm history holds servo targets, not where the
+        lagging servos were; at 1.5 rad/s (a tight 001 curve at low speed, a_t = v²κ allows it)
+        that put a sighting 0.4 m away 60 mm off (random 001 seed 5017), and the grasp on it
+        missed. The given P_i or an earlier sighting is kept instead."""
+        if not self.pose_hist:
+            return False
+        then = self._at(self.pose_hist, now - self.p.frame_latency_us)
+        dt = max(1, now - then[0])
+        rate = abs(_wrap(inp.heading_mrad - then[3])) * 1_000_000 // dt
+        return rate > SIGHTING_MAX_TURN_MRAD_S
+
     def _face_object(self, inp) -> bool:
         """Turn the base in place toward the object; True once it faces it (ours, not the
         papers': a curve from a standstill facing away can violate A_max or R_min)."""
@@ -238,7 +253,7 @@ class TaskStates(GraspStates):
             self._approach_002(now, inp, dets)
             return
         det = dets.get("radial_symbol")
-        if det is not None:
+        if det is not None and not (self.method == "001" and self._turning_fast(now, inp)):
             self.see_object(now, inp, "radial_symbol", det)
         moved = (self.plan_obj is not None and isqrt((self.obj[0] - self.plan_obj[0]) ** 2 + (
             self.obj[1] - self.plan_obj[1]) ** 2) > self.p.replan_shift_mm)

@@ -78,6 +78,7 @@ class TaskParams:
     lost_timeout_us: int = 1_500_000
     blind_approach_mm: int = 1000  # 002: drive on toward the marker's last bearing this far
     blind_approach_us: int = 8_000_000  # ... and at most this long (1 m at 0.15 m/s: 6.7 s)
+    blind_keep_mm: int = 700  # ... but stop it this short of the board's distance (crosses)
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80
@@ -107,6 +108,7 @@ class TaskParams:
     pregrasp_back_mm: int = 50  # 002: pre-grasp point this far short of the object
     grasp_close_timeout_us: int = 2_000_000
     cylinder_near_px: int = 12  # 002: ring spacing at which ADJUST (slow, straight) starts
+    cross_near_px: int = 75  # 002: crosses this far apart (board ~0.6 m) place the cylinder
     slow_mmps: int = 60  # 002 ADJUST speed
     t_d_px: int = 45  # 002 T_d
     object_xy_mm: tuple = ()  # 001: P_i given in the odometry frame (skips SEARCH); () unknown

@@ -27,6 +27,10 @@ from host.kinematics import ArmGeometry, fk_mm_q4
 RADIAL_L_MM_Q4 = 109 * 16  # outer ring diameter L (000)
 DUAL_PLUS_D_ACT_MM_Q4 = 757  # 47.3 mm in Q4 (000)
 RING_D_MM_Q4 = 232  # 14.5 mm in Q4 (002)
+# 002's guidance board as we built it (002 gives no sizes; docs/markers.md): cross centres 130 mm
+# apart, the cylinder's axis 150 mm in front of the board's centre
+CROSS_SPACING_MM_Q4 = 130 * 16
+BOARD_BEHIND_MM_Q4 = 150 * 16
 
 
 @dataclass(frozen=True)
@@ -110,6 +114,13 @@ def object_in_platform(name: str, det: Any, geom: ArmGeometry, joints_mrad: tupl
     elif name == "red_cylinder":
         u, v = field(det, "uc_q4", "u_c_q4", "u_q4"), field(det, "vc_q4", "v_c_q4", "v_q4")
         depth = _depth(RING_D_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
+    elif name == "double_cross":
+        # the cylinder, not the board: the board faces the robot, so the cylinder is about
+        # BOARD_BEHIND closer along the line of sight (the board's row is used: the camera
+        # looks level in the approach, so the ray is nearly horizontal)
+        u, v = field(det, "um_q4"), field(det, "vm_q4")
+        board = _depth(CROSS_SPACING_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
+        depth = board - BOARD_BEHIND_MM_Q4 if board is not None else None
     else:
         raise ValueError(f"no object position from detector {name!r}")
     if u is None or v is None or depth is None or depth <= 0:
@@ -189,7 +200,8 @@ def spoke_reading(det: Any) -> tuple[int, int] | None:
 
 
 def d_pixel_px(det: Any) -> int | None:
-    """Ring spacing d_pixel of the red cylinder in whole px (002 §2.2)."""
+    """Ring spacing d_pixel of the red cylinder (002 §2.2), or the spacing of the double
+    cross's two crosses, in whole px."""
     if det is None:
         return None
     d = field(det, "d_pixel_q4")

@@ -26,6 +26,7 @@ from host.task_drive import (
 )
 from host.task_grasp import GraspStates
 from host.task_sense import (
+    CROSS_SPACING_MM_Q4,
     bearing_mrad,
     d_pixel_px,
     field,
@@ -81,7 +82,8 @@ class TaskStates(GraspStates):
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
         self.prev_e = None
-        self.blind = None  # 002: (odometry bearing of the marker, x_mm, y_mm) when last seen
+        self.blind = None  # 002: (odometry bearing of the marker, x_mm, y_mm, reach_mm)
+        self.e_dpx = None  # 002: d_pixel of the search's sighting
 
     # --- SEARCH -------------------------------------------------------------------------------
     def enter_SEARCH(self, now: int, inp) -> None:
@@ -109,6 +111,7 @@ class TaskStates(GraspStates):
         if e is None:
             return False
         self.e_mrad, self.obj_seen_us = e, now
+        self.e_dpx = d_pixel_px(det)
         return True
 
     def _found_why(self) -> str:
@@ -172,7 +175,7 @@ class TaskStates(GraspStates):
             from host.control.fuzzy import FuzzyParams
             self.fuzzy = make_fuzzy(FuzzyParams(**self.p.fuzzy))
             # the search's sighting is the first bearing to steer on if the next frames miss
-            self.blind = (inp.heading_mrad - self.e_mrad, inp.x_mm, inp.y_mm)
+            self._remember_bearing_002(inp, self.e_mrad, self.e_dpx)
 
     def _plan(self, now: int, inp) -> None:
         from host.planning.bezier000 import Params000
@@ -373,10 +376,21 @@ class TaskStates(GraspStates):
         if e is None and now - self.obj_seen_us >= self.p.lost_timeout_us:
             self.go(now, "LOST", f"double cross not seen for {now - self.obj_seen_us} us")
             return
+        dc_px = d_pixel_px(dc) if dc is not None else None
+        if dc_px is not None and dc_px >= self.p.cross_near_px and \
+                self.see_object(now, inp, "double_cross", dc):
+            # near, the cylinder may be below the level look while the board is big in view:
+            # its estimate from the crosses ends the approach (random 002 seed 1031 ran into it)
+            x, y = self.obj_platform(inp)
+            dist = isqrt(x * x + y * y) // 16
+            if dist <= self.p.grasp_r_mm + 150:
+                self.go(now, "ADJUST", f"crosses {dc_px} px apart: red cylinder estimated "
+                        f"{dist} mm from the waist")
+                return
         cmd = self.fuzzy.step(now, e, None)
         if e is not None:
             self.obj_seen_us = now
-            self.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm)
+            self._remember_bearing_002(inp, e, dc_px)
             self._track_marker_002(now, dc, e)
         self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         ec = None
@@ -386,9 +400,23 @@ class TaskStates(GraspStates):
         self.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
                          "wheels_mmps": list(self.wheels)})
 
+    def _remember_bearing_002(self, inp, e: int, d_px: int | None) -> None:
+        """The bearing to steer on blind should the next frames miss the marker, and how far:
+        at most ``blind_approach_mm``, and ``blind_keep_mm`` short of the board's distance by
+        the crosses' spacing. Near, a lost marker has left the view (the base turned, or it is
+        below the look): driving on blind went past the object (random 002 seed 1031)."""
+        self.blind = None
+        if d_px is None or d_px <= 0:
+            return
+        board_mm = CROSS_SPACING_MM_Q4 * self.cam.f_px // (16 * d_px)
+        reach = min(self.p.blind_approach_mm, board_mm - self.p.blind_keep_mm)
+        if reach > 0:
+            self.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm, reach)
+
     def _approach_blind_002(self, now: int, inp) -> bool:
         """No marker in this frame: steer on the bearing it was last seen at, by odometry, for
-        up to ``blind_approach_mm`` of travel and ``blind_approach_us``; True while doing so.
+        up to the reach of :meth:`_remember_bearing_002` and ``blind_approach_us``; True while
+        doing so.
 
         Ours, not 002's (its fuzzy loop assumes the marker always in view): beyond ~2.5 m the
         crosses are ~10 px wide and the detector misses them in most frames, although the
@@ -396,8 +424,8 @@ class TaskStates(GraspStates):
         ended in LOST -> SEARCH -> LOST until the object was given up (random 002 runs)."""
         if self.blind is None:
             return False
-        goal, x0, y0 = self.blind
-        if (isqrt((inp.x_mm - x0) ** 2 + (inp.y_mm - y0) ** 2) >= self.p.blind_approach_mm
+        goal, x0, y0, reach = self.blind
+        if (isqrt((inp.x_mm - x0) ** 2 + (inp.y_mm - y0) ** 2) >= reach
                 or now - self.obj_seen_us >= self.p.blind_approach_us):
             return False
         e = _wrap(inp.heading_mrad - goal)  # right positive, like the camera's e

@@ -9,9 +9,11 @@ FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": [
                 "v_c_q4": 928, "width_q4": 112}
 
 
-def _approach(u_c_q4: int | None, seconds: float = 2.0, speed_mmps: int = 0):
-    """APPROACH with no double cross in any frame; the odometry advances at ``speed_mmps``."""
+def _approach(u_c_q4: int | None, seconds: float = 2.0, speed_mmps: int = 0, seen_dpx=18):
+    """APPROACH after a sighting of the crosses ``seen_dpx`` apart (18 px: ~2.6 m), with no
+    double cross in any later frame; the odometry advances at ``speed_mmps``."""
     task = Task("002")
+    task.e_dpx = seen_dpx
     task.go(0, "APPROACH", "test: marker seen")
     rc = dict(FAR_CYLINDER, u_c_q4=u_c_q4) if u_c_q4 is not None else None
     out = None
@@ -63,3 +65,33 @@ def test_a_robot_that_does_not_move_is_lost_after_the_blind_time():
     assert out.state == "APPROACH"
     _, out = _approach(None, seconds=p.blind_approach_us / 1e6 + 0.5)
     assert out.state in ("LOST", "SEARCH")
+
+
+def test_after_a_near_sighting_a_lost_marker_is_lost_not_followed_blind():
+    # 70 px apart: the board ~0.65 m away, closer than blind_keep_mm: the marker left the
+    # view (below the look, or the base turned)
+    task, out = _approach(None, seconds=2.0, speed_mmps=150, seen_dpx=70)
+    assert task.blind is None
+    assert out.state in ("LOST", "SEARCH")
+
+
+def test_big_crosses_end_the_approach_even_without_the_cylinder():
+    # the board near and centred (crosses 100 px apart: board ~0.45 m, cylinder ~0.3 m) while
+    # the cylinder is below the level look: the crosses place it, ADJUST takes over
+    task = Task("002")
+    task.go(0, "APPROACH", "test: marker seen")
+    dc = {"um_q4": 160 * 16, "vm_q4": 120 * 16, "d_pixel_q4": 100 * 16}
+    out = None
+    for k in range(1, 20):
+        out = task.step(k * 20_000, TaskInputs(detections={"double_cross": dc,
+                                                             "red_cylinder": None}))
+        if out.state != "APPROACH":
+            break
+    assert out.state == "ADJUST"
+    assert any("crosses 100 px apart" in ev.why for ev in out.events)
+    far = Task("002")  # the same crosses 40 px apart (~1.1 m): the approach goes on
+    far.go(0, "APPROACH", "test")
+    for k in range(1, 20):
+        out = far.step(k * 20_000, TaskInputs(detections={
+            "double_cross": dict(dc, d_pixel_q4=40 * 16), "red_cylinder": None}))
+    assert out.state == "APPROACH"

@@ -82,6 +82,12 @@ def test_depth_from_sizes_of_the_papers():
                               kinematics.PAPER_002, j, ts.CAMERA_002)
     assert abs(p[1] / 16 - (281.5 + 112.8)) < 1.5
     assert ts.d_pixel_px({"d_pixel_q4": 45 * 16 + 7}) == 45
+    # double cross (002 board): crosses 130 mm apart seen 91 px apart at f = 350: the board
+    # 500 mm along the axis, the cylinder 150 mm in front of it
+    p = ts.object_in_platform("double_cross", {"um_q4": 2560, "vm_q4": 1920,
+                                               "d_pixel_q4": 91 * 16},
+                              kinematics.PAPER_002, j, ts.CAMERA_002)
+    assert abs(p[1] / 16 - (281.5 + 130 * 350 / 91 - 150)) < 1.5
     assert ts.object_in_platform("dual_plus", {"um_q4": 1, "vm_q4": 1, "d_pixel_q4": 0},
                                  G, j, ts.CAMERA_000) is None
     with pytest.raises(ValueError, match="detector"):

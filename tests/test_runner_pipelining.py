@@ -93,3 +93,21 @@ def test_pipelined_pty_run_has_the_inproc_trace(tmp_path, monkeypatch):
         sha[transport] = (s["trace_sha256"], s["trace_lines"])
     assert sha["pty"] == sha["inproc"]
     assert counts["pending"] > 100  # most 5 ms quanta of 1.5 s have no control tick
+
+
+def test_inproc_passes_an_empty_done_as_the_codec_would(monkeypatch):
+    from host.app_factory import build_host_app
+    from host.lockstep_client import LockstepClient
+    from link.registry import inproc_pair
+    from tools.run_job import host_config, resolve_scenario
+
+    _, scenario = resolve_scenario("paper000-exp1")
+    port, peer = inproc_pair("codec-skip")
+    host = runner.InprocHost(LockstepClient(build_host_app(host_config(scenario)), peer))
+    skipped = 0
+    for k in range(12):
+        done = host.exchange(_grant(k))
+        again = ls.decode(ls.encode(done))
+        assert again == done and dict(again.load) == dict(done.load)
+        skipped += not done.events and not done.load.get("windows")
+    assert skipped >= 6

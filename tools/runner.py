@@ -37,7 +37,12 @@ class InprocHost:
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant (a GRANT holds only ints and bytes: passed as is; the DONE goes
         through the codec so its events are exactly what the socket would deliver)."""
-        return ls.decode(ls.encode(self.client.serve(grant)))
+        done = self.client.serve(grant)
+        if not done.events and not done.load.get("windows"):
+            # the rest is ints, tuples of int pairs, a str and bools: the codec would give
+            # back equal values (most quanta; checked in tests/test_runner_pipelining.py)
+            return done
+        return ls.decode(ls.encode(done))
 
     def finish(self, end: ls.End) -> ls.Bye:
         """End the run; the host's final stats."""

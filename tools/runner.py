@@ -94,7 +94,14 @@ class SocketHost:
 
     max_ahead = 16
 
-    def __init__(self, argv: list[str], accept_timeout_s: float = 60.0) -> None:
+    def __init__(self, argv: list[str], accept_timeout_s: float = 60.0,
+                 connect: bool = True) -> None:
+        """Start the host process; with ``connect`` (default) also wait for its HELLO, else
+        call :meth:`connect` later (the caller builds its side while the host boots)."""
+        self._accept_timeout_s = accept_timeout_s
+        self._waiting: deque[_Ticket] = deque()
+        self._quiet_until = -1
+        self._last_load: dict = {}
         self._dir = tempfile.TemporaryDirectory(prefix="mobigrasp-ls-")
         self.path = os.path.join(self._dir.name, "lockstep.sock")
         self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -106,21 +113,24 @@ class SocketHost:
         root = str(Path(__file__).resolve().parents[1])
         env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
         self.proc = subprocess.Popen([*argv, "--lockstep", self.path], env=env)
+        if connect:
+            self.connect()
+
+    def connect(self) -> None:
+        """Accept the host process's connection and read its HELLO."""
+        timeout = self._accept_timeout_s
         try:
             self.conn, _ = self._server.accept()
         except TimeoutError as exc:
             self.proc.kill()
-            raise ls.LockstepClosed(f"host process did not connect within {accept_timeout_s} s"
+            raise ls.LockstepClosed(f"host process did not connect within {timeout} s"
                                     ) from exc
-        self.conn.settimeout(accept_timeout_s)  # safety limit only
+        self.conn.settimeout(timeout)  # safety limit only
         self.rfile = self.conn.makefile("rb")
         self.wfile = self.conn.makefile("wb")
         hello = ls.read_message(self.rfile)
         if not isinstance(hello, ls.Hello) or hello.version != ls.LOCKSTEP_VERSION:
             raise ls.LockstepError(f"host said {hello!r}, expected HELLO v{ls.LOCKSTEP_VERSION}")
-        self._waiting: deque[_Ticket] = deque()
-        self._quiet_until = -1
-        self._last_load: dict = {}
 
     def _send(self, msg: ls.Message) -> None:
         self.wfile.write(ls.encode(msg))

@@ -32,6 +32,7 @@ class InputBuilder:
         self.odometry = Odometry()
         self._closed_since_us: int | None = None
         self._tel_seen: Any = None
+        self._resets_seen = 0
         self.pose = self.odometry.pose
 
     def joints_mrad(self, tel: m.Telemetry | None) -> tuple[int, ...] | None:
@@ -44,6 +45,9 @@ class InputBuilder:
         from host.task import TaskInputs
 
         tel = app.link.telemetry
+        if app.link.mcu_resets != self._resets_seen:  # counters and clock restarted at 0
+            self._resets_seen = app.link.mcu_resets
+            self.odometry.resync()
         if tel is not None and tel is not self._tel_seen:
             self._tel_seen = tel
             self.pose = self.odometry.update(tel.time_us, tel.enc_left, tel.enc_right)

@@ -9,15 +9,16 @@ between this object and the serial port. Reliable commands (docs/protocol.md) go
 Every outgoing command is validated before it is encoded: a NaN, an infinity, a non-integer or a
 value outside the protocol's range is refused and counted (``rejected_outputs``), never sent and
 never a crash of the loop; servo targets are clamped to the joint table of docs/conventions.md.
+One policy, in host/outgoing_guard.py: coerce (:func:`coerce_int`), clamp, check.
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from host import arm_calib
 from host.mcu_watch import McuWatch
+from host.outgoing_guard import check_gripper, check_servo_mrad, check_wheels, coerce_int
 from protocol import messages as m
 from protocol.frame import PROTOCOL_VERSION, FrameParser
 from protocol.reliable import RetransmitQueue, SequenceCounter
@@ -40,21 +41,6 @@ class LinkCounters:
     rejected_outputs: int = 0
     clamped_outputs: int = 0
     telemetry: int = 0
-
-
-def _as_int(name: str, value: object) -> int:
-    """An int from an int-like value; ValueError naming ``name`` for NaN/inf/bool/non-numbers."""
-    if isinstance(value, bool) or value is None:
-        raise ValueError(f"{name} must be a number, got {value!r}")
-    if isinstance(value, int):
-        return value
-    try:
-        f = float(value)  # numpy scalars end up here
-    except (TypeError, ValueError) as exc:
-        raise ValueError(f"{name} must be a number, got {value!r}") from exc
-    if not math.isfinite(f):
-        raise ValueError(f"{name} must be finite, got {value!r}")
-    return int(round(f))
 
 
 class HostLink:
@@ -189,12 +175,13 @@ class HostLink:
         try:
             if len(joints_mrad) != 6:
                 raise ValueError(f"servo targets must have 6 values, got {len(joints_mrad)}")
-            raw = [_as_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
+            raw = [coerce_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
             targets = [self.gripper_permille]
             targets += [arm_calib.clamp_mrad(ch, raw[ch]) for ch in range(1, 6)]
             if targets[1:] != raw[1:]:
                 self.counters.clamped_outputs += 1
-            msg = m.SetServos(mode=m.SERVO_MODE_MRAD, targets=tuple(targets), slew=slew_mrad_s)
+            msg = m.SetServos(mode=m.SERVO_MODE_MRAD, targets=check_servo_mrad(targets),
+                              slew=slew_mrad_s)
         except ValueError as exc:
             return self._reject("SetServos", exc, at_us)
         self.send(msg, at_us)
@@ -203,12 +190,13 @@ class HostLink:
     def send_wheels(self, left_mmps, right_mmps, at_us: int) -> bool:
         """SetWheels (not reliable: repeated every control step), clamped to ±1000 mm/s."""
         try:
-            left = _as_int("wheels.left_mmps", left_mmps)
-            right = _as_int("wheels.right_mmps", right_mmps)
+            left = coerce_int("wheels.left_mmps", left_mmps)
+            right = coerce_int("wheels.right_mmps", right_mmps)
             lim = m.WHEEL_SPEED_LIMIT_MMPS
             cl, cr = max(-lim, min(lim, left)), max(-lim, min(lim, right))
             if (cl, cr) != (left, right):
                 self.counters.clamped_outputs += 1
+            cl, cr = check_wheels(cl, cr)
             msg = m.SetWheels(left_mmps=cl, right_mmps=cr)
         except ValueError as exc:
             return self._reject("SetWheels", exc, at_us)
@@ -218,7 +206,8 @@ class HostLink:
     def send_gripper(self, close_permille, at_us: int) -> bool:
         """Gripper (reliable), 0 = open .. 1000 = closed, clamped."""
         try:
-            value = max(0, min(1000, _as_int("gripper_permille", close_permille)))
+            value = check_gripper(max(0, min(1000, coerce_int("gripper_permille",
+                                                               close_permille))))
             msg = m.Gripper(close_permille=value)
         except ValueError as exc:
             return self._reject("Gripper", exc, at_us)

@@ -2,8 +2,10 @@
 
 The last check before a command is encoded: a value that is not an integer (NaN, infinity, float,
 bool, None, string...) or lies outside its limit is refused with a reason, and the refusal is
-counted; nothing is clamped here (clamping is the caller's policy, host/app_link.py), so a refused
-value is never sent and the caller decides what to do instead (keep the last command, stop).
+counted; nothing is clamped here (clamping is the caller's policy, host/app_link.py: it coerces
+with :func:`coerce_int`, clamps, and passes the result through the checks below as the last gate),
+so a refused value is never sent and the caller decides what to do instead (keep the last
+command, stop).
 
 Limits: servo targets in mrad per docs/conventions.md (host/arm_calib.JOINT_LIMITS_MRAD; index 0
 is the gripper closure in per mille, 0..1000), wheel speeds within ±1000 mm/s (the protocol's
@@ -62,6 +64,18 @@ def check_int(what: str, value: object, lo: int, hi: int) -> int:
     if not lo <= v <= hi:
         raise OutgoingRejected(OUT_OF_LIMITS, what, value, f"limits [{lo}, {hi}]")
     return v
+
+
+def coerce_int(what: str, value: object) -> int:
+    """``value`` as an int, a finite non-integer number rounded to the nearest (numpy scalars
+    included); OutgoingRejected for NaN, infinity, bool, None and non-numbers. The first step of
+    the host's output policy (host/app_link.py): coerce, clamp to the limits, then check."""
+    try:
+        return check_int(what, value, -(1 << 62), 1 << 62)
+    except OutgoingRejected as exc:
+        if exc.reason != NOT_INTEGER:
+            raise
+    return int(round(float(value)))  # type: ignore[arg-type]
 
 
 def check_servo_mrad(targets: Sequence[object]) -> tuple[int, ...]:

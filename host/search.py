@@ -19,6 +19,18 @@ sees something), then looks all around again.  Leg k (from 0) is ``wander_mm * (
 long; as each look-around turns the base by 270 degrees the legs make an expanding square spiral
 (1, 1, 2, 2, ... x wander_mm) around the start.  While driving the camera looks left, out of the
 spiral (level ``coarse_theta2_mrad[0]``, theta5_max) and the object may be found on the way.
+Sweeping wander (``wander_sweep`` = 1, default): while driving, the waist sweeps
++-``wander_theta5_mrad`` (1.4 rad, the waist servo's range, wider than the paper's +-0.8 rad of
+the search at a stop, so that the camera also looks abeam) at the far level
+``coarse_theta2_mrad[0]`` (boustrophedon, one pose per dwell as in a cycle): the drive sees a strip
+on both sides, ~1 m wide each way (the level sees 0.52-1.1 m); ground nearer than 0.52 m ahead
+was seen earlier further ahead.  A look-around costs ~30 s for a 1.1 m disk
+(3.8 m2), a drive 0.4 m2/s: so after the first look-around at the start the wander stops only to
+turn the base by ``coarse_base_turn_mrad`` (``stop_cycles`` = 0, left turns: a counter-clockwise
+expanding square spiral 1, 1, 2, 2 x wander_mm whose leg spacing is under the strip's
+width), and ``stop_cycles`` > 0 looks around that many cycles at each stop instead.
+``wander_sweep`` = 0 holds the camera left as before (random 000 seeds 5006, 5007, 5016, 5019
+searched 150 s without finding a target 1.8-2.4 m away: four stops of ~30 s each).
 Cycles after the first ``dense_cycles`` (the paper's d_theta2; 0 by default) visit only the
 theta2 levels in ``coarse_theta2_mrad``; turns after the first are ``coarse_base_turn_mrad``.
 Why: with the camera ~0.29 m up, f = 611 px and 240 rows (0.39 rad vertical field), the levels
@@ -55,7 +67,10 @@ class SearchParams:
     coarse_base_turn_mrad: int = 1571  # turns after the first: 90 degrees
     dense_cycles: int = 0  # first cycles at the paper's d_theta2 (1 = the paper's first look)
     turns_per_wander: int = 4  # cycles per look-around (headings 0, 60, 150, 240 degrees)
-    wander_mm: int = 1200  # first leg of the wander spiral (0 = never wander)
+    wander_mm: int = 1800  # first leg of the wander spiral (0 = never wander): 2 x ~0.9 m strip
+    wander_sweep: int = 1  # 1: the waist sweeps at the far level while driving; 0: looks left
+    wander_theta5_mrad: int = 1400  # the sweep while driving spans +- this (the waist's limit)
+    stop_cycles: int = 0  # cycles at each wander stop (0: turn coarse_base_turn and drive on)
     frames_per_pose: int = 2
     frame_period_us: int = FRAME_PERIOD_US
     servo_speed_mrad_per_s: int = 5000  # hobby servo, about 0.2 s per 60 degrees
@@ -71,10 +86,14 @@ class SearchParams:
         lo, hi = self.theta2_min_mrad, self.theta2_max_mrad
         levels = tuple(dict.fromkeys(min(max(int(v), lo), hi) for v in self.coarse_theta2_mrad))
         object.__setattr__(self, "coarse_theta2_mrad", levels)
+        if self.wander_sweep not in (0, 1) or self.stop_cycles < 0:
+            raise ValueError(f"wander_sweep must be 0 or 1 and stop_cycles >= 0, got "
+                             f"{self.wander_sweep}, {self.stop_cycles}")
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
         for name in ("d_theta2_mrad", "d_theta5_mrad", "frames_per_pose", "frame_period_us",
+                     "wander_theta5_mrad",
                      "servo_speed_mrad_per_s", "coarse_base_turn_mrad", "turns_per_wander"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
@@ -164,7 +183,15 @@ class ArmSearch:
         self._pose_start_us = int(now_us)
         self._turning = False
         self._wandering = False
+        self._corner = False  # turning at a wander stop: the next leg follows (stop_cycles 0)
+        self._cycles_here = 0  # cycles completed at this place
         self.wanders = 0
+        p = params
+        w = p.wander_theta5_mrad
+        up = list(range(-w, w, p.d_theta5_mrad)) + [w]
+        self._wsweep = up + up[-2:0:-1]  # waist poses of the sweeping wander, cyclic
+        self._windex = 0
+        self._wpose = (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
 
     def dwell_us(self, frm: tuple[int, int], to: tuple[int, int]) -> int:
         """Servo travel of the larger joint move plus the frames to look."""
@@ -179,28 +206,58 @@ class ArmSearch:
         return SearchCommand(th2, p.theta3_mrad, p.theta4_mrad, th5, turn, self._index,
                              self.cycle, drive)
 
-    def _moving_command(self) -> SearchCommand:
+    def _start_wander(self, now_us: int, at: tuple[int, int]) -> None:
+        """Drive the next leg; the sweep starts at the waist pose nearest ``at``."""
+        self._wandering, self._turning, self._corner = True, False, False
+        if self.params.wander_sweep:
+            self._windex = min(range(len(self._wsweep)),
+                               key=lambda k: abs(self._wsweep[k] - at[1]))
+            self._wpose = (self.params.coarse_theta2_mrad[0], self._wsweep[self._windex])
+            self._pose_start_us = int(now_us)
+            self._prev = at
+
+    def _wander_pose(self, now_us: int) -> tuple[int, int]:
+        """The camera while driving: left (``wander_sweep`` 0) or the far level's sweep."""
         p = self.params
-        if self._wandering:  # look left, out of the spiral, while driving
-            return SearchCommand(p.coarse_theta2_mrad[0], p.theta3_mrad, p.theta4_mrad,
-                                 p.theta5_max_mrad, 0, self._index, self.cycle,
-                                 p.wander_mm * (1 + self.wanders // 2))
+        if not p.wander_sweep:
+            return p.coarse_theta2_mrad[0], p.theta5_max_mrad
+        while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._wpose):
+            self._pose_start_us += self.dwell_us(self._prev, self._wpose)
+            self._prev = self._wpose
+            self._windex = (self._windex + 1) % len(self._wsweep)
+            self._wpose = (p.coarse_theta2_mrad[0], self._wsweep[self._windex])
+        return self._wpose
+
+    def _moving_command(self, now_us: int) -> SearchCommand:
+        p = self.params
+        if self._wandering:
+            th2, th5 = self._wander_pose(now_us)
+            return SearchCommand(th2, p.theta3_mrad, p.theta4_mrad, th5, 0, self._index,
+                                 self.cycle, p.wander_mm * (1 + self.wanders // 2))
+        if self._corner:  # the arm holds the last wander pose while the base turns
+            return SearchCommand(self._wpose[0], p.theta3_mrad, p.theta4_mrad, self._wpose[1],
+                                 p.coarse_base_turn_mrad, self._index, self.cycle)
         return self._command(p.base_turn_mrad if self.cycle <= 1 else p.coarse_base_turn_mrad)
 
     def step(self, now_us: int) -> SearchCommand:
         """Advance the pattern to ``now_us`` and return the command in force."""
         if self._turning or self._wandering:
-            return self._moving_command()
+            return self._moving_command(now_us)
         while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._poses[self._index]):
             self._pose_start_us += self.dwell_us(self._prev, self._poses[self._index])
             self._prev = self._poses[self._index]
             if self._index + 1 >= len(self._poses):
                 self.cycle += 1
+                self._cycles_here += 1
                 p = self.params
                 # a full turn of the base found nothing here: wander instead of turning again
-                self._wandering = p.wander_mm > 0 and self.cycle % p.turns_per_wander == 0
-                self._turning = not self._wandering
-                return self._moving_command()
+                here = p.turns_per_wander if self.wanders == 0 else p.stop_cycles
+                if p.wander_mm > 0 and self._cycles_here >= here:
+                    self._cycles_here = 0
+                    self._start_wander(now_us, self._prev)
+                else:
+                    self._turning = True
+                return self._moving_command(now_us)
             self._index += 1
         return self._command(0)
 
@@ -226,11 +283,14 @@ class ArmSearch:
         self._index = 0
         self._prev = (th2, th5)
         self._pose_start_us = int(now_us)
-        self._turning = self._wandering = False
+        self._turning = self._wandering = self._corner = False
 
     def base_turn_done(self, now_us: int) -> None:
-        """The base has turned: start a new cycle from the end of the theta2 range we are at."""
-        if self._turning:
+        """The base has turned: start a new cycle from the end of the theta2 range we are at,
+        or (a corner of the wander spiral) the next leg."""
+        if self._turning and self._corner:
+            self._start_wander(now_us, self._wpose)
+        elif self._turning:
             self._next_cycle(now_us)
 
     def wander_done(self, now_us: int) -> None:
@@ -238,4 +298,9 @@ class ArmSearch:
         if self._wandering:
             self.wanders += 1
             p = self.params
-            self._next_cycle(now_us, (p.coarse_theta2_mrad[0], p.theta5_max_mrad))
+            at = self._wpose if p.wander_sweep else (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
+            if p.stop_cycles == 0:  # a corner of the spiral: turn, then the next leg
+                self._wandering, self._turning, self._corner = False, True, True
+                self._wpose = at
+                return
+            self._next_cycle(now_us, at)

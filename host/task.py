@@ -42,9 +42,10 @@ TERMINAL = ("DONE", "FAILED")
 # Detectors each state runs (names shared with the host app's detector table).
 DETECTORS: dict[str, dict[str, list[str]]] = {
     "000": {"SEARCH": ["radial_symbol"], "APPROACH": ["radial_symbol"],
-            "ADJUST": ["dual_plus", "radial_symbol"], "PRECISE_GRASP": ["spoke"]},
+            "ADJUST": ["dual_plus", "radial_symbol"], "PRECISE_GRASP": ["spoke"],
+            "LIFT": ["dual_plus", "radial_symbol"]},  # LIFT: the grasp check (task_grasp)
     "002": {"SEARCH": ["double_cross"], "APPROACH": ["double_cross", "red_cylinder"],
-            "ADJUST": ["red_cylinder"]},
+            "ADJUST": ["red_cylinder"], "LIFT": ["red_cylinder"]},
 }
 DETECTORS["001"] = DETECTORS["000"]
 
@@ -75,6 +76,8 @@ class TaskParams:
     adjust_theta4_mrad: int = 1571
     blind_finish_mm: int = 80  # ADJUST may finish on odometry within this of its goal
     lost_timeout_us: int = 1_500_000
+    blind_approach_mm: int = 1000  # 002: drive on toward the marker's last bearing this far
+    blind_approach_us: int = 8_000_000  # ... and at most this long (1 m at 0.15 m/s: 6.7 s)
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80

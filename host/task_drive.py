@@ -26,6 +26,9 @@ from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from host.odometry import Pose
 
 MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
+ARC_BOUND_001 = True  # 001: eq. (16) wedges cut to the grown echo arc (planner_params_001)
+DETOUR_EXTRA_MM = 100  # 001: a detour's way out is checked this much beyond its end (stopping)
+DETOUR_MARGIN_MM = 100  # ... against the infeasible regions grown by this: it drives open-loop
 
 
 def make_pose(x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int) -> Pose:
@@ -115,13 +118,17 @@ def planner_params_001(task_params) -> Any:
     circle): ranges are measured from there, η of eq. (15) is taken from the centre. Two
     neighbours reporting the same echo (within ``sonar_shared_echo_mm``) see it in their overlap
     only: eq. (15) would also give each one's own sub-region that echo, and a wall of sectors
-    ±0.8 m wide at 2.4 m then blocks every path past an obstacle that is well off it."""
+    ±0.8 m wide at 2.4 m then blocks every path past an obstacle that is well off it.
+    ``ARC_BOUND_001``: eq. (16)'s wedges are cut to the angles of the echo arc grown by R_r
+    (host.planning.sonar_regions), else an echo 0.4 m away blocks every start direction within
+    ±76 degrees of it, also those leading away from it."""
     from host.planning.bezier001 import Params001
     from host.planning.sonar_regions import SonarConfig
 
     tol = task_params.sonar_shared_echo_mm
     sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
-                        shared_echo_tol_m=tol / 1000.0 if tol > 0 else None)
+                        shared_echo_tol_m=tol / 1000.0 if tol > 0 else None,
+                        arc_angle_bound=ARC_BOUND_001)
     return Params001(**{"sonar": sonar, **task_params.planner})
 
 
@@ -144,6 +151,27 @@ def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
     follower, ops = _follower(plan.best, now_us, int(round(p.v_max * 1000)))
     detail["best_ctrl"] = [list(map(float, row)) for row in plan.best.ctrl]
     return rp, follower, plan.ops + ops, detail
+
+
+def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
+               obj_xy_mm: tuple[int, int], detour_mm: int):
+    """001 detour heading (host.planning.escape): the direction nearest the object's bearing
+    whose straight ``detour_mm`` + DETOUR_EXTRA_MM stays out of the infeasible regions (eq.
+    (16)) of the present reading and of the replanner's memory, grown by DETOUR_MARGIN_MM.
+    (heading_mrad or None, ops)"""
+    length_mm, margin_mm = detour_mm + DETOUR_EXTRA_MM, DETOUR_MARGIN_MM
+    from host.planning.bezier001 import is_object_echo
+    from host.planning.escape import escape_heading
+    from host.planning.sonar_regions import infeasible_regions
+
+    pos, h, _ = _state_m(x_mm, y_mm, heading_mrad, 0)
+    p = rp.params
+    scan = infeasible_regions(p.sonar, pos, h, [int(v) for v in sonar_mm])
+    regions = [r for r in scan.regions if not is_object_echo(r, rp.target, p.object_echo_tol_m)]
+    goal = atan2_mrad(obj_xy_mm[1] - y_mm, obj_xy_mm[0] - x_mm) / 1000.0
+    head, ops = escape_heading(regions + list(rp.memory), pos, h, goal, length_mm / 1000.0,
+                               margin_mm / 1000.0)
+    return (None if head is None else int(round(head * 1000))), ops
 
 
 def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,

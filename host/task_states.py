@@ -14,6 +14,7 @@ from host.posture import PostureParams, distribute_alpha
 from host.search import ArmSearch, SearchParams
 from host.task_drive import (
     close_in,
+    escape_001,
     make_fuzzy,
     make_pose,
     plan_follower,
@@ -31,6 +32,7 @@ from host.task_sense import (
 from host.task_wander import detour_step, seen_there_before, start_detour, wander_step
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
+SIGHTING_MAX_TURN_MRAD_S = 500  # 001 APPROACH: sightings taken while turning faster are not used
 
 
 def _wrap(a: int) -> int:
@@ -76,6 +78,7 @@ class TaskStates(GraspStates):
         self.grasp_alpha = 0 if self.method == "002" else kinematics.ALPHA_DOWN_MRAD
         self.e_mrad = 0
         self.prev_e = None
+        self.blind = None  # 002: (odometry bearing of the marker, x_mm, y_mm) when last seen
 
     # --- SEARCH -------------------------------------------------------------------------------
     def enter_SEARCH(self, now: int, inp) -> None:
@@ -165,6 +168,8 @@ class TaskStates(GraspStates):
         if self.method == "002":
             from host.control.fuzzy import FuzzyParams
             self.fuzzy = make_fuzzy(FuzzyParams(**self.p.fuzzy))
+            # the search's sighting is the first bearing to steer on if the next frames miss
+            self.blind = (inp.heading_mrad - self.e_mrad, inp.x_mm, inp.y_mm)
 
     def _plan(self, now: int, inp) -> None:
         from host.planning.bezier000 import Params000
@@ -209,11 +214,28 @@ class TaskStates(GraspStates):
                 # 001: obstacles across the way and no curve around them from here: drive
                 # aside through free sonar space, then plan again (host.task_wander)
                 self.detours += 1
-                self.detour = start_detour(inp, self.obj, self.p.detour_clear_mm)
+                head, ops = escape_001(self.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                       inp.sonar_mm, self.obj, self.p.detour_mm)
+                self.charge(ops)
+                self.detour = start_detour(inp, self.obj, self.p.detour_clear_mm, head)
                 self.plan_attempts, self.follower = 0, None
                 self.note(detour=dict(self.detour), detour_count=self.detours)
             else:  # (not the direct approach into an echo: it collided, random 001 seeds)
                 self.fail(now, f"no feasible approach path: {detail['reason']}")
+
+    def _turning_fast(self, now: int, inp) -> bool:
+        """001: the base turned faster than SIGHTING_MAX_TURN_MRAD_S over the last frame
+        latency. Ours: the frame's capture time is known only as ``frame_latency_us`` ago (the
+        vision time varies by 10-25 ms), and the arm history holds servo targets, not where the
+        lagging servos were; at 1.5 rad/s (a tight 001 curve at low speed, a_t = v²κ allows it)
+        that put a sighting 0.4 m away 60 mm off (random 001 seed 5017), and the grasp on it
+        missed. The given P_i or an earlier sighting is kept instead."""
+        if not self.pose_hist:
+            return False
+        then = self._at(self.pose_hist, now - self.p.frame_latency_us)
+        dt = max(1, now - then[0])
+        rate = abs(_wrap(inp.heading_mrad - then[3])) * 1_000_000 // dt
+        return rate > SIGHTING_MAX_TURN_MRAD_S
 
     def _face_object(self, inp) -> bool:
         """Turn the base in place toward the object; True once it faces it (ours, not the
@@ -231,7 +253,7 @@ class TaskStates(GraspStates):
             self._approach_002(now, inp, dets)
             return
         det = dets.get("radial_symbol")
-        if det is not None:
+        if det is not None and not (self.method == "001" and self._turning_fast(now, inp)):
             self.see_object(now, inp, "radial_symbol", det)
         moved = (self.plan_obj is not None and isqrt((self.obj[0] - self.plan_obj[0]) ** 2 + (
             self.obj[1] - self.plan_obj[1]) ** 2) > self.p.replan_shift_mm)
@@ -312,12 +334,15 @@ class TaskStates(GraspStates):
         except (ValueError, TypeError):
             self.counters["bad_detections"] += 1
             e = None
+        if e is None and self._approach_blind_002(now, inp):
+            return
         if e is None and now - self.obj_seen_us >= self.p.lost_timeout_us:
             self.go(now, "LOST", f"double cross not seen for {now - self.obj_seen_us} us")
             return
         cmd = self.fuzzy.step(now, e, None)
         if e is not None:
             self.obj_seen_us = now
+            self.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm)
             self._track_marker_002(now, dc, e)
         self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         ec = None
@@ -326,6 +351,29 @@ class TaskStates(GraspStates):
         self.prev_e = (now, e) if e is not None else None
         self.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
                          "wheels_mmps": list(self.wheels)})
+
+    def _approach_blind_002(self, now: int, inp) -> bool:
+        """No marker in this frame: steer on the bearing it was last seen at, by odometry, for
+        up to ``blind_approach_mm`` of travel and ``blind_approach_us``; True while doing so.
+
+        Ours, not 002's (its fuzzy loop assumes the marker always in view): beyond ~2.5 m the
+        crosses are ~10 px wide and the detector misses them in most frames, although the
+        search (which holds still and confirms) did see them; standing still there, as before,
+        ended in LOST -> SEARCH -> LOST until the object was given up (random 002 runs)."""
+        if self.blind is None:
+            return False
+        goal, x0, y0 = self.blind
+        if (isqrt((inp.x_mm - x0) ** 2 + (inp.y_mm - y0) ** 2) >= self.p.blind_approach_mm
+                or now - self.obj_seen_us >= self.p.blind_approach_us):
+            return False
+        e = _wrap(inp.heading_mrad - goal)  # right positive, like the camera's e
+        cmd = self.fuzzy.step(now, e, None)
+        self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
+        self.set_arm(now, self.arm[2], self.arm[3], self.arm[4], max(-800, min(800, e)))
+        self.prev_e = None
+        self.note(fuzzy={"e_mrad": e, "e_c_mrad_s": None, "u_mrad": cmd.u_mrad,
+                         "wheels_mmps": list(self.wheels), "blind": True})
+        return True
 
     def _track_marker_002(self, now: int, det, e: int) -> None:
         """Keep the marker in view: the waist faces it (theta5 = e) and d_alpha, the pitch of

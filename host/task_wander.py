@@ -29,9 +29,13 @@ def sonar_angles_mrad(n: int) -> list[int]:
     return [-1571 + k * 3142 // (n - 1) for k in range(n)] if n >= 2 else []
 
 
-def start_detour(inp, obj_xy_mm: tuple, clear_mm: int) -> dict:
-    """The detour's heading: the free sonar direction nearest the object's bearing; with none
-    free a quarter turn left (the next sonar sweep decides again)."""
+def start_detour(inp, obj_xy_mm: tuple, clear_mm: int, heading_mrad: int | None = None) -> dict:
+    """The detour's heading: ``heading_mrad`` when the caller found one clear of 001's
+    infeasible regions (host.planning.escape), else the free sonar direction nearest the
+    object's bearing; with none free a quarter turn left (the next sonar sweep decides again)."""
+    if heading_mrad is not None:
+        return {"heading_mrad": _wrap(int(heading_mrad)), "drive": True, "from": None,
+                "checked": True}
     bearing = atan2_mrad(obj_xy_mm[1] - inp.y_mm, obj_xy_mm[0] - inp.x_mm)
     best = None
     for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
@@ -88,7 +92,12 @@ def _blocked_ahead(sonar_mm: tuple) -> bool:
 
 
 def detour_step(task, inp) -> bool:
-    """One step of the detour; True when it is over (the caller plans again)."""
+    """One step of the detour; True when it is over (the caller plans again).
+
+    A detour whose heading was chosen clear of 001's infeasible regions (``d["checked"]``,
+    host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
+    an echo straight ahead (something new in the way); the fixed diagonal threshold of
+    :func:`_blocked_ahead` would stop it as soon as it starts."""
     d = task.detour
     err = _wrap(d["heading_mrad"] - inp.heading_mrad)
     if d["from"] is None and abs(err) > TURN_TOL_MRAD:
@@ -101,7 +110,12 @@ def detour_step(task, inp) -> bool:
     if d["from"] is None:
         d["from"] = (inp.x_mm, inp.y_mm)
     dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
-    if dx * dx + dy * dy >= task.p.detour_mm * task.p.detour_mm or _blocked_ahead(inp.sonar_mm):
+    n = len(inp.sonar_mm)
+    if d.get("checked") and n:
+        blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
+    else:
+        blocked = _blocked_ahead(inp.sonar_mm)
+    if dx * dx + dy * dy >= task.p.detour_mm * task.p.detour_mm or blocked:
         task.wheels = (0, 0)
         return True
     task.wheels = (task.p.wander_mmps, task.p.wander_mmps)

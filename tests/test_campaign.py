@@ -41,6 +41,12 @@ def test_generated_scenarios_follow_the_brief_and_carry_the_faults(method):
             assert 1 <= len(sc.obstacles) <= 3
         if method == "002":
             assert len(sc.target.path) >= 2  # the target moves
+            first, last = sc.target.path[0], sc.target.path[-1]
+            # during the approach only: over by the time a robot at 0.15 m/s, after a 1 s
+            # search, has done 60 % of the way; at a hand's pace
+            assert 0 < first.t_s < last.t_s <= 1.0 + 0.6 * dist / 0.15 + 0.01
+            moved = math.hypot(last.x_m - first.x_m, last.y_m - first.y_m)
+            assert 0 < moved / (last.t_s - first.t_s) <= 0.3
         else:
             assert not sc.target.path
     assert min(bearings) < -2 and max(bearings) > 2  # any bearing
@@ -101,8 +107,10 @@ def test_aggregation_over_a_stand_in_run(tmp_path):
     assert agg["recovery_ms"]["max"] == 900.0 and agg["recovery_ms"]["n"] == 9
     assert agg["failed_seeds"] == sorted(set(range(10)) - set(ok))
     assert agg["runs_safety_monitored"] == 9 and agg["runs_faults_applied"] == 9
-    # recovery_ms present and nothing unrecovered in every live run
-    assert agg["fault_outcomes"] == {"recovered": 9, "failed_cleanly": 0, "stuck": 0}
+    # the link recovered in every live run; the task then succeeded in the ok ones, and the
+    # others ended DONE without success: stuck, not recovered
+    assert agg["fault_outcomes"] == {"recovered": len(ok), "failed_cleanly": 0,
+                                     "stuck": len(live) - len(ok)}
     assert agg["late_stops"] == 0
     text = format_table(agg)
     assert "success rate" in text and f"{len(ok) / 10 * 100:.1f} %" in text
@@ -180,13 +188,17 @@ def test_random_fault_times_are_seeded_and_in_range():
     assert [j["faults"]["host_crash_at_s"] for j in jobs_of(cfg)] == crash[5:8]
 
 
-@pytest.mark.parametrize("state, unsafe, unrecovered, recov, outcome", [
-    ("DONE", 0, 0, [], None), ("DONE", 0, 0, [30.0], "recovered"),
-    ("FAILED", 0, 1, [], "failed_cleanly"), ("FAILED", 1, 1, [], "stuck"),
-    ("SEARCH", 0, 1, [12.0], "stuck"),
+@pytest.mark.parametrize("state, success, unsafe, unrecovered, recov, outcome", [
+    ("DONE", True, 0, 0, [], None), ("DONE", True, 0, 0, [30.0], "recovered"),
+    ("DONE", False, 0, 0, [30.0], "stuck"),  # DONE without the object
+    ("APPROACH", False, 0, 0, [30.0], "stuck"),  # link back, task never finished
+    ("FAILED", False, 0, 0, [30.0], "failed_cleanly"),
+    ("FAILED", False, 0, 1, [], "failed_cleanly"), ("FAILED", False, 1, 1, [], "stuck"),
+    ("SEARCH", False, 0, 1, [12.0], "stuck"),
 ])
-def test_fault_outcome_of_a_run(state, unsafe, unrecovered, recov, outcome):
-    row = row_of({"seed": 0}, {"status": "finished", "task_state": state, "safety": {
+def test_fault_outcome_of_a_run(state, success, unsafe, unrecovered, recov, outcome):
+    row = row_of({"seed": 0}, {"status": "finished", "task_state": state, "success": success,
+                               "safety": {
         "unsafe_actuations": unsafe, "unrecovered": unrecovered, "recovery_ms": recov,
         "late_stops": 0}})
     assert row["fault_outcome"] == outcome

@@ -129,7 +129,20 @@ def test_host_crash_over_the_pty_runs_to_the_time_limit(tmp_path):
 
     summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty",
                                        out=tmp_path / "run", progress=False, plots=False,
-                                       time_limit_s=30.0, faults=("host_crash_at_s=1",)))
+                                       time_limit_s=30.0, faults=("host_crash_at_s=1",),
+                                       after_crash_s=None))
     assert summary["status"] == "finished" and summary["end_reason"] == "time_limit", summary
     assert summary["safety"]["unsafe_actuations"] == 0 and summary["safety"]["watchdog_trips"] == 1
     assert summary["faults"]["mcu_bytes_unread_by_host"] > 50_000
+
+
+def test_a_run_ends_two_seconds_after_a_host_crash(tmp_path):
+    # the crashed host never comes back: the run ends once the MCU had 2 s to stop safely
+    from tools.run_job import RunOptions, execute
+
+    summary, code = execute(RunOptions(scenario="paper000-exp1", transport="inproc",
+                                       out=tmp_path / "run", progress=False, plots=False,
+                                       time_limit_s=30.0, faults=("host_crash_at_s=0.5",)))
+    assert code == 1 and summary["end_reason"] == "host_crashed", summary
+    assert summary["sim_time_s"] == pytest.approx(2.5, abs=0.01)
+    assert summary["safety"]["watchdog_trips"] == 1 and summary["safety"]["late_stops"] == 0

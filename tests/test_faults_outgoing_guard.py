@@ -90,3 +90,33 @@ def test_servo_limits_are_the_joint_table():
         g.check_servo_mrad(inside[:5])
     with pytest.raises(g.OutgoingRejected, match="wrong_count"):
         g.check_servo_mrad("123456")
+
+
+def test_coerce_rounds_finite_numbers_and_refuses_the_rest():
+    assert g.coerce_int("x", 2.6) == 3 and g.coerce_int("x", np.float32(-2.4)) == -2
+    assert g.coerce_int("x", np.int16(7)) == 7 and type(g.coerce_int("x", np.int16(7))) is int
+    for bad, reason in ((math.nan, g.NAN), (-math.inf, g.INFINITE), ("3", g.NOT_A_NUMBER),
+                        (True, g.NOT_A_NUMBER), (None, g.NOT_A_NUMBER)):
+        with pytest.raises(g.OutgoingRejected) as exc:
+            g.coerce_int("x", bad)
+        assert exc.value.reason == reason
+
+
+@settings(max_examples=100, deadline=None)
+@given(anything, anything)
+def test_the_host_link_sends_only_valid_wheel_commands(left, right):
+    """The host's real send path (host/app_link.py) uses the guard: whatever the control code
+    produces, what is encoded is a SetWheels within ±1000 mm/s, or nothing (counted)."""
+    from host.app_link import HostLink
+    from protocol.frame import FrameParser
+    from protocol.messages import decode_frame
+
+    link = HostLink()
+    sent = link.send_wheels(left, right, at_us=0)
+    frames = [decode_frame(f) for _, data in link.take_output(1) for f in FrameParser().feed(data)]
+    if sent:
+        (msg,) = frames
+        assert isinstance(msg, SetWheels)
+        assert -1000 <= msg.left_mmps <= 1000 and -1000 <= msg.right_mmps <= 1000
+    else:
+        assert frames == [] and link.counters.rejected_outputs == 1

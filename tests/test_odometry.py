@@ -90,3 +90,30 @@ def test_impossible_jump_and_old_samples_are_dropped():
     assert odo.dropped == 2
     pose = odo.update(60_000, 50_020, 30)  # resynchronised on the jump: only these 20 ticks
     assert pose.x_um == pytest.approx(before.x_um + 20 * TICK_M * 1e6, abs=2)
+
+
+def test_after_an_mcu_reset_the_pose_carries_on_from_where_it_was():
+    # the MCU's clock and encoder counters restart at 0: without resync every later sample is
+    # "from the past" and the pose freezes for good
+    odo = Odometry()
+    odo.update(0, 0, 0)
+    for i in range(1, 51):
+        odo.update(5_000_000 + i * 20_000, 20 * i, 30 * i)  # forward, turning left
+    before = odo.pose
+    frozen = Odometry()
+    frozen.update(0, 0, 0)
+    frozen.update(6_000_000, 1000, 1500)
+    frozen.update(20_000, 0, 0)  # a reset seen without resync
+    assert frozen.update(40_000, 40, 40) == frozen.pose and frozen.dropped == 2
+    odo.resync()
+    p = odo.pose  # nothing moves by itself; the speed is unknown until the next samples
+    assert (p.x_um, p.y_um, p.heading_mrad, p.speed_mm_s) == (
+        before.x_um, before.y_um, before.heading_mrad, 0)
+    odo.update(20_000, 0, 0)  # first sample after the reset: the new reference only
+    assert odo.pose.x_um == before.x_um and odo.pose.heading_mrad == before.heading_mrad
+    pose = odo.update(40_000, 40, 40)  # 40 ticks straight on from the old heading
+    step = 40 * TICK_M * 1e6
+    h = before.heading_mrad / 1000
+    assert pose.x_um == pytest.approx(before.x_um + step * math.cos(h), abs=3)
+    assert pose.y_um == pytest.approx(before.y_um + step * math.sin(h), abs=3)
+    assert pose.heading_mrad == before.heading_mrad

@@ -5,6 +5,7 @@ Real processes on a real pty; the only waits are blocking reads and process exit
 safety limits (nothing asserts on speed).
 """
 
+import contextlib
 import socket
 import subprocess
 import sys
@@ -20,9 +21,17 @@ ROOT = Path(__file__).resolve().parents[1]
 SAFETY_S = 60
 
 
-def _cli(*args: str, **kw) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "tools.cli", *args], cwd=ROOT,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, **kw)
+@contextlib.contextmanager
+def _cli(*args: str):
+    """``mobigrasp ARGS`` as a child process, killed at the end if it is still there."""
+    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args], cwd=ROOT,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        yield proc
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait(SAFETY_S)
 
 
 def test_lockstep_host_ends_cleanly_when_the_simulator_vanishes(tmp_path):
@@ -32,8 +41,7 @@ def test_lockstep_host_ends_cleanly_when_the_simulator_vanishes(tmp_path):
     server.bind(path)
     server.listen(1)
     server.settimeout(SAFETY_S)
-    proc = _cli("host", "--port", pty.slave_path, "--method", "000", "--lockstep", path)
-    try:
+    with _cli("host", "--port", pty.slave_path, "--method", "000", "--lockstep", path) as proc:
         conn, _ = server.accept()
         conn.settimeout(SAFETY_S)
         rfile, wfile = conn.makefile("rb"), conn.makefile("wb")
@@ -46,11 +54,7 @@ def test_lockstep_host_ends_cleanly_when_the_simulator_vanishes(tmp_path):
             f.close()
         pty.close()
         _, err = proc.communicate(timeout=SAFETY_S)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait(SAFETY_S)
-        server.close()
+    server.close()
     assert proc.returncode == 1
     assert "the simulator went away mid-run at t = 0.005 s simulated" in err
     assert "Traceback" not in err
@@ -74,32 +78,22 @@ def test_free_running_host_ends_when_the_mcu_vanishes():
     from mcu_sim.mcu_pty import PtyMcu
 
     mcu = PtyMcu(record=False)
-    proc = _cli("host", "--port", mcu.port, "--method", "000")
-    try:
+    with _cli("host", "--port", mcu.port, "--method", "000") as proc:
         first = proc.stderr.readline()  # the host has opened the port and is running
         assert f"host on {mcu.port}" in first
         mcu.close()
         _, err = proc.communicate(timeout=SAFETY_S)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait(SAFETY_S)
     assert proc.returncode == 1
     assert f"the MCU side closed the port {mcu.port}" in err
     assert "Traceback" not in err
 
 
 def test_standalone_mcu_exits_nonzero_when_the_host_vanishes():
-    proc = _cli("mcu", "--speed", "1", "--duration", "120")
-    try:
+    with _cli("mcu", "--speed", "1", "--duration", "120") as proc:
         port = proc.stdout.readline().strip()
         host_end = open_transport(port)
         host_end.write(b"\x00")  # opened and used, then gone, as a crashed host
         host_end.close()
         _, err = proc.communicate(timeout=SAFETY_S)
-    finally:
-        if proc.poll() is None:
-            proc.kill()
-            proc.wait(SAFETY_S)
     assert proc.returncode == 1
     assert "the host closed the port" in err

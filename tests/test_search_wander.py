@@ -32,7 +32,11 @@ def test_coarse_cycle_visits_only_the_coarse_levels_nearest_first():
     assert len(poses) * 3 < len(dense)
 
 
+P_STOPS = se.SearchParams(wander_sweep=0, stop_cycles=4)  # a look-around at every stop
+
+
 def test_a_look_around_then_a_wander_then_coarse_cycles_and_a_longer_spiral():
+    P = P_STOPS
     s = se.ArmSearch(P, -2100, -800, now_us=0)
     t = 0
     turns = []
@@ -70,6 +74,73 @@ def test_a_look_around_then_a_wander_then_coarse_cycles_and_a_longer_spiral():
     assert legs == [P.wander_mm, P.wander_mm, 2 * P.wander_mm, 2 * P.wander_mm]
 
 
+def _to_first_wander(p: se.SearchParams) -> tuple[se.ArmSearch, se.SearchCommand, int]:
+    s = se.ArmSearch(p, -2100, -800, now_us=0)
+    t = 0
+    while True:
+        c, t = _run_to_move(s, t)
+        if c.drive_mm:
+            return s, c, t
+        s.base_turn_done(t)
+
+
+def test_the_wander_sweeps_the_waist_at_the_far_level_both_ways_while_driving():
+    s, c, t = _to_first_wander(P)
+    assert c.drive_mm == P.wander_mm and s.wandering and s.turning
+    seen = set()
+    for k in range(0, 12_000_000, 20_000):  # 12 s of driving
+        c = s.step(t + k)
+        assert c.drive_mm == P.wander_mm and c.base_turn_mrad == 0
+        assert c.theta2_mrad == P.coarse_theta2_mrad[0]  # the far level only
+        seen.add(c.theta5_mrad)
+    w = P.wander_theta5_mrad
+    assert {-w, 0, w} <= seen and len(seen) == 2 * w // P.d_theta5_mrad + 1
+    # one pose per dwell, as in a cycle: a full sweep one way takes 15 dwells
+    t5 = [s.step(t + 12_000_000 + k).theta5_mrad for k in range(0, 3_000_000, 10_000)]
+    changes = sum(1 for a, b in zip(t5, t5[1:], strict=False) if a != b)
+    dwell = s.dwell_us((0, 0), (0, P.d_theta5_mrad))
+    assert abs(changes - 3_000_000 // dwell) <= 1
+    # the old behaviour holds the camera left
+    s0, c0, t0 = _to_first_wander(se.SearchParams(wander_sweep=0))
+    assert {s0.step(t0 + k).theta5_mrad for k in range(0, 5_000_000, 50_000)} == \
+        {P.theta5_max_mrad}
+
+
+def test_after_the_first_look_around_the_wander_only_turns_at_the_corners():
+    s, c, t = _to_first_wander(P)
+    cycles = c.cycle
+    legs, turns = [c.drive_mm], []
+    for _ in range(5):
+        t += 5_000_000
+        s.wander_done(t)
+        c = s.step(t)
+        # a corner: a turn, no drive, the arm holds the wander pose, no search cycle
+        assert c.drive_mm == 0 and c.base_turn_mrad == P.coarse_base_turn_mrad and s.turning
+        assert not s.wandering and c.cycle == cycles
+        assert s.step(t + 3_000_000) == c  # holds until the turn is reported
+        turns.append(c.base_turn_mrad)
+        s.base_turn_done(t + 3_000_000)
+        c = s.step(t + 3_000_000)
+        assert s.wandering and c.drive_mm
+        legs.append(c.drive_mm)
+    w = P.wander_mm
+    assert legs == [w, w, 2 * w, 2 * w, 3 * w, 3 * w]  # counter-clockwise expanding square
+    assert all(t == 1571 for t in turns)
+
+
+def test_stop_cycles_look_around_at_each_stop():
+    p = se.SearchParams(stop_cycles=2)
+    s, c, t = _to_first_wander(p)
+    s.wander_done(t + 1_000_000)
+    c = s.step(t + 1_000_000)
+    assert not s.turning and c.drive_mm == 0  # a search cycle here
+    c, t = _run_to_move(s, t + 1_000_000)
+    assert c.base_turn_mrad and not c.drive_mm  # one turn between the two cycles
+    s.base_turn_done(t)
+    c, t = _run_to_move(s, t)
+    assert c.drive_mm == p.wander_mm  # then the next leg
+
+
 def test_one_coarse_level_from_the_middle_still_sweeps_both_ends():
     p = se.SearchParams(coarse_theta2_mrad=(-2400,))
     poses = se.search_cycle(p, -2100, 0, coarse=True)
@@ -96,6 +167,12 @@ def test_bad_wander_params():
         se.SearchParams(wander_mm=-1)
     with pytest.raises(ValueError, match="turns_per_wander"):
         se.SearchParams(turns_per_wander=0)
+    with pytest.raises(ValueError, match="wander_sweep"):
+        se.SearchParams(wander_sweep=2)
+    with pytest.raises(ValueError, match="stop_cycles"):
+        se.SearchParams(stop_cycles=-1)
+    with pytest.raises(ValueError, match="wander_theta5_mrad"):
+        se.SearchParams(wander_theta5_mrad=0)
     assert se.SearchParams(coarse_theta2_mrad=(-2500, -3000, -2900)).coarse_theta2_mrad == \
         (-2500, -2800)  # clamped into the theta2 range, duplicates dropped
     with pytest.raises(ValueError, match="coarse_theta2_mrad"):
@@ -124,7 +201,13 @@ def test_task_wanders_straight_ahead_until_odometry_says_the_distance_is_done():
     assert out.wheels_mmps == (v, v) and out.state == "SEARCH"
     assert task.detectors_needed() == ["radial_symbol"]  # the camera looks on the way
     out = task.step(t + 40_000, TaskInputs(x_mm=300, y_mm=400))  # 500 mm from the start
-    assert out.wheels_mmps == (0, 0) and task.search.wanders == 1 and not task.search.turning
+    assert out.wheels_mmps == (0, 0) and task.search.wanders == 1 and not task.search.wandering
+    # a corner of the spiral: the base turns left in place (blind), then drives the next leg
+    out = task.step(t + 60_000, TaskInputs(x_mm=300, y_mm=400))
+    assert out.wheels_mmps[0] < 0 < out.wheels_mmps[1] and task.detectors_needed() == []
+    out = task.step(t + 80_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=1571))
+    out = task.step(t + 100_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=1571))
+    assert out.wheels_mmps == (v, v) and task.search.wandering
 
 
 def test_task_wander_stops_short_when_a_front_sonar_sees_something():

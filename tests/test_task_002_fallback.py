@@ -9,14 +9,19 @@ FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": [
                 "v_c_q4": 928, "width_q4": 112}
 
 
-def _approach(u_c_q4: int | None):
+def _approach(u_c_q4: int | None, seconds: float = 2.0, speed_mmps: int = 0):
+    """APPROACH with no double cross in any frame; the odometry advances at ``speed_mmps``."""
     task = Task("002")
     task.go(0, "APPROACH", "test: marker seen")
     rc = dict(FAR_CYLINDER, u_c_q4=u_c_q4) if u_c_q4 is not None else None
     out = None
-    for k in range(1, 100):  # 2 s: past lost_timeout_us
-        out = task.step(k * 20_000, TaskInputs(detections={"double_cross": None,
-                                                             "red_cylinder": rc}))
+    for k in range(1, int(seconds * 50)):
+        y_mm = speed_mmps * k * 20 // 1000
+        out = task.step(k * 20_000, TaskInputs(y_mm=y_mm, detections={
+            "double_cross": None, "red_cylinder": rc}))
+        if out.state != "APPROACH":
+            break
+    task.ended_us = k * 20_000
     return task, out
 
 
@@ -34,6 +39,27 @@ def test_far_cylinder_on_the_left_turns_left():
     assert right > left
 
 
-def test_without_the_cylinder_the_approach_is_lost():
-    _, out = _approach(None)
+def test_without_any_sighting_the_robot_drives_on_along_the_last_bearing():
+    # far away the crosses are missed in most frames: the approach goes on, by odometry, toward
+    # the bearing of the last sighting (here straight ahead), and the camera looks that way
+    task, out = _approach(None, seconds=2.0, speed_mmps=150)
+    assert out.state == "APPROACH"
+    left, right = out.wheels_mmps
+    assert left > 0 and right > 0 and abs(left - right) <= 10
+    assert out.detail["fuzzy"]["blind"] is True and abs(task.arm[5]) <= 10
+
+
+def test_the_blind_approach_ends_after_its_distance_then_lost():
+    p = Task("002").p
+    task, out = _approach(None, seconds=p.blind_approach_us / 1e6, speed_mmps=300)
+    assert out.state in ("LOST", "SEARCH")
+    # at 300 mm/s the distance limit ends it (after ~3.3 s), well before the time limit
+    assert task.ended_us <= p.blind_approach_mm * 1_000_000 // 300 + 200_000 < p.blind_approach_us
+
+
+def test_a_robot_that_does_not_move_is_lost_after_the_blind_time():
+    p = Task("002").p
+    _, out = _approach(None, seconds=p.blind_approach_us / 1e6 - 0.1)
+    assert out.state == "APPROACH"
+    _, out = _approach(None, seconds=p.blind_approach_us / 1e6 + 0.5)
     assert out.state in ("LOST", "SEARCH")

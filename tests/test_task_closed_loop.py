@@ -44,6 +44,7 @@ class World:
         self.spoke_rad = spoke_rad
         self.joints = (0, 0, -1571, -1571, 1571, 0)
         self.held = False
+        self.grasp_joints = None
         self.pending = {}
 
     def platform_to_world(self, p):
@@ -131,6 +132,8 @@ class World:
         near = (math.hypot(tip[0] - self.obj[0], tip[1] - self.obj[1]) <= 0.015
                 and abs(tip[2] - self.grasp_h) <= 0.020)
         if out.gripper_permille == 1000 and near:
+            if not self.held:
+                self.grasp_joints = self.joints  # the pose the object was taken in
             self.held = True
         if out.gripper_permille == 0:
             self.held = False
@@ -210,7 +213,7 @@ def test_002_grasps_the_cylinder_with_the_low_shoulder(monkeypatch):
     world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12)
     events = run(task, world)
     assert task.state == "DONE" and world.held, (task.failure, [e.why for e in events])
-    assert abs(sum(world.joints[2:5])) <= 300  # gripper pitch at the grasp
+    assert abs(sum(world.grasp_joints[2:5])) <= 300  # gripper pitch at the grasp
 
 
 def _campaign(method, n, seed):
@@ -247,3 +250,49 @@ def _campaign(method, n, seed):
 def test_randomized_starts_succeed_95_percent(method):
     """100 seeded starts: object 0.6-2 m away in any direction, any heading (float world)."""
     assert _campaign(method, 100, seed=7) >= 95
+
+
+class ClosedFlagWorld(World):
+    """As the real host sees it: grasp_closed is the commanded close (FLAG_GRIPPER_CLOSED), not
+    a finger sensor; the first ``misses`` closes of the gripper hold nothing (the fingers closed
+    beside the object), and the object keeps standing at its place."""
+
+    def __init__(self, *a, misses=1, **kw):
+        super().__init__(*a, **kw)
+        self.misses = misses
+        self.closed = False
+
+    def apply(self, out, dt_s):
+        was_held = self.held
+        super().apply(out, dt_s)
+        closing = out.gripper_permille == 1000 and not self.closed
+        self.closed = out.gripper_permille == 1000
+        if closing and self.held and not was_held and self.misses > 0:
+            self.misses -= 1
+            self.held = False  # closed beside it
+        elif self.closed and not was_held and not closing:
+            self.held = self.held and was_held  # a closed gripper does not pick anything up
+
+    def inputs(self, task, frame):
+        inp = super().inputs(task, frame)
+        from dataclasses import replace
+        return replace(inp, grasp_closed=self.closed)
+
+
+@pytest.mark.parametrize("misses", [0, 1, 3])
+def test_grasp_check_after_the_lift_grasps_again_or_fails(misses):
+    """000 with the host's commanded-close flag: a close beside the object is found by looking
+    back at its place after the lift (the object still stands there): open, ADJUST, grasp
+    again; a held object has left its place and the run ends DONE. Too many misses: FAILED."""
+    task = Task("000")
+    world = ClosedFlagWorld((0.9, -0.4), pose=(0.0, 0.0, 0.3), misses=misses)
+    events = run(task, world)
+    why = [(e.t_us, e.to_state, e.why) for e in events]
+    checks = [e for e in events if e.from_state == "LIFT" and e.to_state == "ADJUST"]
+    if misses <= 2:
+        assert task.state == "DONE" and world.held, (task.failure, why)
+        assert len(checks) == misses
+        assert "grasp check" in events[-1].why
+    else:
+        assert task.state == "FAILED" and "grasp check" in task.failure, why
+        assert len(checks) == 2 and not world.held

@@ -145,11 +145,14 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
 
 
 def _fault_outcome(row: dict) -> str | None:
-    """For runs with a fault to recover from (stall, burst, MCU reset): "recovered",
-    "failed_cleanly" (the task ended FAILED without unsafe actuation) or "stuck"."""
+    """For runs with a fault to recover from (stall, burst, MCU reset): "recovered" (the link
+    came back and the task then succeeded), "failed_cleanly" (the task ended FAILED without
+    unsafe actuation) or "stuck" (anything else: the run hit its time limit in the middle of
+    the task, or reported DONE without the object). A link that came back is not enough: after
+    an MCU reset the host once resumed with frozen odometry and turned in place for 90 s."""
     if not row["recovery_ms"] and not row["unrecovered"]:
         return None
-    if not row["unrecovered"]:
+    if not row["unrecovered"] and row["success"]:
         return "recovered"
     if row["task_state"] == "FAILED" and row["unsafe_actuations"] == 0:
         return "failed_cleanly"

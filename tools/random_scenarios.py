@@ -37,12 +37,14 @@ def random_scenario_toml(method: str, seed: int) -> str:
     ]
     if method == "002":
         # Paper 002 drags the target during the approach, not during the grasp: the drag ends
-        # while the robot (V_avg = 0.15 m/s) still has 40-70 % of the distance to go, and a close
-        # target moves less, so a hand drag stays below ~0.25 m/s.
+        # while the robot (V_avg = 0.15 m/s, after a ~1 s search) still has 40-70 % of the
+        # distance to go, and a close target moves less, so a hand drag stays below ~0.3 m/s.
+        # (The end used to be counted from the drag's start, 2-5 s in: close targets were then
+        # still moving while the robot was already in its last 0.4 m, and it grasped beside them.)
         side = rng.choice((-1.0, 1.0)) * rng.uniform(0.1, 0.4) * min(1.0, dist / 1.5)
         nx, ny = -math.sin(bearing), math.cos(bearing)  # sideways to the line of sight
-        t0 = rng.uniform(2.0, 5.0)
-        t1 = t0 + rng.uniform(0.3, 0.6) * dist / 0.15
+        t1 = 1.0 + rng.uniform(0.3, 0.6) * dist / 0.15
+        t0 = max(0.5, min(rng.uniform(2.0, 5.0), t1 - max(1.0, abs(side) / 0.25)))
         for t, k in ((t0, 0.0), (t1, side)):
             lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {tx + k * nx:.4f}",
                       f"y_m = {ty + k * ny:.4f}", ""]

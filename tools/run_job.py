@@ -64,6 +64,9 @@ class RunOptions:
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
     faults: tuple = ()  # --fault KEY=VALUE overrides of the scenario's [faults] (docs/faults.md)
+    # simulated seconds a run goes on after a host crash (the MCU's safe stop is judged in it);
+    # None: on to the time limit
+    after_crash_s: float | None = 2.0
 
 
 def parse_speed(text: str) -> float | None:
@@ -211,7 +214,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
                     truth=plant.truth, on_host_event=snaps.on_host_event,
                     on_quantum=lambda t: plant.sample_path(), speed=opts.speed,
-                    progress=progress)
+                    progress=progress, stop=None if opts.after_crash_s is None else (
+                        lambda: fault_rig.stop_reason(int(opts.after_crash_s * 1e6))))
         summary["status"] = "finished"
     except KeyboardInterrupt:
         summary["status"] = "interrupted"  # written below, then Ctrl-C goes on up

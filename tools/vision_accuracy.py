@@ -109,19 +109,28 @@ def _cross_rim(kp: dict, t: Target) -> np.ndarray:
     return np.array(pts)
 
 
+def _random_look(rng: np.random.Generator, kind: str, centre_key: str, dist_m: tuple,
+                 height_m: tuple, beta_half_rad: float, du_px: float, dv_px: float):
+    """One random 002 target and a camera looking at it from in front (the draws of both 002
+    samplers, in this order): the target's place and heading, the camera's distance, height
+    and side angle, then the aim's pixel offsets."""
+    t = Target(kind, float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)),
+               float(rng.uniform(-math.pi, math.pi)))
+    kp = target_keypoints_w(t)
+    centre = kp[centre_key]
+    dist, hc = rng.uniform(*dist_m), rng.uniform(*height_m)
+    beta = t.heading_rad + rng.uniform(-beta_half_rad, beta_half_rad)
+    c = np.array([centre[0] + dist * math.cos(beta), centre[1] + dist * math.sin(beta), hc])
+    yaw, pitch = _aim(c, centre, rng.uniform(-du_px, du_px), rng.uniform(-dv_px, dv_px),
+                      INTR_002.f_px)
+    return t, kp, centre, dist, hc, beta, c, yaw, pitch, look_rotation(yaw, pitch)
+
+
 def view_double_cross(rng: np.random.Generator, clutter: int = 4) -> View:
     """Approach view of the 002 guidance board (module docstring)."""
     while True:
-        t = Target("double-cross", float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)),
-                   float(rng.uniform(-math.pi, math.pi)))
-        kp = target_keypoints_w(t)
-        centre = kp["board_centre"]
-        dist, hc = rng.uniform(0.25, 2.0), rng.uniform(0.15, 0.45)
-        beta = t.heading_rad + rng.uniform(-0.6, 0.6)
-        c = np.array([centre[0] + dist * math.cos(beta), centre[1] + dist * math.sin(beta), hc])
-        yaw, pitch = _aim(c, centre, rng.uniform(-140, 140), rng.uniform(-100, 100),
-                          INTR_002.f_px)
-        R = look_rotation(yaw, pitch)
+        t, kp, centre, _, _, _, c, yaw, pitch, R = _random_look(
+            rng, "double-cross", "board_centre", (0.25, 2.0), (0.15, 0.45), 0.6, 140, 100)
         if _inside(project(_cross_rim(kp, t), c, R, INTR_002), INTR_002, 2):
             break
     theta5 = float(rng.uniform(-0.8, 0.8))
@@ -136,16 +145,8 @@ def view_double_cross(rng: np.random.Generator, clutter: int = 4) -> View:
 def view_red_cylinder(rng: np.random.Generator, clutter: int = 4) -> View:
     """Grasp-range view of the 002 red cylinder (module docstring)."""
     while True:
-        t = Target("red-cylinder", float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)),
-                   float(rng.uniform(-math.pi, math.pi)))
-        kp = target_keypoints_w(t)
-        centre = kp["cylinder_centre"]
-        dist, hc = rng.uniform(0.12, 0.6), rng.uniform(0.02, 0.16)
-        beta = t.heading_rad + rng.uniform(-1.05, 1.05)
-        c = np.array([centre[0] + dist * math.cos(beta), centre[1] + dist * math.sin(beta), hc])
-        yaw, pitch = _aim(c, centre, rng.uniform(-120, 120), rng.uniform(-90, 90),
-                          INTR_002.f_px)
-        R = look_rotation(yaw, pitch)
+        t, kp, centre, dist, hc, beta, c, yaw, pitch, R = _random_look(
+            rng, "red-cylinder", "cylinder_centre", (0.12, 0.6), (0.02, 0.16), 1.05, 120, 90)
         # silhouette edges with 15 % to spare (tangent points sit a little towards the camera)
         side = np.array([-math.sin(beta), math.cos(beta), 0.0]) * mk.RED_CYL_RADIUS_M * 1.15
         z_lo = kp["ring_lo"][2] - 0.012

@@ -38,6 +38,9 @@ class SonarConfig:
     # Not in 001 (0 = as written): sonars mounted this far from the centre along their axes
     # measure from there; η is then taken from the centre (ρ + offset), as D_n of eq. (16) is.
     sensor_offset_m: float = 0.0
+    # Not in 001 (False = eq. (16) as written): also bound the region by the exact angular
+    # extent of the echo arc grown by R_r, seen from the sensing position (InfeasibleRegion).
+    arc_angle_bound: bool = False
 
     def __post_init__(self) -> None:
         if self.k_s < 2 or not 0 < self.a_g_rad < math.pi or not self.d_e_m > 0:
@@ -96,6 +99,21 @@ class InfeasibleRegion:
     hi_rad: float  # world direction of the counter-clockwise boundary line
     eta_m: float
     r_r_m: float
+    # Ours (SonarConfig.arc_angle_bound): eq. (16)'s wedge stands for the echo arc grown by the
+    # safety circle R_r, but for the narrow sub-regions of eq. (15) its apex Q_r lies 0.8-1.5 m
+    # behind the sensing position, so its band η ± R_r also covers a strip R_r wide beside and
+    # behind the robot (points 0.2 m from it, away from the echo). Every point within R_r of
+    # the arc is seen from the sensing position within asin(R_r / η) of the arc's angles; the
+    # bound keeps only those, so it never frees a point that is within R_r of the echo.
+    arc_bound: bool = False
+
+    @property
+    def bound_half_rad(self) -> float:
+        """Half-angle (about the bisector, from the sensing position) of the arc grown by R_r;
+        π when η <= R_r (the robot is within R_r of the echo: no bound)."""
+        if self.eta_m <= self.r_r_m:
+            return math.pi
+        return self.half_angle + math.asin(self.r_r_m / self.eta_m)
 
     @property
     def half_angle(self) -> float:
@@ -120,6 +138,11 @@ class InfeasibleRegion:
         in_angle = (along > 0) & (np.abs(across) <= along * math.tan(self.half_angle))
         d = np.hypot(np.asarray(x) - self.ox, np.asarray(y) - self.oy)
         in_range = (d >= self.eta_m - self.r_r_m) & (d <= self.eta_m + self.r_r_m)
+        if self.arc_bound and self.bound_half_rad < math.pi:
+            ox, oy = np.asarray(x) - self.ox, np.asarray(y) - self.oy
+            a = np.arctan2(-ox * math.sin(mid) + oy * math.cos(mid),
+                           ox * math.cos(mid) + oy * math.sin(mid))
+            in_angle = in_angle & (np.abs(a) <= self.bound_half_rad)
         return in_angle & in_range
 
     def clearance(self, x, y) -> np.ndarray:
@@ -171,7 +194,7 @@ def infeasible_regions(cfg: SonarConfig, position_xy_m, heading_rad: float,
         rho.append(val / 1000.0)
     ox, oy = (float(v) for v in position_xy_m)
     regions = [InfeasibleRegion(ox, oy, heading_rad + sr.lo_rad, heading_rad + sr.hi_rad,
-                                sr.eta_m, cfg.r_r_m)
+                                sr.eta_m, cfg.r_r_m, cfg.arc_angle_bound)
                for sr in sub_regions(cfg, rho) if sr.eta_m < cfg.d_e_m]
     return SonarScan(regions, dropped)
 
@@ -198,4 +221,10 @@ def any_region_contains(regions: list[InfeasibleRegion], x, y) -> np.ndarray:
     d2 = (x - ox) ** 2 + (y - oy) ** 2
     inside = (along > 0) & (across <= along * tan_half) & (d2 >= np.maximum(lo, 0.0) ** 2) \
         & (d2 <= hi**2)
+    if any(r.arc_bound for r in regions):
+        bound = np.array([r.bound_half_rad if r.arc_bound else math.pi
+                          for r in regions]).reshape(shape)
+        rx, ry = x - ox, y - oy
+        ang = np.abs(np.arctan2(ry * c - rx * s, rx * c + ry * s))
+        inside &= (bound >= math.pi) | (ang <= bound)
     return inside.any(axis=0)

@@ -1,0 +1,108 @@
+"""001 near an obstacle: eq. (16) cut to the grown echo arc, the detour's way out, its drive."""
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from host.planning.escape import escape_heading, segment_clear
+from host.planning.sonar_regions import (
+    InfeasibleRegion,
+    SonarConfig,
+    any_region_contains,
+    infeasible_regions,
+)
+from host.task import TaskInputs, TaskParams
+
+# an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4 (random 001 seed 5008)
+NEAR = dict(ox=0.0, oy=0.0, lo_rad=0.26, hi_rad=0.525, eta_m=0.406, r_r_m=0.2)
+
+
+def _arc_distance(reg: InfeasibleRegion, x: float, y: float) -> float:
+    a = np.linspace(reg.lo_rad, reg.hi_rad, 2001)
+    return float(np.min(np.hypot(x - reg.eta_m * np.cos(a), y - reg.eta_m * np.sin(a))))
+
+
+def test_literal_wedge_covers_points_beside_the_robot_and_the_bound_frees_them():
+    literal = InfeasibleRegion(**NEAR)
+    bounded = InfeasibleRegion(**NEAR, arc_bound=True)
+    # 0.25 m straight behind the robot, away from the echo: 0.65 m from the echo arc; and
+    # 0.21 m from the centre, 75 degrees clockwise of the echo
+    for d, off in ((0.25, math.pi), (0.21, -math.radians(75))):
+        x, y = d * math.cos(0.3925 + off), d * math.sin(0.3925 + off)
+        assert _arc_distance(literal, x, y) > 0.3
+        assert literal.contains(x, y)  # eq. (16) as written: the strip through the robot
+        assert not bounded.contains(x, y)
+        assert not any_region_contains([bounded], x, y)
+    # on the echo itself both agree
+    assert literal.contains(0.35, 0.2) and bounded.contains(0.35, 0.2)
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.floats(0.3, 2.4), st.floats(0.05, 0.6), st.floats(-3.1, 3.1), st.floats(0.0, 1.0),
+       st.floats(-math.pi, math.pi), st.floats(0.0, 0.2))
+def test_the_bound_never_frees_a_point_within_r_r_of_the_echo(eta, width, mid, along, dirn, r):
+    reg = InfeasibleRegion(0.3, -0.2, mid - width / 2, mid + width / 2, eta, 0.2,
+                           arc_bound=True)
+    ang = reg.lo_rad + along * (reg.hi_rad - reg.lo_rad)
+    x = reg.ox + eta * math.cos(ang) + 0.999 * r * math.cos(dirn)
+    y = reg.oy + eta * math.sin(ang) + 0.999 * r * math.sin(dirn)
+    literal = InfeasibleRegion(**{**reg.__dict__, "arc_bound": False})
+    if literal.contains(x, y):  # the cut only removes points, never adds
+        assert reg.contains(x, y)
+        assert any_region_contains([reg], x, y)
+    assert not (reg.contains(x, y) and not literal.contains(x, y))
+
+
+def test_vectorised_test_matches_the_single_region_test_with_the_bound():
+    cfg = SonarConfig(sensor_offset_m=0.17, shared_echo_tol_m=0.13, arc_angle_bound=True)
+    scan = infeasible_regions(cfg, (0.1, 0.2), 0.4, [300, 700, 236, 225, 2600])
+    assert scan.regions and all(r.arc_bound for r in scan.regions)
+    rng = np.random.default_rng(7)
+    x, y = rng.uniform(-1.5, 1.7, 4000), rng.uniform(-1.4, 1.8, 4000)
+    ref = np.zeros(x.shape, dtype=bool)
+    for reg in scan.regions:
+        ref |= reg.contains(x, y)
+    assert np.array_equal(any_region_contains(scan.regions, x, y), ref)
+
+
+def test_escape_heading_is_the_clear_one_nearest_the_object():
+    cfg = SonarConfig(sensor_offset_m=0.17, shared_echo_tol_m=0.13, arc_angle_bound=True)
+    # facing +x, the object straight ahead, an echo front-left 0.23 m from the ring
+    regions = infeasible_regions(cfg, (0.0, 0.0), 0.0, [65535, 65535, 225, 236, 65535]).regions
+    head, ops = escape_heading(regions, (0.0, 0.0), 0.0, 0.0, 0.6, 0.1)
+    assert head is not None and head < -0.2  # away from the echo, to the right
+    assert segment_clear([_grown(r, 0.1) for r in regions], (0.0, 0.0), head, 0.6)[0]
+    nearer = head + math.pi / 12  # the next heading toward the object is not clear
+    assert not segment_clear([_grown(r, 0.1) for r in regions], (0.0, 0.0), nearer, 0.6)[0]
+    assert ops.time_us() > 0
+    assert segment_clear(regions, (0.0, 0.0), 0.0, 0.6)[0] is False
+    # echoes close on every sonar: no way out within the ring's view
+    walled = infeasible_regions(cfg, (0.0, 0.0), 0.0, [150] * 5).regions
+    assert escape_heading(walled, (0.0, 0.0), 0.0, 0.0, 0.6)[0] is None
+
+
+def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
+    return InfeasibleRegion(**{**reg.__dict__, "r_r_m": reg.r_r_m + m})
+
+
+def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
+    from host.task_wander import detour_step, start_detour
+
+    p = TaskParams.for_method("001")
+    d = start_detour(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
+    assert d == {"heading_mrad": -900, "drive": True, "from": None, "checked": True}
+    task = SimpleNamespace(p=p, wheels=None, detour=d)
+    side = (65535, 65535, 65535, 220, 240)  # the obstacle beside it, front-left and left
+    assert not detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
+    assert task.wheels == (p.wander_mmps, p.wander_mmps)
+    # the unchecked detour stops for the same diagonal echo at once
+    task.detour = {"heading_mrad": -900, "drive": True, "from": None}
+    assert detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
+    # something straight ahead stops a checked one too
+    task.detour = dict(d)
+    assert detour_step(task, TaskInputs(heading_mrad=-900,
+                                        sonar_mm=(65535, 65535, 300, 65535, 65535)))
+    assert task.wheels == (0, 0)

@@ -1,0 +1,30 @@
+"""001 APPROACH: sightings taken while the base turns fast do not move the object estimate."""
+
+from host.task import Task, TaskInputs
+
+RADIAL_AHEAD = {"u_q4": 160 * 16, "v_q4": 150 * 16, "y_oc_mm": 1000}
+CLEAR = (2500,) * 5
+
+
+def _approaching(turn_mrad_per_step: int) -> Task:
+    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
+    task.step(0, TaskInputs(sonar_mm=CLEAR))
+    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
+    assert task.state == "APPROACH" and task.follower is not None
+    h = 0
+    for k in range(2, 10):  # 20 ms steps, turning at turn_mrad_per_step / 20 ms
+        h += turn_mrad_per_step
+        task.step(k * 20_000, TaskInputs(heading_mrad=h, v_mmps=100, sonar_mm=CLEAR))
+    task.step(10 * 20_000, TaskInputs(heading_mrad=h + turn_mrad_per_step, v_mmps=100,
+                                      sonar_mm=CLEAR, detections={"radial_symbol": RADIAL_AHEAD}))
+    return task
+
+
+def test_a_sighting_while_turning_fast_keeps_the_estimate():
+    task = _approaching(30)  # 1.5 rad/s, as in a tight low-speed 001 curve
+    assert task.obj == (1500, 0)
+
+
+def test_a_sighting_while_turning_slowly_updates_the_estimate():
+    task = _approaching(4)  # 0.2 rad/s
+    assert task.obj != (1500, 0)

@@ -2,9 +2,9 @@
 
 Generating the 512 x 512 marker textures (mcu_sim/world/markers.py, 3 x 3 supersampled) takes
 ~0.3 s per texture, paid in every run's first frame. The levels are stored as a ``.npz`` keyed by
-the SHA-256 of the generator's source file, the numpy version, the texture's name and its
-arguments, so any change to the drawing code or numpy makes a new entry; a file that cannot be
-read or does not hold what is expected is ignored and rebuilt.
+the SHA-256 of the generator's source file, the numpy version, the CPU architecture, the
+texture's name and its arguments, so any change to the drawing code or numpy makes a new
+entry; a file that cannot be read or does not hold what is expected is ignored and rebuilt.
 
 Folder: ``$MOBIGRASP_CACHE_DIR`` if set (``off`` disables the cache), else
 ``$XDG_CACHE_HOME/mobigrasp`` or ``~/.cache/mobigrasp``. An unwritable folder only costs speed.
@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import platform
 import tempfile
 from collections.abc import Callable
 from functools import lru_cache
@@ -39,7 +40,8 @@ def _source_digest(source_file: str) -> str:
 def cache_key(source_file: str, name: str, *args: object) -> str:
     """File name of one texture: depends on the generator's source, numpy and the arguments."""
     h = hashlib.sha256()
-    for part in (_source_digest(source_file), np.__version__, name, repr(args)):
+    for part in (_source_digest(source_file), np.__version__, platform.machine(), name,
+                 repr(args)):
         h.update(part.encode())
         h.update(b"\0")
     return f"{name}-{h.hexdigest()[:32]}.npz"

@@ -174,6 +174,23 @@ def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
     return (None if head is None else int(round(head * 1000))), ops
 
 
+def straight_clear_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
+                       obj_xy_mm: tuple[int, int], travel_mm: int):
+    """001: does the straight drive of ``travel_mm`` toward the object (the close approach of
+    000 §III.B, which has no obstacle test of its own) stay out of the infeasible regions (eq.
+    (16)) of the present reading and of the replanner's memory? (clear, ops)"""
+    from host.planning.bezier001 import is_object_echo
+    from host.planning.escape import segment_clear
+    from host.planning.sonar_regions import infeasible_regions
+
+    pos, h, _ = _state_m(x_mm, y_mm, heading_mrad, 0)
+    p = rp.params
+    scan = infeasible_regions(p.sonar, pos, h, [int(v) for v in sonar_mm])
+    regions = [r for r in scan.regions if not is_object_echo(r, rp.target, p.object_echo_tol_m)]
+    toward = atan2_mrad(obj_xy_mm[1] - y_mm, obj_xy_mm[0] - x_mm) / 1000.0
+    return segment_clear(regions + list(rp.memory), pos, toward, max(0, travel_mm) / 1000.0)
+
+
 def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
                sonar_mm: tuple):
     """001 §III.E: check the rest of the path against fresh sonar, replan when blocked.

@@ -20,6 +20,7 @@ from host.task_drive import (
     plan_follower,
     planner_params_001,
     start_001,
+    straight_clear_001,
     turn_in_place,
     update_001,
 )
@@ -33,6 +34,8 @@ from host.task_wander import detour_step, seen_there_before, start_detour, wande
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
 SIGHTING_MAX_TURN_MRAD_S = 500  # 001 APPROACH: sightings taken while turning faster are not used
+ADJUST_EARLY_MM_001 = 700  # 001 APPROACH: ADJUST from this close with the object in view
+ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
 
 
 def _wrap(a: int) -> int:
@@ -207,6 +210,10 @@ class TaskStates(GraspStates):
             # short of the waist distance: ring 70 mm ahead of the waist plus its radius)
             n = len(inp.sonar_mm)
             echo = self.method == "001" and n >= 3 and 0 < int(inp.sonar_mm[n // 2]) < dist - 300
+            # 001: nor when the straight way to the object crosses an infeasible region (eq.
+            # (16)): an obstacle beside the line, unseen by the front sonar, was grazed
+            # (random 001 seed 1014)
+            echo = echo or (self.method == "001" and not self._straight_clear_001(inp, dist))
             if dist <= self.p.direct_max_mm and not echo:  # the close approach can do it
                 self.go(now, "ADJUST", f"no feasible curve ({detail['reason']}); object "
                         f"{dist} mm away: direct approach")
@@ -304,6 +311,33 @@ class TaskStates(GraspStates):
         if cmd.done or dist <= self.p.grasp_r_mm + 100:
             self.go(now, "ADJUST", f"path followed (error {cmd.error_mm} mm), object {dist} mm "
                     f"from the waist")
+        elif self.method == "001" and self._adjust_early_001(now, inp, dist):
+            self.go(now, "ADJUST", f"object in view {dist} mm from the waist, nothing in the "
+                    f"way: vision-based adjustment (000 §III.B) from here")
+
+    def _adjust_early_001(self, now: int, inp, dist: int) -> bool:
+        """001: hand the last part of the curve to 000's vision-based approaching adjustment
+        (§III.B) while the object is still in the camera's view. Ours: the curve ends on the
+        grasp circle (eqs. (5)-(6) of 001, l_e ~ 0.23 m), where the long 001 arm's camera looks
+        over the object top and sees neither the dual "+" nor the radial symbol; ADJUST then
+        finished on the last sightings and odometry (12-14 mm off in paper001-sim1/sim2, the
+        spoke never found). Only with a sighting in the last ``ADJUST_EARLY_FRESH_US`` and the
+        straight way to the object clear (the close approach drives straight at it)."""
+        if not (self.p.grasp_r_mm + 100 < dist <= ADJUST_EARLY_MM_001):
+            return False
+        if now - self.obj_seen_us > ADJUST_EARLY_FRESH_US:
+            return False
+        return self._straight_clear_001(inp, dist)
+
+    def _straight_clear_001(self, inp, dist: int) -> bool:
+        """001: the close approach's straight way to the object (``dist`` from the waist, to
+        stop ``grasp_r_mm`` short) misses the infeasible regions of eq. (16) (host.task_drive)."""
+        if self.replanner is None:
+            return False
+        clear, ops = straight_clear_001(self.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                        inp.sonar_mm, self.obj, dist - self.p.grasp_r_mm)
+        self.charge(ops)
+        return clear
 
     def _approach_002(self, now: int, inp, dets: dict) -> None:
         rc = dets.get("red_cylinder")

@@ -104,6 +104,7 @@ def test_aggregation_over_a_stand_in_run(tmp_path):
     assert agg["watchdog_trips"] == sum(s % 2 for s in live)  # the monitor's count wins
     assert agg["retransmits"] == sum(live) and agg["crc_errors"] == 2 * sum(live)
     assert agg["stop_latency_ms"] == {"n": 9, "median": 254.0, "max": 259.0}
+    assert agg["stops_while_moving"] == 9
     assert agg["recovery_ms"]["max"] == 900.0 and agg["recovery_ms"]["n"] == 9
     assert agg["failed_seeds"] == sorted(set(range(10)) - set(ok))
     assert agg["runs_safety_monitored"] == 9 and agg["runs_faults_applied"] == 9

@@ -106,3 +106,37 @@ def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
     assert detour_step(task, TaskInputs(heading_mrad=-900,
                                         sonar_mm=(65535, 65535, 300, 65535, 65535)))
     assert task.wheels == (0, 0)
+
+
+def test_a_robot_already_too_close_may_leave_but_not_go_further_in():
+    cfg = SonarConfig(sensor_offset_m=0.17, shared_echo_tol_m=0.13, arc_angle_bound=True)
+    # an echo 0.1 m from the ring straight ahead: the robot stands inside its region grown by
+    # the detour's 0.1 m margin
+    regions = [_grown(r, 0.1) for r in infeasible_regions(
+        cfg, (0.0, 0.0), 0.0, [65535, 65535, 100, 65535, 65535]).regions]
+    assert any(r.contains(0.0, 0.0) for r in regions)
+    assert segment_clear(regions, (0.0, 0.0), math.pi, 0.5, leave_ok=True)[0]  # straight back
+    assert not segment_clear(regions, (0.0, 0.0), math.pi, 0.5)[0]
+    assert not segment_clear(regions, (0.0, 0.0), 0.0, 0.5, leave_ok=True)[0]  # further in
+    head, _ = escape_heading(regions, (0.0, 0.0), 0.0, 0.0, 0.6)
+    assert head is not None and abs(head) >= 1.0  # sideways, away from the echo
+
+
+def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
+    from host.task import Task
+
+    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
+    clear = (2500,) * 5
+    task.step(0, TaskInputs(sonar_mm=clear))
+    task.step(20_000, TaskInputs(sonar_mm=clear))
+    assert task.state == "APPROACH" and task.replanner is not None
+    now = 1_000_000
+    near = TaskInputs(x_mm=800, sonar_mm=clear)  # the waist 600 mm from the object
+    task.obj_seen_us = now
+    assert task._adjust_early_001(now, near, 600)
+    assert not task._adjust_early_001(now, near, 900)  # farther than ADJUST_EARLY_MM_001
+    task.obj_seen_us = now - 1_000_000
+    assert not task._adjust_early_001(now, near, 600)  # not seen lately
+    task.obj_seen_us = now
+    beside = TaskInputs(x_mm=800, sonar_mm=(2500, 150, 2500, 2500, 2500))  # right, 45 deg
+    assert not task._adjust_early_001(now, beside, 600)

@@ -182,6 +182,8 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
         "retransmits": sum(r["retransmits"] for r in rows),
         "crc_errors": sum(r["crc_errors"] for r in rows),
         "stop_latency_ms": _stats(stops),
+        # silences that hit a robot in motion (a latency of 0: the wheels were already still)
+        "stops_while_moving": sum(v > 0 for v in stops),
         "recovery_ms": _stats(recov),
         "unrecovered_faults": sum(r["unrecovered"] for r in rows),
         "late_stops": sum(r["late_stops"] for r in rows),
@@ -258,7 +260,7 @@ def format_table(agg: dict) -> str:
         f"  {'watchdog trips':<28} {agg['watchdog_trips']:6d}",
         f"  {'retransmits':<28} {agg['retransmits']:6d}    (CRC errors {agg['crc_errors']})",
         f"  {'wheel stop latency ms':<28} {fmt(agg['stop_latency_ms'])}"
-        f"  late stops {agg['late_stops']}",
+        f"  late stops {agg['late_stops']}, {agg['stops_while_moving']} from motion",
         f"  {'recovery time ms':<28} {fmt(agg['recovery_ms'])}"
         f"  unrecovered {agg['unrecovered_faults']}",
         f"  {'runs after a fault':<28} " + ", ".join(

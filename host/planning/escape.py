@@ -11,7 +11,9 @@ eq. (16), with the regions optionally grown by ``margin_m`` because the drive is
 
 Headings are tried every ``step_rad`` within ``span_rad`` of the present heading (the ring's
 S_1..S_k_s only see ±π/2 about it, so nothing further round is known to be free), nearest the
-object's bearing first.  Float (soft-float on the ARM9, ops counted like the planner's).
+object's bearing first.  Where the robot already stands in a region (closer to an echo than
+R_r and the margin) a heading leading away from that echo, its distance growing, is clear.
+Float (soft-float on the ARM9, ops counted like the planner's).
 """
 
 from __future__ import annotations
@@ -24,6 +26,8 @@ import numpy as np
 from host.budget import OpCounts
 from host.planning.bezier import FLOPS_PER_REGION
 from host.planning.sonar_regions import InfeasibleRegion, any_region_contains
+
+LEAVE_TOL_M = 0.02  # leaving a region: the arc may come this much closer on the way out
 
 
 def _wrap(a: float) -> float:
@@ -48,7 +52,7 @@ def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: 
     heads.sort(key=lambda h: (abs(_wrap(h - goal_bearing_rad)), h))
     ops = OpCounts()
     for h in heads:
-        clear, more = segment_clear(grown, (px, py), h, length_m, samples)
+        clear, more = segment_clear(grown, (px, py), h, length_m, samples, leave_ok=True)
         ops = ops + more
         if clear:
             return _wrap(h), ops
@@ -56,13 +60,30 @@ def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: 
 
 
 def segment_clear(regions: list[InfeasibleRegion], position_xy_m, heading_rad: float,
-                  length_m: float, samples: int = 16) -> tuple[bool, OpCounts]:
+                  length_m: float, samples: int = 16,
+                  leave_ok: bool = False) -> tuple[bool, OpCounts]:
     """True when the straight segment of ``length_m`` along ``heading_rad`` enters none of the
-    regions (eq. (16) at ``samples`` points after the start); with the ARM9 ops of the test."""
+    regions (eq. (16) at ``samples`` points after the start); with the ARM9 ops of the test.
+
+    ``leave_ok``: a region the start itself lies in (the robot already closer to an echo than
+    R_r plus the margin) may be crossed where the segment is farther from that echo's arc
+    than the start less LEAVE_TOL_M (D_m of eq. (18) not shrinking): the way out of it, not
+    further in; sideways past the end of a short arc comes LEAVE_TOL_M closer at most."""
     if length_m <= 0:
         return True, OpCounts()
     px, py = (float(v) for v in position_xy_m)
     dist = length_m * np.arange(1, samples + 1) / samples
     xs, ys = px + dist * math.cos(heading_rad), py + dist * math.sin(heading_rad)
     ops = OpCounts(float_ops=samples * (4 + FLOPS_PER_REGION * len(regions)), luts=2)
-    return not bool(any_region_contains(regions, xs, ys).any()), ops
+    if not leave_ok:
+        return not bool(any_region_contains(regions, xs, ys).any()), ops
+    ops = ops + OpCounts(float_ops=(samples + 1) * 12 * len(regions), float_divs=2 * len(regions))
+    for reg in regions:
+        inside = reg.contains(xs, ys)
+        if not inside.any():
+            continue
+        if not bool(reg.contains(px, py)):
+            return False, ops
+        if (inside & (reg.clearance(xs, ys) < float(reg.clearance(px, py)) - LEAVE_TOL_M)).any():
+            return False, ops
+    return True, ops

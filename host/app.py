@@ -163,6 +163,15 @@ class HostApp:
         """Whether the task needs any detector now (the camera can be off otherwise)."""
         return any(n in self.detectors for n in self.task.detectors_needed())
 
+    def quiet_until_us(self) -> int:
+        """The program writes nothing and changes no state, task or camera wish before this
+        time unless a control tick comes first: the next tick, or the send time of the first
+        byte still queued if earlier. Received bytes and frames only feed the parser and
+        vision (trace events, load), so a quantum ending at or before it that brings only
+        those is answered without bytes and with the same state (docs/cosim.md, pipelining)."""
+        nxt = self.link.next_send_us()
+        return self._next_tick_us if nxt is None else min(self._next_tick_us, nxt)
+
     def take_output(self, before_us: int) -> list[tuple[int, bytes]]:
         """Wire chunks to write to the serial port, with their send times (< before_us)."""
         return self.link.take_output(before_us)

@@ -163,6 +163,10 @@ class HostLink:
         self._outbox = [c for c in self._outbox if c[0] >= before_us]
         return out
 
+    def next_send_us(self) -> int | None:
+        """Send time of the earliest chunk still queued (None when the outbox is empty)."""
+        return min((t for t, _ in self._outbox), default=None)
+
     # ---- validated commands ----------------------------------------------------------------
     def send_servos_mrad(self, joints_mrad, at_us: int, slew_mrad_s: int = 0) -> bool:
         """SetServos in mrad for channels 1..5, clamped to the joint limits; channel 0 (the

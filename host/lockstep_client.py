@@ -68,9 +68,12 @@ class LockstepClient:
         self.camera = LockstepCamera()
         self.read_timeout_s = read_timeout_s
         self._loads_sent = 0
+        self._ahead = bytearray()  # UART bytes read for grants not served yet
 
     def _read_exact(self, n: int) -> bytes:
-        buf = bytearray()
+        # The rig may send grants ahead (pipelining): bytes beyond this grant's belong to the
+        # next ones and wait in ``_ahead``.
+        buf = self._ahead
         while len(buf) < n:
             chunk = self.port.read()
             if chunk:
@@ -78,9 +81,9 @@ class LockstepClient:
             elif not self.port.wait_readable(self.read_timeout_s):
                 raise ls.LockstepError(f"grant announced {n} UART bytes, only {len(buf)} "
                                        f"arrived within {self.read_timeout_s} s")
-        if len(buf) != n:
-            raise ls.LockstepError(f"grant announced {n} UART bytes, {len(buf)} were on the port")
-        return bytes(buf)
+        data = bytes(buf[:n])
+        del buf[:n]
+        return data
 
     def serve(self, grant: ls.Grant) -> ls.Done:
         """Run the host program through one granted quantum; returns the DONE to send."""
@@ -101,16 +104,20 @@ class LockstepClient:
         if out:
             self.port.write(b"".join(w for _, w in out))
         self.clock.set_us(grant.until_us)
-        loads = app.load_windows()
-        new = {str(k): round(v, 6) for k, v in loads.items() if k >= self._loads_sent}
-        if new:
-            self._loads_sent = max(loads) + 1
+        new = {}
+        if grant.until_us // app.config.load_window_us > self._loads_sent:
+            # a window may have finished (load_windows holds only windows before now)
+            loads = app.load_windows()
+            new = {str(k): round(v, 6) for k, v in loads.items() if k >= self._loads_sent}
+            if new:
+                self._loads_sent = max(loads) + 1
         events = app.take_events()
         return ls.Done(until_us=grant.until_us, writes=tuple((t, len(w)) for t, w in out),
                        events=tuple(jsonable(events)),
                        load={"window_us": app.config.load_window_us, "windows": new,
                              "state": app.state, "finished": app.finished,
-                             "camera": app.wants_frames()})
+                             "camera": app.wants_frames(),
+                             "quiet_until": app.quiet_until_us()})
 
     def bye(self) -> ls.Bye:
         """Final statistics of the host program."""

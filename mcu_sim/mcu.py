@@ -167,7 +167,11 @@ class Mcu:
 
     def servo_pulse_us(self, ch: int) -> float:
         """Latest complete pulse width on channel ``ch`` in µs (a multiple of 0.5)."""
-        return self.servo_pulse_ns(ch) / 1000.0
+        # read 12 times per coupling step (rig, safety monitor): no helper calls
+        if not 0 <= ch < 6:
+            raise ValueError(f"servo channel must be 0..5, got {ch}")
+        b = self.board
+        return (b.timer1.last_width_ns[ch] if ch < 3 else b.timer3.last_width_ns[ch - 3]) / 1000.0
 
     def servo_pulses_us(self) -> tuple[float, ...]:
         """:meth:`servo_pulse_us` of channels 0..5 in one call (the rig reads all six per

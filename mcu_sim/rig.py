@@ -117,6 +117,12 @@ class Rig:
         self.camera_on = True
         # a class of its own that has it (a delegating wrapper falls back to one per channel)
         self._all_pulses = callable(getattr(type(mcu), "servo_pulses_us", None))
+        # _couple runs twice per quantum: its calls are bound once here (through a delegating
+        # wrapper every attribute lookup is a __getattr__ call)
+        self._servo_pulse_us = mcu.servo_pulse_us
+        self._couple_calls = (mcu.advance_to, mcu.wheel_duty, mcu.set_encoder_ticks,
+                              mcu.uart_tx_take, plant.set_servo_pulse_us, plant.set_wheel_duty,
+                              plant.step_to, plant.encoder_ticks)
         mcu.set_sonar_provider(self._sonar)
 
     def _sonar(self, index: int) -> float | None:
@@ -203,23 +209,28 @@ class Rig:
                 self._capture(t)
 
     def _couple(self, t_us: int) -> None:
-        mcu, plant = self.mcu, self.plant
-        mcu.advance_to(t_us)
+        (advance, wheel_duty, set_encoders, tx_take, set_servo, set_wheels, step_to,
+         encoders) = self._couple_calls
+        advance(t_us)
         pulses = self._pulses
         # one call for all six where the MCU's class offers it
-        now = (mcu.servo_pulses_us() if self._all_pulses
-               else [mcu.servo_pulse_us(ch) for ch in range(6)])
-        for ch, pulse in enumerate(now):
+        if self._all_pulses:
+            now = self.mcu.servo_pulses_us()
+        else:
+            one = self._servo_pulse_us
+            now = (one(0), one(1), one(2), one(3), one(4), one(5))
+        for ch in range(6):
+            pulse = now[ch]
             if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
-                plant.set_servo_pulse_us(ch, pulse)
+                set_servo(ch, pulse)
                 pulses[ch] = pulse
-        left, right = mcu.wheel_duty()
-        plant.set_wheel_duty(left, right)
-        plant.step_to(t_us)
+        left, right = wheel_duty()
+        set_wheels(left, right)
+        step_to(t_us)
         self.now_us = t_us
-        enc_l, enc_r = plant.encoder_ticks()
-        mcu.set_encoder_ticks(enc_l, enc_r, t_us)
-        self._tx_pending.extend(mcu.uart_tx_take())
+        enc_l, enc_r = encoders()
+        set_encoders(enc_l, enc_r, t_us)
+        self._tx_pending.extend(tx_take())
 
     def _capture(self, t_us: int) -> None:
         seq = self._next_frame

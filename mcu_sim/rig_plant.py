@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from mcu_sim.world.camera import CameraOptions, Intrinsics, render
+from mcu_sim.world.camera import CameraOptions, Intrinsics, apply_options, render_clean
 from mcu_sim.world.scenario import Scenario
 from mcu_sim.world.world import World
 
@@ -33,6 +33,8 @@ class WorldPlant:
         self.options = CameraOptions(noise_std=cam.noise_std, blur_px=cam.blur_px,
                                      brightness=cam.brightness)
         self._sonar_us = -1
+        self._clean_key: tuple | None = None
+        self._clean: np.ndarray | None = None
         self._sonar: list[float | None] = []
         self.path_length_m = 0.0
         self._last_xy = self._xy()
@@ -70,10 +72,17 @@ class WorldPlant:
         return self._sonar[index] if 0 <= index < len(self._sonar) else None
 
     def capture(self, t_us: int) -> np.ndarray:
-        """The eye-in-hand camera's frame now (uint8 H x W x 3 RGB)."""
+        """The eye-in-hand camera's frame now (uint8 H x W x 3 RGB): camera.render, with the
+        clean image reused while scene and pose are bit-identical (a standing robot and arm)."""
         pos, R = self.world.camera_pose_world()
-        return render(self.world.camera_scene(), pos, R, self.intrinsics, self.options, None,
-                      t_us=t_us)
+        scene = self.world.camera_scene()
+        key = (scene, np.asarray(pos, np.float64).tobytes(), np.asarray(R, np.float64).tobytes())
+        if key != self._clean_key:
+            self._clean = render_clean(scene, pos, R, self.intrinsics)
+            self._clean_key = key
+        rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
+        # a copy: the frame leaves the plant (host, snapshots) and options may return it as is
+        return apply_options(self._clean.copy(), self.options, rng)
 
     # ---- truth for the trace ------------------------------------------------------------
     def sample_path(self) -> None:

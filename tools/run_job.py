@@ -122,13 +122,7 @@ def _progress(res, wall: float, now_us: int) -> None:
 
 def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
-    from host.app_factory import build_host_app
-    from host.lockstep_client import LockstepClient
     from link.registry import inproc_pair, open_transport
-    from mcu_sim.mcu import Mcu
-    from mcu_sim.rig import Rig, RigConfig
-    from mcu_sim.rig_plant import WorldPlant
-    from tools.run_folder import Snapshots, TraceWriter, write_summary
     from tools.runner import (
         InprocHost,
         SessionResult,
@@ -153,34 +147,51 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
                            f"refusing to overwrite it")
         shutil.rmtree(out)
-    (out / "plots").mkdir(parents=True)
-    summary: dict[str, Any] = {
-        "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
-        "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
-        "grasped": False,
-    }
-    write_summary(out / "summary.json", summary)
-    trace = TraceWriter(out / "trace.jsonl")
-    snaps = Snapshots(out / "frames")
-    plant = WorldPlant(scenario, seed)
-    mcu = Mcu()
     cfg = host_config(scenario)
+    tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
+    early = port = None
+    if opts.transport == "pty":
+        # the host process boots (~0.5 s of imports) while this side imports and builds its half
+        port = open_transport("pty://")
+        cfg_path = write_host_config(Path(tmpdir.name) / "host.json", cfg)
+        early = SocketHost(host_argv(port.slave_path, cfg_path), connect=False)
+    try:
+        from host.app_factory import build_host_app
+        from host.lockstep_client import LockstepClient
+        from mcu_sim.mcu import Mcu
+        from mcu_sim.rig import Rig, RigConfig
+        from mcu_sim.rig_plant import WorldPlant
+        from tools.run_folder import Snapshots, TraceWriter, write_summary
+
+        (out / "plots").mkdir(parents=True)
+        summary: dict[str, Any] = {
+            "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
+            "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
+            "grasped": False,
+        }
+        write_summary(out / "summary.json", summary)
+        trace = TraceWriter(out / "trace.jsonl")
+        snaps = Snapshots(out / "frames")
+        plant = WorldPlant(scenario, seed)
+        mcu = Mcu()
+    except BaseException:
+        if early is not None:  # not connected yet: it sees the socket go and exits
+            early.close()
+            port.close()
+        raise
     limit_s = opts.time_limit_s or scenario.meta.time_limit_s
     trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": scenario.meta.method,
                  "seed": seed, "robot": [scenario.robot.x_m, scenario.robot.y_m,
                                          scenario.robot.heading_rad],
                  "target": [scenario.target.x_m, scenario.target.y_m],
                  "obstacles": [vars(o) for o in scenario.obstacles]})
-    host = None
-    port = peer = None
+    host = early
+    peer = None
     res = SessionResult()
     rig = fault_rig = None
-    tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     try:
-        if opts.transport == "pty":
-            port = open_transport("pty://")
-            cfg_path = write_host_config(Path(tmpdir.name) / "host.json", cfg)
-            host = SocketHost(host_argv(port.slave_path, cfg_path))
+        if early is not None:
+            early.connect()
         else:
             port, peer = inproc_pair(f"run-{name}-{seed}")
             host = InprocHost(LockstepClient(build_host_app(cfg, timer=opts.timer), peer))

@@ -17,6 +17,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,7 +37,12 @@ class InprocHost:
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant (a GRANT holds only ints and bytes: passed as is; the DONE goes
         through the codec so its events are exactly what the socket would deliver)."""
-        return ls.decode(ls.encode(self.client.serve(grant)))
+        done = self.client.serve(grant)
+        if not done.events and not done.load.get("windows"):
+            # the rest is ints, tuples of int pairs, a str and bools: the codec would give
+            # back equal values (most quanta; checked in tests/test_runner_pipelining.py)
+            return done
+        return ls.decode(ls.encode(done))
 
     def finish(self, end: ls.End) -> ls.Bye:
         """End the run; the host's final stats."""
@@ -46,10 +52,56 @@ class InprocHost:
         """Nothing to release."""
 
 
-class SocketHost:
-    """A host subprocess on the other end of a Unix socket (and of the pty)."""
+@dataclass(frozen=True)
+class PendingDone(ls.Done):
+    """The DONE of a grant sent ahead (pipelining, docs/cosim.md): no bytes, and the state,
+    finished and camera flags of the last DONE read, as the host promised with its
+    ``quiet_until``. Its events and load windows arrive later: :func:`resolved`."""
 
-    def __init__(self, argv: list[str], accept_timeout_s: float = 60.0) -> None:
+    ticket: Any = field(default=None, compare=False)
+
+
+@dataclass
+class _Ticket:
+    """One grant whose DONE is still to be read from the socket."""
+
+    host: Any
+    start_us: int
+    until_us: int
+    promised: dict | None = None  # the provisional load of a PendingDone
+    done: ls.Done | None = None
+
+
+def resolved(done: ls.Done, block: bool = True) -> ls.Done | None:
+    """The real DONE behind ``done`` (itself unless pending); None if not read yet and not
+    ``block``."""
+    if not isinstance(done, PendingDone):
+        return done
+    t = done.ticket
+    if t.done is None and block:
+        t.host.read_through(t)
+    return t.done
+
+
+class SocketHost:
+    """A host subprocess on the other end of a Unix socket (and of the pty).
+
+    Pipelining: a grant that ends at or before the ``quiet_until`` of the last DONE read is
+    answered at once with a :class:`PendingDone` (the host promised it writes nothing and
+    changes no state there), so the rig simulates that quantum while the host serves it; the
+    real DONE is read in order later and checked against the promise. At most ``max_ahead``
+    grants are outstanding."""
+
+    max_ahead = 16
+
+    def __init__(self, argv: list[str], accept_timeout_s: float = 60.0,
+                 connect: bool = True) -> None:
+        """Start the host process; with ``connect`` (default) also wait for its HELLO, else
+        call :meth:`connect` later (the caller builds its side while the host boots)."""
+        self._accept_timeout_s = accept_timeout_s
+        self._waiting: deque[_Ticket] = deque()
+        self._quiet_until = -1
+        self._last_load: dict = {}
         self._dir = tempfile.TemporaryDirectory(prefix="mobigrasp-ls-")
         self.path = os.path.join(self._dir.name, "lockstep.sock")
         self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -61,13 +113,19 @@ class SocketHost:
         root = str(Path(__file__).resolve().parents[1])
         env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
         self.proc = subprocess.Popen([*argv, "--lockstep", self.path], env=env)
+        if connect:
+            self.connect()
+
+    def connect(self) -> None:
+        """Accept the host process's connection and read its HELLO."""
+        timeout = self._accept_timeout_s
         try:
             self.conn, _ = self._server.accept()
         except TimeoutError as exc:
             self.proc.kill()
-            raise ls.LockstepClosed(f"host process did not connect within {accept_timeout_s} s"
+            raise ls.LockstepClosed(f"host process did not connect within {timeout} s"
                                     ) from exc
-        self.conn.settimeout(accept_timeout_s)  # safety limit only
+        self.conn.settimeout(timeout)  # safety limit only
         self.rfile = self.conn.makefile("rb")
         self.wfile = self.conn.makefile("wb")
         hello = ls.read_message(self.rfile)
@@ -89,18 +147,53 @@ class SocketHost:
                                  f"simulated (it {how}; {type(exc).__name__}: {exc})")
 
     def exchange(self, grant: ls.Grant) -> ls.Done:
-        """Send a grant, wait for DONE."""
+        """Send a grant; wait for its DONE, or answer a quiet one with a PendingDone."""
         try:
             self._send(grant)
-            reply = ls.read_message(self.rfile)
-        except (OSError, ls.LockstepClosed) as exc:
+        except OSError as exc:
             raise self._vanished(exc, grant.start_us) from exc
-        if not isinstance(reply, ls.Done):
-            raise ls.LockstepError(f"expected DONE, got {type(reply).__name__}")
-        return reply
+        ticket = _Ticket(self, grant.start_us, grant.until_us)
+        self._waiting.append(ticket)
+        last = self._last_load
+        if (last and grant.until_us <= self._quiet_until
+                and len(self._waiting) <= self.max_ahead):
+            ticket.promised = {"window_us": last.get("window_us"), "windows": {},
+                               "state": last.get("state"), "finished": last.get("finished"),
+                               "camera": last.get("camera")}
+            return PendingDone(until_us=grant.until_us, load=ticket.promised, ticket=ticket)
+        self.read_through(ticket)
+        assert ticket.done is not None
+        return ticket.done
+
+    def read_through(self, ticket: _Ticket) -> None:
+        """Read DONEs in order until ``ticket``'s has arrived."""
+        while ticket.done is None:
+            head = self._waiting[0]
+            try:
+                reply = ls.read_message(self.rfile)
+            except (OSError, ls.LockstepClosed) as exc:
+                raise self._vanished(exc, head.start_us) from exc
+            if not isinstance(reply, ls.Done):
+                raise ls.LockstepError(f"expected DONE, got {type(reply).__name__}")
+            if reply.until_us != head.until_us:
+                raise ls.LockstepError(f"DONE for until_us={reply.until_us}, expected "
+                                       f"{head.until_us}")
+            if head.promised is not None:
+                broken = [k for k in ("state", "finished", "camera")
+                          if reply.load.get(k) != head.promised[k]]
+                if reply.writes or broken:
+                    raise ls.LockstepError(
+                        f"host broke its quiet_until promise in the quantum ending at "
+                        f"{head.until_us} us (writes {list(reply.writes)}, changed {broken})")
+            head.done = reply
+            self._waiting.popleft()
+            self._quiet_until = reply.load.get("quiet_until", -1)
+            self._last_load = reply.load
 
     def finish(self, end: ls.End) -> ls.Bye:
-        """Send END, wait for BYE."""
+        """Send END, wait for BYE (after the DONEs still on their way)."""
+        if self._waiting:
+            self.read_through(self._waiting[-1])
         self._send(end)
         reply = ls.read_message(self.rfile)
         if not isinstance(reply, ls.Bye):
@@ -158,12 +251,51 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
     next_progress = 0.0
     finished_at: int | None = None
     state_since = 0
+    # Trace work in quantum order: a PendingDone (pipelined grant) holds back what follows it
+    # until its real DONE is read, so the trace is the same as answered one by one.
+    backlog: deque[tuple[str, Any]] = deque()
+
+    def handle(done: ls.Done) -> None:
+        nonlocal state_since, finished_at
+        for ev in done.events:
+            trace.write({"src": "host", **ev})
+            if ev.get("ev") == "state" and "to" in ev:
+                frm = str(ev.get("from", res.host_state))
+                res.state_durations_us[frm] = (res.state_durations_us.get(frm, 0)
+                                               + ev["t_us"] - state_since)
+                state_since = ev["t_us"]
+                res.state_enter_us.setdefault(str(ev["to"]), ev["t_us"])
+                res.host_state = str(ev["to"])
+            if on_host_event is not None:
+                on_host_event(ev)
+        for k, v in sorted((done.load.get("windows") or {}).items(), key=lambda i: int(i[0])):
+            trace.write({"ev": "load", "t_us": int(k) * done.load["window_us"],
+                         "window_us": done.load["window_us"], "load": v})
+        res.host_state = str(done.load.get("state", res.host_state))
+        if done.load.get("finished") and finished_at is None:
+            finished_at = done.until_us
+            res.host_finished = True
+
+    def drain(block: bool) -> None:
+        while backlog:
+            kind, item = backlog[0]
+            if kind == "line":
+                trace.write(item)
+            else:
+                real = resolved(item, block)
+                if real is None:
+                    return
+                handle(real)
+            backlog.popleft()
+
     try:
         while True:
             now = rig.now_us
             if truth is not None and now >= next_truth:
-                trace.write({"ev": "truth", "t_us": now, **truth(now)})
+                backlog.append(("line", {"ev": "truth", "t_us": now, **truth(now)}))
+                drain(block=False)
                 next_truth += truth_period_us
+            # a pending DONE never changes finished or state (SocketHost checks the promise)
             if finished_at is not None and now >= finished_at + settle_us:
                 res.reason = "task_" + res.host_state.lower()
                 break
@@ -174,24 +306,10 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
                 res.reason = why
                 break
             done = host.exchange(rig.grant())
-            for ev in done.events:
-                trace.write({"src": "host", **ev})
-                if ev.get("ev") == "state" and "to" in ev:
-                    frm = str(ev.get("from", res.host_state))
-                    res.state_durations_us[frm] = (res.state_durations_us.get(frm, 0)
-                                                   + ev["t_us"] - state_since)
-                    state_since = ev["t_us"]
-                    res.state_enter_us.setdefault(str(ev["to"]), ev["t_us"])
-                    res.host_state = str(ev["to"])
-                if on_host_event is not None:
-                    on_host_event(ev)
-            for k, v in sorted((done.load.get("windows") or {}).items(), key=lambda i: int(i[0])):
-                trace.write({"ev": "load", "t_us": int(k) * done.load["window_us"],
-                             "window_us": done.load["window_us"], "load": v})
-            res.host_state = str(done.load.get("state", res.host_state))
-            if done.load.get("finished") and finished_at is None:
-                finished_at = done.until_us
-                res.host_finished = True
+            backlog.append(("done", done))
+            # a DONE answered now (also one a fault wrapper made up for a silent host) settles
+            # everything before it: those DONEs were sent before it
+            drain(block=not isinstance(done, PendingDone))
             rig.complete(done)
             if on_quantum is not None:
                 on_quantum(rig.now_us)
@@ -208,6 +326,7 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
         res.error = f"{type(exc).__name__}: {exc}"
         raise
     finally:
+        drain(block=res.reason != "crashed")
         res.end_us = rig.now_us
         res.state_durations_us[res.host_state] = (res.state_durations_us.get(res.host_state, 0)
                                                   + res.end_us - state_since)
@@ -221,8 +340,13 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
 
 
 def host_argv(port_path: str, config_path: Path) -> list[str]:
-    """Command line of the host subprocess (without --lockstep, added by SocketHost)."""
-    return [sys.executable, "-m", "tools.cli", "host", "--port", port_path,
+    """Command line of the host subprocess (without --lockstep, added by SocketHost).
+
+    With ``MOBIGRASP_PROFILE_HOST=FILE`` in the environment the host runs under cProfile and
+    writes its statistics to FILE (``python -m pstats FILE``): the pty run's other half."""
+    prof = os.environ.get("MOBIGRASP_PROFILE_HOST")
+    wrap = ["-m", "cProfile", "-o", prof] if prof else []
+    return [sys.executable, *wrap, "-m", "tools.cli", "host", "--port", port_path,
             "--config", str(config_path)]
 
 

@@ -373,11 +373,18 @@ def render(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics(),
     Deterministic: the same arguments and the same ``rng`` state give byte-identical frames.
     With ``rng=None`` the noise is seeded from ``(scene.seed, t_us)``.
     """
+    img = render_clean(scene, cam_pos_w, R_wc, intr)
+    if rng is None:
+        rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
+    return apply_options(img, options, rng)
+
+
+def render_clean(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics()) -> np.ndarray:
+    """The frame :func:`render` draws before :func:`apply_options` (a function of the scene,
+    the pose and the intrinsics only: a caller may reuse it while they stay the same)."""
     if not isinstance(scene, Scene):
         raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
     c, R = _check_pose(cam_pos_w, R_wc)
-    if rng is None:
-        rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
     img = np.empty((intr.height, intr.width, 3), np.uint8)
     p = _Painter(img, c, R, intr)
     if c[2] > 0.0:
@@ -389,7 +396,7 @@ def render(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics(),
         p.item_faces(it)
         for args in it.textures:
             p.texture(*args)
-    return apply_options(img, options, rng)
+    return img
 
 
 def render_frame(seq: int, capture_us: int, scene: Scene, cam_pos_w, R_wc,
@@ -401,4 +408,4 @@ def render_frame(seq: int, capture_us: int, scene: Scene, cam_pos_w, R_wc,
 
 
 __all__ = ["Intrinsics", "CameraOptions", "Frame", "Scene", "Target", "look_rotation",
-           "project", "render", "render_frame", "apply_options", "Z_NEAR_M"]
+           "project", "render", "render_clean", "render_frame", "apply_options", "Z_NEAR_M"]

@@ -23,6 +23,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from mcu_sim.world.texture_cache import cached_levels
+
 # ---- paper 000: object and radial symbol on its top ------------------------------------------
 L_M = 0.109  # outer diameter of the dual outer rings (000 §IV: L = 109 mm)
 D_ACT_M = 0.0473  # distance between the centres of the two "+" (000 §IV: D_act = 47.3 mm)
@@ -128,11 +130,16 @@ def radial_symbol_inside(x, y):
 
 @lru_cache(maxsize=4)
 def radial_symbol_texture(n: int = 512) -> PlanarTexture:
-    """Top card of the 000 object: white disc of radius CARD_RADIUS_M with the symbol."""
+    """Top card of the 000 object: white disc of radius CARD_RADIUS_M with the symbol
+    (generated once, then read from the texture cache: mcu_sim/world/texture_cache.py)."""
     half = CARD_RADIUS_M
-    dark = _coverage(n, half, radial_symbol_inside)
-    alpha = _coverage(n, half, lambda x, y: np.hypot(x, y) <= CARD_RADIUS_M)
-    return PlanarTexture(half, _pyramid(_rgba(dark, alpha)))
+
+    def build():
+        dark = _coverage(n, half, radial_symbol_inside)
+        alpha = _coverage(n, half, lambda x, y: np.hypot(x, y) <= CARD_RADIUS_M)
+        return _pyramid(_rgba(dark, alpha))
+
+    return PlanarTexture(half, cached_levels(__file__, "radial_symbol", (n,), build))
 
 
 def cross_inside(x, y, cx: float, cy: float):
@@ -154,9 +161,15 @@ def double_cross_texture(n: int = 512) -> PlanarTexture:
     """Front face of the 002 guidance board: white rectangle with the two crosses."""
     half = BOARD_WIDTH_M / 2
     (x1, y1), (x2, y2) = cross_centres_m()
-    dark = _coverage(n, half, lambda x, y: cross_inside(x, y, x1, y1) | cross_inside(x, y, x2, y2))
-    alpha = _coverage(n, half, lambda x, y: (np.abs(x) <= half) & (np.abs(y) <= BOARD_HEIGHT_M / 2))
-    return PlanarTexture(half, _pyramid(_rgba(dark, alpha)))
+
+    def build():
+        dark = _coverage(n, half,
+                         lambda x, y: cross_inside(x, y, x1, y1) | cross_inside(x, y, x2, y2))
+        alpha = _coverage(n, half,
+                          lambda x, y: (np.abs(x) <= half) & (np.abs(y) <= BOARD_HEIGHT_M / 2))
+        return _pyramid(_rgba(dark, alpha))
+
+    return PlanarTexture(half, cached_levels(__file__, "double_cross", (n,), build))
 
 
 def red_cylinder_bands() -> tuple[tuple[float, float, tuple[int, int, int]], ...]:

@@ -21,8 +21,8 @@ A mixin of host.task.Task (through host.task_states).  Targets in the platform f
   (``CHECK_VIEWS``, eq. (11) of 000; then eq. (10) keeps it in view); a held object has left
   it (it hangs under the gripper, behind that view), a missed one still stands there.  The
   object's marker (dual "+" or radial symbol, 002 the red cylinder) seen in
-  ``CHECK_SEEN_FRAMES`` frames standing away from the fingertip, near the place, while the waist
-  turns the view about the place (``CHECK_WAIST_MRAD``) means a miss: open, ADJUST
+  ``CHECK_SEEN_FRAMES`` frames standing away from the fingertip (while the arm rises, or while
+  the waist turns the view about the place, ``CHECK_WAIST_MRAD``) means a miss: open, ADJUST
   from the new sighting and grasp again (up to ``MAX_REGRASPS`` times, then FAILED); otherwise
   DONE.  Random 001 seeds 5001 and 5017 closed the gripper 37 mm beside the object and
   reported DONE.
@@ -31,7 +31,8 @@ A mixin of host.task.Task (through host.task_states).  Targets in the platform f
 from __future__ import annotations
 
 from host import arm_calib, kinematics
-from host.fixedpoint import cos_q12, isqrt, sin_q12
+from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from host.search import SearchParams
 from host.task_base import TaskBase
 from host.task_sense import odom_to_platform_q4, platform_to_odom_mm, spoke_reading
 
@@ -41,7 +42,6 @@ ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter 
 # frames of the look, is the object still standing there (the fingers closed beside it); the
 # world's grasp tolerance is 15 mm, a miss is 20+ mm off, the marker estimate a few mm at 0.2 m
 CHECK_AWAY_MM = 60  # seen farther than this from the fingertip: standing, not held
-CHECK_PLACE_MM = 150  # ... and this near the place the fingers closed: the object, still there
 CHECK_SEEN_FRAMES = 2
 CHECK_POSE_US = 500_000  # look this long (7 frames at 15 fps) at each waist offset, settled
 # the waist turns the view about the place: the estimate that put the fingers beside the object
@@ -53,7 +53,7 @@ MAX_REGRASPS = 2
 # (the estimate that guided the fingers beside the object is off by that much); the dual "+"
 # (47.3 mm apart) stays resolved; the short 000 arm reaches the nearer views only
 CHECK_VIEWS = ((300, 1047), (250, 1047), (300, 785), (250, 785), (200, 1047), (200, 785),
-               (160, 1047), (250, 1309))
+               (160, 1047), (250, 1309), (200, 524), (150, 524), (150, 785))
 CHECK_DETECTORS = {"000": ("dual_plus", "radial_symbol"), "001": ("dual_plus", "radial_symbol"),
                    "002": ("red_cylinder",)}
 
@@ -204,7 +204,7 @@ class GraspStates(TaskBase):
 
     # --- LIFT ---------------------------------------------------------------------------------
     def enter_LIFT(self, now: int, inp) -> None:
-        self.phase = "raise"
+        self.phase, self.check_seen = "raise", 0
         x, y, z = self.gripper_point_q4()
         if not self._move_point(now, x, y, z + self.p.lift_mm * 16):
             # out of reach straight up: raise the shoulder instead
@@ -215,11 +215,13 @@ class GraspStates(TaskBase):
         if not inp.grasp_closed:
             self.fail(now, "object dropped during the lift")
             return
+        if self._seen_standing(now, inp, dets):
+            return
         if self.phase == "raise":
             if self.settled(now):
                 self._start_check(now, inp)
             return
-        self._check(now, inp, dets)
+        self._check(now)
 
     def _check_pose(self, inp):
         """A camera pose looking down at the grasp place from ``CHECK_VIEWS`` (range, pitch):
@@ -243,37 +245,39 @@ class GraspStates(TaskBase):
         return None
 
     def _start_check(self, now: int, inp) -> None:
-        """Swing the camera to look back at the grasp place (``_check_pose``; else ADJUST's
-        close-look posture, alpha kept); the waist then turns through ``CHECK_WAIST_MRAD``."""
+        """Swing the camera to look back at the grasp place (``_check_pose``; out of the
+        views' reach, the search's far look toward it); the waist then turns through
+        ``CHECK_WAIST_MRAD``."""
         pose = self._check_pose(inp)
         if pose is not None:
             self.apply_pose(now, pose)
             self.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
                                              pose.theta4_mrad, pose.theta5_mrad])
-        else:
-            th3, th4 = self.p.adjust_theta3_mrad, self.p.adjust_theta4_mrad
-            alpha = self.arm[2] + self.arm[3] + self.arm[4]
-            self.set_arm(now, alpha - th3 - th4, th3, th4, self.arm[5])
+        elif self.obj is not None:
+            # seen (or estimated) beyond the views' reach: the search's far look toward it
+            sp = SearchParams(**self.p.search)
+            x, y = self.obj_platform(inp)
+            self.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
+                         atan2_mrad(x, y))
+            self.note(grasp_check_far_look=True)
         self.trust_from_us = self.move_done_us  # frames of the swing: arm pose unknown
-        self.check_place = self.obj
         self.check_waist = (self.arm[5], 0)  # (centre, index into CHECK_WAIST_MRAD)
-        self.check_seen = 0
         self.phase, self.phase_us = "check", self.move_done_us
 
     def _standing_away(self, inp) -> bool:
-        """The object just seen (self.obj) stands on the ground away from the gripper: near
-        the place, but not under the fingertip, where a held object would be."""
+        """The object just seen (self.obj) stands on the ground away from the gripper, not
+        under the fingertip where a held object would be (there is one object: seen anywhere
+        else, it is not in the gripper; random 002 seed 1004 closed 0.45 m short of it)."""
         tip = platform_to_odom_mm(inp.x_mm, inp.y_mm, inp.heading_mrad,
                                   self.p.mount_forward_mm, self.gripper_point_q4())
-        place = self.check_place
         dx, dy = self.obj[0] - tip[0], self.obj[1] - tip[1]
-        px, py = self.obj[0] - place[0], self.obj[1] - place[1]
-        return (dx * dx + dy * dy > CHECK_AWAY_MM * CHECK_AWAY_MM
-                and px * px + py * py <= CHECK_PLACE_MM * CHECK_PLACE_MM)
+        return dx * dx + dy * dy > CHECK_AWAY_MM * CHECK_AWAY_MM
 
-    def _check(self, now: int, inp, dets: dict) -> None:
-        """One step of the grasp check (module docstring)."""
-        place = self.check_place
+    def _seen_standing(self, now: int, inp, dets: dict) -> bool:
+        """Count this frame's sightings of the object standing away from the gripper (also
+        while the arm still rises: the frame may show it already); True once that makes a
+        miss, handled here: open and ADJUST again, or FAILED after ``MAX_REGRASPS``."""
+        place = self.obj
         for name in CHECK_DETECTORS[self.method]:
             det = dets.get(name)
             if det is None or place is None or not self.see_object(now, inp, name, det):
@@ -281,27 +285,30 @@ class GraspStates(TaskBase):
             if self._standing_away(inp):
                 self.check_seen += 1
                 self.note(grasp_check_seen={"name": name, "obj_mm": list(self.obj),
-                                            "place_mm": list(place)})
+                                            "estimate_mm": list(place)})
                 break
-            self.obj = place  # not the standing object: keep the place
-        if self.check_seen >= CHECK_SEEN_FRAMES:
-            self.regrasps = getattr(self, "regrasps", 0) + 1
-            if self.regrasps > MAX_REGRASPS:
-                self.fail(now, f"grasp check: object still at its place after "
-                          f"{self.regrasps} grasps")
-                return
-            self.gripper = 0
-            self.go(now, "ADJUST", f"grasp check: object still standing at its place "
-                    f"(seen in {self.check_seen} frames): open and grasp again")
-            return
+            self.obj = place  # the held object under the fingertip: keep the estimate
+        if self.check_seen < CHECK_SEEN_FRAMES:
+            return False
+        self.regrasps = getattr(self, "regrasps", 0) + 1
+        if self.regrasps > MAX_REGRASPS:
+            self.fail(now, f"grasp check: object still standing after {self.regrasps} grasps")
+            return True
+        self.gripper = 0
+        self.go(now, "ADJUST", f"grasp check: object still standing away from the gripper "
+                f"(seen in {self.check_seen} frames): open and grasp again")
+        return True
+
+    def _check(self, now: int) -> None:
+        """The look of the grasp check: each waist offset for ``CHECK_POSE_US``, then DONE."""
         if not self.settled(now) or now - self.phase_us < CHECK_POSE_US:
             return
         centre, k = self.check_waist
-        if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the place may be off
+        if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the estimate may be off
             self.check_waist = (centre, k + 1)
             self.set_arm(now, *self.arm[2:5], centre + CHECK_WAIST_MRAD[k + 1])
             self.trust_from_us = self.move_done_us
             self.phase_us = self.move_done_us
             return
-        self.go(now, "DONE", f"object lifted by {self.p.lift_mm} mm and gone from its "
-                f"place (grasp check)")
+        self.go(now, "DONE", f"object lifted by {self.p.lift_mm} mm and not seen standing "
+                f"(grasp check)")

@@ -154,11 +154,11 @@ def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
 
 
 def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
-               obj_xy_mm: tuple[int, int], detour_mm: int):
+               obj_xy_mm: tuple[int, int], detour_mm: int, side: int = 0):
     """001 detour heading (host.planning.escape): the direction nearest the object's bearing
     whose straight ``detour_mm`` + DETOUR_EXTRA_MM stays out of the infeasible regions (eq.
-    (16)) of the present reading and of the replanner's memory, grown by DETOUR_MARGIN_MM.
-    (heading_mrad or None, ops)"""
+    (16)) of the present reading and of the replanner's memory, grown by DETOUR_MARGIN_MM;
+    ``side`` as in host.planning.escape.escape_heading. (heading_mrad or None, ops)"""
     length_mm, margin_mm = detour_mm + DETOUR_EXTRA_MM, DETOUR_MARGIN_MM
     from host.planning.bezier001 import is_object_echo
     from host.planning.escape import escape_heading
@@ -170,7 +170,7 @@ def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
     regions = [r for r in scan.regions if not is_object_echo(r, rp.target, p.object_echo_tol_m)]
     goal = atan2_mrad(obj_xy_mm[1] - y_mm, obj_xy_mm[0] - x_mm) / 1000.0
     head, ops = escape_heading(regions + list(rp.memory), pos, h, goal, length_mm / 1000.0,
-                               margin_mm / 1000.0)
+                               margin_mm / 1000.0, side=side)
     return (None if head is None else int(round(head * 1000))), ops
 
 

@@ -75,6 +75,7 @@ class TaskStates(GraspStates):
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
         self.detour = None  # 001: a drive aside after no feasible curve (host.task_wander)
         self.detours = 0
+        self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
         self.plus_odom = None
         self.replanner = None
@@ -225,8 +226,12 @@ class TaskStates(GraspStates):
                 # aside through free sonar space, then plan again (host.task_wander)
                 self.detours += 1
                 head, ops = escape_001(self.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
-                                       inp.sonar_mm, self.obj, self.p.detour_mm)
+                                       inp.sonar_mm, self.obj, self.p.detour_mm,
+                                       self.detour_side)
                 self.charge(ops)
+                if head is not None and not self.detour_side:  # keep to the first one's side
+                    off = _wrap(head - atan2_mrad(self.obj[1] - inp.y_mm, self.obj[0] - inp.x_mm))
+                    self.detour_side = (off > 0) - (off < 0)
                 self.detour = start_detour(inp, self.obj, self.p.detour_clear_mm, head)
                 self.plan_attempts, self.follower = 0, None
                 self.note(detour=dict(self.detour), detour_count=self.detours)

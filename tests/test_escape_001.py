@@ -140,3 +140,16 @@ def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
     task.obj_seen_us = now
     beside = TaskInputs(x_mm=800, sonar_mm=(2500, 150, 2500, 2500, 2500))  # right, 45 deg
     assert not task._adjust_early_001(now, beside, 600)
+
+
+def test_a_detour_keeps_to_the_side_of_the_first_one():
+    cfg = SonarConfig(sensor_offset_m=0.17, shared_echo_tol_m=0.13, arc_angle_bound=True)
+    # a wall-like echo straight ahead: both sides are open, the right one slightly nearer
+    regions = infeasible_regions(cfg, (0.0, 0.0), 0.0, [65535, 65535, 250, 65535, 65535]).regions
+    free, _ = escape_heading(regions, (0.0, 0.0), 0.0, -0.05, 0.6, 0.1)
+    left, _ = escape_heading(regions, (0.0, 0.0), 0.0, -0.05, 0.6, 0.1, side=1)
+    right, _ = escape_heading(regions, (0.0, 0.0), 0.0, -0.05, 0.6, 0.1, side=-1)
+    assert free is not None and free < -0.05  # nearest the goal: right of it
+    assert right == free
+    assert left is not None and left > -0.05  # kept left although the right is nearer
+    assert abs(left + 0.05) > abs(free + 0.05)

@@ -37,9 +37,12 @@ def _wrap(a: float) -> float:
 def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: float,
                    goal_bearing_rad: float, length_m: float, margin_m: float = 0.0,
                    step_rad: float = math.pi / 12, span_rad: float = math.pi / 2,
-                   samples: int = 16) -> tuple[float | None, OpCounts]:
+                   samples: int = 16, side: int = 0) -> tuple[float | None, OpCounts]:
     """The heading (rad, world) nearest ``goal_bearing_rad`` whose straight segment from
     ``position_xy_m`` of ``length_m`` stays out of every region; None when there is none.
+    ``side`` +1 (-1): headings left (right) of the goal bearing, or on it, come first: a
+    detour that went round one side keeps to it (as a bug algorithm keeps its turning
+    direction) rather than swinging back and forth between two blocked ways.
 
     Returns (heading or None, ARM9 ops of the test)."""
     if not length_m > 0 or samples < 1 or not step_rad > 0:
@@ -49,7 +52,8 @@ def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: 
     grown = [replace(r, r_r_m=r.r_r_m + margin_m) for r in regions] if margin_m else regions
     n_side = int(span_rad / step_rad + 1e-9)
     heads = [heading_rad + j * step_rad for j in range(-n_side, n_side + 1)]
-    heads.sort(key=lambda h: (abs(_wrap(h - goal_bearing_rad)), h))
+    heads.sort(key=lambda h: (side * _wrap(h - goal_bearing_rad) < -1e-9,
+                              abs(_wrap(h - goal_bearing_rad)), h))
     ops = OpCounts()
     for h in heads:
         clear, more = segment_clear(grown, (px, py), h, length_m, samples, leave_ok=True)

@@ -316,6 +316,13 @@ class TaskStates(GraspStates):
         dist = isqrt(x * x + y * y) // 16
         cmd = self.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
         self.wheels = (cmd.left_mm_s, cmd.right_mm_s)
+        if self.method == "001" and cmd.left_mm_s + cmd.right_mm_s < 0:
+            # ours: 001's sonar ring (S_1..S_k_s, ±π/2 about the heading) sees nothing behind
+            # the base, so it never backs up: a curve whose reference fell behind (a tight
+            # loop) made the follower reverse into an obstacle out of view (random 001 seed
+            # 7009); it turns on the spot instead and the sonar check replans from there
+            turn = (cmd.right_mm_s - cmd.left_mm_s) // 2
+            self.wheels = (-turn, turn)
         if cmd.done or dist <= self.p.grasp_r_mm + 100:
             self.go(now, "ADJUST", f"path followed (error {cmd.error_mm} mm), object {dist} mm "
                     f"from the waist")

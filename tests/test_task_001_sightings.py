@@ -28,3 +28,26 @@ def test_a_sighting_while_turning_fast_keeps_the_estimate():
 def test_a_sighting_while_turning_slowly_updates_the_estimate():
     task = _approaching(4)  # 0.2 rad/s
     assert task.obj != (1500, 0)
+
+
+def test_001_never_backs_up_while_following_it_turns_on_the_spot():
+    from types import SimpleNamespace
+
+    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0,
+                        "replan_period_us": 10_000_000})
+    task.step(0, TaskInputs(sonar_mm=CLEAR))
+    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
+    assert task.state == "APPROACH"
+    wheels = {"cmd": (-100, -20)}  # a reference fallen behind: back up, turning left
+
+    class Stand:  # a follower stand-in commanding the wheels above
+        def step(self, now, pose):
+            return SimpleNamespace(left_mm_s=wheels["cmd"][0], right_mm_s=wheels["cmd"][1],
+                                   done=False, error_mm=0)
+
+    task.follower = Stand()
+    out = task.step(40_000, TaskInputs(sonar_mm=CLEAR))
+    assert out.wheels_mmps == (-40, 40)  # the turn kept, no travel backward
+    wheels["cmd"] = (120, 80)
+    out = task.step(60_000, TaskInputs(sonar_mm=CLEAR))
+    assert out.wheels_mmps == (120, 80)  # forward commands unchanged

@@ -1,8 +1,8 @@
 """Seeded random scenarios for the acceptance campaign (issue 8) and ``mobigrasp bench loop``.
 
 Per method: the target 0.5-3 m from the start at any bearing, a random start heading; for 001
-one to three obstacles between robot and target (never within 0.6 m of either end, so start and
-grasp stay free); for 002 the target is dragged sideways during the approach (as in 002 Fig. 4).
+one to three obstacles between robot and target (centres never within 0.6 m of either end
+along the line, so start and grasp stay free; a surface can come within ~0.35 m of the start); for 002 the target is dragged sideways during the approach (as in 002 Fig. 4).
 Scenarios are written as TOML and parsed by the normal loader, so they pass its validation.
 """
 

@@ -14,7 +14,7 @@ One policy, in host/outgoing_guard.py: coerce (:func:`coerce_int`), clamp, check
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from host import arm_calib
 from host.mcu_watch import McuWatch
@@ -62,6 +62,7 @@ class HostLink:
         self.watch = McuWatch()
         self.mcu_resets = 0
         self._latest_seq: dict[type, int] = {}  # newest reliable seq per superseding type
+        self._last_servos: m.SetServos | None = None  # newest SetServos (mrad), for send_gripper
 
     # ---- receiving -------------------------------------------------------------------------
     def receive(self, data: bytes, arrival_us: int) -> None:
@@ -184,6 +185,7 @@ class HostLink:
                               slew=slew_mrad_s)
         except ValueError as exc:
             return self._reject("SetServos", exc, at_us)
+        self._last_servos = msg
         self.send(msg, at_us)
         return True
 
@@ -213,6 +215,15 @@ class HostLink:
             return self._reject("Gripper", exc, at_us)
         self.gripper_permille = value
         self.send(msg, at_us)
+        # An unanswered SetServos carries the old gripper value on channel 0: a late
+        # retransmission of it would open the gripper again after this command (seen under bit
+        # error rate 1e-3: "gripper closed but no object held"). Send it again with the new
+        # value; as the newer SetServos it cancels the old one (send()).
+        last, old = self._last_servos, self._latest_seq.get(m.SetServos)
+        if last is not None and old is not None and old in self.reliable.in_flight() \
+                and last.targets[0] != value:
+            self._last_servos = replace(last, targets=(value, *last.targets[1:]))
+            self.send(self._last_servos, at_us)
         return True
 
     def send_heartbeat(self, at_us: int) -> None:

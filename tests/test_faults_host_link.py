@@ -33,3 +33,34 @@ def test_handshake_completes_on_hello_ack():
                  + m.encode_message(m.HelloAck(PROTOCOL_VERSION, "mcu", 0), 1), 1_000)
     link.service(50_000)
     assert link.handshake_ok and link.take_output(10**6) == []
+
+
+def test_a_gripper_command_refreshes_an_unanswered_set_servos():
+    """Under bit errors a SetServos sent before a Gripper may arrive (retransmitted) after it:
+    its channel 0 carries the old gripper value and opened the gripper again. The host resends
+    the SetServos with the new value, and only that one is retransmitted."""
+    from host.app_link import HostLink
+    from protocol import messages as pm
+    from protocol.frame import FrameParser
+
+    def sent(link, before_us):
+        return [pm.decode_frame(f) for _, w in link.take_output(before_us)
+                for f in FrameParser().feed(w)]
+
+    link = HostLink(retransmit_timeout_us=40_000)
+    assert link.send_servos_mrad((0, 0, -1000, -500, 800, 0), at_us=0)
+    assert link.send_gripper(1000, at_us=1_000)  # the SetServos is still unanswered
+    first = sent(link, 2_000)
+    assert [type(x).__name__ for x in first] == ["SetServos", "Gripper", "SetServos"]
+    assert first[0].targets[0] == 0 and first[2].targets[0] == 1000
+    assert first[2].targets[1:] == first[0].targets[1:]
+    link.service(100_000)  # nothing answered: retransmissions
+    again = sent(link, 200_000)
+    servos = [x for x in again if isinstance(x, pm.SetServos)]
+    assert servos and all(x.targets[0] == 1000 for x in servos)
+    # answered servos: a later gripper command sends nothing more
+    link2 = HostLink()
+    link2.send_servos_mrad((0, 0, -1000, -500, 800, 0), at_us=0)
+    link2.reliable.clear()
+    link2.send_gripper(1000, at_us=1_000)
+    assert [type(x).__name__ for x in sent(link2, 2_000)] == ["SetServos", "Gripper"]

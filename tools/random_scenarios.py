@@ -2,7 +2,8 @@
 
 Per method: the target 0.5-3 m from the start at any bearing, a random start heading; for 001
 one to three obstacles between robot and target (centres never within 0.6 m of either end
-along the line, so start and grasp stay free; a surface can come within ~0.35 m of the start); for 002 the target is dragged sideways during the approach (as in 002 Fig. 4).
+along the line, so start and grasp stay free; a surface can come within ~0.35 m of the start);
+for 002 the target is dragged sideways during the approach (as in 002 Fig. 4).
 Scenarios are written as TOML and parsed by the normal loader, so they pass its validation.
 """
 

@@ -84,6 +84,15 @@ class GraspStates(TaskBase):
                 near = min(pts, key=lambda q: q[0] * q[0] + q[1] * q[1])
                 target = (near[0], near[1], target[2])
         pose = self.grasp_ik(target)
+        if isinstance(pose, kinematics.Unreachable) and self.method != "002":
+            # a few mm beyond reach (the base stopped a little far): hover lower, in 10 mm
+            # steps down to half the hover height; the precise grasp descends anyway
+            for drop_mm in range(10, self.p.hover_mm // 2 + 1, 10):
+                lower = (target[0], target[1], target[2] - drop_mm * 16)
+                pose = self.grasp_ik(lower)
+                if not isinstance(pose, kinematics.Unreachable):
+                    target = lower
+                    break
         self.note(rough_target_mm=[v // 16 for v in target])
         if isinstance(pose, kinematics.Unreachable):
             self.fail(now, f"rough grasp IK: {pose.reason}")

@@ -146,7 +146,9 @@ def test_bit_errors_never_execute_corrupt_or_twice_and_reliable_commands_arrive(
     servos = [e[1] for e in executed if e[0] == "servos"]
     wheels = [e[1:] for e in executed if e[0] == "wheels"]
     assert servos == sent_servos  # each exactly once, in order, none corrupted, none lost
-    assert not host.failed and len(sent_servos) > 120
+    # liveness: stop-and-wait servo commands keep flowing (a frame of ~20 bytes and its ACK
+    # both get through with probability ~0.4 at 3e-3, ~0.85 at 1e-3)
+    assert not host.failed and len(sent_servos) > (120 if ber <= 1e-3 else 50)
     assert set(wheels) <= sent_wheels and len(wheels) == len(set(wheels))
     assert {e[0] for e in executed} <= {"servos", "wheels"}
     st_ = mcu.stats()

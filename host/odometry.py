@@ -91,10 +91,8 @@ class Odometry:
         "from the past" and the pose froze for the rest of the run: random 002 seed 7007
         under an MCU reset turned in place for 90 s)."""
         x_acc, y_acc, heading = self._x_acc, self._y_acc, self.heading_urad
-        dropped = getattr(self, "dropped", 0)
-        self.reset(0, 0, 0)
+        self.reset(0, 0, 0)  # (leaves the dropped count alone)
         self._x_acc, self._y_acc, self._theta0_urad = x_acc, y_acc, heading
-        self.dropped = dropped
 
     def _heading_urad(self, s_l_um: int, s_r_um: int) -> int:
         return self._theta0_urad + div_round((s_r_um - s_l_um) * 1_000_000, TRACK_UM)

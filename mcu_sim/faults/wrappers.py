@@ -60,9 +60,14 @@ class FaultedMcu:
         while self._recovery_points and self._recovery_points[0] <= t_us:
             self.monitor.fault(self._recovery_points.pop(0))
         fw = mcu.firmware
-        self.monitor.observe(t_us, mcu.wheel_duty(), [mcu.servo_pulse_us(ch) for ch in range(6)],
+        self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(),
                              fw.watchdog_tripped, fw.handshake,
                              f.host_silent(t_us) or f.line_dead(t_us))
+
+    def servo_pulses_us(self) -> tuple[float, ...]:
+        """The MCU's six pulse widths in one call (the rig uses it when the class has it; the
+        servo outputs are not faulted)."""
+        return self.inner.servo_pulses_us()
 
     def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
         """Host bytes onto the RX line, corrupted and delayed by the plan."""

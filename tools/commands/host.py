@@ -44,9 +44,9 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     client = LockstepClient(build_host_app(cfg), port)
     try:
         serve_stream(client, sock.makefile("rb"), sock.makefile("wb"), host_id="mobigrasp-host")
-    except (ConnectionError, LinkClosed, OSError) as exc:
+    except (LinkClosed, OSError) as exc:
         # the simulator died or closed the pty/socket mid-run (LockstepClosed is a
-        # ConnectionError): say so in one line and exit non-zero at once (issue 9)
+        # ConnectionError, an OSError): say so in one line and exit non-zero at once (issue 9)
         print(f"mobigrasp host: the simulator went away mid-run at t = "
               f"{client.clock.now_us() / 1e6:.3f} s simulated ({type(exc).__name__}: {exc}); "
               f"stopping", file=sys.stderr, flush=True)

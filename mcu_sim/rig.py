@@ -15,6 +15,12 @@ Spec: docs/cosim.md. Simulated time advances in quanta of ``quantum_us``. For qu
 The host thus sees MCU output with at most one quantum of extra latency (it polls its UART once
 per quantum), and the MCU sees host output at exactly the modelled line times. Nothing here reads
 the wall clock: pacing to real time is a policy of the caller (tools/commands/run.py).
+
+With ``host_lag_quanta`` = 1 (the default of ``mobigrasp run``) the grant for [T+Q, T+2Q) is
+issued when the rig is at T, with what the MCU and camera produced before T: the host's UART and
+CAMIF hand data over one quantum later (5-10 ms instead of 0-5 ms), and in exchange the host serves
+the next quantum while the rig simulates this one, so the two processes overlap instead of taking
+turns. The MCU still sees every host byte at its modelled line time.
 """
 
 from __future__ import annotations
@@ -73,6 +79,9 @@ class RigConfig:
     couple_us: int = 1_000  # MCU <-> plant exchange period (the 1 kHz physics step)
     camera_fps: int = 15
     host_baud: int = HOST_BAUD
+    # grants issued this many quanta ahead of the rig (0: strict alternation; 1: overlap, with the
+    # host's input one quantum later; see the module docstring)
+    host_lag_quanta: int = 0
     read_timeout_s: float = 60.0  # safety limit only: a healthy peer answers at once
 
     def __post_init__(self) -> None:
@@ -80,6 +89,9 @@ class RigConfig:
             value = getattr(self, name)
             if not isinstance(value, int) or isinstance(value, bool) or value <= 0:
                 raise ValueError(f"RigConfig.{name} must be a positive integer, got {value!r}")
+        lag = self.host_lag_quanta
+        if not isinstance(lag, int) or isinstance(lag, bool) or not 0 <= lag <= 4:
+            raise ValueError(f"RigConfig.host_lag_quanta must be an integer in [0, 4], got {lag!r}")
         if self.quantum_us % self.couple_us:
             raise ValueError(f"RigConfig.quantum_us ({self.quantum_us}) must be a multiple of "
                              f"couple_us ({self.couple_us})")
@@ -104,6 +116,7 @@ class Rig:
         self.port = port
         self.config = config or RigConfig()
         self.now_us = 0
+        self.granted_until_us = 0  # end of the last grant issued
         self._on_frame = on_frame
         self._tx_pending: list[tuple[int, bytes]] = []
         self._frames_pending: list[tuple[int, int, Any]] = []
@@ -134,8 +147,20 @@ class Rig:
             self._sonar_cache[index] = self.plant.sonar_range_m(index)
         return self._sonar_cache[index]
 
+    def grants_due(self) -> int:
+        """How many grants to issue before completing the quantum at now: the grant of
+        [now, now+Q) itself and ``host_lag_quanta`` beyond it, less those already issued."""
+        q = self.config.quantum_us
+        ahead = self.now_us + (self.config.host_lag_quanta + 1) * q
+        return max(0, (ahead - self.granted_until_us) // q)
+
     def grant(self) -> Grant:
-        """Start quantum [now, now+Q): hand over MCU bytes (on the port) and captured frames."""
+        """The next quantum's grant (the one after the last issued, [now, now+Q) with no lag):
+        hand over the MCU bytes (on the port) and the frames captured so far."""
+        start = self.granted_until_us
+        if start < self.now_us:
+            raise ValueError(f"grant for {start} us issued after the rig passed it "
+                             f"({self.now_us} us)")
         chunks = []
         if self._tx_pending:
             data = b"".join(d for _, d in self._tx_pending)
@@ -146,14 +171,15 @@ class Rig:
         frames = []
         for seq, capture_us, rgb in self._frames_pending:
             if rgb is None:  # the host had its camera off: the frame slot passes, no pixels
-                frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=self.now_us,
+                frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=start,
                                         width=0, height=0, channels=0, pixels=b""))
                 continue
             h, w, c = rgb.shape
-            frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=self.now_us,
+            frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=start,
                                     width=w, height=h, channels=c, pixels=rgb.tobytes()))
         self._frames_pending.clear()
-        return Grant(start_us=self.now_us, until_us=self.now_us + self.config.quantum_us,
+        self.granted_until_us = start + self.config.quantum_us
+        return Grant(start_us=start, until_us=self.granted_until_us,
                      uart=tuple(chunks), frames=tuple(frames))
 
     def complete(self, done: Done) -> None:

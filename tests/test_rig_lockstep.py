@@ -162,3 +162,52 @@ def test_same_trace_over_pty_and_inproc(tmp_path):
     assert tr_p.sha256() == tr_i.sha256()
     assert (tmp_path / "i" / "trace.jsonl").read_bytes() == \
         (tmp_path / "p" / "trace.jsonl").read_bytes()
+
+
+def test_lag_one_issues_each_grant_a_quantum_ahead_with_older_data(tmp_path):
+    a, b = inproc_pair("lag1")
+    mcu, plant = FakeMcu(), FakePlant()
+    rig = Rig(mcu, plant, a, RigConfig(quantum_us=5000, couple_us=1000, camera_fps=15,
+                                       host_lag_quanta=1))
+    app = HostApp(FakeTask(), {"blob": blob_detector(4_000_000)}, build_inputs, HostConfig())
+    client = LockstepClient(app, b)
+    assert rig.grants_due() == 2  # [0, 5) and [5, 10) before the first quantum is simulated
+    first, second = rig.grant(), rig.grant()
+    assert (first.start_us, second.start_us) == (0, 5000)
+    assert not first.frames and not second.frames  # nothing produced yet
+    dones = [client.serve(first), client.serve(second)]
+    frames_seen = []
+    for _ in range(40):
+        rig.complete(dones.pop(0))
+        assert rig.grants_due() == 1
+        g = rig.grant()
+        # the grant starts one quantum after the rig; what it carries was produced before the
+        # rig's now, i.e. at least one whole quantum before the grant starts
+        assert g.start_us == rig.now_us + 5000
+        assert all(t <= rig.now_us for t, _ in g.uart)
+        for f in g.frames:
+            assert f.arrival_us == g.start_us and f.capture_us <= rig.now_us
+            assert f.arrival_us - f.capture_us >= 5000
+            frames_seen.append(f.seq)
+        dones.append(client.serve(g))
+    assert frames_seen[:3] == [0, 1, 2]
+    with pytest.raises(ValueError, match="host_lag_quanta"):
+        RigConfig(host_lag_quanta=-1)
+    with pytest.raises(ValueError, match="host_lag_quanta"):
+        RigConfig(host_lag_quanta=True)
+
+
+def test_lag_zero_and_one_each_give_the_same_trace_over_both_transports(tmp_path):
+    from tools.run_job import RunOptions, execute
+
+    sha = {}
+    for lag in (0, 1):
+        for transport in ("pty", "inproc"):
+            s, _ = execute(RunOptions(scenario="paper002-marker", transport=transport,
+                                      out=tmp_path / f"{lag}-{transport}", progress=False,
+                                      plots=False, time_limit_s=1.0, host_lag_quanta=lag))
+            assert s["status"] == "finished", s.get("error")
+            sha[lag, transport] = s["trace_sha256"]
+    assert sha[0, "pty"] == sha[0, "inproc"]
+    assert sha[1, "pty"] == sha[1, "inproc"]
+    assert sha[0, "inproc"] != sha[1, "inproc"]  # the host's input really is later

@@ -62,6 +62,25 @@ def test_quiet_grants_are_answered_ahead_and_read_in_order():
         host.close()
 
 
+def test_a_claim_becomes_a_promise_when_a_later_done_covers_it():
+    # lag 1: the grant ending at 10 ms is sent before any DONE was read, so it is only a claim;
+    # once the DONE ending at 5 ms (quiet until 20 ms) is read, the claim is a promise and the
+    # rig completes that quantum without waiting for its own DONE
+    host = _host(_SCRIPT.replace("BREAK_US", "-1"))
+    try:
+        claims = [host.submit(_grant(0)), host.submit(_grant(1))]
+        assert not any(c.promised for c in claims)
+        first = runner.needed(claims[0])
+        assert not isinstance(first, runner.PendingDone) and first.until_us == 5000
+        second = runner.needed(claims[1])
+        assert isinstance(second, runner.PendingDone) and second.promised
+        assert second.load["state"] == "S" and not second.writes
+        assert runner.resolved(second).until_us == 10_000  # still read, in order, and checked
+        assert host.finish(ls.End(at_us=10_000, reason="t")).stats == {"ok": 1}
+    finally:
+        host.close()
+
+
 def test_a_broken_quiet_promise_is_an_error():
     host = _host(_SCRIPT.replace("BREAK_US", "15000"))
     try:
@@ -76,14 +95,14 @@ def test_a_broken_quiet_promise_is_an_error():
 
 def test_pipelined_pty_run_has_the_inproc_trace(tmp_path, monkeypatch):
     counts = {"pending": 0}
-    exchange = runner.SocketHost.exchange
+    needed = runner.needed
 
-    def counting(self, grant):
-        done = exchange(self, grant)
-        counts["pending"] += isinstance(done, runner.PendingDone)
+    def counting(done):
+        done = needed(done)
+        counts["pending"] += isinstance(done, runner.PendingDone)  # completed on a promise
         return done
 
-    monkeypatch.setattr(runner.SocketHost, "exchange", counting)
+    monkeypatch.setattr(runner, "needed", counting)
     sha = {}
     for transport in ("pty", "inproc"):
         s, _ = execute(RunOptions(scenario="paper002-marker", transport=transport,

@@ -59,6 +59,8 @@ class RunOptions:
     progress: bool = True
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
+    # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
+    host_lag_quanta: int = 1
     plots: bool = True
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
@@ -204,7 +206,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         fault_rig, rig_mcu, rig_plant, host = wrap_for_faults(plan, seed, mcu, plant, host)
         summary["faults_plan"] = plan.as_table()
         rig = Rig(rig_mcu, rig_plant, port,
-                  RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us),
+                  RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us,
+                            host_lag_quanta=opts.host_lag_quanta),
                   on_frame=snaps.on_frame)
         progress = None
         if opts.progress:

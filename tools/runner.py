@@ -19,7 +19,7 @@ import tempfile
 import time
 from collections import deque
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +33,10 @@ class InprocHost:
 
     def __init__(self, client: Any) -> None:
         self.client = client
+
+    def submit(self, grant: ls.Grant) -> ls.Done:
+        """Serve one grant now (in process nothing runs beside the rig)."""
+        return self.exchange(grant)
 
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant (a GRANT holds only ints and bytes: passed as is; the DONE goes
@@ -54,11 +58,19 @@ class InprocHost:
 
 @dataclass(frozen=True)
 class PendingDone(ls.Done):
-    """The DONE of a grant sent ahead (pipelining, docs/cosim.md): no bytes, and the state,
-    finished and camera flags of the last DONE read, as the host promised with its
-    ``quiet_until``. Its events and load windows arrive later: :func:`resolved`."""
+    """The DONE of a grant sent ahead (pipelining, docs/cosim.md). With a promise (the grant
+    ends at or before the host's ``quiet_until``): no bytes, and the state, finished and camera
+    flags of the last DONE read; the rig may complete the quantum with it. Without one it is only
+    a claim on the DONE: :func:`needed` reads it. Either way its events and load windows arrive
+    later: :func:`resolved` (which applies ``fix``, a wrapper's change to the real DONE)."""
 
     ticket: Any = field(default=None, compare=False)
+    fix: Any = field(default=None, compare=False)
+
+    @property
+    def promised(self) -> bool:
+        """Whether the rig may complete the quantum before the real DONE is read."""
+        return self.ticket is not None and self.ticket.promised is not None
 
 
 @dataclass
@@ -80,7 +92,23 @@ def resolved(done: ls.Done, block: bool = True) -> ls.Done | None:
     t = done.ticket
     if t.done is None and block:
         t.host.read_through(t)
-    return t.done
+    if t.done is None or done.fix is None:
+        return t.done
+    return done.fix(t.done)
+
+
+def needed(done: ls.Done) -> ls.Done:
+    """What the rig completes its quantum with: ``done`` itself, or a promised PendingDone (also
+    one the host promised in a DONE read after the grant was sent), or else the real DONE, read
+    now."""
+    if not isinstance(done, PendingDone) or done.promised:
+        return done
+    t = done.ticket
+    if t.done is None and t.host.promise(t):
+        return replace(done, load=t.promised)
+    real = resolved(done, block=True)
+    assert real is not None
+    return real
 
 
 class SocketHost:
@@ -146,24 +174,36 @@ class SocketHost:
         return ls.LockstepClosed(f"the host process vanished at t = {t_us / 1e6:.3f} s "
                                  f"simulated (it {how}; {type(exc).__name__}: {exc})")
 
-    def exchange(self, grant: ls.Grant) -> ls.Done:
-        """Send a grant; wait for its DONE, or answer a quiet one with a PendingDone."""
+    def submit(self, grant: ls.Grant) -> PendingDone:
+        """Send a grant; never waits (but for the ``max_ahead``-th grant in flight): the DONE
+        is a promise when the host's ``quiet_until`` covers the grant, else a claim."""
         try:
             self._send(grant)
         except OSError as exc:
             raise self._vanished(exc, grant.start_us) from exc
         ticket = _Ticket(self, grant.start_us, grant.until_us)
         self._waiting.append(ticket)
+        if len(self._waiting) > self.max_ahead:
+            self.read_through(self._waiting[0])
+        if self.promise(ticket):
+            return PendingDone(until_us=grant.until_us, load=ticket.promised, ticket=ticket)
+        return PendingDone(until_us=grant.until_us, ticket=ticket)
+
+    def promise(self, ticket: _Ticket) -> bool:
+        """Whether the last DONE read promises ``ticket``'s quantum quiet (its ``quiet_until``
+        covers it); if so the promise is recorded on the ticket, to be checked when the real
+        DONE is read."""
         last = self._last_load
-        if (last and grant.until_us <= self._quiet_until
-                and len(self._waiting) <= self.max_ahead):
+        if ticket.promised is None and last and ticket.until_us <= self._quiet_until:
             ticket.promised = {"window_us": last.get("window_us"), "windows": {},
                                "state": last.get("state"), "finished": last.get("finished"),
                                "camera": last.get("camera")}
-            return PendingDone(until_us=grant.until_us, load=ticket.promised, ticket=ticket)
-        self.read_through(ticket)
-        assert ticket.done is not None
-        return ticket.done
+        return ticket.promised is not None
+
+    def exchange(self, grant: ls.Grant) -> ls.Done:
+        """Send a grant; wait for its DONE, or answer a quiet one with a PendingDone."""
+        done = self.submit(grant)
+        return needed(done)
 
     def read_through(self, ticket: _Ticket) -> None:
         """Read DONEs in order until ``ticket``'s has arrived."""
@@ -254,6 +294,8 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
     # Trace work in quantum order: a PendingDone (pipelined grant) holds back what follows it
     # until its real DONE is read, so the trace is the same as answered one by one.
     backlog: deque[tuple[str, Any]] = deque()
+    inflight: deque[ls.Done] = deque()  # DONEs of grants issued, for quanta not completed yet
+    submit = getattr(host, "submit", host.exchange)  # a host without it answers each at once
 
     def handle(done: ls.Done) -> None:
         nonlocal state_since, finished_at
@@ -305,9 +347,12 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
             if stop is not None and (why := stop()):
                 res.reason = why
                 break
-            done = host.exchange(rig.grant())
+            # the grants up to now + (1 + host_lag_quanta) quanta, then the DONE of [now, now+Q)
+            for _ in range(rig.grants_due()):
+                inflight.append(submit(rig.grant()))
+            done = needed(inflight.popleft())
             backlog.append(("done", done))
-            # a DONE answered now (also one a fault wrapper made up for a silent host) settles
+            # a DONE read now (also one a fault wrapper made up for a silent host) settles
             # everything before it: those DONEs were sent before it
             drain(block=not isinstance(done, PendingDone))
             rig.complete(done)

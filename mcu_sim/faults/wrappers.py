@@ -148,6 +148,13 @@ class FaultedHost:
 
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve the grant, or answer for a host that is not running (no bytes, no events)."""
+        return self._serve(grant, self.inner.exchange)
+
+    def submit(self, grant: ls.Grant) -> ls.Done:
+        """Like :meth:`exchange` without waiting (the runner's pipelined path)."""
+        return self._serve(grant, self.inner.submit)
+
+    def _serve(self, grant: ls.Grant, call: Any) -> ls.Done:
         f = self.faults
         if f.host_silent(grant.start_us):
             # FaultedMcu keeps the MCU's bytes off the line meanwhile; the frames are lost
@@ -161,13 +168,21 @@ class FaultedHost:
         if "host_stall" in self._silent_reported:
             self._resumed = True
         self._silent_reported.discard("host_stall")
-        done = self.inner.exchange(grant)
-        if self._resumed and any(t < grant.start_us for t, _ in done.writes):
+        done = call(grant)
+        if not self._resumed:
+            return done
+        start = grant.start_us
+
+        def fix(real: ls.Done) -> ls.Done:
             # what the frozen program had queued (or computes for the missed ticks) leaves when
             # it runs again: no byte can go out while it was stalled
-            writes = tuple((max(t, grant.start_us), n) for t, n in done.writes)
-            done = replace(done, writes=writes)
-        return done
+            if not any(t < start for t, _ in real.writes):
+                return real
+            return replace(real, writes=tuple((max(t, start), n) for t, n in real.writes))
+
+        if getattr(done, "ticket", None) is not None:  # a DONE still to be read: fixed then
+            return replace(done, fix=fix)
+        return fix(done)
 
     def finish(self, end: ls.End) -> ls.Bye:
         """End of run: the host's statistics (a crashed host's as they were)."""

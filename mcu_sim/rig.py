@@ -119,6 +119,7 @@ class Rig:
         self.granted_until_us = 0  # end of the last grant issued
         self._on_frame = on_frame
         self._tx_pending: list[tuple[int, bytes]] = []
+        self._rx_ahead = bytearray()  # host bytes read for a DONE not completed yet
         self._frames_pending: list[tuple[int, int, Any]] = []
         self._next_frame = 0
         self._line_free_us = 0  # host -> MCU line busy until (serialises the host's chunks)
@@ -205,7 +206,9 @@ class Rig:
         self.stats["quanta"] += 1
 
     def _read_exact(self, n: int) -> bytes:
-        buf = bytearray()
+        # With grants ahead (host_lag_quanta >= 1) the host may already have written the bytes of
+        # the next quantum: they wait in _rx_ahead for its DONE.
+        buf = self._rx_ahead
         while len(buf) < n:
             chunk = self.port.read()
             if chunk:
@@ -214,10 +217,13 @@ class Rig:
             if not self.port.wait_readable(self.config.read_timeout_s):
                 raise RigPortError(f"host announced {n} bytes, only {len(buf)} arrived within "
                                    f"{self.config.read_timeout_s} s")
-        if len(buf) > n:
-            # The host never writes ahead of its DONE; more bytes mean the accounting broke.
+        if len(buf) > n and self.config.host_lag_quanta == 0:
+            # In strict alternation the host never writes ahead of its DONE; more bytes mean the
+            # accounting broke.
             raise RigPortError(f"host announced {n} bytes but {len(buf)} were on the port")
-        return bytes(buf)
+        data = bytes(buf[:n])
+        del buf[:n]
+        return data
 
     def _advance_to(self, until: int) -> None:
         step = self.config.couple_us

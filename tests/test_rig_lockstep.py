@@ -211,3 +211,26 @@ def test_lag_zero_and_one_each_give_the_same_trace_over_both_transports(tmp_path
     assert sha[0, "pty"] == sha[0, "inproc"]
     assert sha[1, "pty"] == sha[1, "inproc"]
     assert sha[0, "inproc"] != sha[1, "inproc"]  # the host's input really is later
+
+
+def test_lag_one_keeps_host_bytes_written_ahead_for_their_own_quantum():
+    # the host serves grant k+1 (and writes its bytes to the line) before the rig has read the
+    # bytes of DONE k: the rig must hand each chunk to the MCU with its own DONE
+    a, b = inproc_pair("lag1-writes")
+    mcu, plant = FakeMcu(), FakePlant()
+    rig = Rig(mcu, plant, a, RigConfig(quantum_us=5000, couple_us=1000, camera_fps=15,
+                                       host_lag_quanta=1))
+
+    def serve(grant):
+        payload = bytes([grant.start_us // 5000 % 256]) * 3
+        b.write(payload)
+        return ls.Done(until_us=grant.until_us, writes=((grant.start_us + 100, 3),))
+
+    inflight = [serve(rig.grant()) for _ in range(rig.grants_due())]
+    for _ in range(10):
+        done = inflight.pop(0)
+        inflight.append(serve(rig.grant()))  # written before this quantum's bytes are read
+        rig.complete(done)
+    starts = [(start, data) for start, data in mcu.rx_chunks]
+    assert [data for _, data in starts] == [bytes([k]) * 3 for k in range(10)]
+    assert [start for start, _ in starts] == [5000 * k + 100 for k in range(10)]

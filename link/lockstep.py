@@ -124,9 +124,16 @@ class Bye:
 Message = Hello | Grant | Done | End | Bye
 
 
+# One encoder and decoder for every message (json.dumps/loads with options build new ones per
+# call); a message is encoded and decoded every 5 ms quantum on each side of the channel.
+_ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False)
+_DECODER = json.JSONDecoder()
+
+
 def _int(meta: dict, key: str, lo: int = 0, hi: int = (1 << 63) - 1) -> int:
     value = meta.get(key)
-    if not isinstance(value, int) or isinstance(value, bool) or not lo <= value <= hi:
+    # type() is int: a bool is not a count of microseconds
+    if type(value) is not int or not lo <= value <= hi:
         raise LockstepError(f"field {key!r} must be an integer in [{lo}, {hi}], got {value!r}")
     return value
 
@@ -138,14 +145,15 @@ def _chunks(meta: dict, key: str) -> tuple[tuple[int, int], ...]:
     out = []
     last = -1
     for item in raw:
-        if (not isinstance(item, list) or len(item) != 2
-                or not all(isinstance(v, int) and not isinstance(v, bool) and v >= 0
-                           for v in item)):
+        if type(item) is not list or len(item) != 2:
             raise LockstepError(f"field {key!r}: bad chunk {item!r}, expected [time_us, nbytes]")
-        if item[0] < last:
+        t, n = item
+        if type(t) is not int or type(n) is not int or t < 0 or n < 0:
+            raise LockstepError(f"field {key!r}: bad chunk {item!r}, expected [time_us, nbytes]")
+        if t < last:
             raise LockstepError(f"field {key!r}: chunk times go backwards at {item!r}")
-        last = item[0]
-        out.append((item[0], item[1]))
+        last = t
+        out.append((t, n))
     return tuple(out)
 
 
@@ -179,8 +187,7 @@ def encode(msg: Message) -> bytes:
     else:
         raise LockstepError(f"not a lockstep message: {type(msg).__name__}")
     try:
-        meta_bytes = json.dumps(meta, sort_keys=True, separators=(",", ":"),
-                                allow_nan=False).encode()
+        meta_bytes = _ENCODER.encode(meta).encode()
     except (TypeError, ValueError) as exc:
         raise LockstepError(f"{type(msg).__name__} metadata is not plain JSON: {exc}") from exc
     return HEADER.pack(MAGIC, kind, len(meta_bytes), len(blob)) + meta_bytes + blob
@@ -203,7 +210,7 @@ def decode_header(header: bytes) -> tuple[int, int, int]:
 def decode_body(kind: int, meta_bytes: bytes, blob: bytes) -> Message:
     """The message of a decoded header's kind from its metadata and blob."""
     try:
-        meta: Any = json.loads(meta_bytes)
+        meta: Any = _DECODER.decode(meta_bytes.decode())
     except (UnicodeDecodeError, ValueError) as exc:
         raise LockstepError(f"metadata is not JSON: {exc}") from exc
     if not isinstance(meta, dict):

@@ -75,6 +75,9 @@ class _VisionJob:
     done_us: int
     results: dict
     arm9_us: int
+    # (detector names, rgb) while the detectors have not run yet: they run when something needs
+    # the job's results or length (resolve_vision), which changes nothing that is modelled
+    pending: tuple | None = None
 
 
 @dataclass
@@ -184,6 +187,7 @@ class HostApp:
 
     def load_windows(self) -> dict[int, float]:
         """Modelled ARM9 load (busy fraction) of each window that has finished."""
+        self.resolve_vision()
         w = self.config.load_window_us
         done = self.now_us // w
         return {k: v / w for k, v in sorted(self._load.items()) if k < done}
@@ -202,6 +206,7 @@ class HostApp:
     def _frame(self, arrival_us: int, seq: int, capture_us: int, rgb: Any) -> None:
         c = self.counters
         c.frames_received += 1
+        self.resolve_vision()
         if self._vision is not None and self._vision.done_us > arrival_us:
             c.frames_dropped += 1
             self._events.append({"ev": "frame_dropped", "t_us": arrival_us, "seq": seq,
@@ -215,17 +220,35 @@ class HostApp:
         start = max(arrival_us, self._ctrl_free_us)
         total = self.config.frame_overhead_cycles * 1_000_000 // 400_000_000
         self._busy(start, total, "frame")
-        results = {}
+        c.frames_processed += 1
+        self._vision = _VisionJob(seq, capture_us, start, start + total, {}, total,
+                                  pending=(needed, rgb))
+
+    def resolve_vision(self) -> None:
+        """Run the detectors of the current vision job if they have not run yet.
+
+        A job's results and length are first needed at the next control tick or frame, or by a
+        finished load window; until then the detectors may wait. The lockstep client runs them
+        right after it has sent the DONE of the quantum the frame arrived in, so the rig does not
+        wait for them when that quantum holds a control tick. Nothing modelled depends on when
+        this runs."""
+        job = self._vision
+        if job is None or job.pending is None:
+            return
+        needed, rgb = job.pending
+        job.pending = None
+        total = job.arm9_us
         for name in needed:
             result, ops = self.timer(name, self.detectors[name], rgb)
             dur = ops.time_us()
-            self._busy(start + total, dur, name)
+            self._busy(job.start_us + total, dur, name)
             total += dur
-            results[name] = result
-        c.frames_processed += 1
-        self._vision = _VisionJob(seq, capture_us, start, start + total, results, total)
+            job.results[name] = result
+        job.arm9_us = total
+        job.done_us = job.start_us + total
 
     def _finish_vision(self, now_us: int) -> None:
+        self.resolve_vision()
         job = self._vision
         if job is None or job.done_us > now_us:
             return

@@ -119,6 +119,11 @@ class LockstepClient:
                              "camera": app.wants_frames(),
                              "quiet_until": app.quiet_until_us()})
 
+    def after_done(self) -> None:
+        """Work the DONE just sent did not need (a frame's detectors): done now, while the rig
+        simulates, instead of before the DONE (HostApp.resolve_vision)."""
+        self.app.resolve_vision()
+
     def bye(self) -> ls.Bye:
         """Final statistics of the host program."""
         return ls.Bye(stats=jsonable(self.app.stats()))
@@ -140,3 +145,4 @@ def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host") ->
             raise ls.LockstepError(f"host expected GRANT or END, got {type(msg).__name__}")
         wfile.write(ls.encode(reply))
         wfile.flush()
+        client.after_done()

@@ -146,3 +146,36 @@ def test_newer_servo_command_supersedes_an_unanswered_one():
     assert len(servos) >= 5
     in_flight = app.link.reliable.in_flight()
     assert [s for s in servos if s in in_flight] == servos[-1:]  # only the newest is tracked
+
+
+def test_detectors_run_late_but_their_results_and_timing_are_the_same():
+    # A frame arriving after the tick of its quantum: the DONE of that quantum does not need the
+    # detectors, so they run afterwards (resolve_vision) or at the next tick; either way the
+    # modelled job, its events and the load are those of running them at once.
+    def run(resolve_early: bool):
+        calls = []
+        detect = blob_detector(4_000_000)
+
+        def counting(rgb):
+            calls.append(1)
+            return detect(rgb)
+
+        task = FakeTask()
+        task.detectors_needed = lambda: ["blob"]
+        app = HostApp(task, {"blob": counting}, build_inputs, HostConfig())
+        rgb = np.full((24, 32, 3), 77, np.uint8)
+        app.advance_to(5_000)
+        app.on_frame(0, 1_000, 5_000, rgb)
+        app.advance_to(10_000)  # a quantum with the frame and no tick
+        ran_before_done = len(calls)
+        if resolve_early:
+            app.resolve_vision()
+        ran_after_done = len(calls)
+        app.advance_to(60_000)  # two ticks later
+        return ran_before_done, ran_after_done, app.take_events(), app.load_windows(), \
+            app.counters.stage_us.get("blob")
+
+    late, early = run(False), run(True)
+    assert late[:2] == (0, 0) and early[:2] == (0, 1)
+    assert late[2] == early[2] and late[3] == early[3] and late[4] == early[4] == [10_000]
+    assert any(e["ev"] == "detect" and e["results"]["blob"]["mean"] == 77 for e in late[2])

@@ -42,6 +42,7 @@ class InprocHost:
         """Serve one grant (a GRANT holds only ints and bytes: passed as is; the DONE goes
         through the codec so its events are exactly what the socket would deliver)."""
         done = self.client.serve(grant)
+        self.client.after_done()
         if not done.events and not done.load.get("windows"):
             # the rest is ints, tuples of int pairs, a str and bools: the codec would give
             # back equal values (most quanta; checked in tests/test_runner_pipelining.py)

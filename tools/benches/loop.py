@@ -1,10 +1,13 @@
 """``mobigrasp bench loop``: closed-loop speed over the pty and in process, and a random campaign.
 
 Real-time factor = simulated seconds / wall seconds of paper000-exp1 (capped at ``--rtf-limit-s``
-simulated seconds) over the pty (two processes) and in process. The campaign runs ``--runs`` seeded
-random scenarios per method in process (tools/random_scenarios.py) and reports the success rate,
-collisions and the median final error (issue 8 targets: success >= 95 %, zero collisions, median
-final_error_mm <= 10; real-time factor over the pty >= 10).
+simulated seconds) over the pty (two processes) and in process, the median of ``--rtf-repeats``
+runs each; the baseline measured in the same run is the strict alternation (``_lag0``: the host
+is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
+The campaign runs ``--runs`` seeded random scenarios per method in process
+(tools/random_scenarios.py) and reports the success rate, collisions and the median final
+error (issue 8 targets: success >= 95 %, zero collisions, median final_error_mm <= 10;
+real-time factor over the pty >= 10).
 """
 
 from __future__ import annotations
@@ -28,6 +31,13 @@ def add_arguments(parser) -> None:
     parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
     parser.add_argument("--rtf-limit-s", type=float, default=20.0,
                         help="simulated seconds of the real-time-factor runs")
+    parser.add_argument("--rtf-repeats", type=int, default=3,
+                        help="runs per real-time-factor figure (the median is reported)")
+
+
+def progress_enabled() -> bool:
+    """Progress lines on stderr when it is a terminal."""
+    return sys.stderr.isatty()
 
 
 def _one(opts) -> dict:
@@ -85,19 +95,40 @@ def run(args) -> dict:
     from tools.run_job import RunOptions
 
     methods = [m for m in args.methods.split(",") if m]
+    if args.rtf_repeats < 1:
+        raise SystemExit("bench loop: --rtf-repeats must be at least 1")
     results: dict = {}
     with tempfile.TemporaryDirectory(prefix="mobigrasp-bench-") as tmp:
         folder = Path(tmp)
         sha = {}
+        # the baseline, measured in the same run: strict alternation (host_lag_quanta = 0), where
+        # host and rig take turns at every control tick instead of overlapping
+        for lag, tag in ((1, ""), (0, "_lag0")):
+            for transport in ("pty", "inproc"):
+                rows = []
+                for k in range(args.rtf_repeats):
+                    s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
+                                        out=folder / f"rtf-{transport}{tag}-{k}", progress=False,
+                                        plots=False, time_limit_s=args.rtf_limit_s,
+                                        host_lag_quanta=lag))
+                    rows.append(s)
+                    sha.setdefault((lag, transport), set()).add(s.get("trace_sha256"))
+                wall = statistics.median(r["wall_time_s"] for r in rows)
+                sim_s = rows[0]["sim_time_s"]
+                results[f"realtime_factor_{transport}{tag}"] = round(sim_s / wall, 3)
+                results[f"realtime_factor_{transport}{tag}_runs"] = [
+                    round(r["realtime_factor"], 3) for r in rows]
+                results[f"sim_s_{transport}{tag}"] = sim_s
+                results[f"wall_s_{transport}{tag}"] = round(wall, 3)
+                if progress_enabled():
+                    print(f"  rtf {transport}{tag or ' (lag 1)'}: "
+                          f"{results[f'realtime_factor_{transport}{tag}_runs']}", file=sys.stderr)
         for transport in ("pty", "inproc"):
-            s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
-                                out=folder / f"rtf-{transport}", progress=False, plots=False,
-                                time_limit_s=args.rtf_limit_s))
-            results[f"realtime_factor_{transport}"] = s.get("realtime_factor")
-            results[f"sim_s_{transport}"] = s.get("sim_time_s")
-            results[f"wall_s_{transport}"] = s.get("wall_time_s")
-            sha[transport] = s.get("trace_sha256")
-        results["trace_equal_pty_inproc"] = sha["pty"] == sha["inproc"]
+            rtf = results[f"realtime_factor_{transport}"]
+            results[f"speedup_{transport}_vs_lag0"] = round(
+                rtf / results[f"realtime_factor_{transport}_lag0"], 3)
+        results["trace_equal_pty_inproc"] = all(
+            len(sha[lag, "pty"] | sha[lag, "inproc"]) == 1 for lag in (0, 1))
         if args.runs <= 0:  # real-time factor only: no campaign figures to report
             return results
         camp = campaign(methods, args.runs, args.seed_base, folder / "campaign", jobs=args.jobs)

@@ -80,6 +80,8 @@ def test_summary_is_atomic_json(tmp_path):
     ["run", "paper000-exp1", "--transport", "carrier-pigeon"],
     ["run", "paper000-exp1", "--speed", "fast"],
     ["run", "paper000-exp1", "--speed", "-1"],
+    ["run", "paper000-exp1", "--host-lag-quanta", "2"],
+    ["run", "paper000-exp1", "--host-lag-quanta", "-1"],
 ])
 def test_run_bad_input_exits_2(argv, tmp_path):
     assert main([*argv, "--out", str(tmp_path / "o")]) == 2

@@ -136,6 +136,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
 
     if opts.transport not in ("pty", "inproc"):
         raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
+    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
+        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
     if opts.scenario_obj is not None:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:

@@ -22,7 +22,8 @@ def _run(args: argparse.Namespace) -> int:
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
                           speed=speed, out=args.out, progress=not args.quiet,
                           plots=not args.no_plots, time_limit_s=args.time_limit_s,
-                          faults=tuple(args.fault or ()))
+                          faults=tuple(args.fault or ()),
+                          host_lag_quanta=args.host_lag_quanta)
         if args.time_limit_s is not None and not args.time_limit_s > 0:
             raise BadInput(f"--time-limit-s must be > 0, got {args.time_limit_s}")
         summary, code = execute(opts)
@@ -50,4 +51,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
+    p.add_argument("--host-lag-quanta", type=int, default=1, metavar="N",
+                   help="1 (default): each grant is issued one quantum ahead, so host and "
+                        "simulator overlap and the host's input is 5 ms later; 0: strict "
+                        "alternation (docs/cosim.md)")
     p.set_defaults(func=_run)

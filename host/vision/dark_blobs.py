@@ -38,7 +38,11 @@ def check_rgb(rgb: np.ndarray, who: str) -> None:
 def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     """(mask uint8 0/1, threshold, ops): dark = grey < threshold from the bright level."""
     n = grey.size
-    hist = np.bincount(grey.ravel(), minlength=256)
+    # cv2.calcHist counts in float32, exact up to 2**24 pixels; twice as fast as np.bincount
+    if n < 1 << 24:
+        hist = cv2.calcHist([grey], [0], None, [256], [0, 256]).ravel().astype(np.int64)
+    else:
+        hist = np.bincount(grey.ravel(), minlength=256)
     cum = np.cumsum(hist[::-1])  # pixels at or above each level, from 255 down
     k = int(np.searchsorted(cum, n // BRIGHT_FRACTION_DEN))
     bright = 255 - k
@@ -48,15 +52,35 @@ def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     return mask, t, ops
 
 
+# Whole frames are labelled with OpenCV's thread pool set to one thread: its parallel labelling
+# of a 320x240 mask costs more CPU than the serial one (thread start-up and merging) and the host
+# shares two cores with the simulator; the labels and stats are the same (host speed only).
+_SERIAL_FROM_PX = 160 * 120
+
+
+def _components_serial(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    threads = cv2.getNumThreads()
+    cv2.setNumThreads(1)
+    try:
+        n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
+                                                                   ltype=cv2.CV_32S)
+    finally:
+        cv2.setNumThreads(threads)
+    return n_lab, labels, stats
+
+
 def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]:
     """8-connected components of a 0/1 mask: (count, labels int32, stats int32, ops).
 
     Charged as a two-pass union-find labelling: each pixel read twice, four neighbour compares
     and one label write, plus the stats accumulation.
     """
-    n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
-                                                               ltype=cv2.CV_32S)
     n = mask.size
+    if n >= _SERIAL_FROM_PX:
+        n_lab, labels, stats = _components_serial(mask)
+    else:
+        n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
+                                                                   ltype=cv2.CV_32S)
     ops = OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
     return int(n_lab), labels, stats, ops
 
@@ -69,11 +93,26 @@ def dark_components(rgb: np.ndarray, who: str
     Returns ``(grey, mask, n_labels, labels, stats, ops)`` with the ops of all three stages.
     """
     check_rgb(rgb, who)
+    key = rgb.tobytes()
+    last = _LAST_FRONT_END[0]
+    if last is not None and last[0] == rgb.shape and last[1] == key:
+        grey, mask, n_lab, labels, stats, ops = last[2]
+        return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
     grey, ops = to_grey(rgb)
     mask, _, o = dark_mask(grey)
     ops += o
     n_lab, labels, stats, o = components(mask)
-    return grey, mask, n_lab, labels, stats, ops + o
+    ops += o
+    for a in (grey, mask, labels, stats):
+        a.flags.writeable = False  # shared by the detectors of one frame: nobody may write
+    _LAST_FRONT_END[0] = (rgb.shape, key, (grey, mask, n_lab, labels, stats, ops))
+    return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
+
+
+# The front end of the last frame seen, keyed by the frame's bytes: in ADJUST and LIFT the dual
+# "+" and the radial symbol run on the same frame and would both compute it. Host speed only:
+# each detector is still charged the whole front end (the board computes it per detector).
+_LAST_FRONT_END: list = [None]
 
 def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     """Sub-pixel position (Q4 px, along ``line``) of the light-to-dark edge ending at ``i_dark``.

@@ -52,21 +52,18 @@ def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     return mask, t, ops
 
 
-# Whole frames are labelled with OpenCV's thread pool set to one thread: its parallel labelling
-# of a 320x240 mask costs more CPU than the serial one (thread start-up and merging) and the host
-# shares two cores with the simulator; the labels and stats are the same (host speed only).
-_SERIAL_FROM_PX = 160 * 120
+# OpenCV labels a whole frame with its thread pool, which costs more CPU than the serial
+# labelling (thread start-up and merging; the host shares two cores with the simulator), and
+# switching the pool size per call is dearer still (the pool is rebuilt). So the process that
+# runs the host (in a one-process run, the simulator too) runs OpenCV on one thread from its
+# first labelling on. Labels and stats are the same either way (host speed only).
+_SINGLE_THREAD = [False]
 
 
-def _components_serial(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
-    threads = cv2.getNumThreads()
-    cv2.setNumThreads(1)
-    try:
-        n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
-                                                                   ltype=cv2.CV_32S)
-    finally:
-        cv2.setNumThreads(threads)
-    return n_lab, labels, stats
+def _serial_opencv() -> None:
+    if not _SINGLE_THREAD[0]:
+        cv2.setNumThreads(1)
+        _SINGLE_THREAD[0] = True
 
 
 def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]:
@@ -76,11 +73,9 @@ def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]
     and one label write, plus the stats accumulation.
     """
     n = mask.size
-    if n >= _SERIAL_FROM_PX:
-        n_lab, labels, stats = _components_serial(mask)
-    else:
-        n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
-                                                                   ltype=cv2.CV_32S)
+    _serial_opencv()
+    n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
+                                                               ltype=cv2.CV_32S)
     ops = OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
     return int(n_lab), labels, stats, ops
 

@@ -162,7 +162,8 @@ class HostApp:
         """Run everything due before ``until_us``; never acts at or beyond it."""
         if until_us < self.now_us:
             raise ValueError(f"cannot run back from {self.now_us} to {until_us} us")
-        self._frames.sort(key=lambda f: (f[0], f[1]))
+        if len(self._frames) > 1:
+            self._frames.sort(key=lambda f: (f[0], f[1]))
         while True:
             t_frame = self._frames[0][0] if self._frames else None
             t_tick = self._next_tick_us
@@ -195,6 +196,8 @@ class HostApp:
 
     def take_events(self) -> list[dict]:
         """Trace events since the last call (simulated-time data only)."""
+        if not self._events and not self.link.events:
+            return []
         out = self._events + self.link.events
         self._events, self.link.events = [], []
         return out

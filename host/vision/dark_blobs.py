@@ -146,6 +146,7 @@ def dark_components(rgb: np.ndarray, who: str
 # each detector is still charged the whole front end (the board computes it per detector).
 _LAST_FRONT_END: list = [None]
 
+
 def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     """Sub-pixel position (Q4 px, along ``line``) of the light-to-dark edge ending at ``i_dark``.
 
@@ -155,12 +156,16 @@ def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     step edge). None if no straddling pair is found within 3 px.
     """
     n = len(line)
+    # every pixel read below lies within 4 of i_dark: one slice to plain ints (host speed)
+    w0 = max(0, i_dark - 4)
+    seg = line[w0:max(w0, min(n, i_dark + 5))]
+    g = seg.tolist() if isinstance(seg, np.ndarray) else [int(v) for v in seg]
     lo_i = [i_dark + k * -step for k in range(0, 3) if 0 <= i_dark + k * -step < n]
     hi_i = [i_dark + k * step for k in range(1, 4) if 0 <= i_dark + k * step < n]
     if not lo_i or not hi_i:
         return None
-    g_dark = min(int(line[i]) for i in lo_i)
-    g_light = max(int(line[i]) for i in hi_i)
+    g_dark = min(g[i - w0] for i in lo_i)
+    g_light = max(g[i - w0] for i in hi_i)
     mid2 = g_dark + g_light  # twice the mid level: compare 2 g against it, no division
     if g_light - g_dark < 8:
         return None
@@ -171,7 +176,7 @@ def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
         a, b = i_dark + (k + 1) * step, i_dark + k * step  # a lighter side, b one step darker
         if not (0 <= a < n and 0 <= b < n):
             continue
-        ga2, gb2 = 2 * int(line[a]), 2 * int(line[b])
+        ga2, gb2 = 2 * g[a - w0], 2 * g[b - w0]
         if ga2 >= mid2 > gb2:
             frac_q4 = (16 * (ga2 - mid2)) // (ga2 - gb2)  # 0..15 from a towards b
             return 16 * a - step * frac_q4

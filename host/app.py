@@ -48,6 +48,18 @@ class HostConfig:
 
 def jsonable(obj: Any) -> Any:
     """Plain JSON data from task/detector results: dataclasses, tuples, numpy, non-finite floats."""
+    # fast paths by exact type (the answer depends only on the type for these): plain ints and
+    # strings, plain dicts/lists/tuples, and dataclasses met before (their field names cached)
+    t = type(obj)
+    if t is int or t is str or obj is None:
+        return obj
+    if t is dict:
+        return {str(k): jsonable(v) for k, v in obj.items()}
+    if t is list or t is tuple:
+        return [jsonable(v) for v in obj]
+    names = _DATACLASS_FIELDS.get(t)
+    if names is not None:
+        return {n: jsonable(getattr(obj, n)) for n in names}
     if obj is None or isinstance(obj, bool | int | str):
         return obj
     if isinstance(obj, float):
@@ -55,7 +67,9 @@ def jsonable(obj: Any) -> Any:
     if isinstance(obj, OpCounts):
         return {"arm9_us": obj.time_us()}
     if dataclasses.is_dataclass(obj) and not isinstance(obj, type):
-        return {f.name: jsonable(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+        names = tuple(f.name for f in dataclasses.fields(obj))
+        _DATACLASS_FIELDS[t] = names
+        return {n: jsonable(getattr(obj, n)) for n in names}
     if isinstance(obj, dict):
         return {str(k): jsonable(v) for k, v in obj.items()}
     if isinstance(obj, set | frozenset):  # sorted: set order of strings varies per process
@@ -65,6 +79,9 @@ def jsonable(obj: Any) -> Any:
     if hasattr(obj, "tolist"):  # numpy arrays and scalars
         return jsonable(obj.tolist())
     return str(obj)
+
+
+_DATACLASS_FIELDS: dict[type, tuple[str, ...]] = {}  # dataclass type -> field names (jsonable)
 
 
 @dataclass
@@ -148,7 +165,8 @@ class HostApp:
         """Run everything due before ``until_us``; never acts at or beyond it."""
         if until_us < self.now_us:
             raise ValueError(f"cannot run back from {self.now_us} to {until_us} us")
-        self._frames.sort(key=lambda f: (f[0], f[1]))
+        if len(self._frames) > 1:
+            self._frames.sort(key=lambda f: (f[0], f[1]))
         while True:
             t_frame = self._frames[0][0] if self._frames else None
             t_tick = self._next_tick_us
@@ -181,6 +199,8 @@ class HostApp:
 
     def take_events(self) -> list[dict]:
         """Trace events since the last call (simulated-time data only)."""
+        if not self._events and not self.link.events:
+            return []
         out = self._events + self.link.events
         self._events, self.link.events = [], []
         return out

@@ -26,6 +26,9 @@ from protocol.reliable import RetransmitQueue, SequenceCounter
 HOST_ID = "mobigrasp-2440"  # at most 16 ASCII chars (protocol)
 
 
+_COERCE_LIM = 1 << 62  # the range coerce_int accepts (host.outgoing_guard)
+
+
 @dataclass
 class LinkCounters:
     """Protocol figures the run summary reports (issue 8: protocol {...})."""
@@ -159,14 +162,23 @@ class HostLink:
 
     def take_output(self, before_us: int) -> list[tuple[int, bytes]]:
         """Wire chunks whose send time is before ``before_us``, in time order (removed)."""
-        self._outbox.sort(key=lambda c: c[0])
-        out = [c for c in self._outbox if c[0] < before_us]
-        self._outbox = [c for c in self._outbox if c[0] >= before_us]
+        box = self._outbox
+        if not box:
+            return []
+        box.sort(key=lambda c: c[0])
+        # sorted by time: the chunks due are a prefix
+        i = 0
+        while i < len(box) and box[i][0] < before_us:
+            i += 1
+        out = box[:i]
+        self._outbox = box[i:]
         return out
 
     def next_send_us(self) -> int | None:
         """Send time of the earliest chunk still queued (None when the outbox is empty)."""
-        return min((t for t, _ in self._outbox), default=None)
+        if not self._outbox:
+            return None
+        return min(t for t, _ in self._outbox)
 
     # ---- validated commands ----------------------------------------------------------------
     def send_servos_mrad(self, joints_mrad, at_us: int, slew_mrad_s: int = 0) -> bool:
@@ -176,7 +188,9 @@ class HostLink:
         try:
             if len(joints_mrad) != 6:
                 raise ValueError(f"servo targets must have 6 values, got {len(joints_mrad)}")
-            raw = [coerce_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
+            # plain ints in range pass coerce_int unchanged: skip the call for them
+            raw = [v if type(v) is int and -_COERCE_LIM <= v <= _COERCE_LIM
+                   else coerce_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
             targets = [self.gripper_permille]
             targets += [arm_calib.clamp_mrad(ch, raw[ch]) for ch in range(1, 6)]
             if targets[1:] != raw[1:]:

@@ -64,6 +64,9 @@ def _div_round(num: int, den: int) -> int:
 
 def clamp_mrad(ch: int, angle_mrad: int) -> int:
     """Clamp an angle (or the gripper closure in per mille on ch 0) to the joint limits."""
+    if type(ch) is int and type(angle_mrad) is int and 0 <= ch < N_CHANNELS:  # the usual call
+        lo, hi = JOINT_LIMITS_MRAD[ch]
+        return min(max(angle_mrad, lo), hi)
     _check_ch(ch)
     _check_int("angle_mrad", angle_mrad)
     lo, hi = JOINT_LIMITS_MRAD[ch]
@@ -115,7 +118,22 @@ def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, 
     """All six telemetry pulses to joint angles (index = channel)."""
     if len(pulses_us) != N_CHANNELS:
         raise ValueError(f"need {N_CHANNELS} pulses, got {len(pulses_us)}")
-    return tuple(pulse_us_to_mrad(ch, int(p)) for ch, p in enumerate(pulses_us))
+    # the same telemetry is converted several times per control step (inputs, detectors):
+    # remember the answers for tuples of plain ints (host speed only; bad pulses still raise)
+    cacheable = type(pulses_us) is tuple and all(type(p) is int for p in pulses_us)
+    if cacheable:
+        hit = _JOINTS_SEEN.get(pulses_us)
+        if hit is not None:
+            return hit
+    out = tuple(pulse_us_to_mrad(ch, int(p)) for ch, p in enumerate(pulses_us))
+    if cacheable:
+        if len(_JOINTS_SEEN) >= 512:
+            _JOINTS_SEEN.clear()
+        _JOINTS_SEEN[pulses_us] = out
+    return out
+
+
+_JOINTS_SEEN: dict[tuple[int, ...], tuple[int, ...]] = {}
 
 
 def joints_to_pulses_us(angles_mrad: tuple[int, ...] | list[int]) -> tuple[int, ...]:

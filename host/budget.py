@@ -53,8 +53,14 @@ class OpCounts:
     bytes_streamed: int = 0  # bytes read once from SDRAM (frame buffers), for cache line fills
 
     def __add__(self, other: OpCounts) -> OpCounts:
-        # Hot path (every kernel of every frame adds counts): a plain tuple zip, not fields().
-        return OpCounts(*[a + b for a, b in zip(self._values(), other._values(), strict=True)])
+        # Hot path (every kernel of every frame adds counts): field by field, not fields().
+        return OpCounts(self.pixels_read + other.pixels_read,
+                        self.pixels_written + other.pixels_written, self.alu + other.alu,
+                        self.branches + other.branches, self.muls + other.muls,
+                        self.muls32 + other.muls32, self.divs + other.divs,
+                        self.luts + other.luts, self.float_ops + other.float_ops,
+                        self.float_divs + other.float_divs,
+                        self.bytes_streamed + other.bytes_streamed)
 
     def scaled(self, k: int) -> OpCounts:
         """The counts of ``k`` repetitions."""

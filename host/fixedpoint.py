@@ -67,12 +67,35 @@ def _mrad_to_bam20(angle_mrad: int) -> int:
 
 def sin_q12(angle_mrad: int) -> int:
     """sin(angle_mrad / 1000) in Q12 (error <= 1 LSB)."""
+    if type(angle_mrad) is int:  # remembered (host speed: the same angles recur every step)
+        v = _SIN_SEEN.get(angle_mrad)
+        if v is None:
+            v = (_sin_bam_q14(_mrad_to_bam20(angle_mrad)) + 2) >> 2
+            _remember(_SIN_SEEN, angle_mrad, v)
+        return v
     return (_sin_bam_q14(_mrad_to_bam20(angle_mrad)) + 2) >> 2
 
 
 def cos_q12(angle_mrad: int) -> int:
     """cos(angle_mrad / 1000) in Q12 (error <= 1 LSB)."""
-    return (_sin_bam_q14(_mrad_to_bam20(angle_mrad) + (1 << (_BAM_BITS + _FRAC_BITS - 2))) + 2) >> 2
+    if type(angle_mrad) is int:
+        v = _COS_SEEN.get(angle_mrad)
+        if v is None:
+            v = (_sin_bam_q14(_mrad_to_bam20(angle_mrad) + _QUARTER_BAM20) + 2) >> 2
+            _remember(_COS_SEEN, angle_mrad, v)
+        return v
+    return (_sin_bam_q14(_mrad_to_bam20(angle_mrad) + _QUARTER_BAM20) + 2) >> 2
+
+
+_QUARTER_BAM20 = 1 << (_BAM_BITS + _FRAC_BITS - 2)
+_SIN_SEEN: dict[int, int] = {}
+_COS_SEEN: dict[int, int] = {}
+
+
+def _remember(seen: dict[int, int], key: int, value: int) -> None:
+    if len(seen) >= 16384:  # bounded: angles are mostly within one turn
+        seen.clear()
+    seen[key] = value
 
 
 def sincos_q12(angle_mrad: int) -> tuple[int, int]:
@@ -147,6 +170,9 @@ def mul_q12(a: int, b: int) -> int:
 
 def div_round(num: int, den: int) -> int:
     """num / den rounded to nearest (halves away from zero); ValueError if den == 0."""
+    if type(num) is int and type(den) is int and den > 0 and num >= 0:  # the usual call
+        q, r = divmod(num, den)
+        return q + 1 if 2 * r >= den else q
     num, den = int(num), int(den)
     if den == 0:
         raise ValueError("div_round: division by zero")

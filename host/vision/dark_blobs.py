@@ -38,7 +38,11 @@ def check_rgb(rgb: np.ndarray, who: str) -> None:
 def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     """(mask uint8 0/1, threshold, ops): dark = grey < threshold from the bright level."""
     n = grey.size
-    hist = np.bincount(grey.ravel(), minlength=256)
+    # cv2.calcHist counts in float32, exact up to 2**24 pixels; twice as fast as np.bincount
+    if n < 1 << 24:
+        hist = cv2.calcHist([grey], [0], None, [256], [0, 256]).ravel().astype(np.int64)
+    else:
+        hist = np.bincount(grey.ravel(), minlength=256)
     cum = np.cumsum(hist[::-1])  # pixels at or above each level, from 255 down
     k = int(np.searchsorted(cum, n // BRIGHT_FRACTION_DEN))
     bright = 255 - k
@@ -48,15 +52,67 @@ def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     return mask, t, ops
 
 
+# OpenCV labels a whole frame with its thread pool, which costs more CPU than the serial
+# labelling (thread start-up and merging; the host shares two cores with the simulator), and
+# switching the pool size per call is dearer still (the pool is rebuilt). So the process that
+# runs the host (in a one-process run, the simulator too) runs OpenCV on one thread from its
+# first labelling on. Labels and stats are the same either way (host speed only).
+_SINGLE_THREAD = [False]
+
+
+def _serial_opencv() -> None:
+    if not _SINGLE_THREAD[0]:
+        cv2.setNumThreads(1)
+        _SINGLE_THREAD[0] = True
+
+
+def _label_cropped(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    """``cv2.connectedComponentsWithStats`` (8-connected) of ``mask``, run only on the box of
+    its non-zero pixels (OpenCV's stats pass costs per pixel; the dark print is a small part of
+    most frames). The box starts on even rows and columns so OpenCV's 2x2 block scan meets the
+    print as in the whole frame: the same label numbers. Stats of the background (label 0) are
+    those of the whole frame."""
+    H, W = mask.shape
+    bx, by, bw, bh = cv2.boundingRect(mask)
+    x0, y0 = bx & ~1, by & ~1
+    x1, y1 = bx + bw, by + bh
+    if bw == 0 or (x1 - x0) * (y1 - y0) * 4 > 3 * H * W:  # nothing dark, or most of the frame
+        n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
+                                                                   ltype=cv2.CV_32S)
+        return n_lab, labels, stats
+    n_lab, lab, stats, _ = cv2.connectedComponentsWithStats(mask[y0:y1, x0:x1], connectivity=8,
+                                                            ltype=cv2.CV_32S)
+    labels = np.zeros((H, W), np.int32)
+    labels[y0:y1, x0:x1] = lab
+    stats[1:, 0] += x0
+    stats[1:, 1] += y0
+    # background: the crop's own background (if any) and everything outside the crop; the
+    # rows above/below span every column, the columns left/right every row
+    xs, ys = [], []
+    if stats[0, 4] > 0:
+        xs += [x0 + int(stats[0, 0]), x0 + int(stats[0, 0] + stats[0, 2]) - 1]
+        ys += [y0 + int(stats[0, 1]), y0 + int(stats[0, 1] + stats[0, 3]) - 1]
+    if y0 > 0 or y1 < H:
+        xs += [0, W - 1]
+        ys += [0 if y0 > 0 else y1, H - 1 if y1 < H else y0 - 1]
+    if x0 > 0 or x1 < W:
+        ys += [0, H - 1]
+        xs += [0 if x0 > 0 else x1, W - 1 if x1 < W else x0 - 1]
+    stats[0, 0], stats[0, 1] = min(xs), min(ys)
+    stats[0, 2], stats[0, 3] = max(xs) - min(xs) + 1, max(ys) - min(ys) + 1
+    stats[0, 4] = H * W - int(stats[1:, 4].sum())
+    return n_lab, labels, stats
+
+
 def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]:
     """8-connected components of a 0/1 mask: (count, labels int32, stats int32, ops).
 
     Charged as a two-pass union-find labelling: each pixel read twice, four neighbour compares
     and one label write, plus the stats accumulation.
     """
-    n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
-                                                               ltype=cv2.CV_32S)
     n = mask.size
+    _serial_opencv()
+    n_lab, labels, stats = _label_cropped(mask)
     ops = OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
     return int(n_lab), labels, stats, ops
 
@@ -69,11 +125,27 @@ def dark_components(rgb: np.ndarray, who: str
     Returns ``(grey, mask, n_labels, labels, stats, ops)`` with the ops of all three stages.
     """
     check_rgb(rgb, who)
+    key = rgb.tobytes()
+    last = _LAST_FRONT_END[0]
+    if last is not None and last[0] == rgb.shape and last[1] == key:
+        grey, mask, n_lab, labels, stats, ops = last[2]
+        return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
     grey, ops = to_grey(rgb)
     mask, _, o = dark_mask(grey)
     ops += o
     n_lab, labels, stats, o = components(mask)
-    return grey, mask, n_lab, labels, stats, ops + o
+    ops += o
+    for a in (grey, mask, labels, stats):
+        a.flags.writeable = False  # shared by the detectors of one frame: nobody may write
+    _LAST_FRONT_END[0] = (rgb.shape, key, (grey, mask, n_lab, labels, stats, ops))
+    return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
+
+
+# The front end of the last frame seen, keyed by the frame's bytes: in ADJUST and LIFT the dual
+# "+" and the radial symbol run on the same frame and would both compute it. Host speed only:
+# each detector is still charged the whole front end (the board computes it per detector).
+_LAST_FRONT_END: list = [None]
+
 
 def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     """Sub-pixel position (Q4 px, along ``line``) of the light-to-dark edge ending at ``i_dark``.
@@ -84,12 +156,16 @@ def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     step edge). None if no straddling pair is found within 3 px.
     """
     n = len(line)
+    # every pixel read below lies within 4 of i_dark: one slice to plain ints (host speed)
+    w0 = max(0, i_dark - 4)
+    seg = line[w0:max(w0, min(n, i_dark + 5))]
+    g = seg.tolist() if isinstance(seg, np.ndarray) else [int(v) for v in seg]
     lo_i = [i_dark + k * -step for k in range(0, 3) if 0 <= i_dark + k * -step < n]
     hi_i = [i_dark + k * step for k in range(1, 4) if 0 <= i_dark + k * step < n]
     if not lo_i or not hi_i:
         return None
-    g_dark = min(int(line[i]) for i in lo_i)
-    g_light = max(int(line[i]) for i in hi_i)
+    g_dark = min(g[i - w0] for i in lo_i)
+    g_light = max(g[i - w0] for i in hi_i)
     mid2 = g_dark + g_light  # twice the mid level: compare 2 g against it, no division
     if g_light - g_dark < 8:
         return None
@@ -100,7 +176,7 @@ def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
         a, b = i_dark + (k + 1) * step, i_dark + k * step  # a lighter side, b one step darker
         if not (0 <= a < n and 0 <= b < n):
             continue
-        ga2, gb2 = 2 * int(line[a]), 2 * int(line[b])
+        ga2, gb2 = 2 * g[a - w0], 2 * g[b - w0]
         if ga2 >= mid2 > gb2:
             frac_q4 = (16 * (ga2 - mid2)) // (ga2 - gb2)  # 0..15 from a towards b
             return 16 * a - step * frac_q4

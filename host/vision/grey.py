@@ -47,12 +47,20 @@ def to_grey(rgb: np.ndarray) -> tuple[np.ndarray, OpCounts]:
     h, w = rgb.shape[:2]
     if h == 0 or w == 0:
         raise ValueError(f"to_grey: empty frame {rgb.shape}")
-    # uint16 is enough: 255 * 256 = 65280 < 65536.
-    acc = rgb[..., 0].astype(np.uint16) * W_R
-    acc += rgb[..., 1].astype(np.uint16) * W_G
-    acc += rgb[..., 2].astype(np.uint16) * W_B
-    grey = (acc >> SHIFT).astype(np.uint8)
-    return grey, grey_cost(h, w)
+    # uint16 is enough: 255 * 256 = 65280 < 65536. The planes are split to contiguous arrays
+    # first (cv2.split): the in-place numpy arithmetic on them is twice as fast as on strided
+    # views of the interleaved frame (host speed only; same integer result).
+    r, g, b = cv2.split(rgb)
+    acc = r.astype(np.uint16)
+    acc *= W_R
+    g16 = g.astype(np.uint16)
+    g16 *= W_G
+    acc += g16
+    b16 = b.astype(np.uint16)
+    b16 *= W_B
+    acc += b16
+    acc >>= SHIFT
+    return acc.astype(np.uint8), grey_cost(h, w)
 
 
 def noise_sigma(grey: np.ndarray, row_step: int = 4) -> tuple[int, OpCounts]:

@@ -129,12 +129,14 @@ class LockstepClient:
         return ls.Bye(stats=jsonable(self.app.stats()))
 
 
-def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host") -> str:
-    """Serve a whole run over a byte stream pair (the Unix socket); returns the END reason."""
+def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host",
+                 frame_source=None) -> str:
+    """Serve a whole run over a byte stream pair (the Unix socket); returns the END reason.
+    ``frame_source`` reads frames the rig sent out of band (link/frame_ring.FrameRingReader)."""
     wfile.write(ls.encode(ls.Hello(host_id=host_id)))
     wfile.flush()
     while True:
-        msg = ls.read_message(rfile)
+        msg = ls.read_message(rfile, frame_source)
         if isinstance(msg, ls.Grant):
             reply = client.serve(msg)
         elif isinstance(msg, ls.End):

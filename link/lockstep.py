@@ -14,14 +14,17 @@ Wire format of every message (little-endian)::
     meta   u32 length of the JSON metadata that follows (UTF-8, sorted keys)
     blob   u32 length of the binary blob after the metadata (frame pixels, concatenated)
 
-A GRANT's frames list ``offset``/``nbytes`` into the blob. JSON keeps the channel debuggable and
-lets host events (task transitions, detections) ride in DONE; all of it is simulated-time data.
+A GRANT's frames list ``offset``/``nbytes`` into the blob, or ``shared`` (where a frame ring holds
+the pixels: link/frame_ring.py; ``encode(frame_sink=...)``, ``decode_body(frame_source=...)``).
+JSON keeps the channel debuggable and lets host events (task transitions, detections) ride in
+DONE; all of it is simulated-time data.
 """
 
 from __future__ import annotations
 
 import json
 import struct
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
@@ -157,8 +160,10 @@ def _chunks(meta: dict, key: str) -> tuple[tuple[int, int], ...]:
     return tuple(out)
 
 
-def encode(msg: Message) -> bytes:
-    """Wire bytes of one lockstep message."""
+def encode(msg: Message, frame_sink: Callable[[bytes], dict | None] | None = None) -> bytes:
+    """Wire bytes of one lockstep message. ``frame_sink(pixels)`` may take a GRANT's frame
+    pixels out of band (link/frame_ring.py) and return where they are, or None to send them in
+    the blob."""
     blob = b""
     if isinstance(msg, Hello):
         kind, meta = KIND_HELLO, {"version": msg.version, "host_id": msg.host_id}
@@ -167,12 +172,16 @@ def encode(msg: Message) -> bytes:
             raise LockstepError(f"grant until_us {msg.until_us} < start_us {msg.start_us}")
         frames, parts, offset = [], [], 0
         for fr in msg.frames:
-            frames.append({"seq": fr.seq, "capture_us": fr.capture_us,
-                           "arrival_us": fr.arrival_us, "width": fr.width,
-                           "height": fr.height, "channels": fr.channels,
-                           "offset": offset, "nbytes": len(fr.pixels)})
-            parts.append(fr.pixels)
-            offset += len(fr.pixels)
+            entry = {"seq": fr.seq, "capture_us": fr.capture_us, "arrival_us": fr.arrival_us,
+                     "width": fr.width, "height": fr.height, "channels": fr.channels,
+                     "offset": offset, "nbytes": len(fr.pixels)}
+            where = frame_sink(fr.pixels) if frame_sink is not None and fr.pixels else None
+            if where is not None:
+                entry["shared"] = where
+            else:
+                parts.append(fr.pixels)
+                offset += len(fr.pixels)
+            frames.append(entry)
         blob = b"".join(parts)
         kind, meta = KIND_GRANT, {"start_us": msg.start_us, "until_us": msg.until_us,
                                   "uart": [list(c) for c in msg.uart], "frames": frames}
@@ -207,8 +216,10 @@ def decode_header(header: bytes) -> tuple[int, int, int]:
     return kind, meta_len, blob_len
 
 
-def decode_body(kind: int, meta_bytes: bytes, blob: bytes) -> Message:
-    """The message of a decoded header's kind from its metadata and blob."""
+def decode_body(kind: int, meta_bytes: bytes, blob: bytes,
+                frame_source: Callable[[Any, int], bytes] | None = None) -> Message:
+    """The message of a decoded header's kind from its metadata and blob; ``frame_source(where,
+    nbytes)`` fetches the pixels of a frame sent out of band ("shared")."""
     try:
         meta: Any = _DECODER.decode(meta_bytes.decode())
     except (UnicodeDecodeError, ValueError) as exc:
@@ -226,13 +237,20 @@ def decode_body(kind: int, meta_bytes: bytes, blob: bytes) -> Message:
             if not isinstance(fm, dict):
                 raise LockstepError("each frame must be a JSON object")
             off, n = _int(fm, "offset"), _int(fm, "nbytes")
-            if off + n > len(blob):
+            if "shared" in fm:
+                if frame_source is None:
+                    raise LockstepError(f"frame {fm.get('seq')} is in shared memory, and this "
+                                        f"end has no reader for it")
+                pixels = frame_source(fm["shared"], n)
+            elif off + n > len(blob):
                 raise LockstepError(f"frame {fm.get('seq')} runs past the blob ({off}+{n} > "
                                     f"{len(blob)})")
+            else:
+                pixels = bytes(blob[off:off + n])
             frames.append(FrameBlob(seq=_int(fm, "seq"), capture_us=_int(fm, "capture_us"),
                                     arrival_us=_int(fm, "arrival_us"), width=_int(fm, "width"),
                                     height=_int(fm, "height"), channels=_int(fm, "channels"),
-                                    pixels=bytes(blob[off:off + n])))
+                                    pixels=pixels))
         return Grant(start_us=start, until_us=until, uart=_chunks(meta, "uart"),
                      frames=tuple(frames))
     if kind == KIND_DONE:
@@ -264,7 +282,8 @@ class _Readable(Protocol):
     def read(self, n: int) -> bytes: ...
 
 
-def read_message(stream: _Readable) -> Message:
+def read_message(stream: _Readable,
+                 frame_source: Callable[[Any, int], bytes] | None = None) -> Message:
     """Read exactly one message from a blocking stream (e.g. ``socket.makefile('rb')``).
 
     Raises LockstepClosed when the stream ends, even in the middle of a message.
@@ -273,7 +292,7 @@ def read_message(stream: _Readable) -> Message:
     kind, meta_len, blob_len = decode_header(header)
     meta = _read_exact(stream, meta_len)
     blob = _read_exact(stream, blob_len)
-    return decode_body(kind, meta, blob)
+    return decode_body(kind, meta, blob, frame_source)
 
 
 def _read_exact(stream: _Readable, n: int) -> bytes:

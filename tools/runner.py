@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from link import lockstep as ls
+from link.frame_ring import FrameRing
 
 TERMINAL_STATES = ("DONE", "FAILED")
 
@@ -131,6 +132,8 @@ class SocketHost:
         self._waiting: deque[_Ticket] = deque()
         self._quiet_until = -1
         self._last_load: dict = {}
+        self._ring: FrameRing | None = None  # frames out of band (link/frame_ring.py)
+        self._encoding: _Ticket | None = None
         self._dir = tempfile.TemporaryDirectory(prefix="mobigrasp-ls-")
         self.path = os.path.join(self._dir.name, "lockstep.sock")
         self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -157,13 +160,26 @@ class SocketHost:
         self.conn.settimeout(timeout)  # safety limit only
         self.rfile = self.conn.makefile("rb")
         self.wfile = self.conn.makefile("wb")
+        self._ring = FrameRing(slots=2 * self.max_ahead, directory=self._dir.name)
         hello = ls.read_message(self.rfile)
         if not isinstance(hello, ls.Hello) or hello.version != ls.LOCKSTEP_VERSION:
             raise ls.LockstepError(f"host said {hello!r}, expected HELLO v{ls.LOCKSTEP_VERSION}")
 
     def _send(self, msg: ls.Message) -> None:
-        self.wfile.write(ls.encode(msg))
+        self.wfile.write(ls.encode(msg, frame_sink=self._share_frame))
         self.wfile.flush()
+
+    def _share_frame(self, pixels: bytes) -> dict | None:
+        """Put a frame of the grant being sent into the ring (None: in the message after all).
+        Its slot must not be in use: the grant that used it last has been decoded once its DONE
+        was read (with 2 x max_ahead slots that is always so; read if not)."""
+        ring = self._ring
+        if ring is None:
+            return None
+        prior = ring.user[ring.next_slot()]
+        if prior is not None and prior.done is None:
+            self.read_through(prior)
+        return ring.put(pixels, self._encoding)
 
     def _vanished(self, exc: Exception, t_us: int) -> ls.LockstepClosed:
         """A clear error for a host process that died or closed its end mid-run."""
@@ -178,11 +194,12 @@ class SocketHost:
     def submit(self, grant: ls.Grant) -> PendingDone:
         """Send a grant; never waits (but for the ``max_ahead``-th grant in flight): the DONE
         is a promise when the host's ``quiet_until`` covers the grant, else a claim."""
+        ticket = _Ticket(self, grant.start_us, grant.until_us)
+        self._encoding = ticket
         try:
             self._send(grant)
         except OSError as exc:
             raise self._vanished(exc, grant.start_us) from exc
-        ticket = _Ticket(self, grant.start_us, grant.until_us)
         self._waiting.append(ticket)
         if len(self._waiting) > self.max_ahead:
             self.read_through(self._waiting[0])
@@ -251,6 +268,8 @@ class SocketHost:
                 pass
         if hasattr(self, "conn"):
             self.conn.close()
+        if self._ring is not None:
+            self._ring.close()
         self._server.close()
         try:
             self.proc.wait(timeout=30)

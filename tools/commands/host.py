@@ -35,6 +35,7 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from host.app_factory import build_host_app
     from host.lockstep_client import LockstepClient, serve_stream
     from link.base import LinkClosed
+    from link.frame_ring import FrameRingReader
     from link.registry import open_transport
 
     port = open_transport(args.port)
@@ -42,8 +43,10 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     sock.settimeout(120.0)  # safety limit only; the rig answers at once
     sock.connect(args.lockstep)
     client = LockstepClient(build_host_app(cfg), port)
+    frames = FrameRingReader()
     try:
-        serve_stream(client, sock.makefile("rb"), sock.makefile("wb"), host_id="mobigrasp-host")
+        serve_stream(client, sock.makefile("rb"), sock.makefile("wb"), host_id="mobigrasp-host",
+                     frame_source=frames)
     except (LinkClosed, OSError) as exc:
         # the simulator died or closed the pty/socket mid-run (LockstepClosed is a
         # ConnectionError, an OSError): say so in one line and exit non-zero at once (issue 9)
@@ -52,6 +55,7 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
               f"stopping", file=sys.stderr, flush=True)
         return 1
     finally:
+        frames.close()
         sock.close()
         port.close()
     return 0

@@ -120,9 +120,14 @@ class Rig:
         # _couple runs twice per quantum: its calls are bound once here (through a delegating
         # wrapper every attribute lookup is a __getattr__ call)
         self._servo_pulse_us = mcu.servo_pulse_us
+        self._servo_pulses_us = mcu.servo_pulses_us if self._all_pulses else None
         self._couple_calls = (mcu.advance_to, mcu.wheel_duty, mcu.set_encoder_ticks,
                               mcu.uart_tx_take, plant.set_servo_pulse_us, plant.set_wheel_duty,
                               plant.step_to, plant.encoder_ticks)
+        # what the plant was last given: a servo pulse or duty that did not change is not sent
+        # again (the plant keeps its inputs; they change a few times per second)
+        self._pulses_seen: tuple | None = None
+        self._duty_sent: tuple[int, int] | None = None
         mcu.set_sonar_provider(self._sonar)
 
     def _sonar(self, index: int) -> float | None:
@@ -212,25 +217,31 @@ class Rig:
         (advance, wheel_duty, set_encoders, tx_take, set_servo, set_wheels, step_to,
          encoders) = self._couple_calls
         advance(t_us)
-        pulses = self._pulses
         # one call for all six where the MCU's class offers it
-        if self._all_pulses:
-            now = self.mcu.servo_pulses_us()
+        if self._servo_pulses_us is not None:
+            now = self._servo_pulses_us()
         else:
             one = self._servo_pulse_us
             now = (one(0), one(1), one(2), one(3), one(4), one(5))
-        for ch in range(6):
-            pulse = now[ch]
-            if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
-                set_servo(ch, pulse)
-                pulses[ch] = pulse
-        left, right = wheel_duty()
-        set_wheels(left, right)
+        if now != self._pulses_seen:  # the same six values: every one was sent already
+            self._pulses_seen = now
+            pulses = self._pulses
+            for ch in range(6):
+                pulse = now[ch]
+                if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
+                    set_servo(ch, pulse)
+                    pulses[ch] = pulse
+        duty = wheel_duty()
+        if duty != self._duty_sent:
+            self._duty_sent = duty
+            set_wheels(duty[0], duty[1])
         step_to(t_us)
         self.now_us = t_us
         enc_l, enc_r = encoders()
         set_encoders(enc_l, enc_r, t_us)
-        self._tx_pending.extend(tx_take())
+        tx = tx_take()
+        if tx:
+            self._tx_pending.extend(tx)
 
     def _capture(self, t_us: int) -> None:
         seq = self._next_frame

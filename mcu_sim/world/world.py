@@ -87,7 +87,8 @@ class World:
     """The simulated plant of one scenario run."""
 
     def __init__(self, scenario: Scenario, seed: int | None = None,
-                 sonar: SonarConfig | None = None, truth_rate_hz: int = 50):
+                 sonar: SonarConfig | None = None, truth_rate_hz: int = 50,
+                 record_truth: bool = True):
         self.scenario = scenario
         self.seed = scenario.meta.seed if seed is None else int(seed)
         method = scenario.meta.method
@@ -113,6 +114,8 @@ class World:
         self.min_clearance_m = math.inf
         self._clearance_at = (0.0, 0.0, -math.inf)  # (x, y, clearance) of the last query
         self.recorder = TruthRecorder(truth_rate_hz, TICK_US)
+        self._record_truth = record_truth  # False: the recorder stays empty (a caller that
+        # samples truth() itself, like the run's plant, saves a truth() per 20 ms)
         self._tick()
 
     # ---- time ---------------------------------------------------------------------------
@@ -149,7 +152,8 @@ class World:
         self.target.drag(t, TICK_US)
         self._update_grasp(t)
         self._update_clearance()
-        self.recorder.on_tick(self, t)
+        if self._record_truth:
+            self.recorder.on_tick(self, t)
 
     # ---- inputs -------------------------------------------------------------------------
     def set_servo_pulse_us(self, ch: int, pulse_us: float) -> None:

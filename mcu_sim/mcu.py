@@ -132,12 +132,17 @@ class Mcu:
         return self.board.usart0.line_put(bytes(data), start)
 
     def _take_tx(self) -> list[tuple[int, bytes]]:
-        return [((c + CYCLES_PER_US - 1) // CYCLES_PER_US, d)
-                for c, d in self.board.usart0.tx_take_until(self._cycle)]
+        sent = self.board.usart0.tx_take_until(self._cycle)
+        if not sent:
+            return sent
+        return [((c + CYCLES_PER_US - 1) // CYCLES_PER_US, d) for c, d in sent]
 
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
         """Bytes the firmware sent since the last call: ``(t_us their last bit left, bytes)``."""
-        out = self._tx_out + self._take_tx()
+        sent = self._take_tx()
+        if not self._tx_out:  # no reset since the last call (always but once)
+            return sent
+        out = self._tx_out + sent
         self._tx_out = []
         return out
 

@@ -20,6 +20,11 @@ import numpy as np
 
 def _clean(obj: Any) -> Any:
     """JSON-safe copy: numpy to Python, non-finite floats to None, floats rounded to 9 digits."""
+    t = type(obj)
+    if t is int or t is str or t is bool or obj is None:  # most leaves: returned as they are
+        return obj
+    if t is dict:
+        return {str(k): _clean(v) for k, v in obj.items()}
     if isinstance(obj, float):
         return round(obj, 9) if math.isfinite(obj) else None
     if isinstance(obj, dict):

@@ -45,6 +45,8 @@ class FaultedMcu:
         self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
         self._recovery_points = faults.recovery_points_us()
         self.unread_bytes = 0  # MCU bytes a crashed host never read
+        if callable(getattr(mcu, "servo_pulses_us", None)):
+            self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
         if _quiet_at_coupling(faults):
             # Nothing in the plan touches the MCU at its coupling steps (the common case, an
             # empty plan): the rig, which binds these once, calls the MCU directly and the

@@ -134,17 +134,20 @@ class World:
 
     def step_to(self, t_us: int) -> None:
         """Advance whole 1 ms physics steps until the next step would pass ``t_us``."""
-        if isinstance(t_us, bool) or not isinstance(t_us, int):
+        if type(t_us) is not int and (isinstance(t_us, bool) or not isinstance(t_us, int)):
             raise TypeError(f"World.step_to: t_us must be an int of microseconds, got {t_us!r}")
-        if t_us < self.t_us:
+        steps = self._steps
+        if t_us < steps * PHYSICS_DT_US:
             raise ValueError(f"World.step_to: time went backwards ({t_us} < {self.t_us} us)")
         last = t_us // PHYSICS_DT_US
-        while self._steps < last:
-            next_tick = (self._steps // TICK_STEPS + 1) * TICK_STEPS
-            n = min(next_tick, last) - self._steps
-            self.base.run_steps(n)
-            self._steps += n
-            if self._steps % TICK_STEPS == 0:
+        run = self.base.run_steps
+        while steps < last:
+            next_tick = (steps // TICK_STEPS + 1) * TICK_STEPS
+            n = (next_tick if next_tick < last else last) - steps
+            run(n)
+            steps += n
+            self._steps = steps
+            if steps == next_tick:
                 self._tick()
 
     def _tick(self) -> None:

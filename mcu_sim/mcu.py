@@ -191,7 +191,12 @@ class Mcu:
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed duties (left, right), -255..255, as the motor drivers see them now."""
-        return self.board.wheel_left.signed_duty, self.board.wheel_right.signed_duty
+        # WheelPwm.signed_duty of both, inlined: read twice per coupling step (rig, monitor)
+        b = self.board
+        w = b.wheel_left
+        left = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
+        w = b.wheel_right
+        return left, (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
 
     @staticmethod
     def _check_ch(ch: int) -> int:

@@ -45,6 +45,8 @@ class FaultedMcu:
         self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
         self._recovery_points = faults.recovery_points_us()
         self.unread_bytes = 0  # MCU bytes a crashed host never read
+        if (not faults.to_host.active and faults.crash_us is None and faults.stall is None):
+            self.uart_tx_take = self._uart_tx_take_plain
         if callable(getattr(mcu, "servo_pulses_us", None)):
             self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
         if _quiet_at_coupling(faults):
@@ -102,6 +104,24 @@ class FaultedMcu:
         taken = self.inner.uart_tx_take()
         if not taken and not self._held:  # most coupling steps: nothing sent, nothing held
             return []
+        return self._deliver(taken)
+
+    def _uart_tx_take_plain(self) -> list[tuple[int, bytes]]:
+        """:meth:`uart_tx_take` when the plan leaves the MCU->host bytes alone (no bit errors,
+        drops, latency or burst on that stream, no host stall or crash): every chunk arrives
+        whole when its last bit left, so it is handed on as it is (and counted)."""
+        taken = self.inner.uart_tx_take()
+        if not taken:
+            return taken
+        if self._held or taken[-1][0] > self.inner.now_us or not all(d for _, d in taken):
+            return self._deliver(taken)  # not seen in practice; the general path decides
+        u = self.faults.to_host
+        n = sum(len(d) for _, d in taken)
+        u.byte_index += n  # what UartFaults.apply counts for bytes it passes unchanged
+        u.bytes_in += n
+        return taken
+
+    def _deliver(self, taken: list[tuple[int, bytes]]) -> list[tuple[int, bytes]]:
         u, f = self.faults.to_host, self.faults
         for t_us, data in taken:
             out, _, _ = u.apply(data, t_us - _byte_us(len(data), u.baud))

@@ -87,6 +87,12 @@ class Mcu:
         b.cycle = target
         self._peripherals_to(target)
 
+    def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_to` ``t_us``, then (:meth:`servo_pulses_us`, :meth:`wheel_duty`): what
+        the rig's coupling step reads right after advancing, in one call."""
+        self.advance_to(t_us)
+        return self.servo_pulses_us(), self.wheel_duty()
+
     def _peripherals_to(self, cycle: int) -> int:
         b = self.board
         bottoms = b.timer1.advance_to(cycle)

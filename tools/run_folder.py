@@ -131,6 +131,10 @@ class Snapshots:
         self._frames: dict[int, np.ndarray] = {}
         self._last_detect: dict | None = None
         self.written: list[str] = []
+        # OpenCV builds its Hershey font tables on the first putText (~50-100 ms): pay that here,
+        # before the run's loop, not at the first state change in the middle of it
+        cv2.putText(np.zeros((1, 1, 3), np.uint8), "0", (0, 0), cv2.FONT_HERSHEY_PLAIN, 0.8,
+                    (255, 255, 0), 1)
 
     def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
         """Rig callback for every captured frame."""

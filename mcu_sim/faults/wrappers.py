@@ -54,6 +54,7 @@ class FaultedMcu:
             # empty plan): the rig, which binds these once, calls the MCU directly and the
             # monitor still judges every step. Same results, one Python frame less per call.
             self.advance_to = self._advance_quiet
+            self.advance_outputs = self._advance_outputs_quiet
             self.wheel_duty = mcu.wheel_duty
             self.set_encoder_ticks = mcu.set_encoder_ticks
 
@@ -82,6 +83,21 @@ class FaultedMcu:
         fw = mcu.firmware
         self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(),
                              fw.watchdog_tripped, fw.handshake, False)
+
+    def _advance_outputs_quiet(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_outputs` when the plan leaves the coupling step alone: the outputs the
+        monitor judges are the ones handed to the rig (read once)."""
+        mcu = self.inner
+        mcu.advance_to(t_us)
+        fw = mcu.firmware
+        pulses, duty = mcu.servo_pulses_us(), mcu.wheel_duty()
+        self.monitor.observe(t_us, duty, pulses, fw.watchdog_tripped, fw.handshake, False)
+        return pulses, duty
+
+    def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_to`, then (servo pulses, the duties that reach the motors)."""
+        self.advance_to(t_us)
+        return self.servo_pulses_us(), self.wheel_duty()
 
     def servo_pulses_us(self) -> tuple[float, ...]:
         """The MCU's six pulse widths in one call (the rig uses it when the class has it; the

@@ -34,6 +34,13 @@ class WorldPlant:
         self.intrinsics = Intrinsics(f_px=cam.f_px, u0_px=cam.u0_px, v0_px=cam.v0_px)
         self.options = CameraOptions(noise_std=cam.noise_std, blur_px=cam.blur_px,
                                      brightness=cam.brightness)
+        # The rig's per-step calls go straight to the world (bound once: one Python frame less
+        # per call, twice per coupling step); the methods below stay for readers and other users.
+        w = self.world
+        self.step_to = w.step_to
+        self.set_servo_pulse_us = w.set_servo_pulse_us
+        self.set_wheel_duty = w.set_wheel_duty
+        self.encoder_ticks = w.base.encoder_ticks
         self._sonar_us = -1
         # Without noise or dropout a sonar's range is a pure function of the space and the pose,
         # so the one the MCU fired is cast alone (it fires one at a time: casting all five per

@@ -94,11 +94,22 @@ class Mcu:
         return self.servo_pulses_us(), self.wheel_duty()
 
     def _peripherals_to(self, cycle: int) -> int:
+        # Each part is called only when it has something due by ``cycle`` (the same tests their
+        # advance_to starts with): most calls, one per coupling step, find nothing due.
         b = self.board
-        bottoms = b.timer1.advance_to(cycle)
-        b.timer3.advance_to(cycle)
-        b.wheel_left.advance_to(cycle)
-        b.wheel_right.advance_to(cycle)
+        bottoms = 0
+        t = b.timer1
+        nb = t.next_bottom
+        if nb is not None and (nb <= cycle or (t._falls and t._falls[0][0] <= cycle)):
+            bottoms = t.advance_to(cycle)
+        t = b.timer3
+        nb = t.next_bottom
+        if nb is not None and (nb <= cycle or (t._falls and t._falls[0][0] <= cycle)):
+            t.advance_to(cycle)
+        if b.wheel_left._pending is not None:
+            b.wheel_left.advance_to(cycle)
+        if b.wheel_right._pending is not None:
+            b.wheel_right.advance_to(cycle)
         return bottoms
 
     def _step(self, cycle: int) -> None:

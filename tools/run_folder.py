@@ -38,6 +38,11 @@ def _clean(obj: Any) -> Any:
     return obj
 
 
+# What json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False) builds on every
+# call, built once (same output: dumps is JSONEncoder(those options).encode(obj))
+_LINE_ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False)
+
+
 class TraceWriter:
     """One JSON event per line, sorted keys, flushed per line; hashes exactly what it writes."""
 
@@ -52,8 +57,7 @@ class TraceWriter:
         """Append one event (must carry ``t_us`` and ``ev``)."""
         if "t_us" not in event or "ev" not in event:
             raise ValueError(f"trace event needs t_us and ev: {event!r}")
-        line = json.dumps(_clean(event), sort_keys=True, separators=(",", ":"),
-                          allow_nan=False) + "\n"
+        line = _LINE_ENCODER.encode(_clean(event)) + "\n"
         self._sha.update(line.encode())
         self._fh.write(line)
         self._fh.flush()

@@ -49,6 +49,8 @@ class FaultedMcu:
             self.uart_tx_take = self._uart_tx_take_plain
         if callable(getattr(mcu, "servo_pulses_us", None)):
             self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
+        outputs = getattr(mcu, "advance_outputs", None)
+        self._inner_outputs = outputs if callable(outputs) else None
         if _quiet_at_coupling(faults):
             # Nothing in the plan touches the MCU at its coupling steps (the common case, an
             # empty plan): the rig, which binds these once, calls the MCU directly and the
@@ -88,9 +90,12 @@ class FaultedMcu:
         """:meth:`advance_outputs` when the plan leaves the coupling step alone: the outputs the
         monitor judges are the ones handed to the rig (read once)."""
         mcu = self.inner
-        mcu.advance_to(t_us)
+        if self._inner_outputs is not None:
+            pulses, duty = self._inner_outputs(t_us)
+        else:
+            mcu.advance_to(t_us)
+            pulses, duty = mcu.servo_pulses_us(), mcu.wheel_duty()
         fw = mcu.firmware
-        pulses, duty = mcu.servo_pulses_us(), mcu.wheel_duty()
         self.monitor.observe(t_us, duty, pulses, fw.watchdog_tripped, fw.handshake, False)
         return pulses, duty
 

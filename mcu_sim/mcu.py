@@ -87,12 +87,37 @@ class Mcu:
         b.cycle = target
         self._peripherals_to(target)
 
-    def _peripherals_to(self, cycle: int) -> int:
+    def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_to` ``t_us``, then (:meth:`servo_pulses_us`, :meth:`wheel_duty`): what
+        the rig's coupling step reads right after advancing, in one call."""
+        self.advance_to(t_us)
+        # servo_pulses_us() and wheel_duty() inlined: this runs at every coupling step
         b = self.board
-        bottoms = b.timer1.advance_to(cycle)
-        b.timer3.advance_to(cycle)
-        b.wheel_left.advance_to(cycle)
-        b.wheel_right.advance_to(cycle)
+        w1, w3 = b.timer1.last_width_ns, b.timer3.last_width_ns
+        w = b.wheel_left
+        left = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
+        w = b.wheel_right
+        right = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
+        return ((w1[0] / 1000.0, w1[1] / 1000.0, w1[2] / 1000.0,
+                 w3[0] / 1000.0, w3[1] / 1000.0, w3[2] / 1000.0), (left, right))
+
+    def _peripherals_to(self, cycle: int) -> int:
+        # Each part is called only when it has something due by ``cycle`` (the same tests their
+        # advance_to starts with): most calls, one per coupling step, find nothing due.
+        b = self.board
+        bottoms = 0
+        t = b.timer1
+        nb = t.next_bottom
+        if nb is not None and (nb <= cycle or (t._falls and t._falls[0][0] <= cycle)):
+            bottoms = t.advance_to(cycle)
+        t = b.timer3
+        nb = t.next_bottom
+        if nb is not None and (nb <= cycle or (t._falls and t._falls[0][0] <= cycle)):
+            t.advance_to(cycle)
+        if b.wheel_left._pending is not None:
+            b.wheel_left.advance_to(cycle)
+        if b.wheel_right._pending is not None:
+            b.wheel_right.advance_to(cycle)
         return bottoms
 
     def _step(self, cycle: int) -> None:
@@ -132,12 +157,17 @@ class Mcu:
         return self.board.usart0.line_put(bytes(data), start)
 
     def _take_tx(self) -> list[tuple[int, bytes]]:
-        return [((c + CYCLES_PER_US - 1) // CYCLES_PER_US, d)
-                for c, d in self.board.usart0.tx_take_until(self._cycle)]
+        sent = self.board.usart0.tx_take_until(self._cycle)
+        if not sent:
+            return sent
+        return [((c + CYCLES_PER_US - 1) // CYCLES_PER_US, d) for c, d in sent]
 
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
         """Bytes the firmware sent since the last call: ``(t_us their last bit left, bytes)``."""
-        out = self._tx_out + self._take_tx()
+        sent = self._take_tx()
+        if not self._tx_out:  # no reset since the last call (always but once)
+            return sent
+        out = self._tx_out + sent
         self._tx_out = []
         return out
 
@@ -186,7 +216,12 @@ class Mcu:
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed duties (left, right), -255..255, as the motor drivers see them now."""
-        return self.board.wheel_left.signed_duty, self.board.wheel_right.signed_duty
+        # WheelPwm.signed_duty of both, inlined: read twice per coupling step (rig, monitor)
+        b = self.board
+        w = b.wheel_left
+        left = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
+        w = b.wheel_right
+        return left, (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
 
     @staticmethod
     def _check_ch(ch: int) -> int:

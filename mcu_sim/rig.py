@@ -134,9 +134,18 @@ class Rig:
         # _couple runs twice per quantum: its calls are bound once here (through a delegating
         # wrapper every attribute lookup is a __getattr__ call)
         self._servo_pulse_us = mcu.servo_pulse_us
+        self._servo_pulses_us = mcu.servo_pulses_us if self._all_pulses else None
+        # advance + pulses + duties in one call where the MCU's class offers it
+        self._advance_outputs = (mcu.advance_outputs
+                                 if callable(getattr(type(mcu), "advance_outputs", None))
+                                 else None)
         self._couple_calls = (mcu.advance_to, mcu.wheel_duty, mcu.set_encoder_ticks,
                               mcu.uart_tx_take, plant.set_servo_pulse_us, plant.set_wheel_duty,
                               plant.step_to, plant.encoder_ticks)
+        # what the plant was last given: a servo pulse or duty that did not change is not sent
+        # again (the plant keeps its inputs; they change a few times per second)
+        self._pulses_seen: tuple | None = None
+        self._duty_sent: tuple[int, int] | None = None
         mcu.set_sonar_provider(self._sonar)
 
     def _sonar(self, index: int) -> float | None:
@@ -227,42 +236,57 @@ class Rig:
 
     def _advance_to(self, until: int) -> None:
         step = self.config.couple_us
+        capture_time_us = self.config.capture_time_us
+        couple = self._couple
         t = self.now_us
-        if self.config.capture_time_us(self._next_frame) <= t:  # frame 0 at t = 0
+        cap = capture_time_us(self._next_frame)  # changes only when a frame is captured
+        if cap <= t:  # frame 0 at t = 0
             self._capture(t)
+            cap = capture_time_us(self._next_frame)
         while t < until:
-            nxt = min(t - t % step + step, until)
-            cap = self.config.capture_time_us(self._next_frame)
+            nxt = t - t % step + step
+            if nxt > until:
+                nxt = until
             if t < cap <= nxt:
                 nxt = cap
-            self._couple(nxt)
+            couple(nxt)
             t = nxt
             if t == cap:
                 self._capture(t)
+                cap = capture_time_us(self._next_frame)
 
     def _couple(self, t_us: int) -> None:
         (advance, wheel_duty, set_encoders, tx_take, set_servo, set_wheels, step_to,
          encoders) = self._couple_calls
-        advance(t_us)
-        pulses = self._pulses
-        # one call for all six where the MCU's class offers it
-        if self._all_pulses:
-            now = self.mcu.servo_pulses_us()
+        if self._advance_outputs is not None:
+            now, duty = self._advance_outputs(t_us)
         else:
-            one = self._servo_pulse_us
-            now = (one(0), one(1), one(2), one(3), one(4), one(5))
-        for ch in range(6):
-            pulse = now[ch]
-            if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
-                set_servo(ch, pulse)
-                pulses[ch] = pulse
-        left, right = wheel_duty()
-        set_wheels(left, right)
+            advance(t_us)
+            # one call for all six where the MCU's class offers it
+            if self._servo_pulses_us is not None:
+                now = self._servo_pulses_us()
+            else:
+                one = self._servo_pulse_us
+                now = (one(0), one(1), one(2), one(3), one(4), one(5))
+            duty = wheel_duty()
+        if now != self._pulses_seen:  # the same six values: every one was sent already
+            self._pulses_seen = now
+            pulses = self._pulses
+            for ch in range(6):
+                pulse = now[ch]
+                if pulse and pulse != pulses[ch]:  # 0/None before the first complete pulse
+                    set_servo(ch, pulse)
+                    pulses[ch] = pulse
+        if duty != self._duty_sent:
+            self._duty_sent = duty
+            set_wheels(duty[0], duty[1])
         step_to(t_us)
         self.now_us = t_us
         enc_l, enc_r = encoders()
         set_encoders(enc_l, enc_r, t_us)
-        self._tx_pending.extend(tx_take())
+        tx = tx_take()
+        if tx:
+            self._tx_pending.extend(tx)
 
     def _capture(self, t_us: int) -> None:
         seq = self._next_frame

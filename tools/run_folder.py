@@ -20,6 +20,11 @@ import numpy as np
 
 def _clean(obj: Any) -> Any:
     """JSON-safe copy: numpy to Python, non-finite floats to None, floats rounded to 9 digits."""
+    t = type(obj)
+    if t is int or t is str or t is bool or obj is None:  # most leaves: returned as they are
+        return obj
+    if t is dict:
+        return {str(k): _clean(v) for k, v in obj.items()}
     if isinstance(obj, float):
         return round(obj, 9) if math.isfinite(obj) else None
     if isinstance(obj, dict):
@@ -31,6 +36,11 @@ def _clean(obj: Any) -> Any:
     if isinstance(obj, np.ndarray):
         return _clean(obj.tolist())
     return obj
+
+
+# What json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False) builds on every
+# call, built once (same output: dumps is JSONEncoder(those options).encode(obj))
+_LINE_ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
 class TraceWriter:
@@ -47,8 +57,7 @@ class TraceWriter:
         """Append one event (must carry ``t_us`` and ``ev``)."""
         if "t_us" not in event or "ev" not in event:
             raise ValueError(f"trace event needs t_us and ev: {event!r}")
-        line = json.dumps(_clean(event), sort_keys=True, separators=(",", ":"),
-                          allow_nan=False) + "\n"
+        line = _LINE_ENCODER.encode(_clean(event)) + "\n"
         self._sha.update(line.encode())
         self._fh.write(line)
         self._fh.flush()
@@ -126,6 +135,10 @@ class Snapshots:
         self._frames: dict[int, np.ndarray] = {}
         self._last_detect: dict | None = None
         self.written: list[str] = []
+        # OpenCV builds its Hershey font tables on the first putText (~50-100 ms): pay that here,
+        # before the run's loop, not at the first state change in the middle of it
+        cv2.putText(np.zeros((1, 1, 3), np.uint8), "0", (0, 0), cv2.FONT_HERSHEY_PLAIN, 0.8,
+                    (255, 255, 0), 1)
 
     def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
         """Rig callback for every captured frame."""

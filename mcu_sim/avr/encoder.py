@@ -42,6 +42,10 @@ class QuadratureEncoder:
         if isinstance(count, bool) or not isinstance(count, int):
             self.bad_inputs += 1
             return
+        if count == self._c1 and now_cycle >= self._t1:
+            # the shaft stands at the count it reached (a standing wheel): the segment
+            # [now, t_cycle] would be flat at that count, which position_at returns already
+            return
         here = self.position_at(now_cycle)
         if t_cycle <= now_cycle:
             self._t0 = self._t1 = now_cycle

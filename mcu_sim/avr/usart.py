@@ -173,6 +173,9 @@ class Usart:
 
     def tx_take_until(self, cycle: int) -> list[tuple[int, bytes]]:
         """Bytes whose last bit left by ``cycle``: ``(cycle_of_last_bit, bytes)`` per burst."""
+        if not self._tx:  # most calls: the line is idle (what _retire_tx would conclude)
+            self._tx_pending = 0
+            return []
         out: list[tuple[int, bytes]] = []
         bc = self.byte_cycles
         while self._tx:

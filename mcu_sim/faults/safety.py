@@ -61,6 +61,8 @@ class SafetyMonitor:
         self._tripped = False
         self._tripped_us = 0
         self._fault_us: int | None = None  # a fault waiting for recovery
+        self._pulses: tuple | None = None  # the last pulses judged and how many were out
+        self._pulses_out = 0
 
     def fault(self, t_us: int) -> None:
         """A fault that needs recovery happened at ``t_us`` (stall end, MCU reset)."""
@@ -72,9 +74,11 @@ class SafetyMonitor:
                 handshake: bool, host_silent: bool = False) -> None:
         """One coupling step: wheel duties, servo pulses (None/0 before the first), MCU state."""
         moving = duty[0] != 0 or duty[1] != 0
-        for ch, p in enumerate(pulses_us):
-            if p and not _RANGES[ch][0] <= p <= _RANGES[ch][1]:
-                self.servo_out_of_limits += 1
+        if pulses_us != self._pulses:  # pulses change a few times per second: judge them then
+            self._pulses = tuple(pulses_us)
+            self._pulses_out = sum(1 for ch, p in enumerate(pulses_us)
+                                   if p and not _RANGES[ch][0] <= p <= _RANGES[ch][1])
+        self.servo_out_of_limits += self._pulses_out
         if watchdog_tripped and not self._tripped:
             self.watchdog_trips += 1
             self._tripped_us = t_us

@@ -45,6 +45,20 @@ class FaultedMcu:
         self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
         self._recovery_points = faults.recovery_points_us()
         self.unread_bytes = 0  # MCU bytes a crashed host never read
+        if (not faults.to_host.active and faults.crash_us is None and faults.stall is None):
+            self.uart_tx_take = self._uart_tx_take_plain
+        if callable(getattr(mcu, "servo_pulses_us", None)):
+            self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
+        outputs = getattr(mcu, "advance_outputs", None)
+        self._inner_outputs = outputs if callable(outputs) else None
+        if _quiet_at_coupling(faults):
+            # Nothing in the plan touches the MCU at its coupling steps (the common case, an
+            # empty plan): the rig, which binds these once, calls the MCU directly and the
+            # monitor still judges every step. Same results, one Python frame less per call.
+            self.advance_to = self._advance_quiet
+            self.advance_outputs = self._advance_outputs_quiet
+            self.wheel_duty = mcu.wheel_duty
+            self.set_encoder_ticks = mcu.set_encoder_ticks
 
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
@@ -64,6 +78,32 @@ class FaultedMcu:
                              fw.watchdog_tripped, fw.handshake,
                              f.host_silent(t_us) or f.line_dead(t_us))
 
+    def _advance_quiet(self, t_us: int) -> None:
+        """:meth:`advance_to` when the plan has no reset, stall, crash or burst."""
+        mcu = self.inner
+        mcu.advance_to(t_us)
+        fw = mcu.firmware
+        self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(),
+                             fw.watchdog_tripped, fw.handshake, False)
+
+    def _advance_outputs_quiet(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_outputs` when the plan leaves the coupling step alone: the outputs the
+        monitor judges are the ones handed to the rig (read once)."""
+        mcu = self.inner
+        if self._inner_outputs is not None:
+            pulses, duty = self._inner_outputs(t_us)
+        else:
+            mcu.advance_to(t_us)
+            pulses, duty = mcu.servo_pulses_us(), mcu.wheel_duty()
+        fw = mcu.firmware
+        self.monitor.observe(t_us, duty, pulses, fw.watchdog_tripped, fw.handshake, False)
+        return pulses, duty
+
+    def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_to`, then (servo pulses, the duties that reach the motors)."""
+        self.advance_to(t_us)
+        return self.servo_pulses_us(), self.wheel_duty()
+
     def servo_pulses_us(self) -> tuple[float, ...]:
         """The MCU's six pulse widths in one call (the rig uses it when the class has it; the
         servo outputs are not faulted)."""
@@ -82,8 +122,33 @@ class FaultedMcu:
         A host that is not running reads nothing: bytes arriving during a stall wait in its
         UART buffer and are handed over at the stall's end; bytes arriving after a crash are
         never read (dropped here, so nothing piles up in a pty that no one reads)."""
+        taken = self.inner.uart_tx_take()
+        if not taken and not self._held:  # most coupling steps: nothing sent, nothing held
+            return []
+        return self._deliver(taken)
+
+    def _uart_tx_take_plain(self) -> list[tuple[int, bytes]]:
+        """:meth:`uart_tx_take` when the plan leaves the MCU->host bytes alone (no bit errors,
+        drops, latency or burst on that stream, no host stall or crash): every chunk arrives
+        whole when its last bit left, so it is handed on as it is (and counted)."""
+        taken = self.inner.uart_tx_take()
+        if not taken:
+            return taken
+        if self._held or taken[-1][0] > self.inner.now_us:
+            return self._deliver(taken)  # not seen in practice; the general path decides
+        n = 0
+        for _, d in taken:
+            if not d:
+                return self._deliver(taken)  # an empty chunk is dropped there
+            n += len(d)
+        u = self.faults.to_host
+        u.byte_index += n  # what UartFaults.apply counts for bytes it passes unchanged
+        u.bytes_in += n
+        return taken
+
+    def _deliver(self, taken: list[tuple[int, bytes]]) -> list[tuple[int, bytes]]:
         u, f = self.faults.to_host, self.faults
-        for t_us, data in self.inner.uart_tx_take():
+        for t_us, data in taken:
             out, _, _ = u.apply(data, t_us - _byte_us(len(data), u.baud))
             arrival = u.deliver_us(t_us)
             if f.host_crashed(arrival):
@@ -118,6 +183,16 @@ class FaultedMcu:
             return f.sonar_range_m(index, provider(index), mcu.now_us)
 
         self.inner.set_sonar_provider(faulted)
+
+
+def _quiet_at_coupling(faults: RunFaults) -> bool:
+    """True if the plan leaves the MCU's coupling-step calls alone: no MCU reset, host stall,
+    crash or line burst (so no recovery points and never a silent host), no failed motor and
+    no wheel slip. Faults of the bytes themselves stay on their own (uart_rx, uart_tx_take)."""
+    return (faults.mcu_reset_us is None and faults.stall is None and faults.crash_us is None
+            and faults.to_mcu.burst is None and faults.to_host.burst is None
+            and faults.motor_fail_us is None and faults.slip.keep_q16 == 65536
+            and not faults.recovery_points_us())
 
 
 class FaultedPlant:

@@ -37,6 +37,15 @@ from protocol.messages import (
 )
 from protocol.reliable import DuplicateFilter, SequenceCounter
 
+# Rows of Params.values the main loop reads on every pass: indexed directly instead of through
+# Params.get's id look-up (the list is only ever written in place, by set and reset).
+_I_WATCHDOG_MS = P.PARAM_INDEX[P.P_WATCHDOG_MS]
+_I_SONAR_COUNT = P.PARAM_INDEX[P.P_SONAR_COUNT]
+_I_SONAR_SLOT_MS = P.PARAM_INDEX[P.P_SONAR_SLOT_MS]
+_I_TELEMETRY_HZ = P.PARAM_INDEX[P.P_TELEMETRY_HZ]
+_I_WHEEL_KP = P.PARAM_INDEX[P.P_WHEEL_KP]
+_I_WHEEL_KI = P.PARAM_INDEX[P.P_WHEEL_KI]
+
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
 ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks
 TCCRA_SERVO = 0b1010_1010  # COMnA/B/C = 10 (non-inverting), WGMn1:0 = 10
@@ -153,22 +162,21 @@ class Firmware:
         if data:
             for frame in self.parser.feed(data):
                 handle_frame(self, frame, now)
-        params = self.params
+        pv = self.params.values
         if now >= self.next_control_us:
             self._control()
             self.next_control_us += CONTROL_PERIOD_US
             if self.next_control_us <= now:
                 self.next_control_us = now + CONTROL_PERIOD_US
-        wd_us = params.get(P.P_WATCHDOG_MS) * 1000
+        wd_us = pv[_I_WATCHDOG_MS] * 1000
         if wd_us and not self.watchdog_tripped and now - self.last_valid_us >= wd_us:
             self._trip_watchdog()
         if now >= self.sonar.next_slot_us:
             self.sonar.end_slot()
-            index = self.sonar.start_slot(params.get(P.P_SONAR_COUNT), now,
-                                          params.get(P.P_SONAR_SLOT_MS) * 1000)
+            index = self.sonar.start_slot(pv[_I_SONAR_COUNT], now, pv[_I_SONAR_SLOT_MS] * 1000)
             if index is not None:
                 hw.sonars.trigger(index, hw.cycle)
-        hz = params.get(P.P_TELEMETRY_HZ)
+        hz = pv[_I_TELEMETRY_HZ]
         if hz and now >= self.next_telemetry_us:
             self._send_telemetry(now)
             period = 1_000_000 // hz
@@ -217,8 +225,9 @@ class Firmware:
         self.hold_arm()
 
     def _control(self) -> None:
-        kp = self.params.get(P.P_WHEEL_KP)
-        ki = self.params.get(P.P_WHEEL_KI)
+        pv = self.params.values
+        kp = pv[_I_WHEEL_KP]
+        ki = pv[_I_WHEEL_KI]
         for side in (0, 1):
             if self.drive_enabled:
                 duty = self.wheels[side].update(self.enc_count[side], kp, ki)

@@ -87,7 +87,8 @@ class World:
     """The simulated plant of one scenario run."""
 
     def __init__(self, scenario: Scenario, seed: int | None = None,
-                 sonar: SonarConfig | None = None, truth_rate_hz: int = 50):
+                 sonar: SonarConfig | None = None, truth_rate_hz: int = 50,
+                 record_truth: bool = True):
         self.scenario = scenario
         self.seed = scenario.meta.seed if seed is None else int(seed)
         method = scenario.meta.method
@@ -113,6 +114,8 @@ class World:
         self.min_clearance_m = math.inf
         self._clearance_at = (0.0, 0.0, -math.inf)  # (x, y, clearance) of the last query
         self.recorder = TruthRecorder(truth_rate_hz, TICK_US)
+        self._record_truth = record_truth  # False: the recorder stays empty (a caller that
+        # samples truth() itself, like the run's plant, saves a truth() per 20 ms)
         self._tick()
 
     # ---- time ---------------------------------------------------------------------------
@@ -131,17 +134,20 @@ class World:
 
     def step_to(self, t_us: int) -> None:
         """Advance whole 1 ms physics steps until the next step would pass ``t_us``."""
-        if isinstance(t_us, bool) or not isinstance(t_us, int):
+        if type(t_us) is not int and (isinstance(t_us, bool) or not isinstance(t_us, int)):
             raise TypeError(f"World.step_to: t_us must be an int of microseconds, got {t_us!r}")
-        if t_us < self.t_us:
+        steps = self._steps
+        if t_us < steps * PHYSICS_DT_US:
             raise ValueError(f"World.step_to: time went backwards ({t_us} < {self.t_us} us)")
         last = t_us // PHYSICS_DT_US
-        while self._steps < last:
-            next_tick = (self._steps // TICK_STEPS + 1) * TICK_STEPS
-            n = min(next_tick, last) - self._steps
-            self.base.run_steps(n)
-            self._steps += n
-            if self._steps % TICK_STEPS == 0:
+        run = self.base.run_steps
+        while steps < last:
+            next_tick = (steps // TICK_STEPS + 1) * TICK_STEPS
+            n = (next_tick if next_tick < last else last) - steps
+            run(n)
+            steps += n
+            self._steps = steps
+            if steps == next_tick:
                 self._tick()
 
     def _tick(self) -> None:
@@ -149,7 +155,8 @@ class World:
         self.target.drag(t, TICK_US)
         self._update_grasp(t)
         self._update_clearance()
-        self.recorder.on_tick(self, t)
+        if self._record_truth:
+            self.recorder.on_tick(self, t)
 
     # ---- inputs -------------------------------------------------------------------------
     def set_servo_pulse_us(self, ch: int, pulse_us: float) -> None:

@@ -267,14 +267,20 @@ class _Painter:
             mask = np.zeros((y1 - y0, x1 - x0), np.uint8)
             pts = np.rint((uv - [x0, y0]) * 16).clip(-(2**26), 2**26).astype(np.int32)
             cv2.fillConvexPoly(mask, pts, 1, lineType=cv2.LINE_8, shift=4)
-        alpha = warped[..., 3] * mask if mask is not None else np.ascontiguousarray(warped[..., 3])
+        # split the channels with OpenCV (contiguous outputs: a strided numpy view would be
+        # copied by OpenCV on every call, and numpy comparisons on the whole patch cost more)
+        rgb = cv2.cvtColor(warped, cv2.COLOR_RGBA2RGB)
+        alpha = cv2.extractChannel(warped, 3)
+        if mask is not None:
+            alpha *= mask
         # opaque texels are copied, transparent ones skipped; only the anti-aliased rim blends
-        # (cv2.copyTo writes into the ROI view in place; (alpha - 1) < 254 is 0 < alpha < 255)
-        cv2.copyTo(warped[..., :3], (alpha == 255).view(np.uint8), roi)
-        rim = np.nonzero((alpha - np.uint8(1)) < 254)
-        if len(rim[0]):
+        # (cv2.copyTo writes into the ROI view in place)
+        cv2.copyTo(rgb, cv2.compare(alpha, 255, cv2.CMP_EQ), roi)
+        rim_mask = cv2.inRange(alpha, 1, 254)
+        if cv2.countNonZero(rim_mask):
+            rim = np.nonzero(rim_mask)
             a = alpha[rim].astype(np.uint16)[:, None]
-            mixed = (roi[rim].astype(np.uint16) * (255 - a) + warped[..., :3][rim] * a + 127) // 255
+            mixed = (roi[rim].astype(np.uint16) * (255 - a) + rgb[rim] * a + 127) // 255
             roi[rim] = mixed.astype(np.uint8)
 
 

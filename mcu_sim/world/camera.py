@@ -285,10 +285,10 @@ class _Painter:
 
 
 @lru_cache(maxsize=8)
-def _ground_rgb(seed: int) -> np.ndarray:
-    """The floor tile's RGB channels, contiguous: a strided view would be copied by OpenCV on
-    every warp."""
-    return np.ascontiguousarray(mk.ground_texture(seed).levels[0][..., :3])
+def _ground_rgba(seed: int) -> np.ndarray:
+    """The floor tile, RGBA and contiguous: OpenCV's perspective warp of four channels is
+    ~2.5x faster than of three (and gives the same RGB values)."""
+    return np.ascontiguousarray(mk.ground_texture(seed).levels[0])
 
 
 def _draw_ground(p: _Painter, seed: int) -> None:
@@ -299,15 +299,16 @@ def _draw_ground(p: _Painter, seed: int) -> None:
     rays within 0.004 rad of the horizon (floor > ~100 m away) are painted as sky.
     """
     tex = mk.ground_texture(seed)
-    src = _ground_rgb(seed)
+    src = _ground_rgba(seed)
     t = tex.texel_m
     f, u0, v0 = p.intr.f_px, p.intr.u0_px, p.intr.v0_px
     origin = np.array([round(p.c[0] / (2 * tex.half_m)) * 2 * tex.half_m,
                        round(p.c[1] / (2 * tex.half_m)) * 2 * tex.half_m, 0.0])
     M = p.K @ np.column_stack([p.R.T[:, 0], p.R.T[:, 1], p.R.T @ (origin - p.c)])
     A = np.array([[t, 0.0, t / 2 - tex.half_m], [0.0, -t, tex.half_m - t / 2], [0, 0, 1.0]])
-    cv2.warpPerspective(src, M @ A, (p.intr.width, p.intr.height), dst=p.img,
-                        flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
+    rgba = cv2.warpPerspective(src, M @ A, (p.intr.width, p.intr.height),
+                               flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
+    cv2.cvtColor(rgba, cv2.COLOR_RGBA2RGB, dst=p.img)
     # ray_z(u, v) = a u + b v + c; sky where ray_z >= -0.004
     a, b = p.R[2, 0] / f, p.R[2, 1] / f
     c0 = p.R[2, 2] - p.R[2, 0] * u0 / f - p.R[2, 1] * v0 / f + 0.004

@@ -276,9 +276,10 @@ class _Painter:
         # opaque texels are copied, transparent ones skipped; only the anti-aliased rim blends
         # (cv2.copyTo writes into the ROI view in place)
         cv2.copyTo(rgb, cv2.compare(alpha, 255, cv2.CMP_EQ), roi)
-        rim_mask = cv2.inRange(alpha, 1, 254)
-        if cv2.countNonZero(rim_mask):
-            rim = np.nonzero(rim_mask)
+        rim_xy = cv2.findNonZero(cv2.inRange(alpha, 1, 254))  # None when there is no rim
+        if rim_xy is not None:
+            rim_xy = rim_xy.reshape(-1, 2)
+            rim = (rim_xy[:, 1], rim_xy[:, 0])
             a = alpha[rim].astype(np.uint16)[:, None]
             mixed = (roi[rim].astype(np.uint16) * (255 - a) + rgb[rim] * a + 127) // 255
             roi[rim] = mixed.astype(np.uint8)

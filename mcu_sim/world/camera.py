@@ -181,11 +181,12 @@ class _Painter:
         self.light = _LIGHT
 
     def _image_poly(self, poly_w: np.ndarray) -> tuple[np.ndarray | None, bool]:
-        pc = _clip_near((poly_w - self.c) @ self.R)
+        pc_all = (poly_w - self.c) @ self.R
+        pc = _clip_near(pc_all)  # pc_all itself when nothing is clipped
         if len(pc) < 3:
             return None, False
         uv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
-        return uv, len(pc) != len(poly_w) or not np.array_equal(pc, (poly_w - self.c) @ self.R)
+        return uv, pc is not pc_all and (len(pc) != len(pc_all) or not np.array_equal(pc, pc_all))
 
     def item_faces(self, it: Item) -> None:
         """The solid convex faces of one item, culled when seen from behind, shaded by a fixed
@@ -217,23 +218,32 @@ class _Painter:
                 pts = np.clip(np.rint(fuv * 16), -(2**26), 2**26).astype(np.int32)
             cv2.fillConvexPoly(self.img, pts, colours[i], lineType=cv2.LINE_8, shift=4)
 
-    def texture(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> None:
-        """Warp an RGBA planar texture (plane through origin_w spanned by unit ex_w, ey_w)."""
+    def texture(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w, plan=None) -> None:
+        """Warp an RGBA planar texture (plane through origin_w spanned by unit ex_w, ey_w);
+        ``plan``: what :meth:`texture_plan` returned for the same arguments, if at hand."""
+        if plan is None:
+            plan = self.texture_plan(tex, origin_w, ex_w, ey_w)
+        if plan is not None:
+            self._draw_texture(*plan)
+
+    def texture_plan(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> tuple | None:
+        """Where and how :meth:`texture` warps: (src level, homography, patch box, supersampling,
+        image polygon, clipped, level), or None when nothing of it is in view."""
         h = tex.half_m
         normal = np.cross(ex_w, ey_w)
         if float(np.dot(normal, self.c - origin_w)) <= 0.0:
-            return  # seen from behind
+            return None  # seen from behind
         corners = np.array([origin_w + sx * h * ex_w + sy * h * ey_w
                             for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
         uv, clipped = self._image_poly(corners)
         if uv is None:
-            return
+            return None
         H_, W_ = self.img.shape[:2]
         lo, hi = np.floor(uv.min(axis=0)), np.ceil(uv.max(axis=0)) + 1
         x0, y0 = max(0, int(lo[0])), max(0, int(lo[1]))
         x1, y1 = min(W_, int(hi[0])), min(H_, int(hi[1]))
         if x1 <= x0 or y1 <= y0:
-            return
+            return None
         pc0 = self.R.T @ (origin_w - self.c)
         M = self.K @ np.column_stack([self.R.T @ ex_w, self.R.T @ ey_w, pc0])
         level, ss = 0, 1
@@ -256,7 +266,35 @@ class _Painter:
         A = np.array([[t, 0.0, t / 2 - tex.half_m], [0.0, -t, tex.half_m - t / 2], [0, 0, 1.0]])
         T = np.array([[1.0, 0, -x0], [0, 1.0, -y0], [0, 0, 1.0]])
         S = np.array([[ss, 0.0, (ss - 1) / 2], [0.0, ss, (ss - 1) / 2], [0, 0, 1.0]])
-        warped = cv2.warpPerspective(src, S @ T @ M @ A, (ss * (x1 - x0), ss * (y1 - y0)),
+        return src, S @ T @ M @ A, (x0, y0, x1, y1), ss, uv, clipped, level
+
+    def covers_frame(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w, plan) -> bool:
+        """True when the warped texture is opaque (alpha 255) on every pixel of the frame, so
+        that whatever was drawn before it is overwritten: the rays through the frame's corners,
+        pushed out by a pixel, all meet its plane in front of the camera within the disc about
+        its centre where every texel of the level in use (and its neighbours) is opaque."""
+        if plan is None or plan[5]:
+            return False
+        r_safe = _opaque_radius_m(tex, plan[6])
+        if r_safe <= 0.0:
+            return False
+        f, u0, v0 = self.intr.f_px, self.intr.u0_px, self.intr.v0_px
+        W, H = self.intr.width, self.intr.height
+        rays = self.R @ np.array([[(-1.0 - u0) / f, (W - u0) / f, (W - u0) / f, (-1.0 - u0) / f],
+                                  [(-1.0 - v0) / f, (-1.0 - v0) / f, (H - v0) / f, (H - v0) / f],
+                                  [1.0, 1.0, 1.0, 1.0]])
+        normal = np.cross(ex_w, ey_w)
+        denom = normal @ rays
+        if not np.all(denom < 0.0):  # seen from the front, the plane is ahead along these rays
+            return False
+        hit = self.c[:, None] + rays * (float(normal @ (origin_w - self.c)) / denom)
+        d = hit - np.asarray(origin_w, dtype=float)[:, None]
+        r2 = (ex_w @ d) ** 2 + (ey_w @ d) ** 2
+        return bool(np.all(r2 <= r_safe * r_safe))
+
+    def _draw_texture(self, src, H, box, ss, uv, clipped, level) -> None:
+        x0, y0, x1, y1 = box
+        warped = cv2.warpPerspective(src, H, (ss * (x1 - x0), ss * (y1 - y0)),
                                      flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                                      borderValue=(0, 0, 0, 0))
         if ss > 1:  # exact block mean for an integer factor
@@ -428,6 +466,32 @@ def _put_rgb(img: np.ndarray, rgba: np.ndarray, x0: int, y0: int) -> None:
         roi[...] = out
 
 
+_OPAQUE_R: dict = {}
+
+
+def _opaque_radius_m(tex: mk.PlanarTexture, level: int) -> float:
+    """Radius about the texture's centre within which a bilinear sample of mip ``level`` reads
+    opaque texels only: the nearest centre of a not fully opaque texel (or the texture's edge),
+    less two texels of the level. Cached per texture object and level."""
+    key = (id(tex), level)
+    hit = _OPAQUE_R.get(key)
+    if hit is not None and hit[0] is tex:
+        return hit[1]
+    lev = tex.levels[level]
+    n = lev.shape[0]
+    t = 2.0 * tex.half_m / n
+    centres = (np.arange(n) + 0.5) * t - tex.half_m
+    bad = lev[..., 3] < 255
+    r_bad = tex.half_m
+    if bad.any():
+        rows, cols = np.nonzero(bad)
+        r_bad = min(r_bad, float(np.sqrt(centres[cols] ** 2 + centres[rows] ** 2).min()))
+    r = r_bad - 2.0 * t
+    if len(_OPAQUE_R) < 256:
+        _OPAQUE_R[key] = (tex, r)
+    return r
+
+
 @lru_cache(maxsize=1)
 def _noise_bank() -> np.ndarray:
     """One fixed bank of N(0, 1) samples; each frame reads a seeded random window of it, which
@@ -495,15 +559,28 @@ def render_clean(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics())
     c, R = _check_pose(cam_pos_w, R_wc)
     img = np.empty((intr.height, intr.width, 3), np.uint8)
     p = _Painter(img, c, R, intr)
-    if c[2] > 0.0:
-        _draw_ground(p, scene.seed)
-    else:
-        np.copyto(img, _sky_frame(intr.width, intr.height))
     items = sorted(solids_of_scene(scene), key=lambda it: -float(np.linalg.norm(it.ref_w - c)))
+    # painter's order: the ground, then per item its faces and its textures; a texture opaque
+    # over the whole frame hides everything painted before it, which is then not painted
+    ops: list = [None]
     for it in items:
-        p.item_faces(it)
-        for args in it.textures:
-            p.texture(*args)
+        ops.append(it)
+        ops.extend((args, p.texture_plan(*args)) for args in it.textures)
+    start = 0
+    for i in range(len(ops) - 1, 0, -1):
+        if isinstance(ops[i], tuple) and p.covers_frame(*ops[i][0], ops[i][1]):
+            start = i
+            break
+    for op in ops[start:]:
+        if op is None:
+            if c[2] > 0.0:
+                _draw_ground(p, scene.seed)
+            else:
+                np.copyto(img, _sky_frame(intr.width, intr.height))
+        elif isinstance(op, Item):
+            p.item_faces(op)
+        elif op[1] is not None:
+            p._draw_texture(*op[1])
     return img
 
 

@@ -105,6 +105,17 @@ def look_rotation(yaw_rad: float, pitch_rad: float, roll_rad: float = 0.0) -> np
     return np.column_stack([x, y, fwd])
 
 
+_EYE3 = np.eye(3)
+_ORTHO_TOL = 1e-6 + 1e-5 * np.abs(_EYE3)  # atol + rtol * |b| of np.allclose(a, b, atol=1e-6)
+
+
+def _cross3(a, b) -> np.ndarray:
+    """np.cross of two 3-vectors, the same products and differences without its overhead."""
+    a0, a1, a2 = (float(x) for x in a)
+    b0, b1, b2 = (float(x) for x in b)
+    return np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+
+
 def _check_pose(cam_pos_w, R_wc) -> tuple[np.ndarray, np.ndarray]:
     c = np.asarray(cam_pos_w, dtype=float)
     R = np.asarray(R_wc, dtype=float)
@@ -112,7 +123,8 @@ def _check_pose(cam_pos_w, R_wc) -> tuple[np.ndarray, np.ndarray]:
         raise ValueError(f"cam_pos_w must be 3 finite numbers, got shape {c.shape}")
     if R.shape != (3, 3) or not np.all(np.isfinite(R)):
         raise ValueError(f"R_wc must be a finite 3x3 matrix, got shape {R.shape}")
-    if not np.allclose(R.T @ R, np.eye(3), atol=1e-6) or np.linalg.det(R) < 0:
+    # np.allclose(R.T @ R, I, atol=1e-6) without its per-call overhead: the same comparison
+    if not np.all(np.abs(R.T @ R - _EYE3) <= _ORTHO_TOL) or np.linalg.det(R) < 0:
         raise ValueError("R_wc must be a proper rotation (orthonormal, det +1)")
     return c, R
 
@@ -201,6 +213,12 @@ class _Painter:
         z = vc[:, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             uv = vc[:, :2] / z[:, None] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
+        if z.min() >= Z_NEAR_M:  # all in front: an item wholly beside the frame paints nothing
+            lo, hi = uv.min(axis=0), uv.max(axis=0)
+            if (hi[0] < -2.0 or hi[1] < -2.0 or lo[0] > self.intr.width + 1.0
+                    or lo[1] > self.intr.height + 1.0):
+                return
+        with np.errstate(invalid="ignore"):
             # rows behind the camera turn into garbage here; no face that uses them takes them
             pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
         starts = it.starts
@@ -230,7 +248,7 @@ class _Painter:
         """Where and how :meth:`texture` warps: (src level, homography, patch box, supersampling,
         image polygon, clipped, level), or None when nothing of it is in view."""
         h = tex.half_m
-        normal = np.cross(ex_w, ey_w)
+        normal = _cross3(ex_w, ey_w)
         if float(np.dot(normal, self.c - origin_w)) <= 0.0:
             return None  # seen from behind
         corners = np.array([origin_w + sx * h * ex_w + sy * h * ey_w
@@ -283,7 +301,7 @@ class _Painter:
         rays = self.R @ np.array([[(-1.0 - u0) / f, (W - u0) / f, (W - u0) / f, (-1.0 - u0) / f],
                                   [(-1.0 - v0) / f, (-1.0 - v0) / f, (H - v0) / f, (H - v0) / f],
                                   [1.0, 1.0, 1.0, 1.0]])
-        normal = np.cross(ex_w, ey_w)
+        normal = _cross3(ex_w, ey_w)
         denom = normal @ rays
         if not np.all(denom < 0.0):  # seen from the front, the plane is ahead along these rays
             return False

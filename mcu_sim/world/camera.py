@@ -403,6 +403,18 @@ def _near_rows_from(Hi: np.ndarray, x0: int, x1: int, y0: int, y1: int, lo: floa
     the floor at tile-texel coordinates within [lo, hi] (``Hi``: pixel -> tile texel). A row
     maps to a segment of the floor, so its two end pixels decide; ``sign`` is the sign of the
     homogeneous coordinate on the floor (the other sign is behind the camera)."""
+    # the box maps to a convex quadrilateral when its corners are all on the floor: when they
+    # are also all within [lo, hi] so is every pixel (the usual case: the camera looks down)
+    (a, b, c), (d, e, f), (g, h, i) = Hi.tolist()
+    for x, y in ((x0, y0), (x1 - 1, y0), (x0, y1 - 1), (x1 - 1, y1 - 1)):
+        w = g * x + h * y + i
+        if not w * sign > 1e-12:
+            break
+        tx, ty = (a * x + b * y + c) / w, (d * x + e * y + f) / w
+        if not (lo <= tx <= hi and lo <= ty <= hi):
+            break
+    else:
+        return y0
     m = y1 - y0
     ends = np.empty((3, 2 * m))
     ends[0, :m], ends[0, m:] = x0, x1 - 1

@@ -221,8 +221,8 @@ class _Painter:
         with np.errstate(invalid="ignore"):
             # rows behind the camera turn into garbage here; no face that uses them takes them
             pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
-        starts = it.starts
-        z_min = np.minimum.reduceat(z, starts[:-1])
+        starts = it.starts.tolist()  # plain ints and floats: cheaper in the per-face loop
+        z_min = np.minimum.reduceat(z, it.starts[:-1]).tolist()
         colours = _face_colours(it)
         for i in np.flatnonzero(visible).tolist():
             a, b = starts[i], starts[i + 1]

@@ -11,6 +11,11 @@ back-face-culled solid faces (``cv2.fillConvexPoly`` at 1/16 px) and planar text
 card, guidance board) warped by homography from a mip level that matches their projected size.
 Every polygon is clipped against the near plane in camera coordinates first, so nothing behind
 the camera is drawn. Then motion blur, brightness and Gaussian noise, all seeded.
+
+Speed (same picture): the ground is drawn only below the horizon, warped from a 3 x 3 mosaic of
+the tile near the camera and remapped at wrapped float64 texel coordinates towards the horizon
+(OpenCV's BORDER_WRAP goes pixel by pixel); a texture opaque over the whole frame (a marker card
+seen from close above) makes everything painted before it unnecessary, so it is not painted.
 """
 
 from __future__ import annotations

@@ -88,13 +88,7 @@ class _PlainEncoder(QuadratureEncoder):
     """The encoder without the standing-shaft shortcut (reference)."""
 
     def set_ticks(self, count: int, t_cycle: int, now_cycle: int) -> None:
-        here = self.position_at(now_cycle)
-        if t_cycle <= now_cycle:
-            self._t0 = self._t1 = now_cycle
-            self._c0 = self._c1 = count
-        else:
-            self._t0, self._c0 = now_cycle, here
-            self._t1, self._c1 = t_cycle, count
+        self._new_segment(count, t_cycle, now_cycle)  # always a new segment
 
 
 @settings(max_examples=150, deadline=None)

@@ -46,6 +46,10 @@ class QuadratureEncoder:
             # the shaft stands at the count it reached (a standing wheel): the segment
             # [now, t_cycle] would be flat at that count, which position_at returns already
             return
+        self._new_segment(count, t_cycle, now_cycle)
+
+    def _new_segment(self, count: int, t_cycle: int, now_cycle: int) -> None:
+        """Edges from the position now to ``count`` at ``t_cycle`` (at once if not later)."""
         here = self.position_at(now_cycle)
         if t_cycle <= now_cycle:
             self._t0 = self._t1 = now_cycle

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from mcu_sim.world import camera as cam
+from mcu_sim.world import camera_ground as ground
 from mcu_sim.world import markers as mk
 from mcu_sim.world.camera import Intrinsics, look_rotation, render_clean
 from mcu_sim.world.camera_scene import Obstacle, Scene, Target, solids_of_scene
@@ -72,8 +73,8 @@ def test_far_floor_rows_are_drawn_and_sky_is_sky():
     horizon_row = int(np.flatnonzero(floor.any(axis=1))[0])
     # rows just below the horizon are floor far beyond the mosaic: drawn, not left empty
     band = img[horizon_row + 2:horizon_row + 12]
-    assert np.abs(band.astype(int) - np.array(cam._SKY_RGB)).sum(axis=-1).min() > 0
-    assert (img[:horizon_row - 3] == np.array(cam._SKY_RGB, np.uint8)).all()
+    assert np.abs(band.astype(int) - np.array(ground.SKY_RGB)).sum(axis=-1).min() > 0
+    assert (img[:horizon_row - 3] == np.array(ground.SKY_RGB, np.uint8)).all()
 
 
 def _painted_without_shortcut(scene, pos, R):
@@ -81,7 +82,7 @@ def _painted_without_shortcut(scene, pos, R):
     c, Rm = np.asarray(pos, float), np.asarray(R, float)
     img = np.empty((INTR.height, INTR.width, 3), np.uint8)
     p = cam._Painter(img, c, Rm, INTR)
-    cam._draw_ground(p, scene.seed)
+    ground.draw_ground(p, scene.seed)
     items = sorted(solids_of_scene(scene), key=lambda it: -float(np.linalg.norm(it.ref_w - c)))
     for it in items:
         p.item_faces(it)

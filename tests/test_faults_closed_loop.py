@@ -7,38 +7,16 @@ recovers; after an MCU reset the host opens the session again.
 """
 
 import pytest
+from faulted_loop import faulted_loop
 
-from host.app_factory import build_host_app
-from host.lockstep_client import LockstepClient
-from link.inproc import inproc_pair
 from mcu_sim.faults import FaultPlan, Window
-from mcu_sim.faults.wrappers import wrap_for_faults
-from mcu_sim.mcu import Mcu
-from mcu_sim.rig import Rig, RigConfig
-from mcu_sim.rig_plant import WorldPlant
-from tools.run_folder import TraceWriter
-from tools.run_job import host_config, resolve_scenario
-from tools.runner import InprocHost, run_session
 
 
 def _run(tmp_path, plan: FaultPlan, seconds: float, seed: int = 1):
-    _, sc = resolve_scenario("paper000-exp1")
-    port, peer = inproc_pair(f"faults-{seed}")
-    host = InprocHost(LockstepClient(build_host_app(host_config(sc)), peer))
-    fr, mcu, plant, host = wrap_for_faults(plan, seed, Mcu(), WorldPlant(sc, seed), host)
-    rig = Rig(mcu, plant, port, RigConfig(quantum_us=5_000, couple_us=2_500))
-    trace = TraceWriter(tmp_path / "trace.jsonl")
     duties = []
-    try:
-        res = run_session(rig, host, trace, time_limit_us=int(seconds * 1e6),
-                          on_quantum=lambda t: duties.append((t, mcu.inner.wheel_duty())))
-    finally:
-        trace.close()
-        host.close()
-        port.close()
-        peer.close()
-    faults, safety = fr.summary()
-    return res, faults, safety, mcu.inner, duties, tmp_path / "trace.jsonl"
+    run = faulted_loop(tmp_path, plan, seconds, seed, session=lambda mcu, plant: {
+        "on_quantum": lambda t: duties.append((t, mcu.inner.wheel_duty()))})
+    return run.res, run.faults, run.safety, run.mcu.inner, duties, run.trace_path
 
 
 def test_host_crash_in_the_loop_stops_wheels_and_is_recorded(tmp_path):

@@ -12,48 +12,33 @@
 
 from __future__ import annotations
 
+from faulted_loop import faulted_loop
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.app_factory import build_host_app
-from host.lockstep_client import LockstepClient
-from link.inproc import inproc_pair
 from mcu_sim.avr.encoder import QuadratureEncoder
 from mcu_sim.faults import FaultPlan
 from mcu_sim.faults.safety import SafetyMonitor
-from mcu_sim.faults.wrappers import wrap_for_faults
-from mcu_sim.mcu import Mcu
-from mcu_sim.rig import Rig, RigConfig
 from mcu_sim.rig_plant import WorldPlant
-from tools.run_folder import TraceWriter
-from tools.run_job import host_config, resolve_scenario
-from tools.runner import InprocHost, run_session
+from tools.run_job import resolve_scenario
 
 _SHORTCUTS = ("advance_to", "advance_outputs", "wheel_duty", "set_encoder_ticks",
               "uart_tx_take", "servo_pulses_us")
 
 
 def _run(tmp_path, plan: FaultPlan, general: bool, seconds: float = 1.5):
-    _, sc = resolve_scenario("paper000-exp1")
-    port, peer = inproc_pair(f"fast-{general}")
-    host = InprocHost(LockstepClient(build_host_app(host_config(sc)), peer))
-    fr, mcu, plant, host = wrap_for_faults(plan, 1, Mcu(), WorldPlant(sc, 1), host)
-    bound = [name for name in _SHORTCUTS if name in vars(mcu)]
-    if general:
-        for name in bound:
-            del mcu.__dict__[name]  # back to the class's general methods
-    rig = Rig(mcu, plant, port, RigConfig(quantum_us=5_000, couple_us=2_500))
-    trace = TraceWriter(tmp_path / f"trace-{general}.jsonl")
-    try:
-        res = run_session(rig, host, trace, time_limit_us=int(seconds * 1e6),
-                          truth=plant.truth)
-    finally:
-        trace.close()
-        host.close()
-        port.close()
-        peer.close()
-    faults, safety = fr.summary()
-    return (trace.sha256(), faults, safety, mcu.inner.stats(), rig.stats, res.end_us), bound
+    bound: list[str] = []
+
+    def strip(mcu) -> None:
+        bound.extend(name for name in _SHORTCUTS if name in vars(mcu))
+        if general:
+            for name in bound:
+                del mcu.__dict__[name]  # back to the class's general methods
+
+    run = faulted_loop(tmp_path, plan, seconds, name=f"trace-{general}.jsonl", before=strip,
+                       session=lambda mcu, plant: {"truth": plant.truth})
+    return (run.trace.sha256(), run.faults, run.safety, run.mcu.inner.stats(), run.rig.stats,
+            run.res.end_us), bound
 
 
 def test_quiet_wrapper_shortcuts_change_nothing(tmp_path):

@@ -1,0 +1,57 @@
+"""One short closed-loop run of paper000-exp1 in process, wrapped for faults as tools/run_job does
+(shared by the fault and fast-path tests)."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from host.app_factory import build_host_app
+from host.lockstep_client import LockstepClient
+from link.inproc import inproc_pair
+from mcu_sim.faults import FaultPlan
+from mcu_sim.faults.wrappers import wrap_for_faults
+from mcu_sim.mcu import Mcu
+from mcu_sim.rig import Rig, RigConfig
+from mcu_sim.rig_plant import WorldPlant
+from tools.run_folder import TraceWriter
+from tools.run_job import host_config, resolve_scenario
+from tools.runner import InprocHost, run_session
+
+
+@dataclass
+class LoopRun:
+    res: Any
+    faults: dict
+    safety: dict
+    mcu: Any  # the FaultedMcu (its .inner is the Mcu)
+    rig: Rig
+    trace: TraceWriter
+    trace_path: Path
+
+
+def faulted_loop(tmp_path: Path, plan: FaultPlan, seconds: float, seed: int = 1,
+                 name: str = "trace.jsonl", before: Callable[[Any], None] | None = None,
+                 session: Callable[[Any, Any], dict] | None = None) -> LoopRun:
+    """Run ``seconds`` simulated; ``before(mcu)`` may change the wrapped MCU first and
+    ``session(mcu, plant)`` gives extra run_session arguments (truth, on_quantum...)."""
+    _, sc = resolve_scenario("paper000-exp1")
+    port, peer = inproc_pair(f"faulted-{seed}-{name}")
+    host = InprocHost(LockstepClient(build_host_app(host_config(sc)), peer))
+    fr, mcu, plant, host = wrap_for_faults(plan, seed, Mcu(), WorldPlant(sc, seed), host)
+    if before is not None:
+        before(mcu)
+    rig = Rig(mcu, plant, port, RigConfig(quantum_us=5_000, couple_us=2_500))
+    trace = TraceWriter(tmp_path / name)
+    try:
+        res = run_session(rig, host, trace, time_limit_us=int(seconds * 1e6),
+                          **(session(mcu, plant) if session is not None else {}))
+    finally:
+        trace.close()
+        host.close()
+        port.close()
+        peer.close()
+    faults, safety = fr.summary()
+    return LoopRun(res, faults, safety, mcu, rig, trace, tmp_path / name)

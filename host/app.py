@@ -251,7 +251,9 @@ class HostApp:
         finished load window; until then the detectors may wait. The lockstep client runs them
         right after it has sent the DONE of the quantum the frame arrived in, so the rig does not
         wait for them when that quantum holds a control tick. Nothing modelled depends on when
-        this runs."""
+        this runs, provided it runs before more UART bytes are fed (some detectors read the arm
+        pose from the newest telemetry): the lockstep client and the wall-time loop of
+        ``mobigrasp host`` call it right after each step."""
         job = self._vision
         if job is None or job.pending is None:
             return

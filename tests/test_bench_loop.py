@@ -15,6 +15,7 @@ def test_bench_loop_reports_rtf_against_the_strict_alternation_baseline(tmp_path
         assert len(runs) == 2 and all(r > 0 for r in runs)
         assert min(runs) <= fig[f"realtime_factor_{tag}"] <= max(runs)  # the median of them
         assert fig[f"sim_s_{tag}"] >= 0.4
+        assert 0.0 < fig[f"wall_host_s_{tag}"] < fig[f"wall_s_{tag}"]
     assert fig["speedup_pty_vs_lag0"] == round(
         fig["realtime_factor_pty"] / fig["realtime_factor_pty_lag0"], 3)
     assert fig["trace_equal_pty_inproc"] is True

@@ -243,6 +243,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         summary.update(_figures(res, plant, trace, snaps, limit_s))
         if error:
             summary["error"] = error
+        # where the wall time went (profiling only): over the pty the SIM side blocked on the
+        # host's DONEs for wall_host_s; in process it ran the host program for that long
+        inner = getattr(host, "inner", host)
+        summary["wall_host_s"] = round(getattr(inner, "wall_host_s", 0.0), 3)
         summary["frames_captured"] = rig.stats["frames_captured"] if rig else 0
         summary["frames_skipped_camera_off"] = rig.stats["frames_skipped"] if rig else 0
         summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}

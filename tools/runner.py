@@ -34,6 +34,7 @@ class InprocHost:
 
     def __init__(self, client: Any) -> None:
         self.client = client
+        self.wall_host_s = 0.0  # wall seconds spent running the host program (profiling only)
 
     def submit(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant now (in process nothing runs beside the rig)."""
@@ -42,8 +43,10 @@ class InprocHost:
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant (a GRANT holds only ints and bytes: passed as is; the DONE goes
         through the codec so its events are exactly what the socket would deliver)."""
+        t0 = time.perf_counter()
         done = self.client.serve(grant)
         self.client.after_done()
+        self.wall_host_s += time.perf_counter() - t0
         if not done.events and not done.load.get("windows"):
             # the rest is ints, tuples of int pairs, a str and bools: the codec would give
             # back equal values (most quanta; checked in tests/test_runner_pipelining.py)
@@ -133,6 +136,7 @@ class SocketHost:
         self._quiet_until = -1
         self._last_load: dict = {}
         self._ring: FrameRing | None = None  # frames out of band (link/frame_ring.py)
+        self.wall_host_s = 0.0  # wall seconds blocked on the host's DONEs (profiling only)
         self._encoding: _Ticket | None = None
         self._dir = tempfile.TemporaryDirectory(prefix="mobigrasp-ls-")
         self.path = os.path.join(self._dir.name, "lockstep.sock")
@@ -227,10 +231,12 @@ class SocketHost:
         """Read DONEs in order until ``ticket``'s has arrived."""
         while ticket.done is None:
             head = self._waiting[0]
+            t0 = time.perf_counter()
             try:
                 reply = ls.read_message(self.rfile)
             except (OSError, ls.LockstepClosed) as exc:
                 raise self._vanished(exc, head.start_us) from exc
+            self.wall_host_s += time.perf_counter() - t0
             if not isinstance(reply, ls.Done):
                 raise ls.LockstepError(f"expected DONE, got {type(reply).__name__}")
             if reply.until_us != head.until_us:

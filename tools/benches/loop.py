@@ -120,6 +120,9 @@ def run(args) -> dict:
                     round(r["realtime_factor"], 3) for r in rows]
                 results[f"sim_s_{transport}{tag}"] = sim_s
                 results[f"wall_s_{transport}{tag}"] = round(wall, 3)
+                # over the pty: the SIM side blocked on the host; in process: running the host
+                results[f"wall_host_s_{transport}{tag}"] = round(
+                    statistics.median(r.get("wall_host_s", 0.0) for r in rows), 3)
                 if progress_enabled():
                     print(f"  rtf {transport}{tag or ' (lag 1)'}: "
                           f"{results[f'realtime_factor_{transport}{tag}_runs']}", file=sys.stderr)

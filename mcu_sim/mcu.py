@@ -91,15 +91,7 @@ class Mcu:
         """:meth:`advance_to` ``t_us``, then (:meth:`servo_pulses_us`, :meth:`wheel_duty`): what
         the rig's coupling step reads right after advancing, in one call."""
         self.advance_to(t_us)
-        # servo_pulses_us() and wheel_duty() inlined: this runs at every coupling step
-        b = self.board
-        w1, w3 = b.timer1.last_width_ns, b.timer3.last_width_ns
-        w = b.wheel_left
-        left = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
-        w = b.wheel_right
-        right = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
-        return ((w1[0] / 1000.0, w1[1] / 1000.0, w1[2] / 1000.0,
-                 w3[0] / 1000.0, w3[1] / 1000.0, w3[2] / 1000.0), (left, right))
+        return self.servo_pulses_us(), self.wheel_duty()
 
     def _peripherals_to(self, cycle: int) -> int:
         # Each part is called only when it has something due by ``cycle`` (the same tests their

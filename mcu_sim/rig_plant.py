@@ -34,8 +34,11 @@ class WorldPlant:
         self.intrinsics = Intrinsics(f_px=cam.f_px, u0_px=cam.u0_px, v0_px=cam.v0_px)
         self.options = CameraOptions(noise_std=cam.noise_std, blur_px=cam.blur_px,
                                      brightness=cam.brightness)
-        # The rig's per-step calls go straight to the world (bound once: one Python frame less
-        # per call, twice per coupling step); the methods below stay for readers and other users.
+        # The PlantLike calls of the rig's coupling step (mcu_sim/rig.py) go straight to the
+        # world: step_to (whole 1 ms physics steps), set_servo_pulse_us (a servo's pulse width
+        # from the MCU's timer), set_wheel_duty (the motors' 8-bit PWM duties), encoder_ticks
+        # (cumulative counts for the MCU). Bound here, not wrapped: one Python frame less per
+        # call, several calls per coupling step.
         w = self.world
         self.step_to = w.step_to
         self.set_servo_pulse_us = w.set_servo_pulse_us
@@ -62,23 +65,7 @@ class WorldPlant:
         x, y, _ = self.world.base.pose()
         return x, y
 
-    # ---- PlantLike ----------------------------------------------------------------------
-    def step_to(self, t_us: int) -> None:
-        """Advance the physics (whole 1 ms steps) and accumulate the base's path length."""
-        self.world.step_to(t_us)
-
-    def set_servo_pulse_us(self, ch: int, pulse_us: int) -> None:
-        """Servo pulse width from the MCU's timer output."""
-        self.world.set_servo_pulse_us(ch, pulse_us)
-
-    def set_wheel_duty(self, left: int, right: int) -> None:
-        """Motor duties from the MCU's 8-bit PWM."""
-        self.world.set_wheel_duty(left, right)
-
-    def encoder_ticks(self) -> tuple[int, int]:
-        """Cumulative encoder counts for the MCU."""
-        return self.world.encoder_ticks()
-
+    # ---- PlantLike (with the calls bound in __init__) ------------------------------------
     def sonar_range_m(self, index: int) -> float | None:
         """Range of sonar ``index`` (ray casts done once per physics time, all sonars at once)."""
         w = self.world

@@ -88,6 +88,7 @@ class LockstepClient:
     def serve(self, grant: ls.Grant) -> ls.Done:
         """Run the host program through one granted quantum; returns the DONE to send."""
         app = self.app
+        self.before_input()
         self.clock.set_us(grant.start_us)
         data = self._read_exact(grant.uart_bytes)
         offset = 0
@@ -119,6 +120,12 @@ class LockstepClient:
                              "camera": app.wants_frames(),
                              "quiet_until": app.quiet_until_us()})
 
+    def before_input(self) -> None:
+        """Before a grant's UART bytes are fed: a frame's detectors still pending run now (some
+        read the arm pose from the newest telemetry). Usually after_done ran them already; not
+        when grants arrived in a batch (serve_stream answers those first)."""
+        self.app.resolve_vision()
+
     def after_done(self) -> None:
         """Work the DONE just sent did not need (a frame's detectors): done now, while the rig
         simulates, instead of before the DONE (HostApp.resolve_vision)."""
@@ -135,16 +142,20 @@ def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host",
     ``frame_source`` reads frames the rig sent out of band (link/frame_ring.FrameRingReader)."""
     wfile.write(ls.encode(ls.Hello(host_id=host_id)))
     wfile.flush()
+    out = bytearray()
     while True:
         msg = ls.read_message(rfile, frame_source)
         if isinstance(msg, ls.Grant):
-            reply = client.serve(msg)
+            out += ls.encode(client.serve(msg))
         elif isinstance(msg, ls.End):
-            wfile.write(ls.encode(client.bye()))
+            wfile.write(out + ls.encode(client.bye()))
             wfile.flush()
             return msg.reason
         else:
             raise ls.LockstepError(f"host expected GRANT or END, got {type(msg).__name__}")
-        wfile.write(ls.encode(reply))
+        if getattr(rfile, "buffered", 0):
+            continue  # more of a batch the rig sent in one write: its DONEs leave together
+        wfile.write(out)
         wfile.flush()
+        out.clear()
         client.after_done()

@@ -295,6 +295,35 @@ def read_message(stream: _Readable,
     return decode_body(kind, meta, blob, frame_source)
 
 
+class SocketReader:
+    """A blocking reader of a socket that tells how many bytes it holds already read
+    (``buffered``): the host answers a batch of GRANTs that arrived together with one write of
+    their DONEs (host/lockstep_client.serve_stream). A BufferedReader cannot say so without
+    blocking when it is empty."""
+
+    def __init__(self, sock: Any, chunk: int = 1 << 16) -> None:
+        self._sock = sock
+        self._buf = bytearray()
+        self._chunk = chunk
+
+    @property
+    def buffered(self) -> int:
+        """Bytes received and not read yet."""
+        return len(self._buf)
+
+    def read(self, n: int) -> bytes:
+        """``n`` bytes, fewer only when the peer closed (like a file's read)."""
+        buf = self._buf
+        while len(buf) < n:
+            data = self._sock.recv(max(self._chunk, n - len(buf)))
+            if not data:
+                break
+            buf += data
+        out = bytes(buf[:n])
+        del buf[:n]
+        return out
+
+
 def _read_exact(stream: _Readable, n: int) -> bytes:
     if n == 0:
         return b""

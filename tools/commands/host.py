@@ -34,6 +34,7 @@ def _config(args: argparse.Namespace) -> dict:
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from host.app_factory import build_host_app
     from host.lockstep_client import LockstepClient, serve_stream
+    from link import lockstep as ls
     from link.base import LinkClosed
     from link.frame_ring import FrameRingReader
     from link.registry import open_transport
@@ -45,8 +46,8 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     client = LockstepClient(build_host_app(cfg), port)
     frames = FrameRingReader()
     try:
-        serve_stream(client, sock.makefile("rb"), sock.makefile("wb"), host_id="mobigrasp-host",
-                     frame_source=frames)
+        serve_stream(client, ls.SocketReader(sock), sock.makefile("wb"),
+                     host_id="mobigrasp-host", frame_source=frames)
     except (LinkClosed, OSError) as exc:
         # the simulator died or closed the pty/socket mid-run (LockstepClosed is a
         # ConnectionError, an OSError): say so in one line and exit non-zero at once (issue 9)

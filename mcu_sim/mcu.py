@@ -163,6 +163,23 @@ class Mcu:
         self._tx_out = []
         return out
 
+    def tx_idle_through_us(self) -> int:
+        """Simulated µs through which no byte the firmware sends can finish leaving the TX pin,
+        provided nothing more arrives on the RX line: now while bytes are on their way out or
+        received bytes may still be answered; else the next telemetry time (a message queued
+        then needs at least one byte time to leave). Lets the rig hand the host a grant one
+        quantum early when it would be the same (mcu_sim/rig.py, docs/cosim.md)."""
+        b = self.board
+        usart = b.usart0
+        now = self._cycle // CYCLES_PER_US
+        if usart.next_tx_cycle() is not None or usart.next_rx_cycle() is not None \
+                or len(self.firmware.rx):
+            return now
+        due = self.firmware.next_unprompted_send_us()
+        if due is None:
+            return 1 << 62
+        return max(now, (b.reset_cycle + due * CYCLES_PER_US) // CYCLES_PER_US)
+
     @property
     def baud(self) -> float:
         """Actual USART0 baud rate."""

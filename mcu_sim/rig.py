@@ -147,6 +147,8 @@ class Rig:
         self._pulses_seen: tuple | None = None
         self._duty_sent: tuple[int, int] | None = None
         mcu.set_sonar_provider(self._sonar)
+        probe = getattr(mcu, "tx_idle_through_us", None)
+        self._tx_idle = probe if callable(probe) else None
 
     def _sonar(self, index: int) -> float | None:
         # The MCU polls one sonar at a time; the plant is at the last coupling step.
@@ -157,12 +159,33 @@ class Rig:
             self._sonar_cache[index] = self.plant.sonar_range_m(index)
         return self._sonar_cache[index]
 
-    def grants_due(self) -> int:
+    def grants_due(self, done: Done | None = None) -> int:
         """How many grants to issue before completing the quantum at now: the grant of
-        [now, now+Q) itself and ``host_lag_quanta`` beyond it, less those already issued."""
+        [now, now+Q) itself and ``host_lag_quanta`` beyond it, less those already issued.
+
+        Given ``done``, the DONE this quantum completes with, and with a lag, one more when it
+        would be the same grant issued a quantum later (:meth:`quiet_next_quantum`): the host
+        gets it one quantum of the rig's time earlier, with exactly the same content."""
         q = self.config.quantum_us
-        ahead = self.now_us + (self.config.host_lag_quanta + 1) * q
+        lag = self.config.host_lag_quanta
+        ahead = self.now_us + (lag + 1) * q
+        if lag and done is not None and self.quiet_next_quantum(done):
+            ahead += q
         return max(0, (ahead - self.granted_until_us) // q)
+
+    def quiet_next_quantum(self, done: Done) -> bool:
+        """Whether completing [now, now+Q) with ``done`` cannot give the host anything: no
+        camera frame slot falls in (now, now+Q], the host writes nothing in it, and the MCU can
+        finish sending no byte by now+Q (``tx_idle_through_us``: its TX line idle, nothing
+        received left to answer, the next telemetry not before now+Q). The grant issued at
+        now+Q would then hold what one issued now holds."""
+        if done.writes or self._tx_idle is None:
+            return False
+        end = self.now_us + self.config.quantum_us
+        if self.config.capture_time_us(self._next_frame) <= end:
+            return False
+        idle = self._tx_idle()
+        return idle is not None and idle >= end
 
     def grant(self) -> Grant:
         """The next quantum's grant (the one after the last issued, [now, now+Q) with no lag):

@@ -128,4 +128,6 @@ def test_elided_grants_would_have_got_exactly_the_predicted_done(transport, tmp_
         assert s["status"] == "finished", s.get("error")
         sha[verify] = s["trace_sha256"]
     assert sha[True] == sha[False]
-    assert len(checked) > 150  # about a third of the 600 quanta of 3 s are idle and quiet
+    # of the 600 quanta of 3 s, about 100 (pty: the grant after a control tick's often goes
+    # before the tick's DONE is read, Rig.grants_due) to 200 (in process) are idle and quiet
+    assert len(checked) > 60

@@ -276,8 +276,11 @@ class SocketHost:
         try:
             self._outbox += ls.encode(grant, frame_sink=self._share_frame)
             self._waiting.append(ticket)
-            # held back while the rig will not need its DONE soon and it brings no frames
-            if not self.promise(ticket) or grant.frames or len(self._waiting) > self.max_ahead:
+            # held back while the rig will not need its DONE soon and it brings no frames; the
+            # last one before a control tick's grant goes, with those held, ahead of that grant,
+            # so the host parses their bytes before the tick instead of at it
+            if (not self.promise(ticket) or grant.frames or len(self._waiting) > self.max_ahead
+                    or 2 * grant.until_us - grant.start_us > self._quiet_until):
                 self._flush()
         except OSError as exc:
             raise self._vanished(exc, grant.start_us) from exc
@@ -458,15 +461,14 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
                 res.reason = why
                 break
             # the DONE of [now, now+Q) (its grant first if not issued yet), then the grants up to
-            # now + (1 + host_lag_quanta) quanta: issued after that DONE was read, they are
-            # more often covered by its quiet_until (so not sent, or sent in one batch); the
-            # grants hold only what the MCU and camera produced before now either way
-            due = rig.grants_due()
-            while not inflight:
+            # now + (1 + host_lag_quanta) quanta, or one more when it would be the same later
+            # (Rig.grants_due): issued after that DONE was read, they are more often covered by
+            # its quiet_until (so not sent, or sent in one batch); the grants hold only what the
+            # MCU and camera produced before now either way
+            if not inflight:
                 inflight.append(submit(rig.grant()))
-                due -= 1
             done = needed(inflight.popleft())
-            for _ in range(due):
+            for _ in range(rig.grants_due(done)):
                 inflight.append(submit(rig.grant()))
             backlog.append(("done", done))
             # a DONE read now (also one a fault wrapper made up for a silent host) settles

@@ -63,6 +63,13 @@ class FaultedMcu:
     def __getattr__(self, name: str) -> Any:
         return getattr(self.inner, name)
 
+    def tx_idle_through_us(self) -> int | None:
+        """The MCU's own answer with an empty plan; None (cannot tell) with any fault planned:
+        a reset, a burst or held bytes can put bytes on the line at any time."""
+        if self.faults.plan.active():
+            return None
+        return self.inner.tx_idle_through_us()
+
     def advance_to(self, t_us: int) -> None:
         """Run the MCU to ``t_us``, resetting it on the way if the plan says so."""
         f, mcu = self.faults, self.inner

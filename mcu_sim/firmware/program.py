@@ -190,6 +190,13 @@ class Firmware:
             due = self.last_valid_us + wd_us
         return due
 
+    def next_unprompted_send_us(self) -> int | None:
+        """When the main loop next sends something nobody asked for (µs since reset): the next
+        telemetry; None if telemetry is off. Every other message answers a received frame
+        (dispatch.handle_frame). The rig uses it to hand the host a grant early (mcu.py
+        tx_idle_through_us)."""
+        return self.next_telemetry_us if self.params.values[_I_TELEMETRY_HZ] else None
+
     # -- outputs -------------------------------------------------------------------------------
     def write_ocr(self, ch: int) -> None:
         """Step channel ``ch`` towards its target and write its OCR (latched at BOTTOM)."""

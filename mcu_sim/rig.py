@@ -119,6 +119,7 @@ class Rig:
         self.granted_until_us = 0  # end of the last grant issued
         self._on_frame = on_frame
         self._tx_pending: list[tuple[int, bytes]] = []
+        self._tx_written = 0  # how many of _tx_pending are on the port already
         self._rx_ahead = bytearray()  # host bytes read for a DONE not completed yet
         self._frames_pending: list[tuple[int, int, Any]] = []
         self._next_frame = 0
@@ -196,11 +197,10 @@ class Rig:
                              f"({self.now_us} us)")
         chunks = []
         if self._tx_pending:
-            data = b"".join(d for _, d in self._tx_pending)
-            self.port.write(data)
+            self._write_tx()
             chunks = [(t, len(d)) for t, d in self._tx_pending if d]
-            self.stats["uart_to_host_bytes"] += len(data)
             self._tx_pending.clear()
+            self._tx_written = 0
         frames = []
         for seq, capture_us, rgb in self._frames_pending:
             if rgb is None:  # the host had its camera off: the frame slot passes, no pixels
@@ -236,6 +236,20 @@ class Rig:
             offset += n
         self._advance_to(until)
         self.stats["quanta"] += 1
+        self._write_tx()
+
+    def _write_tx(self) -> None:
+        # The MCU's bytes go on the port as soon as the quantum that produced them is done, not
+        # when the grant that announces them is issued (later, after the next DONE was waited
+        # for): the pty's line discipline has passed them on by the time the host reads them.
+        # The host reads only what a grant announces and keeps the rest for the next grants.
+        pending = self._tx_pending
+        if self._tx_written < len(pending):
+            data = b"".join(d for _, d in pending[self._tx_written:])
+            self._tx_written = len(pending)
+            if data:
+                self.port.write(data)
+                self.stats["uart_to_host_bytes"] += len(data)
 
     def _read_exact(self, n: int) -> bytes:
         # With grants ahead (host_lag_quanta >= 1) the host may already have written the bytes of

@@ -128,7 +128,8 @@ class Rig:
         self._sonar_cache: dict[int, float | None] = {}
         self._sonar_cache_us = -1
         self.stats = {"quanta": 0, "uart_to_host_bytes": 0, "uart_to_mcu_bytes": 0,
-                      "frames_captured": 0, "frames_skipped": 0}
+                      "frames_captured": 0, "frames_skipped": 0,
+                      "grants_early": 0}
         self.camera_on = True
         # a class of its own that has it (a delegating wrapper falls back to one per channel)
         self._all_pulses = callable(getattr(type(mcu), "servo_pulses_us", None))
@@ -169,10 +170,12 @@ class Rig:
         gets it one quantum of the rig's time earlier, with exactly the same content."""
         q = self.config.quantum_us
         lag = self.config.host_lag_quanta
-        ahead = self.now_us + (lag + 1) * q
+        due = max(0, (self.now_us + (lag + 1) * q - self.granted_until_us) // q)
         if lag and done is not None and self.quiet_next_quantum(done):
-            ahead += q
-        return max(0, (ahead - self.granted_until_us) // q)
+            early = max(0, (self.now_us + (lag + 2) * q - self.granted_until_us) // q) - due
+            self.stats["grants_early"] += early
+            due += early
+        return due
 
     def quiet_next_quantum(self, done: Done) -> bool:
         """Whether completing [now, now+Q) with ``done`` cannot give the host anything: no

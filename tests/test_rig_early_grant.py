@@ -43,6 +43,9 @@ def _record_grants(monkeypatch, tmp_path, early: bool) -> tuple[list, int, str]:
                               out=tmp_path / str(early), progress=False, plots=False,
                               time_limit_s=4.0))
     assert s["status"] == "finished", s.get("error")
+    assert s["lockstep"]["grants_early"] == issued_early[0]  # each quiet quantum: one early
+    # the last one or two grants (one early) are issued for quanta never run
+    assert len(grants) - 2 <= s["lockstep"]["quanta"] <= len(grants) - 1
     return grants, issued_early[0], s["trace_sha256"]
 
 

@@ -247,6 +247,12 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         # host's DONEs for wall_host_s; in process it ran the host program for that long
         inner = getattr(host, "inner", host)
         summary["wall_host_s"] = round(getattr(inner, "wall_host_s", 0.0), 3)
+        # lockstep traffic (profiling only; docs/cosim.md "Fewer messages"): quanta, grants
+        # issued a quantum early, grants not sent (their DONE known), socket writes of grants
+        summary["lockstep"] = {"quanta": rig.stats["quanta"] if rig else 0,
+                               "grants_early": rig.stats["grants_early"] if rig else 0,
+                               "grants_elided": getattr(inner, "elided", 0),
+                               "grant_writes": getattr(inner, "messages_sent", None)}
         summary["frames_captured"] = rig.stats["frames_captured"] if rig else 0
         summary["frames_skipped_camera_off"] = rig.stats["frames_skipped"] if rig else 0
         summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}

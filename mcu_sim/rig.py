@@ -161,17 +161,21 @@ class Rig:
             self._sonar_cache[index] = self.plant.sonar_range_m(index)
         return self._sonar_cache[index]
 
-    def grants_due(self, done: Done | None = None) -> int:
+    def grants_due(self, done: Done | None = None,
+                   early_wanted: Callable[[int], bool] | None = None) -> int:
         """How many grants to issue before completing the quantum at now: the grant of
         [now, now+Q) itself and ``host_lag_quanta`` beyond it, less those already issued.
 
         Given ``done``, the DONE this quantum completes with, and with a lag, one more when it
-        would be the same grant issued a quantum later (:meth:`quiet_next_quantum`): the host
-        gets it one quantum of the rig's time earlier, with exactly the same content."""
+        would be the same grant issued a quantum later (:meth:`quiet_next_quantum`) and
+        ``early_wanted(its start_us)`` (default: yes) says it helps: the host gets it one
+        quantum of the rig's time earlier, with exactly the same content."""
         q = self.config.quantum_us
         lag = self.config.host_lag_quanta
         due = max(0, (self.now_us + (lag + 1) * q - self.granted_until_us) // q)
-        if lag and done is not None and self.quiet_next_quantum(done):
+        if (lag and done is not None
+                and (early_wanted is None or early_wanted(self.granted_until_us + due * q))
+                and self.quiet_next_quantum(done)):
             early = max(0, (self.now_us + (lag + 2) * q - self.granted_until_us) // q) - due
             self.stats["grants_early"] += early
             due += early

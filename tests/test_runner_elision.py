@@ -89,6 +89,17 @@ def test_idle_grants_are_not_sent_and_the_rest_leave_in_batches():
         host.close()
 
 
+def test_only_the_grant_the_rig_will_wait_for_is_wanted_early():
+    host = _host()
+    try:
+        runner.needed(host.submit(_grant(0)))  # DONE read: quiet until 20 ms
+        assert host.early_wanted(20_000)  # the control tick's grant: its DONE will be waited for
+        assert not host.early_wanted(25_000)  # after it: elided or batched once that DONE is read
+        host.finish(ls.End(at_us=5000, reason="t"))
+    finally:
+        host.close()
+
+
 def test_a_grant_with_a_frame_is_not_held_back():
     host = _host()
     try:

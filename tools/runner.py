@@ -290,6 +290,13 @@ class SocketHost:
             return PendingDone(until_us=grant.until_us, load=ticket.promised, ticket=ticket)
         return PendingDone(until_us=grant.until_us, ticket=ticket)
 
+    def early_wanted(self, start_us: int) -> bool:
+        """Whether a grant starting at ``start_us`` is worth issuing a quantum early
+        (Rig.grants_due): the first one the host's last ``quiet_until`` does not cover (its
+        control tick; the rig will wait for that DONE). Later ones would only go out as claims
+        instead of being elided or batched once the tick's DONE is read."""
+        return start_us <= self._quiet_until
+
     def promise(self, ticket: _Ticket) -> bool:
         """Whether the last DONE read promises ``ticket``'s quantum quiet (its ``quiet_until``
         covers it); if so the promise is recorded on the ticket, to be checked when the real
@@ -409,6 +416,7 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
     backlog: deque[tuple[str, Any]] = deque()
     inflight: deque[ls.Done] = deque()  # DONEs of grants issued, for quanta not completed yet
     submit = getattr(host, "submit", host.exchange)  # a host without it answers each at once
+    early_wanted = getattr(host, "early_wanted", None)  # in process: every early grant
 
     def handle(done: ls.Done) -> None:
         nonlocal state_since, finished_at
@@ -468,7 +476,7 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
             if not inflight:
                 inflight.append(submit(rig.grant()))
             done = needed(inflight.popleft())
-            for _ in range(rig.grants_due(done)):
+            for _ in range(rig.grants_due(done, early_wanted)):
                 inflight.append(submit(rig.grant()))
             backlog.append(("done", done))
             # a DONE read now (also one a fault wrapper made up for a silent host) settles

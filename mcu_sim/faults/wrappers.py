@@ -232,6 +232,11 @@ class FaultedHost:
         """Serve the grant, or answer for a host that is not running (no bytes, no events)."""
         return self._serve(grant, self.inner.exchange)
 
+    def early_wanted(self, start_us: int) -> bool:
+        """The inner host's wish for early grants (tools/runner.SocketHost), else yes."""
+        wanted = getattr(self.inner, "early_wanted", None)
+        return True if wanted is None else wanted(start_us)
+
     def submit(self, grant: ls.Grant) -> ls.Done:
         """Like :meth:`exchange` without waiting (the runner's pipelined path)."""
         return self._serve(grant, self.inner.submit)

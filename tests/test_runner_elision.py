@@ -142,3 +142,21 @@ def test_elided_grants_would_have_got_exactly_the_predicted_done(transport, tmp_
     # of the 600 quanta of 3 s, about 100 (pty: the grant after a control tick's often goes
     # before the tick's DONE is read, Rig.grants_due) to 200 (in process) are idle and quiet
     assert len(checked) > 60
+
+
+def test_socket_reader_reads_exactly_and_tells_what_it_holds():
+    import socket
+
+    a, b = socket.socketpair()
+    try:
+        reader = ls.SocketReader(b, chunk=64)
+        a.sendall(ls.encode(ls.End(at_us=1, reason="x")) + ls.encode(ls.End(at_us=2, reason="y")))
+        assert ls.read_message(reader) == ls.End(1, "x")
+        assert reader.buffered > 0  # the second message came in the same read
+        assert ls.read_message(reader) == ls.End(2, "y") and reader.buffered == 0
+        a.sendall(ls.encode(ls.End(at_us=3, reason="z"))[:5])
+        a.close()
+        with pytest.raises(ls.LockstepClosed):
+            ls.read_message(reader)  # the peer went away mid-message
+    finally:
+        b.close()

@@ -175,7 +175,11 @@ def draw_ground(p: Painter, seed: int) -> None:
         if ys > y0:
             pts = _pixel_grid(W, H)[y0:ys, x0:x1].reshape(-1, 1, 2)
             txy = cv2.perspectiveTransform(pts, Hi)  # 0 where the ray is parallel to the floor
-            txy -= n * np.floor(txy * (1.0 / n))  # wrap into [0, n]
+            # wrap into [0, n]: txy -= n * floor(txy / n), the same products in one temporary
+            wraps = txy * (1.0 / n)
+            np.floor(wraps, out=wraps)
+            wraps *= n
+            txy -= wraps
             maps = txy.astype(np.float32).reshape(ys - y0, x1 - x0, 2)
             rgba = cv2.remap(_ground_wrapped(seed), maps, None, cv2.INTER_LINEAR,
                              borderMode=cv2.BORDER_WRAP)

@@ -5,6 +5,8 @@
 - _check_pose tells a proper rotation from a reflection and from a non-orthonormal matrix.
 - The pose-free geometry of a placed texture (normal, corners) is kept per placement: it is the
   one computed from the arrays in hand, also for a moving target's new arrays.
+- The arm's camera axes and platform transform, built from plain floats in one array call, are
+  bit for bit the vector expressions they replace.
 """
 
 from __future__ import annotations
@@ -83,3 +85,28 @@ def test_texture_geometry_is_that_of_the_arrays_in_hand():
     ey2 = np.array([-math.sin(1.0), math.cos(1.0), 0.0])
     assert np.array_equal(cam._texture_geom(tex, origin, ex2, ey2)[1],
                           _geometry(tex, origin, ex2, ey2)[1])
+
+
+def test_arm_camera_frames_in_plain_floats_equal_the_vector_expressions():
+    from mcu_sim.world import arm
+
+    rng = np.random.default_rng(7)
+    for _ in range(500):
+        q = rng.uniform(-4.0, 4.0, 6).tolist()
+        t1, t5 = q[1], q[5]
+        alpha = q[2] + q[3] + q[4]
+        ca, sa, c5, s5 = math.cos(alpha), math.sin(alpha), math.cos(t5), math.sin(t5)
+        z = np.array([ca * s5, ca * c5, sa])
+        x0, y0 = np.array([c5, -s5, 0.0]), np.array([sa * s5, sa * c5, -ca])
+        x = math.cos(t1) * x0 + math.sin(t1) * y0
+        y = math.cos(t1) * y0 - math.sin(t1) * x0
+        axes = arm.camera_axes_platform(q)
+        assert axes.tobytes() == np.column_stack([x, y, z]).tobytes()  # bit for bit
+        bx, by, h = rng.uniform(-5.0, 5.0, 3).tolist()
+        geom = arm.ARM_BY_METHOD["000"]
+        fwd = np.array([math.cos(h), math.sin(h), 0.0])
+        want = np.eye(4)
+        want[:3, 0], want[:3, 1] = np.array([math.sin(h), -math.cos(h), 0.0]), fwd
+        want[:3, 3] = [bx + geom.mount_forward_m * fwd[0], by + geom.mount_forward_m * fwd[1],
+                       geom.h_shoulder_m]
+        assert arm.platform_to_world(geom, (bx, by, h)).tobytes() == want.tobytes()

@@ -92,9 +92,26 @@ class WorldPlant:
         if key != self._clean_key:
             self._clean = render_clean(scene, pos, R, self.intrinsics)
             self._clean_key = key
+        if self._plain:
+            # no blur, gain or noise: apply_options would hand the image back as it is (seeding
+            # its generator, ~50 us per frame, for nothing); a copy, since the frame leaves
+            # the plant (host, snapshots)
+            return self._clean.copy()
         rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
         # a copy: the frame leaves the plant (host, snapshots) and options may return it as is
         return apply_options(self._clean.copy(), self.options, rng)
+
+    @property
+    def options(self) -> CameraOptions:
+        """The image degradations applied to every frame (scenario ``[camera]``)."""
+        return self._options
+
+    @options.setter
+    def options(self, value: CameraOptions) -> None:
+        self._options = value
+        # what apply_options leaves unchanged (its three steps each test the same)
+        self._plain = (not value.blur_px > 0.0 and value.brightness == 1.0
+                       and not value.noise_std > 0.0)
 
     # ---- truth for the trace ------------------------------------------------------------
     def sample_path(self) -> None:

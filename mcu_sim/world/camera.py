@@ -122,14 +122,21 @@ def _cross3(a, b) -> np.ndarray:
 
 
 def _check_pose(cam_pos_w, R_wc) -> tuple[np.ndarray, np.ndarray]:
+    # ndarray methods and plain floats instead of np.all / np.abs / np.linalg.det, whose
+    # dispatch costs more than the 3x3 work (called once per rendered frame)
     c = np.asarray(cam_pos_w, dtype=float)
     R = np.asarray(R_wc, dtype=float)
-    if c.shape != (3,) or not np.all(np.isfinite(c)):
+    if c.shape != (3,) or not np.isfinite(c).all():
         raise ValueError(f"cam_pos_w must be 3 finite numbers, got shape {c.shape}")
-    if R.shape != (3, 3) or not np.all(np.isfinite(R)):
+    if R.shape != (3, 3) or not np.isfinite(R).all():
         raise ValueError(f"R_wc must be a finite 3x3 matrix, got shape {R.shape}")
     # np.allclose(R.T @ R, I, atol=1e-6) without its per-call overhead: the same comparison
-    if not np.all(np.abs(R.T @ R - _EYE3) <= _ORTHO_TOL) or np.linalg.det(R) < 0:
+    if not (abs(R.T @ R - _EYE3) <= _ORTHO_TOL).all():
+        raise ValueError("R_wc must be a proper rotation (orthonormal, det +1)")
+    # orthonormal to 1e-6, so the determinant is +-1 to within ~1e-5: its sign by the cofactor
+    # expansion is the sign np.linalg.det gives
+    (a, b, cc), (d, e, f), (g, h, i) = R.tolist()
+    if a * (e * i - f * h) - b * (d * i - f * g) + cc * (d * h - e * g) < 0:
         raise ValueError("R_wc must be a proper rotation (orthonormal, det +1)")
     return c, R
 
@@ -196,13 +203,15 @@ class _Painter:
         self.img, self.c, self.R, self.intr = img, c, R, intr
         self.K = intr.matrix()
         self.light = _LIGHT
+        # the principal point as an array: what numpy makes of the list [u0, v0] in every sum
+        self._uv0 = np.array([intr.u0_px, intr.v0_px])
 
     def _image_poly(self, poly_w: np.ndarray) -> tuple[np.ndarray | None, bool]:
         pc_all = (poly_w - self.c) @ self.R
         pc = _clip_near(pc_all)  # pc_all itself when nothing is clipped
         if len(pc) < 3:
             return None, False
-        uv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
+        uv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + self._uv0
         return uv, pc is not pc_all and (len(pc) != len(pc_all) or not np.array_equal(pc, pc_all))
 
     def item_faces(self, it: Item) -> None:
@@ -216,19 +225,20 @@ class _Painter:
             return
         vc = (it.verts - self.c) @ self.R
         z = vc[:, 2]
+        # (one errstate for both: entering one costs as much as the arithmetic here)
         with np.errstate(divide="ignore", invalid="ignore"):
-            uv = vc[:, :2] / z[:, None] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
-        if z.min() >= Z_NEAR_M:  # all in front: an item wholly beside the frame paints nothing
-            lo, hi = uv.min(axis=0), uv.max(axis=0)
-            if (hi[0] < -2.0 or hi[1] < -2.0 or lo[0] > self.intr.width + 1.0
-                    or lo[1] > self.intr.height + 1.0):
-                return
-        with np.errstate(invalid="ignore"):
+            uv = vc[:, :2] / z[:, None] * self.intr.f_px + self._uv0
+            if z.min() >= Z_NEAR_M:  # all in front: an item wholly beside the frame paints nothing
+                lo, hi = uv.min(axis=0), uv.max(axis=0)
+                if (hi[0] < -2.0 or hi[1] < -2.0 or lo[0] > self.intr.width + 1.0
+                        or lo[1] > self.intr.height + 1.0):
+                    return
             # rows behind the camera turn into garbage here; no face that uses them takes them
             pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
         starts = it.starts.tolist()  # plain ints and floats: cheaper in the per-face loop
         z_min = np.minimum.reduceat(z, it.starts[:-1]).tolist()
         colours = _face_colours(it)
+        fill, img = cv2.fillConvexPoly, self.img
         for i in np.flatnonzero(visible).tolist():
             a, b = starts[i], starts[i + 1]
             if z_min[i] >= Z_NEAR_M:
@@ -237,9 +247,11 @@ class _Painter:
                 pc = _clip_near(vc[a:b])
                 if len(pc) < 3:
                     continue
-                fuv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + [self.intr.u0_px, self.intr.v0_px]
+                fuv = pc[:, :2] / pc[:, 2:3] * self.intr.f_px + self._uv0
                 pts = np.clip(np.rint(fuv * 16), -(2**26), 2**26).astype(np.int32)
-            cv2.fillConvexPoly(self.img, pts, colours[i], lineType=cv2.LINE_8, shift=4)
+            # (lineType, shift) passed by position: keyword parsing costs ~1 us of a ~5 us call,
+            # and an item has tens of faces
+            fill(img, pts, colours[i], cv2.LINE_8, 4)
 
     def texture(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w, plan=None) -> None:
         """Warp an RGBA planar texture (plane through origin_w spanned by unit ex_w, ey_w);
@@ -252,12 +264,9 @@ class _Painter:
     def texture_plan(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> tuple | None:
         """Where and how :meth:`texture` warps: (src level, homography, patch box, supersampling,
         image polygon, clipped, level), or None when nothing of it is in view."""
-        h = tex.half_m
-        normal = _cross3(ex_w, ey_w)
+        normal, corners = _texture_geom(tex, origin_w, ex_w, ey_w)
         if float(np.dot(normal, self.c - origin_w)) <= 0.0:
             return None  # seen from behind
-        corners = np.array([origin_w + sx * h * ex_w + sy * h * ey_w
-                            for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
         uv, clipped = self._image_poly(corners)
         if uv is None:
             return None
@@ -285,11 +294,9 @@ class _Painter:
             level = math.floor(math.log2(max(1.0, r_max / ss)))
             level = int(min(len(tex.levels) - 1, max(0, level)))
         src = tex.levels[level]
-        t = 2.0 * tex.half_m / src.shape[0]
-        A = np.array([[t, 0.0, t / 2 - tex.half_m], [0.0, -t, tex.half_m - t / 2], [0, 0, 1.0]])
         T = np.array([[1.0, 0, -x0], [0, 1.0, -y0], [0, 0, 1.0]])
-        S = np.array([[ss, 0.0, (ss - 1) / 2], [0.0, ss, (ss - 1) / 2], [0, 0, 1.0]])
-        return src, S @ T @ M @ A, (x0, y0, x1, y1), ss, uv, clipped, level
+        H = _supersample_matrix(ss) @ T @ M @ _texel_matrix(tex.half_m, src.shape[0])
+        return src, H, (x0, y0, x1, y1), ss, uv, clipped, level
 
     def covers_frame(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w, plan) -> bool:
         """True when the warped texture is opaque (alpha 255) on every pixel of the frame, so
@@ -301,12 +308,8 @@ class _Painter:
         r_safe = _opaque_radius_m(tex, plan[6])
         if r_safe <= 0.0:
             return False
-        f, u0, v0 = self.intr.f_px, self.intr.u0_px, self.intr.v0_px
-        W, H = self.intr.width, self.intr.height
-        rays = self.R @ np.array([[(-1.0 - u0) / f, (W - u0) / f, (W - u0) / f, (-1.0 - u0) / f],
-                                  [(-1.0 - v0) / f, (-1.0 - v0) / f, (H - v0) / f, (H - v0) / f],
-                                  [1.0, 1.0, 1.0, 1.0]])
-        normal = _cross3(ex_w, ey_w)
+        rays = self.R @ _corner_rays(self.intr)
+        normal = _texture_geom(tex, origin_w, ex_w, ey_w)[0]
         denom = normal @ rays
         if not np.all(denom < 0.0):  # seen from the front, the plane is ahead along these rays
             return False
@@ -344,6 +347,58 @@ class _Painter:
             a = alpha[rim].astype(np.uint16)[:, None]
             mixed = (roi[rim].astype(np.uint16) * (255 - a) + rgb[rim] * a + 127) // 255
             roi[rim] = mixed.astype(np.uint8)
+
+
+_TEX_GEOM: dict = {}
+
+
+def _texture_geom(tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> tuple[np.ndarray, np.ndarray]:
+    """(unit normal, the four corners (4, 3)) of a placed texture: they do not depend on the
+    camera, so they are computed once per placement. Cached on the identity of the arrays (an
+    item of a scene is cached and read-only, so a standing target hits; a moving target's new
+    arrays miss and are computed as before); the entry holds them, so no id is reused."""
+    key = (id(tex), id(origin_w), id(ex_w), id(ey_w))
+    hit = _TEX_GEOM.get(key)
+    if (hit is not None and hit[0] is tex and hit[1] is origin_w and hit[2] is ex_w
+            and hit[3] is ey_w):
+        return hit[4], hit[5]
+    h = tex.half_m
+    normal = _cross3(ex_w, ey_w)
+    corners = np.array([origin_w + sx * h * ex_w + sy * h * ey_w
+                        for sx, sy in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+    if len(_TEX_GEOM) >= 256:
+        _TEX_GEOM.clear()
+    _TEX_GEOM[key] = (tex, origin_w, ex_w, ey_w, normal, corners)
+    return normal, corners
+
+
+@lru_cache(maxsize=64)
+def _texel_matrix(half_m: float, n: int) -> np.ndarray:
+    """Texel (col, row) of an n x n level -> metres in the texture plane (read-only)."""
+    t = 2.0 * half_m / n
+    A = np.array([[t, 0.0, t / 2 - half_m], [0.0, -t, half_m - t / 2], [0, 0, 1.0]])
+    A.flags.writeable = False
+    return A
+
+
+@lru_cache(maxsize=8)
+def _supersample_matrix(ss: int) -> np.ndarray:
+    """Patch pixel -> supersampled pixel centre for the factor ``ss`` (read-only)."""
+    S = np.array([[ss, 0.0, (ss - 1) / 2], [0.0, ss, (ss - 1) / 2], [0, 0, 1.0]])
+    S.flags.writeable = False
+    return S
+
+
+@lru_cache(maxsize=8)
+def _corner_rays(intr: Intrinsics) -> np.ndarray:
+    """Camera-frame rays (3, 4) through the frame's corners pushed out by a pixel (read-only)."""
+    f, u0, v0 = intr.f_px, intr.u0_px, intr.v0_px
+    W, H = intr.width, intr.height
+    rays = np.array([[(-1.0 - u0) / f, (W - u0) / f, (W - u0) / f, (-1.0 - u0) / f],
+                     [(-1.0 - v0) / f, (-1.0 - v0) / f, (H - v0) / f, (H - v0) / f],
+                     [1.0, 1.0, 1.0, 1.0]])
+    rays.flags.writeable = False
+    return rays
 
 
 _OPAQUE_R: dict = {}

@@ -42,6 +42,23 @@ def _ground_wrapped(seed: int) -> np.ndarray:
                                        mode="wrap"))
 
 
+@lru_cache(maxsize=8)
+def _tile_matrix(t: float, h: float) -> np.ndarray:
+    """Tile texel (col, row) -> metres about the tile centre, texel size ``t`` (read-only)."""
+    A = np.array([[t, 0.0, t / 2 - h], [0.0, -t, h - t / 2], [0, 0, 1.0]])
+    A.flags.writeable = False
+    return A
+
+
+@lru_cache(maxsize=8)
+def _mosaic_shift(kn: int) -> np.ndarray:
+    """Mosaic texel (col, row) -> tile texel: the camera's tile starts ``kn`` texels in
+    (read-only)."""
+    S = np.array([[1.0, 0.0, -kn], [0.0, 1.0, -kn], [0.0, 0.0, 1.0]])
+    S.flags.writeable = False
+    return S
+
+
 @lru_cache(maxsize=4)
 def sky_frame(width: int, height: int) -> np.ndarray:
     """A frame of sky colour (read-only: copied into frames)."""
@@ -128,8 +145,7 @@ def draw_ground(p: Painter, seed: int) -> None:
     k = _MOSAIC_TILES // 2
     origin = np.array([round(p.c[0] / (2 * h)) * 2 * h, round(p.c[1] / (2 * h)) * 2 * h, 0.0])
     M = p.K @ np.column_stack([p.R.T[:, 0], p.R.T[:, 1], p.R.T @ (origin - p.c)])
-    A = np.array([[t, 0.0, t / 2 - h], [0.0, -t, h - t / 2], [0, 0, 1.0]])  # tile texel -> m
-    H_tile = M @ A  # tile texel -> pixel
+    H_tile = M @ _tile_matrix(t, h)  # tile texel -> pixel
     sky, floor = _horizon_split(p)
     W, H = p.intr.width, p.intr.height
     x0 = y0 = 0
@@ -151,16 +167,19 @@ def draw_ground(p: Painter, seed: int) -> None:
         sign = 1.0 if Hi[2, 0] * cx + Hi[2, 1] * cy + Hi[2, 2] > 0 else -1.0
         ys = _near_rows_from(Hi, x0, x1, y0, y1, -k * n + 1.0, (k + 1) * n - 2.0, sign)
         if ys < y1:
-            # mosaic texel (col, row) = tile texel + k * n
-            S = np.array([[1.0, 0.0, -k * n], [0.0, 1.0, -k * n], [0.0, 0.0, 1.0]])
             T = np.array([[1.0, 0.0, -x0], [0.0, 1.0, -ys], [0.0, 0.0, 1.0]])
-            rgba = cv2.warpPerspective(_ground_mosaic(seed), T @ H_tile @ S, (x1 - x0, y1 - ys),
+            rgba = cv2.warpPerspective(_ground_mosaic(seed), T @ H_tile @ _mosaic_shift(k * n),
+                                       (x1 - x0, y1 - ys),
                                        flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
             _put_rgb(p.img, rgba, x0, ys)
         if ys > y0:
             pts = _pixel_grid(W, H)[y0:ys, x0:x1].reshape(-1, 1, 2)
             txy = cv2.perspectiveTransform(pts, Hi)  # 0 where the ray is parallel to the floor
-            txy -= n * np.floor(txy * (1.0 / n))  # wrap into [0, n]
+            # wrap into [0, n]: txy -= n * floor(txy / n), the same products in one temporary
+            wraps = txy * (1.0 / n)
+            np.floor(wraps, out=wraps)
+            wraps *= n
+            txy -= wraps
             maps = txy.astype(np.float32).reshape(ys - y0, x1 - x0, 2)
             rgba = cv2.remap(_ground_wrapped(seed), maps, None, cv2.INTER_LINEAR,
                              borderMode=cv2.BORDER_WRAP)

@@ -12,7 +12,7 @@ from host import kinematics
 from host.control.fuzzy import FuzzyParams
 from host.fixedpoint import atan2_mrad, isqrt
 from host.planning.bezier000 import Params000
-from host.posture import PostureParams, distribute_alpha
+from host.posture import distribute_alpha
 from host.search import ArmSearch, SearchParams
 from host.task_drive import (
     close_in,
@@ -459,8 +459,7 @@ class TaskStates(GraspStates):
             d_alpha = -atan2_mrad(vm - self.cam.v0_px * 16, self.cam.f_px * 16)
             cap = self.p.posture_step_mrad
             d_alpha = max(-cap, min(cap, d_alpha))
-            pp = PostureParams(**{"max_step_mrad": cap, **self.p.posture})
-            d2, d3, d4 = distribute_alpha(d_alpha, *self.arm[2:5], pp)
+            d2, d3, d4 = distribute_alpha(d_alpha, *self.arm[2:5], self.posture_params(cap))
         self.set_arm(now, self.arm[2] + d2, self.arm[3] + d3, self.arm[4] + d4, th5)
 
     # --- ADJUST -------------------------------------------------------------------------------

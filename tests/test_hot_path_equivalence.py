@@ -161,3 +161,56 @@ def test_retransmit_queue_membership():
     assert 4 in q and 5 not in q and q.in_flight() == [4]
     q.ack(4)
     assert 4 not in q
+
+
+def test_clamp_joints_short_path_equals_clamp_mrad():
+    import numpy as np
+
+    rng = random.Random(2)
+    for _ in range(300):
+        angles = [rng.randrange(-4000, 4000) for _ in range(6)]
+        want = tuple(arm_calib.clamp_mrad(ch, a) for ch, a in enumerate(angles))
+        assert arm_calib.clamp_joints_mrad(angles) == want
+        assert arm_calib.clamp_joints_mrad(tuple(angles)) == want
+    with pytest.raises(ValueError, match="angle_mrad must be an int"):
+        arm_calib.clamp_joints_mrad([0, 0, 0, 0, 0, np.int64(5)])
+    with pytest.raises(ValueError, match="need 6"):
+        arm_calib.clamp_joints_mrad([0] * 5)
+
+
+def test_task_clean_keeps_clean_inputs_and_cleans_the_others():
+    from dataclasses import replace
+
+    from host.task import Task, TaskInputs
+
+    task = Task("000")
+    clean = TaskInputs(joints_mrad=(0, 1, -2, -3, 4, 5), x_mm=10, y_mm=-20, heading_mrad=30,
+                       v_mmps=4, sonar_mm=(1, 2), detections={"a": 1})
+    got, dets = task._clean(clean)
+    assert got is clean and dets is clean.detections and task.last_pose == (10, -20, 30, 4)
+    assert task.counters["bad_inputs"] == 0
+
+    class Int(int):
+        pass
+
+    odd = replace(clean, joints_mrad=[0, 1, -2, -3, 4, Int(5)], x_mm=True, v_mmps=Int(7))
+    got, dets = task._clean(odd)
+    assert got == replace(clean, x_mm=1, v_mmps=7) and type(got.joints_mrad) is tuple
+    assert all(type(v) is int for v in (*got.joints_mrad, got.x_mm, got.v_mmps))
+    assert task.last_pose == (1, -20, 30, 7) and task.counters["bad_inputs"] == 0
+    got, dets = task._clean(replace(clean, joints_mrad=(1, 2), detections=None))
+    assert got.joints_mrad is None and dets == {} and task.counters["bad_inputs"] == 2
+
+
+def test_posture_params_follow_the_task_params():
+    from dataclasses import replace
+
+    from host.task import Task
+
+    task = Task("000")
+    pp = task.posture_params()
+    assert pp.max_step_mrad == task.p.posture_step_mrad and task.posture_params() is pp
+    assert task.posture_params(7).max_step_mrad == 7
+    task.p = replace(task.p, posture_step_mrad=5, posture={"margin_mode": "limits"})
+    pp2 = task.posture_params()
+    assert (pp2.max_step_mrad, pp2.margin_mode) == (5, "limits")

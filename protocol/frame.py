@@ -129,6 +129,12 @@ class FrameParser:
             return []
         stats = self.stats
         stats.bytes_in += len(chunk)
+        if b"\x00" not in chunk and not self._skipping \
+                and len(self._buf) + len(chunk) <= MAX_ENCODED:
+            # the front part of a frame (the UART delivers frames in pieces): only buffered,
+            # exactly as the general path below would do with it
+            self._buf += bytes(chunk)
+            return []
         data = self._buf + bytes(chunk) if self._buf else bytes(chunk)
         pieces = data.split(b"\x00")
         tail = pieces.pop()

@@ -128,6 +128,7 @@ class Message:
     _TEXT_MAX: ClassVar[int] = 0
     _STRUCT: ClassVar[struct.Struct]
     _LAYOUT: ClassVar[tuple[tuple[str, int, int], ...]]
+    _CHECKS: ClassVar[tuple[tuple[str, int, int, int], ...]]
     _DYNAMIC_RANGE: ClassVar[bool]
     _TRUSTED_DECODE: ClassVar[bool]
 
@@ -143,6 +144,7 @@ class Message:
             layout.append((f.name, i, f.count))
             i += f.count
         cls._LAYOUT = tuple(layout)
+        cls._CHECKS = tuple((f.name, f.lo, f.hi, f.count) for f in cls._SPEC)
         cls._DYNAMIC_RANGE = cls._range is not Message._range
         # A payload of a type whose every field may take any value of its struct code (and
         # that has no text) decodes to a valid message by construction: decode() then skips
@@ -153,6 +155,12 @@ class Message:
     def _range(self, f: _F) -> tuple[int, int]:
         return f.lo, f.hi
 
+    def _checks(self) -> tuple[tuple[str, int, int, int], ...]:
+        """(name, lo, hi, count) of each field in wire order, with this message's ranges."""
+        if not self._DYNAMIC_RANGE:
+            return self._CHECKS
+        return tuple((f.name, *self._range(f), f.count) for f in self._SPEC)
+
     def _plain_values(self) -> list[int] | None:
         """The wire values in order if every field already is a plain int (a tuple of plain
         ints for the counted ones) within its range, else None (then the full check decides).
@@ -160,21 +168,19 @@ class Message:
         exactly the values the full check below passes unchanged."""
         values: list[int] = []
         d = self.__dict__
-        rng = self._range if self._DYNAMIC_RANGE else None
-        for f in self._SPEC:
-            lo, hi = rng(f) if rng is not None else (f.lo, f.hi)
-            value = d.get(f.name)
-            if f.count == 1:
+        for name, lo, hi, count in self._checks():
+            value = d.get(name)
+            if count == 1:
                 if type(value) is not int or not lo <= value <= hi:
                     return None
                 values.append(value)
             else:
-                if type(value) is not tuple or len(value) != f.count:
+                if type(value) is not tuple or len(value) != count:
                     return None
                 for x in value:
                     if type(x) is not int or not lo <= x <= hi:
                         return None
-                values.extend(value)
+                values += value
         return values
 
     def __post_init__(self) -> None:
@@ -324,6 +330,19 @@ class SetServos(Message):
         if self.mode == SERVO_MODE_PULSE_US:
             return SERVO_PULSE_MIN_US, SERVO_PULSE_MAX_US
         return -SERVO_MRAD_LIMIT, SERVO_MRAD_LIMIT
+
+    def _checks(self) -> tuple[tuple[str, int, int, int], ...]:
+        # the table of each valid mode is built once (a host command every control tick)
+        mode = self.mode
+        if type(mode) is int and mode in (SERVO_MODE_PULSE_US, SERVO_MODE_MRAD):
+            checks = _SERVO_CHECKS.get(mode)
+            if checks is None:
+                checks = _SERVO_CHECKS[mode] = super()._checks()
+            return checks
+        return super()._checks()
+
+
+_SERVO_CHECKS: dict[int, tuple] = {}  # SetServos mode -> _checks() of that mode
 
 
 @dataclass(frozen=True)

@@ -214,3 +214,36 @@ def test_posture_params_follow_the_task_params():
     task.p = replace(task.p, posture_step_mrad=5, posture={"margin_mode": "limits"})
     pp2 = task.posture_params()
     assert (pp2.max_step_mrad, pp2.margin_mode) == (5, "limits")
+
+
+def test_servo_checks_follow_the_mode():
+    pulses = (500, 1500, 2500, 1000, 2000, 1500)
+    assert m.SetServos(m.SERVO_MODE_PULSE_US, pulses).encode()[0] == m.SERVO_MODE_PULSE_US
+    assert m.SetServos(m.SERVO_MODE_MRAD, pulses).targets == pulses  # as mrad: in range
+    with pytest.raises(m.FieldRangeError, match=r"SetServos.targets\[1\]=3143"):
+        m.SetServos(m.SERVO_MODE_MRAD, (0, 3143, 0, 0, 0, 0))
+    with pytest.raises(m.FieldRangeError, match=r"SetServos.targets\[0\]=0"):
+        m.SetServos(m.SERVO_MODE_PULSE_US, (0, 1500, 1500, 1500, 1500, 1500))
+    msg = m.SetServos(m.SERVO_MODE_MRAD, (0, 1, 2, 3, 4, 5))
+    object.__setattr__(msg, "mode", m.SERVO_MODE_PULSE_US)  # now the targets are too small
+    with pytest.raises(m.FieldRangeError, match=r"SetServos.targets\[0\]=0"):
+        msg.encode()
+    object.__setattr__(msg, "mode", 2)
+    with pytest.raises(m.FieldRangeError, match="SetServos.mode=2"):
+        msg.encode()
+
+
+def test_parser_buffers_pieces_as_the_general_path_does():
+    tel = _all_sample_messages()[8]
+    wire = m.encode_message(tel, 1) + m.encode_message(m.Heartbeat(5), 2)
+    for cut in range(1, len(wire)):
+        for step in (1, 3, 29):
+            parser = FrameParser()
+            got = parser.feed(wire[:cut])
+            for i in range(cut, len(wire), step):
+                got += parser.feed(wire[i:i + step])
+            assert [m.decode_frame(f) for f in got] == [tel, m.Heartbeat(5)]
+            assert parser.pending == 0 and parser.stats.bytes_in == len(wire)
+    parser = FrameParser()
+    assert parser.feed(b"\x01" * 60) == [] and parser.feed(b"\x01" * 60) == []  # oversize
+    assert parser.stats.oversize == 1 and parser.feed(b"\x02\x00" + wire)[0].seq == 1

@@ -27,6 +27,8 @@ HOST_ID = "mobigrasp-2440"  # at most 16 ASCII chars (protocol)
 
 
 _COERCE_LIM = 1 << 62  # the range coerce_int accepts (host.outgoing_guard)
+_SUPERSEDING = (m.SetServos, m.Gripper)  # a newer one cancels the unanswered older one
+_JOINT_LIMITS = arm_calib.JOINT_LIMITS_MRAD[1:]  # (lo, hi) of channels 1..5
 
 
 @dataclass
@@ -120,13 +122,13 @@ class HostLink:
     def send(self, msg: m.Message, at_us: int) -> int:
         """Queue ``msg`` to leave at ``at_us``; reliable ones are tracked for retransmission."""
         seq = self.seq.next()
-        while msg.RELIABLE and seq in self.reliable.in_flight():
+        while msg.RELIABLE and seq in self.reliable:
             seq = self.seq.next()  # never reuse a seq still waiting for its answer
         wire = m.encode_message(msg, seq)
         if msg.RELIABLE:
             # A newer SetServos/Gripper supersedes an unanswered older one: never let a late
             # retransmission of the old command execute after the new one (protocol.reliable).
-            if isinstance(msg, m.SetServos | m.Gripper):
+            if isinstance(msg, _SUPERSEDING):
                 old = self._latest_seq.get(type(msg))
                 if old is not None:
                     self.reliable.cancel(old)
@@ -144,7 +146,7 @@ class HostLink:
     def needs_hello(self) -> bool:
         """True when no session is open and no HELLO is waiting for its answer."""
         return not self.handshake_ok and (self._hello_seq is None
-                                          or self._hello_seq not in self.reliable.in_flight())
+                                          or self._hello_seq not in self.reliable)
 
     def hello(self, at_us: int) -> None:
         """Open the session (HELLO, reliable; the MCU answers ACK then HELLO_ACK)."""
@@ -191,8 +193,10 @@ class HostLink:
             # plain ints in range pass coerce_int unchanged: skip the call for them
             raw = [v if type(v) is int and -_COERCE_LIM <= v <= _COERCE_LIM
                    else coerce_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
+            # arm_calib.clamp_mrad of channels 1..5, inlined: raw holds plain ints here
             targets = [self.gripper_permille]
-            targets += [arm_calib.clamp_mrad(ch, raw[ch]) for ch in range(1, 6)]
+            targets += [min(max(v, lo), hi) for v, (lo, hi) in zip(raw[1:], _JOINT_LIMITS,
+                                                                   strict=True)]
             if targets[1:] != raw[1:]:
                 self.counters.clamped_outputs += 1
             msg = m.SetServos(mode=m.SERVO_MODE_MRAD, targets=check_servo_mrad(targets),
@@ -234,7 +238,7 @@ class HostLink:
         # error rate 1e-3: "gripper closed but no object held"). Send it again with the new
         # value; as the newer SetServos it cancels the old one (send()).
         last, old = self._last_servos, self._latest_seq.get(m.SetServos)
-        if last is not None and old is not None and old in self.reliable.in_flight() \
+        if last is not None and old is not None and old in self.reliable \
                 and last.targets[0] != value:
             self._last_servos = replace(last, targets=(value, *last.targets[1:]))
             self.send(self._last_servos, at_us)

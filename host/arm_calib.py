@@ -147,4 +147,7 @@ def clamp_joints_mrad(angles_mrad: tuple[int, ...] | list[int]) -> tuple[int, ..
     """Clamp all six joint targets to their limits."""
     if len(angles_mrad) != N_CHANNELS:
         raise ValueError(f"need {N_CHANNELS} joint angles, got {len(angles_mrad)}")
+    if all(type(a) is int for a in angles_mrad):  # the usual call: clamp_mrad's short path
+        return tuple([min(max(a, lo), hi)
+                      for a, (lo, hi) in zip(angles_mrad, JOINT_LIMITS_MRAD, strict=True)])
     return tuple(clamp_mrad(ch, a) for ch, a in enumerate(angles_mrad))

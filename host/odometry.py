@@ -105,9 +105,13 @@ class Odometry:
     @property
     def pose(self) -> Pose:
         """The present pose estimate."""
+        return self._pose(self.heading_urad)
+
+    def _pose(self, heading_urad: int) -> Pose:
+        """The pose with the present heading already computed (update has it)."""
         half = 1 << 12
         return Pose((self._x_acc + half) >> 13, (self._y_acc + half) >> 13,
-                    div_round(wrap_urad(self.heading_urad), 1000), self._speed_mm_s,
+                    div_round(wrap_urad(heading_urad), 1000), self._speed_mm_s,
                     self._yaw_rate_mrad_s)
 
     def update(self, t_us: int, enc_left: int, enc_right: int) -> Pose:
@@ -143,4 +147,4 @@ class Odometry:
         if dt_us > 0:
             self._speed_mm_s = div_round(d_sum * 500, dt_us)
             self._yaw_rate_mrad_s = div_round((theta - theta_prev) * 1000, dt_us)
-        return self.pose
+        return self._pose(theta)

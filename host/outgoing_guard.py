@@ -48,6 +48,8 @@ class OutgoingRejected(ValueError):
 
 def check_int(what: str, value: object, lo: int, hi: int) -> int:
     """``value`` as a plain int if it is an integer in [lo, hi]; OutgoingRejected otherwise."""
+    if type(value) is int and lo <= value <= hi:
+        return value  # the usual case, decided without the (slow) numbers ABC checks below
     if isinstance(value, bool) or not isinstance(value, numbers.Number):
         raise OutgoingRejected(NOT_A_NUMBER, what, value)
     if not isinstance(value, numbers.Integral):
@@ -66,12 +68,17 @@ def check_int(what: str, value: object, lo: int, hi: int) -> int:
     return v
 
 
+_COERCE_LIM = 1 << 62  # coerce_int's range: beyond any limit, within what C can hold
+
+
 def coerce_int(what: str, value: object) -> int:
     """``value`` as an int, a finite non-integer number rounded to the nearest (numpy scalars
     included); OutgoingRejected for NaN, infinity, bool, None and non-numbers. The first step of
     the host's output policy (host/app_link.py): coerce, clamp to the limits, then check."""
+    if type(value) is int and -_COERCE_LIM <= value <= _COERCE_LIM:
+        return value  # a plain int in range passes unchanged (check_int would return it)
     try:
-        return check_int(what, value, -(1 << 62), 1 << 62)
+        return check_int(what, value, -_COERCE_LIM, _COERCE_LIM)
     except OutgoingRejected as exc:
         if exc.reason != NOT_INTEGER:
             raise
@@ -84,6 +91,12 @@ def check_servo_mrad(targets: Sequence[object]) -> tuple[int, ...]:
         raise OutgoingRejected(WRONG_COUNT, "servo_mrad", targets, f"need {N_CHANNELS} values")
     if len(targets) != N_CHANNELS:
         raise OutgoingRejected(WRONG_COUNT, "servo_mrad", targets, f"need {N_CHANNELS} values")
+    # the usual case: a list or tuple of six plain ints within their limits (decided without
+    # formatting the names the errors below carry)
+    if (type(targets) is tuple or type(targets) is list) and all(
+            type(v) is int and lo <= v <= hi
+            for v, (lo, hi) in zip(targets, JOINT_LIMITS_MRAD, strict=True)):
+        return tuple(targets)
     return tuple(check_int(f"servo_mrad[{ch}] ({JOINT_NAMES[ch]})", targets[ch], lo, hi)
                  for ch, (lo, hi) in enumerate(JOINT_LIMITS_MRAD))
 

@@ -114,9 +114,20 @@ class TaskBase:
         if self.method == "002" and top:
             look_mm //= 2  # the two rings sit at mid-height: keep them, not the top, in view
         z = (look_mm - self.p.h_shoulder_mm) * 16
-        pp = PostureParams(**{"max_step_mrad": self.p.posture_step_mrad, **self.p.posture})
-        adj = adjust_posture(self.geom, tuple(self.arm[2:6]), (x, y, z), pp)
+        adj = adjust_posture(self.geom, tuple(self.arm[2:6]), (x, y, z), self.posture_params())
         self.arm[2:6] = [adj.theta2_mrad, adj.theta3_mrad, adj.theta4_mrad, adj.theta5_mrad]
+
+    def posture_params(self, max_step_mrad: int | None = None) -> PostureParams:
+        """The task's posture parameters (``self.p.posture`` with the step cap, by default
+        ``posture_step_mrad``); built once per TaskParams and cap, not at every control step."""
+        cap = self.p.posture_step_mrad if max_step_mrad is None else max_step_mrad
+        if getattr(self, "_pp_of", None) is not self.p:  # first call, or new TaskParams
+            self._pp_of, self._pp_by_cap = self.p, {}
+        pp = self._pp_by_cap.get(cap)
+        if pp is None:
+            pp = self._pp_by_cap[cap] = PostureParams(**{"max_step_mrad": cap,
+                                                         **self.p.posture})
+        return pp
 
     def gripper_point_q4(self) -> tuple[int, int, int]:
         return kinematics.fk_mm_q4(self.geom, *self.arm[2:6])

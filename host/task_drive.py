@@ -25,6 +25,15 @@ from host.control.path_follow import PathFollower, Trajectory, wheel_speeds
 from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from host.odometry import Pose
 
+# The planners are imported with this module, not at the first plan: an import inside a control
+# step stalled that one tick by ~30 ms of host CPU (more where no bytecode is cached), and the rig
+# waits for every tick's DONE. Nothing modelled depends on when a module is loaded.
+from host.planning.bezier000 import Params000, plan_000
+from host.planning.bezier001 import Params001, is_object_echo, plan_001
+from host.planning.escape import escape_heading, segment_clear
+from host.planning.replan import Replanner
+from host.planning.sonar_regions import SonarConfig, infeasible_regions
+
 MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
 ARC_BOUND_001 = True  # 001: eq. (16) wedges cut to the grown echo arc (planner_params_001)
 DETOUR_EXTRA_MM = 100  # 001: a detour's way out is checked this much beyond its end (stopping)
@@ -44,8 +53,6 @@ def plan_follower(method: str, now_us: int, x_mm: int, y_mm: int, heading_mrad: 
 
     ``detail`` holds what the trace needs for the plots: candidate count, feasible count, the
     reason, the chosen control points and the modelled ARM9 time of the plan."""
-    from host.planning.bezier000 import Params000, plan_000
-    from host.planning.bezier001 import Params001, plan_001
 
     h = heading_mrad / 1000.0
     c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
@@ -122,8 +129,6 @@ def planner_params_001(task_params) -> Any:
     ``ARC_BOUND_001``: eq. (16)'s wedges are cut to the angles of the echo arc grown by R_r
     (host.planning.sonar_regions), else an echo 0.4 m away blocks every start direction within
     ±76 degrees of it, also those leading away from it."""
-    from host.planning.bezier001 import Params001
-    from host.planning.sonar_regions import SonarConfig
 
     tol = task_params.sonar_shared_echo_mm
     sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
@@ -136,8 +141,6 @@ def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
               obj_xy_mm: tuple[int, int], sonar_mm: tuple, params=None):
     """001's first plan through host.planning.replan.Replanner (which then watches the sonars):
     (replanner, follower or None, ops, detail)."""
-    from host.planning.bezier001 import Params001
-    from host.planning.replan import Replanner
 
     p = params if params is not None else Params001()
     rp = Replanner((obj_xy_mm[0] / 1000.0, obj_xy_mm[1] / 1000.0), p)
@@ -160,9 +163,6 @@ def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
     (16)) of the present reading and of the replanner's memory, grown by DETOUR_MARGIN_MM;
     ``side`` as in host.planning.escape.escape_heading. (heading_mrad or None, ops)"""
     length_mm, margin_mm = detour_mm + DETOUR_EXTRA_MM, DETOUR_MARGIN_MM
-    from host.planning.bezier001 import is_object_echo
-    from host.planning.escape import escape_heading
-    from host.planning.sonar_regions import infeasible_regions
 
     pos, h, _ = _state_m(x_mm, y_mm, heading_mrad, 0)
     p = rp.params
@@ -179,9 +179,6 @@ def straight_clear_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tu
     """001: does the straight drive of ``travel_mm`` toward the object (the close approach of
     000 §III.B, which has no obstacle test of its own) stay out of the infeasible regions (eq.
     (16)) of the present reading and of the replanner's memory? (clear, ops)"""
-    from host.planning.bezier001 import is_object_echo
-    from host.planning.escape import segment_clear
-    from host.planning.sonar_regions import infeasible_regions
 
     pos, h, _ = _state_m(x_mm, y_mm, heading_mrad, 0)
     p = rp.params

@@ -9,8 +9,10 @@ information is used and only the waist joint rotates accordingly to re-find the 
 from __future__ import annotations
 
 from host import kinematics
+from host.control.fuzzy import FuzzyParams
 from host.fixedpoint import atan2_mrad, isqrt
-from host.posture import PostureParams, distribute_alpha
+from host.planning.bezier000 import Params000
+from host.posture import distribute_alpha
 from host.search import ArmSearch, SearchParams
 from host.task_drive import (
     close_in,
@@ -173,13 +175,11 @@ class TaskStates(GraspStates):
     def enter_APPROACH(self, now: int, inp) -> None:
         self.follower, self.plan_attempts = None, 0
         if self.method == "002":
-            from host.control.fuzzy import FuzzyParams
             self.fuzzy = make_fuzzy(FuzzyParams(**self.p.fuzzy))
             # the search's sighting is the first bearing to steer on if the next frames miss
             self._remember_bearing_002(inp, self.e_mrad, self.e_dpx)
 
     def _plan(self, now: int, inp) -> None:
-        from host.planning.bezier000 import Params000
         if self.method == "001" and self.replanner is not None and self.obj == self.plan_obj:
             # same object: the replanner keeps its remembered regions and slows down (replan.py)
             dec, follower, ops = update_001(self.replanner, now, inp.x_mm, inp.y_mm,
@@ -459,8 +459,7 @@ class TaskStates(GraspStates):
             d_alpha = -atan2_mrad(vm - self.cam.v0_px * 16, self.cam.f_px * 16)
             cap = self.p.posture_step_mrad
             d_alpha = max(-cap, min(cap, d_alpha))
-            pp = PostureParams(**{"max_step_mrad": cap, **self.p.posture})
-            d2, d3, d4 = distribute_alpha(d_alpha, *self.arm[2:5], pp)
+            d2, d3, d4 = distribute_alpha(d_alpha, *self.arm[2:5], self.posture_params(cap))
         self.set_arm(now, self.arm[2] + d2, self.arm[3] + d3, self.arm[4] + d4, th5)
 
     # --- ADJUST -------------------------------------------------------------------------------

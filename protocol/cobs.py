@@ -11,17 +11,20 @@ from __future__ import annotations
 
 def cobs_encode(data: bytes) -> bytes:
     """COBS-encode ``data``; the result has no 0x00 byte and no delimiter appended."""
-    out = bytearray()
+    parts: list[bytes] = []  # joined once at the end (fewer copies than a growing bytearray)
     for block in bytes(data).split(b"\x00"):
         # Each zero-free block becomes runs of at most 254 bytes; a 0xFF code means "254 data
         # bytes and no implied zero", so long blocks are cut there.
         while len(block) >= 254:
-            out.append(0xFF)
-            out += block[:254]
+            parts.append(b"\xff")
+            parts.append(block[:254])
             block = block[254:]
-        out.append(len(block) + 1)
-        out += block
-    return bytes(out)
+        parts.append(_CODE_BYTE[len(block) + 1])
+        parts.append(block)
+    return b"".join(parts)
+
+
+_CODE_BYTE = tuple(bytes((i,)) for i in range(256))  # code byte values as 1-byte strings
 
 
 def cobs_decode(data: bytes) -> bytes:

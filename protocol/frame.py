@@ -60,7 +60,12 @@ class Frame:
 
 def encode_frame(frame: Frame) -> bytes:
     """Wire bytes of ``frame``: COBS-encoded header+payload+CRC followed by the 0x00 delimiter."""
-    raw = bytes((frame.version, frame.seq, frame.msg_type)) + frame.payload
+    return encode_raw(frame.version, frame.seq, frame.msg_type, frame.payload)
+
+
+def encode_raw(version: int, seq: int, msg_type: int, payload: bytes) -> bytes:
+    """Wire bytes of a frame from fields the caller has checked (as a :class:`Frame` does)."""
+    raw = bytes((version, seq, msg_type)) + payload
     crc = binascii.crc_hqx(raw, 0xFFFF)
     return cobs_encode(raw + bytes((crc & 0xFF, crc >> 8))) + DELIMITER
 
@@ -124,6 +129,12 @@ class FrameParser:
             return []
         stats = self.stats
         stats.bytes_in += len(chunk)
+        if b"\x00" not in chunk and not self._skipping \
+                and len(self._buf) + len(chunk) <= MAX_ENCODED:
+            # the front part of a frame (the UART delivers frames in pieces): only buffered,
+            # exactly as the general path below would do with it
+            self._buf += bytes(chunk)
+            return []
         data = self._buf + bytes(chunk) if self._buf else bytes(chunk)
         pieces = data.split(b"\x00")
         tail = pieces.pop()

@@ -15,7 +15,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, NamedTuple
 
-from protocol.frame import PROTOCOL_VERSION, Frame, encode_frame
+from protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, Frame, encode_frame, encode_raw
 
 # NACK reason codes (Nack.reason).
 NACK_OUT_OF_RANGE = 1
@@ -127,16 +127,65 @@ class Message:
     _TEXT: ClassVar[str | None] = None
     _TEXT_MAX: ClassVar[int] = 0
     _STRUCT: ClassVar[struct.Struct]
+    _LAYOUT: ClassVar[tuple[tuple[str, int, int], ...]]
+    _CHECKS: ClassVar[tuple[tuple[str, int, int, int], ...]]
+    _DYNAMIC_RANGE: ClassVar[bool]
+    _TRUSTED_DECODE: ClassVar[bool]
 
     def __init_subclass__(cls, **kwargs) -> None:
         super().__init_subclass__(**kwargs)
         fmt = "<" + "".join(f.code * f.count for f in cls._SPEC)
         cls._STRUCT = struct.Struct(fmt)
+        # Every message fits a frame (so encode_message need not check the payload length).
+        assert cls._STRUCT.size + (cls._TEXT_MAX if cls._TEXT is not None else 0) <= MAX_PAYLOAD
+        # (name, struct index, count) of each field, for decode.
+        layout, i = [], 0
+        for f in cls._SPEC:
+            layout.append((f.name, i, f.count))
+            i += f.count
+        cls._LAYOUT = tuple(layout)
+        cls._CHECKS = tuple((f.name, f.lo, f.hi, f.count) for f in cls._SPEC)
+        cls._DYNAMIC_RANGE = cls._range is not Message._range
+        # A payload of a type whose every field may take any value of its struct code (and
+        # that has no text) decodes to a valid message by construction: decode() then skips
+        # the field checks (telemetry, the bulk of what the host parses, is such a type).
+        cls._TRUSTED_DECODE = (cls._TEXT is None and not cls._DYNAMIC_RANGE
+                               and all((f.lo, f.hi) == _CODE_RANGE[f.code] for f in cls._SPEC))
 
     def _range(self, f: _F) -> tuple[int, int]:
         return f.lo, f.hi
 
+    def _checks(self) -> tuple[tuple[str, int, int, int], ...]:
+        """(name, lo, hi, count) of each field in wire order, with this message's ranges."""
+        if not self._DYNAMIC_RANGE:
+            return self._CHECKS
+        return tuple((f.name, *self._range(f), f.count) for f in self._SPEC)
+
+    def _plain_values(self) -> list[int] | None:
+        """The wire values in order if every field already is a plain int (a tuple of plain
+        ints for the counted ones) within its range, else None (then the full check decides).
+        The cheap check of the hot paths (host commands built every control tick); it accepts
+        exactly the values the full check below passes unchanged."""
+        values: list[int] = []
+        d = self.__dict__
+        for name, lo, hi, count in self._checks():
+            value = d.get(name)
+            if count == 1:
+                if type(value) is not int or not lo <= value <= hi:
+                    return None
+                values.append(value)
+            else:
+                if type(value) is not tuple or len(value) != count:
+                    return None
+                for x in value:
+                    if type(x) is not int or not lo <= x <= hi:
+                        return None
+                values += value
+        return values
+
     def __post_init__(self) -> None:
+        if self._TEXT is None and self._plain_values() is not None:
+            return  # all plain ints in range: nothing to check further or convert
         name = type(self).__name__
         for f in self._SPEC:
             value = getattr(self, f.name)
@@ -168,15 +217,17 @@ class Message:
 
     def encode(self) -> bytes:
         """The payload bytes of this message (without frame header and CRC)."""
-        values: list[int] = []
-        for f in self._SPEC:
-            value = getattr(self, f.name)
-            if f.count == 1:
-                values.append(value)
-            else:
-                values.extend(value)
         # Re-checked because a frozen dataclass can still be mutated with object.__setattr__.
-        self.__post_init__()
+        values = self._plain_values() if self._TEXT is None else None
+        if values is None:
+            values = []
+            for f in self._SPEC:
+                value = getattr(self, f.name)
+                if f.count == 1:
+                    values.append(value)
+                else:
+                    values.extend(value)
+            self.__post_init__()
         out = self._STRUCT.pack(*values)
         if self._TEXT is not None:
             out += getattr(self, self._TEXT).encode("ascii")
@@ -193,6 +244,12 @@ class Message:
             want = f"{size}" if max_n == size else f"{size}..{max_n}"
             raise PayloadLengthError(f"{cls.__name__} payload must be {want} bytes, got {n}")
         raw = cls._STRUCT.unpack_from(payload)
+        if cls._TRUSTED_DECODE:  # every unpacked value is valid: set the fields directly
+            msg = object.__new__(cls)
+            d = msg.__dict__
+            for name, i, count in cls._LAYOUT:
+                d[name] = raw[i] if count == 1 else raw[i:i + count]
+            return msg
         kwargs: dict[str, object] = {}
         i = 0
         for f in cls._SPEC:
@@ -273,6 +330,19 @@ class SetServos(Message):
         if self.mode == SERVO_MODE_PULSE_US:
             return SERVO_PULSE_MIN_US, SERVO_PULSE_MAX_US
         return -SERVO_MRAD_LIMIT, SERVO_MRAD_LIMIT
+
+    def _checks(self) -> tuple[tuple[str, int, int, int], ...]:
+        # the table of each valid mode is built once (a host command every control tick)
+        mode = self.mode
+        if type(mode) is int and mode in (SERVO_MODE_PULSE_US, SERVO_MODE_MRAD):
+            checks = _SERVO_CHECKS.get(mode)
+            if checks is None:
+                checks = _SERVO_CHECKS[mode] = super()._checks()
+            return checks
+        return super()._checks()
+
+
+_SERVO_CHECKS: dict[int, tuple] = {}  # SetServos mode -> _checks() of that mode
 
 
 @dataclass(frozen=True)
@@ -416,7 +486,11 @@ def message_frame(msg: Message, seq: int) -> Frame:
 
 def encode_message(msg: Message, seq: int) -> bytes:
     """Wire bytes (COBS frame + 0x00 delimiter) of ``msg`` with sequence number ``seq``."""
-    return encode_frame(message_frame(msg, seq))
+    if type(seq) is int and 0 <= seq <= 0xFF and isinstance(msg, Message):
+        # the checks of Frame hold by construction here (version and type are constants, every
+        # payload fits: Message.__init_subclass__), so no Frame object is built
+        return encode_raw(PROTOCOL_VERSION, seq, msg.MSG_TYPE, msg.encode())
+    return encode_frame(message_frame(msg, seq))  # raises the error of the bad argument
 
 
 def decode_frame(frame: Frame) -> Message:

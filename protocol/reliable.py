@@ -58,6 +58,10 @@ class RetransmitQueue:
     def __len__(self) -> int:
         return len(self._pending)
 
+    def __contains__(self, seq: object) -> bool:
+        """Whether ``seq`` is still waiting for its answer (``in_flight()`` without the list)."""
+        return seq in self._pending
+
     def in_flight(self) -> list[int]:
         """Sequence numbers still waiting for an answer, oldest first."""
         return list(self._pending)

@@ -106,7 +106,8 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
                     app.on_frame(got[0], now_us, now_us, got[1])
                 next_frame = now_us + 1e6 / 15
             app.advance_to(now_us + 1)
-            # the detectors now, while the telemetry they read (the arm pose) is the frame's
+            # the detectors now, between steps (the pose they read was taken with the frame;
+            # in wall time there is no rig to keep waiting, so no reason to defer them)
             app.resolve_vision()
             out = app.take_output(now_us + 1)
             if out:

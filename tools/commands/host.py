@@ -93,13 +93,17 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from link.frame_ring import FrameRingReader
     from link.registry import open_transport
 
+    app = None
+    if os.environ.get(VISION_PROCESS_ENV) == "1":
+        # forked before the port and the socket are opened, so the child holds neither open
+        app = build_host_app(cfg)
+        app.vision_executor = ForkedVision(app.detectors)
     port = open_transport(args.port)
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     sock.settimeout(120.0)  # safety limit only; the rig answers at once
     sock.connect(args.lockstep)
-    app = build_host_app(cfg)
-    if os.environ.get(VISION_PROCESS_ENV) == "1":
-        app.vision_executor = ForkedVision(app.detectors)
+    if app is None:
+        app = build_host_app(cfg)
     client = LockstepClient(app, port)
     frames = FrameRingReader()
     try:

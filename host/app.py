@@ -29,7 +29,9 @@ from typing import Any
 from host.app_link import HostLink
 from host.budget import OpCounts
 
-Detector = Callable[[Any], tuple[Any, OpCounts]]
+Detector = Callable[..., tuple[Any, OpCounts]]
+# a detector's lower bound of its modelled time (µs) on any frame of (height, width)
+CostBound = Callable[[int, int], int]
 
 
 @dataclass(frozen=True)
@@ -92,9 +94,14 @@ class _VisionJob:
     done_us: int
     results: dict
     arm9_us: int
-    # (detector names, rgb) while the detectors have not run yet: they run when something needs
-    # the job's results or length (resolve_vision), which changes nothing that is modelled
+    # (detector names, rgb, snapshots) while the detectors have not run yet: they run when
+    # something needs the job's results or length (resolve_vision), which changes nothing that
+    # is modelled. Meanwhile done_us is a lower bound of the job's end (bounded) or start +
+    # frame overhead (not bounded: every question about the end resolves the job first).
     pending: tuple | None = None
+    bounded: bool = False
+    preempted_us: int = 0  # control preemption added to done_us so far
+    started: Any = None  # the vision_executor's handle once start_vision handed the job over
 
 
 @dataclass
@@ -119,14 +126,27 @@ class HostApp:
     ``app.link.telemetry``) into the task's inputs; ``detectors`` maps names to
     ``detect(rgb) -> (result | None, OpCounts)``; ``timer(stage, fn, *args)`` calls ``fn`` and
     may measure it (the profiler's wall-clock hook; the default just calls).
+
+    A detector with a ``snapshot()`` method (one that reads the arm pose) is asked for it when
+    its frame's job is created and is called as ``detect(rgb, *snapshot)``, so it gives the same
+    result whenever its job runs. ``vision_bounds`` maps detector names to
+    ``bound(height, width) -> µs``, a proven lower bound of the detector's modelled time on any
+    frame of that size: a job whose bounded end lies after a tick or frame certainly has not
+    ended there, and its detectors may run later. Without it (the default) every such question
+    runs the detectors first.
     """
 
     def __init__(self, task: Any, detectors: dict[str, Detector],
                  build_inputs: Callable[[HostApp, int, dict], Any],
                  config: HostConfig | None = None, link: HostLink | None = None,
-                 timer: Callable[..., Any] | None = None) -> None:
+                 timer: Callable[..., Any] | None = None,
+                 vision_bounds: dict[str, CostBound] | None = None) -> None:
         self.task = task
         self.detectors = detectors
+        self.vision_bounds = vision_bounds
+        # optional: ``submit(names, rgb, snapshots) -> handle``, ``handle.result()`` -> the
+        # detectors' (result, OpCounts) in order; runs them elsewhere (start_vision)
+        self.vision_executor: Any = None
         self.build_inputs = build_inputs
         self.config = config or HostConfig()
         self.link = link or HostLink()
@@ -205,6 +225,17 @@ class HostApp:
         self._events, self.link.events = [], []
         return out
 
+    def vision_needed_by(self, t_us: int | None = None) -> bool:
+        """Whether a job whose detectors have not run yet might have ended by ``t_us`` (default:
+        the start of the next control tick), so that its detectors must run before then. False
+        when the job's lower-bounded end lies after it, or there is no such job."""
+        job = self._vision
+        if job is None or job.pending is None:
+            return False
+        if t_us is None:
+            t_us = max(self._next_tick_us, self._ctrl_free_us)
+        return not job.bounded or job.done_us <= t_us
+
     def load_windows(self) -> dict[int, float]:
         """Modelled ARM9 load (busy fraction) of each window that has finished."""
         self.resolve_vision()
@@ -226,6 +257,8 @@ class HostApp:
     def _frame(self, arrival_us: int, seq: int, capture_us: int, rgb: Any) -> None:
         c = self.counters
         c.frames_received += 1
+        # a pending job is resolved even when its bound says the frame is dropped: the event
+        # carries the job's exact end
         self.resolve_vision()
         if self._vision is not None and self._vision.done_us > arrival_us:
             c.frames_dropped += 1
@@ -241,38 +274,72 @@ class HostApp:
         total = self.config.frame_overhead_cycles * 1_000_000 // 400_000_000
         self._busy(start, total, "frame")
         c.frames_processed += 1
-        self._vision = _VisionJob(seq, capture_us, start, start + total, {}, total,
-                                  pending=(needed, rgb))
+        # what the pose-reading detectors read, taken now: the newest telemetry when the frame
+        # is handed over (all UART bytes of a quantum are fed before its frames are handled)
+        snaps = []
+        for n in needed:
+            snap = getattr(self.detectors[n], "snapshot", None)
+            snaps.append(() if snap is None else tuple(snap()))
+        bounds = self.vision_bounds
+        low = total
+        if bounds is not None and getattr(rgb, "ndim", 0) == 3:  # else the detectors raise
+            h, w = rgb.shape[0], rgb.shape[1]
+            low += sum(bounds[n](h, w) for n in needed if n in bounds)
+        self._vision = _VisionJob(seq, capture_us, start, start + low, {}, total,
+                                  pending=(needed, rgb, snaps), bounded=bounds is not None)
+
+    def start_vision(self) -> None:
+        """Hand the pending job's detectors to ``vision_executor`` (if any, and not done yet) so
+        they run while this program goes on; :meth:`resolve_vision` takes their outputs and
+        applies results and costs exactly as if it had run them itself (the detectors are pure
+        functions of the frame and the pose snapshot). Host speed only."""
+        job = self._vision
+        if self.vision_executor is None or job is None or job.pending is None \
+                or job.started is not None:
+            return
+        job.started = self.vision_executor.submit(*job.pending)
 
     def resolve_vision(self) -> None:
         """Run the detectors of the current vision job if they have not run yet.
 
-        A job's results and length are first needed at the next control tick or frame, or by a
-        finished load window; until then the detectors may wait. The lockstep client runs them
-        right after it has sent the DONE of the quantum the frame arrived in, so the rig does not
-        wait for them when that quantum holds a control tick. Nothing modelled depends on when
-        this runs, provided it runs before more UART bytes are fed (some detectors read the arm
-        pose from the newest telemetry): the lockstep client and the wall-time loop of
-        ``mobigrasp host`` call it right after each step."""
+        A job's results and length are first needed at the next frame, at the first control
+        tick its lower-bounded end does not lie after (all of them without ``vision_bounds``),
+        or by a finished load window; until then the detectors may wait. The lockstep client
+        runs them after a DONE only when the next tick may need them
+        (:meth:`vision_needed_by`), so a tick's DONE never waits for detectors that tick cannot
+        need. Nothing modelled depends on when this runs: the pose the detectors read was taken
+        when the frame arrived (``snapshot``)."""
         job = self._vision
         if job is None or job.pending is None:
             return
-        needed, rgb = job.pending
+        needed, rgb, snaps = job.pending
         job.pending = None
+        outputs = None
+        if job.started is not None:
+            handle, job.started = job.started, None
+            outputs = handle.result()
         total = job.arm9_us
-        for name in needed:
-            result, ops = self.timer(name, self.detectors[name], rgb)
+        for i, (name, snap) in enumerate(zip(needed, snaps, strict=True)):
+            if outputs is not None:
+                result, ops = outputs[i]
+            else:
+                result, ops = self.timer(name, self.detectors[name], rgb, *snap)
             dur = ops.time_us()
             self._busy(job.start_us + total, dur, name)
             total += dur
             job.results[name] = result
         job.arm9_us = total
-        job.done_us = job.start_us + total
+        job.done_us = job.start_us + total + job.preempted_us
 
     def _finish_vision(self, now_us: int) -> None:
-        self.resolve_vision()
         job = self._vision
-        if job is None or job.done_us > now_us:
+        if job is None:
+            return
+        if job.pending is not None:
+            if job.bounded and job.done_us > now_us:
+                return  # even its lower bound ends later: not finished, the detectors may wait
+            self.resolve_vision()
+        if job.done_us > now_us:
             return
         self._vision = None
         self._detections = dict(job.results)
@@ -325,8 +392,11 @@ class HostApp:
             c.deadline_misses += 1
             self._events.append({"ev": "deadline_miss", "t_us": t_us, "done_us": done})
         job = self._vision
+        # a job still pending here has a lower bound of its end > start (_finish_vision), so
+        # the test gives what the exact end would
         if job is not None and job.start_us < done and job.done_us > start:
             job.done_us += done - start  # control preempted vision for that long
+            job.preempted_us += done - start
         self._ctrl_free_us = done
 
     def _apply(self, out: Any, at_us: int) -> None:

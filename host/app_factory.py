@@ -67,11 +67,59 @@ class InputBuilder:
         )
 
 
+class _PoseDetector:
+    """A detector that needs the arm pose (joint angles from the newest telemetry, as the board
+    would read them). HostApp takes :meth:`snapshot` when the frame's job is created and passes
+    it back when the detector runs, so the result does not depend on when that is."""
+
+    def __init__(self, run: Any, joints: Any) -> None:
+        self._run = run  # (rgb, joints) -> (result | None, OpCounts)
+        self._joints = joints
+
+    def snapshot(self) -> tuple:
+        """The arguments after ``rgb``: the joint angles now."""
+        return (self._joints(),)
+
+    def __call__(self, rgb: Any, q: tuple[int, ...] | None = None) -> Any:
+        return self._run(rgb, self._joints() if q is None else q)
+
+
+# Detector name -> module: each module's ``min_ops(height, width)`` is what the detector charges
+# at least on any frame of that size (tests/test_vision_min_cost.py checks it).
+DETECTOR_MODULES = {"radial_symbol": "host.vision.radial_symbol",
+                    "double_cross": "host.vision.double_cross",
+                    "dual_plus": "host.vision.dual_plus", "spoke": "host.vision.spoke",
+                    "red_cylinder": "host.vision.red_cylinder"}
+
+
+def vision_bounds(names) -> dict:
+    """``name -> bound(height, width) -> µs``, the lower bound of each detector's modelled time
+    (its ``min_ops``) for HostApp, for the detectors among ``names`` that have one."""
+    import importlib
+
+    out: dict = {}
+    for name in names:
+        mod = DETECTOR_MODULES.get(name)
+        min_ops = getattr(importlib.import_module(mod), "min_ops", None) if mod else None
+        if min_ops is None:
+            continue
+        cache: dict = {}  # (height, width) -> µs: every frame of a run has the same size
+
+        def bound(h: int, w: int, min_ops=min_ops, cache=cache) -> int:
+            us = cache.get((h, w))
+            if us is None:
+                us = cache[(h, w)] = min_ops(h, w).time_us()
+            return us
+        out[name] = bound
+    return out
+
+
 def _detectors(cfg: dict, app_ref: list) -> dict:
     """Detector callables ``rgb -> (result | None, OpCounts)`` by the names the task asks for.
 
     Some detectors need the current arm pose (e.g. the double cross needs the camera yaw and
-    pitch): they read it from the host's newest telemetry, which is what the board would do.
+    pitch): they read it from the host's newest telemetry, which is what the board would do,
+    taken when the frame arrives (:class:`_PoseDetector`).
     """
     cam = cfg.get("camera", {})
     f_px = int(round(cam.get("f_px", 611.0)))
@@ -94,21 +142,20 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
     try:
         from host.vision.double_cross import detect_double_cross
 
-        def double_cross(rgb):
-            q = joints()
+        def double_cross(rgb, q):
             return detect_double_cross(rgb, yaw_mrad=q[5], pitch_mrad=q[2] + q[3] + q[4],
                                        f_px=f_px)
-        found["double_cross"] = double_cross
+        found["double_cross"] = _PoseDetector(double_cross, joints)
     except ImportError:
         pass
     try:
         from host.vision.dual_plus import detect_dual_plus
 
-        def dual_plus(rgb):
-            q = joints()  # alpha = theta2 + theta3 + theta4: the camera's pitch (000 §III.A)
+        def dual_plus(rgb, q):
+            # alpha = theta2 + theta3 + theta4: the camera's pitch (000 §III.A)
             return detect_dual_plus(rgb, alpha_mrad=int(q[2] + q[3] + q[4]), f_px=f_px,
                                     u0_px=u0)
-        found["dual_plus"] = dual_plus
+        found["dual_plus"] = _PoseDetector(dual_plus, joints)
     except ImportError:
         pass
     for name, module, fn in (("spoke", "host.vision.spoke", "detect_spoke"),
@@ -175,7 +222,8 @@ def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> H
         params[key] = tuple(value) if isinstance(value, list) else value
     task = Task(method=method, params=params)
     app_ref: list = []
-    app = HostApp(task, _detectors(cfg, app_ref), InputBuilder(), config or HostConfig(),
-                  timer=timer)
+    detectors = _detectors(cfg, app_ref)
+    app = HostApp(task, detectors, InputBuilder(), config or HostConfig(), timer=timer,
+                  vision_bounds=vision_bounds(detectors))
     app_ref.append(app)
     return app

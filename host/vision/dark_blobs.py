@@ -18,7 +18,7 @@ import cv2
 import numpy as np
 
 from host.budget import OpCounts
-from host.vision.grey import to_grey
+from host.vision.grey import grey_cost, to_grey
 
 THRESH_NUM, THRESH_DEN = 45, 100  # dark threshold as a fraction of the bright level
 THRESH_MIN, THRESH_MAX = 40, 130
@@ -139,6 +139,17 @@ def dark_components(rgb: np.ndarray, who: str
         a.flags.writeable = False  # shared by the detectors of one frame: nobody may write
     _LAST_FRONT_END[0] = (rgb.shape, key, (grey, mask, n_lab, labels, stats, ops))
     return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
+
+
+def front_end_min_ops(height: int, width: int) -> OpCounts:
+    """What :func:`dark_components` charges for any ``height x width`` frame it accepts: grey,
+    dark mask and labelling all cost per pixel, whatever the frame shows (tests check equality).
+    The 000 detectors only add to it, so it is a lower bound of their cost (host/app.py uses
+    it to know a vision job cannot have ended yet)."""
+    n = int(height) * int(width)
+    return grey_cost(height, width) + OpCounts(
+        pixels_read=2 * n, pixels_written=n, alu=2 * n + 512, luts=n, branches=256) \
+        + OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
 
 
 # The front end of the last frame seen, keyed by the frame's bytes: in ADJUST and LIFT the dual

@@ -47,7 +47,7 @@ import numpy as np
 
 from host import fixedpoint as fp
 from host.budget import OpCounts
-from host.vision.grey import noise_sigma, to_grey
+from host.vision.grey import grey_cost, noise_sigma, to_grey
 
 T_H = 30  # 002 §5: binarisation threshold above g(p_c)
 RING_N = 24  # template points on the ring (002 uses n = 10, see module docstring)
@@ -312,6 +312,26 @@ def bearing_mrad(u_q4: int, v_q4: int, yaw_mrad: int, pitch_mrad: int,
     s, c = fp.sincos_q12(pitch_mrad)
     fwd = c * 16 * f_px + s * yn_q4  # (cos α f + sin α y) in Q16 (Q12 x Q4)
     return int(yaw_mrad) + fp.atan2_mrad(xn_q4 * fp.ONE_Q12, fwd)
+
+
+def min_ops(height: int, width: int) -> OpCounts:
+    """Operation counts :func:`detect_double_cross` charges at least for any ``height x width``
+    frame: grey, the pyramid, the noise estimate and the candidate scan of the coarsest level,
+    which the coarse-to-fine search always runs (finer levels only when it does not stop
+    there). Everything else only adds counts. A lower bound of the modelled time (host/app.py).
+    """
+    h, w = int(height), int(width)
+    ops = grey_cost(h, w)
+    for _ in range(1, LEVELS):
+        h, w = h // 2, w // 2
+        ops += _downsample_ops(h * w)
+    rows = -(-int(height) // 4)  # noise_sigma reads every 4th row
+    if width >= 2:
+        n = rows * (int(width) - 1)
+        ops += OpCounts(pixels_read=2 * n, alu=3 * n + 512, branches=n // 4 + 256)
+    if h > 2 * RING_R_PX and w > 2 * RING_R_PX:  # _level_candidates on the coarsest level
+        ops += OpCounts(pixels_read=9 * h * w, alu=22 * h * w, branches=2 * h * w)
+    return ops
 
 
 def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,

@@ -165,6 +165,13 @@ def _d_eff_q4(a: Plus, b: Plus, du_q4: int, dv_q4: int) -> int | None:
     return fp.isqrt(lam2 * quad // (2 * det))
 
 
+def min_ops(height: int, width: int) -> OpCounts:
+    """Operation counts :func:`detect_dual_plus` charges at least for any ``height x width``
+    frame: the shared front end (grey, dark mask, labelling), paid before any early return;
+    everything after it only adds counts. A lower bound of the modelled time (host/app.py)."""
+    return db.front_end_min_ops(height, width)
+
+
 def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
                      u0_px: int = U0_PX) -> tuple[DualPlus | None, OpCounts]:
     """Find both "+"; ``(None, ops)`` unless a consistent pair is seen (never a guess)."""

@@ -249,6 +249,13 @@ def _measure(grey: np.ndarray, found, f_px: int, u0_px: int, v0_px: int
     return RadialSymbol(u_q4, v_q4, d_q4, y_mm, x_mm, z_mm), ops
 
 
+def min_ops(height: int, width: int) -> OpCounts:
+    """Operation counts :func:`detect_radial_symbol` charges at least for any ``height x width``
+    frame: the shared front end (grey, dark mask, labelling), paid before any early return;
+    everything after it only adds counts. A lower bound of the modelled time (host/app.py)."""
+    return db.front_end_min_ops(height, width)
+
+
 def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
                          v0_px: int = V0_PX) -> tuple[RadialSymbol | None, OpCounts]:
     """Find the radial symbol; ``(None, ops)`` when no closed ring is seen (never a guess)."""

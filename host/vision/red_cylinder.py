@@ -244,6 +244,18 @@ def _red_run(rgb: np.ndarray, ya: int, yb: int, x0: int, x1: int, centre: int
     return x0 + left, x0 + right, ops
 
 
+def min_ops(height: int, width: int) -> OpCounts:
+    """Operation counts :func:`detect_red_cylinder` charges at least for any ``height x width``
+    frame: the red mask on the half-resolution grid and the labelling of its components (at
+    least the constant of the merge), paid before the candidate loop; everything after only
+    adds counts. A lower bound of the modelled time (host/app.py)."""
+    h, w = int(height), int(width)
+    m = ((h + 1) // 2) * ((w + 1) // 2)  # rgb[::2, ::2]
+    return OpCounts(pixels_read=3 * m, pixels_written=m, alu=7 * m, muls=m,
+                    bytes_streamed=3 * (h * w * 3) // 2) \
+        + OpCounts(pixels_read=2 * m, pixels_written=m, alu=6 * m + 10, branches=m)
+
+
 def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCounts]:
     """Find the 002 red cylinder and its two black rings; ``(None, ops)`` when not found."""
     _check(rgb)

@@ -200,6 +200,13 @@ def _template(grey: np.ndarray, dark: np.ndarray, p: Plus, slope_q12: int | None
     return (pts_l, pts_r, runs, k_l, reach), ops
 
 
+def min_ops(height: int, width: int) -> OpCounts:
+    """Operation counts :func:`detect_spoke` charges at least for any ``height x width``
+    frame: the shared front end (grey, dark mask, labelling), paid before any early return;
+    everything after it only adds counts. A lower bound of the modelled time (host/app.py)."""
+    return db.front_end_min_ops(height, width)
+
+
 def detect_spoke(rgb: np.ndarray) -> tuple[Spoke | None, OpCounts]:
     """Measure the spoke of the "+" nearest the image centre; ``(None, ops)`` if none is seen."""
     grey, mask, _, labels, stats, ops = db.dark_components(rgb, "detect_spoke")

@@ -88,7 +88,8 @@ class LockstepClient:
     def serve(self, grant: ls.Grant) -> ls.Done:
         """Run the host program through one granted quantum; returns the DONE to send."""
         app = self.app
-        self.before_input()
+        # a frame's detectors still pending need not run before these bytes are fed: the ones
+        # that read the arm pose took it when their frame arrived (HostApp, pose snapshot)
         self.clock.set_us(grant.start_us)
         data = self._read_exact(grant.uart_bytes)
         offset = 0
@@ -119,12 +120,6 @@ class LockstepClient:
                              "state": app.state, "finished": app.finished,
                              "camera": app.wants_frames(),
                              "quiet_until": app.quiet_until_us()})
-
-    def before_input(self) -> None:
-        """Before a grant's UART bytes are fed: a frame's detectors still pending run now (some
-        read the arm pose from the newest telemetry). Usually after_done ran them already; not
-        when grants arrived in a batch (serve_stream answers those first)."""
-        self.app.resolve_vision()
 
     def after_done(self) -> None:
         """Work the DONE just sent did not need (a frame's detectors): done now, while the rig

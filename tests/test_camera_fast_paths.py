@@ -7,6 +7,8 @@
   one computed from the arrays in hand, also for a moving target's new arrays.
 - The arm's camera axes and platform transform, built from plain floats in one array call, are
   bit for bit the vector expressions they replace.
+- World.camera_scene builds the obstacles in the renderer's types once: the same objects in
+  every frame's scene, equal to the scenario's.
 """
 
 from __future__ import annotations
@@ -110,3 +112,24 @@ def test_arm_camera_frames_in_plain_floats_equal_the_vector_expressions():
         want[:3, 3] = [bx + geom.mount_forward_m * fwd[0], by + geom.mount_forward_m * fwd[1],
                        geom.h_shoulder_m]
         assert arm.platform_to_world(geom, (bx, by, h)).tobytes() == want.tobytes()
+
+
+def test_camera_scene_obstacles_are_built_once_and_stay_the_scenarios():
+    from mcu_sim.world import camera_scene as cs
+    from mcu_sim.world.world import World
+
+    _, scenario = resolve_scenario("paper001-sim2")
+    world = World(scenario, 1)
+    first = world.camera_scene()
+    world.step_to(50_000)
+    later = world.camera_scene()
+    assert later.obstacles is first.obstacles  # built once: the obstacles never move
+    assert len(first.obstacles) == len(scenario.obstacles) > 0
+    for o, got in zip(scenario.obstacles, first.obstacles, strict=True):
+        assert isinstance(got, cs.Obstacle)
+        if o.shape == "circle":
+            assert got == cs.Obstacle("circle", o.x_m, o.y_m, radius_m=o.radius_m,
+                                      height_m=o.height_m)
+        elif o.shape == "box":
+            assert got == cs.Obstacle("box", o.x_m, o.y_m, width_m=o.width_m, depth_m=o.depth_m,
+                                      heading_rad=o.heading_rad, height_m=o.height_m)

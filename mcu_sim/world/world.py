@@ -114,6 +114,7 @@ class World:
         self.min_clearance_m = math.inf
         self._clearance_at = (0.0, 0.0, -math.inf)  # (x, y, clearance) of the last query
         self.recorder = TruthRecorder(truth_rate_hz, TICK_US)
+        self._camera_obstacles_cache: tuple | None = None  # camera_scene's, built on first use
         self._record_truth = record_truth  # False: the recorder stays empty (a caller that
         # samples truth() itself, like the run's plant, saves a truth() per 20 ms)
         self._tick()
@@ -205,6 +206,16 @@ class World:
         from . import camera_scene as cs  # imported here: the renderer is optional for physics
 
         x, y, _, h = self.target.pose()
+        return cs.Scene(target=cs.Target(self.target.spec.kind, x, y, h),
+                        obstacles=self._camera_obstacles(), seed=self.seed)
+
+    def _camera_obstacles(self) -> tuple:
+        """The obstacles in the renderer's types, built once (they never move; a frame's scene
+        used to build and validate them again for every capture)."""
+        if self._camera_obstacles_cache is not None:
+            return self._camera_obstacles_cache
+        from . import camera_scene as cs
+
         obstacles = []
         for o in self.scenario.obstacles:
             if o.shape == "circle":
@@ -220,8 +231,8 @@ class World:
                     "box", 0.5 * (o.x_m + o.x2_m), 0.5 * (o.y_m + o.y2_m), width_m=length,
                     depth_m=o.thickness_m, heading_rad=math.atan2(o.y2_m - o.y_m, o.x2_m - o.x_m),
                     height_m=o.height_m))
-        return cs.Scene(target=cs.Target(self.target.spec.kind, x, y, h),
-                        obstacles=tuple(obstacles), seed=self.seed)
+        self._camera_obstacles_cache = tuple(obstacles)
+        return self._camera_obstacles_cache
 
     # ---- truth --------------------------------------------------------------------------
     def joint_angles_rad(self) -> list[float]:

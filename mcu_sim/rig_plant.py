@@ -86,12 +86,7 @@ class WorldPlant:
     def capture(self, t_us: int) -> np.ndarray:
         """The eye-in-hand camera's frame now (uint8 H x W x 3 RGB): camera.render, with the
         clean image reused while scene and pose are bit-identical (a standing robot and arm)."""
-        pos, R = self.world.camera_pose_world()
-        scene = self.world.camera_scene()
-        key = (scene, np.asarray(pos, np.float64).tobytes(), np.asarray(R, np.float64).tobytes())
-        if key != self._clean_key:
-            self._clean = render_clean(scene, pos, R, self.intrinsics)
-            self._clean_key = key
+        scene = self._render_clean()
         if self._plain:
             # no blur, gain or noise: apply_options would hand the image back as it is (seeding
             # its generator, ~50 us per frame, for nothing); a copy, since the frame leaves
@@ -100,6 +95,24 @@ class WorldPlant:
         rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
         # a copy: the frame leaves the plant (host, snapshots) and options may return it as is
         return apply_options(self._clean.copy(), self.options, rng)
+
+    def preload(self) -> None:
+        """Build what the first frame needs once (the floor texture, the markers' mip levels
+        from disk) before the run's clock starts: the camera at t = 0 renders its clean image
+        now. Changes no frame: the first capture reuses that image only when scene and pose
+        are bit-identical, as every later capture does."""
+        self._render_clean()
+
+    def _render_clean(self):
+        """Render the clean image of the camera's current view into ``_clean`` unless scene and
+        pose are bit-identical to the last one's; returns the scene."""
+        pos, R = self.world.camera_pose_world()
+        scene = self.world.camera_scene()
+        key = (scene, np.asarray(pos, np.float64).tobytes(), np.asarray(R, np.float64).tobytes())
+        if key != self._clean_key:
+            self._clean = render_clean(scene, pos, R, self.intrinsics)
+            self._clean_key = key
+        return scene
 
     @property
     def options(self) -> CameraOptions:

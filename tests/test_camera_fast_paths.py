@@ -133,3 +133,13 @@ def test_camera_scene_obstacles_are_built_once_and_stay_the_scenarios():
         elif o.shape == "box":
             assert got == cs.Obstacle("box", o.x_m, o.y_m, width_m=o.width_m, depth_m=o.depth_m,
                                       heading_rad=o.heading_rad, height_m=o.height_m)
+
+
+@pytest.mark.parametrize("name", ["paper000-exp1", "paper002-marker"])
+def test_preload_changes_no_frame(name):
+    _, scenario = resolve_scenario(name)
+    cold, warm = WorldPlant(scenario, 1), WorldPlant(scenario, 1)
+    warm.preload()
+    assert warm._clean is not None and cold._clean is None
+    for t_us in (0, 66_666):
+        assert np.array_equal(cold.capture(t_us), warm.capture(t_us))

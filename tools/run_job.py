@@ -177,6 +177,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         trace = TraceWriter(out / "trace.jsonl")
         snaps = Snapshots(out / "frames")
         plant = WorldPlant(scenario, seed)
+        plant.preload()  # textures built while the host process boots, not on the run's clock
         mcu = Mcu()
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits

@@ -119,12 +119,17 @@ def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, 
     if len(pulses_us) != N_CHANNELS:
         raise ValueError(f"need {N_CHANNELS} pulses, got {len(pulses_us)}")
     # the same telemetry is converted several times per control step (inputs, detectors):
-    # remember the answers for tuples of plain ints (host speed only; bad pulses still raise)
-    cacheable = type(pulses_us) is tuple and all(type(p) is int for p in pulses_us)
-    if cacheable:
-        hit = _JOINTS_SEEN.get(pulses_us)
+    # remember the answers for tuples of plain ints (host speed only; bad pulses still raise).
+    # Looked up before the int check: a key equal to a remembered one (1500.0 == 1500) gives
+    # the same angles as computed below (int() of each), and only good pulses are remembered.
+    if type(pulses_us) is tuple:
+        try:
+            hit = _JOINTS_SEEN.get(pulses_us)
+        except TypeError:  # an unhashable element: converted (or refused) below
+            hit = None
         if hit is not None:
             return hit
+    cacheable = type(pulses_us) is tuple and all(type(p) is int for p in pulses_us)
     out = tuple(pulse_us_to_mrad(ch, int(p)) for ch, p in enumerate(pulses_us))
     if cacheable:
         if len(_JOINTS_SEEN) >= 512:

@@ -247,3 +247,16 @@ def test_parser_buffers_pieces_as_the_general_path_does():
     parser = FrameParser()
     assert parser.feed(b"\x01" * 60) == [] and parser.feed(b"\x01" * 60) == []  # oversize
     assert parser.stats.oversize == 1 and parser.feed(b"\x02\x00" + wire)[0].seq == 1
+
+
+def test_joint_angle_cache_gives_what_the_conversion_gives():
+    pulses = (1000, 1500, 2455, 1800, 545, 1234)
+    want = tuple(arm_calib.pulse_us_to_mrad(ch, p) for ch, p in enumerate(pulses))
+    assert arm_calib.pulses_to_joints_mrad(pulses) == want  # computed (and remembered)
+    assert arm_calib.pulses_to_joints_mrad(pulses) == want  # remembered
+    assert arm_calib.pulses_to_joints_mrad(tuple(float(p) for p in pulses)) == want
+    assert arm_calib.pulses_to_joints_mrad(list(pulses)) == want
+    with pytest.raises(TypeError):
+        arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, [1234]))
+    with pytest.raises(ValueError, match="pulse 2600"):
+        arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, 2600))

@@ -260,3 +260,23 @@ def test_joint_angle_cache_gives_what_the_conversion_gives():
         arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, [1234]))
     with pytest.raises(ValueError, match="pulse 2600"):
         arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, 2600))
+
+
+def test_div_round_short_paths_round_halves_away_from_zero():
+    from host.fixedpoint import div_round
+
+    def reference(num: int, den: int) -> int:
+        q, r = divmod(abs(num), abs(den))
+        if 2 * r >= abs(den):
+            q += 1
+        return q if (num >= 0) == (den > 0) else -q
+
+    rng = random.Random(5)
+    cases = [(n, d) for n in range(-25, 26) for d in (1, 2, 3, 4, 5, 10)]
+    cases += [(rng.randrange(-10**9, 10**9), rng.randrange(1, 10**6)) for _ in range(2000)]
+    for n, d in cases:
+        assert div_round(n, d) == reference(n, d)
+        assert div_round(n, -d) == reference(n, -d)
+    assert (div_round(-5, 2), div_round(5, 2), div_round(-7, 2)) == (-3, 3, -4)
+    with pytest.raises(ValueError):
+        div_round(1, 0)

@@ -130,7 +130,17 @@ def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, 
         if hit is not None:
             return hit
     cacheable = type(pulses_us) is tuple and all(type(p) is int for p in pulses_us)
-    out = tuple(pulse_us_to_mrad(ch, int(p)) for ch, p in enumerate(pulses_us))
+    # a new combination (the arm moving) mostly repeats single-channel pulses seen before
+    out_list = []
+    for ch, p in enumerate(pulses_us):
+        p = int(p)
+        seen = _ANGLE_SEEN[ch]
+        angle = seen.get(p)
+        if angle is None:
+            angle = pulse_us_to_mrad(ch, p)  # a bad pulse raises here and is not remembered
+            seen[p] = angle  # at most 2001 good pulses per channel
+        out_list.append(angle)
+    out = tuple(out_list)
     if cacheable:
         if len(_JOINTS_SEEN) >= 512:
             _JOINTS_SEEN.clear()
@@ -139,6 +149,7 @@ def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, 
 
 
 _JOINTS_SEEN: dict[tuple[int, ...], tuple[int, ...]] = {}
+_ANGLE_SEEN: tuple[dict[int, int], ...] = tuple({} for _ in range(N_CHANNELS))  # per channel
 
 
 def joints_to_pulses_us(angles_mrad: tuple[int, ...] | list[int]) -> tuple[int, ...]:

@@ -260,6 +260,13 @@ def test_joint_angle_cache_gives_what_the_conversion_gives():
         arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, [1234]))
     with pytest.raises(ValueError, match="pulse 2600"):
         arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, 2600))
+    with pytest.raises(ValueError, match="pulse 2600"):  # refused again: never remembered
+        arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, 2600))
+    rng = random.Random(3)
+    for _ in range(3000):  # new combinations of (partly) remembered channel pulses
+        pulses = tuple(rng.randrange(500, 2501) for _ in range(6))
+        want = tuple(arm_calib.pulse_us_to_mrad(ch, p) for ch, p in enumerate(pulses))
+        assert arm_calib.pulses_to_joints_mrad(pulses) == want
 
 
 def test_div_round_short_paths_round_halves_away_from_zero():

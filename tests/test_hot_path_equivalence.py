@@ -287,3 +287,15 @@ def test_div_round_short_paths_round_halves_away_from_zero():
     assert (div_round(-5, 2), div_round(5, 2), div_round(-7, 2)) == (-3, 3, -4)
     with pytest.raises(ValueError):
         div_round(1, 0)
+
+
+def test_isqrt_equals_the_digit_by_digit_root_of_the_board():
+    from host.fixedpoint import isqrt, isqrt_digits
+
+    rng = random.Random(6)
+    values = list(range(0, 5000)) + [2**k + d for k in range(1, 80) for d in (-1, 0, 1)]
+    values += [rng.randrange(0, 2**64) for _ in range(3000)] + [7.9, 1e6]
+    for n in values:
+        assert isqrt(n) == isqrt_digits(n)
+    with pytest.raises(ValueError, match="negative"):
+        isqrt(-1)

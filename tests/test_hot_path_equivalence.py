@@ -299,3 +299,15 @@ def test_isqrt_equals_the_digit_by_digit_root_of_the_board():
         assert isqrt(n) == isqrt_digits(n)
     with pytest.raises(ValueError, match="negative"):
         isqrt(-1)
+
+
+def test_a_message_type_that_cannot_fit_a_frame_is_refused_when_defined():
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    with pytest.raises(TypeError, match="exceed 64 bytes"):
+        @dataclass(frozen=True)
+        class TooBig(m.Message):
+            MSG_TYPE: ClassVar[int] = 0x7F
+            _SPEC: ClassVar = (m._f("values", "I", count=17),)
+            values: tuple

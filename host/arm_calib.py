@@ -163,7 +163,12 @@ def clamp_joints_mrad(angles_mrad: tuple[int, ...] | list[int]) -> tuple[int, ..
     """Clamp all six joint targets to their limits."""
     if len(angles_mrad) != N_CHANNELS:
         raise ValueError(f"need {N_CHANNELS} joint angles, got {len(angles_mrad)}")
-    if all(type(a) is int for a in angles_mrad):  # the usual call: clamp_mrad's short path
-        return tuple([min(max(a, lo), hi)
-                      for a, (lo, hi) in zip(angles_mrad, JOINT_LIMITS_MRAD, strict=True)])
+    if set(map(type, angles_mrad)) == _INT_ONLY:  # the usual call: clamp_mrad's short path,
+        # min(max(a, lo), hi) per channel, in C (map) as it runs at every control step
+        return tuple(map(min, map(max, angles_mrad, _LO_MRAD), _HI_MRAD))
     return tuple(clamp_mrad(ch, a) for ch, a in enumerate(angles_mrad))
+
+
+_INT_ONLY = {int}  # set(map(type, values)) of plain ints (bool is not int)
+_LO_MRAD = tuple(lo for lo, _ in JOINT_LIMITS_MRAD)
+_HI_MRAD = tuple(hi for _, hi in JOINT_LIMITS_MRAD)

@@ -183,11 +183,10 @@ def mul_q12(a: int, b: int) -> int:
 def div_round(num: int, den: int) -> int:
     """num / den rounded to nearest (halves away from zero); ValueError if den == 0."""
     if type(num) is int and type(den) is int and den > 0:  # the usual call
+        # floor((2|num| + den) / 2den) is |num|/den rounded with halves up; the sign after
         if num >= 0:
-            q, r = divmod(num, den)
-            return q + 1 if 2 * r >= den else q
-        q, r = divmod(-num, den)  # a negative quotient: round its size, then the sign
-        return -q - 1 if 2 * r >= den else -q
+            return (2 * num + den) // (2 * den)
+        return -((den - 2 * num) // (2 * den))
     num, den = int(num), int(den)
     if den == 0:
         raise ValueError("div_round: division by zero")

@@ -28,7 +28,8 @@ HOST_ID = "mobigrasp-2440"  # at most 16 ASCII chars (protocol)
 
 _COERCE_LIM = 1 << 62  # the range coerce_int accepts (host.outgoing_guard)
 _SUPERSEDING = (m.SetServos, m.Gripper)  # a newer one cancels the unanswered older one
-_JOINT_LIMITS = arm_calib.JOINT_LIMITS_MRAD[1:]  # (lo, hi) of channels 1..5
+_JOINT_LO = tuple(lo for lo, _ in arm_calib.JOINT_LIMITS_MRAD[1:])  # channels 1..5
+_JOINT_HI = tuple(hi for _, hi in arm_calib.JOINT_LIMITS_MRAD[1:])
 
 
 @dataclass
@@ -190,13 +191,15 @@ class HostLink:
         try:
             if len(joints_mrad) != 6:
                 raise ValueError(f"servo targets must have 6 values, got {len(joints_mrad)}")
-            # plain ints in range pass coerce_int unchanged: skip the call for them
-            raw = [v if type(v) is int and -_COERCE_LIM <= v <= _COERCE_LIM
-                   else coerce_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
-            # arm_calib.clamp_mrad of channels 1..5, inlined: raw holds plain ints here
-            targets = [self.gripper_permille]
-            targets += [min(max(v, lo), hi) for v, (lo, hi) in zip(raw[1:], _JOINT_LIMITS,
-                                                                   strict=True)]
+            # plain ints in range pass coerce_int unchanged: skip the calls for them
+            if (set(map(type, joints_mrad)) == {int} and min(joints_mrad) >= -_COERCE_LIM
+                    and max(joints_mrad) <= _COERCE_LIM):
+                raw = list(joints_mrad)
+            else:
+                raw = [coerce_int(f"servo_mrad[{ch}]", v) for ch, v in enumerate(joints_mrad)]
+            # arm_calib.clamp_mrad of channels 1..5, in C: raw holds plain ints here
+            targets = [self.gripper_permille,
+                       *map(min, map(max, raw[1:], _JOINT_LO), _JOINT_HI)]
             if targets[1:] != raw[1:]:
                 self.counters.clamped_outputs += 1
             msg = m.SetServos(mode=m.SERVO_MODE_MRAD, targets=check_servo_mrad(targets),

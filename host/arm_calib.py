@@ -119,13 +119,28 @@ def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, 
     if len(pulses_us) != N_CHANNELS:
         raise ValueError(f"need {N_CHANNELS} pulses, got {len(pulses_us)}")
     # the same telemetry is converted several times per control step (inputs, detectors):
-    # remember the answers for tuples of plain ints (host speed only; bad pulses still raise)
-    cacheable = type(pulses_us) is tuple and all(type(p) is int for p in pulses_us)
-    if cacheable:
-        hit = _JOINTS_SEEN.get(pulses_us)
+    # remember the answers for tuples of plain ints (host speed only; bad pulses still raise).
+    # Looked up before the int check: a key equal to a remembered one (1500.0 == 1500) gives
+    # the same angles as computed below (int() of each), and only good pulses are remembered.
+    if type(pulses_us) is tuple:
+        try:
+            hit = _JOINTS_SEEN.get(pulses_us)
+        except TypeError:  # an unhashable element: converted (or refused) below
+            hit = None
         if hit is not None:
             return hit
-    out = tuple(pulse_us_to_mrad(ch, int(p)) for ch, p in enumerate(pulses_us))
+    cacheable = type(pulses_us) is tuple and all(type(p) is int for p in pulses_us)
+    # a new combination (the arm moving) mostly repeats single-channel pulses seen before
+    out_list = []
+    for ch, p in enumerate(pulses_us):
+        p = int(p)
+        seen = _ANGLE_SEEN[ch]
+        angle = seen.get(p)
+        if angle is None:
+            angle = pulse_us_to_mrad(ch, p)  # a bad pulse raises here and is not remembered
+            seen[p] = angle  # at most 2001 good pulses per channel
+        out_list.append(angle)
+    out = tuple(out_list)
     if cacheable:
         if len(_JOINTS_SEEN) >= 512:
             _JOINTS_SEEN.clear()
@@ -134,6 +149,7 @@ def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, 
 
 
 _JOINTS_SEEN: dict[tuple[int, ...], tuple[int, ...]] = {}
+_ANGLE_SEEN: tuple[dict[int, int], ...] = tuple({} for _ in range(N_CHANNELS))  # per channel
 
 
 def joints_to_pulses_us(angles_mrad: tuple[int, ...] | list[int]) -> tuple[int, ...]:
@@ -147,7 +163,12 @@ def clamp_joints_mrad(angles_mrad: tuple[int, ...] | list[int]) -> tuple[int, ..
     """Clamp all six joint targets to their limits."""
     if len(angles_mrad) != N_CHANNELS:
         raise ValueError(f"need {N_CHANNELS} joint angles, got {len(angles_mrad)}")
-    if all(type(a) is int for a in angles_mrad):  # the usual call: clamp_mrad's short path
-        return tuple([min(max(a, lo), hi)
-                      for a, (lo, hi) in zip(angles_mrad, JOINT_LIMITS_MRAD, strict=True)])
+    if set(map(type, angles_mrad)) == _INT_ONLY:  # the usual call: clamp_mrad's short path,
+        # min(max(a, lo), hi) per channel, in C (map) as it runs at every control step
+        return tuple(map(min, map(max, angles_mrad, _LO_MRAD), _HI_MRAD))
     return tuple(clamp_mrad(ch, a) for ch, a in enumerate(angles_mrad))
+
+
+_INT_ONLY = {int}  # set(map(type, values)) of plain ints (bool is not int)
+_LO_MRAD = tuple(lo for lo, _ in JOINT_LIMITS_MRAD)
+_HI_MRAD = tuple(hi for _, hi in JOINT_LIMITS_MRAD)

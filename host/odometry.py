@@ -132,14 +132,14 @@ class Odometry:
         if abs(dl) > limit or abs(dr) > limit:
             self.dropped += 1
             return self.pose
-        theta_prev = self.heading_urad
+        theta_prev = self._heading_urad(self._s_l_um, self._s_r_um)
         self._ticks_l += dl
         self._ticks_r += dr
         s_l = (self._ticks_l * UM_PER_TICK_Q16 + (1 << 15)) >> 16
         s_r = (self._ticks_r * UM_PER_TICK_Q16 + (1 << 15)) >> 16
         d_l, d_r = s_l - self._s_l_um, s_r - self._s_r_um
         self._s_l_um, self._s_r_um = s_l, s_r
-        theta = self.heading_urad
+        theta = self._heading_urad(s_l, s_r)
         mid_mrad = div_round(theta_prev + theta, 2000)
         d_sum = d_l + d_r  # twice the travel of the base centre
         self._x_acc += d_sum * cos_q12(mid_mrad)

@@ -19,11 +19,15 @@ from __future__ import annotations
 
 import math
 import numbers
+import operator
 from collections import Counter
 from collections.abc import Sequence
 
 from host.arm_calib import JOINT_LIMITS_MRAD, JOINT_NAMES, N_CHANNELS
 from protocol.messages import GRIPPER_CLOSED_PERMILLE, WHEEL_SPEED_LIMIT_MMPS
+
+_LO = tuple(lo for lo, _ in JOINT_LIMITS_MRAD)  # servo target limits per channel
+_HI = tuple(hi for _, hi in JOINT_LIMITS_MRAD)
 
 # Reasons (the keys of OutgoingGuard.rejections).
 NOT_A_NUMBER = "not_a_number"
@@ -93,9 +97,8 @@ def check_servo_mrad(targets: Sequence[object]) -> tuple[int, ...]:
         raise OutgoingRejected(WRONG_COUNT, "servo_mrad", targets, f"need {N_CHANNELS} values")
     # the usual case: a list or tuple of six plain ints within their limits (decided without
     # formatting the names the errors below carry)
-    if (type(targets) is tuple or type(targets) is list) and all(
-            type(v) is int and lo <= v <= hi
-            for v, (lo, hi) in zip(targets, JOINT_LIMITS_MRAD, strict=True)):
+    if ((type(targets) is tuple or type(targets) is list) and set(map(type, targets)) == {int}
+            and all(map(operator.le, _LO, targets)) and all(map(operator.le, targets, _HI))):
         return tuple(targets)
     return tuple(check_int(f"servo_mrad[{ch}] ({JOINT_NAMES[ch]})", targets[ch], lo, hi)
                  for ch, (lo, hi) in enumerate(JOINT_LIMITS_MRAD))

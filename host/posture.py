@@ -91,7 +91,8 @@ def distribute_alpha(d_alpha_mrad: int, theta2_mrad: int, theta3_mrad: int, thet
         return 0, 0, 0
     d = [div_round(d_alpha_mrad * w, t_m) for w in weights]
     # rounding: put the remainder on the joint with the largest weight so the sum is d_alpha
-    biggest = max(range(3), key=lambda i: abs(weights[i]))
+    sizes = [abs(w) for w in weights]
+    biggest = sizes.index(max(sizes))  # the first of equal ones, as max(range(3), key=...)
     d[biggest] += d_alpha_mrad - sum(d)
     return d[0], d[1], d[2]
 
@@ -120,7 +121,7 @@ def adjust_posture(geom: ArmGeometry, joints_mrad: tuple[int, int, int, int],
                    alpha_target_mrad: int | None = None) -> PostureAdjustment:
     """One posture adjustment step from joints (theta2, theta3, theta4, theta5) and the object
     position in the platform frame (Q4 mm).  ``alpha_target_mrad`` overrides alpha'."""
-    th2, th3, th4, th5 = (int(v) for v in joints_mrad)
+    th2, th3, th4, th5 = map(int, joints_mrad)
     ox, oy, _ = object_mm_q4
     d5 = 0 if (ox == 0 and oy == 0) else _wrap_mrad(atan2_mrad(ox, oy) - th5)
     d5 = _cap(d5, params.max_step_mrad)
@@ -129,7 +130,8 @@ def adjust_posture(geom: ArmGeometry, joints_mrad: tuple[int, int, int, int],
                 if alpha_target_mrad is None else int(alpha_target_mrad))
     d_alpha = a_target - alpha
     d2, d3, d4 = distribute_alpha(d_alpha, th2, th3, th4, params)
-    d2, d3, d4 = (_cap(v, params.max_step_mrad) for v in (d2, d3, d4))
+    cap = params.max_step_mrad
+    d2, d3, d4 = _cap(d2, cap), _cap(d3, cap), _cap(d4, cap)
     n2 = arm_calib.clamp_mrad(2, th2 + d2)
     n3 = arm_calib.clamp_mrad(3, th3 + d3)
     n4 = arm_calib.clamp_mrad(4, th4 + d4)

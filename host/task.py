@@ -259,13 +259,14 @@ class Task(TaskStates):
     def _clean(self, inp: TaskInputs) -> tuple[TaskInputs, dict]:
         """Count and drop malformed inputs; returns usable inputs and detections."""
         joints = inp.joints_mrad
-        pose = (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps)
+        x, y, h, v = pose = (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps)
         dets = inp.detections
         # The usual inputs (host.app_factory.InputBuilder) are already clean: plain ints, a
         # tuple of six plain ints, a dict. Cleaning would rebuild an equal TaskInputs: skip it.
-        if (type(dets) is dict and all(type(v) is int for v in pose)
+        if (type(dets) is dict and type(x) is int and type(y) is int and type(h) is int
+                and type(v) is int
                 and (joints is None or (type(joints) is tuple and len(joints) == 6
-                                        and all(type(v) is int for v in joints)))):
+                                        and all(type(j) is int for j in joints)))):
             self.last_pose = pose
             return inp, dets
         if joints is not None:

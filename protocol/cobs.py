@@ -11,8 +11,14 @@ from __future__ import annotations
 
 def cobs_encode(data: bytes) -> bytes:
     """COBS-encode ``data``; the result has no 0x00 byte and no delimiter appended."""
+    data = bytes(data)
+    if len(data) < 254:  # every frame of the protocol: each block gets one code byte, its
+        # length + 1, and no block needs a 0xFF split; done in C (map) instead of a loop
+        blocks = data.split(b"\x00")
+        return b"".join(map(bytes.__add__, map(_CODE_FOR_LEN.__getitem__, map(len, blocks)),
+                            blocks))
     parts: list[bytes] = []  # joined once at the end (fewer copies than a growing bytearray)
-    for block in bytes(data).split(b"\x00"):
+    for block in data.split(b"\x00"):
         # Each zero-free block becomes runs of at most 254 bytes; a 0xFF code means "254 data
         # bytes and no implied zero", so long blocks are cut there.
         while len(block) >= 254:
@@ -25,6 +31,7 @@ def cobs_encode(data: bytes) -> bytes:
 
 
 _CODE_BYTE = tuple(bytes((i,)) for i in range(256))  # code byte values as 1-byte strings
+_CODE_FOR_LEN = _CODE_BYTE[1:]  # the code byte of a block of n < 254 bytes: n + 1
 
 
 def cobs_decode(data: bytes) -> bytes:

@@ -71,6 +71,9 @@ class UnknownTypeError(MessageError):
     nack_reason = NACK_UNKNOWN_TYPE
 
 
+_INT_ONLY = {int}  # the set of element types of a tuple of plain ints (bool is not int)
+
+
 class _F(NamedTuple):
     """One wire field: struct code, inclusive range, element count (>1: a tuple)."""
 
@@ -127,8 +130,9 @@ class Message:
     _TEXT: ClassVar[str | None] = None
     _TEXT_MAX: ClassVar[int] = 0
     _STRUCT: ClassVar[struct.Struct]
-    _LAYOUT: ClassVar[tuple[tuple[str, int, int], ...]]
     _CHECKS: ClassVar[tuple[tuple[str, int, int, int], ...]]
+    _NAMES: ClassVar[tuple[str, ...]]
+    _INDEX: ClassVar[tuple[int | slice, ...]]
     _DYNAMIC_RANGE: ClassVar[bool]
     _TRUSTED_DECODE: ClassVar[bool]
 
@@ -137,13 +141,16 @@ class Message:
         fmt = "<" + "".join(f.code * f.count for f in cls._SPEC)
         cls._STRUCT = struct.Struct(fmt)
         # Every message fits a frame (so encode_message need not check the payload length).
-        assert cls._STRUCT.size + (cls._TEXT_MAX if cls._TEXT is not None else 0) <= MAX_PAYLOAD
-        # (name, struct index, count) of each field, for decode.
-        layout, i = [], 0
+        if cls._STRUCT.size + (cls._TEXT_MAX if cls._TEXT is not None else 0) > MAX_PAYLOAD:
+            raise TypeError(f"{cls.__name__} payloads can exceed {MAX_PAYLOAD} bytes")
+        # each field's index into the unpacked tuple: an int, or a slice for a counted field
+        # (raw[index] is then the value decode() sets: the whole split runs in C)
+        index, i = [], 0
         for f in cls._SPEC:
-            layout.append((f.name, i, f.count))
+            index.append(i if f.count == 1 else slice(i, i + f.count))
             i += f.count
-        cls._LAYOUT = tuple(layout)
+        cls._NAMES = tuple(f.name for f in cls._SPEC)
+        cls._INDEX = tuple(index)
         cls._CHECKS = tuple((f.name, f.lo, f.hi, f.count) for f in cls._SPEC)
         cls._DYNAMIC_RANGE = cls._range is not Message._range
         # A payload of a type whose every field may take any value of its struct code (and
@@ -175,11 +182,11 @@ class Message:
                     return None
                 values.append(value)
             else:
-                if type(value) is not tuple or len(value) != count:
+                # element checks in C (map, min, max): six servo targets every control tick
+                if (type(value) is not tuple or len(value) != count
+                        or set(map(type, value)) != _INT_ONLY
+                        or min(value) < lo or max(value) > hi):
                     return None
-                for x in value:
-                    if type(x) is not int or not lo <= x <= hi:
-                        return None
                 values += value
         return values
 
@@ -246,9 +253,7 @@ class Message:
         raw = cls._STRUCT.unpack_from(payload)
         if cls._TRUSTED_DECODE:  # every unpacked value is valid: set the fields directly
             msg = object.__new__(cls)
-            d = msg.__dict__
-            for name, i, count in cls._LAYOUT:
-                d[name] = raw[i] if count == 1 else raw[i:i + count]
+            msg.__dict__.update(zip(cls._NAMES, map(raw.__getitem__, cls._INDEX), strict=True))
             return msg
         kwargs: dict[str, object] = {}
         i = 0

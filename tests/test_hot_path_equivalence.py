@@ -247,3 +247,67 @@ def test_parser_buffers_pieces_as_the_general_path_does():
     parser = FrameParser()
     assert parser.feed(b"\x01" * 60) == [] and parser.feed(b"\x01" * 60) == []  # oversize
     assert parser.stats.oversize == 1 and parser.feed(b"\x02\x00" + wire)[0].seq == 1
+
+
+def test_joint_angle_cache_gives_what_the_conversion_gives():
+    pulses = (1000, 1500, 2455, 1800, 545, 1234)
+    want = tuple(arm_calib.pulse_us_to_mrad(ch, p) for ch, p in enumerate(pulses))
+    assert arm_calib.pulses_to_joints_mrad(pulses) == want  # computed (and remembered)
+    assert arm_calib.pulses_to_joints_mrad(pulses) == want  # remembered
+    assert arm_calib.pulses_to_joints_mrad(tuple(float(p) for p in pulses)) == want
+    assert arm_calib.pulses_to_joints_mrad(list(pulses)) == want
+    with pytest.raises(TypeError):
+        arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, [1234]))
+    with pytest.raises(ValueError, match="pulse 2600"):
+        arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, 2600))
+    with pytest.raises(ValueError, match="pulse 2600"):  # refused again: never remembered
+        arm_calib.pulses_to_joints_mrad((1000, 1500, 2455, 1800, 545, 2600))
+    rng = random.Random(3)
+    for _ in range(3000):  # new combinations of (partly) remembered channel pulses
+        pulses = tuple(rng.randrange(500, 2501) for _ in range(6))
+        want = tuple(arm_calib.pulse_us_to_mrad(ch, p) for ch, p in enumerate(pulses))
+        assert arm_calib.pulses_to_joints_mrad(pulses) == want
+
+
+def test_div_round_short_paths_round_halves_away_from_zero():
+    from host.fixedpoint import div_round
+
+    def reference(num: int, den: int) -> int:
+        q, r = divmod(abs(num), abs(den))
+        if 2 * r >= abs(den):
+            q += 1
+        return q if (num >= 0) == (den > 0) else -q
+
+    rng = random.Random(5)
+    cases = [(n, d) for n in range(-25, 26) for d in (1, 2, 3, 4, 5, 10)]
+    cases += [(rng.randrange(-10**9, 10**9), rng.randrange(1, 10**6)) for _ in range(2000)]
+    for n, d in cases:
+        assert div_round(n, d) == reference(n, d)
+        assert div_round(n, -d) == reference(n, -d)
+    assert (div_round(-5, 2), div_round(5, 2), div_round(-7, 2)) == (-3, 3, -4)
+    with pytest.raises(ValueError):
+        div_round(1, 0)
+
+
+def test_isqrt_equals_the_digit_by_digit_root_of_the_board():
+    from host.fixedpoint import isqrt, isqrt_digits
+
+    rng = random.Random(6)
+    values = list(range(0, 5000)) + [2**k + d for k in range(1, 80) for d in (-1, 0, 1)]
+    values += [rng.randrange(0, 2**64) for _ in range(3000)] + [7.9, 1e6]
+    for n in values:
+        assert isqrt(n) == isqrt_digits(n)
+    with pytest.raises(ValueError, match="negative"):
+        isqrt(-1)
+
+
+def test_a_message_type_that_cannot_fit_a_frame_is_refused_when_defined():
+    from dataclasses import dataclass
+    from typing import ClassVar
+
+    with pytest.raises(TypeError, match="exceed 64 bytes"):
+        @dataclass(frozen=True)
+        class TooBig(m.Message):
+            MSG_TYPE: ClassVar[int] = 0x7F
+            _SPEC: ClassVar = (m._f("values", "I", count=17),)
+            values: tuple

@@ -101,7 +101,6 @@ class _VisionJob:
     pending: tuple | None = None
     bounded: bool = False
     preempted_us: int = 0  # control preemption added to done_us so far
-    started: Any = None  # the vision_executor's handle once start_vision handed the job over
 
 
 @dataclass
@@ -144,9 +143,6 @@ class HostApp:
         self.task = task
         self.detectors = detectors
         self.vision_bounds = vision_bounds
-        # optional: ``submit(names, rgb, snapshots) -> handle``, ``handle.result()`` -> the
-        # detectors' (result, OpCounts) in order; runs them elsewhere (start_vision)
-        self.vision_executor: Any = None
         self.build_inputs = build_inputs
         self.config = config or HostConfig()
         self.link = link or HostLink()
@@ -288,17 +284,6 @@ class HostApp:
         self._vision = _VisionJob(seq, capture_us, start, start + low, {}, total,
                                   pending=(needed, rgb, snaps), bounded=bounds is not None)
 
-    def start_vision(self) -> None:
-        """Hand the pending job's detectors to ``vision_executor`` (if any, and not done yet) so
-        they run while this program goes on; :meth:`resolve_vision` takes their outputs and
-        applies results and costs exactly as if it had run them itself (the detectors are pure
-        functions of the frame and the pose snapshot). Host speed only."""
-        job = self._vision
-        if self.vision_executor is None or job is None or job.pending is None \
-                or job.started is not None:
-            return
-        job.started = self.vision_executor.submit(*job.pending)
-
     def resolve_vision(self) -> None:
         """Run the detectors of the current vision job if they have not run yet.
 
@@ -314,16 +299,9 @@ class HostApp:
             return
         needed, rgb, snaps = job.pending
         job.pending = None
-        outputs = None
-        if job.started is not None:
-            handle, job.started = job.started, None
-            outputs = handle.result()
         total = job.arm9_us
-        for i, (name, snap) in enumerate(zip(needed, snaps, strict=True)):
-            if outputs is not None:
-                result, ops = outputs[i]
-            else:
-                result, ops = self.timer(name, self.detectors[name], rgb, *snap)
+        for name, snap in zip(needed, snaps, strict=True):
+            result, ops = self.timer(name, self.detectors[name], rgb, *snap)
             dur = ops.time_us()
             self._busy(job.start_us + total, dur, name)
             total += dur

@@ -123,16 +123,10 @@ class LockstepClient:
 
     def after_done(self) -> None:
         """Work the DONE just sent did not need (a frame's detectors): done now, while the rig
-        simulates, instead of before a later DONE, if the next control tick may need it
-        (HostApp.vision_needed_by). Otherwise it waits for the DONE of a later tick's quantum:
-        the rig waits for those DONEs, and a tick the job certainly outlasts does not need the
-        detectors. (A frame, or a finished load window, runs them whenever it comes.) With a
-        ``vision_executor`` they start elsewhere right away instead (HostApp.start_vision)."""
-        app = self.app
-        if app.vision_executor is not None:
-            app.start_vision()  # elsewhere at once, while this process serves grants
-        elif app.vision_needed_by():
-            app.resolve_vision()
+        simulates. (The pose snapshot and the bounds of HostApp.vision_needed_by would allow
+        waiting until after the next control tick's DONE; measured, that only moved the rig's
+        wait to the following tick.)"""
+        self.app.resolve_vision()
 
     def bye(self) -> ls.Bye:
         """Final statistics of the host program."""

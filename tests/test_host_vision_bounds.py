@@ -79,8 +79,6 @@ def _run(bounded: bool, seed: int, policy: str):
     app = HostApp(task, {"a": _detector_a, "b": pose}, build_inputs, HostConfig(),
                   vision_bounds=bounds)
     app_ref.append(app)
-    executor = _LazyExecutor(app.detectors) if policy == "executor" else None
-    app.vision_executor = executor
     frames, t = [], 0
     while t < 1_000_000:
         t += int(rng.integers(1, 14)) * QUANTUM
@@ -104,8 +102,6 @@ def _run(bounded: bool, seed: int, policy: str):
             out["loads"].append(app.load_windows())
         out["quanta"].append((app.take_events(), app.take_output(s + QUANTUM)))
         pending = app._vision is not None and app._vision.pending is not None
-        if policy == "executor":
-            app.start_vision()
         if policy == "eager" or (policy == "needed" and app.vision_needed_by()):
             app.resolve_vision()
         elif pending:
@@ -114,35 +110,6 @@ def _run(bounded: bool, seed: int, policy: str):
     out["stage_us"] = app.counters.stage_us
     out["seen"] = task.seen
     return out, deferred, pose.calls
-
-
-class _LazyExecutor:
-    """Runs a job's detectors only when its result is asked for, like a worker that finishes
-    late; counts the jobs."""
-
-    def __init__(self, detectors):
-        self.detectors = detectors
-        self.jobs = 0
-
-    def submit(self, names, rgb, snaps):
-        self.jobs += 1
-        return _Handle(lambda: [self.detectors[n](rgb, *s) for n, s in zip(names, snaps,
-                                                                           strict=True)])
-
-
-class _Handle:
-    def __init__(self, fn):
-        self.fn = fn
-
-    def result(self):
-        return self.fn()
-
-
-def test_detectors_run_elsewhere_change_nothing_modelled():
-    for seed in range(3):
-        want, _, calls = _run(False, seed, "eager")
-        got, _, calls_x = _run(True, seed, "executor")
-        assert got == want and calls_x == calls
 
 
 def test_deferred_detectors_change_nothing_modelled():

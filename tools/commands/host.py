@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import socket
 import sys
 import time
@@ -32,60 +31,6 @@ def _config(args: argparse.Namespace) -> dict:
     return cfg
 
 
-# Opt-in (trial): with MOBIGRASP_VISION_PROCESS=1 in its environment the lockstep host runs each
-# frame's detectors in a forked child from the DONE of the frame's quantum on, while it serves
-# the following grants; a tick that needs the results waits for them. Host speed only (traces
-# unchanged); it pays off only when a core is free for the child.
-VISION_PROCESS_ENV = "MOBIGRASP_VISION_PROCESS"
-
-
-class ForkedVision:
-    """A forked child process that runs a vision job's detectors while the host process serves
-    grants (HostApp.vision_executor): one job at a time, frame and pose snapshot in, the
-    detectors' (result, OpCounts) out. Host speed only: the results are the same values."""
-
-    def __init__(self, detectors: dict) -> None:
-        import multiprocessing as mp
-
-        ctx = mp.get_context("fork")
-        self._conn, child = ctx.Pipe()
-        self._proc = ctx.Process(target=_vision_child, args=(child, detectors), daemon=True,
-                                 name="mobigrasp-vision")
-        self._proc.start()
-        child.close()
-
-    def submit(self, names, rgb, snaps) -> ForkedVision:
-        """Send one job to the child; the handle is this object (one job at a time)."""
-        self._conn.send((list(names), rgb, list(snaps)))
-        return self
-
-    def result(self) -> list:
-        """The outputs of the job submitted last (waits for them); its exception, raised."""
-        out = self._conn.recv()
-        if isinstance(out, BaseException):
-            raise out
-        return out
-
-    def close(self) -> None:
-        """Stop the child (it also stops when this process goes: end of file on the pipe)."""
-        self._conn.close()
-        self._proc.join(timeout=5.0)
-
-
-def _vision_child(conn, detectors: dict) -> None:
-    # the detectors of the forked host program; pose detectors get the snapshot sent with the job
-    while True:
-        try:
-            names, rgb, snaps = conn.recv()
-        except (EOFError, OSError):
-            return
-        try:
-            out = [detectors[n](rgb, *s) for n, s in zip(names, snaps, strict=True)]
-        except Exception as exc:  # raised in the host process by result()
-            out = exc
-        conn.send(out)
-
-
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from host.app_factory import build_host_app
     from host.lockstep_client import LockstepClient, serve_stream
@@ -94,18 +39,11 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from link.frame_ring import FrameRingReader
     from link.registry import open_transport
 
-    app = None
-    if os.environ.get(VISION_PROCESS_ENV) == "1":
-        # forked before the port and the socket are opened, so the child holds neither open
-        app = build_host_app(cfg)
-        app.vision_executor = ForkedVision(app.detectors)
     port = open_transport(args.port)
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     sock.settimeout(120.0)  # safety limit only; the rig answers at once
     sock.connect(args.lockstep)
-    if app is None:
-        app = build_host_app(cfg)
-    client = LockstepClient(app, port)
+    client = LockstepClient(build_host_app(cfg), port)
     frames = FrameRingReader()
     try:
         serve_stream(client, ls.SocketReader(sock), sock.makefile("wb"),

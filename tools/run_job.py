@@ -155,6 +155,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     early = port = None
     if opts.transport == "pty":
+        # one OpenCV thread for the renderer: on a two-core machine its default pool takes the
+        # host process's core in the middle of a frame (frames are the same either way)
+        import cv2
+        cv2.setNumThreads(1)
         # the host process boots (~0.5 s of imports) while this side imports and builds its half
         port = open_transport("pty://")
         cfg_path = write_host_config(Path(tmpdir.name) / "host.json", cfg)

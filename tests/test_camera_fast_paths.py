@@ -17,18 +17,13 @@ import math
 
 import numpy as np
 import pytest
+from camera_expect import expected_frame
 
 from mcu_sim.rig_plant import WorldPlant
 from mcu_sim.world import camera as cam
-from mcu_sim.world.camera import CameraOptions, look_rotation, render
+from mcu_sim.world.camera import CameraOptions, look_rotation
 from mcu_sim.world.camera_scene import Scene, Target, solids_of_scene
 from tools.run_job import resolve_scenario
-
-
-def _expected(plant, t_us):
-    pos, R = plant.world.camera_pose_world()
-    return render(plant.world.camera_scene(), pos, R, plant.intrinsics, plant.options, None,
-                  t_us=t_us)
 
 
 def test_plain_options_frames_equal_render_and_stay_the_callers():
@@ -36,7 +31,7 @@ def test_plain_options_frames_equal_render_and_stay_the_callers():
     plant = WorldPlant(scenario, 3)
     assert plant.options == CameraOptions()  # the shipped scenarios degrade nothing
     got = plant.capture(0)
-    assert np.array_equal(got, _expected(plant, 0))
+    assert np.array_equal(got, expected_frame(plant, 0))
     keep = got.copy()
     got[:] = 0  # scribbling on a frame handed out changes nothing here
     again = plant.capture(66_666)  # same pose: the clean image is reused
@@ -44,7 +39,7 @@ def test_plain_options_frames_equal_render_and_stay_the_callers():
     # options set later take the general path again (noise differs per capture time)
     plant.options = CameraOptions(noise_std=3.0)
     noisy = plant.capture(133_333)
-    assert np.array_equal(noisy, _expected(plant, 133_333))
+    assert np.array_equal(noisy, expected_frame(plant, 133_333))
     assert not np.array_equal(noisy, keep)
     plant.options = CameraOptions(brightness=1.0, blur_px=0.0, noise_std=0.0)
     assert np.array_equal(plant.capture(200_000), keep)

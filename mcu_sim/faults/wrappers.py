@@ -44,6 +44,7 @@ class FaultedMcu:
         self.monitor = monitor
         self._held: list[tuple[int, bytes]] = []  # MCU->host chunks delayed by latency
         self._recovery_points = faults.recovery_points_us()
+        self._any_fault = faults.plan.active()  # asked once per quantum (tx_idle_through_us)
         self.unread_bytes = 0  # MCU bytes a crashed host never read
         if (not faults.to_host.active and faults.crash_us is None and faults.stall is None):
             self.uart_tx_take = self._uart_tx_take_plain
@@ -66,7 +67,7 @@ class FaultedMcu:
     def tx_idle_through_us(self) -> int | None:
         """The MCU's own answer with an empty plan; None (cannot tell) with any fault planned:
         a reset, a burst or held bytes can put bytes on the line at any time."""
-        if self.faults.plan.active():
+        if self._any_fault:
             return None
         return self.inner.tx_idle_through_us()
 

@@ -290,10 +290,10 @@ class HostApp:
         A job's results and length are first needed at the next frame, at the first control
         tick its lower-bounded end does not lie after (all of them without ``vision_bounds``),
         or by a finished load window; until then the detectors may wait. The lockstep client
-        runs them after a DONE only when the next tick may need them
-        (:meth:`vision_needed_by`), so a tick's DONE never waits for detectors that tick cannot
-        need. Nothing modelled depends on when this runs: the pose the detectors read was taken
-        when the frame arrived (``snapshot``)."""
+        runs them right after the DONE of the quantum the frame arrived in
+        (LockstepClient.after_done; waiting longer, as :meth:`vision_needed_by` would allow,
+        was measured no faster). Nothing modelled depends on when this runs: the pose the
+        detectors read was taken when the frame arrived (``snapshot``)."""
         job = self._vision
         if job is None or job.pending is None:
             return

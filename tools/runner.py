@@ -172,8 +172,9 @@ class SocketHost:
 
     Fewer messages: a promised grant whose DONE is known (:func:`quiet_done`) is not sent at all;
     other promised grants without frames wait in an outbox and leave together with the next
-    grant the rig will need an answer to (or one with frames, so vision starts early), in one
-    write; the host answers such a batch in one write too (host/lockstep_client.serve_stream).
+    grant the rig will need an answer to, one with frames (so vision starts early) or the last
+    one before ``quiet_until`` (so the host parses their bytes before its tick), in one write;
+    the host answers such a batch in one write too (host/lockstep_client.serve_stream).
     Messages and DONEs are the same as one by one."""
 
     max_ahead = 16

@@ -121,6 +121,17 @@ class PendingDone(ls.Done):
         """Whether the rig may complete the quantum before the real DONE is read."""
         return self.ticket is not None and self.ticket.promised is not None
 
+    def writes_nothing(self) -> bool:
+        """Whether the host certainly writes nothing in this quantum: its real DONE, read,
+        has no writes, or the host promised so (also in a DONE read after the grant was sent).
+        Rig.quiet_through asks, to issue a grant early."""
+        t = self.ticket
+        if t is None:
+            return not self.writes
+        if t.done is not None:
+            return not t.done.writes
+        return t.promised is not None or t.host.promise(t)
+
 
 @dataclass
 class _Ticket:
@@ -218,7 +229,7 @@ class SocketHost:
             raise ls.LockstepClosed(f"host process did not connect within {timeout} s"
                                     ) from exc
         self.conn.settimeout(timeout)  # safety limit only
-        self.rfile = self.conn.makefile("rb")
+        self.rfile = ls.SocketReader(self.conn)
         self.wfile = self.conn.makefile("wb")
         self._ring = FrameRing(slots=2 * self.max_ahead, directory=self._dir.name)
         hello = ls.read_message(self.rfile)
@@ -477,8 +488,11 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
             if not inflight:
                 inflight.append(submit(rig.grant()))
             done = needed(inflight.popleft())
-            for _ in range(rig.grants_due(done, early_wanted)):
-                inflight.append(submit(rig.grant()))
+            # (asked again while it says more: a grant two quanta early needs the DONE of the
+            # one before it, issued by the previous round)
+            while due := rig.grants_due(done, early_wanted, inflight):
+                for _ in range(due):
+                    inflight.append(submit(rig.grant()))
             backlog.append(("done", done))
             # a DONE read now (also one a fault wrapper made up for a silent host) settles
             # everything before it: those DONEs were sent before it

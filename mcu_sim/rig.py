@@ -25,7 +25,7 @@ turns. The MCU still sees every host byte at its modelled line time.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
@@ -161,39 +161,68 @@ class Rig:
             self._sonar_cache[index] = self.plant.sonar_range_m(index)
         return self._sonar_cache[index]
 
+    # how many quanta before its usual time (with a lag) a grant may go when it would be the same:
+    # the host then has that much more of the rig's time to answer it (a control tick's grant: the
+    # quantum before a tick usually holds the MCU's telemetry, two before it the last tick's
+    # command, so two is what paper000-exp1 can use)
+    max_early_quanta = 2
+
     def grants_due(self, done: Done | None = None,
-                   early_wanted: Callable[[int], bool] | None = None) -> int:
+                   early_wanted: Callable[[int], bool] | None = None,
+                   issued: Sequence[Done] = ()) -> int:
         """How many grants to issue before completing the quantum at now: the grant of
         [now, now+Q) itself and ``host_lag_quanta`` beyond it, less those already issued.
 
-        Given ``done``, the DONE this quantum completes with, and with a lag, one more when it
-        would be the same grant issued a quantum later (:meth:`quiet_next_quantum`) and
-        ``early_wanted(its start_us)`` (default: yes) says it helps: the host gets it one
-        quantum of the rig's time earlier, with exactly the same content."""
+        Given ``done``, the DONE this quantum completes with, and with a lag, up to
+        ``max_early_quanta`` more while each would be the same grant issued later
+        (:meth:`quiet_through` the time it would be issued at; ``issued``: the DONEs of the
+        grants issued beyond now, in order) and ``early_wanted(its start_us)`` (default: yes)
+        says it helps: the host gets it earlier by the rig's time, with exactly the same
+        content."""
         q = self.config.quantum_us
         lag = self.config.host_lag_quanta
         due = max(0, (self.now_us + (lag + 1) * q - self.granted_until_us) // q)
-        if (lag and done is not None
-                and (early_wanted is None or early_wanted(self.granted_until_us + due * q))
-                and self.quiet_next_quantum(done)):
-            early = max(0, (self.now_us + (lag + 2) * q - self.granted_until_us) // q) - due
-            self.stats["grants_early"] += early
-            due += early
-        return due
+        if not lag or done is None:
+            return due
+        early = 0
+        while True:
+            start = self.granted_until_us + (due + early) * q
+            upto = start - lag * q  # when the rig would issue it
+            if (upto > self.now_us + self.max_early_quanta * q
+                    or (early_wanted is not None and not early_wanted(start))
+                    or not self.quiet_through(done, upto, issued)):
+                break
+            early += 1
+        self.stats["grants_early"] += early
+        return due + early
 
     def quiet_next_quantum(self, done: Done) -> bool:
-        """Whether completing [now, now+Q) with ``done`` cannot give the host anything: no
-        camera frame slot falls in (now, now+Q], the host writes nothing in it, and the MCU can
-        finish sending no byte by now+Q (``tx_idle_through_us``: its TX line idle, nothing
-        received left to answer, the next telemetry not before now+Q). The grant issued at
-        now+Q would then hold what one issued now holds."""
+        """:meth:`quiet_through` the end of the quantum at now."""
+        return self.quiet_through(done, self.now_us + self.config.quantum_us)
+
+    def quiet_through(self, done: Done, upto_us: int, issued: Sequence[Done] = ()) -> bool:
+        """Whether completing the quanta from now to ``upto_us`` cannot give the host anything:
+        no camera frame slot falls in (now, upto_us], the host writes nothing in them (``done``
+        for [now, now+Q), then ``issued`` in order: DONEs without writes; one still to be read
+        says so by its ``writes_nothing()``), and the MCU can finish sending
+        no byte by ``upto_us`` (``tx_idle_through_us``: its TX line idle, nothing received
+        left to answer, the next telemetry not before it). A grant issued at ``upto_us`` would
+        then hold what one issued now holds."""
         if done.writes or self._tx_idle is None:
             return False
-        end = self.now_us + self.config.quantum_us
-        if self.config.capture_time_us(self._next_frame) <= end:
+        q = self.config.quantum_us
+        between = (upto_us - self.now_us) // q - 1  # quanta after now's, before upto_us
+        if between > len(issued):
+            return False
+        for i in range(between):
+            d = issued[i]
+            known = getattr(d, "writes_nothing", None)  # a DONE still to be read (the runner's)
+            if d.writes or (known is not None and not known()):
+                return False
+        if self.config.capture_time_us(self._next_frame) <= upto_us:
             return False
         idle = self._tx_idle()
-        return idle is not None and idle >= end
+        return idle is not None and idle >= upto_us
 
     def grant(self) -> Grant:
         """The next quantum's grant (the one after the last issued, [now, now+Q) with no lag):

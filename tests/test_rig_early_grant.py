@@ -18,11 +18,11 @@ from mcu_sim.mcu import Mcu
 from mcu_sim.rig import Rig
 from tools.run_job import RunOptions, execute
 
-GRANT, QUIET = Rig.grant, Rig.quiet_next_quantum  # before any test patches them
+GRANT, QUIET = Rig.grant, Rig.quiet_through  # before any test patches them
 
 
-def _record_grants(monkeypatch, tmp_path, early: bool) -> tuple[list, int, str]:
-    grants, issued_early = [], [0]
+def _record_grants(monkeypatch, tmp_path, early: bool) -> tuple[list, int, str, set]:
+    grants, issued_early, depths = [], [0], set()
     grant, quiet = GRANT, QUIET
 
     def recording(self):
@@ -32,27 +32,30 @@ def _record_grants(monkeypatch, tmp_path, early: bool) -> tuple[list, int, str]:
         grants.append((g.start_us, g.until_us, g.uart, frames))
         return g
 
-    def counting(self, done):
-        ok = quiet(self, done) if early else False
+    def counting(self, done, upto_us, issued=()):
+        ok = quiet(self, done, upto_us, issued) if early else False
         issued_early[0] += ok
+        if ok:  # quanta before the time it would have been issued at
+            depths.add((upto_us - self.now_us) // self.config.quantum_us)
         return ok
 
     monkeypatch.setattr(Rig, "grant", recording)
-    monkeypatch.setattr(Rig, "quiet_next_quantum", counting)
+    monkeypatch.setattr(Rig, "quiet_through", counting)
     s, _ = execute(RunOptions(scenario="paper000-exp1", transport="inproc",
                               out=tmp_path / str(early), progress=False, plots=False,
                               time_limit_s=4.0))
     assert s["status"] == "finished", s.get("error")
-    assert s["lockstep"]["grants_early"] == issued_early[0]  # each quiet quantum: one early
-    # the last one or two grants (one early) are issued for quanta never run
-    assert len(grants) - 2 <= s["lockstep"]["quanta"] <= len(grants) - 1
-    return grants, issued_early[0], s["trace_sha256"]
+    assert s["lockstep"]["grants_early"] == issued_early[0]  # each quiet span: one early
+    # the last one to three grants (lag 1, up to two early) are issued for quanta never run
+    assert len(grants) - 1 - Rig.max_early_quanta <= s["lockstep"]["quanta"] <= len(grants) - 1
+    return grants, issued_early[0], s["trace_sha256"], depths
 
 
-def test_early_grants_are_the_grants_issued_a_quantum_later(monkeypatch, tmp_path):
-    late, n_late, sha_late = _record_grants(monkeypatch, tmp_path, early=False)
-    early, n_early, sha_early = _record_grants(monkeypatch, tmp_path, early=True)
+def test_early_grants_are_the_grants_issued_later(monkeypatch, tmp_path):
+    late, n_late, sha_late, _ = _record_grants(monkeypatch, tmp_path, early=False)
+    early, n_early, sha_early, depths = _record_grants(monkeypatch, tmp_path, early=True)
     assert n_late == 0 and n_early > 300  # most quanta of 4 s: the MCU idle, no frame slot
+    assert depths == {1, 2}  # one and two quanta early (Rig.max_early_quanta)
     assert early == late
     assert sum(bool(g[2]) for g in early) > 50 and sum(bool(g[3]) for g in early) > 40
     assert sha_early == sha_late

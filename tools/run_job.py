@@ -126,6 +126,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
     from link.registry import inproc_pair, open_transport
     from tools.runner import (
+        HOST_POLL_MS,
         InprocHost,
         SessionResult,
         SocketHost,
@@ -162,7 +163,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         # the host process boots (~0.5 s of imports) while this side imports and builds its half
         port = open_transport("pty://")
         cfg_path = write_host_config(Path(tmpdir.name) / "host.json", cfg)
-        early = SocketHost(host_argv(port.slave_path, cfg_path), connect=False)
+        # at full speed the host polls for its grants instead of sleeping (HOST_POLL_MS); paced
+        # (--speed N) it has time to sleep
+        poll_ms = HOST_POLL_MS if opts.speed is None else 0.0
+        early = SocketHost(host_argv(port.slave_path, cfg_path, poll_ms), connect=False)
     try:
         from host.app_factory import build_host_app
         from host.lockstep_client import LockstepClient

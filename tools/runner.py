@@ -526,15 +526,22 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
     return res
 
 
-def host_argv(port_path: str, config_path: Path) -> list[str]:
+# How long the host process of a run at full speed polls for the next grant before it sleeps
+# (docs/cosim.md, "Busy polling"): longer than the rig takes between two grants but for rare
+# stalls (a plan among obstacles), so a host left alone still goes to sleep.
+HOST_POLL_MS = 100.0
+
+
+def host_argv(port_path: str, config_path: Path, poll_ms: float = 0.0) -> list[str]:
     """Command line of the host subprocess (without --lockstep, added by SocketHost).
 
     With ``MOBIGRASP_PROFILE_HOST=FILE`` in the environment the host runs under cProfile and
     writes its statistics to FILE (``python -m pstats FILE``): the pty run's other half."""
     prof = os.environ.get("MOBIGRASP_PROFILE_HOST")
     wrap = ["-m", "cProfile", "-o", prof] if prof else []
+    poll = ["--poll-ms", f"{poll_ms:g}"] if poll_ms else []
     return [sys.executable, *wrap, "-m", "tools.cli", "host", "--port", port_path,
-            "--config", str(config_path)]
+            "--config", str(config_path), *poll]
 
 
 def write_host_config(path: Path, config: dict) -> Path:

@@ -46,7 +46,8 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     client = LockstepClient(build_host_app(cfg), port)
     frames = FrameRingReader()
     try:
-        serve_stream(client, ls.SocketReader(sock), sock.makefile("wb"),
+        serve_stream(client, ls.SocketReader(sock, poll_s=args.poll_ms / 1000.0),
+                     sock.makefile("wb"),
                      host_id="mobigrasp-host", frame_source=frames)
     except (LinkClosed, OSError) as exc:
         # the simulator died or closed the pty/socket mid-run (LockstepClosed is a
@@ -142,6 +143,16 @@ def _run(args: argparse.Namespace) -> int:
     return _free_running(args, cfg)
 
 
+def _poll_ms(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not 0.0 <= value <= 10_000.0:  # also refuses NaN
+        raise argparse.ArgumentTypeError(f"must be a number of ms in [0, 10000], got {text!r}")
+    return value
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``host`` subcommand."""
     p = sub.add_parser("host", help="run the S3C2440 host program on a serial port")
@@ -149,6 +160,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--camera", default=None,
                    help="OpenCV capture source (index or file) in free-running mode")
     p.add_argument("--lockstep", default=None, help="Unix socket of the rig (set by 'run')")
+    p.add_argument("--poll-ms", type=_poll_ms, default=0.0,
+                   help="with --lockstep: poll the socket up to this long before sleeping, so "
+                        "the next grant finds the host running (set by 'run' at full speed)")
     p.add_argument("--config", default=None, help="host configuration JSON (method, params)")
     p.add_argument("--method", default=None, help="000, 001 or 002 (overrides --config)")
     p.set_defaults(func=_run)

@@ -1,0 +1,68 @@
+"""The host polls its lockstep socket before sleeping when a run goes at full speed
+(link.lockstep.SocketReader poll_s, ``mobigrasp host --poll-ms``, docs/cosim.md)."""
+
+import socket
+import subprocess
+import sys
+
+import pytest
+
+from link import lockstep as ls
+from tools import run_job
+from tools.runner import HOST_POLL_MS, host_argv
+
+
+@pytest.mark.parametrize("poll_s", [0.0, 0.05])
+def test_polling_reader_reads_the_same_bytes(poll_s):
+    a, b = socket.socketpair()
+    try:
+        msgs = [ls.Grant(start_us=5000 * i, until_us=5000 * (i + 1), uart=((5000 * i, 3),))
+                for i in range(3)]
+        a.sendall(b"".join(ls.encode(m) for m in msgs))
+        reader = ls.SocketReader(b, poll_s=poll_s)
+        assert [ls.read_message(reader) for _ in msgs] == msgs
+        a.close()  # a closed peer ends the poll at once: the read says the stream ended
+        with pytest.raises(ls.LockstepClosed):
+            ls.read_message(reader)
+    finally:
+        b.close()
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan")])
+def test_polling_reader_refuses_a_bad_time(bad):
+    a, b = socket.socketpair()
+    with a, b, pytest.raises(ValueError, match="poll_s"):
+        ls.SocketReader(b, poll_s=bad)
+
+
+def test_host_command_line_carries_the_poll_time():
+    assert "--poll-ms" not in host_argv("/dev/pts/9", "cfg.json")
+    argv = host_argv("/dev/pts/9", "cfg.json", HOST_POLL_MS)
+    assert argv[argv.index("--poll-ms") + 1] == f"{HOST_POLL_MS:g}"
+
+
+@pytest.mark.parametrize("value", ["-5", "nan", "abc", "20000"])
+def test_host_refuses_a_bad_poll_time(value):
+    out = subprocess.run([sys.executable, "-m", "tools.cli", "host", "--port", "/dev/null",
+                          "--lockstep", "/nonexistent.sock", "--poll-ms", value],
+                         capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2 and "--poll-ms" in out.stderr
+
+
+@pytest.mark.parametrize("speed, polls", [(None, True), (1.0, False)])
+def test_run_polls_only_at_full_speed(monkeypatch, tmp_path, speed, polls):
+    seen = []
+
+    class Stop(Exception):
+        pass
+
+    def fake_socket_host(argv, connect=True):
+        seen.append(argv)
+        raise Stop
+
+    monkeypatch.setattr("tools.runner.SocketHost", fake_socket_host)
+    with pytest.raises(Stop):
+        run_job.execute(run_job.RunOptions(scenario="paper000-exp1", transport="pty",
+                                           out=tmp_path, progress=False, plots=False,
+                                           speed=speed))
+    assert ("--poll-ms" in seen[0]) == polls

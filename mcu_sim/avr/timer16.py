@@ -36,6 +36,9 @@ class Timer16:
         self._pins = [bus.port(f"{p}.pin") for p in channel_ports]
         self._pulses = [bus.port(f"{p}.pulse_ns") for p in channel_ports]
         self._rise_cycle = [0, 0, 0]
+        # bumped whenever last_width_ns may hold other values: a reader that cached something
+        # derived from the widths (Mcu.servo_pulses_us) rebuilds it only then
+        self.width_serial = 0
         self.reset()
 
     def reset(self) -> None:
@@ -51,7 +54,9 @@ class Timer16:
         self._period_start: int | None = None
         self.next_bottom: int | None = None
         self._falls: list[tuple[int, int]] = []
+        self.next_edge: int | None = None  # always next_event(): read once per coupling step
         self.last_width_ns = [0, 0, 0]
+        self.width_serial += 1  # a new list of widths
 
     # -- register writes (firmware side) --------------------------------------------------------
     @property
@@ -90,6 +95,7 @@ class Timer16:
             self._period_start = None
             self.next_bottom = None
             self._falls = []
+            self.next_edge = None
             return
         if self._period_start is None:
             self._prescale = prescale
@@ -112,20 +118,25 @@ class Timer16:
 
     # -- event engine --------------------------------------------------------------------------
     def _start_period(self, cycle: int) -> None:
-        self._icr_active = self.icr
-        self.ocr_active = list(self.ocr_buffer)
+        # runs twice per 20 ms period (Timer1 and Timer3): attributes read once into locals,
+        # _channel_enabled and period_cycles written out
+        icr = self._icr_active = self.icr
+        ocr = self.ocr_active = list(self.ocr_buffer)
+        prescale = self._prescale
         self._period_start = cycle
-        self.next_bottom = cycle + self.period_cycles
+        bottom = self.next_bottom = cycle + (icr + 1) * prescale
         falls = []
+        tccra = self.tccra
         for ch in range(3):
-            if not self._channel_enabled(ch):
+            if (tccra >> (6 - 2 * ch)) & 0b11 != COM_NON_INVERTING:  # not _channel_enabled(ch)
                 continue
             self._rise_cycle[ch] = cycle
             self._pins[ch].emit(cycle, 1, self.cycles_per_us)
-            if self.ocr_active[ch] < self._icr_active:  # OCR >= TOP: output stays high
-                falls.append((cycle + (self.ocr_active[ch] + 1) * self._prescale, ch))
+            if ocr[ch] < icr:  # OCR >= TOP: output stays high
+                falls.append((cycle + (ocr[ch] + 1) * prescale, ch))
         falls.sort()
         self._falls = falls
+        self.next_edge = falls[0][0] if falls else bottom
 
     def next_event(self) -> int | None:
         """Cycle of the next edge or BOTTOM, or None when the clock is stopped."""
@@ -136,18 +147,26 @@ class Timer16:
     def advance_to(self, cycle: int) -> int:
         """Produce every edge up to and including ``cycle``; returns the BOTTOMs crossed."""
         bottoms = 0
-        while self.next_bottom is not None:
-            if self._falls and self._falls[0][0] <= cycle:
-                fall, ch = self._falls.pop(0)
+        while True:
+            bottom = self.next_bottom
+            if bottom is None:
+                break
+            falls = self._falls  # a new list after every BOTTOM
+            if falls and falls[0][0] <= cycle:
+                fall, ch = falls.pop(0)
                 width_ns = (fall - self._rise_cycle[ch]) * NS_PER_CYCLE_NUM // self.cycles_per_us
-                self.last_width_ns[ch] = width_ns
+                widths = self.last_width_ns
+                if widths[ch] != width_ns:
+                    widths[ch] = width_ns
+                    self.width_serial += 1
                 self._pins[ch].emit(fall, 0, self.cycles_per_us)
                 self._pulses[ch].emit(fall, width_ns, self.cycles_per_us)
+                self.next_edge = falls[0][0] if falls else bottom
                 continue
-            if self.next_bottom <= cycle:
+            if bottom <= cycle:
                 self.overflows += 1
                 bottoms += 1
-                self._start_period(self.next_bottom)
+                self._start_period(bottom)
                 continue
             break
         return bottoms

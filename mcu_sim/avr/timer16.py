@@ -35,7 +35,6 @@ class Timer16:
         self.cycles_per_us = cycles_per_us
         self._pins = [bus.port(f"{p}.pin") for p in channel_ports]
         self._pulses = [bus.port(f"{p}.pulse_ns") for p in channel_ports]
-        self._rise_cycle = [0, 0, 0]
         # bumped whenever last_width_ns may hold other values: a reader that cached something
         # derived from the widths (Mcu.servo_pulses_us) rebuilds it only then
         self.width_serial = 0
@@ -53,7 +52,7 @@ class Timer16:
         self._prescale = 0
         self._period_start: int | None = None
         self.next_bottom: int | None = None
-        self._falls: list[tuple[int, int]] = []
+        self._falls: list[tuple[int, int, int]] = []  # (cycle, channel, pulse width in ns)
         self.next_edge: int | None = None  # always next_event(): read once per coupling step
         self.last_width_ns = [0, 0, 0]
         self.width_serial += 1  # a new list of widths
@@ -130,11 +129,11 @@ class Timer16:
         for ch in range(3):
             if (tccra >> (6 - 2 * ch)) & 0b11 != COM_NON_INVERTING:  # not _channel_enabled(ch)
                 continue
-            self._rise_cycle[ch] = cycle
             self._pins[ch].emit(cycle, 1, self.cycles_per_us)
             if ocr[ch] < icr:  # OCR >= TOP: output stays high
-                falls.append((cycle + (ocr[ch] + 1) * prescale, ch))
-        falls.sort()
+                ticks = (ocr[ch] + 1) * prescale  # the pulse: from this BOTTOM to the fall
+                falls.append((cycle + ticks, ch, ticks * NS_PER_CYCLE_NUM // self.cycles_per_us))
+        falls.sort()  # by cycle, then channel (one fall per channel: widths never compared)
         self._falls = falls
         self.next_edge = falls[0][0] if falls else bottom
 
@@ -153,8 +152,7 @@ class Timer16:
                 break
             falls = self._falls  # a new list after every BOTTOM
             if falls and falls[0][0] <= cycle:
-                fall, ch = falls.pop(0)
-                width_ns = (fall - self._rise_cycle[ch]) * NS_PER_CYCLE_NUM // self.cycles_per_us
+                fall, ch, width_ns = falls.pop(0)
                 widths = self.last_width_ns
                 if widths[ch] != width_ns:
                     widths[ch] = width_ns

@@ -24,7 +24,7 @@ from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
 from mcu_sim.firmware.sonar_task import SonarTask
 from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
 from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
-from protocol.frame import PROTOCOL_VERSION, Frame, FrameParser, encode_frame
+from protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, FrameParser, encode_raw
 from protocol.messages import (
     FLAG_GRIPPER_CLOSED,
     FLAG_HANDSHAKE,
@@ -47,6 +47,8 @@ _I_WHEEL_KP = P.PARAM_INDEX[P.P_WHEEL_KP]
 _I_WHEEL_KI = P.PARAM_INDEX[P.P_WHEEL_KI]
 
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
+TELEMETRY_TYPE = Telemetry.MSG_TYPE
+assert TELEMETRY_STRUCT.size <= MAX_PAYLOAD  # what a Frame would check on every telemetry
 ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks
 TCCRA_SERVO = 0b1010_1010  # COMnA/B/C = 10 (non-inverting), WGMn1:0 = 10
 TCCRB_SERVO = 0b0001_1010  # WGMn3:2 = 11 (mode 14), CSn = 010 (clk/8)
@@ -158,9 +160,9 @@ class Firmware:
         """One pass of the main loop; returns the next time (µs since reset) something is due."""
         hw = self.hw
         now = hw.micros()
-        data = self.rx.take_all()
-        if data:
-            for frame in self.parser.feed(data):
+        rx = self.rx
+        if rx.head != rx.tail:  # take_all() of an empty ring is b"" (most passes: timed work)
+            for frame in self.parser.feed(rx.take_all()):
                 handle_frame(self, frame, now)
         pv = self.params.values
         if now >= self.next_control_us:
@@ -285,8 +287,10 @@ class Firmware:
             self._flags(), self.corrupt_frames() & 0xFFFF, self.overruns() & 0xFFFF,
             self.limit_hits & 0xFFFF, self.watchdog_trips & 0xFFFF,
         )
-        wire = encode_frame(Frame(PROTOCOL_VERSION, self.tx_seq.next(), Telemetry.MSG_TYPE,
-                                  payload))
+        # what encode_frame(Frame(...)) gives, without building the Frame: its checks hold by
+        # construction (version and type are constants, seq comes from the 8-bit counter and
+        # the payload is TELEMETRY_STRUCT.size = 44 bytes)
+        wire = encode_raw(PROTOCOL_VERSION, self.tx_seq.next(), TELEMETRY_TYPE, payload)
         if not self.hw.usart0.tx_write(wire, self.hw.cycle):
             self.tx_dropped += 1
         self.telemetry_sent += 1

@@ -19,6 +19,7 @@ from mcu_sim.faults.wrappers import wrap_for_faults
 from mcu_sim.mcu import Mcu
 from protocol import (
     PROTOCOL_VERSION,
+    Ack,
     Gripper,
     Hello,
     ParamSet,
@@ -290,3 +291,37 @@ def _timer_program(cls: type[Timer16], seed: int) -> tuple[list, list]:
 def test_timer16_engine_equals_the_general_one_and_next_edge_is_next_event():
     for seed in range(6):
         assert _timer_program(Timer16, seed) == _timer_program(ReferenceTimer16, seed)
+
+
+def test_send_ack_puts_the_bytes_of_send_ack_message_on_the_line():
+    fast, general = Mcu(), Mcu()
+    for acked in (0, 1, 127, 128, 254, 255):
+        for _ in range(300):  # every TX sequence number, wrapping
+            fast.firmware.send_ack(acked)
+            general.firmware.send(Ack(acked))
+            fast.board.usart0.reset()
+            general.board.usart0.reset()
+        fast.firmware.send_ack(acked)
+        general.firmware.send(Ack(acked))
+        assert fast.board.usart0._tx == general.board.usart0._tx
+    assert fast.firmware.tx_seq.peek() == general.firmware.tx_seq.peek()
+
+
+def test_write_all_ocrs_equals_write_ocr_of_each_channel():
+    rng = random.Random(5)
+    fast, general = Mcu(), Mcu()
+    for _ in range(200):
+        targets = [(rng.randrange(400, 2600), rng.choice((0, 100, 5000))) for _ in range(6)]
+        latched = [rng.randrange(500 << 8, 2500 << 8) for _ in range(6)]
+        for mcu in (fast, general):
+            servos = mcu.firmware.servos
+            for ch, (pulse, slew) in enumerate(targets):
+                servos.set_target_us(ch, pulse, slew)
+            servos.latched_q8[:] = latched
+        fast.firmware.write_all_ocrs()
+        for ch in range(6):
+            general.firmware.write_ocr(ch)
+        for a, b in ((fast.board.timer1, general.board.timer1),
+                     (fast.board.timer3, general.board.timer3)):
+            assert a.ocr_buffer == b.ocr_buffer and a.ocr_active == b.ocr_active
+        assert fast.firmware.servos.pending_q8 == general.firmware.servos.pending_q8

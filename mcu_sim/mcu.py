@@ -255,12 +255,9 @@ class Mcu:
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed duties (left, right), -255..255, as the motor drivers see them now."""
-        # WheelPwm.signed_duty of both, inlined: read twice per coupling step (rig, monitor)
+        # WheelPwm.signed_duty of both, which each keeps in duty_now: read at every coupling step
         b = self.board
-        w = b.wheel_left
-        left = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
-        w = b.wheel_right
-        return left, (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
+        return b.wheel_left.duty_now, b.wheel_right.duty_now
 
     @staticmethod
     def _check_ch(ch: int) -> int:
@@ -275,15 +272,20 @@ class Mcu:
         now = self._cycle
         t = now if t_us is None else int(t_us) * CYCLES_PER_US
         b = self.board
-        # Called once per coupling step; a standing wheel (mostly) reports the count it
-        # reached, which set_ticks ignores: tested here first, for exact ints only (anything
-        # else goes through set_ticks' own type check).
+        # Called once per coupling step: set_ticks' own decisions, taken here for exact ints
+        # (anything else goes through its type check and is counted there). A standing wheel
+        # (mostly) reports the count it reached, which set_ticks ignores; any other count
+        # starts the new segment set_ticks would start.
         enc = b.enc_left
-        if type(left) is not int or left != enc._c1 or now < enc._t1:
+        if type(left) is not int:
             enc.set_ticks(left, t, now)
+        elif left != enc._c1 or now < enc._t1:
+            enc._new_segment(left, t, now)
         enc = b.enc_right
-        if type(right) is not int or right != enc._c1 or now < enc._t1:
+        if type(right) is not int:
             enc.set_ticks(right, t, now)
+        elif right != enc._c1 or now < enc._t1:
+            enc._new_segment(right, t, now)
 
     def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
         """Set ``provider(index) -> metres | None`` consulted when a sonar is triggered."""

@@ -13,8 +13,10 @@ import random
 
 from mcu_sim.avr.board import CYCLES_PER_US
 from mcu_sim.avr.signals import SignalBus
+from mcu_sim.avr.timer8 import WheelPwm
 from mcu_sim.avr.timer16 import NS_PER_CYCLE_NUM, Timer16
 from mcu_sim.faults.plan import FaultPlan
+from mcu_sim.faults.safety import _RANGES, PWM_LATCH_US, STOP_MARGIN_US, SafetyMonitor
 from mcu_sim.faults.wrappers import wrap_for_faults
 from mcu_sim.mcu import Mcu
 from protocol import (
@@ -115,6 +117,9 @@ class ReferenceMcu(Mcu):
         t = self._cycle if t_us is None else int(t_us) * CYCLES_PER_US
         self.board.enc_left.set_ticks(left, t, self._cycle)
         self.board.enc_right.set_ticks(right, t, self._cycle)
+
+    def wheel_duty(self) -> tuple[int, int]:
+        return self.board.wheel_left.signed_duty, self.board.wheel_right.signed_duty
 
 
 def _commands(rng: random.Random) -> dict[int, bytes]:
@@ -258,13 +263,15 @@ class ReferenceTimer16(Timer16):
         return bottoms
 
 
-def _timer_program(cls: type[Timer16], seed: int) -> tuple[list, list]:
+def _timer_program(cls: type[Timer16], seed: int, subscribed: bool = True) -> tuple[list, list]:
     rng = random.Random(seed)
     bus = SignalBus()
     t = cls("T", bus, ("a", "b", "c"))
     seen: list = []
-    for name in bus.names():
-        bus.port(name).subscribe(lambda time, v, name=name: seen.append((name, time, v)))
+    ports = [bus.port(name) for name in bus.names()]
+    if subscribed:
+        for port in ports:
+            port.subscribe(lambda time, v, name=port.name: seen.append((name, time, v)))
     state = []
     cycle = 0
     t.write_tccra(0b1010_1010)  # WGMn1:0 of mode 14 (every write below keeps them)
@@ -285,12 +292,20 @@ def _timer_program(cls: type[Timer16], seed: int) -> tuple[list, list]:
         if cls is Timer16:
             assert t.next_edge == t.next_event()
         state.append((list(t.last_width_ns), t.overflows, t.next_event(), t.tcnt(cycle)))
+        state.append([(p.value, p.t_us, p.last_cycle) for p in ports])
     return seen, state
 
 
 def test_timer16_engine_equals_the_general_one_and_next_edge_is_next_event():
     for seed in range(6):
         assert _timer_program(Timer16, seed) == _timer_program(ReferenceTimer16, seed)
+
+
+def test_timer16_ports_without_subscribers_hold_what_emit_would_set():
+    for seed in range(6):
+        seen, state = _timer_program(Timer16, seed)
+        assert seen  # the subscribed run did call back
+        assert _timer_program(Timer16, seed, subscribed=False) == ([], state)
 
 
 def test_send_ack_puts_the_bytes_of_send_ack_message_on_the_line():
@@ -325,3 +340,73 @@ def test_write_all_ocrs_equals_write_ocr_of_each_channel():
                      (fast.board.timer3, general.board.timer3)):
             assert a.ocr_buffer == b.ocr_buffer and a.ocr_active == b.ocr_active
         assert fast.firmware.servos.pending_q8 == general.firmware.servos.pending_q8
+
+
+def test_wheel_duty_now_is_signed_duty_after_every_write():
+    rng = random.Random(6)
+    wheel = WheelPwm("w", SignalBus())
+    cycle = 0
+    for _ in range(2_000):
+        op = rng.random()
+        if op < 0.1:
+            wheel.reset()
+        elif op < 0.2:
+            wheel.start(cycle)
+        elif op < 0.5:
+            wheel.write_ocr(rng.randrange(-10, 300), cycle)
+        elif op < 0.7:
+            wheel.write_direction(rng.random() < 0.5, cycle)
+        else:
+            cycle += rng.choice((1, 5_000, 16_384, 40_000))
+            wheel.advance_to(cycle)
+        assert wheel.duty_now == wheel.signed_duty
+
+
+class ReferenceMonitor(SafetyMonitor):
+    """observe before round 5: whether the wheels move computed at every step."""
+
+    def observe(self, t_us: int, duty: tuple[int, int], pulses_us, watchdog_tripped: bool,
+                handshake: bool, host_silent: bool = False) -> None:
+        moving = duty[0] != 0 or duty[1] != 0
+        if pulses_us != self._pulses:  # pulses change a few times per second: judge them then
+            self._pulses = tuple(pulses_us)
+            self._pulses_out = sum(1 for ch, p in enumerate(pulses_us)
+                                   if p and not _RANGES[ch][0] <= p <= _RANGES[ch][1])
+        self.servo_out_of_limits += self._pulses_out
+        if watchdog_tripped and not self._tripped:
+            self.watchdog_trips += 1
+            self._tripped_us = t_us
+        self._tripped = watchdog_tripped
+        if watchdog_tripped and moving and t_us - self._tripped_us > PWM_LATCH_US:
+            self.motion_in_watchdog_stop += 1
+        if host_silent:
+            if self._silent_since is None:
+                self._silent_since, self._stopped = t_us, False
+            if not self._stopped and not moving:
+                self._stopped = True
+                self.stop_latency_us.append(t_us - self._silent_since)
+            if not self._stopped and t_us - self._silent_since > self.watchdog_us + STOP_MARGIN_US:
+                self._stopped = True  # counted once per silence
+                self.late_stops += 1
+        elif self._silent_since is not None:
+            self._silent_since = None
+        if self._fault_us is not None and handshake and not watchdog_tripped and not host_silent:
+            self.recovery_us.append(t_us - self._fault_us)
+            self._fault_us = None
+
+
+def test_monitor_equals_the_general_observe():
+    rng = random.Random(7)
+    fast, general = SafetyMonitor(), ReferenceMonitor()
+    t = 0
+    for _ in range(5_000):
+        t += 1_000
+        duty = (rng.choice((0, 0, 40, -255)), rng.choice((0, 0, 17)))
+        pulses = tuple(rng.choice((0.0, 1500.0, 400.0, 2600.0)) for _ in range(6))
+        args = (t, duty, pulses, rng.random() < 0.3, rng.random() < 0.8, rng.random() < 0.3)
+        if rng.random() < 0.01:
+            fast.fault(t)
+            general.fault(t)
+        fast.observe(*args)
+        general.observe(*args)
+        assert fast.summary() == general.summary()

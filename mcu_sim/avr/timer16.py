@@ -122,6 +122,7 @@ class Timer16:
         icr = self._icr_active = self.icr
         ocr = self.ocr_active = list(self.ocr_buffer)
         prescale = self._prescale
+        cpu = self.cycles_per_us
         self._period_start = cycle
         bottom = self.next_bottom = cycle + (icr + 1) * prescale
         falls = []
@@ -129,10 +130,14 @@ class Timer16:
         for ch in range(3):
             if (tccra >> (6 - 2 * ch)) & 0b11 != COM_NON_INVERTING:  # not _channel_enabled(ch)
                 continue
-            self._pins[ch].emit(cycle, 1, self.cycles_per_us)
+            pin = self._pins[ch]
+            if pin._subscribers:
+                pin.emit(cycle, 1, cpu)
+            else:  # what emit() does with no one to call (a run subscribes to no servo port)
+                pin.value, pin.last_cycle, pin.t_us = 1, cycle, cycle // cpu
             if ocr[ch] < icr:  # OCR >= TOP: output stays high
                 ticks = (ocr[ch] + 1) * prescale  # the pulse: from this BOTTOM to the fall
-                falls.append((cycle + ticks, ch, ticks * NS_PER_CYCLE_NUM // self.cycles_per_us))
+                falls.append((cycle + ticks, ch, ticks * NS_PER_CYCLE_NUM // cpu))
         falls.sort()  # by cycle, then channel (one fall per channel: widths never compared)
         self._falls = falls
         self.next_edge = falls[0][0] if falls else bottom
@@ -146,25 +151,30 @@ class Timer16:
     def advance_to(self, cycle: int) -> int:
         """Produce every edge up to and including ``cycle``; returns the BOTTOMs crossed."""
         bottoms = 0
+        cpu = self.cycles_per_us
         while True:
             bottom = self.next_bottom
             if bottom is None:
                 break
-            falls = self._falls  # a new list after every BOTTOM
-            if falls and falls[0][0] <= cycle:
+            falls = self._falls  # a new list after every BOTTOM; every fall is before it
+            while falls and falls[0][0] <= cycle:
                 fall, ch, width_ns = falls.pop(0)
                 widths = self.last_width_ns
                 if widths[ch] != width_ns:
                     widths[ch] = width_ns
                     self.width_serial += 1
-                self._pins[ch].emit(fall, 0, self.cycles_per_us)
-                self._pulses[ch].emit(fall, width_ns, self.cycles_per_us)
-                self.next_edge = falls[0][0] if falls else bottom
-                continue
-            if bottom <= cycle:
-                self.overflows += 1
-                bottoms += 1
-                self._start_period(bottom)
-                continue
-            break
+                pin, pulse = self._pins[ch], self._pulses[ch]
+                if pin._subscribers or pulse._subscribers:
+                    pin.emit(fall, 0, cpu)
+                    pulse.emit(fall, width_ns, cpu)
+                else:  # emit() of both with no one to call: the samples alone
+                    t_us = fall // cpu
+                    pin.value, pin.last_cycle, pin.t_us = 0, fall, t_us
+                    pulse.value, pulse.last_cycle, pulse.t_us = width_ns, fall, t_us
+            self.next_edge = falls[0][0] if falls else bottom
+            if bottom > cycle:
+                break
+            self.overflows += 1
+            bottoms += 1
+            self._start_period(bottom)
         return bottoms

@@ -66,6 +66,14 @@ def _serial_opencv() -> None:
         _SINGLE_THREAD[0] = True
 
 
+# OpenCV's labelling algorithm for the 8-connected dark components: BBDT (Grana's 2x2 block
+# decision table) scans the same 2x2 blocks in the same order as the default (Spaghetti), so
+# it gives the same label numbers and stats (tests/test_vision_front_end_speed.py), and with
+# the stats pass of OpenCV 5 it runs 20 % fewer instructions than the default and about 2/3 of
+# its CPU time on the masks of paper000-exp1 (host speed only).
+_CCL_8 = cv2.CCL_BBDT
+
+
 def _label_cropped(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
     """``cv2.connectedComponentsWithStats`` (8-connected) of ``mask``, run only on the box of
     its non-zero pixels (OpenCV's stats pass costs per pixel; the dark print is a small part of
@@ -77,11 +85,11 @@ def _label_cropped(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
     x0, y0 = bx & ~1, by & ~1
     x1, y1 = bx + bw, by + bh
     if bw == 0 or (x1 - x0) * (y1 - y0) * 4 > 3 * H * W:  # nothing dark, or most of the frame
-        n_lab, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,
-                                                                   ltype=cv2.CV_32S)
+        n_lab, labels, stats, _ = cv2.connectedComponentsWithStatsWithAlgorithm(
+            mask, 8, cv2.CV_32S, _CCL_8)
         return n_lab, labels, stats
-    n_lab, lab, stats, _ = cv2.connectedComponentsWithStats(mask[y0:y1, x0:x1], connectivity=8,
-                                                            ltype=cv2.CV_32S)
+    n_lab, lab, stats, _ = cv2.connectedComponentsWithStatsWithAlgorithm(
+        mask[y0:y1, x0:x1], 8, cv2.CV_32S, _CCL_8)
     labels = np.zeros((H, W), np.int32)
     labels[y0:y1, x0:x1] = lab
     stats[1:, 0] += x0

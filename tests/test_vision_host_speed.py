@@ -7,6 +7,7 @@ import cv2
 import numpy as np
 
 from host.vision import dark_blobs as db
+from host.vision import double_cross
 from host.vision.dual_plus import _solidity_pct
 
 
@@ -62,3 +63,56 @@ def test_moments_equal_the_pixel_sums():
         want = (len(xs), int(xs.sum()), int(ys.sum()), int((xs * xs).sum()),
                 int((xs * ys).sum()), int((ys * ys).sum()))
         assert db.moments(sel, x0, y0) == want
+
+
+def _downsample_reference(g: np.ndarray) -> np.ndarray:
+    h, w = (g.shape[0] // 2) * 2, (g.shape[1] // 2) * 2
+    s = g[0:h:2, 0:w:2].astype(np.uint16)
+    s += g[1:h:2, 0:w:2]
+    s += g[0:h:2, 1:w:2]
+    s += g[1:h:2, 1:w:2]
+    return ((s + 2) >> 2).astype(np.uint8)
+
+
+def test_pyramid_level_is_the_rounded_2x2_mean():
+    rng = np.random.default_rng(4)
+    for i in range(300):
+        h, w = (int(v) for v in rng.integers(2, 90, 2))
+        g = rng.integers(0, 256, (h, w), dtype=np.uint8)
+        if i % 3 == 0:
+            g = (g // 64 * 85).astype(np.uint8)  # few levels: many sums at a rounding tie
+        if i % 5 == 0:
+            g = np.pad(g, 2)[1:-1, 2:]  # a strided view
+        assert np.array_equal(double_cross._downsample(g), _downsample_reference(g))
+    # every pair of first-row values with a few others, and the frame sizes of a run
+    v = np.arange(256, dtype=np.uint8)
+    g = np.zeros((512, 512), np.uint8)
+    g[0::2, 0::2], g[0::2, 1::2] = v[:, None], v[None, :]
+    for d in (0, 1, 2, 3, 128, 255):
+        g[1::2, 0::2] = d
+        g[1::2, 1::2] = (v[:, None].astype(np.int32) + d) % 256
+        assert np.array_equal(double_cross._downsample(g), _downsample_reference(g))
+    for shape in ((240, 320), (120, 160), (60, 80), (241, 321)):
+        g = rng.integers(0, 256, shape, dtype=np.uint8)
+        assert np.array_equal(double_cross._downsample(g), _downsample_reference(g))
+
+
+def test_ring_words_and_pattern_equal_the_plain_forms():
+    rng = np.random.default_rng(5)
+    for k in (0, 1, 7, 500):
+        bits = rng.random((k, double_cross.RING_N)) < 0.5
+        packed = np.packbits(bits, axis=1, bitorder="little").astype(np.int64)
+        want = np.zeros(k, np.int64)
+        for b in range(packed.shape[1]):
+            want |= packed[:, b] << (8 * b)
+        got = double_cross.ring_codes(bits)
+        assert got.dtype == np.int64 and np.array_equal(got, want)
+    # random words, and every template with up to two points flipped (near the threshold)
+    t = double_cross._TEMPLATES
+    flips = [t ^ (1 << i) ^ (1 << j) for i in range(24) for j in range(i, 24)]
+    codes = np.concatenate([rng.integers(0, 1 << 24, 100_000), t, *flips]).astype(np.int64)
+    rises = np.bitwise_count(codes & ~double_cross._rot(codes, 1) & double_cross._MASK)
+    dist = np.bitwise_count(codes[:, None] ^ t[None, :]).min(axis=1)
+    want = (rises == 4) & (dist <= double_cross.RING_HAMMING)
+    assert want.sum() > 100
+    assert np.array_equal(double_cross.ring_pattern_ok(codes), want)

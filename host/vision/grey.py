@@ -49,8 +49,11 @@ def to_grey(rgb: np.ndarray) -> tuple[np.ndarray, OpCounts]:
     h, w = rgb.shape[:2]
     if h == 0 or w == 0:
         raise ValueError(f"to_grey: empty frame {rgb.shape}")
-    # One OpenCV pass over the interleaved frame (host speed only; 2.5x faster than the split
-    # planes in numpy): cv2.transform computes 77/256 R + 150/256 G + 29/256 B - 127.5/256 in
+    # One OpenCV pass over the interleaved frame, no uint16 temporaries (host speed only). The
+    # three 150 kB uint16 planes of the numpy version made the allocator map fresh pages on
+    # most frames of a run (~40 page faults per detector call); without page faults numpy was
+    # ~10 % faster, but in a replay of paper000-exp1's detector calls this pass takes 13-25 %
+    # less CPU overall. cv2.transform computes 77/256 R + 150/256 G + 29/256 B - 127.5/256 in
     # floating point and rounds to nearest. Every term is a multiple of 1/512 below 256, exact
     # in float32 (17 significant bits) in any order of summation, and the sum is
     # (77 R + 150 G + 29 B - 127.5) / 256 = k + (j - 127.5) / 256 with j = (77 R + 150 G + 29 B)

@@ -84,6 +84,35 @@ class _PoseDetector:
         return self._run(rgb, self._joints() if q is None else q)
 
 
+class _LastFrameMemo:
+    """A detector that answers a repeated call from memory: the result and the operation
+    counts of its last call, when the frame's pixels (shape, dtype, bytes) and the other
+    arguments are those of that call.
+
+    The camera sends the same image again while the scene stands still (the same render), and
+    in ADJUST and LIFT a frame goes to two detectors in turn, so a third to a half of the calls
+    of a run repeat the detector's previous call. A detector is a pure function of its
+    arguments (integer code, module constants only), so the remembered answer is what it would
+    compute (host speed only: the counts, i.e. the modelled ARM9 time, are charged again).
+    One entry per detector: the two detectors of a frame each keep their own."""
+
+    def __init__(self, run: Any) -> None:
+        self._run = run  # (rgb, *args) -> (result | None, OpCounts)
+        self._last: tuple | None = None  # (key, result, OpCounts)
+
+    def __call__(self, rgb: Any, *args: Any) -> Any:
+        tobytes = getattr(rgb, "tobytes", None)
+        if tobytes is None:  # not an array: the detector says what is wrong
+            return self._run(rgb, *args)
+        key = (rgb.shape, rgb.dtype.str, tobytes(), args)
+        last = self._last
+        if last is not None and last[0] == key:
+            return last[1], last[2].scaled(1)  # a copy: the caller may add to its counts
+        result, ops = self._run(rgb, *args)
+        self._last = (key, result, ops.scaled(1))
+        return result, ops
+
+
 # Detector name -> module: each module's ``min_ops(height, width)`` is what the detector charges
 # at least on any frame of that size (tests/test_vision_min_cost.py checks it).
 DETECTOR_MODULES = {"radial_symbol": "host.vision.radial_symbol",
@@ -136,7 +165,8 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
     try:
         from host.vision.radial_symbol import detect_radial_symbol
 
-        found["radial_symbol"] = lambda rgb: detect_radial_symbol(rgb, f_px, u0, v0)
+        found["radial_symbol"] = _LastFrameMemo(
+            lambda rgb: detect_radial_symbol(rgb, f_px, u0, v0))
     except ImportError:
         pass
     try:
@@ -145,7 +175,7 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
         def double_cross(rgb, q):
             return detect_double_cross(rgb, yaw_mrad=q[5], pitch_mrad=q[2] + q[3] + q[4],
                                        f_px=f_px)
-        found["double_cross"] = _PoseDetector(double_cross, joints)
+        found["double_cross"] = _PoseDetector(_LastFrameMemo(double_cross), joints)
     except ImportError:
         pass
     try:
@@ -155,14 +185,14 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
             # alpha = theta2 + theta3 + theta4: the camera's pitch (000 §III.A)
             return detect_dual_plus(rgb, alpha_mrad=int(q[2] + q[3] + q[4]), f_px=f_px,
                                     u0_px=u0)
-        found["dual_plus"] = _PoseDetector(dual_plus, joints)
+        found["dual_plus"] = _PoseDetector(_LastFrameMemo(dual_plus), joints)
     except ImportError:
         pass
     for name, module, fn in (("spoke", "host.vision.spoke", "detect_spoke"),
                              ("red_cylinder", "host.vision.red_cylinder", "detect_red_cylinder")):
         try:
             mod = __import__(module, fromlist=[fn])
-            found[name] = getattr(mod, fn)
+            found[name] = _LastFrameMemo(getattr(mod, fn))
         except (ImportError, AttributeError):
             pass
     return found

@@ -54,6 +54,9 @@ class Mcu:
         self._rx_batch = RX_RING_BYTES - 1  # what the ring holds: a batch can never overrun it
         self.firmware = Firmware(self.board, overrides)
         self._deadline = 0
+        # servo_pulses_us's tuple and the Timer16.width_serial values it was built from
+        self._pulses_us: tuple[float, ...] = ()
+        self._width_serials = (-1, -1)
         self._step(0)
 
     # -- time ----------------------------------------------------------------------------------
@@ -69,17 +72,19 @@ class Mcu:
             raise ValueError(f"cannot go back in time from {self.now_us} to {t_us} us")
         b = self.board
         usart, timer1, sonars = b.usart0, b.timer1, b.sonars
+        batch = self._rx_batch
         while True:
             nxt = self._deadline
-            r = usart.next_rx_wakeup(self._rx_batch)
-            if r is not None and r < nxt:
-                nxt = r
+            if usart._rx:  # next_rx_wakeup is None exactly when nothing is on the RX line
+                r = usart.next_rx_wakeup(batch)
+                if r < nxt:
+                    nxt = r
             tb = timer1.next_bottom
             if tb is not None and tb < nxt:
                 nxt = tb
-            s = sonars.next_event()
-            if s is not None and s < nxt:
-                nxt = s
+            echoes = sonars._events  # sonars.next_event(), written out (once per coupling step)
+            if echoes and echoes[0][0] < nxt:
+                nxt = echoes[0][0]
             if nxt > target:
                 break
             self._step(nxt)
@@ -94,18 +99,17 @@ class Mcu:
         return self.servo_pulses_us(), self.wheel_duty()
 
     def _peripherals_to(self, cycle: int) -> int:
-        # Each part is called only when it has something due by ``cycle`` (the same tests their
-        # advance_to starts with): most calls, one per coupling step, find nothing due.
+        # Each part is called only when it has something due by ``cycle`` (Timer16.next_edge is
+        # its next_event(); a wheel has an event only while an OCR write waits for its BOTTOM):
+        # most calls, two per coupling step, find nothing due.
         b = self.board
         bottoms = 0
-        t = b.timer1
-        nb = t.next_bottom
-        if nb is not None and (nb <= cycle or (t._falls and t._falls[0][0] <= cycle)):
-            bottoms = t.advance_to(cycle)
-        t = b.timer3
-        nb = t.next_bottom
-        if nb is not None and (nb <= cycle or (t._falls and t._falls[0][0] <= cycle)):
-            t.advance_to(cycle)
+        edge = b.timer1.next_edge
+        if edge is not None and edge <= cycle:
+            bottoms = b.timer1.advance_to(cycle)
+        edge = b.timer3.next_edge
+        if edge is not None and edge <= cycle:
+            b.timer3.advance_to(cycle)
         if b.wheel_left._pending is not None:
             b.wheel_left.advance_to(cycle)
         if b.wheel_right._pending is not None:
@@ -120,16 +124,25 @@ class Mcu:
         b.cycle = cycle
         for _ in range(self._peripherals_to(cycle)):
             fw.isr_timer1_ovf()
-        data = b.usart0.rx_take_until(cycle)
-        if data:
-            fw.isr_usart_rx_bytes(data)
-        if b.sonars.next_event() is not None:
+        usart = b.usart0
+        if usart._rx:  # rx_take_until takes nothing (and counts nothing) from an idle line
+            data = usart.rx_take_until(cycle)
+            if data:
+                fw.isr_usart_rx_bytes(data)
+        if b.sonars._events:
             for _, index, level in b.sonars.take_events_until(cycle):
                 fw.isr_echo(index, level)
-        for side, enc in ((0, b.enc_left), (1, b.enc_right)):
+        enc = b.enc_left
+        # take_edges is 0 (and changes nothing) once the shaft stands where the ISR last saw it
+        if cycle < enc._t1 or enc._c1 != enc._taken:
             edges = enc.take_edges(cycle)
             if edges:
-                fw.isr_encoder(side, edges)
+                fw.isr_encoder(0, edges)
+        enc = b.enc_right
+        if cycle < enc._t1 or enc._c1 != enc._taken:
+            edges = enc.take_edges(cycle)
+            if edges:
+                fw.isr_encoder(1, edges)
         due = b.reset_cycle + fw.loop() * CYCLES_PER_US
         self._deadline = due if due > cycle else cycle + CYCLES_PER_US
 
@@ -156,6 +169,14 @@ class Mcu:
 
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
         """Bytes the firmware sent since the last call: ``(t_us their last bit left, bytes)``."""
+        usart = self.board.usart0
+        queued = usart._tx
+        # Called once per coupling step, and mostly no byte has finished since the last call:
+        # nothing queued, or the first queued byte's stop bit still to come (what makes
+        # tx_take_until return []; the TX ring fill it would recount is recounted by tx_free
+        # before it is ever used).
+        if (not queued or self._cycle < queued[0][0] + usart.byte_cycles) and not self._tx_out:
+            return []
         sent = self._take_tx()
         if not self._tx_out:  # no reset since the last call (always but once)
             return sent
@@ -172,8 +193,10 @@ class Mcu:
         b = self.board
         usart = b.usart0
         now = self._cycle // CYCLES_PER_US
-        if usart.next_tx_cycle() is not None or usart.next_rx_cycle() is not None \
-                or len(self.firmware.rx):
+        rx = self.firmware.rx
+        # next_tx_cycle() / next_rx_cycle() are not None exactly while their queue holds a
+        # chunk; the RX ring is empty when head == tail (asked once per quantum)
+        if usart._tx or usart._rx or rx.head != rx.tail:
             return now
         due = self.firmware.next_unprompted_send_us()
         if due is None:
@@ -215,9 +238,16 @@ class Mcu:
     def servo_pulses_us(self) -> tuple[float, ...]:
         """:meth:`servo_pulse_us` of channels 0..5 in one call (the rig reads all six per
         coupling step)."""
-        w1, w3 = self.board.timer1.last_width_ns, self.board.timer3.last_width_ns
-        return (w1[0] / 1000.0, w1[1] / 1000.0, w1[2] / 1000.0,
-                w3[0] / 1000.0, w3[1] / 1000.0, w3[2] / 1000.0)
+        t1, t3 = self.board.timer1, self.board.timer3
+        serials = self._width_serials
+        # the widths change a few times per second: the tuple is rebuilt only when a timer
+        # says its widths may differ (the same tuple also makes the readers' != checks cheap)
+        if t1.width_serial != serials[0] or t3.width_serial != serials[1]:
+            self._width_serials = (t1.width_serial, t3.width_serial)
+            w1, w3 = t1.last_width_ns, t3.last_width_ns
+            self._pulses_us = (w1[0] / 1000.0, w1[1] / 1000.0, w1[2] / 1000.0,
+                               w3[0] / 1000.0, w3[1] / 1000.0, w3[2] / 1000.0)
+        return self._pulses_us
 
     def subscribe_servo(self, ch: int, callback: Callable[[int, int], None]) -> Callable[[], None]:
         """Call ``callback(t_us, width_ns)`` at every falling edge of channel ``ch``."""
@@ -225,12 +255,9 @@ class Mcu:
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed duties (left, right), -255..255, as the motor drivers see them now."""
-        # WheelPwm.signed_duty of both, inlined: read twice per coupling step (rig, monitor)
+        # WheelPwm.signed_duty of both, which each keeps in duty_now: read at every coupling step
         b = self.board
-        w = b.wheel_left
-        left = (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
-        w = b.wheel_right
-        return left, (-w.ocr_active if w.reverse else w.ocr_active) if w.enabled else 0
+        return b.wheel_left.duty_now, b.wheel_right.duty_now
 
     @staticmethod
     def _check_ch(ch: int) -> int:
@@ -242,9 +269,23 @@ class Mcu:
     def set_encoder_ticks(self, left: int, right: int, t_us: int | None = None) -> None:
         """The wheels' cumulative quadrature counts are (left, right) at ``t_us`` (default now);
         a future time spreads the edges from now until then."""
-        t = self._cycle if t_us is None else int(t_us) * CYCLES_PER_US
-        self.board.enc_left.set_ticks(left, t, self._cycle)
-        self.board.enc_right.set_ticks(right, t, self._cycle)
+        now = self._cycle
+        t = now if t_us is None else int(t_us) * CYCLES_PER_US
+        b = self.board
+        # Called once per coupling step: set_ticks' own decisions, taken here for exact ints
+        # (anything else goes through its type check and is counted there). A standing wheel
+        # (mostly) reports the count it reached, which set_ticks ignores; any other count
+        # starts the new segment set_ticks would start.
+        enc = b.enc_left
+        if type(left) is not int:
+            enc.set_ticks(left, t, now)
+        elif left != enc._c1 or now < enc._t1:
+            enc._new_segment(left, t, now)
+        enc = b.enc_right
+        if type(right) is not int:
+            enc.set_ticks(right, t, now)
+        elif right != enc._c1 or now < enc._t1:
+            enc._new_segment(right, t, now)
 
     def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
         """Set ``provider(index) -> metres | None`` consulted when a sonar is triggered."""

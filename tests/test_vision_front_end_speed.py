@@ -72,3 +72,18 @@ def test_front_end_reused_only_for_the_same_pixels_and_read_only():
     other = db.dark_components(b, "t")
     assert other[0] is not first[0]
     assert np.array_equal(other[0], to_grey(b)[0])
+
+
+def test_block_labelling_numbers_components_as_the_default():
+    # BBDT (dark_blobs._CCL_8) instead of OpenCV's default: same labels and stats on frames of
+    # blobs, thin strokes and rings at odd offsets (first 2x2 block of each component decides)
+    rng = np.random.default_rng(6)
+    for i in range(24):
+        noise = (rng.random((240, 320)) < (0.02 + 0.04 * (i % 6))).astype(np.uint8)
+        k = 1 + i % 4
+        mask = cv2.dilate(noise, np.ones((k, k + i % 3), np.uint8))
+        cv2.circle(mask, (int(rng.integers(40, 280)), int(rng.integers(40, 200))), 30, 1, 1 + i % 3)
+        want = cv2.connectedComponentsWithStats(mask, connectivity=8, ltype=cv2.CV_32S)
+        got = cv2.connectedComponentsWithStatsWithAlgorithm(mask, 8, cv2.CV_32S, db._CCL_8)
+        assert got[0] == want[0]
+        assert np.array_equal(got[1], want[1]) and np.array_equal(got[2], want[2])

@@ -79,6 +79,21 @@ class Plus:
     box: tuple[int, int, int, int] = (0, 0, 0, 0)  # x, y, w, h
 
 
+# offsets of a pixel's four corners (int32, as cv2.convexHull takes points)
+_CORNERS = np.array([[0, 0], [1, 0], [0, 1], [1, 1]], np.int32)
+
+
+def _twice_area(poly: list) -> int:
+    """Twice the signed area of a polygon of integer [x, y] vertices (shoelace, plain ints:
+    a hull has a few dozen vertices, fewer than numpy's per-call overhead is worth)."""
+    s = 0
+    px, py = poly[-1]
+    for x, y in poly:
+        s += px * y - py * x
+        px, py = x, y
+    return s
+
+
 def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
     """100 x area / convex-hull area of a bool ROI (integer shoelace, hull of pixel corners)."""
     contours, _ = cv2.findContours(sel.view(np.uint8), cv2.RETR_EXTERNAL,
@@ -86,16 +101,16 @@ def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
     ops = OpCounts(pixels_read=2 * sel.size, alu=4 * sel.size, branches=sel.size)
     if not contours:
         return 0, ops
-    pts = np.concatenate(contours).reshape(-1, 2).astype(np.int64)
+    pts = np.concatenate(contours).reshape(-1, 2)
     # pixel squares, not centres: the hull of the corners has the area the pixels cover
-    corners = np.concatenate([pts, pts + [1, 0], pts + [0, 1], pts + [1, 1]])
-    hull = cv2.convexHull(corners.astype(np.int32)).reshape(-1, 2).astype(np.int64)
-    x, y = hull[:, 0], hull[:, 1]
-    area2 = abs(int((x * np.roll(y, -1) - y * np.roll(x, -1)).sum()))  # twice the hull area
+    # (all points at the first corner, then all at the second, ...)
+    corners = (_CORNERS[:, None, :] + pts[None, :, :]).reshape(-1, 2)
+    hull = cv2.convexHull(corners).reshape(-1, 2).tolist()
+    area2 = abs(_twice_area(hull))
     ops += OpCounts(alu=40 * len(pts), muls32=2 * len(hull), branches=8 * len(pts))
     if area2 == 0:
         return 0, ops
-    return 200 * int(sel.sum()) // area2, ops
+    return 200 * int(np.count_nonzero(sel)) // area2, ops
 
 
 def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
@@ -113,10 +128,10 @@ def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
     for i in np.flatnonzero(ok)[:64]:
         k = int(i) + 1
         xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
-        sel = labels[yi:yi + hi, xi:xi + wi] == k
         roi_px += wi * hi
-        if not sel[hi // 2, wi // 2]:
+        if labels[yi + hi // 2, xi + wi // 2] != k:
             continue  # a "+" is dark at its centre
+        sel = labels[yi:yi + hi, xi:xi + wi] == k
         sol, o = _solidity_pct(sel)
         ops += o
         if not SOLIDITY_MIN_PCT <= sol <= SOLIDITY_MAX_PCT:
@@ -124,11 +139,11 @@ def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
         # lighter around: the mean of a 2 px frame around the box at least 2.2x the print's
         # (black print on a white card is ~10x; a brown body on the floor is ~1.5x)
         x0, y0, x1, y1 = max(0, xi - 2), max(0, yi - 2), min(W, xi + wi + 2), min(H, yi + hi + 2)
-        frame = grey[y0:y1, x0:x1].astype(np.int32)
+        frame = grey[y0:y1, x0:x1]  # uint8: numpy sums it in 64 bits
         inside = frame[yi - y0:yi - y0 + hi, xi - x0:xi - x0 + wi]
         ring_sum = int(frame.sum()) - int(inside.sum())
         ring_n = frame.size - inside.size
-        dark_sum, dark_n = int(inside[sel].sum()), int(sel.sum())
+        dark_sum, dark_n = int(inside[sel].sum()), int(np.count_nonzero(sel))
         frame_px += frame.size
         if 10 * ring_sum * dark_n < 22 * dark_sum * ring_n:
             continue

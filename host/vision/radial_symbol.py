@@ -115,10 +115,11 @@ def _row_edges(grey: np.ndarray, roi: np.ndarray, x: int, y: int, r: int
 LOCAL_FRACTIONS = ((1, 2), (1, 3))
 
 
-def _local_ring(grey: np.ndarray, x: int, y: int, w: int, h: int, num: int, den: int
-                ) -> tuple[tuple[np.ndarray, np.ndarray, int, int, int, int] | None, OpCounts]:
-    """Re-threshold the box around a candidate between its own dark and light levels (the
-    print and the card), so thin far rings are not lost to the global threshold."""
+def _local_box(grey: np.ndarray, x: int, y: int, w: int, h: int
+               ) -> tuple[np.ndarray, int, int, int, int]:
+    """The box around a candidate that :func:`_local_ring` re-thresholds, summed over 1x3
+    pixels: (sums int16, x0, y0, darkest, lightest). The same for every fraction tried, so it
+    is computed once per candidate (host speed; each try is charged for it, as on the board)."""
     H, W = grey.shape
     m, mx = max(3, w // 8), w + 3  # a candidate may be one side arc of the ring
     x0, y0, x1, y1 = max(0, x - mx), max(0, y - m), min(W, x + w + mx), min(H, y + h + m)
@@ -131,7 +132,16 @@ def _local_ring(grey: np.ndarray, x: int, y: int, w: int, h: int, num: int, den:
                            borderType=cv2.BORDER_REPLICATE)
     roi = summed[:, x0 - xa:x1 - xa]
     lo_f, hi_f, _, _ = cv2.minMaxLoc(roi)
-    lo, hi = int(lo_f), int(hi_f)
+    return roi, x0, y0, int(lo_f), int(hi_f)
+
+
+def _local_ring(box: tuple[np.ndarray, int, int, int, int], x: int, y: int, w: int, h: int,
+                num: int, den: int
+                ) -> tuple[tuple[np.ndarray, np.ndarray, int, int, int, int] | None, OpCounts]:
+    """Re-threshold the box around a candidate (:func:`_local_box`) between its own dark and
+    light levels (the print and the card), so thin far rings are not lost to the global
+    threshold."""
+    roi, x0, y0, lo, hi = box
     if hi - lo < 3 * MIN_CONTRAST:
         return None, OpCounts(pixels_read=4 * roi.size, alu=6 * roi.size)  # no print here
     t = lo + (hi - lo) * num // den
@@ -271,8 +281,10 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
     cand = cand[np.argsort(-w[cand], kind="stable")][:MAX_CANDIDATES]  # outermost ring first
     budget = LOCAL_BUDGET_FRAMES * grey.size  # bound the local work of a cluttered frame
     for i in cand:
+        xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
+        box = _local_box(grey, xi, yi, wi, hi)
         for num, den in LOCAL_FRACTIONS:
-            found, o = _local_ring(grey, int(x[i]), int(y[i]), int(w[i]), int(h[i]), num, den)
+            found, o = _local_ring(box, xi, yi, wi, hi, num, den)
             ops += o
             budget -= o.pixels_read // 4
             if budget < 0:

@@ -58,7 +58,7 @@ def _arm_direction(sel: np.ndarray, x: int, y: int, uc_q4: int, vc_q4: int, side
                    ) -> tuple[int, int, int] | None:
     """(du, dv, reach) of one side arm: centroid direction (Q4 px) of the "+" pixels in the
     45-degree cone on that side beyond half the reach, and the reach (px) of the cone."""
-    ys, xs = np.nonzero(sel)
+    ys, xs = db.nonzero_yx(sel)
     du = (16 * (xs + x) - uc_q4) * side
     dv = 16 * (ys + y) - vc_q4
     cone = du > np.abs(dv)

@@ -35,7 +35,9 @@ class Timer16:
         self.cycles_per_us = cycles_per_us
         self._pins = [bus.port(f"{p}.pin") for p in channel_ports]
         self._pulses = [bus.port(f"{p}.pulse_ns") for p in channel_ports]
-        self._rise_cycle = [0, 0, 0]
+        # bumped whenever last_width_ns may hold other values: a reader that cached something
+        # derived from the widths (Mcu.servo_pulses_us) rebuilds it only then
+        self.width_serial = 0
         self.reset()
 
     def reset(self) -> None:
@@ -50,8 +52,10 @@ class Timer16:
         self._prescale = 0
         self._period_start: int | None = None
         self.next_bottom: int | None = None
-        self._falls: list[tuple[int, int]] = []
+        self._falls: list[tuple[int, int, int]] = []  # (cycle, channel, pulse width in ns)
+        self.next_edge: int | None = None  # always next_event(): read once per coupling step
         self.last_width_ns = [0, 0, 0]
+        self.width_serial += 1  # a new list of widths
 
     # -- register writes (firmware side) --------------------------------------------------------
     @property
@@ -90,6 +94,7 @@ class Timer16:
             self._period_start = None
             self.next_bottom = None
             self._falls = []
+            self.next_edge = None
             return
         if self._period_start is None:
             self._prescale = prescale
@@ -112,20 +117,30 @@ class Timer16:
 
     # -- event engine --------------------------------------------------------------------------
     def _start_period(self, cycle: int) -> None:
-        self._icr_active = self.icr
-        self.ocr_active = list(self.ocr_buffer)
+        # runs twice per 20 ms period (Timer1 and Timer3): attributes read once into locals,
+        # _channel_enabled and period_cycles written out
+        icr = self._icr_active = self.icr
+        ocr = self.ocr_active = list(self.ocr_buffer)
+        prescale = self._prescale
+        cpu = self.cycles_per_us
         self._period_start = cycle
-        self.next_bottom = cycle + self.period_cycles
+        bottom = self.next_bottom = cycle + (icr + 1) * prescale
         falls = []
+        tccra = self.tccra
         for ch in range(3):
-            if not self._channel_enabled(ch):
+            if (tccra >> (6 - 2 * ch)) & 0b11 != COM_NON_INVERTING:  # not _channel_enabled(ch)
                 continue
-            self._rise_cycle[ch] = cycle
-            self._pins[ch].emit(cycle, 1, self.cycles_per_us)
-            if self.ocr_active[ch] < self._icr_active:  # OCR >= TOP: output stays high
-                falls.append((cycle + (self.ocr_active[ch] + 1) * self._prescale, ch))
-        falls.sort()
+            pin = self._pins[ch]
+            if pin._subscribers:
+                pin.emit(cycle, 1, cpu)
+            else:  # what emit() does with no one to call (a run subscribes to no servo port)
+                pin.value, pin.last_cycle, pin.t_us = 1, cycle, cycle // cpu
+            if ocr[ch] < icr:  # OCR >= TOP: output stays high
+                ticks = (ocr[ch] + 1) * prescale  # the pulse: from this BOTTOM to the fall
+                falls.append((cycle + ticks, ch, ticks * NS_PER_CYCLE_NUM // cpu))
+        falls.sort()  # by cycle, then channel (one fall per channel: widths never compared)
         self._falls = falls
+        self.next_edge = falls[0][0] if falls else bottom
 
     def next_event(self) -> int | None:
         """Cycle of the next edge or BOTTOM, or None when the clock is stopped."""
@@ -136,18 +151,30 @@ class Timer16:
     def advance_to(self, cycle: int) -> int:
         """Produce every edge up to and including ``cycle``; returns the BOTTOMs crossed."""
         bottoms = 0
-        while self.next_bottom is not None:
-            if self._falls and self._falls[0][0] <= cycle:
-                fall, ch = self._falls.pop(0)
-                width_ns = (fall - self._rise_cycle[ch]) * NS_PER_CYCLE_NUM // self.cycles_per_us
-                self.last_width_ns[ch] = width_ns
-                self._pins[ch].emit(fall, 0, self.cycles_per_us)
-                self._pulses[ch].emit(fall, width_ns, self.cycles_per_us)
-                continue
-            if self.next_bottom <= cycle:
-                self.overflows += 1
-                bottoms += 1
-                self._start_period(self.next_bottom)
-                continue
-            break
+        cpu = self.cycles_per_us
+        while True:
+            bottom = self.next_bottom
+            if bottom is None:
+                break
+            falls = self._falls  # a new list after every BOTTOM; every fall is before it
+            while falls and falls[0][0] <= cycle:
+                fall, ch, width_ns = falls.pop(0)
+                widths = self.last_width_ns
+                if widths[ch] != width_ns:
+                    widths[ch] = width_ns
+                    self.width_serial += 1
+                pin, pulse = self._pins[ch], self._pulses[ch]
+                if pin._subscribers or pulse._subscribers:
+                    pin.emit(fall, 0, cpu)
+                    pulse.emit(fall, width_ns, cpu)
+                else:  # emit() of both with no one to call: the samples alone
+                    t_us = fall // cpu
+                    pin.value, pin.last_cycle, pin.t_us = 0, fall, t_us
+                    pulse.value, pulse.last_cycle, pulse.t_us = width_ns, fall, t_us
+            self.next_edge = falls[0][0] if falls else bottom
+            if bottom > cycle:
+                break
+            self.overflows += 1
+            bottoms += 1
+            self._start_period(bottom)
         return bottoms

@@ -40,6 +40,9 @@ class WheelPwm:
         self.reverse = False
         self.enabled = False
         self._emitted = 0
+        # signed_duty, kept by every write of enabled / reverse / ocr_active: the MCU reads
+        # both wheels' duties at every coupling step
+        self.duty_now = 0
 
     @property
     def period_cycles(self) -> int:
@@ -52,6 +55,7 @@ class WheelPwm:
             self.running = True
             self._start = cycle
         self.enabled = True
+        self.duty_now = self.signed_duty
 
     def _next_bottom_after(self, cycle: int) -> int:
         period = self.period_cycles
@@ -63,6 +67,7 @@ class WheelPwm:
         value &= 0xFF
         if not self.running:
             self.ocr_active = value
+            self.duty_now = self.signed_duty
             self._pending = None
             return
         self._pending = (self._next_bottom_after(cycle), value)
@@ -70,6 +75,7 @@ class WheelPwm:
     def write_direction(self, reverse: bool, cycle: int) -> None:
         """Set the direction port bit (immediate)."""
         self.reverse = bool(reverse)
+        self.duty_now = self.signed_duty
         self._publish(cycle)
 
     def next_event(self) -> int | None:
@@ -82,6 +88,7 @@ class WheelPwm:
             effective, value = self._pending
             self._pending = None
             self.ocr_active = value
+            self.duty_now = self.signed_duty
             self._publish(effective)
 
     @property

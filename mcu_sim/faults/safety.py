@@ -73,7 +73,6 @@ class SafetyMonitor:
     def observe(self, t_us: int, duty: tuple[int, int], pulses_us, watchdog_tripped: bool,
                 handshake: bool, host_silent: bool = False) -> None:
         """One coupling step: wheel duties, servo pulses (None/0 before the first), MCU state."""
-        moving = duty[0] != 0 or duty[1] != 0
         if pulses_us != self._pulses:  # pulses change a few times per second: judge them then
             self._pulses = tuple(pulses_us)
             self._pulses_out = sum(1 for ch, p in enumerate(pulses_us)
@@ -83,6 +82,9 @@ class SafetyMonitor:
             self.watchdog_trips += 1
             self._tripped_us = t_us
         self._tripped = watchdog_tripped
+        # whether the wheels move matters only in a watchdog stop or a host silence (not
+        # computed at the other coupling steps, nearly all of them)
+        moving = (watchdog_tripped or host_silent) and (duty[0] != 0 or duty[1] != 0)
         if watchdog_tripped and moving and t_us - self._tripped_us > PWM_LATCH_US:
             self.motion_in_watchdog_stop += 1
         if host_silent:

@@ -50,6 +50,9 @@ class FaultedMcu:
             self.uart_tx_take = self._uart_tx_take_plain
         if callable(getattr(mcu, "servo_pulses_us", None)):
             self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
+        if not self._any_fault and callable(getattr(mcu, "tx_idle_through_us", None)):
+            # what tx_idle_through_us answers with nothing planned: the MCU's own call
+            self.tx_idle_through_us = mcu.tx_idle_through_us
         outputs = getattr(mcu, "advance_outputs", None)
         self._inner_outputs = outputs if callable(outputs) else None
         if _quiet_at_coupling(faults):

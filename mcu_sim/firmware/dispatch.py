@@ -95,7 +95,10 @@ def handle_frame(fw, frame, now: int) -> None:
         fw.dup.set_result(seq, reason)
     else:
         reason = fw.dup.result(seq)
-    fw.send(Nack(seq, reason) if reason else Ack(seq))
+    if reason:
+        fw.send(Nack(seq, reason))
+    else:
+        fw.send_ack(seq)
     if not reason and isinstance(msg, ParamGet | ParamSet):
         fw.send(ParamValue(msg.param_id, fw.params.get(msg.param_id)))
 
@@ -104,12 +107,15 @@ def execute(fw, msg) -> int:
     if isinstance(msg, SetServos):
         mrad = msg.mode == SERVO_MODE_MRAD
         slew_us = mrad_slew_to_us(msg.slew) if mrad else msg.slew
+        servos = fw.servos
+        targets = msg.targets
         for ch in range(SERVO_COUNT):
-            value = msg.targets[ch]
-            pulse = mrad_to_us(ch, value) if mrad else value
-            if fw.servos.set_target_us(ch, pulse, slew_us):
+            pulse = mrad_to_us(ch, targets[ch]) if mrad else targets[ch]
+            if servos.set_target_us(ch, pulse, slew_us):
                 fw.count_limit()
-            fw.write_ocr(ch)
+        # then the six OCRs: a channel's OCR depends on that channel's state alone, so this is
+        # what writing each right after its target gives
+        fw.write_all_ocrs()
         fw.stopped = False
         return 0
     if isinstance(msg, Gripper):

@@ -24,7 +24,7 @@ from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
 from mcu_sim.firmware.sonar_task import SonarTask
 from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
 from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
-from protocol.frame import PROTOCOL_VERSION, Frame, FrameParser, encode_frame
+from protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, FrameParser, encode_raw
 from protocol.messages import (
     FLAG_GRIPPER_CLOSED,
     FLAG_HANDSHAKE,
@@ -32,6 +32,7 @@ from protocol.messages import (
     FLAG_RESET,
     FLAG_STOPPED,
     FLAG_WATCHDOG,
+    Ack,
     Telemetry,
     encode_message,
 )
@@ -47,6 +48,9 @@ _I_WHEEL_KP = P.PARAM_INDEX[P.P_WHEEL_KP]
 _I_WHEEL_KI = P.PARAM_INDEX[P.P_WHEEL_KI]
 
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
+TELEMETRY_TYPE = Telemetry.MSG_TYPE
+ACK_TYPE = Ack.MSG_TYPE
+assert TELEMETRY_STRUCT.size <= MAX_PAYLOAD  # what a Frame would check on every telemetry
 ICR_20MS = 39999  # TOP for 20 ms at 0.5 µs ticks
 TCCRA_SERVO = 0b1010_1010  # COMnA/B/C = 10 (non-inverting), WGMn1:0 = 10
 TCCRB_SERVO = 0b0001_1010  # WGMn3:2 = 11 (mode 14), CSn = 010 (clk/8)
@@ -140,9 +144,12 @@ class Firmware:
         """Timer1 (and 3, started together) period start: latch, then write next period's OCRs."""
         servos = self.servos
         servos.latch()
+        target, latched = servos.target_q8, servos.latched_q8
+        if target == latched:  # the whole arm at rest (most periods): no channel to write
+            return
         for ch in range(SERVO_COUNT):
             # A channel at rest keeps its OCR value: nothing to write (saves ISR time in C too).
-            if servos.target_q8[ch] != servos.latched_q8[ch]:
+            if target[ch] != latched[ch]:
                 self.write_ocr(ch)
 
     def isr_encoder(self, side: int, edges: int) -> None:
@@ -158,9 +165,9 @@ class Firmware:
         """One pass of the main loop; returns the next time (µs since reset) something is due."""
         hw = self.hw
         now = hw.micros()
-        data = self.rx.take_all()
-        if data:
-            for frame in self.parser.feed(data):
+        rx = self.rx
+        if rx.head != rx.tail:  # take_all() of an empty ring is b"" (most passes: timed work)
+            for frame in self.parser.feed(rx.take_all()):
                 handle_frame(self, frame, now)
         pv = self.params.values
         if now >= self.next_control_us:
@@ -203,6 +210,15 @@ class Firmware:
         timer, idx = self.hw.servo_timer(ch)
         timer.write_ocr(idx, self.servos.next_pending(ch))
 
+    def write_all_ocrs(self) -> None:
+        """:meth:`write_ocr` of channels 0..5 in order (after a command that sets them all)."""
+        next_pending = self.servos.next_pending
+        hw = self.hw
+        for ch in range(3):  # Board.servo_timer: channels 0..2 on Timer1, 3..5 on Timer3
+            hw.timer1.write_ocr(ch, next_pending(ch))
+        for ch in range(3):
+            hw.timer3.write_ocr(ch, next_pending(ch + 3))
+
     def _set_duty(self, side: int, duty: int) -> None:
         if duty == self.duty_out[side]:
             return
@@ -222,8 +238,7 @@ class Firmware:
     def hold_arm(self) -> None:
         """Every servo stays at the width in force."""
         self.servos.hold()
-        for ch in range(SERVO_COUNT):
-            self.write_ocr(ch)
+        self.write_all_ocrs()
 
     def _trip_watchdog(self) -> None:
         self.watchdog_tripped = True
@@ -246,6 +261,13 @@ class Firmware:
     def send(self, msg) -> None:
         """Queue a message for the host (dropped and counted if the TX ring is full)."""
         wire = encode_message(msg, self.tx_seq.next())
+        if not self.hw.usart0.tx_write(wire, self.hw.cycle):
+            self.tx_dropped += 1
+
+    def send_ack(self, acked_seq: int) -> None:
+        """``send(Ack(acked_seq))`` for the seq of a received frame (a u8), its one-byte
+        payload filled directly as the C port does: the reply to every reliable command."""
+        wire = encode_raw(PROTOCOL_VERSION, self.tx_seq.next(), ACK_TYPE, bytes((acked_seq,)))
         if not self.hw.usart0.tx_write(wire, self.hw.cycle):
             self.tx_dropped += 1
 
@@ -285,8 +307,10 @@ class Firmware:
             self._flags(), self.corrupt_frames() & 0xFFFF, self.overruns() & 0xFFFF,
             self.limit_hits & 0xFFFF, self.watchdog_trips & 0xFFFF,
         )
-        wire = encode_frame(Frame(PROTOCOL_VERSION, self.tx_seq.next(), Telemetry.MSG_TYPE,
-                                  payload))
+        # what encode_frame(Frame(...)) gives, without building the Frame: its checks hold by
+        # construction (version and type are constants, seq comes from the 8-bit counter and
+        # the payload is TELEMETRY_STRUCT.size = 44 bytes)
+        wire = encode_raw(PROTOCOL_VERSION, self.tx_seq.next(), TELEMETRY_TYPE, payload)
         if not self.hw.usart0.tx_write(wire, self.hw.cycle):
             self.tx_dropped += 1
         self.telemetry_sent += 1

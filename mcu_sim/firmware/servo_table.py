@@ -130,8 +130,7 @@ class ServoBank:
 
     def latch(self) -> None:
         """Timer BOTTOM: the pending widths are now in force."""
-        for ch in range(SERVO_COUNT):
-            self.latched_q8[ch] = self.pending_q8[ch]
+        self.latched_q8[:] = self.pending_q8  # in place: the same list, all six copied
 
     def latched_us(self, ch: int) -> int:
         """Width in force on ``ch``, rounded to whole µs (for telemetry)."""

@@ -32,6 +32,8 @@ def _config(args: argparse.Namespace) -> dict:
 
 
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
+    import cv2
+
     from host.app_factory import build_host_app
     from host.lockstep_client import LockstepClient, serve_stream
     from link import lockstep as ls
@@ -39,6 +41,9 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from link.frame_ring import FrameRingReader
     from link.registry import open_transport
 
+    # one OpenCV thread: the machine's other core runs the rig, whose time this process waits
+    # for; a pool would take it mid-frame (results are the same on any number of threads)
+    cv2.setNumThreads(1)
     port = open_transport(args.port)
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     sock.settimeout(120.0)  # safety limit only; the rig answers at once

@@ -6,6 +6,7 @@
   the numpy expressions they replace.
 - A texture that covers the frame is written straight into it: the same pixels as the masked
   copy and rim blend of the general path (every alpha is 255 there).
+- The rim blend by flat index equals the per-pixel fancy-indexed blend.
 """
 
 from __future__ import annotations
@@ -111,3 +112,25 @@ def _warp(src, H, ss, w, h):
     if ss > 1:
         warped = cv2.resize(warped, (w, h), interpolation=cv2.INTER_AREA)
     return warped
+
+
+def test_rim_blend_by_flat_index_equals_fancy_indexing():
+    rng = np.random.default_rng(3)
+    for _ in range(60):
+        img = rng.integers(0, 256, (INTR.height, INTR.width, 3), dtype=np.uint8)
+        h, w = int(rng.integers(1, INTR.height)), int(rng.integers(1, INTR.width))
+        y0, x0 = int(rng.integers(0, INTR.height - h + 1)), int(rng.integers(0, INTR.width - w + 1))
+        rgb = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+        alpha = rng.choice(np.array([0, 1, 2, 127, 128, 253, 254, 255], np.uint8), (h, w))
+        rim_xy = cv2.findNonZero(cv2.inRange(alpha, 1, 254))
+        if rim_xy is None:
+            continue
+        rim_xy = rim_xy.reshape(-1, 2)
+        want = img.copy()
+        roi = want[y0:y0 + h, x0:x0 + w]
+        rim = (rim_xy[:, 1], rim_xy[:, 0])
+        a = alpha[rim].astype(np.uint16)[:, None]
+        roi[rim] = ((roi[rim].astype(np.uint16) * (255 - a) + rgb[rim] * a + 127)
+                    // 255).astype(np.uint8)
+        cam._blend_rim(img, x0, y0, rgb, alpha, rim_xy)
+        assert np.array_equal(img, want)

@@ -153,38 +153,12 @@ def gripper_opening_m(closure: float) -> float:
     return GRIPPER_MAX_OPENING_M * (1.0 - min(max(closure, 0.0), 1.0))
 
 
-class _MotorSetting:
-    """A DcMotor setting that decides its drive (duty, stuck, gain, supply_v, max_speed_mps,
-    tau_s): assigning one, as set_duty, faults and tests do, forgets the cached
-    :meth:`DcMotor.drive` factors."""
-
-    def __set_name__(self, owner, name: str) -> None:
-        self.key = "_" + name
-
-    def __get__(self, obj, objtype=None):
-        if obj is None:
-            return self
-        return obj.__dict__[self.key]
-
-    def __set__(self, obj, value) -> None:
-        d = obj.__dict__
-        d[self.key] = value
-        d["_drive"] = None
-
-
 class DcMotor:
     """Geared DC wheel motor: signed duty -> wheel surface speed with lag and saturation.
 
     Fault hooks (for the reliability work): ``stuck`` (wheel locked, speed forced to 0) and
     ``gain`` (a weak motor or low battery scales the reachable speed).
     """
-
-    duty = _MotorSetting()
-    stuck = _MotorSetting()
-    gain = _MotorSetting()
-    supply_v = _MotorSetting()
-    max_speed_mps = _MotorSetting()
-    tau_s = _MotorSetting()
 
     def __init__(self, max_speed_mps: float = MOTOR_MAX_SPEED_MPS, tau_s: float = MOTOR_TAU_S,
                  supply_v: float = MOTOR_NOMINAL_SUPPLY_V):
@@ -199,8 +173,6 @@ class DcMotor:
         self.gain = 1.0
         self.rejected = 0
         self._decay_cache: dict[int, float] = {}
-        # (dt_us, target, factor) of drive(), kept until a setting changes
-        self._drive: tuple | None = None
 
     def set_duty(self, duty: int) -> None:
         """Command a duty in -255..255 (clamped); a non-integer duty is counted and dropped."""
@@ -223,17 +195,6 @@ class DcMotor:
             d = math.exp(-dt_us * 1e-6 / self.tau_s)
             self._decay_cache[dt_us] = d
         return d
-
-    def drive(self, dt_us: int) -> tuple[float, float]:
-        """(target speed, factor) of one step of ``dt_us``: the speed after the step is
-        ``target + (speed - target) * factor`` (factor 0 when stuck: the speed is the target,
-        0). The same numbers as target_speed_mps() and decay(), kept until a setting changes
-        (the world's stepping asks for them several hundred times per simulated second)."""
-        d = self._drive
-        if d is None or d[0] != dt_us:
-            d = self._drive = (dt_us, self.target_speed_mps(),
-                               0.0 if self.stuck else self.decay(dt_us))
-        return d[1], d[2]
 
     def advance(self, dt_us: int) -> float:
         """Integrate the first-order lag exactly over ``dt_us``; returns the new speed (m/s)."""

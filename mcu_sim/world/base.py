@@ -124,18 +124,13 @@ class DiffDriveBase:
         anything was added to or removed from the space (``space_changed``), the first step goes
         through ``Space.step`` so pymunk's bookkeeping runs. The duties cannot change inside one
         call, so the motor lag is a constant factor per step.
-
-        A step that leaves the body's pose bit for bit as it was adds nothing to the wheel
-        travel, so its encoder arithmetic is skipped (about half the steps of a run: the robot
-        stands while the arm works). Exactly nothing: ``d`` and ``ht`` are then +-0, and adding
-        +-0 changes no sum that is not -0; the sums start at +0.0 and a sum of floats is -0
-        only when both terms are, so they never are.
         """
         if n <= 0:
             return
         body_p, control_p, space_p = self._ptrs
-        tl, kl = self.left.drive(dt_us)
-        tr, kr = self.right.drive(dt_us)
+        tl, tr = self.left.target_speed_mps(), self.right.target_speed_mps()
+        kl = 0.0 if self.left.stuck else self.left.decay(dt_us)
+        kr = 0.0 if self.right.stuck else self.right.decay(dt_us)
         vl, vr = self.left.speed_mps, self.right.speed_mps
         track, half_track = self.track_m, 0.5 * self.track_m
         dt_s = dt_us * 1e-6
@@ -146,30 +141,26 @@ class DiffDriveBase:
         p = get_pos(body_p)
         x0, y0 = p.x, p.y
         a0 = get_angle(body_p)
-        changed = self.space_changed  # (only the first step of a call looks at it)
-        steps = self.steps
-        for _ in range(n):
-            steps += 1
-            self.steps = steps  # before the step: collision callbacks read it for their time
+        for i in range(n):
+            self.steps += 1
             vl = tl + (vl - tl) * kl
             vr = tr + (vr - tr) * kr
             v = 0.5 * (vl + vr)
             set_vel(control_p, (v * cos(a0), v * sin(a0)))
             set_w(control_p, (vr - vl) / track)
-            if changed:
+            if i == 0 and self.space_changed:
                 self.space.step(dt_s)
-                self.space_changed = changed = False
+                self.space_changed = False
             else:
                 step(space_p, dt_s)
             p = get_pos(body_p)
             x1, y1 = p.x, p.y
             a1 = get_angle(body_p)
-            if x1 != x0 or y1 != y0 or a1 != a0:
-                am = 0.5 * (a0 + a1)
-                d = (x1 - x0) * cos(am) + (y1 - y0) * sin(am)
-                ht = (a1 - a0) * half_track
-                lm += d - ht
-                rm += d + ht
+            am = 0.5 * (a0 + a1)
+            d = (x1 - x0) * cos(am) + (y1 - y0) * sin(am)
+            ht = (a1 - a0) * half_track
+            lm += d - ht
+            rm += d + ht
             x0, y0, a0 = x1, y1, a1
         self.left.speed_mps, self.right.speed_mps = vl, vr
         self.left_m, self.right_m = lm, rm

@@ -28,7 +28,9 @@ import numpy as np
 
 from mcu_sim.world import markers as mk
 from mcu_sim.world.camera_ground import draw_ground as _draw_ground
+from mcu_sim.world.camera_ground import put_rgb as _put_rgb
 from mcu_sim.world.camera_ground import sky_frame as _sky_frame
+from mcu_sim.world.camera_linalg import columns3, svd_values
 from mcu_sim.world.camera_scene import Item, Scene, Target, solids_of_scene
 
 Z_NEAR_M = 0.01
@@ -225,16 +227,22 @@ class _Painter:
             return
         vc = (it.verts - self.c) @ self.R
         z = vc[:, 2]
-        # (one errstate for both: entering one costs as much as the arithmetic here)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        if z.min() >= Z_NEAR_M:
+            # all in front: no division by zero, nothing invalid, so no errstate (entering one
+            # costs as much as the arithmetic here); an item wholly beside the frame paints
+            # nothing
             uv = vc[:, :2] / z[:, None] * self.intr.f_px + self._uv0
-            if z.min() >= Z_NEAR_M:  # all in front: an item wholly beside the frame paints nothing
-                lo, hi = uv.min(axis=0), uv.max(axis=0)
-                if (hi[0] < -2.0 or hi[1] < -2.0 or lo[0] > self.intr.width + 1.0
-                        or lo[1] > self.intr.height + 1.0):
-                    return
-            # rows behind the camera turn into garbage here; no face that uses them takes them
+            lo, hi = uv.min(axis=0), uv.max(axis=0)
+            if (hi[0] < -2.0 or hi[1] < -2.0 or lo[0] > self.intr.width + 1.0
+                    or lo[1] > self.intr.height + 1.0):
+                return
             pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
+        else:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                uv = vc[:, :2] / z[:, None] * self.intr.f_px + self._uv0
+                # rows behind the camera turn into garbage here; no face that uses them takes
+                # them
+                pts_all = np.clip(np.rint(uv * 16), -(2**26), 2**26).astype(np.int32)
         starts = it.starts.tolist()  # plain ints and floats: cheaper in the per-face loop
         z_min = np.minimum.reduceat(z, it.starts[:-1]).tolist()
         colours = _face_colours(it)
@@ -277,7 +285,7 @@ class _Painter:
         if x1 <= x0 or y1 <= y0:
             return None
         pc0 = self.R.T @ (origin_w - self.c)
-        M = self.K @ np.column_stack([self.R.T @ ex_w, self.R.T @ ey_w, pc0])
+        M = self.K @ columns3(self.R.T @ ex_w, self.R.T @ ey_w, pc0)
         level, ss = 0, 1
         if len(tex.levels) > 1 and pc0[2] > Z_NEAR_M:
             # Anisotropic filtering, as a GPU does it: the singular values of the texel -> pixel
@@ -285,17 +293,10 @@ class _Painter:
             # supersample by their ratio (<= 4) and take the mip level that makes the most
             # minified direction about one texel per subpixel, so thin print seen obliquely
             # neither aliases nor smears sideways.
-            w = M[2, 2]
-            J = np.column_stack([(M[:2, k] * w - M[:2, 2] * M[2, k]) / w**2 for k in (0, 1)])
-            sv = np.linalg.svd(J * tex.texel_m, compute_uv=False)  # pixels per level-0 texel
-            r_min, r_max = 1.0 / max(sv[0], 1e-9), 1.0 / max(sv[1], 1e-9)  # texels per pixel
-            ss = int(min(4, max(1, round(r_max / max(r_min, 1e-9)))))
-            ss = min(ss, max(1, int(math.sqrt(250_000 / max(1, (x1 - x0) * (y1 - y0))))))
-            level = math.floor(math.log2(max(1.0, r_max / ss)))
-            level = int(min(len(tex.levels) - 1, max(0, level)))
+            ss, level = _filtering(_texel_jacobian(M, tex.texel_m), len(tex.levels),
+                                   (x1 - x0) * (y1 - y0))
         src = tex.levels[level]
-        T = np.array([[1.0, 0, -x0], [0, 1.0, -y0], [0, 0, 1.0]])
-        H = _supersample_matrix(ss) @ T @ M @ _texel_matrix(tex.half_m, src.shape[0])
+        H = _patch_matrix(ss, x0, y0) @ M @ _texel_matrix(tex.half_m, src.shape[0])
         return src, H, (x0, y0, x1, y1), ss, uv, clipped, level
 
     def covers_frame(self, tex: mk.PlanarTexture, origin_w, ex_w, ey_w, plan) -> bool:
@@ -311,20 +312,27 @@ class _Painter:
         rays = self.R @ _corner_rays(self.intr)
         normal = _texture_geom(tex, origin_w, ex_w, ey_w)[0]
         denom = normal @ rays
-        if not np.all(denom < 0.0):  # seen from the front, the plane is ahead along these rays
+        if not (denom < 0.0).all():  # seen from the front, the plane is ahead along these rays
             return False
         hit = self.c[:, None] + rays * (float(normal @ (origin_w - self.c)) / denom)
         d = hit - np.asarray(origin_w, dtype=float)[:, None]
         r2 = (ex_w @ d) ** 2 + (ey_w @ d) ** 2
-        return bool(np.all(r2 <= r_safe * r_safe))
+        return bool((r2 <= r_safe * r_safe).all())
 
-    def _draw_texture(self, src, H, box, ss, uv, clipped, level) -> None:
+    def _draw_texture(self, src, H, box, ss, uv, clipped, level, opaque: bool = False) -> None:
+        """Warp and paint one texture (``texture_plan``'s plan). ``opaque``: the plan is one
+        :meth:`covers_frame` accepted, so every pixel of the frame gets alpha 255: the RGB is
+        written straight into the frame, which is what the mask and the (empty) rim below
+        would paint."""
         x0, y0, x1, y1 = box
         warped = cv2.warpPerspective(src, H, (ss * (x1 - x0), ss * (y1 - y0)),
                                      flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT,
                                      borderValue=(0, 0, 0, 0))
         if ss > 1:  # exact block mean for an integer factor
             warped = cv2.resize(warped, (x1 - x0, y1 - y0), interpolation=cv2.INTER_AREA)
+        if opaque and not clipped and (x0, y0, x1, y1) == (0, 0) + self.img.shape[1::-1]:
+            _put_rgb(self.img, warped, 0, 0)
+            return
         roi = self.img[y0:y1, x0:x1]
         mask = None
         if clipped:
@@ -342,11 +350,31 @@ class _Painter:
         cv2.copyTo(rgb, cv2.compare(alpha, 255, cv2.CMP_EQ), roi)
         rim_xy = cv2.findNonZero(cv2.inRange(alpha, 1, 254))  # None when there is no rim
         if rim_xy is not None:
-            rim_xy = rim_xy.reshape(-1, 2)
-            rim = (rim_xy[:, 1], rim_xy[:, 0])
-            a = alpha[rim].astype(np.uint16)[:, None]
-            mixed = (roi[rim].astype(np.uint16) * (255 - a) + rgb[rim] * a + 127) // 255
-            roi[rim] = mixed.astype(np.uint8)
+            _blend_rim(self.img, x0, y0, rgb, alpha, rim_xy.reshape(-1, 2))
+
+
+def _blend_rim(img: np.ndarray, x0: int, y0: int, rgb: np.ndarray, alpha: np.ndarray,
+               rim_xy: np.ndarray) -> None:
+    """Blend the patch pixels at ``rim_xy`` ((x, y) in the patch at column x0, row y0 of the
+    frame) over the frame: ``(under * (255 - a) + over * a + 127) // 255`` per channel, exact
+    in uint16 (at most 255 * 255 + 127). The pixels are gathered by flat index and the channels
+    computed as one flat run (per-pixel fancy indexing and a (n, 1) by (n, 3) broadcast cost
+    ~2x more); each rim pixel is written once, so the order does not matter."""
+    dst = img.view()
+    dst.shape = (-1, 3)  # (an assignment to shape never copies: the writes reach the frame)
+    rx, ry = rim_xy[:, 0], rim_xy[:, 1]
+    w = rgb.shape[1]
+    flat = ry * w + rx  # in the patch
+    at = flat + (ry * (img.shape[1] - w) + (y0 * img.shape[1] + x0))  # in the frame
+    a = alpha.reshape(-1).take(flat).astype(np.uint16).repeat(3)
+    mixed = dst.take(at, axis=0).reshape(-1).astype(np.uint16)
+    mixed *= 255 - a
+    over = rgb.reshape(-1, 3).take(flat, axis=0).reshape(-1).astype(np.uint16)
+    over *= a
+    mixed += over
+    mixed += 127
+    mixed //= 255
+    dst[at] = mixed.astype(np.uint8).reshape(-1, 3)
 
 
 _TEX_GEOM: dict = {}
@@ -370,6 +398,39 @@ def _texture_geom(tex: mk.PlanarTexture, origin_w, ex_w, ey_w) -> tuple[np.ndarr
         _TEX_GEOM.clear()
     _TEX_GEOM[key] = (tex, origin_w, ex_w, ey_w, normal, corners)
     return normal, corners
+
+
+def _texel_jacobian(M: np.ndarray, texel_m: float) -> np.ndarray:
+    """The Jacobian of the homography ``M`` (texture plane metres -> pixels) at the plane's
+    origin, times ``texel_m`` (pixels per level-0 texel). Column k is
+    ``(M[:2, k] * w - M[:2, 2] * M[2, k]) / w**2 * texel_m`` with ``w = M[2, 2]``, written in
+    plain floats: the same IEEE products, differences and quotients element by element
+    (``w**2`` is pow() for a float as for a numpy scalar), without ~10 small array calls."""
+    (m00, m01, m02), (m10, m11, m12), (m20, m21, w) = M.tolist()
+    w2 = w**2
+    return np.array([[(m00 * w - m02 * m20) / w2 * texel_m, (m01 * w - m02 * m21) / w2 * texel_m],
+                     [(m10 * w - m12 * m20) / w2 * texel_m, (m11 * w - m12 * m21) / w2 * texel_m]])
+
+
+def _filtering(J: np.ndarray, n_levels: int, box_px: int) -> tuple[int, int]:
+    """(supersampling factor, mip level) for the texel Jacobian ``J`` (see texture_plan)."""
+    sv = svd_values(J)  # pixels per level-0 texel
+    r_min, r_max = 1.0 / max(sv[0], 1e-9), 1.0 / max(sv[1], 1e-9)  # texels per pixel
+    ss = int(min(4, max(1, round(r_max / max(r_min, 1e-9)))))
+    ss = min(ss, max(1, int(math.sqrt(250_000 / max(1, box_px)))))
+    level = math.floor(math.log2(max(1.0, r_max / ss)))
+    return ss, int(min(n_levels - 1, max(0, level)))
+
+
+@lru_cache(maxsize=512)
+def _patch_matrix(ss: int, x0: int, y0: int) -> np.ndarray:
+    """Frame pixel -> supersampled patch pixel for a patch at (x0, y0): the product
+    ``_supersample_matrix(ss) @ T`` (T the translation by -x0, -y0), kept per (ss, x0, y0)
+    (read-only): a patch box recurs from frame to frame, and the product is the same numbers."""
+    T = np.array([[1.0, 0, -x0], [0, 1.0, -y0], [0, 0, 1.0]])
+    P = _supersample_matrix(ss) @ T
+    P.flags.writeable = False
+    return P
 
 
 @lru_cache(maxsize=64)
@@ -494,7 +555,9 @@ def render_clean(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics())
     c, R = _check_pose(cam_pos_w, R_wc)
     img = np.empty((intr.height, intr.width, 3), np.uint8)
     p = _Painter(img, c, R, intr)
-    items = sorted(solids_of_scene(scene), key=lambda it: -float(np.linalg.norm(it.ref_w - c)))
+    items = solids_of_scene(scene)
+    if len(items) > 1:
+        items = sorted(items, key=lambda it: -_norm(it.ref_w - c))
     # painter's order: the ground, then per item its faces and its textures; a texture opaque
     # over the whole frame hides everything painted before it, which is then not painted
     ops: list = [None]
@@ -515,8 +578,15 @@ def render_clean(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics())
         elif isinstance(op, Item):
             p.item_faces(op)
         elif op[1] is not None:
-            p._draw_texture(*op[1])
+            # the first op painted is the one that covers the frame, when one does
+            p._draw_texture(*op[1], opaque=start > 0 and op is ops[start])
     return img
+
+
+def _norm(v: np.ndarray) -> float:
+    """``float(np.linalg.norm(v))`` of a float64 vector: the square root of ``v.dot(v)``, as
+    np.linalg.norm computes it, without its dispatch."""
+    return math.sqrt(v.dot(v))
 
 
 def render_frame(seq: int, capture_us: int, scene: Scene, cam_pos_w, R_wc,

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING
 import cv2
 import numpy as np
 
+from mcu_sim.world import camera_linalg as la
 from mcu_sim.world import markers as mk
 
 if TYPE_CHECKING:  # the painter of camera.py, which imports this module
@@ -84,7 +85,9 @@ def _horizon_split(p: Painter) -> tuple[list, list]:
     c0 = p.R[2, 2] - p.R[2, 0] * u0 / f - p.R[2, 1] * v0 / f + 0.004
     W, H = p.intr.width, p.intr.height
     rect = np.array([[-1.0, -1.0], [W + 1.0, -1.0], [W + 1.0, H + 1.0], [-1.0, H + 1.0]])
-    side = rect @ np.array([a, b]) + c0
+    # (plain floats for the tests and the crossing's ratio: the same IEEE operations as on
+    # numpy scalars, without their per-operation cost)
+    side = (rect @ np.array([a, b]) + c0).tolist()
     sky, floor = [], []
     for i in range(4):
         j = (i + 1) % 4
@@ -144,7 +147,7 @@ def draw_ground(p: Painter, seed: int) -> None:
     n = tex.levels[0].shape[0]
     k = _MOSAIC_TILES // 2
     origin = np.array([round(p.c[0] / (2 * h)) * 2 * h, round(p.c[1] / (2 * h)) * 2 * h, 0.0])
-    M = p.K @ np.column_stack([p.R.T[:, 0], p.R.T[:, 1], p.R.T @ (origin - p.c)])
+    M = p.K @ la.columns3(p.R.T[:, 0], p.R.T[:, 1], p.R.T @ (origin - p.c))
     H_tile = M @ _tile_matrix(t, h)  # tile texel -> pixel
     sky, floor = _horizon_split(p)
     W, H = p.intr.width, p.intr.height
@@ -160,7 +163,7 @@ def draw_ground(p: Painter, seed: int) -> None:
         if x1 - x0 < W or y1 - y0 < H:
             np.copyto(p.img, sky_frame(W, H))  # (a broadcast of the colour costs 20x more)
     if x1 > x0 and y1 > y0:
-        Hi = np.linalg.inv(H_tile)
+        Hi = la.inv(H_tile)
         cx, cy = (x0 + x1) / 2, (y0 + y1) / 2  # a floor pixel: the frame or the floor's middle
         if sky:
             cx, cy = fl.mean(axis=0)
@@ -171,7 +174,7 @@ def draw_ground(p: Painter, seed: int) -> None:
             rgba = cv2.warpPerspective(_ground_mosaic(seed), T @ H_tile @ _mosaic_shift(k * n),
                                        (x1 - x0, y1 - ys),
                                        flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_WRAP)
-            _put_rgb(p.img, rgba, x0, ys)
+            put_rgb(p.img, rgba, x0, ys)
         if ys > y0:
             pts = _pixel_grid(W, H)[y0:ys, x0:x1].reshape(-1, 1, 2)
             txy = cv2.perspectiveTransform(pts, Hi)  # 0 where the ray is parallel to the floor
@@ -183,13 +186,13 @@ def draw_ground(p: Painter, seed: int) -> None:
             maps = txy.astype(np.float32).reshape(ys - y0, x1 - x0, 2)
             rgba = cv2.remap(_ground_wrapped(seed), maps, None, cv2.INTER_LINEAR,
                              borderMode=cv2.BORDER_WRAP)
-            _put_rgb(p.img, rgba, x0, y0)
+            put_rgb(p.img, rgba, x0, y0)
     if len(sky) >= 3:
         pts = np.rint(np.array(sky) * 16).astype(np.int32)
         cv2.fillConvexPoly(p.img, pts, SKY_RGB, lineType=cv2.LINE_8, shift=4)
 
 
-def _put_rgb(img: np.ndarray, rgba: np.ndarray, x0: int, y0: int) -> None:
+def put_rgb(img: np.ndarray, rgba: np.ndarray, x0: int, y0: int) -> None:
     """Write the RGB channels of ``rgba`` into ``img`` at column x0, row y0."""
     roi = img[y0:y0 + rgba.shape[0], x0:x0 + rgba.shape[1]]
     out = cv2.cvtColor(rgba, cv2.COLOR_RGBA2RGB, dst=roi)

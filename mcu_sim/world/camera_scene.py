@@ -141,18 +141,37 @@ class Item:
     normals: np.ndarray | None = None
     centres: np.ndarray | None = None
     colours: list | None = None  # shaded face colours, filled by the renderer on first use
+    # what pack() stacks, already stacked per run of faces added together:
+    # (verts (V, 3), vertex counts, normals (F, 3), centres (F, 3)), in face order
+    parts: list = field(default_factory=list)
+
+    def add_face(self, poly: np.ndarray, normal: np.ndarray, rgb) -> None:
+        """Add one face (its centre computed as :meth:`pack` always did)."""
+        self.faces.append((poly, normal, rgb))
+        self.parts.append((poly, [len(poly)], normal[None, :], _centre(poly)[None, :]))
 
     def pack(self) -> Item:
         """Stack face vertices, normals and centres so a pose is applied in one product."""
         if self.faces:
+            if sum(len(part[1]) for part in self.parts) == len(self.faces):
+                self.verts = np.concatenate([part[0] for part in self.parts])
+                self.starts = np.cumsum([0] + [n for part in self.parts for n in part[1]])
+                self.normals = np.concatenate([part[2] for part in self.parts])
+                self.centres = np.concatenate([part[3] for part in self.parts])
+                return self
+            # faces appended directly: stacked face by face
             self.verts = np.concatenate([f[0] for f in self.faces])
             self.starts = np.cumsum([0] + [len(f[0]) for f in self.faces])
             self.normals = np.array([f[1] for f in self.faces])
-            # what ndarray.mean(axis=0) computes (a sum along axis 0, divided by the count),
-            # without its per-call wrapper cost: a moving target is packed every frame
-            self.centres = np.array([np.add.reduce(f[0], axis=0) / len(f[0])
-                                     for f in self.faces])
+            self.centres = np.array([_centre(f[0]) for f in self.faces])
         return self
+
+
+def _centre(poly: np.ndarray) -> np.ndarray:
+    """The mean of a face's vertices as ndarray.mean(axis=0) computes it (a sum along axis 0,
+    divided by the count), without its per-call wrapper cost: a moving target is packed every
+    frame."""
+    return np.add.reduce(poly, axis=0) / len(poly)
 
 
 def _circle_xy(x: float, y: float, r: float, n: int = _N_SIDES) -> np.ndarray:
@@ -167,24 +186,42 @@ def _rect_xy(x: float, y: float, w: float, d: float, heading: float) -> np.ndarr
 
 
 def _prism(item: Item, foot_xy: np.ndarray, bands, top_rgb) -> None:
-    """Sides (bands of (z0, z1, rgb)) and top of a prism on a CCW convex footprint."""
-    k = len(foot_xy)
-    for i in range(k):
-        a, b = foot_xy[i], foot_xy[(i + 1) % k]
-        d = b - a
-        n = np.array([d[1], -d[0], 0.0]) / math.hypot(d[0], d[1])
-        for z0, z1, rgb in bands:
-            quad = np.array([[a[0], a[1], z0], [b[0], b[1], z0],
-                             [b[0], b[1], z1], [a[0], a[1], z1]])
-            item.faces.append((quad, n, rgb))
+    """Sides (bands of (z0, z1, rgb)) and top of a prism on a CCW convex footprint.
+
+    The side quads of every edge and band are built as one array, in the face order edge by
+    edge, band by band: each quad is ``[a, z0], [b, z0], [b, z1], [a, z1]`` for the edge from
+    footprint point a to the next, b (copies); its normal ``(dy, -dx, 0) / hypot(dx, dy)``
+    with ``(dx, dy) = b - a`` (math.hypot per edge); its centre the four vertices summed in
+    index order, divided by 4, which is what np.add.reduce along a face's rows computes. The
+    faces are views of it. (A moving target is rebuilt every frame: ~100 faces.)"""
+    k, nb = len(foot_xy), len(bands)
+    a = np.asarray(foot_xy, dtype=float)
+    b = np.concatenate((a[1:], a[:1]))  # b[i] = a[(i + 1) % k]
+    d = b - a
+    hyp = np.array([math.hypot(dx, dy) for dx, dy in d.tolist()])
+    n = np.empty((k, 3))
+    n[:, 0], n[:, 1], n[:, 2] = d[:, 1], -d[:, 0], 0.0
+    n /= hyp[:, None]
+    z0 = np.array([band[0] for band in bands], dtype=float)
+    z1 = np.array([band[1] for band in bands], dtype=float)
+    quads = np.empty((k, nb, 4, 3))
+    for v, (xy, z) in enumerate(((a, z0), (b, z0), (b, z1), (a, z1))):
+        quads[:, :, v, :2] = xy[:, None, :]
+        quads[:, :, v, 2] = z[None, :]
+    centres = (((quads[:, :, 0] + quads[:, :, 1]) + quads[:, :, 2]) + quads[:, :, 3]) / 4
+    # (views made by iterating the arrays, not by indexing them one by one)
+    item.faces.extend(zip(quads.reshape(k * nb, 4, 3), [ni for ni in n for _ in range(nb)],
+                          [band[2] for band in bands] * k, strict=True))
+    item.parts.append((quads.reshape(-1, 3), [4] * (k * nb), np.repeat(n, nb, axis=0),
+                       centres.reshape(-1, 3)))
     ztop = bands[-1][1]
     top = np.column_stack([foot_xy, np.full(k, ztop)])
-    item.faces.append((top, _UP, top_rgb))
+    item.add_face(top, _UP, top_rgb)
 
 
 def _flat(item: Item, foot_xy: np.ndarray, rgb) -> None:
     poly = np.column_stack([foot_xy, np.full(len(foot_xy), 0.0005)])
-    item.faces.append((poly, _UP, rgb))
+    item.add_face(poly, _UP, rgb)
 
 
 def _board_frame(t: Target) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

@@ -4,8 +4,8 @@ The renderer decomposes a 2x2 matrix and inverts a 3x3 one per frame; np.linalg.
 np.linalg.inv spend ~4x the LAPACK work itself on argument checks and an ``errstate`` context.
 These call the same gufuncs (numpy.linalg._umath_linalg) with the same signature, so the
 results are the same numbers; anything not finite (a singular or non-finite input) is computed
-again by the public function, which raises as it always did (after a RuntimeWarning of the
-direct call: only on that error path).
+again by the public function, which raises as it always did. The direct call's floating-point
+errors are not reported, so that error path prints no RuntimeWarning of its own first.
 """
 
 from __future__ import annotations
@@ -23,7 +23,9 @@ except ImportError:  # pragma: no cover - a numpy without the module: the public
 def svd_values(a: np.ndarray) -> list[float]:
     """``np.linalg.svd(a, compute_uv=False).tolist()`` of a float64 matrix."""
     if _LINALG is not None:
-        s = _LINALG.svd(a, signature="d->d").tolist()
+        # a non-finite result goes to the public function, which raises: no warning first
+        with np.errstate(all="ignore"):
+            s = _LINALG.svd(a, signature="d->d").tolist()
         if all(math.isfinite(v) for v in s):
             return s
     return np.linalg.svd(a, compute_uv=False).tolist()
@@ -32,7 +34,9 @@ def svd_values(a: np.ndarray) -> list[float]:
 def inv(a: np.ndarray) -> np.ndarray:
     """``np.linalg.inv(a)`` of a float64 matrix."""
     if _LINALG is not None:
-        r = _LINALG.inv(a, signature="d->d")
+        # a non-finite result goes to the public function, which raises: no warning first
+        with np.errstate(all="ignore"):
+            r = _LINALG.inv(a, signature="d->d")
         if np.isfinite(r).all():
             return r
     return np.linalg.inv(a)

@@ -196,10 +196,6 @@ class Rig:
         self.stats["grants_early"] += early
         return due + early
 
-    def quiet_next_quantum(self, done: Done) -> bool:
-        """:meth:`quiet_through` the end of the quantum at now."""
-        return self.quiet_through(done, self.now_us + self.config.quantum_us)
-
     def quiet_through(self, done: Done, upto_us: int, issued: Sequence[Done] = ()) -> bool:
         """Whether completing the quanta from now to ``upto_us`` cannot give the host anything:
         no camera frame slot falls in (now, upto_us], the host writes nothing in them (``done``

@@ -188,10 +188,9 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
         found["dual_plus"] = _PoseDetector(_LastFrameMemo(dual_plus), joints)
     except ImportError:
         pass
-    for name, module, fn in (("spoke", "host.vision.spoke", "detect_spoke"),
-                             ("red_cylinder", "host.vision.red_cylinder", "detect_red_cylinder")):
+    for name, fn in (("spoke", "detect_spoke"), ("red_cylinder", "detect_red_cylinder")):
         try:
-            mod = __import__(module, fromlist=[fn])
+            mod = __import__(DETECTOR_MODULES[name], fromlist=[fn])
             found[name] = _LastFrameMemo(getattr(mod, fn))
         except (ImportError, AttributeError):
             pass

@@ -1,16 +1,35 @@
 # The README's contract: `make demo` runs the main job, `make test` runs the tests.
 # Both create .venv and install what they need; `make venv` only does that and is a no-op when
 # pyproject.toml has not changed since the last install.
-PYTHON ?= $(shell command -v python3.11 || command -v python3)
+#
+# The interpreter: the first of these that is Python >= 3.11 with venv. The distribution's own
+# comes first: a run is bound by the interpreter, and Debian's python3.11 (built with
+# profile-guided and link-time optimisation, libpython linked in) ran paper000-exp1 over the pty
+# 13 % faster than a default source build of 3.11 (pyenv's), with the same trace (docs/cosim.md,
+# "Measured"). `make PYTHON=/path/to/python3 ...` chooses another.
+ifndef PYTHON
+PYTHON := $(shell for p in /usr/bin/python3.11 /usr/bin/python3 python3.11 python3; do \
+	  if command -v $$p >/dev/null 2>&1 && $$p -c 'import sys, venv, ensurepip; \
+	    sys.exit(sys.version_info < (3, 11))' >/dev/null 2>&1; then command -v $$p; break; fi; \
+	done)
+endif
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+# which interpreter built .venv: a venv of another one is made again
+BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint demo clean
+.PHONY: venv test test-all lint demo clean FORCE
 
 venv: $(STAMP)
 
-$(STAMP): pyproject.toml
+$(BASE): FORCE
+	@test -n "$(PYTHON)" || { echo "make: no Python >= 3.11 with venv found" >&2; exit 1; }
+	@if [ "$$(cat $@ 2>/dev/null)" != "$(PYTHON)" ]; then \
+	  if [ -e $(VENV) ]; then echo "make: .venv is rebuilt with $(PYTHON)"; fi; \
+	  rm -rf $(VENV) && mkdir -p $(VENV) && echo "$(PYTHON)" > $@; fi
+
+$(STAMP): pyproject.toml $(BASE)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade "pip>=23"
 	$(BIN)/python -m pip install --quiet -e '.[dev]'

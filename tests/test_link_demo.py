@@ -1,4 +1,5 @@
 import json
+import platform
 
 from tools.cli import main
 from tools.commands.link_demo import run_link_demo
@@ -30,4 +31,9 @@ def test_bench_protocol_writes_json(tmp_path, capsys):
     assert figures["parse_mb_per_s"] > 0 and figures["encode_mb_per_s"] > 0
     assert figures["line_rate_bytes_per_s"] == 11_520
     assert abs(figures["parse_x_line_rate"] * 11_520 / 1e6 - figures["parse_mb_per_s"]) < 1e-6
-    assert "parse_mb_per_s" in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "parse_mb_per_s" in out
+    # which interpreter ran it (figures compare only between runs of the same one)
+    py = figures["python"]
+    assert py["version"] == platform.python_version() and py["executable"]
+    assert "python.version" in out

@@ -11,6 +11,8 @@ import argparse
 import importlib
 import json
 import pkgutil
+import platform
+import sys
 from pathlib import Path
 
 import tools.benches
@@ -40,6 +42,16 @@ def format_table(results: dict, prefix: str = "") -> list[str]:
     return lines
 
 
+def interpreter() -> dict:
+    """Which Python ran the benchmark: the same code runs ~13 % faster on a distribution's
+    optimised build than on a default source build (docs/cosim.md, "Measured"), so figures
+    are compared only between runs of the same one."""
+    return {"version": platform.python_version(),
+            "implementation": platform.python_implementation(),
+            "executable": getattr(sys, "_base_executable", sys.executable),
+            "build": " ".join(platform.python_build()), "compiler": platform.python_compiler()}
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``bench`` subcommand and one sub-subcommand per benchmark."""
     parser = sub.add_parser("bench", help="run a benchmark; prints a table and writes JSON")
@@ -55,7 +67,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _runner(name: str, module):
     def run(args: argparse.Namespace) -> int:
-        results = module.run(args)
+        results = {**module.run(args), "python": interpreter()}
         print(f"mobigrasp bench {name}")
         for line in format_table(results):
             print("  " + line)

@@ -173,6 +173,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         from mcu_sim.mcu import Mcu
         from mcu_sim.rig import Rig, RigConfig
         from mcu_sim.rig_plant import WorldPlant
+        from tools.heap_tuning import keep_freed_memory
         from tools.run_folder import Snapshots, TraceWriter, write_summary
 
         (out / "plots").mkdir(parents=True)
@@ -225,6 +226,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             def progress(r, wall):
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
+        keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
         run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
                     truth=plant.truth, on_host_event=snaps.on_host_event,
                     on_quantum=lambda t: plant.sample_path(), speed=opts.speed,

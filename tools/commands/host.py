@@ -143,6 +143,9 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ValueError) as exc:
         print(f"mobigrasp host: {exc}", file=sys.stderr)
         return 2
+    from tools.heap_tuning import keep_freed_memory
+
+    keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
     if args.lockstep:
         return _lockstep(args, cfg)
     return _free_running(args, cfg)

@@ -9,9 +9,12 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from host import arm_calib
 from host.app import HostApp, HostConfig
 from host.odometry import Odometry
+from host.vision.frame_key import frame_bytes
 from protocol import messages as m
 
 
@@ -101,10 +104,9 @@ class _LastFrameMemo:
         self._last: tuple | None = None  # (key, result, OpCounts)
 
     def __call__(self, rgb: Any, *args: Any) -> Any:
-        tobytes = getattr(rgb, "tobytes", None)
-        if tobytes is None:  # not an array: the detector says what is wrong
+        if not isinstance(rgb, np.ndarray):  # the detector says what is wrong
             return self._run(rgb, *args)
-        key = (rgb.shape, rgb.dtype.str, tobytes(), args)
+        key = (rgb.shape, rgb.dtype.str, frame_bytes(rgb), args)
         last = self._last
         if last is not None and last[0] == key:
             return last[1], last[2].scaled(1)  # a copy: the caller may add to its counts

@@ -85,16 +85,21 @@ class WorldPlant:
 
     def capture(self, t_us: int) -> np.ndarray:
         """The eye-in-hand camera's frame now (uint8 H x W x 3 RGB): camera.render, with the
-        clean image reused while scene and pose are bit-identical (a standing robot and arm)."""
+        clean image reused while scene and pose are bit-identical (a standing robot and arm).
+
+        Without degradations the frame is the clean image itself, read-only: the plant never
+        writes into an image once rendered (a new view is a new array), so a frame handed out
+        stays what it was without a 230 kB copy per frame, and a caller that tried to write
+        into it would fail loudly instead of changing a later frame."""
         scene = self._render_clean()
         if self._plain:
             # no blur, gain or noise: apply_options would hand the image back as it is (seeding
-            # its generator, ~50 us per frame, for nothing); a copy, since the frame leaves
-            # the plant (host, snapshots)
-            return self._clean.copy()
+            # its generator, ~50 us per frame, for nothing)
+            return self._clean
         rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
-        # a copy: the frame leaves the plant (host, snapshots) and options may return it as is
-        return apply_options(self._clean.copy(), self.options, rng)
+        # with any degradation on, apply_options returns a new array and never writes into
+        # its input
+        return apply_options(self._clean, self.options, rng)
 
     def preload(self) -> None:
         """Build what the first frame needs once (the floor texture, the markers' mip levels
@@ -111,6 +116,7 @@ class WorldPlant:
         key = (scene, np.asarray(pos, np.float64).tobytes(), np.asarray(R, np.float64).tobytes())
         if key != self._clean_key:
             self._clean = render_clean(scene, pos, R, self.intrinsics)
+            self._clean.flags.writeable = False  # handed out as it is (capture)
             self._clean_key = key
         return scene
 

@@ -1,7 +1,8 @@
 """The camera's shortcuts of perf round 4 give exactly what the general paths give.
 
 - WorldPlant.capture skips apply_options (and seeding its generator) while the options change
-  nothing: frames still equal camera.render, and a frame handed out is still the caller's.
+  nothing: frames still equal camera.render; a frame handed out is the clean image, read-only,
+  and keeps its pixels.
 - _check_pose tells a proper rotation from a reflection and from a non-orthonormal matrix.
 - The pose-free geometry of a placed texture (normal, corners) is kept per placement: it is the
   one computed from the arrays in hand, also for a moving target's new arrays.
@@ -26,23 +27,35 @@ from mcu_sim.world.camera_scene import Scene, Target, solids_of_scene
 from tools.run_job import resolve_scenario
 
 
-def test_plain_options_frames_equal_render_and_stay_the_callers():
+def test_plain_options_frames_equal_render_and_stay_what_they_were():
     _, scenario = resolve_scenario("paper000-exp1")
     plant = WorldPlant(scenario, 3)
     assert plant.options == CameraOptions()  # the shipped scenarios degrade nothing
     got = plant.capture(0)
     assert np.array_equal(got, expected_frame(plant, 0))
     keep = got.copy()
-    got[:] = 0  # scribbling on a frame handed out changes nothing here
+    with pytest.raises(ValueError):  # a frame handed out cannot be scribbled on
+        got[:] = 0
     again = plant.capture(66_666)  # same pose: the clean image is reused
-    assert np.array_equal(again, keep) and again is not got
-    # options set later take the general path again (noise differs per capture time)
-    plant.options = CameraOptions(noise_std=3.0)
-    noisy = plant.capture(133_333)
-    assert np.array_equal(noisy, expected_frame(plant, 133_333))
-    assert not np.array_equal(noisy, keep)
+    assert np.array_equal(again, keep)
+    # options set later take the general path again (noise differs per capture time), and
+    # leave the clean image as it was
+    for options in (CameraOptions(noise_std=3.0), CameraOptions(blur_px=3.0),
+                    CameraOptions(brightness=1.5)):
+        plant.options = options
+        t_us = 133_333
+        degraded = plant.capture(t_us)
+        assert degraded.flags.writeable  # a new array, the caller's
+        assert np.array_equal(degraded, expected_frame(plant, t_us))
+        assert not np.array_equal(degraded, keep)
+        assert np.array_equal(got, keep)
     plant.options = CameraOptions(brightness=1.0, blur_px=0.0, noise_std=0.0)
     assert np.array_equal(plant.capture(200_000), keep)
+    # a new view is a new image: the frames handed out before keep their pixels
+    plant.set_servo_pulse_us(5, 1700)  # turn the waist
+    plant.step_to(400_000)
+    moved = plant.capture(400_000)
+    assert not np.array_equal(moved, keep) and np.array_equal(got, keep)
 
 
 def test_check_pose_accepts_rotations_only():

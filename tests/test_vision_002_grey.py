@@ -23,7 +23,7 @@ def test_grey_extremes_and_exact_formula():
 
 
 def test_grey_is_the_integer_formula_for_every_colour():
-    # to_grey rounds OpenCV's floating-point transform: exact for all 2^24 colours, laid out
+    # to_grey rounds OpenCV's transform (fixed point): exact for all 2^24 colours, laid out
     # as one wide frame, as a column of narrow rows (SIMD tails) and as a strided view
     v = np.arange(256, dtype=np.uint8)
     rgb = np.empty((256, 256, 256, 3), np.uint8)

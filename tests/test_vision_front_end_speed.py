@@ -1,5 +1,6 @@
 """The host-speed shortcuts of the vision front end give exactly what the plain calls give:
-cropped labelling (host.vision.dark_blobs._label_cropped) and the reused front end of a frame."""
+cropped labelling (host.vision.dark_blobs._label_cropped), the reused front end of a frame and
+the ring test's label mask (host.vision.radial_symbol._label_mask)."""
 
 from __future__ import annotations
 
@@ -11,6 +12,7 @@ from hypothesis import strategies as st
 
 from host.vision import dark_blobs as db
 from host.vision.grey import W_B, W_G, W_R, to_grey
+from host.vision.radial_symbol import _label_mask
 
 
 @st.composite
@@ -87,3 +89,14 @@ def test_block_labelling_numbers_components_as_the_default():
         got = cv2.connectedComponentsWithStatsWithAlgorithm(mask, 8, cv2.CV_32S, db._CCL_8)
         assert got[0] == want[0]
         assert np.array_equal(got[1], want[1]) and np.array_equal(got[2], want[2])
+
+
+@pytest.mark.parametrize("n_labels", [1, 2, 5, 255, 256, 257, 1000])
+def test_label_mask_is_the_gather_for_any_number_of_labels(n_labels):
+    # radial_symbol._label_mask: a byte table look-up up to 256 labels, numpy's gather above
+    rng = np.random.default_rng(n_labels)
+    lab = rng.integers(0, n_labels, (37, 53)).astype(np.int32)
+    for chosen in (rng.random(n_labels) < 0.5, np.zeros(n_labels, bool), np.ones(n_labels, bool)):
+        got = _label_mask(lab, chosen)
+        assert got.dtype == bool and got.shape == lab.shape
+        assert np.array_equal(got, chosen[lab])

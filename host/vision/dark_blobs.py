@@ -18,6 +18,7 @@ import cv2
 import numpy as np
 
 from host.budget import OpCounts
+from host.vision.frame_key import frame_bytes
 from host.vision.grey import grey_cost, to_grey
 
 THRESH_NUM, THRESH_DEN = 45, 100  # dark threshold as a fraction of the bright level
@@ -133,7 +134,7 @@ def dark_components(rgb: np.ndarray, who: str
     Returns ``(grey, mask, n_labels, labels, stats, ops)`` with the ops of all three stages.
     """
     check_rgb(rgb, who)
-    key = rgb.tobytes()
+    key = frame_bytes(rgb)
     last = _LAST_FRONT_END[0]
     if last is not None and last[0] == rgb.shape and last[1] == key:
         grey, mask, n_lab, labels, stats, ops = last[2]

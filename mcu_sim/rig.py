@@ -101,6 +101,17 @@ class RigConfig:
         return k * 1_000_000 // self.camera_fps
 
 
+def _pixels(rgb: Any) -> Any:
+    """A frame's pixels for its FrameBlob: a flat read-only view of the array when it is
+    contiguous (the array is not written after its capture: the plant's frames are new arrays
+    or read-only, mcu_sim/rig_plant.py), else a copy. The view compares, encodes and
+    np.frombuffer-s like the bytes it saves copying (the frame ring copies it once anyway); it
+    cannot be hashed (nothing hashes a grant)."""
+    if rgb.flags.c_contiguous:
+        return memoryview(rgb).cast("B").toreadonly()
+    return rgb.tobytes()
+
+
 class RigPortError(RuntimeError):
     """The host announced bytes that never arrived on the serial port (within the safety limit)."""
 
@@ -151,6 +162,10 @@ class Rig:
         mcu.set_sonar_provider(self._sonar)
         probe = getattr(mcu, "tx_idle_through_us", None)
         self._tx_idle = probe if callable(probe) else None
+        # the rig only reads its frames (pixels to the host, the array to on_frame): a plant's
+        # read-only variant saves it a frame-sized copy per capture (mcu_sim/rig_plant.py)
+        shared = getattr(plant, "capture_shared", None)
+        self._capture_frame = shared if callable(shared) else plant.capture
 
     def _sonar(self, index: int) -> float | None:
         # The MCU polls one sonar at a time; the plant is at the last coupling step.
@@ -241,7 +256,7 @@ class Rig:
                 continue
             h, w, c = rgb.shape
             frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=start,
-                                    width=w, height=h, channels=c, pixels=rgb.tobytes()))
+                                    width=w, height=h, channels=c, pixels=_pixels(rgb)))
         self._frames_pending.clear()
         self.granted_until_us = start + self.config.quantum_us
         return Grant(start_us=start, until_us=self.granted_until_us,
@@ -364,7 +379,7 @@ class Rig:
             self.stats["frames_skipped"] += 1
             self._frames_pending.append((seq, t_us, None))
             return
-        rgb = self.plant.capture(t_us)
+        rgb = self._capture_frame(t_us)
         if rgb is None:
             return
         self.stats["frames_captured"] += 1

@@ -53,6 +53,7 @@ class WorldPlant:
         self._sonar_one: dict[int, float | None] = {}
         self._clean_key: tuple | None = None
         self._clean: np.ndarray | None = None
+        self._frame: np.ndarray | None = None  # _clean, read-only (capture_shared)
         self._sonar: list[float | None] = []
         self.path_length_m = 0.0
         self._last_xy = self._xy()
@@ -85,15 +86,23 @@ class WorldPlant:
 
     def capture(self, t_us: int) -> np.ndarray:
         """The eye-in-hand camera's frame now (uint8 H x W x 3 RGB): camera.render, with the
-        clean image reused while scene and pose are bit-identical (a standing robot and arm)."""
+        clean image reused while scene and pose are bit-identical (a standing robot and arm).
+        The frame is the caller's own (writable, shared with nothing)."""
+        rgb = self.capture_shared(t_us)
+        return rgb.copy() if rgb is self._frame else rgb
+
+    def capture_shared(self, t_us: int) -> np.ndarray:
+        """:meth:`capture` for a caller that only reads the frame (the rig: it hands the pixels
+        on and keeps them for snapshots): without blur, gain or noise it is the plant's clean
+        image itself, read-only and the same array for every frame of an unchanged view. Saves
+        a frame-sized copy per capture."""
         scene = self._render_clean()
         if self._plain:
             # no blur, gain or noise: apply_options would hand the image back as it is (seeding
-            # its generator, ~50 us per frame, for nothing); a copy, since the frame leaves
-            # the plant (host, snapshots)
-            return self._clean.copy()
+            # its generator, ~50 us per frame, for nothing)
+            return self._frame
         rng = np.random.default_rng([scene.seed & 0xFFFFFFFF, int(t_us) & 0xFFFFFFFFFFFF])
-        # a copy: the frame leaves the plant (host, snapshots) and options may return it as is
+        # a copy: the frame is the caller's and options may return it as is
         return apply_options(self._clean.copy(), self.options, rng)
 
     def preload(self) -> None:
@@ -112,6 +121,10 @@ class WorldPlant:
         if key != self._clean_key:
             self._clean = render_clean(scene, pos, R, self.intrinsics)
             self._clean_key = key
+            # what capture_shared hands out: the image itself, read-only (render_clean draws
+            # every image into a new array, so a frame handed out never changes)
+            self._frame = self._clean.view()
+            self._frame.flags.writeable = False
         return scene
 
     @property

@@ -218,7 +218,17 @@ class FaultedPlant:
 
     def capture(self, t_us: int) -> Any:
         """The frame the CAMIF delivers at ``t_us``, or None when it is lost."""
-        rgb = self.inner.capture(t_us)
+        return self._faulted(self.inner.capture(t_us), t_us)
+
+    def capture_shared(self, t_us: int) -> Any:
+        """:meth:`capture` for a caller that only reads the frame (the plant's
+        ``capture_shared``: it may be read-only and shared; the camera faults make new arrays)."""
+        shared = getattr(self.inner, "capture_shared", None)  # once per frame
+        if not callable(shared):  # a plant without it: its own frames, as capture gives
+            shared = self.inner.capture
+        return self._faulted(shared(t_us), t_us)
+
+    def _faulted(self, rgb: Any, t_us: int) -> Any:
         return None if rgb is None else self.faults.frame(rgb, t_us)
 
 

@@ -270,6 +270,14 @@ class Rig:
         # The host says whether it will look at frames (its task needs a detector): rendering
         # is skipped while it does not, as a CAMIF switched off would deliver nothing.
         self.camera_on = bool(done.load.get("camera", True))
+        if done.writes:  # most quanta the host writes nothing: nothing to read or deliver
+            self._deliver_host_bytes(done, until)
+        self._advance_to(until)
+        self.stats["quanta"] += 1
+        self._write_tx()
+
+    def _deliver_host_bytes(self, done: Done, until: int) -> None:
+        # (reading none would be a no-op: in strict alternation nothing is ever left ahead)
         data = self._read_exact(done.write_bytes)
         self.stats["uart_to_mcu_bytes"] += len(data)
         offset = 0
@@ -281,9 +289,6 @@ class Rig:
             self.mcu.uart_rx(data[offset:offset + n], start)
             self._line_free_us = start + byte_time_us(n, self.config.host_baud)
             offset += n
-        self._advance_to(until)
-        self.stats["quanta"] += 1
-        self._write_tx()
 
     def _write_tx(self) -> None:
         # The MCU's bytes go on the port as soon as the quantum that produced them is done, not

@@ -101,6 +101,17 @@ class RigConfig:
         return k * 1_000_000 // self.camera_fps
 
 
+def _pixels(rgb: Any) -> Any:
+    """A frame's pixels for its FrameBlob: a flat read-only view of the array when it is
+    contiguous (the array is not written after its capture: the plant's frames are new arrays
+    or read-only, mcu_sim/rig_plant.py), else a copy. The view compares, encodes and
+    np.frombuffer-s like the bytes it saves copying (the frame ring copies it once anyway); it
+    cannot be hashed (nothing hashes a grant)."""
+    if rgb.flags.c_contiguous:
+        return memoryview(rgb).cast("B").toreadonly()
+    return rgb.tobytes()
+
+
 class RigPortError(RuntimeError):
     """The host announced bytes that never arrived on the serial port (within the safety limit)."""
 
@@ -241,7 +252,7 @@ class Rig:
                 continue
             h, w, c = rgb.shape
             frames.append(FrameBlob(seq=seq, capture_us=capture_us, arrival_us=start,
-                                    width=w, height=h, channels=c, pixels=rgb.tobytes()))
+                                    width=w, height=h, channels=c, pixels=_pixels(rgb)))
         self._frames_pending.clear()
         self.granted_until_us = start + self.config.quantum_us
         return Grant(start_us=start, until_us=self.granted_until_us,
@@ -255,6 +266,14 @@ class Rig:
         # The host says whether it will look at frames (its task needs a detector): rendering
         # is skipped while it does not, as a CAMIF switched off would deliver nothing.
         self.camera_on = bool(done.load.get("camera", True))
+        if done.writes:  # most quanta the host writes nothing: nothing to read or deliver
+            self._deliver_host_bytes(done, until)
+        self._advance_to(until)
+        self.stats["quanta"] += 1
+        self._write_tx()
+
+    def _deliver_host_bytes(self, done: Done, until: int) -> None:
+        # (reading none would be a no-op: in strict alternation nothing is ever left ahead)
         data = self._read_exact(done.write_bytes)
         self.stats["uart_to_mcu_bytes"] += len(data)
         offset = 0
@@ -266,9 +285,6 @@ class Rig:
             self.mcu.uart_rx(data[offset:offset + n], start)
             self._line_free_us = start + byte_time_us(n, self.config.host_baud)
             offset += n
-        self._advance_to(until)
-        self.stats["quanta"] += 1
-        self._write_tx()
 
     def _write_tx(self) -> None:
         # The MCU's bytes go on the port as soon as the quantum that produced them is done, not

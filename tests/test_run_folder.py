@@ -3,6 +3,7 @@
 import hashlib
 import json
 
+import cv2
 import numpy as np
 import pytest
 
@@ -116,3 +117,19 @@ def test_detection_points_of_every_detector_are_drawn():
                                     "um_q4": 320, "vm_q4": 320, "d_pixel_q4": 5},
                    "red_cylinder": {"u_c_q4": 32, "v_c_q4": 48}, "spoke": None})
     assert sorted(pts) == [(2, 3), (10, 20), (20, 20), (30, 20)]
+
+
+def test_snapshots_are_written_in_the_background_and_waited_for(tmp_path):
+    snaps = Snapshots(tmp_path / "frames", keep=3)
+    for seq in range(5):
+        rgb = np.full((24, 32, 3), 40 * seq, np.uint8)
+        snaps.on_frame(seq, seq * 66_666, rgb)
+        snaps.on_host_event({"ev": "state", "t_us": seq * 66_666 + 1, "from": "A", "to": "B"})
+    names = snaps.written  # waits for the writer thread
+    assert names == [f"{k:03d}_{k * 66_666 // 1000:07d}ms_B.png" for k in range(5)]
+    for k, name in enumerate(names):
+        img = cv2.imread(str(tmp_path / "frames" / name))
+        assert img is not None and img.shape == (24, 32, 3)
+        assert int(img[20, 30, 0]) == 40 * k  # the frame of its state change, in order
+    snaps.on_host_event({"ev": "state", "t_us": 400_000, "from": "B", "to": "C"})  # and again
+    assert len(snaps.written) == 6 and (tmp_path / "frames" / snaps.written[-1]).exists()

@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
 
@@ -126,7 +127,11 @@ def draw_detection(rgb: np.ndarray, results: dict | None, label: str) -> np.ndar
 
 
 class Snapshots:
-    """Keeps the last few frames and writes one PNG at every task state change."""
+    """Keeps the last few frames and writes one PNG at every task state change.
+
+    The PNGs are encoded and written by a worker thread (cv2.imwrite releases the GIL: 3-15 ms
+    each that the run's loop, which calls :meth:`on_host_event`, no longer waits for); reading
+    :attr:`written` waits for them, so its files exist once it is read."""
 
     def __init__(self, folder: Path, keep: int = 12) -> None:
         self.folder = Path(folder)
@@ -134,7 +139,9 @@ class Snapshots:
         self.keep = keep
         self._frames: dict[int, np.ndarray] = {}
         self._last_detect: dict | None = None
-        self.written: list[str] = []
+        self._written: list[str] = []
+        self._writer: ThreadPoolExecutor | None = None  # started at the first snapshot
+        self._pending: list[Future] = []
         # OpenCV builds its Hershey font tables on the first putText (~50-100 ms): pay that here,
         # before the run's loop, not at the first state change in the middle of it
         cv2.putText(np.zeros((1, 1, 3), np.uint8), "0", (0, 0), cv2.FONT_HERSHEY_PLAIN, 0.8,
@@ -156,6 +163,21 @@ class Snapshots:
             results = det["results"] if det and det["seq"] == seq else None
             to = str(event.get("to", event.get("state", "?")))
             label = f"t={event['t_us'] / 1e6:.2f}s {event.get('from', '')}->{to} frame {seq}"
-            name = f"{len(self.written):03d}_{event['t_us'] // 1000:07d}ms_{to}.png"
-            cv2.imwrite(str(self.folder / name), draw_detection(self._frames[seq], results, label))
-            self.written.append(name)
+            name = f"{len(self._written):03d}_{event['t_us'] // 1000:07d}ms_{to}.png"
+            img = draw_detection(self._frames[seq], results, label)  # a new image: the thread's
+            if self._writer is None:
+                self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="snapshots")
+            self._pending.append(self._writer.submit(cv2.imwrite, str(self.folder / name), img))
+            self._written.append(name)
+
+    @property
+    def written(self) -> list[str]:
+        """The snapshot files (names in ``folder``), in order; waits until they are written
+        (and raises what writing one raised)."""
+        pending, self._pending = self._pending, []
+        for future in pending:
+            future.result()
+        if self._writer is not None:  # idle now: its thread ends (a later snapshot starts one)
+            self._writer.shutdown()
+            self._writer = None
+        return self._written

@@ -443,9 +443,11 @@ def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
                 res.host_state = str(ev["to"])
             if on_host_event is not None:
                 on_host_event(ev)
-        for k, v in sorted((done.load.get("windows") or {}).items(), key=lambda i: int(i[0])):
-            trace.write({"ev": "load", "t_us": int(k) * done.load["window_us"],
-                         "window_us": done.load["window_us"], "load": v})
+        windows = done.load.get("windows")
+        if windows:  # at most one quantum per load window has them
+            for k, v in sorted(windows.items(), key=lambda i: int(i[0])):
+                trace.write({"ev": "load", "t_us": int(k) * done.load["window_us"],
+                             "window_us": done.load["window_us"], "load": v})
         res.host_state = str(done.load.get("state", res.host_state))
         if done.load.get("finished") and finished_at is None:
             finished_at = done.until_us

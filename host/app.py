@@ -215,7 +215,9 @@ class HostApp:
         return self.link.take_output(before_us)
 
     def take_events(self) -> list[dict]:
-        """Trace events since the last call (simulated-time data only)."""
+        """Trace events since the last call (simulated-time data only), plain JSON data: every
+        event is built from ints, strings, bools and :func:`jsonable` values, so the lockstep
+        client sends them as they are (tests/test_rig_host_app.py checks the round trip)."""
         if not self._events and not self.link.events:
             return []
         out = self._events + self.link.events

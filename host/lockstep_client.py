@@ -118,9 +118,9 @@ class LockstepClient:
             new = {str(k): round(v, 6) for k, v in loads.items() if k >= self._loads_sent}
             if new:
                 self._loads_sent = max(loads) + 1
+        # plain JSON data already (HostApp.take_events): not walked through jsonable again
         events = app.take_events()
-        return ls.Done(until_us=until_us, writes=writes,
-                       events=tuple(jsonable(events)) if events else (),
+        return ls.Done(until_us=until_us, writes=writes, events=tuple(events),
                        load={"window_us": app.config.load_window_us, "windows": new,
                              "state": app.state, "finished": app.finished,
                              "camera": app.wants_frames(),

@@ -266,7 +266,7 @@ class Task(TaskStates):
         if (type(dets) is dict and type(x) is int and type(y) is int and type(h) is int
                 and type(v) is int
                 and (joints is None or (type(joints) is tuple and len(joints) == 6
-                                        and all(type(j) is int for j in joints)))):
+                                        and set(map(type, joints)) == {int}))):
             self.last_pose = pose
             return inp, dets
         if joints is not None:

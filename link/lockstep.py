@@ -27,6 +27,7 @@ DONE; all of it is simulated-time data.
 from __future__ import annotations
 
 import json
+import operator
 import os
 import select
 import struct
@@ -62,6 +63,7 @@ _CHUNK = struct.Struct("<qI")
 # the message header followed by the fixed part of a compact GRANT or DONE, packed at once
 _GRANT_FIRST = struct.Struct(HEADER.format + _GRANT_HEAD.format[1:])
 _DONE_FIRST = struct.Struct(HEADER.format + _DONE_HEAD.format[1:])
+_NBYTES = operator.itemgetter(1)  # of a chunk (time_us, nbytes)
 _DONE_LOAD_KEYS = frozenset(("window_us", "windows", "state", "finished", "camera",
                              "quiet_until"))
 
@@ -116,7 +118,7 @@ class Grant:
     @property
     def uart_bytes(self) -> int:
         """Total UART bytes the host must read from its port for this grant."""
-        return sum(n for _, n in self.uart)
+        return sum(map(_NBYTES, self.uart))
 
 
 @dataclass(frozen=True)
@@ -131,7 +133,7 @@ class Done:
     @property
     def write_bytes(self) -> int:
         """Total UART bytes the rig must read from the pty master for this quantum."""
-        return sum(n for _, n in self.writes)
+        return sum(map(_NBYTES, self.writes))
 
 
 @dataclass(frozen=True)
@@ -413,7 +415,7 @@ def read_message(stream: _Readable,
     header = _read_exact(stream, HEADER.size)
     kind, meta_len, blob_len = decode_header(header)
     meta = _read_exact(stream, meta_len)
-    blob = _read_exact(stream, blob_len)
+    blob = _read_exact(stream, blob_len) if blob_len else b""  # (a compact message has none)
     return decode_body(kind, meta, blob, frame_source)
 
 

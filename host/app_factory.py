@@ -31,7 +31,7 @@ class InputBuilder:
     def __init__(self) -> None:
         from host.task import TaskInputs
 
-        self._inputs_type = TaskInputs  # imported here, not in every call (one per tick)
+        self._inputs = TaskInputs.every_field  # imported here, not in every call (each tick)
         self.odometry = Odometry()
         self._closed_since_us: int | None = None
         self._tel_seen: Any = None
@@ -59,7 +59,7 @@ class InputBuilder:
         elif self._closed_since_us is None:
             self._closed_since_us = now_us
         closed = flag and now_us - self._closed_since_us >= self.GRIPPER_CLOSE_US
-        return self._inputs_type(
+        return self._inputs(
             joints_mrad=self.joints_mrad(tel),
             x_mm=p.x_mm, y_mm=p.y_mm, heading_mrad=p.heading_mrad, v_mmps=p.speed_mm_s,
             sonar_mm=tuple(tel.sonar_mm) if tel is not None else (),

@@ -198,7 +198,8 @@ class HostApp:
 
     def wants_frames(self) -> bool:
         """Whether the task needs any detector now (the camera can be off otherwise)."""
-        return any(n in self.detectors for n in self.task.detectors_needed())
+        # asked once per served grant: the set test in C instead of a generator
+        return not self.detectors.keys().isdisjoint(self.task.detectors_needed())
 
     def quiet_until_us(self) -> int:
         """The program writes nothing and changes no state, task or camera wish before this
@@ -214,7 +215,9 @@ class HostApp:
         return self.link.take_output(before_us)
 
     def take_events(self) -> list[dict]:
-        """Trace events since the last call (simulated-time data only)."""
+        """Trace events since the last call (simulated-time data only), plain JSON data: every
+        event is built from ints, strings, bools and :func:`jsonable` values, so the lockstep
+        client sends them as they are (tests/test_rig_host_app.py checks the round trip)."""
         if not self._events and not self.link.events:
             return []
         out = self._events + self.link.events

@@ -32,6 +32,9 @@ class InputBuilder:
     GRIPPER_CLOSE_US = 450_000
 
     def __init__(self) -> None:
+        from host.task import TaskInputs
+
+        self._inputs = TaskInputs.every_field  # imported here, not in every call (each tick)
         self.odometry = Odometry()
         self._closed_since_us: int | None = None
         self._tel_seen: Any = None
@@ -45,8 +48,6 @@ class InputBuilder:
         return arm_calib.pulses_to_joints_mrad(tel.servo_us)
 
     def __call__(self, app: HostApp, now_us: int, detections: dict) -> Any:
-        from host.task import TaskInputs
-
         tel = app.link.telemetry
         if app.link.mcu_resets != self._resets_seen:  # counters and clock restarted at 0
             self._resets_seen = app.link.mcu_resets
@@ -61,7 +62,7 @@ class InputBuilder:
         elif self._closed_since_us is None:
             self._closed_since_us = now_us
         closed = flag and now_us - self._closed_since_us >= self.GRIPPER_CLOSE_US
-        return TaskInputs(
+        return self._inputs(
             joints_mrad=self.joints_mrad(tel),
             x_mm=p.x_mm, y_mm=p.y_mm, heading_mrad=p.heading_mrad, v_mmps=p.speed_mm_s,
             sonar_mm=tuple(tel.sonar_mm) if tel is not None else (),

@@ -14,6 +14,7 @@ One policy, in host/outgoing_guard.py: coerce (:func:`coerce_int`), clamp, check
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass, replace
 
 from host import arm_calib
@@ -26,6 +27,7 @@ from protocol.reliable import RetransmitQueue, SequenceCounter
 HOST_ID = "mobigrasp-2440"  # at most 16 ASCII chars (protocol)
 
 
+_SEND_TIME = operator.itemgetter(0)  # of an outbox chunk (at_us, wire)
 _COERCE_LIM = 1 << 62  # the range coerce_int accepts (host.outgoing_guard)
 _SUPERSEDING = (m.SetServos, m.Gripper)  # a newer one cancels the unanswered older one
 _JOINT_LO = tuple(lo for lo, _ in arm_calib.JOINT_LIMITS_MRAD[1:])  # channels 1..5
@@ -168,7 +170,7 @@ class HostLink:
         box = self._outbox
         if not box:
             return []
-        box.sort(key=lambda c: c[0])
+        box.sort(key=_SEND_TIME)
         # sorted by time: the chunks due are a prefix
         i = 0
         while i < len(box) and box[i][0] < before_us:

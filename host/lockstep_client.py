@@ -90,32 +90,37 @@ class LockstepClient:
         app = self.app
         # a frame's detectors still pending need not run before these bytes are fed: the ones
         # that read the arm pose took it when their frame arrived (HostApp, pose snapshot)
+        until_us = grant.until_us
         self.clock.set_us(grant.start_us)
-        data = self._read_exact(grant.uart_bytes)
-        offset = 0
-        for arrival_us, n in grant.uart:
-            app.on_uart(data[offset:offset + n], arrival_us)
-            offset += n
-        for blob in grant.frames:
-            self.camera.push(blob)
-        while (item := self.camera.poll_with_arrival()) is not None:
-            arrival_us, frame = item
-            app.on_frame(frame.seq, frame.capture_us, arrival_us, frame.rgb)
-        app.advance_to(grant.until_us)
-        out = app.take_output(grant.until_us)
+        if grant.uart:  # (most grants bring bytes; a quiet one reads nothing)
+            data = self._read_exact(grant.uart_bytes)
+            offset = 0
+            for arrival_us, n in grant.uart:
+                app.on_uart(data[offset:offset + n], arrival_us)
+                offset += n
+        if grant.frames:  # the camera queue is drained below, so it is empty without frames
+            for blob in grant.frames:
+                self.camera.push(blob)
+            while (item := self.camera.poll_with_arrival()) is not None:
+                arrival_us, frame = item
+                app.on_frame(frame.seq, frame.capture_us, arrival_us, frame.rgb)
+        app.advance_to(until_us)
+        out = app.take_output(until_us)
+        writes: tuple[tuple[int, int], ...] = ()
         if out:
             self.port.write(b"".join(w for _, w in out))
-        self.clock.set_us(grant.until_us)
+            writes = tuple((t, len(w)) for t, w in out)
+        self.clock.set_us(until_us)
         new = {}
-        if grant.until_us // app.config.load_window_us > self._loads_sent:
+        if until_us // app.config.load_window_us > self._loads_sent:
             # a window may have finished (load_windows holds only windows before now)
             loads = app.load_windows()
             new = {str(k): round(v, 6) for k, v in loads.items() if k >= self._loads_sent}
             if new:
                 self._loads_sent = max(loads) + 1
+        # plain JSON data already (HostApp.take_events): not walked through jsonable again
         events = app.take_events()
-        return ls.Done(until_us=grant.until_us, writes=tuple((t, len(w)) for t, w in out),
-                       events=tuple(jsonable(events)),
+        return ls.Done(until_us=until_us, writes=writes, events=tuple(events),
                        load={"window_us": app.config.load_window_us, "windows": new,
                              "state": app.state, "finished": app.finished,
                              "camera": app.wants_frames(),

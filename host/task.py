@@ -172,6 +172,20 @@ class TaskInputs:
     detections: dict = field(default_factory=dict)  # this frame's results; {} = no new frame
     grasp_closed: bool = False
 
+    @classmethod
+    def every_field(cls, *, joints_mrad: tuple | None, x_mm: int, y_mm: int, heading_mrad: int,
+                    v_mmps: int, sonar_mm: tuple, detections: dict,
+                    grasp_closed: bool) -> TaskInputs:
+        """``TaskInputs(...)`` with all eight fields given, built without the generated
+        __init__ (a frozen dataclass sets each field through object.__setattr__): the host
+        builds one every control tick (host.app_factory.InputBuilder). Equal to the
+        constructor's result (tests/test_task.py)."""
+        obj = object.__new__(cls)
+        obj.__dict__.update(joints_mrad=joints_mrad, x_mm=x_mm, y_mm=y_mm,
+                            heading_mrad=heading_mrad, v_mmps=v_mmps, sonar_mm=sonar_mm,
+                            detections=detections, grasp_closed=grasp_closed)
+        return obj
+
 
 @dataclass(frozen=True)
 class TaskEvent:
@@ -266,7 +280,7 @@ class Task(TaskStates):
         if (type(dets) is dict and type(x) is int and type(y) is int and type(h) is int
                 and type(v) is int
                 and (joints is None or (type(joints) is tuple and len(joints) == 6
-                                        and all(type(j) is int for j in joints)))):
+                                        and set(map(type, joints)) == {int}))):
             self.last_pose = pose
             return inp, dets
         if joints is not None:

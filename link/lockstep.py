@@ -27,6 +27,7 @@ DONE; all of it is simulated-time data.
 from __future__ import annotations
 
 import json
+import operator
 import os
 import select
 import struct
@@ -59,6 +60,10 @@ _GRANT_HEAD = struct.Struct("<qqI")
 # chunks; then the state's name, then per chunk (send_us, nbytes).
 _DONE_HEAD = struct.Struct("<qqqBBBI")
 _CHUNK = struct.Struct("<qI")
+# the message header followed by the fixed part of a compact GRANT or DONE, packed at once
+_GRANT_FIRST = struct.Struct(HEADER.format + _GRANT_HEAD.format[1:])
+_DONE_FIRST = struct.Struct(HEADER.format + _DONE_HEAD.format[1:])
+_NBYTES = operator.itemgetter(1)  # of a chunk (time_us, nbytes)
 _DONE_LOAD_KEYS = frozenset(("window_us", "windows", "state", "finished", "camera",
                              "quiet_until"))
 
@@ -113,7 +118,7 @@ class Grant:
     @property
     def uart_bytes(self) -> int:
         """Total UART bytes the host must read from its port for this grant."""
-        return sum(n for _, n in self.uart)
+        return sum(map(_NBYTES, self.uart))
 
 
 @dataclass(frozen=True)
@@ -128,7 +133,7 @@ class Done:
     @property
     def write_bytes(self) -> int:
         """Total UART bytes the rig must read from the pty master for this quantum."""
-        return sum(n for _, n in self.writes)
+        return sum(map(_NBYTES, self.writes))
 
 
 @dataclass(frozen=True)
@@ -230,13 +235,16 @@ def encode(msg: Message, frame_sink: Callable[[bytes], dict | None] | None = Non
 def _encode_compact(msg: Message) -> bytes | None:
     """The compact form of a GRANT without frames or of a DONE without events whose load is
     the usual six keys with no window finished; None for any other message (JSON then)."""
+    # the header and the fixed part go in one pack, the chunks after it (one or two, if any):
+    # this runs for most quanta on both sides of the channel
     try:
         if type(msg) is Grant:
+            chunks = msg.uart
             if msg.frames or msg.until_us < msg.start_us:
                 return None
-            parts = [_GRANT_HEAD.pack(msg.start_us, msg.until_us, len(msg.uart))]
-            parts += [_CHUNK.pack(t, n) for t, n in msg.uart]
-            kind = KIND_GRANT_COMPACT
+            out = _GRANT_FIRST.pack(MAGIC, KIND_GRANT_COMPACT,
+                                    _GRANT_HEAD.size + len(chunks) * _CHUNK.size, 0,
+                                    msg.start_us, msg.until_us, len(chunks))
         elif type(msg) is Done:
             load = msg.load
             if msg.events or load.keys() != _DONE_LOAD_KEYS or load["windows"]:
@@ -249,22 +257,26 @@ def _encode_compact(msg: Message) -> bytes | None:
             name = state.encode()
             if len(name) > 255:
                 return None
-            parts = [_DONE_HEAD.pack(msg.until_us, quiet, window, finished, camera, len(name),
-                                     len(msg.writes)), name]
-            parts += [_CHUNK.pack(t, n) for t, n in msg.writes]
-            kind = KIND_DONE_COMPACT
+            chunks = msg.writes
+            out = _DONE_FIRST.pack(MAGIC, KIND_DONE_COMPACT,
+                                   _DONE_HEAD.size + len(name) + len(chunks) * _CHUNK.size, 0,
+                                   msg.until_us, quiet, window, finished, camera, len(name),
+                                   len(chunks)) + name
         else:
             return None
+        for t, n in chunks:
+            out += _CHUNK.pack(t, n)
     except struct.error:  # a time or size out of the fields' range: JSON's checks say so
         return None
-    body = b"".join(parts)
-    return HEADER.pack(MAGIC, kind, len(body), 0) + body
+    return out
 
 
 def _compact_chunks(body: bytes, offset: int, n: int, what: str) -> tuple[tuple[int, int], ...]:
     if len(body) != offset + n * _CHUNK.size:
         raise LockstepError(f"compact {what}: {len(body)} bytes, expected "
                             f"{offset + n * _CHUNK.size} for {n} chunks")
+    if not n:
+        return ()
     out = tuple(_CHUNK.iter_unpack(body[offset:]))
     last = -1
     for t, _ in out:
@@ -281,8 +293,8 @@ def _decode_compact(kind: int, body: bytes) -> Message:
         start, until, n = _GRANT_HEAD.unpack_from(body)
         if start < 0 or until < start:
             raise LockstepError(f"compact GRANT: bad quantum [{start}, {until})")
-        return Grant(start_us=start, until_us=until,
-                     uart=_compact_chunks(body, _GRANT_HEAD.size, n, "GRANT"))
+        return _built(Grant, start_us=start, until_us=until,
+                      uart=_compact_chunks(body, _GRANT_HEAD.size, n, "GRANT"), frames=())
     if len(body) < _DONE_HEAD.size:
         raise LockstepError(f"compact DONE of {len(body)} bytes")
     until, quiet, window, finished, camera, name_len, n = _DONE_HEAD.unpack_from(body)
@@ -294,10 +306,20 @@ def _decode_compact(kind: int, body: bytes) -> Message:
     except UnicodeDecodeError as exc:
         raise LockstepError(f"compact DONE: state is not UTF-8: {exc}") from exc
     writes = _compact_chunks(body, end, n, "DONE")
-    return Done(until_us=until, writes=writes,
-                load={"window_us": window, "windows": {}, "state": state,
-                      "finished": bool(finished), "camera": bool(camera),
-                      "quiet_until": quiet})
+    return _built(Done, until_us=until, writes=writes, events=(),
+                  load={"window_us": window, "windows": {}, "state": state,
+                        "finished": bool(finished), "camera": bool(camera),
+                        "quiet_until": quiet})
+
+
+def _built(cls: type, **fields: Any) -> Any:
+    """The frozen message dataclass ``cls`` with all its ``fields`` given, built without the
+    generated __init__ (which sets each field through object.__setattr__): the compact decoder
+    builds one every quantum. Grant and Done have no __post_init__ to skip; the result is equal
+    to ``cls(**fields)`` (tests/test_lockstep_compact.py)."""
+    obj = object.__new__(cls)
+    obj.__dict__.update(fields)
+    return obj
 
 
 def decode_header(header: bytes) -> tuple[int, int, int]:
@@ -393,7 +415,7 @@ def read_message(stream: _Readable,
     header = _read_exact(stream, HEADER.size)
     kind, meta_len, blob_len = decode_header(header)
     meta = _read_exact(stream, meta_len)
-    blob = _read_exact(stream, blob_len)
+    blob = _read_exact(stream, blob_len) if blob_len else b""  # (a compact message has none)
     return decode_body(kind, meta, blob, frame_source)
 
 

@@ -57,6 +57,32 @@ def _compact_done(until=5000, quiet=9000, window=500_000, finished=0, camera=1, 
     return ls.HEADER.pack(ls.MAGIC, ls.KIND_DONE_COMPACT, len(body), 0) + body
 
 
+def _compact_grant(start=0, until=5000, uart=()) -> bytes:
+    body = struct.pack("<qqI", start, until, len(uart)) + b"".join(
+        struct.pack("<qI", *c) for c in uart)
+    return ls.HEADER.pack(ls.MAGIC, ls.KIND_GRANT_COMPACT, len(body), 0) + body
+
+
+@pytest.mark.parametrize("uart", [(), ((4990, 3),), ((4990, 3), (4995, 200))])
+def test_the_compact_wire_bytes_are_the_documented_layout(uart):
+    # header, fixed part, then (state name and) chunks: what encode packs must stay this
+    assert ls.encode(ls.Grant(start_us=0, until_us=5000, uart=uart)) == _compact_grant(uart=uart)
+    load = {**LOAD, "window_us": 500_000, "quiet_until": 9000, "finished": False,
+            "camera": True, "state": "S"}
+    assert ls.encode(ls.Done(until_us=5000, writes=uart, load=load)) == _compact_done(
+        writes=uart)
+
+
+def test_decoded_compact_messages_are_whole_frozen_dataclasses():
+    # the decoder builds them without __init__ (lockstep._built): every field is there
+    for msg in (ls.Grant(start_us=10, until_us=5000, uart=((20, 1),)),
+                ls.Done(until_us=5000, writes=((100, 2),), load=dict(LOAD))):
+        back = ls.decode(ls.encode(msg))
+        assert type(back) is type(msg) and vars(back) == vars(msg) and back == msg
+        with pytest.raises(AttributeError):
+            back.until_us = 1
+
+
 @pytest.mark.parametrize("raw, match", [
     (_compact_done()[:-1], "length|bytes"),
     (_compact_done() + b"x", "length"),

@@ -1,10 +1,14 @@
 """HostApp on its own: handshake and retransmission, output validation, the ARM9 CPU model."""
 
+import json
+from dataclasses import dataclass
+
 import numpy as np
 from rig_fakes import FakeOutputs, FakeTask, blob_detector, build_inputs
 
 from host.app import HostApp, HostConfig, stage_summary
 from host.budget import OpCounts
+from host.task import TaskEvent
 from protocol import messages as m
 from protocol.frame import FrameParser
 
@@ -179,3 +183,41 @@ def test_detectors_run_late_but_their_results_and_timing_are_the_same():
     assert late[:2] == (0, 0) and early[:2] == (0, 1)
     assert late[2] == early[2] and late[3] == early[3] and late[4] == early[4] == [10_000]
     assert any(e["ev"] == "detect" and e["results"]["blob"]["mean"] == 77 for e in late[2])
+
+
+@dataclass
+class _Found:
+    centre: tuple
+    score: float
+
+
+def test_events_are_plain_json_as_taken():
+    # The lockstep client sends take_events() as it is (no second jsonable pass): every event
+    # must already be what the JSON codec gives back, whatever the task and detectors return
+    # (tuples, dataclasses, numpy scalars, non-finite floats).
+    class _Task(FakeTask):
+        def step(self, now_us, inputs):
+            out = super().step(now_us, inputs)
+            out.events.append(TaskEvent(now_us, "SEARCH", "SEARCH", "again"))
+            out.detail = {"plan": (1, 2), "gain": np.float64(0.5), "bad": float("nan"),
+                          3: _Found((np.int32(4), 5), float("inf"))}
+            out.servo_mrad = (0, 0, float("nan"), 0, 0, 0) if now_us == 40_000 else out.servo_mrad
+            return out
+
+    def detect(rgb):
+        return _Found((np.int64(7), 8), 0.25), OpCounts(alu=400_000)
+
+    task = _Task()
+    app = HostApp(task, {"blob": detect}, build_inputs, HostConfig())
+    app.advance_to(1)
+    _ack_hello(app, 5_000)
+    _telemetry(app, 6_000)
+    rgb = np.zeros((4, 4, 3), np.uint8)
+    for k in range(4):
+        app.on_frame(k, k * 30_000, k * 30_000 + 1_000, rgb)
+    app.advance_to(200_000)
+    events = app.take_events()
+    kinds = {e["ev"] for e in events}
+    assert {"hello_ack", "detect", "state", "detail", "wheels", "output_rejected"} <= kinds
+    for ev in events:
+        assert json.loads(json.dumps(ev, allow_nan=False)) == ev

@@ -311,3 +311,18 @@ def test_001_planner_gets_the_sonar_mount_and_shared_echo_tolerance():
     assert pp.v0 == pytest.approx(0.15)  # the scenario's paper parameters still apply
     off = planner_params_001(TaskParams.for_method("001", {"sonar_shared_echo_mm": 0}))
     assert off.sonar.shared_echo_tol_m is None  # 0: eq. (15) as written
+
+
+def test_every_field_builds_the_same_inputs_as_the_constructor():
+    # the per-tick constructor of host.app_factory.InputBuilder skips the dataclass __init__:
+    # it must set every field (a field added later and forgotten there fails here)
+    from dataclasses import FrozenInstanceError, fields
+
+    kw = {"joints_mrad": (0, 1, 2, 3, 4, 5), "x_mm": 7, "y_mm": -8, "heading_mrad": 9,
+          "v_mmps": 10, "sonar_mm": (1, 2, 3, 4, 5), "detections": {"spoke": None},
+          "grasp_closed": True}
+    assert set(kw) == {f.name for f in fields(TaskInputs)}
+    fast, slow = TaskInputs.every_field(**kw), TaskInputs(**kw)
+    assert type(fast) is TaskInputs and vars(fast) == vars(slow) and fast == slow
+    with pytest.raises(FrozenInstanceError):
+        fast.x_mm = 1

@@ -56,8 +56,8 @@ def test_run_polls_only_at_full_speed(monkeypatch, tmp_path, speed, polls):
     class Stop(Exception):
         pass
 
-    def fake_socket_host(argv, connect=True):
-        seen.append(argv)
+    def fake_socket_host(argv, connect=True, poll_ms=0.0):
+        seen.append((argv, poll_ms))
         raise Stop
 
     monkeypatch.setattr("tools.runner.SocketHost", fake_socket_host)
@@ -65,4 +65,38 @@ def test_run_polls_only_at_full_speed(monkeypatch, tmp_path, speed, polls):
         run_job.execute(run_job.RunOptions(scenario="paper000-exp1", transport="pty",
                                            out=tmp_path, progress=False, plots=False,
                                            speed=speed))
-    assert ("--poll-ms" in seen[0]) == polls
+    argv, rig_poll_ms = seen[0]
+    assert ("--poll-ms" in argv) == polls  # the host for its grants
+    assert rig_poll_ms == (HOST_POLL_MS if polls else 0.0)  # the rig for its DONEs
+
+
+def test_rig_side_reader_polls_as_asked(monkeypatch):
+    """SocketHost hands its poll time to the reader of the host's DONEs."""
+    made = []
+
+    class Reader:
+        def __init__(self, sock, poll_s=0.0):
+            made.append(poll_s)
+            raise ConnectionError("stop here")
+
+    from tools.runner import SocketHost
+
+    monkeypatch.setattr("tools.runner.ls.SocketReader", Reader)
+    host = SocketHost([sys.executable, "-c", "import socket, sys; "
+                       "s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1]); s.recv(1)"],
+                      connect=False, poll_ms=HOST_POLL_MS)
+    try:
+        with pytest.raises(ConnectionError):
+            host.connect()
+    finally:
+        host.proc.kill()
+        host.proc.wait()
+    assert made == [HOST_POLL_MS / 1000.0]
+
+
+@pytest.mark.parametrize("bad", [-1.0, float("nan")])
+def test_socket_host_refuses_a_bad_poll_time(bad):
+    from tools.runner import SocketHost
+
+    with pytest.raises(ValueError, match="poll_ms"):
+        SocketHost([sys.executable, "-c", "pass"], connect=False, poll_ms=bad)

@@ -163,10 +163,11 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         # the host process boots (~0.5 s of imports) while this side imports and builds its half
         port = open_transport("pty://")
         cfg_path = write_host_config(Path(tmpdir.name) / "host.json", cfg)
-        # at full speed the host polls for its grants instead of sleeping (HOST_POLL_MS); paced
-        # (--speed N) it has time to sleep
+        # at full speed the host polls for its grants and the rig for its DONEs instead of
+        # sleeping (HOST_POLL_MS); paced (--speed N) both have time to sleep
         poll_ms = HOST_POLL_MS if opts.speed is None else 0.0
-        early = SocketHost(host_argv(port.slave_path, cfg_path, poll_ms), connect=False)
+        early = SocketHost(host_argv(port.slave_path, cfg_path, poll_ms), connect=False,
+                           poll_ms=poll_ms)
     try:
         from host.app_factory import build_host_app
         from host.lockstep_client import LockstepClient

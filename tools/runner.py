@@ -192,9 +192,14 @@ class SocketHost:
     verify_elided = False  # send elided grants anyway and check the host's DONEs (tests set it)
 
     def __init__(self, argv: list[str], accept_timeout_s: float = 60.0,
-                 connect: bool = True) -> None:
+                 connect: bool = True, poll_ms: float = 0.0) -> None:
         """Start the host process; with ``connect`` (default) also wait for its HELLO, else
-        call :meth:`connect` later (the caller builds its side while the host boots)."""
+        call :meth:`connect` later (the caller builds its side while the host boots).
+        ``poll_ms`` > 0: wait for the host's DONEs by polling the socket that long before
+        sleeping (link.lockstep.SocketReader; docs/cosim.md, "Busy polling")."""
+        if not poll_ms >= 0.0:
+            raise ValueError(f"poll_ms must be >= 0, got {poll_ms!r}")
+        self._poll_s = poll_ms / 1000.0
         self._accept_timeout_s = accept_timeout_s
         self.elided = 0
         self.messages_sent = 0  # socket writes of grants (profiling and tests)
@@ -229,7 +234,7 @@ class SocketHost:
             raise ls.LockstepClosed(f"host process did not connect within {timeout} s"
                                     ) from exc
         self.conn.settimeout(timeout)  # safety limit only
-        self.rfile = ls.SocketReader(self.conn)
+        self.rfile = ls.SocketReader(self.conn, poll_s=self._poll_s)
         self.wfile = self.conn.makefile("wb")
         self._ring = FrameRing(slots=2 * self.max_ahead, directory=self._dir.name)
         hello = ls.read_message(self.rfile)

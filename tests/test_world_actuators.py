@@ -102,6 +102,17 @@ def test_dc_motor_first_order_lag_matches_the_analytic_step_response():
     assert v == pytest.approx(0.5, rel=1e-4)
 
 
+def test_dc_motor_time_constant_change_takes_effect_at_once():
+    m = DcMotor()
+    assert m.decay(1000) == pytest.approx(math.exp(-1e-3 / m.tau_s))  # now cached
+    m.tau_s = 0.5
+    assert m.decay(1000) == pytest.approx(math.exp(-1e-3 / 0.5))  # not the cached old one
+    for bad in (0.0, -1.0, float("nan")):
+        with pytest.raises(ValueError, match="tau_s"):
+            m.tau_s = bad
+    assert m.tau_s == 0.5
+
+
 def test_dc_motor_saturates_and_clamps_duty_and_counts_garbage():
     m = DcMotor()
     m.set_duty(10_000)

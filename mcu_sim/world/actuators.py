@@ -165,6 +165,7 @@ class DcMotor:
         if tau_s <= 0 or max_speed_mps <= 0:
             raise ValueError("DcMotor: tau_s and max_speed_mps must be positive")
         self.max_speed_mps = max_speed_mps
+        self._decay_cache: dict[int, float] = {}
         self.tau_s = tau_s
         self.supply_v = supply_v
         self.duty = 0
@@ -172,7 +173,19 @@ class DcMotor:
         self.stuck = False
         self.gain = 1.0
         self.rejected = 0
-        self._decay_cache: dict[int, float] = {}
+
+    @property
+    def tau_s(self) -> float:
+        """Time constant of the lag (s)."""
+        return self._tau_s
+
+    @tau_s.setter
+    def tau_s(self, value: float) -> None:
+        # a new time constant makes every cached exp(-dt/tau) wrong
+        if not value > 0:
+            raise ValueError(f"DcMotor: tau_s must be positive, got {value!r}")
+        self._tau_s = value
+        self._decay_cache.clear()
 
     def set_duty(self, duty: int) -> None:
         """Command a duty in -255..255 (clamped); a non-integer duty is counted and dropped."""

@@ -20,3 +20,26 @@ def test_bench_loop_reports_rtf_against_the_strict_alternation_baseline(tmp_path
         fig["realtime_factor_pty"] / fig["realtime_factor_pty_lag0"], 3)
     assert fig["trace_equal_pty_inproc"] is True
     assert "campaign" not in fig
+
+
+def test_bench_loop_takes_the_four_configurations_in_turn(monkeypatch, tmp_path):
+    """Run by run, not in blocks: the machine's speed drifts over minutes (tools/benches/loop)."""
+    import tools.benches.loop as loop
+
+    order = []
+
+    def fake_one(opts):
+        order.append((opts.host_lag_quanta, opts.transport))
+        wall = 1.0 + 0.1 * len(order)  # drifting: each run slower than the last
+        return {"wall_time_s": wall, "sim_time_s": 17.0, "realtime_factor": 17.0 / wall,
+                "wall_host_s": 0.5, "trace_sha256": f"sha{opts.host_lag_quanta}"}
+
+    monkeypatch.setattr(loop, "_one", fake_one)
+    out = tmp_path / "loop.json"
+    assert main(["bench", "loop", "--runs", "0", "--rtf-repeats", "3", "--json", str(out)]) == 0
+    configs = [(1, "pty"), (1, "inproc"), (0, "pty"), (0, "inproc")]
+    assert order == configs * 3
+    fig = json.loads(out.read_text())
+    # the medians of interleaved runs: the 2nd of each configuration's three
+    assert fig["wall_s_pty"] == round(1.0 + 0.1 * 5, 3)
+    assert fig["wall_s_inproc_lag0"] == round(1.0 + 0.1 * 8, 3)

@@ -102,30 +102,34 @@ def run(args) -> dict:
         folder = Path(tmp)
         sha = {}
         # the baseline, measured in the same run: strict alternation (host_lag_quanta = 0), where
-        # host and rig take turns at every control tick instead of overlapping
-        for lag, tag in ((1, ""), (0, "_lag0")):
-            for transport in ("pty", "inproc"):
-                rows = []
-                for k in range(args.rtf_repeats):
-                    s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
-                                        out=folder / f"rtf-{transport}{tag}-{k}", progress=False,
-                                        plots=False, time_limit_s=args.rtf_limit_s,
-                                        host_lag_quanta=lag))
-                    rows.append(s)
-                    sha.setdefault((lag, transport), set()).add(s.get("trace_sha256"))
-                wall = statistics.median(r["wall_time_s"] for r in rows)
-                sim_s = rows[0]["sim_time_s"]
-                results[f"realtime_factor_{transport}{tag}"] = round(sim_s / wall, 3)
-                results[f"realtime_factor_{transport}{tag}_runs"] = [
-                    round(r["realtime_factor"], 3) for r in rows]
-                results[f"sim_s_{transport}{tag}"] = sim_s
-                results[f"wall_s_{transport}{tag}"] = round(wall, 3)
-                # over the pty: the SIM side blocked on the host; in process: running the host
-                results[f"wall_host_s_{transport}{tag}"] = round(
-                    statistics.median(r.get("wall_host_s", 0.0) for r in rows), 3)
-                if progress_enabled():
-                    print(f"  rtf {transport}{tag or ' (lag 1)'}: "
-                          f"{results[f'realtime_factor_{transport}{tag}_runs']}", file=sys.stderr)
+        # host and rig take turns at every control tick instead of overlapping. The four
+        # configurations take turns run by run: this machine's speed drifts by ~10 % over
+        # minutes, and runs in blocks would put that drift into the ratios.
+        configs = [(lag, tag, transport) for lag, tag in ((1, ""), (0, "_lag0"))
+                   for transport in ("pty", "inproc")]
+        rows: dict = {c: [] for c in configs}
+        for k in range(args.rtf_repeats):
+            for lag, tag, transport in configs:
+                s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
+                                    out=folder / f"rtf-{transport}{tag}-{k}", progress=False,
+                                    plots=False, time_limit_s=args.rtf_limit_s,
+                                    host_lag_quanta=lag))
+                rows[lag, tag, transport].append(s)
+                sha.setdefault((lag, transport), set()).add(s.get("trace_sha256"))
+        for (_lag, tag, transport), runs in rows.items():
+            wall = statistics.median(r["wall_time_s"] for r in runs)
+            sim_s = runs[0]["sim_time_s"]
+            results[f"realtime_factor_{transport}{tag}"] = round(sim_s / wall, 3)
+            results[f"realtime_factor_{transport}{tag}_runs"] = [
+                round(r["realtime_factor"], 3) for r in runs]
+            results[f"sim_s_{transport}{tag}"] = sim_s
+            results[f"wall_s_{transport}{tag}"] = round(wall, 3)
+            # over the pty: the SIM side blocked on the host; in process: running the host
+            results[f"wall_host_s_{transport}{tag}"] = round(
+                statistics.median(r.get("wall_host_s", 0.0) for r in runs), 3)
+            if progress_enabled():
+                print(f"  rtf {transport}{tag or ' (lag 1)'}: "
+                      f"{results[f'realtime_factor_{transport}{tag}_runs']}", file=sys.stderr)
         for transport in ("pty", "inproc"):
             rtf = results[f"realtime_factor_{transport}"]
             results[f"speedup_{transport}_vs_lag0"] = round(

@@ -3,7 +3,7 @@
 One ARM920T core at 400 MHz runs two activities (docs/cosim.md, "ARM9 budget"):
 
 - **control** (high priority, every ``control_period_us`` = 20 ms): read the newest telemetry,
-  step the task (:class:`host.task.Task`), send its outputs. Its modelled cost is a fixed
+  step the task (:class:`mobigrasp.host.task.Task`), send its outputs. Its modelled cost is a fixed
   per-step cost plus the protocol bytes handled plus whatever the task reports (a Bezier plan
   is charged at soft-float cost). If the step finishes after its deadline (the next tick) a
   deadline miss is counted; a tick that falls entirely inside a busy step is skipped and counted.
@@ -26,8 +26,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
-from host.app_link import HostLink
-from host.budget import OpCounts
+from mobigrasp.host.app_link import HostLink
+from mobigrasp.host.budget import OpCounts
 
 Detector = Callable[..., tuple[Any, OpCounts]]
 # a detector's lower bound of its modelled time (µs) on any frame of (height, width)

@@ -11,11 +11,11 @@ from typing import Any
 
 import numpy as np
 
-from host import arm_calib
-from host.app import HostApp, HostConfig
-from host.odometry import Odometry
-from host.vision.frame_key import frame_bytes
-from protocol import messages as m
+from mobigrasp.host import arm_calib
+from mobigrasp.host.app import HostApp, HostConfig
+from mobigrasp.host.odometry import Odometry
+from mobigrasp.host.vision.frame_key import frame_bytes
+from mobigrasp.protocol import messages as m
 
 
 class InputBuilder:
@@ -32,7 +32,7 @@ class InputBuilder:
     GRIPPER_CLOSE_US = 450_000
 
     def __init__(self) -> None:
-        from host.task import TaskInputs
+        from mobigrasp.host.task import TaskInputs
 
         self._inputs = TaskInputs.every_field  # imported here, not in every call (each tick)
         self.odometry = Odometry()
@@ -118,10 +118,11 @@ class _LastFrameMemo:
 
 # Detector name -> module: each module's ``min_ops(height, width)`` is what the detector charges
 # at least on any frame of that size (tests/test_vision_min_cost.py checks it).
-DETECTOR_MODULES = {"radial_symbol": "host.vision.radial_symbol",
-                    "double_cross": "host.vision.double_cross",
-                    "dual_plus": "host.vision.dual_plus", "spoke": "host.vision.spoke",
-                    "red_cylinder": "host.vision.red_cylinder"}
+DETECTOR_MODULES = {"radial_symbol": "mobigrasp.host.vision.radial_symbol",
+                    "double_cross": "mobigrasp.host.vision.double_cross",
+                    "dual_plus": "mobigrasp.host.vision.dual_plus",
+                    "spoke": "mobigrasp.host.vision.spoke",
+                    "red_cylinder": "mobigrasp.host.vision.red_cylinder"}
 
 
 def vision_bounds(names) -> dict:
@@ -166,14 +167,14 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
 
     found: dict = {}
     try:
-        from host.vision.radial_symbol import detect_radial_symbol
+        from mobigrasp.host.vision.radial_symbol import detect_radial_symbol
 
         found["radial_symbol"] = _LastFrameMemo(
             lambda rgb: detect_radial_symbol(rgb, f_px, u0, v0))
     except ImportError:
         pass
     try:
-        from host.vision.double_cross import detect_double_cross
+        from mobigrasp.host.vision.double_cross import detect_double_cross
 
         def double_cross(rgb, q):
             return detect_double_cross(rgb, yaw_mrad=q[5], pitch_mrad=q[2] + q[3] + q[4],
@@ -182,7 +183,7 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
     except ImportError:
         pass
     try:
-        from host.vision.dual_plus import detect_dual_plus
+        from mobigrasp.host.vision.dual_plus import detect_dual_plus
 
         def dual_plus(rgb, q):
             # alpha = theta2 + theta3 + theta4: the camera's pitch (000 §III.A)
@@ -246,7 +247,7 @@ def task_params(method: str, paper: dict) -> dict:
 def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> HostApp:
     """The host program for ``cfg`` = {"method", "params" (paper names), "camera", "task"
     (TaskParams overrides, e.g. ``object_xy_mm`` for 001)}."""
-    from host.task import Task
+    from mobigrasp.host.task import Task
 
     method = cfg.get("method", "000")
     params = task_params(method, dict(cfg.get("params", {})))

@@ -4,7 +4,7 @@ No I/O and no clock: bytes come in with their arrival time (:meth:`HostLink.rece
 wire bytes are queued with the simulated time the host finished producing them
 (:meth:`HostLink.take_output`). The driver (lockstep client or a real-board loop) moves bytes
 between this object and the serial port. Reliable commands (docs/protocol.md) go through
-:class:`protocol.reliable.RetransmitQueue`: resent with the same seq until ACKed/NACKed.
+:class:`mobigrasp.protocol.reliable.RetransmitQueue`: resent with the same seq until ACKed/NACKed.
 
 Every outgoing command is validated before it is encoded: a NaN, an infinity, a non-integer or a
 value outside the protocol's range is refused and counted (``rejected_outputs``), never sent and
@@ -17,12 +17,12 @@ from __future__ import annotations
 import operator
 from dataclasses import dataclass, replace
 
-from host import arm_calib
-from host.mcu_watch import McuWatch
-from host.outgoing_guard import check_gripper, check_servo_mrad, check_wheels, coerce_int
-from protocol import messages as m
-from protocol.frame import PROTOCOL_VERSION, FrameParser
-from protocol.reliable import RetransmitQueue, SequenceCounter
+from mobigrasp.host import arm_calib
+from mobigrasp.host.mcu_watch import McuWatch
+from mobigrasp.host.outgoing_guard import check_gripper, check_servo_mrad, check_wheels, coerce_int
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import PROTOCOL_VERSION, FrameParser
+from mobigrasp.protocol.reliable import RetransmitQueue, SequenceCounter
 
 HOST_ID = "mobigrasp-2440"  # at most 16 ASCII chars (protocol)
 

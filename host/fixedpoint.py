@@ -25,7 +25,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-from host.budget import OpCounts
+from mobigrasp.host.budget import OpCounts
 
 Q12_SHIFT = 12
 ONE_Q12 = 1 << Q12_SHIFT

@@ -35,8 +35,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from host import arm_calib
-from host.fixedpoint import atan2_urad, cos_q12, isqrt, sin_q12
+from mobigrasp.host import arm_calib
+from mobigrasp.host.fixedpoint import atan2_urad, cos_q12, isqrt, sin_q12
 
 Q4 = 16  # 1 mm in Q4
 ALPHA_DOWN_MRAD = -1571  # alpha_T = -pi/2: gripper vertical, looking down (000)

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from protocol.messages import FLAG_HANDSHAKE, FLAG_RESET
+from mobigrasp.protocol.messages import FLAG_HANDSHAKE, FLAG_RESET
 
 _U32 = 1 << 32
 

@@ -18,8 +18,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from host.budget import OpCounts
-from host.fixedpoint import cos_q12, div_round, sin_q12
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.fixedpoint import cos_q12, div_round, sin_q12
 
 TICKS_PER_REV = 1024
 WHEEL_RADIUS_UM = 40_000

@@ -23,8 +23,8 @@ import operator
 from collections import Counter
 from collections.abc import Sequence
 
-from host.arm_calib import JOINT_LIMITS_MRAD, JOINT_NAMES, N_CHANNELS
-from protocol.messages import GRIPPER_CLOSED_PERMILLE, WHEEL_SPEED_LIMIT_MMPS
+from mobigrasp.host.arm_calib import JOINT_LIMITS_MRAD, JOINT_NAMES, N_CHANNELS
+from mobigrasp.protocol.messages import GRIPPER_CLOSED_PERMILLE, WHEEL_SPEED_LIMIT_MMPS
 
 _LO = tuple(lo for lo, _ in JOINT_LIMITS_MRAD)  # servo target limits per channel
 _HI = tuple(hi for _, hi in JOINT_LIMITS_MRAD)

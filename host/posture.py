@@ -27,9 +27,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from host import arm_calib
-from host.fixedpoint import PI_MRAD, atan2_mrad, div_round, isqrt
-from host.kinematics import ArmGeometry, fk_mm_q4
+from mobigrasp.host import arm_calib
+from mobigrasp.host.fixedpoint import PI_MRAD, atan2_mrad, div_round, isqrt
+from mobigrasp.host.kinematics import ArmGeometry, fk_mm_q4
 
 MARGIN_MODES = ("printed", "limits")
 

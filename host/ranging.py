@@ -32,8 +32,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from host import fixedpoint as fp
-from host.budget import OpCounts
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
 
 D_RING_UM = 14_500  # 002 §5: D = 1.45 cm between the rings
 F_PX_002 = 350

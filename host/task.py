@@ -28,11 +28,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field, fields, replace
 from typing import Any
 
-from host import arm_calib
-from host.budget import OpCounts
-from host.kinematics import PAPER_000, PAPER_002, ArmGeometry
-from host.task_sense import CAMERA_000, CAMERA_002
-from host.task_states import TaskStates
+from mobigrasp.host import arm_calib
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.kinematics import PAPER_000, PAPER_002, ArmGeometry
+from mobigrasp.host.task_sense import CAMERA_000, CAMERA_002
+from mobigrasp.host.task_states import TaskStates
 
 STATES = ("SEARCH", "APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT", "DONE",
           "LOST", "FAILED")

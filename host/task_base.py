@@ -1,15 +1,15 @@
 """Bookkeeping shared by the task's states (host.task): arm targets and their settle time, the
 history of arm targets and base poses (a detection describes the frame captured
 ``frame_latency_us`` ago), the object estimate in the odometry frame, the posture adjustment
-toward it (eq. (10) of 000) and the IK of the grasp.  A mixin of :class:`host.task.Task`.
+toward it (eq. (10) of 000) and the IK of the grasp.  A mixin of :class:`mobigrasp.host.task.Task`.
 """
 
 from __future__ import annotations
 
-from host import arm_calib, kinematics
-from host.fixedpoint import isqrt
-from host.posture import PostureParams, adjust_posture
-from host.task_sense import (
+from mobigrasp.host import arm_calib, kinematics
+from mobigrasp.host.fixedpoint import isqrt
+from mobigrasp.host.posture import PostureParams, adjust_posture
+from mobigrasp.host.task_sense import (
     object_in_platform,
     odom_to_platform_q4,
     platform_to_odom_mm,

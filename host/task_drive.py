@@ -19,20 +19,20 @@ from __future__ import annotations
 
 from typing import Any
 
-from host.budget import OpCounts
-from host.control.fuzzy import FuzzyApproach, FuzzyParams
-from host.control.path_follow import PathFollower, Trajectory, wheel_speeds
-from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
-from host.odometry import Pose
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
+from mobigrasp.host.control.path_follow import PathFollower, Trajectory, wheel_speeds
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.odometry import Pose
 
 # The planners are imported with this module, not at the first plan: an import inside a control
 # step stalled that one tick by ~30 ms of host CPU (more where no bytecode is cached), and the rig
 # waits for every tick's DONE. Nothing modelled depends on when a module is loaded.
-from host.planning.bezier000 import Params000, plan_000
-from host.planning.bezier001 import Params001, is_object_echo, plan_001
-from host.planning.escape import escape_heading, segment_clear
-from host.planning.replan import Replanner
-from host.planning.sonar_regions import SonarConfig, infeasible_regions
+from mobigrasp.host.planning.bezier000 import Params000, plan_000
+from mobigrasp.host.planning.bezier001 import Params001, is_object_echo, plan_001
+from mobigrasp.host.planning.escape import escape_heading, segment_clear
+from mobigrasp.host.planning.replan import Replanner
+from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 
 MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
 ARC_BOUND_001 = True  # 001: eq. (16) wedges cut to the grown echo arc (planner_params_001)

@@ -30,11 +30,11 @@ A mixin of host.task.Task (through host.task_states).  Targets in the platform f
 
 from __future__ import annotations
 
-from host import arm_calib, kinematics
-from host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
-from host.search import SearchParams
-from host.task_base import TaskBase
-from host.task_sense import odom_to_platform_q4, platform_to_odom_mm, spoke_reading
+from mobigrasp.host import arm_calib, kinematics
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.search import SearchParams
+from mobigrasp.host.task_base import TaskBase
+from mobigrasp.host.task_sense import odom_to_platform_q4, platform_to_odom_mm, spoke_reading
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
 ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn

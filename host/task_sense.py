@@ -21,8 +21,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from host.fixedpoint import atan2_mrad, cos_q12, sin_q12
-from host.kinematics import ArmGeometry, fk_mm_q4
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, sin_q12
+from mobigrasp.host.kinematics import ArmGeometry, fk_mm_q4
 
 RADIAL_L_MM_Q4 = 109 * 16  # outer ring diameter L (000)
 DUAL_PLUS_D_ACT_MM_Q4 = 757  # 47.3 mm in Q4 (000)
@@ -180,7 +180,7 @@ def odom_to_platform_q4(x_mm: int, y_mm: int, heading_mrad: int, mount_forward_m
 
 def spoke_reading(det: Any) -> tuple[int, int] | None:
     """(spoke image angle mrad = atan k_T, width w_T px) from a spoke detection (000 §III.A)."""
-    from host.kinematics import spoke_angle_mrad
+    from mobigrasp.host.kinematics import spoke_angle_mrad
 
     if det is None:
         return None

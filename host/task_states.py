@@ -8,13 +8,13 @@ information is used and only the waist joint rotates accordingly to re-find the 
 
 from __future__ import annotations
 
-from host import kinematics
-from host.control.fuzzy import FuzzyParams
-from host.fixedpoint import atan2_mrad, isqrt
-from host.planning.bezier000 import Params000
-from host.posture import distribute_alpha
-from host.search import ArmSearch, SearchParams
-from host.task_drive import (
+from mobigrasp.host import kinematics
+from mobigrasp.host.control.fuzzy import FuzzyParams
+from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
+from mobigrasp.host.planning.bezier000 import Params000
+from mobigrasp.host.posture import distribute_alpha
+from mobigrasp.host.search import ArmSearch, SearchParams
+from mobigrasp.host.task_drive import (
     close_in,
     escape_001,
     make_fuzzy,
@@ -26,14 +26,14 @@ from host.task_drive import (
     turn_in_place,
     update_001,
 )
-from host.task_grasp import GraspStates
-from host.task_sense import (
+from mobigrasp.host.task_grasp import GraspStates
+from mobigrasp.host.task_sense import (
     CROSS_SPACING_MM_Q4,
     bearing_mrad,
     d_pixel_px,
     field,
 )
-from host.task_wander import detour_step, seen_there_before, start_detour, wander_step
+from mobigrasp.host.task_wander import detour_step, seen_there_before, start_detour, wander_step
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
 SIGHTING_MAX_TURN_MRAD_S = 500  # 001 APPROACH: sightings taken while turning faster are not used

@@ -13,7 +13,7 @@ Integer mm / us; no I/O and no clock.
 
 from __future__ import annotations
 
-from host.fixedpoint import atan2_mrad, isqrt
+from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 
 TURN_TOL_MRAD = 60
 DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin

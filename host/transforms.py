@@ -8,7 +8,7 @@ the optical axis, X_c to the left and Z_c up (:func:`paper_cam_to_cv` converts).
 
 How the printed equations map:
 
-- Eq. (3), the camera position P_cr: used as printed (``host.kinematics.fk_mm_q4``):
+- Eq. (3), the camera position P_cr: used as printed (``mobigrasp.host.kinematics.fk_mm_q4``):
   r = l1 cos θ4 + l2 cos(θ4 + θ3) + l3 cos α, P_crx = r sin θ5, P_cry = r cos θ5,
   P_crz = l1 sin θ4 + l2 sin(θ4 + θ3) + l3 sin α.
 - Eq. (1), R_c^r = Rz(θ5) · [[1, 0, 0], [0, cos α, sin α], [0, -sin α, cos α]] = Rz(θ5) Rx(-α).
@@ -28,10 +28,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from host import arm_calib
-from host import fixedpoint as fp
-from host.budget import OpCounts
-from host.kinematics import ArmGeometry, fk_mm_q4
+from mobigrasp.host import arm_calib
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.kinematics import ArmGeometry, fk_mm_q4
 
 # OpenCV camera axes -> level camera in platform axes: x -> X, y -> -Z, z -> Y (Q12)
 C_CV_TO_LEVEL_Q12: fp.MatQ12 = ((fp.ONE_Q12, 0, 0), (0, 0, fp.ONE_Q12), (0, -fp.ONE_Q12, 0))

@@ -4,12 +4,12 @@
 ``loop://``...); ``Link(transport)`` sends and polls protocol messages over it.
 """
 
-from link.base import LinkClosed, Transport
-from link.inproc import InprocTransport, inproc_pair
-from link.messages import Link, Received
-from link.pty_transport import PtyTransport
-from link.registry import list_backends, open_transport, register_backend
-from link.serial_transport import FdTransport, SerialTransport
+from mobigrasp.link.base import LinkClosed, Transport
+from mobigrasp.link.inproc import InprocTransport, inproc_pair
+from mobigrasp.link.messages import Link, Received
+from mobigrasp.link.pty_transport import PtyTransport
+from mobigrasp.link.registry import list_backends, open_transport, register_backend
+from mobigrasp.link.serial_transport import FdTransport, SerialTransport
 
 __all__ = [
     "FdTransport", "InprocTransport", "Link", "LinkClosed", "PtyTransport", "Received",

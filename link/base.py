@@ -15,7 +15,7 @@ class LinkClosed(Exception):
 
 
 class Transport(ABC):
-    """A bidirectional byte pipe chosen by URL (see ``link.registry.open_transport``)."""
+    """A bidirectional byte pipe chosen by URL (see ``mobigrasp.link.registry.open_transport``)."""
 
     url: str = ""
 

@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import sys
 
-from link.base import LinkClosed
-from link.registry import open_transport
-from protocol.frame import FrameParser, encode_frame
-from protocol.messages import Log, encode_message
+from mobigrasp.link.base import LinkClosed
+from mobigrasp.link.registry import open_transport
+from mobigrasp.protocol.frame import FrameParser, encode_frame
+from mobigrasp.protocol.messages import Log, encode_message
 
 READY_TEXT = "echo ready"
 
@@ -37,10 +37,10 @@ def serve(url: str) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point: ``python -m link.echo PORT``."""
+    """Entry point: ``python -m mobigrasp.link.echo PORT``."""
     args = sys.argv[1:] if argv is None else argv
     if len(args) != 1:
-        print("usage: python -m link.echo PORT", file=sys.stderr)
+        print("usage: python -m mobigrasp.link.echo PORT", file=sys.stderr)
         return 2
     n = serve(args[0])
     print(f"echo: {n} frames echoed, peer closed", file=sys.stderr)

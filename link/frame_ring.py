@@ -18,7 +18,7 @@ import os
 import tempfile
 from typing import Any
 
-from link.lockstep import LockstepError
+from mobigrasp.link.lockstep import LockstepError
 
 DEFAULT_SLOTS = 32
 DEFAULT_SLOT_BYTES = 320 * 240 * 3

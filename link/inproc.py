@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import threading
 
-from link.base import LinkClosed, Transport
+from mobigrasp.link.base import LinkClosed, Transport
 
 
 class _Pipe:

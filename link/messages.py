@@ -11,10 +11,16 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from link.base import LinkClosed, Transport
-from protocol.frame import Frame, FrameParser, encode_frame
-from protocol.messages import MESSAGE_TYPES, Message, MessageError, decode_frame, message_frame
-from protocol.reliable import SequenceCounter
+from mobigrasp.link.base import LinkClosed, Transport
+from mobigrasp.protocol.frame import Frame, FrameParser, encode_frame
+from mobigrasp.protocol.messages import (
+    MESSAGE_TYPES,
+    Message,
+    MessageError,
+    decode_frame,
+    message_frame,
+)
+from mobigrasp.protocol.reliable import SequenceCounter
 
 _MAX_READS_PER_POLL = 64  # bounds one poll() even if the peer never stops sending
 

@@ -26,7 +26,7 @@ import select
 import termios
 import tty
 
-from link.base import LinkClosed, Transport
+from mobigrasp.link.base import LinkClosed, Transport
 
 _READ_CHUNK = 4096
 _WRITE_WAIT_S = 60.0  # generous: a full pty buffer only stays full if the peer stopped reading

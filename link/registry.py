@@ -14,10 +14,10 @@ from collections.abc import Callable
 
 import serial
 
-from link.base import Transport
-from link.inproc import inproc_pair, open_named
-from link.pty_transport import PtyTransport
-from link.serial_transport import open_serial
+from mobigrasp.link.base import Transport
+from mobigrasp.link.inproc import inproc_pair, open_named
+from mobigrasp.link.pty_transport import PtyTransport
+from mobigrasp.link.serial_transport import open_serial
 
 __all__ = ["inproc_pair", "list_backends", "open_transport", "register_backend"]
 

@@ -15,8 +15,8 @@ import termios
 
 import serial
 
-from link.base import LinkClosed, Transport
-from link.pty_transport import set_raw
+from mobigrasp.link.base import LinkClosed, Transport
+from mobigrasp.link.pty_transport import set_raw
 
 DEFAULT_BAUD = 115_200
 _IOCTL_ERRNOS = (errno.EINVAL, errno.ENOTTY)

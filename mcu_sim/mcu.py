@@ -20,12 +20,12 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
-from mcu_sim.avr.board import CYCLES_PER_US, Board
-from mcu_sim.avr.signals import SignalPort
-from mcu_sim.avr.usart import baud_error_pct, baud_rate
-from mcu_sim.firmware.params import param_id
-from mcu_sim.firmware.program import Firmware
-from mcu_sim.firmware.sram import RX_RING_BYTES, TX_RING_BYTES
+from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US, Board
+from mobigrasp.mcu_sim.avr.signals import SignalPort
+from mobigrasp.mcu_sim.avr.usart import baud_error_pct, baud_rate
+from mobigrasp.mcu_sim.firmware.params import param_id
+from mobigrasp.mcu_sim.firmware.program import Firmware
+from mobigrasp.mcu_sim.firmware.sram import RX_RING_BYTES, TX_RING_BYTES
 
 
 @dataclass(frozen=True)

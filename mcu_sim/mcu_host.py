@@ -7,10 +7,10 @@ simulated time its last bit left. No pty, no wall clock: a whole exchange is det
 
 from __future__ import annotations
 
-from mcu_sim.mcu import Mcu
-from protocol.frame import FrameParser
-from protocol.messages import MessageError, Telemetry, decode_frame, encode_message
-from protocol.reliable import SequenceCounter
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.protocol.frame import FrameParser
+from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame, encode_message
+from mobigrasp.protocol.reliable import SequenceCounter
 
 
 class InProcessHost:

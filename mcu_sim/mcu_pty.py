@@ -14,11 +14,11 @@ from __future__ import annotations
 import errno
 import os
 
-from link.base import LinkClosed
-from link.registry import open_transport
-from mcu_sim.mcu import Mcu, McuConfig
-from protocol.frame import FrameParser
-from protocol.messages import MessageError, Telemetry, decode_frame
+from mobigrasp.link.base import LinkClosed
+from mobigrasp.link.registry import open_transport
+from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.protocol.frame import FrameParser
+from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame
 
 
 class PtyMcu:

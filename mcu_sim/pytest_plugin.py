@@ -27,7 +27,7 @@ class EmulatedMcu:
     """A :class:`mcu_sim.mcu_pty.PtyMcu` plus a host-side Link on its slave for convenience."""
 
     def __init__(self, config=None) -> None:
-        from mcu_sim.mcu_pty import PtyMcu
+        from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
         self._pty = PtyMcu(config)
         self.mcu = self._pty.mcu
@@ -76,10 +76,10 @@ class EmulatedMcu:
 
     # -- built-in host end ---------------------------------------------------------------------
     def host_link(self):
-        """A :class:`link.messages.Link` on the slave (opened on first use)."""
+        """A :class:`mobigrasp.link.messages.Link` on the slave (opened on first use)."""
         if self._link is None:
-            from link.messages import Link
-            from link.registry import open_transport
+            from mobigrasp.link.messages import Link
+            from mobigrasp.link.registry import open_transport
 
             self._link = Link(open_transport(self.port))
         return self._link

@@ -29,7 +29,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from link.lockstep import Done, FrameBlob, Grant
+from mobigrasp.link.lockstep import Done, FrameBlob, Grant
 
 HOST_BAUD = 115_200
 BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop

@@ -13,9 +13,9 @@ import math
 
 import numpy as np
 
-from mcu_sim.world.camera import CameraOptions, Intrinsics, apply_options, render_clean
-from mcu_sim.world.scenario import Scenario
-from mcu_sim.world.world import World
+from mobigrasp.mcu_sim.world.camera import CameraOptions, Intrinsics, apply_options, render_clean
+from mobigrasp.mcu_sim.world.scenario import Scenario
+from mobigrasp.mcu_sim.world.world import World
 
 
 def _round(x: float, nd: int = 6) -> float | None:

@@ -2,7 +2,7 @@
 
 Typical use::
 
-    from protocol import encode_message, FrameParser, decode_frame, SetServos
+    from mobigrasp.protocol import encode_message, FrameParser, decode_frame, SetServos
     wire = encode_message(SetServos(mode=0, targets=(1500,) * 6, slew=0), seq=7)
     for frame in FrameParser().feed(wire):
         msg = decode_frame(frame)
@@ -10,9 +10,9 @@ Typical use::
 The byte-level specification with golden vectors is docs/protocol.md.
 """
 
-from protocol.cobs import cobs_decode, cobs_encode
-from protocol.crc import crc16_ccitt_false, crc16_ccitt_false_table
-from protocol.frame import (
+from mobigrasp.protocol.cobs import cobs_decode, cobs_encode
+from mobigrasp.protocol.crc import crc16_ccitt_false, crc16_ccitt_false_table
+from mobigrasp.protocol.frame import (
     MAX_ENCODED,
     MAX_PAYLOAD,
     MAX_WIRE,
@@ -22,7 +22,7 @@ from protocol.frame import (
     ParserStats,
     encode_frame,
 )
-from protocol.messages import (
+from mobigrasp.protocol.messages import (
     ALL_MESSAGES,
     FLAG_GRIPPER_CLOSED,
     FLAG_HANDSHAKE,
@@ -66,7 +66,7 @@ from protocol.messages import (
     encode_message,
     message_frame,
 )
-from protocol.reliable import DuplicateFilter, RetransmitQueue, SequenceCounter
+from mobigrasp.protocol.reliable import DuplicateFilter, RetransmitQueue, SequenceCounter
 
 __all__ = [
     "ALL_MESSAGES", "FLAG_GRIPPER_CLOSED", "FLAG_HANDSHAKE", "FLAG_LIMIT", "FLAG_RESET",

@@ -15,7 +15,7 @@ from __future__ import annotations
 import binascii
 from dataclasses import dataclass, fields
 
-from protocol.cobs import cobs_encode
+from mobigrasp.protocol.cobs import cobs_encode
 
 PROTOCOL_VERSION = 1
 MAX_PAYLOAD = 64

@@ -15,7 +15,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, NamedTuple
 
-from protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, Frame, encode_frame, encode_raw
+from mobigrasp.protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, Frame, encode_frame, encode_raw
 
 # NACK reason codes (Nack.reason).
 NACK_OUT_OF_RANGE = 1

@@ -1,7 +1,7 @@
 """What WorldPlant.capture must return: camera.render of the world's current view (shared by the
 capture tests)."""
 
-from mcu_sim.world.camera import render
+from mobigrasp.mcu_sim.world.camera import render
 
 
 def expected_frame(plant, t_us):

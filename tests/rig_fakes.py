@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from host.budget import OpCounts
-from protocol import messages as m
-from protocol.frame import FrameParser
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import FrameParser
 
 
 def byte_done_us(start_us: int, i: int) -> int:

@@ -4,8 +4,8 @@ import math
 
 import pytest
 
-from mcu_sim.avr.encoder import QuadratureEncoder
-from mcu_sim.avr.sonar import MAX_RANGE_M, SonarArray, echo_width_us
+from mobigrasp.mcu_sim.avr.encoder import QuadratureEncoder
+from mobigrasp.mcu_sim.avr.sonar import MAX_RANGE_M, SonarArray, echo_width_us
 
 
 def test_encoder_spreads_edges_linearly_and_loses_none():

@@ -4,8 +4,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.avr.signals import SignalBus
-from mcu_sim.avr.timer16 import Timer16
+from mobigrasp.mcu_sim.avr.signals import SignalBus
+from mobigrasp.mcu_sim.avr.timer16 import Timer16
 
 PERIOD = 40000 * 8  # cycles: (ICR + 1) x prescaler
 

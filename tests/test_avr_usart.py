@@ -2,8 +2,8 @@
 
 import pytest
 
-from mcu_sim.avr.usart import Usart, baud_error_pct, baud_rate
-from mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.mcu_sim.avr.usart import Usart, baud_error_pct, baud_rate
+from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
 
 
 def test_baud_error_of_the_two_usual_settings():

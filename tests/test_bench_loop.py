@@ -2,7 +2,7 @@
 
 import json
 
-from tools.cli import main
+from mobigrasp.tools.cli import main
 
 
 def test_bench_loop_reports_rtf_against_the_strict_alternation_baseline(tmp_path):
@@ -24,8 +24,7 @@ def test_bench_loop_reports_rtf_against_the_strict_alternation_baseline(tmp_path
 
 def test_bench_loop_takes_the_four_configurations_in_turn(monkeypatch, tmp_path):
     """Run by run, not in blocks: the machine's speed drifts over minutes (tools/benches/loop)."""
-    import tools.benches.loop as loop
-
+    import mobigrasp.tools.benches.loop as loop
     order = []
 
     def fake_one(opts):

@@ -20,11 +20,11 @@ import numpy as np
 import pytest
 from camera_expect import expected_frame
 
-from mcu_sim.rig_plant import WorldPlant
-from mcu_sim.world import camera as cam
-from mcu_sim.world.camera import CameraOptions, look_rotation
-from mcu_sim.world.camera_scene import Scene, Target, solids_of_scene
-from tools.run_job import resolve_scenario
+from mobigrasp.mcu_sim.rig_plant import WorldPlant
+from mobigrasp.mcu_sim.world import camera as cam
+from mobigrasp.mcu_sim.world.camera import CameraOptions, look_rotation
+from mobigrasp.mcu_sim.world.camera_scene import Scene, Target, solids_of_scene
+from mobigrasp.tools.run_job import resolve_scenario
 
 
 def test_plain_options_frames_equal_render_and_stay_what_they_were():
@@ -98,7 +98,7 @@ def test_texture_geometry_is_that_of_the_arrays_in_hand():
 
 
 def test_arm_camera_frames_in_plain_floats_equal_the_vector_expressions():
-    from mcu_sim.world import arm
+    from mobigrasp.mcu_sim.world import arm
 
     rng = np.random.default_rng(7)
     for _ in range(500):
@@ -123,8 +123,8 @@ def test_arm_camera_frames_in_plain_floats_equal_the_vector_expressions():
 
 
 def test_camera_scene_obstacles_are_built_once_and_stay_the_scenarios():
-    from mcu_sim.world import camera_scene as cs
-    from mcu_sim.world.world import World
+    from mobigrasp.mcu_sim.world import camera_scene as cs
+    from mobigrasp.mcu_sim.world.world import World
 
     _, scenario = resolve_scenario("paper001-sim2")
     world = World(scenario, 1)

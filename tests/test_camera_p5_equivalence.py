@@ -18,11 +18,11 @@ import cv2
 import numpy as np
 import pytest
 
-from mcu_sim.world import camera as cam
-from mcu_sim.world import camera_linalg as la
-from mcu_sim.world import markers as mk
-from mcu_sim.world.camera import Intrinsics, look_rotation, render_clean
-from mcu_sim.world.camera_scene import Scene, Target
+from mobigrasp.mcu_sim.world import camera as cam
+from mobigrasp.mcu_sim.world import camera_linalg as la
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world.camera import Intrinsics, look_rotation, render_clean
+from mobigrasp.mcu_sim.world.camera_scene import Scene, Target
 
 INTR = Intrinsics()
 

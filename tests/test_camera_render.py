@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-from mcu_sim.world import markers as mk
-from mcu_sim.world.camera import (
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world.camera import (
     CameraOptions,
     Intrinsics,
     look_rotation,
@@ -14,7 +14,13 @@ from mcu_sim.world.camera import (
     render,
     render_frame,
 )
-from mcu_sim.world.camera_scene import Clutter, Obstacle, Scene, Target, target_keypoints_w
+from mobigrasp.mcu_sim.world.camera_scene import (
+    Clutter,
+    Obstacle,
+    Scene,
+    Target,
+    target_keypoints_w,
+)
 
 INTR = Intrinsics()
 BLUE = (20, 40, 230)
@@ -190,7 +196,7 @@ def test_project_returns_nan_behind_the_camera():
 
 
 def test_view_samplers_are_seeded_and_see_their_target():
-    from mcu_sim.world import camera_views as views
+    from mobigrasp.mcu_sim.world import camera_views as views
 
     for sampler in (views.radial_far, views.dual_plus, views.spoke, views.empty):
         a, b = sampler(np.random.default_rng(3)), sampler(np.random.default_rng(3))

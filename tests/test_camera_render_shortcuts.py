@@ -11,11 +11,11 @@ import math
 import numpy as np
 import pytest
 
-from mcu_sim.world import camera as cam
-from mcu_sim.world import camera_ground as ground
-from mcu_sim.world import markers as mk
-from mcu_sim.world.camera import Intrinsics, look_rotation, render_clean
-from mcu_sim.world.camera_scene import Obstacle, Scene, Target, solids_of_scene
+from mobigrasp.mcu_sim.world import camera as cam
+from mobigrasp.mcu_sim.world import camera_ground as ground
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world.camera import Intrinsics, look_rotation, render_clean
+from mobigrasp.mcu_sim.world.camera_scene import Obstacle, Scene, Target, solids_of_scene
 
 INTR = Intrinsics()
 

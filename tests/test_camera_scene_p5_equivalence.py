@@ -9,8 +9,8 @@ import math
 
 import numpy as np
 
-from mcu_sim.world import camera as cam
-from mcu_sim.world import camera_scene as cs
+from mobigrasp.mcu_sim.world import camera as cam
+from mobigrasp.mcu_sim.world import camera_scene as cs
 
 
 def _prism_face_by_face(item, foot_xy, bands, top_rgb):

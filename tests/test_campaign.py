@@ -8,8 +8,8 @@ import math
 
 import pytest
 
-from mcu_sim.faults import FaultPlan, MotorFail, Window
-from tools.campaign import (
+from mobigrasp.mcu_sim.faults import FaultPlan, MotorFail, Window
+from mobigrasp.tools.campaign import (
     CampaignConfig,
     aggregate,
     format_table,
@@ -22,7 +22,7 @@ from tools.campaign import (
     scenario_toml,
     write_outputs,
 )
-from tools.cli import main
+from mobigrasp.tools.cli import main
 
 PLAN = FaultPlan(uart_bit_error_rate=1e-3, uart_burst=Window(3.0, 0.5), host_crash_at_s=20.0)
 

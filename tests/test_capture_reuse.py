@@ -3,9 +3,9 @@
 import numpy as np
 from camera_expect import expected_frame
 
-from mcu_sim.rig_plant import WorldPlant
-from mcu_sim.world.camera import CameraOptions
-from tools.run_job import resolve_scenario
+from mobigrasp.mcu_sim.rig_plant import WorldPlant
+from mobigrasp.mcu_sim.world.camera import CameraOptions
+from mobigrasp.tools.run_job import resolve_scenario
 
 
 def test_frames_equal_render_with_noise_blur_and_gain_while_standing_and_moving():

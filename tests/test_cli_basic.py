@@ -1,6 +1,6 @@
 import pytest
 
-from tools.cli import build_parser, main
+from mobigrasp.tools.cli import build_parser, main
 
 
 def test_help_exits_zero(capsys):

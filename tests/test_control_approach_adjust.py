@@ -5,7 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from host.control.approach_adjust import AdjustParams, ApproachAdjust, plus_pair_distance_mm
+from mobigrasp.host.control.approach_adjust import (
+    AdjustParams,
+    ApproachAdjust,
+    plus_pair_distance_mm,
+)
 
 
 def test_plus_pair_distance_hand_worked():

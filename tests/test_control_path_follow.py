@@ -5,16 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from host.control.path_follow import (
+from mobigrasp.host.control.path_follow import (
     FollowGains,
     PathFollower,
     Trajectory,
     wheel_speeds,
 )
-from host.odometry import Odometry
-from host.planning.bezier import Curve
-from host.planning.bezier000 import plan_000
-from host.planning.bezier001 import plan_001
+from mobigrasp.host.odometry import Odometry
+from mobigrasp.host.planning.bezier import Curve
+from mobigrasp.host.planning.bezier000 import plan_000
+from mobigrasp.host.planning.bezier001 import plan_001
 
 TICK_M = 2 * math.pi * 0.040 / 1024
 

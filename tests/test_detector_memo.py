@@ -5,11 +5,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from host.app_factory import _LastFrameMemo, build_host_app
-from host.budget import OpCounts
-from host.vision.dual_plus import detect_dual_plus
-from host.vision.radial_symbol import detect_radial_symbol
-from host.vision.red_cylinder import detect_red_cylinder
+from mobigrasp.host.app_factory import _LastFrameMemo, build_host_app
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision.dual_plus import detect_dual_plus
+from mobigrasp.host.vision.radial_symbol import detect_radial_symbol
+from mobigrasp.host.vision.red_cylinder import detect_red_cylinder
 
 
 class _Counting:

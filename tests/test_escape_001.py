@@ -7,14 +7,14 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.planning.escape import escape_heading, segment_clear
-from host.planning.sonar_regions import (
+from mobigrasp.host.planning.escape import escape_heading, segment_clear
+from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
     any_region_contains,
     infeasible_regions,
 )
-from host.task import TaskInputs, TaskParams
+from mobigrasp.host.task import TaskInputs, TaskParams
 
 # an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4 (random 001 seed 5008)
 NEAR = dict(ox=0.0, oy=0.0, lo_rad=0.26, hi_rad=0.525, eta_m=0.406, r_r_m=0.2)
@@ -89,7 +89,7 @@ def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
 
 
 def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
-    from host.task_wander import detour_step, start_detour
+    from mobigrasp.host.task_wander import detour_step, start_detour
 
     p = TaskParams.for_method("001")
     d = start_detour(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
@@ -123,7 +123,7 @@ def test_a_robot_already_too_close_may_leave_but_not_go_further_in():
 
 
 def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
-    from host.task import Task
+    from mobigrasp.host.task import Task
 
     task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
     clear = (2500,) * 5

@@ -10,8 +10,8 @@
 
 import pytest
 
-from mcu_sim.faults.plan import parse_fault_overrides
-from tools.campaign import CampaignConfig, run_campaign
+from mobigrasp.mcu_sim.faults.plan import parse_fault_overrides
+from mobigrasp.tools.campaign import CampaignConfig, run_campaign
 
 pytestmark = pytest.mark.slow
 RUNS = 6

@@ -6,9 +6,9 @@ a bit error rate of 1e-3, 2 of the first 3 random runs of method 000 stayed in I
 whole 150 s because host/app_link.HostLink takes the ACK as the end of the HELLO.
 """
 
-from host.app_link import HostLink
-from protocol import messages as m
-from protocol.frame import PROTOCOL_VERSION
+from mobigrasp.host.app_link import HostLink
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import PROTOCOL_VERSION
 
 
 def _hello(link: HostLink) -> int:
@@ -39,9 +39,9 @@ def test_a_gripper_command_refreshes_an_unanswered_set_servos():
     """Under bit errors a SetServos sent before a Gripper may arrive (retransmitted) after it:
     its channel 0 carries the old gripper value and opened the gripper again. The host resends
     the SetServos with the new value, and only that one is retransmitted."""
-    from host.app_link import HostLink
-    from protocol import messages as pm
-    from protocol.frame import FrameParser
+    from mobigrasp.host.app_link import HostLink
+    from mobigrasp.protocol import messages as pm
+    from mobigrasp.protocol.frame import FrameParser
 
     def sent(link, before_us):
         return [pm.decode_frame(f) for _, w in link.take_output(before_us)

@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.faults import FaultPlan, MotorFail, RunFaults, SonarFail, UartFaults, Window
-from mcu_sim.faults.injectors import CameraFaults, EncoderSlip
+from mobigrasp.mcu_sim.faults import FaultPlan, MotorFail, RunFaults, SonarFail, UartFaults, Window
+from mobigrasp.mcu_sim.faults.injectors import CameraFaults, EncoderSlip
 
 
 def _stream(n, seed=0):

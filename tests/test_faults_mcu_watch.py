@@ -1,9 +1,9 @@
 """host/mcu_watch (issue 9): the host notices an MCU reset from the telemetry."""
 
-from host.mcu_watch import McuWatch
-from mcu_sim.mcu import Mcu
-from protocol import messages as m
-from protocol.frame import PROTOCOL_VERSION, FrameParser
+from mobigrasp.host.mcu_watch import McuWatch
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import PROTOCOL_VERSION, FrameParser
 
 UP = m.FLAG_HANDSHAKE
 

@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import outgoing_guard as g
-from host.arm_calib import JOINT_LIMITS_MRAD
-from protocol.messages import Gripper, SetServos, SetWheels
+from mobigrasp.host import outgoing_guard as g
+from mobigrasp.host.arm_calib import JOINT_LIMITS_MRAD
+from mobigrasp.protocol.messages import Gripper, SetServos, SetWheels
 
 anything = (st.integers(-10**6, 10**6) | st.floats(allow_nan=True, allow_infinity=True)
             | st.none() | st.booleans() | st.text(max_size=3)
@@ -107,9 +107,9 @@ def test_coerce_rounds_finite_numbers_and_refuses_the_rest():
 def test_the_host_link_sends_only_valid_wheel_commands(left, right):
     """The host's real send path (host/app_link.py) uses the guard: whatever the control code
     produces, what is encoded is a SetWheels within ±1000 mm/s, or nothing (counted)."""
-    from host.app_link import HostLink
-    from protocol.frame import FrameParser
-    from protocol.messages import decode_frame
+    from mobigrasp.host.app_link import HostLink
+    from mobigrasp.protocol.frame import FrameParser
+    from mobigrasp.protocol.messages import decode_frame
 
     link = HostLink()
     sent = link.send_wheels(left, right, at_us=0)

@@ -4,7 +4,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.faults.plan import (
+from mobigrasp.mcu_sim.faults.plan import (
     FAULT_KEYS,
     FaultError,
     FaultPlan,
@@ -14,7 +14,7 @@ from mcu_sim.faults.plan import (
     parse_fault_overrides,
     parse_faults,
 )
-from mcu_sim.world.scenario import ScenarioError, loads_scenario
+from mobigrasp.mcu_sim.world.scenario import ScenarioError, loads_scenario
 
 BASE = """
 [scenario]

@@ -11,14 +11,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.bench_plant import WheelsInTheAir
-from mcu_sim.faults import FaultPlan, RunFaults
-from mcu_sim.firmware import dispatch
-from mcu_sim.firmware.params import param_id
-from mcu_sim.mcu import Mcu
-from protocol import messages as m
-from protocol.frame import PROTOCOL_VERSION, FrameParser
-from protocol.reliable import RetransmitQueue, SequenceCounter
+from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
+from mobigrasp.mcu_sim.faults import FaultPlan, RunFaults
+from mobigrasp.mcu_sim.firmware import dispatch
+from mobigrasp.mcu_sim.firmware.params import param_id
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import PROTOCOL_VERSION, FrameParser
+from mobigrasp.protocol.reliable import RetransmitQueue, SequenceCounter
 
 STEP_US = 1_000
 WATCHDOG_US = 250_000  # firmware default watchdog_ms

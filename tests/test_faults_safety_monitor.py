@@ -2,12 +2,12 @@
 
 import pytest
 
-from mcu_sim.bench_plant import WheelsInTheAir
-from mcu_sim.faults import FaultPlan, RunFaults, SafetyMonitor
-from mcu_sim.faults.safety import joint_pulse_range_us
-from mcu_sim.mcu import Mcu
-from protocol import messages as m
-from protocol.frame import PROTOCOL_VERSION
+from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
+from mobigrasp.mcu_sim.faults import FaultPlan, RunFaults, SafetyMonitor
+from mobigrasp.mcu_sim.faults.safety import joint_pulse_range_us
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import PROTOCOL_VERSION
 
 HOME = (1000, 1500, 1500, 1500, 1500, 1500)
 
@@ -84,7 +84,7 @@ def test_real_firmware_is_judged_safe_after_a_host_crash():
 
 
 def test_a_firmware_that_ignores_its_watchdog_is_caught(monkeypatch):
-    from mcu_sim.firmware.program import Firmware
+    from mobigrasp.mcu_sim.firmware.program import Firmware
 
     def broken_trip(self):
         self.watchdog_tripped = True

@@ -6,11 +6,11 @@ import struct
 
 import pytest
 
-from mcu_sim.firmware.params import P_TELEMETRY_HZ, P_WATCHDOG_MS, param_id
-from mcu_sim.firmware.servo_table import mrad_to_us
-from mcu_sim.mcu import Mcu, McuConfig
-from mcu_sim.mcu_host import InProcessHost
-from protocol import (
+from mobigrasp.mcu_sim.firmware.params import P_TELEMETRY_HZ, P_WATCHDOG_MS, param_id
+from mobigrasp.mcu_sim.firmware.servo_table import mrad_to_us
+from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.mcu_sim.mcu_host import InProcessHost
+from mobigrasp.protocol import (
     FLAG_GRIPPER_CLOSED,
     FLAG_LIMIT,
     FLAG_RESET,

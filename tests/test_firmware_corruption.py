@@ -4,9 +4,9 @@
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.mcu import Mcu
-from mcu_sim.mcu_host import InProcessHost
-from protocol import (
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.mcu_sim.mcu_host import InProcessHost
+from mobigrasp.protocol import (
     PROTOCOL_VERSION,
     Gripper,
     Hello,

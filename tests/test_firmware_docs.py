@@ -2,10 +2,10 @@
 
 from pathlib import Path
 
-from mcu_sim.firmware import sram
-from mcu_sim.firmware.params import PARAM_TABLE
-from mcu_sim.firmware.program import TELEMETRY_STRUCT
-from protocol import Telemetry
+from mobigrasp.mcu_sim.firmware import sram
+from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
+from mobigrasp.mcu_sim.firmware.program import TELEMETRY_STRUCT
+from mobigrasp.protocol import Telemetry
 
 DOC = (Path(__file__).resolve().parents[1] / "docs" / "firmware.md").read_text()
 

@@ -6,10 +6,10 @@ import struct
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.firmware.ring import ByteRing
-from mcu_sim.mcu import Mcu
-from mcu_sim.mcu_host import InProcessHost
-from protocol import (
+from mobigrasp.mcu_sim.firmware.ring import ByteRing
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.mcu_sim.mcu_host import InProcessHost
+from mobigrasp.protocol import (
     NACK_BAD_LENGTH,
     NACK_OUT_OF_RANGE,
     PROTOCOL_VERSION,

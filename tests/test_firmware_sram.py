@@ -1,10 +1,10 @@
 """Static memory budget: declared sizes sum (with the stack estimate) to at most 4096 bytes,
 and the live firmware's buffers are the sizes the table declares."""
 
-from mcu_sim.firmware import sram
-from mcu_sim.firmware.params import PARAM_TABLE
-from mcu_sim.mcu import Mcu
-from protocol import MAX_ENCODED, MAX_WIRE
+from mobigrasp.mcu_sim.firmware import sram
+from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.protocol import MAX_ENCODED, MAX_WIRE
 
 
 def test_budget_fits_the_atmega128():

@@ -2,12 +2,12 @@
 
 import pytest
 
-from mcu_sim.bench_plant import TICKS_PER_MM, WheelsInTheAir
-from mcu_sim.firmware.sonar_task import NO_ECHO, width_to_mm
-from mcu_sim.firmware.wheel_pi import mmps_to_ticks_q8
-from mcu_sim.mcu import Mcu, McuConfig
-from mcu_sim.mcu_host import InProcessHost
-from protocol import PROTOCOL_VERSION, Hello, ParamSet, SetWheels
+from mobigrasp.mcu_sim.bench_plant import TICKS_PER_MM, WheelsInTheAir
+from mobigrasp.mcu_sim.firmware.sonar_task import NO_ECHO, width_to_mm
+from mobigrasp.mcu_sim.firmware.wheel_pi import mmps_to_ticks_q8
+from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.mcu_sim.mcu_host import InProcessHost
+from mobigrasp.protocol import PROTOCOL_VERSION, Hello, ParamSet, SetWheels
 
 
 def drive(mcu, host, plant, ms, command):

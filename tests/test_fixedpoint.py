@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import fixedpoint as fp
+from mobigrasp.host import fixedpoint as fp
 
 ANGLES = st.integers(min_value=-50_000, max_value=50_000)
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from host.app_factory import _LastFrameMemo
-from host.budget import OpCounts
-from host.vision.frame_key import frame_bytes
+from mobigrasp.host.app_factory import _LastFrameMemo
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision.frame_key import frame_bytes
 
 
 def _frame(seed: int = 0) -> np.ndarray:

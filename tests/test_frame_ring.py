@@ -4,8 +4,8 @@ import os
 
 import pytest
 
-from link import lockstep as ls
-from link.frame_ring import FrameRing, FrameRingReader
+from mobigrasp.link import lockstep as ls
+from mobigrasp.link.frame_ring import FrameRing, FrameRingReader
 
 
 def _frame(seq, fill, w=8, h=4):

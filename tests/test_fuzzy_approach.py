@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
-import host.control.fuzzy as fz
-from host.control.fuzzy import FuzzyApproach, FuzzyController, FuzzyParams
+import mobigrasp.host.control.fuzzy as fz
+from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyController, FuzzyParams
 
 # Table 1 of 002 typed again from the paper (rows E_c = NB..PB, columns E = NB..PB).
 TABLE_1 = """

@@ -7,9 +7,9 @@ import sys
 
 import pytest
 
-from link import lockstep as ls
-from tools import run_job
-from tools.runner import HOST_POLL_MS, host_argv
+from mobigrasp.link import lockstep as ls
+from mobigrasp.tools import run_job
+from mobigrasp.tools.runner import HOST_POLL_MS, host_argv
 
 
 @pytest.mark.parametrize("poll_s", [0.0, 0.05])
@@ -43,7 +43,7 @@ def test_host_command_line_carries_the_poll_time():
 
 @pytest.mark.parametrize("value", ["-5", "nan", "abc", "20000"])
 def test_host_refuses_a_bad_poll_time(value):
-    out = subprocess.run([sys.executable, "-m", "tools.cli", "host", "--port", "/dev/null",
+    out = subprocess.run([sys.executable, "-m", "mobigrasp", "host", "--port", "/dev/null",
                           "--lockstep", "/nonexistent.sock", "--poll-ms", value],
                          capture_output=True, text=True, timeout=60)
     assert out.returncode == 2 and "--poll-ms" in out.stderr
@@ -60,7 +60,7 @@ def test_run_polls_only_at_full_speed(monkeypatch, tmp_path, speed, polls):
         seen.append((argv, poll_ms))
         raise Stop
 
-    monkeypatch.setattr("tools.runner.SocketHost", fake_socket_host)
+    monkeypatch.setattr("mobigrasp.tools.runner.SocketHost", fake_socket_host)
     with pytest.raises(Stop):
         run_job.execute(run_job.RunOptions(scenario="paper000-exp1", transport="pty",
                                            out=tmp_path, progress=False, plots=False,
@@ -79,9 +79,9 @@ def test_rig_side_reader_polls_as_asked(monkeypatch):
             made.append(poll_s)
             raise ConnectionError("stop here")
 
-    from tools.runner import SocketHost
+    from mobigrasp.tools.runner import SocketHost
 
-    monkeypatch.setattr("tools.runner.ls.SocketReader", Reader)
+    monkeypatch.setattr("mobigrasp.tools.runner.ls.SocketReader", Reader)
     host = SocketHost([sys.executable, "-c", "import socket, sys; "
                        "s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1]); s.recv(1)"],
                       connect=False, poll_ms=HOST_POLL_MS)
@@ -96,7 +96,7 @@ def test_rig_side_reader_polls_as_asked(monkeypatch):
 
 @pytest.mark.parametrize("bad", [-1.0, float("nan")])
 def test_socket_host_refuses_a_bad_poll_time(bad):
-    from tools.runner import SocketHost
+    from mobigrasp.tools.runner import SocketHost
 
     with pytest.raises(ValueError, match="poll_ms"):
         SocketHost([sys.executable, "-c", "pass"], connect=False, poll_ms=bad)

@@ -4,9 +4,9 @@ end does not run its detectors, and everything modelled is what running them at 
 import numpy as np
 from rig_fakes import FakeOutputs, blob_detector, build_inputs
 
-from host.app import HostApp, HostConfig
-from host.budget import OpCounts
-from protocol import messages as m
+from mobigrasp.host.app import HostApp, HostConfig
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.protocol import messages as m
 
 QUANTUM = 5_000
 
@@ -190,7 +190,7 @@ def test_a_tick_before_the_bound_leaves_the_detectors_pending():
 
 
 def test_pose_detector_of_the_factory_uses_the_snapshot():
-    from host.app_factory import _PoseDetector as Pose
+    from mobigrasp.host.app_factory import _PoseDetector as Pose
 
     q_now = [(1, 2, 3, 4, 5, 6)]
     det = Pose(lambda rgb, q: (q, OpCounts()), lambda: q_now[0])
@@ -201,7 +201,7 @@ def test_pose_detector_of_the_factory_uses_the_snapshot():
 
 
 def test_factory_gives_bounds_for_its_detectors():
-    from host.app_factory import build_host_app
+    from mobigrasp.host.app_factory import build_host_app
 
     for method in ("000", "002"):
         app = build_host_app({"method": method})

@@ -10,12 +10,12 @@ import random
 
 import pytest
 
-from host import arm_calib
-from host.outgoing_guard import OutgoingRejected, check_int, check_servo_mrad, coerce_int
-from protocol import messages as m
-from protocol.cobs import cobs_decode, cobs_encode
-from protocol.frame import PROTOCOL_VERSION, Frame, FrameParser, encode_frame
-from protocol.reliable import RetransmitQueue
+from mobigrasp.host import arm_calib
+from mobigrasp.host.outgoing_guard import OutgoingRejected, check_int, check_servo_mrad, coerce_int
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.cobs import cobs_decode, cobs_encode
+from mobigrasp.protocol.frame import PROTOCOL_VERSION, Frame, FrameParser, encode_frame
+from mobigrasp.protocol.reliable import RetransmitQueue
 
 
 def _cobs_reference(data: bytes) -> bytes:
@@ -181,7 +181,7 @@ def test_clamp_joints_short_path_equals_clamp_mrad():
 def test_task_clean_keeps_clean_inputs_and_cleans_the_others():
     from dataclasses import replace
 
-    from host.task import Task, TaskInputs
+    from mobigrasp.host.task import Task, TaskInputs
 
     task = Task("000")
     clean = TaskInputs(joints_mrad=(0, 1, -2, -3, 4, 5), x_mm=10, y_mm=-20, heading_mrad=30,
@@ -205,7 +205,7 @@ def test_task_clean_keeps_clean_inputs_and_cleans_the_others():
 def test_posture_params_follow_the_task_params():
     from dataclasses import replace
 
-    from host.task import Task
+    from mobigrasp.host.task import Task
 
     task = Task("000")
     pp = task.posture_params()
@@ -270,7 +270,7 @@ def test_joint_angle_cache_gives_what_the_conversion_gives():
 
 
 def test_div_round_short_paths_round_halves_away_from_zero():
-    from host.fixedpoint import div_round
+    from mobigrasp.host.fixedpoint import div_round
 
     def reference(num: int, den: int) -> int:
         q, r = divmod(abs(num), abs(den))
@@ -290,7 +290,7 @@ def test_div_round_short_paths_round_halves_away_from_zero():
 
 
 def test_isqrt_equals_the_digit_by_digit_root_of_the_board():
-    from host.fixedpoint import isqrt, isqrt_digits
+    from mobigrasp.host.fixedpoint import isqrt, isqrt_digits
 
     rng = random.Random(6)
     values = list(range(0, 5000)) + [2**k + d for k in range(1, 80) for d in (-1, 0, 1)]

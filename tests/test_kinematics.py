@@ -5,8 +5,8 @@ import math
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from host import arm_calib
-from host import kinematics as kin
+from mobigrasp.host import arm_calib
+from mobigrasp.host import kinematics as kin
 
 G000 = kin.PAPER_000
 L000 = (95.5, 89.0, 97.0)

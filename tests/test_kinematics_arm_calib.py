@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import arm_calib as ac
+from mobigrasp.host import arm_calib as ac
 
 K_US_PER_RAD = 2000.0 / math.pi
 

@@ -8,8 +8,8 @@ import threading
 
 import pytest
 
-import protocol as p
-from link import Link, LinkClosed, inproc_pair, open_transport
+import mobigrasp.protocol as p
+from mobigrasp.link import Link, LinkClosed, inproc_pair, open_transport
 
 SAFETY_S = 30.0
 

@@ -1,8 +1,8 @@
 import json
 import platform
 
-from tools.cli import main
-from tools.commands.link_demo import run_link_demo
+from mobigrasp.tools.cli import main
+from mobigrasp.tools.commands.link_demo import run_link_demo
 
 
 def test_link_demo_round_trips_every_message():

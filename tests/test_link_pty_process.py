@@ -8,9 +8,9 @@ generous safety limit, no sleeps.
 import subprocess
 import sys
 
-import protocol as p
-from link import Link, open_transport
-from link.echo import READY_TEXT
+import mobigrasp.protocol as p
+from mobigrasp.link import Link, open_transport
+from mobigrasp.link.echo import READY_TEXT
 
 N_FRAMES = 10_000
 WINDOW = 64
@@ -20,7 +20,7 @@ SAFETY_S = 60.0
 def test_ten_thousand_frames_over_a_real_pty_between_two_processes():
     master = open_transport("pty://")
     child = subprocess.Popen(
-        [sys.executable, "-m", "link.echo", master.slave_path],
+        [sys.executable, "-m", "mobigrasp.link.echo", master.slave_path],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE,
     )
     try:

@@ -3,9 +3,17 @@ import errno
 import pytest
 import serial
 
-import protocol as p
-from link import FdTransport, Link, LinkClosed, inproc_pair, list_backends, open_transport, registry
-from link import serial_transport as st_mod
+import mobigrasp.protocol as p
+from mobigrasp.link import (
+    FdTransport,
+    Link,
+    LinkClosed,
+    inproc_pair,
+    list_backends,
+    open_transport,
+    registry,
+)
+from mobigrasp.link import serial_transport as st_mod
 
 
 def test_unknown_scheme_is_named():

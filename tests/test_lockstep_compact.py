@@ -6,7 +6,7 @@ import struct
 
 import pytest
 
-from link import lockstep as ls
+from mobigrasp.link import lockstep as ls
 
 LOAD = {"window_us": 500_000, "windows": {}, "state": "APPROACH", "finished": False,
         "camera": True, "quiet_until": 2_040_000}

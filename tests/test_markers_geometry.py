@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 
-from mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world import markers as mk
 
 
 def _dark(tex, level=0):

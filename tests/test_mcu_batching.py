@@ -4,8 +4,8 @@ firmware does: the same inputs give the same output bytes and pulses as one even
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.mcu import Mcu
-from protocol import (
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.protocol import (
     PROTOCOL_VERSION,
     Gripper,
     Hello,

@@ -7,10 +7,10 @@ from pathlib import Path
 
 import pytest
 
-from link.messages import Link
-from link.registry import open_transport
-from tools.cli import main
-from tools.commands.console import ConsoleShell
+from mobigrasp.link.messages import Link
+from mobigrasp.link.registry import open_transport
+from mobigrasp.tools.cli import main
+from mobigrasp.tools.commands.console import ConsoleShell
 
 ROOT = Path(__file__).resolve().parents[1]
 SAFETY_S = 60  # generous limits only; nothing asserts on speed
@@ -19,7 +19,7 @@ SAFETY_S = 60  # generous limits only; nothing asserts on speed
 @pytest.fixture
 def mcu_process():
     proc = subprocess.Popen(
-        [sys.executable, "-m", "tools.cli", "mcu", "--speed", "1", "--duration", "120"],
+        [sys.executable, "-m", "mobigrasp.tools.cli", "mcu", "--speed", "1", "--duration", "120"],
         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         port = proc.stdout.readline().strip()
@@ -81,7 +81,7 @@ def test_bad_arguments_are_reported(capsys):
 
 
 def test_console_ends_cleanly_when_the_mcu_goes_away():
-    from mcu_sim.mcu_pty import PtyMcu
+    from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
     pty = PtyMcu()
     out = io.StringIO()
@@ -98,7 +98,7 @@ def test_console_ends_cleanly_when_the_mcu_goes_away():
 def test_mcu_bench_figures_have_units_and_plausible_counts():
     import argparse
 
-    from tools.benches import mcu as bench
+    from mobigrasp.tools.benches import mcu as bench
 
     res = bench.run(argparse.Namespace(seconds=2, telemetry_hz=50, command_hz=50))
     assert res["sim_s"] == 2 and res["sim_s_per_wall_s"] > 0

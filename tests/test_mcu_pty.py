@@ -1,6 +1,6 @@
 """The emulated MCU over a real pty, through the pytest plugin's ``emulated_mcu`` fixture."""
 
-from protocol import (
+from mobigrasp.protocol import (
     FLAG_HANDSHAKE,
     FLAG_RESET,
     FLAG_WATCHDOG,

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from host.odometry import Odometry
+from mobigrasp.host.odometry import Odometry
 
 TICK_M = 2 * math.pi * 0.040 / 1024  # 0.2454 mm
 

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from link import lockstep as ls
-from link.registry import open_transport
-from tools.runner import SocketHost
+from mobigrasp.link import lockstep as ls
+from mobigrasp.link.registry import open_transport
+from mobigrasp.tools.runner import SocketHost
 
 ROOT = Path(__file__).resolve().parents[1]
 SAFETY_S = 60
@@ -24,7 +24,7 @@ SAFETY_S = 60
 @contextlib.contextmanager
 def _cli(*args: str):
     """``mobigrasp ARGS`` as a child process, killed at the end if it is still there."""
-    proc = subprocess.Popen([sys.executable, "-m", "tools.cli", *args], cwd=ROOT,
+    proc = subprocess.Popen([sys.executable, "-m", "mobigrasp.tools.cli", *args], cwd=ROOT,
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         yield proc
@@ -75,7 +75,7 @@ def test_the_rig_names_a_host_process_that_died(tmp_path):
 
 
 def test_free_running_host_ends_when_the_mcu_vanishes():
-    from mcu_sim.mcu_pty import PtyMcu
+    from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
     mcu = PtyMcu(record=False)
     with _cli("host", "--port", mcu.port, "--method", "000") as proc:

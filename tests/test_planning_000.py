@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from host.planning.bezier000 import Params000, control_points_000, plan_000
+from mobigrasp.host.planning.bezier000 import Params000, control_points_000, plan_000
 
 
 def test_control_points_hand_worked():
@@ -117,8 +117,8 @@ def test_control_points_function_matches_paper_formula():
 
 
 def test_batch_ops_charges_only_the_samples_before_an_early_exit():
-    from host.planning.bezier import sample_ops
-    from host.planning.candidates import batch_ops
+    from mobigrasp.host.planning.bezier import sample_ops
+    from mobigrasp.host.planning.candidates import batch_ops
 
     first = np.array([0, 3, 10, 10, 5])  # first violating sample per curve (10 = none)
     kw = {"regions": 2, "grasp_circle": True, "divs_per_sample": 2}
@@ -129,7 +129,7 @@ def test_batch_ops_charges_only_the_samples_before_an_early_exit():
 
 
 def test_time_must_increase_between_samples_too():
-    from host.planning.candidates import Limits, evaluate_batch, min_t_tau
+    from mobigrasp.host.planning.candidates import Limits, evaluate_batch, min_t_tau
 
     # t control points 0, 2, -1.9, 1: t_τ(0) = 6 > 0 and t_τ(1) = 8.7 > 0, but t_τ dips below 0
     ctrl = np.array([[[0, 0, 0], [1, 0, 2], [2, 0, -1.9], [3, 0, 1]]], float)

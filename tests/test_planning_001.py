@@ -5,14 +5,14 @@ import math
 import numpy as np
 import pytest
 
-from host.planning.bezier001 import Params001, control_points_001, plan_001
-from host.planning.grasp_circle import (
+from mobigrasp.host.planning.bezier001 import Params001, control_points_001, plan_001
+from mobigrasp.host.planning.grasp_circle import (
     ArmGeometry001,
     arm_height_reach,
     end_points,
     grasp_radius,
 )
-from host.planning.sonar_regions import (
+from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
     infeasible_regions,
@@ -224,7 +224,7 @@ def test_shared_echo_option_frees_the_single_sensor_parts():
 
 
 def test_vectorised_region_test_equals_eq16_per_region():
-    from host.planning.sonar_regions import any_region_contains
+    from mobigrasp.host.planning.sonar_regions import any_region_contains
 
     rng = np.random.default_rng(5)
     scan = infeasible_regions(SonarConfig(), (0.3, -0.2), 0.4, [700, 1500, 2500, 1000, 2200])

@@ -14,10 +14,10 @@ import math
 import numpy as np
 import pytest
 
-from host.control.path_follow import PathFollower, Trajectory
-from host.odometry import Pose
-from host.planning.replan import Replanner
-from host.planning.sonar_regions import SonarConfig
+from mobigrasp.host.control.path_follow import PathFollower, Trajectory
+from mobigrasp.host.odometry import Pose
+from mobigrasp.host.planning.replan import Replanner
+from mobigrasp.host.planning.sonar_regions import SonarConfig
 
 CFG = SonarConfig()
 FOOTPRINT_M = 0.17

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.planning.bezier import Curve, coefficients, evaluate, sample_ops, taus
+from mobigrasp.host.planning.bezier import Curve, coefficients, evaluate, sample_ops, taus
 
 
 def bernstein(ctrl, tau):

@@ -7,9 +7,9 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.planning.bezier000 import Params000, plan_000
-from host.planning.bezier001 import Params001, plan_001
-from host.planning.grasp_circle import grasp_radius
+from mobigrasp.host.planning.bezier000 import Params000, plan_000
+from mobigrasp.host.planning.bezier001 import Params001, plan_001
+from mobigrasp.host.planning.grasp_circle import grasp_radius
 
 coord = st.floats(-6.0, 6.0, allow_nan=False)
 speed = st.floats(-0.3, 0.3, allow_nan=False)

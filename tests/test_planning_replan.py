@@ -4,8 +4,8 @@ import math
 
 import numpy as np
 
-from host.planning.bezier import Curve, evaluate
-from host.planning.replan import Replanner
+from mobigrasp.host.planning.bezier import Curve, evaluate
+from mobigrasp.host.planning.replan import Replanner
 
 CLEAR = [2500] * 5
 

@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import arm_calib, kinematics
-from host import posture as po
+from mobigrasp.host import arm_calib, kinematics
+from mobigrasp.host import posture as po
 
 G = kinematics.PAPER_000
 

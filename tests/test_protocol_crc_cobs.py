@@ -2,8 +2,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from protocol.cobs import cobs_decode, cobs_encode
-from protocol.crc import crc16_ccitt_false, crc16_ccitt_false_table
+from mobigrasp.protocol.cobs import cobs_decode, cobs_encode
+from mobigrasp.protocol.crc import crc16_ccitt_false, crc16_ccitt_false_table
 
 
 def crc_bitwise(data: bytes) -> int:

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-import protocol as p
+import mobigrasp.protocol as p
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "protocol.md"
 

@@ -5,7 +5,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_protocol_strategies import ALL_CLASSES, TABLE, any_message, message_strategy
 
-import protocol as p
+import mobigrasp.protocol as p
 
 
 @pytest.mark.parametrize("cls", ALL_CLASSES, ids=lambda c: c.__name__)

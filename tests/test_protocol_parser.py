@@ -10,8 +10,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_protocol_strategies import any_message
 
-import protocol as p
-from protocol.frame import MAX_ENCODED
+import mobigrasp.protocol as p
+from mobigrasp.protocol.frame import MAX_ENCODED
 
 CORRUPT = settings(max_examples=60, deadline=None, derandomize=True)
 

@@ -4,8 +4,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import protocol as p
-from protocol.reliable import DuplicateFilter, RetransmitQueue, SequenceCounter
+import mobigrasp.protocol as p
+from mobigrasp.protocol.reliable import DuplicateFilter, RetransmitQueue, SequenceCounter
 
 
 def test_sequence_counter_wraps():

@@ -6,7 +6,7 @@ wrong range in the code makes these tests fail.
 
 from hypothesis import strategies as st
 
-from protocol import messages as m
+from mobigrasp.protocol import messages as m
 
 U8, U16, U32 = (0, 0xFF), (0, 0xFFFF), (0, 0xFFFFFFFF)
 I32 = (-(2**31), 2**31 - 1)

@@ -10,13 +10,13 @@ import hashlib
 
 import pytest
 
-from mcu_sim.faults.injectors import RunFaults
-from mcu_sim.faults.plan import FaultPlan
-from mcu_sim.faults.safety import SafetyMonitor
-from mcu_sim.faults.wrappers import FaultedMcu
-from mcu_sim.mcu import Mcu
-from mcu_sim.rig import Rig
-from tools.run_job import RunOptions, execute
+from mobigrasp.mcu_sim.faults.injectors import RunFaults
+from mobigrasp.mcu_sim.faults.plan import FaultPlan
+from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
+from mobigrasp.mcu_sim.faults.wrappers import FaultedMcu
+from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.mcu_sim.rig import Rig
+from mobigrasp.tools.run_job import RunOptions, execute
 
 GRANT, QUIET = Rig.grant, Rig.quiet_through  # before any test patches them
 
@@ -88,7 +88,7 @@ def test_telemetry_off_means_idle_until_something_arrives():
 
 
 def _telemetry_index() -> int:
-    from mcu_sim.firmware import params as P
+    from mobigrasp.mcu_sim.firmware import params as P
     return P.PARAM_INDEX[P.P_TELEMETRY_HZ]
 
 

@@ -6,11 +6,11 @@ from dataclasses import dataclass
 import numpy as np
 from rig_fakes import FakeOutputs, FakeTask, blob_detector, build_inputs
 
-from host.app import HostApp, HostConfig, stage_summary
-from host.budget import OpCounts
-from host.task import TaskEvent
-from protocol import messages as m
-from protocol.frame import FrameParser
+from mobigrasp.host.app import HostApp, HostConfig, stage_summary
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.task import TaskEvent
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import FrameParser
 
 
 def _sent(app, until):

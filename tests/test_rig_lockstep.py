@@ -6,14 +6,14 @@ import threading
 import pytest
 from rig_fakes import FakeMcu, FakePlant, FakeTask, blob_detector, build_inputs, byte_done_us
 
-from host.app import HostApp, HostConfig
-from host.lockstep_client import LockstepClient, serve_stream
-from link import lockstep as ls
-from link.registry import inproc_pair, open_transport
-from mcu_sim.rig import Rig, RigConfig
-from protocol import messages as m
-from tools.run_folder import TraceWriter
-from tools.runner import InprocHost, run_session
+from mobigrasp.host.app import HostApp, HostConfig
+from mobigrasp.host.lockstep_client import LockstepClient, serve_stream
+from mobigrasp.link import lockstep as ls
+from mobigrasp.link.registry import inproc_pair, open_transport
+from mobigrasp.mcu_sim.rig import Rig, RigConfig
+from mobigrasp.protocol import messages as m
+from mobigrasp.tools.run_folder import TraceWriter
+from mobigrasp.tools.runner import InprocHost, run_session
 
 
 def test_codec_round_trip_grant_with_frames():
@@ -198,7 +198,7 @@ def test_lag_one_issues_each_grant_a_quantum_ahead_with_older_data(tmp_path):
 
 
 def test_lag_zero_and_one_each_give_the_same_trace_over_both_transports(tmp_path):
-    from tools.run_job import RunOptions, execute
+    from mobigrasp.tools.run_job import RunOptions, execute
 
     sha = {}
     for lag in (0, 1):

@@ -6,11 +6,11 @@ import numpy as np
 import pytest
 from rig_fakes import FakeMcu
 
-from link import lockstep as ls
-from link.frame_ring import FrameRing, FrameRingReader
-from mcu_sim.rig import Rig, RigConfig, _pixels
-from mcu_sim.rig_plant import WorldPlant
-from tools.run_job import resolve_scenario
+from mobigrasp.link import lockstep as ls
+from mobigrasp.link.frame_ring import FrameRing, FrameRingReader
+from mobigrasp.mcu_sim.rig import Rig, RigConfig, _pixels
+from mobigrasp.mcu_sim.rig_plant import WorldPlant
+from mobigrasp.tools.run_job import resolve_scenario
 
 
 @pytest.fixture(scope="module")

@@ -4,9 +4,9 @@ import math
 
 import pytest
 
-from tools.commands.profile import profile_table
-from tools.random_scenarios import random_scenario
-from tools.run_job import BadInput, parse_speed, resolve_scenario
+from mobigrasp.tools.commands.profile import profile_table
+from mobigrasp.tools.random_scenarios import random_scenario
+from mobigrasp.tools.run_job import BadInput, parse_speed, resolve_scenario
 
 
 @pytest.mark.parametrize("method", ["000", "001", "002"])

@@ -11,9 +11,9 @@ import sys
 
 import pytest
 
-from link import lockstep as ls
-from tools import runner
-from tools.run_job import RunOptions, execute
+from mobigrasp.link import lockstep as ls
+from mobigrasp.tools import runner
+from mobigrasp.tools.run_job import RunOptions, execute
 
 LOAD = {"window_us": 500_000, "windows": {}, "state": "APPROACH", "finished": False,
         "camera": True, "quiet_until": 20_000}
@@ -45,8 +45,8 @@ def test_quiet_done_declines_what_it_cannot_tell(grant, load):
 # DONE (quiet until 20 ms) and, with the lead's reader, one write per batch
 _SCRIPT = """
 import socket, sys
-from link import lockstep as ls
-from link.frame_ring import FrameRingReader
+from mobigrasp.link import lockstep as ls
+from mobigrasp.link.frame_ring import FrameRingReader
 s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1])
 r, w = ls.SocketReader(s), s.makefile("wb")
 w.write(ls.encode(ls.Hello(host_id="fake"))); w.flush()

@@ -9,9 +9,9 @@ import sys
 
 import pytest
 
-from link import lockstep as ls
-from tools import runner
-from tools.run_job import RunOptions, execute
+from mobigrasp.link import lockstep as ls
+from mobigrasp.tools import runner
+from mobigrasp.tools.run_job import RunOptions, execute
 
 SAFETY_S = 60.0
 
@@ -25,7 +25,7 @@ def _host(script: str) -> runner.SocketHost:
 # DONE of the grant ending at BREAK_US carries a write
 _SCRIPT = """
 import socket, sys
-from link import lockstep as ls
+from mobigrasp.link import lockstep as ls
 s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1])
 r, w = s.makefile("rb"), s.makefile("wb")
 w.write(ls.encode(ls.Hello(host_id="fake"))); w.flush()
@@ -118,10 +118,10 @@ def test_pipelined_pty_run_has_the_inproc_trace(tmp_path, monkeypatch):
 
 
 def test_inproc_passes_an_empty_done_as_the_codec_would(monkeypatch):
-    from host.app_factory import build_host_app
-    from host.lockstep_client import LockstepClient
-    from link.registry import inproc_pair
-    from tools.run_job import host_config, resolve_scenario
+    from mobigrasp.host.app_factory import build_host_app
+    from mobigrasp.host.lockstep_client import LockstepClient
+    from mobigrasp.link.registry import inproc_pair
+    from mobigrasp.tools.run_job import host_config, resolve_scenario
 
     _, scenario = resolve_scenario("paper000-exp1")
     port, peer = inproc_pair("codec-skip")

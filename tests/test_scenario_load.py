@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from mcu_sim.world.scenario import (
+from mobigrasp.mcu_sim.world.scenario import (
     PAPER_PARAMS,
     ScenarioError,
     load_scenario,

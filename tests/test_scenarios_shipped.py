@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import pytest
 
-from tools.run_job import RunOptions, execute, shipped_scenarios
+from mobigrasp.tools.run_job import RunOptions, execute, shipped_scenarios
 
 SHIPPED = sorted(p.stem for p in shipped_scenarios())
 

@@ -4,7 +4,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import search as se
+from mobigrasp.host import search as se
 
 P = se.SearchParams(dense_cycles=1)  # the paper's pattern (000 Fig. 5) in the first cycle
 

@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import pytest
 
-from host import search as se
-from host.task import Task, TaskInputs
+from mobigrasp.host import search as se
+from mobigrasp.host.task import Task, TaskInputs
 
 P = se.SearchParams()
 
@@ -224,7 +224,7 @@ def test_task_wander_stops_short_when_a_front_sonar_sees_something():
 
 
 def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge():
-    from host.task import TaskParams
+    from mobigrasp.host.task import TaskParams
 
     p = TaskParams.for_method("002", {"search": {"wander_mm": 0}})
     sp = se.SearchParams(**p.search)
@@ -235,8 +235,8 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
 def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():
     from types import SimpleNamespace
 
-    from host.task import TaskParams
-    from host.task_wander import seen_there_before
+    from mobigrasp.host.task import TaskParams
+    from mobigrasp.host.task_wander import seen_there_before
 
     p = TaskParams.for_method("000")
     t = SimpleNamespace(p=p, sighting=None, obj=(1800, 900))
@@ -248,7 +248,7 @@ def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():
 
 
 def test_detour_heads_for_the_free_sonar_direction_nearest_the_object():
-    from host.task_wander import sonar_angles_mrad, start_detour
+    from mobigrasp.host.task_wander import sonar_angles_mrad, start_detour
 
     assert sonar_angles_mrad(5) == [-1571, -786, 0, 785, 1571]
     # facing +x, object straight ahead; front and front-left blocked, front-right free
@@ -266,8 +266,8 @@ def test_detour_heads_for_the_free_sonar_direction_nearest_the_object():
 def test_detour_turns_then_drives_its_length_then_ends():
     from types import SimpleNamespace
 
-    from host.task import TaskParams
-    from host.task_wander import detour_step
+    from mobigrasp.host.task import TaskParams
+    from mobigrasp.host.task_wander import detour_step
 
     p = TaskParams.for_method("001")
     task = SimpleNamespace(p=p, wheels=None,

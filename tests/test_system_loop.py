@@ -9,7 +9,7 @@ import json
 
 import pytest
 
-from tools.run_job import RunOptions, execute
+from mobigrasp.tools.run_job import RunOptions, execute
 
 SUMMARY_KEYS = (
     "scenario", "method", "seed", "transport", "success", "grasped", "time_to_grasp_s",
@@ -91,7 +91,7 @@ def test_speed_one_and_max_give_the_same_trace(tmp_path):
 @pytest.mark.timeout(3600)
 @pytest.mark.parametrize("method", ["000", "001", "002"])
 def test_random_campaign(tmp_path, method):
-    from tools.benches.loop import campaign
+    from mobigrasp.tools.benches.loop import campaign
 
     res = campaign([method], 50, 1000, tmp_path, progress=False)[method]
     assert res["success_rate"] >= 0.95, res["failed_seeds"]

@@ -2,8 +2,8 @@
 
 import pytest
 
-from host import arm_calib
-from host.task import DEFAULT_TIMEOUTS_US, STATES, Task, TaskInputs, TaskParams
+from mobigrasp.host import arm_calib
+from mobigrasp.host.task import DEFAULT_TIMEOUTS_US, STATES, Task, TaskInputs, TaskParams
 
 # a radial symbol straight ahead of the camera in the search posture (alpha near 0), 1 m away
 RADIAL_AHEAD = {"u_q4": 160 * 16, "v_q4": 150 * 16, "y_oc_mm": 1000}
@@ -301,7 +301,7 @@ def test_001_replans_when_the_sonar_sees_the_path_blocked():
 
 
 def test_001_planner_gets_the_sonar_mount_and_shared_echo_tolerance():
-    from host.task_drive import planner_params_001
+    from mobigrasp.host.task_drive import planner_params_001
 
     p = TaskParams.for_method("001", {"sonar_offset_mm": 170, "sonar_shared_echo_mm": 130,
                                       "planner": {"v0": 0.15}})

@@ -1,6 +1,6 @@
 """001 APPROACH: sightings taken while the base turns fast do not move the object estimate."""
 
-from host.task import Task, TaskInputs
+from mobigrasp.host.task import Task, TaskInputs
 
 RADIAL_AHEAD = {"u_q4": 160 * 16, "v_q4": 150 * 16, "y_oc_mm": 1000}
 CLEAR = (2500,) * 5

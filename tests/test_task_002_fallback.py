@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from host.task import Task, TaskInputs
+from mobigrasp.host.task import Task, TaskInputs
 
 # a far red cylinder as the detector reports it (random 002 seed 3003, 2.8 m away)
 FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": [158, 48, 12, 20],

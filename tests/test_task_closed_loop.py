@@ -12,8 +12,8 @@ import sys
 
 import pytest
 
-from host import arm_calib
-from host.task import Task, TaskInputs
+from mobigrasp.host import arm_calib
+from mobigrasp.host.task import Task, TaskInputs
 
 MOUNT_M = 0.10
 H_SHOULDER_M = 0.20
@@ -299,8 +299,8 @@ def test_grasp_check_after_the_lift_grasps_again_or_fails(misses):
 
 
 def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighting():
-    from host import task_grasp
-    from host.search import SearchParams
+    from mobigrasp.host import task_grasp
+    from mobigrasp.host.search import SearchParams
 
     for method, near_mm in (("000", 210), ("001", 250), ("002", 355)):
         task = Task(method)

@@ -6,8 +6,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import kinematics
-from host import task_sense as ts
+from mobigrasp.host import kinematics
+from mobigrasp.host import task_sense as ts
 
 G = kinematics.PAPER_000
 L = (95.5, 89.0, 97.0)

@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from mcu_sim.world import markers as mk
-from mcu_sim.world import texture_cache as tc
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world import texture_cache as tc
 
 
 def _levels(fn, n, monkeypatch, folder):

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host import ranging, transforms
-from host.kinematics import PAPER_000
+from mobigrasp.host import ranging, transforms
+from mobigrasp.host.kinematics import PAPER_000
 
 C = np.array([[1.0, 0, 0], [0, 0, 1], [0, -1, 0]])
 
@@ -68,7 +68,7 @@ def test_camera_to_platform_against_float(t2, t3, t4, t5, xy, z):
 def test_matches_renderer_camera_axes():
     """A world point seen by a camera posed with the renderer's look_rotation lands where the
     platform frame says (platform heading = world +y, so X = world x, Y = world y)."""
-    camera = pytest.importorskip("mcu_sim.world.camera")
+    camera = pytest.importorskip("mobigrasp.mcu_sim.world.camera")
     rng = np.random.default_rng(4)
     for _ in range(20):
         theta5, alpha = rng.uniform(-1.2, 1.2), rng.uniform(-1.5, 0.5)
@@ -178,7 +178,7 @@ def test_platform_bearing_parallax(cx, cy, bearing, dist):
 
 
 def test_from_telemetry_pulses():
-    from host import arm_calib
+    from mobigrasp.host import arm_calib
     joints = (0, 0, -500, -800, 1300, 300)
     pulses = arm_calib.joints_to_pulses_us(joints)
     back = arm_calib.pulses_to_joints_mrad(pulses)

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from host.vision.radial_symbol import L_MM, detect_radial_symbol
-from mcu_sim.world import camera_views as views
-from mcu_sim.world.camera import CameraOptions, render
+from mobigrasp.host.vision.radial_symbol import L_MM, detect_radial_symbol
+from mobigrasp.mcu_sim.world import camera_views as views
+from mobigrasp.mcu_sim.world.camera import CameraOptions, render
 
 DEGRADED = (CameraOptions(noise_std=8.0, blur_px=2.0, brightness=0.7),
             CameraOptions(noise_std=8.0, blur_px=2.0, brightness=1.3))

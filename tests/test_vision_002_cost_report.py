@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
 
-from host.budget import OpCounts
-from host.vision import cost_report as cr
-from host.vision.grey import grey_cost
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision import cost_report as cr
+from mobigrasp.host.vision.grey import grey_cost
 
 
 def test_budget_and_shares():
@@ -30,7 +30,7 @@ def test_frame_cost_stages_and_grey_shared():
     assert rep.total_cycles == sum(s.cycles for s in rep.stages)
     assert set(results) == {"double_cross", "red_cylinder"}
     # the double-cross stage is charged without the grey it computed itself
-    from host.vision.double_cross import detect_double_cross
+    from mobigrasp.host.vision.double_cross import detect_double_cross
     _, ops = detect_double_cross(rgb)
     assert rep.stages[1].cycles == ops.cycles() - grey_cost(240, 320).cycles()
 

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.vision import double_cross as dc
+from mobigrasp.host.vision import double_cross as dc
 
 
 def draw_double_cross(radius_px, cx, cy, rot=0.0, sep_ratio=2.6, disc_ratio=0.16, seed=0,

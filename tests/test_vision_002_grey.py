@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from host.vision.grey import SHIFT, W_B, W_G, W_R, to_grey
+from mobigrasp.host.vision.grey import SHIFT, W_B, W_G, W_R, to_grey
 
 
 def test_grey_matches_float_weights_within_one():
@@ -53,7 +53,7 @@ def test_grey_rejects_bad_input(bad):
 
 @pytest.mark.parametrize("sigma", [0, 5, 12, 30])
 def test_noise_sigma_estimate(sigma):
-    from host.vision.grey import noise_sigma
+    from mobigrasp.host.vision.grey import noise_sigma
     rng = np.random.default_rng(sigma)
     y, x = np.mgrid[0:240, 0:320]
     smooth = 120 + 40 * np.sin(x / 40.0) * np.cos(y / 30.0)  # floor-like shading

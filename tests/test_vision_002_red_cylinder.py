@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from host.vision import red_cylinder as rc
+from mobigrasp.host.vision import red_cylinder as rc
 
 RED = (200, 30, 30)
 

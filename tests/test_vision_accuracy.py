@@ -7,8 +7,8 @@ and "false positives <= 0.1 %" means none. Detectors not written yet are skipped
 """
 import pytest
 
-pytest.importorskip("mcu_sim.world.camera")
-va = pytest.importorskip("tools.vision_accuracy")
+pytest.importorskip("mobigrasp.mcu_sim.world.camera")
+va = pytest.importorskip("mobigrasp.tools.vision_accuracy")
 
 FAST = ["double_cross", "red_cylinder"]
 SLOW = ["radial_symbol", "dual_plus", "spoke"]  # another helper's detectors, slower frames

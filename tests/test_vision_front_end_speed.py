@@ -10,9 +10,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from host.vision import dark_blobs as db
-from host.vision.grey import W_B, W_G, W_R, to_grey
-from host.vision.radial_symbol import _label_mask
+from mobigrasp.host.vision import dark_blobs as db
+from mobigrasp.host.vision.grey import W_B, W_G, W_R, to_grey
+from mobigrasp.host.vision.radial_symbol import _label_mask
 
 
 @st.composite

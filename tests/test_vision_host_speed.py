@@ -6,9 +6,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from host.vision import dark_blobs as db
-from host.vision import double_cross
-from host.vision.dual_plus import _solidity_pct
+from mobigrasp.host.vision import dark_blobs as db
+from mobigrasp.host.vision import double_cross
+from mobigrasp.host.vision.dual_plus import _solidity_pct
 
 
 def _solidity_reference(sel: np.ndarray) -> int:

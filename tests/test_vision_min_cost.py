@@ -6,9 +6,9 @@ import importlib
 import numpy as np
 import pytest
 
-from host.app_factory import DETECTOR_MODULES
-from host.budget import OpCounts
-from host.vision import dark_blobs as db
+from mobigrasp.host.app_factory import DETECTOR_MODULES
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision import dark_blobs as db
 
 # how each detector is called by the host (app_factory), pose arguments at typical values
 CALL = {
@@ -77,8 +77,8 @@ def test_bound_holds_on_synthetic_frames(name, shape):
 def _rendered() -> dict[str, list[np.ndarray]]:
     """Frames of each detector's working views (tools/vision_accuracy: clean, degraded, no
     target), rendered with a fixed seed."""
-    va = pytest.importorskip("tools.vision_accuracy")
-    from mcu_sim.world.camera import CameraOptions, render
+    va = pytest.importorskip("mobigrasp.tools.vision_accuracy")
+    from mobigrasp.mcu_sim.world.camera import CameraOptions, render
 
     out = {}
     for name, spec in va.SPECS.items():
@@ -98,7 +98,7 @@ def _scenario_frames() -> list[np.ndarray]:
     import tempfile
     from pathlib import Path
 
-    from tools.run_job import RunOptions, execute
+    from mobigrasp.tools.run_job import RunOptions, execute
 
     frames: list[np.ndarray] = []
 

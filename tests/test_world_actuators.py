@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.world.actuators import (
+from mobigrasp.mcu_sim.world.actuators import (
     JOINT_TABLE,
     SERVO_SPEED_RAD_PER_S,
     DcMotor,

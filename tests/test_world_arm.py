@@ -7,10 +7,10 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.world.actuators import JOINT_TABLE, pulse_for_angle
-from mcu_sim.world.arm import ARM_BY_METHOD, Arm, camera_point_platform
-from mcu_sim.world.scenario import loads_scenario
-from mcu_sim.world.world import World
+from mobigrasp.mcu_sim.world.actuators import JOINT_TABLE, pulse_for_angle
+from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD, Arm, camera_point_platform
+from mobigrasp.mcu_sim.world.scenario import loads_scenario
+from mobigrasp.mcu_sim.world.world import World
 
 G000 = ARM_BY_METHOD["000"]
 
@@ -180,7 +180,7 @@ def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
 def test_world_and_host_agree_on_the_mount_per_method(method):
     """docs/conventions.md (Base geometry): the world's shoulder height and waist offset are the
     host's task parameters, per method (002's arm sits low: 0.05 m)."""
-    from host.task import TaskParams
+    from mobigrasp.host.task import TaskParams
 
     geom, p = ARM_BY_METHOD[method], TaskParams.for_method(method)
     assert round(geom.h_shoulder_m * 1000) == p.h_shoulder_mm

@@ -6,15 +6,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mcu_sim.world.base import (
+from mobigrasp.mcu_sim.world.base import (
     FOOTPRINT_RADIUS_M,
     TICKS_PER_M,
     WHEEL_TRACK_M,
     DiffDriveBase,
     new_space,
 )
-from mcu_sim.world.scenario import loads_scenario
-from mcu_sim.world.world import World
+from mobigrasp.mcu_sim.world.scenario import loads_scenario
+from mobigrasp.mcu_sim.world.world import World
 
 MIN_SCENARIO = """
 [scenario]

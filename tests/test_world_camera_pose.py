@@ -8,11 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from mcu_sim.world.actuators import pulse_for_angle
-from mcu_sim.world.scenario import loads_scenario
-from mcu_sim.world.world import World
+from mobigrasp.mcu_sim.world.actuators import pulse_for_angle
+from mobigrasp.mcu_sim.world.scenario import loads_scenario
+from mobigrasp.mcu_sim.world.world import World
 
-camera = pytest.importorskip("mcu_sim.world.camera")
+camera = pytest.importorskip("mobigrasp.mcu_sim.world.camera")
 
 SCEN = """
 [scenario]
@@ -54,7 +54,7 @@ def test_card_centre_lands_where_the_pinhole_model_puts_it(h, waist, roll):
     w.step_to(1_000_000)
     pos, r_wc = w.camera_pose_world()
     with_target = camera.render(w.camera_scene(), pos, r_wc).astype(int)
-    cs = pytest.importorskip("mcu_sim.world.camera_scene")
+    cs = pytest.importorskip("mobigrasp.mcu_sim.world.camera_scene")
     empty = camera.render(cs.Scene(target=None, seed=w.seed), pos, r_wc).astype(int)
     mask = np.abs(with_target - empty).sum(axis=2) > 30
     u, v, depth = project(w, (tx, ty, 0.10))

@@ -5,9 +5,9 @@ from pathlib import Path
 
 import numpy as np
 
-from mcu_sim.world.scenario import load_scenario
-from mcu_sim.world.sonar import SonarConfig
-from mcu_sim.world.world import World
+from mobigrasp.mcu_sim.world.scenario import load_scenario
+from mobigrasp.mcu_sim.world.sonar import SonarConfig
+from mobigrasp.mcu_sim.world.world import World
 
 DATA = Path(__file__).parent / "data" / "scenarios"
 

@@ -6,8 +6,8 @@ import numpy as np
 import pymunk
 import pytest
 
-from mcu_sim.world.base import FOOTPRINT_RADIUS_M, DiffDriveBase, new_space
-from mcu_sim.world.sonar import SonarConfig, SonarRing, sensor_angles
+from mobigrasp.mcu_sim.world.base import FOOTPRINT_RADIUS_M, DiffDriveBase, new_space
+from mobigrasp.mcu_sim.world.sonar import SonarConfig, SonarRing, sensor_angles
 
 
 def ring(**kw):

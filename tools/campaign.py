@@ -4,7 +4,7 @@ Run ``k`` uses seed ``seed + k``: the scenario is ``tools.random_scenarios`` (ta
 at any bearing, random heading; obstacles for 001; a moving target for 002) plus the ``[faults]``
 section of the plan, and the rig seeds every injector from the same run seed, so one run can be
 repeated alone with ``mobigrasp run``. :func:`run_one` is the one adapter to the closed loop
-(``tools.run_job.execute`` in process); anything with the same signature can replace it.
+(``mobigrasp.tools.run_job.execute`` in process); anything with the same signature can replace it.
 
 Aggregated figures: success rate, unsafe actuations (the run's safety monitor: servo pulses out of
 the joint table, motion during a watchdog stop, late stops after host silence, commands the MCU
@@ -25,8 +25,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, TextIO
 
-from mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
-from mcu_sim.world.scenario import Scenario, loads_scenario
+from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
+from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
 
 METHODS = ("000", "001", "002")
 
@@ -59,7 +59,7 @@ class CampaignConfig:
 
 def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
     """TOML of random scenario ``seed`` of ``method`` with the plan's ``[faults]``."""
-    from tools.random_scenarios import random_scenario_toml
+    from mobigrasp.tools.random_scenarios import random_scenario_toml
 
     return random_scenario_toml(method, seed) + "\n" + plan.to_toml()
 
@@ -107,7 +107,7 @@ def jobs_of(cfg: CampaignConfig) -> list[dict]:
 
 def run_one(job: dict) -> dict:
     """The adapter: one closed-loop run in process (tools.run_job.execute) -> its summary."""
-    from tools.run_job import RunOptions, execute
+    from mobigrasp.tools.run_job import RunOptions, execute
 
     sc = make_scenario(job["method"], job["seed"], parse_faults(job["faults"], "campaign"))
     summary, _ = execute(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=job["seed"],

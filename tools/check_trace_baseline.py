@@ -1,7 +1,7 @@
 """Check that an optimisation changed no traced bit: run the shipped scenarios in process and
 compare each run's ``trace_sha256`` with a baseline file written before the change.
 
-    python -m tools.check_trace_baseline --write /tmp/base.json   # before the change
+    python -m mobigrasp.tools.check_trace_baseline --write /tmp/base.json   # before the change
     python -m tools.check_trace_baseline --check /tmp/base.json   # after it: exit 1 on a diff
 
 The trace holds every host event, the modelled ARM9 load (from the OpCounts) and the ground
@@ -23,7 +23,7 @@ SCENARIOS = ("paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
 
 def run_one(name: str, time_limit_s: float, out_root: Path) -> tuple[str, float]:
     """(trace_sha256, wall seconds of the whole run) of one in-process run."""
-    from tools.run_job import RunOptions, execute
+    from mobigrasp.tools.run_job import RunOptions, execute
 
     t0 = time.perf_counter()
     summary, _ = execute(RunOptions(scenario=name, transport="inproc", speed=None,

@@ -13,7 +13,7 @@ import pkgutil
 import sys
 from importlib.metadata import PackageNotFoundError, version
 
-import tools.commands
+import mobigrasp.tools.commands
 
 
 def _version() -> str:
@@ -31,10 +31,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     parser.add_argument("--version", action="version", version=f"mobigrasp {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for info in sorted(pkgutil.iter_modules(tools.commands.__path__), key=lambda m: m.name):
+    commands = pkgutil.iter_modules(mobigrasp.tools.commands.__path__)
+    for info in sorted(commands, key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
-        module = importlib.import_module(f"tools.commands.{info.name}")
+        module = importlib.import_module(f"mobigrasp.tools.commands.{info.name}")
         module.register(sub)
     return parser
 
@@ -47,14 +48,14 @@ def _command_parser(argv: list[str]) -> argparse.ArgumentParser | None:
         return None
     name = argv[0].replace("-", "_")
     if name.startswith("_") or name not in {m.name for m in
-                                             pkgutil.iter_modules(tools.commands.__path__)}:
+                                             pkgutil.iter_modules(mobigrasp.tools.commands.__path__)}:
         return None
     parser = argparse.ArgumentParser(
         prog="mobigrasp",
         description="Embedded mobile manipulator of papers 000-002: host, emulated MCU, world.",
     )
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    importlib.import_module(f"tools.commands.{name}").register(sub)
+    importlib.import_module(f"mobigrasp.tools.commands.{name}").register(sub)
     return parser if argv[0] in sub.choices else None
 
 

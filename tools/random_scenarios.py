@@ -12,7 +12,7 @@ from __future__ import annotations
 import math
 import random
 
-from mcu_sim.world.scenario import Scenario, loads_scenario
+from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
 
 KIND = {"000": "radial-symbol", "001": "radial-symbol", "002": "red-cylinder"}
 LIMIT_S = {"000": 150.0, "001": 180.0, "002": 120.0}

@@ -1,6 +1,6 @@
 """report.html of a run folder: the summary, the plots and the camera snapshots, linked.
 
-``python -m tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and
+``python -m mobigrasp.tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and
 summary.json, so a report can be regenerated after the run.
 """
 
@@ -11,8 +11,8 @@ import json
 import sys
 from pathlib import Path
 
-from tools import plots
-from tools.run_folder import read_trace
+from mobigrasp.tools import plots
+from mobigrasp.tools.run_folder import read_trace
 
 
 def _rows(d: dict, prefix: str = "") -> list[str]:

@@ -31,7 +31,7 @@ def shipped_scenarios() -> list[Path]:
 
 def resolve_scenario(name_or_path: str):
     """(path, Scenario) for a file path or the name of a shipped scenario; BadInput otherwise."""
-    from mcu_sim.world.scenario import ScenarioError, load_scenario
+    from mobigrasp.mcu_sim.world.scenario import ScenarioError, load_scenario
 
     p = Path(name_or_path)
     if not p.exists():
@@ -89,7 +89,7 @@ def _fault_plan(scenario, overrides):
     plan = getattr(scenario, "faults", None)
     if not overrides:
         return plan
-    from mcu_sim.faults.plan import FaultError, parse_fault_overrides
+    from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
 
     try:
         return parse_fault_overrides(list(overrides), base=plan)
@@ -124,8 +124,8 @@ def _progress(res, wall: float, now_us: int) -> None:
 
 def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
-    from link.registry import inproc_pair, open_transport
-    from tools.runner import (
+    from mobigrasp.link.registry import inproc_pair, open_transport
+    from mobigrasp.tools.runner import (
         HOST_POLL_MS,
         InprocHost,
         SessionResult,
@@ -169,13 +169,13 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         early = SocketHost(host_argv(port.slave_path, cfg_path, poll_ms), connect=False,
                            poll_ms=poll_ms)
     try:
-        from host.app_factory import build_host_app
-        from host.lockstep_client import LockstepClient
-        from mcu_sim.mcu import Mcu
-        from mcu_sim.rig import Rig, RigConfig
-        from mcu_sim.rig_plant import WorldPlant
-        from tools.heap_tuning import keep_freed_memory
-        from tools.run_folder import Snapshots, TraceWriter, write_summary
+        from mobigrasp.host.app_factory import build_host_app
+        from mobigrasp.host.lockstep_client import LockstepClient
+        from mobigrasp.mcu_sim.mcu import Mcu
+        from mobigrasp.mcu_sim.rig import Rig, RigConfig
+        from mobigrasp.mcu_sim.rig_plant import WorldPlant
+        from mobigrasp.tools.heap_tuning import keep_freed_memory
+        from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
         (out / "plots").mkdir(parents=True)
         summary: dict[str, Any] = {
@@ -212,8 +212,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             host = InprocHost(LockstepClient(build_host_app(cfg, timer=opts.timer), peer))
         # the fault wrappers carry the safety monitor, so every run gets them (an empty plan
         # injects nothing and leaves the trace unchanged) and every summary a safety block
-        from mcu_sim.faults.plan import FaultPlan
-        from mcu_sim.faults.wrappers import wrap_for_faults
+        from mobigrasp.mcu_sim.faults.plan import FaultPlan
+        from mobigrasp.mcu_sim.faults.wrappers import wrap_for_faults
 
         plan = plan if plan is not None else FaultPlan()
         fault_rig, rig_mcu, rig_plant, host = wrap_for_faults(plan, seed, mcu, plant, host)
@@ -278,7 +278,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         write_summary(out / "summary.json", summary)
     if opts.plots:
         try:
-            from tools.report import write_report
+            from mobigrasp.tools.report import write_report
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result
             print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)

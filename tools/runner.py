@@ -23,8 +23,8 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from link import lockstep as ls
-from link.frame_ring import FrameRing
+from mobigrasp.link import lockstep as ls
+from mobigrasp.link.frame_ring import FrameRing
 
 TERMINAL_STATES = ("DONE", "FAILED")
 
@@ -547,7 +547,7 @@ def host_argv(port_path: str, config_path: Path, poll_ms: float = 0.0) -> list[s
     prof = os.environ.get("MOBIGRASP_PROFILE_HOST")
     wrap = ["-m", "cProfile", "-o", prof] if prof else []
     poll = ["--poll-ms", f"{poll_ms:g}"] if poll_ms else []
-    return [sys.executable, *wrap, "-m", "tools.cli", "host", "--port", port_path,
+    return [sys.executable, *wrap, "-m", "mobigrasp.tools.cli", "host", "--port", port_path,
             "--config", str(config_path), *poll]
 
 

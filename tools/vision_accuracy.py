@@ -38,10 +38,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mcu_sim.world import camera_views as cv_views
-from mcu_sim.world import markers as mk
-from mcu_sim.world.camera import CameraOptions, Intrinsics, look_rotation, project, render
-from mcu_sim.world.camera_scene import Clutter, Obstacle, Scene, Target, target_keypoints_w
+from mobigrasp.mcu_sim.world import camera_views as cv_views
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world.camera import CameraOptions, Intrinsics, look_rotation, project, render
+from mobigrasp.mcu_sim.world.camera_scene import (
+    Clutter,
+    Obstacle,
+    Scene,
+    Target,
+    target_keypoints_w,
+)
 
 INTR_002 = Intrinsics(f_px=350.0)
 View = cv_views.View
@@ -226,7 +232,7 @@ def _judge_generic(dist_pct: float | None, bear_deg: float | None, dist_ok: floa
 
 
 def _run_double_cross(rgb: np.ndarray, view: View):
-    from host.vision.double_cross import detect_double_cross
+    from mobigrasp.host.vision.double_cross import detect_double_cross
     return detect_double_cross(rgb, yaw_mrad=_theta5_mrad(view), pitch_mrad=_pitch_mrad(view))
 
 
@@ -240,8 +246,8 @@ def _judge_double_cross(res, view: View) -> Outcome:
 
 
 def _run_red_cylinder(rgb: np.ndarray, view: View):
-    from host.ranging import locate_ring_pair, locate_ring_pair_ops
-    from host.vision.red_cylinder import detect_red_cylinder
+    from mobigrasp.host.ranging import locate_ring_pair, locate_ring_pair_ops
+    from mobigrasp.host.vision.red_cylinder import detect_red_cylinder
     res, ops = detect_red_cylinder(rgb)
     if res is None:
         return None, ops
@@ -258,7 +264,7 @@ def _judge_red_cylinder(fix, view: View) -> Outcome:
 
 
 def _run_radial(rgb: np.ndarray, view: View):
-    from host.vision.radial_symbol import detect_radial_symbol
+    from mobigrasp.host.vision.radial_symbol import detect_radial_symbol
     return detect_radial_symbol(rgb)
 
 
@@ -270,7 +276,7 @@ def _judge_radial(res, view: View) -> Outcome:
 
 
 def _run_dual_plus(rgb: np.ndarray, view: View):
-    from host.vision import dual_plus
+    from mobigrasp.host.vision import dual_plus
     return dual_plus.detect_dual_plus(rgb, alpha_mrad=_pitch_mrad(view))
 
 
@@ -293,7 +299,7 @@ def _judge_dual_plus(res, view: View) -> Outcome:
 
 
 def _run_spoke(rgb: np.ndarray, view: View):
-    from host.vision import spoke
+    from mobigrasp.host.vision import spoke
     return spoke.detect_spoke(rgb)
 
 

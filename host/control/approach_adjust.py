@@ -23,9 +23,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from host.budget import OpCounts
-from host.control.path_follow import wheel_speeds
-from host.fixedpoint import atan2_mrad, cos_q12, div_round, isqrt
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.control.path_follow import wheel_speeds
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, div_round, isqrt
 
 STEP_OPS = OpCounts(alu=30, muls=6, divs=2, luts=4, branches=8)
 

@@ -31,8 +31,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from host.budget import OpCounts
-from host.fixedpoint import div_round
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.fixedpoint import div_round
 
 E_SETS = ("NB", "NM", "NS", "Z", "PS", "PM", "PB")
 EC_SETS = ("NB", "NS", "Z", "PS", "PB")

@@ -1,6 +1,6 @@
 """Following a planned Bezier curve in time: feed-forward of eq. (8) of 000 plus integer feedback.
 
-At plan time the curve (float, :mod:`host.planning.bezier`) is turned once into an integer
+At plan time the curve (float, :mod:`mobigrasp.host.planning.bezier`) is turned once into an integer
 reference table (:class:`Trajectory`): per sample time t_us, position in µm, heading in mrad,
 speed v in mm/s and yaw rate in mrad/s. Its float cost is counted (``Trajectory.ops``).
 
@@ -23,10 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host.budget import OpCounts
-from host.fixedpoint import atan2_mrad, cos_q12, div_round, sin_q12
-from host.odometry import TRACK_UM, Pose
-from host.planning.bezier import Curve
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, div_round, sin_q12
+from mobigrasp.host.odometry import TRACK_UM, Pose
+from mobigrasp.host.planning.bezier import Curve
 
 WHEEL_LIMIT_MM_S = 1000
 HALF_TRACK_MM = TRACK_UM // 2000

@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host.budget import OpCounts
+from mobigrasp.host.budget import OpCounts
 
 # Soft-float operations of one sample in the C loop this module models (forward differencing:
 # a quadratic needs 2 adds per step, a linear term 1, a cubic 3):

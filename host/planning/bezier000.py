@@ -30,9 +30,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host.budget import OpCounts
-from host.planning.bezier import sample_ops
-from host.planning.candidates import (
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.planning.bezier import sample_ops
+from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,
     Limits,

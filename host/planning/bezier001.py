@@ -39,10 +39,10 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from host.budget import OpCounts
-from host.planning.bezier import sample_ops
-from host.planning.bezier000 import start_direction
-from host.planning.candidates import (
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.planning.bezier import sample_ops
+from mobigrasp.host.planning.bezier000 import start_direction
+from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,
     Limits,
@@ -53,8 +53,13 @@ from host.planning.candidates import (
     evaluate_batch,
     summarize_rejections,
 )
-from host.planning.grasp_circle import ArmGeometry001, end_points, grasp_radius, inside_circle
-from host.planning.sonar_regions import (
+from mobigrasp.host.planning.grasp_circle import (
+    ArmGeometry001,
+    end_points,
+    grasp_radius,
+    inside_circle,
+)
+from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
     any_region_contains,
@@ -158,7 +163,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     """Plan from the present pose/velocity to the grasp circle of the object at ``target_xy_m``.
 
     ``sonar_mm`` are the present ranges of S_1..S_k_s (mm); ``known_regions`` are infeasible
-    regions remembered from earlier readings (see :mod:`host.planning.replan`).
+    regions remembered from earlier readings (see :mod:`mobigrasp.host.planning.replan`).
     """
     p0 = np.asarray(start_xy_m, dtype=np.float64).reshape(2)
     vel = np.asarray(start_vel_xy_mps, dtype=np.float64).reshape(2)

@@ -1,6 +1,6 @@
 """Candidate sets of Bezier paths: constraint checks, cost, ARM9 cost, and the Plan result.
 
-Shared by the planners of 000 (:mod:`host.planning.bezier000`) and 001
+Shared by the planners of 000 (:mod:`mobigrasp.host.planning.bezier000`) and 001
 (:mod:`host.planning.bezier001`). A batch of curves is sampled at the same τ; each curve is
 checked sample by sample in the order a C loop would (time increasing, speed, acceleration,
 turning radius, then the planner's own geometric tests) and the index of its first violation is
@@ -15,8 +15,8 @@ from dataclasses import dataclass, field, fields
 
 import numpy as np
 
-from host.budget import OpCounts
-from host.planning.bezier import Curve, Samples, coefficients, evaluate, sample_ops, taus
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.planning.bezier import Curve, Samples, coefficients, evaluate, sample_ops, taus
 
 REASON_OK = "ok"
 

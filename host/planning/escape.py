@@ -23,9 +23,9 @@ from dataclasses import replace
 
 import numpy as np
 
-from host.budget import OpCounts
-from host.planning.bezier import FLOPS_PER_REGION
-from host.planning.sonar_regions import InfeasibleRegion, any_region_contains
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.planning.bezier import FLOPS_PER_REGION
+from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, any_region_contains
 
 LEAVE_TOL_M = 0.02  # leaving a region: the arc may come this much closer on the way out
 

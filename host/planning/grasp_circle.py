@@ -24,7 +24,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from host.budget import OpCounts
+from mobigrasp.host.budget import OpCounts
 
 
 @dataclass(frozen=True)

@@ -30,11 +30,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from host.budget import OpCounts
-from host.planning.bezier import FLOPS_PER_REGION, FLOPS_POSITION, Curve, evaluate
-from host.planning.bezier001 import Params001, is_object_echo, plan_001
-from host.planning.candidates import Plan
-from host.planning.sonar_regions import InfeasibleRegion, infeasible_regions
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.planning.bezier import FLOPS_PER_REGION, FLOPS_POSITION, Curve, evaluate
+from mobigrasp.host.planning.bezier001 import Params001, is_object_echo, plan_001
+from mobigrasp.host.planning.candidates import Plan
+from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, infeasible_regions
 
 
 @dataclass(frozen=True)

@@ -16,20 +16,20 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from host.budget import FCLK_HZ, OpCounts
-from host.ranging import locate_ring_pair_ops
-from host.vision.grey import grey_cost
+from mobigrasp.host.budget import FCLK_HZ, OpCounts
+from mobigrasp.host.ranging import locate_ring_pair_ops
+from mobigrasp.host.vision.grey import grey_cost
 
 FPS = 15
 FRAME_BUDGET_US = 1_000_000 // FPS + 1  # 66 667 µs, one frame period at 15 fps
 
 # detector name -> (module, function, whether it starts from to_grey)
 DETECTORS: dict[str, tuple[str, str, bool]] = {
-    "radial_symbol": ("host.vision.radial_symbol", "detect_radial_symbol", True),
-    "dual_plus": ("host.vision.dual_plus", "detect_dual_plus", True),
-    "spoke": ("host.vision.spoke", "detect_spoke", True),
-    "double_cross": ("host.vision.double_cross", "detect_double_cross", True),
-    "red_cylinder": ("host.vision.red_cylinder", "detect_red_cylinder", False),
+    "radial_symbol": ("mobigrasp.host.vision.radial_symbol", "detect_radial_symbol", True),
+    "dual_plus": ("mobigrasp.host.vision.dual_plus", "detect_dual_plus", True),
+    "spoke": ("mobigrasp.host.vision.spoke", "detect_spoke", True),
+    "double_cross": ("mobigrasp.host.vision.double_cross", "detect_double_cross", True),
+    "red_cylinder": ("mobigrasp.host.vision.red_cylinder", "detect_red_cylinder", False),
 }
 # detectors whose result the host turns into a position in a separate ranging step
 RANGING_OPS = {"red_cylinder": locate_ring_pair_ops}

@@ -17,9 +17,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from host.budget import OpCounts
-from host.vision.frame_key import frame_bytes
-from host.vision.grey import grey_cost, to_grey
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision.frame_key import frame_bytes
+from mobigrasp.host.vision.grey import grey_cost, to_grey
 
 THRESH_NUM, THRESH_DEN = 45, 100  # dark threshold as a fraction of the bright level
 THRESH_MIN, THRESH_MAX = 40, 130

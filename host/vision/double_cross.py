@@ -33,7 +33,7 @@ midpoint of the two cross centres weighted by their apparent heights (the nearer
 bigger; at 0.3 m with the board turned 35° the plain midpoint is 1° off). It is the
 bearing seen from the camera; 002 measures e from the platform, which differs by the arm's
 parallax (the camera is ~0.2 m ahead of the waist): with a range,
-``host.ranging.platform_bearing_mrad`` converts it.
+``mobigrasp.host.ranging.platform_bearing_mrad`` converts it.
 """
 
 from __future__ import annotations
@@ -44,9 +44,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from host import fixedpoint as fp
-from host.budget import OpCounts
-from host.vision.grey import grey_cost, noise_sigma, to_grey
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision.grey import grey_cost, noise_sigma, to_grey
 
 T_H = 30  # 002 §5: binarisation threshold above g(p_c)
 RING_N = 24  # template points on the ring (002 uses n = 10, see module docstring)

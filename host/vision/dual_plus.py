@@ -34,9 +34,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from host import fixedpoint as fp
-from host.budget import OpCounts
-from host.vision import dark_blobs as db
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision import dark_blobs as db
 
 D_ACT_DMM = 473  # 000 §IV: D_act = 47.3 mm, in 0.1 mm
 F_PX = 611

@@ -11,7 +11,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from host.budget import OpCounts
+from mobigrasp.host.budget import OpCounts
 
 W_R = 77
 W_G = 150

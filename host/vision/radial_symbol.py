@@ -36,9 +36,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from host import fixedpoint as fp
-from host.budget import OpCounts
-from host.vision import dark_blobs as db
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision import dark_blobs as db
 
 L_MM = 109  # 000 §IV: physical outer diameter of the dual outer rings
 F_PX = 611  # 000 §IV

@@ -37,8 +37,8 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from host import fixedpoint as fp
-from host.budget import OpCounts
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
 
 T_RED = 40  # redness threshold: red paint ~120-200, black rings / floor / sky < 15
 MIN_AREA_HALF_PX = 6  # smallest red piece kept on the 160x120 grid

@@ -24,10 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from host import fixedpoint as fp
-from host.budget import OpCounts
-from host.vision import dark_blobs as db
-from host.vision.dual_plus import Plus, plus_candidates
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision import dark_blobs as db
+from mobigrasp.host.vision.dual_plus import Plus, plus_candidates
 
 K_S = 5  # 000 §IV: central points per spoke
 W_MIN_PX, W_MAX_PX = 20, 40  # 000 §IV

@@ -9,12 +9,12 @@ on INT4..INT7; sonar triggers on PORTC0..4 and the echo on INT0..INT3 plus PE6 (
 
 from __future__ import annotations
 
-from mcu_sim.avr.encoder import QuadratureEncoder
-from mcu_sim.avr.signals import SignalBus
-from mcu_sim.avr.sonar import SonarArray
-from mcu_sim.avr.timer8 import WheelPwm
-from mcu_sim.avr.timer16 import Timer16
-from mcu_sim.avr.usart import Usart
+from mobigrasp.mcu_sim.avr.encoder import QuadratureEncoder
+from mobigrasp.mcu_sim.avr.signals import SignalBus
+from mobigrasp.mcu_sim.avr.sonar import SonarArray
+from mobigrasp.mcu_sim.avr.timer8 import WheelPwm
+from mobigrasp.mcu_sim.avr.timer16 import Timer16
+from mobigrasp.mcu_sim.avr.usart import Usart
 
 CYCLES_PER_US = 16
 SERVO_PORTS = tuple(f"servo{ch}" for ch in range(6))

@@ -18,7 +18,7 @@ writes ICRn only before starting the clock).
 
 from __future__ import annotations
 
-from mcu_sim.avr.signals import SignalBus
+from mobigrasp.mcu_sim.avr.signals import SignalBus
 
 PRESCALERS = {0: 0, 1: 1, 2: 8, 3: 64, 4: 256, 5: 1024}  # CSn2:0 -> divider (0 = stopped)
 WGM_FAST_PWM_ICR = 14

@@ -12,7 +12,7 @@ Event-driven: only a pending OCR latch is an event; nothing is stepped per tick.
 
 from __future__ import annotations
 
-from mcu_sim.avr.signals import SignalBus
+from mobigrasp.mcu_sim.avr.signals import SignalBus
 
 TOP = 0xFF
 COM_NON_INVERTING = 0b10

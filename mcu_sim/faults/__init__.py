@@ -5,8 +5,8 @@
 :class:`RunFaults`; ``safety``: :class:`SafetyMonitor`. docs/faults.md describes each key.
 """
 
-from mcu_sim.faults.injectors import CameraFaults, EncoderSlip, RunFaults
-from mcu_sim.faults.plan import (
+from mobigrasp.mcu_sim.faults.injectors import CameraFaults, EncoderSlip, RunFaults
+from mobigrasp.mcu_sim.faults.plan import (
     FAULT_KEYS,
     FaultError,
     FaultPlan,
@@ -16,8 +16,8 @@ from mcu_sim.faults.plan import (
     parse_fault_overrides,
     parse_faults,
 )
-from mcu_sim.faults.safety import SafetyMonitor
-from mcu_sim.faults.uart import UartFaults, derive_key
+from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
+from mobigrasp.mcu_sim.faults.uart import UartFaults, derive_key
 
 __all__ = [
     "FAULT_KEYS", "CameraFaults", "EncoderSlip", "FaultError", "FaultPlan", "MotorFail",

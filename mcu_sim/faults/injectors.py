@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mcu_sim.faults.plan import FaultPlan
-from mcu_sim.faults.uart import UartFaults, derive_key, uniforms
+from mobigrasp.mcu_sim.faults.plan import FaultPlan
+from mobigrasp.mcu_sim.faults.uart import UartFaults, derive_key, uniforms
 
 
 def _us(t_s: float | None) -> int | None:

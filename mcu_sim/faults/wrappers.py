@@ -25,10 +25,10 @@ from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
-from link import lockstep as ls
-from mcu_sim.faults.injectors import RunFaults
-from mcu_sim.faults.plan import FaultPlan
-from mcu_sim.faults.safety import SafetyMonitor
+from mobigrasp.link import lockstep as ls
+from mobigrasp.mcu_sim.faults.injectors import RunFaults
+from mobigrasp.mcu_sim.faults.plan import FaultPlan
+from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
 
 
 def _byte_us(n: int, baud: int) -> int:

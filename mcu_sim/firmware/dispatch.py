@@ -11,9 +11,14 @@ from __future__ import annotations
 
 import struct
 
-from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, mrad_slew_to_us, mrad_to_us
-from protocol.frame import PROTOCOL_VERSION
-from protocol.messages import (
+from mobigrasp.mcu_sim.firmware.servo_table import (
+    GRIPPER_OPEN_US,
+    SERVO_COUNT,
+    mrad_slew_to_us,
+    mrad_to_us,
+)
+from mobigrasp.protocol.frame import PROTOCOL_VERSION
+from mobigrasp.protocol.messages import (
     NACK_BAD_PARAM,
     NACK_BAD_VERSION,
     NACK_NOT_READY,

@@ -8,7 +8,12 @@ facts; setting one is refused with NACK_BAD_PARAM, as is an unknown id.
 
 from __future__ import annotations
 
-from mcu_sim.firmware.servo_table import PULSE_MAX_US, PULSE_MIN_US, SERVO_COUNT, default_limits_us
+from mobigrasp.mcu_sim.firmware.servo_table import (
+    PULSE_MAX_US,
+    PULSE_MIN_US,
+    SERVO_COUNT,
+    default_limits_us,
+)
 
 FIRMWARE_VERSION = 1
 

@@ -17,15 +17,15 @@ from __future__ import annotations
 
 import struct
 
-from mcu_sim.firmware import params as P
-from mcu_sim.firmware.dispatch import handle_frame
-from mcu_sim.firmware.ring import ByteRing
-from mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
-from mcu_sim.firmware.sonar_task import SonarTask
-from mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
-from mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
-from protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, FrameParser, encode_raw
-from protocol.messages import (
+from mobigrasp.mcu_sim.firmware import params as P
+from mobigrasp.mcu_sim.firmware.dispatch import handle_frame
+from mobigrasp.mcu_sim.firmware.ring import ByteRing
+from mobigrasp.mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
+from mobigrasp.mcu_sim.firmware.sonar_task import SonarTask
+from mobigrasp.mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
+from mobigrasp.mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
+from mobigrasp.protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, FrameParser, encode_raw
+from mobigrasp.protocol.messages import (
     FLAG_GRIPPER_CLOSED,
     FLAG_HANDSHAKE,
     FLAG_LIMIT,
@@ -36,7 +36,7 @@ from protocol.messages import (
     Telemetry,
     encode_message,
 )
-from protocol.reliable import DuplicateFilter, SequenceCounter
+from mobigrasp.protocol.reliable import DuplicateFilter, SequenceCounter
 
 # Rows of Params.values the main loop reads on every pass: indexed directly instead of through
 # Params.get's id look-up (the list is only ever written in place, by set and reset).

@@ -26,12 +26,12 @@ from functools import lru_cache
 import cv2
 import numpy as np
 
-from mcu_sim.world import markers as mk
-from mcu_sim.world.camera_ground import draw_ground as _draw_ground
-from mcu_sim.world.camera_ground import put_rgb as _put_rgb
-from mcu_sim.world.camera_ground import sky_frame as _sky_frame
-from mcu_sim.world.camera_linalg import columns3, svd_values
-from mcu_sim.world.camera_scene import Item, Scene, Target, solids_of_scene
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world.camera_ground import draw_ground as _draw_ground
+from mobigrasp.mcu_sim.world.camera_ground import put_rgb as _put_rgb
+from mobigrasp.mcu_sim.world.camera_ground import sky_frame as _sky_frame
+from mobigrasp.mcu_sim.world.camera_linalg import columns3, svd_values
+from mobigrasp.mcu_sim.world.camera_scene import Item, Scene, Target, solids_of_scene
 
 Z_NEAR_M = 0.01
 _NOISE_BANK_SIZE = 1 << 21

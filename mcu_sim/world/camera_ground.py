@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING
 import cv2
 import numpy as np
 
-from mcu_sim.world import camera_linalg as la
-from mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world import camera_linalg as la
+from mobigrasp.mcu_sim.world import markers as mk
 
 if TYPE_CHECKING:  # the painter of camera.py, which imports this module
-    from mcu_sim.world.camera import _Painter as Painter
+    from mobigrasp.mcu_sim.world.camera import _Painter as Painter
 
 SKY_RGB = (196, 200, 206)
 

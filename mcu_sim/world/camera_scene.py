@@ -21,7 +21,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world import markers as mk
 
 TARGET_KINDS = ("radial-symbol", "double-cross", "red-cylinder")
 OBSTACLE_SHAPES = ("circle", "box")

@@ -26,9 +26,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mcu_sim.world import markers as mk
-from mcu_sim.world.camera import Intrinsics, look_rotation, project
-from mcu_sim.world.camera_scene import Clutter, Obstacle, Scene, Target, target_keypoints_w
+from mobigrasp.mcu_sim.world import markers as mk
+from mobigrasp.mcu_sim.world.camera import Intrinsics, look_rotation, project
+from mobigrasp.mcu_sim.world.camera_scene import (
+    Clutter,
+    Obstacle,
+    Scene,
+    Target,
+    target_keypoints_w,
+)
 
 INTR_000 = Intrinsics()
 MIN_ELEVATION_RAD = math.radians(14.0)  # radial_far: view ray at least this far below level

@@ -23,7 +23,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from mcu_sim.world.texture_cache import cached_levels
+from mobigrasp.mcu_sim.world.texture_cache import cached_levels
 
 # ---- paper 000: object and radial symbol on its top ------------------------------------------
 L_M = 0.109  # outer diameter of the dual outer rings (000 §IV: L = 109 mm)

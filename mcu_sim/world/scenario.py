@@ -7,7 +7,7 @@ Contract (issue 5): ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_
 optional height_m; ``[camera]`` optional f_px, u0_px, v0_px, noise_std, blur_px, brightness;
 ``[params]`` overrides of the method's paper parameters (names and defaults in
 :data:`PAPER_PARAMS`); ``[faults]`` the injected faults, validated into a
-:class:`mcu_sim.faults.plan.FaultPlan` (keys in docs/faults.md).
+:class:`mobigrasp.mcu_sim.faults.plan.FaultPlan` (keys in docs/faults.md).
 
 Every problem raises :class:`ScenarioError` naming the file, the key and what was expected.
 """
@@ -21,7 +21,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import Any
 
-from mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
+from mobigrasp.mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
 
 METHODS = ("000", "001", "002")
 TARGET_KINDS = ("radial-symbol", "double-cross", "red-cylinder")

@@ -41,7 +41,7 @@ def progress_enabled() -> bool:
 
 
 def _one(opts) -> dict:
-    from tools.run_job import execute
+    from mobigrasp.tools.run_job import execute
 
     summary, _ = execute(opts)
     return summary
@@ -49,8 +49,8 @@ def _one(opts) -> dict:
 
 def _random_run(method: str, seed: int, folder: Path) -> dict:
     """One random scenario in process (a top-level function: it runs in worker processes)."""
-    from tools.random_scenarios import random_scenario
-    from tools.run_job import RunOptions
+    from mobigrasp.tools.random_scenarios import random_scenario
+    from mobigrasp.tools.run_job import RunOptions
 
     sc = random_scenario(method, seed)
     return _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed, transport="inproc",
@@ -92,7 +92,7 @@ def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
 
 def run(args) -> dict:
     """Figures of the loop bench (keys carry units)."""
-    from tools.run_job import RunOptions
+    from mobigrasp.tools.run_job import RunOptions
 
     methods = [m for m in args.methods.split(",") if m]
     if args.rtf_repeats < 1:

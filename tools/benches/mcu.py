@@ -23,12 +23,12 @@ def add_arguments(parser) -> None:
 
 def run(args) -> dict:
     """Run the scenario and return its figures."""
-    from mcu_sim.bench_plant import WheelsInTheAir
-    from mcu_sim.mcu import Mcu, McuConfig
-    from mcu_sim.mcu_host import InProcessHost
-    from protocol.frame import PROTOCOL_VERSION
-    from protocol.messages import Hello, SetServos, SetWheels, encode_message
-    from protocol.reliable import SequenceCounter
+    from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
+    from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+    from mobigrasp.mcu_sim.mcu_host import InProcessHost
+    from mobigrasp.protocol.frame import PROTOCOL_VERSION
+    from mobigrasp.protocol.messages import Hello, SetServos, SetWheels, encode_message
+    from mobigrasp.protocol.reliable import SequenceCounter
 
     seconds = int(getattr(args, "seconds", 20))
     tel_hz = int(getattr(args, "telemetry_hz", 50))

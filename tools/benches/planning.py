@@ -55,11 +55,11 @@ def _plan_figures(prefix: str, timing: tuple[float, float], plan) -> dict:
 
 def run(args) -> dict:
     """Time the planners; figures with units in their names."""
-    from host.control.fuzzy import FuzzyController
-    from host.control.path_follow import PathFollower, Trajectory
-    from host.odometry import Pose
-    from host.planning.bezier000 import plan_000
-    from host.planning.bezier001 import plan_001
+    from mobigrasp.host.control.fuzzy import FuzzyController
+    from mobigrasp.host.control.path_follow import PathFollower, Trajectory
+    from mobigrasp.host.odometry import Pose
+    from mobigrasp.host.planning.bezier000 import plan_000
+    from mobigrasp.host.planning.bezier001 import plan_001
 
     runs = max(50, int(getattr(args, "runs", 60)))
     res: dict = {"runs": runs}

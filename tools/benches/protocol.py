@@ -11,8 +11,8 @@ import argparse
 import random
 import time
 
-from protocol import frame as pf
-from protocol import messages as p
+from mobigrasp.protocol import frame as pf
+from mobigrasp.protocol import messages as p
 
 NAME = "protocol"
 HELP = "frame encode/parse throughput in MB/s and as a multiple of 115200 baud"

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import argparse
 
-from tools import vision_accuracy as va
+from mobigrasp.tools import vision_accuracy as va
 
 NAME = "vision"
 HELP = "detectors: detection/FP rates, distance and bearing errors, wall and ARM9 ms per frame"

@@ -4,7 +4,7 @@
 physics step (base driving a circle among the obstacles of the 001 example, no rendering; target
 >= 100). ``world_with_sensors_realtime_factor`` adds what the rig polls: encoders at 1 kHz and the
 five sonars at 20 Hz. ``frame_ms_p50`` / ``frame_ms_p95`` time one 320x240 frame from
-``mcu_sim.world.camera`` (target <= 5 ms), when that renderer is present.
+``mobigrasp.mcu_sim.world.camera`` (target <= 5 ms), when that renderer is present.
 """
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from pathlib import Path
 
 import numpy as np
 
-from mcu_sim.world.scenario import load_scenario
-from mcu_sim.world.world import World
+from mobigrasp.mcu_sim.world.scenario import load_scenario
+from mobigrasp.mcu_sim.world.world import World
 
 NAME = "world"
 HELP = "plant speed: simulated seconds per wall second at 1 kHz physics, ms per camera frame"
@@ -51,9 +51,9 @@ def _run_world(scenario, sim_s: float, sensors: bool) -> float:
 
 
 def _frames(scenario, n: int) -> dict:
-    if importlib.util.find_spec("mcu_sim.world.camera") is None:
+    if importlib.util.find_spec("mobigrasp.mcu_sim.world.camera") is None:
         return {"frame_ms_p50": None, "frame_note": "mcu_sim/world/camera.py not present"}
-    from mcu_sim.world import camera
+    from mobigrasp.mcu_sim.world import camera
 
     world = World(scenario)
     world.set_wheel_duty(100, 140)

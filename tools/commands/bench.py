@@ -15,15 +15,15 @@ import platform
 import sys
 from pathlib import Path
 
-import tools.benches
+import mobigrasp.tools.benches
 
 
 def _benches() -> dict:
     found = {}
-    for info in pkgutil.iter_modules(tools.benches.__path__):
+    for info in pkgutil.iter_modules(mobigrasp.tools.benches.__path__):
         if info.name.startswith("_"):
             continue
-        module = importlib.import_module(f"tools.benches.{info.name}")
+        module = importlib.import_module(f"mobigrasp.tools.benches.{info.name}")
         found[module.NAME] = module
     return found
 

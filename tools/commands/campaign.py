@@ -14,8 +14,8 @@ from pathlib import Path
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mcu_sim.faults.plan import FaultError, parse_fault_overrides
-    from tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
+    from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
+    from mobigrasp.tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
 
     try:
         plan = parse_fault_overrides(args.fault or [])

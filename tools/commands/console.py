@@ -20,7 +20,7 @@ NACK_NAMES = {1: "OUT_OF_RANGE", 2: "UNKNOWN_TYPE", 3: "BAD_LENGTH", 4: "NOT_REA
 
 
 class ConsoleShell(cmd.Cmd):
-    """The shell; ``link`` is a :class:`link.messages.Link` to the MCU."""
+    """The shell; ``link`` is a :class:`mobigrasp.link.messages.Link` to the MCU."""
 
     intro = "mobigrasp console: 'help' lists commands, 'quit' leaves."
     prompt = "mcu> "
@@ -42,7 +42,7 @@ class ConsoleShell(cmd.Cmd):
 
     def _poll(self) -> list:
         """``link.poll()``; a vanished port is reported once and ends the shell."""
-        from link.base import LinkClosed
+        from mobigrasp.link.base import LinkClosed
 
         if self.port_closed:
             return []
@@ -64,7 +64,7 @@ class ConsoleShell(cmd.Cmd):
         return stop or self.port_closed
 
     def _absorb(self, received) -> list:
-        from protocol.messages import Telemetry
+        from mobigrasp.protocol.messages import Telemetry
 
         rest = []
         for r in received:
@@ -77,7 +77,7 @@ class ConsoleShell(cmd.Cmd):
 
     def _send(self, msg, wait_for: tuple = ()) -> None:
         """Send; for reliable messages wait for the ACK/NACK (and ``wait_for`` types) and print."""
-        from protocol.messages import Ack, Nack
+        from mobigrasp.protocol.messages import Ack, Nack
 
         try:
             seq = self.link.send(msg)
@@ -115,8 +115,8 @@ class ConsoleShell(cmd.Cmd):
 
     @staticmethod
     def _describe(m) -> str:
-        from mcu_sim.firmware.params import PARAM_TABLE
-        from protocol.messages import HelloAck, ParamValue
+        from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
+        from mobigrasp.protocol.messages import HelloAck, ParamValue
 
         if isinstance(m, HelloAck):
             return (f"HELLO_ACK firmware={m.firmware_id} protocol={m.proto_version} "
@@ -162,13 +162,13 @@ class ConsoleShell(cmd.Cmd):
     # -- commands ------------------------------------------------------------------------------
     def do_hello(self, arg: str) -> None:
         """hello: open the session (HELLO -> ACK + HELLO_ACK)."""
-        from protocol.frame import PROTOCOL_VERSION
-        from protocol.messages import Hello, HelloAck
+        from mobigrasp.protocol.frame import PROTOCOL_VERSION
+        from mobigrasp.protocol.messages import Hello, HelloAck
 
         self._send(Hello(PROTOCOL_VERSION, "console", 0), wait_for=(HelloAck,))
 
     def _servos(self, arg: str, mode: int) -> None:
-        from protocol.messages import SetServos
+        from mobigrasp.protocol.messages import SetServos
 
         values = self._ints(arg, (6, 7))
         if values is None:
@@ -188,7 +188,7 @@ class ConsoleShell(cmd.Cmd):
 
     def do_gripper(self, arg: str) -> None:
         """gripper PERMILLE: 0 = open, 1000 = closed."""
-        from protocol.messages import Gripper
+        from mobigrasp.protocol.messages import Gripper
 
         values = self._ints(arg, (1,))
         msg = values and self._make(Gripper, values[0])
@@ -197,7 +197,7 @@ class ConsoleShell(cmd.Cmd):
 
     def do_wheels(self, arg: str) -> None:
         """wheels LEFT_MMPS RIGHT_MMPS: wheel speed targets (streamed, no ACK)."""
-        from protocol.messages import SetWheels
+        from mobigrasp.protocol.messages import SetWheels
 
         values = self._ints(arg, (2,))
         msg = values and self._make(SetWheels, values[0], values[1])
@@ -206,20 +206,20 @@ class ConsoleShell(cmd.Cmd):
 
     def do_stop(self, arg: str) -> None:
         """stop: wheels off, arm holds."""
-        from protocol.messages import Stop
+        from mobigrasp.protocol.messages import Stop
 
         self._send(Stop())
 
     def do_heartbeat(self, arg: str) -> None:
         """heartbeat: keep the MCU watchdog fed."""
-        from protocol.messages import Heartbeat
+        from mobigrasp.protocol.messages import Heartbeat
 
         self._send(Heartbeat(int(time.monotonic() * 1e6) & 0xFFFF_FFFF))
 
     def do_param(self, arg: str) -> None:
         """param get NAME|ID  |  param set NAME|ID VALUE"""
-        from mcu_sim.firmware.params import param_id
-        from protocol.messages import ParamGet, ParamSet, ParamValue
+        from mobigrasp.mcu_sim.firmware.params import param_id
+        from mobigrasp.protocol.messages import ParamGet, ParamSet, ParamValue
 
         words = arg.split()
         try:
@@ -236,7 +236,7 @@ class ConsoleShell(cmd.Cmd):
 
     def do_params(self, arg: str) -> None:
         """params: the firmware's parameter table (id, name, default, range)."""
-        from mcu_sim.firmware.params import PARAM_TABLE
+        from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
 
         for pid, name, default, lo, hi, writable in PARAM_TABLE:
             self.say(f"{pid:4d} {name:<18} default {default:<6} [{lo}, {hi}]"
@@ -283,8 +283,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Open the port and run the shell on stdin/stdout."""
-    from link.messages import Link
-    from link.registry import open_transport
+    from mobigrasp.link.messages import Link
+    from mobigrasp.link.registry import open_transport
 
     try:
         transport = open_transport(args.port)

@@ -13,13 +13,13 @@ from pathlib import Path
 
 def _main(args: argparse.Namespace) -> int:
     if args.count is not None:
-        from tools.commands.link_demo import run_link_demo
+        from mobigrasp.tools.commands.link_demo import run_link_demo
 
         print("mobigrasp demo --count: runs the link demo (mobigrasp link-demo): frames over a "
               "real pty to a second process and back.")
         result = run_link_demo(args.count)
         return 0 if result["lost"] == 0 else 1
-    from tools.run_job import BadInput, RunOptions, execute, summary_line
+    from mobigrasp.tools.run_job import BadInput, RunOptions, execute, summary_line
 
     out = args.out or Path("runs") / "demo-paper000-exp1"
     print("mobigrasp demo: paper000-exp1 (paper 000, experiment 1) in closed loop: emulated "

@@ -34,12 +34,12 @@ def _config(args: argparse.Namespace) -> dict:
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     import cv2
 
-    from host.app_factory import build_host_app
-    from host.lockstep_client import LockstepClient, serve_stream
-    from link import lockstep as ls
-    from link.base import LinkClosed
-    from link.frame_ring import FrameRingReader
-    from link.registry import open_transport
+    from mobigrasp.host.app_factory import build_host_app
+    from mobigrasp.host.lockstep_client import LockstepClient, serve_stream
+    from mobigrasp.link import lockstep as ls
+    from mobigrasp.link.base import LinkClosed
+    from mobigrasp.link.frame_ring import FrameRingReader
+    from mobigrasp.link.registry import open_transport
 
     # one OpenCV thread: the machine's other core runs the rig, whose time this process waits
     # for; a pool would take it mid-frame (results are the same on any number of threads)
@@ -90,9 +90,9 @@ class _OpenCvCamera:
 
 
 def _free_running(args: argparse.Namespace, cfg: dict) -> int:
-    from host.app_factory import build_host_app
-    from link.base import LinkClosed
-    from link.registry import open_transport
+    from mobigrasp.host.app_factory import build_host_app
+    from mobigrasp.link.base import LinkClosed
+    from mobigrasp.link.registry import open_transport
 
     port = open_transport(args.port)
     app = build_host_app(cfg)
@@ -143,7 +143,7 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ValueError) as exc:
         print(f"mobigrasp host: {exc}", file=sys.stderr)
         return 2
-    from tools.heap_tuning import keep_freed_memory
+    from mobigrasp.tools.heap_tuning import keep_freed_memory
 
     keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
     if args.lockstep:

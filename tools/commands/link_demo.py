@@ -14,11 +14,11 @@ import sys
 import time
 
 # Submodule imports: they also work when an editable install maps these packages as namespaces.
-from link.base import LinkClosed
-from link.echo import READY_TEXT
-from link.messages import Link
-from link.registry import open_transport
-from protocol import messages as p
+from mobigrasp.link.base import LinkClosed
+from mobigrasp.link.echo import READY_TEXT
+from mobigrasp.link.messages import Link
+from mobigrasp.link.registry import open_transport
+from mobigrasp.protocol import messages as p
 
 REPLY_TIMEOUT_S = 5.0  # a safety limit for a lost frame, not a performance expectation
 
@@ -36,7 +36,7 @@ def run_link_demo(count: int, out=print) -> dict:
         raise ValueError(f"--count must be >= 1, got {count}")
     master = open_transport("pty://")
     out(f"pty slave: {master.slave_path}")
-    child = subprocess.Popen([sys.executable, "-m", "link.echo", master.slave_path],
+    child = subprocess.Popen([sys.executable, "-m", "mobigrasp.link.echo", master.slave_path],
                              stderr=subprocess.PIPE)
     link = Link(master)
     rtts_ms: list[float] = []

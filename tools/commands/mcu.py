@@ -55,9 +55,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Serve until the host closes the port, the duration ends, or Ctrl-C."""
-    from mcu_sim.bench_plant import WheelsInTheAir
-    from mcu_sim.mcu import McuConfig
-    from mcu_sim.mcu_pty import PtyMcu
+    from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
+    from mobigrasp.mcu_sim.mcu import McuConfig
+    from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
     try:
         config = McuConfig(ubrr=args.baud_ubrr, u2x=args.u2x, params=dict(args.param))

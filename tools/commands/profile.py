@@ -59,7 +59,7 @@ def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from tools.run_job import BadInput, RunOptions, execute
+    from mobigrasp.tools.run_job import BadInput, RunOptions, execute
 
     timer = WallTimer()
     try:

@@ -13,7 +13,7 @@ from pathlib import Path
 
 
 def _run(args: argparse.Namespace) -> int:
-    from tools.run_job import BadInput, RunOptions, execute, parse_speed, summary_line
+    from mobigrasp.tools.run_job import BadInput, RunOptions, execute, parse_speed, summary_line
 
     try:
         speed = parse_speed(args.speed)

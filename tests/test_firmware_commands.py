@@ -90,7 +90,8 @@ def frame(msg_type, payload, seq):
     (frame(SetServos.MSG_TYPE, struct.pack("<B6hH", 0, 3000, 1500, 1500, 1500, 1500, 1500, 0),
            31), NACK_OUT_OF_RANGE),
     (frame(ParamGet.MSG_TYPE, struct.pack("<H", 999), 31), NACK_BAD_PARAM),
-    (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", P_WATCHDOG_MS, -5), 31), NACK_OUT_OF_RANGE),
+    (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", P_WATCHDOG_MS, -5), 31), NACK_BAD_PARAM),
+    (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", P_TELEMETRY_HZ, 101), 31), NACK_OUT_OF_RANGE),
     (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", 100, 2), 31), NACK_BAD_PARAM),  # read-only
 ])
 def test_bad_commands_are_nacked_with_their_reason_and_do_not_actuate(wire, reason):

@@ -77,6 +77,10 @@ def handle_frame(fw, frame, now: int) -> None:
             return
         fw.dup.reset()  # a (re)started host counts from 0 again
         fw.dup.is_new(seq, now)
+        # a new session starts from the power-on safety PARAMs: no earlier session's
+        # watchdog or limits carry over
+        if fw.params.restore_safety():
+            fw.apply_servo_limits()
         fw.handshake = True
         fw.send(Ack(seq))
         fw.send(HelloAck(PROTOCOL_VERSION, FIRMWARE_ID, CAPABILITIES))
@@ -105,7 +109,9 @@ def handle_frame(fw, frame, now: int) -> None:
     else:
         fw.send_ack(seq)
     if not reason and isinstance(msg, ParamGet | ParamSet):
-        fw.send(ParamValue(msg.param_id, fw.params.get(msg.param_id)))
+        value = fw.params.get(msg.param_id)
+        if value is not None:
+            fw.send(ParamValue(msg.param_id, value))
 
 def execute(fw, msg) -> int:
     """Carry out a new reliable command; 0 or a NACK reason."""

@@ -16,7 +16,7 @@ import sys
 import time
 
 NACK_NAMES = {1: "OUT_OF_RANGE", 2: "UNKNOWN_TYPE", 3: "BAD_LENGTH", 4: "NOT_READY",
-              5: "BAD_PARAM", 6: "BAD_VERSION"}
+              5: "BAD_PARAM", 6: "BAD_VERSION", 7: "SEQ_REUSED"}
 
 
 class ConsoleShell(cmd.Cmd):

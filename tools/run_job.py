@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import json
 import math
-import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -146,12 +145,12 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
-    if out.exists():
-        if any(out.iterdir()) and not (out / "summary.json").exists():
-            raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
-                           f"refusing to overwrite it")
-        shutil.rmtree(out)
+    from mobigrasp.tools.run_folder import RunFolderError, prepare_run_folder
+
+    try:  # under runs/ by a sanitised name; deletes only what an earlier run wrote there
+        out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    except RunFolderError as exc:
+        raise BadInput(str(exc)) from exc
     cfg = host_config(scenario)
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     early = port = None
@@ -177,7 +176,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         from mobigrasp.tools.heap_tuning import keep_freed_memory
         from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
-        (out / "plots").mkdir(parents=True)
+        (out / "plots").mkdir(exist_ok=True)
         summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
             "seed": seed, "transport": opts.transport, "status": "starting", "success": False,

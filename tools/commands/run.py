@@ -30,7 +30,9 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp run: {exc}", file=sys.stderr)
         return 2
-    out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
+    from mobigrasp.tools.run_folder import default_run_folder
+
+    out = Path(args.out) if args.out else default_run_folder(summary["scenario"], summary["seed"])
     print(summary_line(summary, out))
     return code
 

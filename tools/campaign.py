@@ -17,16 +17,15 @@ import json
 import os
 import random
 import statistics
-import sys
-import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any
 
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
+from mobigrasp.tools.progress import Progress
 
 METHODS = ("000", "001", "002")
 
@@ -199,28 +198,19 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
     return out
 
 
-def _bar(done: int, total: int, ok: int, started: float, stream: TextIO) -> None:
-    width = 30
-    fill = width * done // total if total else width
-    elapsed = time.monotonic() - started  # progress display only, never in results
-    eta = elapsed / done * (total - done) if done else 0.0
-    stream.write(f"\r  [{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs, "
-                 f"{ok} ok, {done - ok} not, eta {eta:5.0f} s ")
-    stream.flush()
-
-
 def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
-                 progress: TextIO | None = sys.stderr) -> dict:
-    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}."""
+                 progress: Progress | None = None) -> dict:
+    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}.
+    ``progress`` (tools.progress) is told the runs done and how many succeeded."""
     jobs = jobs_of(cfg)
     workers = min(cfg.jobs or os.cpu_count() or 1, len(jobs))
     rows: list[dict] = []
-    started = time.monotonic()
 
     def done(job: dict, summary: dict | None, error: str | None) -> None:
         rows.append(row_of(job, summary, error))
         if progress is not None:
-            _bar(len(rows), len(jobs), sum(r["success"] for r in rows), started, progress)
+            ok = sum(r["success"] for r in rows)
+            progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not")
 
     if workers <= 1:
         for job in jobs:
@@ -237,7 +227,7 @@ def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
                 except Exception as exc:
                     done(futures[fut], None, f"{type(exc).__name__}: {exc}")
     if progress is not None:
-        progress.write("\n")
+        progress.close()
     rows.sort(key=lambda r: r["seed"])
     return {"summary": aggregate(rows, cfg), "rows": rows}
 

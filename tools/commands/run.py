@@ -13,14 +13,16 @@ from pathlib import Path
 
 
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.tools.progress import RunProgress
     from mobigrasp.tools.run_job import BadInput, RunOptions, execute, parse_speed, summary_line
 
+    display = RunProgress(total_s=args.time_limit_s, enabled=not args.quiet)
     try:
         speed = parse_speed(args.speed)
         if args.seed is not None and args.seed < 0:
             raise BadInput(f"--seed must be >= 0, got {args.seed}")
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
-                          speed=speed, out=args.out, progress=not args.quiet,
+                          speed=speed, out=args.out, progress=display,
                           plots=not args.no_plots, time_limit_s=args.time_limit_s,
                           faults=tuple(args.fault or ()),
                           host_lag_quanta=args.host_lag_quanta)
@@ -30,6 +32,10 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp run: {exc}", file=sys.stderr)
         return 2
+    except BaseException:
+        display.close()
+        raise
+    display.finish(summary)
     out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
     print(summary_line(summary, out))
     return code
@@ -40,7 +46,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a scenario in closed loop (SIM + HOST over a pty)")
     p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
-    p.add_argument("--transport", default="pty", help="pty (two processes, default) or inproc")
+    p.add_argument("--transport", default="pty", choices=("pty", "inproc"),
+                   help="pty (two processes, default) or inproc")
     p.add_argument("--speed", default="max",
                    help="simulated/wall time factor, or 'max' (default); pacing only")
     p.add_argument("--out", type=Path, default=None,
@@ -49,7 +56,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="stop after this many simulated seconds (default: the scenario's)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
-    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
     p.add_argument("--host-lag-quanta", type=int, default=1, metavar="N",
                    help="1 (default): each grant is issued one quantum ahead, so host and "

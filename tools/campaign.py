@@ -266,40 +266,12 @@ def format_table(agg: dict) -> str:
 
 
 def write_outputs(result: dict, out: Path) -> tuple[Path, Path]:
-    """campaign.json and campaign.png in ``out``."""
+    """campaign.json and campaign.png (tools.plots.campaign) in ``out``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     js = out / "campaign.json"
     js.write_text(json.dumps(result, indent=2, sort_keys=True))
-    png = out / "campaign.png"
-    import matplotlib
+    from mobigrasp.tools.plots import campaign as campaign_plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    agg, rows = result["summary"], result["rows"]
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-    ok = agg["successes"]
-    crashed = agg["crashed_runs"]
-    axes[0].bar(["success", "failed", "crashed"], [ok, agg["runs"] - ok - crashed, crashed],
-                color=["tab:green", "tab:orange", "tab:red"])
-    axes[0].set_title(f"outcome ({agg['success_rate'] * 100:.0f} % success)")
-    seeds = [r["seed"] for r in rows]
-    axes[1].bar(seeds, [r["unsafe_actuations"] for r in rows], color="tab:red", label="unsafe")
-    axes[1].plot(seeds, [r["watchdog_trips"] for r in rows], "k.", label="watchdog trips")
-    axes[1].set_ylim(bottom=0, top=max([1] + [r["unsafe_actuations"] for r in rows]
-                                       + [r["watchdog_trips"] for r in rows]) * 1.2)
-    axes[1].set_xlabel("seed")
-    axes[1].set_title("unsafe actuations, watchdog trips")
-    axes[1].legend(fontsize=8)
-    stops = [v for r in rows for v in r["stop_latency_ms"]]
-    recov = [v for r in rows for v in r["recovery_ms"]]
-    if stops or recov:
-        axes[2].hist([stops, recov], bins=20, label=["wheel stop latency", "recovery"])
-        axes[2].legend(fontsize=8)
-    axes[2].set_xlabel("ms (simulated)")
-    axes[2].set_title("stop latency / recovery time")
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
+    png = out / campaign_plot(result, out)
     return js, png

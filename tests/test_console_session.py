@@ -154,7 +154,7 @@ def test_the_frame_cut_by_opening_the_port_is_not_an_error():
 
 def run_console(port, home, script, *extra):
     env = dict(os.environ, HOME=str(home))
-    return subprocess.run([sys.executable, "-m", "mobigrasp", "console", port, *extra],
+    return subprocess.run([sys.executable, "-m", "mobigrasp", "console", "--port", port, *extra],
                           input=script, capture_output=True, text=True, env=env, cwd=ROOT,
                           timeout=SAFETY_S)
 

@@ -113,16 +113,21 @@ def _points(result: Any) -> list[tuple[int, int]]:
     return pts
 
 
+SNAPSHOT_LINE_PX = 12  # text line height of the 0.8-scale Hershey plain font, plus spacing
+
+
 def draw_detection(rgb: np.ndarray, results: dict | None, label: str) -> np.ndarray:
     """BGR image for a PNG: the frame, a cross at every detected point, and a caption."""
     img = cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2BGR)
+    missed = 0
     for name, result in (results or {}).items():
         colour = (0, 255, 0) if result is not None else (0, 0, 255)
         for u, v in _points(result):
             cv2.drawMarker(img, (u, v), colour, cv2.MARKER_CROSS, 12, 1)
-        if result is None:
-            cv2.putText(img, f"{name}: none", (4, img.shape[0] - 6), cv2.FONT_HERSHEY_PLAIN,
-                        0.8, colour, 1)
+        if result is None:  # one line per detector that found nothing, stacked upwards
+            cv2.putText(img, f"{name}: none", (4, img.shape[0] - 6 - SNAPSHOT_LINE_PX * missed),
+                        cv2.FONT_HERSHEY_PLAIN, 0.8, colour, 1)
+            missed += 1
     cv2.putText(img, label, (4, 12), cv2.FONT_HERSHEY_PLAIN, 0.8, (255, 255, 0), 1)
     return img
 

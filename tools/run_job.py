@@ -8,6 +8,7 @@ crashed, 2 bad input). The summary is always written, also when the run crashes 
 from __future__ import annotations
 
 import json
+import logging
 import math
 import sys
 import tempfile
@@ -17,6 +18,7 @@ from typing import Any
 
 SCENARIO_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+log = logging.getLogger(__name__)
 
 
 class BadInput(ValueError):
@@ -55,7 +57,8 @@ class RunOptions:
     transport: str = "pty"
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
-    progress: bool = True
+    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
+    progress: Any = True
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
@@ -267,7 +270,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                             host_lag_quanta=opts.host_lag_quanta),
                   on_frame=snaps.on_frame)
         progress = None
-        if opts.progress:
+        if callable(opts.progress):  # a display of the caller's (tools.progress.RunProgress)
+            def progress(r, wall):
+                opts.progress(rig.now_us, r.host_state, wall)
+        elif opts.progress:
             def progress(r, wall):
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
@@ -284,9 +290,9 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     except Exception as exc:
         summary["status"] = "crashed"
         summary["error"] = f"{type(exc).__name__}: {exc}"
-        print(f"\nrun crashed: {summary['error']}", file=sys.stderr)
+        log.error("run crashed: %s", summary["error"])
     finally:
-        if opts.progress:
+        if opts.progress is True:
             print("", file=sys.stderr)
         if host is not None:
             host.close()
@@ -325,7 +331,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             from mobigrasp.tools.report import write_report
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+            log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
 
 

@@ -192,5 +192,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with --lockstep: poll the socket up to this long before sleeping, so "
                         "the next grant finds the host running (set by 'run' at full speed)")
     p.add_argument("--config", default=None, help="host configuration JSON (method, params)")
-    p.add_argument("--method", default=None, help="000, 001 or 002 (overrides --config)")
+    p.add_argument("--method", default=None, choices=METHODS,
+                   help="000, 001 or 002 (overrides --config)")
     p.set_defaults(func=_run)

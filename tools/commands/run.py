@@ -13,6 +13,8 @@ from pathlib import Path
 
 
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.tools.progress import RunProgress
+    from mobigrasp.tools.run_folder import default_run_folder
     from mobigrasp.tools.run_job import (
         BadInput,
         RunOptions,
@@ -22,10 +24,11 @@ def _run(args: argparse.Namespace) -> int:
         summary_line,
     )
 
+    display = RunProgress(total_s=args.time_limit_s, enabled=not args.quiet)
     try:
         speed = parse_speed(args.speed)
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
-                          speed=speed, out=args.out, progress=not args.quiet,
+                          speed=speed, out=args.out, progress=display,
                           plots=not args.no_plots, time_limit_s=args.time_limit_s,
                           faults=tuple(args.fault or ()),
                           host_lag_quanta=args.host_lag_quanta)
@@ -36,8 +39,10 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp run: {exc}", file=sys.stderr)
         return 2
-    from mobigrasp.tools.run_folder import default_run_folder
-
+    except BaseException:
+        display.close()
+        raise
+    display.finish(summary)
     out = Path(args.out) if args.out else default_run_folder(summary["scenario"], summary["seed"])
     print(summary_line(summary, out))
     return code
@@ -48,7 +53,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("run", help="run a scenario in closed loop (SIM + HOST over a pty)")
     p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
-    p.add_argument("--transport", default="pty", help="pty (two processes, default) or inproc")
+    p.add_argument("--transport", default="pty", choices=("pty", "inproc"),
+                   help="pty (two processes, default) or inproc")
     p.add_argument("--speed", default="max",
                    help="simulated/wall time factor, or 'max' (default); pacing only")
     p.add_argument("--out", type=Path, default=None,
@@ -57,7 +63,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="stop after this many simulated seconds (default: the scenario's)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
-    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--check", action="store_true",
                    help="only check the scenario and options (and build the world and host "
                         "program from them) without running: exit 0 or 2")

@@ -20,7 +20,7 @@ def _run(args: argparse.Namespace) -> int:
         if args.seed is not None and args.seed < 0:
             raise BadInput(f"--seed must be >= 0, got {args.seed}")
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
-                          speed=speed, out=args.out, progress=not args.quiet,
+                          mcu=args.mcu, speed=speed, out=args.out, progress=not args.quiet,
                           plots=not args.no_plots, time_limit_s=args.time_limit_s,
                           faults=tuple(args.fault or ()),
                           host_lag_quanta=args.host_lag_quanta)
@@ -41,6 +41,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--transport", default="pty", help="pty (two processes, default) or inproc")
+    p.add_argument("--mcu", default="python",
+                   help="MCU backend: python (the firmware model, default) or native (the C "
+                        "firmware built with this machine's gcc)")
     p.add_argument("--speed", default="max",
                    help="simulated/wall time factor, or 'max' (default); pacing only")
     p.add_argument("--out", type=Path, default=None,

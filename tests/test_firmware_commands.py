@@ -37,6 +37,8 @@ from mobigrasp.protocol import (
     encode_frame,
 )
 
+pytestmark = pytest.mark.both_mcus
+
 
 def ready(config=None):
     mcu = Mcu(config)

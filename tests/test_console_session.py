@@ -205,4 +205,5 @@ def test_wheels_keep_turning_with_heartbeats_and_stop_without(tmp_path):
             mcu.communicate(timeout=SAFETY_S)
     assert "watchdog tripped" not in texts["100"]
     last = [ln for ln in texts["100"].splitlines() if ln.startswith("  enc_left")][-1]
-    assert int(last.split()[1]) > 0  # still turning at the end    assert "watchdog tripped" in texts["0"]
+    assert int(last.split()[1]) > 0  # still turning at the end
+    assert "watchdog tripped" in texts["0"]

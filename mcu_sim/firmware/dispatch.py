@@ -105,7 +105,11 @@ def handle_frame(fw, frame, now: int) -> None:
     else:
         fw.send_ack(seq)
     if not reason and isinstance(msg, ParamGet | ParamSet):
-        fw.send(ParamValue(msg.param_id, fw.params.get(msg.param_id)))
+        # the id may be unknown when this answers a copy of another command with the same seq
+        # (a HELLO's, whose stored answer is ACK): then there is no value to report
+        value = fw.params.get(msg.param_id)
+        if value is not None:
+            fw.send(ParamValue(msg.param_id, value))
 
 def execute(fw, msg) -> int:
     """Carry out a new reliable command; 0 or a NACK reason."""

@@ -76,7 +76,7 @@ def test_bad_arguments_are_reported(capsys):
     assert exc.value.code == 2 and "--speed" in capsys.readouterr().err
     assert main(["mcu", "--param", "nope=1", "--duration", "0.1"]) == 2
     assert "unknown parameter 'nope'" in capsys.readouterr().err
-    assert main(["console", "/dev/nonexistent-mobigrasp-port"]) == 2
+    assert main(["console", "--port", "/dev/nonexistent-mobigrasp-port"]) == 2
     assert "cannot open" in capsys.readouterr().err
 
 

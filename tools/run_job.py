@@ -8,8 +8,8 @@ crashed, 2 bad input). The summary is always written, also when the run crashes 
 from __future__ import annotations
 
 import json
+import logging
 import math
-import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -18,6 +18,7 @@ from typing import Any
 
 SCENARIO_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+log = logging.getLogger(__name__)
 
 
 class BadInput(ValueError):
@@ -56,7 +57,8 @@ class RunOptions:
     transport: str = "pty"
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
-    progress: bool = True
+    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
+    progress: Any = True
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
@@ -82,6 +84,54 @@ def parse_speed(text: str) -> float | None:
     if not math.isfinite(v) or v <= 0:
         raise BadInput(f"--speed must be a positive number or 'max', got {text!r}")
     return v
+
+
+def check_seed(seed: int | None) -> int | None:
+    """``--seed``: None (the scenario's) or an integer in [0, 2^64 - 1]; BadInput otherwise."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_SEED
+
+    if seed is not None and not 0 <= seed <= MAX_SEED:
+        raise BadInput(f"--seed must be an integer in [0, {MAX_SEED}], got {seed}")
+    return seed
+
+
+def check_time_limit(limit_s: float | None) -> float | None:
+    """``--time-limit-s``: None (the scenario's) or a number of simulated seconds in
+    (0, MAX_TIME_LIMIT_S] (docs/conventions.md); BadInput otherwise (also for inf and NaN)."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_TIME_LIMIT_S
+
+    if limit_s is not None and not 0 < limit_s <= MAX_TIME_LIMIT_S:
+        raise BadInput(f"--time-limit-s must be a number of seconds in (0, "
+                       f"{MAX_TIME_LIMIT_S:g}], got {limit_s}")
+    return limit_s
+
+
+def _check_options(opts: RunOptions) -> None:
+    if opts.transport not in ("pty", "inproc"):
+        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
+    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
+        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    check_seed(opts.seed)
+    check_time_limit(opts.time_limit_s)
+
+
+def check_run(opts: RunOptions) -> str:
+    """What a run checks before it starts, without starting it or writing anything: the
+    options, the scenario, the fault plan, and the world and host program built from them (the
+    constructors a run calls). BadInput for bad input; returns a one-line description."""
+    from mobigrasp.host.app_factory import build_host_app
+    from mobigrasp.mcu_sim.rig_plant import WorldPlant
+
+    _check_options(opts)
+    path, scenario = resolve_scenario(opts.scenario)
+    plan = _fault_plan(scenario, opts.faults)
+    seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    WorldPlant(scenario, seed)
+    build_host_app(host_config(scenario))
+    n = len(plan.as_table()) if plan is not None else 0
+    return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
+            f"time limit {opts.time_limit_s or scenario.meta.time_limit_s:g} s, "
+            f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
 
 
 def _fault_plan(scenario, overrides):
@@ -135,10 +185,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         write_host_config,
     )
 
-    if opts.transport not in ("pty", "inproc"):
-        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
-    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
-        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    _check_options(opts)
     if opts.scenario_obj is not None:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:
@@ -146,12 +193,12 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
-    if out.exists():
-        if any(out.iterdir()) and not (out / "summary.json").exists():
-            raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
-                           f"refusing to overwrite it")
-        shutil.rmtree(out)
+    from mobigrasp.tools.run_folder import RunFolderError, prepare_run_folder
+
+    try:  # under runs/ by a sanitised name; deletes only what an earlier run wrote there
+        out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    except RunFolderError as exc:
+        raise BadInput(str(exc)) from exc
     cfg = host_config(scenario)
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     early = port = None
@@ -177,7 +224,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         from mobigrasp.tools.heap_tuning import keep_freed_memory
         from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
-        (out / "plots").mkdir(parents=True)
+        (out / "plots").mkdir(exist_ok=True)
         summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
             "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
@@ -223,7 +270,10 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                             host_lag_quanta=opts.host_lag_quanta),
                   on_frame=snaps.on_frame)
         progress = None
-        if opts.progress:
+        if callable(opts.progress):  # a display of the caller's (tools.progress.RunProgress)
+            def progress(r, wall):
+                opts.progress(rig.now_us, r.host_state, wall)
+        elif opts.progress:
             def progress(r, wall):
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
@@ -240,9 +290,9 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     except Exception as exc:
         summary["status"] = "crashed"
         summary["error"] = f"{type(exc).__name__}: {exc}"
-        print(f"\nrun crashed: {summary['error']}", file=sys.stderr)
+        log.error("run crashed: %s", summary["error"])
     finally:
-        if opts.progress:
+        if opts.progress is True:
             print("", file=sys.stderr)
         if host is not None:
             host.close()
@@ -281,7 +331,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             from mobigrasp.tools.report import write_report
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+            log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
 
 

@@ -1,4 +1,4 @@
-"""``mobigrasp console PORT``: a small interactive shell to poke an MCU, emulated or real.
+"""``mobigrasp console --port PORT``: a small interactive shell to poke an MCU, emulated or real.
 
 Commands: ``hello``, ``servos US US US US US US [SLEW]``, ``servos-mrad MRAD x6 [SLEW]``,
 ``gripper PERMILLE``, ``wheels LEFT_MMPS RIGHT_MMPS``, ``stop``, ``heartbeat``,
@@ -445,7 +445,8 @@ class ConsoleShell(cmd.Cmd):
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``console`` subcommand."""
     p = sub.add_parser("console", help="interactive shell to send commands to an MCU on PORT")
-    p.add_argument("port", help="serial device or pty path (e.g. the path `mobigrasp mcu` prints)")
+    p.add_argument("--port", required=True,
+                   help="serial port: /dev/pts/N (the path `mobigrasp mcu` prints), /dev/ttyUSB0")
     p.add_argument("--reply-timeout", type=float, default=1.0,
                    help="wall seconds to wait for an ACK (default 1)")
     p.add_argument("--heartbeat-ms", type=_heartbeat_ms, default=HEARTBEAT_MS,

@@ -154,7 +154,9 @@ class CameraServer:
         return self._server.parts_sent  # type: ignore[attr-defined]
 
     def close(self) -> None:
-        """Stop serving; streams end."""
+        """Stop serving; streams end (a second call does nothing)."""
+        if self.frames.closed:
+            return
         with self.frames.cond:
             self.frames.closed = True
             self.frames.cond.notify_all()

@@ -165,6 +165,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         summary["error"] = f"{type(exc).__name__}: {exc}"
         print(f"\nsim crashed: {summary['error']}", file=sys.stderr)
     finally:
+        # the streams end now, not after the report: a client's blocking read returns
+        camera.close()
         if opts.progress:
             print("", file=sys.stderr)
         trace.close()

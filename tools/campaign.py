@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
-from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
+from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
 from mobigrasp.tools.progress import Progress
 
 METHODS = ("000", "001", "002")
@@ -52,8 +52,12 @@ class CampaignConfig:
             raise ValueError(f"--seed must be an integer >= 0, got {self.seed!r}")
         if self.jobs is not None and (not isinstance(self.jobs, int) or self.jobs < 1):
             raise ValueError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
-        if self.time_limit_s is not None and not self.time_limit_s > 0:
-            raise ValueError(f"--time-limit-s must be > 0, got {self.time_limit_s!r}")
+        if self.seed + self.runs - 1 > MAX_SEED:
+            raise ValueError(f"--seed + --runs - 1 must be <= {MAX_SEED}, got "
+                             f"{self.seed + self.runs - 1}")
+        if self.time_limit_s is not None and not 0 < self.time_limit_s <= MAX_TIME_LIMIT_S:
+            raise ValueError(f"--time-limit-s must be in (0, {MAX_TIME_LIMIT_S:g}] s, got "
+                             f"{self.time_limit_s!r}")
 
 
 def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:

@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import logging
 import math
-import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -88,6 +87,54 @@ def parse_speed(text: str) -> float | None:
     return v
 
 
+def check_seed(seed: int | None) -> int | None:
+    """``--seed``: None (the scenario's) or an integer in [0, 2^64 - 1]; BadInput otherwise."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_SEED
+
+    if seed is not None and not 0 <= seed <= MAX_SEED:
+        raise BadInput(f"--seed must be an integer in [0, {MAX_SEED}], got {seed}")
+    return seed
+
+
+def check_time_limit(limit_s: float | None) -> float | None:
+    """``--time-limit-s``: None (the scenario's) or a number of simulated seconds in
+    (0, MAX_TIME_LIMIT_S] (docs/conventions.md); BadInput otherwise (also for inf and NaN)."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_TIME_LIMIT_S
+
+    if limit_s is not None and not 0 < limit_s <= MAX_TIME_LIMIT_S:
+        raise BadInput(f"--time-limit-s must be a number of seconds in (0, "
+                       f"{MAX_TIME_LIMIT_S:g}], got {limit_s}")
+    return limit_s
+
+
+def _check_options(opts: RunOptions) -> None:
+    if opts.transport not in ("pty", "inproc"):
+        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
+    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
+        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    check_seed(opts.seed)
+    check_time_limit(opts.time_limit_s)
+
+
+def check_run(opts: RunOptions) -> str:
+    """What a run checks before it starts, without starting it or writing anything: the
+    options, the scenario, the fault plan, and the world and host program built from them (the
+    constructors a run calls). BadInput for bad input; returns a one-line description."""
+    from mobigrasp.host.app_factory import build_host_app
+    from mobigrasp.mcu_sim.rig_plant import WorldPlant
+
+    _check_options(opts)
+    path, scenario = resolve_scenario(opts.scenario)
+    plan = _fault_plan(scenario, opts.faults)
+    seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    WorldPlant(scenario, seed)
+    build_host_app(host_config(scenario))
+    n = len(plan.as_table()) if plan is not None else 0
+    return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
+            f"time limit {opts.time_limit_s or scenario.meta.time_limit_s:g} s, "
+            f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
+
+
 def _fault_plan(scenario, overrides):
     """The scenario's [faults] plan with the --fault overrides applied; BadInput if invalid."""
     plan = getattr(scenario, "faults", None)
@@ -139,10 +186,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         write_host_config,
     )
 
-    if opts.transport not in ("pty", "inproc"):
-        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
-    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
-        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    _check_options(opts)
     if opts.scenario_obj is not None:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:
@@ -150,12 +194,12 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
-    if out.exists():
-        if any(out.iterdir()) and not (out / "summary.json").exists():
-            raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
-                           f"refusing to overwrite it")
-        shutil.rmtree(out)
+    from mobigrasp.tools.run_folder import RunFolderError, prepare_run_folder
+
+    try:  # under runs/ by a sanitised name; deletes only what an earlier run wrote there
+        out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    except RunFolderError as exc:
+        raise BadInput(str(exc)) from exc
     cfg = host_config(scenario)
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     early = port = None
@@ -182,7 +226,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         from mobigrasp.tools.mcap_out import CameraLog
         from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
-        (out / "plots").mkdir(parents=True)
+        (out / "plots").mkdir(exist_ok=True)
         summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
             "seed": seed, "transport": opts.transport, "status": "starting", "success": False,

@@ -22,7 +22,13 @@ METHODS = ("000", "001", "002")
 def _config(args: argparse.Namespace) -> dict:
     cfg: dict = {}
     if args.config:
-        cfg = json.loads(Path(args.config).read_text())
+        try:
+            cfg = json.loads(Path(args.config).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:  # missing, a folder, not UTF-8, not JSON
+            raise ValueError(f"--config {args.config}: {exc}") from exc
+        if not isinstance(cfg, dict):
+            raise ValueError(f"--config {args.config}: expected a JSON object, got "
+                             f"{type(cfg).__name__}")
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
@@ -31,7 +37,7 @@ def _config(args: argparse.Namespace) -> dict:
     return cfg
 
 
-def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
+def _lockstep(args: argparse.Namespace, cfg: dict, port) -> int:
     import cv2
 
     from mobigrasp.host.app_factory import build_host_app
@@ -39,15 +45,20 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from mobigrasp.link import lockstep as ls
     from mobigrasp.link.base import LinkClosed
     from mobigrasp.link.frame_ring import FrameRingReader
-    from mobigrasp.link.registry import open_transport
 
     # one OpenCV thread: the machine's other core runs the rig, whose time this process waits
     # for; a pool would take it mid-frame (results are the same on any number of threads)
     cv2.setNumThreads(1)
-    port = open_transport(args.port)
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     sock.settimeout(120.0)  # safety limit only; the rig answers at once
-    sock.connect(args.lockstep)
+    try:
+        sock.connect(args.lockstep)
+    except OSError as exc:
+        sock.close()
+        port.close()
+        print(f"mobigrasp host: cannot connect to --lockstep {args.lockstep}: {exc}",
+              file=sys.stderr)
+        return 2
     client = LockstepClient(build_host_app(cfg), port)
     frames = FrameRingReader()
     try:
@@ -89,14 +100,17 @@ class _OpenCvCamera:
         return self.seq - 1, rgb
 
 
-def _free_running(args: argparse.Namespace, cfg: dict) -> int:
+def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
     from mobigrasp.host.app_factory import build_host_app
     from mobigrasp.link.base import LinkClosed
-    from mobigrasp.link.registry import open_transport
 
-    port = open_transport(args.port)
     app = build_host_app(cfg)
-    camera = _OpenCvCamera(args.camera) if args.camera else None
+    try:
+        camera = _OpenCvCamera(args.camera) if args.camera else None
+    except ValueError as exc:
+        port.close()
+        print(f"mobigrasp host: --camera {args.camera}: {exc}", file=sys.stderr)
+        return 2
     t0 = time.monotonic()
     next_frame = 0.0
     vanished = False
@@ -143,12 +157,18 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ValueError) as exc:
         print(f"mobigrasp host: {exc}", file=sys.stderr)
         return 2
+    from mobigrasp.link.registry import open_transport
     from mobigrasp.tools.heap_tuning import keep_freed_memory
 
+    try:  # a port that does not exist or vanished: one line, as console says it
+        port = open_transport(args.port)
+    except (OSError, ValueError) as exc:
+        print(f"mobigrasp host: cannot open --port {args.port}: {exc}", file=sys.stderr)
+        return 2
     keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
     if args.lockstep:
-        return _lockstep(args, cfg)
-    return _free_running(args, cfg)
+        return _lockstep(args, cfg, port)
+    return _free_running(args, cfg, port)
 
 
 def _poll_ms(text: str) -> float:

@@ -90,7 +90,9 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary.get('arm9_load_mean', 0):.0%}; frames dropped "
           f"{summary.get('frames_dropped')}, deadline misses {summary.get('deadline_misses')}")
     print(f"would miss its budget first: {first}")
-    out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
+    from mobigrasp.tools.run_folder import default_run_folder
+
+    out = Path(args.out) if args.out else default_run_folder(summary["scenario"], summary["seed"])
     result = {"scenario": summary["scenario"], "seed": summary["seed"], "stages": rows,
               "first_to_miss": first, "arm9_load_max": summary.get("arm9_load_max"),
               "arm9_load_mean": summary.get("arm9_load_mean"),

@@ -197,7 +197,8 @@ RUN_MARKER = ".mobigrasp-run"
 _MARKER_TEXT = "a mobigrasp run folder: `mobigrasp run` may replace the files it wrote here\n"
 # the files a run writes (and so the only ones a later run into the same folder removes):
 # top-level names, and per sub-folder the suffix of the files written there
-_RUN_FILES = ("summary.json", "summary.json.tmp", "trace.jsonl", "report.html", "profile.json")
+_RUN_FILES = ("summary.json", "summary.json.tmp", "trace.jsonl", "trace.mcap", "report.html",
+              "profile.json")
 _RUN_SUBFOLDERS = {"plots": re.compile(r"[a-z0-9_]+\.png"),  # plots.py: trajectory.png, ...
                    "frames": re.compile(r"\d{3}_\d{7}ms_[A-Za-z0-9_?]+\.png")}  # Snapshots
 _NAME_MAX = 100

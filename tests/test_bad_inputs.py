@@ -198,7 +198,7 @@ CASES: dict[str, Case] = {
     "host --port a file": Case(lambda t, mp: ["host", "--port", str(_a_file(t, mp))], ("--port",)),
     "host --config not utf8": Case(lambda t, mp: ["host", "--port", "/dev/pts/99", "--config",
                                                   str(_raw(b"\xff")(t, mp)[1])], ("--config",)),
-    "console /dev/pts/99": Case(lambda t, mp: ["console", "/dev/pts/99"], ("/dev/pts/99",)),
+    "console /dev/pts/99": Case(lambda t, mp: ["console", "--port", "/dev/pts/99"], ("/dev/pts/99",)),
     "campaign --time-limit-s inf": Case(lambda t, mp: ["campaign", "--method", "000", "--runs",
                                                        "1", "--time-limit-s", "inf"],
                                         ("--time-limit-s",)),

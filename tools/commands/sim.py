@@ -50,8 +50,7 @@ def _mcu_names() -> list[str]:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``sim`` subcommand."""
-    p = sub.add_parser("sim", help="serve a scenario's robot (serial pty + MJPEG camera) to "
-                                   "your own host program in wall time")
+    p = sub.add_parser("sim", help="serve a scenario's robot (pty + MJPEG camera) to your host")
     p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
     p.add_argument("--speed", type=_speed, default=1.0,
                    help="simulated seconds per wall second (default 1); pacing only")

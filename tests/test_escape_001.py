@@ -89,10 +89,10 @@ def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
 
 
 def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
-    from mobigrasp.host.task_wander import detour_step, start_detour
+    from mobigrasp.host.task.method001 import detour_heading, detour_step
 
     p = TaskParams.for_method("001")
-    d = start_detour(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
+    d = detour_heading(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
     assert d == {"heading_mrad": -900, "drive": True, "from": None, "checked": True}
     task = SimpleNamespace(p=p, wheels=None, detour=d)
     side = (65535, 65535, 65535, 220, 240)  # the obstacle beside it, front-left and left
@@ -133,13 +133,13 @@ def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
     now = 1_000_000
     near = TaskInputs(x_mm=800, sonar_mm=clear)  # the waist 600 mm from the object
     task.obj_seen_us = now
-    assert task._adjust_early_001(now, near, 600)
-    assert not task._adjust_early_001(now, near, 900)  # farther than ADJUST_EARLY_MM_001
+    assert task.rules.adjust_early(task, now, near, 600)
+    assert not task.rules.adjust_early(task, now, near, 900)  # farther than ADJUST_EARLY_MM_001
     task.obj_seen_us = now - 1_000_000
-    assert not task._adjust_early_001(now, near, 600)  # not seen lately
+    assert not task.rules.adjust_early(task, now, near, 600)  # not seen lately
     task.obj_seen_us = now
     beside = TaskInputs(x_mm=800, sonar_mm=(2500, 150, 2500, 2500, 2500))  # right, 45 deg
-    assert not task._adjust_early_001(now, beside, 600)
+    assert not task.rules.adjust_early(task, now, beside, 600)
 
 
 def test_a_detour_keeps_to_the_side_of_the_first_one():

@@ -16,7 +16,7 @@ from mobigrasp.host.planning.sonar_regions import (
 )
 from mobigrasp.host.task import TaskInputs, TaskParams
 
-# an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4 (random 001 seed 5008)
+# an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4
 NEAR = dict(ox=0.0, oy=0.0, lo_rad=0.26, hi_rad=0.525, eta_m=0.406, r_r_m=0.2)
 
 

@@ -84,7 +84,7 @@ class ApproachStates:
                      f"{dist} mm away: direct approach")
             elif rules.start_detour(t, inp):
                 t.plan_attempts, t.follower = 0, None
-            else:  # not the direct approach into something in the way: it would collide
+            else:  # not straight into something in the way (docs/cosim.md "Measured", T4)
                 t.fail(now, f"no feasible approach path: {detail['reason']}")
 
     def _face_object(self, t, inp) -> bool:

@@ -25,8 +25,8 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   ``CHECK_SEEN_FRAMES`` frames standing away from the fingertip (while the arm rises, or while
   the waist turns the view about the place, ``CHECK_WAIST_MRAD``) means a miss: open, ADJUST
   from the new sighting and grasp again (up to ``MAX_REGRASPS`` times, then FAILED); otherwise
-  DONE.  Random 001 seeds 5001 and 5017 closed the gripper 37 mm beside the object and
-  reported DONE.
+  DONE.  Without the check a gripper closed beside the object reported DONE (docs/cosim.md
+  "Measured", T8).
 """
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ CHECK_AWAY_MM = 60  # seen farther than this from the fingertip: standing, not h
 CHECK_SEEN_FRAMES = 2
 CHECK_POSE_US = 500_000  # look this long (7 frames at 15 fps) at each waist offset, settled
 # the waist turns the view about the place: the estimate that put the fingers beside the object
-# may be off by 0.3 rad in bearing (random 001 seed 5017: 56 mm at 0.16 m, blind on odometry)
+# may be off by 0.3 rad in bearing (docs/cosim.md "Measured", T8)
 CHECK_WAIST_MRAD = (0, 300, -300)
 MAX_REGRASPS = 2
 # views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
@@ -252,7 +252,7 @@ class GraspStates:
     def _standing_away(self, t, inp) -> bool:
         """The object just seen (t.obj) stands on the ground away from the gripper, not
         under the fingertip where a held object would be (there is one object: seen anywhere
-        else, it is not in the gripper; random 002 seed 1004 closed 0.45 m short of it)."""
+        else, it is not in the gripper; docs/cosim.md "Measured", T8)."""
         tip = platform_to_odom_mm(inp.x_mm, inp.y_mm, inp.heading_mrad,
                                   t.p.mount_forward_mm, t.gripper_point_q4())
         dx, dy = t.obj[0] - tip[0], t.obj[1] - tip[1]

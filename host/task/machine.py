@@ -179,6 +179,7 @@ class Task:
         self.detour = None  # 001: a drive aside after no feasible curve (method001.py)
         self.detours = 0
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
+        self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
         self.plus_odom = None
@@ -319,7 +320,7 @@ class Task:
         """The task's posture parameters (``self.p.posture`` with the step cap, by default
         ``posture_step_mrad``); built once per TaskParams and cap, not at every control step."""
         cap = self.p.posture_step_mrad if max_step_mrad is None else max_step_mrad
-        if getattr(self, "_pp_of", None) is not self.p:  # first call, or new TaskParams
+        if self._pp_of is not self.p:  # first call, or new TaskParams
             self._pp_of, self._pp_by_cap = self.p, {}
         pp = self._pp_by_cap.get(cap)
         if pp is None:

@@ -212,8 +212,8 @@ class Method001(Method000):
         latency. Ours: the frame's capture time is known only as ``frame_latency_us`` ago (the
         vision time varies by 10-25 ms), and the arm history holds servo targets, not where the
         lagging servos were; at 1.5 rad/s (a tight 001 curve at low speed, a_t = v²κ allows it)
-        that put a sighting 0.4 m away 60 mm off (random 001 seed 5017), and the grasp on it
-        missed. The given P_i or an earlier sighting is kept instead."""
+        a sighting 0.4 m away is tens of mm off and the grasp on it misses (docs/cosim.md
+        "Measured", T2). The given P_i or an earlier sighting is kept instead."""
         if not t.pose_hist:
             return True
         then = t.pose_at(now - t.p.frame_latency_us)
@@ -266,7 +266,7 @@ class Method001(Method000):
         """An echo straight ahead well short of the object (its own echo is ~170 mm short of
         the waist distance: ring 70 mm ahead of the waist plus its radius), or the straight
         way to the object crossing an infeasible region of eq. (16) (an obstacle beside the
-        line, unseen by the front sonar)."""
+        line, unseen by the front sonar; docs/cosim.md "Measured", T1)."""
         n = len(inp.sonar_mm)
         echo = n >= 3 and 0 < int(inp.sonar_mm[n // 2]) < dist_mm - 300
         return echo or not self.straight_clear(t, inp, dist_mm)
@@ -290,7 +290,8 @@ class Method001(Method000):
     def path_wheels(self, cmd: Any) -> tuple[int, int]:
         """Ours: 001's sonar ring (S_1..S_k_s, ±π/2 about the heading) sees nothing behind the
         base, so it never backs up: where the follower would reverse (its reference fell
-        behind in a tight loop) it turns on the spot instead and the sonar check replans."""
+        behind in a tight loop) it turns on the spot instead and the sonar check replans
+        (docs/cosim.md "Measured", T3)."""
         if cmd.left_mm_s + cmd.right_mm_s < 0:
             turn = (cmd.right_mm_s - cmd.left_mm_s) // 2
             return -turn, turn
@@ -300,10 +301,10 @@ class Method001(Method000):
         """Hand the last part of the curve to 000's vision-based approaching adjustment
         (§III.B) while the object is still in the camera's view. Ours: the curve ends on the
         grasp circle (eqs. (5)-(6) of 001, l_e ~ 0.23 m), where the long 001 arm's camera looks
-        over the object top and sees neither the dual "+" nor the radial symbol; ADJUST then
-        finished on the last sightings and odometry (12-14 mm off in paper001-sim1/sim2, the
-        spoke never found). Only with a sighting in the last ``ADJUST_EARLY_FRESH_US`` and the
-        straight way to the object clear (the close approach drives straight at it)."""
+        over the object top and sees neither the dual "+" nor the radial symbol, and ADJUST
+        would finish on the last sightings and odometry (docs/cosim.md "Measured", T11).
+        Only with a sighting in the last ``ADJUST_EARLY_FRESH_US`` and the straight way to the
+        object clear (the close approach drives straight at it)."""
         if not (t.p.grasp_r_mm + 100 < dist <= ADJUST_EARLY_MM_001):
             return False
         if now - t.obj_seen_us > ADJUST_EARLY_FRESH_US:

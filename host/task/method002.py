@@ -119,7 +119,7 @@ class Method002(Method):
         if dc_px is not None and dc_px >= t.p.cross_near_px and \
                 t.see_object(now, inp, "double_cross", dc):
             # near, the cylinder may be below the level look while the board is big in view:
-            # its estimate from the crosses ends the approach (random 002 seed 1031 ran into it)
+            # its estimate from the crosses ends the approach (docs/cosim.md "Measured", T5)
             x, y = t.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
             if dist <= t.p.grasp_r_mm + 150:
@@ -143,7 +143,7 @@ class Method002(Method):
         """The bearing to steer on blind should the next frames miss the marker, and how far:
         at most ``blind_approach_mm``, and ``blind_keep_mm`` short of the board's distance by
         the crosses' spacing. Near, a lost marker has left the view (the base turned, or it is
-        below the look): driving on blind went past the object (random 002 seed 1031)."""
+        below the look): driving on blind went past the object (docs/cosim.md "Measured", T6)."""
         t.blind = None
         if d_px is None or d_px <= 0:
             return
@@ -159,8 +159,8 @@ class Method002(Method):
 
         Ours, not 002's (its fuzzy loop assumes the marker always in view): beyond ~2.5 m the
         crosses are ~10 px wide and the detector misses them in most frames, although the
-        search (which holds still and confirms) did see them; standing still there, as before,
-        ended in LOST -> SEARCH -> LOST until the object was given up (random 002 runs)."""
+        search (which holds still and confirms) did see them; standing still there ends in
+        LOST -> SEARCH -> LOST until the object is given up (docs/cosim.md "Measured", T7)."""
         if t.blind is None:
             return False
         goal, x0, y0, reach = t.blind

@@ -89,22 +89,22 @@ def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
 
 
 def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
-    from mobigrasp.host.task.method001 import detour_heading, detour_step
+    from mobigrasp.host.task.method001 import RULES, detour_heading
 
     p = TaskParams.for_method("001")
     d = detour_heading(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
     assert d == {"heading_mrad": -900, "drive": True, "from": None, "checked": True}
     task = SimpleNamespace(p=p, wheels=None, detour=d)
     side = (65535, 65535, 65535, 220, 240)  # the obstacle beside it, front-left and left
-    assert not detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
+    assert not RULES.detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
     assert task.wheels == (p.wander_mmps, p.wander_mmps)
     # the unchecked detour stops for the same diagonal echo at once
     task.detour = {"heading_mrad": -900, "drive": True, "from": None}
-    assert detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
+    assert RULES.detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
     # something straight ahead stops a checked one too
     task.detour = dict(d)
-    assert detour_step(task, TaskInputs(heading_mrad=-900,
-                                        sonar_mm=(65535, 65535, 300, 65535, 65535)))
+    assert RULES.detour_step(task, TaskInputs(heading_mrad=-900,
+                                              sonar_mm=(65535, 65535, 300, 65535, 65535)))
     assert task.wheels == (0, 0)
 
 

@@ -267,20 +267,21 @@ def test_detour_turns_then_drives_its_length_then_ends():
     from types import SimpleNamespace
 
     from mobigrasp.host.task import TaskParams
-    from mobigrasp.host.task.method001 import detour_step
+    from mobigrasp.host.task.method001 import RULES
 
     p = TaskParams.for_method("001")
     task = SimpleNamespace(p=p, wheels=None,
                            detour={"heading_mrad": -786, "drive": True, "from": None})
     free = (65535,) * 5
-    assert not detour_step(task, TaskInputs(heading_mrad=0, sonar_mm=free))
+    assert not RULES.detour_step(task, TaskInputs(heading_mrad=0, sonar_mm=free))
     assert task.wheels == (p.turn_wheel_mmps, -p.turn_wheel_mmps)  # clockwise, to the right
-    assert not detour_step(task, TaskInputs(heading_mrad=-760, sonar_mm=free))
+    assert not RULES.detour_step(task, TaskInputs(heading_mrad=-760, sonar_mm=free))
     assert task.wheels == (p.wander_mmps, p.wander_mmps)
-    assert not detour_step(task, TaskInputs(x_mm=200, y_mm=-200, heading_mrad=-760,
-                                            sonar_mm=free))
-    assert detour_step(task, TaskInputs(x_mm=360, y_mm=-360, heading_mrad=-760, sonar_mm=free))
+    assert not RULES.detour_step(task, TaskInputs(x_mm=200, y_mm=-200, heading_mrad=-760,
+                                                  sonar_mm=free))
+    assert RULES.detour_step(task, TaskInputs(x_mm=360, y_mm=-360, heading_mrad=-760,
+                                              sonar_mm=free))
     assert task.wheels == (0, 0)
     # a front sonar seeing something close ends it early
     task.detour = {"heading_mrad": 0, "drive": True, "from": None}
-    assert detour_step(task, TaskInputs(sonar_mm=(65535, 65535, 300, 65535, 65535)))
+    assert RULES.detour_step(task, TaskInputs(sonar_mm=(65535, 65535, 300, 65535, 65535)))

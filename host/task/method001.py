@@ -152,36 +152,6 @@ def _blocked_ahead(sonar_mm: tuple) -> bool:
     return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
 
 
-def detour_step(task: Any, inp: Any) -> bool:
-    """One step of the detour; True when it is over (the caller plans again).
-
-    A detour whose heading was chosen clear of 001's infeasible regions (``d["checked"]``,
-    host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
-    an echo straight ahead (something new in the way); the fixed diagonal threshold of
-    :func:`_blocked_ahead` would stop it as soon as it starts."""
-    d = task.detour
-    err = wrap_mrad(d["heading_mrad"] - inp.heading_mrad)
-    if d["from"] is None and abs(err) > TURN_TOL_MRAD:
-        v = task.p.turn_wheel_mmps
-        task.wheels = (v, -v) if err < 0 else (-v, v)  # counter-clockwise for err > 0
-        return False
-    if not d["drive"]:
-        task.wheels = (0, 0)
-        return True
-    if d["from"] is None:
-        d["from"] = (inp.x_mm, inp.y_mm)
-    dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
-    n = len(inp.sonar_mm)
-    if d.get("checked") and n:
-        blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
-    else:
-        blocked = _blocked_ahead(inp.sonar_mm)
-    if dx * dx + dy * dy >= task.p.detour_mm * task.p.detour_mm or blocked:
-        task.wheels = (0, 0)
-        return True
-    task.wheels = (task.p.wander_mmps, task.p.wander_mmps)
-    return False
-
 
 class Method001(Method000):
     """001: 000's hooks with the sonar planning of 001 (host/task/method.py)."""
@@ -253,7 +223,7 @@ class Method001(Method000):
             t.wheels = (0, 0)
             return True
         if t.detour is not None:
-            if not detour_step(t, inp):
+            if not self.detour_step(t, inp):
                 return True
             t.detour, t.plan_us = None, now  # done: stop, then plan afresh from here
         if t.follower is None and t.replanner is not None and (
@@ -320,6 +290,37 @@ class Method001(Method000):
                                         inp.sonar_mm, t.obj, dist - t.p.grasp_r_mm)
         t.charge(ops)
         return clear
+
+
+    def detour_step(self, t: Any, inp: Any) -> bool:
+        """One step of the detour; True when it is over (the caller plans again).
+
+        A detour whose heading was chosen clear of 001's infeasible regions (``d["checked"]``,
+        host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
+        an echo straight ahead (something new in the way); the fixed diagonal threshold of
+        :func:`_blocked_ahead` would stop it as soon as it starts."""
+        d = t.detour
+        err = wrap_mrad(d["heading_mrad"] - inp.heading_mrad)
+        if d["from"] is None and abs(err) > TURN_TOL_MRAD:
+            v = t.p.turn_wheel_mmps
+            t.wheels = (v, -v) if err < 0 else (-v, v)  # counter-clockwise for err > 0
+            return False
+        if not d["drive"]:
+            t.wheels = (0, 0)
+            return True
+        if d["from"] is None:
+            d["from"] = (inp.x_mm, inp.y_mm)
+        dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
+        n = len(inp.sonar_mm)
+        if d.get("checked") and n:
+            blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
+        else:
+            blocked = _blocked_ahead(inp.sonar_mm)
+        if dx * dx + dy * dy >= t.p.detour_mm * t.p.detour_mm or blocked:
+            t.wheels = (0, 0)
+            return True
+        t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
+        return False
 
 
 RULES = Method001()

@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field, fields, replace
 
+from mobigrasp.host.task.method import method_rules
+
 DEFAULT_TIMEOUTS_US = {
     "SEARCH": 180_000_000, "APPROACH": 120_000_000, "ADJUST": 60_000_000,
     "ROUGH_GRASP": 8_000_000, "PRECISE_GRASP": 30_000_000, "LIFT": 8_000_000,
@@ -81,8 +83,6 @@ class TaskParams:
     def for_method(cls, method: str, overrides: dict | None = None) -> TaskParams:
         """Defaults for a method (its module's ``param_defaults``), then ``overrides`` (unknown
         key -> ValueError naming it)."""
-        from mobigrasp.host.task.method import method_rules
-
         base = replace(cls(), **method_rules(method).param_defaults)
         overrides = dict(overrides or {})
         known = {f.name: f for f in fields(cls)}

@@ -28,7 +28,8 @@ SRAM_LAYOUT: dict[str, int] = {
     "parser.frame_buf": MAX_WIRE_BYTES - 1,  # bytes up to the delimiter
     "parser.len_state": 2,
     "parser.decoded": MAX_RAW_BYTES,
-    "parser.counters": 7 * 2,
+    "parser.chain_bits": (MAX_WIRE_BYTES + 7) // 8,  # tail search of a rejected run
+    "parser.counters": 8 * 2,
     "tx_frame_buf": MAX_WIRE_BYTES,
     "tx_seq": 1,
     "dup.seqs": DUP_WINDOW,

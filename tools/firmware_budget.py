@@ -192,7 +192,8 @@ def main(argv: list[str] | None = None) -> int:
         print(f"firmware_budget: {exc}", file=sys.stderr)
         return 2
     print(f"flash  {b.flash_bytes:6d} of {FLASH_BYTES} bytes")
-    print(f"static {b.data_bytes + b.bss_bytes:6d} bytes (.data {b.data_bytes}, .bss {b.bss_bytes})")
+    static = b.data_bytes + b.bss_bytes
+    print(f"static {static:6d} bytes (.data {b.data_bytes}, .bss {b.bss_bytes})")
     print(f"stack  {b.stack_bytes:6d} bytes (main {b.main_stack_bytes} + {b.deepest_isr} "
           f"{b.isr_stack_bytes})")
     print(f"SRAM   {b.sram_bytes:6d} of {SRAM_BYTES} bytes")

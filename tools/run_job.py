@@ -65,6 +65,7 @@ class RunOptions:
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
     host_lag_quanta: int = 1
     plots: bool = True
+    mcap: bool = True  # trace.mcap for Foxglove (tools/mcap_out.py)
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
@@ -226,6 +227,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         from mobigrasp.mcu_sim.rig import Rig, RigConfig
         from mobigrasp.mcu_sim.rig_plant import WorldPlant
         from mobigrasp.tools.heap_tuning import keep_freed_memory
+        from mobigrasp.tools.mcap_out import CameraLog
         from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
         (out / "plots").mkdir(exist_ok=True)
@@ -237,6 +239,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         write_summary(out / "summary.json", summary)
         trace = TraceWriter(out / "trace.jsonl")
         snaps = Snapshots(out / "frames")
+        camera = CameraLog() if opts.mcap else None  # the frames of trace.mcap
         plant = WorldPlant(scenario, seed)
         plant.preload()  # textures built while the host process boots, not on the run's clock
         mcu = open_mcu(opts.mcu)
@@ -272,7 +275,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         rig = Rig(rig_mcu, rig_plant, port,
                   RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                             host_lag_quanta=opts.host_lag_quanta),
-                  on_frame=snaps.on_frame)
+                  on_frame=snaps.on_frame if camera is None else _both(snaps.on_frame,
+                                                                       camera.on_frame))
         progress = None
         if callable(opts.progress):  # a display of the caller's (tools.progress.RunProgress)
             def progress(r, wall):
@@ -330,6 +334,15 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         proto["watchdog_trips"] = max(proto["watchdog_trips"],
                                       summary["mcu"].get("watchdog_trips", 0))
         write_summary(out / "summary.json", summary)
+    if opts.mcap:
+        try:
+            from mobigrasp.tools.mcap_out import write_mcap
+            from mobigrasp.tools.run_folder import read_trace
+
+            write_mcap(out / "trace.mcap", read_trace(out / "trace.jsonl"), camera.frames,
+                       summary)
+        except Exception as exc:  # like the report: it must not hide the run's result
+            log.error("trace.mcap of %s: %s: %s", out, type(exc).__name__, exc)
     if opts.plots:
         try:
             from mobigrasp.tools.report import write_report
@@ -337,6 +350,14 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         except Exception as exc:  # a plotting failure must not hide the run's result
             log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+
+
+def _both(first, second):
+    """One rig callback calling two."""
+    def call(*args):
+        first(*args)
+        second(*args)
+    return call
 
 
 def _figures(res, plant, trace, snaps, limit_s: float) -> dict:

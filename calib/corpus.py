@@ -98,14 +98,14 @@ def _prepare(out: Path) -> None:
 def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
            progress=None) -> dict:
     """Run each scenario in process and write the corpus to ``out``; returns the index."""
-    from mobigrasp.host.app_factory import DETECTOR_MODULES
+    from mobigrasp.host.vision.registry import DETECTORS
     from mobigrasp.tools.run_job import RunOptions, execute, host_config, resolve_scenario
 
     out = Path(out)
     _prepare(out)
     index: dict = {"format": FORMAT, "scenarios": [], "frames": []}
     for name in scenarios:
-        rec = _Recorder(set(DETECTOR_MODULES))
+        rec = _Recorder(set(DETECTORS))
         cam = host_config(resolve_scenario(name)[1])["camera"]
         # the camera parameters the detectors were built with (host/app_factory.py rounds them)
         camera = {k: int(round(cam[k])) for k in ("f_px", "u0_px", "v0_px")}

@@ -31,9 +31,9 @@ from mobigrasp.host.task_sense import (
     CROSS_SPACING_MM_Q4,
     bearing_mrad,
     d_pixel_px,
-    field,
 )
 from mobigrasp.host.task_wander import detour_step, seen_there_before, start_detour, wander_step
+from mobigrasp.host.vision import registry
 
 HOME_ARM = (0, 0, -1571, -1571, 1571, 0)  # gripper open, roll 0, camera looking down
 SIGHTING_MAX_TURN_MRAD_S = 500  # 001 APPROACH: sightings taken while turning faster are not used
@@ -374,12 +374,12 @@ class TaskStates(GraspStates):
             if self.arm_hist else self.arm[5]  # the waist when the frame was taken
         try:
             e = bearing_mrad(dc, yaw, self.cam) if dc is not None else None
-            if e is None and rc is not None and field(rc, "u_c_q4") is not None:
+            if e is None and rc is not None:
                 # the double cross out of reach but the cylinder in view (far, a few px wide):
                 # steer on the cylinder's column, or the robot would stand still while the
                 # cylinder's sightings keep LOST away
-                e = yaw + atan2_mrad(field(rc, "u_c_q4") - self.cam.u0_px * 16,
-                                     self.cam.f_px * 16)
+                u_c = registry.check("red_cylinder", rc).u_c_q4
+                e = yaw + atan2_mrad(u_c - self.cam.u0_px * 16, self.cam.f_px * 16)
         except (ValueError, TypeError):
             self.counters["bad_detections"] += 1
             e = None
@@ -453,7 +453,8 @@ class TaskStates(GraspStates):
         """Keep the marker in view: the waist faces it (theta5 = e) and d_alpha, the pitch of
         its pixel row off the optical centre, is shared by eq. (10) of 000 (host.posture)."""
         th5 = max(-800, min(800, e))
-        vm = field(det, "vm_q4", "v_q4")
+        # no double cross (steered on the red cylinder): the pitch is kept
+        vm = det.vm_q4 if isinstance(det, registry.row("double_cross").result_type()) else None
         d2 = d3 = d4 = 0
         if vm is not None:
             d_alpha = -atan2_mrad(vm - self.cam.v0_px * 16, self.cam.f_px * 16)

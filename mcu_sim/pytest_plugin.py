@@ -3,14 +3,18 @@
 Fixtures:
 
 - ``emulated_mcu``: an :class:`EmulatedMcu` with the default configuration, on a new pty.
-- ``emulated_mcu_factory``: ``make(config=McuConfig(...))`` for other UART divisors or PARAMs.
+- ``emulated_mcu_factory``: ``make(config=McuConfig(...), wheels="bench"|"still")`` for other
+  UART divisors, PARAMs or wheel plants.
 
 The test owns the simulated clock: nothing moves until it calls ``advance_ms`` / ``advance_us``.
-A host program under test opens ``emulated_mcu.port`` like a serial device; since a pty hands
-bytes over asynchronously, call ``wait_from_host(n)`` (n = bytes the host wrote so far) before
-advancing time when the exact arrival time matters. For quick tests the fixture also has its own
+A host program under test opens ``emulated_mcu.port`` like a serial device; call
+``wait_from_host()`` after it wrote and before advancing time when the exact arrival time
+matters: it puts everything written so far on the MCU's RX line (no byte counting). Without a
+world the encoders follow ``wheels``: ``bench`` (default), two unloaded motors with their lag,
+so a SetWheels turns them; ``still``, always 0. For quick tests the fixture also has its own
 host end: ``send(msg)`` writes a message on the slave and waits until the MCU side has it,
-``receive(n)`` returns what the host side read back.
+``receive(n)`` returns what the host side read back. ``nacks()`` lists the NACKs the MCU sent
+with their reasons by name; ``describe(msg)`` prints any message that way.
 
 This module must stay cheap to import and must never break a pytest run: everything heavy is
 imported inside the fixtures.
@@ -26,10 +30,10 @@ _PTY_CHUNK = 1024  # well below any pty buffer, so a host-side write never block
 class EmulatedMcu:
     """A :class:`mcu_sim.mcu_pty.PtyMcu` plus a host-side Link on its slave for convenience."""
 
-    def __init__(self, config=None) -> None:
+    def __init__(self, config=None, wheels: str = "bench") -> None:
         from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
-        self._pty = PtyMcu(config)
+        self._pty = PtyMcu(config, wheels=wheels)
         self.mcu = self._pty.mcu
         self.port: str = self._pty.port
         self._link = None
@@ -48,14 +52,18 @@ class EmulatedMcu:
         """Pump pty bytes into the UART and run ``n`` ms of simulated time."""
         self._pty.advance_us(int(n) * 1000)
 
-    def wait_from_host(self, n_bytes: int, timeout_s: float = 10.0) -> bool:
-        """Wait (wall clock, simulated time frozen) until the MCU side has read ``n_bytes``."""
+    def wait_from_host(self, n_bytes: int | None = None, timeout_s: float = 10.0) -> bool:
+        """Put every byte a host has written to the port so far on the MCU's RX line, at the
+        current simulated time (which does not move); False if the host closed the port.
+        With ``n_bytes``: wait (wall clock, up to ``timeout_s``) until the MCU side has read
+        that many bytes in all."""
         return self._pty.wait_from_host(n_bytes, timeout_s)
 
     # -- outputs -------------------------------------------------------------------------------
-    def servo_pulses_us(self) -> tuple[float, ...]:
-        """Latest measured pulse width of each of the six channels, in µs."""
-        return tuple(self.mcu.servo_pulse_us(ch) for ch in range(6))
+    def servo_pulses_us(self) -> tuple[int, ...]:
+        """Latest measured pulse width of each of the six channels, in whole µs (the timer
+        measures them in 0.5 µs steps: rounded half to even); 0 before the first pulse."""
+        return tuple(round(self.mcu.servo_pulse_us(ch)) for ch in range(6))
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed wheel duties (left, right), -255..255."""
@@ -68,6 +76,18 @@ class EmulatedMcu:
     def sent(self) -> list[tuple[int, object]]:
         """Every message the MCU has sent: ``(t_us, message)``."""
         return list(self._pty.sent)
+
+    def nacks(self) -> list[tuple[int, str]]:
+        """``(acked_seq, reason)`` of every NACK the MCU sent, the reason by name
+        (``"NOT_READY"``), oldest first."""
+        return self._pty.nacks()
+
+    @staticmethod
+    def describe(msg) -> str:
+        """One line for a message, NACK reasons and telemetry flags by name."""
+        from mobigrasp.mcu_sim.wire_names import describe
+
+        return describe(msg)
 
     @property
     def stats(self) -> dict[str, int]:
@@ -128,11 +148,12 @@ class EmulatedMcu:
 
 @pytest.fixture
 def emulated_mcu_factory():
-    """``make(config=None) -> EmulatedMcu``; everything made is closed after the test."""
+    """``make(config=None, wheels="bench") -> EmulatedMcu``; everything made is closed after
+    the test."""
     made: list[EmulatedMcu] = []
 
-    def make(config=None) -> EmulatedMcu:
-        emu = EmulatedMcu(config)
+    def make(config=None, wheels: str = "bench") -> EmulatedMcu:
+        emu = EmulatedMcu(config, wheels)
         made.append(emu)
         return emu
 

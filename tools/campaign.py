@@ -17,16 +17,15 @@ import json
 import os
 import random
 import statistics
-import sys
-import time
 from collections.abc import Callable
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any
 
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
-from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
+from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
+from mobigrasp.tools.progress import Progress
 
 METHODS = ("000", "001", "002")
 
@@ -53,8 +52,12 @@ class CampaignConfig:
             raise ValueError(f"--seed must be an integer >= 0, got {self.seed!r}")
         if self.jobs is not None and (not isinstance(self.jobs, int) or self.jobs < 1):
             raise ValueError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
-        if self.time_limit_s is not None and not self.time_limit_s > 0:
-            raise ValueError(f"--time-limit-s must be > 0, got {self.time_limit_s!r}")
+        if self.seed + self.runs - 1 > MAX_SEED:
+            raise ValueError(f"--seed + --runs - 1 must be <= {MAX_SEED}, got "
+                             f"{self.seed + self.runs - 1}")
+        if self.time_limit_s is not None and not 0 < self.time_limit_s <= MAX_TIME_LIMIT_S:
+            raise ValueError(f"--time-limit-s must be in (0, {MAX_TIME_LIMIT_S:g}] s, got "
+                             f"{self.time_limit_s!r}")
 
 
 def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
@@ -199,28 +202,19 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
     return out
 
 
-def _bar(done: int, total: int, ok: int, started: float, stream: TextIO) -> None:
-    width = 30
-    fill = width * done // total if total else width
-    elapsed = time.monotonic() - started  # progress display only, never in results
-    eta = elapsed / done * (total - done) if done else 0.0
-    stream.write(f"\r  [{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs, "
-                 f"{ok} ok, {done - ok} not, eta {eta:5.0f} s ")
-    stream.flush()
-
-
 def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
-                 progress: TextIO | None = sys.stderr) -> dict:
-    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}."""
+                 progress: Progress | None = None) -> dict:
+    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}.
+    ``progress`` (tools.progress) is told the runs done and how many succeeded."""
     jobs = jobs_of(cfg)
     workers = min(cfg.jobs or os.cpu_count() or 1, len(jobs))
     rows: list[dict] = []
-    started = time.monotonic()
 
     def done(job: dict, summary: dict | None, error: str | None) -> None:
         rows.append(row_of(job, summary, error))
         if progress is not None:
-            _bar(len(rows), len(jobs), sum(r["success"] for r in rows), started, progress)
+            ok = sum(r["success"] for r in rows)
+            progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not")
 
     if workers <= 1:
         for job in jobs:
@@ -237,7 +231,7 @@ def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
                 except Exception as exc:
                     done(futures[fut], None, f"{type(exc).__name__}: {exc}")
     if progress is not None:
-        progress.write("\n")
+        progress.close()
     rows.sort(key=lambda r: r["seed"])
     return {"summary": aggregate(rows, cfg), "rows": rows}
 
@@ -276,40 +270,12 @@ def format_table(agg: dict) -> str:
 
 
 def write_outputs(result: dict, out: Path) -> tuple[Path, Path]:
-    """campaign.json and campaign.png in ``out``."""
+    """campaign.json and campaign.png (tools.plots.campaign) in ``out``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     js = out / "campaign.json"
     js.write_text(json.dumps(result, indent=2, sort_keys=True))
-    png = out / "campaign.png"
-    import matplotlib
+    from mobigrasp.tools.plots import campaign as campaign_plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    agg, rows = result["summary"], result["rows"]
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-    ok = agg["successes"]
-    crashed = agg["crashed_runs"]
-    axes[0].bar(["success", "failed", "crashed"], [ok, agg["runs"] - ok - crashed, crashed],
-                color=["tab:green", "tab:orange", "tab:red"])
-    axes[0].set_title(f"outcome ({agg['success_rate'] * 100:.0f} % success)")
-    seeds = [r["seed"] for r in rows]
-    axes[1].bar(seeds, [r["unsafe_actuations"] for r in rows], color="tab:red", label="unsafe")
-    axes[1].plot(seeds, [r["watchdog_trips"] for r in rows], "k.", label="watchdog trips")
-    axes[1].set_ylim(bottom=0, top=max([1] + [r["unsafe_actuations"] for r in rows]
-                                       + [r["watchdog_trips"] for r in rows]) * 1.2)
-    axes[1].set_xlabel("seed")
-    axes[1].set_title("unsafe actuations, watchdog trips")
-    axes[1].legend(fontsize=8)
-    stops = [v for r in rows for v in r["stop_latency_ms"]]
-    recov = [v for r in rows for v in r["recovery_ms"]]
-    if stops or recov:
-        axes[2].hist([stops, recov], bins=20, label=["wheel stop latency", "recovery"])
-        axes[2].legend(fontsize=8)
-    axes[2].set_xlabel("ms (simulated)")
-    axes[2].set_title("stop latency / recovery time")
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
+    png = out / campaign_plot(result, out)
     return js, png

@@ -14,6 +14,27 @@ import sys
 from importlib.metadata import PackageNotFoundError, version
 
 import mobigrasp.tools.commands
+from mobigrasp.tools.progress import add_common_options, setup_logging
+
+DESCRIPTION = "Embedded mobile manipulator of papers 000-002: host, emulated MCU, world."
+
+
+class _Commands:
+    """The subparsers action as the command modules see it: every parser it adds gets the
+    one-line help as its description and the common ``-v/--verbose``, ``-q/--quiet`` options
+    (a command that defines its own ``--quiet`` replaces that option string)."""
+
+    def __init__(self, sub: argparse._SubParsersAction) -> None:
+        self.sub = sub
+
+    def add_parser(self, name: str, **kw) -> argparse.ArgumentParser:
+        """``add_parser`` of argparse, plus the description and the common options."""
+        if kw.get("help") and "description" not in kw:
+            kw["description"] = kw["help"]
+        kw.setdefault("conflict_handler", "resolve")
+        parser = self.sub.add_parser(name, **kw)
+        add_common_options(parser)
+        return parser
 
 
 def _version() -> str:
@@ -25,10 +46,7 @@ def _version() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the full argument parser, one subparser per module under ``tools/commands``."""
-    parser = argparse.ArgumentParser(
-        prog="mobigrasp",
-        description="Embedded mobile manipulator of papers 000-002: host, emulated MCU, world.",
-    )
+    parser = argparse.ArgumentParser(prog="mobigrasp", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"mobigrasp {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands = pkgutil.iter_modules(mobigrasp.tools.commands.__path__)
@@ -36,7 +54,7 @@ def build_parser() -> argparse.ArgumentParser:
         if info.name.startswith("_"):
             continue
         module = importlib.import_module(f"mobigrasp.tools.commands.{info.name}")
-        module.register(sub)
+        module.register(_Commands(sub))
     return parser
 
 
@@ -50,12 +68,9 @@ def _command_parser(argv: list[str]) -> argparse.ArgumentParser | None:
     if name.startswith("_") or name not in {m.name for m in
                                              pkgutil.iter_modules(mobigrasp.tools.commands.__path__)}:
         return None
-    parser = argparse.ArgumentParser(
-        prog="mobigrasp",
-        description="Embedded mobile manipulator of papers 000-002: host, emulated MCU, world.",
-    )
+    parser = argparse.ArgumentParser(prog="mobigrasp", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    importlib.import_module(f"mobigrasp.tools.commands.{name}").register(sub)
+    importlib.import_module(f"mobigrasp.tools.commands.{name}").register(_Commands(sub))
     return parser if argv[0] in sub.choices else None
 
 
@@ -67,6 +82,7 @@ def main(argv: list[str] | None = None) -> int:
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    setup_logging(getattr(args, "verbose", 0), getattr(args, "quiet", False))
     try:
         return int(args.func(args) or 0)
     except KeyboardInterrupt:

@@ -8,8 +8,8 @@ crashed, 2 bad input). The summary is always written, also when the run crashes 
 from __future__ import annotations
 
 import json
+import logging
 import math
-import shutil
 import sys
 import tempfile
 from dataclasses import dataclass
@@ -18,6 +18,7 @@ from typing import Any
 
 SCENARIO_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+log = logging.getLogger(__name__)
 
 
 class BadInput(ValueError):
@@ -54,14 +55,17 @@ class RunOptions:
     scenario: str
     seed: int | None = None
     transport: str = "pty"
+    mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
-    progress: bool = True
+    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
+    progress: Any = True
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
     host_lag_quanta: int = 1
     plots: bool = True
+    mcap: bool = True  # trace.mcap for Foxglove (tools/mcap_out.py)
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
@@ -82,6 +86,57 @@ def parse_speed(text: str) -> float | None:
     if not math.isfinite(v) or v <= 0:
         raise BadInput(f"--speed must be a positive number or 'max', got {text!r}")
     return v
+
+
+def check_seed(seed: int | None) -> int | None:
+    """``--seed``: None (the scenario's) or an integer in [0, 2^64 - 1]; BadInput otherwise."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_SEED
+
+    if seed is not None and not 0 <= seed <= MAX_SEED:
+        raise BadInput(f"--seed must be an integer in [0, {MAX_SEED}], got {seed}")
+    return seed
+
+
+def check_time_limit(limit_s: float | None) -> float | None:
+    """``--time-limit-s``: None (the scenario's) or a number of simulated seconds in
+    (0, MAX_TIME_LIMIT_S] (docs/conventions.md); BadInput otherwise (also for inf and NaN)."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_TIME_LIMIT_S
+
+    if limit_s is not None and not 0 < limit_s <= MAX_TIME_LIMIT_S:
+        raise BadInput(f"--time-limit-s must be a number of seconds in (0, "
+                       f"{MAX_TIME_LIMIT_S:g}], got {limit_s}")
+    return limit_s
+
+
+def _check_options(opts: RunOptions) -> None:
+    if opts.transport not in ("pty", "inproc"):
+        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
+    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
+        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
+    if opts.mcu not in MCU_BACKENDS:
+        raise BadInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, got {opts.mcu!r}")
+    check_seed(opts.seed)
+    check_time_limit(opts.time_limit_s)
+
+
+def check_run(opts: RunOptions) -> str:
+    """What a run checks before it starts, without starting it or writing anything: the
+    options, the scenario, the fault plan, and the world and host program built from them (the
+    constructors a run calls). BadInput for bad input; returns a one-line description."""
+    from mobigrasp.host.app_factory import build_host_app
+    from mobigrasp.mcu_sim.rig_plant import WorldPlant
+
+    _check_options(opts)
+    path, scenario = resolve_scenario(opts.scenario)
+    plan = _fault_plan(scenario, opts.faults)
+    seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    WorldPlant(scenario, seed)
+    build_host_app(host_config(scenario))
+    n = len(plan.as_table()) if plan is not None else 0
+    return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
+            f"time limit {opts.time_limit_s or scenario.meta.time_limit_s:g} s, "
+            f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
 
 
 def _fault_plan(scenario, overrides):
@@ -135,10 +190,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         write_host_config,
     )
 
-    if opts.transport not in ("pty", "inproc"):
-        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
-    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
-        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    _check_options(opts)
     if opts.scenario_obj is not None:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:
@@ -146,12 +198,12 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
-    if out.exists():
-        if any(out.iterdir()) and not (out / "summary.json").exists():
-            raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
-                           f"refusing to overwrite it")
-        shutil.rmtree(out)
+    from mobigrasp.tools.run_folder import RunFolderError, prepare_run_folder
+
+    try:  # under runs/ by a sanitised name; deletes only what an earlier run wrote there
+        out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    except RunFolderError as exc:
+        raise BadInput(str(exc)) from exc
     cfg = host_config(scenario)
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     early = port = None
@@ -171,24 +223,26 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     try:
         from mobigrasp.host.app_factory import build_host_app
         from mobigrasp.host.lockstep_client import LockstepClient
-        from mobigrasp.mcu_sim.mcu import Mcu
+        from mobigrasp.mcu_sim.backend import open_mcu
         from mobigrasp.mcu_sim.rig import Rig, RigConfig
         from mobigrasp.mcu_sim.rig_plant import WorldPlant
         from mobigrasp.tools.heap_tuning import keep_freed_memory
+        from mobigrasp.tools.mcap_out import CameraLog
         from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
-        (out / "plots").mkdir(parents=True)
+        (out / "plots").mkdir(exist_ok=True)
         summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
-            "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
-            "grasped": False,
+            "seed": seed, "transport": opts.transport, "mcu_backend": opts.mcu,
+            "status": "starting", "success": False, "grasped": False,
         }
         write_summary(out / "summary.json", summary)
         trace = TraceWriter(out / "trace.jsonl")
         snaps = Snapshots(out / "frames")
+        camera = CameraLog() if opts.mcap else None  # the frames of trace.mcap
         plant = WorldPlant(scenario, seed)
         plant.preload()  # textures built while the host process boots, not on the run's clock
-        mcu = Mcu()
+        mcu = open_mcu(opts.mcu)
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()
@@ -221,9 +275,13 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         rig = Rig(rig_mcu, rig_plant, port,
                   RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                             host_lag_quanta=opts.host_lag_quanta),
-                  on_frame=snaps.on_frame)
+                  on_frame=snaps.on_frame if camera is None else _both(snaps.on_frame,
+                                                                       camera.on_frame))
         progress = None
-        if opts.progress:
+        if callable(opts.progress):  # a display of the caller's (tools.progress.RunProgress)
+            def progress(r, wall):
+                opts.progress(rig.now_us, r.host_state, wall)
+        elif opts.progress:
             def progress(r, wall):
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
@@ -240,9 +298,9 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     except Exception as exc:
         summary["status"] = "crashed"
         summary["error"] = f"{type(exc).__name__}: {exc}"
-        print(f"\nrun crashed: {summary['error']}", file=sys.stderr)
+        log.error("run crashed: %s", summary["error"])
     finally:
-        if opts.progress:
+        if opts.progress is True:
             print("", file=sys.stderr)
         if host is not None:
             host.close()
@@ -276,13 +334,30 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         proto["watchdog_trips"] = max(proto["watchdog_trips"],
                                       summary["mcu"].get("watchdog_trips", 0))
         write_summary(out / "summary.json", summary)
+    if opts.mcap:
+        try:
+            from mobigrasp.tools.mcap_out import write_mcap
+            from mobigrasp.tools.run_folder import read_trace
+
+            write_mcap(out / "trace.mcap", read_trace(out / "trace.jsonl"), camera.frames,
+                       summary)
+        except Exception as exc:  # like the report: it must not hide the run's result
+            log.error("trace.mcap of %s: %s: %s", out, type(exc).__name__, exc)
     if opts.plots:
         try:
             from mobigrasp.tools.report import write_report
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+            log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+
+
+def _both(first, second):
+    """One rig callback calling two."""
+    def call(*args):
+        first(*args)
+        second(*args)
+    return call
 
 
 def _figures(res, plant, trace, snaps, limit_s: float) -> dict:

@@ -315,3 +315,9 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
             if res is not None:
                 return res, ops
     return None, ops
+
+
+def sighting(res: RadialSymbol, f_px: int) -> tuple[int, int, int] | None:
+    """The symbol's centre (Q4 px) and its depth along the optical axis (Q4 mm): the task's
+    target (host/task/sense.py); Y_oc is the depth ``L f / (d_p + d_rp)`` computed above."""
+    return res.u_q4, res.v_q4, res.y_oc_mm * 16

@@ -17,8 +17,10 @@ HELP = "emulated MCU speed: simulated s per wall s with 50 Hz telemetry and 50 H
 def add_arguments(parser) -> None:
     """Bench options."""
     parser.add_argument("--seconds", type=int, default=20, help="simulated seconds (default 20)")
-    parser.add_argument("--telemetry-hz", type=int, default=50)
-    parser.add_argument("--command-hz", type=int, default=50)
+    parser.add_argument("--telemetry-hz", type=int, default=50,
+                        help="telemetry rate of the MCU in Hz (default 50)")
+    parser.add_argument("--command-hz", type=int, default=50,
+                        help="rate of host commands in Hz (default 50)")
 
 
 def run(args) -> dict:

@@ -16,6 +16,7 @@ from pathlib import Path
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
     from mobigrasp.tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
+    from mobigrasp.tools.progress import Progress
 
     try:
         plan = parse_fault_overrides(args.fault or [])
@@ -25,7 +26,8 @@ def _run(args: argparse.Namespace) -> int:
     except (FaultError, ValueError) as exc:
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
-    result = run_campaign(cfg, progress=None if args.quiet else sys.stderr)
+    display = Progress(total=cfg.runs, desc="campaign", unit="runs", enabled=not args.quiet)
+    result = run_campaign(cfg, progress=display)
     print(format_table(result["summary"]))
     js, png = write_outputs(result, cfg.out)
     print(f"wrote {js} and {png}")
@@ -35,7 +37,8 @@ def _run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``campaign`` subcommand."""
     p = sub.add_parser("campaign", help="N seeded random scenarios under injected faults")
-    p.add_argument("--method", required=True, help="000, 001 or 002")
+    p.add_argument("--method", required=True, choices=("000", "001", "002"),
+                   help="the paper whose method runs: 000, 001 or 002")
     p.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="a fault (docs/faults.md), repeatable; dotted keys for tables, e.g. "
@@ -48,5 +51,4 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="simulated seconds per run (default: the scenario's limit)")
     p.add_argument("--random-times", action="store_true",
                    help="each run draws every fault time uniformly in [0, the given time]")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=_run)

@@ -22,7 +22,13 @@ METHODS = ("000", "001", "002")
 def _config(args: argparse.Namespace) -> dict:
     cfg: dict = {}
     if args.config:
-        cfg = json.loads(Path(args.config).read_text())
+        try:
+            cfg = json.loads(Path(args.config).read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:  # missing, a folder, not UTF-8, not JSON
+            raise ValueError(f"--config {args.config}: {exc}") from exc
+        if not isinstance(cfg, dict):
+            raise ValueError(f"--config {args.config}: expected a JSON object, got "
+                             f"{type(cfg).__name__}")
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
@@ -31,7 +37,7 @@ def _config(args: argparse.Namespace) -> dict:
     return cfg
 
 
-def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
+def _lockstep(args: argparse.Namespace, cfg: dict, port) -> int:
     import cv2
 
     from mobigrasp.host.app_factory import build_host_app
@@ -39,15 +45,20 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     from mobigrasp.link import lockstep as ls
     from mobigrasp.link.base import LinkClosed
     from mobigrasp.link.frame_ring import FrameRingReader
-    from mobigrasp.link.registry import open_transport
 
     # one OpenCV thread: the machine's other core runs the rig, whose time this process waits
     # for; a pool would take it mid-frame (results are the same on any number of threads)
     cv2.setNumThreads(1)
-    port = open_transport(args.port)
     sock = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
     sock.settimeout(120.0)  # safety limit only; the rig answers at once
-    sock.connect(args.lockstep)
+    try:
+        sock.connect(args.lockstep)
+    except OSError as exc:
+        sock.close()
+        port.close()
+        print(f"mobigrasp host: cannot connect to --lockstep {args.lockstep}: {exc}",
+              file=sys.stderr)
+        return 2
     client = LockstepClient(build_host_app(cfg), port)
     frames = FrameRingReader()
     try:
@@ -69,35 +80,88 @@ def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
 
 
 class _OpenCvCamera:
-    """Frames from cv2.VideoCapture, stamped with wall time (free-running mode only)."""
+    """Frames from cv2.VideoCapture, stamped with wall time (free-running mode only).
 
-    def __init__(self, source: str) -> None:
+    A live source (a device index, or a URL such as ``mobigrasp sim``'s MJPEG stream) is read
+    by a thread as fast as it delivers, keeping only the newest frame: a host loop that falls
+    behind for a moment then skips frames, as a CAMIF does, instead of working through a
+    growing backlog of old ones (whose scene lags the arm further each time). A video file is
+    read one frame per call, at the camera rate."""
+
+    def __init__(self, source: str, t0: float) -> None:
+        import threading
+
         import cv2
 
         self._cv2 = cv2
+        self.live = source.isdigit() or "://" in source
         self.cap = cv2.VideoCapture(int(source) if source.isdigit() else source)
         if not self.cap.isOpened():
             raise ValueError(f"cannot open camera source {source!r}")
+        self._t0 = t0
         self.seq = 0
+        self._latest = None  # (seq, arrival_us, rgb) from the reader thread
+        self._taken = -1
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread = None
+        if self.live:
+            self._thread = threading.Thread(target=self._reader, daemon=True, name="camera")
+            self._thread.start()
 
-    def read(self):
-        ok, bgr = self.cap.read()
-        if not ok:
+    def _convert(self, bgr):
+        return self._cv2.resize(self._cv2.cvtColor(bgr, self._cv2.COLOR_BGR2RGB), (320, 240))
+
+    def _reader(self) -> None:
+        while not self._stop.is_set():
+            ok, bgr = self.cap.read()
+            if not ok:
+                return  # the stream ended
+            arrival_us = int((time.monotonic() - self._t0) * 1e6)
+            rgb = self._convert(bgr)
+            with self._lock:
+                self._latest = (self.seq, arrival_us, rgb)
+                self.seq += 1
+
+    def read(self, now_us: int):
+        """(seq, arrival_us, rgb) of a frame not handed out before, or None."""
+        if not self.live:
+            ok, bgr = self.cap.read()
+            if not ok:
+                return None
+            self.seq += 1
+            return self.seq - 1, now_us, self._convert(bgr)
+        with self._lock:
+            got = self._latest
+        if got is None or got[0] == self._taken:
             return None
-        rgb = self._cv2.resize(self._cv2.cvtColor(bgr, self._cv2.COLOR_BGR2RGB), (320, 240))
-        self.seq += 1
-        return self.seq - 1, rgb
+        self._taken = got[0]
+        return got
+
+    def close(self) -> None:
+        """Stop the reader and release the capture."""
+        self._stop.set()
+        if self._thread is not None:
+            # a read blocked on a stream that went quiet ends when the server closes it; the
+            # capture is not released under a read still running (the thread is a daemon)
+            self._thread.join(timeout=2.0)
+            if self._thread.is_alive():
+                return
+        self.cap.release()
 
 
-def _free_running(args: argparse.Namespace, cfg: dict) -> int:
+def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
     from mobigrasp.host.app_factory import build_host_app
     from mobigrasp.link.base import LinkClosed
-    from mobigrasp.link.registry import open_transport
 
-    port = open_transport(args.port)
     app = build_host_app(cfg)
-    camera = _OpenCvCamera(args.camera) if args.camera else None
     t0 = time.monotonic()
+    try:
+        camera = _OpenCvCamera(args.camera, t0) if args.camera else None
+    except ValueError as exc:
+        port.close()
+        print(f"mobigrasp host: --camera {args.camera}: {exc}", file=sys.stderr)
+        return 2
     next_frame = 0.0
     vanished = False
     print(f"host on {args.port} (method {cfg['method']}), Ctrl-C to stop", file=sys.stderr)
@@ -107,11 +171,11 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
             data = port.read()
             if data:
                 app.on_uart(data, now_us)
-            if camera is not None and now_us >= next_frame:
-                got = camera.read()
+            if camera is not None and (camera.live or now_us >= next_frame):
+                got = camera.read(now_us)
                 if got is not None:
-                    app.on_frame(got[0], now_us, now_us, got[1])
-                next_frame = now_us + 1e6 / 15
+                    app.on_frame(got[0], got[1], max(got[1], app.now_us), got[2])
+                    next_frame = now_us + 1e6 / 15
             app.advance_to(now_us + 1)
             # the detectors now, between steps (the pose they read was taken with the frame;
             # in wall time there is no rig to keep waiting, so no reason to defer them)
@@ -129,6 +193,8 @@ def _free_running(args: argparse.Namespace, cfg: dict) -> int:
         print("host: interrupted", file=sys.stderr)
     finally:
         port.close()
+        if camera is not None:
+            camera.close()
     st = app.stats()
     print(f"host: state {st['state']}, control steps {st['control_steps']}, frames "
           f"{st['frames_processed']}/{st['frames_received']}, protocol "
@@ -143,12 +209,18 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ValueError) as exc:
         print(f"mobigrasp host: {exc}", file=sys.stderr)
         return 2
+    from mobigrasp.link.registry import open_transport
     from mobigrasp.tools.heap_tuning import keep_freed_memory
 
+    try:  # a port that does not exist or vanished: one line, as console says it
+        port = open_transport(args.port)
+    except (OSError, ValueError) as exc:
+        print(f"mobigrasp host: cannot open --port {args.port}: {exc}", file=sys.stderr)
+        return 2
     keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
     if args.lockstep:
-        return _lockstep(args, cfg)
-    return _free_running(args, cfg)
+        return _lockstep(args, cfg, port)
+    return _free_running(args, cfg, port)
 
 
 def _poll_ms(text: str) -> float:
@@ -172,5 +244,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="with --lockstep: poll the socket up to this long before sleeping, so "
                         "the next grant finds the host running (set by 'run' at full speed)")
     p.add_argument("--config", default=None, help="host configuration JSON (method, params)")
-    p.add_argument("--method", default=None, help="000, 001 or 002 (overrides --config)")
+    p.add_argument("--method", default=None, choices=METHODS,
+                   help="000, 001 or 002 (overrides --config)")
     p.set_defaults(func=_run)

@@ -108,16 +108,22 @@ def _print_calibration(cal: dict | None, rows: list[dict], first: str | None) ->
 
 
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.tools.progress import RunProgress
     from mobigrasp.tools.run_job import BadInput, RunOptions, execute
 
     timer = WallTimer()
+    display = RunProgress(enabled=not args.quiet)
     try:
         summary, code = execute(RunOptions(scenario=args.scenario, seed=args.seed,
                                            transport="inproc", out=args.out,
-                                           progress=not args.quiet, timer=timer))
+                                           progress=display, timer=timer))
     except BadInput as exc:
         print(f"mobigrasp profile: {exc}", file=sys.stderr)
         return 2
+    except BaseException:
+        display.close()
+        raise
+    display.finish(summary)
     rows, first = profile_table(summary.get("stages", {}), timer.wall_s)
     hdr = (f"{'stage':<22}{'calls':>7}{'mean_us':>10}{'p95_us':>9}{'max_us':>9}"
            f"{'budget':>8}{'share':>7}{'max':>7}{'py_ms':>8}")
@@ -134,11 +140,12 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary.get('frames_dropped')}, deadline misses {summary.get('deadline_misses')}")
     print(f"would miss its budget first: {first}")
     from mobigrasp.calib.calibrate import load_last
+    from mobigrasp.tools.run_folder import default_run_folder
 
     cal = load_last(args.calibration)
     cal_rows, cal_first = calibration_rows(cal)
     _print_calibration(cal, cal_rows, cal_first)
-    out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
+    out = Path(args.out) if args.out else default_run_folder(summary["scenario"], summary["seed"])
     result = {"scenario": summary["scenario"], "seed": summary["seed"], "stages": rows,
               "first_to_miss": first, "arm9_load_max": summary.get("arm9_load_max"),
               "arm9_load_mean": summary.get("arm9_load_mean"),
@@ -156,11 +163,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``profile`` subcommand."""
     p = sub.add_parser("profile", help="ARM9 budget per host stage over a scenario run")
     p.add_argument("scenario", help="scenario file or shipped scenario name")
-    p.add_argument("--seed", type=int, default=None)
-    p.add_argument("--out", type=Path, default=None, help="run folder")
+    p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run folder (default runs/<scenario>-<seed>/)")
     p.add_argument("--json", type=Path, default=None,
                    help="profile JSON (default OUT/profile.json)")
     p.add_argument("--calibration", type=Path, default=None,
                    help="calibration JSON (default: the last mobigrasp calibrate)")
-    p.add_argument("--quiet", action="store_true")
     p.set_defaults(func=_run)

@@ -96,14 +96,14 @@ def _prepare(out: Path) -> None:
 def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
            progress=None) -> dict:
     """Run each scenario in process and write the corpus to ``out``; returns the index."""
-    from mobigrasp.host.app_factory import DETECTOR_MODULES
+    from mobigrasp.host.vision.registry import DETECTORS
     from mobigrasp.tools.run_job import RunOptions, execute
 
     out = Path(out)
     _prepare(out)
     index: dict = {"format": FORMAT, "scenarios": [], "frames": []}
     for name in scenarios:
-        rec = _Recorder(set(DETECTOR_MODULES))
+        rec = _Recorder(set(DETECTORS))
         with tempfile.TemporaryDirectory(prefix="mobigrasp-corpus-") as tmp:
             summary, _ = execute(RunOptions(scenario=name, transport="inproc",
                                             out=Path(tmp) / "run", progress=False,

@@ -347,7 +347,7 @@ class ConsoleShell(cmd.Cmd):
         """params: the firmware's parameter table (id, name, default, range)."""
         from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
 
-        for pid, name, default, lo, hi, writable in PARAM_TABLE:
+        for pid, name, default, lo, hi, writable, _safety in PARAM_TABLE:
             self.say(f"{pid:4d} {name:<18} default {default:<6} [{lo}, {hi}]"
                      f"{'' if writable else ' read-only'}")
 

@@ -19,7 +19,7 @@ STAMP := $(VENV)/.installed
 # which interpreter built .venv: a venv of another one is made again
 BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint demo clean FORCE
+.PHONY: venv test test-all lint demo clean browser FORCE
 
 venv: $(STAMP)
 
@@ -42,7 +42,12 @@ lint: venv
 test: lint
 	$(BIN)/python -m pytest -q
 
-test-all: lint
+# the report's browser test (slow) renders it in Debian's chromium: installed when missing
+browser:
+	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; }
+
+test-all: lint browser
 	$(BIN)/python -m pytest -q -m "slow or not slow"
 
 demo: venv

@@ -38,6 +38,15 @@ STAGES = (StageDef("grey", (*FRONT_END, "double_cross")),
           StageDef("labelling", FRONT_END))
 
 
+def modelled_us(stage: str, height: int, width: int) -> float:
+    """The cost model's time of a whole-frame stage (their counts depend on the size only)."""
+    n = int(height) * int(width)
+    ops = {"grey": lambda: grey.grey_cost(height, width),
+           "dark_threshold": lambda: dark_blobs.dark_mask_cost(n),
+           "labelling": lambda: dark_blobs.components_cost(n)}[stage]()
+    return ops.cycles() * 1e6 / FCLK_HZ
+
+
 def _python_stages(rgb: np.ndarray) -> dict[str, tuple[object, int]]:
     """Stage -> (result, modelled cycles) from the Python kernels."""
     g, g_ops = grey.to_grey(rgb)
@@ -99,8 +108,10 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
     front = arm.FrontEnd(machine)
     per: dict[str, dict[str, list]] = {s.name: {"mod": [], "emu": [], "t": []} for s in STAGES}
     mismatch = dict.fromkeys(per, 0)
+    shape = None
     for k, fr in enumerate(frames):
         rgb = corpus.load_frame(folder, fr)
+        shape = shape or list(rgb.shape[:2])
         dets = {c["detector"] for c in fr["calls"]}
         active = [s.name for s in STAGES if dets & set(s.detectors)]
         py = _python_stages(rgb)
@@ -145,7 +156,8 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
         }
     return {"format": "mobigrasp-calibration/1", "commit": _commit(), "corpus": str(folder),
             "fclk_hz": FCLK_HZ, "line_fill_cycles": int(line_fill_cycles),
-            "frames_per_scenario": per_scenario, "frames": len(frames), "stages": stages}
+            "frames_per_scenario": per_scenario, "frames": len(frames), "frame_shape": shape,
+            "stages": stages}
 
 
 def default_path() -> Path:

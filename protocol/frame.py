@@ -70,6 +70,13 @@ def encode_raw(version: int, seq: int, msg_type: int, payload: bytes) -> bytes:
     return cobs_encode(raw + bytes((crc & 0xFF, crc >> 8))) + DELIMITER
 
 
+def frame_crc(frame: Frame) -> int:
+    """The CRC-16 field of ``frame`` on the wire (over version, seq, msg_type and payload): what
+    the duplicate filter compares to tell a copy from another command with the same seq."""
+    return binascii.crc_hqx(bytes((frame.version, frame.seq, frame.msg_type)) + frame.payload,
+                            0xFFFF)
+
+
 @dataclass
 class ParserStats:
     """What the parser accepted and rejected. Every rejected frame increments exactly one reason

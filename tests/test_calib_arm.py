@@ -81,3 +81,18 @@ def test_calibrate_bad_input_exits_2(tmp_path, argv, needle):
                        capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and "Traceback" not in r.stderr
     assert needle in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_profile_puts_the_last_calibration_beside_the_model():
+    from mobigrasp.calib.calibrate import modelled_us
+    from mobigrasp.tools.commands.profile import calibration_rows
+
+    st = {"emulated_median_us": 4000.0, "emulated_p95_us": 4100.0, "emulated_max_us": 70000.0}
+    cal = {"frame_shape": [240, 320], "commit": "abc", "stages": {
+        "grey": st, "labelling": dict(st, emulated_max_us=5000.0), "future_stage": st}}
+    rows, first = calibration_rows(cal)
+    assert [r["stage"] for r in rows] == ["grey", "labelling"]  # unknown stages left out
+    assert rows[0]["modelled_us"] == round(modelled_us("grey", 240, 320), 1)
+    assert rows[0]["ratio"] == round(modelled_us("grey", 240, 320) / 4000.0, 3)
+    assert first == "grey" and rows[0]["share_max"] > 1  # 70 ms misses the 66.7 ms budget
+    assert calibration_rows(None) == ([], None)

@@ -55,6 +55,7 @@ class RunOptions:
     scenario: str
     seed: int | None = None
     transport: str = "pty"
+    mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
     # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
@@ -112,6 +113,9 @@ def _check_options(opts: RunOptions) -> None:
         raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
     if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
         raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
+    if opts.mcu not in MCU_BACKENDS:
+        raise BadInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, got {opts.mcu!r}")
     check_seed(opts.seed)
     check_time_limit(opts.time_limit_s)
 
@@ -219,7 +223,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     try:
         from mobigrasp.host.app_factory import build_host_app
         from mobigrasp.host.lockstep_client import LockstepClient
-        from mobigrasp.mcu_sim.mcu import Mcu
+        from mobigrasp.mcu_sim.backend import open_mcu
         from mobigrasp.mcu_sim.rig import Rig, RigConfig
         from mobigrasp.mcu_sim.rig_plant import WorldPlant
         from mobigrasp.tools.heap_tuning import keep_freed_memory
@@ -229,8 +233,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         (out / "plots").mkdir(exist_ok=True)
         summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
-            "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
-            "grasped": False,
+            "seed": seed, "transport": opts.transport, "mcu_backend": opts.mcu,
+            "status": "starting", "success": False, "grasped": False,
         }
         write_summary(out / "summary.json", summary)
         trace = TraceWriter(out / "trace.jsonl")
@@ -238,7 +242,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         camera = CameraLog() if opts.mcap else None  # the frames of trace.mcap
         plant = WorldPlant(scenario, seed)
         plant.preload()  # textures built while the host process boots, not on the run's clock
-        mcu = Mcu()
+        mcu = open_mcu(opts.mcu)
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()

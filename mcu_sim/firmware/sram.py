@@ -15,7 +15,7 @@ RX_RING_BYTES = 128  # USART0 RX ring: 10.9 ms of line traffic at 117647 baud
 TX_RING_BYTES = 128  # USART0 TX ring: two telemetry frames
 MAX_WIRE_BYTES = 71  # protocol MAX_WIRE: COBS(3 + 64 + 2) + delimiter
 MAX_RAW_BYTES = 69  # decoded frame: version, seq, type, 64 payload, CRC
-DUP_WINDOW = 16
+DUP_WINDOW = 64  # sequence numbers remembered by the duplicate filter (docs/protocol.md §5.2)
 SERVOS = 6
 SONARS = 5
 PARAMS = 20
@@ -32,8 +32,9 @@ SRAM_LAYOUT: dict[str, int] = {
     "tx_frame_buf": MAX_WIRE_BYTES,
     "tx_seq": 1,
     "dup.seqs": DUP_WINDOW,
+    "dup.crcs": 2 * DUP_WINDOW,
     "dup.results": DUP_WINDOW,
-    "dup.head_count": 2,
+    "dup.newest": 2,
     "servo.latched_q8": SERVOS * 4,
     "servo.pending_q8": SERVOS * 4,
     "servo.target_q8": SERVOS * 4,

@@ -38,6 +38,8 @@ from mobigrasp.protocol import (
     encode_frame,
 )
 
+pytestmark = pytest.mark.both_mcus
+
 
 def ready(config=None):
     mcu = Mcu(config)
@@ -246,3 +248,15 @@ def test_same_inputs_give_the_same_bytes():
         return host.received
 
     assert run() == run()
+
+
+def test_param_command_reusing_the_hello_seq_is_answered_without_a_value():
+    # HELLO seq 0 is remembered with the answer ACK; a PARAM_SET of an unknown id with the same
+    # seq is taken for its copy: ACKed again, not executed, and no PARAM_VALUE (no value exists)
+    mcu, host = ready()
+    host.send(ParamSet(0x6500, 0), seq=0)
+    host.run_ms(12)
+    msgs = host.messages()
+    assert Ack(0) in msgs
+    assert not any(isinstance(m, ParamValue) for m in msgs)
+    assert mcu.stats()["duplicates"] == 1

@@ -10,8 +10,10 @@ static const char firmware_id[] = "mobigrasp-avr";
 
 static void send_param_value(uint16_t id)
 {
-    int32_t value = 0;
-    params_get(id, &value);
+    int32_t value;
+    if (!params_get(id, &value)) {
+        return; /* an unknown id ACKed as the copy of another command with the same seq */
+    }
     uint8_t *p = fw_tx_payload();
     put_u16(p, id);
     put_u32(p + 2, (uint32_t)value);

@@ -73,8 +73,6 @@ class Firmware:
         self.hw = hw
         self.rx = ByteRing(RX_RING_BYTES)
         self.parser = FrameParser()
-        self.dup = DuplicateFilter(DUP_WINDOW)
-        self.tx_seq = SequenceCounter()
         self.servos = ServoBank()
         self.params = P.Params()
         self.wheels = (WheelPi(), WheelPi())
@@ -98,7 +96,10 @@ class Firmware:
         self.rx.overruns = 0
         self.parser.reset()
         self.parser.stats.__init__()
-        self.dup.reset()
+        # a reset zeroes the C globals: the TX sequence counter and the duplicate filter's
+        # counters start again too
+        self.dup = DuplicateFilter(DUP_WINDOW)
+        self.tx_seq = SequenceCounter()
         self.params.reset()
         self.servos.reset()
         self.apply_servo_limits()

@@ -464,8 +464,8 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
     for lo, hi in PARAM_ORDER[method]:
         if out[lo] > out[hi]:
             bad = lo if lo in raw else hi
-            c.fail(f"params.{bad}", f"{lo} <= {hi} (got {lo} = {out[lo]!r}, "
-                                    f"{hi} = {out[hi]!r})", out[bad])
+            raise ScenarioError(f"{c.source}: params.{bad}: expected {lo} <= {hi}, got "
+                                f"{lo} = {out[lo]!r}, {hi} = {out[hi]!r}")
     return out
 
 

@@ -222,7 +222,12 @@ ISR(TIMER1_OVF_vect)
     fw_isr_timer1_ovf();
 }
 
-void hal_boot_params(void) {}
+uint8_t hal_boot_param(uint16_t id, int32_t *value)
+{
+    (void)id;
+    (void)value;
+    return 0;
+}
 
 static void io_init(void)
 {

@@ -71,6 +71,7 @@ ops = st.lists(st.one_of(
     st.tuples(st.just("sonar"), st.lists(st.one_of(st.none(), st.floats(0.0, 3.0)),
                                          min_size=5, max_size=5)),
     st.tuples(st.just("reset")),
+    st.tuples(st.just("again")),  # the last chunk once more: a retransmitted copy
 ), max_size=40)
 
 
@@ -82,10 +83,14 @@ def _observe(mcu):
 def _drive(mcu, program, params):
     log = []
     enc = [0, 0]
+    last = b""
     for op in program:
         kind = op[0]
         if kind == "rx":
             mcu.uart_rx(op[1])
+            last = op[1]
+        elif kind == "again":
+            mcu.uart_rx(last)
         elif kind == "advance":
             mcu.advance_to(mcu.now_us + op[1])
         elif kind == "enc":
@@ -104,7 +109,7 @@ def _drive(mcu, program, params):
 
 
 @settings(max_examples=200, deadline=None)
-@given(program=ops, hz=st.sampled_from([0, 50, 100]), wd=st.sampled_from([0, 60, 250]))
+@given(program=ops, hz=st.sampled_from([0, 50, 100]), wd=st.sampled_from([50, 60, 250]))
 def test_same_inputs_same_outputs(program, hz, wd):
     params = {"telemetry_hz": hz, "watchdog_ms": wd}
     start = [encode_message(Hello(PROTOCOL_VERSION, "t", 0), 0)]
@@ -131,7 +136,7 @@ def test_two_native_mcus_keep_their_own_state():
 
 
 def test_c_param_table_is_the_python_one():
-    assert c_param_table() == tuple((r[0], r[2], r[3], r[4], r[5]) for r in PARAM_TABLE)
+    assert c_param_table() == tuple((r[0], r[2], r[3], r[4], r[5], r[6]) for r in PARAM_TABLE)
 
 
 @pytest.mark.parametrize("jump", [100_000, -100_000, 2**31 - 1])

@@ -58,5 +58,10 @@ static inline uint8_t frame_version(const frame_parser_t *p) { return p->buf[1];
 static inline uint8_t frame_seq(const frame_parser_t *p) { return p->buf[2]; }
 static inline uint8_t frame_type(const frame_parser_t *p) { return p->buf[3]; }
 static inline const uint8_t *frame_data(const frame_parser_t *p) { return p->buf + 4; }
+/* The frame's CRC-16 field (the duplicate filter tells copies by it). */
+static inline uint16_t frame_crc(const frame_parser_t *p, uint8_t payload_len)
+{
+    return (uint16_t)(p->buf[4 + payload_len] | ((uint16_t)p->buf[5 + payload_len] << 8));
+}
 
 #endif

@@ -156,3 +156,20 @@ def test_encoder_jump_beyond_int32_products(jump):
         outs.append((mcu.wheel_duty(), mcu.uart_tx_take()))
     assert outs[0] == outs[1]
     assert outs[0][0] == ((-255, -255) if jump > 0 else (255, 255))
+
+
+def test_c_joint_table_is_protocol_joints():
+    from mobigrasp.mcu_sim.firmware.servo_table import mrad_slew_to_us
+    from mobigrasp.mcu_sim.native.firmware import ffi, lib
+    from mobigrasp.protocol import joints
+
+    lo, hi = ffi.new("int16_t *"), ffi.new("int16_t *")
+    for ch in range(joints.N_CHANNELS):
+        lib.joint_mech_limits_us(ch, lo, hi)
+        assert (lo[0], hi[0]) == joints.MECH_LIMITS_US[ch]
+        # every int16 angle: the products stay inside an int32 in C
+        assert [lib.joint_pulse_us(ch, v) for v in range(-32768, 32768, 7)] == \
+            [joints.pulse_us(ch, v) for v in range(-32768, 32768, 7)]
+    # every u16 slew: 65535 x 33215 needs the C's unsigned arithmetic
+    assert [lib.mrad_slew_to_us(s) for s in range(0, 65536)] == \
+        [mrad_slew_to_us(s) for s in range(0, 65536)]

@@ -77,6 +77,9 @@ uint8_t params_get(uint16_t id, int32_t *value);
 uint8_t params_check(uint16_t id, int32_t value);
 void params_set(uint16_t id, int32_t value);
 void params_reset(void);
+int32_t joint_pulse_us(uint8_t ch, int32_t value);
+void joint_mech_limits_us(uint8_t ch, int16_t *lo, int16_t *hi);
+int32_t mrad_slew_to_us(int32_t slew_mrad_per_s);
 void params_row(uint8_t i, uint16_t *id, int32_t *def, int32_t *lo, int32_t *hi,
                 uint8_t *writable, uint8_t *safety);
 
@@ -99,6 +102,7 @@ SOURCE_PREAMBLE = """
 #include "hal.h"
 #include "fw/params.h"
 #include "fw/program.h"
+#include "protocol/joints.h"
 extern uint32_t native_now_us;
 void native_encoder_edges(uint8_t side, int32_t edges);
 void native_usart_rx_bytes(const uint8_t *data, uint32_t n);

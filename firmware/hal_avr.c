@@ -251,7 +251,7 @@ int main(void)
         uint32_t next = fw_loop();
         cli();
         /* sleep only if nothing arrived and nothing is due; any interrupt wakes the loop */
-        if (ring_empty(&fw_rx) && (int32_t)(hal_micros() - next) < 0) {
+        if (!fw_work_pending() && (int32_t)(hal_micros() - next) < 0) {
             sleep_enable();
             sei();
             sleep_cpu();

@@ -273,6 +273,8 @@ uint32_t fw_loop(void)
     return next;
 }
 
+uint8_t fw_work_pending(void) { return !ring_empty(&fw_rx) || servo_period_due; }
+
 uint32_t fw_next_unprompted_send_us(uint8_t *off)
 {
     *off = params_values[I_TELEMETRY_HZ] == 0;

@@ -51,6 +51,9 @@ wire_chunks = st.one_of(
               st.sampled_from([0x01, 0x02, 0x03, 0x10, 0x11, 0x12, 0x13, 0x20, 0x30, 0x31,
                                0x32, 0x40, 0x41, 0x50, 0x77]), st.binary(max_size=64)),
     st.binary(max_size=90),  # garbage, runts, oversize runs
+    # a frame whose delimiter was lost, merged with the next (recovered), or cut short
+    st.tuples(messages, u8, messages, u8, st.integers(0, 60)).map(
+        lambda m: encode_message(m[0], m[1])[:-1][m[4]:] + encode_message(m[2], m[3])),
     st.tuples(messages, u8, st.integers(0, 10_000)).map(
         lambda m: _flip(encode_message(m[0], m[1]), m[2])),
 )
@@ -173,3 +176,24 @@ def test_c_joint_table_is_protocol_joints():
     # every u16 slew: 65535 x 33215 needs the C's unsigned arithmetic
     assert [lib.mrad_slew_to_us(s) for s in range(0, 65536)] == \
         [mrad_slew_to_us(s) for s in range(0, 65536)]
+
+
+@pytest.mark.parametrize("front", [
+    encode_message(SetServos(0, (1500,) * 6, 0), 9)[:-1],  # the delimiter of a frame lost
+    bytes(range(1, 101)),  # an oversize run of garbage glued to the frame
+    encode_message(Gripper(500), 3)[:5],  # a frame cut short by a sender reset
+])
+def test_frame_after_a_lost_delimiter_is_recovered_by_both(front):
+    wire = front + encode_message(SetServos(0, (1500, 1800, 1500, 1500, 1500, 1500), 0), 1)
+    outs = []
+    for cls in (Mcu, NativeMcu):
+        mcu = cls()
+        mcu.uart_rx(encode_message(Hello(PROTOCOL_VERSION, "t", 0), 0))
+        mcu.advance_to(20_000)
+        mcu.uart_rx(wire)
+        mcu.advance_to(80_000)
+        outs.append((mcu.servo_pulses_us(), mcu.stats(), mcu.uart_tx_take()))
+    assert outs[0] == outs[1]
+    pulses, stats, _ = outs[0]
+    assert pulses[1] == 1800.0 and stats["parser_recovered"] == 1
+    assert stats["parser_garbage_bytes"] == len(front)

@@ -30,9 +30,9 @@ CDEF = """
 typedef struct { uint8_t buf[128]; volatile uint8_t head; volatile uint8_t tail;
                  uint32_t overruns; } byte_ring_t;
 typedef struct { uint32_t frames_ok, crc_errors, oversize, unknown_type, bad_version,
-                 truncated, cobs_errors, garbage_bytes, bytes_in; } frame_stats_t;
-typedef struct { uint8_t buf[70]; uint8_t len; uint8_t skipping; frame_stats_t stats; }
-    frame_parser_t;
+                 truncated, cobs_errors, garbage_bytes, bytes_in, recovered; } frame_stats_t;
+typedef struct { uint8_t buf[70]; uint8_t len; uint8_t skipping; uint8_t start;
+                 frame_stats_t stats; } frame_parser_t;
 typedef struct { uint8_t tag[64]; uint16_t crc[64]; uint8_t result[64]; int16_t newest;
                  uint32_t duplicates; uint32_t reused; } dup_filter_t;
 typedef struct { int32_t latched_q8[6]; int32_t pending_q8[6]; int32_t target_q8[6];

@@ -136,7 +136,8 @@ class _ParserStats:
         return {"frames_ok": s.frames_ok, "crc_errors": s.crc_errors, "oversize": s.oversize,
                 "unknown_type": s.unknown_type, "bad_version": s.bad_version,
                 "truncated": s.truncated, "cobs_errors": s.cobs_errors,
-                "garbage_bytes": s.garbage_bytes, "bytes_in": s.bytes_in}
+                "garbage_bytes": s.garbage_bytes, "bytes_in": s.bytes_in,
+                "recovered": s.recovered}
 
 
 class _Parser:

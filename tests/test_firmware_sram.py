@@ -26,8 +26,8 @@ def test_live_buffers_match_the_c_symbols():
     assert layout["tx_buf"] == MAX_WIRE
     # frame_parser_t: encoded bytes, len, skipping, nine uint32 counters
     assert layout["fw_parser"] == MAX_ENCODED + 2 + 9 * 4
-    # dup_filter_t: seqs, answers, uint32 times, head, count, two uint32 counters
-    assert fw.dup.window == sram.DUP_WINDOW and layout["fw_dup"] == sram.DUP_WINDOW * 6 + 2 + 8
+    # dup_filter_t: seq tags, uint16 CRCs, answers, int16 newest, two uint32 counters
+    assert fw.dup.window == sram.DUP_WINDOW and layout["fw_dup"] == sram.DUP_WINDOW * 4 + 2 + 8
     assert len(fw.params.values) == len(PARAM_TABLE) == sram.PARAMS
     assert layout["params_values"] == 4 * len(fw.params.values)
     # servo_bank_t: four int32 arrays and two int16 arrays of six channels

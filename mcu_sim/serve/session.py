@@ -75,13 +75,14 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     from mobigrasp.link.registry import open_transport
     from mobigrasp.mcu_sim.serve.external_host import ExternalHost
     from mobigrasp.mcu_sim.serve.mjpeg import CameraPortInUse, CameraServer
-    from mobigrasp.tools.run_job import BadInput, resolve_scenario
+    from mobigrasp.tools.run_job import BadInput, check_seed, resolve_scenario
 
     if opts.mcu not in MCU_BACKENDS:
         raise BadSimInput(f"--mcu must be one of {', '.join(MCU_BACKENDS)}, got {opts.mcu!r}")
     if not (isinstance(opts.speed, float | int) and 0 < opts.speed <= 100):
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
     try:
+        check_seed(opts.seed)
         path, scenario = resolve_scenario(opts.scenario)
     except BadInput as exc:
         raise BadSimInput(str(exc)) from exc

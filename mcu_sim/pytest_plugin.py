@@ -37,10 +37,10 @@ _PTY_CHUNK = 1024  # well below any pty buffer, so a host-side write never block
 class EmulatedMcu:
     """A :class:`mcu_sim.mcu_pty.PtyMcu` plus a host-side Link on its slave for convenience."""
 
-    def __init__(self, config=None, wheels: str = "bench") -> None:
+    def __init__(self, config=None, wheels: str = "bench", backend: str = "python") -> None:
         from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
-        self._pty = PtyMcu(config, wheels=wheels)
+        self._pty = PtyMcu(config, wheels=wheels, backend=backend)
         self.mcu = self._pty.mcu
         self.port: str = self._pty.port
         self._link = None
@@ -155,12 +155,12 @@ class EmulatedMcu:
 
 @pytest.fixture
 def emulated_mcu_factory():
-    """``make(config=None, wheels="bench") -> EmulatedMcu``; everything made is closed after
-    the test."""
+    """``make(config=None, wheels="bench", backend="python") -> EmulatedMcu``; everything made
+    is closed after the test."""
     made: list[EmulatedMcu] = []
 
-    def make(config=None, wheels: str = "bench") -> EmulatedMcu:
-        emu = EmulatedMcu(config, wheels)
+    def make(config=None, wheels: str = "bench", backend: str = "python") -> EmulatedMcu:
+        emu = EmulatedMcu(config, wheels, backend)
         made.append(emu)
         return emu
 

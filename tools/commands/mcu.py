@@ -56,6 +56,8 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="stop after this many simulated seconds (default: run until closed)")
     p.add_argument("--param", type=_param, action="append", default=[],
                    help="firmware PARAM default, NAME=VALUE (repeatable), e.g. watchdog_ms=500")
+    p.add_argument("--mcu", default="python", metavar="NAME",
+                   help="MCU backend (mobigrasp.mcu_sim.backend): python (default), native, ...")
     p.add_argument("--wheels", choices=WHEELS, default=WHEELS[0],
                    help="wheel plant without a world: 'bench' (default) turns the encoders as "
                         "unloaded motors with their lag; 'still' keeps them at 0")
@@ -83,7 +85,8 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         config = McuConfig(ubrr=args.baud_ubrr, u2x=args.u2x, params=dict(args.param))
-        pty = PtyMcu(config, record=False, wheels=args.wheels, on_sent=on_sent)
+        pty = PtyMcu(config, record=False, wheels=args.wheels, on_sent=on_sent,
+                     backend=args.mcu)
     except ValueError as exc:
         print(f"mobigrasp mcu: {exc}", file=sys.stderr)
         return 2

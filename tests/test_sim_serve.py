@@ -41,6 +41,14 @@ def test_bad_scenario_is_exit_2_with_one_line(tmp_path):
     assert "bad.toml" in res.stderr and "Traceback" not in res.stderr
 
 
+def test_bad_options_are_exit_2_without_traceback(tmp_path):
+    for args in (("--seed", "-5"), ("--speed", "nan"), ("--speed", "0"), ("--mcu", "nope"),
+                 ("--time-limit-s", "inf")):
+        res = sim("paper000-exp1", "--camera-port", "0", *args, cwd=tmp_path)
+        assert res.returncode == 2, args
+        assert args[0] in res.stderr and "Traceback" not in res.stderr, args
+
+
 def test_out_that_is_a_file_is_exit_2(tmp_path):
     (tmp_path / "f").write_text("mine")
     res = sim("paper000-exp1", "--camera-port", "0", "--out", str(tmp_path / "f"), cwd=tmp_path)

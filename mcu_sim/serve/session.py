@@ -25,19 +25,6 @@ from typing import Any
 QUANTUM_US = 5_000
 COUPLE_US = 2_500
 
-# MCU backends by name (--mcu); the first is the default
-MCU_BACKENDS: dict[str, Callable[[], Any]] = {}
-
-
-def _python_mcu() -> Any:
-    from mobigrasp.mcu_sim.mcu import Mcu
-
-    return Mcu()
-
-
-MCU_BACKENDS["python"] = _python_mcu
-
-
 class BadSimInput(ValueError):
     """Unknown scenario, bad option, camera port in use: exit code 2, one line."""
 
@@ -73,15 +60,18 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
     summary (also written to the run folder). Raises BadSimInput for bad input."""
     from mobigrasp.link.registry import open_transport
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
     from mobigrasp.mcu_sim.serve.external_host import ExternalHost
     from mobigrasp.mcu_sim.serve.mjpeg import CameraPortInUse, CameraServer
-    from mobigrasp.tools.run_job import BadInput, resolve_scenario
+    from mobigrasp.tools.run_job import BadInput, check_seed, resolve_scenario
 
     if opts.mcu not in MCU_BACKENDS:
-        raise BadSimInput(f"--mcu must be one of {', '.join(MCU_BACKENDS)}, got {opts.mcu!r}")
+        raise BadSimInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
+                          f"got {opts.mcu!r}")
     if not (isinstance(opts.speed, float | int) and 0 < opts.speed <= 100):
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
     try:
+        check_seed(opts.seed)
         path, scenario = resolve_scenario(opts.scenario)
     except BadInput as exc:
         raise BadSimInput(str(exc)) from exc
@@ -108,6 +98,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
+    from mobigrasp.mcu_sim.backend import open_mcu
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
     from mobigrasp.mcu_sim.faults.wrappers import wrap_for_faults
     from mobigrasp.mcu_sim.rig import Rig, RigConfig
@@ -129,7 +120,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     trace = TraceWriter(out / "trace.jsonl")
     plant = WorldPlant(scenario, seed)
     plant.preload()
-    mcu = MCU_BACKENDS[opts.mcu]()
+    mcu = open_mcu(opts.mcu)
     plan = getattr(scenario, "faults", None) or FaultPlan()
     fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
     summary["faults_plan"] = plan.as_table()

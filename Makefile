@@ -19,7 +19,7 @@ STAMP := $(VENV)/.installed
 # which interpreter built .venv: a venv of another one is made again
 BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint ruff-tracked demo clean browser FORCE
+.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware FORCE
 
 venv: $(STAMP)
 
@@ -58,8 +58,16 @@ browser:
 test-all: lint browser
 	$(BIN)/python -m pytest -q -m "slow or not slow"
 
+# The ATmega128 firmware with avr-gcc: firmware/build/mobigrasp-avr.elf and .hex, then its size
+# (avr-size -C). gcc-avr and avr-libc are installed with apt-get when avr-gcc is missing.
+firmware:
+	@command -v avr-gcc >/dev/null 2>&1 || { \
+	  echo "make firmware: avr-gcc missing, installing gcc-avr avr-libc with apt-get"; \
+	  apt-get update && apt-get install -y gcc-avr avr-libc; }
+	$(MAKE) -C firmware
+
 demo: venv
 	$(BIN)/mobigrasp demo
 
 clean:
-	rm -rf $(VENV) bench-results runs
+	rm -rf $(VENV) bench-results runs firmware/build

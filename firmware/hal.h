@@ -15,6 +15,17 @@
 #define FW_STATE
 #endif
 
+/* Constant tables that live in flash (program memory) on the AVR, and their reader. */
+#ifdef __AVR__
+#include <avr/pgmspace.h>
+#define HAL_FLASH PROGMEM
+#define hal_flash_read(dst, src, n) memcpy_P((dst), (src), (n))
+#else
+#include <string.h>
+#define HAL_FLASH
+#define hal_flash_read(dst, src, n) memcpy((dst), (src), (n))
+#endif
+
 /* Time since reset in µs (wraps after 71 minutes; compare with signed differences). */
 uint32_t hal_micros(void);
 

@@ -62,13 +62,13 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
                        env={**os.environ, **env_cache})
     assert r.returncode == 0, r.stderr
     res = json.loads(out.read_text())
-    assert set(res["stages"]) == {"grey", "dark_threshold", "labelling"}
+    assert {"grey", "dark_threshold", "labelling"} <= set(res["stages"])
     for s in res["stages"].values():
         for key in ("modelled_median_us", "emulated_median_us", "emulated_p95_us",
                     "emulated_max_us", "ratio_median", "cpi", "frames"):
             assert key in s
         assert s["frames"] == 1 and s["result_mismatches"] == 0
-        assert s["emulated_median_us"] > 0 and 1.0 <= s["cpi"] <= 3.0
+        assert s["emulated_median_us"] > 0 and 1.0 <= s["cpi"] <= 6.0  # 6: a cold-cache call
     assert (tmp_path / "cache" / "mobigrasp" / "calibration.json").is_file()
 
 
@@ -89,9 +89,12 @@ def test_profile_puts_the_last_calibration_beside_the_model():
 
     st = {"emulated_median_us": 4000.0, "emulated_p95_us": 4100.0, "emulated_max_us": 70000.0}
     cal = {"frame_shape": [240, 320], "commit": "abc", "stages": {
-        "grey": st, "labelling": dict(st, emulated_max_us=5000.0), "future_stage": st}}
+        "grey": st, "labelling": dict(st, emulated_max_us=5000.0), "future_stage": st,
+        "radial_symbol": dict(st, modelled_median_us=2000.0)}}
     rows, first = calibration_rows(cal)
-    assert [r["stage"] for r in rows] == ["grey", "labelling"]  # unknown stages left out
+    # stages without a model of their own and without a modelled median are left out
+    assert [r["stage"] for r in rows] == ["grey", "labelling", "radial_symbol"]
+    assert rows[2]["modelled_us"] == 2000.0 and rows[2]["ratio"] == 0.5
     assert rows[0]["modelled_us"] == round(modelled_us("grey", 240, 320), 1)
     assert rows[0]["ratio"] == round(modelled_us("grey", 240, 320) / 4000.0, 3)
     assert first == "grey" and rows[0]["share_max"] > 1  # 70 ms misses the 66.7 ms budget

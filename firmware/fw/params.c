@@ -1,5 +1,7 @@
 #include "params.h"
 
+#include <string.h>
+
 #include "../hal.h"
 #include "../protocol/messages.h"
 #include "servo_table.h"
@@ -10,9 +12,10 @@ typedef struct {
     uint8_t writable;
 } param_row_t;
 
-/* Servo limit defaults are the joint limits rounded inwards (servo_table.c,
- * default_limits_us); 0 here, filled in by params_row/params_reset. */
-static const param_row_t table[PARAM_COUNT] = {
+/* The table lives in flash on the AVR (300 bytes of SRAM otherwise); rows are copied out by
+ * row(). Servo limit defaults are the joint limits rounded inwards (servo_table.c,
+ * default_limits_us); 0 here, filled in by default_of. */
+static const param_row_t table[PARAM_COUNT] HAL_FLASH = {
     {P_WATCHDOG_MS, 250, 0, 10000, 1}, /* 0 disables the watchdog */
     {P_TELEMETRY_HZ, 50, 0, 100, 1},   /* 0 = telemetry off */
     {P_WHEEL_KP, 16, 0, 1000, 1},      /* Q8 duty per tick/10 ms */
@@ -37,9 +40,17 @@ static const param_row_t table[PARAM_COUNT] = {
 
 int32_t params_values[PARAM_COUNT] FW_STATE;
 
+static param_row_t row(uint8_t i)
+{
+    param_row_t r;
+    hal_flash_read(&r, &table[i], sizeof r);
+    return r;
+}
+
 static int32_t default_of(uint8_t i)
 {
-    uint16_t id = table[i].id;
+    param_row_t r = row(i);
+    uint16_t id = r.id;
     int16_t lo, hi;
     if (id >= P_SERVO_MIN_BASE && id < P_SERVO_MIN_BASE + SERVO_COUNT) {
         default_limits_us((uint8_t)(id - P_SERVO_MIN_BASE), &lo, &hi);
@@ -49,7 +60,7 @@ static int32_t default_of(uint8_t i)
         default_limits_us((uint8_t)(id - P_SERVO_MAX_BASE), &lo, &hi);
         return hi;
     }
-    return table[i].def;
+    return r.def;
 }
 
 void params_reset(void)
@@ -62,7 +73,7 @@ void params_reset(void)
 int8_t params_index(uint16_t id)
 {
     for (uint8_t i = 0; i < PARAM_COUNT; i++) {
-        if (table[i].id == id) {
+        if (row(i).id == id) {
             return (int8_t)i;
         }
     }
@@ -82,10 +93,14 @@ uint8_t params_get(uint16_t id, int32_t *value)
 uint8_t params_check(uint16_t id, int32_t value)
 {
     int8_t i = params_index(id);
-    if (i < 0 || !table[i].writable) {
+    if (i < 0) {
         return NACK_BAD_PARAM;
     }
-    if (value < table[i].lo || value > table[i].hi) {
+    param_row_t r = row((uint8_t)i);
+    if (!r.writable) {
+        return NACK_BAD_PARAM;
+    }
+    if (value < r.lo || value > r.hi) {
         return NACK_OUT_OF_RANGE;
     }
     int32_t other;
@@ -111,9 +126,10 @@ void params_set(uint16_t id, int32_t value)
 
 void params_row(uint8_t i, uint16_t *id, int32_t *def, int32_t *lo, int32_t *hi, uint8_t *writable)
 {
-    *id = table[i].id;
+    param_row_t r = row(i);
+    *id = r.id;
     *def = default_of(i);
-    *lo = table[i].lo;
-    *hi = table[i].hi;
-    *writable = table[i].writable;
+    *lo = r.lo;
+    *hi = r.hi;
+    *writable = r.writable;
 }

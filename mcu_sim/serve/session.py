@@ -54,6 +54,7 @@ class SimOptions:
     seed: int | None = None
     time_limit_s: float | None = None
     progress: bool = True
+    plots: bool = True  # plots/ and report.html at the end
 
 
 def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
@@ -174,12 +175,13 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         summary["mcu_stats"] = mcu.stats() if hasattr(mcu, "stats") else {}
         summary["faults"], summary["safety"] = fault_rig.summary()
         write_summary(out / "summary.json", summary)
-    try:
-        from mobigrasp.tools.report import write_report
+    if opts.plots:
+        try:
+            from mobigrasp.tools.report import write_report
 
-        write_report(out)
-    except Exception as exc:  # a plotting failure must not hide the run's result
-        print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+            write_report(out)
+        except Exception as exc:  # a plotting failure must not hide the run's result
+            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
     summary["run_folder"] = str(out)
     return summary
 

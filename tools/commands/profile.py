@@ -76,8 +76,10 @@ def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
     for name, st in sorted(cal["stages"].items()):
         try:
             mod = modelled_us(name, h, w)
-        except KeyError:  # a stage this version does not model
-            continue
+        except KeyError:  # a detector's stage: its cost depends on the frame, as calibrated
+            mod = st.get("modelled_median_us")
+            if not isinstance(mod, int | float):
+                continue
         emu = st["emulated_median_us"]
         rows.append({"stage": name, "modelled_us": round(mod, 1), "emulated_median_us": emu,
                      "emulated_p95_us": st["emulated_p95_us"],

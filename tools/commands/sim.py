@@ -50,8 +50,7 @@ def _mcu_names() -> list[str]:
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``sim`` subcommand."""
-    p = sub.add_parser("sim", help="serve a scenario's robot (serial pty + MJPEG camera) to "
-                                   "your own host program in wall time")
+    p = sub.add_parser("sim", help="serve a scenario's robot (pty + MJPEG camera) to your host")
     p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
     p.add_argument("--speed", type=_speed, default=1.0,
                    help="simulated seconds per wall second (default 1); pacing only")
@@ -65,6 +64,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="end after this many simulated seconds (default: the scenario's)")
     p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
     p.set_defaults(func=_run)
 
 
@@ -95,7 +95,8 @@ def _run(args: argparse.Namespace) -> int:
     try:
         summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
-                                   time_limit_s=args.time_limit_s, progress=not args.quiet),
+                                   time_limit_s=args.time_limit_s, progress=not args.quiet,
+                                   plots=not args.no_plots),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
@@ -106,5 +107,5 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{summary['scenario']} served to an external host: "
           f"{'GRASPED' if summary['grasped'] else 'not grasped'} ({summary['end_reason']}) in "
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "
-          f"report: {Path(summary['run_folder']) / 'report.html'}", flush=True)
+          f"run folder: {Path(summary['run_folder'])}", flush=True)
     return 0 if summary["grasped"] else 1

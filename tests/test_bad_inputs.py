@@ -11,9 +11,10 @@ from __future__ import annotations
 import json
 import math
 import tomllib
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import pytest
 from hypothesis import HealthCheck, given, settings
@@ -197,7 +198,8 @@ CASES: dict[str, Case] = {
     "host --port a file": Case(lambda t, mp: ["host", "--port", str(_a_file(t, mp))], ("--port",)),
     "host --config not utf8": Case(lambda t, mp: ["host", "--port", "/dev/pts/99", "--config",
                                                   str(_raw(b"\xff")(t, mp)[1])], ("--config",)),
-    "console /dev/pts/99": Case(lambda t, mp: ["console", "/dev/pts/99"], ("/dev/pts/99",)),
+    "console --port /dev/pts/99": Case(lambda t, mp: ["console", "--port", "/dev/pts/99"],
+                                       ("/dev/pts/99",)),
     "campaign --time-limit-s inf": Case(lambda t, mp: ["campaign", "--method", "000", "--runs",
                                                        "1", "--time-limit-s", "inf"],
                                         ("--time-limit-s",)),
@@ -228,7 +230,7 @@ def test_bad_input_is_exit_2_with_one_line(case, tmp_path, monkeypatch, capsys):
 
 
 def test_every_shipped_scenario_passes_the_check(capsys):
-    for name, path in SCENARIOS.items():
+    for path in SCENARIOS.values():
         assert main(["run", str(path), "--check"]) == 0, capsys.readouterr().err
         assert capsys.readouterr().out.strip().endswith(": ok")
 

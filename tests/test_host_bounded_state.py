@@ -14,7 +14,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 
 from mobigrasp.host.app import LOAD_WINDOWS_KEPT, HostApp, HostConfig, stage_summary
@@ -109,8 +109,11 @@ def _searching_host() -> HostApp:
                    InputBuilder(), HostConfig())
 
 
+_BLANK = np.zeros((24, 32, 3), np.uint8)
+
+
 def _drive(app: HostApp, line: _Line, from_us: int, to_us: int, loads: dict | None = None,
-           rgb=np.zeros((24, 32, 3), np.uint8)) -> None:
+           rgb=_BLANK) -> None:
     """5 ms quanta with frames at 15 Hz; ``loads`` collects the finished load windows as the
     lockstep client does (each window once)."""
     for t in range(from_us, to_us, 5_000):
@@ -192,7 +195,8 @@ def test_thirty_simulated_minutes_in_process_have_flat_memory(tmp_path):
     """paper000-exp1 with the object out of sight: the robot searches (wanders) for 30
     simulated minutes. Live memory allocated after the first 5 minutes by the host's code and by
     the simulator's code: the same at 10 and at 30 minutes (the camera is off: no detector)."""
-    from mobigrasp.host.task import Task as HostTask
+    from mobigrasp.host.app_factory import task_params
+    from mobigrasp.host.lockstep_client import LockstepClient
     from mobigrasp.link.inproc import inproc_pair
     from mobigrasp.mcu_sim.mcu import Mcu
     from mobigrasp.mcu_sim.rig import Rig, RigConfig
@@ -200,14 +204,11 @@ def test_thirty_simulated_minutes_in_process_have_flat_memory(tmp_path):
     from mobigrasp.tools.run_folder import TraceWriter
     from mobigrasp.tools.runner import InprocHost, run_session
 
-    from mobigrasp.host.app_factory import task_params
-    from mobigrasp.host.lockstep_client import LockstepClient
-
     _, sc = resolve_scenario("paper000-exp1")
     sc = replace(sc, target=replace(sc.target, x_m=-30.0, y_m=-30.0))
     cfg = host_config(sc, 1800.0)
     params = task_params("000", cfg["params"]) | cfg["task"]
-    app = HostApp(HostTask(method="000", params=params), {}, InputBuilder(), HostConfig())
+    app = HostApp(Task(method="000", params=params), {}, InputBuilder(), HostConfig())
     port, peer = inproc_pair("bounded-30min")
     host = InprocHost(LockstepClient(app, peer))
     rig = Rig(Mcu(), WorldPlant(sc, 1), port, RigConfig(quantum_us=5_000, couple_us=2_500))

@@ -13,6 +13,7 @@ multiply adds its Booth steps from Rs, a read hook runs the D-cache model.
 from __future__ import annotations
 
 import shutil
+import struct
 import subprocess
 import sys
 from dataclasses import dataclass, field
@@ -26,8 +27,8 @@ CFLAGS = ["-mcpu=arm920t", "-marm", "-O2", "-ffreestanding", "-nostdlib", "-std=
 CODE_BASE = 0x0001_0000
 CODE_SIZE = 0x0001_0000
 DATA_BASE = 0x0010_0000
-DATA_SIZE = 0x0040_0000
-STACK_TOP = 0x0080_0000
+DATA_SIZE = 0x0080_0000
+STACK_TOP = 0x0100_0000
 STACK_SIZE = 0x0001_0000
 STOP = 0x0000_1000  # the return address of every call: a page of its own
 
@@ -189,9 +190,10 @@ class Arm9:
         """Bytes from the emulated memory."""
         return bytes(self.uc.mem_read(address, nbytes))
 
-    def call(self, symbol: str, *args: int) -> tuple[int, Timing]:
-        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack) from a cold D-cache;
-        returns r0 and the call's timing."""
+    def call(self, symbol: str, *args: int, cold: bool = True) -> tuple[int, Timing]:
+        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack), from a cold D-cache
+        unless ``cold`` is False (the cache as the previous call left it); returns r0 and the
+        call's timing."""
         from unicorn.arm_const import UC_ARM_REG_LR, UC_ARM_REG_R0, UC_ARM_REG_SP
 
         regs = [UC_ARM_REG_R0 + k for k in range(4)]
@@ -204,7 +206,8 @@ class Arm9:
             self.uc.reg_write(r, int(v) & 0xFFFFFFFF)
         self.uc.reg_write(UC_ARM_REG_SP, sp)
         self.uc.reg_write(UC_ARM_REG_LR, STOP)
-        self.cache.flush()
+        if cold:
+            self.cache.flush()
         self._t = Timing()
         self._prev_end = None
         self.uc.emu_start(self.image.symbols[symbol], STOP)
@@ -213,32 +216,64 @@ class Arm9:
 
 
 class FrontEnd:
-    """The 000 front end on the emulated ARM920T: grey, dark mask, labelling of one frame, each
-    with its result (read back, to check it against the Python kernels) and its timing."""
+    """The 000 kernels on the emulated ARM920T: grey, dark mask, labelling of one frame and the
+    detectors after them, each with its result (read back, to check it against the Python
+    kernels) and its timing."""
 
     RGB, GREY, MASK, HIST = 0x0, 0x4_0000, 0x6_0000, 0x7_0000
     LABELS, BLOCKS, PARENT, STATS = 0x8_0000, 0x18_0000, 0x1C_0000, 0x20_0000
+    OUT, SCRATCH = 0x27_F000, 0x28_0000
 
     def __init__(self, arm: Arm9) -> None:
         self.arm = arm
+        self._shape: tuple[int, int] | None = None
+        self._n_lab = 0
 
-    def run(self, rgb: np.ndarray) -> dict[str, tuple[object, Timing]]:
-        """Stage name -> (result, timing) for one frame."""
+    def run(self, rgb: np.ndarray, upto: str = "labelling") -> dict[str, tuple[object, Timing]]:
+        """Stage name -> (result, timing) for one frame, the stages up to ``upto`` ("grey"
+        or "labelling"); the grey image and the stats stay in memory for the detectors. The
+        D-cache is cold when the frame arrives (a new DMA buffer); each later stage and
+        detector finds it as the one before left it, as on the board."""
         a, base = self.arm, DATA_BASE
         h, w = rgb.shape[:2]
         n = h * w
+        self._shape = (h, w)
         a.write(self.RGB, np.ascontiguousarray(rgb).tobytes())
         _, t_grey = a.call("mg_grey", base + self.RGB, base + self.GREY, n)
         grey = np.frombuffer(a.read(base + self.GREY, n), np.uint8).reshape(h, w)
+        out: dict[str, tuple[object, Timing]] = {"grey": (grey, t_grey)}
+        if upto == "grey":
+            return out
         thr, t_dark = a.call("mg_dark_mask", base + self.GREY, base + self.MASK, n,
-                             base + self.HIST)
+                             base + self.HIST, cold=False)
         mask = np.frombuffer(a.read(base + self.MASK, n), np.uint8).reshape(h, w)
         n_lab, t_lab = a.call("mg_label", base + self.MASK, w, h, base + self.LABELS,
-                              base + self.BLOCKS, base + self.PARENT, base + self.STATS)
+                              base + self.BLOCKS, base + self.PARENT, base + self.STATS,
+                              cold=False)
         labels = np.frombuffer(a.read(base + self.LABELS, 4 * n), np.int32).reshape(h, w)
         stats = np.frombuffer(a.read(base + self.STATS, 20 * n_lab), np.int32).reshape(n_lab, 5)
-        return {"grey": (grey, t_grey), "dark_threshold": ((mask, thr), t_dark),
-                "labelling": ((n_lab, labels, stats), t_lab)}
+        self._n_lab = n_lab
+        out["dark_threshold"] = ((mask, thr), t_dark)
+        out["labelling"] = ((n_lab, labels, stats), t_lab)
+        return out
+
+    def load(self, grey: np.ndarray, stats: np.ndarray) -> None:
+        """Put a front end's grey image and stats in memory (instead of :meth:`run`)."""
+        self._shape = grey.shape
+        self._n_lab = len(stats)
+        self.arm.write(self.GREY, np.ascontiguousarray(grey).tobytes())
+        self.arm.write(self.STATS, np.ascontiguousarray(stats, np.int32).tobytes())
+
+    def radial_symbol(self, f_px: int, u0_px: int, v0_px: int
+                      ) -> tuple[tuple[int, ...] | None, Timing]:
+        """The radial symbol on the frame of the last :meth:`run` (its grey and stats)."""
+        a, base = self.arm, DATA_BASE
+        h, w = self._shape
+        found, t = a.call("mg_radial_symbol", base + self.GREY, w, h, base + self.STATS,
+                          self._n_lab, f_px, u0_px, v0_px, base + self.SCRATCH, base + self.OUT,
+                          cold=False)
+        res = struct.unpack("<6i", a.read(base + self.OUT, 24)) if found else None
+        return res, t
 
 
 def progress_stderr(msg: str) -> None:

@@ -10,6 +10,7 @@ line fills and interlocks.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import os
 import subprocess
@@ -21,8 +22,11 @@ import numpy as np
 from mobigrasp.calib import arm, corpus, timing
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
+from mobigrasp.host.vision.registry import DETECTORS
 
-FRONT_END = ("radial_symbol", "dual_plus", "spoke")  # start with dark_blobs.dark_components
+# the detectors that start with dark_blobs.dark_components (grey, dark mask, labelling)
+FRONT_END = ("radial_symbol", "dual_plus", "spoke")
+GREY_USERS = tuple(n for n, r in DETECTORS.items() if r.uses_grey)
 
 
 @dataclass(frozen=True)
@@ -33,9 +37,21 @@ class StageDef:
     detectors: tuple[str, ...]
 
 
-STAGES = (StageDef("grey", (*FRONT_END, "double_cross")),
+STAGES = (StageDef("grey", GREY_USERS),
           StageDef("dark_threshold", FRONT_END),
-          StageDef("labelling", FRONT_END))
+          StageDef("labelling", FRONT_END),
+          # a detector's stage: its work after the front end, per call
+          StageDef("radial_symbol", ("radial_symbol",)))
+DETECTOR_STAGES = ("radial_symbol",)
+
+
+def modelled_us(stage: str, height: int, width: int) -> float:
+    """The cost model's time of a whole-frame stage (their counts depend on the size only)."""
+    n = int(height) * int(width)
+    ops = {"grey": lambda: grey.grey_cost(height, width),
+           "dark_threshold": lambda: dark_blobs.dark_mask_cost(n),
+           "labelling": lambda: dark_blobs.components_cost(n)}[stage]()
+    return ops.cycles() * 1e6 / FCLK_HZ
 
 
 def _python_stages(rgb: np.ndarray) -> dict[str, tuple[object, int]]:
@@ -99,19 +115,36 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
     front = arm.FrontEnd(machine)
     per: dict[str, dict[str, list]] = {s.name: {"mod": [], "emu": [], "t": []} for s in STAGES}
     mismatch = dict.fromkeys(per, 0)
+    shape = None
+    calls_by_file: dict[str, list[corpus.Call]] = {}
+    for c in corpus.calls(folder, index):
+        calls_by_file.setdefault(c.frame_file, []).append(c)
+
+    def add(name, ok, modelled, t):
+        mismatch[name] += 0 if ok else 1
+        per[name]["mod"].append(modelled)
+        per[name]["emu"].append(t.cycles)
+        per[name]["t"].append(t)
+
     for k, fr in enumerate(frames):
         rgb = corpus.load_frame(folder, fr)
-        dets = {c["detector"] for c in fr["calls"]}
-        active = [s.name for s in STAGES if dets & set(s.detectors)]
+        h, w = rgb.shape[:2]
+        shape = shape or [h, w]
+        calls = calls_by_file.get(fr["file"], [])
+        dets = {c.detector for c in calls}
+        active = [s.name for s in STAGES if dets & set(s.detectors)
+                  and s.name not in DETECTOR_STAGES]
         py = _python_stages(rgb)
-        emu = front.run(rgb)
+        emu = front.run(rgb, upto="labelling" if dets & set(FRONT_END) else "grey")
         for name in active:
-            res, t = emu[name]
-            if not _same(res, py[name][0]):
-                mismatch[name] += 1
-            per[name]["mod"].append(py[name][1])
-            per[name]["emu"].append(t.cycles)
-            per[name]["t"].append(t)
+            add(name, _same(emu[name][0], py[name][0]), py[name][1], emu[name][1])
+        front_cycles = dark_blobs.front_end_min_ops(h, w).cycles()
+        for c in calls:
+            if c.detector == "radial_symbol":
+                res, ops = DETECTORS["radial_symbol"].host_call(rgb, c.camera, None)
+                got, t = front.radial_symbol(*c.camera)
+                want = None if res is None else dataclasses.astuple(res)
+                add("radial_symbol", got == want, ops.cycles() - front_cycles, t)
         if progress is not None:
             progress(f"calibrate: frame {k + 1}/{len(frames)} ({fr['file']})")
     us = 1e6 / FCLK_HZ
@@ -145,7 +178,8 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
         }
     return {"format": "mobigrasp-calibration/1", "commit": _commit(), "corpus": str(folder),
             "fclk_hz": FCLK_HZ, "line_fill_cycles": int(line_fill_cycles),
-            "frames_per_scenario": per_scenario, "frames": len(frames), "stages": stages}
+            "frames_per_scenario": per_scenario, "frames": len(frames), "frame_shape": shape,
+            "stages": stages}
 
 
 def default_path() -> Path:

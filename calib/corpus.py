@@ -7,7 +7,7 @@ arguments: the frame and, for the pose-reading detectors, the joint angles snaps
 only calls the detector, so the run and its trace are those of ``mobigrasp run``; a scenario and
 seed give the same corpus every time.
 
-``corpus.json``: ``{"format": FORMAT, "scenarios": [{"name", "seed", "calls"}],
+``corpus.json``: ``{"format": FORMAT, "scenarios": [{"name", "seed", "camera", "calls"}],
 "frames": [{"file", "scenario", "shape", "sha256", "calls": [{"detector", "args"}]}]}`` where a
 frame's ``calls`` are the distinct (detector, arguments) it was given to, in order of first call.
 """
@@ -35,12 +35,14 @@ class CorpusError(ValueError):
 
 @dataclass(frozen=True)
 class Call:
-    """One detector call of the corpus: its frame and the arguments after the frame."""
+    """One detector call of the corpus: its frame, the arguments after the frame and the
+    camera parameters (f_px, u0_px, v0_px) the detector was built with."""
 
     scenario: str
     frame_file: str
     detector: str
     args: tuple
+    camera: tuple[int, int, int]
 
 
 class _Recorder:
@@ -96,14 +98,17 @@ def _prepare(out: Path) -> None:
 def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
            progress=None) -> dict:
     """Run each scenario in process and write the corpus to ``out``; returns the index."""
-    from mobigrasp.host.app_factory import DETECTOR_MODULES
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.host.vision.registry import DETECTORS
+    from mobigrasp.tools.run_job import RunOptions, execute, host_config, resolve_scenario
 
     out = Path(out)
     _prepare(out)
     index: dict = {"format": FORMAT, "scenarios": [], "frames": []}
     for name in scenarios:
-        rec = _Recorder(set(DETECTOR_MODULES))
+        rec = _Recorder(set(DETECTORS))
+        cam = host_config(resolve_scenario(name)[1])["camera"]
+        # the camera parameters the detectors were built with (host/app_factory.py rounds them)
+        camera = {k: int(round(cam[k])) for k in ("f_px", "u0_px", "v0_px")}
         with tempfile.TemporaryDirectory(prefix="mobigrasp-corpus-") as tmp:
             summary, _ = execute(RunOptions(scenario=name, transport="inproc",
                                             out=Path(tmp) / "run", progress=False,
@@ -117,7 +122,7 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
             if not cv2.imwrite(str(out / rel), rec.pixels[sha]):
                 raise CorpusError(f"{out / rel}: could not write the frame")
             index["frames"].append({"file": rel, "scenario": sc_name, **entry})
-        index["scenarios"].append({"name": sc_name, "seed": summary["seed"],
+        index["scenarios"].append({"name": sc_name, "seed": summary["seed"], "camera": camera,
                                    "calls": rec.calls, "frames": len(rec.frames),
                                    "trace_sha256": summary.get("trace_sha256")})
         if progress is not None:
@@ -162,9 +167,21 @@ def load_frame(folder: Path, entry: dict) -> np.ndarray:
 
 def calls(folder: Path, index: dict) -> list[Call]:
     """Every (frame, detector, arguments) of the corpus, in index order."""
+    cams = {}
+    for sc in index["scenarios"]:
+        cam = sc.get("camera") if isinstance(sc, dict) else None
+        if not isinstance(cam, dict) or not all(isinstance(cam.get(k), int)
+                                                for k in ("f_px", "u0_px", "v0_px")):
+            raise CorpusError(f"{Path(folder) / INDEX}: key 'scenarios[].camera' needs integer "
+                              f"f_px, u0_px, v0_px")
+        cams[sc["name"]] = (cam["f_px"], cam["u0_px"], cam["v0_px"])
     out = []
     for fr in index["frames"]:
+        if fr.get("scenario") not in cams:
+            raise CorpusError(f"{Path(folder) / INDEX}: frame {fr['file']}: key 'scenario' "
+                              f"names no scenario of the index")
         for c in fr["calls"]:
             out.append(Call(fr["scenario"], fr["file"], c["detector"], tuple(
-                tuple(a) if isinstance(a, list) else a for a in c.get("args", []))))
+                tuple(a) if isinstance(a, list) else a for a in c.get("args", [])),
+                cams[fr["scenario"]]))
     return out

@@ -17,12 +17,18 @@ from pathlib import Path
 import numpy as np
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
-SOURCES = ("grey.c", "dark.c", "label.c")
+SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c")
 CDEF = """
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
 int32_t mg_label(const uint8_t *mask, int32_t w, int32_t h, int32_t *labels,
                  int32_t *block_lab, int32_t *parent, int32_t *stats);
+int mg_edge_q4(const uint8_t *line, int32_t stride, int32_t n, int32_t i_dark, int32_t step,
+               int32_t *out_q4);
+int32_t mg_radial_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_t *stats,
+                         int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
+                         uint8_t *scratch, int32_t *out);
 """
 
 
@@ -107,3 +113,36 @@ def label(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
                    _ptr(ffi, block_lab, "int32_t *"), _ptr(ffi, parent, "int32_t *"),
                    _ptr(ffi, stats, "int32_t *"))
     return int(n), labels, stats[:n].copy()
+
+
+def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
+    """The C ``mg_edge_q4`` on a 1-D uint8 line (None when there is no edge)."""
+    ffi, c = lib()
+    ln = np.ascontiguousarray(line, np.uint8)
+    out = ffi.new("int32_t *")
+    ok = c.mg_edge_q4(_ptr(ffi, ln, "uint8_t *"), 1, len(ln), int(i_dark), int(step), out)
+    return int(out[0]) if ok else None
+
+
+def radial_symbol(grey_img: np.ndarray, stats: np.ndarray, f_px: int = 611, u0_px: int = 160,
+                  v0_px: int = 120) -> tuple[int, ...] | None:
+    """(u_q4, v_q4, diameter_q4, y_oc_mm, x_oc_mm, z_oc_mm) of the radial symbol, from the
+    front end's grey image and component stats, or None."""
+    ffi, c = lib()
+    g = np.ascontiguousarray(grey_img)
+    h, w = g.shape
+    st = np.ascontiguousarray(stats, np.int32)
+    scratch = np.empty(c.mg_radial_scratch_bytes(w, h) // 4 + 1, np.int32)
+    out = np.zeros(6, np.int32)
+    found = c.mg_radial_symbol(_ptr(ffi, g, "uint8_t *"), w, h, _ptr(ffi, st, "int32_t *"),
+                               len(st), f_px, u0_px, v0_px, _ptr(ffi, scratch, "uint8_t *"),
+                               _ptr(ffi, out, "int32_t *"))
+    return tuple(int(v) for v in out) if found else None
+
+
+def detect_radial_symbol(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
+                         v0_px: int = 120) -> tuple[int, ...] | None:
+    """The whole detector in C: grey, dark mask, labelling, radial symbol."""
+    m, _ = dark_mask(grey(rgb))
+    _, _, stats = label(m)
+    return radial_symbol(grey(rgb), stats, f_px, u0_px, v0_px)

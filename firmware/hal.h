@@ -15,6 +15,17 @@
 #define FW_STATE
 #endif
 
+/* Constant tables that live in flash (program memory) on the AVR, and their reader. */
+#ifdef __AVR__
+#include <avr/pgmspace.h>
+#define HAL_FLASH PROGMEM
+#define hal_flash_read(dst, src, n) memcpy_P((dst), (src), (n))
+#else
+#include <string.h>
+#define HAL_FLASH
+#define hal_flash_read(dst, src, n) memcpy((dst), (src), (n))
+#endif
+
 /* Time since reset in µs (wraps after 71 minutes; compare with signed differences). */
 uint32_t hal_micros(void);
 
@@ -38,9 +49,9 @@ uint32_t hal_uart_rx_lost(void);
 /* Trigger pulse on sonar ``index``. */
 void hal_sonar_trigger(uint8_t index);
 
-/* PARAM values that replace the defaults at every start (build-time choices; none on the
- * AVR build): calls params_set() for each. */
-void hal_boot_params(void);
+/* A build-time power-on value of PARAM ``id`` (none on the AVR build; the emulator's McuConfig
+ * on the native one): 1 and *value set, or 0 to keep the table's default. */
+uint8_t hal_boot_param(uint16_t id, int32_t *value);
 
 /* Interrupts off around a multi-byte read of a variable an ISR writes. */
 uint8_t hal_irq_save(void);

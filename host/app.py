@@ -109,7 +109,8 @@ class _VisionJob:
 
 @dataclass
 class HostCounters:
-    """Budget figures of the run (issue 8: frames_*, deadline_misses, load)."""
+    """Budget figures of the run: frames_*, deadline_misses, load (docs/cosim.md, "The ARM9
+    budget")."""
 
     frames_received: int = 0
     frames_processed: int = 0

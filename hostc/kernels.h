@@ -23,4 +23,21 @@ int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t 
 int32_t mg_label(const uint8_t *mask, int32_t w, int32_t h, int32_t *labels,
                  int32_t *block_lab, int32_t *parent, int32_t *stats);
 
+/* edge.c: floor division, rounded division (den > 0) and the sub-pixel light-to-dark edge
+ * ending at i_dark along a line (stride in bytes; host/vision/dark_blobs.py edge_q4): 1 and the
+ * edge in Q4 px, or 0 when there is none. */
+int32_t mg_floordiv(int32_t a, int32_t b);
+int32_t mg_div_round(int64_t num, int64_t den);
+int mg_edge_q4(const uint8_t *line, int32_t stride, int32_t n, int32_t i_dark, int32_t step,
+               int32_t *out_q4);
+
+/* radial_symbol.c: the 000 radial symbol from the front end's grey image and component stats
+ * (host/vision/radial_symbol.py detect_radial_symbol). out: u_q4, v_q4, diameter_q4, y_oc_mm,
+ * x_oc_mm, z_oc_mm. scratch: mg_radial_scratch_bytes(w, h) bytes, 4-byte aligned. Returns 1
+ * when found, 0 when not. */
+int32_t mg_radial_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_t *stats,
+                         int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
+                         uint8_t *scratch, int32_t *out);
+
 #endif

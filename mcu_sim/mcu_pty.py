@@ -21,8 +21,9 @@ from collections.abc import Callable
 
 from mobigrasp.link.base import LinkClosed
 from mobigrasp.link.registry import open_transport
+from mobigrasp.mcu_sim.backend import open_mcu
 from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
-from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.mcu_sim.mcu import McuConfig
 from mobigrasp.protocol.frame import FrameParser
 from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame
 
@@ -35,15 +36,17 @@ class PtyMcu:
 
     def __init__(self, config: McuConfig | None = None, record: bool = True,
                  wheels: str = WHEELS[0],
-                 on_sent: Callable[[int, object], None] | None = None) -> None:
+                 on_sent: Callable[[int, object], None] | None = None,
+                 mcu: str = "python") -> None:
         """``record``: keep every decoded message the MCU sent in ``sent``; ``on_sent(t_us,
-        message)`` is called for each of them either way (``mobigrasp mcu --log``)."""
+        message)`` is called for each of them either way (``mobigrasp mcu --log``); ``mcu``:
+        the backend (mcu_sim/backend.py, ``python`` or ``native``)."""
         if wheels not in WHEELS:
             raise ValueError(f"wheels must be one of {', '.join(WHEELS)}, got {wheels!r}")
         self.wheels = wheels
         self._plant = WheelsInTheAir() if wheels == "bench" else None
         self._next_plant_us = 0
-        self.mcu = Mcu(config)
+        self.mcu = open_mcu(mcu, config)
         self.transport = open_transport("pty://")
         self.port: str = self.transport.slave_path
         self.record = record

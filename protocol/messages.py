@@ -24,6 +24,7 @@ NACK_BAD_LENGTH = 3
 NACK_NOT_READY = 4
 NACK_BAD_PARAM = 5
 NACK_BAD_VERSION = 6
+NACK_SEQ_REUSED = 7  # a reliable seq reused with other content inside the duplicate window
 
 SERVO_MODE_PULSE_US = 0
 SERVO_MODE_MRAD = 1

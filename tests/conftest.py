@@ -15,6 +15,23 @@ settings.register_profile("explore", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
+# Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the
+# module's ``Mcu`` is the Python model for ``python`` and the C firmware for ``native``.
+def pytest_generate_tests(metafunc):
+    if metafunc.definition.get_closest_marker("both_mcus") is not None:
+        metafunc.fixturenames.append("mcu_backend")
+        metafunc.parametrize("mcu_backend", ["python", "native"], indirect=True)
+
+
+@pytest.fixture
+def mcu_backend(request, monkeypatch):
+    if request.param == "native":
+        from mobigrasp.mcu_sim.native.mcu import NativeMcu
+
+        monkeypatch.setattr(request.module, "Mcu", NativeMcu)
+    return request.param
+
+
 # three short in-process runs (one per method) whose run folders several output tests read
 SHORT_RUNS = {"paper000-exp1": None, "paper001-sim1": 8.0, "paper002-marker": 8.0}
 

@@ -21,9 +21,9 @@ def test_corpus_holds_the_frames_and_calls_of_the_run(small_corpus):
     assert [s["name"] for s in idx["scenarios"]] == ["paper002-marker"]
     assert idx["frames"], "a 2 s run of paper002-marker gives the detector frames"
     calls = corpus.calls(small_corpus, idx)
-    from mobigrasp.host.app_factory import DETECTOR_MODULES
+    from mobigrasp.host.vision.registry import DETECTORS
 
-    assert calls and {c.detector for c in calls} <= set(DETECTOR_MODULES)
+    assert calls and {c.detector for c in calls} <= set(DETECTORS)
     assert idx["scenarios"][0]["calls"] >= len(calls)  # repeats are stored once
     shas = set()
     for fr in idx["frames"]:

@@ -123,6 +123,9 @@ def test_parallel_runs_give_the_same_rows(tmp_path):
                           run_fn=fake_run, progress=None)
     parallel = run_campaign(CampaignConfig("002", 8, PLAN, seed=3, jobs=2, out=tmp_path),
                             run_fn=fake_run, progress=None)
+    assert [r.pop("worker") for r in parallel["rows"]] != []  # where it ran: not a result
+    for r in serial["rows"]:
+        r.pop("worker")
     assert parallel == serial
 
 

@@ -95,6 +95,10 @@ def test_watchdog_trip_and_clear_are_said():
     link = FakeLink()
     out = io.StringIO()
     shell = ConsoleShell(link, stdout=out, heartbeat_ms=0)
+    link.queue = [tel(10_000, FLAG_WATCHDOG, 1)]  # before the session: not news
+    shell.heartbeat_step(0.0)
+    assert "watchdog" not in out.getvalue()
+    shell.session_open = True
     link.queue = [tel(20_000, FLAG_HANDSHAKE, 0), tel(300_000, FLAG_HANDSHAKE | FLAG_WATCHDOG, 1),
                   tel(320_000, FLAG_HANDSHAKE | FLAG_WATCHDOG, 1), tel(340_000, FLAG_HANDSHAKE, 1)]
     shell.heartbeat_step(0.0)
@@ -154,7 +158,7 @@ def test_the_frame_cut_by_opening_the_port_is_not_an_error():
 
 def run_console(port, home, script, *extra):
     env = dict(os.environ, HOME=str(home))
-    return subprocess.run([sys.executable, "-m", "mobigrasp", "console", port, *extra],
+    return subprocess.run([sys.executable, "-m", "mobigrasp", "console", "--port", port, *extra],
                           input=script, capture_output=True, text=True, env=env, cwd=ROOT,
                           timeout=SAFETY_S)
 
@@ -199,10 +203,13 @@ def test_wheels_keep_turning_with_heartbeats_and_stop_without(tmp_path):
             port = mcu.stdout.readline().strip()
             res = run_console(port, tmp_path, script, "--heartbeat-ms", beat,
                               "--reply-timeout", "5")
-            assert res.returncode == 0, res.stderr
-            texts[beat] = res.stdout
         finally:
-            mcu.communicate(timeout=SAFETY_S)
+            if mcu.poll() is None and not port.startswith("/dev/"):
+                mcu.kill()
+            mcu.communicate(timeout=SAFETY_S)  # it ends when the console closes the port
+        assert res.returncode == 0, res.stderr
+        texts[beat] = res.stdout
     assert "watchdog tripped" not in texts["100"]
     last = [ln for ln in texts["100"].splitlines() if ln.startswith("  enc_left")][-1]
-    assert int(last.split()[1]) > 0  # still turning at the end    assert "watchdog tripped" in texts["0"]
+    assert int(last.split()[1]) > 0  # still turning at the end
+    assert "watchdog tripped" in texts["0"]

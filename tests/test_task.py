@@ -305,7 +305,7 @@ def test_001_replans_when_the_sonar_sees_the_path_blocked():
 
 
 def test_001_planner_gets_the_sonar_mount_and_shared_echo_tolerance():
-    from mobigrasp.host.task_drive import planner_params_001
+    from mobigrasp.host.task.method001 import planner_params_001
 
     p = TaskParams.for_method("001", {"sonar_offset_mm": 170, "sonar_shared_echo_mm": 130,
                                       "planner": {"v0": 0.15}})

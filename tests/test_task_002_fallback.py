@@ -6,7 +6,7 @@ import detections as det
 
 from mobigrasp.host.task import Task, TaskInputs
 
-# a far red cylinder as the detector reports it (random 002 seed 3003, 2.8 m away)
+# a far red cylinder as the detector reports it 2.8 m away
 FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": (158, 48, 12, 20),
                 "v_c_q4": 928, "width_q4": 112}
 

@@ -301,20 +301,20 @@ def test_grasp_check_after_the_lift_grasps_again_or_fails(misses):
 
 
 def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighting():
-    from mobigrasp.host import task_grasp
     from mobigrasp.host.search import SearchParams
+    from mobigrasp.host.task import grasp as task_grasp
 
     for method, near_mm in (("000", 210), ("001", 250), ("002", 355)):
         task = Task(method)
         task.obj = (near_mm, 0)  # odometry: straight ahead of the start pose
-        task._start_check(0, TaskInputs())
+        task_grasp.GRASP.start_check(task, 0, TaskInputs())
         alpha = sum(task.arm[2:5])
         pitches = {-p for _, p in task_grasp.CHECK_VIEWS}
         assert alpha in pitches or abs(min(pitches, key=lambda p: abs(p - alpha)) - alpha) <= 5
         assert abs(task.arm[5]) <= 5 and task.phase == "check"
         far = Task(method)
         far.obj = (1300, -600)  # 0.45 m+ beyond any view: the search's far look toward it
-        far._start_check(0, TaskInputs())
+        task_grasp.GRASP.start_check(far, 0, TaskInputs())
         sp = SearchParams(**far.p.search)
         assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
         assert far.arm[5] > 300  # the object is to the right (negative odometry y)

@@ -1,4 +1,4 @@
-"""host/task_sense: pinhole back-projection, detection adapters and frame changes vs float."""
+"""host/task/sense.py: pinhole back-projection, detection adapters and frame changes vs float."""
 
 import math
 
@@ -8,7 +8,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mobigrasp.host import kinematics
-from mobigrasp.host import task_sense as ts
+from mobigrasp.host.task import sense as ts
 
 G = kinematics.PAPER_000
 L = (95.5, 89.0, 97.0)

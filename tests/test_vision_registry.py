@@ -37,3 +37,33 @@ def test_host_app_cost_report_and_states_read_the_table():
     assert [s.name for s in rep.stages][0] == "grey"
     with pytest.raises(ValueError, match="unknown detector"):
         registry.row("nope")
+
+
+def test_a_toy_detector_row_reaches_the_cost_report_the_host_app_and_the_task(monkeypatch):
+    """Adding a detector is its own module plus one row (docs/architecture-detector.md)."""
+    from mobigrasp.host.kinematics import PAPER_000
+    from mobigrasp.host.task.sense import CAMERA_000, object_in_platform
+
+    row = registry.DetectorRow("bright_spot", "toy_detector", "detect_bright_spot",
+                               "BrightSpot", uses_grey=False)
+    monkeypatch.setitem(registry.DETECTORS, "bright_spot", row)
+    rgb = np.zeros((240, 320, 3), np.uint8)
+    rgb[100, 200] = 255
+    # the cost report runs it and charges its counts as one stage
+    rep, results = cost_report.frame_cost(rgb, ["bright_spot"])
+    assert [s.name for s in rep.stages] == ["bright_spot"]
+    assert rep.stages[0].ops == row.min_ops_fn()(240, 320)
+    assert (results["bright_spot"].u_q4, results["bright_spot"].v_q4) == (3200, 1600)
+    # the host app has it, with its modelled-time bound
+    app = app_factory.build_host_app({"method": "000"})
+    assert "bright_spot" in app.detectors
+    res, ops = app.detectors["bright_spot"](rgb)
+    assert res == results["bright_spot"] and ops == rep.stages[0].ops
+    assert app_factory.vision_bounds(["bright_spot"])["bright_spot"](240, 320) == \
+        row.min_ops_fn()(240, 320).time_us()
+    # and its result becomes a target of the task through the module's sighting
+    p = object_in_platform("bright_spot", res, PAPER_000, (0, 0, 0, 0, 0, 0), CAMERA_000)
+    assert p is not None and abs(p[1] / 16 - (281.5 + 500)) < 2
+    with pytest.raises(TypeError, match="bright_spot"):
+        object_in_platform("bright_spot", results["bright_spot"].__dict__, PAPER_000,
+                           (0,) * 6, CAMERA_000)

@@ -18,7 +18,6 @@ import os
 import random
 import statistics
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -42,6 +41,8 @@ class CampaignConfig:
     out: Path = Path("runs/campaign")
     time_limit_s: float | None = None  # None: the scenario's own limit
     random_times: bool = False  # each run draws every fault time uniformly in [0, given time]
+    scheduler: str | None = None  # tcp://HOST:PORT of a Dask scheduler; None: this machine
+    resume: bool = False  # keep the rows of out/campaign.rows.jsonl, run only the other seeds
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -52,6 +53,10 @@ class CampaignConfig:
             raise ValueError(f"--seed must be an integer >= 0, got {self.seed!r}")
         if self.jobs is not None and (not isinstance(self.jobs, int) or self.jobs < 1):
             raise ValueError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
+        if self.scheduler is not None:
+            from mobigrasp.tools.campaign_engines import check_scheduler
+
+            check_scheduler(self.scheduler)
         if self.seed + self.runs - 1 > MAX_SEED:
             raise ValueError(f"--seed + --runs - 1 must be <= {MAX_SEED}, got "
                              f"{self.seed + self.runs - 1}")
@@ -129,7 +134,8 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     unsafe = (int(safety.get("unsafe_actuations", 0)) if monitored else 0) + collisions
     wd = safety.get("watchdog_trips") if monitored else None
     row = {
-        "seed": job["seed"], "faults": job.get("faults", {}), "success": bool(s.get("success")),
+        "seed": job["seed"], "method": job.get("method"), "faults": job.get("faults", {}),
+        "success": bool(s.get("success")), "trace_sha256": s.get("trace_sha256"),
         "status": s.get("status", "crashed") if summary is not None else "crashed",
         "task_state": s.get("task_state"), "sim_time_s": s.get("sim_time_s"),
         "collisions": collisions, "unsafe_actuations": unsafe, "safety_monitored": monitored,
@@ -202,34 +208,66 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
     return out
 
 
+ROWS_FILE = "campaign.rows.jsonl"  # one row a line, written as each run finishes
+
+
+def load_rows(path: Path, jobs: list[dict]) -> list[dict]:
+    """The rows an interrupted campaign wrote (a torn last line is dropped); ValueError when a
+    row is not of this campaign (another method, other faults or a seed outside it)."""
+    by_seed = {job["seed"]: job for job in jobs}
+    rows: dict[int, dict] = {}
+    if not path.is_file():
+        return []
+    with path.open(encoding="utf-8", errors="replace") as fh:
+        for n, line in enumerate(fh, 1):
+            try:
+                row = json.loads(line)
+            except json.JSONDecodeError:
+                break  # the line being written when the campaign stopped
+            job = by_seed.get(row.get("seed")) if isinstance(row, dict) else None
+            if job is None or row.get("method") != job["method"] \
+                    or row.get("faults") != job["faults"]:
+                raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
+                                 f"{row.get('seed') if isinstance(row, dict) else '?'}, method "
+                                 f"or faults differ): use another --out or run without --resume")
+            rows[row["seed"]] = row
+    return [rows[s] for s in sorted(rows)]
+
+
 def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
                  progress: Progress | None = None) -> dict:
-    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}.
+    """Run every job; {"summary": ..., "rows": [...]} (rows by seed).
+
+    Where: on the Dask cluster at ``cfg.scheduler``, else a local process pool when more than
+    one job runs at once, else this process (tools.campaign_engines). Each row is appended to
+    ``out/campaign.rows.jsonl`` as its run finishes, with the worker that ran it; with
+    ``cfg.resume`` the rows already there are kept and only the other seeds run.
     ``progress`` (tools.progress) is told the runs done and how many succeeded."""
+    from mobigrasp.tools.campaign_engines import open_engine
+
     jobs = jobs_of(cfg)
-    workers = min(cfg.jobs or os.cpu_count() or 1, len(jobs))
-    rows: list[dict] = []
-
-    def done(job: dict, summary: dict | None, error: str | None) -> None:
-        rows.append(row_of(job, summary, error))
-        if progress is not None:
+    out = Path(cfg.out)
+    rows_path = out / ROWS_FILE
+    rows = load_rows(rows_path, jobs) if cfg.resume else []
+    finished = {r["seed"] for r in rows}
+    todo = [job for job in jobs if job["seed"] not in finished]
+    workers = min(cfg.jobs or os.cpu_count() or 1, max(1, len(todo)))
+    name = "dask" if cfg.scheduler else "serial" if workers <= 1 else "processes"
+    engine = open_engine(name)
+    out.mkdir(parents=True, exist_ok=True)
+    with rows_path.open("a" if cfg.resume else "w", encoding="utf-8") as fh:
+        if progress is not None and rows:
             ok = sum(r["success"] for r in rows)
-            progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not")
-
-    if workers <= 1:
-        for job in jobs:
-            try:
-                done(job, run_fn(job), None)
-            except Exception as exc:  # one broken run must not end the campaign
-                done(job, None, f"{type(exc).__name__}: {exc}")
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(run_fn, job): job for job in jobs}
-            for fut in as_completed(futures):
-                try:
-                    done(futures[fut], fut.result(), None)
-                except Exception as exc:
-                    done(futures[fut], None, f"{type(exc).__name__}: {exc}")
+            progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not (resumed)")
+        for job, summary, error, worker in engine(run_fn, todo, workers=workers,
+                                                  scheduler=cfg.scheduler):
+            row = {**row_of(job, summary, error), "worker": worker}
+            fh.write(json.dumps(row, sort_keys=True) + "\n")
+            fh.flush()
+            rows.append(row)
+            if progress is not None:
+                ok = sum(r["success"] for r in rows)
+                progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not")
     if progress is not None:
         progress.close()
     rows.sort(key=lambda r: r["seed"])

@@ -23,6 +23,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
+from mobigrasp.tools.plan_paths import odom_to_world, plan_paths_world  # noqa: E402
+
 JOINT_NAMES = ["θ0 gripper", "θ1 roll", "θ2 wrist", "θ3 elbow", "θ4 shoulder", "θ5 waist"]
 
 
@@ -130,38 +132,6 @@ def joints(events: list[dict], folder: Path) -> str | None:
     return _save(fig, folder, "joints.png")
 
 
-def cubic_points(ctrl: list, n: int = 40) -> list[tuple[float, float]]:
-    """Points of the cubic Bezier with control points ``ctrl`` ([x, y(, t)] each), eq. (4) of
-    000 with the Bernstein basis."""
-    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = [(p[0], p[1]) for p in ctrl[:4]]
-    out = []
-    for i in range(n + 1):
-        t = i / n
-        b0, b1, b2, b3 = (1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t * t * (1 - t), t ** 3
-        out.append((b0 * x0 + b1 * x1 + b2 * x2 + b3 * x3, b0 * y0 + b1 * y1 + b2 * y2 + b3 * y3))
-    return out
-
-
-def _curves(plan: dict, key: str) -> list[list[tuple[float, float]]]:
-    """Poly-lines of a plan entry: sampled paths, or control points of cubic Beziers."""
-    value = plan.get(key)
-    if not isinstance(value, list) or not value:
-        return []
-    if all(isinstance(p, list) and len(p) >= 2 and isinstance(p[0], int | float) for p in value):
-        return [cubic_points(value)] if len(value) == 4 else [[(p[0], p[1]) for p in value]]
-    out = []
-    for item in value:
-        out.extend(_curves({"c": item}, "c"))
-    return out
-
-
-def _odom_to_world(start: dict | None):
-    """The host plans in its odometry frame (the start pose); map to the world for plotting."""
-    x0, y0, h0 = (start or {}).get("robot", [0.0, 0.0, 0.0])
-    c, s = math.cos(h0), math.sin(h0)
-    return lambda p: (x0 + c * p[0] - s * p[1], y0 + s * p[0] + c * p[1])
-
-
 def bezier(events: list[dict], folder: Path) -> str | None:
     """Candidate (thin) and chosen (thick) Bezier paths of every plan in the trace."""
     plans = [e for e in events if e["ev"] == "detail" and isinstance(e.get("plan"), dict)]
@@ -170,16 +140,10 @@ def bezier(events: list[dict], folder: Path) -> str | None:
     fig, ax = plt.subplots(figsize=(6, 5))
     start = next((e for e in events if e["ev"] == "start"), None)
     _obstacles(ax, start)
-    to_world = _odom_to_world(start)
+    to_world = odom_to_world(start)
     drawn_candidates = False
     for k, e in enumerate(plans):
-        plan = e["plan"]
-        cands = _curves(plan, "candidates_ctrl") or _curves(plan, "candidates")
-        best = _curves(plan, "best_ctrl") or _curves(plan, "best")
-        pts = [p for path in cands + best for p in path]
-        scale = 1e-3 if pts and max(abs(v) for p in pts for v in p) > 50 else 1.0  # mm or m
-        cands = [[to_world((p[0] * scale, p[1] * scale)) for p in path] for path in cands]
-        best = [[to_world((p[0] * scale, p[1] * scale)) for p in path] for path in best]
+        cands, best = plan_paths_world(e["plan"], to_world)
         for path in cands:
             ax.plot([p[0] for p in path], [p[1] for p in path], color="tab:red",
                     lw=0.4, alpha=0.4, label=None if drawn_candidates else "candidates")

@@ -95,7 +95,7 @@ def write_summary(path: Path, summary: dict) -> None:
     tmp.replace(path)
 
 
-def _points(result: Any) -> list[tuple[int, int]]:
+def detection_points(result: Any) -> list[tuple[int, int]]:
     """Pixel points a detection result names: ``u<x>_q4`` with ``v<x>_q4`` (u_q4, u1_q4, um_q4,
     u_c_q4, ...), in Q4 px."""
     pts: list[tuple[int, int]] = []
@@ -106,10 +106,10 @@ def _points(result: Any) -> list[tuple[int, int]]:
                 if isinstance(v, int | float):
                     pts.append((int(value) // 16, int(v) // 16))
             elif isinstance(value, dict | list):
-                pts.extend(_points(value))
+                pts.extend(detection_points(value))
     elif isinstance(result, list):
         for item in result:
-            pts.extend(_points(item))
+            pts.extend(detection_points(item))
     return pts
 
 
@@ -122,7 +122,7 @@ def draw_detection(rgb: np.ndarray, results: dict | None, label: str) -> np.ndar
     missed = 0
     for name, result in (results or {}).items():
         colour = (0, 255, 0) if result is not None else (0, 0, 255)
-        for u, v in _points(result):
+        for u, v in detection_points(result):
             cv2.drawMarker(img, (u, v), colour, cv2.MARKER_CROSS, 12, 1)
         if result is None:  # one line per detector that found nothing, stacked upwards
             cv2.putText(img, f"{name}: none", (4, img.shape[0] - 6 - SNAPSHOT_LINE_PX * missed),
@@ -197,7 +197,8 @@ RUN_MARKER = ".mobigrasp-run"
 _MARKER_TEXT = "a mobigrasp run folder: `mobigrasp run` may replace the files it wrote here\n"
 # the files a run writes (and so the only ones a later run into the same folder removes):
 # top-level names, and per sub-folder the suffix of the files written there
-_RUN_FILES = ("summary.json", "summary.json.tmp", "trace.jsonl", "report.html", "profile.json")
+_RUN_FILES = ("summary.json", "summary.json.tmp", "trace.jsonl", "trace.mcap", "report.html",
+              "profile.json")
 _RUN_SUBFOLDERS = {"plots": re.compile(r"[a-z0-9_]+\.png"),  # plots.py: trajectory.png, ...
                    "frames": re.compile(r"\d{3}_\d{7}ms_[A-Za-z0-9_?]+\.png")}  # Snapshots
 _NAME_MAX = 100

@@ -55,6 +55,7 @@ class RunOptions:
     scenario: str
     seed: int | None = None
     transport: str = "pty"
+    mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
     # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
@@ -64,6 +65,7 @@ class RunOptions:
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
     host_lag_quanta: int = 1
     plots: bool = True
+    mcap: bool = True  # trace.mcap for Foxglove (tools/mcap_out.py)
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
@@ -111,6 +113,9 @@ def _check_options(opts: RunOptions) -> None:
         raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
     if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
         raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
+    if opts.mcu not in MCU_BACKENDS:
+        raise BadInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, got {opts.mcu!r}")
     check_seed(opts.seed)
     check_time_limit(opts.time_limit_s)
 
@@ -222,24 +227,26 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     try:
         from mobigrasp.host.app_factory import build_host_app
         from mobigrasp.host.lockstep_client import LockstepClient
-        from mobigrasp.mcu_sim.mcu import Mcu
+        from mobigrasp.mcu_sim.backend import open_mcu
         from mobigrasp.mcu_sim.rig import Rig, RigConfig
         from mobigrasp.mcu_sim.rig_plant import WorldPlant
         from mobigrasp.tools.heap_tuning import keep_freed_memory
+        from mobigrasp.tools.mcap_out import CameraLog
         from mobigrasp.tools.run_folder import Snapshots, TraceWriter, write_summary
 
         (out / "plots").mkdir(exist_ok=True)
         summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(path), "method": scenario.meta.method,
-            "seed": seed, "transport": opts.transport, "status": "starting", "success": False,
-            "grasped": False,
+            "seed": seed, "transport": opts.transport, "mcu_backend": opts.mcu,
+            "status": "starting", "success": False, "grasped": False,
         }
         write_summary(out / "summary.json", summary)
         trace = TraceWriter(out / "trace.jsonl")
         snaps = Snapshots(out / "frames")
+        camera = CameraLog() if opts.mcap else None  # the frames of trace.mcap
         plant = WorldPlant(scenario, seed)
         plant.preload()  # textures built while the host process boots, not on the run's clock
-        mcu = Mcu()
+        mcu = open_mcu(opts.mcu)
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()
@@ -272,7 +279,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         rig = Rig(rig_mcu, rig_plant, port,
                   RigConfig(quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                             host_lag_quanta=opts.host_lag_quanta),
-                  on_frame=snaps.on_frame)
+                  on_frame=snaps.on_frame if camera is None else _both(snaps.on_frame,
+                                                                       camera.on_frame))
         progress = None
         if callable(opts.progress):  # a display of the caller's (tools.progress.RunProgress)
             def progress(r, wall):
@@ -330,6 +338,15 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         proto["watchdog_trips"] = max(proto["watchdog_trips"],
                                       summary["mcu"].get("watchdog_trips", 0))
         write_summary(out / "summary.json", summary)
+    if opts.mcap:
+        try:
+            from mobigrasp.tools.mcap_out import write_mcap
+            from mobigrasp.tools.run_folder import read_trace
+
+            write_mcap(out / "trace.mcap", read_trace(out / "trace.jsonl"), camera.frames,
+                       summary)
+        except Exception as exc:  # like the report: it must not hide the run's result
+            log.error("trace.mcap of %s: %s: %s", out, type(exc).__name__, exc)
     if opts.plots:
         try:
             from mobigrasp.tools.report import write_report
@@ -337,6 +354,14 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         except Exception as exc:  # a plotting failure must not hide the run's result
             log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+
+
+def _both(first, second):
+    """One rig callback calling two."""
+    def call(*args):
+        first(*args)
+        second(*args)
+    return call
 
 
 def _figures(res, plant, trace, snaps, limit_s: float) -> dict:

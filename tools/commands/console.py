@@ -55,6 +55,7 @@ class ConsoleShell(cmd.Cmd):
         self.heartbeats_sent = 0
         self._next_heartbeat_s: float | None = None
         self._watchdog_on = False
+        self._watchdog_said = False  # a trip was announced and has not cleared yet
         self._watchdog_trips: int | None = None
         # parser rejections up to the first whole frame: the cut frame of bytes sent before the
         # port was opened (None until a frame arrived)
@@ -156,16 +157,19 @@ class ConsoleShell(cmd.Cmd):
 
     def _watch_watchdog(self, t) -> None:
         """Say when the MCU's watchdog stop began (flag rose, or the trip count grew between two
-        telemetry frames) and when it ended."""
+        telemetry frames) and when it ended, once the session is open (before HELLO the MCU
+        has heard nobody: its watchdog stop then is no news)."""
         from mobigrasp.protocol.messages import FLAG_WATCHDOG
 
         on = bool(t.flags & FLAG_WATCHDOG)
         grew = self._watchdog_trips is not None and t.watchdog_trips > self._watchdog_trips
-        if (on and not self._watchdog_on) or grew:
+        if self.session_open and ((on and not self._watchdog_on) or grew):
             self.say(f"watchdog tripped (t={t.time_us} us, trips={t.watchdog_trips}): no valid "
                      f"frame from the host within watchdog_ms; wheels stopped")
-        elif self._watchdog_on and not on:
+            self._watchdog_said = True
+        elif self._watchdog_on and not on and self._watchdog_said:
             self.say(f"watchdog cleared (t={t.time_us} us)")
+            self._watchdog_said = False
         self._watchdog_on = on
         self._watchdog_trips = t.watchdog_trips
 
@@ -343,7 +347,7 @@ class ConsoleShell(cmd.Cmd):
         """params: the firmware's parameter table (id, name, default, range)."""
         from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
 
-        for pid, name, default, lo, hi, writable in PARAM_TABLE:
+        for pid, name, default, lo, hi, writable, _safety in PARAM_TABLE:
             self.say(f"{pid:4d} {name:<18} default {default:<6} [{lo}, {hi}]"
                      f"{'' if writable else ' read-only'}")
 

@@ -80,24 +80,74 @@ def _lockstep(args: argparse.Namespace, cfg: dict, port) -> int:
 
 
 class _OpenCvCamera:
-    """Frames from cv2.VideoCapture, stamped with wall time (free-running mode only)."""
+    """Frames from cv2.VideoCapture, stamped with wall time (free-running mode only).
 
-    def __init__(self, source: str) -> None:
+    A live source (a device index, or a URL such as ``mobigrasp sim``'s MJPEG stream) is read
+    by a thread as fast as it delivers, keeping only the newest frame: a host loop that falls
+    behind for a moment then skips frames, as a CAMIF does, instead of working through a
+    growing backlog of old ones (whose scene lags the arm further each time). A video file is
+    read one frame per call, at the camera rate."""
+
+    def __init__(self, source: str, t0: float) -> None:
+        import threading
+
         import cv2
 
         self._cv2 = cv2
+        self.live = source.isdigit() or "://" in source
         self.cap = cv2.VideoCapture(int(source) if source.isdigit() else source)
         if not self.cap.isOpened():
             raise ValueError(f"cannot open camera source {source!r}")
+        self._t0 = t0
         self.seq = 0
+        self._latest = None  # (seq, arrival_us, rgb) from the reader thread
+        self._taken = -1
+        self._lock = threading.Lock()
+        self._stop = threading.Event()
+        self._thread = None
+        if self.live:
+            self._thread = threading.Thread(target=self._reader, daemon=True, name="camera")
+            self._thread.start()
 
-    def read(self):
-        ok, bgr = self.cap.read()
-        if not ok:
+    def _convert(self, bgr):
+        return self._cv2.resize(self._cv2.cvtColor(bgr, self._cv2.COLOR_BGR2RGB), (320, 240))
+
+    def _reader(self) -> None:
+        while not self._stop.is_set():
+            ok, bgr = self.cap.read()
+            if not ok:
+                return  # the stream ended
+            arrival_us = int((time.monotonic() - self._t0) * 1e6)
+            rgb = self._convert(bgr)
+            with self._lock:
+                self._latest = (self.seq, arrival_us, rgb)
+                self.seq += 1
+
+    def read(self, now_us: int):
+        """(seq, arrival_us, rgb) of a frame not handed out before, or None."""
+        if not self.live:
+            ok, bgr = self.cap.read()
+            if not ok:
+                return None
+            self.seq += 1
+            return self.seq - 1, now_us, self._convert(bgr)
+        with self._lock:
+            got = self._latest
+        if got is None or got[0] == self._taken:
             return None
-        rgb = self._cv2.resize(self._cv2.cvtColor(bgr, self._cv2.COLOR_BGR2RGB), (320, 240))
-        self.seq += 1
-        return self.seq - 1, rgb
+        self._taken = got[0]
+        return got
+
+    def close(self) -> None:
+        """Stop the reader and release the capture."""
+        self._stop.set()
+        if self._thread is not None:
+            # a read blocked on a stream that went quiet ends when the server closes it; the
+            # capture is not released under a read still running (the thread is a daemon)
+            self._thread.join(timeout=2.0)
+            if self._thread.is_alive():
+                return
+        self.cap.release()
 
 
 def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
@@ -105,13 +155,13 @@ def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
     from mobigrasp.link.base import LinkClosed
 
     app = build_host_app(cfg)
+    t0 = time.monotonic()
     try:
-        camera = _OpenCvCamera(args.camera) if args.camera else None
+        camera = _OpenCvCamera(args.camera, t0) if args.camera else None
     except ValueError as exc:
         port.close()
         print(f"mobigrasp host: --camera {args.camera}: {exc}", file=sys.stderr)
         return 2
-    t0 = time.monotonic()
     next_frame = 0.0
     vanished = False
     print(f"host on {args.port} (method {cfg['method']}), Ctrl-C to stop", file=sys.stderr)
@@ -121,11 +171,11 @@ def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
             data = port.read()
             if data:
                 app.on_uart(data, now_us)
-            if camera is not None and now_us >= next_frame:
-                got = camera.read()
+            if camera is not None and (camera.live or now_us >= next_frame):
+                got = camera.read(now_us)
                 if got is not None:
-                    app.on_frame(got[0], now_us, now_us, got[1])
-                next_frame = now_us + 1e6 / 15
+                    app.on_frame(got[0], got[1], max(got[1], app.now_us), got[2])
+                    next_frame = now_us + 1e6 / 15
             app.advance_to(now_us + 1)
             # the detectors now, between steps (the pose they read was taken with the frame;
             # in wall time there is no rig to keep waiting, so no reason to defer them)
@@ -143,6 +193,8 @@ def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
         print("host: interrupted", file=sys.stderr)
     finally:
         port.close()
+        if camera is not None:
+            camera.close()
     st = app.stats()
     print(f"host: state {st['state']}, control steps {st['control_steps']}, frames "
           f"{st['frames_processed']}/{st['frames_received']}, protocol "

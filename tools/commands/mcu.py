@@ -50,6 +50,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("mcu", help="run the emulated ATmega128 on a new pty (prints its path)")
     p.add_argument("--speed", type=_speed, default=1.0,
                    help="simulated seconds per wall second, or 'max' (default 1)")
+    p.add_argument("--mcu", default="python",
+                   help="MCU backend: python (the firmware model, default) or native (the C "
+                        "firmware built with this machine's gcc)")
     p.add_argument("--baud-ubrr", type=int, default=16, help="UBRR0 value (default 16)")
     p.add_argument("--u2x", type=int, choices=(0, 1), default=1, help="U2X0 bit (default 1)")
     p.add_argument("--duration", type=float, default=None,
@@ -83,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
 
     try:
         config = McuConfig(ubrr=args.baud_ubrr, u2x=args.u2x, params=dict(args.param))
-        pty = PtyMcu(config, record=False, wheels=args.wheels, on_sent=on_sent)
+        pty = PtyMcu(config, record=False, wheels=args.wheels, on_sent=on_sent, mcu=args.mcu)
     except ValueError as exc:
         print(f"mobigrasp mcu: {exc}", file=sys.stderr)
         return 2

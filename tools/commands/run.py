@@ -28,7 +28,7 @@ def _run(args: argparse.Namespace) -> int:
     try:
         speed = parse_speed(args.speed)
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
-                          speed=speed, out=args.out, progress=display,
+                          mcu=args.mcu, speed=speed, out=args.out, progress=display,
                           plots=not args.no_plots, time_limit_s=args.time_limit_s,
                           faults=tuple(args.fault or ()),
                           host_lag_quanta=args.host_lag_quanta)
@@ -55,6 +55,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--transport", default="pty", choices=("pty", "inproc"),
                    help="pty (two processes, default) or inproc")
+    p.add_argument("--mcu", default="python",
+                   help="MCU backend: python (the firmware model, default) or native (the C "
+                        "firmware built with this machine's gcc)")
     p.add_argument("--speed", default="max",
                    help="simulated/wall time factor, or 'max' (default); pacing only")
     p.add_argument("--out", type=Path, default=None,

@@ -200,6 +200,7 @@ CASES: dict[str, Case] = {
                                                   str(_raw(b"\xff")(t, mp)[1])], ("--config",)),
     "console --port /dev/pts/99": Case(lambda t, mp: ["console", "--port", "/dev/pts/99"],
                                        ("/dev/pts/99",)),
+    "demo --out a file": Case(lambda t, mp: ["demo", "--out", str(_a_file(t, mp))], ("--out",)),
     "bench --json under /proc": Case(lambda t, mp: ["bench", "protocol", "--frames", "10",
                                                     "--json", "/proc/mobigrasp.json"],
                                      ("/proc/mobigrasp.json",)),

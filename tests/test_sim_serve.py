@@ -251,3 +251,26 @@ def test_stream_rate_and_serial_byte_rate_at_speed_1(tmp_path):
     per_wall_s = got / (t_wall[-1] - t_wall[0])
     assert per_sim_s > 2000  # 50 Hz telemetry of 51 bytes
     assert abs(per_wall_s / per_sim_s - 1.0) < 0.10, (per_wall_s, per_sim_s)
+
+
+def test_ctrl_c_ends_the_session_and_writes_the_run_folder(tmp_path):
+    import signal
+
+    out = tmp_path / "run"
+    proc = subprocess.Popen([sys.executable, "-m", "mobigrasp", "sim", "paper000-exp1",
+                             "--camera-port", "0", "--out", str(out), "--quiet", "--no-plots"],
+                            cwd=tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+    try:
+        assert proc.stdout.readline().startswith("serial: /dev/pts/")
+        assert proc.stdout.readline().startswith("camera: http://127.0.0.1:")
+        proc.send_signal(signal.SIGINT)
+        rest, err = proc.communicate(timeout=SAFETY_S)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+            proc.wait()
+    assert proc.returncode == 1 and "Traceback" not in err
+    assert "not grasped (interrupted)" in rest
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "finished" and summary["end_reason"] == "interrupted"

@@ -137,12 +137,15 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             return "host_closed"
         return stop() if stop is not None else None
 
-    progress = None
-    if opts.progress:
-        def progress(res, wall):
-            print(f"\r  t={rig.now_us / 1e6:7.2f} s  from host {host.bytes_from_host} B  "
-                  f"to host {host.bytes_to_host} B  frames {camera.frames_published} ",
-                  end="", file=sys.stderr, flush=True)
+    from mobigrasp.tools.progress import Progress
+
+    display = Progress(total=round(limit_s, 1), desc=f"sim {name}", unit="s simulated",
+                       enabled=opts.progress)
+
+    def progress(res, wall):
+        display.update(round(rig.now_us / 1e6, 1),
+                       f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
+                       f"frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)
@@ -159,8 +162,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
-        if opts.progress:
-            print("", file=sys.stderr)
+        display.close()
         trace.close()
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats() if hasattr(mcu, "stats") else {}

@@ -72,7 +72,7 @@ def test_camera_port_in_use_is_exit_2_naming_it(tmp_path):
 def test_camera_server_serves_png_and_mjpeg_on_localhost_only():
     server = CameraServer(0)
     try:
-        assert server._server.server_address[0] == "127.0.0.1"
+        assert server.host == "127.0.0.1"
         rng = np.random.default_rng(1)
         frame = rng.integers(0, 255, (240, 320, 3), dtype=np.uint8)
         server.publish(frame)

@@ -153,9 +153,14 @@ def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emula
     run folder, with the world's judgement in it."""
     robot = emulated_robot("paper000-exp1", speed=2.0, plots=False)
     assert robot.port.startswith("/dev/pts/") and robot.camera_url.endswith("/stream.mjpg")
-    with urllib.request.urlopen(robot.camera_url.replace("stream.mjpg", "frame.png"),
-                                timeout=SAFETY_S) as r:
-        png = cv2.imdecode(np.frombuffer(r.read(), np.uint8), cv2.IMREAD_COLOR)
+    png_url = robot.camera_url.replace("stream.mjpg", "frame.png")
+    for attempt in range(10):  # each waits up to 5 s on the server for the first frame
+        try:
+            with urllib.request.urlopen(png_url, timeout=SAFETY_S) as r:
+                png = cv2.imdecode(np.frombuffer(r.read(), np.uint8), cv2.IMREAD_COLOR)
+            break
+        except urllib.error.HTTPError as exc:
+            assert exc.code == 503 and attempt < 9  # "no frame yet" on a slow start only
     assert png.shape == (240, 320, 3)
     robot.stop()
     s = robot.summary

@@ -63,7 +63,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     from mobigrasp.mcu_sim.backend import MCU_BACKENDS
     from mobigrasp.mcu_sim.serve.external_host import ExternalHost
     from mobigrasp.mcu_sim.serve.mjpeg import CameraPortInUse, CameraServer
-    from mobigrasp.tools.run_job import BadInput, check_seed, resolve_scenario
+    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     if opts.mcu not in MCU_BACKENDS:
         raise BadSimInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
@@ -72,6 +72,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
     try:
         check_seed(opts.seed)
+        check_time_limit(opts.time_limit_s)
         path, scenario = resolve_scenario(opts.scenario)
     except BadInput as exc:
         raise BadSimInput(str(exc)) from exc

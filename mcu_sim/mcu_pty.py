@@ -16,16 +16,19 @@ import os
 
 from mobigrasp.link.base import LinkClosed
 from mobigrasp.link.registry import open_transport
-from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.mcu_sim.backend import McuBackend, open_mcu
+from mobigrasp.mcu_sim.mcu import McuConfig
 from mobigrasp.protocol.frame import FrameParser
 from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame
 
 
 class PtyMcu:
-    """``Mcu`` + the master end of a new pty; ``port`` is the slave path a host opens."""
+    """An MCU (backend ``backend``, mobigrasp.mcu_sim.backend) + the master end of a new pty;
+    ``port`` is the slave path a host opens."""
 
-    def __init__(self, config: McuConfig | None = None, record: bool = True) -> None:
-        self.mcu = Mcu(config)
+    def __init__(self, config: McuConfig | None = None, record: bool = True,
+                 backend: str = "python") -> None:
+        self.mcu: McuBackend = open_mcu(backend, config)
         self.transport = open_transport("pty://")
         self.port: str = self.transport.slave_path
         self.record = record

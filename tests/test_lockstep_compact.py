@@ -1,4 +1,4 @@
-"""The compact GRANT and DONE (link/lockstep.py kinds 6 and 7): the same messages as the JSON
+"""The compact GRANT and DONE (cosim/lockstep.py kinds 6 and 7): the same messages as the JSON
 ones once decoded, used only where they can say everything, and as strict about bad input."""
 
 import io
@@ -6,7 +6,7 @@ import struct
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
 
 LOAD = {"window_us": 500_000, "windows": {}, "state": "APPROACH", "finished": False,
         "camera": True, "quiet_until": 2_040_000}

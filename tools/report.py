@@ -11,8 +11,8 @@ import json
 import sys
 from pathlib import Path
 
+from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.tools import plots
-from mobigrasp.tools.run_folder import read_trace
 
 
 def _rows(d: dict, prefix: str = "") -> list[str]:

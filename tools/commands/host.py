@@ -34,11 +34,11 @@ def _config(args: argparse.Namespace) -> dict:
 def _lockstep(args: argparse.Namespace, cfg: dict) -> int:
     import cv2
 
+    from mobigrasp.cosim import lockstep as ls
+    from mobigrasp.cosim.frame_ring import FrameRingReader
+    from mobigrasp.drivers.lockstep import LockstepClient, serve_stream
     from mobigrasp.host.app_factory import build_host_app
-    from mobigrasp.host.lockstep_client import LockstepClient, serve_stream
-    from mobigrasp.link import lockstep as ls
     from mobigrasp.link.base import LinkClosed
-    from mobigrasp.link.frame_ring import FrameRingReader
     from mobigrasp.link.registry import open_transport
 
     # one OpenCV thread: the machine's other core runs the rig, whose time this process waits
@@ -143,7 +143,7 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ValueError) as exc:
         print(f"mobigrasp host: {exc}", file=sys.stderr)
         return 2
-    from mobigrasp.tools.heap_tuning import keep_freed_memory
+    from mobigrasp.cosim.heap_tuning import keep_freed_memory
 
     keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
     if args.lockstep:

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from mobigrasp.cosim import lockstep as ls
 from mobigrasp.host.app import HostApp, jsonable
 from mobigrasp.host.hal import Camera, CameraFrame, Clock
-from mobigrasp.link import lockstep as ls
 
 
 class LockstepClock(Clock):

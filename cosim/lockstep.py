@@ -19,7 +19,7 @@ binary form instead of JSON (kinds 6 and 7, see :func:`encode`): the same messag
 at a fraction of the cost on both sides, every 5 ms quantum.
 
 A GRANT's frames list ``offset``/``nbytes`` into the blob, or ``shared`` (where a frame ring holds
-the pixels: link/frame_ring.py; ``encode(frame_sink=...)``, ``decode_body(frame_source=...)``).
+the pixels: cosim/frame_ring.py; ``encode(frame_sink=...)``, ``decode_body(frame_source=...)``).
 JSON keeps the channel debuggable and lets host events (task transitions, detections) ride in
 DONE; all of it is simulated-time data.
 """
@@ -135,6 +135,11 @@ class Done:
         """Total UART bytes the rig must read from the pty master for this quantum."""
         return sum(map(_NBYTES, self.writes))
 
+    def writes_nothing(self) -> bool:
+        """Whether the host certainly writes nothing in this quantum (a DONE still to be read
+        answers from the host's promise: mobigrasp.cosim.handshake.PendingDone)."""
+        return not self.writes
+
 
 @dataclass(frozen=True)
 class End:
@@ -189,7 +194,7 @@ def _chunks(meta: dict, key: str) -> tuple[tuple[int, int], ...]:
 
 def encode(msg: Message, frame_sink: Callable[[bytes], dict | None] | None = None) -> bytes:
     """Wire bytes of one lockstep message. ``frame_sink(pixels)`` may take a GRANT's frame
-    pixels out of band (link/frame_ring.py) and return where they are, or None to send them in
+    pixels out of band (cosim/frame_ring.py) and return where they are, or None to send them in
     the blob."""
     compact = _encode_compact(msg)
     if compact is not None:
@@ -422,7 +427,7 @@ def read_message(stream: _Readable,
 class SocketReader:
     """A blocking reader of a socket that tells how many bytes it holds already read
     (``buffered``): the host answers a batch of GRANTs that arrived together with one write of
-    their DONEs (host/lockstep_client.serve_stream). A BufferedReader cannot say so without
+    their DONEs (drivers/lockstep.serve_stream). A BufferedReader cannot say so without
     blocking when it is empty.
 
     With ``poll_s`` > 0 it polls the socket for up to that long (yielding the CPU between

@@ -19,7 +19,7 @@ STAMP := $(VENV)/.installed
 # which interpreter built .venv: a venv of another one is made again
 BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint demo clean FORCE
+.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware FORCE
 
 venv: $(STAMP)
 
@@ -32,21 +32,42 @@ $(BASE): FORCE
 $(STAMP): pyproject.toml $(BASE)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade "pip>=23"
-	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	$(BIN)/python -m pip install --quiet -e '.[sim,plots,cluster,dev]'
 	@touch $(STAMP)
 
+# ruff on the repository's tracked files only: an untracked folder in a clone is the user's
+# (outside a git checkout: every file, as `ruff check .`)
+RUFF := $(BIN)/ruff
 lint: venv
 	$(BIN)/lint-imports
-	$(BIN)/ruff check .
+	@$(MAKE) --no-print-directory ruff-tracked RUFF=$(RUFF)
+
+ruff-tracked:
+	@if git rev-parse --is-inside-work-tree >/dev/null 2>&1; then \
+	  git ls-files -z -- '*.py' | xargs -0 -r $(RUFF) check --force-exclude; \
+	else $(RUFF) check .; fi
 
 test: lint
 	$(BIN)/python -m pytest -q
 
-test-all: lint
+# the report's browser test (slow) renders it in Debian's chromium: installed when missing
+browser:
+	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; }
+
+test-all: lint browser
 	$(BIN)/python -m pytest -q -m "slow or not slow"
+
+# The ATmega128 firmware with avr-gcc: firmware/build/mobigrasp-avr.elf and .hex, then its size
+# (avr-size -C). gcc-avr and avr-libc are installed with apt-get when avr-gcc is missing.
+firmware:
+	@command -v avr-gcc >/dev/null 2>&1 || { \
+	  echo "make firmware: avr-gcc missing, installing gcc-avr avr-libc with apt-get"; \
+	  apt-get update && apt-get install -y gcc-avr avr-libc; }
+	$(MAKE) -C firmware
 
 demo: venv
 	$(BIN)/mobigrasp demo
 
 clean:
-	rm -rf $(VENV) bench-results runs
+	rm -rf $(VENV) bench-results runs firmware/build

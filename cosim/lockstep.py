@@ -36,6 +36,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
+from mobigrasp.frozen import built
+
 MAGIC = b"MGLS"
 LOCKSTEP_VERSION = 2  # 2: the compact GRANT and DONE kinds
 HEADER = struct.Struct("<4sBII")
@@ -298,7 +300,7 @@ def _decode_compact(kind: int, body: bytes) -> Message:
         start, until, n = _GRANT_HEAD.unpack_from(body)
         if start < 0 or until < start:
             raise LockstepError(f"compact GRANT: bad quantum [{start}, {until})")
-        return _built(Grant, start_us=start, until_us=until,
+        return built(Grant, start_us=start, until_us=until,
                       uart=_compact_chunks(body, _GRANT_HEAD.size, n, "GRANT"), frames=())
     if len(body) < _DONE_HEAD.size:
         raise LockstepError(f"compact DONE of {len(body)} bytes")
@@ -311,20 +313,10 @@ def _decode_compact(kind: int, body: bytes) -> Message:
     except UnicodeDecodeError as exc:
         raise LockstepError(f"compact DONE: state is not UTF-8: {exc}") from exc
     writes = _compact_chunks(body, end, n, "DONE")
-    return _built(Done, until_us=until, writes=writes, events=(),
+    return built(Done, until_us=until, writes=writes, events=(),
                   load={"window_us": window, "windows": {}, "state": state,
                         "finished": bool(finished), "camera": bool(camera),
                         "quiet_until": quiet})
-
-
-def _built(cls: type, **fields: Any) -> Any:
-    """The frozen message dataclass ``cls`` with all its ``fields`` given, built without the
-    generated __init__ (which sets each field through object.__setattr__): the compact decoder
-    builds one every quantum. Grant and Done have no __post_init__ to skip; the result is equal
-    to ``cls(**fields)`` (tests/test_lockstep_compact.py)."""
-    obj = object.__new__(cls)
-    obj.__dict__.update(fields)
-    return obj
 
 
 def decode_header(header: bytes) -> tuple[int, int, int]:

@@ -10,6 +10,7 @@ SIGTERM ends a run as Ctrl-C does (status "interrupted", everything released).
 
 from __future__ import annotations
 
+import logging
 import signal
 import sys
 import tempfile
@@ -25,6 +26,7 @@ from mobigrasp.cosim.hosts import HOST_POLL_MS, InprocHost, SocketHost, host_arg
 from mobigrasp.cosim.session import SessionResult, run_session
 from mobigrasp.link.registry import inproc_pair, open_transport
 
+log = logging.getLogger(__name__)
 SUMMARY_PERIOD_US = 5_000_000  # a running summary at least this often, in simulated time
 
 
@@ -42,12 +44,15 @@ class RunSpec:
     # builds the host program's lockstep client on an in-process serial end (transport inproc)
     inproc_client: Callable[[Any], Any] | None = None
     transport: str = "pty"
+    mcu: str = "python"  # MCU backend (mobigrasp.mcu_sim.backend)
     speed: float | None = None
-    progress: bool = True
+    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
+    progress: Any = True
     quantum_us: int = 5_000
     couple_us: int = 2_500
     host_lag_quanta: int = 1
     after_crash_s: float | None = 2.0
+    on_frame: Callable[[int, int, Any], None] | None = None  # each captured frame, as well
 
 
 def _progress(res: SessionResult, wall: float, now_us: int) -> None:
@@ -104,7 +109,8 @@ def _run(spec: RunSpec) -> dict:
         # the SIM half's heavy imports (pymunk, the renderer) while the host process boots
         from mobigrasp.cosim.sim_side import SimSide
 
-        sim = SimSide(scenario, seed, out, spec.scenario_file, spec.transport, spec.plan)
+        sim = SimSide(scenario, seed, out, spec.scenario_file, spec.transport, spec.plan,
+                      spec.mcu, spec.on_frame)
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()
@@ -132,7 +138,10 @@ def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
         host = sim.wire(spec, host, port)
         rig = sim.rig
         progress = None
-        if spec.progress:
+        if callable(spec.progress):  # a display of the caller's (tools.progress.RunProgress)
+            def progress(r, wall):
+                spec.progress(rig.now_us, r.host_state, wall)
+        elif spec.progress:
             def progress(r, wall):
                 _progress(r, wall, rig.now_us)
         summary["status"] = "running"
@@ -157,9 +166,9 @@ def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
     except Exception as exc:
         summary["status"] = "crashed"
         summary["error"] = f"{type(exc).__name__}: {exc}"
-        print(f"\nrun crashed: {summary['error']}", file=sys.stderr)
+        log.error("run crashed: %s", summary["error"])
     finally:
-        if spec.progress:
+        if spec.progress is True:
             print("", file=sys.stderr)
         if host is not None:
             host.close()

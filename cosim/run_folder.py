@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import re
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -94,7 +95,7 @@ def write_summary(path: Path, summary: dict) -> None:
     tmp.replace(path)
 
 
-def _points(result: Any) -> list[tuple[int, int]]:
+def detection_points(result: Any) -> list[tuple[int, int]]:
     """Pixel points a detection result names: ``u<x>_q4`` with ``v<x>_q4`` (u_q4, u1_q4, um_q4,
     u_c_q4, ...), in Q4 px."""
     pts: list[tuple[int, int]] = []
@@ -105,23 +106,28 @@ def _points(result: Any) -> list[tuple[int, int]]:
                 if isinstance(v, int | float):
                     pts.append((int(value) // 16, int(v) // 16))
             elif isinstance(value, dict | list):
-                pts.extend(_points(value))
+                pts.extend(detection_points(value))
     elif isinstance(result, list):
         for item in result:
-            pts.extend(_points(item))
+            pts.extend(detection_points(item))
     return pts
+
+
+SNAPSHOT_LINE_PX = 12  # text line height of the 0.8-scale Hershey plain font, plus spacing
 
 
 def draw_detection(rgb: np.ndarray, results: dict | None, label: str) -> np.ndarray:
     """BGR image for a PNG: the frame, a cross at every detected point, and a caption."""
     img = cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2BGR)
+    missed = 0
     for name, result in (results or {}).items():
         colour = (0, 255, 0) if result is not None else (0, 0, 255)
-        for u, v in _points(result):
+        for u, v in detection_points(result):
             cv2.drawMarker(img, (u, v), colour, cv2.MARKER_CROSS, 12, 1)
-        if result is None:
-            cv2.putText(img, f"{name}: none", (4, img.shape[0] - 6), cv2.FONT_HERSHEY_PLAIN,
-                        0.8, colour, 1)
+        if result is None:  # one line per detector that found nothing, stacked upwards
+            cv2.putText(img, f"{name}: none", (4, img.shape[0] - 6 - SNAPSHOT_LINE_PX * missed),
+                        cv2.FONT_HERSHEY_PLAIN, 0.8, colour, 1)
+            missed += 1
     cv2.putText(img, label, (4, 12), cv2.FONT_HERSHEY_PLAIN, 0.8, (255, 255, 0), 1)
     return img
 
@@ -181,3 +187,91 @@ class Snapshots:
             self._writer.shutdown()
             self._writer = None
         return self._written
+
+
+# --- where a run folder is, and what mobigrasp may delete in it -----------------------------
+
+RUNS_ROOT = Path("runs")
+# written into every run folder mobigrasp creates; only a folder that holds it is ever cleaned
+RUN_MARKER = ".mobigrasp-run"
+_MARKER_TEXT = "a mobigrasp run folder: `mobigrasp run` may replace the files it wrote here\n"
+# the files a run writes (and so the only ones a later run into the same folder removes):
+# top-level names, and per sub-folder the suffix of the files written there
+_RUN_FILES = ("summary.json", "summary.json.tmp", "trace.jsonl", "trace.mcap", "report.html",
+              "profile.json")
+_RUN_SUBFOLDERS = {"plots": re.compile(r"[a-z0-9_]+\.png"),  # plots.py: trajectory.png, ...
+                   "frames": re.compile(r"\d{3}_\d{7}ms_[A-Za-z0-9_?]+\.png")}  # Snapshots
+_NAME_MAX = 100
+_UNSAFE = re.compile(r"[^A-Za-z0-9._-]")
+
+
+class RunFolderError(ValueError):
+    """The run folder cannot be used (the message names the path and why): exit code 2."""
+
+
+def safe_component(name: str) -> str:
+    """``name`` as one path component of ``[A-Za-z0-9._-]``: every other character becomes
+    ``_``, a leading dot too (no ``.``, ``..`` or hidden folder), at most 100 characters."""
+    safe = _UNSAFE.sub("_", name)[:_NAME_MAX]
+    if not safe or safe.startswith("."):
+        safe = "_" + safe[1:] if safe else "_"
+    return safe
+
+
+def default_run_folder(name: str, seed: int, runs_root: Path = RUNS_ROOT) -> Path:
+    """``<runs_root>/<sanitised name>-<seed>``: always one folder directly under the root."""
+    return Path(runs_root) / f"{safe_component(name)}-{int(seed)}"
+
+
+def _clean_previous_run(out: Path) -> None:
+    """Remove the files a previous run wrote into ``out`` (which holds the marker); anything
+    else (a file someone put there, a sub-folder of theirs) stays."""
+    for fname in _RUN_FILES:
+        p = out / fname
+        if p.is_file() and not p.is_symlink():
+            p.unlink()
+    for sub, pattern in _RUN_SUBFOLDERS.items():
+        folder = out / sub
+        if not folder.is_dir() or folder.is_symlink():
+            continue
+        for p in folder.iterdir():
+            if pattern.fullmatch(p.name) and p.is_file() and not p.is_symlink():
+                p.unlink()
+        if not any(folder.iterdir()):
+            folder.rmdir()
+
+
+def prepare_run_folder(out: Path | None, name: str, seed: int,
+                       runs_root: Path = RUNS_ROOT) -> Path:
+    """The folder a run writes into, ready for it; RunFolderError when it cannot be used.
+
+    ``out`` None: :func:`default_run_folder`, which must stay under ``runs_root``. A folder
+    that exists is used only when it is empty or a previous run folder (it holds
+    :data:`RUN_MARKER`); then only the previous run's files are removed. A symbolic link, a
+    file, a path under a file or an unwritable place is refused with the path named."""
+    if out is None:
+        out = default_run_folder(name, seed, runs_root)
+        root = Path(runs_root).resolve()
+        if out.resolve().parent != root:
+            raise RunFolderError(f"run folder {out} is not directly under {runs_root}")
+    out = Path(out)
+    try:
+        if out.is_symlink():
+            raise RunFolderError(f"--out {out} is a symbolic link: refusing to write through it")
+        if out.exists():
+            if not out.is_dir():
+                raise RunFolderError(f"--out {out} exists and is not a folder")
+            if (out / RUN_MARKER).is_file():
+                _clean_previous_run(out)
+            elif any(out.iterdir()):
+                raise RunFolderError(f"--out {out} is not empty and is not a mobigrasp run "
+                                     f"folder (no {RUN_MARKER}): refusing to write into it")
+        out.mkdir(parents=True, exist_ok=True)
+        (out / RUN_MARKER).write_text(_MARKER_TEXT, encoding="utf-8")
+    except RunFolderError:
+        raise
+    except OSError as exc:
+        where = exc.filename or out
+        raise RunFolderError(f"--out {out}: cannot create the run folder "
+                             f"({where}: {exc.strerror or exc})") from exc
+    return out

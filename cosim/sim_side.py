@@ -8,6 +8,7 @@ while this process imports pymunk and the renderer and builds the world (docs/co
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -27,14 +28,15 @@ class SimSide:
     """Everything of a run on the rig's side of the lockstep channel."""
 
     def __init__(self, scenario: Any, seed: int, out: Path, scenario_file: Path,
-                 transport: str, plan: Any, mcu_backend: str = "python") -> None:
+                 transport: str, plan: Any, mcu_backend: str = "python",
+                 on_frame: Callable[[int, int, Any], None] | None = None) -> None:
         self.out = out
         name = scenario.meta.name
-        (out / "plots").mkdir(parents=True)
+        (out / "plots").mkdir(exist_ok=True)
         self.summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(scenario_file),
             "method": scenario.meta.method, "seed": seed, "transport": transport,
-            "status": "starting", "success": False, "grasped": False,
+            "mcu_backend": mcu_backend, "status": "starting", "success": False, "grasped": False,
         }
         write_summary(out / "summary.json", self.summary)
         self.trace = TraceWriter(out / "trace.jsonl")
@@ -46,6 +48,7 @@ class SimSide:
         # the fault wrappers carry the safety monitor, so every run gets them (an empty plan
         # injects nothing and leaves the trace unchanged) and every summary a safety block
         self.plan = plan if plan is not None else FaultPlan()
+        self._on_frame = on_frame
         self.rig: Rig | None = None
         self.fault_rig: Any = None
         self.trace.write({"ev": "start", "t_us": 0, "scenario": name,
@@ -64,9 +67,19 @@ class SimSide:
         self.rig = Rig(rig_mcu, rig_plant, port,
                        RigConfig(quantum_us=spec.quantum_us, couple_us=spec.couple_us,
                                  host_lag_quanta=spec.host_lag_quanta),
-                       on_frame=self.snaps.on_frame)
+                       on_frame=self._frame_callback())
         keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
         return wrapped
+
+    def _frame_callback(self) -> Callable[[int, int, Any], None]:
+        snap, extra = self.snaps.on_frame, self._on_frame
+        if extra is None:
+            return snap
+
+        def both(seq: int, t_us: int, rgb: Any) -> None:
+            snap(seq, t_us, rgb)
+            extra(seq, t_us, rgb)
+        return both
 
     def write_running(self, t_us: int, period_us: int) -> int:
         """summary.json as "running" at ``t_us`` simulated; the time of the next one."""

@@ -28,8 +28,12 @@ from typing import Any
 
 from mobigrasp.host.app_link import HostLink
 from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.stage_stats import StageStats
 
 Detector = Callable[..., tuple[Any, OpCounts]]
+# ARM9 load windows kept one by one (32 s of 500 ms windows: a vision job ends long before its
+# window leaves them); older ones live on only in the run's count, sum and maximum of load
+LOAD_WINDOWS_KEPT = 64
 # a detector's lower bound of its modelled time (µs) on any frame of (height, width)
 CostBound = Callable[[int, int], int]
 
@@ -105,7 +109,8 @@ class _VisionJob:
 
 @dataclass
 class HostCounters:
-    """Budget figures of the run (issue 8: frames_*, deadline_misses, load)."""
+    """Budget figures of the run: frames_*, deadline_misses, load (docs/cosim.md, "The ARM9
+    budget")."""
 
     frames_received: int = 0
     frames_processed: int = 0
@@ -114,7 +119,7 @@ class HostCounters:
     control_steps: int = 0
     deadline_misses: int = 0
     ticks_skipped: int = 0
-    stage_us: dict = field(default_factory=dict)  # stage -> list of modelled µs per call
+    stage_us: dict = field(default_factory=dict)  # stage -> StageStats of its modelled µs
 
 
 class HostApp:
@@ -158,7 +163,10 @@ class HostApp:
         self.last_frame: dict = {}
         self._frames: list[tuple[int, int, int, Any]] = []  # (arrival_us, seq, capture_us, rgb)
         self._events: list[dict] = []
-        self._load: dict[int, int] = {}  # window index -> busy µs
+        # window index -> busy µs, for the last LOAD_WINDOWS_KEPT windows; older windows are
+        # folded into the running figures below (the run's state stays bounded)
+        self._load: dict[int, int] = {}
+        self._load_folded = (0, 0.0, 0.0)  # windows folded: count, sum and max of their load
         self._last = {"servos": None, "wheels": None, "gripper": None}
         self._last_wheels_us = -(10**12)
         self._last_heartbeat_us = -(10**12)
@@ -242,15 +250,34 @@ class HostApp:
         done = self.now_us // w
         return {k: v / w for k, v in sorted(self._load.items()) if k < done}
 
+    def _fold_old_loads(self, newest: int) -> None:
+        """Fold the windows more than LOAD_WINDOWS_KEPT before window ``newest`` into the
+        running count, sum and max (in window order, so the sums are those of the whole list)."""
+        limit = newest - LOAD_WINDOWS_KEPT
+        w = self.config.load_window_us
+        n, total, peak = self._load_folded
+        for k in sorted(k for k in self._load if k < limit):
+            load = self._load.pop(k) / w
+            n, total, peak = n + 1, total + load, max(peak, load)
+        self._load_folded = (n, total, peak)
+
     # ---- the two activities -----------------------------------------------------------------
     def _busy(self, start_us: int, dur_us: int, stage: str) -> None:
-        self.counters.stage_us.setdefault(stage, []).append(dur_us)
+        stats = self.counters.stage_us.get(stage)
+        if stats is None:
+            stats = self.counters.stage_us[stage] = StageStats()
+        stats.add(dur_us)
         w = self.config.load_window_us
         t, end = start_us, start_us + dur_us
         while t < end:
             k = t // w
             seg = min(end, (k + 1) * w) - t
-            self._load[k] = self._load.get(k, 0) + seg
+            if k in self._load:
+                self._load[k] += seg
+            else:  # a new window: the oldest kept ones are folded
+                self._load[k] = seg
+                if len(self._load) > LOAD_WINDOWS_KEPT:
+                    self._fold_old_loads(k)
             t += seg
 
     def _frame(self, arrival_us: int, seq: int, capture_us: int, rgb: Any) -> None:
@@ -424,14 +451,17 @@ class HostApp:
         """Final figures: budget counters, stage costs, load and the protocol counters."""
         c = self.counters
         loads = list(self.load_windows().values())
+        n, total, peak = self._load_folded
+        for load in loads:  # after the folded windows, in window order
+            n, total, peak = n + 1, total + load, max(peak, load)
         return {
             "frames_received": c.frames_received, "frames_processed": c.frames_processed,
             "frames_dropped": c.frames_dropped, "frames_idle": c.frames_idle,
             "control_steps": c.control_steps, "deadline_misses": c.deadline_misses,
             "ticks_skipped": c.ticks_skipped,
-            "arm9_load_max": max(loads, default=0.0),
-            "arm9_load_mean": sum(loads) / len(loads) if loads else 0.0,
-            "stages": {k: stage_summary(v) for k, v in sorted(c.stage_us.items())},
+            "arm9_load_max": peak,
+            "arm9_load_mean": total / n if n else 0.0,
+            "stages": {k: v.summary() for k, v in sorted(c.stage_us.items())},
             "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
             "replans": self.replans, "mcu_resets_seen": self.link.mcu_resets,
         }

@@ -14,6 +14,7 @@ import numpy as np
 from mobigrasp.host import arm_calib
 from mobigrasp.host.app import HostApp, HostConfig
 from mobigrasp.host.odometry import Odometry
+from mobigrasp.host.vision import registry
 from mobigrasp.host.vision.frame_key import frame_bytes
 from mobigrasp.protocol import messages as m
 
@@ -116,26 +117,12 @@ class _LastFrameMemo:
         return result, ops
 
 
-# Detector name -> module: each module's ``min_ops(height, width)`` is what the detector charges
-# at least on any frame of that size (tests/test_vision_min_cost.py checks it).
-DETECTOR_MODULES = {"radial_symbol": "mobigrasp.host.vision.radial_symbol",
-                    "double_cross": "mobigrasp.host.vision.double_cross",
-                    "dual_plus": "mobigrasp.host.vision.dual_plus",
-                    "spoke": "mobigrasp.host.vision.spoke",
-                    "red_cylinder": "mobigrasp.host.vision.red_cylinder"}
-
-
 def vision_bounds(names) -> dict:
     """``name -> bound(height, width) -> µs``, the lower bound of each detector's modelled time
-    (its ``min_ops``) for HostApp, for the detectors among ``names`` that have one."""
-    import importlib
-
+    (its ``min_ops``, host/vision/registry.py) for HostApp, for the detectors among ``names``."""
     out: dict = {}
     for name in names:
-        mod = DETECTOR_MODULES.get(name)
-        min_ops = getattr(importlib.import_module(mod), "min_ops", None) if mod else None
-        if min_ops is None:
-            continue
+        min_ops = registry.row(name).min_ops_fn()
         cache: dict = {}  # (height, width) -> µs: every frame of a run has the same size
 
         def bound(h: int, w: int, min_ops=min_ops, cache=cache) -> int:
@@ -148,16 +135,16 @@ def vision_bounds(names) -> dict:
 
 
 def _detectors(cfg: dict, app_ref: list) -> dict:
-    """Detector callables ``rgb -> (result | None, OpCounts)`` by the names the task asks for.
+    """Detector callables ``rgb -> (result | None, OpCounts)``, one per row of the detector
+    table (host/vision/registry.py).
 
     Some detectors need the current arm pose (e.g. the double cross needs the camera yaw and
     pitch): they read it from the host's newest telemetry, which is what the board would do,
     taken when the frame arrives (:class:`_PoseDetector`).
     """
     cam = cfg.get("camera", {})
-    f_px = int(round(cam.get("f_px", 611.0)))
-    u0 = int(round(cam.get("u0_px", 160.0)))
-    v0 = int(round(cam.get("v0_px", 120.0)))
+    intrinsics = (int(round(cam.get("f_px", 611.0))), int(round(cam.get("u0_px", 160.0))),
+                  int(round(cam.get("v0_px", 120.0))))
 
     def joints() -> tuple[int, ...]:
         tel = app_ref[0].link.telemetry if app_ref else None
@@ -166,38 +153,12 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
         return arm_calib.pulses_to_joints_mrad(tel.servo_us)
 
     found: dict = {}
-    try:
-        from mobigrasp.host.vision.radial_symbol import detect_radial_symbol
-
-        found["radial_symbol"] = _LastFrameMemo(
-            lambda rgb: detect_radial_symbol(rgb, f_px, u0, v0))
-    except ImportError:
-        pass
-    try:
-        from mobigrasp.host.vision.double_cross import detect_double_cross
-
-        def double_cross(rgb, q):
-            return detect_double_cross(rgb, yaw_mrad=q[5], pitch_mrad=q[2] + q[3] + q[4],
-                                       f_px=f_px)
-        found["double_cross"] = _PoseDetector(_LastFrameMemo(double_cross), joints)
-    except ImportError:
-        pass
-    try:
-        from mobigrasp.host.vision.dual_plus import detect_dual_plus
-
-        def dual_plus(rgb, q):
-            # alpha = theta2 + theta3 + theta4: the camera's pitch (000 §III.A)
-            return detect_dual_plus(rgb, alpha_mrad=int(q[2] + q[3] + q[4]), f_px=f_px,
-                                    u0_px=u0)
-        found["dual_plus"] = _PoseDetector(_LastFrameMemo(dual_plus), joints)
-    except ImportError:
-        pass
-    for name, fn in (("spoke", "detect_spoke"), ("red_cylinder", "detect_red_cylinder")):
-        try:
-            mod = __import__(DETECTOR_MODULES[name], fromlist=[fn])
-            found[name] = _LastFrameMemo(getattr(mod, fn))
-        except (ImportError, AttributeError):
-            pass
+    for name, row in registry.DETECTORS.items():
+        if row.call == "pose":
+            found[name] = _PoseDetector(_LastFrameMemo(
+                lambda rgb, q, row=row: row.host_call(rgb, intrinsics, q)), joints)
+        else:
+            found[name] = _LastFrameMemo(lambda rgb, row=row: row.host_call(rgb, intrinsics, None))
     return found
 
 

@@ -32,6 +32,9 @@ _COERCE_LIM = 1 << 62  # the range coerce_int accepts (host.outgoing_guard)
 _SUPERSEDING = (m.SetServos, m.Gripper)  # a newer one cancels the unanswered older one
 _JOINT_LO = tuple(lo for lo, _ in arm_calib.JOINT_LIMITS_MRAD[1:])  # channels 1..5
 _JOINT_HI = tuple(hi for _, hi in arm_calib.JOINT_LIMITS_MRAD[1:])
+# The MCU's power-on pose (docs/firmware.md "Reset"): what a channel is taken to be at until a
+# readable pulse has been seen on it.
+_POWER_ON_PULSES_US = (1000, 1500, 1500, 1500, 1500, 1500)
 
 
 @dataclass
@@ -49,6 +52,7 @@ class LinkCounters:
     rejected_outputs: int = 0
     clamped_outputs: int = 0
     telemetry: int = 0
+    odd_telemetry: int = 0  # in-spec telemetry with a servo pulse the joint table cannot read
 
 
 class HostLink:
@@ -71,6 +75,7 @@ class HostLink:
         self.mcu_resets = 0
         self._latest_seq: dict[type, int] = {}  # newest reliable seq per superseding type
         self._last_servos: m.SetServos | None = None  # newest SetServos (mrad), for send_gripper
+        self._readable_pulses_us = _POWER_ON_PULSES_US  # newest readable pulse per channel
 
     # ---- receiving -------------------------------------------------------------------------
     def receive(self, data: bytes, arrival_us: int) -> None:
@@ -88,7 +93,7 @@ class HostLink:
 
     def _dispatch(self, msg: m.Message, t_us: int) -> None:
         if isinstance(msg, m.Telemetry):
-            self.telemetry = msg
+            self.telemetry = self._readable(msg)
             self.telemetry_us = t_us
             self.counters.telemetry += 1
             why = self.watch.feed(msg.time_us, msg.flags)
@@ -120,6 +125,21 @@ class HostLink:
         elif isinstance(msg, m.Log):
             self.events.append({"ev": "mcu_log", "t_us": t_us, "code": msg.code,
                                 "text": msg.text})
+
+    def _readable(self, tel: m.Telemetry) -> m.Telemetry:
+        """``tel`` with every servo pulse the joint table can read (500..2500 us). The spec
+        allows any u16 (0 = "off"): such a channel keeps its newest readable pulse, and the
+        frame is counted in ``odd_telemetry``; the other fields are taken as they came."""
+        pulses = tel.servo_us
+        lo, hi = arm_calib.PULSE_MIN_US, arm_calib.PULSE_MAX_US
+        if lo <= min(pulses) and max(pulses) <= hi:  # every frame of a working MCU
+            self._readable_pulses_us = pulses
+            return tel
+        self.counters.odd_telemetry += 1
+        kept = tuple(p if lo <= p <= hi else old
+                     for p, old in zip(pulses, self._readable_pulses_us, strict=True))
+        self._readable_pulses_us = kept
+        return replace(tel, servo_us=kept)
 
     # ---- sending ---------------------------------------------------------------------------
     def send(self, msg: m.Message, at_us: int) -> int:

@@ -1,12 +1,9 @@
-"""The arm's joint table of docs/conventions.md: channels, limits and the servo law, integer only.
+"""The arm's joint table on the host: limits and the servo law of protocol/joints.py, integer only.
 
-The host needs its own copy of the table (the MCU firmware has one for the real board) to turn
-telemetry pulse widths back into joint angles and to keep every command inside the limits.
-
-Servo law (all joints but the gripper, docs/conventions.md "The arm"):
-``pulse_us = pulse0_us + direction * theta * K`` with ``K = 2000/pi us/rad`` (500..2500 us spans
-pi rad).  With angles in mrad, ``K = 2/pi us/mrad``; we use the rational ``2_000_000 / 3_141_593``
-(error < 1e-7 relative) and round half away from zero, so the mapping is symmetric about 0.
+The host turns telemetry pulse widths back into joint angles and keeps every command inside the
+limits. The table and the law (``K = 2000/pi us/rad`` as the rational ``33215 / 52174`` us per
+mrad, correctly rounded both ways) are ``protocol.joints``, the one source the firmware and the
+world read too (docs/conventions.md "The arm").
 
 The table's ``pulse at 0 rad`` column is used as printed (2455 us for theta2 and theta3, 545 us
 for theta4).  Note: its remark "theta = -pi/2 <-> 1500" does not follow from 2455 and K (that
@@ -18,32 +15,20 @@ Channel 0 is the gripper: its "angle" is the closure in per mille (0 = open 60 m
 
 from __future__ import annotations
 
-GRIPPER_CH = 0
-N_CHANNELS = 6
+from mobigrasp.protocol import joints
 
-PULSE_MIN_US = 500
-PULSE_MAX_US = 2500
+GRIPPER_CH = joints.GRIPPER_CH
+N_CHANNELS = joints.N_CHANNELS
 
-# K = 2/pi us per mrad as a rational number.
-_K_NUM = 2_000_000
-_K_DEN = 3_141_593
+PULSE_MIN_US = joints.PULSE_MIN_US
+PULSE_MAX_US = joints.PULSE_MAX_US
 
-# Joint limits in mrad (docs/conventions.md, rad x 1000 rounded); ch 0 in per mille of closure.
-JOINT_LIMITS_MRAD: tuple[tuple[int, int], ...] = (
-    (0, 1000),        # 0 gripper closure, per mille
-    (-1571, 1571),    # 1 theta1 wrist roll, [-pi/2, pi/2]
-    (-3000, 0),       # 2 theta2 wrist pitch
-    (-2800, 0),       # 3 theta3 elbow pitch
-    (0, 3000),        # 4 theta4 shoulder pitch
-    (-1400, 1400),    # 5 theta5 waist yaw
-)
-
-# Pulse width at angle 0 and direction, per channel (docs/conventions.md table).
-PULSE0_US: tuple[int, ...] = (1000, 1500, 2455, 2455, 545, 1500)
-DIRECTION: tuple[int, ...] = (1, 1, 1, 1, 1, 1)
-
-JOINT_NAMES: tuple[str, ...] = (
-    "gripper", "wrist_roll", "wrist_pitch", "elbow_pitch", "shoulder_pitch", "waist_yaw")
+# Joint limits in mrad (rad x 1000 rounded); ch 0 in per mille of closure.
+JOINT_LIMITS_MRAD: tuple[tuple[int, int], ...] = tuple((j.lo, j.hi) for j in joints.JOINTS)
+# Pulse width at angle 0 and direction, per channel.
+PULSE0_US: tuple[int, ...] = tuple(j.pulse0_us for j in joints.JOINTS)
+DIRECTION: tuple[int, ...] = tuple(j.direction for j in joints.JOINTS)
+JOINT_NAMES: tuple[str, ...] = tuple(j.name for j in joints.JOINTS)
 
 
 def _check_ch(ch: int) -> None:
@@ -54,12 +39,6 @@ def _check_ch(ch: int) -> None:
 def _check_int(name: str, value: int) -> None:
     if not isinstance(value, int) or isinstance(value, bool):
         raise ValueError(f"{name} must be an int, got {value!r}")
-
-
-def _div_round(num: int, den: int) -> int:
-    """num/den rounded half away from zero (den > 0)."""
-    q = (abs(num) * 2 + den) // (2 * den)
-    return q if num >= 0 else -q
 
 
 def clamp_mrad(ch: int, angle_mrad: int) -> int:
@@ -91,10 +70,7 @@ def mrad_to_pulse_us(ch: int, angle_mrad: int) -> int:
     The result always lies in [500, 2500] us.
     """
     angle = clamp_mrad(ch, angle_mrad)
-    if ch == GRIPPER_CH:
-        return _clamp_pulse(PULSE0_US[0] + angle)   # 1 us per per-mille: 1000..2000 us
-    delta = _div_round(DIRECTION[ch] * angle * _K_NUM, _K_DEN)
-    return _clamp_pulse(PULSE0_US[ch] + delta)
+    return _clamp_pulse(joints.pulse_us(ch, angle))
 
 
 def pulse_us_to_mrad(ch: int, pulse_us: int) -> int:
@@ -108,10 +84,7 @@ def pulse_us_to_mrad(ch: int, pulse_us: int) -> int:
         raise ValueError(
             f"channel {ch} ({JOINT_NAMES[ch]}): pulse {pulse_us} us outside "
             f"[{PULSE_MIN_US}, {PULSE_MAX_US}] us")
-    if ch == GRIPPER_CH:
-        return clamp_mrad(ch, pulse_us - PULSE0_US[0])
-    angle = _div_round(DIRECTION[ch] * (pulse_us - PULSE0_US[ch]) * _K_DEN, _K_NUM)
-    return clamp_mrad(ch, angle)
+    return clamp_mrad(ch, joints.angle_of_pulse(ch, pulse_us))
 
 
 def pulses_to_joints_mrad(pulses_us: tuple[int, ...] | list[int]) -> tuple[int, ...]:

@@ -8,7 +8,8 @@ Formats and units (binding for every caller):
   any integer mrad (reduced modulo 2π exactly, not modulo 6283) and return Q12.
   Maximum error against ``round(4096 * sin(angle_mrad / 1000))``: 1 LSB (2.5e-4).
 - :func:`atan2_mrad` takes two integers in any common unit and returns the angle in mrad in
-  [-3142, 3142]; maximum error 1 mrad (0.057°, issue 6 asks for 0.1°). ``atan2_mrad(0, 0) == 0``.
+  [-3142, 3142]; maximum error 1 mrad (0.057°, under the detectors' 0.1° bearing target).
+  ``atan2_mrad(0, 0) == 0``.
 - :func:`isqrt` is the exact floor square root (digit-by-digit, as on the ARM).
 - Rotation matrices are tuples of three rows of Q12 ints; :func:`matvec_q12` multiplies one
   by an integer vector in any unit (mm, Q4 px ...) and returns the same unit, rounded.

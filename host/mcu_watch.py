@@ -1,4 +1,4 @@
-"""Noticing an MCU reset from the host's side (issue 9): the session must be opened again.
+"""Noticing an MCU reset from the host's side: the session must be opened again.
 
 An ATmega128 that resets (brown-out, watchdog, a flashing tool) forgets the handshake: it refuses
 every command (NACK_NOT_READY, SetWheels ignored) until the host says HELLO again. The host learns

@@ -88,8 +88,8 @@ class Odometry:
     def resync(self) -> None:
         """The MCU reset: its clock and encoder counters restarted from 0. Keep the pose and
         take the next sample as the new reference (without this every later sample looks
-        "from the past" and the pose froze for the rest of the run: random 002 seed 7007
-        under an MCU reset turned in place for 90 s)."""
+        "from the past" and the pose froze for the rest of the run: docs/cosim.md "Measured",
+        T9)."""
         x_acc, y_acc, heading = self._x_acc, self._y_acc, self.heading_urad
         self.reset(0, 0, 0)  # (leaves the dropped count alone)
         self._x_acc, self._y_acc, self._theta0_urad = x_acc, y_acc, heading

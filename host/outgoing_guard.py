@@ -1,4 +1,4 @@
-"""Validation of every value the host sends to the MCU (issue 9): nothing invalid crosses the link.
+"""Validation of every value the host sends to the MCU: nothing invalid crosses the link.
 
 The last check before a command is encoded: a value that is not an integer (NaN, infinity, float,
 bool, None, string...) or lies outside its limit is refused with a reason, and the refusal is

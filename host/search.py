@@ -29,8 +29,8 @@ was seen earlier further ahead.  A look-around costs ~30 s for a 1.1 m disk
 turn the base by ``coarse_base_turn_mrad`` (``stop_cycles`` = 0, left turns: a counter-clockwise
 expanding square spiral 1, 1, 2, 2 x wander_mm whose leg spacing is under the strip's
 width), and ``stop_cycles`` > 0 looks around that many cycles at each stop instead.
-``wander_sweep`` = 0 holds the camera left as before (random 000 seeds 5006, 5007, 5016, 5019
-searched 150 s without finding a target 1.8-2.4 m away: four stops of ~30 s each).
+``wander_sweep`` = 0 holds the camera left as before (docs/cosim.md "Measured", T10: a target
+1.8-2.4 m away was not found in 150 s of search).
 Cycles after the first ``dense_cycles`` (the paper's d_theta2; 0 by default) visit only the
 theta2 levels in ``coarse_theta2_mrad``; turns after the first are ``coarse_base_turn_mrad``.
 Why: with the camera ~0.29 m up, f = 611 px and 240 rows (0.39 rad vertical field), the levels

@@ -3,7 +3,9 @@ interface, and the registry of its backends by name.
 
 A backend is a factory ``(config) -> McuBackend`` in :data:`MCU_BACKENDS`; :func:`open_mcu`
 opens one by name and rejects an unknown name by name. ``python`` is the firmware model on the
-Python peripherals (mobigrasp.mcu_sim.mcu.Mcu). Every backend passes tests/test_mcu_contract.py
+Python peripherals (mobigrasp.mcu_sim.mcu.Mcu), ``native`` the C firmware (``firmware/``) built
+for this machine on the same peripherals (mobigrasp.mcu_sim.native). Every backend passes
+tests/test_mcu_contract.py
 (with the fault wrapper and the test fakes).
 """
 
@@ -79,8 +81,14 @@ def _python(config: McuConfig | None = None) -> McuBackend:
     return Mcu(config)
 
 
+def _native(config: McuConfig | None = None) -> McuBackend:
+    # imported on first use: it compiles the C firmware once per source hash
+    from mobigrasp.mcu_sim.native.mcu import NativeMcu
+    return NativeMcu(config)
+
+
 # name -> factory(config); a plain dict: a backend module adds its own entry
-MCU_BACKENDS: dict[str, Callable[..., McuBackend]] = {"python": _python}
+MCU_BACKENDS: dict[str, Callable[..., McuBackend]] = {"python": _python, "native": _native}
 
 
 class UnknownBackend(ValueError):

@@ -42,6 +42,10 @@ class McuConfig:
 class Mcu:
     """One emulated ATmega128 running the mobigrasp firmware."""
 
+    # the program that runs on the board: the Python model here, the C firmware in
+    # mcu_sim/native (NativeMcu); called as firmware_class(board, param_overrides)
+    firmware_class: Callable[..., Firmware] = Firmware
+
     def __init__(self, config: McuConfig | None = None) -> None:
         self.config = config or McuConfig()
         cfg = self.config
@@ -52,7 +56,7 @@ class Mcu:
         self._tx_out: list[tuple[int, bytes]] = []
         self.events = 0
         self._rx_batch = RX_RING_BYTES - 1  # what the ring holds: a batch can never overrun it
-        self.firmware = Firmware(self.board, overrides)
+        self.firmware = self.firmware_class(self.board, overrides)
         self._deadline = 0
         # servo_pulses_us's tuple and the Timer16.width_serial values it was built from
         self._pulses_us: tuple[float, ...] = ()

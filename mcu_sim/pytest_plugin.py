@@ -3,14 +3,25 @@
 Fixtures:
 
 - ``emulated_mcu``: an :class:`EmulatedMcu` with the default configuration, on a new pty.
-- ``emulated_mcu_factory``: ``make(config=McuConfig(...))`` for other UART divisors or PARAMs.
+- ``emulated_mcu_factory``: ``make(config=McuConfig(...), wheels="bench"|"still")`` for other
+  UART divisors, PARAMs or wheel plants.
 
 The test owns the simulated clock: nothing moves until it calls ``advance_ms`` / ``advance_us``.
-A host program under test opens ``emulated_mcu.port`` like a serial device; since a pty hands
-bytes over asynchronously, call ``wait_from_host(n)`` (n = bytes the host wrote so far) before
-advancing time when the exact arrival time matters. For quick tests the fixture also has its own
+A host program under test opens ``emulated_mcu.port`` like a serial device; call
+``wait_from_host()`` after it wrote and before advancing time when the exact arrival time
+matters: it puts everything written so far on the MCU's RX line (no byte counting). Without a
+world the encoders follow ``wheels``: ``bench`` (default), two unloaded motors with their lag,
+so a SetWheels turns them; ``still``, always 0. For quick tests the fixture also has its own
 host end: ``send(msg)`` writes a message on the slave and waits until the MCU side has it,
-``receive(n)`` returns what the host side read back.
+``receive(n)`` returns what the host side read back. ``nacks()`` lists the NACKs the MCU sent
+with their reasons by name; ``describe(msg)`` prints any message that way.
+
+- ``emulated_robot``: ``robot = emulated_robot("paper000-exp1", speed=1.0)`` starts
+  ``mobigrasp sim`` for the test: the scenario's MCU and world in wall time, ``robot.port`` the
+  serial pty, ``robot.camera_url`` the MJPEG stream. Run your host program against them; once it
+  has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``collisions``,
+  ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
+  the test body is ended (SIGTERM) and its folder written all the same.
 
 This module must stay cheap to import and must never break a pytest run: everything heavy is
 imported inside the fixtures.
@@ -26,10 +37,10 @@ _PTY_CHUNK = 1024  # well below any pty buffer, so a host-side write never block
 class EmulatedMcu:
     """A :class:`mcu_sim.mcu_pty.PtyMcu` plus a host-side Link on its slave for convenience."""
 
-    def __init__(self, config=None) -> None:
+    def __init__(self, config=None, wheels: str = "bench", mcu: str = "python") -> None:
         from mobigrasp.mcu_sim.mcu_pty import PtyMcu
 
-        self._pty = PtyMcu(config)
+        self._pty = PtyMcu(config, wheels=wheels, mcu=mcu)
         self.mcu = self._pty.mcu
         self.port: str = self._pty.port
         self._link = None
@@ -48,14 +59,18 @@ class EmulatedMcu:
         """Pump pty bytes into the UART and run ``n`` ms of simulated time."""
         self._pty.advance_us(int(n) * 1000)
 
-    def wait_from_host(self, n_bytes: int, timeout_s: float = 10.0) -> bool:
-        """Wait (wall clock, simulated time frozen) until the MCU side has read ``n_bytes``."""
+    def wait_from_host(self, n_bytes: int | None = None, timeout_s: float = 10.0) -> bool:
+        """Put every byte a host has written to the port so far on the MCU's RX line, at the
+        current simulated time (which does not move); False if the host closed the port.
+        With ``n_bytes``: wait (wall clock, up to ``timeout_s``) until the MCU side has read
+        that many bytes in all."""
         return self._pty.wait_from_host(n_bytes, timeout_s)
 
     # -- outputs -------------------------------------------------------------------------------
-    def servo_pulses_us(self) -> tuple[float, ...]:
-        """Latest measured pulse width of each of the six channels, in µs."""
-        return tuple(self.mcu.servo_pulse_us(ch) for ch in range(6))
+    def servo_pulses_us(self) -> tuple[int, ...]:
+        """Latest measured pulse width of each of the six channels, in whole µs (the timer
+        measures them in 0.5 µs steps: rounded half to even); 0 before the first pulse."""
+        return tuple(round(self.mcu.servo_pulse_us(ch)) for ch in range(6))
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed wheel duties (left, right), -255..255."""
@@ -68,6 +83,18 @@ class EmulatedMcu:
     def sent(self) -> list[tuple[int, object]]:
         """Every message the MCU has sent: ``(t_us, message)``."""
         return list(self._pty.sent)
+
+    def nacks(self) -> list[tuple[int, str]]:
+        """``(acked_seq, reason)`` of every NACK the MCU sent, the reason by name
+        (``"NOT_READY"``), oldest first."""
+        return self._pty.nacks()
+
+    @staticmethod
+    def describe(msg) -> str:
+        """One line for a message, NACK reasons and telemetry flags by name."""
+        from mobigrasp.mcu_sim.wire_names import describe
+
+        return describe(msg)
 
     @property
     def stats(self) -> dict[str, int]:
@@ -128,11 +155,12 @@ class EmulatedMcu:
 
 @pytest.fixture
 def emulated_mcu_factory():
-    """``make(config=None) -> EmulatedMcu``; everything made is closed after the test."""
+    """``make(config=None, wheels="bench", mcu="python") -> EmulatedMcu``; ``mcu="native"``
+    runs the C firmware; everything made is closed after the test."""
     made: list[EmulatedMcu] = []
 
-    def make(config=None) -> EmulatedMcu:
-        emu = EmulatedMcu(config)
+    def make(config=None, wheels: str = "bench", mcu: str = "python") -> EmulatedMcu:
+        emu = EmulatedMcu(config, wheels, mcu)
         made.append(emu)
         return emu
 
@@ -145,3 +173,124 @@ def emulated_mcu_factory():
 def emulated_mcu(emulated_mcu_factory) -> EmulatedMcu:
     """An emulated ATmega128 on a new pty, default configuration, clock at 0."""
     return emulated_mcu_factory()
+
+
+class EmulatedRobot:
+    """A ``mobigrasp sim`` process serving one scenario (see the module docstring)."""
+
+    start_timeout_s = 120.0  # safety limits only: nothing asserts on them
+    end_timeout_s = 120.0
+
+    def __init__(self, scenario: str, run_dir, speed: float = 1.0, plots: bool = True,
+                 extra_args: tuple[str, ...] = ()) -> None:
+        """``plots``: write plots/ and report.html (a few seconds at the end); ``extra_args``:
+        more ``mobigrasp sim`` options (``--seed``, ``--time-limit-s``)."""
+        import subprocess
+        import sys
+        from pathlib import Path
+
+        self.scenario = scenario
+        self.run_dir = Path(run_dir)
+        self.run_dir.parent.mkdir(parents=True, exist_ok=True)
+        self._stderr_path = self.run_dir.parent / f"{self.run_dir.name}.stderr.txt"
+        self._stderr = open(self._stderr_path, "w")  # noqa: SIM115 (closed in close())
+        # run from the run folder's parent: a `mobigrasp` folder in the test's working directory
+        # must not shadow the installed package
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "mobigrasp", "sim", str(scenario), "--speed", f"{speed:g}",
+             "--camera-port", "0", "--out", str(self.run_dir), "--quiet",
+             *(() if plots else ("--no-plots",)), *extra_args],
+            cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True)
+        self._summary: dict | None = None
+        self._lines = self._line_reader()
+        self.port = self._first_line("serial: ")
+        self.camera_url = self._first_line("camera: ")
+
+    def _line_reader(self):
+        """stdout's lines, read by a thread (a select() on the pipe would miss lines already
+        in the reader's buffer)."""
+        import queue
+        import threading
+
+        lines: queue.Queue = queue.Queue()
+
+        def read() -> None:
+            for line in self.proc.stdout:
+                lines.put(line)
+            lines.put("")
+
+        threading.Thread(target=read, daemon=True, name="sim-stdout").start()
+        return lines
+
+    def _first_line(self, prefix: str) -> str:
+        import queue
+
+        try:
+            line = self._lines.get(timeout=self.start_timeout_s)
+        except queue.Empty:
+            line = ""
+        if not line.startswith(prefix):
+            self.close()
+            raise RuntimeError(f"mobigrasp sim {self.scenario} did not start (expected "
+                               f"{prefix!r}, got {line!r}): {self.stderr()}")
+        return line[len(prefix):].strip()
+
+    def stderr(self) -> str:
+        """What the sim process printed on stderr so far."""
+        self._stderr.flush()
+        return self._stderr_path.read_text(errors="replace")
+
+    def stop(self) -> None:
+        """End the session now (SIGTERM); the run folder is written."""
+        if self.proc.poll() is None:
+            self.proc.terminate()
+
+    def wait(self, timeout_s: float | None = None) -> int:
+        """Wait for the session to end (the host closed the port, the time limit, stop())."""
+        import subprocess
+
+        try:
+            self.proc.wait(self.end_timeout_s if timeout_s is None else timeout_s)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.proc.wait()
+            raise
+        return self.proc.returncode
+
+    @property
+    def summary(self) -> dict:
+        """The run's summary.json, once the session has ended (waits for it)."""
+        import json
+
+        if self._summary is None:
+            self.wait()
+            path = self.run_dir / "summary.json"
+            if not path.exists():
+                raise RuntimeError(f"mobigrasp sim wrote no {path}: {self.stderr()}")
+            self._summary = json.loads(path.read_text())
+        return self._summary
+
+    def close(self) -> None:
+        """Stop the session if it still runs and reap the process."""
+        self.stop()
+        try:
+            self.wait()
+        finally:
+            self._stderr.close()
+
+
+@pytest.fixture
+def emulated_robot(tmp_path):
+    """``make(scenario, speed=1.0) -> EmulatedRobot``: ``mobigrasp sim`` for this test; every
+    session made is ended after the test (its run folder under the test's tmp_path)."""
+    made: list[EmulatedRobot] = []
+
+    def make(scenario: str, speed: float = 1.0, **kw) -> EmulatedRobot:
+        """``kw``: ``plots`` (default True), ``extra_args`` (more ``mobigrasp sim`` options)."""
+        robot = EmulatedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
+        made.append(robot)
+        return robot
+
+    yield make
+    for robot in made:
+        robot.close()

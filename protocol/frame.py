@@ -15,6 +15,7 @@ from __future__ import annotations
 import binascii
 from dataclasses import dataclass, fields
 
+from mobigrasp.frozen import built
 from mobigrasp.protocol.cobs import cobs_encode
 
 PROTOCOL_VERSION = 1
@@ -70,10 +71,17 @@ def encode_raw(version: int, seq: int, msg_type: int, payload: bytes) -> bytes:
     return cobs_encode(raw + bytes((crc & 0xFF, crc >> 8))) + DELIMITER
 
 
+def frame_crc(frame: Frame) -> int:
+    """The CRC-16 field of ``frame`` on the wire (over version, seq, msg_type and payload): what
+    the duplicate filter compares to tell a copy from another command with the same seq."""
+    return binascii.crc_hqx(bytes((frame.version, frame.seq, frame.msg_type)) + frame.payload,
+                            0xFFFF)
+
+
 @dataclass
 class ParserStats:
-    """What the parser accepted and rejected. Every rejected frame increments exactly one reason
-    counter and adds its encoded length to ``garbage_bytes``."""
+    """What the parser accepted and rejected. Every rejected run of bytes increments exactly one
+    reason counter; ``garbage_bytes`` counts the bytes that were not delivered in a frame."""
 
     frames_ok: int = 0
     crc_errors: int = 0
@@ -84,10 +92,25 @@ class ParserStats:
     cobs_errors: int = 0  # a COBS code byte pointing past the delimiter (bytes lost in transit)
     garbage_bytes: int = 0
     bytes_in: int = 0
+    recovered: int = 0  # frames found at the end of a rejected run (its delimiter was lost)
 
     def as_dict(self) -> dict[str, int]:
         """The counters as a plain dict (for JSON and for Link.stats)."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
+
+
+def chain_starts(run: bytes) -> list[int]:
+    """Offsets ``j`` of a zero-free ``run`` whose COBS code chain ends exactly at its end: where
+    a frame that ends at the run's delimiter may start. One pass from the end (C: a bitmap of
+    MAX_ENCODED bits): ``j`` qualifies iff ``j + run[j]`` is the end or itself qualifies."""
+    n = len(run)
+    ok = bytearray(n + 1)
+    ok[n] = 1
+    for i in range(n - 1, -1, -1):
+        nxt = i + run[i]
+        if nxt <= n and ok[nxt]:
+            ok[i] = 1
+    return [j for j in range(n) if ok[j]]
 
 
 class FrameParser:
@@ -96,7 +119,10 @@ class FrameParser:
     ``known_types``: the message types this end understands (None = accept every type and let
     the message layer decide, which the firmware needs in order to answer NACK_UNKNOWN_TYPE).
     The pending buffer never exceeds MAX_ENCODED bytes: a longer run without a delimiter is
-    counted once as ``oversize`` and skipped up to the next 0x00.
+    counted once as ``oversize``, and only its last MAX_ENCODED bytes are kept until the next
+    0x00. A run that fails as one frame (oversize, COBS or CRC error) is searched for a valid
+    frame that ends at its 0x00 (docs/protocol.md §2.1): when a delimiter is lost, the frame
+    after it is still delivered and only the frame before it is lost.
     """
 
     def __init__(self, known_types=None, version: int = PROTOCOL_VERSION) -> None:
@@ -104,7 +130,7 @@ class FrameParser:
         self.version = version
         self.stats = ParserStats()
         self._buf = b""
-        self._skipping = False
+        self._skipping = False  # inside an oversize run: _buf holds its last MAX_ENCODED bytes
 
     @property
     def pending(self) -> int:
@@ -119,9 +145,48 @@ class FrameParser:
     def flush(self) -> None:
         """End of stream: a partial frame still pending is counted as truncated and dropped."""
         if self._buf:
-            self.stats.truncated += 1
+            if not self._skipping:  # an oversize run was counted when it overflowed
+                self.stats.truncated += 1
             self.stats.garbage_bytes += len(self._buf)
         self.reset()
+
+    def _checked(self, enc: bytes) -> Frame | None:
+        """The frame whose COBS bytes are ``enc`` if it passes every check, else None (not
+        counted: used on the tail of a run already counted as rejected)."""
+        n = len(enc)
+        if n < MIN_RAW + 1 or n > MAX_ENCODED:
+            return None
+        buf = bytearray(enc)
+        i = 0
+        while i < n:
+            code = buf[i]
+            buf[i] = 0
+            i += code
+        if i != n or binascii.crc_hqx(buf[1:-2], 0xFFFF) != buf[-2] | (buf[-1] << 8):
+            return None
+        msg_type = buf[3]
+        if buf[1] != self.version and msg_type not in VERSION_FREE_TYPES:
+            return None
+        if self.known_types is not None and msg_type not in self.known_types:
+            return None
+        return Frame(buf[1], buf[2], msg_type, bytes(buf[4:-2]))
+
+    def _recover(self, run: bytes, first: int, frames: list[Frame]) -> None:
+        """``run`` (zero-free, ending at a 0x00) was rejected: deliver the longest suffix from
+        offset ``first`` on that is a valid frame, if any; the rest is garbage."""
+        n = len(run)
+        for j in chain_starts(run):
+            if j < first or n - j < MIN_RAW + 1:
+                continue
+            if n - j > MAX_ENCODED:
+                continue
+            frame = self._checked(run[j:])
+            if frame is not None:
+                frames.append(frame)
+                self.stats.recovered += 1
+                self.stats.garbage_bytes += j
+                return
+        self.stats.garbage_bytes += n
 
     def feed(self, chunk: bytes) -> list[Frame]:
         """Consume ``chunk`` and return the complete valid frames it finished, in order."""
@@ -140,24 +205,33 @@ class FrameParser:
         tail = pieces.pop()
         frames: list[Frame] = []
         if self._skipping:
-            if not pieces:  # still inside an oversize run
-                stats.garbage_bytes += len(tail)
+            if not pieces:  # still inside an oversize run: keep its last MAX_ENCODED bytes
+                drop = len(tail) - MAX_ENCODED
+                if drop > 0:
+                    stats.garbage_bytes += drop
+                    tail = tail[drop:]
+                self._buf = tail
                 return frames
-            stats.garbage_bytes += len(pieces[0])
+            # the oversize run (counted when it overflowed) ends here: a frame may end with it
+            run = pieces[0]
+            if len(run) > MAX_ENCODED:
+                stats.garbage_bytes += len(run) - MAX_ENCODED
+                run = run[-MAX_ENCODED:]
             pieces[0] = b""
             self._skipping = False
+            self._recover(run, 0, frames)
         known = self.known_types
         version = self.version
         crc_hqx = binascii.crc_hqx
         append = frames.append
-        new = object.__new__
         for piece in pieces:
             n = len(piece)
             if n == 0:
                 continue  # idle delimiter: senders may emit extra 0x00 to force a resync
             if n > MAX_ENCODED:
                 stats.oversize += 1
-                stats.garbage_bytes += n
+                stats.garbage_bytes += n - MAX_ENCODED
+                self._recover(piece[-MAX_ENCODED:], 0, frames)
                 continue
             # COBS decoding in place: every code byte after the first becomes the zero it
             # stands for (a valid frame is < 254 bytes, so there are no 0xFF "no zero" codes).
@@ -173,7 +247,7 @@ class FrameParser:
                     i += code
                 if i != n:
                     stats.cobs_errors += 1
-                    stats.garbage_bytes += n
+                    self._recover(piece, 1, frames)
                     continue
             if n < MIN_RAW + 1:
                 stats.truncated += 1
@@ -181,7 +255,7 @@ class FrameParser:
                 continue
             if crc_hqx(buf[1:-2], 0xFFFF) != buf[-2] | (buf[-1] << 8):
                 stats.crc_errors += 1
-                stats.garbage_bytes += n
+                self._recover(piece, 1, frames)
                 continue
             msg_type = buf[3]
             if buf[1] != version and msg_type not in VERSION_FREE_TYPES:
@@ -192,18 +266,14 @@ class FrameParser:
                 stats.unknown_type += 1
                 stats.garbage_bytes += n
                 continue
-            frame = new(Frame)
-            d = frame.__dict__
-            d["version"] = buf[1]
-            d["seq"] = buf[2]
-            d["msg_type"] = msg_type
-            d["payload"] = bytes(buf[4:-2])
-            append(frame)
+            # checked above: the fields are what __post_init__ would accept
+            append(built(Frame, version=buf[1], seq=buf[2], msg_type=msg_type,
+                         payload=bytes(buf[4:-2])))
         stats.frames_ok += len(frames)
         if len(tail) > MAX_ENCODED:
             stats.oversize += 1
-            stats.garbage_bytes += len(tail)
-            tail = b""
+            stats.garbage_bytes += len(tail) - MAX_ENCODED
+            tail = tail[-MAX_ENCODED:]
             self._skipping = True
         self._buf = tail
         return frames

@@ -4,7 +4,8 @@ Pure logic with time passed in as integer microseconds, so the lockstep rig cont
 same code runs on the host (Python today, C on the S3C2440 tomorrow). Rules (docs/protocol.md):
 every RELIABLE message is answered by ACK or NACK carrying its seq; the sender resends the same
 wire bytes (same seq) every ``timeout_us`` until answered, at most ``max_retries`` times, then
-reports the seq as failed. The receiver executes a reliable seq once and ACKs every copy.
+reports the seq as failed. The receiver executes a reliable command once and answers every copy
+the same way; a different command reusing a recent seq is NACKed, never silently dropped.
 Senders keep one reliable command outstanding (or cancel superseded ones): a retransmission is
 the only way the serial line can reorder commands.
 """
@@ -124,67 +125,88 @@ class RetransmitQueue:
         self._failed.clear()
 
 
+DUP_NEW = 0  # DuplicateFilter.classify: execute it, then remember()
+DUP_COPY = 1  # the same command again: answer with result(), do not execute
+DUP_REUSED = 2  # the seq of a recent command with other content: NACK_SEQ_REUSED, not executed
+_EMPTY = 0xFF  # a slot's result byte when it holds no command
+
+
 class DuplicateFilter:
-    """Receiver side: remembers recently executed reliable seqs and the answer given to each.
+    """Receiver side: which reliable frames are copies of a command already executed.
 
-    ``is_new(seq, now_us)`` is True the first time a seq is seen (execute it, then ACK) and False
-    for a retransmitted copy (ACK again, or repeat the stored NACK, but do not execute). An entry
-    lives until ``expiry_us`` has passed (default 250 ms, longer than the sender's whole
-    retransmission span of 10 x 20 ms) or until ``window`` newer seqs pushed it out.
+    Two frames are **the same command** when they have the same seq AND the same CRC-16 (the CRC
+    covers version, seq, msg_type and payload: the whole content). The filter remembers the
+    commands of the last ``window`` sequence numbers of the sender, counted in seqs, not in time
+    or in reliable commands (docs/protocol.md §5.2):
 
-    Pass ``now_us``: seq numbers wrap every 256 frames of the sender, and without the time a new
-    command that happens to reuse the seq of a recent one (sparse reliable commands between
-    many unreliable frames) would be taken for a copy and not executed. Without ``now_us`` entries
-    only leave by the window. ``live_evictions`` counts entries pushed out before their expiry:
-    a copy of those would be executed twice, so it should stay 0 (send fewer reliable commands
-    at once, or raise ``window``). Call ``reset()`` on HELLO: a restarted host counts from 0.
+    - ``observe(seq)`` for every valid frame from the peer, reliable or not, keeps ``newest``:
+      a seq 1 .. 256 - window ahead of it is a newer frame and becomes ``newest`` (the slots of
+      the seqs it passes are cleared: their old entries are a lap of the 8-bit counter old); a
+      seq 0 .. window - 1 behind it is a recent one.
+    - ``classify(seq, crc)`` of a reliable frame, after ``observe``: DUP_COPY if the slot of a
+      recent seq holds that seq with that CRC, DUP_REUSED if it holds that seq with another CRC,
+      else DUP_NEW.
+
+    Storage as in C: ``window`` slots indexed by ``seq % window``, each a seq tag (u8), a CRC
+    (u16) and the answer given (u8; 0 = ACK, else the NACK reason, 0xFF = empty). ``window`` is a
+    power of two in 2..128; it must exceed the number of frames the sender can send during one
+    command's retransmission span (docs/protocol.md §5.2). Call ``reset()`` on HELLO.
     """
 
-    def __init__(self, window: int = 16, expiry_us: int = 250_000) -> None:
-        if isinstance(window, bool) or not isinstance(window, int) or not 1 <= window <= 256:
-            raise ValueError(f"window must be an int in [1, 256], got {window!r}")
-        if isinstance(expiry_us, bool) or not isinstance(expiry_us, int) or expiry_us <= 0:
-            raise ValueError(f"expiry_us must be a positive int, got {expiry_us!r}")
+    def __init__(self, window: int = 64) -> None:
+        if isinstance(window, bool) or not isinstance(window, int) or window not in (
+                2, 4, 8, 16, 32, 64, 128):
+            raise ValueError(f"window must be a power of two in [2, 128], got {window!r}")
         self.window = window
-        self.expiry_us = expiry_us
+        self._mask = window - 1
+        self._ahead_max = 256 - window
         self.duplicates = 0
-        self.live_evictions = 0
-        # seq -> [time seen (or None), answer: 0 = ACK, else NACK reason]; insertion = age order
-        self._seen: dict[int, list] = {}
+        self.reused = 0
+        self.newest = -1  # -1: nothing observed since reset
+        self._tag = [0] * window
+        self._crc = [0] * window
+        self._result = [_EMPTY] * window
 
-    def _expire(self, now_us: int) -> None:
-        for seq in list(self._seen):
-            t = self._seen[seq][0]
-            if t is None or now_us - t < self.expiry_us:
-                break  # entries are in arrival order: the rest are younger
-            del self._seen[seq]
+    def observe(self, seq: int) -> None:
+        """A valid frame with ``seq`` arrived from the peer: advance ``newest`` if it is newer."""
+        newest = self.newest
+        if newest < 0:
+            self.newest = seq
+            return
+        ahead = (seq - newest) & 0xFF
+        if 1 <= ahead <= self._ahead_max:
+            mask = self._mask
+            result = self._result
+            for k in range(1, min(ahead, self.window) + 1):
+                result[(newest + k) & mask] = _EMPTY
+            self.newest = seq
 
-    def is_new(self, seq: int, now_us: int | None = None) -> bool:
-        """True (and remember seq) unless seq was executed recently; False for a copy."""
-        if now_us is not None:
-            self._expire(now_us)
-        if seq in self._seen:
+    def classify(self, seq: int, crc: int) -> int:
+        """DUP_NEW, DUP_COPY or DUP_REUSED for a reliable frame (``observe`` it first)."""
+        i = seq & self._mask
+        if self._result[i] == _EMPTY or self._tag[i] != seq:
+            return DUP_NEW
+        if self._crc[i] == crc:
             self.duplicates += 1
-            return False
-        if len(self._seen) >= self.window:
-            oldest = next(iter(self._seen))
-            t = self._seen.pop(oldest)[0]
-            if now_us is None or t is None or now_us - t < self.expiry_us:
-                self.live_evictions += 1
-        self._seen[seq] = [now_us, 0]
-        return True
+            return DUP_COPY
+        self.reused += 1
+        return DUP_REUSED
 
-    def set_result(self, seq: int, nack_reason: int) -> None:
-        """Store the answer given to ``seq`` (0 = ACK, else the NACK reason) for its copies."""
-        entry = self._seen.get(seq)
-        if entry is not None:
-            entry[1] = nack_reason
+    def remember(self, seq: int, crc: int, nack_reason: int) -> None:
+        """Store the command ``seq``/``crc`` and its answer (0 = ACK, else the NACK reason,
+        which is below 0xFF)."""
+        i = seq & self._mask
+        self._tag[i] = seq
+        self._crc[i] = crc
+        self._result[i] = nack_reason
 
     def result(self, seq: int) -> int:
-        """The stored answer for ``seq`` (0 = ACK when nothing was stored)."""
-        entry = self._seen.get(seq)
-        return 0 if entry is None else entry[1]
+        """The answer stored for ``seq`` (0 = ACK when nothing is stored)."""
+        i = seq & self._mask
+        r = self._result[i]
+        return 0 if r == _EMPTY or self._tag[i] != seq else r
 
     def reset(self) -> None:
-        """Forget every seq (new session)."""
-        self._seen.clear()
+        """Forget every command and the newest seq (new session)."""
+        self.newest = -1
+        self._result[:] = [_EMPTY] * self.window

@@ -7,8 +7,44 @@ Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore pytest ...`
 
 import os
 
+import pytest
 from hypothesis import settings
 
 settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
 settings.register_profile("explore", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+
+# Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the
+# module's ``Mcu`` is the Python model for ``python`` and the C firmware for ``native``.
+def pytest_generate_tests(metafunc):
+    if metafunc.definition.get_closest_marker("both_mcus") is not None:
+        metafunc.fixturenames.append("mcu_backend")
+        metafunc.parametrize("mcu_backend", ["python", "native"], indirect=True)
+
+
+@pytest.fixture
+def mcu_backend(request, monkeypatch):
+    if request.param == "native":
+        from mobigrasp.mcu_sim.native.mcu import NativeMcu
+
+        monkeypatch.setattr(request.module, "Mcu", NativeMcu)
+    return request.param
+
+
+# three short in-process runs (one per method) whose run folders several output tests read
+SHORT_RUNS = {"paper000-exp1": None, "paper001-sim1": 8.0, "paper002-marker": 8.0}
+
+
+@pytest.fixture(scope="session")
+def short_runs(tmp_path_factory):
+    """{scenario: run folder} of SHORT_RUNS (time limits in simulated s; None: the scenario's)."""
+    from mobigrasp.tools.run_job import RunOptions, execute
+
+    root = tmp_path_factory.mktemp("short-runs")
+    folders = {}
+    for name, limit_s in SHORT_RUNS.items():
+        folders[name] = root / name
+        execute(RunOptions(scenario=name, transport="inproc", out=folders[name], progress=False,
+                           time_limit_s=limit_s))
+    return folders

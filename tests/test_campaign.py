@@ -123,16 +123,22 @@ def test_parallel_runs_give_the_same_rows(tmp_path):
                           run_fn=fake_run, progress=None)
     parallel = run_campaign(CampaignConfig("002", 8, PLAN, seed=3, jobs=2, out=tmp_path),
                             run_fn=fake_run, progress=None)
+    assert [r.pop("worker") for r in parallel["rows"]] != []  # where it ran: not a result
+    for r in serial["rows"]:
+        r.pop("worker")
     assert parallel == serial
 
 
 def test_progress_bar_goes_to_the_stream(tmp_path, capsys):
     import io
 
+    from mobigrasp.tools.progress import Progress
+
     buf = io.StringIO()
     run_campaign(CampaignConfig("000", 3, seed=0, jobs=1, out=tmp_path), run_fn=fake_run,
-                 progress=buf)
+                 progress=Progress(total=3, desc="campaign", unit="runs", stream=buf))
     assert "3/3 runs" in buf.getvalue() and capsys.readouterr().out == ""
+    assert "\r" not in buf.getvalue()  # not a terminal: whole lines
 
 
 def test_rows_without_a_safety_block_are_marked():
@@ -156,12 +162,17 @@ def test_outputs_json_and_plot(tmp_path):
 @pytest.mark.parametrize("argv, fragment", [
     (["--method", "000", "--fault", "uart_bit_error_rate=2"], "faults.uart_bit_error_rate"),
     (["--method", "000", "--fault", "nope=1"], "faults.nope: unknown key"),
-    (["--method", "009"], "--method"),
     (["--method", "000", "--runs", "0"], "--runs"),
 ])
 def test_cli_bad_input_exits_2(argv, fragment, capsys):
     assert main(["campaign", *argv]) == 2
     assert fragment in capsys.readouterr().err
+
+
+def test_cli_unknown_method_is_refused_by_argparse(capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["campaign", "--method", "009"])
+    assert exit_.value.code == 2 and "--method" in capsys.readouterr().err
 
 
 def test_one_tiny_real_run_through_the_adapter(tmp_path):

@@ -16,7 +16,7 @@ from mobigrasp.host.planning.sonar_regions import (
 )
 from mobigrasp.host.task import TaskInputs, TaskParams
 
-# an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4 (random 001 seed 5008)
+# an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4
 NEAR = dict(ox=0.0, oy=0.0, lo_rad=0.26, hi_rad=0.525, eta_m=0.406, r_r_m=0.2)
 
 
@@ -89,22 +89,22 @@ def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
 
 
 def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
-    from mobigrasp.host.task_wander import detour_step, start_detour
+    from mobigrasp.host.task.method001 import RULES, detour_heading
 
     p = TaskParams.for_method("001")
-    d = start_detour(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
+    d = detour_heading(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
     assert d == {"heading_mrad": -900, "drive": True, "from": None, "checked": True}
     task = SimpleNamespace(p=p, wheels=None, detour=d)
     side = (65535, 65535, 65535, 220, 240)  # the obstacle beside it, front-left and left
-    assert not detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
+    assert not RULES.detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
     assert task.wheels == (p.wander_mmps, p.wander_mmps)
     # the unchecked detour stops for the same diagonal echo at once
     task.detour = {"heading_mrad": -900, "drive": True, "from": None}
-    assert detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
+    assert RULES.detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
     # something straight ahead stops a checked one too
     task.detour = dict(d)
-    assert detour_step(task, TaskInputs(heading_mrad=-900,
-                                        sonar_mm=(65535, 65535, 300, 65535, 65535)))
+    assert RULES.detour_step(task, TaskInputs(heading_mrad=-900,
+                                              sonar_mm=(65535, 65535, 300, 65535, 65535)))
     assert task.wheels == (0, 0)
 
 
@@ -133,13 +133,13 @@ def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
     now = 1_000_000
     near = TaskInputs(x_mm=800, sonar_mm=clear)  # the waist 600 mm from the object
     task.obj_seen_us = now
-    assert task._adjust_early_001(now, near, 600)
-    assert not task._adjust_early_001(now, near, 900)  # farther than ADJUST_EARLY_MM_001
+    assert task.rules.adjust_early(task, now, near, 600)
+    assert not task.rules.adjust_early(task, now, near, 900)  # farther than ADJUST_EARLY_MM_001
     task.obj_seen_us = now - 1_000_000
-    assert not task._adjust_early_001(now, near, 600)  # not seen lately
+    assert not task.rules.adjust_early(task, now, near, 600)  # not seen lately
     task.obj_seen_us = now
     beside = TaskInputs(x_mm=800, sonar_mm=(2500, 150, 2500, 2500, 2500))  # right, 45 deg
-    assert not task._adjust_early_001(now, beside, 600)
+    assert not task.rules.adjust_early(task, now, beside, 600)
 
 
 def test_a_detour_keeps_to_the_side_of_the_first_one():

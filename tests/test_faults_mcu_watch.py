@@ -1,4 +1,4 @@
-"""host/mcu_watch (issue 9): the host notices an MCU reset from the telemetry."""
+"""host/mcu_watch: the host notices an MCU reset from the telemetry."""
 
 from mobigrasp.host.mcu_watch import McuWatch
 from mobigrasp.mcu_sim.mcu import Mcu

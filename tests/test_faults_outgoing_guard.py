@@ -1,4 +1,4 @@
-"""host/outgoing_guard (issue 9): no NaN, infinity, non-integer or out-of-limit value passes."""
+"""host/outgoing_guard: no NaN, infinity, non-integer or out-of-limit value passes."""
 
 import math
 from fractions import Fraction

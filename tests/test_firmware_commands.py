@@ -20,6 +20,7 @@ from mobigrasp.protocol import (
     NACK_BAD_PARAM,
     NACK_NOT_READY,
     NACK_OUT_OF_RANGE,
+    NACK_SEQ_REUSED,
     NACK_UNKNOWN_TYPE,
     PROTOCOL_VERSION,
     Ack,
@@ -36,6 +37,8 @@ from mobigrasp.protocol import (
     Stop,
     encode_frame,
 )
+
+pytestmark = pytest.mark.both_mcus
 
 
 def ready(config=None):
@@ -54,31 +57,48 @@ def pulses(mcu):
 
 def test_duplicate_seq_is_acked_again_but_not_executed_twice():
     mcu, host = ready()
+    first = SetServos(0, (1500, 1600, 1500, 1500, 1500, 1500), 0)
+    host.send(first, seq=5)
+    host.run_ms(45)
+    host.send(SetServos(0, (1500, 1500, 1500, 1500, 1500, 1500), 0), seq=6)
+    host.run_ms(45)
+    host.send(first, seq=5)  # a late copy: answered again, not executed again
+    host.run_ms(45)
+    assert host.messages(Ack).count(Ack(5)) == 2
+    assert pulses(mcu)[1] == 1500.0
+    assert mcu.stats()["duplicates"] == 1
+    # A new HELLO starts a new session: seq 5 is new again.
+    host.send(Hello(PROTOCOL_VERSION, "t2", 0), seq=0)
+    host.send(first, seq=5)
+    host.run_ms(45)
+    assert pulses(mcu)[1] == 1600.0
+
+
+def test_seq_reused_with_other_content_is_nacked_not_dropped():
+    mcu, host = ready()
     host.send(SetServos(0, (1500, 1600, 1500, 1500, 1500, 1500), 0), seq=5)
     host.run_ms(45)
     host.send(SetServos(0, (1500, 1900, 1500, 1500, 1500, 1500), 0), seq=5)  # same seq
     host.run_ms(45)
-    assert host.messages(Ack).count(Ack(5)) == 2
+    assert host.messages(Ack).count(Ack(5)) == 1
+    assert Nack(5, NACK_SEQ_REUSED) in host.messages()
     assert pulses(mcu)[1] == 1600.0
-    assert mcu.stats()["duplicates"] == 1
-    # A new HELLO starts a new session: seq 5 is new again.
-    host.send(Hello(PROTOCOL_VERSION, "t2", 0), seq=0)
-    host.send(SetServos(0, (1500, 1900, 1500, 1500, 1500, 1500), 0), seq=5)
-    host.run_ms(45)
-    assert pulses(mcu)[1] == 1900.0
-
 
 
 def test_seq_reused_after_the_wrap_is_a_new_command():
-    # Sequence numbers wrap every 256 frames (a few seconds of 50 Hz traffic); a reliable command
-    # that reuses the seq of one seen more than the duplicate expiry ago must run, not be eaten.
+    # Sequence numbers wrap every 256 frames of the sender (a few seconds of 50 Hz traffic): a
+    # reliable command that reuses the seq of one a whole lap of frames ago must run.
     mcu, host = ready()
     host.send(SetServos(0, (1500, 1600, 1500, 1500, 1500, 1500), 0), seq=7)
-    host.run_ms(300)
+    host.run_ms(45)
+    for k in range(8, 7 + 256):
+        host.send(Heartbeat(k), seq=k & 0xFF)
+        host.run_ms(2)
     host.send(SetServos(0, (1500, 1900, 1500, 1500, 1500, 1500), 0), seq=7)
     host.run_ms(45)
     assert pulses(mcu)[1] == 1900.0
     assert mcu.stats()["duplicates"] == 0
+
 
 def frame(msg_type, payload, seq):
     return encode_frame(Frame(PROTOCOL_VERSION, seq, msg_type, payload))
@@ -90,7 +110,8 @@ def frame(msg_type, payload, seq):
     (frame(SetServos.MSG_TYPE, struct.pack("<B6hH", 0, 3000, 1500, 1500, 1500, 1500, 1500, 0),
            31), NACK_OUT_OF_RANGE),
     (frame(ParamGet.MSG_TYPE, struct.pack("<H", 999), 31), NACK_BAD_PARAM),
-    (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", P_WATCHDOG_MS, -5), 31), NACK_OUT_OF_RANGE),
+    (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", P_WATCHDOG_MS, -5), 31), NACK_BAD_PARAM),
+    (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", P_TELEMETRY_HZ, 101), 31), NACK_OUT_OF_RANGE),
     (frame(ParamSet.MSG_TYPE, struct.pack("<Hi", 100, 2), 31), NACK_BAD_PARAM),  # read-only
 ])
 def test_bad_commands_are_nacked_with_their_reason_and_do_not_actuate(wire, reason):
@@ -227,3 +248,15 @@ def test_same_inputs_give_the_same_bytes():
         return host.received
 
     assert run() == run()
+
+
+def test_param_command_reusing_the_hello_seq_is_answered_without_a_value():
+    # HELLO seq 0 is remembered with the answer ACK; a PARAM_SET of an unknown id with the same
+    # seq is taken for its copy: ACKed again, not executed, and no PARAM_VALUE (no value exists)
+    mcu, host = ready()
+    host.send(ParamSet(0x6500, 0), seq=0)
+    host.run_ms(12)
+    msgs = host.messages()
+    assert Ack(0) in msgs
+    assert not any(isinstance(m, ParamValue) for m in msgs)
+    assert mcu.stats()["duplicates"] == 1

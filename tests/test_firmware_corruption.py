@@ -1,6 +1,7 @@
 """Corrupted frames never actuate: any single damaged byte in an actuating frame is rejected
 (counted by the parser, or NACKed), and the outputs stay exactly as they were."""
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -24,6 +25,8 @@ COMMANDS = [
     SetWheels(700, -700),
     Stop(),
 ]
+
+pytestmark = pytest.mark.both_mcus
 
 
 @settings(max_examples=80, deadline=None, derandomize=True)

@@ -11,8 +11,9 @@ DOC = (Path(__file__).resolve().parents[1] / "docs" / "firmware.md").read_text()
 
 
 def test_every_param_row_is_documented():
-    for pid, name, default, lo, hi, writable in PARAM_TABLE:
-        row = f"| {pid} | `{name}` | {default} | {lo} | {hi} | {'yes' if writable else 'no'} |"
+    for pid, name, default, lo, hi, writable, safety in PARAM_TABLE:
+        row = (f"| {pid} | `{name}` | {default} | {lo} | {hi} | {'yes' if writable else 'no'} "
+               f"| {'yes' if safety else 'no'} |")
         assert row in DOC, row
 
 

@@ -3,6 +3,7 @@ that mix valid commands, out-of-range raw payloads, garbage and bit-flipped fram
 
 import struct
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -22,6 +23,8 @@ from mobigrasp.protocol import (
 )
 
 LIMITS = [default_limits_us(ch) for ch in range(6)]
+
+pytestmark = pytest.mark.both_mcus
 
 
 def raw_servos(mode, targets, slew, seq):

@@ -3,6 +3,7 @@ path of the firmware agrees with the protocol decoder."""
 
 import struct
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -18,6 +19,8 @@ from mobigrasp.protocol import (
     Nack,
     encode_frame,
 )
+
+pytestmark = pytest.mark.both_mcus
 
 
 @settings(max_examples=150, deadline=None)

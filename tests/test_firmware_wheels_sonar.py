@@ -9,6 +9,8 @@ from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
 from mobigrasp.mcu_sim.mcu_host import InProcessHost
 from mobigrasp.protocol import PROTOCOL_VERSION, Hello, ParamSet, SetWheels
 
+pytestmark = pytest.mark.both_mcus
+
 
 def drive(mcu, host, plant, ms, command):
     """Closed loop: plant stepped every 10 ms, SetWheels streamed at 50 Hz."""

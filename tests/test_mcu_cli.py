@@ -59,7 +59,7 @@ def test_console_session_against_the_standalone_mcu(mcu_process):
     assert text.count("ACK seq=") >= 6
     assert "watchdog_ms = 250" in text
     assert "telemetry_hz = 20" in text
-    assert "reason=OUT_OF_RANGE" in text  # watchdog_ms 99999
+    assert "reason=BAD_PARAM" in text  # watchdog_ms 99999: a safety PARAM out of its range
     assert "refused:" in text  # 100 µs rejected before sending; unknown parameter name
     assert "unknown command 'frobnicate'" in text
     assert "servo_us=[" in text and "flags=0x" in text
@@ -76,7 +76,7 @@ def test_bad_arguments_are_reported(capsys):
     assert exc.value.code == 2 and "--speed" in capsys.readouterr().err
     assert main(["mcu", "--param", "nope=1", "--duration", "0.1"]) == 2
     assert "unknown parameter 'nope'" in capsys.readouterr().err
-    assert main(["console", "/dev/nonexistent-mobigrasp-port"]) == 2
+    assert main(["console", "--port", "/dev/nonexistent-mobigrasp-port"]) == 2
     assert "cannot open" in capsys.readouterr().err
 
 

@@ -2,6 +2,7 @@
 documented bytes, and the documented bytes parse to exactly the message. The vectors are also
 written out here so that a change to the document alone cannot make this test pass."""
 
+import json
 import re
 from pathlib import Path
 
@@ -111,3 +112,20 @@ def test_crc_check_value_documented():
     assert "0x29B1" in DOC.read_text() and p.crc16_ccitt_false(b"123456789") == 0x29B1
     assert p.encode_message(p.Stop(), 0).hex(" ") == "02 01 04 13 fe d9 00"
     assert "`02 01 04 13 fe d9`" in DOC.read_text()
+
+
+VECTORS_JSON = DOC.parent / "protocol_vectors.json"
+
+
+def test_json_vectors_are_the_documented_ones():
+    # docs/protocol_vectors.json is what the C unit test (tests/test_firmware_c.py) reads
+    data = json.loads(VECTORS_JSON.read_text())
+    assert data["crc_check"] == {"data_hex": b"123456789".hex(), "crc": 0x29B1}
+    assert len(data["vectors"]) == len(GOLDEN)
+    for vec, (msg, seq, wire_hex) in zip(data["vectors"], GOLDEN, strict=True):
+        payload = bytes.fromhex(vec["payload_hex"])
+        assert vec["message"] == repr(msg) and vec["seq"] == seq and vec["type"] == msg.MSG_TYPE
+        assert vec["wire_hex"] == wire_hex and payload == msg.encode()
+        assert vec["crc"] == p.crc16_ccitt_false(bytes((1, seq, msg.MSG_TYPE)) + payload)
+        assert p.encode_frame(p.Frame(1, seq, msg.MSG_TYPE, payload)) == bytes.fromhex(wire_hex)
+    assert [(r["wire_hex"], r["counter"], r["nack"]) for r in data["rejects"]] == REJECTS

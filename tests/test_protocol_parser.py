@@ -120,9 +120,11 @@ def test_oversize_is_counted_once_buffer_bounded_and_next_frame_kept():
     f2 = p.encode_message(p.Heartbeat(2), 2)
     parser = p.FrameParser()
     got = _feed_all(parser, [b"\x55" * 150, b"\x66" * 150, f1, f2])
-    assert [p.decode_frame(f) for f in got] == [p.Heartbeat(2)]  # f1 shared the runaway run
-    assert parser.stats.oversize == 1
-    assert parser.stats.garbage_bytes == 300 + len(f1) - 1
+    # f1 shared the runaway run, and is found at its end: the run ended with f1's delimiter
+    assert [p.decode_frame(f) for f in got] == [p.Heartbeat(1), p.Heartbeat(2)]
+    assert parser.stats.oversize == 1 and parser.stats.recovered == 1
+    assert parser.stats.garbage_bytes == 300
+    assert parser.pending == 0
     # A complete over-long piece between delimiters is oversize too.
     parser = p.FrameParser()
     assert parser.feed(b"\x00" + b"\x01" * (MAX_ENCODED + 1) + b"\x00" + f2) != []
@@ -188,3 +190,57 @@ def test_empty_frames_are_idle_not_errors():
     wire = p.encode_message(p.Stop(), 0)
     assert parser.feed(b"\x00\x00" + wire + b"\x00") == [p.message_frame(p.Stop(), 0)]
     assert parser.stats.garbage_bytes == 0 and parser.stats.as_dict()["frames_ok"] == 1
+
+
+# -- a lost delimiter (docs/protocol.md §2.1): only the frame before it is lost ------------------
+@CORRUPT
+@given(st.lists(any_message, min_size=2, max_size=12), st.data())
+def test_lost_delimiter_loses_only_the_frame_before_it(msgs, data):
+    wires, sent = _stream(msgs)
+    k = data.draw(st.integers(0, len(wires) - 2))
+    cut = list(wires)
+    cut[k] = wires[k][:-1]  # its closing 0x00 never arrived
+    chunk = data.draw(st.integers(1, 80))
+    stream = b"".join(cut)
+    parser = p.FrameParser(known_types=p.MESSAGE_TYPES)
+    got = _feed_all(parser, [stream[i:i + chunk] for i in range(0, len(stream), chunk)])
+    assert got == sent[:k] + sent[k + 1:]
+    assert parser.stats.recovered == 1
+    assert parser.stats.crc_errors + parser.stats.oversize + parser.stats.cobs_errors == 1
+
+
+@CORRUPT
+@given(st.lists(any_message, min_size=3, max_size=12), st.data())
+def test_two_lost_delimiters_lose_the_two_frames_before_them(msgs, data):
+    wires, sent = _stream(msgs)
+    k = data.draw(st.integers(0, len(wires) - 3))
+    cut = list(wires)
+    cut[k] = wires[k][:-1]
+    cut[k + 1] = wires[k + 1][:-1]
+    got = _feed_all(p.FrameParser(known_types=p.MESSAGE_TYPES), [b"".join(cut)])
+    assert got == sent[:k] + sent[k + 2:]
+
+
+@CORRUPT
+@given(st.lists(any_message, min_size=2, max_size=12), st.data())
+def test_a_frame_cut_short_loses_only_itself(msgs, data):
+    # the sender reset mid-frame: the front of a frame, then the next frame whole
+    wires, sent = _stream(msgs)
+    k = data.draw(st.integers(0, len(wires) - 2))
+    keep = data.draw(st.integers(1, len(wires[k]) - 1))
+    cut = list(wires)
+    cut[k] = wires[k][:keep]
+    got = _feed_all(p.FrameParser(known_types=p.MESSAGE_TYPES), [b"".join(cut)])
+    assert got == sent[:k] + sent[k + 1:]
+
+
+def test_a_lost_delimiter_after_a_long_run_still_delivers_the_next_frame():
+    tel = p.Telemetry(1, 2, 3, (1500,) * 6, (0xFFFF,) * 5, 4, 0, 0, 0, 0)
+    big = p.encode_message(tel, 1)
+    nxt = p.encode_message(tel, 2)
+    assert len(big) - 1 + len(nxt) - 1 > MAX_ENCODED  # the merged run overflows
+    parser = p.FrameParser()
+    got = _feed_all(parser, [b"\x00", big[:-1], nxt])
+    assert got == [p.message_frame(tel, 2)]
+    assert parser.stats.oversize == 1 and parser.stats.recovered == 1
+    assert parser.stats.garbage_bytes == len(big) - 1

@@ -5,7 +5,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import mobigrasp.protocol as p
-from mobigrasp.protocol.reliable import DuplicateFilter, RetransmitQueue, SequenceCounter
+from mobigrasp.protocol.reliable import (
+    DUP_COPY,
+    DUP_NEW,
+    DUP_REUSED,
+    DuplicateFilter,
+    RetransmitQueue,
+    SequenceCounter,
+)
 
 
 def test_sequence_counter_wraps():
@@ -44,37 +51,49 @@ def test_retransmit_rejects_bad_arguments():
         RetransmitQueue().track(300, b"", 0)
 
 
-def test_duplicate_filter_window_and_reset():
-    f = DuplicateFilter(window=3)
-    got = [f.is_new(s) for s in (1, 2, 1, 3, 4, 2, 1, 2)]
-    # 1 is a duplicate while among the last 3 seen; after 3 and 4 it has left the window.
-    assert got == [True, True, False, True, True, False, True, True]
-    assert f.duplicates == 2 and f.live_evictions == 3  # no time given: every eviction counts
-    f.set_result(2, p.NACK_OUT_OF_RANGE)
-    assert f.result(2) == p.NACK_OUT_OF_RANGE and f.result(4) == 0
+def test_duplicate_filter_copy_reuse_and_reset():
+    f = DuplicateFilter(window=4)
+    f.observe(1)
+    assert f.classify(1, 0xAAAA) == DUP_NEW
+    f.remember(1, 0xAAAA, p.NACK_OUT_OF_RANGE)
+    f.observe(1)
+    assert f.classify(1, 0xAAAA) == DUP_COPY and f.result(1) == p.NACK_OUT_OF_RANGE
+    assert f.classify(1, 0xBBBB) == DUP_REUSED
+    assert f.result(1) == p.NACK_OUT_OF_RANGE  # the slot keeps the first command
+    assert (f.duplicates, f.reused) == (1, 1)
     f.reset()
-    assert f.is_new(2) and f.result(2) == 0
+    f.observe(1)
+    assert f.classify(1, 0xAAAA) == DUP_NEW and f.result(1) == 0
 
 
-def test_duplicate_filter_expires_entries_so_a_wrapped_seq_is_new():
-    f = DuplicateFilter(window=16, expiry_us=250_000)
-    assert f.is_new(10, now_us=0)
-    assert f.is_new(10, now_us=200_000) is False  # a retransmission within the span: a copy
-    # 256 frames later the sender's counter is back at 10: a new command, executed.
-    assert f.is_new(10, now_us=250_000) is True
-    assert f.duplicates == 1 and f.live_evictions == 0
-    without_time = DuplicateFilter(window=16)
-    without_time.is_new(10)
-    assert without_time.is_new(10) is False  # the documented hazard of omitting now_us
+def test_duplicate_filter_window_is_counted_in_sequence_numbers():
+    f = DuplicateFilter(window=4)
+    f.observe(10)
+    f.remember(10, 1, 0)
+    for seq in (11, 12, 13):  # 10 is 3 behind the newest: still recent
+        f.observe(seq)
+    assert f.classify(10, 1) == DUP_COPY
+    f.observe(14)  # 4 behind: out of the window, its slot cleared
+    assert f.classify(10, 1) == DUP_NEW
 
 
-def test_duplicate_filter_counts_live_evictions():
-    f = DuplicateFilter(window=2, expiry_us=1000)
-    assert f.is_new(1, 0) and f.is_new(2, 10) and f.is_new(3, 20)
-    assert f.live_evictions == 1  # seq 1 was pushed out while a copy could still come
-    assert f.is_new(4, 5000) and f.live_evictions == 1  # 2 and 3 had expired
-    with pytest.raises(ValueError, match="expiry_us"):
-        DuplicateFilter(expiry_us=0)
+def test_duplicate_filter_a_copy_behind_the_newest_does_not_move_it():
+    f = DuplicateFilter(window=64)
+    f.observe(200)
+    f.remember(200, 7, 0)
+    f.observe(250)
+    f.observe(200)  # the copy, 50 behind
+    assert f.newest == 250 and f.classify(200, 7) == DUP_COPY
+    f.observe(4)  # 10 ahead across the wrap
+    assert f.newest == 4 and f.classify(200, 7) == DUP_COPY  # 60 behind
+    f.observe(8)  # 64 behind: gone
+    assert f.classify(200, 7) == DUP_NEW
+
+
+def test_duplicate_filter_rejects_a_bad_window():
+    for bad in (0, 3, 256, True, 64.0):
+        with pytest.raises(ValueError, match="window"):
+            DuplicateFilter(window=bad)
 
 
 @settings(max_examples=60, deadline=None)
@@ -83,7 +102,7 @@ def test_lossy_channel_executes_each_command_exactly_once(seed, loss, n_commands
     """Sender with RetransmitQueue, receiver with DuplicateFilter, both directions lossy."""
     rng = random.Random(seed)
     q = RetransmitQueue(timeout_us=20_000, max_retries=10)
-    dup = DuplicateFilter(window=16 if window == 1 else 64)
+    dup = DuplicateFilter(window=64)
     seqs = SequenceCounter()
     executed: list[int] = []
     acked: set[int] = set()
@@ -105,16 +124,15 @@ def test_lossy_channel_executes_each_command_exactly_once(seed, loss, n_commands
             if rng.random() < loss:
                 continue  # command lost
             seq = wire[0]
-            if dup.is_new(seq, now):
+            dup.observe(seq)
+            if dup.classify(seq, wire[1]) == DUP_NEW:
+                dup.remember(seq, wire[1], 0)
                 executed.append(in_flight[seq])
             if rng.random() >= loss and q.ack(seq):  # ACK may be lost too
                 acked.add(in_flight[seq])
         now += 5_000
     failed = {in_flight[s] for s in q.failed()}
-    if window > 1:  # at most 1 new command per 5 ms step: 50 per expiry, a window of 64 holds them
-        assert dup.live_evictions == 0
-    # (Stop-and-wait needs no memory beyond the last seq: copies of a command reach the MCU
-    # before the next command does, so its evictions are harmless.)
+    assert dup.reused == 0
     assert len(executed) == len(set(executed))  # never twice
     assert acked | failed == set(range(n_commands)) and not acked & failed
     assert acked <= set(executed)

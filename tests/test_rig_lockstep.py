@@ -128,7 +128,7 @@ def _run_over_pty(tmp_path):
     s_rig, s_host = socket.socketpair()
     client = LockstepClient(app, slave)
     t = threading.Thread(target=serve_stream,
-                         args=(client, s_host.makefile("rb"), s_host.makefile("wb")))
+                         args=(client, ls.SocketReader(s_host), s_host.makefile("wb")))
     t.start()
 
     class SockHost:

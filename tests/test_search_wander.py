@@ -1,4 +1,4 @@
-"""The wandering search (host.search, host.task_states._wander): 000 §II "wanders to search"."""
+"""The wandering search (host.search, host/task/search.py): 000 §II "wanders to search"."""
 
 from __future__ import annotations
 
@@ -236,30 +236,30 @@ def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():
     from types import SimpleNamespace
 
     from mobigrasp.host.task import TaskParams
-    from mobigrasp.host.task_wander import seen_there_before
+    from mobigrasp.host.task.search import SEARCH
 
     p = TaskParams.for_method("000")
     t = SimpleNamespace(p=p, sighting=None, obj=(1800, 900))
-    assert not seen_there_before(t)  # nothing seen before
+    assert not SEARCH.seen_there_before(t)  # nothing seen before
     t.sighting = (1800 + p.sighting_match_mm, 900)
-    assert seen_there_before(t)
+    assert SEARCH.seen_there_before(t)
     t.sighting = (1800, 900 + p.sighting_match_mm + 1)
-    assert not seen_there_before(t)
+    assert not SEARCH.seen_there_before(t)
 
 
 def test_detour_heads_for_the_free_sonar_direction_nearest_the_object():
-    from mobigrasp.host.task_wander import sonar_angles_mrad, start_detour
+    from mobigrasp.host.task.method001 import detour_heading, sonar_angles_mrad
 
     assert sonar_angles_mrad(5) == [-1571, -786, 0, 785, 1571]
     # facing +x, object straight ahead; front and front-left blocked, front-right free
     inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0, sonar_mm=(65535, 2000, 400, 500, 65535))
-    d = start_detour(inp, (1500, 0), 900)
+    d = detour_heading(inp, (1500, 0), 900)
     assert d["drive"] and d["heading_mrad"] == -786  # 45 degrees right
     # object to the left: the left sonar is the free one nearest to it
-    d = start_detour(inp, (0, 1500), 900)
+    d = detour_heading(inp, (0, 1500), 900)
     assert d["drive"] and d["heading_mrad"] == 1571
     # nothing free: a quarter turn left without driving
-    d = start_detour(TaskInputs(sonar_mm=(300,) * 5), (1500, 0), 900)
+    d = detour_heading(TaskInputs(sonar_mm=(300,) * 5), (1500, 0), 900)
     assert not d["drive"] and d["heading_mrad"] == 1571
 
 
@@ -267,20 +267,21 @@ def test_detour_turns_then_drives_its_length_then_ends():
     from types import SimpleNamespace
 
     from mobigrasp.host.task import TaskParams
-    from mobigrasp.host.task_wander import detour_step
+    from mobigrasp.host.task.method001 import RULES
 
     p = TaskParams.for_method("001")
     task = SimpleNamespace(p=p, wheels=None,
                            detour={"heading_mrad": -786, "drive": True, "from": None})
     free = (65535,) * 5
-    assert not detour_step(task, TaskInputs(heading_mrad=0, sonar_mm=free))
+    assert not RULES.detour_step(task, TaskInputs(heading_mrad=0, sonar_mm=free))
     assert task.wheels == (p.turn_wheel_mmps, -p.turn_wheel_mmps)  # clockwise, to the right
-    assert not detour_step(task, TaskInputs(heading_mrad=-760, sonar_mm=free))
+    assert not RULES.detour_step(task, TaskInputs(heading_mrad=-760, sonar_mm=free))
     assert task.wheels == (p.wander_mmps, p.wander_mmps)
-    assert not detour_step(task, TaskInputs(x_mm=200, y_mm=-200, heading_mrad=-760,
-                                            sonar_mm=free))
-    assert detour_step(task, TaskInputs(x_mm=360, y_mm=-360, heading_mrad=-760, sonar_mm=free))
+    assert not RULES.detour_step(task, TaskInputs(x_mm=200, y_mm=-200, heading_mrad=-760,
+                                                  sonar_mm=free))
+    assert RULES.detour_step(task, TaskInputs(x_mm=360, y_mm=-360, heading_mrad=-760,
+                                              sonar_mm=free))
     assert task.wheels == (0, 0)
     # a front sonar seeing something close ends it early
     task.detour = {"heading_mrad": 0, "drive": True, "from": None}
-    assert detour_step(task, TaskInputs(sonar_mm=(65535, 65535, 300, 65535, 65535)))
+    assert RULES.detour_step(task, TaskInputs(sonar_mm=(65535, 65535, 300, 65535, 65535)))

@@ -1,12 +1,13 @@
 """host/task: transitions on scripted inputs, timeouts, LOST, bad inputs, all in simulated time."""
 
+import detections as det
 import pytest
 
 from mobigrasp.host import arm_calib
 from mobigrasp.host.task import DEFAULT_TIMEOUTS_US, STATES, Task, TaskInputs, TaskParams
 
 # a radial symbol straight ahead of the camera in the search posture (alpha near 0), 1 m away
-RADIAL_AHEAD = {"u_q4": 160 * 16, "v_q4": 150 * 16, "y_oc_mm": 1000}
+RADIAL_AHEAD = det.radial(160 * 16, 150 * 16, 1000)
 
 
 def step(task, t_us, **kw):
@@ -201,11 +202,14 @@ def test_bad_inputs_are_counted_and_dropped():
     assert task.counters["bad_inputs"] == 2
     out = step(task, 40_000, detections=None)
     assert task.counters["bad_inputs"] == 3 and out.state == "SEARCH"
-    out = step(task, 60_000, detections={"radial_symbol": {"u_q4": "x", "v_q4": 1,
-                                                           "y_oc_mm": 10}})
+    # another detector's result under the radial symbol's name, an untyped bag of fields
+    out = step(task, 60_000, detections={"radial_symbol": det.spoke(0, 16)})
     assert out.state == "SEARCH" and task.counters["bad_detections"] == 1
-    out = step(task, 80_000, detections={"radial_symbol": {"u_q4": 2560}})  # no depth
+    out = step(task, 70_000, detections={"radial_symbol": {"u_q4": 2560, "v_q4": 1920,
+                                                           "y_oc_mm": 1000}})
     assert out.state == "SEARCH" and task.counters["bad_detections"] == 2
+    out = step(task, 80_000, detections={"radial_symbol": det.radial(2560, 1920, 0)})  # no depth
+    assert out.state == "SEARCH" and task.counters["bad_detections"] == 3
 
 
 def test_step_needs_task_inputs():
@@ -235,7 +239,7 @@ def test_002_search_then_fuzzy_approach_turns_toward_the_marker():
     task = Task("002")
     step(task, 0)
     # the double cross left of the image centre: e < 0 (left), the platform turns left
-    dc = {"um_q4": 100 * 16, "vm_q4": 120 * 16}
+    dc = det.double_cross(100 * 16, 120 * 16)
     out, t = find(task, 20_000, "double_cross", dc)
     assert out.state == "APPROACH" and "e = " in out.events[0].why
     out = step(task, t, detections={"double_cross": dc, "red_cylinder": None})
@@ -253,13 +257,13 @@ def test_002_adjust_stops_at_t_d():
     task.go(0, "ADJUST", "test")
     out = step(task, 20_000, detections={"red_cylinder": None})
     assert out.state == "ADJUST" and out.wheels_mmps[0] > 0 and out.wheels_mmps[1] > 0
-    rc = {"u_c_q4": 160 * 16, "v_c_q4": 200 * 16, "d_pixel_q4": 46 * 16}
+    rc = det.red_cylinder(160 * 16, 200 * 16, 46 * 16)
     out = step(task, 30_000, detections={"red_cylinder": rc})
     assert out.state == "ADJUST"  # d_pixel > T_d but the estimate is out of reach: creep on
     task.obj = (215, 0)  # 115 mm ahead of the waist: within reach, closer than grasp_r
-    rc = {"u_c_q4": 160 * 16, "v_c_q4": 200 * 16, "d_pixel_q4": 44 * 16}
+    rc = det.red_cylinder(160 * 16, 200 * 16, 44 * 16)
     assert step(task, 40_000, detections={"red_cylinder": rc}).state == "ADJUST"
-    rc = dict(rc, d_pixel_q4=46 * 16)
+    rc = det.red_cylinder(160 * 16, 200 * 16, 46 * 16)
     out = step(task, 60_000, detections={"red_cylinder": rc})
     assert out.state == "ROUGH_GRASP" and out.wheels_mmps == (0, 0)
     assert "T_d" in out.events[0].why
@@ -301,7 +305,7 @@ def test_001_replans_when_the_sonar_sees_the_path_blocked():
 
 
 def test_001_planner_gets_the_sonar_mount_and_shared_echo_tolerance():
-    from mobigrasp.host.task_drive import planner_params_001
+    from mobigrasp.host.task.method001 import planner_params_001
 
     p = TaskParams.for_method("001", {"sonar_offset_mm": 170, "sonar_shared_echo_mm": 130,
                                       "planner": {"v0": 0.15}})

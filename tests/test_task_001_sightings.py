@@ -1,8 +1,10 @@
 """001 APPROACH: sightings taken while the base turns fast do not move the object estimate."""
 
+import detections as det
+
 from mobigrasp.host.task import Task, TaskInputs
 
-RADIAL_AHEAD = {"u_q4": 160 * 16, "v_q4": 150 * 16, "y_oc_mm": 1000}
+RADIAL_AHEAD = det.radial(160 * 16, 150 * 16, 1000)
 CLEAR = (2500,) * 5
 
 

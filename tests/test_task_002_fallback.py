@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
+import detections as det
+
 from mobigrasp.host.task import Task, TaskInputs
 
-# a far red cylinder as the detector reports it (random 002 seed 3003, 2.8 m away)
-FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": [158, 48, 12, 20],
+# a far red cylinder as the detector reports it 2.8 m away
+FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": (158, 48, 12, 20),
                 "v_c_q4": 928, "width_q4": 112}
 
 
@@ -15,7 +17,7 @@ def _approach(u_c_q4: int | None, seconds: float = 2.0, speed_mmps: int = 0, see
     task = Task("002")
     task.e_dpx = seen_dpx
     task.go(0, "APPROACH", "test: marker seen")
-    rc = dict(FAR_CYLINDER, u_c_q4=u_c_q4) if u_c_q4 is not None else None
+    rc = det.red_cylinder(u_c_q4=u_c_q4, **FAR_CYLINDER) if u_c_q4 is not None else None
     out = None
     for k in range(1, int(seconds * 50)):
         y_mm = speed_mmps * k * 20 // 1000
@@ -80,7 +82,7 @@ def test_big_crosses_end_the_approach_even_without_the_cylinder():
     # the cylinder is below the level look: the crosses place it, ADJUST takes over
     task = Task("002")
     task.go(0, "APPROACH", "test: marker seen")
-    dc = {"um_q4": 160 * 16, "vm_q4": 120 * 16, "d_pixel_q4": 100 * 16}
+    dc = det.double_cross(160 * 16, 120 * 16, 100 * 16)
     out = None
     for k in range(1, 20):
         out = task.step(k * 20_000, TaskInputs(detections={"double_cross": dc,
@@ -93,5 +95,6 @@ def test_big_crosses_end_the_approach_even_without_the_cylinder():
     far.go(0, "APPROACH", "test")
     for k in range(1, 20):
         out = far.step(k * 20_000, TaskInputs(detections={
-            "double_cross": dict(dc, d_pixel_q4=40 * 16), "red_cylinder": None}))
+            "double_cross": det.double_cross(160 * 16, 120 * 16, 40 * 16),
+            "red_cylinder": None}))
     assert out.state == "APPROACH"

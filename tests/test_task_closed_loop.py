@@ -10,6 +10,7 @@ mcu_sim/world/arm.py (15 mm horizontally, 20 mm vertically, gripper closed).
 import math
 import sys
 
+import detections as det
 import pytest
 
 from mobigrasp.host import arm_calib
@@ -89,29 +90,30 @@ class World:
         u, v, zc = pr
         for n in names:
             if n == "radial_symbol" and 0.25 <= zc <= 2.5:
-                out[n] = {"u_q4": round(u * 16), "v_q4": round(v * 16), "y_oc_mm": round(zc * 1000)}
+                out[n] = det.radial(round(u * 16), round(v * 16), round(zc * 1000))
             elif n == "dual_plus" and zc <= 1.0:
-                out[n] = {"um_q4": round(u * 16), "vm_q4": round(v * 16),
-                          "d_is_mm": round(zc * 1000)}
                 ends = [self.project((self.obj[0] + k * 0.02365 * math.cos(self.spoke_rad),
                                       self.obj[1] + k * 0.02365 * math.sin(self.spoke_rad),
                                       self.top_h)) for k in (-1, 1)]
-                if None not in ends:  # both "+" centres, 47.3 mm apart on the top
-                    out[n].update(u1_q4=round(ends[0][0] * 16), v1_q4=round(ends[0][1] * 16),
-                                  u2_q4=round(ends[1][0] * 16), v2_q4=round(ends[1][1] * 16))
+                if None in ends:  # one "+" out of view: both at the centre (no pair kept)
+                    ends = [(u, v), (u, v)]
+                # both "+" centres, 47.3 mm apart on the top
+                out[n] = det.dual_plus(round(ends[0][0] * 16), round(ends[0][1] * 16),
+                                       round(ends[1][0] * 16), round(ends[1][1] * 16),
+                                       round(zc * 1000))
             elif n == "spoke" and zc <= 0.3:
                 a = (self.obj[0] + 0.005 * math.cos(self.spoke_rad),
                      self.obj[1] + 0.005 * math.sin(self.spoke_rad), self.top_h)
                 pa = self.project(a)
                 if pa is not None:
                     ang = math.atan2(pa[1] - v, pa[0] - u)
-                    out[n] = {"angle_mrad": round(ang * 1000),
-                              "w_px": round(6 * self.f / (zc * 1000))}
+                    out[n] = det.spoke(round(ang * 1000),
+                                       16 * round(6 * self.f / (zc * 1000)))
             elif n == "double_cross":
-                out[n] = {"um_q4": round(u * 16), "vm_q4": round(v * 16)}
+                out[n] = det.double_cross(round(u * 16), round(v * 16))
             elif n == "red_cylinder":
-                out[n] = {"uc_q4": round(u * 16), "vc_q4": round(v * 16),
-                          "d_pixel_q4": round(16 * 14.5 * self.f / (zc * 1000))}
+                out[n] = det.red_cylinder(round(u * 16), round(v * 16),
+                                          round(16 * 14.5 * self.f / (zc * 1000)))
             out.setdefault(n, None)
         return out
 
@@ -299,20 +301,20 @@ def test_grasp_check_after_the_lift_grasps_again_or_fails(misses):
 
 
 def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighting():
-    from mobigrasp.host import task_grasp
     from mobigrasp.host.search import SearchParams
+    from mobigrasp.host.task import grasp as task_grasp
 
     for method, near_mm in (("000", 210), ("001", 250), ("002", 355)):
         task = Task(method)
         task.obj = (near_mm, 0)  # odometry: straight ahead of the start pose
-        task._start_check(0, TaskInputs())
+        task_grasp.GRASP.start_check(task, 0, TaskInputs())
         alpha = sum(task.arm[2:5])
         pitches = {-p for _, p in task_grasp.CHECK_VIEWS}
         assert alpha in pitches or abs(min(pitches, key=lambda p: abs(p - alpha)) - alpha) <= 5
         assert abs(task.arm[5]) <= 5 and task.phase == "check"
         far = Task(method)
         far.obj = (1300, -600)  # 0.45 m+ beyond any view: the search's far look toward it
-        far._start_check(0, TaskInputs())
+        task_grasp.GRASP.start_check(far, 0, TaskInputs())
         sp = SearchParams(**far.p.search)
         assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
         assert far.arm[5] > 300  # the object is to the right (negative odometry y)

@@ -1,13 +1,14 @@
-"""host/task_sense: pinhole back-projection, detection adapters and frame changes vs float."""
+"""host/task/sense.py: pinhole back-projection, detection adapters and frame changes vs float."""
 
 import math
 
+import detections as det
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mobigrasp.host import kinematics
-from mobigrasp.host import task_sense as ts
+from mobigrasp.host.task import sense as ts
 
 G = kinematics.PAPER_000
 L = (95.5, 89.0, 97.0)
@@ -54,59 +55,62 @@ def test_axes_are_orthonormal_and_right_handed():
 def test_camera_looking_straight_ahead_sees_the_object_ahead():
     # theta4 = 0, theta3 = 0, theta2 = 0: camera 281.5 mm ahead at shoulder height, alpha = 0
     j = (0, 0, 0, 0, 0, 0)
-    p = ts.object_in_platform("radial_symbol", {"u_q4": 2560, "v_q4": 1920, "y_oc_mm": 1000},
+    p = ts.object_in_platform("radial_symbol", det.radial(2560, 1920, 1000),
                               G, j, ts.CAMERA_000)
     assert [round(v / 16) for v in p] == [0, 1282, 0]
     # right of the image centre -> +X_r (right); above -> +Z_r
-    p = ts.object_in_platform("radial_symbol", {"u_q4": 16 * 221, "v_q4": 16 * 59,
-                                                "y_oc_mm": 1000}, G, j, ts.CAMERA_000)
+    p = ts.object_in_platform("radial_symbol", det.radial(16 * 221, 16 * 59, 1000),
+                              G, j, ts.CAMERA_000)
     assert round(p[0] / 16) == 100 and round(p[2] / 16) == 100
 
 
 def test_depth_from_sizes_of_the_papers():
     j = (0, 0, 0, 0, 0, 0)
-    # radial symbol: Y = L f / d = 109 * 611 / 66.6 = 1000 mm
-    d_q4 = round(16 * 109 * 611 / 1000)
-    p = ts.object_in_platform("radial_symbol", {"u_q4": 2560, "v_q4": 1920, "diameter_q4": d_q4},
-                              G, j, ts.CAMERA_000)
+    # radial symbol: the depth is its Y_oc (L f / d, computed by the detector)
+    p = ts.object_in_platform("radial_symbol", det.radial(2560, 1920, 1000), G, j,
+                              ts.CAMERA_000)
     assert abs(p[1] / 16 - 1281.5) < 2
-    # dual "+": D_is = 47.3 * 611 / d_pixel
-    d_q4 = round(16 * 47.3 * 611 / 500)
-    p = ts.object_in_platform("dual_plus", {"u1_q4": 2400, "v1_q4": 1920, "u2_q4": 2720,
-                                            "v2_q4": 1920, "d_pixel_q4": d_q4},
+    # dual "+": the depth is D_is (corrected for foreshortening by the detector), at the
+    # midpoint of the two "+"
+    p = ts.object_in_platform("dual_plus", det.dual_plus(2400, 1920, 2720, 1920, 500),
                               G, j, ts.CAMERA_000)
     assert abs(p[1] / 16 - 781.5) < 2 and abs(p[0]) < 16
     # red cylinder (002): D_OC = 14.5 * 350 / d_pixel; 45 px -> 112.8 mm
-    p = ts.object_in_platform("red_cylinder", {"u_c_q4": 2560, "v_c_q4": 1920,
-                                               "d_pixel_q4": 45 * 16},
+    p = ts.object_in_platform("red_cylinder", det.red_cylinder(2560, 1920, 45 * 16),
                               kinematics.PAPER_002, j, ts.CAMERA_002)
     assert abs(p[1] / 16 - (281.5 + 112.8)) < 1.5
-    assert ts.d_pixel_px({"d_pixel_q4": 45 * 16 + 7}) == 45
+    assert ts.d_pixel_px(det.red_cylinder(0, 0, 45 * 16 + 7)) == 45
     # double cross (002 board): crosses 130 mm apart seen 91 px apart at f = 350: the board
     # 500 mm along the axis, the cylinder 150 mm in front of it
-    p = ts.object_in_platform("double_cross", {"um_q4": 2560, "vm_q4": 1920,
-                                               "d_pixel_q4": 91 * 16},
+    p = ts.object_in_platform("double_cross", det.double_cross(2560, 1920, 91 * 16),
                               kinematics.PAPER_002, j, ts.CAMERA_002)
     assert abs(p[1] / 16 - (281.5 + 130 * 350 / 91 - 150)) < 1.5
-    assert ts.object_in_platform("dual_plus", {"um_q4": 1, "vm_q4": 1, "d_pixel_q4": 0},
-                                 G, j, ts.CAMERA_000) is None
+    assert ts.d_pixel_px(det.double_cross(0, 0, 91 * 16)) == 91
+    assert ts.object_in_platform("dual_plus", det.dual_plus(1, 1, 1, 1, 0),
+                                 G, j, ts.CAMERA_000) is None  # no depth
+    assert ts.object_in_platform("red_cylinder", det.red_cylinder(1, 1, 0),
+                                 kinematics.PAPER_002, j, ts.CAMERA_002) is None
     with pytest.raises(ValueError, match="detector"):
-        ts.object_in_platform("spoke", {}, G, j, ts.CAMERA_000)
+        ts.object_in_platform("spoke", det.spoke(0, 16), G, j, ts.CAMERA_000)
+    # a result of another detector, or an untyped bag of fields, is refused by type
+    for wrong in (det.red_cylinder(2560, 1920, 45 * 16), {"u_q4": 2560, "v_q4": 1920,
+                                                         "y_oc_mm": 1000}):
+        with pytest.raises(TypeError, match="radial_symbol"):
+            ts.object_in_platform("radial_symbol", wrong, G, j, ts.CAMERA_000)
 
 
 def test_bearing_of_002():
     # marker 50 px right of centre with f = 350 and the waist at -100 mrad
-    e = ts.bearing_mrad({"um_q4": 16 * 210, "vm_q4": 0}, -100, ts.CAMERA_002)
+    e = ts.bearing_mrad(det.double_cross(16 * 210, 0), -100, ts.CAMERA_002)
     assert abs(e - (-100 + 1000 * math.atan(50 / 350))) <= 1
 
 
-def test_spoke_reading_variants():
-    assert ts.spoke_reading({"angle_mrad": 120, "w_px": 30}) == (120, 30)
-    assert ts.spoke_reading({"k_q12": 4096, "w_q4": 30 * 16}) == (785, 30)
-    assert ts.spoke_reading({"k_q12": 0}) is None
+def test_spoke_reading():
+    assert ts.spoke_reading(det.spoke(120, 30 * 16)) == (120, 30)
+    assert ts.spoke_reading(det.spoke(-785, 30 * 16 + 8)) == (-785, 31)  # width rounded
     assert ts.spoke_reading(None) is None
-    with pytest.raises(ValueError):
-        ts.spoke_reading({"angle_mrad": "x", "w_px": 1})
+    with pytest.raises(TypeError):
+        ts.spoke_reading({"angle_mrad": 120, "w_px": 30})
 
 
 @settings(max_examples=60, deadline=None)

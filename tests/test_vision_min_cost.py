@@ -1,14 +1,12 @@
 """Each detector's ``min_ops(height, width)`` is a lower bound of what it charges on any frame of
 that size (HostApp relies on it to let a vision job's detectors wait), and a useful one."""
 
-import importlib
-
 import numpy as np
 import pytest
 
-from mobigrasp.host.app_factory import DETECTOR_MODULES
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.vision import dark_blobs as db
+from mobigrasp.host.vision.registry import DETECTORS
 
 # how each detector is called by the host (app_factory), pose arguments at typical values
 CALL = {
@@ -23,9 +21,9 @@ CALL = {
 
 def _check(name: str, rgb: np.ndarray) -> int:
     """Run one detector; assert every count is at least the bound's; return its µs."""
-    mod = importlib.import_module(DETECTOR_MODULES[name])
+    mod = DETECTORS[name].load()
     _, ops = CALL[name](mod, rgb)
-    low = mod.min_ops(*rgb.shape[:2])
+    low = DETECTORS[name].min_ops_fn()(*rgb.shape[:2])
     for field, got, least in zip(("pixels_read", "pixels_written", "alu", "branches", "muls",
                                   "muls32", "divs", "luts", "float_ops", "float_divs",
                                   "bytes_streamed"), ops._values(), low._values(), strict=True):
@@ -67,7 +65,7 @@ def test_front_end_charge_is_exactly_its_bound(shape):
         assert ops == db.front_end_min_ops(*shape)
 
 
-@pytest.mark.parametrize("name", sorted(DETECTOR_MODULES))
+@pytest.mark.parametrize("name", sorted(DETECTORS))
 @pytest.mark.parametrize("shape", [(240, 320), (61, 83), (16, 16)])
 def test_bound_holds_on_synthetic_frames(name, shape):
     for rgb in _synthetic(*shape):
@@ -103,7 +101,7 @@ def _scenario_frames() -> list[np.ndarray]:
     frames: list[np.ndarray] = []
 
     def timer(stage, fn, *args):
-        if stage in DETECTOR_MODULES and len(frames) < 40 and args[0] is not None:
+        if stage in DETECTORS and len(frames) < 40 and args[0] is not None:
             frames.append(np.array(args[0]))
         return fn(*args)
 
@@ -127,11 +125,11 @@ def test_bound_holds_and_is_useful_on_rendered_frames():
     rendered = _rendered()
     scenario = _scenario_frames()
     assert len(scenario) >= 10
-    for name in sorted(DETECTOR_MODULES):
+    for name in sorted(DETECTORS):
         others = [rgb for n, fr in rendered.items() if n != name for rgb in fr]
         for rgb in scenario + others:
             _check(name, rgb)
         own = sorted(_check(name, rgb) for rgb in rendered[name])
         median = own[len(own) // 2]
-        low = importlib.import_module(DETECTOR_MODULES[name]).min_ops(240, 320).time_us()
+        low = DETECTORS[name].min_ops_fn()(240, 320).time_us()
         assert low >= USEFUL[name] * median, (name, low, median)

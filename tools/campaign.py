@@ -17,16 +17,14 @@ import json
 import os
 import random
 import statistics
-import sys
-import time
 from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any
 
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
-from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
+from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
+from mobigrasp.tools.progress import Progress
 
 METHODS = ("000", "001", "002")
 
@@ -43,6 +41,8 @@ class CampaignConfig:
     out: Path = Path("runs/campaign")
     time_limit_s: float | None = None  # None: the scenario's own limit
     random_times: bool = False  # each run draws every fault time uniformly in [0, given time]
+    scheduler: str | None = None  # tcp://HOST:PORT of a Dask scheduler; None: this machine
+    resume: bool = False  # keep the rows of out/campaign.rows.jsonl, run only the other seeds
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -53,8 +53,16 @@ class CampaignConfig:
             raise ValueError(f"--seed must be an integer >= 0, got {self.seed!r}")
         if self.jobs is not None and (not isinstance(self.jobs, int) or self.jobs < 1):
             raise ValueError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
-        if self.time_limit_s is not None and not self.time_limit_s > 0:
-            raise ValueError(f"--time-limit-s must be > 0, got {self.time_limit_s!r}")
+        if self.scheduler is not None:
+            from mobigrasp.tools.campaign_engines import check_scheduler
+
+            check_scheduler(self.scheduler)
+        if self.seed + self.runs - 1 > MAX_SEED:
+            raise ValueError(f"--seed + --runs - 1 must be <= {MAX_SEED}, got "
+                             f"{self.seed + self.runs - 1}")
+        if self.time_limit_s is not None and not 0 < self.time_limit_s <= MAX_TIME_LIMIT_S:
+            raise ValueError(f"--time-limit-s must be in (0, {MAX_TIME_LIMIT_S:g}] s, got "
+                             f"{self.time_limit_s!r}")
 
 
 def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
@@ -126,7 +134,8 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     unsafe = (int(safety.get("unsafe_actuations", 0)) if monitored else 0) + collisions
     wd = safety.get("watchdog_trips") if monitored else None
     row = {
-        "seed": job["seed"], "faults": job.get("faults", {}), "success": bool(s.get("success")),
+        "seed": job["seed"], "method": job.get("method"), "faults": job.get("faults", {}),
+        "success": bool(s.get("success")), "trace_sha256": s.get("trace_sha256"),
         "status": s.get("status", "crashed") if summary is not None else "crashed",
         "task_state": s.get("task_state"), "sim_time_s": s.get("sim_time_s"),
         "collisions": collisions, "unsafe_actuations": unsafe, "safety_monitored": monitored,
@@ -199,45 +208,68 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
     return out
 
 
-def _bar(done: int, total: int, ok: int, started: float, stream: TextIO) -> None:
-    width = 30
-    fill = width * done // total if total else width
-    elapsed = time.monotonic() - started  # progress display only, never in results
-    eta = elapsed / done * (total - done) if done else 0.0
-    stream.write(f"\r  [{'#' * fill}{'.' * (width - fill)}] {done}/{total} runs, "
-                 f"{ok} ok, {done - ok} not, eta {eta:5.0f} s ")
-    stream.flush()
+ROWS_FILE = "campaign.rows.jsonl"  # one row a line, written as each run finishes
+
+
+def load_rows(path: Path, jobs: list[dict]) -> list[dict]:
+    """The rows an interrupted campaign wrote (a torn last line is dropped); ValueError when a
+    row is not of this campaign (another method, other faults or a seed outside it)."""
+    by_seed = {job["seed"]: job for job in jobs}
+    rows: dict[int, dict] = {}
+    if not path.is_file():
+        return []
+    with path.open(encoding="utf-8", errors="replace") as fh:
+        for n, line in enumerate(fh, 1):
+            try:
+                row = json.loads(line)
+            except json.JSONDecodeError:
+                break  # the line being written when the campaign stopped
+            job = by_seed.get(row.get("seed")) if isinstance(row, dict) else None
+            if job is None or row.get("method") != job["method"] \
+                    or row.get("faults") != job["faults"]:
+                raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
+                                 f"{row.get('seed') if isinstance(row, dict) else '?'}, method "
+                                 f"or faults differ): use another --out or run without --resume")
+            rows[row["seed"]] = row
+    return [rows[s] for s in sorted(rows)]
 
 
 def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
-                 progress: TextIO | None = sys.stderr) -> dict:
-    """Run every job (in a process pool when jobs > 1); {"summary": ..., "rows": [...]}."""
+                 progress: Progress | None = None) -> dict:
+    """Run every job; {"summary": ..., "rows": [...]} (rows by seed).
+
+    Where: on the Dask cluster at ``cfg.scheduler``, else a local process pool when more than
+    one job runs at once, else this process (tools.campaign_engines). Each row is appended to
+    ``out/campaign.rows.jsonl`` as its run finishes, with the worker that ran it; with
+    ``cfg.resume`` the rows already there are kept and only the other seeds run.
+    ``progress`` (tools.progress) is told the runs done and how many succeeded."""
+    from mobigrasp.tools.campaign_engines import open_engine
+
     jobs = jobs_of(cfg)
-    workers = min(cfg.jobs or os.cpu_count() or 1, len(jobs))
-    rows: list[dict] = []
-    started = time.monotonic()
-
-    def done(job: dict, summary: dict | None, error: str | None) -> None:
-        rows.append(row_of(job, summary, error))
-        if progress is not None:
-            _bar(len(rows), len(jobs), sum(r["success"] for r in rows), started, progress)
-
-    if workers <= 1:
-        for job in jobs:
-            try:
-                done(job, run_fn(job), None)
-            except Exception as exc:  # one broken run must not end the campaign
-                done(job, None, f"{type(exc).__name__}: {exc}")
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(run_fn, job): job for job in jobs}
-            for fut in as_completed(futures):
-                try:
-                    done(futures[fut], fut.result(), None)
-                except Exception as exc:
-                    done(futures[fut], None, f"{type(exc).__name__}: {exc}")
+    out = Path(cfg.out)
+    rows_path = out / ROWS_FILE
+    rows = load_rows(rows_path, jobs) if cfg.resume else []
+    finished = {r["seed"] for r in rows}
+    todo = [job for job in jobs if job["seed"] not in finished]
+    workers = min(cfg.jobs or os.cpu_count() or 1, max(1, len(todo)))
+    name = "dask" if cfg.scheduler else "serial" if workers <= 1 else "processes"
+    engine = open_engine(name)
+    out.mkdir(parents=True, exist_ok=True)
+    with rows_path.open("a" if cfg.resume else "w", encoding="utf-8") as fh:
+        if progress is not None and rows:
+            ok = sum(r["success"] for r in rows)
+            progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not (resumed)")
+        for job, summary, error, worker in engine(run_fn, todo, workers=workers,
+                                                  scheduler=cfg.scheduler):
+            row = {**row_of(job, summary, error), "worker": worker}
+            fh.write(json.dumps(row, sort_keys=True) + "\n")
+            fh.flush()
+            rows.append(row)
+            if progress is not None:
+                ok = sum(r["success"] for r in rows)
+                progress.update(len(rows), f"{ok} ok, {len(rows) - ok} not")
     if progress is not None:
-        progress.write("\n")
+        progress.close()
     rows.sort(key=lambda r: r["seed"])
     return {"summary": aggregate(rows, cfg), "rows": rows}
 
@@ -276,40 +308,12 @@ def format_table(agg: dict) -> str:
 
 
 def write_outputs(result: dict, out: Path) -> tuple[Path, Path]:
-    """campaign.json and campaign.png in ``out``."""
+    """campaign.json and campaign.png (tools.plots.campaign) in ``out``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     js = out / "campaign.json"
     js.write_text(json.dumps(result, indent=2, sort_keys=True))
-    png = out / "campaign.png"
-    import matplotlib
+    from mobigrasp.tools.plots import campaign as campaign_plot
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    agg, rows = result["summary"], result["rows"]
-    fig, axes = plt.subplots(1, 3, figsize=(13, 3.8))
-    ok = agg["successes"]
-    crashed = agg["crashed_runs"]
-    axes[0].bar(["success", "failed", "crashed"], [ok, agg["runs"] - ok - crashed, crashed],
-                color=["tab:green", "tab:orange", "tab:red"])
-    axes[0].set_title(f"outcome ({agg['success_rate'] * 100:.0f} % success)")
-    seeds = [r["seed"] for r in rows]
-    axes[1].bar(seeds, [r["unsafe_actuations"] for r in rows], color="tab:red", label="unsafe")
-    axes[1].plot(seeds, [r["watchdog_trips"] for r in rows], "k.", label="watchdog trips")
-    axes[1].set_ylim(bottom=0, top=max([1] + [r["unsafe_actuations"] for r in rows]
-                                       + [r["watchdog_trips"] for r in rows]) * 1.2)
-    axes[1].set_xlabel("seed")
-    axes[1].set_title("unsafe actuations, watchdog trips")
-    axes[1].legend(fontsize=8)
-    stops = [v for r in rows for v in r["stop_latency_ms"]]
-    recov = [v for r in rows for v in r["recovery_ms"]]
-    if stops or recov:
-        axes[2].hist([stops, recov], bins=20, label=["wheel stop latency", "recovery"])
-        axes[2].legend(fontsize=8)
-    axes[2].set_xlabel("ms (simulated)")
-    axes[2].set_title("stop latency / recovery time")
-    fig.tight_layout()
-    fig.savefig(png, dpi=90)
-    plt.close(fig)
+    png = out / campaign_plot(result, out)
     return js, png

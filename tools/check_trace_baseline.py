@@ -21,14 +21,15 @@ SCENARIOS = ("paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
              "paper002-cylinder-moving", "paper002-marker")
 
 
-def run_one(name: str, time_limit_s: float, out_root: Path) -> tuple[str, float]:
+def run_one(name: str, time_limit_s: float, out_root: Path,
+            mcu: str = "python") -> tuple[str, float]:
     """(trace_sha256, wall seconds of the whole run) of one in-process run."""
     from mobigrasp.tools.run_job import RunOptions, execute
 
     t0 = time.perf_counter()
     summary, _ = execute(RunOptions(scenario=name, transport="inproc", speed=None,
                                     out=out_root / name, progress=False, plots=False,
-                                    time_limit_s=time_limit_s))
+                                    time_limit_s=time_limit_s, mcu=mcu))
     wall = time.perf_counter() - t0
     if summary.get("error"):
         raise RuntimeError(f"{name}: run crashed: {summary['error']}")
@@ -43,6 +44,7 @@ def main(argv: list[str] | None = None) -> int:
     mode.add_argument("--check", type=Path, help="compare the shas of this tree with FILE")
     ap.add_argument("--time-limit-s", type=float, default=20.0)
     ap.add_argument("--scenario", action="append", help="only these (repeat); default all six")
+    ap.add_argument("--mcu", default="python", help="MCU backend of the runs (python, native)")
     args = ap.parse_args(argv)
     names = tuple(args.scenario or SCENARIOS)
     base: dict = {}
@@ -61,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     failed = 0
     with tempfile.TemporaryDirectory(prefix="trace-baseline-") as tmp:
         for name in names:
-            sha, wall = run_one(name, args.time_limit_s, Path(tmp))
+            sha, wall = run_one(name, args.time_limit_s, Path(tmp), args.mcu)
             shas[name], walls[name] = sha, round(wall, 3)
             line = f"{name:26s} {sha[:16]}  {wall:6.2f} s"
             if args.check is not None:

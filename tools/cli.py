@@ -14,6 +14,27 @@ import sys
 from importlib.metadata import PackageNotFoundError, version
 
 import mobigrasp.tools.commands
+from mobigrasp.tools.progress import add_common_options, setup_logging
+
+DESCRIPTION = "Embedded mobile manipulator of papers 000-002: host, emulated MCU, world."
+
+
+class _Commands:
+    """The subparsers action as the command modules see it: every parser it adds gets the
+    one-line help as its description and the common ``-v/--verbose``, ``-q/--quiet`` options
+    (a command that defines its own ``--quiet`` replaces that option string)."""
+
+    def __init__(self, sub: argparse._SubParsersAction) -> None:
+        self.sub = sub
+
+    def add_parser(self, name: str, **kw) -> argparse.ArgumentParser:
+        """``add_parser`` of argparse, plus the description and the common options."""
+        if kw.get("help") and "description" not in kw:
+            kw["description"] = kw["help"]
+        kw.setdefault("conflict_handler", "resolve")
+        parser = self.sub.add_parser(name, **kw)
+        add_common_options(parser)
+        return parser
 
 
 def _version() -> str:
@@ -25,19 +46,53 @@ def _version() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the full argument parser, one subparser per module under ``tools/commands``."""
-    parser = argparse.ArgumentParser(
-        prog="mobigrasp",
-        description="Embedded mobile manipulator of papers 000-002: host, emulated MCU, world.",
-    )
+    parser = argparse.ArgumentParser(prog="mobigrasp", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"mobigrasp {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands = pkgutil.iter_modules(mobigrasp.tools.commands.__path__)
     for info in sorted(commands, key=lambda m: m.name):
         if info.name.startswith("_"):
             continue
-        module = importlib.import_module(f"mobigrasp.tools.commands.{info.name}")
-        module.register(sub)
+        try:
+            importlib.import_module(f"mobigrasp.tools.commands.{info.name}").register(
+                _Commands(sub))
+        except ModuleNotFoundError as exc:  # a command of an extra that is not installed
+            if missing_extra(exc) is None:
+                raise
+            _unavailable(sub, info.name.replace("_", "-"), exc)
     return parser
+
+
+# the modules each extra of pyproject.toml brings, for a one-line hint when one is missing
+EXTRA_OF_MODULE = {"numpy": "sim", "cv2": "sim", "pymunk": "sim", "mcap": "sim",
+                   "zstandard": "sim", "cffi": "sim", "unicorn": "sim", "capstone": "sim",
+                   "matplotlib": "plots", "dask": "cluster", "distributed": "cluster"}
+
+
+def missing_extra(exc: ModuleNotFoundError) -> str | None:
+    """The extra whose module ``exc`` did not find (None: not one of the extras')."""
+    return EXTRA_OF_MODULE.get((exc.name or "").split(".")[0])
+
+
+def _hint(command: str, exc: ModuleNotFoundError) -> str:
+    extra = missing_extra(exc)
+    return (f"mobigrasp {command}: needs mobigrasp[{extra}] (module {exc.name} is missing): "
+            f"pip install 'mobigrasp[{extra}]'")
+
+
+def _unavailable(sub: argparse._SubParsersAction, name: str, exc: ModuleNotFoundError) -> None:
+    """``name`` answers with the install hint (its parser, if register() got that far,
+    keeps its options)."""
+    def run(args: argparse.Namespace) -> int:
+        print(_hint(name, exc), file=sys.stderr)
+        return 2
+
+    p = sub.choices.get(name)
+    if p is None:
+        p = sub.add_parser(name, help=f"(needs mobigrasp[{missing_extra(exc)}])",
+                           description=_hint(name, exc))
+        p.add_argument("rest", nargs=argparse.REMAINDER, help="the command's arguments")
+    p.set_defaults(func=run)
 
 
 def _command_parser(argv: list[str]) -> argparse.ArgumentParser | None:
@@ -50,25 +105,34 @@ def _command_parser(argv: list[str]) -> argparse.ArgumentParser | None:
     if name.startswith("_") or name not in {m.name for m in
                                              pkgutil.iter_modules(mobigrasp.tools.commands.__path__)}:
         return None
-    parser = argparse.ArgumentParser(
-        prog="mobigrasp",
-        description="Embedded mobile manipulator of papers 000-002: host, emulated MCU, world.",
-    )
+    parser = argparse.ArgumentParser(prog="mobigrasp", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    importlib.import_module(f"mobigrasp.tools.commands.{name}").register(sub)
+    importlib.import_module(f"mobigrasp.tools.commands.{name}").register(_Commands(sub))
     return parser if argv[0] in sub.choices else None
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run ``mobigrasp``; returns the process exit code (2 for bad input, as argparse does)."""
     argv = sys.argv[1:] if argv is None else list(argv)
-    parser = _command_parser(argv) or build_parser()
+    try:
+        parser = _command_parser(argv) or build_parser()
+    except ModuleNotFoundError as exc:
+        if missing_extra(exc) is None:
+            raise
+        print(_hint(argv[0] if argv else "", exc), file=sys.stderr)
+        return 2
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
+    setup_logging(getattr(args, "verbose", 0), getattr(args, "quiet", False))
     try:
         return int(args.func(args) or 0)
+    except ModuleNotFoundError as exc:
+        if missing_extra(exc) is None:
+            raise
+        print(_hint(args.command, exc), file=sys.stderr)
+        return 2
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130

@@ -5,7 +5,9 @@
 - joints.png: joint angles over time (Fig. 7a/9a of 000);
 - bezier.png: candidate and chosen Bezier paths of every plan (Fig. 6 of 001);
 - fuzzy.png: e, e_c and u of the fuzzy controller over time (002);
-- arm9_load.png: modelled ARM9 load per window.
+- arm9_load.png: modelled ARM9 load per window;
+- campaign.png (of a campaign, not in ``ALL``): outcomes, unsafe actuations per seed, stop and
+  recovery times.
 Each function returns the file name it wrote, or None when the trace has nothing to plot.
 """
 
@@ -19,6 +21,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
+from matplotlib.ticker import MaxNLocator  # noqa: E402
+
+from mobigrasp.tools.plan_paths import odom_to_world, plan_paths_world  # noqa: E402
 
 JOINT_NAMES = ["θ0 gripper", "θ1 roll", "θ2 wrist", "θ3 elbow", "θ4 shoulder", "θ5 waist"]
 
@@ -31,6 +36,7 @@ def _save(fig, folder: Path, name: str) -> str:
 
 
 def _obstacles(ax, start: dict | None) -> None:
+    wall_label = "wall"
     for o in (start or {}).get("obstacles", []):
         if o.get("shape") == "circle":
             ax.add_patch(Circle((o["x_m"], o["y_m"]), o["radius_m"], color="grey", alpha=0.6))
@@ -41,7 +47,9 @@ def _obstacles(ax, start: dict | None) -> None:
                    for x, y in ((-w, -d), (w, -d), (w, d), (-w, d))]
             ax.add_patch(Polygon(pts, color="grey", alpha=0.6))
         elif o.get("shape") == "wall":
-            ax.plot([o["x_m"], o["x2_m"]], [o["y_m"], o["y2_m"]], color="grey", lw=3)
+            ax.plot([o["x_m"], o["x2_m"]], [o["y_m"], o["y2_m"]], color="grey", lw=3,
+                    label=wall_label)
+            wall_label = None
 
 
 def trajectory(events: list[dict], folder: Path) -> str | None:
@@ -54,17 +62,15 @@ def trajectory(events: list[dict], folder: Path) -> str | None:
     _obstacles(ax, start)
     xs, ys = [e["x_m"] for e in truth], [e["y_m"] for e in truth]
     ax.plot(xs, ys, "b-", lw=1.5, label="base (truth)")
-    ax.plot(xs[0], ys[0], "ks")
+    ax.plot(xs[0], ys[0], "ks", label="start S")
     ax.annotate("S", (xs[0], ys[0]), textcoords="offset points", xytext=(-12, -12))
-    ax.plot(xs[-1], ys[-1], "k^")
+    ax.plot(xs[-1], ys[-1], "k^", label="end G")
     ax.annotate("G", (xs[-1], ys[-1]), textcoords="offset points", xytext=(6, 6))
     objs = [e["obj"] for e in truth if e.get("obj")]
     if objs:
-        ax.plot([o[0] for o in objs], [o[1] for o in objs], "r:", lw=1)
+        ax.plot([o[0] for o in objs], [o[1] for o in objs], "r:", lw=1, label="object path")
         ax.plot(objs[0][0], objs[0][1], "r*", ms=12, label="object")
-    for e in (e for e in events if e["ev"] == "state"):
-        i = min(range(len(truth)), key=lambda k: abs(truth[k]["t_us"] - e["t_us"]))
-        ax.annotate(str(e.get("to", ""))[:8], (xs[i], ys[i]), fontsize=6, color="green")
+    _state_marks(ax, events, truth, xs, ys)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_aspect("equal", adjustable="datalim")
@@ -74,56 +80,56 @@ def trajectory(events: list[dict], folder: Path) -> str | None:
     return _save(fig, folder, "trajectory.png")
 
 
+LABEL_NEAR_M = 0.08  # state changes closer than this on the path share one stacked label column
+
+
+def _state_marks(ax, events: list[dict], truth: list[dict], xs: list, ys: list) -> None:
+    """A marker where the task changed state and its name beside it; labels of changes at
+    nearly the same place (the robot stands still while grasping) stack upwards instead of
+    being drawn over each other."""
+    placed: list[tuple[float, float]] = []
+    first = True
+    for e in (e for e in events if e["ev"] == "state"):
+        i = min(range(len(truth)), key=lambda k: abs(truth[k]["t_us"] - e["t_us"]))
+        x, y = xs[i], ys[i]
+        near = sum(math.hypot(x - px, y - py) < LABEL_NEAR_M for px, py in placed)
+        placed.append((x, y))
+        ax.plot(x, y, "o", color="green", ms=3, label="state change" if first else None)
+        first = False
+        ax.annotate(f"{e['t_us'] / 1e6:.1f} s {str(e.get('to', ''))}", (x, y),
+                    textcoords="offset points", xytext=(6, -4 + 9 * near), fontsize=6,
+                    color="green")
+
+
 def joints(events: list[dict], folder: Path) -> str | None:
     """Joint angles over time (Fig. 7a/9a of 000)."""
     truth = [e for e in events if e["ev"] == "truth" and e.get("joints_rad")]
     if not truth:
         return None
     t = [e["t_us"] / 1e6 for e in truth]
-    fig, ax = plt.subplots(figsize=(7, 4))
+    fig, (ax, grip) = plt.subplots(2, 1, figsize=(7, 5), sharex=True,
+                                   gridspec_kw={"height_ratios": [3, 1]})
     for j in range(1, 6):
         ax.plot(t, [e["joints_rad"][j] for e in truth], label=JOINT_NAMES[j])
-    ax.plot(t, [e["joints_rad"][0] for e in truth], "k--", lw=0.8, label=JOINT_NAMES[0])
-    for e in (e for e in events if e["ev"] == "state"):
-        ax.axvline(e["t_us"] / 1e6, color="grey", lw=0.5, ls=":")
-    ax.set_xlabel("t (s)")
+    grip.plot(t, [e["joints_rad"][0] for e in truth], "k-", lw=1, label=JOINT_NAMES[0])
+    states = [e for e in events if e["ev"] == "state"]
+    for k, e in enumerate(states):
+        for a in (ax, grip):
+            a.axvline(e["t_us"] / 1e6, color="grey", lw=0.5, ls=":",
+                      label="state change" if k == 0 else None)
+        ax.annotate(str(e.get("to", "")), (e["t_us"] / 1e6, 1.0),
+                    xycoords=("data", "axes fraction"), rotation=90, fontsize=6, color="grey",
+                    va="top", ha="right")
     ax.set_ylabel("angle (rad)")
-    ax.grid(True, alpha=0.3)
+    grip.set_ylabel("gripper (0 open, 1 shut)")
+    grip.set_ylim(-0.05, 1.05)
+    grip.set_xlabel("t (s)")
+    for a in (ax, grip):
+        a.grid(True, alpha=0.3)
     ax.legend(fontsize=7, ncol=3)
+    grip.legend(fontsize=7)
     ax.set_title("Joint angles")
     return _save(fig, folder, "joints.png")
-
-
-def cubic_points(ctrl: list, n: int = 40) -> list[tuple[float, float]]:
-    """Points of the cubic Bezier with control points ``ctrl`` ([x, y(, t)] each), eq. (4) of
-    000 with the Bernstein basis."""
-    (x0, y0), (x1, y1), (x2, y2), (x3, y3) = [(p[0], p[1]) for p in ctrl[:4]]
-    out = []
-    for i in range(n + 1):
-        t = i / n
-        b0, b1, b2, b3 = (1 - t) ** 3, 3 * t * (1 - t) ** 2, 3 * t * t * (1 - t), t ** 3
-        out.append((b0 * x0 + b1 * x1 + b2 * x2 + b3 * x3, b0 * y0 + b1 * y1 + b2 * y2 + b3 * y3))
-    return out
-
-
-def _curves(plan: dict, key: str) -> list[list[tuple[float, float]]]:
-    """Poly-lines of a plan entry: sampled paths, or control points of cubic Beziers."""
-    value = plan.get(key)
-    if not isinstance(value, list) or not value:
-        return []
-    if all(isinstance(p, list) and len(p) >= 2 and isinstance(p[0], int | float) for p in value):
-        return [cubic_points(value)] if len(value) == 4 else [[(p[0], p[1]) for p in value]]
-    out = []
-    for item in value:
-        out.extend(_curves({"c": item}, "c"))
-    return out
-
-
-def _odom_to_world(start: dict | None):
-    """The host plans in its odometry frame (the start pose); map to the world for plotting."""
-    x0, y0, h0 = (start or {}).get("robot", [0.0, 0.0, 0.0])
-    c, s = math.cos(h0), math.sin(h0)
-    return lambda p: (x0 + c * p[0] - s * p[1], y0 + s * p[0] + c * p[1])
 
 
 def bezier(events: list[dict], folder: Path) -> str | None:
@@ -134,33 +140,45 @@ def bezier(events: list[dict], folder: Path) -> str | None:
     fig, ax = plt.subplots(figsize=(6, 5))
     start = next((e for e in events if e["ev"] == "start"), None)
     _obstacles(ax, start)
-    to_world = _odom_to_world(start)
+    to_world = odom_to_world(start)
+    drawn_candidates = False
     for k, e in enumerate(plans):
-        plan = e["plan"]
-        cands = _curves(plan, "candidates_ctrl") or _curves(plan, "candidates")
-        best = _curves(plan, "best_ctrl") or _curves(plan, "best")
-        pts = [p for path in cands + best for p in path]
-        scale = 1e-3 if pts and max(abs(v) for p in pts for v in p) > 50 else 1.0  # mm or m
-        cands = [[to_world((p[0] * scale, p[1] * scale)) for p in path] for path in cands]
-        best = [[to_world((p[0] * scale, p[1] * scale)) for p in path] for path in best]
+        cands, best = plan_paths_world(e["plan"], to_world)
         for path in cands:
             ax.plot([p[0] for p in path], [p[1] for p in path], color="tab:red",
-                    lw=0.4, alpha=0.4)
+                    lw=0.4, alpha=0.4, label=None if drawn_candidates else "candidates")
+            drawn_candidates = True
         for path in best:
             ax.plot([p[0] for p in path], [p[1] for p in path], color="tab:blue",
                     lw=2 if k == len(plans) - 1 else 1, alpha=1.0 if k == len(plans) - 1 else 0.5,
-                    label="chosen (last plan)" if k == len(plans) - 1 else None)
+                    label="chosen (last plan)" if k == len(plans) - 1 else
+                    "chosen (earlier plans)" if k == 0 else None)
     truth = [e for e in events if e["ev"] == "truth" and e.get("x_m") is not None]
     if truth:
         ax.plot([e["x_m"] for e in truth], [e["y_m"] for e in truth], "k:", lw=1, label="base")
         obj = truth[0].get("obj")
         if obj:
             ax.plot(obj[0], obj[1], "r*", ms=12, label="object")
+    ax.set_xlabel("x (m, world)")
+    ax.set_ylabel("y (m, world)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
-    ax.set_title(f"Bezier paths ({len(plans)} plan(s); candidates red, chosen blue)")
+    ax.set_title(f"Bezier paths ({len(plans)} plan(s))")
     return _save(fig, folder, "bezier.png")
+
+
+UNITS = {"mrad": "mrad", "mrad_s": "mrad/s", "mm": "mm", "mmps": "mm/s", "mm_s": "mm/s",
+         "px": "px", "rad": "rad", "m": "m", "s": "s", "us": "µs", "ms": "ms"}
+
+
+def split_unit(key: str) -> tuple[str, str]:
+    """``e_c_mrad_s`` -> ("e_c", "mrad/s"): the name and the unit its suffix names ("" if
+    none)."""
+    for suffix in sorted(UNITS, key=len, reverse=True):
+        if key.endswith("_" + suffix) and len(key) > len(suffix) + 1:
+            return key[: -len(suffix) - 1], UNITS[suffix]
+    return key, ""
 
 
 def fuzzy(events: list[dict], folder: Path) -> str | None:
@@ -180,11 +198,13 @@ def fuzzy(events: list[dict], folder: Path) -> str | None:
     fig, axes = plt.subplots(len(keys), 1, figsize=(7, 1.8 * len(keys) + 1), sharex=True,
                              squeeze=False)
     for ax, key in zip(axes[:, 0], keys, strict=True):
-        ax.plot(t, [e["fuzzy"].get(key) for e in rows], lw=1)
-        ax.set_ylabel(key)
+        name, unit = split_unit(key)
+        ax.plot(t, [e["fuzzy"].get(key) for e in rows], lw=1, label=name)
+        ax.set_ylabel(f"{name} ({unit})" if unit else name)
         ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7, loc="upper right")
     axes[-1, 0].set_xlabel("t (s)")
-    axes[0, 0].set_title("Fuzzy approaching (002): " + ", ".join(keys))
+    axes[0, 0].set_title("Fuzzy approaching (002): error e, its change e_c, output u")
     return _save(fig, folder, "fuzzy.png")
 
 
@@ -194,10 +214,12 @@ def arm9_load(events: list[dict], folder: Path) -> str | None:
     if not rows:
         return None
     fig, ax = plt.subplots(figsize=(7, 3))
-    ax.step([e["t_us"] / 1e6 for e in rows], [e["load"] for e in rows], where="post")
-    ax.axhline(1.0, color="red", lw=0.8, ls="--")
+    ax.step([e["t_us"] / 1e6 for e in rows], [e["load"] for e in rows], where="post",
+            label="load per window")
+    ax.axhline(1.0, color="red", lw=0.8, ls="--", label="limit (100 % of the CPU)")
     ax.set_xlabel("t (s)")
-    ax.set_ylabel("ARM9 load")
+    ax.set_ylabel("ARM9 load (fraction of 400 MHz)")
+    ax.legend(fontsize=7, loc="upper right")
     ax.set_ylim(0, max(1.1, max(e["load"] for e in rows) * 1.1))
     ax.grid(True, alpha=0.3)
     ax.set_title("Modelled ARM920T load (400 MHz)")
@@ -205,3 +227,47 @@ def arm9_load(events: list[dict], folder: Path) -> str | None:
 
 
 ALL = (trajectory, joints, bezier, fuzzy, arm9_load)
+
+
+def campaign(result: dict, folder: Path) -> str:
+    """campaign.png: outcome counts, unsafe actuations and watchdog trips per seed, and the
+    wheel stop latencies and recovery times (that panel only when any were measured)."""
+    agg, rows = result["summary"], result["rows"]
+    stops = [v for r in rows for v in r["stop_latency_ms"]]
+    recov = [v for r in rows for v in r["recovery_ms"]]
+    fig, axes = plt.subplots(1, 3 if stops or recov else 2, figsize=(13 if stops or recov else 9,
+                                                                     3.8), squeeze=False)
+    axes = axes[0]
+    ok, crashed = agg["successes"], agg["crashed_runs"]
+    names = ["success", "failed", "crashed"]
+    counts = [ok, agg["runs"] - ok - crashed, crashed]
+    colours = ["tab:green", "tab:orange", "tab:red"]
+    for name, count, colour in zip(names, counts, colours, strict=True):
+        axes[0].bar([name], [count], color=colour, label=f"{name} ({count})")
+    axes[0].set_ylabel("runs")
+    axes[0].set_xlabel("outcome")
+    axes[0].yaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[0].legend(fontsize=8)
+    axes[0].set_title(f"outcome ({agg['success_rate'] * 100:.0f} % success)")
+    seeds = [r["seed"] for r in rows]
+    axes[1].bar(seeds, [r["unsafe_actuations"] for r in rows], width=0.6, color="tab:red",
+                label="unsafe actuations")
+    axes[1].plot(seeds, [r["watchdog_trips"] for r in rows], "k.", label="watchdog trips")
+    axes[1].set_ylim(bottom=0, top=max([1] + [r["unsafe_actuations"] for r in rows]
+                                       + [r["watchdog_trips"] for r in rows]) * 1.2)
+    if seeds:
+        axes[1].set_xlim(min(seeds) - 0.5, max(seeds) + 0.5)
+    axes[1].xaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[1].yaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[1].set_xlabel("seed")
+    axes[1].set_ylabel("count per run")
+    axes[1].set_title("unsafe actuations, watchdog trips")
+    axes[1].legend(fontsize=8)
+    if stops or recov:
+        axes[2].hist([stops, recov], bins=20, label=["wheel stop latency", "recovery"])
+        axes[2].legend(fontsize=8)
+        axes[2].set_xlabel("ms (simulated)")
+        axes[2].set_ylabel("events")
+        axes[2].yaxis.set_major_locator(MaxNLocator(integer=True))
+        axes[2].set_title("stop latency / recovery time")
+    return _save(fig, folder, "campaign.png")

@@ -1,5 +1,5 @@
 """`mobigrasp run` as a function: check the options, resolve the scenario, prepare the run
-folder, run it (mobigrasp.cosim.run), write the report.
+folder, run it (mobigrasp.cosim.run), write trace.mcap and the report.
 
 :func:`execute` returns the summary dict and the exit code (0 grasp succeeded, 1 task failed or
 crashed, 2 bad input). The summary is always written, also when the run crashes midway (status
@@ -9,9 +9,8 @@ crashed, 2 bad input). The summary is always written, also when the run crashes 
 from __future__ import annotations
 
 import json
+import logging
 import math
-import shutil
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -21,6 +20,7 @@ from mobigrasp.cosim.run import RunSpec, run_scenario
 
 SCENARIO_DIR = Path(__file__).resolve().parents[1] / "scenarios"
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
+log = logging.getLogger(__name__)
 
 
 class BadInput(ValueError):
@@ -57,14 +57,17 @@ class RunOptions:
     scenario: str
     seed: int | None = None
     transport: str = "pty"
+    mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
-    progress: bool = True
+    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
+    progress: Any = True
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
     host_lag_quanta: int = 1
     plots: bool = True
+    mcap: bool = True  # trace.mcap for Foxglove (tools/mcap_out.py)
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
@@ -85,6 +88,57 @@ def parse_speed(text: str) -> float | None:
     if not math.isfinite(v) or v <= 0:
         raise BadInput(f"--speed must be a positive number or 'max', got {text!r}")
     return v
+
+
+def check_seed(seed: int | None) -> int | None:
+    """``--seed``: None (the scenario's) or an integer in [0, 2^64 - 1]; BadInput otherwise."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_SEED
+
+    if seed is not None and not 0 <= seed <= MAX_SEED:
+        raise BadInput(f"--seed must be an integer in [0, {MAX_SEED}], got {seed}")
+    return seed
+
+
+def check_time_limit(limit_s: float | None) -> float | None:
+    """``--time-limit-s``: None (the scenario's) or a number of simulated seconds in
+    (0, MAX_TIME_LIMIT_S] (docs/conventions.md); BadInput otherwise (also for inf and NaN)."""
+    from mobigrasp.mcu_sim.world.scenario import MAX_TIME_LIMIT_S
+
+    if limit_s is not None and not 0 < limit_s <= MAX_TIME_LIMIT_S:
+        raise BadInput(f"--time-limit-s must be a number of seconds in (0, "
+                       f"{MAX_TIME_LIMIT_S:g}], got {limit_s}")
+    return limit_s
+
+
+def _check_options(opts: RunOptions) -> None:
+    if opts.transport not in ("pty", "inproc"):
+        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
+    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
+        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
+    if opts.mcu not in MCU_BACKENDS:
+        raise BadInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, got {opts.mcu!r}")
+    check_seed(opts.seed)
+    check_time_limit(opts.time_limit_s)
+
+
+def check_run(opts: RunOptions) -> str:
+    """What a run checks before it starts, without starting it or writing anything: the
+    options, the scenario, the fault plan, and the world and host program built from them (the
+    constructors a run calls). BadInput for bad input; returns a one-line description."""
+    from mobigrasp.cosim.rig_plant import WorldPlant
+    from mobigrasp.host.app_factory import build_host_app
+
+    _check_options(opts)
+    path, scenario = resolve_scenario(opts.scenario)
+    plan = _fault_plan(scenario, opts.faults)
+    seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    WorldPlant(scenario, seed)
+    build_host_app(host_config(scenario))
+    n = len(plan.as_table()) if plan is not None else 0
+    return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
+            f"time limit {opts.time_limit_s or scenario.meta.time_limit_s:g} s, "
+            f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
 
 
 def _fault_plan(scenario, overrides):
@@ -135,10 +189,7 @@ def _inproc_client(cfg: dict, timer: Any) -> Callable[[Any], Any]:
 
 def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
-    if opts.transport not in ("pty", "inproc"):
-        raise BadInput(f"--transport must be 'pty' or 'inproc', got {opts.transport!r}")
-    if opts.host_lag_quanta not in (0, 1) or isinstance(opts.host_lag_quanta, bool):
-        raise BadInput(f"--host-lag-quanta must be 0 or 1, got {opts.host_lag_quanta!r}")
+    _check_options(opts)
     if opts.scenario_obj is not None:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:
@@ -146,20 +197,36 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}"
-    if out.exists():
-        if any(out.iterdir()) and not (out / "summary.json").exists():
-            raise BadInput(f"--out {out} exists and is not a run folder (no summary.json): "
-                           f"refusing to overwrite it")
-        shutil.rmtree(out)
+    # (the run folder's module needs numpy and cv2, which the base install has not: imported
+    # once a run is certain to need them)
+    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder, read_trace
+
+    try:  # under runs/ by a sanitised name; deletes only what an earlier run wrote there
+        out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    except RunFolderError as exc:
+        raise BadInput(str(exc)) from exc
     cfg = host_config(scenario)
+    camera = None
+    if opts.mcap:
+        from mobigrasp.tools.mcap_out import CameraLog
+
+        camera = CameraLog()  # the frames of trace.mcap
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
                    host_config=cfg, time_limit_s=opts.time_limit_s or scenario.meta.time_limit_s,
                    inproc_client=_inproc_client(cfg, opts.timer), transport=opts.transport,
-                   speed=opts.speed, progress=opts.progress, quantum_us=opts.quantum_us,
-                   couple_us=opts.couple_us, host_lag_quanta=opts.host_lag_quanta,
-                   after_crash_s=opts.after_crash_s)
+                   mcu=opts.mcu, speed=opts.speed, progress=opts.progress,
+                   quantum_us=opts.quantum_us, couple_us=opts.couple_us,
+                   host_lag_quanta=opts.host_lag_quanta, after_crash_s=opts.after_crash_s,
+                   on_frame=None if camera is None else camera.on_frame)
     summary = run_scenario(spec)
+    if camera is not None:
+        try:
+            from mobigrasp.tools.mcap_out import write_mcap
+
+            write_mcap(out / "trace.mcap", read_trace(out / "trace.jsonl"), camera.frames,
+                       summary)
+        except Exception as exc:  # like the report: it must not hide the run's result
+            log.error("trace.mcap of %s: %s: %s", out, type(exc).__name__, exc)
     if opts.plots:
         try:
             # matplotlib is imported after the run, not before the host process is started
@@ -168,7 +235,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
 
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+            log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
 
 

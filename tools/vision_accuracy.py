@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mobigrasp.host.vision.registry import DETECTORS
 from mobigrasp.mcu_sim.world import camera_views as cv_views
 from mobigrasp.mcu_sim.world import markers as mk
 from mobigrasp.mcu_sim.world.camera import CameraOptions, Intrinsics, look_rotation, project, render
@@ -232,8 +233,8 @@ def _judge_generic(dist_pct: float | None, bear_deg: float | None, dist_ok: floa
 
 
 def _run_double_cross(rgb: np.ndarray, view: View):
-    from mobigrasp.host.vision.double_cross import detect_double_cross
-    return detect_double_cross(rgb, yaw_mrad=_theta5_mrad(view), pitch_mrad=_pitch_mrad(view))
+    return DETECTORS["double_cross"].detect()(rgb, yaw_mrad=_theta5_mrad(view),
+                                              pitch_mrad=_pitch_mrad(view))
 
 
 def _judge_double_cross(res, view: View) -> Outcome:
@@ -246,14 +247,14 @@ def _judge_double_cross(res, view: View) -> Outcome:
 
 
 def _run_red_cylinder(rgb: np.ndarray, view: View):
-    from mobigrasp.host.ranging import locate_ring_pair, locate_ring_pair_ops
-    from mobigrasp.host.vision.red_cylinder import detect_red_cylinder
-    res, ops = detect_red_cylinder(rgb)
+    from mobigrasp.host.ranging import locate_ring_pair
+    row = DETECTORS["red_cylinder"]
+    res, ops = row.detect()(rgb)
     if res is None:
         return None, ops
     fix = locate_ring_pair(res.d_pixel_q4, res.u_c_q4, res.v_c_q4, res.width_q4,
                            _pitch_mrad(view), _theta5_mrad(view))
-    return fix, ops + locate_ring_pair_ops()
+    return fix, ops + row.ranging_fn()()
 
 
 def _judge_red_cylinder(fix, view: View) -> Outcome:
@@ -264,8 +265,7 @@ def _judge_red_cylinder(fix, view: View) -> Outcome:
 
 
 def _run_radial(rgb: np.ndarray, view: View):
-    from mobigrasp.host.vision.radial_symbol import detect_radial_symbol
-    return detect_radial_symbol(rgb)
+    return DETECTORS["radial_symbol"].detect()(rgb)
 
 
 def _judge_radial(res, view: View) -> Outcome:
@@ -276,22 +276,13 @@ def _judge_radial(res, view: View) -> Outcome:
 
 
 def _run_dual_plus(rgb: np.ndarray, view: View):
-    from mobigrasp.host.vision import dual_plus
-    return dual_plus.detect_dual_plus(rgb, alpha_mrad=_pitch_mrad(view))
-
-
-def _first_attr(obj, *names):
-    for n in names:
-        if hasattr(obj, n):
-            return getattr(obj, n)
-    raise AttributeError(f"{type(obj).__name__} has none of {names}")
+    return DETECTORS["dual_plus"].detect()(rgb, alpha_mrad=_pitch_mrad(view))
 
 
 def _judge_dual_plus(res, view: View) -> Outcome:
     t = view.truth
-    d_is = _first_attr(res, "d_is_mm", "dist_mm", "distance_mm")
-    dist = 100.0 * (d_is - t["range_mm"]) / t["range_mm"]
-    u = (_first_attr(res, "u1_q4") + _first_attr(res, "u2_q4")) / 32.0
+    dist = 100.0 * (res.dist_mm - t["range_mm"]) / t["range_mm"]
+    u = (res.u1_q4 + res.u2_q4) / 32.0
     bear_img = math.degrees(math.atan2(view.intr.u0_px - u, view.intr.f_px))
     uv = t["plus_uv"]
     bear_true = math.degrees(math.atan2(view.intr.u0_px - uv[:, 0].mean(), view.intr.f_px))
@@ -299,23 +290,19 @@ def _judge_dual_plus(res, view: View) -> Outcome:
 
 
 def _run_spoke(rgb: np.ndarray, view: View):
-    from mobigrasp.host.vision import spoke
-    return spoke.detect_spoke(rgb)
+    return DETECTORS["spoke"].detect()(rgb)
 
 
 def _judge_spoke(res, view: View) -> Outcome:
     t = view.truth
-    if hasattr(res, "angle_mrad"):
-        ang = math.degrees(res.angle_mrad / 1000.0)
-    else:
-        ang = math.degrees(math.atan(_first_attr(res, "k_l_q12", "slope_q12") / 4096.0))
-    width = _first_attr(res, "width_q4", "width_px_q4", "w_l_q4") / 16.0
+    ang = math.degrees(res.angle_mrad / 1000.0)
+    width = res.width_q4 / 16.0
     ang_err = abs((ang - t["angle_deg"] + 90.0) % 180.0 - 90.0)
     wid = 100.0 * (width - t["width_px"]) / t["width_px"]
     return _judge_generic(wid, ang_err)
 
 
-SPECS: dict[str, Spec] = {
+_SPECS: dict[str, Spec] = {
     "radial_symbol": Spec("radial_symbol", cv_views.radial_far, cv_views.empty, _run_radial,
                           _judge_radial, "000 search: 0.45-1.3 m, camera 0.28-0.48 m high"),
     "dual_plus": Spec("dual_plus", cv_views.dual_plus, cv_views.empty, _run_dual_plus,
@@ -329,6 +316,8 @@ SPECS: dict[str, Spec] = {
     "red_cylinder": Spec("red_cylinder", view_red_cylinder, view_empty_002, _run_red_cylinder,
                          _judge_red_cylinder, "002 grasp: 0.12-0.6 m from the axis"),
 }
+# one Spec per row of the detector table, in its order: a row without a Spec fails here
+SPECS: dict[str, Spec] = {name: _SPECS[name] for name in DETECTORS}
 
 
 def degraded_options(rng: np.random.Generator) -> CameraOptions:

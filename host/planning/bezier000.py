@@ -12,7 +12,7 @@ candidate minimises eq. (9): k1·length + k2·∫κ dτ.
 
 Where the paper is ambiguous we chose, and say so:
 - "length" in eq. (9) is printed as ∫√(x(τ)² + y(τ)²)dτ (which depends on where the origin is);
-  we use the arc length ∫√(x_τ² + y_τ²)dτ, as issue 7 says;
+  we use the arc length ∫√(x_τ² + y_τ²)dτ, which does not;
 - v_0x, v_0y in P1, P2 are taken as the direction cosines of the velocity (a unit vector): the
   time coordinate uΔd_s/v0 is the time to cover uΔd_s at v0, which only fits if the spatial offset
   is uΔd_s; taken literally (m·m/s) the units would not match. The speed at both ends is then v0;

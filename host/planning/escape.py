@@ -1,6 +1,6 @@
 """A straight way out through free sonar space, clear of 001's infeasible regions (eq. (16)).
 
-Used by the task's detour (host.task_wander, method 001) when no candidate curve of eq. (17) is
+Used by the task's detour (host/task/method001.py) when no candidate curve of eq. (17) is
 feasible from where the robot stands: typically an obstacle a few decimetres ahead, whose
 infeasible region (the echo arc grown by the safety radius R_r, eq. (16)) covers every
 direction a curve can leave in while keeping a_t = v²κ <= A_max (eq. (14)) at the start.

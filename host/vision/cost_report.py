@@ -1,38 +1,27 @@
-"""Per-frame ARM9 cost report by stage: grey, each detector, ranging (issue 6, item 4).
+"""Per-frame ARM9 cost report by stage: grey, each detector, ranging.
 
 Every kernel returns a host.budget.OpCounts; here they are turned into ARM920T cycles, modelled
 time at 400 MHz and the share of the frame budget (one frame period: 66 667 µs at 15 fps).
-Detectors that start from the grey image (they call host.vision.grey.to_grey themselves) are
-charged without it here, and the grey conversion is one stage of its own: on the board the grey
-frame is computed once and shared by all detectors of the frame.
+Detectors that start from the grey image (they call host.vision.grey.to_grey themselves; the
+``uses_grey`` column of host/vision/registry.py) are charged without it here, and the grey
+conversion is one stage of its own: on the board the grey frame is computed once and shared by
+all detectors of the frame.
 
 Integer only: times in µs, shares in per mille.
 """
 
 from __future__ import annotations
 
-import importlib
 from dataclasses import dataclass, fields
 
 import numpy as np
 
 from mobigrasp.host.budget import FCLK_HZ, OpCounts
-from mobigrasp.host.ranging import locate_ring_pair_ops
 from mobigrasp.host.vision.grey import grey_cost
+from mobigrasp.host.vision.registry import DETECTORS
 
 FPS = 15
 FRAME_BUDGET_US = 1_000_000 // FPS + 1  # 66 667 µs, one frame period at 15 fps
-
-# detector name -> (module, function, whether it starts from to_grey)
-DETECTORS: dict[str, tuple[str, str, bool]] = {
-    "radial_symbol": ("mobigrasp.host.vision.radial_symbol", "detect_radial_symbol", True),
-    "dual_plus": ("mobigrasp.host.vision.dual_plus", "detect_dual_plus", True),
-    "spoke": ("mobigrasp.host.vision.spoke", "detect_spoke", True),
-    "double_cross": ("mobigrasp.host.vision.double_cross", "detect_double_cross", True),
-    "red_cylinder": ("mobigrasp.host.vision.red_cylinder", "detect_red_cylinder", False),
-}
-# detectors whose result the host turns into a position in a separate ranging step
-RANGING_OPS = {"red_cylinder": locate_ring_pair_ops}
 
 
 @dataclass(frozen=True)
@@ -90,8 +79,8 @@ def frame_cost(rgb: np.ndarray, detectors: list[str], budget_us: int = FRAME_BUD
                ) -> tuple[FrameCostReport, dict[str, object]]:
     """Run the named detectors on one frame; the cost report and each detector's result.
 
-    Unknown names raise ValueError; a detector whose module is not there yet is skipped with
-    a zero-cost stage named ``<name> (missing)``.
+    Unknown names raise ValueError. A detector's result with a ranging stage in its row
+    (host/vision/registry.py) adds that stage.
     """
     unknown = [d for d in detectors if d not in DETECTORS]
     if unknown:
@@ -99,21 +88,17 @@ def frame_cost(rgb: np.ndarray, detectors: list[str], budget_us: int = FRAME_BUD
     h, w = rgb.shape[:2]
     g_ops = grey_cost(h, w)
     stages: list[tuple[str, OpCounts]] = []
-    if any(DETECTORS[d][2] for d in detectors):
+    if any(DETECTORS[d].uses_grey for d in detectors):
         stages.append(("grey", g_ops))
     results: dict[str, object] = {}
     for d in detectors:
-        mod_name, fn_name, uses_grey = DETECTORS[d]
-        try:
-            fn = getattr(importlib.import_module(mod_name), fn_name)
-        except (ImportError, AttributeError):
-            stages.append((f"{d} (missing)", OpCounts()))
-            continue
-        res, ops = fn(rgb)
+        row = DETECTORS[d]
+        res, ops = row.detect()(rgb)
         results[d] = res
-        stages.append((d, _minus(ops, g_ops) if uses_grey else ops))
-        if res is not None and d in RANGING_OPS:
-            stages.append((f"{d} ranging", RANGING_OPS[d]()))
+        stages.append((d, _minus(ops, g_ops) if row.uses_grey else ops))
+        ranging = row.ranging_fn()
+        if res is not None and ranging is not None:
+            stages.append((f"{d} ranging", ranging()))
     return build_report(stages, budget_us), results
 
 

@@ -49,8 +49,13 @@ def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     bright = 255 - k
     t = min(THRESH_MAX, max(THRESH_MIN, bright * THRESH_NUM // THRESH_DEN))
     mask = (grey < t).view(np.uint8)
-    ops = OpCounts(pixels_read=2 * n, pixels_written=n, alu=2 * n + 512, luts=n, branches=256)
-    return mask, t, ops
+    return mask, t, dark_mask_cost(n)
+
+
+def dark_mask_cost(n_px: int) -> OpCounts:
+    """Operation counts of :func:`dark_mask` on ``n_px`` pixels (the same for any image)."""
+    n = int(n_px)
+    return OpCounts(pixels_read=2 * n, pixels_written=n, alu=2 * n + 512, luts=n, branches=256)
 
 
 # OpenCV labels a whole frame with its thread pool, which costs more CPU than the serial
@@ -122,8 +127,13 @@ def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]
     n = mask.size
     _serial_opencv()
     n_lab, labels, stats = _label_cropped(mask)
-    ops = OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
-    return int(n_lab), labels, stats, ops
+    return int(n_lab), labels, stats, components_cost(n)
+
+
+def components_cost(n_px: int) -> OpCounts:
+    """Operation counts of :func:`components` on a mask of ``n_px`` pixels."""
+    n = int(n_px)
+    return OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
 
 
 
@@ -156,9 +166,7 @@ def front_end_min_ops(height: int, width: int) -> OpCounts:
     The 000 detectors only add to it, so it is a lower bound of their cost (host/app.py uses
     it to know a vision job cannot have ended yet)."""
     n = int(height) * int(width)
-    return grey_cost(height, width) + OpCounts(
-        pixels_read=2 * n, pixels_written=n, alu=2 * n + 512, luts=n, branches=256) \
-        + OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
+    return grey_cost(height, width) + dark_mask_cost(n) + components_cost(n)
 
 
 # The front end of the last frame seen, keyed by the frame's bytes: in ADJUST and LIFT the dual

@@ -407,3 +407,29 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
     ops.add(muls32=3, alu=6)
     return DoubleCrossResult(c1[0], c1[1], c2[0], c2[1], um, vm, d_q4, e,
                              (g1.votes, g2.votes)), OpCounts(**ops)
+
+
+# 002's guidance board as we built it (002 gives no sizes; docs/markers.md): cross centres 130 mm
+# apart, the cylinder's axis 150 mm in front of the board's centre
+CROSS_SPACING_MM_Q4 = 130 * 16
+BOARD_BEHIND_MM_Q4 = 150 * 16
+
+
+def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
+    """The cylinder in front of the board: the marker centre (Q4 px) at the board's depth
+    ``spacing f / d_pixel`` less BOARD_BEHIND (Q4 mm), the task's target (host/task/sense.py).
+    The board faces the robot, so the cylinder is about BOARD_BEHIND closer along the line of
+    sight (the board's row is used: the camera looks level in the approach, so the ray is
+    nearly horizontal)."""
+    if res.d_pixel_q4 <= 0:
+        return None
+    return res.um_q4, res.vm_q4, CROSS_SPACING_MM_Q4 * f_px * 16 // res.d_pixel_q4 \
+        - BOARD_BEHIND_MM_Q4
+
+
+def detect_at_pose(rgb: np.ndarray, joints_mrad: tuple[int, ...], cam: tuple[int, int, int]
+                   ) -> tuple[DoubleCrossResult | None, OpCounts]:
+    """:func:`detect_double_cross` as the host calls it (host/vision/registry.py): the camera's
+    yaw theta5 and pitch theta2 + theta3 + theta4 from the joint angles."""
+    q = joints_mrad
+    return detect_double_cross(rgb, yaw_mrad=q[5], pitch_mrad=q[2] + q[3] + q[4], f_px=cam[0])

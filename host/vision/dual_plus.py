@@ -230,3 +230,18 @@ def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
     ops += fp.sin_ops().scaled(2) + fp.mul_q12_ops(2) + OpCounts(divs=3, muls32=3)
     return DualPlus(a.u_q4, a.v_q4, b.u_q4, b.v_q4, d_q4, d_eff, dist, raw, x_mm, y_mm,
                     z_mm), ops
+
+
+def sighting(res: DualPlus, f_px: int) -> tuple[int, int, int] | None:
+    """The midpoint of the two "+" (Q4 px) and its depth (Q4 mm): the task's target
+    (host/task/sense.py). The depth is D_is corrected for foreshortening (``dist_mm``), used
+    as the depth along the axis as 000 does."""
+    return (res.u1_q4 + res.u2_q4) // 2, (res.v1_q4 + res.v2_q4) // 2, res.dist_mm * 16
+
+
+def detect_at_pose(rgb: np.ndarray, joints_mrad: tuple[int, ...], cam: tuple[int, int, int]
+                   ) -> tuple[DualPlus | None, OpCounts]:
+    """:func:`detect_dual_plus` as the host calls it (host/vision/registry.py): the camera's
+    pitch alpha = theta2 + theta3 + theta4 (000 §III.A) from the joint angles."""
+    q = joints_mrad
+    return detect_dual_plus(rgb, alpha_mrad=int(q[2] + q[3] + q[4]), f_px=cam[0], u0_px=cam[1])

@@ -150,19 +150,24 @@ def _local_box(grey: np.ndarray, x: int, y: int, w: int, h: int
 
 def _local_ring(box: tuple[np.ndarray, int, int, int, int], x: int, y: int, w: int, h: int,
                 num: int, den: int
-                ) -> tuple[tuple[np.ndarray, np.ndarray, int, int, int, int] | None, OpCounts]:
+                ) -> tuple[tuple[np.ndarray, np.ndarray, int, int, int, int] | None, OpCounts,
+                           int]:
     """Re-threshold the box around a candidate (:func:`_local_box`) between its own dark and
     light levels (the print and the card), so thin far rings are not lost to the global
-    threshold."""
+    threshold. The third value is the try's pixel reads for the frame's local budget: 4 per
+    box pixel (sums, levels), 2 more for the local labelling, 4 per pixel of the ring test's
+    box (a fixed count, not the cost model's, so the budget does not move with the model)."""
     roi, x0, y0, lo, hi = box
+    touched = 4 * roi.size
     if hi - lo < 3 * MIN_CONTRAST:
-        return None, OpCounts(pixels_read=4 * roi.size, alu=6 * roi.size)  # no print here
+        return None, OpCounts(pixels_read=4 * roi.size, alu=6 * roi.size), touched
     t = lo + (hi - lo) * num // den
     mask = (roi < t).view(np.uint8)
     n_lab, labels, stats, ops = db.components(mask)
     ops += OpCounts(pixels_read=4 * roi.size, pixels_written=roi.size, alu=6 * roi.size, divs=1)
+    touched += 2 * roi.size
     if n_lab < 2:
-        return None, ops
+        return None, ops, touched
     # the widest local component that covers the candidate's box centre (not a floor blob
     # that noise made dark beside it)
     sx, sy, sw, sh = stats[:, 0], stats[:, 1], stats[:, 2], stats[:, 3]
@@ -171,14 +176,15 @@ def _local_ring(box: tuple[np.ndarray, int, int, int, int], x: int, y: int, w: i
     cover[0] = False
     ops += OpCounts(alu=10 * n_lab, branches=n_lab)
     if not cover.any():
-        return None, ops
+        return None, ops, touched
     k = int(np.flatnonzero(cover)[np.argmax(sw[cover])])
     bx, by, bw, bh = (int(v) for v in stats[k, :4])
     sel, inner, o = _is_ring(labels, k, bx, by, bw, bh)
     ops += o
+    touched += 4 * bw * bh
     if sel is None:
-        return None, ops
-    return (sel, inner, x0 + bx, y0 + by, bw, bh), ops
+        return None, ops, touched
+    return (sel, inner, x0 + bx, y0 + by, bw, bh), ops, touched
 
 
 def _interior_v_q4(grey: np.ndarray, inner: np.ndarray, xi: int, yi: int, u_px: int
@@ -297,9 +303,9 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
         xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
         box = _local_box(grey, xi, yi, wi, hi)
         for num, den in LOCAL_FRACTIONS:
-            found, o = _local_ring(box, xi, yi, wi, hi, num, den)
+            found, o, touched = _local_ring(box, xi, yi, wi, hi, num, den)
             ops += o
-            budget -= o.pixels_read // 4
+            budget -= touched // 4
             if budget < 0:
                 return None, ops
             if found is None:
@@ -309,3 +315,9 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
             if res is not None:
                 return res, ops
     return None, ops
+
+
+def sighting(res: RadialSymbol, f_px: int) -> tuple[int, int, int] | None:
+    """The symbol's centre (Q4 px) and its depth along the optical axis (Q4 mm): the task's
+    target (host/task/sense.py); Y_oc is the depth ``L f / (d_p + d_rp)`` computed above."""
+    return res.u_q4, res.v_q4, res.y_oc_mm * 16

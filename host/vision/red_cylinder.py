@@ -326,3 +326,14 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
                                 (right - left + 1) * 16, (x0, y0, x1 - x0, y1 - y0))
         return res, ops
     return None, ops
+
+
+RING_D_MM_Q4 = 232  # 14.5 mm in Q4: the spacing D of the two rings (002 §4)
+
+
+def sighting(res: RedCylinderResult, f_px: int) -> tuple[int, int, int] | None:
+    """The cylinder's centre (Q4 px) and its depth D_OC = D f / d_pixel (Q4 mm, 002 §4): the
+    task's target (host/task/sense.py); the distance is used as the depth, as 002 does."""
+    if res.d_pixel_q4 <= 0:
+        return None
+    return res.u_c_q4, res.v_c_q4, RING_D_MM_Q4 * f_px * 16 // res.d_pixel_q4

@@ -2,13 +2,13 @@
 
 ``Board.cycle`` is the current time in 16 MHz cycles, set by :class:`mcu_sim.mcu.Mcu` before it runs
 an interrupt handler or the main loop; register writes made by the firmware take effect at that
-cycle. Pin map (the C port's ``board.h``): servo channels 0..5 on OC1A, OC1B, OC1C, OC3A, OC3B,
-OC3C; left wheel PWM on OC0 with its direction on PORTB4, right wheel on OC2 with PORTB5; encoders
-on INT4..INT7; sonar triggers on PORTC0..4 and the echo on INT0..INT3 plus PE6 (one per sonar).
+cycle. Pin map: ``mcu_sim/avr/pinmap.py`` (``Board.pins``), from which the C port's
+``firmware/board.h`` is generated.
 """
 
 from __future__ import annotations
 
+from mobigrasp.mcu_sim.avr import pinmap
 from mobigrasp.mcu_sim.avr.encoder import QuadratureEncoder
 from mobigrasp.mcu_sim.avr.signals import SignalBus
 from mobigrasp.mcu_sim.avr.sonar import SonarArray
@@ -22,6 +22,8 @@ SERVO_PORTS = tuple(f"servo{ch}" for ch in range(6))
 
 class Board:
     """All peripherals of one MCU plus the cycle counter they share."""
+
+    pins = pinmap.by_signal()  # signal -> (pin, function): the wiring the models stand for
 
     def __init__(self, ubrr: int = 16, u2x: int = 1, tx_capacity: int = 128,
                  line_capacity: int = 4096, sonar_count: int = 5) -> None:

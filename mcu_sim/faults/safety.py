@@ -21,10 +21,11 @@ from __future__ import annotations
 
 import math
 
-# docs/conventions.md "The arm": pulse at 0 rad, joint limits in rad (gripper: per mille).
-_PULSE0_US = (1000, 1500, 2455, 2455, 545, 1500)
-_LIMITS = ((0.0, 1.0), (-math.pi / 2, math.pi / 2), (-3.0, 0.0), (-2.8, 0.0), (0.0, 3.0),
-           (-1.4, 1.4))
+from mobigrasp.protocol import joints
+
+# The joint table (protocol/joints.py): pulse at 0 rad, joint limits in rad (gripper: fraction).
+_PULSE0_US = tuple(j.pulse0_us for j in joints.JOINTS)
+_LIMITS = tuple((j.lo / 1000, j.hi / 1000) for j in joints.JOINTS)
 _K_US_PER_RAD = 2000.0 / math.pi
 STOP_MARGIN_US = 50_000
 PWM_LATCH_US = 1_100  # one 8-bit PWM period (1024 µs) plus the coupling step's rounding

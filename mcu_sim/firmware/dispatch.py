@@ -2,8 +2,9 @@
 
 ``handle_frame`` is called by the main loop for every frame the parser accepted. Rules
 (docs/firmware.md): nothing actuates before HELLO (NACK_NOT_READY); a frame whose payload does not
-decode is NACKed with the protocol's reason and never actuates; reliable commands are ACKed, and a
-retransmitted copy (same seq) is answered again but not executed twice; STOP holds the arm and
+decode is NACKed with the protocol's reason and never actuates; reliable commands are ACKed, a
+retransmitted copy (same seq and CRC) is answered again but not executed twice, and another
+command reusing a recent seq is NACKed SEQ_REUSED (docs/protocol.md §5.2); STOP holds the arm and
 stops the wheels. ``fw`` is the :class:`mcu_sim.firmware.program.Firmware` (the C globals).
 """
 
@@ -17,11 +18,12 @@ from mobigrasp.mcu_sim.firmware.servo_table import (
     mrad_slew_to_us,
     mrad_to_us,
 )
-from mobigrasp.protocol.frame import PROTOCOL_VERSION
+from mobigrasp.protocol.frame import PROTOCOL_VERSION, frame_crc
 from mobigrasp.protocol.messages import (
     NACK_BAD_PARAM,
     NACK_BAD_VERSION,
     NACK_NOT_READY,
+    NACK_SEQ_REUSED,
     SERVO_MODE_MRAD,
     Ack,
     Gripper,
@@ -38,6 +40,7 @@ from mobigrasp.protocol.messages import (
     Stop,
     decode_frame,
 )
+from mobigrasp.protocol.reliable import DUP_COPY, DUP_NEW
 
 FIRMWARE_ID = "mobigrasp-avr"
 CAP_SERVOS, CAP_WHEELS, CAP_SONARS, CAP_PARAMS = 1, 2, 4, 8
@@ -57,6 +60,7 @@ def handle_frame(fw, frame, now: int) -> None:
         if -lim <= left <= lim and -lim <= right <= lim:
             fw.last_valid_us = now
             fw.watchdog_tripped = False
+            fw.dup.observe(frame.seq)
             if not fw.handshake:
                 fw.not_ready += 1
                 return
@@ -76,11 +80,17 @@ def handle_frame(fw, frame, now: int) -> None:
             fw.send(Nack(seq, NACK_BAD_VERSION))
             return
         fw.dup.reset()  # a (re)started host counts from 0 again
-        fw.dup.is_new(seq, now)
+        fw.dup.observe(seq)
+        fw.dup.remember(seq, frame_crc(frame), 0)
+        # a new session starts from the power-on safety PARAMs: no earlier session's
+        # watchdog or limits carry over
+        if fw.params.restore_safety():
+            fw.apply_servo_limits()
         fw.handshake = True
         fw.send(Ack(seq))
         fw.send(HelloAck(PROTOCOL_VERSION, FIRMWARE_ID, CAPABILITIES))
         return
+    fw.dup.observe(seq)
     if isinstance(msg, SetWheels):
         if not fw.handshake:
             fw.not_ready += 1
@@ -95,17 +105,23 @@ def handle_frame(fw, frame, now: int) -> None:
         fw.not_ready += 1
         fw.send(Nack(seq, NACK_NOT_READY))
         return
-    if fw.dup.is_new(seq, now):
+    crc = frame_crc(frame)
+    kind = fw.dup.classify(seq, crc)
+    if kind == DUP_NEW:
         reason = execute(fw, msg)
-        fw.dup.set_result(seq, reason)
-    else:
+        fw.dup.remember(seq, crc, reason)
+    elif kind == DUP_COPY:  # a retransmission: the same answer again, not executed again
         reason = fw.dup.result(seq)
+    else:  # another command with a recent seq: refused, and the slot keeps the first one
+        reason = NACK_SEQ_REUSED
     if reason:
         fw.send(Nack(seq, reason))
     else:
         fw.send_ack(seq)
     if not reason and isinstance(msg, ParamGet | ParamSet):
-        fw.send(ParamValue(msg.param_id, fw.params.get(msg.param_id)))
+        value = fw.params.get(msg.param_id)
+        if value is not None:
+            fw.send(ParamValue(msg.param_id, value))
 
 def execute(fw, msg) -> int:
     """Carry out a new reliable command; 0 or a NACK reason."""

@@ -20,7 +20,13 @@ import struct
 from mobigrasp.mcu_sim.firmware import params as P
 from mobigrasp.mcu_sim.firmware.dispatch import handle_frame
 from mobigrasp.mcu_sim.firmware.ring import ByteRing
-from mobigrasp.mcu_sim.firmware.servo_table import GRIPPER_OPEN_US, SERVO_COUNT, ServoBank
+from mobigrasp.mcu_sim.firmware.servo_table import (
+    GRIPPER_OPEN_US,
+    MECH_MAX_US,
+    MECH_MIN_US,
+    SERVO_COUNT,
+    ServoBank,
+)
 from mobigrasp.mcu_sim.firmware.sonar_task import SonarTask
 from mobigrasp.mcu_sim.firmware.sram import DUP_WINDOW, RX_RING_BYTES
 from mobigrasp.mcu_sim.firmware.wheel_pi import CONTROL_PERIOD_US, WheelPi
@@ -67,19 +73,19 @@ class Firmware:
         self.hw = hw
         self.rx = ByteRing(RX_RING_BYTES)
         self.parser = FrameParser()
-        self.dup = DuplicateFilter(DUP_WINDOW)
-        self.tx_seq = SequenceCounter()
         self.servos = ServoBank()
         self.params = P.Params()
         self.wheels = (WheelPi(), WheelPi())
         self.sonar = SonarTask()
         self.enc_count = [0, 0]
         self.duty_out = [0, 0]  # last duty written to the bridge registers
-        self._overrides = dict(param_overrides or {})
-        for pid, value in self._overrides.items():
+        for pid, value in dict(param_overrides or {}).items():
+            # build-time power-on values: the same checks as a PARAM_SET, so no build can
+            # widen a safety limit either
             reason = self.params.check(pid, value)
             if reason:
                 raise ValueError(f"parameter {pid}={value} refused (NACK reason {reason})")
+            self.params.set_default(pid, value)
         self.setup()
 
     # -- start-up ------------------------------------------------------------------------------
@@ -90,10 +96,11 @@ class Firmware:
         self.rx.overruns = 0
         self.parser.reset()
         self.parser.stats.__init__()
-        self.dup.reset()
+        # a reset zeroes the C globals: the TX sequence counter and the duplicate filter's
+        # counters start again too
+        self.dup = DuplicateFilter(DUP_WINDOW)
+        self.tx_seq = SequenceCounter()
         self.params.reset()
-        for pid, value in self._overrides.items():
-            self.params.set(pid, value)
         self.servos.reset()
         self.apply_servo_limits()
         self.enc_count[0] = self.enc_count[1] = 0
@@ -327,8 +334,12 @@ class Firmware:
         """Copy the servo limit PARAMs into the servo bank and rewrite the OCRs (clamped)."""
         servos = self.servos
         for ch in range(SERVO_COUNT):
-            servos.min_us[ch] = self.params.get(P.P_SERVO_MIN_BASE + ch)
-            servos.max_us[ch] = self.params.get(P.P_SERVO_MAX_BASE + ch)
+            # the PARAM checks keep these inside the mechanical limits; clamping again here
+            # keeps the servo bank inside them whatever reaches the PARAM array
+            lo = self.params.get(P.P_SERVO_MIN_BASE + ch)
+            hi = self.params.get(P.P_SERVO_MAX_BASE + ch)
+            servos.min_us[ch] = min(max(lo, MECH_MIN_US[ch]), MECH_MAX_US[ch])
+            servos.max_us[ch] = min(max(hi, servos.min_us[ch]), MECH_MAX_US[ch])
             self.write_ocr(ch)
 
     def set_wheels(self, left_mmps: int, right_mmps: int) -> None:

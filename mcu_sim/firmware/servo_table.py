@@ -1,10 +1,11 @@
 """Servo calibration of docs/conventions.md in integer form, and the slewed servo bank.
 
-Servo law (conventions.md, "The arm"): ``pulse_us = pulse0_us + direction x theta x K`` with
-``K = 2000 / pi`` µs/rad, i.e. 0.63662 µs per mrad, computed here as ``theta_mrad x 20000 / 31416``
-(error below 0.006 µs over ±3142 mrad, and the product fits an int32). Channel 0 is the gripper:
-0..1000 per mille closed maps to 1000..2000 µs. Default pulse limits come from the joint limits of
-the same table, rounded inwards and clamped to 500..2500 µs; they are PARAMs at run time.
+Servo law and limits: the joint table of ``protocol/joints.py`` (docs/conventions.md, "The
+arm"): ``pulse_us = pulse0_us + direction x theta_mrad x K_NUM / K_DEN`` rounded, with
+``K_NUM / K_DEN = 33215 / 52174`` us per mrad (2/pi correctly rounded for every int16 angle; the
+product fits an int32). Channel 0 is the gripper: 0..1000 per mille closed maps to 1000..2000 us.
+The mechanical limits (``joints.MECH_LIMITS_US``: joint limits rounded inwards, within 500..2500
+us) are compile-time constants; the limit PARAMs may only narrow them (docs/firmware.md).
 
 Each channel keeps three values in Q8 µs (int32 in C): ``latched`` (the width in force this
 20 ms period), ``pending`` (the value written to OCRnx, latched at the next BOTTOM) and ``target``.
@@ -15,54 +16,31 @@ so an out-of-limit pulse can never reach a servo, even right after a limit PARAM
 
 from __future__ import annotations
 
-SERVO_COUNT = 6
-PULSE_MIN_US = 500
-PULSE_MAX_US = 2500
-K_NUM = 20000  # µs per mrad = K_NUM / K_DEN = 2000 / (1000 pi)
-K_DEN = 31416
-PERIODS_PER_S = 50  # Timer1/3 TOP = 39999 at 0.5 µs: 20 ms
-GRIPPER_OPEN_US = 1000
-GRIPPER_CLOSED_US = 2000
+from mobigrasp.protocol import joints
 
-# (pulse at 0 rad or 0 per mille, direction, joint lower limit, upper limit) in mrad (per mille
-# for the gripper): the arm table of docs/conventions.md.
-JOINT_TABLE = (
-    (GRIPPER_OPEN_US, 1, 0, 1000),
-    (1500, 1, -1571, 1571),
-    (2455, 1, -3000, 0),
-    (2455, 1, -2800, 0),
-    (545, 1, 0, 3000),
-    (1500, 1, -1400, 1400),
-)
+SERVO_COUNT = joints.N_CHANNELS
+PULSE_MIN_US = joints.PULSE_MIN_US
+PULSE_MAX_US = joints.PULSE_MAX_US
+K_NUM = joints.K_NUM
+K_DEN = joints.K_DEN
+PERIODS_PER_S = 50  # Timer1/3 TOP = 39999 at 0.5 µs: 20 ms
+GRIPPER_OPEN_US = joints.JOINTS[0].pulse0_us
+GRIPPER_CLOSED_US = GRIPPER_OPEN_US + joints.JOINTS[0].hi
+MECH_MIN_US = tuple(lo for lo, _ in joints.MECH_LIMITS_US)  # const uint16_t[6] in flash
+MECH_MAX_US = tuple(hi for _, hi in joints.MECH_LIMITS_US)
 # Power-on pose: gripper open, every joint at the 1500 µs centre of its servo.
 HOME_US = (GRIPPER_OPEN_US, 1500, 1500, 1500, 1500, 1500)
-
-
-def _div_round(num: int, den: int) -> int:
-    """Integer num / den rounded to nearest, halves away from zero (den > 0)."""
-    if num >= 0:
-        return (num + den // 2) // den
-    return -((-num + den // 2) // den)
+_div_round = joints.div_round
 
 
 def mrad_to_us(ch: int, value: int) -> int:
     """Pulse width in µs for joint angle ``value`` mrad on channel ``ch`` (per mille for ch 0)."""
-    pulse0, direction, _, _ = JOINT_TABLE[ch]
-    if ch == 0:
-        return pulse0 + value  # 1000 per mille spans the 1000 µs of the gripper servo
-    return pulse0 + direction * _div_round(value * K_NUM, K_DEN)
+    return joints.pulse_us(ch, value)
 
 
 def default_limits_us(ch: int) -> tuple[int, int]:
-    """(min, max) pulse in µs allowed on channel ``ch``: joint limits rounded inwards."""
-    pulse0, direction, lo, hi = JOINT_TABLE[ch]
-    if ch == 0:
-        return pulse0 + lo, pulse0 + hi
-    base = pulse0 * K_DEN
-    ends = sorted((base + direction * lo * K_NUM, base + direction * hi * K_NUM))
-    lo_us = -((-ends[0]) // K_DEN)  # ceil
-    hi_us = ends[1] // K_DEN  # floor
-    return max(PULSE_MIN_US, lo_us), min(PULSE_MAX_US, hi_us)
+    """(min, max) pulse in µs allowed on channel ``ch``: the mechanical limits."""
+    return joints.MECH_LIMITS_US[ch]
 
 
 def slew_step_q8(slew_us_per_s: int) -> int:

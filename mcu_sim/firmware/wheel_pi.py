@@ -15,6 +15,10 @@ MMPS_TO_TICKS_Q8_NUM = 10430  # ticks per 10 ms in Q8 per mm/s, x 1000
 MMPS_TO_TICKS_Q8_DEN = 1000
 DUTY_MAX = 255
 CONTROL_PERIOD_US = 10_000
+# Ticks counted in one period are clamped to this before the Q8 shift, so that kp (<= 1000)
+# times the error stays inside the C port's int32 whatever the encoder does; beyond it (over
+# 60 revolutions per 10 ms) the duty saturates either way, so nothing else changes.
+DELTA_MAX_TICKS = 8191
 
 
 def mmps_to_ticks_q8(mmps: int) -> int:
@@ -52,7 +56,12 @@ class WheelPi:
 
     def update(self, count: int, kp: int, ki: int) -> int:
         """One 10 ms step with the encoder count now; returns the new signed duty."""
-        measured_q8 = (count - self.last_count) << 8
+        delta = count - self.last_count
+        if delta > DELTA_MAX_TICKS:
+            delta = DELTA_MAX_TICKS
+        elif delta < -DELTA_MAX_TICKS:
+            delta = -DELTA_MAX_TICKS
+        measured_q8 = delta << 8
         self.last_count = count
         err = self.target_q8 - measured_q8
         if self.target_q8 == 0 and measured_q8 == 0:

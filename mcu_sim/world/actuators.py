@@ -3,9 +3,10 @@
 These are the plant side of issue 4 item 3. Inputs arrive in integer microseconds (pulse widths,
 time stamps, step lengths); the physics inside is float (this is the plant, not MCU code).
 
-Servo calibration follows the arm table of docs/conventions.md: for joints 1..5
-``pulse_us = pulse0_us + direction * theta * K`` with ``K = 2000/pi`` us/rad, pulses clamped to
-[500, 2500] us and angles to the joint limits. Channel 0 is the gripper: 1000 us = open (60 mm),
+Servo calibration is the joint table of protocol/joints.py (docs/conventions.md "The arm"), in
+float as the physical law: for joints 1..5 ``pulse_us = pulse0_us + direction * theta * K``
+with ``K = 2000/pi`` us/rad exactly, pulses clamped to [500, 2500] us and angles to the joint
+limits (the table's mrad / 1000). Channel 0 is the gripper: 1000 us = open (60 mm),
 2000 us = closed (0 mm); its state is the closure fraction 0..1 (theta0 in the table).
 
 Servo motion is a pure rate limit (about 60 deg per 0.17 s, a common analogue hobby servo at
@@ -23,15 +24,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from mobigrasp.protocol import joints
+
 SERVO_K_US_PER_RAD = 2000.0 / math.pi
 """Servo gain K: 500..2500 us spans pi rad (docs/conventions.md)."""
-PULSE_MIN_US = 500
-PULSE_MAX_US = 2500
+PULSE_MIN_US = joints.PULSE_MIN_US
+PULSE_MAX_US = joints.PULSE_MAX_US
 SERVO_SPEED_RAD_PER_S = (math.pi / 3.0) / 0.17
 """60 degrees per 0.17 s, the no-load speed of a standard hobby servo."""
 
-GRIPPER_OPEN_US = 1000
-GRIPPER_CLOSED_US = 2000
+GRIPPER_OPEN_US = joints.JOINTS[0].pulse0_us
+GRIPPER_CLOSED_US = GRIPPER_OPEN_US + joints.JOINTS[0].hi
 GRIPPER_MAX_OPENING_M = 0.060
 
 MOTOR_MAX_SPEED_MPS = 0.5
@@ -52,15 +55,11 @@ class JointCalibration:
     max_rad: float
 
 
-JOINT_TABLE: tuple[JointCalibration, ...] = (
-    # ch 0 is the gripper; its "angle" is the closure fraction (0 open .. 1 closed).
-    JointCalibration(0, 1000.0, +1, 0.0, 1.0),
-    JointCalibration(1, 1500.0, +1, -math.pi / 2, math.pi / 2),   # wrist roll theta1
-    JointCalibration(2, 2455.0, +1, -3.0, 0.0),                   # wrist pitch theta2
-    JointCalibration(3, 2455.0, +1, -2.8, 0.0),                   # elbow pitch theta3
-    JointCalibration(4, 545.0, +1, 0.0, 3.0),                     # shoulder pitch theta4
-    JointCalibration(5, 1500.0, +1, -1.4, 1.4),                   # waist yaw theta5
-)
+# Limits in rad from the table's mrad; on ch 0 (the gripper) per mille becomes the closure
+# fraction 0 (open) .. 1 (closed).
+JOINT_TABLE: tuple[JointCalibration, ...] = tuple(
+    JointCalibration(j.channel, float(j.pulse0_us), j.direction, j.lo / 1000, j.hi / 1000)
+    for j in joints.JOINTS)
 N_CHANNELS = len(JOINT_TABLE)
 
 

@@ -19,7 +19,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any
+from typing import Any, NamedTuple
 
 from mobigrasp.mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
 
@@ -29,31 +29,100 @@ OBSTACLE_SHAPES = ("circle", "box", "wall")
 DEFAULT_OBSTACLE_HEIGHT_M = 0.30
 DEFAULT_WALL_THICKNESS_M = 0.05
 
+# The physical range of every value (docs/conventions.md "Scenario value ranges" lists them).
+# The floor is a 100 m x 100 m hall around the origin; an angle is within one turn either way.
+WORLD_HALF_M = 50.0
+ANGLE_MAX_RAD = 2 * math.pi
+# The longest run (issue of resource bounds: host state and trace grow with simulated time).
+MAX_TIME_LIMIT_S = 3600.0
+MAX_SEED = 2**64 - 1  # seeds are 64-bit (numpy's and the campaign's generators)
+MAX_NAME_CHARS = 200
+MAX_OBSTACLES = 200
+MAX_PATH_POINTS = 1000
+# a target dragged by hand (002 Fig. 4) moves at walking pace at most
+MAX_TARGET_SPEED_MPS = 2.0
+# obstacles: radius, box sides, wall thickness, height (m)
+OBSTACLE_RANGES = {"radius_m": (0.005, 10.0), "width_m": (0.005, 20.0),
+                   "depth_m": (0.005, 20.0), "thickness_m": (0.005, 2.0),
+                   "height_m": (0.01, 3.0)}
+# camera: intrinsics within the 320 x 240 image (the principal point on the sensor), the
+# degradations within what mcu_sim/world/camera.py CameraOptions renders
+CAMERA_RANGES = {"f_px": (50.0, 5000.0), "u0_px": (0.0, 320.0), "v0_px": (0.0, 240.0),
+                 "noise_std": (0.0, 128.0), "blur_px": (0.0, 40.0), "brightness": (0.01, 10.0)}
+
+
+class Param(NamedTuple):
+    """A paper parameter: type (int: must be an integer; float accepts int or float), the
+    paper's value, the physical range [lo, hi] it is accepted in, and its unit/meaning."""
+
+    kind: type
+    default: float
+    lo: float
+    hi: float
+    unit: str
+
+
+_PI = math.pi
 # Paper parameters per method, with the papers' values (section IV of 000 and 001, section 5 of
-# 002). Type int means the value must be an integer; float accepts int or float.
-PAPER_PARAMS: dict[str, dict[str, tuple[type, float]]] = {
+# 002) and their ranges.
+PAPER_PARAMS: dict[str, dict[str, Param]] = {
     "000": {
-        "k_s": (int, 5), "T_s": (float, 0.3), "k1": (float, 0.5), "k2": (float, 0.5),
-        "theta2_min": (float, -2.8), "theta2_max": (float, -2.1),
-        "theta5_min": (float, -0.8), "theta5_max": (float, 0.8),
-        "dtheta2_l": (float, 0.06), "k_theta2": (float, 1.0), "k_theta3": (float, 0.0),
-        "k_theta4": (float, 0.0), "alpha_T": (float, -math.pi / 2),
-        "w_min": (int, 20), "w_max": (int, 40),
-        "v0_mps": (float, 0.12), "vmax_mps": (float, 0.25), "amax_mps2": (float, 0.04),
-        "rmin_m": (float, 0.1), "l_w": (float, 0.3), "L_m": (float, 0.109),
-        "D_act_m": (float, 0.0473),
+        "k_s": Param(int, 5, 1, 20, "samples"),
+        "T_s": Param(float, 0.3, 0.05, 2.0, "s, sampling period of the path"),
+        "k1": Param(float, 0.5, 0.0, 10.0, "weight of the path length"),
+        "k2": Param(float, 0.5, 0.0, 10.0, "weight of the curvature"),
+        "theta2_min": Param(float, -2.8, -3.0, 0.0, "rad, wrist pitch (joint table)"),
+        "theta2_max": Param(float, -2.1, -3.0, 0.0, "rad, wrist pitch (joint table)"),
+        "theta5_min": Param(float, -0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
+        "theta5_max": Param(float, 0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
+        "dtheta2_l": Param(float, 0.06, 0.005, 0.5, "rad, search step of the wrist"),
+        "k_theta2": Param(float, 1.0, -10.0, 10.0, "gain"),
+        "k_theta3": Param(float, 0.0, -10.0, 10.0, "gain"),
+        "k_theta4": Param(float, 0.0, -10.0, 10.0, "gain"),
+        "alpha_T": Param(float, -_PI / 2, -_PI, 0.0, "rad, camera pitch at the grasp"),
+        "w_min": Param(int, 20, 1, 320, "px, window"),
+        "w_max": Param(int, 40, 1, 320, "px, window"),
+        "v0_mps": Param(float, 0.12, 0.01, 1.0, "m/s, cruise speed"),
+        "vmax_mps": Param(float, 0.25, 0.01, 1.0, "m/s, speed limit"),
+        "amax_mps2": Param(float, 0.04, 0.001, 2.0, "m/s^2, acceleration limit"),
+        "rmin_m": Param(float, 0.1, 0.01, 2.0, "m, turning radius limit"),
+        "l_w": Param(float, 0.3, 0.1, 1.0, "m, wheel track"),
+        "L_m": Param(float, 0.109, 0.01, 0.5, "m, outer ring diameter"),
+        "D_act_m": Param(float, 0.0473, 0.005, 0.5, "m, distance of the two + centres"),
     },
     "001": {
-        "Vmax": (float, 0.4), "Amax": (float, 0.1), "R_r": (float, 0.2), "k_s": (int, 5),
-        "A_g": (float, 1.05), "D_e": (float, 2.5), "h_e": (float, 0.208), "n_e": (int, 36),
-        "v0": (float, 0.2), "T_s": (float, 0.5), "k1": (float, 0.8), "k2": (float, 0.2),
-        "T_D": (float, 15.0),
+        "Vmax": Param(float, 0.4, 0.01, 1.0, "m/s, speed limit"),
+        "Amax": Param(float, 0.1, 0.001, 2.0, "m/s^2, acceleration limit"),
+        "R_r": Param(float, 0.2, 0.05, 1.0, "m, safety radius"),
+        "k_s": Param(int, 5, 2, 5, "sonars (5 fitted)"),
+        "A_g": Param(float, 1.05, 0.05, _PI, "rad, sonar cone"),
+        "D_e": Param(float, 2.5, 0.1, 10.0, "m, sonar range"),
+        "h_e": Param(float, 0.208, 0.01, 1.0, "m"),
+        "n_e": Param(int, 36, 1, 360, "end points on the grasp circle"),
+        "v0": Param(float, 0.2, 0.01, 1.0, "m/s, cruise speed"),
+        "T_s": Param(float, 0.5, 0.05, 2.0, "s, sampling period of the path"),
+        "k1": Param(float, 0.8, 0.0, 10.0, "weight of the path length"),
+        "k2": Param(float, 0.2, 0.0, 10.0, "weight of the curvature"),
+        "T_D": Param(float, 15.0, 0.0, 100.0, "cm, clearance threshold"),
     },
     "002": {
-        "T_h": (int, 30), "n": (int, 10), "e_th": (float, 1.43), "e_cth": (float, 5.0),
-        "u_th": (float, 1.0), "V_avg": (float, 0.15), "k_u": (float, 1.0),
-        "D": (float, 0.0145), "T_d": (float, 45.0),
+        "T_h": Param(int, 30, 1, 255, "grey levels, threshold"),
+        "n": Param(int, 10, 1, 100, "frames"),
+        "e_th": Param(float, 1.43, 0.01, _PI, "rad, error threshold"),
+        "e_cth": Param(float, 5.0, 0.01, 50.0, "rad/s, error-rate threshold"),
+        "u_th": Param(float, 1.0, 0.01, 10.0, "rad/s, output threshold"),
+        "V_avg": Param(float, 0.15, 0.01, 1.0, "m/s, mean approach speed"),
+        "k_u": Param(float, 1.0, 0.01, 7.0, "output gain"),
+        "D": Param(float, 0.0145, 0.001, 0.1, "m, spacing of the rings"),
+        "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
     },
+}
+# pairs (lo, hi) of one method that must be ordered lo <= hi, and speeds v0 <= vmax
+PARAM_ORDER: dict[str, tuple[tuple[str, str], ...]] = {
+    "000": (("theta2_min", "theta2_max"), ("theta5_min", "theta5_max"), ("w_min", "w_max"),
+            ("v0_mps", "vmax_mps")),
+    "001": (("v0", "Vmax"),),
+    "002": (),
 }
 
 # Camera intrinsics per method (000: f = 611 px; 002: f = 350 px, (u0, v0) = (160, 120)).
@@ -162,6 +231,9 @@ def load_scenario(path: str | Path) -> Scenario:
         text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise ScenarioError(f"{p}: cannot read scenario file ({exc.strerror})") from exc
+    except UnicodeDecodeError as exc:
+        raise ScenarioError(f"{p}: not UTF-8 text (byte {exc.start}: "
+                            f"{exc.object[exc.start:exc.start + 1]!r})") from exc
     return loads_scenario(text, source=str(p))
 
 
@@ -172,6 +244,11 @@ def loads_scenario(text: str, source: str = "<string>") -> Scenario:
     except tomllib.TOMLDecodeError as exc:
         raise ScenarioError(f"{source}: not valid TOML ({exc})") from exc
     return parse_scenario(data, source)
+
+
+def _range_text(rng: tuple[float, float], unit: str) -> str:
+    lo, hi = (f"{v}" if isinstance(v, int) else f"{v:g}" for v in rng)
+    return f"[{lo}, {hi}]" + (f" {unit}" if unit else "")
 
 
 class _Checker:
@@ -201,8 +278,9 @@ class _Checker:
                 raise ScenarioError(f"{self.source}: {name}: unknown key; expected one of: "
                                     f"{', '.join(allowed)}")
 
-    def number(self, table: dict, where: str, key: str, default: float | None = None,
-               required: bool = True, positive: bool = False, nonneg: bool = False) -> Any:
+    def number(self, table: dict, where: str, key: str, rng: tuple[float, float],
+               default: float | None = None, required: bool = True, unit: str = "") -> Any:
+        """A finite number in the closed range ``rng`` (unit named in the message)."""
         name = f"{where}.{key}"
         if key not in table:
             if required:
@@ -211,22 +289,26 @@ class _Checker:
         v = table[key]
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             self.fail(name, "a number", v)
-        v = float(v)
+        try:
+            v = float(v)
+        except OverflowError:  # an integer beyond any float
+            self.fail(name, f"a number in {_range_text(rng, unit)}", v)
         if not math.isfinite(v):
-            self.fail(name, "a finite number", v)
-        if positive and v <= 0:
-            self.fail(name, "a number > 0", v)
-        if nonneg and v < 0:
-            self.fail(name, "a number >= 0", v)
+            self.fail(name, f"a finite number in {_range_text(rng, unit)}", v)
+        if not rng[0] <= v <= rng[1]:
+            self.fail(name, f"a number in {_range_text(rng, unit)}", v)
         return v
 
-    def integer(self, table: dict, where: str, key: str) -> int:
+    def integer(self, table: dict, where: str, key: str, rng: tuple[int, int],
+                unit: str = "") -> int:
         name = f"{where}.{key}"
         if key not in table:
             self.fail(name, "an integer (missing)", present=False)
         v = table[key]
         if isinstance(v, bool) or not isinstance(v, int):
             self.fail(name, "an integer", v)
+        if not rng[0] <= v <= rng[1]:
+            self.fail(name, f"an integer in {_range_text(rng, unit)}", v)
         return v
 
     def choice(self, table: dict, where: str, key: str, options: tuple[str, ...]) -> str:
@@ -247,19 +329,21 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
 
     s = c.table(data, "scenario")
     c.keys(s, "scenario", ("name", "method", "seed", "time_limit_s"))
-    if "name" not in s or not isinstance(s["name"], str) or not s["name"]:
-        c.fail("scenario.name", "a non-empty string", s.get("name"), present="name" in s)
+    name = s.get("name")
+    if not isinstance(name, str) or not 0 < len(name) <= MAX_NAME_CHARS:
+        c.fail("scenario.name", f"a non-empty string of at most {MAX_NAME_CHARS} characters",
+               name, present="name" in s)
     method = c.choice(s, "scenario", "method", METHODS)
-    seed = c.integer(s, "scenario", "seed")
-    if seed < 0:
-        c.fail("scenario.seed", "an integer >= 0", seed)
-    meta = ScenarioMeta(s["name"], method, seed,
-                        c.number(s, "scenario", "time_limit_s", positive=True))
+    seed = c.integer(s, "scenario", "seed", (0, MAX_SEED))
+    meta = ScenarioMeta(name, method, seed,
+                        c.number(s, "scenario", "time_limit_s", (0.001, MAX_TIME_LIMIT_S),
+                                 unit="s"))
 
     r = c.table(data, "robot")
     c.keys(r, "robot", ("x_m", "y_m", "heading_rad"))
-    robot = RobotStart(c.number(r, "robot", "x_m"), c.number(r, "robot", "y_m"),
-                       c.number(r, "robot", "heading_rad"))
+    robot = RobotStart(c.number(r, "robot", "x_m", _XY, unit="m"),
+                       c.number(r, "robot", "y_m", _XY, unit="m"),
+                       c.number(r, "robot", "heading_rad", _ANGLE, unit="rad"))
 
     target = _parse_target(c, c.table(data, "target"))
     obstacles = _parse_obstacles(c, data.get("obstacles", []))
@@ -272,36 +356,60 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
     except FaultError as exc:
         raise ScenarioError(str(exc)) from exc
     overrides = {k: params[k] for k in raw_params}
+    _check_geometry(c, robot, target, obstacles)
     return Scenario(source, meta, robot, target, obstacles, camera,
                     MappingProxyType(params), faults,
                     MappingProxyType(overrides))
 
 
+_XY = (-WORLD_HALF_M, WORLD_HALF_M)
+_ANGLE = (-ANGLE_MAX_RAD, ANGLE_MAX_RAD)
+
+
 def _parse_target(c: _Checker, t: dict) -> TargetSpec:
     c.keys(t, "target", ("kind", "x_m", "y_m", "heading_rad", "path"))
     kind = c.choice(t, "target", "kind", TARGET_KINDS)
+    x, y = c.number(t, "target", "x_m", _XY, unit="m"), c.number(t, "target", "y_m", _XY, unit="m")
+    heading = c.number(t, "target", "heading_rad", _ANGLE, unit="rad")
     raw_path = t.get("path", [])
     if not isinstance(raw_path, list):
         c.fail("target.path", "an array of tables [[target.path]]", raw_path)
+    if len(raw_path) > MAX_PATH_POINTS:
+        c.fail("target.path", f"at most {MAX_PATH_POINTS} way points", len(raw_path))
     path: list[PathPoint] = []
+    prev = PathPoint(0.0, x, y)  # where the target stands at the start
     for i, entry in enumerate(raw_path):
         where = f"target.path[{i}]"
         if not isinstance(entry, dict):
             c.fail(where, "a table with t_s, x_m, y_m", entry)
         c.keys(entry, where, ("t_s", "x_m", "y_m"))
-        pt = PathPoint(c.number(entry, where, "t_s", nonneg=True),
-                       c.number(entry, where, "x_m"), c.number(entry, where, "y_m"))
+        pt = PathPoint(c.number(entry, where, "t_s", (0.0, MAX_TIME_LIMIT_S), unit="s"),
+                       c.number(entry, where, "x_m", _XY, unit="m"),
+                       c.number(entry, where, "y_m", _XY, unit="m"))
         if path and pt.t_s <= path[-1].t_s:
             c.fail(f"{where}.t_s", f"a time later than {path[-1].t_s} s (strictly increasing)",
                    pt.t_s)
+        step_m = math.hypot(pt.x_m - prev.x_m, pt.y_m - prev.y_m)
+        if step_m > MAX_TARGET_SPEED_MPS * (pt.t_s - prev.t_s):
+            c.fail(where, f"a way point the target reaches at <= {MAX_TARGET_SPEED_MPS:g} m/s "
+                          f"from the one before ({step_m:.3f} m in {pt.t_s - prev.t_s:g} s)",
+                   (pt.t_s, pt.x_m, pt.y_m))
         path.append(pt)
-    return TargetSpec(kind, c.number(t, "target", "x_m"), c.number(t, "target", "y_m"),
-                      c.number(t, "target", "heading_rad"), tuple(path))
+        prev = pt
+    return TargetSpec(kind, x, y, heading, tuple(path))
+
+
+def _obstacle_size(c: _Checker, o: dict, where: str, key: str,
+                   default: float | None = None) -> float:
+    return c.number(o, where, key, OBSTACLE_RANGES[key], default, required=default is None,
+                    unit="m")
 
 
 def _parse_obstacles(c: _Checker, raw: Any) -> tuple[ObstacleSpec, ...]:
     if not isinstance(raw, list):
         c.fail("obstacles", "an array of tables [[obstacles]]", raw)
+    if len(raw) > MAX_OBSTACLES:
+        c.fail("obstacles", f"at most {MAX_OBSTACLES} obstacles", len(raw))
     out = []
     for i, o in enumerate(raw):
         where = f"obstacles[{i}]"
@@ -309,57 +417,101 @@ def _parse_obstacles(c: _Checker, raw: Any) -> tuple[ObstacleSpec, ...]:
             c.fail(where, "a table", o)
         shape = c.choice(o, where, "shape", OBSTACLE_SHAPES)
         common = ("shape", "x_m", "y_m", "height_m")
-        x, y = c.number(o, where, "x_m"), c.number(o, where, "y_m")
-        h = c.number(o, where, "height_m", DEFAULT_OBSTACLE_HEIGHT_M, required=False,
-                     positive=True)
+        x, y = c.number(o, where, "x_m", _XY, unit="m"), c.number(o, where, "y_m", _XY, unit="m")
+        h = _obstacle_size(c, o, where, "height_m", DEFAULT_OBSTACLE_HEIGHT_M)
         if shape == "circle":
             c.keys(o, where, common + ("radius_m",))
-            out.append(ObstacleSpec(shape, x, y, radius_m=c.number(o, where, "radius_m",
-                                                                   positive=True), height_m=h))
+            out.append(ObstacleSpec(shape, x, y, radius_m=_obstacle_size(c, o, where, "radius_m"),
+                                    height_m=h))
         elif shape == "box":
             c.keys(o, where, common + ("width_m", "depth_m", "heading_rad"))
             out.append(ObstacleSpec(shape, x, y,
-                                    width_m=c.number(o, where, "width_m", positive=True),
-                                    depth_m=c.number(o, where, "depth_m", positive=True),
-                                    heading_rad=c.number(o, where, "heading_rad"), height_m=h))
+                                    width_m=_obstacle_size(c, o, where, "width_m"),
+                                    depth_m=_obstacle_size(c, o, where, "depth_m"),
+                                    heading_rad=c.number(o, where, "heading_rad", _ANGLE,
+                                                         unit="rad"),
+                                    height_m=h))
         else:
             c.keys(o, where, common + ("x2_m", "y2_m", "thickness_m"))
-            x2, y2 = c.number(o, where, "x2_m"), c.number(o, where, "y2_m")
-            if x2 == x and y2 == y:
-                c.fail(f"{where}.x2_m", "an end point different from (x_m, y_m)", x2)
-            th = c.number(o, where, "thickness_m", DEFAULT_WALL_THICKNESS_M, required=False,
-                          positive=True)
+            x2 = c.number(o, where, "x2_m", _XY, unit="m")
+            y2 = c.number(o, where, "y2_m", _XY, unit="m")
+            if math.hypot(x2 - x, y2 - y) < 0.01:
+                c.fail(f"{where}.x2_m", "an end point at least 0.01 m from (x_m, y_m)", x2)
+            th = _obstacle_size(c, o, where, "thickness_m", DEFAULT_WALL_THICKNESS_M)
             out.append(ObstacleSpec(shape, x, y, x2_m=x2, y2_m=y2, thickness_m=th, height_m=h))
     return tuple(out)
 
 
 def _parse_camera(c: _Checker, cam: dict, method: str) -> CameraSpec:
-    keys = ("f_px", "u0_px", "v0_px", "noise_std", "blur_px", "brightness")
-    c.keys(cam, "camera", keys)
-    d = CAMERA_DEFAULTS[method]
-    return CameraSpec(
-        f_px=c.number(cam, "camera", "f_px", d["f_px"], required=False, positive=True),
-        u0_px=c.number(cam, "camera", "u0_px", d["u0_px"], required=False),
-        v0_px=c.number(cam, "camera", "v0_px", d["v0_px"], required=False),
-        noise_std=c.number(cam, "camera", "noise_std", 0.0, required=False, nonneg=True),
-        blur_px=c.number(cam, "camera", "blur_px", 0.0, required=False, nonneg=True),
-        brightness=c.number(cam, "camera", "brightness", 1.0, required=False, positive=True),
-    )
+    c.keys(cam, "camera", tuple(CAMERA_RANGES))
+    d = {"noise_std": 0.0, "blur_px": 0.0, "brightness": 1.0} | CAMERA_DEFAULTS[method]
+    return CameraSpec(**{k: c.number(cam, "camera", k, rng, d[k], required=False)
+                         for k, rng in CAMERA_RANGES.items()})
 
 
 def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]:
     table = PAPER_PARAMS[method]
-    out: dict[str, float | int] = {k: v for k, (_, v) in table.items()}
-    for key, value in raw.items():
-        name = f"params.{key}"
+    out: dict[str, float | int] = {k: p.default for k, p in table.items()}
+    for key in raw:
         if key not in table:
-            raise ScenarioError(f"{c.source}: {name}: unknown key; expected a parameter of "
-                                f"method {method}: {', '.join(table)}")
-        kind = table[key][0]
-        if kind is int:
-            if isinstance(value, bool) or not isinstance(value, int):
-                c.fail(name, "an integer", value)
-            out[key] = value
+            raise ScenarioError(f"{c.source}: params.{key}: unknown key; expected a parameter "
+                                f"of method {method}: {', '.join(table)}")
+        p = table[key]
+        if p.kind is int:
+            out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)
         else:
-            out[key] = c.number(raw, "params", key)
+            out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
+    for lo, hi in PARAM_ORDER[method]:
+        if out[lo] > out[hi]:
+            bad = lo if lo in raw else hi
+            raise ScenarioError(f"{c.source}: params.{bad}: expected {lo} <= {hi}, got "
+                                f"{lo} = {out[lo]!r}, {hi} = {out[hi]!r}")
     return out
+
+
+# --- geometry: the robot's start and the target stand free ----------------------------------
+
+# footprints (m): mcu_sim/world/base.py FOOTPRINT_RADIUS_M and obstacles.py TARGET_GEOMETRY
+ROBOT_FOOTPRINT_M = 0.17
+TARGET_FOOTPRINT_M = {"radial-symbol": 0.020, "double-cross": 0.020, "red-cylinder": 0.025}
+
+
+def obstacle_clearance_m(o: ObstacleSpec, x: float, y: float) -> float:
+    """Distance from (x, y) to the obstacle's surface on the floor (negative inside)."""
+    if o.shape == "circle":
+        return math.hypot(x - o.x_m, y - o.y_m) - o.radius_m
+    if o.shape == "box":  # in the box's frame: width along its heading, depth across
+        c, s = math.cos(o.heading_rad), math.sin(o.heading_rad)
+        dx, dy = x - o.x_m, y - o.y_m
+        u, v = abs(c * dx + s * dy) - o.width_m / 2, abs(-s * dx + c * dy) - o.depth_m / 2
+        if u <= 0 and v <= 0:
+            return max(u, v)
+        return math.hypot(max(u, 0.0), max(v, 0.0))
+    ax, ay, bx, by = o.x_m, o.y_m, o.x2_m, o.y2_m  # wall: a segment thickness_m wide
+    ex, ey = bx - ax, by - ay
+    k = max(0.0, min(1.0, ((x - ax) * ex + (y - ay) * ey) / (ex * ex + ey * ey)))
+    return math.hypot(x - ax - k * ex, y - ay - k * ey) - o.thickness_m / 2
+
+
+def _check_geometry(c: _Checker, robot: RobotStart, target: TargetSpec,
+                    obstacles: tuple[ObstacleSpec, ...]) -> None:
+    """Nothing overlaps the robot's start footprint; the target (and every way point of its
+    path) stands free of the obstacles, and it does not start on the robot."""
+    r_t = TARGET_FOOTPRINT_M[target.kind]
+    for i, o in enumerate(obstacles):
+        gap = obstacle_clearance_m(o, robot.x_m, robot.y_m) - ROBOT_FOOTPRINT_M
+        if gap <= 0:
+            c.fail(f"obstacles[{i}]", f"an obstacle clear of the robot's start footprint "
+                                      f"({ROBOT_FOOTPRINT_M} m around robot.x_m, robot.y_m; "
+                                      f"overlap {-gap:.3f} m)", o.shape)
+        for j, (x, y) in enumerate([(target.x_m, target.y_m)]
+                                   + [(p.x_m, p.y_m) for p in target.path]):
+            gap = obstacle_clearance_m(o, x, y) - r_t
+            if gap <= 0:
+                key = "target" if j == 0 else f"target.path[{j - 1}]"
+                c.fail(key, f"a target position clear of obstacles[{i}] (overlap "
+                            f"{-gap:.3f} m)", (x, y))
+    gap = math.hypot(target.x_m - robot.x_m, target.y_m - robot.y_m) - ROBOT_FOOTPRINT_M - r_t
+    if gap <= 0:
+        c.fail("target", f"a target clear of the robot's start footprint (overlap "
+                         f"{-gap:.3f} m)", (target.x_m, target.y_m))

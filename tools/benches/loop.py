@@ -26,8 +26,10 @@ def add_arguments(parser) -> None:
     """Options of the loop bench."""
     parser.add_argument("--runs", type=int, default=3,
                         help="random scenarios per method (0: the real-time factor only)")
-    parser.add_argument("--methods", default="000,001,002")
-    parser.add_argument("--seed-base", type=int, default=1000)
+    parser.add_argument("--methods", default="000,001,002",
+                        help="comma-separated methods to run (default 000,001,002)")
+    parser.add_argument("--seed-base", type=int, default=1000,
+                        help="seed of the first run (default 1000)")
     parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
     parser.add_argument("--rtf-limit-s", type=float, default=20.0,
                         help="simulated seconds of the real-time-factor runs")

@@ -3,7 +3,9 @@
 Telemetry at 50 Hz, an in-process host streaming SET_WHEELS at 50 Hz (plus a SET_SERVOS with
 slew every second), and the wheels-in-the-air plant closing the wheel PI loop every 10 ms. The
 wall time covers the MCU, the plant and the host stub; ``realtime_factor`` is the same number as
-``sim_s_per_wall_s`` (target >= 50).
+``sim_s_per_wall_s`` (target >= 50). ``--mcu native`` measures the C firmware (the native
+backend) and, in the same invocation, the Python model on the same script, taking turns run by
+run (best of ``--rounds`` each, so the machine's drift lands on both), and reports their ratio.
 """
 
 from __future__ import annotations
@@ -17,14 +19,50 @@ HELP = "emulated MCU speed: simulated s per wall s with 50 Hz telemetry and 50 H
 def add_arguments(parser) -> None:
     """Bench options."""
     parser.add_argument("--seconds", type=int, default=20, help="simulated seconds (default 20)")
-    parser.add_argument("--telemetry-hz", type=int, default=50)
-    parser.add_argument("--command-hz", type=int, default=50)
+    parser.add_argument("--telemetry-hz", type=int, default=50,
+                        help="telemetry rate of the MCU in Hz (default 50)")
+    parser.add_argument("--command-hz", type=int, default=50,
+                        help="rate of host commands in Hz (default 50)")
+    parser.add_argument("--mcu", default="python",
+                        help="MCU backend (python, native); another than python is measured "
+                             "beside python, with the ratio")
+    parser.add_argument("--rounds", type=int, default=3,
+                        help="runs per backend, taking turns; the best counts (default 3)")
 
 
 def run(args) -> dict:
     """Run the scenario and return its figures."""
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
+
+    backend = str(getattr(args, "mcu", "python"))
+    rounds = int(getattr(args, "rounds", 3))
+    if backend not in MCU_BACKENDS:
+        raise ValueError(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
+                         f"got {backend!r}")
+    if rounds < 1:
+        raise ValueError("need --rounds >= 1")
+    names = [backend] if backend == "python" else [backend, "python"]
+    best: dict[str, dict] = {}
+    for _ in range(rounds):
+        for name in names:
+            res = _measure(args, name)
+            if name not in best or res["wall_s"] < best[name]["wall_s"]:
+                best[name] = res
+    out = dict(best[backend], mcu=backend)
+    if backend != "python":
+        py = best["python"]
+        out["python_sim_s_per_wall_s"] = py["sim_s_per_wall_s"]
+        out[f"{backend}_vs_python"] = round(py["wall_s"] / out["wall_s"], 2)
+        # the same script gives the same bytes on both backends
+        out["same_bytes_as_python"] = (py["rx_bytes"], py["tx_bytes"], py["frames_from_mcu"]) \
+            == (out["rx_bytes"], out["tx_bytes"], out["frames_from_mcu"])
+    return out
+
+
+def _measure(args, backend: str) -> dict:
+    from mobigrasp.mcu_sim.backend import open_mcu
     from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
-    from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+    from mobigrasp.mcu_sim.mcu import McuConfig
     from mobigrasp.mcu_sim.mcu_host import InProcessHost
     from mobigrasp.protocol.frame import PROTOCOL_VERSION
     from mobigrasp.protocol.messages import Hello, SetServos, SetWheels, encode_message
@@ -35,7 +73,7 @@ def run(args) -> dict:
     cmd_hz = int(getattr(args, "command_hz", 50))
     if seconds <= 0 or not 1 <= cmd_hz <= 100 or not 0 <= tel_hz <= 100:
         raise ValueError("need --seconds > 0, --command-hz 1..100, --telemetry-hz 0..100")
-    mcu = Mcu(McuConfig(params={"telemetry_hz": tel_hz}))
+    mcu = open_mcu(backend, McuConfig(params={"telemetry_hz": tel_hz}))
     host = InProcessHost(mcu, decode=False)
     plant = WheelsInTheAir()
     step_us = 10_000

@@ -24,7 +24,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--frames", type=int, default=20_000, help="frames in the test stream")
     parser.add_argument("--chunk", type=int, default=4096, help="bytes per parser feed() call")
     parser.add_argument("--repeat", type=int, default=5, help="timed runs; the best is kept")
-    parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--seed", type=int, default=1,
+                        help="seed of the random messages (default 1)")
 
 
 def traffic(n: int, seed: int) -> list[p.Message]:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 
+from mobigrasp.host.vision.registry import DETECTORS
 from mobigrasp.tools import vision_accuracy as va
 
 NAME = "vision"
@@ -29,7 +30,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="target frames per detector (as many degraded and empty ones); "
                              "issue 6 asks for 1000")
     parser.add_argument("--seed", type=int, default=6, help="pose/noise seed")
-    parser.add_argument("--detectors", default=",".join(va.SPECS),
+    parser.add_argument("--detectors", default=",".join(DETECTORS),
                         help="comma-separated subset of " + ", ".join(va.SPECS))
 
 
@@ -40,9 +41,9 @@ def _pct(x):
 def run(args: argparse.Namespace) -> dict:
     """Evaluate each detector; print the table; return the figures keyed by detector."""
     names = [n.strip() for n in args.detectors.split(",") if n.strip()]
-    unknown = [n for n in names if n not in va.SPECS]
+    unknown = [n for n in names if n not in DETECTORS]
     if unknown:
-        raise SystemExit(f"bench vision: unknown detectors {unknown}; known: {list(va.SPECS)}")
+        raise SystemExit(f"bench vision: unknown detectors {unknown}; known: {list(DETECTORS)}")
     figs = [va.evaluate(n, args.frames, args.seed, progress=True) for n in names]
     print(va.table(figs))
     out: dict = {}

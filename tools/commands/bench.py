@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 import mobigrasp.tools.benches
+from mobigrasp.tools.progress import add_common_options
 
 
 def _benches() -> dict:
@@ -57,11 +58,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("bench", help="run a benchmark; prints a table and writes JSON")
     inner = parser.add_subparsers(dest="bench_name", metavar="NAME", required=True)
     for name, module in sorted(_benches().items()):
-        p = inner.add_parser(name, help=module.HELP)
+        p = inner.add_parser(name, help=module.HELP, description=module.HELP)
         p.add_argument("--json", type=Path, default=None,
                        help=f"where to write the figures (default bench-results/{name}.json)")
         if hasattr(module, "add_arguments"):
             module.add_arguments(p)
+        add_common_options(p)
         p.set_defaults(func=_runner(name, module))
 
 

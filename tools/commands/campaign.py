@@ -1,9 +1,11 @@
-"""``mobigrasp campaign --method M --runs N [--fault KEY=VALUE ...]``: a fault campaign (issue 9).
+"""``mobigrasp campaign --method M --runs N [--fault KEY=VALUE ...]``: a fault campaign.
 
-Runs N seeded random scenarios under the faults, in parallel over the cores, with a progress bar
-on stderr; prints the table (success rate, unsafe actuations, watchdog trips, retransmits, stop
-latency, recovery times) and writes ``campaign.json`` and ``campaign.png`` in ``--out``. Exit 0
-when every run finished (whatever its success), 1 when a run crashed, 2 for bad input.
+Runs N seeded random scenarios under the faults, in parallel over the cores or on a Dask cluster
+(``--scheduler``), with progress on stderr; every row lands in ``campaign.rows.jsonl`` as its run
+finishes (``--resume`` continues an interrupted campaign). Prints the table (success rate, unsafe
+actuations, watchdog trips, retransmits, stop latency, recovery times) and writes
+``campaign.json`` and ``campaign.png`` in ``--out``. Exit 0 when every run finished (whatever its
+success), 1 when a run crashed, 2 for bad input.
 """
 
 from __future__ import annotations
@@ -16,16 +18,24 @@ from pathlib import Path
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
     from mobigrasp.tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
+    from mobigrasp.tools.progress import Progress
 
     try:
         plan = parse_fault_overrides(args.fault or [])
         cfg = CampaignConfig(method=args.method, runs=args.runs, faults=plan, seed=args.seed,
                              jobs=args.jobs, out=args.out, time_limit_s=args.time_limit_s,
-                             random_times=args.random_times)
+                             random_times=args.random_times, scheduler=args.scheduler,
+                             resume=args.resume)
     except (FaultError, ValueError) as exc:
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
-    result = run_campaign(cfg, progress=None if args.quiet else sys.stderr)
+    display = Progress(total=cfg.runs, desc="campaign", unit="runs", enabled=not args.quiet)
+    try:
+        result = run_campaign(cfg, progress=display)
+    except ValueError as exc:  # EngineError (scheduler unreachable), rows of another campaign
+        display.close()
+        print(f"mobigrasp campaign: {exc}", file=sys.stderr)
+        return 2
     print(format_table(result["summary"]))
     js, png = write_outputs(result, cfg.out)
     print(f"wrote {js} and {png}")
@@ -35,7 +45,8 @@ def _run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``campaign`` subcommand."""
     p = sub.add_parser("campaign", help="N seeded random scenarios under injected faults")
-    p.add_argument("--method", required=True, help="000, 001 or 002")
+    p.add_argument("--method", required=True, choices=("000", "001", "002"),
+                   help="the paper whose method runs: 000, 001 or 002")
     p.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="a fault (docs/faults.md), repeatable; dotted keys for tables, e.g. "
@@ -48,5 +59,9 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="simulated seconds per run (default: the scenario's limit)")
     p.add_argument("--random-times", action="store_true",
                    help="each run draws every fault time uniformly in [0, the given time]")
-    p.add_argument("--quiet", action="store_true", help="no progress bar")
+    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                   help="run the runs as tasks on this Dask scheduler (mobigrasp[cluster]; "
+                        "docs/campaigns.md); default: this machine's cores")
+    p.add_argument("--resume", action="store_true",
+                   help="keep the finished rows of OUT/campaign.rows.jsonl, run the rest")
     p.set_defaults(func=_run)

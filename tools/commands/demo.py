@@ -19,17 +19,24 @@ def _main(args: argparse.Namespace) -> int:
               "real pty to a second process and back.")
         result = run_link_demo(args.count)
         return 0 if result["lost"] == 0 else 1
+    from mobigrasp.tools.progress import RunProgress
     from mobigrasp.tools.run_job import BadInput, RunOptions, execute, summary_line
 
     out = args.out or Path("runs") / "demo-paper000-exp1"
     print("mobigrasp demo: paper000-exp1 (paper 000, experiment 1) in closed loop: emulated "
           "ATmega128 + pymunk world + eye-in-hand camera here, the S3C2440 host program in a "
           "second process, joined by a real pty in lockstep simulated time.")
+    display = RunProgress(enabled=not args.quiet)
     try:
-        summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty", out=out))
+        summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty", out=out,
+                                           progress=display))
     except BadInput as exc:
         print(f"mobigrasp demo: {exc}")
         return 2
+    except BaseException:
+        display.close()
+        raise
+    display.finish(summary)
     print(summary_line(summary, out))
     print(f"report: {(out / 'report.html').resolve()}")
     return code

@@ -3,9 +3,13 @@
 Prints the pty slave path on its first line (flushed), then runs the MCU with simulated time
 paced to the wall clock (``--speed 1``, default), a multiple of it, or as fast as possible
 (``--speed max``). Bytes read from the pty are put on the simulated RX line at the current
-simulated time. With no world attached, the encoders follow the "wheels in the air" plant
-(mcu_sim/bench_plant.py) and the sonars hear no echo. Exits with a message when the host closes
-the port (after it has sent something), after ``--duration`` simulated seconds, or on Ctrl-C.
+simulated time. With no world attached the sonars hear no echo and the encoders follow
+``--wheels``: ``bench`` (default) turns them as two unloaded motors with their lag would
+(mcu_sim/bench_plant.py), so SetWheels moves the counts; ``still`` keeps them at 0. ``--log``
+prints every message the MCU sends, one line each, NACK reasons and telemetry flags by name
+(telemetry only with ``--log all``). Exits with a message when the host closes the port (after
+it has sent something), after ``--duration`` simulated seconds, or on Ctrl-C; the last line
+counts the NACKs sent by reason.
 """
 
 from __future__ import annotations
@@ -14,7 +18,6 @@ import argparse
 import sys
 import time
 
-PLANT_STEP_US = 10_000
 PUMP_STEP_US = 1_000
 
 
@@ -39,29 +42,51 @@ def _param(text: str) -> tuple[str, int]:
         raise argparse.ArgumentTypeError(f"--param wants NAME=INTEGER, got {text!r}") from None
 
 
+WHEELS = ("bench", "still")  # mcu_sim.mcu_pty.WHEELS (not imported: --help stays cheap)
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``mcu`` subcommand."""
     p = sub.add_parser("mcu", help="run the emulated ATmega128 on a new pty (prints its path)")
     p.add_argument("--speed", type=_speed, default=1.0,
                    help="simulated seconds per wall second, or 'max' (default 1)")
+    p.add_argument("--mcu", default="python",
+                   help="MCU backend: python (the firmware model, default) or native (the C "
+                        "firmware built with this machine's gcc)")
     p.add_argument("--baud-ubrr", type=int, default=16, help="UBRR0 value (default 16)")
     p.add_argument("--u2x", type=int, choices=(0, 1), default=1, help="U2X0 bit (default 1)")
     p.add_argument("--duration", type=float, default=None,
                    help="stop after this many simulated seconds (default: run until closed)")
     p.add_argument("--param", type=_param, action="append", default=[],
                    help="firmware PARAM default, NAME=VALUE (repeatable), e.g. watchdog_ms=500")
+    p.add_argument("--wheels", choices=WHEELS, default=WHEELS[0],
+                   help="wheel plant without a world: 'bench' (default) turns the encoders as "
+                        "unloaded motors with their lag; 'still' keeps them at 0")
+    p.add_argument("--log", choices=("replies", "all"), default=None,
+                   help="print the MCU's messages on stderr: 'replies' (all but telemetry) "
+                        "or 'all'")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Serve until the host closes the port, the duration ends, or Ctrl-C."""
-    from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
     from mobigrasp.mcu_sim.mcu import McuConfig
     from mobigrasp.mcu_sim.mcu_pty import PtyMcu
+    from mobigrasp.mcu_sim.wire_names import describe, nack_reason_name
+    from mobigrasp.protocol.messages import Nack, Telemetry
+
+    nacks: dict[str, int] = {}
+
+    def on_sent(t_us: int, msg: object) -> None:
+        if isinstance(msg, Nack):
+            name = nack_reason_name(msg.reason)
+            nacks[name] = nacks.get(name, 0) + 1
+        if args.log == "all" or (args.log and not isinstance(msg, Telemetry)):
+            print(f"{t_us / 1e6:10.6f} s  {describe(msg)}", file=sys.stderr, flush=True)
 
     try:
         config = McuConfig(ubrr=args.baud_ubrr, u2x=args.u2x, params=dict(args.param))
-        pty = PtyMcu(config, record=False)
+        pty = PtyMcu(config, record=False, wheels=args.wheels, on_sent=on_sent, mcu=args.mcu)
     except ValueError as exc:
         print(f"mobigrasp mcu: {exc}", file=sys.stderr)
         return 2
@@ -69,17 +94,16 @@ def run(args: argparse.Namespace) -> int:
     mcu = pty.mcu
     print(f"emulated ATmega128 on {pty.port}: UBRR={args.baud_ubrr} U2X={args.u2x} -> "
           f"{mcu.baud:.0f} baud ({mcu.baud_error_pct:+.2f} % from 115200); speed "
-          f"{'max' if args.speed is None else args.speed}", file=sys.stderr, flush=True)
+          f"{'max' if args.speed is None else args.speed}; wheels {args.wheels}",
+          file=sys.stderr, flush=True)
     end_us = None if args.duration is None else int(args.duration * 1_000_000)
-    plant = WheelsInTheAir()
-    next_plant = 0
     wall0 = time.monotonic()
     reason = "duration reached"
     try:
         while end_us is None or mcu.now_us < end_us:
             now = mcu.now_us
             if args.speed is None:
-                target = now + PLANT_STEP_US
+                target = now + 10 * PUMP_STEP_US
             else:
                 target = int((time.monotonic() - wall0) * args.speed * 1_000_000)
                 if target < now + PUMP_STEP_US:
@@ -91,14 +115,8 @@ def run(args: argparse.Namespace) -> int:
                     continue
             if end_us is not None:
                 target = min(target, end_us)
-            while mcu.now_us < target:
-                if mcu.now_us >= next_plant:
-                    ticks = plant.step(mcu.wheel_duty(), PLANT_STEP_US)
-                    next_plant = mcu.now_us + PLANT_STEP_US
-                    mcu.set_encoder_ticks(ticks[0], ticks[1], next_plant)
-                pty.pump_from_host()
-                mcu.advance_to(min(target, mcu.now_us + PUMP_STEP_US, next_plant))
-                pty.forward_tx()
+            if target > now:
+                pty.advance_to(target, PUMP_STEP_US)
             if pty.host_closed:
                 reason = "the host closed the port"
                 break
@@ -110,6 +128,8 @@ def run(args: argparse.Namespace) -> int:
     print(f"mobigrasp mcu: {reason} at t = {mcu.now_us / 1e6:.3f} s simulated; "
           f"rx {stats['rx_bytes']} B, tx {stats['tx_bytes']} B, "
           f"corrupt frames {stats['corrupt_frames']}, overruns {stats['overruns']}, "
-          f"watchdog trips {stats['watchdog_trips']}", file=sys.stderr, flush=True)
+          f"watchdog trips {stats['watchdog_trips']}; NACKs sent: "
+          f"{', '.join(f'{k} {v}' for k, v in sorted(nacks.items())) or 'none'}",
+          file=sys.stderr, flush=True)
     # the host going away mid-run is a failure for whoever waits on this process (issue 9)
     return 1 if pty.host_closed else 0

@@ -7,6 +7,11 @@ its share of the budget that applies (a frame period of 66.7 ms for vision stage
 control period for control stages) and the Python wall time per call, as a table and JSON; the ARM9
 load over the run is plots/arm9_load.png of the run folder. It names the stage that would miss its
 budget first (highest worst-case share).
+
+Below it, the kernels calibrated by ``mobigrasp calibrate`` (docs/budget.md): each one's modelled
+time now beside the time its C took as emulated ARM920T code in the last calibration (median,
+p95, max), their ratio and the commit measured, and which of them would miss the frame budget
+first on its own (none does unless its emulated maximum exceeds 66.7 ms).
 """
 
 from __future__ import annotations
@@ -58,17 +63,67 @@ def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
     return rows, first
 
 
+def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
+    """Per calibrated kernel: modelled µs now (at the calibrated frame size), the emulated
+    figures of the last calibration and the ratio; and the kernel whose emulated maximum takes
+    the largest share of the frame budget."""
+    if not cal or not cal.get("frame_shape"):
+        return [], None
+    from mobigrasp.calib.calibrate import modelled_us
+
+    h, w = cal["frame_shape"]
+    rows = []
+    for name, st in sorted(cal["stages"].items()):
+        try:
+            mod = modelled_us(name, h, w)
+        except KeyError:  # a detector's stage: its cost depends on the frame, as calibrated
+            mod = st.get("modelled_median_us")
+            if not isinstance(mod, int | float):
+                continue
+        emu = st["emulated_median_us"]
+        rows.append({"stage": name, "modelled_us": round(mod, 1), "emulated_median_us": emu,
+                     "emulated_p95_us": st["emulated_p95_us"],
+                     "emulated_max_us": st["emulated_max_us"],
+                     "ratio": round(mod / emu, 3) if emu else None,
+                     "share_max": round(st["emulated_max_us"] / FRAME_BUDGET_US, 4)})
+    first = max(rows, key=lambda r: r["share_max"])["stage"] if rows else None
+    return rows, first
+
+
+def _print_calibration(cal: dict | None, rows: list[dict], first: str | None) -> None:
+    if not rows:
+        print("calibrated kernels: no calibration yet (run mobigrasp calibrate)")
+        return
+    print(f"\ncalibrated kernels (calibration of commit {cal.get('commit')}, "
+          f"{cal.get('frames')} frames, line fill {cal.get('line_fill_cycles')} cycles):")
+    print(f"{'kernel':<18}{'model_us':>10}{'emu_med':>10}{'emu_p95':>10}{'emu_max':>10}"
+          f"{'ratio':>7}{'of 66.7ms':>11}")
+    for r in rows:
+        print(f"{r['stage']:<18}{r['modelled_us']:>10.0f}{r['emulated_median_us']:>10.0f}"
+              f"{r['emulated_p95_us']:>10.0f}{r['emulated_max_us']:>10.0f}"
+              f"{r['ratio']:>7.2f}{r['share_max']:>11.1%}")
+    total = sum(r["emulated_max_us"] for r in rows)
+    print(f"emulated front end (sum of maxima) {total / 1000:.1f} ms of the "
+          f"{FRAME_BUDGET_US / 1000:.1f} ms frame budget; largest: {first}")
+
+
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.tools.progress import RunProgress
     from mobigrasp.tools.run_job import BadInput, RunOptions, execute
 
     timer = WallTimer()
+    display = RunProgress(enabled=not args.quiet)
     try:
         summary, code = execute(RunOptions(scenario=args.scenario, seed=args.seed,
                                            transport="inproc", out=args.out,
-                                           progress=not args.quiet, timer=timer))
+                                           progress=display, timer=timer))
     except BadInput as exc:
         print(f"mobigrasp profile: {exc}", file=sys.stderr)
         return 2
+    except BaseException:
+        display.close()
+        raise
+    display.finish(summary)
     rows, first = profile_table(summary.get("stages", {}), timer.wall_s)
     hdr = (f"{'stage':<22}{'calls':>7}{'mean_us':>10}{'p95_us':>9}{'max_us':>9}"
            f"{'budget':>8}{'share':>7}{'max':>7}{'py_ms':>8}")
@@ -84,13 +139,20 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary.get('arm9_load_mean', 0):.0%}; frames dropped "
           f"{summary.get('frames_dropped')}, deadline misses {summary.get('deadline_misses')}")
     print(f"would miss its budget first: {first}")
-    out = Path(args.out) if args.out else Path("runs") / f"{summary['scenario']}-{summary['seed']}"
+    from mobigrasp.calib.calibrate import load_last
+    from mobigrasp.cosim.run_folder import default_run_folder
+
+    cal = load_last(args.calibration)
+    cal_rows, cal_first = calibration_rows(cal)
+    _print_calibration(cal, cal_rows, cal_first)
+    out = Path(args.out) if args.out else default_run_folder(summary["scenario"], summary["seed"])
     result = {"scenario": summary["scenario"], "seed": summary["seed"], "stages": rows,
               "first_to_miss": first, "arm9_load_max": summary.get("arm9_load_max"),
               "arm9_load_mean": summary.get("arm9_load_mean"),
               "frames_dropped": summary.get("frames_dropped"),
               "deadline_misses": summary.get("deadline_misses"),
-              "load_plot": str(out / "plots" / "arm9_load.png")}
+              "load_plot": str(out / "plots" / "arm9_load.png"),
+              "calibrated_kernels": cal_rows, "calibration_commit": (cal or {}).get("commit")}
     path = args.json or out / "profile.json"
     Path(path).write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
     print(f"written {path} (load plot {result['load_plot']})")
@@ -101,9 +163,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``profile`` subcommand."""
     p = sub.add_parser("profile", help="ARM9 budget per host stage over a scenario run")
     p.add_argument("scenario", help="scenario file or shipped scenario name")
-    p.add_argument("--seed", type=int, default=None)
-    p.add_argument("--out", type=Path, default=None, help="run folder")
+    p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run folder (default runs/<scenario>-<seed>/)")
     p.add_argument("--json", type=Path, default=None,
                    help="profile JSON (default OUT/profile.json)")
-    p.add_argument("--quiet", action="store_true")
+    p.add_argument("--calibration", type=Path, default=None,
+                   help="calibration JSON (default: the last mobigrasp calibrate)")
     p.set_defaults(func=_run)

@@ -1,11 +1,11 @@
 """What the task learns from a detection: object position in the platform and odometry frames.
 
-Detector results (host/vision, helpers D1/D2) are read through :func:`field` by the names of
-their briefs (``u_q4``, ``v_q4``, ``d_pixel_q4`` ..., dataclass attributes or dict keys), so a
-renamed field needs one change here.  The camera model is the pinhole of 000 §III.A / 002 §4 with
-the frames of docs/conventions.md: the camera sits at the eq. (3) point of 000, its optical axis
-z along l3 (yaw theta5, pitch alpha), x right and y down (OpenCV) turned by the wrist roll theta1.
-A pixel (u, v) at depth Y along the axis is
+Each detector returns its own typed result (host/vision/registry.py names the type) and says in
+its module how the result becomes a target: ``sighting(result, f_px)`` gives the pixel (Q4 px)
+and the depth along the optical axis (Q4 mm). The camera model is the pinhole of 000 §III.A /
+002 §4 with the frames of docs/conventions.md: the camera sits at the eq. (3) point of 000, its
+optical axis z along l3 (yaw theta5, pitch alpha), x right and y down (OpenCV) turned by the
+wrist roll theta1. A pixel (u, v) at depth Y along the axis is
 
     P = P_cr + Y z + (u - u0) Y / f x + (v - v0) Y / f y,
 
@@ -23,14 +23,10 @@ from typing import Any
 
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, sin_q12
 from mobigrasp.host.kinematics import ArmGeometry, fk_mm_q4
+from mobigrasp.host.vision import double_cross, registry
 
-RADIAL_L_MM_Q4 = 109 * 16  # outer ring diameter L (000)
-DUAL_PLUS_D_ACT_MM_Q4 = 757  # 47.3 mm in Q4 (000)
-RING_D_MM_Q4 = 232  # 14.5 mm in Q4 (002)
-# 002's guidance board as we built it (002 gives no sizes; docs/markers.md): cross centres 130 mm
-# apart, the cylinder's axis 150 mm in front of the board's centre
-CROSS_SPACING_MM_Q4 = 130 * 16
-BOARD_BEHIND_MM_Q4 = 150 * 16
+# 002's guidance board (docs/markers.md): cross centres this far apart (host/vision/double_cross)
+CROSS_SPACING_MM_Q4 = double_cross.CROSS_SPACING_MM_Q4
 
 
 @dataclass(frozen=True)
@@ -44,17 +40,6 @@ class CameraModel:
 
 CAMERA_000 = CameraModel(611, 160, 120)
 CAMERA_002 = CameraModel(350, 160, 120)
-
-
-def field(det: Any, *names: str) -> int | None:
-    """The first of ``names`` present on a detection (attribute or dict key), as int."""
-    for n in names:
-        v = det.get(n) if isinstance(det, dict) else getattr(det, n, None)
-        if v is not None:
-            if isinstance(v, bool) or not isinstance(v, int | float):
-                raise ValueError(f"detection field {n} is not a number: {v!r}")
-            return int(v)
-    return None
 
 
 def _r12(v: int) -> int:
@@ -86,72 +71,42 @@ def pixel_to_platform_mm_q4(geom: ArmGeometry, joints_mrad: tuple[int, ...], cam
     return tuple(pc[i] + _r12(depth_mm_q4 * z[i] + off_x * x[i] + off_y * y[i]) for i in range(3))
 
 
-def _depth(size_mm_q4: int, f_px: int, d_q4: int) -> int | None:
-    """Y = size f / d, all Q4 in and out; None for a non-positive d."""
-    if d_q4 <= 0:
-        return None
-    return size_mm_q4 * f_px * 16 // d_q4
-
-
 def object_in_platform(name: str, det: Any, geom: ArmGeometry, joints_mrad: tuple[int, ...],
                        cam: CameraModel) -> tuple[int, int, int] | None:
-    """Object (marker centre) position in the platform frame, Q4 mm; None if not usable."""
+    """Object (marker centre) position in the platform frame, Q4 mm; None if not usable.
+
+    A result of another type than detector ``name`` returns raises TypeError; a detector
+    whose result gives no target (no ``sighting`` in its row) raises ValueError."""
     if det is None:
         return None
-    if name == "radial_symbol":
-        u, v = field(det, "u_q4", "u_r_q4"), field(det, "v_q4", "v_r_q4")
-        y_mm = field(det, "y_oc_mm", "depth_mm")
-        depth = y_mm * 16 if y_mm is not None else _depth(
-            RADIAL_L_MM_Q4, cam.f_px, field(det, "diameter_q4", "d_q4", "d_px_q4") or 0)
-    elif name == "dual_plus":
-        u1, u2 = field(det, "u1_q4"), field(det, "u2_q4")
-        v1, v2 = field(det, "v1_q4"), field(det, "v2_q4")
-        u = field(det, "um_q4") if u1 is None or u2 is None else (u1 + u2) // 2
-        v = field(det, "vm_q4") if v1 is None or v2 is None else (v1 + v2) // 2
-        d_is = field(det, "dist_mm", "d_is_mm")  # dist_mm: D1's foreshortening-corrected D_is
-        depth = d_is * 16 if d_is is not None else _depth(
-            DUAL_PLUS_D_ACT_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
-    elif name == "red_cylinder":
-        u, v = field(det, "uc_q4", "u_c_q4", "u_q4"), field(det, "vc_q4", "v_c_q4", "v_q4")
-        depth = _depth(RING_D_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
-    elif name == "double_cross":
-        # the cylinder, not the board: the board faces the robot, so the cylinder is about
-        # BOARD_BEHIND closer along the line of sight (the board's row is used: the camera
-        # looks level in the approach, so the ray is nearly horizontal)
-        u, v = field(det, "um_q4"), field(det, "vm_q4")
-        board = _depth(CROSS_SPACING_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
-        depth = board - BOARD_BEHIND_MM_Q4 if board is not None else None
-    else:
+    row = registry.row(name)
+    to_target = row.sighting_fn()
+    if to_target is None:
         raise ValueError(f"no object position from detector {name!r}")
-    if u is None or v is None or depth is None or depth <= 0:
+    seen = to_target(registry.check(name, det), cam.f_px)
+    if seen is None or seen[2] <= 0:
         return None
-    return pixel_to_platform_mm_q4(geom, joints_mrad, cam, u, v, depth)
+    return pixel_to_platform_mm_q4(geom, joints_mrad, cam, *seen)
 
 
 def plus_positions(det: Any, geom: ArmGeometry, joints_mrad: tuple[int, ...],
                    cam: CameraModel) -> tuple[tuple[int, int, int], ...] | None:
     """Both "+" centres of a dual "+" detection in the platform frame (Q4 mm), at its depth."""
-    u1, v1, u2, v2 = (field(det, n) for n in ("u1_q4", "v1_q4", "u2_q4", "v2_q4"))
-    centre = object_in_platform("dual_plus", det, geom, joints_mrad, cam)
-    if None in (u1, v1, u2, v2) or centre is None:
+    det = registry.check("dual_plus", det)
+    if object_in_platform("dual_plus", det, geom, joints_mrad, cam) is None:
         return None
-    d_is = field(det, "dist_mm", "d_is_mm")
-    depth = d_is * 16 if d_is is not None else _depth(
-        DUAL_PLUS_D_ACT_MM_Q4, cam.f_px, field(det, "d_pixel_q4") or 0)
-    if depth is None:
-        return None
-    return (pixel_to_platform_mm_q4(geom, joints_mrad, cam, u1, v1, depth),
-            pixel_to_platform_mm_q4(geom, joints_mrad, cam, u2, v2, depth))
+    depth = det.dist_mm * 16
+    return (pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u1_q4, det.v1_q4, depth),
+            pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u2_q4, det.v2_q4, depth))
 
 
 def bearing_mrad(det: Any, theta5_mrad: int, cam: CameraModel) -> int | None:
-    """002's e: bearing of the marker midpoint from the platform heading, right positive.
+    """002's e: bearing of the double cross's midpoint from the platform heading, right
+    positive.
 
     Computed from the pixel column and the waist yaw (the image is not turned by the pitch for
     a level roll), so it does not depend on the yaw the detector was given."""
-    um = field(det, "um_q4", "u_q4")
-    if um is None:
-        return None
+    um = registry.check("double_cross", det).um_q4
     return theta5_mrad + atan2_mrad(um - cam.u0_px * 16, cam.f_px * 16)
 
 
@@ -180,23 +135,10 @@ def odom_to_platform_q4(x_mm: int, y_mm: int, heading_mrad: int, mount_forward_m
 
 def spoke_reading(det: Any) -> tuple[int, int] | None:
     """(spoke image angle mrad = atan k_T, width w_T px) from a spoke detection (000 §III.A)."""
-    from mobigrasp.host.kinematics import spoke_angle_mrad
-
     if det is None:
         return None
-    ang = field(det, "angle_mrad", "k_mrad", "slope_mrad")
-    if ang is None:
-        k = field(det, "k_q12", "slope_q12", "k_t_q12")
-        if k is None:
-            return None
-        ang = spoke_angle_mrad(k)
-    w = field(det, "w_px", "width_px")
-    if w is None:
-        wq = field(det, "w_q4", "width_q4")
-        if wq is None:
-            return None
-        w = (wq + 8) // 16
-    return ang, w
+    det = registry.check("spoke", det)
+    return det.angle_mrad, (det.width_q4 + 8) // 16
 
 
 def d_pixel_px(det: Any) -> int | None:
@@ -204,7 +146,6 @@ def d_pixel_px(det: Any) -> int | None:
     cross's two crosses, in whole px."""
     if det is None:
         return None
-    d = field(det, "d_pixel_q4")
-    if d is not None:
-        return (d + 8) // 16
-    return field(det, "d_pixel", "d_pixel_px")
+    if not isinstance(det, registry.row("red_cylinder").result_type()):
+        det = registry.check("double_cross", det)
+    return (det.d_pixel_q4 + 8) // 16

@@ -1,0 +1,275 @@
+"""The hostc/ kernels as ARM920T code: built with arm-none-eabi-gcc, run under unicorn.
+
+``build()`` compiles the same C as calib/native.py with ``-mcpu=arm920t -marm -O2
+-ffreestanding -nostdlib`` (libgcc for the division and soft-float helpers) into a flat image at
+``CODE_BASE`` and reads the symbol addresses; the toolchain (Debian's ``gcc-arm-none-eabi``) is
+installed with apt-get when it is missing. :class:`Arm9` maps the image, the buffers and a
+stack into unicorn (CPU model ARM926: the same ARMv4T/v5 user instructions, there is no 920T),
+calls one kernel per :meth:`Arm9.call` and times it with calib/timing.py: a block hook adds each
+executed block's static cycles (and 2 when it ends in a taken branch), a code hook on each
+multiply adds its Booth steps from Rs, a read hook runs the D-cache model.
+"""
+
+from __future__ import annotations
+
+import shutil
+import struct
+import subprocess
+import sys
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from mobigrasp.calib import native, timing
+
+CC = "arm-none-eabi-gcc"
+CFLAGS = ["-mcpu=arm920t", "-marm", "-O2", "-ffreestanding", "-nostdlib", "-std=c99"]
+CODE_BASE = 0x0001_0000
+CODE_SIZE = 0x0001_0000
+DATA_BASE = 0x0010_0000
+DATA_SIZE = 0x0080_0000
+STACK_TOP = 0x0100_0000
+STACK_SIZE = 0x0001_0000
+STOP = 0x0000_1000  # the return address of every call: a page of its own
+
+
+class ToolchainError(RuntimeError):
+    """The ARM toolchain is missing and could not be installed, or a build failed."""
+
+
+def ensure_toolchain(progress=None) -> str:
+    """Path of arm-none-eabi-gcc, installing Debian's gcc-arm-none-eabi when it is missing."""
+    path = shutil.which(CC)
+    if path:
+        return path
+    if shutil.which("apt-get") is None:
+        raise ToolchainError(f"{CC} not found and no apt-get to install gcc-arm-none-eabi")
+    for argv in (["apt-get", "install", "-y", "gcc-arm-none-eabi"], ["apt-get", "update"],
+                 ["apt-get", "install", "-y", "gcc-arm-none-eabi"]):
+        if progress:
+            progress(f"installing the ARM toolchain: {' '.join(argv)}")
+        r = subprocess.run(argv, capture_output=True, text=True)
+        if r.returncode == 0 and shutil.which(CC):
+            return shutil.which(CC)
+    raise ToolchainError(f"{CC} not found and apt-get could not install gcc-arm-none-eabi")
+
+
+@dataclass(frozen=True)
+class Image:
+    """A flat ARM image at CODE_BASE and its function symbols."""
+
+    code: bytes
+    symbols: dict[str, int]
+
+
+def build(progress=None) -> Image:
+    """Compile and link hostc/ for the ARM920T (cached by the sources' hash)."""
+    out = native.cache_dir() / f"arm-{native.source_hash()}"
+    binf, symf = out / "kernels.bin", out / "kernels.sym"
+    if not (binf.is_file() and symf.is_file()):
+        cc = ensure_toolchain(progress)
+        out.mkdir(parents=True, exist_ok=True)
+        elf = out / "kernels.elf"
+        srcs = [str(native.HOSTC / s) for s in native.SOURCES]
+        r = subprocess.run([cc, *CFLAGS, f"-I{native.HOSTC}", f"-Wl,-Ttext={CODE_BASE:#x}",
+                            "-Wl,--entry=0", "-o", str(elf), *srcs, "-lgcc"],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            raise ToolchainError(f"{CC} failed: {r.stderr.strip().splitlines()[-1:]}")
+        prefix = cc[:-3]
+        subprocess.run([prefix + "objcopy", "-O", "binary", str(elf), str(binf)], check=True)
+        nm = subprocess.run([prefix + "nm", str(elf)], capture_output=True, text=True,
+                            check=True).stdout
+        symf.write_text(nm)
+    syms = {}
+    for line in symf.read_text().splitlines():
+        parts = line.split()
+        if len(parts) == 3 and parts[1] in "tT":
+            syms[parts[2]] = int(parts[0], 16)
+    code = binf.read_bytes()
+    if len(code) > CODE_SIZE:
+        raise ToolchainError(f"ARM image of {len(code)} bytes does not fit {CODE_SIZE}")
+    return Image(code, syms)
+
+
+@dataclass
+class Timing:
+    """What one call cost under the model."""
+
+    instructions: int = 0
+    cycles: int = 0  # including the line fills
+    interlock_cycles: int = 0
+    taken_branches: int = 0
+    mul_cycles: int = 0
+    reads: int = 0
+    read_misses: int = 0
+    fill_cycles: int = 0
+    mix: dict[str, int] = field(default_factory=lambda: dict.fromkeys(timing.CLASSES, 0))
+
+    @property
+    def cpi(self) -> float:
+        """Cycles per instruction."""
+        return self.cycles / self.instructions if self.instructions else 0.0
+
+
+class Arm9:
+    """One emulated ARM920T with the kernels loaded; :meth:`call` runs one kernel."""
+
+    def __init__(self, image: Image, line_fill_cycles: int = timing.LINE_FILL_CYCLES) -> None:
+        from unicorn import UC_ARCH_ARM, UC_HOOK_BLOCK, UC_HOOK_MEM_READ, UC_MODE_ARM, Uc
+        from unicorn.arm_const import UC_CPU_ARM_926
+
+        self.image = image
+        self.line_fill_cycles = int(line_fill_cycles)
+        uc = Uc(UC_ARCH_ARM, UC_MODE_ARM)
+        uc.ctl_set_cpu_model(UC_CPU_ARM_926)
+        uc.mem_map(STOP, 0x1000)
+        uc.mem_map(CODE_BASE, CODE_SIZE)
+        uc.mem_write(CODE_BASE, image.code)
+        uc.mem_map(DATA_BASE, DATA_SIZE)
+        uc.mem_map(STACK_TOP - STACK_SIZE, STACK_SIZE)
+        self.uc = uc
+        self.decoder = timing.Decoder()
+        self.blocks: dict[int, timing.Block] = {}
+        self.cache = timing.DCache()
+        self._t = Timing()
+        self._prev_end = None
+        uc.hook_add(UC_HOOK_BLOCK, self._on_block)
+        uc.hook_add(UC_HOOK_MEM_READ, self._on_read, begin=DATA_BASE,
+                    end=STACK_TOP - 1)
+        self._mul_hooked: set[int] = set()
+
+    def _on_block(self, uc, address, size, _user):
+        blk = self.blocks.get(address)
+        if blk is None:
+            blk = self.decoder.analyse(bytes(uc.mem_read(address, size)), address)
+            self.blocks[address] = blk
+            self._hook_muls(blk)
+        t = self._t
+        if self._prev_end is not None and address != self._prev_end:
+            t.cycles += 2
+            t.taken_branches += 1
+        self._prev_end = address + size
+        t.instructions += blk.n_insns
+        t.cycles += blk.cycles
+        t.interlock_cycles += blk.interlock
+        for k, v in blk.mix.items():
+            t.mix[k] += v
+
+    def _hook_muls(self, blk: timing.Block) -> None:
+        from unicorn import UC_HOOK_CODE
+
+        from mobigrasp.calib.unicorn_regs import uc_reg
+
+        for addr, rs in blk.muls:
+            if addr in self._mul_hooked:
+                continue
+            self._mul_hooked.add(addr)
+            reg = uc_reg(rs)
+
+            def on_mul(uc, _a, _s, _u, reg=reg):
+                m = timing.booth_m(uc.reg_read(reg))
+                self._t.cycles += m
+                self._t.mul_cycles += m
+            self.uc.hook_add(UC_HOOK_CODE, on_mul, begin=addr, end=addr)
+
+    def _on_read(self, uc, _access, address, size, _value, _user):
+        t = self._t
+        t.reads += 1
+        if self.cache.read(address, size):
+            t.read_misses += 1
+            t.fill_cycles += self.line_fill_cycles
+            t.cycles += self.line_fill_cycles
+
+    def write(self, offset: int, data) -> int:
+        """Copy bytes into the data area at ``offset``; returns the address."""
+        self.uc.mem_write(DATA_BASE + offset, bytes(data))
+        return DATA_BASE + offset
+
+    def read(self, address: int, nbytes: int) -> bytes:
+        """Bytes from the emulated memory."""
+        return bytes(self.uc.mem_read(address, nbytes))
+
+    def call(self, symbol: str, *args: int) -> tuple[int, Timing]:
+        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack) from a cold D-cache;
+        returns r0 and the call's timing."""
+        from unicorn.arm_const import UC_ARM_REG_LR, UC_ARM_REG_R0, UC_ARM_REG_SP
+
+        regs = [UC_ARM_REG_R0 + k for k in range(4)]
+        sp = STACK_TOP - 64
+        stacked = args[4:]
+        sp -= 4 * len(stacked) + (4 * len(stacked)) % 8
+        for k, v in enumerate(stacked):
+            self.uc.mem_write(sp + 4 * k, int(v & 0xFFFFFFFF).to_bytes(4, "little"))
+        for r, v in zip(regs, args[:4], strict=False):
+            self.uc.reg_write(r, int(v) & 0xFFFFFFFF)
+        self.uc.reg_write(UC_ARM_REG_SP, sp)
+        self.uc.reg_write(UC_ARM_REG_LR, STOP)
+        self.cache.flush()
+        self._t = Timing()
+        self._prev_end = None
+        self.uc.emu_start(self.image.symbols[symbol], STOP)
+        r0 = self.uc.reg_read(UC_ARM_REG_R0)
+        return r0 - (1 << 32) if r0 & 0x8000_0000 else r0, self._t
+
+
+class FrontEnd:
+    """The 000 kernels on the emulated ARM920T: grey, dark mask, labelling of one frame and the
+    detectors after them, each with its result (read back, to check it against the Python
+    kernels) and its timing."""
+
+    RGB, GREY, MASK, HIST = 0x0, 0x4_0000, 0x6_0000, 0x7_0000
+    LABELS, BLOCKS, PARENT, STATS = 0x8_0000, 0x18_0000, 0x1C_0000, 0x20_0000
+    OUT, SCRATCH = 0x27_F000, 0x28_0000
+
+    def __init__(self, arm: Arm9) -> None:
+        self.arm = arm
+        self._shape: tuple[int, int] | None = None
+        self._n_lab = 0
+
+    def run(self, rgb: np.ndarray, upto: str = "labelling") -> dict[str, tuple[object, Timing]]:
+        """Stage name -> (result, timing) for one frame, the stages up to ``upto`` ("grey"
+        or "labelling"); the grey image and the stats stay in memory for the detectors."""
+        a, base = self.arm, DATA_BASE
+        h, w = rgb.shape[:2]
+        n = h * w
+        self._shape = (h, w)
+        a.write(self.RGB, np.ascontiguousarray(rgb).tobytes())
+        _, t_grey = a.call("mg_grey", base + self.RGB, base + self.GREY, n)
+        grey = np.frombuffer(a.read(base + self.GREY, n), np.uint8).reshape(h, w)
+        out: dict[str, tuple[object, Timing]] = {"grey": (grey, t_grey)}
+        if upto == "grey":
+            return out
+        thr, t_dark = a.call("mg_dark_mask", base + self.GREY, base + self.MASK, n,
+                             base + self.HIST)
+        mask = np.frombuffer(a.read(base + self.MASK, n), np.uint8).reshape(h, w)
+        n_lab, t_lab = a.call("mg_label", base + self.MASK, w, h, base + self.LABELS,
+                              base + self.BLOCKS, base + self.PARENT, base + self.STATS)
+        labels = np.frombuffer(a.read(base + self.LABELS, 4 * n), np.int32).reshape(h, w)
+        stats = np.frombuffer(a.read(base + self.STATS, 20 * n_lab), np.int32).reshape(n_lab, 5)
+        self._n_lab = n_lab
+        out["dark_threshold"] = ((mask, thr), t_dark)
+        out["labelling"] = ((n_lab, labels, stats), t_lab)
+        return out
+
+    def load(self, grey: np.ndarray, stats: np.ndarray) -> None:
+        """Put a front end's grey image and stats in memory (instead of :meth:`run`)."""
+        self._shape = grey.shape
+        self._n_lab = len(stats)
+        self.arm.write(self.GREY, np.ascontiguousarray(grey).tobytes())
+        self.arm.write(self.STATS, np.ascontiguousarray(stats, np.int32).tobytes())
+
+    def radial_symbol(self, f_px: int, u0_px: int, v0_px: int
+                      ) -> tuple[tuple[int, ...] | None, Timing]:
+        """The radial symbol on the frame of the last :meth:`run` (its grey and stats)."""
+        a, base = self.arm, DATA_BASE
+        h, w = self._shape
+        found, t = a.call("mg_radial_symbol", base + self.GREY, w, h, base + self.STATS,
+                          self._n_lab, f_px, u0_px, v0_px, base + self.SCRATCH, base + self.OUT)
+        res = struct.unpack("<6i", a.read(base + self.OUT, 24)) if found else None
+        return res, t
+
+
+def progress_stderr(msg: str) -> None:
+    """Progress line on stderr."""
+    print(msg, file=sys.stderr, flush=True)

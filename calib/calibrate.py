@@ -1,0 +1,208 @@
+"""Modelled against emulated ARM920T time, per host stage, over a frame corpus.
+
+For each stage of :data:`STAGES` and each corpus frame given to a detector that runs it, the
+modelled time is the stage's ``OpCounts`` from the Python kernel (host/budget.py constants) and
+the emulated time is the same stage's C (hostc/) run as ARM920T code under calib/arm.py's
+timing model; the emulated result is checked against the Python one on every frame. Per stage:
+medians, p95, max, the ratio modelled / emulated, the instruction mix, CPI and the shares of
+line fills and interlocks.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import os
+import subprocess
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from mobigrasp.calib import arm, corpus, timing
+from mobigrasp.host.budget import FCLK_HZ
+from mobigrasp.host.vision import dark_blobs, grey, radial_symbol
+
+FRONT_END = ("radial_symbol", "dual_plus", "spoke")  # start with dark_blobs.dark_components
+
+
+@dataclass(frozen=True)
+class StageDef:
+    """A calibrated stage: the detectors whose frames it runs on."""
+
+    name: str
+    detectors: tuple[str, ...]
+
+
+STAGES = (StageDef("grey", (*FRONT_END, "double_cross")),
+          StageDef("dark_threshold", FRONT_END),
+          StageDef("labelling", FRONT_END),
+          # a detector's stage: its work after the front end, per call
+          StageDef("radial_symbol", ("radial_symbol",)))
+DETECTOR_STAGES = ("radial_symbol",)
+
+
+def modelled_us(stage: str, height: int, width: int) -> float:
+    """The cost model's time of a whole-frame stage (their counts depend on the size only)."""
+    n = int(height) * int(width)
+    ops = {"grey": lambda: grey.grey_cost(height, width),
+           "dark_threshold": lambda: dark_blobs.dark_mask_cost(n),
+           "labelling": lambda: dark_blobs.components_cost(n)}[stage]()
+    return ops.cycles() * 1e6 / FCLK_HZ
+
+
+def _python_stages(rgb: np.ndarray) -> dict[str, tuple[object, int]]:
+    """Stage -> (result, modelled cycles) from the Python kernels."""
+    g, g_ops = grey.to_grey(rgb)
+    m, t, m_ops = dark_blobs.dark_mask(g)
+    n, labels, stats, l_ops = dark_blobs.components(m)
+    return {"grey": (g, g_ops.cycles()), "dark_threshold": ((m, t), m_ops.cycles()),
+            "labelling": ((n, labels, stats), l_ops.cycles())}
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, tuple):
+        return len(a) == len(b) and all(_same(x, y) for x, y in zip(a, b, strict=True))
+    if isinstance(a, np.ndarray) or isinstance(b, np.ndarray):
+        return np.array_equal(np.asarray(a), np.asarray(b))
+    return a == b
+
+
+def select_frames(index: dict, per_scenario: int | None) -> list[dict]:
+    """Corpus frames that some stage runs on: all, or ``per_scenario`` spread evenly over each
+    scenario's (the same ones every time)."""
+    wanted = {d for s in STAGES for d in s.detectors}
+    by_sc: dict[str, list[dict]] = {}
+    for fr in index["frames"]:
+        if any(c["detector"] in wanted for c in fr["calls"]):
+            by_sc.setdefault(fr["scenario"], []).append(fr)
+    out = []
+    for frames in by_sc.values():
+        if per_scenario is None or len(frames) <= per_scenario:
+            out += frames
+        else:
+            step = len(frames) / per_scenario
+            out += [frames[int(k * step)] for k in range(per_scenario)]
+    return out
+
+
+def _pct(values: list[float], q: float) -> float:
+    return float(np.percentile(np.asarray(values, float), q)) if values else 0.0
+
+
+def _commit() -> str:
+    root = Path(__file__).resolve().parents[1]
+    try:
+        head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"],
+                              capture_output=True, text=True, timeout=10).stdout.strip()
+        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--", "host",
+                                "hostc", "calib"], capture_output=True, text=True,
+                               timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return "unknown"
+    return (head + ("+dirty" if dirty else "")) if head else "unknown"
+
+
+def calibrate(folder: Path, per_scenario: int | None = 10,
+              line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None) -> dict:
+    """The calibration result (JSON-able); see docs/budget.md for the fields."""
+    index = corpus.read_index(folder)
+    frames = select_frames(index, per_scenario)
+    machine = arm.Arm9(arm.build(progress), line_fill_cycles)
+    front = arm.FrontEnd(machine)
+    per: dict[str, dict[str, list]] = {s.name: {"mod": [], "emu": [], "t": []} for s in STAGES}
+    mismatch = dict.fromkeys(per, 0)
+    shape = None
+    calls_by_file: dict[str, list[corpus.Call]] = {}
+    for c in corpus.calls(folder, index):
+        calls_by_file.setdefault(c.frame_file, []).append(c)
+
+    def add(name, ok, modelled, t):
+        mismatch[name] += 0 if ok else 1
+        per[name]["mod"].append(modelled)
+        per[name]["emu"].append(t.cycles)
+        per[name]["t"].append(t)
+
+    for k, fr in enumerate(frames):
+        rgb = corpus.load_frame(folder, fr)
+        h, w = rgb.shape[:2]
+        shape = shape or [h, w]
+        calls = calls_by_file.get(fr["file"], [])
+        dets = {c.detector for c in calls}
+        active = [s.name for s in STAGES if dets & set(s.detectors)
+                  and s.name not in DETECTOR_STAGES]
+        py = _python_stages(rgb)
+        emu = front.run(rgb, upto="labelling" if dets & set(FRONT_END) else "grey")
+        for name in active:
+            add(name, _same(emu[name][0], py[name][0]), py[name][1], emu[name][1])
+        front_cycles = dark_blobs.front_end_min_ops(h, w).cycles()
+        for c in calls:
+            if c.detector == "radial_symbol":
+                res, ops = radial_symbol.detect_radial_symbol(rgb, *c.camera)
+                got, t = front.radial_symbol(*c.camera)
+                want = None if res is None else dataclasses.astuple(res)
+                add("radial_symbol", got == want, ops.cycles() - front_cycles, t)
+        if progress is not None:
+            progress(f"calibrate: frame {k + 1}/{len(frames)} ({fr['file']})")
+    us = 1e6 / FCLK_HZ
+    stages = {}
+    for name, d in per.items():
+        if not d["emu"]:
+            continue
+        ts = d["t"]
+        instr = sum(t.instructions for t in ts)
+        cyc = sum(t.cycles for t in ts)
+        mix = {c: round(sum(t.mix[c] for t in ts) / instr, 4) for c in timing.CLASSES}
+        ratios = [m / e for m, e in zip(d["mod"], d["emu"], strict=True)]
+        stages[name] = {
+            "frames": len(ts),
+            "modelled_median_us": round(_pct(d["mod"], 50) * us, 1),
+            "modelled_max_us": round(max(d["mod"]) * us, 1),
+            "emulated_median_us": round(_pct(d["emu"], 50) * us, 1),
+            "emulated_p95_us": round(_pct(d["emu"], 95) * us, 1),
+            "emulated_max_us": round(max(d["emu"]) * us, 1),
+            "ratio_median": round(_pct(ratios, 50), 3),
+            "ratio_min": round(min(ratios), 3), "ratio_max": round(max(ratios), 3),
+            "cpi": round(cyc / instr, 3),
+            "instructions_median": int(_pct([t.instructions for t in ts], 50)),
+            "mix": mix,
+            "line_fill_share": round(sum(t.fill_cycles for t in ts) / cyc, 4),
+            "interlock_share": round(sum(t.interlock_cycles for t in ts) / cyc, 4),
+            "taken_branch_share": round(2 * sum(t.taken_branches for t in ts) / cyc, 4),
+            "read_miss_rate": round(sum(t.read_misses for t in ts)
+                                    / max(1, sum(t.reads for t in ts)), 4),
+            "result_mismatches": mismatch[name],
+        }
+    return {"format": "mobigrasp-calibration/1", "commit": _commit(), "corpus": str(folder),
+            "fclk_hz": FCLK_HZ, "line_fill_cycles": int(line_fill_cycles),
+            "frames_per_scenario": per_scenario, "frames": len(frames), "frame_shape": shape,
+            "stages": stages}
+
+
+def default_path() -> Path:
+    """Where the last calibration is kept for ``mobigrasp profile``."""
+    from mobigrasp.calib.native import cache_dir
+
+    return cache_dir() / "calibration.json"
+
+
+def write(result: dict, path: Path | None = None) -> Path:
+    """Write ``result`` as JSON (atomically) to ``path`` or :func:`default_path`."""
+    path = Path(path) if path is not None else default_path()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(path.name + f".tmp{os.getpid()}")
+    tmp.write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
+    tmp.replace(path)
+    return path
+
+
+def load_last(path: Path | None = None) -> dict | None:
+    """The last calibration written, or None when there is none (or it is unreadable)."""
+    path = Path(path) if path is not None else default_path()
+    try:
+        data = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return None
+    if not isinstance(data, dict) or not isinstance(data.get("stages"), dict):
+        return None
+    return data

@@ -1,0 +1,148 @@
+"""The C kernels of ``hostc/`` built with the host's C compiler through cffi, as numpy calls.
+
+The build goes to a cache folder keyed by the hash of the sources (``$XDG_CACHE_HOME`` or
+``~/.cache``, ``mobigrasp/hostc-<hash>``), so it is made once per change of the C. Each wrapper
+takes and returns the arrays of its Python counterpart in host/vision/.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import os
+import sys
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+HOSTC = Path(__file__).resolve().parents[1] / "hostc"
+SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c")
+CDEF = """
+void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
+int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
+int32_t mg_label(const uint8_t *mask, int32_t w, int32_t h, int32_t *labels,
+                 int32_t *block_lab, int32_t *parent, int32_t *stats);
+int mg_edge_q4(const uint8_t *line, int32_t stride, int32_t n, int32_t i_dark, int32_t step,
+               int32_t *out_q4);
+int32_t mg_radial_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_t *stats,
+                         int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
+                         uint8_t *scratch, int32_t *out);
+"""
+
+
+def source_hash() -> str:
+    """Hash of the C sources and header (the cache key of both builds)."""
+    h = hashlib.sha256()
+    for name in ("kernels.h", *SOURCES):
+        h.update(name.encode() + b"\0" + (HOSTC / name).read_bytes())
+    return h.hexdigest()[:16]
+
+
+def cache_dir() -> Path:
+    """Where the builds are kept."""
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "mobigrasp"
+
+
+@lru_cache(maxsize=1)
+def lib():
+    """The compiled module's ``(ffi, lib)``, built on first use."""
+    from cffi import FFI
+
+    name = f"_mg_hostc_{source_hash()}"
+    out = cache_dir() / f"hostc-{source_hash()}"
+    out.mkdir(parents=True, exist_ok=True)
+    built = list(out.glob(f"{name}*.so"))
+    if not built:
+        ffi = FFI()
+        ffi.cdef(CDEF)
+        ffi.set_source(name, '#include "kernels.h"', sources=[str(HOSTC / s) for s in SOURCES],
+                       include_dirs=[str(HOSTC)], extra_compile_args=["-std=c99", "-O2"])
+        built = [Path(ffi.compile(tmpdir=str(out), verbose=False))]
+    spec = importlib.util.spec_from_file_location(name, built[0])
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[name] = mod
+    spec.loader.exec_module(mod)
+    return mod.ffi, mod.lib
+
+
+def _ptr(ffi, a: np.ndarray, ctype: str):
+    return ffi.cast(ctype, ffi.from_buffer(a))
+
+
+def grey(rgb: np.ndarray) -> np.ndarray:
+    """(H, W) uint8 grey of an (H, W, 3) uint8 frame."""
+    ffi, c = lib()
+    rgb = np.ascontiguousarray(rgb)
+    out = np.empty(rgb.shape[:2], np.uint8)
+    c.mg_grey(_ptr(ffi, rgb, "uint8_t *"), _ptr(ffi, out, "uint8_t *"), out.size)
+    return out
+
+
+def dark_mask(grey_img: np.ndarray) -> tuple[np.ndarray, int]:
+    """(mask 0/1 uint8, threshold) of a grey image."""
+    ffi, c = lib()
+    g = np.ascontiguousarray(grey_img)
+    mask = np.empty_like(g)
+    hist = np.empty(256, np.uint32)
+    t = c.mg_dark_mask(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, mask, "uint8_t *"), g.size,
+                       _ptr(ffi, hist, "uint32_t *"))
+    return mask, int(t)
+
+
+def label_scratch_words(h: int, w: int) -> tuple[int, int]:
+    """Words of the block-label and parent scratch buffers of :func:`label` (stats: 5 per
+    parent entry)."""
+    blocks = ((w + 1) // 2) * ((h + 1) // 2)
+    return blocks, blocks + 1
+
+
+def label(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
+    """(n_labels, labels int32, stats int32 (n, 5)) of a 0/1 mask, 8-connected."""
+    ffi, c = lib()
+    m = np.ascontiguousarray(mask)
+    h, w = m.shape
+    nb, npar = label_scratch_words(h, w)
+    labels = np.empty((h, w), np.int32)
+    block_lab = np.empty(nb, np.int32)
+    parent = np.empty(npar, np.int32)
+    stats = np.empty((npar, 5), np.int32)
+    n = c.mg_label(_ptr(ffi, m, "uint8_t *"), w, h, _ptr(ffi, labels, "int32_t *"),
+                   _ptr(ffi, block_lab, "int32_t *"), _ptr(ffi, parent, "int32_t *"),
+                   _ptr(ffi, stats, "int32_t *"))
+    return int(n), labels, stats[:n].copy()
+
+
+def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
+    """The C ``mg_edge_q4`` on a 1-D uint8 line (None when there is no edge)."""
+    ffi, c = lib()
+    ln = np.ascontiguousarray(line, np.uint8)
+    out = ffi.new("int32_t *")
+    ok = c.mg_edge_q4(_ptr(ffi, ln, "uint8_t *"), 1, len(ln), int(i_dark), int(step), out)
+    return int(out[0]) if ok else None
+
+
+def radial_symbol(grey_img: np.ndarray, stats: np.ndarray, f_px: int = 611, u0_px: int = 160,
+                  v0_px: int = 120) -> tuple[int, ...] | None:
+    """(u_q4, v_q4, diameter_q4, y_oc_mm, x_oc_mm, z_oc_mm) of the radial symbol, from the
+    front end's grey image and component stats, or None."""
+    ffi, c = lib()
+    g = np.ascontiguousarray(grey_img)
+    h, w = g.shape
+    st = np.ascontiguousarray(stats, np.int32)
+    scratch = np.empty(c.mg_radial_scratch_bytes(w, h) // 4 + 1, np.int32)
+    out = np.zeros(6, np.int32)
+    found = c.mg_radial_symbol(_ptr(ffi, g, "uint8_t *"), w, h, _ptr(ffi, st, "int32_t *"),
+                               len(st), f_px, u0_px, v0_px, _ptr(ffi, scratch, "uint8_t *"),
+                               _ptr(ffi, out, "int32_t *"))
+    return tuple(int(v) for v in out) if found else None
+
+
+def detect_radial_symbol(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
+                         v0_px: int = 120) -> tuple[int, ...] | None:
+    """The whole detector in C: grey, dark mask, labelling, radial symbol."""
+    m, _ = dark_mask(grey(rgb))
+    _, _, stats = label(m)
+    return radial_symbol(grey(rgb), stats, f_px, u0_px, v0_px)

@@ -1,0 +1,192 @@
+"""``mobigrasp sim`` as a function: a scenario's MCU and world, paced to wall time, served to a
+host program on a pty with the camera over HTTP; the run folder at the end.
+
+The rig and the session loop are those of ``mobigrasp run`` (cosim/rig.py, cosim/session.py):
+simulated time is the rig's, the wall clock only paces it (``speed``). The host side is an
+:class:`~mobigrasp.cosim.serve.external_host.ExternalHost` (whatever opens the pty slave) and the
+grants' frames go to the :class:`~mobigrasp.cosim.serve.mjpeg.CameraServer`. The session ends when
+the program closes the port (after it spoke), at the scenario's time limit, or when ``stop()`` says
+so (the command's Ctrl-C/SIGTERM). The run folder is the one ``mobigrasp run`` writes (summary.json,
+trace.jsonl; the command adds plots/ and report.html); ``grasped``, the contacts and the safety
+block are judged from the world, since an external host reports no task state.
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from mobigrasp.mcu_sim.backend import MCU_BACKENDS, open_mcu
+
+# quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
+# the rig reads exactly the bytes the ExternalHost announced
+QUANTUM_US = 5_000
+COUPLE_US = 2_500
+
+class BadSimInput(ValueError):
+    """Unknown scenario, bad option, camera port in use: exit code 2, one line."""
+
+
+@dataclass
+class SimOptions:
+    """Options of one ``mobigrasp sim`` session."""
+
+    scenario: str
+    speed: float = 1.0
+    mcu: str = "python"
+    camera_port: int = 0  # 0: any free port
+    out: Path | None = None
+    seed: int | None = None
+    time_limit_s: float | None = None
+    progress: bool = True
+    # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
+    resolved: tuple[Path, Any] | None = None
+
+
+def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
+    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}-sim"
+    if out.exists():
+        if not out.is_dir():
+            raise BadSimInput(f"--out {out} is a file, not a run folder")
+        if any(out.iterdir()) and not (out / "summary.json").exists():
+            raise BadSimInput(f"--out {out} exists and is not a run folder (no summary.json): "
+                              f"refusing to overwrite it")
+    return out
+
+
+def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
+          stop: Callable[[], str | None] | None = None) -> dict:
+    """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
+    summary (also written to the run folder). Raises BadSimInput for bad input."""
+    from mobigrasp.cosim.serve.external_host import ExternalHost
+    from mobigrasp.cosim.serve.mjpeg import CameraPortInUse, CameraServer
+    from mobigrasp.link.registry import open_transport
+
+    if opts.mcu not in MCU_BACKENDS:
+        raise BadSimInput(f"--mcu must be one of {', '.join(MCU_BACKENDS)}, got {opts.mcu!r}")
+    if not (isinstance(opts.speed, float | int) and 0 < opts.speed <= 100):
+        raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
+    if opts.resolved is None:
+        raise BadSimInput(f"scenario {opts.scenario!r} not resolved")
+    path, scenario = opts.resolved
+    seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    name = scenario.meta.name
+    out = _out_dir(opts, name, seed)
+    try:
+        camera = CameraServer(opts.camera_port)
+    except (CameraPortInUse, ValueError) as exc:
+        raise BadSimInput(str(exc)) from exc
+    transport = None
+    try:
+        import cv2
+
+        cv2.setNumThreads(1)  # the host program has the other core
+        transport = open_transport("pty://")
+        host = ExternalHost(transport, on_frame=lambda rgb, t_us: camera.publish(rgb))
+        return _run(opts, path, scenario, seed, out, camera, host, transport.slave_path,
+                    on_ready, stop)
+    finally:
+        if transport is not None:
+            transport.close()
+        camera.close()
+
+
+def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
+    from mobigrasp.cosim.faulted_host import wrap_for_faults
+    from mobigrasp.cosim.rig import Rig, RigConfig
+    from mobigrasp.cosim.rig_plant import WorldPlant
+    from mobigrasp.cosim.run_folder import TraceWriter, write_summary
+    from mobigrasp.cosim.session import SessionResult, run_session
+    from mobigrasp.mcu_sim.faults.plan import FaultPlan
+
+    name = scenario.meta.name
+    if out.exists():
+        shutil.rmtree(out)
+    (out / "plots").mkdir(parents=True)
+    summary: dict[str, Any] = {
+        "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
+        "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
+        "serial": serial, "camera": camera.url, "status": "starting", "success": False,
+        "grasped": False,
+    }
+    write_summary(out / "summary.json", summary)
+    trace = TraceWriter(out / "trace.jsonl")
+    plant = WorldPlant(scenario, seed)
+    plant.preload()
+    mcu = open_mcu(opts.mcu)
+    plan = getattr(scenario, "faults", None) or FaultPlan()
+    fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
+    summary["faults_plan"] = plan.as_table()
+    rig = Rig(rig_mcu, rig_plant, host.port,
+              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0))
+    limit_s = opts.time_limit_s or scenario.meta.time_limit_s
+    trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": "external", "seed": seed,
+                 "robot": [scenario.robot.x_m, scenario.robot.y_m, scenario.robot.heading_rad],
+                 "target": [scenario.target.x_m, scenario.target.y_m],
+                 "obstacles": [vars(o) for o in scenario.obstacles]})
+
+    def why_stop() -> str | None:
+        if host.host_closed:
+            return "host_closed"
+        return stop() if stop is not None else None
+
+    progress = None
+    if opts.progress:
+        def progress(res, wall):
+            print(f"\r  t={rig.now_us / 1e6:7.2f} s  from host {host.bytes_from_host} B  "
+                  f"to host {host.bytes_to_host} B  frames {camera.frames_published} ",
+                  end="", file=sys.stderr, flush=True)
+
+    res = SessionResult()
+    on_ready(serial, camera.url)
+    summary["status"] = "running"
+    try:
+        run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
+                    truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
+                    speed=opts.speed, progress=progress, stop=why_stop)
+        summary["status"] = "finished"
+    except Exception as exc:
+        summary["status"] = "crashed"
+        summary["error"] = f"{type(exc).__name__}: {exc}"
+        print(f"\nsim crashed: {summary['error']}", file=sys.stderr)
+    finally:
+        # the streams end now, not after the report: a client's blocking read returns
+        camera.close()
+        if opts.progress:
+            print("", file=sys.stderr)
+        trace.close()
+        summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
+        summary["mcu_stats"] = mcu.stats()
+        summary["faults"], summary["safety"] = fault_rig.summary()
+        write_summary(out / "summary.json", summary)
+    summary["run_folder"] = str(out)
+    return summary
+
+
+def _figures(res, plant, rig, host, camera, trace, limit_s: float) -> dict:
+    fin = plant.final()
+    grasped = bool(fin["grasped"] or fin["grasps"])
+    grasp_us = fin.get("grasp_us")
+    wall = res.wall_s
+    return {
+        "success": grasped, "grasped": grasped, "task_state": "external",
+        "end_reason": res.reason,
+        "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
+        "final_error_mm": fin.get("final_error_mm"),
+        "collisions": int(fin["collisions"].get("obstacle", 0)),
+        "collisions_target": int(fin["collisions"].get("target", 0)),
+        "min_obstacle_clearance_m": fin["min_obstacle_clearance_m"],
+        "path_length_m": fin["path_length_m"],
+        "sim_time_s": res.end_us / 1e6, "time_limit_s": limit_s, "wall_time_s": wall,
+        "realtime_factor": (res.end_us / 1e6 / wall) if wall > 0 else None,
+        "line": host.stats(),
+        "camera_frames": {"captured": rig.stats["frames_captured"],
+                          "published": camera.frames_published,
+                          "stream_parts_sent": camera.parts_sent},
+        "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
+        "error": res.error,
+    }

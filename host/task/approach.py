@@ -1,0 +1,145 @@
+"""APPROACH: the common entry, and the path approach of 000 and 001.
+
+000 / 001 follow the best Bezier path (host.planning, host.control.path_follow) while the
+posture adjustment (host.posture, eq. (10) of 000) keeps the object in view from the odometry
+estimate; ADJUST takes over near the object. The planner and what the sonars add (001's
+replanning of §III.E, its detours) are the method's (:class:`PathMethod`, method000.py and
+method001.py); 002 approaches with its fuzzy controller instead (method002.py). Each handler
+takes the task ``t`` first.
+"""
+
+from __future__ import annotations
+
+from abc import abstractmethod
+from typing import Any
+
+from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
+from mobigrasp.host.task.drive import make_pose, turn_in_place
+from mobigrasp.host.task.method import Method
+
+
+class ApproachStates:
+    """APPROACH: its entry action and step (the method's), and the path approach."""
+
+    def enter_APPROACH(self, t, now: int, inp) -> None:
+        t.follower, t.plan_attempts = None, 0
+        t.rules.enter_approach(t, now, inp)
+
+    def do_APPROACH(self, t, now: int, inp, dets: dict) -> None:
+        t.rules.approach(t, now, inp, dets)
+
+    def follow_path(self, t, now: int, inp, dets: dict) -> None:
+        """One step of the path approach (000 §III.B.1, 001 §III)."""
+        rules = t.rules
+        det = dets.get("radial_symbol")
+        if det is not None and rules.sighting_usable(t, now, inp):
+            t.see_object(now, inp, "radial_symbol", det)
+        moved = (t.plan_obj is not None and isqrt((t.obj[0] - t.plan_obj[0]) ** 2 + (
+            t.obj[1] - t.plan_obj[1]) ** 2) > t.p.replan_shift_mm)
+        replan = rules.sonar_replan(t, now, inp, moved)
+        if replan is not None:
+            if replan:
+                return
+        elif t.follower is None or moved:
+            if rules.hold_before_plan(t, now, inp):
+                return
+            if t.follower is None and t.plan_attempts and not self._face_object(t, inp):
+                return  # no feasible curve from here: face the object in place, then replan
+            self._plan(t, now, inp)
+            if t.state != "APPROACH" or t.follower is None:
+                t.wheels = (0, 0)
+                return
+        t.look_at_object(inp)
+        x, y = t.obj_platform(inp)
+        dist = isqrt(x * x + y * y) // 16
+        cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
+        t.wheels = rules.path_wheels(cmd)
+        if cmd.done or dist <= t.p.grasp_r_mm + 100:
+            t.go(now, "ADJUST", f"path followed (error {cmd.error_mm} mm), object {dist} mm "
+                 f"from the waist")
+        elif rules.adjust_early(t, now, inp, dist):
+            t.go(now, "ADJUST", f"object in view {dist} mm from the waist, nothing in the "
+                 f"way: vision-based adjustment (000 §III.B) from here")
+
+    def _plan(self, t, now: int, inp) -> None:
+        rules = t.rules
+        follower, ops, detail = rules.plan(t, now, inp)
+        t.charge(ops)
+        t.counters["plans"] += 1
+        t.note(plan=detail)
+        t.plan_us, t.plan_obj = now, t.obj
+        if follower is not None:
+            t.follower = follower
+            return
+        if "already" in detail["reason"]:
+            t.go(now, "ADJUST", f"no path needed: {detail['reason']}")
+            return
+        t.plan_attempts += 1
+        if t.plan_attempts >= t.p.max_plan_attempts:
+            x, y = t.obj_platform(inp)
+            dist = isqrt(x * x + y * y) // 16
+            if dist <= t.p.direct_max_mm and not rules.way_blocked(t, inp, dist):
+                # the close approach can do it
+                t.go(now, "ADJUST", f"no feasible curve ({detail['reason']}); object "
+                     f"{dist} mm away: direct approach")
+            elif rules.start_detour(t, inp):
+                t.plan_attempts, t.follower = 0, None
+            else:  # not straight into something in the way (docs/cosim.md "Measured", T4)
+                t.fail(now, f"no feasible approach path: {detail['reason']}")
+
+    def _face_object(self, t, inp) -> bool:
+        """Turn the base in place toward the object; True once it faces it (ours, not the
+        papers': a curve from a standstill facing away can violate A_max or R_min)."""
+        x, y = t.obj_platform(inp)
+        bearing = atan2_mrad(x, y + t.p.mount_forward_mm * 16)  # seen from the axle
+        if abs(bearing) <= t.p.bearing_tol_mrad:
+            t.wheels = (0, 0)
+            return True
+        t.wheels = turn_in_place(-1 if bearing > 0 else 1, t.p.turn_wheel_mmps)
+        return False
+
+
+PATH = ApproachStates()
+
+
+class PathMethod(Method):
+    """A method whose APPROACH follows a planned path (000, 001): the hooks of
+    :meth:`ApproachStates.follow_path`."""
+
+    def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
+        PATH.follow_path(t, now, inp, dets)
+
+    @abstractmethod
+    def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
+        """Plan from the present pose toward ``t.obj``: (follower or None, ops, trace detail
+        with at least ``reason``)."""
+
+    @abstractmethod
+    def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
+        """This step's radial symbol may update the object estimate."""
+
+    @abstractmethod
+    def sonar_replan(self, t: Any, now: int, inp: Any, moved: bool) -> bool | None:
+        """The sonar check of the path being followed: None when none is due; else True when
+        the step ends here (the base stopped), False to follow on."""
+
+    @abstractmethod
+    def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
+        """Do something else than plan in this step (True: the wheels are set)."""
+
+    @abstractmethod
+    def way_blocked(self, t: Any, inp: Any, dist_mm: int) -> bool:
+        """With no feasible curve: the straight close approach toward the object
+        ``dist_mm`` away is blocked."""
+
+    @abstractmethod
+    def start_detour(self, t: Any, inp: Any) -> bool:
+        """With no feasible curve and no direct approach: start a drive aside (True) or not."""
+
+    @abstractmethod
+    def path_wheels(self, cmd: Any) -> tuple[int, int]:
+        """Wheel speeds from the path follower's command."""
+
+    @abstractmethod
+    def adjust_early(self, t: Any, now: int, inp: Any, dist_mm: int) -> bool:
+        """Hand over to ADJUST before the path's end, the object ``dist_mm`` from the waist."""

@@ -1,0 +1,100 @@
+"""What differs between the papers' methods, behind one interface the state machine calls.
+
+The machine (host/task/machine.py) and the state groups (search.py, approach.py, adjust.py,
+grasp.py) are the same for every method; where 000, 001 and 002 differ they ask the task's
+:class:`Method` object (``task.rules``), chosen once by name from :data:`METHODS`. Each
+method's module holds its part: method000.py (radial symbol, dual "+", spoke, Bezier paths of
+eq. (9), the gripper down), method001.py (000's vision with 001's sonar replanning of eq. (17)
+and §III.E), method002.py (double cross, fuzzy approach, red cylinder, the level gripper of
+eq. (4)).
+
+A hook takes the task ``t`` first and reads and sets the task's state through it.
+"""
+
+from __future__ import annotations
+
+import importlib
+from abc import ABC, abstractmethod
+from typing import Any
+
+from mobigrasp.host.task.sense import CameraModel
+
+
+class Method(ABC):
+    """One paper's method: its constants and the hooks of the states where it differs."""
+
+    name: str
+    link_lengths_mm: tuple[float, float, float]  # l2, l3, l4 of the arm the method assumes
+    camera: CameraModel
+    param_defaults: dict  # TaskParams fields whose defaults differ for this method
+    detectors: dict[str, tuple[str, ...]]  # state -> detectors it runs (host/vision/registry)
+    search_detector: str  # what SEARCH looks for
+    adjust_detector: str  # what ADJUST closes in on
+    check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
+    grasp_alpha_mrad: int  # gripper pitch of the grasp before the rough grasp chooses one
+    keeps_sightings: bool  # SEARCH: an unconfirmed sighting seen again at its place counts
+
+    # --- SEARCH --------------------------------------------------------------------------------
+    @abstractmethod
+    def found(self, t: Any, now: int, inp: Any, name: str, det: Any) -> bool:
+        """The search detector's result ``det`` gives a usable object or bearing (kept)."""
+
+    @abstractmethod
+    def found_why(self, t: Any) -> str:
+        """The transition's reason once the search has found the object."""
+
+    # --- APPROACH ------------------------------------------------------------------------------
+    @abstractmethod
+    def enter_approach(self, t: Any, now: int, inp: Any) -> None:
+        """Entry action of APPROACH, after the common reset of the path follower."""
+
+    @abstractmethod
+    def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
+        """One step of APPROACH."""
+
+    # --- ADJUST --------------------------------------------------------------------------------
+    @abstractmethod
+    def adjust_done(self, t: Any, now: int, det: Any, dist_mm: int) -> bool:
+        """ADJUST ends on this frame's ``det`` of the adjust detector (the transition made)."""
+
+    @abstractmethod
+    def adjust_vmax_mmps(self, p: Any) -> int:
+        """Speed limit of the close approach in ADJUST."""
+
+    # --- the arm -------------------------------------------------------------------------------
+    @abstractmethod
+    def look_height_mm(self, p: Any, top: bool) -> int:
+        """Height above the ground the posture adjustment keeps in view (``top``: the
+        object's marker; else the grasp height)."""
+
+    @abstractmethod
+    def grasp_ik(self, geom: Any, target_q4: tuple[int, int, int]) -> Any:
+        """The method's grasp pose for a platform-frame target (ArmPose or Unreachable)."""
+
+    @abstractmethod
+    def rough_target(self, t: Any, inp: Any) -> tuple[int, int, int]:
+        """ROUGH_GRASP: where the gripper goes first (platform frame, Q4 mm)."""
+
+    @abstractmethod
+    def lowers_hover(self) -> bool:
+        """ROUGH_GRASP: an unreachable target may be tried lower (the hover height)."""
+
+    @abstractmethod
+    def enter_precise(self, t: Any, now: int, inp: Any) -> None:
+        """Entry action of PRECISE_GRASP (after the step counter and phase clock reset)."""
+
+
+# Method name -> module holding its class ``RULES``.
+METHODS = {"000": "mobigrasp.host.task.method000", "001": "mobigrasp.host.task.method001",
+           "002": "mobigrasp.host.task.method002"}
+_LOADED: dict[str, Method] = {}
+
+
+def method_rules(name: str) -> Method:
+    """The method object of ``name`` (one per name); unknown name -> ValueError naming it."""
+    rules = _LOADED.get(name)
+    if rules is None:
+        if name not in METHODS:
+            raise ValueError(f"method must be one of {tuple(METHODS)}, got {name!r}")
+        rules = _LOADED[name] = importlib.import_module(METHODS[name]).RULES
+    return rules

@@ -1,0 +1,144 @@
+"""Paper 000's method: radial symbol, Bezier path of eq. (9), dual "+", spoke, gripper down.
+
+SEARCH looks for the radial symbol (000 §III.A); APPROACH follows the best Bezier curve of
+eq. (9) (host.planning.bezier000) toward the stand-off point; ADJUST closes in on the dual "+"
+(§III.B); ROUGH_GRASP hovers above the nearer "+" with the gripper pitched alpha_T = -pi/2 by
+eq. (11); PRECISE_GRASP rolls to pi/2 and aligns on the spoke (§III.C.2); the grasp check of
+LIFT looks for the dual "+" or the radial symbol still standing.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mobigrasp.host import kinematics
+from mobigrasp.host.control.path_follow import PathFollower, Trajectory
+from mobigrasp.host.fixedpoint import cos_q12, sin_q12
+from mobigrasp.host.planning.bezier000 import Params000, plan_000
+from mobigrasp.host.task.approach import PathMethod
+from mobigrasp.host.task.grasp import GRASP
+from mobigrasp.host.task.sense import CAMERA_000, odom_to_platform_q4
+
+MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
+
+
+def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
+                  obj_xy_mm: tuple[int, int], planner_params: Params000 | None = None
+                  ) -> tuple[PathFollower | None, Any, dict]:
+    """Plan with 000's planner from the pose toward the object; (follower, ops, detail).
+
+    ``detail`` holds what the trace needs for the plots: candidate count, feasible count, the
+    reason, the chosen control points and the modelled ARM9 time of the plan."""
+    h = heading_mrad / 1000.0
+    c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
+    start = (x_mm / 1000.0, y_mm / 1000.0)
+    vel = (v_mmps * c / 4096 / 1000.0, v_mmps * s / 4096 / 1000.0)
+    target = (obj_xy_mm[0] / 1000.0, obj_xy_mm[1] / 1000.0)
+    p = planner_params if planner_params is not None else Params000()
+    plan = plan_000(start, vel, target, p, heading_rad=h)
+    n_feasible = sum(1 for cand in plan.candidates if cand.feasible)
+    step = max(1, len(plan.candidates) // MAX_TRACE_CANDIDATES)
+    cands = [[list(map(float, row)) for row in plan.candidates[i].curve.ctrl]
+             for i in range(0, len(plan.candidates), step)]
+    detail: dict = {"planner": "000", "reason": plan.reason,
+                    "candidates": len(plan.candidates), "feasible": n_feasible,
+                    "plan_arm9_us": plan.ops.time_us(), "candidates_ctrl": cands}
+    if plan.best is None:
+        return None, plan.ops, detail
+    traj = Trajectory.from_curve(plan.best)
+    limit = int(round(p.v_max * 1000))
+    detail["best_ctrl"] = [list(map(float, row)) for row in plan.best.ctrl]
+    detail["duration_us"] = traj.duration_us
+    return PathFollower(traj, now_us, limit), plan.ops + traj.ops, detail
+
+
+class Method000(PathMethod):
+    """000: the hooks of the machine's states (host/task/method.py)."""
+
+    name = "000"
+    link_lengths_mm = (95.5, 89.0, 97.0)
+    camera = CAMERA_000
+    param_defaults: dict = {}
+    detectors = {"SEARCH": ("radial_symbol",), "APPROACH": ("radial_symbol",),
+                 "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
+                 "LIFT": ("dual_plus", "radial_symbol")}  # LIFT: the grasp check (grasp.py)
+    search_detector = "radial_symbol"
+    adjust_detector = "dual_plus"
+    check_detectors = ("dual_plus", "radial_symbol")
+    grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
+    keeps_sightings = True
+
+    # --- SEARCH --------------------------------------------------------------------------------
+    def found(self, t: Any, now: int, inp: Any, name: str, det: Any) -> bool:
+        return t.see_object(now, inp, name, det)
+
+    def found_why(self, t: Any) -> str:
+        return f"radial symbol seen, object at {t.obj} mm"
+
+    # --- APPROACH: the path of eq. (9) ---------------------------------------------------------
+    def enter_approach(self, t: Any, now: int, inp: Any) -> None:
+        pass
+
+    def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
+        pp = Params000(**{"standoff_m": t.p.approach_standoff_mm / 1000, **t.p.planner})
+        return plan_follower(now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, t.obj, pp)
+
+    def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
+        return True
+
+    def sonar_replan(self, t: Any, now: int, inp: Any, moved: bool) -> bool | None:
+        return None  # 000 plans once (again when the estimate moves); no sonar check
+
+    def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
+        return False
+
+    def way_blocked(self, t: Any, inp: Any, dist_mm: int) -> bool:
+        return False
+
+    def start_detour(self, t: Any, inp: Any) -> bool:
+        return False
+
+    def path_wheels(self, cmd: Any) -> tuple[int, int]:
+        return cmd.left_mm_s, cmd.right_mm_s
+
+    def adjust_early(self, t: Any, now: int, inp: Any, dist_mm: int) -> bool:
+        return False
+
+    # --- ADJUST --------------------------------------------------------------------------------
+    def adjust_done(self, t: Any, now: int, det: Any, dist_mm: int) -> bool:
+        return False  # the close approach decides (adjust.py)
+
+    def adjust_vmax_mmps(self, p: Any) -> int:
+        return p.adjust_vmax_mmps
+
+    # --- the arm -------------------------------------------------------------------------------
+    def look_height_mm(self, p: Any, top: bool) -> int:
+        return p.object_top_mm if top else p.grasp_height_mm
+
+    def grasp_ik(self, geom: Any, target_q4: tuple[int, int, int]) -> Any:
+        """Gripper down, eq. (11) of 000."""
+        return kinematics.ik_rough_grasp_000(geom, target_q4)
+
+    def rough_target(self, t: Any, inp: Any) -> tuple[int, int, int]:
+        """``hover_mm`` above the object top; over the nearer "+" when both are known, the
+        grasp itself on the axis (``grasp_xy_q4``)."""
+        target = GRASP.object_target_q4(t, inp, t.p.object_top_mm + t.p.hover_mm)
+        t.grasp_xy_q4 = target[:2]
+        if t.plus_odom is not None:  # hover over the nearer "+", grasp on the axis
+            pts = [odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                       t.p.mount_forward_mm, *q) for q in t.plus_odom]
+            near = min(pts, key=lambda q: q[0] * q[0] + q[1] * q[1])
+            target = (near[0], near[1], target[2])
+        return target
+
+    def lowers_hover(self) -> bool:
+        return True
+
+    def enter_precise(self, t: Any, now: int, inp: Any) -> None:
+        """Roll the wrist to pi/2 (000 §III.C.2), then align on the spoke."""
+        t.set_arm(now, *t.arm[2:6], th1=kinematics.ROLL_PRECISE_MRAD)
+        t.phase = "roll"
+        t.roll_scan = 0
+
+
+RULES = Method000()

@@ -1,0 +1,326 @@
+"""Paper 001's method: 000's vision and grasp with 001's sonar planning and replanning.
+
+The object position P_i may be given (001 §II, ``object_xy_mm``); APPROACH plans with eq. (17)
+over the infeasible regions of the sonar ring (eqs. (15)-(16), host.planning.bezier001) through
+host.planning.replan's Replanner, which checks the rest of the path against fresh sonar every
+``replan_period_us`` (§III.E). Ours, not 001's: the first plan waits for one sonar sweep;
+sightings taken while the base turns fast are not used; the follower never backs up; when no
+curve is feasible and the object is too far for the close approach, the base drives aside (the
+detour: toward the free direction nearest the object's bearing, ``detour_mm``, then plans
+again); the last part of the curve is handed to ADJUST while the object is in view.
+Integer mm / us; no I/O and no clock.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mobigrasp.host.fixedpoint import atan2_mrad
+from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
+from mobigrasp.host.planning.escape import escape_heading, segment_clear
+from mobigrasp.host.planning.replan import Replanner
+from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
+from mobigrasp.host.task.drive import path_follower, state_m, wrap_mrad
+from mobigrasp.host.task.method000 import Method000
+
+ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
+DETOUR_EXTRA_MM = 100  # a detour's way out is checked this much beyond its end (stopping)
+DETOUR_MARGIN_MM = 100  # ... against the infeasible regions grown by this: it drives open-loop
+SIGHTING_MAX_TURN_MRAD_S = 500  # APPROACH: sightings taken while turning faster are not used
+ADJUST_EARLY_MM_001 = 700  # APPROACH: ADJUST from this close with the object in view
+ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
+TURN_TOL_MRAD = 60  # the detour turns to within this of its heading before it drives
+DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
+DETOUR_DIAG_MM = 255
+
+
+def planner_params_001(task_params) -> Any:
+    """001's planner parameters for the task: ``task_params.planner`` (Params001 fields) over a
+    sonar ring whose sensors sit ``sonar_offset_mm`` from the centre (the 0.17 m footprint
+    circle): ranges are measured from there, η of eq. (15) is taken from the centre. Two
+    neighbours reporting the same echo (within ``sonar_shared_echo_mm``) see it in their overlap
+    only: eq. (15) would also give each one's own sub-region that echo, and a wall of sectors
+    ±0.8 m wide at 2.4 m then blocks every path past an obstacle that is well off it.
+    ``ARC_BOUND_001``: eq. (16)'s wedges are cut to the angles of the echo arc grown by R_r
+    (host.planning.sonar_regions), else an echo 0.4 m away blocks every start direction within
+    ±76 degrees of it, also those leading away from it."""
+
+    tol = task_params.sonar_shared_echo_mm
+    sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
+                        shared_echo_tol_m=tol / 1000.0 if tol > 0 else None,
+                        arc_angle_bound=ARC_BOUND_001)
+    return Params001(**{"sonar": sonar, **task_params.planner})
+
+
+def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
+              obj_xy_mm: tuple[int, int], sonar_mm: tuple, params=None):
+    """001's first plan through host.planning.replan.Replanner (which then watches the sonars):
+    (replanner, follower or None, ops, detail)."""
+
+    p = params if params is not None else Params001()
+    rp = Replanner((obj_xy_mm[0] / 1000.0, obj_xy_mm[1] / 1000.0), p)
+    pos, h, vel = state_m(x_mm, y_mm, heading_mrad, v_mmps)
+    plan = rp.start(now_us, pos, h, vel, [int(v) for v in sonar_mm])
+    detail = {"planner": "001", "reason": plan.reason, "candidates": len(plan.candidates),
+              "feasible": sum(1 for c in plan.candidates if c.feasible),
+              "plan_arm9_us": plan.ops.time_us()}
+    if plan.best is None:
+        return rp, None, plan.ops, detail
+    fol, ops = path_follower(plan.best, now_us, int(round(p.v_max * 1000)))
+    detail["best_ctrl"] = [list(map(float, row)) for row in plan.best.ctrl]
+    return rp, fol, plan.ops + ops, detail
+
+
+def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
+               obj_xy_mm: tuple[int, int], detour_mm: int, side: int = 0):
+    """001 detour heading (host.planning.escape): the direction nearest the object's bearing
+    whose straight ``detour_mm`` + DETOUR_EXTRA_MM stays out of the infeasible regions (eq.
+    (16)) of the present reading and of the replanner's memory, grown by DETOUR_MARGIN_MM;
+    ``side`` as in host.planning.escape.escape_heading. (heading_mrad or None, ops)"""
+    length_mm, margin_mm = detour_mm + DETOUR_EXTRA_MM, DETOUR_MARGIN_MM
+
+    pos, h, _ = state_m(x_mm, y_mm, heading_mrad, 0)
+    p = rp.params
+    scan = infeasible_regions(p.sonar, pos, h, [int(v) for v in sonar_mm])
+    regions = [r for r in scan.regions if not is_object_echo(r, rp.target, p.object_echo_tol_m)]
+    goal = atan2_mrad(obj_xy_mm[1] - y_mm, obj_xy_mm[0] - x_mm) / 1000.0
+    head, ops = escape_heading(regions + list(rp.memory), pos, h, goal, length_mm / 1000.0,
+                               margin_mm / 1000.0, side=side)
+    return (None if head is None else int(round(head * 1000))), ops
+
+
+def straight_clear_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
+                       obj_xy_mm: tuple[int, int], travel_mm: int):
+    """001: does the straight drive of ``travel_mm`` toward the object (the close approach of
+    000 §III.B, which has no obstacle test of its own) stay out of the infeasible regions (eq.
+    (16)) of the present reading and of the replanner's memory? (clear, ops)"""
+
+    pos, h, _ = state_m(x_mm, y_mm, heading_mrad, 0)
+    p = rp.params
+    scan = infeasible_regions(p.sonar, pos, h, [int(v) for v in sonar_mm])
+    regions = [r for r in scan.regions if not is_object_echo(r, rp.target, p.object_echo_tol_m)]
+    toward = atan2_mrad(obj_xy_mm[1] - y_mm, obj_xy_mm[0] - x_mm) / 1000.0
+    return segment_clear(regions + list(rp.memory), pos, toward, max(0, travel_mm) / 1000.0)
+
+
+def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
+               sonar_mm: tuple):
+    """001 §III.E: check the rest of the path against fresh sonar, replan when blocked.
+    Returns (decision, new follower or None, ops)."""
+    pos, h, vel = state_m(x_mm, y_mm, heading_mrad, v_mmps)
+    dec = rp.update(now_us, pos, h, vel, [int(v) for v in sonar_mm])
+    if not dec.replanned or dec.curve is None:
+        return dec, None, dec.ops
+    fol, ops = path_follower(dec.curve, now_us, int(round(rp.params.v_max * 1000)))
+    return dec, fol, dec.ops + ops
+
+
+def sonar_angles_mrad(n: int) -> list[int]:
+    """phi_k of 001 §III.C.2 (k = 1..n evenly from -pi/2, right, to pi/2, left), mrad."""
+    return [-1571 + k * 3142 // (n - 1) for k in range(n)] if n >= 2 else []
+
+
+def detour_heading(inp, obj_xy_mm: tuple, clear_mm: int, heading_mrad: int | None = None) -> dict:
+    """The detour's heading: ``heading_mrad`` when the caller found one clear of 001's
+    infeasible regions (host.planning.escape), else the free sonar direction nearest the
+    object's bearing; with none free a quarter turn left (the next sonar sweep decides again)."""
+    if heading_mrad is not None:
+        return {"heading_mrad": wrap_mrad(int(heading_mrad)), "drive": True, "from": None,
+                "checked": True}
+    bearing = atan2_mrad(obj_xy_mm[1] - inp.y_mm, obj_xy_mm[0] - inp.x_mm)
+    best = None
+    for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
+        h = wrap_mrad(inp.heading_mrad + phi)
+        off = abs(wrap_mrad(h - bearing))
+        if int(rng) >= clear_mm and (best is None or off < best[0]):
+            best = (off, h)
+    if best is None:
+        return {"heading_mrad": wrap_mrad(inp.heading_mrad + 1571), "drive": False, "from": None}
+    return {"heading_mrad": best[1], "drive": True, "from": None}
+
+
+def _blocked_ahead(sonar_mm: tuple) -> bool:
+    """The detour passes close beside obstacles (that is its point): stop only for an echo
+    straight ahead within DETOUR_STOP_MM, or at 45 degrees within DETOUR_DIAG_MM (a surface
+    point there is DETOUR_DIAG_MM / sqrt(2) = 180 mm aside: the 0.17 m footprint would touch)."""
+    n = len(sonar_mm)
+    if n < 3:
+        return False
+    mid = n // 2
+    ahead = int(sonar_mm[mid])
+    diag = (int(sonar_mm[mid - 1]), int(sonar_mm[mid + 1])) if n >= 5 else ()
+    return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
+
+
+
+class Method001(Method000):
+    """001: 000's hooks with the sonar planning of 001 (host/task/method.py)."""
+
+    name = "001"
+    link_lengths_mm = (160.0, 160.0, 200.0)
+    # the long 001 arm puts the camera ahead of a close object: finish on odometry sooner
+    param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 130, "hover_mm": 90,
+                      "blind_finish_mm": 250, "max_plan_attempts": 6}
+
+    # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
+    def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
+        if t.replanner is not None and t.obj == t.plan_obj:
+            # same object: the replanner keeps its remembered regions and slows down (replan.py)
+            dec, follower, ops = update_001(t.replanner, now, inp.x_mm, inp.y_mm,
+                                            inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
+            detail = {"planner": "001", "reason": dec.reason}
+            if dec.curve is not None:
+                detail["best_ctrl"] = [list(map(float, row)) for row in dec.curve.ctrl]
+            return follower, ops, detail
+        t.replanner, follower, ops, detail = start_001(
+            now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, t.obj, inp.sonar_mm,
+            planner_params_001(t.p))
+        return follower, ops, detail
+
+    def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
+        """Not while the base turned faster than SIGHTING_MAX_TURN_MRAD_S over the last frame
+        latency. Ours: the frame's capture time is known only as ``frame_latency_us`` ago (the
+        vision time varies by 10-25 ms), and the arm history holds servo targets, not where the
+        lagging servos were; at 1.5 rad/s (a tight 001 curve at low speed, a_t = v²κ allows it)
+        a sighting 0.4 m away is tens of mm off and the grasp on it misses (docs/cosim.md
+        "Measured", T2). The given P_i or an earlier sighting is kept instead."""
+        if not t.pose_hist:
+            return True
+        then = t.pose_at(now - t.p.frame_latency_us)
+        dt = max(1, now - then[0])
+        rate = abs(wrap_mrad(inp.heading_mrad - then[3])) * 1_000_000 // dt
+        return rate <= SIGHTING_MAX_TURN_MRAD_S
+
+    def sonar_replan(self, t: Any, now: int, inp: Any, moved: bool) -> bool | None:
+        """001 §III.E: every ``replan_period_us`` the sonars check the rest of the path; blocked
+        -> replan from here."""
+        if not (now - t.plan_us >= t.p.replan_period_us and t.follower is not None
+                and not moved and t.replanner is not None):
+            return None
+        dec, follower, ops = update_001(t.replanner, now, inp.x_mm, inp.y_mm,
+                                        inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
+        t.charge(ops)
+        t.plan_us = now
+        if dec.replanned:
+            t.follower = follower
+            t.counters["plans"] += 1
+            t.note(replan=dec.reason, plan={
+                "planner": "001", "reason": dec.reason,
+                "best_ctrl": [list(map(float, row)) for row in dec.curve.ctrl]})
+        elif dec.blocked and dec.curve is not None:
+            t.note(replan=dec.reason)  # blocked far ahead, no update yet: path kept
+        elif dec.curve is None:
+            t.follower = None  # nothing feasible: stop; the next step plans afresh
+            t.note(replan=dec.reason)
+            t.wheels = (0, 0)
+            return True
+        return False
+
+    def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
+        """The first plan waits for one full sonar sweep; a detour is driven to its end; a
+        new plan is made from standstill."""
+        if t.replanner is None and now - t.entered_us < t.p.sonar_sweep_us:
+            t.wheels = (0, 0)
+            return True
+        if t.detour is not None:
+            if not self.detour_step(t, inp):
+                return True
+            t.detour, t.plan_us = None, now  # done: stop, then plan afresh from here
+        if t.follower is None and t.replanner is not None and (
+                now - t.plan_us < 500_000 or abs(inp.v_mmps) > 30):
+            t.wheels = (0, 0)  # stop first, then replan from standstill
+            return True
+        return False
+
+    def way_blocked(self, t: Any, inp: Any, dist_mm: int) -> bool:
+        """An echo straight ahead well short of the object (its own echo is ~170 mm short of
+        the waist distance: ring 70 mm ahead of the waist plus its radius), or the straight
+        way to the object crossing an infeasible region of eq. (16) (an obstacle beside the
+        line, unseen by the front sonar; docs/cosim.md "Measured", T1)."""
+        n = len(inp.sonar_mm)
+        echo = n >= 3 and 0 < int(inp.sonar_mm[n // 2]) < dist_mm - 300
+        return echo or not self.straight_clear(t, inp, dist_mm)
+
+    def start_detour(self, t: Any, inp: Any) -> bool:
+        """Obstacles across the way and no curve around them from here: drive aside through
+        free sonar space (at most ``max_detours`` times), then plan again."""
+        if t.detours >= t.p.max_detours:
+            return False
+        t.detours += 1
+        head, ops = escape_001(t.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                               inp.sonar_mm, t.obj, t.p.detour_mm, t.detour_side)
+        t.charge(ops)
+        if head is not None and not t.detour_side:  # keep to the first one's side
+            off = wrap_mrad(head - atan2_mrad(t.obj[1] - inp.y_mm, t.obj[0] - inp.x_mm))
+            t.detour_side = (off > 0) - (off < 0)
+        t.detour = detour_heading(inp, t.obj, t.p.detour_clear_mm, head)
+        t.note(detour=dict(t.detour), detour_count=t.detours)
+        return True
+
+    def path_wheels(self, cmd: Any) -> tuple[int, int]:
+        """Ours: 001's sonar ring (S_1..S_k_s, ±π/2 about the heading) sees nothing behind the
+        base, so it never backs up: where the follower would reverse (its reference fell
+        behind in a tight loop) it turns on the spot instead and the sonar check replans
+        (docs/cosim.md "Measured", T3)."""
+        if cmd.left_mm_s + cmd.right_mm_s < 0:
+            turn = (cmd.right_mm_s - cmd.left_mm_s) // 2
+            return -turn, turn
+        return cmd.left_mm_s, cmd.right_mm_s
+
+    def adjust_early(self, t: Any, now: int, inp: Any, dist: int) -> bool:
+        """Hand the last part of the curve to 000's vision-based approaching adjustment
+        (§III.B) while the object is still in the camera's view. Ours: the curve ends on the
+        grasp circle (eqs. (5)-(6) of 001, l_e ~ 0.23 m), where the long 001 arm's camera looks
+        over the object top and sees neither the dual "+" nor the radial symbol, and ADJUST
+        would finish on the last sightings and odometry (docs/cosim.md "Measured", T11).
+        Only with a sighting in the last ``ADJUST_EARLY_FRESH_US`` and the straight way to the
+        object clear (the close approach drives straight at it)."""
+        if not (t.p.grasp_r_mm + 100 < dist <= ADJUST_EARLY_MM_001):
+            return False
+        if now - t.obj_seen_us > ADJUST_EARLY_FRESH_US:
+            return False
+        return self.straight_clear(t, inp, dist)
+
+    def straight_clear(self, t: Any, inp: Any, dist: int) -> bool:
+        """The close approach's straight way to the object (``dist`` from the waist, to stop
+        ``grasp_r_mm`` short) misses the infeasible regions of eq. (16)."""
+        if t.replanner is None:
+            return False
+        clear, ops = straight_clear_001(t.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                        inp.sonar_mm, t.obj, dist - t.p.grasp_r_mm)
+        t.charge(ops)
+        return clear
+
+
+    def detour_step(self, t: Any, inp: Any) -> bool:
+        """One step of the detour; True when it is over (the caller plans again).
+
+        A detour whose heading was chosen clear of 001's infeasible regions (``d["checked"]``,
+        host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
+        an echo straight ahead (something new in the way); the fixed diagonal threshold of
+        :func:`_blocked_ahead` would stop it as soon as it starts."""
+        d = t.detour
+        err = wrap_mrad(d["heading_mrad"] - inp.heading_mrad)
+        if d["from"] is None and abs(err) > TURN_TOL_MRAD:
+            v = t.p.turn_wheel_mmps
+            t.wheels = (v, -v) if err < 0 else (-v, v)  # counter-clockwise for err > 0
+            return False
+        if not d["drive"]:
+            t.wheels = (0, 0)
+            return True
+        if d["from"] is None:
+            d["from"] = (inp.x_mm, inp.y_mm)
+        dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
+        n = len(inp.sonar_mm)
+        if d.get("checked") and n:
+            blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
+        else:
+            blocked = _blocked_ahead(inp.sonar_mm)
+        if dx * dx + dy * dy >= t.p.detour_mm * t.p.detour_mm or blocked:
+            t.wheels = (0, 0)
+            return True
+        t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
+        return False
+
+
+RULES = Method001()

@@ -1,0 +1,35 @@
+/* Dark threshold and mask of the 000 detectors, host/vision/dark_blobs.py dark_mask. */
+#include "kernels.h"
+
+#define THRESH_NUM 45
+#define THRESH_DEN 100
+#define THRESH_MIN 40
+#define THRESH_MAX 130
+#define BRIGHT_FRACTION_DEN 500
+
+int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist)
+{
+    for (int i = 0; i < 256; i++)
+        hist[i] = 0;
+    for (int32_t i = 0; i < n_px; i++)
+        hist[grey[i]]++;
+    /* bright level: the highest level with at least n/500 pixels at or above it (the first k
+     * from 255 down whose running count reaches n/500, numpy's searchsorted left) */
+    uint32_t want = (uint32_t)n_px / BRIGHT_FRACTION_DEN, cum = 0;
+    int k = 0;
+    for (; k < 256; k++) {
+        cum += hist[255 - k];
+        if (cum >= want)
+            break;
+    }
+    int32_t bright = 255 - k;
+    int32_t t = bright * THRESH_NUM / THRESH_DEN;
+    if (t < THRESH_MIN)
+        t = THRESH_MIN;
+    if (t > THRESH_MAX)
+        t = THRESH_MAX;
+    uint8_t tb = (uint8_t)t;
+    for (int32_t i = 0; i < n_px; i++)
+        mask[i] = grey[i] < tb;
+    return t;
+}

@@ -1,0 +1,1 @@
+"""The native MCU backend: the C firmware (``firmware/``) built with this machine's gcc."""

@@ -1,0 +1,37 @@
+"""Typed detector results for task tests: each detector's own result dataclass, with the fields
+a test does not care about set to plausible values (host/vision/registry.py names the types)."""
+
+from __future__ import annotations
+
+from mobigrasp.host.vision.double_cross import DoubleCrossResult
+from mobigrasp.host.vision.dual_plus import DualPlus
+from mobigrasp.host.vision.radial_symbol import RadialSymbol
+from mobigrasp.host.vision.red_cylinder import RedCylinderResult
+from mobigrasp.host.vision.spoke import Spoke
+
+
+def radial(u_q4: int, v_q4: int, y_oc_mm: int, diameter_q4: int = 0) -> RadialSymbol:
+    return RadialSymbol(u_q4, v_q4, diameter_q4, y_oc_mm, 0, 0)
+
+
+def dual_plus(u1_q4: int, v1_q4: int, u2_q4: int, v2_q4: int, dist_mm: int,
+              d_pixel_q4: int = 0) -> DualPlus:
+    return DualPlus(u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4, d_pixel_q4, dist_mm, dist_mm, 0,
+                    0, 0)
+
+
+def red_cylinder(u_c_q4: int, v_c_q4: int, d_pixel_q4: int, width_q4: int = 0,
+                 ring1_v_q4: int = 0, ring2_v_q4: int = 0,
+                 roi: tuple = (0, 0, 0, 0)) -> RedCylinderResult:
+    return RedCylinderResult(u_c_q4, v_c_q4, ring1_v_q4, ring2_v_q4, d_pixel_q4, width_q4, roi)
+
+
+def double_cross(um_q4: int, vm_q4: int, d_pixel_q4: int = 0, e_mrad: int = 0
+                 ) -> DoubleCrossResult:
+    half = d_pixel_q4 // 2
+    return DoubleCrossResult(um_q4 - half, vm_q4, um_q4 + half, vm_q4, um_q4, vm_q4, d_pixel_q4,
+                             e_mrad, (0, 0))
+
+
+def spoke(angle_mrad: int, width_q4: int, slope_q12: int = 0) -> Spoke:
+    return Spoke(0, 0, (), slope_q12, angle_mrad, width_q4)

@@ -1,0 +1,101 @@
+"""The hostc kernels as ARM920T code under unicorn: the same results as the Python kernels, and
+timings that follow the code (the toolchain is installed by the build when missing)."""
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from mobigrasp.calib import arm, corpus, native
+
+
+@pytest.fixture(scope="module")
+def machine():
+    return arm.Arm9(arm.build())
+
+
+def _frame(seed, h, w):
+    rng = np.random.default_rng(seed)
+    return ((rng.random((h, w, 1)) < 0.5).repeat(3, axis=2) * np.uint8(190)
+            + rng.integers(0, 40, (h, w, 3), dtype=np.uint8))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_emulated_front_end_equals_python(machine, seed):
+    rgb = _frame(seed, 24 + 2 * seed, 33 + seed)
+    out = arm.FrontEnd(machine).run(rgb)
+    g = native.grey(rgb)
+    assert np.array_equal(out["grey"][0], g)
+    m, t = native.dark_mask(g)
+    assert out["dark_threshold"][0][1] == t and np.array_equal(out["dark_threshold"][0][0], m)
+    n, labels, stats = native.label(m)
+    n_e, labels_e, stats_e = out["labelling"][0]
+    assert n_e == n and np.array_equal(labels_e, labels) and np.array_equal(stats_e, stats)
+
+
+def test_grey_time_is_linear_in_pixels_and_fills_follow_the_parameter():
+    img = arm.build()
+    rgb = _frame(0, 64, 64)
+    t = {}
+    for fill in (0, 40):
+        fe = arm.FrontEnd(arm.Arm9(img, line_fill_cycles=fill))
+        t[fill] = [fe.run(rgb[:h])["grey"][1] for h in (16, 32, 64)]
+    c = [x.cycles for x in t[0]]
+    assert c[2] - c[1] == 2 * (c[1] - c[0])  # the same loop per pixel
+    assert all(x.read_misses == y.read_misses > 0 for x, y in zip(t[0], t[40], strict=True))
+    assert all(y.cycles - x.cycles == 40 * x.read_misses for x, y in zip(t[0], t[40],
+                                                                       strict=True))
+    per_px = (c[2] - c[1]) / (32 * 64)
+    assert 15 <= per_px <= 25  # three byte loads, shifts and adds, a store, a taken branch
+
+
+def test_calibrate_command_writes_the_stage_table(tmp_path):
+    corpus.record(tmp_path / "c", ["paper000-exp1"], time_limit_s=3.0)
+    out = tmp_path / "cal.json"
+    env_cache = {"XDG_CACHE_HOME": str(tmp_path / "cache")}
+    r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
+                        str(tmp_path / "c"), "--json", str(out), "--frames-per-scenario", "1",
+                        "--quiet"], capture_output=True, text=True, timeout=600,
+                       env={**os.environ, **env_cache})
+    assert r.returncode == 0, r.stderr
+    res = json.loads(out.read_text())
+    assert {"grey", "dark_threshold", "labelling"} <= set(res["stages"])
+    for s in res["stages"].values():
+        for key in ("modelled_median_us", "emulated_median_us", "emulated_p95_us",
+                    "emulated_max_us", "ratio_median", "cpi", "frames"):
+            assert key in s
+        assert s["frames"] == 1 and s["result_mismatches"] == 0
+        assert s["emulated_median_us"] > 0 and 1.0 <= s["cpi"] <= 6.0  # 6: a cold-cache call
+    assert (tmp_path / "cache" / "mobigrasp" / "calibration.json").is_file()
+
+
+@pytest.mark.parametrize("argv,needle", [(["--corpus", "NOPE"], "nope"),
+                                         (["--frames-per-scenario", "0"], "frames"),
+                                         (["--line-fill-cycles", "-3"], "line-fill")])
+def test_calibrate_bad_input_exits_2(tmp_path, argv, needle):
+    argv = [a.replace("NOPE", str(tmp_path / "nope")) for a in argv]
+    r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", *argv],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert needle in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_profile_puts_the_last_calibration_beside_the_model():
+    from mobigrasp.calib.calibrate import modelled_us
+    from mobigrasp.tools.commands.profile import calibration_rows
+
+    st = {"emulated_median_us": 4000.0, "emulated_p95_us": 4100.0, "emulated_max_us": 70000.0}
+    cal = {"frame_shape": [240, 320], "commit": "abc", "stages": {
+        "grey": st, "labelling": dict(st, emulated_max_us=5000.0), "future_stage": st,
+        "radial_symbol": dict(st, modelled_median_us=2000.0)}}
+    rows, first = calibration_rows(cal)
+    # stages without a model of their own and without a modelled median are left out
+    assert [r["stage"] for r in rows] == ["grey", "labelling", "radial_symbol"]
+    assert rows[2]["modelled_us"] == 2000.0 and rows[2]["ratio"] == 0.5
+    assert rows[0]["modelled_us"] == round(modelled_us("grey", 240, 320), 1)
+    assert rows[0]["ratio"] == round(modelled_us("grey", 240, 320) / 4000.0, 3)
+    assert first == "grey" and rows[0]["share_max"] > 1  # 70 ms misses the 66.7 ms budget
+    assert calibration_rows(None) == ([], None)

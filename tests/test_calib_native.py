@@ -1,0 +1,93 @@
+"""The C kernels of hostc/ (host build) against the Python kernels, bit for bit."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from mobigrasp.calib import corpus, native
+from mobigrasp.host.vision import dark_blobs, grey, radial_symbol
+
+
+def _check_front_end(rgb):
+    g, _ = grey.to_grey(rgb)
+    assert np.array_equal(native.grey(rgb), g)
+    m, t, _ = dark_blobs.dark_mask(g)
+    m_c, t_c = native.dark_mask(g)
+    assert t_c == t and np.array_equal(m_c, m)
+    n, labels, stats, _ = dark_blobs.components(m)
+    n_c, labels_c, stats_c = native.label(m)
+    assert n_c == n
+    assert np.array_equal(labels_c, labels)
+    assert np.array_equal(stats_c, stats)
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_random_frames_match(seed):
+    rng = np.random.default_rng(seed)
+    h, w = (int(v) for v in rng.integers(16, 70, 2))
+    rgb = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+    if seed % 2:  # two-level frames: large dark components with holes and odd borders
+        rgb = (rng.random((h, w, 1)) < 0.4 + 0.01 * seed).repeat(3, axis=2) * np.uint8(200) \
+            + np.uint8(30)
+    _check_front_end(rgb)
+
+
+@pytest.mark.parametrize("mask", [np.ones((21, 17), np.uint8), np.zeros((21, 17), np.uint8),
+                                  np.eye(19, 23, dtype=np.uint8)[::-1].copy()])
+def test_edge_masks_label_as_opencv(mask):
+    n, labels, stats, _ = dark_blobs.components(mask)
+    n_c, labels_c, stats_c = native.label(mask)
+    assert n_c == n and np.array_equal(labels_c, labels) and np.array_equal(stats_c, stats)
+
+
+def _check_calls(folder, calls) -> int:
+    """Compare every call of a detector ported to C; the number of results found."""
+    found = 0
+    for c in calls:
+        rgb = corpus.load_frame(folder, {"file": c.frame_file, "sha256": _sha(folder, c)})
+        if c.detector == "radial_symbol":
+            res, _ = radial_symbol.detect_radial_symbol(rgb, *c.camera)
+            want = None if res is None else dataclasses.astuple(res)
+            assert native.detect_radial_symbol(rgb, *c.camera) == want, c.frame_file
+            found += want is not None
+    return found
+
+
+_SHAS: dict = {}
+
+
+def _sha(folder, c):
+    if folder not in _SHAS:
+        _SHAS[folder] = {f["file"]: f["sha256"] for f in corpus.read_index(folder)["frames"]}
+    return _SHAS[folder][c.frame_file]
+
+
+def test_edge_q4_matches_on_random_lines():
+    rng = np.random.default_rng(5)
+    for _ in range(2000):
+        line = rng.integers(0, 256, int(rng.integers(1, 12)), dtype=np.uint8)
+        i, step = int(rng.integers(0, len(line))), int(rng.choice([-1, 1]))
+        assert native.edge_q4(line, i, step) == dark_blobs.edge_q4(line, i, step)
+
+
+def test_small_corpus_slice_matches(tmp_path):
+    corpus.record(tmp_path, ["paper000-exp1"], time_limit_s=6.0)
+    idx = corpus.read_index(tmp_path)
+    assert idx["frames"]
+    for fr in idx["frames"][:12]:
+        _check_front_end(corpus.load_frame(tmp_path, fr))
+    calls = [c for c in corpus.calls(tmp_path, idx) if c.detector == "radial_symbol"]
+    assert _check_calls(tmp_path, calls[:40]) > 0  # the slice sees the symbol
+
+
+@pytest.mark.slow
+def test_whole_corpus_matches(tmp_path):
+    from mobigrasp.tools.run_job import shipped_scenarios
+
+    corpus.record(tmp_path, [p.stem for p in shipped_scenarios()])
+    idx = corpus.read_index(tmp_path)
+    assert len(idx["scenarios"]) == 6
+    for fr in idx["frames"]:
+        _check_front_end(corpus.load_frame(tmp_path, fr))
+    assert _check_calls(tmp_path, corpus.calls(tmp_path, idx)) > 0

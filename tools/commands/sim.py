@@ -1,0 +1,124 @@
+"""``mobigrasp sim SCENARIO``: the simulated robot served to your own host program, in wall time.
+
+The scenario's emulated ATmega128 and world run paced to the wall clock (``--speed 1``, default;
+0.5 for a slow host). The serial line is a new pty, exactly as ``mobigrasp mcu`` serves it; the
+eye-in-hand camera (320x240, rendered from the arm's current pose at the camera rate) is an MJPEG
+stream on 127.0.0.1 that ``cv2.VideoCapture(URL)`` opens, and ``/frame.png`` the latest frame.
+The first two lines on stdout are ``serial: /dev/pts/N`` and ``camera: http://127.0.0.1:PORT/
+stream.mjpg``. The session ends when the host closes the port, at the scenario's time limit, or
+on Ctrl-C/SIGTERM, and writes the run folder as ``mobigrasp run`` does (grasped, contacts and the
+safety block judged from the world; the host's traffic decoded in the trace).
+
+Exit code 0 when the object is grasped, 1 when not, 2 for bad input (unknown scenario, bad
+option, camera port in use), with one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import signal
+import sys
+from pathlib import Path
+
+
+def _speed(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and 0 < value <= 100):
+        raise argparse.ArgumentTypeError(f"must be a number in (0, 100], got {text!r}")
+    return value
+
+
+def _port(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if not 0 <= value <= 65535:
+        raise argparse.ArgumentTypeError(f"must be a TCP port in [0, 65535], got {text!r}")
+    return value
+
+
+def _mcu_names() -> list[str]:
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
+
+    return list(MCU_BACKENDS)
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``sim`` subcommand."""
+    p = sub.add_parser("sim", help="serve a scenario's robot (pty + MJPEG camera) to your host")
+    p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
+    p.add_argument("--speed", type=_speed, default=1.0,
+                   help="simulated seconds per wall second (default 1); pacing only")
+    p.add_argument("--mcu", default=None, metavar="NAME",
+                   help="MCU backend (default: the first registered; 'python')")
+    p.add_argument("--camera-port", type=_port, default=8080,
+                   help="TCP port of the camera on 127.0.0.1 (default 8080; 0: any free port)")
+    p.add_argument("--out", type=Path, default=None,
+                   help="run folder (default runs/<scenario>-<seed>-sim/)")
+    p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
+    p.add_argument("--time-limit-s", type=float, default=None,
+                   help="end after this many simulated seconds (default: the scenario's)")
+    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
+    p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
+    p.set_defaults(func=_run)
+
+
+def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
+    from mobigrasp.tools.run_job import BadInput, resolve_scenario
+
+    names = _mcu_names()
+    mcu = args.mcu or names[0]
+    if mcu not in names:
+        print(f"mobigrasp sim: --mcu must be one of {', '.join(names)}, got {mcu!r}",
+              file=sys.stderr)
+        return 2
+    if args.time_limit_s is not None and not (math.isfinite(args.time_limit_s)
+                                              and args.time_limit_s > 0):
+        print(f"mobigrasp sim: --time-limit-s must be > 0, got {args.time_limit_s}",
+              file=sys.stderr)
+        return 2
+    asked: list[str] = []
+
+    def on_signal(signum, frame) -> None:
+        asked.append("interrupted" if signum == signal.SIGINT else "terminated")
+
+    def on_ready(serial: str, camera: str) -> None:
+        print(f"serial: {serial}", flush=True)
+        print(f"camera: {camera}", flush=True)
+
+    try:
+        resolved = resolve_scenario(args.scenario)
+    except BadInput as exc:
+        print(f"mobigrasp sim: {exc}", file=sys.stderr)
+        return 2
+    previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
+                                   camera_port=args.camera_port, out=args.out, seed=args.seed,
+                                   time_limit_s=args.time_limit_s, progress=not args.quiet,
+                                   resolved=resolved),
+                        on_ready, stop=lambda: asked[0] if asked else None)
+    except BadSimInput as exc:
+        print(f"mobigrasp sim: {exc}", file=sys.stderr)
+        return 2
+    finally:
+        for s, h in previous.items():
+            signal.signal(s, h)
+    if not args.no_plots:
+        try:
+            from mobigrasp.tools.report import write_report
+
+            write_report(Path(summary["run_folder"]))
+        except Exception as exc:  # a plotting failure must not hide the run's result
+            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
+    print(f"{summary['scenario']} served to an external host: "
+          f"{'GRASPED' if summary['grasped'] else 'not grasped'} ({summary['end_reason']}) in "
+          f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "
+          f"run folder: {Path(summary['run_folder'])}", flush=True)
+    return 0 if summary["grasped"] else 1

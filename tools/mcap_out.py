@@ -1,0 +1,333 @@
+"""trace.mcap of a run folder: the trace (and the camera frames) for Foxglove, no conversion.
+
+Written once at the end of a run from the trace events (``tools.run_folder.read_trace``), the
+JPEG frames :class:`CameraLog` kept while the run went, and the summary. Every message's log
+time and publish time are its *simulated* time (ns), so Foxglove's timeline is the run's clock.
+JSON encoding with the Foxglove schemas by name (tools/mcap_schemas.py); docs/outputs.md lists
+the topics.
+
+The arm's frames follow eq. (3) of 000 (mcu_sim/world/arm.py): the waist ``mount_forward_m``
+ahead of the axle at the shoulder height, turned by -theta5 (theta5 turns to the right); then
+pitch joints theta4 (shoulder), theta3 (elbow), theta2 (wrist), each link along its x axis
+(l1, l2, l3), the roll theta1 about l3 and the camera (OpenCV axes, z along l3) at its end.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+from concurrent.futures import Future, ThreadPoolExecutor
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from mobigrasp.cosim.run_folder import detection_points
+from mobigrasp.tools.mcap_schemas import SCHEMAS
+from mobigrasp.tools.plan_paths import odom_to_world, plan_paths_world
+
+TOPICS: dict[str, str] = {
+    "/camera/image": "foxglove.CompressedImage",
+    "/camera/detections": "foxglove.ImageAnnotations",
+    "/tf": "foxglove.FrameTransform",
+    "/scene": "foxglove.SceneUpdate",
+    "/task/state": "foxglove.Log",
+    "/joints": "mobigrasp.Joints",
+    "/wheels/commanded": "mobigrasp.Wheels",
+    "/wheels/measured": "mobigrasp.Wheels",
+    "/fuzzy": "mobigrasp.Fuzzy",
+    "/arm9/load": "mobigrasp.Load",
+    "/protocol/counters": "mobigrasp.ProtocolCounters",
+}
+# the arm's frames, base to camera (a /tf message each per truth sample with joint angles)
+ARM_FRAMES = ("waist", "upper_arm", "forearm", "wrist", "gripper", "camera")
+# trace events that move a protocol counter: event -> counter
+PROTOCOL_EVENTS = {"nack": "nacks", "reliable_failed": "reliable_failed",
+                   "output_rejected": "output_rejected", "mcu_reset_seen": "mcu_resets_seen",
+                   "deadline_miss": "deadline_misses", "frame_dropped": "frames_dropped"}
+JPEG_QUALITY = 85
+GREEN = {"r": 0.1, "g": 0.9, "b": 0.1, "a": 1.0}
+RED = {"r": 0.9, "g": 0.1, "b": 0.1, "a": 1.0}
+GREY = {"r": 0.5, "g": 0.5, "b": 0.5, "a": 0.8}
+BLUE = {"r": 0.1, "g": 0.3, "b": 0.9, "a": 1.0}
+FAINT_RED = {"r": 0.9, "g": 0.2, "b": 0.2, "a": 0.35}
+CLEAR = {"r": 0.0, "g": 0.0, "b": 0.0, "a": 0.0}
+TARGET_SIZE_M = 0.06
+
+
+class CameraLog:
+    """Rig ``on_frame`` hook: every camera frame sent to the host, JPEG-encoded (a 320x240
+    frame is ~10 kB) by a worker thread, as Snapshots writes its PNGs (cv2 releases the GIL:
+    the run's loop does not wait for the encoder). :attr:`frames` waits for them."""
+
+    def __init__(self) -> None:
+        self._encoded: list[tuple[int, int, Future]] = []
+        self._writer: ThreadPoolExecutor | None = None
+
+    def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
+        """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array)."""
+        if self._writer is None:
+            self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcap-jpeg")
+        self._encoded.append((int(capture_us), int(seq), self._writer.submit(_jpeg, rgb)))
+
+    @property
+    def frames(self) -> list[tuple[int, int, bytes]]:
+        """(capture_us, seq, JPEG bytes) of every frame, once all are encoded."""
+        out = [(t, seq, fut.result()) for t, seq, fut in self._encoded]
+        if self._writer is not None:
+            self._writer.shutdown()
+            self._writer = None
+        return out
+
+
+def _jpeg(rgb: np.ndarray) -> bytes:
+    ok, jpeg = cv2.imencode(".jpg", cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2BGR),
+                            [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY])
+    if not ok:
+        raise ValueError("JPEG encoding of a camera frame failed")
+    return jpeg.tobytes()
+
+
+def stamp(t_us: int) -> dict:
+    """Foxglove time of a simulated time in µs."""
+    return {"sec": int(t_us) // 1_000_000, "nsec": (int(t_us) % 1_000_000) * 1000}
+
+
+def _quat_axis(axis: str, angle: float) -> dict:
+    s, c = math.sin(angle / 2), math.cos(angle / 2)
+    q = {"x": 0.0, "y": 0.0, "z": 0.0, "w": c}
+    q[axis] = s
+    return q
+
+
+def _quat_matrix(m: list[list[float]]) -> dict:
+    """Quaternion of a proper rotation matrix (rows)."""
+    tr = m[0][0] + m[1][1] + m[2][2]
+    if tr > 0:
+        s = 2.0 * math.sqrt(tr + 1.0)
+        return {"x": (m[2][1] - m[1][2]) / s, "y": (m[0][2] - m[2][0]) / s,
+                "z": (m[1][0] - m[0][1]) / s, "w": s / 4}
+    i = max(range(3), key=lambda k: m[k][k])
+    j, k = (i + 1) % 3, (i + 2) % 3
+    s = 2.0 * math.sqrt(1.0 + m[i][i] - m[j][j] - m[k][k])
+    q = [0.0, 0.0, 0.0]
+    q[i] = s / 4
+    q[j] = (m[j][i] + m[i][j]) / s
+    q[k] = (m[k][i] + m[i][k]) / s
+    return {"x": q[0], "y": q[1], "z": q[2], "w": (m[k][j] - m[j][k]) / s}
+
+
+# camera axes in the gripper frame (x along l3, y left, z up): x_c = -y, y_c = -z, z_c = x
+CAMERA_IN_GRIPPER = _quat_matrix([[0, 0, 1], [-1, 0, 0], [0, -1, 0]])
+
+
+def _tf(t_us: int, parent: str, child: str, xyz=(0.0, 0.0, 0.0), rotation=None) -> dict:
+    return {"timestamp": stamp(t_us), "parent_frame_id": parent, "child_frame_id": child,
+            "translation": {"x": float(xyz[0]), "y": float(xyz[1]), "z": float(xyz[2])},
+            "rotation": rotation or {"x": 0.0, "y": 0.0, "z": 0.0, "w": 1.0}}
+
+
+def arm_transforms(t_us: int, joints_rad: list[float], geom) -> list[dict]:
+    """base -> waist -> upper_arm -> forearm -> wrist -> gripper -> camera (ARM_FRAMES)."""
+    t1, t2, t3, t4, t5 = (float(joints_rad[k]) for k in range(1, 6))
+    # a pitch up by a is a rotation of -a about y (x forward, z up)
+    return [
+        _tf(t_us, "base", "waist", (geom.mount_forward_m, 0.0, geom.h_shoulder_m),
+            _quat_axis("z", -t5)),
+        _tf(t_us, "waist", "upper_arm", rotation=_quat_axis("y", -t4)),
+        _tf(t_us, "upper_arm", "forearm", (geom.l1, 0.0, 0.0), _quat_axis("y", -t3)),
+        _tf(t_us, "forearm", "wrist", (geom.l2, 0.0, 0.0), _quat_axis("y", -t2)),
+        _tf(t_us, "wrist", "gripper", (geom.l3, 0.0, 0.0), _quat_axis("x", t1)),
+        _tf(t_us, "gripper", "camera", rotation=CAMERA_IN_GRIPPER),
+    ]
+
+
+def _pose(x: float, y: float, z: float, yaw: float = 0.0) -> dict:
+    return {"position": {"x": x, "y": y, "z": z}, "orientation": _quat_axis("z", yaw)}
+
+
+def _entity(t_us: int, frame: str, ident: str, **prims) -> dict:
+    entity = {"timestamp": stamp(t_us), "frame_id": frame, "id": ident,
+              "lifetime": stamp(0), "frame_locked": frame != "world", "metadata": [],
+              "arrows": [], "cubes": [], "spheres": [], "cylinders": [], "lines": [],
+              "triangles": [], "texts": [], "models": []}
+    entity.update(prims)
+    return entity
+
+
+def _line(points: list, color: dict, thickness: float) -> dict:
+    return {"type": 0, "pose": _pose(0.0, 0.0, 0.0), "thickness": thickness,
+            "scale_invariant": True, "points": [{"x": p[0], "y": p[1], "z": 0.01}
+                                                for p in points],
+            "color": color, "colors": [], "indices": []}
+
+
+def obstacle_entity(start: dict) -> dict:
+    """The scenario's obstacles (circle: cylinder, box: cube, wall: line) as one entity."""
+    cubes, cylinders, lines = [], [], []
+    for o in start.get("obstacles", []):
+        h = float(o.get("height_m") or 0.3)
+        if o.get("shape") == "circle":
+            d = 2 * o["radius_m"]
+            cylinders.append({"pose": _pose(o["x_m"], o["y_m"], h / 2), "size":
+                              {"x": d, "y": d, "z": h}, "bottom_scale": 1.0, "top_scale": 1.0,
+                              "color": GREY})
+        elif o.get("shape") == "box":
+            cubes.append({"pose": _pose(o["x_m"], o["y_m"], h / 2, o.get("heading_rad") or 0.0),
+                          "size": {"x": o["width_m"], "y": o["depth_m"], "z": h},
+                          "color": GREY})
+        elif o.get("shape") == "wall":
+            lines.append(_line([(o["x_m"], o["y_m"]), (o["x2_m"], o["y2_m"])], GREY, 4.0))
+    return _entity(0, "world", "obstacles", cubes=cubes, cylinders=cylinders, lines=lines)
+
+
+def target_entity(name: str) -> dict:
+    """The object, drawn in its own frame (world -> target follows it on /tf)."""
+    s = TARGET_SIZE_M
+    return _entity(0, "target", "target", spheres=[{
+        "pose": _pose(0.0, 0.0, s / 2), "size": {"x": s, "y": s, "z": s}, "color": RED}],
+        texts=[{"pose": _pose(0.0, 0.0, 2 * s), "billboard": True, "font_size": 12.0,
+                "scale_invariant": True, "color": RED, "text": name}])
+
+
+def plan_entity(t_us: int, plan: dict, to_world) -> dict:
+    """Candidates (faint red) and the chosen path (blue) of one plan, in the world frame."""
+    cands, best = plan_paths_world(plan, to_world)
+    lines = [_line(path, FAINT_RED, 1.0) for path in cands]
+    lines += [_line(path, BLUE, 3.0) for path in best]
+    return _entity(t_us, "world", "plan", lines=lines)
+
+
+def detection_annotations(event: dict) -> dict:
+    """A circle at every detected point (Q4 px -> px) and a line per detector (name and
+    found/none); stamped with the frame's capture time so Foxglove pairs it with the image."""
+    ts = stamp(event.get("capture_us", event["t_us"]))
+    circles, texts = [], []
+    for k, (name, result) in enumerate(sorted((event.get("results") or {}).items())):
+        found = result is not None
+        for u, v in detection_points(result):
+            circles.append({"timestamp": ts, "position": {"x": float(u), "y": float(v)},
+                            "diameter": 10.0, "thickness": 2.0, "fill_color": CLEAR,
+                            "outline_color": GREEN})
+        texts.append({"timestamp": ts, "position": {"x": 4.0, "y": 14.0 + 12.0 * k},
+                      "text": f"{name}: {'found' if found else 'none'}", "font_size": 11.0,
+                      "text_color": GREEN if found else RED, "background_color": CLEAR})
+    return {"circles": circles, "points": [], "texts": texts}
+
+
+def _state_log(event: dict) -> dict:
+    if event["ev"] == "end":
+        msg, level = f"run ended in {event.get('host_state')}: {event.get('reason')}", 2
+    else:
+        to = event.get("to", "")
+        msg = f"{event.get('from', '')} -> {to}: {event.get('why', '')}"
+        level = 3 if to == "FAILED" else 2
+    return {"timestamp": stamp(event["t_us"]), "level": level, "message": msg,
+            "name": "task", "file": "", "line": 0}
+
+
+def _measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
+    """Wheel speeds of the simulated base between two truth samples (mm/s)."""
+    dt = (cur["t_us"] - prev["t_us"]) / 1e6
+    if dt <= 0:
+        return None
+    dx, dy = cur["x_m"] - prev["x_m"], cur["y_m"] - prev["y_m"]
+    h = prev.get("heading_rad") or 0.0
+    v = (dx * math.cos(h) + dy * math.sin(h)) / dt
+    dh = math.remainder((cur.get("heading_rad") or 0.0) - h, math.tau)
+    w = dh / dt
+    return {"left_mmps": round(1000 * (v - w * track_m / 2), 1),
+            "right_mmps": round(1000 * (v + w * track_m / 2), 1)}
+
+
+def messages(events: list[dict], frames=(), summary: dict | None = None
+             ) -> list[tuple[int, str, dict]]:
+    """(log time in µs, topic, message) of every MCAP message, in time order (stable)."""
+    from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
+    from mobigrasp.mcu_sim.world.base import WHEEL_TRACK_M
+
+    start = next((e for e in events if e["ev"] == "start"), {})
+    geom = ARM_BY_METHOD.get(str(start.get("method")), ARM_BY_METHOD["000"])
+    to_world = odom_to_world(start)
+    out: list[tuple[int, str, dict]] = []
+    counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)
+    out.append((0, "/scene", {"deletions": [], "entities": [
+        obstacle_entity(start), target_entity(str(start.get("scenario", "target")))]}))
+    out.append((0, "/protocol/counters", dict(counters)))
+    for capture_us, _seq, jpeg in frames:
+        out.append((capture_us, "/camera/image", {
+            "timestamp": stamp(capture_us), "frame_id": "camera", "format": "jpeg",
+            "data": base64.b64encode(jpeg).decode("ascii")}))
+    prev_truth = None
+    for e in events:
+        t, ev = int(e["t_us"]), e["ev"]
+        if ev == "truth" and e.get("x_m") is not None:
+            out.append((t, "/tf", _tf(t, "world", "base", (e["x_m"], e["y_m"], 0.0),
+                                      _quat_axis("z", e.get("heading_rad") or 0.0))))
+            if e.get("obj"):
+                out.append((t, "/tf", _tf(t, "world", "target", e["obj"])))
+            if e.get("joints_rad"):
+                out.extend((t, "/tf", tf) for tf in arm_transforms(t, e["joints_rad"], geom))
+                j = e["joints_rad"]
+                out.append((t, "/joints", {"joints_rad": list(j), "gripper": j[0],
+                                           "roll_rad": j[1], "wrist_rad": j[2],
+                                           "elbow_rad": j[3], "shoulder_rad": j[4],
+                                           "waist_rad": j[5]}))
+            if prev_truth is not None:
+                measured = _measured_wheels(prev_truth, e, WHEEL_TRACK_M)
+                if measured is not None:
+                    out.append((t, "/wheels/measured", measured))
+            prev_truth = e
+        elif ev == "detect":
+            out.append((t, "/camera/detections", detection_annotations(e)))
+        elif ev in ("state", "end"):
+            out.append((t, "/task/state", _state_log(e)))
+        elif ev == "wheels":
+            left, right = e["mmps"]
+            out.append((t, "/wheels/commanded", {"left_mmps": left, "right_mmps": right}))
+        elif ev == "load":
+            out.append((t, "/arm9/load", {"load": e["load"], "window_us": e.get("window_us")}))
+        elif ev == "detail" and isinstance(e.get("plan"), dict):
+            out.append((t, "/scene", {"deletions": [], "entities": [
+                plan_entity(t, e["plan"], to_world)]}))
+        elif ev == "detail" and isinstance(e.get("fuzzy"), dict):
+            f = e["fuzzy"]
+            out.append((t, "/fuzzy", {"e_mrad": f.get("e_mrad"), "e_c_mrad_s": f.get(
+                "e_c_mrad_s"), "u_mrad": f.get("u_mrad")}))
+        if ev in PROTOCOL_EVENTS:
+            counters[PROTOCOL_EVENTS[ev]] += 1
+            out.append((t, "/protocol/counters", dict(counters)))
+    if summary is not None:  # the run's totals, at its end
+        end_us = int(round(1e6 * (summary.get("sim_time_s") or 0.0)))
+        proto = summary.get("protocol") or {}
+        out.append((end_us, "/protocol/counters", {**counters, **{
+            k: proto.get(k) for k in ("tx_frames", "rx_frames", "crc_errors", "retransmits")}}))
+    out.sort(key=lambda m: m[0])
+    return out
+
+
+def write_mcap(path: Path, events: list[dict], frames=(), summary: dict | None = None
+               ) -> dict[str, int]:
+    """Write trace.mcap (zstd chunks); returns the message count per topic."""
+    from mcap.writer import CompressionType, Writer
+
+    counts = dict.fromkeys(TOPICS, 0)
+    path = Path(path)
+    with path.open("wb") as fh:
+        writer = Writer(fh, compression=CompressionType.ZSTD)
+        writer.start(profile="", library="mobigrasp")
+        schema_ids = {name: writer.register_schema(name=name, encoding="jsonschema",
+                                                   data=json.dumps(schema).encode())
+                      for name, schema in SCHEMAS.items()}
+        channels = {topic: writer.register_channel(topic=topic, message_encoding="json",
+                                                   schema_id=schema_ids[name])
+                    for topic, name in TOPICS.items()}
+        for seq, (t_us, topic, msg) in enumerate(messages(events, frames, summary)):
+            ns = int(t_us) * 1000
+            writer.add_message(channel_id=channels[topic], log_time=ns, publish_time=ns,
+                               sequence=seq, data=json.dumps(msg, separators=(",", ":"),
+                                                             allow_nan=False).encode())
+            counts[topic] += 1
+        writer.finish()
+    return counts

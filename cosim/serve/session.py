@@ -42,7 +42,8 @@ class SimOptions:
     out: Path | None = None
     seed: int | None = None
     time_limit_s: float | None = None
-    progress: bool = True
+    # the caller's display: ``update(simulated_s, text)`` and ``close()`` (None: no progress)
+    progress: Any = None
     # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
 
@@ -135,15 +136,13 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             return "host_closed"
         return stop() if stop is not None else None
 
-    from mobigrasp.tools.progress import Progress
-
-    display = Progress(total=round(limit_s, 1), desc=f"sim {name}", unit="s simulated",
-                       enabled=opts.progress)
+    display = opts.progress
 
     def progress(res, wall):
-        display.update(round(rig.now_us / 1e6, 1),
-                       f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
-                       f"frames {camera.frames_published}")
+        if display is not None:
+            display.update(round(rig.now_us / 1e6, 1),
+                           f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
+                           f"frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)
@@ -160,7 +159,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
-        display.close()
+        if display is not None:
+            display.close()
         trace.close()
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats()

@@ -95,11 +95,17 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
+    from mobigrasp.tools.progress import Progress
+
+    scenario = resolved[1]
+    display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
+                       desc=f"sim {scenario.meta.name}", unit="s simulated",
+                       enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
-                                   time_limit_s=args.time_limit_s, progress=not args.quiet,
+                                   time_limit_s=args.time_limit_s, progress=display,
                                    resolved=resolved),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:

@@ -69,6 +69,8 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
             assert key in s
         assert s["frames"] == 1 and s["result_mismatches"] == 0
         assert s["emulated_median_us"] > 0 and 1.0 <= s["cpi"] <= 6.0  # 6: a cold-cache call
+        # the calibrated model: modelled within 0.8-1.25 of the emulated C (docs/budget.md)
+        assert 0.8 <= s["ratio_median"] <= 1.25, s
     assert (tmp_path / "cache" / "mobigrasp" / "calibration.json").is_file()
 
 

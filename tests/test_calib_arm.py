@@ -74,6 +74,17 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
     assert (tmp_path / "cache" / "mobigrasp" / "calibration.json").is_file()
 
 
+@pytest.mark.parametrize("under_file", [True, False])
+def test_calibrate_json_that_cannot_be_written_exits_2_before_running(tmp_path, under_file):
+    (tmp_path / "file").write_text("x")
+    bad = tmp_path / "file" / "cal.json" if under_file else tmp_path
+    r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
+                        str(tmp_path / "no-corpus"), "--json", str(bad)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert str(bad) in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
 @pytest.mark.parametrize("argv,needle", [(["--corpus", "NOPE"], "nope"),
                                          (["--frames-per-scenario", "0"], "frames"),
                                          (["--line-fill-cycles", "-3"], "line-fill")])

@@ -25,19 +25,6 @@ from typing import Any
 QUANTUM_US = 5_000
 COUPLE_US = 2_500
 
-# MCU backends by name (--mcu); the first is the default
-MCU_BACKENDS: dict[str, Callable[[], Any]] = {}
-
-
-def _python_mcu() -> Any:
-    from mobigrasp.mcu_sim.mcu import Mcu
-
-    return Mcu()
-
-
-MCU_BACKENDS["python"] = _python_mcu
-
-
 class BadSimInput(ValueError):
     """Unknown scenario, bad option, camera port in use: exit code 2, one line."""
 
@@ -73,15 +60,19 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
     summary (also written to the run folder). Raises BadSimInput for bad input."""
     from mobigrasp.link.registry import open_transport
+    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
     from mobigrasp.mcu_sim.serve.external_host import ExternalHost
     from mobigrasp.mcu_sim.serve.mjpeg import CameraPortInUse, CameraServer
-    from mobigrasp.tools.run_job import BadInput, resolve_scenario
+    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     if opts.mcu not in MCU_BACKENDS:
-        raise BadSimInput(f"--mcu must be one of {', '.join(MCU_BACKENDS)}, got {opts.mcu!r}")
+        raise BadSimInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
+                          f"got {opts.mcu!r}")
     if not (isinstance(opts.speed, float | int) and 0 < opts.speed <= 100):
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
     try:
+        check_seed(opts.seed)
+        check_time_limit(opts.time_limit_s)
         path, scenario = resolve_scenario(opts.scenario)
     except BadInput as exc:
         raise BadSimInput(str(exc)) from exc
@@ -108,6 +99,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
+    from mobigrasp.mcu_sim.backend import open_mcu
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
     from mobigrasp.mcu_sim.faults.wrappers import wrap_for_faults
     from mobigrasp.mcu_sim.rig import Rig, RigConfig
@@ -129,7 +121,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     trace = TraceWriter(out / "trace.jsonl")
     plant = WorldPlant(scenario, seed)
     plant.preload()
-    mcu = MCU_BACKENDS[opts.mcu]()
+    mcu = open_mcu(opts.mcu)
     plan = getattr(scenario, "faults", None) or FaultPlan()
     fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
     summary["faults_plan"] = plan.as_table()
@@ -146,12 +138,15 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             return "host_closed"
         return stop() if stop is not None else None
 
-    progress = None
-    if opts.progress:
-        def progress(res, wall):
-            print(f"\r  t={rig.now_us / 1e6:7.2f} s  from host {host.bytes_from_host} B  "
-                  f"to host {host.bytes_to_host} B  frames {camera.frames_published} ",
-                  end="", file=sys.stderr, flush=True)
+    from mobigrasp.tools.progress import Progress
+
+    display = Progress(total=round(limit_s, 1), desc=f"sim {name}", unit="s simulated",
+                       enabled=opts.progress)
+
+    def progress(res, wall):
+        display.update(round(rig.now_us / 1e6, 1),
+                       f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
+                       f"frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)
@@ -168,8 +163,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
-        if opts.progress:
-            print("", file=sys.stderr)
+        display.close()
         trace.close()
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats() if hasattr(mcu, "stats") else {}

@@ -10,7 +10,6 @@ from __future__ import annotations
 import json
 import logging
 import math
-import sys
 import tempfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -58,8 +57,8 @@ class RunOptions:
     mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
-    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
-    progress: Any = True
+    # a display (tools.progress.RunProgress), called as (now_us, state, wall_s); None: none
+    progress: Any = None
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
@@ -175,12 +174,6 @@ def host_config(scenario, time_limit_s: float | None = None) -> dict:
     return cfg
 
 
-def _progress(res, wall: float, now_us: int) -> None:
-    rtf = now_us / 1e6 / wall if wall > 0 else 0.0
-    print(f"\r  t={now_us / 1e6:7.2f} s  state={res.host_state:<14} rtf={rtf:6.1f}x ",
-          end="", file=sys.stderr, flush=True)
-
-
 def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
     from mobigrasp.link.registry import inproc_pair, open_transport
@@ -282,12 +275,9 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                   on_frame=snaps.on_frame if camera is None else _both(snaps.on_frame,
                                                                        camera.on_frame))
         progress = None
-        if callable(opts.progress):  # a display of the caller's (tools.progress.RunProgress)
+        if callable(opts.progress):
             def progress(r, wall):
                 opts.progress(rig.now_us, r.host_state, wall)
-        elif opts.progress:
-            def progress(r, wall):
-                _progress(r, wall, rig.now_us)
         summary["status"] = "running"
         keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
         run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
@@ -304,8 +294,6 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         summary["error"] = f"{type(exc).__name__}: {exc}"
         log.error("run crashed: %s", summary["error"])
     finally:
-        if opts.progress is True:
-            print("", file=sys.stderr)
         if host is not None:
             host.close()
         for t in (port, peer):

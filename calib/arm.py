@@ -190,9 +190,10 @@ class Arm9:
         """Bytes from the emulated memory."""
         return bytes(self.uc.mem_read(address, nbytes))
 
-    def call(self, symbol: str, *args: int) -> tuple[int, Timing]:
-        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack) from a cold D-cache;
-        returns r0 and the call's timing."""
+    def call(self, symbol: str, *args: int, cold: bool = True) -> tuple[int, Timing]:
+        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack), from a cold D-cache
+        unless ``cold`` is False (the cache as the previous call left it); returns r0 and the
+        call's timing."""
         from unicorn.arm_const import UC_ARM_REG_LR, UC_ARM_REG_R0, UC_ARM_REG_SP
 
         regs = [UC_ARM_REG_R0 + k for k in range(4)]
@@ -205,7 +206,8 @@ class Arm9:
             self.uc.reg_write(r, int(v) & 0xFFFFFFFF)
         self.uc.reg_write(UC_ARM_REG_SP, sp)
         self.uc.reg_write(UC_ARM_REG_LR, STOP)
-        self.cache.flush()
+        if cold:
+            self.cache.flush()
         self._t = Timing()
         self._prev_end = None
         self.uc.emu_start(self.image.symbols[symbol], STOP)
@@ -229,7 +231,9 @@ class FrontEnd:
 
     def run(self, rgb: np.ndarray, upto: str = "labelling") -> dict[str, tuple[object, Timing]]:
         """Stage name -> (result, timing) for one frame, the stages up to ``upto`` ("grey"
-        or "labelling"); the grey image and the stats stay in memory for the detectors."""
+        or "labelling"); the grey image and the stats stay in memory for the detectors. The
+        D-cache is cold when the frame arrives (a new DMA buffer); each later stage and
+        detector finds it as the one before left it, as on the board."""
         a, base = self.arm, DATA_BASE
         h, w = rgb.shape[:2]
         n = h * w
@@ -241,10 +245,11 @@ class FrontEnd:
         if upto == "grey":
             return out
         thr, t_dark = a.call("mg_dark_mask", base + self.GREY, base + self.MASK, n,
-                             base + self.HIST)
+                             base + self.HIST, cold=False)
         mask = np.frombuffer(a.read(base + self.MASK, n), np.uint8).reshape(h, w)
         n_lab, t_lab = a.call("mg_label", base + self.MASK, w, h, base + self.LABELS,
-                              base + self.BLOCKS, base + self.PARENT, base + self.STATS)
+                              base + self.BLOCKS, base + self.PARENT, base + self.STATS,
+                              cold=False)
         labels = np.frombuffer(a.read(base + self.LABELS, 4 * n), np.int32).reshape(h, w)
         stats = np.frombuffer(a.read(base + self.STATS, 20 * n_lab), np.int32).reshape(n_lab, 5)
         self._n_lab = n_lab
@@ -265,7 +270,8 @@ class FrontEnd:
         a, base = self.arm, DATA_BASE
         h, w = self._shape
         found, t = a.call("mg_radial_symbol", base + self.GREY, w, h, base + self.STATS,
-                          self._n_lab, f_px, u0_px, v0_px, base + self.SCRATCH, base + self.OUT)
+                          self._n_lab, f_px, u0_px, v0_px, base + self.SCRATCH, base + self.OUT,
+                          cold=False)
         res = struct.unpack("<6i", a.read(base + self.OUT, 24)) if found else None
         return res, t
 

@@ -21,9 +21,12 @@ import numpy as np
 
 from mobigrasp.calib import arm, corpus, timing
 from mobigrasp.host.budget import FCLK_HZ
-from mobigrasp.host.vision import dark_blobs, grey, radial_symbol
+from mobigrasp.host.vision import dark_blobs, grey
+from mobigrasp.host.vision.registry import DETECTORS
 
-FRONT_END = ("radial_symbol", "dual_plus", "spoke")  # start with dark_blobs.dark_components
+# the detectors that start with dark_blobs.dark_components (grey, dark mask, labelling)
+FRONT_END = ("radial_symbol", "dual_plus", "spoke")
+GREY_USERS = tuple(n for n, r in DETECTORS.items() if r.uses_grey)
 
 
 @dataclass(frozen=True)
@@ -34,7 +37,7 @@ class StageDef:
     detectors: tuple[str, ...]
 
 
-STAGES = (StageDef("grey", (*FRONT_END, "double_cross")),
+STAGES = (StageDef("grey", GREY_USERS),
           StageDef("dark_threshold", FRONT_END),
           StageDef("labelling", FRONT_END),
           # a detector's stage: its work after the front end, per call
@@ -138,7 +141,7 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
         front_cycles = dark_blobs.front_end_min_ops(h, w).cycles()
         for c in calls:
             if c.detector == "radial_symbol":
-                res, ops = radial_symbol.detect_radial_symbol(rgb, *c.camera)
+                res, ops = DETECTORS["radial_symbol"].host_call(rgb, c.camera, None)
                 got, t = front.radial_symbol(*c.camera)
                 want = None if res is None else dataclasses.astuple(res)
                 add("radial_symbol", got == want, ops.cycles() - front_cycles, t)

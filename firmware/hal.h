@@ -49,9 +49,9 @@ uint32_t hal_uart_rx_lost(void);
 /* Trigger pulse on sonar ``index``. */
 void hal_sonar_trigger(uint8_t index);
 
-/* PARAM values that replace the defaults at every start (build-time choices; none on the
- * AVR build): calls params_set() for each. */
-void hal_boot_params(void);
+/* A build-time power-on value of PARAM ``id`` (none on the AVR build; the emulator's McuConfig
+ * on the native one): 1 and *value set, or 0 to keep the table's default. */
+uint8_t hal_boot_param(uint16_t id, int32_t *value);
 
 /* Interrupts off around a multi-byte read of a variable an ISR writes. */
 uint8_t hal_irq_save(void);

@@ -222,7 +222,12 @@ ISR(TIMER1_OVF_vect)
     fw_isr_timer1_ovf();
 }
 
-void hal_boot_params(void) {}
+uint8_t hal_boot_param(uint16_t id, int32_t *value)
+{
+    (void)id;
+    (void)value;
+    return 0;
+}
 
 static void io_init(void)
 {
@@ -246,7 +251,7 @@ int main(void)
         uint32_t next = fw_loop();
         cli();
         /* sleep only if nothing arrived and nothing is due; any interrupt wakes the loop */
-        if (ring_empty(&fw_rx) && (int32_t)(hal_micros() - next) < 0) {
+        if (!fw_work_pending() && (int32_t)(hal_micros() - next) < 0) {
             sleep_enable();
             sei();
             sleep_cpu();

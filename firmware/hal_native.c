@@ -1,6 +1,6 @@
 /* The HAL on the machine's own CPU, for the native MCU backend (mcu_sim/native): the Python
  * peripheral models own the registers. The output calls (hal_servo_*, hal_wheel_*,
- * hal_uart_*, hal_sonar_trigger, hal_boot_params) are cffi callbacks into those models,
+ * hal_uart_*, hal_sonar_trigger, hal_boot_param) are cffi callbacks into those models,
  * declared in mcu_sim/native/build.py; what is defined here is the rest: the clock the
  * emulator sets before each call, no interrupts to mask, and the firmware's globals
  * (section mobigrasp_fw) saved and restored so that one loaded library serves several MCUs. */

@@ -79,6 +79,7 @@ static int32_t enclosed(const int32_t *lab, int32_t lw, int32_t k, int32_t bx, i
             inner[y * bw + x] = lr[x] != k; /* light: interior until reached from the border */
         }
     }
+    /* the stack holds (y << 16) | x: no division per pixel (boxes are under 65536 px wide) */
     for (int32_t y = 0; y < bh; y++) {
         for (int32_t x = 0; x < bw; x++) {
             if (y != 0 && y != bh - 1 && x != 0 && x != bw - 1)
@@ -86,16 +87,16 @@ static int32_t enclosed(const int32_t *lab, int32_t lw, int32_t k, int32_t bx, i
             int32_t i = y * bw + x;
             if (inner[i]) {
                 inner[i] = 0;
-                stack[top++] = i;
+                stack[top++] = (y << 16) | x;
             }
         }
     }
     while (top > 0) {
-        int32_t i = stack[--top], x = i % bw, y = i / bw;
-        if (x > 0 && inner[i - 1]) { inner[i - 1] = 0; stack[top++] = i - 1; }
-        if (x + 1 < bw && inner[i + 1]) { inner[i + 1] = 0; stack[top++] = i + 1; }
-        if (y > 0 && inner[i - bw]) { inner[i - bw] = 0; stack[top++] = i - bw; }
-        if (y + 1 < bh && inner[i + bw]) { inner[i + bw] = 0; stack[top++] = i + bw; }
+        int32_t p = stack[--top], x = p & 0xFFFF, y = p >> 16, i = y * bw + x;
+        if (x > 0 && inner[i - 1]) { inner[i - 1] = 0; stack[top++] = p - 1; }
+        if (x + 1 < bw && inner[i + 1]) { inner[i + 1] = 0; stack[top++] = p + 1; }
+        if (y > 0 && inner[i - bw]) { inner[i - bw] = 0; stack[top++] = p - (1 << 16); }
+        if (y + 1 < bh && inner[i + bw]) { inner[i + bw] = 0; stack[top++] = p + (1 << 16); }
     }
     int32_t total = 0;
     for (int32_t i = 0; i < n; i++)

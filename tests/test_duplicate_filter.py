@@ -2,6 +2,8 @@
 content; the window is counted in the sender's sequence numbers, not in time or in commands; a
 reused seq with other content is NACKed, never ACKed and dropped."""
 
+import pytest
+
 from mobigrasp.mcu_sim.mcu import Mcu
 from mobigrasp.mcu_sim.mcu_host import InProcessHost
 from mobigrasp.protocol import (
@@ -14,6 +16,8 @@ from mobigrasp.protocol import (
     SetWheels,
     encode_message,
 )
+
+pytestmark = pytest.mark.both_mcus
 
 
 def ready():

@@ -53,6 +53,7 @@ def test_sram_py_is_the_build(build):
     assert (b.main_stack_bytes, b.isr_stack_bytes) == (sram.STACK_MAIN_BYTES,
                                                        sram.STACK_ISR_BYTES)
     assert b.flash_bytes == sram.FLASH_BYTES_USED
+    assert fb.doc_table(b) in fb.DOC.read_text()
 
 
 def test_stack_analysis_refuses_recursion_and_indirect_calls():

@@ -250,13 +250,13 @@ def test_same_inputs_give_the_same_bytes():
     assert run() == run()
 
 
-def test_param_command_reusing_the_hello_seq_is_answered_without_a_value():
-    # HELLO seq 0 is remembered with the answer ACK; a PARAM_SET of an unknown id with the same
-    # seq is taken for its copy: ACKed again, not executed, and no PARAM_VALUE (no value exists)
+def test_param_command_reusing_the_hello_seq_is_refused_without_a_value():
+    # HELLO seq 0 is remembered with its CRC; a PARAM_SET of an unknown id with the same seq is
+    # another command reusing a recent seq: NACK_SEQ_REUSED, not executed, no PARAM_VALUE
     mcu, host = ready()
     host.send(ParamSet(0x6500, 0), seq=0)
     host.run_ms(12)
     msgs = host.messages()
-    assert Ack(0) in msgs
+    assert Nack(0, NACK_SEQ_REUSED) in msgs and Ack(0) not in msgs
     assert not any(isinstance(m, ParamValue) for m in msgs)
-    assert mcu.stats()["duplicates"] == 1
+    assert mcu.stats()["duplicates"] == 0

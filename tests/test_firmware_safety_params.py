@@ -32,6 +32,8 @@ from mobigrasp.protocol.messages import NACK_BAD_PARAM
 
 CONTROL_PERIOD_US = 10_000
 
+pytestmark = pytest.mark.both_mcus
+
 
 def _session():
     mcu = Mcu()

@@ -9,6 +9,7 @@ import pytest
 
 from mobigrasp.link.messages import Link
 from mobigrasp.link.registry import open_transport
+from mobigrasp.mcu_sim.backend import MCU_BACKENDS
 from mobigrasp.mcu_sim.mcu_pty import WHEELS
 from mobigrasp.mcu_sim.wire_names import describe, flag_names, nack_reason_name
 from mobigrasp.protocol import (
@@ -31,8 +32,9 @@ def handshake(emu):
     emu.receive(3)
 
 
-def test_bench_wheels_turn_the_encoders_with_lag(emulated_mcu_factory):
-    emu = emulated_mcu_factory()
+@pytest.mark.parametrize("backend", sorted(MCU_BACKENDS))
+def test_bench_wheels_turn_the_encoders_with_lag(emulated_mcu_factory, backend):
+    emu = emulated_mcu_factory(mcu=backend)
     handshake(emu)
     emu.send(SetWheels(200, 200))
     emu.advance_ms(40)
@@ -56,9 +58,11 @@ def test_still_wheels_keep_the_counts_at_zero(emulated_mcu_factory):
     assert (tel.enc_left, tel.enc_right) == (0, 0)
 
 
-def test_unknown_wheel_plant_is_refused_by_name(emulated_mcu_factory):
+def test_unknown_wheel_plant_or_backend_is_refused_by_name(emulated_mcu_factory):
     with pytest.raises(ValueError, match="wheels must be one of bench, still"):
         emulated_mcu_factory(wheels="air")
+    with pytest.raises(ValueError, match="unknown MCU backend 'avr'"):
+        emulated_mcu_factory(mcu="avr")
 
 
 def test_the_command_offers_the_plants_of_the_pty_mcu():
@@ -94,7 +98,7 @@ def test_wait_from_host_needs_no_byte_count(emulated_mcu):
             os.write(fd, wire)
         before = emu.stats["rx_bytes"]
         assert emu.wait_from_host()
-        assert emu._pty.bytes_from_host == 20 * len(wire)
+        assert emu.bytes_from_host == 20 * len(wire)
         emu.advance_ms(60)
         assert emu.stats["rx_bytes"] - before == 20 * len(wire)
     finally:

@@ -2,8 +2,9 @@
 
 ``python -m mobigrasp.tools.firmware_budget`` reads ``firmware/build`` (``make firmware`` first)
 and prints flash, the static SRAM by symbol and the stack; ``--write`` rewrites the generated
-block of ``mcu_sim/firmware/sram.py`` from them, so the Python side's budget is the ELF's, not a
-hand estimate (``tests/test_firmware_avr.py`` fails when the two differ).
+block of ``mcu_sim/firmware/sram.py`` and the table of ``docs/firmware.md`` from them, so the
+Python side's budget is the ELF's, not a hand estimate (``tests/test_firmware_avr.py`` fails when
+they differ).
 
 Worst-case stack: every function's frame from ``-fstack-usage`` (``build/**/*.su``: the bytes a
 call needs, its return address and pushed registers included) and the call graph from the ELF's
@@ -28,6 +29,8 @@ ROOT = Path(__file__).resolve().parents[1]
 BUILD = ROOT / "firmware" / "build"
 ELF_NAME = "mobigrasp-avr.elf"
 SRAM_PY = ROOT / "mcu_sim" / "firmware" / "sram.py"
+DOC = ROOT / "docs" / "firmware.md"
+DOC_BEGIN, DOC_END = "<!-- sram:begin -->\n", "<!-- sram:end -->\n"
 FLASH_BYTES = 128 * 1024
 SRAM_BYTES = 4096
 LIBRARY_FRAME_BYTES = 16
@@ -180,8 +183,28 @@ def write_sram_py(b: Budget, path: Path = SRAM_PY) -> None:
     path.write_text(text[:start] + generated_block(b) + text[end:])
 
 
+def doc_table(b: Budget) -> str:
+    """The SRAM table of docs/firmware.md (between DOC_BEGIN and DOC_END)."""
+    rows = ["| symbol | bytes |", "|---|---|"]
+    rows += [f"| `{name}` | {size} |" for name, size in b.symbols.items()]
+    rows += [f"| **static total (.data + .bss)** | **{b.data_bytes + b.bss_bytes}** |",
+             f"| stack: main chain + deepest handler ({b.deepest_isr}) | "
+             f"{b.main_stack_bytes} + {b.isr_stack_bytes} |",
+             f"| **total** | **{b.sram_bytes}** of {SRAM_BYTES} |", "",
+             f"Flash: {b.flash_bytes} bytes of {FLASH_BYTES} (`make firmware` prints "
+             "`avr-size -C`)."]
+    return "\n".join(rows) + "\n"
+
+
+def write_doc(b: Budget, path: Path = DOC) -> None:
+    """Replace the SRAM table of docs/firmware.md with ``b``'s figures."""
+    text = path.read_text()
+    start, end = text.index(DOC_BEGIN) + len(DOC_BEGIN), text.index(DOC_END)
+    path.write_text(text[:start] + doc_table(b) + text[end:])
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Print the budget; --write also updates mcu_sim/firmware/sram.py."""
+    """Print the budget; --write also updates mcu_sim/firmware/sram.py and the docs table."""
     ap = argparse.ArgumentParser(prog="firmware_budget", description=__doc__.split("\n")[0])
     ap.add_argument("--build", type=Path, default=BUILD, help="the avr build folder")
     ap.add_argument("--write", action="store_true", help="update mcu_sim/firmware/sram.py")
@@ -199,7 +222,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"SRAM   {b.sram_bytes:6d} of {SRAM_BYTES} bytes")
     if args.write:
         write_sram_py(b)
-        print(f"wrote {SRAM_PY}")
+        write_doc(b)
+        print(f"wrote {SRAM_PY} and the table of {DOC}")
     return 0
 
 

@@ -38,15 +38,18 @@ def log_level(verbose: int = 0, quiet: bool = False) -> int:
     return {0: logging.WARNING, 1: logging.INFO}.get(verbose, logging.DEBUG)
 
 
+class _CommandHandler(logging.StreamHandler):
+    """The stderr handler :func:`setup_logging` installs (and replaces on a second call)."""
+
+
 def setup_logging(verbose: int = 0, quiet: bool = False, stream: TextIO | None = None) -> None:
     """Send the ``mobigrasp`` logger's records to ``stream`` (stderr) at the flags' level;
     calling it again replaces the handler (one per process)."""
     logger = logging.getLogger(LOGGER_NAME)
     for handler in list(logger.handlers):
-        if getattr(handler, "_mobigrasp", False):
+        if isinstance(handler, _CommandHandler):
             logger.removeHandler(handler)
-    handler = logging.StreamHandler(stream if stream is not None else sys.stderr)
-    handler._mobigrasp = True  # marks the handler this module owns
+    handler = _CommandHandler(stream if stream is not None else sys.stderr)
     handler.setFormatter(logging.Formatter("%(levelname)s %(name)s: %(message)s"))
     logger.addHandler(handler)
     logger.setLevel(log_level(verbose, quiet))

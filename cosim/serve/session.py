@@ -42,7 +42,8 @@ class SimOptions:
     out: Path | None = None
     seed: int | None = None
     time_limit_s: float | None = None
-    progress: bool = True
+    # the caller's display, called as (simulated seconds reached, text); closed at the end
+    progress: Any = None
     # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
 
@@ -67,7 +68,8 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     from mobigrasp.link.registry import open_transport
 
     if opts.mcu not in MCU_BACKENDS:
-        raise BadSimInput(f"--mcu must be one of {', '.join(MCU_BACKENDS)}, got {opts.mcu!r}")
+        raise BadSimInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
+                          f"got {opts.mcu!r}")
     if not (isinstance(opts.speed, float | int) and 0 < opts.speed <= 100):
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
     if opts.resolved is None:
@@ -134,12 +136,13 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             return "host_closed"
         return stop() if stop is not None else None
 
+    display = opts.progress
     progress = None
-    if opts.progress:
+    if display is not None:
         def progress(res, wall):
-            print(f"\r  t={rig.now_us / 1e6:7.2f} s  from host {host.bytes_from_host} B  "
-                  f"to host {host.bytes_to_host} B  frames {camera.frames_published} ",
-                  end="", file=sys.stderr, flush=True)
+            display.update(round(rig.now_us / 1e6, 1),
+                           f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} "
+                           f"B, frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)
@@ -156,8 +159,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
-        if opts.progress:
-            print("", file=sys.stderr)
+        if display is not None:
+            display.close()
         trace.close()
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats()

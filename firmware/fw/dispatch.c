@@ -1,6 +1,7 @@
 /* Frame dispatch: the switch (msg_type) of mcu_sim/firmware/dispatch.py. Nothing actuates
  * before HELLO; a payload that does not decode is NACKed and actuates nothing; reliable
- * commands are ACKed, a copy (same seq) is answered again but not executed twice. */
+ * commands are ACKed, a copy (same seq and CRC) is answered again but not executed twice, and
+ * another command reusing a recent seq is NACKed SEQ_REUSED (docs/protocol.md 5.2). */
 #include "../protocol/messages.h"
 #include "params.h"
 #include "program.h"
@@ -101,12 +102,18 @@ void fw_handle_frame(const frame_parser_t *fp, uint8_t n, uint32_t now)
             return;
         }
         dup_reset(&fw_dup); /* a (re)started host counts from 0 again */
-        dup_is_new(&fw_dup, seq, now);
+        dup_observe(&fw_dup, seq);
+        dup_remember(&fw_dup, seq, frame_crc(fp, n), 0);
+        /* a new session starts from the power-on safety PARAMs */
+        if (params_restore_safety()) {
+            fw_apply_servo_limits();
+        }
         fw_flags.handshake = 1;
         fw_send_ack(seq);
         send_hello_ack();
         return;
     }
+    dup_observe(&fw_dup, seq);
     if (type == MSG_SET_WHEELS) {
         if (!fw_flags.handshake) {
             fw_counters.not_ready++;
@@ -126,11 +133,15 @@ void fw_handle_frame(const frame_parser_t *fp, uint8_t n, uint32_t now)
         fw_send_nack(seq, NACK_NOT_READY);
         return;
     }
-    if (dup_is_new(&fw_dup, seq, now)) {
+    uint16_t crc = frame_crc(fp, n);
+    uint8_t kind = dup_classify(&fw_dup, seq, crc);
+    if (kind == DUP_NEW) {
         reason = execute(type, p);
-        dup_set_result(&fw_dup, seq, reason);
-    } else {
+        dup_remember(&fw_dup, seq, crc, reason);
+    } else if (kind == DUP_COPY) { /* a retransmission: the same answer, not executed again */
         reason = dup_result(&fw_dup, seq);
+    } else { /* another command with a recent seq: refused, the slot keeps the first one */
+        reason = NACK_SEQ_REUSED;
     }
     if (reason) {
         fw_send_nack(seq, reason);

@@ -10,32 +10,33 @@ typedef struct {
     uint16_t id;
     int32_t def, lo, hi;
     uint8_t writable;
+    uint8_t safety; /* range is the compile-time bound; HELLO restores the power-on value */
 } param_row_t;
 
-/* The table lives in flash on the AVR (300 bytes of SRAM otherwise); rows are copied out by
- * row(). Servo limit defaults are the joint limits rounded inwards (servo_table.c,
- * default_limits_us); 0 here, filled in by default_of. */
+/* In flash on the AVR (row() copies a row out). The servo limit rows' default and range are
+ * the channel's mechanical limits (protocol/joints.c), filled in by row(): a PARAM may only
+ * narrow them. */
 static const param_row_t table[PARAM_COUNT] HAL_FLASH = {
-    {P_WATCHDOG_MS, 250, 0, 10000, 1}, /* 0 disables the watchdog */
-    {P_TELEMETRY_HZ, 50, 0, 100, 1},   /* 0 = telemetry off */
-    {P_WHEEL_KP, 16, 0, 1000, 1},      /* Q8 duty per tick/10 ms */
-    {P_WHEEL_KI, 2, 0, 1000, 1},
-    {P_WHEEL_MAX_MMPS, 800, 0, 1000, 1},
-    {P_SONAR_COUNT, 5, 0, 5, 1},
-    {P_SONAR_SLOT_MS, 30, 20, 100, 1},
-    {P_SERVO_MIN_BASE + 0, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MIN_BASE + 1, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MIN_BASE + 2, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MIN_BASE + 3, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MIN_BASE + 4, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MIN_BASE + 5, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MAX_BASE + 0, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MAX_BASE + 1, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MAX_BASE + 2, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MAX_BASE + 3, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MAX_BASE + 4, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_SERVO_MAX_BASE + 5, 0, PULSE_MIN_US, PULSE_MAX_US, 1},
-    {P_FIRMWARE_VERSION, FIRMWARE_VERSION, FIRMWARE_VERSION, FIRMWARE_VERSION, 0},
+    {P_WATCHDOG_MS, 250, WATCHDOG_MIN_MS, WATCHDOG_MAX_MS, 1, 1},
+    {P_TELEMETRY_HZ, 50, 0, 100, 1, 0}, /* 0 = telemetry off */
+    {P_WHEEL_KP, 16, 0, 1000, 1, 0},    /* Q8 duty per tick/10 ms */
+    {P_WHEEL_KI, 2, 0, 1000, 1, 0},
+    {P_WHEEL_MAX_MMPS, 800, 0, 1000, 1, 1},
+    {P_SONAR_COUNT, 5, 0, 5, 1, 0},
+    {P_SONAR_SLOT_MS, 30, 20, 100, 1, 0},
+    {P_SERVO_MIN_BASE + 0, 0, 0, 0, 1, 1},
+    {P_SERVO_MIN_BASE + 1, 0, 0, 0, 1, 1},
+    {P_SERVO_MIN_BASE + 2, 0, 0, 0, 1, 1},
+    {P_SERVO_MIN_BASE + 3, 0, 0, 0, 1, 1},
+    {P_SERVO_MIN_BASE + 4, 0, 0, 0, 1, 1},
+    {P_SERVO_MIN_BASE + 5, 0, 0, 0, 1, 1},
+    {P_SERVO_MAX_BASE + 0, 0, 0, 0, 1, 1},
+    {P_SERVO_MAX_BASE + 1, 0, 0, 0, 1, 1},
+    {P_SERVO_MAX_BASE + 2, 0, 0, 0, 1, 1},
+    {P_SERVO_MAX_BASE + 3, 0, 0, 0, 1, 1},
+    {P_SERVO_MAX_BASE + 4, 0, 0, 0, 1, 1},
+    {P_SERVO_MAX_BASE + 5, 0, 0, 0, 1, 1},
+    {P_FIRMWARE_VERSION, FIRMWARE_VERSION, FIRMWARE_VERSION, FIRMWARE_VERSION, 0, 0},
 };
 
 int32_t params_values[PARAM_COUNT] FW_STATE;
@@ -44,30 +45,51 @@ static param_row_t row(uint8_t i)
 {
     param_row_t r;
     hal_flash_read(&r, &table[i], sizeof r);
+    uint8_t is_min = r.id >= P_SERVO_MIN_BASE && r.id < P_SERVO_MIN_BASE + SERVO_COUNT;
+    uint8_t is_max = r.id >= P_SERVO_MAX_BASE && r.id < P_SERVO_MAX_BASE + SERVO_COUNT;
+    if (is_min || is_max) {
+        int16_t lo, hi;
+        default_limits_us((uint8_t)(r.id - (is_min ? P_SERVO_MIN_BASE : P_SERVO_MAX_BASE)), &lo, &hi);
+        r.lo = lo;
+        r.hi = hi;
+        r.def = is_min ? lo : hi;
+    }
     return r;
 }
 
-static int32_t default_of(uint8_t i)
+/* The value at start-up: the table's, or a build-time choice (hal_boot_param). */
+static int32_t power_on(uint8_t i)
 {
     param_row_t r = row(i);
-    uint16_t id = r.id;
-    int16_t lo, hi;
-    if (id >= P_SERVO_MIN_BASE && id < P_SERVO_MIN_BASE + SERVO_COUNT) {
-        default_limits_us((uint8_t)(id - P_SERVO_MIN_BASE), &lo, &hi);
-        return lo;
-    }
-    if (id >= P_SERVO_MAX_BASE && id < P_SERVO_MAX_BASE + SERVO_COUNT) {
-        default_limits_us((uint8_t)(id - P_SERVO_MAX_BASE), &lo, &hi);
-        return hi;
-    }
-    return r.def;
+    int32_t v = r.def;
+    hal_boot_param(r.id, &v);
+    return v;
 }
 
 void params_reset(void)
 {
     for (uint8_t i = 0; i < PARAM_COUNT; i++) {
-        params_values[i] = default_of(i);
+        params_values[i] = power_on(i);
     }
+}
+
+uint8_t params_restore_safety(void)
+{
+    uint8_t servo_changed = 0;
+    for (uint8_t i = 0; i < PARAM_COUNT; i++) {
+        param_row_t r = row(i);
+        if (!r.safety) {
+            continue;
+        }
+        int32_t v = power_on(i);
+        if (params_values[i] != v) {
+            params_values[i] = v;
+            if (r.id >= P_SERVO_MIN_BASE) {
+                servo_changed = 1;
+            }
+        }
+    }
+    return servo_changed;
 }
 
 int8_t params_index(uint16_t id)
@@ -101,7 +123,7 @@ uint8_t params_check(uint16_t id, int32_t value)
         return NACK_BAD_PARAM;
     }
     if (value < r.lo || value > r.hi) {
-        return NACK_OUT_OF_RANGE;
+        return r.safety ? NACK_BAD_PARAM : NACK_OUT_OF_RANGE;
     }
     int32_t other;
     if (id >= P_SERVO_MIN_BASE && id < P_SERVO_MIN_BASE + SERVO_COUNT) {
@@ -124,12 +146,14 @@ void params_set(uint16_t id, int32_t value)
     params_values[params_index(id)] = value;
 }
 
-void params_row(uint8_t i, uint16_t *id, int32_t *def, int32_t *lo, int32_t *hi, uint8_t *writable)
+void params_row(uint8_t i, uint16_t *id, int32_t *def, int32_t *lo, int32_t *hi, uint8_t *writable,
+                uint8_t *safety)
 {
     param_row_t r = row(i);
     *id = r.id;
-    *def = default_of(i);
+    *def = r.def;
     *lo = r.lo;
     *hi = r.hi;
     *writable = r.writable;
+    *safety = r.safety;
 }

@@ -45,10 +45,11 @@ void fw_setup(void)
     ring_clear(&fw_rx);
     fw_rx.overruns = 0;
     frame_parser_reset(&fw_parser);
-    fw_dup = (dup_filter_t){{0}, {0}, {0}, 0, 0, 0, 0};
+    fw_dup.duplicates = 0;
+    fw_dup.reused = 0;
+    dup_reset(&fw_dup);
     fw_tx_seq = 0;
     params_reset();
-    hal_boot_params();
     servo_reset(&fw_servos);
     fw_apply_servo_limits();
     fw_enc_count[0] = fw_enc_count[1] = 0;
@@ -272,6 +273,8 @@ uint32_t fw_loop(void)
     return next;
 }
 
+uint8_t fw_work_pending(void) { return !ring_empty(&fw_rx) || servo_period_due; }
+
 uint32_t fw_next_unprompted_send_us(uint8_t *off)
 {
     *off = params_values[I_TELEMETRY_HZ] == 0;
@@ -289,9 +292,15 @@ void fw_apply_servo_limits(void)
 {
     for (uint8_t ch = 0; ch < SERVO_COUNT; ch++) {
         int32_t v;
+        int16_t mech_lo, mech_hi;
+        default_limits_us(ch, &mech_lo, &mech_hi);
+        /* the PARAM checks keep these inside the mechanical limits; clamping again keeps the
+         * servo bank inside them whatever reaches the PARAM array */
         params_get((uint16_t)(P_SERVO_MIN_BASE + ch), &v);
+        v = v < mech_lo ? mech_lo : v > mech_hi ? mech_hi : v;
         fw_servos.min_us[ch] = (int16_t)v;
         params_get((uint16_t)(P_SERVO_MAX_BASE + ch), &v);
+        v = v < fw_servos.min_us[ch] ? fw_servos.min_us[ch] : v > mech_hi ? mech_hi : v;
         fw_servos.max_us[ch] = (int16_t)v;
         fw_write_ocr(ch);
     }

@@ -1,57 +1,14 @@
 #include "servo_table.h"
 
-#define K_NUM 20000l /* us per mrad = K_NUM / K_DEN = 2000 / (1000 pi) */
-#define K_DEN 31416l
+#include "../protocol/joints.h"
+
 #define PERIODS_PER_S 50l
 
-/* (pulse at 0 rad or 0 per mille, direction, joint lower, upper limit): conventions.md */
-static const int16_t joint_table[SERVO_COUNT][4] = {
-    {GRIPPER_OPEN_US, 1, 0, 1000},
-    {1500, 1, -1571, 1571},
-    {2455, 1, -3000, 0},
-    {2455, 1, -2800, 0},
-    {545, 1, 0, 3000},
-    {1500, 1, -1400, 1400},
-};
 static const int16_t home_us[SERVO_COUNT] = {GRIPPER_OPEN_US, 1500, 1500, 1500, 1500, 1500};
 
-static int32_t div_round(int32_t num, int32_t den) /* halves away from zero, den > 0 */
-{
-    return num >= 0 ? (num + den / 2) / den : -((-num + den / 2) / den);
-}
+int32_t mrad_to_us(uint8_t ch, int32_t value) { return joint_pulse_us(ch, value); }
 
-static int32_t floor_div(int32_t num, int32_t den)
-{
-    int32_t q = num / den;
-    return (num % den != 0 && num < 0) ? q - 1 : q;
-}
-
-int32_t mrad_to_us(uint8_t ch, int32_t value)
-{
-    if (ch == 0) {
-        return joint_table[0][0] + value;
-    }
-    return joint_table[ch][0] + joint_table[ch][1] * div_round(value * K_NUM, K_DEN);
-}
-
-void default_limits_us(uint8_t ch, int16_t *lo, int16_t *hi)
-{
-    const int16_t *j = joint_table[ch];
-    if (ch == 0) {
-        *lo = (int16_t)(j[0] + j[2]);
-        *hi = (int16_t)(j[0] + j[3]);
-        return;
-    }
-    int32_t base = (int32_t)j[0] * K_DEN;
-    int32_t a = base + (int32_t)j[1] * j[2] * K_NUM;
-    int32_t b = base + (int32_t)j[1] * j[3] * K_NUM;
-    int32_t e0 = a < b ? a : b;
-    int32_t e1 = a < b ? b : a;
-    int32_t lo_us = -floor_div(-e0, K_DEN); /* ceil */
-    int32_t hi_us = floor_div(e1, K_DEN);
-    *lo = (int16_t)(lo_us < PULSE_MIN_US ? PULSE_MIN_US : lo_us);
-    *hi = (int16_t)(hi_us > PULSE_MAX_US ? PULSE_MAX_US : hi_us);
-}
+void default_limits_us(uint8_t ch, int16_t *lo, int16_t *hi) { joint_mech_limits_us(ch, lo, hi); }
 
 int32_t slew_step_q8(int32_t slew_us_per_s)
 {
@@ -67,7 +24,8 @@ int32_t mrad_slew_to_us(int32_t slew_mrad_per_s)
     if (slew_mrad_per_s <= 0) {
         return 0;
     }
-    int32_t us = div_round(slew_mrad_per_s * K_NUM, K_DEN);
+    /* up to 65535 x 33215: beyond an int32, inside a uint32 */
+    int32_t us = (int32_t)joint_div_round_u((uint32_t)slew_mrad_per_s * JOINT_K_NUM, JOINT_K_DEN);
     return us > 1 ? us : 1;
 }
 

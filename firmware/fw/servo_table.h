@@ -1,6 +1,6 @@
 /* Servo calibration of docs/conventions.md in integer form and the slewed servo bank
- * (mcu_sim/firmware/servo_table.py). Servo law: pulse = pulse0 + dir * theta * 2000 / pi,
- * computed as theta_mrad * 20000 / 31416; the gripper maps 0..1000 per mille to 1000..2000 us.
+ * (mcu_sim/firmware/servo_table.py). Servo law and mechanical limits: protocol/joints.h; the
+ * limit PARAMs may only narrow the mechanical limits.
  * Widths are Q8 us: latched (in force this period), pending (written to OCRnx), target. */
 #ifndef MOBIGRASP_SERVO_TABLE_H
 #define MOBIGRASP_SERVO_TABLE_H
@@ -24,7 +24,7 @@ typedef struct {
 int32_t mrad_to_us(uint8_t ch, int32_t value);
 int32_t mrad_slew_to_us(int32_t slew_mrad_per_s);
 int32_t slew_step_q8(int32_t slew_us_per_s);
-void default_limits_us(uint8_t ch, int16_t *lo, int16_t *hi);
+void default_limits_us(uint8_t ch, int16_t *lo, int16_t *hi); /* the mechanical limits */
 
 void servo_reset(servo_bank_t *s);
 uint8_t servo_set_target_us(servo_bank_t *s, uint8_t ch, int32_t pulse_us, int32_t slew_us_per_s);

@@ -3,8 +3,10 @@
  *     COBS( version u8 | seq u8 | msg_type u8 | payload 0..64 | crc16 u16 LE ) | 0x00
  *
  * The CRC is CRC-16/CCITT-FALSE over version..payload. The parser takes one byte at a time (the
- * main loop drains the RX ring into it) and counts every frame it rejects under one reason,
- * with the same counters and totals as protocol.FrameParser whatever the chunking. */
+ * main loop drains the RX ring into it) and counts every run it rejects under one reason, with
+ * the same counters and totals as protocol.FrameParser whatever the chunking. A run that fails
+ * as one frame (oversize, COBS or CRC error) is searched for a valid frame ending at its 0x00
+ * (docs/protocol.md 2.1): when a delimiter is lost only the frame before it is lost. */
 #ifndef MOBIGRASP_FRAME_H
 #define MOBIGRASP_FRAME_H
 
@@ -37,14 +39,16 @@ typedef struct {
     uint32_t bad_version;
     uint32_t truncated;
     uint32_t cobs_errors;
-    uint32_t garbage_bytes;
+    uint32_t garbage_bytes; /* bytes not delivered in a frame */
     uint32_t bytes_in;
+    uint32_t recovered; /* frames found at the end of a rejected run (its delimiter was lost) */
 } frame_stats_t;
 
 typedef struct {
     uint8_t buf[FRAME_MAX_ENCODED]; /* encoded bytes up to the delimiter, decoded in place */
     uint8_t len;
-    uint8_t skipping; /* inside a run longer than any frame: drop up to the next 0x00 */
+    uint8_t skipping; /* inside a run longer than any frame: buf is a ring of its last bytes */
+    uint8_t start;    /* while skipping: index of the oldest byte kept */
     frame_stats_t stats;
 } frame_parser_t;
 
@@ -58,5 +62,10 @@ static inline uint8_t frame_version(const frame_parser_t *p) { return p->buf[1];
 static inline uint8_t frame_seq(const frame_parser_t *p) { return p->buf[2]; }
 static inline uint8_t frame_type(const frame_parser_t *p) { return p->buf[3]; }
 static inline const uint8_t *frame_data(const frame_parser_t *p) { return p->buf + 4; }
+/* The frame's CRC-16 field (the duplicate filter tells copies by it). */
+static inline uint16_t frame_crc(const frame_parser_t *p, uint8_t payload_len)
+{
+    return (uint16_t)(p->buf[4 + payload_len] | ((uint16_t)p->buf[5 + payload_len] << 8));
+}
 
 #endif

@@ -16,7 +16,8 @@ enum {
 
 enum {
     NACK_OUT_OF_RANGE = 1, NACK_UNKNOWN_TYPE = 2, NACK_BAD_LENGTH = 3, NACK_NOT_READY = 4,
-    NACK_BAD_PARAM = 5, NACK_BAD_VERSION = 6
+    NACK_BAD_PARAM = 5, NACK_BAD_VERSION = 6,
+    NACK_SEQ_REUSED = 7 /* a reliable seq reused with other content inside the window */
 };
 
 enum {

@@ -1,58 +1,59 @@
-/* Duplicate filter: a ring of (seq, time, answer) in arrival order. */
+/* Duplicate filter: slots by seq, cleared as ``newest`` passes them (one lap of the 8-bit seq). */
 #include "reliable.h"
+
+#define DUP_MASK (DUP_WINDOW - 1u)
+#define DUP_AHEAD_MAX (256u - DUP_WINDOW)
 
 void dup_reset(dup_filter_t *d)
 {
-    d->head = 0;
-    d->count = 0;
+    d->newest = -1;
+    for (uint8_t i = 0; i < DUP_WINDOW; i++) {
+        d->result[i] = DUP_EMPTY;
+    }
 }
 
-static int8_t find(const dup_filter_t *d, uint8_t seq)
+void dup_observe(dup_filter_t *d, uint8_t seq)
 {
-    for (uint8_t k = 0; k < d->count; k++) {
-        uint8_t i = (uint8_t)((d->head + k) % DUP_WINDOW);
-        if (d->seq[i] == seq) {
-            return (int8_t)i;
+    if (d->newest < 0) {
+        d->newest = seq;
+        return;
+    }
+    uint8_t newest = (uint8_t)d->newest;
+    uint8_t ahead = (uint8_t)(seq - newest);
+    if (ahead >= 1u && ahead <= DUP_AHEAD_MAX) {
+        uint8_t n = ahead < DUP_WINDOW ? ahead : (uint8_t)DUP_WINDOW;
+        for (uint8_t k = 1; k <= n; k++) {
+            d->result[(uint8_t)(newest + k) & DUP_MASK] = DUP_EMPTY;
         }
+        d->newest = seq;
     }
-    return -1;
 }
 
-uint8_t dup_is_new(dup_filter_t *d, uint8_t seq, uint32_t now_us)
+uint8_t dup_classify(dup_filter_t *d, uint8_t seq, uint16_t crc)
 {
-    while (d->count && (uint32_t)(now_us - d->t_us[d->head]) >= DUP_EXPIRY_US) {
-        d->head = (uint8_t)((d->head + 1u) % DUP_WINDOW);
-        d->count--;
+    uint8_t i = seq & DUP_MASK;
+    if (d->result[i] == DUP_EMPTY || d->tag[i] != seq) {
+        return DUP_NEW;
     }
-    if (find(d, seq) >= 0) {
+    if (d->crc[i] == crc) {
         d->duplicates++;
-        return 0;
+        return DUP_COPY;
     }
-    if (d->count >= DUP_WINDOW) {
-        if ((uint32_t)(now_us - d->t_us[d->head]) < DUP_EXPIRY_US) {
-            d->live_evictions++;
-        }
-        d->head = (uint8_t)((d->head + 1u) % DUP_WINDOW);
-        d->count--;
-    }
-    uint8_t i = (uint8_t)((d->head + d->count) % DUP_WINDOW);
-    d->seq[i] = seq;
-    d->t_us[i] = now_us;
-    d->result[i] = 0;
-    d->count++;
-    return 1;
+    d->reused++;
+    return DUP_REUSED;
 }
 
-void dup_set_result(dup_filter_t *d, uint8_t seq, uint8_t reason)
+void dup_remember(dup_filter_t *d, uint8_t seq, uint16_t crc, uint8_t reason)
 {
-    int8_t i = find(d, seq);
-    if (i >= 0) {
-        d->result[i] = reason;
-    }
+    uint8_t i = seq & DUP_MASK;
+    d->tag[i] = seq;
+    d->crc[i] = crc;
+    d->result[i] = reason;
 }
 
 uint8_t dup_result(const dup_filter_t *d, uint8_t seq)
 {
-    int8_t i = find(d, seq);
-    return i < 0 ? 0 : d->result[i];
+    uint8_t i = seq & DUP_MASK;
+    uint8_t r = d->result[i];
+    return (r == DUP_EMPTY || d->tag[i] != seq) ? 0 : r;
 }

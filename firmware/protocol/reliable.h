@@ -1,27 +1,31 @@
 /* Receiver side of the reliable commands: the duplicate filter (protocol/reliable.py,
- * DuplicateFilter). Remembers the last DUP_WINDOW executed seqs and the answer given to each
- * for DUP_EXPIRY_US, oldest first in a ring. */
+ * DuplicateFilter; docs/protocol.md 5.2). Two frames are the same command when they carry the
+ * same seq and the same CRC-16 field. The filter keeps ``newest``, the newest seq of any valid
+ * frame, and remembers the reliable commands of the last DUP_WINDOW seqs behind it: slots
+ * indexed by seq % DUP_WINDOW, each a seq tag, the CRC and the answer (0xFF = empty). */
 #ifndef MOBIGRASP_RELIABLE_H
 #define MOBIGRASP_RELIABLE_H
 
 #include <stdint.h>
 
-#define DUP_WINDOW 16u
-#define DUP_EXPIRY_US 250000ul
+#define DUP_WINDOW 64u /* a power of two in 2..128 */
+#define DUP_EMPTY 0xFFu
+
+enum { DUP_NEW = 0, DUP_COPY = 1, DUP_REUSED = 2 };
 
 typedef struct {
-    uint8_t seq[DUP_WINDOW];
-    uint8_t result[DUP_WINDOW]; /* 0 = ACK, else the NACK reason */
-    uint32_t t_us[DUP_WINDOW];
-    uint8_t head; /* oldest entry */
-    uint8_t count;
+    uint8_t tag[DUP_WINDOW];
+    uint16_t crc[DUP_WINDOW];
+    uint8_t result[DUP_WINDOW]; /* 0 = ACK, else the NACK reason, DUP_EMPTY = no command */
+    int16_t newest;             /* -1: nothing observed since reset */
     uint32_t duplicates;
-    uint32_t live_evictions; /* pushed out before expiry: a copy would run twice */
+    uint32_t reused;
 } dup_filter_t;
 
-void dup_reset(dup_filter_t *d); /* forget every seq (HELLO); counters kept */
-uint8_t dup_is_new(dup_filter_t *d, uint8_t seq, uint32_t now_us);
-void dup_set_result(dup_filter_t *d, uint8_t seq, uint8_t reason);
+void dup_reset(dup_filter_t *d); /* forget every command and the newest seq (HELLO) */
+void dup_observe(dup_filter_t *d, uint8_t seq); /* every valid frame from the peer */
+uint8_t dup_classify(dup_filter_t *d, uint8_t seq, uint16_t crc); /* a reliable frame */
+void dup_remember(dup_filter_t *d, uint8_t seq, uint16_t crc, uint8_t reason);
 uint8_t dup_result(const dup_filter_t *d, uint8_t seq);
 
 #endif

@@ -28,19 +28,18 @@ SRAM_LAYOUT: dict[str, int] = {
     'enc_state': 2,
     'firmware_id': 14,
     'fw_counters': 28,
-    'fw_dup': 106,
+    'fw_dup': 266,
     'fw_duty_out': 4,
     'fw_enc_count': 8,
     'fw_flags': 6,
     'fw_last_valid_us': 4,
-    'fw_parser': 108,
+    'fw_parser': 113,
     'fw_rx': 134,
     'fw_servos': 120,
     'fw_sonar': 26,
     'fw_tx_seq': 1,
     'fw_wheels': 32,
     'home_us': 12,
-    'joint_table': 48,
     'next_control_us': 4,
     'next_telemetry_us': 4,
     'params_values': 80,
@@ -54,10 +53,10 @@ SRAM_LAYOUT: dict[str, int] = {
     'tx_tail': 1,
     'wheel_r_on': 1,
 }
-DATA_BSS_BYTES = 968  # avr-size: .data + .bss
-STACK_MAIN_BYTES = 152  # deepest chain from main()
+DATA_BSS_BYTES = 1085  # avr-size: .data + .bss
+STACK_MAIN_BYTES = 226  # deepest chain from main()
 STACK_ISR_BYTES = 58  # deepest handler (__vector_7)
-FLASH_BYTES_USED = 11568  # .text + .data
+FLASH_BYTES_USED = 13062  # .text + .data
 # -- end of generated block --
 
 

@@ -30,11 +30,11 @@ CDEF = """
 typedef struct { uint8_t buf[128]; volatile uint8_t head; volatile uint8_t tail;
                  uint32_t overruns; } byte_ring_t;
 typedef struct { uint32_t frames_ok, crc_errors, oversize, unknown_type, bad_version,
-                 truncated, cobs_errors, garbage_bytes, bytes_in; } frame_stats_t;
-typedef struct { uint8_t buf[70]; uint8_t len; uint8_t skipping; frame_stats_t stats; }
-    frame_parser_t;
-typedef struct { uint8_t seq[16]; uint8_t result[16]; uint32_t t_us[16]; uint8_t head;
-                 uint8_t count; uint32_t duplicates; uint32_t live_evictions; } dup_filter_t;
+                 truncated, cobs_errors, garbage_bytes, bytes_in, recovered; } frame_stats_t;
+typedef struct { uint8_t buf[70]; uint8_t len; uint8_t skipping; uint8_t start;
+                 frame_stats_t stats; } frame_parser_t;
+typedef struct { uint8_t tag[64]; uint16_t crc[64]; uint8_t result[64]; int16_t newest;
+                 uint32_t duplicates; uint32_t reused; } dup_filter_t;
 typedef struct { int32_t latched_q8[6]; int32_t pending_q8[6]; int32_t target_q8[6];
                  int32_t step_q8[6]; int16_t min_us[6]; int16_t max_us[6]; } servo_bank_t;
 typedef struct { int16_t target_mmps; int32_t target_q8; int32_t integral;
@@ -76,8 +76,12 @@ void native_state_load(const uint8_t *src);
 uint8_t params_get(uint16_t id, int32_t *value);
 uint8_t params_check(uint16_t id, int32_t value);
 void params_set(uint16_t id, int32_t value);
+void params_reset(void);
+int32_t joint_pulse_us(uint8_t ch, int32_t value);
+void joint_mech_limits_us(uint8_t ch, int16_t *lo, int16_t *hi);
+int32_t mrad_slew_to_us(int32_t slew_mrad_per_s);
 void params_row(uint8_t i, uint16_t *id, int32_t *def, int32_t *lo, int32_t *hi,
-                uint8_t *writable);
+                uint8_t *writable, uint8_t *safety);
 
 extern "Python+C" {
     void hal_servo_timers_config(uint8_t tccra, uint16_t icr);
@@ -89,7 +93,7 @@ extern "Python+C" {
     uint8_t hal_uart_send(const uint8_t *data, uint8_t n);
     uint32_t hal_uart_rx_lost(void);
     void hal_sonar_trigger(uint8_t index);
-    void hal_boot_params(void);
+    uint8_t hal_boot_param(uint16_t id, int32_t *value);
 }
 """
 
@@ -98,6 +102,7 @@ SOURCE_PREAMBLE = """
 #include "hal.h"
 #include "fw/params.h"
 #include "fw/program.h"
+#include "protocol/joints.h"
 extern uint32_t native_now_us;
 void native_encoder_edges(uint8_t side, int32_t edges);
 void native_usart_rx_bytes(const uint8_t *data, uint32_t n);

@@ -88,9 +88,12 @@ def hal_sonar_trigger(index):  # noqa: D103
 
 
 @ffi.def_extern()
-def hal_boot_params():  # noqa: D103
-    for pid, value in _owner[0].overrides.items():
-        lib.params_set(pid, value)
+def hal_boot_param(pid, value):  # noqa: D103
+    chosen = _owner[0].overrides.get(pid)
+    if chosen is None:
+        return 0
+    value[0] = chosen
+    return 1
 
 
 class _Ring:
@@ -133,7 +136,8 @@ class _ParserStats:
         return {"frames_ok": s.frames_ok, "crc_errors": s.crc_errors, "oversize": s.oversize,
                 "unknown_type": s.unknown_type, "bad_version": s.bad_version,
                 "truncated": s.truncated, "cobs_errors": s.cobs_errors,
-                "garbage_bytes": s.garbage_bytes, "bytes_in": s.bytes_in}
+                "garbage_bytes": s.garbage_bytes, "bytes_in": s.bytes_in,
+                "recovered": s.recovered}
 
 
 class _Parser:
@@ -202,13 +206,17 @@ class NativeFirmware:
 
     def __init__(self, hw, param_overrides: dict[int, int] | None = None) -> None:
         self.hw = hw
-        self.overrides = dict(param_overrides or {})
+        self.overrides: dict[int, int] = {}
         self._state = ffi.new("uint8_t[]", lib.native_state_size())
         self._activate_fresh()
-        for pid, value in self.overrides.items():
-            reason = lib.params_check(pid, value)
+        lib.params_reset()  # the table's values, against which build-time choices are checked
+        chosen = dict(param_overrides or {})
+        for pid, value in chosen.items():
+            # the same checks as a PARAM_SET: no build can widen a safety limit either
+            reason = lib.params_check(pid, value) if -2**31 <= value < 2**31 else 1
             if reason:
                 raise ValueError(f"parameter {pid}={value} refused (NACK reason {reason})")
+        self.overrides = chosen
         self.rx = _Ring(self)
         self.parser = _Parser(self)
         self.dup = _Dup(self)
@@ -337,12 +345,12 @@ class NativeFirmware:
         return [lib.fw_enc_count[0], lib.fw_enc_count[1]]
 
 
-def c_param_table() -> tuple[tuple[int, int, int, int, bool], ...]:
-    """The C firmware's PARAM table: (id, default, min, max, writable) per row."""
-    pid, d, lo, hi, w = (ffi.new(t) for t in ("uint16_t *", "int32_t *", "int32_t *",
-                                              "int32_t *", "uint8_t *"))
+def c_param_table() -> tuple[tuple[int, int, int, int, bool, bool], ...]:
+    """The C firmware's PARAM table: (id, default, min, max, writable, safety) per row."""
+    pid, d, lo, hi, w, safe = (ffi.new(t) for t in ("uint16_t *", "int32_t *", "int32_t *",
+                                                    "int32_t *", "uint8_t *", "uint8_t *"))
     rows = []
     for i in range(len(PARAM_TABLE)):
-        lib.params_row(i, pid, d, lo, hi, w)
-        rows.append((pid[0], d[0], lo[0], hi[0], bool(w[0])))
+        lib.params_row(i, pid, d, lo, hi, w, safe)
+        rows.append((pid[0], d[0], lo[0], hi[0], bool(w[0]), bool(safe[0])))
     return tuple(rows)

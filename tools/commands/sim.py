@@ -45,7 +45,7 @@ def _port(text: str) -> int:
 def _mcu_names() -> list[str]:
     from mobigrasp.mcu_sim.backend import MCU_BACKENDS
 
-    return list(MCU_BACKENDS)
+    return sorted(MCU_BACKENDS)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -54,8 +54,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("scenario", help="scenario file or shipped scenario name (mobigrasp scenarios)")
     p.add_argument("--speed", type=_speed, default=1.0,
                    help="simulated seconds per wall second (default 1); pacing only")
-    p.add_argument("--mcu", default=None, metavar="NAME",
-                   help="MCU backend (default: the first registered; 'python')")
+    p.add_argument("--mcu", default="python", metavar="NAME",
+                   help="MCU backend from mobigrasp.mcu_sim.backend.MCU_BACKENDS: python (the "
+                        "firmware model, default), native (the C firmware), ...")
     p.add_argument("--camera-port", type=_port, default=8080,
                    help="TCP port of the camera on 127.0.0.1 (default 8080; 0: any free port)")
     p.add_argument("--out", type=Path, default=None,
@@ -70,17 +71,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
-    from mobigrasp.tools.run_job import BadInput, resolve_scenario
+    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     names = _mcu_names()
-    mcu = args.mcu or names[0]
+    mcu = args.mcu
     if mcu not in names:
         print(f"mobigrasp sim: --mcu must be one of {', '.join(names)}, got {mcu!r}",
-              file=sys.stderr)
-        return 2
-    if args.time_limit_s is not None and not (math.isfinite(args.time_limit_s)
-                                              and args.time_limit_s > 0):
-        print(f"mobigrasp sim: --time-limit-s must be > 0, got {args.time_limit_s}",
               file=sys.stderr)
         return 2
     asked: list[str] = []
@@ -93,15 +89,23 @@ def _run(args: argparse.Namespace) -> int:
         print(f"camera: {camera}", flush=True)
 
     try:
+        check_seed(args.seed)
+        check_time_limit(args.time_limit_s)
         resolved = resolve_scenario(args.scenario)
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
+    from mobigrasp.tools.progress import Progress
+
+    _, scenario = resolved
+    limit_s = args.time_limit_s or scenario.meta.time_limit_s
+    display = Progress(total=round(limit_s, 1), desc=f"sim {scenario.meta.name}",
+                       unit="s simulated", enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
-                                   time_limit_s=args.time_limit_s, progress=not args.quiet,
+                                   time_limit_s=args.time_limit_s, progress=display,
                                    resolved=resolved),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:

@@ -42,7 +42,7 @@ class SimOptions:
     out: Path | None = None
     seed: int | None = None
     time_limit_s: float | None = None
-    # the caller's display, called as (simulated seconds reached, text); closed at the end
+    # the caller's display: ``update(simulated_s, text)`` and ``close()`` (None: no progress)
     progress: Any = None
     # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
@@ -137,12 +137,12 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         return stop() if stop is not None else None
 
     display = opts.progress
-    progress = None
-    if display is not None:
-        def progress(res, wall):
+
+    def progress(res, wall):
+        if display is not None:
             display.update(round(rig.now_us / 1e6, 1),
-                           f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} "
-                           f"B, frames {camera.frames_published}")
+                           f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
+                           f"frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)

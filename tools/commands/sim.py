@@ -97,10 +97,10 @@ def _run(args: argparse.Namespace) -> int:
         return 2
     from mobigrasp.tools.progress import Progress
 
-    _, scenario = resolved
-    limit_s = args.time_limit_s or scenario.meta.time_limit_s
-    display = Progress(total=round(limit_s, 1), desc=f"sim {scenario.meta.name}",
-                       unit="s simulated", enabled=not args.quiet)
+    scenario = resolved[1]
+    display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
+                       desc=f"sim {scenario.meta.name}", unit="s simulated",
+                       enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,

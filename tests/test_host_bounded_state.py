@@ -222,8 +222,9 @@ def test_thirty_simulated_minutes_in_process_have_flat_memory(tmp_path):
         if t_us == 1_440_000_000:
             tracemalloc.start()
         elif t_us in (1_500_000_000, 1_800_000_000):
-            marks[t_us] = (_live_bytes("*/host/*", "*/protocol/*"),
-                           _live_bytes("*/mcu_sim/*"))
+            marks[t_us] = (_live_bytes("*/mobigrasp/host/*", "*/mobigrasp/protocol/*",
+                                       "*/mobigrasp/drivers/*"),
+                           _live_bytes("*/mobigrasp/mcu_sim/*", "*/mobigrasp/cosim/*"))
     try:
         res = run_session(rig, host, trace, time_limit_us=1_800_000_000, on_quantum=on_quantum)
     finally:

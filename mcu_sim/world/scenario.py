@@ -1,6 +1,6 @@
 """Scenario files: TOML (tomllib) loading and strict validation into frozen dataclasses.
 
-Contract (issue 5): ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_limit_s;
+Contract: ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_limit_s;
 ``[robot]`` x_m, y_m, heading_rad; ``[target]`` kind, x_m, y_m, heading_rad and optional
 ``[[target.path]]`` t_s, x_m, y_m; ``[[obstacles]]`` shape "circle" (radius_m) or "box"
 (width_m, depth_m, heading_rad), or "wall" (x2_m, y2_m, optional thickness_m), each with an
@@ -9,7 +9,10 @@ optional height_m; ``[camera]`` optional f_px, u0_px, v0_px, noise_std, blur_px,
 :data:`PAPER_PARAMS`); ``[faults]`` the injected faults, validated into a
 :class:`mobigrasp.mcu_sim.faults.plan.FaultPlan` (keys in docs/faults.md).
 
-Every problem raises :class:`ScenarioError` naming the file, the key and what was expected.
+Every value is checked against the physical range written beside it below (and listed in
+docs/conventions.md "Scenario value ranges"), and the geometry is checked: no obstacle on the
+robot's start footprint, the target (and its path) clear of obstacles and of the robot. Every
+problem raises :class:`ScenarioError` naming the file, the key and what was expected.
 """
 
 from __future__ import annotations
@@ -33,7 +36,9 @@ DEFAULT_WALL_THICKNESS_M = 0.05
 # The floor is a 100 m x 100 m hall around the origin; an angle is within one turn either way.
 WORLD_HALF_M = 50.0
 ANGLE_MAX_RAD = 2 * math.pi
-# The longest run (issue of resource bounds: host state and trace grow with simulated time).
+_XY = (-WORLD_HALF_M, WORLD_HALF_M)
+_ANGLE = (-ANGLE_MAX_RAD, ANGLE_MAX_RAD)
+# The longest run: host state is bounded (docs/cosim.md "Long runs"), the trace grows with it.
 MAX_TIME_LIMIT_S = 3600.0
 MAX_SEED = 2**64 - 1  # seeds are 64-bit (numpy's and the campaign's generators)
 MAX_NAME_CHARS = 200
@@ -117,11 +122,12 @@ PAPER_PARAMS: dict[str, dict[str, Param]] = {
         "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
     },
 }
-# pairs (lo, hi) of one method that must be ordered lo <= hi, and speeds v0 <= vmax
-PARAM_ORDER: dict[str, tuple[tuple[str, str], ...]] = {
-    "000": (("theta2_min", "theta2_max"), ("theta5_min", "theta5_max"), ("w_min", "w_max"),
-            ("v0_mps", "vmax_mps")),
-    "001": (("v0", "Vmax"),),
+# pairs (lo, hi, gap) of one method that must be ordered hi - lo >= gap: a joint range of the
+# search at least 0.01 rad wide (the host works in mrad), windows w_min <= w_max, v0 <= vmax
+PARAM_ORDER: dict[str, tuple[tuple[str, str, float], ...]] = {
+    "000": (("theta2_min", "theta2_max", 0.01), ("theta5_min", "theta5_max", 0.01),
+            ("w_min", "w_max", 0), ("v0_mps", "vmax_mps", 0.0)),
+    "001": (("v0", "Vmax", 0.0),),
     "002": (),
 }
 
@@ -362,10 +368,6 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
                     MappingProxyType(overrides))
 
 
-_XY = (-WORLD_HALF_M, WORLD_HALF_M)
-_ANGLE = (-ANGLE_MAX_RAD, ANGLE_MAX_RAD)
-
-
 def _parse_target(c: _Checker, t: dict) -> TargetSpec:
     c.keys(t, "target", ("kind", "x_m", "y_m", "heading_rad", "path"))
     kind = c.choice(t, "target", "kind", TARGET_KINDS)
@@ -461,10 +463,11 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
             out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)
         else:
             out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
-    for lo, hi in PARAM_ORDER[method]:
-        if out[lo] > out[hi]:
+    for lo, hi, gap in PARAM_ORDER[method]:
+        if out[hi] - out[lo] < gap - 1e-9:
             bad = lo if lo in raw else hi
-            raise ScenarioError(f"{c.source}: params.{bad}: expected {lo} <= {hi}, got "
+            want = f"{lo} <= {hi}" if not gap else f"{lo} < {hi} by at least {gap:g}"
+            raise ScenarioError(f"{c.source}: params.{bad}: expected {want}, got "
                                 f"{lo} = {out[lo]!r}, {hi} = {out[hi]!r}")
     return out
 

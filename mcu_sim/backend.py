@@ -96,8 +96,8 @@ def _simavr(config: McuConfig | None = None) -> McuBackend:
 
 
 # name -> factory(config); a plain dict: a backend module adds its own entry
-# (simavr is not registered yet: its USART RX path does not yet keep up with the line rate)
-MCU_BACKENDS: dict[str, Callable[..., McuBackend]] = {"python": _python, "native": _native}
+MCU_BACKENDS: dict[str, Callable[..., McuBackend]] = {"python": _python, "native": _native,
+                                                      "simavr": _simavr}
 
 
 class UnknownBackend(ValueError):

@@ -299,10 +299,21 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
     }
 }
 
+/* simavr 1.6 derives USART0's byte time when UBRRnL is written, counting a parity bit always
+ * and the U2X in force then (the firmware sets U2X after UBRR): 2992 cycles instead of 1360 for
+ * 8N1 at 117 647 baud. The byte time of the configured line is put back before each step. */
+static inline void fix_byte_time(sh_t *sh)
+{
+    if (sh->uart) {
+        sh->uart->cycles_per_byte = sh->byte_cycles;
+    }
+}
+
 int sh_run_to(sh_t *sh, uint64_t target)
 {
     avr_t *avr = sh->avr;
     sh->stop = 0;
+    fix_byte_time(sh);
     if (avr->cycle >= target) {
         return SH_REACHED;
     }
@@ -340,6 +351,7 @@ int sh_uart_in(sh_t *sh, uint8_t byte)
         sh->rx_line_lost++;
         return 0;
     }
+    fix_byte_time(sh);
     avr_raise_irq(avr_io_getirq(sh->avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), byte);
     if (sh->rxq_n < RXQ_MAX) {
         sh->rxq[(sh->rxq_head + sh->rxq_n) % RXQ_MAX] = sh->avr->cycle + sh->byte_cycles;
@@ -411,3 +423,8 @@ void sh_profile(const sh_t *sh, sh_profile_t *out)
 }
 
 uint32_t sh_pc(const sh_t *sh) { return sh->avr->pc; }
+
+uint32_t sh_rx_unread(const sh_t *sh)
+{
+    return sh->uart ? (uint32_t)uart_fifo_get_read_size((uart_fifo_t *)&sh->uart->input) : 0u;
+}

@@ -43,5 +43,6 @@ uint32_t sh_periods_take(sh_t *sh, uint64_t *cycles, uint16_t *regs, uint32_t ma
 void sh_read(const sh_t *sh, uint16_t addr, uint8_t *dst, uint16_t n);
 void sh_profile(const sh_t *sh, sh_profile_t *out);
 uint32_t sh_pc(const sh_t *sh);
+uint32_t sh_rx_unread(const sh_t *sh);
 
 #endif

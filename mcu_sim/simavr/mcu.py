@@ -9,7 +9,8 @@ board around the chip:
   at its stop bit; a byte that starts while the part's two-byte receive buffer is full is lost
   (data overrun), as on the part.
 - Encoders: quadrature levels on PD0..PD3 (INT0..3), edges spread evenly over the interval the
-  rig gives; counts that apply at once are spaced by ``INSTANT_EDGE_CYCLES``.
+  rig gives (a count reached by now: over the next interval as long as the last one), never
+  closer than ``INSTANT_EDGE_CYCLES``.
 - Sonars: a trigger pulse on PORTC0..4 stops the core; the echo (mcu_sim.avr.sonar's timing)
   is scheduled as levels on PE6 (INT6).
 - Servos: simavr 1.6 does not move the OC1x/OC3x pins after an OCRnx write in mode 14, so each
@@ -35,7 +36,7 @@ from mobigrasp.mcu_sim.simavr.build import Elf, SimavrBuildError, build_elf, loa
 _mod = load_harness()
 ffi, lib = _mod.ffi, _mod.lib
 
-INSTANT_EDGE_CYCLES = 160  # 10 µs between encoder edges the rig applies at once
+INSTANT_EDGE_CYCLES = 160  # 10 µs: the closest two edges of one wheel are put
 _PORT = {c: i for i, c in enumerate("ABCDEFG")}
 _QUAD = (0b00, 0b01, 0b11, 0b10)  # (A << 1 | B) at count % 4: hal_avr.c's x4 decoding
 _ENC_PINS = ((0, 1), (2, 3))  # PD bits of (A, B) for the left and right wheel
@@ -83,7 +84,9 @@ class SimavrMcu:
         self._tx_bytes = 0
         self._pins: list[tuple[int, int, int, int, int]] = []  # heap (cycle, seq, port, bit, lvl)
         self._seq = 0
-        self._enc_pos = [0, 0]  # count whose levels are scheduled last, per wheel
+        self._enc_last_call = 0
+        self._enc_pins_pos = [0, 0]  # count whose A/B levels the pins show, per wheel
+        self._enc_edges: tuple[deque[tuple[int, int]], ...] = (deque(), deque())  # (cycle, count)
         self._enc_bad = 0
         self._provider: Callable[[int], float | None] | None = None
         self._widths_ns = [0] * 6
@@ -116,6 +119,9 @@ class SimavrMcu:
                 nxt = self._rx_line[0][0]
             if self._pins and self._pins[0][0] < nxt:
                 nxt = self._pins[0][0]
+            for edges in self._enc_edges:
+                if edges and edges[0][0] < nxt:
+                    nxt = edges[0][0]
             rc = lib.sh_run_to(h, nxt)
             self.events += 1
             if rc < 0:
@@ -132,6 +138,8 @@ class SimavrMcu:
             while self._pins and self._pins[0][0] <= now:
                 _, _, port, bit, level = heapq.heappop(self._pins)
                 lib.sh_pin(h, port, bit, level)
+            self._apply_edges(0, now)
+            self._apply_edges(1, now)
             if nxt >= target:
                 break
         self._cycle = target
@@ -202,7 +210,7 @@ class SimavrMcu:
         """A power-on reset now: RAM painted again, the firmware starts from its reset vector."""
         lib.sh_reset(self._h)
         for side in (0, 1):
-            ab = _QUAD[self._enc_pos[side] % 4]
+            ab = _QUAD[self._enc_pins_pos[side] % 4]
             a, b = _ENC_PINS[side]
             lib.sh_pin(self._h, _PORT["D"], a, ab >> 1)
             lib.sh_pin(self._h, _PORT["D"], b, ab & 1)
@@ -288,28 +296,43 @@ class SimavrMcu:
 
     # -- inputs --------------------------------------------------------------------------------
     def set_encoder_ticks(self, left: int, right: int, t_us: int | None = None) -> None:
-        """Cumulative quadrature counts (left, right) at ``t_us`` (default now), as pin edges."""
+        """Cumulative quadrature counts (left, right) at ``t_us`` (default now), as pin edges
+        spread evenly from the count the pins show now; edges of an earlier call still to come
+        are replaced. A count reached by now (the rig reads the wheels after each coupling
+        step) is spread over the next interval as long as the last: a pin cannot take the
+        edges of a whole step at one instant."""
         now = self._cycle
         t = now if t_us is None else int(t_us) * CYCLES_PER_US
+        span = t - now
+        if span <= 0:
+            span = now - self._enc_last_call
+        self._enc_last_call = now
         for side, count in ((0, left), (1, right)):
             if isinstance(count, bool) or not isinstance(count, int):
                 self._enc_bad += 1
                 continue
-            pos = self._enc_pos[side]
+            edges = self._enc_edges[side]
+            edges.clear()
+            pos = self._enc_pins_pos[side]
             n = abs(count - pos)
-            if n == 0:
-                continue
             step = 1 if count > pos else -1
-            a_bit, b_bit = _ENC_PINS[side]
-            span = t - now
             for k in range(1, n + 1):
-                at = now + span * k // n if span > 0 else now + INSTANT_EDGE_CYCLES * k
-                old, new = _QUAD[(pos + step * (k - 1)) % 4], _QUAD[(pos + step * k) % 4]
-                if (old ^ new) & 0b10:
-                    self._pin_at(at, _PORT["D"], a_bit, new >> 1)
-                else:
-                    self._pin_at(at, _PORT["D"], b_bit, new & 1)
-            self._enc_pos[side] = count
+                at = now + (span * k // n if span >= n * INSTANT_EDGE_CYCLES
+                            else INSTANT_EDGE_CYCLES * k)
+                edges.append((at, pos + step * k))
+
+    def _apply_edges(self, side: int, until: int) -> None:
+        edges = self._enc_edges[side]
+        a_bit, b_bit = _ENC_PINS[side]
+        port = _PORT["D"]
+        while edges and edges[0][0] <= until:
+            _, new_pos = edges.popleft()
+            old, new = _QUAD[self._enc_pins_pos[side] % 4], _QUAD[new_pos % 4]
+            self._enc_pins_pos[side] = new_pos
+            if (old ^ new) & 0b10:
+                lib.sh_pin(self._h, port, a_bit, new >> 1)
+            if (old ^ new) & 0b01:
+                lib.sh_pin(self._h, port, b_bit, new & 1)
 
     def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
         """Set ``provider(index) -> metres | None`` consulted at each trigger pulse."""

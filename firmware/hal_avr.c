@@ -144,6 +144,10 @@ ISR(USART0_RX_vect)
     if (status & (_BV(DOR0) | _BV(FE0))) {
         rx_lost++;
     }
+#ifdef FW_TEST_RX_ISR_BUSY_CYCLES
+    /* a deliberately slow handler, built only by the simavr timing test */
+    __builtin_avr_delay_cycles(FW_TEST_RX_ISR_BUSY_CYCLES);
+#endif
     fw_isr_usart_rx(byte);
 }
 

@@ -10,6 +10,11 @@ if shutil.which("avr-gcc") is None:
     pytest.skip("avr-gcc is missing (make firmware installs it)", allow_module_level=True)
 
 from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu  # noqa: E402
+from mobigrasp.mcu_sim.simavr.profile import (  # noqa: E402
+    RX_LATENCY_BUDGET_CYCLES,
+    format_rows,
+    profile_rows,
+)
 from mobigrasp.protocol import messages as m  # noqa: E402
 from mobigrasp.protocol.frame import FrameParser  # noqa: E402
 
@@ -40,3 +45,46 @@ def test_the_profile_counts_timer_interrupts_and_sleep(booted):
     assert p["isr_count"][14] >= 4  # TIMER1_OVF, one per 20 ms period
     assert 0 < p["sleep_cycles"] < p["total_cycles"]
     assert 0 < p["stack_depth_bytes"] < 4096
+
+
+def _send_burst(mcu):
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    for seq in range(1, 21):
+        mcu.uart_rx(m.encode_message(m.Heartbeat(seq), seq), 30_000)
+    mcu.advance_to(200_000)
+
+
+def test_the_shipped_firmware_keeps_every_timing_budget_but_the_load():
+    mcu = SimavrMcu()
+    _send_burst(mcu)
+    stats = mcu.stats()
+    assert stats["rx_line_dropped"] == 0 and stats["parser_frames_ok"] == 21
+    rows = {r["figure"]: r for r in profile_rows(stats)}
+    assert not rows["ISR USART0_RX"]["exceeded"]
+    assert 0 < rows["UART RX latency"]["worst"] <= RX_LATENCY_BUDGET_CYCLES
+    assert not rows["RX bytes lost on the line"]["exceeded"]
+    assert 0 < rows["deepest stack"]["worst"] <= rows["deepest stack"]["budget"]
+
+
+def test_a_slow_rx_handler_loses_bytes_and_names_the_budget_it_broke():
+    # a firmware variant whose RX handler busy-waits 3000 cycles (2.2 byte times)
+    mcu = SimavrMcu(defines={"FW_TEST_RX_ISR_BUSY_CYCLES": 3000})
+    _send_burst(mcu)
+    stats = mcu.stats()
+    assert stats["rx_line_dropped"] > 0
+    assert stats["avr_isr_max_cycles_USART0_RX"] >= 3000
+    rows = {r["figure"]: r for r in profile_rows(stats)}
+    assert rows["ISR USART0_RX"]["exceeded"] and rows["RX bytes lost on the line"]["exceeded"]
+    assert not rows["ISR TIMER1_OVF"]["exceeded"]
+    text = format_rows(profile_rows(stats))
+    assert "ISR USART0_RX" in text.splitlines()[-1] and "EXCEEDED" in text
+
+
+def test_servo_widths_follow_an_ocr_write_at_the_next_period():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(60_000)
+    target = (1500, 1700, 1500, 1500, 1500, 1500)
+    mcu.uart_rx(m.encode_message(m.SetServos(0, target, 0), 1))
+    mcu.advance_to(200_000)
+    assert mcu.servo_pulses_us()[1] == 1700.0

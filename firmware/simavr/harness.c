@@ -12,6 +12,7 @@
  * cycles of each interrupt (vector entry to the RETI that sets I again; ISRs do not nest),
  * longest stretch with I clear after the first sei, cycles asleep, the lowest stack pointer,
  * and the latency from a received byte's stop bit to the RX ring's head moving. */
+#include <stdarg.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -32,6 +33,7 @@ DEFINE_FIFO(uint16_t, uart_fifo);
 #define TX_MAX 4096u
 #define EV_MAX 256u
 #define RXQ_MAX 256u
+#define RX_RING_BYTES 128u /* the firmware's RX ring (fw/ring.h) */
 #define PAINT 0xA5u
 #define RAM_START 0x100u
 #define VECTORS 35u
@@ -63,6 +65,7 @@ struct sh {
     /* stop-bit cycles of bytes handed to the receiver, oldest first */
     uint64_t rxq[RXQ_MAX];
     uint32_t rxq_head, rxq_n;
+    uint32_t rxq_untimed; /* accepted before the first sei: start-up, not latency */
     uint32_t rx_line_lost;
     sh_profile_t prof;
     int in_isr;
@@ -70,9 +73,22 @@ struct sh {
     uint64_t isr_start;
     int seen_sei;
     uint64_t ioff_start;
+    uint32_t loop_addr; /* fw_loop's entry (byte address) */
+    int in_loop;
+    uint16_t loop_sp;
+    uint64_t loop_start;
     uint64_t target_cycle;
     uint64_t timer_armed;
 };
+
+/* simavr's messages (ELF sections loaded, UART settings) would go to the run's stdout. */
+static void quiet_logger(avr_t *avr, const int level, const char *format, va_list ap)
+{
+    (void)avr;
+    (void)level;
+    (void)format;
+    (void)ap;
+}
 
 static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
 {
@@ -158,10 +174,11 @@ static void paint(sh_t *sh)
 static void clear_run_state(sh_t *sh)
 {
     sh->in_isr = 0;
+    sh->in_loop = 0;
     sh->seen_sei = 0;
     sh->rx_head_last = 0;
     sh->rx_over_last = 0;
-    sh->rxq_head = sh->rxq_n = 0;
+    sh->rxq_head = sh->rxq_n = sh->rxq_untimed = 0;
     sh->portc_last = 0;
 }
 
@@ -170,6 +187,7 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
 {
     elf_firmware_t fw;
     memset(&fw, 0, sizeof fw);
+    avr_global_logger_set(quiet_logger);
     if (elf_read_firmware(elf_path, &fw) != 0) {
         return NULL;
     }
@@ -242,6 +260,8 @@ int sh_state(const sh_t *sh) { return sh->avr->state; }
 
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles) { sh->byte_cycles = cycles; }
 
+void sh_set_loop_addr(sh_t *sh, uint32_t addr) { sh->loop_addr = addr; }
+
 static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping)
 {
     avr_t *avr = sh->avr;
@@ -276,6 +296,19 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
         sh->ioff_start = before;
     }
     uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
+    /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
+    if (sh->loop_addr && !sh->in_loop && avr->pc == sh->loop_addr) {
+        sh->in_loop = 1;
+        sh->loop_sp = sp;
+        sh->loop_start = before;
+    } else if (sh->in_loop && sp > sh->loop_sp) {
+        uint64_t len = now - sh->loop_start;
+        if (len > sh->prof.loop_max_cycles) {
+            sh->prof.loop_max_cycles = (uint32_t)len;
+        }
+        sh->prof.loop_count++;
+        sh->in_loop = 0;
+    }
     if (sh->seen_sei && (sh->prof.sp_min == 0 || sp < sh->prof.sp_min)) {
         sh->prof.sp_min = sp;
     }
@@ -284,9 +317,14 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
         uint8_t head = avr->data[sh->rx_head_addr];
         uint32_t over;
         memcpy(&over, avr->data + sh->rx_over_addr, 4);
-        unsigned moved = (uint8_t)(head - sh->rx_head_last) + (over - sh->rx_over_last);
+        unsigned moved = ((uint8_t)(head - sh->rx_head_last) & (RX_RING_BYTES - 1u)) +
+                         (over - sh->rx_over_last);
         sh->rx_head_last = head;
         sh->rx_over_last = over;
+        while (moved && sh->rxq_untimed) {
+            moved--;
+            sh->rxq_untimed--;
+        }
         while (moved-- && sh->rxq_n) {
             uint64_t stop = sh->rxq[sh->rxq_head];
             sh->rxq_head = (sh->rxq_head + 1u) % RXQ_MAX;
@@ -353,7 +391,9 @@ int sh_uart_in(sh_t *sh, uint8_t byte)
     }
     fix_byte_time(sh);
     avr_raise_irq(avr_io_getirq(sh->avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), byte);
-    if (sh->rxq_n < RXQ_MAX) {
+    if (!sh->seen_sei) {
+        sh->rxq_untimed++;
+    } else if (sh->rxq_n < RXQ_MAX) {
         sh->rxq[(sh->rxq_head + sh->rxq_n) % RXQ_MAX] = sh->avr->cycle + sh->byte_cycles;
         sh->rxq_n++;
     }

@@ -20,6 +20,8 @@ typedef struct {
     uint16_t sp_min;
     uint32_t tx_overflow;
     uint32_t resets;
+    uint32_t loop_max_cycles;
+    uint32_t loop_count;
 } sh_profile_t;
 
 typedef struct sh sh_t;
@@ -31,6 +33,7 @@ void sh_reset(sh_t *sh);
 uint64_t sh_cycle(const sh_t *sh);
 int sh_state(const sh_t *sh);
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
+void sh_set_loop_addr(sh_t *sh, uint32_t addr);
 int sh_run_to(sh_t *sh, uint64_t target);
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
 int sh_uart_in(sh_t *sh, uint8_t byte);

@@ -32,6 +32,7 @@ from mobigrasp.mcu_sim.avr.sonar import ECHO_DELAY_US, MAX_RANGE_M, echo_width_u
 from mobigrasp.mcu_sim.avr.usart import baud_error_pct, baud_rate
 from mobigrasp.mcu_sim.mcu import McuConfig
 from mobigrasp.mcu_sim.simavr.build import Elf, SimavrBuildError, build_elf, load_harness
+from mobigrasp.mcu_sim.simavr.profile import profile_stats
 
 _mod = load_harness()
 ffi, lib = _mod.ffi, _mod.lib
@@ -73,6 +74,7 @@ class SimavrMcu:
         if h == ffi.NULL:
             raise SimavrBuildError(f"{self.elf.path}: simavr could not load it")
         self._h = ffi.gc(h, lib.sh_free)
+        lib.sh_set_loop_addr(self._h, self.elf.symbols.get("fw_loop", 0))
         bit = 8 if cfg.u2x else 16
         self.byte_cycles = 10 * bit * (cfg.ubrr + 1)
         lib.sh_set_byte_cycles(self._h, self.byte_cycles)
@@ -379,6 +381,7 @@ class SimavrMcu:
         }
         for key, value in parser.items():
             out[f"parser_{key}"] = value
+        out.update(profile_stats(self.profile()))
         return out
 
     def profile(self) -> dict[str, object]:
@@ -394,5 +397,6 @@ class SimavrMcu:
             "sleep_cycles": p.sleep_cycles,
             "total_cycles": total,
             "stack_depth_bytes": p.stack_depth_bytes,
+            "loop_max_cycles": p.loop_max_cycles,
             "rx_line_lost": lib.sh_rx_line_lost(self._h),
         }

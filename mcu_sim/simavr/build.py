@@ -129,10 +129,13 @@ def _rename_into_place(tmp: Path, target: Path) -> None:
             raise
 
 
-def build_elf(defines: dict[str, int] | None = None) -> Elf:
+def build_elf(defines: dict[str, int | str] | None = None) -> Elf:
     """The firmware ELF built with avr-gcc (plus ``-Dname=value`` for each of ``defines``)."""
     defines = dict(sorted((defines or {}).items()))
-    flags = " ".join(f"-D{k}={int(v)}" for k, v in defines.items())
+    for k, v in defines.items():
+        if not k.isidentifier() or any(c in str(v) for c in " '\"$\\"):
+            raise ValueError(f"bad build definition {k}={v!r}")
+    flags = " ".join(f"-D{k}={v}" for k, v in defines.items())
     digest = hashlib.sha256(f"{firmware_hash()}|{flags}".encode()).hexdigest()[:16]
     if digest in _elves:
         return _elves[digest]

@@ -30,6 +30,7 @@ from collections.abc import Callable
 from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US
 from mobigrasp.mcu_sim.avr.sonar import ECHO_DELAY_US, MAX_RANGE_M, echo_width_us
 from mobigrasp.mcu_sim.avr.usart import baud_error_pct, baud_rate
+from mobigrasp.mcu_sim.firmware.params import Params, param_id
 from mobigrasp.mcu_sim.mcu import McuConfig
 from mobigrasp.mcu_sim.simavr.build import Elf, SimavrBuildError, build_elf, load_harness
 from mobigrasp.mcu_sim.simavr.profile import profile_stats
@@ -61,12 +62,23 @@ _FLAGS = ("drive_enabled", "handshake", "stopped", "limit_flag", "reset_flag",
 class SimavrMcu:
     """One simavr ATmega128 running the firmware ELF."""
 
-    def __init__(self, config: McuConfig | None = None, defines: dict[str, int] | None = None,
+    def __init__(self, config: McuConfig | None = None,
+                 defines: dict[str, int | str] | None = None,
                  elf: Elf | None = None) -> None:
         self.config = cfg = config or McuConfig()
+        defines = dict(defines or {})
         if cfg.params:
-            raise ValueError("the simavr backend runs the flashed image: build-time PARAM "
-                             "overrides are not supported (set them with PARAM_SET)")
+            # build-time PARAM choices go into the image (hal_boot_param), checked as a
+            # PARAM_SET is: no build can widen a safety limit either
+            check = Params()
+            chosen = {}
+            for key, value in cfg.params.items():
+                pid = param_id(key)
+                if check.check(pid, int(value)):
+                    raise ValueError(f"parameter {key}={value} refused")
+                chosen[pid] = int(value)
+            defines["FW_BOOT_PARAMS"] = ",".join(f"{{{pid},{v}}}" for pid, v in
+                                                 sorted(chosen.items()))
         self.elf = elf or build_elf(defines)
         rx = self.elf.addr("fw_rx")
         h = lib.sh_new(str(self.elf.path).encode(), rx + _RX_HEAD_OFF, rx + _RX_OVERRUNS_OFF,

@@ -15,8 +15,8 @@ from __future__ import annotations
 import binascii
 from dataclasses import dataclass, fields
 
-from mobigrasp.frozen import built
 from mobigrasp.protocol.cobs import cobs_encode
+from mobigrasp.protocol.frozen import built
 
 PROTOCOL_VERSION = 1
 MAX_PAYLOAD = 64

@@ -48,9 +48,9 @@ class SimOptions:
 
 
 def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
-    """The run folder as ``mobigrasp run`` makes it (tools/run_folder.py): under runs/ by a
+    """The run folder as ``mobigrasp run`` makes it (cosim/run_folder.py): under runs/ by a
     sanitised name, and only a previous run's own files are replaced."""
-    from mobigrasp.tools.run_folder import RunFolderError, prepare_run_folder
+    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder
 
     try:
         return prepare_run_folder(Path(opts.out) if opts.out else None, name, seed,

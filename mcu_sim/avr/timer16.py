@@ -131,7 +131,7 @@ class Timer16:
             if (tccra >> (6 - 2 * ch)) & 0b11 != COM_NON_INVERTING:  # not _channel_enabled(ch)
                 continue
             pin = self._pins[ch]
-            if pin._subscribers:
+            if pin.subscribers:
                 pin.emit(cycle, 1, cpu)
             else:  # what emit() does with no one to call (a run subscribes to no servo port)
                 pin.value, pin.last_cycle, pin.t_us = 1, cycle, cycle // cpu
@@ -164,7 +164,7 @@ class Timer16:
                     widths[ch] = width_ns
                     self.width_serial += 1
                 pin, pulse = self._pins[ch], self._pulses[ch]
-                if pin._subscribers or pulse._subscribers:
+                if pin.subscribers or pulse.subscribers:
                     pin.emit(fall, 0, cpu)
                     pulse.emit(fall, width_ns, cpu)
                 else:  # emit() of both with no one to call: the samples alone

@@ -144,6 +144,10 @@ ISR(USART0_RX_vect)
     if (status & (_BV(DOR0) | _BV(FE0))) {
         rx_lost++;
     }
+#ifdef FW_TEST_RX_ISR_BUSY_CYCLES
+    /* a deliberately slow handler, built only by the simavr timing test */
+    __builtin_avr_delay_cycles(FW_TEST_RX_ISR_BUSY_CYCLES);
+#endif
     fw_isr_usart_rx(byte);
 }
 
@@ -224,6 +228,17 @@ ISR(TIMER1_OVF_vect)
 
 uint8_t hal_boot_param(uint16_t id, int32_t *value)
 {
+#ifdef FW_BOOT_PARAMS
+    /* PARAM power-on values chosen at build time: {id, value} pairs (an emulated build's
+     * McuConfig.params; the host checked them against the table as a PARAM_SET would) */
+    static const int32_t chosen[][2] = {FW_BOOT_PARAMS};
+    for (uint8_t i = 0; i < sizeof chosen / sizeof chosen[0]; i++) {
+        if (chosen[i][0] == (int32_t)id) {
+            *value = chosen[i][1];
+            return 1;
+        }
+    }
+#endif
     (void)id;
     (void)value;
     return 0;

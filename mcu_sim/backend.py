@@ -4,7 +4,9 @@ interface, and the registry of its backends by name.
 A backend is a factory ``(config) -> McuBackend`` in :data:`MCU_BACKENDS`; :func:`open_mcu`
 opens one by name and rejects an unknown name by name. ``python`` is the firmware model on the
 Python peripherals (mobigrasp.mcu_sim.mcu.Mcu), ``native`` the C firmware (``firmware/``) built
-for this machine on the same peripherals (mobigrasp.mcu_sim.native). Every backend passes
+for this machine on the same peripherals (mobigrasp.mcu_sim.native), ``simavr`` the avr-gcc
+ELF of that firmware on simavr's instruction-accurate core (mobigrasp.mcu_sim.simavr). Every
+backend passes
 tests/test_mcu_contract.py
 (with the fault wrapper and the test fakes).
 """
@@ -87,8 +89,15 @@ def _native(config: McuConfig | None = None) -> McuBackend:
     return NativeMcu(config)
 
 
+def _simavr(config: McuConfig | None = None) -> McuBackend:
+    # imported on first use: it builds the avr-gcc ELF and the libsimavr harness once per hash
+    from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu
+    return SimavrMcu(config)
+
+
 # name -> factory(config); a plain dict: a backend module adds its own entry
-MCU_BACKENDS: dict[str, Callable[..., McuBackend]] = {"python": _python, "native": _native}
+MCU_BACKENDS: dict[str, Callable[..., McuBackend]] = {"python": _python, "native": _native,
+                                                      "simavr": _simavr}
 
 
 class UnknownBackend(ValueError):

@@ -3,9 +3,10 @@
 Telemetry at 50 Hz, an in-process host streaming SET_WHEELS at 50 Hz (plus a SET_SERVOS with
 slew every second), and the wheels-in-the-air plant closing the wheel PI loop every 10 ms. The
 wall time covers the MCU, the plant and the host stub; ``realtime_factor`` is the same number as
-``sim_s_per_wall_s`` (target >= 50). ``--mcu native`` measures the C firmware (the native
-backend) and, in the same invocation, the Python model on the same script, taking turns run by
-run (best of ``--rounds`` each, so the machine's drift lands on both), and reports their ratio.
+``sim_s_per_wall_s`` (target >= 50; >= 2 for simavr, the firmware asleep in its idle loop).
+``--mcu native`` (or ``simavr``) measures that backend and, in the same invocation, the Python
+model on the same script, taking turns run by run (best of ``--rounds`` each, so the machine's
+drift lands on both), and reports their ratio.
 """
 
 from __future__ import annotations
@@ -13,6 +14,9 @@ from __future__ import annotations
 import time
 
 NAME = "mcu"
+START_US = 20_000
+# simulated s per wall s each backend is held to: the models 50, the instruction-accurate core 2
+TARGET_REALTIME_FACTOR = {"python": 50, "native": 50, "simavr": 2}
 HELP = "emulated MCU speed: simulated s per wall s with 50 Hz telemetry and 50 Hz commands"
 
 
@@ -24,8 +28,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--command-hz", type=int, default=50,
                         help="rate of host commands in Hz (default 50)")
     parser.add_argument("--mcu", default="python",
-                        help="MCU backend (python, native); another than python is measured "
-                             "beside python, with the ratio")
+                        help="MCU backend (python, native, simavr); another than python is "
+                             "measured beside python, with the ratio")
     parser.add_argument("--rounds", type=int, default=3,
                         help="runs per backend, taking turns; the best counts (default 3)")
 
@@ -80,10 +84,12 @@ def _measure(args, backend: str) -> dict:
     cmd_period_us = 1_000_000 // cmd_hz
     end_us = seconds * 1_000_000
     # The host's frames are encoded before the clock starts: the figure is the MCU's speed.
+    # The host starts talking at START_US: the ELF under simavr spends its first 15.6 ms in
+    # start-up before its RX interrupt is on (docs/firmware.md), the models none.
     seq = SequenceCounter()
-    script: dict[int, list[bytes]] = {0: [encode_message(Hello(PROTOCOL_VERSION, "bench", 0),
-                                                         seq.next())]}
-    for t_cmd in range(0, end_us, cmd_period_us):
+    script: dict[int, list[bytes]] = {START_US: [
+        encode_message(Hello(PROTOCOL_VERSION, "bench", 0), seq.next())]}
+    for t_cmd in range(START_US, end_us, cmd_period_us):
         slot = t_cmd - t_cmd % step_us
         phase = (t_cmd // 1_000_000) % 2
         wires = script.setdefault(slot, [])
@@ -108,8 +114,8 @@ def _measure(args, backend: str) -> dict:
         "wall_s": round(wall, 4),
         "sim_s_per_wall_s": round(ratio, 2),
         "realtime_factor": round(ratio, 2),
-        "target_realtime_factor": 50,
-        "meets_target": ratio >= 50,
+        "target_realtime_factor": TARGET_REALTIME_FACTOR.get(backend, 50),
+        "meets_target": ratio >= TARGET_REALTIME_FACTOR.get(backend, 50),
         "events": stats["events"],
         "events_per_sim_s": stats["events"] // seconds,
         "frames_from_mcu": host.frames,

@@ -115,7 +115,7 @@ def _run(args: argparse.Namespace) -> int:
     display = RunProgress(enabled=not args.quiet)
     try:
         summary, code = execute(RunOptions(scenario=args.scenario, seed=args.seed,
-                                           transport="inproc", out=args.out,
+                                           transport="inproc", out=args.out, mcu=args.mcu,
                                            progress=display, timer=timer))
     except BadInput as exc:
         print(f"mobigrasp profile: {exc}", file=sys.stderr)
@@ -139,6 +139,12 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary.get('arm9_load_mean', 0):.0%}; frames dropped "
           f"{summary.get('frames_dropped')}, deadline misses {summary.get('deadline_misses')}")
     print(f"would miss its budget first: {first}")
+    from mobigrasp.mcu_sim.simavr.profile import format_rows, profile_rows
+
+    avr_rows = profile_rows(summary.get("mcu") or {})
+    if avr_rows:  # an instruction-accurate backend measured the firmware's timing
+        print()
+        print(format_rows(avr_rows))
     from mobigrasp.calib.calibrate import load_last
     from mobigrasp.cosim.run_folder import default_run_folder
 
@@ -152,7 +158,8 @@ def _run(args: argparse.Namespace) -> int:
               "frames_dropped": summary.get("frames_dropped"),
               "deadline_misses": summary.get("deadline_misses"),
               "load_plot": str(out / "plots" / "arm9_load.png"),
-              "calibrated_kernels": cal_rows, "calibration_commit": (cal or {}).get("commit")}
+              "calibrated_kernels": cal_rows, "calibration_commit": (cal or {}).get("commit"),
+              "mcu_backend": args.mcu, "avr": avr_rows}
     path = args.json or out / "profile.json"
     Path(path).write_text(json.dumps(result, indent=2, sort_keys=True) + "\n")
     print(f"written {path} (load plot {result['load_plot']})")
@@ -170,4 +177,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="profile JSON (default OUT/profile.json)")
     p.add_argument("--calibration", type=Path, default=None,
                    help="calibration JSON (default: the last mobigrasp calibrate)")
+    p.add_argument("--mcu", default="python",
+                   help="MCU backend (python, native, simavr); simavr adds the AVR's ISR, "
+                        "main-loop, RX latency, load and stack worst cases with their budgets")
     p.set_defaults(func=_run)

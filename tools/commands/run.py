@@ -56,8 +56,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--transport", default="pty", choices=("pty", "inproc"),
                    help="pty (two processes, default) or inproc")
     p.add_argument("--mcu", default="python",
-                   help="MCU backend: python (the firmware model, default) or native (the C "
-                        "firmware built with this machine's gcc)")
+                   help="MCU backend: python (the firmware model, default), native (the C "
+                        "firmware built with this machine's gcc) or simavr (its avr-gcc ELF "
+                        "on simavr)")
     p.add_argument("--speed", default="max",
                    help="simulated/wall time factor, or 'max' (default); pacing only")
     p.add_argument("--out", type=Path, default=None,

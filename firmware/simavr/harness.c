@@ -1,0 +1,470 @@
+/* A harness around libsimavr (Debian's simavr 1.6): the avr-gcc ELF of the firmware on an
+ * instruction-accurate ATmega128 at 16 MHz, moved by the caller's clock.
+ *
+ * Built with the machine's gcc and loaded with cffi (mcu_sim/simavr/build.py). The caller
+ * runs the core to a cycle (sh_run_to), puts bytes on USART0's RX line and levels on input
+ * pins at the cycles it chooses, and takes what happened: bytes sent on TX (with the cycle
+ * their stop bit left), sonar trigger pulses, Timer1 period starts with the OCRnx/ICRn values
+ * latched there. No wall-clock pacing: the sleep callback does nothing, and a cycle timer at
+ * the target wakes a sleeping core exactly there.
+ *
+ * Between instructions it keeps the profile that only an instruction-accurate core can give:
+ * cycles of each interrupt (vector entry to the RETI that sets I again; ISRs do not nest),
+ * longest stretch with I clear after the first sei, cycles asleep, the lowest stack pointer,
+ * and the latency from a received byte's stop bit to the RX ring's head moving. */
+#include <stdarg.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <simavr/avr_extint.h>
+#include <simavr/avr_ioport.h>
+#include <simavr/avr_uart.h>
+#include <simavr/sim_avr.h>
+#include <simavr/sim_cycle_timers.h>
+#include <simavr/sim_elf.h>
+#include <simavr/sim_interrupts.h>
+#include <simavr/sim_irq.h>
+
+#include "harness.h"
+
+DEFINE_FIFO(uint16_t, uart_fifo);
+
+#define TX_MAX 4096u
+#define EV_MAX 256u
+#define RXQ_MAX 256u
+#define RX_RING_BYTES 128u /* the firmware's RX ring (fw/ring.h) */
+#define PAINT 0xA5u
+#define RAM_START 0x100u
+#define VECTORS 35u
+
+struct sh {
+    avr_t *avr;
+    avr_uart_t *uart;
+    avr_irq_t *pins[7][8]; /* ports A..G */
+    uint64_t byte_cycles;
+    /* TX: bytes and the cycle their stop bit leaves the pin */
+    uint8_t tx_byte[TX_MAX];
+    uint64_t tx_cycle[TX_MAX];
+    uint32_t tx_n;
+    uint64_t tx_line_free;
+    /* sonar trigger rising edges on PORTC0..4 */
+    uint8_t trig_idx[EV_MAX];
+    uint64_t trig_cycle[EV_MAX];
+    uint32_t trig_n;
+    uint8_t portc_last;
+    int stop;
+    /* Timer1 period starts */
+    uint64_t per_cycle[EV_MAX];
+    uint16_t per_regs[EV_MAX][SH_PERIOD_REGS];
+    uint32_t per_n;
+    /* addresses the firmware's globals live at (data space), from the ELF's symbols */
+    uint16_t rx_head_addr, rx_over_addr, bss_end;
+    uint8_t rx_head_last;
+    uint32_t rx_over_last;
+    /* stop-bit cycles of bytes handed to the receiver, oldest first */
+    uint64_t rxq[RXQ_MAX];
+    uint32_t rxq_head, rxq_n;
+    uint32_t rxq_untimed; /* accepted before the first sei: start-up, not latency */
+    uint32_t rx_line_lost;
+    sh_profile_t prof;
+    int in_isr;
+    uint8_t isr_vec;
+    uint64_t isr_start;
+    int seen_sei;
+    uint64_t ioff_start;
+    uint32_t loop_addr; /* fw_loop's entry (byte address) */
+    int in_loop;
+    uint16_t loop_sp;
+    uint64_t loop_start;
+    uint64_t target_cycle;
+    uint64_t timer_armed;
+};
+
+/* simavr's messages (ELF sections loaded, UART settings) would go to the run's stdout. */
+static void quiet_logger(avr_t *avr, const int level, const char *format, va_list ap)
+{
+    (void)avr;
+    (void)level;
+    (void)format;
+    (void)ap;
+}
+
+static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
+{
+    (void)avr;
+    (void)how_long;
+}
+
+static void on_uart_out(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq;
+    sh_t *sh = param;
+    uint64_t start = sh->avr->cycle > sh->tx_line_free ? sh->avr->cycle : sh->tx_line_free;
+    sh->tx_line_free = start + sh->byte_cycles;
+    if (sh->tx_n < TX_MAX) {
+        sh->tx_byte[sh->tx_n] = (uint8_t)value;
+        sh->tx_cycle[sh->tx_n] = sh->tx_line_free;
+        sh->tx_n++;
+    } else {
+        sh->prof.tx_overflow++;
+    }
+}
+
+static void on_portc(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq;
+    sh_t *sh = param;
+    uint8_t now = (uint8_t)value, rose = (uint8_t)(now & ~sh->portc_last & 0x1Fu);
+    sh->portc_last = now; /* pin IRQs may repeat a level: act on changes only */
+    for (uint8_t i = 0; i < 5; i++) {
+        if ((rose >> i) & 1u) {
+            if (sh->trig_n < EV_MAX) {
+                sh->trig_idx[sh->trig_n] = i;
+                sh->trig_cycle[sh->trig_n] = sh->avr->cycle;
+                sh->trig_n++;
+            }
+            sh->stop = 1;
+        }
+    }
+}
+
+/* Timer1 period start: its overflow flag rises at BOTTOM; the OCRnx/ICRn values in force for
+ * the coming period are those in the registers now (data-space addresses of the ATmega128's
+ * register summary). */
+static void on_tov1(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq;
+    sh_t *sh = param;
+    static const uint16_t regs[SH_PERIOD_REGS - 1] = {
+        0x4A, 0x48, 0x78, /* OCR1A, OCR1B, OCR1C */
+        0x86, 0x84, 0x82, /* OCR3A, OCR3B, OCR3C */
+        0x46, 0x80,       /* ICR1, ICR3 */
+    };
+    const avr_t *avr = sh->avr;
+    if (!value || sh->per_n >= EV_MAX) {
+        return;
+    }
+    for (unsigned i = 0; i < SH_PERIOD_REGS - 1; i++) {
+        sh->per_regs[sh->per_n][i] = (uint16_t)(avr->data[regs[i]] |
+                                                (avr->data[regs[i] + 1u] << 8));
+    }
+    sh->per_regs[sh->per_n][SH_PERIOD_REGS - 1] = (uint16_t)(avr->data[0x4F] |
+                                                             (avr->data[0x8B] << 8));
+    sh->per_cycle[sh->per_n++] = avr->cycle;
+}
+
+static avr_cycle_count_t wake_at_target(avr_t *avr, avr_cycle_count_t when, void *param)
+{
+    (void)avr;
+    (void)when;
+    ((sh_t *)param)->timer_armed = 0;
+    return 0;
+}
+
+/* The stack's region (above the firmware's data and bss) painted, so the deepest stack can be
+ * read back; data and bss stay as simavr left them (zero) until the C runtime sets them. */
+static void paint(sh_t *sh)
+{
+    avr_t *avr = sh->avr;
+    uint32_t from = sh->bss_end > RAM_START ? sh->bss_end : RAM_START;
+    memset(avr->data + from, PAINT, (size_t)(avr->ramend + 1u - from));
+}
+
+static void clear_run_state(sh_t *sh)
+{
+    sh->in_isr = 0;
+    sh->in_loop = 0;
+    sh->seen_sei = 0;
+    sh->rx_head_last = 0;
+    sh->rx_over_last = 0;
+    sh->rxq_head = sh->rxq_n = sh->rxq_untimed = 0;
+    sh->portc_last = 0;
+}
+
+sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
+             uint16_t bss_end)
+{
+    elf_firmware_t fw;
+    memset(&fw, 0, sizeof fw);
+    avr_global_logger_set(quiet_logger);
+    if (elf_read_firmware(elf_path, &fw) != 0) {
+        return NULL;
+    }
+    avr_t *avr = avr_make_mcu_by_name("atmega128");
+    if (!avr) {
+        return NULL;
+    }
+    avr_init(avr);
+    avr->frequency = 16000000u;
+    avr->log = 0;
+    avr_load_firmware(avr, &fw);
+    avr->frequency = 16000000u;
+    avr->sleep = no_sleep;
+    avr->log = 0;
+    sh_t *sh = calloc(1, sizeof *sh);
+    if (!sh) {
+        return NULL;
+    }
+    sh->avr = avr;
+    sh->rx_head_addr = rx_head_addr;
+    sh->rx_over_addr = rx_over_addr;
+    sh->bss_end = bss_end;
+    for (int i = 0; i < 8; i++) {
+        avr_extint_set_strict_lvl_trig(avr, (uint8_t)i, 0); /* 1.6 polls INT4..7 otherwise */
+    }
+    uint32_t flags = 0;
+    avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
+    flags &= ~(uint32_t)AVR_UART_FLAG_STDIO;
+    avr_ioctl(avr, AVR_IOCTL_UART_SET_FLAGS('0'), &flags);
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_OUTPUT),
+                            on_uart_out, sh);
+    for (avr_io_t *io = avr->io_port; io; io = io->next) {
+        if (io->kind && strcmp(io->kind, "uart") == 0 && ((avr_uart_t *)io)->name == '0') {
+            sh->uart = (avr_uart_t *)io;
+        }
+    }
+    for (int p = 0; p < 7; p++) {
+        for (int b = 0; b < 8; b++) {
+            sh->pins[p][b] = avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('A' + p), b);
+        }
+    }
+    avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), IOPORT_IRQ_PIN_ALL),
+                            on_portc, sh);
+    avr_irq_register_notify(avr_get_interrupt_irq(avr, SH_VECTOR_TIMER1_OVF), on_tov1, sh);
+    sh->byte_cycles = 10u * 8u * 17u; /* 8N1 at UBRR 16, U2X 1 */
+    paint(sh);
+    return sh;
+}
+
+void sh_free(sh_t *sh)
+{
+    if (sh) {
+        avr_terminate(sh->avr);
+        free(sh->avr);
+        free(sh);
+    }
+}
+
+void sh_reset(sh_t *sh)
+{
+    avr_reset(sh->avr);
+    paint(sh);
+    clear_run_state(sh);
+    sh->prof.resets++;
+}
+
+uint64_t sh_cycle(const sh_t *sh) { return sh->avr->cycle; }
+
+int sh_state(const sh_t *sh) { return sh->avr->state; }
+
+void sh_set_byte_cycles(sh_t *sh, uint32_t cycles) { sh->byte_cycles = cycles; }
+
+void sh_set_loop_addr(sh_t *sh, uint32_t addr) { sh->loop_addr = addr; }
+
+static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping)
+{
+    avr_t *avr = sh->avr;
+    uint64_t now = avr->cycle;
+    uint8_t ie = avr->sreg[S_I];
+    if (was_sleeping) {
+        sh->prof.sleep_cycles += now - before;
+    }
+    /* interrupt entry: the PC lands on a vector with I cleared */
+    if (!sh->in_isr && !ie && avr->pc < VECTORS * 4u && avr->pc != 0) {
+        sh->in_isr = 1;
+        sh->isr_vec = (uint8_t)(avr->pc / 4u);
+        sh->isr_start = before;
+    } else if (sh->in_isr && ie) {
+        uint64_t len = now - sh->isr_start;
+        if (len > sh->prof.isr_max_cycles[sh->isr_vec]) {
+            sh->prof.isr_max_cycles[sh->isr_vec] = (uint32_t)len;
+        }
+        sh->prof.isr_count[sh->isr_vec]++;
+        sh->in_isr = 0;
+    }
+    if (ie) {
+        if (sh->seen_sei && sh->ioff_start) {
+            uint64_t len = before - sh->ioff_start;
+            if (len > sh->prof.irq_off_max_cycles) {
+                sh->prof.irq_off_max_cycles = (uint32_t)len;
+            }
+        }
+        sh->seen_sei = 1;
+        sh->ioff_start = 0;
+    } else if (sh->seen_sei && !sh->ioff_start) {
+        sh->ioff_start = before;
+    }
+    uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
+    /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
+    if (sh->loop_addr && !sh->in_loop && avr->pc == sh->loop_addr) {
+        sh->in_loop = 1;
+        sh->loop_sp = sp;
+        sh->loop_start = before;
+    } else if (sh->in_loop && sp > sh->loop_sp) {
+        uint64_t len = now - sh->loop_start;
+        if (len > sh->prof.loop_max_cycles) {
+            sh->prof.loop_max_cycles = (uint32_t)len;
+        }
+        sh->prof.loop_count++;
+        sh->in_loop = 0;
+    }
+    if (sh->seen_sei && (sh->prof.sp_min == 0 || sp < sh->prof.sp_min)) {
+        sh->prof.sp_min = sp;
+    }
+    /* a byte reached the RX ring (or was counted as a ring overrun) */
+    if (sh->rx_head_addr) {
+        uint8_t head = avr->data[sh->rx_head_addr];
+        uint32_t over;
+        memcpy(&over, avr->data + sh->rx_over_addr, 4);
+        unsigned moved = ((uint8_t)(head - sh->rx_head_last) & (RX_RING_BYTES - 1u)) +
+                         (over - sh->rx_over_last);
+        sh->rx_head_last = head;
+        sh->rx_over_last = over;
+        while (moved && sh->rxq_untimed) {
+            moved--;
+            sh->rxq_untimed--;
+        }
+        while (moved-- && sh->rxq_n) {
+            uint64_t stop = sh->rxq[sh->rxq_head];
+            sh->rxq_head = (sh->rxq_head + 1u) % RXQ_MAX;
+            sh->rxq_n--;
+            uint64_t lat = now > stop ? now - stop : 0;
+            if (lat > sh->prof.rx_latency_max_cycles) {
+                sh->prof.rx_latency_max_cycles = (uint32_t)lat;
+            }
+        }
+    }
+}
+
+/* simavr 1.6 derives USART0's byte time when UBRRnL is written, counting a parity bit always
+ * and the U2X in force then (the firmware sets U2X after UBRR): 2992 cycles instead of 1360 for
+ * 8N1 at 117 647 baud. The byte time of the configured line is put back before each step. */
+static inline void fix_byte_time(sh_t *sh)
+{
+    if (sh->uart) {
+        sh->uart->cycles_per_byte = sh->byte_cycles;
+    }
+}
+
+int sh_run_to(sh_t *sh, uint64_t target)
+{
+    avr_t *avr = sh->avr;
+    sh->stop = 0;
+    fix_byte_time(sh);
+    if (avr->cycle >= target) {
+        return SH_REACHED;
+    }
+    if (sh->timer_armed != target) {
+        avr_cycle_timer_cancel(avr, wake_at_target, sh);
+        avr_cycle_timer_register(avr, target - avr->cycle, wake_at_target, sh);
+        sh->timer_armed = target;
+    }
+    while (avr->cycle < target) {
+        uint64_t before = avr->cycle;
+        int sleeping = avr->state == cpu_Sleeping;
+        int state = avr_run(avr);
+        if (state == cpu_Done || state == cpu_Crashed) {
+            return SH_CRASHED;
+        }
+        after_instruction(sh, before, sleeping);
+        if (sh->stop) {
+            return SH_STOPPED;
+        }
+    }
+    return SH_REACHED;
+}
+
+void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level)
+{
+    avr_raise_irq(sh->pins[port][bit & 7u], level ? 1u : 0u);
+}
+
+int sh_uart_in(sh_t *sh, uint8_t byte)
+{
+    /* The part holds two received bytes (UDR's FIFO) plus the one in the shift register;
+     * simavr's 64-byte FIFO would hide a slow ISR, so a byte whose start bit comes while three
+     * are unread is lost (data overrun). */
+    if (!sh->uart || uart_fifo_get_read_size(&sh->uart->input) >= 3) {
+        sh->rx_line_lost++;
+        return 0;
+    }
+    fix_byte_time(sh);
+    avr_raise_irq(avr_io_getirq(sh->avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), byte);
+    if (!sh->seen_sei) {
+        sh->rxq_untimed++;
+    } else if (sh->rxq_n < RXQ_MAX) {
+        sh->rxq[(sh->rxq_head + sh->rxq_n) % RXQ_MAX] = sh->avr->cycle + sh->byte_cycles;
+        sh->rxq_n++;
+    }
+    return 1;
+}
+
+uint32_t sh_rx_line_lost(const sh_t *sh) { return sh->rx_line_lost; }
+
+uint32_t sh_tx_take(sh_t *sh, uint8_t *bytes, uint64_t *cycles, uint32_t max)
+{
+    uint32_t n = 0;
+    while (n < sh->tx_n && n < max && sh->tx_cycle[n] <= sh->avr->cycle) {
+        bytes[n] = sh->tx_byte[n];
+        cycles[n] = sh->tx_cycle[n];
+        n++;
+    }
+    memmove(sh->tx_byte, sh->tx_byte + n, sh->tx_n - n);
+    memmove(sh->tx_cycle, sh->tx_cycle + n, (sh->tx_n - n) * sizeof(uint64_t));
+    sh->tx_n -= n;
+    return n;
+}
+
+uint32_t sh_tx_pending(const sh_t *sh) { return sh->tx_n; }
+
+uint64_t sh_tx_line_free(const sh_t *sh) { return sh->tx_line_free; }
+
+uint32_t sh_triggers_take(sh_t *sh, uint8_t *idx, uint64_t *cycles, uint32_t max)
+{
+    uint32_t n = sh->trig_n < max ? sh->trig_n : max;
+    memcpy(idx, sh->trig_idx, n);
+    memcpy(cycles, sh->trig_cycle, n * sizeof(uint64_t));
+    memmove(sh->trig_idx, sh->trig_idx + n, sh->trig_n - n);
+    memmove(sh->trig_cycle, sh->trig_cycle + n, (sh->trig_n - n) * sizeof(uint64_t));
+    sh->trig_n -= n;
+    return n;
+}
+
+uint32_t sh_periods_take(sh_t *sh, uint64_t *cycles, uint16_t *regs, uint32_t max)
+{
+    uint32_t n = sh->per_n < max ? sh->per_n : max;
+    memcpy(cycles, sh->per_cycle, n * sizeof(uint64_t));
+    memcpy(regs, sh->per_regs, n * sizeof sh->per_regs[0]);
+    memmove(sh->per_cycle, sh->per_cycle + n, (sh->per_n - n) * sizeof(uint64_t));
+    memmove(sh->per_regs, sh->per_regs + n, (sh->per_n - n) * sizeof sh->per_regs[0]);
+    sh->per_n -= n;
+    return n;
+}
+
+void sh_read(const sh_t *sh, uint16_t addr, uint8_t *dst, uint16_t n)
+{
+    const avr_t *avr = sh->avr;
+    for (uint16_t i = 0; i < n; i++) {
+        dst[i] = (uint32_t)addr + i <= avr->ramend ? avr->data[addr + i] : 0u;
+    }
+}
+
+void sh_profile(const sh_t *sh, sh_profile_t *out)
+{
+    *out = sh->prof;
+    /* deepest stack: the lowest byte above the firmware's data that lost its paint */
+    const avr_t *avr = sh->avr;
+    uint32_t a = sh->bss_end;
+    while (a <= avr->ramend && avr->data[a] == PAINT) {
+        a++;
+    }
+    out->stack_depth_bytes = avr->ramend >= a ? (uint32_t)(avr->ramend - a + 1u) : 0u;
+}
+
+uint32_t sh_pc(const sh_t *sh) { return sh->avr->pc; }
+
+uint32_t sh_rx_unread(const sh_t *sh)
+{
+    return sh->uart ? (uint32_t)uart_fifo_get_read_size((uart_fifo_t *)&sh->uart->input) : 0u;
+}

@@ -1,0 +1,51 @@
+/* The simavr harness's interface (harness.c); mcu_sim/simavr/build.py declares the same. */
+#ifndef MOBIGRASP_SIMAVR_HARNESS_H
+#define MOBIGRASP_SIMAVR_HARNESS_H
+
+#include <stdint.h>
+
+#define SH_PERIOD_REGS 9 /* OCR1A..C, OCR3A..C, ICR1, ICR3, TCCR1A | TCCR3A << 8 */
+#define SH_VECTORS 35
+#define SH_VECTOR_TIMER1_OVF 14
+
+enum { SH_REACHED = 0, SH_STOPPED = 1, SH_CRASHED = -1 };
+
+typedef struct {
+    uint32_t isr_max_cycles[SH_VECTORS];
+    uint32_t isr_count[SH_VECTORS];
+    uint32_t irq_off_max_cycles;
+    uint32_t rx_latency_max_cycles;
+    uint64_t sleep_cycles;
+    uint32_t stack_depth_bytes;
+    uint16_t sp_min;
+    uint32_t tx_overflow;
+    uint32_t resets;
+    uint32_t loop_max_cycles;
+    uint32_t loop_count;
+} sh_profile_t;
+
+typedef struct sh sh_t;
+
+sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
+             uint16_t bss_end);
+void sh_free(sh_t *sh);
+void sh_reset(sh_t *sh);
+uint64_t sh_cycle(const sh_t *sh);
+int sh_state(const sh_t *sh);
+void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
+void sh_set_loop_addr(sh_t *sh, uint32_t addr);
+int sh_run_to(sh_t *sh, uint64_t target);
+void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
+int sh_uart_in(sh_t *sh, uint8_t byte);
+uint32_t sh_rx_line_lost(const sh_t *sh);
+uint32_t sh_tx_take(sh_t *sh, uint8_t *bytes, uint64_t *cycles, uint32_t max);
+uint32_t sh_tx_pending(const sh_t *sh);
+uint64_t sh_tx_line_free(const sh_t *sh);
+uint32_t sh_triggers_take(sh_t *sh, uint8_t *idx, uint64_t *cycles, uint32_t max);
+uint32_t sh_periods_take(sh_t *sh, uint64_t *cycles, uint16_t *regs, uint32_t max);
+void sh_read(const sh_t *sh, uint16_t addr, uint8_t *dst, uint16_t n);
+void sh_profile(const sh_t *sh, sh_profile_t *out);
+uint32_t sh_pc(const sh_t *sh);
+uint32_t sh_rx_unread(const sh_t *sh);
+
+#endif

@@ -1,0 +1,414 @@
+"""The simavr MCU backend: the avr-gcc ELF of ``firmware/`` on simavr's ATmega128 core.
+
+Same interface as :class:`mobigrasp.mcu_sim.mcu.Mcu` (mobigrasp.mcu_sim.backend.McuBackend),
+but nothing of the firmware is modelled: every instruction of the image that would be flashed
+runs on simavr (firmware/simavr/harness.c), 16 cycles per simulated µs. This class is the
+board around the chip:
+
+- RX: each host byte is handed to USART0 at its start bit, so its RX-complete interrupt comes
+  at its stop bit; a byte that starts while the part's two-byte receive buffer is full is lost
+  (data overrun), as on the part.
+- Encoders: quadrature levels on PD0..PD3 (INT0..3), edges spread evenly over the interval the
+  rig gives (a count reached by now: over the next interval as long as the last one), never
+  closer than ``INSTANT_EDGE_CYCLES``.
+- Sonars: a trigger pulse on PORTC0..4 stops the core; the echo (mcu_sim.avr.sonar's timing)
+  is scheduled as levels on PE6 (INT6).
+- Servos: simavr 1.6 does not move the OC1x/OC3x pins after an OCRnx write in mode 14, so each
+  pulse is computed from the OCRnx/ICRn values latched at the Timer1 period start
+  (docs/firmware.md, "simavr").
+- Wheels: duty from OCR0/OCR2 while Timer0/Timer2 run, sign from the direction pins.
+
+Counters and flags are read from the firmware's globals in SRAM, at the ELF's symbol addresses.
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections import deque
+from collections.abc import Callable
+
+from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US
+from mobigrasp.mcu_sim.avr.sonar import ECHO_DELAY_US, MAX_RANGE_M, echo_width_us
+from mobigrasp.mcu_sim.avr.usart import baud_error_pct, baud_rate
+from mobigrasp.mcu_sim.firmware.params import Params, param_id
+from mobigrasp.mcu_sim.mcu import McuConfig
+from mobigrasp.mcu_sim.simavr.build import Elf, SimavrBuildError, build_elf, load_harness
+from mobigrasp.mcu_sim.simavr.profile import profile_stats
+
+_mod = load_harness()
+ffi, lib = _mod.ffi, _mod.lib
+
+INSTANT_EDGE_CYCLES = 160  # 10 µs: the closest two edges of one wheel are put
+_PORT = {c: i for i, c in enumerate("ABCDEFG")}
+_QUAD = (0b00, 0b01, 0b11, 0b10)  # (A << 1 | B) at count % 4: hal_avr.c's x4 decoding
+_ENC_PINS = ((0, 1), (2, 3))  # PD bits of (A, B) for the left and right wheel
+_ECHO_PORT, _ECHO_BIT = _PORT["E"], 6
+# data-space addresses of the ATmega128's 8-bit timer and port A registers
+_OCR0, _TCCR0, _OCR2, _TCCR2, _PORTA = 0x51, 0x53, 0x43, 0x45, 0x3B
+_SERVO_PRESCALE = 8
+_COUNTERS = ("bad_frames", "not_ready", "unexpected", "tx_dropped", "limit_hits",
+             "watchdog_trips", "telemetry_sent")
+_PARSER = ("frames_ok", "crc_errors", "oversize", "unknown_type", "bad_version", "truncated",
+           "cobs_errors", "garbage_bytes", "bytes_in", "recovered")
+# frame_parser_t: buf[70], len, skipping, start, then the stats; dup_filter_t: tag[64],
+# crc[64] (16 bit), result[64], newest (16 bit), then duplicates (AVR structs are unpadded)
+_PARSER_STATS_OFF = 73
+_DUP_DUPLICATES_OFF = 258
+_RX_HEAD_OFF, _RX_OVERRUNS_OFF = 128, 130
+_FLAGS = ("drive_enabled", "handshake", "stopped", "limit_flag", "reset_flag",
+          "watchdog_tripped")
+
+
+class SimavrMcu:
+    """One simavr ATmega128 running the firmware ELF."""
+
+    def __init__(self, config: McuConfig | None = None,
+                 defines: dict[str, int | str] | None = None,
+                 elf: Elf | None = None) -> None:
+        self.config = cfg = config or McuConfig()
+        defines = dict(defines or {})
+        if cfg.params:
+            # build-time PARAM choices go into the image (hal_boot_param), checked as a
+            # PARAM_SET is: no build can widen a safety limit either
+            check = Params()
+            chosen = {}
+            for key, value in cfg.params.items():
+                pid = param_id(key)
+                if check.check(pid, int(value)):
+                    raise ValueError(f"parameter {key}={value} refused")
+                chosen[pid] = int(value)
+            defines["FW_BOOT_PARAMS"] = ",".join(f"{{{pid},{v}}}" for pid, v in
+                                                 sorted(chosen.items()))
+        self.elf = elf or build_elf(defines)
+        rx = self.elf.addr("fw_rx")
+        h = lib.sh_new(str(self.elf.path).encode(), rx + _RX_HEAD_OFF, rx + _RX_OVERRUNS_OFF,
+                       self.elf.addr("__bss_end"))
+        if h == ffi.NULL:
+            raise SimavrBuildError(f"{self.elf.path}: simavr could not load it")
+        self._h = ffi.gc(h, lib.sh_free)
+        lib.sh_set_loop_addr(self._h, self.elf.symbols.get("fw_loop", 0))
+        bit = 8 if cfg.u2x else 16
+        self.byte_cycles = 10 * bit * (cfg.ubrr + 1)
+        lib.sh_set_byte_cycles(self._h, self.byte_cycles)
+        self._cycle = 0
+        self._rx_line: deque[tuple[int, int]] = deque()  # (start-bit cycle, byte)
+        self._rx_line_free = 0
+        self._rx_line_dropped = 0
+        self._rx_bytes = 0
+        self._tx_bytes = 0
+        self._pins: list[tuple[int, int, int, int, int]] = []  # heap (cycle, seq, port, bit, lvl)
+        self._seq = 0
+        self._enc_last_call = 0
+        self._enc_pins_pos = [0, 0]  # count whose A/B levels the pins show, per wheel
+        self._enc_edges: tuple[deque[tuple[int, int]], ...] = (deque(), deque())  # (cycle, count)
+        self._enc_bad = 0
+        self._provider: Callable[[int], float | None] | None = None
+        self._widths_ns = [0] * 6
+        self._falls: list[tuple[int, int, int]] = []  # (cycle, channel, width ns) to come
+        self._pulses_us: tuple[float, ...] = (0.0,) * 6
+        self._trig_idx = ffi.new("uint8_t[64]")
+        self._trig_cyc = ffi.new("uint64_t[64]")
+        self._per_cyc = ffi.new("uint64_t[64]")
+        self._per_regs = ffi.new("uint16_t[]", 64 * 9)
+        self._tx_buf = ffi.new("uint8_t[4096]")
+        self._tx_cyc = ffi.new("uint64_t[4096]")
+        self._rd = ffi.new("uint8_t[64]")
+        self.events = 0
+
+    # -- time ----------------------------------------------------------------------------------
+    @property
+    def now_us(self) -> int:
+        """Current simulated time in µs."""
+        return self._cycle // CYCLES_PER_US
+
+    def advance_to(self, t_us: int) -> None:
+        """Run the core until simulated time ``t_us``."""
+        target = int(t_us) * CYCLES_PER_US
+        if target < self._cycle:
+            raise ValueError(f"cannot go back in time from {self.now_us} to {t_us} us")
+        h = self._h
+        while True:
+            nxt = target
+            if self._rx_line and self._rx_line[0][0] < nxt:
+                nxt = self._rx_line[0][0]
+            if self._pins and self._pins[0][0] < nxt:
+                nxt = self._pins[0][0]
+            for edges in self._enc_edges:
+                if edges and edges[0][0] < nxt:
+                    nxt = edges[0][0]
+            rc = lib.sh_run_to(h, nxt)
+            self.events += 1
+            if rc < 0:
+                raise RuntimeError(f"simavr: the firmware stopped (core state "
+                                   f"{lib.sh_state(h)}) at cycle {lib.sh_cycle(h)}")
+            if rc == 1:  # a sonar trigger: schedule its echo, then run on
+                self._triggers()
+                continue
+            now = max(nxt, lib.sh_cycle(h))
+            while self._rx_line and self._rx_line[0][0] <= now:
+                _, byte = self._rx_line.popleft()
+                if lib.sh_uart_in(h, byte):
+                    self._rx_bytes += 1
+            while self._pins and self._pins[0][0] <= now:
+                _, _, port, bit, level = heapq.heappop(self._pins)
+                lib.sh_pin(h, port, bit, level)
+            self._apply_edges(0, now)
+            self._apply_edges(1, now)
+            if nxt >= target:
+                break
+        self._cycle = target
+        self._periods()
+
+    def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
+        """:meth:`advance_to`, then (:meth:`servo_pulses_us`, :meth:`wheel_duty`)."""
+        self.advance_to(t_us)
+        return self.servo_pulses_us(), self.wheel_duty()
+
+    def _pin_at(self, cycle: int, port: int, bit: int, level: int) -> None:
+        self._seq += 1
+        heapq.heappush(self._pins, (cycle, self._seq, port, bit, level))
+
+    def _triggers(self) -> None:
+        n = lib.sh_triggers_take(self._h, self._trig_idx, self._trig_cyc, 64)
+        for i in range(n):
+            index, cycle = self._trig_idx[i], self._trig_cyc[i]
+            d = self._range_m(index)
+            if d is None:
+                continue
+            rise = cycle + ECHO_DELAY_US * CYCLES_PER_US
+            fall = rise + max(1, round(echo_width_us(d) * CYCLES_PER_US))
+            self._pin_at(rise, _ECHO_PORT, _ECHO_BIT, 1)
+            self._pin_at(fall, _ECHO_PORT, _ECHO_BIT, 0)
+
+    def _range_m(self, index: int) -> float | None:
+        if self._provider is None or index >= self.config.sonar_count:
+            return None
+        try:
+            d = self._provider(index)
+        except Exception:  # a provider that fails is a sonar that hears nothing
+            return None
+        if d is None or isinstance(d, bool) or not isinstance(d, (int, float)):
+            return None
+        if not d == d or d < 0.0:  # NaN or negative
+            return None
+        return float(d) if d <= MAX_RANGE_M else None
+
+    def _periods(self) -> None:
+        n = lib.sh_periods_take(self._h, self._per_cyc, self._per_regs, 64)
+        regs = self._per_regs
+        for i in range(n):
+            start = self._per_cyc[i]
+            r = [regs[9 * i + k] for k in range(9)]
+            tccra = (r[8] & 0xFF, r[8] >> 8)
+            for ch in range(6):
+                timer = ch // 3
+                com = (tccra[timer] >> (6 - 2 * (ch % 3))) & 0b11
+                icr = r[6 + timer]
+                if com != 0b10 or r[ch] >= icr:  # not non-inverting, or stays high
+                    continue
+                cycles = (r[ch] + 1) * _SERVO_PRESCALE  # from BOTTOM to the compare match
+                width_ns = cycles * 1000 // CYCLES_PER_US
+                self._falls.append((start + cycles, ch, width_ns))
+        if self._falls:
+            self._falls.sort()
+            changed = False
+            while self._falls and self._falls[0][0] <= self._cycle:
+                _, ch, width = self._falls.pop(0)
+                if self._widths_ns[ch] != width:
+                    self._widths_ns[ch] = width
+                    changed = True
+            if changed:
+                self._pulses_us = tuple(w / 1000.0 for w in self._widths_ns)
+
+    def reset(self) -> None:
+        """A power-on reset now: RAM painted again, the firmware starts from its reset vector."""
+        lib.sh_reset(self._h)
+        for side in (0, 1):
+            ab = _QUAD[self._enc_pins_pos[side] % 4]
+            a, b = _ENC_PINS[side]
+            lib.sh_pin(self._h, _PORT["D"], a, ab >> 1)
+            lib.sh_pin(self._h, _PORT["D"], b, ab & 1)
+        self._falls.clear()
+
+    # -- UART ----------------------------------------------------------------------------------
+    def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
+        """Put ``data`` on the RX line from ``start_us`` (default and minimum: now)."""
+        start = self._cycle if start_us is None else max(int(start_us) * CYCLES_PER_US,
+                                                          self._cycle)
+        start = max(start, self._rx_line_free)
+        room = self.config.line_capacity_bytes - len(self._rx_line)
+        data = bytes(data)
+        take = data[:max(0, room)]
+        self._rx_line_dropped += len(data) - len(take)
+        bc = self.byte_cycles
+        for i, byte in enumerate(take):
+            self._rx_line.append((start + i * bc, byte))
+        if take:
+            self._rx_line_free = start + len(take) * bc
+        return len(take)
+
+    def uart_tx_take(self) -> list[tuple[int, bytes]]:
+        """Bytes the firmware sent since the last call: ``(t_us their stop bit left, bytes)``,
+        one chunk per run of back-to-back bytes."""
+        out: list[tuple[int, bytes]] = []
+        while True:
+            n = lib.sh_tx_take(self._h, self._tx_buf, self._tx_cyc, 4096)
+            if n == 0:
+                break
+            self._tx_bytes += n
+            chunk = bytearray()
+            last = None
+            for i in range(n):
+                c = self._tx_cyc[i]
+                if last is not None and c - last > self.byte_cycles and chunk:
+                    out.append((-(-last // CYCLES_PER_US), bytes(chunk)))
+                    chunk = bytearray()
+                chunk.append(self._tx_buf[i])
+                last = c
+            out.append((-(-last // CYCLES_PER_US), bytes(chunk)))
+        return out
+
+    def tx_idle_through_us(self) -> int:
+        """Now: the firmware's telemetry schedule is not read off the core."""
+        return self._cycle // CYCLES_PER_US
+
+    @property
+    def baud(self) -> float:
+        """Actual USART0 baud rate."""
+        return baud_rate(self.config.ubrr, self.config.u2x)
+
+    @property
+    def baud_error_pct(self) -> float:
+        """Baud error against 115200 in percent."""
+        return baud_error_pct(self.config.ubrr, self.config.u2x)
+
+    # -- outputs -------------------------------------------------------------------------------
+    def servo_pulse_us(self, ch: int) -> float:
+        """Latest complete pulse width on channel ``ch`` in µs."""
+        if not 0 <= ch < 6:
+            raise ValueError(f"servo channel must be 0..5, got {ch}")
+        return self._pulses_us[ch]
+
+    def servo_pulses_us(self) -> tuple[float, ...]:
+        """The six servo pulse widths."""
+        return self._pulses_us
+
+    def _read(self, addr: int, n: int) -> bytes:
+        lib.sh_read(self._h, addr, self._rd, n)
+        return bytes(self._rd[0:n])
+
+    def wheel_duty(self) -> tuple[int, int]:
+        """Signed duties (left, right), -255..255, from the timers and direction pins."""
+        regs = self._read(_OCR2, _OCR0 - _OCR2 + 3)  # OCR2 .. TCCR0 (0x43..0x53)
+        porta = self._read(_PORTA, 1)[0]
+        out = []
+        for side, (ocr_a, tccr_a) in enumerate(((_OCR0, _TCCR0), (_OCR2, _TCCR2))):
+            ocr, tccr = regs[ocr_a - _OCR2], regs[tccr_a - _OCR2]
+            duty = ocr if tccr & 0b111 else 0
+            out.append(-duty if (porta >> side) & 1 else duty)
+        return out[0], out[1]
+
+    # -- inputs --------------------------------------------------------------------------------
+    def set_encoder_ticks(self, left: int, right: int, t_us: int | None = None) -> None:
+        """Cumulative quadrature counts (left, right) at ``t_us`` (default now), as pin edges
+        spread evenly from the count the pins show now; edges of an earlier call still to come
+        are replaced. A count reached by now (the rig reads the wheels after each coupling
+        step) is spread over the next interval as long as the last: a pin cannot take the
+        edges of a whole step at one instant."""
+        now = self._cycle
+        t = now if t_us is None else int(t_us) * CYCLES_PER_US
+        span = t - now
+        if span <= 0:
+            span = now - self._enc_last_call
+        self._enc_last_call = now
+        for side, count in ((0, left), (1, right)):
+            if isinstance(count, bool) or not isinstance(count, int):
+                self._enc_bad += 1
+                continue
+            edges = self._enc_edges[side]
+            edges.clear()
+            pos = self._enc_pins_pos[side]
+            n = abs(count - pos)
+            step = 1 if count > pos else -1
+            for k in range(1, n + 1):
+                at = now + (span * k // n if span >= n * INSTANT_EDGE_CYCLES
+                            else INSTANT_EDGE_CYCLES * k)
+                edges.append((at, pos + step * k))
+
+    def _apply_edges(self, side: int, until: int) -> None:
+        edges = self._enc_edges[side]
+        a_bit, b_bit = _ENC_PINS[side]
+        port = _PORT["D"]
+        while edges and edges[0][0] <= until:
+            _, new_pos = edges.popleft()
+            old, new = _QUAD[self._enc_pins_pos[side] % 4], _QUAD[new_pos % 4]
+            self._enc_pins_pos[side] = new_pos
+            if (old ^ new) & 0b10:
+                lib.sh_pin(self._h, port, a_bit, new >> 1)
+            if (old ^ new) & 0b01:
+                lib.sh_pin(self._h, port, b_bit, new & 1)
+
+    def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
+        """Set ``provider(index) -> metres | None`` consulted at each trigger pulse."""
+        if provider is not None and not callable(provider):
+            raise TypeError(f"sonar provider must be callable or None, got {provider!r}")
+        self._provider = provider
+
+    # -- diagnostics ---------------------------------------------------------------------------
+    def _u32s(self, symbol: str, offset: int, n: int) -> list[int]:
+        raw = self._read(self.elf.addr(symbol) + offset, 4 * n)
+        return [int.from_bytes(raw[4 * i:4 * i + 4], "little") for i in range(n)]
+
+    def _flags(self) -> dict[str, bool]:
+        raw = self._read(self.elf.addr("fw_flags"), len(_FLAGS))
+        return {name: bool(raw[i]) for i, name in enumerate(_FLAGS)}
+
+    def safety_flags(self) -> tuple[bool, bool]:
+        """(watchdog stop active, host handshake done), read from the firmware's flags."""
+        f = self._flags()
+        return f["watchdog_tripped"], f["handshake"]
+
+    def limit_hits(self) -> int:
+        """Commands the firmware clamped to the joint limits so far."""
+        return self._u32s("fw_counters", 4 * _COUNTERS.index("limit_hits"), 1)[0]
+
+    def stats(self) -> dict[str, int]:
+        """Counters of the firmware (from SRAM) and of the line."""
+        counters = dict(zip(_COUNTERS, self._u32s("fw_counters", 0, len(_COUNTERS)), strict=True))
+        raw = self._u32s("fw_parser", _PARSER_STATS_OFF, len(_PARSER))
+        parser = dict(zip(_PARSER, raw, strict=True))
+        ring_over = self._u32s("fw_rx", _RX_OVERRUNS_OFF, 1)[0]
+        line_lost = self._rx_line_dropped + lib.sh_rx_line_lost(self._h)
+        out = {
+            "rx_bytes": self._rx_bytes,
+            "tx_bytes": self._tx_bytes,
+            "rx_ring_overruns": ring_over,
+            "rx_line_dropped": line_lost,
+            "overruns": ring_over + line_lost,
+            "corrupt_frames": sum(parser[k] for k in ("crc_errors", "cobs_errors", "truncated",
+                                                      "oversize", "bad_version")),
+            **counters,
+            "duplicates": self._u32s("fw_dup", _DUP_DUPLICATES_OFF, 1)[0],
+            "events": self.events,
+        }
+        for key, value in parser.items():
+            out[f"parser_{key}"] = value
+        out.update(profile_stats(self.profile()))
+        return out
+
+    def profile(self) -> dict[str, object]:
+        """What the instruction-accurate core measured so far (mcu_sim/simavr/profile.py)."""
+        p = ffi.new("sh_profile_t *")
+        lib.sh_profile(self._h, p)
+        total = lib.sh_cycle(self._h)
+        return {
+            "isr_max_cycles": {v: p.isr_max_cycles[v] for v in range(35) if p.isr_count[v]},
+            "isr_count": {v: p.isr_count[v] for v in range(35) if p.isr_count[v]},
+            "irq_off_max_cycles": p.irq_off_max_cycles,
+            "rx_latency_max_cycles": p.rx_latency_max_cycles,
+            "sleep_cycles": p.sleep_cycles,
+            "total_cycles": total,
+            "stack_depth_bytes": p.stack_depth_bytes,
+            "loop_max_cycles": p.loop_max_cycles,
+            "rx_line_lost": lib.sh_rx_line_lost(self._h),
+        }

@@ -1,0 +1,90 @@
+"""The avr-gcc ELF under simavr (mcu_sim/simavr): boots, keeps time, sends telemetry and gives
+servo widths from the OCRnx latched at each Timer1 period start."""
+
+import shutil
+
+import pytest
+
+pytest.importorskip("cffi")
+if shutil.which("avr-gcc") is None:
+    pytest.skip("avr-gcc is missing (make firmware installs it)", allow_module_level=True)
+
+from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu  # noqa: E402
+from mobigrasp.mcu_sim.simavr.profile import (  # noqa: E402
+    RX_LATENCY_BUDGET_CYCLES,
+    format_rows,
+    profile_rows,
+)
+from mobigrasp.protocol import messages as m  # noqa: E402
+from mobigrasp.protocol.frame import FrameParser  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def booted():
+    mcu = SimavrMcu()
+    mcu.advance_to(100_000)
+    return mcu
+
+
+def test_the_elf_boots_and_sends_telemetry_every_20_ms(booted):
+    chunks = booted.uart_tx_take()
+    msgs = [m.decode_frame(f) for f in FrameParser().feed(b"".join(d for _, d in chunks))]
+    tele = [x for x in msgs if isinstance(x, m.Telemetry)]
+    assert len(tele) >= 3
+    gaps = {b.time_us - a.time_us for a, b in zip(tele, tele[1:], strict=False)}
+    assert all(abs(g - 20_000) <= 100 for g in gaps)
+
+
+def test_servo_widths_come_from_the_latched_ocr_values(booted):
+    # the firmware's boot widths (gripper 1000 µs, the others 1500 µs)
+    assert booted.servo_pulses_us() == (1000.0, 1500.0, 1500.0, 1500.0, 1500.0, 1500.0)
+
+
+def test_the_profile_counts_timer_interrupts_and_sleep(booted):
+    p = booted.profile()
+    assert p["isr_count"][14] >= 4  # TIMER1_OVF, one per 20 ms period
+    assert 0 < p["sleep_cycles"] < p["total_cycles"]
+    assert 0 < p["stack_depth_bytes"] < 4096
+
+
+def _send_burst(mcu):
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    for seq in range(1, 21):
+        mcu.uart_rx(m.encode_message(m.Heartbeat(seq), seq), 30_000)
+    mcu.advance_to(200_000)
+
+
+def test_the_shipped_firmware_keeps_every_timing_budget_but_the_load():
+    mcu = SimavrMcu()
+    _send_burst(mcu)
+    stats = mcu.stats()
+    assert stats["rx_line_dropped"] == 0 and stats["parser_frames_ok"] == 21
+    rows = {r["figure"]: r for r in profile_rows(stats)}
+    assert not rows["ISR USART0_RX"]["exceeded"]
+    assert 0 < rows["UART RX latency"]["worst"] <= RX_LATENCY_BUDGET_CYCLES
+    assert not rows["RX bytes lost on the line"]["exceeded"]
+    assert 0 < rows["deepest stack"]["worst"] <= rows["deepest stack"]["budget"]
+
+
+def test_a_slow_rx_handler_loses_bytes_and_names_the_budget_it_broke():
+    # a firmware variant whose RX handler busy-waits 3000 cycles (2.2 byte times)
+    mcu = SimavrMcu(defines={"FW_TEST_RX_ISR_BUSY_CYCLES": 3000})
+    _send_burst(mcu)
+    stats = mcu.stats()
+    assert stats["rx_line_dropped"] > 0
+    assert stats["avr_isr_max_cycles_USART0_RX"] >= 3000
+    rows = {r["figure"]: r for r in profile_rows(stats)}
+    assert rows["ISR USART0_RX"]["exceeded"] and rows["RX bytes lost on the line"]["exceeded"]
+    assert not rows["ISR TIMER1_OVF"]["exceeded"]
+    text = format_rows(profile_rows(stats))
+    assert "ISR USART0_RX" in text.splitlines()[-1] and "EXCEEDED" in text
+
+
+def test_servo_widths_follow_an_ocr_write_at_the_next_period():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(60_000)
+    target = (1500, 1700, 1500, 1500, 1500, 1500)
+    mcu.uart_rx(m.encode_message(m.SetServos(0, target, 0), 1))
+    mcu.advance_to(200_000)
+    assert mcu.servo_pulses_us()[1] == 1700.0

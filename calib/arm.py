@@ -286,6 +286,18 @@ class FrontEnd:
         return res, t
 
 
+    def dual_plus(self, alpha_mrad: int, f_px: int, u0_px: int
+                  ) -> tuple[tuple[int, ...] | None, Timing]:
+        """The dual "+" on the frame of the last :meth:`run` (its grey, labels and stats)."""
+        a, base = self.arm, DATA_BASE
+        h, w = self._shape
+        found, t = a.call("mg_dual_plus", base + self.GREY, base + self.LABELS, w, h,
+                          base + self.STATS, self._n_lab, alpha_mrad, f_px, u0_px,
+                          base + self.SCRATCH, base + self.OUT, cold=False)
+        res = struct.unpack("<11i", a.read(base + self.OUT, 44)) if found else None
+        return res, t
+
+
 def progress_stderr(msg: str) -> None:
     """Progress line on stderr."""
     print(msg, file=sys.stderr, flush=True)

@@ -42,9 +42,10 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("labelling", FRONT_END),
           # a detector's stage: its work after the front end, per call
           StageDef("radial_symbol", ("radial_symbol",)),
+          StageDef("dual_plus", ("dual_plus",)),
           # the 002 detector works on the RGB frame itself: the whole detector
           StageDef("red_cylinder", ("red_cylinder",)))
-DETECTOR_STAGES = ("radial_symbol", "red_cylinder")
+DETECTOR_STAGES = ("radial_symbol", "dual_plus", "red_cylinder")
 
 
 def modelled_us(stage: str, height: int, width: int) -> float:
@@ -148,6 +149,12 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.radial_symbol(*c.camera)
                 want = None if res is None else dataclasses.astuple(res)
                 add("radial_symbol", got == want, ops.cycles() - front_cycles, t)
+            elif c.detector == "dual_plus":
+                q = c.args[0]
+                res, ops = DETECTORS["dual_plus"].host_call(rgb, c.camera, q)
+                got, t = front.dual_plus(int(q[2] + q[3] + q[4]), c.camera[0], c.camera[1])
+                want = None if res is None else dataclasses.astuple(res)
+                add("dual_plus", got == want, ops.cycles() - front_cycles, t)
             elif c.detector == "red_cylinder":
                 res, ops = DETECTORS["red_cylinder"].host_call(rgb, c.camera, None)
                 got, t = front.red_cylinder(rgb)

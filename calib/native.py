@@ -18,7 +18,7 @@ import numpy as np
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
-           "red_cylinder.c")
+           "red_cylinder.c", "trig.c", "dual_plus.c")
 CDEF = """
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
@@ -33,6 +33,12 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_
 int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
                         int32_t *out);
+int32_t mg_sin_q12(int32_t angle_mrad);
+int32_t mg_cos_q12(int32_t angle_mrad);
+int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
+                     const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
+                     int32_t u0_px, uint8_t *scratch, int32_t *out);
 """
 
 
@@ -163,3 +169,37 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[int, ...] | None:
     found = c.mg_red_cylinder(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
                               _ptr(ffi, out, "int32_t *"))
     return tuple(int(v) for v in out) if found else None
+
+
+def sin_cos_q12(angle_mrad: int) -> tuple[int, int]:
+    """The C ``mg_sin_q12`` and ``mg_cos_q12`` of an angle in mrad."""
+    _, c = lib()
+    return int(c.mg_sin_q12(int(angle_mrad))), int(c.mg_cos_q12(int(angle_mrad)))
+
+
+def dual_plus(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray,
+              alpha_mrad: int = -1571, f_px: int = 611, u0_px: int = 160
+              ) -> tuple[int, ...] | None:
+    """(u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4, d_eff_q4, dist_mm, dist_raw_mm, x_oc_mm,
+    y_oc_mm, z_oc_mm) of the dual "+", from the front end's grey image, labels and component
+    stats, or None."""
+    ffi, c = lib()
+    g = np.ascontiguousarray(grey_img)
+    h, w = g.shape
+    lab = np.ascontiguousarray(labels, np.int32)
+    st = np.ascontiguousarray(stats, np.int32)
+    scratch = np.empty(c.mg_dual_plus_scratch_bytes(w, h) // 8 + 1, np.int64)
+    out = np.zeros(11, np.int32)
+    found = c.mg_dual_plus(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, lab, "int32_t *"), w, h,
+                           _ptr(ffi, st, "int32_t *"), len(st), int(alpha_mrad), f_px, u0_px,
+                           _ptr(ffi, scratch, "uint8_t *"), _ptr(ffi, out, "int32_t *"))
+    return tuple(int(v) for v in out) if found else None
+
+
+def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = 611,
+                     u0_px: int = 160) -> tuple[int, ...] | None:
+    """The whole detector in C: grey, dark mask, labelling, dual "+"."""
+    g = grey(rgb)
+    m, _ = dark_mask(g)
+    _, labels, stats = label(m)
+    return dual_plus(g, labels, stats, alpha_mrad, f_px, u0_px)

@@ -48,4 +48,17 @@ int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
                         int32_t *out);
 
+/* trig.c: sin and cos in Q12 of an angle in mrad (host/fixedpoint.py sin_q12, cos_q12) */
+int32_t mg_sin_q12(int32_t angle_mrad);
+int32_t mg_cos_q12(int32_t angle_mrad);
+
+/* dual_plus.c: the 000 dual "+" from the front end's grey image, labels and component stats
+ * (host/vision/dual_plus.py detect_dual_plus). out: u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4,
+ * d_eff_q4, dist_mm, dist_raw_mm, x_oc_mm, y_oc_mm, z_oc_mm. scratch:
+ * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
+int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
+                     const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
+                     int32_t u0_px, uint8_t *scratch, int32_t *out);
+
 #endif

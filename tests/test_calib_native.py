@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from mobigrasp.calib import corpus, native
-from mobigrasp.host.vision import dark_blobs, grey, radial_symbol, red_cylinder
+from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host.vision import dark_blobs, dual_plus, grey, radial_symbol, red_cylinder
 
 
 def _check_front_end(rgb):
@@ -51,6 +52,13 @@ def _check_calls(folder, calls) -> int:
             want = None if res is None else dataclasses.astuple(res)
             assert native.detect_radial_symbol(rgb, *c.camera) == want, c.frame_file
             found += want is not None
+        elif c.detector == "dual_plus":
+            res, _ = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)
+            want = None if res is None else dataclasses.astuple(res)
+            q = c.args[0]
+            got = native.detect_dual_plus(rgb, int(q[2] + q[3] + q[4]), *c.camera[:2])
+            assert got == want, c.frame_file
+            found += want is not None
         elif c.detector == "red_cylinder":
             res, _ = red_cylinder.detect_red_cylinder(rgb)
             want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
@@ -74,6 +82,19 @@ def test_edge_q4_matches_on_random_lines():
         line = rng.integers(0, 256, int(rng.integers(1, 12)), dtype=np.uint8)
         i, step = int(rng.integers(0, len(line))), int(rng.choice([-1, 1]))
         assert native.edge_q4(line, i, step) == dark_blobs.edge_q4(line, i, step)
+
+
+def test_sin_cos_table_matches():
+    for a in range(-14000, 14000, 3):
+        assert native.sin_cos_q12(a) == (fp.sin_q12(a), fp.cos_q12(a)), a
+
+
+def test_dual_plus_slice_matches(tmp_path):
+    corpus.record(tmp_path, ["paper000-exp1"])
+    calls = [c for c in corpus.calls(tmp_path, corpus.read_index(tmp_path))
+             if c.detector == "dual_plus"]
+    found = _check_calls(tmp_path, calls[::2])
+    assert 0 < found < len(calls[::2])  # the slice has pairs found and frames without
 
 
 def test_red_cylinder_slice_matches(tmp_path):

@@ -98,7 +98,9 @@ def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
     """100 x area / convex-hull area of a bool ROI (integer shoelace, hull of pixel corners)."""
     contours, _ = cv2.findContours(sel.view(np.uint8), cv2.RETR_EXTERNAL,
                                    cv2.CHAIN_APPROX_SIMPLE)
-    ops = OpCounts(pixels_read=2 * sel.size, alu=4 * sel.size, branches=sel.size)
+    # the board's hull (hostc/dual_plus.c): each box row's leftmost and rightmost pixel, then
+    # one monotone chain per side over the row levels, about 40 cycles per row
+    ops = OpCounts(alu=28 * sel.shape[0] + 60, branches=4 * sel.shape[0])
     if not contours:
         return 0, ops
     pts = np.concatenate(contours).reshape(-1, 2)
@@ -107,7 +109,6 @@ def _solidity_pct(sel: np.ndarray) -> tuple[int, OpCounts]:
     corners = (_CORNERS[:, None, :] + pts[None, :, :]).reshape(-1, 2)
     hull = cv2.convexHull(corners).reshape(-1, 2).tolist()
     area2 = abs(_twice_area(hull))
-    ops += OpCounts(alu=40 * len(pts), muls32=2 * len(hull), branches=8 * len(pts))
     if area2 == 0:
         return 0, ops
     return 200 * int(np.count_nonzero(sel)) // area2, ops
@@ -121,14 +122,15 @@ def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
     ok = (area >= MIN_AREA_PX) & (w >= 4) & (h >= 4) & (w <= W // 2) & (h <= H // 2) \
         & (100 * area >= 25 * w * h) & (100 * area <= 80 * w * h) & (w <= 4 * h) & (h <= 4 * w) \
         & (x > 0) & (y > 0) & (x + w < W) & (y + h < H)  # cut by the border: not a whole "+"
-    ops = OpCounts(alu=12 * len(area), branches=len(area))
+    # the call and the stats scan: about 60 cycles per component (five words read, the size
+    # tests, a line fill per 32 bytes of stats), as emulated (docs/budget.md)
+    ops = OpCounts(alu=100 + 25 * len(area), branches=4 * len(area), bytes_streamed=20 * len(area))
     out: list[Plus] = []
     # counts kept as plain ints in the loop and charged once (OpCounts additions are slow)
-    roi_px = frame_px = hits = 0
+    frame_px = dark_px = 0
     for i in np.flatnonzero(ok)[:64]:
         k = int(i) + 1
         xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
-        roi_px += wi * hi
         if labels[yi + hi // 2, xi + wi // 2] != k:
             continue  # a "+" is dark at its centre
         sel = labels[yi:yi + hi, xi:xi + wi] == k
@@ -145,14 +147,19 @@ def plus_candidates(grey: np.ndarray, labels: np.ndarray, stats: np.ndarray
         ring_n = frame.size - inside.size
         dark_sum, dark_n = int(inside[sel].sum()), int(np.count_nonzero(sel))
         frame_px += frame.size
+        dark_px += dark_n
         if 10 * ring_sum * dark_n < 22 * dark_sum * ring_n:
             continue
         m = db.moments(sel, xi, yi)
-        hits += m[0]
         out.append(Plus(m, (16 * m[1] + m[0] // 2) // m[0], (16 * m[2] + m[0] // 2) // m[0], k,
                         (xi, yi, wi, hi)))
-    ops += OpCounts(pixels_read=roi_px + 2 * frame_px + roi_px, alu=2 * roi_px + 3 * frame_px
-                    + 5 * hits, muls32=3 * hits + 2 * len(out), branches=roi_px // 4)
+    # one pass over the box and its 2 px frame gives the sums of the lightness test and the
+    # moments (hostc/dual_plus.c): per pixel a label word and a grey byte read, the in-box and
+    # label tests (~30 cycles with the label rows' line fills); per dark pixel the six 64-bit
+    # moment sums (~66 cycles); per "+" kept its two rounded centre divisions
+    ops += OpCounts(pixels_read=2 * frame_px, alu=16 * frame_px + 36 * dark_px
+                    + 1300 * len(out), branches=frame_px, muls32=6 * dark_px,
+                    divs=2 * len(out), bytes_streamed=5 * frame_px)
     return out, ops
 
 
@@ -178,6 +185,9 @@ def _d_eff_q4(a: Plus, b: Plus, du_q4: int, dv_q4: int) -> int | None:
     lam2 = xx + yy + fp.isqrt((xx - yy) * (xx - yy) + 4 * xy * xy)  # 2 lambda_max
     quad = yy * du_q4 * du_q4 - 2 * xy * du_q4 * dv_q4 + xx * dv_q4 * dv_q4  # p^T adj(C) p
     return fp.isqrt(lam2 * quad // (2 * det))
+
+
+_D_EFF_OPS = OpCounts(alu=36000, branches=1700, muls32=24, divs=3)
 
 
 def min_ops(height: int, width: int) -> OpCounts:
@@ -219,7 +229,10 @@ def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
     if a.u_q4 > b.u_q4:
         a, b = b, a  # "+" 1 is the left one in the image
     d_eff = _d_eff_q4(a, b, du, dv)
-    ops += OpCounts(muls32=24, alu=40, divs=3) + fp.isqrt_ops(1 << 62).scaled(4)
+    # the moment algebra needs ~150-bit products: on the board 256-bit integers in 32-bit
+    # limbs (hostc/dual_plus.c), a bit-serial long division and two digit-by-digit square
+    # roots, ~41 k cycles as emulated (docs/budget.md)
+    ops += _D_EFF_OPS
     if d_eff is None or d_eff < d_q4 or d_q4 == 0:
         return None, ops
     dist = fp.div_round(D_ACT_DMM * f_px * 16, 10 * d_eff)

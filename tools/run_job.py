@@ -328,6 +328,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         summary["mcu"] = mcu.stats() if hasattr(mcu, "stats") else {}
         if fault_rig is not None:
             summary["faults"], summary["safety"] = fault_rig.summary()
+            summary["safety"]["contacts"] = summary["collisions"]
         proto = summary["protocol"]
         proto["crc_errors"] = (proto["crc_errors"]
                                + summary["mcu"].get("parser_crc_errors", 0))
@@ -370,10 +371,13 @@ def _figures(res, plant, trace, snaps, limit_s: float) -> dict:
     state = res.host_state if res else "INIT"
     grasped = bool(fin["grasped"] or fin["grasps"])
     success = grasped and state == "DONE"
+    claimed = state == "DONE"
     enter = res.state_enter_us if res else {}
     grasp_us = fin.get("grasp_us")
     return {
         "success": success, "grasped": grasped, "task_state": state,
+        # the host ended DONE; a DONE without the object in the gripper is a false claim
+        "claimed_success": claimed, "false_claim": claimed and not grasped,
         "end_reason": res.reason if res else "crashed",
         "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
         "final_error_mm": fin.get("final_error_mm"),

@@ -32,8 +32,7 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
 from __future__ import annotations
 
 from mobigrasp.host import arm_calib, kinematics
-from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
-from mobigrasp.host.search import SearchParams
+from mobigrasp.host.fixedpoint import cos_q12, isqrt, sin_q12
 from mobigrasp.host.task.sense import platform_to_odom_mm, spoke_reading
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
@@ -48,12 +47,13 @@ CHECK_POSE_US = 500_000  # look this long (7 frames at 15 fps) at each waist off
 # may be off by 0.3 rad in bearing (docs/cosim.md "Measured", T8)
 CHECK_WAIST_MRAD = (0, 300, -300)
 MAX_REGRASPS = 2
-# views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
-# 0.3 m the 320 x 240 frame spans 157 x 118 mm there (f = 611 px), room for the miss itself
-# (the estimate that guided the fingers beside the object is off by that much); the dual "+"
-# (47.3 mm apart) stays resolved; the short 000 arm reaches the nearer views only
-CHECK_VIEWS = ((300, 1047), (250, 1047), (300, 785), (250, 785), (200, 1047), (200, 785),
-               (160, 1047), (250, 1309), (200, 524), (150, 524), (150, 785))
+# the look of the check (docs/task.md): the camera this far above the object's top, looking
+# down, first reachable wins; the object held under the fingertip is seen within HELD_NEAR_MM of
+# it, at two waist offsets whose fingertip places are HELD_MOVE_MM apart (r * 0.3 rad >= 40 mm at
+# the reach r >= 130 mm of a grasp)
+HELD_VIEW_MM = (150, 140, 130, 120, 110, 100)
+HELD_NEAR_MM = 20
+HELD_MOVE_MM = 2 * HELD_NEAR_MM
 
 
 class GraspStates:
@@ -73,6 +73,11 @@ class GraspStates:
     def enter_ROUGH_GRASP(self, t, now: int, inp) -> None:
         t.wheels = (0, 0)
         t.gripper = 0
+        if not t.graspable_seen:
+            # the estimate came from a guide (002's board) alone: nothing seen to grasp
+            t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
+                        f"never seen)")
+            return
         target = t.rules.rough_target(t, inp)
         pose = t.grasp_ik(target)
         if isinstance(pose, kinematics.Unreachable) and t.rules.lowers_hover():
@@ -208,95 +213,108 @@ class GraspStates:
             return
         self._check(t, now)
 
-    def _check_pose(self, t, inp):
-        """A camera pose looking down at the grasp place from ``CHECK_VIEWS`` (range, pitch):
-        back along the place's bearing and up, by eq. (11) of 000 with alpha_T = -pitch; the
-        first the arm reaches.  The gripper, and a held object, are then behind and below the
-        camera's view; None if no view is reachable."""
-        if t.obj is None:
-            return None
-        x, y = t.obj_platform(inp)
-        rho = isqrt(x * x + y * y)
-        look_mm = t.rules.look_height_mm(t.p, True)
-        for d_mm, pitch in CHECK_VIEWS:
-            back = d_mm * 16 * cos_q12(pitch) >> 12
-            r = rho - back
-            if r < 20 * 16:
-                continue
-            z = (look_mm - t.p.h_shoulder_mm) * 16 + (d_mm * 16 * sin_q12(pitch) >> 12)
-            pose = kinematics.ik_pitch_mm_q4(t.geom, (x * r // rho, y * r // rho, z), -pitch)
+    def _held_pose(self, t):
+        """The look of the grasp check: the camera (the fingertip point, eq. (3) of 000)
+        straight above where it is, looking down, ``HELD_VIEW_MM`` above the object's top,
+        the first height the arm reaches; a held object is then under the camera's optical
+        centre (docs/task.md). None if no height is reachable."""
+        x, y, _ = t.gripper_point_q4()
+        for h_mm in HELD_VIEW_MM:
+            z = (t.p.object_top_mm + h_mm - t.p.h_shoulder_mm) * 16
+            pose = kinematics.ik_pitch_mm_q4(t.geom, (x, y, z), kinematics.ALPHA_DOWN_MRAD)
             if isinstance(pose, kinematics.ArmPose):
                 return pose
         return None
 
     def start_check(self, t, now: int, inp) -> None:
-        """Swing the camera to look back at the grasp place (``_check_pose``; out of the
-        views' reach, the search's far look toward it); the waist then turns through
-        ``CHECK_WAIST_MRAD``."""
-        pose = self._check_pose(t, inp)
+        """Raise the camera above the gripper looking down (``_held_pose``); the waist then
+        turns through ``CHECK_WAIST_MRAD`` (the gripper, and a held object, move with it)."""
+        pose = self._held_pose(t)
         if pose is not None:
-            t.apply_pose(now, pose)
+            # a quarter turn of the wrist roll: the line of the two "+" (47.3 mm, 190 px at
+            # 150 mm) from the frame's 240 px height to its 320 px width
+            lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
+            roll = t.arm[1] + kinematics.QUARTER_TURN_MRAD
+            if roll > hi:
+                roll = t.arm[1] - kinematics.QUARTER_TURN_MRAD
+            t.apply_pose(now, pose, roll if lo <= roll <= hi else None)
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
                                              pose.theta4_mrad, pose.theta5_mrad])
-        elif t.obj is not None:
-            # seen (or estimated) beyond the views' reach: the search's far look toward it
-            sp = SearchParams(**t.p.search)
-            x, y = t.obj_platform(inp)
-            t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
-                         atan2_mrad(x, y))
-            t.note(grasp_check_far_look=True)
+        else:
+            t.note(grasp_check_no_view=True)  # no evidence can come: a miss at the end
         t.trust_from_us = t.move_done_us  # frames of the swing: arm pose unknown
         t.check_waist = (t.arm[5], 0)  # (centre, index into CHECK_WAIST_MRAD)
+        t.held_tips = {}
         t.phase, t.phase_us = "check", t.move_done_us
 
-    def _standing_away(self, t, inp) -> bool:
-        """The object just seen (t.obj) stands on the ground away from the gripper, not
-        under the fingertip where a held object would be (there is one object: seen anywhere
-        else, it is not in the gripper; docs/cosim.md "Measured", T8)."""
+    def _tip_odom(self, t, inp) -> tuple[int, int]:
         tip = platform_to_odom_mm(inp.x_mm, inp.y_mm, inp.heading_mrad,
                                   t.p.mount_forward_mm, t.gripper_point_q4())
-        dx, dy = t.obj[0] - tip[0], t.obj[1] - tip[1]
-        return dx * dx + dy * dy > CHECK_AWAY_MM * CHECK_AWAY_MM
+        return tip[0], tip[1]
 
     def _seen_standing(self, t, now: int, inp, dets: dict) -> bool:
-        """Count this frame's sightings of the object standing away from the gripper (also
-        while the arm still rises: the frame may show it already); True once that makes a
-        miss, handled here: open and ADJUST again, or FAILED after ``MAX_REGRASPS``."""
+        """Classify this frame's sightings of the object: standing away from the gripper
+        (``CHECK_AWAY_MM``; also while the arm still rises), or, during the look, under the
+        fingertip (``HELD_NEAR_MM``: kept per waist offset as grasp evidence). True once the
+        sightings away make a miss, handled here (:meth:`missed`)."""
         place = t.obj
         for name in t.rules.check_detectors:
             det = dets.get(name)
             if det is None or place is None or not t.see_object(now, inp, name, det):
                 continue
-            if self._standing_away(t, inp):
+            tip = self._tip_odom(t, inp)
+            d2 = (t.obj[0] - tip[0]) ** 2 + (t.obj[1] - tip[1]) ** 2
+            if d2 > CHECK_AWAY_MM * CHECK_AWAY_MM:
                 t.check_seen += 1
                 t.note(grasp_check_seen={"name": name, "obj_mm": list(t.obj),
                                             "estimate_mm": list(place)})
                 break
+            if t.phase == "check" and d2 <= HELD_NEAR_MM * HELD_NEAR_MM and t.settled(now):
+                t.held_tips[t.check_waist[1]] = tip
+                t.note(grasp_check_held={"name": name, "obj_mm": list(t.obj),
+                                            "tip_mm": list(tip)})
             t.obj = place  # the held object under the fingertip: keep the estimate
         if t.check_seen < CHECK_SEEN_FRAMES:
             return False
-        t.regrasps += 1
-        if t.regrasps > MAX_REGRASPS:
-            t.fail(now, f"grasp check: object still standing after {t.regrasps} grasps")
-            return True
-        t.gripper = 0
-        t.go(now, "ADJUST", f"grasp check: object still standing away from the gripper "
-                f"(seen in {t.check_seen} frames): open and grasp again")
+        self.missed(t, now, f"object still standing away from the gripper (seen in "
+                    f"{t.check_seen} frames)")
         return True
 
+    def missed(self, t, now: int, why: str) -> None:
+        """No grasp: open and ADJUST again, up to ``MAX_REGRASPS`` times, then FAILED."""
+        t.regrasps += 1
+        if t.regrasps > MAX_REGRASPS:
+            t.fail(now, f"grasp check: {why}, after {t.regrasps} grasps")
+            return
+        t.gripper = 0
+        t.go(now, "ADJUST", f"grasp check: {why}: open and grasp again")
+
+    @staticmethod
+    def held_evidence(held_tips: dict) -> bool:
+        """Seen under the fingertip at two waist offsets whose fingertip places are at least
+        ``HELD_MOVE_MM`` apart: the object moved with the gripper (an object standing on the
+        ground cannot be within ``HELD_NEAR_MM`` of both)."""
+        tips = list(held_tips.values())
+        return any((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 >= HELD_MOVE_MM * HELD_MOVE_MM
+                   for i, a in enumerate(tips) for b in tips[i + 1:])
+
     def _check(self, t, now: int) -> None:
-        """The look of the grasp check: each waist offset for ``CHECK_POSE_US``, then DONE."""
+        """The look of the grasp check: each waist offset for ``CHECK_POSE_US``; DONE on
+        positive evidence (:meth:`held_evidence`), else a miss."""
+        if self.held_evidence(t.held_tips):
+            t.go(now, "DONE", f"object held: seen under the gripper at waist offsets "
+                 f"{sorted(CHECK_WAIST_MRAD[k] for k in t.held_tips)} mrad (grasp check)")
+            return
         if not t.settled(now) or now - t.phase_us < CHECK_POSE_US:
             return
         centre, k = t.check_waist
-        if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the estimate may be off
+        if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the gripper moves
             t.check_waist = (centre, k + 1)
             t.set_arm(now, *t.arm[2:5], centre + CHECK_WAIST_MRAD[k + 1])
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
-        t.go(now, "DONE", f"object lifted by {t.p.lift_mm} mm and not seen standing "
-                f"(grasp check)")
+        self.missed(t, now, "no evidence of the object in the gripper")
 
 
 GRASP = GraspStates()

@@ -179,6 +179,8 @@ class Task:
         self.detour = None  # 001: a drive aside after no feasible curve (method001.py)
         self.detours = 0
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
+        self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
+        self.graspable_seen = False  # the object itself (not a guide board) has been seen
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
@@ -283,6 +285,8 @@ class Task:
             return False
         self.obj = platform_to_odom_mm(x, y, h, self.p.mount_forward_mm, p)
         self.obj_seen_us = now
+        if name in self.rules.object_detectors:
+            self.graspable_seen = True
         if name == "dual_plus":
             self._remember_plus(det, joints, (x, y, h))
         return True

@@ -376,8 +376,9 @@ def _figures(res, plant, trace, snaps, limit_s: float) -> dict:
     grasp_us = fin.get("grasp_us")
     return {
         "success": success, "grasped": grasped, "task_state": state,
-        # the host ended DONE; a DONE without the object in the gripper is a false claim
-        "claimed_success": claimed, "false_claim": claimed and not grasped,
+        # the host ended DONE; a DONE without the object in the gripper at the end (world
+        # truth) is a false claim
+        "claimed_success": claimed, "false_claim": claimed and not fin["grasped"],
         "end_reason": res.reason if res else "crashed",
         "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
         "final_error_mm": fin.get("final_error_mm"),

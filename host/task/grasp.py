@@ -18,21 +18,23 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   (level first), since with theta2 <= 0 the pre-grasp point may be reachable only tilted.
 - LIFT: raise by ``lift_mm`` with the same pitch, then the grasp check (ours: the papers end at
   the closed gripper, and the host has no finger sensor, FLAG_GRIPPER_CLOSED only says the close
-  was commanded): the camera swings back and up to look down at the place the object stood
-  (``CHECK_VIEWS``, eq. (11) of 000; then eq. (10) keeps it in view); a held object has left
-  it (it hangs under the gripper, behind that view), a missed one still stands there.  The
-  object's marker (dual "+" or radial symbol, 002 the red cylinder) seen in
-  ``CHECK_SEEN_FRAMES`` frames standing away from the fingertip (while the arm rises, or while
-  the waist turns the view about the place, ``CHECK_WAIST_MRAD``) means a miss: open, ADJUST
-  from the new sighting and grasp again (up to ``MAX_REGRASPS`` times, then FAILED); otherwise
-  DONE.  Without the check a gripper closed beside the object reported DONE (docs/cosim.md
-  "Measured", T8).
+  was commanded), on positive evidence only (docs/task.md): the camera, at the fingertip point
+  of eq. (3) of 000, goes straight up above where it is and looks down (``HELD_VIEW_MM``), the
+  wrist roll turned a quarter so that the two "+" lie along the frame's width; the waist then
+  turns through ``CHECK_WAIST_MRAD``.  The object seen under the fingertip (``HELD_NEAR_MM``)
+  at two waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart has moved with the
+  gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
+  ``CHECK_SEEN_FRAMES`` frames), or not seen under it at the end of the look, is a miss: open,
+  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED.  Not seeing the object is
+  never evidence of holding it.  No grasp is tried unless the object itself (not a guide
+  board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
 """
 
 from __future__ import annotations
 
 from mobigrasp.host import arm_calib, kinematics
-from mobigrasp.host.fixedpoint import cos_q12, isqrt, sin_q12
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task.sense import platform_to_odom_mm, spoke_reading
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
@@ -51,9 +53,17 @@ MAX_REGRASPS = 2
 # down, first reachable wins; the object held under the fingertip is seen within HELD_NEAR_MM of
 # it, at two waist offsets whose fingertip places are HELD_MOVE_MM apart (r * 0.3 rad >= 40 mm at
 # the reach r >= 130 mm of a grasp)
-HELD_VIEW_MM = (150, 140, 130, 120, 110, 100)
+HELD_VIEW_MM = (150, 140, 130, 120, 110, 100, 90)
 HELD_NEAR_MM = 20
 HELD_MOVE_MM = 2 * HELD_NEAR_MM
+
+
+# views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
+# 0.3 m the 320 x 240 frame spans 157 x 118 mm there (f = 611 px), room for the miss itself
+# (the estimate that guided the fingers beside the object is off by that much); the dual "+"
+# (47.3 mm apart) stays resolved; the short 000 arm reaches the nearer views only
+CHECK_VIEWS = ((300, 1047), (250, 1047), (300, 785), (250, 785), (200, 1047), (200, 785),
+               (160, 1047), (250, 1309), (200, 524), (150, 524), (150, 785))
 
 
 class GraspStates:
@@ -213,6 +223,48 @@ class GraspStates:
             return
         self._check(t, now)
 
+    def _check_pose(self, t, inp):
+        """A camera pose looking down at the grasp place from ``CHECK_VIEWS`` (range, pitch):
+        back along the place's bearing and up, by eq. (11) of 000 with alpha_T = -pitch; the
+        first the arm reaches.  The gripper, and a held object, are then behind and below the
+        camera's view; None if no view is reachable."""
+        if t.obj is None:
+            return None
+        x, y = t.obj_platform(inp)
+        rho = isqrt(x * x + y * y)
+        look_mm = t.rules.look_height_mm(t.p, True)
+        for d_mm, pitch in CHECK_VIEWS:
+            back = d_mm * 16 * cos_q12(pitch) >> 12
+            r = rho - back
+            if r < 20 * 16:
+                continue
+            z = (look_mm - t.p.h_shoulder_mm) * 16 + (d_mm * 16 * sin_q12(pitch) >> 12)
+            pose = kinematics.ik_pitch_mm_q4(t.geom, (x * r // rho, y * r // rho, z), -pitch)
+            if isinstance(pose, kinematics.ArmPose):
+                return pose
+        return None
+
+    def start_place_check(self, t, now: int, inp) -> None:
+        """002 (no look down reaches its cylinder, docs/task.md): swing the camera to look
+        back at the grasp place (``_check_pose``; out of the views' reach, the search's far
+        look toward it); the waist then turns through
+        ``CHECK_WAIST_MRAD``."""
+        pose = self._check_pose(t, inp)
+        if pose is not None:
+            t.apply_pose(now, pose)
+            t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
+                                             pose.theta4_mrad, pose.theta5_mrad])
+        elif t.obj is not None:
+            # seen (or estimated) beyond the views' reach: the search's far look toward it
+            sp = SearchParams(**t.p.search)
+            x, y = t.obj_platform(inp)
+            t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
+                         atan2_mrad(x, y))
+            t.note(grasp_check_far_look=True)
+        t.trust_from_us = t.move_done_us  # frames of the swing: arm pose unknown
+        t.check_waist = (t.arm[5], 0)  # (centre, index into CHECK_WAIST_MRAD)
+        t.phase, t.phase_us = "check", t.move_done_us
+
     def _held_pose(self, t):
         """The look of the grasp check: the camera (the fingertip point, eq. (3) of 000)
         straight above where it is, looking down, ``HELD_VIEW_MM`` above the object's top,
@@ -229,6 +281,10 @@ class GraspStates:
     def start_check(self, t, now: int, inp) -> None:
         """Raise the camera above the gripper looking down (``_held_pose``); the waist then
         turns through ``CHECK_WAIST_MRAD`` (the gripper, and a held object, move with it)."""
+        t.held_tips = {}
+        if not t.rules.held_look:
+            self.start_place_check(t, now, inp)
+            return
         pose = self._held_pose(t)
         if pose is not None:
             # a quarter turn of the wrist roll: the line of the two "+" (47.3 mm, 190 px at
@@ -301,7 +357,7 @@ class GraspStates:
     def _check(self, t, now: int) -> None:
         """The look of the grasp check: each waist offset for ``CHECK_POSE_US``; DONE on
         positive evidence (:meth:`held_evidence`), else a miss."""
-        if self.held_evidence(t.held_tips):
+        if t.rules.held_look and self.held_evidence(t.held_tips):
             t.go(now, "DONE", f"object held: seen under the gripper at waist offsets "
                  f"{sorted(CHECK_WAIST_MRAD[k] for k in t.held_tips)} mrad (grasp check)")
             return
@@ -313,6 +369,10 @@ class GraspStates:
             t.set_arm(now, *t.arm[2:5], centre + CHECK_WAIST_MRAD[k + 1])
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
+            return
+        if not t.rules.held_look:
+            t.go(now, "DONE", f"object lifted by {t.p.lift_mm} mm and not seen standing "
+                 f"(grasp check by absence, docs/task.md)")
             return
         self.missed(t, now, "no evidence of the object in the gripper")
 

@@ -31,6 +31,7 @@ class Method(ABC):
     search_detector: str  # what SEARCH looks for
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
+    held_look: bool  # grasp check on the object seen under the gripper, else by absence
     object_detectors: tuple[str, ...]  # detectors that see the object itself (not a guide)
     grasp_alpha_mrad: int  # gripper pitch of the grasp before the rough grasp chooses one
     keeps_sightings: bool  # SEARCH: an unconfirmed sighting seen again at its place counts

@@ -159,6 +159,9 @@ class Method001(Method000):
     name = "001"
     link_lengths_mm = (160.0, 160.0, 200.0)
     # the long 001 arm puts the camera ahead of a close object: finish on odometry sooner
+    # grasp check by absence: looking straight down, 001's arm reaches 90-100 mm above the
+    # top only, where the two "+" (>= 290 px apart) do not fit the frame (docs/task.md)
+    held_look = False
     param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 130, "hover_mm": 90,
                       "blind_finish_mm": 250, "max_plan_attempts": 6}
 

@@ -66,6 +66,11 @@ class EmulatedMcu:
         that many bytes in all."""
         return self._pty.wait_from_host(n_bytes, timeout_s)
 
+    @property
+    def bytes_from_host(self) -> int:
+        """Bytes the MCU side has read from the port so far."""
+        return self._pty.bytes_from_host
+
     # -- outputs -------------------------------------------------------------------------------
     def servo_pulses_us(self) -> tuple[int, ...]:
         """Latest measured pulse width of each of the six channels, in whole µs (the timer

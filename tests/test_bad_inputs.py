@@ -198,8 +198,12 @@ CASES: dict[str, Case] = {
     "host --port a file": Case(lambda t, mp: ["host", "--port", str(_a_file(t, mp))], ("--port",)),
     "host --config not utf8": Case(lambda t, mp: ["host", "--port", "/dev/pts/99", "--config",
                                                   str(_raw(b"\xff")(t, mp)[1])], ("--config",)),
-    "console /dev/pts/99": Case(lambda t, mp: ["console", "--port", "/dev/pts/99"],
-                                ("/dev/pts/99",)),
+    "console --port /dev/pts/99": Case(lambda t, mp: ["console", "--port", "/dev/pts/99"],
+                                       ("/dev/pts/99",)),
+    "demo --out a file": Case(lambda t, mp: ["demo", "--out", str(_a_file(t, mp))], ("--out",)),
+    "bench --json under /proc": Case(lambda t, mp: ["bench", "protocol", "--frames", "10",
+                                                    "--json", "/proc/mobigrasp.json"],
+                                     ("/proc/mobigrasp.json",)),
     "campaign --time-limit-s inf": Case(lambda t, mp: ["campaign", "--method", "000", "--runs",
                                                        "1", "--time-limit-s", "inf"],
                                         ("--time-limit-s",)),
@@ -308,3 +312,47 @@ def test_any_value_at_any_key_runs_or_is_refused(key, value, tmp_path, capsys, m
     _answer(_apply(*key, value), tmp_path, ["--transport", "inproc", "--time-limit-s", "5",
                                              "--quiet", "--no-plots", "--out",
                                              str(tmp_path / "run")], capsys)
+
+
+# --- every range end is safe to run ----------------------------------------------------------
+
+def _extremes() -> list[tuple[str, tuple, Any]]:
+    """(scenario, key path, value): every camera value and paper parameter at both ends of its
+    range, on the shipped scenario of its method (an ordered pair's partner follows it)."""
+    from mobigrasp.mcu_sim.world.scenario import CAMERA_RANGES, PAPER_PARAMS
+
+    by_method = {"000": E, "001": B, "002": M}
+    out = []
+    for method, name in by_method.items():
+        for key, (lo, hi) in CAMERA_RANGES.items():
+            out += [(name, ("camera", key), lo), (name, ("camera", key), hi)]
+        for key, p in PAPER_PARAMS[method].items():
+            for v in (p.lo, p.hi):
+                out.append((name, ("params", key), int(v) if p.kind is int else float(v)))
+    return out
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name, path, value", _extremes())
+def test_a_value_at_either_end_of_its_range_runs_without_a_crash(name, path, value, tmp_path):
+    from mobigrasp.mcu_sim.world.scenario import PAPER_PARAMS, PARAM_ORDER
+    from mobigrasp.tools.run_job import RunOptions, execute
+
+    doc = shipped(name)
+    doc.setdefault(path[0], {})[path[1]] = value
+    method = doc["scenario"]["method"]
+    table = PAPER_PARAMS[method]
+    for lo, hi, gap in PARAM_ORDER[method]:  # keep an ordered pair ordered (the partner moves)
+        params = {k: p.default for k, p in table.items()} | doc.get("params", {})
+        if params[hi] - params[lo] < gap:
+            if path[1] == lo:
+                doc["params"][lo] = min(value, table[hi].hi - gap)
+                doc["params"][hi] = doc["params"][lo] + gap
+            else:
+                doc["params"][hi] = max(value, table[lo].lo + gap)
+                doc["params"][lo] = doc["params"][hi] - gap
+    p = tmp_path / "x.toml"
+    p.write_text(toml_dumps(doc))
+    summary, code = execute(RunOptions(scenario=str(p), transport="inproc", out=tmp_path / "run",
+                                       progress=False, plots=False, time_limit_s=8.0))
+    assert code in (0, 1) and summary["status"] == "finished", summary.get("error")

@@ -2,10 +2,12 @@
 sram.py) fit the ATmega128's 4096 bytes, and the buffers both ports share have the sizes the C
 symbols have."""
 
+from dataclasses import fields
+
 from mobigrasp.mcu_sim.firmware import sram
 from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
 from mobigrasp.mcu_sim.mcu import Mcu
-from mobigrasp.protocol import MAX_ENCODED, MAX_WIRE
+from mobigrasp.protocol import MAX_ENCODED, MAX_WIRE, ParserStats
 
 
 def test_budget_fits_the_atmega128():
@@ -24,8 +26,8 @@ def test_live_buffers_match_the_c_symbols():
     assert len(fw.rx.buf) == fw.rx.size == sram.RX_RING_BYTES == layout["fw_rx"] - 1 - 1 - 4
     assert mcu.board.usart0.tx_capacity == sram.TX_RING_BYTES == layout["tx_ring"]
     assert layout["tx_buf"] == MAX_WIRE
-    # frame_parser_t: encoded bytes, len, skipping, nine uint32 counters
-    assert layout["fw_parser"] == MAX_ENCODED + 2 + 9 * 4
+    # frame_parser_t: encoded bytes, len, skipping, ring start, one uint32 per ParserStats field
+    assert layout["fw_parser"] == MAX_ENCODED + 3 + 4 * len(fields(ParserStats))
     # dup_filter_t: seq tags, uint16 CRCs, answers, int16 newest, two uint32 counters
     assert fw.dup.window == sram.DUP_WINDOW and layout["fw_dup"] == sram.DUP_WINDOW * 4 + 2 + 8
     assert len(fw.params.values) == len(PARAM_TABLE) == sram.PARAMS

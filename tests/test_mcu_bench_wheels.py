@@ -98,7 +98,7 @@ def test_wait_from_host_needs_no_byte_count(emulated_mcu):
             os.write(fd, wire)
         before = emu.stats["rx_bytes"]
         assert emu.wait_from_host()
-        assert emu._pty.bytes_from_host == 20 * len(wire)
+        assert emu.bytes_from_host == 20 * len(wire)
         emu.advance_ms(60)
         assert emu.stats["rx_bytes"] - before == 20 * len(wire)
     finally:

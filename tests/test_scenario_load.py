@@ -151,3 +151,23 @@ def test_file_errors_name_the_file(tmp_path):
     with pytest.raises(ScenarioError, match="broken.toml: not valid TOML"):
         load_scenario(p)
     assert math.isfinite(load_scenario(DATA / "method_000.toml").params["rmin_m"])
+
+
+def test_docs_list_every_parameter_range():
+    """docs/conventions.md "Scenario value ranges" lists each paper parameter as the loader
+    checks it (method, key, paper value, range, unit)."""
+    from mobigrasp.mcu_sim.world.scenario import CAMERA_RANGES, OBSTACLE_RANGES
+
+    doc = (Path(__file__).resolve().parents[1] / "docs" / "conventions.md").read_text()
+
+    def num(v, kind=float):
+        return f"{int(v)}" if kind is int else f"{v:g}"
+    for method, table in PAPER_PARAMS.items():
+        for key, p in table.items():
+            row = (f"| {method} | `{key}` | {num(p.default, p.kind)} | "
+                   f"[{num(p.lo, p.kind)}, {num(p.hi, p.kind)}] | {p.unit} |")
+            assert row in doc, row
+    for key, (lo, hi) in CAMERA_RANGES.items():
+        assert f"| `camera.{key}` | [{lo:g}, {hi:g}] |" in doc, key
+    for key, (lo, hi) in OBSTACLE_RANGES.items():
+        assert f"| `obstacles[].{key}` | [{lo:g}, {hi:g}] | m |" in doc, key

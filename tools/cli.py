@@ -136,6 +136,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # a file or port problem the command did not name: bad input
+        where = f" {exc.filename}:" if exc.filename else ""
+        print(f"mobigrasp {args.command}:{where} {exc.strerror or exc}", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":

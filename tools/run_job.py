@@ -132,7 +132,7 @@ def check_run(opts: RunOptions) -> str:
     plan = _fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     WorldPlant(scenario, seed)
-    build_host_app(host_config(scenario))
+    build_host_app(host_config(scenario, opts.time_limit_s))
     n = len(plan.as_table()) if plan is not None else 0
     return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
             f"time limit {opts.time_limit_s or scenario.meta.time_limit_s:g} s, "
@@ -152,22 +152,26 @@ def _fault_plan(scenario, overrides):
         raise BadInput(str(exc)) from exc
 
 
-def host_config(scenario) -> dict:
+def host_config(scenario, time_limit_s: float | None = None) -> dict:
     """What the host program is told: the method, its parameters and the camera calibration,
-    and for 001 the object position P_i the paper's task is given. This is the configuration a
-    real board would be given; nothing else of the ground truth."""
+    for 001 the object position P_i the paper's task is given, and how long it may search: the
+    run's time limit (``time_limit_s``, default the scenario's), so a long run is not ended by a
+    fixed SEARCH timeout. This is the configuration a real board would be given; nothing else
+    of the ground truth."""
     cam = scenario.camera
     params = getattr(scenario, "param_overrides", None) or scenario.params
+    limit_s = time_limit_s or scenario.meta.time_limit_s
     cfg = {"method": scenario.meta.method, "params": dict(params),
-           "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px}}
+           "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px},
+           "task": {"timeouts_us": {"SEARCH": int(round(limit_s * 1e6))}}}
     if scenario.meta.method == "001":
         # Paper 001 plans from the start to the object position P_i, which the task is given
         # (001 §II); the host works in its odometry frame: the start pose, x forward, y left.
         r, t = scenario.robot, scenario.target
         dx, dy = t.x_m - r.x_m, t.y_m - r.y_m
         c, s = math.cos(r.heading_rad), math.sin(r.heading_rad)
-        cfg["task"] = {"object_xy_mm": [round(1000 * (c * dx + s * dy)),
-                                        round(1000 * (-s * dx + c * dy))]}
+        cfg["task"]["object_xy_mm"] = [round(1000 * (c * dx + s * dy)),
+                                       round(1000 * (-s * dx + c * dy))]
     return cfg
 
 
@@ -204,7 +208,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
     except RunFolderError as exc:
         raise BadInput(str(exc)) from exc
-    cfg = host_config(scenario)
+    cfg = host_config(scenario, opts.time_limit_s)
     tmpdir = tempfile.TemporaryDirectory(prefix="mobigrasp-run-")
     early = port = None
     if opts.transport == "pty":

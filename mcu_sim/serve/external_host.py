@@ -55,13 +55,13 @@ class _RigPort:
         self._owner = owner
 
     def write(self, data: bytes) -> None:
-        self._owner._to_host(data)
+        self._owner.write_to_host(data)
 
     def read(self) -> bytes:
-        return self._owner._take_from_host()
+        return self._owner.take_from_host()
 
     def wait_readable(self, timeout_s: float) -> bool:
-        return self._owner._from_host_pending()
+        return self._owner.from_host_pending()
 
 
 class ExternalHost:
@@ -88,7 +88,9 @@ class ExternalHost:
         self._tx_parser = FrameParser()  # MCU -> host
 
     # -- the rig's port ------------------------------------------------------------------------
-    def _to_host(self, data: bytes) -> None:
+    def write_to_host(self, data: bytes) -> None:
+        """The MCU's bytes onto the pty now (never blocking), kept for the next grant's
+        decoding."""
         self._written += data
         if self.host_closed:
             return
@@ -107,12 +109,14 @@ class ExternalHost:
             self.bytes_to_host += n
             view = view[n:]
 
-    def _take_from_host(self) -> bytes:
+    def take_from_host(self) -> bytes:
+        """The program's bytes announced in the last DONE, for the rig to read."""
         data = bytes(self._from_host)
         self._from_host.clear()
         return data
 
-    def _from_host_pending(self) -> bool:
+    def from_host_pending(self) -> bool:
+        """Whether announced bytes wait for the rig."""
         return bool(self._from_host)
 
     # -- the session's host --------------------------------------------------------------------

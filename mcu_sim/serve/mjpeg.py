@@ -131,6 +131,7 @@ class CameraServer:
         self._server.daemon_threads = True
         self._server.frames = self.frames  # type: ignore[attr-defined]
         self._server.parts_sent = 0  # type: ignore[attr-defined]
+        self.host: str = self._server.server_address[0]
         self.port: int = self._server.server_address[1]
         self.url = f"http://{HOST}:{self.port}/stream.mjpg"
         self.png_url = f"http://{HOST}:{self.port}/frame.png"

@@ -63,7 +63,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     from mobigrasp.mcu_sim.backend import MCU_BACKENDS
     from mobigrasp.mcu_sim.serve.external_host import ExternalHost
     from mobigrasp.mcu_sim.serve.mjpeg import CameraPortInUse, CameraServer
-    from mobigrasp.tools.run_job import BadInput, check_seed, resolve_scenario
+    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     if opts.mcu not in MCU_BACKENDS:
         raise BadSimInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
@@ -72,6 +72,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
     try:
         check_seed(opts.seed)
+        check_time_limit(opts.time_limit_s)
         path, scenario = resolve_scenario(opts.scenario)
     except BadInput as exc:
         raise BadSimInput(str(exc)) from exc
@@ -137,12 +138,15 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             return "host_closed"
         return stop() if stop is not None else None
 
-    progress = None
-    if opts.progress:
-        def progress(res, wall):
-            print(f"\r  t={rig.now_us / 1e6:7.2f} s  from host {host.bytes_from_host} B  "
-                  f"to host {host.bytes_to_host} B  frames {camera.frames_published} ",
-                  end="", file=sys.stderr, flush=True)
+    from mobigrasp.tools.progress import Progress
+
+    display = Progress(total=round(limit_s, 1), desc=f"sim {name}", unit="s simulated",
+                       enabled=opts.progress)
+
+    def progress(res, wall):
+        display.update(round(rig.now_us / 1e6, 1),
+                       f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
+                       f"frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)
@@ -159,8 +163,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
-        if opts.progress:
-            print("", file=sys.stderr)
+        display.close()
         trace.close()
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats() if hasattr(mcu, "stats") else {}

@@ -117,11 +117,12 @@ PAPER_PARAMS: dict[str, dict[str, Param]] = {
         "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
     },
 }
-# pairs (lo, hi) of one method that must be ordered lo <= hi, and speeds v0 <= vmax
-PARAM_ORDER: dict[str, tuple[tuple[str, str], ...]] = {
-    "000": (("theta2_min", "theta2_max"), ("theta5_min", "theta5_max"), ("w_min", "w_max"),
-            ("v0_mps", "vmax_mps")),
-    "001": (("v0", "Vmax"),),
+# pairs (lo, hi, gap) of one method that must be ordered hi - lo >= gap: a joint range of the
+# search at least 0.01 rad wide (the host works in mrad), windows w_min <= w_max, v0 <= vmax
+PARAM_ORDER: dict[str, tuple[tuple[str, str, float], ...]] = {
+    "000": (("theta2_min", "theta2_max", 0.01), ("theta5_min", "theta5_max", 0.01),
+            ("w_min", "w_max", 0), ("v0_mps", "vmax_mps", 0.0)),
+    "001": (("v0", "Vmax", 0.0),),
     "002": (),
 }
 
@@ -461,10 +462,11 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
             out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)
         else:
             out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
-    for lo, hi in PARAM_ORDER[method]:
-        if out[lo] > out[hi]:
+    for lo, hi, gap in PARAM_ORDER[method]:
+        if out[hi] - out[lo] < gap - 1e-9:
             bad = lo if lo in raw else hi
-            raise ScenarioError(f"{c.source}: params.{bad}: expected {lo} <= {hi}, got "
+            want = f"{lo} <= {hi}" if not gap else f"{lo} < {hi} by at least {gap:g}"
+            raise ScenarioError(f"{c.source}: params.{bad}: expected {want}, got "
                                 f"{lo} = {out[lo]!r}, {hi} = {out[hi]!r}")
     return out
 

@@ -8,6 +8,7 @@ real pseudo-terminal in lockstep simulated time; at the end it prints where the 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 
 
@@ -31,7 +32,7 @@ def _main(args: argparse.Namespace) -> int:
         summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty", out=out,
                                            progress=display))
     except BadInput as exc:
-        print(f"mobigrasp demo: {exc}")
+        print(f"mobigrasp demo: {exc}", file=sys.stderr)
         return 2
     except BaseException:
         display.close()

@@ -59,8 +59,6 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="stop after this many simulated seconds (default: run until closed)")
     p.add_argument("--param", type=_param, action="append", default=[],
                    help="firmware PARAM default, NAME=VALUE (repeatable), e.g. watchdog_ms=500")
-    p.add_argument("--mcu", default="python", metavar="NAME",
-                   help="MCU backend (mobigrasp.mcu_sim.backend): python (default), native, ...")
     p.add_argument("--wheels", choices=WHEELS, default=WHEELS[0],
                    help="wheel plant without a world: 'bench' (default) turns the encoders as "
                         "unloaded motors with their lag; 'still' keeps them at 0")

@@ -374,8 +374,8 @@ def _figures(res, plant, trace, snaps, limit_s: float) -> dict:
     wall = res.wall_s if res else 0.0
     state = res.host_state if res else "INIT"
     grasped = bool(fin["grasped"] or fin["grasps"])
-    success = grasped and state == "DONE"
     claimed = state == "DONE"
+    success = claimed and bool(fin["grasped"])  # DONE with the object held at the end
     enter = res.state_enter_us if res else {}
     grasp_us = fin.get("grasp_us")
     return {

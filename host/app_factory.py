@@ -183,7 +183,9 @@ PAPER_TO_TASK = {
             "v0": ("planner", "v0", float), "T_s": ("planner", "t_s", float),
             "k1": ("planner", "k1", float), "k2": ("planner", "k2", float),
             "T_D": ("planner", "t_d_m", lambda v: float(v) / 100.0),  # T_D read as cm
-            "n_e": ("planner", "n_e", int)},
+            "n_e": ("planner", "n_e", int),
+            "R_r": (None, "r_r_mm", lambda v: int(round(1000 * v))),  # m -> mm
+            "A_g": (None, "sonar_a_g_mrad", _mrad), "D_e": (None, "sonar_d_e_mm", _mrad)},
     "002": {"e_th": ("fuzzy", "e_th_mrad", _mrad), "e_cth": ("fuzzy", "e_cth_mrad_s", _mrad),
             "u_th": ("fuzzy", "u_th_mrad", _mrad),
             "V_avg": ("fuzzy", "v_avg_mm_s", _mrad),  # m/s -> mm/s
@@ -199,7 +201,10 @@ def task_params(method: str, paper: dict) -> dict:
     for name, value in paper.items():
         if name in table:
             group, key, conv = table[name]
-            out.setdefault(group, {})[key] = conv(value)
+            if group is None:  # a TaskParams field of its own
+                out[key] = conv(value)
+            else:
+                out.setdefault(group, {})[key] = conv(value)
     if "t_d_px" in out.get("fuzzy", {}):
         out["t_d_px"] = out["fuzzy"]["t_d_px"]
     return out

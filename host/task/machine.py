@@ -404,6 +404,7 @@ class Task:
                 self.fail(now_us, f"timeout: {self.state} exceeded {limit} us")
         if self.state not in TERMINAL:
             self._run_state(now_us, inp, dets)
+            self.rules.guard_wheels(self, now_us, inp)
             self.remember(now_us, inp)
         if self.state in TERMINAL:
             self.wheels = (0, 0)

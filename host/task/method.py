@@ -85,6 +85,11 @@ class Method(ABC):
     def enter_precise(self, t: Any, now: int, inp: Any) -> None:
         """Entry action of PRECISE_GRASP (after the step counter and phase clock reset)."""
 
+    # --- after every step ---------------------------------------------------------------------
+    def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
+        """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
+        return None
+
 
 # Method name -> module holding its class ``RULES``.
 METHODS = {"000": "mobigrasp.host.task.method000", "001": "mobigrasp.host.task.method001",

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from mobigrasp.host.fixedpoint import atan2_mrad
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.replan import Replanner
@@ -32,6 +32,7 @@ ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
 TURN_TOL_MRAD = 60  # the detour turns to within this of its heading before it drives
 DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
 DETOUR_DIAG_MM = 255
+GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
 
 
 def planner_params_001(task_params) -> Any:
@@ -46,7 +47,10 @@ def planner_params_001(task_params) -> Any:
     ±76 degrees of it, also those leading away from it."""
 
     tol = task_params.sonar_shared_echo_mm
-    sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
+    sonar = SonarConfig(a_g_rad=task_params.sonar_a_g_mrad / 1000.0,
+                        d_e_m=task_params.sonar_d_e_mm / 1000.0,
+                        r_r_m=task_params.r_r_mm / 1000.0,
+                        sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
                         shared_echo_tol_m=tol / 1000.0 if tol > 0 else None,
                         arc_angle_bound=ARC_BOUND_001)
     return Params001(**{"sonar": sonar, **task_params.planner})
@@ -295,6 +299,28 @@ class Method001(Method000):
         return clear
 
 
+    def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
+        """Last line of the no-contact rule: while the base would move forward in SEARCH or
+        APPROACH, a sonar of the front half of the ring (|phi_k| < pi/2) reading below the
+        safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
+        plan is followed further before one is made from the fresh ranges. The object's own
+        echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
+        does not count: APPROACH hands the object to ADJUST at arm's length."""
+        if t.state not in ("SEARCH", "APPROACH") or t.wheels[0] + t.wheels[1] <= 0:
+            return
+        n = len(inp.sonar_mm)
+        half_cone = t.p.sonar_a_g_mrad // 2
+        for phi, rng in zip(sonar_angles_mrad(n), inp.sonar_mm, strict=True):
+            rng = int(rng)
+            if abs(phi) >= 1571 or not 0 < rng < t.p.r_r_mm:
+                continue
+            if t.obj is not None and _object_echo(t, inp, phi, rng, half_cone):
+                continue
+            t.wheels = (0, 0)
+            t.follower = None
+            t.note(sonar_guard={"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm})
+            return
+
     def detour_step(self, t: Any, inp: Any) -> bool:
         """One step of the detour; True when it is over (the caller plans again).
 
@@ -324,6 +350,18 @@ class Method001(Method000):
             return True
         t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
         return False
+
+
+def _object_echo(t: Any, inp: Any, phi: int, rng: int, half_cone: int) -> bool:
+    """The object estimate lies in the cone of the sonar at ``phi`` at about range ``rng``."""
+    h = inp.heading_mrad + phi
+    off = t.p.sonar_offset_mm
+    sx = inp.x_mm + (off * cos_q12(h) >> 12)
+    sy = inp.y_mm + (off * sin_q12(h) >> 12)
+    dx, dy = t.obj[0] - sx, t.obj[1] - sy
+    d = isqrt(dx * dx + dy * dy)
+    return (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
+            and abs(d - rng) <= GUARD_OBJECT_MM)
 
 
 RULES = Method001()

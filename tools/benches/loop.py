@@ -77,13 +77,15 @@ def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
         for s in rows:
             if progress:
                 print(f"  {method} seed {s['seed']}: {'ok ' if s['success'] else 'FAIL'} "
-                      f"{s.get('task_state')} t={s.get('sim_time_s', 0):.1f}s "
+                      f"{s.get('task_state')}{' FALSE CLAIM' if s.get('false_claim') else ''}"
+                      f" t={s.get('sim_time_s', 0):.1f}s "
                       f"err={s.get('final_error_mm')} mm", file=sys.stderr)
         errs = [r["final_error_mm"] for r in rows if r.get("final_error_mm") is not None]
         out[method] = {
             "runs": len(rows),
             "success_rate": sum(r["success"] for r in rows) / len(rows) if rows else 0.0,
             "collisions_total": sum(r.get("collisions", 0) for r in rows),
+            "false_claims": sum(bool(r.get("false_claim")) for r in rows),
             "final_error_mm_median": statistics.median(errs) if errs else None,
             "sim_time_s_median": statistics.median(r["sim_time_s"] for r in rows) if rows
             else None,
@@ -146,4 +148,5 @@ def run(args) -> dict:
     results["success_rate"] = (sum(v["success_rate"] * v["runs"] for v in camp.values()) / total
                                if total else 0.0)
     results["collisions_total"] = sum(v["collisions_total"] for v in camp.values())
+    results["false_claims"] = sum(v["false_claims"] for v in camp.values())
     return results

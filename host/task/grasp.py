@@ -179,7 +179,8 @@ class GraspStates:
             return
         t.phase_us = now
         t.precise_steps += 1
-        step = kinematics.precise_grasp_step(t.arm[5], reading[0], reading[1])
+        step = kinematics.precise_grasp_step(t.arm[5], reading[0], reading[1],
+                                             w_min_px=t.p.w_min_px, w_max_px=t.p.w_max_px)
         t.note(precise={"spoke_mrad": reading[0], "w_px": reading[1], "reason": step.reason,
                            "step": t.precise_steps})
         if step.aligned:

@@ -103,3 +103,43 @@ def test_r_r_and_sonar_cone_come_from_the_scenario():
     from mobigrasp.host.task import TaskInputs
     wide.rules.guard_wheels(wide, 0, TaskInputs(sonar_mm=(2500, 2500, 250, 2500, 2500)))
     assert wide.wheels == (0, 0)
+
+
+def test_001_falls_back_in_steps_before_giving_up():
+    """No feasible curve: lower v0, back off toward the last path's start, turn toward the
+    widest free sector, then drives aside (max_detours), each a fallback detail event; then
+    no more (the caller ends FAILED)."""
+    from mobigrasp.host.task import Task, TaskInputs
+    from mobigrasp.host.task.method001 import start_001
+
+    task = Task("001", params={"max_detours": 2})
+    task.state, task.obj = "APPROACH", (2000, 0)
+    # a wall of echoes ahead and right, free to the left (S_4, S_5)
+    inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0,
+                     sonar_mm=(300, 300, 300, 2500, 2500))
+    task.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
+    task.path_from = (-600, 0)
+    steps = []
+    for _ in range(6):
+        task._detail = {}
+        ok = task.rules.start_detour(task, inp)
+        steps.append((task._detail.get("fallback", {}).get("step"), ok))
+        if steps[-1][0] == "lower_v0":
+            assert task.v0_div == 2 and task.replanner is None
+            task.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
+        elif steps[-1][0] == "back_off":
+            assert task.detour["drive"] and abs(abs(task.detour["heading_mrad"]) - 3142) <= 2
+        elif steps[-1][0] == "widest_sector":
+            assert not task.detour["drive"] and 785 <= task.detour["heading_mrad"] <= 1571
+    assert steps == [("lower_v0", True), ("back_off", True), ("widest_sector", True),
+                     ("detour", True), ("detour", True), (None, False)]
+
+
+def test_lower_v0_reaches_the_planner():
+    from mobigrasp.host.task import Task, TaskInputs
+
+    task = Task("001")
+    task.obj, task.v0_div = (2000, 300), 2
+    follower, _, detail = task.rules.plan(task, 0, TaskInputs(sonar_mm=(2500,) * 5))
+    assert task.replanner.params.v0 == 0.1 and follower is not None
+    assert task.path_from == (0, 0)

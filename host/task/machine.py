@@ -178,6 +178,9 @@ class Task:
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
         self.detour = None  # 001: a drive aside after no feasible curve (method001.py)
         self.detours = 0
+        self.fallbacks = 0  # 001: fallback steps taken with no feasible curve (method001.py)
+        self.v0_div = 1  # 001: the planner's v0 divided by this (a fallback step)
+        self.path_from = None  # 001: odometry place where the last planned path began
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
         self.graspable_seen = False  # the object itself (not a guide board) has been seen

@@ -20,7 +20,7 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   the closed gripper, and the host has no finger sensor, FLAG_GRIPPER_CLOSED only says the close
   was commanded), on positive evidence only (docs/task.md): the camera, at the fingertip point
   of eq. (3) of 000, goes straight up above where it is and looks down (``HELD_VIEW_MM``), the
-  wrist roll turned a quarter so that the two "+" lie along the frame's width; the waist then
+  wrist roll turned so that the two "+" lie along the frame's width; the waist then
   turns through ``CHECK_WAIST_MRAD``.  The object seen under the fingertip (``HELD_NEAR_MM``)
   at two waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart has moved with the
   gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
@@ -35,7 +35,11 @@ from __future__ import annotations
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from mobigrasp.host.search import SearchParams
-from mobigrasp.host.task.sense import platform_to_odom_mm, spoke_reading
+from mobigrasp.host.task.sense import (
+    odom_to_platform_q4,
+    platform_to_odom_mm,
+    spoke_reading,
+)
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
 ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn
@@ -51,11 +55,11 @@ CHECK_WAIST_MRAD = (0, 300, -300)
 MAX_REGRASPS = 2
 # the look of the check (docs/task.md): the camera this far above the object's top, looking
 # down, first reachable wins; the object held under the fingertip is seen within HELD_NEAR_MM of
-# it, at two waist offsets whose fingertip places are HELD_MOVE_MM apart (r * 0.3 rad >= 40 mm at
-# the reach r >= 130 mm of a grasp)
+# it, at two waist offsets whose fingertip places are HELD_MOVE_MM apart (r * 0.3 rad >= 33 mm at
+# the reach r >= 110 mm of a 000 grasp)
 HELD_VIEW_MM = (150, 140, 130, 120, 110, 100, 90)
-HELD_NEAR_MM = 20
-HELD_MOVE_MM = 2 * HELD_NEAR_MM
+HELD_NEAR_MM = 12
+HELD_MOVE_MM = 2 * HELD_NEAR_MM + 1
 
 
 # views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
@@ -279,6 +283,24 @@ class GraspStates:
                 return pose
         return None
 
+    def _plus_roll(self, t, inp, theta5_mrad: int) -> int | None:
+        """The wrist roll that lays the line of the two "+" (47.3 mm, 190 px at 150 mm) along
+        the frame's 320 px width, not its 240 px height: looking straight down the image x axis
+        points at -(theta1 + theta5) in the platform frame (sense.camera_axes_q12 with
+        alpha = -pi/2); the "+" are where ADJUST last saw them. None: keep the roll."""
+        if t.plus_odom is None:
+            return None
+        (ax, ay), (bx, by) = (odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                                  t.p.mount_forward_mm, *q[:2])
+                              for q in t.plus_odom)
+        roll = -atan2_mrad(by - ay, bx - ax) - theta5_mrad
+        lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
+        while roll > hi:  # the line repeats every half turn
+            roll -= 2 * kinematics.QUARTER_TURN_MRAD
+        while roll < lo:
+            roll += 2 * kinematics.QUARTER_TURN_MRAD
+        return roll if roll <= hi else None
+
     def start_check(self, t, now: int, inp) -> None:
         """Raise the camera above the gripper looking down (``_held_pose``); the waist then
         turns through ``CHECK_WAIST_MRAD`` (the gripper, and a held object, move with it)."""
@@ -288,13 +310,7 @@ class GraspStates:
             return
         pose = self._held_pose(t)
         if pose is not None:
-            # a quarter turn of the wrist roll: the line of the two "+" (47.3 mm, 190 px at
-            # 150 mm) from the frame's 240 px height to its 320 px width
-            lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
-            roll = t.arm[1] + kinematics.QUARTER_TURN_MRAD
-            if roll > hi:
-                roll = t.arm[1] - kinematics.QUARTER_TURN_MRAD
-            t.apply_pose(now, pose, roll if lo <= roll <= hi else None)
+            t.apply_pose(now, pose, self._plus_roll(t, inp, pose.theta5_mrad))
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
                                              pose.theta4_mrad, pose.theta5_mrad])
         else:

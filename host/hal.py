@@ -1,14 +1,17 @@
 """Hardware abstraction of the S3C2440 program: the interfaces host code talks to.
 
-As in ArduPilot's AP_HAL, host code never touches a device or the wall clock directly; one wiring
-place (the rig, or ``mobigrasp host`` on a real board) chooses the backend. Time is integer
-microseconds of simulated time, owned by whoever drives the host.
+As in ArduPilot's AP_HAL, host code never touches a device or the wall clock directly; a host
+driver implements these (mobigrasp.drivers.lockstep: time granted by the rig, frames from the
+GRANTs; mobigrasp.drivers.realtime: the board's free-running clock, an OpenCV camera, a serial
+device) and one wiring place (``mobigrasp host``) chooses it. Time is integer microseconds,
+owned by whoever drives the host.
 """
 
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from typing import Protocol
 
 import numpy as np
 
@@ -60,3 +63,23 @@ class Camera(ABC):
     @abstractmethod
     def poll(self) -> CameraFrame | None:
         """Return the newest frame not yet returned, or None."""
+
+    @abstractmethod
+    def close(self) -> None:
+        """Release the source."""
+
+
+class SerialPort(Protocol):
+    """The UART to the ATmega128 (a link transport: mobigrasp.link.registry.open_transport)."""
+
+    def read(self) -> bytes:
+        """What arrived since the last read, without waiting (b"" for nothing)."""
+
+    def write(self, data: bytes) -> None:
+        """Send ``data``."""
+
+    def wait_readable(self, timeout_s: float) -> bool:
+        """Wait up to ``timeout_s`` for bytes to read; whether there are some."""
+
+    def close(self) -> None:
+        """Close the port."""

@@ -26,6 +26,8 @@ class WheelsInTheAir:
         self.tau_us = tau_us
         self.speed_mmps = [0.0, 0.0]
         self.position_mm = [0.0, 0.0]
+        self.t_us = 0  # the plant interface's clock (step_to)
+        self._duty = (0, 0)
 
     def step(self, duty: tuple[int, int], dt_us: int) -> tuple[int, int]:
         """Advance ``dt_us`` with the given signed duties; returns the encoder counts after it."""
@@ -43,3 +45,29 @@ class WheelsInTheAir:
         """Cumulative encoder counts (left, right)."""
         return (math.floor(self.position_mm[0] * TICKS_PER_MM),
                 math.floor(self.position_mm[1] * TICKS_PER_MM))
+
+    # ---- the rig's plant interface (mobigrasp.cosim.plant.Plant) ---------------------------
+    def step_to(self, t_us: int) -> None:
+        """Advance to ``t_us`` with the duties last set (nothing happens backwards)."""
+        if t_us > self.t_us:
+            self.step(self._duty, t_us - self.t_us)
+            self.t_us = t_us
+
+    def set_wheel_duty(self, left: int, right: int) -> None:
+        """The duties the next :meth:`step_to` applies."""
+        self._duty = (int(left), int(right))
+
+    def set_servo_pulse_us(self, ch: int, pulse_us: int) -> None:
+        """Servos in the air move nothing this plant models."""
+
+    def encoder_ticks(self) -> tuple[int, int]:
+        """Cumulative encoder counts (left, right)."""
+        return self.ticks()
+
+    def sonar_range_m(self, index: int) -> float | None:
+        """No obstacle in the air: no echo."""
+        return None
+
+    def capture(self, t_us: int) -> None:
+        """No camera."""
+        return None

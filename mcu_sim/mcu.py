@@ -193,7 +193,7 @@ class Mcu:
         provided nothing more arrives on the RX line: now while bytes are on their way out or
         received bytes may still be answered; else the next telemetry time (a message queued
         then needs at least one byte time to leave). Lets the rig hand the host a grant one
-        quantum early when it would be the same (mcu_sim/rig.py, docs/cosim.md)."""
+        quantum early when it would be the same (cosim/rig.py, docs/cosim.md)."""
         b = self.board
         usart = b.usart0
         now = self._cycle // CYCLES_PER_US
@@ -298,6 +298,15 @@ class Mcu:
         self.board.sonars.provider = provider
 
     # -- diagnostics ---------------------------------------------------------------------------
+    def safety_flags(self) -> tuple[bool, bool]:
+        """(watchdog stop active, host handshake done), for the safety monitor."""
+        fw = self.firmware
+        return fw.watchdog_tripped, fw.handshake
+
+    def limit_hits(self) -> int:
+        """Commands the firmware clamped to the joint limits so far."""
+        return int(self.firmware.limit_hits)
+
     def stats(self) -> dict[str, int]:
         """Counters of the firmware and the USART (what a debugger would read from SRAM)."""
         fw = self.firmware

@@ -7,7 +7,7 @@ simulated time its last bit left. No pty, no wall clock: a whole exchange is det
 
 from __future__ import annotations
 
-from mobigrasp.mcu_sim.mcu import Mcu
+from mobigrasp.mcu_sim.backend import McuBackend
 from mobigrasp.protocol.frame import FrameParser
 from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame, encode_message
 from mobigrasp.protocol.reliable import SequenceCounter
@@ -16,7 +16,7 @@ from mobigrasp.protocol.reliable import SequenceCounter
 class InProcessHost:
     """Talks to one Mcu directly; ``received`` is the list of ``(t_us, message)`` from the MCU."""
 
-    def __init__(self, mcu: Mcu, decode: bool = True) -> None:
+    def __init__(self, mcu: McuBackend, decode: bool = True) -> None:
         self.mcu = mcu
         self.decode = decode  # False: only count frames (benchmarks measure the MCU, not us)
         self.frames = 0

@@ -15,6 +15,7 @@ from __future__ import annotations
 import binascii
 from dataclasses import dataclass, fields
 
+from mobigrasp.frozen import built
 from mobigrasp.protocol.cobs import cobs_encode
 
 PROTOCOL_VERSION = 1
@@ -223,7 +224,6 @@ class FrameParser:
         version = self.version
         crc_hqx = binascii.crc_hqx
         append = frames.append
-        new = object.__new__
         for piece in pieces:
             n = len(piece)
             if n == 0:
@@ -266,13 +266,9 @@ class FrameParser:
                 stats.unknown_type += 1
                 stats.garbage_bytes += n
                 continue
-            frame = new(Frame)
-            d = frame.__dict__
-            d["version"] = buf[1]
-            d["seq"] = buf[2]
-            d["msg_type"] = msg_type
-            d["payload"] = bytes(buf[4:-2])
-            append(frame)
+            # checked above: the fields are what __post_init__ would accept
+            append(built(Frame, version=buf[1], seq=buf[2], msg_type=msg_type,
+                         payload=bytes(buf[4:-2])))
         stats.frames_ok += len(frames)
         if len(tail) > MAX_ENCODED:
             stats.oversize += 1

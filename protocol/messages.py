@@ -15,6 +15,7 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, NamedTuple
 
+from mobigrasp.frozen import built
 from mobigrasp.protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, Frame, encode_frame, encode_raw
 
 # NACK reason codes (Nack.reason).
@@ -253,9 +254,7 @@ class Message:
             raise PayloadLengthError(f"{cls.__name__} payload must be {want} bytes, got {n}")
         raw = cls._STRUCT.unpack_from(payload)
         if cls._TRUSTED_DECODE:  # every unpacked value is valid: set the fields directly
-            msg = object.__new__(cls)
-            msg.__dict__.update(zip(cls._NAMES, map(raw.__getitem__, cls._INDEX), strict=True))
-            return msg
+            return built(cls, zip(cls._NAMES, map(raw.__getitem__, cls._INDEX), strict=True))
         kwargs: dict[str, object] = {}
         i = 0
         for f in cls._SPEC:

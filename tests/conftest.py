@@ -25,12 +25,19 @@ def pytest_generate_tests(metafunc):
 
 
 @pytest.fixture
-def mcu_backend(request, monkeypatch):
-    if request.param == "native":
+def mcu_backend(request):
+    return request.param
+
+
+@pytest.fixture(autouse=True)
+def _mcu_of_the_backend(request, monkeypatch):
+    # a fixture appended to fixturenames in pytest_generate_tests is parametrized but never set
+    # up, so the module's Mcu is swapped here, from the test's parameters
+    callspec = getattr(request.node, "callspec", None)
+    if callspec is not None and callspec.params.get("mcu_backend") == "native":
         from mobigrasp.mcu_sim.native.mcu import NativeMcu
 
         monkeypatch.setattr(request.module, "Mcu", NativeMcu)
-    return request.param
 
 
 # three short in-process runs (one per method) whose run folders several output tests read

@@ -8,17 +8,18 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from mobigrasp.cosim.faulted_host import wrap_for_faults
+from mobigrasp.cosim.hosts import InprocHost
+from mobigrasp.cosim.rig import Rig, RigConfig
+from mobigrasp.cosim.rig_plant import WorldPlant
+from mobigrasp.cosim.run_folder import TraceWriter
+from mobigrasp.cosim.session import run_session
+from mobigrasp.drivers.lockstep import LockstepClient
 from mobigrasp.host.app_factory import build_host_app
-from mobigrasp.host.lockstep_client import LockstepClient
 from mobigrasp.link.inproc import inproc_pair
 from mobigrasp.mcu_sim.faults import FaultPlan
-from mobigrasp.mcu_sim.faults.wrappers import wrap_for_faults
 from mobigrasp.mcu_sim.mcu import Mcu
-from mobigrasp.mcu_sim.rig import Rig, RigConfig
-from mobigrasp.mcu_sim.rig_plant import WorldPlant
-from mobigrasp.tools.run_folder import TraceWriter
 from mobigrasp.tools.run_job import host_config, resolve_scenario
-from mobigrasp.tools.runner import InprocHost, run_session
 
 
 @dataclass

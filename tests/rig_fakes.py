@@ -35,16 +35,26 @@ class FakeMcu:
         self.enc = (0, 0)
         self.flags = 0
 
-    def uart_rx(self, data: bytes, start_us: int) -> None:
+    def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
+        start_us = self.now_us if start_us is None else start_us
         assert start_us >= self.now_us, "bytes put on the line in the MCU's past"
         self.rx_chunks.append((start_us, bytes(data)))
         self._line += [(byte_done_us(start_us, i), b) for i, b in enumerate(data)]
+        return len(data)
 
     def _send(self, msg: m.Message, t_us: int) -> None:
         self._tx.append((t_us, m.encode_message(msg, self._seq)))
         self._seq = (self._seq + 1) & 0xFF
 
     def advance_to(self, t_us: int) -> None:
+        # telemetry due before t_us first: the chunks taken are in time order
+        while self._next_tel <= t_us:
+            self._send(m.Telemetry(time_us=self._next_tel, enc_left=self.enc[0],
+                                   enc_right=self.enc[1], servo_us=(1500,) * 6,
+                                   sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=self.flags,
+                                   crc_errors=0,
+                                   overruns=0, limit_hits=0, watchdog_trips=0), self._next_tel)
+            self._next_tel += self._tel_period
         ready = [b for when, b in self._line if when <= t_us]
         self._line = [(w, b) for w, b in self._line if w > t_us]
         for frame in self._parser.feed(bytes(ready)):
@@ -57,30 +67,49 @@ class FakeMcu:
                 self._send(m.HelloAck(proto_version=1, firmware_id="fake", capabilities=0), t_us)
             if isinstance(msg, m.SetWheels):
                 self.wheels = (msg.left_mmps, msg.right_mmps)
-        while self._next_tel <= t_us:
-            self._send(m.Telemetry(time_us=self._next_tel, enc_left=self.enc[0],
-                                   enc_right=self.enc[1], servo_us=(1500,) * 6,
-                                   sonar_mm=(m.SONAR_NO_ECHO,) * 5, flags=self.flags,
-                                   crc_errors=0,
-                                   overruns=0, limit_hits=0, watchdog_trips=0), self._next_tel)
-            self._next_tel += self._tel_period
         self.now_us = t_us
+
+    def advance_outputs(self, t_us: int):
+        self.advance_to(t_us)
+        return self.servo_pulses_us(), self.wheel_duty()
+
+    def reset(self) -> None:
+        self._line, self._tx, self.flags, self.wheels = [], [], 0, (0, 0)
+        self._parser = FrameParser()
 
     def uart_tx_take(self):
         out, self._tx = self._tx, []
         return out
 
+    def tx_idle_through_us(self):
+        return None  # cannot tell: the rig issues no grant early
+
+    baud = 115_200.0
+    baud_error_pct = 0.0
+
     def servo_pulse_us(self, ch):
         return 1500
+
+    def servo_pulses_us(self):
+        return (1500,) * 6
 
     def wheel_duty(self):
         return (self.wheels[0] // 4, self.wheels[1] // 4)
 
-    def set_encoder_ticks(self, left, right, t_us):
+    def set_encoder_ticks(self, left, right, t_us=None):
         self.enc = (left, right)
 
     def set_sonar_provider(self, fn):
         self.sonar = fn
+
+    def safety_flags(self):
+        return False, bool(self.flags & m.FLAG_HANDSHAKE)
+
+    def limit_hits(self):
+        return 0
+
+    def stats(self):
+        return {"frames_seen": len(self.seen)}
 
 
 class FakePlant:

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from camera_expect import expected_frame
 
-from mobigrasp.mcu_sim.rig_plant import WorldPlant
+from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.world import camera as cam
 from mobigrasp.mcu_sim.world.camera import CameraOptions, look_rotation
 from mobigrasp.mcu_sim.world.camera_scene import Scene, Target, solids_of_scene

@@ -3,7 +3,7 @@
 import numpy as np
 from camera_expect import expected_frame
 
-from mobigrasp.mcu_sim.rig_plant import WorldPlant
+from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.world.camera import CameraOptions
 from mobigrasp.tools.run_job import resolve_scenario
 

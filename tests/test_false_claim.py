@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import pytest
 from conftest import assert_no_false_claim
 
-from mobigrasp.tools.run_job import _figures
+from mobigrasp.cosim.summary import figures as _figures
 
 
 def _summary(state: str, held: bool, grasps: int) -> dict:

@@ -1,10 +1,10 @@
 """FaultedHost with a plan that never silences the host (no stall, no crash): its calls are the
 inner host's own (bound once), and they answer what the general path (_serve) answers."""
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.faulted_host import FaultedHost
 from mobigrasp.mcu_sim.faults.injectors import RunFaults
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
-from mobigrasp.mcu_sim.faults.wrappers import FaultedHost
 
 
 class _Host:

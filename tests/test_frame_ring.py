@@ -1,11 +1,11 @@
-"""Frames out of band: the shared-memory ring (link/frame_ring.py) and the codec's shared frames."""
+"""Frames out of band: the shared-memory ring (cosim/frame_ring.py), the codec's shared frames."""
 
 import os
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
-from mobigrasp.link.frame_ring import FrameRing, FrameRingReader
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.frame_ring import FrameRing, FrameRingReader
 
 
 def _frame(seq, fill, w=8, h=4):

@@ -2,7 +2,7 @@
 
 import ctypes
 
-from mobigrasp.tools import heap_tuning as ht
+from mobigrasp.cosim import heap_tuning as ht
 
 
 class _FakeLibc:
@@ -28,7 +28,7 @@ def test_a_c_library_without_mallopt_is_left_alone():
 
 _PROBE = """
 import ctypes, sys
-from mobigrasp.tools import heap_tuning as ht
+from mobigrasp.cosim import heap_tuning as ht
 class MallInfo2(ctypes.Structure):
     _fields_ = [(n, ctypes.c_size_t) for n in
                 ("arena", "ordblks", "smblks", "hblks", "hblkhd", "usmblks", "fsmblks",

@@ -1,5 +1,5 @@
 """The host polls its lockstep socket before sleeping when a run goes at full speed
-(link.lockstep.SocketReader poll_s, ``mobigrasp host --poll-ms``, docs/cosim.md)."""
+(cosim.lockstep.SocketReader poll_s, ``mobigrasp host --poll-ms``, docs/cosim.md)."""
 
 import socket
 import subprocess
@@ -7,9 +7,9 @@ import sys
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.hosts import HOST_POLL_MS, host_argv
 from mobigrasp.tools import run_job
-from mobigrasp.tools.runner import HOST_POLL_MS, host_argv
 
 
 @pytest.mark.parametrize("poll_s", [0.0, 0.05])
@@ -60,7 +60,7 @@ def test_run_polls_only_at_full_speed(monkeypatch, tmp_path, speed, polls):
         seen.append((argv, poll_ms))
         raise Stop
 
-    monkeypatch.setattr("mobigrasp.tools.runner.SocketHost", fake_socket_host)
+    monkeypatch.setattr("mobigrasp.cosim.run.SocketHost", fake_socket_host)
     with pytest.raises(Stop):
         run_job.execute(run_job.RunOptions(scenario="paper000-exp1", transport="pty",
                                            out=tmp_path, progress=False, plots=False,
@@ -79,9 +79,9 @@ def test_rig_side_reader_polls_as_asked(monkeypatch):
             made.append(poll_s)
             raise ConnectionError("stop here")
 
-    from mobigrasp.tools.runner import SocketHost
+    from mobigrasp.cosim.hosts import SocketHost
 
-    monkeypatch.setattr("mobigrasp.tools.runner.ls.SocketReader", Reader)
+    monkeypatch.setattr("mobigrasp.cosim.hosts.ls.SocketReader", Reader)
     host = SocketHost([sys.executable, "-c", "import socket, sys; "
                        "s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1]); s.recv(1)"],
                       connect=False, poll_ms=HOST_POLL_MS)
@@ -96,7 +96,7 @@ def test_rig_side_reader_polls_as_asked(monkeypatch):
 
 @pytest.mark.parametrize("bad", [-1.0, float("nan")])
 def test_socket_host_refuses_a_bad_poll_time(bad):
-    from mobigrasp.tools.runner import SocketHost
+    from mobigrasp.cosim.hosts import SocketHost
 
     with pytest.raises(ValueError, match="poll_ms"):
         SocketHost([sys.executable, "-c", "pass"], connect=False, poll_ms=bad)

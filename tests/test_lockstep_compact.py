@@ -1,4 +1,4 @@
-"""The compact GRANT and DONE (link/lockstep.py kinds 6 and 7): the same messages as the JSON
+"""The compact GRANT and DONE (cosim/lockstep.py kinds 6 and 7): the same messages as the JSON
 ones once decoded, used only where they can say everything, and as strict about bad input."""
 
 import io
@@ -6,7 +6,7 @@ import struct
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
 
 LOAD = {"window_us": 500_000, "windows": {}, "state": "APPROACH", "finished": False,
         "camera": True, "quiet_until": 2_040_000}
@@ -74,14 +74,14 @@ def test_the_compact_wire_bytes_are_the_documented_layout(uart):
 
 
 def test_decoded_compact_messages_are_whole_frozen_dataclasses():
-    # the decoder builds them without __init__ (lockstep._built): every field is there
+    # the decoder builds them without __init__ (mobigrasp.frozen.built): every field is there
     for msg in (ls.Grant(start_us=10, until_us=5000, uart=((20, 1),)),
                 ls.Done(until_us=5000, writes=((100, 2),), load=dict(LOAD))):
         back = ls.decode(ls.encode(msg))
         assert type(back) is type(msg) and vars(back) == vars(msg) and back == msg
         with pytest.raises(AttributeError):
             back.until_us = 1
-    # _built skips __init__: a __post_init__ (a check) added to either class would be skipped
+    # built skips __init__: a __post_init__ (a check) added to either class would be skipped
     assert not hasattr(ls.Grant, "__post_init__") and not hasattr(ls.Done, "__post_init__")
 
 

@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from mcap.reader import make_reader
 
+from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.tools.mcap_out import ARM_FRAMES, PROTOCOL_EVENTS, TOPICS
 from mobigrasp.tools.mcap_schemas import SCHEMAS
-from mobigrasp.tools.run_folder import read_trace
 
 SCHEMA_OF = {
     "/camera/image": "foxglove.CompressedImage",

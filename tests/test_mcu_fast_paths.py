@@ -11,13 +11,13 @@ from __future__ import annotations
 
 import random
 
+from mobigrasp.cosim.faulted_host import wrap_for_faults
 from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US
 from mobigrasp.mcu_sim.avr.signals import SignalBus
 from mobigrasp.mcu_sim.avr.timer8 import WheelPwm
 from mobigrasp.mcu_sim.avr.timer16 import NS_PER_CYCLE_NUM, Timer16
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import _RANGES, PWM_LATCH_US, STOP_MARGIN_US, SafetyMonitor
-from mobigrasp.mcu_sim.faults.wrappers import wrap_for_faults
 from mobigrasp.mcu_sim.mcu import Mcu
 from mobigrasp.protocol import (
     PROTOCOL_VERSION,

@@ -13,9 +13,9 @@ from pathlib import Path
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.hosts import SocketHost
 from mobigrasp.link.registry import open_transport
-from mobigrasp.tools.runner import SocketHost
 
 ROOT = Path(__file__).resolve().parents[1]
 SAFETY_S = 60
@@ -62,7 +62,7 @@ def test_lockstep_host_ends_cleanly_when_the_simulator_vanishes(tmp_path):
 
 def test_the_rig_names_a_host_process_that_died(tmp_path):
     # a "host" that says HELLO and dies before serving its first grant
-    script = ("import socket,sys; from link import lockstep as ls; "
+    script = ("import socket,sys; from mobigrasp.cosim import lockstep as ls; "
               "s=socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1]); "
               "s.sendall(ls.encode(ls.Hello(host_id='dying'))); sys.exit(7)")
     host = SocketHost([sys.executable, "-c", script, "--lockstep"], accept_timeout_s=SAFETY_S)

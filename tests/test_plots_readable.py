@@ -6,9 +6,9 @@ reads the axes' labels and legend entries rather than looking at pixels."""
 import matplotlib.lines
 import pytest
 
+from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.tools import plots
 from mobigrasp.tools.campaign import CampaignConfig, run_campaign
-from mobigrasp.tools.run_folder import read_trace
 
 
 @pytest.fixture

@@ -1,4 +1,4 @@
-"""A grant issued one quantum early when it would be the same (mcu_sim/rig.py grants_due).
+"""A grant issued one quantum early when it would be the same (cosim/rig.py grants_due).
 
 With a lag, the grant for [T, T+Q) holds what the MCU and camera produced before T-Q. When the
 quantum before that cannot produce anything (no frame slot, no host write, the MCU's TX line idle
@@ -10,12 +10,12 @@ import hashlib
 
 import pytest
 
+from mobigrasp.cosim.rig import Rig
 from mobigrasp.mcu_sim.faults.injectors import RunFaults
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
 from mobigrasp.mcu_sim.faults.wrappers import FaultedMcu
 from mobigrasp.mcu_sim.mcu import Mcu
-from mobigrasp.mcu_sim.rig import Rig
 from mobigrasp.tools.run_job import RunOptions, execute
 
 GRANT, QUIET = Rig.grant, Rig.quiet_through  # before any test patches them

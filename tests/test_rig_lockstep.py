@@ -6,14 +6,16 @@ import threading
 import pytest
 from rig_fakes import FakeMcu, FakePlant, FakeTask, blob_detector, build_inputs, byte_done_us
 
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.handshake import HostTraffic
+from mobigrasp.cosim.hosts import InprocHost
+from mobigrasp.cosim.rig import Rig, RigConfig
+from mobigrasp.cosim.run_folder import TraceWriter
+from mobigrasp.cosim.session import run_session
+from mobigrasp.drivers.lockstep import LockstepClient, serve_stream
 from mobigrasp.host.app import HostApp, HostConfig
-from mobigrasp.host.lockstep_client import LockstepClient, serve_stream
-from mobigrasp.link import lockstep as ls
 from mobigrasp.link.registry import inproc_pair, open_transport
-from mobigrasp.mcu_sim.rig import Rig, RigConfig
 from mobigrasp.protocol import messages as m
-from mobigrasp.tools.run_folder import TraceWriter
-from mobigrasp.tools.runner import InprocHost, run_session
 
 
 def test_codec_round_trip_grant_with_frames():
@@ -126,7 +128,7 @@ def _run_over_pty(tmp_path):
     s_rig, s_host = socket.socketpair()
     client = LockstepClient(app, slave)
     t = threading.Thread(target=serve_stream,
-                         args=(client, s_host.makefile("rb"), s_host.makefile("wb")))
+                         args=(client, ls.SocketReader(s_host), s_host.makefile("wb")))
     t.start()
 
     class SockHost:
@@ -137,10 +139,21 @@ def _run_over_pty(tmp_path):
             self.wfile.flush()
             return ls.read_message(self.rfile)
 
+        submit = exchange  # answered one by one, no pipelining
+
+        def early_wanted(self, start_us):
+            return True
+
         def finish(self, end):
             self.wfile.write(ls.encode(end))
             self.wfile.flush()
             return ls.read_message(self.rfile)
+
+        def close(self):
+            pass
+
+        def traffic(self):
+            return HostTraffic()
 
     host = SockHost()
     assert isinstance(ls.read_message(host.rfile), ls.Hello)

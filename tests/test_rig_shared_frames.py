@@ -1,15 +1,15 @@
 """The rig's frames without copies: the grant's pixels are a read-only view of the plant's frame
-(mcu_sim/rig.py _pixels; WorldPlant.capture hands out its read-only clean image): the same
+(cosim/rig.py _pixels; WorldPlant.capture hands out its read-only clean image): the same
 pixels, messages and host arrays as the copies they replace."""
 
 import numpy as np
 import pytest
 from rig_fakes import FakeMcu
 
-from mobigrasp.link import lockstep as ls
-from mobigrasp.link.frame_ring import FrameRing, FrameRingReader
-from mobigrasp.mcu_sim.rig import Rig, RigConfig, _pixels
-from mobigrasp.mcu_sim.rig_plant import WorldPlant
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.frame_ring import FrameRing, FrameRingReader
+from mobigrasp.cosim.rig import Rig, RigConfig, _pixels
+from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.tools.run_job import resolve_scenario
 
 
@@ -24,7 +24,7 @@ def test_pixels_view_equals_the_bytes_everywhere(tmp_path):
     view = _pixels(rgb)
     assert view == rgb.tobytes()
     assert view.readonly and len(view) == rgb.nbytes
-    as_host = np.frombuffer(view, np.uint8).reshape(4, 6, 3)  # host/lockstep_client.py
+    as_host = np.frombuffer(view, np.uint8).reshape(4, 6, 3)  # drivers/lockstep.py
     assert np.array_equal(as_host, rgb) and not as_host.flags.writeable
     odd = rgb[:, ::2]  # not contiguous: copied
     assert _pixels(odd) == odd.tobytes() and isinstance(_pixels(odd), bytes)

@@ -7,9 +7,9 @@ import cv2
 import numpy as np
 import pytest
 
+from mobigrasp.cosim.run_folder import Snapshots, TraceWriter, read_trace, write_summary
 from mobigrasp.tools.cli import main
 from mobigrasp.tools.report import write_report
-from mobigrasp.tools.run_folder import Snapshots, TraceWriter, read_trace, write_summary
 
 
 def test_trace_is_flushed_per_line_and_hashed(tmp_path):
@@ -118,7 +118,7 @@ def test_scenarios_lists_the_six(capsys):
 
 
 def test_detection_points_of_every_detector_are_drawn():
-    from mobigrasp.tools.run_folder import detection_points
+    from mobigrasp.cosim.run_folder import detection_points
 
     pts = detection_points({"double_cross": {"u1_q4": 160, "v1_q4": 320, "u2_q4": 480, "v2_q4": 320,
                                     "um_q4": 320, "vm_q4": 320, "d_pixel_q4": 5},

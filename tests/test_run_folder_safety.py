@@ -11,14 +11,14 @@ from pathlib import Path
 
 import pytest
 
-from mobigrasp.tools.cli import main
-from mobigrasp.tools.run_folder import (
+from mobigrasp.cosim.run_folder import (
     RUN_MARKER,
     RunFolderError,
     default_run_folder,
     prepare_run_folder,
     safe_component,
 )
+from mobigrasp.tools.cli import main
 
 SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper000-exp1.toml"
 QUICK = ["--transport", "inproc", "--time-limit-s", "0.1", "--quiet", "--no-plots"]

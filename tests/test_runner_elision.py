@@ -1,4 +1,4 @@
-"""Fewer lockstep messages (tools/runner.py, docs/cosim.md "Fewer messages").
+"""Fewer lockstep messages (cosim/hosts.py, docs/cosim.md "Fewer messages").
 
 A grant whose DONE is known (no UART bytes, no frames, inside the host's quiet_until, no load
 window ending) is not sent at all; other promised grants without frames wait and leave in one
@@ -11,8 +11,8 @@ import sys
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
-from mobigrasp.tools import runner
+from mobigrasp.cosim import handshake, hosts
+from mobigrasp.cosim import lockstep as ls
 from mobigrasp.tools.run_job import RunOptions, execute
 
 LOAD = {"window_us": 500_000, "windows": {}, "state": "APPROACH", "finished": False,
@@ -24,7 +24,7 @@ def _grant(start_us: int, uart=(), frames=()) -> ls.Grant:
 
 
 def test_quiet_done_is_the_done_of_an_idle_quiet_quantum():
-    done = runner.quiet_done(_grant(10_000), LOAD)
+    done = handshake.quiet_done(_grant(10_000), LOAD)
     assert done == ls.Done(until_us=15_000, writes=(), events=(), load=dict(LOAD))
 
 
@@ -38,15 +38,15 @@ def test_quiet_done_is_the_done_of_an_idle_quiet_quantum():
     (_grant(10_000), {**LOAD, "window_us": 0}),
 ])
 def test_quiet_done_declines_what_it_cannot_tell(grant, load):
-    assert runner.quiet_done(grant, load) is None
+    assert handshake.quiet_done(grant, load) is None
 
 
 # a fake host that counts the grants and the socket reads it got, answers each with a quiet
 # DONE (quiet until 20 ms) and, with the lead's reader, one write per batch
 _SCRIPT = """
 import socket, sys
-from mobigrasp.link import lockstep as ls
-from mobigrasp.link.frame_ring import FrameRingReader
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.frame_ring import FrameRingReader
 s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1])
 r, w = ls.SocketReader(s), s.makefile("wb")
 w.write(ls.encode(ls.Hello(host_id="fake"))); w.flush()
@@ -64,24 +64,24 @@ while True:
 """
 
 
-def _host() -> runner.SocketHost:
-    return runner.SocketHost([sys.executable, "-c", _SCRIPT, "--lockstep"],
+def _host() -> hosts.SocketHost:
+    return hosts.SocketHost([sys.executable, "-c", _SCRIPT, "--lockstep"],
                              accept_timeout_s=60.0)
 
 
 def test_idle_grants_are_not_sent_and_the_rest_leave_in_batches():
     host = _host()
     try:
-        first = runner.needed(host.submit(_grant(0)))  # no DONE read yet: sent, waited for
+        first = handshake.needed(host.submit(_grant(0)))  # no DONE read yet: sent, waited for
         assert first.until_us == 5000 and host.messages_sent == 1
         idle = host.submit(_grant(5000))  # known: never sent
         with_bytes = host.submit(_grant(10_000, uart=((10_000, 2),)))  # promised: held back
         assert idle.promised and with_bytes.promised and host.messages_sent == 1
         tick = host.submit(_grant(20_000))  # past the promise: goes now, with the one held
         assert host.messages_sent == 2
-        assert runner.needed(tick).until_us == 25_000
-        assert runner.resolved(idle) == runner.quiet_done(_grant(5000), host._last_load)
-        assert runner.resolved(with_bytes).until_us == 15_000
+        assert handshake.needed(tick).until_us == 25_000
+        assert handshake.resolved(idle) == handshake.quiet_done(_grant(5000), host._last_load)
+        assert handshake.resolved(with_bytes).until_us == 15_000
         bye = host.finish(ls.End(at_us=25_000, reason="t"))
         assert bye.stats["seen"] == [5000, 15_000, 25_000]  # the idle grant never went
         assert host.elided == 1
@@ -92,7 +92,7 @@ def test_idle_grants_are_not_sent_and_the_rest_leave_in_batches():
 def test_only_the_grant_the_rig_will_wait_for_is_wanted_early():
     host = _host()
     try:
-        runner.needed(host.submit(_grant(0)))  # DONE read: quiet until 20 ms
+        handshake.needed(host.submit(_grant(0)))  # DONE read: quiet until 20 ms
         assert host.early_wanted(20_000)  # the control tick's grant: its DONE will be waited for
         assert not host.early_wanted(25_000)  # after it: elided or batched once that DONE is read
         host.finish(ls.End(at_us=5000, reason="t"))
@@ -103,7 +103,7 @@ def test_only_the_grant_the_rig_will_wait_for_is_wanted_early():
 def test_a_grant_with_a_frame_is_not_held_back():
     host = _host()
     try:
-        runner.needed(host.submit(_grant(0)))
+        handshake.needed(host.submit(_grant(0)))
         host.submit(_grant(5000, uart=((5000, 1),)))
         assert host.messages_sent == 1
         frame = ls.FrameBlob(seq=0, capture_us=0, arrival_us=10_000, width=2, height=1,
@@ -122,17 +122,17 @@ def test_elided_grants_would_have_got_exactly_the_predicted_done(transport, tmp_
     """On a real run every elided grant is served anyway and its DONE compared (a mismatch
     raises LockstepError and the run crashes); the trace is the one of the plain run."""
     checked = []
-    check = runner.check_elided
+    check = hosts.check_elided
 
     def counting(predicted, real):
         check(predicted, real)
         checked.append(real.until_us)
 
-    monkeypatch.setattr(runner, "check_elided", counting)
+    monkeypatch.setattr(hosts, "check_elided", counting)
     sha = {}
     for verify in (True, False):
-        monkeypatch.setattr(runner.SocketHost, "verify_elided", verify)
-        monkeypatch.setattr(runner.InprocHost, "verify_elided", verify)
+        monkeypatch.setattr(hosts.SocketHost, "verify_elided", verify)
+        monkeypatch.setattr(hosts.InprocHost, "verify_elided", verify)
         s, _ = execute(RunOptions(scenario="paper000-exp1", transport=transport,
                                   out=tmp_path / str(verify), progress=False, plots=False,
                                   time_limit_s=3.0))

@@ -1,4 +1,4 @@
-"""Pipelined grants over the socket (tools/runner.SocketHost, docs/cosim.md "Pipelining").
+"""Pipelined grants over the socket (tools/hosts.SocketHost, docs/cosim.md "Pipelining").
 
 A grant that ends at or before the host's last ``quiet_until`` is answered at once with a
 PendingDone; the real DONE is read later, checked against the promise, and the trace is the same
@@ -9,15 +9,15 @@ import sys
 
 import pytest
 
-from mobigrasp.link import lockstep as ls
-from mobigrasp.tools import runner
+from mobigrasp.cosim import handshake, hosts, session
+from mobigrasp.cosim import lockstep as ls
 from mobigrasp.tools.run_job import RunOptions, execute
 
 SAFETY_S = 60.0
 
 
-def _host(script: str) -> runner.SocketHost:
-    return runner.SocketHost([sys.executable, "-c", script, "--lockstep"],
+def _host(script: str) -> hosts.SocketHost:
+    return hosts.SocketHost([sys.executable, "-c", script, "--lockstep"],
                              accept_timeout_s=SAFETY_S)
 
 
@@ -25,7 +25,7 @@ def _host(script: str) -> runner.SocketHost:
 # DONE of the grant ending at BREAK_US carries a write
 _SCRIPT = """
 import socket, sys
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
 s = socket.socket(socket.AF_UNIX); s.connect(sys.argv[-1])
 r, w = s.makefile("rb"), s.makefile("wb")
 w.write(ls.encode(ls.Hello(host_id="fake"))); w.flush()
@@ -41,7 +41,7 @@ while True:
 
 
 def _grant(k: int, uart: bool = False) -> ls.Grant:
-    # with a UART chunk the grant is sent even when its DONE is known (runner.quiet_done); the
+    # with a UART chunk the grant is sent even when its DONE is known (handshake.quiet_done); the
     # fake host above does not read the pty
     chunks = ((5000 * k, 1),) if uart else ()
     return ls.Grant(start_us=5000 * k, until_us=5000 * (k + 1), uart=chunks)
@@ -51,14 +51,14 @@ def test_quiet_grants_are_answered_ahead_and_read_in_order():
     host = _host(_SCRIPT.replace("BREAK_US", "-1"))
     try:
         first = host.exchange(_grant(0))  # nothing promised yet: answered one by one
-        assert not isinstance(first, runner.PendingDone) and first.until_us == 5000
+        assert not isinstance(first, handshake.PendingDone) and first.until_us == 5000
         ahead = [host.exchange(_grant(k, uart=True)) for k in (1, 2, 3)]  # end <= 20 ms
-        assert all(isinstance(d, runner.PendingDone) for d in ahead)
+        assert all(isinstance(d, handshake.PendingDone) for d in ahead)
         assert [d.load["state"] for d in ahead] == ["S"] * 3 and not any(d.writes for d in ahead)
         last = host.exchange(_grant(4))  # ends at 25 ms, past the promise: waits
-        assert not isinstance(last, runner.PendingDone)
+        assert not isinstance(last, handshake.PendingDone)
         # reading the fifth DONE read the three before it, in order
-        assert [runner.resolved(d, block=False).until_us for d in ahead] == [10_000, 15_000,
+        assert [handshake.resolved(d, block=False).until_us for d in ahead] == [10_000, 15_000,
                                                                                20_000]
         assert host.finish(ls.End(at_us=25_000, reason="t")).stats == {"ok": 1}
     finally:
@@ -73,12 +73,12 @@ def test_a_claim_becomes_a_promise_when_a_later_done_covers_it():
     try:
         claims = [host.submit(_grant(0)), host.submit(_grant(1, uart=True))]
         assert not any(c.promised for c in claims)
-        first = runner.needed(claims[0])
-        assert not isinstance(first, runner.PendingDone) and first.until_us == 5000
-        second = runner.needed(claims[1])
-        assert isinstance(second, runner.PendingDone) and second.promised
+        first = handshake.needed(claims[0])
+        assert not isinstance(first, handshake.PendingDone) and first.until_us == 5000
+        second = handshake.needed(claims[1])
+        assert isinstance(second, handshake.PendingDone) and second.promised
         assert second.load["state"] == "S" and not second.writes
-        assert runner.resolved(second).until_us == 10_000  # still read, in order, and checked
+        assert handshake.resolved(second).until_us == 10_000  # still read, in order, and checked
         assert host.finish(ls.End(at_us=10_000, reason="t")).stats == {"ok": 1}
     finally:
         host.close()
@@ -89,23 +89,23 @@ def test_a_broken_quiet_promise_is_an_error():
     try:
         host.exchange(_grant(0))
         pending = [host.exchange(_grant(k, uart=True)) for k in (1, 2)]
-        assert all(isinstance(d, runner.PendingDone) for d in pending)
+        assert all(isinstance(d, handshake.PendingDone) for d in pending)
         with pytest.raises(ls.LockstepError, match="broke its quiet_until promise .* 15000 us"):
-            runner.resolved(pending[1])
+            handshake.resolved(pending[1])
     finally:
         host.close()
 
 
 def test_pipelined_pty_run_has_the_inproc_trace(tmp_path, monkeypatch):
     counts = {"pending": 0}
-    needed = runner.needed
+    needed = handshake.needed
 
     def counting(done):
         done = needed(done)
-        counts["pending"] += isinstance(done, runner.PendingDone)  # completed on a promise
+        counts["pending"] += isinstance(done, handshake.PendingDone)  # completed on a promise
         return done
 
-    monkeypatch.setattr(runner, "needed", counting)
+    monkeypatch.setattr(session, "needed", counting)
     sha = {}
     for transport in ("pty", "inproc"):
         s, _ = execute(RunOptions(scenario="paper002-marker", transport=transport,
@@ -118,14 +118,14 @@ def test_pipelined_pty_run_has_the_inproc_trace(tmp_path, monkeypatch):
 
 
 def test_inproc_passes_an_empty_done_as_the_codec_would(monkeypatch):
+    from mobigrasp.drivers.lockstep import LockstepClient
     from mobigrasp.host.app_factory import build_host_app
-    from mobigrasp.host.lockstep_client import LockstepClient
     from mobigrasp.link.registry import inproc_pair
     from mobigrasp.tools.run_job import host_config, resolve_scenario
 
     _, scenario = resolve_scenario("paper000-exp1")
     port, peer = inproc_pair("codec-skip")
-    host = runner.InprocHost(LockstepClient(build_host_app(host_config(scenario)), peer))
+    host = hosts.InprocHost(LockstepClient(build_host_app(host_config(scenario)), peer))
     skipped = 0
     for k in range(12):
         done = host.exchange(_grant(k))

@@ -16,10 +16,10 @@ from faulted_loop import faulted_loop
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.avr.encoder import QuadratureEncoder
 from mobigrasp.mcu_sim.faults import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
-from mobigrasp.mcu_sim.rig_plant import WorldPlant
 from mobigrasp.tools.run_job import resolve_scenario
 
 _SHORTCUTS = ("advance_to", "advance_outputs", "wheel_duty", "set_encoder_ticks",

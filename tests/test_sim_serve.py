@@ -14,10 +14,10 @@ import cv2
 import numpy as np
 import pytest
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.serve.external_host import ExternalHost
+from mobigrasp.cosim.serve.mjpeg import CameraServer
 from mobigrasp.link.registry import open_transport
-from mobigrasp.mcu_sim.serve.external_host import ExternalHost
-from mobigrasp.mcu_sim.serve.mjpeg import CameraServer
 from mobigrasp.protocol import PROTOCOL_VERSION, Hello, Telemetry, encode_message
 
 ROOT = Path(__file__).resolve().parents[1]

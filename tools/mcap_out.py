@@ -23,9 +23,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from mobigrasp.cosim.run_folder import detection_points
 from mobigrasp.tools.mcap_schemas import SCHEMAS
 from mobigrasp.tools.plan_paths import odom_to_world, plan_paths_world
-from mobigrasp.tools.run_folder import detection_points
 
 TOPICS: dict[str, str] = {
     "/camera/image": "foxglove.CompressedImage",

@@ -17,8 +17,8 @@ import os
 import sys
 from pathlib import Path
 
+from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.tools import plots
-from mobigrasp.tools.run_folder import read_trace
 
 # after load: an image that failed gets a visible note; the counts go on <body> (data-images-*)
 ONLOAD_CHECK = """<script>

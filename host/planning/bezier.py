@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mobigrasp.frozen import built
 from mobigrasp.host.budget import OpCounts
 
 # Soft-float operations of one sample in the C loop this module models (forward differencing:
@@ -180,9 +181,7 @@ class Curve:
             raise ValueError(f"need finite (N, 4, 3) control points, got shape {arr.shape}")
         out = []
         for rows in arr.tolist():
-            c = object.__new__(cls)
-            object.__setattr__(c, "ctrl", tuple(map(tuple, rows)))
-            out.append(c)
+            out.append(built(cls, ctrl=tuple(map(tuple, rows))))
         return out
 
     @property

@@ -36,6 +36,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+from mobigrasp.frozen import built
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.fixedpoint import isqrt
@@ -90,11 +91,9 @@ class TaskInputs:
         __init__ (a frozen dataclass sets each field through object.__setattr__): the host
         builds one every control tick (host.app_factory.InputBuilder). Equal to the
         constructor's result (tests/test_task.py)."""
-        obj = object.__new__(cls)
-        obj.__dict__.update(joints_mrad=joints_mrad, x_mm=x_mm, y_mm=y_mm,
-                            heading_mrad=heading_mrad, v_mmps=v_mmps, sonar_mm=sonar_mm,
-                            detections=detections, grasp_closed=grasp_closed)
-        return obj
+        return built(cls, joints_mrad=joints_mrad, x_mm=x_mm, y_mm=y_mm,
+                     heading_mrad=heading_mrad, v_mmps=v_mmps, sonar_mm=sonar_mm,
+                     detections=detections, grasp_closed=grasp_closed)
 
 
 @dataclass(frozen=True)

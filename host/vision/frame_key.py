@@ -2,7 +2,7 @@
 (host/app_factory._LastFrameMemo, host/vision/dark_blobs.dark_components).
 
 A frame that crossed the lockstep channel is ``np.frombuffer`` of the GRANT's pixel bytes
-(host/lockstep_client.py): a read-only view of an immutable ``bytes`` object holding exactly
+(drivers/lockstep.py): a read-only view of an immutable ``bytes`` object holding exactly
 its pixels in C order, which is what ``tobytes()`` would copy. That object is the key as it
 is: no 230 kB copy per detector call (two per call with both memos), and a frame handed to two
 detectors in turn is the same object, which ``==`` recognises without comparing the bytes.

@@ -1,20 +1,20 @@
-"""Fault hooks around the rig's parts (issue 9): the rig itself stays unchanged.
+"""Fault hooks around the rig's parts: the rig itself stays unchanged.
 
-:func:`wrap_for_faults` puts a wrapper around each of the three things the rig talks to:
+:class:`FaultRig` puts a wrapper around the MCU and the plant the rig talks to:
 
-- :class:`FaultedMcu` (``McuLike``): host->MCU bytes through :class:`UartFaults` (bit errors,
-  drops, bursts, latency) before the USART sees them; MCU->host bytes likewise, held back until
-  their delayed arrival; the MCU reset at ``mcu_reset_at_s`` (exactly at that time, inside
-  ``advance_to``); a failed motor gets no duty; encoder counts after wheel slip; a failed sonar
-  hears no echo. After every ``advance_to`` the :class:`SafetyMonitor` judges the MCU's outputs
-  (host silence = stall, crash or a dead line in a burst; recovery is timed from the end of a
-  stall or burst and from an MCU reset).
-- :class:`FaultedPlant` (``PlantLike``): frames dropped on the CAMIF or noisy.
-- :class:`FaultedHost` (the runner's host object): during ``host_stall`` and after
-  ``host_crash_at_s`` the host program gets no quantum: it reads and writes nothing, its frames
-  are lost. The bytes the MCU sent meanwhile are kept off the line by :class:`FaultedMcu`: during
-  a stall they wait in the host's UART buffer and arrive at the stall's end; after a crash they
-  are never read (over a pty nobody would drain them).
+- :class:`FaultedMcu` (an ``McuBackend``, mobigrasp.mcu_sim.backend): host->MCU bytes through
+  :class:`UartFaults` (bit errors, drops, bursts, latency) before the USART sees them; MCU->host
+  bytes likewise, held back until their delayed arrival; the MCU reset at ``mcu_reset_at_s``
+  (exactly at that time, inside ``advance_to``); a failed motor gets no duty; encoder counts after
+  wheel slip; a failed sonar hears no echo. After every ``advance_to`` the :class:`SafetyMonitor`
+  judges the MCU's outputs (host silence = stall, crash or a dead line in a burst; recovery is timed
+  from the end of a stall or burst and from an MCU reset).
+- :class:`FaultedPlant` (the rig's plant): frames dropped on the CAMIF or noisy.
+- the host's silence (``host_stall``, ``host_crash_at_s``) is the co-simulation's to apply
+  (mobigrasp.cosim.faulted_host.FaultedHost, from the same :class:`RunFaults`). The bytes the MCU
+  sent meanwhile are kept off the line by :class:`FaultedMcu`: during a stall they wait in the
+  host's UART buffer and arrive at the stall's end; after a crash they are never read (over a
+  pty nobody would drain them).
 
 Everything is decided by the plan, the run seed and simulated time.
 """
@@ -22,10 +22,8 @@ Everything is decided by the plan, the run seed and simulated time.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import replace
 from typing import Any
 
-from mobigrasp.link import lockstep as ls
 from mobigrasp.mcu_sim.faults.injectors import RunFaults
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
@@ -48,13 +46,11 @@ class FaultedMcu:
         self.unread_bytes = 0  # MCU bytes a crashed host never read
         if (not faults.to_host.active and faults.crash_us is None and faults.stall is None):
             self.uart_tx_take = self._uart_tx_take_plain
-        if callable(getattr(mcu, "servo_pulses_us", None)):
-            self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
-        if not self._any_fault and callable(getattr(mcu, "tx_idle_through_us", None)):
+        self.servo_pulses_us = mcu.servo_pulses_us  # never faulted: the MCU's own call
+        if not self._any_fault:
             # what tx_idle_through_us answers with nothing planned: the MCU's own call
             self.tx_idle_through_us = mcu.tx_idle_through_us
-        outputs = getattr(mcu, "advance_outputs", None)
-        self._inner_outputs = outputs if callable(outputs) else None
+        self._inner_outputs = mcu.advance_outputs
         if _quiet_at_coupling(faults):
             # Nothing in the plan touches the MCU at its coupling steps (the common case, an
             # empty plan): the rig, which binds these once, calls the MCU directly and the
@@ -84,30 +80,25 @@ class FaultedMcu:
         mcu.advance_to(t_us)
         while self._recovery_points and self._recovery_points[0] <= t_us:
             self.monitor.fault(self._recovery_points.pop(0))
-        fw = mcu.firmware
-        self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(),
-                             fw.watchdog_tripped, fw.handshake,
+        tripped, handshake = mcu.safety_flags()
+        self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(), tripped, handshake,
                              f.host_silent(t_us) or f.line_dead(t_us))
 
     def _advance_quiet(self, t_us: int) -> None:
         """:meth:`advance_to` when the plan has no reset, stall, crash or burst."""
         mcu = self.inner
         mcu.advance_to(t_us)
-        fw = mcu.firmware
-        self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(),
-                             fw.watchdog_tripped, fw.handshake, False)
+        tripped, handshake = mcu.safety_flags()
+        self.monitor.observe(t_us, mcu.wheel_duty(), mcu.servo_pulses_us(), tripped, handshake,
+                             False)
 
     def _advance_outputs_quiet(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
         """:meth:`advance_outputs` when the plan leaves the coupling step alone: the outputs the
         monitor judges are the ones handed to the rig (read once)."""
         mcu = self.inner
-        if self._inner_outputs is not None:
-            pulses, duty = self._inner_outputs(t_us)
-        else:
-            mcu.advance_to(t_us)
-            pulses, duty = mcu.servo_pulses_us(), mcu.wheel_duty()
-        fw = mcu.firmware
-        self.monitor.observe(t_us, duty, pulses, fw.watchdog_tripped, fw.handshake, False)
+        pulses, duty = self._inner_outputs(t_us)
+        tripped, handshake = mcu.safety_flags()
+        self.monitor.observe(t_us, duty, pulses, tripped, handshake, False)
         return pulses, duty
 
     def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
@@ -116,8 +107,7 @@ class FaultedMcu:
         return self.servo_pulses_us(), self.wheel_duty()
 
     def servo_pulses_us(self) -> tuple[float, ...]:
-        """The MCU's six pulse widths in one call (the rig uses it when the class has it; the
-        servo outputs are not faulted)."""
+        """The MCU's six pulse widths in one call (the servo outputs are not faulted)."""
         return self.inner.servo_pulses_us()
 
     def uart_rx(self, data: bytes, start_us: int | None = None) -> int:
@@ -222,75 +212,6 @@ class FaultedPlant:
         return None if rgb is None else self.faults.frame(rgb, t_us)
 
 
-class FaultedHost:
-    """The runner's host object, frozen during a stall and silent for good after a crash."""
-
-    def __init__(self, host: Any, faults: RunFaults) -> None:
-        self.inner = host
-        self.faults = faults
-        self._silent_reported: set[str] = set()
-        self.quanta_skipped = 0
-        self._resumed = False  # after a stall: writes dated inside it leave at resume time
-        if faults.stall is None and faults.crash_us is None:
-            # a host never silenced (the common case, an empty plan): every grant goes straight
-            # to it, as _serve would pass it on (the runner binds these once per run)
-            for name in ("exchange", "submit", "early_wanted"):
-                call = getattr(host, name, None)
-                if callable(call):
-                    setattr(self, name, call)
-
-    def exchange(self, grant: ls.Grant) -> ls.Done:
-        """Serve the grant, or answer for a host that is not running (no bytes, no events)."""
-        return self._serve(grant, self.inner.exchange)
-
-    def early_wanted(self, start_us: int) -> bool:
-        """The inner host's wish for early grants (tools/runner.SocketHost), else yes."""
-        wanted = getattr(self.inner, "early_wanted", None)
-        return True if wanted is None else wanted(start_us)
-
-    def submit(self, grant: ls.Grant) -> ls.Done:
-        """Like :meth:`exchange` without waiting (the runner's pipelined path)."""
-        return self._serve(grant, self.inner.submit)
-
-    def _serve(self, grant: ls.Grant, call: Any) -> ls.Done:
-        f = self.faults
-        if f.host_silent(grant.start_us):
-            # FaultedMcu keeps the MCU's bytes off the line meanwhile; the frames are lost
-            self.quanta_skipped += 1
-            kind = "host_crash" if f.host_crashed(grant.start_us) else "host_stall"
-            events: tuple[dict, ...] = ()
-            if kind not in self._silent_reported:
-                self._silent_reported.add(kind)
-                events = ({"ev": "fault", "fault": kind, "t_us": grant.start_us},)
-            return ls.Done(until_us=grant.until_us, events=events)
-        if "host_stall" in self._silent_reported:
-            self._resumed = True
-        self._silent_reported.discard("host_stall")
-        done = call(grant)
-        if not self._resumed:
-            return done
-        start = grant.start_us
-
-        def fix(real: ls.Done) -> ls.Done:
-            # what the frozen program had queued (or computes for the missed ticks) leaves when
-            # it runs again: no byte can go out while it was stalled
-            if not any(t < start for t, _ in real.writes):
-                return real
-            return replace(real, writes=tuple((max(t, start), n) for t, n in real.writes))
-
-        if getattr(done, "ticket", None) is not None:  # a DONE still to be read: fixed then
-            return replace(done, fix=fix)
-        return fix(done)
-
-    def finish(self, end: ls.End) -> ls.Bye:
-        """End of run: the host's statistics (a crashed host's as they were)."""
-        return self.inner.finish(end)
-
-    def close(self) -> None:
-        """Release the host."""
-        self.inner.close()
-
-
 class FaultRig:
     """The wrappers of one run, their injectors and their monitor."""
 
@@ -298,19 +219,12 @@ class FaultRig:
         self.faults = RunFaults(plan, seed)
         self.monitor = SafetyMonitor(watchdog_us)
         self.mcu: FaultedMcu | None = None
-        self.host: FaultedHost | None = None
+        self.host_quanta_skipped: Callable[[], int] | None = None  # the host wrapper's count
 
-    def wrap(self, mcu: Any, plant: Any, host: Any | None = None):
-        """(mcu, plant, host) wrapped; ``host`` may be None (wrap it later with wrap_host)."""
+    def wrap(self, mcu: Any, plant: Any) -> tuple[FaultedMcu, FaultedPlant]:
+        """(mcu, plant) wrapped."""
         self.mcu = FaultedMcu(mcu, self.faults, self.monitor)
-        return self.mcu, FaultedPlant(plant, self.faults), self.wrap_host(host)
-
-    def wrap_host(self, host: Any | None) -> Any:
-        """The runner's host object, silenced by the plan."""
-        if host is None:
-            return None
-        self.host = FaultedHost(host, self.faults)
-        return self.host
+        return self.mcu, FaultedPlant(plant, self.faults)
 
     def stop_reason(self, after_crash_us: int = 2_000_000) -> str | None:
         """``"host_crashed"`` once a crashed host's MCU has had ``after_crash_us`` (the 250 ms
@@ -325,17 +239,10 @@ class FaultRig:
     def summary(self) -> tuple[dict, dict]:
         """(the ``faults`` block, the ``safety`` block) of summary.json."""
         if self.mcu is not None:
-            self.monitor.set_limit_hits(int(self.mcu.inner.firmware.limit_hits))
+            self.monitor.set_limit_hits(self.mcu.inner.limit_hits())
         faults = self.faults.stats()
         if self.mcu is not None:
             faults["mcu_bytes_unread_by_host"] = self.mcu.unread_bytes
-        if self.host is not None:
-            faults["host_quanta_skipped"] = self.host.quanta_skipped
+        if self.host_quanta_skipped is not None:
+            faults["host_quanta_skipped"] = self.host_quanta_skipped()
         return faults, self.monitor.summary()
-
-
-def wrap_for_faults(plan: FaultPlan, seed: int, mcu: Any, plant: Any, host: Any | None = None):
-    """(FaultRig, mcu, plant, host): the one call the run code needs (docs/faults.md)."""
-    fr = FaultRig(plan, seed)
-    m, p, h = fr.wrap(mcu, plant, host)
-    return fr, m, p, h

@@ -13,7 +13,6 @@ import argparse
 import json
 import socket
 import sys
-import time
 from pathlib import Path
 
 METHODS = ("000", "001", "002")
@@ -40,11 +39,9 @@ def _config(args: argparse.Namespace) -> dict:
 def _lockstep(args: argparse.Namespace, cfg: dict, port) -> int:
     import cv2
 
+    from mobigrasp.drivers.lockstep import LockstepClient, serve_socket
     from mobigrasp.host.app_factory import build_host_app
-    from mobigrasp.host.lockstep_client import LockstepClient, serve_stream
-    from mobigrasp.link import lockstep as ls
     from mobigrasp.link.base import LinkClosed
-    from mobigrasp.link.frame_ring import FrameRingReader
 
     # one OpenCV thread: the machine's other core runs the rig, whose time this process waits
     # for; a pool would take it mid-frame (results are the same on any number of threads)
@@ -60,147 +57,51 @@ def _lockstep(args: argparse.Namespace, cfg: dict, port) -> int:
               file=sys.stderr)
         return 2
     client = LockstepClient(build_host_app(cfg), port)
-    frames = FrameRingReader()
     try:
-        serve_stream(client, ls.SocketReader(sock, poll_s=args.poll_ms / 1000.0),
-                     sock.makefile("wb"),
-                     host_id="mobigrasp-host", frame_source=frames)
+        serve_socket(client, sock, poll_s=args.poll_ms / 1000.0)
     except (LinkClosed, OSError) as exc:
         # the simulator died or closed the pty/socket mid-run (LockstepClosed is a
-        # ConnectionError, an OSError): say so in one line and exit non-zero at once (issue 9)
+        # ConnectionError, an OSError): say so in one line and exit non-zero at once
         print(f"mobigrasp host: the simulator went away mid-run at t = "
               f"{client.clock.now_us() / 1e6:.3f} s simulated ({type(exc).__name__}: {exc}); "
               f"stopping", file=sys.stderr, flush=True)
         return 1
     finally:
-        frames.close()
         sock.close()
         port.close()
     return 0
 
 
-class _OpenCvCamera:
-    """Frames from cv2.VideoCapture, stamped with wall time (free-running mode only).
-
-    A live source (a device index, or a URL such as ``mobigrasp sim``'s MJPEG stream) is read
-    by a thread as fast as it delivers, keeping only the newest frame: a host loop that falls
-    behind for a moment then skips frames, as a CAMIF does, instead of working through a
-    growing backlog of old ones (whose scene lags the arm further each time). A video file is
-    read one frame per call, at the camera rate."""
-
-    def __init__(self, source: str, t0: float) -> None:
-        import threading
-
-        import cv2
-
-        self._cv2 = cv2
-        self.live = source.isdigit() or "://" in source
-        self.cap = cv2.VideoCapture(int(source) if source.isdigit() else source)
-        if not self.cap.isOpened():
-            raise ValueError(f"cannot open camera source {source!r}")
-        self._t0 = t0
-        self.seq = 0
-        self._latest = None  # (seq, arrival_us, rgb) from the reader thread
-        self._taken = -1
-        self._lock = threading.Lock()
-        self._stop = threading.Event()
-        self._thread = None
-        if self.live:
-            self._thread = threading.Thread(target=self._reader, daemon=True, name="camera")
-            self._thread.start()
-
-    def _convert(self, bgr):
-        return self._cv2.resize(self._cv2.cvtColor(bgr, self._cv2.COLOR_BGR2RGB), (320, 240))
-
-    def _reader(self) -> None:
-        while not self._stop.is_set():
-            ok, bgr = self.cap.read()
-            if not ok:
-                return  # the stream ended
-            arrival_us = int((time.monotonic() - self._t0) * 1e6)
-            rgb = self._convert(bgr)
-            with self._lock:
-                self._latest = (self.seq, arrival_us, rgb)
-                self.seq += 1
-
-    def read(self, now_us: int):
-        """(seq, arrival_us, rgb) of a frame not handed out before, or None."""
-        if not self.live:
-            ok, bgr = self.cap.read()
-            if not ok:
-                return None
-            self.seq += 1
-            return self.seq - 1, now_us, self._convert(bgr)
-        with self._lock:
-            got = self._latest
-        if got is None or got[0] == self._taken:
-            return None
-        self._taken = got[0]
-        return got
-
-    def close(self) -> None:
-        """Stop the reader and release the capture."""
-        self._stop.set()
-        if self._thread is not None:
-            # a read blocked on a stream that went quiet ends when the server closes it; the
-            # capture is not released under a read still running (the thread is a daemon)
-            self._thread.join(timeout=2.0)
-            if self._thread.is_alive():
-                return
-        self.cap.release()
-
-
 def _free_running(args: argparse.Namespace, cfg: dict, port) -> int:
+    from mobigrasp.drivers import realtime
     from mobigrasp.host.app_factory import build_host_app
-    from mobigrasp.link.base import LinkClosed
 
     app = build_host_app(cfg)
-    t0 = time.monotonic()
+    clock = realtime.WallClock()
     try:
-        camera = _OpenCvCamera(args.camera, t0) if args.camera else None
+        camera = realtime.OpenCvCamera(args.camera, clock) if args.camera else None
     except ValueError as exc:
         port.close()
         print(f"mobigrasp host: --camera {args.camera}: {exc}", file=sys.stderr)
         return 2
-    next_frame = 0.0
-    vanished = False
     print(f"host on {args.port} (method {cfg['method']}), Ctrl-C to stop", file=sys.stderr)
     try:
-        while not app.finished:
-            now_us = int((time.monotonic() - t0) * 1e6)
-            data = port.read()
-            if data:
-                app.on_uart(data, now_us)
-            if camera is not None and (camera.live or now_us >= next_frame):
-                got = camera.read(now_us)
-                if got is not None:
-                    app.on_frame(got[0], got[1], max(got[1], app.now_us), got[2])
-                    next_frame = now_us + 1e6 / 15
-            app.advance_to(now_us + 1)
-            # the detectors now, between steps (the pose they read was taken with the frame;
-            # in wall time there is no rig to keep waiting, so no reason to defer them)
-            app.resolve_vision()
-            out = app.take_output(now_us + 1)
-            if out:
-                port.write(b"".join(w for _, w in out))
-            port.wait_readable(0.002)
-    except LinkClosed:
-        # the MCU (or its pty) vanished: a failure whatever the task's state (issue 9)
-        print(f"mobigrasp host: the MCU side closed the port {args.port}; stopping",
-              file=sys.stderr, flush=True)
-        vanished = True
-    except KeyboardInterrupt:
-        print("host: interrupted", file=sys.stderr)
+        why = realtime.run(app, port, clock, camera)
     finally:
         port.close()
         if camera is not None:
             camera.close()
+    if why == "port_closed":  # the MCU (or its pty) vanished: a failure whatever the task's state
+        print(f"mobigrasp host: the MCU side closed the port {args.port}; stopping",
+              file=sys.stderr, flush=True)
+    elif why == "interrupted":
+        print("host: interrupted", file=sys.stderr)
     st = app.stats()
     print(f"host: state {st['state']}, control steps {st['control_steps']}, frames "
           f"{st['frames_processed']}/{st['frames_received']}, protocol "
           f"{json.dumps({k: v for k, v in st['protocol'].items() if k != 'parser'})}",
           file=sys.stderr)
-    return 0 if app.state == "DONE" and not vanished else 1
+    return 0 if app.state == "DONE" and why != "port_closed" else 1
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -209,8 +110,8 @@ def _run(args: argparse.Namespace) -> int:
     except (OSError, ValueError) as exc:
         print(f"mobigrasp host: {exc}", file=sys.stderr)
         return 2
+    from mobigrasp.cosim.heap_tuning import keep_freed_memory
     from mobigrasp.link.registry import open_transport
-    from mobigrasp.tools.heap_tuning import keep_freed_memory
 
     try:  # a port that does not exist or vanished: one line, as console says it
         port = open_transport(args.port)

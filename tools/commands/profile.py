@@ -140,7 +140,7 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary.get('frames_dropped')}, deadline misses {summary.get('deadline_misses')}")
     print(f"would miss its budget first: {first}")
     from mobigrasp.calib.calibrate import load_last
-    from mobigrasp.tools.run_folder import default_run_folder
+    from mobigrasp.cosim.run_folder import default_run_folder
 
     cal = load_last(args.calibration)
     cal_rows, cal_first = calibration_rows(cal)

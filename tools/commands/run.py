@@ -13,8 +13,8 @@ from pathlib import Path
 
 
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.cosim.run_folder import default_run_folder
     from mobigrasp.tools.progress import RunProgress
-    from mobigrasp.tools.run_folder import default_run_folder
     from mobigrasp.tools.run_job import (
         BadInput,
         RunOptions,

@@ -70,7 +70,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.mcu_sim.serve.session import BadSimInput, SimOptions, serve
+    from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
+    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     names = _mcu_names()
     mcu = args.mcu
@@ -87,12 +88,25 @@ def _run(args: argparse.Namespace) -> int:
         print(f"serial: {serial}", flush=True)
         print(f"camera: {camera}", flush=True)
 
+    try:
+        check_seed(args.seed)
+        check_time_limit(args.time_limit_s)
+        resolved = resolve_scenario(args.scenario)
+    except BadInput as exc:
+        print(f"mobigrasp sim: {exc}", file=sys.stderr)
+        return 2
+    from mobigrasp.tools.progress import Progress
+
+    scenario = resolved[1]
+    display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
+                       desc=f"sim {scenario.meta.name}", unit="s simulated",
+                       enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
-                                   time_limit_s=args.time_limit_s, progress=not args.quiet,
-                                   plots=not args.no_plots),
+                                   time_limit_s=args.time_limit_s, progress=display,
+                                   resolved=resolved),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
@@ -100,6 +114,13 @@ def _run(args: argparse.Namespace) -> int:
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
+    if not args.no_plots:
+        try:
+            from mobigrasp.tools.report import write_report
+
+            write_report(Path(summary["run_folder"]))
+        except Exception as exc:  # a plotting failure must not hide the run's result
+            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
     print(f"{summary['scenario']} served to an external host: "
           f"{'GRASPED' if summary['grasped'] else 'not grasped'} ({summary['end_reason']}) in "
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "

@@ -1,13 +1,13 @@
 """``mobigrasp sim`` as a function: a scenario's MCU and world, paced to wall time, served to a
 host program on a pty with the camera over HTTP; the run folder at the end.
 
-The rig and the session loop are those of ``mobigrasp run`` (mcu_sim/rig.py, tools/runner.py):
+The rig and the session loop are those of ``mobigrasp run`` (cosim/rig.py, cosim/session.py):
 simulated time is the rig's, the wall clock only paces it (``speed``). The host side is an
-:class:`~mobigrasp.mcu_sim.serve.external_host.ExternalHost` (whatever opens the pty slave) and
-the grants' frames go to the :class:`~mobigrasp.mcu_sim.serve.mjpeg.CameraServer`. The session
-ends when the program closes the port (after it spoke), at the scenario's time limit, or when
-``stop()`` says so (the command's Ctrl-C/SIGTERM). The run folder is the one ``mobigrasp run``
-writes (summary.json, trace.jsonl, plots/, report.html); ``grasped``, the contacts and the safety
+:class:`~mobigrasp.cosim.serve.external_host.ExternalHost` (whatever opens the pty slave) and the
+grants' frames go to the :class:`~mobigrasp.cosim.serve.mjpeg.CameraServer`. The session ends when
+the program closes the port (after it spoke), at the scenario's time limit, or when ``stop()`` says
+so (the command's Ctrl-C/SIGTERM). The run folder is the one ``mobigrasp run`` writes (summary.json,
+trace.jsonl; the command adds plots/ and report.html); ``grasped``, the contacts and the safety
 block are judged from the world, since an external host reports no task state.
 """
 
@@ -19,6 +19,8 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
+
+from mobigrasp.mcu_sim.backend import MCU_BACKENDS, open_mcu
 
 # quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
 # the rig reads exactly the bytes the ExternalHost announced
@@ -40,8 +42,10 @@ class SimOptions:
     out: Path | None = None
     seed: int | None = None
     time_limit_s: float | None = None
-    progress: bool = True
-    plots: bool = True  # plots/ and report.html at the end
+    # the caller's display: ``update(simulated_s, text)`` and ``close()`` (None: no progress)
+    progress: Any = None
+    # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
+    resolved: tuple[Path, Any] | None = None
 
 
 def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
@@ -59,23 +63,18 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
           stop: Callable[[], str | None] | None = None) -> dict:
     """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
     summary (also written to the run folder). Raises BadSimInput for bad input."""
+    from mobigrasp.cosim.serve.external_host import ExternalHost
+    from mobigrasp.cosim.serve.mjpeg import CameraPortInUse, CameraServer
     from mobigrasp.link.registry import open_transport
-    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
-    from mobigrasp.mcu_sim.serve.external_host import ExternalHost
-    from mobigrasp.mcu_sim.serve.mjpeg import CameraPortInUse, CameraServer
-    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     if opts.mcu not in MCU_BACKENDS:
         raise BadSimInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, "
                           f"got {opts.mcu!r}")
     if not (isinstance(opts.speed, float | int) and 0 < opts.speed <= 100):
         raise BadSimInput(f"--speed must be a number in (0, 100], got {opts.speed!r}")
-    try:
-        check_seed(opts.seed)
-        check_time_limit(opts.time_limit_s)
-        path, scenario = resolve_scenario(opts.scenario)
-    except BadInput as exc:
-        raise BadSimInput(str(exc)) from exc
+    if opts.resolved is None:
+        raise BadSimInput(f"scenario {opts.scenario!r} not resolved")
+    path, scenario = opts.resolved
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
     out = _out_dir(opts, name, seed)
@@ -99,13 +98,12 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
-    from mobigrasp.mcu_sim.backend import open_mcu
+    from mobigrasp.cosim.faulted_host import wrap_for_faults
+    from mobigrasp.cosim.rig import Rig, RigConfig
+    from mobigrasp.cosim.rig_plant import WorldPlant
+    from mobigrasp.cosim.run_folder import TraceWriter, write_summary
+    from mobigrasp.cosim.session import SessionResult, run_session
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
-    from mobigrasp.mcu_sim.faults.wrappers import wrap_for_faults
-    from mobigrasp.mcu_sim.rig import Rig, RigConfig
-    from mobigrasp.mcu_sim.rig_plant import WorldPlant
-    from mobigrasp.tools.run_folder import TraceWriter, write_summary
-    from mobigrasp.tools.runner import SessionResult, run_session
 
     name = scenario.meta.name
     if out.exists():
@@ -138,15 +136,13 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             return "host_closed"
         return stop() if stop is not None else None
 
-    from mobigrasp.tools.progress import Progress
-
-    display = Progress(total=round(limit_s, 1), desc=f"sim {name}", unit="s simulated",
-                       enabled=opts.progress)
+    display = opts.progress
 
     def progress(res, wall):
-        display.update(round(rig.now_us / 1e6, 1),
-                       f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
-                       f"frames {camera.frames_published}")
+        if display is not None:
+            display.update(round(rig.now_us / 1e6, 1),
+                           f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
+                           f"frames {camera.frames_published}")
 
     res = SessionResult()
     on_ready(serial, camera.url)
@@ -163,19 +159,13 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
-        display.close()
+        if display is not None:
+            display.close()
         trace.close()
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
-        summary["mcu_stats"] = mcu.stats() if hasattr(mcu, "stats") else {}
+        summary["mcu_stats"] = mcu.stats()
         summary["faults"], summary["safety"] = fault_rig.summary()
         write_summary(out / "summary.json", summary)
-    if opts.plots:
-        try:
-            from mobigrasp.tools.report import write_report
-
-            write_report(out)
-        except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
     summary["run_folder"] = str(out)
     return summary
 

@@ -7,7 +7,7 @@ slot (``{"path", "offset", "nbytes"}``, docs/cosim.md); the host copies them out
 GRANT. Stdlib only, like the codec.
 
 Slot reuse: the writer hands out slots in turn; the caller must not let a slot come round again
-before the grant that used it was decoded (tools/runner.SocketHost keeps at most 16 grants in flight
+before the grant that used it was decoded (cosim/hosts.SocketHost keeps at most 16 grants in flight
 and the ring has 32 slots, and checks).
 """
 
@@ -18,7 +18,8 @@ import os
 import tempfile
 from typing import Any
 
-from mobigrasp.link.lockstep import LockstepError
+from mobigrasp.cosim import leftovers
+from mobigrasp.cosim.lockstep import LockstepError
 
 DEFAULT_SLOTS = 32
 DEFAULT_SLOT_BYTES = 320 * 240 * 3
@@ -38,7 +39,7 @@ class FrameRing:
             raise ValueError(f"a frame ring needs slots and bytes, got {slots} x {slot_bytes}")
         self.slots = slots
         self.slot_bytes = slot_bytes
-        fd, self.path = tempfile.mkstemp(prefix="mobigrasp-frames-", dir=_shm_dir(directory))
+        fd, self.path = tempfile.mkstemp(prefix=leftovers.prefix("frames"), dir=_shm_dir(directory))
         try:
             os.ftruncate(fd, slots * slot_bytes)
             self._map = mmap.mmap(fd, slots * slot_bytes)

@@ -29,7 +29,9 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, Protocol
 
-from mobigrasp.link.lockstep import Done, FrameBlob, Grant
+from mobigrasp.cosim.lockstep import Done, FrameBlob, Grant
+from mobigrasp.cosim.plant import Plant
+from mobigrasp.mcu_sim.backend import McuBackend
 
 HOST_BAUD = 115_200
 BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
@@ -38,29 +40,6 @@ BITS_PER_BYTE = 10  # 8N1: start + 8 data + stop
 def byte_time_us(n_bytes: int, baud: int = HOST_BAUD) -> int:
     """Integer µs for the last stop bit of ``n_bytes`` sent back to back at ``baud`` 8N1."""
     return -(-n_bytes * BITS_PER_BYTE * 1_000_000 // baud)
-
-
-class McuLike(Protocol):
-    """What the rig needs of mcu_sim.mcu.Mcu (helper B's API)."""
-
-    def advance_to(self, t_us: int) -> None: ...
-    def uart_rx(self, data: bytes, start_us: int) -> None: ...
-    def uart_tx_take(self) -> list[tuple[int, bytes]]: ...
-    def servo_pulse_us(self, ch: int) -> int | None: ...
-    def wheel_duty(self) -> tuple[int, int]: ...
-    def set_encoder_ticks(self, left: int, right: int, t_us: int) -> None: ...
-    def set_sonar_provider(self, fn: Callable[[int], float | None]) -> None: ...
-
-
-class PlantLike(Protocol):
-    """What the rig needs of the plant (world + camera): see mcu_sim/rig_plant.py."""
-
-    def step_to(self, t_us: int) -> None: ...
-    def set_servo_pulse_us(self, ch: int, pulse_us: int) -> None: ...
-    def set_wheel_duty(self, left: int, right: int) -> None: ...
-    def encoder_ticks(self) -> tuple[int, int]: ...
-    def sonar_range_m(self, index: int) -> float | None: ...
-    def capture(self, t_us: int) -> Any: ...  # uint8 (H, W, 3) array, or None without a camera
 
 
 class PortLike(Protocol):
@@ -104,7 +83,7 @@ class RigConfig:
 def _pixels(rgb: Any) -> Any:
     """A frame's pixels for its FrameBlob: a flat read-only view of the array when it is
     contiguous (the array is not written after its capture: the plant's frames are new arrays
-    or read-only, mcu_sim/rig_plant.py), else a copy. The view compares, encodes and
+    or read-only, cosim/rig_plant.py), else a copy. The view compares, encodes and
     np.frombuffer-s like the bytes it saves copying (the frame ring copies it once anyway); it
     cannot be hashed (nothing hashes a grant)."""
     if rgb.flags.c_contiguous:
@@ -119,7 +98,7 @@ class RigPortError(RuntimeError):
 class Rig:
     """Couples an MCU, a plant and a serial port end; grants the host time quantum by quantum."""
 
-    def __init__(self, mcu: McuLike, plant: PlantLike, port: PortLike,
+    def __init__(self, mcu: McuBackend, plant: Plant, port: PortLike,
                  config: RigConfig | None = None,
                  on_frame: Callable[[int, int, Any], None] | None = None) -> None:
         self.mcu = mcu
@@ -142,26 +121,17 @@ class Rig:
                       "frames_captured": 0, "frames_skipped": 0,
                       "grants_early": 0}
         self.camera_on = True
-        # a class of its own that has it (a delegating wrapper falls back to one per channel)
-        self._all_pulses = callable(getattr(type(mcu), "servo_pulses_us", None))
         # _couple runs twice per quantum: its calls are bound once here (through a delegating
         # wrapper every attribute lookup is a __getattr__ call)
-        self._servo_pulse_us = mcu.servo_pulse_us
-        self._servo_pulses_us = mcu.servo_pulses_us if self._all_pulses else None
-        # advance + pulses + duties in one call where the MCU's class offers it
-        self._advance_outputs = (mcu.advance_outputs
-                                 if callable(getattr(type(mcu), "advance_outputs", None))
-                                 else None)
-        self._couple_calls = (mcu.advance_to, mcu.wheel_duty, mcu.set_encoder_ticks,
-                              mcu.uart_tx_take, plant.set_servo_pulse_us, plant.set_wheel_duty,
-                              plant.step_to, plant.encoder_ticks)
+        self._couple_calls = (mcu.advance_outputs, mcu.set_encoder_ticks, mcu.uart_tx_take,
+                              plant.set_servo_pulse_us, plant.set_wheel_duty, plant.step_to,
+                              plant.encoder_ticks)
         # what the plant was last given: a servo pulse or duty that did not change is not sent
         # again (the plant keeps its inputs; they change a few times per second)
         self._pulses_seen: tuple | None = None
         self._duty_sent: tuple[int, int] | None = None
         mcu.set_sonar_provider(self._sonar)
-        probe = getattr(mcu, "tx_idle_through_us", None)
-        self._tx_idle = probe if callable(probe) else None
+        self._tx_idle = mcu.tx_idle_through_us
 
     def _sonar(self, index: int) -> float | None:
         # The MCU polls one sonar at a time; the plant is at the last coupling step.
@@ -213,9 +183,10 @@ class Rig:
         for [now, now+Q), then ``issued`` in order: DONEs without writes; one still to be read
         says so by its ``writes_nothing()``), and the MCU can finish sending
         no byte by ``upto_us`` (``tx_idle_through_us``: its TX line idle, nothing received
-        left to answer, the next telemetry not before it). A grant issued at ``upto_us`` would
+        left to answer, the next telemetry not before it; None: it cannot tell). A grant issued at
+        ``upto_us`` would
         then hold what one issued now holds."""
-        if done.writes or self._tx_idle is None:
+        if done.writes:
             return False
         q = self.config.quantum_us
         between = (upto_us - self.now_us) // q - 1  # quanta after now's, before upto_us
@@ -223,8 +194,7 @@ class Rig:
             return False
         for i in range(between):
             d = issued[i]
-            known = getattr(d, "writes_nothing", None)  # a DONE still to be read (the runner's)
-            if d.writes or (known is not None and not known()):
+            if d.writes or not d.writes_nothing():
                 return False
         if self.config.capture_time_us(self._next_frame) <= upto_us:
             return False
@@ -341,19 +311,9 @@ class Rig:
                 cap = capture_time_us(self._next_frame)
 
     def _couple(self, t_us: int) -> None:
-        (advance, wheel_duty, set_encoders, tx_take, set_servo, set_wheels, step_to,
+        (advance_outputs, set_encoders, tx_take, set_servo, set_wheels, step_to,
          encoders) = self._couple_calls
-        if self._advance_outputs is not None:
-            now, duty = self._advance_outputs(t_us)
-        else:
-            advance(t_us)
-            # one call for all six where the MCU's class offers it
-            if self._servo_pulses_us is not None:
-                now = self._servo_pulses_us()
-            else:
-                one = self._servo_pulse_us
-                now = (one(0), one(1), one(2), one(3), one(4), one(5))
-            duty = wheel_duty()
+        now, duty = advance_outputs(t_us)
         if now != self._pulses_seen:  # the same six values: every one was sent already
             self._pulses_seen = now
             pulses = self._pulses

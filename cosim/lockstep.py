@@ -19,7 +19,7 @@ binary form instead of JSON (kinds 6 and 7, see :func:`encode`): the same messag
 at a fraction of the cost on both sides, every 5 ms quantum.
 
 A GRANT's frames list ``offset``/``nbytes`` into the blob, or ``shared`` (where a frame ring holds
-the pixels: link/frame_ring.py; ``encode(frame_sink=...)``, ``decode_body(frame_source=...)``).
+the pixels: cosim/frame_ring.py; ``encode(frame_sink=...)``, ``decode_body(frame_source=...)``).
 JSON keeps the channel debuggable and lets host events (task transitions, detections) ride in
 DONE; all of it is simulated-time data.
 """
@@ -35,6 +35,8 @@ import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol
+
+from mobigrasp.frozen import built
 
 MAGIC = b"MGLS"
 LOCKSTEP_VERSION = 2  # 2: the compact GRANT and DONE kinds
@@ -135,6 +137,11 @@ class Done:
         """Total UART bytes the rig must read from the pty master for this quantum."""
         return sum(map(_NBYTES, self.writes))
 
+    def writes_nothing(self) -> bool:
+        """Whether the host certainly writes nothing in this quantum (a DONE still to be read
+        answers from the host's promise: mobigrasp.cosim.handshake.PendingDone)."""
+        return not self.writes
+
 
 @dataclass(frozen=True)
 class End:
@@ -189,7 +196,7 @@ def _chunks(meta: dict, key: str) -> tuple[tuple[int, int], ...]:
 
 def encode(msg: Message, frame_sink: Callable[[bytes], dict | None] | None = None) -> bytes:
     """Wire bytes of one lockstep message. ``frame_sink(pixels)`` may take a GRANT's frame
-    pixels out of band (link/frame_ring.py) and return where they are, or None to send them in
+    pixels out of band (cosim/frame_ring.py) and return where they are, or None to send them in
     the blob."""
     compact = _encode_compact(msg)
     if compact is not None:
@@ -293,7 +300,7 @@ def _decode_compact(kind: int, body: bytes) -> Message:
         start, until, n = _GRANT_HEAD.unpack_from(body)
         if start < 0 or until < start:
             raise LockstepError(f"compact GRANT: bad quantum [{start}, {until})")
-        return _built(Grant, start_us=start, until_us=until,
+        return built(Grant, start_us=start, until_us=until,
                       uart=_compact_chunks(body, _GRANT_HEAD.size, n, "GRANT"), frames=())
     if len(body) < _DONE_HEAD.size:
         raise LockstepError(f"compact DONE of {len(body)} bytes")
@@ -306,20 +313,10 @@ def _decode_compact(kind: int, body: bytes) -> Message:
     except UnicodeDecodeError as exc:
         raise LockstepError(f"compact DONE: state is not UTF-8: {exc}") from exc
     writes = _compact_chunks(body, end, n, "DONE")
-    return _built(Done, until_us=until, writes=writes, events=(),
+    return built(Done, until_us=until, writes=writes, events=(),
                   load={"window_us": window, "windows": {}, "state": state,
                         "finished": bool(finished), "camera": bool(camera),
                         "quiet_until": quiet})
-
-
-def _built(cls: type, **fields: Any) -> Any:
-    """The frozen message dataclass ``cls`` with all its ``fields`` given, built without the
-    generated __init__ (which sets each field through object.__setattr__): the compact decoder
-    builds one every quantum. Grant and Done have no __post_init__ to skip; the result is equal
-    to ``cls(**fields)`` (tests/test_lockstep_compact.py)."""
-    obj = object.__new__(cls)
-    obj.__dict__.update(fields)
-    return obj
 
 
 def decode_header(header: bytes) -> tuple[int, int, int]:
@@ -422,7 +419,7 @@ def read_message(stream: _Readable,
 class SocketReader:
     """A blocking reader of a socket that tells how many bytes it holds already read
     (``buffered``): the host answers a batch of GRANTs that arrived together with one write of
-    their DONEs (host/lockstep_client.serve_stream). A BufferedReader cannot say so without
+    their DONEs (drivers/lockstep.serve_stream). A BufferedReader cannot say so without
     blocking when it is empty.
 
     With ``poll_s`` > 0 it polls the socket for up to that long (yielding the CPU between

@@ -9,11 +9,14 @@ answers DONE with the chunks' send times and the trace events of the quantum.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.frame_ring import FrameRingReader
 from mobigrasp.host.app import HostApp, jsonable
 from mobigrasp.host.hal import Camera, CameraFrame, Clock
-from mobigrasp.link import lockstep as ls
 
 
 class LockstepClock(Clock):
@@ -52,6 +55,10 @@ class LockstepCamera(Camera):
     def poll(self) -> CameraFrame | None:
         """The oldest frame not yet returned, or None."""
         return self._queue.pop(0)[1] if self._queue else None
+
+    def close(self) -> None:
+        """Drop the frames not polled (the frame ring is the client's to close)."""
+        self._queue.clear()
 
     def poll_with_arrival(self) -> tuple[int, CameraFrame] | None:
         """Like :meth:`poll`, with the simulated arrival time of the frame."""
@@ -138,10 +145,11 @@ class LockstepClient:
         return ls.Bye(stats=jsonable(self.app.stats()))
 
 
-def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host",
-                 frame_source=None) -> str:
-    """Serve a whole run over a byte stream pair (the Unix socket); returns the END reason.
-    ``frame_source`` reads frames the rig sent out of band (link/frame_ring.FrameRingReader)."""
+def serve_stream(client: LockstepClient, rfile: ls.SocketReader, wfile: Any,
+                 host_id: str = "host", frame_source: Any = None) -> str:
+    """Serve a whole run over the Unix socket (``rfile`` reads it, ``wfile`` writes it); returns
+    the END reason. ``frame_source`` reads frames the rig sent out of band
+    (cosim/frame_ring.FrameRingReader)."""
     wfile.write(ls.encode(ls.Hello(host_id=host_id)))
     wfile.flush()
     out = bytearray()
@@ -155,9 +163,22 @@ def serve_stream(client: LockstepClient, rfile, wfile, host_id: str = "host",
             return msg.reason
         else:
             raise ls.LockstepError(f"host expected GRANT or END, got {type(msg).__name__}")
-        if getattr(rfile, "buffered", 0):
+        if rfile.buffered:
             continue  # more of a batch the rig sent in one write: its DONEs leave together
         wfile.write(out)
         wfile.flush()
         out.clear()
         client.after_done()
+
+
+def serve_socket(client: LockstepClient, sock: Any, poll_s: float = 0.0) -> str:
+    """Serve the rig on the connected Unix socket ``sock`` until it ends the run; its END
+    reason. ``poll_s``: poll the socket that long before sleeping (docs/cosim.md, "Busy
+    polling"). LinkClosed or OSError when the rig or its pty went away (``client.clock`` says
+    how far it got)."""
+    frames = FrameRingReader()
+    try:
+        return serve_stream(client, ls.SocketReader(sock, poll_s=poll_s), sock.makefile("wb"),
+                            host_id="mobigrasp-host", frame_source=frames)
+    finally:
+        frames.close()

@@ -1,10 +1,10 @@
 """The plant as the rig sees it: the pymunk World plus the eye-in-hand camera renderer.
 
-Adapts :class:`mcu_sim.world.world.World` (helper C) and :func:`mcu_sim.world.camera.render`
-(helper D1) to :class:`mcu_sim.rig.PlantLike`. The camera's intrinsics and image options come from
-the scenario's ``[camera]``; its noise is seeded by (world seed, capture time), so a frame depends
-only on simulated state. Ground truth (:meth:`WorldPlant.truth`) goes to the trace, never to the
-host.
+Adapts :class:`mobigrasp.mcu_sim.world.world.World` and the camera renderer
+(mobigrasp.mcu_sim.world.camera) to :class:`mobigrasp.cosim.plant.Plant`. The camera's intrinsics
+and image options come from the scenario's ``[camera]``; its noise is seeded by (world seed, capture
+time), so a frame depends only on simulated state. Ground truth (:meth:`WorldPlant.truth`) goes to
+the trace, never to the host.
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ class WorldPlant:
         self.intrinsics = Intrinsics(f_px=cam.f_px, u0_px=cam.u0_px, v0_px=cam.v0_px)
         self.options = CameraOptions(noise_std=cam.noise_std, blur_px=cam.blur_px,
                                      brightness=cam.brightness)
-        # The PlantLike calls of the rig's coupling step (mcu_sim/rig.py) go straight to the
+        # The Plant calls of the rig's coupling step (cosim/rig.py) go straight to the
         # world: step_to (whole 1 ms physics steps), set_servo_pulse_us (a servo's pulse width
         # from the MCU's timer), set_wheel_duty (the motors' 8-bit PWM duties), encoder_ticks
         # (cumulative counts for the MCU). Bound here, not wrapped: one Python frame less per
@@ -65,7 +65,7 @@ class WorldPlant:
         x, y, _ = self.world.base.pose()
         return x, y
 
-    # ---- PlantLike (with the calls bound in __init__) ------------------------------------
+    # ---- Plant (with the calls bound in __init__) ------------------------------------
     def sonar_range_m(self, index: int) -> float | None:
         """Range of sonar ``index`` (ray casts done once per physics time, all sonars at once)."""
         w = self.world

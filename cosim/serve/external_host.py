@@ -1,6 +1,6 @@
 """A host program the rig does not run: whatever opened the pty slave, in wall time.
 
-The rig (mcu_sim/rig.py) asks its host for a DONE per quantum listing the bytes it wrote. A
+The rig (cosim/rig.py) asks its host for a DONE per quantum listing the bytes it wrote. A
 program on the far end of a pty tells nothing: :class:`ExternalHost` answers for it. At each
 grant it reads what the program has written to the pty so far and reports it as written at the
 quantum's start; the rig then puts those bytes on the MCU's RX line at that time, serialised at
@@ -22,7 +22,8 @@ import os
 from collections.abc import Callable
 from typing import Any
 
-from mobigrasp.link import lockstep as ls
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.handshake import HostTraffic
 from mobigrasp.link.base import LinkClosed
 from mobigrasp.protocol.frame import FrameParser
 from mobigrasp.protocol.messages import MessageError, decode_frame
@@ -68,7 +69,7 @@ class ExternalHost:
     """The host side of a rig whose host is a program on ``transport`` (a ``pty://`` master).
 
     Give :attr:`port` to the Rig as its serial port and this object to the session loop as its
-    host (``exchange``, ``finish``, ``close``)."""
+    host (a :class:`~mobigrasp.cosim.handshake.HostEnd`)."""
 
     def __init__(self, transport: Any, on_frame: Callable[[Any, int], None] | None = None,
                  trace_wire: bool = True) -> None:
@@ -164,6 +165,18 @@ class ExternalHost:
                            for f in self._rx_parser.feed(data)]
         return ls.Done(until_us=grant.until_us, writes=writes, events=tuple(events),
                        load={"camera": True, "state": "EXTERNAL", "finished": False})
+
+    def submit(self, grant: ls.Grant) -> ls.Done:
+        """:meth:`exchange`: the grant is served at once (no pipelining)."""
+        return self.exchange(grant)
+
+    def early_wanted(self, start_us: int) -> bool:
+        """Every early grant: an external host is answered at once."""
+        return True
+
+    def traffic(self) -> HostTraffic:
+        """No lockstep channel to count."""
+        return HostTraffic()
 
     def finish(self, end: ls.End) -> ls.Bye:
         """End of the run: the line's counters as the host's stats."""

@@ -1,8 +1,6 @@
-"""One closed-loop run: the rig's lockstep loop against a host over the pty or in process.
+"""The host ends of a run: the host program in this process, or a subprocess over a socket.
 
-The SIM side (this process) owns simulated time: it grants quanta to the host, writes the trace,
-samples ground truth, snapshots frames at state changes and paces to wall time when asked
-(``speed``; pacing never changes what is simulated). The HOST side is either a subprocess
+Both implement :class:`mobigrasp.cosim.handshake.HostEnd`. The HOST side is either a subprocess
 (``mobigrasp host --port /dev/pts/N --lockstep SOCK``) talking over a Unix socket and the real
 pty, or the same objects called directly (``inproc``) with the lockstep messages still passed
 through the codec, so both transports see byte-identical data.
@@ -18,46 +16,20 @@ import sys
 import tempfile
 import time
 from collections import deque
-from collections.abc import Callable
-from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from mobigrasp.link import lockstep as ls
-from mobigrasp.link.frame_ring import FrameRing
-
-TERMINAL_STATES = ("DONE", "FAILED")
-
-
-def quiet_done(grant: ls.Grant, last_load: dict) -> ls.Done | None:
-    """The DONE the host gives for ``grant`` without being asked, or None if it cannot be told.
-
-    A grant that brings no UART bytes and no frames, ends at or before the host's ``quiet_until``
-    (from ``last_load``, the load of the host's last DONE, itself covering every quantum since)
-    and finishes no load window gives the host nothing to do: it writes nothing, changes no
-    state, task or camera wish (its quiet_until promise, docs/cosim.md), logs no event (events
-    come from ticks, frames and received bytes) and reports no window (windows are reported at
-    the quantum that ends them). Its DONE is therefore known: the rig need not send that grant
-    at all ("elided" grants). The host's clock simply jumps over it to the next grant it gets.
-    Checked against the real DONEs by ``verify_elided`` (tests/test_runner_elision.py)."""
-    if grant.uart or grant.frames or not last_load:
-        return None
-    quiet = last_load.get("quiet_until", -1)
-    window = last_load.get("window_us")
-    if (type(quiet) is not int or grant.until_us > quiet or type(window) is not int
-            or window <= 0 or grant.until_us // window != grant.start_us // window):
-        return None
-    return ls.Done(until_us=grant.until_us, writes=(), events=(),
-                   load={"window_us": window, "windows": {}, "state": last_load.get("state"),
-                         "finished": last_load.get("finished"),
-                         "camera": last_load.get("camera"), "quiet_until": quiet})
-
-
-def check_elided(predicted: ls.Done, real: ls.Done) -> None:
-    """LockstepError unless the DONE predicted for an elided grant is the host's real one."""
-    if predicted != real:
-        raise ls.LockstepError(f"elided grant ending at {real.until_us} us: predicted DONE "
-                               f"{predicted!r}, the host answered {real!r}")
+from mobigrasp.cosim import leftovers
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.frame_ring import FrameRing
+from mobigrasp.cosim.handshake import (
+    HostTraffic,
+    PendingDone,
+    Ticket,
+    check_elided,
+    needed,
+    quiet_done,
+)
 
 
 class InprocHost:
@@ -74,6 +46,14 @@ class InprocHost:
     def submit(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant now (in process nothing runs beside the rig)."""
         return self.exchange(grant)
+
+    def early_wanted(self, start_us: int) -> bool:
+        """Every early grant helps: in process the host answers at once."""
+        return True
+
+    def traffic(self) -> HostTraffic:
+        """Wall seconds in the host program and grants elided (no socket writes)."""
+        return HostTraffic(wall_host_s=self.wall_host_s, elided=self.elided)
 
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Serve one grant (a GRANT holds only ints and bytes: passed as is; the DONE goes
@@ -105,72 +85,6 @@ class InprocHost:
         """Nothing to release."""
 
 
-@dataclass(frozen=True)
-class PendingDone(ls.Done):
-    """The DONE of a grant sent ahead (pipelining, docs/cosim.md). With a promise (the grant
-    ends at or before the host's ``quiet_until``): no bytes, and the state, finished and camera
-    flags of the last DONE read; the rig may complete the quantum with it. Without one it is only
-    a claim on the DONE: :func:`needed` reads it. Either way its events and load windows arrive
-    later: :func:`resolved` (which applies ``fix``, a wrapper's change to the real DONE)."""
-
-    ticket: Any = field(default=None, compare=False)
-    fix: Any = field(default=None, compare=False)
-
-    @property
-    def promised(self) -> bool:
-        """Whether the rig may complete the quantum before the real DONE is read."""
-        return self.ticket is not None and self.ticket.promised is not None
-
-    def writes_nothing(self) -> bool:
-        """Whether the host certainly writes nothing in this quantum: its real DONE, read,
-        has no writes, or the host promised so (also in a DONE read after the grant was sent).
-        Rig.quiet_through asks, to issue a grant early."""
-        t = self.ticket
-        if t is None:
-            return not self.writes
-        if t.done is not None:
-            return not t.done.writes
-        return t.promised is not None or t.host.promise(t)
-
-
-@dataclass
-class _Ticket:
-    """One grant whose DONE is still to be read from the socket."""
-
-    host: Any
-    start_us: int
-    until_us: int
-    promised: dict | None = None  # the provisional load of a PendingDone
-    done: ls.Done | None = None
-    predicted: ls.Done | None = None  # an elided grant's DONE, sent anyway to be checked
-
-
-def resolved(done: ls.Done, block: bool = True) -> ls.Done | None:
-    """The real DONE behind ``done`` (itself unless pending); None if not read yet and not
-    ``block``."""
-    if not isinstance(done, PendingDone):
-        return done
-    t = done.ticket
-    if t.done is None and block:
-        t.host.read_through(t)
-    if t.done is None or done.fix is None:
-        return t.done
-    return done.fix(t.done)
-
-
-def needed(done: ls.Done) -> ls.Done:
-    """What the rig completes its quantum with: ``done`` itself, or a promised PendingDone (also
-    one the host promised in a DONE read after the grant was sent), or else the real DONE, read
-    now."""
-    if not isinstance(done, PendingDone) or done.promised:
-        return done
-    t = done.ticket
-    if t.done is None and t.host.promise(t):
-        return replace(done, load=t.promised)
-    real = resolved(done, block=True)
-    assert real is not None
-    return real
-
 
 class SocketHost:
     """A host subprocess on the other end of a Unix socket (and of the pty).
@@ -185,7 +99,7 @@ class SocketHost:
     other promised grants without frames wait in an outbox and leave together with the next
     grant the rig will need an answer to, one with frames (so vision starts early) or the last
     one before ``quiet_until`` (so the host parses their bytes before its tick), in one write;
-    the host answers such a batch in one write too (host/lockstep_client.serve_stream).
+    the host answers such a batch in one write too (drivers/lockstep.serve_stream).
     Messages and DONEs are the same as one by one."""
 
     max_ahead = 16
@@ -196,7 +110,7 @@ class SocketHost:
         """Start the host process; with ``connect`` (default) also wait for its HELLO, else
         call :meth:`connect` later (the caller builds its side while the host boots).
         ``poll_ms`` > 0: wait for the host's DONEs by polling the socket that long before
-        sleeping (link.lockstep.SocketReader; docs/cosim.md, "Busy polling")."""
+        sleeping (cosim.lockstep.SocketReader; docs/cosim.md, "Busy polling")."""
         if not poll_ms >= 0.0:
             raise ValueError(f"poll_ms must be >= 0, got {poll_ms!r}")
         self._poll_s = poll_ms / 1000.0
@@ -204,13 +118,16 @@ class SocketHost:
         self.elided = 0
         self.messages_sent = 0  # socket writes of grants (profiling and tests)
         self._outbox = bytearray()  # encoded grants not written yet
-        self._waiting: deque[_Ticket] = deque()
+        self._waiting: deque[Ticket] = deque()
         self._quiet_until = -1
         self._last_load: dict = {}
-        self._ring: FrameRing | None = None  # frames out of band (link/frame_ring.py)
+        self._ring: FrameRing | None = None  # frames out of band (cosim/frame_ring.py)
         self.wall_host_s = 0.0  # wall seconds blocked on the host's DONEs (profiling only)
-        self._encoding: _Ticket | None = None
-        self._dir = tempfile.TemporaryDirectory(prefix="mobigrasp-ls-")
+        self._encoding: Ticket | None = None
+        self.conn: socket.socket | None = None  # set by connect()
+        self.rfile: ls.SocketReader | None = None
+        self.wfile: Any = None
+        self._dir = tempfile.TemporaryDirectory(prefix=leftovers.prefix("ls"))
         self.path = os.path.join(self._dir.name, "lockstep.sock")
         self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         self._server.bind(self.path)
@@ -233,6 +150,7 @@ class SocketHost:
             self.proc.kill()
             raise ls.LockstepClosed(f"host process did not connect within {timeout} s"
                                     ) from exc
+        os.unlink(self.path)  # both ends have the connection: the name is not needed again
         self.conn.settimeout(timeout)  # safety limit only
         self.rfile = ls.SocketReader(self.conn, poll_s=self._poll_s)
         self.wfile = self.conn.makefile("wb")
@@ -278,7 +196,7 @@ class SocketHost:
     def submit(self, grant: ls.Grant) -> PendingDone:
         """Send a grant; never waits (but for the ``max_ahead``-th grant in flight): the DONE
         is a promise when the host's ``quiet_until`` covers the grant, else a claim."""
-        ticket = _Ticket(self, grant.start_us, grant.until_us)
+        ticket = Ticket(self, grant.start_us, grant.until_us)
         # DONEs still on their way end before this grant, inside the same quiet_until promise:
         # the last one read speaks for them
         predicted = quiet_done(grant, self._last_load)
@@ -314,7 +232,7 @@ class SocketHost:
         instead of being elided or batched once the tick's DONE is read."""
         return start_us <= self._quiet_until
 
-    def promise(self, ticket: _Ticket) -> bool:
+    def promise(self, ticket: Ticket) -> bool:
         """Whether the last DONE read promises ``ticket``'s quantum quiet (its ``quiet_until``
         covers it); if so the promise is recorded on the ticket, to be checked when the real
         DONE is read."""
@@ -325,12 +243,17 @@ class SocketHost:
                                "camera": last.get("camera")}
         return ticket.promised is not None
 
+    def traffic(self) -> HostTraffic:
+        """Wall seconds blocked on the host's DONEs, grants elided, socket writes of grants."""
+        return HostTraffic(wall_host_s=self.wall_host_s, elided=self.elided,
+                           messages_sent=self.messages_sent)
+
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """Send a grant; wait for its DONE, or answer a quiet one with a PendingDone."""
         done = self.submit(grant)
         return needed(done)
 
-    def read_through(self, ticket: _Ticket) -> None:
+    def read_through(self, ticket: Ticket) -> None:
         """Read DONEs in order until ``ticket``'s has arrived (sending what waits in the outbox
         first)."""
         if ticket.done is None and self._outbox:
@@ -377,13 +300,13 @@ class SocketHost:
 
     def close(self) -> None:
         """Close the socket and reap the host process."""
-        for f in (getattr(self, "rfile", None), getattr(self, "wfile", None)):
+        for f in (self.rfile, self.wfile):
             try:
                 if f is not None:
                     f.close()
             except OSError:
                 pass
-        if hasattr(self, "conn"):
+        if self.conn is not None:
             self.conn.close()
         if self._ring is not None:
             self._ring.close()
@@ -396,146 +319,7 @@ class SocketHost:
         self._dir.cleanup()
 
 
-@dataclass
-class SessionResult:
-    """What the loop knows at its end (also when it ended by an exception)."""
 
-    reason: str = "running"
-    end_us: int = 0
-    wall_s: float = 0.0
-    host_state: str = "INIT"
-    host_finished: bool = False
-    host_stats: dict = field(default_factory=dict)
-    state_enter_us: dict = field(default_factory=dict)
-    state_durations_us: dict = field(default_factory=dict)
-    error: str | None = None
-
-
-def run_session(rig: Any, host: Any, trace: Any, *, time_limit_us: int,
-                truth: Callable[[int], dict] | None = None, truth_period_us: int = 100_000,
-                on_host_event: Callable[[dict], None] | None = None,
-                on_quantum: Callable[[int], None] | None = None,
-                speed: float | None = None, settle_us: int = 500_000,
-                progress: Callable[[SessionResult, float], None] | None = None,
-                stop: Callable[[], str | None] | None = None,
-                result: SessionResult | None = None) -> SessionResult:
-    """Run quanta until the host's task ends (plus ``settle_us``), ``stop()`` says so, or the
-    time limit. ``speed`` = None runs as fast as possible, else sim/wall = speed (pacing only).
-    ``result`` is filled in place, so a caller still has it when the loop raises."""
-    res = result if result is not None else SessionResult()
-    wall0 = time.perf_counter()
-    next_truth = 0
-    next_progress = 0.0
-    finished_at: int | None = None
-    state_since = 0
-    # Trace work in quantum order: a PendingDone (pipelined grant) holds back what follows it
-    # until its real DONE is read, so the trace is the same as answered one by one.
-    backlog: deque[tuple[str, Any]] = deque()
-    inflight: deque[ls.Done] = deque()  # DONEs of grants issued, for quanta not completed yet
-    submit = getattr(host, "submit", host.exchange)  # a host without it answers each at once
-    early_wanted = getattr(host, "early_wanted", None)  # in process: every early grant
-
-    def handle(done: ls.Done) -> None:
-        nonlocal state_since, finished_at
-        for ev in done.events:
-            trace.write({"src": "host", **ev})
-            if ev.get("ev") == "state" and "to" in ev:
-                frm = str(ev.get("from", res.host_state))
-                res.state_durations_us[frm] = (res.state_durations_us.get(frm, 0)
-                                               + ev["t_us"] - state_since)
-                state_since = ev["t_us"]
-                res.state_enter_us.setdefault(str(ev["to"]), ev["t_us"])
-                res.host_state = str(ev["to"])
-            if on_host_event is not None:
-                on_host_event(ev)
-        windows = done.load.get("windows")
-        if windows:  # at most one quantum per load window has them
-            for k, v in sorted(windows.items(), key=lambda i: int(i[0])):
-                trace.write({"ev": "load", "t_us": int(k) * done.load["window_us"],
-                             "window_us": done.load["window_us"], "load": v})
-        res.host_state = str(done.load.get("state", res.host_state))
-        if done.load.get("finished") and finished_at is None:
-            finished_at = done.until_us
-            res.host_finished = True
-
-    def drain(block: bool) -> None:
-        while backlog:
-            kind, item = backlog[0]
-            if kind == "line":
-                trace.write(item)
-            else:
-                real = resolved(item, block)
-                if real is None:
-                    return
-                handle(real)
-            backlog.popleft()
-
-    try:
-        while True:
-            now = rig.now_us
-            if truth is not None and now >= next_truth:
-                backlog.append(("line", {"ev": "truth", "t_us": now, **truth(now)}))
-                drain(block=False)
-                next_truth += truth_period_us
-            # a pending DONE never changes finished or state (SocketHost checks the promise)
-            if finished_at is not None and now >= finished_at + settle_us:
-                res.reason = "task_" + res.host_state.lower()
-                break
-            if now >= time_limit_us:
-                res.reason = "time_limit"
-                break
-            if stop is not None and (why := stop()):
-                res.reason = why
-                break
-            # the DONE of [now, now+Q) (its grant first if not issued yet), then the grants up to
-            # now + (1 + host_lag_quanta) quanta, or one more when it would be the same later
-            # (Rig.grants_due): issued after that DONE was read, they are more often covered by
-            # its quiet_until (so not sent, or sent in one batch); the grants hold only what the
-            # MCU and camera produced before now either way
-            if not inflight:
-                inflight.append(submit(rig.grant()))
-            done = needed(inflight.popleft())
-            # (asked again while it says more: a grant two quanta early needs the DONE of the
-            # one before it, issued by the previous round)
-            while due := rig.grants_due(done, early_wanted, inflight):
-                for _ in range(due):
-                    inflight.append(submit(rig.grant()))
-            backlog.append(("done", done))
-            # a DONE read now (also one a fault wrapper made up for a silent host) settles
-            # everything before it: those DONEs were sent before it
-            drain(block=not isinstance(done, PendingDone))
-            rig.complete(done)
-            if on_quantum is not None:
-                on_quantum(rig.now_us)
-            wall = time.perf_counter() - wall0
-            if speed is not None:
-                ahead = rig.now_us / 1e6 / speed - wall
-                if ahead > 0:
-                    time.sleep(ahead)  # pacing policy of the tool, never of the simulation
-            if progress is not None and wall >= next_progress:
-                progress(res, wall)
-                next_progress = wall + 0.5
-    except BaseException as exc:
-        res.reason = "crashed"
-        res.error = f"{type(exc).__name__}: {exc}"
-        raise
-    finally:
-        drain(block=res.reason != "crashed")
-        res.end_us = rig.now_us
-        res.state_durations_us[res.host_state] = (res.state_durations_us.get(res.host_state, 0)
-                                                  + res.end_us - state_since)
-        res.wall_s = time.perf_counter() - wall0
-        if res.reason != "crashed":
-            bye = host.finish(ls.End(at_us=rig.now_us, reason=res.reason))
-            res.host_stats = bye.stats
-            trace.write({"ev": "end", "t_us": rig.now_us, "reason": res.reason,
-                         "host_state": res.host_state})
-    return res
-
-
-# How long the host process of a run at full speed polls for the next grant before it sleeps
-# (docs/cosim.md, "Busy polling"): longer than the rig takes between two grants but for rare
-# stalls (a plan among obstacles), so a host left alone still goes to sleep.
 HOST_POLL_MS = 100.0
 
 

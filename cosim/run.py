@@ -1,0 +1,180 @@
+"""One run's wiring: host end, MCU, plant, fault wrappers and rig, the session, the run folder.
+
+:func:`run_scenario` is what ``mobigrasp run`` does once its options are checked and its run
+folder prepared (mobigrasp.tools.run_job). The summary is always written, also when the run
+crashes midway (status "crashed" with the error and what is known at that point); while it
+runs, summary.json says "running" with the simulated time reached, at least every simulated
+:data:`SUMMARY_PERIOD_US`, so a run killed outright leaves a summary that says how far it got.
+SIGTERM ends a run as Ctrl-C does (status "interrupted", everything released).
+"""
+
+from __future__ import annotations
+
+import logging
+import signal
+import sys
+import tempfile
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from mobigrasp.cosim import leftovers
+from mobigrasp.cosim.hosts import HOST_POLL_MS, InprocHost, SocketHost, host_argv, write_host_config
+from mobigrasp.cosim.session import SessionResult, run_session
+from mobigrasp.link.registry import inproc_pair, open_transport
+
+log = logging.getLogger(__name__)
+SUMMARY_PERIOD_US = 5_000_000  # a running summary at least this often, in simulated time
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run, its options checked (mobigrasp.tools.run_job.RunOptions) and resolved."""
+
+    scenario: Any  # mobigrasp.mcu_sim.world.scenario.Scenario
+    scenario_file: Path
+    seed: int
+    plan: Any  # mobigrasp.mcu_sim.faults.plan.FaultPlan
+    out: Path  # the run folder, prepared and empty
+    host_config: dict
+    time_limit_s: float
+    # builds the host program's lockstep client on an in-process serial end (transport inproc)
+    inproc_client: Callable[[Any], Any] | None = None
+    transport: str = "pty"
+    mcu: str = "python"  # MCU backend (mobigrasp.mcu_sim.backend)
+    speed: float | None = None
+    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
+    progress: Any = True
+    quantum_us: int = 5_000
+    couple_us: int = 2_500
+    host_lag_quanta: int = 1
+    after_crash_s: float | None = 2.0
+    on_frame: Callable[[int, int, Any], None] | None = None  # each captured frame, as well
+
+
+def _progress(res: SessionResult, wall: float, now_us: int) -> None:
+    rtf = now_us / 1e6 / wall if wall > 0 else 0.0
+    print(f"\r  t={now_us / 1e6:7.2f} s  state={res.host_state:<14} rtf={rtf:6.1f}x ",
+          end="", file=sys.stderr, flush=True)
+
+
+def _terminated(signum: int, frame: Any) -> None:
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+@contextmanager
+def _sigterm_as_interrupt() -> Iterator[None]:
+    """SIGTERM raises KeyboardInterrupt while a run goes on (so its folder is finished and its
+    processes, shared memory and temporary folders released, as after Ctrl-C)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield  # signals reach the main thread only
+        return
+    before = signal.signal(signal.SIGTERM, _terminated)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, before)
+
+
+def run_scenario(spec: RunSpec) -> dict:
+    """Run ``spec``; the summary (also written to ``spec.out / "summary.json"``)."""
+    with _sigterm_as_interrupt():
+        return _run(spec)
+
+
+def _run(spec: RunSpec) -> dict:
+    leftovers.sweep()  # what runs killed outright left behind (names carry their pid)
+    scenario, seed, out = spec.scenario, spec.seed, spec.out
+    name = scenario.meta.name
+    tmpdir = tempfile.TemporaryDirectory(prefix=leftovers.prefix("run"))
+    early = port = None
+    try:
+        if spec.transport == "pty":
+            # one OpenCV thread for the renderer: on a two-core machine its default pool takes
+            # the host process's core in the middle of a frame (frames are the same either way)
+            import cv2
+            cv2.setNumThreads(1)
+            # the host process boots (~0.5 s of imports) while this side imports and builds
+            # its half (docs/cosim.md, "Start-up")
+            port = open_transport("pty://")
+            cfg_path = write_host_config(Path(tmpdir.name) / "host.json", spec.host_config)
+            # at full speed the host polls for its grants and the rig for its DONEs instead of
+            # sleeping (HOST_POLL_MS); paced (--speed N) both have time to sleep
+            poll_ms = HOST_POLL_MS if spec.speed is None else 0.0
+            early = SocketHost(host_argv(port.slave_path, cfg_path, poll_ms), connect=False,
+                               poll_ms=poll_ms)
+        # the SIM half's heavy imports (pymunk, the renderer) while the host process boots
+        from mobigrasp.cosim.sim_side import SimSide
+
+        sim = SimSide(scenario, seed, out, spec.scenario_file, spec.transport, spec.plan,
+                      spec.mcu, spec.on_frame)
+    except BaseException:
+        if early is not None:  # not connected yet: it sees the socket go and exits
+            early.close()
+        if port is not None:
+            port.close()
+        tmpdir.cleanup()
+        raise
+    return _session(spec, sim, early, port, tmpdir, name)
+
+
+def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
+             tmpdir: tempfile.TemporaryDirectory, name: str) -> dict:
+    summary, plant = sim.summary, sim.plant
+    host: Any = early
+    peer = None
+    res = SessionResult()
+    try:
+        if early is not None:
+            early.connect()
+        else:
+            if spec.inproc_client is None:
+                raise ValueError("an in-process run needs RunSpec.inproc_client")
+            port, peer = inproc_pair(f"run-{name}-{spec.seed}")
+            host = InprocHost(spec.inproc_client(peer))
+        host = sim.wire(spec, host, port)
+        rig = sim.rig
+        progress = None
+        if callable(spec.progress):  # a display of the caller's (tools.progress.RunProgress)
+            def progress(r, wall):
+                spec.progress(rig.now_us, r.host_state, wall)
+        elif spec.progress:
+            def progress(r, wall):
+                _progress(r, wall, rig.now_us)
+        summary["status"] = "running"
+        next_summary_us = sim.write_running(0, SUMMARY_PERIOD_US)
+
+        def on_quantum(t_us: int) -> None:
+            nonlocal next_summary_us
+            plant.sample_path()
+            if t_us >= next_summary_us:
+                next_summary_us = sim.write_running(t_us, SUMMARY_PERIOD_US)
+
+        run_session(rig, host, sim.trace, result=res,
+                    time_limit_us=int(spec.time_limit_s * 1e6), truth=plant.truth,
+                    on_host_event=sim.snaps.on_host_event, on_quantum=on_quantum,
+                    speed=spec.speed, progress=progress,
+                    stop=None if spec.after_crash_s is None else (
+                        lambda: sim.fault_rig.stop_reason(int(spec.after_crash_s * 1e6))))
+        summary["status"] = "finished"
+    except KeyboardInterrupt:
+        summary["status"] = "interrupted"  # written below, then Ctrl-C goes on up
+        raise
+    except Exception as exc:
+        summary["status"] = "crashed"
+        summary["error"] = f"{type(exc).__name__}: {exc}"
+        log.error("run crashed: %s", summary["error"])
+    finally:
+        if spec.progress is True:
+            print("", file=sys.stderr)
+        if host is not None:
+            host.close()
+        for t in (port, peer):
+            if t is not None:
+                t.close()
+        tmpdir.cleanup()
+        sim.finish(res, None if host is None else host.traffic(), spec.time_limit_s)
+    return summary

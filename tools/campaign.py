@@ -69,7 +69,7 @@ def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
     """TOML of random scenario ``seed`` of ``method`` with the plan's ``[faults]``."""
     from mobigrasp.tools.random_scenarios import random_scenario_toml
 
-    return random_scenario_toml(method, seed, faults=False) + "\n" + plan.to_toml()
+    return random_scenario_toml(method, seed, "v1") + "\n" + plan.to_toml()  # its own faults
 
 
 def make_scenario(method: str, seed: int, plan: FaultPlan) -> Scenario:

@@ -343,6 +343,12 @@ def test_no_grasp_without_the_object_itself_seen(cylinder_seen):
         assert task.state == "FAILED" and "no graspable object found" in task.failure
 
 
+def test_a_given_object_place_counts_as_found():
+    """001 §II: P_i given; the grasp is tried on it even if the camera never saw the marker."""
+    assert Task("001", params={"object_xy_mm": (1500, 200)}).graspable_seen
+    assert not Task("001").graspable_seen
+
+
 def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighting():
     from mobigrasp.host.search import SearchParams
     from mobigrasp.host.task import grasp as task_grasp

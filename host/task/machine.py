@@ -182,7 +182,8 @@ class Task:
         self.path_from = None  # 001: odometry place where the last planned path began
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
-        self.graspable_seen = False  # the object itself (not a guide board) has been seen
+        # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)
+        self.graspable_seen = bool(self.p.object_xy_mm)
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0

@@ -367,3 +367,20 @@ def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighti
         sp = SearchParams(**far.p.search)
         assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
         assert far.arm[5] > 300  # the object is to the right (negative odometry y)
+
+
+@pytest.mark.parametrize("sighted", [False, True])
+def test_check_by_absence_needs_the_object_seen_once(sighted):
+    """001's check by absence: DONE only if the camera saw the object in the run at all."""
+    from mobigrasp.host.task import grasp as task_grasp
+
+    task = Task("001", params={"object_xy_mm": (1500, 0)})
+    task.object_sighted = sighted
+    task.go(0, "LIFT", "test")
+    task.entry_pending = False
+    task.phase, task.phase_us, task.move_done_us = "check", 0, 0
+    task.check_waist = (0, len(task_grasp.CHECK_WAIST_MRAD) - 1)
+    task_grasp.GRASP._check(task, 10_000_000)
+    assert task.state == ("DONE" if sighted else "ADJUST")
+    if not sighted:
+        assert task.gripper == 0 and "absence is no evidence" in task._events[-1].why

@@ -387,6 +387,10 @@ class GraspStates:
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
+        if not t.rules.held_look and not t.object_sighted:
+            # never seen by the camera in this scene: not seeing it now says nothing
+            self.missed(t, now, "the object was never seen, its absence is no evidence")
+            return
         if not t.rules.held_look:
             t.go(now, "DONE", f"object lifted by {t.p.lift_mm} mm and not seen standing "
                  f"(grasp check by absence, docs/task.md)")

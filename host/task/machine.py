@@ -184,6 +184,7 @@ class Task:
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
         # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)
         self.graspable_seen = bool(self.p.object_xy_mm)
+        self.object_sighted = False  # ... by the camera (the check by absence needs it)
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
@@ -289,7 +290,7 @@ class Task:
         self.obj = platform_to_odom_mm(x, y, h, self.p.mount_forward_mm, p)
         self.obj_seen_us = now
         if name in self.rules.object_detectors:
-            self.graspable_seen = True
+            self.graspable_seen = self.object_sighted = True
         if name == "dual_plus":
             self._remember_plus(det, joints, (x, y, h))
         return True

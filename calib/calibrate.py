@@ -41,8 +41,10 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("dark_threshold", FRONT_END),
           StageDef("labelling", FRONT_END),
           # a detector's stage: its work after the front end, per call
-          StageDef("radial_symbol", ("radial_symbol",)))
-DETECTOR_STAGES = ("radial_symbol",)
+          StageDef("radial_symbol", ("radial_symbol",)),
+          # the 002 detector works on the RGB frame itself: the whole detector
+          StageDef("red_cylinder", ("red_cylinder",)))
+DETECTOR_STAGES = ("radial_symbol", "red_cylinder")
 
 
 def modelled_us(stage: str, height: int, width: int) -> float:
@@ -134,10 +136,11 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
         dets = {c.detector for c in calls}
         active = [s.name for s in STAGES if dets & set(s.detectors)
                   and s.name not in DETECTOR_STAGES]
-        py = _python_stages(rgb)
-        emu = front.run(rgb, upto="labelling" if dets & set(FRONT_END) else "grey")
-        for name in active:
-            add(name, _same(emu[name][0], py[name][0]), py[name][1], emu[name][1])
+        if active:
+            py = _python_stages(rgb)
+            emu = front.run(rgb, upto="labelling" if dets & set(FRONT_END) else "grey")
+            for name in active:
+                add(name, _same(emu[name][0], py[name][0]), py[name][1], emu[name][1])
         front_cycles = dark_blobs.front_end_min_ops(h, w).cycles()
         for c in calls:
             if c.detector == "radial_symbol":
@@ -145,6 +148,11 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.radial_symbol(*c.camera)
                 want = None if res is None else dataclasses.astuple(res)
                 add("radial_symbol", got == want, ops.cycles() - front_cycles, t)
+            elif c.detector == "red_cylinder":
+                res, ops = DETECTORS["red_cylinder"].host_call(rgb, c.camera, None)
+                got, t = front.red_cylinder(rgb)
+                want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
+                add("red_cylinder", got == want, ops.cycles(), t)
         if progress is not None:
             progress(f"calibrate: frame {k + 1}/{len(frames)} ({fr['file']})")
     us = 1e6 / FCLK_HZ

@@ -17,7 +17,8 @@ from pathlib import Path
 import numpy as np
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
-SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c")
+SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
+           "red_cylinder.c")
 CDEF = """
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
@@ -29,6 +30,9 @@ int32_t mg_radial_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_t *stats,
                          int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
                          uint8_t *scratch, int32_t *out);
+int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
+                        int32_t *out);
 """
 
 
@@ -146,3 +150,16 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
     m, _ = dark_mask(grey(rgb))
     _, _, stats = label(m)
     return radial_symbol(grey(rgb), stats, f_px, u0_px, v0_px)
+
+
+def detect_red_cylinder(rgb: np.ndarray) -> tuple[int, ...] | None:
+    """(u_c_q4, v_c_q4, ring1_v_q4, ring2_v_q4, d_pixel_q4, width_q4, x, y, w, h) of the 002
+    red cylinder in C, or None."""
+    ffi, c = lib()
+    img = np.ascontiguousarray(rgb)
+    h, w = img.shape[:2]
+    scratch = np.empty(c.mg_red_scratch_bytes(w, h) // 4 + 1, np.int32)
+    out = np.zeros(10, np.int32)
+    found = c.mg_red_cylinder(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
+                              _ptr(ffi, out, "int32_t *"))
+    return tuple(int(v) for v in out) if found else None

@@ -36,7 +36,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-from mobigrasp.frozen import built
+from mobigrasp.protocol.frozen import built
 
 MAGIC = b"MGLS"
 LOCKSTEP_VERSION = 2  # 2: the compact GRANT and DONE kinds

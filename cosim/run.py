@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import logging
 import signal
-import sys
 import tempfile
 import threading
 from collections.abc import Callable, Iterator
@@ -46,19 +45,13 @@ class RunSpec:
     transport: str = "pty"
     mcu: str = "python"  # MCU backend (mobigrasp.mcu_sim.backend)
     speed: float | None = None
-    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
-    progress: Any = True
+    # a display (tools.progress.RunProgress), called as (now_us, state, wall_s); None: none
+    progress: Any = None
     quantum_us: int = 5_000
     couple_us: int = 2_500
     host_lag_quanta: int = 1
     after_crash_s: float | None = 2.0
     on_frame: Callable[[int, int, Any], None] | None = None  # each captured frame, as well
-
-
-def _progress(res: SessionResult, wall: float, now_us: int) -> None:
-    rtf = now_us / 1e6 / wall if wall > 0 else 0.0
-    print(f"\r  t={now_us / 1e6:7.2f} s  state={res.host_state:<14} rtf={rtf:6.1f}x ",
-          end="", file=sys.stderr, flush=True)
 
 
 def _terminated(signum: int, frame: Any) -> None:
@@ -141,9 +134,6 @@ def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
         if callable(spec.progress):  # a display of the caller's (tools.progress.RunProgress)
             def progress(r, wall):
                 spec.progress(rig.now_us, r.host_state, wall)
-        elif spec.progress:
-            def progress(r, wall):
-                _progress(r, wall, rig.now_us)
         summary["status"] = "running"
         next_summary_us = sim.write_running(0, SUMMARY_PERIOD_US)
 
@@ -168,8 +158,6 @@ def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
         summary["error"] = f"{type(exc).__name__}: {exc}"
         log.error("run crashed: %s", summary["error"])
     finally:
-        if spec.progress is True:
-            print("", file=sys.stderr)
         if host is not None:
             host.close()
         for t in (port, peer):

@@ -218,9 +218,11 @@ def safe_component(name: str) -> str:
     return safe
 
 
-def default_run_folder(name: str, seed: int, runs_root: Path = RUNS_ROOT) -> Path:
-    """``<runs_root>/<sanitised name>-<seed>``: always one folder directly under the root."""
-    return Path(runs_root) / f"{safe_component(name)}-{int(seed)}"
+def default_run_folder(name: str, seed: int, runs_root: Path = RUNS_ROOT,
+                       suffix: str = "") -> Path:
+    """``<runs_root>/<sanitised name>-<seed><suffix>``: always one folder directly under the
+    root (``suffix`` is the command's own, e.g. ``-sim``, of the same safe characters)."""
+    return Path(runs_root) / safe_component(f"{safe_component(name)}-{int(seed)}{suffix}")
 
 
 def _clean_previous_run(out: Path) -> None:
@@ -242,7 +244,7 @@ def _clean_previous_run(out: Path) -> None:
 
 
 def prepare_run_folder(out: Path | None, name: str, seed: int,
-                       runs_root: Path = RUNS_ROOT) -> Path:
+                       runs_root: Path = RUNS_ROOT, suffix: str = "") -> Path:
     """The folder a run writes into, ready for it; RunFolderError when it cannot be used.
 
     ``out`` None: :func:`default_run_folder`, which must stay under ``runs_root``. A folder
@@ -250,7 +252,7 @@ def prepare_run_folder(out: Path | None, name: str, seed: int,
     :data:`RUN_MARKER`); then only the previous run's files are removed. A symbolic link, a
     file, a path under a file or an unwritable place is refused with the path named."""
     if out is None:
-        out = default_run_folder(name, seed, runs_root)
+        out = default_run_folder(name, seed, runs_root, suffix)
         root = Path(runs_root).resolve()
         if out.resolve().parent != root:
             raise RunFolderError(f"run folder {out} is not directly under {runs_root}")
@@ -260,7 +262,7 @@ def prepare_run_folder(out: Path | None, name: str, seed: int,
             raise RunFolderError(f"--out {out} is a symbolic link: refusing to write through it")
         if out.exists():
             if not out.is_dir():
-                raise RunFolderError(f"--out {out} exists and is not a folder")
+                raise RunFolderError(f"--out {out} exists and is a file, not a folder")
             if (out / RUN_MARKER).is_file():
                 _clean_previous_run(out)
             elif any(out.iterdir()):

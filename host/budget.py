@@ -12,8 +12,12 @@ S3C2440A user manual for FCLK/HCLK):
   operands, 5 for 32x32);
 - no divide instruction: the EABI helper ``__aeabi_idiv`` takes 20-140 cycles (we charge 45);
 - soft-float (no FPU, libgcc): add/mul ~60 cycles, divide/sqrt ~250 (50-300x an integer op);
-- 16 KB D-cache with 32-byte lines; a line fill from SDRAM at HCLK 100 MHz costs ~30 FCLK cycles,
+- 16 KB D-cache with 32-byte lines; a line fill from SDRAM costs ~40 FCLK cycles at
+  FCLK:HCLK = 4:1 (no public figure: the stated parameter of the calibration, docs/budget.md),
   one per 32 bytes streamed (frame buffers are read sequentially).
+
+The counts of the front-end kernels (grey, dark threshold, labelling) and of the radial symbol
+are calibrated against their C run as ARM920T code (``mobigrasp calibrate``, docs/budget.md).
 """
 
 from __future__ import annotations
@@ -32,7 +36,7 @@ CYCLES_DIV = 45  # __aeabi_idiv, typical for 32/16-bit quotients (20-140)
 CYCLES_LUT = 2  # LDR from a table in cache + interlock
 CYCLES_FLOAT_OP = 60  # soft-float add/mul (libgcc __addsf3/__mulsf3 class)
 CYCLES_FLOAT_DIV = 250  # soft-float divide or sqrt
-CYCLES_LINE_FILL = 30  # one 32-byte D-cache line from SDRAM at HCLK 100 MHz
+CYCLES_LINE_FILL = 40  # one 32-byte D-cache line from SDRAM (the calibration's parameter)
 CACHE_LINE_BYTES = 32
 
 

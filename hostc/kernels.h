@@ -40,4 +40,12 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_
                          int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
                          uint8_t *scratch, int32_t *out);
 
+/* red_cylinder.c: the 002 red cylinder and its two rings from the RGB frame
+ * (host/vision/red_cylinder.py detect_red_cylinder). out: u_c_q4, v_c_q4, ring1_v_q4,
+ * ring2_v_q4, d_pixel_q4, width_q4, roi x, y, w, h. scratch: mg_red_scratch_bytes(w, h)
+ * bytes, 4-byte aligned. Returns 1 when found, 0 when not. */
+int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
+                        int32_t *out);
+
 #endif

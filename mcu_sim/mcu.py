@@ -79,14 +79,14 @@ class Mcu:
         batch = self._rx_batch
         while True:
             nxt = self._deadline
-            if usart._rx:  # next_rx_wakeup is None exactly when nothing is on the RX line
+            if usart.rx_queue:  # next_rx_wakeup is None exactly when nothing is on the RX line
                 r = usart.next_rx_wakeup(batch)
                 if r < nxt:
                     nxt = r
             tb = timer1.next_bottom
             if tb is not None and tb < nxt:
                 nxt = tb
-            echoes = sonars._events  # sonars.next_event(), written out (once per coupling step)
+            echoes = sonars.echo_events  # sonars.next_event(), written out
             if echoes and echoes[0][0] < nxt:
                 nxt = echoes[0][0]
             if nxt > target:
@@ -114,9 +114,9 @@ class Mcu:
         edge = b.timer3.next_edge
         if edge is not None and edge <= cycle:
             b.timer3.advance_to(cycle)
-        if b.wheel_left._pending is not None:
+        if b.wheel_left.next_event() is not None:
             b.wheel_left.advance_to(cycle)
-        if b.wheel_right._pending is not None:
+        if b.wheel_right.next_event() is not None:
             b.wheel_right.advance_to(cycle)
         return bottoms
 
@@ -129,21 +129,21 @@ class Mcu:
         for _ in range(self._peripherals_to(cycle)):
             fw.isr_timer1_ovf()
         usart = b.usart0
-        if usart._rx:  # rx_take_until takes nothing (and counts nothing) from an idle line
+        if usart.rx_queue:  # rx_take_until takes nothing (and counts nothing) from an idle line
             data = usart.rx_take_until(cycle)
             if data:
                 fw.isr_usart_rx_bytes(data)
-        if b.sonars._events:
+        if b.sonars.echo_events:
             for _, index, level in b.sonars.take_events_until(cycle):
                 fw.isr_echo(index, level)
         enc = b.enc_left
         # take_edges is 0 (and changes nothing) once the shaft stands where the ISR last saw it
-        if cycle < enc._t1 or enc._c1 != enc._taken:
+        if enc.edges_pending(cycle):
             edges = enc.take_edges(cycle)
             if edges:
                 fw.isr_encoder(0, edges)
         enc = b.enc_right
-        if cycle < enc._t1 or enc._c1 != enc._taken:
+        if enc.edges_pending(cycle):
             edges = enc.take_edges(cycle)
             if edges:
                 fw.isr_encoder(1, edges)
@@ -174,7 +174,7 @@ class Mcu:
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
         """Bytes the firmware sent since the last call: ``(t_us their last bit left, bytes)``."""
         usart = self.board.usart0
-        queued = usart._tx
+        queued = usart.tx_queue
         # Called once per coupling step, and mostly no byte has finished since the last call:
         # nothing queued, or the first queued byte's stop bit still to come (what makes
         # tx_take_until return []; the TX ring fill it would recount is recounted by tx_free
@@ -200,7 +200,7 @@ class Mcu:
         rx = self.firmware.rx
         # next_tx_cycle() / next_rx_cycle() are not None exactly while their queue holds a
         # chunk; the RX ring is empty when head == tail (asked once per quantum)
-        if usart._tx or usart._rx or rx.head != rx.tail:
+        if usart.tx_queue or usart.rx_queue or rx.head != rx.tail:
             return now
         due = self.firmware.next_unprompted_send_us()
         if due is None:
@@ -276,20 +276,8 @@ class Mcu:
         now = self._cycle
         t = now if t_us is None else int(t_us) * CYCLES_PER_US
         b = self.board
-        # Called once per coupling step: set_ticks' own decisions, taken here for exact ints
-        # (anything else goes through its type check and is counted there). A standing wheel
-        # (mostly) reports the count it reached, which set_ticks ignores; any other count
-        # starts the new segment set_ticks would start.
-        enc = b.enc_left
-        if type(left) is not int:
-            enc.set_ticks(left, t, now)
-        elif left != enc._c1 or now < enc._t1:
-            enc._new_segment(left, t, now)
-        enc = b.enc_right
-        if type(right) is not int:
-            enc.set_ticks(right, t, now)
-        elif right != enc._c1 or now < enc._t1:
-            enc._new_segment(right, t, now)
+        b.enc_left.set_ticks(left, t, now)
+        b.enc_right.set_ticks(right, t, now)
 
     def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
         """Set ``provider(index) -> metres | None`` consulted when a sonar is triggered."""

@@ -15,8 +15,8 @@ import struct
 from dataclasses import dataclass
 from typing import ClassVar, NamedTuple
 
-from mobigrasp.frozen import built
 from mobigrasp.protocol.frame import MAX_PAYLOAD, PROTOCOL_VERSION, Frame, encode_frame, encode_raw
+from mobigrasp.protocol.frozen import built
 
 # NACK reason codes (Nack.reason).
 NACK_OUT_OF_RANGE = 1

@@ -69,7 +69,20 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
             assert key in s
         assert s["frames"] == 1 and s["result_mismatches"] == 0
         assert s["emulated_median_us"] > 0 and 1.0 <= s["cpi"] <= 6.0  # 6: a cold-cache call
+        # the calibrated model: modelled within 0.8-1.25 of the emulated C (docs/budget.md)
+        assert 0.8 <= s["ratio_median"] <= 1.25, s
     assert (tmp_path / "cache" / "mobigrasp" / "calibration.json").is_file()
+
+
+@pytest.mark.parametrize("under_file", [True, False])
+def test_calibrate_json_that_cannot_be_written_exits_2_before_running(tmp_path, under_file):
+    (tmp_path / "file").write_text("x")
+    bad = tmp_path / "file" / "cal.json" if under_file else tmp_path
+    r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
+                        str(tmp_path / "no-corpus"), "--json", str(bad)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    assert str(bad) in r.stderr and len(r.stderr.strip().splitlines()) == 1
 
 
 @pytest.mark.parametrize("argv,needle", [(["--corpus", "NOPE"], "nope"),

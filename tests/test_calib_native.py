@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from mobigrasp.calib import corpus, native
-from mobigrasp.host.vision import dark_blobs, grey, radial_symbol
+from mobigrasp.host.vision import dark_blobs, grey, radial_symbol, red_cylinder
 
 
 def _check_front_end(rgb):
@@ -51,6 +51,11 @@ def _check_calls(folder, calls) -> int:
             want = None if res is None else dataclasses.astuple(res)
             assert native.detect_radial_symbol(rgb, *c.camera) == want, c.frame_file
             found += want is not None
+        elif c.detector == "red_cylinder":
+            res, _ = red_cylinder.detect_red_cylinder(rgb)
+            want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
+            assert native.detect_red_cylinder(rgb) == want, c.frame_file
+            found += want is not None
     return found
 
 
@@ -69,6 +74,13 @@ def test_edge_q4_matches_on_random_lines():
         line = rng.integers(0, 256, int(rng.integers(1, 12)), dtype=np.uint8)
         i, step = int(rng.integers(0, len(line))), int(rng.choice([-1, 1]))
         assert native.edge_q4(line, i, step) == dark_blobs.edge_q4(line, i, step)
+
+
+def test_red_cylinder_slice_matches(tmp_path):
+    corpus.record(tmp_path, ["paper002-marker"], time_limit_s=4.0)
+    calls = [c for c in corpus.calls(tmp_path, corpus.read_index(tmp_path))
+             if c.detector == "red_cylinder"]
+    assert calls and _check_calls(tmp_path, calls[:30]) > 0  # the slice sees the cylinder
 
 
 def test_small_corpus_slice_matches(tmp_path):

@@ -1,4 +1,4 @@
-"""The host protocol side under lost frames (issue 9): the handshake survives a lost HELLO_ACK.
+"""The host protocol side under lost frames: the handshake survives a lost HELLO_ACK.
 
 The MCU answers HELLO with ACK then HELLO_ACK. When the ACK arrives but the HELLO_ACK is lost
 (a bit error on the MCU->host line), the host must try again; found by the fault campaign: at

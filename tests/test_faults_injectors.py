@@ -1,4 +1,4 @@
-"""Seeded fault injectors (issue 9): same decisions for the same seed whatever the chunking."""
+"""Seeded fault injectors: same decisions for the same seed whatever the chunking."""
 
 import numpy as np
 import pytest

@@ -1,4 +1,4 @@
-"""The [faults] schema (issue 9): scenario files and --fault KEY=VALUE, same checks and errors."""
+"""The [faults] schema: scenario files and --fault KEY=VALUE, same checks and errors."""
 
 import pytest
 from hypothesis import given, settings

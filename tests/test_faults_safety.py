@@ -1,4 +1,4 @@
-"""Safety under faults without the rig (issue 9): the real Mcu, protocol objects, a host stand-in.
+"""Safety under faults without the rig: the real Mcu, protocol objects, a host stand-in.
 
 Required behaviour tested here: under bit errors on both directions of the line the firmware
 never executes a corrupted command nor one twice, and every reliable command arrives eventually

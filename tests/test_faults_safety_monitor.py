@@ -1,4 +1,4 @@
-"""SafetyMonitor (issue 9): unsafe actuations and recovery figures, judged from the outputs."""
+"""SafetyMonitor: unsafe actuations and recovery figures, judged from the outputs."""
 
 import pytest
 

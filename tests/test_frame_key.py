@@ -17,7 +17,7 @@ def _frame(seed: int = 0) -> np.ndarray:
 
 def test_a_frame_from_bytes_is_keyed_by_those_bytes():
     pixels = _frame().tobytes()
-    rgb = np.frombuffer(pixels, dtype=np.uint8).reshape(6, 8, 3)  # as lockstep_client does
+    rgb = np.frombuffer(pixels, dtype=np.uint8).reshape(6, 8, 3)  # as drivers/lockstep.py does
     assert frame_bytes(rgb) is pixels
     assert frame_bytes(rgb.view(np.int8)) is pixels  # (the memo keys the dtype separately)
 

@@ -1,16 +1,16 @@
-"""The one shortcut for frozen dataclasses (mobigrasp.frozen.built) gives what the constructor
-gives, on every class the hot paths use it on."""
+"""The one shortcut for frozen dataclasses (mobigrasp.protocol.frozen.built) gives what the
+constructor gives, on every class the hot paths use it on."""
 
 import dataclasses
 
 import pytest
 
 from mobigrasp.cosim import lockstep as ls
-from mobigrasp.frozen import built
 from mobigrasp.host.planning.bezier import Curve
 from mobigrasp.host.task.machine import TaskInputs
 from mobigrasp.protocol import messages as m
 from mobigrasp.protocol.frame import Frame
+from mobigrasp.protocol.frozen import built
 
 CASES = [
     (ls.Grant, dict(start_us=10, until_us=5000, uart=((20, 1),), frames=())),

@@ -197,14 +197,15 @@ def test_thirty_simulated_minutes_in_process_have_flat_memory(tmp_path):
     simulated minutes. Live memory allocated after 24 minutes by the host's code and by the
     simulator's code: the same at 25 and at 30 minutes (the camera is off: no detector; traced
     only from minute 24, as tracing slows the run several times)."""
+    from mobigrasp.cosim.hosts import InprocHost
+    from mobigrasp.cosim.rig import Rig, RigConfig
+    from mobigrasp.cosim.rig_plant import WorldPlant
+    from mobigrasp.cosim.run_folder import TraceWriter
+    from mobigrasp.cosim.session import run_session
+    from mobigrasp.drivers.lockstep import LockstepClient
     from mobigrasp.host.app_factory import task_params
-    from mobigrasp.host.lockstep_client import LockstepClient
     from mobigrasp.link.inproc import inproc_pair
     from mobigrasp.mcu_sim.mcu import Mcu
-    from mobigrasp.mcu_sim.rig import Rig, RigConfig
-    from mobigrasp.mcu_sim.rig_plant import WorldPlant
-    from mobigrasp.tools.run_folder import TraceWriter
-    from mobigrasp.tools.runner import InprocHost, run_session
 
     _, sc = resolve_scenario("paper000-exp1")
     sc = replace(sc, target=replace(sc.target, x_m=-30.0, y_m=-30.0))
@@ -221,8 +222,9 @@ def test_thirty_simulated_minutes_in_process_have_flat_memory(tmp_path):
         if t_us == 1_440_000_000:
             tracemalloc.start()
         elif t_us in (1_500_000_000, 1_800_000_000):
-            marks[t_us] = (_live_bytes("*/mobigrasp/host/*", "*/mobigrasp/protocol/*"),
-                           _live_bytes("*/mobigrasp/mcu_sim/*"))
+            marks[t_us] = (_live_bytes("*/mobigrasp/host/*", "*/mobigrasp/protocol/*",
+                                       "*/mobigrasp/drivers/*"),
+                           _live_bytes("*/mobigrasp/mcu_sim/*", "*/mobigrasp/cosim/*"))
     try:
         res = run_session(rig, host, trace, time_limit_us=1_800_000_000, on_quantum=on_quantum)
     finally:

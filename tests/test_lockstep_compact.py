@@ -74,7 +74,7 @@ def test_the_compact_wire_bytes_are_the_documented_layout(uart):
 
 
 def test_decoded_compact_messages_are_whole_frozen_dataclasses():
-    # the decoder builds them without __init__ (mobigrasp.frozen.built): every field is there
+    # the decoder builds them without __init__ (protocol/frozen.py): every field is there
     for msg in (ls.Grant(start_us=10, until_us=5000, uart=((20, 1),)),
                 ls.Done(until_us=5000, writes=((100, 2),), load=dict(LOAD))):
         back = ls.decode(ls.encode(msg))

@@ -65,7 +65,7 @@ def test_console_session_against_the_standalone_mcu(mcu_process):
     assert "servo_us=[" in text and "flags=0x" in text
     # Closing the host side ends the MCU process with a message.
     _, err = proc.communicate(timeout=SAFETY_S)
-    assert proc.returncode == 1  # the host going away is reported as a failure (issue 9)
+    assert proc.returncode == 1  # the host going away is reported as a failure
     assert "the host closed the port" in err
     assert "+2.12 %" in err  # baud error reported at start-up
 

@@ -318,7 +318,7 @@ def test_send_ack_puts_the_bytes_of_send_ack_message_on_the_line():
             general.board.usart0.reset()
         fast.firmware.send_ack(acked)
         general.firmware.send(Ack(acked))
-        assert fast.board.usart0._tx == general.board.usart0._tx
+        assert fast.board.usart0.tx_queue == general.board.usart0.tx_queue
     assert fast.firmware.tx_seq.peek() == general.firmware.tx_seq.peek()
 
 

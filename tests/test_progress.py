@@ -95,3 +95,15 @@ def test_setup_logging_routes_the_mobigrasp_logger():
     assert buf.getvalue().splitlines() == ["INFO mobigrasp.tools.x: hello 3",
                                            "ERROR mobigrasp.tools.x: kept"]
     setup_logging()
+
+
+def test_plain_interval_from_the_environment(monkeypatch):
+    from mobigrasp.tools.progress import INTERVAL_ENV, PLAIN_INTERVAL_S, plain_interval_s
+
+    monkeypatch.delenv(INTERVAL_ENV, raising=False)
+    assert plain_interval_s() == PLAIN_INTERVAL_S
+    monkeypatch.setenv(INTERVAL_ENV, "0")
+    assert plain_interval_s() == 0.0
+    for bad in ("nan", "-1", "fast", "1e9"):
+        monkeypatch.setenv(INTERVAL_ENV, bad)
+        assert plain_interval_s() == PLAIN_INTERVAL_S

@@ -145,3 +145,20 @@ def test_default_run_folder_is_one_component_under_the_root():
     for name in ("/etc", "../../..", "a/../../b", "x" * 1000, "\x00"):
         p = default_run_folder(name, 7, Path("runs"))
         assert p.parent == Path("runs") and len(p.parts) == 2 and len(p.name) <= 110
+
+
+def test_sim_refuses_an_out_folder_that_is_not_a_run_folder(tmp_path, capsys):
+    victim = _victim(tmp_path)
+    assert main(["sim", "paper000-exp1", "--out", str(victim), "--camera-port", "0"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and str(victim) in err[0]
+    _assert_intact(victim)
+
+
+def test_sim_default_folder_is_under_the_root(tmp_path):
+    victim = _victim(tmp_path / "outside", "victim-1-sim")
+    root = tmp_path / "runs"
+    out = prepare_run_folder(None, str(tmp_path / "outside" / "victim"), 1, runs_root=root,
+                             suffix="-sim")
+    assert out.parent == root and out.name.endswith("-1-sim") and (out / RUN_MARKER).is_file()
+    _assert_intact(victim)

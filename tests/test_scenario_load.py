@@ -136,7 +136,7 @@ y_m = 0
 
 
 def test_faults_must_be_a_table_of_known_keys():
-    # the [faults] schema itself is tested in tests/test_faults_plan.py (issue 9)
+    # the [faults] schema itself is tested in tests/test_faults_plan.py
     s = loads_scenario(GOOD + "\n[faults]\nmotor_fail = {wheel = \"left\", at_s = 3.0}\n", "f")
     assert s.faults.motor_fail.wheel == "left" and s.faults.motor_fail.at_s == 3.0
     bad("faults = 3\n" + GOOD, "bad.toml: faults: expected a table", "3")

@@ -2,7 +2,7 @@
 
 Fast: one short in-process run (a few simulated seconds) checking the whole wiring and the run
 folder. Slow (-m slow): every shipped scenario succeeds over the pty, pty == inproc traces on a
-whole scenario, speed 1 == speed max, and the randomized campaign of issue 8.
+whole scenario, speed 1 == speed max, and the randomized acceptance campaign (docs/cosim.md).
 """
 
 import json
@@ -42,7 +42,7 @@ def test_inproc_smoke_run_writes_a_complete_folder(tmp_path):
     assert summary["protocol"]["rx_frames"] > 100  # 50 Hz telemetry from the MCU
     assert summary["protocol"]["tx_frames"] > 10
     assert summary["protocol"]["crc_errors"] == 0
-    # a fault-free run is watched by the safety monitor too (issue 9: unsafe actuation counted
+    # a fault-free run is watched by the safety monitor too (unsafe actuation is counted
     # in every run, not only in campaigns with faults)
     assert summary["safety"]["unsafe_actuations"] == 0
     assert summary["faults"]["uart_to_mcu"]["bytes_in"] > 0 and summary["faults_plan"] == {}

@@ -91,7 +91,9 @@ def dask(run_fn: RunFn, jobs: Iterable[dict], workers: int = 0,
         raise EngineError("--scheduler needs dask.distributed: pip install "
                           "'mobigrasp[cluster]'") from exc
     address = check_scheduler(scheduler or "")
-    try:
+    host, port = address.split("://", 1)[1].rsplit(":", 1)
+    try:  # a refused port fails at once here (the client would retry until its timeout)
+        socket.create_connection((host.strip("[]"), int(port)), timeout=CONNECT_TIMEOUT_S).close()
         client = Client(address, timeout=CONNECT_TIMEOUT_S, set_as_default=False)
     except (OSError, TimeoutError) as exc:
         raise EngineError(f"--scheduler {address}: cannot reach the scheduler "

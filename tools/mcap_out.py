@@ -1,6 +1,6 @@
 """trace.mcap of a run folder: the trace (and the camera frames) for Foxglove, no conversion.
 
-Written once at the end of a run from the trace events (``tools.run_folder.read_trace``), the
+Written once at the end of a run from the trace events (``cosim.run_folder.read_trace``), the
 JPEG frames :class:`CameraLog` kept while the run went, and the summary. Every message's log
 time and publish time are its *simulated* time (ns), so Foxglove's timeline is the run's clock.
 JSON encoding with the Foxglove schemas by name (tools/mcap_schemas.py); docs/outputs.md lists

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import logging
+import os
 import sys
 import time
 from collections.abc import Callable
@@ -21,6 +22,25 @@ from typing import TextIO
 
 LOGGER_NAME = "mobigrasp"
 PLAIN_INTERVAL_S = 5.0  # plain-line progress: one line per this many wall seconds
+# ... unless this environment variable gives another interval (seconds >= 0; 0: every update,
+# for a program that follows a run's progress line by line)
+INTERVAL_ENV = "MOBIGRASP_PROGRESS_INTERVAL_S"
+
+
+def plain_interval_s() -> float:
+    """Seconds between plain progress lines: $MOBIGRASP_PROGRESS_INTERVAL_S, else 5."""
+    text = os.environ.get(INTERVAL_ENV)
+    if text is None:
+        return PLAIN_INTERVAL_S
+    try:
+        value = float(text)
+    except ValueError:
+        value = -1.0
+    if not 0.0 <= value <= 3600.0:
+        logging.getLogger(LOGGER_NAME).warning("%s=%r is not a number of seconds in [0, 3600]; "
+                                               "using %g", INTERVAL_ENV, text, PLAIN_INTERVAL_S)
+        return PLAIN_INTERVAL_S
+    return value
 
 
 def add_common_options(parser: argparse.ArgumentParser) -> None:
@@ -74,12 +94,12 @@ class Progress:
 
     def __init__(self, total: float | None = None, desc: str = "", unit: str = "it",
                  stream: TextIO | None = None, enabled: bool = True,
-                 interval_s: float = PLAIN_INTERVAL_S,
+                 interval_s: float | None = None,
                  clock: Callable[[], float] = time.monotonic) -> None:
         self.total, self.desc, self.unit = total, desc, unit
         self.stream = stream if stream is not None else sys.stderr
         self.enabled = enabled
-        self.interval_s = interval_s
+        self.interval_s = plain_interval_s() if interval_s is None else interval_s
         self.clock = clock
         self.done: float = 0
         self.text = ""

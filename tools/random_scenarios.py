@@ -1,4 +1,4 @@
-"""Seeded random scenarios for the acceptance campaign and ``mobigrasp bench loop``.
+"""Seeded random scenarios for the acceptance campaign (docs/cosim.md) and ``bench loop``.
 
 Two generators, by version name (``GENERATORS``); a seed gives the same scene in its version
 for good, so old figures can be re-run with ``version="v1"``.

@@ -60,8 +60,8 @@ class RunOptions:
     mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
-    # True: a carriage-return line on stderr; a callable: called as (now_us, state, wall_s)
-    progress: Any = True
+    # a display (tools.progress.RunProgress), called as (now_us, state, wall_s); None: none
+    progress: Any = None
     quantum_us: int = 5_000
     couple_us: int = 2_500  # MCU <-> world exchange; physics still steps at 1 kHz inside
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)

@@ -13,7 +13,6 @@ block are judged from the world, since an external host reports no task state.
 
 from __future__ import annotations
 
-import shutil
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -49,14 +48,15 @@ class SimOptions:
 
 
 def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
-    out = Path(opts.out) if opts.out else Path("runs") / f"{name}-{seed}-sim"
-    if out.exists():
-        if not out.is_dir():
-            raise BadSimInput(f"--out {out} is a file, not a run folder")
-        if any(out.iterdir()) and not (out / "summary.json").exists():
-            raise BadSimInput(f"--out {out} exists and is not a run folder (no summary.json): "
-                              f"refusing to overwrite it")
-    return out
+    """The run folder as ``mobigrasp run`` makes it (cosim/run_folder.py): under runs/ by a
+    sanitised name, and only a previous run's own files are replaced."""
+    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder
+
+    try:
+        return prepare_run_folder(Path(opts.out) if opts.out else None, name, seed,
+                                  suffix="-sim")
+    except RunFolderError as exc:
+        raise BadSimInput(str(exc)) from exc
 
 
 def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
@@ -106,9 +106,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
 
     name = scenario.meta.name
-    if out.exists():
-        shutil.rmtree(out)
-    (out / "plots").mkdir(parents=True)
+    (out / "plots").mkdir(exist_ok=True)
     summary: dict[str, Any] = {
         "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
         "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,

@@ -25,8 +25,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mobigrasp.frozen import built
 from mobigrasp.host.budget import OpCounts
+from mobigrasp.protocol.frozen import built
 
 # Soft-float operations of one sample in the C loop this module models (forward differencing:
 # a quadratic needs 2 adds per step, a linear term 1, a cubic 3):

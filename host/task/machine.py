@@ -36,7 +36,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from mobigrasp.frozen import built
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.fixedpoint import isqrt
@@ -54,6 +53,7 @@ from mobigrasp.host.task.sense import (
     platform_to_odom_mm,
     plus_positions,
 )
+from mobigrasp.protocol.frozen import built
 
 STATES = ("SEARCH", "APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT", "DONE",
           "LOST", "FAILED")

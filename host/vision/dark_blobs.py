@@ -53,9 +53,14 @@ def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
 
 
 def dark_mask_cost(n_px: int) -> OpCounts:
-    """Operation counts of :func:`dark_mask` on ``n_px`` pixels (the same for any image)."""
+    """Operation counts of :func:`dark_mask` on ``n_px`` pixels (the same for any image), as
+    the C loop runs (hostc/dark.c, docs/budget.md): the histogram pass reads a pixel, loads,
+    increments and stores its bin and counts the loop (11 cycles), the mask pass reads,
+    compares, stores and counts (10); both passes fetch the grey image from SDRAM (76.8 kB at
+    320x240 does not stay in the 16 KB D-cache); the level search walks 256 bins."""
     n = int(n_px)
-    return OpCounts(pixels_read=2 * n, pixels_written=n, alu=2 * n + 512, luts=n, branches=256)
+    return OpCounts(pixels_read=2 * n, pixels_written=2 * n, luts=n, alu=7 * n + 512,
+                    branches=2 * n + 256, bytes_streamed=2 * n)
 
 
 # OpenCV labels a whole frame with its thread pool, which costs more CPU than the serial
@@ -121,8 +126,7 @@ def _label_cropped(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray]:
 def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]:
     """8-connected components of a 0/1 mask: (count, labels int32, stats int32, ops).
 
-    Charged as a two-pass union-find labelling: each pixel read twice, four neighbour compares
-    and one label write, plus the stats accumulation.
+    Charged as the two-pass block labelling with the stats accumulation (:func:`components_cost`).
     """
     n = mask.size
     _serial_opencv()
@@ -131,9 +135,15 @@ def components(mask: np.ndarray) -> tuple[int, np.ndarray, np.ndarray, OpCounts]
 
 
 def components_cost(n_px: int) -> OpCounts:
-    """Operation counts of :func:`components` on a mask of ``n_px`` pixels."""
+    """Operation counts of :func:`components` on a mask of ``n_px`` pixels, as the C labelling
+    runs (hostc/label.c, docs/budget.md): the 2x2 block pass reads the mask once, the label
+    pass reads it again and, for every pixel, the background included, loads and updates its
+    label's five stats (about 6 table loads, 4 stores, 14 ALU operations and 2 loop branches
+    per pixel); the mask is fetched from SDRAM twice. A dark pixel adds about 37 cycles of
+    union-find and parent look-up that a size-only count leaves out (the median frame has few)."""
     n = int(n_px)
-    return OpCounts(pixels_read=2 * n, pixels_written=2 * n, alu=8 * n, branches=2 * n)
+    return OpCounts(pixels_read=2 * n, pixels_written=4 * n, luts=6 * n, alu=14 * n,
+                    branches=2 * n, bytes_streamed=2 * n)
 
 
 

@@ -79,7 +79,11 @@ def _is_ring(labels: np.ndarray, k: int, x: int, y: int, w: int, h: int
     # labels only (OpenCV's stats pass costs 4x the labelling): a region is enclosed when none
     # of its pixels lies on the box's border, i.e. its bounding box does not reach the border
     n, lab = cv2.connectedComponents(light, connectivity=4, ltype=cv2.CV_32S)
-    ops += OpCounts(pixels_read=3 * w * h, pixels_written=w * h, alu=7 * w * h, branches=w * h)
+    # as the C finds the interior (hostc/radial_symbol.c, docs/budget.md): a copy of the box,
+    # a flood from its border over the light outside (four neighbour tests per pixel, a stack),
+    # a count; labels, stack and masks come from SDRAM (about 100 cycles per box pixel)
+    ops += OpCounts(pixels_read=7 * w * h, pixels_written=3 * w * h, luts=4 * w * h,
+                    alu=37 * w * h, branches=8 * w * h, bytes_streamed=8 * w * h)
     enclosed = np.ones(n, bool)
     enclosed[lab[0]] = False
     enclosed[lab[-1]] = False
@@ -296,12 +300,19 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
     ok = (w >= MIN_WIDTH_PX) & (h >= 3) & (10 * w >= 8 * h) & (area * 100 <= 70 * w * h) \
         & (4 * w <= 3 * grey.shape[1])
     cand = np.flatnonzero(ok)
-    ops += OpCounts(alu=10 * len(st), branches=len(st))
+    # the candidate scan (hostc/radial_symbol.c): a call's set-up, the filter per component
+    # and, with any component, the first line fills of the stats table and candidate list
+    ops += OpCounts(alu=100 + 12 * len(st) + (150 if len(st) else 0), branches=2 * len(st))
     cand = cand[np.argsort(-w[cand], kind="stable")][:MAX_CANDIDATES]  # outermost ring first
     budget = LOCAL_BUDGET_FRAMES * grey.size  # bound the local work of a cluttered frame
     for i in cand:
         xi, yi, wi, hi = int(x[i]), int(y[i]), int(w[i]), int(h[i])
         box = _local_box(grey, xi, yi, wi, hi)
+        # the 1x3 sums with the clamped edge columns and the min/max pass, once per candidate
+        # (hostc/radial_symbol.c; the grey rows come from SDRAM)
+        n_box = box[0].size
+        ops += OpCounts(pixels_read=4 * n_box, pixels_written=n_box, alu=22 * n_box,
+                        branches=2 * n_box, bytes_streamed=n_box)
         for num, den in LOCAL_FRACTIONS:
             found, o, touched = _local_ring(box, xi, yi, wi, hi, num, den)
             ops += o

@@ -51,7 +51,7 @@ class Board:
         for port in SERVO_PORTS:
             self.bus.port(f"{port}.pin").value = 0
         for wheel in (self.wheel_left, self.wheel_right):
-            wheel._publish(cycle)
+            wheel.publish(cycle)
 
     def micros(self) -> int:
         """Microseconds since reset, as the C port derives them from Timer1 (overflows x 20 ms +

@@ -58,6 +58,11 @@ class QuadratureEncoder:
             self._t0, self._c0 = now_cycle, here
             self._t1, self._c1 = t_cycle, count
 
+    def edges_pending(self, cycle: int) -> bool:
+        """Whether :meth:`take_edges` at ``cycle`` could return edges: the shaft is still
+        moving, or stands where the last call did not see it (False: it would return 0)."""
+        return cycle < self._t1 or self._c1 != self._taken
+
     def take_edges(self, cycle: int) -> int:
         """Signed number of edges between the previous call and ``cycle`` (what the ISR counted)."""
         pos = self.position_at(cycle)

@@ -17,24 +17,24 @@ Callback = Callable[[int, int], None]
 class SignalPort:
     """One named output: the latest value, its time, and subscribers called on every change."""
 
-    __slots__ = ("name", "value", "t_us", "last_cycle", "_subscribers")
+    __slots__ = ("name", "value", "t_us", "last_cycle", "subscribers")
 
     def __init__(self, name: str, value: int = 0) -> None:
         self.name = name
         self.value = int(value)
         self.t_us = 0
         self.last_cycle = 0
-        self._subscribers: list[Callback] = []
+        self.subscribers: list[Callback] = []
 
     def subscribe(self, callback: Callback) -> Callable[[], None]:
         """Call ``callback(t_us, value)`` on every sample; returns an unsubscribe function."""
         if not callable(callback):
             raise TypeError(f"signal {self.name}: callback must be callable, got {callback!r}")
-        self._subscribers.append(callback)
+        self.subscribers.append(callback)
 
         def unsubscribe() -> None:
-            if callback in self._subscribers:
-                self._subscribers.remove(callback)
+            if callback in self.subscribers:
+                self.subscribers.remove(callback)
 
         return unsubscribe
 
@@ -43,7 +43,7 @@ class SignalPort:
         self.value = value
         self.last_cycle = cycle
         self.t_us = cycle // cycles_per_us
-        for callback in self._subscribers:
+        for callback in self.subscribers:
             callback(self.t_us, value)
 
 

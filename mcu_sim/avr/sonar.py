@@ -38,11 +38,11 @@ class SonarArray:
         self.provider: Provider | None = None
         self.bad_readings = 0
         self.triggers = 0
-        self._events: list[tuple[int, int, int]] = []  # (cycle, index, level)
+        self.echo_events: list[tuple[int, int, int]] = []  # (cycle, index, level)
 
     def reset(self) -> None:
         """Forget echoes in flight (MCU reset)."""
-        self._events = []
+        self.echo_events = []
 
     def _range_m(self, index: int) -> float | None:
         if self.provider is None or index >= self.count:
@@ -72,18 +72,18 @@ class SonarArray:
             return
         rise = cycle + ECHO_DELAY_US * self.cycles_per_us
         fall = rise + max(1, round(echo_width_us(d) * self.cycles_per_us))
-        self._events.append((rise, index, 1))
-        self._events.append((fall, index, 0))
-        self._events.sort()
+        self.echo_events.append((rise, index, 1))
+        self.echo_events.append((fall, index, 0))
+        self.echo_events.sort()
 
     def next_event(self) -> int | None:
         """Cycle of the next echo edge, or None."""
-        return self._events[0][0] if self._events else None
+        return self.echo_events[0][0] if self.echo_events else None
 
     def take_events_until(self, cycle: int) -> list[tuple[int, int, int]]:
         """Echo edges ``(cycle, index, level)`` at or before ``cycle``, in time order."""
         n = 0
-        while n < len(self._events) and self._events[n][0] <= cycle:
+        while n < len(self.echo_events) and self.echo_events[n][0] <= cycle:
             n += 1
-        out, self._events = self._events[:n], self._events[n:]
+        out, self.echo_events = self.echo_events[:n], self.echo_events[n:]
         return out

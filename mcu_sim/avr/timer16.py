@@ -6,7 +6,7 @@ Mode"): TCCRnA holds COMnA/B/C (bits 7:2, 0b10 = non-inverting) and WGMn1:0, TCC
 outputs go high at BOTTOM and low at the compare match TCNTn == OCRnx, so a pulse lasts
 ``OCRnx + 1`` timer ticks; ICRn = 39999 with prescaler 8 at 16 MHz gives a 20 ms period of 0.5 µs
 ticks. OCRnx is double-buffered: a value written during a period is latched at the next BOTTOM
-(the "servo timing" pitfall of DESIGN.md), which is why ``write_ocr`` only fills the buffer.
+(the "servo timing" pitfall of docs/firmware.md), which is why ``write_ocr`` only fills the buffer.
 
 The model is event-driven: it computes the edges of each period arithmetically (one rising edge per
 channel at BOTTOM, one falling edge at BOTTOM + (OCR+1) ticks) instead of stepping ticks. Time is
@@ -131,7 +131,7 @@ class Timer16:
             if (tccra >> (6 - 2 * ch)) & 0b11 != COM_NON_INVERTING:  # not _channel_enabled(ch)
                 continue
             pin = self._pins[ch]
-            if pin._subscribers:
+            if pin.subscribers:
                 pin.emit(cycle, 1, cpu)
             else:  # what emit() does with no one to call (a run subscribes to no servo port)
                 pin.value, pin.last_cycle, pin.t_us = 1, cycle, cycle // cpu
@@ -164,7 +164,7 @@ class Timer16:
                     widths[ch] = width_ns
                     self.width_serial += 1
                 pin, pulse = self._pins[ch], self._pulses[ch]
-                if pin._subscribers or pulse._subscribers:
+                if pin.subscribers or pulse.subscribers:
                     pin.emit(fall, 0, cpu)
                     pulse.emit(fall, width_ns, cpu)
                 else:  # emit() of both with no one to call: the samples alone

@@ -76,7 +76,7 @@ class WheelPwm:
         """Set the direction port bit (immediate)."""
         self.reverse = bool(reverse)
         self.duty_now = self.signed_duty
-        self._publish(cycle)
+        self.publish(cycle)
 
     def next_event(self) -> int | None:
         """Cycle of the pending OCR latch, if any."""
@@ -89,7 +89,7 @@ class WheelPwm:
             self._pending = None
             self.ocr_active = value
             self.duty_now = self.signed_duty
-            self._publish(effective)
+            self.publish(effective)
 
     @property
     def signed_duty(self) -> int:
@@ -98,7 +98,7 @@ class WheelPwm:
             return 0
         return -self.ocr_active if self.reverse else self.ocr_active
 
-    def _publish(self, cycle: int) -> None:
+    def publish(self, cycle: int) -> None:
         duty = self.signed_duty
         if duty != self._emitted:
             self._emitted = duty

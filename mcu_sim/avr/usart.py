@@ -57,10 +57,10 @@ class Usart:
 
     def reset(self) -> None:
         """Drop everything in flight (MCU reset); counters restart at zero."""
-        self._rx: deque[list] = deque()  # [start_cycle, data, next_index]
+        self.rx_queue: deque[list] = deque()  # [start_cycle, data, next_index]
         self._rx_pending = 0
         self._rx_line_free = 0
-        self._tx: deque[list] = deque()  # [start_cycle, data]
+        self.tx_queue: deque[list] = deque()  # [start_cycle, data]
         self._tx_pending = 0
         self._tx_line_free = 0
         self.rx_bytes = 0
@@ -87,16 +87,16 @@ class Usart:
         if not data:
             return 0
         start = max(start_cycle, self._rx_line_free)
-        self._rx.append([start, bytes(data), 0])
+        self.rx_queue.append([start, bytes(data), 0])
         self._rx_pending += len(data)
         self._rx_line_free = start + len(data) * self.byte_cycles
         return len(data)
 
     def next_rx_cycle(self) -> int | None:
         """Cycle at which the next byte's stop bit arrives, or None."""
-        if not self._rx:
+        if not self.rx_queue:
             return None
-        start, _, index = self._rx[0]
+        start, _, index = self.rx_queue[0]
         return start + (index + 1) * self.byte_cycles
 
     def next_rx_wakeup(self, max_bytes: int) -> int | None:
@@ -108,7 +108,7 @@ class Usart:
         all bytes received so far."""
         seen = 0
         bc = self.byte_cycles
-        for start, data, index in self._rx:
+        for start, data, index in self.rx_queue:
             end = min(len(data), index + max_bytes - seen)
             z = data.find(0, index, end)
             if z >= 0:
@@ -116,8 +116,8 @@ class Usart:
             if end < len(data) or seen + end - index >= max_bytes:
                 return start + end * bc
             seen += end - index
-        if self._rx:
-            start, data, _ = self._rx[-1]
+        if self.rx_queue:
+            start, data, _ = self.rx_queue[-1]
             return start + len(data) * bc
         return None
 
@@ -125,15 +125,15 @@ class Usart:
         """Bytes whose stop bit arrived at or before ``cycle``, in order."""
         out = bytearray()
         bc = self.byte_cycles
-        while self._rx:
-            chunk = self._rx[0]
+        while self.rx_queue:
+            chunk = self.rx_queue[0]
             start, data, index = chunk
             done = min(len(data), (cycle - start) // bc)
             if done <= index:
                 break
             out += data[index:done]
             if done == len(data):
-                self._rx.popleft()
+                self.rx_queue.popleft()
             else:
                 chunk[2] = done
                 break
@@ -157,7 +157,7 @@ class Usart:
         if len(data) > self.tx_free(cycle):
             return False
         start = max(cycle, self._tx_line_free)
-        self._tx.append([start, bytes(data)])
+        self.tx_queue.append([start, bytes(data)])
         self._tx_pending += len(data)
         self._tx_line_free = start + len(data) * self.byte_cycles
         return True
@@ -166,20 +166,20 @@ class Usart:
         # Count bytes already on the wire as gone from the ring, keeping them for tx_take.
         pending = 0
         bc = self.byte_cycles
-        for start, data in self._tx:
+        for start, data in self.tx_queue:
             done = min(len(data), max(0, (cycle - start) // bc))
             pending += len(data) - done
         self._tx_pending = pending
 
     def tx_take_until(self, cycle: int) -> list[tuple[int, bytes]]:
         """Bytes whose last bit left by ``cycle``: ``(cycle_of_last_bit, bytes)`` per burst."""
-        if not self._tx:  # most calls: the line is idle (what _retire_tx would conclude)
+        if not self.tx_queue:  # most calls: the line is idle (what _retire_tx would conclude)
             self._tx_pending = 0
             return []
         out: list[tuple[int, bytes]] = []
         bc = self.byte_cycles
-        while self._tx:
-            chunk = self._tx[0]
+        while self.tx_queue:
+            chunk = self.tx_queue[0]
             start, data = chunk
             done = min(len(data), (cycle - start) // bc)
             if done <= 0:
@@ -187,7 +187,7 @@ class Usart:
             out.append((start + done * bc, data[:done]))
             self.tx_bytes += done
             if done == len(data):
-                self._tx.popleft()
+                self.tx_queue.popleft()
             else:
                 chunk[0] = start + done * bc
                 chunk[1] = data[done:]
@@ -197,4 +197,4 @@ class Usart:
 
     def next_tx_cycle(self) -> int | None:
         """Cycle at which the last queued byte will have left the line, or None when idle."""
-        return self._tx_line_free if self._tx else None
+        return self._tx_line_free if self.tx_queue else None

@@ -1,4 +1,4 @@
-"""Fault injection (issue 9): the ``[faults]`` plan, seeded injectors and the safety monitor.
+"""Fault injection: the ``[faults]`` plan, seeded injectors and the safety monitor.
 
 ``plan``: :class:`FaultPlan`, :func:`parse_faults`, :func:`parse_fault_overrides`;
 ``uart``: :class:`UartFaults`; ``injectors``: camera, host, MCU, motor, sonar, encoder faults and

@@ -1,4 +1,4 @@
-"""Seeded fault injectors besides the UART (issue 9): camera, host, MCU, motors, sonars, encoders.
+"""Seeded fault injectors besides the UART: camera, host, MCU, motors, sonars, encoders.
 
 All are pure functions of the plan, the run seed and simulated time (integer µs); none reads the
 wall clock or keeps a random state that depends on how often it is called. :class:`RunFaults`

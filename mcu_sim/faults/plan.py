@@ -1,4 +1,4 @@
-"""The ``[faults]`` schema of scenario files (issue 9): :class:`FaultPlan` and its validation.
+"""The ``[faults]`` schema of scenario files: :class:`FaultPlan` and its validation.
 
 Keys (docs/faults.md): ``uart_bit_error_rate``, ``uart_drop_rate``, ``uart_latency_us``,
 ``uart_burst = {start_s, duration_s}``, ``camera_drop_rate``, ``camera_noise_std``,

@@ -1,4 +1,4 @@
-"""The safety monitor of a run under faults (issue 9): what the actuators did, judged from outside.
+"""The safety monitor of a run under faults: what the actuators did, judged from outside.
 
 The rig calls :meth:`SafetyMonitor.observe` at every MCU <-> plant coupling step with what the
 motors and servos were given. It counts **unsafe actuations**:

@@ -1,4 +1,4 @@
-"""Seeded, chunking-independent corruption of a UART byte stream (issue 9).
+"""Seeded, chunking-independent corruption of a UART byte stream.
 
 :class:`UartFaults` decides for every byte of one direction of the line whether it is lost and
 which of its 8 data bits flip. Each decision is drawn from a counter-based hash of (run seed,

@@ -1,6 +1,6 @@
 """Scenario files: TOML (tomllib) loading and strict validation into frozen dataclasses.
 
-Contract (issue 5): ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_limit_s;
+Contract: ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_limit_s;
 ``[robot]`` x_m, y_m, heading_rad; ``[target]`` kind, x_m, y_m, heading_rad and optional
 ``[[target.path]]`` t_s, x_m, y_m; ``[[obstacles]]`` shape "circle" (radius_m) or "box"
 (width_m, depth_m, heading_rad), or "wall" (x2_m, y2_m, optional thickness_m), each with an
@@ -9,7 +9,10 @@ optional height_m; ``[camera]`` optional f_px, u0_px, v0_px, noise_std, blur_px,
 :data:`PAPER_PARAMS`); ``[faults]`` the injected faults, validated into a
 :class:`mobigrasp.mcu_sim.faults.plan.FaultPlan` (keys in docs/faults.md).
 
-Every problem raises :class:`ScenarioError` naming the file, the key and what was expected.
+Every value is checked against the physical range written beside it below (and listed in
+docs/conventions.md "Scenario value ranges"), and the geometry is checked: no obstacle on the
+robot's start footprint, the target (and its path) clear of obstacles and of the robot. Every
+problem raises :class:`ScenarioError` naming the file, the key and what was expected.
 """
 
 from __future__ import annotations
@@ -33,7 +36,9 @@ DEFAULT_WALL_THICKNESS_M = 0.05
 # The floor is a 100 m x 100 m hall around the origin; an angle is within one turn either way.
 WORLD_HALF_M = 50.0
 ANGLE_MAX_RAD = 2 * math.pi
-# The longest run (issue of resource bounds: host state and trace grow with simulated time).
+_XY = (-WORLD_HALF_M, WORLD_HALF_M)
+_ANGLE = (-ANGLE_MAX_RAD, ANGLE_MAX_RAD)
+# The longest run: host state is bounded (docs/cosim.md "Long runs"), the trace grows with it.
 MAX_TIME_LIMIT_S = 3600.0
 MAX_SEED = 2**64 - 1  # seeds are 64-bit (numpy's and the campaign's generators)
 MAX_NAME_CHARS = 200
@@ -371,10 +376,6 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
     return Scenario(source, meta, robot, target, obstacles, camera,
                     MappingProxyType(params), faults,
                     MappingProxyType(overrides))
-
-
-_XY = (-WORLD_HALF_M, WORLD_HALF_M)
-_ANGLE = (-ANGLE_MAX_RAD, ANGLE_MAX_RAD)
 
 
 def _parse_target(c: _Checker, t: dict) -> TargetSpec:

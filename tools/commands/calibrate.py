@@ -39,8 +39,10 @@ def _run(args: argparse.Namespace) -> int:
         print(f"mobigrasp calibrate: --line-fill-cycles must be 0..1000, got "
               f"{args.line_fill_cycles}", file=sys.stderr)
         return 2
-    if args.json is not None and args.json.is_dir():
-        print(f"mobigrasp calibrate: --json {args.json} is a folder", file=sys.stderr)
+    if args.json is not None and (args.json.is_dir() or any(
+            p.exists() and not p.is_dir() for p in args.json.parents)):
+        print(f"mobigrasp calibrate: --json {args.json} is a folder or lies under a file",
+              file=sys.stderr)
         return 2
     per = None if args.all else args.frames_per_scenario
     try:
@@ -58,9 +60,13 @@ def _run(args: argparse.Namespace) -> int:
         return 2
     if args.corpus is None:
         result["corpus"] = "recorded (shipped scenarios)"
-    calibrate.write(result)
-    if args.json is not None:
-        calibrate.write(result, args.json)
+    for path in (None, args.json) if args.json is not None else (None,):
+        try:
+            calibrate.write(result, path)
+        except OSError as exc:
+            print(f"mobigrasp calibrate: cannot write {path or calibrate.default_path()}: "
+                  f"{exc.strerror or exc}", file=sys.stderr)
+            return 2
     print(_table(result))
     bad = [n for n, s in result["stages"].items() if s["result_mismatches"]]
     if bad:

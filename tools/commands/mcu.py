@@ -131,5 +131,5 @@ def run(args: argparse.Namespace) -> int:
           f"watchdog trips {stats['watchdog_trips']}; NACKs sent: "
           f"{', '.join(f'{k} {v}' for k, v in sorted(nacks.items())) or 'none'}",
           file=sys.stderr, flush=True)
-    # the host going away mid-run is a failure for whoever waits on this process (issue 9)
+    # the host going away mid-run is a failure for whoever waits on this process
     return 1 if pty.host_closed else 0

@@ -103,8 +103,8 @@ def _print_calibration(cal: dict | None, rows: list[dict], first: str | None) ->
               f"{r['emulated_p95_us']:>10.0f}{r['emulated_max_us']:>10.0f}"
               f"{r['ratio']:>7.2f}{r['share_max']:>11.1%}")
     total = sum(r["emulated_max_us"] for r in rows)
-    print(f"emulated front end (sum of maxima) {total / 1000:.1f} ms of the "
-          f"{FRAME_BUDGET_US / 1000:.1f} ms frame budget; largest: {first}")
+    print(f"emulated worst frame of all kernels together (sum of maxima) {total / 1000:.1f} ms "
+          f"of the {FRAME_BUDGET_US / 1000:.1f} ms frame budget; largest share: {first}")
 
 
 def _run(args: argparse.Namespace) -> int:

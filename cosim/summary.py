@@ -16,11 +16,15 @@ def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dic
     wall = res.wall_s if res else 0.0
     state = res.host_state if res else "INIT"
     grasped = bool(fin["grasped"] or fin["grasps"])
-    success = grasped and state == "DONE"
+    claimed = state == "DONE"
+    success = claimed and bool(fin["grasped"])  # DONE with the object held at the end
     enter = res.state_enter_us if res else {}
     grasp_us = fin.get("grasp_us")
     return {
         "success": success, "grasped": grasped, "task_state": state,
+        # the host ended DONE; a DONE without the object in the gripper at the end (world
+        # truth) is a false claim
+        "claimed_success": claimed, "false_claim": claimed and not fin["grasped"],
         "end_reason": res.reason if res else "crashed",
         "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
         "final_error_mm": fin.get("final_error_mm"),

@@ -101,3 +101,15 @@ def test_sonar_echoes_on_int6_give_the_ranges_within_the_isr_latency():
     # 2 mm of range) is in every measured width, which the Python model times exactly
     for i, got in enumerate(tele[-1].sonar_mm):
         assert abs(got - (500 + 250 * i)) <= 2
+
+
+def test_simavr_16_pins_keep_their_boot_widths_which_is_why_the_registers_are_latched():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(60_000)
+    mcu.uart_rx(m.encode_message(m.SetServos(0, (1500, 1700, 1500, 1500, 1500, 1500), 0), 1))
+    mcu.advance_to(200_000)
+    pins_us = mcu.oc1_pin_widths_us()
+    # what OC1A..C show: the boot widths (within two cycles), not the widths written since
+    assert all(abs(p - w) <= 2 / 16 for p, w in zip(pins_us, (1000, 1500, 1500), strict=True))
+    assert mcu.servo_pulses_us()[:3] == (1500.0, 1700.0, 1500.0)

@@ -19,7 +19,7 @@ STAMP := $(VENV)/.installed
 # which interpreter built .venv: a venv of another one is made again
 BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware FORCE
+.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware toolchains FORCE
 
 venv: $(STAMP)
 
@@ -47,7 +47,19 @@ ruff-tracked:
 	  git ls-files -z -- '*.py' | xargs -0 -r $(RUFF) check --force-exclude; \
 	else $(RUFF) check .; fi
 
-test: lint
+# Debian packages of the C parts: the avr-gcc firmware, libsimavr (the simavr MCU backend) and the
+# ARM920T toolchain (mobigrasp calibrate); installed with apt-get when missing and apt-get can run
+DEB_TOOLS := gcc-avr avr-libc simavr libsimavr-dev gcc-arm-none-eabi
+toolchains:
+	@missing=""; for p in $(DEB_TOOLS); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -z "$$missing" ]; then exit 0; fi; \
+	if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+	  echo "make: installing$$missing with apt-get"; \
+	  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; } \
+	    || echo "make: apt-get could not install$$missing" >&2; \
+	else echo "make: missing$$missing and apt-get cannot run here" >&2; fi
+
+test: lint toolchains
 	$(BIN)/python -m pytest -q
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing
@@ -55,7 +67,7 @@ browser:
 	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; }
 
-test-all: lint browser
+test-all: lint toolchains browser
 	$(BIN)/python -m pytest -q -m "slow or not slow"
 
 # The ATmega128 firmware with avr-gcc: firmware/build/mobigrasp-avr.elf and .hex, then its size

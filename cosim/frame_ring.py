@@ -63,6 +63,14 @@ class FrameRing:
         self.user[k] = user
         return {"path": self.path, "offset": k * self.slot_bytes, "nbytes": n}
 
+    def unlink(self) -> None:
+        """Remove the file's name (once the reader has mapped it: both ends keep their
+        mapping, and nothing is left behind if this process is killed)."""
+        try:
+            os.unlink(self.path)
+        except FileNotFoundError:
+            pass
+
     def close(self) -> None:
         """Unmap and remove the file."""
         try:

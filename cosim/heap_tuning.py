@@ -6,9 +6,9 @@ masks and label maps in the detectors. glibc serves a block above its mmap thres
 start, raised only as such blocks are freed) with a fresh ``mmap`` and returns it with
 ``munmap``, and gives the top of the heap back to the kernel when more than 128 kB of it is free,
 so the pages of those arrays were faulted in again, zeroed by the kernel, frame after frame.
-With the thresholds below they stay in the heap and are reused. Measured (interleaved runs of
-paper000-exp1 over the pty, other processes stopped): 7 % less wall time in two batches of ten;
-the trace is the same (malloc never decides anything modelled). The cost is up to ~160 MB of
+With the thresholds below they stay in the heap and are reused: less wall time per run
+(docs/cosim.md, "Measured", *malloc*); the trace is the same (malloc never decides anything
+modelled). The cost is up to ~160 MB of
 freed memory a process may keep.
 
 Where the C library has no ``mallopt`` (not glibc) nothing is changed.

@@ -122,6 +122,8 @@ class SocketHost:
         self._quiet_until = -1
         self._last_load: dict = {}
         self._ring: FrameRing | None = None  # frames out of band (cosim/frame_ring.py)
+        # the first grant that named the ring: once its DONE is read the host has mapped it
+        self._ring_first: Ticket | None = None
         self.wall_host_s = 0.0  # wall seconds blocked on the host's DONEs (profiling only)
         self._encoding: Ticket | None = None
         self.conn: socket.socket | None = None  # set by connect()
@@ -181,6 +183,8 @@ class SocketHost:
         prior = ring.user[ring.next_slot()]
         if prior is not None and prior.done is None:
             self.read_through(prior)
+        if self._ring_first is None:
+            self._ring_first = self._encoding
         return ring.put(pixels, self._encoding)
 
     def _vanished(self, exc: Exception, t_us: int) -> ls.LockstepClosed:
@@ -285,6 +289,8 @@ class SocketHost:
                 check_elided(head.predicted, reply)
             head.done = reply
             self._waiting.popleft()
+            if head is self._ring_first:  # the host decoded it, so it has mapped the ring
+                self._ring.unlink()
             self._quiet_until = reply.load.get("quiet_until", -1)
             self._last_load = reply.load
 

@@ -39,7 +39,7 @@ _POWER_ON_PULSES_US = (1000, 1500, 1500, 1500, 1500, 1500)
 
 @dataclass
 class LinkCounters:
-    """Protocol figures the run summary reports (issue 8: protocol {...})."""
+    """Protocol figures the run summary reports (``protocol {...}``, docs/cosim.md)."""
 
     tx_frames: int = 0
     tx_bytes: int = 0

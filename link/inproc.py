@@ -1,8 +1,8 @@
 """In-process transport: two connected ends sharing byte queues (threads or one thread).
 
-The null backend of DESIGN.md: no OS objects, deterministic, used by the lockstep rig and unit
-tests. ``inproc_pair()`` returns both ends; ``inproc://NAME`` opens the ends of a named pair, the
-first open gets end A, the second end B.
+The null backend of the transports (docs/protocol.md): no OS objects, deterministic, used by the
+lockstep rig and unit tests. ``inproc_pair()`` returns both ends; ``inproc://NAME`` opens the
+ends of a named pair, the first open gets end A, the second end B.
 """
 
 from __future__ import annotations

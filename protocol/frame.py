@@ -6,8 +6,8 @@ Wire format (see docs/protocol.md)::
 
 The CRC is CRC-16/CCITT-FALSE over version..payload. COBS guarantees that 0x00 appears only as the
 delimiter, so after any corruption the parser resumes at the very next 0x00 and never skips a good
-frame (the MAVLink resync pitfalls of DESIGN.md cannot happen: there is no length field to trust
-and no start byte that can occur inside a payload).
+frame (the MAVLink resync pitfalls of docs/protocol.md §2.1 cannot happen: there is no length field
+to trust and no start byte that can occur inside a payload).
 """
 
 from __future__ import annotations

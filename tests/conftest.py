@@ -1,8 +1,8 @@
 """Suite-wide test settings.
 
 Hypothesis runs derandomized: the same examples on every run and every machine, so a red CI is a
-real regression and never a lucky draw (DESIGN.md: determinism; tests never depend on the machine).
-Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore pytest ...`.
+real regression and never a lucky draw (docs/cosim.md: determinism; tests never depend on the
+machine). Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore pytest ...`.
 """
 
 import os

@@ -1,4 +1,4 @@
-"""Fault campaigns (issue 9): scenario generation, aggregation, parallel runs, outputs, CLI.
+"""Fault campaigns (docs/faults.md): scenario generation, aggregation, parallel runs, outputs, CLI.
 
 The aggregation is tested with a stand-in run function (no closed loop); one tiny real run checks
 the adapter to tools.run_job."""

@@ -24,12 +24,10 @@ def _imports(path: Path) -> list[tuple[int, str]]:
 
 def test_protocol_imports_only_stdlib():
     bad = []
-    for path in [*sorted((ROOT / "protocol").rglob("*.py")), ROOT / "mobigrasp" / "frozen.py"]:
+    for path in sorted((ROOT / "protocol").rglob("*.py")):
         for line, name in _imports(path):
             top = name.split(".")[0]
-            # mobigrasp.frozen: the namespace's one stdlib-only speed helper (checked below)
-            own = (name in ("mobigrasp.protocol", "mobigrasp.frozen")
-                   or name.startswith("mobigrasp.protocol."))
+            own = name == "mobigrasp.protocol" or name.startswith("mobigrasp.protocol.")
             if not own and top not in sys.stdlib_module_names and top != "__future__":
                 bad.append(f"{path.relative_to(ROOT)}:{line} imports {name}")
     assert not bad, "protocol/ must import only the standard library:\n" + "\n".join(bad)

@@ -1,7 +1,7 @@
 """Every shipped scenario grasps in the closed loop (in process), through the entry point
 `mobigrasp run` uses (tools.run_job.execute): success, object held, no collision, and the closed
-gripper within 15 mm of the object's grasp point (issue 8's acceptance, over the pty, is the
-system test's business; the same seed gives the same trace over either transport)."""
+gripper within 15 mm of the object's grasp point (the randomized acceptance campaign over the pty
+is the system test's business; the same seed gives the same trace over either transport)."""
 
 from __future__ import annotations
 

@@ -2,7 +2,7 @@
 
 Fast: one short in-process run (a few simulated seconds) checking the whole wiring and the run
 folder. Slow (-m slow): every shipped scenario succeeds over the pty, pty == inproc traces on a
-whole scenario, speed 1 == speed max, and the randomized campaign of issue 8.
+whole scenario, speed 1 == speed max, and the randomized acceptance campaign (docs/cosim.md).
 """
 
 import json

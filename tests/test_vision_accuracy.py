@@ -11,7 +11,7 @@ pytest.importorskip("mobigrasp.mcu_sim.world.camera")
 va = pytest.importorskip("mobigrasp.tools.vision_accuracy")
 
 FAST = ["double_cross", "red_cylinder"]
-SLOW = ["radial_symbol", "dual_plus", "spoke"]  # another helper's detectors, slower frames
+SLOW = ["radial_symbol", "dual_plus", "spoke"]  # the 000 detectors: slower frames
 
 
 def _check(name: str) -> None:

@@ -40,7 +40,8 @@ def test_host_app_cost_report_and_states_read_the_table():
 
 
 def test_a_toy_detector_row_reaches_the_cost_report_the_host_app_and_the_task(monkeypatch):
-    """Adding a detector is its own module plus one row (docs/architecture-detector.md)."""
+    """Adding a detector is its own module plus one row (docs/architecture.md, "Adding a
+    detector")."""
     from mobigrasp.host.kinematics import PAPER_000
     from mobigrasp.host.task.sense import CAMERA_000, object_in_platform
 

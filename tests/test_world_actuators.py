@@ -1,4 +1,5 @@
-"""Servo and DC motor models (issue 4 item 3): calibration table, rate limit, lag, saturation."""
+"""Servo and DC motor models (docs/conventions.md): calibration table, rate limit, lag,
+saturation."""
 
 import math
 

@@ -1,6 +1,6 @@
 """A toy detector for the registry test: the brightest pixel of the frame, as a typed result.
 
-It is what a new detector module provides (docs/architecture-detector.md): the detector
+It is what a new detector module provides (docs/architecture.md, "Adding a detector"): the detector
 function ``(rgb) -> (result | None, OpCounts)``, its frozen result dataclass, ``min_ops`` and
 ``sighting``.
 """

@@ -1,4 +1,5 @@
-"""Fault campaigns (issue 9): N seeded random scenarios under a fault plan, run over the cores.
+"""Fault campaigns (docs/faults.md): N seeded random scenarios under a fault plan, run over the
+cores.
 
 Run ``k`` uses seed ``seed + k``: the scenario is ``tools.random_scenarios`` (target 0.5-3 m away
 at any bearing, random heading; obstacles for 001; a moving target for 002) plus the ``[faults]``

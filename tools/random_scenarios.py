@@ -1,4 +1,4 @@
-"""Seeded random scenarios for the acceptance campaign (issue 8) and ``mobigrasp bench loop``.
+"""Seeded random scenarios for the acceptance campaign (docs/cosim.md) and ``mobigrasp bench loop``.
 
 Per method: the target 0.5-3 m from the start at any bearing, a random start heading; for 001
 one to three obstacles between robot and target (centres never within 0.6 m of either end

@@ -1,4 +1,5 @@
-"""Accuracy harness for the five marker detectors (issue 6): seeded views, rendered frames, truth.
+"""Accuracy harness for the five marker detectors (docs/markers.md): seeded views, rendered frames,
+truth.
 
 For each detector: views at poses where the task uses it (000 views from
 ``mcu_sim.world.camera_views``, 002 views below), rendered clean and degraded (noise σ = 8,
@@ -427,7 +428,7 @@ TARGETS = {"detection_rate": 0.99, "false_positive_rate": 0.001, "dist_err_media
 
 
 def meets(fig: dict) -> dict[str, bool]:
-    """Which of issue 6's targets a detector's figures meet (None figures are not judged)."""
+    """Which of the accuracy targets a detector's figures meet (None figures are not judged)."""
     out = {}
     for k, target in TARGETS.items():
         v = fig.get(k)

@@ -39,6 +39,7 @@ import numpy as np
 
 from mobigrasp.host import fixedpoint as fp
 from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision import dark_blobs as db
 
 T_RED = 40  # redness threshold: red paint ~120-200, black rings / floor / sky < 15
 MIN_AREA_HALF_PX = 6  # smallest red piece kept on the 160x120 grid
@@ -113,8 +114,8 @@ def _candidates(mask: np.ndarray) -> tuple[list[tuple[int, ...]], OpCounts]:
                     changed = True
         out.append((area, x0, y0, x1, y1, ix0, ix1))
     out.sort(key=lambda c: -c[0])
-    px = mask.size
-    ops = OpCounts(pixels_read=2 * px, pixels_written=px, alu=6 * px, branches=px)
+    # the red grid is labelled by the same block labelling as the dark mask (hostc/label.c)
+    ops = db.components_cost(mask.size)
     ops += OpCounts(alu=10 * len(comps) ** 2 + 10, branches=2 * len(comps) ** 2)
     return out, ops
 
@@ -169,9 +170,10 @@ def _centroid_q4(profile: np.ndarray, s: int, e: int, level: int) -> int:
 
 
 def _measure(rgb: np.ndarray, y0: int, y1: int, cx0: int, cx1: int
-             ) -> tuple[tuple[int, int, int, int, int], OpCounts] | None:
+             ) -> tuple[tuple[int, int, int, int, int] | None, OpCounts]:
     """Ring rows in columns [cx0, cx1) of rows [y0, y1): ((r1_q4, r2_q4, level, run1 length,
-    run2 length), ops) with rows in full-frame Q4, or None without exactly two thin rings."""
+    run2 length), ops) with rows in full-frame Q4; None and the ops of the scan without exactly
+    two thin rings (a failed scan costs as much as the C ran)."""
     roi = rgb[y0:y1, cx0:cx1]
     gb = cv2.max(roi[..., 1], roi[..., 2]).astype(np.int32)
     r = roi[..., 0].astype(np.int32)
@@ -184,17 +186,17 @@ def _measure(rgb: np.ndarray, y0: int, y1: int, cx0: int, cx1: int
                    bytes_streamed=3 * n, branches=2 * (y1 - y0))
     found = _rings(profile)
     if found is None or len(found[0]) != 2:
-        return None
+        return None, ops
     ((s1, e1), (s2, e2)), level = found
     # the rings are black: their darkest row has at most 2/3 of the red rows' R
     r_level = int(np.median(r_prof))
     if 3 * int(r_prof[s1:e1].min()) > 2 * r_level or 3 * int(r_prof[s2:e2].min()) > 2 * r_level:
-        return None
+        return None, ops
     ops += OpCounts(alu=8 * (e2 - s1 + 4) + 40, muls32=2 * (e2 - s1 + 4), divs=2)
     r1 = y0 * 16 + _centroid_q4(profile, s1, e1, level)
     r2 = y0 * 16 + _centroid_q4(profile, s2, e2, level)
     if r2 - r1 < MIN_RING_GAP_PX * 16 or 2 * max(e1 - s1, e2 - s2) * 16 > r2 - r1:
-        return None  # rings must be thin compared with their spacing (3 mm vs 14.5 mm)
+        return None, ops  # rings must be thin compared with their spacing (3 mm vs 14.5 mm)
     return (r1, r2, level, e1 - s1, e2 - s2), ops
 
 
@@ -251,9 +253,17 @@ def min_ops(height: int, width: int) -> OpCounts:
     adds counts. A lower bound of the modelled time (host/app.py)."""
     h, w = int(height), int(width)
     m = ((h + 1) // 2) * ((w + 1) // 2)  # rgb[::2, ::2]
+    return red_grid_ops(h, w) + db.components_cost(m) + OpCounts(alu=10)
+
+
+def red_grid_ops(height: int, width: int) -> OpCounts:
+    """The red mask on the half-resolution grid: three byte loads, max, subtract, the hue test
+    and a store per grid pixel; every other row of the frame comes from SDRAM (the grid reads
+    every line of those rows)."""
+    h, w = int(height), int(width)
+    m = ((h + 1) // 2) * ((w + 1) // 2)
     return OpCounts(pixels_read=3 * m, pixels_written=m, alu=7 * m, muls=m,
-                    bytes_streamed=3 * (h * w * 3) // 2) \
-        + OpCounts(pixels_read=2 * m, pixels_written=m, alu=6 * m + 10, branches=m)
+                    bytes_streamed=(h + 1) // 2 * w * 3)
 
 
 def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCounts]:
@@ -262,9 +272,7 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
     h, w = rgb.shape[:2]
     small = rgb[::2, ::2]
     mask = red_mask(small)
-    ops = OpCounts(pixels_read=3 * mask.size, pixels_written=mask.size, alu=7 * mask.size,
-                   muls=mask.size,
-                   bytes_streamed=3 * rgb.size // 2)  # every other row is fetched
+    ops = red_grid_ops(h, w)
     cands, o = _candidates(mask)
     ops += o
     for _, gx0, gy0, gx1, gy1, gix0, gix1 in cands[:3]:
@@ -279,27 +287,27 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
         # pass 1: rings in the central half of the scan columns; if a red neighbour spoils
         # them, in narrow strips of the ROI, nearest the scan centre first
         cx0, cx1 = ix0 + (ix1 - ix0) // 4, ix1 - (ix1 - ix0) // 4
-        m = _measure(rgb, y0, y1, cx0, cx1)
+        m, o = _measure(rgb, y0, y1, cx0, cx1)
+        ops += o
         if m is None:
             sw = max(4, (x1 - x0) // 8)
             mid = (cx0 + cx1) // 2
             for sx in sorted(range(x0, x1 - sw + 1, sw // 2), key=lambda a: abs(a + sw // 2 - mid)):
-                m = _measure(rgb, y0, y1, sx, sx + sw)
+                m, o = _measure(rgb, y0, y1, sx, sx + sw)
+                ops += o
                 if m is not None:
                     cx0, cx1 = sx, sx + sw
                     break
-                ops += OpCounts(pixels_read=3 * sw * (y1 - y0), alu=4 * sw * (y1 - y0))
         if m is None:
             continue
-        (r1, r2, level, _, _), o = m
-        ops += o
+        r1, r2, level, _, _ = m
         # the rings' own columns: the cylinder's width and axis, whatever red is beside it
         cols, o = _ring_columns(rgb, x0, x1, r1, r2, level)
         ops += o
         if cols is None or cols[1] - cols[0] < 3:
             continue
         left, right = cols
-        (r1, r2, _, e1, e2), o = m
+        r1, r2, _, e1, e2 = m
         # silhouette: the red run between the rings through the rings' columns; the rings fade
         # a little before the silhouette edges, so their run is a bit narrower. A side whose
         # red reaches much further out than the other is a red neighbour: mirror the other.
@@ -316,11 +324,11 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
         if abs(left + q - cx0) + abs(right + 1 - q - cx1) > max(2, q // 2):
             # pass 2: pass 1 scanned columns off the cylinder's (a red neighbour was merged);
             # measure the rings again on the central half of the silhouette
-            m = _measure(rgb, y0, y1, left + q, right + 1 - q)
+            m, o = _measure(rgb, y0, y1, left + q, right + 1 - q)
+            ops += o
             if m is None:
                 continue
-            (r1, r2, _, _, _), o = m
-            ops += o
+            r1, r2, _, _, _ = m
         u_c = (left + right) * 8  # (left + right) / 2 in Q4
         res = RedCylinderResult(u_c, (r1 + r2 + 1) >> 1, r1, r2, r2 - r1,
                                 (right - left + 1) * 16, (x0, y0, x1 - x0, y1 - y0))

@@ -8,7 +8,7 @@ function of its module giving pixel and depth, or none). The host app's detector
 (host/app_factory.py), the per-frame cost report (host/vision/cost_report.py), the detectors
 each method's states run (host/task/), the vision bench and the accuracy harness all read
 :data:`DETECTORS`; adding a detector is its own module plus one row here
-(docs/architecture-detector.md).
+(docs/architecture.md, "Adding a detector").
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ Mode"): TCCRnA holds COMnA/B/C (bits 7:2, 0b10 = non-inverting) and WGMn1:0, TCC
 outputs go high at BOTTOM and low at the compare match TCNTn == OCRnx, so a pulse lasts
 ``OCRnx + 1`` timer ticks; ICRn = 39999 with prescaler 8 at 16 MHz gives a 20 ms period of 0.5 µs
 ticks. OCRnx is double-buffered: a value written during a period is latched at the next BOTTOM
-(the "servo timing" pitfall of DESIGN.md), which is why ``write_ocr`` only fills the buffer.
+(the "servo timing" pitfall of docs/firmware.md), which is why ``write_ocr`` only fills the buffer.
 
 The model is event-driven: it computes the edges of each period arithmetically (one rising edge per
 channel at BOTTOM, one falling edge at BOTTOM + (OCR+1) ticks) instead of stepping ticks. Time is

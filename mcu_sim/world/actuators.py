@@ -1,7 +1,8 @@
 """Actuator models driven by the MCU outputs: hobby servos (arm, gripper) and DC wheel motors.
 
-These are the plant side of issue 4 item 3. Inputs arrive in integer microseconds (pulse widths,
-time stamps, step lengths); the physics inside is float (this is the plant, not MCU code).
+These are the plant side of the joint table (docs/conventions.md). Inputs arrive in integer
+microseconds (pulse widths, time stamps, step lengths); the physics inside is float (this is the
+plant, not MCU code).
 
 Servo calibration is the joint table of protocol/joints.py (docs/conventions.md "The arm"), in
 float as the physical law: for joints 1..5 ``pulse_us = pulse0_us + direction * theta * K``

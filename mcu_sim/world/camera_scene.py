@@ -1,7 +1,7 @@
 """What the camera can see: scene dataclasses (target, obstacles, clutter) and their 3D geometry.
 
-The scene follows the scenario contract of issue 5: a target of kind ``"radial-symbol"`` (000),
-``"red-cylinder"`` or ``"double-cross"`` (002) at (x_m, y_m, heading_rad), circle and box
+The scene follows the scenario contract (docs/markers.md): a target of kind ``"radial-symbol"``
+(000), ``"red-cylinder"`` or ``"double-cross"`` (002) at (x_m, y_m, heading_rad), circle and box
 obstacles, plus clutter of other shapes and colours for false-positive tests. Where the pieces
 stand is written in docs/markers.md:
 

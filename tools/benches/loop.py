@@ -6,7 +6,7 @@ runs each; the baseline measured in the same run is the strict alternation (``_l
 is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
 The campaign runs ``--runs`` seeded random scenarios per method in process
 (tools/random_scenarios.py) and reports the success rate, collisions and the median final
-error (issue 8 targets: success >= 95 %, zero collisions, median final_error_mm <= 10;
+error (targets, docs/cosim.md: success >= 95 %, zero collisions, median final_error_mm <= 10;
 real-time factor over the pty >= 10).
 """
 

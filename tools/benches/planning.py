@@ -2,7 +2,7 @@
 
 000: one full candidate set (start 2.0 m from the object, moving, object off to the side).
 001: one plan with obstacles (three sonar echoes, object 3.2 m away) and, for comparison, one in
-free space. Wall time is the median over ``--runs`` repetitions (issue 7 target: <= 10 ms), with
+free space. Wall time is the median over ``--runs`` repetitions (target: <= 10 ms), with
 the median process-CPU time next to it (on a loaded machine the wall time also counts waiting); the
 modelled ARM9 time is the soft-float cost model of host.budget (target <= 100 ms per plan).
 Also the fuzzy controller's integer step and the path follower's step, for scale.

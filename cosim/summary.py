@@ -6,6 +6,21 @@ from __future__ import annotations
 from typing import Any
 
 
+def world_figures(fin: dict) -> dict:
+    """What the world says of a run, whoever the host was: the grasp, the final error, the
+    contacts and the path (from the plant's ``final()``)."""
+    grasp_us = fin.get("grasp_us")
+    return {
+        "grasped": bool(fin["grasped"] or fin["grasps"]),
+        "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
+        "final_error_mm": fin.get("final_error_mm"),
+        "collisions": int(fin["collisions"].get("obstacle", 0)),
+        "collisions_target": int(fin["collisions"].get("target", 0)),
+        "min_obstacle_clearance_m": fin["min_obstacle_clearance_m"],
+        "path_length_m": fin["path_length_m"],
+    }
+
+
 def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dict:
     """The summary's figures from the session's result, the plant's truth and the run folder."""
     fin = plant.final()
@@ -15,19 +30,15 @@ def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dic
     end_us = res.end_us if res else 0
     wall = res.wall_s if res else 0.0
     state = res.host_state if res else "INIT"
-    grasped = bool(fin["grasped"] or fin["grasps"])
-    success = grasped and state == "DONE"
+    claimed = state == "DONE"
+    success = claimed and bool(fin["grasped"])  # DONE with the object held at the end
     enter = res.state_enter_us if res else {}
-    grasp_us = fin.get("grasp_us")
     return {
-        "success": success, "grasped": grasped, "task_state": state,
+        "success": success, **world_figures(fin), "task_state": state,
+        # the host ended DONE; a DONE without the object in the gripper at the end (world
+        # truth) is a false claim
+        "claimed_success": claimed, "false_claim": claimed and not fin["grasped"],
         "end_reason": res.reason if res else "crashed",
-        "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
-        "final_error_mm": fin.get("final_error_mm"),
-        "collisions": int(fin["collisions"].get("obstacle", 0)),
-        "collisions_target": int(fin["collisions"].get("target", 0)),
-        "min_obstacle_clearance_m": fin["min_obstacle_clearance_m"],
-        "path_length_m": fin["path_length_m"],
         "replans": int(hs.get("replans", 0)),
         "frames_captured": int(hs.get("frames_received", 0)),
         "frames_processed": int(hs.get("frames_processed", 0)),

@@ -69,9 +69,10 @@ class OpCounts:
     def scaled(self, k: int) -> OpCounts:
         """The counts of ``k`` repetitions."""
         k = int(k)
-        return OpCounts(*[a * k for a in self._values()])
+        return OpCounts(*[a * k for a in self.as_tuple()])
 
-    def _values(self) -> tuple[int, ...]:
+    def as_tuple(self) -> tuple[int, ...]:
+        """The counts in field order (what a copy is built from)."""
         return (self.pixels_read, self.pixels_written, self.alu, self.branches, self.muls,
                 self.muls32, self.divs, self.luts, self.float_ops, self.float_divs,
                 self.bytes_streamed)
@@ -97,7 +98,7 @@ class OpCounts:
         return -(-self.cycles() * 1_000_000 // FCLK_HZ)
 
 
-# _values() lists the fields by hand for speed; this keeps it honest if a field is added.
+# as_tuple() lists the fields by hand for speed; this keeps it honest if a field is added.
 assert tuple(f.name for f in fields(OpCounts)) == (
     "pixels_read", "pixels_written", "alu", "branches", "muls", "muls32", "divs", "luts",
-    "float_ops", "float_divs", "bytes_streamed"), "update OpCounts._values()"
+    "float_ops", "float_divs", "bytes_streamed"), "update OpCounts.as_tuple()"

@@ -171,3 +171,25 @@ def test_docs_list_every_parameter_range():
         assert f"| `camera.{key}` | [{lo:g}, {hi:g}] |" in doc, key
     for key, (lo, hi) in OBSTACLE_RANGES.items():
         assert f"| `obstacles[].{key}` | [{lo:g}, {hi:g}] | m |" in doc, key
+
+
+@pytest.mark.parametrize(("method", "key", "value"), [
+    ("000", "k_s", 5), ("000", "alpha_T", -1.5), ("001", "h_e", 0.2), ("002", "n", 10),
+    ("002", "T_h", 30), ("002", "D", 0.0145)])
+def test_a_paper_parameter_nothing_reads_is_refused_by_name(method, key, value):
+    text = GOOD.replace('"001"', f'"{method}"').replace("k_s = 4\nVmax = 0.3", f"{key} = {value}")
+    with pytest.raises(ScenarioError, match=f"params.{key}: {key} is not used by method {method}"):
+        loads_scenario(text, "x.toml")
+
+
+def test_the_remaining_000_parameters_reach_the_task():
+    from mobigrasp.host.app_factory import task_params
+    from mobigrasp.host.task import Task
+
+    p = Task("000", params=task_params("000", {"k_theta2": 0.5, "k_theta3": 0.25,
+                                                "w_min": 15, "w_max": 50})).p
+    assert p.posture["k_theta_q12"] == (2048, 1024, 0)
+    assert (p.w_min_px, p.w_max_px) == (15, 50)
+    assert Task("000").posture_params().k_theta_q12 == (4096, 0, 0)
+    assert Task("000", params=task_params("000", {"k_theta2": 0.5})).posture_params(
+    ).k_theta_q12 == (2048, 0, 0)

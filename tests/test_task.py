@@ -162,7 +162,8 @@ def test_too_many_losses_fail():
     assert task.state == "FAILED" and "lost" in task.failure
 
 
-def test_grasp_closed_then_lift_then_done_and_drop_fails():
+def test_grasp_closed_then_lift_without_evidence_grasps_again_and_drop_fails():
+    """Nothing seen after the lift is no evidence of holding: open and ADJUST, never DONE."""
     for drop in (False, True):
         task = Task("000")
         task.go(0, "PRECISE_GRASP", "test")
@@ -177,11 +178,12 @@ def test_grasp_closed_then_lift_then_done_and_drop_fails():
         while task.state == "LIFT":
             t += 20_000
             out = step(task, t, grasp_closed=not (drop and t > 100_000))
-        assert out.state == ("FAILED" if drop else "DONE")
+        assert out.state == ("FAILED" if drop else "ADJUST")
         if drop:
             assert "dropped" in task.failure
         else:
-            assert out.gripper_permille == 1000 and out.servo_mrad[0] == 1000
+            assert "no evidence" in out.events[-1].why
+            assert out.gripper_permille == 0 and out.servo_mrad[0] == 0
 
 
 def test_gripper_that_closes_on_nothing_fails():

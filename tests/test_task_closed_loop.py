@@ -85,7 +85,7 @@ class World:
         out = {}
         top = (self.obj[0], self.obj[1], self.top_h)
         pr = self.project(top)
-        if pr is None or self.held:
+        if pr is None:
             return {n: None for n in names}
         u, v, zc = pr
         for n in names:
@@ -139,6 +139,8 @@ class World:
             self.held = True
         if out.gripper_permille == 0:
             self.held = False
+        if self.held:  # drawn under the gripper, as mcu_sim/world does
+            self.obj = (tip[0], tip[1])
 
     def inputs(self, task, frame):
         # a processed frame reports every detector run (None = not found); {} = no new frame.
@@ -300,11 +302,58 @@ def test_grasp_check_after_the_lift_grasps_again_or_fails(misses):
         assert len(checks) == 2 and not world.held
 
 
+def test_grasp_check_looks_straight_down_from_above_the_gripper():
+    """000: the look of the grasp check keeps the fingertip's place, gripper vertical."""
+    from mobigrasp.host import kinematics
+    from mobigrasp.host.task import grasp as task_grasp
+
+    for method in ("000",):
+        task = Task(method)
+        task.set_arm(0, -1730, -1178, 1337, -77)  # a grasp pose of 000 (trace of paper000-exp1)
+        x0, y0, z0 = task.gripper_point_q4()
+        task_grasp.GRASP.start_check(task, 0, TaskInputs())
+        x, y, z = task.gripper_point_q4()
+        assert sum(task.arm[2:5]) == kinematics.ALPHA_DOWN_MRAD, method
+        assert abs(x - x0) <= 3 * 16 and abs(y - y0) <= 3 * 16 and z > z0, method
+        assert task.phase == "check" and task.held_tips == {}
+
+
+def test_held_evidence_needs_the_object_under_the_fingertip_at_two_places():
+    from mobigrasp.host.task import grasp as task_grasp
+
+    ev = task_grasp.GRASP.held_evidence
+    assert not ev({})
+    assert not ev({0: (800, 300)})
+    assert not ev({0: (800, 300), 1: (810, 300)})  # the gripper hardly moved: a standing object
+    assert ev({0: (800, 300), 1: (800, 300 + task_grasp.HELD_MOVE_MM)})
+
+
+@pytest.mark.parametrize("cylinder_seen", [False, True])
+def test_no_grasp_without_the_object_itself_seen(cylinder_seen):
+    """002's board alone: an estimate placed by the double cross only is no object to grasp;
+    ROUGH_GRASP ends FAILED "no graspable object found" instead of closing on air."""
+    task = Task("002")
+    task.obj = (255, 0)  # odometry: where the crosses put the cylinder, in reach
+    task.graspable_seen = cylinder_seen
+    task.go(0, "ROUGH_GRASP", "test")
+    task.step(20_000, TaskInputs())
+    if cylinder_seen:
+        assert task.state == "ROUGH_GRASP"
+    else:
+        assert task.state == "FAILED" and "no graspable object found" in task.failure
+
+
+def test_a_given_object_place_counts_as_found():
+    """001 §II: P_i given; the grasp is tried on it even if the camera never saw the marker."""
+    assert Task("001", params={"object_xy_mm": (1500, 200)}).graspable_seen
+    assert not Task("001").graspable_seen
+
+
 def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighting():
     from mobigrasp.host.search import SearchParams
     from mobigrasp.host.task import grasp as task_grasp
 
-    for method, near_mm in (("000", 210), ("001", 250), ("002", 355)):
+    for method, near_mm in (("001", 250), ("002", 355)):  # by absence (docs/task.md)
         task = Task(method)
         task.obj = (near_mm, 0)  # odometry: straight ahead of the start pose
         task_grasp.GRASP.start_check(task, 0, TaskInputs())
@@ -318,3 +367,20 @@ def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighti
         sp = SearchParams(**far.p.search)
         assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
         assert far.arm[5] > 300  # the object is to the right (negative odometry y)
+
+
+@pytest.mark.parametrize("sighted", [False, True])
+def test_check_by_absence_needs_the_object_seen_once(sighted):
+    """001's check by absence: DONE only if the camera saw the object in the run at all."""
+    from mobigrasp.host.task import grasp as task_grasp
+
+    task = Task("001", params={"object_xy_mm": (1500, 0)})
+    task.object_sighted = sighted
+    task.go(0, "LIFT", "test")
+    task.entry_pending = False
+    task.phase, task.phase_us, task.move_done_us = "check", 0, 0
+    task.check_waist = (0, len(task_grasp.CHECK_WAIST_MRAD) - 1)
+    task_grasp.GRASP._check(task, 10_000_000)
+    assert task.state == ("DONE" if sighted else "ADJUST")
+    if not sighted:
+        assert task.gripper == 0 and "absence is no evidence" in task._events[-1].why

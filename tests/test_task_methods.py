@@ -55,3 +55,91 @@ def test_no_method_string_comparisons_in_the_host():
     for path in HOST.rglob("*.py"):
         text = path.read_text(encoding="utf-8")
         assert "method ==" not in text and "method !=" not in text, path
+
+
+def _guarded(sonar_mm, obj_xy_mm, wheels=(200, 200), state="APPROACH"):
+    from mobigrasp.host.task import Task, TaskInputs
+
+    task = Task("001")
+    task.state, task.wheels, task.obj = state, wheels, obj_xy_mm
+    task.follower = "a path"
+    task.rules.guard_wheels(task, 0, TaskInputs(sonar_mm=sonar_mm))
+    return task
+
+
+def test_sonar_below_safety_circle_stops_forward_motion_and_drops_the_path():
+    far = (3000, 0)
+    stopped = _guarded((2500, 2500, 150, 2500, 2500), far)
+    assert stopped.wheels == (0, 0) and stopped.follower is None
+    diag = _guarded((2500, 190, 2500, 2500, 2500), far)  # S_2 at -pi/4
+    assert diag.wheels == (0, 0)
+    for kept in (_guarded((2500, 2500, 250, 2500, 2500), far),  # beyond R_r = 200 mm
+                 _guarded((150, 2500, 2500, 2500, 150), far),  # the side sonars (phi = +-pi/2)
+                 _guarded((2500, 2500, 150, 2500, 2500), far, wheels=(-80, 80)),  # turn
+                 _guarded((2500, 2500, 0, 2500, 2500), far),  # 0: no echo
+                 _guarded((2500, 2500, 150, 2500, 2500), far, state="ADJUST")):
+        assert kept.wheels != (0, 0) and kept.follower == "a path"
+
+
+def test_sonar_guard_ignores_the_objects_own_echo():
+    # sensor S_3 170 mm ahead of the centre, the object estimate 230 mm ahead of it
+    assert _guarded((2500, 2500, 150, 2500, 2500), (400, 0)).wheels == (200, 200)
+    # the same echo with the object elsewhere is an obstacle
+    assert _guarded((2500, 2500, 150, 2500, 2500), (400, 900)).wheels == (0, 0)
+
+
+def test_r_r_and_sonar_cone_come_from_the_scenario():
+    from mobigrasp.host.app_factory import task_params
+    from mobigrasp.host.task import Task
+    from mobigrasp.host.task.method001 import planner_params_001
+
+    task = Task("001", params=task_params("001", {"R_r": 0.3, "A_g": 0.9, "D_e": 2.0}))
+    assert task.p.r_r_mm == 300
+    sonar = planner_params_001(task.p).sonar
+    assert (sonar.r_r_m, sonar.a_g_rad, sonar.d_e_m) == (0.3, 0.9, 2.0)
+    assert _guarded((2500, 2500, 250, 2500, 2500), (3000, 0)).wheels == (200, 200)
+    wide = Task("001", params={"r_r_mm": 300})
+    wide.state, wide.wheels, wide.obj = "APPROACH", (200, 200), (3000, 0)
+    from mobigrasp.host.task import TaskInputs
+    wide.rules.guard_wheels(wide, 0, TaskInputs(sonar_mm=(2500, 2500, 250, 2500, 2500)))
+    assert wide.wheels == (0, 0)
+
+
+def test_001_falls_back_in_steps_before_giving_up():
+    """No feasible curve: lower v0, back off toward the last path's start, turn toward the
+    widest free sector, then drives aside (max_detours), each a fallback detail event; then
+    no more (the caller ends FAILED)."""
+    from mobigrasp.host.task import Task, TaskInputs
+    from mobigrasp.host.task.method001 import start_001
+
+    task = Task("001", params={"max_detours": 2})
+    task.state, task.obj = "APPROACH", (2000, 0)
+    # a wall of echoes ahead and right, free to the left (S_4, S_5)
+    inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0,
+                     sonar_mm=(300, 300, 300, 2500, 2500))
+    task.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
+    task.path_from = (-600, 0)
+    steps = []
+    for _ in range(6):
+        task._detail = {}
+        ok = task.rules.start_detour(task, inp)
+        steps.append((task._detail.get("fallback", {}).get("step"), ok))
+        if steps[-1][0] == "lower_v0":
+            assert task.v0_div == 2 and task.replanner is None
+            task.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
+        elif steps[-1][0] == "back_off":
+            assert task.detour["drive"] and abs(abs(task.detour["heading_mrad"]) - 3142) <= 2
+        elif steps[-1][0] == "widest_sector":
+            assert not task.detour["drive"] and 785 <= task.detour["heading_mrad"] <= 1571
+    assert steps == [("lower_v0", True), ("back_off", True), ("widest_sector", True),
+                     ("detour", True), ("detour", True), (None, False)]
+
+
+def test_lower_v0_reaches_the_planner():
+    from mobigrasp.host.task import Task, TaskInputs
+
+    task = Task("001")
+    task.obj, task.v0_div = (2000, 300), 2
+    follower, _, detail = task.rules.plan(task, 0, TaskInputs(sonar_mm=(2500,) * 5))
+    assert task.replanner.params.v0 == 0.1 and follower is not None
+    assert task.path_from == (0, 0)

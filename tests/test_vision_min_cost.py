@@ -26,7 +26,7 @@ def _check(name: str, rgb: np.ndarray) -> int:
     low = DETECTORS[name].min_ops_fn()(*rgb.shape[:2])
     for field, got, least in zip(("pixels_read", "pixels_written", "alu", "branches", "muls",
                                   "muls32", "divs", "luts", "float_ops", "float_divs",
-                                  "bytes_streamed"), ops._values(), low._values(), strict=True):
+                                  "bytes_streamed"), ops.as_tuple(), low.as_tuple(), strict=True):
         assert got >= least, (name, field, got, least, rgb.shape)
     assert ops.time_us() >= low.time_us()
     return ops.time_us()

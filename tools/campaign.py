@@ -70,7 +70,7 @@ def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
     """TOML of random scenario ``seed`` of ``method`` with the plan's ``[faults]``."""
     from mobigrasp.tools.random_scenarios import random_scenario_toml
 
-    return random_scenario_toml(method, seed) + "\n" + plan.to_toml()
+    return random_scenario_toml(method, seed, "v1") + "\n" + plan.to_toml()  # its own faults
 
 
 def make_scenario(method: str, seed: int, plan: FaultPlan) -> Scenario:
@@ -137,6 +137,7 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     row = {
         "seed": job["seed"], "method": job.get("method"), "faults": job.get("faults", {}),
         "success": bool(s.get("success")), "trace_sha256": s.get("trace_sha256"),
+        "false_claim": bool(s.get("false_claim")),
         "status": s.get("status", "crashed") if summary is not None else "crashed",
         "task_state": s.get("task_state"), "sim_time_s": s.get("sim_time_s"),
         "collisions": collisions, "unsafe_actuations": unsafe, "safety_monitored": monitored,
@@ -188,6 +189,7 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
         "unsafe_actuations": sum(r["unsafe_actuations"] for r in rows),
         "runs_with_unsafe_actuation": sum(r["unsafe_actuations"] > 0 for r in rows),
         "collisions": sum(r["collisions"] for r in rows),
+        "false_claims": sum(r["false_claim"] for r in rows),
         "watchdog_trips": sum(r["watchdog_trips"] for r in rows),
         "retransmits": sum(r["retransmits"] for r in rows),
         "crc_errors": sum(r["crc_errors"] for r in rows),
@@ -290,6 +292,7 @@ def format_table(agg: dict) -> str:
         f"({agg['successes']}/{agg['runs']}, {agg['crashed_runs']} crashed)",
         f"  {'unsafe actuations':<28} {agg['unsafe_actuations']:6d}    "
         f"(in {agg['runs_with_unsafe_actuation']} runs; collisions {agg['collisions']})",
+        f"  {'false claims of success':<28} {agg['false_claims']:6d}",
         f"  {'watchdog trips':<28} {agg['watchdog_trips']:6d}",
         f"  {'retransmits':<28} {agg['retransmits']:6d}    (CRC errors {agg['crc_errors']})",
         f"  {'wheel stop latency ms':<28} {fmt(agg['stop_latency_ms'])}"

@@ -1,9 +1,20 @@
-"""Seeded random scenarios for the acceptance campaign (docs/cosim.md) and ``mobigrasp bench loop``.
+"""Seeded random scenarios for the acceptance campaign (docs/cosim.md) and ``bench loop``.
 
-Per method: the target 0.5-3 m from the start at any bearing, a random start heading; for 001
-one to three obstacles between robot and target (centres never within 0.6 m of either end
-along the line, so start and grasp stay free; a surface can come within ~0.35 m of the start);
-for 002 the target is dragged sideways during the approach (as in 002 Fig. 4).
+Two generators, by version name (``GENERATORS``); a seed gives the same scene in its version
+for good, so old figures can be re-run with ``version="v1"``.
+
+``v2`` (the default) covers what users try: the camera's noise (std 0-8), brightness 0.6-1.4
+and blur 0-1.5 px; 001 obstacles mixing circles, boxes and short walls (0.2-0.45 m) at any
+angle; 002 boards at any orientation, the target moved during the approach on half the scenes,
+boards without a cylinder (``double-cross``, nothing to grasp) on ``BOARD_ALONE_P`` of them;
+light faults (UART bit errors 1e-4, 10 % camera frame drops, 3 % encoder slip) on
+``LIGHT_FAULTS_P`` of the scenes (not with ``faults=False``: a campaign adds its own).
+
+``v1``, per method: the target 0.5-3 m from the start at any bearing, a random start
+heading; for 001 one to three obstacles between robot and target (centres never within 0.6 m
+of either end along the line, so start and grasp stay free; a surface can come within ~0.35 m
+of the start); for 002 the target is dragged sideways during the approach (as in 002 Fig. 4)
+and the board faces the robot's start.
 Scenarios are written as TOML and parsed by the normal loader, so they pass its validation.
 """
 
@@ -18,8 +29,22 @@ KIND = {"000": "radial-symbol", "001": "radial-symbol", "002": "red-cylinder"}
 LIMIT_S = {"000": 150.0, "001": 180.0, "002": 120.0}
 
 
-def random_scenario_toml(method: str, seed: int) -> str:
-    """TOML text of random scenario ``seed`` for ``method``."""
+BOARD_ALONE_P = 0.15
+LIGHT_FAULTS_P = 0.25
+LIGHT_FAULTS = ("[faults]", "uart_bit_error_rate = 0.0001", "camera_drop_rate = 0.1",
+                "encoder_slip = 0.03")
+
+
+def random_scenario_toml(method: str, seed: int, version: str = "v2",
+                         faults: bool = True) -> str:
+    """TOML text of random scenario ``seed`` for ``method`` by generator ``version``."""
+    if version not in GENERATORS:
+        raise ValueError(f"version must be one of {tuple(GENERATORS)}, got {version!r}")
+    return GENERATORS[version](method, seed, faults)
+
+
+def _v1(method: str, seed: int, faults: bool = True) -> str:
+    """The first generator (its seeds reproduce the figures measured with it)."""
     if method not in KIND:
         raise ValueError(f"method must be one of {tuple(KIND)}, got {method!r}")
     rng = random.Random(f"{method}-{seed}")
@@ -66,6 +91,67 @@ def random_scenario_toml(method: str, seed: int) -> str:
     return "\n".join(lines) + "\n"
 
 
-def random_scenario(method: str, seed: int) -> Scenario:
+def _obstacle_v2(rng: random.Random, ox: float, oy: float) -> list[str]:
+    shape = rng.choice(("circle", "box", "wall"))
+    if shape == "circle":
+        return ["[[obstacles]]", 'shape = "circle"', f"x_m = {ox:.4f}", f"y_m = {oy:.4f}",
+                f"radius_m = {rng.uniform(0.1, 0.25):.3f}", ""]
+    if shape == "box":
+        return ["[[obstacles]]", 'shape = "box"', f"x_m = {ox:.4f}", f"y_m = {oy:.4f}",
+                f"width_m = {rng.uniform(0.2, 0.5):.3f}", f"depth_m = {rng.uniform(0.2, 0.4):.3f}",
+                f"heading_rad = {rng.uniform(0, math.pi):.4f}", ""]
+    half, a = rng.uniform(0.1, 0.225), rng.uniform(0, math.pi)
+    return ["[[obstacles]]", 'shape = "wall"', f"x_m = {ox - half * math.cos(a):.4f}",
+            f"y_m = {oy - half * math.sin(a):.4f}", f"x2_m = {ox + half * math.cos(a):.4f}",
+            f"y2_m = {oy + half * math.sin(a):.4f}", "thickness_m = 0.05", ""]
+
+
+def _v2(method: str, seed: int, faults: bool = True) -> str:
+    """The widened generator (module docstring)."""
+    if method not in KIND:
+        raise ValueError(f"method must be one of {tuple(KIND)}, got {method!r}")
+    rng = random.Random(f"v2-{method}-{seed}")
+    dist = rng.uniform(0.5, 3.0)
+    bearing = rng.uniform(-math.pi, math.pi)
+    heading = rng.uniform(-math.pi, math.pi)
+    tx, ty = dist * math.cos(bearing), dist * math.sin(bearing)
+    kind = KIND[method]
+    if method == "002" and rng.random() < BOARD_ALONE_P:
+        kind = "double-cross"
+    lines = [
+        "[scenario]", f'name = "random-v2-{method}-{seed}"', f'method = "{method}"',
+        f"seed = {seed}", f"time_limit_s = {LIMIT_S[method]}", "",
+        "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
+        "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
+        f"heading_rad = {rng.uniform(-math.pi, math.pi):.6f}", "",
+    ]
+    if method == "002" and kind != "double-cross" and rng.random() < 0.5:
+        # moved sideways during the approach, as v1 (and 002 Fig. 4) does
+        side = rng.choice((-1.0, 1.0)) * rng.uniform(0.1, 0.4) * min(1.0, dist / 1.5)
+        nx, ny = -math.sin(bearing), math.cos(bearing)
+        t1 = 1.0 + rng.uniform(0.3, 0.6) * dist / 0.15
+        t0 = max(0.5, min(rng.uniform(2.0, 5.0), t1 - max(1.0, abs(side) / 0.25)))
+        for t, k in ((t0, 0.0), (t1, side)):
+            lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {tx + k * nx:.4f}",
+                      f"y_m = {ty + k * ny:.4f}", ""]
+    if method == "001" and dist > 1.4:
+        for _ in range(rng.randint(1, 3)):
+            along = rng.uniform(0.6, dist - 0.6)
+            off = rng.uniform(-0.5, 0.5)
+            lines += _obstacle_v2(rng, along * math.cos(bearing) - off * math.sin(bearing),
+                                  along * math.sin(bearing) + off * math.cos(bearing))
+    lines += ["[camera]", f"noise_std = {rng.uniform(0.0, 8.0):.2f}",
+              f"brightness = {rng.uniform(0.6, 1.4):.3f}", f"blur_px = {rng.uniform(0.0, 1.5):.2f}",
+              ""]
+    if rng.random() < LIGHT_FAULTS_P and faults:
+        lines += [*LIGHT_FAULTS, ""]
+    return "\n".join(lines) + "\n"
+
+
+GENERATORS = {"v1": _v1, "v2": _v2}
+
+
+def random_scenario(method: str, seed: int, version: str = "v2") -> Scenario:
     """Random scenario ``seed`` for ``method``, validated by the scenario loader."""
-    return loads_scenario(random_scenario_toml(method, seed), source=f"random-{method}-{seed}")
+    return loads_scenario(random_scenario_toml(method, seed, version),
+                          source=f"random-{version}-{method}-{seed}")

@@ -169,19 +169,14 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
 
 
 def _figures(res, plant, rig, host, camera, trace, limit_s: float) -> dict:
-    fin = plant.final()
-    grasped = bool(fin["grasped"] or fin["grasps"])
-    grasp_us = fin.get("grasp_us")
+    from mobigrasp.cosim.summary import world_figures
+
+    world = world_figures(plant.final())
     wall = res.wall_s
     return {
-        "success": grasped, "grasped": grasped, "task_state": "external",
+        # an external host claims nothing mobigrasp can read: success is the world's grasp
+        "success": world["grasped"], **world, "task_state": "external",
         "end_reason": res.reason,
-        "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
-        "final_error_mm": fin.get("final_error_mm"),
-        "collisions": int(fin["collisions"].get("obstacle", 0)),
-        "collisions_target": int(fin["collisions"].get("target", 0)),
-        "min_obstacle_clearance_m": fin["min_obstacle_clearance_m"],
-        "path_length_m": fin["path_length_m"],
         "sim_time_s": res.end_us / 1e6, "time_limit_s": limit_s, "wall_time_s": wall,
         "realtime_factor": (res.end_us / 1e6 / wall) if wall > 0 else None,
         "line": host.stats(),

@@ -73,6 +73,9 @@ struct sh {
     uint64_t isr_start;
     int seen_sei;
     uint64_t ioff_start;
+    uint64_t oc1_rise[3];      /* OC1A..C pin (PB5..7): last rising edge */
+    uint32_t oc1_high_cycles[3]; /* and the last high time the pin showed */
+    uint8_t portb_last;
     uint32_t loop_addr; /* fw_loop's entry (byte address) */
     int in_loop;
     uint16_t loop_sp;
@@ -154,6 +157,39 @@ static void on_tov1(struct avr_irq_t *irq, uint32_t value, void *param)
     sh->per_cycle[sh->per_n++] = avr->cycle;
 }
 
+/* What the OC1A..C pins show (simavr 1.6 keeps their boot widths in mode 14, see on_tov1). */
+static void on_portb(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    (void)irq;
+    sh_t *sh = param;
+    uint8_t now = (uint8_t)value, changed = (uint8_t)(now ^ sh->portb_last);
+    sh->portb_last = now;
+    for (uint8_t ch = 0; ch < 3; ch++) {
+        uint8_t bit = (uint8_t)(5u + ch);
+        if (!((changed >> bit) & 1u)) {
+            continue;
+        }
+        if ((now >> bit) & 1u) {
+            sh->oc1_rise[ch] = sh->avr->cycle;
+        } else if (sh->oc1_rise[ch]) {
+            sh->oc1_high_cycles[ch] = (uint32_t)(sh->avr->cycle - sh->oc1_rise[ch]);
+        }
+    }
+}
+
+static void on_oc1_pin(struct avr_irq_t *irq, uint32_t value, void *param)
+{
+    sh_t *sh = param;
+    uint8_t bit = (uint8_t)(irq->irq & 7u);
+    uint8_t v = (uint8_t)(sh->portb_last & ~(1u << bit)) | (uint8_t)((value ? 1u : 0u) << bit);
+    on_portb(irq, v, param);
+}
+
+uint32_t sh_oc1_pin_high_cycles(const sh_t *sh, uint8_t ch)
+{
+    return ch < 3 ? sh->oc1_high_cycles[ch] : 0u;
+}
+
 static avr_cycle_count_t wake_at_target(avr_t *avr, avr_cycle_count_t when, void *param)
 {
     (void)avr;
@@ -232,6 +268,10 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
     avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('C'), IOPORT_IRQ_PIN_ALL),
                             on_portc, sh);
     avr_irq_register_notify(avr_get_interrupt_irq(avr, SH_VECTOR_TIMER1_OVF), on_tov1, sh);
+    for (int ch = 0; ch < 3; ch++) {
+        avr_irq_register_notify(avr_io_getirq(avr, AVR_IOCTL_IOPORT_GETIRQ('B'), 5 + ch),
+                                on_oc1_pin, sh);
+    }
     sh->byte_cycles = 10u * 8u * 17u; /* 8N1 at UBRR 16, U2X 1 */
     paint(sh);
     return sh;

@@ -47,5 +47,6 @@ void sh_read(const sh_t *sh, uint16_t addr, uint8_t *dst, uint16_t n);
 void sh_profile(const sh_t *sh, sh_profile_t *out);
 uint32_t sh_pc(const sh_t *sh);
 uint32_t sh_rx_unread(const sh_t *sh);
+uint32_t sh_oc1_pin_high_cycles(const sh_t *sh, uint8_t ch);
 
 #endif

@@ -18,15 +18,16 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   (level first), since with theta2 <= 0 the pre-grasp point may be reachable only tilted.
 - LIFT: raise by ``lift_mm`` with the same pitch, then the grasp check (ours: the papers end at
   the closed gripper, and the host has no finger sensor, FLAG_GRIPPER_CLOSED only says the close
-  was commanded): the camera swings back and up to look down at the place the object stood
-  (``CHECK_VIEWS``, eq. (11) of 000; then eq. (10) keeps it in view); a held object has left
-  it (it hangs under the gripper, behind that view), a missed one still stands there.  The
-  object's marker (dual "+" or radial symbol, 002 the red cylinder) seen in
-  ``CHECK_SEEN_FRAMES`` frames standing away from the fingertip (while the arm rises, or while
-  the waist turns the view about the place, ``CHECK_WAIST_MRAD``) means a miss: open, ADJUST
-  from the new sighting and grasp again (up to ``MAX_REGRASPS`` times, then FAILED); otherwise
-  DONE.  Without the check a gripper closed beside the object reported DONE (docs/cosim.md
-  "Measured", T8).
+  was commanded), on positive evidence only (docs/task.md): the camera, at the fingertip point
+  of eq. (3) of 000, goes straight up above where it is and looks down (``HELD_VIEW_MM``), the
+  wrist roll turned so that the two "+" lie along the frame's width; the waist then
+  turns through ``CHECK_WAIST_MRAD``.  The object seen under the fingertip (``HELD_NEAR_MM``)
+  at two waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart has moved with the
+  gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
+  ``CHECK_SEEN_FRAMES`` frames), or not seen under it at the end of the look, is a miss: open,
+  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED.  Not seeing the object is
+  never evidence of holding it.  No grasp is tried unless the object itself (not a guide
+  board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
 """
 
 from __future__ import annotations
@@ -34,7 +35,11 @@ from __future__ import annotations
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from mobigrasp.host.search import SearchParams
-from mobigrasp.host.task.sense import platform_to_odom_mm, spoke_reading
+from mobigrasp.host.task.sense import (
+    odom_to_platform_q4,
+    platform_to_odom_mm,
+    spoke_reading,
+)
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
 ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn
@@ -48,6 +53,15 @@ CHECK_POSE_US = 500_000  # look this long (7 frames at 15 fps) at each waist off
 # may be off by 0.3 rad in bearing (docs/cosim.md "Measured", T8)
 CHECK_WAIST_MRAD = (0, 300, -300)
 MAX_REGRASPS = 2
+# the look of the check (docs/task.md): the camera this far above the object's top, looking
+# down, first reachable wins; the object held under the fingertip is seen within HELD_NEAR_MM of
+# it, at two waist offsets whose fingertip places are HELD_MOVE_MM apart (r * 0.3 rad >= 33 mm at
+# the reach r >= 110 mm of a 000 grasp)
+HELD_VIEW_MM = (150, 140, 130, 120, 110, 100, 90)
+HELD_NEAR_MM = 12
+HELD_MOVE_MM = 2 * HELD_NEAR_MM + 1
+
+
 # views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
 # 0.3 m the 320 x 240 frame spans 157 x 118 mm there (f = 611 px), room for the miss itself
 # (the estimate that guided the fingers beside the object is off by that much); the dual "+"
@@ -73,6 +87,11 @@ class GraspStates:
     def enter_ROUGH_GRASP(self, t, now: int, inp) -> None:
         t.wheels = (0, 0)
         t.gripper = 0
+        if not t.graspable_seen:
+            # the estimate came from a guide (002's board) alone: nothing seen to grasp
+            t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
+                        f"never seen)")
+            return
         target = t.rules.rough_target(t, inp)
         pose = t.grasp_ik(target)
         if isinstance(pose, kinematics.Unreachable) and t.rules.lowers_hover():
@@ -164,7 +183,8 @@ class GraspStates:
             return
         t.phase_us = now
         t.precise_steps += 1
-        step = kinematics.precise_grasp_step(t.arm[5], reading[0], reading[1])
+        step = kinematics.precise_grasp_step(t.arm[5], reading[0], reading[1],
+                                             w_min_px=t.p.w_min_px, w_max_px=t.p.w_max_px)
         t.note(precise={"spoke_mrad": reading[0], "w_px": reading[1], "reason": step.reason,
                            "step": t.precise_steps})
         if step.aligned:
@@ -229,9 +249,10 @@ class GraspStates:
                 return pose
         return None
 
-    def start_check(self, t, now: int, inp) -> None:
-        """Swing the camera to look back at the grasp place (``_check_pose``; out of the
-        views' reach, the search's far look toward it); the waist then turns through
+    def start_place_check(self, t, now: int, inp) -> None:
+        """002 (no look down reaches its cylinder, docs/task.md): swing the camera to look
+        back at the grasp place (``_check_pose``; out of the views' reach, the search's far
+        look toward it); the waist then turns through
         ``CHECK_WAIST_MRAD``."""
         pose = self._check_pose(t, inp)
         if pose is not None:
@@ -249,54 +270,132 @@ class GraspStates:
         t.check_waist = (t.arm[5], 0)  # (centre, index into CHECK_WAIST_MRAD)
         t.phase, t.phase_us = "check", t.move_done_us
 
-    def _standing_away(self, t, inp) -> bool:
-        """The object just seen (t.obj) stands on the ground away from the gripper, not
-        under the fingertip where a held object would be (there is one object: seen anywhere
-        else, it is not in the gripper; docs/cosim.md "Measured", T8)."""
+    def _held_pose(self, t):
+        """The look of the grasp check: the camera (the fingertip point, eq. (3) of 000)
+        straight above where it is, looking down, ``HELD_VIEW_MM`` above the object's top,
+        the first height the arm reaches; a held object is then under the camera's optical
+        centre (docs/task.md). None if no height is reachable."""
+        x, y, _ = t.gripper_point_q4()
+        for h_mm in HELD_VIEW_MM:
+            z = (t.p.object_top_mm + h_mm - t.p.h_shoulder_mm) * 16
+            pose = kinematics.ik_pitch_mm_q4(t.geom, (x, y, z), kinematics.ALPHA_DOWN_MRAD)
+            if isinstance(pose, kinematics.ArmPose):
+                return pose
+        return None
+
+    def _plus_roll(self, t, inp, theta5_mrad: int) -> int | None:
+        """The wrist roll that lays the line of the two "+" (47.3 mm, 190 px at 150 mm) along
+        the frame's 320 px width, not its 240 px height: looking straight down the image x axis
+        points at -(theta1 + theta5) in the platform frame (sense.camera_axes_q12 with
+        alpha = -pi/2); the "+" are where ADJUST last saw them. None: keep the roll."""
+        if t.plus_odom is None:
+            return None
+        (ax, ay), (bx, by) = (odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                                  t.p.mount_forward_mm, *q[:2])
+                              for q in t.plus_odom)
+        roll = -atan2_mrad(by - ay, bx - ax) - theta5_mrad
+        lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
+        while roll > hi:  # the line repeats every half turn
+            roll -= 2 * kinematics.QUARTER_TURN_MRAD
+        while roll < lo:
+            roll += 2 * kinematics.QUARTER_TURN_MRAD
+        return roll if roll <= hi else None
+
+    def start_check(self, t, now: int, inp) -> None:
+        """Raise the camera above the gripper looking down (``_held_pose``); the waist then
+        turns through ``CHECK_WAIST_MRAD`` (the gripper, and a held object, move with it)."""
+        t.held_tips = {}
+        if not t.rules.held_look:
+            self.start_place_check(t, now, inp)
+            return
+        pose = self._held_pose(t)
+        if pose is not None:
+            t.apply_pose(now, pose, self._plus_roll(t, inp, pose.theta5_mrad))
+            t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
+                                             pose.theta4_mrad, pose.theta5_mrad])
+        else:
+            t.note(grasp_check_no_view=True)  # no evidence can come: a miss at the end
+        t.trust_from_us = t.move_done_us  # frames of the swing: arm pose unknown
+        t.check_waist = (t.arm[5], 0)  # (centre, index into CHECK_WAIST_MRAD)
+        t.held_tips = {}
+        t.phase, t.phase_us = "check", t.move_done_us
+
+    def _tip_odom(self, t, inp) -> tuple[int, int]:
         tip = platform_to_odom_mm(inp.x_mm, inp.y_mm, inp.heading_mrad,
                                   t.p.mount_forward_mm, t.gripper_point_q4())
-        dx, dy = t.obj[0] - tip[0], t.obj[1] - tip[1]
-        return dx * dx + dy * dy > CHECK_AWAY_MM * CHECK_AWAY_MM
+        return tip[0], tip[1]
 
     def _seen_standing(self, t, now: int, inp, dets: dict) -> bool:
-        """Count this frame's sightings of the object standing away from the gripper (also
-        while the arm still rises: the frame may show it already); True once that makes a
-        miss, handled here: open and ADJUST again, or FAILED after ``MAX_REGRASPS``."""
+        """Classify this frame's sightings of the object: standing away from the gripper
+        (``CHECK_AWAY_MM``; also while the arm still rises), or, during the look, under the
+        fingertip (``HELD_NEAR_MM``: kept per waist offset as grasp evidence). True once the
+        sightings away make a miss, handled here (:meth:`missed`)."""
         place = t.obj
         for name in t.rules.check_detectors:
             det = dets.get(name)
             if det is None or place is None or not t.see_object(now, inp, name, det):
                 continue
-            if self._standing_away(t, inp):
+            tip = self._tip_odom(t, inp)
+            d2 = (t.obj[0] - tip[0]) ** 2 + (t.obj[1] - tip[1]) ** 2
+            if d2 > CHECK_AWAY_MM * CHECK_AWAY_MM:
                 t.check_seen += 1
                 t.note(grasp_check_seen={"name": name, "obj_mm": list(t.obj),
                                             "estimate_mm": list(place)})
                 break
+            if t.phase == "check" and d2 <= HELD_NEAR_MM * HELD_NEAR_MM and t.settled(now):
+                t.held_tips[t.check_waist[1]] = tip
+                t.note(grasp_check_held={"name": name, "obj_mm": list(t.obj),
+                                            "tip_mm": list(tip)})
             t.obj = place  # the held object under the fingertip: keep the estimate
         if t.check_seen < CHECK_SEEN_FRAMES:
             return False
-        t.regrasps += 1
-        if t.regrasps > MAX_REGRASPS:
-            t.fail(now, f"grasp check: object still standing after {t.regrasps} grasps")
-            return True
-        t.gripper = 0
-        t.go(now, "ADJUST", f"grasp check: object still standing away from the gripper "
-                f"(seen in {t.check_seen} frames): open and grasp again")
+        self.missed(t, now, f"object still standing away from the gripper (seen in "
+                    f"{t.check_seen} frames)")
         return True
 
+    def missed(self, t, now: int, why: str) -> None:
+        """No grasp: open and ADJUST again, up to ``MAX_REGRASPS`` times, then FAILED."""
+        t.regrasps += 1
+        if t.regrasps > MAX_REGRASPS:
+            t.fail(now, f"grasp check: {why}, after {t.regrasps} grasps")
+            return
+        t.gripper = 0
+        t.go(now, "ADJUST", f"grasp check: {why}: open and grasp again")
+
+    @staticmethod
+    def held_evidence(held_tips: dict) -> bool:
+        """Seen under the fingertip at two waist offsets whose fingertip places are at least
+        ``HELD_MOVE_MM`` apart: the object moved with the gripper (an object standing on the
+        ground cannot be within ``HELD_NEAR_MM`` of both)."""
+        tips = list(held_tips.values())
+        return any((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 >= HELD_MOVE_MM * HELD_MOVE_MM
+                   for i, a in enumerate(tips) for b in tips[i + 1:])
+
     def _check(self, t, now: int) -> None:
-        """The look of the grasp check: each waist offset for ``CHECK_POSE_US``, then DONE."""
+        """The look of the grasp check: each waist offset for ``CHECK_POSE_US``; DONE on
+        positive evidence (:meth:`held_evidence`), else a miss."""
+        if t.rules.held_look and self.held_evidence(t.held_tips):
+            t.go(now, "DONE", f"object held: seen under the gripper at waist offsets "
+                 f"{sorted(CHECK_WAIST_MRAD[k] for k in t.held_tips)} mrad (grasp check)")
+            return
         if not t.settled(now) or now - t.phase_us < CHECK_POSE_US:
             return
         centre, k = t.check_waist
-        if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the estimate may be off
+        if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the gripper moves
             t.check_waist = (centre, k + 1)
             t.set_arm(now, *t.arm[2:5], centre + CHECK_WAIST_MRAD[k + 1])
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
-        t.go(now, "DONE", f"object lifted by {t.p.lift_mm} mm and not seen standing "
-                f"(grasp check)")
+        if not t.rules.held_look and not t.object_sighted:
+            # never seen by the camera in this scene: not seeing it now says nothing
+            self.missed(t, now, "the object was never seen, its absence is no evidence")
+            return
+        if not t.rules.held_look:
+            t.go(now, "DONE", f"object lifted by {t.p.lift_mm} mm and not seen standing "
+                 f"(grasp check by absence, docs/task.md)")
+            return
+        self.missed(t, now, "no evidence of the object in the gripper")
 
 
 GRASP = GraspStates()

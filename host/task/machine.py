@@ -177,7 +177,14 @@ class Task:
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
         self.detour = None  # 001: a drive aside after no feasible curve (method001.py)
         self.detours = 0
+        self.fallbacks = 0  # 001: fallback steps taken with no feasible curve (method001.py)
+        self.v0_div = 1  # 001: the planner's v0 divided by this (a fallback step)
+        self.path_from = None  # 001: odometry place where the last planned path began
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
+        self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
+        # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)
+        self.graspable_seen = bool(self.p.object_xy_mm)
+        self.object_sighted = False  # ... by the camera (the check by absence needs it)
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
@@ -282,6 +289,8 @@ class Task:
             return False
         self.obj = platform_to_odom_mm(x, y, h, self.p.mount_forward_mm, p)
         self.obj_seen_us = now
+        if name in self.rules.object_detectors:
+            self.graspable_seen = self.object_sighted = True
         if name == "dual_plus":
             self._remember_plus(det, joints, (x, y, h))
         return True
@@ -399,6 +408,7 @@ class Task:
                 self.fail(now_us, f"timeout: {self.state} exceeded {limit} us")
         if self.state not in TERMINAL:
             self._run_state(now_us, inp, dets)
+            self.rules.guard_wheels(self, now_us, inp)
             self.remember(now_us, inp)
         if self.state in TERMINAL:
             self.wheels = (0, 0)

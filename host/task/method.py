@@ -31,6 +31,8 @@ class Method(ABC):
     search_detector: str  # what SEARCH looks for
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
+    held_look: bool  # grasp check on the object seen under the gripper, else by absence
+    object_detectors: tuple[str, ...]  # detectors that see the object itself (not a guide)
     grasp_alpha_mrad: int  # gripper pitch of the grasp before the rough grasp chooses one
     keeps_sightings: bool  # SEARCH: an unconfirmed sighting seen again at its place counts
 
@@ -82,6 +84,11 @@ class Method(ABC):
     @abstractmethod
     def enter_precise(self, t: Any, now: int, inp: Any) -> None:
         """Entry action of PRECISE_GRASP (after the step counter and phase clock reset)."""
+
+    # --- after every step ---------------------------------------------------------------------
+    def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
+        """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
+        return None
 
 
 # Method name -> module holding its class ``RULES``.

@@ -65,6 +65,8 @@ class Method000(PathMethod):
     search_detector = "radial_symbol"
     adjust_detector = "dual_plus"
     check_detectors = ("dual_plus", "radial_symbol")
+    held_look = True  # grasp check: look down at the object under the gripper (grasp.py)
+    object_detectors = ("dual_plus", "radial_symbol")  # both are on the object's top
     grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
     keeps_sightings = True
 

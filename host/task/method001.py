@@ -13,9 +13,10 @@ Integer mm / us; no I/O and no clock.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
-from mobigrasp.host.fixedpoint import atan2_mrad
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.replan import Replanner
@@ -32,6 +33,10 @@ ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
 TURN_TOL_MRAD = 60  # the detour turns to within this of its heading before it drives
 DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
 DETOUR_DIAG_MM = 255
+GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
+BACK_OFF_MM = 200  # fallback: back this far along the way the base came
+# the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
+FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
 
 def planner_params_001(task_params) -> Any:
@@ -46,7 +51,10 @@ def planner_params_001(task_params) -> Any:
     ±76 degrees of it, also those leading away from it."""
 
     tol = task_params.sonar_shared_echo_mm
-    sonar = SonarConfig(sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
+    sonar = SonarConfig(a_g_rad=task_params.sonar_a_g_mrad / 1000.0,
+                        d_e_m=task_params.sonar_d_e_mm / 1000.0,
+                        r_r_m=task_params.r_r_mm / 1000.0,
+                        sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
                         shared_echo_tol_m=tol / 1000.0 if tol > 0 else None,
                         arc_angle_bound=ARC_BOUND_001)
     return Params001(**{"sonar": sonar, **task_params.planner})
@@ -139,6 +147,24 @@ def detour_heading(inp, obj_xy_mm: tuple, clear_mm: int, heading_mrad: int | Non
     return {"heading_mrad": best[1], "drive": True, "from": None}
 
 
+def widest_free_heading(inp, clear_mm: int) -> int:
+    """Odometry heading of the middle of the widest run of neighbouring sonars that read no
+    echo or one beyond ``clear_mm``; with none free, a quarter turn left."""
+    angles = sonar_angles_mrad(len(inp.sonar_mm))
+    best, run = None, []
+    for phi, rng in [*zip(angles, inp.sonar_mm, strict=True), (None, 0)]:
+        free = phi is not None and (int(rng) <= 0 or int(rng) >= clear_mm)
+        if free:
+            run.append(phi)
+            continue
+        if run and (best is None or len(run) > len(best)):
+            best = run
+        run = []
+    if best is None:
+        return wrap_mrad(inp.heading_mrad + 1571)
+    return wrap_mrad(inp.heading_mrad + (best[0] + best[-1]) // 2)
+
+
 def _blocked_ahead(sonar_mm: tuple) -> bool:
     """The detour passes close beside obstacles (that is its point): stop only for an echo
     straight ahead within DETOUR_STOP_MM, or at 45 degrees within DETOUR_DIAG_MM (a surface
@@ -159,6 +185,9 @@ class Method001(Method000):
     name = "001"
     link_lengths_mm = (160.0, 160.0, 200.0)
     # the long 001 arm puts the camera ahead of a close object: finish on odometry sooner
+    # grasp check by absence: looking straight down, 001's arm reaches 90-100 mm above the
+    # top only, where the two "+" (>= 290 px apart) do not fit the frame (docs/task.md)
+    held_look = False
     param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 130, "hover_mm": 90,
                       "blind_finish_mm": 250, "max_plan_attempts": 6}
 
@@ -172,9 +201,13 @@ class Method001(Method000):
             if dec.curve is not None:
                 detail["best_ctrl"] = [list(map(float, row)) for row in dec.curve.ctrl]
             return follower, ops, detail
+        params = planner_params_001(t.p)
+        if t.v0_div > 1:  # a fallback step (start_detour)
+            params = replace(params, v0=params.v0 / t.v0_div)
         t.replanner, follower, ops, detail = start_001(
-            now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, t.obj, inp.sonar_mm,
-            planner_params_001(t.p))
+            now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, t.obj, inp.sonar_mm, params)
+        if follower is not None:
+            t.path_from = (inp.x_mm, inp.y_mm)  # a fallback backs off toward here
         return follower, ops, detail
 
     def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
@@ -242,10 +275,33 @@ class Method001(Method000):
         return echo or not self.straight_clear(t, inp, dist_mm)
 
     def start_detour(self, t: Any, inp: Any) -> bool:
-        """Obstacles across the way and no curve around them from here: drive aside through
-        free sonar space (at most ``max_detours`` times), then plan again."""
-        if t.detours >= t.p.max_detours:
+        """Obstacles across the way and no feasible curve from here: fall back in steps
+        (``FALLBACKS``, each a ``fallback`` detail event), then plan again: a lower v0 (the
+        slower end speed of eq. (9) gives the candidates more room under A_max), a short
+        back-off toward where the last path began, a turn in place toward the widest free
+        sonar sector, then drives aside through free sonar space (host.planning.escape; at
+        most ``max_detours``)."""
+        step = FALLBACKS[min(t.fallbacks, len(FALLBACKS) - 1)]
+        if step == "detour" and t.detours >= t.p.max_detours:
             return False
+        t.fallbacks += 1
+        t.note(fallback={"step": step, "n": t.fallbacks})
+        if step == "lower_v0":
+            t.v0_div *= 2
+            t.replanner = None  # planned afresh with the lower v0 (planner_params_001)
+            return True
+        if step == "widest_sector":
+            t.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
+                        "drive": False, "from": None}
+            return True
+        if step == "back_off":
+            # facing (and driving, the sonars watching) back toward where the last path began
+            fx, fy = t.path_from if t.path_from is not None else (inp.x_mm, inp.y_mm)
+            if (fx - inp.x_mm) ** 2 + (fy - inp.y_mm) ** 2 < BACK_OFF_MM * BACK_OFF_MM:
+                return self.start_detour(t, inp)  # nowhere to back off to: the next step
+            t.detour = {"heading_mrad": atan2_mrad(fy - inp.y_mm, fx - inp.x_mm),
+                        "drive": True, "from": None, "length_mm": BACK_OFF_MM}
+            return True
         t.detours += 1
         head, ops = escape_001(t.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
                                inp.sonar_mm, t.obj, t.p.detour_mm, t.detour_side)
@@ -292,6 +348,28 @@ class Method001(Method000):
         return clear
 
 
+    def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
+        """Last line of the no-contact rule: while the base would move forward in SEARCH or
+        APPROACH, a sonar of the front half of the ring (|phi_k| < pi/2) reading below the
+        safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
+        plan is followed further before one is made from the fresh ranges. The object's own
+        echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
+        does not count: APPROACH hands the object to ADJUST at arm's length."""
+        if t.state not in ("SEARCH", "APPROACH") or t.wheels[0] + t.wheels[1] <= 0:
+            return
+        n = len(inp.sonar_mm)
+        half_cone = t.p.sonar_a_g_mrad // 2
+        for phi, rng in zip(sonar_angles_mrad(n), inp.sonar_mm, strict=True):
+            rng = int(rng)
+            if abs(phi) >= 1571 or not 0 < rng < t.p.r_r_mm:
+                continue
+            if t.obj is not None and _object_echo(t, inp, phi, rng, half_cone):
+                continue
+            t.wheels = (0, 0)
+            t.follower = None
+            t.note(sonar_guard={"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm})
+            return
+
     def detour_step(self, t: Any, inp: Any) -> bool:
         """One step of the detour; True when it is over (the caller plans again).
 
@@ -316,11 +394,24 @@ class Method001(Method000):
             blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
         else:
             blocked = _blocked_ahead(inp.sonar_mm)
-        if dx * dx + dy * dy >= t.p.detour_mm * t.p.detour_mm or blocked:
+        length = d.get("length_mm", t.p.detour_mm)
+        if dx * dx + dy * dy >= length * length or blocked:
             t.wheels = (0, 0)
             return True
         t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
         return False
+
+
+def _object_echo(t: Any, inp: Any, phi: int, rng: int, half_cone: int) -> bool:
+    """The object estimate lies in the cone of the sonar at ``phi`` at about range ``rng``."""
+    h = inp.heading_mrad + phi
+    off = t.p.sonar_offset_mm
+    sx = inp.x_mm + (off * cos_q12(h) >> 12)
+    sy = inp.y_mm + (off * sin_q12(h) >> 12)
+    dx, dy = t.obj[0] - sx, t.obj[1] - sy
+    d = isqrt(dx * dx + dy * dy)
+    return (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
+            and abs(d - rng) <= GUARD_OBJECT_MM)
 
 
 RULES = Method001()

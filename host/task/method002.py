@@ -53,6 +53,8 @@ class Method002(Method):
     search_detector = "double_cross"
     adjust_detector = "red_cylinder"
     check_detectors = ("red_cylinder",)
+    held_look = False  # grasp check: look down at the object under the gripper (grasp.py)
+    object_detectors = ("red_cylinder",)  # the double cross is the board, not the object
     grasp_alpha_mrad = 0
     keeps_sightings = False
 

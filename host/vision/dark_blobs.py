@@ -158,7 +158,7 @@ def dark_components(rgb: np.ndarray, who: str
     last = _LAST_FRONT_END[0]
     if last is not None and last[0] == rgb.shape and last[1] == key:
         grey, mask, n_lab, labels, stats, ops = last[2]
-        return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
+        return grey, mask, n_lab, labels, stats, OpCounts(*ops.as_tuple())
     grey, ops = to_grey(rgb)
     mask, _, o = dark_mask(grey)
     ops += o
@@ -167,7 +167,7 @@ def dark_components(rgb: np.ndarray, who: str
     for a in (grey, mask, labels, stats):
         a.flags.writeable = False  # shared by the detectors of one frame: nobody may write
     _LAST_FRONT_END[0] = (rgb.shape, key, (grey, mask, n_lab, labels, stats, ops))
-    return grey, mask, n_lab, labels, stats, OpCounts(*ops._values())
+    return grey, mask, n_lab, labels, stats, OpCounts(*ops.as_tuple())
 
 
 def front_end_min_ops(height: int, width: int) -> OpCounts:

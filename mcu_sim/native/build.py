@@ -140,11 +140,29 @@ def source_hash(firmware_dir: Path = FIRMWARE_DIR) -> str:
     return h.hexdigest()[:16]
 
 
+def cache_root() -> Path:
+    """$MOBIGRASP_CACHE_DIR, default ``~/.cache/mobigrasp``: every built C part is kept below."""
+    root = os.environ.get("MOBIGRASP_CACHE_DIR")
+    return Path(root) if root else Path.home() / ".cache" / "mobigrasp"
+
+
 def cache_dir() -> Path:
     """Where built modules are kept."""
-    root = os.environ.get("MOBIGRASP_CACHE_DIR")
-    base = Path(root) if root else Path.home() / ".cache" / "mobigrasp"
-    return base / "native"
+    return cache_root() / "native"
+
+
+def load_cached(name: str, target: Path, build, error: type[Exception] = RuntimeError):
+    """The extension module ``name`` from the folder ``target`` of the cache, built there first
+    by ``build() -> Path`` (the .so) when the folder has none; ``error`` when it cannot load."""
+    built = sorted(target.glob(f"{name}*.so")) if target.is_dir() else []
+    if not built:
+        built = [build()]
+    spec = importlib.util.spec_from_file_location(name, built[0])
+    if spec is None or spec.loader is None:
+        raise error(f"{built[0]}: cannot be loaded as a module")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def load(firmware_dir: Path = FIRMWARE_DIR):
@@ -157,14 +175,8 @@ def load(firmware_dir: Path = FIRMWARE_DIR):
         return _loaded[digest]
     name = f"_mobigrasp_fw_{digest}"
     target = cache_dir() / digest
-    built = sorted(target.glob(f"{name}*.so")) if target.is_dir() else []
-    if not built:
-        built = [_build(firmware_dir, name, target)]
-    spec = importlib.util.spec_from_file_location(name, built[0])
-    if spec is None or spec.loader is None:
-        raise NativeBuildError(f"{built[0]}: cannot be loaded as a module")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = load_cached(name, target, lambda: _build(firmware_dir, name, target),
+                         NativeBuildError)
     _loaded[digest] = module
     return module
 

@@ -12,7 +12,6 @@ goes to a temporary folder renamed into place, so concurrent first uses see whol
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import os
 import shutil
 import subprocess
@@ -21,7 +20,7 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from mobigrasp.mcu_sim.native.build import FIRMWARE_DIR
+from mobigrasp.mcu_sim.native.build import FIRMWARE_DIR, cache_root, load_cached
 from mobigrasp.mcu_sim.native.build import source_hash as firmware_hash
 
 HARNESS_DIR = FIRMWARE_DIR / "simavr"
@@ -63,6 +62,7 @@ void sh_read(const sh_t *sh, uint16_t addr, uint8_t *dst, uint16_t n);
 void sh_profile(const sh_t *sh, sh_profile_t *out);
 uint32_t sh_pc(const sh_t *sh);
 uint32_t sh_rx_unread(const sh_t *sh);
+uint32_t sh_oc1_pin_high_cycles(const sh_t *sh, uint8_t ch);
 """
 
 _loaded: dict[str, object] = {}
@@ -90,9 +90,7 @@ class Elf:
 
 def cache_dir() -> Path:
     """Where built ELFs and harness modules are kept."""
-    root = os.environ.get("MOBIGRASP_CACHE_DIR")
-    base = Path(root) if root else Path.home() / ".cache" / "mobigrasp"
-    return base / "simavr"
+    return cache_root() / "simavr"
 
 
 def _apt_install(packages: list[str], why: str) -> None:
@@ -187,15 +185,12 @@ def load_harness():
         return _loaded[digest]
     name = f"_mobigrasp_simavr_{digest}"
     target = cache_dir() / f"harness-{digest}"
-    built = sorted(target.glob(f"{name}*.so")) if target.is_dir() else []
-    if not built:
+
+    def build() -> Path:
         ensure_tools()
-        built = [_build_harness(name, target)]
-    spec = importlib.util.spec_from_file_location(name, built[0])
-    if spec is None or spec.loader is None:
-        raise SimavrBuildError(f"{built[0]}: cannot be loaded as a module")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+        return _build_harness(name, target)
+
+    module = load_cached(name, target, build, SimavrBuildError)
     _loaded[digest] = module
     return module
 

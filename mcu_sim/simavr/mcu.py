@@ -293,6 +293,11 @@ class SimavrMcu:
         """The six servo pulse widths."""
         return self._pulses_us
 
+    def oc1_pin_widths_us(self) -> tuple[float, float, float]:
+        """The last high time the OC1A..C pins themselves showed, in µs (under simavr 1.6 the
+        boot widths: what the servos would get without the latched registers)."""
+        return tuple(lib.sh_oc1_pin_high_cycles(self._h, ch) / CYCLES_PER_US for ch in range(3))
+
     def _read(self, addr: int, n: int) -> bytes:
         lib.sh_read(self._h, addr, self._rd, n)
         return bytes(self._rd[0:n])

@@ -122,6 +122,16 @@ PAPER_PARAMS: dict[str, dict[str, Param]] = {
         "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
     },
 }
+# Paper parameters nothing in the run reads (constants of a detector, a marker or the plant that
+# a scenario cannot change): refused in a file, so that every [params] key there is in force.
+# 000 k_s (spoke points), alpha_T (the gripper pitch is chosen by the grasp IK), l_w (the
+# plant's track), L_m and D_act_m (the marker as printed); 001 h_e; 002 T_h (the double-cross
+# detector's own threshold), n (frames) and D (the ring spacing of the cylinder as made).
+NOT_USED_PARAMS: dict[str, tuple[str, ...]] = {
+    "000": ("k_s", "alpha_T", "l_w", "L_m", "D_act_m"),
+    "001": ("h_e",),
+    "002": ("T_h", "n", "D"),
+}
 # pairs (lo, hi, gap) of one method that must be ordered hi - lo >= gap: a joint range of the
 # search at least 0.01 rad wide (the host works in mrad), windows w_min <= w_max, v0 <= vmax
 PARAM_ORDER: dict[str, tuple[tuple[str, str, float], ...]] = {
@@ -458,6 +468,9 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
         if key not in table:
             raise ScenarioError(f"{c.source}: params.{key}: unknown key; expected a parameter "
                                 f"of method {method}: {', '.join(table)}")
+        if key in NOT_USED_PARAMS[method]:
+            raise ScenarioError(f"{c.source}: params.{key}: {key} is not used by method "
+                                f"{method}")
         p = table[key]
         if p.kind is int:
             out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)

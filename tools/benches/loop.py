@@ -31,6 +31,8 @@ def add_arguments(parser) -> None:
     parser.add_argument("--seed-base", type=int, default=1000,
                         help="seed of the first run (default 1000)")
     parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
+    parser.add_argument("--generator", default="v2", choices=("v1", "v2"),
+                        help="random scenario generator version (tools/random_scenarios.py)")
     parser.add_argument("--rtf-limit-s", type=float, default=20.0,
                         help="simulated seconds of the real-time-factor runs")
     parser.add_argument("--rtf-repeats", type=int, default=3,
@@ -49,18 +51,22 @@ def _one(opts) -> dict:
     return summary
 
 
-def _random_run(method: str, seed: int, folder: Path) -> dict:
-    """One random scenario in process (a top-level function: it runs in worker processes)."""
+def _random_run(method: str, seed: int, folder: Path, version: str = "v2") -> dict:
+    """One random scenario in process (a top-level function: it runs in worker processes);
+    ``graspable`` is False for a board without a cylinder."""
     from mobigrasp.tools.random_scenarios import random_scenario
     from mobigrasp.tools.run_job import RunOptions
 
-    sc = random_scenario(method, seed)
-    return _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed, transport="inproc",
-                           out=folder / f"{method}-{seed}", progress=False, plots=False))
+    sc = random_scenario(method, seed, version)
+    summary = _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed,
+                              transport="inproc", out=folder / f"{method}-{seed}",
+                              progress=False, plots=False))
+    summary["graspable"] = sc.target.kind != "double-cross"
+    return summary
 
 
 def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
-             progress: bool = True, jobs: int | None = None) -> dict:
+             progress: bool = True, jobs: int | None = None, version: str = "v2") -> dict:
     """Run ``runs`` random scenarios per method in process, ``jobs`` at a time (default: the
     number of cores); figures per method and overall. Results do not depend on ``jobs``."""
     from concurrent.futures import ProcessPoolExecutor
@@ -71,19 +77,30 @@ def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
         seeds = [seed_base + k for k in range(runs)]
         if jobs > 1 and runs > 1:
             with ProcessPoolExecutor(max_workers=jobs) as pool:
-                rows = list(pool.map(_random_run, [method] * runs, seeds, [folder] * runs))
+                rows = list(pool.map(_random_run, [method] * runs, seeds, [folder] * runs,
+                                     [version] * runs))
         else:
-            rows = [_random_run(method, seed, folder) for seed in seeds]
+            rows = [_random_run(method, seed, folder, version) for seed in seeds]
         for s in rows:
             if progress:
                 print(f"  {method} seed {s['seed']}: {'ok ' if s['success'] else 'FAIL'} "
-                      f"{s.get('task_state')} t={s.get('sim_time_s', 0):.1f}s "
+                      f"{s.get('task_state')}{' FALSE CLAIM' if s.get('false_claim') else ''}"
+                      f" t={s.get('sim_time_s', 0):.1f}s "
                       f"err={s.get('final_error_mm')} mm", file=sys.stderr)
         errs = [r["final_error_mm"] for r in rows if r.get("final_error_mm") is not None]
+        able = [r for r in rows if r.get("graspable", True)]
+        alone = [r for r in rows if not r.get("graspable", True)]
         out[method] = {
             "runs": len(rows),
+            "graspable_runs": len(able),
+            "graspable_success_rate": sum(r["success"] for r in able) / len(able) if able
+            else None,
+            # a board without a cylinder must end FAILED (nothing to grasp), never DONE
+            "board_alone_runs": len(alone),
+            "board_alone_failed": sum(r.get("task_state") == "FAILED" for r in alone),
             "success_rate": sum(r["success"] for r in rows) / len(rows) if rows else 0.0,
             "collisions_total": sum(r.get("collisions", 0) for r in rows),
+            "false_claims": sum(bool(r.get("false_claim")) for r in rows),
             "final_error_mm_median": statistics.median(errs) if errs else None,
             "sim_time_s_median": statistics.median(r["sim_time_s"] for r in rows) if rows
             else None,
@@ -140,10 +157,12 @@ def run(args) -> dict:
             len(sha[lag, "pty"] | sha[lag, "inproc"]) == 1 for lag in (0, 1))
         if args.runs <= 0:  # real-time factor only: no campaign figures to report
             return results
-        camp = campaign(methods, args.runs, args.seed_base, folder / "campaign", jobs=args.jobs)
+        camp = campaign(methods, args.runs, args.seed_base, folder / "campaign", jobs=args.jobs,
+                        version=getattr(args, "generator", "v2"))
     results["campaign"] = camp
     total = sum(v["runs"] for v in camp.values())
     results["success_rate"] = (sum(v["success_rate"] * v["runs"] for v in camp.values()) / total
                                if total else 0.0)
     results["collisions_total"] = sum(v["collisions_total"] for v in camp.values())
+    results["false_claims"] = sum(v["false_claims"] for v in camp.values())
     return results

@@ -17,11 +17,41 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 # Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the
-# module's ``Mcu`` is the Python model for ``python`` and the C firmware for ``native``.
+# module's ``Mcu`` is the Python model for ``python``, the C firmware for ``native`` and, where
+# the module is also marked ``simavr``, the avr-gcc ELF under simavr, started up before the
+# test's first byte. A test that reads what only the Python model exposes skips ``simavr`` with
+# ``@pytest.mark.not_on("simavr", reason)``; ``slow_on_simavr`` marks its simavr variant slow.
+MCU_BACKENDS_UNDER_TEST = ("python", "native", "simavr")
+
+
 def pytest_generate_tests(metafunc):
-    if metafunc.definition.get_closest_marker("both_mcus") is not None:
-        metafunc.fixturenames.append("mcu_backend")
-        metafunc.parametrize("mcu_backend", ["python", "native"], indirect=True)
+    if metafunc.definition.get_closest_marker("both_mcus") is None:
+        return
+    names = ["python", "native"]
+    if metafunc.definition.get_closest_marker("simavr") is not None:
+        names.append("simavr")
+    params = []
+    for name in names:
+        marks = []
+        skip = [mk for mk in metafunc.definition.iter_markers("not_on") if mk.args[0] == name]
+        if skip:
+            marks.append(pytest.mark.skip(reason=f"{name}: {skip[0].args[1]}"))
+        if name == "simavr" and metafunc.definition.get_closest_marker("slow_on_simavr"):
+            marks.append(pytest.mark.slow)
+        params.append(pytest.param(name, marks=marks, id=name))
+    metafunc.fixturenames.append("mcu_backend")
+    metafunc.parametrize("mcu_backend", params, indirect=True)
+
+
+def booted_simavr_mcu(config=None):
+    """The ELF under simavr, advanced until its start-up is over (interrupts on, ~15.6 ms after
+    reset, docs/firmware.md): the Python models take no time for it, so a test written for them
+    talks from its first line. Times in such a test are relative to the end of the start-up."""
+    from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu
+
+    mcu = SimavrMcu(config)
+    mcu.run_until_booted()
+    return mcu
 
 
 @pytest.fixture
@@ -34,10 +64,13 @@ def _mcu_of_the_backend(request, monkeypatch):
     # a fixture appended to fixturenames in pytest_generate_tests is parametrized but never set
     # up, so the module's Mcu is swapped here, from the test's parameters
     callspec = getattr(request.node, "callspec", None)
-    if callspec is not None and callspec.params.get("mcu_backend") == "native":
+    backend = callspec.params.get("mcu_backend") if callspec is not None else None
+    if backend == "native":
         from mobigrasp.mcu_sim.native.mcu import NativeMcu
 
         monkeypatch.setattr(request.module, "Mcu", NativeMcu)
+    elif backend == "simavr":
+        monkeypatch.setattr(request.module, "Mcu", booted_simavr_mcu)
 
 
 # three short in-process runs (one per method) whose run folders several output tests read

@@ -38,7 +38,7 @@ from mobigrasp.protocol import (
     encode_frame,
 )
 
-pytestmark = pytest.mark.both_mcus
+pytestmark = [pytest.mark.both_mcus, pytest.mark.simavr]
 
 
 def ready(config=None):
@@ -135,12 +135,14 @@ def test_commands_before_hello_are_refused():
     assert mcu.stats()["not_ready"] == 2
 
 
-def test_param_get_set_and_their_effect():
+def test_param_get_set_and_their_effect(mcu_backend):
     mcu, host = ready()
     host.send(ParamGet(param_id("watchdog_ms")), seq=1)
     host.send(ParamSet(P_TELEMETRY_HZ, 10), seq=2)
     host.send(ParamSet(P_WATCHDOG_MS, 100), seq=3)
-    host.run_ms(10)
+    # the models answer a PARAM_SET at once; on the AVR each one re-derives the firmware's
+    # tables in the main loop, about 14 ms of 32-bit divisions (docs/firmware.md, "simavr")
+    host.run_ms(40 if mcu_backend == "simavr" else 10)
     values = host.messages(ParamValue)
     assert ParamValue(P_WATCHDOG_MS, 250) in values
     assert ParamValue(P_TELEMETRY_HZ, 10) in values
@@ -149,7 +151,7 @@ def test_param_get_set_and_their_effect():
     host.run_ms(1000)
     assert 9 <= len(host.telemetry()) <= 11  # 10 Hz now
     trip = [t for t, m in host.received if getattr(m, "flags", 0) & FLAG_WATCHDOG]
-    assert trip and mcu.firmware.watchdog_trips == 1
+    assert trip and mcu.stats()["watchdog_trips"] == 1
 
 
 def test_mrad_mode_follows_the_conventions_servo_law():
@@ -171,10 +173,11 @@ def test_clamping_counts_a_limit_hit_and_flags_one_telemetry():
     host.run_ms(45)
     assert pulses(mcu)[5] == 2391.0  # waist limit 1.4 rad
     tel = host.telemetry()
-    assert mcu.firmware.limit_hits == 1 and tel[-1].limit_hits == 1
+    assert mcu.limit_hits() == 1 and tel[-1].limit_hits == 1
     assert sum(1 for t in tel if t.flags & FLAG_LIMIT) == 1
 
 
+@pytest.mark.not_on("simavr", "reads each period's width through the Python model's subscribe_servo")
 def test_slew_limits_the_change_per_period():
     mcu, host = ready()
     seen = []
@@ -214,6 +217,8 @@ def test_gripper_and_its_flag():
     assert host.telemetry()[-1].flags & FLAG_GRIPPER_CLOSED
 
 
+@pytest.mark.not_on("simavr", "after SimavrMcu.reset the USART sends one byte and then no "
+                    "UDRE interrupt comes (docs/firmware.md, \"simavr\")")
 def test_reset_reinitialises_and_flags_the_first_telemetry():
     mcu, host = ready()
     host.send(Gripper(1000), seq=1)
@@ -235,7 +240,7 @@ def test_heartbeat_feeds_the_watchdog():
     for _ in range(10):
         host.run_ms(100)
         host.send(Heartbeat(mcu.now_us))
-    assert mcu.firmware.watchdog_trips == 0 and mcu.wheel_duty()[0] > 0
+    assert mcu.stats()["watchdog_trips"] == 0 and mcu.wheel_duty()[0] > 0
 
 
 def test_same_inputs_give_the_same_bytes():

@@ -298,6 +298,9 @@ uint64_t sh_cycle(const sh_t *sh) { return sh->avr->cycle; }
 
 int sh_state(const sh_t *sh) { return sh->avr->state; }
 
+/* 1 once the firmware has enabled interrupts since the last reset: its start-up is over */
+int sh_booted(const sh_t *sh) { return sh->seen_sei; }
+
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles) { sh->byte_cycles = cycles; }
 
 void sh_set_loop_addr(sh_t *sh, uint32_t addr) { sh->loop_addr = addr; }

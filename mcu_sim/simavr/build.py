@@ -47,6 +47,7 @@ void sh_free(sh_t *sh);
 void sh_reset(sh_t *sh);
 uint64_t sh_cycle(const sh_t *sh);
 int sh_state(const sh_t *sh);
+int sh_booted(const sh_t *sh);
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
 void sh_set_loop_addr(sh_t *sh, uint32_t addr);
 int sh_run_to(sh_t *sh, uint64_t target);

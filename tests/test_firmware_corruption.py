@@ -8,6 +8,7 @@ from hypothesis import strategies as st
 from mobigrasp.mcu_sim.mcu import Mcu
 from mobigrasp.mcu_sim.mcu_host import InProcessHost
 from mobigrasp.protocol import (
+    FLAG_STOPPED,
     PROTOCOL_VERSION,
     Gripper,
     Hello,
@@ -26,7 +27,7 @@ COMMANDS = [
     Stop(),
 ]
 
-pytestmark = pytest.mark.both_mcus
+pytestmark = [pytest.mark.both_mcus, pytest.mark.simavr]
 
 
 @settings(max_examples=80, deadline=None, derandomize=True)
@@ -37,15 +38,15 @@ def test_one_damaged_byte_never_actuates(cmd, seq, xor, where):
     host.send(Hello(PROTOCOL_VERSION, "t", 0), seq=0)
     host.send(SetWheels(0, 0))
     host.run_ms(25)  # first servo period complete
-    pulses = [mcu.servo_pulse_ns(ch) for ch in range(6)]
+    pulses = mcu.servo_pulses_us()
     wire = bytearray(encode_message(cmd, seq if seq else 1))
     i = where % (len(wire) - 1)  # any byte but the final delimiter
     wire[i] ^= xor
-    corrupt_before = mcu.firmware.corrupt_frames()
+    corrupt_before = mcu.stats()["corrupt_frames"]
     host.send_raw(bytes(wire) + b"\x00")  # a delimiter after, as the next frame would bring
     host.run_ms(45)  # frame on the line, then a full period with whatever was latched
-    assert [mcu.servo_pulse_ns(ch) for ch in range(6)] == pulses
+    assert mcu.servo_pulses_us() == pulses
     assert mcu.wheel_duty() == (0, 0)
-    assert not mcu.firmware.stopped
-    rejected = mcu.firmware.corrupt_frames() - corrupt_before
+    assert not host.telemetry()[-1].flags & FLAG_STOPPED
+    rejected = mcu.stats()["corrupt_frames"] - corrupt_before
     assert rejected >= 1 or host.messages(Nack)

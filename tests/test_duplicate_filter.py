@@ -17,7 +17,7 @@ from mobigrasp.protocol import (
     encode_message,
 )
 
-pytestmark = pytest.mark.both_mcus
+pytestmark = [pytest.mark.both_mcus, pytest.mark.simavr]
 
 
 def ready():

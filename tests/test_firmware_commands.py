@@ -140,8 +140,8 @@ def test_param_get_set_and_their_effect(mcu_backend):
     host.send(ParamGet(param_id("watchdog_ms")), seq=1)
     host.send(ParamSet(P_TELEMETRY_HZ, 10), seq=2)
     host.send(ParamSet(P_WATCHDOG_MS, 100), seq=3)
-    # the models answer a PARAM_SET at once; on the AVR each one re-derives the firmware's
-    # tables in the main loop, about 14 ms of 32-bit divisions (docs/firmware.md, "simavr")
+    # the models answer a PARAM_SET at once; the AVR's main loop takes about 13 ms for each
+    # (docs/firmware.md, "simavr")
     host.run_ms(40 if mcu_backend == "simavr" else 10)
     values = host.messages(ParamValue)
     assert ParamValue(P_WATCHDOG_MS, 250) in values
@@ -177,7 +177,8 @@ def test_clamping_counts_a_limit_hit_and_flags_one_telemetry():
     assert sum(1 for t in tel if t.flags & FLAG_LIMIT) == 1
 
 
-@pytest.mark.not_on("simavr", "reads each period's width through the Python model's subscribe_servo")
+@pytest.mark.not_on("simavr", "reads each period's width through the Python model's "
+                    "subscribe_servo")
 def test_slew_limits_the_change_per_period():
     mcu, host = ready()
     seen = []

@@ -298,6 +298,18 @@ class FrontEnd:
         return res, t
 
 
+    def spoke(self) -> tuple[tuple | None, Timing]:
+        """The spoke on the frame of the last :meth:`run` (its grey, labels and stats)."""
+        a, base = self.arm, DATA_BASE
+        h, w = self._shape
+        found, t = a.call("mg_spoke", base + self.GREY, base + self.LABELS, w, h,
+                          base + self.STATS, self._n_lab, base + self.SCRATCH, base + self.OUT,
+                          cold=False)
+        res = native.spoke_tuple(struct.unpack("<26i", a.read(base + self.OUT, 104))) \
+            if found else None
+        return res, t
+
+
 def progress_stderr(msg: str) -> None:
     """Progress line on stderr."""
     print(msg, file=sys.stderr, flush=True)

@@ -43,9 +43,10 @@ STAGES = (StageDef("grey", GREY_USERS),
           # a detector's stage: its work after the front end, per call
           StageDef("radial_symbol", ("radial_symbol",)),
           StageDef("dual_plus", ("dual_plus",)),
+          StageDef("spoke", ("spoke",)),
           # the 002 detector works on the RGB frame itself: the whole detector
           StageDef("red_cylinder", ("red_cylinder",)))
-DETECTOR_STAGES = ("radial_symbol", "dual_plus", "red_cylinder")
+DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "red_cylinder")
 
 
 def modelled_us(stage: str, height: int, width: int) -> float:
@@ -155,6 +156,11 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.dual_plus(int(q[2] + q[3] + q[4]), c.camera[0], c.camera[1])
                 want = None if res is None else dataclasses.astuple(res)
                 add("dual_plus", got == want, ops.cycles() - front_cycles, t)
+            elif c.detector == "spoke":
+                res, ops = DETECTORS["spoke"].host_call(rgb, c.camera, None)
+                got, t = front.spoke()
+                want = None if res is None else dataclasses.astuple(res)
+                add("spoke", got == want, ops.cycles() - front_cycles, t)
             elif c.detector == "red_cylinder":
                 res, ops = DETECTORS["red_cylinder"].host_call(rgb, c.camera, None)
                 got, t = front.red_cylinder(rgb)

@@ -18,7 +18,7 @@ import numpy as np
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
-           "red_cylinder.c", "trig.c", "dual_plus.c")
+           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c")
 CDEF = """
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
@@ -35,6 +35,9 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scrat
                         int32_t *out);
 int32_t mg_sin_q12(int32_t angle_mrad);
 int32_t mg_cos_q12(int32_t angle_mrad);
+int32_t mg_atan2_mrad(int64_t y, int64_t x);
+int32_t mg_spoke(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
+                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out);
 int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
                      const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
@@ -203,3 +206,41 @@ def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = 611,
     m, _ = dark_mask(g)
     _, labels, stats = label(m)
     return dual_plus(g, labels, stats, alpha_mrad, f_px, u0_px)
+
+
+def atan2_mrad(y: int, x: int) -> int:
+    """The C ``mg_atan2_mrad``."""
+    _, c = lib()
+    return int(c.mg_atan2_mrad(int(y), int(x)))
+
+
+def spoke_tuple(out) -> tuple:
+    """A ``mg_spoke`` output as host/vision/spoke.py's Spoke fields: (u_c_q4, v_c_q4,
+    points_q4, slope_q12, angle_mrad, width_q4)."""
+    n = int(out[5])
+    pts = tuple((int(out[6 + 2 * i]), int(out[7 + 2 * i])) for i in range(n))
+    return int(out[0]), int(out[1]), pts, int(out[2]), int(out[3]), int(out[4])
+
+
+def spoke(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray) -> tuple | None:
+    """The spoke of the "+" nearest the image centre (:func:`spoke_tuple`), from the front
+    end's grey image, labels and component stats, or None."""
+    ffi, c = lib()
+    g = np.ascontiguousarray(grey_img)
+    h, w = g.shape
+    lab = np.ascontiguousarray(labels, np.int32)
+    st = np.ascontiguousarray(stats, np.int32)
+    scratch = np.empty(c.mg_dual_plus_scratch_bytes(w, h) // 8 + 1, np.int64)
+    out = np.zeros(26, np.int32)
+    found = c.mg_spoke(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, lab, "int32_t *"), w, h,
+                       _ptr(ffi, st, "int32_t *"), len(st), _ptr(ffi, scratch, "uint8_t *"),
+                       _ptr(ffi, out, "int32_t *"))
+    return spoke_tuple(out) if found else None
+
+
+def detect_spoke(rgb: np.ndarray) -> tuple | None:
+    """The whole detector in C: grey, dark mask, labelling, spoke."""
+    g = grey(rgb)
+    m, _ = dark_mask(g)
+    _, labels, stats = label(m)
+    return spoke(g, labels, stats)

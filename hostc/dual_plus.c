@@ -10,12 +10,8 @@
 #define SOLIDITY_MAX_PCT 88
 #define SEP_MIN_Q4 32
 #define SEP_MAX_Q4 88
-#define MAX_CANDIDATES 64
 
-typedef struct {
-    int64_t m[6]; /* m00, m10, m01, m20, m11, m02 */
-    int32_t u_q4, v_q4;
-} plus_t;
+typedef mg_plus_t plus_t;
 
 static int32_t imax(int32_t a, int32_t b) { return a > b ? a : b; }
 static int32_t imin(int32_t a, int32_t b) { return a < b ? a : b; }
@@ -23,7 +19,7 @@ static int32_t imin(int32_t a, int32_t b) { return a < b ? a : b; }
 int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h)
 {
     (void)w;
-    return (int32_t)sizeof(plus_t) * MAX_CANDIDATES + 6 * 4 * (h + 2);
+    return (int32_t)sizeof(plus_t) * MG_MAX_PLUS + 6 * 4 * (h + 2);
 }
 
 /* ---- unsigned 256-bit integers for the moment algebra of d_eff (products reach ~2^150) ---- */
@@ -289,13 +285,13 @@ static int32_t hull_area2(const int32_t *lab, int32_t W, int32_t k, int32_t xi, 
 }
 
 /* step 2: the dark components that look like a "+" on white */
-static int32_t candidates(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
-                          const int32_t *stats, int32_t n_lab, plus_t *out, int32_t *lvl)
+int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
+                           const int32_t *stats, int32_t n_lab, mg_plus_t *out, int32_t *lvl)
 {
     int32_t n_out = 0, n_ok = 0;
     int32_t *minx = lvl, *maxx = lvl + (H + 2), *lc = lvl + 2 * (H + 2);
     int32_t *rc = lvl + 4 * (H + 2);
-    for (int32_t k = 1; k < n_lab && n_ok < MAX_CANDIDATES; k++) {
+    for (int32_t k = 1; k < n_lab && n_ok < MG_MAX_PLUS; k++) {
         const int32_t *st = stats + 5 * k;
         const int32_t xi = st[0], yi = st[1], wi = st[2], hi = st[3], area = st[4];
         if (!(area >= MIN_AREA_PX && wi >= 4 && hi >= 4 && wi <= W / 2 && hi <= H / 2
@@ -346,6 +342,10 @@ static int32_t candidates(const uint8_t *grey, const int32_t *lab, int32_t W, in
         p->m[5] = m02;
         p->u_q4 = (int32_t)((16 * m10 + m00 / 2) / m00);
         p->v_q4 = (int32_t)((16 * m01 + m00 / 2) / m00);
+        p->box[0] = xi;
+        p->box[1] = yi;
+        p->box[2] = wi;
+        p->box[3] = hi;
     }
     return n_out;
 }
@@ -355,8 +355,8 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t
                      int32_t u0_px, uint8_t *scratch, int32_t *out)
 {
     plus_t *plus = (plus_t *)scratch;
-    int32_t *lvl = (int32_t *)(scratch + sizeof(plus_t) * MAX_CANDIDATES);
-    const int32_t n = candidates(grey, lab, W, H, stats, n_lab, plus, lvl);
+    int32_t *lvl = (int32_t *)(scratch + sizeof(plus_t) * MG_MAX_PLUS);
+    const int32_t n = mg_plus_candidates(grey, lab, W, H, stats, n_lab, plus, lvl);
     int32_t bi = -1, bj = -1, best = -1, bdu = 0, bdv = 0, bd = 0;
     for (int32_t i = 0; i < n; i++) {
         for (int32_t j = i + 1; j < n; j++) {

@@ -51,14 +51,32 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scrat
 /* trig.c: sin and cos in Q12 of an angle in mrad (host/fixedpoint.py sin_q12, cos_q12) */
 int32_t mg_sin_q12(int32_t angle_mrad);
 int32_t mg_cos_q12(int32_t angle_mrad);
+int32_t mg_atan2_mrad(int64_t y, int64_t x);
 
 /* dual_plus.c: the 000 dual "+" from the front end's grey image, labels and component stats
  * (host/vision/dual_plus.py detect_dual_plus). out: u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4,
  * d_eff_q4, dist_mm, dist_raw_mm, x_oc_mm, y_oc_mm, z_oc_mm. scratch:
  * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
 int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
+/* the "+" candidates of dual_plus.c (host/vision/dual_plus.py plus_candidates), shared with
+ * spoke.c: at most MG_MAX_PLUS; lvl: 6 (h + 2) words of scratch */
+#define MG_MAX_PLUS 64
+typedef struct {
+    int64_t m[6]; /* m00, m10, m01, m20, m11, m02 */
+    int32_t u_q4, v_q4;
+    int32_t box[4]; /* x, y, w, h */
+} mg_plus_t;
+int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
+                           const int32_t *stats, int32_t n_lab, mg_plus_t *out, int32_t *lvl);
 int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
                      const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
                      int32_t u0_px, uint8_t *scratch, int32_t *out);
+
+/* spoke.c: the 000 single "+" spoke from the front end's grey image, labels and stats
+ * (host/vision/spoke.py detect_spoke). out: u_c_q4, v_c_q4, slope_q12, angle_mrad, width_q4,
+ * n_points, then n_points (u_q4, v_q4) pairs (at most 10). scratch:
+ * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
+int32_t mg_spoke(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
+                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out);
 
 #endif

@@ -36,26 +36,30 @@ def test_emulated_front_end_equals_python(machine, seed):
     assert n_e == n and np.array_equal(labels_e, labels) and np.array_equal(stats_e, stats)
 
 
-def test_emulated_dual_plus_equals_python(machine, tmp_path):
+def test_emulated_plus_detectors_equal_python(machine, tmp_path):
     import dataclasses
 
-    from mobigrasp.host.vision import dual_plus
+    from mobigrasp.host.vision import dual_plus, spoke
 
     corpus.record(tmp_path, ["paper000-exp1"])
     idx = corpus.read_index(tmp_path)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
-    calls = [c for c in corpus.calls(tmp_path, idx) if c.detector == "dual_plus"]
-    front, found = arm.FrontEnd(machine), 0
-    for c in calls[::12]:
+    calls = [c for c in corpus.calls(tmp_path, idx) if c.detector in ("dual_plus", "spoke")]
+    front, found = arm.FrontEnd(machine), {"dual_plus": 0, "spoke": 0}
+    for c in calls[::9]:
         rgb = corpus.load_frame(tmp_path, {"file": c.frame_file, "sha256": shas[c.frame_file]})
-        res, _ = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)
         front.run(rgb)
-        q = c.args[0]
-        got, t = front.dual_plus(int(q[2] + q[3] + q[4]), *c.camera[:2])
+        if c.detector == "dual_plus":
+            res, _ = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)
+            q = c.args[0]
+            got, t = front.dual_plus(int(q[2] + q[3] + q[4]), *c.camera[:2])
+        else:
+            res, _ = spoke.detect_spoke(rgb)
+            got, t = front.spoke()
         assert got == (None if res is None else dataclasses.astuple(res)), c.frame_file
         assert t.instructions > 0
-        found += got is not None
-    assert found > 0
+        found[c.detector] += got is not None
+    assert found["dual_plus"] > 0 and found["spoke"] > 0
 
 
 def test_grey_time_is_linear_in_pixels_and_fills_follow_the_parameter():

@@ -7,7 +7,7 @@ import pytest
 
 from mobigrasp.calib import corpus, native
 from mobigrasp.host import fixedpoint as fp
-from mobigrasp.host.vision import dark_blobs, dual_plus, grey, radial_symbol, red_cylinder
+from mobigrasp.host.vision import dark_blobs, dual_plus, grey, radial_symbol, red_cylinder, spoke
 
 
 def _check_front_end(rgb):
@@ -59,6 +59,11 @@ def _check_calls(folder, calls) -> int:
             got = native.detect_dual_plus(rgb, int(q[2] + q[3] + q[4]), *c.camera[:2])
             assert got == want, c.frame_file
             found += want is not None
+        elif c.detector == "spoke":
+            res, _ = spoke.detect_spoke(rgb)
+            want = None if res is None else dataclasses.astuple(res)
+            assert native.detect_spoke(rgb) == want, c.frame_file
+            found += want is not None
         elif c.detector == "red_cylinder":
             res, _ = red_cylinder.detect_red_cylinder(rgb)
             want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
@@ -89,12 +94,21 @@ def test_sin_cos_table_matches():
         assert native.sin_cos_q12(a) == (fp.sin_q12(a), fp.cos_q12(a)), a
 
 
-def test_dual_plus_slice_matches(tmp_path):
+def test_atan2_table_matches():
+    rng = np.random.default_rng(3)
+    pairs = [(0, 0), (0, -5), (3, 0), (-3, 0), (5, 5), (-5, -5), (-7, 2)]
+    pairs += [tuple(int(v) for v in rng.integers(-10**6, 10**6, 2)) for _ in range(3000)]
+    for y, x in pairs:
+        assert native.atan2_mrad(y, x) == fp.atan2_mrad(y, x), (y, x)
+
+
+@pytest.mark.parametrize("detector", ["dual_plus", "spoke"])
+def test_plus_detectors_slice_matches(tmp_path, detector):
     corpus.record(tmp_path, ["paper000-exp1"])
     calls = [c for c in corpus.calls(tmp_path, corpus.read_index(tmp_path))
-             if c.detector == "dual_plus"]
+             if c.detector == detector]
     found = _check_calls(tmp_path, calls[::2])
-    assert 0 < found < len(calls[::2])  # the slice has pairs found and frames without
+    assert 0 < found < len(calls[::2])  # the slice has results found and calls without
 
 
 def test_red_cylinder_slice_matches(tmp_path):

@@ -32,6 +32,7 @@ from mobigrasp.host.vision.dual_plus import Plus, plus_candidates
 K_S = 5  # 000 §IV: central points per spoke
 W_MIN_PX, W_MAX_PX = 20, 40  # 000 §IV
 _COLUMN_OPS = db.EDGE_OPS.scaled(2) + OpCounts(pixels_read=20, alu=30, branches=20, divs=1)
+_CALL_OPS = OpCounts(alu=200)  # the call and its candidate scratch set-up (hostc/spoke.c)
 SECOND_PASS_Q12 = 722  # tan(10 degrees) in Q12
 MAX_ANGLE_MRAD = 524  # arms within 30 degrees of image x (the roll joint turns the wrist first)
 
@@ -108,7 +109,11 @@ def _scan_arm(grey: np.ndarray, dark: np.ndarray, p: Plus, side: int, slope_q12:
     ops = OpCounts()
     if side not in arms:
         sel = dark[y:y + h, x:x + w].astype(bool)
-        ops = OpCounts(pixels_read=2 * w * h, alu=6 * w * h, divs=2)
+        # two passes over the box (the reach, then the far cone's sums), ~40 cycles per pixel
+        # each as emulated (hostc/spoke.c, docs/budget.md): the local mask tested in place
+        # (window bounds, a grey byte), the offset from the centre times the side, the cone
+        ops = OpCounts(pixels_read=2 * w * h, alu=54 * w * h, branches=4 * w * h,
+                       muls=3 * w * h, divs=2)
         arms[side] = _arm_direction(sel, x, y, p.u_q4, p.v_q4, side)
     arm = arms[side]
     if arm is None:
@@ -211,7 +216,7 @@ def detect_spoke(rgb: np.ndarray) -> tuple[Spoke | None, OpCounts]:
     """Measure the spoke of the "+" nearest the image centre; ``(None, ops)`` if none is seen."""
     grey, mask, _, labels, stats, ops = db.dark_components(rgb, "detect_spoke")
     plus, o = plus_candidates(grey, labels, stats)
-    ops += o
+    ops += o + _CALL_OPS
     if not plus:
         return None, ops
     H, W = grey.shape

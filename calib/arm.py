@@ -310,6 +310,17 @@ class FrontEnd:
         return res, t
 
 
+    def locate_ring_pair(self, d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int,
+                         alpha_mrad: int, theta5_mrad: int, f_px: int, u0_px: int, v0_px: int,
+                         d_um: int) -> tuple[tuple[int, ...] | None, Timing]:
+        """The 002 ring-pair ranging after a red cylinder result (the cache as it left it)."""
+        a, base = self.arm, DATA_BASE
+        ok, t = a.call("mg_locate_ring_pair", d_pixel_q4, u_q4, v_q4, width_q4, alpha_mrad,
+                       theta5_mrad, f_px, u0_px, v0_px, d_um, base + self.OUT, cold=False)
+        res = struct.unpack("<6i", a.read(base + self.OUT, 24)) if ok else None
+        return res, t
+
+
 def progress_stderr(msg: str) -> None:
     """Progress line on stderr."""
     print(msg, file=sys.stderr, flush=True)

@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from mobigrasp.calib import arm, corpus, timing
+from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
 from mobigrasp.host.vision.registry import DETECTORS
@@ -45,8 +46,14 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("dual_plus", ("dual_plus",)),
           StageDef("spoke", ("spoke",)),
           # the 002 detector works on the RGB frame itself: the whole detector
-          StageDef("red_cylinder", ("red_cylinder",)))
-DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "red_cylinder")
+          StageDef("red_cylinder", ("red_cylinder",)),
+          # the 002 ring-pair ranging after each red cylinder found (registry's ranging column)
+          StageDef("ranging", ("red_cylinder",)))
+DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "red_cylinder", "ranging")
+# (camera pitch, waist yaw) in mrad the ranging stage is given in turn: the corpus keeps the
+# frames, not the joint angles; the ranging's cost depends on them only through its divisions'
+# and roots' operand lengths
+RANGING_POSES_MRAD = ((-300, 0), (-600, 250), (-150, -400))
 
 
 def modelled_us(stage: str, height: int, width: int) -> float:
@@ -166,6 +173,16 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.red_cylinder(rgb)
                 want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
                 add("red_cylinder", got == want, ops.cycles(), t)
+                if res is not None:
+                    alpha, theta5 = RANGING_POSES_MRAD[len(per["ranging"]["emu"])
+                                                       % len(RANGING_POSES_MRAD)]
+                    fix = ranging.locate_ring_pair(res.d_pixel_q4, res.u_c_q4, res.v_c_q4,
+                                                   res.width_q4, alpha, theta5, *c.camera)
+                    got, t = front.locate_ring_pair(res.d_pixel_q4, res.u_c_q4, res.v_c_q4,
+                                                    res.width_q4, alpha, theta5, *c.camera,
+                                                    ranging.D_RING_UM)
+                    add("ranging", got == dataclasses.astuple(fix),
+                        DETECTORS["red_cylinder"].ranging_fn()().cycles(), t)
         if progress is not None:
             progress(f"calibrate: frame {k + 1}/{len(frames)} ({fr['file']})")
     us = 1e6 / FCLK_HZ

@@ -18,7 +18,7 @@ import numpy as np
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
-           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c")
+           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c")
 CDEF = """
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
@@ -38,6 +38,9 @@ int32_t mg_cos_q12(int32_t angle_mrad);
 int32_t mg_atan2_mrad(int64_t y, int64_t x);
 int32_t mg_spoke(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
                  const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out);
+int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int32_t width_q4,
+                            int32_t alpha_mrad, int32_t theta5_mrad, int32_t f_px,
+                            int32_t u0_px, int32_t v0_px, int32_t d_um, int32_t *out);
 int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
                      const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
@@ -244,3 +247,16 @@ def detect_spoke(rgb: np.ndarray) -> tuple | None:
     m, _ = dark_mask(g)
     _, labels, stats = label(m)
     return spoke(g, labels, stats)
+
+
+def locate_ring_pair(d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int, alpha_mrad: int,
+                     theta5_mrad: int, f_px: int = 350, u0_px: int = 160, v0_px: int = 120,
+                     d_um: int = 14_500) -> tuple[int, ...] | None:
+    """The C ``mg_locate_ring_pair``: host/ranging.py RingPairFix's fields (x_mm, y_mm, z_mm,
+    dist_mm, bearing_mrad, radius_mm), or None outside the C's range (hostc/kernels.h)."""
+    ffi, c = lib()
+    out = np.zeros(6, np.int32)
+    ok = c.mg_locate_ring_pair(int(d_pixel_q4), int(u_q4), int(v_q4), int(width_q4),
+                               int(alpha_mrad), int(theta5_mrad), int(f_px), int(u0_px),
+                               int(v0_px), int(d_um), _ptr(ffi, out, "int32_t *"))
+    return tuple(int(v) for v in out) if ok else None

@@ -134,10 +134,17 @@ def locate_ring_pair(d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int, alpha
                        fp.div_round(radius_um, 1000))
 
 
+# One 64-bit division as the ARM9 does it: libgcc's __aeabi_ldivmod, a shift-subtract loop
+# (ARMv4T has no CLZ), about 320 cycles on the ring pair's operands (docs/budget.md)
+_DIV64_OPS = OpCounts(alu=260, branches=20)
+
+
 def locate_ring_pair_ops() -> OpCounts:
-    """Cost of :func:`locate_ring_pair` (64-bit products counted as 32-bit MUL pairs)."""
-    return (OpCounts(divs=9, muls32=24, alu=40) + fp.sin_ops().scaled(4) + fp.atan2_ops()
-            + fp.isqrt_ops(1 << 40).scaled(2))
+    """Cost of :func:`locate_ring_pair` as hostc/ranging.c runs it: twelve 64-bit divisions
+    (and the one inside atan2 of 64-bit operands), 64-bit products as 32-bit MUL pairs, two
+    digit-by-digit roots of ~45-bit numbers on register pairs (twice a 32-bit round)."""
+    return (_DIV64_OPS.scaled(13) + OpCounts(muls32=24, alu=60) + fp.sin_ops().scaled(4)
+            + fp.atan2_ops() + fp.isqrt_ops(1 << 44).scaled(4))
 
 
 def platform_bearing_mrad(cam_x_mm: int, cam_y_mm: int, bearing_mrad: int, dist_mm: int) -> int:

@@ -79,4 +79,16 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int3
 int32_t mg_spoke(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
                  const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out);
 
+/* ranging.c: the 002 ring-pair ranging (host/ranging.py locate_ring_pair). out: x_mm, y_mm,
+ * z_mm, dist_mm, bearing_mrad, radius_mm. Returns 1, or 0 (out untouched) when d_pixel_q4 <= 0
+ * or the inputs leave the range where its 64-bit products are exact: f_px and the image
+ * offsets |u - u0|, |v - v0| up to MG_RANGING_MAX_PX, width up to that, D up to
+ * MG_RANGING_MAX_UM, the point and the radius within MG_RANGING_MAX_UM_OUT (500 m). */
+#define MG_RANGING_MAX_PX 2048
+#define MG_RANGING_MAX_UM 100000
+#define MG_RANGING_MAX_UM_OUT 500000000LL
+int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int32_t width_q4,
+                            int32_t alpha_mrad, int32_t theta5_mrad, int32_t f_px,
+                            int32_t u0_px, int32_t v0_px, int32_t d_um, int32_t *out);
+
 #endif

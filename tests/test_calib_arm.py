@@ -62,6 +62,23 @@ def test_emulated_plus_detectors_equal_python(machine, tmp_path):
     assert found["dual_plus"] > 0 and found["spoke"] > 0
 
 
+def test_emulated_ring_pair_ranging_equals_python(machine):
+    import dataclasses
+
+    from mobigrasp.host import ranging
+
+    front = arm.FrontEnd(machine)
+    rng = np.random.default_rng(11)
+    for _ in range(12):
+        args = (int(rng.integers(100, 2400)), int(rng.integers(0, 5120)),
+                int(rng.integers(0, 3840)), int(rng.integers(100, 3000)),
+                int(rng.integers(-1500, 1500)), int(rng.integers(-3000, 3000)))
+        got, t = front.locate_ring_pair(*args, 350, 160, 120, ranging.D_RING_UM)
+        assert got == dataclasses.astuple(ranging.locate_ring_pair(*args)), args
+        assert t.instructions > 0
+    assert front.locate_ring_pair(0, 2560, 1920, 400, 0, 0, 350, 160, 120, 14_500)[0] is None
+
+
 def test_grey_time_is_linear_in_pixels_and_fills_follow_the_parameter():
     img = arm.build()
     rgb = _frame(0, 64, 64)

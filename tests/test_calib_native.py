@@ -7,6 +7,7 @@ import pytest
 
 from mobigrasp.calib import corpus, native
 from mobigrasp.host import fixedpoint as fp
+from mobigrasp.host import ranging
 from mobigrasp.host.vision import dark_blobs, dual_plus, grey, radial_symbol, red_cylinder, spoke
 
 
@@ -69,6 +70,13 @@ def _check_calls(folder, calls) -> int:
             want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
             assert native.detect_red_cylinder(rgb) == want, c.frame_file
             found += want is not None
+            if res is not None:  # the ranging stage that follows, over a spread of poses
+                for alpha, theta5 in ((-300, 0), (-700, 420), (150, -900)):
+                    fix = ranging.locate_ring_pair(res.d_pixel_q4, res.u_c_q4, res.v_c_q4,
+                                                   res.width_q4, alpha, theta5)
+                    got = native.locate_ring_pair(res.d_pixel_q4, res.u_c_q4, res.v_c_q4,
+                                                  res.width_q4, alpha, theta5)
+                    assert got == dataclasses.astuple(fix), (c.frame_file, alpha, theta5)
     return found
 
 
@@ -100,6 +108,26 @@ def test_atan2_table_matches():
     pairs += [tuple(int(v) for v in rng.integers(-10**6, 10**6, 2)) for _ in range(3000)]
     for y, x in pairs:
         assert native.atan2_mrad(y, x) == fp.atan2_mrad(y, x), (y, x)
+
+
+def test_ring_pair_ranging_matches_on_random_inputs():
+    rng = np.random.default_rng(5)
+    cases = [(1, 0, 0, 0, 0, 0), (1, 5119, 3839, 5119, -1571, 3141), (16, 2560, 1920, 0, 0, 0)]
+    for _ in range(4000):
+        cases.append((int(rng.integers(1, 2400)), int(rng.integers(-400, 5600)),
+                      int(rng.integers(-400, 4200)), int(rng.integers(0, 5120)),
+                      int(rng.integers(-1700, 1700)), int(rng.integers(-3300, 3300))))
+    for args in cases:
+        assert native.locate_ring_pair(*args) == \
+            dataclasses.astuple(ranging.locate_ring_pair(*args)), args
+
+
+def test_ring_pair_ranging_refuses_what_it_cannot_compute_exactly():
+    assert native.locate_ring_pair(0, 2560, 1920, 400, 0, 0) is None  # Python: ValueError
+    assert native.locate_ring_pair(-16, 2560, 1920, 400, 0, 0) is None
+    assert native.locate_ring_pair(16, 2560, 1920, 400, 0, 0, f_px=0) is None
+    assert native.locate_ring_pair(16, 16 * 160 + 16 * 2049, 1920, 400, 0, 0) is None
+    assert native.locate_ring_pair(16, 2560, 1920, 400, 0, 0, d_um=100_001) is None
 
 
 @pytest.mark.parametrize("detector", ["dual_plus", "spoke"])

@@ -49,9 +49,9 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int3
 
 
 def source_hash() -> str:
-    """Hash of the C sources and header (the cache key of both builds)."""
+    """Hash of the C sources and headers (the cache key of both builds)."""
     h = hashlib.sha256()
-    for name in ("kernels.h", *SOURCES):
+    for name in (*sorted(p.name for p in HOSTC.glob("*.h")), *SOURCES):
         h.update(name.encode() + b"\0" + (HOSTC / name).read_bytes())
     return h.hexdigest()[:16]
 

@@ -2,6 +2,7 @@
  * the foreshortening-corrected distance from the pair's second moments. The steps and their
  * reasons are those of host/vision/dual_plus.py, which this follows line by line (same
  * integers). Input: the front end's grey image, labels and component stats. */
+#include "isqrt.h"
 #include "kernels.h"
 
 #define D_ACT_DMM 473
@@ -153,23 +154,6 @@ static int64_t floordiv64(int64_t a, int64_t b) /* b > 0 */
 {
     int64_t q = a / b;
     return (a % b != 0 && a < 0) ? q - 1 : q;
-}
-
-static int32_t isqrt32(uint32_t n)
-{
-    uint32_t res = 0, bit = 1u << 30;
-    while (bit > n)
-        bit >>= 2;
-    while (bit) {
-        if (n >= res + bit) {
-            n -= res + bit;
-            res = (res >> 1) + bit;
-        } else {
-            res >>= 1;
-        }
-        bit >>= 2;
-    }
-    return (int32_t)res;
 }
 
 /* central second moments (sums of squared deviations, floored) */
@@ -365,8 +349,8 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t
             if (8 * imin(a0, b0) < 5 * imax(a0, b0))
                 continue; /* the same size within 1.6:1 */
             const int32_t du = a->u_q4 - b->u_q4, dv = a->v_q4 - b->v_q4;
-            const int32_t d_q4 = isqrt32((uint32_t)(du * du + dv * dv));
-            const int32_t r_q4 = isqrt32((uint32_t)(256 * (a0 + b0) / 2));
+            const int32_t d_q4 = mg_isqrt32((uint32_t)(du * du + dv * dv));
+            const int32_t r_q4 = mg_isqrt32((uint32_t)(256 * (a0 + b0) / 2));
             if (16 * d_q4 < SEP_MIN_Q4 * r_q4 || 16 * d_q4 > SEP_MAX_Q4 * r_q4)
                 continue;
             const int32_t mu = (a->u_q4 + b->u_q4) / 32, mv = (a->v_q4 + b->v_q4) / 32;

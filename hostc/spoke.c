@@ -2,6 +2,7 @@
  * nearest the image centre. The steps and their reasons are those of host/vision/spoke.py,
  * which this follows line by line (same integers). The local dark mask (grey below the mid
  * level of the "+" box and 4 px around) is tested in place, not written. */
+#include "isqrt.h"
 #include "kernels.h"
 
 #define K_S 5
@@ -225,23 +226,6 @@ static int is_cross(const local_t *L, int32_t uc, int32_t vc, int32_t angle, int
     return 1;
 }
 
-static int32_t isqrt32(uint32_t n)
-{
-    uint32_t res = 0, bit = 1u << 30;
-    while (bit > n)
-        bit >>= 2;
-    while (bit) {
-        if (n >= res + bit) {
-            n -= res + bit;
-            res = (res >> 1) + bit;
-        } else {
-            res >>= 1;
-        }
-        bit >>= 2;
-    }
-    return (int32_t)res;
-}
-
 int32_t mg_spoke(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
                  const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out)
 {
@@ -296,7 +280,7 @@ int32_t mg_spoke(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
     if (!(40 * tp.reach <= 100 * run / 16 && 100 * run / 16 <= 90 * tp.reach))
         return 0;
     const int32_t width = mg_div_round((int64_t)run * 4096,
-                                       isqrt32((uint32_t)(4096 * 4096 + tp.k_l * tp.k_l)));
+                                       mg_isqrt32((uint32_t)(4096 * 4096 + tp.k_l * tp.k_l)));
     out[0] = p->u_q4;
     out[1] = p->v_q4;
     out[2] = tp.k_l;

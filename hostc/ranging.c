@@ -3,6 +3,7 @@
  * (all Q4 px), camera pitch alpha and waist yaw theta5 (mrad). The exact pinhole geometry of a
  * vertical segment seen by a pitched camera (002 §4, D_OC = D f / d_pixel done along the
  * ray), then the front surface moved to the axis by the radius R = width D / (2 d). */
+#include "isqrt.h"
 #include "kernels.h"
 
 /* num / den rounded, halves away from zero, either sign of den (host/fixedpoint.py
@@ -21,24 +22,6 @@ static int64_t div_round64(int64_t num, int64_t den)
 static int64_t mul_q12_64(int64_t a, int64_t b)
 {
     return (a * b + 2048) >> 12;
-}
-
-/* floor(sqrt(n)) digit by digit (host/fixedpoint.py isqrt_digits) */
-static int64_t isqrt64(uint64_t n)
-{
-    uint64_t res = 0, bit = (uint64_t)1 << 62;
-    while (bit > n)
-        bit >>= 2;
-    while (bit) {
-        if (n >= res + bit) {
-            n -= res + bit;
-            res = (res >> 1) + bit;
-        } else {
-            res >>= 1;
-        }
-        bit >>= 2;
-    }
-    return (int64_t)res;
 }
 
 int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int32_t width_q4,
@@ -75,7 +58,7 @@ int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int3
     const int64_t radius_um = div_round64((int64_t)width_q4 * d_um, 2 * (int64_t)d_pixel_q4);
     if (radius_um > MG_RANGING_MAX_UM_OUT)
         return 0;
-    const int64_t h_um = isqrt64((uint64_t)(x_um * x_um + y_um * y_um));
+    const int64_t h_um = mg_isqrt64((uint64_t)(x_um * x_um + y_um * y_um));
     if (h_um > 0) {
         x_um += div_round64(x_um * radius_um, h_um);
         y_um += div_round64(y_um * radius_um, h_um);
@@ -84,7 +67,7 @@ int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int3
     const int64_t s5 = mg_sin_q12(theta5_mrad), c5 = mg_cos_q12(theta5_mrad);
     const int64_t xr = mul_q12_64(x_um, c5) + mul_q12_64(y_um, s5);
     const int64_t yr = mul_q12_64(y_um, c5) - mul_q12_64(x_um, s5);
-    const int64_t dist_um = isqrt64((uint64_t)(xr * xr + yr * yr + z_um * z_um));
+    const int64_t dist_um = mg_isqrt64((uint64_t)(xr * xr + yr * yr + z_um * z_um));
     out[0] = (int32_t)div_round64(xr, 1000);
     out[1] = (int32_t)div_round64(yr, 1000);
     out[2] = (int32_t)div_round64(z_um, 1000);

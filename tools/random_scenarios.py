@@ -43,15 +43,39 @@ def random_scenario_toml(method: str, seed: int, version: str = "v2",
     return GENERATORS[version](method, seed, faults)
 
 
+def _start(rng: random.Random) -> tuple[float, float, float, float, float]:
+    """(dist, bearing, robot heading, target x, target y): the target 0.5-3 m away at any
+    bearing from the robot at the origin, the robot at any heading."""
+    dist = rng.uniform(0.5, 3.0)
+    bearing = rng.uniform(-math.pi, math.pi)
+    heading = rng.uniform(-math.pi, math.pi)
+    return dist, bearing, heading, dist * math.cos(bearing), dist * math.sin(bearing)
+
+
+def _drag_path(rng: random.Random, dist: float, bearing: float, tx: float, ty: float
+               ) -> list[str]:
+    """The ``[[target.path]]`` of a target dragged sideways during the approach.
+
+    Paper 002 drags the target during the approach, not during the grasp: the drag ends while
+    the robot (V_avg = 0.15 m/s, after a ~1 s search) still has 40-70 % of the distance to go,
+    and a close target moves less, so a hand drag stays below ~0.3 m/s."""
+    side = rng.choice((-1.0, 1.0)) * rng.uniform(0.1, 0.4) * min(1.0, dist / 1.5)
+    nx, ny = -math.sin(bearing), math.cos(bearing)  # sideways to the line of sight
+    t1 = 1.0 + rng.uniform(0.3, 0.6) * dist / 0.15
+    t0 = max(0.5, min(rng.uniform(2.0, 5.0), t1 - max(1.0, abs(side) / 0.25)))
+    lines: list[str] = []
+    for t, k in ((t0, 0.0), (t1, side)):
+        lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {tx + k * nx:.4f}",
+                  f"y_m = {ty + k * ny:.4f}", ""]
+    return lines
+
+
 def _v1(method: str, seed: int, faults: bool = True) -> str:
     """The first generator (its seeds reproduce the figures measured with it)."""
     if method not in KIND:
         raise ValueError(f"method must be one of {tuple(KIND)}, got {method!r}")
     rng = random.Random(f"{method}-{seed}")
-    dist = rng.uniform(0.5, 3.0)
-    bearing = rng.uniform(-math.pi, math.pi)
-    heading = rng.uniform(-math.pi, math.pi)
-    tx, ty = dist * math.cos(bearing), dist * math.sin(bearing)
+    dist, bearing, heading, tx, ty = _start(rng)
     # 002: the guidance board faces the robot's start
     t_heading = math.atan2(-ty, -tx) if method == "002" else rng.uniform(-math.pi, math.pi)
     lines = [
@@ -62,18 +86,7 @@ def _v1(method: str, seed: int, faults: bool = True) -> str:
         f"heading_rad = {t_heading:.6f}", "",
     ]
     if method == "002":
-        # Paper 002 drags the target during the approach, not during the grasp: the drag ends
-        # while the robot (V_avg = 0.15 m/s, after a ~1 s search) still has 40-70 % of the
-        # distance to go, and a close target moves less, so a hand drag stays below ~0.3 m/s.
-        # (The end used to be counted from the drag's start, 2-5 s in: close targets were then
-        # still moving while the robot was already in its last 0.4 m, and it grasped beside them.)
-        side = rng.choice((-1.0, 1.0)) * rng.uniform(0.1, 0.4) * min(1.0, dist / 1.5)
-        nx, ny = -math.sin(bearing), math.cos(bearing)  # sideways to the line of sight
-        t1 = 1.0 + rng.uniform(0.3, 0.6) * dist / 0.15
-        t0 = max(0.5, min(rng.uniform(2.0, 5.0), t1 - max(1.0, abs(side) / 0.25)))
-        for t, k in ((t0, 0.0), (t1, side)):
-            lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {tx + k * nx:.4f}",
-                      f"y_m = {ty + k * ny:.4f}", ""]
+        lines += _drag_path(rng, dist, bearing, tx, ty)
     if method == "001" and dist > 1.4:
         for _ in range(rng.randint(1, 3)):
             along = rng.uniform(0.6, dist - 0.6)
@@ -111,10 +124,7 @@ def _v2(method: str, seed: int, faults: bool = True) -> str:
     if method not in KIND:
         raise ValueError(f"method must be one of {tuple(KIND)}, got {method!r}")
     rng = random.Random(f"v2-{method}-{seed}")
-    dist = rng.uniform(0.5, 3.0)
-    bearing = rng.uniform(-math.pi, math.pi)
-    heading = rng.uniform(-math.pi, math.pi)
-    tx, ty = dist * math.cos(bearing), dist * math.sin(bearing)
+    dist, bearing, heading, tx, ty = _start(rng)
     kind = KIND[method]
     if method == "002" and rng.random() < BOARD_ALONE_P:
         kind = "double-cross"
@@ -126,14 +136,7 @@ def _v2(method: str, seed: int, faults: bool = True) -> str:
         f"heading_rad = {rng.uniform(-math.pi, math.pi):.6f}", "",
     ]
     if method == "002" and kind != "double-cross" and rng.random() < 0.5:
-        # moved sideways during the approach, as v1 (and 002 Fig. 4) does
-        side = rng.choice((-1.0, 1.0)) * rng.uniform(0.1, 0.4) * min(1.0, dist / 1.5)
-        nx, ny = -math.sin(bearing), math.cos(bearing)
-        t1 = 1.0 + rng.uniform(0.3, 0.6) * dist / 0.15
-        t0 = max(0.5, min(rng.uniform(2.0, 5.0), t1 - max(1.0, abs(side) / 0.25)))
-        for t, k in ((t0, 0.0), (t1, side)):
-            lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {tx + k * nx:.4f}",
-                      f"y_m = {ty + k * ny:.4f}", ""]
+        lines += _drag_path(rng, dist, bearing, tx, ty)  # as v1 (and 002 Fig. 4)
     if method == "001" and dist > 1.4:
         for _ in range(rng.randint(1, 3)):
             along = rng.uniform(0.6, dist - 0.6)

@@ -33,8 +33,7 @@ class SearchStates:
             t.go(now, "APPROACH", f"object position given: {t.obj} mm")
 
     def do_SEARCH(self, t, now: int, inp, dets: dict) -> None:
-        name = t.rules.search_detector
-        det = dets.get(name)
+        name, det = t.rules.search_sighting(dets)
         if t.confirm_until is not None:
             t.wheels = (0, 0)
             # holding the pose of the frame that showed the object: see it again, settled

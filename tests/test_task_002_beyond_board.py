@@ -1,0 +1,149 @@
+"""002 without the board in view: the search and the approach by the red cylinder itself (its
+colour ROI, 002 §2.2 step 1), the stop by the paper's rule d_pixel > T_d, on hand-made scenes."""
+
+from __future__ import annotations
+
+import json
+
+import detections as det
+import pytest
+
+from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.mcu_sim.world.scenario import loads_scenario
+from mobigrasp.tools.run_job import RunOptions, execute
+
+LEVEL_LOOK = [0, 0, -2100, -200, 2300, 0]  # the search's level look (camera ~0.2 m up)
+
+
+def _search_until_approach(dets: dict, seconds: float = 3.0) -> tuple[Task, list]:
+    task = Task("002")
+    events = []
+    for k in range(int(seconds * 50)):
+        out = task.step(k * 20_000, TaskInputs(joints_mrad=tuple(task.arm), detections=dets))
+        events += out.events
+        if out.state != "SEARCH":
+            break
+    return task, events
+
+
+def test_the_search_finds_the_cylinder_by_its_colour_when_no_board_is_in_view():
+    roi = det.red_roi(16 * 200, 16 * 120)  # 40 px right of the centre column
+    task, events = _search_until_approach({"double_cross": None, "red_roi": roi})
+    assert task.state == "APPROACH", events
+    assert "colour ROI" in events[-1].why and "confirmed" in events[-1].why
+    assert task.steer_on == "red cylinder" and task.e_mrad > 0  # to the right
+
+
+def test_the_search_takes_the_board_when_both_are_in_view():
+    roi = det.red_roi(16 * 200, 16 * 120)
+    dc = det.double_cross(16 * 100, 16 * 100, 16 * 30)
+    task, events = _search_until_approach({"double_cross": dc, "red_roi": roi})
+    assert task.state == "APPROACH" and "double cross seen" in events[-1].why
+    assert task.e_mrad < 0  # the board's bearing (left), not the cylinder's
+
+
+def _approach(dets: dict, steps: int = 10) -> tuple[Task, object]:
+    task = Task("002")
+    task.arm = list(LEVEL_LOOK)
+    task.go(0, "APPROACH", "test")
+    out = None
+    for k in range(1, steps):
+        out = task.step(k * 20_000, TaskInputs(detections=dets))
+    return task, out
+
+
+def test_the_approach_steers_on_the_red_roi_without_the_board():
+    # a whole 40 px tall ROI: the cylinder's 120 mm at ~1 m (f = 350 px)
+    roi = det.red_roi(16 * 220, 16 * 120, roi=(212, 100, 16, 40))
+    task, out = _approach({"double_cross": None, "red_cylinder": None, "red_roi": roi})
+    assert out.state == "APPROACH" and out.detail["fuzzy"]["steer_on"] == "red_roi"
+    left, right = out.wheels_mmps
+    assert left > right > 0 and task.arm[5] > 0  # forward, turning right, the waist follows
+    # its range by its height: the object estimate is ~1 m ahead, to the right
+    x, y = task.obj_platform(TaskInputs())
+    assert 700 * 16 < y < 1300 * 16 and x > 0
+
+
+def test_the_approach_prefers_the_board_as_the_paper_does():
+    roi = det.red_roi(16 * 220, 16 * 120)
+    dc = det.double_cross(16 * 100, 16 * 120, 16 * 30)
+    _, out = _approach({"double_cross": dc, "red_cylinder": None, "red_roi": roi})
+    assert out.detail["fuzzy"]["steer_on"] == "double cross"
+    left, right = out.wheels_mmps
+    assert right > left  # toward the board, on the left
+
+
+# the board turned 151 degrees away from the robot (its back to it, the post off the line of
+# sight): the double cross is never seen from the start
+AWAY = """
+[scenario]
+name = "board-turned-away"
+method = "002"
+seed = 5
+time_limit_s = 30.0
+
+[robot]
+x_m = 0.0
+y_m = 0.0
+heading_rad = 0.0
+
+[target]
+kind = "red-cylinder"
+x_m = 0.9
+y_m = 0.1
+heading_rad = 0.5
+
+[camera]
+f_px = 350.0
+u0_px = 160.0
+v0_px = 120.0
+"""
+
+
+def _run(tmp_path, text: str, name: str) -> tuple[dict, list]:
+    sc = loads_scenario(text, source=name)
+    summary, code = execute(RunOptions(scenario=name, scenario_obj=sc, transport="inproc",
+                                       out=tmp_path / name, progress=False, plots=False))
+    states = [r for r in map(json.loads, (tmp_path / name / "trace.jsonl").open())
+              if r["ev"] == "state"]
+    return summary, states
+
+
+def _stop(states: list) -> dict:
+    return next(r for r in states if r["from"] == "ADJUST" and r["to"] == "ROUGH_GRASP")
+
+
+def _stop_estimate_mm(stop: dict) -> int:
+    return int(stop["why"].split("estimated ")[1].split(" mm")[0])
+
+
+def test_board_turned_away_grasps_by_the_cylinder_and_stops_by_t_d(tmp_path):
+    summary, states = _run(tmp_path, AWAY, "away")
+    assert summary["success"] and summary["grasped"] and not summary["false_claim"], summary
+    assert summary["collisions"] == 0
+    assert "colour ROI" in states[0]["why"]  # found by the cylinder, not the board
+    stop = _stop(states)
+    assert stop["why"].startswith("stop rule d_pixel > T_d") and "T_d = 45 px" in stop["why"]
+    # the look puts d_pixel = 45 px at the level grasp's reach (230-275 mm ahead of the waist)
+    assert 235 <= _stop_estimate_mm(stop) <= 265
+
+
+def test_a_smaller_t_d_stops_the_base_further_out(tmp_path):
+    text = AWAY + "\n[params]\nT_d = 38.0\n"
+    _, states = _run(tmp_path, text, "away-td38")
+    stop = _stop(states)
+    assert "T_d = 38 px" in stop["why"]
+    _, base = _run(tmp_path, AWAY, "away-td45")
+    assert _stop_estimate_mm(stop) >= _stop_estimate_mm(_stop(base)) + 15
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["paper002-marker", "paper002-cylinder-moving"])
+def test_shipped_002_scenarios_stop_by_t_d(name, tmp_path):
+    summary, code = execute(RunOptions(scenario=name, transport="inproc", out=tmp_path / name,
+                                       progress=False, plots=False))
+    assert code == 0 and summary["success"] and not summary["false_claim"], summary
+    states = [r for r in map(json.loads, (tmp_path / name / "trace.jsonl").open())
+              if r["ev"] == "state"]
+    stop = _stop(states)
+    assert stop["why"].startswith("stop rule d_pixel > T_d") and "T_d = 45 px" in stop["why"]

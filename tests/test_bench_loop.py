@@ -42,3 +42,16 @@ def test_bench_loop_takes_the_four_configurations_in_turn(monkeypatch, tmp_path)
     # the medians of interleaved runs: the 2nd of each configuration's three
     assert fig["wall_s_pty"] == round(1.0 + 0.1 * 5, 3)
     assert fig["wall_s_inproc_lag0"] == round(1.0 + 0.1 * 8, 3)
+
+
+def test_random_scenes_give_the_same_trace_over_the_pty_and_in_process(tmp_path):
+    """Two short random scenes (001 with obstacles and light faults, 002 with light faults)."""
+    from mobigrasp.tools.benches.loop import _random_run
+
+    for method, seed in (("001", 1009), ("002", 1004)):
+        pty = _random_run(method, seed, tmp_path / "pty", transport="pty", time_limit_s=3.0)
+        inproc = _random_run(method, seed, tmp_path / "inproc", transport="inproc",
+                             time_limit_s=3.0)
+        assert (pty["transport"], inproc["transport"]) == ("pty", "inproc")
+        assert pty["sim_time_s"] >= 3.0 and pty["trace_lines"] > 10
+        assert pty["trace_sha256"] == inproc["trace_sha256"], (method, seed)

@@ -4,10 +4,10 @@ Real-time factor = simulated seconds / wall seconds of paper000-exp1 (capped at 
 simulated seconds) over the pty (two processes) and in process, the median of ``--rtf-repeats``
 runs each; the baseline measured in the same run is the strict alternation (``_lag0``: the host
 is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
-The campaign runs ``--runs`` seeded random scenarios per method in process
-(tools/random_scenarios.py) and reports the success rate, collisions and the median final
-error (targets, docs/cosim.md: success >= 95 %, zero collisions, median final_error_mm <= 10;
-real-time factor over the pty >= 10).
+The campaign runs ``--runs`` seeded random scenarios per method (tools/random_scenarios.py),
+over the pty by default (``--transport``; the trace is the same over either), and reports the
+success rate, collisions and the median final error (targets, docs/cosim.md: success >= 95 %,
+zero collisions, median final_error_mm <= 10; real-time factor over the pty >= 10).
 """
 
 from __future__ import annotations
@@ -33,6 +33,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
     parser.add_argument("--generator", default="v2", choices=("v1", "v2"),
                         help="random scenario generator version (tools/random_scenarios.py)")
+    parser.add_argument("--transport", default="pty", choices=("pty", "inproc"),
+                        help="transport of the random runs: pty (two processes, default) or "
+                             "inproc; the trace is the same over either")
+    parser.add_argument("--time-limit-s", type=float, default=None,
+                        help="simulated seconds per random run (default: the scenario's)")
     parser.add_argument("--rtf-limit-s", type=float, default=20.0,
                         help="simulated seconds of the real-time-factor runs")
     parser.add_argument("--rtf-repeats", type=int, default=3,
@@ -51,23 +56,25 @@ def _one(opts) -> dict:
     return summary
 
 
-def _random_run(method: str, seed: int, folder: Path, version: str = "v2") -> dict:
-    """One random scenario in process (a top-level function: it runs in worker processes);
-    ``graspable`` is False for a board without a cylinder."""
+def _random_run(method: str, seed: int, folder: Path, version: str = "v2",
+                transport: str = "pty", time_limit_s: float | None = None) -> dict:
+    """One random scenario over ``transport`` (a top-level function: it runs in worker
+    processes); ``graspable`` is False for a board without a cylinder."""
     from mobigrasp.tools.random_scenarios import random_scenario
     from mobigrasp.tools.run_job import RunOptions
 
     sc = random_scenario(method, seed, version)
     summary = _one(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=seed,
-                              transport="inproc", out=folder / f"{method}-{seed}",
-                              progress=False, plots=False))
+                              transport=transport, out=folder / f"{method}-{seed}",
+                              progress=False, plots=False, time_limit_s=time_limit_s))
     summary["graspable"] = sc.target.kind != "double-cross"
     return summary
 
 
 def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
-             progress: bool = True, jobs: int | None = None, version: str = "v2") -> dict:
-    """Run ``runs`` random scenarios per method in process, ``jobs`` at a time (default: the
+             progress: bool = True, jobs: int | None = None, version: str = "v2",
+             transport: str = "pty", time_limit_s: float | None = None) -> dict:
+    """Run ``runs`` random scenarios per method over ``transport``, ``jobs`` at a time (default: the
     number of cores); figures per method and overall. Results do not depend on ``jobs``."""
     from concurrent.futures import ProcessPoolExecutor
 
@@ -78,9 +85,11 @@ def campaign(methods: list[str], runs: int, seed_base: int, folder: Path,
         if jobs > 1 and runs > 1:
             with ProcessPoolExecutor(max_workers=jobs) as pool:
                 rows = list(pool.map(_random_run, [method] * runs, seeds, [folder] * runs,
-                                     [version] * runs))
+                                     [version] * runs, [transport] * runs,
+                                     [time_limit_s] * runs))
         else:
-            rows = [_random_run(method, seed, folder, version) for seed in seeds]
+            rows = [_random_run(method, seed, folder, version, transport, time_limit_s)
+                    for seed in seeds]
         for s in rows:
             if progress:
                 print(f"  {method} seed {s['seed']}: {'ok ' if s['success'] else 'FAIL'} "
@@ -158,7 +167,8 @@ def run(args) -> dict:
         if args.runs <= 0:  # real-time factor only: no campaign figures to report
             return results
         camp = campaign(methods, args.runs, args.seed_base, folder / "campaign", jobs=args.jobs,
-                        version=getattr(args, "generator", "v2"))
+                        version=getattr(args, "generator", "v2"), transport=args.transport,
+                        time_limit_s=args.time_limit_s)
     results["campaign"] = camp
     total = sum(v["runs"] for v in camp.values())
     results["success_rate"] = (sum(v["success_rate"] * v["runs"] for v in camp.values()) / total

@@ -147,3 +147,108 @@ def test_shipped_002_scenarios_stop_by_t_d(name, tmp_path):
               if r["ev"] == "state"]
     stop = _stop(states)
     assert stop["why"].startswith("stop rule d_pixel > T_d") and "T_d = 45 px" in stop["why"]
+
+
+# --- positive grasp evidence (docs/task.md): the held cylinder's top face under the camera ---
+def _held_task():
+    """002 after the lift: the level gripper closed ~245 mm out at the grasp height, then the
+    grasp check's look."""
+    from mobigrasp.host.task.method002 import RULES
+
+    task = Task("002")
+    pose = task.grasp_ik((0, 245 * 16, (task.p.grasp_height_mm - 50) * 16))
+    task.apply_pose(0, pose)
+    look = RULES.held_view_pose(task)
+    assert look is not None
+    task.apply_pose(0, look)
+    task.trust_from_us = 0
+    return task, RULES
+
+
+def _predicted_edge_row(task) -> float:
+    """The reference in float: the camera on the axis h above the top face (radius 25 mm),
+    pitched down by beta; the face's edge on the middle column."""
+    import math
+
+    from mobigrasp.host import kinematics
+
+    _, _, z_q4 = kinematics.fk_mm_q4(task.geom, *task.arm[2:6])
+    h = z_q4 / 16 + task.p.h_shoulder_mm - task.p.object_top_mm
+    beta = -(task.arm[2] + task.arm[3] + task.arm[4]) / 1000
+    return 120 + 350 * math.tan(math.atan2(h, 25) - beta)
+
+
+def test_the_held_look_brings_the_fingertip_in_and_pitches_the_camera_down():
+    from mobigrasp.host import kinematics
+
+    task, _ = _held_task()
+    x, y, z = kinematics.fk_mm_q4(task.geom, *task.arm[2:6])
+    assert abs(y / 16 - 100) <= 2 and abs(x) <= 16 and z / 16 + 50 >= 150
+    assert task.arm[2] + task.arm[3] + task.arm[4] <= -700  # looking down
+
+
+def test_held_evidence_is_the_top_face_at_its_predicted_row_centred_to_the_bottom():
+    task, rules = _held_task()
+    edge = _predicted_edge_row(task)
+    assert 150 <= edge <= 220  # inside the frame, room above and below
+
+    def view(top: float, u_c: float = 160.0, bottom: int = 240) -> dict:
+        t = int(round(top))
+        return {"red_roi": det.red_roi(int(16 * u_c), 16 * (t + bottom) // 2,
+                                       roi=(30, t, 260, bottom - t), touches_edge=True)}
+
+    assert rules.held_in_view(task, 100_000, view(edge + 4))
+    assert not rules.held_in_view(task, 100_000, view(edge - 40))  # a face nearer the camera
+    assert not rules.held_in_view(task, 100_000, view(edge + 30))  # ... or farther
+    assert not rules.held_in_view(task, 100_000, view(edge, u_c=220))  # off the axis
+    assert not rules.held_in_view(task, 100_000, view(edge, bottom=200))  # standing, not under
+    assert not rules.held_in_view(task, 100_000, {"red_roi": None})  # absence is no evidence
+    task.trust_from_us = 200_000  # a frame taken while the arm moved: no evidence
+    assert not rules.held_in_view(task, 100_000, view(edge))
+
+
+def test_a_miss_is_found_and_grasped_again_only_positive_evidence_ends_done(tmp_path):
+    # the cylinder slid 70 mm aside while the gripper closed: the fingers close on air
+    text = AWAY.replace("time_limit_s = 30.0", "time_limit_s = 40.0") + """
+[[target.path]]
+t_s = 7.0
+x_m = 0.9
+y_m = 0.1
+
+[[target.path]]
+t_s = 7.4
+x_m = 0.9
+y_m = 0.17
+"""
+    summary, states = _run(tmp_path, text, "slid")
+    lifts = [r for r in states if r["from"] == "LIFT"]
+    assert lifts[0]["to"] == "ADJUST" and "grasp check" in lifts[0]["why"], lifts
+    assert summary["claimed_success"] == summary["grasped"] and not summary["false_claim"]
+    assert summary["success"], summary
+    assert "object held: seen under the gripper" in lifts[-1]["why"]
+
+
+def test_nothing_in_view_the_search_gives_up_no_graspable_object_found():
+    """A board alone turned away (or nothing at all): the search looks around and wanders two
+    legs, then FAILED with the reason a board alone must give."""
+    import math
+
+    task = Task("002")
+    x = y = heading = 0.0  # mm, mm, rad: a unicycle with a 300 mm track under the wheels
+    out = None
+    for k in range(120 * 50):
+        out = task.step(k * 20_000, TaskInputs(
+            joints_mrad=tuple(task.arm), x_mm=round(x), y_mm=round(y),
+            heading_mrad=round(1000 * heading), detections={"double_cross": None,
+                                                            "red_roi": None}))
+        if out.state != "SEARCH":
+            break
+        left, right = out.wheels_mmps
+        v, w = (left + right) / 2, (right - left) / 300.0
+        x += 0.02 * v * math.cos(heading)
+        y += 0.02 * v * math.sin(heading)
+        heading += 0.02 * w
+    assert out.state == "FAILED", out.state
+    assert task.failure.startswith("no graspable object found (red_cylinder never seen)")
+    assert "2 wander legs" in task.failure
+    assert k * 0.02 < 100  # within the 120 s of the random 002 scenes

@@ -38,7 +38,7 @@ class AdjustState:
             return
         # the estimate stops the close approach at grasp_r_mm (clear of the footprint)
         vmax = t.rules.adjust_vmax_mmps(t.p)
-        goal_mm, tol_mm = t.rules.adjust_goal_mm(t.p)
+        goal_mm, tol_mm = t.rules.adjust_goal_mm(t)
         wheels, done, d = close_in((x, y), goal_mm, tol_mm, t.p.bearing_tol_mrad, vmax)
         t.note(adjust=d)
         unseen = now - t.obj_seen_us

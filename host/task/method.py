@@ -101,14 +101,18 @@ class Method(ABC):
         """SEARCH: the detector whose result of this frame is looked at, and the result."""
         return self.search_detector, dets.get(self.search_detector)
 
+    def search_gives_up(self, t: Any) -> str | None:
+        """SEARCH ends FAILED with this reason (None: it goes on, as long as its timeout)."""
+        return None
+
     def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
         """The object's platform-frame position (Q4 mm) from detector ``name``'s result seen
         with the arm at ``joints``: the detector's pinhole sighting (host/task/sense.py)."""
         return object_in_platform(name, det, t.geom, joints, t.cam)
 
-    def adjust_goal_mm(self, p: Any) -> tuple[int, int]:
+    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
         """ADJUST's close approach stops the object this far ahead of the waist, +- tol."""
-        return p.grasp_r_mm, p.grasp_r_tol_mm
+        return t.p.grasp_r_mm, t.p.grasp_r_tol_mm
 
     def held_view_pose(self, t: Any) -> Any:
         """LIFT: the arm pose of the grasp check's look; None: the common look, the camera

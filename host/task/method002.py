@@ -39,6 +39,8 @@ from mobigrasp.host.vision import registry
 GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
 CYLINDER_RADIUS_MM = 25  # the red cylinder (docs/markers.md)
+ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
+SEARCH_WANDERS_002 = 2  # SEARCH gives up after a look around and this many wander legs
 # the grasp check's look (docs/task.md): the held cylinder brought to (reach mm ahead of the
 # waist, camera height mm above the ground) with the camera pitched down (mrad), first reachable
 # wins; its top face, 40 mm under the camera, then fills the frame below a row it predicts
@@ -71,11 +73,11 @@ class Method002(Method):
                       "posture": {"margin_mode": "limits"}}
     detectors = {"SEARCH": ("double_cross", "red_roi"),
                  "APPROACH": ("double_cross", "red_cylinder", "red_roi"),
-                 "ADJUST": ("red_cylinder",), "LIFT": ("red_cylinder",)}
+                 "ADJUST": ("red_cylinder",), "LIFT": ("red_cylinder", "red_roi")}
     search_detector = "double_cross"
     adjust_detector = "red_cylinder"
     check_detectors = ("red_cylinder",)
-    held_look = False  # grasp check: look down at the object under the gripper (grasp.py)
+    held_look = True  # grasp check: the held cylinder seen under the camera (held_in_view)
     object_detectors = ("red_cylinder",)  # the double cross is the board, not the object
     grasp_alpha_mrad = 0
     keeps_sightings = False
@@ -110,6 +112,14 @@ class Method002(Method):
         t.e_dpx = d_pixel_px(det) if name == "double_cross" else None
         t.e_range_mm = dist
         return True
+
+    def search_gives_up(self, t: Any) -> str | None:
+        """Nothing seen in a look around (the red ROI is found out to ~3.5 m from any side,
+        docs/task.md) and ``SEARCH_WANDERS_002`` wander legs: no graspable object here."""
+        if t.graspable_seen or t.search.wanders < SEARCH_WANDERS_002:
+            return None
+        return (f"the search saw neither the double cross nor the red cylinder in "
+                f"{t.search.cycle} cycles and {t.search.wanders} wander legs")
 
     def found_why(self, t: Any) -> str:
         if t.steer_on == "double cross":
@@ -264,10 +274,15 @@ class Method002(Method):
             return True
         return False
 
-    def adjust_goal_mm(self, p: Any) -> tuple[int, int]:
+    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
         """The estimate's stop only backs the stop rule up (rings not measured): at the near
-        end of the level grasp's reach, past where d_pixel passes T_d."""
-        return p.grasp_r_mm - 25, 5
+        end of the level grasp's reach, past where d_pixel passes T_d; and only on an estimate
+        of this ADJUST's look (one from elsewhere, e.g. the grasp check's steep look, may be
+        15 mm short): until then the goal is ``ADJUST_STALE_BACK_MM`` nearer."""
+        goal = t.p.grasp_r_mm - 25
+        if t.obj_seen_us < t.trust_from_us + t.p.frame_latency_us:
+            goal -= ADJUST_STALE_BACK_MM
+        return goal, 5
 
     def adjust_vmax_mmps(self, p: Any) -> int:
         return p.slow_mmps

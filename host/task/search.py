@@ -68,6 +68,10 @@ class SearchStates:
             t.note(search_seen=t.rules.found_why(t))
             return
         cmd = t.search.step(now)
+        why = t.rules.search_gives_up(t)
+        if why:
+            t.fail(now, why)
+            return
         t.set_arm(now, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad, cmd.theta5_mrad, 0)
         if cmd.drive_mm:
             self.wander_step(t, now, inp, cmd)

@@ -394,8 +394,10 @@ def roi_sighting(res: RedRoi, f_px: int) -> tuple[int, int, int] | None:
 
 
 def sighting(res: RedCylinderResult, f_px: int) -> tuple[int, int, int] | None:
-    """The cylinder's centre (Q4 px) and its depth D_OC = D f / d_pixel (Q4 mm, 002 §4): the
-    task's target (host/task/sense.py); the distance is used as the depth, as 002 does."""
+    """The cylinder's centre (Q4 px) and its depth D_OC = D f / d_pixel (Q4 mm, 002 §4), the
+    distance used as the depth: the generic pinhole target (host/task/sense.py). The 002 task
+    places the cylinder by host.ranging.locate_ring_pair instead, and uses this only with the
+    wrist rolled (host/task/method002.py ``object_position``)."""
     if res.d_pixel_q4 <= 0:
         return None
     return res.u_c_q4, res.v_c_q4, RING_D_MM_Q4 * f_px * 16 // res.d_pixel_q4

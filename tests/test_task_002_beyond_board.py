@@ -139,14 +139,15 @@ def test_a_smaller_t_d_stops_the_base_further_out(tmp_path):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("name", ["paper002-marker", "paper002-cylinder-moving"])
-def test_shipped_002_scenarios_stop_by_t_d(name, tmp_path):
-    summary, code = execute(RunOptions(scenario=name, transport="inproc", out=tmp_path / name,
+def test_shipped_002_scenarios_stop_by_t_d_over_the_pty(name, tmp_path):
+    summary, code = execute(RunOptions(scenario=name, transport="pty", out=tmp_path / name,
                                        progress=False, plots=False))
     assert code == 0 and summary["success"] and not summary["false_claim"], summary
     states = [r for r in map(json.loads, (tmp_path / name / "trace.jsonl").open())
               if r["ev"] == "state"]
     stop = _stop(states)
     assert stop["why"].startswith("stop rule d_pixel > T_d") and "T_d = 45 px" in stop["why"]
+    assert states[-1]["to"] == "DONE" and "seen under the gripper" in states[-1]["why"]
 
 
 # --- positive grasp evidence (docs/task.md): the held cylinder's top face under the camera ---

@@ -114,8 +114,8 @@ class Method002(Method):
         return True
 
     def search_gives_up(self, t: Any) -> str | None:
-        """Nothing seen in a look around (the red ROI is found out to ~3.5 m from any side,
-        docs/task.md) and ``SEARCH_WANDERS_002`` wander legs: no graspable object here."""
+        """Nothing seen in a look around (the red ROI is found from any side out to 3 m and
+        beyond, docs/task.md) and ``SEARCH_WANDERS_002`` wander legs: no graspable object."""
         if t.graspable_seen or t.search.wanders < SEARCH_WANDERS_002:
             return None
         return (f"the search saw neither the double cross nor the red cylinder in "

@@ -212,7 +212,7 @@ def outcome(row: dict) -> str:
         return "board alone: FAILED"
     if row["end_reason"] == "time_limit":
         return f"time limit in {row['task_state']}"
-    reason = str(row.get("reason") or row["task_state"] or "?")
+    reason = str(row.get("reason") or "no reason given")
     return f"{row['task_state']}: {reason.split(' (')[0].split(':')[0][:40]}"
 
 

@@ -218,8 +218,6 @@ def test_gripper_and_its_flag():
     assert host.telemetry()[-1].flags & FLAG_GRIPPER_CLOSED
 
 
-@pytest.mark.not_on("simavr", "after SimavrMcu.reset the USART sends one byte and then no "
-                    "UDRE interrupt comes (docs/firmware.md, \"simavr\")")
 def test_reset_reinitialises_and_flags_the_first_telemetry():
     mcu, host = ready()
     host.send(Gripper(1000), seq=1)

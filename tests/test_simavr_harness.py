@@ -2,6 +2,7 @@
 servo widths from the OCRnx latched at each Timer1 period start."""
 
 import shutil
+from itertools import pairwise
 
 import pytest
 
@@ -113,3 +114,43 @@ def test_simavr_16_pins_keep_their_boot_widths_which_is_why_the_registers_are_la
     # what OC1A..C show: the boot widths (within two cycles), not the widths written since
     assert all(abs(p - w) <= 2 / 16 for p, w in zip(pins_us, (1000, 1500, 1500), strict=True))
     assert mcu.servo_pulses_us()[:3] == (1500.0, 1700.0, 1500.0)
+
+
+def _telemetry(mcu):
+    data = b"".join(d for _, d in mcu.uart_tx_take())
+    return [x for x in map(m.decode_frame, FrameParser().feed(data)) if isinstance(x, m.Telemetry)]
+
+
+def test_after_a_reset_the_elf_starts_again_and_keeps_talking():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(100_000)
+    assert _telemetry(mcu)[-1].flags & m.FLAG_HANDSHAKE
+    mcu.reset()
+    mcu.advance_to(300_000)
+    tele = _telemetry(mcu)
+    # a new start-up (about 15.6 ms), then telemetry every 20 ms of the firmware's new clock to
+    # the end: the UDRE interrupt keeps coming after the first byte
+    assert len(tele) >= 9 and tele[-1].time_us >= 160_000
+    assert all(abs(b.time_us - a.time_us - 20_000) <= 100 for a, b in pairwise(tele))
+    assert tele[0].flags & m.FLAG_RESET and not tele[0].flags & m.FLAG_HANDSHAKE
+    assert not tele[1].flags & m.FLAG_RESET
+    # the encoder pins rest low across the reset and no edge was given: INT0..3 never ran
+    counts = mcu.profile()["isr_count"]
+    assert all(counts.get(v, 0) == 0 for v in (1, 2, 3, 4))
+
+
+def test_a_fault_plans_mcu_reset_under_simavr_leaves_the_board_talking(tmp_path):
+    from mobigrasp.tools.run_job import RunOptions, execute
+
+    summary, _ = execute(RunOptions(scenario="paper000-exp1", mcu="simavr", out=tmp_path / "run",
+                                    progress=False, plots=False, mcap=False, time_limit_s=2.0,
+                                    faults=("mcu_reset_at_s=0.8",)))
+    assert summary["faults"]["mcu_resets"] == 1
+    safety = summary["safety"]
+    assert safety["unsafe_actuations"] == 0 and safety["unrecovered"] == 0
+    # the host saw the reset in the telemetry and opened the session again once the firmware's
+    # start-up was over: more than that start-up, well under the watchdog period
+    assert len(safety["recovery_ms"]) == 1 and 15.0 < safety["recovery_ms"][0] <= 100.0
+    # the firmware's counter starts again at the reset: 1.2 s of 50 Hz telemetry after it
+    assert 55 <= summary["mcu"]["telemetry_sent"] <= 61

@@ -207,6 +207,21 @@ static void paint(sh_t *sh)
     memset(avr->data + from, PAINT, (size_t)(avr->ramend + 1u - from));
 }
 
+/* Settings of the harness that simavr's avr_reset puts back to its defaults, applied after
+ * avr_init and after every avr_reset: the external-interrupt reset turns strict level
+ * triggering on again, and avr_reset empties the cycle-timer pool, the wake at the target
+ * included. With strict triggering on, a pin held low (an encoder at rest: INT0..3 are
+ * level-triggered until the firmware writes EICRA) arms a poll every cycle that raises INTn
+ * again after each RETI, for good, since the poll does not look at EICRA; INT0..3 outrank
+ * every other vector, so the firmware never left them and USART0's UDRE waited forever. */
+static void apply_workarounds(sh_t *sh)
+{
+    for (int i = 0; i < 8; i++) {
+        avr_extint_set_strict_lvl_trig(sh->avr, (uint8_t)i, 0); /* 1.6 polls INT0..7 otherwise */
+    }
+    sh->timer_armed = 0;
+}
+
 static void clear_run_state(sh_t *sh)
 {
     sh->in_isr = 0;
@@ -246,9 +261,7 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
     sh->rx_head_addr = rx_head_addr;
     sh->rx_over_addr = rx_over_addr;
     sh->bss_end = bss_end;
-    for (int i = 0; i < 8; i++) {
-        avr_extint_set_strict_lvl_trig(avr, (uint8_t)i, 0); /* 1.6 polls INT4..7 otherwise */
-    }
+    apply_workarounds(sh);
     uint32_t flags = 0;
     avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
     flags &= ~(uint32_t)AVR_UART_FLAG_STDIO;
@@ -289,6 +302,12 @@ void sh_free(sh_t *sh)
 void sh_reset(sh_t *sh)
 {
     avr_reset(sh->avr);
+    apply_workarounds(sh);
+    /* avr_reset clears the I/O space only: data and bss go back to the zeros a new core starts
+     * with, so nothing of the old run (the handshake flag) is read before the C runtime runs */
+    if (sh->bss_end > RAM_START) {
+        memset(sh->avr->data + RAM_START, 0, (size_t)(sh->bss_end - RAM_START));
+    }
     paint(sh);
     clear_run_state(sh);
     sh->prof.resets++;

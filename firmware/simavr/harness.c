@@ -82,6 +82,13 @@ struct sh {
     uint64_t loop_start;
     uint64_t target_cycle;
     uint64_t timer_armed;
+    /* when the firmware next sends (sh_tx_idle_through): Timer1 overflows since reset and the
+     * cycle of the last (hal_micros counts 20 ms per overflow plus TCNT1's 0.5 us ticks), the
+     * firmware's globals, and whether a received byte may still be unanswered */
+    uint32_t t1_ovf_n;
+    uint64_t t1_ovf_cycle;
+    uint16_t rx_tail_addr, tx_head_addr, tx_tail_addr, next_tel_addr, tel_hz_addr;
+    int rx_unanswered;
 };
 
 /* simavr's messages (ELF sections loaded, UART settings) would go to the run's stdout. */
@@ -145,7 +152,12 @@ static void on_tov1(struct avr_irq_t *irq, uint32_t value, void *param)
         0x46, 0x80,       /* ICR1, ICR3 */
     };
     const avr_t *avr = sh->avr;
-    if (!value || sh->per_n >= EV_MAX) {
+    if (!value) {
+        return;
+    }
+    sh->t1_ovf_n++;
+    sh->t1_ovf_cycle = avr->cycle;
+    if (sh->per_n >= EV_MAX) {
         return;
     }
     for (unsigned i = 0; i < SH_PERIOD_REGS - 1; i++) {
@@ -231,6 +243,8 @@ static void clear_run_state(sh_t *sh)
     sh->rx_over_last = 0;
     sh->rxq_head = sh->rxq_n = sh->rxq_untimed = 0;
     sh->portc_last = 0;
+    sh->t1_ovf_n = 0;
+    sh->rx_unanswered = 0;
 }
 
 sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
@@ -324,6 +338,16 @@ void sh_set_byte_cycles(sh_t *sh, uint32_t cycles) { sh->byte_cycles = cycles; }
 
 void sh_set_loop_addr(sh_t *sh, uint32_t addr) { sh->loop_addr = addr; }
 
+void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx_tail,
+                       uint16_t next_telemetry, uint16_t telemetry_hz)
+{
+    sh->rx_tail_addr = rx_tail;
+    sh->tx_head_addr = tx_head;
+    sh->tx_tail_addr = tx_tail;
+    sh->next_tel_addr = next_telemetry;
+    sh->tel_hz_addr = telemetry_hz;
+}
+
 static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping)
 {
     avr_t *avr = sh->avr;
@@ -373,6 +397,13 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
     }
     if (sh->seen_sei && (sh->prof.sp_min == 0 || sp < sh->prof.sp_min)) {
         sh->prof.sp_min = sp;
+    }
+    /* asleep with the USART and the RX ring empty: the main loop has handled (and answered)
+     * every byte received so far, since it sleeps only when no work is pending */
+    if (sh->rx_unanswered && avr->state == cpu_Sleeping && sh->uart && sh->rx_tail_addr &&
+        uart_fifo_isempty(&sh->uart->input) &&
+        avr->data[sh->rx_head_addr] == avr->data[sh->rx_tail_addr]) {
+        sh->rx_unanswered = 0;
     }
     /* a byte reached the RX ring (or was counted as a ring overrun) */
     if (sh->rx_head_addr) {
@@ -453,6 +484,7 @@ int sh_uart_in(sh_t *sh, uint8_t byte)
     }
     fix_byte_time(sh);
     avr_raise_irq(avr_io_getirq(sh->avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), byte);
+    sh->rx_unanswered = 1;
     if (!sh->seen_sei) {
         sh->rxq_untimed++;
     } else if (sh->rxq_n < RXQ_MAX) {
@@ -529,4 +561,34 @@ uint32_t sh_pc(const sh_t *sh) { return sh->avr->pc; }
 uint32_t sh_rx_unread(const sh_t *sh)
 {
     return sh->uart ? (uint32_t)uart_fifo_get_read_size((uart_fifo_t *)&sh->uart->input) : 0u;
+}
+
+/* A cycle through which no byte the firmware sends can finish leaving TX0, provided nothing
+ * more is received: now while a byte is leaving or queued, while a received byte may be
+ * unanswered (the core has not slept since it came: the main loop sleeps only when it has
+ * handled every byte, and every message but the telemetry answers a frame), before the
+ * start-up's end or Timer1's first overflow; else the next telemetry time (fw/program.c), in
+ * core cycles by hal_micros()'s clock; SH_NEVER when telemetry is off. */
+uint64_t sh_tx_idle_through(const sh_t *sh)
+{
+    const avr_t *avr = sh->avr;
+    const uint8_t *d = avr->data;
+    uint64_t now = avr->cycle;
+    if (!sh->next_tel_addr || !sh->seen_sei || !sh->t1_ovf_n || sh->rx_unanswered ||
+        !sh->uart || !uart_fifo_isempty((uart_fifo_t *)&sh->uart->input) ||
+        d[sh->rx_head_addr] != d[sh->rx_tail_addr] ||
+        d[sh->tx_head_addr] != d[sh->tx_tail_addr] || sh->tx_line_free > now) {
+        return now;
+    }
+    int32_t hz;
+    uint32_t next;
+    memcpy(&hz, d + sh->tel_hz_addr, 4);
+    memcpy(&next, d + sh->next_tel_addr, 4);
+    if (hz == 0) {
+        return SH_NEVER;
+    }
+    /* hal_micros() was t1_ovf_n * 20 000 us at the last overflow's cycle */
+    int32_t after_ovf_us = (int32_t)(next - sh->t1_ovf_n * 20000u);
+    int64_t due = (int64_t)sh->t1_ovf_cycle + (int64_t)after_ovf_us * 16;
+    return due > (int64_t)now ? (uint64_t)due : now;
 }

@@ -41,6 +41,7 @@ typedef struct {
     uint32_t loop_count;
 } sh_profile_t;
 typedef struct sh sh_t;
+#define SH_NEVER ...
 sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
              uint16_t bss_end);
 void sh_free(sh_t *sh);
@@ -50,6 +51,9 @@ int sh_state(const sh_t *sh);
 int sh_booted(const sh_t *sh);
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
 void sh_set_loop_addr(sh_t *sh, uint32_t addr);
+void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx_tail,
+                       uint16_t next_telemetry, uint16_t telemetry_hz);
+uint64_t sh_tx_idle_through(const sh_t *sh);
 int sh_run_to(sh_t *sh, uint64_t target);
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
 int sh_uart_in(sh_t *sh, uint8_t byte);

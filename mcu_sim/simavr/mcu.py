@@ -54,7 +54,8 @@ _PARSER = ("frames_ok", "crc_errors", "oversize", "unknown_type", "bad_version",
 # crc[64] (16 bit), result[64], newest (16 bit), then duplicates (AVR structs are unpadded)
 _PARSER_STATS_OFF = 73
 _DUP_DUPLICATES_OFF = 258
-_RX_HEAD_OFF, _RX_OVERRUNS_OFF = 128, 130
+_RX_HEAD_OFF, _RX_TAIL_OFF, _RX_OVERRUNS_OFF = 128, 129, 130
+_PARAM_TELEMETRY_HZ_ROW = 1  # params_values[I_TELEMETRY_HZ] (fw/params.h), int32 rows
 _FLAGS = ("drive_enabled", "handshake", "stopped", "limit_flag", "reset_flag",
           "watchdog_tripped")
 
@@ -87,6 +88,9 @@ class SimavrMcu:
             raise SimavrBuildError(f"{self.elf.path}: simavr could not load it")
         self._h = ffi.gc(h, lib.sh_free)
         lib.sh_set_loop_addr(self._h, self.elf.symbols.get("fw_loop", 0))
+        lib.sh_set_idle_addrs(self._h, rx + _RX_TAIL_OFF, self.elf.addr("tx_head"),
+                              self.elf.addr("tx_tail"), self.elf.addr("next_telemetry_us"),
+                              self.elf.addr("params_values") + 4 * _PARAM_TELEMETRY_HZ_ROW)
         bit = 8 if cfg.u2x else 16
         self.byte_cycles = 10 * bit * (cfg.ubrr + 1)
         lib.sh_set_byte_cycles(self._h, self.byte_cycles)
@@ -280,8 +284,18 @@ class SimavrMcu:
         return out
 
     def tx_idle_through_us(self) -> int:
-        """Now: the firmware's telemetry schedule is not read off the core."""
-        return self._cycle // CYCLES_PER_US
+        """Simulated µs through which no byte the firmware sends can finish leaving TX0,
+        provided nothing more arrives on the RX line: now while bytes are on the line either
+        way, queued to send, or received and maybe not yet answered (the core has not slept
+        since); else the firmware's next telemetry time, read off the core
+        (firmware/simavr/harness.c, sh_tx_idle_through)."""
+        now = self._cycle // CYCLES_PER_US
+        if self._rx_line:
+            return now
+        through = lib.sh_tx_idle_through(self._h)
+        if through == lib.SH_NEVER:
+            return 1 << 62
+        return max(now, through // CYCLES_PER_US)
 
     @property
     def baud(self) -> float:

@@ -154,3 +154,15 @@ def test_a_fault_plans_mcu_reset_under_simavr_leaves_the_board_talking(tmp_path)
     assert len(safety["recovery_ms"]) == 1 and 15.0 < safety["recovery_ms"][0] <= 100.0
     # the firmware's counter starts again at the reset: 1.2 s of 50 Hz telemetry after it
     assert 55 <= summary["mcu"]["telemetry_sent"] <= 61
+
+
+def test_with_telemetry_off_the_idle_line_lasts_until_something_arrives():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.uart_rx(m.encode_message(m.ParamSet(2, 0), 1), 60_000)  # telemetry_hz = 0
+    mcu.advance_to(150_000)
+    data = b"".join(d for _, d in mcu.uart_tx_take())
+    assert m.ParamValue(2, 0) in [m.decode_frame(f) for f in FrameParser().feed(data)]
+    assert mcu.tx_idle_through_us() > 10**15
+    mcu.uart_rx(m.encode_message(m.Heartbeat(1), 2))
+    assert mcu.tx_idle_through_us() == 150_000

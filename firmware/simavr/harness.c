@@ -563,32 +563,37 @@ uint32_t sh_rx_unread(const sh_t *sh)
     return sh->uart ? (uint32_t)uart_fifo_get_read_size((uart_fifo_t *)&sh->uart->input) : 0u;
 }
 
-/* A cycle through which no byte the firmware sends can finish leaving TX0, provided nothing
- * more is received: now while a byte is leaving or queued, while a received byte may be
+/* *cycle: a cycle through which no byte the firmware sends can finish leaving TX0, provided
+ * nothing more is received: now while a byte is leaving or queued, while a received byte may be
  * unanswered (the core has not slept since it came: the main loop sleeps only when it has
  * handled every byte, and every message but the telemetry answers a frame), before the
  * start-up's end or Timer1's first overflow; else the next telemetry time (fw/program.c), in
- * core cycles by hal_micros()'s clock; SH_NEVER when telemetry is off. */
-uint64_t sh_tx_idle_through(const sh_t *sh)
+ * core cycles by hal_micros()'s clock. Returns 0 (and no cycle) when telemetry is off and
+ * nothing is pending: the firmware sends nothing until it receives something. */
+int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle)
 {
     const avr_t *avr = sh->avr;
     const uint8_t *d = avr->data;
     uint64_t now = avr->cycle;
+    *cycle = now;
     if (!sh->next_tel_addr || !sh->seen_sei || !sh->t1_ovf_n || sh->rx_unanswered ||
         !sh->uart || !uart_fifo_isempty((uart_fifo_t *)&sh->uart->input) ||
         d[sh->rx_head_addr] != d[sh->rx_tail_addr] ||
         d[sh->tx_head_addr] != d[sh->tx_tail_addr] || sh->tx_line_free > now) {
-        return now;
+        return 1;
     }
     int32_t hz;
     uint32_t next;
     memcpy(&hz, d + sh->tel_hz_addr, 4);
     memcpy(&next, d + sh->next_tel_addr, 4);
     if (hz == 0) {
-        return SH_NEVER;
+        return 0;
     }
     /* hal_micros() was t1_ovf_n * 20 000 us at the last overflow's cycle */
     int32_t after_ovf_us = (int32_t)(next - sh->t1_ovf_n * 20000u);
     int64_t due = (int64_t)sh->t1_ovf_cycle + (int64_t)after_ovf_us * 16;
-    return due > (int64_t)now ? (uint64_t)due : now;
+    if (due > (int64_t)now) {
+        *cycle = (uint64_t)due;
+    }
+    return 1;
 }

@@ -1,4 +1,4 @@
-/* The simavr harness's interface (harness.c); mcu_sim/simavr/build.py declares the same. */
+/* The simavr harness's interface (harness.c); mcu_sim/simavr/build.py hands it to cffi as it is. */
 #ifndef MOBIGRASP_SIMAVR_HARNESS_H
 #define MOBIGRASP_SIMAVR_HARNESS_H
 
@@ -9,7 +9,6 @@
 #define SH_VECTOR_TIMER1_OVF 14
 
 enum { SH_REACHED = 0, SH_STOPPED = 1, SH_CRASHED = -1 };
-#define SH_NEVER UINT64_MAX /* sh_tx_idle_through with telemetry off */
 
 typedef struct {
     uint32_t isr_max_cycles[SH_VECTORS];
@@ -38,7 +37,7 @@ void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
 void sh_set_loop_addr(sh_t *sh, uint32_t addr);
 void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx_tail,
                        uint16_t next_telemetry, uint16_t telemetry_hz);
-uint64_t sh_tx_idle_through(const sh_t *sh);
+int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle);
 int sh_run_to(sh_t *sh, uint64_t target);
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
 int sh_uart_in(sh_t *sh, uint8_t byte);

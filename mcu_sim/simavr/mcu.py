@@ -117,6 +117,7 @@ class SimavrMcu:
         self._tx_buf = ffi.new("uint8_t[4096]")
         self._tx_cyc = ffi.new("uint64_t[4096]")
         self._rd = ffi.new("uint8_t[64]")
+        self._idle_cycle = ffi.new("uint64_t *")
         self.events = 0
 
     # -- time ----------------------------------------------------------------------------------
@@ -292,10 +293,10 @@ class SimavrMcu:
         now = self._cycle // CYCLES_PER_US
         if self._rx_line:
             return now
-        through = lib.sh_tx_idle_through(self._h)
-        if through == lib.SH_NEVER:
-            return 1 << 62
-        return max(now, through // CYCLES_PER_US)
+        through = self._idle_cycle
+        if not lib.sh_tx_idle_through(self._h, through):
+            return 1 << 62  # telemetry off: nothing is sent until something arrives
+        return max(now, through[0] // CYCLES_PER_US)
 
     @property
     def baud(self) -> float:

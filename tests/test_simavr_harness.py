@@ -166,3 +166,17 @@ def test_with_telemetry_off_the_idle_line_lasts_until_something_arrives():
     assert mcu.tx_idle_through_us() > 10**15
     mcu.uart_rx(m.encode_message(m.Heartbeat(1), 2))
     assert mcu.tx_idle_through_us() == 150_000
+
+
+def test_closing_a_sonar_slot_keeps_interrupts_off_within_budget():
+    # an echo heard in every slot: the range's 32-bit division runs after the stamps are read
+    mcu = SimavrMcu()
+    mcu.set_sonar_provider(lambda i: 1.0)
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(400_000)
+    stats = mcu.stats()
+    assert stats["avr_isr_max_cycles_INT6"] > 0  # the echoes were timed
+    rows = {r["figure"]: r for r in profile_rows(stats)}
+    off = rows["interrupts off"]
+    assert 0 < off["worst"] <= off["budget"] and off["where"].startswith("pc 0x")
+    assert "(pc 0x" in format_rows([off])

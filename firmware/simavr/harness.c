@@ -73,6 +73,7 @@ struct sh {
     uint64_t isr_start;
     int seen_sei;
     uint64_t ioff_start;
+    uint32_t ioff_pc;
     uint64_t oc1_rise[3];      /* OC1A..C pin (PB5..7): last rising edge */
     uint32_t oc1_high_cycles[3]; /* and the last high time the pin showed */
     uint8_t portb_last;
@@ -348,7 +349,8 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
     sh->tel_hz_addr = telemetry_hz;
 }
 
-static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping)
+static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_before,
+                                     int was_sleeping)
 {
     avr_t *avr = sh->avr;
     uint64_t now = avr->cycle;
@@ -374,12 +376,15 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
             uint64_t len = before - sh->ioff_start;
             if (len > sh->prof.irq_off_max_cycles) {
                 sh->prof.irq_off_max_cycles = (uint32_t)len;
+                sh->prof.irq_off_max_from_pc = sh->ioff_pc;
+                sh->prof.irq_off_max_to_pc = pc_before;
             }
         }
         sh->seen_sei = 1;
         sh->ioff_start = 0;
     } else if (sh->seen_sei && !sh->ioff_start) {
         sh->ioff_start = before;
+        sh->ioff_pc = sh->in_isr ? (uint32_t)avr->pc : pc_before;
     }
     uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
     /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
@@ -455,12 +460,13 @@ int sh_run_to(sh_t *sh, uint64_t target)
     }
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
+        uint32_t pc_before = avr->pc;
         int sleeping = avr->state == cpu_Sleeping;
         int state = avr_run(avr);
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }
-        after_instruction(sh, before, sleeping);
+        after_instruction(sh, before, pc_before, sleeping);
         if (sh->stop) {
             return SH_STOPPED;
         }

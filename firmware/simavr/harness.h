@@ -14,6 +14,8 @@ typedef struct {
     uint32_t isr_max_cycles[SH_VECTORS];
     uint32_t isr_count[SH_VECTORS];
     uint32_t irq_off_max_cycles;
+    uint32_t irq_off_max_from_pc; /* byte addresses: the instruction that cleared I (or the */
+    uint32_t irq_off_max_to_pc;   /* vector taken) and the one that set it again */
     uint32_t rx_latency_max_cycles;
     uint64_t sleep_cycles;
     uint32_t stack_depth_bytes;

@@ -436,6 +436,8 @@ class SimavrMcu:
             "isr_max_cycles": {v: p.isr_max_cycles[v] for v in range(35) if p.isr_count[v]},
             "isr_count": {v: p.isr_count[v] for v in range(35) if p.isr_count[v]},
             "irq_off_max_cycles": p.irq_off_max_cycles,
+            "irq_off_max_from_pc": p.irq_off_max_from_pc,
+            "irq_off_max_to_pc": p.irq_off_max_to_pc,
             "rx_latency_max_cycles": p.rx_latency_max_cycles,
             "sleep_cycles": p.sleep_cycles,
             "total_cycles": total,

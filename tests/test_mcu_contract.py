@@ -57,7 +57,7 @@ def test_time_moves_only_forward_to_where_it_is_told(mcu):
 
 def _hello_frames(mcu) -> list:
     # sent once the firmware has started: the Python models take no time for start-up, the
-    # ELF under simavr turns its RX interrupt on about 15.6 ms after reset (docs/firmware.md)
+    # ELF under simavr turns its RX interrupt on about 2.2 ms after reset (docs/firmware.md)
     mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "contract", 0), 0), 20_000)
     mcu.advance_to(80_000)
     chunks = mcu.uart_tx_take()
@@ -99,9 +99,9 @@ def _idle_answers_and_bytes(mcu, frame: bytes, start_us: int, end_us: int, step_
 
 def test_no_byte_leaves_before_the_idle_answer(mcu):
     # a HELLO (answered), then telemetry alone, then PARAM_SETs that change nothing (answered by
-    # ACK and PARAM_VALUE, on the AVR some 13 ms after the frame, so one that comes as a
-    # telemetry frame has left is answered before the next is due): each answer is checked
-    # against the bytes sent until the next frame goes on the line
+    # ACK and PARAM_VALUE, on the AVR about 1.8 ms after the frame, one that comes as a
+    # telemetry frame has left before the next is due): each answer is checked against the
+    # bytes sent until the next frame goes on the line
     hello = m.encode_message(m.Hello(m.PROTOCOL_VERSION, "contract", 0), 0)
     sets = [m.encode_message(m.ParamSet(P_TELEMETRY_HZ, 50), seq) for seq in (1, 2, 3)]
     ahead = 0

@@ -10,6 +10,7 @@ pytest.importorskip("cffi")
 if shutil.which("avr-gcc") is None:
     pytest.skip("avr-gcc is missing (make firmware installs it)", allow_module_level=True)
 
+from mobigrasp.mcu_sim.firmware.params import P_TELEMETRY_HZ  # noqa: E402
 from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu  # noqa: E402
 from mobigrasp.mcu_sim.simavr.profile import (  # noqa: E402
     RX_LATENCY_BUDGET_CYCLES,
@@ -129,7 +130,7 @@ def test_after_a_reset_the_elf_starts_again_and_keeps_talking():
     mcu.reset()
     mcu.advance_to(300_000)
     tele = _telemetry(mcu)
-    # a new start-up (about 15.6 ms), then telemetry every 20 ms of the firmware's new clock to
+    # a new start-up (about 2.2 ms), then telemetry every 20 ms of the firmware's new clock to
     # the end: the UDRE interrupt keeps coming after the first byte
     assert len(tele) >= 9 and tele[-1].time_us >= 160_000
     assert all(abs(b.time_us - a.time_us - 20_000) <= 100 for a, b in pairwise(tele))
@@ -180,3 +181,23 @@ def test_closing_a_sonar_slot_keeps_interrupts_off_within_budget():
     off = rows["interrupts off"]
     assert 0 < off["worst"] <= off["budget"] and off["where"].startswith("pc 0x")
     assert "(pc 0x" in format_rows([off])
+
+
+def test_the_start_up_and_a_param_set_take_no_32_bit_divisions():
+    # reset to sei: the C runtime's .bss clearing (about 0.4 ms) and fw_setup, about 2.2 ms
+    mcu = SimavrMcu()
+    booted = mcu.run_until_booted(step_us=10)
+    assert 1_000 <= booted <= 3_000
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0))
+    mcu.advance_to(booted + 30_000)
+    mcu.uart_tx_take()
+    frame = m.encode_message(m.ParamSet(P_TELEMETRY_HZ, 25), 1)
+    start = mcu.now_us
+    mcu.uart_rx(frame)
+    frame_end = start + len(frame) * mcu.byte_cycles // 16
+    mcu.advance_to(start + 10_000)
+    parser, acked = FrameParser(), []
+    for t, data in mcu.uart_tx_take():
+        acked += [t for f in parser.feed(data) if m.decode_frame(f) == m.Ack(1)]
+    # the ACK's last stop bit within 3 ms of the frame's (its 7 bytes take 0.6 ms of that)
+    assert len(acked) == 1 and acked[0] - frame_end <= 3_000

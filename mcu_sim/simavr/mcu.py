@@ -227,7 +227,7 @@ class SimavrMcu:
 
     def run_until_booted(self, limit_us: int = 100_000, step_us: int = 100) -> int:
         """Advance in ``step_us`` steps until the firmware has enabled interrupts (its start-up,
-        about 15.6 ms after reset, is over: docs/firmware.md) and return that time in µs; a
+        about 2.2 ms after reset, is over: docs/firmware.md) and return that time in µs; a
         byte sent from then on is received. Raises if it has not by ``limit_us`` from now."""
         end = self.now_us + int(limit_us)
         while not lib.sh_booted(self._h):

@@ -201,3 +201,17 @@ def test_the_start_up_and_a_param_set_take_no_32_bit_divisions():
         acked += [t for f in parser.feed(data) if m.decode_frame(f) == m.Ack(1)]
     # the ACK's last stop bit within 3 ms of the frame's (its 7 bytes take 0.6 ms of that)
     assert len(acked) == 1 and acked[0] - frame_end <= 3_000
+
+
+def test_bytes_sent_into_the_start_up_leave_the_rx_latency_to_the_bytes_received():
+    # a HELLO at the reset instant, as the closed loop's host sends it: its first byte starts
+    # while the receiver is still off and the rest meet the start-up; later frames come 100 ms
+    # apart, and each byte's latency is its own (not the gap to an earlier, lost byte)
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 0)
+    for seq, t in enumerate((100_000, 200_000), start=1):
+        mcu.uart_rx(m.encode_message(m.Heartbeat(seq), seq), t)
+    mcu.advance_to(300_000)
+    stats = mcu.stats()
+    assert stats["avr_rx_line_lost"] > 0 and stats["parser_frames_ok"] >= 2
+    assert 0 < stats["avr_rx_latency_max_cycles"] <= RX_LATENCY_BUDGET_CYCLES

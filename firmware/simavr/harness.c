@@ -483,8 +483,11 @@ int sh_uart_in(sh_t *sh, uint8_t byte)
 {
     /* The part holds two received bytes (UDR's FIFO) plus the one in the shift register;
      * simavr's 64-byte FIFO would hide a slow ISR, so a byte whose start bit comes while three
-     * are unread is lost (data overrun). */
-    if (!sh->uart || uart_fifo_get_read_size(&sh->uart->input) >= 3) {
+     * are unread is lost (data overrun). A byte that starts while the receiver is off (the
+     * first cycles after a reset) is lost too: simavr drops it, and it must not be waited
+     * for in the RX latency's queue. */
+    if (!sh->uart || !avr_regbit_get(sh->avr, sh->uart->rxen) ||
+        uart_fifo_get_read_size(&sh->uart->input) >= 3) {
         sh->rx_line_lost++;
         return 0;
     }

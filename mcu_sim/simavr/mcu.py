@@ -237,7 +237,9 @@ class SimavrMcu:
         return self.now_us
 
     def reset(self) -> None:
-        """A power-on reset now: RAM painted again, the firmware starts from its reset vector."""
+        """A power-on reset now: ``.data``/``.bss`` zeroed and the RAM above painted again as on
+        a new core, the harness's simavr settings applied again (firmware/simavr/harness.c,
+        sh_reset), the firmware starts from its reset vector."""
         lib.sh_reset(self._h)
         for side in (0, 1):
             ab = _QUAD[self._enc_pins_pos[side] % 4]

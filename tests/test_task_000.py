@@ -12,6 +12,7 @@ from test_task_closed_loop import World
 
 from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.host import arm_calib
+from mobigrasp.host.app_factory import task_params
 from mobigrasp.host.task import Task
 from mobigrasp.tools.run_job import RunOptions, execute, resolve_scenario
 
@@ -119,12 +120,15 @@ class BlackoutWorld(SpokeWorld):
         return out
 
 
-def test_lost_during_adjustment_searches_by_fig5_with_d_theta2_and_finds_it_again():
+@pytest.mark.parametrize("dtheta2_l", [0.06, 0.1])
+def test_lost_during_adjustment_searches_by_fig5_with_d_theta2_and_finds_it_again(dtheta2_l):
     """000 §III.B.2: lost in ADJUST, the platform stops and the arm searches by Fig. 5: theta2
     in steps of d_theta2 (the scenario's dtheta2_l, 0.06 rad), theta5 from end to end at each
     theta2; the object is found again and grasped. The path ends 0.7 m short of the object, so
     that the loss happens too far from it to finish the adjustment on odometry."""
-    task = Task("000", {"approach_standoff_mm": 700})
+    step = round(dtheta2_l * 1000)
+    params = task_params("000", {"dtheta2_l": dtheta2_l})  # the scenario's [params] key
+    task = Task("000", {**params, "approach_standoff_mm": 700})
     world = BlackoutWorld((0.9, -0.4), pose=(0.0, 0.0, 0.3))
     events, details, arm = run_details(task, world)
     path = [(e.from_state, e.to_state) for e in events]
@@ -133,7 +137,7 @@ def test_lost_during_adjustment_searches_by_fig5_with_d_theta2_and_finds_it_agai
     t_found = next(e.t_us for e in events if e.from_state == "SEARCH" and e.t_us > t_search)
     lost = [d["lost_search"] for _, _, d in details if "lost_search" in d]
     assert len(lost) == 1 and lost[0]["lost_in"] == "ADJUST"
-    assert lost[0]["d_theta2_mrad"] == 60
+    assert lost[0]["d_theta2_mrad"] == step
     assert task.state == "DONE" and world.held, (task.failure, path)
     # the search's commanded (theta2, theta5) between LOST and the re-acquisition
     poses = []
@@ -144,7 +148,7 @@ def test_lost_during_adjustment_searches_by_fig5_with_d_theta2_and_finds_it_agai
     assert len(levels) >= 2, poses
     # Fig. 5 from theta2s: up in d_theta2 steps to theta2_max, then below theta2s down to
     # theta2_min (host/search.py)
-    assert all(abs(b - a) == 60 or b in (-2100, -2800, levels[0] - 60)
+    assert all(abs(b - a) == step or b in (-2100, -2800, levels[0] - step)
                for a, b in zip(levels, levels[1:], strict=False)), levels
     for lv in levels[1:-1]:  # a whole sweep of theta5 at each theta2 passed over
         sweep = [th5 for th2, th5 in poses if th2 == lv]

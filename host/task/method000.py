@@ -79,14 +79,28 @@ class Method000(PathMethod):
         return f"radial symbol seen, object at {t.obj} mm"
 
     def lost_search(self, t: Any, sp: Any, lost_in: str) -> tuple[Any, int, int]:
-        """Lost near the object (ADJUST; the grasp's misses go back through ADJUST): "the
-        mobile platform has to stop until the object is seen again" and the arm searches by
-        Fig. 5 (000 §III.B.2, §III.C), theta2 in steps of the paper's d_theta2 from where the
-        camera looked: theta2s gives the camera pitch alpha it had, in the search posture."""
+        """Lost near the object (ADJUST, PRECISE_GRASP): "the mobile platform has to stop
+        until the object is seen again" and the arm searches by Fig. 5 (000 §III.B.2, §III.C),
+        theta2 in steps of the paper's d_theta2 from where the camera looked: theta2s gives the
+        camera pitch alpha it had, in the search posture (from the grasp's look straight down,
+        theta2_min)."""
         alpha = t.arm[2] + t.arm[3] + t.arm[4]
         th2s = min(max(alpha - sp.theta3_mrad - sp.theta4_mrad, sp.theta2_min_mrad),
                    sp.theta2_max_mrad)
         return replace(sp, dense_cycles=max(1, sp.dense_cycles)), th2s, t.arm[5]
+
+    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+        """No spoke under the camera at the hover: the object is lost during the grasp (000
+        §III.C: "the object searching when lost is similar to ... Fig. 5"). The first time in a
+        run, search for it (:meth:`lost_search`), then approach and grasp again; after that, go
+        down on the rough position (the ``no_spoke`` fallback)."""
+        if t.grasp_searches >= 1:
+            return False
+        t.grasp_searches += 1
+        t.lost_in = "PRECISE_GRASP"
+        t.go(now, "LOST", f"no spoke seen for {waited_us} us at the hover: object lost "
+             f"during the grasp")
+        return True
 
     # --- APPROACH: the path of eq. (9) ---------------------------------------------------------
     def enter_approach(self, t: Any, now: int, inp: Any) -> None:

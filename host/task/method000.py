@@ -4,9 +4,9 @@ SEARCH looks for the radial symbol (000 §III.A); APPROACH follows the best Bezi
 eq. (9) (host.planning.bezier000) toward the stand-off point; ADJUST closes in on the dual "+"
 (§III.B); ROUGH_GRASP hovers above the nearer "+" with the gripper pitched alpha_T = -pi/2 by
 eq. (11); PRECISE_GRASP rolls to pi/2 and aligns on the spoke (§III.C.2); the grasp check of
-LIFT looks down for the object held under the gripper (grasp.py, docs/task.md). Lost near the object (ADJUST,
-PRECISE_GRASP), the platform stops and the arm searches by Fig. 5 with the paper's d_theta2
-(``lost_search``, ``grasp_lost``; docs/task.md).
+LIFT looks down for the object held under the gripper (grasp.py, docs/task.md). Lost near the
+object (ADJUST, PRECISE_GRASP), the platform stops and the arm searches by Fig. 5 with the
+paper's d_theta2 (``lost_search``, ``grasp_lost``; docs/task.md).
 """
 
 from __future__ import annotations

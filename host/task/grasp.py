@@ -185,7 +185,7 @@ class GraspStates:
                 x, y, z = t.gripper_point_q4()
                 self.move_point(t, now, x, y, z, t.arm[1] - ROLL_SCAN_MRAD)
                 t.phase_us = now
-            elif waited >= t.p.spoke_wait_us:
+            elif waited >= t.p.spoke_wait_us and not t.rules.grasp_lost(t, now, waited):
                 self._descend(t, now, f"no spoke seen for {waited} us: rough position",
                               "no_spoke")
             return

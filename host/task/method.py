@@ -51,6 +51,12 @@ class Method(ABC):
         theta5s mrad); None: the usual search from the arm's joints."""
         return None
 
+    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+        """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method
+        searches for the object instead (the transition made), False to go down on the rough
+        position."""
+        return False
+
     # --- APPROACH ------------------------------------------------------------------------------
     @abstractmethod
     def enter_approach(self, t: Any, now: int, inp: Any) -> None:

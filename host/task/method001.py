@@ -22,6 +22,7 @@ from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.task.drive import path_follower, state_m, wrap_mrad
+from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method000 import Method000
 
 ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
@@ -190,6 +191,10 @@ class Method001(Method000):
     held_look = False
     param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 130, "hover_mm": 90,
                       "blind_finish_mm": 250, "max_plan_attempts": 6}
+    # 000's searches after a loss near the object (000 §III.B.2, §III.C) are not 001's: the
+    # usual search, and the rough position when no spoke is seen
+    lost_search = Method.lost_search
+    grasp_lost = Method.grasp_lost
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
     def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:

@@ -5,6 +5,8 @@ is the system test's business; the same seed gives the same trace over either tr
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from mobigrasp.tools.run_job import RunOptions, execute, shipped_scenarios
@@ -31,3 +33,19 @@ def test_shipped_scenario_grasps_in_process(name, tmp_path):
     assert summary["final_error_mm"] is not None and summary["final_error_mm"] <= 15.0, brief
     if name == "paper001-sim2":
         assert summary["replans"] >= 1, brief  # sim2 is the cluttered one: the path is updated
+    if name.startswith("paper001-"):
+        events = [json.loads(line) for line in (tmp_path / name / "trace.jsonl").open()]
+        _assert_001_as_in_the_paper(name, events)
+
+
+def _assert_001_as_in_the_paper(name: str, events: list) -> None:
+    """001 §III.E and §IV: sim2's path is updated 7 +- 2 times (a new curve from the present
+    position and velocity when the sonars show the path blocked); in both simulations the
+    gripper goes down on the precise grasp condition (k_T = 0, w_T in [w_min, w_max]), not on
+    a fallback of the precise grasp."""
+    updates = [e for e in events if e.get("ev") == "detail"
+               and str(e.get("replan", "")).endswith(": replanned")]
+    if name == "paper001-sim2":
+        assert 5 <= len(updates) <= 9, [e["replan"] for e in updates]
+    descents = [e["precise_descend"] for e in events if "precise_descend" in e]
+    assert descents and all(d.startswith("k_T ~ 0 and w_T = ") for d in descents), descents

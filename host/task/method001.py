@@ -194,8 +194,12 @@ class Method001(Method000):
     # 001 comes at the object from any side: the "+" pair is often seen along the view, where
     # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
     plus_on_top = True
+    # the precise grasp's w_T <= w_max = 40 px needs the camera >= 92 mm above the "+"
+    # (6 mm * 611 / 92): looking down, the 001 arm reaches 95 mm there within 142 mm of the
+    # waist only, so ADJUST ends the object 108-132 mm ahead and the hover is 95 mm (39 px);
     # the long 001 arm puts the camera ahead of a close object: finish on odometry sooner
-    param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 130, "hover_mm": 90,
+    param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 120, "grasp_r_tol_mm": 12,
+                      "hover_mm": 95,
                       "blind_finish_mm": 250, "max_plan_attempts": 6}
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------

@@ -365,7 +365,9 @@ class Method001(Method000):
         safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
         plan is followed further before one is made from the fresh ranges. The object's own
         echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
-        does not count: APPROACH hands the object to ADJUST at arm's length."""
+        does not count: APPROACH hands the object to ADJUST at arm's length. In APPROACH the
+        base then turns in place toward the widest free sector before it plans again (a plan
+        from standstill starts forward, into the echo, and was stopped again at once)."""
         if t.state not in ("SEARCH", "APPROACH") or t.wheels[0] + t.wheels[1] <= 0:
             return
         n = len(inp.sonar_mm)
@@ -378,7 +380,14 @@ class Method001(Method000):
                 continue
             t.wheels = (0, 0)
             t.follower = None
-            t.note(sonar_guard={"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm})
+            guard = {"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm}
+            if t.state == "APPROACH":
+                # a new plan from here starts forward, into what the guard saw, and is stopped
+                # again at once: first turn in place toward the widest free sector
+                t.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
+                            "drive": False, "from": None}
+                guard["turn_to_mrad"] = t.detour["heading_mrad"]
+            t.note(sonar_guard=guard)
             return
 
     def detour_step(self, t: Any, inp: Any) -> bool:

@@ -5,10 +5,9 @@ is the system test's business; the same seed gives the same trace over either tr
 
 from __future__ import annotations
 
-import json
-
 import pytest
 
+from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.tools.run_job import RunOptions, execute, shipped_scenarios
 
 SHIPPED = sorted(p.stem for p in shipped_scenarios())
@@ -33,8 +32,13 @@ def test_shipped_scenario_grasps_in_process(name, tmp_path):
     assert summary["final_error_mm"] is not None and summary["final_error_mm"] <= 15.0, brief
     if name == "paper001-sim2":
         assert summary["replans"] >= 1, brief  # sim2 is the cluttered one: the path is updated
+    if name.startswith("paper000"):
+        # 000 §III.C.2: the gripper is closed by k_T = 0 with w_T in [w_min, w_max], every time
+        closes = [e["grasp_close"] for e in read_trace(tmp_path / name / "trace.jsonl")
+                  if "grasp_close" in e]
+        assert closes and set(closes) == {"precise"}, closes
     if name.startswith("paper001-"):
-        events = [json.loads(line) for line in (tmp_path / name / "trace.jsonl").open()]
+        events = list(read_trace(tmp_path / name / "trace.jsonl"))
         _assert_001_as_in_the_paper(name, events)
 
 
@@ -47,5 +51,5 @@ def _assert_001_as_in_the_paper(name: str, events: list) -> None:
                and str(e.get("replan", "")).endswith(": replanned")]
     if name == "paper001-sim2":
         assert 5 <= len(updates) <= 9, [e["replan"] for e in updates]
-    descents = [e["precise_descend"] for e in events if "precise_descend" in e]
-    assert descents and all(d.startswith("k_T ~ 0 and w_T = ") for d in descents), descents
+    closes = [e["grasp_close"] for e in events if "grasp_close" in e]
+    assert closes and set(closes) == {"precise"}, closes

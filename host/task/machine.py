@@ -302,7 +302,9 @@ class Task:
         """Keep both "+" in the odometry frame: the precise grasp looks at one of them (000:
         "only a '+' symbol is used in the precise grasping")."""
         try:
-            pair = plus_positions(det, self.geom, joints, self.cam)
+            top = ((self.p.object_top_mm - self.p.h_shoulder_mm) * 16
+                   if self.rules.plus_on_top else None)
+            pair = plus_positions(det, self.geom, joints, self.cam, top)
         except (ValueError, TypeError, ZeroDivisionError):
             return
         if pair is None:

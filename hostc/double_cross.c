@@ -169,28 +169,35 @@ static int32_t level_points(const uint8_t *g, int32_t w, int32_t h, int32_t th, 
     int32_t off[RING_N];
     for (int32_t i = 0; i < RING_N; i++)
         off[i] = ring24[i][1] * w + ring24[i][0];
-    /* the 8-point ring of steps 1's max, min and symmetry: (6,0) (4,4) (0,6) (-4,4) (-6,0)
+    /* the 8-point ring of step 1's max, min and symmetry: (6,0) (4,4) (0,6) (-4,4) (-6,0)
      * (-4,-4) (0,-6) (4,-4), opposite points 4 apart */
-    const int32_t o8[8] = {6, 4 * w + 4, 6 * w, 4 * w - 4, -6, -4 * w - 4, -6 * w, -4 * w + 4};
+    const int32_t oa = 4 * w + 4, ob = 6 * w, od = 4 * w - 4;
+    const int32_t o8[8] = {6, oa, ob, od, -6, -oa, -ob, -od};
     int32_t npts = 0;
     for (int32_t y = r; y < h - r; y++) {
         const uint8_t *row = g + y * w;
         for (int32_t x = r; x < w - r; x++) {
             const uint8_t *p = row + x;
             const int32_t c = *p;
-            int32_t v[8], mx = 0;
-            for (int32_t k = 0; k < 8; k++) {
-                v[k] = p[o8[k]];
-                mx = v[k] > mx ? v[k] : mx;
-            }
             /* step 1 with step 3's contrast: max - g >= 2 T_h, min - g < T_h, g - min <=
-             * max - g (saturating differences, as the uint8 arithmetic of the Python) */
+             * max - g (saturating differences, as the uint8 arithmetic of the Python). The
+             * max first, its eight loads unrolled: most pixels fail on it alone. */
+            int32_t mx = p[6], t;
+            t = p[oa]; mx = t > mx ? t : mx;
+            t = p[ob]; mx = t > mx ? t : mx;
+            t = p[od]; mx = t > mx ? t : mx;
+            t = p[-6]; mx = t > mx ? t : mx;
+            t = p[-oa]; mx = t > mx ? t : mx;
+            t = p[-ob]; mx = t > mx ? t : mx;
+            t = p[-od]; mx = t > mx ? t : mx;
             const int32_t up = mx - c;
             if (up < 2 * th)
                 continue;
-            int32_t mn = 255;
-            for (int32_t k = 0; k < 8; k++)
+            int32_t v[8], mn = 255;
+            for (int32_t k = 0; k < 8; k++) {
+                v[k] = p[o8[k]];
                 mn = v[k] < mn ? v[k] : mn;
+            }
             if (mn - c >= th || c - mn > up)
                 continue;
             /* central symmetry: opposite points on the same side of g + T_h in >= 2 pairs */

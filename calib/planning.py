@@ -103,6 +103,10 @@ class Setup001:
     fine_budget_us: int
     clearance: np.ndarray  # D_m of each candidate as the Python found it (inf: no regions)
     best: tuple[int, int] | None  # (u, k_e) of the Python's plan
+    us: np.ndarray
+    endpoints: np.ndarray
+    fine_limits: Limits
+    fine_checks: object  # the (reason, mask) checks of the fine pass (true regions)
 
 
 def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
@@ -159,7 +163,8 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
         params.k1, params.k2, per_sample, setup_cycles, cut_cycles, limits_words(lim),
         geo_words(obj, l_e, regions), params.n_fine, params.max_fine, params.t_d_m,
         sample_ops(params.n_fine, **kw).time_us(), params.total_budget_us - ops.time_us(),
-        np.asarray(arrays["clearance"], np.float64), best)
+        np.asarray(arrays["clearance"], np.float64), best, arrays["us"], arrays["endpoints"],
+        lim, geometric_checks(obj, l_e, regions))
 
 
 def fine_order(cost: np.ndarray, clearance: np.ndarray, t_d_m: float, max_fine: int
@@ -170,3 +175,14 @@ def fine_order(cost: np.ndarray, clearance: np.ndarray, t_d_m: float, max_fine: 
     pool = wide if wide.size else feasible
     return pool[np.argsort(cost[pool], kind="stable")][:max_fine]
 
+
+
+def fine_cycles(st: Setup001, ctrl: np.ndarray) -> int:
+    """Modelled cycles of the fine checks of these curves, as plan_001 charges them: each
+    rejected at its first violated sample (batch_ops at n_fine samples)."""
+    total = 0
+    for row in np.asarray(ctrl).reshape(-1, 4, 3):
+        _, _, first = evaluate_batch(row[None], st.n_fine, st.fine_limits, st.fine_checks)
+        total += int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
+            + st.setup_cycles
+    return total

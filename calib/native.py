@@ -1,63 +1,25 @@
 """The C kernels of ``hostc/`` built with the host's C compiler through cffi, as numpy calls.
 
-The build goes to a cache folder keyed by the hash of the sources (``$XDG_CACHE_HOME`` or
-``~/.cache``, ``mobigrasp/hostc-<hash>``), so it is made once per change of the C. Each wrapper
+The module's declarations are ``kernels.h`` itself, and it is kept in the cache of the C parts
+(mobigrasp/cbuild.py: ``$MOBIGRASP_CACHE_DIR``, default ``~/.cache/mobigrasp``,
+``hostc/<hash>``), so it is made once per change of the C. Each wrapper
 takes and returns the arrays of its Python counterpart in host/vision/.
 """
 
 from __future__ import annotations
 
 import hashlib
-import importlib.util
-import os
-import sys
 from functools import lru_cache
 from pathlib import Path
 
 import numpy as np
 
+from mobigrasp import cbuild
+
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
            "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c",
            "bezier.c", "bezier000.c", "bezier001.c")
-CDEF = """
-void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
-int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
-int32_t mg_label(const uint8_t *mask, int32_t w, int32_t h, int32_t *labels,
-                 int32_t *block_lab, int32_t *parent, int32_t *stats);
-int mg_edge_q4(const uint8_t *line, int32_t stride, int32_t n, int32_t i_dark, int32_t step,
-               int32_t *out_q4);
-int32_t mg_radial_scratch_bytes(int32_t w, int32_t h);
-int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_t *stats,
-                         int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
-                         uint8_t *scratch, int32_t *out);
-int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
-int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
-                        int32_t *out);
-int32_t mg_sin_q12(int32_t angle_mrad);
-int32_t mg_cos_q12(int32_t angle_mrad);
-int32_t mg_atan2_mrad(int64_t y, int64_t x);
-int32_t mg_spoke(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
-                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out);
-int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int32_t width_q4,
-                            int32_t alpha_mrad, int32_t theta5_mrad, int32_t f_px,
-                            int32_t u0_px, int32_t v0_px, int32_t d_um, int32_t *out);
-int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
-int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
-                     const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
-                     int32_t u0_px, uint8_t *scratch, int32_t *out);
-int32_t mg_bezier000(const double *ctrl, int32_t n_cand, int32_t n, const double *lim,
-                     double k1, double k2, int32_t *reason, int32_t *first, double *cost);
-int32_t mg_bezier001_coarse(const double *ctrl, int32_t n_cand, int32_t n, const double *lim,
-                            const double *geo, int32_t n_reg, int32_t per_sample_cycles,
-                            int32_t setup_cycles, int32_t cut_cycles, double k1, double k2,
-                            int32_t *reason, int32_t *first, double *cost);
-int32_t mg_bezier001_fine(const double *ctrl, int32_t n_pool, int32_t n, const double *lim,
-                          const double *geo, int32_t n_reg, int32_t per_sample_cycles,
-                          int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
-                          int32_t *reason, int32_t *tried);
-double mg_sqrt(double x);
-"""
 
 
 def source_hash() -> str:
@@ -65,35 +27,35 @@ def source_hash() -> str:
     h = hashlib.sha256()
     for name in (*sorted(p.name for p in HOSTC.glob("*.h")), *SOURCES):
         h.update(name.encode() + b"\0" + (HOSTC / name).read_bytes())
+    h.update(Path(cbuild.__file__).read_bytes())
     return h.hexdigest()[:16]
 
 
 def cache_dir() -> Path:
-    """Where the builds are kept."""
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    return Path(base) / "mobigrasp"
+    """Where the calibration's builds and results are kept (the cache of the C parts)."""
+    return cbuild.cache_root()
+
+
+class HostcBuildError(RuntimeError):
+    """The host kernels could not be compiled or loaded on this machine."""
 
 
 @lru_cache(maxsize=1)
 def lib():
     """The compiled module's ``(ffi, lib)``, built on first use."""
-    from cffi import FFI
+    digest = source_hash()
+    name = f"_mg_hostc_{digest}"
+    target = cbuild.cache_root() / "hostc" / digest
 
-    name = f"_mg_hostc_{source_hash()}"
-    out = cache_dir() / f"hostc-{source_hash()}"
-    out.mkdir(parents=True, exist_ok=True)
-    built = list(out.glob(f"{name}*.so"))
-    if not built:
-        ffi = FFI()
-        ffi.cdef(CDEF)
+    def configure(ffi) -> None:
+        ffi.cdef(cbuild.header_cdef(("kernels.h",), [HOSTC]))
         ffi.set_source(name, '#include "kernels.h"', sources=[str(HOSTC / s) for s in SOURCES],
                        include_dirs=[str(HOSTC)],
                        extra_compile_args=["-std=c99", "-O2", "-ffp-contract=off"])
-        built = [Path(ffi.compile(tmpdir=str(out), verbose=False))]
-    spec = importlib.util.spec_from_file_location(name, built[0])
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[name] = mod
-    spec.loader.exec_module(mod)
+
+    mod = cbuild.load_cached(
+        name, target, lambda: cbuild.compile_module(name, target, configure, HostcBuildError),
+        HostcBuildError)
     return mod.ffi, mod.lib
 
 

@@ -1,13 +1,14 @@
 /* The HAL on the machine's own CPU, for the native MCU backend (mcu_sim/native): the Python
  * peripheral models own the registers. The output calls (hal_servo_*, hal_wheel_*,
- * hal_uart_*, hal_sonar_trigger, hal_boot_param) are cffi callbacks into those models,
- * declared in mcu_sim/native/build.py; what is defined here is the rest: the clock the
+ * hal_uart_*, hal_sonar_trigger, hal_boot_param) are cffi callbacks into those models
+ * (mcu_sim/native/build.py declares them from hal.h); what is defined here is the rest: the clock the
  * emulator sets before each call, no interrupts to mask, and the firmware's globals
  * (section mobigrasp_fw) saved and restored so that one loaded library serves several MCUs. */
 #include <string.h>
 
 #include "fw/program.h"
 #include "hal.h"
+#include "hal_native.h"
 
 uint32_t native_now_us; /* us since reset, set by the emulator before every call */
 

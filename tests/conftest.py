@@ -5,8 +5,11 @@ real regression and never a lucky draw (docs/cosim.md: determinism; tests never 
 machine). Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore pytest ...`.
 """
 
+import functools
+import json
 import os
 import sys
+from pathlib import Path
 
 import pytest
 from hypothesis import settings
@@ -100,19 +103,52 @@ def assert_no_false_claim(summary: dict) -> None:
         f"{summary.get('grasped')})")
 
 
-@pytest.fixture(autouse=True)
-def _no_false_claim(request, monkeypatch):
-    """Every test that runs a scenario through tools.run_job.execute fails on a false claim."""
-    run_job = sys.modules.get("mobigrasp.tools.run_job")
-    if run_job is None:
-        return
-    real = run_job.execute
+def checked_execute(execute):
+    """``execute`` (tools.run_job) that fails on a run whose summary is a false claim."""
 
+    @functools.wraps(execute)
     def checked(*args, **kwargs):
-        summary, code = real(*args, **kwargs)
+        summary, code = execute(*args, **kwargs)
         assert_no_false_claim(summary)
         return summary, code
 
+    return checked
+
+
+def false_claims_under(folder: Path) -> list[str]:
+    """Every summary.json under ``folder`` that is a false claim (a run in a subprocess, a
+    worker process or a Dask worker that the wrapped ``execute`` of this process never saw)."""
+    found = []
+    for path in sorted(Path(folder).rglob("summary.json")):
+        try:
+            summary = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            continue  # a torn or deliberately broken summary is not a claim
+        if isinstance(summary, dict) and summary.get("false_claim"):
+            found.append(f"{path}: {summary.get('scenario')} seed {summary.get('seed')} ended "
+                         f"{summary.get('task_state')} without the object")
+    return found
+
+
+_TESTS = Path(__file__).resolve().parent
+
+
+@pytest.fixture(autouse=True)
+def _no_false_claim(request, monkeypatch):
+    """Every test that runs a scenario fails on a false claim: tools.run_job.execute is
+    checked in this process (also where a test or helper module imported it by name), and the
+    run folders under the test's tmp_path are read after it for runs made elsewhere."""
+    from mobigrasp.tools import run_job
+
+    real = run_job.execute
+    checked = checked_execute(real)
     monkeypatch.setattr(run_job, "execute", checked)
-    if getattr(request.module, "execute", None) is real:
-        monkeypatch.setattr(request.module, "execute", checked)
+    for module in list(sys.modules.values()):
+        where = getattr(module, "__file__", None)
+        if where and Path(where).parent == _TESTS and getattr(module, "execute", None) is real:
+            monkeypatch.setattr(module, "execute", checked)
+    yield
+    tmp = request.node.funcargs.get("tmp_path")
+    if tmp is not None:
+        claims = false_claims_under(tmp)
+        assert not claims, "false claim of success:\n" + "\n".join(claims)

@@ -41,7 +41,8 @@ def faulted_loop(tmp_path: Path, plan: FaultPlan, seconds: float, seed: int = 1,
     _, sc = resolve_scenario("paper000-exp1")
     port, peer = inproc_pair(f"faulted-{seed}-{name}")
     host = InprocHost(LockstepClient(build_host_app(host_config(sc)), peer))
-    fr, mcu, plant, host = wrap_for_faults(plan, seed, Mcu(), WorldPlant(sc, seed), host)
+    world = WorldPlant(sc, seed)
+    fr, mcu, plant, host = wrap_for_faults(plan, seed, Mcu(), world, host)
     if before is not None:
         before(mcu)
     rig = Rig(mcu, plant, port, RigConfig(quantum_us=5_000, couple_us=2_500))
@@ -54,5 +55,7 @@ def faulted_loop(tmp_path: Path, plan: FaultPlan, seconds: float, seed: int = 1,
         host.close()
         port.close()
         peer.close()
+    # DONE without the object held is a false claim: it fails every test that runs a scenario
+    assert res.host_state != "DONE" or world.final()["grasped"], "false claim of success"
     faults, safety = fr.summary()
     return LoopRun(res, faults, safety, mcu, rig, trace, tmp_path / name)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import pytest
 
+from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.tools.run_job import RunOptions, execute, shipped_scenarios
 
 SHIPPED = sorted(p.stem for p in shipped_scenarios())
@@ -31,3 +32,8 @@ def test_shipped_scenario_grasps_in_process(name, tmp_path):
     assert summary["final_error_mm"] is not None and summary["final_error_mm"] <= 15.0, brief
     if name == "paper001-sim2":
         assert summary["replans"] >= 1, brief  # sim2 is the cluttered one: the path is updated
+    if name.startswith("paper000"):
+        # 000 §III.C.2: the gripper is closed by k_T = 0 with w_T in [w_min, w_max], every time
+        closes = [e["grasp_close"] for e in read_trace(tmp_path / name / "trace.jsonl")
+                  if "grasp_close" in e]
+        assert closes and set(closes) == {"precise"}, closes

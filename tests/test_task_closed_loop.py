@@ -164,6 +164,9 @@ def run(task, world, t_end_us=240_000_000, period_us=20_000, frame_every=3):
         world.apply(out, period_us / 1e6)
         t += period_us
         k += 1
+    # DONE without the object held is a false claim: it fails every test that runs the task
+    assert task.state != "DONE" or world.held, ("false claim of success",
+                                                [(e.t_us, e.to_state, e.why) for e in events])
     return events
 
 

@@ -7,7 +7,8 @@
 - fuzzy.png: e, e_c and u of the fuzzy controller over time (002);
 - arm9_load.png: modelled ARM9 load per window;
 - campaign.png (of a campaign, not in ``ALL``): outcomes, unsafe actuations per seed, stop and
-  recovery times.
+  recovery times;
+- loop.png (of ``bench loop``'s campaign, not in ``ALL``): outcomes and final errors per method.
 Each function returns the file name it wrote, or None when the trace has nothing to plot.
 """
 
@@ -23,6 +24,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
+from mobigrasp.tools.loop_campaign import outcome  # noqa: E402
 from mobigrasp.tools.plan_paths import odom_to_world, plan_paths_world  # noqa: E402
 
 JOINT_NAMES = ["θ0 gripper", "θ1 roll", "θ2 wrist", "θ3 elbow", "θ4 shoulder", "θ5 waist"]
@@ -271,3 +273,48 @@ def campaign(result: dict, folder: Path) -> str:
         axes[2].yaxis.set_major_locator(MaxNLocator(integer=True))
         axes[2].set_title("stop latency / recovery time")
     return _save(fig, folder, "campaign.png")
+
+
+OUTCOME_COLOURS = {"success": "tab:green", "board alone: FAILED": "tab:olive",
+                   "false claim": "tab:red", "crashed": "black",
+                   "success with contact": "tab:pink"}
+
+
+def loop_campaign(result: dict, path: Path) -> str:
+    """loop.png of ``mobigrasp bench loop``: the outcome of every run per method (success and
+    each cause of failure) and the final error of every run that has one, per method."""
+    methods = list(result["methods"])
+    rows = result["rows"]
+    found = {outcome(r) for r in rows}
+    causes = [c for c in OUTCOME_COLOURS if c in found] + sorted(found - set(OUTCOME_COLOURS))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 4.2))
+    others = iter(plt.get_cmap("tab20b").colors)
+    left = [0] * len(methods)
+    for cause in causes:
+        counts = [sum(outcome(r) == cause for r in rows if r["method"] == m) for m in methods]
+        axes[0].barh(methods, counts, left=left, label=f"{cause} ({sum(counts)})",
+                     color=OUTCOME_COLOURS.get(cause) or next(others, "grey"))
+        left = [a + b for a, b in zip(left, counts, strict=True)]
+    axes[0].set_xlabel("runs")
+    axes[0].set_ylabel("method")
+    axes[0].xaxis.set_major_locator(MaxNLocator(integer=True))
+    axes[0].legend(fontsize=7, loc="upper left", bbox_to_anchor=(0.0, -0.15), ncol=2)
+    axes[0].set_title(f"outcome per method ({result['generator']}, {result['transport']}, "
+                      f"{result['commit']})")
+    errs = [[r["final_error_mm"] for r in rows if r["method"] == m
+             and r.get("final_error_mm") is not None] for m in methods]
+    if any(errs):
+        axes[1].boxplot([e or [float("nan")] for e in errs], showfliers=True)
+        axes[1].set_xticks(range(1, len(methods) + 1), methods)
+        for k, e in enumerate(errs, 1):
+            axes[1].plot([k] * len(e), e, "k.", alpha=0.4)
+    axes[1].axhline(10.0, color="tab:red", ls="--", lw=1, label="bar: median <= 10 mm")
+    axes[1].set_xlabel("method")
+    axes[1].set_ylabel("final error (mm)")
+    axes[1].set_title("final error of every run that has one")
+    axes[1].legend(fontsize=8)
+    path = Path(path)
+    fig.tight_layout()
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path.name

@@ -1,4 +1,4 @@
-/* The simavr harness's interface (harness.c); mcu_sim/simavr/build.py declares the same. */
+/* The simavr harness's interface (harness.c); mcu_sim/simavr/build.py hands it to cffi as it is. */
 #ifndef MOBIGRASP_SIMAVR_HARNESS_H
 #define MOBIGRASP_SIMAVR_HARNESS_H
 

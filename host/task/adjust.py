@@ -44,6 +44,7 @@ class AdjustState:
         unseen = now - t.obj_seen_us
         if unseen >= t.p.lost_timeout_us and abs(d["err_mm"]) > t.p.blind_finish_mm:
             t.wheels = (0, 0)
+            t.lost_in = "ADJUST"  # the search that follows may differ (Method.lost_search)
             t.go(now, "LOST", f"{name} not seen for {unseen} us, {d['dist_mm']} mm away")
             return
         t.look_at_object(inp)

@@ -119,6 +119,7 @@ class GraspStates:
 
     def enter_PRECISE_GRASP(self, t, now: int, inp) -> None:
         t.precise_steps = 0
+        t.close_by = None
         t.phase_us = now
         t.rules.enter_precise(t, now, inp)
 
@@ -130,7 +131,10 @@ class GraspStates:
         t.apply_pose(now, pose, th1)
         return True
 
-    def _descend(self, t, now: int, why: str) -> None:
+    def _descend(self, t, now: int, why: str, condition: str) -> None:
+        """Down to the grasp height, then close; ``condition`` says what decided it (the
+        trace's ``grasp_close``): "precise" (k_T = 0 and w_T in [w_min, w_max], 000
+        §III.C.2), or a fallback, "no_spoke" or "max_steps"."""
         x, y, _ = t.gripper_point_q4()
         if t.grasp_xy_q4 is not None and t.p.precise_align_ch == 1:
             x, y = t.grasp_xy_q4  # from above the "+" to the object's axis
@@ -139,6 +143,7 @@ class GraspStates:
             t.fail(now, "precise grasp: grasp height unreachable")
             return
         t.phase = "lower"
+        t.close_by = condition
         t.note(precise_descend=why)
 
     def do_PRECISE_GRASP(self, t, now: int, inp, dets: dict) -> None:
@@ -154,6 +159,8 @@ class GraspStates:
             if t.settled(now):
                 t.gripper = 1000
                 t.phase, t.phase_us = "close", now
+                # what closed the gripper; "pose_reached": the move-in of 002, no alignment
+                t.note(grasp_close=t.close_by or "pose_reached")
             return
         if t.phase == "close":
             if inp.grasp_closed:
@@ -179,7 +186,8 @@ class GraspStates:
                 self.move_point(t, now, x, y, z, t.arm[1] - ROLL_SCAN_MRAD)
                 t.phase_us = now
             elif waited >= t.p.spoke_wait_us:
-                self._descend(t, now, f"no spoke seen for {waited} us: rough position")
+                self._descend(t, now, f"no spoke seen for {waited} us: rough position",
+                              "no_spoke")
             return
         t.phase_us = now
         t.precise_steps += 1
@@ -188,10 +196,11 @@ class GraspStates:
         t.note(precise={"spoke_mrad": reading[0], "w_px": reading[1], "reason": step.reason,
                            "step": t.precise_steps})
         if step.aligned:
-            self._descend(t, now, f"k_T ~ 0 and w_T = {reading[1]} px")
+            self._descend(t, now, f"k_T ~ 0 and w_T = {reading[1]} px", "precise")
             return
         if t.precise_steps >= t.p.precise_max_steps:
-            self._descend(t, now, f"not aligned after {t.precise_steps} steps: {step.reason}")
+            self._descend(t, now, f"not aligned after {t.precise_steps} steps: {step.reason}",
+                          "max_steps")
             return
         x, y, z = t.gripper_point_q4()
         if t.p.precise_align_ch == 1:

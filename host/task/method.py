@@ -45,6 +45,12 @@ class Method(ABC):
     def found_why(self, t: Any) -> str:
         """The transition's reason once the search has found the object."""
 
+    def lost_search(self, t: Any, sp: Any, lost_in: str) -> tuple[Any, int, int] | None:
+        """SEARCH after the object was lost in state ``lost_in`` near it: the search's
+        parameters ``sp`` (host.search.SearchParams) as changed, and its start (theta2s,
+        theta5s mrad); None: the usual search from the arm's joints."""
+        return None
+
     # --- APPROACH ------------------------------------------------------------------------------
     @abstractmethod
     def enter_approach(self, t: Any, now: int, inp: Any) -> None:

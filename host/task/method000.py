@@ -9,6 +9,7 @@ LIFT looks for the dual "+" or the radial symbol still standing.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 from mobigrasp.host import kinematics
@@ -76,6 +77,16 @@ class Method000(PathMethod):
 
     def found_why(self, t: Any) -> str:
         return f"radial symbol seen, object at {t.obj} mm"
+
+    def lost_search(self, t: Any, sp: Any, lost_in: str) -> tuple[Any, int, int]:
+        """Lost near the object (ADJUST; the grasp's misses go back through ADJUST): "the
+        mobile platform has to stop until the object is seen again" and the arm searches by
+        Fig. 5 (000 §III.B.2, §III.C), theta2 in steps of the paper's d_theta2 from where the
+        camera looked: theta2s gives the camera pitch alpha it had, in the search posture."""
+        alpha = t.arm[2] + t.arm[3] + t.arm[4]
+        th2s = min(max(alpha - sp.theta3_mrad - sp.theta4_mrad, sp.theta2_min_mrad),
+                   sp.theta2_max_mrad)
+        return replace(sp, dense_cycles=max(1, sp.dense_cycles)), th2s, t.arm[5]
 
     # --- APPROACH: the path of eq. (9) ---------------------------------------------------------
     def enter_approach(self, t: Any, now: int, inp: Any) -> None:

@@ -22,7 +22,14 @@ class SearchStates:
 
     # --- SEARCH -------------------------------------------------------------------------------
     def enter_SEARCH(self, t, now: int, inp) -> None:
-        t.search = ArmSearch(SearchParams(**t.p.search), t.arm[2], t.arm[5], now)
+        sp, th2s, th5s = SearchParams(**t.p.search), t.arm[2], t.arm[5]
+        lost = t.rules.lost_search(t, sp, t.lost_in) if t.lost_in else None
+        if lost is not None:
+            sp, th2s, th5s = lost
+            t.note(lost_search={"lost_in": t.lost_in, "theta2s_mrad": th2s,
+                                "theta5s_mrad": th5s, "d_theta2_mrad": sp.d_theta2_mrad})
+        t.lost_in = None
+        t.search = ArmSearch(sp, th2s, th5s, now)
         t.turn_from = None
         t.wander_from = None
         t.gripper = 0

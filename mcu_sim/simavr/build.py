@@ -20,51 +20,15 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from mobigrasp.mcu_sim.native.build import FIRMWARE_DIR, cache_root, load_cached
+from mobigrasp import cbuild
+from mobigrasp.mcu_sim.native.build import FIRMWARE_DIR
 from mobigrasp.mcu_sim.native.build import source_hash as firmware_hash
 
 HARNESS_DIR = FIRMWARE_DIR / "simavr"
 SIMAVR_HEADER = Path("/usr/include/simavr/sim_avr.h")
 
-CDEF = """
-typedef struct {
-    uint32_t isr_max_cycles[35];
-    uint32_t isr_count[35];
-    uint32_t irq_off_max_cycles;
-    uint32_t rx_latency_max_cycles;
-    uint64_t sleep_cycles;
-    uint32_t stack_depth_bytes;
-    uint16_t sp_min;
-    uint32_t tx_overflow;
-    uint32_t resets;
-    uint32_t loop_max_cycles;
-    uint32_t loop_count;
-} sh_profile_t;
-typedef struct sh sh_t;
-sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
-             uint16_t bss_end);
-void sh_free(sh_t *sh);
-void sh_reset(sh_t *sh);
-uint64_t sh_cycle(const sh_t *sh);
-int sh_state(const sh_t *sh);
-int sh_booted(const sh_t *sh);
-void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
-void sh_set_loop_addr(sh_t *sh, uint32_t addr);
-int sh_run_to(sh_t *sh, uint64_t target);
-void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
-int sh_uart_in(sh_t *sh, uint8_t byte);
-uint32_t sh_rx_line_lost(const sh_t *sh);
-uint32_t sh_tx_take(sh_t *sh, uint8_t *bytes, uint64_t *cycles, uint32_t max);
-uint32_t sh_tx_pending(const sh_t *sh);
-uint64_t sh_tx_line_free(const sh_t *sh);
-uint32_t sh_triggers_take(sh_t *sh, uint8_t *idx, uint64_t *cycles, uint32_t max);
-uint32_t sh_periods_take(sh_t *sh, uint64_t *cycles, uint16_t *regs, uint32_t max);
-void sh_read(const sh_t *sh, uint16_t addr, uint8_t *dst, uint16_t n);
-void sh_profile(const sh_t *sh, sh_profile_t *out);
-uint32_t sh_pc(const sh_t *sh);
-uint32_t sh_rx_unread(const sh_t *sh);
-uint32_t sh_oc1_pin_high_cycles(const sh_t *sh, uint8_t ch);
-"""
+# What Python sees of the harness: its header, read by mobigrasp/cbuild.py.
+HARNESS_HEADER = "harness.h"
 
 _loaded: dict[str, object] = {}
 _elves: dict[str, Elf] = {}
@@ -91,7 +55,7 @@ class Elf:
 
 def cache_dir() -> Path:
     """Where built ELFs and harness modules are kept."""
-    return cache_root() / "simavr"
+    return cbuild.cache_root() / "simavr"
 
 
 def _apt_install(packages: list[str], why: str) -> None:
@@ -120,14 +84,6 @@ def ensure_tools() -> None:
         _apt_install(["simavr", "libsimavr-dev"], str(SIMAVR_HEADER))
 
 
-def _rename_into_place(tmp: Path, target: Path) -> None:
-    try:
-        os.rename(tmp, target)
-    except OSError:
-        if not target.is_dir():  # not a concurrent build that won the race
-            raise
-
-
 def build_elf(defines: dict[str, int | str] | None = None) -> Elf:
     """The firmware ELF built with avr-gcc (plus ``-Dname=value`` for each of ``defines``)."""
     defines = dict(sorted((defines or {}).items()))
@@ -153,7 +109,7 @@ def build_elf(defines: dict[str, int | str] | None = None) -> Elf:
             keep = tmp / "out"
             keep.mkdir()
             shutil.move(str(tmp / "mobigrasp-avr.elf"), keep / "mobigrasp-avr.elf")
-            _rename_into_place(keep, target)
+            cbuild.rename_into_place(keep, target)
         finally:
             shutil.rmtree(tmp, ignore_errors=True)
     nm = subprocess.run(["avr-nm", str(elf)], capture_output=True, text=True)
@@ -174,7 +130,7 @@ def harness_hash() -> str:
     for p in sorted(HARNESS_DIR.glob("*.[ch]")):
         h.update(p.name.encode())
         h.update(p.read_bytes())
-    h.update(CDEF.encode())
+    h.update(Path(cbuild.__file__).read_bytes())
     h.update(sys.version.encode())
     return h.hexdigest()[:16]
 
@@ -191,31 +147,17 @@ def load_harness():
         ensure_tools()
         return _build_harness(name, target)
 
-    module = load_cached(name, target, build, SimavrBuildError)
+    module = cbuild.load_cached(name, target, build, SimavrBuildError)
     _loaded[digest] = module
     return module
 
 
 def _build_harness(name: str, target: Path) -> Path:
-    import cffi
-
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
-    try:
-        ffi = cffi.FFI()
-        ffi.cdef(CDEF)
-        ffi.set_source(name, '#include "harness.h"',
+    def configure(ffi) -> None:
+        ffi.cdef(cbuild.header_cdef((HARNESS_HEADER,), [HARNESS_DIR]))
+        ffi.set_source(name, f'#include "{HARNESS_HEADER}"',
                        sources=[str(HARNESS_DIR / "harness.c")],
                        include_dirs=[str(HARNESS_DIR)], libraries=["simavr"],
                        extra_compile_args=["-O2", "-std=gnu99", "-Wall"])
-        try:
-            so = Path(ffi.compile(tmpdir=str(tmp), verbose=False))
-        except Exception as exc:
-            raise SimavrBuildError(f"building the simavr harness failed: {exc}") from exc
-        keep = tmp / "out"
-        keep.mkdir()
-        shutil.move(str(so), keep / so.name)
-        _rename_into_place(keep, target)
-    finally:
-        shutil.rmtree(tmp, ignore_errors=True)
-    return sorted(target.glob(f"{name}*.so"))[0]
+
+    return cbuild.compile_module(name, target, configure, SimavrBuildError)

@@ -16,6 +16,7 @@ import sys
 from pathlib import Path
 
 import mobigrasp.tools.benches
+from mobigrasp.tools.benches import BenchInputError, check_json_path, json_path
 from mobigrasp.tools.progress import add_common_options
 
 
@@ -69,11 +70,16 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _runner(name: str, module):
     def run(args: argparse.Namespace) -> int:
-        results = {**module.run(args), "python": interpreter()}
+        path = json_path(args, name)
+        try:
+            check_json_path(path)
+            results = {**module.run(args), "python": interpreter()}
+        except BenchInputError as exc:
+            print(f"mobigrasp bench {name}: {exc}", file=sys.stderr)
+            return 2
         print(f"mobigrasp bench {name}")
         for line in format_table(results):
             print("  " + line)
-        path = args.json or Path("bench-results") / f"{name}.json"
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps({"bench": name, **results}, indent=2, sort_keys=True) + "\n")
         print(f"written {path}")

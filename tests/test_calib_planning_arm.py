@@ -78,3 +78,14 @@ def test_profile_lists_planning_after_the_frame_stages_and_names_the_first_to_mi
     assert [r["kind"] for r in rows] == ["frame", "frame", "planning", "planning"]
     assert first == "bezier001" and rows[3]["share_max"] > 1
     assert set(calibrate.PLANNING_STAGES) == {"bezier000", "bezier001"}
+
+
+def test_profile_shows_a_calibration_of_planner_calls_only():
+    from mobigrasp.tools.commands.profile import calibration_rows
+
+    cal = {"frame_shape": None, "stages": {"bezier000": {
+        "modelled_median_us": 7000.0, "emulated_median_us": 7400.0, "emulated_p95_us": 7500.0,
+        "emulated_max_us": 7600.0}}}
+    rows, first = calibration_rows(cal)
+    assert [r["stage"] for r in rows] == ["bezier000"] and first == "bezier000"
+    assert rows[0]["ratio"] == round(7000 / 7400, 3) and rows[0]["share_max"] < 1

@@ -70,15 +70,17 @@ def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
     """Per calibrated kernel: modelled µs now (at the calibrated frame size), the emulated
     figures of the last calibration and the ratio; and the kernel whose emulated maximum takes
     the largest share of the frame budget."""
-    if not cal or not cal.get("frame_shape"):
+    if not cal or not isinstance(cal.get("stages"), dict):
         return [], None
     from mobigrasp.calib.calibrate import PLANNING_STAGES, modelled_us
 
-    h, w = cal["frame_shape"]
+    h, w = cal.get("frame_shape") or (0, 0)  # none: a corpus of planner calls only
     rows = []
     for name, st in sorted(cal["stages"].items(), key=lambda kv: (kv[0] in PLANNING_STAGES,
                                                                    kv[0])):
         try:
+            if not h:
+                raise KeyError(name)
             mod = modelled_us(name, h, w)
         except KeyError:  # a detector's stage: its cost depends on the frame, as calibrated
             mod = st.get("modelled_median_us")

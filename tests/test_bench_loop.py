@@ -134,7 +134,8 @@ def test_campaign_table_failures_and_figure(fake_loop, tmp_path, capsys):
     assert f"| 000 | {fig['commit']} | 3 | 1/3 (33.3 %) | 1 | 0 | - | 4.0 mm |" in md
     assert f"| 002 | {fig['commit']} | 2 | 2/2 (100.0 %) | 0 | 3 | 0/1 | 4.0 mm |" in md
     runs = tmp_path / "res" / "loop-runs"
-    for method, seed, cause in (("000", 1001, "FAILED: why 1001"), ("000", 1002, "false claim"),
+    for method, seed, cause in (("000", 1001, "ended FAILED (task_failed), contacts 0: why 1001"),
+                                ("000", 1002, "false claim"),
                                 ("002", 1001, "time limit in SEARCH"),
                                 ("002", 1002, "success with contact")):
         item = next(block for block in md.split("\n- ")

@@ -214,3 +214,32 @@ def test_fault_outcome_of_a_run(state, success, unsafe, unrecovered, recov, outc
         "unsafe_actuations": unsafe, "unrecovered": unrecovered, "recovery_ms": recov,
         "late_stops": 0}})
     assert row["fault_outcome"] == outcome
+
+
+def test_a_campaign_stopped_early_does_not_run_the_rest():
+    """Ctrl-C or a kill while runs are queued: the runs not started are dropped, not run by a
+    pool left to finish them (threads stand in for the processes, so the runs can be held)."""
+    import threading
+    from concurrent.futures import ThreadPoolExecutor
+
+    from mobigrasp.tools.campaign_engines import processes
+
+    release, started, pools = threading.Event(), [], []
+
+    def run_fn(job):
+        started.append(job["seed"])
+        if job["seed"]:
+            release.wait()  # held until the campaign has been stopped
+        return {"seed": job["seed"]}
+
+    def pool(max_workers):
+        pools.append(ThreadPoolExecutor(max_workers=max_workers))
+        return pools[0]
+
+    results = processes(run_fn, [{"seed": k} for k in range(20)], workers=2, pool_factory=pool)
+    first = next(results)
+    assert first[1] == {"seed": 0}
+    results.close()  # the consumer stops: KeyboardInterrupt, a kill of the campaign
+    release.set()
+    pools[0].shutdown(wait=True)
+    assert len(started) <= 3  # seed 0 and the two that were running; 17 never started

@@ -125,3 +125,26 @@ def test_campaign_plot_is_readable(tmp_path, saved_figures, with_stops):
     lo, hi = seeds_ax.get_xlim()
     ticks = [t for t in seeds_ax.get_xticks() if lo <= t <= hi]
     assert ticks and all(float(t).is_integer() and 3 <= t <= 7 for t in ticks)
+
+
+def test_loop_campaign_plot_is_readable(tmp_path, saved_figures):
+    from mobigrasp.tools.loop_campaign import LoopCampaign
+    from mobigrasp.tools.loop_campaign import run_campaign as run_loop
+
+    def run(job):
+        seed = job["seed"]
+        done = seed % 3 != 0
+        return {"status": "finished", "success": done, "claimed_success": done,
+                "grasped": done, "false_claim": False,
+                "task_state": "DONE" if done else "FAILED", "end_reason": "task_done",
+                "collisions": 0, "final_error_mm": 2.0 + seed % 5 if done else None,
+                "sim_time_s": 20.0}
+
+    cfg = LoopCampaign(methods=("000", "001"), runs=6, seed_base=3, jobs=1, out=tmp_path / "c")
+    result = run_loop(cfg, run_fn=run)
+    plots.loop_campaign(result, tmp_path / "loop.png")
+    fig = saved_figures["loop.png"]
+    check_readable(fig, "loop.png")
+    outcome_ax = fig.axes[0]
+    labels = {t.get_text() for t in outcome_ax.get_legend().get_texts()}
+    assert labels == {"success (8)", "FAILED: no reason given (4)"}  # seeds 3 and 6 of each

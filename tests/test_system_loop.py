@@ -93,9 +93,15 @@ ACCEPTANCE_SEEDS = 30  # per method, generator v2 from seed 1000 (docs/cosim.md)
 # (pyproject.toml) is for one run, not a campaign
 @pytest.mark.timeout(3 * 3600)
 @pytest.mark.parametrize("method", ["000", "001", "002"])
-def test_acceptance_campaign_holds_the_bars(tmp_path, method):
+def test_acceptance_campaign_holds_the_bars(tmp_path, method, monkeypatch):
     """Graspable scenes >= 97 % success, 0 contacts, 0 false claims, every board alone FAILED,
     median final error <= 10 mm (tools/loop_campaign.bar_misses)."""
+    from mobigrasp.tools import run_job
+
+    # a false claim is counted in its row and fails this test by bar_misses (and by the suite's
+    # check of every summary.json under tmp_path, tests/conftest.py), rather than raising
+    # inside the run, where its row would lose the end state
+    monkeypatch.setattr(run_job, "execute", run_job.execute.__wrapped__)
     from mobigrasp.tools.loop_campaign import (
         LoopCampaign,
         bar_misses,

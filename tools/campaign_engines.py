@@ -18,7 +18,7 @@ import os
 import re
 import socket
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Executor, ProcessPoolExecutor, as_completed
 
 Result = tuple[dict, dict | None, str | None, str]
 RunFn = Callable[[dict], dict]
@@ -53,9 +53,15 @@ def _in_worker_process(run_fn: RunFn, job: dict) -> tuple[dict, str]:
 
 
 def processes(run_fn: RunFn, jobs: Iterable[dict], workers: int = 2,
-              scheduler: str | None = None) -> Iterator[Result]:
-    """A pool of ``workers`` local processes; results as they finish."""
-    with ProcessPoolExecutor(max_workers=workers) as pool:
+              scheduler: str | None = None,
+              pool_factory: Callable[..., Executor] = ProcessPoolExecutor) -> Iterator[Result]:
+    """A pool of ``workers`` local processes; results as they finish. Stopped early (Ctrl-C,
+    the campaign killed, the consumer gone) the runs not started are dropped and the pool is
+    not waited for: a pool left to its own shutdown would go on to run every one of them
+    without anyone recording their rows."""
+    pool = pool_factory(max_workers=workers)
+    finished = False
+    try:
         futures = {pool.submit(_in_worker_process, run_fn, job): job for job in jobs}
         for fut in as_completed(futures):
             try:
@@ -63,6 +69,9 @@ def processes(run_fn: RunFn, jobs: Iterable[dict], workers: int = 2,
                 yield futures[fut], summary, None, where
             except Exception as exc:
                 yield futures[fut], None, _error(exc), "unknown (the run raised)"
+        finished = True
+    finally:
+        pool.shutdown(wait=finished, cancel_futures=True)
 
 
 def _in_dask_worker(run_fn: RunFn, job: dict) -> tuple[dict, str]:

@@ -212,7 +212,7 @@ def outcome(row: dict) -> str:
         return "board alone: FAILED"
     if row["end_reason"] == "time_limit":
         return f"time limit in {row['task_state']}"
-    reason = str(row.get("reason") or row["task_state"] or "?")
+    reason = str(row.get("reason") or "no reason given")
     return f"{row['task_state']}: {reason.split(' (')[0].split(':')[0][:40]}"
 
 
@@ -395,13 +395,21 @@ def failure_lines(rows: list[dict]) -> list[str]:
         if r["met_bar"]:
             continue
         what = "board alone" if not r["graspable"] else "graspable"
-        why = outcome(r)
-        if r.get("reason") and r["reason"] != why:
-            why += f": {r['reason']}"
+        why = _why(r)
         lines.append(f"- {r['method']} seed {r['seed']} ({what}), ended {r['task_state']} "
                      f"({r['end_reason']}), contacts {r['contacts']}: {why}\n"
                      f"  folder {r['folder']}\n  re-run: `{rerun_command(r)}`")
     return lines
+
+
+def _why(row: dict) -> str:
+    """The cause of a missed bar in words: the host's reason when it gave one."""
+    cause, reason = outcome(row), row.get("reason")
+    if cause == "false claim":
+        return "false claim: DONE without the object held at the end"
+    if reason and cause.startswith(f"{row['task_state']}: "):
+        return str(reason)
+    return f"{cause}: {reason}" if reason and str(reason) not in cause else cause
 
 
 def markdown(result: dict) -> str:

@@ -15,6 +15,7 @@ Each function returns the file name it wrote, or None when the trace has nothing
 from __future__ import annotations
 
 import math
+import statistics
 from pathlib import Path
 
 import matplotlib
@@ -303,18 +304,19 @@ def loop_campaign(result: dict, path: Path) -> str:
                       f"{result['commit']})")
     errs = [[r["final_error_mm"] for r in rows if r["method"] == m
              and r.get("final_error_mm") is not None] for m in methods]
-    if any(errs):
-        axes[1].boxplot([e or [float("nan")] for e in errs], showfliers=True)
-        axes[1].set_xticks(range(1, len(methods) + 1), methods)
-        for k, e in enumerate(errs, 1):
-            axes[1].plot([k] * len(e), e, "k.", alpha=0.4)
+    for k, e in enumerate(errs):
+        # each run a dot, spread sideways by its index so equal errors stay apart
+        xs = [k + 0.3 * ((i % 7) / 6 - 0.5) for i in range(len(e))]
+        axes[1].plot(xs, e, "k.", alpha=0.5, label="a run's final error" if k == 0 else None)
+        if e:
+            axes[1].plot([k], [statistics.median(e)], "_", color="tab:blue", markersize=30,
+                         mew=2, label="median of the method" if k == 0 else None)
+    axes[1].set_xticks(range(len(methods)), methods)
+    axes[1].set_xlim(-0.5, len(methods) - 0.5)
     axes[1].axhline(10.0, color="tab:red", ls="--", lw=1, label="bar: median <= 10 mm")
     axes[1].set_xlabel("method")
     axes[1].set_ylabel("final error (mm)")
     axes[1].set_title("final error of every run that has one")
-    axes[1].legend(fontsize=8)
+    axes[1].legend(fontsize=8, loc="upper right")
     path = Path(path)
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
-    return path.name
+    return _save(fig, path.parent, path.name)

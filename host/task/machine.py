@@ -170,6 +170,7 @@ class Task:
         self.phase_us = now_us
         self.precise_steps = 0
         self.lost_in = None  # the state the object was lost in, for the next SEARCH
+        self.grasp_searches = 0  # searches after a loss in PRECISE_GRASP (Method.grasp_lost)
         self.close_by = None  # PRECISE_GRASP: what decided the close (grasp.py _descend)
         self.last_pose = (0, 0, 0, 0)
         self.arm_hist: list = []
@@ -301,7 +302,9 @@ class Task:
         """Keep both "+" in the odometry frame: the precise grasp looks at one of them (000:
         "only a '+' symbol is used in the precise grasping")."""
         try:
-            pair = plus_positions(det, self.geom, joints, self.cam)
+            top = ((self.p.object_top_mm - self.p.h_shoulder_mm) * 16
+                   if self.rules.plus_on_top else None)
+            pair = plus_positions(det, self.geom, joints, self.cam, top)
         except (ValueError, TypeError, ZeroDivisionError):
             return
         if pair is None:

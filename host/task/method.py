@@ -32,6 +32,9 @@ class Method(ABC):
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
     held_look: bool  # grasp check on the object seen under the gripper, else by absence
+    held_reach_mm: int = 0  # the look of the check pulls the fingertip in to this reach (0: stays)
+    held_pair_mrad: int = 0  # ... lays the two "+" this far off the frame's x axis (grasp.py)
+    plus_on_top: bool = False  # the two "+" placed where their rays meet the top (sense.py)
     object_detectors: tuple[str, ...]  # detectors that see the object itself (not a guide)
     grasp_alpha_mrad: int  # gripper pitch of the grasp before the rough grasp chooses one
     keeps_sightings: bool  # SEARCH: an unconfirmed sighting seen again at its place counts
@@ -50,6 +53,12 @@ class Method(ABC):
         parameters ``sp`` (host.search.SearchParams) as changed, and its start (theta2s,
         theta5s mrad); None: the usual search from the arm's joints."""
         return None
+
+    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+        """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method
+        searches for the object instead (the transition made), False to go down on the rough
+        position."""
+        return False
 
     # --- APPROACH ------------------------------------------------------------------------------
     @abstractmethod

@@ -90,14 +90,30 @@ def object_in_platform(name: str, det: Any, geom: ArmGeometry, joints_mrad: tupl
 
 
 def plus_positions(det: Any, geom: ArmGeometry, joints_mrad: tuple[int, ...],
-                   cam: CameraModel) -> tuple[tuple[int, int, int], ...] | None:
-    """Both "+" centres of a dual "+" detection in the platform frame (Q4 mm), at its depth."""
+                   cam: CameraModel, top_q4: int | None = None
+                   ) -> tuple[tuple[int, int, int], ...] | None:
+    """Both "+" centres of a dual "+" detection in the platform frame (Q4 mm), at its depth;
+    with ``top_q4`` (the object top's platform z, Q4 mm) each where its pixel ray meets that
+    plane instead (a pair seen obliquely along the view is not shortened to one depth)."""
     det = registry.check("dual_plus", det)
     if object_in_platform("dual_plus", det, geom, joints_mrad, cam) is None:
         return None
     depth = det.dist_mm * 16
-    return (pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u1_q4, det.v1_q4, depth),
-            pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u2_q4, det.v2_q4, depth))
+    pts = (pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u1_q4, det.v1_q4, depth),
+           pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u2_q4, det.v2_q4, depth))
+    if top_q4 is None:
+        return pts
+    out = []
+    for (u, v), p in zip(((det.u1_q4, det.v1_q4), (det.u2_q4, det.v2_q4)), pts, strict=True):
+        far = pixel_to_platform_mm_q4(geom, joints_mrad, cam, u, v, 2 * depth)
+        dz = far[2] - p[2]  # z along the ray per ``depth``: linear in the depth
+        if dz >= 0:
+            return None  # the ray does not go down to the top
+        d = depth + (top_q4 - p[2]) * depth // dz
+        if not 0 < d <= 4 * depth:
+            return None
+        out.append(pixel_to_platform_mm_q4(geom, joints_mrad, cam, u, v, d))
+    return tuple(out)
 
 
 def bearing_mrad(det: Any, theta5_mrad: int, cam: CameraModel) -> int | None:

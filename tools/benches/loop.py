@@ -4,10 +4,12 @@ Real-time factor = simulated seconds / wall seconds of paper000-exp1 (capped at 
 simulated seconds) over the pty (two processes) and in process, the median of ``--rtf-repeats``
 runs each; the baseline measured in the same run is the strict alternation (``_lag0``: the host
 is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
-The campaign runs ``--runs`` seeded random scenarios per method (tools/random_scenarios.py),
-over the pty by default (``--transport``; the trace is the same over either), and reports the
-success rate, collisions and the median final error (targets, docs/cosim.md: success >= 95 %,
-zero collisions, median final_error_mm <= 10; real-time factor over the pty >= 10).
+The campaign (tools/loop_campaign.py) runs ``--runs`` seeded random scenarios per method
+(tools/random_scenarios.py), over the pty by default (``--transport``; the trace is the same over
+either), and reports the figures of the acceptance bar per method (docs/cosim.md, "Random scenes
+of generator v2"): it prints them as the markdown table of docs/cosim.md, writes it as loop.md
+and the figure loop.png beside ``--json``, and keeps the scenes, run folders and rows in
+``<json stem>-runs/`` (``--resume`` continues an interrupted campaign from them).
 """
 
 from __future__ import annotations
@@ -33,7 +35,8 @@ HELP = "closed-loop real-time factor (pty, inproc) and success rate of random sc
 def add_arguments(parser) -> None:
     """Options of the loop bench."""
     parser.add_argument("--runs", type=int, default=3,
-                        help="random scenarios per method (0: the real-time factor only)")
+                        help="random scenarios per method (0: the real-time factor only); "
+                             "loop.md, loop.png and loop-runs/ go beside --json")
     parser.add_argument("--methods", default="000,001,002",
                         help="comma-separated methods to run (default 000,001,002)")
     parser.add_argument("--seed-base", type=int, default=1000,

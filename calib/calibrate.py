@@ -5,7 +5,9 @@ modelled time is the stage's ``OpCounts`` from the Python kernel (host/budget.py
 the emulated time is the same stage's C (hostc/) run as ARM920T code under calib/arm.py's
 timing model; the emulated result is checked against the Python one on every frame. Per stage:
 medians, p95, max, the ratio modelled / emulated, the instruction mix, CPI and the shares of
-line fills and interlocks.
+line fills and interlocks. The planning stages (:data:`PLANNING_STAGES`) run once per planner
+call of the corpus's planning part (calib/plan_corpus.py, calib/planning.py) instead of per
+frame.
 """
 
 from __future__ import annotations

@@ -81,12 +81,28 @@ class World:
             return None
         return u, v, zc
 
+    def held_face(self):
+        """002's red ROI when the cylinder (radius 25 mm) is held: the camera on its axis, h
+        above its top face, pitched down by beta; the face fills the frame below the row
+        v0 + f tan(atan(h / R) - beta), centred (docs/task.md)."""
+        pos, _ = self.camera()
+        h = pos[2] - self.top_h
+        beta = -sum(self.joints[2:5]) / 1000
+        edge = 120 + self.f * math.tan(math.atan2(h, 0.025) - beta) if h > 0 else -1
+        if not 0 <= edge < 238:
+            return None
+        return det.red_roi(160 * 16, round(8 * (edge + 240)), roi=(20, round(edge), 280,
+                                                                   240 - round(edge)),
+                           touches_edge=True)
+
     def detect(self, names):
         out = {}
+        if self.held and "red_roi" in names:
+            out["red_roi"] = self.held_face()
         top = (self.obj[0], self.obj[1], self.top_h)
         pr = self.project(top)
         if pr is None:
-            return {n: None for n in names}
+            return {n: out.get(n) for n in names}
         u, v, zc = pr
         for n in names:
             if n == "radial_symbol" and 0.25 <= zc <= 2.5:
@@ -356,17 +372,18 @@ def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighti
     from mobigrasp.host.search import SearchParams
     from mobigrasp.host.task import grasp as task_grasp
 
-    for method, near_mm in (("002", 355),):  # by absence (docs/task.md)
+    # no method checks by absence now (docs/task.md): the place check itself, on 002's arm
+    for method, near_mm in (("002", 355),):
         task = Task(method)
         task.obj = (near_mm, 0)  # odometry: straight ahead of the start pose
-        task_grasp.GRASP.start_check(task, 0, TaskInputs())
+        task_grasp.GRASP.start_place_check(task, 0, TaskInputs())
         alpha = sum(task.arm[2:5])
         pitches = {-p for _, p in task_grasp.CHECK_VIEWS}
         assert alpha in pitches or abs(min(pitches, key=lambda p: abs(p - alpha)) - alpha) <= 5
         assert abs(task.arm[5]) <= 5 and task.phase == "check"
         far = Task(method)
         far.obj = (1300, -600)  # 0.45 m+ beyond any view: the search's far look toward it
-        task_grasp.GRASP.start_check(far, 0, TaskInputs())
+        task_grasp.GRASP.start_place_check(far, 0, TaskInputs())
         sp = SearchParams(**far.p.search)
         assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
         assert far.arm[5] > 300  # the object is to the right (negative odometry y)

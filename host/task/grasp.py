@@ -321,7 +321,7 @@ class GraspStates:
         if not t.rules.held_look:
             self.start_place_check(t, now, inp)
             return
-        pose = self._held_pose(t)
+        pose = t.rules.held_view_pose(t) or self._held_pose(t)
         if pose is not None:
             t.apply_pose(now, pose, self._plus_roll(t, inp, pose.theta5_mrad))
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
@@ -344,6 +344,8 @@ class GraspStates:
         fingertip (``HELD_NEAR_MM``: kept per waist offset as grasp evidence). True once the
         sightings away make a miss, handled here (:meth:`missed`)."""
         place = t.obj
+        if t.phase == "check" and t.settled(now) and t.rules.held_in_view(t, now, dets):
+            t.held_tips[t.check_waist[1]] = self._tip_odom(t, inp)  # the method's own look
         for name in t.rules.check_detectors:
             det = dets.get(name)
             if det is None or place is None or not t.see_object(now, inp, name, det):

@@ -17,7 +17,7 @@ import importlib
 from abc import ABC, abstractmethod
 from typing import Any
 
-from mobigrasp.host.task.sense import CameraModel
+from mobigrasp.host.task.sense import CameraModel, object_in_platform
 
 
 class Method(ABC):
@@ -104,6 +104,39 @@ class Method(ABC):
     def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
         """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
         return None
+
+    # --- hooks with a common default -----------------------------------------------------------
+    def search_sighting(self, dets: dict) -> tuple[str, Any]:
+        """SEARCH: the detector whose result of this frame is looked at, and the result."""
+        return self.search_detector, dets.get(self.search_detector)
+
+    def search_gives_up(self, t: Any) -> str | None:
+        """SEARCH ends FAILED with this reason (None: it goes on, as long as its timeout)."""
+        return None
+
+    def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
+        """The object's platform-frame position (Q4 mm) from detector ``name``'s result seen
+        with the arm at ``joints``: the detector's pinhole sighting (host/task/sense.py)."""
+        return object_in_platform(name, det, t.geom, joints, t.cam)
+
+    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
+        """ADJUST's close approach stops the object this far ahead of the waist, +- tol."""
+        return t.p.grasp_r_mm, t.p.grasp_r_tol_mm
+
+    def held_view_pose(self, t: Any) -> Any:
+        """LIFT: the arm pose of the grasp check's look; None: the common look, the camera
+        straight above the fingertip looking down (host/task/grasp.py)."""
+        return None
+
+    def held_in_view(self, t: Any, now: int, dets: dict) -> bool:
+        """LIFT: this frame, from the method's own look, shows the object where it is when
+        held (grasp evidence at the present waist offset); the common look judges the
+        object's estimated place against the fingertip instead (host/task/grasp.py)."""
+        return False
+
+    def failure_reason(self, t: Any, reason: str) -> str:
+        """The reason FAILED gives (a method may say more)."""
+        return reason
 
 
 # Method name -> module holding its class ``RULES``.

@@ -13,7 +13,8 @@ which is eqs. (1)-(2) of 000 with the paper's X_oc = (u0 - u) Y / f (X_c to the 
 Z_oc = (v0 - v) Y / f (Z_c up) written in OpenCV axes.  Depths: radial symbol Y = L f / d
 (L = 109 mm, 000 §III.A), dual "+" D_is = D_act f / d_pixel (D_act = 47.3 mm), red cylinder
 D_OC = D f / d_pixel (D = 14.5 mm, 002 §4); the distances D_is and D_OC are used as depths, as the
-papers do.  Integer only: Q12 axes, Q4 mm positions, Q4 px pixel coordinates.
+papers do (002's task places the red cylinder by host.ranging.locate_ring_pair instead, through
+``Method.object_position``).  Integer only: Q12 axes, Q4 mm positions, Q4 px pixel coordinates.
 """
 
 from __future__ import annotations

@@ -310,6 +310,17 @@ class FrontEnd:
         return res, t
 
 
+    def double_cross(self, yaw_mrad: int, pitch_mrad: int, f_px: int
+                     ) -> tuple[tuple | None, Timing]:
+        """The 002 double cross on the grey image of the last :meth:`run`."""
+        a, base = self.arm, DATA_BASE
+        h, w = self._shape
+        found, t = a.call("mg_double_cross", base + self.GREY, w, h, yaw_mrad, pitch_mrad, f_px,
+                          base + self.SCRATCH, base + self.OUT, cold=False)
+        res = native.double_cross_tuple(struct.unpack("<10i", a.read(base + self.OUT, 40))) \
+            if found else None
+        return res, t
+
     def locate_ring_pair(self, d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int,
                          alpha_mrad: int, theta5_mrad: int, f_px: int, u0_px: int, v0_px: int,
                          d_um: int) -> tuple[tuple[int, ...] | None, Timing]:

@@ -45,11 +45,14 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("radial_symbol", ("radial_symbol",)),
           StageDef("dual_plus", ("dual_plus",)),
           StageDef("spoke", ("spoke",)),
+          # the 002 double cross: its work after the grey conversion, per call
+          StageDef("double_cross", ("double_cross",)),
           # the 002 detector works on the RGB frame itself: the whole detector
           StageDef("red_cylinder", ("red_cylinder",)),
           # the 002 ring-pair ranging after each red cylinder found (registry's ranging column)
           StageDef("ranging", ("red_cylinder",)))
-DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "red_cylinder", "ranging")
+DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "double_cross", "red_cylinder",
+                   "ranging")
 # (camera pitch, waist yaw) in mrad the ranging stage is given in turn: the corpus keeps the
 # frames, not the joint angles; the ranging's cost depends on them only through its divisions'
 # and roots' operand lengths
@@ -151,6 +154,7 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
             for name in active:
                 add(name, _same(emu[name][0], py[name][0]), py[name][1], emu[name][1])
         front_cycles = dark_blobs.front_end_min_ops(h, w).cycles()
+        grey_cycles = grey.grey_cost(h, w).cycles()
         for c in calls:
             if c.detector == "radial_symbol":
                 res, ops = DETECTORS["radial_symbol"].host_call(rgb, c.camera, None)
@@ -168,6 +172,12 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.spoke()
                 want = None if res is None else dataclasses.astuple(res)
                 add("spoke", got == want, ops.cycles() - front_cycles, t)
+            elif c.detector == "double_cross":
+                q = c.args[0]
+                res, ops = DETECTORS["double_cross"].host_call(rgb, c.camera, q)
+                got, t = front.double_cross(int(q[5]), int(q[2] + q[3] + q[4]), c.camera[0])
+                want = None if res is None else dataclasses.astuple(res)
+                add("double_cross", got == want, ops.cycles() - grey_cycles, t)
             elif c.detector == "red_cylinder":
                 res, ops = DETECTORS["red_cylinder"].host_call(rgb, c.camera, None)
                 got, t = front.red_cylinder(rgb)

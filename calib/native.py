@@ -18,7 +18,7 @@ from mobigrasp import cbuild
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
-           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c")
+           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c")
 
 
 def source_hash() -> str:
@@ -233,3 +233,29 @@ def locate_ring_pair(d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int, alpha
                                int(alpha_mrad), int(theta5_mrad), int(f_px), int(u0_px),
                                int(v0_px), int(d_um), _ptr(ffi, out, "int32_t *"))
     return tuple(int(v) for v in out) if ok else None
+
+
+def double_cross_tuple(out) -> tuple:
+    """A ``mg_double_cross`` output as host/vision/double_cross.py's DoubleCrossResult fields:
+    (u1_q4, v1_q4, u2_q4, v2_q4, um_q4, vm_q4, d_pixel_q4, e_mrad, (votes1, votes2))."""
+    return (*(int(v) for v in out[:8]), (int(out[8]), int(out[9])))
+
+
+def double_cross(grey_img: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
+                 f_px: int = 350) -> tuple | None:
+    """The 002 double cross (:func:`double_cross_tuple`) from a grey image, or None."""
+    ffi, c = lib()
+    g = np.ascontiguousarray(grey_img, np.uint8)
+    h, w = g.shape
+    scratch = np.empty(c.mg_double_cross_scratch_bytes(w, h) // 8 + 1, np.int64)
+    out = np.zeros(10, np.int32)
+    found = c.mg_double_cross(_ptr(ffi, g, "uint8_t *"), w, h, int(yaw_mrad), int(pitch_mrad),
+                              int(f_px), _ptr(ffi, scratch, "uint8_t *"),
+                              _ptr(ffi, out, "int32_t *"))
+    return double_cross_tuple(out) if found else None
+
+
+def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
+                        f_px: int = 350) -> tuple | None:
+    """The whole detector in C: grey, double cross."""
+    return double_cross(grey(rgb), yaw_mrad, pitch_mrad, f_px)

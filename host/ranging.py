@@ -19,7 +19,10 @@ segment (the rings' front points) seen by a camera pitched by α: the segment's 
 ``f D (cos α + y_n sin α) / Z_c`` (y_n = (v - v0)/f, Z_c the depth), which gives the point's
 forward, right and up offsets; then the cylinder radius (from the red width at the same scale:
 R = width D / (2 d_pixel)) moves the point from the front surface to the axis. This is the
-one the task and the accuracy harness use; ``range_002`` is the paper's, for comparison.
+one the 002 task uses at run time (host/task/method002.py ``object_position``: the point plus
+the camera point of eq. (3) is the grasp's target, X_OR = X_OC + X_CR ...) and the accuracy
+harness judges; ``range_002`` is the paper's printed form, for comparison only (not used at
+run time).
 
 Paper 000: ``Y_oc = L f / (d_p + d_rp)`` (L = 109 mm) and ``D_is = D_act f / d_pixel``
 (D_act = 47.3 mm), f = 611 px: :func:`range_from_size_mm`.

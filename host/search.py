@@ -33,6 +33,8 @@ width), and ``stop_cycles`` > 0 looks around that many cycles at each stop inste
 1.8-2.4 m away was not found in 150 s of search).
 Cycles after the first ``dense_cycles`` (the paper's d_theta2; 0 by default) visit only the
 theta2 levels in ``coarse_theta2_mrad``; turns after the first are ``coarse_base_turn_mrad``.
+The search after the object was lost near it (000's ADJUST, host/task/method000.py
+``lost_search``) has ``dense_cycles`` >= 1: the paper's pattern, with the platform stopped.
 Why: with the camera ~0.29 m up, f = 611 px and 240 rows (0.39 rad vertical field), the levels
 -2.25, -2.5, -2.75 rad see the object's top from 0.52 m outward, at 0.28-0.86 m and at
 0.17-0.4 m; a theta5 sweep over +-0.8 rad with the 0.51 rad horizontal field spans 2.1 rad, so

@@ -91,4 +91,12 @@ int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int3
                             int32_t alpha_mrad, int32_t theta5_mrad, int32_t f_px,
                             int32_t u0_px, int32_t v0_px, int32_t d_um, int32_t *out);
 
+/* double_cross.c: the 002 double cross from the grey image (host/vision/double_cross.py
+ * detect_double_cross; the image centre U0 = 160, V0 = 120 px as there). out: u1_q4, v1_q4,
+ * u2_q4, v2_q4, um_q4, vm_q4, d_pixel_q4, e_mrad, votes1, votes2. scratch:
+ * mg_double_cross_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
+int32_t mg_double_cross_scratch_bytes(int32_t w, int32_t h);
+int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mrad,
+                        int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out);
+
 #endif

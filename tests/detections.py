@@ -6,7 +6,7 @@ from __future__ import annotations
 from mobigrasp.host.vision.double_cross import DoubleCrossResult
 from mobigrasp.host.vision.dual_plus import DualPlus
 from mobigrasp.host.vision.radial_symbol import RadialSymbol
-from mobigrasp.host.vision.red_cylinder import RedCylinderResult
+from mobigrasp.host.vision.red_cylinder import RedCylinderResult, RedRoi
 from mobigrasp.host.vision.spoke import Spoke
 
 
@@ -24,6 +24,11 @@ def red_cylinder(u_c_q4: int, v_c_q4: int, d_pixel_q4: int, width_q4: int = 0,
                  ring1_v_q4: int = 0, ring2_v_q4: int = 0,
                  roi: tuple = (0, 0, 0, 0)) -> RedCylinderResult:
     return RedCylinderResult(u_c_q4, v_c_q4, ring1_v_q4, ring2_v_q4, d_pixel_q4, width_q4, roi)
+
+
+def red_roi(u_c_q4: int, v_c_q4: int, roi: tuple = (150, 100, 20, 40), area_px: int = 600,
+            touches_edge: bool = False) -> RedRoi:
+    return RedRoi(u_c_q4, v_c_q4, roi, area_px, touches_edge)
 
 
 def double_cross(um_q4: int, vm_q4: int, d_pixel_q4: int = 0, e_mrad: int = 0

@@ -155,3 +155,22 @@ def test_profile_puts_the_last_calibration_beside_the_model():
     assert rows[0]["ratio"] == round(modelled_us("grey", 240, 320) / 4000.0, 3)
     assert first == "grey" and rows[0]["share_max"] > 1  # 70 ms misses the 66.7 ms budget
     assert calibration_rows(None) == ([], None)
+
+
+def test_emulated_double_cross_equals_python(machine):
+    import dataclasses
+
+    from test_vision_002_double_cross import draw_double_cross
+
+    from mobigrasp.host.vision import double_cross
+
+    front, found = arm.FrontEnd(machine), 0
+    for k, (radius, crosses) in enumerate(((14, (-1, 1)), (30, (-1, 1)), (20, (1,)))):
+        rgb = draw_double_cross(radius, 150 + 5 * k, 118, rot=0.2 * k, seed=k, crosses=crosses)
+        res, _ = double_cross.detect_double_cross(rgb, 40 * k, -300 + 200 * k, 350)
+        front.run(rgb, upto="grey")
+        got, t = front.double_cross(40 * k, -300 + 200 * k, 350)
+        assert got == (None if res is None else dataclasses.astuple(res))
+        assert t.instructions > 0
+        found += got is not None
+    assert found == 2  # both two-cross boards, not the single cross

@@ -8,7 +8,15 @@ import pytest
 from mobigrasp.calib import corpus, native
 from mobigrasp.host import fixedpoint as fp
 from mobigrasp.host import ranging
-from mobigrasp.host.vision import dark_blobs, dual_plus, grey, radial_symbol, red_cylinder, spoke
+from mobigrasp.host.vision import (
+    dark_blobs,
+    double_cross,
+    dual_plus,
+    grey,
+    radial_symbol,
+    red_cylinder,
+    spoke,
+)
 
 
 def _check_front_end(rgb):
@@ -64,6 +72,14 @@ def _check_calls(folder, calls) -> int:
             res, _ = spoke.detect_spoke(rgb)
             want = None if res is None else dataclasses.astuple(res)
             assert native.detect_spoke(rgb) == want, c.frame_file
+            found += want is not None
+        elif c.detector == "double_cross":
+            res, _ = double_cross.detect_at_pose(rgb, c.args[0], c.camera)
+            want = None if res is None else dataclasses.astuple(res)
+            q = c.args[0]
+            got = native.detect_double_cross(rgb, int(q[5]), int(q[2] + q[3] + q[4]),
+                                             c.camera[0])
+            assert got == want, c.frame_file
             found += want is not None
         elif c.detector == "red_cylinder":
             res, _ = red_cylinder.detect_red_cylinder(rgb)
@@ -139,11 +155,72 @@ def test_plus_detectors_slice_matches(tmp_path, detector):
     assert 0 < found < len(calls[::2])  # the slice has results found and calls without
 
 
-def test_red_cylinder_slice_matches(tmp_path):
-    corpus.record(tmp_path, ["paper002-marker"], time_limit_s=4.0)
-    calls = [c for c in corpus.calls(tmp_path, corpus.read_index(tmp_path))
+@pytest.fixture(scope="module")
+def marker_slice(tmp_path_factory):
+    """The first 4 s of paper002-marker: the double cross searched for, then the cylinder."""
+    folder = tmp_path_factory.mktemp("marker")
+    corpus.record(folder, ["paper002-marker"], time_limit_s=4.0)
+    return folder
+
+
+def test_red_cylinder_slice_matches(marker_slice):
+    calls = [c for c in corpus.calls(marker_slice, corpus.read_index(marker_slice))
              if c.detector == "red_cylinder"]
-    assert calls and _check_calls(tmp_path, calls[:30]) > 0  # the slice sees the cylinder
+    assert calls and _check_calls(marker_slice, calls[:30]) > 0  # the slice sees the cylinder
+
+
+def test_double_cross_slice_matches(marker_slice):
+    calls = [c for c in corpus.calls(marker_slice, corpus.read_index(marker_slice))
+             if c.detector == "double_cross"]
+    found = _check_calls(marker_slice, calls[::2])
+    assert 0 < found < len(calls[::2])  # the slice has the marker found and calls without
+
+
+def _check_double_cross(rgb, yaw=0, pitch=0, f_px=350):
+    res, _ = double_cross.detect_double_cross(rgb, yaw, pitch, f_px)
+    want = None if res is None else dataclasses.astuple(res)
+    assert native.detect_double_cross(rgb, yaw, pitch, f_px) == want
+    return want is not None
+
+
+def test_double_cross_matches_on_drawn_markers():
+    from test_vision_002_double_cross import draw_double_cross
+
+    rng = np.random.default_rng(8)
+    found = 0
+    for k in range(24):
+        rgb = draw_double_cross(float(rng.uniform(6, 60)), float(rng.uniform(90, 230)),
+                                float(rng.uniform(60, 180)), rot=float(rng.uniform(-0.5, 0.5)),
+                                seed=k, right_scale=float(rng.uniform(0.6, 1.6)),
+                                crosses=((-1, 1), (-1, 1), (-1, 1), (1,))[k % 4])
+        if k % 3 == 0:  # sensor noise: the threshold follows it
+            noise = rng.normal(0, 4 + 3 * (k % 5), rgb.shape[:2])[..., None]
+            rgb = np.clip(rgb + noise, 0, 255).astype(np.uint8)
+        found += _check_double_cross(rgb, int(rng.integers(-1600, 1600)),
+                                     int(rng.integers(-900, 900)), int(rng.integers(200, 700)))
+    assert 8 < found < 24
+
+
+@pytest.mark.parametrize("seed", range(24))
+def test_double_cross_matches_on_random_frames(seed):
+    rng = np.random.default_rng(seed)
+    h, w = (int(v) for v in rng.integers(4, 90, 2))
+    if seed % 3 == 0:  # smooth, textured and two-level frames of odd sizes
+        yy, xx = np.mgrid[0:h, 0:w]
+        img = 128 + 100 * np.sin(xx / rng.uniform(1, 6)) * np.cos(yy / rng.uniform(1, 6))
+    elif seed % 3 == 1:
+        img = np.where(rng.random((h, w)) < 0.5, 20, 235)
+    else:
+        img = rng.integers(0, 256, (h, w))
+    rgb = np.repeat(np.clip(img, 0, 255).astype(np.uint8)[..., None], 3, axis=2)
+    _check_double_cross(rgb, int(rng.integers(-3000, 3000)), int(rng.integers(-1500, 1500)))
+
+
+@pytest.mark.parametrize("value", [0, 255])
+def test_double_cross_uniform_frames_not_found(value):
+    rgb = np.full((240, 320, 3), value, np.uint8)
+    assert native.detect_double_cross(rgb) is None
+    assert double_cross.detect_double_cross(rgb)[0] is None
 
 
 def test_small_corpus_slice_matches(tmp_path):

@@ -140,9 +140,7 @@ def test_param_get_set_and_their_effect(mcu_backend):
     host.send(ParamGet(param_id("watchdog_ms")), seq=1)
     host.send(ParamSet(P_TELEMETRY_HZ, 10), seq=2)
     host.send(ParamSet(P_WATCHDOG_MS, 100), seq=3)
-    # the models answer a PARAM_SET at once; the AVR's main loop takes about 13 ms for each
-    # (docs/firmware.md, "simavr")
-    host.run_ms(40 if mcu_backend == "simavr" else 10)
+    host.run_ms(10)
     values = host.messages(ParamValue)
     assert ParamValue(P_WATCHDOG_MS, 250) in values
     assert ParamValue(P_TELEMETRY_HZ, 10) in values
@@ -218,8 +216,6 @@ def test_gripper_and_its_flag():
     assert host.telemetry()[-1].flags & FLAG_GRIPPER_CLOSED
 
 
-@pytest.mark.not_on("simavr", "after SimavrMcu.reset the USART sends one byte and then no "
-                    "UDRE interrupt comes (docs/firmware.md, \"simavr\")")
 def test_reset_reinitialises_and_flags_the_first_telemetry():
     mcu, host = ready()
     host.send(Gripper(1000), seq=1)

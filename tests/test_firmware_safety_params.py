@@ -86,7 +86,7 @@ def test_watchdog_limits_are_accepted(mcu_backend):
     for value in (50, 1000):
         mcu, host = _session()
         seq = host.send(ParamSet(P_WATCHDOG_MS, value))
-        host.run_ms(20 if mcu_backend == "simavr" else 5)  # the AVR needs ~13 ms for a SET
+        host.run_ms(5)
         assert _answer(host, seq) == Ack(seq)
         assert ParamValue(P_WATCHDOG_MS, value) in host.messages()
 
@@ -139,9 +139,7 @@ def test_hello_restores_every_safety_param_to_its_power_on_value(mcu_backend):
     host.send(ParamSet(5, 100))  # wheel_max_mmps
     host.send(ParamSet(P_SERVO_MAX_BASE + 2, 1500))
     host.send(ParamSet(2, 10))  # telemetry_hz: not a safety PARAM, kept
-    # the models apply a PARAM_SET at once; the AVR takes about 13 ms for each
-    # (docs/firmware.md, "simavr")
-    host.run_ms(80 if mcu_backend == "simavr" else 20)
+    host.run_ms(20)
     assert (_param(host, P_WATCHDOG_MS), _param(host, 5),
             _param(host, P_SERVO_MAX_BASE + 2)) == (1000, 100, 1500)
     host.send(Hello(PROTOCOL_VERSION, "t2", 0))

@@ -27,7 +27,7 @@ from mobigrasp.tools.commands import mcu as mcu_command
 
 
 def handshake(emu):
-    emu.advance_ms(20)  # the ELF under simavr needs 15.6 ms of start-up (docs/firmware.md)
+    emu.advance_ms(20)  # the ELF under simavr needs 2.2 ms of start-up (docs/firmware.md)
     emu.send(Hello(PROTOCOL_VERSION, "pytest", 0))
     emu.advance_ms(12)
     emu.receive(3)

@@ -12,6 +12,7 @@ from mobigrasp.mcu_sim.faults.injectors import RunFaults
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
 from mobigrasp.mcu_sim.faults.wrappers import FaultedMcu
+from mobigrasp.mcu_sim.firmware.params import P_TELEMETRY_HZ
 from mobigrasp.protocol import messages as m
 from mobigrasp.protocol.frame import FrameParser
 
@@ -56,7 +57,7 @@ def test_time_moves_only_forward_to_where_it_is_told(mcu):
 
 def _hello_frames(mcu) -> list:
     # sent once the firmware has started: the Python models take no time for start-up, the
-    # ELF under simavr turns its RX interrupt on about 15.6 ms after reset (docs/firmware.md)
+    # ELF under simavr turns its RX interrupt on about 2.2 ms after reset (docs/firmware.md)
     mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "contract", 0), 0), 20_000)
     mcu.advance_to(80_000)
     chunks = mcu.uart_tx_take()
@@ -79,6 +80,42 @@ def test_idle_line_answer_is_none_or_not_in_the_past(mcu):
     mcu.advance_to(20_000)
     idle = mcu.tx_idle_through_us()
     assert idle is None or idle >= mcu.now_us
+
+
+def _idle_answers_and_bytes(mcu, frame: bytes, start_us: int, end_us: int, step_us: int = 500):
+    """Put ``frame`` on the RX line at ``start_us``, then ask tx_idle_through_us every
+    ``step_us`` to ``end_us``: the (time, answer) pairs and the stop-bit time of every byte
+    sent meanwhile (the rig takes what left before it asks)."""
+    mcu.uart_rx(frame, start_us)
+    byte_us = 10e6 / mcu.baud
+    answers, stops = [], []
+    for t in range(mcu.now_us, end_us + 1, step_us):
+        mcu.advance_to(t)
+        for last, data in mcu.uart_tx_take():
+            stops += [last - (len(data) - 1 - i) * byte_us for i in range(len(data))]
+        answers.append((t, mcu.tx_idle_through_us()))
+    return answers, stops
+
+
+def test_no_byte_leaves_before_the_idle_answer(mcu):
+    # a HELLO (answered), then telemetry alone, then PARAM_SETs that change nothing (answered by
+    # ACK and PARAM_VALUE, on the AVR about 1.8 ms after the frame, one that comes as a
+    # telemetry frame has left before the next is due): each answer is checked against the
+    # bytes sent until the next frame goes on the line
+    hello = m.encode_message(m.Hello(m.PROTOCOL_VERSION, "contract", 0), 0)
+    sets = [m.encode_message(m.ParamSet(P_TELEMETRY_HZ, 50), seq) for seq in (1, 2, 3)]
+    ahead = 0
+    for frame, start, end in ((hello, 20_000, 150_000), (sets[0], 150_000, 200_000),
+                              (sets[1], 200_000, 250_000), (sets[2], 260_000, 300_000)):
+        answers, stops = _idle_answers_and_bytes(mcu, frame, start, end)
+        for t, through in answers:
+            if through is None:
+                continue
+            assert through >= t
+            assert all(s > through - 1 for s in stops if s > t), (t, through)
+            ahead += through >= t + 5_000
+    if mcu.tx_idle_through_us() is not None:  # a backend that can tell does, most of the time
+        assert ahead >= 100
 
 
 def test_inputs_and_counters(mcu):

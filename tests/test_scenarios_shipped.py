@@ -37,3 +37,19 @@ def test_shipped_scenario_grasps_in_process(name, tmp_path):
         closes = [e["grasp_close"] for e in read_trace(tmp_path / name / "trace.jsonl")
                   if "grasp_close" in e]
         assert closes and set(closes) == {"precise"}, closes
+    if name.startswith("paper001-"):
+        events = list(read_trace(tmp_path / name / "trace.jsonl"))
+        _assert_001_as_in_the_paper(name, events)
+
+
+def _assert_001_as_in_the_paper(name: str, events: list) -> None:
+    """001 §III.E and §IV: sim2's path is updated 7 +- 2 times (a new curve from the present
+    position and velocity when the sonars show the path blocked); in both simulations the
+    gripper goes down on the precise grasp condition (k_T = 0, w_T in [w_min, w_max]), not on
+    a fallback of the precise grasp."""
+    updates = [e for e in events if e.get("ev") == "detail"
+               and str(e.get("replan", "")).endswith(": replanned")]
+    if name == "paper001-sim2":
+        assert 5 <= len(updates) <= 9, [e["replan"] for e in updates]
+    closes = [e["grasp_close"] for e in events if "grasp_close" in e]
+    assert closes and set(closes) == {"precise"}, closes

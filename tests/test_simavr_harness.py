@@ -2,6 +2,7 @@
 servo widths from the OCRnx latched at each Timer1 period start."""
 
 import shutil
+from itertools import pairwise
 
 import pytest
 
@@ -9,6 +10,7 @@ pytest.importorskip("cffi")
 if shutil.which("avr-gcc") is None:
     pytest.skip("avr-gcc is missing (make firmware installs it)", allow_module_level=True)
 
+from mobigrasp.mcu_sim.firmware.params import P_TELEMETRY_HZ  # noqa: E402
 from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu  # noqa: E402
 from mobigrasp.mcu_sim.simavr.profile import (  # noqa: E402
     RX_LATENCY_BUDGET_CYCLES,
@@ -113,3 +115,103 @@ def test_simavr_16_pins_keep_their_boot_widths_which_is_why_the_registers_are_la
     # what OC1A..C show: the boot widths (within two cycles), not the widths written since
     assert all(abs(p - w) <= 2 / 16 for p, w in zip(pins_us, (1000, 1500, 1500), strict=True))
     assert mcu.servo_pulses_us()[:3] == (1500.0, 1700.0, 1500.0)
+
+
+def _telemetry(mcu):
+    data = b"".join(d for _, d in mcu.uart_tx_take())
+    return [x for x in map(m.decode_frame, FrameParser().feed(data)) if isinstance(x, m.Telemetry)]
+
+
+def test_after_a_reset_the_elf_starts_again_and_keeps_talking():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(100_000)
+    assert _telemetry(mcu)[-1].flags & m.FLAG_HANDSHAKE
+    mcu.reset()
+    mcu.advance_to(300_000)
+    tele = _telemetry(mcu)
+    # a new start-up (about 2.2 ms), then telemetry every 20 ms of the firmware's new clock to
+    # the end: the UDRE interrupt keeps coming after the first byte
+    assert len(tele) >= 9 and tele[-1].time_us >= 160_000
+    assert all(abs(b.time_us - a.time_us - 20_000) <= 100 for a, b in pairwise(tele))
+    assert tele[0].flags & m.FLAG_RESET and not tele[0].flags & m.FLAG_HANDSHAKE
+    assert not tele[1].flags & m.FLAG_RESET
+    # the encoder pins rest low across the reset and no edge was given: INT0..3 never ran
+    counts = mcu.profile()["isr_count"]
+    assert all(counts.get(v, 0) == 0 for v in (1, 2, 3, 4))
+
+
+def test_a_fault_plans_mcu_reset_under_simavr_leaves_the_board_talking(tmp_path):
+    from mobigrasp.tools.run_job import RunOptions, execute
+
+    summary, _ = execute(RunOptions(scenario="paper000-exp1", mcu="simavr", out=tmp_path / "run",
+                                    progress=False, plots=False, mcap=False, time_limit_s=2.0,
+                                    faults=("mcu_reset_at_s=0.8",)))
+    assert summary["faults"]["mcu_resets"] == 1
+    safety = summary["safety"]
+    assert safety["unsafe_actuations"] == 0 and safety["unrecovered"] == 0
+    # the host saw the reset in the telemetry and opened the session again once the firmware's
+    # start-up was over: more than that start-up, well under the watchdog period
+    assert len(safety["recovery_ms"]) == 1 and 15.0 < safety["recovery_ms"][0] <= 100.0
+    # the firmware's counter starts again at the reset: 1.2 s of 50 Hz telemetry after it
+    assert 55 <= summary["mcu"]["telemetry_sent"] <= 61
+
+
+def test_with_telemetry_off_the_idle_line_lasts_until_something_arrives():
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.uart_rx(m.encode_message(m.ParamSet(2, 0), 1), 60_000)  # telemetry_hz = 0
+    mcu.advance_to(150_000)
+    data = b"".join(d for _, d in mcu.uart_tx_take())
+    assert m.ParamValue(2, 0) in [m.decode_frame(f) for f in FrameParser().feed(data)]
+    assert mcu.tx_idle_through_us() > 10**15
+    mcu.uart_rx(m.encode_message(m.Heartbeat(1), 2))
+    assert mcu.tx_idle_through_us() == 150_000
+
+
+def test_closing_a_sonar_slot_keeps_interrupts_off_within_budget():
+    # an echo heard in every slot: the range's 32-bit division runs after the stamps are read
+    mcu = SimavrMcu()
+    mcu.set_sonar_provider(lambda i: 1.0)
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+    mcu.advance_to(400_000)
+    stats = mcu.stats()
+    assert stats["avr_isr_max_cycles_INT6"] > 0  # the echoes were timed
+    rows = {r["figure"]: r for r in profile_rows(stats)}
+    off = rows["interrupts off"]
+    assert 0 < off["worst"] <= off["budget"] and off["where"].startswith("pc 0x")
+    assert "(pc 0x" in format_rows([off])
+
+
+def test_the_start_up_and_a_param_set_take_no_32_bit_divisions():
+    # reset to sei: the C runtime's .bss clearing (about 0.4 ms) and fw_setup, about 2.2 ms
+    mcu = SimavrMcu()
+    booted = mcu.run_until_booted(step_us=10)
+    assert 1_000 <= booted <= 3_000
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0))
+    mcu.advance_to(booted + 30_000)
+    mcu.uart_tx_take()
+    frame = m.encode_message(m.ParamSet(P_TELEMETRY_HZ, 25), 1)
+    start = mcu.now_us
+    mcu.uart_rx(frame)
+    frame_end = start + len(frame) * mcu.byte_cycles // 16
+    mcu.advance_to(start + 10_000)
+    parser, acked = FrameParser(), []
+    for t, data in mcu.uart_tx_take():
+        acked += [t for f in parser.feed(data) if m.decode_frame(f) == m.Ack(1)]
+    # the ACK's last stop bit within 3 ms of the frame's (its 7 bytes take 0.6 ms of that)
+    assert len(acked) == 1 and acked[0] - frame_end <= 3_000
+
+
+def test_bytes_sent_into_the_start_up_leave_the_rx_latency_to_the_bytes_received():
+    # a HELLO at the reset instant, as the closed loop's host sends it: its first byte starts
+    # while the receiver is still off and the rest meet the start-up; later frames come 100 ms
+    # apart, and each byte's latency is its own (not the gap to an earlier, lost byte)
+    mcu = SimavrMcu()
+    mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 0)
+    for seq, t in enumerate((100_000, 200_000), start=1):
+        mcu.uart_rx(m.encode_message(m.Heartbeat(seq), seq), t)
+    mcu.advance_to(300_000)
+    stats = mcu.stats()
+    assert stats["avr_rx_line_lost"] > 0 and stats["parser_frames_ok"] >= 2
+    assert 0 < stats["avr_rx_latency_max_cycles"] <= RX_LATENCY_BUDGET_CYCLES

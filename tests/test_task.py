@@ -20,7 +20,7 @@ def step(task, t_us, **kw):
 def test_starts_in_search_and_asks_for_the_search_detector():
     assert Task("000").detectors_needed() == ["radial_symbol"]
     assert Task("001").detectors_needed() == ["radial_symbol"]
-    assert Task("002").detectors_needed() == ["double_cross"]
+    assert Task("002").detectors_needed() == ["double_cross", "red_roi"]
     out = step(Task("000"), 0)
     assert out.state == "SEARCH" and out.events == [] and out.wheels_mmps == (0, 0)
 
@@ -248,27 +248,42 @@ def test_002_search_then_fuzzy_approach_turns_toward_the_marker():
     left, right = out.wheels_mmps
     assert right > left > 0
     assert out.detail["fuzzy"]["e_mrad"] < 0 and out.detail["fuzzy"]["u_mrad"] < 0
-    assert task.detectors_needed() == ["double_cross", "red_cylinder"]
+    assert task.detectors_needed() == ["double_cross", "red_cylinder", "red_roi"]
     # no new frame: the wheels are held, not re-decided
     assert step(task, t + 20_000).wheels_mmps == (left, right)
 
 
-def test_002_adjust_stops_at_t_d():
-    task = Task("002")
-    task.obj, task.obj_seen_us = (600, 0), 0  # cylinder 500 mm ahead of the waist
+def _adjust_002(params=None):
+    """002 in ADJUST, the cylinder estimated 500 mm ahead of the waist, after the entry's
+    swing to the look; returns the task and the first time a frame counts."""
+    task = Task("002", params)
+    task.obj, task.obj_seen_us = (600, 0), 0
     task.go(0, "ADJUST", "test")
     out = step(task, 20_000, detections={"red_cylinder": None})
     assert out.state == "ADJUST" and out.wheels_mmps[0] > 0 and out.wheels_mmps[1] > 0
-    rc = det.red_cylinder(160 * 16, 200 * 16, 46 * 16)
-    out = step(task, 30_000, detections={"red_cylinder": rc})
-    assert out.state == "ADJUST"  # d_pixel > T_d but the estimate is out of reach: creep on
-    task.obj = (215, 0)  # 115 mm ahead of the waist: within reach, closer than grasp_r
-    rc = det.red_cylinder(160 * 16, 200 * 16, 44 * 16)
-    assert step(task, 40_000, detections={"red_cylinder": rc}).state == "ADJUST"
-    rc = det.red_cylinder(160 * 16, 200 * 16, 46 * 16)
-    out = step(task, 60_000, detections={"red_cylinder": rc})
+    return task, task.trust_from_us + task.p.frame_latency_us
+
+
+def test_002_adjust_stops_by_the_stop_rule_d_pixel_over_t_d():
+    task, t_ok = _adjust_002()
+    rc = det.red_cylinder(160 * 16, 120 * 16, 46 * 16)
+    out = step(task, t_ok - 20_000, detections={"red_cylinder": rc})
+    assert out.state == "ADJUST"  # taken while the arm swung to the look: does not count
+    rc = det.red_cylinder(160 * 16, 120 * 16, 44 * 16)
+    assert step(task, t_ok, detections={"red_cylinder": rc}).state == "ADJUST"
+    rc = det.red_cylinder(160 * 16, 120 * 16, 45 * 16 + 2)
+    out = step(task, t_ok + 20_000, detections={"red_cylinder": rc})
     assert out.state == "ROUGH_GRASP" and out.wheels_mmps == (0, 0)
-    assert "T_d" in out.events[0].why
+    assert "stop rule d_pixel > T_d" in out.events[0].why and "T_d = 45 px" in out.events[0].why
+
+
+def test_002_t_d_is_a_parameter_that_decides_the_stop():
+    task, t_ok = _adjust_002({"t_d_px": 50})
+    rc = det.red_cylinder(160 * 16, 120 * 16, 46 * 16)
+    assert step(task, t_ok, detections={"red_cylinder": rc}).state == "ADJUST"
+    rc = det.red_cylinder(160 * 16, 120 * 16, 51 * 16)
+    out = step(task, t_ok + 20_000, detections={"red_cylinder": rc})
+    assert out.state == "ROUGH_GRASP" and "T_d = 50 px" in out.events[0].why
 
 
 def test_001_with_a_given_object_position_plans_at_once():

@@ -7,14 +7,17 @@ import detections as det
 from mobigrasp.host.task import Task, TaskInputs
 
 # a far red cylinder as the detector reports it 2.8 m away
-FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 912, "ring2_v_q4": 944, "roi": (158, 48, 12, 20),
-                "v_c_q4": 928, "width_q4": 112}
+# (its rings on the centre row: the approach pitches the camera toward their row, and this
+# detection does not move in the image when the arm does)
+FAR_CYLINDER = {"d_pixel_q4": 32, "ring1_v_q4": 1904, "ring2_v_q4": 1936,
+                "roi": (158, 110, 12, 20), "v_c_q4": 1920, "width_q4": 112}
 
 
 def _approach(u_c_q4: int | None, seconds: float = 2.0, speed_mmps: int = 0, seen_dpx=18):
     """APPROACH after a sighting of the crosses ``seen_dpx`` apart (18 px: ~2.6 m), with no
     double cross in any later frame; the odometry advances at ``speed_mmps``."""
     task = Task("002")
+    task.arm = [0, 0, -2100, -200, 2300, 0]  # the search's level look (camera ~0.2 m up)
     task.e_dpx = seen_dpx
     task.go(0, "APPROACH", "test: marker seen")
     rc = det.red_cylinder(u_c_q4=u_c_q4, **FAR_CYLINDER) if u_c_q4 is not None else None

@@ -81,12 +81,28 @@ class World:
             return None
         return u, v, zc
 
+    def held_face(self):
+        """002's red ROI when the cylinder (radius 25 mm) is held: the camera on its axis, h
+        above its top face, pitched down by beta; the face fills the frame below the row
+        v0 + f tan(atan(h / R) - beta), centred (docs/task.md)."""
+        pos, _ = self.camera()
+        h = pos[2] - self.top_h
+        beta = -sum(self.joints[2:5]) / 1000
+        edge = 120 + self.f * math.tan(math.atan2(h, 0.025) - beta) if h > 0 else -1
+        if not 0 <= edge < 238:
+            return None
+        return det.red_roi(160 * 16, round(8 * (edge + 240)), roi=(20, round(edge), 280,
+                                                                   240 - round(edge)),
+                           touches_edge=True)
+
     def detect(self, names):
         out = {}
+        if self.held and "red_roi" in names:
+            out["red_roi"] = self.held_face()
         top = (self.obj[0], self.obj[1], self.top_h)
         pr = self.project(top)
         if pr is None:
-            return {n: None for n in names}
+            return {n: out.get(n) for n in names}
         u, v, zc = pr
         for n in names:
             if n == "radial_symbol" and 0.25 <= zc <= 2.5:
@@ -356,25 +372,27 @@ def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighti
     from mobigrasp.host.search import SearchParams
     from mobigrasp.host.task import grasp as task_grasp
 
-    for method, near_mm in (("001", 250), ("002", 355)):  # by absence (docs/task.md)
+    # no method checks by absence now (docs/task.md): the place check itself, on 002's arm
+    for method, near_mm in (("002", 355),):
         task = Task(method)
         task.obj = (near_mm, 0)  # odometry: straight ahead of the start pose
-        task_grasp.GRASP.start_check(task, 0, TaskInputs())
+        task_grasp.GRASP.start_place_check(task, 0, TaskInputs())
         alpha = sum(task.arm[2:5])
         pitches = {-p for _, p in task_grasp.CHECK_VIEWS}
         assert alpha in pitches or abs(min(pitches, key=lambda p: abs(p - alpha)) - alpha) <= 5
         assert abs(task.arm[5]) <= 5 and task.phase == "check"
         far = Task(method)
         far.obj = (1300, -600)  # 0.45 m+ beyond any view: the search's far look toward it
-        task_grasp.GRASP.start_check(far, 0, TaskInputs())
+        task_grasp.GRASP.start_place_check(far, 0, TaskInputs())
         sp = SearchParams(**far.p.search)
         assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
         assert far.arm[5] > 300  # the object is to the right (negative odometry y)
 
 
 @pytest.mark.parametrize("sighted", [False, True])
-def test_check_by_absence_needs_the_object_seen_once(sighted):
-    """001's check by absence: DONE only if the camera saw the object in the run at all."""
+def test_001_check_never_ends_done_on_absence(sighted):
+    """001: at the end of the look with the object never seen under the gripper, a miss
+    (open, ADJUST), whether or not the camera saw the object earlier in the run."""
     from mobigrasp.host.task import grasp as task_grasp
 
     task = Task("001", params={"object_xy_mm": (1500, 0)})
@@ -384,6 +402,59 @@ def test_check_by_absence_needs_the_object_seen_once(sighted):
     task.phase, task.phase_us, task.move_done_us = "check", 0, 0
     task.check_waist = (0, len(task_grasp.CHECK_WAIST_MRAD) - 1)
     task_grasp.GRASP._check(task, 10_000_000)
-    assert task.state == ("DONE" if sighted else "ADJUST")
-    if not sighted:
-        assert task.gripper == 0 and "absence is no evidence" in task._events[-1].why
+    assert task.state == "ADJUST" and task.gripper == 0
+    assert "no evidence" in task._events[-1].why
+
+
+def test_001_check_looks_down_from_a_pulled_in_reach_with_the_plus_pair_off_axis():
+    """001: the look pulls the fingertip in to ``held_reach_mm`` on the same bearing, gripper
+    vertical, 120 mm above the object top; the wrist roll lays the "+" pair ``held_pair_mrad``
+    off the frame's x axis, and follows the waist through the offsets of the look."""
+    from mobigrasp.host import kinematics
+    from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
+    from mobigrasp.host.task import grasp as task_grasp
+
+    task = Task("001")
+    task.set_arm(0, -2433, -600, 1986, 150)  # a grasp pose of 001 (about 145 mm reach)
+    x0, y0, z0 = task.gripper_point_q4()
+    task.plus_odom = ((300, -24), (300, 24))  # the pair across the odometry x axis
+    task_grasp.GRASP.start_check(task, 0, TaskInputs())
+    x, y, z = task.gripper_point_q4()
+    rules = task.rules
+    assert sum(task.arm[2:5]) == kinematics.ALPHA_DOWN_MRAD
+    assert abs(isqrt(x * x + y * y) // 16 - rules.held_reach_mm) <= 8  # IK snaps to a limit
+    assert abs(atan2_mrad(x, y) - atan2_mrad(x0, y0)) <= 20  # same bearing from the waist
+    assert abs((z // 16 + task.p.h_shoulder_mm) - task.p.object_top_mm - 120) <= 3
+    # image x points at -(theta1 + theta5) in the platform frame; the pair is along platform x
+
+    def off_axis():
+        d = (-(task.arm[1] + task.arm[5]) - atan2_mrad(0, 48)) % 3142
+        return min(d, 3142 - d)
+    assert abs(off_axis() - rules.held_pair_mrad) <= 5, task.arm
+    inp = TaskInputs()
+    task.phase_us, task.move_done_us = 0, 0
+    task_grasp.GRASP._check(task, 10_000_000, inp)  # the next waist offset
+    assert task.arm[5] != 150 and abs(off_axis() - rules.held_pair_mrad) <= 5
+
+
+@pytest.mark.parametrize("misses", [1, 3])
+def test_001_a_close_beside_the_object_is_never_done(misses):
+    """001 with the commanded-close flag only: a close beside the object gives no sighting
+    under the gripper in the look, so it is a miss (open, ADJUST, again); DONE only with the
+    object seen held, FAILED after the last miss."""
+    global H_SHOULDER_M
+    task = Task("001")
+    world = ClosedFlagWorld((1.4, 0.2), lengths=(160.0, 160.0, 200.0), misses=misses)
+    old, H_SHOULDER_M = H_SHOULDER_M, 0.108
+    try:
+        events = run(task, world)
+    finally:
+        H_SHOULDER_M = old
+    why = [(e.t_us, e.to_state, e.why) for e in events]
+    checks = [e for e in events if e.from_state == "LIFT" and e.to_state == "ADJUST"]
+    if misses <= 2:
+        assert task.state == "DONE" and world.held, (task.failure, why)
+        assert len(checks) == misses and "seen under the gripper" in events[-1].why
+    else:
+        assert task.state == "FAILED" and "grasp check" in task.failure, why
+        assert len(checks) == 2 and not world.held

@@ -81,6 +81,14 @@ def test_sonar_below_safety_circle_stops_forward_motion_and_drops_the_path():
         assert kept.wheels != (0, 0) and kept.follower == "a path"
 
 
+def test_sonar_guard_in_approach_turns_toward_the_widest_free_sector_first():
+    # an echo below R_r ahead and on the right, the left free: turn left in place, no drive
+    task = _guarded((300, 150, 150, 2500, 2500), (3000, 0))
+    assert task.wheels == (0, 0) and task.detour["drive"] is False
+    assert task.detour["heading_mrad"] > 500  # toward S_4 / S_5 (left, counter-clockwise)
+    assert _guarded((300, 150, 150, 2500, 2500), (3000, 0), state="SEARCH").detour is None
+
+
 def test_sonar_guard_ignores_the_objects_own_echo():
     # sensor S_3 170 mm ahead of the centre, the object estimate 230 mm ahead of it
     assert _guarded((2500, 2500, 150, 2500, 2500), (400, 0)).wheels == (200, 200)

@@ -74,3 +74,37 @@ def test_bad_input():
         rc.detect_red_cylinder(np.zeros((240, 320), np.uint8))
     with pytest.raises(ValueError):
         rc.detect_red_cylinder(np.zeros((240, 320, 3), np.float64))
+
+
+# --- the colour ROI alone (002 §2.2 step 1): what the search and the far approach use --------
+def test_red_roi_is_the_stacked_red_pieces_and_their_common_columns():
+    img = draw(cx=100.0, top=60.0, bottom=140.0, width=20.0, rings=(95.0, 105.0))
+    res, ops = rc.detect_red_roi(img)
+    assert res is not None and not res.touches_edge
+    assert abs(res.u_c_q4 / 16 - 100.0) <= 1.5 and abs(res.v_c_q4 / 16 - 100.0) <= 2.0
+    x, y, w, h = res.roi
+    assert abs(h - 80) <= 4 and abs(w - 20) <= 4  # the rings' cuts merged into one box
+    assert ops.time_us() >= rc.roi_min_ops(240, 320).time_us()
+    # its range by its height: 120 mm seen 80 px tall at f = 350 px is 525 mm away
+    _, _, depth_q4 = rc.roi_sighting(res, 350)
+    assert abs(depth_q4 / 16 - 525) <= 30
+
+
+def test_red_roi_cut_by_the_frame_gives_a_bearing_but_no_range():
+    img = draw(cx=150.0, top=-10.0, bottom=140.0, width=24.0)
+    res, _ = rc.detect_red_roi(img)
+    assert res is not None and res.touches_edge and rc.roi_sighting(res, 350) is None
+
+
+def test_no_red_no_roi():
+    assert rc.detect_red_roi(draw(cx=100.0, top=60.0, bottom=140.0, width=0.0))[0] is None
+    tiny = draw(cx=100.0, top=60.0, bottom=66.0, width=4.0)  # 24 px: below the ROI's size
+    assert rc.detect_red_roi(tiny)[0] is None
+
+
+def test_red_roi_on_rendered_views_from_any_side_up_to_3_m():
+    va = pytest.importorskip("mobigrasp.tools.vision_accuracy")
+    fig = va.evaluate("red_roi", frames=40, seed=20261201, empty_frames=0, degraded_frames=10)
+    assert fig["detection_rate"] >= 0.99 and fig["wrong_results"] == 0, fig
+    assert fig["degraded_detection_rate"] >= 0.95, fig
+    assert fig["bearing_err_p95_deg"] <= 0.6, fig

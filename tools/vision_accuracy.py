@@ -173,6 +173,26 @@ def view_red_cylinder(rng: np.random.Generator, clutter: int = 4) -> View:
     return View(scene, c, R, INTR_002, truth)
 
 
+def view_red_roi(rng: np.random.Generator, clutter: int = 0) -> View:
+    """Search and approach view of the 002 red cylinder from any side, 0.4-3 m, with the
+    board (its colour ROI, 002 §2.2 step 1); no clutter by default: any red thing is a
+    colour ROI."""
+    while True:
+        t, kp, centre, dist, hc, beta, c, yaw, pitch, R = _random_look(
+            rng, "red-cylinder", "cylinder_centre", (0.4, 3.0), (0.12, 0.25), math.pi, 120, 80)
+        side = np.array([-math.sin(beta), math.cos(beta), 0.0]) * mk.RED_CYL_RADIUS_M
+        pts = np.array([[centre[0] + s[0], centre[1] + s[1], z] for s in (side, -side)
+                        for z in (0.0, mk.RED_CYL_HEIGHT_M)])
+        if _inside(project(pts, c, R, INTR_002), INTR_002, 3):
+            break
+    theta5 = float(rng.uniform(-0.8, 0.8))
+    truth = _platform_truth(c, yaw, theta5, centre)
+    truth["pitch_rad"] = pitch
+    scene = Scene(t, clutter=_clutter(rng, centre, 0.3, clutter, c[:2]),
+                  seed=int(rng.integers(1 << 16)))
+    return View(scene, c, R, INTR_002, truth)
+
+
 def view_empty_002(rng: np.random.Generator, clutter: int = 10) -> View:
     """No target: clutter (a third of it red) and an obstacle, seen at 002 approach poses."""
     centre = np.array([rng.uniform(-1, 1), rng.uniform(-1, 1), 0.0])
@@ -265,6 +285,17 @@ def _judge_red_cylinder(fix, view: View) -> Outcome:
     return _judge_generic(dist, bear)
 
 
+def _run_red_roi(rgb: np.ndarray, view: View):
+    return DETECTORS["red_roi"].detect()(rgb)
+
+
+def _judge_red_roi(res, view: View) -> Outcome:
+    """The bearing of the ROI's column (theta5 + atan((u_c - u0) / f), as the task steers)."""
+    bear = math.degrees(_theta5_mrad(view) / 1000.0 + math.atan2(
+        res.u_c_q4 / 16.0 - view.intr.u0_px, view.intr.f_px))
+    return _judge_generic(None, _ang_err_deg(bear, view.truth["bearing_deg"]))
+
+
 def _run_radial(rgb: np.ndarray, view: View):
     return DETECTORS["radial_symbol"].detect()(rgb)
 
@@ -316,6 +347,9 @@ _SPECS: dict[str, Spec] = {
                          "(002 does not range on the double cross)"),
     "red_cylinder": Spec("red_cylinder", view_red_cylinder, view_empty_002, _run_red_cylinder,
                          _judge_red_cylinder, "002 grasp: 0.12-0.6 m from the axis"),
+    "red_roi": Spec("red_roi", view_red_roi, view_empty_002, _run_red_roi, _judge_red_roi,
+                    "002 search and approach: 0.4-3 m, any side, bearing only (any red region "
+                    "is one: the empty views' red clutter counts as false positives)"),
 }
 # one Spec per row of the detector table, in its order: a row without a Spec fails here
 SPECS: dict[str, Spec] = {name: _SPECS[name] for name in DETECTORS}

@@ -94,8 +94,11 @@ uint8_t params_restore_safety(void)
 
 int8_t params_index(uint16_t id)
 {
+    /* the id alone: row() also works out a servo row's limits, two 32-bit divisions */
     for (uint8_t i = 0; i < PARAM_COUNT; i++) {
-        if (row(i).id == id) {
+        uint16_t row_id;
+        hal_flash_read(&row_id, &table[i].id, sizeof row_id);
+        if (row_id == id) {
             return (int8_t)i;
         }
     }

@@ -73,6 +73,7 @@ struct sh {
     uint64_t isr_start;
     int seen_sei;
     uint64_t ioff_start;
+    uint32_t ioff_pc;
     uint64_t oc1_rise[3];      /* OC1A..C pin (PB5..7): last rising edge */
     uint32_t oc1_high_cycles[3]; /* and the last high time the pin showed */
     uint8_t portb_last;
@@ -82,6 +83,13 @@ struct sh {
     uint64_t loop_start;
     uint64_t target_cycle;
     uint64_t timer_armed;
+    /* when the firmware next sends (sh_tx_idle_through): Timer1 overflows since reset and the
+     * cycle of the last (hal_micros counts 20 ms per overflow plus TCNT1's 0.5 us ticks), the
+     * firmware's globals, and whether a received byte may still be unanswered */
+    uint32_t t1_ovf_n;
+    uint64_t t1_ovf_cycle;
+    uint16_t rx_tail_addr, tx_head_addr, tx_tail_addr, next_tel_addr, tel_hz_addr;
+    int rx_unanswered;
 };
 
 /* simavr's messages (ELF sections loaded, UART settings) would go to the run's stdout. */
@@ -145,7 +153,12 @@ static void on_tov1(struct avr_irq_t *irq, uint32_t value, void *param)
         0x46, 0x80,       /* ICR1, ICR3 */
     };
     const avr_t *avr = sh->avr;
-    if (!value || sh->per_n >= EV_MAX) {
+    if (!value) {
+        return;
+    }
+    sh->t1_ovf_n++;
+    sh->t1_ovf_cycle = avr->cycle;
+    if (sh->per_n >= EV_MAX) {
         return;
     }
     for (unsigned i = 0; i < SH_PERIOD_REGS - 1; i++) {
@@ -207,6 +220,21 @@ static void paint(sh_t *sh)
     memset(avr->data + from, PAINT, (size_t)(avr->ramend + 1u - from));
 }
 
+/* Settings of the harness that simavr's avr_reset puts back to its defaults, applied after
+ * avr_init and after every avr_reset: the external-interrupt reset turns strict level
+ * triggering on again, and avr_reset empties the cycle-timer pool, the wake at the target
+ * included. With strict triggering on, a pin held low (an encoder at rest: INT0..3 are
+ * level-triggered until the firmware writes EICRA) arms a poll every cycle that raises INTn
+ * again after each RETI, for good, since the poll does not look at EICRA; INT0..3 outrank
+ * every other vector, so the firmware never left them and USART0's UDRE waited forever. */
+static void apply_workarounds(sh_t *sh)
+{
+    for (int i = 0; i < 8; i++) {
+        avr_extint_set_strict_lvl_trig(sh->avr, (uint8_t)i, 0); /* 1.6 polls INT0..7 otherwise */
+    }
+    sh->timer_armed = 0;
+}
+
 static void clear_run_state(sh_t *sh)
 {
     sh->in_isr = 0;
@@ -216,6 +244,8 @@ static void clear_run_state(sh_t *sh)
     sh->rx_over_last = 0;
     sh->rxq_head = sh->rxq_n = sh->rxq_untimed = 0;
     sh->portc_last = 0;
+    sh->t1_ovf_n = 0;
+    sh->rx_unanswered = 0;
 }
 
 sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
@@ -246,9 +276,7 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
     sh->rx_head_addr = rx_head_addr;
     sh->rx_over_addr = rx_over_addr;
     sh->bss_end = bss_end;
-    for (int i = 0; i < 8; i++) {
-        avr_extint_set_strict_lvl_trig(avr, (uint8_t)i, 0); /* 1.6 polls INT4..7 otherwise */
-    }
+    apply_workarounds(sh);
     uint32_t flags = 0;
     avr_ioctl(avr, AVR_IOCTL_UART_GET_FLAGS('0'), &flags);
     flags &= ~(uint32_t)AVR_UART_FLAG_STDIO;
@@ -289,6 +317,12 @@ void sh_free(sh_t *sh)
 void sh_reset(sh_t *sh)
 {
     avr_reset(sh->avr);
+    apply_workarounds(sh);
+    /* avr_reset clears the I/O space only: data and bss go back to the zeros a new core starts
+     * with, so nothing of the old run (the handshake flag) is read before the C runtime runs */
+    if (sh->bss_end > RAM_START) {
+        memset(sh->avr->data + RAM_START, 0, (size_t)(sh->bss_end - RAM_START));
+    }
     paint(sh);
     clear_run_state(sh);
     sh->prof.resets++;
@@ -305,7 +339,18 @@ void sh_set_byte_cycles(sh_t *sh, uint32_t cycles) { sh->byte_cycles = cycles; }
 
 void sh_set_loop_addr(sh_t *sh, uint32_t addr) { sh->loop_addr = addr; }
 
-static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping)
+void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx_tail,
+                       uint16_t next_telemetry, uint16_t telemetry_hz)
+{
+    sh->rx_tail_addr = rx_tail;
+    sh->tx_head_addr = tx_head;
+    sh->tx_tail_addr = tx_tail;
+    sh->next_tel_addr = next_telemetry;
+    sh->tel_hz_addr = telemetry_hz;
+}
+
+static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_before,
+                                     int was_sleeping)
 {
     avr_t *avr = sh->avr;
     uint64_t now = avr->cycle;
@@ -331,12 +376,15 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
             uint64_t len = before - sh->ioff_start;
             if (len > sh->prof.irq_off_max_cycles) {
                 sh->prof.irq_off_max_cycles = (uint32_t)len;
+                sh->prof.irq_off_max_from_pc = sh->ioff_pc;
+                sh->prof.irq_off_max_to_pc = pc_before;
             }
         }
         sh->seen_sei = 1;
         sh->ioff_start = 0;
     } else if (sh->seen_sei && !sh->ioff_start) {
         sh->ioff_start = before;
+        sh->ioff_pc = sh->in_isr ? (uint32_t)avr->pc : pc_before;
     }
     uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
     /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
@@ -354,6 +402,13 @@ static inline void after_instruction(sh_t *sh, uint64_t before, int was_sleeping
     }
     if (sh->seen_sei && (sh->prof.sp_min == 0 || sp < sh->prof.sp_min)) {
         sh->prof.sp_min = sp;
+    }
+    /* asleep with the USART and the RX ring empty: the main loop has handled (and answered)
+     * every byte received so far, since it sleeps only when no work is pending */
+    if (sh->rx_unanswered && avr->state == cpu_Sleeping && sh->uart && sh->rx_tail_addr &&
+        uart_fifo_isempty(&sh->uart->input) &&
+        avr->data[sh->rx_head_addr] == avr->data[sh->rx_tail_addr]) {
+        sh->rx_unanswered = 0;
     }
     /* a byte reached the RX ring (or was counted as a ring overrun) */
     if (sh->rx_head_addr) {
@@ -405,12 +460,13 @@ int sh_run_to(sh_t *sh, uint64_t target)
     }
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
+        uint32_t pc_before = avr->pc;
         int sleeping = avr->state == cpu_Sleeping;
         int state = avr_run(avr);
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }
-        after_instruction(sh, before, sleeping);
+        after_instruction(sh, before, pc_before, sleeping);
         if (sh->stop) {
             return SH_STOPPED;
         }
@@ -427,13 +483,17 @@ int sh_uart_in(sh_t *sh, uint8_t byte)
 {
     /* The part holds two received bytes (UDR's FIFO) plus the one in the shift register;
      * simavr's 64-byte FIFO would hide a slow ISR, so a byte whose start bit comes while three
-     * are unread is lost (data overrun). */
-    if (!sh->uart || uart_fifo_get_read_size(&sh->uart->input) >= 3) {
+     * are unread is lost (data overrun). A byte that starts while the receiver is off (the
+     * first cycles after a reset) is lost too: simavr drops it, and it must not be waited
+     * for in the RX latency's queue. */
+    if (!sh->uart || !avr_regbit_get(sh->avr, sh->uart->rxen) ||
+        uart_fifo_get_read_size(&sh->uart->input) >= 3) {
         sh->rx_line_lost++;
         return 0;
     }
     fix_byte_time(sh);
     avr_raise_irq(avr_io_getirq(sh->avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), byte);
+    sh->rx_unanswered = 1;
     if (!sh->seen_sei) {
         sh->rxq_untimed++;
     } else if (sh->rxq_n < RXQ_MAX) {
@@ -510,4 +570,39 @@ uint32_t sh_pc(const sh_t *sh) { return sh->avr->pc; }
 uint32_t sh_rx_unread(const sh_t *sh)
 {
     return sh->uart ? (uint32_t)uart_fifo_get_read_size((uart_fifo_t *)&sh->uart->input) : 0u;
+}
+
+/* *cycle: a cycle through which no byte the firmware sends can finish leaving TX0, provided
+ * nothing more is received: now while a byte is leaving or queued, while a received byte may be
+ * unanswered (the core has not slept since it came: the main loop sleeps only when it has
+ * handled every byte, and every message but the telemetry answers a frame), before the
+ * start-up's end or Timer1's first overflow; else the next telemetry time (fw/program.c), in
+ * core cycles by hal_micros()'s clock. Returns 0 (and no cycle) when telemetry is off and
+ * nothing is pending: the firmware sends nothing until it receives something. */
+int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle)
+{
+    const avr_t *avr = sh->avr;
+    const uint8_t *d = avr->data;
+    uint64_t now = avr->cycle;
+    *cycle = now;
+    if (!sh->next_tel_addr || !sh->seen_sei || !sh->t1_ovf_n || sh->rx_unanswered ||
+        !sh->uart || !uart_fifo_isempty((uart_fifo_t *)&sh->uart->input) ||
+        d[sh->rx_head_addr] != d[sh->rx_tail_addr] ||
+        d[sh->tx_head_addr] != d[sh->tx_tail_addr] || sh->tx_line_free > now) {
+        return 1;
+    }
+    int32_t hz;
+    uint32_t next;
+    memcpy(&hz, d + sh->tel_hz_addr, 4);
+    memcpy(&next, d + sh->next_tel_addr, 4);
+    if (hz == 0) {
+        return 0;
+    }
+    /* hal_micros() was t1_ovf_n * 20 000 us at the last overflow's cycle */
+    int32_t after_ovf_us = (int32_t)(next - sh->t1_ovf_n * 20000u);
+    int64_t due = (int64_t)sh->t1_ovf_cycle + (int64_t)after_ovf_us * 16;
+    if (due > (int64_t)now) {
+        *cycle = (uint64_t)due;
+    }
+    return 1;
 }

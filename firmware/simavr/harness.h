@@ -14,6 +14,8 @@ typedef struct {
     uint32_t isr_max_cycles[SH_VECTORS];
     uint32_t isr_count[SH_VECTORS];
     uint32_t irq_off_max_cycles;
+    uint32_t irq_off_max_from_pc; /* byte addresses: the instruction that cleared I (or the */
+    uint32_t irq_off_max_to_pc;   /* vector taken) and the one that set it again */
     uint32_t rx_latency_max_cycles;
     uint64_t sleep_cycles;
     uint32_t stack_depth_bytes;
@@ -35,6 +37,9 @@ int sh_state(const sh_t *sh);
 int sh_booted(const sh_t *sh);
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles);
 void sh_set_loop_addr(sh_t *sh, uint32_t addr);
+void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx_tail,
+                       uint16_t next_telemetry, uint16_t telemetry_hz);
+int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle);
 int sh_run_to(sh_t *sh, uint64_t target);
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
 int sh_uart_in(sh_t *sh, uint8_t byte);

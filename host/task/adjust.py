@@ -38,8 +38,8 @@ class AdjustState:
             return
         # the estimate stops the close approach at grasp_r_mm (clear of the footprint)
         vmax = t.rules.adjust_vmax_mmps(t.p)
-        wheels, done, d = close_in((x, y), t.p.grasp_r_mm, t.p.grasp_r_tol_mm,
-                                   t.p.bearing_tol_mrad, vmax)
+        goal_mm, tol_mm = t.rules.adjust_goal_mm(t)
+        wheels, done, d = close_in((x, y), goal_mm, tol_mm, t.p.bearing_tol_mrad, vmax)
         t.note(adjust=d)
         unseen = now - t.obj_seen_us
         if unseen >= t.p.lost_timeout_us and abs(d["err_mm"]) > t.p.blind_finish_mm:

@@ -185,7 +185,7 @@ class GraspStates:
                 x, y, z = t.gripper_point_q4()
                 self.move_point(t, now, x, y, z, t.arm[1] - ROLL_SCAN_MRAD)
                 t.phase_us = now
-            elif waited >= t.p.spoke_wait_us:
+            elif waited >= t.p.spoke_wait_us and not t.rules.grasp_lost(t, now, waited):
                 self._descend(t, now, f"no spoke seen for {waited} us: rough position",
                               "no_spoke")
             return
@@ -235,7 +235,7 @@ class GraspStates:
             if t.settled(now):
                 self.start_check(t, now, inp)
             return
-        self._check(t, now)
+        self._check(t, now, inp)
 
     def _check_pose(self, t, inp):
         """A camera pose looking down at the grasp place from ``CHECK_VIEWS`` (range, pitch):
@@ -285,6 +285,10 @@ class GraspStates:
         the first height the arm reaches; a held object is then under the camera's optical
         centre (docs/task.md). None if no height is reachable."""
         x, y, _ = t.gripper_point_q4()
+        reach = t.rules.held_reach_mm * 16
+        rho = isqrt(x * x + y * y)
+        if reach and rho > reach:  # pulled in: the arm reaches higher there (docs/task.md)
+            x, y = x * reach // rho, y * reach // rho
         for h_mm in HELD_VIEW_MM:
             z = (t.p.object_top_mm + h_mm - t.p.h_shoulder_mm) * 16
             pose = kinematics.ik_pitch_mm_q4(t.geom, (x, y, z), kinematics.ALPHA_DOWN_MRAD)
@@ -302,7 +306,7 @@ class GraspStates:
         (ax, ay), (bx, by) = (odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
                                                   t.p.mount_forward_mm, *q[:2])
                               for q in t.plus_odom)
-        roll = -atan2_mrad(by - ay, bx - ax) - theta5_mrad
+        roll = -atan2_mrad(by - ay, bx - ax) - theta5_mrad + t.rules.held_pair_mrad
         lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
         while roll > hi:  # the line repeats every half turn
             roll -= 2 * kinematics.QUARTER_TURN_MRAD
@@ -317,7 +321,7 @@ class GraspStates:
         if not t.rules.held_look:
             self.start_place_check(t, now, inp)
             return
-        pose = self._held_pose(t)
+        pose = t.rules.held_view_pose(t) or self._held_pose(t)
         if pose is not None:
             t.apply_pose(now, pose, self._plus_roll(t, inp, pose.theta5_mrad))
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
@@ -340,6 +344,8 @@ class GraspStates:
         fingertip (``HELD_NEAR_MM``: kept per waist offset as grasp evidence). True once the
         sightings away make a miss, handled here (:meth:`missed`)."""
         place = t.obj
+        if t.phase == "check" and t.settled(now) and t.rules.held_in_view(t, now, dets):
+            t.held_tips[t.check_waist[1]] = self._tip_odom(t, inp)  # the method's own look
         for name in t.rules.check_detectors:
             det = dets.get(name)
             if det is None or place is None or not t.see_object(now, inp, name, det):
@@ -380,7 +386,7 @@ class GraspStates:
         return any((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 >= HELD_MOVE_MM * HELD_MOVE_MM
                    for i, a in enumerate(tips) for b in tips[i + 1:])
 
-    def _check(self, t, now: int) -> None:
+    def _check(self, t, now: int, inp=None) -> None:
         """The look of the grasp check: each waist offset for ``CHECK_POSE_US``; DONE on
         positive evidence (:meth:`held_evidence`), else a miss."""
         if t.rules.held_look and self.held_evidence(t.held_tips):
@@ -392,7 +398,10 @@ class GraspStates:
         centre, k = t.check_waist
         if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the gripper moves
             t.check_waist = (centre, k + 1)
-            t.set_arm(now, *t.arm[2:5], centre + CHECK_WAIST_MRAD[k + 1])
+            th5 = centre + CHECK_WAIST_MRAD[k + 1]
+            # a roll off the x axis follows the waist, keeping the "+" in the frame's corners
+            roll = self._plus_roll(t, inp, th5) if t.rules.held_pair_mrad and inp else None
+            t.set_arm(now, *t.arm[2:5], th5, roll)
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return

@@ -48,7 +48,6 @@ from mobigrasp.host.task.method import Method, method_rules
 from mobigrasp.host.task.params import TaskParams
 from mobigrasp.host.task.search import SEARCH
 from mobigrasp.host.task.sense import (
-    object_in_platform,
     odom_to_platform_q4,
     platform_to_odom_mm,
     plus_positions,
@@ -170,6 +169,7 @@ class Task:
         self.phase_us = now_us
         self.precise_steps = 0
         self.lost_in = None  # the state the object was lost in, for the next SEARCH
+        self.grasp_searches = 0  # searches after a loss in PRECISE_GRASP (Method.grasp_lost)
         self.close_by = None  # PRECISE_GRASP: what decided the close (grasp.py _descend)
         self.last_pose = (0, 0, 0, 0)
         self.arm_hist: list = []
@@ -198,6 +198,8 @@ class Task:
         self.prev_e = None
         self.blind = None  # 002: (odometry bearing of the marker, x_mm, y_mm, reach_mm)
         self.e_dpx = None  # 002: d_pixel of the search's sighting
+        self.steer_on = ""  # 002: what the search found and the approach steers on
+        self.e_range_mm = None  # 002: range of the search's red ROI (its height), if known
 
     # --- bookkeeping used by the state handlers -------------------------------------------
     def go(self, now_us: int, to: str, why: str) -> None:
@@ -211,6 +213,7 @@ class Task:
 
     def fail(self, now_us: int, reason: str) -> None:
         """Transition to FAILED with a reason."""
+        reason = self.rules.failure_reason(self, reason)
         self.failure = reason
         self.go(now_us, "FAILED", reason)
 
@@ -282,7 +285,7 @@ class Task:
         _, x, y, h = self._at(self.pose_hist, t_cap) if self.pose_hist else (
             0, inp.x_mm, inp.y_mm, inp.heading_mrad)
         try:
-            p = object_in_platform(name, det, self.geom, joints, self.cam)
+            p = self.rules.object_position(self, name, det, joints)
         except (ValueError, TypeError, ZeroDivisionError):
             self.counters["bad_detections"] += 1
             return False
@@ -301,7 +304,9 @@ class Task:
         """Keep both "+" in the odometry frame: the precise grasp looks at one of them (000:
         "only a '+' symbol is used in the precise grasping")."""
         try:
-            pair = plus_positions(det, self.geom, joints, self.cam)
+            top = ((self.p.object_top_mm - self.p.h_shoulder_mm) * 16
+                   if self.rules.plus_on_top else None)
+            pair = plus_positions(det, self.geom, joints, self.cam, top)
         except (ValueError, TypeError, ZeroDivisionError):
             return
         if pair is None:

@@ -17,7 +17,7 @@ import importlib
 from abc import ABC, abstractmethod
 from typing import Any
 
-from mobigrasp.host.task.sense import CameraModel
+from mobigrasp.host.task.sense import CameraModel, object_in_platform
 
 
 class Method(ABC):
@@ -32,6 +32,9 @@ class Method(ABC):
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
     held_look: bool  # grasp check on the object seen under the gripper, else by absence
+    held_reach_mm: int = 0  # the look of the check pulls the fingertip in to this reach (0: stays)
+    held_pair_mrad: int = 0  # ... lays the two "+" this far off the frame's x axis (grasp.py)
+    plus_on_top: bool = False  # the two "+" placed where their rays meet the top (sense.py)
     object_detectors: tuple[str, ...]  # detectors that see the object itself (not a guide)
     grasp_alpha_mrad: int  # gripper pitch of the grasp before the rough grasp chooses one
     keeps_sightings: bool  # SEARCH: an unconfirmed sighting seen again at its place counts
@@ -50,6 +53,12 @@ class Method(ABC):
         parameters ``sp`` (host.search.SearchParams) as changed, and its start (theta2s,
         theta5s mrad); None: the usual search from the arm's joints."""
         return None
+
+    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+        """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method
+        searches for the object instead (the transition made), False to go down on the rough
+        position."""
+        return False
 
     # --- APPROACH ------------------------------------------------------------------------------
     @abstractmethod
@@ -95,6 +104,39 @@ class Method(ABC):
     def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
         """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
         return None
+
+    # --- hooks with a common default -----------------------------------------------------------
+    def search_sighting(self, dets: dict) -> tuple[str, Any]:
+        """SEARCH: the detector whose result of this frame is looked at, and the result."""
+        return self.search_detector, dets.get(self.search_detector)
+
+    def search_gives_up(self, t: Any) -> str | None:
+        """SEARCH ends FAILED with this reason (None: it goes on, as long as its timeout)."""
+        return None
+
+    def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
+        """The object's platform-frame position (Q4 mm) from detector ``name``'s result seen
+        with the arm at ``joints``: the detector's pinhole sighting (host/task/sense.py)."""
+        return object_in_platform(name, det, t.geom, joints, t.cam)
+
+    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
+        """ADJUST's close approach stops the object this far ahead of the waist, +- tol."""
+        return t.p.grasp_r_mm, t.p.grasp_r_tol_mm
+
+    def held_view_pose(self, t: Any) -> Any:
+        """LIFT: the arm pose of the grasp check's look; None: the common look, the camera
+        straight above the fingertip looking down (host/task/grasp.py)."""
+        return None
+
+    def held_in_view(self, t: Any, now: int, dets: dict) -> bool:
+        """LIFT: this frame, from the method's own look, shows the object where it is when
+        held (grasp evidence at the present waist offset); the common look judges the
+        object's estimated place against the fingertip instead (host/task/grasp.py)."""
+        return False
+
+    def failure_reason(self, t: Any, reason: str) -> str:
+        """The reason FAILED gives (a method may say more)."""
+        return reason
 
 
 # Method name -> module holding its class ``RULES``.

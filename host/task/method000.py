@@ -4,7 +4,9 @@ SEARCH looks for the radial symbol (000 §III.A); APPROACH follows the best Bezi
 eq. (9) (host.planning.bezier000) toward the stand-off point; ADJUST closes in on the dual "+"
 (§III.B); ROUGH_GRASP hovers above the nearer "+" with the gripper pitched alpha_T = -pi/2 by
 eq. (11); PRECISE_GRASP rolls to pi/2 and aligns on the spoke (§III.C.2); the grasp check of
-LIFT looks for the dual "+" or the radial symbol still standing.
+LIFT looks down for the object held under the gripper (grasp.py, docs/task.md). Lost near the
+object (ADJUST, PRECISE_GRASP), the platform stops and the arm searches by Fig. 5 with the
+paper's d_theta2 (``lost_search``, ``grasp_lost``; docs/task.md).
 """
 
 from __future__ import annotations
@@ -79,14 +81,28 @@ class Method000(PathMethod):
         return f"radial symbol seen, object at {t.obj} mm"
 
     def lost_search(self, t: Any, sp: Any, lost_in: str) -> tuple[Any, int, int]:
-        """Lost near the object (ADJUST; the grasp's misses go back through ADJUST): "the
-        mobile platform has to stop until the object is seen again" and the arm searches by
-        Fig. 5 (000 §III.B.2, §III.C), theta2 in steps of the paper's d_theta2 from where the
-        camera looked: theta2s gives the camera pitch alpha it had, in the search posture."""
+        """Lost near the object (ADJUST, PRECISE_GRASP): "the mobile platform has to stop
+        until the object is seen again" and the arm searches by Fig. 5 (000 §III.B.2, §III.C),
+        theta2 in steps of the paper's d_theta2 from where the camera looked: theta2s gives the
+        camera pitch alpha it had, in the search posture (from the grasp's look straight down,
+        theta2_min)."""
         alpha = t.arm[2] + t.arm[3] + t.arm[4]
         th2s = min(max(alpha - sp.theta3_mrad - sp.theta4_mrad, sp.theta2_min_mrad),
                    sp.theta2_max_mrad)
         return replace(sp, dense_cycles=max(1, sp.dense_cycles)), th2s, t.arm[5]
+
+    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+        """No spoke under the camera at the hover: the object is lost during the grasp (000
+        §III.C: "the object searching when lost is similar to ... Fig. 5"). The first time in a
+        run, search for it (:meth:`lost_search`), then approach and grasp again; after that, go
+        down on the rough position (the ``no_spoke`` fallback)."""
+        if t.grasp_searches >= 1:
+            return False
+        t.grasp_searches += 1
+        t.lost_in = "PRECISE_GRASP"
+        t.go(now, "LOST", f"no spoke seen for {waited_us} us at the hover: object lost "
+             f"during the grasp")
+        return True
 
     # --- APPROACH: the path of eq. (9) ---------------------------------------------------------
     def enter_approach(self, t: Any, now: int, inp: Any) -> None:

@@ -22,6 +22,7 @@ from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.task.drive import path_follower, state_m, wrap_mrad
+from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method000 import Method000
 
 ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
@@ -184,12 +185,27 @@ class Method001(Method000):
 
     name = "001"
     link_lengths_mm = (160.0, 160.0, 200.0)
+    # grasp check on the object seen under the gripper (docs/task.md): at the grasp reach the
+    # long 001 arm looks down from 90-100 mm above the top only, where the two "+" do not fit
+    # the frame; pulled in to a 70 mm reach it looks from 120 mm, and with the "+" pair (240 px
+    # apart, each 87 px) laid 31 degrees off the frame's x axis both fit, 12 px inside
+    held_look = True
+    held_reach_mm = 70
+    held_pair_mrad = 541
+    # 001 comes at the object from any side: the "+" pair is often seen along the view, where
+    # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
+    plus_on_top = True
+    # the precise grasp's w_T <= w_max = 40 px needs the camera >= 92 mm above the "+"
+    # (6 mm * 611 / 92): looking down, the 001 arm reaches 95 mm there within 142 mm of the
+    # waist only, so ADJUST ends the object 108-132 mm ahead and the hover is 95 mm (39 px);
     # the long 001 arm puts the camera ahead of a close object: finish on odometry sooner
-    # grasp check by absence: looking straight down, 001's arm reaches 90-100 mm above the
-    # top only, where the two "+" (>= 290 px apart) do not fit the frame (docs/task.md)
-    held_look = False
-    param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 130, "hover_mm": 90,
+    param_defaults = {"h_shoulder_mm": 108, "grasp_r_mm": 120, "grasp_r_tol_mm": 12,
+                      "hover_mm": 95,
                       "blind_finish_mm": 250, "max_plan_attempts": 6}
+    # 000's searches after a loss near the object (000 §III.B.2, §III.C) are not 001's: the
+    # usual search, and the rough position when no spoke is seen
+    lost_search = Method.lost_search
+    grasp_lost = Method.grasp_lost
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
     def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
@@ -354,7 +370,9 @@ class Method001(Method000):
         safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
         plan is followed further before one is made from the fresh ranges. The object's own
         echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
-        does not count: APPROACH hands the object to ADJUST at arm's length."""
+        does not count: APPROACH hands the object to ADJUST at arm's length. In APPROACH the
+        base then turns in place toward the widest free sector before it plans again (a plan
+        from standstill starts forward, into the echo, and was stopped again at once)."""
         if t.state not in ("SEARCH", "APPROACH") or t.wheels[0] + t.wheels[1] <= 0:
             return
         n = len(inp.sonar_mm)
@@ -367,7 +385,14 @@ class Method001(Method000):
                 continue
             t.wheels = (0, 0)
             t.follower = None
-            t.note(sonar_guard={"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm})
+            guard = {"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm}
+            if t.state == "APPROACH":
+                # a new plan from here starts forward, into what the guard saw, and is stopped
+                # again at once: first turn in place toward the widest free sector
+                t.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
+                            "drive": False, "from": None}
+                guard["turn_to_mrad"] = t.detour["heading_mrad"]
+            t.note(sonar_guard=guard)
             return
 
     def detour_step(self, t: Any, inp: Any) -> bool:

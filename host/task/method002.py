@@ -1,13 +1,18 @@
 """Paper 002's method: double cross, fuzzy approach, red cylinder, the level gripper.
 
-SEARCH looks for the double cross (002 §2.1) and takes its bearing e; APPROACH steers with the
-fuzzy controller on e (host.control.fuzzy: 35 rules, eq. (1) centroid, eq. (2) wheel law), the
-waist facing the marker; ADJUST "slows down and goes straight with posture adjustment" (002 §1)
-until the red cylinder's ring spacing d_pixel > T_d; ROUGH_GRASP goes to the pre-grasp point
-with the gripper level by eq. (4), PRECISE_GRASP moves in to the axis and closes; the grasp
-check of LIFT looks for the red cylinder still standing. Ours, not 002's: the approach steers on
-the far red cylinder's column when the crosses are out of reach, drives on blind toward the
-last bearing for a while when a frame misses the marker, and ends when the crosses, big in
+SEARCH looks for the double cross (002 §2.1) and takes its bearing e, or, with no board in
+view, for the red cylinder's colour ROI (002 §2.2 step 1: the cylinder is seen from every side,
+the board's face only from in front); APPROACH steers with the fuzzy controller on e
+(host.control.fuzzy: 35 rules, eq. (1) centroid, eq. (2) wheel law), the waist facing what it
+steers on: the double cross when it is in view, as in 002, else the cylinder's column (its
+rings near, its colour ROI far, the ROI's height giving a range); ADJUST "slows down and goes
+straight with posture adjustment" (002 §1) in a look chosen so that the stop rule of 002 §4,
+d_pixel > T_d, stops the base with the cylinder inside the level grasp's reach; ROUGH_GRASP
+goes to the pre-grasp point with the gripper level by eq. (4) on the §4 position of the
+cylinder (:meth:`Method002.object_position`), PRECISE_GRASP moves in to the axis and closes;
+the grasp check of LIFT looks for the red cylinder still standing. Ours, not 002's: steering
+on the cylinder without the board, the blind drive on toward the last bearing for a while
+when a frame misses what was steered on, and the end of the approach when the crosses, big in
 view, place the cylinder near.
 """
 
@@ -17,8 +22,9 @@ from typing import Any
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
-from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 from mobigrasp.host.posture import distribute_alpha
+from mobigrasp.host.ranging import locate_ring_pair
 from mobigrasp.host.task.drive import wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import Method
@@ -29,9 +35,18 @@ from mobigrasp.host.task.sense import (
     d_pixel_px,
 )
 from mobigrasp.host.vision import registry
-from mobigrasp.host.vision.double_cross import DoubleCrossResult
 
 GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
+WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
+CYLINDER_RADIUS_MM = 25  # the red cylinder (docs/markers.md)
+ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
+SEARCH_WANDERS_002 = 2  # SEARCH gives up after a look around and this many wander legs
+# the grasp check's look (docs/task.md): the held cylinder brought to (reach mm ahead of the
+# waist, camera height mm above the ground) with the camera pitched down (mrad), first reachable
+# wins; its top face, 40 mm under the camera, then fills the frame below a row it predicts
+HELD_VIEWS_002 = ((100, 160, 800), (80, 160, 900), (90, 160, 850), (110, 155, 800))
+HELD_ROW_TOL_PX = 16  # the top face's edge this close to its predicted row
+HELD_COL_TOL_PX = 24  # ... and the red region's centre this close to the centre column
 
 
 class Method002(Method):
@@ -47,50 +62,90 @@ class Method002(Method):
                       "grasp_r_mm": 255, "grasp_r_tol_mm": 15, "pregrasp_back_mm": 40,
                       # the double cross stands upright, far: the paper's first cycle, then the
                       # level look (f = 350 px: 0.66 rad vertical field)
-                      "search": {"dense_cycles": 1, "coarse_theta2_mrad": (-2100, -2400)}}
-    detectors = {"SEARCH": ("double_cross",), "APPROACH": ("double_cross", "red_cylinder"),
-                 "ADJUST": ("red_cylinder",), "LIFT": ("red_cylinder",)}
+                      "search": {"dense_cycles": 1, "coarse_theta2_mrad": (-2100, -2400)},
+                      # ADJUST's look (shoulder 2.12 rad, elbow -2.19 rad, theta2 pitching the
+                      # camera at the rings): the camera ~130 mm ahead of the waist and ~100 mm
+                      # up, so that d_pixel passes T_d = 45 px with the cylinder's axis ~252 mm
+                      # ahead of the waist, inside the level grasp's reach (docs/task.md)
+                      "adjust_theta3_mrad": -2190, "adjust_theta4_mrad": 2120,
+                      # eq. (10)'s margins as room to the joint limits: the printed theta2m =
+                      # theta2 leaves no room to pitch down from theta2 = 0 (host/posture.py)
+                      "posture": {"margin_mode": "limits"}}
+    detectors = {"SEARCH": ("double_cross", "red_roi"),
+                 "APPROACH": ("double_cross", "red_cylinder", "red_roi"),
+                 "ADJUST": ("red_cylinder",), "LIFT": ("red_cylinder", "red_roi")}
     search_detector = "double_cross"
     adjust_detector = "red_cylinder"
     check_detectors = ("red_cylinder",)
-    held_look = False  # grasp check: look down at the object under the gripper (grasp.py)
+    held_look = True  # grasp check: the held cylinder seen under the camera (held_in_view)
     object_detectors = ("red_cylinder",)  # the double cross is the board, not the object
     grasp_alpha_mrad = 0
     keeps_sightings = False
 
     # --- SEARCH --------------------------------------------------------------------------------
+    def search_sighting(self, dets: dict) -> tuple[str, Any]:
+        """The double cross when this frame shows it (002 §2.1), else the red cylinder's colour
+        ROI (002 §2.2 step 1): the cylinder is seen from every side, the board's face only
+        from in front of it."""
+        if dets.get("double_cross") is not None:
+            return "double_cross", dets["double_cross"]
+        return "red_roi", dets.get("red_roi")
+
     def found(self, t: Any, now: int, inp: Any, name: str, det: Any) -> bool:
-        """The double cross's bearing e (and its spacing, for the blind approach)."""
+        """The bearing e of the double cross (and its spacing, for the blind approach) or of
+        the red ROI's column (and its range from its height, when the box is whole)."""
         joints = t.arm_at(now - t.p.frame_latency_us)
         try:
-            e = bearing_mrad(det, joints[5], t.cam)
+            if name == "double_cross":
+                e = bearing_mrad(det, joints[5], t.cam)
+                dist = None
+            else:
+                e = _column_bearing(t, registry.check("red_roi", det).u_c_q4, joints[5])
+                dist = _roi_range_mm(t, det)
         except (ValueError, TypeError):
             t.counters["bad_detections"] += 1
             return False
         if e is None:
             return False
         t.e_mrad, t.obj_seen_us = e, now
-        t.e_dpx = d_pixel_px(det)
+        t.steer_on = "double cross" if name == "double_cross" else "red cylinder"
+        t.e_dpx = d_pixel_px(det) if name == "double_cross" else None
+        t.e_range_mm = dist
         return True
 
+    def search_gives_up(self, t: Any) -> str | None:
+        """Nothing seen in a look around (the red ROI is found from any side out to 3 m and
+        beyond, docs/task.md) and ``SEARCH_WANDERS_002`` wander legs: no graspable object."""
+        if t.graspable_seen or t.search.wanders < SEARCH_WANDERS_002:
+            return None
+        return (f"the search saw neither the double cross nor the red cylinder in "
+                f"{t.search.cycle} cycles and {t.search.wanders} wander legs")
+
     def found_why(self, t: Any) -> str:
-        return f"double cross seen at e = {t.e_mrad} mrad"
+        if t.steer_on == "double cross":
+            return f"double cross seen at e = {t.e_mrad} mrad"
+        return f"red cylinder's colour ROI seen at e = {t.e_mrad} mrad (no double cross in view)"
 
     # --- APPROACH: the fuzzy controller --------------------------------------------------------
     def enter_approach(self, t: Any, now: int, inp: Any) -> None:
         t.fuzzy = FuzzyApproach(FuzzyParams(**t.p.fuzzy))
         # the search's sighting is the first bearing to steer on if the next frames miss
-        self.remember_bearing(t, inp, t.e_mrad, t.e_dpx)
+        self.remember_bearing(t, inp, t.e_mrad, _board_range_mm(t, t.e_dpx)
+                              if t.e_dpx else t.e_range_mm)
 
     def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
-        """Steer with the fuzzy controller on the double cross's e (002 §2.1); ADJUST once the
-        red cylinder is near, or placed near by the crosses."""
+        """Steer with the fuzzy controller on e (002 §2.1): the double cross's when it is in
+        view, as 002 does, else the red cylinder's column (its rings, or its colour ROI far
+        away); ADJUST once the cylinder is near, or placed near by the crosses."""
         rc = dets.get("red_cylinder")
+        roi = dets.get("red_roi")
         d_px = _spacing_px("red_cylinder", rc)
         if d_px is not None and t.see_object(now, inp, "red_cylinder", rc) and \
                 d_px >= t.p.cylinder_near_px:
             t.go(now, "ADJUST", f"red cylinder seen, d_pixel = {d_px} px")
             return
+        if d_px is None and _roi_range_mm(t, roi) is not None:
+            t.see_object(now, inp, "red_roi", roi)  # far: the range from the ROI's height
         if t.obj is not None:  # the cylinder stands before the marker: do not run it over
             x, y = t.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
@@ -101,21 +156,30 @@ class Method002(Method):
             return  # no new frame: keep the wheels as they are
         dc = dets.get("double_cross")
         yaw = t.arm_at(now - t.p.frame_latency_us)[5]  # the waist when the frame was taken
+        e = vm = cue_mm = None  # bearing, image row to keep centred, range of the cue
+        cue = None
         try:
-            e = bearing_mrad(dc, yaw, t.cam) if dc is not None else None
-            if e is None and rc is not None:
-                # the double cross out of reach but the cylinder in view (far, a few px wide):
-                # steer on the cylinder's column, or the robot would stand still while the
-                # cylinder's sightings keep LOST away
-                u_c = registry.check("red_cylinder", rc).u_c_q4
-                e = yaw + atan2_mrad(u_c - t.cam.u0_px * 16, t.cam.f_px * 16)
+            if dc is not None:
+                e, cue = bearing_mrad(dc, yaw, t.cam), "double cross"
+                vm = registry.check("double_cross", dc).vm_q4
+                dc_spacing = _spacing_px("double_cross", dc)
+                cue_mm = _board_range_mm(t, dc_spacing) if dc_spacing else None
+            elif d_px is not None or roi is not None:
+                # the double cross out of view (turned away, or out of reach): steer on the
+                # cylinder's column, its rings near, its colour ROI far (ours: 002 steers on
+                # the board alone)
+                name, cyl = ("red_cylinder", rc) if d_px is not None else ("red_roi", roi)
+                cyl = registry.check(name, cyl)
+                e, vm, cue = _column_bearing(t, cyl.u_c_q4, yaw), cyl.v_c_q4, name
+                cue_mm = _roi_range_mm(t, roi) if name == "red_roi" else None
         except (ValueError, TypeError):
             t.counters["bad_detections"] += 1
             e = None
         if e is None and self.approach_blind(t, now, inp):
             return
         if e is None and now - t.obj_seen_us >= t.p.lost_timeout_us:
-            t.go(now, "LOST", f"double cross not seen for {now - t.obj_seen_us} us")
+            t.go(now, "LOST", f"neither the double cross nor the red cylinder seen for "
+                 f"{now - t.obj_seen_us} us")
             return
         dc_px = _spacing_px("double_cross", dc)
         if dc_px is not None and dc_px >= t.p.cross_near_px and \
@@ -131,26 +195,26 @@ class Method002(Method):
         cmd = t.fuzzy.step(now, e, None)
         if e is not None:
             t.obj_seen_us = now
-            self.remember_bearing(t, inp, e, dc_px)
-            self.track_marker(t, now, dc, e)
+            self.remember_bearing(t, inp, e, cue_mm)
+            self.track_marker(t, now, vm, e)
         t.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         ec = None
         if e is not None and t.prev_e is not None and now > t.prev_e[0]:
             ec = (e - t.prev_e[1]) * 1_000_000 // (now - t.prev_e[0])
         t.prev_e = (now, e) if e is not None else None
         t.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
-                      "wheels_mmps": list(t.wheels)})
+                      "wheels_mmps": list(t.wheels), "steer_on": cue})
 
-    def remember_bearing(self, t, inp, e: int, d_px: int | None) -> None:
-        """The bearing to steer on blind should the next frames miss the marker, and how far:
-        at most ``blind_approach_mm``, and ``blind_keep_mm`` short of the board's distance by
-        the crosses' spacing. Near, a lost marker has left the view (the base turned, or it is
-        below the look): driving on blind went past the object (docs/cosim.md "Measured", T6)."""
+    def remember_bearing(self, t, inp, e: int, cue_mm: int | None) -> None:
+        """The bearing to steer on blind should the next frames miss the board or the
+        cylinder, and how far: at most ``blind_approach_mm``, and ``blind_keep_mm`` short of
+        the range of what was seen (the board by its crosses' spacing, the cylinder by its
+        ROI's height). Near, a lost marker has left the view (the base turned, or it is below
+        the look): driving on blind went past the object (docs/cosim.md "Measured", T6)."""
         t.blind = None
-        if d_px is None or d_px <= 0:
+        if cue_mm is None or cue_mm <= 0:
             return
-        board_mm = CROSS_SPACING_MM_Q4 * t.cam.f_px // (16 * d_px)
-        reach = min(t.p.blind_approach_mm, board_mm - t.p.blind_keep_mm)
+        reach = min(t.p.blind_approach_mm, cue_mm - t.p.blind_keep_mm)
         if reach > 0:
             t.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm, reach)
 
@@ -178,15 +242,18 @@ class Method002(Method):
                       "wheels_mmps": list(t.wheels), "blind": True})
         return True
 
-    def track_marker(self, t, now: int, det, e: int) -> None:
-        """Keep the marker in view: the waist faces it (theta5 = e) and d_alpha, the pitch of
-        its pixel row off the optical centre, is shared by eq. (10) of 000 (host.posture)."""
-        th5 = max(-800, min(800, e))
-        # no double cross (steered on the red cylinder): the pitch is kept
-        vm = det.vm_q4 if isinstance(det, DoubleCrossResult) else None
+    def track_marker(self, t, now: int, vm_q4: int | None, e: int) -> None:
+        """Keep what is steered on in view: the waist faces it (theta5 = e) and d_alpha, the
+        pitch of its pixel row ``vm_q4`` off the optical centre, is shared by eq. (10) of 000
+        (host.posture); no row: the pitch is kept."""
+        # toward e by at most WAIST_STEP_MRAD a frame: a bigger jump is still under way when
+        # the next frame is taken, whose bearing then reads the waist wrong (the yaw of a
+        # frame is the target the waist was sent, host/task/machine.py arm_at)
+        step = max(-WAIST_STEP_MRAD, min(WAIST_STEP_MRAD, e - t.arm[5]))
+        th5 = max(-800, min(800, t.arm[5] + step))
         d2 = d3 = d4 = 0
-        if vm is not None:
-            d_alpha = -atan2_mrad(vm - t.cam.v0_px * 16, t.cam.f_px * 16)
+        if vm_q4 is not None:
+            d_alpha = -atan2_mrad(vm_q4 - t.cam.v0_px * 16, t.cam.f_px * 16)
             cap = t.p.posture_step_mrad
             d_alpha = max(-cap, min(cap, d_alpha))
             d2, d3, d4 = distribute_alpha(d_alpha, *t.arm[2:5], t.posture_params(cap))
@@ -194,19 +261,98 @@ class Method002(Method):
 
     # --- ADJUST --------------------------------------------------------------------------------
     def adjust_done(self, t: Any, now: int, det: Any, dist_mm: int) -> bool:
-        """d_pixel > T_d (002 §1: slowly on toward the cylinder until then). T_d of 002 says
-        "in the workspace" for 002's camera placement; ours also needs the estimate within
-        reach, else it creeps on (the close approach of adjust.py)."""
-        d_px = _spacing_px("red_cylinder", det)
-        if d_px is not None and d_px > t.p.t_d_px and \
-                dist_mm <= t.p.grasp_r_mm + t.p.grasp_r_tol_mm:
+        """The stop rule of 002 §4: d_pixel > T_d, "the object is in the workspace". ADJUST's
+        look (``adjust_theta3_mrad``, ``adjust_theta4_mrad``) puts that ring spacing at the
+        level grasp's reach; a frame taken before the arm settled in it does not count."""
+        d_q4 = _spacing_q4(det)
+        if d_q4 is None or now - t.p.frame_latency_us < t.trust_from_us:
+            return False
+        if d_q4 > 16 * t.p.t_d_px:
             t.wheels = (0, 0)
-            t.go(now, "ROUGH_GRASP", f"d_pixel = {d_px} px > T_d = {t.p.t_d_px}")
+            t.go(now, "ROUGH_GRASP", f"stop rule d_pixel > T_d: d_pixel = {d_q4 / 16:.1f} px > "
+                 f"T_d = {t.p.t_d_px} px, red cylinder estimated {dist_mm} mm from the waist")
             return True
         return False
 
+    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
+        """The estimate's stop only backs the stop rule up (rings not measured): at the near
+        end of the level grasp's reach, past where d_pixel passes T_d; and only on an estimate
+        of this ADJUST's look (one from elsewhere, e.g. the grasp check's steep look, may be
+        15 mm short): until then the goal is ``ADJUST_STALE_BACK_MM`` nearer."""
+        goal = t.p.grasp_r_mm - 25
+        if t.obj_seen_us < t.trust_from_us + t.p.frame_latency_us:
+            goal -= ADJUST_STALE_BACK_MM
+        return goal, 5
+
     def adjust_vmax_mmps(self, p: Any) -> int:
         return p.slow_mmps
+
+    def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
+        """The red cylinder's axis point between its rings by 002 §4: D_OC = D f / d_pixel along
+        the ray of (u_c, v_c) whose vertical and horizontal angles are theta_v = alpha +
+        atan((v0 - v_c)/f) and theta_h = theta5 + atan((u_c - u0)/f), in the exact pinhole
+        form of host.ranging.locate_ring_pair (the rings' segment seen pitched, then the
+        radius from the red width to the axis), added to the camera point of eq. (3) (X_OR =
+        X_OC + X_CR ...). Other detectors, or a rolled wrist: the pinhole sighting."""
+        if name != "red_cylinder" or joints[1] != 0:
+            return super().object_position(t, name, det, joints)
+        det = registry.check("red_cylinder", det)
+        if det.d_pixel_q4 <= 0:
+            return None
+        fix = locate_ring_pair(det.d_pixel_q4, det.u_c_q4, det.v_c_q4, det.width_q4,
+                               joints[2] + joints[3] + joints[4], joints[5], t.cam.f_px,
+                               t.cam.u0_px, t.cam.v0_px)
+        cx, cy, cz = kinematics.fk_mm_q4(t.geom, *joints[2:6])
+        return cx + 16 * fix.x_mm, cy + 16 * fix.y_mm, cz + 16 * fix.z_mm
+
+    def failure_reason(self, t: Any, reason: str) -> str:
+        """A run that never saw the red cylinder (a board alone) says so whatever ended it."""
+        if t.graspable_seen or reason.startswith("no graspable object found"):
+            return reason
+        return f"no graspable object found (red_cylinder never seen): {reason}"
+
+    # --- the grasp check --------------------------------------------------------------------
+    def held_view_pose(self, t: Any) -> Any:
+        """The look of the grasp check (docs/task.md): the fingertip, and a held cylinder
+        with it, brought in along its bearing to one of ``HELD_VIEWS_002`` with the camera
+        pitched down; a cylinder left standing stays at its place, ~150 mm further out.
+        None when none is reachable."""
+        x, y, _ = t.gripper_point_q4()
+        rho = isqrt(x * x + y * y)
+        if rho <= 0:
+            return None
+        for r_mm, z_mm, pitch in HELD_VIEWS_002:
+            target = (x * r_mm * 16 // rho, y * r_mm * 16 // rho, (z_mm - t.p.h_shoulder_mm) * 16)
+            pose = kinematics.ik_pitch_mm_q4(t.geom, target, -pitch)
+            if isinstance(pose, kinematics.ArmPose):
+                return pose
+        return None
+
+    def held_in_view(self, t: Any, now: int, dets: dict) -> bool:
+        """This frame shows the cylinder held: the camera (the fingertip, eq. (3)) stands on
+        its axis, ``h`` above its top face (radius R), so the face covers the rays steeper than
+        atan(h / R) below the horizontal: with the camera pitched down by beta, a red region
+        from the row v0 + f tan(atan(h / R) - beta) (``HELD_ROW_TOL_PX``) down to the frame's
+        bottom, centred on the middle column (``HELD_COL_TOL_PX``). A cylinder standing where
+        the gripper missed it is seen elsewhere, and stays behind when the waist turns."""
+        roi = dets.get("red_roi")
+        t_cap = now - t.p.frame_latency_us
+        if not isinstance(roi, registry.row("red_roi").result_type()) or t_cap < t.trust_from_us:
+            return False
+        joints = t.arm_at(t_cap)
+        cz = kinematics.fk_mm_q4(t.geom, *joints[2:6])[2]
+        h_mm = cz // 16 + t.p.h_shoulder_mm - t.p.object_top_mm
+        d = atan2_mrad(h_mm, CYLINDER_RADIUS_MM) + joints[2] + joints[3] + joints[4]
+        if h_mm <= 0 or not -1300 < d < 1300:
+            return False
+        edge_q4 = t.cam.v0_px * 16 + t.cam.f_px * 16 * sin_q12(d) // cos_q12(d)
+        _, top, _, height = roi.roi
+        held = (top + height >= 2 * t.cam.v0_px - 2
+                and abs(16 * top - edge_q4) <= 16 * HELD_ROW_TOL_PX
+                and abs(roi.u_c_q4 - 16 * t.cam.u0_px) <= 16 * HELD_COL_TOL_PX)
+        t.note(grasp_check_view={"roi": list(roi.roi), "edge_row_px": edge_q4 // 16,
+                                 "held": held})
+        return held
 
     # --- the arm -------------------------------------------------------------------------------
     def look_height_mm(self, p: Any, top: bool) -> int:
@@ -239,6 +385,33 @@ class Method002(Method):
             return
         t.apply_pose(now, pose)
         t.phase = "lower"
+
+
+def _column_bearing(t: Any, u_q4: int, theta5_mrad: int) -> int:
+    """Bearing from the platform heading (right positive) of image column ``u_q4`` seen with
+    the waist at ``theta5_mrad`` (level roll: the pitch does not turn the image)."""
+    return theta5_mrad + atan2_mrad(u_q4 - t.cam.u0_px * 16, t.cam.f_px * 16)
+
+
+def _board_range_mm(t: Any, d_px: int) -> int:
+    """The board's distance by its crosses' spacing (pinhole)."""
+    return CROSS_SPACING_MM_Q4 * t.cam.f_px // (16 * d_px)
+
+
+def _roi_range_mm(t: Any, roi: Any) -> int | None:
+    """The red ROI's range by its height (host/vision/red_cylinder.py ``roi_sighting``), or
+    None (no ROI, or its box cut by the frame)."""
+    if roi is None or not isinstance(roi, registry.row("red_roi").result_type()):
+        return None
+    seen = registry.row("red_roi").sighting_fn()(roi, t.cam.f_px)
+    return None if seen is None else seen[2] // 16
+
+
+def _spacing_q4(det: Any) -> int | None:
+    """d_pixel in Q4 px of a red cylinder result; None for none or another type."""
+    if det is None or not isinstance(det, registry.row("red_cylinder").result_type()):
+        return None
+    return det.d_pixel_q4
 
 
 def _spacing_px(name: str, det: Any) -> int | None:

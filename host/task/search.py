@@ -40,8 +40,7 @@ class SearchStates:
             t.go(now, "APPROACH", f"object position given: {t.obj} mm")
 
     def do_SEARCH(self, t, now: int, inp, dets: dict) -> None:
-        name = t.rules.search_detector
-        det = dets.get(name)
+        name, det = t.rules.search_sighting(dets)
         if t.confirm_until is not None:
             t.wheels = (0, 0)
             # holding the pose of the frame that showed the object: see it again, settled
@@ -69,6 +68,10 @@ class SearchStates:
             t.note(search_seen=t.rules.found_why(t))
             return
         cmd = t.search.step(now)
+        why = t.rules.search_gives_up(t)
+        if why:
+            t.fail(now, why)
+            return
         t.set_arm(now, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad, cmd.theta5_mrad, 0)
         if cmd.drive_mm:
             self.wander_step(t, now, inp, cmd)

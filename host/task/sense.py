@@ -13,7 +13,8 @@ which is eqs. (1)-(2) of 000 with the paper's X_oc = (u0 - u) Y / f (X_c to the 
 Z_oc = (v0 - v) Y / f (Z_c up) written in OpenCV axes.  Depths: radial symbol Y = L f / d
 (L = 109 mm, 000 §III.A), dual "+" D_is = D_act f / d_pixel (D_act = 47.3 mm), red cylinder
 D_OC = D f / d_pixel (D = 14.5 mm, 002 §4); the distances D_is and D_OC are used as depths, as the
-papers do.  Integer only: Q12 axes, Q4 mm positions, Q4 px pixel coordinates.
+papers do (002's task places the red cylinder by host.ranging.locate_ring_pair instead, through
+``Method.object_position``).  Integer only: Q12 axes, Q4 mm positions, Q4 px pixel coordinates.
 """
 
 from __future__ import annotations
@@ -90,14 +91,30 @@ def object_in_platform(name: str, det: Any, geom: ArmGeometry, joints_mrad: tupl
 
 
 def plus_positions(det: Any, geom: ArmGeometry, joints_mrad: tuple[int, ...],
-                   cam: CameraModel) -> tuple[tuple[int, int, int], ...] | None:
-    """Both "+" centres of a dual "+" detection in the platform frame (Q4 mm), at its depth."""
+                   cam: CameraModel, top_q4: int | None = None
+                   ) -> tuple[tuple[int, int, int], ...] | None:
+    """Both "+" centres of a dual "+" detection in the platform frame (Q4 mm), at its depth;
+    with ``top_q4`` (the object top's platform z, Q4 mm) each where its pixel ray meets that
+    plane instead (a pair seen obliquely along the view is not shortened to one depth)."""
     det = registry.check("dual_plus", det)
     if object_in_platform("dual_plus", det, geom, joints_mrad, cam) is None:
         return None
     depth = det.dist_mm * 16
-    return (pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u1_q4, det.v1_q4, depth),
-            pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u2_q4, det.v2_q4, depth))
+    pts = (pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u1_q4, det.v1_q4, depth),
+           pixel_to_platform_mm_q4(geom, joints_mrad, cam, det.u2_q4, det.v2_q4, depth))
+    if top_q4 is None:
+        return pts
+    out = []
+    for (u, v), p in zip(((det.u1_q4, det.v1_q4), (det.u2_q4, det.v2_q4)), pts, strict=True):
+        far = pixel_to_platform_mm_q4(geom, joints_mrad, cam, u, v, 2 * depth)
+        dz = far[2] - p[2]  # z along the ray per ``depth``: linear in the depth
+        if dz >= 0:
+            return None  # the ray does not go down to the top
+        d = depth + (top_q4 - p[2]) * depth // dz
+        if not 0 < d <= 4 * depth:
+            return None
+        out.append(pixel_to_platform_mm_q4(geom, joints_mrad, cam, u, v, d))
+    return tuple(out)
 
 
 def bearing_mrad(det: Any, theta5_mrad: int, cam: CameraModel) -> int | None:

@@ -46,6 +46,7 @@ import numpy as np
 
 from mobigrasp.host import fixedpoint as fp
 from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.vision.dark_blobs import components_cost
 from mobigrasp.host.vision.grey import grey_cost, noise_sigma, to_grey
 
 T_H = 30  # 002 §5: binarisation threshold above g(p_c)
@@ -115,7 +116,38 @@ def _downsample(g: np.ndarray) -> np.ndarray:
 
 
 def _downsample_ops(out_pixels: int) -> OpCounts:
-    return OpCounts(pixels_read=4 * out_pixels, pixels_written=out_pixels, alu=5 * out_pixels)
+    # The counts of this module follow hostc/double_cross.c as ARM920T code (docs/budget.md):
+    # per output pixel four byte loads, the sum, a store and the loop branch (~19 cycles), the
+    # level read from SDRAM once.
+    n = int(out_pixels)
+    return OpCounts(pixels_read=4 * n, pixels_written=n, alu=7 * n, branches=n,
+                    bytes_streamed=4 * n)
+
+
+def _noise_ops(height: int, width: int) -> OpCounts:
+    """:func:`noise_sigma` as the C runs it: per difference two byte loads, the absolute value,
+    a histogram word loaded, incremented and stored and the loop branch (~13 cycles); the rows
+    read from SDRAM; the histogram cleared and walked."""
+    if width < 2:
+        return OpCounts()
+    rows = -(-int(height) // 4)
+    n = rows * (int(width) - 1)
+    return OpCounts(pixels_read=2 * n, alu=3 * n + 512, luts=n, pixels_written=n,
+                    branches=n + 256, bytes_streamed=rows * int(width))
+
+
+def _scan_ops(h: int, w: int) -> OpCounts:
+    """The fixed part of one level's :func:`_level_candidates` in C: the grid's cells cleared
+    (three words each), then per pixel at least 6 px from the border the ring max (eight byte
+    loads unrolled, seven compare-and-selects), the first test and the loop (~44 cycles); the
+    level read from SDRAM once."""
+    cells = ((h >> 2) + 1) * ((w >> 2) + 1)
+    ops = OpCounts(pixels_written=3 * cells, alu=2 * cells, branches=cells)
+    r = RING_R_PX
+    if h <= 2 * r or w <= 2 * r:
+        return ops
+    n = (h - 2 * r) * (w - 2 * r)
+    return ops + OpCounts(pixels_read=9 * n, alu=20 * n, branches=2 * n, bytes_streamed=h * w)
 
 
 _MASK = (1 << RING_N) - 1
@@ -148,12 +180,18 @@ def _templates() -> np.ndarray:
 
 
 def ring_pattern_ok(code: np.ndarray) -> np.ndarray:
+    """Step 3 of 002 on ring words (:func:`_ring_pattern`): the Ω_p2 mask."""
+    return _ring_pattern(code)[0]
+
+
+def _ring_pattern(code: np.ndarray) -> tuple[np.ndarray, int]:
     """Step 3 of 002 on ring words (bit i = template point i is light): the Ω_p2 mask.
 
     Exactly four dark runs (popcount(code & ~rot(code, 1)) == 4 light runs start), and the word
     is within ``RING_HAMMING`` points of an ideal ring of four equal spokes and four equal gaps
     (any spoke width from 1 to RING_N/4 - 2 points, any phase): "spokes of equal width and equal
-    gaps", tolerant to the anti-aliased spoke edges and to perspective.
+    gaps", tolerant to the anti-aliased spoke edges and to perspective. Also returns how many
+    words have four dark runs (the template search's count).
     """
     ok = np.bitwise_count(code & ~_rot(code, 1) & _MASK) == 4
     # the distance to the templates only where there are four dark runs (most candidates on
@@ -161,7 +199,7 @@ def ring_pattern_ok(code: np.ndarray) -> np.ndarray:
     four = code[ok]
     ok[ok] = np.bitwise_count(four[:, None] ^ _TEMPLATES[None, :]).min(axis=1, initial=RING_N) \
         <= RING_HAMMING
-    return ok
+    return ok, int(four.size)
 
 
 _TEMPLATES = _templates()
@@ -172,7 +210,7 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     """Ω_p1 and Ω_p2 of one pyramid level: returns (x, y) of Ω_p2 points and the op counts."""
     h, w = g.shape
     r = RING_R_PX
-    ops = _Tally()
+    ops = _Tally(vars(_scan_ops(h, w)))
     if h <= 2 * r or w <= 2 * r:
         return np.empty(0, np.int64), np.empty(0, np.int64), OpCounts(**ops)
     mx = cv2.dilate(g, _KERNEL8, borderType=cv2.BORDER_REPLICATE)
@@ -186,9 +224,6 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     cand[h - r:, :] = False
     cand[:, :r] = False
     cand[:, w - r:] = False
-    n = h * w
-    # dilate + erode share the 8 reads; 2x8 min/max, 3 compares, 2 branches per pixel
-    ops.add(pixels_read=9 * n, alu=22 * n, branches=2 * n)
     idx = np.flatnonzero(cand)
     k = int(idx.size)
     if k == 0:
@@ -199,17 +234,23 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     offs8 = np.array([dy * w + dx for dx, dy in _RING8], np.int64)
     light8 = flat[idx[:, None] + offs8[None, :]] >= (flat[idx] + th)[:, None]
     sym = np.count_nonzero(light8[:, :4] == light8[:, 4:], axis=1) >= 2
-    ops.add(pixels_read=9 * k, alu=20 * k, branches=2 * k)
+    # per Ω_p1 point in C: the eight ring values loaded again (offset table, byte, a copy kept)
+    # with the min, the other two tests, the four symmetry pairs (~146 cycles)
+    ops.add(luts=8 * k, pixels_read=8 * k, pixels_written=8 * k, alu=34 * k, branches=24 * k)
     idx = idx[sym]
     k = int(idx.size)
     offs = np.array([dy * w + dx for dx, dy in _RING], np.int64)
     samples = flat[idx[:, None] + offs[None, :]]
     centre = flat[idx].astype(np.int32)
     bits = samples >= (centre + th)[:, None]
-    ok = ring_pattern_ok(ring_codes(bits))
-    # per Ω_p1 point: n reads, compares and shifts into a word; 4 rotate/xor/popcount-by-LUT
-    ops.add(pixels_read=k * (RING_N + 1), alu=k * (2 * RING_N + 16), luts=k * 12,
-                    branches=k * 4)
+    ok, n_four = _ring_pattern(ring_codes(bits))
+    # per symmetric point: RING_N samples (offset table, byte, compare, bit, count and sums,
+    # loop: ~19 cycles each), the run count by rotate, and-not and a 32-bit popcount; per word
+    # with four dark runs the template search, up to 24 xor-popcount-compares of ~28 cycles
+    # (most such words match none, so all 24 are tried)
+    ops.add(luts=k * RING_N, pixels_read=k * RING_N, alu=k * (12 * RING_N + 68),
+            branches=k * RING_N)
+    ops.add(luts=24 * n_four, alu=563 * n_four, branches=24 * n_four)
     idx, samples, bits, centre = idx[ok], samples[ok], bits[ok], centre[ok]
     m = int(idx.size)
     # Contrast: gaps on average >= 2 T_h brighter than the spokes and than p_c (low-contrast
@@ -222,7 +263,8 @@ def _level_candidates(g: np.ndarray, th: int = T_H
     ok = s_light * n_dark - s_dark * n_light >= 2 * th * n_light * n_dark
     ok &= s_light - centre * n_light >= 2 * th * n_light
     ok &= s_dark >= (centre - th) * n_dark  # spokes as dark as the centre (same ink)
-    ops.add(alu=m * (2 * RING_N + 6), muls32=4 * m, branches=2 * m)
+    # the three tests, then the point added to its grid cell (count and two sums)
+    ops.add(alu=m * (2 * RING_N + 12), muls32=4 * m, branches=2 * m, pixels_written=3 * m)
     sel = idx[ok]
     return sel % w, sel // w, OpCounts(**ops)
 
@@ -255,9 +297,13 @@ def _group(xs_q4: np.ndarray, ys_q4: np.ndarray, level: int,
                      fp.div_round(int(sv[i]), int(cnt[i])))
               for i in range(1, nlab) if cnt[i] >= MIN_VOTES]
     groups.sort(key=lambda g: (-g.votes, g.u_q4, g.v_q4))
-    m = xs_q4.size
-    ops = OpCounts(alu=8 * m + 8 * gh * gw, pixels_read=2 * gh * gw,
-                   pixels_written=m + gh * gw, branches=gh * gw, divs=2 * len(groups))
+    # in C: the occupied cells as a mask, labelled by hostc/label.c, then each occupied cell's
+    # count and sums added to its label's (the 12-byte cells and the labels read from SDRAM);
+    # a rounded division per group mean
+    cells = gh * gw
+    ops = components_cost(cells) + OpCounts(
+        pixels_read=3 * cells, pixels_written=cells, alu=6 * cells, branches=3 * cells,
+        bytes_streamed=26 * cells, divs=2 * len(groups))
     return groups, ops
 
 
@@ -337,13 +383,8 @@ def min_ops(height: int, width: int) -> OpCounts:
     for _ in range(1, LEVELS):
         h, w = h // 2, w // 2
         ops += _downsample_ops(h * w)
-    rows = -(-int(height) // 4)  # noise_sigma reads every 4th row
-    if width >= 2:
-        n = rows * (int(width) - 1)
-        ops += OpCounts(pixels_read=2 * n, alu=3 * n + 512, branches=n // 4 + 256)
-    if h > 2 * RING_R_PX and w > 2 * RING_R_PX:  # _level_candidates on the coarsest level
-        ops += OpCounts(pixels_read=9 * h * w, alu=22 * h * w, branches=2 * h * w)
-    return ops
+    ops += _noise_ops(height, width)
+    return ops + _scan_ops(h, w)  # _level_candidates on the coarsest level
 
 
 def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
@@ -359,8 +400,8 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
     # 002's T_h = 30 holds for a clean sensor; on a noisy frame the threshold follows the
     # noise (4 sigma; halved per pyramid level by the 2x2 means) so that noise cannot draw
     # spokes: a very noisy frame gives "not found", never a phantom marker.
-    sigma, o = noise_sigma(grey)
-    ops.add(vars(o))
+    sigma, _ = noise_sigma(grey)
+    ops.add(vars(_noise_ops(*grey.shape)))
     pair = None
     # coarse to fine; a pair seen well on a coarse level (big crosses, close by) ends the
     # search, so the many spoke-edge candidates of big crosses on level 0 are never paid for

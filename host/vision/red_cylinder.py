@@ -337,11 +337,67 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[RedCylinderResult | None, OpCo
 
 
 RING_D_MM_Q4 = 232  # 14.5 mm in Q4: the spacing D of the two rings (002 §4)
+RED_CYL_HEIGHT_MM_Q4 = 1920  # 120 mm in Q4: the cylinder's height (docs/markers.md)
+MIN_ROI_AREA_HALF_PX = 12  # the colour ROI alone: a red region this big on the grid (48 px)
+
+
+@dataclass(frozen=True)
+class RedRoi:
+    """Step 1 of 002 §2.2 alone: the colour ROI (x, y, w, h in px) of the biggest stacked red
+    region, its centre (u_c, v_c) in Q4 px and its red area in px; ``touches_edge`` when the
+    box meets the top or bottom row of the frame (its height is then not the cylinder's)."""
+
+    u_c_q4: int
+    v_c_q4: int
+    roi: tuple[int, int, int, int]
+    area_px: int
+    touches_edge: bool
+
+
+def detect_red_roi(rgb: np.ndarray) -> tuple[RedRoi | None, OpCounts]:
+    """The red region of interest of 002 §2.2 step 1, without the rings of step 2: what the
+    red cylinder gives where its rings are not resolved (far) or not all in view (close); any
+    red region of that size is one, so it is a bearing to steer on, not evidence of the
+    cylinder. u_c is the middle of the columns common to the stacked red pieces."""
+    _check(rgb)
+    h, w = rgb.shape[:2]
+    mask = red_mask(rgb[::2, ::2])
+    ops = red_grid_ops(h, w)
+    cands, o = _candidates(mask)
+    ops += o + OpCounts(alu=12)
+    if not cands or cands[0][0] < MIN_ROI_AREA_HALF_PX:
+        return None, ops
+    area, gx0, gy0, gx1, gy1, gix0, gix1 = cands[0]
+    # grid cell k covers full-resolution pixels 2k, 2k + 1: a run [a, b) of cells spans
+    # [2a, 2b) px, its middle at a + b - 1/2 px
+    u_c = (gix0 + gix1) * 16 - 8
+    v_c = (gy0 + gy1) * 16 - 8
+    roi = (2 * gx0, 2 * gy0, 2 * (gx1 - gx0), 2 * (gy1 - gy0))
+    edge = gy0 == 0 or gy1 >= mask.shape[0]
+    return RedRoi(u_c, v_c, roi, 4 * area, edge), ops
+
+
+def roi_min_ops(height: int, width: int) -> OpCounts:
+    """What :func:`detect_red_roi` charges at least: the red grid and its labelling."""
+    return min_ops(height, width)
+
+
+def roi_sighting(res: RedRoi, f_px: int) -> tuple[int, int, int] | None:
+    """The ROI's centre (Q4 px) and a depth from its height, the cylinder's 120 mm seen
+    ``h`` px tall (pinhole, as D_OC of 002 §4 with the height for D); None when the box meets
+    the frame's top or bottom (the height is cut) or is too flat to be the standing
+    cylinder. Ours, not 002's: far away the rings are not resolved."""
+    _, _, w_px, h_px = res.roi
+    if res.touches_edge or h_px <= 0 or 2 * h_px < 3 * w_px // 2:
+        return None
+    return res.u_c_q4, res.v_c_q4, RED_CYL_HEIGHT_MM_Q4 * f_px // h_px
 
 
 def sighting(res: RedCylinderResult, f_px: int) -> tuple[int, int, int] | None:
-    """The cylinder's centre (Q4 px) and its depth D_OC = D f / d_pixel (Q4 mm, 002 §4): the
-    task's target (host/task/sense.py); the distance is used as the depth, as 002 does."""
+    """The cylinder's centre (Q4 px) and its depth D_OC = D f / d_pixel (Q4 mm, 002 §4), the
+    distance used as the depth: the generic pinhole target (host/task/sense.py). The 002 task
+    places the cylinder by host.ranging.locate_ring_pair instead, and uses this only with the
+    wrist rolled (host/task/method002.py ``object_position``)."""
     if res.d_pixel_q4 <= 0:
         return None
     return res.u_c_q4, res.v_c_q4, RING_D_MM_Q4 * f_px * 16 // res.d_pixel_q4

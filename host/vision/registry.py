@@ -87,6 +87,8 @@ DETECTORS: dict[str, DetectorRow] = {row.name: row for row in (
     DetectorRow("spoke", _V + "spoke", "detect_spoke", "Spoke", sighting=None),
     DetectorRow("red_cylinder", _V + "red_cylinder", "detect_red_cylinder", "RedCylinderResult",
                 uses_grey=False, ranging="mobigrasp.host.ranging:locate_ring_pair_ops"),
+    DetectorRow("red_roi", _V + "red_cylinder", "detect_red_roi", "RedRoi", uses_grey=False,
+                min_ops="roi_min_ops", sighting="roi_sighting"),
 )}
 
 

@@ -54,9 +54,9 @@ SRAM_LAYOUT: dict[str, int] = {
     'wheel_r_on': 1,
 }
 DATA_BSS_BYTES = 1085  # avr-size: .data + .bss
-STACK_MAIN_BYTES = 226  # deepest chain from main()
+STACK_MAIN_BYTES = 172  # deepest chain from main()
 STACK_ISR_BYTES = 58  # deepest handler (__vector_7)
-FLASH_BYTES_USED = 13062  # .text + .data
+FLASH_BYTES_USED = 12698  # .text + .data
 # -- end of generated block --
 
 

@@ -54,7 +54,8 @@ _PARSER = ("frames_ok", "crc_errors", "oversize", "unknown_type", "bad_version",
 # crc[64] (16 bit), result[64], newest (16 bit), then duplicates (AVR structs are unpadded)
 _PARSER_STATS_OFF = 73
 _DUP_DUPLICATES_OFF = 258
-_RX_HEAD_OFF, _RX_OVERRUNS_OFF = 128, 130
+_RX_HEAD_OFF, _RX_TAIL_OFF, _RX_OVERRUNS_OFF = 128, 129, 130
+_PARAM_TELEMETRY_HZ_ROW = 1  # params_values[I_TELEMETRY_HZ] (fw/params.h), int32 rows
 _FLAGS = ("drive_enabled", "handshake", "stopped", "limit_flag", "reset_flag",
           "watchdog_tripped")
 
@@ -87,6 +88,9 @@ class SimavrMcu:
             raise SimavrBuildError(f"{self.elf.path}: simavr could not load it")
         self._h = ffi.gc(h, lib.sh_free)
         lib.sh_set_loop_addr(self._h, self.elf.symbols.get("fw_loop", 0))
+        lib.sh_set_idle_addrs(self._h, rx + _RX_TAIL_OFF, self.elf.addr("tx_head"),
+                              self.elf.addr("tx_tail"), self.elf.addr("next_telemetry_us"),
+                              self.elf.addr("params_values") + 4 * _PARAM_TELEMETRY_HZ_ROW)
         bit = 8 if cfg.u2x else 16
         self.byte_cycles = 10 * bit * (cfg.ubrr + 1)
         lib.sh_set_byte_cycles(self._h, self.byte_cycles)
@@ -113,6 +117,7 @@ class SimavrMcu:
         self._tx_buf = ffi.new("uint8_t[4096]")
         self._tx_cyc = ffi.new("uint64_t[4096]")
         self._rd = ffi.new("uint8_t[64]")
+        self._idle_cycle = ffi.new("uint64_t *")
         self.events = 0
 
     # -- time ----------------------------------------------------------------------------------
@@ -222,7 +227,7 @@ class SimavrMcu:
 
     def run_until_booted(self, limit_us: int = 100_000, step_us: int = 100) -> int:
         """Advance in ``step_us`` steps until the firmware has enabled interrupts (its start-up,
-        about 15.6 ms after reset, is over: docs/firmware.md) and return that time in µs; a
+        about 2.2 ms after reset, is over: docs/firmware.md) and return that time in µs; a
         byte sent from then on is received. Raises if it has not by ``limit_us`` from now."""
         end = self.now_us + int(limit_us)
         while not lib.sh_booted(self._h):
@@ -232,7 +237,9 @@ class SimavrMcu:
         return self.now_us
 
     def reset(self) -> None:
-        """A power-on reset now: RAM painted again, the firmware starts from its reset vector."""
+        """A power-on reset now: ``.data``/``.bss`` zeroed and the RAM above painted again as on
+        a new core, the harness's simavr settings applied again (firmware/simavr/harness.c,
+        sh_reset), the firmware starts from its reset vector."""
         lib.sh_reset(self._h)
         for side in (0, 1):
             ab = _QUAD[self._enc_pins_pos[side] % 4]
@@ -280,8 +287,18 @@ class SimavrMcu:
         return out
 
     def tx_idle_through_us(self) -> int:
-        """Now: the firmware's telemetry schedule is not read off the core."""
-        return self._cycle // CYCLES_PER_US
+        """Simulated µs through which no byte the firmware sends can finish leaving TX0,
+        provided nothing more arrives on the RX line: now while bytes are on the line either
+        way, queued to send, or received and maybe not yet answered (the core has not slept
+        since); else the firmware's next telemetry time, read off the core
+        (firmware/simavr/harness.c, sh_tx_idle_through)."""
+        now = self._cycle // CYCLES_PER_US
+        if self._rx_line:
+            return now
+        through = self._idle_cycle
+        if not lib.sh_tx_idle_through(self._h, through):
+            return 1 << 62  # telemetry off: nothing is sent until something arrives
+        return max(now, through[0] // CYCLES_PER_US)
 
     @property
     def baud(self) -> float:
@@ -421,6 +438,8 @@ class SimavrMcu:
             "isr_max_cycles": {v: p.isr_max_cycles[v] for v in range(35) if p.isr_count[v]},
             "isr_count": {v: p.isr_count[v] for v in range(35) if p.isr_count[v]},
             "irq_off_max_cycles": p.irq_off_max_cycles,
+            "irq_off_max_from_pc": p.irq_off_max_from_pc,
+            "irq_off_max_to_pc": p.irq_off_max_to_pc,
             "rx_latency_max_cycles": p.rx_latency_max_cycles,
             "sleep_cycles": p.sleep_cycles,
             "total_cycles": total,

@@ -46,6 +46,8 @@ def profile_stats(raw: dict) -> dict[str, int]:
     total = int(raw["total_cycles"]) or 1
     out.update({
         "avr_irq_off_max_cycles": int(raw["irq_off_max_cycles"]),
+        "avr_irq_off_max_from_pc": int(raw["irq_off_max_from_pc"]),
+        "avr_irq_off_max_to_pc": int(raw["irq_off_max_to_pc"]),
         "avr_rx_latency_max_cycles": int(raw["rx_latency_max_cycles"]),
         "avr_loop_max_cycles": int(raw["loop_max_cycles"]),
         "avr_load_permille": 1000 - int(raw["sleep_cycles"]) * 1000 // total,
@@ -59,16 +61,23 @@ def profile_rows(stats: dict) -> list[dict]:
     """Rows (figure, worst, budget, unit, exceeded) from the ``avr_*`` counters of ``stats``."""
     rows = []
 
-    def row(name: str, worst: int, budget: int, unit: str) -> None:
+    def row(name: str, worst: int, budget: int, unit: str, where: str = "") -> None:
         rows.append({"figure": name, "worst": worst, "budget": budget, "unit": unit,
-                     "exceeded": worst > budget})
+                     "exceeded": worst > budget, "where": where})
 
     for key in sorted(k for k in stats if k.startswith("avr_isr_max_cycles_")):
         row(f"ISR {key.removeprefix('avr_isr_max_cycles_')}", stats[key], ISR_BUDGET_CYCLES,
             "cycles")
     if "avr_loop_max_cycles" in stats:
         row("main-loop pass", stats["avr_loop_max_cycles"], LOOP_BUDGET_CYCLES, "cycles")
-        row("interrupts off", stats["avr_irq_off_max_cycles"], IRQ_OFF_BUDGET_CYCLES, "cycles")
+        # where the longest stretch began and ended (flash byte addresses: avr-addr2line or
+        # avr-objdump -d of the ELF name the code; a vector's address when a handler began it)
+        span = ""
+        if "avr_irq_off_max_from_pc" in stats:
+            span = (f"pc 0x{stats['avr_irq_off_max_from_pc']:04x}"
+                    f"..0x{stats['avr_irq_off_max_to_pc']:04x}")
+        row("interrupts off", stats["avr_irq_off_max_cycles"], IRQ_OFF_BUDGET_CYCLES, "cycles",
+            span)
         row("UART RX latency", stats["avr_rx_latency_max_cycles"], RX_LATENCY_BUDGET_CYCLES,
             "cycles")
         row("AVR load", stats["avr_load_permille"], LOAD_BUDGET_PERMILLE, "permille")
@@ -82,7 +91,9 @@ def format_rows(rows: list[dict]) -> str:
     lines = [f"{'AVR (simavr)':<28}{'worst':>10}{'budget':>10}  unit"]
     for r in rows:
         mark = "  EXCEEDED" if r["exceeded"] else ""
-        lines.append(f"{r['figure']:<28}{r['worst']:>10}{r['budget']:>10}  {r['unit']}{mark}")
+        where = f"  ({r['where']})" if r.get("where") else ""
+        lines.append(f"{r['figure']:<28}{r['worst']:>10}{r['budget']:>10}  {r['unit']}{mark}"
+                     f"{where}")
     broken = [r["figure"] for r in rows if r["exceeded"]]
     lines.append("budgets exceeded: " + (", ".join(broken) if broken else "none"))
     return "\n".join(lines)

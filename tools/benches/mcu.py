@@ -84,7 +84,7 @@ def _measure(args, backend: str) -> dict:
     cmd_period_us = 1_000_000 // cmd_hz
     end_us = seconds * 1_000_000
     # The host's frames are encoded before the clock starts: the figure is the MCU's speed.
-    # The host starts talking at START_US: the ELF under simavr spends its first 15.6 ms in
+    # The host starts talking at START_US: the ELF under simavr spends its first 2.2 ms in
     # start-up before its RX interrupt is on (docs/firmware.md), the models none.
     seq = SequenceCounter()
     script: dict[int, list[bytes]] = {START_US: [

@@ -96,7 +96,10 @@ def _prepare(out: Path) -> None:
             d = out / sc["name"]
             if d.is_dir():
                 shutil.rmtree(d)
-        plan_corpus.clear(out)
+        try:
+            plan_corpus.clear(out)
+        except plan_corpus.PlanCorpusError as exc:
+            raise CorpusError(str(exc)) from exc
         index.unlink()
     out.mkdir(parents=True, exist_ok=True)
 

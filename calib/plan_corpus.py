@@ -197,9 +197,12 @@ def read_index(folder: Path) -> dict:
         raise PlanCorpusError(f"{path}: key 'calls' must be a list")
     for i, c in enumerate(data["calls"]):
         if not isinstance(c, dict) or c.get("planner") not in ("000", "001") \
-                or not isinstance(c.get("file"), str) or not isinstance(c.get("inputs"), dict):
+                or not isinstance(c.get("file"), str) or not isinstance(c.get("inputs"), dict) \
+                or not isinstance(c["inputs"].get("params"), dict) \
+                or not isinstance(c.get("result"), dict) \
+                or not isinstance(c["result"].get("n_samples"), int):
             raise PlanCorpusError(f"{path}: key 'calls[{i}]' needs 'file', 'planner' (000 or "
-                                  f"001) and 'inputs'")
+                                  f"001), 'inputs' with 'params' and 'result' with 'n_samples'")
         p = Path(c["file"])
         if p.is_absolute() or ".." in p.parts:
             raise PlanCorpusError(f"{path}: key 'calls[{i}].file' leaves the corpus folder")

@@ -1,4 +1,7 @@
 import json
+import os
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -64,3 +67,23 @@ def test_a_bad_planning_index_is_refused_naming_it(tmp_path, text):
     (tmp_path / pc.INDEX).write_bytes(text)
     with pytest.raises(pc.PlanCorpusError, match="planning.json"):
         pc.read_index(tmp_path)
+
+
+@pytest.mark.parametrize("broken", ["index", "arrays"])
+def test_calibrate_refuses_a_broken_planning_corpus_naming_the_file(tmp_path, broken):
+    (tmp_path / corpus.INDEX).write_text(json.dumps({"format": corpus.FORMAT, "scenarios": [],
+                                                      "frames": []}))
+    call = {"file": "planning/x/0000.npz", "scenario": "x", "planner": "000",
+            "inputs": {"params": {}}, "result": {"n_samples": 8}}
+    (tmp_path / pc.INDEX).write_text(
+        "{not json" if broken == "index"
+        else json.dumps({"format": pc.FORMAT, "calls": [call]}))
+    (tmp_path / "planning" / "x").mkdir(parents=True)
+    (tmp_path / "planning" / "x" / "0000.npz").write_bytes(b"not an npz")
+    r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
+                        str(tmp_path), "--quiet", "--json", str(tmp_path / "cal.json")],
+                       capture_output=True, text=True, timeout=600,
+                       env={**os.environ, "XDG_CACHE_HOME": str(tmp_path / "c")})
+    assert r.returncode == 2 and "Traceback" not in r.stderr
+    name = "planning.json" if broken == "index" else "0000.npz"
+    assert name in r.stderr and len(r.stderr.strip().splitlines()) == 1

@@ -27,7 +27,7 @@ def _table(result: dict) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.calib import calibrate, corpus
+    from mobigrasp.calib import calibrate, corpus, plan_corpus
     from mobigrasp.calib.arm import ToolchainError, progress_stderr
     from mobigrasp.tools.run_job import BadInput, shipped_scenarios
 
@@ -55,7 +55,7 @@ def _run(args: argparse.Namespace) -> int:
                               progress=progress_stderr)
             result = calibrate.calibrate(folder, per, args.line_fill_cycles,
                                          progress=None if args.quiet else progress_stderr)
-    except (corpus.CorpusError, ToolchainError, BadInput) as exc:
+    except (corpus.CorpusError, plan_corpus.PlanCorpusError, ToolchainError, BadInput) as exc:
         print(f"mobigrasp calibrate: {exc}", file=sys.stderr)
         return 2
     if args.corpus is None:

@@ -5,7 +5,9 @@ modelled time is the stage's ``OpCounts`` from the Python kernel (host/budget.py
 the emulated time is the same stage's C (hostc/) run as ARM920T code under calib/arm.py's
 timing model; the emulated result is checked against the Python one on every frame. Per stage:
 medians, p95, max, the ratio modelled / emulated, the instruction mix, CPI and the shares of
-line fills and interlocks.
+line fills and interlocks. The planning stages (:data:`PLANNING_STAGES`) run once per planner
+call of the corpus's planning part (calib/plan_corpus.py, calib/planning.py) instead of per
+frame.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobigrasp.calib import arm, corpus, timing
+from mobigrasp.calib import arm, corpus, plan_corpus, planning, timing
 from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
@@ -51,6 +53,8 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("red_cylinder", ("red_cylinder",)),
           # the 002 ring-pair ranging after each red cylinder found (registry's ranging column)
           StageDef("ranging", ("red_cylinder",)))
+# the Bezier candidate evaluation, per planner call of the planning corpus (not per frame)
+PLANNING_STAGES = ("bezier000", "bezier001")
 DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "double_cross", "red_cylinder",
                    "ranging")
 # (camera pitch, waist yaw) in mrad the ranging stage is given in turn: the corpus keeps the
@@ -103,6 +107,49 @@ def select_frames(index: dict, per_scenario: int | None) -> list[dict]:
     return out
 
 
+def select_plans(index: dict, per_scenario: int | None) -> list[dict]:
+    """Planner calls of the planning corpus: all, or ``per_scenario`` spread evenly over each
+    scenario's."""
+    by_sc: dict[str, list[dict]] = {}
+    for c in index["calls"]:
+        by_sc.setdefault(c["scenario"], []).append(c)
+    out = []
+    for calls in by_sc.values():
+        if per_scenario is None or len(calls) <= per_scenario:
+            out += calls
+        else:
+            step = len(calls) / per_scenario
+            out += [calls[int(k * step)] for k in range(per_scenario)]
+    return out
+
+
+def plan_stage(machine: arm.Planner, st) -> tuple[str, bool, int, arm.Timing]:
+    """One planner call's candidate evaluation on the ARM920T: (stage, the result equals the
+    Python's, modelled cycles, timing). 000: the candidate set and the best; 001: the coarse
+    pass and the fine check of eq. (18)'s pool (one timing: the fine check after the coarse
+    pass, the cache as it left it)."""
+    cp = st.coarse
+    if isinstance(st, planning.Setup000):
+        (best, reason, first, _), t = machine.bezier000(cp.ctrl, cp.n, cp.lim, st.k1, st.k2)
+        ok = best == st.best and [plan_corpus.REASONS[r] for r in reason] == cp.reasons \
+            and np.array_equal(first, cp.first)
+        return "bezier000", ok, cp.cycles, t
+    (_, reason, first, cost), t = machine.bezier001_coarse(
+        cp.ctrl, cp.n, cp.lim, cp.geo, cp.n_reg, st.per_sample_cycles, st.setup_cycles,
+        st.cut_cycles, st.k1, st.k2)
+    evaluated = np.array([r != "budget" for r in cp.reasons])
+    ok = [plan_corpus.REASONS[r] for r in reason] == cp.reasons \
+        and np.array_equal(first[evaluated], cp.first[evaluated])
+    order = planning.fine_order(cost, st.clearance, st.t_d_m, st.max_fine)
+    (got, tried), t_fine = machine.bezier001_fine(
+        cp.ctrl[order], st.n_fine, st.fine_lim, st.fine_geo, len(st.fine_geo) // 12,
+        st.per_sample_cycles, st.setup_cycles, st.worst_us, st.fine_budget_us)
+    chosen = None if got < 0 else (int(st.us[order[got]]), int(st.endpoints[order[got]]))
+    ok = ok and chosen == st.best
+    modelled = cp.cycles + planning.fine_cycles(st, cp.ctrl[order[:len(tried)]])
+    return "bezier001", ok, modelled, arm.Timing.sum(t, t_fine)
+
+
 def _pct(values: list[float], q: float) -> float:
     return float(np.percentile(np.asarray(values, float), q)) if values else 0.0
 
@@ -127,7 +174,8 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
     frames = select_frames(index, per_scenario)
     machine = arm.Arm9(arm.build(progress), line_fill_cycles)
     front = arm.FrontEnd(machine)
-    per: dict[str, dict[str, list]] = {s.name: {"mod": [], "emu": [], "t": []} for s in STAGES}
+    per: dict[str, dict[str, list]] = {name: {"mod": [], "emu": [], "t": []} for name in
+                                       (*(s.name for s in STAGES), *PLANNING_STAGES)}
     mismatch = dict.fromkeys(per, 0)
     shape = None
     calls_by_file: dict[str, list[corpus.Call]] = {}
@@ -195,6 +243,16 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                         DETECTORS["red_cylinder"].ranging_fn()().cycles(), t)
         if progress is not None:
             progress(f"calibrate: frame {k + 1}/{len(frames)} ({fr['file']})")
+    if (Path(folder) / plan_corpus.INDEX).is_file():
+        calls = select_plans(plan_corpus.read_index(folder), per_scenario)
+        plan_machine = arm.Planner(machine)
+        for k, call in enumerate(calls):
+            arrays = plan_corpus.load_arrays(folder, call)
+            if len(arrays["ctrl"]):
+                stage, ok, modelled, t = plan_stage(plan_machine, planning.setup(call, arrays))
+                add(stage, ok, modelled, t)
+            if progress is not None:
+                progress(f"calibrate: planner call {k + 1}/{len(calls)} ({call['file']})")
     us = 1e6 / FCLK_HZ
     stages = {}
     for name, d in per.items():

@@ -10,6 +10,9 @@ seed give the same corpus every time.
 ``corpus.json``: ``{"format": FORMAT, "scenarios": [{"name", "seed", "camera", "calls"}],
 "frames": [{"file", "scenario", "shape", "sha256", "calls": [{"detector", "args"}]}]}`` where a
 frame's ``calls`` are the distinct (detector, arguments) it was given to, in order of first call.
+
+Beside them, ``planning.json`` and ``planning/``: every Bezier planner call of the runs
+(calib/plan_corpus.py).
 """
 
 from __future__ import annotations
@@ -24,6 +27,8 @@ from typing import Any
 
 import cv2
 import numpy as np
+
+from mobigrasp.calib import plan_corpus
 
 FORMAT = "mobigrasp-corpus/1"
 INDEX = "corpus.json"
@@ -91,6 +96,7 @@ def _prepare(out: Path) -> None:
             d = out / sc["name"]
             if d.is_dir():
                 shutil.rmtree(d)
+        plan_corpus.clear(out)
         index.unlink()
     out.mkdir(parents=True, exist_ok=True)
 
@@ -104,17 +110,20 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
     out = Path(out)
     _prepare(out)
     index: dict = {"format": FORMAT, "scenarios": [], "frames": []}
+    planning: list = []
     for name in scenarios:
         rec = _Recorder(set(DETECTORS))
         cam = host_config(resolve_scenario(name)[1])["camera"]
         # the camera parameters the detectors were built with (host/app_factory.py rounds them)
         camera = {k: int(round(cam[k])) for k in ("f_px", "u0_px", "v0_px")}
-        with tempfile.TemporaryDirectory(prefix="mobigrasp-corpus-") as tmp:
+        with tempfile.TemporaryDirectory(prefix="mobigrasp-corpus-") as tmp, \
+                plan_corpus.tap_planners(plan_corpus.PlanRecorder()) as plans:
             summary, _ = execute(RunOptions(scenario=name, transport="inproc",
                                             out=Path(tmp) / "run", progress=False,
                                             plots=False, time_limit_s=time_limit_s,
                                             timer=rec))
         sc_name = summary["scenario"]
+        plan_corpus.write_run(out, sc_name, plans, planning)
         (out / sc_name).mkdir(exist_ok=True)
         for i, (sha, entry) in enumerate(rec.frames.items()):
             rel = f"{sc_name}/{i:05d}.png"
@@ -126,7 +135,9 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
                                    "calls": rec.calls, "frames": len(rec.frames),
                                    "trace_sha256": summary.get("trace_sha256")})
         if progress is not None:
-            progress(f"{sc_name}: {len(rec.frames)} frames, {rec.calls} detector calls")
+            progress(f"{sc_name}: {len(rec.frames)} frames, {rec.calls} detector calls, "
+                     f"{len(plans.calls)} planner calls")
+    plan_corpus.write_index(out, planning)
     (out / INDEX).write_text(json.dumps(index, indent=1, sort_keys=True) + "\n")
     return index
 

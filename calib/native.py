@@ -18,7 +18,8 @@ from mobigrasp import cbuild
 
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
-           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c")
+           "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c",
+           "bezier.c", "bezier000.c", "bezier001.c")
 
 
 def source_hash() -> str:
@@ -49,7 +50,8 @@ def lib():
     def configure(ffi) -> None:
         ffi.cdef(cbuild.header_cdef(("kernels.h",), [HOSTC]))
         ffi.set_source(name, '#include "kernels.h"', sources=[str(HOSTC / s) for s in SOURCES],
-                       include_dirs=[str(HOSTC)], extra_compile_args=["-std=c99", "-O2"])
+                       include_dirs=[str(HOSTC)],
+                       extra_compile_args=["-std=c99", "-O2", "-ffp-contract=off"])
 
     mod = cbuild.load_cached(
         name, target, lambda: cbuild.compile_module(name, target, configure, HostcBuildError),
@@ -233,6 +235,62 @@ def locate_ring_pair(d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int, alpha
                                int(alpha_mrad), int(theta5_mrad), int(f_px), int(u0_px),
                                int(v0_px), int(d_um), _ptr(ffi, out, "int32_t *"))
     return tuple(int(v) for v in out) if ok else None
+
+
+def dsqrt(x: float) -> float:
+    """The C ``mg_sqrt`` (hostc/dsqrt.h)."""
+    _, c = lib()
+    return float(c.mg_sqrt(float(x)))
+
+
+def _f64(a) -> np.ndarray:
+    return np.ascontiguousarray(a, np.float64)
+
+
+def bezier000(ctrl: np.ndarray, n: int, lim: np.ndarray, k1: float, k2: float
+              ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    """The C ``mg_bezier000``: (best index or -1, reasons, first violated samples, costs)."""
+    ffi, c = lib()
+    ctrl, lim = _f64(ctrl), _f64(lim)
+    m = ctrl.shape[0]
+    reason, first, cost = np.zeros(m, np.int32), np.zeros(m, np.int32), np.zeros(m)
+    best = c.mg_bezier000(_ptr(ffi, ctrl, "double *"), m, int(n), _ptr(ffi, lim, "double *"),
+                          float(k1), float(k2), _ptr(ffi, reason, "int32_t *"),
+                          _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "double *"))
+    return int(best), reason, first, cost
+
+
+def bezier001_coarse(ctrl: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,
+                     per_sample_cycles: int, setup_cycles: int, cut_cycles: int, k1: float,
+                     k2: float) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+    """The C ``mg_bezier001_coarse``: (curves taken, reasons, first violated samples, costs)."""
+    ffi, c = lib()
+    ctrl, lim, geo = _f64(ctrl), _f64(lim), _f64(geo)
+    m = ctrl.shape[0]
+    reason, first, cost = np.zeros(m, np.int32), np.zeros(m, np.int32), np.zeros(m)
+    taken = c.mg_bezier001_coarse(
+        _ptr(ffi, ctrl, "double *"), m, int(n), _ptr(ffi, lim, "double *"),
+        _ptr(ffi, geo, "double *"), int(n_reg), int(per_sample_cycles), int(setup_cycles),
+        int(cut_cycles), float(k1), float(k2), _ptr(ffi, reason, "int32_t *"),
+        _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "double *"))
+    return int(taken), reason, first, cost
+
+
+def bezier001_fine(ctrl: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,
+                   per_sample_cycles: int, setup_cycles: int, worst_us: int, budget_us: int
+                   ) -> tuple[int, np.ndarray]:
+    """The C ``mg_bezier001_fine``: (index of the first that passes or -1, reasons of those
+    tried)."""
+    ffi, c = lib()
+    ctrl, lim, geo = _f64(ctrl), _f64(lim), _f64(geo)
+    m = ctrl.shape[0]
+    reason, tried = np.zeros(max(1, m), np.int32), ffi.new("int32_t *")
+    got = c.mg_bezier001_fine(_ptr(ffi, ctrl, "double *"), m, int(n),
+                              _ptr(ffi, lim, "double *"), _ptr(ffi, geo, "double *"),
+                              int(n_reg), int(per_sample_cycles), int(setup_cycles),
+                              int(worst_us), int(budget_us), _ptr(ffi, reason, "int32_t *"),
+                              tried)
+    return int(got), reason[:int(tried[0])].copy()
 
 
 def double_cross_tuple(out) -> tuple:

@@ -11,7 +11,8 @@ S3C2440A user manual for FCLK/HCLK):
 - MUL/MLA with the 8-bit Booth multiplier: 2-5 cycles by operand size (we charge 3 for 16-bit
   operands, 5 for 32x32);
 - no divide instruction: the EABI helper ``__aeabi_idiv`` takes 20-140 cycles (we charge 45);
-- soft-float (no FPU, libgcc): add/mul ~60 cycles, divide/sqrt ~250 (50-300x an integer op);
+- soft-float (no FPU): the host's float work is float64 (as the Python computes it), libgcc's
+  double helpers: add/mul ~75 cycles, divide ~520, compare ~33 (measured, docs/budget.md);
 - 16 KB D-cache with 32-byte lines; a line fill from SDRAM costs ~40 FCLK cycles at
   FCLK:HCLK = 4:1 (no public figure: the stated parameter of the calibration, docs/budget.md),
   one per 32 bytes streamed (frame buffers are read sequentially).
@@ -34,8 +35,9 @@ CYCLES_MUL = 3  # MUL, 16-bit operands, Booth early termination (TRM 8.2)
 CYCLES_MUL32 = 5  # MUL/SMULL with full 32-bit operands
 CYCLES_DIV = 45  # __aeabi_idiv, typical for 32/16-bit quotients (20-140)
 CYCLES_LUT = 2  # LDR from a table in cache + interlock
-CYCLES_FLOAT_OP = 60  # soft-float add/mul (libgcc __addsf3/__mulsf3 class)
-CYCLES_FLOAT_DIV = 250  # soft-float divide or sqrt
+CYCLES_FLOAT_OP = 75  # double add/mul, libgcc __aeabi_dadd ~95, __aeabi_dmul ~57 (calibrated)
+CYCLES_FLOAT_DIV = 520  # double divide, libgcc __aeabi_ddiv 490-554 (calibrated)
+CYCLES_FLOAT_CMP = 33  # double compare (__aeabi_cdcmple & co.), charged as ALU cycles
 CYCLES_LINE_FILL = 40  # one 32-byte D-cache line from SDRAM (the calibration's parameter)
 CACHE_LINE_BYTES = 32
 

@@ -117,8 +117,13 @@ def _stop_estimate_mm(stop: dict) -> int:
     return int(stop["why"].split("estimated ")[1].split(" mm")[0])
 
 
-def test_board_turned_away_grasps_by_the_cylinder_and_stops_by_t_d(tmp_path):
-    summary, states = _run(tmp_path, AWAY, "away")
+@pytest.fixture(scope="module")
+def away_run(tmp_path_factory):
+    return _run(tmp_path_factory.mktemp("away"), AWAY, "away")
+
+
+def test_board_turned_away_grasps_by_the_cylinder_and_stops_by_t_d(away_run):
+    summary, states = away_run
     assert summary["success"] and summary["grasped"] and not summary["false_claim"], summary
     assert summary["collisions"] == 0
     assert "colour ROI" in states[0]["why"]  # found by the cylinder, not the board
@@ -128,13 +133,12 @@ def test_board_turned_away_grasps_by_the_cylinder_and_stops_by_t_d(tmp_path):
     assert 235 <= _stop_estimate_mm(stop) <= 265
 
 
-def test_a_smaller_t_d_stops_the_base_further_out(tmp_path):
-    text = AWAY + "\n[params]\nT_d = 38.0\n"
+def test_a_smaller_t_d_stops_the_base_further_out(tmp_path, away_run):
+    text = AWAY.replace("time_limit_s = 30.0", "time_limit_s = 8.0") + "\n[params]\nT_d = 38.0\n"
     _, states = _run(tmp_path, text, "away-td38")
     stop = _stop(states)
     assert "T_d = 38 px" in stop["why"]
-    _, base = _run(tmp_path, AWAY, "away-td45")
-    assert _stop_estimate_mm(stop) >= _stop_estimate_mm(_stop(base)) + 15
+    assert _stop_estimate_mm(stop) >= _stop_estimate_mm(_stop(away_run[1])) + 15
 
 
 @pytest.mark.slow

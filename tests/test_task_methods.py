@@ -151,3 +151,25 @@ def test_lower_v0_reaches_the_planner():
     follower, _, detail = task.rules.plan(task, 0, TaskInputs(sonar_mm=(2500,) * 5))
     assert task.replanner.params.v0 == 0.1 and follower is not None
     assert task.path_from == (0, 0)
+
+
+def test_001_looks_at_a_near_given_object_before_the_first_plan():
+    """P_i given 0.6 m off to the left and never seen: before the first plan the base turns
+    in place toward it with the camera in the search's look; once seen (or far), it plans."""
+    from mobigrasp.host.search import SearchParams
+    from mobigrasp.host.task import Task, TaskInputs
+
+    task = Task("001", params={"object_xy_mm": (100, 600)})
+    task.state, task.entered_us, task.obj = "APPROACH", 0, (100, 600)
+    inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0, sonar_mm=(2500,) * 5)
+    assert task.rules.hold_before_plan(task, 100_000, inp)
+    assert task.wheels[1] > 0 > task.wheels[0]  # counter-clockwise, toward the left
+    sp = SearchParams(**task.p.search)
+    assert task.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
+    assert task.arm[5] < 0  # the waist turned toward it (left of the heading)
+    task.object_sighted = True
+    task.rules.hold_before_plan(task, 300_000, inp)
+    assert task.rules.look_first(task, 300_000, inp) is False
+    far = Task("001", params={"object_xy_mm": (3000, 0)})
+    far.state, far.entered_us, far.obj = "APPROACH", 0, (3000, 0)
+    assert far.rules.look_first(far, 100_000, inp) is False

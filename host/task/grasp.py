@@ -13,7 +13,8 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   gripper vertical it turns the image like the waist does, but does not swing the gripper
   sideways by r * d_theta5 (20 mm at r = 140 mm for 0.15 rad, more than the grasp tolerance);
   ``precise_align_ch`` = 5 turns the waist as the brief reads 000.  No spoke for
-  ``spoke_wait_us`` (or too many steps): go down on the rough position and say so in the trace.
+  ``spoke_wait_us``: the method may search for the object instead (``Method.grasp_lost``);
+  else, or after too many steps, go down on the rough position (the trace's ``grasp_close``).
   002: move in from the pre-grasp point to the axis and close; the pitch is chosen again there
   (level first), since with theta2 <= 0 the pre-grasp point may be reachable only tilted.
 - LIFT: raise by ``lift_mm`` with the same pitch, then the grasp check (ours: the papers end at

@@ -21,7 +21,8 @@ from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
-from mobigrasp.host.task.drive import path_follower, state_m, wrap_mrad
+from mobigrasp.host.search import SearchParams
+from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
 from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method000 import Method000
 
@@ -34,6 +35,8 @@ ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
 TURN_TOL_MRAD = 60  # the detour turns to within this of its heading before it drives
 DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
 DETOUR_DIAG_MM = 255
+LOOK_FIRST_US = 4_000_000  # P_i given, object near and unseen: look this long first
+LOOK_FIRST_MM = (350, 1200)  # ... when it is this far from the waist
 GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
 BACK_OFF_MM = 200  # fallback: back this far along the way the base came
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
@@ -226,6 +229,30 @@ class Method001(Method000):
             t.path_from = (inp.x_mm, inp.y_mm)  # a fallback backs off toward here
         return follower, ops, detail
 
+    def look_first(self, t: Any, now: int, inp: Any) -> bool:
+        """Ours: P_i given (001 §II) and the object near, unseen: turn in place to face it with
+        the camera on it for up to ``LOOK_FIRST_US`` before the first plan. The radial symbol is
+        seen 0.45-1.0 m ahead (docs/markers.md); the curve to the grasp circle of an object
+        this near ends inside that range, and the arm keeps its folded start posture while the
+        base first turns, so the camera never saw the object and the grasp on P_i and odometry
+        (3 % wheel slip) closed 40 mm beside it (docs/task.md). True while looking."""
+        if t.object_sighted or now - t.entered_us >= LOOK_FIRST_US:
+            return False
+        x, y = t.obj_platform(inp)
+        if not LOOK_FIRST_MM[0] * 16 <= isqrt(x * x + y * y) <= LOOK_FIRST_MM[1] * 16:
+            return False
+        bearing = atan2_mrad(x, y + t.p.mount_forward_mm * 16)  # seen from the axle
+        # the search's look (host.search), the camera high and back: the posture adjustment
+        # reaches the long arm's camera out to 0.2 m of an object this near, too near to see it
+        sp = SearchParams(**t.p.search)
+        t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
+                  atan2_mrad(x, y))
+        if abs(bearing) <= t.p.bearing_tol_mrad:
+            t.wheels = (0, 0)
+        else:
+            t.wheels = turn_in_place(-1 if bearing > 0 else 1, t.p.turn_wheel_mmps)
+        return True
+
     def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
         """Not while the base turned faster than SIGHTING_MAX_TURN_MRAD_S over the last frame
         latency. Ours: the frame's capture time is known only as ``frame_latency_us`` ago (the
@@ -268,6 +295,8 @@ class Method001(Method000):
     def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
         """The first plan waits for one full sonar sweep; a detour is driven to its end; a
         new plan is made from standstill."""
+        if t.replanner is None and self.look_first(t, now, inp):
+            return True
         if t.replanner is None and now - t.entered_us < t.p.sonar_sweep_us:
             t.wheels = (0, 0)
             return True

@@ -1,0 +1,188 @@
+"""The Bezier candidate evaluation of a recorded planner call, as the C kernels take it.
+
+:func:`setup` turns one call of the planning corpus (calib/plan_corpus.py) into the inputs of
+hostc/bezier000.c or hostc/bezier001.c (the candidates' control points, the limits, the grasp
+circle and the infeasible regions' constants, the modelled-cycle budgets of the anytime cut
+and of the fine check) and the Python's own answer for it: each candidate's reason and first
+violated sample (host/planning/candidates.py evaluate_batch) and the modelled cycles of the
+evaluation (batch_ops). The budgets follow host/planning/bezier001.py plan_001 line for line
+(its set-up, region, end-point and clearance counts before the coarse and the fine pass).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from mobigrasp.calib import plan_corpus
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.planning import bezier001 as b001
+from mobigrasp.host.planning.bezier import sample_ops
+from mobigrasp.host.planning.candidates import Limits, batch_ops, evaluate_batch
+from mobigrasp.host.planning.grasp_circle import inside_circle
+from mobigrasp.host.planning.sonar_regions import any_region_contains, infeasible_regions
+
+CIRCLE_MARGIN_M = 1e-3  # bezier001's grasp-circle margin (inside_circle(..., margin_m=1e-3))
+
+
+def limits_words(lim: Limits) -> np.ndarray:
+    """hostc/bezier.h ``lim``: v_max, a_max, 1 / R_min (-1: none), accel_is_normal."""
+    kmax = -1.0 if lim.r_min is None else 1.0 / lim.r_min
+    return np.array([lim.v_max, lim.a_max, kmax, 1.0 if lim.accel_is_normal else 0.0])
+
+
+def geo_words(obj, l_e: float, regions) -> np.ndarray:
+    """hostc/bezier.h ``geo``: the grasp circle and each region's constants, computed as
+    host/planning/sonar_regions.py any_region_contains computes them."""
+    out = [float(obj[0]), float(obj[1]), (l_e - CIRCLE_MARGIN_M) ** 2]
+    if regions:
+        mid = np.array([0.5 * (r.lo_rad + r.hi_rad) for r in regions])
+        c, s = np.cos(mid), np.sin(mid)
+        for k, r in enumerate(regions):
+            qx, qy = r.apex
+            bound = r.bound_half_rad if r.arc_bound else math.pi
+            cb = math.cos(bound)
+            out += [qx, qy, float(c[k]), float(s[k]), math.tan(r.half_angle), r.ox, r.oy,
+                    max(r.eta_m - r.r_r_m, 0.0) ** 2, (r.eta_m + r.r_r_m) ** 2,
+                    1.0 if bound < math.pi else 0.0, 1.0 if cb >= 0 else 0.0, cb * cb]
+    return np.array(out, np.float64)
+
+
+def geometric_checks(obj, l_e: float, regions):
+    """The (reason, mask) checks of 001's geometry (bezier001's grasp circle and eq. (16))."""
+    def checks(s):
+        inside = inside_circle(s.x, s.y, obj, l_e, margin_m=CIRCLE_MARGIN_M)
+        blocked = any_region_contains(regions, s.x, s.y)
+        blocked[..., 0] = False
+        return [("grasp_circle", inside), ("obstacle", blocked)]
+    return checks
+
+
+@dataclass
+class Pass:
+    """One pass of candidates: the C's inputs and the Python's answer."""
+
+    ctrl: np.ndarray  # (N, 4, 3)
+    n: int
+    lim: np.ndarray
+    geo: np.ndarray | None
+    n_reg: int
+    reasons: list[str]  # Python's
+    first: np.ndarray  # Python's first violated sample per candidate
+    cycles: int  # modelled cycles of the candidates the pass evaluates
+
+
+@dataclass
+class Setup000:
+    """000: one pass; the best index of the Python's plan (-1: none)."""
+
+    coarse: Pass
+    k1: float
+    k2: float
+    best: int
+
+
+@dataclass
+class Setup001:
+    """001: the coarse pass with its cut and the fine pass's budget."""
+
+    coarse: Pass
+    k1: float
+    k2: float
+    per_sample_cycles: int
+    setup_cycles: int
+    cut_cycles: int
+    fine_lim: np.ndarray
+    fine_geo: np.ndarray
+    n_fine: int
+    max_fine: int
+    t_d_m: float
+    worst_us: int
+    fine_budget_us: int
+    clearance: np.ndarray  # D_m of each candidate as the Python found it (inf: no regions)
+    best: tuple[int, int] | None  # (u, k_e) of the Python's plan
+    us: np.ndarray
+    endpoints: np.ndarray
+    fine_limits: Limits
+    fine_checks: object  # the (reason, mask) checks of the fine pass (true regions)
+
+
+def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
+    """The C inputs and the Python's answer for one recorded planner call."""
+    params = plan_corpus.params_of(call)
+    res = call["result"]
+    ctrl = np.asarray(arrays["ctrl"], np.float64)
+    n = int(res["n_samples"])
+    if call["planner"] == "000":
+        lim = Limits(params.v_max, params.a_max, params.r_min, accel_is_normal=False)
+        _, reasons, first = evaluate_batch(ctrl, n, lim) if len(ctrl) else (None, [], [])
+        first = np.asarray(first, np.int64)
+        cycles = batch_ops(first, n).cycles() if len(ctrl) else 0
+        best = -1
+        if res["best"] is not None:
+            best = int(np.nonzero(arrays["us"] == res["best"]["u"])[0][0])
+        return Setup000(Pass(ctrl, n, limits_words(lim), None, 0, reasons, first, cycles),
+                        params.k1, params.k2, best)
+    inp = call["inputs"]
+    p0 = np.asarray(inp["start_xy_m"], np.float64)
+    obj = np.asarray(inp["target_xy_m"], np.float64)
+    l_e = float(res["extra"]["l_e_m"])
+    regions = plan_corpus.rows_to_regions(arrays["regions"])
+    known = len(inp.get("known_regions") or [])
+    scan = infeasible_regions(params.sonar, p0, inp["heading_rad"], inp["sonar_mm"])
+    ops = b001.SETUP_OPS + b001.REGION_OPS.scaled(len(scan.regions) + known)
+    ops = ops + OpCounts(float_ops=8 * params.n_e, luts=2 * params.n_e)
+    kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 2}
+    per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
+    setup_cycles = sample_ops(0, **kw).cycles()
+    cut_cycles = (params.budget_us - ops.time_us()) * 400
+    dist = float(np.hypot(*(obj - p0)))
+    inflate = max(params.coarse_inflate_m, 0.25 * dist / (n - 1))
+    grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
+    coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
+                    None, accel_is_normal=True)
+    _, reasons, first = evaluate_batch(ctrl, n, coarse, geometric_checks(obj, l_e, grown))
+    row_cycles = np.minimum(first + 1, n) * per_sample + setup_cycles
+    cut = np.cumsum(row_cycles) > cut_cycles
+    reasons = ["budget" if c else r for r, c in zip(reasons, cut, strict=True)]
+    ops = ops + batch_ops(first[~cut], n, **kw)
+    n_ok = sum(1 for r in reasons if r == "ok")
+    if regions and n_ok:
+        each = OpCounts(float_ops=b001.CLEARANCE_FLOPS * n * len(regions),
+                        float_divs=b001.CLEARANCE_DIVS * n * len(regions))
+        room = params.budget_us + 10_000 - ops.time_us()
+        fit = max(0, min(n_ok, room // max(1, each.time_us())))
+        ops = ops + each.scaled(int(fit))
+    lim = Limits(params.v_max, params.a_max, None, accel_is_normal=True)
+    best = None if res["best"] is None else (res["best"]["u"], res["best"]["endpoint"])
+    return Setup001(
+        Pass(ctrl, n, limits_words(coarse), geo_words(obj, l_e, grown), len(grown), reasons,
+             first, int(batch_ops(first[~cut], n, **kw).cycles())),
+        params.k1, params.k2, per_sample, setup_cycles, cut_cycles, limits_words(lim),
+        geo_words(obj, l_e, regions), params.n_fine, params.max_fine, params.t_d_m,
+        sample_ops(params.n_fine, **kw).time_us(), params.total_budget_us - ops.time_us(),
+        np.asarray(arrays["clearance"], np.float64), best, arrays["us"], arrays["endpoints"],
+        lim, geometric_checks(obj, l_e, regions))
+
+
+def fine_order(cost: np.ndarray, clearance: np.ndarray, t_d_m: float, max_fine: int
+               ) -> np.ndarray:
+    """Eq. (18)'s pool in cost order, as plan_001 takes it to the fine check."""
+    feasible = np.nonzero(np.isfinite(cost))[0]
+    wide = feasible[clearance[feasible] > t_d_m]
+    pool = wide if wide.size else feasible
+    return pool[np.argsort(cost[pool], kind="stable")][:max_fine]
+
+
+
+def fine_cycles(st: Setup001, ctrl: np.ndarray) -> int:
+    """Modelled cycles of the fine checks of these curves, as plan_001 charges them: each
+    rejected at its first violated sample (batch_ops at n_fine samples)."""
+    total = 0
+    for row in np.asarray(ctrl).reshape(-1, 4, 3):
+        _, _, first = evaluate_batch(row[None], st.n_fine, st.fine_limits, st.fine_checks)
+        total += int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
+            + st.setup_cycles
+    return total

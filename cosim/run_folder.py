@@ -12,6 +12,7 @@ import hashlib
 import json
 import math
 import re
+from collections.abc import Iterator
 from concurrent.futures import Future, ThreadPoolExecutor
 from pathlib import Path
 from typing import Any
@@ -75,16 +76,21 @@ class TraceWriter:
             self._fh.close()
 
 
+def json_lines(path: Path) -> Iterator[tuple[int, Any]]:
+    """(line number, value) of each line of a JSON-lines file (a trace, a campaign's rows),
+    up to a torn last line, which a run or campaign stopped while writing it leaves."""
+    with Path(path).open(encoding="utf-8", errors="replace") as fh:
+        for n, line in enumerate(fh, 1):
+            try:
+                value = json.loads(line)
+            except json.JSONDecodeError:
+                return
+            yield n, value
+
+
 def read_trace(path: Path) -> list[dict]:
     """All events of a trace file (a torn last line from a crash is skipped)."""
-    events = []
-    with Path(path).open(encoding="utf-8") as fh:
-        for line in fh:
-            try:
-                events.append(json.loads(line))
-            except json.JSONDecodeError:
-                break
-    return events
+    return [event for _, event in json_lines(path)]
 
 
 def write_summary(path: Path, summary: dict) -> None:

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
+from mobigrasp.cosim.run_folder import json_lines
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
 from mobigrasp.tools.progress import Progress
@@ -221,19 +222,14 @@ def load_rows(path: Path, jobs: list[dict]) -> list[dict]:
     rows: dict[int, dict] = {}
     if not path.is_file():
         return []
-    with path.open(encoding="utf-8", errors="replace") as fh:
-        for n, line in enumerate(fh, 1):
-            try:
-                row = json.loads(line)
-            except json.JSONDecodeError:
-                break  # the line being written when the campaign stopped
-            job = by_seed.get(row.get("seed")) if isinstance(row, dict) else None
-            if job is None or row.get("method") != job["method"] \
-                    or row.get("faults") != job["faults"]:
-                raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
-                                 f"{row.get('seed') if isinstance(row, dict) else '?'}, method "
-                                 f"or faults differ): use another --out or run without --resume")
-            rows[row["seed"]] = row
+    for n, row in json_lines(path):
+        job = by_seed.get(row.get("seed")) if isinstance(row, dict) else None
+        if job is None or row.get("method") != job["method"] \
+                or row.get("faults") != job["faults"]:
+            raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
+                             f"{row.get('seed') if isinstance(row, dict) else '?'}, method "
+                             f"or faults differ): use another --out or run without --resume")
+        rows[row["seed"]] = row
     return [rows[s] for s in sorted(rows)]
 
 

@@ -26,6 +26,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
+from mobigrasp.cosim.run_folder import json_lines
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
 from mobigrasp.tools.random_scenarios import GENERATORS, KIND
 
@@ -224,20 +225,15 @@ def load_rows(path: Path, cfg: LoopCampaign) -> list[dict]:
     keys = {m: cfg.key(m) for m in cfg.methods}
     seeds = range(cfg.seed_base, cfg.seed_base + cfg.runs)
     rows: dict[tuple[str, int], dict] = {}
-    with path.open(encoding="utf-8", errors="replace") as fh:
-        for n, line in enumerate(fh, 1):
-            try:
-                row = json.loads(line)
-            except json.JSONDecodeError:
-                break  # the line being written when the campaign stopped
-            key = keys.get(row.get("method")) if isinstance(row, dict) else None
-            if key is None or any(row.get(k) != v for k, v in key.items()) \
-                    or row.get("seed") not in seeds:
-                raise CampaignInputError(
-                    f"{path}: line {n} is a row of another campaign (method, seed, generator, "
-                    f"transport or time limit differ): use another --json or the same options")
-            if row.get("status") != "raised":
-                rows[row["method"], row["seed"]] = row
+    for n, row in json_lines(path):
+        key = keys.get(row.get("method")) if isinstance(row, dict) else None
+        if key is None or any(row.get(k) != v for k, v in key.items()) \
+                or row.get("seed") not in seeds:
+            raise CampaignInputError(
+                f"{path}: line {n} is a row of another campaign (method, seed, generator, "
+                f"transport or time limit differ): use another --json or the same options")
+        if row.get("status") != "raised":
+            rows[row["method"], row["seed"]] = row
     return list(rows.values())
 
 

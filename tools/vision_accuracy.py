@@ -95,6 +95,19 @@ def _inside(uv: np.ndarray, intr: Intrinsics, margin: float) -> bool:
                 and uv[:, 1].max() <= intr.height - 1 - margin)
 
 
+def _view_002(rng: np.random.Generator, t, c, R, yaw: float, pitch: float, centre,
+              clutter: int, **extra_truth) -> View:
+    """A 002 view of marker ``t`` from camera ``c``, ``R``: a random waist angle for the
+    platform's truth (with ``extra_truth``) and clutter around the marker."""
+    theta5 = float(rng.uniform(-0.8, 0.8))
+    truth = _platform_truth(c, yaw, theta5, centre)
+    truth.update(extra_truth)
+    truth["pitch_rad"] = pitch
+    scene = Scene(t, clutter=_clutter(rng, centre, 0.3, clutter, c[:2]),
+                  seed=int(rng.integers(1 << 16)))
+    return View(scene, c, R, INTR_002, truth)
+
+
 def _platform_truth(c: np.ndarray, yaw_cam: float, theta5: float, p: np.ndarray) -> dict:
     """p relative to the camera in platform axes (X right, Y forward, Z up), mm and degrees.
     The platform heading is the camera yaw plus θ5 (θ5 > 0 turns the camera right)."""
@@ -141,13 +154,8 @@ def view_double_cross(rng: np.random.Generator, clutter: int = 4) -> View:
             rng, "double-cross", "board_centre", (0.25, 2.0), (0.15, 0.45), 0.6, 140, 100)
         if _inside(project(_cross_rim(kp, t), c, R, INTR_002), INTR_002, 2):
             break
-    theta5 = float(rng.uniform(-0.8, 0.8))
-    truth = _platform_truth(c, yaw, theta5, centre)
-    truth["cross_uv"] = project(np.array([kp["cross_1"], kp["cross_2"]]), c, R, INTR_002)
-    truth["pitch_rad"] = pitch
-    scene = Scene(t, clutter=_clutter(rng, centre, 0.3, clutter, c[:2]),
-                  seed=int(rng.integers(1 << 16)))
-    return View(scene, c, R, INTR_002, truth)
+    cross_uv = project(np.array([kp["cross_1"], kp["cross_2"]]), c, R, INTR_002)
+    return _view_002(rng, t, c, R, yaw, pitch, centre, clutter, cross_uv=cross_uv)
 
 
 def view_red_cylinder(rng: np.random.Generator, clutter: int = 4) -> View:
@@ -165,12 +173,7 @@ def view_red_cylinder(rng: np.random.Generator, clutter: int = 4) -> View:
         if _inside(project(pts, c, R, INTR_002), INTR_002, 3) and abs(pitch) < 0.6 \
                 and abs(elevation) <= 0.35:
             break
-    theta5 = float(rng.uniform(-0.8, 0.8))
-    truth = _platform_truth(c, yaw, theta5, centre)
-    truth["pitch_rad"] = pitch
-    scene = Scene(t, clutter=_clutter(rng, centre, 0.3, clutter, c[:2]),
-                  seed=int(rng.integers(1 << 16)))
-    return View(scene, c, R, INTR_002, truth)
+    return _view_002(rng, t, c, R, yaw, pitch, centre, clutter)
 
 
 def view_red_roi(rng: np.random.Generator, clutter: int = 0) -> View:
@@ -185,12 +188,7 @@ def view_red_roi(rng: np.random.Generator, clutter: int = 0) -> View:
                         for z in (0.0, mk.RED_CYL_HEIGHT_M)])
         if _inside(project(pts, c, R, INTR_002), INTR_002, 3):
             break
-    theta5 = float(rng.uniform(-0.8, 0.8))
-    truth = _platform_truth(c, yaw, theta5, centre)
-    truth["pitch_rad"] = pitch
-    scene = Scene(t, clutter=_clutter(rng, centre, 0.3, clutter, c[:2]),
-                  seed=int(rng.integers(1 << 16)))
-    return View(scene, c, R, INTR_002, truth)
+    return _view_002(rng, t, c, R, yaw, pitch, centre, clutter)
 
 
 def view_empty_002(rng: np.random.Generator, clutter: int = 10) -> View:

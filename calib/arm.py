@@ -279,6 +279,16 @@ class FrontEnd:
         res = struct.unpack("<10i", a.read(base + self.OUT, 40)) if found else None
         return res, t
 
+    def red_roi(self, rgb: np.ndarray) -> tuple[tuple[int, ...] | None, Timing]:
+        """The 002 colour ROI alone on a frame that has just arrived (cold D-cache)."""
+        a, base = self.arm, DATA_BASE
+        h, w = rgb.shape[:2]
+        a.write(self.RGB, np.ascontiguousarray(rgb).tobytes())
+        found, t = a.call("mg_red_roi", base + self.RGB, w, h, base + self.SCRATCH,
+                          base + self.OUT)
+        res = struct.unpack("<8i", a.read(base + self.OUT, 32)) if found else None
+        return res, t
+
     def load(self, grey: np.ndarray, stats: np.ndarray) -> None:
         """Put a front end's grey image and stats in memory (instead of :meth:`run`)."""
         self._shape = grey.shape

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from mobigrasp.calib import arm, corpus, plan_corpus, planning, timing
+from mobigrasp.calib.native import red_roi_tuple
 from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
@@ -51,12 +52,14 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("double_cross", ("double_cross",)),
           # the 002 detector works on the RGB frame itself: the whole detector
           StageDef("red_cylinder", ("red_cylinder",)),
+          # its colour ROI alone (steering without the rings): the whole detector
+          StageDef("red_roi", ("red_roi",)),
           # the 002 ring-pair ranging after each red cylinder found (registry's ranging column)
           StageDef("ranging", ("red_cylinder",)))
 # the Bezier candidate evaluation, per planner call of the planning corpus (not per frame)
 PLANNING_STAGES = ("bezier000", "bezier001")
 DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "double_cross", "red_cylinder",
-                   "ranging")
+                   "red_roi", "ranging")
 # (camera pitch, waist yaw) in mrad the ranging stage is given in turn: the corpus keeps the
 # frames, not the joint angles; the ranging's cost depends on them only through its divisions'
 # and roots' operand lengths
@@ -226,6 +229,11 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.double_cross(int(q[5]), int(q[2] + q[3] + q[4]), c.camera[0])
                 want = None if res is None else dataclasses.astuple(res)
                 add("double_cross", got == want, ops.cycles() - grey_cycles, t)
+            elif c.detector == "red_roi":
+                res, ops = DETECTORS["red_roi"].host_call(rgb, c.camera, None)
+                got, t = front.red_roi(rgb)
+                want = None if res is None else red_roi_tuple(res)
+                add("red_roi", got == want, ops.cycles(), t)
             elif c.detector == "red_cylinder":
                 res, ops = DETECTORS["red_cylinder"].host_call(rgb, c.camera, None)
                 got, t = front.red_cylinder(rgb)

@@ -152,6 +152,24 @@ def detect_red_cylinder(rgb: np.ndarray) -> tuple[int, ...] | None:
     return tuple(int(v) for v in out) if found else None
 
 
+def red_roi_tuple(res) -> tuple[int, ...]:
+    """A host RedRoi as the C's out words (u_c_q4, v_c_q4, x, y, w, h, area_px, touches_edge)."""
+    return (res.u_c_q4, res.v_c_q4, *res.roi, res.area_px, int(res.touches_edge))
+
+
+def detect_red_roi(rgb: np.ndarray) -> tuple[int, ...] | None:
+    """(u_c_q4, v_c_q4, x, y, w, h, area_px, touches_edge) of the 002 colour ROI in C, or
+    None."""
+    ffi, c = lib()
+    img = np.ascontiguousarray(rgb)
+    h, w = img.shape[:2]
+    scratch = np.empty(c.mg_red_scratch_bytes(w, h) // 4 + 1, np.int32)
+    out = np.zeros(8, np.int32)
+    found = c.mg_red_roi(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
+                         _ptr(ffi, out, "int32_t *"))
+    return tuple(int(v) for v in out) if found else None
+
+
 def sin_cos_q12(angle_mrad: int) -> tuple[int, int]:
     """The C ``mg_sin_q12`` and ``mg_cos_q12`` of an angle in mrad."""
     _, c = lib()

@@ -47,6 +47,10 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_
 int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
                         int32_t *out);
+/* red_cylinder.c: the colour ROI of 002 section 2.2 step 1 alone, with the same scratch
+ * (host/vision/red_cylinder.py detect_red_roi). out: u_c_q4, v_c_q4, roi x, y, w, h, area_px,
+ * touches_edge. Returns 1 when found, 0 when not. */
+int32_t mg_red_roi(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch, int32_t *out);
 
 /* trig.c: sin and cos in Q12 of an angle in mrad (host/fixedpoint.py sin_q12, cos_q12) */
 int32_t mg_sin_q12(int32_t angle_mrad);

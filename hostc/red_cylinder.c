@@ -5,6 +5,7 @@
 
 #define T_RED 40
 #define MIN_AREA_HALF_PX 6
+#define MIN_ROI_AREA_HALF_PX 12 /* the colour ROI alone: 48 px */
 #define MIN_RING_GAP_PX 2
 #define MAX_STRIPS 256
 
@@ -190,25 +191,46 @@ int32_t mg_red_scratch_bytes(int32_t w, int32_t h)
            + 4 * MAX_STRIPS;
 }
 
-int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch,
-                        int32_t *out)
+/* The scratch of both detectors, laid out in the caller's buffer (mg_red_scratch_bytes). */
+typedef struct {
+    uint8_t *mask;
+    int32_t *labels, *block_lab, *parent, *stats;
+    cand_t *comps, *cands;
+    int32_t *used, *prof, *rprof, *tmp;
+    uint8_t *ok;
+    int32_t *strips;
+} red_scratch_t;
+
+static red_scratch_t red_layout(uint8_t *scratch, int32_t W, int32_t H)
 {
     const int32_t gw = (W + 1) / 2, gh = (H + 1) / 2, n = gw * gh;
     const int32_t b = ((gw + 1) / 2) * ((gh + 1) / 2);
-    uint8_t *mask = scratch;
+    red_scratch_t s;
     uint8_t *p = scratch + ((n + 3) & ~3);
-    int32_t *labels = (int32_t *)p; p += 4 * n;
-    int32_t *block_lab = (int32_t *)p; p += 4 * b;
-    int32_t *parent = (int32_t *)p; p += 4 * (b + 1);
-    int32_t *stats = (int32_t *)p; p += 20 * (b + 1);
-    cand_t *comps = (cand_t *)p; p += sizeof(cand_t) * (b + 1);
-    cand_t *cands = (cand_t *)p; p += sizeof(cand_t) * (b + 1);
-    int32_t *used = (int32_t *)p; p += 4 * (b + 1);
-    int32_t *prof = (int32_t *)p; p += 4 * H;
-    int32_t *rprof = (int32_t *)p; p += 4 * H;
-    int32_t *tmp = (int32_t *)p; p += 4 * (H + W); /* a median's sort, or column counts */
-    uint8_t *ok = p; p += 4 * W;
-    int32_t *strips = (int32_t *)p;
+    s.mask = scratch;
+    s.labels = (int32_t *)p; p += 4 * n;
+    s.block_lab = (int32_t *)p; p += 4 * b;
+    s.parent = (int32_t *)p; p += 4 * (b + 1);
+    s.stats = (int32_t *)p; p += 20 * (b + 1);
+    s.comps = (cand_t *)p; p += sizeof(cand_t) * (b + 1);
+    s.cands = (cand_t *)p; p += sizeof(cand_t) * (b + 1);
+    s.used = (int32_t *)p; p += 4 * (b + 1);
+    s.prof = (int32_t *)p; p += 4 * H;
+    s.rprof = (int32_t *)p; p += 4 * H;
+    s.tmp = (int32_t *)p; p += 4 * (H + W); /* a median's sort, or column counts */
+    s.ok = p; p += 4 * W;
+    s.strips = (int32_t *)p;
+    return s;
+}
+
+/* Steps 1-2 of 002 section 2.2 (host/vision/red_cylinder.py red_mask, _candidates): the red
+ * grid in s->mask and its stacked pieces in s->cands, biggest first; returns their number. */
+static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_scratch_t *rs)
+{
+    const int32_t gw = (W + 1) / 2, gh = (H + 1) / 2;
+    uint8_t *mask = rs->mask;
+    int32_t *stats = rs->stats, *used = rs->used;
+    cand_t *comps = rs->comps, *cands = rs->cands;
 
     /* 1. red on every second pixel of every second row */
     for (int32_t gy = 0; gy < gh; gy++) {
@@ -219,7 +241,8 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         }
     }
     /* 2. red pieces, biggest first (then left, then top), merged when stacked */
-    int32_t nl = mg_label(mask, gw, gh, labels, block_lab, parent, stats), nc = 0;
+    int32_t nl = mg_label(mask, gw, gh, rs->labels, rs->block_lab, rs->parent, stats);
+    int32_t nc = 0;
     for (int32_t i = 1; i < nl; i++) {
         const int32_t *s = stats + 5 * i;
         if (s[4] < MIN_AREA_HALF_PX)
@@ -271,6 +294,39 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         }
         cands[j] = m;
     }
+    return nm;
+}
+
+int32_t mg_red_roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, int32_t *out)
+{
+    const red_scratch_t rs = red_layout(scratch, W, H);
+    const int32_t nm = red_pieces(rgb, W, H, &rs);
+    if (nm == 0 || rs.cands[0].area < MIN_ROI_AREA_HALF_PX)
+        return 0;
+    const cand_t *c = rs.cands;
+    /* grid cell k covers pixels 2k, 2k + 1: a run [a, b) of cells has its middle at
+     * a + b - 1/2 px */
+    out[0] = (c->ix0 + c->ix1) * 16 - 8;
+    out[1] = (c->y0 + c->y1) * 16 - 8;
+    out[2] = 2 * c->x0;
+    out[3] = 2 * c->y0;
+    out[4] = 2 * (c->x1 - c->x0);
+    out[5] = 2 * (c->y1 - c->y0);
+    out[6] = 4 * c->area;
+    out[7] = c->y0 == 0 || c->y1 >= (H + 1) / 2;
+    return 1;
+}
+
+int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch,
+                        int32_t *out)
+{
+    const int32_t gw = (W + 1) / 2;
+    const red_scratch_t rs = red_layout(scratch, W, H);
+    const int32_t nm = red_pieces(rgb, W, H, &rs);
+    const uint8_t *mask = rs.mask;
+    const cand_t *cands = rs.cands;
+    int32_t *prof = rs.prof, *rprof = rs.rprof, *tmp = rs.tmp, *strips = rs.strips;
+    uint8_t *ok = rs.ok;
     /* 3-4. rings, their columns and the silhouette, on the three biggest candidates */
     for (int32_t ci = 0; ci < nm && ci < 3; ci++) {
         const cand_t *c = cands + ci;

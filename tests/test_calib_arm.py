@@ -174,3 +174,20 @@ def test_emulated_double_cross_equals_python(machine):
         assert t.instructions > 0
         found += got is not None
     assert found == 2  # both two-cross boards, not the single cross
+
+
+def test_emulated_red_roi_equals_python_and_costs_the_whole_grid(machine):
+    from mobigrasp.host.vision import red_cylinder
+
+    front, times = arm.FrontEnd(machine), []
+    for k in range(3):
+        rgb = np.full((80 + 20 * k, 100, 3), 60, np.uint8)
+        rgb[10 + 5 * k:60 + 10 * k, 30:42 + 4 * k] = (200, 20, 20)  # a red cylinder's side
+        rgb[30:32, 30:42 + 4 * k] = 10  # one ring: two stacked pieces
+        res, ops = red_cylinder.detect_red_roi(rgb)
+        got, t = front.red_roi(rgb)
+        assert res is not None and got == native.red_roi_tuple(res)
+        times.append((rgb.shape[0] * rgb.shape[1], t.cycles))
+    assert front.red_roi(np.zeros((40, 40, 3), np.uint8))[0] is None
+    (n0, c0), _, (n2, c2) = times
+    assert c2 > c0 and 0.7 < (c2 / n2) / (c0 / n0) < 1.4  # per pixel of the red grid

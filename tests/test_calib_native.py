@@ -81,7 +81,13 @@ def _check_calls(folder, calls) -> int:
                                              c.camera[0])
             assert got == want, c.frame_file
             found += want is not None
-        elif c.detector == "red_cylinder":
+        elif c.detector in ("red_cylinder", "red_roi"):
+            roi, _ = red_cylinder.detect_red_roi(rgb)  # the ROI alone, on every 002 frame
+            assert native.detect_red_roi(rgb) == (None if roi is None
+                                                  else native.red_roi_tuple(roi)), c.frame_file
+            if c.detector == "red_roi":
+                found += roi is not None
+                continue
             res, _ = red_cylinder.detect_red_cylinder(rgb)
             want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
             assert native.detect_red_cylinder(rgb) == want, c.frame_file
@@ -243,3 +249,22 @@ def test_whole_corpus_matches(tmp_path):
     for fr in idx["frames"]:
         _check_front_end(corpus.load_frame(tmp_path, fr))
     assert _check_calls(tmp_path, corpus.calls(tmp_path, idx)) > 0
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_red_roi_matches_on_drawn_red_pieces(seed):
+    """Red boxes, stacked pieces and clutter of any size, some cut by the frame's edges."""
+    rng = np.random.default_rng(seed)
+    h, w = (int(v) for v in rng.integers(20, 130, 2))
+    rgb = rng.integers(0, 90, (h, w, 3), dtype=np.uint8)
+    for _ in range(int(rng.integers(0, 6))):
+        x, y = int(rng.integers(-5, w)), int(rng.integers(-5, h))
+        bw, bh = int(rng.integers(1, 40)), int(rng.integers(1, 60))
+        colour = (int(rng.integers(120, 256)), int(rng.integers(0, 50)), int(rng.integers(0, 50)))
+        rgb[max(0, y):max(0, y + bh), max(0, x):max(0, x + bw)] = colour
+        if rng.random() < 0.5:  # a dark ring across it: the piece splits into stacked parts
+            ry = y + bh // 2
+            rgb[max(0, ry):max(0, ry + 2), max(0, x):max(0, x + bw)] = 10
+    roi, _ = red_cylinder.detect_red_roi(rgb)
+    want = None if roi is None else native.red_roi_tuple(roi)
+    assert native.detect_red_roi(rgb) == want

@@ -269,25 +269,23 @@ class FrontEnd:
         out["labelling"] = ((n_lab, labels, stats), t_lab)
         return out
 
-    def red_cylinder(self, rgb: np.ndarray) -> tuple[tuple[int, ...] | None, Timing]:
-        """The 002 red cylinder on a frame that has just arrived (cold D-cache)."""
+    def _rgb_kernel(self, name: str, rgb: np.ndarray, n_out: int
+                    ) -> tuple[tuple[int, ...] | None, Timing]:
+        """A red detector on a frame that has just arrived (cold D-cache)."""
         a, base = self.arm, DATA_BASE
         h, w = rgb.shape[:2]
         a.write(self.RGB, np.ascontiguousarray(rgb).tobytes())
-        found, t = a.call("mg_red_cylinder", base + self.RGB, w, h, base + self.SCRATCH,
-                          base + self.OUT)
-        res = struct.unpack("<10i", a.read(base + self.OUT, 40)) if found else None
+        found, t = a.call(name, base + self.RGB, w, h, base + self.SCRATCH, base + self.OUT)
+        res = struct.unpack(f"<{n_out}i", a.read(base + self.OUT, 4 * n_out)) if found else None
         return res, t
+
+    def red_cylinder(self, rgb: np.ndarray) -> tuple[tuple[int, ...] | None, Timing]:
+        """The 002 red cylinder on a frame that has just arrived (cold D-cache)."""
+        return self._rgb_kernel("mg_red_cylinder", rgb, 10)
 
     def red_roi(self, rgb: np.ndarray) -> tuple[tuple[int, ...] | None, Timing]:
         """The 002 colour ROI alone on a frame that has just arrived (cold D-cache)."""
-        a, base = self.arm, DATA_BASE
-        h, w = rgb.shape[:2]
-        a.write(self.RGB, np.ascontiguousarray(rgb).tobytes())
-        found, t = a.call("mg_red_roi", base + self.RGB, w, h, base + self.SCRATCH,
-                          base + self.OUT)
-        res = struct.unpack("<8i", a.read(base + self.OUT, 32)) if found else None
-        return res, t
+        return self._rgb_kernel("mg_red_roi", rgb, 8)
 
     def load(self, grey: np.ndarray, stats: np.ndarray) -> None:
         """Put a front end's grey image and stats in memory (instead of :meth:`run`)."""

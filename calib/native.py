@@ -139,17 +139,22 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
     return radial_symbol(grey(rgb), stats, f_px, u0_px, v0_px)
 
 
-def detect_red_cylinder(rgb: np.ndarray) -> tuple[int, ...] | None:
-    """(u_c_q4, v_c_q4, ring1_v_q4, ring2_v_q4, d_pixel_q4, width_q4, x, y, w, h) of the 002
-    red cylinder in C, or None."""
+def _rgb_kernel(name: str, rgb: np.ndarray, n_out: int) -> tuple[int, ...] | None:
+    """Call the red detector ``name`` (frame, size, the red scratch, ``n_out`` out words)."""
     ffi, c = lib()
     img = np.ascontiguousarray(rgb)
     h, w = img.shape[:2]
     scratch = np.empty(c.mg_red_scratch_bytes(w, h) // 4 + 1, np.int32)
-    out = np.zeros(10, np.int32)
-    found = c.mg_red_cylinder(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
-                              _ptr(ffi, out, "int32_t *"))
+    out = np.zeros(n_out, np.int32)
+    found = getattr(c, name)(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
+                             _ptr(ffi, out, "int32_t *"))
     return tuple(int(v) for v in out) if found else None
+
+
+def detect_red_cylinder(rgb: np.ndarray) -> tuple[int, ...] | None:
+    """(u_c_q4, v_c_q4, ring1_v_q4, ring2_v_q4, d_pixel_q4, width_q4, x, y, w, h) of the 002
+    red cylinder in C, or None."""
+    return _rgb_kernel("mg_red_cylinder", rgb, 10)
 
 
 def red_roi_tuple(res) -> tuple[int, ...]:
@@ -160,14 +165,7 @@ def red_roi_tuple(res) -> tuple[int, ...]:
 def detect_red_roi(rgb: np.ndarray) -> tuple[int, ...] | None:
     """(u_c_q4, v_c_q4, x, y, w, h, area_px, touches_edge) of the 002 colour ROI in C, or
     None."""
-    ffi, c = lib()
-    img = np.ascontiguousarray(rgb)
-    h, w = img.shape[:2]
-    scratch = np.empty(c.mg_red_scratch_bytes(w, h) // 4 + 1, np.int32)
-    out = np.zeros(8, np.int32)
-    found = c.mg_red_roi(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
-                         _ptr(ffi, out, "int32_t *"))
-    return tuple(int(v) for v in out) if found else None
+    return _rgb_kernel("mg_red_roi", rgb, 8)
 
 
 def sin_cos_q12(angle_mrad: int) -> tuple[int, int]:

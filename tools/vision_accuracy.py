@@ -354,7 +354,7 @@ SPECS: dict[str, Spec] = {name: _SPECS[name] for name in DETECTORS}
 
 
 def degraded_options(rng: np.random.Generator) -> CameraOptions:
-    """Issue 6's degraded set: noise 8, 2 px blur at a random angle, brightness ±30 %."""
+    """The degraded set: noise 8, 2 px blur at a random angle, brightness ±30 %."""
     return CameraOptions(noise_std=8.0, blur_px=2.0,
                          brightness=float(rng.choice([0.7, 1.3])),
                          blur_angle_rad=float(rng.uniform(-math.pi, math.pi)))

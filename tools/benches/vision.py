@@ -8,7 +8,7 @@ seed. Figures per detector: detection_pct, degraded_detection_pct, false_positiv
 dist_err_median_pct / dist_err_p95_pct, bearing_err_median_deg / p95 / max, wall_ms_p50 (Python,
 this machine; target <= 3; wall_ms_best_of_5_p50 repeats every 10th frame 5 times and keeps
 the best, to see through the load of other processes) and arm9_ms_p50 / arm9_ms_max
-(modelled from OpCounts; target <= 33). Issue 6 asks for >= 1000 frames per detector:
+(modelled from OpCounts; target <= 33). The accuracy figures want >= 1000 frames per detector:
 ``--frames 1000`` (several minutes per detector); the default is smaller so the bench stays
 quick. Progress goes to stderr.
 """

@@ -437,6 +437,41 @@ def test_001_check_looks_down_from_a_pulled_in_reach_with_the_plus_pair_off_axis
     assert task.arm[5] != 150 and abs(off_axis() - rules.held_pair_mrad) <= 5
 
 
+def test_001_check_without_a_pair_direction_scans_the_roll_then_follows_the_waist():
+    """001 with no "+" pair seen in ADJUST: the look turns the wrist roll through
+    ``HELD_ROLL_SCAN_MRAD`` at the first waist offset while nothing is seen under the gripper,
+    the waist still; once the object is seen there, the waist moves on and the roll turns with
+    it (the pair keeps its place in the frame: roll + waist unchanged, mod a half turn)."""
+    from mobigrasp.host.task import grasp as task_grasp
+
+    task = Task("001")
+    task.set_arm(0, -2433, -600, 1986, 150)
+    assert task.plus_odom is None
+    task_grasp.GRASP.start_check(task, 0, TaskInputs())
+    first_roll, waist = task.arm[1], task.arm[5]
+    inp, now, rolls = TaskInputs(), 0, [task.arm[1]]
+    for _ in task_grasp.HELD_ROLL_SCAN_MRAD[1:3]:
+        now = max(now, task.move_done_us) + task_grasp.CHECK_POSE_US
+        task_grasp.GRASP._check(task, now, inp)
+        rolls.append(task.arm[1])
+        assert task.arm[5] == waist and task.check_waist[1] == 0
+    half = 2 * kinematics_quarter()
+    assert rolls[0] == first_roll
+    assert [(r - first_roll) % half for r in rolls] == \
+        [s % half for s in task_grasp.HELD_ROLL_SCAN_MRAD[:3]], rolls
+    task.held_tips = {0: (0, 0)}  # seen under the gripper at this roll
+    before = (task.arm[1] + task.arm[5]) % half
+    now = max(now, task.move_done_us) + task_grasp.CHECK_POSE_US
+    task_grasp.GRASP._check(task, now, inp)
+    assert task.check_waist[1] == 1 and task.arm[5] != waist
+    assert (task.arm[1] + task.arm[5]) % half == before
+
+
+def kinematics_quarter() -> int:
+    from mobigrasp.host import kinematics
+    return kinematics.QUARTER_TURN_MRAD
+
+
 @pytest.mark.parametrize("misses", [1, 3])
 def test_001_a_close_beside_the_object_is_never_done(misses):
     """001 with the commanded-close flag only: a close beside the object gives no sighting

@@ -53,6 +53,10 @@ CHECK_POSE_US = 500_000  # look this long (7 frames at 15 fps) at each waist off
 # the waist turns the view about the place: the estimate that put the fingers beside the object
 # may be off by 0.3 rad in bearing (docs/cosim.md "Measured", T8)
 CHECK_WAIST_MRAD = (0, 300, -300)
+# a look that lays the "+" pair off the x axis (Method.held_pair_mrad) but has no pair direction
+# from ADJUST turns the wrist roll through these steps at the first waist offset until the
+# pair is seen: within 15 degrees of any direction (the line repeats every half turn)
+HELD_ROLL_SCAN_MRAD = (0, 524, 1047, 1571, 2094, 2618)
 MAX_REGRASPS = 2
 # the look of the check (docs/task.md): the camera this far above the object's top, looking
 # down, first reachable wins; the object held under the fingertip is seen within HELD_NEAR_MM of
@@ -307,13 +311,8 @@ class GraspStates:
         (ax, ay), (bx, by) = (odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
                                                   t.p.mount_forward_mm, *q[:2])
                               for q in t.plus_odom)
-        roll = -atan2_mrad(by - ay, bx - ax) - theta5_mrad + t.rules.held_pair_mrad
-        lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
-        while roll > hi:  # the line repeats every half turn
-            roll -= 2 * kinematics.QUARTER_TURN_MRAD
-        while roll < lo:
-            roll += 2 * kinematics.QUARTER_TURN_MRAD
-        return roll if roll <= hi else None
+        return _roll_in_limits(-atan2_mrad(by - ay, bx - ax) - theta5_mrad
+                               + t.rules.held_pair_mrad)
 
     def start_check(self, t, now: int, inp) -> None:
         """Raise the camera above the gripper looking down (``_held_pose``); the waist then
@@ -323,8 +322,12 @@ class GraspStates:
             self.start_place_check(t, now, inp)
             return
         pose = t.rules.held_view_pose(t) or self._held_pose(t)
+        t.check_roll_scan = None
         if pose is not None:
-            t.apply_pose(now, pose, self._plus_roll(t, inp, pose.theta5_mrad))
+            roll = self._plus_roll(t, inp, pose.theta5_mrad)
+            t.apply_pose(now, pose, roll)
+            if roll is None and t.rules.held_pair_mrad:
+                t.check_roll_scan = (t.arm[1], 0)  # (first roll, index into the scan)
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
                                              pose.theta4_mrad, pose.theta5_mrad])
         else:
@@ -397,11 +400,22 @@ class GraspStates:
         if not t.settled(now) or now - t.phase_us < CHECK_POSE_US:
             return
         centre, k = t.check_waist
+        scan = t.check_roll_scan
+        if scan is not None and k == 0 and not t.held_tips \
+                and scan[1] + 1 < len(HELD_ROLL_SCAN_MRAD):  # not seen: the next roll
+            t.check_roll_scan = (scan[0], scan[1] + 1)
+            roll = _roll_in_limits(scan[0] + HELD_ROLL_SCAN_MRAD[scan[1] + 1])
+            t.set_arm(now, *t.arm[2:6], roll)
+            t.trust_from_us = t.move_done_us
+            t.phase_us = t.move_done_us
+            return
         if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the gripper moves
             t.check_waist = (centre, k + 1)
             th5 = centre + CHECK_WAIST_MRAD[k + 1]
             # a roll off the x axis follows the waist, keeping the "+" in the frame's corners
             roll = self._plus_roll(t, inp, th5) if t.rules.held_pair_mrad and inp else None
+            if roll is None and scan is not None:  # the scanned roll, turned with the waist
+                roll = _roll_in_limits(t.arm[1] - (th5 - t.arm[5]))
             t.set_arm(now, *t.arm[2:5], th5, roll)
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
@@ -415,6 +429,17 @@ class GraspStates:
                  f"(grasp check by absence, docs/task.md)")
             return
         self.missed(t, now, "no evidence of the object in the gripper")
+
+
+def _roll_in_limits(roll: int) -> int | None:
+    """A wrist roll that lays the "+" pair's line (which repeats every half turn) as ``roll``
+    does, within the joint's limits; None when no such roll is reachable."""
+    lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
+    while roll > hi:
+        roll -= 2 * kinematics.QUARTER_TURN_MRAD
+    while roll < lo:
+        roll += 2 * kinematics.QUARTER_TURN_MRAD
+    return roll if roll <= hi else None
 
 
 GRASP = GraspStates()

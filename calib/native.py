@@ -174,6 +174,17 @@ def sin_cos_q12(angle_mrad: int) -> tuple[int, int]:
     return int(c.mg_sin_q12(int(angle_mrad))), int(c.mg_cos_q12(int(angle_mrad)))
 
 
+def _plus_inputs(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray):
+    """The front end's arrays as the "+" kernels take them (contiguous, int32), their 8-byte
+    aligned scratch (mg_dual_plus_scratch_bytes, shared by mg_spoke) and the frame's shape."""
+    _, c = lib()
+    g = np.ascontiguousarray(grey_img)
+    h, w = g.shape
+    scratch = np.empty(c.mg_dual_plus_scratch_bytes(w, h) // 8 + 1, np.int64)
+    return (g, np.ascontiguousarray(labels, np.int32), np.ascontiguousarray(stats, np.int32),
+            scratch, (h, w))
+
+
 def dual_plus(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray,
               alpha_mrad: int = -1571, f_px: int = 611, u0_px: int = 160
               ) -> tuple[int, ...] | None:
@@ -181,11 +192,7 @@ def dual_plus(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray,
     y_oc_mm, z_oc_mm) of the dual "+", from the front end's grey image, labels and component
     stats, or None."""
     ffi, c = lib()
-    g = np.ascontiguousarray(grey_img)
-    h, w = g.shape
-    lab = np.ascontiguousarray(labels, np.int32)
-    st = np.ascontiguousarray(stats, np.int32)
-    scratch = np.empty(c.mg_dual_plus_scratch_bytes(w, h) // 8 + 1, np.int64)
+    g, lab, st, scratch, (h, w) = _plus_inputs(grey_img, labels, stats)
     out = np.zeros(11, np.int32)
     found = c.mg_dual_plus(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, lab, "int32_t *"), w, h,
                            _ptr(ffi, st, "int32_t *"), len(st), int(alpha_mrad), f_px, u0_px,
@@ -220,11 +227,7 @@ def spoke(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray) -> tuple 
     """The spoke of the "+" nearest the image centre (:func:`spoke_tuple`), from the front
     end's grey image, labels and component stats, or None."""
     ffi, c = lib()
-    g = np.ascontiguousarray(grey_img)
-    h, w = g.shape
-    lab = np.ascontiguousarray(labels, np.int32)
-    st = np.ascontiguousarray(stats, np.int32)
-    scratch = np.empty(c.mg_dual_plus_scratch_bytes(w, h) // 8 + 1, np.int64)
+    g, lab, st, scratch, (h, w) = _plus_inputs(grey_img, labels, stats)
     out = np.zeros(26, np.int32)
     found = c.mg_spoke(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, lab, "int32_t *"), w, h,
                        _ptr(ffi, st, "int32_t *"), len(st), _ptr(ffi, scratch, "uint8_t *"),

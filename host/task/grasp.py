@@ -66,6 +66,17 @@ HELD_VIEW_MM = (150, 140, 130, 120, 110, 100, 90)
 HELD_NEAR_MM = 12
 HELD_MOVE_MM = 2 * HELD_NEAR_MM + 1
 
+# the look before the rough grasp (Method.sight_views): this many dual "+" sightings, each look
+# (waist offset, wrist roll) held this long (10 frames at 15 fps) until the pair is seen. The
+# pitched view spans ~90 mm across but only ~55 mm along the line of sight, where a pair along
+# it is cut by the frame's edge when the estimate is 15 mm off: a quarter roll lays the line of
+# sight along the frame's width; the waist offsets move the view ~18 mm aside (docs/task.md).
+# Seen outside ADJUST's goal window, the base closes in again, at most this often a grasp
+SIGHT_FRAMES = 3
+SIGHT_LOOK_US = 700_000
+SIGHT_LOOKS_MRAD = ((0, 0), (0, 1571), (150, 1571), (150, 0), (-150, 0), (-150, 1571))
+MAX_SIGHT_ADJUSTS = 2
+
 
 # views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
 # 0.3 m the 320 x 240 frame spans 157 x 118 mm there (f = 611 px), room for the miss itself
@@ -97,6 +108,60 @@ class GraspStates:
             t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
                         f"never seen)")
             return
+        pose = self._view_pose(t, inp, t.rules.sight_views) if t.rules.sight_views else None
+        if pose is None:
+            self._rough_pose(t, now, inp)
+            return
+        # the look before the grasp (Method.sight_views): the base stands still from here on
+        t.apply_pose(now, pose, SIGHT_LOOKS_MRAD[0][1])
+        t.trust_from_us = t.move_done_us  # frames of the swing: arm pose unknown
+        t.sight_frames, t.sight_look, t.sight_th5 = 0, 0, pose.theta5_mrad
+        t.phase, t.phase_us = "sight", t.move_done_us
+        t.note(sight_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad, pose.theta4_mrad,
+                                pose.theta5_mrad])
+
+    def _sight(self, t, now: int, inp, dets: dict) -> None:
+        """The look before the grasp: sightings of the dual "+" with the base standing still
+        give the estimate the grasp goes on (and the "+" it hovers over). Each look of
+        ``SIGHT_LOOKS_MRAD`` is held for ``SIGHT_LOOK_US`` until the pair is seen
+        (``SIGHT_FRAMES`` frames, or fewer by the end of that look). Seen outside ADJUST's
+        goal window, the base closes in again first (up to ``MAX_SIGHT_ADJUSTS`` times a
+        grasp). Not seen at any look: an object the camera never saw (001's P_i carried on
+        odometry) is searched for (LOST); else the grasp goes on the estimate as it was."""
+        det = dets.get("dual_plus")
+        if det is not None and t.settled(now) and t.see_object(now, inp, "dual_plus", det):
+            t.sight_frames += 1
+        if t.sight_frames < SIGHT_FRAMES and now - t.phase_us < SIGHT_LOOK_US:
+            return
+        k = t.sight_look
+        if not t.sight_frames and k + 1 < len(SIGHT_LOOKS_MRAD):
+            t.sight_look = k + 1  # not seen: the next look
+            d_th5, roll = SIGHT_LOOKS_MRAD[k + 1]
+            t.set_arm(now, *t.arm[2:5], t.sight_th5 + d_th5, roll)
+            t.trust_from_us = t.move_done_us
+            t.phase_us = t.move_done_us
+            return
+        x, y = t.obj_platform(inp)
+        dist = isqrt(x * x + y * y) // 16
+        goal_mm, tol_mm = t.rules.adjust_goal_mm(t)
+        t.note(sight={"frames": t.sight_frames, "look_mrad": list(SIGHT_LOOKS_MRAD[k]),
+                      "dist_mm": dist, "bearing_mrad": atan2_mrad(x, y)})
+        if not t.sight_frames and not t.object_sighted:
+            t.lost_in = "ROUGH_GRASP"
+            t.go(now, "LOST", "object not seen at its estimated place, never seen by the "
+                 "camera: searching before any grasp")
+            return
+        if t.sight_frames and abs(dist - goal_mm) > tol_mm \
+                and t.sight_adjusts < MAX_SIGHT_ADJUSTS:
+            t.sight_adjusts += 1
+            t.go(now, "ADJUST", f"object sighted {dist} mm ahead of the waist, outside "
+                 f"{goal_mm} +- {tol_mm} mm: closer in first")
+            return
+        self._rough_pose(t, now, inp)
+
+    def _rough_pose(self, t, now: int, inp) -> None:
+        """The gripper above the object by ``hover_mm`` (``Method.rough_target``)."""
+        t.phase = ""
         target = t.rules.rough_target(t, inp)
         pose = t.grasp_ik(target)
         if isinstance(pose, kinematics.Unreachable) and t.rules.lowers_hover():
@@ -119,10 +184,13 @@ class GraspStates:
 
     def do_ROUGH_GRASP(self, t, now: int, inp, dets: dict) -> None:
         t.wheels = (0, 0)
-        if t.settled(now):
+        if t.phase == "sight":
+            self._sight(t, now, inp, dets)
+        elif t.settled(now):
             t.go(now, "PRECISE_GRASP", "arm at the rough grasp pose")
 
     def enter_PRECISE_GRASP(self, t, now: int, inp) -> None:
+        t.sight_adjusts = 0  # the next grasp's look may send the base closer again
         t.precise_steps = 0
         t.close_by = None
         t.phase_us = now
@@ -242,17 +310,16 @@ class GraspStates:
             return
         self._check(t, now, inp)
 
-    def _check_pose(self, t, inp):
-        """A camera pose looking down at the grasp place from ``CHECK_VIEWS`` (range, pitch):
-        back along the place's bearing and up, by eq. (11) of 000 with alpha_T = -pitch; the
-        first the arm reaches.  The gripper, and a held object, are then behind and below the
-        camera's view; None if no view is reachable."""
+    def _view_pose(self, t, inp, views):
+        """A camera pose looking down at the object's top from ``views`` (range mm, pitch
+        down mrad): back along the place's bearing and up, by eq. (11) of 000 with alpha_T =
+        -pitch; the first the arm reaches. None if no view is reachable."""
         if t.obj is None:
             return None
         x, y = t.obj_platform(inp)
         rho = isqrt(x * x + y * y)
         look_mm = t.rules.look_height_mm(t.p, True)
-        for d_mm, pitch in CHECK_VIEWS:
+        for d_mm, pitch in views:
             back = d_mm * 16 * cos_q12(pitch) >> 12
             r = rho - back
             if r < 20 * 16:
@@ -265,10 +332,10 @@ class GraspStates:
 
     def start_place_check(self, t, now: int, inp) -> None:
         """002 (no look down reaches its cylinder, docs/task.md): swing the camera to look
-        back at the grasp place (``_check_pose``; out of the views' reach, the search's far
+        back at the grasp place (``_view_pose`` of ``CHECK_VIEWS``; out of the views' reach, the search's far
         look toward it); the waist then turns through
         ``CHECK_WAIST_MRAD``."""
-        pose = self._check_pose(t, inp)
+        pose = self._view_pose(t, inp, CHECK_VIEWS)  # the gripper and a held object out of view
         if pose is not None:
             t.apply_pose(now, pose)
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,

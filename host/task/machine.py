@@ -182,6 +182,10 @@ class Task:
         self.fallbacks = 0  # 001: fallback steps taken with no feasible curve (method001.py)
         self.v0_div = 1  # 001: the planner's v0 divided by this (a fallback step)
         self.path_from = None  # 001: odometry place where the last planned path began
+        self.sight_frames = 0  # ROUGH_GRASP: dual "+" sightings of its look (grasp.py)
+        self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)
+        self.sight_th5 = 0  # ... the waist of its view, the looks' offsets are added to
+        self.sight_adjusts = 0  # ... that sent the base back to ADJUST for this grasp
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
         # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)

@@ -35,6 +35,10 @@ class Method(ABC):
     held_reach_mm: int = 0  # the look of the check pulls the fingertip in to this reach (0: stays)
     held_pair_mrad: int = 0  # ... lays the two "+" this far off the frame's x axis (grasp.py)
     plus_on_top: bool = False  # the two "+" placed where their rays meet the top (sense.py)
+    # ROUGH_GRASP first looks at the object from these (range mm, pitch down mrad), the first
+    # the arm reaches, the base standing still, and grasps on that sighting (grasp.py); ():
+    # the grasp goes on the estimate ADJUST ended with
+    sight_views: tuple[tuple[int, int], ...] = ()
     object_detectors: tuple[str, ...]  # detectors that see the object itself (not a guide)
     grasp_alpha_mrad: int  # gripper pitch of the grasp before the rough grasp chooses one
     keeps_sightings: bool  # SEARCH: an unconfirmed sighting seen again at its place counts

@@ -13,7 +13,8 @@ from mobigrasp.host.task.method import method_rules
 
 DEFAULT_TIMEOUTS_US = {
     "SEARCH": 180_000_000, "APPROACH": 120_000_000, "ADJUST": 60_000_000,
-    "ROUGH_GRASP": 8_000_000, "PRECISE_GRASP": 30_000_000,
+    "ROUGH_GRASP": 15_000_000,  # 001's look before the grasp included (grasp.py)
+    "PRECISE_GRASP": 30_000_000,
     "LIFT": 16_000_000,  # the lift and the grasp check's look, its roll scan included (grasp.py)
     "LOST": 5_000_000,
 }

@@ -346,8 +346,8 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t
         for (int32_t j = i + 1; j < n; j++) {
             const plus_t *a = plus + i, *b = plus + j;
             const int32_t a0 = (int32_t)a->m[0], b0 = (int32_t)b->m[0];
-            if (8 * imin(a0, b0) < 5 * imax(a0, b0))
-                continue; /* the same size within 1.6:1 */
+            if (2 * imin(a0, b0) < imax(a0, b0))
+                continue; /* the same size within 2:1 (seen obliquely) */
             const int32_t du = a->u_q4 - b->u_q4, dv = a->v_q4 - b->v_q4;
             const int32_t d_q4 = mg_isqrt32((uint32_t)(du * du + dv * dv));
             const int32_t r_q4 = mg_isqrt32((uint32_t)(256 * (a0 + b0) / 2));

@@ -268,3 +268,14 @@ def test_red_roi_matches_on_drawn_red_pieces(seed):
     roi, _ = red_cylinder.detect_red_roi(rgb)
     want = None if roi is None else native.red_roi_tuple(roi)
     assert native.detect_red_roi(rgb) == want
+
+
+@pytest.mark.parametrize("scale_b", [1.0, 1.3, 1.38, 1.5])
+def test_dual_plus_pair_size_rule_matches(scale_b):
+    """The pair's size rule (within 2:1) is the same in C: on and either side of the bound."""
+    from test_vision_000_dual_plus import _plus_pair_frame
+
+    rgb = _plus_pair_frame(scale_b)
+    py, _ = dual_plus.detect_dual_plus(rgb)
+    c = native.detect_dual_plus(rgb)
+    assert (None if py is None else dataclasses.astuple(py)) == c

@@ -86,3 +86,22 @@ def test_bad_input_is_a_value_error(bad):
         detect_dual_plus(bad)
     with pytest.raises(ValueError):
         detect_dual_plus(np.zeros((240, 320, 3), np.uint8), alpha_mrad=1.5)
+
+
+def _plus_pair_frame(scale_b: float) -> np.ndarray:
+    """Two "+" on white, 150 px apart, the right one ``scale_b`` times the left one's size."""
+    img = np.full((240, 320, 3), 235, np.uint8)
+    for cu, size in ((90, 40.0), (240, 40.0 * scale_b)):
+        half, w = int(round(size / 2)), int(round(size * 6 / 17 / 2))
+        img[120 - w:120 + w + 1, cu - half:cu + half + 1] = 20
+        img[120 - half:120 + half + 1, cu - w:cu + w + 1] = 20
+    return img
+
+
+@pytest.mark.parametrize("scale_b,found", [(1.0, True), (1.3, True), (1.38, True),
+                                           (1.5, False), (1.7, False)])
+def test_a_pair_differing_in_size_up_to_two_to_one_is_one_pair(scale_b, found):
+    """A pair along the line of sight seen steeply from close (001's look before the grasp)
+    differs ~1.7:1 in area; beyond 2:1 the two are not one pair (areas scale as scale_b**2)."""
+    res, _ = detect_dual_plus(_plus_pair_frame(scale_b))
+    assert (res is not None) == found, res

@@ -12,7 +12,8 @@ from 0.2-0.45 m. Steps:
    solidity (area over convex-hull area) 0.45-0.88 — a "+" has four notches, which blobs,
    bars and discs do not — at least 2.2x lighter around (black print on a white card) and
    not cut by the image border;
-3. the pair: similar areas (within 1.6:1), separation 2-5.5 times the square root of the
+3. the pair: similar areas (within 2:1: a pair along the line of sight seen from 0.16 m, pitched
+   1 rad down, differs by 1.7:1 in rendered views), separation 2-5.5 times the square root of the
    mean area (47.3 mm apart for 17 mm "+", seen at up to 2:1 foreshortening), a light point
    between them; the pair with the largest "+" wins;
 4. centres: integer first moments in Q4 px.
@@ -210,8 +211,8 @@ def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = F_PX,
         for j in range(i + 1, len(plus)):
             a, b = plus[i], plus[j]
             a0, b0 = a.m[0], b.m[0]
-            if 8 * min(a0, b0) < 5 * max(a0, b0):
-                continue  # the two "+" are the same size (within 1.6:1 seen obliquely)
+            if 2 * min(a0, b0) < max(a0, b0):
+                continue  # the two "+" are the same size (within 2:1 seen obliquely)
             du, dv = a.u_q4 - b.u_q4, a.v_q4 - b.v_q4
             d_q4 = fp.isqrt(du * du + dv * dv)
             r_q4 = fp.isqrt(256 * (a0 + b0) // 2)  # sqrt(mean area) in Q4

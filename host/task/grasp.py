@@ -4,7 +4,9 @@ Targets in the platform frame, Q4 mm; each handler takes the task ``t`` first; w
 methods differ (the rough target, the precise grasp's start) it asks ``t.rules``:
 
 - ROUGH_GRASP (000 §III.C.1): the gripper above the object top by ``hover_mm``, pitched
-  alpha_T = -pi/2, by eq. (11) of 000 (host.kinematics).  002: the pre-grasp point
+  alpha_T = -pi/2, by eq. (11) of 000 (host.kinematics).  001 (``Method.sight_views``) first
+  looks back at the top with the base standing still and grasps on that sighting (ours,
+  docs/task.md): its ADJUST ends on odometry.  002: the pre-grasp point
   ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
   eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits).
 - PRECISE_GRASP (000 §III.C.2): roll theta1 to pi/2, then on each spoke reading turn
@@ -332,9 +334,8 @@ class GraspStates:
 
     def start_place_check(self, t, now: int, inp) -> None:
         """002 (no look down reaches its cylinder, docs/task.md): swing the camera to look
-        back at the grasp place (``_view_pose`` of ``CHECK_VIEWS``; out of the views' reach, the search's far
-        look toward it); the waist then turns through
-        ``CHECK_WAIST_MRAD``."""
+        back at the grasp place (``_view_pose`` of ``CHECK_VIEWS``; out of the views' reach,
+        the search's far look toward it); the waist then turns through ``CHECK_WAIST_MRAD``."""
         pose = self._view_pose(t, inp, CHECK_VIEWS)  # the gripper and a held object out of view
         if pose is not None:
             t.apply_pose(now, pose)

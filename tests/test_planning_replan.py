@@ -28,6 +28,18 @@ def test_clear_sonar_keeps_the_path():
     assert dec.ops.float_ops == 0  # nothing to test against
 
 
+def test_forced_update_plans_from_here_although_the_path_is_clear():
+    # the caller stopped following the path (the sonar guard stopped the base): a plan is
+    # asked for, and "path clear" with no new curve would leave the base standing
+    rp = Replanner((3.0, 1.0))
+    plan = rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)
+    pos, hd, _ = state_on(rp.curve, 2.0)
+    dec = rp.update(2_000_000, pos, hd, (0.0, 0.0), CLEAR, force=True)
+    assert dec.replanned and dec.curve is not None and dec.curve is not plan.best
+    assert not dec.blocked and dec.reason == "path dropped: replanned"
+    assert np.allclose(dec.curve.ctrl[0][:2], pos)
+
+
 def test_obstacle_on_the_path_triggers_a_replan_from_the_present_state():
     rp = Replanner((4.0, 1.0))
     rp.start(0, (0.0, 0.0), 0.0, (0.2, 0.0), CLEAR)

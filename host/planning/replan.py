@@ -149,8 +149,11 @@ class Replanner:
         return (float(s.x[first]), float(s.y[first])), ops
 
     def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
-               sonar_mm) -> ReplanDecision:
-        """Check the present path against a fresh reading; replan when it is blocked."""
+               sonar_mm, force: bool = False) -> ReplanDecision:
+        """Check the present path against a fresh reading; replan when it is blocked.
+
+        ``force``: replan even when the path is clear (the caller stopped following it, e.g.
+        the sonar guard stopped the base: its rest starts from a pose the base has left)."""
         n_mem = len(self.memory)
         self.forget_seen(position_xy_m, heading_rad)
         scan = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
@@ -159,7 +162,7 @@ class Replanner:
         where, ops = self.first_blocked(t_us, fresh + list(self.memory))
         blocked = where is not None
         ops = ops + OpCounts(float_ops=FLOPS_FORGET * n_mem, luts=3 * n_mem)
-        if self.curve is not None and not blocked:
+        if self.curve is not None and not blocked and not force:
             return ReplanDecision(False, False, self.curve, None, "path clear", ops)
         old = self.curve
         plan = self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
@@ -167,7 +170,8 @@ class Replanner:
         ops = ops + plan.ops
         ahead = None if where is None else math.hypot(where[0] - float(position_xy_m[0]),
                                                       where[1] - float(position_xy_m[1]))
-        if plan.best is None and old is not None and ahead > self.keep_going_m:
+        if plan.best is None and old is not None and ahead is not None and (
+                ahead > self.keep_going_m):
             # ours: no update exists yet, but the block is far: keep the path and look again at
             # the next reading (closer echoes give narrower sectors, a far one often leaves the
             # centre cone); stop only when the block comes within keep_going_m
@@ -175,7 +179,7 @@ class Replanner:
             self.start_us = self._old_start_us
             return ReplanDecision(True, False, old, plan, f"blocked {ahead:.2f} m ahead, no "
                                   f"update yet ({plan.reason}): path kept", ops)
-        why = "blocked" if blocked else "no path"
+        why = "blocked" if blocked else "no path" if old is None else "path dropped"
         if plan.best is None:
             return ReplanDecision(blocked, False, None, plan, f"{why}: {plan.reason}", ops)
         return ReplanDecision(blocked, True, plan.best, plan, f"{why}: replanned", ops)

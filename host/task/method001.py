@@ -39,6 +39,7 @@ LOOK_FIRST_US = 4_000_000  # P_i given, object near and unseen: look this long f
 LOOK_FIRST_MM = (350, 1200)  # ... when it is this far from the waist
 GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
 BACK_OFF_MM = 200  # fallback: back this far along the way the base came
+GUARD_OUT_MM = 200  # after the guard stopped the base: drive this far toward the free sector
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
@@ -116,11 +117,12 @@ def straight_clear_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tu
 
 
 def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
-               sonar_mm: tuple):
-    """001 §III.E: check the rest of the path against fresh sonar, replan when blocked.
-    Returns (decision, new follower or None, ops)."""
+               sonar_mm: tuple, force: bool = False):
+    """001 §III.E: check the rest of the path against fresh sonar, replan when blocked (or
+    ``force``: always, the path no longer being followed). Returns (decision, new follower or
+    None, ops)."""
     pos, h, vel = state_m(x_mm, y_mm, heading_mrad, v_mmps)
-    dec = rp.update(now_us, pos, h, vel, [int(v) for v in sonar_mm])
+    dec = rp.update(now_us, pos, h, vel, [int(v) for v in sonar_mm], force)
     if not dec.replanned or dec.curve is None:
         return dec, None, dec.ops
     fol, ops = path_follower(dec.curve, now_us, int(round(rp.params.v_max * 1000)))
@@ -219,9 +221,12 @@ class Method001(Method000):
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
     def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
         if t.replanner is not None and t.obj == t.plan_obj:
-            # same object: the replanner keeps its remembered regions and slows down (replan.py)
+            # same object: the replanner keeps its remembered regions and slows down (replan.py);
+            # a plan is asked for with no path followed (stopped by the guard, a detour, a
+            # failed plan), so it plans from here even when its last curve looks clear
             dec, follower, ops = update_001(t.replanner, now, inp.x_mm, inp.y_mm,
-                                            inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
+                                            inp.heading_mrad, inp.v_mmps, inp.sonar_mm,
+                                            force=True)
             detail = {"planner": "001", "reason": dec.reason}
             if dec.curve is not None:
                 detail["best_ctrl"] = [list(map(float, row)) for row in dec.curve.ctrl]
@@ -406,8 +411,10 @@ class Method001(Method000):
         plan is followed further before one is made from the fresh ranges. The object's own
         echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
         does not count: APPROACH hands the object to ADJUST at arm's length. In APPROACH the
-        base then turns in place toward the widest free sector before it plans again (a plan
-        from standstill starts forward, into the echo, and was stopped again at once)."""
+        base then turns in place toward the widest free sector and drives ``GUARD_OUT_MM``
+        along it before it plans again: a plan from standstill starts forward, into the echo,
+        and was stopped again at once; a plan from the turned pose bends back toward the
+        object, into the echo, and so did the detours, each stopped at its first step."""
         if t.state not in ("SEARCH", "APPROACH") or t.wheels[0] + t.wheels[1] <= 0:
             return
         n = len(inp.sonar_mm)
@@ -423,9 +430,9 @@ class Method001(Method000):
             guard = {"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm}
             if t.state == "APPROACH":
                 # a new plan from here starts forward, into what the guard saw, and is stopped
-                # again at once: first turn in place toward the widest free sector
+                # again at once: first turn toward the widest free sector and leave R_r
                 t.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
-                            "drive": False, "from": None}
+                            "drive": True, "from": None, "length_mm": GUARD_OUT_MM}
                 guard["turn_to_mrad"] = t.detour["heading_mrad"]
             t.note(sonar_guard=guard)
             return

@@ -1,4 +1,7 @@
-"""001 APPROACH: sightings taken while the base turns fast do not move the object estimate."""
+"""001 APPROACH: sightings taken while the base turns fast do not move the object estimate; the
+follower never backs up; the sonar guard stops the base and leaves the safety circle."""
+
+import math
 
 import detections as det
 
@@ -53,3 +56,34 @@ def test_001_never_backs_up_while_following_it_turns_on_the_spot():
     wheels["cmd"] = (120, 80)
     out = task.step(60_000, TaskInputs(sonar_mm=CLEAR))
     assert out.wheels_mmps == (120, 80)  # forward commands unchanged
+
+
+def test_the_sonar_guard_stops_turns_and_leaves_the_safety_circle_before_planning():
+    """A front sonar below R_r in APPROACH: the base stops at once, turns toward the widest free
+    sector and drives GUARD_OUT_MM along it before a new plan (docs/task.md, "No contact")."""
+    from mobigrasp.host.task.method001 import GUARD_OUT_MM
+
+    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
+    task.step(0, TaskInputs(sonar_mm=CLEAR))
+    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
+    assert task.state == "APPROACH" and task.follower is not None
+    near = (2500, 2500, 150, 2500, 2500)  # straight ahead, inside R_r = 200 mm
+    out = task.step(40_000, TaskInputs(v_mmps=100, sonar_mm=near))
+    assert out.wheels_mmps == (0, 0) and task.follower is None
+    assert out.detail["sonar_guard"]["range_mm"] == 150
+    goal = task.detour["heading_mrad"]
+    assert task.detour["drive"] and task.detour["length_mm"] == GUARD_OUT_MM
+    # turned toward the free sector (a side sonar), then driven straight along it
+    out = task.step(60_000, TaskInputs(sonar_mm=near))
+    assert out.wheels_mmps[0] == -out.wheels_mmps[1] != 0  # turning in place
+    t, x, y = 80_000, 0, 0
+    driven = []
+    while task.detour is not None and t < 20_000_000:
+        out = task.step(t, TaskInputs(x_mm=x, y_mm=y, heading_mrad=goal, sonar_mm=CLEAR))
+        if out.wheels_mmps[0] > 0 and out.wheels_mmps[0] == out.wheels_mmps[1]:
+            driven.append((x, y))
+            x += round(out.wheels_mmps[0] * 0.02 * math.cos(goal / 1000))
+            y += round(out.wheels_mmps[0] * 0.02 * math.sin(goal / 1000))
+        t += 20_000
+    assert driven and math.hypot(x, y) >= GUARD_OUT_MM, (x, y)
+    assert task.state == "APPROACH"

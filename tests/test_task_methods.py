@@ -82,9 +82,13 @@ def test_sonar_below_safety_circle_stops_forward_motion_and_drops_the_path():
 
 
 def test_sonar_guard_in_approach_turns_toward_the_widest_free_sector_first():
-    # an echo below R_r ahead and on the right, the left free: turn left in place, no drive
+    # an echo below R_r ahead and on the right, the left free: turn left in place, then leave
+    # R_r along that sector before the next plan
+    from mobigrasp.host.task.method001 import GUARD_OUT_MM
+
     task = _guarded((300, 150, 150, 2500, 2500), (3000, 0))
-    assert task.wheels == (0, 0) and task.detour["drive"] is False
+    assert task.wheels == (0, 0) and task.detour["drive"] is True
+    assert task.detour["length_mm"] == GUARD_OUT_MM
     assert task.detour["heading_mrad"] > 500  # toward S_4 / S_5 (left, counter-clockwise)
     assert _guarded((300, 150, 150, 2500, 2500), (3000, 0), state="SEARCH").detour is None
 

@@ -200,10 +200,10 @@ class Method001(Method000):
     # 001 comes at the object from any side: the "+" pair is often seen along the view, where
     # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
     plus_on_top = True
-    # ADJUST ends 2-5 s after the last sighting: from ~0.4 m the camera of the long arm is
-    # over the card and the pair leaves the frame, and the base finishes on odometry
-    # (blind_finish_mm). The base stopped, the camera looks back at the top from 140-200 mm
-    # (reachable views, first wins), where the pair fits the frame, and the grasp goes on that.
+    # ADJUST ends on odometry (blind_finish_mm): near, the long arm's camera is over the card
+    # and loses the pair. The base stopped, the camera looks back at the top from 140-200 mm
+    # (reachable views, first wins), where the pair fits the frame, and the grasp goes on that
+    # sighting (host/task/grasp.py, docs/task.md "001: the look before the grasp")
     sight_views = ((180, 900), (160, 1000), (180, 1000), (200, 800), (160, 1100), (140, 1100))
     detectors = {**Method000.detectors, "ROUGH_GRASP": ("dual_plus",)}
     # the precise grasp's w_T <= w_max = 40 px needs the camera >= 92 mm above the "+"

@@ -12,8 +12,8 @@ from 0.2-0.45 m. Steps:
    solidity (area over convex-hull area) 0.45-0.88 — a "+" has four notches, which blobs,
    bars and discs do not — at least 2.2x lighter around (black print on a white card) and
    not cut by the image border;
-3. the pair: similar areas (within 2:1: a pair along the line of sight seen from 0.16 m, pitched
-   1 rad down, differs by 1.7:1 in rendered views), separation 2-5.5 times the square root of the
+3. the pair: similar areas (within 2:1: a pair along the line of sight, seen steeply from
+   close, differs by more than 1.6:1; docs/task.md "001: the look before the grasp"), separation 2-5.5 times the square root of the
    mean area (47.3 mm apart for 17 mm "+", seen at up to 2:1 foreshortening), a light point
    between them; the pair with the largest "+" wins;
 4. centres: integer first moments in Q4 px.

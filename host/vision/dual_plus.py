@@ -13,9 +13,10 @@ from 0.2-0.45 m. Steps:
    bars and discs do not — at least 2.2x lighter around (black print on a white card) and
    not cut by the image border;
 3. the pair: similar areas (within 2:1: a pair along the line of sight, seen steeply from
-   close, differs by more than 1.6:1; docs/task.md "001: the look before the grasp"), separation 2-5.5 times the square root of the
-   mean area (47.3 mm apart for 17 mm "+", seen at up to 2:1 foreshortening), a light point
-   between them; the pair with the largest "+" wins;
+   close, differs by more than 1.6:1; docs/task.md "001: the look before the grasp"),
+   separation 2-5.5 times the square root of the mean area (47.3 mm apart for 17 mm "+",
+   seen at up to 2:1 foreshortening), a light point between them; the pair with the largest
+   "+" wins;
 4. centres: integer first moments in Q4 px.
 
 Foreshortening (ours, beyond 000): the paper's formula assumes the segment between the "+" is

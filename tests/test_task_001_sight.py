@@ -11,22 +11,6 @@ from mobigrasp.host.task import Task
 ARM_001 = (160.0, 160.0, 200.0)
 
 
-def _run(task, world, t_end_us, on_step=None, period_us=20_000, frame_every=3):
-    """loop.run with a hook called before each step (the scene may change under the task)."""
-    events, t, k, details = [], 0, 0, []
-    while t < t_end_us and task.state not in ("DONE", "FAILED"):
-        if on_step is not None:
-            on_step(task, world)
-        out = task.step(t, world.inputs(task, k % frame_every == 0))
-        events.extend(out.events)
-        details.append(out.detail)
-        world.apply(out, period_us / 1e6)
-        t += period_us
-        k += 1
-    assert task.state != "DONE" or world.held, "false claim of success"
-    return events, details
-
-
 def test_the_grasp_goes_on_the_look_not_on_the_estimate_adjust_ended_with(monkeypatch):
     """The object slides 25 mm aside once ADJUST has ended (the estimate is then 25 mm off, as
     after a blind finish on odometry): the look sees it there and the first grasp holds it."""
@@ -42,7 +26,8 @@ def test_the_grasp_goes_on_the_look_not_on_the_estimate_adjust_ended_with(monkey
             world.obj = (world.obj[0] - 0.025 * math.sin(h), world.obj[1] + 0.025 * math.cos(h))
             moved.append(task.obj)
 
-    events, details = _run(task, world, 240_000_000, slide)
+    details = []
+    events = loop.run(task, world, on_step=slide, details=details)
     assert moved, [e.to_state for e in events]
     assert task.state == "DONE" and world.held, (task.failure, [e.why for e in events])
     assert task.regrasps == 0, [e.why for e in events]  # the first grasp held it
@@ -65,7 +50,8 @@ def test_an_object_never_seen_is_searched_for_not_grasped_blind(monkeypatch):
         if task.gripper == 1000:
             closes.append(task.state)
 
-    events, details = _run(task, world, 60_000_000, watch)
+    details = []
+    events = loop.run(task, world, t_end_us=60_000_000, on_step=watch, details=details)
     path = [e.to_state for e in events]
     assert "ROUGH_GRASP" in path, path
     after = path[path.index("ROUGH_GRASP") + 1]

@@ -168,15 +168,23 @@ class World:
                           grasp_closed=self.held)
 
 
-def run(task, world, t_end_us=240_000_000, period_us=20_000, frame_every=3):
+def run(task, world, t_end_us=240_000_000, period_us=20_000, frame_every=3, on_step=None,
+        details=None):
+    """Step the task against ``world`` until it ends; its transitions. ``on_step(task, world)``
+    runs before each step (the scene may change under the task); each step's trace detail is
+    appended to ``details`` when given."""
     events, t = [], 0
     k = 0
     while t < t_end_us and task.state not in ("DONE", "FAILED"):
+        if on_step is not None:
+            on_step(task, world)
         out = task.step(t, world.inputs(task, k % frame_every == 0))
         for ch, a in enumerate(out.servo_mrad):
             assert arm_calib.within_limits(ch, a)
         assert all(abs(w) <= 1000 for w in out.wheels_mmps)
         events.extend(out.events)
+        if details is not None:
+            details.append(out.detail)
         world.apply(out, period_us / 1e6)
         t += period_us
         k += 1

@@ -1,7 +1,7 @@
 """One run's wiring: host end, MCU, plant, fault wrappers and rig, the session, the run folder.
 
 :func:`run_scenario` is what ``mobigrasp run`` does once its options are checked and its run
-folder prepared (mobigrasp.tools.run_job). The summary is always written, also when the run
+folder prepared (mobigrasp.services.run_job). The summary is always written, also when the run
 crashes midway (status "crashed" with the error and what is known at that point); while it
 runs, summary.json says "running" with the simulated time reached, at least every simulated
 :data:`SUMMARY_PERIOD_US`, so a run killed outright leaves a summary that says how far it got.
@@ -31,7 +31,7 @@ SUMMARY_PERIOD_US = 5_000_000  # a running summary at least this often, in simul
 
 @dataclass(frozen=True)
 class RunSpec:
-    """One run, its options checked (mobigrasp.tools.run_job.RunOptions) and resolved."""
+    """One run, its options checked (mobigrasp.services.run_job.RunOptions) and resolved."""
 
     scenario: Any  # mobigrasp.mcu_sim.world.scenario.Scenario
     scenario_file: Path

@@ -1,11 +1,12 @@
 """Fault campaigns (docs/faults.md): N seeded random scenarios under a fault plan, run over the
 cores.
 
-Run ``k`` uses seed ``seed + k``: the scenario is ``tools.random_scenarios`` (target 0.5-3 m away
+Run ``k`` uses seed ``seed + k``: the scenario is ``services.random_scenarios`` (target 0.5-3 m away
 at any bearing, random heading; obstacles for 001; a moving target for 002) plus the ``[faults]``
 section of the plan, and the rig seeds every injector from the same run seed, so one run can be
 repeated alone with ``mobigrasp run``. :func:`run_one` is the one adapter to the closed loop
-(``mobigrasp.tools.run_job.execute`` in process); anything with the same signature can replace it.
+(``mobigrasp.services.run_job.execute`` in process); anything with the same signature can
+replace it.
 
 Aggregated figures: success rate, unsafe actuations (the run's safety monitor: servo pulses out of
 the joint table, motion during a watchdog stop, late stops after host silence, commands the MCU
@@ -21,14 +22,21 @@ import statistics
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from mobigrasp.cosim.run_folder import json_lines
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
-from mobigrasp.tools.progress import Progress
 
 METHODS = ("000", "001", "002")
+
+
+class ProgressSink(Protocol):
+    """What a campaign tells of its progress (the CLI's ``Progress`` bar is one)."""
+
+    def update(self, done: float, text: str = "") -> None: ...
+
+    def close(self) -> None: ...
 
 
 @dataclass(frozen=True)
@@ -56,7 +64,7 @@ class CampaignConfig:
         if self.jobs is not None and (not isinstance(self.jobs, int) or self.jobs < 1):
             raise ValueError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
         if self.scheduler is not None:
-            from mobigrasp.tools.campaign_engines import check_scheduler
+            from mobigrasp.services.campaign_engines import check_scheduler
 
             check_scheduler(self.scheduler)
         if self.seed + self.runs - 1 > MAX_SEED:
@@ -69,7 +77,7 @@ class CampaignConfig:
 
 def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
     """TOML of random scenario ``seed`` of ``method`` with the plan's ``[faults]``."""
-    from mobigrasp.tools.random_scenarios import random_scenario_toml
+    from mobigrasp.services.random_scenarios import random_scenario_toml
 
     return random_scenario_toml(method, seed, "v1") + "\n" + plan.to_toml()  # its own faults
 
@@ -116,8 +124,8 @@ def jobs_of(cfg: CampaignConfig) -> list[dict]:
 
 
 def run_one(job: dict) -> dict:
-    """The adapter: one closed-loop run in process (tools.run_job.execute) -> its summary."""
-    from mobigrasp.tools.run_job import RunOptions, execute
+    """The adapter: one closed-loop run in process (services.run_job.execute) -> its summary."""
+    from mobigrasp.services.run_job import RunOptions, execute
 
     sc = make_scenario(job["method"], job["seed"], parse_faults(job["faults"], "campaign"))
     summary, _ = execute(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=job["seed"],
@@ -234,15 +242,15 @@ def load_rows(path: Path, jobs: list[dict]) -> list[dict]:
 
 
 def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
-                 progress: Progress | None = None) -> dict:
+                 progress: ProgressSink | None = None) -> dict:
     """Run every job; {"summary": ..., "rows": [...]} (rows by seed).
 
     Where: on the Dask cluster at ``cfg.scheduler``, else a local process pool when more than
-    one job runs at once, else this process (tools.campaign_engines). Each row is appended to
+    one job runs at once, else this process (services.campaign_engines). Each row is appended to
     ``out/campaign.rows.jsonl`` as its run finishes, with the worker that ran it; with
     ``cfg.resume`` the rows already there are kept and only the other seeds run.
-    ``progress`` (tools.progress) is told the runs done and how many succeeded."""
-    from mobigrasp.tools.campaign_engines import open_engine
+    ``progress`` is told the runs done and how many succeeded."""
+    from mobigrasp.services.campaign_engines import open_engine
 
     jobs = jobs_of(cfg)
     out = Path(cfg.out)
@@ -308,12 +316,12 @@ def format_table(agg: dict) -> str:
 
 
 def write_outputs(result: dict, out: Path) -> tuple[Path, Path]:
-    """campaign.json and campaign.png (tools.plots.campaign) in ``out``."""
+    """campaign.json and campaign.png (services.plots.campaign) in ``out``."""
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     js = out / "campaign.json"
     js.write_text(json.dumps(result, indent=2, sort_keys=True))
-    from mobigrasp.tools.plots import campaign as campaign_plot
+    from mobigrasp.services.plots import campaign as campaign_plot
 
     png = out / campaign_plot(result, out)
     return js, png

@@ -1,6 +1,6 @@
 """The acceptance campaign of ``mobigrasp bench loop``: seeded random scenes per method.
 
-Run ``(method, seed)`` is scene ``seed`` of generator ``version`` (tools/random_scenarios.py),
+Run ``(method, seed)`` is scene ``seed`` of generator ``version`` (services/random_scenarios.py),
 written as ``scenes/<name>.toml`` in the campaign folder and run from that file over
 ``transport`` into ``runs/<method>-<seed>/``, so ``mobigrasp run <scene> --transport pty``
 repeats it (:func:`rerun_command`). Each row is appended to ``loop.rows.jsonl`` as its run
@@ -28,7 +28,7 @@ from pathlib import Path
 
 from mobigrasp.cosim.run_folder import json_lines
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
-from mobigrasp.tools.random_scenarios import GENERATORS, KIND
+from mobigrasp.services.random_scenarios import GENERATORS, KIND
 
 METHODS = tuple(KIND)
 TRANSPORTS = ("pty", "inproc")
@@ -81,7 +81,7 @@ class LoopCampaign:
                                      f"got {self.transport!r}")
         if self.jobs is not None and (isinstance(self.jobs, bool) or self.jobs < 1):
             raise CampaignInputError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
-        from mobigrasp.tools.run_job import BadInput, check_time_limit
+        from mobigrasp.services.run_job import BadInput, check_time_limit
 
         try:
             check_time_limit(self.time_limit_s)
@@ -116,7 +116,7 @@ def jobs_of(cfg: LoopCampaign) -> list[dict]:
 
 def write_scene(job: dict) -> Path:
     """The job's scene TOML (the generator's text) at ``job["scene"]``."""
-    from mobigrasp.tools.random_scenarios import random_scenario_toml
+    from mobigrasp.services.random_scenarios import random_scenario_toml
 
     path = Path(job["scene"])
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -128,7 +128,7 @@ def write_scene(job: dict) -> Path:
 def run_job(job: dict) -> dict:
     """One run from its scene file (a top-level function: it runs in worker processes) ->
     its summary."""
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     summary, _ = execute(RunOptions(scenario=job["scene"], transport=job["transport"],
                                     out=Path(job["folder"]), progress=False, plots=False,
@@ -162,7 +162,7 @@ def _last_transition(folder: Path) -> str | None:
 
 def graspable(job: dict) -> bool:
     """False for a board without a cylinder (nothing to grasp: the run must end FAILED)."""
-    from mobigrasp.tools.random_scenarios import random_scenario_toml
+    from mobigrasp.services.random_scenarios import random_scenario_toml
 
     return 'kind = "double-cross"' not in random_scenario_toml(job["method"], job["seed"],
                                                                 job["generator"])
@@ -278,7 +278,7 @@ def run_campaign(cfg: LoopCampaign, run_fn: Callable[[dict], dict] | None = None
 
     ``progress`` (tools.progress.Progress) is told the runs done and :func:`progress_text`.
     Wall time is for that display only, never a result."""
-    from mobigrasp.tools.campaign_engines import open_engine
+    from mobigrasp.services.campaign_engines import open_engine
 
     commit = _commit()  # of the tree that starts the runs
     out = Path(cfg.out)

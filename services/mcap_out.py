@@ -3,7 +3,7 @@
 Written once at the end of a run from the trace events (``cosim.run_folder.read_trace``), the
 JPEG frames :class:`CameraLog` kept while the run went, and the summary. Every message's log
 time and publish time are its *simulated* time (ns), so Foxglove's timeline is the run's clock.
-JSON encoding with the Foxglove schemas by name (tools/mcap_schemas.py); docs/outputs.md lists
+JSON encoding with the Foxglove schemas by name (services/mcap_schemas.py); docs/outputs.md lists
 the topics.
 
 The arm's frames follow eq. (3) of 000 (mcu_sim/world/arm.py): the waist ``mount_forward_m``
@@ -24,8 +24,8 @@ import cv2
 import numpy as np
 
 from mobigrasp.cosim.run_folder import detection_points
-from mobigrasp.tools.mcap_schemas import SCHEMAS
-from mobigrasp.tools.plan_paths import odom_to_world, plan_paths_world
+from mobigrasp.services.mcap_schemas import SCHEMAS
+from mobigrasp.services.plan_paths import odom_to_world, plan_paths_world
 
 TOPICS: dict[str, str] = {
     "/camera/image": "foxglove.CompressedImage",

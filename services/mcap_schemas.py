@@ -1,4 +1,4 @@
-"""JSON schemas of the MCAP channels (tools/mcap_out.py): the Foxglove message types by name.
+"""JSON schemas of the MCAP channels (services/mcap_out.py): the Foxglove message types by name.
 
 Foxglove picks its panels by the schema *name* (``foxglove.CompressedImage`` goes to the Image
 panel, ``foxglove.SceneUpdate`` to the 3D panel, ...); the JSON encoding of those types is

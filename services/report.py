@@ -5,8 +5,8 @@ load's maximum and the host stage nearest its budget), then the plots and the ca
 state change, then every figure of summary.json. Paths are relative to the run folder, so the
 folder can be moved or archived. A small script marks an image that did not load.
 
-``python -m mobigrasp.tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and
-summary.json, so a report can be regenerated after the run.
+``python -m mobigrasp.services.report RUN_DIR`` (re)builds plots/ and report.html from
+trace.jsonl and summary.json, so a report can be regenerated after the run.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import sys
 from pathlib import Path
 
 from mobigrasp.cosim.run_folder import read_trace
-from mobigrasp.tools import plots
+from mobigrasp.services import plots
 
 # after load: an image that failed gets a visible note; the counts go on <body> (data-images-*)
 ONLOAD_CHECK = """<script>
@@ -55,7 +55,7 @@ def _rows(d: dict, prefix: str = "") -> list[str]:
 def nearest_budget(summary: dict) -> tuple[str, float] | None:
     """(stage, worst-case share of its budget) of the host stage nearest its budget (the
     profiler's rule: vision stages against a frame period, control stages against 20 ms)."""
-    from mobigrasp.tools.commands.profile import profile_table
+    from mobigrasp.services.profile import profile_table
 
     rows, first = profile_table(summary.get("stages") or {}, {})
     row = next((r for r in rows if r["stage"] == first), None)

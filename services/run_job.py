@@ -67,7 +67,7 @@ class RunOptions:
     # grants one quantum ahead: host and SIM overlap, the host's input is 5 ms later (mcu_sim/rig)
     host_lag_quanta: int = 1
     plots: bool = True
-    mcap: bool = True  # trace.mcap for Foxglove (tools/mcap_out.py)
+    mcap: bool = True  # trace.mcap for Foxglove (services/mcap_out.py)
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
@@ -212,7 +212,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     cfg = host_config(scenario, opts.time_limit_s)
     camera = None
     if opts.mcap:
-        from mobigrasp.tools.mcap_out import CameraLog
+        from mobigrasp.services.mcap_out import CameraLog
 
         camera = CameraLog()  # the frames of trace.mcap
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
@@ -225,7 +225,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     summary = run_scenario(spec)
     if camera is not None:
         try:
-            from mobigrasp.tools.mcap_out import write_mcap
+            from mobigrasp.services.mcap_out import write_mcap
 
             write_mcap(out / "trace.mcap", read_trace(out / "trace.jsonl"), camera.frames,
                        summary)
@@ -235,7 +235,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         try:
             # matplotlib is imported after the run, not before the host process is started
             # (docs/cosim.md, "Start-up")
-            from mobigrasp.tools.report import write_report
+            from mobigrasp.services.report import write_report
 
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result

@@ -83,7 +83,7 @@ SHORT_RUNS = {"paper000-exp1": None, "paper001-sim1": 8.0, "paper002-marker": 8.
 @pytest.fixture(scope="session")
 def short_runs(tmp_path_factory):
     """{scenario: run folder} of SHORT_RUNS (time limits in simulated s; None: the scenario's)."""
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     root = tmp_path_factory.mktemp("short-runs")
     folders = {}
@@ -104,7 +104,7 @@ def assert_no_false_claim(summary: dict) -> None:
 
 
 def checked_execute(execute):
-    """``execute`` (tools.run_job) that fails on a run whose summary is a false claim."""
+    """``execute`` (services.run_job) that fails on a run whose summary is a false claim."""
 
     @functools.wraps(execute)
     def checked(*args, **kwargs):
@@ -135,10 +135,10 @@ _TESTS = Path(__file__).resolve().parent
 
 @pytest.fixture(autouse=True)
 def _no_false_claim(request, monkeypatch):
-    """Every test that runs a scenario fails on a false claim: tools.run_job.execute is
+    """Every test that runs a scenario fails on a false claim: services.run_job.execute is
     checked in this process (also where a test or helper module imported it by name), and the
     run folders under the test's tmp_path are read after it for runs made elsewhere."""
-    from mobigrasp.tools import run_job
+    from mobigrasp.services import run_job
 
     real = run_job.execute
     checked = checked_execute(real)

@@ -10,7 +10,7 @@ import math
 
 import pytest
 
-from mobigrasp.tools.run_job import RunOptions, execute
+from mobigrasp.services.run_job import RunOptions, execute
 
 TARGET_XY_M = (-1.7009, 0.6377)
 SCENE = f"""[scenario]

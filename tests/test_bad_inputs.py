@@ -20,8 +20,8 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from mobigrasp.services.run_job import shipped_scenarios
 from mobigrasp.tools.cli import main
-from mobigrasp.tools.run_job import shipped_scenarios
 
 SCENARIOS = {p.stem: p for p in shipped_scenarios()}
 QUICK = ["--transport", "inproc", "--time-limit-s", "0.1", "--quiet", "--no-plots"]
@@ -336,7 +336,7 @@ def _extremes() -> list[tuple[str, tuple, Any]]:
 @pytest.mark.parametrize("name, path, value", _extremes())
 def test_a_value_at_either_end_of_its_range_runs_without_a_crash(name, path, value, tmp_path):
     from mobigrasp.mcu_sim.world.scenario import PAPER_PARAMS, PARAM_ORDER
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     doc = shipped(name)
     doc.setdefault(path[0], {})[path[1]] = value

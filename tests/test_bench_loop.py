@@ -51,7 +51,7 @@ def test_random_scenes_give_the_same_trace_over_the_pty_and_in_process(tmp_path)
     over each transport; the re-run command of a row repeats its trace."""
     import shlex
 
-    from mobigrasp.tools.loop_campaign import LoopCampaign, rerun_command, run_campaign
+    from mobigrasp.services.loop_campaign import LoopCampaign, rerun_command, run_campaign
 
     sha = {}
     for transport in ("pty", "inproc"):
@@ -102,7 +102,7 @@ def fake_run(job):
 
 @pytest.fixture
 def fake_loop(monkeypatch):
-    import mobigrasp.tools.loop_campaign as lc
+    import mobigrasp.services.loop_campaign as lc
 
     CALLS.clear()
     monkeypatch.setattr(lc, "run_job", fake_run)
@@ -145,7 +145,7 @@ def test_campaign_table_failures_and_figure(fake_loop, tmp_path, capsys):
                 f"--transport pty --out {runs / 'runs'}/{method}-{seed}`") in item
         assert (runs / "runs" / f"{method}-{seed}").is_dir()
     assert "000 seed 1000 " not in md and "002 seed 1000 " not in md  # met their bars
-    from mobigrasp.tools.random_scenarios import random_scenario_toml
+    from mobigrasp.services.random_scenarios import random_scenario_toml
 
     assert (runs / "scenes" / "random-v2-002-1001.toml").read_text() \
         == random_scenario_toml("002", 1001, "v2")
@@ -166,7 +166,7 @@ def test_campaign_progress_lines(fake_loop, tmp_path, capsys, monkeypatch):
 
 
 def test_progress_text_estimates_the_time_left():
-    from mobigrasp.tools.loop_campaign import progress_text
+    from mobigrasp.services.loop_campaign import progress_text
 
     rows = [{"met_bar": True, "false_claim": False}] * 3 + [{"met_bar": False,
                                                              "false_claim": True}]

@@ -141,7 +141,7 @@ def test_calibrate_bad_input_exits_2(tmp_path, argv, needle):
 
 def test_profile_puts_the_last_calibration_beside_the_model():
     from mobigrasp.calib.calibrate import modelled_us
-    from mobigrasp.tools.commands.profile import calibration_rows
+    from mobigrasp.services.profile import calibration_rows
 
     st = {"emulated_median_us": 4000.0, "emulated_p95_us": 4100.0, "emulated_max_us": 70000.0}
     cal = {"frame_shape": [240, 320], "commit": "abc", "stages": {

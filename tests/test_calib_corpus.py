@@ -6,12 +6,13 @@ import numpy as np
 import pytest
 
 from mobigrasp.calib import corpus
+from mobigrasp.services.corpus import record
 
 
 @pytest.fixture(scope="module")
 def small_corpus(tmp_path_factory):
     out = tmp_path_factory.mktemp("corpus")
-    corpus.record(out, ["paper002-marker"], time_limit_s=2.0)
+    record(out, ["paper002-marker"], time_limit_s=2.0)
     return out
 
 
@@ -35,11 +36,11 @@ def test_corpus_holds_the_frames_and_calls_of_the_run(small_corpus):
 
 def test_corpus_is_reproducible_and_rewrites_its_own_folder(small_corpus, tmp_path):
     again = tmp_path / "again"
-    corpus.record(again, ["paper002-marker"], time_limit_s=2.0)
+    record(again, ["paper002-marker"], time_limit_s=2.0)
     a = json.loads((small_corpus / corpus.INDEX).read_text())
     b = json.loads((again / corpus.INDEX).read_text())
     assert a == b
-    corpus.record(again, ["paper002-marker"], time_limit_s=1.0)  # a corpus may be redone
+    record(again, ["paper002-marker"], time_limit_s=1.0)  # a corpus may be redone
     assert len(corpus.read_index(again)["frames"]) <= len(a["frames"])
 
 

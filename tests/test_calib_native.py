@@ -241,7 +241,7 @@ def test_small_corpus_slice_matches(tmp_path):
 
 @pytest.mark.slow
 def test_whole_corpus_matches(tmp_path):
-    from mobigrasp.tools.run_job import shipped_scenarios
+    from mobigrasp.services.run_job import shipped_scenarios
 
     corpus.record(tmp_path, [p.stem for p in shipped_scenarios()])
     idx = corpus.read_index(tmp_path)

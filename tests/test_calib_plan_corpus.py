@@ -8,12 +8,13 @@ import pytest
 
 from mobigrasp.calib import corpus
 from mobigrasp.calib import plan_corpus as pc
+from mobigrasp.services.corpus import record
 
 
 @pytest.fixture(scope="module")
 def plan_folder(tmp_path_factory):
     out = tmp_path_factory.mktemp("plancorpus")
-    corpus.record(out, ["paper000-exp1", "paper001-sim1"], time_limit_s=3.0)
+    record(out, ["paper000-exp1", "paper001-sim1"], time_limit_s=3.0)
     return out
 
 
@@ -38,7 +39,7 @@ def test_both_planners_are_recorded_and_replay_to_the_same_plan(plan_folder):
 
 def test_planning_corpus_is_reproducible_and_cleared_with_the_corpus(plan_folder, tmp_path):
     again = tmp_path / "again"
-    corpus.record(again, ["paper000-exp1", "paper001-sim1"], time_limit_s=3.0)
+    record(again, ["paper000-exp1", "paper001-sim1"], time_limit_s=3.0)
     a = json.loads((plan_folder / pc.INDEX).read_text())
     b = json.loads((again / pc.INDEX).read_text())
     assert a == b
@@ -46,19 +47,23 @@ def test_planning_corpus_is_reproducible_and_cleared_with_the_corpus(plan_folder
         x, y = pc.load_arrays(plan_folder, call), pc.load_arrays(again, call)
         assert x.keys() == y.keys() and all(np.array_equal(x[k], y[k]) for k in x)
     (again / "keep.txt").write_text("mine")
-    corpus.record(again, ["paper000-exp1"], time_limit_s=1.0)  # before any plan
+    record(again, ["paper000-exp1"], time_limit_s=1.0)  # before any plan
     assert pc.read_index(again)["calls"] == []
     assert not (again / pc.FOLDER).exists()
     assert (again / "keep.txt").read_text() == "mine"
 
 
-def test_the_tap_leaves_the_planners_in_place():
-    from mobigrasp.host.planning import bezier000, bezier001, replan
-    from mobigrasp.host.task import method000
+def test_the_tap_watches_the_planners_only_inside_its_block():
+    from mobigrasp.host.planning import bezier000
 
-    with pc.tap_planners(pc.PlanRecorder()):
-        assert method000.plan_000 is not bezier000.plan_000
-    assert method000.plan_000 is bezier000.plan_000 and replan.plan_001 is bezier001.plan_001
+    rec = pc.PlanRecorder()
+    with pc.tap_planners(rec):
+        plan = bezier000.plan_000((0.0, 0.0), (0.0, 0.0), (1.0, 0.5))
+    bezier000.plan_000((0.0, 0.0), (0.0, 0.0), (1.0, 0.5))
+    assert len(rec.calls) == 1
+    planner, inputs, kept = rec.calls[0]
+    assert planner == "000" and kept is plan
+    assert inputs["target_xy_m"] == (1.0, 0.5) and inputs["start_vel_xy_mps"] == (0.0, 0.0)
 
 
 @pytest.mark.parametrize("text", [b"\xff", b"{}", b'{"format": "mobigrasp-planning/1", '

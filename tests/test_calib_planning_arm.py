@@ -66,7 +66,7 @@ def test_emulated_001_passes_equal_the_host_build(planner):
 
 
 def test_profile_lists_planning_after_the_frame_stages_and_names_the_first_to_miss():
-    from mobigrasp.tools.commands.profile import calibration_rows
+    from mobigrasp.services.profile import calibration_rows
 
     st = {"emulated_median_us": 4000.0, "emulated_p95_us": 4100.0, "emulated_max_us": 5000.0}
     cal = {"frame_shape": [240, 320], "commit": "abc", "stages": {
@@ -81,7 +81,7 @@ def test_profile_lists_planning_after_the_frame_stages_and_names_the_first_to_mi
 
 
 def test_profile_shows_a_calibration_of_planner_calls_only():
-    from mobigrasp.tools.commands.profile import calibration_rows
+    from mobigrasp.services.profile import calibration_rows
 
     cal = {"frame_shape": None, "stages": {"bezier000": {
         "modelled_median_us": 7000.0, "emulated_median_us": 7400.0, "emulated_p95_us": 7500.0,

@@ -24,7 +24,7 @@ from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.world import camera as cam
 from mobigrasp.mcu_sim.world.camera import CameraOptions, look_rotation
 from mobigrasp.mcu_sim.world.camera_scene import Scene, Target, solids_of_scene
-from mobigrasp.tools.run_job import resolve_scenario
+from mobigrasp.services.run_job import resolve_scenario
 
 
 def test_plain_options_frames_equal_render_and_stay_what_they_were():

@@ -1,7 +1,7 @@
 """Fault campaigns (docs/faults.md): scenario generation, aggregation, parallel runs, outputs, CLI.
 
 The aggregation is tested with a stand-in run function (no closed loop); one tiny real run checks
-the adapter to tools.run_job."""
+the adapter to services.run_job."""
 
 import json
 import math
@@ -9,7 +9,7 @@ import math
 import pytest
 
 from mobigrasp.mcu_sim.faults import FaultPlan, MotorFail, Window
-from mobigrasp.tools.campaign import (
+from mobigrasp.services.campaign import (
     CampaignConfig,
     aggregate,
     format_table,
@@ -222,7 +222,7 @@ def test_a_campaign_stopped_early_does_not_run_the_rest():
     import threading
     from concurrent.futures import ThreadPoolExecutor
 
-    from mobigrasp.tools.campaign_engines import processes
+    from mobigrasp.services.campaign_engines import processes
 
     release, started, pools = threading.Event(), [], []
 

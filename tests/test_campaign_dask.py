@@ -9,8 +9,8 @@ from pathlib import Path
 import pytest
 
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
-from mobigrasp.tools.campaign import ROWS_FILE, CampaignConfig, load_rows, run_campaign
-from mobigrasp.tools.campaign_engines import EngineError, check_scheduler, open_engine
+from mobigrasp.services.campaign import ROWS_FILE, CampaignConfig, load_rows, run_campaign
+from mobigrasp.services.campaign_engines import EngineError, check_scheduler, open_engine
 from mobigrasp.tools.cli import main
 
 

@@ -5,7 +5,7 @@ from camera_expect import expected_frame
 
 from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.world.camera import CameraOptions
-from mobigrasp.tools.run_job import resolve_scenario
+from mobigrasp.services.run_job import resolve_scenario
 
 
 def test_frames_equal_render_with_noise_blur_and_gain_while_standing_and_moving():

@@ -41,8 +41,8 @@ def test_claim_fields(state, held, grasps, claimed, false):
 def test_execute_is_checked_in_every_test_also_when_imported_late():
     from conftest import checked_execute
 
-    from mobigrasp.tools import run_job
-    from mobigrasp.tools.run_job import execute  # imported by name inside a test
+    from mobigrasp.services import run_job
+    from mobigrasp.services.run_job import execute  # imported by name inside a test
 
     assert execute is run_job.execute and execute.__wrapped__ is not None
     liar = checked_execute(lambda opts: (_summary("DONE", False, 0), 0))

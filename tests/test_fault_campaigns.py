@@ -11,7 +11,7 @@
 import pytest
 
 from mobigrasp.mcu_sim.faults.plan import parse_fault_overrides
-from mobigrasp.tools.campaign import CampaignConfig, run_campaign
+from mobigrasp.services.campaign import CampaignConfig, run_campaign
 
 pytestmark = pytest.mark.slow
 RUNS = 6

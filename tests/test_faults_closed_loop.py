@@ -103,7 +103,7 @@ def test_host_stall_trips_the_watchdog_and_the_host_resumes(tmp_path):
 def test_host_crash_over_the_pty_runs_to_the_time_limit(tmp_path):
     # a crashed host process reads nothing: without the wrapper keeping the MCU's bytes off the
     # line the pty fills up after a few simulated seconds and the rig gives up
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     summary, code = execute(RunOptions(scenario="paper000-exp1", transport="pty",
                                        out=tmp_path / "run", progress=False, plots=False,
@@ -116,7 +116,7 @@ def test_host_crash_over_the_pty_runs_to_the_time_limit(tmp_path):
 
 def test_a_run_ends_two_seconds_after_a_host_crash(tmp_path):
     # the crashed host never comes back: the run ends once the MCU had 2 s to stop safely
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     summary, code = execute(RunOptions(scenario="paper000-exp1", transport="inproc",
                                        out=tmp_path / "run", progress=False, plots=False,

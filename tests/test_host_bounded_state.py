@@ -24,7 +24,7 @@ from mobigrasp.host.stage_stats import EXACT_BELOW_US, StageStats, bucket_of
 from mobigrasp.host.task import Task
 from mobigrasp.protocol import messages as m
 from mobigrasp.protocol.frame import FrameParser
-from mobigrasp.tools.run_job import host_config, resolve_scenario
+from mobigrasp.services.run_job import host_config, resolve_scenario
 
 # --- StageStats ------------------------------------------------------------------------------
 

@@ -9,7 +9,7 @@ import pytest
 
 from mobigrasp.cosim import lockstep as ls
 from mobigrasp.cosim.hosts import HOST_POLL_MS, host_argv
-from mobigrasp.tools import run_job
+from mobigrasp.services import run_job
 
 
 @pytest.mark.parametrize("poll_s", [0.0, 0.05])

@@ -12,8 +12,8 @@ import pytest
 from mcap.reader import make_reader
 
 from mobigrasp.cosim.run_folder import read_trace
-from mobigrasp.tools.mcap_out import ARM_FRAMES, PROTOCOL_EVENTS, TOPICS
-from mobigrasp.tools.mcap_schemas import SCHEMAS
+from mobigrasp.services.mcap_out import ARM_FRAMES, PROTOCOL_EVENTS, TOPICS
+from mobigrasp.services.mcap_schemas import SCHEMAS
 
 SCHEMA_OF = {
     "/camera/image": "foxglove.CompressedImage",

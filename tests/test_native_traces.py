@@ -3,8 +3,8 @@
 
 import pytest
 
+from mobigrasp.services.run_job import RunOptions, execute
 from mobigrasp.tools.check_trace_baseline import SCENARIOS
-from mobigrasp.tools.run_job import RunOptions, execute
 
 
 def _sha(tmp_path, name, mcu, transport="inproc", limit_s=None):
@@ -22,7 +22,7 @@ def test_short_run_same_trace_on_both_backends(tmp_path):
 
 
 def test_unknown_backend_is_bad_input(tmp_path):
-    from mobigrasp.tools.run_job import BadInput
+    from mobigrasp.services.run_job import BadInput
 
     with pytest.raises(BadInput, match="--mcu must be one of native, python"):
         _sha(tmp_path, "paper002-marker", "fpga")

@@ -7,8 +7,8 @@ import matplotlib.lines
 import pytest
 
 from mobigrasp.cosim.run_folder import read_trace
-from mobigrasp.tools import plots
-from mobigrasp.tools.campaign import CampaignConfig, run_campaign
+from mobigrasp.services import plots
+from mobigrasp.services.campaign import CampaignConfig, run_campaign
 
 
 @pytest.fixture
@@ -128,8 +128,8 @@ def test_campaign_plot_is_readable(tmp_path, saved_figures, with_stops):
 
 
 def test_loop_campaign_plot_is_readable(tmp_path, saved_figures):
-    from mobigrasp.tools.loop_campaign import LoopCampaign
-    from mobigrasp.tools.loop_campaign import run_campaign as run_loop
+    from mobigrasp.services.loop_campaign import LoopCampaign
+    from mobigrasp.services.loop_campaign import run_campaign as run_loop
 
     def run(job):
         seed = job["seed"]

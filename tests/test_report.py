@@ -4,7 +4,7 @@ import json
 import re
 from pathlib import Path
 
-from mobigrasp.tools.report import answer, write_report
+from mobigrasp.services.report import answer, write_report
 
 
 def test_report_leads_with_the_answer(short_runs):

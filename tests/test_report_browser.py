@@ -7,7 +7,7 @@ import subprocess
 
 import pytest
 
-from mobigrasp.tools.report import write_report
+from mobigrasp.services.report import write_report
 
 CHROMIUM_FLAGS = ["--headless", "--no-sandbox", "--disable-gpu",
                   "--disable-background-networking", "--disable-component-update",

@@ -16,7 +16,7 @@ from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
 from mobigrasp.mcu_sim.faults.wrappers import FaultedMcu
 from mobigrasp.mcu_sim.mcu import Mcu
-from mobigrasp.tools.run_job import RunOptions, execute
+from mobigrasp.services.run_job import RunOptions, execute
 
 GRANT, QUIET = Rig.grant, Rig.quiet_through  # before any test patches them
 

@@ -211,7 +211,7 @@ def test_lag_one_issues_each_grant_a_quantum_ahead_with_older_data(tmp_path):
 
 
 def test_lag_zero_and_one_each_give_the_same_trace_over_both_transports(tmp_path):
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     sha = {}
     for lag in (0, 1):

@@ -10,7 +10,7 @@ from mobigrasp.cosim import lockstep as ls
 from mobigrasp.cosim.frame_ring import FrameRing, FrameRingReader
 from mobigrasp.cosim.rig import Rig, RigConfig, _pixels
 from mobigrasp.cosim.rig_plant import WorldPlant
-from mobigrasp.tools.run_job import resolve_scenario
+from mobigrasp.services.run_job import resolve_scenario
 
 
 @pytest.fixture(scope="module")

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from mobigrasp.cosim.run_folder import Snapshots, TraceWriter, read_trace, write_summary
+from mobigrasp.services.report import write_report
 from mobigrasp.tools.cli import main
-from mobigrasp.tools.report import write_report
 
 
 def test_trace_is_flushed_per_line_and_hashed(tmp_path):

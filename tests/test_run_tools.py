@@ -4,9 +4,9 @@ import math
 
 import pytest
 
-from mobigrasp.tools.commands.profile import profile_table
-from mobigrasp.tools.random_scenarios import random_scenario
-from mobigrasp.tools.run_job import BadInput, parse_speed, resolve_scenario
+from mobigrasp.services.profile import profile_table
+from mobigrasp.services.random_scenarios import random_scenario
+from mobigrasp.services.run_job import BadInput, parse_speed, resolve_scenario
 
 
 @pytest.mark.parametrize("version", ["v1", "v2"])
@@ -37,7 +37,7 @@ def test_v1_scenes_are_kept_seed_for_seed():
     """Old figures can be re-run: generator v1's text of a seed does not change."""
     import hashlib
 
-    from mobigrasp.tools.random_scenarios import random_scenario_toml
+    from mobigrasp.services.random_scenarios import random_scenario_toml
 
     got = {m: hashlib.sha256(random_scenario_toml(m, 3, "v1").encode()).hexdigest()[:16]
            for m in ("000", "001", "002")}
@@ -46,7 +46,7 @@ def test_v1_scenes_are_kept_seed_for_seed():
 
 
 def test_v2_covers_what_users_try():
-    from mobigrasp.tools.random_scenarios import random_scenario_toml
+    from mobigrasp.services.random_scenarios import random_scenario_toml
 
     scenes = {m: [random_scenario(m, s) for s in range(60)] for m in ("000", "001", "002")}
     every = [sc for v in scenes.values() for sc in v]

@@ -13,7 +13,7 @@ import pytest
 
 from mobigrasp.cosim import handshake, hosts
 from mobigrasp.cosim import lockstep as ls
-from mobigrasp.tools.run_job import RunOptions, execute
+from mobigrasp.services.run_job import RunOptions, execute
 
 LOAD = {"window_us": 500_000, "windows": {}, "state": "APPROACH", "finished": False,
         "camera": True, "quiet_until": 20_000}

@@ -11,7 +11,7 @@ import pytest
 
 from mobigrasp.cosim import handshake, hosts, session
 from mobigrasp.cosim import lockstep as ls
-from mobigrasp.tools.run_job import RunOptions, execute
+from mobigrasp.services.run_job import RunOptions, execute
 
 SAFETY_S = 60.0
 
@@ -121,7 +121,7 @@ def test_inproc_passes_an_empty_done_as_the_codec_would(monkeypatch):
     from mobigrasp.drivers.lockstep import LockstepClient
     from mobigrasp.host.app_factory import build_host_app
     from mobigrasp.link.registry import inproc_pair
-    from mobigrasp.tools.run_job import host_config, resolve_scenario
+    from mobigrasp.services.run_job import host_config, resolve_scenario
 
     _, scenario = resolve_scenario("paper000-exp1")
     port, peer = inproc_pair("codec-skip")

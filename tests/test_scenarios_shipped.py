@@ -1,5 +1,5 @@
 """Every shipped scenario grasps in the closed loop (in process), through the entry point
-`mobigrasp run` uses (tools.run_job.execute): success, object held, no collision, and the closed
+`mobigrasp run` uses (services.run_job.execute): success, object held, no collision, and the closed
 gripper within 15 mm of the object's grasp point (the randomized acceptance campaign over the pty
 is the system test's business; the same seed gives the same trace over either transport)."""
 
@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from mobigrasp.cosim.run_folder import read_trace
-from mobigrasp.tools.run_job import RunOptions, execute, shipped_scenarios
+from mobigrasp.services.run_job import RunOptions, execute, shipped_scenarios
 
 SHIPPED = sorted(p.stem for p in shipped_scenarios())
 

@@ -20,7 +20,7 @@ from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.avr.encoder import QuadratureEncoder
 from mobigrasp.mcu_sim.faults import FaultPlan
 from mobigrasp.mcu_sim.faults.safety import SafetyMonitor
-from mobigrasp.tools.run_job import resolve_scenario
+from mobigrasp.services.run_job import resolve_scenario
 
 _SHORTCUTS = ("advance_to", "advance_outputs", "wheel_duty", "set_encoder_ticks",
               "uart_tx_take", "servo_pulses_us")

@@ -142,7 +142,7 @@ def test_after_a_reset_the_elf_starts_again_and_keeps_talking():
 
 
 def test_a_fault_plans_mcu_reset_under_simavr_leaves_the_board_talking(tmp_path):
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     summary, _ = execute(RunOptions(scenario="paper000-exp1", mcu="simavr", out=tmp_path / "run",
                                     progress=False, plots=False, mcap=False, time_limit_s=2.0,

@@ -9,7 +9,7 @@ import json
 
 import pytest
 
-from mobigrasp.tools.run_job import RunOptions, execute
+from mobigrasp.services.run_job import RunOptions, execute
 
 SUMMARY_KEYS = (
     "scenario", "method", "seed", "transport", "success", "grasped", "time_to_grasp_s",
@@ -96,13 +96,13 @@ ACCEPTANCE_SEEDS = 30  # per method, generator v2 from seed 1000 (docs/cosim.md)
 def test_acceptance_campaign_holds_the_bars(tmp_path, method, monkeypatch):
     """Graspable scenes >= 97 % success, 0 contacts, 0 false claims, every board alone FAILED,
     median final error <= 10 mm (tools/loop_campaign.bar_misses)."""
-    from mobigrasp.tools import run_job
+    from mobigrasp.services import run_job
 
     # a false claim is counted in its row and fails this test by bar_misses (and by the suite's
     # check of every summary.json under tmp_path, tests/conftest.py), rather than raising
     # inside the run, where its row would lose the end state
     monkeypatch.setattr(run_job, "execute", run_job.execute.__wrapped__)
-    from mobigrasp.tools.loop_campaign import (
+    from mobigrasp.services.loop_campaign import (
         LoopCampaign,
         bar_misses,
         failure_lines,

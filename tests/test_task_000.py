@@ -14,7 +14,7 @@ from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.host import arm_calib
 from mobigrasp.host.app_factory import task_params
 from mobigrasp.host.task import Task
-from mobigrasp.tools.run_job import RunOptions, execute, resolve_scenario
+from mobigrasp.services.run_job import RunOptions, execute, resolve_scenario
 
 
 def run_details(task, world, t_end_us=120_000_000, period_us=20_000, frame_every=3):

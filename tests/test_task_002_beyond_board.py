@@ -10,7 +10,7 @@ import pytest
 
 from mobigrasp.host.task import Task, TaskInputs
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
-from mobigrasp.tools.run_job import RunOptions, execute
+from mobigrasp.services.run_job import RunOptions, execute
 
 LEVEL_LOOK = [0, 0, -2100, -200, 2300, 0]  # the search's level look (camera ~0.2 m up)
 

@@ -97,7 +97,7 @@ def _scenario_frames() -> list[np.ndarray]:
     import tempfile
     from pathlib import Path
 
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     frames: list[np.ndarray] = []
 

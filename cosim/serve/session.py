@@ -43,7 +43,7 @@ class SimOptions:
     time_limit_s: float | None = None
     # the caller's display: ``update(simulated_s, text)`` and ``close()`` (None: no progress)
     progress: Any = None
-    # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
+    # (path, Scenario) resolved by the caller (mobigrasp.services.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
 
 

@@ -59,6 +59,7 @@ from mobigrasp.host.planning.grasp_circle import (
     grasp_radius,
     inside_circle,
 )
+from mobigrasp.host.planning.observe import observed
 from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
@@ -157,6 +158,7 @@ def _clearance(s, rows: np.ndarray, regions: list[InfeasibleRegion]) -> np.ndarr
     return out
 
 
+@observed("001")
 def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sonar_mm,
              params: Params001 = Params001(),
              known_regions: list[InfeasibleRegion] | None = None) -> Plan:

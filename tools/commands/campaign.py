@@ -17,7 +17,12 @@ from pathlib import Path
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
-    from mobigrasp.tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
+    from mobigrasp.services.campaign import (
+        CampaignConfig,
+        format_table,
+        run_campaign,
+        write_outputs,
+    )
     from mobigrasp.tools.progress import Progress
 
     try:

@@ -71,7 +71,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
-    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
+    from mobigrasp.services.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
 
     names = _mcu_names()
     mcu = args.mcu
@@ -116,7 +116,7 @@ def _run(args: argparse.Namespace) -> int:
             signal.signal(s, h)
     if not args.no_plots:
         try:
-            from mobigrasp.tools.report import write_report
+            from mobigrasp.services.report import write_report
 
             write_report(Path(summary["run_folder"]))
         except Exception as exc:  # a plotting failure must not hide the run's result

@@ -29,10 +29,19 @@ $(BASE): FORCE
 	  if [ -e $(VENV) ]; then echo "make: .venv is rebuilt with $(PYTHON)"; fi; \
 	  rm -rf $(VENV) && mkdir -p $(VENV) && echo "$(PYTHON)" > $@; fi
 
-$(STAMP): pyproject.toml $(BASE)
+# The editable install is a tree of links (setuptools' strict editable mode, in build/): real
+# folders with one link per file, so import-linter sees every module of the package (a wheel's
+# layout, docs/architecture.md). A module added or removed needs the tree made again: the stamp
+# depends on the package's folders, whose times change when an entry does, so `make venv` and
+# `make test` redo it (tests/conftest.py stops a bare pytest that misses a module and says so).
+PKG_DIRS := $(shell find src protocol link host mcu_sim cosim drivers calib services tools \
+	scenarios firmware hostc -type d -not -name __pycache__ -not -path '*/build*' 2>/dev/null)
+
+$(STAMP): pyproject.toml $(BASE) $(PKG_DIRS)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade "pip>=23"
-	$(BIN)/python -m pip install --quiet -e '.[sim,plots,cluster,dev]'
+	$(BIN)/python -m pip install --quiet -e '.[sim,plots,cluster,dev]' \
+	  --config-settings editable_mode=strict
 	@touch $(STAMP)
 
 # ruff on the repository's tracked files only: an untracked folder in a clone is the user's
@@ -82,4 +91,4 @@ demo: venv
 	$(BIN)/mobigrasp demo
 
 clean:
-	rm -rf $(VENV) bench-results runs firmware/build
+	rm -rf $(VENV) bench-results runs firmware/build build

@@ -20,13 +20,14 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-
 from mobigrasp.calib import arm, corpus, plan_corpus, planning, timing
 from mobigrasp.calib.native import red_roi_tuple
 from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
 from mobigrasp.host.vision.registry import DETECTORS
+
+from mobigrasp.resources import source_checkout
 
 # the detectors that start with dark_blobs.dark_components (grey, dark mask, labelling)
 FRONT_END = ("radial_symbol", "dual_plus", "spoke")
@@ -158,7 +159,9 @@ def _pct(values: list[float], q: float) -> float:
 
 
 def _commit() -> str:
-    root = Path(__file__).resolve().parents[1]
+    root = source_checkout()
+    if root is None:
+        return "unknown"
     try:
         head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"],
                               capture_output=True, text=True, timeout=10).stdout.strip()

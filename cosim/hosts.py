@@ -135,11 +135,7 @@ class SocketHost:
         self._server.bind(self.path)
         self._server.listen(1)
         self._server.settimeout(accept_timeout_s)
-        env = dict(os.environ)
-        # the host process imports this source tree whatever the caller's working directory
-        root = str(Path(__file__).resolve().parents[1])
-        env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
-        self.proc = subprocess.Popen([*argv, "--lockstep", self.path], env=env)
+        self.proc = subprocess.Popen([*argv, "--lockstep", self.path])
         if connect:
             self.connect()
 

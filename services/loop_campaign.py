@@ -239,7 +239,11 @@ def load_rows(path: Path, cfg: LoopCampaign) -> list[dict]:
 
 def _commit() -> str:
     """The source tree's commit (``+dirty`` with uncommitted changes), or ``unknown``."""
-    root = Path(__file__).resolve().parents[1]
+    from mobigrasp.resources import source_checkout
+
+    root = source_checkout()
+    if root is None:
+        return "unknown"
     try:
         head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
                               capture_output=True, text=True, timeout=10).stdout.strip()

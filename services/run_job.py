@@ -18,7 +18,9 @@ from typing import Any
 
 from mobigrasp.cosim.run import RunSpec, run_scenario
 
-SCENARIO_DIR = Path(__file__).resolve().parents[1] / "scenarios"
+from mobigrasp.resources import data_dir
+
+SCENARIO_DIR = data_dir("mobigrasp.scenarios")
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
 log = logging.getLogger(__name__)
 
@@ -28,7 +30,7 @@ class BadInput(ValueError):
 
 
 def shipped_scenarios() -> list[Path]:
-    """The scenario files shipped in scenarios/."""
+    """The shipped scenario files (package data of ``mobigrasp.scenarios``)."""
     return sorted(SCENARIO_DIR.glob("*.toml"))
 
 

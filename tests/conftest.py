@@ -19,6 +19,33 @@ settings.register_profile("explore", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
+def _editable_tree_misses() -> list[str]:
+    """Modules of the checkout that the editable install's tree of links lacks (a module added
+    since ``make venv``; the Makefile explains the tree). Empty for any other install."""
+    import tomllib
+
+    from mobigrasp.resources import data_dir
+
+    installed = data_dir("mobigrasp")
+    if "__editable__" not in str(installed):
+        return []
+    root = Path(__file__).resolve().parents[1]
+    mapping = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]
+    missing = []
+    for package, folder in mapping["package-dir"].items():
+        target = installed.joinpath(*package.split(".")[1:])
+        missing += [str(Path(folder) / py.relative_to(root / folder))
+                    for py in (root / folder).rglob("*.py")
+                    if not (target / py.relative_to(root / folder)).exists()]
+    return missing
+
+
+def pytest_configure(config):
+    if missing := _editable_tree_misses():
+        pytest.exit(f"the editable install lacks {', '.join(sorted(missing)[:5])}: run `make venv`",
+                    returncode=4)
+
+
 # Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the
 # module's ``Mcu`` is the Python model for ``python``, the C firmware for ``native`` and, where
 # the module is also marked ``simavr``, the avr-gcc ELF under simavr, started up before the

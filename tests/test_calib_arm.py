@@ -8,8 +8,8 @@ import sys
 
 import numpy as np
 import pytest
-
 from mobigrasp.calib import arm, corpus, native
+from mobigrasp.services.corpus import record
 
 
 @pytest.fixture(scope="module")
@@ -41,7 +41,7 @@ def test_emulated_plus_detectors_equal_python(machine, tmp_path):
 
     from mobigrasp.host.vision import dual_plus, spoke
 
-    corpus.record(tmp_path, ["paper000-exp1"])
+    record(tmp_path, ["paper000-exp1"])
     idx = corpus.read_index(tmp_path)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
     calls = [c for c in corpus.calls(tmp_path, idx) if c.detector in ("dual_plus", "spoke")]
@@ -96,7 +96,7 @@ def test_grey_time_is_linear_in_pixels_and_fills_follow_the_parameter():
 
 
 def test_calibrate_command_writes_the_stage_table(tmp_path):
-    corpus.record(tmp_path / "c", ["paper000-exp1"], time_limit_s=3.0)
+    record(tmp_path / "c", ["paper000-exp1"], time_limit_s=3.0)
     out = tmp_path / "cal.json"
     env_cache = {"MOBIGRASP_CACHE_DIR": str(tmp_path / "cache")}
     r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
@@ -160,9 +160,8 @@ def test_profile_puts_the_last_calibration_beside_the_model():
 def test_emulated_double_cross_equals_python(machine):
     import dataclasses
 
-    from test_vision_002_double_cross import draw_double_cross
-
     from mobigrasp.host.vision import double_cross
+    from test_vision_002_double_cross import draw_double_cross
 
     front, found = arm.FrontEnd(machine), 0
     for k, (radius, crosses) in enumerate(((14, (-1, 1)), (30, (-1, 1)), (20, (1,)))):

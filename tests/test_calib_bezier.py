@@ -10,14 +10,14 @@ import math
 
 import numpy as np
 import pytest
-
-from mobigrasp.calib import corpus, native, planning
+from mobigrasp.calib import native, planning
 from mobigrasp.calib import plan_corpus as pc
 from mobigrasp.host.planning.bezier000 import control_points_000
 from mobigrasp.host.planning.bezier001 import control_points_001
 from mobigrasp.host.planning.candidates import Limits, evaluate_batch
 from mobigrasp.host.planning.grasp_circle import end_points
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
+from mobigrasp.services.corpus import record
 
 REL = 1e-12
 
@@ -157,7 +157,7 @@ def _check_call(folder, call):
 @pytest.fixture(scope="module")
 def plan_slice(tmp_path_factory):
     out = tmp_path_factory.mktemp("planslice")
-    corpus.record(out, ["paper000-exp1", "paper001-sim1"], time_limit_s=3.0)
+    record(out, ["paper000-exp1", "paper001-sim1"], time_limit_s=3.0)
     return out
 
 
@@ -168,7 +168,7 @@ def test_c_matches_every_planner_call_of_a_corpus_slice(plan_slice):
 
 @pytest.mark.slow
 def test_c_matches_every_planner_call_of_the_corpus(tmp_path):
-    corpus.record(tmp_path, ["paper000-exp1", "paper000-exp2", "paper001-sim1",
+    record(tmp_path, ["paper000-exp1", "paper000-exp2", "paper001-sim1",
                              "paper001-sim2"])
     calls = pc.read_index(tmp_path)["calls"]
     assert len(calls) >= 20

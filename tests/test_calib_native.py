@@ -4,7 +4,6 @@ import dataclasses
 
 import numpy as np
 import pytest
-
 from mobigrasp.calib import corpus, native
 from mobigrasp.host import fixedpoint as fp
 from mobigrasp.host import ranging
@@ -17,6 +16,7 @@ from mobigrasp.host.vision import (
     red_cylinder,
     spoke,
 )
+from mobigrasp.services.corpus import record
 
 
 def _check_front_end(rgb):
@@ -154,7 +154,7 @@ def test_ring_pair_ranging_refuses_what_it_cannot_compute_exactly():
 
 @pytest.mark.parametrize("detector", ["dual_plus", "spoke"])
 def test_plus_detectors_slice_matches(tmp_path, detector):
-    corpus.record(tmp_path, ["paper000-exp1"])
+    record(tmp_path, ["paper000-exp1"])
     calls = [c for c in corpus.calls(tmp_path, corpus.read_index(tmp_path))
              if c.detector == detector]
     found = _check_calls(tmp_path, calls[::2])
@@ -165,7 +165,7 @@ def test_plus_detectors_slice_matches(tmp_path, detector):
 def marker_slice(tmp_path_factory):
     """The first 4 s of paper002-marker: the double cross searched for, then the cylinder."""
     folder = tmp_path_factory.mktemp("marker")
-    corpus.record(folder, ["paper002-marker"], time_limit_s=4.0)
+    record(folder, ["paper002-marker"], time_limit_s=4.0)
     return folder
 
 
@@ -230,7 +230,7 @@ def test_double_cross_uniform_frames_not_found(value):
 
 
 def test_small_corpus_slice_matches(tmp_path):
-    corpus.record(tmp_path, ["paper000-exp1"], time_limit_s=6.0)
+    record(tmp_path, ["paper000-exp1"], time_limit_s=6.0)
     idx = corpus.read_index(tmp_path)
     assert idx["frames"]
     for fr in idx["frames"][:12]:
@@ -243,7 +243,7 @@ def test_small_corpus_slice_matches(tmp_path):
 def test_whole_corpus_matches(tmp_path):
     from mobigrasp.services.run_job import shipped_scenarios
 
-    corpus.record(tmp_path, [p.stem for p in shipped_scenarios()])
+    record(tmp_path, [p.stem for p in shipped_scenarios()])
     idx = corpus.read_index(tmp_path)
     assert len(idx["scenarios"]) == 6
     for fr in idx["frames"]:

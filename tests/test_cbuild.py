@@ -1,4 +1,4 @@
-"""The cffi declarations come from the C headers (mobigrasp/cbuild.py)."""
+"""The cffi declarations come from the C headers (src/mobigrasp/cbuild.py)."""
 
 import cffi
 import pytest

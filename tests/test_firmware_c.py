@@ -1,16 +1,16 @@
 """The C protocol codec (firmware/protocol), built with the host gcc and run: the golden vectors
-of docs/protocol_vectors.json byte for byte, and the sources compile without a warning."""
+of protocol/golden_vectors.json byte for byte, and the sources compile without a warning."""
 
 import json
 import shutil
 import subprocess
-from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-FIRMWARE = ROOT / "firmware"
-VECTORS = ROOT / "docs" / "protocol_vectors.json"
+from mobigrasp.resources import data_dir
+
+FIRMWARE = data_dir("mobigrasp.firmware")
+VECTORS = data_dir("mobigrasp.protocol") / "golden_vectors.json"
 GCC = shutil.which("gcc") or shutil.which("cc")
 pytestmark = pytest.mark.skipif(GCC is None, reason="no host C compiler (gcc) on this machine")
 CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O1"]

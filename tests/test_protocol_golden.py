@@ -6,9 +6,10 @@ import json
 import re
 from pathlib import Path
 
+import mobigrasp.protocol as p
 import pytest
 
-import mobigrasp.protocol as p
+from mobigrasp.resources import data_dir
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "protocol.md"
 
@@ -114,11 +115,11 @@ def test_crc_check_value_documented():
     assert "`02 01 04 13 fe d9`" in DOC.read_text()
 
 
-VECTORS_JSON = DOC.parent / "protocol_vectors.json"
+VECTORS_JSON = data_dir("mobigrasp.protocol") / "golden_vectors.json"
 
 
 def test_json_vectors_are_the_documented_ones():
-    # docs/protocol_vectors.json is what the C unit test (tests/test_firmware_c.py) reads
+    # protocol/golden_vectors.json is what the C unit test (tests/test_firmware_c.py) reads
     data = json.loads(VECTORS_JSON.read_text())
     assert data["crc_check"] == {"data_hex": b"123456789".hex(), "crc": 0x29B1}
     assert len(data["vectors"]) == len(GOLDEN)

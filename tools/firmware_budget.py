@@ -25,11 +25,13 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-BUILD = ROOT / "firmware" / "build"
+from mobigrasp.resources import data_dir, source_checkout
+
+# a tool of the source checkout: it reads the avr build and rewrites sram.py and the doc's table
+BUILD = data_dir("mobigrasp.firmware") / "build"
 ELF_NAME = "mobigrasp-avr.elf"
-SRAM_PY = ROOT / "mcu_sim" / "firmware" / "sram.py"
-DOC = ROOT / "docs" / "firmware.md"
+SRAM_PY = data_dir("mobigrasp.mcu_sim.firmware") / "sram.py"
+DOC = (source_checkout() or Path.cwd()) / "docs" / "firmware.md"
 DOC_BEGIN, DOC_END = "<!-- sram:begin -->\n", "<!-- sram:end -->\n"
 FLASH_BYTES = 128 * 1024
 SRAM_BYTES = 4096

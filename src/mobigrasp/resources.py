@@ -1,0 +1,36 @@
+"""Where the package keeps its data, found with importlib.resources (never from a module's path).
+
+The shipped scenarios (``mobigrasp.scenarios``), the C sources of the firmware and its harnesses
+(``mobigrasp.firmware``), the host kernels in C (``mobigrasp.hostc``) and the golden protocol
+vectors (``mobigrasp.protocol``) are package data: the same names work in a clone (the editable
+install) and in an installed wheel. They must be files on disk (the C compilers read them), so a
+zipped install is refused with the package named.
+"""
+
+from __future__ import annotations
+
+import subprocess
+from importlib.resources import files
+from pathlib import Path
+
+
+def data_dir(package: str) -> Path:
+    """The folder of ``package`` on disk, e.g. ``data_dir("mobigrasp.firmware")``."""
+    root = files(package)
+    if not isinstance(root, Path) or not root.is_dir():
+        raise FileNotFoundError(f"{package}: its data is not a folder on disk ({root})")
+    return root
+
+
+def source_checkout() -> Path | None:
+    """The git checkout the package is imported from (an editable install), else None."""
+    here = data_dir("mobigrasp")
+    try:
+        top = subprocess.run(["git", "-C", str(here), "rev-parse", "--show-toplevel"],
+                             capture_output=True, text=True, timeout=10).stdout.strip()
+    except (OSError, subprocess.SubprocessError):
+        return None
+    # a wheel installed in a virtual environment that lies inside some other repository
+    if not top or not (Path(top) / "mobigrasp" / "resources.py").is_file():
+        return None
+    return Path(top)

@@ -68,8 +68,10 @@ toolchains:
 	    || echo "make: apt-get could not install$$missing" >&2; \
 	else echo "make: missing$$missing and apt-get cannot run here" >&2; fi
 
+# the fast suite, then the wheel installed outside the clone (slow: a build and five runs)
 test: lint toolchains
 	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -m slow tests/test_wheel_install.py
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing
 browser:

@@ -20,13 +20,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+
 from mobigrasp.calib import arm, corpus, plan_corpus, planning, timing
 from mobigrasp.calib.native import red_roi_tuple
 from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
 from mobigrasp.host.vision.registry import DETECTORS
-
 from mobigrasp.resources import source_checkout
 
 # the detectors that start with dark_blobs.dark_components (grey, dark mask, labelling)

@@ -17,7 +17,6 @@ from pathlib import Path
 from typing import Any
 
 from mobigrasp.cosim.run import RunSpec, run_scenario
-
 from mobigrasp.resources import data_dir
 
 SCENARIO_DIR = data_dir("mobigrasp.scenarios")

@@ -8,6 +8,7 @@ import sys
 
 import numpy as np
 import pytest
+
 from mobigrasp.calib import arm, corpus, native
 from mobigrasp.services.corpus import record
 
@@ -160,8 +161,9 @@ def test_profile_puts_the_last_calibration_beside_the_model():
 def test_emulated_double_cross_equals_python(machine):
     import dataclasses
 
-    from mobigrasp.host.vision import double_cross
     from test_vision_002_double_cross import draw_double_cross
+
+    from mobigrasp.host.vision import double_cross
 
     front, found = arm.FrontEnd(machine), 0
     for k, (radius, crosses) in enumerate(((14, (-1, 1)), (30, (-1, 1)), (20, (1,)))):

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 import pytest
+
 from mobigrasp.calib import native, planning
 from mobigrasp.calib import plan_corpus as pc
 from mobigrasp.host.planning.bezier000 import control_points_000

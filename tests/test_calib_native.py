@@ -4,6 +4,7 @@ import dataclasses
 
 import numpy as np
 import pytest
+
 from mobigrasp.calib import corpus, native
 from mobigrasp.host import fixedpoint as fp
 from mobigrasp.host import ranging

@@ -5,6 +5,7 @@ import sys
 
 import numpy as np
 import pytest
+
 from mobigrasp.calib import corpus
 from mobigrasp.calib import plan_corpus as pc
 from mobigrasp.services.corpus import record

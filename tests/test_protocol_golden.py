@@ -6,9 +6,9 @@ import json
 import re
 from pathlib import Path
 
-import mobigrasp.protocol as p
 import pytest
 
+import mobigrasp.protocol as p
 from mobigrasp.resources import data_dir
 
 DOC = Path(__file__).resolve().parent.parent / "docs" / "protocol.md"

@@ -20,10 +20,9 @@ import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
+from mobigrasp import cbuild
 from mobigrasp.mcu_sim.native.build import FIRMWARE_DIR
 from mobigrasp.mcu_sim.native.build import source_hash as firmware_hash
-
-from mobigrasp import cbuild
 
 HARNESS_DIR = FIRMWARE_DIR / "simavr"
 SIMAVR_HEADER = Path("/usr/include/simavr/sim_avr.h")

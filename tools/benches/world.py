@@ -14,6 +14,7 @@ import importlib.util
 import time
 
 import numpy as np
+
 from mobigrasp.mcu_sim.world.world import World
 from mobigrasp.services.run_job import BadInput, resolve_scenario
 from mobigrasp.tools.benches import BenchInputError

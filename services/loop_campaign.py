@@ -29,6 +29,7 @@ from pathlib import Path
 from mobigrasp.cosim.run_folder import json_lines
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
 from mobigrasp.services.random_scenarios import GENERATORS, KIND
+from mobigrasp.services.run_outcome import outcome
 
 METHODS = tuple(KIND)
 TRANSPORTS = ("pty", "inproc")
@@ -197,24 +198,6 @@ def met_bar(row: dict) -> bool:
     if row["false_claim"] or row["contacts"] or row["status"] == "raised":
         return False
     return row["success"] if row["graspable"] else row["task_state"] == "FAILED"
-
-
-def outcome(row: dict) -> str:
-    """A short cause of the run's end, for the figure and the failure list."""
-    if row["false_claim"]:
-        return "false claim"
-    if row["status"] in ("raised", "crashed"):
-        return "crashed"
-    if row["contacts"] and row["success"]:
-        return "success with contact"
-    if row["success"]:
-        return "success"
-    if not row["graspable"] and row["task_state"] == "FAILED":
-        return "board alone: FAILED"
-    if row["end_reason"] == "time_limit":
-        return f"time limit in {row['task_state']}"
-    reason = str(row.get("reason") or "no reason given")
-    return f"{row['task_state']}: {reason.split(' (')[0].split(':')[0][:40]}"
 
 
 def load_rows(path: Path, cfg: LoopCampaign) -> list[dict]:

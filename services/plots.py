@@ -25,8 +25,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.patches import Circle, Polygon  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
-from mobigrasp.services.loop_campaign import outcome  # noqa: E402
 from mobigrasp.services.plan_paths import odom_to_world, plan_paths_world  # noqa: E402
+from mobigrasp.services.run_outcome import outcome  # noqa: E402
 
 JOINT_NAMES = ["θ0 gripper", "θ1 roll", "θ2 wrist", "θ3 elbow", "θ4 shoulder", "θ5 waist"]
 

@@ -70,13 +70,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
     from mobigrasp.services.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
+    from mobigrasp.services.sim import serve_scenario
+    from mobigrasp.tools.progress import Progress
 
     names = _mcu_names()
-    mcu = args.mcu
-    if mcu not in names:
-        print(f"mobigrasp sim: --mcu must be one of {', '.join(names)}, got {mcu!r}",
+    if args.mcu not in names:
+        print(f"mobigrasp sim: --mcu must be one of {', '.join(names)}, got {args.mcu!r}",
               file=sys.stderr)
         return 2
     asked: list[str] = []
@@ -91,36 +91,26 @@ def _run(args: argparse.Namespace) -> int:
     try:
         check_seed(args.seed)
         check_time_limit(args.time_limit_s)
-        resolved = resolve_scenario(args.scenario)
+        scenario = resolve_scenario(args.scenario)[1]
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
-    from mobigrasp.tools.progress import Progress
-
-    scenario = resolved[1]
     display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
                        desc=f"sim {scenario.meta.name}", unit="s simulated",
                        enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
-                                   camera_port=args.camera_port, out=args.out, seed=args.seed,
-                                   time_limit_s=args.time_limit_s, progress=display,
-                                   resolved=resolved),
-                        on_ready, stop=lambda: asked[0] if asked else None)
-    except BadSimInput as exc:
+        summary = serve_scenario(args.scenario, speed=args.speed, mcu=args.mcu,
+                                 camera_port=args.camera_port, out=args.out, seed=args.seed,
+                                 time_limit_s=args.time_limit_s, plots=not args.no_plots,
+                                 progress=display, on_ready=on_ready,
+                                 stop=lambda: asked[0] if asked else None)
+    except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
-    if not args.no_plots:
-        try:
-            from mobigrasp.services.report import write_report
-
-            write_report(Path(summary["run_folder"]))
-        except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
     print(f"{summary['scenario']} served to an external host: "
           f"{'GRASPED' if summary['grasped'] else 'not grasped'} ({summary['end_reason']}) in "
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "

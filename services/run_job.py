@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 from mobigrasp.cosim.run import RunSpec, run_scenario
+from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
 from mobigrasp.resources import data_dir
 
 SCENARIO_DIR = data_dir("mobigrasp.scenarios")
@@ -138,7 +139,7 @@ def check_run(opts: RunOptions) -> str:
     build_host_app(host_config(scenario, opts.time_limit_s))
     n = len(plan.as_table()) if plan is not None else 0
     return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
-            f"time limit {opts.time_limit_s or scenario.meta.time_limit_s:g} s, "
+            f"time limit {run_time_limit_s(scenario, opts.time_limit_s):g} s, "
             f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
 
 
@@ -163,7 +164,7 @@ def host_config(scenario, time_limit_s: float | None = None) -> dict:
     of the ground truth."""
     cam = scenario.camera
     params = getattr(scenario, "param_overrides", None) or scenario.params
-    limit_s = time_limit_s or scenario.meta.time_limit_s
+    limit_s = run_time_limit_s(scenario, time_limit_s)
     cfg = {"method": scenario.meta.method, "params": dict(params),
            "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px},
            "task": {"timeouts_us": {"SEARCH": int(round(limit_s * 1e6))}}}
@@ -217,7 +218,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
 
         camera = CameraLog()  # the frames of trace.mcap
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
-                   host_config=cfg, time_limit_s=opts.time_limit_s or scenario.meta.time_limit_s,
+                   host_config=cfg, time_limit_s=run_time_limit_s(scenario, opts.time_limit_s),
                    inproc_client=_inproc_client(cfg, opts.timer), transport=opts.transport,
                    mcu=opts.mcu, speed=opts.speed, progress=opts.progress,
                    quantum_us=opts.quantum_us, couple_us=opts.couple_us,

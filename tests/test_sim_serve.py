@@ -279,3 +279,28 @@ def test_ctrl_c_ends_the_session_and_writes_the_run_folder(tmp_path):
     assert "not grasped (interrupted)" in rest
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "finished" and summary["end_reason"] == "interrupted"
+
+
+def test_run_and_sim_write_one_summary_schema(tmp_path):
+    """`mobigrasp run` and `mobigrasp sim` are one wiring (cosim/sim_side.py): the same keys,
+    the MCU's counters under "mcu" and its backend under "mcu_backend"; the served session adds
+    only what an external host is given (pty, camera, pacing) and the line's and camera's
+    counters."""
+    from mobigrasp.services.run_job import RunOptions, execute
+    from mobigrasp.services.sim import serve_scenario
+
+    run, _ = execute(RunOptions(scenario="paper000-exp1", transport="inproc",
+                                out=tmp_path / "run", progress=False, plots=False,
+                                time_limit_s=0.3))
+    sim = serve_scenario("paper000-exp1", speed=100.0, camera_port=0, out=tmp_path / "sim",
+                         time_limit_s=0.3, plots=False)
+    assert set(run) <= set(sim)
+    assert set(sim) - set(run) == {"serial", "camera", "speed", "line", "camera_frames",
+                                   "run_folder"}
+    for summary in (run, sim):
+        assert summary["mcu_backend"] == "python" and summary["status"] == "finished"
+        assert summary["mcu"]["telemetry_sent"] > 0
+    assert sim["method"] == "external" and sim["task_state"] == "external"
+    assert sim["end_reason"] == "time_limit" and sim["time_limit_s"] == 0.3
+    on_disk = json.loads((tmp_path / "sim" / "summary.json").read_text())
+    assert on_disk["line"] == sim["line"] and on_disk["mcu"] == sim["mcu"]

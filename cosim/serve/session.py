@@ -13,13 +13,12 @@ block are judged from the world, since an external host reports no task state.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from mobigrasp.mcu_sim.backend import MCU_BACKENDS, open_mcu
+from mobigrasp.mcu_sim.backend import MCU_BACKENDS
 
 # quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
 # the rig reads exactly the bytes the ExternalHost announced
@@ -98,91 +97,47 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
-    from mobigrasp.cosim.faulted_host import wrap_for_faults
-    from mobigrasp.cosim.rig import Rig, RigConfig
-    from mobigrasp.cosim.rig_plant import WorldPlant
-    from mobigrasp.cosim.run_folder import TraceWriter, write_summary
-    from mobigrasp.cosim.session import SessionResult, run_session
+    from mobigrasp.cosim.rig import RigConfig
+    from mobigrasp.cosim.session import SessionResult
+    from mobigrasp.cosim.sim_side import SimSide
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
+    from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
 
-    name = scenario.meta.name
-    (out / "plots").mkdir(exist_ok=True)
-    summary: dict[str, Any] = {
-        "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
-        "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
-        "serial": serial, "camera": camera.url, "status": "starting", "success": False,
-        "grasped": False,
-    }
-    write_summary(out / "summary.json", summary)
-    trace = TraceWriter(out / "trace.jsonl")
-    plant = WorldPlant(scenario, seed)
-    plant.preload()
-    mcu = open_mcu(opts.mcu)
-    plan = getattr(scenario, "faults", None) or FaultPlan()
-    fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
-    summary["faults_plan"] = plan.as_table()
-    rig = Rig(rig_mcu, rig_plant, host.port,
-              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0))
-    limit_s = opts.time_limit_s or scenario.meta.time_limit_s
-    trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": "external", "seed": seed,
-                 "robot": [scenario.robot.x_m, scenario.robot.y_m, scenario.robot.heading_rad],
-                 "target": [scenario.target.x_m, scenario.target.y_m],
-                 "obstacles": [vars(o) for o in scenario.obstacles]})
+    sim = SimSide(scenario, seed, out, path, "pty (external host)",
+                  getattr(scenario, "faults", None) or FaultPlan(), opts.mcu, external_host=True)
+    sim.summary.update(speed=opts.speed, serial=serial, camera=camera.url)
+    limit_s = run_time_limit_s(scenario, opts.time_limit_s)
+    display = opts.progress
 
     def why_stop() -> str | None:
         if host.host_closed:
             return "host_closed"
         return stop() if stop is not None else None
 
-    display = opts.progress
-
     def progress(res, wall):
         if display is not None:
-            display.update(round(rig.now_us / 1e6, 1),
+            display.update(round(sim.rig.now_us / 1e6, 1),
                            f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
                            f"frames {camera.frames_published}")
 
     res = SessionResult()
-    on_ready(serial, camera.url)
-    summary["status"] = "running"
     try:
-        run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                    truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
-                    speed=opts.speed, progress=progress, stop=why_stop)
-        summary["status"] = "finished"
-    except Exception as exc:
-        summary["status"] = "crashed"
-        summary["error"] = f"{type(exc).__name__}: {exc}"
-        print(f"\nsim crashed: {summary['error']}", file=sys.stderr)
+        with sim.noting_the_end():
+            # the external host is not wrapped for faults: it is the user's program
+            sim.wire(RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0),
+                     None, host.port)
+            on_ready(serial, camera.url)
+            sim.drive(res, host, limit_s, speed=opts.speed, progress=progress, stop=why_stop)
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
         if display is not None:
             display.close()
-        trace.close()
-        summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
-        summary["mcu_stats"] = mcu.stats()
-        summary["faults"], summary["safety"] = fault_rig.summary()
-        write_summary(out / "summary.json", summary)
-    summary["run_folder"] = str(out)
-    return summary
-
-
-def _figures(res, plant, rig, host, camera, trace, limit_s: float) -> dict:
-    from mobigrasp.cosim.summary import world_figures
-
-    world = world_figures(plant.final())
-    wall = res.wall_s
-    return {
-        # an external host claims nothing mobigrasp can read: success is the world's grasp
-        "success": world["grasped"], **world, "task_state": "external",
-        "end_reason": res.reason,
-        "sim_time_s": res.end_us / 1e6, "time_limit_s": limit_s, "wall_time_s": wall,
-        "realtime_factor": (res.end_us / 1e6 / wall) if wall > 0 else None,
-        "line": host.stats(),
-        "camera_frames": {"captured": rig.stats["frames_captured"],
-                          "published": camera.frames_published,
-                          "stream_parts_sent": camera.parts_sent},
-        "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
-        "error": res.error,
-    }
+        rig = sim.rig
+        sim.finish(res, None, limit_s, extra={
+            "line": host.stats(),
+            "camera_frames": {"captured": rig.stats["frames_captured"] if rig else 0,
+                              "published": camera.frames_published,
+                              "stream_parts_sent": camera.parts_sent}})
+    sim.summary["run_folder"] = str(out)
+    return sim.summary

@@ -70,6 +70,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
     from mobigrasp.services.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
     from mobigrasp.services.sim import serve_scenario
     from mobigrasp.tools.progress import Progress
@@ -95,7 +96,7 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
-    display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
+    display = Progress(total=round(run_time_limit_s(scenario, args.time_limit_s), 1),
                        desc=f"sim {scenario.meta.name}", unit="s simulated",
                        enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}

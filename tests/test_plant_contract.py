@@ -2,7 +2,6 @@
 bench plant (wheels in the air), the fault wrapper around the world, and the test fake."""
 
 import inspect
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +14,9 @@ from mobigrasp.mcu_sim.faults.injectors import RunFaults
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.faults.wrappers import FaultedPlant
 from mobigrasp.mcu_sim.world.scenario import load_scenario
+from mobigrasp.resources import data_dir
 
-SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper000-exp1.toml"
+SCENARIO = data_dir("mobigrasp.scenarios") / "paper000-exp1.toml"
 KINDS = ["world", "bench", "faulted:world", "fake"]
 HAS_CAMERA = {"world": True, "bench": False, "faulted:world": True, "fake": True}
 

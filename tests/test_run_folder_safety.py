@@ -18,9 +18,10 @@ from mobigrasp.cosim.run_folder import (
     prepare_run_folder,
     safe_component,
 )
+from mobigrasp.resources import data_dir
 from mobigrasp.tools.cli import main
 
-SCENARIO = Path(__file__).resolve().parents[1] / "scenarios" / "paper000-exp1.toml"
+SCENARIO = data_dir("mobigrasp.scenarios") / "paper000-exp1.toml"
 QUICK = ["--transport", "inproc", "--time-limit-s", "0.1", "--quiet", "--no-plots"]
 
 

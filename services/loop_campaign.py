@@ -20,7 +20,6 @@ from __future__ import annotations
 import json
 import os
 import statistics
-import subprocess
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
@@ -220,22 +219,7 @@ def load_rows(path: Path, cfg: LoopCampaign) -> list[dict]:
     return list(rows.values())
 
 
-def _commit() -> str:
-    """The source tree's commit (``+dirty`` with uncommitted changes), or ``unknown``."""
-    from mobigrasp.resources import source_checkout
 
-    root = source_checkout()
-    if root is None:
-        return "unknown"
-    try:
-        head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short", "HEAD"],
-                              capture_output=True, text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain",
-                                "--untracked-files=no"], capture_output=True, text=True,
-                               timeout=10).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-    return (head + ("+dirty" if dirty else "")) if head else "unknown"
 
 
 def progress_text(done: int, total: int, rows: list[dict], elapsed_s: float,
@@ -265,9 +249,10 @@ def run_campaign(cfg: LoopCampaign, run_fn: Callable[[dict], dict] | None = None
 
     ``progress`` (tools.progress.Progress) is told the runs done and :func:`progress_text`.
     Wall time is for that display only, never a result."""
+    from mobigrasp.provenance import source_commit
     from mobigrasp.services.campaign_engines import open_engine
 
-    commit = _commit()  # of the tree that starts the runs
+    commit = source_commit(untracked=False)  # of the tree that starts the runs
     out = Path(cfg.out)
     if out.exists() and not out.is_dir():
         raise CampaignInputError(f"campaign folder {out} exists and is a file")

@@ -25,7 +25,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-from mobigrasp.resources import data_dir, source_checkout
+from mobigrasp.provenance import source_checkout
+from mobigrasp.resources import data_dir
 
 # a tool of the source checkout: it reads the avr build and rewrites sram.py and the doc's table
 BUILD = data_dir("mobigrasp.firmware") / "build"

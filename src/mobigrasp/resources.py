@@ -9,7 +9,6 @@ zipped install is refused with the package named.
 
 from __future__ import annotations
 
-import subprocess
 from importlib.resources import files
 from pathlib import Path
 
@@ -20,17 +19,3 @@ def data_dir(package: str) -> Path:
     if not isinstance(root, Path) or not root.is_dir():
         raise FileNotFoundError(f"{package}: its data is not a folder on disk ({root})")
     return root
-
-
-def source_checkout() -> Path | None:
-    """The git checkout the package is imported from (an editable install), else None."""
-    here = data_dir("mobigrasp")
-    try:
-        top = subprocess.run(["git", "-C", str(here), "rev-parse", "--show-toplevel"],
-                             capture_output=True, text=True, timeout=10).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return None
-    # a wheel installed in a virtual environment that lies inside some other repository
-    if not top or not (Path(top) / "mobigrasp" / "resources.py").is_file():
-        return None
-    return Path(top)

@@ -27,9 +27,9 @@ def _editable_tree_misses() -> list[str]:
     from mobigrasp.resources import data_dir
 
     installed = data_dir("mobigrasp")
-    if "__editable__" not in str(installed):
-        return []
     root = Path(__file__).resolve().parents[1]
+    if "__editable__" not in str(installed) or not (root / "pyproject.toml").is_file():
+        return []  # not the clone's editable install, or this file copied out of the clone
     mapping = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]
     missing = []
     for package, folder in mapping["package-dir"].items():

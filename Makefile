@@ -71,7 +71,7 @@ toolchains:
 # the fast suite, then the wheel installed outside the clone (slow: a build and five runs)
 test: lint toolchains
 	$(BIN)/python -m pytest -q
-	$(BIN)/python -m pytest -q -m slow tests/test_wheel_install.py
+	$(BIN)/python -m pytest -q -m slow tests/system/test_wheel_install.py
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing
 browser:

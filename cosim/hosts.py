@@ -71,7 +71,7 @@ class InprocHost:
         if done.events or done.load.get("windows"):
             done = ls.decode(ls.encode(done))
         # else the rest is ints, tuples of int pairs, a str and bools: the codec would give back
-        # equal values (most quanta; checked in tests/test_runner_pipelining.py)
+        # equal values (most quanta; checked in tests/unit/cosim/test_runner_pipelining.py)
         if predicted is not None:
             check_elided(predicted, done)
         self._last_load = done.load

@@ -3,8 +3,8 @@
 ``python -m mobigrasp.tools.firmware_budget`` reads ``firmware/build`` (``make firmware`` first)
 and prints flash, the static SRAM by symbol and the stack; ``--write`` rewrites the generated
 block of ``mcu_sim/firmware/sram.py`` and the table of ``docs/firmware.md`` from them, so the
-Python side's budget is the ELF's, not a hand estimate (``tests/test_firmware_avr.py`` fails when
-they differ).
+Python side's budget is the ELF's, not a hand estimate
+(``tests/unit/mcu_sim/test_firmware_avr.py`` fails when they differ).
 
 Worst-case stack: every function's frame from ``-fstack-usage`` (``build/**/*.su``: the bytes a
 call needs, its return address and pushed registers included) and the call graph from the ELF's

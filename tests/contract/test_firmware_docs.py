@@ -7,7 +7,7 @@ from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
 from mobigrasp.mcu_sim.firmware.program import TELEMETRY_STRUCT
 from mobigrasp.protocol import Telemetry
 
-DOC = (Path(__file__).resolve().parents[1] / "docs" / "firmware.md").read_text()
+DOC = (Path(__file__).resolve().parents[2] / "docs" / "firmware.md").read_text()
 
 
 def test_every_param_row_is_documented():

@@ -85,7 +85,7 @@ def test_a_false_claim_written_by_any_run_fails_the_test_that_made_it(tmp_path,
 
     suite = tmp_path / "suite"
     suite.mkdir()
-    shutil.copy(Path(__file__).with_name("conftest.py"), suite / "conftest.py")
+    shutil.copy(Path(__file__).resolve().parents[1] / "conftest.py", suite / "conftest.py")
     lie, honest = _summary("DONE", False, 0), _summary("FAILED", False, 0)
     (suite / "test_inner.py").write_text(
         "import json\n"

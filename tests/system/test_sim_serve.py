@@ -20,7 +20,7 @@ from mobigrasp.cosim.serve.mjpeg import CameraServer
 from mobigrasp.link.registry import open_transport
 from mobigrasp.protocol import PROTOCOL_VERSION, Hello, Telemetry, encode_message
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 SAFETY_S = 120  # limits only: nothing asserts on them
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 import pytest
 from test_sim_serve import readme_example
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 pytestmark = pytest.mark.slow
 STEP_S = 300  # a bound per step, far above its time on a loaded machine
 

@@ -54,7 +54,7 @@ def test_glibc_serves_frame_sized_blocks_from_the_heap_once_tuned():
     if getattr(ctypes.CDLL(None), "mallinfo2", None) is None:  # not glibc: nothing applied
         assert ht.keep_freed_memory() == {}
         return
-    root = Path(__file__).resolve().parents[1]
+    root = Path(__file__).resolve().parents[3]
     out = {mode: subprocess.run([sys.executable, "-c", _PROBE, mode], cwd=root, text=True,
                                 capture_output=True, check=True).stdout.strip()
            for mode in ("default", "tuned")}

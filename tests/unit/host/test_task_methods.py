@@ -9,7 +9,7 @@ import pytest
 from mobigrasp.host.task import METHODS, Method, Task, TaskInputs, TaskParams, method_rules
 from mobigrasp.host.vision import registry
 
-HOST = Path(__file__).resolve().parents[1] / "host"
+HOST = Path(__file__).resolve().parents[3] / "host"
 
 
 @pytest.mark.parametrize("name", sorted(METHODS))

@@ -1,5 +1,5 @@
 """The 002 double-cross detector on small synthetic frames (the renderer-based accuracy runs are
-in tests/test_vision_accuracy.py)."""
+in tests/unit/tools/test_vision_accuracy.py)."""
 import math
 
 import numpy as np

@@ -17,7 +17,7 @@ from mobigrasp.cosim import lockstep as ls
 from mobigrasp.cosim.hosts import SocketHost
 from mobigrasp.link.registry import open_transport
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 SAFETY_S = 60
 
 

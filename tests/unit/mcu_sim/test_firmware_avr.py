@@ -13,7 +13,7 @@ import pytest
 from mobigrasp.mcu_sim.firmware import sram
 from mobigrasp.tools import firmware_budget as fb
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def _avr_toolchain() -> None:

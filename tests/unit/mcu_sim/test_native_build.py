@@ -9,7 +9,7 @@ from pathlib import Path
 
 from mobigrasp.mcu_sim.native import build
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_hash_follows_every_source(tmp_path):

@@ -4,7 +4,7 @@ from pathlib import Path
 
 from mobigrasp.mcu_sim.avr import pinmap
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_no_pin_has_two_signals_and_every_function_is_on_a_capable_pin():

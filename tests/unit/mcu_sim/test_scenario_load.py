@@ -12,7 +12,7 @@ from mobigrasp.mcu_sim.world.scenario import (
     loads_scenario,
 )
 
-DATA = Path(__file__).parent / "data" / "scenarios"
+DATA = Path(__file__).resolve().parents[2] / "data" / "scenarios"
 
 GOOD = """
 [scenario]
@@ -136,7 +136,7 @@ y_m = 0
 
 
 def test_faults_must_be_a_table_of_known_keys():
-    # the [faults] schema itself is tested in tests/test_faults_plan.py
+    # the [faults] schema itself is tested in tests/unit/mcu_sim/test_faults_plan.py
     s = loads_scenario(GOOD + "\n[faults]\nmotor_fail = {wheel = \"left\", at_s = 3.0}\n", "f")
     assert s.faults.motor_fail.wheel == "left" and s.faults.motor_fail.at_s == 3.0
     bad("faults = 3\n" + GOOD, "bad.toml: faults: expected a table", "3")
@@ -158,7 +158,7 @@ def test_docs_list_every_parameter_range():
     checks it (method, key, paper value, range, unit)."""
     from mobigrasp.mcu_sim.world.scenario import CAMERA_RANGES, OBSTACLE_RANGES
 
-    doc = (Path(__file__).resolve().parents[1] / "docs" / "conventions.md").read_text()
+    doc = (Path(__file__).resolve().parents[3] / "docs" / "conventions.md").read_text()
 
     def num(v, kind=float):
         return f"{int(v)}" if kind is int else f"{v:g}"

@@ -9,7 +9,7 @@ from mobigrasp.mcu_sim.world.scenario import load_scenario
 from mobigrasp.mcu_sim.world.sonar import SonarConfig
 from mobigrasp.mcu_sim.world.world import World
 
-DATA = Path(__file__).parent / "data" / "scenarios"
+DATA = Path(__file__).resolve().parents[2] / "data" / "scenarios"
 
 
 def drive(world: World, slice_us: int, end_us: int = 6_000_000):

@@ -11,7 +11,7 @@ import pytest
 import mobigrasp.protocol as p
 from mobigrasp.resources import data_dir
 
-DOC = Path(__file__).resolve().parent.parent / "docs" / "protocol.md"
+DOC = Path(__file__).resolve().parents[3] / "docs" / "protocol.md"
 
 GOLDEN = [
     (p.Hello(1, "s3c2440-host", 1), 0,
@@ -119,7 +119,7 @@ VECTORS_JSON = data_dir("mobigrasp.protocol") / "golden_vectors.json"
 
 
 def test_json_vectors_are_the_documented_ones():
-    # protocol/golden_vectors.json is what the C unit test (tests/test_firmware_c.py) reads
+    # protocol/golden_vectors.json is what the C unit test reads (unit/mcu_sim/test_firmware_c.py)
     data = json.loads(VECTORS_JSON.read_text())
     assert data["crc_check"] == {"data_hex": b"123456789".hex(), "crc": 0x29B1}
     assert len(data["vectors"]) == len(GOLDEN)

@@ -24,7 +24,7 @@ from mobigrasp.protocol import (
 )
 from mobigrasp.tools.commands.console import ConsoleShell
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 SAFETY_S = 60
 
 

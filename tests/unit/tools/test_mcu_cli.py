@@ -12,7 +12,7 @@ from mobigrasp.link.registry import open_transport
 from mobigrasp.tools.cli import main
 from mobigrasp.tools.commands.console import ConsoleShell
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 SAFETY_S = 60  # generous limits only; nothing asserts on speed
 
 

@@ -1,0 +1,116 @@
+"""The C host's ARMv4T ELF (make hostc-arm): its self-test under an ARMv4T CPU prints what the
+same C built natively prints, and its disassembly holds no instruction newer than ARMv4T."""
+
+import shutil
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from mobigrasp.calib import armhost
+
+ROOT = Path(__file__).resolve().parents[1]
+KERNELS = ("radial_symbol", "plus_candidates", "dual_plus", "spoke", "red_roi", "red_cylinder",
+           "double_cross", "edge_q4", "sin_cos_q12", "atan2_mrad", "isqrt",
+           "floordiv_divround", "ring_pair", "sqrt_f64", "bezier000", "bezier001_coarse",
+           "bezier001_fine", "sys")
+
+needs_arm = pytest.mark.skipif(
+    not (shutil.which("arm-none-eabi-gcc") and shutil.which("qemu-arm")),
+    reason="arm-none-eabi-gcc and qemu-arm are needed (make arm-tools)")
+
+
+@pytest.fixture(scope="module")
+def elf() -> Path:
+    return armhost.build_elf()
+
+
+@pytest.fixture(scope="module")
+def native_lines(tmp_path_factory) -> list[str]:
+    """The self-test built with the machine's gcc, on the test's libc shim of sys.h."""
+    exe = tmp_path_factory.mktemp("native") / "selftest"
+    srcs = [str(p) for p in sorted((ROOT / "hostc").glob("*.c"))
+            if not p.name.endswith("_posix.c") and p.name != "main.c"]
+    subprocess.run(["gcc", "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
+                    f"-I{ROOT / 'hostc'}", "-o", str(exe), *srcs,
+                    str(ROOT / "hostc" / "arm" / "selftest_main.c"),
+                    str(ROOT / "tests" / "c" / "sys_shim.c")], check=True)
+    done = subprocess.run([str(exe), "--self-test"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return done.stdout.splitlines()
+
+
+@needs_arm
+def test_self_test_under_armv4t_cpu_equals_native(elf, native_lines):
+    done = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines == native_lines
+    names = [line.split()[0] for line in lines]
+    for kernel in KERNELS:
+        assert kernel in names
+    assert lines[-1] == "failures 0 00000000"
+    results = {line.split()[0]: int(line.split()[1]) for line in lines}
+    # the drawn markers are found, so the detectors ran to their end
+    for found in ("radial_symbol", "dual_plus", "spoke", "red_cylinder", "double_cross"):
+        assert results[found] == 1, found
+
+
+@needs_arm
+def test_elf_usage_error_exits_2(elf):
+    done = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--bogus"],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    assert done.stderr.startswith("usage:")
+
+
+@needs_arm
+def test_elf_has_no_instruction_newer_than_armv4t(elf):
+    dis = armhost.disassemble(elf)
+    for sym in ("_start", "sys_poll", "memcpy", "__udivsi3", "__aeabi_dsub"):  # libgcc too
+        assert f"<{sym}>:" in dis
+    assert len(dis.splitlines()) > 10000
+    assert armhost.not_v4t(dis) == []
+    attrs = subprocess.run(["arm-none-eabi-readelf", "-A", str(elf)], capture_output=True,
+                           text=True, check=True).stdout
+    assert "Tag_CPU_arch: v4T" in attrs
+
+
+@pytest.mark.parametrize("line", [
+    "   1000c:\te12fff33 \tblx\tr3",
+    "   10008:\te16f1f11 \tclz\tr1, r1",
+    "   10010:\te1c040d0 \tldrd\tr4, [r0]",
+    "   10010:\te1c040f0 \tstrdne\tr4, [r0]",
+    "   1001c:\te1020051 \tqadd\tr0, r1, r2",
+    "   1001c:\te1420051 \tqdadd\tr0, r1, r2",
+    "   10014:\te1600281 \tsmulbb\tr0, r1, r2",
+    "   10014:\te1000281 \tsmlabb\tr0, r1, r2, r0",
+    "   10014:\te12002a1 \tsmulwb\tr0, r1, r2",
+    "   10018:\tf5d0f000 \tpld\t[r0]",
+    "   10018:\te1901f9f \tldrex\tr1, [r0]",
+    "   10018:\te1802f91 \tstrex\tr2, r1, [r0]",
+    "   10018:\te6bf0f30 \trev\tr0, r0",
+    "   10018:\te3000000 \tmovw\tr0, #0",
+    "   10018:\te320f000 \tnop\t{0}",
+    "   10018:\t4770      \tbx\tlr",
+])
+def test_check_flags_v5_and_later(line):
+    assert armhost.not_v4t(line) == [line.strip()]
+
+
+@pytest.mark.parametrize("line", [
+    "   10000:\te92d4030 \tpush\t{r4, r5, lr}",
+    "   10000:\te0c20193 \tsmull\tr0, r2, r3, r1",
+    "   10000:\t10ec3190 \tsmlalne\tr3, ip, r0, r1",
+    "   10000:\te1d030f2 \tldrsh\tr3, [r0, #2]",
+    "   10000:\t14c31001 \tstrbne\tr1, [r3], #1",
+    "   10000:\t012fff1e \tbxeq\tlr",
+    "   10000:\te1b00a00 \tlsls\tr0, r0, #20",
+    "   10000:\tef000000 \tsvc\t0x00000000",
+    "   10000:\te1a00000 \tnop\t\t\t@ (mov r0, r0)",
+    "   10000:\t00010000 \t.word\t0x00010000",
+    "   10000:\te8bd4030 \tpop\t{r4, r5, lr}",
+])
+def test_check_passes_armv4t(line):
+    assert armhost.not_v4t(line) == []

@@ -5,6 +5,7 @@
  * comparing them checks the cross compiler, libgcc's integer division and soft-float, and the
  * start-up code. Then the OS services of sys.h, through their deterministic results (/dev/zero
  * read, polled and mapped shared; a path that is no socket; a device that is no terminal).
+ * hostc_selftest_io does what needs a peer: a terminal made raw, a Unix socket, a shared file.
  * No allocation: the buffers are static. */
 #include "bezier.h"
 #include "isqrt.h"
@@ -391,9 +392,9 @@ static void planning(void)
     candidates();
     const double lim000[MG_LIM_WORDS] = { 0.4, 0.5, -1.0, 0.0 };
     const double lim001[MG_LIM_WORDS] = { 0.4, 0.6, 1.0 / 0.15, 1.0 };
-    /* the grasp circle around (1.0, 0.1) of (0.25 - 0.001)^2, one sonar region ahead-left */
+    /* the grasp circle around (1.3, 0.1) of (0.25 - 0.001)^2, one sonar region ahead-left */
     const double geo[MG_GEO_HEAD + MG_REGION_WORDS] = {
-        1.0, 0.1, 0.249 * 0.249,
+        1.3, 0.1, 0.249 * 0.249,
         0.5, 0.35, 0.0, 1.0, 0.2679, 0.0, 0.0, 0.0, 0.45 * 0.45, 1.0, 1.0, 0.5
     };
     int32_t reason[N_CAND], first[N_CAND], tried = 0;
@@ -465,6 +466,78 @@ int hostc_selftest(void)
     arithmetic();
     planning();
     services();
+    report("failures", failures, 0);
+    return failures ? 1 : 0;
+}
+
+/* "name text\n" */
+static void say(const char *name, const char *text, long n)
+{
+    char line[96];
+    int k = 0;
+    while (*name && k < 40)
+        line[k++] = *name++;
+    line[k++] = ' ';
+    for (long i = 0; i < n && k < 94; i++)
+        line[k++] = text[i];
+    line[k++] = '\n';
+    if (sys_write(1, line, (size_t)k) != k)
+        failures++;
+}
+
+/* read what the peer sends on fd within timeout_ms; the bytes read, or <= 0 */
+static long await_read(int fd, char *buf, size_t n, int timeout_ms)
+{
+    struct sys_pollfd p = { fd, SYS_POLLIN, 0 };
+    int ready = sys_poll(&p, 1, timeout_ms);
+    if (ready <= 0 || !(p.revents & SYS_POLLIN))
+        return ready < 0 ? ready : 0;
+    return sys_read(fd, buf, n);
+}
+
+int hostc_selftest_io(const char *tty, const char *sock, const char *file)
+{
+    char buf[32];
+    failures = 0;
+
+    /* the terminal: raw, then "ping" out and the peer's answer in */
+    int fd = sys_open(tty, SYS_O_RDWR | SYS_O_NOCTTY, 0);
+    report("tty_open", fd >= 0, 0);
+    if (fd >= 0) {
+        report("tty_raw", sys_tty_raw(fd), 0);
+        report("tty_write", sys_write(fd, "ping\n", 5), 0);
+        long n = await_read(fd, buf, sizeof buf, 20000);
+        say("tty_read", buf, n > 0 ? n : 0);
+        sys_close(fd);
+    }
+
+    /* the Unix socket: "hello" out, the peer's answer in */
+    fd = sys_unix_connect(sock);
+    report("unix_connect", fd >= 0, 0);
+    if (fd >= 0) {
+        report("unix_write", sys_write(fd, "hello", 5), 0);
+        long n = await_read(fd, buf, sizeof buf, 20000);
+        say("unix_read", buf, n > 0 ? n : 0);
+        sys_close(fd);
+    }
+
+    /* the shared file: the sum of its first page read through the mapping, then byte 100
+     * written through it, which the file must show */
+    fd = sys_open(file, SYS_O_RDWR, 0);
+    uint8_t *map = fd >= 0 ? sys_mmap_shared(fd, 4096, 1) : NULL;
+    int64_t sum = 0;
+    if (map != NULL) {
+        for (int i = 0; i < 4096; i++)
+            sum += map[i];
+        map[100] = 0x5a;
+        if (sys_munmap(map, 4096) != 0)
+            failures++;
+    } else {
+        failures++;
+    }
+    if (fd >= 0)
+        sys_close(fd);
+    report("mmap_sum", sum, 0);
     report("failures", failures, 0);
     return failures ? 1 : 0;
 }

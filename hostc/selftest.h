@@ -5,4 +5,10 @@
 
 int hostc_selftest(void);
 
+/* The OS services that need a peer: the terminal tty made raw, "ping\n" written to it and its
+ * answer read; "hello" sent on the Unix socket sock and its answer read; the first 4096 bytes of
+ * file summed through a shared mapping and byte 100 set to 0x5a through it. One line each;
+ * returns 0 when every call succeeded. */
+int hostc_selftest_io(const char *tty, const char *sock, const char *file);
+
 #endif

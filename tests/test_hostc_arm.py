@@ -1,8 +1,13 @@
 """The C host's ARMv4T ELF (make hostc-arm): its self-test under an ARMv4T CPU prints what the
 same C built natively prints, and its disassembly holds no instruction newer than ARMv4T."""
 
+import os
+import select
 import shutil
+import socket
 import subprocess
+import termios
+import threading
 from pathlib import Path
 
 import pytest
@@ -55,6 +60,7 @@ def test_self_test_under_armv4t_cpu_equals_native(elf, native_lines):
     # the drawn markers are found, so the detectors ran to their end
     for found in ("radial_symbol", "dual_plus", "spoke", "red_cylinder", "double_cross"):
         assert results[found] == 1, found
+    assert results["bezier000"] >= 0 and results["bezier001_fine"] >= 0  # a curve passes
 
 
 @needs_arm
@@ -114,3 +120,63 @@ def test_check_flags_v5_and_later(line):
 ])
 def test_check_passes_armv4t(line):
     assert armhost.not_v4t(line) == []
+
+
+@needs_arm
+def test_services_with_peers_under_armv4t_cpu(elf, tmp_path):
+    """A pty made raw, a Unix socket and a shared file mapping, through the ELF's own system
+    calls: what the peers see and what the ELF reports."""
+    master, slave = os.openpty()
+    tty = os.ttyname(slave)
+    before = termios.tcgetattr(slave)
+    assert before[3] & termios.ICANON  # a fresh pty is cooked: the ELF must change that
+    shared = tmp_path / "shared.bin"
+    page = bytes((i * 7) & 0xFF for i in range(4096))
+    shared.write_bytes(page)
+    sock_path = str(tmp_path / "s")
+    server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    server.bind(sock_path)
+    server.listen(1)
+    server.settimeout(60)
+    got = {}
+
+    def serve():
+        conn, _ = server.accept()
+        with conn:
+            conn.settimeout(60)
+            got["unix"] = conn.recv(16)
+            conn.sendall(got["unix"].upper())
+
+    peer = threading.Thread(target=serve, daemon=True)
+    peer.start()
+    proc = subprocess.Popen(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test-io", tty,
+                             sock_path, str(shared)], stdout=subprocess.PIPE, text=True)
+    try:
+        ready, _, _ = select.select([master], [], [], 60)
+        assert ready, "no ping on the pty"
+        got["tty"] = os.read(master, 16)
+        os.write(master, b"pong")
+        out, _ = proc.communicate(timeout=60)
+        peer.join(60)
+        raw = termios.tcgetattr(slave)
+    finally:
+        proc.kill()
+        server.close()
+        os.close(master)
+        os.close(slave)
+    assert proc.returncode == 0, out
+    lines = out.splitlines()
+    assert "tty_raw 0 00000000" in lines
+    assert "tty_read pong" in lines
+    assert got["tty"] == b"ping\n"  # OPOST off: no CR added
+    iflag, oflag, cflag, lflag, ispeed, ospeed, cc = raw
+    assert not lflag & (termios.ICANON | termios.ECHO | termios.ISIG | termios.IEXTEN)
+    assert not iflag & (termios.ICRNL | termios.IXON) and not oflag & termios.OPOST
+    assert cflag & termios.CSIZE == termios.CS8 and not cflag & (termios.PARENB | termios.CSTOPB)
+    assert ispeed == ospeed == termios.B115200
+    assert cc[termios.VMIN] == 1 and cc[termios.VTIME] == 0
+    assert got["unix"] == b"hello" and "unix_read HELLO" in lines
+    assert f"mmap_sum {sum(page)} 00000000" in lines
+    after = shared.read_bytes()
+    assert after[100] == 0x5A and after[:100] == page[:100] and after[101:] == page[101:]
+    assert lines[-1] == "failures 0 00000000"

@@ -80,8 +80,8 @@ ARM_LDFLAGS := -nostdlib -static -Wl,--gc-sections -Wl,-Ttext-segment=0x10000 -W
 HOSTC_PORTABLE := $(sort $(filter-out %_posix.c,$(wildcard hostc/*.c)))
 # the self-test's entry until the host has its own main
 HOSTC_ARM_MAIN := $(if $(wildcard hostc/main.c),,hostc/arm/selftest_main.c)
-HOSTC_ARM_SRCS := $(HOSTC_PORTABLE) $(HOSTC_ARM_MAIN) \
-	$(filter-out hostc/arm/selftest_main.c,$(wildcard hostc/arm/*.c)) hostc/arm/start.S
+HOSTC_BOARD := $(sort $(filter-out hostc/arm/selftest_main.c,$(wildcard hostc/arm/*.c)))
+HOSTC_ARM_SRCS := $(HOSTC_PORTABLE) $(HOSTC_BOARD) $(HOSTC_ARM_MAIN) hostc/arm/start.S
 HOSTC_ARM_ELF := $(HOSTC_OUT)/mobigrasp-host-arm920t.elf
 
 # The static ELF: qemu-arm -cpu ti925t HOSTC_ARM_ELF --self-test runs it here
@@ -92,15 +92,15 @@ $(HOSTC_ARM_ELF): $(HOSTC_ARM_SRCS) $(wildcard hostc/*.h hostc/arm/*.h) Makefile
 	@mkdir -p $(@D)
 	$(ARM_CC) $(ARM_CFLAGS) $(ARM_LDFLAGS) -Ihostc -o $@ $(HOSTC_ARM_SRCS) -lgcc
 
-# The portable modules as ARM920T objects: text/data/bss per object and the worst-case stack
-# from each entry point (-fstack-usage frames on -fcallgraph-info's call graph)
+# The portable modules and the board's (hostc/arm/) as ARM920T objects: text/data/bss per object
+# and the worst-case stack of each function (-fstack-usage frames on -fcallgraph-info's graph)
 HOSTC_OBJ_DIR := $(HOSTC_OUT)/arm920t
-HOSTC_OBJS := $(patsubst hostc/%.c,$(HOSTC_OBJ_DIR)/%.o,$(HOSTC_PORTABLE))
+HOSTC_OBJS := $(patsubst hostc/%.c,$(HOSTC_OBJ_DIR)/%.o,$(HOSTC_PORTABLE) $(HOSTC_BOARD))
 hostc: arm-tools venv $(HOSTC_OBJS)
 	@arm-none-eabi-size -t $(HOSTC_OBJS)
 	@$(BIN)/python -m mobigrasp.tools.hostc_budget $(HOSTC_OBJ_DIR)
 
-$(HOSTC_OBJ_DIR)/%.o: hostc/%.c $(wildcard hostc/*.h) Makefile
+$(HOSTC_OBJ_DIR)/%.o: hostc/%.c $(wildcard hostc/*.h hostc/arm/*.h) Makefile
 	@mkdir -p $(@D)
 	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ihostc -c -o $@ $<
 

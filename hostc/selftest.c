@@ -7,6 +7,8 @@
  * read, polled and mapped shared; a path that is no socket; a device that is no terminal).
  * hostc_selftest_io does what needs a peer: a terminal made raw, a Unix socket, a shared file.
  * No allocation: the buffers are static. */
+#include <string.h>
+
 #include "bezier.h"
 #include "isqrt.h"
 #include "kernels.h"
@@ -540,4 +542,13 @@ int hostc_selftest_io(const char *tty, const char *sock, const char *file)
     report("mmap_sum", sum, 0);
     report("failures", failures, 0);
     return failures ? 1 : 0;
+}
+
+int hostc_selftest_main(int argc, char **argv)
+{
+    if (argc == 2 && strcmp(argv[1], "--self-test") == 0)
+        return hostc_selftest();
+    if (argc == 5 && strcmp(argv[1], "--self-test-io") == 0)
+        return hostc_selftest_io(argv[2], argv[3], argv[4]);
+    return -1;
 }

@@ -11,4 +11,10 @@ int hostc_selftest(void);
  * returns 0 when every call succeeded. */
 int hostc_selftest_io(const char *tty, const char *sock, const char *file);
 
+/* The program's self-test options: `--self-test` runs hostc_selftest, `--self-test-io TTY
+ * SOCKET FILE` hostc_selftest_io; their exit code, or -1 when argv asks for neither (main goes
+ * on with its own options). */
+#define HOSTC_SELFTEST_USAGE "--self-test | --self-test-io TTY SOCKET FILE"
+int hostc_selftest_main(int argc, char **argv);
+
 #endif

@@ -14,7 +14,8 @@ pytestmark = pytest.mark.skipif(shutil.which("arm-none-eabi-gcc") is None,
 A = """
 int leaf(int *p);
 int (*hook)(int);
-static int mid(int x) { volatile int buf[40]; buf[x & 31] = x; return leaf((int *)buf) + x / buf[2]; }
+static int mid(int x)
+{ volatile int buf[40]; buf[x & 31] = x; return leaf((int *)buf) + x / buf[2]; }
 int top(int x) { volatile int buf[10]; buf[x & 7] = x; return mid(buf[3]) + mid(x + 1); }
 int via_pointer(int x) { return hook(x) + 1; }
 """

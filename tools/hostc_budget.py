@@ -7,7 +7,8 @@ program's entry) is a possible entry point; its worst case is its frame plus the
 of callees
 (tools/firmware_budget.py ``worst_stack``). A libgcc routine (division, soft-float) has no
 ``.ci`` node: it is charged ``LIBGCC_CHAIN_BYTES``, the deepest libgcc chain in the ELF of
-``make hostc-arm`` (__aeabi_ldivmod 16 bytes into __udivmoddi4 32). A call through a function
+``make hostc-arm`` (__aeabi_ldivmod 16 bytes into __udivmoddi4 32); any other function without
+a node is charged the same, so the board's objects (hostc/arm/) belong in DIR too. A call through a function
 pointer cannot be followed: the functions that reach one are marked, and their figure covers
 the direct calls only. A frame gcc calls dynamic (a variable-length array) is marked too.
 """
@@ -100,7 +101,7 @@ def main(argv: list[str] | None = None) -> int:
     except (BudgetError, OSError) as exc:
         print(f"hostc_budget: {exc}", file=sys.stderr)
         return 2
-    print(f"worst-case stack per external function (bytes; libgcc calls {LIBGCC_CHAIN_BYTES} each; "
+    print(f"worst-case stack per external function (bytes; a libgcc call {LIBGCC_CHAIN_BYTES}; "
           "+: also calls through a pointer, not counted; *: dynamic frame)")
     for fn, total, chain, indirect in rows:
         print(f"{total:7d}{'+' if indirect else ' '} {fn:32s} {' > '.join(chain[1:])}")

@@ -4,6 +4,7 @@ same C built natively prints, and its disassembly holds no instruction newer tha
 import os
 import select
 import shutil
+import signal
 import socket
 import subprocess
 import termios
@@ -180,3 +181,21 @@ def test_services_with_peers_under_armv4t_cpu(elf, tmp_path):
     after = shared.read_bytes()
     assert after[100] == 0x5A and after[:100] == page[:100] and after[101:] == page[101:]
     assert lines[-1] == "failures 0 00000000"
+
+
+@needs_arm
+def test_both_checks_catch_an_armv5te_build(tmp_path):
+    """The same sources built for the ARM926EJ-S (ARMv5TE): the disassembly check flags
+    LDRD/STRD and CLZ, and the ARMv4T CPU stops the self-test on an undefined instruction."""
+    subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp_path}",
+                    "ARM_CFLAGS=-mcpu=arm926ej-s -marm -O2 -std=c99 -ffreestanding"],
+                   check=True, capture_output=True)
+    elf = tmp_path / armhost.ELF_NAME
+    flagged = {line.split()[2] for line in armhost.not_v4t(armhost.disassemble(elf))}
+    assert {"ldrd", "strd", "clz"} <= flagged
+    v4t = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test"],
+                         capture_output=True, timeout=120)
+    assert v4t.returncode == -signal.SIGILL or v4t.returncode == 128 + signal.SIGILL
+    v5 = subprocess.run(["qemu-arm", "-cpu", "arm926", str(elf), "--self-test"],
+                        capture_output=True, timeout=120)
+    assert v5.returncode == 0

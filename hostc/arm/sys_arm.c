@@ -55,9 +55,11 @@ enum {
     CBAUD = 010017, B115200 = 010002, CSIZE = 060, CS8 = 060, CSTOPB = 0100, CREAD = 0200,
     PARENB = 0400, CLOCAL = 04000, VTIME = 5, VMIN = 6
 };
+#define CRTSCTS 020000000000u
 
-/* cfmakeraw's flags, 115200 baud, one stop bit, no parity, the receiver on, modem lines
- * ignored; read returns as soon as one byte is there */
+/* cfmakeraw's flags, 115200 baud, one stop bit, no parity, the receiver on, modem lines and
+ * RTS/CTS ignored (the link to the ATmega128 is TXD, RXD and ground); read returns as soon as
+ * one byte is there */
 int sys_tty_raw(int fd)
 {
     struct k_termios t;
@@ -68,7 +70,7 @@ int sys_tty_raw(int fd)
                              IXOFF);
     t.c_oflag &= ~(uint32_t)OPOST;
     t.c_lflag &= ~(uint32_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
-    t.c_cflag &= ~(uint32_t)(CBAUD | CSIZE | CSTOPB | PARENB);
+    t.c_cflag &= ~((uint32_t)(CBAUD | CSIZE | CSTOPB | PARENB) | CRTSCTS);
     t.c_cflag |= (uint32_t)(B115200 | CS8 | CREAD | CLOCAL);
     t.c_cc[VMIN] = 1;
     t.c_cc[VTIME] = 0;

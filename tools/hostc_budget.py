@@ -4,14 +4,13 @@
 wrote beside the objects in DIR: every function's frame (the ``-fstack-usage`` figure) and its
 direct calls, across all the objects. Each external function (a kernel, a task's step, the
 program's entry) is a possible entry point; its worst case is its frame plus the deepest chain
-of callees
-(tools/firmware_budget.py ``worst_stack``). A libgcc routine (division, soft-float) has no
-``.ci`` node: it is charged ``LIBGCC_CHAIN_BYTES``, the deepest libgcc chain in the ELF of
-``make hostc-arm`` (__aeabi_ldivmod 16 bytes into __udivmoddi4 32); any other function without
-a node is charged the same, so the board's objects (hostc/arm/) belong in DIR too. A call
-through a function pointer cannot be followed: the functions that reach one are marked, and
-their figure covers the direct calls only. A frame gcc calls dynamic (a variable-length array)
-is marked too.
+of callees (tools/firmware_budget.py ``worst_stack``). A libgcc routine (division, soft-float)
+has no ``.ci`` node: it is charged ``LIBGCC_CHAIN_BYTES``, the deepest libgcc chain in the ELF
+of ``make hostc-arm`` (__aeabi_ldivmod 16 bytes into __udivmoddi4 32); any other function
+without a node is charged the same, so the board's objects (hostc/arm/) belong in DIR too. A
+call through a function pointer cannot be followed: the functions that reach one are marked,
+and their figure covers the direct calls only. A frame gcc calls dynamic (a variable-length
+array) is marked too.
 """
 
 from __future__ import annotations

@@ -15,7 +15,7 @@ import pytest
 
 from mobigrasp.calib import armhost
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 KERNELS = ("radial_symbol", "plus_candidates", "dual_plus", "spoke", "red_roi", "red_cylinder",
            "double_cross", "edge_q4", "sin_cos_q12", "atan2_mrad", "isqrt",
            "floordiv_divround", "ring_pair", "sqrt_f64", "bezier000", "bezier001_coarse",

@@ -32,13 +32,20 @@ $(BASE): FORCE
 
 # The editable install is a tree of links (setuptools' strict editable mode, in build/): real
 # folders with one link per file, so import-linter sees every module of the package (a wheel's
-# layout, docs/architecture.md). A module added or removed needs the tree made again: the stamp
-# depends on the package's folders, whose times change when an entry does, so `make venv` and
-# `make test` redo it (tests/conftest.py stops a bare pytest that misses a module and says so).
-PKG_DIRS := $(shell find src protocol link host mcu_sim cosim drivers calib services tools \
-	scenarios firmware hostc -type d -not -name __pycache__ -not -path '*/build*' 2>/dev/null)
+# layout, docs/architecture.md). A file added or removed needs the tree made again: the stamp
+# depends on the list of the package's files, so `make venv` and `make test` redo it
+# (tests/conftest.py stops a bare pytest that misses a module and says so).
+PKG_ROOTS := src protocol link host mcu_sim cosim drivers calib services tools scenarios \
+	firmware hostc
+PKG_LIST := $(VENV)/.package-files
 
-$(STAMP): pyproject.toml $(BASE) $(PKG_DIRS)
+$(PKG_LIST): FORCE
+	@mkdir -p $(VENV)
+	@find $(PKG_ROOTS) -type f -not -path '*/__pycache__/*' -not -path '*/build/*' 2>/dev/null \
+	  | LC_ALL=C sort > $@.new
+	@if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
+
+$(STAMP): pyproject.toml $(BASE) $(PKG_LIST)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade "pip>=23"
 	$(BIN)/python -m pip install --quiet -e '.[sim,plots,cluster,dev]' \

@@ -20,7 +20,7 @@ from typing import Any
 
 from mobigrasp.mcu_sim.backend import MCU_BACKENDS
 
-# quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
+# quantum and coupling step of `mobigrasp run` (services/run_job.RunOptions); strict alternation:
 # the rig reads exactly the bytes the ExternalHost announced
 QUANTUM_US = 5_000
 COUPLE_US = 2_500

@@ -1,4 +1,4 @@
-"""The fault wrappers in the real closed loop, wired as tools/run_job does, in process.
+"""The fault wrappers in the real closed loop, wired as services/run_job does, in process.
 
 Short runs of paper000-exp1 (a few simulated seconds): a host crash stops the wheels within the
 watchdog period + 50 ms and the arm is held; bit errors on both directions are seen by both

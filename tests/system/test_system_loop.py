@@ -95,7 +95,7 @@ ACCEPTANCE_SEEDS = 30  # per method, generator v2 from seed 1000 (docs/cosim.md)
 @pytest.mark.parametrize("method", ["000", "001", "002"])
 def test_acceptance_campaign_holds_the_bars(tmp_path, method, monkeypatch):
     """Graspable scenes >= 97 % success, 0 contacts, 0 false claims, every board alone FAILED,
-    median final error <= 10 mm (tools/loop_campaign.bar_misses)."""
+    median final error <= 10 mm (services/loop_campaign.bar_misses)."""
     from mobigrasp.services import run_job
 
     # a false claim is counted in its row and fails this test by bar_misses (and by the suite's

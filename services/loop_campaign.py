@@ -247,8 +247,8 @@ def run_campaign(cfg: LoopCampaign, run_fn: Callable[[dict], dict] | None = None
     """Run every job not already recorded with ``run_fn`` (default :func:`run_job`);
     {"commit", "rows", "methods": {m: figures}}.
 
-    ``progress`` (the CLI's Progress, or any display) is told the runs done and :func:`progress_text`.
-    Wall time is for that display only, never a result."""
+    ``progress`` (any display with ``update`` and ``close``) is told the runs done and
+    :func:`progress_text`. Wall time is for that display only, never a result."""
     from mobigrasp.provenance import source_commit
     from mobigrasp.services.campaign_engines import open_engine
 

@@ -1,5 +1,5 @@
-"""One short closed-loop run of paper000-exp1 in process, wrapped for faults as services/run_job does
-(shared by the fault and fast-path tests)."""
+"""One short closed-loop run of paper000-exp1 in process, wrapped for faults as services/run_job
+does (shared by the fault and fast-path tests)."""
 
 from __future__ import annotations
 

@@ -8,7 +8,7 @@ import json
 import detections as det
 import pytest
 
-from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.host.task import REGISTRY, Task, TaskInputs
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
 from mobigrasp.tools.run_job import RunOptions, execute
 
@@ -101,7 +101,7 @@ v0_px = 120.0
 
 
 def _run(tmp_path, text: str, name: str) -> tuple[dict, list]:
-    sc = loads_scenario(text, source=name)
+    sc = loads_scenario(text, source=name, methods=REGISTRY)
     summary, code = execute(RunOptions(scenario=name, scenario_obj=sc, transport="inproc",
                                        out=tmp_path / name, progress=False, plots=False))
     states = [r for r in map(json.loads, (tmp_path / name / "trace.jsonl").open())

@@ -34,6 +34,7 @@ def shipped_scenarios() -> list[Path]:
 
 def resolve_scenario(name_or_path: str):
     """(path, Scenario) for a file path or the name of a shipped scenario; BadInput otherwise."""
+    from mobigrasp.host.task import REGISTRY
     from mobigrasp.mcu_sim.world.scenario import ScenarioError, load_scenario
 
     p = Path(name_or_path)
@@ -45,7 +46,7 @@ def resolve_scenario(name_or_path: str):
                            f"the shipped scenarios ({names})")
         p = cand
     try:
-        return p, load_scenario(p)
+        return p, load_scenario(p, methods=REGISTRY)
     except ScenarioError as exc:
         raise BadInput(str(exc)) from exc
 

@@ -23,7 +23,7 @@ from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
-from mobigrasp.host.task.method import Method
+from mobigrasp.host.task.method import PI, Method, Param, SceneHints, mrad
 from mobigrasp.host.task.method000 import Method000
 
 ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
@@ -189,6 +189,34 @@ class Method001(Method000):
     """001: 000's hooks with the sonar planning of 001 (host/task/method.py)."""
 
     name = "001"
+    # 001 §IV's values and their ranges
+    paper_params = {
+        "Vmax": Param(float, 0.4, 0.01, 1.0, "m/s, speed limit"),
+        "Amax": Param(float, 0.1, 0.001, 2.0, "m/s^2, acceleration limit"),
+        "R_r": Param(float, 0.2, 0.05, 1.0, "m, safety radius"),
+        "k_s": Param(int, 5, 2, 5, "sonars (5 fitted)"),
+        "A_g": Param(float, 1.05, 0.05, PI, "rad, sonar cone"),
+        "D_e": Param(float, 2.5, 0.1, 10.0, "m, sonar range"),
+        "h_e": Param(float, 0.208, 0.01, 1.0, "m"),
+        "n_e": Param(int, 36, 1, 360, "end points on the grasp circle"),
+        "v0": Param(float, 0.2, 0.01, 1.0, "m/s, cruise speed"),
+        "T_s": Param(float, 0.5, 0.05, 2.0, "s, sampling period of the path"),
+        "k1": Param(float, 0.8, 0.0, 10.0, "weight of the path length"),
+        "k2": Param(float, 0.2, 0.0, 10.0, "weight of the curvature"),
+        "T_D": Param(float, 15.0, 0.0, 100.0, "cm, clearance threshold"),
+    }
+    not_used_params = ("h_e",)
+    param_order = (("v0", "Vmax", 0.0),)
+    # k_s, A_g and D_e are also read by the world (its sonar ring)
+    paper_to_task = {
+        "Vmax": ("planner", "v_max", float), "Amax": ("planner", "a_max", float),
+        "v0": ("planner", "v0", float), "T_s": ("planner", "t_s", float),
+        "k1": ("planner", "k1", float), "k2": ("planner", "k2", float),
+        "T_D": ("planner", "t_d_m", lambda v: float(v) / 100.0),  # T_D read as cm
+        "n_e": ("planner", "n_e", int),
+        "R_r": (None, "r_r_mm", mrad),  # m -> mm
+        "A_g": (None, "sonar_a_g_mrad", mrad), "D_e": (None, "sonar_d_e_mm", mrad)}
+    scene = SceneHints("radial-symbol", 180.0, obstacles=True)
     link_lengths_mm = (160.0, 160.0, 200.0)
     # grasp check on the object seen under the gripper (docs/task.md): at the grasp reach the
     # long 001 arm looks down from 90-100 mm above the top only, where the two "+" do not fit

@@ -27,7 +27,7 @@ from mobigrasp.host.posture import distribute_alpha
 from mobigrasp.host.ranging import locate_ring_pair
 from mobigrasp.host.task.drive import wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
-from mobigrasp.host.task.method import Method
+from mobigrasp.host.task.method import PI, Method, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import (
     CAMERA_002,
     CROSS_SPACING_MM_Q4,
@@ -53,6 +53,28 @@ class Method002(Method):
     """002: the hooks of the machine's states (host/task/method.py)."""
 
     name = "002"
+    # 002 §5's values and their ranges
+    paper_params = {
+        "T_h": Param(int, 30, 1, 255, "grey levels, threshold"),
+        "n": Param(int, 10, 1, 100, "frames"),
+        "e_th": Param(float, 1.43, 0.01, PI, "rad, error threshold"),
+        "e_cth": Param(float, 5.0, 0.01, 50.0, "rad/s, error-rate threshold"),
+        "u_th": Param(float, 1.0, 0.01, 10.0, "rad/s, output threshold"),
+        "V_avg": Param(float, 0.15, 0.01, 1.0, "m/s, mean approach speed"),
+        "k_u": Param(float, 1.0, 0.01, 7.0, "output gain"),
+        "D": Param(float, 0.0145, 0.001, 0.1, "m, spacing of the rings"),
+        "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
+    }
+    # T_h (the double-cross detector's own threshold), n (frames) and D (the ring spacing of
+    # the cylinder as made)
+    not_used_params = ("T_h", "n", "D")
+    paper_to_task = {
+        "e_th": ("fuzzy", "e_th_mrad", mrad), "e_cth": ("fuzzy", "e_cth_mrad_s", mrad),
+        "u_th": ("fuzzy", "u_th_mrad", mrad),
+        "V_avg": ("fuzzy", "v_avg_mm_s", mrad),  # m/s -> mm/s
+        "k_u": ("fuzzy", "k_uc_q12", q12),
+        "T_d": ("fuzzy", "t_d_px", lambda v: int(round(v)))}
+    scene = SceneHints("red-cylinder", 120.0, guide_board=True, moving_target=True)
     link_lengths_mm = (97.0, 89.0, 95.5)
     camera = CAMERA_002
     # the level gripper of 002 (eq. (4)) with theta2 <= 0 reaches the grasp point 50 mm above

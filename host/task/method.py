@@ -94,6 +94,10 @@ class Method(ABC):
     # are read by the world or refused by the loader (not_used_params)
     paper_to_task: Mapping[str, tuple[Any, Any, Any]] = {}
     scene: SceneHints
+    # the robot the world builds for a scenario of this method (its arm, grasp pitch and sonar
+    # ring: mcu_sim/world/arm.py ARM_BY_METHOD, keyed by the paper that built the robot)
+    robot: str
+    object_given: bool = False  # the task is given the object's place P_i (001 §II)
     State: type[MethodState] = MethodState
     link_lengths_mm: tuple[float, float, float]  # l2, l3, l4 of the arm the method assumes
     camera: CameraModel

@@ -107,6 +107,7 @@ class Method000(PathMethod):
         "k_theta2": (K_THETA, 0, q12), "k_theta3": (K_THETA, 1, q12),
         "k_theta4": (K_THETA, 2, q12)}
     scene = SceneHints("radial-symbol", 150.0)
+    robot = "000"
     link_lengths_mm = (95.5, 89.0, 97.0)
     camera = CAMERA_000
     param_defaults: dict = {}

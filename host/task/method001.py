@@ -231,6 +231,8 @@ class Method001(Method000):
         "R_r": (None, "r_r_mm", mrad),  # m -> mm
         "A_g": (None, "sonar_a_g_mrad", mrad), "D_e": (None, "sonar_d_e_mm", mrad)}
     scene = SceneHints("radial-symbol", 180.0, obstacles=True)
+    robot = "001"
+    object_given = True
     link_lengths_mm = (160.0, 160.0, 200.0)
     # grasp check on the object seen under the gripper (docs/task.md): at the grasp reach the
     # long 001 arm looks down from 90-100 mm above the top only, where the two "+" do not fit

@@ -94,6 +94,7 @@ class Method002(Method):
         "k_u": ("fuzzy", "k_uc_q12", q12),
         "T_d": ("fuzzy", "t_d_px", lambda v: int(round(v)))}
     scene = SceneHints("red-cylinder", 120.0, guide_board=True, moving_target=True)
+    robot = "002"
     link_lengths_mm = (97.0, 89.0, 95.5)
     camera = CAMERA_002
     # the level gripper of 002 (eq. (4)) with theta2 <= 0 reaches the grasp point 50 mm above

@@ -89,6 +89,7 @@ class MethodSchema(Protocol):
     not_used_params: tuple[str, ...]
     param_order: tuple[tuple[str, str, float], ...]
     camera: CameraIntrinsics
+    robot: str  # the robot the world builds (mcu_sim/world/arm.py ARM_BY_METHOD)
 
 
 class ScenarioError(ValueError):
@@ -103,6 +104,7 @@ class ScenarioMeta:
     method: str
     seed: int
     time_limit_s: float
+    robot: str  # the robot the world builds: the method's (its ``robot``)
 
 
 @dataclass(frozen=True)
@@ -298,7 +300,7 @@ def parse_scenario(data: dict, source: str = "<dict>", *,
     seed = c.integer(s, "scenario", "seed", (0, MAX_SEED))
     meta = ScenarioMeta(name, method, seed,
                         c.number(s, "scenario", "time_limit_s", (0.001, MAX_TIME_LIMIT_S),
-                                 unit="s"))
+                                 unit="s"), schema.robot)
 
     r = c.table(data, "robot")
     c.keys(r, "robot", ("x_m", "y_m", "heading_rad"))

@@ -52,7 +52,7 @@ K_THETA = "k_theta"  # paper_to_task group: index into PostureParams.k_theta_q12
 
 
 def mrad(x: float) -> int:
-    """rad (or m/s -> mm/s) to the host's integer thousandths."""
+    """To the host's integer thousandths: rad -> mrad, m -> mm, m/s -> mm/s."""
     return int(round(1000 * x))
 
 

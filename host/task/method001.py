@@ -184,7 +184,6 @@ def _blocked_ahead(sonar_mm: tuple) -> bool:
     return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
 
 
-
 @dataclass
 class State001(MethodState):
     """What 001 keeps between steps (the task's ``ms``)."""

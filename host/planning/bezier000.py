@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier import sample_ops
+from mobigrasp.host.planning.bezier_q import sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,

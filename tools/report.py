@@ -1,7 +1,7 @@
 """report.html of a run folder: the answer first, then the figures, then the details.
 
-The page opens with the outcome (grasped or not, time to grasp, final error, contacts, the ARM9
-load's maximum and the host stage nearest its budget), then the plots and the camera at every
+The page opens with the outcome (the ARM9 budget's verdict in words, grasped or not, time to
+grasp, final error, contacts, the ARM9 load's maximum and the host stage nearest its budget), then the plots and the camera at every
 state change, then every figure of summary.json. Paths are relative to the run folder, so the
 folder can be moved or archived. A small script marks an image that did not load.
 
@@ -77,7 +77,9 @@ def answer(summary: dict) -> list[tuple[str, str]]:
     contacts = summary.get("collisions")
     target = summary.get("collisions_target")
     load = summary.get("arm9_load_max")
+    verdict = (summary.get("budget") or {}).get("verdict")
     return [
+        ("ARM9 budget", verdict or "-"),
         ("grasped", "yes" if grasped else "no"),
         ("task", f"{summary.get('task_state')} ({summary.get('end_reason')})"),
         ("time to grasp", _fmt(summary.get("time_to_grasp_s"), " s simulated")),

@@ -31,12 +31,12 @@ class PlanJob:
     """A finished plan whose modelled time is still being charged slice by slice."""
 
     follower: Any  # what the plan gives the task (a PathFollower or None)
-    detail: dict  # the plan's trace detail
+    detail: dict | None  # the plan's trace detail (None: its outcome needs no handling)
     remaining_us: int
     slice_us: int = PLAN_SLICE_US
 
     @classmethod
-    def start(cls, follower: Any, detail: dict, ops: OpCounts,
+    def start(cls, follower: Any, detail: dict | None, ops: OpCounts,
               slice_us: int = PLAN_SLICE_US) -> PlanJob:
         """A job for a plan of modelled cost ``ops`` (its first slice is taken by :meth:`step`)."""
         if slice_us <= 0:

@@ -35,8 +35,12 @@ class ApproachStates:
         det = dets.get("radial_symbol")
         if det is not None and rules.sighting_usable(t, now, inp):
             t.see_object(now, inp, "radial_symbol", det)
-        if t.plan_job is not None and not self._plan_slice(t, now, inp):
-            return  # planning (host/planning/anytime.py): the old path or a standstill meanwhile
+        if t.plan_job is not None:  # planning in slices (host/planning/anytime.py)
+            if not self._plan_slice(t, now, inp):
+                return  # not done: the old path or a standstill meanwhile
+            if t.state != "APPROACH" or t.follower is None:
+                t.wheels = (0, 0)
+                return
         moved = (t.plan_obj is not None and isqrt((t.obj[0] - t.plan_obj[0]) ** 2 + (
             t.obj[1] - t.plan_obj[1]) ** 2) > t.p.replan_shift_mm)
         replan = rules.sonar_replan(t, now, inp, moved)
@@ -49,9 +53,10 @@ class ApproachStates:
             if t.follower is None and t.plan_attempts and not self._face_object(t, inp):
                 return  # no feasible curve from here: face the object in place, then replan
             self._plan(t, now, inp)
+            if t.plan_job is not None:
+                return  # its slices go on in the next steps
             if t.state != "APPROACH" or t.follower is None:
-                if t.plan_job is None:
-                    t.wheels = (0, 0)
+                t.wheels = (0, 0)
                 return
         t.look_at_object(inp)
         x, y = t.obj_platform(inp)
@@ -66,8 +71,8 @@ class ApproachStates:
                  f"way: vision-based adjustment (000 §III.B) from here")
 
     def _plan_slice(self, t, now: int, inp) -> bool:
-        """Charge this step's slice of the plan being made; True once its result is used
-        (the new path installed, starting now), False while it is still being computed."""
+        """Charge this step's slice of the plan being made; True once it is done (its path
+        installed, starting now, or its failure handled), False while it is still computed."""
         job = t.plan_job
         t.charge(job.step())
         if not job.done:
@@ -82,19 +87,22 @@ class ApproachStates:
         t.plan_job = None
         if job.follower is not None:
             t.follower = t.rules.start_path(t, job.follower, now)
+        elif job.detail is not None:
+            self._plan_failed(t, now, inp, job.detail)
         return True
 
     def _plan(self, t, now: int, inp) -> None:
-        rules = t.rules
-        follower, ops, detail = rules.plan(t, now, inp)
+        follower, ops, detail = t.rules.plan(t, now, inp)
         t.counters["plans"] += 1
         t.note(plan=detail)
         t.plan_us, t.plan_obj = now, t.obj
-        if follower is not None:
-            t.plan_job = PlanJob.start(follower, detail, ops)
-            self._plan_slice(t, now, inp)
-            return
-        t.charge(ops)
+        t.plan_job = PlanJob.start(follower, detail, ops)
+        self._plan_slice(t, now, inp)
+
+    def _plan_failed(self, t, now: int, inp, detail: dict) -> None:
+        """No path from the plan: already there, fewer attempts, the direct approach, a
+        detour, or a failure."""
+        rules = t.rules
         if "already" in detail["reason"]:
             t.go(now, "ADJUST", f"no path needed: {detail['reason']}")
             return

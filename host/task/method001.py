@@ -290,7 +290,7 @@ class Method001(Method000):
         if dec.plan is None:
             t.charge(ops)
         else:  # the plan's time in slices; its path (if any) is taken after the last one
-            t.plan_job = PlanJob.start(follower if dec.replanned else None, {}, ops)
+            t.plan_job = PlanJob.start(follower if dec.replanned else None, None, ops)
             t.charge(t.plan_job.step())
         t.plan_us = now
         if dec.replanned:

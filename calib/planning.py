@@ -18,7 +18,8 @@ import numpy as np
 from mobigrasp.calib import plan_corpus
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.planning import bezier001 as b001
-from mobigrasp.host.planning.bezier_q import Q16, quantize_ctrl, sample_ops
+from mobigrasp.host.planning import bezier_q
+from mobigrasp.host.planning.bezier_q import Q16, evaluate_q, quantize_ctrl, sample_ops
 from mobigrasp.host.planning.candidates import Geometry, Limits, batch_ops, evaluate_batch
 from mobigrasp.host.planning.sonar_regions import infeasible_regions
 
@@ -151,12 +152,13 @@ def fine_order(cost: np.ndarray, clearance: np.ndarray, t_d_m: float, max_fine: 
 
 
 
-def fine_cycles(st: Setup001, ctrl: np.ndarray) -> int:
-    """Modelled cycles of the fine checks of these curves, as plan_001 charges them: each
-    rejected at its first violated sample (batch_ops at n_fine samples)."""
-    total = 0
-    for row in np.asarray(ctrl).reshape(-1, 4, 3):
-        _, _, first = evaluate_batch(row[None], st.n_fine, st.fine_limits, st.fine_geometry)
-        total += int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
-            + st.setup_cycles
-    return total
+def fine_cycles(st: Setup001, ctrl_q: np.ndarray) -> int:
+    """Modelled cycles of the fine checks of these quantized curves, as plan_001 charges them:
+    each rejected at its first violated sample (batch_ops at n_fine samples)."""
+    rows = np.asarray(ctrl_q).reshape(-1, 4, 3)
+    if not len(rows):
+        return 0
+    first = evaluate_q(rows, st.n_fine, st.fine_lim, st.fine_geo,
+                       len(st.fine_geo) // bezier_q.REGION_WORDS).first
+    return int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
+        + st.setup_cycles * len(rows) + bezier_q.PASS_OPS.cycles() * int((first >= st.n_fine).sum())

@@ -119,13 +119,13 @@ def test_control_points_function_matches_paper_formula():
 
 
 def test_batch_ops_charges_only_the_samples_before_an_early_exit():
-    from mobigrasp.host.planning.bezier_q import sample_ops
+    from mobigrasp.host.planning.bezier_q import PASS_OPS, sample_ops
     from mobigrasp.host.planning.candidates import batch_ops
 
     first = np.array([0, 3, 10, 10, 5])  # first violating sample per curve (10 = none)
-    kw = {"regions": 2, "grasp_circle": True, "divs_per_sample": 2}
+    kw = {"regions": 2, "grasp_circle": True, "divs_per_sample": 3}
     ref = (sample_ops(1, **kw) + sample_ops(4, **kw) + sample_ops(10, **kw).scaled(2)
-           + sample_ops(6, **kw))
+           + sample_ops(6, **kw) + PASS_OPS.scaled(2))  # the two that pass: their integrals
     assert batch_ops(first, 10, **kw) == ref
     assert batch_ops(np.array([], dtype=int), 10).cycles() == 0
 

@@ -93,7 +93,7 @@ def geo_q(obj_xy_m, radius_m: float, regions) -> np.ndarray:
 
 def isqrt_array(n: np.ndarray) -> np.ndarray:
     """Exact ⌊√n⌋ of non-negative int64 values below 2^62 (the C's mg_isqrt64)."""
-    n = np.asarray(n, dtype=np.int64)
+    n = np.maximum(np.asarray(n, dtype=np.int64), 0)  # < 0 only where "range" overflowed
     r = np.floor(np.sqrt(n.astype(np.float64))).astype(np.int64)
     for _ in range(2):  # the float root is within one of the exact one
         r = np.where(r * r > n, r - 1, r)
@@ -255,16 +255,19 @@ def evaluate_q(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray | No
 
 # ARM920T cost of the C loop (hostc/bezier.c), per sample and per curve. A 64-bit product is
 # one UMULL and two MLAs (``muls32``), a 64-bit quotient libgcc's __aeabi_ldivmod, a
-# shift-subtract loop (ARMv4T has no CLZ; ``DIV64_OPS``); the root mg_isqrt64, one round per
-# pair of bits of s² (~27 rounds of 64-bit compare, subtract and shifts). Calibrated against
-# the C as ARM920T code (docs/budget.md).
-DIV64_OPS = OpCounts(alu=260, branches=20)
-ISQRT64_OPS = OpCounts(alu=27 * 10, branches=27 * 2)
-SAMPLE_BASE_OPS = OpCounts(alu=60, muls32=3 * 12, divs=1, branches=4)  # τ, x_τ..t_2τ, s², tests
+# shift-subtract loop (ARMv4T has no CLZ; ``DIV64_OPS``, ~330 cycles on these operands); the
+# root mg_isqrt64, one round per pair of bits of s² (~27 rounds of 64-bit compare, subtract and
+# shifts in register pairs, ~22 cycles each). Calibrated against the C as ARM920T code
+# (docs/budget.md): a 001 sample ~1960 cycles, a 000 sample ~2950 (the same in double
+# soft-float: ~11 000); a curve ~430 cycles more, ~1090 more again when it passes.
+DIV64_OPS = OpCounts(alu=270, branches=20)
+ISQRT64_OPS = OpCounts(alu=27 * 16, branches=27 * 2)
+SAMPLE_BASE_OPS = OpCounts(alu=120, muls32=3 * 12, divs=1, branches=4)  # τ, x_τ..t_2τ, s², tests
 POSITION_OPS = OpCounts(alu=20, muls32=3 * 6)  # x, y by Horner's rule
 CIRCLE_OPS = OpCounts(alu=8, muls32=3 * 2, branches=1)
 REGION_OPS_PER_SAMPLE = OpCounts(alu=16, muls32=3 * 3, branches=2)  # most exit after `along`
-CURVE_SETUP_OPS = OpCounts(alu=120, muls32=3 * 4, branches=10)  # coefficients, range, t_τ > 0
+CURVE_SETUP_OPS = OpCounts(alu=250, muls32=3 * 10, branches=10)  # the call, coefficients, t_τ
+PASS_OPS = DIV64_OPS.scaled(3) + OpCounts(alu=100)  # a curve that passes: integrals and cost
 
 
 def sample_ops(n_samples: int, *, positions: bool = False, grasp_circle: bool = False,

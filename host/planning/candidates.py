@@ -18,6 +18,7 @@ import numpy as np
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.planning.bezier import Curve
 from mobigrasp.host.planning.bezier_q import (
+    PASS_OPS,
     Q16,
     REASONS,
     QBatch,
@@ -114,7 +115,8 @@ def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
 
 
 def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
-    """ARM9 cost of a batch with early exit: a curve rejected at sample j costs j + 1 samples."""
+    """ARM9 cost of a batch with early exit: a curve rejected at sample j costs j + 1 samples,
+    a curve that passes its integrals and cost too."""
     first_bad = np.asarray(first_bad)
     if first_bad.size == 0:
         return OpCounts()
@@ -123,7 +125,8 @@ def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
     one = sample_ops(1, **kw)
     per_sample = OpCounts(**{f.name: getattr(one, f.name) - getattr(setup, f.name)
                              for f in fields(OpCounts)})  # fields(): OpCounts may use slots
-    return per_sample.scaled(samples) + setup.scaled(first_bad.size)
+    passed = int((first_bad >= n_samples).sum())
+    return per_sample.scaled(samples) + setup.scaled(first_bad.size) + PASS_OPS.scaled(passed)
 
 
 class CandidateList(Sequence):

@@ -16,8 +16,9 @@ paths prefer those whose clearance D_m to the infeasible regions exceeds T_D. 00
 without a unit; we read it as centimetres (T_D = 0.15 m, ``t_d_m``), the only unit in which 15 is
 a sensible distance for a 0.2 m safety radius and a 2.5 m sonar range.
 
-ARM9 budget (one plan <= 100 ms with soft-float): all N_i·n_e candidates cannot be sampled finely
-on an ARM920T (1000+ curves at ~6000 cycles per sample). So, as engineering choices of ours:
+ARM9 budget (one plan <= ~100 ms, run in slices of the control steps: host/planning/anytime.py):
+all N_i·n_e candidates cannot be sampled finely on an ARM920T (1000+ curves at ~2000 cycles per
+fixed-point sample, docs/budget.md). So, as engineering choices of ours:
 (a) end points on the far side of the object (angle between q_e − P_i and q_s − P_i larger than
 ``endpoint_max_angle_rad``, default π/2) are skipped (set it to π to evaluate all 36);
 (b) coarse-to-fine: the candidates are checked at a number of samples chosen so that the set

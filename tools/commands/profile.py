@@ -112,7 +112,7 @@ def _print_calibration(cal: dict | None, rows: list[dict], first: str | None) ->
           f"{'ratio':>7}{'of 66.7ms':>11}")
     for k, r in enumerate(rows):
         if r["kind"] == "planning" and (k == 0 or rows[k - 1]["kind"] != "planning"):
-            print("planning (per planner call, in a control step):")
+            print("planning (per planner call, in slices of the control steps):")
         print(f"{r['stage']:<18}{r['modelled_us']:>10.0f}{r['emulated_median_us']:>10.0f}"
               f"{r['emulated_p95_us']:>10.0f}{r['emulated_max_us']:>10.0f}"
               f"{r['ratio']:>7.2f}{r['share_max']:>11.1%}")

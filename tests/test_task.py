@@ -58,7 +58,7 @@ def test_found_is_confirmed_then_approach_with_a_logged_event_and_a_plan():
     plan_us = out.detail["plan"]["plan_arm9_us"]
     assert out.detail["plan"]["feasible"] > 0  # planning charged, its first slice in this step
     assert min(plan_us, PLAN_SLICE_US) <= out.ops.time_us() <= PLAN_SLICE_US + 1000
-    # the path is taken in the step after the plan's last slice; the base stands meanwhile
+    # the path is taken in the step of the plan's last slice; the base stands before it
     slices = -(-plan_us // PLAN_SLICE_US)
     for k in range(1, slices):
         assert out.wheels_mmps == (0, 0)

@@ -8,7 +8,7 @@ once the plan's budget is spent (the planners' ``budget_us``) it ends with the b
 found, the planners' "budget" cut. The host computes the same plan at once (its result does
 not depend on where the slices fall) and :class:`PlanJob` holds it back until its slices have
 been charged: the task keeps doing what it did (follows the old path, or stands) and takes
-the new path in the step after the last slice, its time starting then.
+the new path in the step of the last slice, its time starting then.
 
 ``PLAN_SLICE_US`` leaves room in a 20 ms step for the step's own work and the protocol
 (< 1 ms), and in a 66.7 ms frame period for a 17 ms vision front end preempted by four steps

@@ -147,7 +147,7 @@ class PathMethod(Method):
         with at least ``reason``)."""
 
     def start_path(self, t: Any, follower: Any, now: int) -> Any:
-        """The planned path's time starts now, in the step after its plan's last slice
+        """The planned path's time starts now, in the step of its plan's last slice
         (host/planning/anytime.py)."""
         follower.start_us = now
         return follower

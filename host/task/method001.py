@@ -308,7 +308,7 @@ class Method001(Method000):
         return False
 
     def start_path(self, t: Any, follower: Any, now: int) -> Any:
-        """The path and the replanner's curve start now (after the plan's last slice)."""
+        """The path and the replanner's curve start now (the plan's last slice)."""
         t.replanner.start_us = now
         return super().start_path(t, follower, now)
 

@@ -8,8 +8,8 @@ import pytest
 
 from mobigrasp.calib import arm, calibrate, native, planning
 from mobigrasp.host.planning.bezier000 import control_points_000
-from mobigrasp.host.planning.bezier_q import quantize_ctrl
 from mobigrasp.host.planning.bezier001 import control_points_001
+from mobigrasp.host.planning.bezier_q import quantize_ctrl
 from mobigrasp.host.planning.candidates import Limits
 from mobigrasp.host.planning.grasp_circle import end_points
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions

@@ -1,8 +1,8 @@
 """report.html of a run folder: the answer first, then the figures, then the details.
 
 The page opens with the outcome (the ARM9 budget's verdict in words, grasped or not, time to
-grasp, final error, contacts, the ARM9 load's maximum and the host stage nearest its budget), then the plots and the camera at every
-state change, then every figure of summary.json. Paths are relative to the run folder, so the
+grasp, final error, contacts, the ARM9 load's maximum and the host stage nearest its budget),
+then the plots and the camera at every state change, then every figure of summary.json. Paths are relative to the run folder, so the
 folder can be moved or archived. A small script marks an image that did not load.
 
 ``python -m mobigrasp.tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and

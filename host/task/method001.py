@@ -352,7 +352,7 @@ class Method001(Method000):
 
     def start_path(self, t: Any, follower: Any, now: int) -> Any:
         """The path and the replanner's curve start now (the plan's last slice)."""
-        t.replanner.start_us = now
+        t.ms.replanner.start_us = now
         return super().start_path(t, follower, now)
 
     def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:

@@ -2,8 +2,9 @@
 
 The page opens with the outcome (the ARM9 budget's verdict in words, grasped or not, time to
 grasp, final error, contacts, the ARM9 load's maximum and the host stage nearest its budget),
-then the plots and the camera at every state change, then every figure of summary.json. Paths are relative to the run folder, so the
-folder can be moved or archived. A small script marks an image that did not load.
+then the plots and the camera at every state change, then every figure of summary.json. Paths
+are relative to the run folder, so the folder can be moved or archived. A small script marks an
+image that did not load.
 
 ``python -m mobigrasp.tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and
 summary.json, so a report can be regenerated after the run.

@@ -1,17 +1,13 @@
-"""The profiler's tables: a run's host stages against their ARM9 budgets, and the calibrated
-kernels' modelled time against their emulated time (``mobigrasp profile``, docs/budget.md).
-
-Budgets: a frame period of 66.7 ms for vision stages, the 20 ms control period for control
-stages; the stage nearest its budget is the one with the highest worst-case share.
+"""The profiler's tables: a run's host stages against their ARM9 budgets (host/budget_verdict.py),
+and the calibrated kernels' modelled time against their emulated time (``mobigrasp profile``,
+docs/budget.md). The stage nearest its budget is the one with the highest worst-case share.
 """
 
 from __future__ import annotations
 
 import time
 
-FRAME_BUDGET_US = 1_000_000 // 15
-CONTROL_BUDGET_US = 20_000
-CONTROL_STAGES = ("control", "protocol", "task")
+from mobigrasp.host.budget_verdict import FRAME_BUDGET_US, stage_budget_us
 
 
 class WallTimer:
@@ -32,7 +28,7 @@ def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
     """Rows per stage and the name of the stage with the highest worst-case budget share."""
     rows = []
     for name, st in sorted(stages.items()):
-        budget = CONTROL_BUDGET_US if name in CONTROL_STAGES else FRAME_BUDGET_US
+        budget = stage_budget_us(name)
         wall = wall_s.get(name, [])
         rows.append({
             "stage": name, "calls": st["calls"], "arm9_mean_us": round(st["mean_us"], 1),
@@ -50,10 +46,11 @@ def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
     return rows, first
 
 
-def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
-    """Per calibrated kernel: modelled µs now (at the calibrated frame size), the emulated
-    figures of the last calibration and the ratio; and the kernel whose emulated maximum takes
-    the largest share of the frame budget."""
+def calibration_rows(cal: dict | None, used: set[str] | None = None
+                     ) -> tuple[list[dict], str | None]:
+    """Per calibrated kernel (those in ``used`` when given: the run's): modelled µs now (at
+    the calibrated frame size), the emulated figures of the last calibration and the ratio;
+    and the kernel whose emulated maximum takes the largest share of the frame budget."""
     if not cal or not isinstance(cal.get("stages"), dict):
         return [], None
     from mobigrasp.calib.calibrate import PLANNING_STAGES, modelled_us
@@ -62,6 +59,8 @@ def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
     rows = []
     for name, st in sorted(cal["stages"].items(), key=lambda kv: (kv[0] in PLANNING_STAGES,
                                                                    kv[0])):
+        if used is not None and name not in used:
+            continue
         try:
             if not h:
                 raise KeyError(name)

@@ -128,7 +128,8 @@ ISR(TIMER2_COMP_vect)
 }
 
 /* -- USART0, 8N1, U2X = 1, UBRR = 16: 117 647 baud (+2.1 % against 115 200) -------------- */
-static void uart_init(void)
+void uart_init(void); /* called from .init3 only */
+void uart_init(void)
 {
     UBRR0H = 0;
     UBRR0L = 16;
@@ -136,6 +137,12 @@ static void uart_init(void)
     UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
     UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 }
+
+/* The receiver is the first thing the part starts, before the C runtime clears .bss (some
+ * 0.37 ms): .init3 runs right after the stack pointer is set and r1 cleared. Its handler runs
+ * from main's sei on; until then the USART holds what arrives (two bytes and the one shifting
+ * in). A call from .init3 falls through to .init4 when it returns. */
+__asm__(".section .init3,\"ax\",@progbits\n\tcall uart_init\n\t.text");
 
 ISR(USART0_RX_vect)
 {
@@ -257,10 +264,12 @@ static void io_init(void)
 
 int main(void)
 {
-    io_init();
-    uart_init();
-    fw_setup();
+    /* the receiver's handler first (the receiver itself runs since .init3): a byte the host
+     * sends while the rest starts up is kept in the RX ring (docs/firmware.md, "simavr") */
+    fw_setup_rx();
     sei();
+    fw_setup();
+    io_init(); /* encoder and echo interrupts once their state is set */
     set_sleep_mode(SLEEP_MODE_IDLE);
     for (;;) {
         uint32_t next = fw_loop();

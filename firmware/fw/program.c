@@ -40,11 +40,17 @@ static int32_t enc_count(uint8_t side)
 }
 
 /* -- start-up ---------------------------------------------------------------------------- */
-void fw_setup(void)
+/* The receiving side, first of all: from here on the RX handler can take bytes while the
+ * rest of the start-up runs with interrupts on. */
+void fw_setup_rx(void)
 {
     ring_clear(&fw_rx);
     fw_rx.overruns = 0;
     frame_parser_reset(&fw_parser);
+}
+
+void fw_setup(void)
+{
     fw_dup.duplicates = 0;
     fw_dup.reused = 0;
     dup_reset(&fw_dup);

@@ -46,6 +46,9 @@ extern fw_counters_t fw_counters;
 extern uint8_t fw_tx_seq;
 extern uint32_t fw_last_valid_us;
 
+/* Start-up: fw_setup_rx() (RX ring and parser) before the receiver and interrupts are
+ * enabled, fw_setup() (everything else) after. */
+void fw_setup_rx(void);
 void fw_setup(void);
 void fw_isr_usart_rx(uint8_t byte);
 void fw_isr_timer1_ovf(void);

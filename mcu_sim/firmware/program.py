@@ -89,13 +89,19 @@ class Firmware:
         self.setup()
 
     # -- start-up ------------------------------------------------------------------------------
-    def setup(self) -> None:
-        """``main()`` before the loop: state to power-on values, peripherals configured."""
-        hw = self.hw
+    def setup_rx(self) -> None:
+        """The receiving side, first of all (``fw_setup_rx``): on the part the receiver and
+        interrupts are enabled right after it, so bytes are kept while the rest starts up."""
         self.rx.clear()
         self.rx.overruns = 0
         self.parser.reset()
         self.parser.stats.__init__()
+
+    def setup(self) -> None:
+        """``main()`` before the loop: :meth:`setup_rx`, then (``fw_setup``) state to power-on
+        values, peripherals configured."""
+        hw = self.hw
+        self.setup_rx()
         # a reset zeroes the C globals: the TX sequence counter and the duplicate filter's
         # counters start again too
         self.dup = DuplicateFilter(DUP_WINDOW)

@@ -249,8 +249,9 @@ class NativeFirmware:
 
     # -- what the emulator calls -----------------------------------------------------------
     def setup(self) -> None:
-        """``main()`` before the loop."""
+        """``main()`` before the loop: the receiving side, then the rest."""
         self._clock()
+        lib.fw_setup_rx()
         lib.fw_setup()
 
     def isr_timer1_ovf(self) -> None:

@@ -1,7 +1,7 @@
 /* The HAL on the ATmega128 at 16 MHz: registers, the interrupt vectors and main().
  * Pins are those of board.h (generated from mcu_sim/avr/pinmap.py). Every ISR stores what
- * happened and returns; the main loop (fw_loop) does the work and sleeps until the next
- * interrupt when nothing is due. */
+ * happened and returns; the main loop (fw_loop) does the work and sleeps (idle mode) until a
+ * handler leaves work for it or Timer0's tick finds something due. */
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <avr/sleep.h>
@@ -20,6 +20,7 @@ static volatile uint8_t tx_tail;
 static volatile uint32_t rx_lost; /* data overruns and framing errors seen by the receiver */
 static volatile uint8_t enc_state[2]; /* last A/B levels of each encoder */
 static volatile uint8_t wheel_r_on; /* right wheel soft PWM: drive the pin at BOTTOM */
+static volatile uint8_t timer0_tick; /* set every 1.024 ms: time to look at the clock */
 
 /* -- clock: Timer1 periods plus TCNT1 (0.5 us ticks) ------------------------------------- */
 uint32_t hal_micros(void)
@@ -85,7 +86,7 @@ void hal_wheel_start(uint8_t side)
         WHEEL_L_PWM_DDR |= _BV(WHEEL_L_PWM_BIT);
         WHEEL_L_DIR_DDR |= _BV(WHEEL_L_DIR_BIT);
         TCCR0 = _BV(WGM00) | _BV(WGM01) | _BV(COM01) | _BV(CS02); /* fast PWM, clk/64 */
-        TIMSK |= _BV(TOIE0); /* wakes the idle loop every 1.024 ms */
+        TIMSK |= _BV(TOIE0); /* the tick that checks the due times, every 1.024 ms */
     } else {
         WHEEL_R_PWM_DDR |= _BV(WHEEL_R_PWM_BIT);
         WHEEL_R_DIR_DDR |= _BV(WHEEL_R_DIR_BIT);
@@ -114,7 +115,7 @@ void hal_wheel_ocr(uint8_t side, uint8_t ocr)
     }
 }
 
-ISR(TIMER0_OVF_vect) {}
+ISR(TIMER0_OVF_vect) { timer0_tick = 1; }
 
 ISR(TIMER2_OVF_vect)
 {
@@ -262,6 +263,34 @@ static void io_init(void)
     EIMSK = _BV(INT0) | _BV(INT1) | _BV(INT2) | _BV(INT3) | _BV(INT6);
 }
 
+/* Sleep until the main loop has work: a handler left some (bytes in the RX ring, a servo
+ * period) or, looked at on Timer0's 1.024 ms tick, the due time ``next`` has come. Encoder
+ * edges, the right wheel's PWM and the TX handler wake the core only for their own handler:
+ * the check after such a wake is a few flag reads, not a main-loop pass. */
+static void wait_for_work(uint32_t next)
+{
+    uint8_t look = 1; /* once at once: something may have fallen due during the pass */
+    for (;;) {
+        if (look && (int32_t)(hal_micros() - next) >= 0) {
+            return;
+        }
+        cli();
+        if (fw_work_pending()) {
+            sei();
+            return;
+        }
+        look = timer0_tick;
+        timer0_tick = 0;
+        if (!look) {
+            sleep_enable();
+            sei(); /* takes effect after the next instruction: no wake-up is missed */
+            sleep_cpu();
+            sleep_disable();
+        }
+        sei();
+    }
+}
+
 int main(void)
 {
     /* the receiver's handler first (the receiver itself runs since .init3): a byte the host
@@ -272,15 +301,6 @@ int main(void)
     io_init(); /* encoder and echo interrupts once their state is set */
     set_sleep_mode(SLEEP_MODE_IDLE);
     for (;;) {
-        uint32_t next = fw_loop();
-        cli();
-        /* sleep only if nothing arrived and nothing is due; any interrupt wakes the loop */
-        if (!fw_work_pending() && (int32_t)(hal_micros() - next) < 0) {
-            sleep_enable();
-            sei();
-            sleep_cpu();
-            sleep_disable();
-        }
-        sei();
+        wait_for_work(fw_loop());
     }
 }

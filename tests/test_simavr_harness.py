@@ -222,3 +222,21 @@ def test_bytes_sent_into_the_start_up_leave_the_rx_latency_to_the_bytes_received
     stats = mcu.stats()
     assert stats["avr_rx_line_lost"] > 0 and stats["parser_frames_ok"] >= 2
     assert 0 < stats["avr_rx_latency_max_cycles"] <= RX_LATENCY_BUDGET_CYCLES
+
+
+def test_encoder_edges_wake_their_handler_not_the_main_loop():
+    # 6000 edges a second on each wheel (some 740 mm/s) for one second: the main loop runs only
+    # for what falls due (PI at 100 Hz, telemetry at 50 Hz, a sonar slot every 30 ms, a servo
+    # period every 20 ms, each at most once per Timer0 tick) and the core sleeps in between
+    mcu = SimavrMcu()
+    t0 = mcu.run_until_booted()
+    passes0 = mcu.stats()["avr_loop_passes"]
+    for k in range(1, 101):
+        t = t0 + k * 10_000
+        mcu.set_encoder_ticks(60 * k, -60 * k, t)
+        mcu.advance_to(t)
+    stats = mcu.stats()
+    edges = sum(mcu.profile()["isr_count"].get(v, 0) for v in (1, 2, 3, 4))
+    assert edges >= 11_000
+    assert stats["avr_loop_passes"] - passes0 < 300
+    assert stats["avr_load_permille"] <= 300

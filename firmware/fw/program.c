@@ -1,7 +1,8 @@
-/* Start-up, interrupt work and the cooperative main loop (mcu_sim/firmware/program.py).
- * Interrupt handlers only store what happened (a byte, an edge, a time, a flag); the main loop
- * drains the RX ring into the parser, dispatches frames and runs what is due: the servo
- * period's OCR writes, wheel PI (100 Hz), watchdog, sonar slot, telemetry. */
+/* Start-up, interrupt work and the event-driven main loop (mcu_sim/firmware/program.py).
+ * Interrupt handlers only store what happened (a byte, an edge, a time, a flag); a main-loop
+ * pass, run when a handler left work or something fell due, drains the RX ring into the parser,
+ * dispatches frames and runs only what is due: the servo period's OCR writes, wheel PI
+ * (100 Hz), watchdog, sonar slot, telemetry. Between passes the core sleeps (hal_avr.c). */
 #include "program.h"
 
 #include "../hal.h"

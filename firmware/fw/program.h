@@ -1,6 +1,7 @@
 /* The ATmega128 program (mcu_sim/firmware/program.py): start-up, the interrupt handlers' work
  * and one pass of the main loop. The vectors (hal_avr.c) or the emulator (hal_native.c) call
- * the fw_isr_* functions; fw_loop() returns when (us since reset) something is next due. */
+ * the fw_isr_* functions; fw_loop() returns when (us since reset) something is next due, and
+ * the caller runs it again when fw_work_pending() or at that time, sleeping in between. */
 #ifndef MOBIGRASP_PROGRAM_H
 #define MOBIGRASP_PROGRAM_H
 

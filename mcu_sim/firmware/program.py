@@ -1,14 +1,15 @@
-"""The ATmega128 program: start-up, interrupt handlers and the cooperative main loop.
+"""The ATmega128 program: start-up, interrupt handlers and the event-driven main loop.
 
 Written to map one-to-one onto C: every buffer is allocated in ``__init__``/``setup`` (the C
 globals) and reused; the loop does integer arithmetic only. The handlers are what the vectors
-call: ``isr_usart_rx`` (USART0_RX: byte into the RX ring), ``isr_timer1_ovf`` (TIMER1_OVF: the
-servo widths written for this period were just latched, so compute and write the next ones),
-``isr_encoder`` (INT4..7, quadrature edges) and ``isr_echo`` (sonar echo edges). ``loop`` is one
-pass of ``for (;;)``: drain the RX ring into the frame parser and dispatch frames, then run what is
-due: wheel PI (100 Hz), watchdog, sonar slot, telemetry. It returns the earliest time (µs since
-reset) at which something will be due, which is when the emulator runs it again; on the part the
-loop spins or sleeps until the next interrupt, which is equivalent because nothing else changes.
+call; each only stores what happened: ``isr_usart_rx`` (USART0_RX: byte into the RX ring),
+``isr_timer1_ovf`` (TIMER1_OVF: a servo period began, flag for the main loop), ``isr_encoder``
+(INT0..3, quadrature edges) and ``isr_echo`` (sonar echo edges). ``loop`` is one pass of the main
+loop: the servo period's OCR writes if one began, drain the RX ring into the frame parser and
+dispatch frames, then only what is due: wheel PI (100 Hz), watchdog, sonar slot, telemetry. It
+returns the earliest time (µs since reset) at which something will be due. The part then sleeps
+until a handler leaves work (``work_pending``) or, at Timer0's 1.024 ms tick, that time has come
+(firmware/hal_avr.c, wait_for_work); the emulator runs the next pass at the next such event.
 
 What each command does is in ``dispatch.py`` (the C port's ``switch (msg_type)``).
 """
@@ -126,6 +127,7 @@ class Firmware:
         self.unexpected = 0
         self.tx_dropped = 0
         self.telemetry_sent = 0
+        self.servo_period_due = False
         for timer in (hw.timer1, hw.timer3):
             timer.write_tccra(TCCRA_SERVO)
             timer.write_icr(ICR_20MS)
@@ -154,7 +156,12 @@ class Firmware:
         self.rx.put_bytes(data)
 
     def isr_timer1_ovf(self) -> None:
-        """Timer1 (and 3, started together) period start: latch, then write next period's OCRs."""
+        """Timer1 (and 3, started together) period start: work for the main loop."""
+        self.servo_period_due = True
+
+    def _servo_period(self) -> None:
+        """A period began: the pending widths are in force; step every moving channel and write
+        its OCR for the period after (latched at the next BOTTOM)."""
         servos = self.servos
         servos.latch()
         target, latched = servos.target_q8, servos.latched_q8
@@ -178,6 +185,9 @@ class Firmware:
         """One pass of the main loop; returns the next time (µs since reset) something is due."""
         hw = self.hw
         now = hw.micros()
+        if self.servo_period_due:
+            self.servo_period_due = False
+            self._servo_period()
         rx = self.rx
         if rx.head != rx.tail:  # take_all() of an empty ring is b"" (most passes: timed work)
             for frame in self.parser.feed(rx.take_all()):
@@ -209,6 +219,12 @@ class Firmware:
         if wd_us and not self.watchdog_tripped and self.last_valid_us + wd_us < due:
             due = self.last_valid_us + wd_us
         return due
+
+    def work_pending(self) -> bool:
+        """True while a handler left work for the main loop (bytes in the RX ring, a servo
+        period): what ends the part's sleep besides a due time."""
+        rx = self.rx
+        return rx.head != rx.tail or self.servo_period_due
 
     def next_unprompted_send_us(self) -> int | None:
         """When the main loop next sends something nobody asked for (µs since reset): the next

@@ -286,6 +286,11 @@ class NativeFirmware:
         full_now = (self.hw.cycle - self.hw.reset_cycle) // CYCLES_PER_US
         return full_now + (((due - now + 0x8000_0000) & _MASK32) - 0x8000_0000)
 
+    def work_pending(self) -> bool:
+        """True while a handler left work for the main loop (``fw_work_pending``)."""
+        self.activate()
+        return bool(lib.fw_work_pending())
+
     def next_unprompted_send_us(self) -> int | None:
         """The next telemetry time (µs since reset), None when telemetry is off."""
         self.activate()

@@ -446,5 +446,6 @@ class SimavrMcu:
             "total_cycles": total,
             "stack_depth_bytes": p.stack_depth_bytes,
             "loop_max_cycles": p.loop_max_cycles,
+            "loop_passes": p.loop_count,
             "rx_line_lost": lib.sh_rx_line_lost(self._h),
         }

@@ -201,10 +201,10 @@ class Mcu:
         b = self.board
         usart = b.usart0
         now = self._cycle // CYCLES_PER_US
-        rx = self.firmware.rx
         # next_tx_cycle() / next_rx_cycle() are not None exactly while their queue holds a
-        # chunk; the RX ring is empty when head == tail (asked once per quantum)
-        if usart.tx_queue or usart.rx_queue or rx.head != rx.tail:
+        # chunk; bytes in the RX ring without a frame's end wait for more from the line (asked
+        # once per quantum)
+        if usart.tx_queue or usart.rx_queue or self.firmware.work_pending():
             return now
         due = self.firmware.next_unprompted_send_us()
         if due is None:

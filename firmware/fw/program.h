@@ -56,7 +56,8 @@ void fw_isr_timer1_ovf(void);
 void fw_isr_encoder(uint8_t side, int8_t edge);
 void fw_isr_echo(uint8_t index, uint8_t level);
 uint32_t fw_loop(void);
-/* 1 while an interrupt left work for the main loop (bytes in the RX ring, a servo period). */
+/* 1 while an interrupt left work for the main loop (a frame's end in the RX ring, or 64
+ * bytes without one; a servo period). */
 uint8_t fw_work_pending(void);
 /* Next telemetry time (us since reset); 0 and *off = 1 when telemetry is off. */
 uint32_t fw_next_unprompted_send_us(uint8_t *off);

@@ -54,6 +54,9 @@ _I_TELEMETRY_HZ = P.PARAM_INDEX[P.P_TELEMETRY_HZ]
 _I_WHEEL_KP = P.PARAM_INDEX[P.P_WHEEL_KP]
 _I_WHEEL_KI = P.PARAM_INDEX[P.P_WHEEL_KI]
 
+# the RX handler wakes the main loop at a frame's delimiter (COBS: 0x00 nowhere else) or once
+# this many bytes wait without one, so garbage cannot fill the ring before the loop drains it
+RX_WAKE_BYTES = 64
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
 TELEMETRY_TYPE = Telemetry.MSG_TYPE
 ACK_TYPE = Ack.MSG_TYPE
@@ -97,6 +100,7 @@ class Firmware:
         self.rx.overruns = 0
         self.parser.reset()
         self.parser.stats.__init__()
+        self.rx_frame_due = False
 
     def setup(self) -> None:
         """``main()`` before the loop: :meth:`setup_rx`, then (``fw_setup``) state to power-on
@@ -148,12 +152,19 @@ class Firmware:
 
     # -- interrupt handlers --------------------------------------------------------------------
     def isr_usart_rx(self, byte: int) -> None:
-        """USART0 RX complete: into the ring (overrun counted when full)."""
+        """USART0 RX complete: into the ring (overrun counted when full); a delimiter, or
+        ``RX_WAKE_BYTES`` waiting, is work for the main loop."""
         self.rx.put(byte)
+        if byte == 0 or len(self.rx) >= RX_WAKE_BYTES:
+            self.rx_frame_due = True
 
     def isr_usart_rx_bytes(self, data: bytes) -> None:
         """Several RX-complete interrupts in a row (the emulator batches them), oldest first."""
         self.rx.put_bytes(data)
+        # the ring only fills between passes: at or past the mark after the batch means at or
+        # past it after its last byte
+        if 0 in data or len(self.rx) >= RX_WAKE_BYTES:
+            self.rx_frame_due = True
 
     def isr_timer1_ovf(self) -> None:
         """Timer1 (and 3, started together) period start: work for the main loop."""
@@ -188,6 +199,7 @@ class Firmware:
         if self.servo_period_due:
             self.servo_period_due = False
             self._servo_period()
+        self.rx_frame_due = False  # the drain below takes every byte received so far
         rx = self.rx
         if rx.head != rx.tail:  # take_all() of an empty ring is b"" (most passes: timed work)
             for frame in self.parser.feed(rx.take_all()):
@@ -221,10 +233,10 @@ class Firmware:
         return due
 
     def work_pending(self) -> bool:
-        """True while a handler left work for the main loop (bytes in the RX ring, a servo
-        period): what ends the part's sleep besides a due time."""
-        rx = self.rx
-        return rx.head != rx.tail or self.servo_period_due
+        """True while a handler left work for the main loop (a frame's end in the RX ring, or
+        ``RX_WAKE_BYTES`` without one; a servo period): what ends the part's sleep besides a
+        due time."""
+        return self.rx_frame_due or self.servo_period_due
 
     def next_unprompted_send_us(self) -> int | None:
         """When the main loop next sends something nobody asked for (µs since reset): the next

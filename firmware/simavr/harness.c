@@ -415,8 +415,9 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
         avr->data[sh->rx_head_addr] == avr->data[sh->rx_tail_addr]) {
         sh->rx_unanswered = 0;
     }
-    /* a byte reached the RX ring (or was counted as a ring overrun) */
-    if (sh->rx_head_addr) {
+    /* a byte reached the RX ring (or was counted as a ring overrun); only a byte handed to the
+     * USART moves either, so nothing is read while none is awaited */
+    if (sh->rx_head_addr && (sh->rxq_n || sh->rxq_untimed)) {
         uint8_t head = avr->data[sh->rx_head_addr];
         uint32_t over;
         memcpy(&over, avr->data + sh->rx_over_addr, 4);

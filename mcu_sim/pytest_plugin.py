@@ -22,6 +22,12 @@ with their reasons by name; ``describe(msg)`` prints any message that way.
   has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``collisions``,
   ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
   the test body is ended (SIGTERM) and its folder written all the same.
+  ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock
+  in the test's hands (mobigrasp/testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
+  ``.frame()``, ``.telemetry()``, ``.truth()``, ``.expect(predicate, within_ms)``.
+- ``pytest --robot-port /dev/ttyUSB0 --robot-camera 0``: every ``emulated_robot`` is the real
+  robot on that device and camera (mobigrasp/testing/bench_robot.py); truth and clock calls
+  skip the test with the reason.
 
 This module must stay cheap to import and must never break a pytest run: everything heavy is
 imported inside the fixtures.
@@ -284,15 +290,49 @@ class EmulatedRobot:
             self._stderr.close()
 
 
-@pytest.fixture
-def emulated_robot(tmp_path):
-    """``make(scenario, speed=1.0) -> EmulatedRobot``: ``mobigrasp sim`` for this test; every
-    session made is ended after the test (its run folder under the test's tmp_path)."""
-    made: list[EmulatedRobot] = []
+def pytest_addoption(parser) -> None:
+    """``--robot-port`` and ``--robot-camera``: ``emulated_robot`` on a real robot."""
+    group = parser.getgroup("mobigrasp", "mobigrasp robot")
+    group.addoption("--robot-port", default=None, metavar="DEVICE",
+                    help="emulated_robot is the real robot on this serial device (its truth "
+                         "and clock calls skip)")
+    group.addoption("--robot-camera", default=None, metavar="INDEX|FILE",
+                    help="with --robot-port: the robot's camera for OpenCV (an index, a video "
+                         "file, an image sequence such as shots/%%03d.png, a URL)")
 
-    def make(scenario: str, speed: float = 1.0, **kw) -> EmulatedRobot:
-        """``kw``: ``plots`` (default True), ``extra_args`` (more ``mobigrasp sim`` options)."""
-        robot = EmulatedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
+
+CLOCKS = ("wall", "test")
+
+
+@pytest.fixture
+def emulated_robot(request, tmp_path):
+    """``make(scenario, speed=1.0, clock="wall") -> robot``; every robot made is ended after
+    the test (its run folder under the test's tmp_path).
+
+    ``clock="wall"``: an :class:`EmulatedRobot` (``mobigrasp sim`` in wall time); ``clock=
+    "test"``: a :class:`mobigrasp.testing.stepped_robot.SteppedRobot` (in process, simulated
+    time moves only in ``advance_ms``/``expect``). With ``--robot-port`` every robot is a
+    :class:`mobigrasp.testing.bench_robot.BenchRobot` on that device instead."""
+    made: list = []
+    bench_port = request.config.getoption("robot_port")
+
+    def make(scenario: str, speed: float = 1.0, clock: str = "wall", **kw):
+        """``kw`` with the wall clock: ``plots`` (default True), ``extra_args`` (more
+        ``mobigrasp sim`` options); with the test clock: ``seed``, ``mcu``,
+        ``time_limit_s``."""
+        if clock not in CLOCKS:
+            raise ValueError(f"clock must be one of {', '.join(CLOCKS)}, got {clock!r}")
+        if bench_port:
+            from mobigrasp.testing.bench_robot import BenchRobot, camera_source
+
+            robot = BenchRobot(scenario, bench_port,
+                               camera_source(request.config.getoption("robot_camera")))
+        elif clock == "test":
+            from mobigrasp.testing.stepped_robot import SteppedRobot
+
+            robot = SteppedRobot(scenario, tmp_path / f"robot-{len(made)}", **kw)
+        else:
+            robot = EmulatedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
         made.append(robot)
         return robot
 

@@ -2,6 +2,10 @@
 
 import hashlib
 import math
+import re
+import subprocess
+import sys
+from pathlib import Path
 
 import pytest
 import serial
@@ -21,6 +25,7 @@ from mobigrasp.testing.expect import ExpectationFailed
 
 pytestmark = pytest.mark.timeout(240)
 SCENARIO = "paper000-exp1"
+ROOT = Path(__file__).resolve().parents[1]
 
 
 class LoopHost:
@@ -94,3 +99,17 @@ def test_close_writes_the_run_folder(emulated_robot):
     summary = robot.close()
     assert summary["sim_time_s"] == pytest.approx(0.05)
     assert (robot.run_dir / "trace.jsonl").exists()
+
+
+def test_readme_test_clock_example_runs_as_is(tmp_path):
+    """The README's test-clock example, copied into a file and run by pytest as a user would."""
+    text = (ROOT / "README.md").read_text()
+    section = text.split("### Testing your own host program against the emulated robot", 1)[1]
+    code = re.findall(r"```python\n(.*?)```", section, re.S)[1]
+    assert 'clock="test"' in code and "robot.expect(" in code
+    (tmp_path / "test_readme_test_clock.py").write_text(code)
+    res = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider",
+                          "test_readme_test_clock.py"], cwd=tmp_path, capture_output=True,
+                         text=True, timeout=200)
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "1 passed" in res.stdout

@@ -98,6 +98,7 @@ def test_close_writes_the_run_folder(emulated_robot):
         robot.advance_ms(20)
     summary = robot.close()
     assert summary["sim_time_s"] == pytest.approx(0.05)
+    assert summary["status"] == "finished" and summary["line"]["dropped_to_host_bytes"] == 0
     assert (robot.run_dir / "trace.jsonl").exists()
 
 

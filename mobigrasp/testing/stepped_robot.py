@@ -227,6 +227,7 @@ class SteppedRobot:
         self._thread.join(self.handoff_timeout_s)
         self._host.close()
         self._sim.summary["status"] = "crashed" if self._error is not None else "finished"
+        self._sim.summary["line"] = self._host.stats()  # bytes both ways, drops
         self._sim.finish(self._result, self._session_host.traffic(), self.time_limit_s)
         self.summary = self._sim.summary
         if self._error is not None:

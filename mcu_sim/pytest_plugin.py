@@ -17,7 +17,8 @@ host end: ``send(msg)`` writes a message on the slave and waits until the MCU si
 with their reasons by name; ``describe(msg)`` prints any message that way.
 
 - ``emulated_robot``: ``robot = emulated_robot("paper000-exp1", speed=1.0)`` starts
-  ``mobigrasp sim`` for the test: the scenario's MCU and world in wall time, ``robot.port`` the
+  ``mobigrasp sim`` for the test (its clock starting at your host's first frame, as ``sim``
+  does when stdin is not a terminal): the scenario's MCU and world in wall time, ``robot.port`` the
   serial pty, ``robot.camera_url`` the MJPEG stream. Run your host program against them; once it
   has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``collisions``,
   ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
@@ -211,7 +212,8 @@ class EmulatedRobot:
             [sys.executable, "-m", "mobigrasp", "sim", str(scenario), "--speed", f"{speed:g}",
              "--camera-port", "0", "--out", str(self.run_dir), "--quiet",
              *(() if plots else ("--no-plots",)), *extra_args],
-            cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True)
+            cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True,
+            stdin=subprocess.DEVNULL)  # not a terminal: the clock waits for the host's HELLO
         self._summary: dict | None = None
         self._lines = self._line_reader()
         self.port = self._first_line("serial: ")

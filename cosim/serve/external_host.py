@@ -85,6 +85,7 @@ class ExternalHost:
         self.frames_out = 0
         self._from_host = bytearray()  # read from the pty, announced, not taken by the rig yet
         self._written = bytearray()  # written to the pty, not yet announced by a grant
+        self._early = bytearray()  # read while waiting for the program: sent at the first grant
         self._rx_parser = FrameParser()  # host -> MCU
         self._tx_parser = FrameParser()  # MCU -> host
 
@@ -139,6 +140,22 @@ class ExternalHost:
             self.bytes_from_host += len(data)
         return data
 
+    def wait_for_host(self, stop: Callable[[], str | None] | None = None,
+                      poll_s: float = 0.2) -> str | None:
+        """Block (wall clock) until the program has written a valid frame; what it wrote
+        meanwhile goes to the MCU at the next grant's start. ``stop()``'s reason, or
+        ``host_closed``, if the wait ended without one."""
+        parser = FrameParser()
+        while not self.host_closed:
+            if stop is not None and (why := stop()):
+                return why
+            if self.transport.wait_readable(poll_s):
+                data = self._read_pty()
+                self._early += data
+                if parser.feed(data):
+                    return None
+        return "host_closed"
+
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """The DONE for ``grant``: what the program wrote since the last one, at its start."""
         events: list[dict] = []
@@ -156,6 +173,9 @@ class ExternalHost:
             if self.trace_wire:
                 events += [wire_event("to_host", t_us, f) for f in self._tx_parser.feed(data)]
         data = self._read_pty()
+        if self._early:
+            data = bytes(self._early) + data
+            self._early.clear()
         writes: tuple = ()
         if data:
             self._from_host += data

@@ -25,9 +25,9 @@ from mobigrasp.cosim.session import SessionResult, run_session
 from mobigrasp.cosim.sim_side import SimSide
 from mobigrasp.link.registry import open_transport
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
-from mobigrasp.mcu_sim.wire_names import describe, nack_reason_name
+from mobigrasp.mcu_sim.wire_names import describe, nacks_sent
 from mobigrasp.protocol.frame import FrameParser
-from mobigrasp.protocol.messages import MessageError, Nack, Telemetry, decode_frame
+from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame
 from mobigrasp.testing.expect import expect
 from mobigrasp.tools.run_job import resolve_scenario
 
@@ -182,7 +182,8 @@ class SteppedRobot:
 
     # -- what the robot shows ------------------------------------------------------------------
     def frame(self) -> Any:
-        """The camera's latest frame, uint8 H x W x 3 BGR as OpenCV reads one (a copy)."""
+        """The camera's latest frame, uint8 H x W x 3 BGR as OpenCV reads one (a copy); None
+        before the first ``advance_ms`` (frame 0 is taken at t = 0 by the first quantum)."""
         if self._frame is None:
             return None
         return self._frame[:, :, ::-1].copy()
@@ -193,8 +194,7 @@ class SteppedRobot:
 
     def nacks(self) -> list[tuple[int, str]]:
         """``(acked_seq, reason name)`` of every NACK the MCU sent, oldest first."""
-        return [(m.acked_seq, nack_reason_name(m.reason)) for _, m in self.sent_by_mcu
-                if isinstance(m, Nack)]
+        return nacks_sent(self.sent_by_mcu)
 
     def truth(self) -> Truth:
         """The world's ground truth now: base pose, object, held, joints."""

@@ -188,3 +188,27 @@ def test_sim_waits_for_a_host_that_comes_late_over_tcp(tmp_path):
         "SetWheels"]
     assert "HelloAck" in wire_msgs["/wire/to_host"] and "Telemetry" in wire_msgs["/wire/to_host"]
     assert "Host traffic" in (out / "report.html").read_text()
+
+
+def test_wait_for_host_ends_at_the_first_valid_frame_and_delivers_all_at_t0():
+    import os
+
+    from mobigrasp.cosim import lockstep as ls
+    from mobigrasp.cosim.serve.external_host import ExternalHost
+
+    transport = open_transport("pty://")
+    host = ExternalHost(transport)
+    fd = os.open(transport.slave_path, os.O_RDWR | os.O_NOCTTY)
+    try:
+        os.write(fd, b"\x01\x02garbage\x00")  # not a frame: the wait goes on
+        answers = iter([None, None, "terminated"])  # stop()'s answers, one per poll
+        assert host.wait_for_host(lambda: next(answers), poll_s=0.01) == "terminated"
+        hello = encode_message(Hello(PROTOCOL_VERSION, "late", 0), 1)
+        os.write(fd, hello)
+        assert host.wait_for_host(lambda: None, poll_s=5.0) is None
+        done = host.exchange(ls.Grant(start_us=0, until_us=5000))
+        assert done.writes == ((0, len(b"\x01\x02garbage\x00") + len(hello)),)
+        assert [e["msg"] for e in done.events if "msg" in e] == ["Hello"]
+    finally:
+        os.close(fd)
+        host.close()

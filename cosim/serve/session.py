@@ -173,9 +173,12 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
             wall0 = time.perf_counter()
             res.reason = host.wait_for_host(why_stop) or "running"
             summary["host_waited_s"] = round(time.perf_counter() - wall0, 3)
+            if res.reason != "running":  # stopped before the host came: the clock never ran
+                trace.write({"ev": "end", "t_us": 0, "reason": res.reason,
+                             "host_state": "EXTERNAL"})
         if res.reason == "running":
             run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                    truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
+                        truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
                         speed=opts.speed, progress=progress, stop=why_stop)
         summary["status"] = "finished"
     except Exception as exc:

@@ -24,10 +24,10 @@ with their reasons by name; ``describe(msg)`` prints any message that way.
   ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
   the test body is ended (SIGTERM) and its folder written all the same.
   ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock
-  in the test's hands (mobigrasp/testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
+  in the test's hands (testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
   ``.frame()``, ``.telemetry()``, ``.truth()``, ``.expect(predicate, within_ms)``.
 - ``pytest --robot-port /dev/ttyUSB0 --robot-camera 0``: every ``emulated_robot`` is the real
-  robot on that device and camera (mobigrasp/testing/bench_robot.py); truth and clock calls
+  robot on that device and camera (testing/bench_robot.py); truth and clock calls
   skip the test with the reason.
 
 This module must stay cheap to import and must never break a pytest run: everything heavy is

@@ -8,8 +8,9 @@ halts before every quantum until the test asks for more time: nothing moves betw
 host loop in the test (write, ``advance_ms``, read) sees the same bytes and frames on any machine.
 
 Quanta are 1 ms (strict alternation, no lag): the host's bytes written before ``advance_ms`` reach
-the MCU's line at the start of the first quantum, serialised at 115200 baud; the MCU's bytes are on
-the pty by the time ``advance_ms`` returns. ``frame()`` is the frame the camera took last (the
+the MCU's line at the start of the first quantum, serialised at 115200 baud; the MCU's bytes of the
+whole step are written to the pty in one write before ``advance_ms`` returns (docs/firmware.md:
+a host's read then has all of them). ``frame()`` is the frame the camera took last (the
 scenario's camera rate, 15 fps), as ``sim``'s ``/frame.png`` would serve it.
 """
 
@@ -102,7 +103,7 @@ class SteppedRobot:
         self._frame: Any = None
         self._transport = open_transport("pty://")
         self.port: str = self._transport.slave_path
-        self._host = ExternalHost(self._transport)
+        self._host = ExternalHost(self._transport, hold_to_host=True)
         self._sim = SimSide(sc, self.seed, self.run_dir, path, "pty (test clock)",
                             getattr(sc, "faults", None) or FaultPlan(), mcu,
                             on_frame=self._on_frame)
@@ -138,6 +139,8 @@ class SteppedRobot:
     def _gate(self) -> str | None:
         """run_session's stop(): halt at the target until the test moves it or closes."""
         with self._cond:
+            if self._rig.now_us >= self._target_us:
+                self._host.release_to_host()  # the step's bytes in one write (ExternalHost)
             while self._rig.now_us >= self._target_us and not self._closing:
                 self._halted = True
                 self._cond.notify_all()

@@ -212,3 +212,28 @@ def test_wait_for_host_ends_at_the_first_valid_frame_and_delivers_all_at_t0():
     finally:
         os.close(fd)
         host.close()
+
+
+def test_held_bytes_reach_the_pty_in_one_write_at_release():
+    import os
+
+    from mobigrasp.cosim import lockstep as ls
+    from mobigrasp.cosim.serve.external_host import ExternalHost
+
+    transport = open_transport("pty://")
+    host = ExternalHost(transport, hold_to_host=True)
+    fd = os.open(transport.slave_path, os.O_RDWR | os.O_NOCTTY | os.O_NONBLOCK)
+    try:
+        tel = encode_message(Telemetry(7, 1, 2, (1500,) * 6, (0xFFFF,) * 5, 4, 0, 0, 0, 0), 9)
+        host.port.write(tel[:10])
+        host.port.write(tel[10:])
+        with pytest.raises(BlockingIOError):
+            os.read(fd, 4096)  # held: nothing on the pty yet
+        done = host.exchange(ls.Grant(start_us=0, until_us=5000, uart=((4800, len(tel)),)))
+        assert [e["msg"] for e in done.events] == ["Telemetry"]  # decoded all the same
+        host.release_to_host()
+        assert os.read(fd, 4096) == tel
+        assert host.stats()["bytes_to_host"] == len(tel)
+    finally:
+        os.close(fd)
+        host.close()

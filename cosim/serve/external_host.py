@@ -72,7 +72,11 @@ class ExternalHost:
     host (a :class:`~mobigrasp.cosim.handshake.HostEnd`)."""
 
     def __init__(self, transport: Any, on_frame: Callable[[Any, int], None] | None = None,
-                 trace_wire: bool = True) -> None:
+                 trace_wire: bool = True, hold_to_host: bool = False) -> None:
+        """``hold_to_host``: keep the MCU's bytes until :meth:`release_to_host` instead of
+        writing them to the pty as the rig sends them (a caller that hands time over in steps
+        writes each step's bytes at once: a program reading several small writes right after
+        them may see only the first ones, the pty handing them over in the background)."""
         self.transport = transport
         self.port = _RigPort(self)
         self.on_frame = on_frame
@@ -86,6 +90,8 @@ class ExternalHost:
         self._from_host = bytearray()  # read from the pty, announced, not taken by the rig yet
         self._written = bytearray()  # written to the pty, not yet announced by a grant
         self._early = bytearray()  # read while waiting for the program: sent at the first grant
+        self.hold_to_host = hold_to_host
+        self._held = bytearray()  # the MCU's bytes kept for release_to_host
         self._rx_parser = FrameParser()  # host -> MCU
         self._tx_parser = FrameParser()  # MCU -> host
 
@@ -96,6 +102,19 @@ class ExternalHost:
         self._written += data
         if self.host_closed:
             return
+        if self.hold_to_host:
+            self._held += data
+            return
+        self._write_pty(data)
+
+    def release_to_host(self) -> None:
+        """Write the bytes held (``hold_to_host``) to the pty in one write."""
+        data = bytes(self._held)
+        self._held.clear()
+        if data and not self.host_closed:
+            self._write_pty(data)
+
+    def _write_pty(self, data: bytes) -> None:
         fd = self.transport.fileno()
         view = memoryview(bytes(data))
         while view:

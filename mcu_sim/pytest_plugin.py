@@ -213,7 +213,7 @@ class EmulatedRobot:
              "--camera-port", "0", "--out", str(self.run_dir), "--quiet",
              *(() if plots else ("--no-plots",)), *extra_args],
             cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True,
-            stdin=subprocess.DEVNULL)  # not a terminal: the clock waits for the host's HELLO
+            stdin=subprocess.DEVNULL)  # not a terminal: the clock waits for the host (--wait-host)
         self._summary: dict | None = None
         self._lines = self._line_reader()
         self.port = self._first_line("serial: ")

@@ -35,7 +35,7 @@ $(BASE): FORCE
 # layout, docs/architecture.md). A file added or removed needs the tree made again: the stamp
 # depends on the list of the package's files, so `make venv` and `make test` redo it
 # (tests/conftest.py stops a bare pytest that misses a module and says so).
-PKG_ROOTS := src protocol link host mcu_sim cosim drivers calib services tools scenarios \
+PKG_ROOTS := src protocol link host mcu_sim cosim drivers calib services tools testing scenarios \
 	firmware hostc
 PKG_LIST := $(VENV)/.package-files
 

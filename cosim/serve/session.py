@@ -13,6 +13,7 @@ block are judged from the world, since an external host reports no task state.
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -44,6 +45,13 @@ class SimOptions:
     progress: Any = None
     # (path, Scenario) resolved by the caller (mobigrasp.services.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
+    # the fault plan (the scenario's with --fault applied); None: the scenario's
+    plan: Any = None
+    # simulated time starts at the host's first valid frame (ExternalHost.wait_for_host)
+    wait_host: bool = False
+    tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
+    # each frame the rig captures, as (seq, capture_us, rgb) (the caller's trace.mcap)
+    on_frame: Callable[[int, int, Any], None] | None = None
 
 
 def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
@@ -60,10 +68,12 @@ def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
 
 def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
           stop: Callable[[], str | None] | None = None) -> dict:
-    """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
-    summary (also written to the run folder). Raises BadSimInput for bad input."""
+    """Run one session; ``on_ready(serial_path, camera_url, serial_tcp_url)`` once all are
+    served (the last None without ``tcp_port``). Returns the summary (also written to the run
+    folder). Raises BadSimInput for bad input."""
     from mobigrasp.cosim.serve.external_host import ExternalHost
     from mobigrasp.cosim.serve.mjpeg import CameraPortInUse, CameraServer
+    from mobigrasp.cosim.serve.tcp_bridge import TcpPortInUse, TcpSerialBridge
     from mobigrasp.link.registry import open_transport
 
     if opts.mcu not in MCU_BACKENDS:
@@ -81,31 +91,43 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         camera = CameraServer(opts.camera_port)
     except (CameraPortInUse, ValueError) as exc:
         raise BadSimInput(str(exc)) from exc
-    transport = None
+    transport = bridge = None
     try:
         import cv2
 
         cv2.setNumThreads(1)  # the host program has the other core
         transport = open_transport("pty://")
+        if opts.tcp_port is not None:
+            try:
+                bridge = TcpSerialBridge(transport.slave_path, opts.tcp_port)
+            except (TcpPortInUse, ValueError) as exc:
+                raise BadSimInput(str(exc)) from exc
         host = ExternalHost(transport, on_frame=lambda rgb, t_us: camera.publish(rgb))
         return _run(opts, path, scenario, seed, out, camera, host, transport.slave_path,
-                    on_ready, stop)
+                    bridge, on_ready, stop)
     finally:
+        if bridge is not None:
+            bridge.close()
         if transport is not None:
             transport.close()
         camera.close()
 
 
-def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
+def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
+         stop) -> dict:
     from mobigrasp.cosim.rig import RigConfig
     from mobigrasp.cosim.session import SessionResult
     from mobigrasp.cosim.sim_side import SimSide
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
     from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
 
-    sim = SimSide(scenario, seed, out, path, "pty (external host)",
-                  getattr(scenario, "faults", None) or FaultPlan(), opts.mcu, external_host=True)
-    sim.summary.update(speed=opts.speed, serial=serial, camera=camera.url)
+    plan = opts.plan or getattr(scenario, "faults", None) or FaultPlan()
+    sim = SimSide(scenario, seed, out, path, "pty (external host)", plan, opts.mcu,
+                  on_frame=opts.on_frame, external_host=True)
+    sim.summary.update(speed=opts.speed, serial=serial, camera=camera.url,
+                       wait_host=opts.wait_host)
+    if bridge is not None:
+        sim.summary["serial_tcp"] = bridge.url
     limit_s = run_time_limit_s(scenario, opts.time_limit_s)
     display = opts.progress
 
@@ -126,18 +148,34 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             # the external host is not wrapped for faults: it is the user's program
             sim.wire(RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0),
                      None, host.port)
-            on_ready(serial, camera.url)
-            sim.drive(res, host, limit_s, speed=opts.speed, progress=progress, stop=why_stop)
+            on_ready(serial, camera.url, None if bridge is None else bridge.url)
+            if opts.wait_host:
+                # the camera shows the robot at t = 0 while the clock waits for the host
+                camera.publish(sim.plant.capture(0))
+                wall0 = time.perf_counter()
+                res.reason = host.wait_for_host(why_stop) or "running"
+                sim.summary["host_waited_s"] = round(time.perf_counter() - wall0, 3)
+            if not opts.wait_host or res.reason == "running":
+                sim.drive(res, host, limit_s, speed=opts.speed, progress=progress,
+                          stop=why_stop)
+            else:  # stopped before the host came: the clock never ran
+                sim.trace.write({"ev": "end", "t_us": 0, "reason": res.reason,
+                                 "host_state": "EXTERNAL"})
+                sim.summary["status"] = "finished"
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
         if display is not None:
             display.close()
+        line = host.stats()
+        if bridge is not None:
+            line["tcp"] = bridge.stats()
         rig = sim.rig
         sim.finish(res, None, limit_s, extra={
-            "line": host.stats(),
+            "line": line,
             "camera_frames": {"captured": rig.stats["frames_captured"] if rig else 0,
                               "published": camera.frames_published,
                               "stream_parts_sent": camera.parts_sent}})
     sim.summary["run_folder"] = str(out)
     return sim.summary
+

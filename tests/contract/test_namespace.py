@@ -12,7 +12,8 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
-ROOMS = ("protocol", "link", "host", "mcu_sim", "tools", "services", "cosim", "drivers", "calib")
+ROOMS = ("protocol", "link", "host", "mcu_sim", "tools", "services", "cosim", "drivers", "calib",
+         "testing")
 
 
 def _python(code: str, cwd: Path) -> subprocess.CompletedProcess:

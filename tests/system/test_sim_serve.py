@@ -220,7 +220,8 @@ def test_stream_rate_and_serial_byte_rate_at_speed_1(tmp_path):
 
     proc = subprocess.Popen([sys.executable, "-m", "mobigrasp", "sim", "paper000-exp1",
                              "--speed", "1", "--camera-port", "0", "--out",
-                             str(tmp_path / "run"), "--quiet", "--no-plots"], cwd=tmp_path,
+                             str(tmp_path / "run"), "--quiet", "--no-plots",
+                             "--no-wait-host"], cwd=tmp_path,  # the clock runs with no host
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         port = proc.stdout.readline().split(": ", 1)[1].strip()
@@ -286,17 +287,18 @@ def test_run_and_sim_write_one_summary_schema(tmp_path):
     the MCU's counters under "mcu" and its backend under "mcu_backend"; the served session adds
     only what an external host is given (pty, camera, pacing) and the line's and camera's
     counters."""
-    from mobigrasp.services.run_job import RunOptions, execute
-    from mobigrasp.services.sim import serve_scenario
+    from mobigrasp.cosim.serve.session import SimOptions, serve
+    from mobigrasp.services.run_job import RunOptions, execute, resolve_scenario
 
     run, _ = execute(RunOptions(scenario="paper000-exp1", transport="inproc",
                                 out=tmp_path / "run", progress=False, plots=False,
                                 time_limit_s=0.3))
-    sim = serve_scenario("paper000-exp1", speed=100.0, camera_port=0, out=tmp_path / "sim",
-                         time_limit_s=0.3, plots=False)
+    sim = serve(SimOptions(scenario="paper000-exp1", speed=100.0, out=tmp_path / "sim",
+                           time_limit_s=0.3, resolved=resolve_scenario("paper000-exp1")),
+                lambda serial, camera, serial_tcp: None)
     assert set(run) <= set(sim)
-    assert set(sim) - set(run) == {"serial", "camera", "speed", "line", "camera_frames",
-                                   "run_folder"}
+    assert set(sim) - set(run) == {"serial", "camera", "speed", "wait_host", "line",
+                                   "camera_frames", "run_folder"}
     for summary in (run, sim):
         assert summary["mcu_backend"] == "python" and summary["status"] == "finished"
         assert summary["mcu"]["telemetry_sent"] > 0

@@ -22,7 +22,7 @@ from mobigrasp.protocol import (
     decode_frame,
     encode_message,
 )
-from mobigrasp.tools.mcap_out import wire_messages
+from mobigrasp.services.mcap_out import wire_messages
 from mobigrasp.tools.wire_traffic import host_traffic, traffic_lines
 
 SAFETY_S = 120  # limits only: nothing asserts on them

@@ -15,7 +15,7 @@ import statistics
 from collections import Counter
 
 from mobigrasp.mcu_sim.wire_names import nack_reason_name
-from mobigrasp.tools.mcap_out import measured_wheels
+from mobigrasp.services.mcap_out import measured_wheels
 
 
 def _ms(us: float) -> float:

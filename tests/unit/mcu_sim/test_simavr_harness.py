@@ -162,7 +162,7 @@ def test_a_fault_plans_mcu_reset_under_simavr_leaves_the_board_talking(tmp_path)
 
 def test_the_closed_loop_opens_its_session_without_losing_a_byte(tmp_path):
     # the host's first HELLO waits for the MCU's first telemetry: nothing meets the start-up
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     summary, _ = execute(RunOptions(scenario="paper000-exp1", mcu="simavr", out=tmp_path / "run",
                                     progress=False, plots=False, mcap=False, time_limit_s=1.0,

@@ -144,7 +144,7 @@ def write_report(folder: Path) -> Path:
               for k, v in answer(summary)]
     parts.append("</table>")
     if summary.get("host_traffic"):
-        from mobigrasp.tools.wire_traffic import traffic_lines
+        from mobigrasp.services.wire_traffic import traffic_lines
 
         parts.append("<h2>Host traffic</h2><ul>")
         parts += [f"<li>{html.escape(line)}</li>"

@@ -23,7 +23,7 @@ from mobigrasp.protocol import (
     encode_message,
 )
 from mobigrasp.services.mcap_out import wire_messages
-from mobigrasp.tools.wire_traffic import host_traffic, traffic_lines
+from mobigrasp.services.wire_traffic import host_traffic, traffic_lines
 
 SAFETY_S = 120  # limits only: nothing asserts on them
 

@@ -151,7 +151,7 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "
           f"run folder: {folder}", flush=True)
     if summary.get("host_traffic"):
-        from mobigrasp.tools.wire_traffic import traffic_lines
+        from mobigrasp.services.wire_traffic import traffic_lines
 
         for line in traffic_lines(summary["host_traffic"]):
             print(f"  {line}", flush=True)
@@ -163,7 +163,7 @@ def _write_traffic(folder: Path, summary: dict, frames) -> None:
     reported, never hides the session's result."""
     from mobigrasp.cosim.run_folder import read_trace, write_summary
     from mobigrasp.services.mcap_out import write_mcap
-    from mobigrasp.tools.wire_traffic import host_traffic
+    from mobigrasp.services.wire_traffic import host_traffic
 
     try:
         events = read_trace(folder / "trace.jsonl")

@@ -1,0 +1,47 @@
+"""The C host of ``hostc/`` (the S3C2440 program) built with the machine's C compiler as a cffi
+module: the units its equivalence tests call beside their Python modules.
+
+One C module per host module (hostc/<name>.c beside host/<name>.py); the declarations are the
+units' headers themselves (mobigrasp/cbuild.py), and the build is kept in the cache of the C
+parts (``$MOBIGRASP_CACHE_DIR``, ``hostc-port/<hash>``), made once per change of the C. The
+joint table is the firmware's (``firmware/protocol/joints.c``): one table for both boards.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from functools import lru_cache
+from pathlib import Path
+
+from mobigrasp import cbuild
+
+ROOT = Path(__file__).resolve().parents[1]
+HOSTC = ROOT / "hostc"
+PROTOCOL = ROOT / "firmware" / "protocol"
+HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h",
+           "odometry.h")
+SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
+           HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
+           PROTOCOL / "joints.c")
+
+
+class HostcPortBuildError(RuntimeError):
+    """The C host's units could not be compiled or loaded on this machine."""
+
+
+def source_hash() -> str:
+    """Hash of the units' sources and of every header they may include."""
+    h = hashlib.sha256()
+    headers = sorted((*HOSTC.glob("*.h"), *PROTOCOL.glob("*.h")))
+    for path in (*headers, *SOURCES, Path(cbuild.__file__)):
+        h.update(path.name.encode() + b"\0" + path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+@lru_cache(maxsize=1)
+def lib():
+    """The compiled units' ``(ffi, lib)``, built on first use."""
+    digest = source_hash()
+    return cbuild.cffi_library(f"_mg_hostc_port_{digest}", cbuild.cache_root() / "hostc-port"
+                               / digest, HEADERS, SOURCES, [HOSTC, PROTOCOL],
+                               HostcPortBuildError)

@@ -45,3 +45,9 @@ def lib():
     return cbuild.cffi_library(f"_mg_hostc_port_{digest}", cbuild.cache_root() / "hostc-port"
                                / digest, HEADERS, SOURCES, [HOSTC, PROTOCOL],
                                HostcPortBuildError)
+
+
+def ops_tuple(ops) -> tuple[int, ...]:
+    """A C ``mg_ops_t`` as host.budget.OpCounts.as_tuple() gives its counts."""
+    return (ops.pixels_read, ops.pixels_written, ops.alu, ops.branches, ops.muls, ops.muls32,
+            ops.divs, ops.luts, ops.float_ops, ops.float_divs, ops.bytes_streamed)

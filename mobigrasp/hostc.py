@@ -19,10 +19,10 @@ ROOT = Path(__file__).resolve().parents[1]
 HOSTC = ROOT / "hostc"
 PROTOCOL = ROOT / "firmware" / "protocol"
 HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h",
-           "odometry.h")
+           "odometry.h", "path_follow.h", "fuzzy.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
-           PROTOCOL / "joints.c")
+           HOSTC / "path_follow.c", HOSTC / "fuzzy.c", PROTOCOL / "joints.c")
 
 
 class HostcPortBuildError(RuntimeError):

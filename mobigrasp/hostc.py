@@ -20,12 +20,13 @@ HOSTC = ROOT / "hostc"
 PROTOCOL = ROOT / "firmware" / "protocol"
 HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h",
            "odometry.h", "path_follow.h", "fuzzy.h", "retransmit.h", "mcu_watch.h", "app_link.h",
-           "outgoing_guard.h", "json.h", "lockstep.h")
+           "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
            HOSTC / "mcu_watch.c", HOSTC / "app_link.c", HOSTC / "outgoing_guard.c",
-           HOSTC / "json.c", HOSTC / "lockstep.c", PROTOCOL / "joints.c",
+           HOSTC / "json.c", HOSTC / "lockstep.c", HOSTC / "app.c",
+           HOSTC / "lockstep_driver.c", HOSTC / "sys_posix.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

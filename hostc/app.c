@@ -540,3 +540,33 @@ int32_t mg_app_take_events(mg_app_t *app, char *out, size_t cap, size_t *len)
     app->n_events = 0;
     return *len ? n : 0;
 }
+
+size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
+{
+    /* the integer figures of host/app.py stats(), keys sorted; the loads in millionths */
+    mg_json_t j;
+    mg_json_init(&j, out, cap);
+    mg_json_begin_object(&j);
+    mg_json_key(&j, "control_steps");
+    mg_json_int(&j, app->control_steps);
+    mg_json_key(&j, "deadline_misses");
+    mg_json_int(&j, app->deadline_misses);
+    mg_json_key(&j, "frames_dropped");
+    mg_json_int(&j, app->frames_dropped);
+    mg_json_key(&j, "frames_idle");
+    mg_json_int(&j, app->frames_idle);
+    mg_json_key(&j, "frames_processed");
+    mg_json_int(&j, app->frames_processed);
+    mg_json_key(&j, "frames_received");
+    mg_json_int(&j, app->frames_received);
+    mg_json_key(&j, "mcu_resets_seen");
+    mg_json_int(&j, app->link.mcu_resets);
+    mg_json_key(&j, "replans");
+    mg_json_int(&j, app->replans);
+    mg_json_key(&j, "state");
+    mg_json_string(&j, app->state, strlen(app->state));
+    mg_json_key(&j, "ticks_skipped");
+    mg_json_int(&j, app->ticks_skipped);
+    mg_json_end_object(&j);
+    return j.overflow ? 0 : j.len;
+}

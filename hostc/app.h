@@ -153,5 +153,8 @@ int32_t mg_app_load_windows(const mg_app_t *app, int64_t from_index, int64_t *in
                             int64_t *micro, int32_t max);
 /* the trace events since the last take (comma-separated JSON objects): their count */
 int32_t mg_app_take_events(mg_app_t *app, char *out, size_t cap, size_t *len);
+/* the run's integer figures as a JSON object (host/app.py stats() without its float means and
+ * percentiles): its length, 0 when cap is too small */
+size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap);
 
 #endif

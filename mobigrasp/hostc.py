@@ -10,6 +10,10 @@ joint table is the firmware's (``firmware/protocol/joints.c``): one table for bo
 from __future__ import annotations
 
 import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
 from functools import lru_cache
 from pathlib import Path
 
@@ -57,3 +61,35 @@ def ops_tuple(ops) -> tuple[int, ...]:
     """A C ``mg_ops_t`` as host.budget.OpCounts.as_tuple() gives its counts."""
     return (ops.pixels_read, ops.pixels_written, ops.alu, ops.branches, ops.muls, ops.muls32,
             ops.divs, ops.luts, ops.float_ops, ops.float_divs, ops.bytes_streamed)
+
+
+EXE_SOURCES = (*(s for s in SOURCES if s.name not in ("kinematics.c", "posture.c", "odometry.c",
+                                                      "path_follow.c", "fuzzy.c",
+                                                      "outgoing_guard.c")),
+               HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c",
+               HOSTC / "linux_driver.c")
+
+
+def executable(cc: str | None = None) -> Path:
+    """The C host as a program for this machine (``mobigrasp-host-c``, the options of
+    ``mobigrasp host``), built with the machine's compiler on first use into the cache."""
+    digest = hashlib.sha256((source_hash() + "".join(
+        p.name + p.read_text() for p in EXE_SOURCES)).encode()).hexdigest()[:16]
+    target = cbuild.cache_root() / "hostc-exe" / digest
+    exe = target / "mobigrasp-host-c"
+    if exe.is_file():
+        return exe
+    compiler = cc or os.environ.get("CC") or "cc"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f"{digest}.", dir=target.parent))
+    try:
+        done = subprocess.run([compiler, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror",
+                               f"-I{HOSTC}", f"-I{PROTOCOL}", "-o", str(tmp / exe.name),
+                               *map(str, EXE_SOURCES)], capture_output=True, text=True,
+                              check=False)
+        if done.returncode != 0:
+            raise HostcPortBuildError(f"building {exe.name} failed: {done.stderr.strip()}")
+        cbuild.rename_into_place(tmp, target)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return exe

@@ -1,0 +1,125 @@
+"""The C host as its own program (hostc/main.c, built into the cache) served by the rig's
+socket host over a real pty: its HELLO, its DONEs for the same GRANTs and MCU bytes, the bytes
+it writes to the serial port and its BYE, against the Python host program served in process
+with the same task (the idle method: the host program around a task, without a paper's)."""
+
+from __future__ import annotations
+
+import os
+import select
+import subprocess
+
+import pytest
+
+from mobigrasp import hostc
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.handshake import resolved
+from mobigrasp.cosim.hosts import SocketHost
+from mobigrasp.drivers.lockstep import LockstepClient
+from mobigrasp.host.app import HostApp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.task.machine import TaskOutputs
+from mobigrasp.protocol import messages as m
+
+
+class _IdleTask:
+    """host/task's shape of hostc/task_idle.c: INIT, no commands, no detectors."""
+
+    def detectors_needed(self):
+        return []
+
+    def step(self, now_us, inputs):
+        return TaskOutputs(None, None, None, [], "INIT", {}, OpCounts())
+
+
+class _Port:
+    def __init__(self) -> None:
+        self.rx, self.tx = bytearray(), bytearray()
+
+    def read(self) -> bytes:
+        out, self.rx = bytes(self.rx), bytearray()
+        return out
+
+    def write(self, data: bytes) -> None:
+        self.tx += data
+
+    def wait_readable(self, timeout_s: float) -> bool:
+        return bool(self.rx)
+
+
+def _read_master(fd: int, n: int) -> bytes:
+    out = b""
+    while len(out) < n:
+        ready, _, _ = select.select([fd], [], [], 10.0)
+        assert ready, f"the C host wrote {len(out)} of {n} serial bytes"
+        out += os.read(fd, n - len(out))
+    return out
+
+
+def _mcu(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
+    """The MCU's bytes in [t, until): HELLO_ACK at 4 ms, telemetry every 10 ms, an ACK now and
+    then, a reset at 400 ms."""
+    out = []
+    for at in range(t_us - t_us % 1000, until_us, 1000):
+        if not t_us <= at < until_us:
+            continue
+        if at == 4000:
+            out.append((at, m.encode_message(m.HelloAck(1, "atmega128-fw"), 0)))
+        if at % 10_000 == 5000:
+            flags = m.FLAG_RESET if at == 405_000 else m.FLAG_HANDSHAKE
+            out.append((at, m.encode_message(m.Telemetry(at, 0, 0, (1500,) * 6, (2500,) * 5,
+                                                         flags, 0, 0, 0, 0), 1)))
+        if at % 70_000 == 33_000:
+            out.append((at, m.encode_message(m.Ack(at // 70_000), 2)))
+    return out
+
+
+def test_the_c_program_answers_the_rig_as_the_python_host():
+    exe = hostc.executable()
+    master, slave = os.openpty()
+    host = SocketHost([str(exe), "--port", os.ttyname(slave), "--method", "idle"])
+    host.verify_elided = True  # every grant is served and its DONE compared with the predicted
+    try:
+        app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
+        port = _Port()
+        client = LockstepClient(app, port)
+        t = 0
+        for k in range(160):  # 0.8 s in 5 ms quanta, one of 23 ms
+            until = t + (23_000 if k == 50 else 5_000)
+            chunks = _mcu(t, until)
+            grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks))
+            data = b"".join(b for _, b in chunks)
+            os.write(master, data)
+            port.rx += data
+            want = client.serve(grant)
+            client.after_done()
+            got = resolved(host.exchange(grant))
+            got = ls.decode(ls.encode(got))  # as the rig reads it
+            assert got == ls.decode(ls.encode(want)), (k, got, want)
+            assert _read_master(master, got.write_bytes) == bytes(port.tx)
+            port.tx.clear()
+            t = until
+        bye = host.finish(ls.End(t, "test over"))
+        st = app.stats()
+        assert bye.stats["control_steps"] == st["control_steps"] > 0
+        assert bye.stats["mcu_resets_seen"] == st["mcu_resets_seen"] == 1
+        assert bye.stats["state"] == "INIT"
+    finally:
+        host.close()
+        os.close(master)
+        os.close(slave)
+
+
+@pytest.mark.parametrize("args, says", [
+    ([], "--port is required"),
+    (["--port", "/dev/null", "--method", "001"], "method not in the C host yet"),
+    (["--port", "/dev/null", "--poll-ms", "-3"], "--poll-ms"),
+    (["--port", "/dev/null", "--config", "/nonexistent.json"], "--config"),
+    (["--port", "/nonexistent/tty", "--method", "idle"], "--port"),
+    (["--port", "/dev/null", "--bogus", "1"], "unknown option --bogus"),
+])
+def test_bad_options_exit_2_with_one_line(args, says):
+    done = subprocess.run([str(hostc.executable()), *args], capture_output=True, text=True,
+                          timeout=30, check=False)
+    assert done.returncode == 2
+    assert says in done.stderr.splitlines()[0]

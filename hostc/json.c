@@ -395,11 +395,14 @@ static int string_in(mg_json_in_t *in, char *out, size_t cap)
                     }
                 }
             } else {
-                const char *from = "\"\\/bfnrt", *to = "\"\\/\b\f\n\r\t";
-                const char *hit = strchr(from, e);
-                if (hit == NULL || e == 0)
+                static const char from[] = "\"\\/bfnrt", to[] = "\"\\/\b\f\n\r\t";
+                int hit = -1;
+                for (int i = 0; i < 8; i++)
+                    if (from[i] == e)
+                        hit = i;
+                if (hit < 0)
                     return 0;
-                cp = (unsigned char)to[hit - from];
+                cp = (unsigned char)to[hit];
             }
             if (!emit(out, cap, &n, cp))
                 return 0;

@@ -114,7 +114,7 @@ def _assert_same(c, py: HostLink) -> None:
 
 @settings(max_examples=250, deadline=None)
 @given(st.integers(1_000, 80_000), st.integers(0, 12),
-       st.lists(st.tuples(st.integers(0, 30_000), OPS), min_size=1, max_size=60))
+       st.lists(st.tuples(st.integers(0, 30_000), OPS), min_size=20, max_size=60))
 def test_protocol_client_sequence(timeout_us, retries, ops):
     _run(timeout_us, retries, ops)
 
@@ -129,7 +129,7 @@ RETRY_OPS = st.one_of(
 
 @settings(max_examples=150, deadline=None)
 @given(st.integers(1_000, 5_000), st.integers(0, 2),
-       st.lists(st.tuples(st.integers(0, 6_000), RETRY_OPS), min_size=1, max_size=40))
+       st.lists(st.tuples(st.integers(0, 6_000), RETRY_OPS), min_size=15, max_size=40))
 def test_retransmissions_until_given_up(timeout_us, retries, ops):
     """No answers and few retries: resent frames, supersession of SetServos by a Gripper, and
     the seqs given up, in the same order at the same times."""

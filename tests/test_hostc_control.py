@@ -66,7 +66,7 @@ POSES = st.builds(Pose, st.integers(-6_000_000, 6_000_000), st.integers(-6_000_0
 @given(trajectories(), st.integers(-1_000_000, 1_000_000), st.integers(0, 1000),
        st.builds(path_follow.FollowGains, st.integers(0, 20_000), st.integers(0, 64),
                  st.integers(0, 64)), st.integers(0, 100), st.integers(0, 5_000_000),
-       st.lists(st.tuples(st.integers(0, 400_000), POSES), min_size=1, max_size=40))
+       st.lists(st.tuples(st.integers(0, 400_000), POSES), min_size=10, max_size=40))
 def test_follower_steps(tr, start_us, v_limit, gains, tol, overtime, steps):
     """A sequence of steps at increasing times from arbitrary poses: the same commands, the
     same segment hint carried from step to step."""
@@ -121,7 +121,7 @@ def test_fuzzy_inference(params, e, ec, u):
 @given(FUZZY_PARAMS, st.lists(st.tuples(st.integers(0, 100_000), st.none()
                                         | st.integers(-4000, 4000),
                                         st.none() | st.integers(0, 90)),
-                              min_size=1, max_size=40))
+                              min_size=10, max_size=40))
 def test_fuzzy_approach_steps(params, steps):
     """e_c from successive e (none when the clock has not moved), the marker lost and the
     stop at T_d: the same commands step by step."""

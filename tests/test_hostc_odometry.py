@@ -20,7 +20,7 @@ SAMPLE = st.tuples(st.just("sample"), st.integers(-30_000, 200_000),
 RESET = st.tuples(st.just("reset"), st.integers(-(1 << 34), 1 << 34),
                   st.integers(-(1 << 34), 1 << 34), st.integers(-20_000, 20_000))
 RESYNC = st.tuples(st.just("resync"), st.just(0), st.just(0), st.just(0))
-EVENTS = st.lists(SAMPLE | RESET | RESYNC, min_size=1, max_size=120)
+EVENTS = st.lists(SAMPLE | RESET | RESYNC, min_size=20, max_size=120)
 
 
 def _pose(p) -> tuple[int, ...]:

@@ -112,7 +112,7 @@ def _assert_same(c, py: HostLink) -> None:
     py.events = []
 
 
-@settings(max_examples=250, deadline=None)
+@settings(max_examples=100, deadline=None)
 @given(st.integers(1_000, 80_000), st.integers(0, 12),
        st.lists(st.tuples(st.integers(0, 30_000), OPS), min_size=20, max_size=60))
 def test_protocol_client_sequence(timeout_us, retries, ops):

@@ -12,7 +12,7 @@ from mobigrasp.host.control import fuzzy, path_follow
 from mobigrasp.host.odometry import Pose
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=300, deadline=None)
+SETTINGS = settings(max_examples=150, deadline=None)
 
 
 @st.composite

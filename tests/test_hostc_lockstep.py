@@ -14,7 +14,7 @@ from mobigrasp.cosim import lockstep as ls
 
 FFI, C = hostc.lib()
 T = st.integers(0, (1 << 62))
-SETTINGS = settings(max_examples=300, deadline=None)
+SETTINGS = settings(max_examples=150, deadline=None)
 
 
 @st.composite

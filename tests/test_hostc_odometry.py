@@ -31,7 +31,7 @@ def _wrap(v: int) -> int:
     return ((v + (1 << 31)) & 0xFFFFFFFF) - (1 << 31)
 
 
-@settings(max_examples=300, deadline=None)
+@settings(max_examples=120, deadline=None)
 @given(st.integers(-(1 << 34), 1 << 34), st.integers(-(1 << 34), 1 << 34),
        st.integers(-3142, 3142), st.integers(-(1 << 31), (1 << 31) - 1),
        st.integers(-(1 << 31), (1 << 31) - 1), EVENTS)

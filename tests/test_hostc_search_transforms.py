@@ -10,7 +10,7 @@ from mobigrasp import hostc
 from mobigrasp.host import kinematics, search, transforms
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=300, deadline=None)
+SETTINGS = settings(max_examples=150, deadline=None)
 MRAD = st.integers(-3500, 3500)
 
 

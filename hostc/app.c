@@ -313,7 +313,8 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
             app->last_has_servos = 1;
         }
     }
-    if (out->has_gripper && (!app->last_has_gripper || out->gripper_permille != app->last_gripper)) {
+    if (out->has_gripper
+        && (!app->last_has_gripper || out->gripper_permille != app->last_gripper)) {
         if (mg_link_send_gripper(link, out->gripper_permille, at_us)) {
             app->last_gripper = out->gripper_permille;
             app->last_has_gripper = 1;

@@ -30,7 +30,9 @@ int mg_within_limits(int32_t ch, int32_t angle_mrad)
 int32_t mg_mrad_to_pulse_us(int32_t ch, int32_t angle_mrad)
 {
     const int32_t p = joint_pulse_us((uint8_t)ch, mg_clamp_mrad(ch, angle_mrad));
-    return p < JOINT_PULSE_MIN_US ? JOINT_PULSE_MIN_US : p > JOINT_PULSE_MAX_US ? JOINT_PULSE_MAX_US : p;
+    return p < JOINT_PULSE_MIN_US   ? JOINT_PULSE_MIN_US
+           : p > JOINT_PULSE_MAX_US ? JOINT_PULSE_MAX_US
+                                    : p;
 }
 
 int mg_pulse_us_to_mrad(int32_t ch, int32_t pulse_us, int32_t *out_mrad)

@@ -85,7 +85,11 @@ static int write_all(int fd, const uint8_t *buf, size_t n)
     return 0;
 }
 
-/* the pixels a shared frame names: its ring file mapped once (read-only) */
+/* the pixels a shared frame names. Its ring file is mapped once, read-only, when a GRANT first
+ * names it: the rig removes the file's name once the host has answered that GRANT
+ * (cosim/frame_ring.py), so it cannot be opened again. The ring's size is not in the GRANT:
+ * MG_LS_RING_MAP bytes of address space are mapped, of which only the slots the GRANTs name
+ * (inside the file) are ever read. */
 static const uint8_t *ring_pixels(mg_lockstep_t *ls, const mg_ls_frame_t *f)
 {
     mg_ls_ring_t *r = NULL;
@@ -98,31 +102,17 @@ static const uint8_t *ring_pixels(mg_lockstep_t *ls, const mg_ls_frame_t *f)
         const int fd = sys_open(f->path, SYS_O_RDONLY, 0);
         if (fd < 0)
             return NULL;
-        /* the ring is as large as the slots times the frame size: map up to this slot's end,
-         * at least 32 slots of it (cosim/frame_ring.py DEFAULT_SLOTS) */
-        const size_t len = (size_t)(f->shared_offset + f->nbytes);
-        const void *p = sys_mmap_shared(fd, len, 0);
+        const void *p = sys_mmap_shared(fd, MG_LS_RING_MAP, 0);
         sys_close(fd);
         if (p == NULL)
             return NULL;
         r = &ls->rings[ls->n_rings++];
         memcpy(r->path, f->path, sizeof r->path);
         r->base = p;
-        r->len = len;
+        r->len = MG_LS_RING_MAP;
     }
-    if ((size_t)(f->shared_offset + f->nbytes) > r->len) { /* a later slot: map further */
-        const int fd = sys_open(f->path, SYS_O_RDONLY, 0);
-        if (fd < 0)
-            return NULL;
-        const size_t len = (size_t)(f->shared_offset + f->nbytes);
-        const void *p = sys_mmap_shared(fd, len, 0);
-        sys_close(fd);
-        if (p == NULL)
-            return NULL;
-        sys_munmap((void *)r->base, r->len);
-        r->base = p;
-        r->len = len;
-    }
+    if ((uint64_t)f->shared_offset + (uint64_t)f->nbytes > r->len)
+        return NULL;
     return r->base + f->shared_offset;
 }
 

@@ -17,6 +17,7 @@
 #define MG_LS_OUT_BYTES 4096   /* UART bytes the host writes in one quantum */
 #define MG_LS_DONE_BYTES 65536 /* one encoded DONE */
 #define MG_LS_RINGS 2          /* frame ring files mapped */
+#define MG_LS_RING_MAP ((size_t)MG_LS_MAX_BLOB) /* address space mapped for one ring */
 
 typedef struct {
     char path[MG_LS_PATH_MAX];

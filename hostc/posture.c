@@ -37,7 +37,8 @@ void mg_distribute_alpha(int32_t d_alpha_mrad, int32_t theta2_mrad, int32_t thet
     for (int i = 0; i < 3; i++) {
         out[i] = (int32_t)mg_div_round64((int64_t)d_alpha_mrad * w[i], t_m);
         sum += out[i];
-        const int64_t size = w[i] < 0 ? -w[i] : w[i], top = w[biggest] < 0 ? -w[biggest] : w[biggest];
+        const int64_t size = w[i] < 0 ? -w[i] : w[i];
+        const int64_t top = w[biggest] < 0 ? -w[biggest] : w[biggest];
         if (size > top)
             biggest = i; /* the first of equal ones */
     }

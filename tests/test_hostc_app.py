@@ -6,11 +6,11 @@ frames, and every DONE and every byte written to the serial port is the same."""
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from rig_fakes import BufferPort
 
 from mobigrasp import hostc
 from mobigrasp.cosim import lockstep as ls
@@ -129,22 +129,6 @@ def _c_detectors(keep: list):
     return table
 
 
-class _Port:
-    def __init__(self) -> None:
-        self.rx = bytearray()
-        self.tx = bytearray()
-
-    def read(self) -> bytes:
-        out, self.rx = bytes(self.rx), bytearray()
-        return out
-
-    def write(self, data: bytes) -> None:
-        self.tx += data
-
-    def wait_readable(self, timeout_s: float) -> bool:
-        return bool(self.rx)
-
-
 STEP = st.fixed_dictionaries(
     {"cycles": st.integers(0, 4_000_000) | st.integers(4_000_000, 14_000_000)},
     optional={"servos": st.lists(st.integers(-3500, 3500), min_size=6, max_size=6),
@@ -185,7 +169,7 @@ def test_host_program_served_by_the_rig(steps, data):
               for t in range(0, end_us, data.draw(st.integers(9_000, 70_000)))]
     quanta = data.draw(st.lists(st.integers(1_000, 30_000), min_size=1, max_size=8))
     py_script, c_script = Script(steps), Script(steps)
-    port = _Port()
+    port = BufferPort()
     app = HostApp(_py_task(py_script), {n: (lambda rgb, n=n: _detect(n, rgb)) for n in NAMES},
                   lambda app, now, det: det, HostConfig())
     client = LockstepClient(app, port)

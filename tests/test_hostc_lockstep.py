@@ -123,8 +123,8 @@ EVENT = st.fixed_dictionaries({"ev": st.sampled_from(["state", "wheels", "detect
 @given(st.integers(0, 1 << 50), chunks(), st.lists(EVENT, max_size=3),
        st.sampled_from([500_000, 1_000_000, 250_000]),
        st.dictionaries(st.integers(0, 5000), st.integers(0, 1_000_000), max_size=4),
-       st.text(st.characters(blacklist_categories=("Cs",), blacklist_characters="\x00"), max_size=20)
-       | st.sampled_from(["INIT", "APPROACH", "DONE"]), st.booleans(),
+       st.text(st.characters(blacklist_categories=("Cs",), blacklist_characters="\x00"),
+               max_size=20) | st.sampled_from(["INIT", "APPROACH", "DONE"]), st.booleans(),
        st.booleans(), T)
 def test_done_bytes(until, writes, events, window, windows, state, finished, camera, quiet):
     """Compact without events or windows, JSON with them: the Python codec's bytes, the load

@@ -1,6 +1,6 @@
 """The C host as its own program (hostc/main.c, built into the cache) served by the rig's
-socket host over a real pty: its HELLO, its DONEs for the same GRANTs and MCU bytes, the bytes
-it writes to the serial port and its BYE, against the Python host program served in process
+socket host over a real pty and the shared frame ring: its HELLO, its DONEs for the same GRANTs,
+MCU bytes and camera frames, the bytes it writes to the serial port and its BYE, against the Python host program served in process
 with the same task (the idle method: the host program around a task, without a paper's)."""
 
 from __future__ import annotations
@@ -10,6 +10,7 @@ import select
 import subprocess
 
 import pytest
+from rig_fakes import BufferPort
 
 from mobigrasp import hostc
 from mobigrasp.cosim import lockstep as ls
@@ -30,21 +31,6 @@ class _IdleTask:
 
     def step(self, now_us, inputs):
         return TaskOutputs(None, None, None, [], "INIT", {}, OpCounts())
-
-
-class _Port:
-    def __init__(self) -> None:
-        self.rx, self.tx = bytearray(), bytearray()
-
-    def read(self) -> bytes:
-        out, self.rx = bytes(self.rx), bytearray()
-        return out
-
-    def write(self, data: bytes) -> None:
-        self.tx += data
-
-    def wait_readable(self, timeout_s: float) -> bool:
-        return bool(self.rx)
 
 
 def _read_master(fd: int, n: int) -> bytes:
@@ -81,13 +67,16 @@ def test_the_c_program_answers_the_rig_as_the_python_host():
     host.verify_elided = True  # every grant is served and its DONE compared with the predicted
     try:
         app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
-        port = _Port()
+        port = BufferPort()
         client = LockstepClient(app, port)
         t = 0
         for k in range(160):  # 0.8 s in 5 ms quanta, one of 23 ms
             until = t + (23_000 if k == 50 else 5_000)
             chunks = _mcu(t, until)
-            grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks))
+            frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, 32, 24, 3,
+                                        bytes([at % 251]) * (32 * 24 * 3))
+                           for at in range(t - t % 66_000 + 66_000, until, 66_000))
+            grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
             data = b"".join(b for _, b in chunks)
             os.write(master, data)
             port.rx += data
@@ -104,6 +93,9 @@ def test_the_c_program_answers_the_rig_as_the_python_host():
         assert bye.stats["control_steps"] == st["control_steps"] > 0
         assert bye.stats["mcu_resets_seen"] == st["mcu_resets_seen"] == 1
         assert bye.stats["state"] == "INIT"
+        # the frames crossed the shared ring; the idle method looks for nothing in them
+        assert bye.stats["frames_received"] == st["frames_received"] >= 10
+        assert bye.stats["frames_idle"] == st["frames_idle"] == st["frames_received"]
     finally:
         host.close()
         os.close(master)

@@ -19,7 +19,7 @@ from mobigrasp import cbuild
 HOSTC = Path(__file__).resolve().parents[1] / "hostc"
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
            "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c",
-           "bezier.c", "bezier000.c", "bezier001.c", "fixedpoint.c", "budget.c")
+           "bezier.c", "bezier000.c", "bezier001.c")
 
 
 def source_hash() -> str:

@@ -2,6 +2,7 @@
  * the sine, cosine and atan2 tables are in trig.c. */
 #include "fixedpoint.h"
 
+#include "div_round.h"
 #include "isqrt.h"
 
 int64_t mg_isqrt(int64_t n)
@@ -16,17 +17,12 @@ int64_t mg_hypot_int(int64_t x, int64_t y)
 
 int64_t mg_mul_q12(int64_t a, int64_t b)
 {
-    return (a * b + (MG_ONE_Q12 >> 1)) >> MG_Q12_SHIFT;
+    return mg_mul_q12_i64(a, b);
 }
 
 int64_t mg_div_round64(int64_t num, int64_t den)
 {
-    /* |num| / |den| with halves up, then the sign of the quotient */
-    const int64_t an = num < 0 ? -num : num, ad = den < 0 ? -den : den;
-    int64_t q = an / ad;
-    if (2 * (an - q * ad) >= ad)
-        q++;
-    return (num >= 0) == (den > 0) ? q : -q;
+    return mg_div_round_i64(num, den);
 }
 
 int64_t mg_div_q12(int64_t a, int64_t b)

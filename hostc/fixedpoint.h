@@ -9,19 +9,12 @@
 #include <stdint.h>
 
 #include "budget.h"
+#include "trig.h"
 
 #define MG_Q12_SHIFT 12
 #define MG_ONE_Q12 4096
 #define MG_PI_MRAD 3142
 #define MG_HALF_PI_MRAD 1571
-
-/* trig.c: sin and cos in Q12 of an angle in mrad (|angle| up to 12.8e6 mrad, 2000 turns: the
- * mrad-to-binary-angle product stays in 64 bits), atan2 in micro-radians and in mrad of two
- * integers in a common unit (|y|, |x| < 2^62). */
-int32_t mg_sin_q12(int32_t angle_mrad);
-int32_t mg_cos_q12(int32_t angle_mrad);
-int32_t mg_atan2_urad(int64_t y, int64_t x);
-int32_t mg_atan2_mrad(int64_t y, int64_t x);
 
 /* fixedpoint.c */
 int64_t mg_isqrt(int64_t n);                          /* floor(sqrt(n)), n >= 0 (else -1) */

@@ -25,14 +25,15 @@ PROTOCOL = ROOT / "firmware" / "protocol"
 HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h",
            "odometry.h", "path_follow.h", "fuzzy.h", "retransmit.h", "mcu_watch.h", "app_link.h",
            "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h",
-           "transforms.h", "search.h")
+           "transforms.h", "search.h", "ranging.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
            HOSTC / "mcu_watch.c", HOSTC / "app_link.c", HOSTC / "outgoing_guard.c",
            HOSTC / "json.c", HOSTC / "lockstep.c", HOSTC / "app.c",
            HOSTC / "lockstep_driver.c", HOSTC / "sys_posix.c", HOSTC / "transforms.c",
-           HOSTC / "search.c", PROTOCOL / "joints.c",
+           HOSTC / "search.c", HOSTC / "ranging.c",
+           HOSTC / "ranging_size.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 
@@ -68,7 +69,8 @@ def ops_tuple(ops) -> tuple[int, ...]:
 EXE_SOURCES = (*(s for s in SOURCES if s.name not in ("kinematics.c", "posture.c", "odometry.c",
                                                       "path_follow.c", "fuzzy.c",
                                                       "outgoing_guard.c", "transforms.c",
-                                                      "search.c")),
+                                                      "search.c", "ranging.c",
+                                                      "ranging_size.c")),
                HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c",
                HOSTC / "linux_driver.c")
 

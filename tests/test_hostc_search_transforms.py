@@ -1,5 +1,6 @@
-"""The C host's Fig. 5 search (hostc/search.c) and camera transform (hostc/transforms.c,
-eqs. (1)-(3) of 000) against host/search.py and host/transforms.py."""
+"""The C host's Fig. 5 search (hostc/search.c), camera transform (hostc/transforms.c, eqs.
+(1)-(3) of 000) and ranging (hostc/ranging.c, 000 and 002 section 4) against host/search.py,
+host/transforms.py and host/ranging.py."""
 
 from __future__ import annotations
 
@@ -7,7 +8,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from mobigrasp import hostc
-from mobigrasp.host import kinematics, search, transforms
+from mobigrasp.host import kinematics, ranging, search, transforms
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=150, deadline=None)
@@ -133,3 +134,35 @@ def test_search_over_time(p, th2, th5, calls):
         assert (bool(c.turning or c.wandering), bool(c.wandering), c.wanders) == (
             py.turning, py.wandering, py.wanders)
     assert c.overflow == 0
+
+
+@SETTINGS
+@given(st.integers(-2000, 60_000), st.integers(-8000, 8000), st.integers(-8000, 8000),
+       st.integers(-3200, 3200), st.integers(-1600, 1600), st.integers(100, 900),
+       st.integers(1000, 60_000))
+def test_ranging_from_size_and_002_as_printed(d_pixel_q4, u_q4, v_q4, alpha, theta5, f_px,
+                                              d_um):
+    """002 section 4 as printed and the pinhole range of 000; a pixel size <= 0 is refused."""
+    out = FFI.new("int32_t *")
+    r = FFI.new("mg_range_002_t *")
+    ok = C.mg_range_from_size_mm(d_um, f_px, d_pixel_q4, out)
+    ok2 = C.mg_range_002(d_pixel_q4, u_q4, v_q4, alpha, theta5, f_px, 160, 120, d_um, r)
+    if d_pixel_q4 <= 0:
+        assert ok == ok2 == 0
+        return
+    assert out[0] == ranging.range_from_size_mm(d_um, f_px, d_pixel_q4)
+    want = ranging.range_002(d_pixel_q4, u_q4, v_q4, alpha, theta5, f_px, 160, 120, d_um)
+    assert (r.d_oc_mm, r.theta_v_mrad, r.theta_h_mrad, r.x_oc_mm, r.y_oc_mm, r.z_oc_mm) == (
+        want.d_oc_mm, want.theta_v_mrad, want.theta_h_mrad, want.x_oc_mm, want.y_oc_mm,
+        want.z_oc_mm)
+    assert hostc.ops_tuple(C.mg_range_002_ops()) == ranging.range_002_ops().as_tuple()
+    assert hostc.ops_tuple(C.mg_locate_ring_pair_ops()) == (
+        ranging.locate_ring_pair_ops().as_tuple())
+
+
+@SETTINGS
+@given(st.integers(-400, 400), st.integers(-400, 400), st.integers(-3200, 3200),
+       st.integers(0, 10_000))
+def test_platform_bearing(cam_x, cam_y, bearing, dist):
+    assert C.mg_platform_bearing_mrad(cam_x, cam_y, bearing, dist) == (
+        ranging.platform_bearing_mrad(cam_x, cam_y, bearing, dist))

@@ -91,15 +91,6 @@ int32_t mg_rt_failed(mg_retransmit_t *q, uint8_t *out)
     return n;
 }
 
-int64_t mg_rt_next_deadline_us(const mg_retransmit_t *q)
-{
-    int64_t best = -1;
-    for (int32_t i = 0; i < q->n; i++)
-        if (best < 0 || q->slot[i].deadline_us < best)
-            best = q->slot[i].deadline_us;
-    return best;
-}
-
 void mg_rt_clear(mg_retransmit_t *q)
 {
     q->n = 0;

@@ -40,7 +40,6 @@ int mg_rt_cancel(mg_retransmit_t *q, uint8_t seq); /* superseded: 1 if it was wa
 int32_t mg_rt_due(mg_retransmit_t *q, int64_t now_us, int32_t *due);
 /* the seqs given up since the last call, each once: their count, copied to out */
 int32_t mg_rt_failed(mg_retransmit_t *q, uint8_t *out);
-int64_t mg_rt_next_deadline_us(const mg_retransmit_t *q); /* -1: nothing waits */
 void mg_rt_clear(mg_retransmit_t *q);
 
 #endif

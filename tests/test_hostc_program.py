@@ -1,7 +1,8 @@
 """The C host as its own program (hostc/main.c, built into the cache) served by the rig's
 socket host over a real pty and the shared frame ring: its HELLO, its DONEs for the same GRANTs,
-MCU bytes and camera frames, the bytes it writes to the serial port and its BYE, against the Python host program served in process
-with the same task (the idle method: the host program around a task, without a paper's)."""
+MCU bytes and camera frames, the bytes it writes to the serial port and its BYE, against the
+Python host program served in process with the same task (the idle method: the host program
+around a task, without a paper's)."""
 
 from __future__ import annotations
 

@@ -1,13 +1,15 @@
 /* The S3C2440 host program in C: the options of `mobigrasp host` (--port, --camera, --method,
  * --config, --lockstep SOCK, --poll-ms), the method's task, and the driver: lockstep (the
  * rig's grants over the Unix socket, the bytes over the serial port) or free running (the
- * board's clock). Bad options exit 2 with one line naming the option. */
+ * board's clock); the self-test options (selftest.h). Bad options exit 2 with one line naming
+ * the option. */
 #include <string.h>
 
 #include "app.h"
 #include "json.h"
 #include "linux_driver.h"
 #include "lockstep_driver.h"
+#include "selftest.h"
 #include "sys.h"
 #include "task.h"
 
@@ -20,11 +22,16 @@ static void say(const char *a, const char *b, const char *c)
     sys_write(2, "\n", 1);
 }
 
+/* one line: why, and the options */
 static int usage(const char *why, const char *what)
 {
-    say(why, what, "");
-    say("usage: --port PATH [--camera SOURCE] [--method NAME] [--config FILE] [--lockstep SOCK]",
-        " [--poll-ms MS]", "");
+    static const char opts[] = " (mobigrasp-host-c --port PATH [--camera SOURCE] [--method NAME]"
+                               " [--config FILE] [--lockstep SOCK] [--poll-ms MS] | "
+                               HOSTC_SELFTEST_USAGE ")\n";
+    sys_write(2, "usage: ", 7);
+    sys_write(2, why, strlen(why));
+    sys_write(2, what, strlen(what));
+    sys_write(2, opts, sizeof opts - 1);
     return 2;
 }
 
@@ -80,6 +87,9 @@ static uint64_t task_state[MG_TASK_STATE_BYTES / sizeof(uint64_t)];
 
 int main(int argc, char **argv)
 {
+    const int selftest = hostc_selftest_main(argc, argv); /* --self-test, --self-test-io */
+    if (selftest >= 0)
+        return selftest;
     const char *port = NULL, *camera = NULL, *method_opt = NULL, *config = NULL, *sock = NULL;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];

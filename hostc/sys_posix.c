@@ -2,6 +2,7 @@
  * flag and poll constants of sys.h are Linux's values; they are translated here so the same
  * code runs where libc's differ. Every failure is returned as -errno. */
 #define _POSIX_C_SOURCE 200809L
+#define _DEFAULT_SOURCE /* CRTSCTS */
 #include "sys.h"
 
 #include <errno.h>
@@ -64,13 +65,19 @@ int sys_tty_raw(int fd)
     struct termios t;
     if (tcgetattr(fd, &t) < 0)
         return -errno;
-    /* cfmakeraw's settings, spelled out (it is not POSIX): 8N1, no echo, no translation */
-    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON);
+    /* cfmakeraw's settings, spelled out (it is not POSIX): 8N1, no echo, no translation, no
+     * flow control (the link is TXD, RXD and ground), a read waits for one byte at least; as
+     * arm/sys_arm.c sets them */
+    t.c_iflag &= ~(tcflag_t)(IGNBRK | BRKINT | PARMRK | ISTRIP | INLCR | IGNCR | ICRNL | IXON
+                             | IXOFF);
     t.c_oflag &= ~(tcflag_t)OPOST;
     t.c_lflag &= ~(tcflag_t)(ECHO | ECHONL | ICANON | ISIG | IEXTEN);
     t.c_cflag &= ~(tcflag_t)(CSIZE | PARENB | CSTOPB);
+#ifdef CRTSCTS
+    t.c_cflag &= ~(tcflag_t)CRTSCTS;
+#endif
     t.c_cflag |= CS8 | CLOCAL | CREAD;
-    t.c_cc[VMIN] = 0;
+    t.c_cc[VMIN] = 1;
     t.c_cc[VTIME] = 0;
     if (cfsetispeed(&t, B115200) < 0 || cfsetospeed(&t, B115200) < 0)
         return -errno;

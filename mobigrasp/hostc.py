@@ -66,13 +66,10 @@ def ops_tuple(ops) -> tuple[int, ...]:
             ops.divs, ops.luts, ops.float_ops, ops.float_divs, ops.bytes_streamed)
 
 
-EXE_SOURCES = (*(s for s in SOURCES if s.name not in ("kinematics.c", "posture.c", "odometry.c",
-                                                      "path_follow.c", "fuzzy.c",
-                                                      "outgoing_guard.c", "transforms.c",
-                                                      "search.c", "ranging.c",
-                                                      "ranging_size.c")),
-               HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c",
-               HOSTC / "linux_driver.c")
+# the program: every module of hostc/ (the self-test's kernels too) and the protocol codec
+EXE_SOURCES = (*sorted(HOSTC.glob("*.c")), *sorted(PROTOCOL.glob("*.c")))
+# the program's own modules beside the units (the rest of EXE_SOURCES are the vision kernels)
+PROGRAM = (HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c", HOSTC / "linux_driver.c")
 
 
 def executable(cc: str | None = None) -> Path:

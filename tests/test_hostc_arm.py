@@ -1,151 +1,202 @@
-"""The C host's joint table, kinematics (eq. (3), (11) of 000, eq. (4) of 002) and posture
-(eq. (10) of 000) against host/arm_calib.py, host/kinematics.py and host/posture.py."""
+"""The C host's ARMv4T ELF (make hostc-arm): its self-test under an ARMv4T CPU prints what the
+same C built natively prints, and its disassembly holds no instruction newer than ARMv4T."""
 
-from __future__ import annotations
+import os
+import select
+import shutil
+import signal
+import socket
+import subprocess
+import termios
+import threading
+from pathlib import Path
 
-from hypothesis import given, settings
-from hypothesis import strategies as st
+import pytest
 
-from mobigrasp import hostc
-from mobigrasp.host import arm_calib, kinematics, posture
-from mobigrasp.host.kinematics import ArmPose, Unreachable
+from mobigrasp.calib import armhost
 
-FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=400, deadline=None)
-GEOMS = st.sampled_from([kinematics.PAPER_000, kinematics.PAPER_002]) | st.builds(
-    kinematics.ArmGeometry, st.integers(500, 3000), st.integers(500, 3000), st.integers(1, 3000))
-MRAD = st.integers(-3500, 3500)
-# the arm's reach is ~280 mm: points up to 400 mm cover the reachable, the boundary and beyond
-POINT_Q4 = st.tuples(*[st.integers(-6400, 6400)] * 3)
-UNREACHABLE_KIND = {"target on the waist axis": C.MG_IK_ON_AXIS,
-                    "out of reach": C.MG_IK_OUT_OF_REACH, "too close": C.MG_IK_TOO_CLOSE,
-                    "theta": C.MG_IK_JOINT_LIMIT, "at the joint limits": C.MG_IK_MISSES}
+ROOT = Path(__file__).resolve().parents[1]
+KERNELS = ("radial_symbol", "plus_candidates", "dual_plus", "spoke", "red_roi", "red_cylinder",
+           "double_cross", "edge_q4", "sin_cos_q12", "atan2_mrad", "isqrt",
+           "floordiv_divround", "ring_pair", "sqrt_f64", "bezier000", "bezier001_coarse",
+           "bezier001_fine", "sys")
 
-
-def _geom(g):
-    return FFI.new("mg_arm_geometry_t *", (g.l1_mm_q4, g.l2_mm_q4, g.l3_mm_q4))
-
-
-@SETTINGS
-@given(st.integers(0, 5), st.integers(-5000, 5000), st.integers(0, 3000))
-def test_joint_table_and_servo_law(ch, angle, pulse):
-    assert C.mg_clamp_mrad(ch, angle) == arm_calib.clamp_mrad(ch, angle)
-    assert bool(C.mg_within_limits(ch, angle)) == arm_calib.within_limits(ch, angle)
-    assert C.mg_mrad_to_pulse_us(ch, angle) == arm_calib.mrad_to_pulse_us(ch, angle)
-    out = FFI.new("int32_t *")
-    ok = C.mg_pulse_us_to_mrad(ch, pulse, out)
-    if arm_calib.PULSE_MIN_US <= pulse <= arm_calib.PULSE_MAX_US:
-        assert ok == 1 and out[0] == arm_calib.pulse_us_to_mrad(ch, pulse)
-    else:
-        assert ok == 0
+needs_arm = pytest.mark.skipif(
+    not (shutil.which("arm-none-eabi-gcc") and shutil.which("qemu-arm")),
+    reason="arm-none-eabi-gcc and qemu-arm are needed (make arm-tools)")
 
 
-@SETTINGS
-@given(st.lists(st.integers(500, 2500), min_size=6, max_size=6),
-       st.lists(st.integers(-5000, 5000), min_size=6, max_size=6))
-def test_all_six_channels(pulses, angles):
-    out = FFI.new("int32_t[6]")
-    assert C.mg_pulses_to_joints_mrad(pulses, out) == 1
-    assert tuple(out) == arm_calib.pulses_to_joints_mrad(tuple(pulses))
-    C.mg_joints_to_pulses_us(angles, out)
-    assert tuple(out) == arm_calib.joints_to_pulses_us(angles)
-    C.mg_clamp_joints_mrad(angles, out)
-    assert tuple(out) == arm_calib.clamp_joints_mrad(angles)
+@pytest.fixture(scope="module")
+def elf() -> Path:
+    return armhost.build_elf()
 
 
-@SETTINGS
-@given(GEOMS, MRAD, MRAD, MRAD, MRAD)
-def test_forward_kinematics(g, t2, t3, t4, t5):
-    out = FFI.new("int32_t[3]")
-    C.mg_fk_mm_q4(_geom(g), t2, t3, t4, t5, out)
-    assert tuple(out) == kinematics.fk_mm_q4(g, t2, t3, t4, t5)
+@pytest.fixture(scope="module")
+def native_lines(tmp_path_factory) -> list[str]:
+    """The self-test built with the machine's gcc, on sys.h's libc implementation."""
+    exe = tmp_path_factory.mktemp("native") / "selftest"
+    protocol = ROOT / "firmware" / "protocol"
+    srcs = [str(p) for p in sorted((ROOT / "hostc").glob("*.c")) if p.name != "main.c"]
+    subprocess.run(["gcc", "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
+                    f"-I{ROOT / 'hostc'}", f"-I{protocol}", "-o", str(exe), *srcs,
+                    *map(str, sorted(protocol.glob("*.c"))),
+                    str(ROOT / "hostc" / "arm" / "selftest_main.c")], check=True)
+    done = subprocess.run([str(exe), "--self-test"], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stdout + done.stderr
+    return done.stdout.splitlines()
 
 
-def _ik_both(g, target, alpha):
-    pose, detail = FFI.new("mg_arm_pose_t *"), FFI.new("int64_t *")
-    code = C.mg_ik_pitch_mm_q4(_geom(g), target, alpha, pose, detail)
-    return code, pose, detail[0], kinematics.ik_pitch_mm_q4(g, target, alpha)
+@needs_arm
+def test_self_test_under_armv4t_cpu_equals_native(elf, native_lines):
+    done = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test"],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 0, done.stderr
+    lines = done.stdout.splitlines()
+    assert lines == native_lines
+    names = [line.split()[0] for line in lines]
+    for kernel in KERNELS:
+        assert kernel in names
+    assert lines[-1] == "failures 0 00000000"
+    results = {line.split()[0]: int(line.split()[1]) for line in lines}
+    # the drawn markers are found, so the detectors ran to their end
+    for found in ("radial_symbol", "dual_plus", "spoke", "red_cylinder", "double_cross"):
+        assert results[found] == 1, found
+    assert results["bezier000"] >= 0 and results["bezier001_fine"] >= 0  # a curve passes
 
 
-def _assert_same_ik(code, pose, detail, expect):
-    if isinstance(expect, ArmPose):
-        assert code == C.MG_IK_OK
-        assert (pose.theta2_mrad, pose.theta3_mrad, pose.theta4_mrad, pose.theta5_mrad) == (
-            expect.theta2_mrad, expect.theta3_mrad, expect.theta4_mrad, expect.theta5_mrad)
-        return
-    assert isinstance(expect, Unreachable)
-    kinds = [k for prefix, k in UNREACHABLE_KIND.items() if expect.reason.startswith(prefix)]
-    assert kinds == [code], expect.reason
-    if code == C.MG_IK_JOINT_LIMIT:
-        assert expect.reason.startswith(f"theta{detail} ")
-    elif code in (C.MG_IK_OUT_OF_REACH, C.MG_IK_TOO_CLOSE, C.MG_IK_MISSES):
-        assert f"{detail / 16:.1f} mm" in expect.reason
+@needs_arm
+def test_elf_usage_error_exits_2(elf):
+    done = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--bogus"],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 2
+    assert done.stderr.startswith("usage:")
 
 
-@SETTINGS
-@given(GEOMS, POINT_Q4, st.integers(-3142, 3142))
-def test_inverse_kinematics_any_target(g, target, alpha):
-    _assert_same_ik(*_ik_both(g, target, alpha))
+@needs_arm
+def test_elf_has_no_instruction_newer_than_armv4t(elf):
+    dis = armhost.disassemble(elf)
+    for sym in ("_start", "sys_poll", "memcpy", "__udivsi3", "__aeabi_dsub"):  # libgcc too
+        assert f"<{sym}>:" in dis
+    assert len(dis.splitlines()) > 10000
+    assert armhost.not_v4t(dis) == []
+    attrs = subprocess.run(["arm-none-eabi-readelf", "-A", str(elf)], capture_output=True,
+                           text=True, check=True).stdout
+    assert "Tag_CPU_arch: v4T" in attrs
 
 
-@SETTINGS
-@given(GEOMS, st.integers(-1400, 1400), st.integers(-2800, 0), st.integers(0, 3000),
-       st.integers(-3000, 0), st.integers(-3, 3), st.integers(-3, 3), st.integers(-3, 3))
-def test_inverse_kinematics_near_reachable_poses(g, t5, t3, t4, t2, dx, dy, dz):
-    """Targets made by FK of poses inside the limits, nudged by a few 1/16 mm: mostly reachable,
-    and on the workspace boundary the reach tolerance and the limit snaps are exercised."""
-    x, y, z = kinematics.fk_mm_q4(g, t2, t3, t4, t5)
-    code, pose, detail, expect = _ik_both(g, (x + dx, y + dy, z + dz), t2 + t3 + t4)
-    _assert_same_ik(code, pose, detail, expect)
+@pytest.mark.parametrize("line", [
+    "   1000c:\te12fff33 \tblx\tr3",
+    "   10008:\te16f1f11 \tclz\tr1, r1",
+    "   10010:\te1c040d0 \tldrd\tr4, [r0]",
+    "   10010:\te1c040f0 \tstrdne\tr4, [r0]",
+    "   1001c:\te1020051 \tqadd\tr0, r1, r2",
+    "   1001c:\te1420051 \tqdadd\tr0, r1, r2",
+    "   10014:\te1600281 \tsmulbb\tr0, r1, r2",
+    "   10014:\te1000281 \tsmlabb\tr0, r1, r2, r0",
+    "   10014:\te12002a1 \tsmulwb\tr0, r1, r2",
+    "   10018:\tf5d0f000 \tpld\t[r0]",
+    "   10018:\te1901f9f \tldrex\tr1, [r0]",
+    "   10018:\te1802f91 \tstrex\tr2, r1, [r0]",
+    "   10018:\te6bf0f30 \trev\tr0, r0",
+    "   10018:\te3000000 \tmovw\tr0, #0",
+    "   10018:\te320f000 \tnop\t{0}",
+    "   10018:\t4770      \tbx\tlr",
+])
+def test_check_flags_v5_and_later(line):
+    assert armhost.not_v4t(line) == [line.strip()]
 
 
-@SETTINGS
-@given(st.integers(-(1 << 20), 1 << 20), MRAD, st.integers(-4000, 4000), st.integers(0, 80),
-       st.integers(0, 60), st.integers(1, 400), st.sampled_from([1, -1]), st.integers(0, 30))
-def test_precise_grasp_step(slope, theta5, spoke, width, tol, max_step, yaw_sign, dz_step):
-    assert C.mg_spoke_angle_mrad(slope) == kinematics.spoke_angle_mrad(slope)
-    params = FFI.new("mg_precise_params_t *", (tol, max_step, yaw_sign, dz_step, 20, 40))
-    out = FFI.new("mg_precise_step_t *")
-    C.mg_precise_grasp_step(theta5, spoke, width, params, out)
-    expect = kinematics.precise_grasp_step(theta5, spoke, width, slope_tol_mrad=tol,
-                                           max_step_mrad=max_step, yaw_sign=yaw_sign,
-                                           dz_step_mm=dz_step)
-    assert (out.theta1_mrad, out.theta5_mrad, out.dz_mm, bool(out.aligned),
-            out.d_align_mrad) == (expect.theta1_mrad, expect.theta5_mrad, expect.dz_mm,
-                                  expect.aligned, expect.d_align_mrad)
+@pytest.mark.parametrize("line", [
+    "   10000:\te92d4030 \tpush\t{r4, r5, lr}",
+    "   10000:\te0c20193 \tsmull\tr0, r2, r3, r1",
+    "   10000:\t10ec3190 \tsmlalne\tr3, ip, r0, r1",
+    "   10000:\te1d030f2 \tldrsh\tr3, [r0, #2]",
+    "   10000:\t14c31001 \tstrbne\tr1, [r3], #1",
+    "   10000:\t012fff1e \tbxeq\tlr",
+    "   10000:\te1b00a00 \tlsls\tr0, r0, #20",
+    "   10000:\tef000000 \tsvc\t0x00000000",
+    "   10000:\te1a00000 \tnop\t\t\t@ (mov r0, r0)",
+    "   10000:\t00010000 \t.word\t0x00010000",
+    "   10000:\te8bd4030 \tpop\t{r4, r5, lr}",
+])
+def test_check_passes_armv4t(line):
+    assert armhost.not_v4t(line) == []
 
 
-POSTURE_PARAMS = st.builds(posture.PostureParams,
-                           st.tuples(*[st.integers(0, 8192)] * 3) | st.just((4096, 0, 0)),
-                           st.sampled_from(posture.MARGIN_MODES), st.integers(0, 300))
+@needs_arm
+def test_services_with_peers_under_armv4t_cpu(elf, tmp_path):
+    """A pty made raw, a Unix socket and a shared file mapping, through the ELF's own system
+    calls: what the peers see and what the ELF reports."""
+    master, slave = os.openpty()
+    tty = os.ttyname(slave)
+    before = termios.tcgetattr(slave)
+    assert before[3] & termios.ICANON  # a fresh pty is cooked: the ELF must change that
+    shared = tmp_path / "shared.bin"
+    page = bytes((i * 7) & 0xFF for i in range(4096))
+    shared.write_bytes(page)
+    sock_path = str(tmp_path / "s")
+    server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    server.bind(sock_path)
+    server.listen(1)
+    server.settimeout(60)
+    got = {}
+
+    def serve():
+        conn, _ = server.accept()
+        with conn:
+            conn.settimeout(60)
+            got["unix"] = conn.recv(16)
+            conn.sendall(got["unix"].upper())
+
+    peer = threading.Thread(target=serve, daemon=True)
+    peer.start()
+    proc = subprocess.Popen(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test-io", tty,
+                             sock_path, str(shared)], stdout=subprocess.PIPE, text=True)
+    try:
+        ready, _, _ = select.select([master], [], [], 60)
+        assert ready, "no ping on the pty"
+        got["tty"] = os.read(master, 16)
+        os.write(master, b"pong")
+        out, _ = proc.communicate(timeout=60)
+        peer.join(60)
+        raw = termios.tcgetattr(slave)
+    finally:
+        proc.kill()
+        server.close()
+        os.close(master)
+        os.close(slave)
+    assert proc.returncode == 0, out
+    lines = out.splitlines()
+    assert "tty_raw 0 00000000" in lines
+    assert "tty_read pong" in lines
+    assert got["tty"] == b"ping\n"  # OPOST off: no CR added
+    iflag, oflag, cflag, lflag, ispeed, ospeed, cc = raw
+    assert not lflag & (termios.ICANON | termios.ECHO | termios.ISIG | termios.IEXTEN)
+    assert not iflag & (termios.ICRNL | termios.IXON) and not oflag & termios.OPOST
+    assert cflag & termios.CSIZE == termios.CS8
+    assert not cflag & (termios.PARENB | termios.CSTOPB | termios.CRTSCTS)
+    assert ispeed == ospeed == termios.B115200
+    assert cc[termios.VMIN] == 1 and cc[termios.VTIME] == 0
+    assert got["unix"] == b"hello" and "unix_read HELLO" in lines
+    assert f"mmap_sum {sum(page)} 00000000" in lines
+    after = shared.read_bytes()
+    assert after[100] == 0x5A and after[:100] == page[:100] and after[101:] == page[101:]
+    assert lines[-1] == "failures 0 00000000"
 
 
-def _params(p):
-    mode = C.MG_MARGIN_PRINTED if p.margin_mode == "printed" else C.MG_MARGIN_LIMITS
-    return FFI.new("mg_posture_params_t *", (p.k_theta_q12, mode, p.max_step_mrad))
-
-
-@SETTINGS
-@given(GEOMS, st.tuples(st.integers(-3000, 0), st.integers(-2800, 0), st.integers(0, 3000),
-                        st.integers(-1400, 1400)), POINT_Q4, POSTURE_PARAMS,
-       st.none() | st.integers(-3142, 3142))
-def test_posture_adjustment(g, joints, obj, params, alpha_target):
-    """Eq. (10): the same new targets, d_alpha, alpha' and loss, with either margin rule."""
-    out = FFI.new("mg_posture_adjustment_t *")
-    C.mg_adjust_posture(_geom(g), joints, obj, _params(params), alpha_target is not None,
-                        alpha_target or 0, out)
-    e = posture.adjust_posture(g, joints, obj, params, alpha_target)
-    assert (out.theta2_mrad, out.theta3_mrad, out.theta4_mrad, out.theta5_mrad,
-            out.d_theta5_mrad, out.d_alpha_mrad, out.alpha_target_mrad, out.alpha_lost_mrad) == (
-        e.theta2_mrad, e.theta3_mrad, e.theta4_mrad, e.theta5_mrad, e.d_theta5_mrad,
-        e.d_alpha_mrad, e.alpha_target_mrad, e.alpha_lost_mrad)
-
-
-@SETTINGS
-@given(st.integers(-7000, 7000), st.tuples(*[st.integers(-4000, 4000)] * 3), POSTURE_PARAMS)
-def test_distribute_alpha_with_negative_weights(d_alpha, th, params):
-    """The printed margins go negative outside the paper's sign conventions: T_m < 0 rounds
-    the same way (halves away from zero) in both languages."""
-    out = FFI.new("int32_t[3]")
-    C.mg_distribute_alpha(d_alpha, *th, _params(params), out)
-    assert tuple(out) == posture.distribute_alpha(d_alpha, *th, params)
+@needs_arm
+def test_both_checks_catch_an_armv5te_build(tmp_path):
+    """The same sources built for the ARM926EJ-S (ARMv5TE): the disassembly check flags
+    LDRD/STRD and CLZ, and the ARMv4T CPU stops the self-test on an undefined instruction."""
+    subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp_path}",
+                    "ARM_CFLAGS=-mcpu=arm926ej-s -marm -O2 -std=c99 -ffreestanding"],
+                   check=True, capture_output=True)
+    elf = tmp_path / armhost.ELF_NAME
+    flagged = {line.split()[2] for line in armhost.not_v4t(armhost.disassemble(elf))}
+    assert {"ldrd", "strd", "clz"} <= flagged
+    v4t = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test"],
+                         capture_output=True, timeout=120)
+    assert v4t.returncode == -signal.SIGILL or v4t.returncode == 128 + signal.SIGILL
+    v5 = subprocess.run(["qemu-arm", "-cpu", "arm926", str(elf), "--self-test"],
+                        capture_output=True, timeout=120)
+    assert v5.returncode == 0

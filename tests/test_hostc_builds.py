@@ -18,10 +18,12 @@ FLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-O2", f"-I{hostc.HOSTC}",
          f"-I{hostc.PROTOCOL}", "-c"]
 ARM = ["arm-none-eabi-gcc", "-mcpu=arm920t", "-marm", "-ffreestanding"]
 # the libc and libgcc the portable code may take: the string functions, and the EABI integer
-# division and 64-bit shift helpers of a core without divide instructions
+# division and 64-bit shift helpers of a core without divide instructions; besides, the OS
+# services (sys.h) and the self-test's options (selftest.c, built with the vision kernels)
 ALLOWED = re.compile(r"^(memcpy|memset|memmove|memcmp|strlen|strcmp|strncmp|"
-                     r"__aeabi_(u?idiv|u?idivmod|u?ldivmod|llsl|llsr|lasr|lmul)|sys_\w+)$")
-PORTABLE = sorted({s for s in hostc.EXE_SOURCES + hostc.SOURCES if s.name != "sys_posix.c"})
+                     r"__aeabi_(u?idiv|u?idivmod|u?ldivmod|llsl|llsr|lasr|lmul)|sys_\w+|"
+                     r"hostc_selftest_main)$")
+PORTABLE = sorted({s for s in hostc.PROGRAM + hostc.SOURCES if s.name != "sys_posix.c"})
 
 
 def _undefined(objs: list[Path]) -> set[str]:

@@ -1,5 +1,6 @@
 """The C host as its own program (hostc/main.c, built into the cache) served by the rig's
-socket host over a real pty and the shared frame ring: its HELLO, its DONEs for the same GRANTs,
+socket host over a real pty and the shared frame ring, built natively and as the board's
+ARMv4T ELF under qemu-arm -cpu ti925t: its HELLO, its DONEs for the same GRANTs,
 MCU bytes and camera frames, the bytes it writes to the serial port and its BYE, against the
 Python host program served in process with the same task (the idle method: the host program
 around a task, without a paper's)."""
@@ -8,12 +9,14 @@ from __future__ import annotations
 
 import os
 import select
+import shutil
 import subprocess
 
 import pytest
 from rig_fakes import BufferPort
 
 from mobigrasp import hostc
+from mobigrasp.calib import armhost
 from mobigrasp.cosim import lockstep as ls
 from mobigrasp.cosim.handshake import resolved
 from mobigrasp.cosim.hosts import SocketHost
@@ -61,10 +64,21 @@ def _mcu(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
     return out
 
 
-def test_the_c_program_answers_the_rig_as_the_python_host():
-    exe = hostc.executable()
+def _native() -> list[str]:
+    return [str(hostc.executable())]
+
+
+def _armv4t() -> list[str]:
+    """The static ARMv4T ELF (make hostc-arm) under an ARMv4T CPU."""
+    if not (shutil.which("arm-none-eabi-gcc") and shutil.which("qemu-arm")):
+        pytest.skip("arm-none-eabi-gcc and qemu-arm are needed (make arm-tools)")
+    return ["qemu-arm", "-cpu", "ti925t", str(armhost.build_elf())]
+
+
+@pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
+def test_the_c_program_answers_the_rig_as_the_python_host(program):
     master, slave = os.openpty()
-    host = SocketHost([str(exe), "--port", os.ttyname(slave), "--method", "idle"])
+    host = SocketHost([*program(), "--port", os.ttyname(slave), "--method", "idle"])
     host.verify_elided = True  # every grant is served and its DONE compared with the predicted
     try:
         app = HostApp(_IdleTask(), {}, lambda app, now, det: det)

@@ -39,29 +39,32 @@ void mg_app_on_uart(mg_app_t *app, const uint8_t *data, size_t n, int64_t arriva
 
 /* ---- events: JSON objects with their keys in sorted order, as the DONE's encoder sorts ---- */
 
+/* an event is written in place, after the events already taken in (and the comma before it),
+ * and kept only when it fits whole */
 typedef struct {
     mg_json_t j;
-    char buf[4096];
+    size_t at;
 } event_t;
 
-static void event_begin(event_t *e)
+static void event_begin(mg_app_t *app, event_t *e)
 {
-    mg_json_init(&e->j, e->buf, sizeof e->buf);
+    e->at = app->events_len + (app->n_events > 0);
+    const size_t room = e->at < sizeof app->events ? sizeof app->events - e->at : 0;
+    mg_json_init(&e->j, app->events + (e->at < sizeof app->events ? e->at : 0), room);
+    e->j.overflow = room == 0;
     mg_json_begin_object(&e->j);
 }
 
 static void event_end(mg_app_t *app, event_t *e)
 {
     mg_json_end_object(&e->j);
-    const size_t sep = app->n_events > 0;
-    if (e->j.overflow || app->events_len + sep + e->j.len > sizeof app->events) {
+    if (e->j.overflow) {
         app->events_lost++;
         return;
     }
-    if (sep)
-        app->events[app->events_len++] = ',';
-    memcpy(app->events + app->events_len, e->buf, e->j.len);
-    app->events_len += e->j.len;
+    if (app->n_events > 0)
+        app->events[app->events_len] = ',';
+    app->events_len = e->at + e->j.len;
     app->n_events++;
 }
 
@@ -166,7 +169,7 @@ static void finish_vision(mg_app_t *app, int64_t now_us)
     app->detections_of = app->job_detectors;
     memcpy(app->detections, app->job_results, sizeof app->detections);
     event_t e;
-    event_begin(&e);
+    event_begin(app, &e);
     key_int(&e, "arm9_us", app->job_arm9_us);
     key_int(&e, "capture_us", app->job_capture_us);
     key_ev(&e, "detect");
@@ -198,7 +201,7 @@ static void frame(mg_app_t *app, int64_t seq, int64_t capture_us, int64_t arriva
     if (app->vision_busy && app->job_done_us > arrival_us) {
         app->frames_dropped++; /* vision still busy: the frame is dropped, as on the board */
         event_t e;
-        event_begin(&e);
+        event_begin(app, &e);
         key_int(&e, "busy_until_us", app->job_done_us);
         key_ev(&e, "frame_dropped");
         key_int(&e, "seq", seq);
@@ -253,7 +256,7 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
     mg_host_link_t *link = &app->link;
     for (int32_t i = 0; i < out->n_transitions && i < MG_TASK_TRANSITIONS; i++) {
         event_t e;
-        event_begin(&e);
+        event_begin(app, &e);
         key_ev(&e, "state");
         key_str(&e, "from", out->transitions[i].from);
         key_int(&e, "t_us", out->transitions[i].t_us);
@@ -285,7 +288,7 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
         for (int32_t i = 0; i < out->n_detail && i < MG_DETAIL_MEMBERS; i++)
             m[n++] = out->detail[i];
         event_t e;
-        event_begin(&e);
+        event_begin(app, &e);
         int state_done = 0;
         for (int32_t k = 0; k <= n; k++) {
             int32_t pick = -1;
@@ -333,7 +336,7 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
             && mg_link_send_wheels(link, wheels[0], wheels[1], at_us)) {
             if (changed) {
                 event_t e;
-                event_begin(&e);
+                event_begin(app, &e);
                 key_ev(&e, "wheels");
                 mg_json_key(&e.j, "mmps");
                 mg_json_begin_array(&e.j);
@@ -359,7 +362,7 @@ static void tick(mg_app_t *app, int64_t t_us)
         app->ticks_skipped++;
         app->deadline_misses++;
         event_t e;
-        event_begin(&e);
+        event_begin(app, &e);
         key_ev(&e, "deadline_miss");
         mg_json_key(&e.j, "skipped");
         mg_json_bool(&e.j, 1);
@@ -409,7 +412,7 @@ static void tick(mg_app_t *app, int64_t t_us)
     if (done > t_us + cfg->control_period_us) {
         app->deadline_misses++;
         event_t e;
-        event_begin(&e);
+        event_begin(app, &e);
         key_int(&e, "done_us", done);
         key_ev(&e, "deadline_miss");
         key_int(&e, "t_us", t_us);
@@ -484,9 +487,9 @@ int32_t mg_app_load_windows(const mg_app_t *app, int64_t from_index, int64_t *in
 }
 
 /* the protocol client's events as JSON, after the program's (host/app.py take_events) */
-static void link_event(event_t *e, const mg_link_event_t *le)
+static void link_event(mg_app_t *app, event_t *e, const mg_link_event_t *le)
 {
-    event_begin(e);
+    event_begin(app, e);
     switch (le->kind) {
     case MG_EV_MCU_RESET_SEEN:
         key_ev(e, "mcu_reset_seen");
@@ -526,7 +529,7 @@ int32_t mg_app_take_events(mg_app_t *app, char *out, size_t cap, size_t *len)
     const int32_t n_link = mg_link_take_events(&app->link, le, MG_LINK_EVENTS);
     for (int32_t i = 0; i < n_link; i++) {
         event_t e;
-        link_event(&e, &le[i]);
+        link_event(app, &e, &le[i]);
         event_end(app, &e);
     }
     const int32_t n = app->n_events;

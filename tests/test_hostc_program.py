@@ -7,6 +7,7 @@ around a task, without a paper's)."""
 
 from __future__ import annotations
 
+import json
 import os
 import select
 import shutil
@@ -25,6 +26,7 @@ from mobigrasp.host.app import HostApp
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.task.machine import TaskOutputs
 from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import FrameParser
 
 
 class _IdleTask:
@@ -130,3 +132,40 @@ def test_bad_options_exit_2_with_one_line(args, says):
                           timeout=30, check=False)
     assert done.returncode == 2
     assert says in done.stderr.splitlines()[0]
+
+
+def _next_message(fd: int, parser: FrameParser, pending: list) -> m.Message:
+    """The next message the host writes to the serial port (waits for bytes, 10 s at most)."""
+    while not pending:
+        ready, _, _ = select.select([fd], [], [], 10.0)
+        assert ready, "the C host wrote nothing for 10 s"
+        pending += parser.feed(os.read(fd, 4096))
+    return m.decode_frame(pending.pop(0))
+
+
+def test_free_running_program_opens_the_session_and_keeps_it_alive():
+    """Without --lockstep the program runs on the clock (hostc/linux_driver.c): it says HELLO,
+    takes the MCU's HELLO_ACK and telemetry, sends heartbeats, logs the trace events, and stops
+    with exit 1 and one line when the MCU side closes the port."""
+    master, slave = os.openpty()
+    tty = os.ttyname(slave)
+    proc = subprocess.Popen([str(hostc.executable()), "--port", tty, "--method", "idle"],
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        parser, pending = FrameParser(), []
+        hello = _next_message(master, parser, pending)
+        assert isinstance(hello, m.Hello) and hello.host_id == "mobigrasp-2440"
+        os.write(master, m.encode_message(m.Ack(0), 0) + m.encode_message(
+            m.HelloAck(1, "atmega128-fw"), 1) + m.encode_message(m.Telemetry(
+                1000, 0, 0, (1500,) * 6, (2500,) * 5, m.FLAG_HANDSHAKE, 0, 0, 0, 0), 2))
+        beats = [msg for msg in (_next_message(master, parser, pending) for _ in range(3))]
+        assert all(isinstance(msg, m.Heartbeat) for msg in beats), beats
+        assert beats[0].time_us < beats[1].time_us < beats[2].time_us
+    finally:
+        os.close(master)
+        _, err = proc.communicate(timeout=30)
+        os.close(slave)
+    assert proc.returncode == 1
+    lines = err.splitlines()  # the trace events, a line a quantum, then the reason it stopped
+    assert json.loads(f"[{lines[0]}]")[0]["ev"] == "hello_ack"
+    assert lines[-1] == f"mobigrasp-host-c: the MCU side closed the port {tty}; stopping"

@@ -110,7 +110,7 @@ class SimSide:
         summary["mcu"] = self.mcu.stats()
         if self.fault_rig is not None:
             summary["faults"], summary["safety"] = self.fault_rig.summary()
-            summary["safety"]["contacts"] = summary["collisions"]
+            summary["safety"]["contacts"] = summary["contacts"]
         proto = summary["protocol"]
         proto["crc_errors"] = (proto["crc_errors"]
                                + summary["mcu"].get("parser_crc_errors", 0))

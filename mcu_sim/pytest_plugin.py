@@ -19,7 +19,7 @@ with their reasons by name; ``describe(msg)`` prints any message that way.
 - ``emulated_robot``: ``robot = emulated_robot("paper000-exp1", speed=1.0)`` starts
   ``mobigrasp sim`` for the test: the scenario's MCU and world in wall time, ``robot.port`` the
   serial pty, ``robot.camera_url`` the MJPEG stream. Run your host program against them; once it
-  has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``collisions``,
+  has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``contacts``,
   ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
   the test body is ended (SIGTERM) and its folder written all the same.
 

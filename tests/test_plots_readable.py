@@ -98,7 +98,7 @@ def test_gripper_has_its_own_axis(short_runs, saved_figures, tmp_path):
 def _fake_run(job: dict) -> dict:
     seed = job["seed"]
     return {"status": "finished", "success": seed % 2 == 0, "task_state": "DONE",
-            "sim_time_s": 5.0, "collisions": 0, "protocol": {"retransmits": seed},
+            "sim_time_s": 5.0, "contacts": 0, "protocol": {"retransmits": seed},
             "safety": {"unsafe_actuations": seed % 3, "watchdog_trips": seed % 2,
                        "stop_latency_ms": [200.0 + seed] if seed % 2 else [],
                        "recovery_ms": [], "unrecovered": 0}}
@@ -137,7 +137,7 @@ def test_loop_campaign_plot_is_readable(tmp_path, saved_figures):
         return {"status": "finished", "success": done, "claimed_success": done,
                 "grasped": done, "false_claim": False,
                 "task_state": "DONE" if done else "FAILED", "end_reason": "task_done",
-                "collisions": 0, "final_error_mm": 2.0 + seed % 5 if done else None,
+                "contacts": 0, "final_error_mm": 2.0 + seed % 5 if done else None,
                 "sim_time_s": 20.0}
 
     cfg = LoopCampaign(methods=("000", "001"), runs=6, seed_base=3, jobs=1, out=tmp_path / "c")

@@ -24,11 +24,11 @@ def test_all_six_scenarios_are_shipped():
 def test_shipped_scenario_grasps_in_process(name, tmp_path):
     summary, code = execute(RunOptions(scenario=name, transport="inproc", out=tmp_path / name,
                                        progress=False, plots=False))
-    brief = {k: summary.get(k) for k in ("end_reason", "task_state", "collisions",
+    brief = {k: summary.get(k) for k in ("end_reason", "task_state", "contacts",
                                          "final_error_mm", "replans", "sim_time_s")}
     assert code == 0 and summary["success"], brief
     assert summary["grasped"], brief
-    assert summary["collisions"] == 0, brief
+    assert summary["contacts"] == 0, brief
     assert summary["final_error_mm"] is not None and summary["final_error_mm"] <= 15.0, brief
     if name == "paper001-sim2":
         assert summary["replans"] >= 1, brief  # sim2 is the cluttered one: the path is updated

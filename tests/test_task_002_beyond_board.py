@@ -125,7 +125,7 @@ def away_run(tmp_path_factory):
 def test_board_turned_away_grasps_by_the_cylinder_and_stops_by_t_d(away_run):
     summary, states = away_run
     assert summary["success"] and summary["grasped"] and not summary["false_claim"], summary
-    assert summary["collisions"] == 0
+    assert summary["contacts"] == 0
     assert "colour ROI" in states[0]["why"]  # found by the cylinder, not the board
     stop = _stop(states)
     assert stop["why"].startswith("stop rule d_pixel > T_d") and "T_d = 45 px" in stop["why"]

@@ -259,7 +259,8 @@ class World:
             "object": {"x_m": ox, "y_m": oy, "z_m": oz, "heading_rad": oh},
             "attached": self.attached,
             "grasps": self.grasp_count,
-            "collisions": dict(self.contacts.counts),
+            "collisions": dict(self.contacts.counts),  # contact episodes (obstacles.py)
+            "contact_time_s": {k: self.contacts.contact_time_s(k) for k in self.contacts.counts},
             "min_clearance_m": None if math.isinf(self.min_clearance_m)
             else self.min_clearance_m,
             "encoder_ticks": list(self.encoder_ticks()),

@@ -168,6 +168,14 @@ class WorldPlant:
             self._tip_error_mm = 1000.0 * math.dist((float(tip[0]), float(tip[1]),
                                                      float(tip[2])), gp)
 
+    def robot_geometry(self) -> dict:
+        """The footprint, the safety circle R_r (001's parameter, null for the others) and the
+        sonar ring (k_s cones of A_g up to D_e), for drawing the run."""
+        w, c = self.world, self.world.sonar.config
+        r_r = self.scenario.params.get("R_r") if self.scenario.meta.method == "001" else None
+        return {"footprint_m": w.base.radius_m, "safety_radius_m": r_r,
+                "sonar": {"k_s": c.k_s, "A_g_rad": c.A_g, "D_e_m": c.D_e}}
+
     def _alpha_rad(self) -> float:
         """The gripper's pitch below the horizontal's sign convention of arm.py (q2 + q3 + q4,
         eq. (4) of 002: 0 is level)."""

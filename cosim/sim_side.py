@@ -42,6 +42,7 @@ class SimSide:
         self.trace = TraceWriter(out / "trace.jsonl")
         self.snaps = Snapshots(out / "frames")
         self.plant = WorldPlant(scenario, seed)
+        self.summary["robot"] = self.plant.robot_geometry()  # for the plots (tools/plots.py)
         self.plant.preload()  # textures built while the host process boots, not on its clock
         self.mcu = open_mcu(mcu_backend)
         self.seed = seed

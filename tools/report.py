@@ -113,7 +113,7 @@ def write_report(folder: Path) -> Path:
     (folder / "plots").mkdir(exist_ok=True)
     made = []
     for fn in plots.ALL:
-        name = fn(events, folder / "plots")
+        name = fn(events, folder / "plots", summary)
         if name:
             made.append(name)
     frames = sorted(p.name for p in (folder / "frames").glob("*.png")) \

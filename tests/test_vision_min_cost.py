@@ -17,6 +17,7 @@ CALL = {
                                                              pitch_mrad=-300, f_px=350),
     "red_cylinder": lambda mod, rgb: mod.detect_red_cylinder(rgb),
     "red_roi": lambda mod, rgb: mod.detect_red_roi(rgb),
+    "held_fill": lambda mod, rgb: mod.detect_held_fill(rgb),
 }
 
 

@@ -188,3 +188,82 @@ def test_world_and_host_agree_on_the_mount_per_method(method):
     # 002's level grasp point is above its shoulder (theta2 <= 0 cannot reach below it)
     if method == "002":
         assert p.grasp_height_mm > p.h_shoulder_mm
+
+
+def test_a_held_object_is_drawn_lifted_with_the_gripper_and_fills_its_camera():
+    from mobigrasp.mcu_sim.world import markers as mk
+    from mobigrasp.mcu_sim.world.camera import Intrinsics, render_clean
+    from mobigrasp.mcu_sim.world.camera_scene import target_keypoints_w
+
+    w = posed_world()
+    intr = Intrinsics(f_px=611, u0_px=160, v0_px=120)
+    pos, R = w.camera_pose_world()
+    before = render_clean(w.camera_scene(), pos, R, intr)
+    # the camera at the fingertip, at the grasp point: inside the standing object's post
+    assert (before == np.array(mk.BODY_RGB, np.uint8)).all()
+    w.set_servo_pulse_us(0, 2000)  # close
+    w.step_to(1_500_000)
+    w.set_servo_pulse_us(4, pulse_for_angle(4, 0.9))  # lift the shoulder
+    w.step_to(2_500_000)
+    assert w.gripper_grasped()
+    tip = w.arm.fingertip_world(w.base.pose(), w.t_us)
+    target = w.camera_scene().target
+    assert target.z_m == pytest.approx(tip[2] - 0.08, abs=1e-9) and target.z_m > 0.04
+    card = target_keypoints_w(target)["symbol_centre"]
+    assert card[2] == pytest.approx(tip[2] + 0.02, abs=1e-3)  # the card 20 mm above the grip
+    pos, R = w.camera_pose_world()
+    held = render_clean(w.camera_scene(), pos, R, intr)
+    assert (held == np.array(mk.BODY_RGB, np.uint8)).all()  # still inside: it moved along
+    # the same pose with the object put back on the ground: the camera sees the floor
+    ground = w.camera_scene()
+    ground = type(ground)(target=type(target)(target.kind, target.x_m + 0.2, target.y_m,
+                                              target.heading_rad), seed=ground.seed)
+    assert not (render_clean(ground, pos, R, intr) == held).all()
+
+
+RED_SCEN = """
+[scenario]
+name = "post"
+method = "002"
+seed = 3
+time_limit_s = 30
+[robot]
+x_m = 0
+y_m = 0
+heading_rad = 0
+[target]
+kind = "red-cylinder"
+x_m = 0.5
+y_m = 0.3
+heading_rad = 3.14159265
+"""
+
+
+def test_the_002_board_post_is_a_body_and_stays_when_the_cylinder_is_lifted():
+    w = World(loads_scenario(RED_SCEN, "post.toml"))
+    post = w.target.post
+    assert post is not None and post.obstacle_index == -1
+    # 0.17 m behind the cylinder (heading pi: behind is +x)
+    assert tuple(post.body.position) == pytest.approx((0.67, 0.3), abs=1e-6)
+    w.step_to(100_000)
+    assert w.truth()["min_clearance_m"] == pytest.approx(
+        math.hypot(0.67, 0.3) - 0.17 - 0.01 * math.sqrt(2), abs=0.02)
+    w.target.detach_from_space()  # lifted by a gripper: the board stays on its post
+    w.target.body.position = (0.2, -0.4)
+    w.step_to(200_000)
+    target = w.camera_scene().target
+    assert target.board == pytest.approx((0.5, 0.3, math.pi), abs=1e-6)
+    assert tuple(post.body.position) == pytest.approx((0.67, 0.3), abs=1e-6)
+
+
+def test_the_base_driving_into_the_board_post_is_a_contact():
+    scen = RED_SCEN.replace("x_m = 0.5\ny_m = 0.3\nheading_rad = 3.14159265",
+                            "x_m = 0.6\ny_m = 0.3\nheading_rad = 1.5707963")
+    w = World(loads_scenario(scen, "post.toml"))
+    assert tuple(w.target.post.body.position) == pytest.approx((0.6, 0.13), abs=1e-6)
+    w.set_wheel_duty(200, 200)  # along y = 0: the post at y = 0.13 is in the footprint's way
+    w.step_to(5_000_000)
+    ep = [e for e in w.contacts.events if e.kind == "obstacle"]
+    assert len(ep) == 1 and ep[0].index == -1
+    assert w.base.pose()[1] < -0.03  # pushed aside by the post, not through it
+    assert w.truth()["min_clearance_m"] < 0.001

@@ -195,7 +195,6 @@ class Task:
         self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
         self.plus_odom = None
-        self.check_roll_scan = None  # the grasp check's roll scan (grasp.py): (first roll, step)
         self.replanner = None
         self.grasp_xy_q4 = None
         self.grasp_alpha = self.rules.grasp_alpha_mrad

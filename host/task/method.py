@@ -18,6 +18,8 @@ from abc import ABC, abstractmethod
 from typing import Any
 
 from mobigrasp.host.task.sense import CameraModel, object_in_platform
+from mobigrasp.host.vision import registry
+from mobigrasp.host.vision.held_fill import OBJECT_COLOURS
 
 
 class Method(ABC):
@@ -31,9 +33,9 @@ class Method(ABC):
     search_detector: str  # what SEARCH looks for
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
-    held_look: bool  # grasp check on the object seen under the gripper, else by absence
-    held_reach_mm: int = 0  # the look of the check pulls the fingertip in to this reach (0: stays)
-    held_pair_mrad: int = 0  # ... lays the two "+" this far off the frame's x axis (grasp.py)
+    # the object's colour that fills the hand camera's frame while it is held (a key of
+    # host/vision/held_fill.py OBJECT_COLOURS; the grasp check's evidence, held_in_view)
+    held_colour: str
     plus_on_top: bool = False  # the two "+" placed where their rays meet the top (sense.py)
     # ROUGH_GRASP first looks at the object from these (range mm, pitch down mrad), the first
     # the arm reaches, the base standing still, and grasps on that sighting (grasp.py); ():
@@ -133,10 +135,18 @@ class Method(ABC):
         return None
 
     def held_in_view(self, t: Any, now: int, dets: dict) -> bool:
-        """LIFT: this frame, from the method's own look, shows the object where it is when
-        held (grasp evidence at the present waist offset); the common look judges the
-        object's estimated place against the fingertip instead (host/task/grasp.py)."""
-        return False
+        """LIFT: this frame shows the object held (grasp evidence at the present waist
+        offset): the frame is filled by the object's own colour, the camera at the fingertip
+        being inside the object between the fingers (docs/task.md). Frames of a swing (the
+        arm's pose unknown) are not evidence."""
+        fill = dets.get("held_fill")
+        if not isinstance(fill, registry.row("held_fill").result_type()) \
+                or now - t.p.frame_latency_us < t.trust_from_us:
+            return False
+        held = OBJECT_COLOURS[self.held_colour](fill.rgb)
+        t.note(grasp_check_fill={"rgb": list(fill.rgb), "permille": fill.fill_permille,
+                                 "held": held})
+        return held
 
     def failure_reason(self, t: Any, reason: str) -> str:
         """The reason FAILED gives (a method may say more)."""

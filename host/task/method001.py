@@ -190,13 +190,6 @@ class Method001(Method000):
 
     name = "001"
     link_lengths_mm = (160.0, 160.0, 200.0)
-    # grasp check on the object seen under the gripper (docs/task.md): at the grasp reach the
-    # long 001 arm looks down from 90-100 mm above the top only, where the two "+" do not fit
-    # the frame; pulled in to a 70 mm reach it looks from 120 mm, and with the "+" pair (240 px
-    # apart, each 87 px) laid 31 degrees off the frame's x axis both fit, 12 px inside
-    held_look = True
-    held_reach_mm = 70
-    held_pair_mrad = 541
     # 001 comes at the object from any side: the "+" pair is often seen along the view, where
     # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
     plus_on_top = True

@@ -60,6 +60,10 @@ TARGET_GEOMETRY: dict[str, TargetGeometry] = {
 }
 
 TARGET_FRICTION_MU = 0.5
+# the 002 guidance board's post (camera_scene.py draws it): 20 mm square, this far behind the
+# cylinder's axis (markers.BOARD_BEHIND_M plus the 20 mm from the board's face to the post)
+BOARD_POST_BEHIND_M = 0.17
+BOARD_POST_SIDE_M = 0.02
 
 
 EPISODE_GAP_US = 500_000  # touches less than this apart are one contact episode
@@ -197,6 +201,39 @@ class TargetObject:
         space.add(self.body, self.shape, *self.constraints)
         self.in_space = True
         self.z_m = 0.0  # height of the object's base above the ground (lifted when grasped)
+        # where the 002 board stands relative to (x, y, heading): it follows a cylinder on the
+        # ground (carried with it by hand) and stays on its post once the cylinder is lifted
+        self.board_place: tuple[float, float, float] | None = None
+        self.post: pymunk.Shape | None = None
+        if spec.kind == "red-cylinder":
+            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            body.position = self._post_goal()
+            half = BOARD_POST_SIDE_M / 2
+            self.post = pymunk.Poly(body, [(-half, -half), (half, -half), (half, half),
+                                           (-half, half)])
+            self.post.collision_type = COLL_OBSTACLE
+            self.post.friction = 0.7
+            self.post.obstacle_index = -1  # a marker's post, not a scenario obstacle
+            space.add(body, self.post)
+
+    def _post_goal(self) -> tuple[float, float]:
+        x, y = self.body.position
+        h = self.body.angle
+        return (x - BOARD_POST_BEHIND_M * math.cos(h), y - BOARD_POST_BEHIND_M * math.sin(h))
+
+    def carry_post(self, horizon_us: int) -> None:
+        """Move the board's post with a cylinder standing on the ground (by velocity, reaching
+        its place behind the cylinder at t + horizon); still once the board stays put."""
+        if self.post is None:
+            return
+        body = self.post.body
+        if self.board_place is not None:
+            body.velocity = (0.0, 0.0)
+            return
+        gx, gy = self._post_goal()
+        x, y = body.position
+        dt = horizon_us * 1e-6
+        body.velocity = ((gx - x) / dt, (gy - y) / dt)
 
     def path_point(self, t_s: float) -> tuple[float, float] | None:
         """Linear interpolation of the path at ``t_s`` (None before the first way point)."""
@@ -224,7 +261,11 @@ class TargetObject:
         self.body.velocity = ((goal[0] - x) / dt, (goal[1] - y) / dt)
 
     def detach_from_space(self) -> None:
-        """Take the object out of the plane (it is held by the gripper)."""
+        """Take the object out of the plane (it is held by the gripper); the board, if any,
+        stays where the object stood."""
+        if self.board_place is None:
+            x, y = self.body.position
+            self.board_place = (float(x), float(y), float(self.body.angle))
         if self.in_space:
             self.space.remove(self.body, self.shape, *self.constraints)
             self.in_space = False

@@ -242,3 +242,32 @@ def test_nothing_in_view_the_search_gives_up_no_graspable_object_found():
     assert task.failure.startswith("no graspable object found (red_cylinder never seen)")
     assert "2 wander legs" in task.failure
     assert k * 0.02 < 100  # within the 120 s of the random 002 scenes
+
+
+def test_the_level_grasp_reach_and_the_back_off_to_it():
+    """eq. (4) of 002: the gripper level at the axis is within the joint limits only in a
+    narrow window; ROUGH_GRASP backs the base off to it from the T_d stop (~252 mm)."""
+    from mobigrasp.host import kinematics
+
+    task = Task("002")
+    goal, tol = task.rules.grasp_reach_mm(task)
+    z = (task.p.grasp_height_mm - task.p.h_shoulder_mm) * 16
+    assert isinstance(kinematics.ik_pitch_mm_q4(task.geom, (0, goal * 16, z), 0),
+                      kinematics.ArmPose)
+    assert not isinstance(kinematics.ik_pitch_mm_q4(task.geom, (0, 252 * 16, z), 0),
+                          kinematics.ArmPose)  # where the stop rule leaves the axis
+    task.obj, task.graspable_seen = (252 + 100, 0), True  # odometry: axis 252 mm from the waist
+    task.go(0, "ROUGH_GRASP", "test")
+    out = task.step(20_000, TaskInputs())
+    assert task.phase == "reach" and out.wheels_mmps[0] < 0 and out.wheels_mmps[1] < 0
+    task.obj = (goal + 100, 0)  # now in the window: the grasp pose, level at the axis later
+    task.step(40_000, TaskInputs())
+    assert task.phase == "" and tuple(task.wheels) == (0, 0)
+    pose = task.grasp_ik(_axis_target(task))
+    assert pose.alpha_mrad == 0
+
+
+def _axis_target(task):
+    from mobigrasp.host.task.grasp import GRASP
+
+    return GRASP.object_target_q4(task, TaskInputs(), task.p.grasp_height_mm)

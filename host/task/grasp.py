@@ -8,7 +8,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   looks back at the top with the base standing still and grasps on that sighting (ours,
   docs/task.md): its ADJUST ends on odometry.  002: the pre-grasp point
   ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
-  eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits).
+  eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits);
+  first the base drives the object into the reach where the grasp itself is level
+  (``Method.grasp_reach_mm``).
 - PRECISE_GRASP (000 §III.C.2): roll theta1 to pi/2, then on each spoke reading turn
   until k_T = 0 and move up/down until w_T is in [20, 40] px; then down to the grasp height and
   close.  The turn is made with the wrist roll by default (``precise_align_ch`` = 1): with the
@@ -37,6 +39,7 @@ from __future__ import annotations
 
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.task.drive import close_in
 from mobigrasp.host.task.sense import (
     platform_to_odom_mm,
     spoke_reading,
@@ -97,6 +100,16 @@ class GraspStates:
             t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
                         f"never seen)")
             return
+        t.reach_mm = t.rules.grasp_reach_mm(t)
+        if t.reach_mm is not None:
+            x, y = t.obj_platform(inp)
+            dist = isqrt(x * x + y * y) // 16
+            if abs(dist - t.reach_mm[0]) > t.reach_mm[1]:
+                # the grasp pose needs the object elsewhere (002's level grasp): drive there
+                t.note(grasp_reach={"dist_mm": dist, "goal_mm": t.reach_mm[0],
+                                    "tol_mm": t.reach_mm[1]})
+                t.phase = "reach"
+                return
         pose = self._view_pose(t, inp, t.rules.sight_views) if t.rules.sight_views else None
         if pose is None:
             self._rough_pose(t, now, inp)
@@ -173,7 +186,15 @@ class GraspStates:
 
     def do_ROUGH_GRASP(self, t, now: int, inp, dets: dict) -> None:
         t.wheels = (0, 0)
-        if t.phase == "sight":
+        if t.phase == "reach":
+            goal_mm, tol_mm = t.reach_mm
+            wheels, done, _ = close_in(t.obj_platform(inp), goal_mm, tol_mm,
+                                       t.p.bearing_tol_mrad, t.rules.adjust_vmax_mmps(t.p))
+            if done:
+                self._rough_pose(t, now, inp)
+            else:
+                t.wheels = wheels
+        elif t.phase == "sight":
             self._sight(t, now, inp, dets)
         elif t.settled(now):
             t.go(now, "PRECISE_GRASP", "arm at the rough grasp pose")

@@ -186,6 +186,7 @@ class Task:
         self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)
         self.sight_th5 = 0  # ... the waist of its view, the looks' offsets are added to
         self.sight_adjusts = 0  # ... that sent the base back to ADJUST for this grasp
+        self.reach_mm: tuple[int, int] | None = None  # ROUGH_GRASP: the grasp reach to drive to
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
         # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)

@@ -129,6 +129,12 @@ class Method(ABC):
         """ADJUST's close approach stops the object this far ahead of the waist, +- tol."""
         return t.p.grasp_r_mm, t.p.grasp_r_tol_mm
 
+    def grasp_reach_mm(self, t: Any) -> tuple[int, int] | None:
+        """ROUGH_GRASP: the object's distance from the waist (mm, centre and tolerance) the
+        grasp pose needs; the base drives there first when the object is outside. None: the
+        grasp goes from where ADJUST stopped."""
+        return None
+
     def held_view_pose(self, t: Any) -> Any:
         """LIFT: the arm pose of the grasp check's look; None: the common look, the camera
         straight above the fingertip looking down (host/task/grasp.py)."""

@@ -37,6 +37,10 @@ from mobigrasp.host.task.sense import (
 from mobigrasp.host.vision import registry
 
 GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
+# the level grasp's reach (docs/task.md): scanned over these distances of the axis from the
+# waist (mm, step), the ends of the window kept this far inside
+LEVEL_SCAN_MM = (150, 350, 2)
+LEVEL_MARGIN_MM = 2
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
 ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
 SEARCH_WANDERS_002 = 2  # SEARCH gives up after a look around and this many wander legs
@@ -283,6 +287,20 @@ class Method002(Method):
 
     def adjust_vmax_mmps(self, p: Any) -> int:
         return p.slow_mmps
+
+    def grasp_reach_mm(self, t: Any) -> tuple[int, int] | None:
+        """The distances of the axis from the waist where the gripper holds it level at the
+        grasp height within the joint limits (eq. (4) of 002: theta1 + theta2 + theta3 = 0),
+        as centre and half width: on this arm a window ~8 mm wide ~271 mm out, beyond the
+        stop of d_pixel > T_d (~252 mm), so the base backs off to it before the grasp."""
+        z = (t.p.grasp_height_mm - t.p.h_shoulder_mm) * 16
+        lo_mm, hi_mm, step = LEVEL_SCAN_MM
+        level = [r for r in range(lo_mm, hi_mm + 1, step) if isinstance(
+            kinematics.ik_pitch_mm_q4(t.geom, (0, r * 16, z), 0), kinematics.ArmPose)]
+        if not level:
+            return None
+        lo, hi = level[0], level[-1]
+        return (lo + hi) // 2, max(1, (hi - lo) // 2 - LEVEL_MARGIN_MM)
 
     def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
         """The red cylinder's axis point between its rings by 002 §4: D_OC = D f / d_pixel along

@@ -248,7 +248,8 @@ def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():
 
 
 def test_detour_heads_for_the_free_sonar_direction_nearest_the_object():
-    from mobigrasp.host.task.method001 import detour_heading, sonar_angles_mrad
+    from mobigrasp.host.task.method001 import detour_heading
+    from mobigrasp.host.task.sonar_guard import sonar_angles_mrad
 
     assert sonar_angles_mrad(5) == [-1571, -786, 0, 785, 1571]
     # facing +x, object straight ahead; front and front-left blocked, front-right free

@@ -178,6 +178,7 @@ class Task:
         self.confirm_failed = None
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
         self.detour = None  # 001: a drive aside after no feasible curve (method001.py)
+        self.guard_out = None  # 000, 002: the drive out of R_r after a guard stop (sonar_guard.py)
         self.detours = 0
         self.fallbacks = 0  # 001: fallback steps taken with no feasible curve (method001.py)
         self.v0_div = 1  # 001: the planner's v0 divided by this (a fallback step)

@@ -18,6 +18,7 @@ from abc import ABC, abstractmethod
 from typing import Any
 
 from mobigrasp.host.task.sense import CameraModel, object_in_platform
+from mobigrasp.host.task.sonar_guard import SONAR_GUARD
 from mobigrasp.host.vision import registry
 from mobigrasp.host.vision.held_fill import OBJECT_COLOURS
 
@@ -108,8 +109,9 @@ class Method(ABC):
 
     # --- after every step ---------------------------------------------------------------------
     def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
-        """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
-        return None
+        """Last-line check of the step's wheel speeds: the sonar guard (stop below R_r, turn
+        to the widest free sector, drive out; host/task/sonar_guard.py)."""
+        SONAR_GUARD.step(t, now, inp)
 
     # --- hooks with a common default -----------------------------------------------------------
     def search_sighting(self, dets: dict) -> tuple[str, Any]:

@@ -5,12 +5,47 @@ is the system test's business; the same seed gives the same trace over either tr
 
 from __future__ import annotations
 
+import math
+
 import pytest
 
 from mobigrasp.cosim.run_folder import read_trace
-from mobigrasp.tools.run_job import RunOptions, execute, shipped_scenarios
+from mobigrasp.mcu_sim.world.base import FOOTPRINT_RADIUS_M
+from mobigrasp.tools.run_job import RunOptions, execute, resolve_scenario, shipped_scenarios
 
 SHIPPED = sorted(p.stem for p in shipped_scenarios())
+
+
+def _segment_gap_m(px, py, ax, ay, bx, by) -> float:
+    """Distance from point p to the segment a-b."""
+    dx, dy = bx - ax, by - ay
+    f = max(0.0, min(1.0, ((px - ax) * dx + (py - ay) * dy) / (dx * dx + dy * dy)))
+    return math.hypot(px - ax - f * dx, py - ay - f * dy)
+
+
+def _gap_to_line_m(o, a, b) -> float:
+    """Least distance between obstacle ``o`` (circle or box) and the segment a-b (m)."""
+    if o.shape == "circle":
+        return _segment_gap_m(o.x_m, o.y_m, *a, *b) - o.radius_m
+    c, s = math.cos(o.heading_rad), math.sin(o.heading_rad)
+    best = math.inf
+    for k in range(201):  # along the line: the distance of each point to the rectangle
+        px, py = a[0] + (b[0] - a[0]) * k / 200, a[1] + (b[1] - a[1]) * k / 200
+        u = (px - o.x_m) * c + (py - o.y_m) * s
+        v = -(px - o.x_m) * s + (py - o.y_m) * c
+        best = min(best, math.hypot(max(0.0, abs(u) - o.width_m / 2),
+                                    max(0.0, abs(v) - o.depth_m / 2)))
+    return best
+
+
+def test_paper001_sim1_obstacles_block_the_straight_route():
+    """001 §IV sim. 1: the path is changed because the obstacles are in the way: each of O1,
+    O2 comes nearer the straight line from q_s to P_t than the 0.17 m footprint's radius."""
+    _, sc = resolve_scenario("paper001-sim1")
+    a, b = (sc.robot.x_m, sc.robot.y_m), (sc.target.x_m, sc.target.y_m)
+    assert len(sc.obstacles) == 2
+    for o in sc.obstacles:
+        assert _gap_to_line_m(o, a, b) < FOOTPRINT_RADIUS_M, o
 
 
 def test_all_six_scenarios_are_shipped():

@@ -232,10 +232,9 @@ class Task:
         self._ops = self._ops + ops
 
     def detectors_needed(self) -> list[str]:
-        """The detectors the current state uses (so the host runs and pays for only these)."""
-        if self.state == "SEARCH" and self.search is not None and self.search.turning \
-                and not self.search.wandering:  # blind while turning; looking while wandering
-            return []
+        """The detectors the current state uses (so the host runs and pays for only these);
+        SEARCH's on every frame, while the base turns too (a target passing through the view
+        during a turn is seen, docs/task.md)."""
         return list(self.rules.detectors.get(self.state, ()))
 
     # --- shared by the states: arm targets, history, object estimate -------------------------

@@ -94,10 +94,10 @@ x_m = 0
 y_m = 0
 heading_rad = 0
 [target]
-kind = "radial-symbol"
+kind = "{kind}"
 x_m = {x}
 y_m = {y}
-heading_rad = 0
+heading_rad = {heading}
 """
 
 # theta4 = 0.3, theta3 = -0.9126, alpha = -pi/2: fingertip at z = 0.08 m (the grasp point)
@@ -109,7 +109,8 @@ def fingertip_x(q):
 
 
 def posed_world(dx=0.0, q=GRASP_Q):
-    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0), "grasp.toml"))
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0, kind="radial-symbol",
+                                         heading=0), "grasp.toml"))
     for ch in range(1, 6):
         w.set_servo_pulse_us(ch, pulse_for_angle(ch, q[ch]))
     w.step_to(1_000_000)
@@ -167,7 +168,8 @@ def test_no_grasp_with_the_wrong_gripper_pitch():
 
 
 def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
-    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0), "grasp.toml"))
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0, kind="radial-symbol",
+                                         heading=0), "grasp.toml"))
     w.set_servo_pulse_us(0, 2000)  # closed while still at home
     w.step_to(500_000)
     for ch in range(1, 6):
@@ -221,26 +223,14 @@ def test_a_held_object_is_drawn_lifted_with_the_gripper_and_fills_its_camera():
     assert not (render_clean(ground, pos, R, intr) == held).all()
 
 
-RED_SCEN = """
-[scenario]
-name = "post"
-method = "002"
-seed = 3
-time_limit_s = 30
-[robot]
-x_m = 0
-y_m = 0
-heading_rad = 0
-[target]
-kind = "red-cylinder"
-x_m = 0.5
-y_m = 0.3
-heading_rad = 3.14159265
-"""
+def red_scen(x: float, y: float, heading: float) -> str:
+    """A 002 scene: the red cylinder and its board at (x, y), facing ``heading``."""
+    return SCEN.format(x=x, y=y, kind="red-cylinder", heading=heading).replace(
+        'method = "000"', 'method = "002"')
 
 
 def test_the_002_board_post_is_a_body_and_stays_when_the_cylinder_is_lifted():
-    w = World(loads_scenario(RED_SCEN, "post.toml"))
+    w = World(loads_scenario(red_scen(0.5, 0.3, math.pi), "post.toml"))
     post = w.target.post
     assert post is not None and post.obstacle_index == -1
     # 0.17 m behind the cylinder (heading pi: behind is +x)
@@ -257,9 +247,7 @@ def test_the_002_board_post_is_a_body_and_stays_when_the_cylinder_is_lifted():
 
 
 def test_the_base_driving_into_the_board_post_is_a_contact():
-    scen = RED_SCEN.replace("x_m = 0.5\ny_m = 0.3\nheading_rad = 3.14159265",
-                            "x_m = 0.6\ny_m = 0.3\nheading_rad = 1.5707963")
-    w = World(loads_scenario(scen, "post.toml"))
+    w = World(loads_scenario(red_scen(0.6, 0.3, math.pi / 2), "post.toml"))
     assert tuple(w.target.post.body.position) == pytest.approx((0.6, 0.13), abs=1e-6)
     w.set_wheel_duty(200, 200)  # along y = 0: the post at y = 0.13 is in the footprint's way
     w.step_to(5_000_000)

@@ -105,8 +105,7 @@ def test_turning_radius_is_respected():
     assert h == pytest.approx((vr - vl) / WHEEL_TRACK_M * 6.0, rel=0.01)
 
 
-def test_obstacle_stops_the_base_and_the_contact_is_counted():
-    extra = """
+BOX_AHEAD = """
 [[obstacles]]
 shape = "box"
 x_m = 1.0
@@ -115,7 +114,10 @@ width_m = 0.2
 depth_m = 2.0
 heading_rad = 0.0
 """
-    w = make_world(extra=extra)
+
+
+def test_obstacle_stops_the_base_and_the_contact_is_counted():
+    w = make_world(extra=BOX_AHEAD)
     w.set_wheel_duty(255, 255)
     w.step_to(6_000_000)  # would be ~2.9 m without the box
     x, _, _ = w.base.pose()
@@ -201,17 +203,6 @@ radius_m = {r_obs}
         assert hit
     if worst > 0.002:
         assert not hit
-
-
-BOX_AHEAD = """
-[[obstacles]]
-shape = "box"
-x_m = 1.0
-y_m = 0.0
-width_m = 0.2
-depth_m = 2.0
-heading_rad = 0.0
-"""
 
 
 def test_a_long_press_is_one_contact_episode_with_its_duration():

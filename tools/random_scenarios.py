@@ -116,6 +116,18 @@ def _v1(method: str, seed: int, faults: bool = True) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _head(version: str, method: str, seed: int, limit_s: float, heading: float, kind: str,
+          tx: float, ty: float, target_heading: float) -> list[str]:
+    """The [scenario], [robot] (at the origin) and [target] tables of a v2/v3 scene."""
+    return [
+        "[scenario]", f'name = "random-{version}-{method}-{seed}"', f'method = "{method}"',
+        f"seed = {seed}", f"time_limit_s = {limit_s}", "",
+        "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
+        "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
+        f"heading_rad = {target_heading:.6f}", "",
+    ]
+
+
 def _obstacle_v2(rng: random.Random, ox: float, oy: float) -> list[str]:
     shape = rng.choice(("circle", "box", "wall"))
     if shape == "circle":
@@ -140,13 +152,8 @@ def _v2(method: str, seed: int, faults: bool = True) -> str:
     kind = KIND[method]
     if method == "002" and rng.random() < BOARD_ALONE_P:
         kind = "double-cross"
-    lines = [
-        "[scenario]", f'name = "random-v2-{method}-{seed}"', f'method = "{method}"',
-        f"seed = {seed}", f"time_limit_s = {LIMIT_S[method]}", "",
-        "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
-        "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
-        f"heading_rad = {rng.uniform(-math.pi, math.pi):.6f}", "",
-    ]
+    lines = _head("v2", method, seed, LIMIT_S[method], heading, kind, tx, ty,
+                  rng.uniform(-math.pi, math.pi))
     if method == "002" and kind != "double-cross" and rng.random() < 0.5:
         lines += _drag_path(rng, dist, bearing, tx, ty)  # as v1 (and 002 Fig. 4)
     if method == "001" and dist > 1.4:
@@ -199,13 +206,8 @@ def _v3(method: str, seed: int, faults: bool = True) -> str:
     kind = KIND[method]
     if method == "002" and rng.random() < BOARD_ALONE_P:
         kind = "double-cross"
-    lines = [
-        "[scenario]", f'name = "random-v3-{method}-{seed}"', f'method = "{method}"',
-        f"seed = {seed}", f"time_limit_s = {LIMIT_V3_S}", "",
-        "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
-        "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
-        f"heading_rad = {rng.uniform(-math.pi, math.pi):.6f}", "",
-    ]
+    lines = _head("v3", method, seed, LIMIT_V3_S, heading, kind, tx, ty,
+                  rng.uniform(-math.pi, math.pi))
     if method == "002" and kind != "double-cross" and rng.random() < 0.5:
         lines += _drag_path(rng, dist, bearing, tx, ty)
     centres: list[tuple[float, float]] = []

@@ -28,7 +28,7 @@ from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.sonar_guard import (
     GUARDED_STATES,
     drive_detour,
-    front_echo,
+    guard_stop,
     out_of_r_r,
     sonar_angles_mrad,
     widest_free_heading,
@@ -378,13 +378,9 @@ class Method001(Method000):
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the
         object, into the echo, and so did the detours, each stopped at its first step."""
-        if t.state not in GUARDED_STATES or t.wheels[0] + t.wheels[1] <= 0:
-            return
-        guard = front_echo(t, inp)
+        guard = guard_stop(t, inp, GUARDED_STATES)
         if guard is None:
             return
-        t.wheels = (0, 0)
-        t.follower = None
         if t.state == "APPROACH":
             # a new plan from here starts forward, into what the guard saw, and is stopped
             # again at once: first turn toward the widest free sector and leave R_r

@@ -91,6 +91,18 @@ def front_echo(t: Any, inp: Any) -> dict | None:
     return None
 
 
+def guard_stop(t: Any, inp: Any, states: tuple[str, ...]) -> dict | None:
+    """In ``states``, with the base driving forward: a front echo below R_r (:func:`front_echo`)
+    stops it and drops the followed path; the echo, or None when nothing was stopped."""
+    if t.state not in states or t.wheels[0] + t.wheels[1] <= 0:
+        return None
+    echo = front_echo(t, inp)
+    if echo is not None:
+        t.wheels = (0, 0)
+        t.follower = None
+    return echo
+
+
 def out_of_r_r(inp: Any, clear_mm: int) -> dict:
     """The detour after a guard stop: toward the widest free sector, ``GUARD_OUT_MM`` long."""
     return {"heading_mrad": widest_free_heading(inp, clear_mm), "drive": True, "from": None,
@@ -140,13 +152,9 @@ class SonarGuard:
             if t.state not in GUARDED_STATES_CLOSE or drive_detour(t, inp, t.guard_out):
                 t.guard_out = None
             return
-        if t.state not in GUARDED_STATES_CLOSE or t.wheels[0] + t.wheels[1] <= 0:
-            return
-        echo = front_echo(t, inp)
+        echo = guard_stop(t, inp, GUARDED_STATES_CLOSE)
         if echo is None:
             return
-        t.wheels = (0, 0)
-        t.follower = None
         t.guard_out = out_of_r_r(inp, t.p.detour_clear_mm)
         t.note(sonar_guard={**echo, "turn_to_mrad": t.guard_out["heading_mrad"]})
 

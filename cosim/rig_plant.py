@@ -18,6 +18,8 @@ from mobigrasp.mcu_sim.world.scenario import Scenario
 from mobigrasp.mcu_sim.world.world import World
 
 STAND_STILL_RADIUS_M = 0.05  # the base's centre this near where it stopped: standing still
+ARRIVED_M = 0.6  # the base's centre this near the object: the approach is over (the grasp's
+# own stops, ADJUST's close look and 001's look before the grasp, are not stand-stills)
 
 
 def _round(x: float, nd: int = 6) -> float | None:
@@ -61,11 +63,12 @@ class WorldPlant:
         self._tip_error_mm: float | None = None
         self.final_error_mm: float | None = None  # fingertip to grasp point when it attached
         self.grasp_us: int | None = None
-        # the longest stand-still before the gripper first closes (docs/task.md "The run's
-        # counts"): the base's centre within STAND_STILL_RADIUS_M of where it stopped
+        # the longest stand-still of the search and the approach (docs/task.md "The run's
+        # counts"): the base's centre within STAND_STILL_RADIUS_M of where it stopped, until it
+        # first comes within ARRIVED_M of the object or the gripper first closes
         self.stand_still_max_us = 0
         self._still_since = (0, self._last_xy)  # (t_us, xy) where the present stand-still began
-        self._closed_once = False
+        self._approach_over = False
         self.close_alpha_rad: float | None = None  # the gripper's pitch as it closed (truth)
         self._open_m = self.world.arm.gripper_opening_m(0) - 1e-4
 
@@ -147,20 +150,23 @@ class WorldPlant:
         self.path_length_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
         self._last_xy = (x, y)
         w = self.world
-        if not self._closed_once:
+        if not self._approach_over:
+            ox, oy, _, _ = w.target.pose()
+            self._approach_over = math.hypot(x - ox, y - oy) <= ARRIVED_M
+        if not self._approach_over:
             since_us, at = self._still_since
             if math.hypot(x - at[0], y - at[1]) > STAND_STILL_RADIUS_M:
                 self._still_since = (w.t_us, (x, y))
             else:
                 self.stand_still_max_us = max(self.stand_still_max_us, w.t_us - since_us)
         if w.attached:
-            self._closed_once = True
+            self._approach_over = True
             if self.grasp_us is None:
                 self.grasp_us = w.t_us
                 self.final_error_mm = self._tip_error_mm
                 self.close_alpha_rad = self._alpha_rad()
         elif w.arm.gripper_opening_m(w.t_us) < self._open_m:  # closing: measure the error
-            self._closed_once = True
+            self._approach_over = True
             if self.grasp_us is None:
                 self.close_alpha_rad = self._alpha_rad()
             tip = w.arm.fingertip_world(w.base.pose(), w.t_us)

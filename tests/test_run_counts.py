@@ -1,0 +1,54 @@
+"""The run's counts of the plant (docs/task.md "The run's counts"): the longest stand-still of
+the search and the approach, and what ends it."""
+
+import pytest
+
+from mobigrasp.cosim.rig_plant import WorldPlant
+from mobigrasp.mcu_sim.world.scenario import loads_scenario
+
+SCENE = """
+[scenario]
+name = "still"
+method = "000"
+seed = 1
+time_limit_s = 60
+[robot]
+x_m = 0
+y_m = 0
+heading_rad = 0
+[target]
+kind = "radial-symbol"
+x_m = {x}
+y_m = 0.0
+heading_rad = 0
+"""
+
+
+def _run(plant, until_us, duty=(0, 0), step_us=20_000):
+    plant.world.set_wheel_duty(*duty)
+    t = plant.world.t_us
+    while t < until_us:
+        t += step_us
+        plant.step_to(t)
+        plant.sample_path()
+
+
+def test_stand_still_counts_the_longest_stop_until_the_base_arrives():
+    plant = WorldPlant(loads_scenario(SCENE.format(x=1.5), "still.toml"))
+    _run(plant, 3_000_000)  # standing 3 s
+    assert plant.stand_still_max_us == pytest.approx(3_000_000, abs=40_000)
+    _run(plant, 3_500_000, duty=(150, 150))  # driving: the stand-still is over
+    _run(plant, 5_000_000)  # a shorter stop later keeps the longest
+    assert plant.stand_still_max_us < 3_400_000
+    _run(plant, 9_000_000, duty=(-100, 100))  # turning in place is standing still
+    still = plant.stand_still_max_us
+    assert still > 5_000_000
+    _run(plant, 9_500_000)
+    plant.world.base.body.angle = plant.world.base.control.angle = 0.0  # face the object
+    _run(plant, 14_000_000, duty=(200, 200))
+    x, _, _ = plant.world.base.pose()
+    assert 1.5 - x <= 0.6  # arrived: the grasp's own stops are not stand-stills
+    still = plant.stand_still_max_us
+    _run(plant, 20_000_000)
+    assert plant.stand_still_max_us == still
+    assert plant.final()["stand_still_max_s"] == still / 1e6

@@ -180,7 +180,7 @@ def test_001_looks_at_a_near_given_object_before_the_first_plan():
 
 
 @pytest.mark.parametrize("method", ["000", "002"])
-@pytest.mark.parametrize("state", ["SEARCH", "APPROACH", "ADJUST"])
+@pytest.mark.parametrize("state", ["SEARCH", "APPROACH"])
 def test_000_and_002_are_guarded_too_stop_turn_and_drive_out_of_r_r(method, state):
     """The sonar guard of 000 and 002 (host/task/sonar_guard.py): a front echo below R_r stops
     the forward drive and drops the path; the base then turns toward the widest free sector

@@ -23,10 +23,7 @@ DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and ma
 DETOUR_DIAG_MM = 255
 GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
 GUARD_OUT_MM = 200  # after the guard stopped the base: drive this far toward the free sector
-GUARDED_STATES = ("SEARCH", "APPROACH")  # 001's guard (method001.py)
-# 000's and 002's: their close approach too (002's board post stands 0.17 m from the cylinder's
-# axis: approached from behind the board, the post is in the way of ADJUST's last metre)
-GUARDED_STATES_CLOSE = ("SEARCH", "APPROACH", "ADJUST")
+GUARDED_STATES = ("SEARCH", "APPROACH")
 
 
 def sonar_angles_mrad(n: int) -> list[int]:
@@ -142,17 +139,16 @@ def drive_detour(t: Any, inp: Any, d: dict) -> bool:
 
 
 class SonarGuard:
-    """The guard of a method without its own planner's detours (000, 002), in SEARCH, APPROACH
-    and ADJUST: stop, turn to the widest free sector and drive out of R_r, overriding the
-    state's wheels meanwhile; a followed path is dropped (the state plans again from the new
-    pose)."""
+    """The guard of a method without its own planner's detours (000, 002): stop, turn to the
+    widest free sector and drive out of R_r, overriding the state's wheels meanwhile; a
+    followed path is dropped (the state plans again from the new pose)."""
 
     def step(self, t: Any, now: int, inp: Any) -> None:
         if t.guard_out is not None:
-            if t.state not in GUARDED_STATES_CLOSE or drive_detour(t, inp, t.guard_out):
+            if t.state not in GUARDED_STATES or drive_detour(t, inp, t.guard_out):
                 t.guard_out = None
             return
-        echo = guard_stop(t, inp, GUARDED_STATES_CLOSE)
+        echo = guard_stop(t, inp, GUARDED_STATES)
         if echo is None:
             return
         t.guard_out = out_of_r_r(inp, t.p.detour_clear_mm)

@@ -4,6 +4,7 @@ the search and the approach, and what ends it."""
 import pytest
 
 from mobigrasp.cosim.rig_plant import WorldPlant
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
 
 SCENE = """
@@ -34,7 +35,7 @@ def _run(plant, until_us, duty=(0, 0), step_us=20_000):
 
 
 def test_stand_still_counts_the_longest_stop_until_the_base_arrives():
-    plant = WorldPlant(loads_scenario(SCENE.format(x=1.5), "still.toml"))
+    plant = WorldPlant(loads_scenario(SCENE.format(x=1.5), "still.toml", methods=REGISTRY))
     _run(plant, 3_000_000)  # standing 3 s
     assert plant.stand_still_max_us == pytest.approx(3_000_000, abs=40_000)
     _run(plant, 3_500_000, duty=(150, 150))  # driving: the stand-still is over

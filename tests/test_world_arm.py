@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.actuators import JOINT_TABLE, pulse_for_angle
 from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD, Arm, camera_point_platform
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
@@ -110,7 +111,8 @@ def fingertip_x(q):
 
 def posed_world(dx=0.0, q=GRASP_Q):
     w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0, kind="radial-symbol",
-                                         heading=0), "grasp.toml"))
+                                         heading=0), "grasp.toml",
+                             methods=REGISTRY))
     for ch in range(1, 6):
         w.set_servo_pulse_us(ch, pulse_for_angle(ch, q[ch]))
     w.step_to(1_000_000)
@@ -169,7 +171,8 @@ def test_no_grasp_with_the_wrong_gripper_pitch():
 
 def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
     w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0, kind="radial-symbol",
-                                         heading=0), "grasp.toml"))
+                                         heading=0), "grasp.toml",
+                             methods=REGISTRY))
     w.set_servo_pulse_us(0, 2000)  # closed while still at home
     w.step_to(500_000)
     for ch in range(1, 6):
@@ -230,7 +233,7 @@ def red_scen(x: float, y: float, heading: float) -> str:
 
 
 def test_the_002_board_post_is_a_body_and_stays_when_the_cylinder_is_lifted():
-    w = World(loads_scenario(red_scen(0.5, 0.3, math.pi), "post.toml"))
+    w = World(loads_scenario(red_scen(0.5, 0.3, math.pi), "post.toml", methods=REGISTRY))
     post = w.target.post
     assert post is not None and post.obstacle_index == -1
     # 0.17 m behind the cylinder (heading pi: behind is +x)
@@ -247,7 +250,8 @@ def test_the_002_board_post_is_a_body_and_stays_when_the_cylinder_is_lifted():
 
 
 def test_the_base_driving_into_the_board_post_is_a_contact():
-    w = World(loads_scenario(red_scen(0.6, 0.3, math.pi / 2), "post.toml"))
+    w = World(loads_scenario(red_scen(0.6, 0.3, math.pi / 2), "post.toml",
+                             methods=REGISTRY))
     assert tuple(w.target.post.body.position) == pytest.approx((0.6, 0.13), abs=1e-6)
     w.set_wheel_duty(200, 200)  # along y = 0: the post at y = 0.13 is in the footprint's way
     w.step_to(5_000_000)

@@ -244,11 +244,14 @@ def _measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
 def messages(events: list[dict], frames=(), summary: dict | None = None
              ) -> list[tuple[int, str, dict]]:
     """(log time in µs, topic, message) of every MCAP message, in time order (stable)."""
+    from mobigrasp.host.task import METHODS, method_rules
     from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
     from mobigrasp.mcu_sim.world.base import WHEEL_TRACK_M
 
     start = next((e for e in events if e["ev"] == "start"), {})
-    geom = ARM_BY_METHOD.get(str(start.get("method")), ARM_BY_METHOD["000"])
+    method = str(start.get("method"))
+    # the robot the world built for the run's method (a trace of no known method: 000's)
+    geom = ARM_BY_METHOD[method_rules(method).robot if method in METHODS else "000"]
     to_world = odom_to_world(start)
     out: list[tuple[int, str, dict]] = []
     counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)

@@ -14,6 +14,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from mobigrasp.tools.method_choice import METHOD_CHOICES
+
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
@@ -45,8 +47,8 @@ def _run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``campaign`` subcommand."""
     p = sub.add_parser("campaign", help="N seeded random scenarios under injected faults")
-    p.add_argument("--method", required=True, choices=("000", "001", "002"),
-                   help="the paper whose method runs: 000, 001 or 002")
+    p.add_argument("--method", required=True, choices=METHOD_CHOICES, metavar="METHOD",
+                   help="the method that runs, a name of the registry (host/task/method.py)")
     p.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="a fault (docs/faults.md), repeatable; dotted keys for tables, e.g. "

@@ -15,7 +15,7 @@ import socket
 import sys
 from pathlib import Path
 
-METHODS = ("000", "001", "002")
+from mobigrasp.tools.method_choice import METHOD_CHOICES
 
 
 def _config(args: argparse.Namespace) -> dict:
@@ -31,8 +31,10 @@ def _config(args: argparse.Namespace) -> dict:
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
+    from mobigrasp.host.task import METHODS
+
     if cfg["method"] not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {cfg['method']!r}")
+        raise ValueError(f"method must be one of {tuple(METHODS)}, got {cfg['method']!r}")
     return cfg
 
 
@@ -144,6 +146,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--lockstep", default=None, help=argparse.SUPPRESS)
     p.add_argument("--poll-ms", type=_poll_ms, default=0.0, help=argparse.SUPPRESS)
     p.add_argument("--config", default=None, help="host configuration JSON (method, params)")
-    p.add_argument("--method", default=None, choices=METHODS,
-                   help="000, 001 or 002 (overrides --config)")
+    p.add_argument("--method", default=None, choices=METHOD_CHOICES, metavar="METHOD",
+                   help="a method of the registry, host/task/method.py (overrides --config)")
     p.set_defaults(func=_run)

@@ -2,27 +2,11 @@
 the search and the approach, and what ends it."""
 
 import pytest
+from test_world_base import MIN_SCENARIO
 
 from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
-
-SCENE = """
-[scenario]
-name = "still"
-method = "000"
-seed = 1
-time_limit_s = 60
-[robot]
-x_m = 0
-y_m = 0
-heading_rad = 0
-[target]
-kind = "radial-symbol"
-x_m = {x}
-y_m = 0.0
-heading_rad = 0
-"""
 
 
 def _run(plant, until_us, duty=(0, 0), step_us=20_000):
@@ -35,7 +19,8 @@ def _run(plant, until_us, duty=(0, 0), step_us=20_000):
 
 
 def test_stand_still_counts_the_longest_stop_until_the_base_arrives():
-    plant = WorldPlant(loads_scenario(SCENE.format(x=1.5), "still.toml", methods=REGISTRY))
+    plant = WorldPlant(loads_scenario(MIN_SCENARIO.format(heading=0.0, tx=1.5, ty=0.0, extra=""),
+                                      "still.toml", methods=REGISTRY))
     _run(plant, 3_000_000)  # standing 3 s
     assert plant.stand_still_max_us == pytest.approx(3_000_000, abs=40_000)
     _run(plant, 3_500_000, duty=(150, 150))  # driving: the stand-still is over

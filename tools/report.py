@@ -1,9 +1,10 @@
 """report.html of a run folder: the answer first, then the figures, then the details.
 
-The page opens with the outcome (grasped or not, time to grasp, final error, contacts, the ARM9
-load's maximum and the host stage nearest its budget), then the plots and the camera at every
-state change, then every figure of summary.json. Paths are relative to the run folder, so the
-folder can be moved or archived. A small script marks an image that did not load.
+The page opens with the outcome (the ARM9 budget's verdict in words, grasped or not, time to
+grasp, final error, contacts, the ARM9 load's maximum and the host stage nearest its budget),
+then the plots and the camera at every state change, then every figure of summary.json. Paths
+are relative to the run folder, so the folder can be moved or archived. A small script marks an
+image that did not load.
 
 ``python -m mobigrasp.tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and
 summary.json, so a report can be regenerated after the run.
@@ -77,7 +78,9 @@ def answer(summary: dict) -> list[tuple[str, str]]:
     contacts = summary.get("contacts")
     target = summary.get("contacts_target")
     load = summary.get("arm9_load_max")
+    verdict = (summary.get("budget") or {}).get("verdict")
     return [
+        ("ARM9 budget", verdict or "-"),
         ("grasped", "yes" if grasped else "no"),
         ("task", f"{summary.get('task_state')} ({summary.get('end_reason')})"),
         ("time to grasp", _fmt(summary.get("time_to_grasp_s"), " s simulated")),

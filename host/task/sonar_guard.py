@@ -90,13 +90,14 @@ def front_echo(t: Any, inp: Any) -> dict | None:
 
 def guard_stop(t: Any, inp: Any, states: tuple[str, ...]) -> dict | None:
     """In ``states``, with the base driving forward: a front echo below R_r (:func:`front_echo`)
-    stops it and drops the followed path; the echo, or None when nothing was stopped."""
+    stops it and drops the followed path and any plan being made; the echo, or None when
+    nothing was stopped."""
     if t.state not in states or t.wheels[0] + t.wheels[1] <= 0:
         return None
     echo = front_echo(t, inp)
     if echo is not None:
         t.wheels = (0, 0)
-        t.follower = None
+        t.follower, t.plan_job = None, None  # a plan being made started from a pose left
     return echo
 
 

@@ -1,7 +1,7 @@
 """Where the package keeps its data, found with importlib.resources (never from a module's path).
 
 The shipped scenarios (``mobigrasp.scenarios``), the C sources of the firmware and its harnesses
-(``mobigrasp.firmware``), the host kernels in C (``mobigrasp.hostc``) and the golden protocol
+(``mobigrasp.firmware``), the host in C (``mobigrasp.hostc_sources``) and the golden protocol
 vectors (``mobigrasp.protocol``) are package data: the same names work in a clone (the editable
 install) and in an installed wheel. They must be files on disk (the C compilers read them), so a
 zipped install is refused with the package named.

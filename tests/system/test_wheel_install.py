@@ -82,7 +82,7 @@ def test_the_wheel_holds_the_package_data(installed):
     names = set(zipfile.ZipFile(installed["wheel"]).namelist())
     for name in ("mobigrasp/scenarios/paper000-exp1.toml", "mobigrasp/firmware/fw/program.c",
                  "mobigrasp/firmware/protocol/crc16_table.inc", "mobigrasp/firmware/Makefile",
-                 "mobigrasp/firmware/simavr/harness.c", "mobigrasp/hostc/bezier.c",
+                 "mobigrasp/firmware/simavr/harness.c", "mobigrasp/hostc_sources/bezier.c",
                  "mobigrasp/protocol/golden_vectors.json", "mobigrasp/services/run_job.py"):
         assert name in names, name
     assert not any(n.startswith(("tests/", "mobigrasp/tests/")) for n in names)

@@ -22,7 +22,6 @@ from typing import Any
 
 from mobigrasp.cosim import leftovers
 from mobigrasp.cosim.hosts import HOST_POLL_MS, InprocHost, SocketHost, host_argv, write_host_config
-from mobigrasp.cosim.rig import RigConfig
 from mobigrasp.cosim.session import SessionResult
 from mobigrasp.link.registry import inproc_pair, open_transport
 
@@ -126,8 +125,7 @@ def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
                     raise ValueError("an in-process run needs RunSpec.inproc_client")
                 port, peer = inproc_pair(f"run-{name}-{spec.seed}")
                 host = InprocHost(spec.inproc_client(peer))
-            host = sim.wire(RigConfig(quantum_us=spec.quantum_us, couple_us=spec.couple_us,
-                                      host_lag_quanta=spec.host_lag_quanta), host, port)
+            host = sim.wire(spec, host, port)
             rig = sim.rig
             progress = None
             if callable(spec.progress):  # a display of the caller's (tools.progress.RunProgress)

@@ -73,13 +73,17 @@ class SimSide:
                           "target": [scenario.target.x_m, scenario.target.y_m],
                           "obstacles": [vars(o) for o in scenario.obstacles]})
 
-    def wire(self, config: RigConfig, host: HostEnd | None, port: Any) -> HostEnd | None:
-        """Wrap MCU, plant and ``host`` for the fault plan and build the rig on ``port``; the
-        host end the session drives (None for None: an external host is not wrapped)."""
+    def wire(self, spec: Any, host: HostEnd | None, port: Any) -> HostEnd | None:
+        """Wrap MCU, plant and ``host`` for the fault plan and build the rig on ``port`` with
+        ``spec``'s ``quantum_us``, ``couple_us`` and ``host_lag_quanta``; the host end the
+        session drives (None for None: an external host is not wrapped)."""
         self.fault_rig, rig_mcu, rig_plant, wrapped = wrap_for_faults(
             self.plan, self.seed, self.mcu, self.plant, host)
         self.summary["faults_plan"] = self.plan.as_table()
-        self.rig = Rig(rig_mcu, rig_plant, port, config, on_frame=self._frame_callback())
+        self.rig = Rig(rig_mcu, rig_plant, port,
+                       RigConfig(quantum_us=spec.quantum_us, couple_us=spec.couple_us,
+                                 host_lag_quanta=spec.host_lag_quanta),
+                       on_frame=self._frame_callback())
         keep_freed_memory()  # frame-sized arrays are reused instead of faulted in again
         return wrapped
 

@@ -167,7 +167,7 @@ def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emula
     assert s["end_reason"] == "terminated" and s["grasped"] is False
     assert s["contacts"] == 0 and "unsafe_actuations" in s["safety"]
     assert (robot.run_dir / "trace.jsonl").exists()
-    assert robot.returncode == 1  # nothing grasped
+    assert robot.proc.returncode == 1  # nothing grasped
 
 
 @pytest.mark.slow

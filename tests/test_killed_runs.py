@@ -89,24 +89,48 @@ def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_pa
     assert all(f"-{proc.pid}-" in p.name for p in removed if p.name.startswith("mobigrasp-"))
 
 
-def test_sweep_removes_only_a_dead_owners_entries(tmp_path):
-    done = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
-                          capture_output=True, text=True, check=True)
-    dead = int(done.stdout)
-    live = os.getpid()
-    (tmp_path / f"mobigrasp-ls-{dead}-abc123").mkdir()
-    (tmp_path / f"mobigrasp-run-{dead}-x_y9").mkdir()
+_CHILD = """
+import os, sys
+from mobigrasp.cosim import leftovers
+book = sys.argv[1]
+run = leftovers.temp_dir("run", ledger=book)
+ls = leftovers.temp_dir("ls", ledger=book)
+fd, ring = leftovers.temp_file("frames", book, ledger=book)
+moved = leftovers.temp_dir("run", ledger=book)
+open(os.path.join(run.name, "host.json"), "w").write("{}")
+print(run.name, ls.name, ring, moved.name, flush=True)
+os._exit(0)  # as SIGKILL would: nothing cleaned up
+"""
+
+
+def test_sweep_removes_only_what_a_dead_owner_recorded(tmp_path):
+    done = subprocess.run([sys.executable, "-c", _CHILD, str(tmp_path)], capture_output=True,
+                          text=True, check=True, env=dict(os.environ, TMPDIR=str(tmp_path)))
+    run, ls, ring, moved = done.stdout.split()
+    dead = int(Path(run).name.split("-")[2])
+    # the recorded folder was replaced by someone else's of the same name: not the same inode
+    for p in Path(moved).iterdir():
+        p.unlink()
+    Path(moved).rmdir()
+    Path(moved).mkdir()
+    (Path(moved) / "notes.txt").write_text("theirs")
+    # names of the same pattern, with the dead pid, that nobody recorded
+    thesis = tmp_path / f"mobigrasp-run-{dead}-thesis"
+    thesis.mkdir()
+    (thesis / "chapter1.tex").write_text("years of work")
     (tmp_path / f"mobigrasp-frames-{dead}-q1w2").write_bytes(b"\0" * 16)
-    (tmp_path / f"mobigrasp-ls-{live}-abc123").mkdir()
-    (tmp_path / f"mobigrasp-notes-{dead}-abc").mkdir()  # not a kind mobigrasp makes
-    (tmp_path / f"mobigrasp-run-{dead}-file").write_text("a file where a folder would be")
-    (tmp_path / "mobigrasp-ls-1x-abc").mkdir()  # no pid
-    removed = {p.name for p in leftovers.sweep([tmp_path])}
-    assert removed == {f"mobigrasp-ls-{dead}-abc123", f"mobigrasp-run-{dead}-x_y9",
-                       f"mobigrasp-frames-{dead}-q1w2"}
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(
-        [f"mobigrasp-ls-{live}-abc123", f"mobigrasp-notes-{dead}-abc",
-         f"mobigrasp-run-{dead}-file", "mobigrasp-ls-1x-abc"])
+    # a live owner's record is kept
+    mine = leftovers.temp_dir("ls", ledger=tmp_path)
+    removed = {str(p) for p in leftovers.sweep(tmp_path)}
+    assert removed == {run, ls, ring}
+    assert (thesis / "chapter1.tex").read_text() == "years of work"
+    assert (tmp_path / f"mobigrasp-frames-{dead}-q1w2").exists()
+    assert (Path(moved) / "notes.txt").read_text() == "theirs"
+    assert Path(mine.name).is_dir()
+    mine.cleanup()
+    assert not Path(mine.name).exists()
+    # the records of the dead owner are gone: a second sweep touches nothing
+    assert leftovers.sweep(tmp_path) == []
 
 
 def test_prefix_names_the_kind_and_this_process():

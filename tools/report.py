@@ -17,7 +17,7 @@ import os
 import sys
 from pathlib import Path
 
-from mobigrasp.cosim.run_folder import read_trace
+from mobigrasp.cosim.run_folder import read_trace, record_written
 from mobigrasp.tools import plots
 
 # after load: an image that failed gets a visible note; the counts go on <body> (data-images-*)
@@ -111,6 +111,7 @@ def write_report(folder: Path) -> Path:
     for fn in plots.ALL:
         name = fn(events, folder / "plots")
         if name:
+            record_written(folder, f"plots/{name}")  # a later run's to replace
             made.append(name)
     frames = sorted(p.name for p in (folder / "frames").glob("*.png")) \
         if (folder / "frames").exists() else []

@@ -13,12 +13,14 @@ block are judged from the world, since an external host reports no task state.
 
 from __future__ import annotations
 
+import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from mobigrasp.cosim.run import SUMMARY_PERIOD_US
 from mobigrasp.mcu_sim.backend import MCU_BACKENDS, open_mcu
 
 # quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
@@ -47,14 +49,15 @@ class SimOptions:
     resolved: tuple[Path, Any] | None = None
 
 
-def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
-    """The run folder as ``mobigrasp run`` makes it (cosim/run_folder.py): under runs/ by a
-    sanitised name, and only a previous run's own files are replaced."""
-    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder
+def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
+    """The run folder as ``mobigrasp run`` takes it (cosim/run_folder.py), locked, nothing
+    changed yet: under runs/ by a sanitised name, the next free one when another session
+    holds the default (two default sessions never share a folder)."""
+    from mobigrasp.cosim.run_folder import RunFolderError, claim_run_folder
 
     try:
-        return prepare_run_folder(Path(opts.out) if opts.out else None, name, seed,
-                                  suffix="-sim")
+        return claim_run_folder(Path(opts.out) if opts.out else None, name, seed,
+                                suffix="-sim", next_free=opts.out is None)
     except RunFolderError as exc:
         raise BadSimInput(str(exc)) from exc
 
@@ -77,10 +80,19 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     path, scenario = opts.resolved
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = _out_dir(opts, name, seed)
-    try:
+    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError
+
+    folder = _claim_out(opts, name, seed)
+    try:  # the port before the folder is touched: a refused session changes nothing
         camera = CameraServer(opts.camera_port)
     except (CameraPortInUse, ValueError) as exc:
+        folder.abandon()
+        raise BadSimInput(str(exc)) from exc
+    try:
+        out = folder.prepare(RUN_FILES)
+    except RunFolderError as exc:
+        camera.close()
+        folder.abandon()
         raise BadSimInput(str(exc)) from exc
     transport = None
     try:
@@ -95,6 +107,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         if transport is not None:
             transport.close()
         camera.close()
+        folder.release()
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
@@ -110,9 +123,11 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     summary: dict[str, Any] = {
         "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
         "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
-        "serial": serial, "camera": camera.url, "status": "starting", "success": False,
-        "grasped": False,
+        "serial": serial, "camera": camera.url, "status": "running", "success": False,
+        "grasped": False, "sim_time_s": 0.0, "pid": os.getpid(),
     }
+    # "running" before anything else: a session killed outright leaves a summary that says it
+    # did not finish, and how far it got (below, every SUMMARY_PERIOD_US simulated)
     write_summary(out / "summary.json", summary)
     trace = TraceWriter(out / "trace.jsonl")
     plant = WorldPlant(scenario, seed)
@@ -144,10 +159,18 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
 
     res = SessionResult()
     on_ready(serial, camera.url)
-    summary["status"] = "running"
+    next_summary_us = SUMMARY_PERIOD_US
+
+    def on_quantum(t_us: int) -> None:
+        nonlocal next_summary_us
+        plant.sample_path()
+        if t_us >= next_summary_us:
+            write_summary(out / "summary.json", {**summary, "sim_time_s": t_us / 1e6})
+            next_summary_us = t_us - t_us % SUMMARY_PERIOD_US + SUMMARY_PERIOD_US
+
     try:
         run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                    truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
+                    truth=plant.truth, on_quantum=on_quantum,
                     speed=opts.speed, progress=progress, stop=why_stop)
         summary["status"] = "finished"
     except Exception as exc:

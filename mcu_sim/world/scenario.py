@@ -18,12 +18,12 @@ problem raises :class:`ScenarioError` naming the file, the key and what was expe
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, NamedTuple
 
+from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
 
 METHODS = ("000", "001", "002")
@@ -149,7 +149,7 @@ CAMERA_DEFAULTS: dict[str, dict[str, float]] = {
 }
 
 
-class ScenarioError(ValueError):
+class ScenarioError(checks.BadValue):
     """A scenario file is malformed: the message names the file, the key and what was expected."""
 
 
@@ -243,28 +243,12 @@ class Scenario:
 def load_scenario(path: str | Path) -> Scenario:
     """Read and validate a scenario file."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ScenarioError(f"{p}: cannot read scenario file ({exc.strerror})") from exc
-    except UnicodeDecodeError as exc:
-        raise ScenarioError(f"{p}: not UTF-8 text (byte {exc.start}: "
-                            f"{exc.object[exc.start:exc.start + 1]!r})") from exc
-    return loads_scenario(text, source=str(p))
+    return loads_scenario(checks.read_text(p, "scenario file", ScenarioError), source=str(p))
 
 
 def loads_scenario(text: str, source: str = "<string>") -> Scenario:
     """Parse and validate scenario TOML text; ``source`` names it in error messages."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{source}: not valid TOML ({exc})") from exc
-    return parse_scenario(data, source)
-
-
-def _range_text(rng: tuple[float, float], unit: str) -> str:
-    lo, hi = (f"{v}" if isinstance(v, int) else f"{v:g}" for v in rng)
-    return f"[{lo}, {hi}]" + (f" {unit}" if unit else "")
+    return parse_scenario(checks.load_toml(text, source, ScenarioError), source)
 
 
 class _Checker:
@@ -274,8 +258,8 @@ class _Checker:
         self.source = source
 
     def fail(self, key: str, expected: str, got: Any = None, present: bool = True) -> None:
-        got_txt = f", got {got!r} ({type(got).__name__})" if present else ""
-        raise ScenarioError(f"{self.source}: {key}: expected {expected}{got_txt}")
+        checks.fail(self.source, key, expected, got if present else checks.MISSING,
+                    ScenarioError)
 
     def table(self, data: dict, key: str, required: bool = True) -> dict | None:
         if key not in data:
@@ -290,7 +274,7 @@ class _Checker:
     def keys(self, table: dict, where: str, allowed: tuple[str, ...]) -> None:
         for k in table:
             if k not in allowed:
-                name = f"{where}.{k}" if where else k
+                name = checks.key_text(f"{where}.{k}" if where else k)
                 raise ScenarioError(f"{self.source}: {name}: unknown key; expected one of: "
                                     f"{', '.join(allowed)}")
 
@@ -302,30 +286,14 @@ class _Checker:
             if required:
                 self.fail(name, "a number (missing)", present=False)
             return default
-        v = table[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            self.fail(name, "a number", v)
-        try:
-            v = float(v)
-        except OverflowError:  # an integer beyond any float
-            self.fail(name, f"a number in {_range_text(rng, unit)}", v)
-        if not math.isfinite(v):
-            self.fail(name, f"a finite number in {_range_text(rng, unit)}", v)
-        if not rng[0] <= v <= rng[1]:
-            self.fail(name, f"a number in {_range_text(rng, unit)}", v)
-        return v
+        return checks.number(table[key], self.source, name, rng[0], rng[1], unit, ScenarioError)
 
     def integer(self, table: dict, where: str, key: str, rng: tuple[int, int],
                 unit: str = "") -> int:
         name = f"{where}.{key}"
         if key not in table:
             self.fail(name, "an integer (missing)", present=False)
-        v = table[key]
-        if isinstance(v, bool) or not isinstance(v, int):
-            self.fail(name, "an integer", v)
-        if not rng[0] <= v <= rng[1]:
-            self.fail(name, f"an integer in {_range_text(rng, unit)}", v)
-        return v
+        return checks.integer(table[key], self.source, name, rng[0], rng[1], unit, ScenarioError)
 
     def choice(self, table: dict, where: str, key: str, options: tuple[str, ...]) -> str:
         name = f"{where}.{key}"
@@ -466,7 +434,8 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
     out: dict[str, float | int] = {k: p.default for k, p in table.items()}
     for key in raw:
         if key not in table:
-            raise ScenarioError(f"{c.source}: params.{key}: unknown key; expected a parameter "
+            raise ScenarioError(f"{c.source}: {checks.key_text(f'params.{key}')}: unknown key; "
+                                f"expected a parameter "
                                 f"of method {method}: {', '.join(table)}")
         if key in NOT_USED_PARAMS[method]:
             raise ScenarioError(f"{c.source}: params.{key}: {key} is not used by method "
@@ -476,12 +445,7 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
             out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)
         else:
             out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
-    for lo, hi, gap in PARAM_ORDER[method]:
-        if out[hi] - out[lo] < gap - 1e-9:
-            bad = lo if lo in raw else hi
-            want = f"{lo} <= {hi}" if not gap else f"{lo} < {hi} by at least {gap:g}"
-            raise ScenarioError(f"{c.source}: params.{bad}: expected {want}, got "
-                                f"{lo} = {out[lo]!r}, {hi} = {out[hi]!r}")
+    checks.ordered(out, PARAM_ORDER[method], c.source, "params.", ScenarioError, given=raw)
     return out
 
 

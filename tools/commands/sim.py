@@ -57,10 +57,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--mcu", default="python", metavar="NAME",
                    help="MCU backend from mobigrasp.mcu_sim.backend.MCU_BACKENDS: python (the "
                         "firmware model, default), native (the C firmware), ...")
-    p.add_argument("--camera-port", type=_port, default=8080,
-                   help="TCP port of the camera on 127.0.0.1 (default 8080; 0: any free port)")
+    p.add_argument("--camera-port", type=_port, default=0,
+                   help="TCP port of the camera on 127.0.0.1 (default 0: a free port, printed "
+                        "on the second line of stdout)")
     p.add_argument("--out", type=Path, default=None,
-                   help="run folder (default runs/<scenario>-<seed>-sim/)")
+                   help="run folder (default runs/<scenario>-<seed>-sim/, or -sim-2, ... when "
+                        "another session holds it)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="end after this many simulated seconds (default: the scenario's)")

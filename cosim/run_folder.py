@@ -90,6 +90,36 @@ def json_lines(path: Path) -> Iterator[tuple[int, Any]]:
             yield n, value
 
 
+def split_rows(path: Path) -> tuple[list[tuple[int, dict]], list[tuple[int, str]]]:
+    """The lines of a JSON-lines file of rows (a campaign's): (line number, row) of every
+    line that is a JSON object, and (line number, text) of every other line (damaged: torn by
+    a kill, cut, or garbled), each in file order. Nothing is dropped unseen."""
+    rows: list[tuple[int, dict]] = []
+    damaged: list[tuple[int, str]] = []
+    with Path(path).open(encoding="utf-8", errors="replace", newline="\n") as fh:
+        for n, line in enumerate(fh, 1):
+            try:
+                value = json.loads(line) if line.endswith("\n") else None
+            except (ValueError, RecursionError):
+                value = None
+            if isinstance(value, dict):
+                rows.append((n, value))
+            elif line.strip():
+                damaged.append((n, line.rstrip("\n")))
+    return rows, damaged
+
+
+def set_aside(path: Path, keep: list[str], damaged: list[str], aside: Path) -> None:
+    """Rewrite ``path`` with the lines ``keep`` (atomically) after appending the lines
+    ``damaged`` to ``aside``: a damaged row is moved, never lost, and never read again."""
+    if damaged:
+        with Path(aside).open("a", encoding="utf-8") as fh:
+            fh.write("".join(line + "\n" for line in damaged))
+    tmp = Path(path).with_suffix(".tmp")
+    tmp.write_text("".join(line + "\n" for line in keep), encoding="utf-8")
+    tmp.replace(path)
+
+
 def read_trace(path: Path) -> list[dict]:
     """All events of a trace file (a torn last line from a crash is skipped)."""
     return [event for _, event in json_lines(path)]

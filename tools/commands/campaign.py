@@ -17,7 +17,13 @@ from pathlib import Path
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
-    from mobigrasp.tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
+    from mobigrasp.tools.campaign import (
+        CampaignConfig,
+        claim_out,
+        format_table,
+        run_campaign,
+        write_outputs,
+    )
     from mobigrasp.tools.progress import Progress
 
     try:
@@ -29,15 +35,23 @@ def _run(args: argparse.Namespace) -> int:
     except (FaultError, ValueError) as exc:
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
-    display = Progress(total=cfg.runs, desc="campaign", unit="runs", enabled=not args.quiet)
-    try:
-        result = run_campaign(cfg, progress=display)
-    except ValueError as exc:  # EngineError (scheduler unreachable), rows of another campaign
-        display.close()
+    try:  # the folder locked before anything in it is touched
+        folder = claim_out(cfg)
+    except ValueError as exc:  # in use, not a campaign's folder, a file
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
-    print(format_table(result["summary"]))
-    js, png = write_outputs(result, cfg.out)
+    with folder:
+        display = Progress(total=cfg.runs, desc="campaign", unit="runs", enabled=not args.quiet)
+        try:
+            result = run_campaign(cfg, progress=display, folder=folder)
+        except ValueError as exc:  # EngineError (scheduler unreachable), a row of another
+            display.close()        # campaign or not a row
+            print(f"mobigrasp campaign: {exc}", file=sys.stderr)
+            return 2
+        for note in result["set_aside"]:
+            print(f"mobigrasp campaign: {note}", file=sys.stderr)
+        print(format_table(result["summary"]))
+        js, png = write_outputs(result, cfg.out)
     print(f"wrote {js} and {png}")
     return 1 if result["summary"]["crashed_runs"] else 0
 

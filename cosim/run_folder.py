@@ -48,21 +48,58 @@ def _clean(obj: Any) -> Any:
 _LINE_ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
-class TraceWriter:
-    """One JSON event per line, sorted keys, flushed per line; hashes exactly what it writes."""
+# The trace's bound: at most this many bytes per simulated second (the shipped scenarios peak
+# at 16 kB in a second, 0.5-0.63 MB per simulated minute: docs/outputs.md "Trace size"); an
+# event beyond it is counted, not written, except the ones a reader needs to follow the run
+TRACE_MAX_BYTES_PER_S = 128 * 1024
+_ALWAYS_WRITTEN = frozenset({"start", "state", "end"})
 
-    def __init__(self, path: Path) -> None:
+
+class TraceWriter:
+    """One JSON event per line, sorted keys, flushed per line; hashes exactly what it writes.
+
+    At most ``max_bytes_per_s`` bytes of events per simulated second: the others are counted
+    (:attr:`dropped_events`, :attr:`dropped_bytes`) and a ``trace_dropped`` event with the
+    counts of that second is written with the first event of a later one."""
+
+    def __init__(self, path: Path, max_bytes_per_s: int = TRACE_MAX_BYTES_PER_S) -> None:
         self.path = Path(path)
         self.path.parent.mkdir(parents=True, exist_ok=True)
         self._fh = self.path.open("w", encoding="utf-8")
         self._sha = hashlib.sha256()
         self.lines = 0
+        self.max_bytes_per_s = max_bytes_per_s
+        self.dropped_events = 0
+        self.dropped_bytes = 0
+        self._second = 0
+        self._second_bytes = 0
+        self._second_dropped = [0, 0]  # events, bytes
 
     def write(self, event: dict) -> None:
         """Append one event (must carry ``t_us`` and ``ev``)."""
         if "t_us" not in event or "ev" not in event:
-            raise ValueError(f"trace event needs t_us and ev: {event!r}")
+            raise ValueError(f"trace event needs t_us and ev: {str(event)[:200]}")
         line = _LINE_ENCODER.encode(_clean(event)) + "\n"
+        second = event["t_us"] // 1_000_000
+        if second > self._second:
+            if self._second_dropped[0]:
+                n, b = self._second_dropped
+                self._second_dropped = [0, 0]
+                self._put(_LINE_ENCODER.encode({"ev": "trace_dropped", "t_us": event["t_us"],
+                                                "second": self._second, "events": n,
+                                                "bytes": b}) + "\n")
+            self._second, self._second_bytes = second, 0
+        if self._second_bytes + len(line) > self.max_bytes_per_s \
+                and event["ev"] not in _ALWAYS_WRITTEN:
+            self.dropped_events += 1
+            self.dropped_bytes += len(line)
+            self._second_dropped[0] += 1
+            self._second_dropped[1] += len(line)
+            return
+        self._second_bytes += len(line)
+        self._put(line)
+
+    def _put(self, line: str) -> None:
         self._sha.update(line.encode())
         self._fh.write(line)
         self._fh.flush()

@@ -12,18 +12,27 @@ import tempfile
 from pathlib import Path
 
 from mobigrasp.cosim import leftovers
+from mobigrasp.tools.mcap_out import read_messages
 
 SAFETY_S = 120
 
 
-def _start(out: Path) -> subprocess.Popen:
+def _start(out: Path, command: str = "run") -> subprocess.Popen:
     # paced (--speed 2): after the progress line at 5.5 s the run has more than 5 s of wall time
     # left, however slow the machine, and a progress line at every update
     env = dict(os.environ, MOBIGRASP_PROGRESS_INTERVAL_S="0")
-    return subprocess.Popen([sys.executable, "-m", "mobigrasp", "run", "paper000-exp1",
+    return subprocess.Popen([sys.executable, "-m", "mobigrasp", command, "paper000-exp1",
                              "--out", str(out), "--no-plots", "--time-limit-s", "60",
                              "--speed", "2"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+
+
+def _assert_jsonl_lost_at_most_its_last_line(path: Path) -> int:
+    lines = path.read_text().split("\n")
+    whole = lines[:-1]  # the text after the last newline is the one line a kill may tear
+    for line in whole:
+        json.loads(line)
+    return len(whole)
 
 
 def _wait_for_sim_time(proc: subprocess.Popen, t_s: float) -> float:
@@ -35,7 +44,7 @@ def _wait_for_sim_time(proc: subprocess.Popen, t_s: float) -> float:
         line = proc.stderr.readline()
         assert line, f"the run ended before t = {t_s} s: {seen[-5:]}"
         seen.append(line.decode(errors="replace"))
-        m = re.match(r"run: ([0-9.]+)/", seen[-1])
+        m = re.match(r"(?:run|sim [^:]+): ([0-9.]+)/", seen[-1])
         if m and float(m.group(1)) >= t_s:
             return float(m.group(1))
 
@@ -80,6 +89,13 @@ def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_pa
     assert summary["status"] == "running"
     assert 5.0 <= summary["sim_time_s"] <= reached_s
     assert summary["pid"] == proc.pid
+    assert _assert_jsonl_lost_at_most_its_last_line(tmp_path / "run" / "trace.jsonl") > 100
+    # trace.mcap was written as the run went: read back, it reaches the last second before
+    # the kill, camera frames and trace topics both
+    got = read_messages(tmp_path / "run" / "trace.mcap")
+    last_s = {topic: max(t for tp, t, _ in got if tp == topic) / 1e9
+              for topic in ("/camera/image", "/tf", "/joints")}
+    assert all(t >= reached_s - 1.0 for t in last_s.values()), (reached_s, last_s)
     left = _leftovers_of(proc.pid)
     assert left  # it could not remove its folders
     # the frame ring's name went once the host had mapped it: no 7 MB left in /dev/shm
@@ -89,9 +105,25 @@ def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_pa
     assert all(f"-{proc.pid}-" in p.name for p in removed if p.name.startswith("mobigrasp-"))
 
 
+def test_a_sigkilled_sim_session_says_it_did_not_finish(tmp_path):
+    proc = _start(tmp_path / "session", "sim")
+    try:
+        reached_s = _wait_for_sim_time(proc, 5.5)
+        proc.send_signal(signal.SIGKILL)
+        proc.wait(timeout=SAFETY_S)
+    finally:
+        proc.kill()
+        proc.wait()
+    summary = json.loads((tmp_path / "session" / "summary.json").read_text())
+    assert summary["status"] == "running" and summary["pid"] == proc.pid
+    assert 5.0 <= summary["sim_time_s"] <= reached_s
+    assert _assert_jsonl_lost_at_most_its_last_line(tmp_path / "session" / "trace.jsonl") > 100
+
+
 _CHILD = """
 import os, sys
 from mobigrasp.cosim import leftovers
+from mobigrasp.tools.mcap_out import read_messages
 book = sys.argv[1]
 run = leftovers.temp_dir("run", ledger=book)
 ls = leftovers.temp_dir("ls", ledger=book)

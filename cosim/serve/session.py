@@ -207,5 +207,6 @@ def _figures(res, plant, rig, host, camera, trace, limit_s: float) -> dict:
                           "published": camera.frames_published,
                           "stream_parts_sent": camera.parts_sent},
         "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
+        "trace_dropped_events": trace.dropped_events,
         "error": res.error,
     }

@@ -10,6 +10,7 @@ device would block the reader or never end.
 
 from __future__ import annotations
 
+import argparse
 import json
 import math
 import os
@@ -105,6 +106,34 @@ def number(value: Any, where: str, key: str, lo: float, hi: float | None, unit: 
     return v
 
 
+def arg_number(lo: float, hi: float | None, unit: str = "", lo_open: bool = False):
+    """An argparse ``type``: a command-line number checked by :func:`number`."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = text
+        try:
+            return number(value, "", "", lo, hi, unit, lo_open=lo_open)
+        except BadValue as exc:
+            raise argparse.ArgumentTypeError(str(exc).split(": expected ", 1)[1]) from None
+    return parse
+
+
+def arg_int(lo: int, hi: int, unit: str = ""):
+    """An argparse ``type``: a command-line integer checked by :func:`integer`."""
+    def parse(text: str) -> int:
+        try:
+            value: Any = int(text)
+        except ValueError:
+            value = text
+        try:
+            return integer(value, "", "", lo, hi, unit)
+        except BadValue as exc:
+            raise argparse.ArgumentTypeError(str(exc).split(": expected ", 1)[1]) from None
+    return parse
+
+
 def integer(value: Any, where: str, key: str, lo: int, hi: int, unit: str = "",
             error: type[BadValue] = BadValue) -> int:
     """An int (not a bool) in [lo, hi]."""
@@ -171,8 +200,9 @@ def load_toml(text: str, where: str, error: type[BadValue] = BadValue) -> dict:
         raise error(f"{where}: not valid TOML ({exc})") from exc
     except RecursionError as exc:
         raise error(f"{where}: not valid TOML (nested deeper than {MAX_DEPTH})") from exc
-    for k, v in data.items():
-        nested(v, where, str(k), error)
+    for k, v in data.items():  # named down to a table's key ("params.k1")
+        for k2, v2 in (v.items() if isinstance(v, dict) else [(None, v)]):
+            nested(v2, where, key_text(str(k) if k2 is None else f"{k}.{k2}"), error)
     return data
 
 

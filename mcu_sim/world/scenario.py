@@ -429,7 +429,8 @@ def _parse_camera(c: _Checker, cam: dict, method: str) -> CameraSpec:
                          for k, rng in CAMERA_RANGES.items()})
 
 
-def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]:
+def _parse_params(c: _Checker, raw: dict, method: str, unused_ok: bool = False
+                  ) -> dict[str, float | int]:
     table = PAPER_PARAMS[method]
     out: dict[str, float | int] = {k: p.default for k, p in table.items()}
     for key in raw:
@@ -437,7 +438,7 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
             raise ScenarioError(f"{c.source}: {checks.key_text(f'params.{key}')}: unknown key; "
                                 f"expected a parameter "
                                 f"of method {method}: {', '.join(table)}")
-        if key in NOT_USED_PARAMS[method]:
+        if key in NOT_USED_PARAMS[method] and not unused_ok:
             raise ScenarioError(f"{c.source}: params.{key}: {key} is not used by method "
                                 f"{method}")
         p = table[key]
@@ -446,6 +447,61 @@ def _parse_params(c: _Checker, raw: dict, method: str) -> dict[str, float | int]
         else:
             out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
     checks.ordered(out, PARAM_ORDER[method], c.source, "params.", ScenarioError, given=raw)
+    return out
+
+
+# --- the host program's configuration (``mobigrasp host --config``) ---------------------------
+
+HOST_CONFIG_KEYS = ("method", "params", "camera", "task")
+HOST_TASK_KEYS = ("timeouts_us", "object_xy_mm")
+_STATE_NAME_CHARS = 20
+
+
+def parse_host_config(cfg: Any, source: str) -> dict:
+    """A host configuration (what ``mobigrasp run`` gives its host process: method, paper
+    parameters, camera intrinsics, task settings) checked as a scenario's values are: the same
+    ranges and ordered pairs, the principal point within the image. ScenarioError naming
+    ``source`` and the key otherwise. Keys not given stay out (the host's defaults)."""
+    c = _Checker(source)
+    checks.nested(cfg, source, "(document)", ScenarioError)
+    if not isinstance(cfg, dict):
+        c.fail("(document)", "a JSON object with " + ", ".join(HOST_CONFIG_KEYS), cfg)
+    c.keys(cfg, "", HOST_CONFIG_KEYS)
+    method = cfg.get("method", "000")
+    if method not in METHODS:
+        c.fail("method", "one of " + ", ".join(f'"{m}"' for m in METHODS), method)
+    out: dict[str, Any] = {"method": method}
+    if "params" in cfg:
+        raw = c.table(cfg, "params")
+        full = _parse_params(c, raw, method, unused_ok=True)
+        out["params"] = {k: full[k] for k in raw}
+    if "camera" in cfg:
+        cam = c.table(cfg, "camera")
+        full_cam = _parse_camera(c, cam, method)
+        out["camera"] = {k: getattr(full_cam, k) for k in cam}
+    if "task" in cfg:
+        task = c.table(cfg, "task")
+        c.keys(task, "task", HOST_TASK_KEYS)
+        out["task"] = {}
+        if "timeouts_us" in task:
+            tmo = task["timeouts_us"]
+            if not isinstance(tmo, dict):
+                c.fail("task.timeouts_us", "a table of task states and µs", tmo)
+            for state in tmo:
+                if not state.isupper() or len(state) > _STATE_NAME_CHARS:
+                    c.fail(f"task.timeouts_us.{checks.key_text(state)}",
+                           "a task state's name (SEARCH, APPROACH, ...)", state)
+                c.integer(tmo, "task.timeouts_us", state, (1, int(MAX_TIME_LIMIT_S * 1e6)), "us")
+            out["task"]["timeouts_us"] = dict(tmo)
+        if "object_xy_mm" in task:
+            xy = task["object_xy_mm"]
+            if not isinstance(xy, list) or len(xy) not in (0, 2):
+                c.fail("task.object_xy_mm", "[x, y] in mm, or []", xy)
+            lim = int(WORLD_HALF_M * 2000)
+            for k, v in enumerate(xy):
+                checks.integer(v, source, f"task.object_xy_mm[{k}]", -lim, lim, "mm",
+                               ScenarioError)
+            out["task"]["object_xy_mm"] = list(xy)
     return out
 
 

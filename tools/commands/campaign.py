@@ -14,6 +14,9 @@ import argparse
 import sys
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S
+
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
@@ -61,15 +64,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("campaign", help="N seeded random scenarios under injected faults")
     p.add_argument("--method", required=True, choices=("000", "001", "002"),
                    help="the paper whose method runs: 000, 001 or 002")
-    p.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
+    p.add_argument("--runs", type=checks.arg_int(1, 1_000_000),
+                   default=10, help="number of runs (default 10)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="a fault (docs/faults.md), repeatable; dotted keys for tables, e.g. "
                         "uart_bit_error_rate=1e-3 or uart_burst.start_s=3")
-    p.add_argument("--seed", type=int, default=0, help="seed of the first run (run k: seed+k)")
-    p.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
+    p.add_argument("--seed", type=checks.arg_int(0, MAX_SEED),
+                   default=0, help="seed of the first run (run k: seed+k)")
+    p.add_argument("--jobs", type=checks.arg_int(1, 1024),
+                   default=None, help="parallel runs (default: cores)")
     p.add_argument("--out", type=Path, default=Path("runs/campaign"),
                    help="folder for campaign.json, campaign.png and the run folders")
-    p.add_argument("--time-limit-s", type=float, default=None,
+    p.add_argument("--time-limit-s", default=None,
+                   type=checks.arg_number(0.0, MAX_TIME_LIMIT_S, "s", lo_open=True),
                    help="simulated seconds per run (default: the scenario's limit)")
     p.add_argument("--random-times", action="store_true",
                    help="each run draws every fault time uniformly in [0, the given time]")

@@ -13,21 +13,21 @@ import argparse
 import json
 import socket
 import sys
-from pathlib import Path
 
 METHODS = ("000", "001", "002")
 
 
 def _config(args: argparse.Namespace) -> dict:
+    """The configuration file checked (mcu_sim.world.scenario.parse_host_config), then
+    ``--method``; ValueError with one line naming the file and the key."""
+    from mobigrasp.mcu_sim import checks
+    from mobigrasp.mcu_sim.world.scenario import parse_host_config
+
     cfg: dict = {}
     if args.config:
-        try:
-            cfg = json.loads(Path(args.config).read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:  # missing, a folder, not UTF-8, not JSON
-            raise ValueError(f"--config {args.config}: {exc}") from exc
-        if not isinstance(cfg, dict):
-            raise ValueError(f"--config {args.config}: expected a JSON object, got "
-                             f"{type(cfg).__name__}")
+        where = f"--config {args.config}"
+        text = checks.read_text(args.config, "--config")  # not a FIFO, a device, a folder
+        cfg = parse_host_config(checks.load_json(text, where), where)
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")

@@ -18,6 +18,7 @@ from mobigrasp.link.base import LinkClosed
 from mobigrasp.link.echo import READY_TEXT
 from mobigrasp.link.messages import Link
 from mobigrasp.link.registry import open_transport
+from mobigrasp.mcu_sim import checks
 from mobigrasp.protocol import messages as p
 
 REPLY_TIMEOUT_S = 5.0  # a safety limit for a lost frame, not a performance expectation
@@ -103,5 +104,6 @@ def _main(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``link-demo``."""
     parser = sub.add_parser("link-demo", help="echo frames over a real pty through a 2nd process")
-    parser.add_argument("--count", type=int, default=300, help="messages to send (default 300)")
+    parser.add_argument("--count", type=checks.arg_int(1, 10_000_000),
+                        default=300, help="messages to send (default 300)")
     parser.set_defaults(func=_main)

@@ -107,6 +107,7 @@ print(json.dumps({"samples": samples, "sim_time_s": summary["sim_time_s"]}))
 
 
 @pytest.mark.slow
+@pytest.mark.timeout(3600)
 def test_memory_is_flat_over_an_hour_of_simulated_time(tmp_path):
     """The target never in sight (put far behind a wall of the hall's end) for 3600 s
     simulated: RSS after the first minutes grows by less than 1 MB per simulated 10 minutes

@@ -76,8 +76,10 @@ def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
     assert _leftovers_of(proc.pid) == []
 
 
-def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_path):
-    proc = _start(tmp_path / "run")
+def _killed_at_5_5_s(out: Path, command: str) -> tuple[subprocess.Popen, float]:
+    """``command`` SIGKILLed once past 5.5 s simulated; (its process, the time it reached),
+    after checking what it left says so: a running summary, a trace torn at most at its end."""
+    proc = _start(out, command)
     try:
         reached_s = _wait_for_sim_time(proc, 5.5)
         proc.send_signal(signal.SIGKILL)
@@ -85,11 +87,15 @@ def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_pa
     finally:
         proc.kill()
         proc.wait()
-    summary = json.loads((tmp_path / "run" / "summary.json").read_text())
-    assert summary["status"] == "running"
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "running" and summary["pid"] == proc.pid
     assert 5.0 <= summary["sim_time_s"] <= reached_s
-    assert summary["pid"] == proc.pid
-    assert _assert_jsonl_lost_at_most_its_last_line(tmp_path / "run" / "trace.jsonl") > 100
+    assert _assert_jsonl_lost_at_most_its_last_line(out / "trace.jsonl") > 100
+    return proc, reached_s
+
+
+def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_path):
+    proc, reached_s = _killed_at_5_5_s(tmp_path / "run", "run")
     # trace.mcap was written as the run went: read back, it reaches the last second before
     # the kill, camera frames and trace topics both
     got = read_messages(tmp_path / "run" / "trace.mcap")
@@ -106,18 +112,7 @@ def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_pa
 
 
 def test_a_sigkilled_sim_session_says_it_did_not_finish(tmp_path):
-    proc = _start(tmp_path / "session", "sim")
-    try:
-        reached_s = _wait_for_sim_time(proc, 5.5)
-        proc.send_signal(signal.SIGKILL)
-        proc.wait(timeout=SAFETY_S)
-    finally:
-        proc.kill()
-        proc.wait()
-    summary = json.loads((tmp_path / "session" / "summary.json").read_text())
-    assert summary["status"] == "running" and summary["pid"] == proc.pid
-    assert 5.0 <= summary["sim_time_s"] <= reached_s
-    assert _assert_jsonl_lost_at_most_its_last_line(tmp_path / "session" / "trace.jsonl") > 100
+    _killed_at_5_5_s(tmp_path / "session", "sim")
 
 
 _CHILD = """

@@ -78,3 +78,23 @@ def test_a_bad_choice_is_exit_2_naming_the_option(capsys):
         main(["run", "paper000-exp1", "--transport", "tcp"])
     assert exit_.value.code == 2
     assert "--transport" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("name", sorted(COMMANDS))
+def test_short_and_long_quiet_are_one_option(name):
+    parser = COMMANDS[name]
+    if any(isinstance(a, argparse._SubParsersAction) for a in parser._actions):
+        return
+    owners = [a for a in parser._actions if {"-q", "--quiet"} & set(a.option_strings)]
+    assert len(owners) == 1, f"{name}: -q and --quiet are {len(owners)} different options"
+    assert set(owners[0].option_strings) == {"-q", "--quiet"}
+
+
+def test_host_help_shows_no_rig_options(capsys):
+    with pytest.raises(SystemExit):
+        main(["host", "--help"])
+    out = capsys.readouterr().out
+    assert "--port" in out and "--method" in out
+    assert "--lockstep" not in out and "--poll-ms" not in out
+    # hidden, not removed: the rig still starts the host with them
+    assert COMMANDS["host"].parse_args(["--port", "x", "--lockstep", "s"]).lockstep == "s"

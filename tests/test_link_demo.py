@@ -1,6 +1,8 @@
 import json
 import platform
 
+import pytest
+
 from mobigrasp.tools.cli import main
 from mobigrasp.tools.commands.link_demo import run_link_demo
 
@@ -37,3 +39,13 @@ def test_bench_protocol_writes_json(tmp_path, capsys):
     py = figures["python"]
     assert py["version"] == platform.python_version() and py["executable"]
     assert "python.version" in out
+
+
+@pytest.mark.parametrize("count", ["-1", "0", "nan", "1e400", "9" * 400])
+def test_a_count_out_of_range_is_exit_2_in_one_line(count, capsys):
+    with pytest.raises(SystemExit) as exit_:
+        main(["link-demo", "--count", count])
+    assert exit_.value.code == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert "--count" in err[-1] and "Traceback" not in "".join(err)
+    assert len(err[-1]) < 200

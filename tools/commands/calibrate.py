@@ -89,5 +89,4 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--all", action="store_true", help="every frame of the corpus")
     p.add_argument("--line-fill-cycles", type=checks.arg_int(0, 1000), default=40, metavar="C",
                    help="core cycles of one D-cache line fill (default 40)")
-    p.add_argument("--quiet", action="store_true", help="no per-frame progress")
     p.set_defaults(func=_run)

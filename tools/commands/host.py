@@ -140,10 +140,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--port", required=True, help="serial port: /dev/pts/N, /dev/ttyUSB0, ...")
     p.add_argument("--camera", default=None,
                    help="OpenCV capture source (index or file) in free-running mode")
-    p.add_argument("--lockstep", default=None, help="Unix socket of the rig (set by 'run')")
-    p.add_argument("--poll-ms", type=_poll_ms, default=0.0,
-                   help="with --lockstep: poll the socket up to this long before sleeping, so "
-                        "the next grant finds the host running (set by 'run' at full speed)")
+    # the rig's own options, set by `run` when it starts the host: not shown in --help
+    p.add_argument("--lockstep", default=None, help=argparse.SUPPRESS)
+    p.add_argument("--poll-ms", type=_poll_ms, default=0.0, help=argparse.SUPPRESS)
     p.add_argument("--config", default=None, help="host configuration JSON (method, params)")
     p.add_argument("--method", default=None, choices=METHODS,
                    help="000, 001 or 002 (overrides --config)")

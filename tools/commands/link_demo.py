@@ -104,6 +104,6 @@ def _main(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``link-demo``."""
     parser = sub.add_parser("link-demo", help="echo frames over a real pty through a 2nd process")
-    parser.add_argument("--count", type=checks.arg_int(1, 10_000_000),
-                        default=300, help="messages to send (default 300)")
+    parser.add_argument("--count", type=checks.arg_int(1, 1_000_000), default=300,
+                        help="messages to send, 1..1000000 (default 300)")
     parser.set_defaults(func=_main)

@@ -66,7 +66,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="end after this many simulated seconds (default: the scenario's)")
-    p.add_argument("--quiet", action="store_true", help="no progress line on stderr")
     p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
     p.set_defaults(func=_run)
 

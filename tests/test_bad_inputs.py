@@ -293,6 +293,12 @@ CASES: dict[str, Case] = {
     "link-demo --count 10**30": Case(lambda t, mp: ["link-demo", "--count", str(10**30)],
                                      ("--count",)),
     "demo --count -1": Case(lambda t, mp: ["demo", "--count", "-1"], ("--count",)),
+    "bench protocol --chunk 0": Case(lambda t, mp: ["bench", "protocol", "--chunk", "0"],
+                                     ("--chunk",)),
+    "bench world --sim-s nan": Case(lambda t, mp: ["bench", "world", "--sim-s", "nan"],
+                                    ("--sim-s",)),
+    "bench mcu --seconds -5": Case(lambda t, mp: ["bench", "mcu", "--seconds", "-5"],
+                                   ("--seconds",)),
     "calibrate --frames-per-scenario 0": Case(
         lambda t, mp: ["calibrate", "--frames-per-scenario", "0"], ("--frames-per-scenario",)),
 }

@@ -91,16 +91,19 @@ def seed_corpus(folder: Path) -> None:
     (folder / "stream").write_bytes(b"".join(wires))
 
 
-def run_target(binary: Path, inputs: int, seed: int, max_len: int) -> dict:
-    """Run one libFuzzer target for ``inputs`` inputs; its figures."""
+def run_target(binary: Path, inputs: int, seed: int, max_len: int,
+               max_seconds: int | None = None) -> dict:
+    """Run one libFuzzer target for ``inputs`` inputs (or until ``max_seconds`` of wall time,
+    whichever comes first: the figures say how many ran); its figures."""
     with tempfile.TemporaryDirectory(prefix="mobigrasp-fuzz-") as tmp:
         corpus = Path(tmp) / "corpus"
         seed_corpus(corpus)
         env = dict(os.environ, ASAN_OPTIONS="detect_leaks=1:abort_on_error=0",
                    UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1")
         t0 = time.perf_counter()
+        budget = [f"-max_total_time={max_seconds}"] if max_seconds else []
         done = subprocess.run([str(binary), f"-runs={inputs}", f"-seed={seed}",
-                               f"-max_len={max_len}", "-print_final_stats=1",
+                               f"-max_len={max_len}", "-print_final_stats=1", *budget,
                                f"-artifact_prefix={tmp}/", str(corpus)],
                               capture_output=True, text=True, env=env, check=False)
         wall = time.perf_counter() - t0
@@ -228,12 +231,18 @@ def differential(n_inputs: int, seed: int) -> dict:
     return res
 
 
-def run_c(inputs: int, seed: int, diff_inputs: int) -> dict:
-    """Every target for inputs / 3 inputs each, and the differential run."""
+def run_c(inputs: int, seed: int, diff_inputs: int, max_seconds: int | None = None) -> dict:
+    """Every target for inputs / 3 inputs each (at once, a process each, with the differential
+    run in this one; ``max_seconds``: the wall time each target may take at most)."""
+    from concurrent.futures import ThreadPoolExecutor
+
     binaries = build_targets()
     share = -(-inputs // len(TARGETS))
-    targets = {t: run_target(binaries[t], share, seed, MAX_LEN[t]) for t in TARGETS}
-    diff = differential(diff_inputs, seed)
+    with ThreadPoolExecutor(max_workers=len(TARGETS)) as pool:
+        running = {t: pool.submit(run_target, binaries[t], share, seed, MAX_LEN[t], max_seconds)
+                   for t in TARGETS}
+        diff = differential(diff_inputs, seed)
+        targets = {t: f.result() for t, f in running.items()}
     return {"seed": seed, "targets": targets, "differential": diff,
             "inputs": sum(t["inputs"] for t in targets.values()),
             "crashes": sum(t["crashes"] for t in targets.values()),

@@ -47,6 +47,9 @@ def add_arguments(parser) -> None:
                              "libFuzzer with ASan+UBSan, and the C parser against the Python)")
     parser.add_argument("--diff-inputs", type=checks.arg_int(0, 10**10), default=100_000,
                         help="with --c: inputs of the differential run (default 100000)")
+    parser.add_argument("--max-seconds", type=checks.arg_int(1, 10**7), default=None,
+                        help="with --c: wall seconds each C target may take at most (the "
+                             "figures say how many inputs ran); default: no limit")
 
 
 _SERVOS_RAW = struct.Struct("<B6hH")
@@ -278,7 +281,8 @@ def run(args) -> dict:
     if getattr(args, "c", False):
         from mobigrasp.tools.fuzz_c import run_c
 
-        return run_c(n, seed, int(getattr(args, "diff_inputs", 100_000)))
+        return run_c(n, seed, int(getattr(args, "diff_inputs", 100_000)),
+                     getattr(args, "max_seconds", None))
     jobs = min(getattr(args, "jobs", None) or 1, n)
     if jobs == 1:
         return fuzz(n, seed)

@@ -317,14 +317,26 @@ def _listed_path(line: str) -> str | None:
     return rel
 
 
+# The run marker of earlier versions: this one line and no list. Such a folder's own files are
+# the ones those versions wrote: these names, and PNGs of theirs in plots/ and frames/.
+_MARKER_UNLISTED = "a mobigrasp run folder: `mobigrasp run` may replace the files it wrote here"
+_UNLISTED_PNG = {"plots": re.compile(r"(trajectory|joints|bezier|fuzzy|arm9_load)\.png"),
+                 "frames": re.compile(r"\d{3}_\d{7}ms_[A-Za-z0-9_?]+\.png")}
+
+
 def owned_files(folder: Path, marker: str = RUN_MARKER) -> list[str]:
     """The files the folder's marker lists (mobigrasp wrote them), in order, once each."""
     try:
         lines = (Path(folder) / marker).read_text(encoding="utf-8", errors="replace"
-                                                   ).splitlines()[1:]
+                                                   ).splitlines()
     except OSError:
         return []
-    listed = (_listed_path(line) for line in lines)
+    if lines == [_MARKER_UNLISTED] and marker == RUN_MARKER:
+        return [*RUN_FILES, *(f"{sub}/{p.name}" for sub, pattern in _UNLISTED_PNG.items()
+                              if (Path(folder) / sub).is_dir()
+                              for p in sorted((Path(folder) / sub).iterdir())
+                              if pattern.fullmatch(p.name))]
+    listed = (_listed_path(line) for line in lines[1:])
     return list(dict.fromkeys(rel for rel in listed if rel is not None))
 
 

@@ -232,3 +232,18 @@ def test_resume_with_a_malformed_row_is_exit_2_with_one_line(tmp_path, capsys, c
     line = _one_line(capsys)
     assert f"{path}: line 2" in line and key in line and len(line) < 400
     assert path.read_text() == text  # nothing rewritten, nothing run
+
+
+def test_a_run_folder_of_an_earlier_version_is_taken_over_with_its_own_files(tmp_path):
+    out = tmp_path / "old"
+    (out / "plots").mkdir(parents=True)
+    (out / RUN_MARKER).write_text("a mobigrasp run folder: `mobigrasp run` may replace the "
+                                  "files it wrote here\n")  # one line, no list
+    (out / "summary.json").write_text("{}")
+    (out / "plots" / "joints.png").write_bytes(b"old plot")
+    (out / "plots" / "mine.png").write_bytes(b"user")
+    with claim_run_folder(out, "x", 1) as held:
+        held.prepare(RUN_FILES)
+    assert not (out / "summary.json").exists() and not (out / "plots" / "joints.png").exists()
+    assert (out / "plots" / "mine.png").read_bytes() == b"user"
+    assert owned_files(out) == list(RUN_FILES)

@@ -247,3 +247,27 @@ def test_a_run_folder_of_an_earlier_version_is_taken_over_with_its_own_files(tmp
     assert not (out / "summary.json").exists() and not (out / "plots" / "joints.png").exists()
     assert (out / "plots" / "mine.png").read_bytes() == b"user"
     assert owned_files(out) == list(RUN_FILES)
+
+
+def test_a_second_run_on_the_folder_of_a_run_in_progress_is_refused(tmp_path, capsys):
+    """Two `mobigrasp run` with the same --out at once: the second is refused and the first
+    goes on to a summary that matches its own trace."""
+    import signal
+
+    from test_killed_runs import SAFETY_S, _start, _wait_for_sim_time
+
+    out = tmp_path / "run"
+    first = _start(out)
+    try:
+        _wait_for_sim_time(first, 2.0)
+        assert main(["run", E, "--out", str(out)] + QUICK) == 2
+        assert "in use" in _one_line(capsys)
+        first.send_signal(signal.SIGTERM)
+        first.communicate(timeout=SAFETY_S)
+    finally:
+        first.kill()
+        first.wait()
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["status"] == "interrupted" and summary["sim_time_s"] >= 2.0
+    lines = (out / "trace.jsonl").read_text().splitlines()
+    assert summary["trace_lines"] == len(lines) > 20

@@ -2,8 +2,8 @@
 
 Written as the run goes (:class:`McapLog`): at every camera frame the frame (JPEG) and the
 trace lines written since the last one (read back from trace.jsonl, flushed per line) go into
-the file in chunks of :data:`CHUNK_BYTES`, so nothing is held until the end and a run killed
-outright leaves a file readable up to its last chunk (:func:`read_messages`); the summary's
+the file, a chunk per simulated second, so nothing is held until the end and a run killed
+outright leaves a file readable up to its last second (:func:`read_messages`); the summary's
 totals and the index are added when the run ends. Every message's log
 time and publish time are its *simulated* time (ns), so Foxglove's timeline is the run's clock.
 JSON encoding with the Foxglove schemas by name (tools/mcap_schemas.py); docs/outputs.md lists
@@ -297,7 +297,12 @@ def image_message(capture_us: int, jpeg: bytes) -> dict:
             "data": base64.b64encode(jpeg).decode("ascii")}
 
 
-CHUNK_BYTES = 64 * 1024  # a chunk every few frames: a kill loses at most this much
+# A chunk is closed at every simulated second (a kill loses at most the last one) or at
+# CHUNK_BYTES, whichever comes first. The writer keeps one index entry (~1 kB) per chunk until
+# the end: a chunk a second keeps that at ~60 kB per simulated minute (smaller chunks, one
+# every few frames, kept 0.18 MB a minute: docs/outputs.md "Trace size").
+CHUNK_PERIOD_US = 1_000_000
+CHUNK_BYTES = 4 * 1024 * 1024
 _MAX_PENDING_FRAMES = 8  # frames queued for the encoder before on_frame waits for one
 
 
@@ -329,6 +334,7 @@ class McapLog:
             for topic, name in TOPICS.items()}
         self.counts = dict.fromkeys(TOPICS, 0)
         self._seq = 0
+        self._next_chunk_us = CHUNK_PERIOD_US
         self._topics: _Topics | None = None
         self._trace_fh = None
         self._partial = ""
@@ -349,6 +355,9 @@ class McapLog:
         jpeg = _jpeg(rgb)
         self._follow_trace()
         self._add(capture_us, "/camera/image", image_message(capture_us, jpeg))
+        if capture_us >= self._next_chunk_us:  # the second's chunk onto the disk
+            self._writer.flush()
+            self._next_chunk_us = capture_us - capture_us % CHUNK_PERIOD_US + CHUNK_PERIOD_US
 
     def _add(self, t_us: int, topic: str, msg: dict) -> None:
         ns = int(t_us) * 1000

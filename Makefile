@@ -19,7 +19,8 @@ STAMP := $(VENV)/.installed
 # which interpreter built .venv: a venv of another one is made again
 BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware toolchains FORCE
+.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware toolchains hostc hostc-arm \
+	arm-tools FORCE
 
 venv: $(STAMP)
 
@@ -47,17 +48,61 @@ ruff-tracked:
 	  git ls-files -z -- '*.py' | xargs -0 -r $(RUFF) check --force-exclude; \
 	else $(RUFF) check .; fi
 
-# Debian packages of the C parts: the avr-gcc firmware, libsimavr (the simavr MCU backend) and the
-# ARM920T toolchain (mobigrasp calibrate); installed with apt-get when missing and apt-get can run
-DEB_TOOLS := gcc-avr avr-libc simavr libsimavr-dev gcc-arm-none-eabi
+# Debian packages of the C parts: the avr-gcc firmware, libsimavr (the simavr MCU backend), the
+# ARM920T toolchain (mobigrasp calibrate, the host's ARM build), qemu-user (that build's ARMv4T
+# checks) and clang (the fuzzers); installed with apt-get when missing and apt-get can run
+DEB_TOOLS := gcc-avr avr-libc simavr libsimavr-dev gcc-arm-none-eabi qemu-user clang
+ARM_TOOLS := gcc-arm-none-eabi qemu-user
+# $(call deb_install,PACKAGES): apt-get install those of PACKAGES that are missing
+define deb_install
+@missing=""; for p in $(1); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+if [ -z "$$missing" ]; then exit 0; fi; \
+if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
+  echo "make: installing$$missing with apt-get"; \
+  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; } \
+    || echo "make: apt-get could not install$$missing" >&2; \
+else echo "make: missing$$missing and apt-get cannot run here" >&2; fi
+endef
 toolchains:
-	@missing=""; for p in $(DEB_TOOLS); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
-	if [ -z "$$missing" ]; then exit 0; fi; \
-	if [ "$$(id -u)" = 0 ] && command -v apt-get >/dev/null 2>&1; then \
-	  echo "make: installing$$missing with apt-get"; \
-	  { apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing; } \
-	    || echo "make: apt-get could not install$$missing" >&2; \
-	else echo "make: missing$$missing and apt-get cannot run here" >&2; fi
+	$(call deb_install,$(DEB_TOOLS))
+arm-tools:
+	$(call deb_install,$(ARM_TOOLS))
+
+# The C host for the S3C2440's ARM920T (ARMv4T), docs/porting.md. Every hostc/*.c is portable
+# except the native-only *_posix.c; hostc/arm/ holds the board's start-up code, its system calls
+# (sys_arm.c) and the few C library functions. No C library is linked (Debian's armel one is
+# ARMv5TE): libgcc only, whose default multilib is ARMv4T (division and soft-float).
+HOSTC_OUT ?= build/hostc
+ARM_CC := arm-none-eabi-gcc
+ARM_CFLAGS := -mcpu=arm920t -marm -O2 -std=c99 -ffreestanding -Wall -Wextra -Werror \
+	-ffunction-sections -fdata-sections
+ARM_LDFLAGS := -nostdlib -static -Wl,--gc-sections -Wl,-Ttext-segment=0x10000 -Wl,-z,noexecstack
+HOSTC_PORTABLE := $(sort $(filter-out %_posix.c,$(wildcard hostc/*.c)))
+# the self-test's entry until the host has its own main
+HOSTC_ARM_MAIN := $(if $(wildcard hostc/main.c),,hostc/arm/selftest_main.c)
+HOSTC_BOARD := $(sort $(filter-out hostc/arm/selftest_main.c,$(wildcard hostc/arm/*.c)))
+HOSTC_ARM_SRCS := $(HOSTC_PORTABLE) $(HOSTC_BOARD) $(HOSTC_ARM_MAIN) hostc/arm/start.S
+HOSTC_ARM_ELF := $(HOSTC_OUT)/mobigrasp-host-arm920t.elf
+
+# The static ELF: qemu-arm -cpu ti925t HOSTC_ARM_ELF --self-test runs it here
+hostc-arm: arm-tools $(HOSTC_ARM_ELF)
+	@arm-none-eabi-size $(HOSTC_ARM_ELF)
+
+$(HOSTC_ARM_ELF): $(HOSTC_ARM_SRCS) $(wildcard hostc/*.h hostc/arm/*.h) Makefile
+	@mkdir -p $(@D)
+	$(ARM_CC) $(ARM_CFLAGS) $(ARM_LDFLAGS) -Ihostc -o $@ $(HOSTC_ARM_SRCS) -lgcc
+
+# The portable modules and the board's (hostc/arm/) as ARM920T objects: text/data/bss per object
+# and the worst-case stack of each function (-fstack-usage frames on -fcallgraph-info's graph)
+HOSTC_OBJ_DIR := $(HOSTC_OUT)/arm920t
+HOSTC_OBJS := $(patsubst hostc/%.c,$(HOSTC_OBJ_DIR)/%.o,$(HOSTC_PORTABLE) $(HOSTC_BOARD))
+hostc: arm-tools venv $(HOSTC_OBJS)
+	@arm-none-eabi-size -t $(HOSTC_OBJS)
+	@$(BIN)/python -m mobigrasp.tools.hostc_budget $(HOSTC_OBJ_DIR)
+
+$(HOSTC_OBJ_DIR)/%.o: hostc/%.c $(wildcard hostc/*.h hostc/arm/*.h) Makefile
+	@mkdir -p $(@D)
+	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ihostc -c -o $@ $<
 
 test: lint toolchains
 	$(BIN)/python -m pytest -q

@@ -61,7 +61,7 @@ def test_stack_analysis_refuses_recursion_and_indirect_calls():
            "00000020 <b>:\n  20:\t0e 94 08 00 \tcall\t0x10\t; 0x10 <a>\n")
     graph = fb.call_graph(dis)
     with pytest.raises(fb.BudgetError, match="recursion"):
-        fb._worst("a", graph, {"a": 4, "b": 4}, {})
+        fb.worst_stack("a", graph, {"a": 4, "b": 4}, {})
     with pytest.raises(fb.BudgetError, match="indirect"):
         fb.call_graph("00000010 <f>:\n  10:\t09 95       \ticall\n")
 
@@ -73,4 +73,4 @@ def test_stack_is_the_deepest_chain_plus_the_deepest_handler():
            "00000030 <shallow>:\n  30:\t08 95       \tret\n")
     graph = fb.call_graph(dis)
     frames = {"main": 2, "deep": 30, "shallow": 50}
-    assert fb._worst("main", graph, frames, {}) == 2 + max(30 + fb.LIBRARY_FRAME_BYTES, 50)
+    assert fb.worst_stack("main", graph, frames, {}) == 2 + max(30 + fb.LIBRARY_FRAME_BYTES, 50)

@@ -109,15 +109,19 @@ def call_graph(disassembly: str) -> dict[str, set[str]]:
     return graph
 
 
-def _worst(fn: str, graph: dict[str, set[str]], frame: dict[str, int],
-           memo: dict[str, int], path: tuple[str, ...] = ()) -> int:
+def worst_stack(fn: str, graph: dict[str, set[str]], frame: dict[str, int],
+                memo: dict[str, int], path: tuple[str, ...] = (),
+                library_bytes: int = LIBRARY_FRAME_BYTES) -> int:
+    """The stack of ``fn`` and its deepest chain of callees (``memo``: every function's
+    figure, filled in); a function without a frame is a library routine of ``library_bytes``;
+    recursion is an error."""
     if fn in memo:
         return memo[fn]
     if fn in path:
         raise BudgetError(f"recursion: {' -> '.join((*path, fn))}")
-    own = frame.get(fn, LIBRARY_FRAME_BYTES)
-    deepest = max((_worst(c, graph, frame, memo, (*path, fn)) for c in graph.get(fn, ())
-                   if not c.startswith("__vector")), default=0)
+    own = frame.get(fn, library_bytes)
+    deepest = max((worst_stack(c, graph, frame, memo, (*path, fn), library_bytes)
+                   for c in graph.get(fn, ()) if not c.startswith("__vector")), default=0)
     memo[fn] = own + deepest
     return memo[fn]
 
@@ -144,8 +148,8 @@ def analyse(build: Path = BUILD) -> Budget:
             raise BudgetError(f"{name} enables interrupts: handlers would nest")
     frame = frames(build)
     memo: dict[str, int] = {}
-    main = _worst("main", graph, frame, memo)
-    isrs = {n: _worst(n, graph, frame, memo) for n in graph
+    main = worst_stack("main", graph, frame, memo)
+    isrs = {n: worst_stack(n, graph, frame, memo) for n in graph
             if n.startswith("__vector_") and n in frame}
     deepest = max(isrs, key=isrs.__getitem__)
     return Budget(sizes.get(".text", 0) + sizes.get(".data", 0), sizes.get(".data", 0),

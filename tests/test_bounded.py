@@ -109,9 +109,10 @@ print(json.dumps({"samples": samples, "sim_time_s": summary["sim_time_s"]}))
 @pytest.mark.slow
 @pytest.mark.timeout(3600)
 def test_memory_is_flat_over_an_hour_of_simulated_time(tmp_path):
-    """The target never in sight (put far behind a wall of the hall's end) for 3600 s
-    simulated: RSS after the first minutes grows by less than 1 MB per simulated 10 minutes
-    (the camera log is written as it goes, nothing is held until the end)."""
+    """The target never in sight (far out in the hall) for 3600 s simulated: after the first
+    five minutes RSS grows by less than 0.15 MB per simulated minute (trace.mcap is written as
+    it goes; what remains is its index, docs/outputs.md "Trace size"; keeping the frames grew
+    8.8 MB a minute, an index entry every few frames 0.18 MB)."""
     from test_bad_inputs import mutated  # a shipped scenario with one value changed
 
     scenario = mutated(tmp_path, "paper000-exp1", ("target", "x_m"), 45.0)
@@ -126,4 +127,4 @@ def test_memory_is_flat_over_an_hour_of_simulated_time(tmp_path):
     my = sum(m for _, m in samples) / n
     slope_mb_per_min = sum((t - mx) * (m - my) for t, m in samples) / sum(
         (t - mx) ** 2 for t, _ in samples)
-    assert slope_mb_per_min < 0.1, (slope_mb_per_min, samples)
+    assert slope_mb_per_min < 0.15, (slope_mb_per_min, samples)

@@ -297,10 +297,9 @@ def image_message(capture_us: int, jpeg: bytes) -> dict:
             "data": base64.b64encode(jpeg).decode("ascii")}
 
 
-# A chunk is closed at every simulated second (a kill loses at most the last one) or at
+# A chunk is closed at every simulated second (a kill loses the last one or two) or at
 # CHUNK_BYTES, whichever comes first. The writer keeps one index entry (~1 kB) per chunk until
-# the end: a chunk a second keeps that at ~60 kB per simulated minute (smaller chunks, one
-# every few frames, kept 0.18 MB a minute: docs/outputs.md "Trace size").
+# the end: a second's chunk keeps that small (docs/outputs.md "Trace size" for the figures).
 CHUNK_PERIOD_US = 1_000_000
 CHUNK_BYTES = 4 * 1024 * 1024
 _MAX_PENDING_FRAMES = 8  # frames queued for the encoder before on_frame waits for one

@@ -254,19 +254,15 @@ def test_a_second_run_on_the_folder_of_a_run_in_progress_is_refused(tmp_path, ca
     goes on to a summary that matches its own trace."""
     import signal
 
-    from test_killed_runs import SAFETY_S, _start, _wait_for_sim_time
+    from test_killed_runs import SAFETY_S, _wait_for_sim_time, running
 
     out = tmp_path / "run"
-    first = _start(out)
-    try:
+    with running(out) as first:
         _wait_for_sim_time(first, 2.0)
         assert main(["run", E, "--out", str(out)] + QUICK) == 2
         assert "in use" in _one_line(capsys)
         first.send_signal(signal.SIGTERM)
         first.communicate(timeout=SAFETY_S)
-    finally:
-        first.kill()
-        first.wait()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "interrupted" and summary["sim_time_s"] >= 2.0
     lines = (out / "trace.jsonl").read_text().splitlines()

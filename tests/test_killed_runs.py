@@ -9,6 +9,8 @@ import signal
 import subprocess
 import sys
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from mobigrasp.cosim import leftovers
@@ -25,6 +27,17 @@ def _start(out: Path, command: str = "run") -> subprocess.Popen:
                              "--out", str(out), "--no-plots", "--time-limit-s", "60",
                              "--speed", "2"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, env=env)
+
+
+@contextmanager
+def running(out: Path, command: str = "run") -> Iterator[subprocess.Popen]:
+    """:func:`_start`, the process killed at the end whatever happened."""
+    proc = _start(out, command)
+    try:
+        yield proc
+    finally:
+        proc.kill()
+        proc.wait()
 
 
 def _assert_jsonl_lost_at_most_its_last_line(path: Path) -> int:
@@ -79,14 +92,10 @@ def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
 def _killed_at_5_5_s(out: Path, command: str) -> tuple[subprocess.Popen, float]:
     """``command`` SIGKILLed once past 5.5 s simulated; (its process, the time it reached),
     after checking what it left says so: a running summary, a trace torn at most at its end."""
-    proc = _start(out, command)
-    try:
+    with running(out, command) as proc:
         reached_s = _wait_for_sim_time(proc, 5.5)
         proc.send_signal(signal.SIGKILL)
         proc.wait(timeout=SAFETY_S)
-    finally:
-        proc.kill()
-        proc.wait()
     summary = json.loads((out / "summary.json").read_text())
     assert summary["status"] == "running" and summary["pid"] == proc.pid
     assert 5.0 <= summary["sim_time_s"] <= reached_s
@@ -120,7 +129,6 @@ def test_a_sigkilled_sim_session_says_it_did_not_finish(tmp_path):
 _CHILD = """
 import os, sys
 from mobigrasp.cosim import leftovers
-from mobigrasp.tools.mcap_out import read_messages
 book = sys.argv[1]
 run = leftovers.temp_dir("run", ledger=book)
 ls = leftovers.temp_dir("ls", ledger=book)

@@ -31,6 +31,7 @@ from typing import Any, Protocol
 
 from mobigrasp.cosim.lockstep import Done, FrameBlob, Grant
 from mobigrasp.cosim.plant import Plant
+from mobigrasp.mcu_sim.avr import pinmap
 from mobigrasp.mcu_sim.backend import McuBackend
 
 HOST_BAUD = 115_200
@@ -115,32 +116,45 @@ class Rig:
         self._next_frame = 0
         self._line_free_us = 0  # host -> MCU line busy until (serialises the host's chunks)
         self._pulses: list = [None] * 6
-        self._sonar_cache: dict[int, float | None] = {}
-        self._sonar_cache_us = -1
         self.stats = {"quanta": 0, "uart_to_host_bytes": 0, "uart_to_mcu_bytes": 0,
                       "frames_captured": 0, "frames_skipped": 0,
                       "grants_early": 0}
         self.camera_on = True
         # _couple runs twice per quantum: its calls are bound once here (through a delegating
         # wrapper every attribute lookup is a __getattr__ call)
-        self._couple_calls = (mcu.advance_outputs, mcu.set_encoder_ticks, mcu.uart_tx_take,
-                              plant.set_servo_pulse_us, plant.set_wheel_duty, plant.step_to,
-                              plant.encoder_ticks)
+        self._couple_calls = (mcu.advance_outputs, mcu.uart_tx_take, plant.set_servo_pulse_us,
+                              plant.set_wheel_duty, plant.step_to)
+        # the sensors, wired as the board table declares them (mcu_sim/avr/pinmap.py SENSORS):
+        # a coupled one is read at every coupling step, a polled one when the firmware asks
+        self._coupled_sensors = tuple(
+            (getattr(plant, s.plant_reading), getattr(mcu, s.mcu_input))
+            for s in pinmap.SENSORS if s.feed == pinmap.COUPLED)
+        for s in pinmap.SENSORS:
+            if s.feed == pinmap.POLLED:
+                getattr(mcu, s.mcu_input)(self._polled(getattr(plant, s.plant_reading)))
         # what the plant was last given: a servo pulse or duty that did not change is not sent
         # again (the plant keeps its inputs; they change a few times per second)
         self._pulses_seen: tuple | None = None
         self._duty_sent: tuple[int, int] | None = None
-        mcu.set_sonar_provider(self._sonar)
         self._tx_idle = mcu.tx_idle_through_us
 
-    def _sonar(self, index: int) -> float | None:
-        # The MCU polls one sonar at a time; the plant is at the last coupling step.
-        if self._sonar_cache_us != self.now_us:
-            self._sonar_cache.clear()
-            self._sonar_cache_us = self.now_us
-        if index not in self._sonar_cache:
-            self._sonar_cache[index] = self.plant.sonar_range_m(index)
-        return self._sonar_cache[index]
+    def _polled(self, read: Callable[[int], Any]) -> Callable[[int], Any]:
+        """The provider a polled sensor's MCU input is given: ``read(index)`` of the plant as
+        it is at the last coupling step, read once per index and coupling step (the MCU polls
+        one sonar at a time)."""
+        cache: dict[int, Any] = {}
+        cached_at = -1
+
+        def provide(index: int) -> Any:
+            nonlocal cached_at
+            if cached_at != self.now_us:
+                cache.clear()
+                cached_at = self.now_us
+            if index not in cache:
+                cache[index] = read(index)
+            return cache[index]
+
+        return provide
 
     # how many quanta before its usual time (with a lag) a grant may go when it would be the same:
     # the host then has that much more of the rig's time to answer it (a control tick's grant: the
@@ -311,8 +325,7 @@ class Rig:
                 cap = capture_time_us(self._next_frame)
 
     def _couple(self, t_us: int) -> None:
-        (advance_outputs, set_encoders, tx_take, set_servo, set_wheels, step_to,
-         encoders) = self._couple_calls
+        advance_outputs, tx_take, set_servo, set_wheels, step_to = self._couple_calls
         now, duty = advance_outputs(t_us)
         if now != self._pulses_seen:  # the same six values: every one was sent already
             self._pulses_seen = now
@@ -327,8 +340,8 @@ class Rig:
             set_wheels(duty[0], duty[1])
         step_to(t_us)
         self.now_us = t_us
-        enc_l, enc_r = encoders()
-        set_encoders(enc_l, enc_r, t_us)
+        for read, give in self._coupled_sensors:
+            give(*read(), t_us)
         tx = tx_take()
         if tx:
             self._tx_pending.extend(tx)

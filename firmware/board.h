@@ -114,4 +114,8 @@
 #define HOST_TXD_PIN PINE
 #define HOST_TXD_BIT 1
 
+/* Sensors: their signals and the telemetry fields that carry them */
+/* wheel_encoders: ENC_L_A ENC_L_B ENC_R_A ENC_R_B -> enc_left, enc_right */
+/* sonar: SONAR_TRIG0 SONAR_TRIG1 SONAR_TRIG2 SONAR_TRIG3 SONAR_TRIG4 SONAR_ECHO -> sonar_mm */
+
 #endif

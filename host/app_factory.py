@@ -15,6 +15,7 @@ from mobigrasp.host import arm_calib
 from mobigrasp.host.app import HostApp, HostConfig
 from mobigrasp.host.odometry import Odometry
 from mobigrasp.host.posture import PostureParams
+from mobigrasp.host.task.method import K_THETA, method_rules
 from mobigrasp.host.vision import registry
 from mobigrasp.host.vision.frame_key import frame_bytes
 from mobigrasp.protocol import messages as m
@@ -163,53 +164,10 @@ def _detectors(cfg: dict, app_ref: list) -> dict:
     return found
 
 
-def _mrad(x: float) -> int:
-    return int(round(1000 * x))
-
-
-def _q12(x: float) -> int:
-    return int(round(4096 * x))
-
-
-K_THETA = "k_theta"  # PAPER_TO_TASK group: index into PostureParams.k_theta_q12
-
-
-# Paper parameter name (scenario [params], mcu_sim/world/scenario.py) -> (TaskParams table, field,
-# conversion to the host's integer or float unit; None: a TaskParams field of its own). Names not
-# listed are read by the world (001's k_s, A_g, D_e: its sonar ring) or refused by the scenario
-# loader (mcu_sim/world/scenario.py NOT_USED_PARAMS).
-PAPER_TO_TASK = {
-    "000": {"T_s": ("planner", "t_s", float), "k1": ("planner", "k1", float),
-            "k2": ("planner", "k2", float), "v0_mps": ("planner", "v0", float),
-            "vmax_mps": ("planner", "v_max", float), "amax_mps2": ("planner", "a_max", float),
-            "rmin_m": ("planner", "r_min", float),
-            "theta2_min": ("search", "theta2_min_mrad", _mrad),
-            "theta2_max": ("search", "theta2_max_mrad", _mrad),
-            "theta5_min": ("search", "theta5_min_mrad", _mrad),
-            "theta5_max": ("search", "theta5_max_mrad", _mrad),
-            "dtheta2_l": ("search", "d_theta2_mrad", _mrad),
-            "w_min": (None, "w_min_px", int), "w_max": (None, "w_max_px", int),
-            # eq. (10)'s gains, one Q12 triple of host.posture (000 §IV: 1, 0, 0)
-            "k_theta2": (K_THETA, 0, _q12), "k_theta3": (K_THETA, 1, _q12),
-            "k_theta4": (K_THETA, 2, _q12)},
-    "001": {"Vmax": ("planner", "v_max", float), "Amax": ("planner", "a_max", float),
-            "v0": ("planner", "v0", float), "T_s": ("planner", "t_s", float),
-            "k1": ("planner", "k1", float), "k2": ("planner", "k2", float),
-            "T_D": ("planner", "t_d_m", lambda v: float(v) / 100.0),  # T_D read as cm
-            "n_e": ("planner", "n_e", int),
-            "R_r": (None, "r_r_mm", lambda v: int(round(1000 * v))),  # m -> mm
-            "A_g": (None, "sonar_a_g_mrad", _mrad), "D_e": (None, "sonar_d_e_mm", _mrad)},
-    "002": {"e_th": ("fuzzy", "e_th_mrad", _mrad), "e_cth": ("fuzzy", "e_cth_mrad_s", _mrad),
-            "u_th": ("fuzzy", "u_th_mrad", _mrad),
-            "V_avg": ("fuzzy", "v_avg_mm_s", _mrad),  # m/s -> mm/s
-            "k_u": ("fuzzy", "k_uc_q12", lambda v: int(round(4096 * v))),
-            "T_d": ("fuzzy", "t_d_px", lambda v: int(round(v)))},
-}
-
-
 def task_params(method: str, paper: dict) -> dict:
-    """TaskParams overrides from the scenario's paper parameters (only the mapped names)."""
-    table = PAPER_TO_TASK.get(method, {})
+    """TaskParams overrides from the scenario's paper parameters (only the names the method
+    maps, its ``paper_to_task``)."""
+    table = method_rules(method).paper_to_task
     out: dict = {}
     for name, value in paper.items():
         if name in table:

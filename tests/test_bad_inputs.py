@@ -419,14 +419,15 @@ def test_any_value_at_any_key_runs_or_is_refused(key, value, tmp_path, capsys, m
 def _extremes() -> list[tuple[str, tuple, Any]]:
     """(scenario, key path, value): every camera value and paper parameter at both ends of its
     range, on the shipped scenario of its method (an ordered pair's partner follows it)."""
-    from mobigrasp.mcu_sim.world.scenario import CAMERA_RANGES, PAPER_PARAMS
+    from mobigrasp.host.task import REGISTRY
+    from mobigrasp.mcu_sim.world.scenario import CAMERA_RANGES
 
     by_method = {"000": E, "001": B, "002": M}
     out = []
     for method, name in by_method.items():
         for key, (lo, hi) in CAMERA_RANGES.items():
             out += [(name, ("camera", key), lo), (name, ("camera", key), hi)]
-        for key, p in PAPER_PARAMS[method].items():
+        for key, p in REGISTRY[method].paper_params.items():
             for v in (p.lo, p.hi):
                 out.append((name, ("params", key), int(v) if p.kind is int else float(v)))
     return out
@@ -435,14 +436,15 @@ def _extremes() -> list[tuple[str, tuple, Any]]:
 @pytest.mark.slow
 @pytest.mark.parametrize("name, path, value", _extremes())
 def test_a_value_at_either_end_of_its_range_runs_without_a_crash(name, path, value, tmp_path):
-    from mobigrasp.mcu_sim.world.scenario import PAPER_PARAMS, PARAM_ORDER
+    from mobigrasp.host.task import REGISTRY
     from mobigrasp.tools.run_job import RunOptions, execute
 
     doc = shipped(name)
     doc.setdefault(path[0], {})[path[1]] = value
     method = doc["scenario"]["method"]
-    table = PAPER_PARAMS[method]
-    for lo, hi, gap in PARAM_ORDER[method]:  # keep an ordered pair ordered (the partner moves)
+    table = REGISTRY[method].paper_params
+    # keep an ordered pair ordered (the partner moves)
+    for lo, hi, gap in REGISTRY[method].param_order:
         params = {k: p.default for k, p in table.items()} | doc.get("params", {})
         if params[hi] - params[lo] < gap:
             if path[1] == lo:

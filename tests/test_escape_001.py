@@ -89,20 +89,20 @@ def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
 
 
 def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
-    from mobigrasp.host.task.method001 import RULES, detour_heading
+    from mobigrasp.host.task.method001 import RULES, State001, detour_heading
 
     p = TaskParams.for_method("001")
     d = detour_heading(TaskInputs(sonar_mm=(65535,) * 5), (1500, 0), 900, heading_mrad=-900)
     assert d == {"heading_mrad": -900, "drive": True, "from": None, "checked": True}
-    task = SimpleNamespace(p=p, wheels=None, detour=d)
+    task = SimpleNamespace(p=p, wheels=None, ms=State001(detour=d))
     side = (65535, 65535, 65535, 220, 240)  # the obstacle beside it, front-left and left
     assert not RULES.detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
     assert task.wheels == (p.wander_mmps, p.wander_mmps)
     # the unchecked detour stops for the same diagonal echo at once
-    task.detour = {"heading_mrad": -900, "drive": True, "from": None}
+    task.ms.detour = {"heading_mrad": -900, "drive": True, "from": None}
     assert RULES.detour_step(task, TaskInputs(heading_mrad=-900, sonar_mm=side))
     # something straight ahead stops a checked one too
-    task.detour = dict(d)
+    task.ms.detour = dict(d)
     assert RULES.detour_step(task, TaskInputs(heading_mrad=-900,
                                               sonar_mm=(65535, 65535, 300, 65535, 65535)))
     assert task.wheels == (0, 0)
@@ -129,7 +129,7 @@ def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
     clear = (2500,) * 5
     task.step(0, TaskInputs(sonar_mm=clear))
     task.step(20_000, TaskInputs(sonar_mm=clear))
-    assert task.state == "APPROACH" and task.replanner is not None
+    assert task.state == "APPROACH" and task.ms.replanner is not None
     now = 1_000_000
     near = TaskInputs(x_mm=800, sonar_mm=clear)  # the waist 600 mm from the object
     task.obj_seen_us = now

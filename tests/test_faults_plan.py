@@ -4,6 +4,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.faults.plan import (
     FAULT_KEYS,
     FaultError,
@@ -51,7 +52,7 @@ encoder_slip = 0.05
 
 
 def test_every_key_parses_into_the_plan():
-    plan = loads_scenario(FULL, "full.toml").faults
+    plan = loads_scenario(FULL, "full.toml", methods=REGISTRY).faults
     assert plan == FaultPlan(
         uart_bit_error_rate=1e-3, uart_drop_rate=0.01, uart_latency_us=2000,
         uart_burst=Window(3.0, 0.5), camera_drop_rate=0.2, camera_noise_std=4.0,
@@ -62,7 +63,7 @@ def test_every_key_parses_into_the_plan():
 
 
 def test_no_faults_section_means_no_fault():
-    plan = loads_scenario(BASE, "b.toml").faults
+    plan = loads_scenario(BASE, "b.toml", methods=REGISTRY).faults
     assert plan == FaultPlan() and not plan.active() and plan.to_toml() == ""
 
 
@@ -88,7 +89,7 @@ def test_no_faults_section_means_no_fault():
 ])
 def test_bad_values_name_file_key_and_expectation(line, fragments):
     with pytest.raises(ScenarioError) as e:
-        loads_scenario(BASE + "[faults]\n" + line + "\n", "bad.toml")
+        loads_scenario(BASE + "[faults]\n" + line + "\n", "bad.toml", methods=REGISTRY)
     msg = str(e.value)
     assert msg.startswith("bad.toml: "), msg
     for f in fragments:
@@ -106,7 +107,7 @@ def test_command_line_overrides_with_dotted_keys():
 
 
 def test_overrides_apply_on_top_of_the_scenario_plan():
-    base = loads_scenario(FULL, "full.toml").faults
+    base = loads_scenario(FULL, "full.toml", methods=REGISTRY).faults
     plan = parse_fault_overrides(["uart_burst.duration_s=2", "encoder_slip=0"], base)
     assert plan.uart_burst == Window(3.0, 2.0)  # start kept from the file
     assert plan.encoder_slip == 0.0 and plan.host_crash_at_s == 12.5
@@ -145,7 +146,7 @@ plans = st.builds(
 @settings(max_examples=100, deadline=None)
 @given(plans)
 def test_toml_and_command_line_round_trip(plan):
-    assert loads_scenario(BASE + plan.to_toml(), "rt.toml").faults == plan
+    assert loads_scenario(BASE + plan.to_toml(), "rt.toml", methods=REGISTRY).faults == plan
     items = []
     for key, value in plan.as_table().items():
         if isinstance(value, dict):

@@ -10,6 +10,7 @@ from rig_fakes import FakePlant
 
 from mobigrasp.cosim.plant import Plant
 from mobigrasp.cosim.rig_plant import WorldPlant
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
 from mobigrasp.mcu_sim.faults.injectors import RunFaults
 from mobigrasp.mcu_sim.faults.plan import FaultPlan
@@ -23,11 +24,12 @@ HAS_CAMERA = {"world": True, "bench": False, "faulted:world": True, "fake": True
 
 def _make(kind: str):
     if kind == "world":
-        return WorldPlant(load_scenario(SCENARIO), 1)
+        return WorldPlant(load_scenario(SCENARIO, methods=REGISTRY), 1)
     if kind == "bench":
         return WheelsInTheAir()
     if kind == "faulted:world":
-        return FaultedPlant(WorldPlant(load_scenario(SCENARIO), 1), RunFaults(FaultPlan(), 1))
+        return FaultedPlant(WorldPlant(load_scenario(SCENARIO, methods=REGISTRY), 1),
+                            RunFaults(FaultPlan(), 1))
     return FakePlant()
 
 

@@ -5,8 +5,8 @@ from pathlib import Path
 
 import pytest
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.scenario import (
-    PAPER_PARAMS,
     ScenarioError,
     load_scenario,
     loads_scenario,
@@ -46,14 +46,14 @@ Vmax = 0.3
 
 @pytest.mark.parametrize("path", sorted(DATA.glob("*.toml")), ids=lambda p: p.name)
 def test_example_files_load(path):
-    s = load_scenario(path)
+    s = load_scenario(path, methods=REGISTRY)
     assert s.meta.method in ("000", "001", "002")
-    assert set(s.params) == set(PAPER_PARAMS[s.meta.method])
+    assert set(s.params) == set(REGISTRY[s.meta.method].paper_params)
     assert s.source == str(path)
 
 
 def test_values_and_defaults():
-    s = loads_scenario(GOOD, "good.toml")
+    s = loads_scenario(GOOD, "good.toml", methods=REGISTRY)
     assert s.meta.seed == 4 and s.meta.time_limit_s == 30.0
     assert (s.robot.x_m, s.robot.y_m, s.robot.heading_rad) == (0.5, -1.0, 0.25)
     assert s.obstacles[0].radius_m == 0.2 and s.obstacles[0].height_m == 0.3
@@ -62,16 +62,16 @@ def test_values_and_defaults():
     assert dict(s.param_overrides) == {"k_s": 4, "Vmax": 0.3}
     assert s.camera.f_px == 611.0 and s.camera.noise_std == 0.0
     assert loads_scenario(GOOD.replace('"001"', '"002"').replace("k_s = 4\nVmax = 0.3", ""),
-                          "x").camera.f_px == 350.0
+                          "x", methods=REGISTRY).camera.f_px == 350.0
     with pytest.raises(TypeError):
         s.params["k_s"] = 3  # read-only
-    p = load_scenario(DATA / "method_002.toml").target.path
+    p = load_scenario(DATA / "method_002.toml", methods=REGISTRY).target.path
     assert [(q.t_s, q.x_m, q.y_m) for q in p] == [(5.0, 0.5, 2.0), (20.0, 1.0, 2.4)]
 
 
 def bad(text, *fragments):
     with pytest.raises(ScenarioError) as e:
-        loads_scenario(text, "bad.toml")
+        loads_scenario(text, "bad.toml", methods=REGISTRY)
     msg = str(e.value)
     assert msg.startswith("bad.toml: ")
     for f in fragments:
@@ -137,7 +137,8 @@ y_m = 0
 
 def test_faults_must_be_a_table_of_known_keys():
     # the [faults] schema itself is tested in tests/test_faults_plan.py
-    s = loads_scenario(GOOD + "\n[faults]\nmotor_fail = {wheel = \"left\", at_s = 3.0}\n", "f")
+    s = loads_scenario(GOOD + "\n[faults]\nmotor_fail = {wheel = \"left\", at_s = 3.0}\n", "f",
+                       methods=REGISTRY)
     assert s.faults.motor_fail.wheel == "left" and s.faults.motor_fail.at_s == 3.0
     bad("faults = 3\n" + GOOD, "bad.toml: faults: expected a table", "3")
     bad(GOOD + "\n[faults]\nmotor_stuck = 1\n", "bad.toml: faults.motor_stuck: unknown key")
@@ -145,12 +146,12 @@ def test_faults_must_be_a_table_of_known_keys():
 
 def test_file_errors_name_the_file(tmp_path):
     with pytest.raises(ScenarioError, match="missing.toml"):
-        load_scenario(tmp_path / "missing.toml")
+        load_scenario(tmp_path / "missing.toml", methods=REGISTRY)
     p = tmp_path / "broken.toml"
     p.write_text("[scenario\nname=")
     with pytest.raises(ScenarioError, match="broken.toml: not valid TOML"):
-        load_scenario(p)
-    assert math.isfinite(load_scenario(DATA / "method_000.toml").params["rmin_m"])
+        load_scenario(p, methods=REGISTRY)
+    assert math.isfinite(load_scenario(DATA / "method_000.toml", methods=REGISTRY).params["rmin_m"])
 
 
 def test_docs_list_every_parameter_range():
@@ -162,8 +163,8 @@ def test_docs_list_every_parameter_range():
 
     def num(v, kind=float):
         return f"{int(v)}" if kind is int else f"{v:g}"
-    for method, table in PAPER_PARAMS.items():
-        for key, p in table.items():
+    for method, rules in REGISTRY.items():
+        for key, p in rules.paper_params.items():
             row = (f"| {method} | `{key}` | {num(p.default, p.kind)} | "
                    f"[{num(p.lo, p.kind)}, {num(p.hi, p.kind)}] | {p.unit} |")
             assert row in doc, row
@@ -179,7 +180,7 @@ def test_docs_list_every_parameter_range():
 def test_a_paper_parameter_nothing_reads_is_refused_by_name(method, key, value):
     text = GOOD.replace('"001"', f'"{method}"').replace("k_s = 4\nVmax = 0.3", f"{key} = {value}")
     with pytest.raises(ScenarioError, match=f"params.{key}: {key} is not used by method {method}"):
-        loads_scenario(text, "x.toml")
+        loads_scenario(text, "x.toml", methods=REGISTRY)
 
 
 def test_the_remaining_000_parameters_reach_the_task():

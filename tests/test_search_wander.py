@@ -267,11 +267,11 @@ def test_detour_turns_then_drives_its_length_then_ends():
     from types import SimpleNamespace
 
     from mobigrasp.host.task import TaskParams
-    from mobigrasp.host.task.method001 import RULES
+    from mobigrasp.host.task.method001 import RULES, State001
 
     p = TaskParams.for_method("001")
-    task = SimpleNamespace(p=p, wheels=None,
-                           detour={"heading_mrad": -786, "drive": True, "from": None})
+    task = SimpleNamespace(p=p, wheels=None, ms=State001(
+        detour={"heading_mrad": -786, "drive": True, "from": None}))
     free = (65535,) * 5
     assert not RULES.detour_step(task, TaskInputs(heading_mrad=0, sonar_mm=free))
     assert task.wheels == (p.turn_wheel_mmps, -p.turn_wheel_mmps)  # clockwise, to the right
@@ -283,5 +283,5 @@ def test_detour_turns_then_drives_its_length_then_ends():
                                               sonar_mm=free))
     assert task.wheels == (0, 0)
     # a front sonar seeing something close ends it early
-    task.detour = {"heading_mrad": 0, "drive": True, "from": None}
+    task.ms.detour = {"heading_mrad": 0, "drive": True, "from": None}
     assert RULES.detour_step(task, TaskInputs(sonar_mm=(65535, 65535, 300, 65535, 65535)))

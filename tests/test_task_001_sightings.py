@@ -71,14 +71,14 @@ def test_the_sonar_guard_stops_turns_and_leaves_the_safety_circle_before_plannin
     out = task.step(40_000, TaskInputs(v_mmps=100, sonar_mm=near))
     assert out.wheels_mmps == (0, 0) and task.follower is None
     assert out.detail["sonar_guard"]["range_mm"] == 150
-    goal = task.detour["heading_mrad"]
-    assert task.detour["drive"] and task.detour["length_mm"] == GUARD_OUT_MM
+    goal = task.ms.detour["heading_mrad"]
+    assert task.ms.detour["drive"] and task.ms.detour["length_mm"] == GUARD_OUT_MM
     # turned toward the free sector (a side sonar), then driven straight along it
     out = task.step(60_000, TaskInputs(sonar_mm=near))
     assert out.wheels_mmps[0] == -out.wheels_mmps[1] != 0  # turning in place
     t, x, y = 80_000, 0, 0
     driven = []
-    while task.detour is not None and t < 20_000_000:
+    while task.ms.detour is not None and t < 20_000_000:
         out = task.step(t, TaskInputs(x_mm=x, y_mm=y, heading_mrad=goal, sonar_mm=CLEAR))
         if out.wheels_mmps[0] > 0 and out.wheels_mmps[0] == out.wheels_mmps[1]:
             driven.append((x, y))

@@ -8,7 +8,7 @@ import json
 import detections as det
 import pytest
 
-from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.host.task import REGISTRY, Task, TaskInputs
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
 from mobigrasp.tools.run_job import RunOptions, execute
 
@@ -31,7 +31,7 @@ def test_the_search_finds_the_cylinder_by_its_colour_when_no_board_is_in_view():
     task, events = _search_until_approach({"double_cross": None, "red_roi": roi})
     assert task.state == "APPROACH", events
     assert "colour ROI" in events[-1].why and "confirmed" in events[-1].why
-    assert task.steer_on == "red cylinder" and task.e_mrad > 0  # to the right
+    assert task.ms.steer_on == "red cylinder" and task.ms.e_mrad > 0  # to the right
 
 
 def test_the_search_takes_the_board_when_both_are_in_view():
@@ -39,7 +39,7 @@ def test_the_search_takes_the_board_when_both_are_in_view():
     dc = det.double_cross(16 * 100, 16 * 100, 16 * 30)
     task, events = _search_until_approach({"double_cross": dc, "red_roi": roi})
     assert task.state == "APPROACH" and "double cross seen" in events[-1].why
-    assert task.e_mrad < 0  # the board's bearing (left), not the cylinder's
+    assert task.ms.e_mrad < 0  # the board's bearing (left), not the cylinder's
 
 
 def _approach(dets: dict, steps: int = 10) -> tuple[Task, object]:
@@ -101,7 +101,7 @@ v0_px = 120.0
 
 
 def _run(tmp_path, text: str, name: str) -> tuple[dict, list]:
-    sc = loads_scenario(text, source=name)
+    sc = loads_scenario(text, source=name, methods=REGISTRY)
     summary, code = execute(RunOptions(scenario=name, scenario_obj=sc, transport="inproc",
                                        out=tmp_path / name, progress=False, plots=False))
     states = [r for r in map(json.loads, (tmp_path / name / "trace.jsonl").open())

@@ -18,7 +18,7 @@ def _approach(u_c_q4: int | None, seconds: float = 2.0, speed_mmps: int = 0, see
     double cross in any later frame; the odometry advances at ``speed_mmps``."""
     task = Task("002")
     task.arm = [0, 0, -2100, -200, 2300, 0]  # the search's level look (camera ~0.2 m up)
-    task.e_dpx = seen_dpx
+    task.ms.e_dpx = seen_dpx
     task.go(0, "APPROACH", "test: marker seen")
     rc = det.red_cylinder(u_c_q4=u_c_q4, **FAR_CYLINDER) if u_c_q4 is not None else None
     out = None
@@ -76,7 +76,7 @@ def test_after_a_near_sighting_a_lost_marker_is_lost_not_followed_blind():
     # 70 px apart: the board ~0.65 m away, closer than blind_keep_mm: the marker left the
     # view (below the look, or the base turned)
     task, out = _approach(None, seconds=2.0, speed_mmps=150, seen_dpx=70)
-    assert task.blind is None
+    assert task.ms.blind is None
     assert out.state in ("LOST", "SEARCH")
 
 

@@ -221,7 +221,7 @@ def test_001_full_sequence_reaches_done():
     finally:
         H_SHOULDER_M = old
     assert task.state == "DONE", (task.failure, [(e.t_us, e.to_state, e.why) for e in events])
-    assert task.replanner is not None and task.counters["plans"] >= 1
+    assert task.ms.replanner is not None and task.counters["plans"] >= 1
 
 
 def test_002_horizontal_grasp_below_shoulder_fails_with_reason():

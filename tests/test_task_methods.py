@@ -87,10 +87,10 @@ def test_sonar_guard_in_approach_turns_toward_the_widest_free_sector_first():
     from mobigrasp.host.task.method001 import GUARD_OUT_MM
 
     task = _guarded((300, 150, 150, 2500, 2500), (3000, 0))
-    assert task.wheels == (0, 0) and task.detour["drive"] is True
-    assert task.detour["length_mm"] == GUARD_OUT_MM
-    assert task.detour["heading_mrad"] > 500  # toward S_4 / S_5 (left, counter-clockwise)
-    assert _guarded((300, 150, 150, 2500, 2500), (3000, 0), state="SEARCH").detour is None
+    assert task.wheels == (0, 0) and task.ms.detour["drive"] is True
+    assert task.ms.detour["length_mm"] == GUARD_OUT_MM
+    assert task.ms.detour["heading_mrad"] > 500  # toward S_4 / S_5 (left, counter-clockwise)
+    assert _guarded((300, 150, 150, 2500, 2500), (3000, 0), state="SEARCH").ms.detour is None
 
 
 def test_sonar_guard_ignores_the_objects_own_echo():
@@ -129,20 +129,20 @@ def test_001_falls_back_in_steps_before_giving_up():
     # a wall of echoes ahead and right, free to the left (S_4, S_5)
     inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0,
                      sonar_mm=(300, 300, 300, 2500, 2500))
-    task.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
-    task.path_from = (-600, 0)
+    task.ms.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
+    task.ms.path_from = (-600, 0)
     steps = []
     for _ in range(6):
         task._detail = {}
         ok = task.rules.start_detour(task, inp)
         steps.append((task._detail.get("fallback", {}).get("step"), ok))
         if steps[-1][0] == "lower_v0":
-            assert task.v0_div == 2 and task.replanner is None
-            task.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
+            assert task.ms.v0_div == 2 and task.ms.replanner is None
+            task.ms.replanner = start_001(0, 0, 0, 0, 0, task.obj, inp.sonar_mm)[0]
         elif steps[-1][0] == "back_off":
-            assert task.detour["drive"] and abs(abs(task.detour["heading_mrad"]) - 3142) <= 2
+            assert task.ms.detour["drive"] and abs(abs(task.ms.detour["heading_mrad"]) - 3142) <= 2
         elif steps[-1][0] == "widest_sector":
-            assert not task.detour["drive"] and 785 <= task.detour["heading_mrad"] <= 1571
+            assert not task.ms.detour["drive"] and 785 <= task.ms.detour["heading_mrad"] <= 1571
     assert steps == [("lower_v0", True), ("back_off", True), ("widest_sector", True),
                      ("detour", True), ("detour", True), (None, False)]
 
@@ -151,10 +151,10 @@ def test_lower_v0_reaches_the_planner():
     from mobigrasp.host.task import Task, TaskInputs
 
     task = Task("001")
-    task.obj, task.v0_div = (2000, 300), 2
+    task.obj, task.ms.v0_div = (2000, 300), 2
     follower, _, detail = task.rules.plan(task, 0, TaskInputs(sonar_mm=(2500,) * 5))
-    assert task.replanner.params.v0 == 0.1 and follower is not None
-    assert task.path_from == (0, 0)
+    assert task.ms.replanner.params.v0 == 0.1 and follower is not None
+    assert task.ms.path_from == (0, 0)
 
 
 def test_001_looks_at_a_near_given_object_before_the_first_plan():

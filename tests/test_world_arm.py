@@ -7,6 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.actuators import JOINT_TABLE, pulse_for_angle
 from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD, Arm, camera_point_platform
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
@@ -109,7 +110,8 @@ def fingertip_x(q):
 
 
 def posed_world(dx=0.0, q=GRASP_Q):
-    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0), "grasp.toml"))
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0), "grasp.toml",
+                             methods=REGISTRY))
     for ch in range(1, 6):
         w.set_servo_pulse_us(ch, pulse_for_angle(ch, q[ch]))
     w.step_to(1_000_000)
@@ -167,7 +169,8 @@ def test_no_grasp_with_the_wrong_gripper_pitch():
 
 
 def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
-    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0), "grasp.toml"))
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0), "grasp.toml",
+                             methods=REGISTRY))
     w.set_servo_pulse_us(0, 2000)  # closed while still at home
     w.step_to(500_000)
     for ch in range(1, 6):

@@ -6,6 +6,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.base import (
     FOOTPRINT_RADIUS_M,
     TICKS_PER_M,
@@ -37,7 +38,7 @@ heading_rad = 0
 
 def make_world(heading=0.0, tx=20.0, ty=20.0, extra="", **kw):
     text = MIN_SCENARIO.format(heading=heading, tx=tx, ty=ty, extra=extra)
-    return World(loads_scenario(text, "test.toml"), **kw)
+    return World(loads_scenario(text, "test.toml", methods=REGISTRY), **kw)
 
 
 def wheels_at_speed(base, vl, vr):

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.actuators import pulse_for_angle
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
 from mobigrasp.mcu_sim.world.world import World
@@ -45,7 +46,7 @@ def test_card_centre_lands_where_the_pinhole_model_puts_it(h, waist, roll):
     # target 1 m ahead of the axle, a little to the right of the waist direction
     yaw = h - waist - 0.08
     tx, ty = 1.0 * math.cos(yaw), 1.0 * math.sin(yaw)
-    w = World(loads_scenario(SCEN.format(h=h, x=tx, y=ty), "look.toml"))
+    w = World(loads_scenario(SCEN.format(h=h, x=tx, y=ty), "look.toml", methods=REGISTRY))
     q4, q3 = 1.2, -1.2
     cam_z = 0.2 + 0.0955 * math.sin(q4)
     alpha = -math.atan2(cam_z - 0.10, 0.85)  # look down at the card

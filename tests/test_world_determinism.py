@@ -5,6 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
+from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.scenario import load_scenario
 from mobigrasp.mcu_sim.world.sonar import SonarConfig
 from mobigrasp.mcu_sim.world.world import World
@@ -30,7 +31,7 @@ def drive(world: World, slice_us: int, end_us: int = 6_000_000):
 
 
 def test_same_seed_gives_identical_trajectories():
-    s = load_scenario(DATA / "method_001.toml")
+    s = load_scenario(DATA / "method_001.toml", methods=REGISTRY)
     cfg = SonarConfig(noise_std_m=0.01, dropout_p=0.1)
     a = drive(World(s, sonar=cfg), 20_000)
     b = drive(World(s, sonar=cfg), 20_000)
@@ -41,7 +42,7 @@ def test_same_seed_gives_identical_trajectories():
 
 
 def test_time_slicing_does_not_change_the_result():
-    s = load_scenario(DATA / "method_001.toml")
+    s = load_scenario(DATA / "method_001.toml", methods=REGISTRY)
     a = drive(World(s), 100_000)
     b = drive(World(s), 1_000)
     c = drive(World(s), 2_500)  # not a multiple of the physics step
@@ -49,7 +50,7 @@ def test_time_slicing_does_not_change_the_result():
 
 
 def test_moving_target_follows_its_path():
-    s = load_scenario(DATA / "method_002.toml")
+    s = load_scenario(DATA / "method_002.toml", methods=REGISTRY)
     w = World(s)
     w.step_to(4_000_000)
     assert w.target.pose()[:2] == (0.5, 2.0)
@@ -64,7 +65,7 @@ def test_moving_target_follows_its_path():
 
 
 def test_truth_recorder_samples_on_its_grid():
-    s = load_scenario(DATA / "method_000.toml")
+    s = load_scenario(DATA / "method_000.toml", methods=REGISTRY)
     w = World(s, truth_rate_hz=20)
     w.set_wheel_duty(100, 80)
     w.step_to(1_000_000)
@@ -77,7 +78,7 @@ def test_truth_recorder_samples_on_its_grid():
 
 
 def test_trace_merges_contacts_in_time_order():
-    s = load_scenario(DATA / "method_001.toml")
+    s = load_scenario(DATA / "method_001.toml", methods=REGISTRY)
     w = World(s, truth_rate_hz=10)
     w.set_wheel_duty(255, 255)  # straight into the circle obstacle at x = 1.5 m
     w.step_to(6_000_000)

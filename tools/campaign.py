@@ -30,12 +30,11 @@ from mobigrasp.cosim.run_folder import (
     set_aside,
     split_rows,
 )
+from mobigrasp.host.task import METHODS, REGISTRY
 from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
 from mobigrasp.tools.progress import Progress
-
-METHODS = ("000", "001", "002")
 
 
 @dataclass(frozen=True)
@@ -55,7 +54,8 @@ class CampaignConfig:
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
-            raise ValueError(f"--method must be one of {', '.join(METHODS)}, got {self.method!r}")
+            raise ValueError(f"--method must be one of {', '.join(METHODS)}, got "
+                             f"{self.method!r}")
         if isinstance(self.runs, bool) or not isinstance(self.runs, int) or self.runs < 1:
             raise ValueError(f"--runs must be an integer >= 1, got {self.runs!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
@@ -83,7 +83,8 @@ def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
 
 def make_scenario(method: str, seed: int, plan: FaultPlan) -> Scenario:
     """The validated scenario of one campaign run."""
-    return loads_scenario(scenario_toml(method, seed, plan), source=f"campaign-{method}-{seed}")
+    return loads_scenario(scenario_toml(method, seed, plan), f"campaign-{method}-{seed}",
+                          methods=REGISTRY)
 
 
 def randomize_times(plan: FaultPlan, seed: int) -> FaultPlan:

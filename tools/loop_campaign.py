@@ -29,9 +29,8 @@ from pathlib import Path
 
 from mobigrasp.cosim.run_folder import set_aside, split_rows
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
-from mobigrasp.tools.random_scenarios import GENERATORS, KIND
+from mobigrasp.tools.random_scenarios import GENERATORS
 
-METHODS = tuple(KIND)
 TRANSPORTS = ("pty", "inproc")
 ROWS_FILE = "loop.rows.jsonl"  # one row a line, written as each run finishes
 # the bars of the acceptance (docs/cosim.md): per method, among graspable scenes
@@ -58,6 +57,8 @@ class LoopCampaign:
     resume: bool = False
 
     def __post_init__(self) -> None:
+        from mobigrasp.host.task import METHODS
+
         if not self.methods:
             raise CampaignInputError("--methods: no method given (one or more of "
                                      f"{', '.join(METHODS)})")

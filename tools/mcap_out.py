@@ -224,10 +224,13 @@ class _Topics:
     the start event, the last truth sample and the protocol counters)."""
 
     def __init__(self, start: dict) -> None:
+        from mobigrasp.host.task import METHODS, method_rules
         from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
 
         self.start = start
-        self.geom = ARM_BY_METHOD.get(str(start.get("method")), ARM_BY_METHOD["000"])
+        method = str(start.get("method"))
+        # the robot the world built for the run's method (a trace of no known method: 000's)
+        self.geom = ARM_BY_METHOD[method_rules(method).robot if method in METHODS else "000"]
         self.to_world = odom_to_world(start)
         self.counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)
         self.prev_truth: dict | None = None

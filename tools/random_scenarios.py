@@ -22,12 +22,12 @@ from __future__ import annotations
 
 import math
 import random
+from typing import TYPE_CHECKING
 
 from mobigrasp.mcu_sim.world.scenario import Scenario, loads_scenario
 
-KIND = {"000": "radial-symbol", "001": "radial-symbol", "002": "red-cylinder"}
-LIMIT_S = {"000": 150.0, "001": 180.0, "002": 120.0}
-
+if TYPE_CHECKING:
+    from mobigrasp.host.task.method import SceneHints
 
 BOARD_ALONE_P = 0.15
 LIGHT_FAULTS_P = 0.25
@@ -70,24 +70,33 @@ def _drag_path(rng: random.Random, dist: float, bearing: float, tx: float, ty: f
     return lines
 
 
+def _scene(method: str) -> SceneHints:
+    """The method's scene (its ``scene``, host/task/method.py); ValueError naming the known
+    methods. The registry is imported here, not with this module, which the CLI's parsers
+    import."""
+    from mobigrasp.host.task import method_rules
+
+    return method_rules(method).scene
+
+
 def _v1(method: str, seed: int, faults: bool = True) -> str:
     """The first generator (its seeds reproduce the figures measured with it)."""
-    if method not in KIND:
-        raise ValueError(f"method must be one of {tuple(KIND)}, got {method!r}")
+    scene = _scene(method)
     rng = random.Random(f"{method}-{seed}")
     dist, bearing, heading, tx, ty = _start(rng)
-    # 002: the guidance board faces the robot's start
-    t_heading = math.atan2(-ty, -tx) if method == "002" else rng.uniform(-math.pi, math.pi)
+    # the guidance board faces the robot's start
+    t_heading = (math.atan2(-ty, -tx) if scene.guide_board
+                 else rng.uniform(-math.pi, math.pi))
     lines = [
         "[scenario]", f'name = "random-{method}-{seed}"', f'method = "{method}"',
-        f"seed = {seed}", f"time_limit_s = {LIMIT_S[method]}", "",
+        f"seed = {seed}", f"time_limit_s = {scene.time_limit_s}", "",
         "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
-        "[target]", f'kind = "{KIND[method]}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
+        "[target]", f'kind = "{scene.target_kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
         f"heading_rad = {t_heading:.6f}", "",
     ]
-    if method == "002":
+    if scene.moving_target:
         lines += _drag_path(rng, dist, bearing, tx, ty)
-    if method == "001" and dist > 1.4:
+    if scene.obstacles and dist > 1.4:
         for _ in range(rng.randint(1, 3)):
             along = rng.uniform(0.6, dist - 0.6)
             off = rng.uniform(-0.5, 0.5)
@@ -121,23 +130,22 @@ def _obstacle_v2(rng: random.Random, ox: float, oy: float) -> list[str]:
 
 def _v2(method: str, seed: int, faults: bool = True) -> str:
     """The widened generator (module docstring)."""
-    if method not in KIND:
-        raise ValueError(f"method must be one of {tuple(KIND)}, got {method!r}")
+    scene = _scene(method)
     rng = random.Random(f"v2-{method}-{seed}")
     dist, bearing, heading, tx, ty = _start(rng)
-    kind = KIND[method]
-    if method == "002" and rng.random() < BOARD_ALONE_P:
+    kind = scene.target_kind
+    if scene.guide_board and rng.random() < BOARD_ALONE_P:
         kind = "double-cross"
     lines = [
         "[scenario]", f'name = "random-v2-{method}-{seed}"', f'method = "{method}"',
-        f"seed = {seed}", f"time_limit_s = {LIMIT_S[method]}", "",
+        f"seed = {seed}", f"time_limit_s = {scene.time_limit_s}", "",
         "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
         "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
         f"heading_rad = {rng.uniform(-math.pi, math.pi):.6f}", "",
     ]
-    if method == "002" and kind != "double-cross" and rng.random() < 0.5:
+    if scene.moving_target and kind != "double-cross" and rng.random() < 0.5:
         lines += _drag_path(rng, dist, bearing, tx, ty)  # as v1 (and 002 Fig. 4)
-    if method == "001" and dist > 1.4:
+    if scene.obstacles and dist > 1.4:
         for _ in range(rng.randint(1, 3)):
             along = rng.uniform(0.6, dist - 0.6)
             off = rng.uniform(-0.5, 0.5)
@@ -156,5 +164,7 @@ GENERATORS = {"v1": _v1, "v2": _v2}
 
 def random_scenario(method: str, seed: int, version: str = "v2") -> Scenario:
     """Random scenario ``seed`` for ``method``, validated by the scenario loader."""
+    from mobigrasp.host.task import REGISTRY
+
     return loads_scenario(random_scenario_toml(method, seed, version),
-                          source=f"random-{version}-{method}-{seed}")
+                          f"random-{version}-{method}-{seed}", methods=REGISTRY)

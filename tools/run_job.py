@@ -34,6 +34,7 @@ def shipped_scenarios() -> list[Path]:
 
 def resolve_scenario(name_or_path: str):
     """(path, Scenario) for a file path or the name of a shipped scenario; BadInput otherwise."""
+    from mobigrasp.host.task import REGISTRY
     from mobigrasp.mcu_sim.world.scenario import ScenarioError, load_scenario
 
     p = Path(name_or_path)
@@ -45,7 +46,7 @@ def resolve_scenario(name_or_path: str):
                            f"the shipped scenarios ({names})")
         p = cand
     try:
-        return p, load_scenario(p)
+        return p, load_scenario(p, methods=REGISTRY)
     except ScenarioError as exc:
         raise BadInput(str(exc)) from exc
 
@@ -166,7 +167,9 @@ def host_config(scenario, time_limit_s: float | None = None) -> dict:
     cfg = {"method": scenario.meta.method, "params": dict(params),
            "camera": {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px},
            "task": {"timeouts_us": {"SEARCH": int(round(limit_s * 1e6))}}}
-    if scenario.meta.method == "001":
+    from mobigrasp.host.task import method_rules
+
+    if method_rules(scenario.meta.method).object_given:
         # Paper 001 plans from the start to the object position P_i, which the task is given
         # (001 §II); the host works in its odometry frame: the start pose, x forward, y left.
         r, t = scenario.robot, scenario.target

@@ -11,13 +11,13 @@ from mobigrasp.host.task.machine import (
     TaskInputs,
     TaskOutputs,
 )
-from mobigrasp.host.task.method import METHODS, Method, method_rules
+from mobigrasp.host.task.method import METHODS, REGISTRY, Method, MethodState, method_rules
 from mobigrasp.host.task.params import DEFAULT_TIMEOUTS_US, TaskParams
 
 # state -> detectors run, per method (the methods' ``detectors``; names of host/vision/registry)
 DETECTORS: dict[str, dict[str, tuple[str, ...]]] = {
     name: method_rules(name).detectors for name in METHODS}
 
-__all__ = ["DEFAULT_TIMEOUTS_US", "DETECTORS", "HOME_ARM", "METHODS", "STATES", "TERMINAL",
-           "Method", "Task", "TaskEvent", "TaskInputs", "TaskOutputs", "TaskParams",
-           "method_rules"]
+__all__ = ["DEFAULT_TIMEOUTS_US", "DETECTORS", "HOME_ARM", "METHODS", "REGISTRY", "STATES",
+           "TERMINAL", "Method", "MethodState", "Task", "TaskEvent", "TaskInputs", "TaskOutputs",
+           "TaskParams", "method_rules"]

@@ -27,7 +27,8 @@ states share (arm targets and their settle time, the history of arm targets and 
 object estimate in the odometry frame, the posture adjustment toward it). The states' entry
 actions and steps are in one module per group (search.py: SEARCH and LOST, approach.py: the
 path approach of 000/001, adjust.py, grasp.py: ROUGH_GRASP, PRECISE_GRASP, LIFT); where the
-methods differ the states call the task's method object (method.py, ``Task.rules``).
+methods differ the states call the task's method object (method.py, ``Task.rules``). What only
+one method keeps is not here: it is that method's ``State`` (its module), held as ``Task.ms``.
 """
 
 
@@ -44,7 +45,7 @@ from mobigrasp.host.posture import PostureParams, adjust_posture
 from mobigrasp.host.task.adjust import ADJUST
 from mobigrasp.host.task.approach import PATH
 from mobigrasp.host.task.grasp import GRASP
-from mobigrasp.host.task.method import Method, method_rules
+from mobigrasp.host.task.method import Method, MethodState, method_rules
 from mobigrasp.host.task.params import TaskParams
 from mobigrasp.host.task.search import SEARCH
 from mobigrasp.host.task.sense import (
@@ -147,7 +148,8 @@ class Task:
         self._init_state(int(start_us))
 
     def _init_state(self, now_us: int) -> None:
-        """The state the states share, at the start (the arm at HOME_ARM, nothing seen)."""
+        """The state the states share, at the start (the arm at HOME_ARM, nothing seen), and
+        the method's own (``ms``, a fresh ``rules.State``)."""
         self.arm = list(HOME_ARM)
         self.joints = tuple(HOME_ARM)
         self.gripper = 0
@@ -163,7 +165,6 @@ class Task:
         self.plan_obj = None
         self.plan_us = now_us
         self.plan_attempts = 0
-        self.fuzzy = None
         self.move_done_us = now_us
         self.phase = ""
         self.phase_us = now_us
@@ -177,11 +178,6 @@ class Task:
         self.confirm_until = None
         self.confirm_failed = None
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
-        self.detour = None  # 001: a drive aside after no feasible curve (method001.py)
-        self.detours = 0
-        self.fallbacks = 0  # 001: fallback steps taken with no feasible curve (method001.py)
-        self.v0_div = 1  # 001: the planner's v0 divided by this (a fallback step)
-        self.path_from = None  # 001: odometry place where the last planned path began
         self.sight_frames = 0  # ROUGH_GRASP: dual "+" sightings of its look (grasp.py)
         self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)
         self.sight_th5 = 0  # ... the waist of its view, the looks' offsets are added to
@@ -192,19 +188,15 @@ class Task:
         self.graspable_seen = bool(self.p.object_xy_mm)
         self.object_sighted = False  # ... by the camera (the check by absence needs it)
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
-        self.detour_side = 0  # 001: +1 the detours go round left of the object's bearing
         self.trust_from_us = 0
         self.plus_odom = None
         self.check_roll_scan = None  # the grasp check's roll scan (grasp.py): (first roll, step)
-        self.replanner = None
         self.grasp_xy_q4 = None
         self.grasp_alpha = self.rules.grasp_alpha_mrad
-        self.e_mrad = 0
-        self.prev_e = None
-        self.blind = None  # 002: (odometry bearing of the marker, x_mm, y_mm, reach_mm)
-        self.e_dpx = None  # 002: d_pixel of the search's sighting
-        self.steer_on = ""  # 002: what the search found and the approach steers on
-        self.e_range_mm = None  # 002: range of the search's red ROI (its height), if known
+        self.roll_scan = 0  # PRECISE_GRASP: wrist-roll steps of its spoke search (grasp.py)
+        self.check_seen = 0  # LIFT: frames in which the grasp check saw the object held
+        self.check_waist = None  # ... its look's (centre waist, index into the offsets)
+        self.ms: MethodState = self.rules.State()  # what only the method keeps (its module)
 
     # --- bookkeeping used by the state handlers -------------------------------------------
     def go(self, now_us: int, to: str, why: str) -> None:

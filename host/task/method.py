@@ -8,22 +8,97 @@ eq. (9), the gripper down), method001.py (000's vision with 001's sonar replanni
 and §III.E), method002.py (double cross, fuzzy approach, red cylinder, the level gripper of
 eq. (4)).
 
-A hook takes the task ``t`` first and reads and sets the task's state through it.
+A method is one module and one row. The module holds the method's class and ``RULES``, its
+instance: its parameters as its paper names them (:class:`Param` rows of ``paper_params``, the
+scenario's ``[params]``, and how they map onto the task's parameters, ``paper_to_task``), its own
+state (``State``, a dataclass the task holds as ``t.ms``: what only this method keeps between
+steps) and its rules (the hooks below). The row is its name and module in :data:`METHODS`;
+everything that lists methods reads that table through :data:`REGISTRY`: the task, the scenario
+loader (which receives it: mcu_sim never imports the host), the CLI, campaigns and the random
+scene generator (docs/architecture.md "Adding a method").
+
+A hook takes the task ``t`` first and reads and sets the task's state through it: the state the
+states share on the task, the method's own in ``t.ms``.
 """
 
 from __future__ import annotations
 
 import importlib
+import math
 from abc import ABC, abstractmethod
-from typing import Any
+from collections.abc import Iterator, Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 from mobigrasp.host.task.sense import CameraModel, object_in_platform
 
+if TYPE_CHECKING:
+    from mobigrasp.host.task.machine import Task
+
+
+class Param(NamedTuple):
+    """A paper parameter: type (int: must be an integer; float accepts int or float), the
+    paper's value, the physical range [lo, hi] it is accepted in, and its unit/meaning."""
+
+    kind: type
+    default: float
+    lo: float
+    hi: float
+    unit: str
+
+
+PI = math.pi
+K_THETA = "k_theta"  # paper_to_task group: index into PostureParams.k_theta_q12
+
+
+def mrad(x: float) -> int:
+    """To the host's integer thousandths: rad -> mrad, m -> mm, m/s -> mm/s."""
+    return int(round(1000 * x))
+
+
+def q12(x: float) -> int:
+    """A gain to Q12."""
+    return int(round(4096 * x))
+
+
+@dataclass(frozen=True)
+class SceneHints:
+    """What the random scenes (tools/random_scenarios.py) put before the method."""
+
+    target_kind: str  # the target of its paper (mcu_sim/world/scenario.py TARGET_KINDS)
+    time_limit_s: float
+    obstacles: bool = False  # obstacles between the robot and a far target (001's sonars)
+    guide_board: bool = False  # a guidance board facing the start, some scenes it alone (002)
+    moving_target: bool = False  # the target dragged during the approach (002 Fig. 4)
+
+
+@dataclass
+class MethodState:
+    """A method's own state between steps (``t.ms``); a method with none keeps this."""
+
 
 class Method(ABC):
-    """One paper's method: its constants and the hooks of the states where it differs."""
+    """One paper's method: its parameters, its state's type, its constants and the hooks of
+    the states where it differs."""
 
     name: str
+    # the scenario's [params]: the paper's names, values (the paper's own) and ranges
+    paper_params: Mapping[str, Param]
+    # paper parameters nothing in the run reads (constants of a detector, a marker or the
+    # plant): the scenario loader refuses them, so that every [params] key in a file is in force
+    not_used_params: tuple[str, ...] = ()
+    # (lo, hi, gap): pairs the loader keeps ordered, hi - lo >= gap
+    param_order: tuple[tuple[str, str, float], ...] = ()
+    # paper name -> (TaskParams table, field, conversion to the host's unit; table None: a
+    # TaskParams field of its own; K_THETA: an index into the posture gains); names not listed
+    # are read by the world or refused by the loader (not_used_params)
+    paper_to_task: Mapping[str, tuple[Any, Any, Any]] = {}
+    scene: SceneHints
+    # the robot the world builds for a scenario of this method (its arm, grasp pitch and sonar
+    # ring: mcu_sim/world/arm.py ARM_BY_METHOD, keyed by the paper that built the robot)
+    robot: str
+    object_given: bool = False  # the task is given the object's place P_i (001 §II)
+    State: type[MethodState] = MethodState
     link_lengths_mm: tuple[float, float, float]  # l2, l3, l4 of the arm the method assumes
     camera: CameraModel
     param_defaults: dict  # TaskParams fields whose defaults differ for this method
@@ -45,20 +120,20 @@ class Method(ABC):
 
     # --- SEARCH --------------------------------------------------------------------------------
     @abstractmethod
-    def found(self, t: Any, now: int, inp: Any, name: str, det: Any) -> bool:
+    def found(self, t: Task, now: int, inp: Any, name: str, det: Any) -> bool:
         """The search detector's result ``det`` gives a usable object or bearing (kept)."""
 
     @abstractmethod
-    def found_why(self, t: Any) -> str:
+    def found_why(self, t: Task) -> str:
         """The transition's reason once the search has found the object."""
 
-    def lost_search(self, t: Any, sp: Any, lost_in: str) -> tuple[Any, int, int] | None:
+    def lost_search(self, t: Task, sp: Any, lost_in: str) -> tuple[Any, int, int] | None:
         """SEARCH after the object was lost in state ``lost_in`` near it: the search's
         parameters ``sp`` (host.search.SearchParams) as changed, and its start (theta2s,
         theta5s mrad); None: the usual search from the arm's joints."""
         return None
 
-    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+    def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:
         """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method
         searches for the object instead (the transition made), False to go down on the rough
         position."""
@@ -66,16 +141,16 @@ class Method(ABC):
 
     # --- APPROACH ------------------------------------------------------------------------------
     @abstractmethod
-    def enter_approach(self, t: Any, now: int, inp: Any) -> None:
+    def enter_approach(self, t: Task, now: int, inp: Any) -> None:
         """Entry action of APPROACH, after the common reset of the path follower."""
 
     @abstractmethod
-    def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
+    def approach(self, t: Task, now: int, inp: Any, dets: dict) -> None:
         """One step of APPROACH."""
 
     # --- ADJUST --------------------------------------------------------------------------------
     @abstractmethod
-    def adjust_done(self, t: Any, now: int, det: Any, dist_mm: int) -> bool:
+    def adjust_done(self, t: Task, now: int, det: Any, dist_mm: int) -> bool:
         """ADJUST ends on this frame's ``det`` of the adjust detector (the transition made)."""
 
     @abstractmethod
@@ -93,7 +168,7 @@ class Method(ABC):
         """The method's grasp pose for a platform-frame target (ArmPose or Unreachable)."""
 
     @abstractmethod
-    def rough_target(self, t: Any, inp: Any) -> tuple[int, int, int]:
+    def rough_target(self, t: Task, inp: Any) -> tuple[int, int, int]:
         """ROUGH_GRASP: where the gripper goes first (platform frame, Q4 mm)."""
 
     @abstractmethod
@@ -101,11 +176,11 @@ class Method(ABC):
         """ROUGH_GRASP: an unreachable target may be tried lower (the hover height)."""
 
     @abstractmethod
-    def enter_precise(self, t: Any, now: int, inp: Any) -> None:
+    def enter_precise(self, t: Task, now: int, inp: Any) -> None:
         """Entry action of PRECISE_GRASP (after the step counter and phase clock reset)."""
 
     # --- after every step ---------------------------------------------------------------------
-    def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
+    def guard_wheels(self, t: Task, now: int, inp: Any) -> None:
         """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
         return None
 
@@ -114,46 +189,66 @@ class Method(ABC):
         """SEARCH: the detector whose result of this frame is looked at, and the result."""
         return self.search_detector, dets.get(self.search_detector)
 
-    def search_gives_up(self, t: Any) -> str | None:
+    def search_gives_up(self, t: Task) -> str | None:
         """SEARCH ends FAILED with this reason (None: it goes on, as long as its timeout)."""
         return None
 
-    def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
+    def object_position(self, t: Task, name: str, det: Any, joints: tuple[int, ...]) -> Any:
         """The object's platform-frame position (Q4 mm) from detector ``name``'s result seen
         with the arm at ``joints``: the detector's pinhole sighting (host/task/sense.py)."""
         return object_in_platform(name, det, t.geom, joints, t.cam)
 
-    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
+    def adjust_goal_mm(self, t: Task) -> tuple[int, int]:
         """ADJUST's close approach stops the object this far ahead of the waist, +- tol."""
         return t.p.grasp_r_mm, t.p.grasp_r_tol_mm
 
-    def held_view_pose(self, t: Any) -> Any:
+    def held_view_pose(self, t: Task) -> Any:
         """LIFT: the arm pose of the grasp check's look; None: the common look, the camera
         straight above the fingertip looking down (host/task/grasp.py)."""
         return None
 
-    def held_in_view(self, t: Any, now: int, dets: dict) -> bool:
+    def held_in_view(self, t: Task, now: int, dets: dict) -> bool:
         """LIFT: this frame, from the method's own look, shows the object where it is when
         held (grasp evidence at the present waist offset); the common look judges the
         object's estimated place against the fingertip instead (host/task/grasp.py)."""
         return False
 
-    def failure_reason(self, t: Any, reason: str) -> str:
+    def failure_reason(self, t: Task, reason: str) -> str:
         """The reason FAILED gives (a method may say more)."""
         return reason
 
 
-# Method name -> module holding its class ``RULES``.
+# The registry: method name -> the module holding its ``RULES`` (one row per method).
 METHODS = {"000": "mobigrasp.host.task.method000", "001": "mobigrasp.host.task.method001",
            "002": "mobigrasp.host.task.method002"}
-_LOADED: dict[str, Method] = {}
 
 
 def method_rules(name: str) -> Method:
-    """The method object of ``name`` (one per name); unknown name -> ValueError naming it."""
-    rules = _LOADED.get(name)
-    if rules is None:
+    """The method object of ``name`` (its module's ``RULES``); unknown name -> ValueError
+    naming the known ones."""
+    module = METHODS.get(name) if isinstance(name, str) else None
+    if module is None:
+        raise ValueError(f"method must be one of {tuple(METHODS)}, got {name!r}")
+    return importlib.import_module(module).RULES
+
+
+class MethodTable(Mapping[str, Method]):
+    """The registry as a read-only mapping name -> method object, the rows as they are now
+    (a row added later is in it); a method's module is imported when it is first asked for."""
+
+    def __getitem__(self, name: str) -> Method:
         if name not in METHODS:
-            raise ValueError(f"method must be one of {tuple(METHODS)}, got {name!r}")
-        rules = _LOADED[name] = importlib.import_module(METHODS[name]).RULES
-    return rules
+            raise KeyError(name)
+        return method_rules(name)
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(tuple(METHODS))
+
+    def __len__(self) -> int:
+        return len(METHODS)
+
+    def __contains__(self, name: object) -> bool:
+        return name in METHODS
+
+
+REGISTRY = MethodTable()

@@ -20,6 +20,7 @@ from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
 from mobigrasp.host.task.approach import PathMethod
 from mobigrasp.host.task.grasp import GRASP
+from mobigrasp.host.task.method import K_THETA, PI, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import CAMERA_000, odom_to_platform_q4
 
 MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
@@ -59,6 +60,54 @@ class Method000(PathMethod):
     """000: the hooks of the machine's states (host/task/method.py)."""
 
     name = "000"
+    # 000 §IV's values and their ranges
+    paper_params = {
+        "k_s": Param(int, 5, 1, 20, "samples"),
+        "T_s": Param(float, 0.3, 0.05, 2.0, "s, sampling period of the path"),
+        "k1": Param(float, 0.5, 0.0, 10.0, "weight of the path length"),
+        "k2": Param(float, 0.5, 0.0, 10.0, "weight of the curvature"),
+        "theta2_min": Param(float, -2.8, -3.0, 0.0, "rad, wrist pitch (joint table)"),
+        "theta2_max": Param(float, -2.1, -3.0, 0.0, "rad, wrist pitch (joint table)"),
+        "theta5_min": Param(float, -0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
+        "theta5_max": Param(float, 0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
+        "dtheta2_l": Param(float, 0.06, 0.005, 0.5, "rad, search step of the wrist"),
+        "k_theta2": Param(float, 1.0, -10.0, 10.0, "gain"),
+        "k_theta3": Param(float, 0.0, -10.0, 10.0, "gain"),
+        "k_theta4": Param(float, 0.0, -10.0, 10.0, "gain"),
+        "alpha_T": Param(float, -PI / 2, -PI, 0.0, "rad, camera pitch at the grasp"),
+        "w_min": Param(int, 20, 1, 320, "px, window"),
+        "w_max": Param(int, 40, 1, 320, "px, window"),
+        "v0_mps": Param(float, 0.12, 0.01, 1.0, "m/s, cruise speed"),
+        "vmax_mps": Param(float, 0.25, 0.01, 1.0, "m/s, speed limit"),
+        "amax_mps2": Param(float, 0.04, 0.001, 2.0, "m/s^2, acceleration limit"),
+        "rmin_m": Param(float, 0.1, 0.01, 2.0, "m, turning radius limit"),
+        "l_w": Param(float, 0.3, 0.1, 1.0, "m, wheel track"),
+        "L_m": Param(float, 0.109, 0.01, 0.5, "m, outer ring diameter"),
+        "D_act_m": Param(float, 0.0473, 0.005, 0.5, "m, distance of the two + centres"),
+    }
+    # k_s (spoke points), alpha_T (the gripper pitch is chosen by the grasp IK), l_w (the
+    # plant's track), L_m and D_act_m (the marker as printed)
+    not_used_params = ("k_s", "alpha_T", "l_w", "L_m", "D_act_m")
+    # a joint range of the search at least 0.01 rad wide (the host works in mrad), the
+    # window w_min <= w_max, v0 <= vmax
+    param_order = (("theta2_min", "theta2_max", 0.01), ("theta5_min", "theta5_max", 0.01),
+                   ("w_min", "w_max", 0), ("v0_mps", "vmax_mps", 0.0))
+    paper_to_task = {
+        "T_s": ("planner", "t_s", float), "k1": ("planner", "k1", float),
+        "k2": ("planner", "k2", float), "v0_mps": ("planner", "v0", float),
+        "vmax_mps": ("planner", "v_max", float), "amax_mps2": ("planner", "a_max", float),
+        "rmin_m": ("planner", "r_min", float),
+        "theta2_min": ("search", "theta2_min_mrad", mrad),
+        "theta2_max": ("search", "theta2_max_mrad", mrad),
+        "theta5_min": ("search", "theta5_min_mrad", mrad),
+        "theta5_max": ("search", "theta5_max_mrad", mrad),
+        "dtheta2_l": ("search", "d_theta2_mrad", mrad),
+        "w_min": (None, "w_min_px", int), "w_max": (None, "w_max_px", int),
+        # eq. (10)'s gains, one Q12 triple of host.posture (000 §IV: 1, 0, 0)
+        "k_theta2": (K_THETA, 0, q12), "k_theta3": (K_THETA, 1, q12),
+        "k_theta4": (K_THETA, 2, q12)}
+    scene = SceneHints("radial-symbol", 150.0)
+    robot = "000"
     link_lengths_mm = (95.5, 89.0, 97.0)
     camera = CAMERA_000
     param_defaults: dict = {}

@@ -13,7 +13,7 @@ Integer mm / us; no I/O and no clock.
 
 from __future__ import annotations
 
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
@@ -23,7 +23,7 @@ from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
-from mobigrasp.host.task.method import Method
+from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad
 from mobigrasp.host.task.method000 import Method000
 
 ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
@@ -184,11 +184,54 @@ def _blocked_ahead(sonar_mm: tuple) -> bool:
     return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
 
 
+@dataclass
+class State001(MethodState):
+    """What 001 keeps between steps (the task's ``ms``)."""
+
+    replanner: Replanner | None = None  # the plan of eq. (17) and its sonar memory (§III.E)
+    path_from: tuple[int, int] | None = None  # odometry place the last planned path began at
+    v0_div: int = 1  # the planner's v0 divided by this (a fallback step, start_detour)
+    fallbacks: int = 0  # fallback steps taken with no feasible curve
+    detour: dict | None = None  # a drive aside after no feasible curve (detour_step)
+    detours: int = 0
+    detour_side: int = 0  # +1: the detours go round left of the object's bearing, -1 right
+
 
 class Method001(Method000):
     """001: 000's hooks with the sonar planning of 001 (host/task/method.py)."""
 
     name = "001"
+    State = State001
+    # 001 §IV's values and their ranges
+    paper_params = {
+        "Vmax": Param(float, 0.4, 0.01, 1.0, "m/s, speed limit"),
+        "Amax": Param(float, 0.1, 0.001, 2.0, "m/s^2, acceleration limit"),
+        "R_r": Param(float, 0.2, 0.05, 1.0, "m, safety radius"),
+        "k_s": Param(int, 5, 2, 5, "sonars (5 fitted)"),
+        "A_g": Param(float, 1.05, 0.05, PI, "rad, sonar cone"),
+        "D_e": Param(float, 2.5, 0.1, 10.0, "m, sonar range"),
+        "h_e": Param(float, 0.208, 0.01, 1.0, "m"),
+        "n_e": Param(int, 36, 1, 360, "end points on the grasp circle"),
+        "v0": Param(float, 0.2, 0.01, 1.0, "m/s, cruise speed"),
+        "T_s": Param(float, 0.5, 0.05, 2.0, "s, sampling period of the path"),
+        "k1": Param(float, 0.8, 0.0, 10.0, "weight of the path length"),
+        "k2": Param(float, 0.2, 0.0, 10.0, "weight of the curvature"),
+        "T_D": Param(float, 15.0, 0.0, 100.0, "cm, clearance threshold"),
+    }
+    not_used_params = ("h_e",)
+    param_order = (("v0", "Vmax", 0.0),)
+    # k_s, A_g and D_e are also read by the world (its sonar ring)
+    paper_to_task = {
+        "Vmax": ("planner", "v_max", float), "Amax": ("planner", "a_max", float),
+        "v0": ("planner", "v0", float), "T_s": ("planner", "t_s", float),
+        "k1": ("planner", "k1", float), "k2": ("planner", "k2", float),
+        "T_D": ("planner", "t_d_m", lambda v: float(v) / 100.0),  # T_D read as cm
+        "n_e": ("planner", "n_e", int),
+        "R_r": (None, "r_r_mm", mrad),  # m -> mm
+        "A_g": (None, "sonar_a_g_mrad", mrad), "D_e": (None, "sonar_d_e_mm", mrad)}
+    scene = SceneHints("radial-symbol", 180.0, obstacles=True)
+    robot = "001"
+    object_given = True
     link_lengths_mm = (160.0, 160.0, 200.0)
     # grasp check on the object seen under the gripper (docs/task.md): at the grasp reach the
     # long 001 arm looks down from 90-100 mm above the top only, where the two "+" do not fit
@@ -220,11 +263,11 @@ class Method001(Method000):
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
     def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
-        if t.replanner is not None and t.obj == t.plan_obj:
+        if t.ms.replanner is not None and t.obj == t.plan_obj:
             # same object: the replanner keeps its remembered regions and slows down (replan.py);
             # a plan is asked for with no path followed (stopped by the guard, a detour, a
             # failed plan), so it plans from here even when its last curve looks clear
-            dec, follower, ops = update_001(t.replanner, now, inp.x_mm, inp.y_mm,
+            dec, follower, ops = update_001(t.ms.replanner, now, inp.x_mm, inp.y_mm,
                                             inp.heading_mrad, inp.v_mmps, inp.sonar_mm,
                                             force=True)
             detail = {"planner": "001", "reason": dec.reason}
@@ -232,12 +275,12 @@ class Method001(Method000):
                 detail["best_ctrl"] = [list(map(float, row)) for row in dec.curve.ctrl]
             return follower, ops, detail
         params = planner_params_001(t.p)
-        if t.v0_div > 1:  # a fallback step (start_detour)
-            params = replace(params, v0=params.v0 / t.v0_div)
-        t.replanner, follower, ops, detail = start_001(
+        if t.ms.v0_div > 1:  # a fallback step (start_detour)
+            params = replace(params, v0=params.v0 / t.ms.v0_div)
+        t.ms.replanner, follower, ops, detail = start_001(
             now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, t.obj, inp.sonar_mm, params)
         if follower is not None:
-            t.path_from = (inp.x_mm, inp.y_mm)  # a fallback backs off toward here
+            t.ms.path_from = (inp.x_mm, inp.y_mm)  # a fallback backs off toward here
         return follower, ops, detail
 
     def look_first(self, t: Any, now: int, inp: Any) -> bool:
@@ -282,9 +325,9 @@ class Method001(Method000):
         """001 §III.E: every ``replan_period_us`` the sonars check the rest of the path; blocked
         -> replan from here."""
         if not (now - t.plan_us >= t.p.replan_period_us and t.follower is not None
-                and not moved and t.replanner is not None):
+                and not moved and t.ms.replanner is not None):
             return None
-        dec, follower, ops = update_001(t.replanner, now, inp.x_mm, inp.y_mm,
+        dec, follower, ops = update_001(t.ms.replanner, now, inp.x_mm, inp.y_mm,
                                         inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
         t.charge(ops)
         t.plan_us = now
@@ -306,16 +349,16 @@ class Method001(Method000):
     def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
         """The first plan waits for one full sonar sweep; a detour is driven to its end; a
         new plan is made from standstill."""
-        if t.replanner is None and self.look_first(t, now, inp):
+        if t.ms.replanner is None and self.look_first(t, now, inp):
             return True
-        if t.replanner is None and now - t.entered_us < t.p.sonar_sweep_us:
+        if t.ms.replanner is None and now - t.entered_us < t.p.sonar_sweep_us:
             t.wheels = (0, 0)
             return True
-        if t.detour is not None:
+        if t.ms.detour is not None:
             if not self.detour_step(t, inp):
                 return True
-            t.detour, t.plan_us = None, now  # done: stop, then plan afresh from here
-        if t.follower is None and t.replanner is not None and (
+            t.ms.detour, t.plan_us = None, now  # done: stop, then plan afresh from here
+        if t.follower is None and t.ms.replanner is not None and (
                 now - t.plan_us < 500_000 or abs(inp.v_mmps) > 30):
             t.wheels = (0, 0)  # stop first, then replan from standstill
             return True
@@ -337,36 +380,36 @@ class Method001(Method000):
         back-off toward where the last path began, a turn in place toward the widest free
         sonar sector, then drives aside through free sonar space (host.planning.escape; at
         most ``max_detours``)."""
-        step = FALLBACKS[min(t.fallbacks, len(FALLBACKS) - 1)]
-        if step == "detour" and t.detours >= t.p.max_detours:
+        step = FALLBACKS[min(t.ms.fallbacks, len(FALLBACKS) - 1)]
+        if step == "detour" and t.ms.detours >= t.p.max_detours:
             return False
-        t.fallbacks += 1
-        t.note(fallback={"step": step, "n": t.fallbacks})
+        t.ms.fallbacks += 1
+        t.note(fallback={"step": step, "n": t.ms.fallbacks})
         if step == "lower_v0":
-            t.v0_div *= 2
-            t.replanner = None  # planned afresh with the lower v0 (planner_params_001)
+            t.ms.v0_div *= 2
+            t.ms.replanner = None  # planned afresh with the lower v0 (planner_params_001)
             return True
         if step == "widest_sector":
-            t.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
+            t.ms.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
                         "drive": False, "from": None}
             return True
         if step == "back_off":
             # facing (and driving, the sonars watching) back toward where the last path began
-            fx, fy = t.path_from if t.path_from is not None else (inp.x_mm, inp.y_mm)
+            fx, fy = t.ms.path_from if t.ms.path_from is not None else (inp.x_mm, inp.y_mm)
             if (fx - inp.x_mm) ** 2 + (fy - inp.y_mm) ** 2 < BACK_OFF_MM * BACK_OFF_MM:
                 return self.start_detour(t, inp)  # nowhere to back off to: the next step
-            t.detour = {"heading_mrad": atan2_mrad(fy - inp.y_mm, fx - inp.x_mm),
+            t.ms.detour = {"heading_mrad": atan2_mrad(fy - inp.y_mm, fx - inp.x_mm),
                         "drive": True, "from": None, "length_mm": BACK_OFF_MM}
             return True
-        t.detours += 1
-        head, ops = escape_001(t.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
-                               inp.sonar_mm, t.obj, t.p.detour_mm, t.detour_side)
+        t.ms.detours += 1
+        head, ops = escape_001(t.ms.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                               inp.sonar_mm, t.obj, t.p.detour_mm, t.ms.detour_side)
         t.charge(ops)
-        if head is not None and not t.detour_side:  # keep to the first one's side
+        if head is not None and not t.ms.detour_side:  # keep to the first one's side
             off = wrap_mrad(head - atan2_mrad(t.obj[1] - inp.y_mm, t.obj[0] - inp.x_mm))
-            t.detour_side = (off > 0) - (off < 0)
-        t.detour = detour_heading(inp, t.obj, t.p.detour_clear_mm, head)
-        t.note(detour=dict(t.detour), detour_count=t.detours)
+            t.ms.detour_side = (off > 0) - (off < 0)
+        t.ms.detour = detour_heading(inp, t.obj, t.p.detour_clear_mm, head)
+        t.note(detour=dict(t.ms.detour), detour_count=t.ms.detours)
         return True
 
     def path_wheels(self, cmd: Any) -> tuple[int, int]:
@@ -396,9 +439,9 @@ class Method001(Method000):
     def straight_clear(self, t: Any, inp: Any, dist: int) -> bool:
         """The close approach's straight way to the object (``dist`` from the waist, to stop
         ``grasp_r_mm`` short) misses the infeasible regions of eq. (16)."""
-        if t.replanner is None:
+        if t.ms.replanner is None:
             return False
-        clear, ops = straight_clear_001(t.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
+        clear, ops = straight_clear_001(t.ms.replanner, inp.x_mm, inp.y_mm, inp.heading_mrad,
                                         inp.sonar_mm, t.obj, dist - t.p.grasp_r_mm)
         t.charge(ops)
         return clear
@@ -431,9 +474,9 @@ class Method001(Method000):
             if t.state == "APPROACH":
                 # a new plan from here starts forward, into what the guard saw, and is stopped
                 # again at once: first turn toward the widest free sector and leave R_r
-                t.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
+                t.ms.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
                             "drive": True, "from": None, "length_mm": GUARD_OUT_MM}
-                guard["turn_to_mrad"] = t.detour["heading_mrad"]
+                guard["turn_to_mrad"] = t.ms.detour["heading_mrad"]
             t.note(sonar_guard=guard)
             return
 
@@ -444,7 +487,7 @@ class Method001(Method000):
         host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
         an echo straight ahead (something new in the way); the fixed diagonal threshold of
         :func:`_blocked_ahead` would stop it as soon as it starts."""
-        d = t.detour
+        d = t.ms.detour
         err = wrap_mrad(d["heading_mrad"] - inp.heading_mrad)
         if d["from"] is None and abs(err) > TURN_TOL_MRAD:
             v = t.p.turn_wheel_mmps

@@ -18,7 +18,8 @@ view, place the cylinder near.
 
 from __future__ import annotations
 
-from typing import Any
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
@@ -27,7 +28,7 @@ from mobigrasp.host.posture import distribute_alpha
 from mobigrasp.host.ranging import locate_ring_pair
 from mobigrasp.host.task.drive import wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
-from mobigrasp.host.task.method import Method
+from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import (
     CAMERA_002,
     CROSS_SPACING_MM_Q4,
@@ -35,6 +36,9 @@ from mobigrasp.host.task.sense import (
     d_pixel_px,
 )
 from mobigrasp.host.vision import registry
+
+if TYPE_CHECKING:
+    from mobigrasp.host.task.machine import Task
 
 GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
@@ -49,10 +53,48 @@ HELD_ROW_TOL_PX = 16  # the top face's edge this close to its predicted row
 HELD_COL_TOL_PX = 24  # ... and the red region's centre this close to the centre column
 
 
+@dataclass
+class State002(MethodState):
+    """What 002 keeps between steps (the task's ``ms``)."""
+
+    fuzzy: FuzzyApproach | None = None  # the fuzzy approach of APPROACH (002 §2.1)
+    e_mrad: int = 0  # the bearing e the approach steers on
+    prev_e: tuple[int, int] | None = None  # (t_us, e) of the last frame that gave e
+    # the blind drive on toward the marker: (its odometry bearing, x_mm, y_mm, reach_mm)
+    blind: tuple[int, int, int, int] | None = None
+    e_dpx: int | None = None  # d_pixel of the search's sighting
+    steer_on: str = ""  # what the search found and the approach steers on
+    e_range_mm: int | None = None  # range of the search's red ROI (its height), if known
+
+
 class Method002(Method):
     """002: the hooks of the machine's states (host/task/method.py)."""
 
     name = "002"
+    State = State002
+    # 002 §5's values and their ranges
+    paper_params = {
+        "T_h": Param(int, 30, 1, 255, "grey levels, threshold"),
+        "n": Param(int, 10, 1, 100, "frames"),
+        "e_th": Param(float, 1.43, 0.01, PI, "rad, error threshold"),
+        "e_cth": Param(float, 5.0, 0.01, 50.0, "rad/s, error-rate threshold"),
+        "u_th": Param(float, 1.0, 0.01, 10.0, "rad/s, output threshold"),
+        "V_avg": Param(float, 0.15, 0.01, 1.0, "m/s, mean approach speed"),
+        "k_u": Param(float, 1.0, 0.01, 7.0, "output gain"),
+        "D": Param(float, 0.0145, 0.001, 0.1, "m, spacing of the rings"),
+        "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
+    }
+    # T_h (the double-cross detector's own threshold), n (frames) and D (the ring spacing of
+    # the cylinder as made)
+    not_used_params = ("T_h", "n", "D")
+    paper_to_task = {
+        "e_th": ("fuzzy", "e_th_mrad", mrad), "e_cth": ("fuzzy", "e_cth_mrad_s", mrad),
+        "u_th": ("fuzzy", "u_th_mrad", mrad),
+        "V_avg": ("fuzzy", "v_avg_mm_s", mrad),  # m/s -> mm/s
+        "k_u": ("fuzzy", "k_uc_q12", q12),
+        "T_d": ("fuzzy", "t_d_px", lambda v: int(round(v)))}
+    scene = SceneHints("red-cylinder", 120.0, guide_board=True, moving_target=True)
+    robot = "002"
     link_lengths_mm = (97.0, 89.0, 95.5)
     camera = CAMERA_002
     # the level gripper of 002 (eq. (4)) with theta2 <= 0 reaches the grasp point 50 mm above
@@ -91,7 +133,7 @@ class Method002(Method):
             return "double_cross", dets["double_cross"]
         return "red_roi", dets.get("red_roi")
 
-    def found(self, t: Any, now: int, inp: Any, name: str, det: Any) -> bool:
+    def found(self, t: Task, now: int, inp: Any, name: str, det: Any) -> bool:
         """The bearing e of the double cross (and its spacing, for the blind approach) or of
         the red ROI's column (and its range from its height, when the box is whole)."""
         joints = t.arm_at(now - t.p.frame_latency_us)
@@ -107,13 +149,13 @@ class Method002(Method):
             return False
         if e is None:
             return False
-        t.e_mrad, t.obj_seen_us = e, now
-        t.steer_on = "double cross" if name == "double_cross" else "red cylinder"
-        t.e_dpx = d_pixel_px(det) if name == "double_cross" else None
-        t.e_range_mm = dist
+        t.ms.e_mrad, t.obj_seen_us = e, now
+        t.ms.steer_on = "double cross" if name == "double_cross" else "red cylinder"
+        t.ms.e_dpx = d_pixel_px(det) if name == "double_cross" else None
+        t.ms.e_range_mm = dist
         return True
 
-    def search_gives_up(self, t: Any) -> str | None:
+    def search_gives_up(self, t: Task) -> str | None:
         """Nothing seen in a look around (the red ROI is found from any side out to 3 m and
         beyond, docs/task.md) and ``SEARCH_WANDERS_002`` wander legs: no graspable object."""
         if t.graspable_seen or t.search.wanders < SEARCH_WANDERS_002:
@@ -121,19 +163,19 @@ class Method002(Method):
         return (f"the search saw neither the double cross nor the red cylinder in "
                 f"{t.search.cycle} cycles and {t.search.wanders} wander legs")
 
-    def found_why(self, t: Any) -> str:
-        if t.steer_on == "double cross":
-            return f"double cross seen at e = {t.e_mrad} mrad"
-        return f"red cylinder's colour ROI seen at e = {t.e_mrad} mrad (no double cross in view)"
+    def found_why(self, t: Task) -> str:
+        if t.ms.steer_on == "double cross":
+            return f"double cross seen at e = {t.ms.e_mrad} mrad"
+        return f"red cylinder's colour ROI seen at e = {t.ms.e_mrad} mrad (no double cross in view)"
 
     # --- APPROACH: the fuzzy controller --------------------------------------------------------
-    def enter_approach(self, t: Any, now: int, inp: Any) -> None:
-        t.fuzzy = FuzzyApproach(FuzzyParams(**t.p.fuzzy))
+    def enter_approach(self, t: Task, now: int, inp: Any) -> None:
+        t.ms.fuzzy = FuzzyApproach(FuzzyParams(**t.p.fuzzy))
         # the search's sighting is the first bearing to steer on if the next frames miss
-        self.remember_bearing(t, inp, t.e_mrad, _board_range_mm(t, t.e_dpx)
-                              if t.e_dpx else t.e_range_mm)
+        self.remember_bearing(t, inp, t.ms.e_mrad, _board_range_mm(t, t.ms.e_dpx)
+                              if t.ms.e_dpx else t.ms.e_range_mm)
 
-    def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
+    def approach(self, t: Task, now: int, inp: Any, dets: dict) -> None:
         """Steer with the fuzzy controller on e (002 §2.1): the double cross's when it is in
         view, as 002 does, else the red cylinder's column (its rings, or its colour ROI far
         away); ADJUST once the cylinder is near, or placed near by the crosses."""
@@ -192,33 +234,33 @@ class Method002(Method):
                 t.go(now, "ADJUST", f"crosses {dc_px} px apart: red cylinder estimated "
                      f"{dist} mm from the waist")
                 return
-        cmd = t.fuzzy.step(now, e, None)
+        cmd = t.ms.fuzzy.step(now, e, None)
         if e is not None:
             t.obj_seen_us = now
             self.remember_bearing(t, inp, e, cue_mm)
             self.track_marker(t, now, vm, e)
         t.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         ec = None
-        if e is not None and t.prev_e is not None and now > t.prev_e[0]:
-            ec = (e - t.prev_e[1]) * 1_000_000 // (now - t.prev_e[0])
-        t.prev_e = (now, e) if e is not None else None
+        if e is not None and t.ms.prev_e is not None and now > t.ms.prev_e[0]:
+            ec = (e - t.ms.prev_e[1]) * 1_000_000 // (now - t.ms.prev_e[0])
+        t.ms.prev_e = (now, e) if e is not None else None
         t.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
                       "wheels_mmps": list(t.wheels), "steer_on": cue})
 
-    def remember_bearing(self, t, inp, e: int, cue_mm: int | None) -> None:
+    def remember_bearing(self, t: Task, inp, e: int, cue_mm: int | None) -> None:
         """The bearing to steer on blind should the next frames miss the board or the
         cylinder, and how far: at most ``blind_approach_mm``, and ``blind_keep_mm`` short of
         the range of what was seen (the board by its crosses' spacing, the cylinder by its
         ROI's height). Near, a lost marker has left the view (the base turned, or it is below
         the look): driving on blind went past the object (docs/cosim.md "Measured", T6)."""
-        t.blind = None
+        t.ms.blind = None
         if cue_mm is None or cue_mm <= 0:
             return
         reach = min(t.p.blind_approach_mm, cue_mm - t.p.blind_keep_mm)
         if reach > 0:
-            t.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm, reach)
+            t.ms.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm, reach)
 
-    def approach_blind(self, t, now: int, inp) -> bool:
+    def approach_blind(self, t: Task, now: int, inp) -> bool:
         """No marker in this frame: steer on the bearing it was last seen at, by odometry, for
         up to the reach of :meth:`remember_bearing` and ``blind_approach_us``; True while
         doing so.
@@ -227,22 +269,22 @@ class Method002(Method):
         crosses are ~10 px wide and the detector misses them in most frames, although the
         search (which holds still and confirms) did see them; standing still there ends in
         LOST -> SEARCH -> LOST until the object is given up (docs/cosim.md "Measured", T7)."""
-        if t.blind is None:
+        if t.ms.blind is None:
             return False
-        goal, x0, y0, reach = t.blind
+        goal, x0, y0, reach = t.ms.blind
         if (isqrt((inp.x_mm - x0) ** 2 + (inp.y_mm - y0) ** 2) >= reach
                 or now - t.obj_seen_us >= t.p.blind_approach_us):
             return False
         e = wrap_mrad(inp.heading_mrad - goal)  # right positive, like the camera's e
-        cmd = t.fuzzy.step(now, e, None)
+        cmd = t.ms.fuzzy.step(now, e, None)
         t.wheels = (cmd.left_mm_s, cmd.right_mm_s)
         t.set_arm(now, t.arm[2], t.arm[3], t.arm[4], max(-800, min(800, e)))
-        t.prev_e = None
+        t.ms.prev_e = None
         t.note(fuzzy={"e_mrad": e, "e_c_mrad_s": None, "u_mrad": cmd.u_mrad,
                       "wheels_mmps": list(t.wheels), "blind": True})
         return True
 
-    def track_marker(self, t, now: int, vm_q4: int | None, e: int) -> None:
+    def track_marker(self, t: Task, now: int, vm_q4: int | None, e: int) -> None:
         """Keep what is steered on in view: the waist faces it (theta5 = e) and d_alpha, the
         pitch of its pixel row ``vm_q4`` off the optical centre, is shared by eq. (10) of 000
         (host.posture); no row: the pitch is kept."""
@@ -260,7 +302,7 @@ class Method002(Method):
         t.set_arm(now, t.arm[2] + d2, t.arm[3] + d3, t.arm[4] + d4, th5)
 
     # --- ADJUST --------------------------------------------------------------------------------
-    def adjust_done(self, t: Any, now: int, det: Any, dist_mm: int) -> bool:
+    def adjust_done(self, t: Task, now: int, det: Any, dist_mm: int) -> bool:
         """The stop rule of 002 §4: d_pixel > T_d, "the object is in the workspace". ADJUST's
         look (``adjust_theta3_mrad``, ``adjust_theta4_mrad``) puts that ring spacing at the
         level grasp's reach; a frame taken before the arm settled in it does not count."""
@@ -274,7 +316,7 @@ class Method002(Method):
             return True
         return False
 
-    def adjust_goal_mm(self, t: Any) -> tuple[int, int]:
+    def adjust_goal_mm(self, t: Task) -> tuple[int, int]:
         """The estimate's stop only backs the stop rule up (rings not measured): at the near
         end of the level grasp's reach, past where d_pixel passes T_d; and only on an estimate
         of this ADJUST's look (one from elsewhere, e.g. the grasp check's steep look, may be
@@ -287,7 +329,7 @@ class Method002(Method):
     def adjust_vmax_mmps(self, p: Any) -> int:
         return p.slow_mmps
 
-    def object_position(self, t: Any, name: str, det: Any, joints: tuple[int, ...]) -> Any:
+    def object_position(self, t: Task, name: str, det: Any, joints: tuple[int, ...]) -> Any:
         """The red cylinder's axis point between its rings by 002 §4: D_OC = D f / d_pixel along
         the ray of (u_c, v_c) whose vertical and horizontal angles are theta_v = alpha +
         atan((v0 - v_c)/f) and theta_h = theta5 + atan((u_c - u0)/f), in the exact pinhole
@@ -305,14 +347,14 @@ class Method002(Method):
         cx, cy, cz = kinematics.fk_mm_q4(t.geom, *joints[2:6])
         return cx + 16 * fix.x_mm, cy + 16 * fix.y_mm, cz + 16 * fix.z_mm
 
-    def failure_reason(self, t: Any, reason: str) -> str:
+    def failure_reason(self, t: Task, reason: str) -> str:
         """A run that never saw the red cylinder (a board alone) says so whatever ended it."""
         if t.graspable_seen or reason.startswith("no graspable object found"):
             return reason
         return f"no graspable object found (red_cylinder never seen): {reason}"
 
     # --- the grasp check --------------------------------------------------------------------
-    def held_view_pose(self, t: Any) -> Any:
+    def held_view_pose(self, t: Task) -> Any:
         """The look of the grasp check (docs/task.md): the fingertip, and a held cylinder
         with it, brought in along its bearing to one of ``HELD_VIEWS_002`` with the camera
         pitched down; a cylinder left standing stays at its place, ~150 mm further out.
@@ -328,7 +370,7 @@ class Method002(Method):
                 return pose
         return None
 
-    def held_in_view(self, t: Any, now: int, dets: dict) -> bool:
+    def held_in_view(self, t: Task, now: int, dets: dict) -> bool:
         """This frame shows the cylinder held: the camera (the fingertip, eq. (3)) stands on
         its axis, ``h`` above its top face (radius R), so the face covers the rays steeper than
         atan(h / R) below the horizontal: with the camera pitched down by beta, a red region
@@ -369,14 +411,14 @@ class Method002(Method):
             first = first or res
         return first
 
-    def rough_target(self, t: Any, inp: Any) -> tuple[int, int, int]:
+    def rough_target(self, t: Task, inp: Any) -> tuple[int, int, int]:
         """The pre-grasp point ``pregrasp_back_mm`` short of the axis at the grasp height."""
         return GRASP.object_target_q4(t, inp, t.p.grasp_height_mm, t.p.pregrasp_back_mm)
 
     def lowers_hover(self) -> bool:
         return False
 
-    def enter_precise(self, t: Any, now: int, inp: Any) -> None:
+    def enter_precise(self, t: Task, now: int, inp: Any) -> None:
         """Move in to the axis and lower. The pitch is chosen again (level first, eq. (4) of
         002): the pre-grasp point may only be reachable tilted, the axis often level."""
         pose = t.grasp_ik(GRASP.object_target_q4(t, inp, t.p.grasp_height_mm))
@@ -387,18 +429,18 @@ class Method002(Method):
         t.phase = "lower"
 
 
-def _column_bearing(t: Any, u_q4: int, theta5_mrad: int) -> int:
+def _column_bearing(t: Task, u_q4: int, theta5_mrad: int) -> int:
     """Bearing from the platform heading (right positive) of image column ``u_q4`` seen with
     the waist at ``theta5_mrad`` (level roll: the pitch does not turn the image)."""
     return theta5_mrad + atan2_mrad(u_q4 - t.cam.u0_px * 16, t.cam.f_px * 16)
 
 
-def _board_range_mm(t: Any, d_px: int) -> int:
+def _board_range_mm(t: Task, d_px: int) -> int:
     """The board's distance by its crosses' spacing (pinhole)."""
     return CROSS_SPACING_MM_Q4 * t.cam.f_px // (16 * d_px)
 
 
-def _roi_range_mm(t: Any, roi: Any) -> int | None:
+def _roi_range_mm(t: Task, roi: Any) -> int | None:
     """The red ROI's range by its height (host/vision/red_cylinder.py ``roi_sighting``), or
     None (no ROI, or its box cut by the frame)."""
     if roi is None or not isinstance(roi, registry.row("red_roi").result_type()):

@@ -1,8 +1,9 @@
 """The task's parameters: integer mm, mrad, us, the papers' values where they give one.
 
 Each method's module (host/task/method000.py ...) says how its defaults differ
-(``param_defaults``); a scenario's ``[task]`` table and the paper parameters mapped by
-host/app_factory.py override them by name (an unknown name is an error naming it).
+(``param_defaults``); a scenario's ``[task]`` table and its paper parameters, mapped by the
+method's ``paper_to_task`` (host/app_factory.py), override them by name (an unknown name is an
+error naming it).
 """
 
 from __future__ import annotations

@@ -2,11 +2,16 @@
 
 ``PART_PINS`` is the datasheet (ATmega128, "Pin Configurations" and the "Alternate Functions of
 Port A..G" tables): every I/O pin with the alternate functions the part offers on it. ``BOARD`` is
-the wiring: one row per signal, the pin and the function it uses there. ``firmware/board.h`` and
-the pin table of ``docs/firmware.md`` are generated from these two tables
-(``python -m mobigrasp.mcu_sim.avr.pinmap header|markdown``) and ``tests/test_pinmap.py`` checks
-that the committed copies match, that no pin carries two signals and that every signal sits on a
-pin that has its function.
+the wiring: one row per signal, the pin and the function it uses there. ``SENSORS`` declares
+each sensor once: its signals (rows of ``BOARD``), the world's model of it, the plant reading and
+the MCU input the rig wires together (cosim/rig.py reads this table: a ``COUPLED`` sensor is read
+from the plant at every coupling step and given to the MCU, a ``POLLED`` one is asked for by the
+MCU when its firmware samples it) and the telemetry fields that carry it to the host.
+``firmware/board.h`` and the pin and sensor tables of ``docs/firmware.md`` are generated from
+these tables (``python -m mobigrasp.mcu_sim.avr.pinmap header|markdown``) and
+``tests/test_pinmap.py`` checks that the committed copies match, that no pin carries two signals,
+that every signal sits on a pin that has its function and that every sensor names real signals,
+plant and MCU methods and telemetry fields.
 
 Why the wiring is what it is (the part's constraints, datasheet facts):
 
@@ -26,6 +31,7 @@ Why the wiring is what it is (the part's constraints, datasheet facts):
 from __future__ import annotations
 
 import sys
+from dataclasses import dataclass
 
 # Datasheet: pin -> alternate functions (GPIO is implied for every pin).
 PART_PINS: dict[str, tuple[str, ...]] = {
@@ -75,6 +81,37 @@ BOARD: tuple[tuple[str, str, str, str], ...] = (
 )
 
 
+# How the rig feeds a sensor's reading from the plant to the MCU.
+COUPLED = "coupled"  # read at every coupling step: mcu.<mcu_input>(*plant.<plant_reading>(), t_us)
+POLLED = "polled"  # mcu.<mcu_input>(provider); the firmware calls provider(index) when it
+# samples, which reads plant.<plant_reading>(index) (once per index and coupling step)
+FEEDS = (COUPLED, POLLED)
+
+
+@dataclass(frozen=True)
+class Sensor:
+    """A sensor of the board, declared once (the module docstring)."""
+
+    name: str
+    signals: tuple[str, ...]  # its rows of BOARD
+    world_model: str  # what models it in the world (mcu_sim/world/)
+    plant_reading: str  # the Plant method giving its reading (cosim/plant.py)
+    mcu_input: str  # the McuBackend method the reading goes to (mcu_sim/backend.py)
+    feed: str  # COUPLED or POLLED
+    telemetry: tuple[str, ...]  # fields of TELEMETRY (protocol/messages.py) carrying it
+
+
+SENSORS: tuple[Sensor, ...] = (
+    Sensor("wheel_encoders", ("ENC_L_A", "ENC_L_B", "ENC_R_A", "ENC_R_B"),
+           "mcu_sim/world/base.py: the wheels' rotation in quadrature counts",
+           "encoder_ticks", "set_encoder_ticks", COUPLED, ("enc_left", "enc_right")),
+    Sensor("sonar", ("SONAR_TRIG0", "SONAR_TRIG1", "SONAR_TRIG2", "SONAR_TRIG3", "SONAR_TRIG4",
+                     "SONAR_ECHO"),
+           "mcu_sim/world/sonar.py: the ring's ranges, cone and noise (001 §IV)",
+           "sonar_range_m", "set_sonar_provider", POLLED, ("sonar_mm",)),
+)
+
+
 def by_signal() -> dict[str, tuple[str, str]]:
     """signal -> (pin, function)."""
     return {sig: (pin, fn) for sig, pin, fn, _ in BOARD}
@@ -97,6 +134,20 @@ def check() -> list[str]:
         users[pin] = sig
         if fn != GPIO and fn not in PART_PINS[pin]:
             problems.append(f"{sig}: {pin} cannot be {fn} (it offers {PART_PINS[pin]})")
+    owner: dict[str, str] = {}  # signal -> the sensor it belongs to
+    names: set[str] = set()
+    for sensor in SENSORS:
+        if sensor.name in names:
+            problems.append(f"sensor {sensor.name}: listed twice")
+        names.add(sensor.name)
+        if sensor.feed not in FEEDS:
+            problems.append(f"sensor {sensor.name}: feed {sensor.feed!r} is not one of {FEEDS}")
+        for sig in sensor.signals:
+            if sig not in signals:
+                problems.append(f"sensor {sensor.name}: {sig} is not a signal of BOARD")
+            elif sig in owner:
+                problems.append(f"sensor {sensor.name}: {sig} is also {owner[sig]}'s")
+            owner[sig] = sensor.name
     return problems
 
 
@@ -116,14 +167,23 @@ def header() -> str:
         lines.append(f"#define {sig}_DDR DDR{port}")
         lines.append(f"#define {sig}_PIN PIN{port}")
         lines.append(f"#define {sig}_BIT {bit}")
+    lines += ["", "/* Sensors: their signals and the telemetry fields that carry them */"]
+    for sensor in SENSORS:
+        lines.append(f"/* {sensor.name}: {' '.join(sensor.signals)} -> "
+                     f"{', '.join(sensor.telemetry) or 'no telemetry field'} */")
     lines += ["", "#endif", ""]
     return "\n".join(lines)
 
 
 def markdown() -> str:
-    """The pin table of docs/firmware.md."""
+    """The pin and sensor tables of docs/firmware.md."""
     rows = ["| signal | pin | function | use |", "|---|---|---|---|"]
     rows += [f"| `{sig}` | {pin} | {fn} | {what} |" for sig, pin, fn, what in BOARD]
+    rows += ["", "| sensor | signals | world model | rig: plant -> MCU | telemetry |",
+             "|---|---|---|---|---|"]
+    rows += [f"| `{s.name}` | {', '.join(f'`{sig}`' for sig in s.signals)} | {s.world_model} | "
+             f"`{s.plant_reading}` -> `{s.mcu_input}` ({s.feed}) | "
+             f"{', '.join(f'`{f}`' for f in s.telemetry)} |" for s in SENSORS]
     return "\n".join(rows) + "\n"
 
 

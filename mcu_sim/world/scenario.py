@@ -1,32 +1,38 @@
 """Scenario files: TOML (tomllib) loading and strict validation into frozen dataclasses.
 
-Contract: ``[scenario]`` name, method ("000"/"001"/"002"), seed, time_limit_s;
+Contract: ``[scenario]`` name, method (a name of the method table the loader is given),
+seed, time_limit_s;
 ``[robot]`` x_m, y_m, heading_rad; ``[target]`` kind, x_m, y_m, heading_rad and optional
 ``[[target.path]]`` t_s, x_m, y_m; ``[[obstacles]]`` shape "circle" (radius_m) or "box"
 (width_m, depth_m, heading_rad), or "wall" (x2_m, y2_m, optional thickness_m), each with an
 optional height_m; ``[camera]`` optional f_px, u0_px, v0_px, noise_std, blur_px, brightness;
-``[params]`` overrides of the method's paper parameters (names and defaults in
-:data:`PAPER_PARAMS`); ``[faults]`` the injected faults, validated into a
+``[params]`` overrides of the method's paper parameters (names, defaults and ranges in the
+method's ``paper_params``); ``[faults]`` the injected faults, validated into a
 :class:`mobigrasp.mcu_sim.faults.plan.FaultPlan` (keys in docs/faults.md).
 
 Every value is checked against the physical range written beside it below (and listed in
 docs/conventions.md "Scenario value ranges"), and the geometry is checked: no obstacle on the
 robot's start footprint, the target (and its path) clear of obstacles and of the robot. Every
 problem raises :class:`ScenarioError` naming the file, the key and what was expected.
+
+The methods are the host's (host/task/method.py): each loader function receives their table
+(``methods``, name -> :class:`MethodSchema`; the callers pass ``host.task.REGISTRY``), so that
+this module, read by the simulator, imports nothing of the host (pyproject's import contracts)
+and a method added to the host's registry is one the loader accepts.
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, NamedTuple
+from typing import Any, Protocol
 
 from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
 
-METHODS = ("000", "001", "002")
 TARGET_KINDS = ("radial-symbol", "double-cross", "red-cylinder")
 OBSTACLE_SHAPES = ("circle", "box", "wall")
 DEFAULT_OBSTACLE_HEIGHT_M = 0.30
@@ -56,9 +62,9 @@ CAMERA_RANGES = {"f_px": (50.0, 5000.0), "u0_px": (0.0, 320.0), "v0_px": (0.0, 2
                  "noise_std": (0.0, 128.0), "blur_px": (0.0, 40.0), "brightness": (0.01, 10.0)}
 
 
-class Param(NamedTuple):
-    """A paper parameter: type (int: must be an integer; float accepts int or float), the
-    paper's value, the physical range [lo, hi] it is accepted in, and its unit/meaning."""
+class ParamSchema(Protocol):
+    """A paper parameter as the loader reads it: type (int: must be an integer; float accepts
+    int or float), the paper's value, the physical range [lo, hi] and its unit/meaning."""
 
     kind: type
     default: float
@@ -67,86 +73,23 @@ class Param(NamedTuple):
     unit: str
 
 
-_PI = math.pi
-# Paper parameters per method, with the papers' values (section IV of 000 and 001, section 5 of
-# 002) and their ranges.
-PAPER_PARAMS: dict[str, dict[str, Param]] = {
-    "000": {
-        "k_s": Param(int, 5, 1, 20, "samples"),
-        "T_s": Param(float, 0.3, 0.05, 2.0, "s, sampling period of the path"),
-        "k1": Param(float, 0.5, 0.0, 10.0, "weight of the path length"),
-        "k2": Param(float, 0.5, 0.0, 10.0, "weight of the curvature"),
-        "theta2_min": Param(float, -2.8, -3.0, 0.0, "rad, wrist pitch (joint table)"),
-        "theta2_max": Param(float, -2.1, -3.0, 0.0, "rad, wrist pitch (joint table)"),
-        "theta5_min": Param(float, -0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
-        "theta5_max": Param(float, 0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
-        "dtheta2_l": Param(float, 0.06, 0.005, 0.5, "rad, search step of the wrist"),
-        "k_theta2": Param(float, 1.0, -10.0, 10.0, "gain"),
-        "k_theta3": Param(float, 0.0, -10.0, 10.0, "gain"),
-        "k_theta4": Param(float, 0.0, -10.0, 10.0, "gain"),
-        "alpha_T": Param(float, -_PI / 2, -_PI, 0.0, "rad, camera pitch at the grasp"),
-        "w_min": Param(int, 20, 1, 320, "px, window"),
-        "w_max": Param(int, 40, 1, 320, "px, window"),
-        "v0_mps": Param(float, 0.12, 0.01, 1.0, "m/s, cruise speed"),
-        "vmax_mps": Param(float, 0.25, 0.01, 1.0, "m/s, speed limit"),
-        "amax_mps2": Param(float, 0.04, 0.001, 2.0, "m/s^2, acceleration limit"),
-        "rmin_m": Param(float, 0.1, 0.01, 2.0, "m, turning radius limit"),
-        "l_w": Param(float, 0.3, 0.1, 1.0, "m, wheel track"),
-        "L_m": Param(float, 0.109, 0.01, 0.5, "m, outer ring diameter"),
-        "D_act_m": Param(float, 0.0473, 0.005, 0.5, "m, distance of the two + centres"),
-    },
-    "001": {
-        "Vmax": Param(float, 0.4, 0.01, 1.0, "m/s, speed limit"),
-        "Amax": Param(float, 0.1, 0.001, 2.0, "m/s^2, acceleration limit"),
-        "R_r": Param(float, 0.2, 0.05, 1.0, "m, safety radius"),
-        "k_s": Param(int, 5, 2, 5, "sonars (5 fitted)"),
-        "A_g": Param(float, 1.05, 0.05, _PI, "rad, sonar cone"),
-        "D_e": Param(float, 2.5, 0.1, 10.0, "m, sonar range"),
-        "h_e": Param(float, 0.208, 0.01, 1.0, "m"),
-        "n_e": Param(int, 36, 1, 360, "end points on the grasp circle"),
-        "v0": Param(float, 0.2, 0.01, 1.0, "m/s, cruise speed"),
-        "T_s": Param(float, 0.5, 0.05, 2.0, "s, sampling period of the path"),
-        "k1": Param(float, 0.8, 0.0, 10.0, "weight of the path length"),
-        "k2": Param(float, 0.2, 0.0, 10.0, "weight of the curvature"),
-        "T_D": Param(float, 15.0, 0.0, 100.0, "cm, clearance threshold"),
-    },
-    "002": {
-        "T_h": Param(int, 30, 1, 255, "grey levels, threshold"),
-        "n": Param(int, 10, 1, 100, "frames"),
-        "e_th": Param(float, 1.43, 0.01, _PI, "rad, error threshold"),
-        "e_cth": Param(float, 5.0, 0.01, 50.0, "rad/s, error-rate threshold"),
-        "u_th": Param(float, 1.0, 0.01, 10.0, "rad/s, output threshold"),
-        "V_avg": Param(float, 0.15, 0.01, 1.0, "m/s, mean approach speed"),
-        "k_u": Param(float, 1.0, 0.01, 7.0, "output gain"),
-        "D": Param(float, 0.0145, 0.001, 0.1, "m, spacing of the rings"),
-        "T_d": Param(float, 45.0, 1.0, 320.0, "px, distance threshold"),
-    },
-}
-# Paper parameters nothing in the run reads (constants of a detector, a marker or the plant that
-# a scenario cannot change): refused in a file, so that every [params] key there is in force.
-# 000 k_s (spoke points), alpha_T (the gripper pitch is chosen by the grasp IK), l_w (the
-# plant's track), L_m and D_act_m (the marker as printed); 001 h_e; 002 T_h (the double-cross
-# detector's own threshold), n (frames) and D (the ring spacing of the cylinder as made).
-NOT_USED_PARAMS: dict[str, tuple[str, ...]] = {
-    "000": ("k_s", "alpha_T", "l_w", "L_m", "D_act_m"),
-    "001": ("h_e",),
-    "002": ("T_h", "n", "D"),
-}
-# pairs (lo, hi, gap) of one method that must be ordered hi - lo >= gap: a joint range of the
-# search at least 0.01 rad wide (the host works in mrad), windows w_min <= w_max, v0 <= vmax
-PARAM_ORDER: dict[str, tuple[tuple[str, str, float], ...]] = {
-    "000": (("theta2_min", "theta2_max", 0.01), ("theta5_min", "theta5_max", 0.01),
-            ("w_min", "w_max", 0), ("v0_mps", "vmax_mps", 0.0)),
-    "001": (("v0", "Vmax", 0.0),),
-    "002": (),
-}
+class CameraIntrinsics(Protocol):
+    """A method's camera: the ``[camera]`` defaults (px)."""
 
-# Camera intrinsics per method (000: f = 611 px; 002: f = 350 px, (u0, v0) = (160, 120)).
-CAMERA_DEFAULTS: dict[str, dict[str, float]] = {
-    "000": {"f_px": 611.0, "u0_px": 160.0, "v0_px": 120.0},
-    "001": {"f_px": 611.0, "u0_px": 160.0, "v0_px": 120.0},
-    "002": {"f_px": 350.0, "u0_px": 160.0, "v0_px": 120.0},
-}
+    f_px: float
+    u0_px: float
+    v0_px: float
+
+
+class MethodSchema(Protocol):
+    """What the loader reads of a method (the host's method objects, host/task/method.py,
+    are these; the loader receives their table, as mcu_sim never imports the host)."""
+
+    paper_params: Mapping[str, ParamSchema]
+    not_used_params: tuple[str, ...]
+    param_order: tuple[tuple[str, str, float], ...]
+    camera: CameraIntrinsics
+    robot: str  # the robot the world builds (mcu_sim/world/arm.py ARM_BY_METHOD)
 
 
 class ScenarioError(checks.BadValue):
@@ -161,6 +104,7 @@ class ScenarioMeta:
     method: str
     seed: int
     time_limit_s: float
+    robot: str  # the robot the world builds: the method's (its ``robot``)
 
 
 @dataclass(frozen=True)
@@ -240,15 +184,17 @@ class Scenario:
     param_overrides: MappingProxyType = field(default_factory=lambda: MappingProxyType({}))
 
 
-def load_scenario(path: str | Path) -> Scenario:
+def load_scenario(path: str | Path, *, methods: Mapping[str, MethodSchema]) -> Scenario:
     """Read and validate a scenario file."""
     p = Path(path)
-    return loads_scenario(checks.read_text(p, "scenario file", ScenarioError), source=str(p))
+    return loads_scenario(checks.read_text(p, "scenario file", ScenarioError), str(p),
+                          methods=methods)
 
 
-def loads_scenario(text: str, source: str = "<string>") -> Scenario:
+def loads_scenario(text: str, source: str = "<string>", *,
+                   methods: Mapping[str, MethodSchema]) -> Scenario:
     """Parse and validate scenario TOML text; ``source`` names it in error messages."""
-    return parse_scenario(checks.load_toml(text, source, ScenarioError), source)
+    return parse_scenario(checks.load_toml(text, source, ScenarioError), source, methods=methods)
 
 
 class _Checker:
@@ -306,7 +252,8 @@ class _Checker:
         return v
 
 
-def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
+def parse_scenario(data: dict, source: str = "<dict>", *,
+                   methods: Mapping[str, MethodSchema]) -> Scenario:
     """Validate an already-parsed TOML document."""
     c = _Checker(source)
     c.keys(data, "", ("scenario", "robot", "target", "obstacles", "camera", "params", "faults"))
@@ -317,11 +264,12 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
     if not isinstance(name, str) or not 0 < len(name) <= MAX_NAME_CHARS:
         c.fail("scenario.name", f"a non-empty string of at most {MAX_NAME_CHARS} characters",
                name, present="name" in s)
-    method = c.choice(s, "scenario", "method", METHODS)
+    method = c.choice(s, "scenario", "method", tuple(methods))
+    schema = methods[method]
     seed = c.integer(s, "scenario", "seed", (0, MAX_SEED))
     meta = ScenarioMeta(name, method, seed,
                         c.number(s, "scenario", "time_limit_s", (0.001, MAX_TIME_LIMIT_S),
-                                 unit="s"))
+                                 unit="s"), schema.robot)
 
     r = c.table(data, "robot")
     c.keys(r, "robot", ("x_m", "y_m", "heading_rad"))
@@ -331,9 +279,9 @@ def parse_scenario(data: dict, source: str = "<dict>") -> Scenario:
 
     target = _parse_target(c, c.table(data, "target"))
     obstacles = _parse_obstacles(c, data.get("obstacles", []))
-    camera = _parse_camera(c, c.table(data, "camera", required=False) or {}, method)
+    camera = _parse_camera(c, c.table(data, "camera", required=False) or {}, schema.camera)
     raw_params = c.table(data, "params", required=False) or {}
-    params = _parse_params(c, raw_params, method)
+    params = _parse_params(c, raw_params, method, schema)
     faults_table = c.table(data, "faults", required=False) or {}
     try:
         faults = parse_faults(faults_table, source)
@@ -422,23 +370,23 @@ def _parse_obstacles(c: _Checker, raw: Any) -> tuple[ObstacleSpec, ...]:
     return tuple(out)
 
 
-def _parse_camera(c: _Checker, cam: dict, method: str) -> CameraSpec:
+def _parse_camera(c: _Checker, cam: dict, intrinsics: CameraIntrinsics) -> CameraSpec:
     c.keys(cam, "camera", tuple(CAMERA_RANGES))
-    d = {"noise_std": 0.0, "blur_px": 0.0, "brightness": 1.0} | CAMERA_DEFAULTS[method]
+    d = {"noise_std": 0.0, "blur_px": 0.0, "brightness": 1.0, "f_px": float(intrinsics.f_px),
+         "u0_px": float(intrinsics.u0_px), "v0_px": float(intrinsics.v0_px)}
     return CameraSpec(**{k: c.number(cam, "camera", k, rng, d[k], required=False)
                          for k, rng in CAMERA_RANGES.items()})
 
 
-def _parse_params(c: _Checker, raw: dict, method: str, unused_ok: bool = False
-                  ) -> dict[str, float | int]:
-    table = PAPER_PARAMS[method]
+def _parse_params(c: _Checker, raw: dict, method: str,
+                  schema: MethodSchema, unused_ok: bool = False) -> dict[str, float | int]:
+    table = schema.paper_params
     out: dict[str, float | int] = {k: p.default for k, p in table.items()}
     for key in raw:
         if key not in table:
             raise ScenarioError(f"{c.source}: {checks.key_text(f'params.{key}')}: unknown key; "
-                                f"expected a parameter "
-                                f"of method {method}: {', '.join(table)}")
-        if key in NOT_USED_PARAMS[method] and not unused_ok:
+                                f"expected a parameter of method {method}: {', '.join(table)}")
+        if key in schema.not_used_params and not unused_ok:
             raise ScenarioError(f"{c.source}: params.{key}: {key} is not used by method "
                                 f"{method}")
         p = table[key]
@@ -446,7 +394,7 @@ def _parse_params(c: _Checker, raw: dict, method: str, unused_ok: bool = False
             out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)
         else:
             out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
-    checks.ordered(out, PARAM_ORDER[method], c.source, "params.", ScenarioError, given=raw)
+    checks.ordered(out, schema.param_order, c.source, "params.", ScenarioError, given=raw)
     return out
 
 
@@ -457,7 +405,8 @@ HOST_TASK_KEYS = ("timeouts_us", "object_xy_mm")
 _STATE_NAME_CHARS = 20
 
 
-def parse_host_config(cfg: Any, source: str) -> dict:
+def parse_host_config(cfg: Any, source: str, *,
+                      methods: Mapping[str, MethodSchema]) -> dict:
     """A host configuration (what ``mobigrasp run`` gives its host process: method, paper
     parameters, camera intrinsics, task settings) checked as a scenario's values are: the same
     ranges and ordered pairs, the principal point within the image. ScenarioError naming
@@ -467,17 +416,18 @@ def parse_host_config(cfg: Any, source: str) -> dict:
     if not isinstance(cfg, dict):
         c.fail("(document)", "a JSON object with " + ", ".join(HOST_CONFIG_KEYS), cfg)
     c.keys(cfg, "", HOST_CONFIG_KEYS)
-    method = cfg.get("method", "000")
-    if method not in METHODS:
-        c.fail("method", "one of " + ", ".join(f'"{m}"' for m in METHODS), method)
+    method = cfg.get("method", next(iter(methods)))
+    if not isinstance(method, str) or method not in methods:
+        c.fail("method", "one of " + ", ".join(f'"{m}"' for m in methods), method)
+    schema = methods[method]
     out: dict[str, Any] = {"method": method}
     if "params" in cfg:
         raw = c.table(cfg, "params")
-        full = _parse_params(c, raw, method, unused_ok=True)
+        full = _parse_params(c, raw, method, schema, unused_ok=True)
         out["params"] = {k: full[k] for k in raw}
     if "camera" in cfg:
         cam = c.table(cfg, "camera")
-        full_cam = _parse_camera(c, cam, method)
+        full_cam = _parse_camera(c, cam, schema.camera)
         out["camera"] = {k: getattr(full_cam, k) for k in cam}
     if "task" in cfg:
         task = c.table(cfg, "task")

@@ -91,7 +91,7 @@ class World:
                  record_truth: bool = True):
         self.scenario = scenario
         self.seed = scenario.meta.seed if seed is None else int(seed)
-        method = scenario.meta.method
+        robot = scenario.meta.robot
         self.space: pymunk.Space = new_space()
         self.obstacle_shapes = add_obstacles(self.space, scenario.obstacles)
         for shape in self.obstacle_shapes:
@@ -101,12 +101,12 @@ class World:
         self.target = TargetObject(self.space, scenario.target)
         self._steps = 0
         self.contacts = ContactCounter(self.space, self._contact_time_us)
-        self.arm = Arm(ARM_BY_METHOD[method])
-        self.alpha_grasp = GRASP_ALPHA_BY_METHOD[method]
+        self.arm = Arm(ARM_BY_METHOD[robot])
+        self.alpha_grasp = GRASP_ALPHA_BY_METHOD[robot]
         if sonar is None:
             p = scenario.params
             sonar = (SonarConfig(k_s=p["k_s"], A_g=p["A_g"], D_e=p["D_e"])
-                     if method == "001" else SonarConfig())
+                     if robot == "001" else SonarConfig())
         self.sonar = SonarRing(sonar, self.child_rng("sonar"))
         self.attached = False
         self.grasp_count = 0

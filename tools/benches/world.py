@@ -76,7 +76,9 @@ def _frames(scenario, n: int) -> dict:
 
 def run(args: argparse.Namespace) -> dict:
     """Measure and return the figures (keys carry their units)."""
-    scenario = load_scenario(args.scenario)
+    from mobigrasp.host.task import REGISTRY
+
+    scenario = load_scenario(args.scenario, methods=REGISTRY)
     _run_world(scenario, 1.0, False)  # warm-up (imports, caches)
     out = {
         "scenario": scenario.meta.name,

@@ -16,6 +16,7 @@ from pathlib import Path
 
 from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S
+from mobigrasp.tools.method_choice import METHOD_CHOICES
 
 
 def _run(args: argparse.Namespace) -> int:
@@ -62,8 +63,8 @@ def _run(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``campaign`` subcommand."""
     p = sub.add_parser("campaign", help="N seeded random scenarios under injected faults")
-    p.add_argument("--method", required=True, choices=("000", "001", "002"),
-                   help="the paper whose method runs: 000, 001 or 002")
+    p.add_argument("--method", required=True, choices=METHOD_CHOICES, metavar="METHOD",
+                   help="the method that runs, a name of the registry (host/task/method.py)")
     p.add_argument("--runs", type=checks.arg_int(1, 1_000_000),
                    default=10, help="number of runs (default 10)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",

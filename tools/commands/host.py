@@ -14,12 +14,13 @@ import json
 import socket
 import sys
 
-METHODS = ("000", "001", "002")
+from mobigrasp.tools.method_choice import METHOD_CHOICES
 
 
 def _config(args: argparse.Namespace) -> dict:
     """The configuration file checked (mcu_sim.world.scenario.parse_host_config), then
     ``--method``; ValueError with one line naming the file and the key."""
+    from mobigrasp.host.task import METHODS, REGISTRY
     from mobigrasp.mcu_sim import checks
     from mobigrasp.mcu_sim.world.scenario import parse_host_config
 
@@ -27,12 +28,12 @@ def _config(args: argparse.Namespace) -> dict:
     if args.config:
         where = f"--config {args.config}"
         text = checks.read_text(args.config, "--config")  # not a FIFO, a device, a folder
-        cfg = parse_host_config(checks.load_json(text, where), where)
+        cfg = parse_host_config(checks.load_json(text, where), where, methods=REGISTRY)
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
     if cfg["method"] not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {cfg['method']!r}")
+        raise ValueError(f"method must be one of {tuple(METHODS)}, got {cfg['method']!r}")
     return cfg
 
 
@@ -144,6 +145,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--lockstep", default=None, help=argparse.SUPPRESS)
     p.add_argument("--poll-ms", type=_poll_ms, default=0.0, help=argparse.SUPPRESS)
     p.add_argument("--config", default=None, help="host configuration JSON (method, params)")
-    p.add_argument("--method", default=None, choices=METHODS,
-                   help="000, 001 or 002 (overrides --config)")
+    p.add_argument("--method", default=None, choices=METHOD_CHOICES, metavar="METHOD",
+                   help="a method of the registry, host/task/method.py (overrides --config)")
     p.set_defaults(func=_run)

@@ -358,9 +358,9 @@ def progress_stderr(msg: str) -> None:
 
 
 class Planner:
-    """The Bezier candidate evaluation of 000 and 001 on the emulated ARM920T (double
-    precision in libgcc's soft-float), each call's result read back with its timing. A plan
-    runs in a control step, after vision has had the D-cache: each call starts cold."""
+    """The Bezier candidate evaluation of 000 and 001 on the emulated ARM920T (fixed point,
+    host/planning/bezier_q.py), each call's result read back with its timing. A plan runs in a
+    control step, after vision has had the D-cache: each call starts cold."""
 
     CTRL, LIM, GEO, REASON, FIRST, COST, TRIED = (0x40_0000, 0x4F_0000, 0x4F_1000, 0x50_0000,
                                                   0x51_0000, 0x52_0000, 0x53_0000)
@@ -370,47 +370,40 @@ class Planner:
 
     def _put(self, ctrl, lim, geo=None) -> int:
         a = self.arm
-        ctrl = np.ascontiguousarray(ctrl, np.float64)
+        ctrl = np.ascontiguousarray(ctrl, np.int32)
         if ctrl.nbytes > self.LIM - self.CTRL or (geo is not None and geo.size * 8 > 0xF000):
             raise ValueError(f"candidate set of {ctrl.shape[0]} curves does not fit the image")
         a.write(self.CTRL, ctrl.tobytes())
-        a.write(self.LIM, np.ascontiguousarray(lim, np.float64).tobytes())
+        a.write(self.LIM, np.ascontiguousarray(lim, np.int32).tobytes())
         if geo is not None:
-            a.write(self.GEO, np.ascontiguousarray(geo, np.float64).tobytes())
+            a.write(self.GEO, np.ascontiguousarray(geo, np.int64).tobytes())
         return ctrl.shape[0]
 
     def _out(self, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         a, base = self.arm, DATA_BASE
         return (np.frombuffer(a.read(base + self.REASON, 4 * m), np.int32),
                 np.frombuffer(a.read(base + self.FIRST, 4 * m), np.int32),
-                np.frombuffer(a.read(base + self.COST, 8 * m), np.float64))
+                np.frombuffer(a.read(base + self.COST, 8 * m), np.int64))
 
-    @staticmethod
-    def _d(x: float) -> tuple[int, int]:
-        lo, hi = struct.unpack("<II", struct.pack("<d", float(x)))
-        return lo, hi
-
-    def bezier000(self, ctrl, n: int, lim, k1: float, k2: float):
+    def bezier000(self, ctrl, n: int, lim, k1_q16: int, k2_q16: int):
         """``mg_bezier000``: ((best, reasons, first, costs), timing)."""
         base = DATA_BASE
         m = self._put(ctrl, lim)
-        # AAPCS: ctrl, n_cand, n, lim in r0-r3; the doubles k1, k2 on the stack 8-aligned
         best, t = self.arm.call("mg_bezier000", base + self.CTRL, m, int(n), base + self.LIM,
-                                *self._d(k1), *self._d(k2), base + self.REASON,
+                                int(k1_q16), int(k2_q16), base + self.REASON,
                                 base + self.FIRST, base + self.COST)
         return (best, *self._out(m)), t
 
     def bezier001_coarse(self, ctrl, n: int, lim, geo, n_reg: int, per_sample_cycles: int,
-                         setup_cycles: int, cut_cycles: int, k1: float, k2: float):
+                         setup_cycles: int, cut_cycles: int, k1_q16: int, k2_q16: int):
         """``mg_bezier001_coarse``: ((taken, reasons, first, costs), timing)."""
         base = DATA_BASE
         m = self._put(ctrl, lim, geo)
-        args = [base + self.CTRL, m, int(n), base + self.LIM, base + self.GEO, int(n_reg),
-                int(per_sample_cycles), int(setup_cycles), int(cut_cycles)]
-        # stacked words from the 5th argument on: 5 int32, then k1 8-aligned (a pad word)
-        args += [0, *self._d(k1), *self._d(k2), base + self.REASON, base + self.FIRST,
-                 base + self.COST]
-        taken, t = self.arm.call("mg_bezier001_coarse", *args)
+        taken, t = self.arm.call(
+            "mg_bezier001_coarse", base + self.CTRL, m, int(n), base + self.LIM,
+            base + self.GEO, int(n_reg), int(per_sample_cycles), int(setup_cycles),
+            int(cut_cycles), int(k1_q16), int(k2_q16), base + self.REASON, base + self.FIRST,
+            base + self.COST)
         return (taken, *self._out(m)), t
 
     def bezier001_fine(self, ctrl, n: int, lim, geo, n_reg: int, per_sample_cycles: int,

@@ -60,6 +60,20 @@ STAGES = (StageDef("grey", GREY_USERS),
 PLANNING_STAGES = ("bezier000", "bezier001")
 DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "double_cross", "red_cylinder",
                    "red_roi", "ranging")
+# the planning stage of each method's planner
+PLANNER_STAGE = {"000": "bezier000", "001": "bezier001"}
+
+
+def stages_used(run_stages: dict, method: str | None) -> set[str]:
+    """The calibrated stages a run used: those of the detectors it called, and its method's
+    planner (a run's ``stages`` from summary.json)."""
+    called = {k for k, v in run_stages.items() if (v or {}).get("calls")}
+    used = {s.name for s in STAGES if called & set(s.detectors)}
+    if method in PLANNER_STAGE:
+        used.add(PLANNER_STAGE[method])
+    return used
+
+
 # (camera pitch, waist yaw) in mrad the ranging stage is given in turn: the corpus keeps the
 # frames, not the joint angles; the ranging's cost depends on them only through its divisions'
 # and roots' operand lengths

@@ -256,56 +256,54 @@ def locate_ring_pair(d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int, alpha
     return tuple(int(v) for v in out) if ok else None
 
 
-def dsqrt(x: float) -> float:
-    """The C ``mg_sqrt`` (hostc/dsqrt.h)."""
-    _, c = lib()
-    return float(c.mg_sqrt(float(x)))
+def _i32(a) -> np.ndarray:
+    return np.ascontiguousarray(a, np.int32)
 
 
-def _f64(a) -> np.ndarray:
-    return np.ascontiguousarray(a, np.float64)
+def _i64(a) -> np.ndarray:
+    return np.ascontiguousarray(a, np.int64)
 
 
-def bezier000(ctrl: np.ndarray, n: int, lim: np.ndarray, k1: float, k2: float
+def bezier000(ctrl_q: np.ndarray, n: int, lim: np.ndarray, k1_q16: int, k2_q16: int
               ) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
-    """The C ``mg_bezier000``: (best index or -1, reasons, first violated samples, costs)."""
+    """The C ``mg_bezier000``: (best index or -1, reasons, first violated samples, Q16 costs)."""
     ffi, c = lib()
-    ctrl, lim = _f64(ctrl), _f64(lim)
+    ctrl, lim = _i32(ctrl_q), _i32(lim)
     m = ctrl.shape[0]
-    reason, first, cost = np.zeros(m, np.int32), np.zeros(m, np.int32), np.zeros(m)
-    best = c.mg_bezier000(_ptr(ffi, ctrl, "double *"), m, int(n), _ptr(ffi, lim, "double *"),
-                          float(k1), float(k2), _ptr(ffi, reason, "int32_t *"),
-                          _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "double *"))
+    reason, first, cost = np.zeros(m, np.int32), np.zeros(m, np.int32), np.zeros(m, np.int64)
+    best = c.mg_bezier000(_ptr(ffi, ctrl, "int32_t *"), m, int(n), _ptr(ffi, lim, "int32_t *"),
+                          int(k1_q16), int(k2_q16), _ptr(ffi, reason, "int32_t *"),
+                          _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "int64_t *"))
     return int(best), reason, first, cost
 
 
-def bezier001_coarse(ctrl: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,
-                     per_sample_cycles: int, setup_cycles: int, cut_cycles: int, k1: float,
-                     k2: float) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
+def bezier001_coarse(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,
+                     per_sample_cycles: int, setup_cycles: int, cut_cycles: int, k1_q16: int,
+                     k2_q16: int) -> tuple[int, np.ndarray, np.ndarray, np.ndarray]:
     """The C ``mg_bezier001_coarse``: (curves taken, reasons, first violated samples, costs)."""
     ffi, c = lib()
-    ctrl, lim, geo = _f64(ctrl), _f64(lim), _f64(geo)
+    ctrl, lim, geo = _i32(ctrl_q), _i32(lim), _i64(geo)
     m = ctrl.shape[0]
-    reason, first, cost = np.zeros(m, np.int32), np.zeros(m, np.int32), np.zeros(m)
+    reason, first, cost = np.zeros(m, np.int32), np.zeros(m, np.int32), np.zeros(m, np.int64)
     taken = c.mg_bezier001_coarse(
-        _ptr(ffi, ctrl, "double *"), m, int(n), _ptr(ffi, lim, "double *"),
-        _ptr(ffi, geo, "double *"), int(n_reg), int(per_sample_cycles), int(setup_cycles),
-        int(cut_cycles), float(k1), float(k2), _ptr(ffi, reason, "int32_t *"),
-        _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "double *"))
+        _ptr(ffi, ctrl, "int32_t *"), m, int(n), _ptr(ffi, lim, "int32_t *"),
+        _ptr(ffi, geo, "int64_t *"), int(n_reg), int(per_sample_cycles), int(setup_cycles),
+        int(cut_cycles), int(k1_q16), int(k2_q16), _ptr(ffi, reason, "int32_t *"),
+        _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "int64_t *"))
     return int(taken), reason, first, cost
 
 
-def bezier001_fine(ctrl: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,
+def bezier001_fine(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,
                    per_sample_cycles: int, setup_cycles: int, worst_us: int, budget_us: int
                    ) -> tuple[int, np.ndarray]:
     """The C ``mg_bezier001_fine``: (index of the first that passes or -1, reasons of those
     tried)."""
     ffi, c = lib()
-    ctrl, lim, geo = _f64(ctrl), _f64(lim), _f64(geo)
+    ctrl, lim, geo = _i32(ctrl_q), _i32(lim), _i64(geo)
     m = ctrl.shape[0]
     reason, tried = np.zeros(max(1, m), np.int32), ffi.new("int32_t *")
-    got = c.mg_bezier001_fine(_ptr(ffi, ctrl, "double *"), m, int(n),
-                              _ptr(ffi, lim, "double *"), _ptr(ffi, geo, "double *"),
+    got = c.mg_bezier001_fine(_ptr(ffi, ctrl, "int32_t *"), m, int(n),
+                              _ptr(ffi, lim, "int32_t *"), _ptr(ffi, geo, "int64_t *"),
                               int(n_reg), int(per_sample_cycles), int(setup_cycles),
                               int(worst_us), int(budget_us), _ptr(ffi, reason, "int32_t *"),
                               tried)

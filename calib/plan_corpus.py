@@ -30,12 +30,13 @@ from typing import Any
 
 import numpy as np
 
+from mobigrasp.host.planning import bezier_q
+
 FORMAT = "mobigrasp-planning/1"
 INDEX = "planning.json"
 FOLDER = "planning"
 # reason codes (the C kernels' codes too, hostc/bezier.h)
-REASONS = ("ok", "time_not_increasing", "speed", "accel", "radius", "grasp_circle", "obstacle",
-           "budget")
+REASONS = bezier_q.REASONS  # the C's codes (hostc/bezier.h)
 
 
 class PlanCorpusError(ValueError):

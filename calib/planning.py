@@ -11,7 +11,6 @@ evaluation (batch_ops). The budgets follow host/planning/bezier001.py plan_001 l
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -19,55 +18,31 @@ import numpy as np
 from mobigrasp.calib import plan_corpus
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.planning import bezier001 as b001
-from mobigrasp.host.planning.bezier import sample_ops
-from mobigrasp.host.planning.candidates import Limits, batch_ops, evaluate_batch
-from mobigrasp.host.planning.grasp_circle import inside_circle
-from mobigrasp.host.planning.sonar_regions import any_region_contains, infeasible_regions
+from mobigrasp.host.planning import bezier_q
+from mobigrasp.host.planning.bezier_q import Q16, evaluate_q, quantize_ctrl, sample_ops
+from mobigrasp.host.planning.candidates import Geometry, Limits, batch_ops, evaluate_batch
+from mobigrasp.host.planning.sonar_regions import infeasible_regions
 
-CIRCLE_MARGIN_M = 1e-3  # bezier001's grasp-circle margin (inside_circle(..., margin_m=1e-3))
-
-
-def limits_words(lim: Limits) -> np.ndarray:
-    """hostc/bezier.h ``lim``: v_max, a_max, 1 / R_min (-1: none), accel_is_normal."""
-    kmax = -1.0 if lim.r_min is None else 1.0 / lim.r_min
-    return np.array([lim.v_max, lim.a_max, kmax, 1.0 if lim.accel_is_normal else 0.0])
+INFEASIBLE = np.iinfo(np.int64).max  # the C's cost of an infeasible candidate
 
 
-def geo_words(obj, l_e: float, regions) -> np.ndarray:
-    """hostc/bezier.h ``geo``: the grasp circle and each region's constants, computed as
-    host/planning/sonar_regions.py any_region_contains computes them."""
-    out = [float(obj[0]), float(obj[1]), (l_e - CIRCLE_MARGIN_M) ** 2]
-    if regions:
-        mid = np.array([0.5 * (r.lo_rad + r.hi_rad) for r in regions])
-        c, s = np.cos(mid), np.sin(mid)
-        for k, r in enumerate(regions):
-            qx, qy = r.apex
-            bound = r.bound_half_rad if r.arc_bound else math.pi
-            cb = math.cos(bound)
-            out += [qx, qy, float(c[k]), float(s[k]), math.tan(r.half_angle), r.ox, r.oy,
-                    max(r.eta_m - r.r_r_m, 0.0) ** 2, (r.eta_m + r.r_r_m) ** 2,
-                    1.0 if bound < math.pi else 0.0, 1.0 if cb >= 0 else 0.0, cb * cb]
-    return np.array(out, np.float64)
+def q16(k: float) -> int:
+    """A cost weight in Q16, as the planners round it."""
+    return round(k * Q16)
 
-
-def geometric_checks(obj, l_e: float, regions):
-    """The (reason, mask) checks of 001's geometry (bezier001's grasp circle and eq. (16))."""
-    def checks(s):
-        inside = inside_circle(s.x, s.y, obj, l_e, margin_m=CIRCLE_MARGIN_M)
-        blocked = any_region_contains(regions, s.x, s.y)
-        blocked[..., 0] = False
-        return [("grasp_circle", inside), ("obstacle", blocked)]
-    return checks
+def geometry(obj, l_e: float, regions) -> Geometry:
+    """001's geometric tests as plan_001 builds them (the grasp circle less its margin)."""
+    return Geometry((float(obj[0]), float(obj[1])), l_e - b001.CIRCLE_MARGIN_M, tuple(regions))
 
 
 @dataclass
 class Pass:
     """One pass of candidates: the C's inputs and the Python's answer."""
 
-    ctrl: np.ndarray  # (N, 4, 3)
+    ctrl: np.ndarray  # (N, 4, 3) int32: 1/16 mm and 1/16 ms (bezier_q.quantize_ctrl)
     n: int
-    lim: np.ndarray
-    geo: np.ndarray | None
+    lim: np.ndarray  # bezier_q.limits_q
+    geo: np.ndarray | None  # bezier_q.geo_q
     n_reg: int
     reasons: list[str]  # Python's
     first: np.ndarray  # Python's first violated sample per candidate
@@ -79,8 +54,8 @@ class Setup000:
     """000: one pass; the best index of the Python's plan (-1: none)."""
 
     coarse: Pass
-    k1: float
-    k2: float
+    k1: int  # Q16
+    k2: int
     best: int
 
 
@@ -89,8 +64,8 @@ class Setup001:
     """001: the coarse pass with its cut and the fine pass's budget."""
 
     coarse: Pass
-    k1: float
-    k2: float
+    k1: int  # Q16
+    k2: int
     per_sample_cycles: int
     setup_cycles: int
     cut_cycles: int
@@ -106,7 +81,7 @@ class Setup001:
     us: np.ndarray
     endpoints: np.ndarray
     fine_limits: Limits
-    fine_checks: object  # the (reason, mask) checks of the fine pass (true regions)
+    fine_geometry: Geometry  # the fine pass's tests (true regions)
 
 
 def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
@@ -123,8 +98,8 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
         best = -1
         if res["best"] is not None:
             best = int(np.nonzero(arrays["us"] == res["best"]["u"])[0][0])
-        return Setup000(Pass(ctrl, n, limits_words(lim), None, 0, reasons, first, cycles),
-                        params.k1, params.k2, best)
+        return Setup000(Pass(quantize_ctrl(ctrl), n, lim.words(), None, 0, reasons, first,
+                             cycles), q16(params.k1), q16(params.k2), best)
     inp = call["inputs"]
     p0 = np.asarray(inp["start_xy_m"], np.float64)
     obj = np.asarray(inp["target_xy_m"], np.float64)
@@ -134,7 +109,7 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     scan = infeasible_regions(params.sonar, p0, inp["heading_rad"], inp["sonar_mm"])
     ops = b001.SETUP_OPS + b001.REGION_OPS.scaled(len(scan.regions) + known)
     ops = ops + OpCounts(float_ops=8 * params.n_e, luts=2 * params.n_e)
-    kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 2}
+    kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
     setup_cycles = sample_ops(0, **kw).cycles()
     cut_cycles = (params.budget_us - ops.time_us()) * 400
@@ -143,7 +118,7 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)
-    _, reasons, first = evaluate_batch(ctrl, n, coarse, geometric_checks(obj, l_e, grown))
+    _, reasons, first = evaluate_batch(ctrl, n, coarse, geometry(obj, l_e, grown))
     row_cycles = np.minimum(first + 1, n) * per_sample + setup_cycles
     cut = np.cumsum(row_cycles) > cut_cycles
     reasons = ["budget" if c else r for r, c in zip(reasons, cut, strict=True)]
@@ -158,31 +133,32 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     lim = Limits(params.v_max, params.a_max, None, accel_is_normal=True)
     best = None if res["best"] is None else (res["best"]["u"], res["best"]["endpoint"])
     return Setup001(
-        Pass(ctrl, n, limits_words(coarse), geo_words(obj, l_e, grown), len(grown), reasons,
-             first, int(batch_ops(first[~cut], n, **kw).cycles())),
-        params.k1, params.k2, per_sample, setup_cycles, cut_cycles, limits_words(lim),
-        geo_words(obj, l_e, regions), params.n_fine, params.max_fine, params.t_d_m,
+        Pass(quantize_ctrl(ctrl), n, coarse.words(), geometry(obj, l_e, grown).words(),
+             len(grown), reasons, first, int(batch_ops(first[~cut], n, **kw).cycles())),
+        q16(params.k1), q16(params.k2), per_sample, setup_cycles, cut_cycles, lim.words(),
+        geometry(obj, l_e, regions).words(), params.n_fine, params.max_fine, params.t_d_m,
         sample_ops(params.n_fine, **kw).time_us(), params.total_budget_us - ops.time_us(),
         np.asarray(arrays["clearance"], np.float64), best, arrays["us"], arrays["endpoints"],
-        lim, geometric_checks(obj, l_e, regions))
+        lim, geometry(obj, l_e, regions))
 
 
 def fine_order(cost: np.ndarray, clearance: np.ndarray, t_d_m: float, max_fine: int
                ) -> np.ndarray:
     """Eq. (18)'s pool in cost order, as plan_001 takes it to the fine check."""
-    feasible = np.nonzero(np.isfinite(cost))[0]
+    feasible = np.nonzero(cost < INFEASIBLE)[0]
     wide = feasible[clearance[feasible] > t_d_m]
     pool = wide if wide.size else feasible
     return pool[np.argsort(cost[pool], kind="stable")][:max_fine]
 
 
 
-def fine_cycles(st: Setup001, ctrl: np.ndarray) -> int:
-    """Modelled cycles of the fine checks of these curves, as plan_001 charges them: each
-    rejected at its first violated sample (batch_ops at n_fine samples)."""
-    total = 0
-    for row in np.asarray(ctrl).reshape(-1, 4, 3):
-        _, _, first = evaluate_batch(row[None], st.n_fine, st.fine_limits, st.fine_checks)
-        total += int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
-            + st.setup_cycles
-    return total
+def fine_cycles(st: Setup001, ctrl_q: np.ndarray) -> int:
+    """Modelled cycles of the fine checks of these quantized curves, as plan_001 charges them:
+    each rejected at its first violated sample (batch_ops at n_fine samples)."""
+    rows = np.asarray(ctrl_q).reshape(-1, 4, 3)
+    if not len(rows):
+        return 0
+    first = evaluate_q(rows, st.n_fine, st.fine_lim, st.fine_geo,
+                       len(st.fine_geo) // bezier_q.REGION_WORDS).first
+    return int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
+        + st.setup_cycles * len(rows) + bezier_q.PASS_OPS.cycles() * int((first >= st.n_fine).sum())

@@ -5,6 +5,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from mobigrasp.host.budget_verdict import budget_block
+
 
 def world_figures(fin: dict) -> dict:
     """What the world says of a run, whoever the host was: the grasp, the final error, the
@@ -63,5 +65,6 @@ def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dic
         "trace_dropped_events": trace.dropped_events,
         "host": {k: hs.get(k) for k in ("control_steps", "ticks_skipped", "frames_idle")},
         "stages": hs.get("stages", {}),
+        "budget": budget_block(hs),
         "error": res.error if res and res.error else None,
     }

@@ -3,7 +3,7 @@
  *
  * Coarse: each curve (end point k_e, spacing u) checked at n samples against the coarse limits
  * (v, a_t = v^2 kappa of eq. (14)), the grasp circle and the grown infeasible regions of
- * eq. (16), its cost of eq. (17) when it passes; the pass stops taking curves once the
+ * eq. (16), its cost of eq. (17) (Q16) when it passes; the pass stops taking curves once the
  * modelled cycles of the curves taken so far exceed cut_cycles (the anytime cut: a curve
  * rejected at sample j costs (j + 1) per_sample_cycles + setup_cycles), and the curve that
  * crosses it and every later one get the reason "budget".
@@ -14,36 +14,37 @@
 #include "bezier.h"
 #include "kernels.h"
 
-int32_t mg_bezier001_coarse(const double *ctrl, int32_t n_cand, int32_t n, const double *lim,
-                            const double *geo, int32_t n_reg, int32_t per_sample_cycles,
-                            int32_t setup_cycles, int32_t cut_cycles, double k1, double k2,
-                            int32_t *reason, int32_t *first, double *cost)
+int32_t mg_bezier001_coarse(const int32_t *ctrl, int32_t n_cand, int32_t n,
+                            const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                            int32_t per_sample_cycles, int32_t setup_cycles, int32_t cut_cycles,
+                            int32_t k1_q16, int32_t k2_q16, int32_t *reason, int32_t *first,
+                            int64_t *cost)
 {
     int32_t spent = 0, i = 0;
     for (; i < n_cand; i++) {
-        double len = 0.0, kint = 0.0;
+        int64_t len = 0, kint = 0;
         reason[i] = mg_bezier_curve(ctrl + 12 * i, n, lim, geo, n_reg, first + i, &len,
                                     &kint);
         const int32_t used = first[i] + 1 < n ? first[i] + 1 : n;
         spent += used * per_sample_cycles + setup_cycles;
-        cost[i] = __builtin_inf();
+        cost[i] = INT64_MAX;
         if (spent > cut_cycles)
             break;
         if (reason[i] == MG_OK)
-            cost[i] = k1 * len + k2 * kint;
+            cost[i] = mg_bezier_cost(k1_q16, k2_q16, len, kint);
     }
     const int32_t taken = i;
     for (; i < n_cand; i++) {
         reason[i] = MG_BUDGET;
-        cost[i] = __builtin_inf();
+        cost[i] = INT64_MAX;
         if (i > taken)
             first[i] = n;
     }
     return taken;
 }
 
-int32_t mg_bezier001_fine(const double *ctrl, int32_t n_pool, int32_t n, const double *lim,
-                          const double *geo, int32_t n_reg, int32_t per_sample_cycles,
+int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const int32_t *lim,
+                          const int64_t *geo, int32_t n_reg, int32_t per_sample_cycles,
                           int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
                           int32_t *reason, int32_t *tried)
 {
@@ -53,7 +54,7 @@ int32_t mg_bezier001_fine(const double *ctrl, int32_t n_pool, int32_t n, const d
             *tried = i;
             return -1;
         }
-        double len = 0.0, kint = 0.0;
+        int64_t len = 0, kint = 0;
         int32_t first = 0;
         reason[i] = mg_bezier_curve(ctrl + 12 * i, n, lim, geo, n_reg, &first, &len, &kint);
         cycles += (first + 1 < n ? first + 1 : n) * per_sample_cycles + setup_cycles;

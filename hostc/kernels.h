@@ -96,23 +96,24 @@ int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int3
                             int32_t u0_px, int32_t v0_px, int32_t d_um, int32_t *out);
 
 /* bezier000.c, bezier001.c (bezier.h, bezier.c): the Bezier candidate evaluation of the 000
- * and 001 planners in double precision (soft-float on the ARM920T), from the candidates'
- * control points (12 doubles each: P0..P3 as x, y, t). Reasons per candidate (bezier.h), the
- * first violated sample, the cost of eq. (9) / (17) (inf when infeasible). mg_bezier000 returns
- * the best candidate (-1: none); mg_bezier001_coarse the curves taken before the anytime cut;
- * mg_bezier001_fine the first of the pool that passes (-1: none) and in *tried how many it
- * checked. */
-int32_t mg_bezier000(const double *ctrl, int32_t n_cand, int32_t n, const double *lim,
-                     double k1, double k2, int32_t *reason, int32_t *first, double *cost);
-int32_t mg_bezier001_coarse(const double *ctrl, int32_t n_cand, int32_t n, const double *lim,
-                            const double *geo, int32_t n_reg, int32_t per_sample_cycles,
-                            int32_t setup_cycles, int32_t cut_cycles, double k1, double k2,
-                            int32_t *reason, int32_t *first, double *cost);
-int32_t mg_bezier001_fine(const double *ctrl, int32_t n_pool, int32_t n, const double *lim,
-                          const double *geo, int32_t n_reg, int32_t per_sample_cycles,
+ * and 001 planners in fixed point (host/planning/bezier_q.py), from the candidates' control
+ * points (12 int32 each: P0..P3 as x, y, t in 1/16 mm and 1/16 ms). Reasons per candidate
+ * (bezier.h), the first violated sample, the cost of eq. (9) / (17) in Q16 (INT64_MAX when
+ * infeasible). mg_bezier000 returns the best candidate (-1: none); mg_bezier001_coarse the
+ * curves taken before the anytime cut; mg_bezier001_fine the first of the pool that passes
+ * (-1: none) and in *tried how many it checked. */
+int32_t mg_bezier000(const int32_t *ctrl, int32_t n_cand, int32_t n, const int32_t *lim,
+                     int32_t k1_q16, int32_t k2_q16, int32_t *reason, int32_t *first,
+                     int64_t *cost);
+int32_t mg_bezier001_coarse(const int32_t *ctrl, int32_t n_cand, int32_t n,
+                            const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                            int32_t per_sample_cycles, int32_t setup_cycles, int32_t cut_cycles,
+                            int32_t k1_q16, int32_t k2_q16, int32_t *reason, int32_t *first,
+                            int64_t *cost);
+int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const int32_t *lim,
+                          const int64_t *geo, int32_t n_reg, int32_t per_sample_cycles,
                           int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
                           int32_t *reason, int32_t *tried);
-double mg_sqrt(double x);
 
 /* double_cross.c: the 002 double cross from the grey image (host/vision/double_cross.py
  * detect_double_cross; the image centre U0 = 160, V0 = 120 px as there). out: u1_q4, v1_q4,

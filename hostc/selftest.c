@@ -2,7 +2,7 @@
  * 320x240 card, fixed angles, numbers and Bezier candidates), one line per kernel written
  * through sys_write: its name, its result and the FNV-1a hash of its outputs. The same lines
  * come from any correct build of the same C, natively or as the ARMv4T ELF under qemu-arm, so
- * comparing them checks the cross compiler, libgcc's integer division and soft-float, and the
+ * comparing them checks the cross compiler, libgcc's 32- and 64-bit integer division, and the
  * start-up code. Then the OS services of sys.h, through their deterministic results (/dev/zero
  * read, polled and mapped shared; a path that is no socket; a device that is no terminal).
  * hostc_selftest_io does what needs a peer: a terminal made raw, a Unix socket, a shared file.
@@ -58,12 +58,10 @@ static uint32_t fnv_i32(uint32_t h, const int32_t *v, int32_t n)
     return h;
 }
 
-static uint32_t fnv_f64(uint32_t h, const double *v, int32_t n)
+static uint32_t fnv_i64(uint32_t h, const int64_t *v, int32_t n)
 {
-    for (int32_t i = 0; i < n; i++) {
-        union { double d; uint64_t u; } x = { v[i] };
-        h = fnv_u64(h, x.u);
-    }
+    for (int32_t i = 0; i < n; i++)
+        h = fnv_u64(h, (uint64_t)v[i]);
     return h;
 }
 
@@ -359,31 +357,30 @@ static void arithmetic(void)
     }
     report("ring_pair", sum, h);
 
-    double v[64];
-    for (int i = 0; i < 64; i++) {
-        double x = (double)(i * i * 7919 + 1) / (double)(i + 3);
-        if (i % 5 == 0)
-            x = 1.0 / (x + 0.5);
-        v[i] = mg_sqrt(x);
-    }
-    report("sqrt_f64", 64, fnv_f64(FNV0, v, 64));
+    /* the Bezier kernels' 64-bit root on wide operands (squared speeds up to 2^55) */
+    int64_t v[64];
+    for (int i = 0; i < 64; i++)
+        v[i] = mg_isqrt64(((uint64_t)(i * i * 7919 + 1) << (i % 28)) / (uint64_t)(i + 3));
+    report("isqrt64_wide", 64, fnv_i64(FNV0, v, 64));
 }
 
-/* Bezier candidates in metres and seconds: a fan of end headings and durations from the origin
- * to a target 1 m ahead, some too fast, some too sharp, some through the grasp circle */
+/* Bezier candidates in 1/16 mm and 1/16 ms (host/planning/bezier_q.py): a fan of end headings
+ * and durations from the origin to a target 1 m ahead, some too fast, some too sharp, some
+ * through the grasp circle */
 #define N_CAND 24
-static double ctrl[N_CAND * 12];
+#define Q 16000  /* counts per metre and per second */
+static int32_t ctrl[N_CAND * 12];
 
 static void candidates(void)
 {
     for (int c = 0; c < N_CAND; c++) {
-        double *p = ctrl + 12 * c;
-        const double t_end = 2.0 + 0.5 * (c % 6);
-        const double side = (double)(c / 6) * 0.15 - 0.2;
-        const double pts[12] = { 0.0, 0.0, 0.0,
-                                 0.35, side, t_end / 3.0,
-                                 0.7, -side * 0.5, 2.0 * t_end / 3.0,
-                                 1.0, 0.1 * (c % 3), t_end };
+        int32_t *p = ctrl + 12 * c;
+        const int32_t t_end = 2 * Q + Q / 2 * (c % 6);
+        const int32_t side = (c / 6) * (Q * 15 / 100) - Q / 5;
+        const int32_t pts[12] = { 0, 0, 0,
+                                  Q * 35 / 100, side, t_end / 3,
+                                  Q * 7 / 10, -side / 2, 2 * t_end / 3,
+                                  Q, Q / 10 * (c % 3), t_end };
         for (int k = 0; k < 12; k++)
             p[k] = pts[k];
     }
@@ -392,24 +389,28 @@ static void candidates(void)
 static void planning(void)
 {
     candidates();
-    const double lim000[MG_LIM_WORDS] = { 0.4, 0.5, -1.0, 0.0 };
-    const double lim001[MG_LIM_WORDS] = { 0.4, 0.6, 1.0 / 0.15, 1.0 };
-    /* the grasp circle around (1.3, 0.1) of (0.25 - 0.001)^2, one sonar region ahead-left */
-    const double geo[MG_GEO_HEAD + MG_REGION_WORDS] = {
-        1.3, 0.1, 0.249 * 0.249,
-        0.5, 0.35, 0.0, 1.0, 0.2679, 0.0, 0.0, 0.0, 0.45 * 0.45, 1.0, 1.0, 0.5
+    /* v_max 0.4 m/s, a_max 0.5 / 0.6 m/s^2 (Q16), R_min 0.15 m for 001's table row (unused) */
+    const int32_t lim000[MG_LIM_WORDS] = { 26214, 32768, -1, 0 };
+    const int32_t lim001[MG_LIM_WORDS] = { 26214, 39322, 436907, 1 };
+    /* the grasp circle around (1.3, 0.1) m of (0.25 - 0.001) m, one sonar region ahead-left:
+     * apex (0.5, 0.35) m, bisector along +y (cos 0, sin 1 in Q14), tan 0.2679, sensing at the
+     * origin, band radii 0 and 0.45 m, the arc bound with cos(bound)^2 = 0.5 (Q16) */
+    const int64_t geo[MG_GEO_HEAD + MG_REGION_WORDS] = {
+        Q * 13 / 10, Q / 10, (int64_t)(Q * 249 / 1000) * (Q * 249 / 1000),
+        Q / 2, Q * 35 / 100, 0, 16384, 4389, 0, 0, 0, (int64_t)(Q * 45 / 100) * (Q * 45 / 100),
+        1, 1, 32768
     };
     int32_t reason[N_CAND], first[N_CAND], tried = 0;
-    double cost[N_CAND];
+    int64_t cost[N_CAND];
 
-    int32_t best = mg_bezier000(ctrl, N_CAND, 41, lim000, 1.0, 0.5, reason, first, cost);
+    int32_t best = mg_bezier000(ctrl, N_CAND, 41, lim000, 65536, 32768, reason, first, cost);
     report("bezier000", best,
-           fnv_f64(fnv_i32(fnv_i32(FNV0, reason, N_CAND), first, N_CAND), cost, N_CAND));
+           fnv_i64(fnv_i32(fnv_i32(FNV0, reason, N_CAND), first, N_CAND), cost, N_CAND));
 
     int32_t taken = mg_bezier001_coarse(ctrl, N_CAND, 41, lim001, geo, 1, 900, 4000, 400000,
-                                        1.0, 0.5, reason, first, cost);
+                                        65536, 32768, reason, first, cost);
     report("bezier001_coarse", taken,
-           fnv_f64(fnv_i32(fnv_i32(FNV0, reason, N_CAND), first, N_CAND), cost, N_CAND));
+           fnv_i64(fnv_i32(fnv_i32(FNV0, reason, N_CAND), first, N_CAND), cost, N_CAND));
 
     int32_t pick = mg_bezier001_fine(ctrl, N_CAND, 101, lim001, geo, 1, 900, 4000, 250, 2500,
                                      reason, &tried);

@@ -1,35 +1,26 @@
 """The Bezier candidate evaluation in C (hostc/bezier*.c) against the Python planners.
 
-Compared: every candidate's reason and first violated sample exactly, each feasible cost to
-1e-12 relative, the chosen candidate exactly. Not bit for bit: numpy evaluates eq. (6)'s power
-basis as a matrix product and sums the trapezoid pairwise, the C uses Horner's rule and a
-running sum (docs/budget.md); the C's square root is IEEE's, bit for bit.
+Both compute in fixed point (host/planning/bezier_q.py): every candidate's reason, first
+violated sample and Q16 cost are equal, and so is the chosen candidate.
 """
 
 import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from mobigrasp.calib import corpus, native, planning
 from mobigrasp.calib import plan_corpus as pc
+from mobigrasp.host.planning import bezier_q
 from mobigrasp.host.planning.bezier000 import control_points_000
 from mobigrasp.host.planning.bezier001 import control_points_001
 from mobigrasp.host.planning.candidates import Limits, evaluate_batch
 from mobigrasp.host.planning.grasp_circle import end_points
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 
-REL = 1e-12
-
-
-def test_square_root_is_ieee_bit_for_bit():
-    rng = np.random.default_rng(7)
-    bits = rng.integers(0, 0x7FF0_0000_0000_0000, 20_000, dtype=np.int64)
-    xs = np.concatenate([bits.view(np.float64), rng.random(2000), [0.0, 1.0, 2.0, 4.0,
-                                                                   5e-324, math.inf]])
-    got = np.array([native.dsqrt(x) for x in xs])
-    assert np.array_equal(got.view(np.int64), np.sqrt(xs).view(np.int64))
-    assert math.isnan(native.dsqrt(-1.0)) and math.isnan(native.dsqrt(math.nan))
+K1, K2 = planning.q16(0.5), planning.q16(0.5)
 
 
 def _random_000(rng):
@@ -48,13 +39,12 @@ def _random_000(rng):
     return np.concatenate([ctrl, back])
 
 
-def _compare(ctrl, n, reasons_py, first_py, reason, first, cost, s_len, s_kint, k1, k2):
+def _compare(reasons_py, first_py, reason, first, cost, q, k1, k2):
     assert [pc.REASONS[r] for r in reason] == list(reasons_py)
     np.testing.assert_array_equal(first, first_py)
     ok = reason == 0
-    want = k1 * s_len[ok] + k2 * s_kint[ok]
-    np.testing.assert_allclose(cost[ok], want, rtol=REL, atol=0)
-    assert np.all(np.isinf(cost[~ok]))
+    np.testing.assert_array_equal(cost[ok], q.cost_q16(k1, k2)[ok])
+    assert np.all(cost[~ok] == planning.INFEASIBLE)
 
 
 def test_000_candidates_match_python_on_random_plans():
@@ -65,14 +55,12 @@ def test_000_candidates_match_python_on_random_plans():
         n = int(rng.integers(2, 65))
         lim = Limits(rng.uniform(0.1, 0.4), rng.uniform(0.01, 0.2), rng.uniform(0.05, 0.5),
                      accel_is_normal=False)
-        s, reasons, first = evaluate_batch(ctrl, n, lim)
-        best, reason, cfirst, cost = native.bezier000(ctrl, n, planning.limits_words(lim),
-                                                      0.5, 0.5)
-        _compare(ctrl, n, reasons, first, reason, cfirst, cost, s.arc_length(),
-                 s.kappa_integral(), 0.5, 0.5)
+        q, reasons, first = evaluate_batch(ctrl, n, lim)
+        best, reason, cfirst, cost = native.bezier000(bezier_q.quantize_ctrl(ctrl), n,
+                                                      lim.words(), K1, K2)
+        _compare(reasons, first, reason, cfirst, cost, q, K1, K2)
         ok = np.nonzero(reason == 0)[0]
-        py_cost = np.where(np.array(reasons) == "ok", 0.5 * s.arc_length()
-                           + 0.5 * s.kappa_integral(), np.inf)
+        py_cost = q.cost_q16(K1, K2)
         assert best == (int(ok[np.argmin(py_cost[ok])]) if ok.size else -1)
         seen |= set(reasons)
     assert {"ok", "speed", "accel", "radius", "time_not_increasing"} <= seen
@@ -100,21 +88,20 @@ def test_001_candidates_match_python_on_random_scenes():
         ctrl = np.concatenate([ctrl, line[None]])
         n = int(rng.integers(4, 33))
         lim = Limits(0.4, 0.1, None, accel_is_normal=True)
-        s, reasons, first = evaluate_batch(ctrl, n, lim,
-                                           planning.geometric_checks(obj, l_e, regions))
-        geo = planning.geo_words(obj, l_e, regions)
+        geometry = planning.geometry(obj, l_e, regions)
+        q, reasons, first = evaluate_batch(ctrl, n, lim, geometry)
+        geo, cq = geometry.words(), bezier_q.quantize_ctrl(ctrl)
+        k1, k2 = planning.q16(0.8), planning.q16(0.2)
         taken, reason, cfirst, cost = native.bezier001_coarse(
-            ctrl, n, planning.limits_words(lim), geo, len(regions), 1, 0, 2**30, 0.8, 0.2)
+            cq, n, lim.words(), geo, len(regions), 1, 0, 2**30, k1, k2)
         assert taken == len(ctrl)
-        _compare(ctrl, n, reasons, first, reason, cfirst, cost, s.arc_length(),
-                 s.kappa_integral(), 0.8, 0.2)
+        _compare(reasons, first, reason, cfirst, cost, q, k1, k2)
         seen |= set(reasons)
         # the anytime cut: the curve whose cycles cross the budget and all after it
         spent = np.cumsum(np.minimum(first + 1, n) * 10 + 3)
         cut_at = len(ctrl) // 2
         taken, reason, _, _ = native.bezier001_coarse(
-            ctrl, n, planning.limits_words(lim), geo, len(regions), 10, 3,
-            int(spent[cut_at]) - 1, 0.8, 0.2)
+            cq, n, lim.words(), geo, len(regions), 10, 3, int(spent[cut_at]) - 1, k1, k2)
         assert taken == cut_at and np.all(reason[cut_at:] == pc.REASONS.index("budget"))
     assert {"ok", "obstacle", "grasp_circle", "accel"} <= seen
 
@@ -149,8 +136,8 @@ def _check_call(folder, call):
     evaluated = np.array([r != "budget" for r in cp.reasons])
     np.testing.assert_array_equal(first[evaluated], cp.first[evaluated])
     ok = np.isfinite(arrays["cost"])
-    np.testing.assert_allclose(cost[ok], arrays["cost"][ok], rtol=REL, atol=0)
-    assert np.all(np.isinf(cost[~ok]))
+    np.testing.assert_array_equal(cost[ok] / bezier_q.Q16, arrays["cost"][ok])
+    assert np.all(cost[~ok] == planning.INFEASIBLE)
     return call["planner"]
 
 
@@ -173,3 +160,82 @@ def test_c_matches_every_planner_call_of_the_corpus(tmp_path):
     calls = pc.read_index(tmp_path)["calls"]
     assert len(calls) >= 20
     assert {_check_call(tmp_path, c) for c in calls} == {"000", "001"}
+
+
+def _lim_000(v, a, r):
+    return Limits(v, a, r, accel_is_normal=False)
+
+
+_coord = st.floats(-3.0, 3.0, allow_nan=False, width=32)
+_time = st.floats(-2.0, 40.0, allow_nan=False, width=32)
+
+
+@settings(max_examples=200, deadline=None)
+@given(pts=st.lists(st.tuples(_coord, _coord, _time), min_size=4, max_size=4),
+       n=st.integers(2, 64), v=st.floats(0.05, 2.0), a=st.floats(0.005, 1.0),
+       r=st.one_of(st.none(), st.floats(0.02, 2.0)), normal=st.booleans())
+def test_c_equals_python_on_random_curves(pts, n, v, a, r, normal):
+    """Any four control points, any limits: the C and the Python decide and cost alike."""
+    ctrl = np.array(pts, np.float64)[None]
+    lim = Limits(v, a, None if normal else r, accel_is_normal=normal)
+    q, reasons, first = evaluate_batch(ctrl, n, lim)
+    best, reason, cfirst, cost = native.bezier000(bezier_q.quantize_ctrl(ctrl), n,
+                                                  lim.words(), K1, K2)
+    _compare(reasons, first, reason, cfirst, cost, q, K1, K2)
+    assert best == (0 if reasons == ["ok"] else -1)
+
+
+@settings(max_examples=100, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 40), arc=st.booleans(),
+       far=st.booleans())
+def test_c_equals_python_on_random_scenes_with_regions(seed, n, arc, far):
+    """Random sonar scenes and 001 candidates (some far outside the range: reason "range")."""
+    rng = np.random.default_rng(seed)
+    p0 = rng.uniform(-2, 2, 2) + (200.0 if far else 0.0)
+    obj = p0 + rng.uniform(0.6, 3.0) * np.array([math.cos(b := rng.uniform(-3, 3)),
+                                                 math.sin(b)])
+    heading = rng.uniform(-math.pi, math.pi)
+    sonar = [int(v) for v in rng.integers(150, 2600, 5)]
+    regions = infeasible_regions(SonarConfig(arc_angle_bound=arc), p0, heading, sonar).regions
+    l_e, v0 = 0.35, rng.uniform(0.08, 0.3)
+    dist = float(np.hypot(*(obj - p0)))
+    d0 = np.array([math.cos(heading), math.sin(heading)])
+    ctrl, _, _ = control_points_001(p0, d0, end_points(obj, l_e, 8), obj, dist / v0,
+                                    max(1, int(dist / v0 / 0.5)), dist, v0)
+    lim = Limits(rng.uniform(0.1, 0.5), rng.uniform(0.02, 0.3), None, accel_is_normal=True)
+    geometry = planning.geometry(obj, l_e, regions)
+    q, reasons, first = evaluate_batch(ctrl, n, lim, geometry)
+    k1, k2 = planning.q16(0.8), planning.q16(0.2)
+    _, reason, cfirst, cost = native.bezier001_coarse(
+        bezier_q.quantize_ctrl(ctrl), n, lim.words(), geometry.words(), len(regions), 1, 0,
+        2**30, k1, k2)
+    _compare(reasons, first, reason, cfirst, cost, q, k1, k2)
+    if far:
+        assert set(reasons) == {"range"}
+
+
+def test_fixed_point_follows_the_float_reference():
+    """The fixed-point speed, accelerations and κ decide as the float formulas of bezier.py
+    away from the limits: reasons agree on curves whose float margin exceeds 1 %."""
+    from mobigrasp.host.planning.bezier import evaluate, taus
+
+    rng = np.random.default_rng(11)
+    agree = total = 0
+    for _ in range(300):
+        rows = _random_000(rng)
+        k = int(rng.integers(len(rows)))
+        ctrl = rows[k:k + 1]
+        n = 24
+        s = evaluate(ctrl, taus(n))
+        lim = _lim_000(0.25, 0.04, 0.1)
+        _, reasons, _ = evaluate_batch(ctrl, n, lim)
+        with np.errstate(invalid="ignore"):
+            ratios = np.concatenate([s.speed[0] / lim.v_max,
+                                     np.abs(s.accel_tangential[0]) / lim.a_max,
+                                     np.abs(s.kappa[0]) * lim.r_min])
+        if not np.all(np.isfinite(ratios)) or np.any(np.abs(ratios - 1) < 0.01):
+            continue
+        total += 1
+        float_ok = bool(np.all(ratios < 1)) and bool(np.all(evaluate(ctrl, taus(2001)).t_tau > 0))
+        agree += float_ok == (reasons[0] == "ok")
+    assert total > 100 and agree == total

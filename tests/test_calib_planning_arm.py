@@ -1,5 +1,5 @@
-"""The Bezier candidate evaluation as ARM920T code (libgcc's double soft-float): the same
-results as the host-built C bit for bit, and the planning stages in calibrate and profile."""
+"""The Bezier candidate evaluation as ARM920T code (fixed point): the same results as the
+host-built C bit for bit, and the planning stages in calibrate and profile."""
 
 import math
 
@@ -9,6 +9,7 @@ import pytest
 from mobigrasp.calib import arm, calibrate, native, planning
 from mobigrasp.host.planning.bezier000 import control_points_000
 from mobigrasp.host.planning.bezier001 import control_points_001
+from mobigrasp.host.planning.bezier_q import quantize_ctrl
 from mobigrasp.host.planning.candidates import Limits
 from mobigrasp.host.planning.grasp_circle import end_points
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
@@ -19,24 +20,23 @@ def planner():
     return arm.Planner(arm.Arm9(arm.build()))
 
 
-def _bits(a):
-    return np.asarray(a, np.float64).view(np.int64)
-
-
 def test_emulated_000_evaluation_equals_the_host_build(planner):
     p0, obj = np.array([0.1, -0.2]), np.array([1.3, 0.4])
     d3 = (obj - p0) / np.hypot(*(obj - p0))
     t3 = float(np.hypot(*(obj - p0))) / 0.12
-    ctrl = control_points_000(p0, np.array([1.0, 0.0]), obj, d3, t3, 37, 0.12)[10:24]
-    lim = planning.limits_words(Limits(0.25, 0.04, 0.1, accel_is_normal=False))
-    (best, reason, first, cost), t = planner.bezier000(ctrl, 12, lim, 0.5, 0.5)
-    want = native.bezier000(ctrl, 12, lim, 0.5, 0.5)
+    ctrl = quantize_ctrl(control_points_000(p0, np.array([1.0, 0.0]), obj, d3, t3, 37,
+                                            0.12)[10:24])
+    lim = Limits(0.25, 0.04, 0.1, accel_is_normal=False).words()
+    k = planning.q16(0.5)
+    (best, reason, first, cost), t = planner.bezier000(ctrl, 12, lim, k, k)
+    want = native.bezier000(ctrl, 12, lim, k, k)
     assert best == want[0] and np.array_equal(reason, want[1])
-    assert np.array_equal(first, want[2]) and np.array_equal(_bits(cost), _bits(want[3]))
+    assert np.array_equal(first, want[2]) and np.array_equal(cost, want[3])
     assert best >= 0 and len(set(reason.tolist())) > 1  # some pass, some do not
     samples = int(np.minimum(first + 1, 12).sum())
-    # five libgcc divides (~500 cycles) and a bit-by-bit root (~2100) dominate a sample
-    assert 5000 < t.cycles / samples < 15000
+    # six 64-bit quotients (libgcc's shift-subtract loop) and the bit-by-bit root dominate a
+    # sample: well under the ~11 000 cycles of the same sample in double soft-float
+    assert 1000 < t.cycles / samples < 6000
 
 
 def test_emulated_001_passes_equal_the_host_build(planner):
@@ -48,13 +48,15 @@ def test_emulated_001_passes_equal_the_host_build(planner):
     dist = float(np.hypot(*(obj - p0)))
     ctrl, _, _ = control_points_001(p0, np.array([math.cos(heading), math.sin(heading)]), ends,
                                     obj, dist / 0.2, 4, dist, 0.2)
-    lim = planning.limits_words(Limits(0.4, 0.1, None, accel_is_normal=True))
-    geo = planning.geo_words(obj, 0.35, regions)
-    args = (ctrl, 10, lim, geo, len(regions), 300, 100, 2000, 0.8, 0.2)
+    ctrl = quantize_ctrl(ctrl)
+    lim = Limits(0.4, 0.1, None, accel_is_normal=True).words()
+    geo = planning.geometry(obj, 0.35, regions).words()
+    args = (ctrl, 10, lim, geo, len(regions), 300, 100, 2000, planning.q16(0.8),
+            planning.q16(0.2))
     (taken, reason, first, cost), t = planner.bezier001_coarse(*args)
     want = native.bezier001_coarse(*args)
     assert taken == want[0] and np.array_equal(reason, want[1])
-    assert np.array_equal(first, want[2]) and np.array_equal(_bits(cost), _bits(want[3]))
+    assert np.array_equal(first, want[2]) and np.array_equal(cost, want[3])
     assert 0 < taken < len(ctrl)  # the anytime cut fell inside the set
     fine = (ctrl[::-1], 16, lim, geo, len(regions), 300, 100, 5, 10_000)
     (got, tried), t_fine = planner.bezier001_fine(*fine)

@@ -7,7 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from mobigrasp.host.planning.bezier import Curve, coefficients, evaluate, sample_ops, taus
+from mobigrasp.host.planning.bezier import Curve, coefficients, evaluate, taus
+from mobigrasp.host.planning.bezier_q import sample_ops
 
 
 def bernstein(ctrl, tau):
@@ -128,11 +129,12 @@ def test_cost_is_k1_length_plus_k2_kappa_integral():
     assert c.cost(2001, 0.5, 0.5) == pytest.approx(0.5 * ref_len + 0.5 * ref_k, rel=1e-5)
 
 
-def test_ops_are_linear_in_samples_and_soft_float():
+def test_ops_are_linear_in_samples_and_integer_only():
     a, b = sample_ops(10), sample_ops(20)
-    assert b.float_ops - a.float_ops == a.float_ops - sample_ops(0).float_ops > 0
-    assert b.float_divs > a.float_divs > 0
-    assert sample_ops(10, regions=3).float_ops > sample_ops(10, regions=1).float_ops
+    assert b.cycles() - a.cycles() == a.cycles() - sample_ops(0).cycles() > 0
+    assert a.float_ops == a.float_divs == 0 and a.muls32 > 0
+    assert sample_ops(10, regions=3).cycles() > sample_ops(10, regions=1).cycles()
+    assert sample_ops(10, divs_per_sample=6).cycles() > sample_ops(10, divs_per_sample=3).cycles()
 
 
 def test_bad_input_is_named():

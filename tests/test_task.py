@@ -4,6 +4,7 @@ import detections as det
 import pytest
 
 from mobigrasp.host import arm_calib
+from mobigrasp.host.planning.anytime import PLAN_SLICE_US
 from mobigrasp.host.task import DEFAULT_TIMEOUTS_US, STATES, Task, TaskInputs, TaskParams
 
 # a radial symbol straight ahead of the camera in the search posture (alpha near 0), 1 m away
@@ -54,7 +55,15 @@ def test_found_is_confirmed_then_approach_with_a_logged_event_and_a_plan():
     # the object sits about 1 m ahead of the base
     assert 900 < task.obj[0] < 1300 and abs(task.obj[1]) < 150
     out = step(task, t)
-    assert out.detail["plan"]["feasible"] > 0 and out.ops.float_ops > 0  # planning charged
+    plan_us = out.detail["plan"]["plan_arm9_us"]
+    assert out.detail["plan"]["feasible"] > 0  # planning charged, its first slice in this step
+    assert min(plan_us, PLAN_SLICE_US) <= out.ops.time_us() <= PLAN_SLICE_US + 1000
+    # the path is taken in the step of the plan's last slice; the base stands before it
+    slices = -(-plan_us // PLAN_SLICE_US)
+    for k in range(1, slices):
+        assert out.wheels_mmps == (0, 0)
+        out = step(task, t + 20_000 * k)
+    out = step(task, t + 20_000 * slices)
     assert out.wheels_mmps != (0, 0)
     assert task.detectors_needed() == ["radial_symbol"]
 
@@ -318,7 +327,7 @@ def test_001_replans_when_the_sonar_sees_the_path_blocked():
             seen.append(out.detail["replan"])
         t += 20_000
     assert seen and seen[0].startswith("blocked")
-    assert out.ops.float_ops > 0  # the check and the plan are charged
+    assert 0 < out.ops.time_us() <= PLAN_SLICE_US + 1000  # the check and a slice of the plan
 
 
 def test_001_planner_gets_the_sonar_mount_and_shared_echo_tolerance():

@@ -42,6 +42,11 @@ TOPICS: dict[str, str] = {
     "/fuzzy": "mobigrasp.Fuzzy",
     "/arm9/load": "mobigrasp.Load",
     "/protocol/counters": "mobigrasp.ProtocolCounters",
+    # a host program's serial line decoded (``sim``: trace "wire" events)
+    "/wire/to_mcu": "mobigrasp.WireMessage",
+    "/wire/to_host": "mobigrasp.WireMessage",
+    "/wire/nacks": "mobigrasp.Nack",
+    "/wire/watchdog": "mobigrasp.WatchdogTrip",
 }
 # the arm's frames, base to camera (a /tf message each per truth sample with joint angles)
 ARM_FRAMES = ("waist", "upper_arm", "forearm", "wrist", "gripper", "camera")
@@ -205,7 +210,7 @@ def _state_log(event: dict) -> dict:
             "name": "task", "file": "", "line": 0}
 
 
-def _measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
+def measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
     """Wheel speeds of the simulated base between two truth samples (mm/s)."""
     dt = (cur["t_us"] - prev["t_us"]) / 1e6
     if dt <= 0:
@@ -217,6 +222,36 @@ def _measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
     w = dh / dt
     return {"left_mmps": round(1000 * (v - w * track_m / 2), 1),
             "right_mmps": round(1000 * (v + w * track_m / 2), 1)}
+
+
+def wire_messages(e: dict, state: dict) -> list[tuple[str, dict]]:
+    """(topic, message) of one trace "wire" event: every frame on /wire/to_mcu or
+    /wire/to_host, a NACK also on /wire/nacks (its reason by name, the count so far), a rise of
+    Telemetry's watchdog counter on /wire/watchdog, a SET_WHEELS on /wheels/commanded;
+    ``state`` carries the counts between events."""
+    from mobigrasp.mcu_sim.wire_names import nack_reason_name
+
+    t, name = int(e["t_us"]), e.get("msg")
+    msg = {"timestamp": stamp(t), "seq": e["seq"], "msg": name or f"type_{e.get('msg_type')}",
+           "fields": e.get("fields", {})}
+    if "error" in e:
+        msg["error"] = e["error"]
+    out = [("/wire/" + e["dir"], msg)]
+    fields = e.get("fields", {})
+    if e["dir"] == "to_mcu" and name == "SetWheels":
+        out.append(("/wheels/commanded", {"left_mmps": fields["left_mmps"],
+                                          "right_mmps": fields["right_mmps"]}))
+    elif name == "Nack":
+        state["nacks"] = state.get("nacks", 0) + 1
+        out.append(("/wire/nacks", {"timestamp": stamp(t), "acked_seq": fields["acked_seq"],
+                                    "reason": nack_reason_name(fields["reason"]),
+                                    "count": state["nacks"]}))
+    elif name == "Telemetry":
+        trips = fields["watchdog_trips"]
+        if trips > state.get("trips", 0):
+            out.append(("/wire/watchdog", {"timestamp": stamp(t), "trips": trips}))
+        state["trips"] = trips
+    return out
 
 
 class _Topics:
@@ -234,6 +269,7 @@ class _Topics:
         self.to_world = odom_to_world(start)
         self.counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)
         self.prev_truth: dict | None = None
+        self.wire_state: dict = {}
 
     def first(self) -> list[tuple[int, str, dict]]:
         """The scene and the counters at time 0."""
@@ -261,7 +297,7 @@ class _Topics:
                                            "elbow_rad": j[3], "shoulder_rad": j[4],
                                            "waist_rad": j[5]}))
             if self.prev_truth is not None:
-                measured = _measured_wheels(self.prev_truth, e, WHEEL_TRACK_M)
+                measured = measured_wheels(self.prev_truth, e, WHEEL_TRACK_M)
                 if measured is not None:
                     out.append((t, "/wheels/measured", measured))
             self.prev_truth = e
@@ -272,6 +308,8 @@ class _Topics:
         elif ev == "wheels":
             left, right = e["mmps"]
             out.append((t, "/wheels/commanded", {"left_mmps": left, "right_mmps": right}))
+        elif ev == "wire":
+            out.extend((t, topic, msg) for topic, msg in wire_messages(e, self.wire_state))
         elif ev == "load":
             out.append((t, "/arm9/load", {"load": e["load"], "window_us": e.get("window_us")}))
         elif ev == "detail" and isinstance(e.get("plan"), dict):
@@ -318,7 +356,22 @@ class McapLog:
     long the run. :meth:`finish` adds the rest of the trace, the summary's totals and the
     index."""
 
-    def __init__(self, path: Path, trace: Path | None = None) -> None:
+    def __init__(self, path: Path | None = None, trace: Path | None = None) -> None:
+        self.counts = dict.fromkeys(TOPICS, 0)
+        self._seq = 0
+        self._next_chunk_us = CHUNK_PERIOD_US
+        self._topics: _Topics | None = None
+        self._trace_fh = None
+        self._partial = ""
+        self._pending: list[Future] = []
+        self._worker: ThreadPoolExecutor | None = None
+        self._writer = None  # until start()
+        if path is not None:
+            self.start(path, trace)
+
+    def start(self, path: Path, trace: Path | None = None) -> None:
+        """Open ``path`` (trace.jsonl beside it, or ``trace``, is followed): for a caller that
+        knows the run folder only once the run has taken it (``sim``)."""
         from mcap.writer import CompressionType, Writer
 
         self.path = Path(path)
@@ -334,14 +387,6 @@ class McapLog:
         self._channels = {topic: self._writer.register_channel(
             topic=topic, message_encoding="json", schema_id=schema_ids[name])
             for topic, name in TOPICS.items()}
-        self.counts = dict.fromkeys(TOPICS, 0)
-        self._seq = 0
-        self._next_chunk_us = CHUNK_PERIOD_US
-        self._topics: _Topics | None = None
-        self._trace_fh = None
-        self._partial = ""
-        self._pending: list[Future] = []
-        self._worker: ThreadPoolExecutor | None = None
 
     def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
         """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array)."""
@@ -400,13 +445,16 @@ class McapLog:
             self._add(*m)
 
     def finish(self, summary: dict | None = None) -> dict[str, int]:
-        """Write what is left and close the file; the message count per topic."""
+        """Write what is left and close the file; the message count per topic (nothing
+        written when it was never started)."""
         pending, self._pending = self._pending, []
         for future in pending:
             future.result()
         if self._worker is not None:
             self._worker.shutdown()
             self._worker = None
+        if self._writer is None:
+            return self.counts
         self._follow_trace()
         if self._topics is None:  # no trace: the scene of an empty start
             self._topics = _Topics({})

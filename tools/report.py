@@ -1,9 +1,10 @@
 """report.html of a run folder: the answer first, then the figures, then the details.
 
-The page opens with the outcome (grasped or not, time to grasp, final error, contacts, the ARM9
-load's maximum and the host stage nearest its budget), then the plots and the camera at every
-state change, then every figure of summary.json. Paths are relative to the run folder, so the
-folder can be moved or archived. A small script marks an image that did not load.
+The page opens with the outcome (the ARM9 budget's verdict in words, grasped or not, time to
+grasp, final error, contacts, the ARM9 load's maximum and the host stage nearest its budget),
+then the plots and the camera at every state change, then every figure of summary.json. Paths
+are relative to the run folder, so the folder can be moved or archived. A small script marks an
+image that did not load.
 
 ``python -m mobigrasp.tools.report RUN_DIR`` (re)builds plots/ and report.html from trace.jsonl and
 summary.json, so a report can be regenerated after the run.
@@ -80,7 +81,9 @@ def answer(summary: dict) -> list[tuple[str, str]]:
     contacts = summary.get("collisions")
     target = summary.get("collisions_target")
     load = summary.get("arm9_load_max")
+    verdict = (summary.get("budget") or {}).get("verdict")
     return [
+        ("ARM9 budget", verdict or "-"),
         ("grasped", "yes" if grasped else "no"),
         ("task", f"{summary.get('task_state')} ({summary.get('end_reason')})"),
         ("time to grasp", _fmt(summary.get("time_to_grasp_s"), " s simulated")),
@@ -124,6 +127,9 @@ def write_report(folder: Path) -> Path:
     frames = sorted(p.name for p in (folder / "frames").glob("*.png")) \
         if (folder / "frames").exists() else []
     ok = summary.get("success")
+    verdict = "SUCCESS" if ok else "FAILED"
+    if summary.get("method") == "external":  # `sim`: a host mobigrasp did not write
+        verdict = f"external host, {'grasped' if ok else 'not grasped'}"
     title = f"{summary.get('scenario')} seed {summary.get('seed')}"
     scenario_file = relative_to(folder, summary.get("scenario_file"))
     details = dict(summary)
@@ -139,13 +145,20 @@ def write_report(folder: Path) -> Path:
         ".g figure{margin:0}.answer td:first-child{color:#555}.answer td{font-size:1.1em}"
         ".missing{color:red}</style></head><body>",
         f"<h1>{html.escape(title)}: "
-        f"<span style='color:{'green' if ok else 'red'}'>{'SUCCESS' if ok else 'FAILED'}</span>"
+        f"<span style='color:{'green' if ok else 'red'}'>{html.escape(verdict)}</span>"
         "</h1>",
         "<table class='answer'>",
     ]
     parts += [f"<tr><td>{html.escape(k)}</td><td>{html.escape(v)}</td></tr>"
               for k, v in answer(summary)]
     parts.append("</table>")
+    if summary.get("host_traffic"):
+        from mobigrasp.tools.wire_traffic import traffic_lines
+
+        parts.append("<h2>Host traffic</h2><ul>")
+        parts += [f"<li>{html.escape(line)}</li>"
+                  for line in traffic_lines(summary["host_traffic"])]
+        parts.append("</ul>")
     if summary.get("error"):
         parts.append(f"<p style='color:red'>error: {html.escape(summary['error'])}</p>")
     parts.append("<h2>Plots</h2><div class='g'>")

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import os
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,6 +48,15 @@ class SimOptions:
     progress: Any = None
     # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
+    # the fault plan (the scenario's with --fault applied); None: the scenario's
+    plan: Any = None
+    # simulated time starts at the host's first valid frame (ExternalHost.wait_for_host)
+    wait_host: bool = False
+    tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
+    # each frame the rig captures, as (seq, capture_us, rgb) (the caller's trace.mcap)
+    on_frame: Callable[[int, int, Any], None] | None = None
+    # told the run folder once it is taken and ready, before the first frame
+    on_folder: Callable[[Path], None] | None = None
 
 
 def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
@@ -64,10 +74,12 @@ def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
 
 def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
           stop: Callable[[], str | None] | None = None) -> dict:
-    """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
-    summary (also written to the run folder). Raises BadSimInput for bad input."""
+    """Run one session; ``on_ready(serial_path, camera_url, serial_tcp_url)`` once all are
+    served (the last None without ``tcp_port``). Returns the summary (also written to the run
+    folder). Raises BadSimInput for bad input."""
     from mobigrasp.cosim.serve.external_host import ExternalHost
     from mobigrasp.cosim.serve.mjpeg import CameraPortInUse, CameraServer
+    from mobigrasp.cosim.serve.tcp_bridge import TcpPortInUse, TcpSerialBridge
     from mobigrasp.link.registry import open_transport
 
     if opts.mcu not in MCU_BACKENDS:
@@ -94,23 +106,33 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         camera.close()
         folder.abandon()
         raise BadSimInput(str(exc)) from exc
-    transport = None
+    if opts.on_folder is not None:
+        opts.on_folder(out)
+    transport = bridge = None
     try:
         import cv2
 
         cv2.setNumThreads(1)  # the host program has the other core
         transport = open_transport("pty://")
+        if opts.tcp_port is not None:
+            try:
+                bridge = TcpSerialBridge(transport.slave_path, opts.tcp_port)
+            except (TcpPortInUse, ValueError) as exc:
+                raise BadSimInput(str(exc)) from exc
         host = ExternalHost(transport, on_frame=lambda rgb, t_us: camera.publish(rgb))
         return _run(opts, path, scenario, seed, out, camera, host, transport.slave_path,
-                    on_ready, stop)
+                    bridge, on_ready, stop)
     finally:
+        if bridge is not None:
+            bridge.close()
         if transport is not None:
             transport.close()
         camera.close()
         folder.release()
 
 
-def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
+def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
+         stop) -> dict:
     from mobigrasp.cosim.faulted_host import wrap_for_faults
     from mobigrasp.cosim.rig import Rig, RigConfig
     from mobigrasp.cosim.rig_plant import WorldPlant
@@ -124,8 +146,10 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
         "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
         "serial": serial, "camera": camera.url, "status": "running", "success": False,
-        "grasped": False, "sim_time_s": 0.0, "pid": os.getpid(),
+        "grasped": False, "wait_host": opts.wait_host, "sim_time_s": 0.0, "pid": os.getpid(),
     }
+    if bridge is not None:
+        summary["serial_tcp"] = bridge.url
     # "running" before anything else: a session killed outright leaves a summary that says it
     # did not finish, and how far it got (below, every SUMMARY_PERIOD_US simulated)
     write_summary(out / "summary.json", summary)
@@ -133,11 +157,12 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
     plant = WorldPlant(scenario, seed)
     plant.preload()
     mcu = open_mcu(opts.mcu)
-    plan = getattr(scenario, "faults", None) or FaultPlan()
+    plan = opts.plan or getattr(scenario, "faults", None) or FaultPlan()
     fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
     summary["faults_plan"] = plan.as_table()
     rig = Rig(rig_mcu, rig_plant, host.port,
-              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0))
+              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0),
+              on_frame=opts.on_frame)
     limit_s = opts.time_limit_s or scenario.meta.time_limit_s
     trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": "external", "seed": seed,
                  "robot": [scenario.robot.x_m, scenario.robot.y_m, scenario.robot.heading_rad],
@@ -158,7 +183,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
                            f"frames {camera.frames_published}")
 
     res = SessionResult()
-    on_ready(serial, camera.url)
+    on_ready(serial, camera.url, None if bridge is None else bridge.url)
     next_summary_us = SUMMARY_PERIOD_US
 
     def on_quantum(t_us: int) -> None:
@@ -169,9 +194,19 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
             next_summary_us = t_us - t_us % SUMMARY_PERIOD_US + SUMMARY_PERIOD_US
 
     try:
-        run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                    truth=plant.truth, on_quantum=on_quantum,
-                    speed=opts.speed, progress=progress, stop=why_stop)
+        if opts.wait_host:
+            # the camera shows the robot at t = 0 while the clock waits for the host
+            camera.publish(plant.capture(0))
+            wall0 = time.perf_counter()
+            res.reason = host.wait_for_host(why_stop) or "running"
+            summary["host_waited_s"] = round(time.perf_counter() - wall0, 3)
+            if res.reason != "running":  # stopped before the host came: the clock never ran
+                trace.write({"ev": "end", "t_us": 0, "reason": res.reason,
+                             "host_state": "EXTERNAL"})
+        if res.reason == "running":
+            run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
+                        truth=plant.truth, on_quantum=on_quantum,
+                        speed=opts.speed, progress=progress, stop=why_stop)
         summary["status"] = "finished"
     except Exception as exc:
         summary["status"] = "crashed"
@@ -186,6 +221,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats()
         summary["faults"], summary["safety"] = fault_rig.summary()
+        if bridge is not None:
+            summary["line"]["tcp"] = bridge.stats()
         write_summary(out / "summary.json", summary)
     summary["run_folder"] = str(out)
     return summary

@@ -14,9 +14,9 @@ From them, per sample τ_j = j/(n-1):
 - arc length ``∫ |(x_τ, y_τ)| dτ`` and ``∫ |κ| dτ`` (trapezoid rule over the samples), the two
   terms of eq. (9) of 000 / (17) of 001.
 
-Everything here is numpy float64 (PC-side planning reference); the cost of doing the same on the
-ARM920T with soft-float is counted analytically by :func:`sample_ops` per sample, following the C
-loop of hostc/bezier.c (see the constants below).
+Everything here is numpy float64: the reference the planners' fixed-point evaluation
+(:mod:`mobigrasp.host.planning.bezier_q`, hostc/bezier.c) is tested against, and the curve the
+path follower and the replan check sample.
 """
 
 from __future__ import annotations
@@ -25,51 +25,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mobigrasp.host.budget import CYCLES_FLOAT_CMP, OpCounts
 from mobigrasp.protocol.frozen import built
 
-# Soft-float (double) operations of the C loop of hostc/bezier.c, which evaluates the derivatives
-# of eq. (7) by Horner's rule and v, a_t, κ by the formulas of evaluate() (calibrated against it
-# as ARM920T code, docs/budget.md):
-#   τ_j (2); x_τ, y_τ, t_τ (12); s² (3); x_2τ, y_2τ (5); κ (5); 001's v²κ (2); the two trapezoid
-#   integrals (9)                                                           -> 38 ops
-#   000's a_t = dv/dt instead of v²κ: t_2τ, ds/dτ, dv/dτ (9 - 2)             -> +7 ops
-#   divides: v (1), κ (1), 000's ds/dτ and dv/dt (3); the root of s² (hostc/dsqrt.h, bit by bit:
-#   ~2100 cycles, DIVS_SQRT divide-equivalents); compares: t_τ > 0, s > 0, v, a (4), 000's radius
-#   test (2), the grasp circle (1), a region ~2
-FLOPS_PER_SAMPLE = 38
-FLOPS_TANGENTIAL = 7
-FCMPS_PER_SAMPLE = 4
-DIVS_PER_SAMPLE = 5  # 000 (001 passes 2)
-DIVS_SQRT = 4
-FLOPS_POSITION = 12  # x, y by Horner's rule (3 mul-adds each)
-FLOPS_GRASP_CIRCLE = 5  # dx, dy, dx²+dy² (then a compare with (l_e - margin)²)
-FLOPS_PER_REGION = 9  # eq. (16) of 001 per sample: 5-19 by where the test exits (most exit early)
-FCMPS_PER_REGION = 2
-FLOPS_CURVE_SETUP = 50  # coefficients of eq. (6) (39), the exact minimum of t_τ (12)
-DIVS_CURVE_SETUP = 2  # the τ step, the vertex of t_τ
-FCMPS_CURVE_SETUP = 5
-
-
-def sample_ops(n_samples: int, *, positions: bool = False, grasp_circle: bool = False,
-               regions: int = 0, divs_per_sample: int = DIVS_PER_SAMPLE) -> OpCounts:
-    """ARM9 soft-float cost of evaluating one curve at ``n_samples`` points (plus its setup).
-
-    ``divs_per_sample`` 2 is 001's a_t = v²κ (eq. (14)), more is 000's tangential dv/dt."""
-    per = FLOPS_PER_SAMPLE + (FLOPS_TANGENTIAL if divs_per_sample > 2 else 0)
-    cmps = FCMPS_PER_SAMPLE + (2 if divs_per_sample > 2 else 0)
-    if positions or grasp_circle or regions:
-        per += FLOPS_POSITION
-    if grasp_circle:
-        per += FLOPS_GRASP_CIRCLE
-        cmps += 1
-    per += FLOPS_PER_REGION * int(regions)
-    cmps += FCMPS_PER_REGION * int(regions)
-    n = int(n_samples)
-    return OpCounts(float_ops=per * n + FLOPS_CURVE_SETUP,
-                    float_divs=(divs_per_sample + DIVS_SQRT) * n + DIVS_CURVE_SETUP,
-                    branches=3 * n,
-                    alu=4 * n + CYCLES_FLOAT_CMP * (cmps * n + FCMPS_CURVE_SETUP))
+# Soft-float operations of a curve's position and of the region test of eq. (16) of 001, for
+# the float checks that still use this reference (the replan check, the escape test):
+# x, y by Horner's rule (3 mul-adds each); per region 5-19 ops by where the test exits
+FLOPS_POSITION = 12
+FLOPS_PER_REGION = 9
 
 
 def coefficients(ctrl: np.ndarray) -> np.ndarray:

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier import sample_ops
+from mobigrasp.host.planning.bezier_q import sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,
@@ -109,7 +109,7 @@ def plan_000(start_xy_m, start_vel_xy_mps, target_xy_m, params: Params000 = Para
     """Plan the approach of 000 from the current position/velocity to the object at target.
 
     Returns every candidate with its rejection reason and the best feasible one (or None with
-    the reason). ``plan.ops`` is the modelled ARM9 soft-float cost.
+    the reason). ``plan.ops`` is the modelled ARM9 cost.
     """
     p0 = np.asarray(start_xy_m, dtype=np.float64).reshape(2)
     vel = np.asarray(start_vel_xy_mps, dtype=np.float64).reshape(2)

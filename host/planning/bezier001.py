@@ -16,8 +16,9 @@ paths prefer those whose clearance D_m to the infeasible regions exceeds T_D. 00
 without a unit; we read it as centimetres (T_D = 0.15 m, ``t_d_m``), the only unit in which 15 is
 a sensible distance for a 0.2 m safety radius and a 2.5 m sonar range.
 
-ARM9 budget (one plan <= 100 ms with soft-float): all N_i·n_e candidates cannot be sampled finely
-on an ARM920T (1000+ curves at ~6000 cycles per sample). So, as engineering choices of ours:
+ARM9 budget (one plan <= ~100 ms, run in slices of the control steps: host/planning/anytime.py):
+all N_i·n_e candidates cannot be sampled finely on an ARM920T (1000+ curves at ~2000 cycles per
+fixed-point sample, docs/budget.md). So, as engineering choices of ours:
 (a) end points on the far side of the object (angle between q_e − P_i and q_s − P_i larger than
 ``endpoint_max_angle_rad``, default π/2) are skipped (set it to π to evaluate all 36);
 (b) coarse-to-fine: the candidates are checked at a number of samples chosen so that the set
@@ -40,11 +41,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier import sample_ops
 from mobigrasp.host.planning.bezier000 import start_direction
+from mobigrasp.host.planning.bezier_q import Q16, sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,
+    Geometry,
     Limits,
     Plan,
     batch_ops,
@@ -57,12 +59,10 @@ from mobigrasp.host.planning.grasp_circle import (
     ArmGeometry001,
     end_points,
     grasp_radius,
-    inside_circle,
 )
 from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
-    any_region_contains,
     infeasible_regions,
 )
 
@@ -103,6 +103,7 @@ class Params001:
 
 
 SETUP_OPS = OpCounts(float_ops=60, float_divs=6)
+CIRCLE_MARGIN_M = 1e-3  # samples closer than l_e less this are inside the grasp circle
 # per sonar region: world angles, apex Q_r (sin, divide, cos), the object-echo test (two
 # distances), and, in the coarse pass, the grown copy
 REGION_OPS = OpCounts(float_ops=45, float_divs=6, luts=4)
@@ -140,13 +141,9 @@ def is_object_echo(region: InfeasibleRegion, obj, tol_m: float) -> bool:
     return bool(region.clearance(obj[0], obj[1]) + region.r_r_m <= tol_m)
 
 
-def _geometric_checks(obj, l_e: float, regions: list[InfeasibleRegion]):
-    def checks(s):
-        inside = inside_circle(s.x, s.y, obj, l_e, margin_m=1e-3)
-        blocked = any_region_contains(regions, s.x, s.y)
-        blocked[..., 0] = False  # the present position is where the robot already is
-        return [("grasp_circle", inside), ("obstacle", blocked)]
-    return checks
+def _geometry(obj, l_e: float, regions: list[InfeasibleRegion]) -> Geometry:
+    """The grasp circle (less a 1 mm margin) and the regions of eq. (16)."""
+    return Geometry((float(obj[0]), float(obj[1])), l_e - CIRCLE_MARGIN_M, tuple(regions))
 
 
 def _clearance(s, rows: np.ndarray, regions: list[InfeasibleRegion]) -> np.ndarray:
@@ -191,7 +188,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     n_i = max(1, int(t3 / params.t_s))
     ctrl, us, ks = control_points_001(p0, d0, ends[keep], obj, t3, n_i, dist, params.v0)
     ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)
-    kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 2}
+    kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
     expected = max(1, int(per_sample * params.expected_cost_fraction))
     n, stride = choose_sampling(len(us), expected, params.budget_us - ops.time_us(),
@@ -201,11 +198,11 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     lim = Limits(params.v_max, params.a_max, None, accel_is_normal=True)
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)
-    checks = _geometric_checks(obj, l_e, regions)
+    checks = _geometry(obj, l_e, regions)
     # grow by a quarter of the straight-line spacing of coarse samples (>= coarse_inflate_m)
     inflate = max(params.coarse_inflate_m, 0.25 * dist / (n - 1))
     grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
-    s, reasons, first = evaluate_batch(ctrl, n, coarse, _geometric_checks(obj, l_e, grown))
+    s, reasons, first = evaluate_batch(ctrl, n, coarse, _geometry(obj, l_e, grown))
     # anytime cut: the C loop stops taking curves once the coarse budget is spent; curves after
     # that point were never evaluated (reason "budget")
     row_cycles = np.minimum(first + 1, n) * per_sample + sample_ops(0, **kw).cycles()
@@ -247,9 +244,9 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
 
 
 def _coarse_cost(s, rows: np.ndarray, params: Params001) -> np.ndarray:
-    """Cost eq. (17) of the given rows of a sampled batch (to rank them before D_m is known)."""
-    length = s.arc_length()[rows]
-    return params.k1 * length + params.k2 * s.kappa_integral()[rows]
+    """Cost eq. (17) (Q16) of the given rows of an evaluated batch (to rank them before D_m is
+    known)."""
+    return s.cost_q16(round(params.k1 * Q16), round(params.k2 * Q16))[rows]
 
 
 def _fine_check(pool, params: Params001, lim: Limits, checks, kw,

@@ -1,11 +1,11 @@
 """Candidate sets of Bezier paths: constraint checks, cost, ARM9 cost, and the Plan result.
 
 Shared by the planners of 000 (:mod:`mobigrasp.host.planning.bezier000`) and 001
-(:mod:`host.planning.bezier001`). A batch of curves is sampled at the same τ; each curve is
-checked sample by sample in the order a C loop would (time increasing, speed, acceleration,
-turning radius, then the planner's own geometric tests) and the index of its first violation is
-kept, so that the modelled ARM9 cost charges an early exit only for the samples a C loop would
-have evaluated.
+(:mod:`host.planning.bezier001`). A batch of curves is sampled at the same τ in fixed point
+(:mod:`mobigrasp.host.planning.bezier_q`); each curve is checked sample by sample in the order
+the C loop does (the planner's geometric tests, time increasing, speed, acceleration, turning
+radius) and the index of its first violation is kept, so that the modelled ARM9 cost charges
+an early exit only for the samples the C loop evaluates.
 """
 
 from __future__ import annotations
@@ -16,7 +16,18 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier import Curve, Samples, coefficients, evaluate, sample_ops, taus
+from mobigrasp.host.planning.bezier import Curve
+from mobigrasp.host.planning.bezier_q import (
+    PASS_OPS,
+    Q16,
+    REASONS,
+    QBatch,
+    evaluate_q,
+    geo_q,
+    limits_q,
+    quantize_ctrl,
+    sample_ops,
+)
 
 REASON_OK = "ok"
 
@@ -65,12 +76,6 @@ def choose_sampling(n_candidates: int, cycles_per_sample: int, budget_us: int,
     return n, stride
 
 
-def first_violation(bad: np.ndarray) -> np.ndarray:
-    """Index of the first True per row (the row length when none)."""
-    any_bad = bad.any(axis=-1)
-    return np.where(any_bad, bad.argmax(axis=-1), bad.shape[-1])
-
-
 @dataclass(frozen=True)
 class Limits:
     """Kinematic constraints of a plan (SI)."""
@@ -80,61 +85,38 @@ class Limits:
     r_min: float | None  # None: no turning-radius constraint (001 has none)
     accel_is_normal: bool  # True: a_t = v²κ as eq. (14) of 001 writes it; False: dv/dt (000)
 
-
-def kinematic_violations(s: Samples, lim: Limits) -> list[tuple[str, np.ndarray]]:
-    """Per-sample violation masks in checking order: (reason, bool array like s.speed)."""
-    with np.errstate(invalid="ignore"):
-        time_bad = ~(s.t_tau > 0.0) | ~(s.ds_dtau > 0.0)
-        speed_bad = ~(s.speed <= lim.v_max)
-        acc = s.accel_normal if lim.accel_is_normal else np.abs(s.accel_tangential)
-        acc_bad = ~(acc <= lim.a_max)
-        out = [("time_not_increasing", time_bad), ("speed", speed_bad), ("accel", acc_bad)]
-        if lim.r_min is not None:
-            out.append(("radius", ~(np.abs(s.kappa) <= 1.0 / lim.r_min)))
-    return out
+    def words(self) -> np.ndarray:
+        """The fixed-point limits (bezier_q.limits_q, hostc/bezier.h ``lim``)."""
+        return limits_q(self.v_max, self.a_max, self.r_min, self.accel_is_normal)
 
 
-def min_t_tau(ctrl: np.ndarray) -> np.ndarray:
-    """Exact minimum over τ ∈ [0, 1] of t_τ = c1 + 2c2τ + 3c3τ² (eq. (7) of 000) per curve."""
-    c = coefficients(ctrl)[..., 2]
-    c1, c2, c3 = c[..., 1], c[..., 2], c[..., 3]
-    ends = np.minimum(c1, c1 + 2 * c2 + 3 * c3)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tv = np.where(c3 > 0, -c2 / (3 * c3), -1.0)
-    inner = (tv > 0) & (tv < 1)
-    vertex = c1 + 2 * c2 * tv + 3 * c3 * tv * tv
-    return np.where(inner, np.minimum(ends, vertex), ends)
+@dataclass(frozen=True)
+class Geometry:
+    """001's geometric tests: the grasp circle (samples inside ``radius_m`` of the object are
+    rejected) and the infeasible regions of eq. (16)."""
+
+    obj_xy_m: tuple[float, float]
+    radius_m: float
+    regions: tuple = ()
+
+    def words(self) -> np.ndarray:
+        """hostc/bezier.h ``geo`` (bezier_q.geo_q)."""
+        return geo_q(self.obj_xy_m, self.radius_m, self.regions)
 
 
 def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
-                   extra_checks=None) -> tuple[Samples, list[str], np.ndarray]:
-    """Sample a batch (N, 4, 3); return samples, a reason per curve and its first bad sample index.
-
-    ``extra_checks(samples)`` may add (reason, mask) pairs (grasp circle, obstacles); a curve's
-    reason is the one whose violation comes first along the curve (ties: the earlier check).
-    """
-    s = evaluate(ctrl, taus(n_samples))
-    checks = kinematic_violations(s, lim)
-    # t(τ) must increase on the whole curve, not only at the samples: the minimum of the
-    # quadratic t_τ over [0, 1] is exact and cheap (checked before the first sample)
-    time_bad = np.zeros(s.t_tau.shape, dtype=bool)
-    time_bad[..., 0] = min_t_tau(ctrl) <= 0.0
-    checks = [("time_not_increasing", time_bad)] + checks
-    if extra_checks is not None:
-        checks = list(extra_checks(s)) + checks
-    n = ctrl.shape[0]
-    first = np.full(n, n_samples, dtype=np.int64)
-    reasons = [REASON_OK] * n
-    for name, mask in checks:
-        idx = first_violation(mask)
-        for i in np.nonzero(idx < first)[0]:
-            first[i] = idx[i]
-            reasons[i] = name
-    return s, reasons, first
+                   geometry: Geometry | None = None) -> tuple[QBatch, list[str], np.ndarray]:
+    """Check a batch (N, 4, 3) in fixed point (bezier_q.evaluate_q); return the evaluation, a
+    reason per curve and its first bad sample index (n_samples when none)."""
+    geo = None if geometry is None else geometry.words()
+    n_reg = 0 if geometry is None else len(geometry.regions)
+    q = evaluate_q(quantize_ctrl(ctrl), n_samples, lim.words(), geo, n_reg)
+    return q, [REASONS[c] for c in q.reason.tolist()], q.first
 
 
 def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
-    """ARM9 cost of a batch with early exit: a curve rejected at sample j costs j + 1 samples."""
+    """ARM9 cost of a batch with early exit: a curve rejected at sample j costs j + 1 samples,
+    a curve that passes its integrals and cost too."""
     first_bad = np.asarray(first_bad)
     if first_bad.size == 0:
         return OpCounts()
@@ -143,7 +125,8 @@ def batch_ops(first_bad: np.ndarray, n_samples: int, **kw) -> OpCounts:
     one = sample_ops(1, **kw)
     per_sample = OpCounts(**{f.name: getattr(one, f.name) - getattr(setup, f.name)
                              for f in fields(OpCounts)})  # fields(): OpCounts may use slots
-    return per_sample.scaled(samples) + setup.scaled(first_bad.size)
+    passed = int((first_bad >= n_samples).sum())
+    return per_sample.scaled(samples) + setup.scaled(first_bad.size) + PASS_OPS.scaled(passed)
 
 
 class CandidateList(Sequence):
@@ -192,13 +175,14 @@ class CandidateList(Sequence):
         return np.nonzero(np.isfinite(self.cost))[0]
 
 
-def candidates_from_batch(ctrl: np.ndarray, s: Samples, reasons: list[str], us, endpoints,
+def candidates_from_batch(ctrl: np.ndarray, s: QBatch, reasons: list[str], us, endpoints,
                           k1: float, k2: float, clearance=None) -> CandidateList:
-    """Wrap a sampled batch into Candidate records with cost eq. (9) of 000 / (17) of 001."""
+    """Wrap an evaluated batch into Candidate records with cost eq. (9) of 000 / (17) of 001
+    (the fixed-point cost, Q16, as a float: the ranking is the integers')."""
     length = s.arc_length()
     kint = s.kappa_integral()
-    ok = np.array([r == REASON_OK for r in reasons], dtype=bool)
-    cost = np.where(ok, k1 * length + k2 * kint, np.inf)
+    ok = s.reason == 0
+    cost = np.where(ok, s.cost_q16(round(k1 * Q16), round(k2 * Q16)) / Q16, np.inf)
     if clearance is None:
         clearance = np.full(len(reasons), np.inf)
     return CandidateList(ctrl, reasons, us, endpoints, cost, length, kint,

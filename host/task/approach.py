@@ -14,6 +14,7 @@ from abc import abstractmethod
 from typing import Any
 
 from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
+from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.task.drive import make_pose, turn_in_place
 from mobigrasp.host.task.method import Method
 
@@ -22,7 +23,7 @@ class ApproachStates:
     """APPROACH: its entry action and step (the method's), and the path approach."""
 
     def enter_APPROACH(self, t, now: int, inp) -> None:
-        t.follower, t.plan_attempts = None, 0
+        t.follower, t.plan_attempts, t.plan_job = None, 0, None
         t.rules.enter_approach(t, now, inp)
 
     def do_APPROACH(self, t, now: int, inp, dets: dict) -> None:
@@ -34,6 +35,12 @@ class ApproachStates:
         det = dets.get("radial_symbol")
         if det is not None and rules.sighting_usable(t, now, inp):
             t.see_object(now, inp, "radial_symbol", det)
+        if t.plan_job is not None:  # planning in slices (host/planning/anytime.py)
+            if not self._plan_slice(t, now, inp):
+                return  # not done: the old path or a standstill meanwhile
+            if t.state != "APPROACH" or t.follower is None:
+                t.wheels = (0, 0)
+                return
         moved = (t.plan_obj is not None and isqrt((t.obj[0] - t.plan_obj[0]) ** 2 + (
             t.obj[1] - t.plan_obj[1]) ** 2) > t.p.replan_shift_mm)
         replan = rules.sonar_replan(t, now, inp, moved)
@@ -46,6 +53,8 @@ class ApproachStates:
             if t.follower is None and t.plan_attempts and not self._face_object(t, inp):
                 return  # no feasible curve from here: face the object in place, then replan
             self._plan(t, now, inp)
+            if t.plan_job is not None:
+                return  # its slices go on in the next steps
             if t.state != "APPROACH" or t.follower is None:
                 t.wheels = (0, 0)
                 return
@@ -61,16 +70,39 @@ class ApproachStates:
             t.go(now, "ADJUST", f"object in view {dist} mm from the waist, nothing in the "
                  f"way: vision-based adjustment (000 §III.B) from here")
 
+    def _plan_slice(self, t, now: int, inp) -> bool:
+        """Charge this step's slice of the plan being made; True once it is done (its path
+        installed, starting now, or its failure handled), False while it is still computed."""
+        job = t.plan_job
+        t.charge(job.step())
+        if not job.done:
+            if t.follower is not None:
+                t.look_at_object(inp)
+                cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                                     inp.v_mmps))
+                t.wheels = t.rules.path_wheels(cmd)
+            else:
+                t.wheels = (0, 0)
+            return False
+        t.plan_job = None
+        if job.follower is not None:
+            t.follower = t.rules.start_path(t, job.follower, now)
+        elif job.detail is not None:
+            self._plan_failed(t, now, inp, job.detail)
+        return True
+
     def _plan(self, t, now: int, inp) -> None:
-        rules = t.rules
-        follower, ops, detail = rules.plan(t, now, inp)
-        t.charge(ops)
+        follower, ops, detail = t.rules.plan(t, now, inp)
         t.counters["plans"] += 1
         t.note(plan=detail)
         t.plan_us, t.plan_obj = now, t.obj
-        if follower is not None:
-            t.follower = follower
-            return
+        t.plan_job = PlanJob.start(follower, detail, ops)
+        self._plan_slice(t, now, inp)
+
+    def _plan_failed(self, t, now: int, inp, detail: dict) -> None:
+        """No path from the plan: already there, fewer attempts, the direct approach, a
+        detour, or a failure."""
+        rules = t.rules
         if "already" in detail["reason"]:
             t.go(now, "ADJUST", f"no path needed: {detail['reason']}")
             return
@@ -113,6 +145,12 @@ class PathMethod(Method):
     def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
         """Plan from the present pose toward ``t.obj``: (follower or None, ops, trace detail
         with at least ``reason``)."""
+
+    def start_path(self, t: Any, follower: Any, now: int) -> Any:
+        """The planned path's time starts now, in the step of its plan's last slice
+        (host/planning/anytime.py)."""
+        follower.start_us = now
+        return follower
 
     @abstractmethod
     def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:

@@ -162,6 +162,7 @@ class Task:
         self.obj = None  # odometry-frame (x_mm, y_mm) of the object
         self.obj_seen_us = now_us
         self.follower = None
+        self.plan_job = None  # a plan charged in slices (host/planning/anytime.py)
         self.plan_obj = None
         self.plan_us = now_us
         self.plan_attempts = 0

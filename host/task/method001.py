@@ -17,6 +17,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.replan import Replanner
@@ -329,10 +330,13 @@ class Method001(Method000):
             return None
         dec, follower, ops = update_001(t.ms.replanner, now, inp.x_mm, inp.y_mm,
                                         inp.heading_mrad, inp.v_mmps, inp.sonar_mm)
-        t.charge(ops)
+        if dec.plan is None:
+            t.charge(ops)
+        else:  # the plan's time in slices; its path (if any) is taken after the last one
+            t.plan_job = PlanJob.start(follower if dec.replanned else None, None, ops)
+            t.charge(t.plan_job.step())
         t.plan_us = now
         if dec.replanned:
-            t.follower = follower
             t.counters["plans"] += 1
             t.note(replan=dec.reason, plan={
                 "planner": "001", "reason": dec.reason,
@@ -345,6 +349,11 @@ class Method001(Method000):
             t.wheels = (0, 0)
             return True
         return False
+
+    def start_path(self, t: Any, follower: Any, now: int) -> Any:
+        """The path and the replanner's curve start now (the plan's last slice)."""
+        t.ms.replanner.start_us = now
+        return super().start_path(t, follower, now)
 
     def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
         """The first plan waits for one full sonar sweep; a detour is driven to its end; a
@@ -469,7 +478,7 @@ class Method001(Method000):
             if t.obj is not None and _object_echo(t, inp, phi, rng, half_cone):
                 continue
             t.wheels = (0, 0)
-            t.follower = None
+            t.follower, t.plan_job = None, None  # a plan being made started from a pose left
             guard = {"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm}
             if t.state == "APPROACH":
                 # a new plan from here starts forward, into what the guard saw, and is stopped

@@ -1,20 +1,23 @@
 """``mobigrasp profile SCENARIO``: where the ARM9 budget goes, per host stage.
 
 Runs the scenario in process (the modelled figures are transport-independent) with a wall-clock
-timer around every host stage. For each stage (frame hand-over, each detector, the task step with
-planning/ranging/control, protocol) it reports the modelled ARM920T time per call (mean, p95, max),
+timer around every host stage. It leads with the run's budget verdict (summary.json's
+``budget``, host/budget_verdict.py: "fits: worst control step 8.1 ms of 20 ms"). For each
+stage (frame hand-over, each detector, the task step with planning/ranging/control, protocol)
+it reports the modelled ARM920T time per call (mean, p95, max),
 its share of the budget that applies (a frame period of 66.7 ms for vision stages, the 20 ms
 control period for control stages) and the Python wall time per call, as a table and JSON; the ARM9
 load over the run is plots/arm9_load.png of the run folder. It names the stage that would miss its
 budget first (highest worst-case share).
 
-Below it, the kernels calibrated by ``mobigrasp calibrate`` (docs/budget.md): each one's modelled
+Below it, the kernels calibrated by ``mobigrasp calibrate`` that the run used (docs/budget.md;
+its detectors' stages and its method's planner): each one's modelled
 time now beside the time its C took as emulated ARM920T code in the last calibration (median,
 p95, max), their ratio and the commit measured, and which of them would miss the frame budget
 first on its own (none does unless its emulated maximum exceeds 66.7 ms). The planning stages
 (the Bezier candidate evaluation of 000 and 001, per planner call) are listed after the frame
-stages: a plan holds the ARM9 in a control step, so its time is also set against the frame
-period (frames arriving meanwhile wait or are dropped).
+stages: a plan runs in slices of the control steps (host/planning/anytime.py), its time per
+call set against the frame period.
 """
 
 from __future__ import annotations
@@ -25,9 +28,7 @@ import sys
 import time
 from pathlib import Path
 
-FRAME_BUDGET_US = 1_000_000 // 15
-CONTROL_BUDGET_US = 20_000
-CONTROL_STAGES = ("control", "protocol", "task")
+from mobigrasp.host.budget_verdict import FRAME_BUDGET_US, stage_budget_us
 
 
 class WallTimer:
@@ -48,7 +49,7 @@ def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
     """Rows per stage and the name of the stage with the highest worst-case budget share."""
     rows = []
     for name, st in sorted(stages.items()):
-        budget = CONTROL_BUDGET_US if name in CONTROL_STAGES else FRAME_BUDGET_US
+        budget = stage_budget_us(name)
         wall = wall_s.get(name, [])
         rows.append({
             "stage": name, "calls": st["calls"], "arm9_mean_us": round(st["mean_us"], 1),
@@ -66,10 +67,11 @@ def profile_table(stages: dict, wall_s: dict) -> tuple[list[dict], str | None]:
     return rows, first
 
 
-def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
-    """Per calibrated kernel: modelled µs now (at the calibrated frame size), the emulated
-    figures of the last calibration and the ratio; and the kernel whose emulated maximum takes
-    the largest share of the frame budget."""
+def calibration_rows(cal: dict | None, used: set[str] | None = None
+                     ) -> tuple[list[dict], str | None]:
+    """Per calibrated kernel (those in ``used`` when given: the run's): modelled µs now (at
+    the calibrated frame size), the emulated figures of the last calibration and the ratio;
+    and the kernel whose emulated maximum takes the largest share of the frame budget."""
     if not cal or not isinstance(cal.get("stages"), dict):
         return [], None
     from mobigrasp.calib.calibrate import PLANNING_STAGES, modelled_us
@@ -78,6 +80,8 @@ def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
     rows = []
     for name, st in sorted(cal["stages"].items(), key=lambda kv: (kv[0] in PLANNING_STAGES,
                                                                    kv[0])):
+        if used is not None and name not in used:
+            continue
         try:
             if not h:
                 raise KeyError(name)
@@ -99,7 +103,8 @@ def calibration_rows(cal: dict | None) -> tuple[list[dict], str | None]:
 
 def _print_calibration(cal: dict | None, rows: list[dict], first: str | None) -> None:
     if not rows:
-        print("calibrated kernels: no calibration yet (run mobigrasp calibrate)")
+        print("calibrated kernels: none this run used (or no calibration yet: run mobigrasp "
+              "calibrate)")
         return
     print(f"\ncalibrated kernels (calibration of commit {cal.get('commit')}, "
           f"{cal.get('frames')} frames, line fill {cal.get('line_fill_cycles')} cycles):")
@@ -107,7 +112,7 @@ def _print_calibration(cal: dict | None, rows: list[dict], first: str | None) ->
           f"{'ratio':>7}{'of 66.7ms':>11}")
     for k, r in enumerate(rows):
         if r["kind"] == "planning" and (k == 0 or rows[k - 1]["kind"] != "planning"):
-            print("planning (per planner call, in a control step):")
+            print("planning (per planner call, in slices of the control steps):")
         print(f"{r['stage']:<18}{r['modelled_us']:>10.0f}{r['emulated_median_us']:>10.0f}"
               f"{r['emulated_p95_us']:>10.0f}{r['emulated_max_us']:>10.0f}"
               f"{r['ratio']:>7.2f}{r['share_max']:>11.1%}")
@@ -140,6 +145,8 @@ def _run(args: argparse.Namespace) -> int:
         display.close()
         raise
     display.finish(summary)
+    budget = summary.get("budget") or {}
+    print(budget.get("verdict", "no budget verdict (the host reported no figures)"))
     rows, first = profile_table(summary.get("stages", {}), timer.wall_s)
     hdr = (f"{'stage':<22}{'calls':>7}{'mean_us':>10}{'p95_us':>9}{'max_us':>9}"
            f"{'budget':>8}{'share':>7}{'max':>7}{'py_ms':>8}")
@@ -161,14 +168,16 @@ def _run(args: argparse.Namespace) -> int:
     if avr_rows:  # an instruction-accurate backend measured the firmware's timing
         print()
         print(format_rows(avr_rows))
-    from mobigrasp.calib.calibrate import load_last
+    from mobigrasp.calib.calibrate import load_last, stages_used
     from mobigrasp.cosim.run_folder import default_run_folder
 
     cal = load_last(args.calibration)
-    cal_rows, cal_first = calibration_rows(cal)
+    cal_rows, cal_first = calibration_rows(cal, stages_used(summary.get("stages") or {},
+                                                            summary.get("method")))
     _print_calibration(cal, cal_rows, cal_first)
     out = Path(args.out) if args.out else default_run_folder(summary["scenario"], summary["seed"])
-    result = {"scenario": summary["scenario"], "seed": summary["seed"], "stages": rows,
+    result = {"scenario": summary["scenario"], "seed": summary["seed"], "budget": budget,
+              "stages": rows,
               "first_to_miss": first, "arm9_load_max": summary.get("arm9_load_max"),
               "arm9_load_mean": summary.get("arm9_load_mean"),
               "frames_dropped": summary.get("frames_dropped"),

@@ -52,16 +52,19 @@ class SimOptions:
     tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
     # each frame the rig captures, as (seq, capture_us, rgb) (the caller's trace.mcap)
     on_frame: Callable[[int, int, Any], None] | None = None
+    # told the run folder once it is taken and ready, before the first frame
+    on_folder: Callable[[Path], None] | None = None
 
 
-def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
-    """The run folder as ``mobigrasp run`` makes it (cosim/run_folder.py): under runs/ by a
-    sanitised name, and only a previous run's own files are replaced."""
-    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder
+def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
+    """The run folder as ``mobigrasp run`` takes it (cosim/run_folder.py), locked, nothing
+    changed yet: under runs/ by a sanitised name, the next free one when another session
+    holds the default (two default sessions never share a folder)."""
+    from mobigrasp.cosim.run_folder import RunFolderError, claim_run_folder
 
     try:
-        return prepare_run_folder(Path(opts.out) if opts.out else None, name, seed,
-                                  suffix="-sim")
+        return claim_run_folder(Path(opts.out) if opts.out else None, name, seed,
+                                suffix="-sim", next_free=opts.out is None)
     except RunFolderError as exc:
         raise BadSimInput(str(exc)) from exc
 
@@ -86,11 +89,22 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     path, scenario = opts.resolved
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = _out_dir(opts, name, seed)
-    try:
+    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError
+
+    folder = _claim_out(opts, name, seed)
+    try:  # the port before the folder is touched: a refused session changes nothing
         camera = CameraServer(opts.camera_port)
     except (CameraPortInUse, ValueError) as exc:
+        folder.abandon()
         raise BadSimInput(str(exc)) from exc
+    try:
+        out = folder.prepare(RUN_FILES)
+    except RunFolderError as exc:
+        camera.close()
+        folder.abandon()
+        raise BadSimInput(str(exc)) from exc
+    if opts.on_folder is not None:
+        opts.on_folder(out)
     transport = bridge = None
     try:
         import cv2
@@ -111,6 +125,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         if transport is not None:
             transport.close()
         camera.close()
+        folder.release()
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
@@ -128,6 +143,10 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
                        wait_host=opts.wait_host)
     if bridge is not None:
         sim.summary["serial_tcp"] = bridge.url
+    # "running" before anything else: a session killed outright leaves a summary that says it
+    # did not finish, and how far it got (SimSide.drive: every SUMMARY_PERIOD_US simulated)
+    sim.summary["status"] = "running"
+    sim.write_running(0)
     limit_s = run_time_limit_s(scenario, opts.time_limit_s)
     display = opts.progress
 

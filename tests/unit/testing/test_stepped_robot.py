@@ -25,7 +25,7 @@ from mobigrasp.testing.expect import ExpectationFailed
 
 pytestmark = pytest.mark.timeout(240)
 SCENARIO = "paper000-exp1"
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 class LoopHost:

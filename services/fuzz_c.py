@@ -169,13 +169,13 @@ def _c_frames(out: bytes) -> list[tuple]:
 def _inputs(rng: random.Random, pool: list[bytes]):
     """Byte streams: valid frames with one corruption (the Python bench's mutator), or random
     bytes with a zero now and then, or valid frames cut and glued anywhere."""
-    from mobigrasp.tools.benches.fuzz import _mutate
+    from mobigrasp.services.fuzz_inputs import mutate
 
     while True:
         r = rng.random()
         if r < 0.5:
             window = rng.choices(pool, k=rng.randint(1, 5))
-            yield _mutate(rng, window)[1] + rng.choice(pool)
+            yield mutate(rng, window)[1] + rng.choice(pool)
         elif r < 0.8:
             n = rng.randint(1, 300)
             yield bytes(0 if rng.random() < 0.03 else rng.randrange(256) for _ in range(n))
@@ -189,14 +189,14 @@ def differential(n_inputs: int, seed: int) -> dict:
     """``n_inputs`` streams through both parsers, persistent across inputs as on a line."""
     from mobigrasp.protocol import messages as m
     from mobigrasp.protocol.frame import FrameParser, encode_raw
-    from mobigrasp.tools.benches.fuzz import _command
+    from mobigrasp.services.fuzz_inputs import command
 
     mod = _diff_module()
     ffi, lib = mod.ffi, mod.lib
     rng = random.Random(seed)
     pool = []
     for _ in range(512):
-        msg_type, payload = _command(rng)
+        msg_type, payload = command(rng)
         if rng.random() < 0.2:  # MCU -> host types and unknown ones too
             msg_type = rng.choice((m.Telemetry.MSG_TYPE, m.Ack.MSG_TYPE, m.Log.MSG_TYPE,
                                    rng.randrange(256)))

@@ -1,4 +1,4 @@
-"""The C protocol code both boards run, fuzzed (tools/fuzz_c.py, firmware/fuzz/): a short
+"""The C protocol code both boards run, fuzzed (services/fuzz_c.py, firmware/fuzz/): a short
 seeded run of each libFuzzer target (ASan + UBSan) and of the differential run against the
 Python parser finds nothing, and each of them does report a planted fault."""
 
@@ -10,7 +10,7 @@ import sys
 
 import pytest
 
-from mobigrasp.tools import fuzz_c
+from mobigrasp.services import fuzz_c
 
 pytestmark = pytest.mark.skipif(not fuzz_c.shutil.which("clang"), reason="needs clang")
 

@@ -32,6 +32,7 @@ from mobigrasp.services.plan_paths import odom_to_world, plan_paths_world
 
 TOPICS: dict[str, str] = {
     "/camera/image": "foxglove.CompressedImage",
+    "/camera/calibration": "foxglove.CameraCalibration",
     "/camera/detections": "foxglove.ImageAnnotations",
     "/tf": "foxglove.FrameTransform",
     "/scene": "foxglove.SceneUpdate",
@@ -47,6 +48,8 @@ TOPICS: dict[str, str] = {
     "/wire/to_host": "mobigrasp.WireMessage",
     "/wire/nacks": "mobigrasp.Nack",
     "/wire/watchdog": "mobigrasp.WatchdogTrip",
+    "/mcu/encoders": "mobigrasp.Encoders",
+    "/mcu/sonars": "mobigrasp.Sonars",
 }
 # the arm's frames, base to camera (a /tf message each per truth sample with joint angles)
 ARM_FRAMES = ("waist", "upper_arm", "forearm", "wrist", "gripper", "camera")
@@ -247,6 +250,12 @@ def wire_messages(e: dict, state: dict) -> list[tuple[str, dict]]:
                                     "reason": nack_reason_name(fields["reason"]),
                                     "count": state["nacks"]}))
     elif name == "Telemetry":
+        if "enc_left" in fields and "enc_right" in fields:
+            out.append(("/mcu/encoders", {"timestamp": stamp(t), "enc_left": fields["enc_left"],
+                                          "enc_right": fields["enc_right"]}))
+        if "sonar_mm" in fields:
+            out.append(("/mcu/sonars", {"timestamp": stamp(t),
+                                        "sonar_mm": list(fields["sonar_mm"])}))
         trips = fields["watchdog_trips"]
         if trips > state.get("trips", 0):
             out.append(("/wire/watchdog", {"timestamp": stamp(t), "trips": trips}))
@@ -254,11 +263,43 @@ def wire_messages(e: dict, state: dict) -> list[tuple[str, dict]]:
     return out
 
 
+ROBOT_COLOR = {"r": 0.95, "g": 0.6, "b": 0.1, "a": 0.9}
+LINK_THICKNESS_M = 0.025
+
+
+def robot_entities(geom, footprint_radius_m: float) -> list[dict]:
+    """The robot in the 3D panel: the base's footprint (frame "base") and each arm link as a box
+    along its frame's x axis (upper_arm l1, forearm l2, wrist l3), frame-locked, so /tf moves
+    them with the joints (eq. (3) of 000)."""
+    d = 2 * footprint_radius_m
+    base = _entity(0, "base", "robot/base", cylinders=[{
+        "pose": _pose(0.0, 0.0, 0.05), "size": {"x": d, "y": d, "z": 0.1},
+        "bottom_scale": 1.0, "top_scale": 1.0, "color": ROBOT_COLOR}])
+    links = []
+    for frame, length in (("upper_arm", geom.l1), ("forearm", geom.l2), ("wrist", geom.l3)):
+        links.append(_entity(0, frame, f"robot/{frame}", cubes=[{
+            "pose": _pose(length / 2, 0.0, 0.0),
+            "size": {"x": length, "y": LINK_THICKNESS_M, "z": LINK_THICKNESS_M},
+            "color": ROBOT_COLOR}]))
+    return [base, *links]
+
+
+def camera_calibration(camera: dict) -> dict:
+    """foxglove.CameraCalibration of the pinhole camera (f, u0, v0 in px; no distortion), so
+    the 3D panel can project the image and the image panel draw the scene."""
+    f, u0, v0 = float(camera["f_px"]), float(camera["u0_px"]), float(camera["v0_px"])
+    return {"timestamp": stamp(0), "frame_id": "camera", "width": int(camera["width"]),
+            "height": int(camera["height"]), "distortion_model": "plumb_bob",
+            "D": [0.0] * 5, "K": [f, 0.0, u0, 0.0, f, v0, 0.0, 0.0, 1.0],
+            "R": [1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+            "P": [f, 0.0, u0, 0.0, 0.0, f, v0, 0.0, 0.0, 0.0, 1.0, 0.0]}
+
+
 class _Topics:
     """Trace events -> MCAP messages, one event at a time (the state the conversion carries:
     the start event, the last truth sample and the protocol counters)."""
 
-    def __init__(self, start: dict) -> None:
+    def __init__(self, start: dict, camera: dict | None = None) -> None:
         from mobigrasp.host.task import METHODS, method_rules
         from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
 
@@ -270,13 +311,20 @@ class _Topics:
         self.counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)
         self.prev_truth: dict | None = None
         self.wire_state: dict = {}
+        self.camera = camera
 
     def first(self) -> list[tuple[int, str, dict]]:
-        """The scene and the counters at time 0."""
-        return [(0, "/scene", {"deletions": [], "entities": [
-                    obstacle_entity(self.start),
+        """The scene (robot, obstacles, target), the camera's calibration and the counters at
+        time 0."""
+        from mobigrasp.mcu_sim.world.base import FOOTPRINT_RADIUS_M
+
+        out = [(0, "/scene", {"deletions": [], "entities": [
+                    *robot_entities(self.geom, FOOTPRINT_RADIUS_M), obstacle_entity(self.start),
                     target_entity(str(self.start.get("scenario", "target")))]}),
-                (0, "/protocol/counters", dict(self.counters))]
+               (0, "/protocol/counters", dict(self.counters))]
+        if self.camera is not None:
+            out.append((0, "/camera/calibration", camera_calibration(self.camera)))
+        return out
 
     def event(self, e: dict) -> list[tuple[int, str, dict]]:
         """The messages of one trace event."""
@@ -354,9 +402,17 @@ class McapLog:
     trace lines of ``trace`` (default: trace.jsonl beside ``path``) written since the frame
     before. At most :data:`_MAX_PENDING_FRAMES` frames wait for it: memory stays flat however
     long the run. :meth:`finish` adds the rest of the trace, the summary's totals and the
-    index."""
+    index.
 
-    def __init__(self, path: Path | None = None, trace: Path | None = None) -> None:
+    ``info``: the run's metadata (scenario, seed, commit, MCU backend, ...: strings), written
+    as the file's "mobigrasp" metadata record; ``camera``: the pinhole intrinsics (``f_px``,
+    ``u0_px``, ``v0_px``, ``width``, ``height``) for /camera/calibration. A channel is
+    registered with its first message: the file has no empty channel."""
+
+    def __init__(self, path: Path | None = None, trace: Path | None = None,
+                 info: dict[str, str] | None = None, camera: dict | None = None) -> None:
+        self.info = {str(k): str(v) for k, v in (info or {}).items()}
+        self.camera = camera
         self.counts = dict.fromkeys(TOPICS, 0)
         self._seq = 0
         self._next_chunk_us = CHUNK_PERIOD_US
@@ -381,12 +437,21 @@ class McapLog:
         self._writer = Writer(self._fh, chunk_size=CHUNK_BYTES,
                               compression=CompressionType.ZSTD)
         self._writer.start(profile="", library="mobigrasp")
-        schema_ids = {name: self._writer.register_schema(
-            name=name, encoding="jsonschema", data=json.dumps(schema).encode())
-            for name, schema in SCHEMAS.items()}
-        self._channels = {topic: self._writer.register_channel(
-            topic=topic, message_encoding="json", schema_id=schema_ids[name])
-            for topic, name in TOPICS.items()}
+        if self.info:
+            self._writer.add_metadata("mobigrasp", self.info)
+        self._schema_ids: dict[str, int] = {}
+        self._channels: dict[str, int] = {}
+
+    def _channel(self, topic: str) -> int:
+        """The channel of ``topic``, registered (with its schema) on first use."""
+        if topic not in self._channels:
+            name = TOPICS[topic]
+            if name not in self._schema_ids:
+                self._schema_ids[name] = self._writer.register_schema(
+                    name=name, encoding="jsonschema", data=json.dumps(SCHEMAS[name]).encode())
+            self._channels[topic] = self._writer.register_channel(
+                topic=topic, message_encoding="json", schema_id=self._schema_ids[name])
+        return self._channels[topic]
 
     def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
         """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array)."""
@@ -408,7 +473,7 @@ class McapLog:
 
     def _add(self, t_us: int, topic: str, msg: dict) -> None:
         ns = int(t_us) * 1000
-        self._writer.add_message(channel_id=self._channels[topic], log_time=ns, publish_time=ns,
+        self._writer.add_message(channel_id=self._channel(topic), log_time=ns, publish_time=ns,
                                  sequence=self._seq, data=json.dumps(
                                      msg, separators=(",", ":"), allow_nan=False).encode())
         self._seq += 1
@@ -438,7 +503,7 @@ class McapLog:
         if self._topics is None:
             if event.get("ev") != "start":
                 return
-            self._topics = _Topics(event)
+            self._topics = _Topics(event, self.camera)
             for m in self._topics.first():
                 self._add(*m)
         for m in self._topics.event(event):

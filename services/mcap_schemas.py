@@ -1,21 +1,20 @@
 """JSON schemas of the MCAP channels (services/mcap_out.py): the Foxglove message types by name.
 
 Foxglove picks its panels by the schema *name* (``foxglove.CompressedImage`` goes to the Image
-panel, ``foxglove.SceneUpdate`` to the 3D panel, ...); the JSON encoding of those types is
-documented at docs.foxglove.dev ("Message schemas"): times are ``{"sec", "nsec"}``, byte fields
-base64 strings, enums integers. The schemas below hold the fields mobigrasp writes, typed as that
-documentation types them; the numeric channels have mobigrasp's own small schemas.
+panel, ``foxglove.SceneUpdate`` to the 3D panel, ...). The ``foxglove.*`` schemas are the
+published ones, unchanged (``services/foxglove_schemas/``, package data): a reader validates
+against the real types. The numeric channels have mobigrasp's own small schemas.
 """
 
 from __future__ import annotations
 
+import json
+from importlib.resources import files
+
 TIME = {"type": "object", "properties": {"sec": {"type": "integer", "minimum": 0},
                                          "nsec": {"type": "integer", "minimum": 0}}}
-VEC3 = {"type": "object", "properties": {k: {"type": "number"} for k in "xyz"}}
-QUAT = {"type": "object", "properties": {k: {"type": "number"} for k in "xyzw"}}
-POSE = {"type": "object", "properties": {"position": VEC3, "orientation": QUAT}}
-COLOR = {"type": "object", "properties": {k: {"type": "number"} for k in ("r", "g", "b", "a")}}
-POINT2 = {"type": "object", "properties": {"x": {"type": "number"}, "y": {"type": "number"}}}
+FOXGLOVE_TYPES = ("CompressedImage", "ImageAnnotations", "FrameTransform", "SceneUpdate", "Log",
+                  "CameraCalibration")
 
 
 def _obj(title: str, **props) -> dict:
@@ -26,66 +25,30 @@ def _array(item: dict) -> dict:
     return {"type": "array", "items": item}
 
 
+def _foxglove(name: str) -> dict:
+    folder = files("mobigrasp.services") / "foxglove_schemas"
+    return json.loads((folder / f"foxglove.{name}.json").read_text(encoding="utf-8"))
+
+
 NUMBER = {"type": "number"}
+OPT_NUMBER = {"type": ["number", "null"]}  # a figure the run did not have (not computed yet)
 NUMBERS = _array({"type": ["number", "null"]})
+INTEGERS = _array({"type": "integer"})
 
 SCHEMAS: dict[str, dict] = {
-    "foxglove.CompressedImage": _obj(
-        "foxglove.CompressedImage", timestamp=TIME, frame_id={"type": "string"},
-        data={"type": "string", "contentEncoding": "base64"}, format={"type": "string"}),
-    "foxglove.ImageAnnotations": _obj(
-        "foxglove.ImageAnnotations",
-        circles=_array(_obj("foxglove.CircleAnnotation", timestamp=TIME, position=POINT2,
-                            diameter=NUMBER, thickness=NUMBER, fill_color=COLOR,
-                            outline_color=COLOR)),
-        points=_array(_obj("foxglove.PointsAnnotation", timestamp=TIME,
-                           type={"type": "integer"}, points=_array(POINT2),
-                           outline_color=COLOR, thickness=NUMBER)),
-        texts=_array(_obj("foxglove.TextAnnotation", timestamp=TIME, position=POINT2,
-                          text={"type": "string"}, font_size=NUMBER, text_color=COLOR,
-                          background_color=COLOR))),
-    "foxglove.FrameTransform": _obj(
-        "foxglove.FrameTransform", timestamp=TIME, parent_frame_id={"type": "string"},
-        child_frame_id={"type": "string"}, translation=VEC3, rotation=QUAT),
-    "foxglove.SceneUpdate": _obj(
-        "foxglove.SceneUpdate",
-        deletions=_array(_obj("foxglove.SceneEntityDeletion", timestamp=TIME,
-                              type={"type": "integer"}, id={"type": "string"})),
-        entities=_array(_obj(
-            "foxglove.SceneEntity", timestamp=TIME, frame_id={"type": "string"},
-            id={"type": "string"}, lifetime=TIME, frame_locked={"type": "boolean"},
-            metadata=_array(_obj("foxglove.KeyValuePair", key={"type": "string"},
-                                 value={"type": "string"})),
-            arrows=_array({"type": "object"}), triangles=_array({"type": "object"}),
-            models=_array({"type": "object"}),
-            cubes=_array(_obj("foxglove.CubePrimitive", pose=POSE, size=VEC3, color=COLOR)),
-            cylinders=_array(_obj("foxglove.CylinderPrimitive", pose=POSE, size=VEC3,
-                                  bottom_scale=NUMBER, top_scale=NUMBER, color=COLOR)),
-            spheres=_array(_obj("foxglove.SpherePrimitive", pose=POSE, size=VEC3,
-                                color=COLOR)),
-            lines=_array(_obj("foxglove.LinePrimitive", type={"type": "integer"}, pose=POSE,
-                              thickness=NUMBER, scale_invariant={"type": "boolean"},
-                              points=_array(VEC3), color=COLOR)),
-            texts=_array(_obj("foxglove.TextPrimitive", pose=POSE,
-                              billboard={"type": "boolean"}, font_size=NUMBER,
-                              scale_invariant={"type": "boolean"}, color=COLOR,
-                              text={"type": "string"}))))),
-    "foxglove.Log": _obj(
-        "foxglove.Log", timestamp=TIME, level={"type": "integer", "minimum": 0, "maximum": 5},
-        message={"type": "string"}, name={"type": "string"}, file={"type": "string"},
-        line={"type": "integer"}),
+    **{f"foxglove.{name}": _foxglove(name) for name in FOXGLOVE_TYPES},
     "mobigrasp.Joints": _obj("mobigrasp.Joints", joints_rad=NUMBERS, gripper=NUMBER,
                              roll_rad=NUMBER, wrist_rad=NUMBER, elbow_rad=NUMBER,
                              shoulder_rad=NUMBER, waist_rad=NUMBER),
     "mobigrasp.Wheels": _obj("mobigrasp.Wheels", left_mmps=NUMBER, right_mmps=NUMBER),
-    "mobigrasp.Fuzzy": _obj("mobigrasp.Fuzzy", e_mrad=NUMBER, e_c_mrad_s=NUMBER,
-                            u_mrad=NUMBER),
-    "mobigrasp.Load": _obj("mobigrasp.Load", load=NUMBER, window_us=NUMBER),
+    "mobigrasp.Fuzzy": _obj("mobigrasp.Fuzzy", e_mrad=OPT_NUMBER, e_c_mrad_s=OPT_NUMBER,
+                            u_mrad=OPT_NUMBER),
+    "mobigrasp.Load": _obj("mobigrasp.Load", load=NUMBER, window_us=OPT_NUMBER),
     "mobigrasp.ProtocolCounters": _obj(
         "mobigrasp.ProtocolCounters", nacks=NUMBER, reliable_failed=NUMBER,
         output_rejected=NUMBER, mcu_resets_seen=NUMBER, deadline_misses=NUMBER,
-        frames_dropped=NUMBER, tx_frames=NUMBER, rx_frames=NUMBER, crc_errors=NUMBER,
-        retransmits=NUMBER),
+        frames_dropped=NUMBER, tx_frames=OPT_NUMBER, rx_frames=OPT_NUMBER,
+        crc_errors=OPT_NUMBER, retransmits=OPT_NUMBER),
     # the serial line decoded (trace "wire" events): any message with its fields
     "mobigrasp.WireMessage": _obj("mobigrasp.WireMessage", timestamp=TIME,
                                   seq={"type": "integer"}, msg={"type": "string"},
@@ -94,4 +57,8 @@ SCHEMAS: dict[str, dict] = {
                            reason={"type": "string"}, count={"type": "integer"}),
     "mobigrasp.WatchdogTrip": _obj("mobigrasp.WatchdogTrip", timestamp=TIME,
                                    trips={"type": "integer"}),
+    # what the MCU reports in TELEMETRY (docs/protocol.md 0x20), on their own topics
+    "mobigrasp.Encoders": _obj("mobigrasp.Encoders", timestamp=TIME, enc_left=NUMBER,
+                               enc_right=NUMBER),
+    "mobigrasp.Sonars": _obj("mobigrasp.Sonars", timestamp=TIME, sonar_mm=INTEGERS),
 }

@@ -235,7 +235,9 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
     if opts.mcap:
         from mobigrasp.services.mcap_out import McapLog
 
-        camera = McapLog(out / "trace.mcap")  # written as the run goes
+        camera = McapLog(out / "trace.mcap",  # written as the run goes
+                         info=mcap_info(scenario, seed, opts.mcu, opts.transport),
+                         camera=mcap_camera(scenario))
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
                    host_config=cfg, time_limit_s=run_time_limit_s(scenario, opts.time_limit_s),
                    inproc_client=_inproc_client(cfg, opts.timer), transport=opts.transport,
@@ -258,6 +260,23 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
         except Exception as exc:  # a plotting failure must not hide the run's result
             log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
     return summary
+
+
+def mcap_info(scenario: Any, seed: int, mcu: str, transport: str) -> dict[str, str]:
+    """trace.mcap's metadata record: what a reader needs to know which run it holds."""
+    from mobigrasp.provenance import source_commit
+
+    return {"scenario": scenario.meta.name, "seed": str(seed), "method": scenario.meta.method,
+            "mcu_backend": mcu, "transport": transport, "commit": source_commit()}
+
+
+def mcap_camera(scenario: Any) -> dict:
+    """The scenario's pinhole camera for trace.mcap's /camera/calibration."""
+    from mobigrasp.mcu_sim.world.camera import Intrinsics
+
+    cam, size = scenario.camera, Intrinsics()
+    return {"f_px": cam.f_px, "u0_px": cam.u0_px, "v0_px": cam.v0_px, "width": size.width,
+            "height": size.height}
 
 
 def _finish_mcap(camera: Any, out: Path) -> None:

@@ -115,12 +115,15 @@ def _run(args: argparse.Namespace) -> int:
         return 2
     from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
     from mobigrasp.services.mcap_out import McapLog
+    from mobigrasp.services.run_job import mcap_camera, mcap_info
     from mobigrasp.tools.progress import Progress
 
     wait_host = (not sys.stdin.isatty()) if args.wait_host is None else args.wait_host
-    frames = McapLog()  # trace.mcap, written as the session goes once its folder is taken
-
     scenario = resolved[1]
+    seed = scenario.meta.seed if args.seed is None else args.seed
+    # trace.mcap, written as the session goes once its folder is taken
+    frames = McapLog(info={**mcap_info(scenario, seed, mcu, "pty"), "host": "external"},
+                     camera=mcap_camera(scenario))
     display = Progress(total=round(run_time_limit_s(scenario, args.time_limit_s), 1),
                        desc=f"sim {scenario.meta.name}", unit="s simulated",
                        enabled=not args.quiet)

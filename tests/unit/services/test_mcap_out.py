@@ -7,6 +7,7 @@ import json
 import math
 
 import cv2
+import jsonschema
 import numpy as np
 import pytest
 from mcap.reader import make_reader
@@ -43,6 +44,7 @@ def expected_counts(events: list[dict], summary: dict) -> dict:
     details = [e for e in events if e["ev"] == "detail"]
     return {
         "/camera/image": summary["frames_captured"],
+        "/camera/calibration": 1,
         "/camera/detections": n.get("detect", 0),
         "/tf": len(truth) + sum(bool(e.get("obj")) for e in truth)
         + len(ARM_FRAMES) * len(with_joints),
@@ -55,6 +57,7 @@ def expected_counts(events: list[dict], summary: dict) -> dict:
         "/arm9/load": n.get("load", 0),
         "/protocol/counters": 2 + sum(n.get(ev, 0) for ev in PROTOCOL_EVENTS),
         "/wire/to_mcu": 0, "/wire/to_host": 0, "/wire/nacks": 0, "/wire/watchdog": 0,
+        "/mcu/encoders": 0, "/mcu/sonars": 0,
     }
 
 
@@ -64,19 +67,25 @@ def test_every_topic_schema_and_count_matches_the_trace(short_runs, scenario):
     events = read_trace(folder / "trace.jsonl")
     summary = json.loads((folder / "summary.json").read_text())
     got, mcap_summary = _read(folder / "trace.mcap")
-    assert {ch.topic for ch in mcap_summary.channels.values()} == set(TOPICS)
+    expected = expected_counts(events, summary)
+    # a channel exists only for a topic that has messages: no empty channel in the file
+    assert {ch.topic for ch in mcap_summary.channels.values()} == {
+        t for t, n in expected.items() if n}
     counts = {topic: 0 for topic in TOPICS}
+    validators = {name: jsonschema.Draft7Validator(schema) for name, schema in SCHEMAS.items()}
     for schema, schema_enc, topic, msg_enc, log_ns, pub_ns, msg in got:
         assert schema == TOPICS[topic] and schema_enc == "jsonschema" and msg_enc == "json"
         assert log_ns == pub_ns
-        # every field written is one its schema declares (the Foxglove types' field names)
+        # every message is valid against its schema (the published Foxglove ones: full types)
+        errors = [e.message for e in validators[schema].iter_errors(msg)]
+        assert not errors, (topic, errors[:3])
         assert set(msg) <= set(SCHEMAS[schema]["properties"]), (topic, set(msg))
         if "timestamp" in msg:
             assert msg["timestamp"]["sec"] * 10**9 + msg["timestamp"]["nsec"] <= log_ns
         counts[topic] += 1
     for topic, name in SCHEMA_OF.items():
         assert TOPICS[topic] == name
-    assert counts == expected_counts(events, summary)
+    assert counts == expected
     # the camera and the detections exist in this run, and the method's own channels
     assert counts["/camera/image"] > 10 and counts["/camera/detections"] > 10
     if scenario.startswith("paper001"):
@@ -145,3 +154,43 @@ def test_tf_chain_puts_the_camera_where_the_world_did(short_runs, scenario):
         assert r[:, 2] == pytest.approx(axis, abs=1e-6)
         checked += 1
     assert checked > 50
+
+
+def test_the_scene_shows_the_robot_and_the_file_says_which_run(short_runs):
+    """/scene carries the robot's base and arm links, frame-locked to the /tf frames; the
+    camera's calibration is the scenario's pinhole; the metadata names the run."""
+    from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
+    from mobigrasp.services.run_job import resolve_scenario
+
+    folder = short_runs["paper001-sim1"]
+    summary = json.loads((folder / "summary.json").read_text())
+    got, _ = _read(folder / "trace.mcap")
+    scene = [g[6] for g in got if g[2] == "/scene"][0]
+    robot = {e["id"]: e for e in scene["entities"] if e["id"].startswith("robot/")}
+    assert set(robot) == {"robot/base", "robot/upper_arm", "robot/forearm", "robot/wrist"}
+    assert all(e["frame_locked"] and e["frame_id"] == i.split("/")[1] for i, e in robot.items())
+    geom = ARM_BY_METHOD["001"]
+    assert robot["robot/forearm"]["cubes"][0]["size"]["x"] == pytest.approx(geom.l2)
+    assert robot["robot/base"]["cylinders"][0]["size"]["x"] > 0.2
+    cal = [g[6] for g in got if g[2] == "/camera/calibration"]
+    assert len(cal) == 1 and (cal[0]["width"], cal[0]["height"]) == (320, 240)
+    cam = resolve_scenario("paper001-sim1")[1].camera
+    assert cal[0]["K"][0] == cam.f_px and cal[0]["K"][2] == cam.u0_px
+    with open(folder / "trace.mcap", "rb") as fh:
+        meta = {m.name: m.metadata for m in make_reader(fh).iter_metadata()}
+    assert meta["mobigrasp"]["scenario"] == "paper001-sim1"
+    assert meta["mobigrasp"]["seed"] == str(summary["seed"])
+    assert meta["mobigrasp"]["mcu_backend"] == "python" and meta["mobigrasp"]["commit"]
+
+
+def test_telemetry_on_the_wire_becomes_encoder_and_sonar_topics():
+    from mobigrasp.services.mcap_out import wire_messages
+
+    fields = {"enc_left": 10, "enc_right": -4, "sonar_mm": [300, 65535, 1200, 800, 500],
+              "watchdog_trips": 0}
+    out = dict(wire_messages({"t_us": 2_000_000, "dir": "to_host", "seq": 3,
+                              "msg": "Telemetry", "fields": fields}, {}))
+    assert out["/mcu/encoders"]["enc_left"] == 10 and out["/mcu/encoders"]["enc_right"] == -4
+    assert out["/mcu/sonars"]["sonar_mm"] == [300, 65535, 1200, 800, 500]
+    for topic in ("/mcu/encoders", "/mcu/sonars"):
+        jsonschema.validate(out[topic], SCHEMAS[TOPICS[topic]])

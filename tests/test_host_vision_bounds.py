@@ -36,6 +36,9 @@ class _Task:
     def detectors_needed(self):
         return ["a", "b"]
 
+    def detector_fallbacks(self):
+        return {}
+
     def step(self, now_us, inputs):
         k = len(self.seen)
         self.seen.append(sorted(inputs.items()))
@@ -139,6 +142,9 @@ def test_unbounded_app_runs_the_detectors_at_every_question_as_before():
         def detectors_needed(self):
             return ["blob"]
 
+        def detector_fallbacks(self):
+            return {}
+
         def step(self, now_us, inputs):
             return FakeOutputs()
 
@@ -161,6 +167,9 @@ def test_a_tick_before_the_bound_leaves_the_detectors_pending():
     class T:
         def detectors_needed(self):
             return ["blob"]
+
+        def detector_fallbacks(self):
+            return {}
 
         def step(self, now_us, inputs):
             return FakeOutputs()
@@ -222,6 +231,9 @@ def test_a_job_whose_bound_is_its_end_is_finished_at_that_tick():
 
         def detectors_needed(self):
             return ["blob"]
+
+        def detector_fallbacks(self):
+            return {}
 
         def step(self, now_us, inputs):
             self.inputs.append((now_us, sorted(inputs)))

@@ -114,6 +114,8 @@ class Method000(PathMethod):
     detectors = {"SEARCH": ("radial_symbol",), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
                  "LIFT": ("dual_plus", "radial_symbol")}  # LIFT: the grasp check (grasp.py)
+    # ADJUST closes in on the dual "+" and reads the rings only when the "+" are not seen
+    detector_fallbacks = {"ADJUST": {"radial_symbol": "dual_plus"}}
     search_detector = "radial_symbol"
     adjust_detector = "dual_plus"
     check_detectors = ("dual_plus", "radial_symbol")

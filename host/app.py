@@ -104,9 +104,9 @@ class _VisionJob:
     done_us: int
     results: dict
     arm9_us: int
-    # (detector names, rgb, snapshots, fallbacks) while the detectors have not run yet: they run when
-    # something needs the job's results or length (resolve_vision), which changes nothing that
-    # is modelled. Meanwhile done_us is a lower bound of the job's end (bounded) or start +
+    # (detector names, rgb, snapshots, fallbacks) while the detectors have not run yet: they
+    # run when something needs the job's results or length (resolve_vision), which changes
+    # nothing that is modelled. Meanwhile done_us is a lower bound of the job's end (bounded) or start +
     # frame overhead (not bounded: every question about the end resolves the job first).
     pending: tuple | None = None
     bounded: bool = False

@@ -106,8 +106,9 @@ class _VisionJob:
     arm9_us: int
     # (detector names, rgb, snapshots, fallbacks) while the detectors have not run yet: they
     # run when something needs the job's results or length (resolve_vision), which changes
-    # nothing that is modelled. Meanwhile done_us is a lower bound of the job's end (bounded) or start +
-    # frame overhead (not bounded: every question about the end resolves the job first).
+    # nothing that is modelled. Meanwhile done_us is a lower bound of the job's end (bounded)
+    # or start + frame overhead (not bounded: every question about the end resolves the job
+    # first).
     pending: tuple | None = None
     bounded: bool = False
     preempted_us: int = 0  # control preemption added to done_us so far

@@ -1,7 +1,7 @@
 /* The HAL on the ATmega128 at 16 MHz: registers, the interrupt vectors and main().
  * Pins are those of board.h (generated from mcu_sim/avr/pinmap.py). Every ISR stores what
- * happened and returns; the main loop (fw_loop) does the work and sleeps until the next
- * interrupt when nothing is due. */
+ * happened and returns; the main loop (fw_loop) does the work and sleeps (idle mode) until a
+ * handler leaves work for it or Timer0's tick finds something due. */
 #include <avr/interrupt.h>
 #include <avr/io.h>
 #include <avr/sleep.h>
@@ -20,6 +20,8 @@ static volatile uint8_t tx_tail;
 static volatile uint32_t rx_lost; /* data overruns and framing errors seen by the receiver */
 static volatile uint8_t enc_state[2]; /* last A/B levels of each encoder */
 static volatile uint8_t wheel_r_on; /* right wheel soft PWM: drive the pin at BOTTOM */
+static volatile uint8_t ticks_to_look; /* Timer0 ticks (1.024 ms) before the clock is read */
+static volatile uint8_t look_now;      /* they have passed: read the clock */
 
 /* -- clock: Timer1 periods plus TCNT1 (0.5 us ticks) ------------------------------------- */
 uint32_t hal_micros(void)
@@ -85,7 +87,7 @@ void hal_wheel_start(uint8_t side)
         WHEEL_L_PWM_DDR |= _BV(WHEEL_L_PWM_BIT);
         WHEEL_L_DIR_DDR |= _BV(WHEEL_L_DIR_BIT);
         TCCR0 = _BV(WGM00) | _BV(WGM01) | _BV(COM01) | _BV(CS02); /* fast PWM, clk/64 */
-        TIMSK |= _BV(TOIE0); /* wakes the idle loop every 1.024 ms */
+        TIMSK |= _BV(TOIE0); /* the scheduler's tick, every 1.024 ms */
     } else {
         WHEEL_R_PWM_DDR |= _BV(WHEEL_R_PWM_BIT);
         WHEEL_R_DIR_DDR |= _BV(WHEEL_R_DIR_BIT);
@@ -109,12 +111,29 @@ void hal_wheel_ocr(uint8_t side, uint8_t ocr)
 {
     if (side == 0) {
         OCR0 = ocr;
-    } else {
-        OCR2 = ocr;
+        return;
+    }
+    OCR2 = ocr;
+    /* the right wheel's pin switches within a period only for a duty strictly between 0 and
+     * 255: at either end it is held (from now, not the next BOTTOM) and Timer2's two
+     * interrupts stay off, 1953 wake-ups a second fewer while the wheel stands */
+    if (ocr == 0 || ocr == 0xFF) {
+        TIMSK &= (uint8_t)~(_BV(TOIE2) | _BV(OCIE2));
+        if (ocr) WHEEL_R_PWM_PORT |= _BV(WHEEL_R_PWM_BIT);
+        else WHEEL_R_PWM_PORT &= (uint8_t)~_BV(WHEEL_R_PWM_BIT);
+    } else if (!(TIMSK & _BV(TOIE2))) {
+        TIFR = _BV(TOV2) | _BV(OCF2); /* stale flags would switch the pin mid-period */
+        TIMSK |= _BV(TOIE2) | _BV(OCIE2);
     }
 }
 
-ISR(TIMER0_OVF_vect) {}
+/* The scheduler's tick: counts down the ticks the main loop asked to sleep through. */
+ISR(TIMER0_OVF_vect)
+{
+    if (ticks_to_look && --ticks_to_look == 0) {
+        look_now = 1;
+    }
+}
 
 ISR(TIMER2_OVF_vect)
 {
@@ -128,7 +147,8 @@ ISR(TIMER2_COMP_vect)
 }
 
 /* -- USART0, 8N1, U2X = 1, UBRR = 16: 117 647 baud (+2.1 % against 115 200) -------------- */
-static void uart_init(void)
+void uart_init(void); /* called from .init3 only */
+void uart_init(void)
 {
     UBRR0H = 0;
     UBRR0L = 16;
@@ -136,6 +156,12 @@ static void uart_init(void)
     UCSR0C = _BV(UCSZ01) | _BV(UCSZ00);
     UCSR0B = _BV(RXEN0) | _BV(TXEN0) | _BV(RXCIE0);
 }
+
+/* The receiver is the first thing the part starts, before the C runtime clears .bss (some
+ * 0.37 ms): .init3 runs right after the stack pointer is set and r1 cleared. Its handler runs
+ * from main's sei on; until then the USART holds what arrives (two bytes and the one shifting
+ * in). A call from .init3 falls through to .init4 when it returns. */
+__asm__(".section .init3,\"ax\",@progbits\n\tcall uart_init\n\t.text");
 
 ISR(USART0_RX_vect)
 {
@@ -255,23 +281,49 @@ static void io_init(void)
     EIMSK = _BV(INT0) | _BV(INT1) | _BV(INT2) | _BV(INT3) | _BV(INT6);
 }
 
-int main(void)
+/* Sleep until the main loop has work: a handler left some (a frame's end in the RX ring, a
+ * servo period) or the due time ``next`` has come. The clock is read only when Timer0 has
+ * counted down the whole ticks of the wait (at most three reads per due time, each within a
+ * tick of it); encoder edges, the right wheel's PWM and the TX handler wake the core for
+ * their own handler only, and the check after such a wake is two flag reads. */
+static void wait_for_work(uint32_t next)
 {
-    io_init();
-    uart_init();
-    fw_setup();
-    sei();
-    set_sleep_mode(SLEEP_MODE_IDLE);
     for (;;) {
-        uint32_t next = fw_loop();
+        int32_t left_us = (int32_t)(next - hal_micros());
+        if (left_us <= 0) {
+            return;
+        }
+        /* after n ticks more than (n - 1) x 1024 us have passed: look after n = left / 1024
+         * ticks, when less than two ticks are left (one, when less than one is) */
+        uint8_t ticks = left_us >= 255L * 1024 ? 255u : (uint8_t)((uint32_t)left_us >> 10);
         cli();
-        /* sleep only if nothing arrived and nothing is due; any interrupt wakes the loop */
-        if (!fw_work_pending() && (int32_t)(hal_micros() - next) < 0) {
+        ticks_to_look = ticks ? ticks : 1u;
+        look_now = 0;
+        while (!fw_work_pending() && !look_now) {
             sleep_enable();
-            sei();
+            sei(); /* takes effect after the next instruction: no wake-up is missed */
             sleep_cpu();
             sleep_disable();
+            cli();
         }
+        ticks_to_look = 0;
         sei();
+        if (fw_work_pending()) {
+            return;
+        }
+    }
+}
+
+int main(void)
+{
+    /* the receiver's handler first (the receiver itself runs since .init3): a byte the host
+     * sends while the rest starts up is kept in the RX ring (docs/firmware.md, "simavr") */
+    fw_setup_rx();
+    sei();
+    fw_setup();
+    io_init(); /* encoder and echo interrupts once their state is set */
+    set_sleep_mode(SLEEP_MODE_IDLE);
+    for (;;) {
+        wait_for_work(fw_loop());
     }
 }

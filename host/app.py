@@ -50,6 +50,10 @@ class HostConfig:
 
     control_period_us: int = 20_000
     heartbeat_period_us: int = 100_000
+    # The first HELLO (and heartbeat) waits until the MCU has been heard (its telemetry: it is
+    # listening), at most this long after the first tick: bytes sent into the MCU's start-up
+    # are lost (docs/firmware.md, "simavr")
+    hello_wait_us: int = 100_000
     wheels_repeat_us: int = 100_000  # SetWheels is unreliable: repeat the last one this often
     load_window_us: int = 500_000
     control_base_cycles: int = 40_000  # telemetry decode, odometry, task bookkeeping: 100 µs
@@ -205,6 +209,7 @@ class HostApp:
         self._last_wheels_us = -(10**12)
         self._last_heartbeat_us = -(10**12)
         self._hello_sent = False
+        self._first_tick_us: int | None = None
         self._resets_handled = 0
         self.replans = 0
         self.plans = 0
@@ -411,8 +416,12 @@ class HostApp:
         link = self.link
         tx_before = link.counters.tx_bytes
         link.service(start)
-        if not self._hello_sent or (link.mcu_resets > self._resets_handled
-                                    and link.needs_hello):
+        if self._first_tick_us is None:
+            self._first_tick_us = start
+        first = not self._hello_sent and (link.telemetry is not None
+                                          or start - self._first_tick_us >= cfg.hello_wait_us)
+        if first or (self._hello_sent and link.mcu_resets > self._resets_handled
+                     and link.needs_hello):
             link.hello(start)  # first session, or again after the MCU reset
             self._hello_sent = True
             self._resets_handled = link.mcu_resets
@@ -430,7 +439,7 @@ class HostApp:
             self._apply(out, done)
         else:
             done = start + cycles * 1_000_000 // 400_000_000
-        if done - self._last_heartbeat_us >= cfg.heartbeat_period_us:
+        if self._hello_sent and done - self._last_heartbeat_us >= cfg.heartbeat_period_us:
             link.send_heartbeat(done)
             self._last_heartbeat_us = done
         proto_bytes = link.rx_bytes_since_take + link.counters.tx_bytes - tx_before

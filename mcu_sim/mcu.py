@@ -6,7 +6,8 @@ the earliest of: the stop bit of a frame delimiter on the RX line (or of the byt
 the RX ring; see ``Usart.next_rx_wakeup`` for why bytes may be batched up to a delimiter), a
 Timer1 BOTTOM (servo period start), a sonar echo edge, and the firmware's own next due time. At
 each event the peripherals are brought up to that cycle, the interrupt handlers run in a fixed
-order (timer overflow, USART RX, echo edges, encoder edges), then one main-loop pass.
+order (timer overflow, USART RX, echo edges, encoder edges), then one main-loop pass if a handler
+left work for it or its due time has come (otherwise the part sleeps on).
 Everything is integer and deterministic: the same inputs at the same simulated times give the
 same outputs, whatever the wall clock does.
 
@@ -147,6 +148,8 @@ class Mcu:
             edges = enc.take_edges(cycle)
             if edges:
                 fw.isr_encoder(1, edges)
+        if cycle < self._deadline and not fw.work_pending():
+            return  # an echo edge: its handler's work only, the main loop sleeps on
         due = b.reset_cycle + fw.loop() * CYCLES_PER_US
         self._deadline = due if due > cycle else cycle + CYCLES_PER_US
 
@@ -155,6 +158,7 @@ class Mcu:
         self._tx_out.extend(self._take_tx())
         self.board.reset(self._cycle)
         self.firmware.setup()
+        self._deadline = self._cycle  # everything is due at once after the start-up
         self._step(self._cycle)
 
     # -- UART ----------------------------------------------------------------------------------
@@ -197,10 +201,10 @@ class Mcu:
         b = self.board
         usart = b.usart0
         now = self._cycle // CYCLES_PER_US
-        rx = self.firmware.rx
         # next_tx_cycle() / next_rx_cycle() are not None exactly while their queue holds a
-        # chunk; the RX ring is empty when head == tail (asked once per quantum)
-        if usart.tx_queue or usart.rx_queue or rx.head != rx.tail:
+        # chunk; bytes in the RX ring without a frame's end wait for more from the line (asked
+        # once per quantum)
+        if usart.tx_queue or usart.rx_queue or self.firmware.work_pending():
             return now
         due = self.firmware.next_unprompted_send_us()
         if due is None:

@@ -153,11 +153,9 @@ class PtyMcu:
 
     def nacks(self) -> list[tuple[int, str]]:
         """``(acked_seq, reason name)`` of every NACK the MCU sent, oldest first."""
-        from mobigrasp.mcu_sim.wire_names import nack_reason_name
-        from mobigrasp.protocol.messages import Nack
+        from mobigrasp.mcu_sim.wire_names import nacks_sent
 
-        return [(m.acked_seq, nack_reason_name(m.reason)) for _, m in self.sent
-                if isinstance(m, Nack)]
+        return nacks_sent(self.sent)
 
     def telemetry(self) -> list[Telemetry]:
         """Telemetry messages sent so far, oldest first."""

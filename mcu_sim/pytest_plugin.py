@@ -17,11 +17,18 @@ host end: ``send(msg)`` writes a message on the slave and waits until the MCU si
 with their reasons by name; ``describe(msg)`` prints any message that way.
 
 - ``emulated_robot``: ``robot = emulated_robot("paper000-exp1", speed=1.0)`` starts
-  ``mobigrasp sim`` for the test: the scenario's MCU and world in wall time, ``robot.port`` the
+  ``mobigrasp sim`` for the test (its clock starting at your host's first frame, as ``sim``
+  does when stdin is not a terminal): the scenario's MCU and world in wall time, ``robot.port`` the
   serial pty, ``robot.camera_url`` the MJPEG stream. Run your host program against them; once it
   has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``collisions``,
   ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
   the test body is ended (SIGTERM) and its folder written all the same.
+  ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock
+  in the test's hands (testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
+  ``.frame()``, ``.telemetry()``, ``.truth()``, ``.expect(predicate, within_ms)``.
+- ``pytest --robot-port /dev/ttyUSB0 --robot-camera 0``: every ``emulated_robot`` is the real
+  robot on that device and camera (testing/bench_robot.py); truth and clock calls
+  skip the test with the reason.
 
 This module must stay cheap to import and must never break a pytest run: everything heavy is
 imported inside the fixtures.
@@ -205,7 +212,8 @@ class EmulatedRobot:
             [sys.executable, "-m", "mobigrasp", "sim", str(scenario), "--speed", f"{speed:g}",
              "--camera-port", "0", "--out", str(self.run_dir), "--quiet",
              *(() if plots else ("--no-plots",)), *extra_args],
-            cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True)
+            cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True,
+            stdin=subprocess.DEVNULL)  # not a terminal: the clock waits for the host (--wait-host)
         self._summary: dict | None = None
         self._lines = self._line_reader()
         self.port = self._first_line("serial: ")
@@ -284,15 +292,49 @@ class EmulatedRobot:
             self._stderr.close()
 
 
-@pytest.fixture
-def emulated_robot(tmp_path):
-    """``make(scenario, speed=1.0) -> EmulatedRobot``: ``mobigrasp sim`` for this test; every
-    session made is ended after the test (its run folder under the test's tmp_path)."""
-    made: list[EmulatedRobot] = []
+def pytest_addoption(parser) -> None:
+    """``--robot-port`` and ``--robot-camera``: ``emulated_robot`` on a real robot."""
+    group = parser.getgroup("mobigrasp", "mobigrasp robot")
+    group.addoption("--robot-port", default=None, metavar="DEVICE",
+                    help="emulated_robot is the real robot on this serial device (its truth "
+                         "and clock calls skip)")
+    group.addoption("--robot-camera", default=None, metavar="INDEX|FILE",
+                    help="with --robot-port: the robot's camera for OpenCV (an index, a video "
+                         "file, an image sequence such as shots/%%03d.png, a URL)")
 
-    def make(scenario: str, speed: float = 1.0, **kw) -> EmulatedRobot:
-        """``kw``: ``plots`` (default True), ``extra_args`` (more ``mobigrasp sim`` options)."""
-        robot = EmulatedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
+
+CLOCKS = ("wall", "test")
+
+
+@pytest.fixture
+def emulated_robot(request, tmp_path):
+    """``make(scenario, speed=1.0, clock="wall") -> robot``; every robot made is ended after
+    the test (its run folder under the test's tmp_path).
+
+    ``clock="wall"``: an :class:`EmulatedRobot` (``mobigrasp sim`` in wall time); ``clock=
+    "test"``: a :class:`mobigrasp.testing.stepped_robot.SteppedRobot` (in process, simulated
+    time moves only in ``advance_ms``/``expect``). With ``--robot-port`` every robot is a
+    :class:`mobigrasp.testing.bench_robot.BenchRobot` on that device instead."""
+    made: list = []
+    bench_port = request.config.getoption("robot_port")
+
+    def make(scenario: str, speed: float = 1.0, clock: str = "wall", **kw):
+        """``kw`` with the wall clock: ``plots`` (default True), ``extra_args`` (more
+        ``mobigrasp sim`` options); with the test clock: ``seed``, ``mcu``,
+        ``time_limit_s``."""
+        if clock not in CLOCKS:
+            raise ValueError(f"clock must be one of {', '.join(CLOCKS)}, got {clock!r}")
+        if bench_port:
+            from mobigrasp.testing.bench_robot import BenchRobot, camera_source
+
+            robot = BenchRobot(scenario, bench_port,
+                               camera_source(request.config.getoption("robot_camera")))
+        elif clock == "test":
+            from mobigrasp.testing.stepped_robot import SteppedRobot
+
+            robot = SteppedRobot(scenario, tmp_path / f"robot-{len(made)}", **kw)
+        else:
+            robot = EmulatedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
         made.append(robot)
         return robot
 

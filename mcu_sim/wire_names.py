@@ -29,6 +29,12 @@ def nack_reason_name(code: int) -> str:
     return NACK_REASONS.get(code, f"reason_{code}")
 
 
+def nacks_sent(sent) -> list[tuple[int, str]]:
+    """``(acked_seq, reason name)`` of every NACK in ``sent`` (``(t_us, message)`` pairs)."""
+    return [(msg.acked_seq, nack_reason_name(msg.reason)) for _, msg in sent
+            if isinstance(msg, m.Nack)]
+
+
 def flag_names(flags: int) -> list[str]:
     """The names of the bits set in ``flags`` (unknown bits as ``bit_N``), lowest first."""
     names = [name for bit, name in FLAG_NAMES if flags & bit]

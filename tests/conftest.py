@@ -47,9 +47,10 @@ def pytest_generate_tests(metafunc):
 
 
 def booted_simavr_mcu(config=None):
-    """The ELF under simavr, advanced until its start-up is over (interrupts on, ~2.2 ms after
-    reset, docs/firmware.md): the Python models take no time for it, so a test written for them
-    talks from its first line. Times in such a test are relative to the end of the start-up."""
+    """The ELF under simavr, advanced until its start-up is over (main loop begun, ~2.2 ms
+    after reset, docs/firmware.md): the Python models take no time for it, so a test written
+    for them talks from its first line. Times in such a test are relative to the end of the
+    start-up."""
     from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu
 
     mcu = SimavrMcu(config)

@@ -68,8 +68,9 @@ def test_host_app_takes_every_in_spec_mcu_message(method, plan):
         for _, wire in app.take_output(t + 1):
             for frame in out.feed(wire):
                 sent += _check_command(m.decode_frame(frame))
-    app.advance_to(t + 100_000)
-    for _, wire in app.take_output(t + 100_001):
+    # past the first HELLO's wait (HostConfig.hello_wait_us) when no telemetry was in the plan
+    app.advance_to(t + 200_000)
+    for _, wire in app.take_output(t + 200_001):
         for frame in out.feed(wire):
             sent += _check_command(m.decode_frame(frame))
     assert sent > 0 and out.stats.crc_errors == 0  # the host kept talking

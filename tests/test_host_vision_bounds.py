@@ -92,7 +92,7 @@ def _run(bounded: bool, seed: int, policy: str, shared: bool = False):
     pose = _PoseDetector(app_ref)
     bounds = {"a": lambda h, w: 10_000, "b": lambda h, w: 2_500} if bounded else None
     app = HostApp(task, {"a": _detector_a_or_none if shared else _detector_a, "b": pose},
-                  build_inputs, HostConfig(), vision_bounds=bounds,
+                  build_inputs, HostConfig(hello_wait_us=0), vision_bounds=bounds,
                   front_ends=SHARED if shared else None)
     app_ref.append(app)
     frames, t = [], 0
@@ -172,7 +172,7 @@ def _one_frame_job(find_a: bool, shared: bool):
         return {"b": 1}, OpCounts(alu=2_000_000)
 
     task = _Task({}, {"b": "a"} if shared else None)
-    app = HostApp(task, {"a": a, "b": b}, build_inputs, HostConfig(),
+    app = HostApp(task, {"a": a, "b": b}, build_inputs, HostConfig(hello_wait_us=0),
                   vision_bounds={"a": lambda h, w: 10_000, "b": lambda h, w: 5_000},
                   front_ends=SHARED if shared else None)
     app.advance_to(1_000)
@@ -210,7 +210,7 @@ def test_unbounded_app_runs_the_detectors_at_every_question_as_before():
         def step(self, now_us, inputs):
             return FakeOutputs()
 
-    app = HostApp(T(), {"blob": counting}, build_inputs, HostConfig())
+    app = HostApp(T(), {"blob": counting}, build_inputs, HostConfig(hello_wait_us=0))
     app.advance_to(20_000)
     app.on_frame(0, 19_000, 20_000, np.zeros((4, 4, 3), np.uint8))
     app.advance_to(25_000)
@@ -236,7 +236,7 @@ def test_a_tick_before_the_bound_leaves_the_detectors_pending():
         def step(self, now_us, inputs):
             return FakeOutputs()
 
-    app = HostApp(T(), {"blob": counting}, build_inputs, HostConfig(),
+    app = HostApp(T(), {"blob": counting}, build_inputs, HostConfig(hello_wait_us=0),
                   vision_bounds={"blob": lambda h, w: 25_000})
     app.advance_to(15_000)
     app.on_frame(0, 14_000, 15_000, np.zeros((4, 4, 3), np.uint8))
@@ -303,8 +303,8 @@ def test_a_job_whose_bound_is_its_end_is_finished_at_that_tick():
 
     def run(bounds, early=True):
         task = T()
-        app = HostApp(task, {"blob": blob_detector(5_980_000)}, build_inputs, HostConfig(),
-                      vision_bounds=bounds)
+        app = HostApp(task, {"blob": blob_detector(5_980_000)}, build_inputs,
+                      HostConfig(hello_wait_us=0), vision_bounds=bounds)
         app.advance_to(5_000)
         _ack_hello(app, 5_000)
         for t in range(5_000, 60_000, 5_000):

@@ -54,6 +54,7 @@ def expected_counts(events: list[dict], summary: dict) -> dict:
         "/fuzzy": sum(isinstance(e.get("fuzzy"), dict) for e in details),
         "/arm9/load": n.get("load", 0),
         "/protocol/counters": 2 + sum(n.get(ev, 0) for ev in PROTOCOL_EVENTS),
+        "/wire/to_mcu": 0, "/wire/to_host": 0, "/wire/nacks": 0, "/wire/watchdog": 0,
     }
 
 

@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-ROOMS = ("protocol", "link", "host", "mcu_sim", "tools", "cosim", "drivers")
+ROOMS = ("protocol", "link", "host", "mcu_sim", "tools", "cosim", "drivers", "testing")
 
 
 def _python(code: str, cwd: Path) -> subprocess.CompletedProcess:

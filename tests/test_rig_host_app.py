@@ -50,6 +50,22 @@ def test_hello_is_retransmitted_until_acked_then_given_up():
     assert app.counters.control_steps == 0  # the task never runs without a handshake
 
 
+def test_first_hello_waits_until_the_mcu_is_heard_or_the_wait_is_over():
+    # bytes sent into the MCU's start-up are lost: nothing leaves before its first telemetry
+    app = HostApp(FakeTask(), {}, build_inputs, HostConfig())
+    app.advance_to(30_000)
+    assert _sent(app, 30_000) == []
+    _telemetry(app, 35_000, flags=m.FLAG_RESET)
+    app.advance_to(45_000)
+    sent = _sent(app, 45_000)
+    assert [t for t, msg, _ in sent if isinstance(msg, m.Hello)] == [40_000]
+    # an MCU never heard (telemetry off) gets its HELLO at the first tick after the wait
+    silent = HostApp(FakeTask(), {}, build_inputs, HostConfig())
+    silent.advance_to(130_000)
+    first = min(t for t, msg, _ in _sent(silent, 130_000) if isinstance(msg, m.Hello))
+    assert first == HostConfig().hello_wait_us
+
+
 class _BadTask(FakeTask):
     def __init__(self, servo, wheels):
         super().__init__()
@@ -60,7 +76,8 @@ class _BadTask(FakeTask):
 
 
 def _handshaken(task):
-    app = HostApp(task, {}, build_inputs, HostConfig())
+    # a host whose MCU is known to be up: HELLO at the first tick, without waiting to hear it
+    app = HostApp(task, {}, build_inputs, HostConfig(hello_wait_us=0))
     app.advance_to(1)
     _ack_hello(app, 5_000)
     _telemetry(app, 6_000)
@@ -209,7 +226,7 @@ def test_events_are_plain_json_as_taken():
         return _Found((np.int64(7), 8), 0.25), OpCounts(alu=400_000)
 
     task = _Task()
-    app = HostApp(task, {"blob": detect}, build_inputs, HostConfig())
+    app = HostApp(task, {"blob": detect}, build_inputs, HostConfig(hello_wait_us=0))
     app.advance_to(1)
     _ack_hello(app, 5_000)
     _telemetry(app, 6_000)

@@ -220,7 +220,8 @@ def test_stream_rate_and_serial_byte_rate_at_speed_1(tmp_path):
 
     proc = subprocess.Popen([sys.executable, "-m", "mobigrasp", "sim", "paper000-exp1",
                              "--speed", "1", "--camera-port", "0", "--out",
-                             str(tmp_path / "run"), "--quiet", "--no-plots"], cwd=tmp_path,
+                             str(tmp_path / "run"), "--quiet", "--no-plots",
+                             "--no-wait-host"], cwd=tmp_path,  # the clock runs with no host
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         port = proc.stdout.readline().split(": ", 1)[1].strip()

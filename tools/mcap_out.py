@@ -39,6 +39,11 @@ TOPICS: dict[str, str] = {
     "/fuzzy": "mobigrasp.Fuzzy",
     "/arm9/load": "mobigrasp.Load",
     "/protocol/counters": "mobigrasp.ProtocolCounters",
+    # a host program's serial line decoded (``sim``: trace "wire" events)
+    "/wire/to_mcu": "mobigrasp.WireMessage",
+    "/wire/to_host": "mobigrasp.WireMessage",
+    "/wire/nacks": "mobigrasp.Nack",
+    "/wire/watchdog": "mobigrasp.WatchdogTrip",
 }
 # the arm's frames, base to camera (a /tf message each per truth sample with joint angles)
 ARM_FRAMES = ("waist", "upper_arm", "forearm", "wrist", "gripper", "camera")
@@ -227,7 +232,7 @@ def _state_log(event: dict) -> dict:
             "name": "task", "file": "", "line": 0}
 
 
-def _measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
+def measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
     """Wheel speeds of the simulated base between two truth samples (mm/s)."""
     dt = (cur["t_us"] - prev["t_us"]) / 1e6
     if dt <= 0:
@@ -239,6 +244,36 @@ def _measured_wheels(prev: dict, cur: dict, track_m: float) -> dict | None:
     w = dh / dt
     return {"left_mmps": round(1000 * (v - w * track_m / 2), 1),
             "right_mmps": round(1000 * (v + w * track_m / 2), 1)}
+
+
+def wire_messages(e: dict, state: dict) -> list[tuple[str, dict]]:
+    """(topic, message) of one trace "wire" event: every frame on /wire/to_mcu or
+    /wire/to_host, a NACK also on /wire/nacks (its reason by name, the count so far), a rise of
+    Telemetry's watchdog counter on /wire/watchdog, a SET_WHEELS on /wheels/commanded;
+    ``state`` carries the counts between events."""
+    from mobigrasp.mcu_sim.wire_names import nack_reason_name
+
+    t, name = int(e["t_us"]), e.get("msg")
+    msg = {"timestamp": stamp(t), "seq": e["seq"], "msg": name or f"type_{e.get('msg_type')}",
+           "fields": e.get("fields", {})}
+    if "error" in e:
+        msg["error"] = e["error"]
+    out = [("/wire/" + e["dir"], msg)]
+    fields = e.get("fields", {})
+    if e["dir"] == "to_mcu" and name == "SetWheels":
+        out.append(("/wheels/commanded", {"left_mmps": fields["left_mmps"],
+                                          "right_mmps": fields["right_mmps"]}))
+    elif name == "Nack":
+        state["nacks"] = state.get("nacks", 0) + 1
+        out.append(("/wire/nacks", {"timestamp": stamp(t), "acked_seq": fields["acked_seq"],
+                                    "reason": nack_reason_name(fields["reason"]),
+                                    "count": state["nacks"]}))
+    elif name == "Telemetry":
+        trips = fields["watchdog_trips"]
+        if trips > state.get("trips", 0):
+            out.append(("/wire/watchdog", {"timestamp": stamp(t), "trips": trips}))
+        state["trips"] = trips
+    return out
 
 
 def messages(events: list[dict], frames=(), summary: dict | None = None
@@ -263,6 +298,7 @@ def messages(events: list[dict], frames=(), summary: dict | None = None
             "timestamp": stamp(capture_us), "frame_id": "camera", "format": "jpeg",
             "data": base64.b64encode(jpeg).decode("ascii")}))
     prev_truth = None
+    wire_state: dict = {}
     for e in events:
         t, ev = int(e["t_us"]), e["ev"]
         if ev == "truth" and e.get("x_m") is not None:
@@ -278,7 +314,7 @@ def messages(events: list[dict], frames=(), summary: dict | None = None
                                            "elbow_rad": j[3], "shoulder_rad": j[4],
                                            "waist_rad": j[5]}))
             if prev_truth is not None:
-                measured = _measured_wheels(prev_truth, e, WHEEL_TRACK_M)
+                measured = measured_wheels(prev_truth, e, WHEEL_TRACK_M)
                 if measured is not None:
                     out.append((t, "/wheels/measured", measured))
             prev_truth = e
@@ -289,6 +325,8 @@ def messages(events: list[dict], frames=(), summary: dict | None = None
         elif ev == "wheels":
             left, right = e["mmps"]
             out.append((t, "/wheels/commanded", {"left_mmps": left, "right_mmps": right}))
+        elif ev == "wire":
+            out.extend((t, topic, msg) for topic, msg in wire_messages(e, wire_state))
         elif ev == "load":
             out.append((t, "/arm9/load", {"load": e["load"], "window_us": e.get("window_us")}))
         elif ev == "detail" and isinstance(e.get("plan"), dict):

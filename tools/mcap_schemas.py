@@ -86,4 +86,12 @@ SCHEMAS: dict[str, dict] = {
         output_rejected=NUMBER, mcu_resets_seen=NUMBER, deadline_misses=NUMBER,
         frames_dropped=NUMBER, tx_frames=NUMBER, rx_frames=NUMBER, crc_errors=NUMBER,
         retransmits=NUMBER),
+    # the serial line decoded (trace "wire" events): any message with its fields
+    "mobigrasp.WireMessage": _obj("mobigrasp.WireMessage", timestamp=TIME,
+                                  seq={"type": "integer"}, msg={"type": "string"},
+                                  fields={"type": "object"}, error={"type": "string"}),
+    "mobigrasp.Nack": _obj("mobigrasp.Nack", timestamp=TIME, acked_seq={"type": "integer"},
+                           reason={"type": "string"}, count={"type": "integer"}),
+    "mobigrasp.WatchdogTrip": _obj("mobigrasp.WatchdogTrip", timestamp=TIME,
+                                   trips={"type": "integer"}),
 }

@@ -118,6 +118,9 @@ def write_report(folder: Path) -> Path:
     frames = sorted(p.name for p in (folder / "frames").glob("*.png")) \
         if (folder / "frames").exists() else []
     ok = summary.get("success")
+    verdict = "SUCCESS" if ok else "FAILED"
+    if summary.get("method") == "external":  # `sim`: a host mobigrasp did not write
+        verdict = f"external host, {'grasped' if ok else 'not grasped'}"
     title = f"{summary.get('scenario')} seed {summary.get('seed')}"
     scenario_file = relative_to(folder, summary.get("scenario_file"))
     details = dict(summary)
@@ -133,13 +136,20 @@ def write_report(folder: Path) -> Path:
         ".g figure{margin:0}.answer td:first-child{color:#555}.answer td{font-size:1.1em}"
         ".missing{color:red}</style></head><body>",
         f"<h1>{html.escape(title)}: "
-        f"<span style='color:{'green' if ok else 'red'}'>{'SUCCESS' if ok else 'FAILED'}</span>"
+        f"<span style='color:{'green' if ok else 'red'}'>{html.escape(verdict)}</span>"
         "</h1>",
         "<table class='answer'>",
     ]
     parts += [f"<tr><td>{html.escape(k)}</td><td>{html.escape(v)}</td></tr>"
               for k, v in answer(summary)]
     parts.append("</table>")
+    if summary.get("host_traffic"):
+        from mobigrasp.tools.wire_traffic import traffic_lines
+
+        parts.append("<h2>Host traffic</h2><ul>")
+        parts += [f"<li>{html.escape(line)}</li>"
+                  for line in traffic_lines(summary["host_traffic"])]
+        parts.append("</ul>")
     if summary.get("error"):
         parts.append(f"<p style='color:red'>error: {html.escape(summary['error'])}</p>")
     parts.append("<h2>Plots</h2><div class='g'>")

@@ -132,7 +132,7 @@ def check_run(opts: RunOptions) -> str:
 
     _check_options(opts)
     path, scenario = resolve_scenario(opts.scenario)
-    plan = _fault_plan(scenario, opts.faults)
+    plan = fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     WorldPlant(scenario, seed)
     build_host_app(host_config(scenario, opts.time_limit_s))
@@ -142,7 +142,7 @@ def check_run(opts: RunOptions) -> str:
             f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
 
 
-def _fault_plan(scenario, overrides):
+def fault_plan(scenario, overrides):
     """The scenario's [faults] plan with the --fault overrides applied; BadInput if invalid."""
     plan = getattr(scenario, "faults", None)
     if not overrides:
@@ -201,7 +201,7 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         path, scenario = Path(opts.scenario_obj.source), opts.scenario_obj
     else:
         path, scenario = resolve_scenario(opts.scenario)
-    plan = _fault_plan(scenario, opts.faults)
+    plan = fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
     # (the run folder's module needs numpy and cv2, which the base install has not: imported

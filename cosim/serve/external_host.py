@@ -72,7 +72,11 @@ class ExternalHost:
     host (a :class:`~mobigrasp.cosim.handshake.HostEnd`)."""
 
     def __init__(self, transport: Any, on_frame: Callable[[Any, int], None] | None = None,
-                 trace_wire: bool = True) -> None:
+                 trace_wire: bool = True, hold_to_host: bool = False) -> None:
+        """``hold_to_host``: keep the MCU's bytes until :meth:`release_to_host` instead of
+        writing them to the pty as the rig sends them (a caller that hands time over in steps
+        writes each step's bytes at once: a program reading several small writes right after
+        them may see only the first ones, the pty handing them over in the background)."""
         self.transport = transport
         self.port = _RigPort(self)
         self.on_frame = on_frame
@@ -85,6 +89,9 @@ class ExternalHost:
         self.frames_out = 0
         self._from_host = bytearray()  # read from the pty, announced, not taken by the rig yet
         self._written = bytearray()  # written to the pty, not yet announced by a grant
+        self._early = bytearray()  # read while waiting for the program: sent at the first grant
+        self.hold_to_host = hold_to_host
+        self._held = bytearray()  # the MCU's bytes kept for release_to_host
         self._rx_parser = FrameParser()  # host -> MCU
         self._tx_parser = FrameParser()  # MCU -> host
 
@@ -95,6 +102,19 @@ class ExternalHost:
         self._written += data
         if self.host_closed:
             return
+        if self.hold_to_host:
+            self._held += data
+            return
+        self._write_pty(data)
+
+    def release_to_host(self) -> None:
+        """Write the bytes held (``hold_to_host``) to the pty in one write."""
+        data = bytes(self._held)
+        self._held.clear()
+        if data and not self.host_closed:
+            self._write_pty(data)
+
+    def _write_pty(self, data: bytes) -> None:
         fd = self.transport.fileno()
         view = memoryview(bytes(data))
         while view:
@@ -139,6 +159,22 @@ class ExternalHost:
             self.bytes_from_host += len(data)
         return data
 
+    def wait_for_host(self, stop: Callable[[], str | None] | None = None,
+                      poll_s: float = 0.2) -> str | None:
+        """Block (wall clock) until the program has written a valid frame; what it wrote
+        meanwhile goes to the MCU at the next grant's start. ``stop()``'s reason, or
+        ``host_closed``, if the wait ended without one."""
+        parser = FrameParser()
+        while not self.host_closed:
+            if stop is not None and (why := stop()):
+                return why
+            if self.transport.wait_readable(poll_s):
+                data = self._read_pty()
+                self._early += data
+                if parser.feed(data):
+                    return None
+        return "host_closed"
+
     def exchange(self, grant: ls.Grant) -> ls.Done:
         """The DONE for ``grant``: what the program wrote since the last one, at its start."""
         events: list[dict] = []
@@ -156,6 +192,9 @@ class ExternalHost:
             if self.trace_wire:
                 events += [wire_event("to_host", t_us, f) for f in self._tx_parser.feed(data)]
         data = self._read_pty()
+        if self._early:
+            data = bytes(self._early) + data
+            self._early.clear()
         writes: tuple = ()
         if data:
             self._from_host += data

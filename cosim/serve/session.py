@@ -14,6 +14,7 @@ block are judged from the world, since an external host reports no task state.
 from __future__ import annotations
 
 import sys
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -45,6 +46,13 @@ class SimOptions:
     progress: Any = None
     # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
+    # the fault plan (the scenario's with --fault applied); None: the scenario's
+    plan: Any = None
+    # simulated time starts at the host's first valid frame (ExternalHost.wait_for_host)
+    wait_host: bool = False
+    tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
+    # each frame the rig captures, as (seq, capture_us, rgb) (the caller's trace.mcap)
+    on_frame: Callable[[int, int, Any], None] | None = None
 
 
 def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
@@ -61,10 +69,12 @@ def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
 
 def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
           stop: Callable[[], str | None] | None = None) -> dict:
-    """Run one session; ``on_ready(serial_path, camera_url)`` once both are served. Returns the
-    summary (also written to the run folder). Raises BadSimInput for bad input."""
+    """Run one session; ``on_ready(serial_path, camera_url, serial_tcp_url)`` once all are
+    served (the last None without ``tcp_port``). Returns the summary (also written to the run
+    folder). Raises BadSimInput for bad input."""
     from mobigrasp.cosim.serve.external_host import ExternalHost
     from mobigrasp.cosim.serve.mjpeg import CameraPortInUse, CameraServer
+    from mobigrasp.cosim.serve.tcp_bridge import TcpPortInUse, TcpSerialBridge
     from mobigrasp.link.registry import open_transport
 
     if opts.mcu not in MCU_BACKENDS:
@@ -82,22 +92,30 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         camera = CameraServer(opts.camera_port)
     except (CameraPortInUse, ValueError) as exc:
         raise BadSimInput(str(exc)) from exc
-    transport = None
+    transport = bridge = None
     try:
         import cv2
 
         cv2.setNumThreads(1)  # the host program has the other core
         transport = open_transport("pty://")
+        if opts.tcp_port is not None:
+            try:
+                bridge = TcpSerialBridge(transport.slave_path, opts.tcp_port)
+            except (TcpPortInUse, ValueError) as exc:
+                raise BadSimInput(str(exc)) from exc
         host = ExternalHost(transport, on_frame=lambda rgb, t_us: camera.publish(rgb))
         return _run(opts, path, scenario, seed, out, camera, host, transport.slave_path,
-                    on_ready, stop)
+                    bridge, on_ready, stop)
     finally:
+        if bridge is not None:
+            bridge.close()
         if transport is not None:
             transport.close()
         camera.close()
 
 
-def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) -> dict:
+def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
+         stop) -> dict:
     from mobigrasp.cosim.faulted_host import wrap_for_faults
     from mobigrasp.cosim.rig import Rig, RigConfig
     from mobigrasp.cosim.rig_plant import WorldPlant
@@ -111,18 +129,21 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
         "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
         "serial": serial, "camera": camera.url, "status": "starting", "success": False,
-        "grasped": False,
+        "grasped": False, "wait_host": opts.wait_host,
     }
+    if bridge is not None:
+        summary["serial_tcp"] = bridge.url
     write_summary(out / "summary.json", summary)
     trace = TraceWriter(out / "trace.jsonl")
     plant = WorldPlant(scenario, seed)
     plant.preload()
     mcu = open_mcu(opts.mcu)
-    plan = getattr(scenario, "faults", None) or FaultPlan()
+    plan = opts.plan or getattr(scenario, "faults", None) or FaultPlan()
     fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
     summary["faults_plan"] = plan.as_table()
     rig = Rig(rig_mcu, rig_plant, host.port,
-              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0))
+              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0),
+              on_frame=opts.on_frame)
     limit_s = opts.time_limit_s or scenario.meta.time_limit_s
     trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": "external", "seed": seed,
                  "robot": [scenario.robot.x_m, scenario.robot.y_m, scenario.robot.heading_rad],
@@ -143,12 +164,22 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
                            f"frames {camera.frames_published}")
 
     res = SessionResult()
-    on_ready(serial, camera.url)
+    on_ready(serial, camera.url, None if bridge is None else bridge.url)
     summary["status"] = "running"
     try:
-        run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                    truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
-                    speed=opts.speed, progress=progress, stop=why_stop)
+        if opts.wait_host:
+            # the camera shows the robot at t = 0 while the clock waits for the host
+            camera.publish(plant.capture(0))
+            wall0 = time.perf_counter()
+            res.reason = host.wait_for_host(why_stop) or "running"
+            summary["host_waited_s"] = round(time.perf_counter() - wall0, 3)
+            if res.reason != "running":  # stopped before the host came: the clock never ran
+                trace.write({"ev": "end", "t_us": 0, "reason": res.reason,
+                             "host_state": "EXTERNAL"})
+        if res.reason == "running":
+            run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
+                        truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
+                        speed=opts.speed, progress=progress, stop=why_stop)
         summary["status"] = "finished"
     except Exception as exc:
         summary["status"] = "crashed"
@@ -163,6 +194,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, on_ready, stop) 
         summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
         summary["mcu_stats"] = mcu.stats()
         summary["faults"], summary["safety"] = fault_rig.summary()
+        if bridge is not None:
+            summary["line"]["tcp"] = bridge.stats()
         write_summary(out / "summary.json", summary)
     summary["run_folder"] = str(out)
     return summary

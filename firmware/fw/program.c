@@ -1,7 +1,8 @@
-/* Start-up, interrupt work and the cooperative main loop (mcu_sim/firmware/program.py).
- * Interrupt handlers only store what happened (a byte, an edge, a time, a flag); the main loop
- * drains the RX ring into the parser, dispatches frames and runs what is due: the servo
- * period's OCR writes, wheel PI (100 Hz), watchdog, sonar slot, telemetry. */
+/* Start-up, interrupt work and the event-driven main loop (mcu_sim/firmware/program.py).
+ * Interrupt handlers only store what happened (a byte, an edge, a time, a flag); a main-loop
+ * pass, run when a handler left work or something fell due, drains the RX ring into the parser,
+ * dispatches frames and runs only what is due: the servo period's OCR writes, wheel PI
+ * (100 Hz), watchdog, sonar slot, telemetry. Between passes the core sleeps (hal_avr.c). */
 #include "program.h"
 
 #include "../hal.h"
@@ -27,6 +28,10 @@ uint32_t fw_last_valid_us FW_STATE;
 static uint32_t next_control_us FW_STATE;
 static uint32_t next_telemetry_us FW_STATE;
 static volatile uint8_t servo_period_due FW_STATE; /* set by the Timer1 overflow */
+static volatile uint8_t rx_frame_due FW_STATE;     /* set by the RX handler: a frame ended */
+/* The RX handler also wakes the loop once this many bytes wait without a delimiter, so a
+ * stream of garbage cannot fill the ring (127 bytes) before the loop drains it. */
+#define RX_WAKE_BYTES 64u
 static uint8_t tx_buf[FRAME_MAX_WIRE] FW_STATE;
 
 static uint8_t due(uint32_t now, uint32_t t) { return (int32_t)(now - t) >= 0; }
@@ -40,11 +45,18 @@ static int32_t enc_count(uint8_t side)
 }
 
 /* -- start-up ---------------------------------------------------------------------------- */
-void fw_setup(void)
+/* The receiving side, first of all: from here on the RX handler can take bytes while the
+ * rest of the start-up runs with interrupts on. */
+void fw_setup_rx(void)
 {
     ring_clear(&fw_rx);
     fw_rx.overruns = 0;
     frame_parser_reset(&fw_parser);
+    rx_frame_due = 0;
+}
+
+void fw_setup(void)
+{
     fw_dup.duplicates = 0;
     fw_dup.reused = 0;
     dup_reset(&fw_dup);
@@ -78,7 +90,13 @@ void fw_setup(void)
 }
 
 /* -- interrupt handlers' work ------------------------------------------------------------ */
-void fw_isr_usart_rx(uint8_t byte) { ring_put(&fw_rx, byte); }
+void fw_isr_usart_rx(uint8_t byte)
+{
+    ring_put(&fw_rx, byte);
+    if (byte == 0 || (uint8_t)(fw_rx.head - fw_rx.tail) % RX_RING_BYTES >= RX_WAKE_BYTES) {
+        rx_frame_due = 1; /* a frame's delimiter (COBS: 0x00 nowhere else) */
+    }
+}
 
 void fw_isr_timer1_ovf(void) { servo_period_due = 1; }
 
@@ -230,6 +248,7 @@ uint32_t fw_loop(void)
         servo_period_due = 0;
         servo_period();
     }
+    rx_frame_due = 0; /* a delimiter that comes while the ring drains is taken below too */
     while (!ring_empty(&fw_rx)) {
         uint8_t n = frame_parser_feed(&fw_parser, ring_get(&fw_rx));
         if (n) {
@@ -273,7 +292,7 @@ uint32_t fw_loop(void)
     return next;
 }
 
-uint8_t fw_work_pending(void) { return !ring_empty(&fw_rx) || servo_period_due; }
+uint8_t fw_work_pending(void) { return rx_frame_due || servo_period_due; }
 
 uint32_t fw_next_unprompted_send_us(uint8_t *off)
 {

@@ -1,6 +1,7 @@
 /* The ATmega128 program (mcu_sim/firmware/program.py): start-up, the interrupt handlers' work
  * and one pass of the main loop. The vectors (hal_avr.c) or the emulator (hal_native.c) call
- * the fw_isr_* functions; fw_loop() returns when (us since reset) something is next due. */
+ * the fw_isr_* functions; fw_loop() returns when (us since reset) something is next due, and
+ * the caller runs it again when fw_work_pending() or at that time, sleeping in between. */
 #ifndef MOBIGRASP_PROGRAM_H
 #define MOBIGRASP_PROGRAM_H
 
@@ -46,13 +47,17 @@ extern fw_counters_t fw_counters;
 extern uint8_t fw_tx_seq;
 extern uint32_t fw_last_valid_us;
 
+/* Start-up: fw_setup_rx() (RX ring and parser) before the receiver and interrupts are
+ * enabled, fw_setup() (everything else) after. */
+void fw_setup_rx(void);
 void fw_setup(void);
 void fw_isr_usart_rx(uint8_t byte);
 void fw_isr_timer1_ovf(void);
 void fw_isr_encoder(uint8_t side, int8_t edge);
 void fw_isr_echo(uint8_t index, uint8_t level);
 uint32_t fw_loop(void);
-/* 1 while an interrupt left work for the main loop (bytes in the RX ring, a servo period). */
+/* 1 while an interrupt left work for the main loop (a frame's end in the RX ring, or 64
+ * bytes without one; a servo period). */
 uint8_t fw_work_pending(void);
 /* Next telemetry time (us since reset); 0 and *off = 1 when telemetry is off. */
 uint32_t fw_next_unprompted_send_us(uint8_t *off);

@@ -5,8 +5,9 @@
  * runs the core to a cycle (sh_run_to), puts bytes on USART0's RX line and levels on input
  * pins at the cycles it chooses, and takes what happened: bytes sent on TX (with the cycle
  * their stop bit left), sonar trigger pulses, Timer1 period starts with the OCRnx/ICRn values
- * latched there. No wall-clock pacing: the sleep callback does nothing, and a cycle timer at
- * the target wakes a sleeping core exactly there.
+ * latched there. No wall-clock pacing: a sleeping core goes straight to its next cycle timer
+ * (a peripheral's next event, or the target, where a cycle timer wakes it), and the sleep
+ * callback only counts the cycles skipped.
  *
  * Between instructions it keeps the profile that only an instruction-accurate core can give:
  * cycles of each interrupt (vector entry to the RETI that sets I again; ISRs do not nest),
@@ -65,13 +66,15 @@ struct sh {
     /* stop-bit cycles of bytes handed to the receiver, oldest first */
     uint64_t rxq[RXQ_MAX];
     uint32_t rxq_head, rxq_n;
-    uint32_t rxq_untimed; /* accepted before the first sei: start-up, not latency */
+    uint32_t rxq_untimed; /* accepted before the first sei, or queued behind such bytes:
+                           * the start-up's wait, not the handler's latency */
     uint32_t rx_line_lost;
     sh_profile_t prof;
     int in_isr;
     uint8_t isr_vec;
     uint64_t isr_start;
     int seen_sei;
+    int seen_loop; /* the main loop has begun: the start-up is over */
     uint64_t ioff_start;
     uint32_t ioff_pc;
     uint64_t oc1_rise[3];      /* OC1A..C pin (PB5..7): last rising edge */
@@ -101,10 +104,12 @@ static void quiet_logger(avr_t *avr, const int level, const char *format, va_lis
     (void)ap;
 }
 
-static void no_sleep(avr_t *avr, avr_cycle_count_t how_long)
+/* simavr calls this when the core sleeps, with the cycles to its next cycle timer, then moves
+ * the clock by 1 + how_long in the same avr_run call: the instruction that executed SLEEP
+ * included, so the sleep is counted here rather than by the state before the call. */
+static void count_sleep(avr_t *avr, avr_cycle_count_t how_long)
 {
-    (void)avr;
-    (void)how_long;
+    ((sh_t *)avr->custom.data)->prof.sleep_cycles += 1u + how_long;
 }
 
 static void on_uart_out(struct avr_irq_t *irq, uint32_t value, void *param)
@@ -240,6 +245,7 @@ static void clear_run_state(sh_t *sh)
     sh->in_isr = 0;
     sh->in_loop = 0;
     sh->seen_sei = 0;
+    sh->seen_loop = 0;
     sh->rx_head_last = 0;
     sh->rx_over_last = 0;
     sh->rxq_head = sh->rxq_n = sh->rxq_untimed = 0;
@@ -266,13 +272,14 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
     avr->log = 0;
     avr_load_firmware(avr, &fw);
     avr->frequency = 16000000u;
-    avr->sleep = no_sleep;
+    avr->sleep = count_sleep;
     avr->log = 0;
     sh_t *sh = calloc(1, sizeof *sh);
     if (!sh) {
         return NULL;
     }
     sh->avr = avr;
+    avr->custom.data = sh;
     sh->rx_head_addr = rx_head_addr;
     sh->rx_over_addr = rx_over_addr;
     sh->bss_end = bss_end;
@@ -332,8 +339,9 @@ uint64_t sh_cycle(const sh_t *sh) { return sh->avr->cycle; }
 
 int sh_state(const sh_t *sh) { return sh->avr->state; }
 
-/* 1 once the firmware has enabled interrupts since the last reset: its start-up is over */
-int sh_booted(const sh_t *sh) { return sh->seen_sei; }
+/* 1 once the firmware's main loop has begun since the last reset (once it has enabled
+ * interrupts when no loop address is set): its start-up is over */
+int sh_booted(const sh_t *sh) { return sh->loop_addr ? sh->seen_loop : sh->seen_sei; }
 
 void sh_set_byte_cycles(sh_t *sh, uint32_t cycles) { sh->byte_cycles = cycles; }
 
@@ -349,15 +357,11 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
     sh->tel_hz_addr = telemetry_hz;
 }
 
-static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_before,
-                                     int was_sleeping)
+static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_before)
 {
     avr_t *avr = sh->avr;
     uint64_t now = avr->cycle;
     uint8_t ie = avr->sreg[S_I];
-    if (was_sleeping) {
-        sh->prof.sleep_cycles += now - before;
-    }
     /* interrupt entry: the PC lands on a vector with I cleared */
     if (!sh->in_isr && !ie && avr->pc < VECTORS * 4u && avr->pc != 0) {
         sh->in_isr = 1;
@@ -390,6 +394,7 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
     /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
     if (sh->loop_addr && !sh->in_loop && avr->pc == sh->loop_addr) {
         sh->in_loop = 1;
+        sh->seen_loop = 1;
         sh->loop_sp = sp;
         sh->loop_start = before;
     } else if (sh->in_loop && sp > sh->loop_sp) {
@@ -410,8 +415,9 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
         avr->data[sh->rx_head_addr] == avr->data[sh->rx_tail_addr]) {
         sh->rx_unanswered = 0;
     }
-    /* a byte reached the RX ring (or was counted as a ring overrun) */
-    if (sh->rx_head_addr) {
+    /* a byte reached the RX ring (or was counted as a ring overrun); only a byte handed to the
+     * USART moves either, so nothing is read while none is awaited */
+    if (sh->rx_head_addr && (sh->rxq_n || sh->rxq_untimed)) {
         uint8_t head = avr->data[sh->rx_head_addr];
         uint32_t over;
         memcpy(&over, avr->data + sh->rx_over_addr, 4);
@@ -461,12 +467,11 @@ int sh_run_to(sh_t *sh, uint64_t target)
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
         uint32_t pc_before = avr->pc;
-        int sleeping = avr->state == cpu_Sleeping;
         int state = avr_run(avr);
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }
-        after_instruction(sh, before, pc_before, sleeping);
+        after_instruction(sh, before, pc_before);
         if (sh->stop) {
             return SH_STOPPED;
         }
@@ -494,7 +499,7 @@ int sh_uart_in(sh_t *sh, uint8_t byte)
     fix_byte_time(sh);
     avr_raise_irq(avr_io_getirq(sh->avr, AVR_IOCTL_UART_GETIRQ('0'), UART_IRQ_INPUT), byte);
     sh->rx_unanswered = 1;
-    if (!sh->seen_sei) {
+    if (!sh->seen_sei || sh->rxq_untimed) {
         sh->rxq_untimed++;
     } else if (sh->rxq_n < RXQ_MAX) {
         sh->rxq[(sh->rxq_head + sh->rxq_n) % RXQ_MAX] = sh->avr->cycle + sh->byte_cycles;

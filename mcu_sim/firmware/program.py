@@ -1,14 +1,15 @@
-"""The ATmega128 program: start-up, interrupt handlers and the cooperative main loop.
+"""The ATmega128 program: start-up, interrupt handlers and the event-driven main loop.
 
 Written to map one-to-one onto C: every buffer is allocated in ``__init__``/``setup`` (the C
 globals) and reused; the loop does integer arithmetic only. The handlers are what the vectors
-call: ``isr_usart_rx`` (USART0_RX: byte into the RX ring), ``isr_timer1_ovf`` (TIMER1_OVF: the
-servo widths written for this period were just latched, so compute and write the next ones),
-``isr_encoder`` (INT4..7, quadrature edges) and ``isr_echo`` (sonar echo edges). ``loop`` is one
-pass of ``for (;;)``: drain the RX ring into the frame parser and dispatch frames, then run what is
-due: wheel PI (100 Hz), watchdog, sonar slot, telemetry. It returns the earliest time (µs since
-reset) at which something will be due, which is when the emulator runs it again; on the part the
-loop spins or sleeps until the next interrupt, which is equivalent because nothing else changes.
+call; each only stores what happened: ``isr_usart_rx`` (USART0_RX: byte into the RX ring),
+``isr_timer1_ovf`` (TIMER1_OVF: a servo period began, flag for the main loop), ``isr_encoder``
+(INT0..3, quadrature edges) and ``isr_echo`` (sonar echo edges). ``loop`` is one pass of the main
+loop: the servo period's OCR writes if one began, drain the RX ring into the frame parser and
+dispatch frames, then only what is due: wheel PI (100 Hz), watchdog, sonar slot, telemetry. It
+returns the earliest time (µs since reset) at which something will be due. The part then sleeps
+until a handler leaves work (``work_pending``) or, at Timer0's 1.024 ms tick, that time has come
+(firmware/hal_avr.c, wait_for_work); the emulator runs the next pass at the next such event.
 
 What each command does is in ``dispatch.py`` (the C port's ``switch (msg_type)``).
 """
@@ -53,6 +54,9 @@ _I_TELEMETRY_HZ = P.PARAM_INDEX[P.P_TELEMETRY_HZ]
 _I_WHEEL_KP = P.PARAM_INDEX[P.P_WHEEL_KP]
 _I_WHEEL_KI = P.PARAM_INDEX[P.P_WHEEL_KI]
 
+# the RX handler wakes the main loop at a frame's delimiter (COBS: 0x00 nowhere else) or once
+# this many bytes wait without one, so garbage cannot fill the ring before the loop drains it
+RX_WAKE_BYTES = 64
 TELEMETRY_STRUCT = struct.Struct("<Iii6H5H5H")  # time, encoders, servos, sonars, flags+4 counters
 TELEMETRY_TYPE = Telemetry.MSG_TYPE
 ACK_TYPE = Ack.MSG_TYPE
@@ -89,13 +93,20 @@ class Firmware:
         self.setup()
 
     # -- start-up ------------------------------------------------------------------------------
-    def setup(self) -> None:
-        """``main()`` before the loop: state to power-on values, peripherals configured."""
-        hw = self.hw
+    def setup_rx(self) -> None:
+        """The receiving side, first of all (``fw_setup_rx``): on the part the receiver and
+        interrupts are enabled right after it, so bytes are kept while the rest starts up."""
         self.rx.clear()
         self.rx.overruns = 0
         self.parser.reset()
         self.parser.stats.__init__()
+        self.rx_frame_due = False
+
+    def setup(self) -> None:
+        """``main()`` before the loop: :meth:`setup_rx`, then (``fw_setup``) state to power-on
+        values, peripherals configured."""
+        hw = self.hw
+        self.setup_rx()
         # a reset zeroes the C globals: the TX sequence counter and the duplicate filter's
         # counters start again too
         self.dup = DuplicateFilter(DUP_WINDOW)
@@ -120,6 +131,7 @@ class Firmware:
         self.unexpected = 0
         self.tx_dropped = 0
         self.telemetry_sent = 0
+        self.servo_period_due = False
         for timer in (hw.timer1, hw.timer3):
             timer.write_tccra(TCCRA_SERVO)
             timer.write_icr(ICR_20MS)
@@ -140,15 +152,27 @@ class Firmware:
 
     # -- interrupt handlers --------------------------------------------------------------------
     def isr_usart_rx(self, byte: int) -> None:
-        """USART0 RX complete: into the ring (overrun counted when full)."""
+        """USART0 RX complete: into the ring (overrun counted when full); a delimiter, or
+        ``RX_WAKE_BYTES`` waiting, is work for the main loop."""
         self.rx.put(byte)
+        if byte == 0 or len(self.rx) >= RX_WAKE_BYTES:
+            self.rx_frame_due = True
 
     def isr_usart_rx_bytes(self, data: bytes) -> None:
         """Several RX-complete interrupts in a row (the emulator batches them), oldest first."""
         self.rx.put_bytes(data)
+        # the ring only fills between passes: at or past the mark after the batch means at or
+        # past it after its last byte
+        if 0 in data or len(self.rx) >= RX_WAKE_BYTES:
+            self.rx_frame_due = True
 
     def isr_timer1_ovf(self) -> None:
-        """Timer1 (and 3, started together) period start: latch, then write next period's OCRs."""
+        """Timer1 (and 3, started together) period start: work for the main loop."""
+        self.servo_period_due = True
+
+    def _servo_period(self) -> None:
+        """A period began: the pending widths are in force; step every moving channel and write
+        its OCR for the period after (latched at the next BOTTOM)."""
         servos = self.servos
         servos.latch()
         target, latched = servos.target_q8, servos.latched_q8
@@ -172,6 +196,10 @@ class Firmware:
         """One pass of the main loop; returns the next time (µs since reset) something is due."""
         hw = self.hw
         now = hw.micros()
+        if self.servo_period_due:
+            self.servo_period_due = False
+            self._servo_period()
+        self.rx_frame_due = False  # the drain below takes every byte received so far
         rx = self.rx
         if rx.head != rx.tail:  # take_all() of an empty ring is b"" (most passes: timed work)
             for frame in self.parser.feed(rx.take_all()):
@@ -203,6 +231,12 @@ class Firmware:
         if wd_us and not self.watchdog_tripped and self.last_valid_us + wd_us < due:
             due = self.last_valid_us + wd_us
         return due
+
+    def work_pending(self) -> bool:
+        """True while a handler left work for the main loop (a frame's end in the RX ring, or
+        ``RX_WAKE_BYTES`` without one; a servo period): what ends the part's sleep besides a
+        due time."""
+        return self.rx_frame_due or self.servo_period_due
 
     def next_unprompted_send_us(self) -> int | None:
         """When the main loop next sends something nobody asked for (µs since reset): the next

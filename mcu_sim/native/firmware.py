@@ -249,8 +249,9 @@ class NativeFirmware:
 
     # -- what the emulator calls -----------------------------------------------------------
     def setup(self) -> None:
-        """``main()`` before the loop."""
+        """``main()`` before the loop: the receiving side, then the rest."""
         self._clock()
+        lib.fw_setup_rx()
         lib.fw_setup()
 
     def isr_timer1_ovf(self) -> None:
@@ -284,6 +285,11 @@ class NativeFirmware:
         due = lib.fw_loop()
         full_now = (self.hw.cycle - self.hw.reset_cycle) // CYCLES_PER_US
         return full_now + (((due - now + 0x8000_0000) & _MASK32) - 0x8000_0000)
+
+    def work_pending(self) -> bool:
+        """True while a handler left work for the main loop (``fw_work_pending``)."""
+        self.activate()
+        return bool(lib.fw_work_pending())
 
     def next_unprompted_send_us(self) -> int | None:
         """The next telemetry time (µs since reset), None when telemetry is off."""

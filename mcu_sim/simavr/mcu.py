@@ -226,13 +226,14 @@ class SimavrMcu:
                 self._pulses_us = tuple(w / 1000.0 for w in self._widths_ns)
 
     def run_until_booted(self, limit_us: int = 100_000, step_us: int = 100) -> int:
-        """Advance in ``step_us`` steps until the firmware has enabled interrupts (its start-up,
-        about 2.2 ms after reset, is over: docs/firmware.md) and return that time in µs; a
-        byte sent from then on is received. Raises if it has not by ``limit_us`` from now."""
+        """Advance in ``step_us`` steps until the firmware's main loop has begun (its start-up,
+        about 2.2 ms after reset, is over: docs/firmware.md) and return that time in µs; bytes
+        sent from about 0.44 ms after the reset on are received. Raises if it has not by
+        ``limit_us`` from now."""
         end = self.now_us + int(limit_us)
         while not lib.sh_booted(self._h):
             if self.now_us >= end:
-                raise SimavrBuildError(f"{self.elf.path}: no sei within {limit_us} us")
+                raise SimavrBuildError(f"{self.elf.path}: no main loop within {limit_us} us")
             self.advance_to(min(end, self.now_us + int(step_us)))
         return self.now_us
 
@@ -445,5 +446,6 @@ class SimavrMcu:
             "total_cycles": total,
             "stack_depth_bytes": p.stack_depth_bytes,
             "loop_max_cycles": p.loop_max_cycles,
+            "loop_passes": p.loop_count,
             "rx_line_lost": lib.sh_rx_line_lost(self._h),
         }

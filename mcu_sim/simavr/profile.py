@@ -50,6 +50,7 @@ def profile_stats(raw: dict) -> dict[str, int]:
         "avr_irq_off_max_to_pc": int(raw["irq_off_max_to_pc"]),
         "avr_rx_latency_max_cycles": int(raw["rx_latency_max_cycles"]),
         "avr_loop_max_cycles": int(raw["loop_max_cycles"]),
+        "avr_loop_passes": int(raw["loop_passes"]),
         "avr_load_permille": 1000 - int(raw["sleep_cycles"]) * 1000 // total,
         "avr_stack_max_bytes": int(raw["stack_depth_bytes"]),
         "avr_rx_line_lost": int(raw["rx_line_lost"]),

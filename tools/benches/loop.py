@@ -4,6 +4,8 @@ Real-time factor = simulated seconds / wall seconds of paper000-exp1 (capped at 
 simulated seconds) over the pty (two processes) and in process, the median of ``--rtf-repeats``
 runs each; the baseline measured in the same run is the strict alternation (``_lag0``: the host
 is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
+The same run over the pty with the avr-gcc ELF on simavr (``--mcu simavr``) gives
+``realtime_factor_pty_simavr`` and ``simavr_vs_python_pty``, its ratio to the Python model's.
 The campaign (tools/loop_campaign.py) runs ``--runs`` seeded random scenarios per method
 (tools/random_scenarios.py), over the pty by default (``--transport``; the trace is the same over
 either), and reports the figures of the acceptance bar per method (docs/cosim.md, "Random scenes
@@ -132,18 +134,19 @@ def realtime_factors(args) -> dict:
         # host and rig take turns at every control tick instead of overlapping. The four
         # configurations take turns run by run: this machine's speed drifts by ~10 % over
         # minutes, and runs in blocks would put that drift into the ratios.
-        configs = [(lag, tag, transport) for lag, tag in ((1, ""), (0, "_lag0"))
-                   for transport in ("pty", "inproc")]
+        configs = [(lag, tag, transport, "python") for lag, tag in ((1, ""), (0, "_lag0"))
+                   for transport in ("pty", "inproc")] + [(1, "_simavr", "pty", "simavr")]
         rows: dict = {c: [] for c in configs}
         for k in range(args.rtf_repeats):
-            for lag, tag, transport in configs:
+            for lag, tag, transport, mcu in configs:
                 s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
                                     out=folder / f"rtf-{transport}{tag}-{k}", progress=False,
                                     plots=False, time_limit_s=args.rtf_limit_s,
-                                    host_lag_quanta=lag))
-                rows[lag, tag, transport].append(s)
-                sha.setdefault((lag, transport), set()).add(s.get("trace_sha256"))
-    for (_lag, tag, transport), runs in rows.items():
+                                    host_lag_quanta=lag, mcu=mcu))
+                rows[lag, tag, transport, mcu].append(s)
+                if mcu == "python":
+                    sha.setdefault((lag, transport), set()).add(s.get("trace_sha256"))
+    for (_lag, tag, transport, _mcu), runs in rows.items():
         wall = statistics.median(r["wall_time_s"] for r in runs)
         sim_s = runs[0]["sim_time_s"]
         results[f"realtime_factor_{transport}{tag}"] = round(sim_s / wall, 3)
@@ -161,6 +164,8 @@ def realtime_factors(args) -> dict:
         rtf = results[f"realtime_factor_{transport}"]
         results[f"speedup_{transport}_vs_lag0"] = round(
             rtf / results[f"realtime_factor_{transport}_lag0"], 3)
+    results["simavr_vs_python_pty"] = round(
+        results["realtime_factor_pty_simavr"] / results["realtime_factor_pty"], 3)
     results["trace_equal_pty_inproc"] = all(
         len(sha[lag, "pty"] | sha[lag, "inproc"]) == 1 for lag in (0, 1))
     return results

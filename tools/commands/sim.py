@@ -57,8 +57,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--mcu", default="python", metavar="NAME",
                    help="MCU backend from mobigrasp.mcu_sim.backend.MCU_BACKENDS: python (the "
                         "firmware model, default), native (the C firmware), ...")
-    p.add_argument("--camera-port", type=_port, default=8080,
-                   help="TCP port of the camera on 127.0.0.1 (default 8080; 0: any free port)")
+    p.add_argument("--camera-port", type=_port, default=0,
+                   help="TCP port of the camera on 127.0.0.1 (default 0: any free port, so two "
+                        "sessions never collide)")
+    p.add_argument("--tcp-port", type=_port, default=None, metavar="N",
+                   help="serve the serial line on 127.0.0.1:N too (0: any free port), printed "
+                        "as 'serial-tcp: tcp://127.0.0.1:PORT'")
+    p.add_argument("--wait-host", action=argparse.BooleanOptionalAction, default=None,
+                   help="start the simulated clock at the host's first valid frame (default: "
+                        "wait when stdin is not a terminal, as in CI; not at a terminal)")
+    p.add_argument("--fault", action="append", metavar="KEY=VALUE",
+                   help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
     p.add_argument("--out", type=Path, default=None,
                    help="run folder (default runs/<scenario>-<seed>-sim/)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
@@ -70,7 +79,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
-    from mobigrasp.tools.run_job import BadInput, check_seed, check_time_limit, resolve_scenario
+    from mobigrasp.tools.run_job import (
+        BadInput,
+        check_seed,
+        check_time_limit,
+        fault_plan,
+        resolve_scenario,
+    )
 
     names = _mcu_names()
     mcu = args.mcu
@@ -83,18 +98,25 @@ def _run(args: argparse.Namespace) -> int:
     def on_signal(signum, frame) -> None:
         asked.append("interrupted" if signum == signal.SIGINT else "terminated")
 
-    def on_ready(serial: str, camera: str) -> None:
+    def on_ready(serial: str, camera: str, serial_tcp: str | None) -> None:
         print(f"serial: {serial}", flush=True)
         print(f"camera: {camera}", flush=True)
+        if serial_tcp is not None:
+            print(f"serial-tcp: {serial_tcp}", flush=True)
 
     try:
         check_seed(args.seed)
         check_time_limit(args.time_limit_s)
         resolved = resolve_scenario(args.scenario)
+        plan = fault_plan(resolved[1], args.fault)
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
+    from mobigrasp.tools.mcap_out import CameraLog
     from mobigrasp.tools.progress import Progress
+
+    wait_host = (not sys.stdin.isatty()) if args.wait_host is None else args.wait_host
+    frames = CameraLog()  # the frames of trace.mcap
 
     scenario = resolved[1]
     display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
@@ -105,7 +127,8 @@ def _run(args: argparse.Namespace) -> int:
         summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
                                    time_limit_s=args.time_limit_s, progress=display,
-                                   resolved=resolved),
+                                   resolved=resolved, plan=plan, wait_host=wait_host,
+                                   tcp_port=args.tcp_port, on_frame=frames.on_frame),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
@@ -113,6 +136,8 @@ def _run(args: argparse.Namespace) -> int:
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
+    folder = Path(summary["run_folder"])
+    _write_traffic(folder, summary, frames)
     if not args.no_plots:
         try:
             from mobigrasp.tools.report import write_report
@@ -123,5 +148,27 @@ def _run(args: argparse.Namespace) -> int:
     print(f"{summary['scenario']} served to an external host: "
           f"{'GRASPED' if summary['grasped'] else 'not grasped'} ({summary['end_reason']}) in "
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "
-          f"run folder: {Path(summary['run_folder'])}", flush=True)
+          f"run folder: {folder}", flush=True)
+    if summary.get("host_traffic"):
+        from mobigrasp.tools.wire_traffic import traffic_lines
+
+        for line in traffic_lines(summary["host_traffic"]):
+            print(f"  {line}", flush=True)
     return 0 if summary["grasped"] else 1
+
+
+def _write_traffic(folder: Path, summary: dict, frames) -> None:
+    """The host's traffic from the trace into summary.json, and trace.mcap; a failure is
+    reported, never hides the session's result."""
+    from mobigrasp.cosim.run_folder import read_trace, write_summary
+    from mobigrasp.tools.mcap_out import write_mcap
+    from mobigrasp.tools.wire_traffic import host_traffic
+
+    try:
+        events = read_trace(folder / "trace.jsonl")
+        summary["host_traffic"] = host_traffic(events)
+        stored = {k: v for k, v in summary.items() if k != "run_folder"}
+        write_summary(folder / "summary.json", stored)
+        write_mcap(folder / "trace.mcap", events, frames.frames, summary)
+    except Exception as exc:
+        print(f"trace.mcap: {type(exc).__name__}: {exc}", file=sys.stderr)

@@ -69,7 +69,8 @@ arm-tools:
 	$(call deb_install,$(ARM_TOOLS))
 
 # The C host for the S3C2440's ARM920T (ARMv4T), docs/porting.md. Every hostc/*.c is portable
-# except the native-only *_posix.c; hostc/arm/ holds the board's start-up code, its system calls
+# except the native-only *_posix.c, and so is the protocol codec the two boards share
+# (firmware/protocol/); hostc/arm/ holds the board's start-up code, its system calls
 # (sys_arm.c) and the few C library functions. No C library is linked (Debian's armel one is
 # ARMv5TE): libgcc only, whose default multilib is ARMv4T (division and soft-float).
 HOSTC_OUT ?= build/hostc
@@ -78,31 +79,39 @@ ARM_CFLAGS := -mcpu=arm920t -marm -O2 -std=c99 -ffreestanding -Wall -Wextra -Wer
 	-ffunction-sections -fdata-sections
 ARM_LDFLAGS := -nostdlib -static -Wl,--gc-sections -Wl,-Ttext-segment=0x10000 -Wl,-z,noexecstack
 HOSTC_PORTABLE := $(sort $(filter-out %_posix.c,$(wildcard hostc/*.c)))
+HOSTC_PROTOCOL := $(sort $(wildcard firmware/protocol/*.c))
 # the self-test's entry until the host has its own main
 HOSTC_ARM_MAIN := $(if $(wildcard hostc/main.c),,hostc/arm/selftest_main.c)
 HOSTC_BOARD := $(sort $(filter-out hostc/arm/selftest_main.c,$(wildcard hostc/arm/*.c)))
-HOSTC_ARM_SRCS := $(HOSTC_PORTABLE) $(HOSTC_BOARD) $(HOSTC_ARM_MAIN) hostc/arm/start.S
+HOSTC_ARM_SRCS := $(HOSTC_PORTABLE) $(HOSTC_PROTOCOL) $(HOSTC_BOARD) $(HOSTC_ARM_MAIN) \
+	hostc/arm/start.S
 HOSTC_ARM_ELF := $(HOSTC_OUT)/mobigrasp-host-arm920t.elf
 
 # The static ELF: qemu-arm -cpu ti925t HOSTC_ARM_ELF --self-test runs it here
 hostc-arm: arm-tools $(HOSTC_ARM_ELF)
 	@arm-none-eabi-size $(HOSTC_ARM_ELF)
 
-$(HOSTC_ARM_ELF): $(HOSTC_ARM_SRCS) $(wildcard hostc/*.h hostc/arm/*.h) Makefile
+$(HOSTC_ARM_ELF): $(HOSTC_ARM_SRCS) $(wildcard hostc/*.h hostc/arm/*.h firmware/protocol/*.h) \
+		Makefile
 	@mkdir -p $(@D)
-	$(ARM_CC) $(ARM_CFLAGS) $(ARM_LDFLAGS) -Ihostc -o $@ $(HOSTC_ARM_SRCS) -lgcc
+	$(ARM_CC) $(ARM_CFLAGS) $(ARM_LDFLAGS) -Ihostc -Ifirmware/protocol -o $@ $(HOSTC_ARM_SRCS) -lgcc
 
 # The portable modules and the board's (hostc/arm/) as ARM920T objects: text/data/bss per object
 # and the worst-case stack of each function (-fstack-usage frames on -fcallgraph-info's graph)
 HOSTC_OBJ_DIR := $(HOSTC_OUT)/arm920t
-HOSTC_OBJS := $(patsubst hostc/%.c,$(HOSTC_OBJ_DIR)/%.o,$(HOSTC_PORTABLE) $(HOSTC_BOARD))
+HOSTC_OBJS := $(patsubst hostc/%.c,$(HOSTC_OBJ_DIR)/%.o,$(HOSTC_PORTABLE) $(HOSTC_BOARD)) \
+	$(patsubst firmware/protocol/%.c,$(HOSTC_OBJ_DIR)/protocol/%.o,$(HOSTC_PROTOCOL))
 hostc: arm-tools venv $(HOSTC_OBJS)
 	@arm-none-eabi-size -t $(HOSTC_OBJS)
 	@$(BIN)/python -m mobigrasp.tools.hostc_budget $(HOSTC_OBJ_DIR)
 
-$(HOSTC_OBJ_DIR)/%.o: hostc/%.c $(wildcard hostc/*.h hostc/arm/*.h) Makefile
+$(HOSTC_OBJ_DIR)/%.o: hostc/%.c $(wildcard hostc/*.h hostc/arm/*.h firmware/protocol/*.h) Makefile
 	@mkdir -p $(@D)
-	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ihostc -c -o $@ $<
+	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ihostc -Ifirmware/protocol -c -o $@ $<
+
+$(HOSTC_OBJ_DIR)/protocol/%.o: firmware/protocol/%.c $(wildcard firmware/protocol/*.h) Makefile
+	@mkdir -p $(@D)
+	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ifirmware/protocol -c -o $@ $<
 
 test: lint toolchains
 	$(BIN)/python -m pytest -q

@@ -46,17 +46,8 @@ def lib():
     digest = source_hash()
     name = f"_mg_hostc_{digest}"
     target = cbuild.cache_root() / "hostc" / digest
-
-    def configure(ffi) -> None:
-        ffi.cdef(cbuild.header_cdef(("kernels.h",), [HOSTC]))
-        ffi.set_source(name, '#include "kernels.h"', sources=[str(HOSTC / s) for s in SOURCES],
-                       include_dirs=[str(HOSTC)],
-                       extra_compile_args=["-std=c99", "-O2", "-ffp-contract=off"])
-
-    mod = cbuild.load_cached(
-        name, target, lambda: cbuild.compile_module(name, target, configure, HostcBuildError),
-        HostcBuildError)
-    return mod.ffi, mod.lib
+    return cbuild.cffi_library(name, target, ("kernels.h",), [HOSTC / s for s in SOURCES],
+                               [HOSTC], HostcBuildError)
 
 
 def _ptr(ffi, a: np.ndarray, ctype: str):

@@ -52,10 +52,7 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scrat
  * touches_edge. Returns 1 when found, 0 when not. */
 int32_t mg_red_roi(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch, int32_t *out);
 
-/* trig.c: sin and cos in Q12 of an angle in mrad (host/fixedpoint.py sin_q12, cos_q12) */
-int32_t mg_sin_q12(int32_t angle_mrad);
-int32_t mg_cos_q12(int32_t angle_mrad);
-int32_t mg_atan2_mrad(int64_t y, int64_t x);
+#include "trig.h" /* sin, cos (Q12) and atan2 (mrad) */
 
 /* dual_plus.c: the 000 dual "+" from the front end's grey image, labels and component stats
  * (host/vision/dual_plus.py detect_dual_plus). out: u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4,

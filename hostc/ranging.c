@@ -3,26 +3,9 @@
  * (all Q4 px), camera pitch alpha and waist yaw theta5 (mrad). The exact pinhole geometry of a
  * vertical segment seen by a pitched camera (002 §4, D_OC = D f / d_pixel done along the
  * ray), then the front surface moved to the axis by the radius R = width D / (2 d). */
+#include "div_round.h"
 #include "isqrt.h"
 #include "kernels.h"
-
-/* num / den rounded, halves away from zero, either sign of den (host/fixedpoint.py
- * div_round); den != 0 is checked by the caller */
-static int64_t div_round64(int64_t num, int64_t den)
-{
-    const uint64_t an = num < 0 ? (uint64_t)0 - (uint64_t)num : (uint64_t)num;
-    const uint64_t ad = den < 0 ? (uint64_t)0 - (uint64_t)den : (uint64_t)den;
-    uint64_t q = an / ad;
-    if (2 * (an - q * ad) >= ad)
-        q++;
-    return ((num >= 0) == (den > 0)) ? (int64_t)q : -(int64_t)q;
-}
-
-/* Q12 product rounded (host/fixedpoint.py mul_q12): the shift is arithmetic, as Python's >> */
-static int64_t mul_q12_64(int64_t a, int64_t b)
-{
-    return (a * b + 2048) >> 12;
-}
 
 int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int32_t width_q4,
                             int32_t alpha_mrad, int32_t theta5_mrad, int32_t f_px,
@@ -46,33 +29,33 @@ int32_t mg_locate_ring_pair(int32_t d_pixel_q4, int32_t u_q4, int32_t v_q4, int3
     const int64_t up = sa * fq - ca * yn;
     const int64_t right = xn * 4096;
     /* depth Z_c = D fwd / d in µm; the point is Z_c * ray / f */
-    const int64_t zc_um = div_round64((int64_t)d_um * fwd, (int64_t)d_pixel_q4 * 4096);
-    int64_t x_um = div_round64(zc_um * right, fq * 4096);
-    int64_t y_um = div_round64(zc_um * fwd, fq * 4096);
-    const int64_t z_um = div_round64(zc_um * up, fq * 4096);
+    const int64_t zc_um = mg_div_round_i64((int64_t)d_um * fwd, (int64_t)d_pixel_q4 * 4096);
+    int64_t x_um = mg_div_round_i64(zc_um * right, fq * 4096);
+    int64_t y_um = mg_div_round_i64(zc_um * fwd, fq * 4096);
+    const int64_t z_um = mg_div_round_i64(zc_um * up, fq * 4096);
     if (x_um > MG_RANGING_MAX_UM_OUT || x_um < -MG_RANGING_MAX_UM_OUT
         || y_um > MG_RANGING_MAX_UM_OUT || y_um < -MG_RANGING_MAX_UM_OUT
         || z_um > MG_RANGING_MAX_UM_OUT || z_um < -MG_RANGING_MAX_UM_OUT)
         return 0;
     /* front surface -> axis along the horizontal ray */
-    const int64_t radius_um = div_round64((int64_t)width_q4 * d_um, 2 * (int64_t)d_pixel_q4);
+    const int64_t radius_um = mg_div_round_i64((int64_t)width_q4 * d_um, 2 * (int64_t)d_pixel_q4);
     if (radius_um > MG_RANGING_MAX_UM_OUT)
         return 0;
     const int64_t h_um = mg_isqrt64((uint64_t)(x_um * x_um + y_um * y_um));
     if (h_um > 0) {
-        x_um += div_round64(x_um * radius_um, h_um);
-        y_um += div_round64(y_um * radius_um, h_um);
+        x_um += mg_div_round_i64(x_um * radius_um, h_um);
+        y_um += mg_div_round_i64(y_um * radius_um, h_um);
     }
     /* waist yaw: theta5 > 0 turns the camera to the right */
     const int64_t s5 = mg_sin_q12(theta5_mrad), c5 = mg_cos_q12(theta5_mrad);
-    const int64_t xr = mul_q12_64(x_um, c5) + mul_q12_64(y_um, s5);
-    const int64_t yr = mul_q12_64(y_um, c5) - mul_q12_64(x_um, s5);
+    const int64_t xr = mg_mul_q12_i64(x_um, c5) + mg_mul_q12_i64(y_um, s5);
+    const int64_t yr = mg_mul_q12_i64(y_um, c5) - mg_mul_q12_i64(x_um, s5);
     const int64_t dist_um = mg_isqrt64((uint64_t)(xr * xr + yr * yr + z_um * z_um));
-    out[0] = (int32_t)div_round64(xr, 1000);
-    out[1] = (int32_t)div_round64(yr, 1000);
-    out[2] = (int32_t)div_round64(z_um, 1000);
-    out[3] = (int32_t)div_round64(dist_um, 1000);
+    out[0] = (int32_t)mg_div_round_i64(xr, 1000);
+    out[1] = (int32_t)mg_div_round_i64(yr, 1000);
+    out[2] = (int32_t)mg_div_round_i64(z_um, 1000);
+    out[3] = (int32_t)mg_div_round_i64(dist_um, 1000);
     out[4] = mg_atan2_mrad(xr, yr);
-    out[5] = (int32_t)div_round64(radius_um, 1000);
+    out[5] = (int32_t)mg_div_round_i64(radius_um, 1000);
     return 1;
 }

@@ -163,16 +163,37 @@ static const int32_t atan_urad[257] = {
     785398,
 };
 
+/* round(num * 2^16 / den) as floor((num << 16) + den / 2) / den for 0 <= num <= den: the
+ * ratio min/max in Q16. Operands from 2^46 up (the arm's inverse kinematics) would overflow the
+ * shift, so their quotient is taken bit by bit, the same exact integer. */
+static int32_t ratio_q16(int64_t num, int64_t den)
+{
+    if (num < ((int64_t)1 << 46))
+        return (int32_t)(((num << 16) + (den >> 1)) / den);
+    int32_t q = num >= den; /* num <= den: the integer part is 0 or 1 */
+    int64_t r = num - (q ? den : 0);
+    for (int i = 0; i < 16; i++) { /* r < den < 2^62: 2 r stays in range */
+        q <<= 1;
+        if (r >= den - r) {
+            r -= den - r;
+            q |= 1;
+        } else {
+            r += r;
+        }
+    }
+    return q + (r >= den - (den >> 1)); /* + floor(den / 2), carried into the quotient */
+}
+
 /* atan2(y, x) in micro-radians (host/fixedpoint.py atan2_urad): octant reduction, the ratio
  * min/max in Q16, table interpolation */
-static int32_t atan2_urad(int64_t y, int64_t x)
+int32_t mg_atan2_urad(int64_t y, int64_t x)
 {
     const int64_t ax = x < 0 ? -x : x, ay = y < 0 ? -y : y;
     if (ax == 0 && ay == 0)
         return 0;
     const int swap = ay > ax;
     const int64_t num = swap ? ax : ay, den = swap ? ay : ax;
-    const int32_t ratio = (int32_t)(((num << 16) + (den >> 1)) / den);
+    const int32_t ratio = ratio_q16(num, den);
     const int32_t idx = ratio >> 8, frac = ratio & 255;
     const int32_t a = atan_urad[idx], b = idx < 256 ? atan_urad[idx + 1] : a;
     int32_t ang = a + (((b - a) * frac + 128) >> 8);
@@ -185,6 +206,6 @@ static int32_t atan2_urad(int64_t y, int64_t x)
 
 int32_t mg_atan2_mrad(int64_t y, int64_t x)
 {
-    const int32_t u = atan2_urad(y, x);
+    const int32_t u = mg_atan2_urad(y, x);
     return u >= 0 ? (u + 500) / 1000 : -((-u + 500) / 1000);
 }

@@ -135,3 +135,20 @@ def compile_module(name: str, target: Path, configure: Callable[[object], None],
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return sorted(target.glob(f"{name}*.so"))[0]
+
+
+def cffi_library(name: str, target: Path, headers: Iterable[str], sources: Iterable[Path],
+                 include_dirs: Iterable[Path], error: type[Exception] = RuntimeError):
+    """The cffi module ``name`` declaring ``headers`` (:func:`header_cdef`) and compiled from
+    ``sources`` as C99 (no float contraction, so the results are the ARM build's), kept in
+    ``target``; its ``(ffi, lib)``."""
+    dirs = [str(d) for d in include_dirs]
+
+    def configure(ffi) -> None:
+        ffi.cdef(header_cdef(tuple(headers), [Path(d) for d in dirs]))
+        ffi.set_source(name, "".join(f'#include "{h}"\n' for h in headers),
+                       sources=[str(s) for s in sources], include_dirs=dirs,
+                       extra_compile_args=["-std=c99", "-O2", "-ffp-contract=off"])
+
+    mod = load_cached(name, target, lambda: compile_module(name, target, configure, error), error)
+    return mod.ffi, mod.lib

@@ -199,3 +199,21 @@ def blob_detector(cost_alu: int = 4_000_000):
 
 def build_inputs(app, now_us, detections):
     return detections
+
+
+class BufferPort:
+    """A serial port of the lockstep client over two buffers: ``rx`` holds what the test put
+    there for the host to read, ``tx`` collects what the host wrote."""
+
+    def __init__(self) -> None:
+        self.rx, self.tx = bytearray(), bytearray()
+
+    def read(self) -> bytes:
+        out, self.rx = bytes(self.rx), bytearray()
+        return out
+
+    def write(self, data: bytes) -> None:
+        self.tx += data
+
+    def wait_readable(self, timeout_s: float) -> bool:
+        return bool(self.rx)

@@ -33,14 +33,14 @@ def elf() -> Path:
 
 @pytest.fixture(scope="module")
 def native_lines(tmp_path_factory) -> list[str]:
-    """The self-test built with the machine's gcc, on the test's libc shim of sys.h."""
+    """The self-test built with the machine's gcc, on sys.h's libc implementation."""
     exe = tmp_path_factory.mktemp("native") / "selftest"
-    srcs = [str(p) for p in sorted((ROOT / "hostc").glob("*.c"))
-            if not p.name.endswith("_posix.c") and p.name != "main.c"]
+    protocol = ROOT / "firmware" / "protocol"
+    srcs = [str(p) for p in sorted((ROOT / "hostc").glob("*.c")) if p.name != "main.c"]
     subprocess.run(["gcc", "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
-                    f"-I{ROOT / 'hostc'}", "-o", str(exe), *srcs,
-                    str(ROOT / "hostc" / "arm" / "selftest_main.c"),
-                    str(ROOT / "tests" / "c" / "sys_shim.c")], check=True)
+                    f"-I{ROOT / 'hostc'}", f"-I{protocol}", "-o", str(exe), *srcs,
+                    *map(str, sorted(protocol.glob("*.c"))),
+                    str(ROOT / "hostc" / "arm" / "selftest_main.c")], check=True)
     done = subprocess.run([str(exe), "--self-test"], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stdout + done.stderr
     return done.stdout.splitlines()

@@ -1,0 +1,159 @@
+/* The S3C2440 host program in C: the options of `mobigrasp host` (--port, --camera, --method,
+ * --config, --lockstep SOCK, --poll-ms), the method's task, and the driver: lockstep (the
+ * rig's grants over the Unix socket, the bytes over the serial port) or free running (the
+ * board's clock); the self-test options (selftest.h). Bad options exit 2 with one line naming
+ * the option. */
+#include <string.h>
+
+#include "app.h"
+#include "json.h"
+#include "linux_driver.h"
+#include "lockstep_driver.h"
+#include "selftest.h"
+#include "sys.h"
+#include "task.h"
+
+static void say(const char *a, const char *b, const char *c)
+{
+    sys_write(2, "mobigrasp-host-c: ", 18);
+    sys_write(2, a, strlen(a));
+    sys_write(2, b, strlen(b));
+    sys_write(2, c, strlen(c));
+    sys_write(2, "\n", 1);
+}
+
+/* one line: why, and the options */
+static int usage(const char *why, const char *what)
+{
+    static const char opts[] = " (mobigrasp-host-c --port PATH [--camera SOURCE] [--method NAME]"
+                               " [--config FILE] [--lockstep SOCK] [--poll-ms MS] | "
+                               HOSTC_SELFTEST_USAGE ")\n";
+    sys_write(2, "usage: ", 7);
+    sys_write(2, why, strlen(why));
+    sys_write(2, what, strlen(what));
+    sys_write(2, opts, sizeof opts - 1);
+    return 2;
+}
+
+/* the "method" of a JSON configuration file (buf: its text), into method */
+static int config_method(const char *path, char *method, size_t cap)
+{
+    static char text[1 << 16];
+    const int fd = sys_open(path, SYS_O_RDONLY, 0);
+    if (fd < 0)
+        return usage("cannot read --config ", path);
+    long n = 0, r;
+    while ((r = sys_read(fd, text + n, sizeof text - (size_t)n)) > 0)
+        n += r;
+    sys_close(fd);
+    if (r < 0 || n >= (long)sizeof text)
+        return usage("cannot read --config (or larger than 64 kB) ", path);
+    mg_json_in_t in;
+    char key[64];
+    int first = 1, k;
+    mg_json_in_init(&in, text, (size_t)n);
+    if (!mg_json_utf8_valid(text, (size_t)n) || !mg_json_begin_object_in(&in))
+        return usage("--config is not a JSON object: ", path);
+    while ((k = mg_json_next_member(&in, &first, key, sizeof key)) == 1) {
+        const int ok = strcmp(key, "method") == 0 ? mg_json_read_string(&in, method, cap)
+                                                  : mg_json_skip_value(&in);
+        if (!ok)
+            return usage("--config: bad value of key \"method\" or malformed JSON in ", path);
+    }
+    return k == 0 && mg_json_at_end(&in) ? 0 : usage("--config is not JSON: ", path);
+}
+
+static int poll_ms_ok(const char *s)
+{
+    /* a number of ms in [0, 10000] (digits and one point) */
+    int digits = 0, points = 0, whole = 0;
+    for (; *s; s++) {
+        if (*s == '.' && !points++)
+            continue;
+        if (*s < '0' || *s > '9')
+            return 0;
+        if (!points)
+            whole = whole * 10 + (*s - '0');
+        digits++;
+        if (whole > 10000)
+            return 0;
+    }
+    return digits > 0 && (whole < 10000 || (whole == 10000 && !points));
+}
+
+static mg_app_t app;
+static mg_lockstep_t driver;
+static uint64_t task_state[MG_TASK_STATE_BYTES / sizeof(uint64_t)];
+
+int main(int argc, char **argv)
+{
+    const int selftest = hostc_selftest_main(argc, argv); /* --self-test, --self-test-io */
+    if (selftest >= 0)
+        return selftest;
+    const char *port = NULL, *camera = NULL, *method_opt = NULL, *config = NULL, *sock = NULL;
+    for (int i = 1; i < argc; i++) {
+        const char *o = argv[i];
+        const char **slot = strcmp(o, "--port") == 0       ? &port
+                            : strcmp(o, "--camera") == 0   ? &camera
+                            : strcmp(o, "--method") == 0   ? &method_opt
+                            : strcmp(o, "--config") == 0   ? &config
+                            : strcmp(o, "--lockstep") == 0 ? &sock
+                                                           : NULL;
+        if (strcmp(o, "--poll-ms") == 0) {
+            if (i + 1 >= argc || !poll_ms_ok(argv[i + 1]))
+                return usage("--poll-ms must be a number of ms in [0, 10000]", "");
+            i++; /* accepted; the C host waits in the kernel (busy polling is the Python's) */
+            continue;
+        }
+        if (slot == NULL)
+            return usage("unknown option ", o);
+        if (i + 1 >= argc)
+            return usage("missing the value of ", o);
+        *slot = argv[++i];
+    }
+    if (port == NULL)
+        return usage("--port is required", "");
+    char method[32] = "000"; /* the Python host's default */
+    if (config != NULL && config_method(config, method, sizeof method) != 0)
+        return 2;
+    if (method_opt != NULL) {
+        if (strlen(method_opt) >= sizeof method)
+            return usage("unknown --method ", method_opt);
+        memcpy(method, method_opt, strlen(method_opt) + 1);
+    }
+    const mg_method_t *m = mg_method_find(method);
+    if (m == NULL || m->state_bytes > sizeof task_state)
+        return usage("method not in the C host yet (it runs: idle): ", method);
+    if (camera != NULL && sock == NULL)
+        return usage("--camera: the C host reads no camera in free-running mode yet: ", camera);
+    const int fd = sys_open(port, SYS_O_RDWR | SYS_O_NOCTTY, 0);
+    if (fd < 0)
+        return usage("cannot open --port ", port);
+    sys_tty_raw(fd); /* a pty or a UART; a plain file (a test) stays as it is */
+    mg_host_config_t cfg;
+    mg_host_config_default(&cfg);
+    const mg_task_if_t task = mg_method_bind(m, task_state);
+    mg_app_init(&app, &cfg, &task, NULL, 0);
+    if (sock != NULL) {
+        const int s = sys_unix_connect(sock);
+        if (s < 0)
+            return usage("cannot connect to --lockstep ", sock);
+        mg_lockstep_init(&driver, &app);
+        const char *why = "";
+        const int r = mg_lockstep_run(&driver, s, fd, &why);
+        sys_close(s);
+        sys_close(fd);
+        if (r != 0) {
+            say("the simulator went away mid-run or sent a bad message: ", why, "; stopping");
+            return 1;
+        }
+        return 0;
+    }
+    const int r = mg_linux_run(&app, fd);
+    sys_close(fd);
+    if (r != 0) {
+        say("the MCU side closed the port ", port, "; stopping");
+        return 1;
+    }
+    return strcmp(app.state, "DONE") == 0 ? 0 : 1;
+}

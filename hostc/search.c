@@ -1,0 +1,312 @@
+/* The Fig. 5 search of 000 as a state object over simulated time (host/search.py ArmSearch). */
+#include "search.h"
+
+#include "fixedpoint.h"
+
+static int32_t clamp(int32_t v, int32_t lo, int32_t hi)
+{
+    return v < lo ? lo : v > hi ? hi : v;
+}
+
+static int32_t iabs(int32_t v)
+{
+    return v < 0 ? -v : v;
+}
+
+/* a list of ints with a capacity: appending past it is remembered, not done */
+typedef struct {
+    int32_t *v;
+    int32_t n, cap, overflow;
+} list_t;
+
+static void push(list_t *l, int32_t x)
+{
+    if (l->n < l->cap)
+        l->v[l->n++] = x;
+    else
+        l->overflow = 1;
+}
+
+/* Python's range(a, b, step) appended */
+static void range(list_t *l, int32_t a, int32_t b, int32_t step)
+{
+    if (step > 0)
+        for (int32_t x = a; x < b; x += step)
+            push(l, x);
+    else
+        for (int32_t x = a; x > b; x += step)
+            push(l, x);
+}
+
+/* theta2 levels of one cycle from start: toward one end, then the rest toward the other */
+static int32_t levels_of(int32_t lo, int32_t hi, int32_t step, int32_t start, int32_t upward,
+                         int32_t *out, int32_t cap, int32_t *overflow)
+{
+    int32_t tmp[2 * MG_SEARCH_MAX_POSES];
+    list_t l = {tmp, 0, 2 * MG_SEARCH_MAX_POSES, 0};
+    start = clamp(start, lo, hi);
+    if (upward) {
+        range(&l, start, hi, step);
+        push(&l, hi);
+        range(&l, start - step, lo, -step);
+        if (start != lo)
+            push(&l, lo);
+    } else {
+        range(&l, start, lo, -step);
+        push(&l, lo);
+        range(&l, start + step, hi, step);
+        if (start != hi)
+            push(&l, hi);
+    }
+    int32_t n = 0;
+    for (int32_t i = 0; i < l.n; i++) { /* the first of each value */
+        int32_t seen = 0;
+        for (int32_t k = 0; k < n && !seen; k++)
+            seen = out[k] == tmp[i];
+        if (!seen && n < cap)
+            out[n++] = tmp[i];
+        else if (!seen)
+            *overflow = 1;
+    }
+    *overflow |= l.overflow;
+    return n;
+}
+
+static void sweep_of(list_t *l, int32_t lo, int32_t hi, int32_t step, int32_t frm,
+                     int32_t to_hi)
+{
+    frm = clamp(frm, lo, hi);
+    if (to_hi) {
+        range(l, frm, hi, step);
+        push(l, hi);
+    } else {
+        range(l, frm, lo, -step);
+        push(l, lo);
+    }
+}
+
+int32_t mg_search_cycle(const mg_search_params_t *p, int32_t theta2_start_mrad,
+                        int32_t theta5_start_mrad, int32_t upward, int32_t coarse,
+                        int32_t poses[][2], int32_t max, int32_t *overflow)
+{
+    int32_t levels[2 * MG_SEARCH_MAX_POSES], n_levels;
+    int32_t th5 = clamp(theta5_start_mrad, p->theta5_min_mrad, p->theta5_max_mrad);
+    /* the first sweep toward the far end from theta5s */
+    int32_t to_hi = (th5 - p->theta5_min_mrad) <= (p->theta5_max_mrad - th5);
+    if (coarse) { /* the coarse levels sorted, nearest to theta2s first */
+        n_levels = 0;
+        for (int32_t i = 0; i < p->n_coarse; i++) {
+            int32_t k = n_levels++;
+            while (k > 0 && levels[k - 1] > p->coarse_theta2_mrad[i]) {
+                levels[k] = levels[k - 1];
+                k--;
+            }
+            levels[k] = p->coarse_theta2_mrad[i];
+        }
+        if (iabs(levels[n_levels - 1] - theta2_start_mrad) < iabs(levels[0] - theta2_start_mrad))
+            for (int32_t i = 0; i < n_levels / 2; i++) {
+                const int32_t t = levels[i];
+                levels[i] = levels[n_levels - 1 - i];
+                levels[n_levels - 1 - i] = t;
+            }
+        /* one sweep from the middle sees only one side: come back over it */
+        if (n_levels == 1 && p->theta5_min_mrad < th5 && th5 < p->theta5_max_mrad)
+            levels[n_levels++] = levels[0];
+    } else {
+        n_levels = levels_of(p->theta2_min_mrad, p->theta2_max_mrad, p->d_theta2_mrad,
+                             theta2_start_mrad, upward, levels, 2 * MG_SEARCH_MAX_POSES,
+                             overflow);
+    }
+    int32_t n = 0;
+    for (int32_t i = 0; i < n_levels; i++) {
+        int32_t sw[MG_SEARCH_MAX_POSES];
+        list_t l = {sw, 0, MG_SEARCH_MAX_POSES, 0};
+        sweep_of(&l, p->theta5_min_mrad, p->theta5_max_mrad, p->d_theta5_mrad, th5, to_hi);
+        *overflow |= l.overflow;
+        for (int32_t k = 0; k < l.n; k++) {
+            if (n >= max) {
+                *overflow = 1;
+                break;
+            }
+            poses[n][0] = levels[i];
+            poses[n++][1] = sw[k];
+        }
+        th5 = sw[l.n - 1];
+        to_hi = !to_hi;
+    }
+    return n;
+}
+
+static void new_cycle(mg_arm_search_t *s, int32_t th2, int32_t th5, int32_t upward,
+                      int32_t coarse)
+{
+    s->n_poses = mg_search_cycle(&s->p, th2, th5, upward, coarse, s->poses,
+                                 MG_SEARCH_MAX_POSES, &s->overflow);
+    s->index = 0;
+}
+
+void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t theta2_start_mrad,
+                    int32_t theta5_start_mrad, int64_t now_us)
+{
+    s->p = *p;
+    /* the coarse levels clamped into [theta2_min, theta2_max], each once, in order */
+    int32_t n = 0;
+    for (int32_t i = 0; i < p->n_coarse && i < MG_SEARCH_LEVELS; i++) {
+        const int32_t v = clamp(p->coarse_theta2_mrad[i], p->theta2_min_mrad,
+                                p->theta2_max_mrad);
+        int32_t seen = 0;
+        for (int32_t k = 0; k < n; k++)
+            seen |= s->p.coarse_theta2_mrad[k] == v;
+        if (!seen)
+            s->p.coarse_theta2_mrad[n++] = v;
+    }
+    s->p.n_coarse = n;
+    s->overflow = 0;
+    s->cycle = 0;
+    s->upward = 1;
+    new_cycle(s, theta2_start_mrad, theta5_start_mrad, 1, p->dense_cycles <= 0);
+    s->prev[0] = theta2_start_mrad, s->prev[1] = theta5_start_mrad;
+    s->pose_start_us = now_us;
+    s->turning = s->wandering = s->corner = 0;
+    s->cycles_here = s->wanders = 0;
+    /* the waist poses of the sweeping wander, cyclic: up, then back without the ends */
+    int32_t up[MG_SEARCH_MAX_SWEEP];
+    list_t l = {up, 0, MG_SEARCH_MAX_SWEEP, 0};
+    range(&l, -p->wander_theta5_mrad, p->wander_theta5_mrad, p->d_theta5_mrad);
+    push(&l, p->wander_theta5_mrad);
+    s->n_wsweep = 0;
+    for (int32_t i = 0; i < l.n; i++)
+        s->wsweep[s->n_wsweep++] = up[i];
+    for (int32_t i = l.n - 2; i > 0 && s->n_wsweep < MG_SEARCH_MAX_SWEEP; i--)
+        s->wsweep[s->n_wsweep++] = up[i];
+    s->overflow |= l.overflow || (l.n > 2 && s->n_wsweep < 2 * l.n - 2);
+    s->windex = 0;
+    s->wpose[0] = s->p.coarse_theta2_mrad[0], s->wpose[1] = p->theta5_max_mrad;
+}
+
+int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2])
+{
+    /* the servo travel of the larger joint move, then the frames to look */
+    const int32_t a = iabs(frm[0] - to[0]), b = iabs(frm[1] - to[1]);
+    return (int64_t)(a > b ? a : b) * 1000000 / s->p.servo_speed_mrad_per_s
+           + (int64_t)s->p.frames_per_pose * s->p.frame_period_us;
+}
+
+static mg_search_command_t command(const mg_arm_search_t *s, int32_t th2, int32_t th5,
+                                   int32_t turn, int32_t drive)
+{
+    const mg_search_command_t c = {th2, s->p.theta3_mrad, s->p.theta4_mrad, th5, turn,
+                                   s->index, s->cycle, drive};
+    return c;
+}
+
+static mg_search_command_t pose_command(const mg_arm_search_t *s, int32_t turn)
+{
+    return command(s, s->poses[s->index][0], s->poses[s->index][1], turn, 0);
+}
+
+/* drive the next leg; the sweep starts at the waist pose nearest at */
+static void start_wander(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
+{
+    s->wandering = 1, s->turning = 0, s->corner = 0;
+    if (!s->p.wander_sweep)
+        return;
+    int32_t best = 0;
+    for (int32_t k = 1; k < s->n_wsweep; k++)
+        if (iabs(s->wsweep[k] - at[1]) < iabs(s->wsweep[best] - at[1]))
+            best = k;
+    s->windex = best;
+    s->wpose[0] = s->p.coarse_theta2_mrad[0], s->wpose[1] = s->wsweep[best];
+    s->pose_start_us = now_us;
+    s->prev[0] = at[0], s->prev[1] = at[1];
+}
+
+static mg_search_command_t moving_command(mg_arm_search_t *s, int64_t now_us)
+{
+    const mg_search_params_t *p = &s->p;
+    if (s->wandering) {
+        int32_t th2 = p->coarse_theta2_mrad[0], th5 = p->theta5_max_mrad; /* looking left */
+        if (p->wander_sweep) { /* the far level's sweep while driving */
+            int64_t d;
+            while (now_us - s->pose_start_us >= (d = mg_search_dwell_us(s, s->prev, s->wpose))) {
+                s->pose_start_us += d;
+                s->prev[0] = s->wpose[0], s->prev[1] = s->wpose[1];
+                s->windex = (s->windex + 1) % s->n_wsweep;
+                s->wpose[0] = p->coarse_theta2_mrad[0], s->wpose[1] = s->wsweep[s->windex];
+            }
+            th2 = s->wpose[0], th5 = s->wpose[1];
+        }
+        return command(s, th2, th5, 0, p->wander_mm * (1 + s->wanders / 2));
+    }
+    if (s->corner) /* the arm holds the last wander pose while the base turns */
+        return command(s, s->wpose[0], s->wpose[1], p->coarse_base_turn_mrad, 0);
+    return pose_command(s, s->cycle <= 1 ? p->base_turn_mrad : p->coarse_base_turn_mrad);
+}
+
+mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us)
+{
+    if (s->turning || s->wandering)
+        return moving_command(s, now_us);
+    int64_t d;
+    while (now_us - s->pose_start_us >= (d = mg_search_dwell_us(s, s->prev, s->poses[s->index]))) {
+        s->pose_start_us += d;
+        s->prev[0] = s->poses[s->index][0], s->prev[1] = s->poses[s->index][1];
+        if (s->index + 1 >= s->n_poses) {
+            s->cycle++;
+            s->cycles_here++;
+            /* a full turn of the base found nothing here: wander instead of turning again */
+            const int32_t here = s->wanders == 0 ? s->p.turns_per_wander : s->p.stop_cycles;
+            if (s->p.wander_mm > 0 && s->cycles_here >= here) {
+                s->cycles_here = 0;
+                const int32_t at[2] = {s->prev[0], s->prev[1]};
+                start_wander(s, now_us, at);
+            } else {
+                s->turning = 1;
+            }
+            return moving_command(s, now_us);
+        }
+        s->index++;
+    }
+    return pose_command(s, 0);
+}
+
+void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us)
+{
+    s->pose_start_us = now_us;
+}
+
+static void next_cycle(mg_arm_search_t *s, int64_t now_us, int32_t th2, int32_t th5)
+{
+    /* from the lower half climb first, from the upper half descend first */
+    s->upward = th2 <= mg_floor_div((int64_t)s->p.theta2_min_mrad + s->p.theta2_max_mrad, 2);
+    new_cycle(s, th2, th5, s->upward, s->cycle >= s->p.dense_cycles);
+    s->prev[0] = th2, s->prev[1] = th5;
+    s->pose_start_us = now_us;
+    s->turning = s->wandering = s->corner = 0;
+}
+
+void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us)
+{
+    if (s->turning && s->corner) {
+        const int32_t at[2] = {s->wpose[0], s->wpose[1]};
+        start_wander(s, now_us, at);
+    } else if (s->turning) {
+        next_cycle(s, now_us, s->poses[s->index][0], s->poses[s->index][1]);
+    }
+}
+
+void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
+{
+    if (!s->wandering)
+        return;
+    s->wanders++;
+    const mg_search_params_t *p = &s->p;
+    const int32_t at[2] = {p->wander_sweep ? s->wpose[0] : p->coarse_theta2_mrad[0],
+                           p->wander_sweep ? s->wpose[1] : p->theta5_max_mrad};
+    if (p->stop_cycles == 0) { /* a corner of the spiral: turn, then the next leg */
+        s->wandering = 0, s->turning = 1, s->corner = 1;
+        s->wpose[0] = at[0], s->wpose[1] = at[1];
+        return;
+    }
+    next_cycle(s, now_us, at[0], at[1]);
+}

@@ -1,0 +1,64 @@
+/* Object search with the eye-in-hand camera, 000 section III.B.2 Fig. 5 (host/search.py, whose
+ * docstring gives the pattern and the measured reasons for its coarse levels and the wander
+ * spiral): the wrist pitch theta2 steps over its levels, the waist theta5 sweeps each level
+ * boustrophedon; after a cycle the base turns, after a look-around it wanders. Angles in mrad,
+ * time in simulated us. */
+#ifndef MOBIGRASP_HOSTC_SEARCH_H
+#define MOBIGRASP_HOSTC_SEARCH_H
+
+#include <stdint.h>
+
+#define MG_SEARCH_LEVELS 8       /* coarse theta2 levels */
+#define MG_SEARCH_MAX_POSES 512  /* poses of one cycle */
+#define MG_SEARCH_MAX_SWEEP 256  /* waist poses of the sweeping wander */
+
+typedef struct {
+    int32_t theta2_min_mrad, theta2_max_mrad, d_theta2_mrad;
+    int32_t theta5_min_mrad, theta5_max_mrad, d_theta5_mrad;
+    int32_t theta3_mrad, theta4_mrad; /* the search posture of elbow and shoulder */
+    int32_t base_turn_mrad;
+    int32_t n_coarse;
+    int32_t coarse_theta2_mrad[MG_SEARCH_LEVELS]; /* clamped and deduplicated by init */
+    int32_t coarse_base_turn_mrad;
+    int32_t dense_cycles, turns_per_wander, wander_mm, wander_sweep, wander_theta5_mrad;
+    int32_t stop_cycles, frames_per_pose;
+    int64_t frame_period_us;
+    int32_t servo_speed_mrad_per_s;
+} mg_search_params_t;
+
+typedef struct {
+    int32_t theta2_mrad, theta3_mrad, theta4_mrad, theta5_mrad;
+    int32_t base_turn_mrad; /* a base turn to perform (0: none) */
+    int32_t pose_index;     /* in the current cycle */
+    int32_t cycle;          /* completed cycles */
+    int32_t drive_mm;       /* a wander: drive this far straight ahead (0: none) */
+} mg_search_command_t;
+
+typedef struct {
+    mg_search_params_t p;
+    int32_t cycle, upward;
+    int32_t n_poses, index;
+    int32_t poses[MG_SEARCH_MAX_POSES][2]; /* (theta2, theta5) */
+    int32_t prev[2];
+    int64_t pose_start_us;
+    int32_t turning, wandering, corner;
+    int32_t cycles_here, wanders;
+    int32_t n_wsweep, windex;
+    int32_t wsweep[MG_SEARCH_MAX_SWEEP];
+    int32_t wpose[2];
+    int32_t overflow; /* a cycle or a sweep longer than the arrays: cut short */
+} mg_arm_search_t;
+
+/* all (theta2, theta5) poses of one cycle in order (Fig. 5): their count */
+int32_t mg_search_cycle(const mg_search_params_t *p, int32_t theta2_start_mrad,
+                        int32_t theta5_start_mrad, int32_t upward, int32_t coarse,
+                        int32_t poses[][2], int32_t max, int32_t *overflow);
+void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t theta2_start_mrad,
+                    int32_t theta5_start_mrad, int64_t now_us);
+int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2]);
+mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us);
+void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us);
+void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us);
+void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us);
+
+#endif

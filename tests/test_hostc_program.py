@@ -1,0 +1,171 @@
+"""The C host as its own program (hostc/main.c, built into the cache) served by the rig's
+socket host over a real pty and the shared frame ring, built natively and as the board's
+ARMv4T ELF under qemu-arm -cpu ti925t: its HELLO, its DONEs for the same GRANTs,
+MCU bytes and camera frames, the bytes it writes to the serial port and its BYE, against the
+Python host program served in process with the same task (the idle method: the host program
+around a task, without a paper's)."""
+
+from __future__ import annotations
+
+import json
+import os
+import select
+import shutil
+import subprocess
+
+import pytest
+from rig_fakes import BufferPort
+
+from mobigrasp import hostc
+from mobigrasp.calib import armhost
+from mobigrasp.cosim import lockstep as ls
+from mobigrasp.cosim.handshake import resolved
+from mobigrasp.cosim.hosts import SocketHost
+from mobigrasp.drivers.lockstep import LockstepClient
+from mobigrasp.host.app import HostApp
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.task.machine import TaskOutputs
+from mobigrasp.protocol import messages as m
+from mobigrasp.protocol.frame import FrameParser
+
+
+class _IdleTask:
+    """host/task's shape of hostc/task_idle.c: INIT, no commands, no detectors."""
+
+    def detectors_needed(self):
+        return []
+
+    def step(self, now_us, inputs):
+        return TaskOutputs(None, None, None, [], "INIT", {}, OpCounts())
+
+
+def _read_master(fd: int, n: int) -> bytes:
+    out = b""
+    while len(out) < n:
+        ready, _, _ = select.select([fd], [], [], 10.0)
+        assert ready, f"the C host wrote {len(out)} of {n} serial bytes"
+        out += os.read(fd, n - len(out))
+    return out
+
+
+def _mcu(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
+    """The MCU's bytes in [t, until): HELLO_ACK at 4 ms, telemetry every 10 ms, an ACK now and
+    then, a reset at 400 ms."""
+    out = []
+    for at in range(t_us - t_us % 1000, until_us, 1000):
+        if not t_us <= at < until_us:
+            continue
+        if at == 4000:
+            out.append((at, m.encode_message(m.HelloAck(1, "atmega128-fw"), 0)))
+        if at % 10_000 == 5000:
+            flags = m.FLAG_RESET if at == 405_000 else m.FLAG_HANDSHAKE
+            out.append((at, m.encode_message(m.Telemetry(at, 0, 0, (1500,) * 6, (2500,) * 5,
+                                                         flags, 0, 0, 0, 0), 1)))
+        if at % 70_000 == 33_000:
+            out.append((at, m.encode_message(m.Ack(at // 70_000), 2)))
+    return out
+
+
+def _native() -> list[str]:
+    return [str(hostc.executable())]
+
+
+def _armv4t() -> list[str]:
+    """The static ARMv4T ELF (make hostc-arm) under an ARMv4T CPU."""
+    if not (shutil.which("arm-none-eabi-gcc") and shutil.which("qemu-arm")):
+        pytest.skip("arm-none-eabi-gcc and qemu-arm are needed (make arm-tools)")
+    return ["qemu-arm", "-cpu", "ti925t", str(armhost.build_elf())]
+
+
+@pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
+def test_the_c_program_answers_the_rig_as_the_python_host(program):
+    master, slave = os.openpty()
+    host = SocketHost([*program(), "--port", os.ttyname(slave), "--method", "idle"])
+    host.verify_elided = True  # every grant is served and its DONE compared with the predicted
+    try:
+        app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
+        port = BufferPort()
+        client = LockstepClient(app, port)
+        t = 0
+        for k in range(160):  # 0.8 s in 5 ms quanta, one of 23 ms
+            until = t + (23_000 if k == 50 else 5_000)
+            chunks = _mcu(t, until)
+            frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, 32, 24, 3,
+                                        bytes([at % 251]) * (32 * 24 * 3))
+                           for at in range(t - t % 66_000 + 66_000, until, 66_000))
+            grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
+            data = b"".join(b for _, b in chunks)
+            os.write(master, data)
+            port.rx += data
+            want = client.serve(grant)
+            client.after_done()
+            got = resolved(host.exchange(grant))
+            got = ls.decode(ls.encode(got))  # as the rig reads it
+            assert got == ls.decode(ls.encode(want)), (k, got, want)
+            assert _read_master(master, got.write_bytes) == bytes(port.tx)
+            port.tx.clear()
+            t = until
+        bye = host.finish(ls.End(t, "test over"))
+        st = app.stats()
+        assert bye.stats["control_steps"] == st["control_steps"] > 0
+        assert bye.stats["mcu_resets_seen"] == st["mcu_resets_seen"] == 1
+        assert bye.stats["state"] == "INIT"
+        # the frames crossed the shared ring; the idle method looks for nothing in them
+        assert bye.stats["frames_received"] == st["frames_received"] >= 10
+        assert bye.stats["frames_idle"] == st["frames_idle"] == st["frames_received"]
+    finally:
+        host.close()
+        os.close(master)
+        os.close(slave)
+
+
+@pytest.mark.parametrize("args, says", [
+    ([], "--port is required"),
+    (["--port", "/dev/null", "--method", "001"], "method not in the C host yet"),
+    (["--port", "/dev/null", "--poll-ms", "-3"], "--poll-ms"),
+    (["--port", "/dev/null", "--config", "/nonexistent.json"], "--config"),
+    (["--port", "/nonexistent/tty", "--method", "idle"], "--port"),
+    (["--port", "/dev/null", "--bogus", "1"], "unknown option --bogus"),
+])
+def test_bad_options_exit_2_with_one_line(args, says):
+    done = subprocess.run([str(hostc.executable()), *args], capture_output=True, text=True,
+                          timeout=30, check=False)
+    assert done.returncode == 2
+    assert says in done.stderr.splitlines()[0]
+
+
+def _next_message(fd: int, parser: FrameParser, pending: list) -> m.Message:
+    """The next message the host writes to the serial port (waits for bytes, 10 s at most)."""
+    while not pending:
+        ready, _, _ = select.select([fd], [], [], 10.0)
+        assert ready, "the C host wrote nothing for 10 s"
+        pending += parser.feed(os.read(fd, 4096))
+    return m.decode_frame(pending.pop(0))
+
+
+def test_free_running_program_opens_the_session_and_keeps_it_alive():
+    """Without --lockstep the program runs on the clock (hostc/linux_driver.c): it says HELLO,
+    takes the MCU's HELLO_ACK and telemetry, sends heartbeats, logs the trace events, and stops
+    with exit 1 and one line when the MCU side closes the port."""
+    master, slave = os.openpty()
+    tty = os.ttyname(slave)
+    proc = subprocess.Popen([str(hostc.executable()), "--port", tty, "--method", "idle"],
+                            stderr=subprocess.PIPE, text=True)
+    try:
+        parser, pending = FrameParser(), []
+        hello = _next_message(master, parser, pending)
+        assert isinstance(hello, m.Hello) and hello.host_id == "mobigrasp-2440"
+        os.write(master, m.encode_message(m.Ack(0), 0) + m.encode_message(
+            m.HelloAck(1, "atmega128-fw"), 1) + m.encode_message(m.Telemetry(
+                1000, 0, 0, (1500,) * 6, (2500,) * 5, m.FLAG_HANDSHAKE, 0, 0, 0, 0), 2))
+        beats = [msg for msg in (_next_message(master, parser, pending) for _ in range(3))]
+        assert all(isinstance(msg, m.Heartbeat) for msg in beats), beats
+        assert beats[0].time_us < beats[1].time_us < beats[2].time_us
+    finally:
+        os.close(master)
+        _, err = proc.communicate(timeout=30)
+        os.close(slave)
+    assert proc.returncode == 1
+    lines = err.splitlines()  # the trace events, a line a quantum, then the reason it stopped
+    assert json.loads(f"[{lines[0]}]")[0]["ev"] == "hello_ack"
+    assert lines[-1] == f"mobigrasp-host-c: the MCU side closed the port {tty}; stopping"

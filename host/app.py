@@ -11,7 +11,10 @@ One ARM920T core at 400 MHz runs two activities (docs/cosim.md, "ARM9 budget"):
   the detectors the task needs now (``Task.detectors_needed()``) run on it; their OpCounts give
   the modelled time, stretched by any control step that preempts it. A frame that arrives while
   vision is still busy is dropped and counted, as on the board. Results reach the task at the
-  first control tick after vision finishes.
+  first control tick after vision finishes. Detectors of one frame that start from the same
+  front end (the grey image, dark mask and components of the 000 detectors) share it: the
+  first pays for it. A fallback detector (``Task.detector_fallbacks()``) runs only when the
+  detector it stands in for found nothing on the frame (docs/budget.md).
 
 Host load is the modelled busy time per ``load_window_us`` window. The Python wall time is never
 read here (host/ has no wall clock): the profiler wraps stages through the ``timer`` hook.
@@ -36,6 +39,9 @@ Detector = Callable[..., tuple[Any, OpCounts]]
 LOAD_WINDOWS_KEPT = 64
 # a detector's lower bound of its modelled time (µs) on any frame of (height, width)
 CostBound = Callable[[int, int], int]
+# the front end a detector starts from: (its name, its modelled µs on a frame of (height,
+# width)); the detector's own counts include it
+FrontEnd = tuple[str, Callable[[int, int], int]]
 
 
 @dataclass(frozen=True)
@@ -102,13 +108,33 @@ class _VisionJob:
     done_us: int
     results: dict
     arm9_us: int
-    # (detector names, rgb, snapshots) while the detectors have not run yet: they run when
-    # something needs the job's results or length (resolve_vision), which changes nothing that
-    # is modelled. Meanwhile done_us is a lower bound of the job's end (bounded) or start +
-    # frame overhead (not bounded: every question about the end resolves the job first).
+    # (detector names, rgb, snapshots, fallbacks) while the detectors have not run yet: they
+    # run when something needs the job's results or length (resolve_vision), which changes
+    # nothing that is modelled. Meanwhile done_us is a lower bound of the job's end (bounded)
+    # or start + frame overhead (not bounded: every question about the end resolves the job
+    # first).
     pending: tuple | None = None
     bounded: bool = False
     preempted_us: int = 0  # control preemption added to done_us so far
+
+
+class _SharedFrontEnds:
+    """The front ends computed so far on one frame: a detector's modelled µs less its front
+    end's when an earlier detector of the frame computed the same one."""
+
+    def __init__(self, front_ends: dict[str, FrontEnd], rgb: Any) -> None:
+        self._front_ends = front_ends
+        self._rgb = rgb
+        self._done: set[str] = set()
+
+    def charge(self, name: str, us: int) -> int:
+        fe = self._front_ends.get(name)
+        if fe is None:
+            return us
+        if fe[0] in self._done:
+            return max(0, us - fe[1](self._rgb.shape[0], self._rgb.shape[1]))
+        self._done.add(fe[0])
+        return us
 
 
 @dataclass
@@ -141,17 +167,25 @@ class HostApp:
     ``bound(height, width) -> µs``, a proven lower bound of the detector's modelled time on any
     frame of that size: a job whose bounded end lies after a tick or frame certainly has not
     ended there, and its detectors may run later. Without it (the default) every such question
-    runs the detectors first.
+    runs the detectors first. ``front_ends`` maps detector names to their :data:`FrontEnd`: of
+    the detectors of one frame with the same front end, the first is charged all its counts,
+    the others their counts less the front end's (on the board it is computed once a frame).
+
+    ``task.detector_fallbacks() -> {name: primary}`` names the detectors of
+    ``detectors_needed()`` that run on a frame only when ``primary`` (listed before them) found
+    nothing on it.
     """
 
     def __init__(self, task: Any, detectors: dict[str, Detector],
                  build_inputs: Callable[[HostApp, int, dict], Any],
                  config: HostConfig | None = None, link: HostLink | None = None,
                  timer: Callable[..., Any] | None = None,
-                 vision_bounds: dict[str, CostBound] | None = None) -> None:
+                 vision_bounds: dict[str, CostBound] | None = None,
+                 front_ends: dict[str, FrontEnd] | None = None) -> None:
         self.task = task
         self.detectors = detectors
         self.vision_bounds = vision_bounds
+        self.front_ends = front_ends or {}
         self.build_inputs = build_inputs
         self.config = config or HostConfig()
         self.link = link or HostLink()
@@ -313,13 +347,18 @@ class HostApp:
         for n in needed:
             snap = getattr(self.detectors[n], "snapshot", None)
             snaps.append(() if snap is None else tuple(snap()))
+        fallbacks = self.task.detector_fallbacks()
         bounds = self.vision_bounds
         low = total
         if bounds is not None and getattr(rgb, "ndim", 0) == 3:  # else the detectors raise
-            h, w = rgb.shape[0], rgb.shape[1]
-            low += sum(bounds[n](h, w) for n in needed if n in bounds)
+            # the detectors that run whatever the others find, each less a front end shared
+            # with one before it (a fallback may not run: it adds nothing to the bound)
+            shared = _SharedFrontEnds(self.front_ends, rgb)
+            low += sum(shared.charge(n, bounds[n](rgb.shape[0], rgb.shape[1]))
+                       for n in needed if n in bounds and n not in fallbacks)
         self._vision = _VisionJob(seq, capture_us, start, start + low, {}, total,
-                                  pending=(needed, rgb, snaps), bounded=bounds is not None)
+                                  pending=(needed, rgb, snaps, fallbacks),
+                                  bounded=bounds is not None)
 
     def resolve_vision(self) -> None:
         """Run the detectors of the current vision job if they have not run yet.
@@ -334,12 +373,16 @@ class HostApp:
         job = self._vision
         if job is None or job.pending is None:
             return
-        needed, rgb, snaps = job.pending
+        needed, rgb, snaps, fallbacks = job.pending
         job.pending = None
         total = job.arm9_us
+        shared = _SharedFrontEnds(self.front_ends, rgb)
         for name, snap in zip(needed, snaps, strict=True):
+            primary = fallbacks.get(name)
+            if primary is not None and job.results.get(primary) is not None:
+                continue  # what it stands in for was found on this frame
             result, ops = self.timer(name, self.detectors[name], rgb, *snap)
-            dur = ops.time_us()
+            dur = shared.charge(name, ops.time_us())
             self._busy(job.start_us + total, dur, name)
             total += dur
             job.results[name] = result

@@ -122,18 +122,31 @@ class _LastFrameMemo:
 def vision_bounds(names) -> dict:
     """``name -> bound(height, width) -> µs``, the lower bound of each detector's modelled time
     (its ``min_ops``, host/vision/registry.py) for HostApp, for the detectors among ``names``."""
+    return {name: _time_us_by_size(registry.row(name).min_ops_fn()) for name in names}
+
+
+def front_ends(names) -> dict:
+    """``name -> (front end, its µs(height, width))`` for HostApp, for the detectors among
+    ``names`` that start from a shared front end (its ``front_end``, host/vision/registry.py)."""
     out: dict = {}
     for name in names:
-        min_ops = registry.row(name).min_ops_fn()
-        cache: dict = {}  # (height, width) -> µs: every frame of a run has the same size
-
-        def bound(h: int, w: int, min_ops=min_ops, cache=cache) -> int:
-            us = cache.get((h, w))
-            if us is None:
-                us = cache[(h, w)] = min_ops(h, w).time_us()
-            return us
-        out[name] = bound
+        ref, fn = registry.row(name).front_end, registry.row(name).front_end_fn()
+        if fn is not None:
+            out[name] = (ref, _time_us_by_size(fn))
     return out
+
+
+def _time_us_by_size(ops_fn):
+    """``(height, width) -> µs`` of ``ops_fn(height, width)``'s counts, kept per size (every
+    frame of a run has the same)."""
+    cache: dict = {}
+
+    def time_us(h: int, w: int) -> int:
+        us = cache.get((h, w))
+        if us is None:
+            us = cache[(h, w)] = ops_fn(h, w).time_us()
+        return us
+    return time_us
 
 
 def _detectors(cfg: dict, app_ref: list) -> dict:
@@ -201,6 +214,6 @@ def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> H
     app_ref: list = []
     detectors = _detectors(cfg, app_ref)
     app = HostApp(task, detectors, InputBuilder(), config or HostConfig(), timer=timer,
-                  vision_bounds=vision_bounds(detectors))
+                  vision_bounds=vision_bounds(detectors), front_ends=front_ends(detectors))
     app_ref.append(app)
     return app

@@ -7,7 +7,8 @@
 #define L_MM 109
 #define MIN_WIDTH_PX 12
 #define MAX_CANDIDATES 12
-#define LOCAL_BUDGET_FRAMES 2
+#define LOCAL_BUDGET_NUM 3 /* local re-thresholding: 3/2 of a frame's pixels */
+#define LOCAL_BUDGET_DEN 2
 #define MIN_CONTRAST 90
 #define FILL_MIN_PCT 62
 #define FILL_MAX_PCT 84
@@ -246,7 +247,7 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
         if (n_cand < MAX_CANDIDATES)
             n_cand++;
     }
-    int64_t budget = (int64_t)LOCAL_BUDGET_FRAMES * W * H;
+    int64_t budget = (int64_t)LOCAL_BUDGET_NUM * W * H / LOCAL_BUDGET_DEN;
     for (int32_t c = 0; c < n_cand; c++) {
         const int32_t *st = stats + 5 * cand[c];
         int32_t x = st[0], y = st[1], w = st[2], h = st[3];

@@ -168,6 +168,9 @@ class FakeTask:
     def detectors_needed(self):
         return ["blob"] if self.state == "SEARCH" else []
 
+    def detector_fallbacks(self):
+        return {}
+
     def step(self, now_us, inputs):
         self.steps.append(now_us)
         events = []

@@ -230,6 +230,12 @@ class Task:
         during a turn is seen, docs/task.md)."""
         return list(self.rules.detectors.get(self.state, ()))
 
+    def detector_fallbacks(self) -> dict[str, str]:
+        """Detectors of :meth:`detectors_needed` that stand in for another on the same frame:
+        name -> the detector listed before it, whose result makes it unnecessary (the host runs
+        it only when that one found nothing)."""
+        return dict(self.rules.detector_fallbacks.get(self.state, {}))
+
     # --- shared by the states: arm targets, history, object estimate -------------------------
     def set_arm(self, now: int, th2: int, th3: int, th4: int, th5: int,
                 th1: int | None = None) -> None:

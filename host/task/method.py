@@ -106,6 +106,9 @@ class Method(ABC):
     camera: CameraModel
     param_defaults: dict  # TaskParams fields whose defaults differ for this method
     detectors: dict[str, tuple[str, ...]]  # state -> detectors it runs (host/vision/registry)
+    # state -> {detector: the one listed before it whose miss on the same frame it stands in
+    # for}: the host runs it only when that one found nothing (docs/budget.md, "ADJUST")
+    detector_fallbacks: Mapping[str, Mapping[str, str]] = {}
     search_detector: str  # what SEARCH looks for
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for

@@ -117,6 +117,8 @@ class Method000(PathMethod):
                  # LIFT: the grasp check (grasp.py): the held object fills the frame, the
                  # object seen standing away is a miss
                  "LIFT": ("dual_plus", "radial_symbol", "held_fill")}
+    # ADJUST closes in on the dual "+" and reads the rings only when the "+" are not seen
+    detector_fallbacks = {"ADJUST": {"radial_symbol": "dual_plus"}}
     search_detector = "radial_symbol"
     adjust_detector = "dual_plus"
     check_detectors = ("dual_plus", "radial_symbol")

@@ -181,7 +181,8 @@ def front_end_min_ops(height: int, width: int) -> OpCounts:
 
 # The front end of the last frame seen, keyed by the frame's bytes: in ADJUST and LIFT the dual
 # "+" and the radial symbol run on the same frame and would both compute it. Host speed only:
-# each detector is still charged the whole front end (the board computes it per detector).
+# each detector's counts include the whole front end; HostApp charges it once a frame (the
+# ``front_end`` of host/vision/registry.py).
 _LAST_FRONT_END: list = [None]
 
 

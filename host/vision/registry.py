@@ -37,6 +37,9 @@ class DetectorRow:
     min_ops: str = "min_ops"  # module function: counts charged at least, (height, width)
     sighting: str | None = "sighting"  # module function: result -> (u_q4, v_q4, depth_q4)
     ranging: str | None = None  # "module:function" of a separate ranging stage's counts
+    # "module:function" (height, width) -> OpCounts of the front end the detector's counts
+    # include and the detectors of a frame share (computed once a frame on the board)
+    front_end: str | None = None
 
     def load(self) -> Any:
         """The detector's module (imported on first use)."""
@@ -60,10 +63,11 @@ class DetectorRow:
 
     def ranging_fn(self) -> Callable | None:
         """``() -> OpCounts`` of the ranging stage that follows a result, or None."""
-        if self.ranging is None:
-            return None
-        mod, fn = self.ranging.split(":")
-        return getattr(importlib.import_module(mod), fn)
+        return _function(self.ranging) if self.ranging else None
+
+    def front_end_fn(self) -> Callable | None:
+        """``(height, width) -> OpCounts`` of the shared front end, or None."""
+        return _function(self.front_end) if self.front_end else None
 
     def host_call(self, rgb: Any, cam: tuple[int, int, int], q: tuple[int, ...] | None) -> Any:
         """Run the detector as the host does: ``cam`` = (f_px, u0_px, v0_px), ``q`` the six
@@ -76,15 +80,23 @@ class DetectorRow:
         return self.load().detect_at_pose(rgb, q, cam)
 
 
+def _function(ref: str) -> Callable:
+    """The function a "module:function" reference names."""
+    mod, fn = ref.split(":")
+    return getattr(importlib.import_module(mod), fn)
+
+
 _V = "mobigrasp.host.vision."
+_DARK = _V + "dark_blobs:front_end_min_ops"  # grey, dark mask, components (dark_blobs.py)
 
 DETECTORS: dict[str, DetectorRow] = {row.name: row for row in (
     DetectorRow("radial_symbol", _V + "radial_symbol", "detect_radial_symbol", "RadialSymbol",
-                call="camera"),
+                call="camera", front_end=_DARK),
     DetectorRow("double_cross", _V + "double_cross", "detect_double_cross", "DoubleCrossResult",
                 call="pose"),
-    DetectorRow("dual_plus", _V + "dual_plus", "detect_dual_plus", "DualPlus", call="pose"),
-    DetectorRow("spoke", _V + "spoke", "detect_spoke", "Spoke", sighting=None),
+    DetectorRow("dual_plus", _V + "dual_plus", "detect_dual_plus", "DualPlus", call="pose",
+                front_end=_DARK),
+    DetectorRow("spoke", _V + "spoke", "detect_spoke", "Spoke", sighting=None, front_end=_DARK),
     DetectorRow("red_cylinder", _V + "red_cylinder", "detect_red_cylinder", "RedCylinderResult",
                 uses_grey=False, ranging="mobigrasp.host.ranging:locate_ring_pair_ops"),
     DetectorRow("red_roi", _V + "red_cylinder", "detect_red_roi", "RedRoi", uses_grey=False,

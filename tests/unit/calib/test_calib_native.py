@@ -2,6 +2,7 @@
 
 import dataclasses
 
+import cv2
 import numpy as np
 import pytest
 
@@ -280,3 +281,32 @@ def test_dual_plus_pair_size_rule_matches(scale_b):
     py, _ = dual_plus.detect_dual_plus(rgb)
     c = native.detect_dual_plus(rgb)
     assert (None if py is None else dataclasses.astuple(py)) == c
+
+
+def _open_rings_frame(seed: int) -> np.ndarray:
+    """Card with 2-5 wide open ellipses (candidates that fail the ring test, tried first) and
+    one small closed ring (tried last): the local re-thresholding budget decides on some."""
+    rng = np.random.default_rng(seed)
+    img = np.full((240, 320), 235, np.uint8)
+    for _ in range(int(rng.integers(2, 6))):
+        centre = (int(rng.integers(40, 280)), int(rng.integers(30, 210)))
+        axes = (int(rng.integers(25, 45)), int(rng.integers(15, 28)))
+        cv2.ellipse(img, centre, axes, 0, 40, 320, 20, 3)
+    centre = (int(rng.integers(40, 280)), int(rng.integers(30, 210)))
+    cv2.ellipse(img, centre, (18, 12), 0, 0, 360, 20, 4)
+    return np.repeat(img[:, :, None], 3, axis=2)
+
+
+def test_radial_symbol_local_budget_matches(monkeypatch):
+    decided = 0
+    for seed in range(40):
+        rgb = _open_rings_frame(seed)
+        res, _ = radial_symbol.detect_radial_symbol(rgb)
+        want = None if res is None else dataclasses.astuple(res)
+        assert native.detect_radial_symbol(rgb) == want, seed
+        with monkeypatch.context() as m:  # no budget: the ring is found on more frames
+            m.setattr(radial_symbol, "LOCAL_BUDGET_NUM", 1000)
+            m.setattr(dark_blobs, "_LAST_FRONT_END", [None])
+            unbounded, _ = radial_symbol.detect_radial_symbol(rgb)
+        decided += res is None and unbounded is not None
+    assert decided >= 5

@@ -29,12 +29,16 @@ class _Task:
     """Needs both detectors, counts what it saw; some steps are long (a plan): they preempt
     vision, miss deadlines and skip ticks."""
 
-    def __init__(self, heavy: dict[int, int]) -> None:
+    def __init__(self, heavy: dict[int, int], fallbacks: dict | None = None) -> None:
         self.heavy = heavy  # step index -> cycles
+        self.fallbacks = fallbacks or {}
         self.seen: list = []
 
     def detectors_needed(self):
         return ["a", "b"]
+
+    def detector_fallbacks(self):
+        return self.fallbacks
 
     def step(self, now_us, inputs):
         k = len(self.seen)
@@ -65,19 +69,31 @@ def _detector_a(rgb):
     return {"mean": int(rgb[..., 0].mean())}, OpCounts(alu=4_000_000 + 40_000 * int(rgb[0, 0, 0]))
 
 
-def _run(bounded: bool, seed: int, policy: str):
+def _detector_a_or_none(rgb):
+    # _detector_a, finding nothing on frames of odd red
+    res, ops = _detector_a(rgb)
+    return (None if rgb[0, 0, 0] % 2 else res), ops
+
+
+# both fakes start from one front end of 2 ms (within both bounds)
+SHARED = {"a": ("fe", lambda h, w: 2_000), "b": ("fe", lambda h, w: 2_000)}
+
+
+def _run(bounded: bool, seed: int, policy: str, shared: bool = False):
     """One second of frames, telemetry and ticks in 5 ms quanta like the lockstep client: UART
     bytes, then frames, then advance_to; after each quantum the detectors run as ``policy``
-    says ("eager": always, today's client; "needed": only if the next tick may need them)."""
+    says ("eager": always, today's client; "needed": only if the next tick may need them).
+    ``shared``: the two detectors share a front end and "b" runs only when "a" finds nothing."""
     rng = np.random.default_rng(seed)
     heavy = {int(k): int(c) for k, c in zip(rng.integers(2, 45, 4),
                                             rng.integers(4_000_000, 22_000_000, 4), strict=True)}
-    task = _Task(heavy)
+    task = _Task(heavy, {"b": "a"} if shared else None)
     app_ref: list = []
     pose = _PoseDetector(app_ref)
     bounds = {"a": lambda h, w: 10_000, "b": lambda h, w: 2_500} if bounded else None
-    app = HostApp(task, {"a": _detector_a, "b": pose}, build_inputs, HostConfig(hello_wait_us=0),
-                  vision_bounds=bounds)
+    app = HostApp(task, {"a": _detector_a_or_none if shared else _detector_a, "b": pose},
+                  build_inputs, HostConfig(hello_wait_us=0), vision_bounds=bounds,
+                  front_ends=SHARED if shared else None)
     app_ref.append(app)
     frames, t = [], 0
     while t < 1_000_000:
@@ -128,6 +144,55 @@ def test_deferred_detectors_change_nothing_modelled():
     assert skipped > 0
 
 
+def test_shared_front_end_and_fallback_keep_the_bound_a_bound():
+    for seed in range(4):
+        want, _, calls = _run(False, seed, "eager", shared=True)
+        got, deferred, calls_b = _run(True, seed, "needed", shared=True)
+        assert deferred > 3 and calls_b == calls
+        assert got == want, seed
+        late, _, _ = _run(True, seed, "never", shared=True)
+        assert late == want, seed
+        # "b" ran on some frames only, and each time less the front end "a" computed
+        alone, _, calls_alone = _run(False, seed, "eager")
+        assert 0 < calls < calls_alone
+        assert want["stage_us"]["b"].max_us < alone["stage_us"]["b"].max_us
+
+
+def _one_frame_job(find_a: bool, shared: bool):
+    """One frame given to "a" (10 ms + 0.1 ms per unit of red) and "b" (5 ms): the job's
+    ARM9 µs, and which detectors ran; the job's end before they ran was a lower bound."""
+    ran: list = []
+
+    def a(rgb):
+        ran.append("a")
+        return ({"a": 1} if find_a else None), OpCounts(alu=4_000_000 + 40_000 * int(rgb[0, 0, 0]))
+
+    def b(rgb):
+        ran.append("b")
+        return {"b": 1}, OpCounts(alu=2_000_000)
+
+    task = _Task({}, {"b": "a"} if shared else None)
+    app = HostApp(task, {"a": a, "b": b}, build_inputs, HostConfig(hello_wait_us=0),
+                  vision_bounds={"a": lambda h, w: 10_000, "b": lambda h, w: 5_000},
+                  front_ends=SHARED if shared else None)
+    app.advance_to(1_000)
+    app.on_frame(0, 0, 1_000, np.full((6, 8, 3), 10, np.uint8))
+    app.advance_to(2_000)
+    low = app._vision.done_us
+    app.resolve_vision()
+    assert ran and low <= app._vision.done_us
+    return app._vision.arm9_us, ran
+
+
+def test_a_shared_front_end_is_charged_once_and_a_fallback_runs_only_on_a_miss():
+    overhead = HostConfig().frame_overhead_cycles // 400
+    assert _one_frame_job(True, False) == (overhead + 11_000 + 5_000, ["a", "b"])
+    # "a" found it: "b" does not run
+    assert _one_frame_job(True, True) == (overhead + 11_000, ["a"])
+    # "a" found nothing: "b" runs, less the front end "a" computed
+    assert _one_frame_job(False, True) == (overhead + 11_000 + 5_000 - 2_000, ["a", "b"])
+
+
 def test_unbounded_app_runs_the_detectors_at_every_question_as_before():
     calls = []
 
@@ -138,6 +203,9 @@ def test_unbounded_app_runs_the_detectors_at_every_question_as_before():
     class T:
         def detectors_needed(self):
             return ["blob"]
+
+        def detector_fallbacks(self):
+            return {}
 
         def step(self, now_us, inputs):
             return FakeOutputs()
@@ -161,6 +229,9 @@ def test_a_tick_before_the_bound_leaves_the_detectors_pending():
     class T:
         def detectors_needed(self):
             return ["blob"]
+
+        def detector_fallbacks(self):
+            return {}
 
         def step(self, now_us, inputs):
             return FakeOutputs()
@@ -222,6 +293,9 @@ def test_a_job_whose_bound_is_its_end_is_finished_at_that_tick():
 
         def detectors_needed(self):
             return ["blob"]
+
+        def detector_fallbacks(self):
+            return {}
 
         def step(self, now_us, inputs):
             self.inputs.append((now_us, sorted(inputs)))

@@ -140,8 +140,11 @@ def to_adjust(task, t=0):
 
 def test_lost_in_adjust_goes_lost_then_search():
     task = Task("000")
+    assert task.detector_fallbacks() == {}
     t0 = to_adjust(task)
     assert task.detectors_needed() == ["dual_plus", "radial_symbol"]
+    # ADJUST reads the rings only on frames without the dual "+" (host/app.py runs it so)
+    assert task.detector_fallbacks() == {"radial_symbol": "dual_plus"}
     t = t0
     state = "ADJUST"
     while state == "ADJUST":

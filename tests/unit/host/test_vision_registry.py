@@ -68,3 +68,15 @@ def test_a_toy_detector_row_reaches_the_cost_report_the_host_app_and_the_task(mo
     with pytest.raises(TypeError, match="bright_spot"):
         object_in_platform("bright_spot", results["bright_spot"].__dict__, PAPER_000,
                            (0,) * 6, CAMERA_000)
+
+
+def test_a_shared_front_end_is_within_what_each_of_its_detectors_charges():
+    shared = app_factory.front_ends(registry.DETECTORS)
+    # the 000 detectors start from one front end (grey, dark mask, components); 002's do not
+    assert sorted(shared) == ["dual_plus", "radial_symbol", "spoke"]
+    assert len({ref for ref, _ in shared.values()}) == 1
+    for name, (_, us) in shared.items():
+        row = registry.DETECTORS[name]
+        assert 0 < us(240, 320) <= row.min_ops_fn()(240, 320).time_us()
+        _, ops = row.host_call(_frame(), (611, 160, 120), (0, 0, -1571, 0, 0, 0))
+        assert us(240, 320) <= ops.time_us()

@@ -57,6 +57,9 @@ def _py_task(script: Script):
         def detectors_needed(self):
             return script.needed()
 
+        def detector_fallbacks(self):
+            return {}
+
         def step(self, now_us, inputs):
             s = script.step(now_us, inputs)
             return TaskOutputs(

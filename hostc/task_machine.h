@@ -1,0 +1,121 @@
+/* The task state machine of the move-to-grasp (host/task/machine.py): the states and their
+ * transitions and timeouts, and the state the states share (arm targets and their settle time,
+ * the last second of arm targets and base poses, the object estimate). What only one method
+ * keeps is that method's own struct (task_method002.h ...), held in `ms`; where the methods
+ * differ the machine asks its row of the method table (task_method.h). No I/O and no clock:
+ * the caller passes now_us and the inputs. Integer, no allocation. */
+#ifndef MOBIGRASP_HOSTC_TASK_MACHINE_H
+#define MOBIGRASP_HOSTC_TASK_MACHINE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fuzzy.h"
+
+typedef enum {
+    MG_SEARCH, MG_APPROACH, MG_ADJUST, MG_ROUGH_GRASP, MG_PRECISE_GRASP, MG_LIFT, MG_DONE,
+    MG_LOST, MG_FAILED, MG_N_TASK_STATES
+} mg_task_state_t;
+
+/* the state's name as Python spells it ("SEARCH" ...) */
+const char *mg_task_state_name(int32_t state);
+int mg_task_terminal(int32_t state); /* DONE, FAILED */
+
+/* host/task/params.py TaskParams: the fields the ported units read */
+typedef struct {
+    int64_t timeouts_us[MG_N_TASK_STATES]; /* < 0: none */
+    int32_t servo_speed_mrad_per_s;       /* 3000, for settle times */
+    int64_t settle_margin_us;             /* 300 000 */
+    int64_t frame_latency_us;             /* 50 000 */
+    int64_t lost_timeout_us;              /* 1 500 000 */
+    int32_t grasp_r_mm;
+    int32_t blind_approach_mm, blind_keep_mm; /* 002's blind drive on (task_method002.c) */
+    int64_t blind_approach_us;
+    int32_t slow_mmps;
+    mg_fuzzy_params_t fuzzy;
+} mg_task_params_t;
+
+#define MG_TASK_HIST 128   /* entries of the last second of arm targets and of base poses */
+#define MG_TASK_EVENTS 8   /* transitions in one step */
+#define MG_TASK_WHY 192    /* bytes of a transition's reason, its terminating 0 included */
+#define MG_TASK_MS_BYTES 512 /* the largest method state */
+
+typedef struct {
+    int64_t t_us;
+    int32_t from, to;
+    char why[MG_TASK_WHY];
+} mg_task_event_t;
+
+typedef struct mg_task mg_task_t;
+typedef void (*mg_task_state_fn)(mg_task_t *t, int64_t now_us, const void *inputs);
+
+struct mg_task {
+    const struct mg_task_method *rules; /* the method's row (task_method.h) */
+    mg_task_params_t p;
+    int32_t state;
+    int64_t entered_us;
+    int32_t entry_pending;
+    /* each state's entry action and step; NULL: none (the states not ported do nothing) */
+    mg_task_state_fn entry[MG_N_TASK_STATES], step[MG_N_TASK_STATES];
+    int32_t arm[6], joints[6];
+    int32_t gripper, wheels[2];
+    int64_t move_done_us;
+    int64_t trust_from_us;
+    int32_t has_obj, obj_mm[2];
+    int64_t obj_seen_us;
+    int32_t graspable_seen, object_sighted;
+    int32_t has_failure;
+    char failure[MG_TASK_WHY];
+    /* (t_us, arm) and (t_us, x_mm, y_mm, heading_mrad), oldest first */
+    int32_t n_arm_hist, n_pose_hist;
+    int64_t arm_hist_t[MG_TASK_HIST], pose_hist_t[MG_TASK_HIST];
+    int32_t arm_hist[MG_TASK_HIST][6], pose_hist[MG_TASK_HIST][3];
+    int32_t hist_overflow; /* entries dropped for want of room (counted, never silent) */
+    int32_t n_events, events_lost;
+    mg_task_event_t events[MG_TASK_EVENTS];
+    union {
+        int64_t align;
+        unsigned char bytes[MG_TASK_MS_BYTES];
+    } ms; /* the method's own state: its module's struct */
+};
+
+/* the task of a method (its row) at start_us: the arm at HOME_ARM, nothing seen, the method's
+ * state fresh; 0, or -1 when the method's state does not fit */
+int mg_task_init(mg_task_t *t, const struct mg_task_method *rules, const mg_task_params_t *p,
+                 int64_t start_us);
+void mg_task_go(mg_task_t *t, int64_t now_us, int32_t to, const char *why);
+void mg_task_fail(mg_task_t *t, int64_t now_us, const char *reason);
+/* new arm targets (clamped) and the time the servos will have got there; has_th1 0: theta1
+ * kept */
+void mg_task_set_arm(mg_task_t *t, int64_t now_us, int32_t th2, int32_t th3, int32_t th4,
+                     int32_t th5, int32_t has_th1, int32_t th1);
+int mg_task_settled(const mg_task_t *t, int64_t now_us);
+void mg_task_remember(mg_task_t *t, int64_t now_us, int32_t x_mm, int32_t y_mm,
+                      int32_t heading_mrad);
+void mg_task_arm_at(const mg_task_t *t, int64_t t_us, int32_t arm[6]);
+/* 0 without a history */
+int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t pose[3]);
+
+/* One step's inputs and outputs (machine.py TaskInputs / TaskOutputs without the detections
+ * and the detail, which the ported states do not read yet). */
+typedef struct {
+    int32_t has_joints, joints_mrad[6];
+    int32_t x_mm, y_mm, heading_mrad, v_mmps;
+} mg_task_inputs_t;
+typedef struct {
+    int32_t servo_mrad[6];
+    int32_t wheels_mmps[2];
+    int32_t gripper_permille;
+    int32_t state;
+} mg_task_outputs_t;
+
+/* advance the task to now_us: the state's timeout, its entry action and step, the method's
+ * wheel guard, the history; the events of this step are t->events */
+void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                  mg_task_outputs_t *out);
+
+/* a reason's text: s, then the decimal v (task_machine.c), 0-terminated within cap */
+size_t mg_task_text(char *out, size_t cap, size_t at, const char *s);
+size_t mg_task_text_int(char *out, size_t cap, size_t at, int64_t v);
+
+#endif

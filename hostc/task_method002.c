@@ -1,0 +1,123 @@
+/* Paper 002's method: double cross, fuzzy approach, red cylinder, the level gripper
+ * (host/task/method002.py). */
+#include "task_method002.h"
+
+#include <string.h>
+
+#include "fixedpoint.h"
+#include "task_drive.h"
+#include "task_method.h"
+
+static mg_state002_t *ms002(mg_task_t *t)
+{
+    return (mg_state002_t *)(void *)t->ms.bytes;
+}
+
+void mg_method002_ms_init(void *ms)
+{
+    memset(ms, 0, sizeof(mg_state002_t));
+}
+
+/* TaskParams.for_method("002"): the defaults with 002's own */
+void mg_method002_params(mg_task_params_t *p)
+{
+    static const int64_t timeouts_us[MG_N_TASK_STATES] = {
+        180000000, 120000000, 60000000, 15000000, 30000000, 16000000, -1, 5000000, -1};
+    static const mg_fuzzy_params_t fuzzy = {1430, 5000, 1000, 150, 4096, 45};
+    memcpy(p->timeouts_us, timeouts_us, sizeof timeouts_us);
+    p->servo_speed_mrad_per_s = 3000;
+    p->settle_margin_us = 300000;
+    p->frame_latency_us = 50000;
+    p->lost_timeout_us = 1500000;
+    p->grasp_r_mm = 255;
+    p->blind_approach_mm = 1000;
+    p->blind_keep_mm = 700;
+    p->blind_approach_us = 8000000;
+    p->slow_mmps = 60;
+    p->fuzzy = fuzzy;
+}
+
+/* A run that never saw the red cylinder (a board alone) says so whatever ended it. */
+void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *out, size_t cap)
+{
+    static const char GIVEN_UP[] = "no graspable object found";
+    if (t->graspable_seen || strncmp(reason, GIVEN_UP, sizeof GIVEN_UP - 1) == 0) {
+        mg_task_text(out, cap, 0, reason);
+        return;
+    }
+    const size_t n = mg_task_text(out, cap, 0,
+                                  "no graspable object found (red_cylinder never seen): ");
+    mg_task_text(out, cap, n, reason);
+}
+
+void mg_method002_start_fuzzy(mg_task_t *t)
+{
+    mg_state002_t *ms = ms002(t);
+    mg_fuzzy_approach_init(&ms->fuzzy, &t->p.fuzzy);
+    ms->has_fuzzy = 1;
+}
+
+/* The bearing to steer on blind should the next frames miss the board or the cylinder, and
+ * how far: at most blind_approach_mm, and blind_keep_mm short of the range of what was seen. */
+void mg_method002_remember_bearing(mg_task_t *t, const mg_task_inputs_t *in, int32_t e_mrad,
+                                   int32_t has_cue, int32_t cue_mm)
+{
+    mg_state002_t *ms = ms002(t);
+    ms->has_blind = 0;
+    if (!has_cue || cue_mm <= 0)
+        return;
+    const int64_t keep = (int64_t)cue_mm - t->p.blind_keep_mm;
+    const int64_t reach = keep < t->p.blind_approach_mm ? keep : t->p.blind_approach_mm;
+    if (reach > 0) {
+        ms->has_blind = 1;
+        ms->blind[0] = in->heading_mrad - e_mrad;
+        ms->blind[1] = in->x_mm;
+        ms->blind[2] = in->y_mm;
+        ms->blind[3] = (int32_t)reach;
+    }
+}
+
+static int32_t clamp32(int64_t v, int32_t lo, int32_t hi)
+{
+    return (int32_t)(v < lo ? lo : v > hi ? hi : v);
+}
+
+/* No marker in this frame: steer on the bearing it was last seen at, by odometry, for up to
+ * the remembered reach and blind_approach_us (ours, not 002's: its fuzzy loop assumes the
+ * marker always in view, docs/cosim.md "Measured", T7). The fuzzy step is eq. (1), (2). */
+int mg_method002_approach_blind(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                                int32_t *u_mrad)
+{
+    mg_state002_t *ms = ms002(t);
+    if (!ms->has_blind)
+        return 0;
+    const int64_t dx = (int64_t)in->x_mm - ms->blind[1], dy = (int64_t)in->y_mm - ms->blind[2];
+    if (mg_isqrt(dx * dx + dy * dy) >= ms->blind[3]
+        || now_us - t->obj_seen_us >= t->p.blind_approach_us)
+        return 0;
+    const int32_t e = mg_task_wrap_mrad((int64_t)in->heading_mrad - ms->blind[0]);
+    const mg_fuzzy_command_t cmd = mg_fuzzy_approach_step(&ms->fuzzy, now_us, 1, e, 0, 0);
+    t->wheels[0] = cmd.left_mm_s;
+    t->wheels[1] = cmd.right_mm_s;
+    mg_task_set_arm(t, now_us, t->arm[2], t->arm[3], t->arm[4], clamp32(e, -800, 800), 0, 0);
+    ms->has_prev_e = 0;
+    *u_mrad = cmd.u_mrad;
+    return 1;
+}
+
+/* ADJUST's backstop by the estimate (the stop rule d_pixel > T_d of 002 section 4 stops it
+ * first): the near end of the level grasp's reach, ADJUST_STALE_BACK_MM nearer until an
+ * estimate of this ADJUST's look has come. */
+void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm)
+{
+    int32_t goal = t->p.grasp_r_mm - 25;
+    if (t->obj_seen_us < t->trust_from_us + t->p.frame_latency_us)
+        goal -= MG_ADJUST_STALE_BACK_MM;
+    *goal_mm = goal;
+    *tol_mm = 5;
+}
+
+int32_t mg_method002_adjust_vmax_mmps(const mg_task_params_t *p)
+{
+    return p->slow_mmps;
+}

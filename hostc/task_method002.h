@@ -1,0 +1,46 @@
+/* Paper 002's method (host/task/method002.py): its own state (State002) and the hooks of the
+ * machine's states ported so far: the fuzzy approach's blind drive on toward the last bearing,
+ * ADJUST's goal and speed, the failure reason. */
+#ifndef MOBIGRASP_HOSTC_TASK_METHOD002_H
+#define MOBIGRASP_HOSTC_TASK_METHOD002_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fuzzy.h"
+#include "task_machine.h"
+
+#define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
+#define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
+
+enum { MG_STEER_NONE, MG_STEER_DOUBLE_CROSS, MG_STEER_RED_CYLINDER };
+
+/* What 002 keeps between steps (the task's ms). */
+typedef struct {
+    int32_t has_fuzzy;
+    mg_fuzzy_approach_t fuzzy; /* the fuzzy approach of APPROACH (002 section 2.1) */
+    int32_t e_mrad;            /* the bearing e the approach steers on */
+    int32_t has_prev_e;        /* (t_us, e) of the last frame that gave e */
+    int64_t prev_e_t_us;
+    int32_t prev_e_mrad;
+    /* the blind drive on toward the marker: its odometry bearing, x_mm, y_mm, reach_mm */
+    int32_t has_blind, blind[4];
+    int32_t has_e_dpx, e_dpx;     /* d_pixel of the search's sighting */
+    int32_t steer_on;             /* what the search found and the approach steers on */
+    int32_t has_e_range, e_range_mm; /* range of the search's red ROI (its height) */
+} mg_state002_t;
+
+void mg_method002_ms_init(void *ms);
+void mg_method002_params(mg_task_params_t *p);
+void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *out, size_t cap);
+/* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters */
+void mg_method002_start_fuzzy(mg_task_t *t);
+void mg_method002_remember_bearing(mg_task_t *t, const mg_task_inputs_t *in, int32_t e_mrad,
+                                   int32_t has_cue, int32_t cue_mm);
+/* 1 while steering blind on the last bearing (the fuzzy approach must have started) */
+int mg_method002_approach_blind(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                                int32_t *u_mrad);
+void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
+int32_t mg_method002_adjust_vmax_mmps(const mg_task_params_t *p);
+
+#endif

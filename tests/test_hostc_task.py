@@ -1,0 +1,229 @@
+"""The C task (hostc/task_machine.c, task_method.c, task_method002.c, task_drive.c) against the
+Python one (host/task/): the same calls with the same inputs give the same arm targets, settle
+times, histories, transitions and wheel commands, step by step; hypothesis-made sequences, and
+the sequence the Python host made in the shipped scenario paper002-marker, replayed."""
+
+from __future__ import annotations
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from mobigrasp import hostc
+from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
+from mobigrasp.host.task import Task, TaskInputs, drive, machine
+from mobigrasp.host.task.method import METHODS
+from mobigrasp.host.task.method002 import Method002
+from mobigrasp.host.task.params import TaskParams
+
+FFI, C = hostc.lib()
+SETTINGS = settings(max_examples=100, deadline=None)
+ANGLE = st.integers(-4000, 4000)
+# gaps between calls that meet the limits exactly (1 s of history, the timeouts), and others
+TICKS = st.sampled_from([20_000, 100_000, 250_000, 500_000, 1_000_000]) | st.integers(1, 400_000)
+
+
+def _c_task(start_us: int = 0, timeouts_us: dict | None = None):
+    rules = C.mg_task_method_find(b"002")
+    p = FFI.new("mg_task_params_t *")
+    rules.params(p)
+    for state, limit in (timeouts_us or {}).items():
+        p.timeouts_us[machine.STATES.index(state)] = limit
+    t = FFI.new("mg_task_t *")
+    assert C.mg_task_init(t, rules, p, start_us) == 0
+    return t
+
+
+def _ms(t):
+    return FFI.cast("mg_state002_t *", t.ms.bytes)
+
+
+def _events(t) -> list:
+    assert t.events_lost == 0
+    return [machine.TaskEvent(e.t_us, machine.STATES[getattr(e, "from")], machine.STATES[e.to],
+                              FFI.string(e.why).decode())
+            for e in t.events[0:t.n_events]]
+
+
+def _load(t, arm, move_done_us: int) -> None:
+    t.arm[0:6] = list(arm)
+    t.move_done_us = move_done_us
+
+
+def test_the_method_table_and_the_states():
+    names = {FFI.string(C.mg_task_methods[i].name).decode() for i in range(C.mg_n_task_methods)}
+    assert names and names <= set(METHODS)
+    assert C.mg_task_method_find(b"003") == FFI.NULL
+    assert [FFI.string(C.mg_task_state_name(i)).decode() for i in range(C.MG_N_TASK_STATES)] \
+        == list(machine.STATES)
+    assert [C.mg_task_terminal(i) for i in range(C.MG_N_TASK_STATES)] \
+        == [s in machine.TERMINAL for s in machine.STATES]
+
+
+def test_params_are_those_of_the_python_task():
+    py, c = TaskParams.for_method("002"), _c_task().p
+    assert [c.timeouts_us[i] for i in range(C.MG_N_TASK_STATES)] \
+        == [py.timeouts_us.get(s, -1) for s in machine.STATES]
+    for name in ("servo_speed_mrad_per_s", "settle_margin_us", "frame_latency_us",
+                 "lost_timeout_us", "grasp_r_mm", "blind_approach_mm", "blind_keep_mm",
+                 "blind_approach_us", "slow_mmps"):
+        assert getattr(c, name) == getattr(py, name), name
+    fz = FuzzyParams(**py.fuzzy)
+    assert (c.fuzzy.e_th_mrad, c.fuzzy.e_cth_mrad_s, c.fuzzy.u_th_mrad, c.fuzzy.v_avg_mm_s,
+            c.fuzzy.k_uc_q12, c.fuzzy.t_d_px) == (fz.e_th_mrad, fz.e_cth_mrad_s, fz.u_th_mrad,
+                                                 fz.v_avg_mm_s, fz.k_uc_q12, fz.t_d_px)
+
+
+@SETTINGS
+@given(st.integers(-10**12, 10**12))
+def test_wrap(a):
+    assert C.mg_task_wrap_mrad(a) == drive.wrap_mrad(a)
+
+
+OPS = st.one_of(
+    st.tuples(st.just("arm"), ANGLE, ANGLE, ANGLE, ANGLE, st.none() | ANGLE),
+    st.tuples(st.just("remember"), st.integers(-10**6, 10**6), st.integers(-10**6, 10**6),
+              st.integers(-3142, 3141)),
+    st.tuples(st.just("query"), st.integers(-200_000, 1_500_000)),
+    st.tuples(st.just("go"), st.sampled_from(machine.STATES), st.text(max_size=40)),
+    st.tuples(st.just("fail"), st.booleans(),
+              st.sampled_from(["timeout", "no graspable object found: x", "IK: out of reach"])))
+
+
+@SETTINGS
+@given(st.integers(0, 10**9), st.lists(st.tuples(TICKS, OPS),
+                                       max_size=60))
+def test_the_shared_bookkeeping(start_us, ops):
+    """set_arm, settled, remember, arm_at, pose_at, go and fail on both, op by op."""
+    py, c = Task("002", start_us=start_us), _c_task(start_us)
+    now = start_us
+    for dt, op in ops:
+        now += dt
+        py._events, c.n_events = [], 0
+        if op[0] == "arm":
+            th1 = op[5]
+            py.set_arm(now, *op[1:5], th1=th1)
+            C.mg_task_set_arm(c, now, *op[1:5], th1 is not None, th1 or 0)
+        elif op[0] == "remember":
+            inp = TaskInputs(x_mm=op[1], y_mm=op[2], heading_mrad=op[3])
+            py.remember(now, inp)
+            C.mg_task_remember(c, now, *op[1:4])
+        elif op[0] == "query":
+            arm = FFI.new("int32_t[6]")
+            C.mg_task_arm_at(c, now - op[1], arm)
+            assert tuple(arm) == py.arm_at(now - op[1])
+            at, pose = FFI.new("int64_t *"), FFI.new("int32_t[3]")
+            has = C.mg_task_pose_at(c, now - op[1], at, pose)
+            assert has == bool(py.pose_hist)
+            if has:
+                assert (at[0], *pose) == py.pose_at(now - op[1])
+        elif op[0] == "go":
+            py.go(now, op[1], op[2])
+            C.mg_task_go(c, now, machine.STATES.index(op[1]), op[2].encode())
+        else:
+            py.graspable_seen = c.graspable_seen = op[1]
+            py.fail(now, op[2])
+            C.mg_task_fail(c, now, op[2].encode())
+            assert FFI.string(c.failure).decode() == py.failure
+        assert list(c.arm) == py.arm and c.move_done_us == py.move_done_us
+        assert C.mg_task_settled(c, now) == py.settled(now)
+        assert (machine.STATES[c.state], c.entered_us, c.entry_pending) \
+            == (py.state, py.entered_us, py.entry_pending)
+        assert _events(c) == py._events
+        assert c.n_arm_hist == len(py.arm_hist) and c.n_pose_hist == len(py.pose_hist)
+    assert c.hist_overflow == 0
+
+
+@SETTINGS
+@given(st.dictionaries(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]),
+                       st.sampled_from([100_000, 200_000, 1_000_000, 2_000_000]), max_size=7),
+       st.lists(st.tuples(st.sampled_from([20_000, 100_000, 500_000]), st.none() | st.tuples(*[ANGLE] * 6),
+                          st.integers(-10**5, 10**5), st.integers(-10**5, 10**5),
+                          st.integers(-3142, 3141), st.sampled_from(machine.STATES)),
+                max_size=40))
+def test_the_step_timeouts_and_outputs(timeouts, steps):
+    """The machine's step around its states (their actions left out on both sides): timeouts,
+    the history, the wheels stopped in a terminal state, the clamped servo targets."""
+    py, c = Task("002", params={"timeouts_us": timeouts}), _c_task(0, timeouts)
+    out = FFI.new("mg_task_outputs_t *")
+    inp_c = FFI.new("mg_task_inputs_t *")
+    now = 0
+    with pytest.MonkeyPatch.context() as mp:
+        for table in ("ENTRY", "STEP"):
+            mp.setattr(machine, table, {s: (lambda *a: None) for s in machine.STATES})
+        mp.setattr(Method002, "guard_wheels", lambda *a: None)
+        for dt, joints, x, y, h, jump in steps:
+            now += dt
+            py.wheels = (c.wheels[0], c.wheels[1]) = (x % 300, -(y % 300))
+            res = py.step(now, TaskInputs(joints_mrad=joints, x_mm=x, y_mm=y, heading_mrad=h))
+            inp_c.has_joints = joints is not None
+            inp_c.joints_mrad[0:6] = list(joints or (0,) * 6)
+            inp_c.x_mm, inp_c.y_mm, inp_c.heading_mrad = x, y, h
+            C.mg_task_step(c, now, inp_c, out)
+            assert _events(c) == res.events
+            assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
+                    machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
+                                                   res.gripper_permille, res.state)
+            assert tuple(c.joints) == py.joints
+            if jump not in machine.TERMINAL and res.state not in machine.TERMINAL:
+                py.go(now, jump, "test")
+                C.mg_task_go(c, now, machine.STATES.index(jump), b"test")
+
+
+def _blind(t) -> tuple | None:
+    ms = _ms(t)
+    return tuple(ms.blind) if ms.has_blind else None
+
+
+BLIND_OPS = st.one_of(
+    st.tuples(st.just("bearing"), st.integers(-3142, 3141), st.none() | st.sampled_from([700, 1700]) | st.integers(-500, 4000),
+              st.integers(-3000, 3000), st.integers(-3000, 3000), st.integers(-3142, 3141)),
+    st.tuples(st.just("blind"), st.integers(-3000, 3000), st.integers(-3000, 3000),
+              st.integers(-9000, 9000)),
+    st.tuples(st.just("seen"),))
+
+
+@SETTINGS
+@given(st.lists(st.tuples(st.integers(1, 3_000_000), BLIND_OPS), max_size=40))
+def test_the_blind_approach_of_002(ops):
+    """remember_bearing and approach_blind: the wheels of the fuzzy step (eqs. (1), (2) of
+    002), the waist toward the bearing, the settle time, the bearing kept."""
+    py, c = Task("002"), _c_task()
+    py.ms.fuzzy = FuzzyApproach(FuzzyParams(**py.p.fuzzy))
+    C.mg_method002_start_fuzzy(c)
+    rules, now = Method002(), 0
+    u = FFI.new("int32_t *")
+    for dt, op in ops:
+        now += dt
+        if op[0] == "seen":
+            py.obj_seen_us = c.obj_seen_us = now
+            continue
+        inp = TaskInputs(x_mm=op[-3], y_mm=op[-2], heading_mrad=op[-1])
+        inp_c = FFI.new("mg_task_inputs_t *", {"x_mm": inp.x_mm, "y_mm": inp.y_mm,
+                                               "heading_mrad": inp.heading_mrad})
+        if op[0] == "bearing":
+            rules.remember_bearing(py, inp, op[1], op[2])
+            C.mg_method002_remember_bearing(c, inp_c, op[1], op[2] is not None, op[2] or 0)
+        else:
+            py._detail = {}
+            driving = rules.approach_blind(py, now, inp)
+            assert C.mg_method002_approach_blind(c, now, inp_c, u) == driving
+            if driving:
+                assert u[0] == py._detail["fuzzy"]["u_mrad"]
+        assert _blind(c) == py.ms.blind
+        assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (py.wheels, py.arm,
+                                                                  py.move_done_us)
+
+
+@SETTINGS
+@given(st.integers(100, 400), st.integers(0, 10**7), st.integers(0, 10**7))
+def test_the_adjust_goal_of_002(grasp_r_mm, seen_us, trust_us):
+    py, c = Task("002", params={"grasp_r_mm": grasp_r_mm}), _c_task()
+    c.p.grasp_r_mm = grasp_r_mm
+    py.obj_seen_us = c.obj_seen_us = seen_us
+    py.trust_from_us = c.trust_from_us = trust_us
+    goal, tol = FFI.new("int32_t *"), FFI.new("int32_t *")
+    C.mg_method002_adjust_goal_mm(c, goal, tol)
+    assert (goal[0], tol[0]) == Method002().adjust_goal_mm(py)
+    assert C.mg_method002_adjust_vmax_mmps(FFI.addressof(c, "p")) \
+        == Method002().adjust_vmax_mmps(py.p)

@@ -227,3 +227,132 @@ def test_the_adjust_goal_of_002(grasp_r_mm, seen_us, trust_us):
     assert (goal[0], tol[0]) == Method002().adjust_goal_mm(py)
     assert C.mg_method002_adjust_vmax_mmps(FFI.addressof(c, "p")) \
         == Method002().adjust_vmax_mmps(py.p)
+
+
+# --- the sequence of a shipped scenario -------------------------------------------------------
+def _record(mp, calls: list) -> None:
+    """Wrap the Python task's units so that each call is recorded with what it read and gave;
+    the calls the blind approach makes itself are part of its record, not their own."""
+    inside = []
+
+    def wrap(cls, name, before, after):
+        orig = getattr(cls, name)
+
+        def recorded(*a, **kw):
+            if inside:
+                return orig(*a, **kw)
+            rec = before(*a, **kw)
+            res = orig(*a, **kw)
+            if rec is not None:
+                calls.append(rec + after(res, *a, **kw))
+            return res
+        mp.setattr(cls, name, recorded)
+
+    wrap(machine.Task, "set_arm",
+         lambda t, now, th2, th3, th4, th5, th1=None: (
+             "arm", now, (th2, th3, th4, th5, th1), list(t.arm), t.move_done_us),
+         lambda res, t, *a, **kw: (list(t.arm), t.move_done_us))
+    wrap(machine.Task, "remember",
+         lambda t, now, inp: ("remember", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
+                              list(t.arm)),
+         lambda res, t, *a: (len(t.arm_hist), len(t.pose_hist)))
+    for name in ("arm_at", "pose_at"):
+        wrap(machine.Task, name, lambda t, t_us, name=name: (name, t_us),
+             lambda res, *a: (res,))
+    wrap(machine.Task, "go", lambda t, now, to, why: ("go", now, to, why),
+         lambda res, *a: ())
+    wrap(Method002, "enter_approach", lambda *a: ("start_fuzzy",), lambda *a: ())
+    wrap(Method002, "remember_bearing",
+         lambda rules, t, inp, e, cue: ("bearing", (inp.x_mm, inp.y_mm, inp.heading_mrad), e,
+                                        cue),
+         lambda res, rules, t, *a: (t.ms.blind,))
+    wrap(FuzzyApproach, "step", lambda f, t_us, e, d=None: ("fuzzy", t_us, e, d),
+         lambda res, *a: ((res.left_mm_s, res.right_mm_s, res.u_mrad, res.stop),))
+
+    orig_blind = Method002.approach_blind
+
+    def blind(rules, t, now, inp):
+        pre = (list(t.arm), t.move_done_us, t.obj_seen_us, t.ms.blind)
+        t._detail.pop("fuzzy", None)
+        inside.append(1)
+        try:
+            res = orig_blind(rules, t, now, inp)
+        finally:
+            inside.pop()
+        calls.append(("blind", now, (inp.x_mm, inp.y_mm, inp.heading_mrad), *pre, res,
+                      t.wheels, list(t.arm), t.move_done_us,
+                      t._detail.get("fuzzy", {}).get("u_mrad")))
+        return res
+    mp.setattr(Method002, "approach_blind", blind)
+
+
+def _replay(c, calls: list) -> dict:
+    """Each recorded call on the C task, with the state the Python call read; what it gave
+    compared. The count of calls of each kind."""
+    counts: dict = {}
+    ms = _ms(c)
+    arm, at, pose = FFI.new("int32_t[6]"), FFI.new("int64_t *"), FFI.new("int32_t[3]")
+    u = FFI.new("int32_t *")
+    for rec in calls:
+        kind = rec[0]
+        counts[kind] = counts.get(kind, 0) + 1
+        if kind == "arm":
+            _, now, (th2, th3, th4, th5, th1), pre, done, post, post_done = rec
+            _load(c, pre, done)
+            C.mg_task_set_arm(c, now, th2, th3, th4, th5, th1 is not None, th1 or 0)
+            assert (list(c.arm), c.move_done_us) == (post, post_done), rec
+        elif kind == "remember":
+            _, now, xyh, pre, n_arm, n_pose = rec
+            c.arm[0:6] = pre
+            C.mg_task_remember(c, now, *xyh)
+            assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+        elif kind == "arm_at":
+            C.mg_task_arm_at(c, rec[1], arm)
+            assert tuple(arm) == rec[2], rec
+        elif kind == "pose_at":
+            assert C.mg_task_pose_at(c, rec[1], at, pose) == 1
+            assert (at[0], *pose) == rec[2], rec
+        elif kind == "go":
+            _, now, to, why = rec
+            c.n_events = 0
+            C.mg_task_go(c, now, machine.STATES.index(to), why.encode())
+            assert _events(c)[0].why == why and c.entered_us == now
+        elif kind == "start_fuzzy":
+            C.mg_method002_start_fuzzy(c)
+        elif kind == "bearing":
+            _, xyh, e, cue, blind = rec
+            inp = FFI.new("mg_task_inputs_t *", dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh)))
+            C.mg_method002_remember_bearing(c, inp, e, cue is not None, cue or 0)
+            assert _blind(c) == blind, rec
+        elif kind == "fuzzy":
+            _, t_us, e, d, cmd = rec
+            got = C.mg_fuzzy_approach_step(FFI.addressof(ms, "fuzzy"), t_us, e is not None,
+                                           e or 0, d is not None, d or 0)
+            assert (got.left_mm_s, got.right_mm_s, got.u_mrad, bool(got.stop)) == cmd, rec
+        else:
+            _, now, xyh, pre, done, seen, blind, res, wheels, post, post_done, u_mrad = rec
+            _load(c, pre, done)
+            c.obj_seen_us = seen
+            assert _blind(c) == blind, rec
+            inp = FFI.new("mg_task_inputs_t *", dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh)))
+            assert C.mg_method002_approach_blind(c, now, inp, u) == res, rec
+            if res:
+                assert (tuple(c.wheels), list(c.arm), c.move_done_us, u[0]) \
+                    == (wheels, post, post_done, u_mrad), rec
+    assert c.hist_overflow == 0 and c.events_lost == 0
+    return counts
+
+
+def test_replay_of_paper002_marker(tmp_path):
+    """The calls the Python task made in the shipped scenario paper002-marker (in process),
+    replayed on the C task with the same inputs: the same outputs, call by call."""
+    from mobigrasp.tools.run_job import RunOptions, execute
+    calls: list = []
+    with pytest.MonkeyPatch.context() as mp:
+        _record(mp, calls)
+        summary, code = execute(RunOptions(scenario="paper002-marker", transport="inproc",
+                                           out=tmp_path / "run", progress=False, plots=False))
+    assert code == 0 and summary["success"], summary
+    counts = _replay(_c_task(), calls)
+    for kind in ("arm", "remember", "arm_at", "go", "start_fuzzy", "bearing", "fuzzy"):
+        assert counts.get(kind, 0) > 0, (kind, counts)

@@ -137,7 +137,8 @@ def test_the_shared_bookkeeping(start_us, ops):
 @SETTINGS
 @given(st.dictionaries(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]),
                        st.sampled_from([100_000, 200_000, 1_000_000, 2_000_000]), max_size=7),
-       st.lists(st.tuples(st.sampled_from([20_000, 100_000, 500_000]), st.none() | st.tuples(*[ANGLE] * 6),
+       st.lists(st.tuples(st.sampled_from([20_000, 100_000, 500_000]),
+                          st.none() | st.tuples(*[ANGLE] * 6),
                           st.integers(-10**5, 10**5), st.integers(-10**5, 10**5),
                           st.integers(-3142, 3141), st.sampled_from(machine.STATES)),
                 max_size=40))
@@ -176,7 +177,8 @@ def _blind(t) -> tuple | None:
 
 
 BLIND_OPS = st.one_of(
-    st.tuples(st.just("bearing"), st.integers(-3142, 3141), st.none() | st.sampled_from([700, 1700]) | st.integers(-500, 4000),
+    st.tuples(st.just("bearing"), st.integers(-3142, 3141),
+              st.none() | st.sampled_from([700, 1700]) | st.integers(-500, 4000),
               st.integers(-3000, 3000), st.integers(-3000, 3000), st.integers(-3142, 3141)),
     st.tuples(st.just("blind"), st.integers(-3000, 3000), st.integers(-3000, 3000),
               st.integers(-9000, 9000)),
@@ -286,6 +288,10 @@ def _record(mp, calls: list) -> None:
     mp.setattr(Method002, "approach_blind", blind)
 
 
+def _xyh(xyh: tuple) -> dict:
+    return dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh, strict=True))
+
+
 def _replay(c, calls: list) -> dict:
     """Each recorded call on the C task, with the state the Python call read; what it gave
     compared. The count of calls of each kind."""
@@ -321,7 +327,7 @@ def _replay(c, calls: list) -> dict:
             C.mg_method002_start_fuzzy(c)
         elif kind == "bearing":
             _, xyh, e, cue, blind = rec
-            inp = FFI.new("mg_task_inputs_t *", dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh)))
+            inp = FFI.new("mg_task_inputs_t *", _xyh(xyh))
             C.mg_method002_remember_bearing(c, inp, e, cue is not None, cue or 0)
             assert _blind(c) == blind, rec
         elif kind == "fuzzy":
@@ -334,7 +340,7 @@ def _replay(c, calls: list) -> dict:
             _load(c, pre, done)
             c.obj_seen_us = seen
             assert _blind(c) == blind, rec
-            inp = FFI.new("mg_task_inputs_t *", dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh)))
+            inp = FFI.new("mg_task_inputs_t *", _xyh(xyh))
             assert C.mg_method002_approach_blind(c, now, inp, u) == res, rec
             if res:
                 assert (tuple(c.wheels), list(c.arm), c.move_done_us, u[0]) \

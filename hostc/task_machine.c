@@ -58,6 +58,7 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     memset(t, 0, sizeof *t);
     t->rules = rules;
     t->p = *p;
+    t->cam = rules->camera;
     t->state = MG_SEARCH;
     t->entered_us = start_us;
     t->entry_pending = 1;
@@ -177,6 +178,13 @@ int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t po
     *at_us = t->pose_hist_t[i];
     memcpy(pose, t->pose_hist[i], sizeof t->pose_hist[i]);
     return 1;
+}
+
+mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_mrad)
+{
+    mg_posture_params_t pp = t->p.posture;
+    pp.max_step_mrad = max_step_mrad;
+    return pp;
 }
 
 /* the state's entry action once after a transition, then its step */

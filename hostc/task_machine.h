@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "fuzzy.h"
+#include "posture.h"
 
 typedef enum {
     MG_SEARCH, MG_APPROACH, MG_ADJUST, MG_ROUGH_GRASP, MG_PRECISE_GRASP, MG_LIFT, MG_DONE,
@@ -32,8 +33,16 @@ typedef struct {
     int32_t blind_approach_mm, blind_keep_mm; /* 002's blind drive on (task_method002.c) */
     int64_t blind_approach_us;
     int32_t slow_mmps;
+    int32_t t_d_px;            /* 002's T_d */
+    int32_t posture_step_mrad; /* eq. (10)'s step per control step */
+    mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
     mg_fuzzy_params_t fuzzy;
 } mg_task_params_t;
+
+/* the camera's pinhole intrinsics in px (sense.py CameraModel) */
+typedef struct {
+    int32_t f_px, u0_px, v0_px;
+} mg_camera_model_t;
 
 #define MG_TASK_HIST 128   /* entries of the last second of arm targets and of base poses */
 #define MG_TASK_EVENTS 8   /* transitions in one step */
@@ -52,6 +61,7 @@ typedef void (*mg_task_state_fn)(mg_task_t *t, int64_t now_us, const void *input
 struct mg_task {
     const struct mg_task_method *rules; /* the method's row (task_method.h) */
     mg_task_params_t p;
+    mg_camera_model_t cam; /* the method's camera */
     int32_t state;
     int64_t entered_us;
     int32_t entry_pending;
@@ -95,6 +105,8 @@ void mg_task_remember(mg_task_t *t, int64_t now_us, int32_t x_mm, int32_t y_mm,
 void mg_task_arm_at(const mg_task_t *t, int64_t t_us, int32_t arm[6]);
 /* 0 without a history */
 int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t pose[3]);
+/* the task's posture parameters with the step cap max_step_mrad (machine.py posture_params) */
+mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_mrad);
 
 /* One step's inputs and outputs (machine.py TaskInputs / TaskOutputs without the detections
  * and the detail, which the ported states do not read yet). */

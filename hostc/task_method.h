@@ -19,6 +19,7 @@ typedef struct mg_task_method {
     /* the wheels' last gate (Method.guard_wheels); NULL: none ported */
     void (*guard_wheels)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     int32_t grasp_alpha_mrad;
+    mg_camera_model_t camera;
 } mg_task_method_t;
 
 extern const mg_task_method_t mg_task_methods[];

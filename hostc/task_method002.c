@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "fixedpoint.h"
+#include "posture.h"
+#include "trig.h"
 #include "task_drive.h"
 #include "task_method.h"
 
@@ -34,6 +36,12 @@ void mg_method002_params(mg_task_params_t *p)
     p->blind_keep_mm = 700;
     p->blind_approach_us = 8000000;
     p->slow_mmps = 60;
+    p->t_d_px = 45;
+    p->posture_step_mrad = 20;
+    p->posture.k_theta_q12[0] = 4096;
+    p->posture.k_theta_q12[1] = p->posture.k_theta_q12[2] = 0;
+    p->posture.margin_mode = MG_MARGIN_LIMITS; /* the printed theta2m leaves no room at 0 */
+    p->posture.max_step_mrad = 0;
     p->fuzzy = fuzzy;
 }
 
@@ -120,4 +128,57 @@ void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *
 int32_t mg_method002_adjust_vmax_mmps(const mg_task_params_t *p)
 {
     return p->slow_mmps;
+}
+
+void mg_method002_track_marker(mg_task_t *t, int64_t now_us, int32_t has_vm, int32_t vm_q4,
+                               int32_t e_mrad)
+{
+    /* a bigger jump is still under way when the next frame is taken, whose bearing then reads
+     * the waist wrong (the yaw of a frame is the target the waist was sent) */
+    const int32_t step = clamp32((int64_t)e_mrad - t->arm[5], -MG_WAIST_STEP_MRAD,
+                                 MG_WAIST_STEP_MRAD);
+    const int32_t th5 = clamp32((int64_t)t->arm[5] + step, -800, 800);
+    int32_t d[3] = {0, 0, 0};
+    if (has_vm) {
+        const int32_t cap = t->p.posture_step_mrad;
+        const int32_t d_alpha = clamp32(
+            -(int64_t)mg_atan2_mrad((int64_t)vm_q4 - t->cam.v0_px * 16, t->cam.f_px * 16),
+            -cap, cap);
+        const mg_posture_params_t pp = mg_task_posture_params(t, cap);
+        mg_distribute_alpha(d_alpha, t->arm[2], t->arm[3], t->arm[4], &pp, d);
+    }
+    mg_task_set_arm(t, now_us, t->arm[2] + d[0], t->arm[3] + d[1], t->arm[4] + d[2], th5, 0, 0);
+}
+
+/* v_q4 / 16 >= 0 to one decimal as Python's format(v / 16, ".1f") (ties to even: sixteenths
+ * are exact binary fractions) */
+static size_t text_q4_1(char *out, size_t cap, size_t at, int32_t v_q4)
+{
+    int64_t tenths = (int64_t)v_q4 * 10 / 16;
+    const int64_t rem = (int64_t)v_q4 * 10 % 16;
+    if (rem > 8 || (rem == 8 && (tenths & 1)))
+        tenths++;
+    at = mg_task_text_int(out, cap, at, tenths / 10);
+    at = mg_task_text(out, cap, at, ".");
+    return mg_task_text_int(out, cap, at, tenths % 10);
+}
+
+int mg_method002_adjust_done(mg_task_t *t, int64_t now_us, int32_t has_d, int32_t d_pixel_q4,
+                             int32_t dist_mm)
+{
+    if (!has_d || now_us - t->p.frame_latency_us < t->trust_from_us)
+        return 0; /* a frame taken before the arm settled in ADJUST's look does not count */
+    if ((int64_t)d_pixel_q4 <= 16 * (int64_t)t->p.t_d_px)
+        return 0;
+    char why[MG_TASK_WHY];
+    size_t n = mg_task_text(why, sizeof why, 0, "stop rule d_pixel > T_d: d_pixel = ");
+    n = text_q4_1(why, sizeof why, n, d_pixel_q4);
+    n = mg_task_text(why, sizeof why, n, " px > T_d = ");
+    n = mg_task_text_int(why, sizeof why, n, t->p.t_d_px);
+    n = mg_task_text(why, sizeof why, n, " px, red cylinder estimated ");
+    n = mg_task_text_int(why, sizeof why, n, dist_mm);
+    mg_task_text(why, sizeof why, n, " mm from the waist");
+    t->wheels[0] = t->wheels[1] = 0;
+    mg_task_go(t, now_us, MG_ROUGH_GRASP, why);
+    return 1;
 }

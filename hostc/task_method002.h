@@ -40,6 +40,14 @@ void mg_method002_remember_bearing(mg_task_t *t, const mg_task_inputs_t *in, int
 /* 1 while steering blind on the last bearing (the fuzzy approach must have started) */
 int mg_method002_approach_blind(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                                 int32_t *u_mrad);
+/* keep what is steered on in view: the waist toward e by at most MG_WAIST_STEP_MRAD, the
+ * pitch of its image row vm_q4 (has_vm 0: none) shared by eq. (10) of 000 */
+void mg_method002_track_marker(mg_task_t *t, int64_t now_us, int32_t has_vm, int32_t vm_q4,
+                               int32_t e_mrad);
+/* the stop rule of 002 section 4, d_pixel > T_d (has_d 0: no rings measured): 1 when it
+ * stopped the base and went to ROUGH_GRASP */
+int mg_method002_adjust_done(mg_task_t *t, int64_t now_us, int32_t has_d, int32_t d_pixel_q4,
+                             int32_t dist_mm);
 void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
 int32_t mg_method002_adjust_vmax_mmps(const mg_task_params_t *p);
 

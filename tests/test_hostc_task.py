@@ -15,6 +15,7 @@ from mobigrasp.host.task import Task, TaskInputs, drive, machine
 from mobigrasp.host.task.method import METHODS
 from mobigrasp.host.task.method002 import Method002
 from mobigrasp.host.task.params import TaskParams
+from mobigrasp.host.vision import registry
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=100, deadline=None)
@@ -61,13 +62,21 @@ def test_the_method_table_and_the_states():
 
 
 def test_params_are_those_of_the_python_task():
-    py, c = TaskParams.for_method("002"), _c_task().p
+    py, ct = TaskParams.for_method("002"), _c_task()
+    c = ct.p
     assert [c.timeouts_us[i] for i in range(C.MG_N_TASK_STATES)] \
         == [py.timeouts_us.get(s, -1) for s in machine.STATES]
     for name in ("servo_speed_mrad_per_s", "settle_margin_us", "frame_latency_us",
                  "lost_timeout_us", "grasp_r_mm", "blind_approach_mm", "blind_keep_mm",
-                 "blind_approach_us", "slow_mmps"):
+                 "blind_approach_us", "slow_mmps", "t_d_px", "posture_step_mrad"):
         assert getattr(c, name) == getattr(py, name), name
+    task = Task("002")
+    pp = task.posture_params(7)
+    cp = C.mg_task_posture_params(ct, 7)
+    assert (tuple(cp.k_theta_q12), cp.margin_mode, cp.max_step_mrad) \
+        == (pp.k_theta_q12, ["printed", "limits"].index(pp.margin_mode), 7)
+    cam = ct.cam
+    assert (cam.f_px, cam.u0_px, cam.v0_px) == (task.cam.f_px, task.cam.u0_px, task.cam.v0_px)
     fz = FuzzyParams(**py.fuzzy)
     assert (c.fuzzy.e_th_mrad, c.fuzzy.e_cth_mrad_s, c.fuzzy.u_th_mrad, c.fuzzy.v_avg_mm_s,
             c.fuzzy.k_uc_q12, c.fuzzy.t_d_px) == (fz.e_th_mrad, fz.e_cth_mrad_s, fz.u_th_mrad,
@@ -231,20 +240,65 @@ def test_the_adjust_goal_of_002(grasp_r_mm, seen_us, trust_us):
         == Method002().adjust_vmax_mmps(py.p)
 
 
+RED = registry.row("red_cylinder").result_type()
+
+
+def _red(d_pixel_q4: int):
+    return RED(u_c_q4=160 * 16, v_c_q4=120 * 16, ring1_v_q4=0, ring2_v_q4=d_pixel_q4,
+               d_pixel_q4=d_pixel_q4, width_q4=16, roi=(0, 0, 1, 1))
+
+
+@SETTINGS
+@given(st.lists(st.tuples(TICKS, st.tuples(*[ANGLE] * 4), st.none() | st.integers(-500, 4500),
+                          st.integers(-3142, 3141)), max_size=30))
+def test_the_marker_tracking_of_002(steps):
+    """The waist toward e a step at a time, the pitch of the marker's row by eq. (10) of 000."""
+    py, c = Task("002"), _c_task()
+    now = 0
+    for dt, joints, vm_q4, e in steps:
+        now += dt
+        py.set_arm(now, *joints)
+        C.mg_task_set_arm(c, now, *joints, 0, 0)
+        Method002().track_marker(py, now, vm_q4, e)
+        C.mg_method002_track_marker(c, now, vm_q4 is not None, vm_q4 or 0, e)
+        assert (list(c.arm), c.move_done_us) == (py.arm, py.move_done_us)
+
+
+@SETTINGS
+@given(st.none() | st.integers(0, 2000) | st.sampled_from([720, 721, 724, 728, 732, 1000]),
+       st.integers(0, 10**6), st.integers(0, 10**6), st.integers(0, 2000))
+def test_the_stop_rule_of_002(d_pixel_q4, now, trust_us, dist_mm):
+    """d_pixel > T_d (002 section 4) stops the base and starts the grasp, as the Python says."""
+    py, c = Task("002"), _c_task()
+    py.trust_from_us = c.trust_from_us = trust_us
+    py.wheels = (c.wheels[0], c.wheels[1]) = (50, 60)
+    py._events = []
+    done = Method002().adjust_done(py, now, None if d_pixel_q4 is None else _red(d_pixel_q4),
+                                   dist_mm)
+    assert C.mg_method002_adjust_done(c, now, d_pixel_q4 is not None, d_pixel_q4 or 0,
+                                      dist_mm) == done
+    assert _events(c) == py._events and tuple(c.wheels) == py.wheels
+
+
 # --- the sequence of a shipped scenario -------------------------------------------------------
 def _record(mp, calls: list) -> None:
     """Wrap the Python task's units so that each call is recorded with what it read and gave;
     the calls the blind approach makes itself are part of its record, not their own."""
     inside = []
 
-    def wrap(cls, name, before, after):
+    def wrap(cls, name, before, after, quiet=False):
+        """quiet: the calls it makes are its own (not recorded)"""
         orig = getattr(cls, name)
 
         def recorded(*a, **kw):
             if inside:
                 return orig(*a, **kw)
             rec = before(*a, **kw)
-            res = orig(*a, **kw)
+            inside.extend([1] if quiet else [])
+            try:
+                res = orig(*a, **kw)
+            finally:
+                del inside[:int(quiet)]
             if rec is not None:
                 calls.append(rec + after(res, *a, **kw))
             return res
@@ -271,21 +325,23 @@ def _record(mp, calls: list) -> None:
     wrap(FuzzyApproach, "step", lambda f, t_us, e, d=None: ("fuzzy", t_us, e, d),
          lambda res, *a: ((res.left_mm_s, res.right_mm_s, res.u_mrad, res.stop),))
 
-    orig_blind = Method002.approach_blind
+    wrap(Method002, "track_marker",
+         lambda rules, t, now, vm, e: ("track", now, vm, e, list(t.arm), t.move_done_us),
+         lambda res, rules, t, *a: (list(t.arm), t.move_done_us))
+    wrap(Method002, "adjust_done",
+         lambda rules, t, now, det, dist: (
+             "stop", now, det.d_pixel_q4 if isinstance(det, RED) else None, dist,
+             t.trust_from_us),
+         lambda res, rules, t, *a: (res, t.state, t._events[-1].why if res else None),
+         quiet=True)
 
-    def blind(rules, t, now, inp):
-        pre = (list(t.arm), t.move_done_us, t.obj_seen_us, t.ms.blind)
+    def blind_before(rules, t, now, inp):
         t._detail.pop("fuzzy", None)
-        inside.append(1)
-        try:
-            res = orig_blind(rules, t, now, inp)
-        finally:
-            inside.pop()
-        calls.append(("blind", now, (inp.x_mm, inp.y_mm, inp.heading_mrad), *pre, res,
-                      t.wheels, list(t.arm), t.move_done_us,
-                      t._detail.get("fuzzy", {}).get("u_mrad")))
-        return res
-    mp.setattr(Method002, "approach_blind", blind)
+        return ("blind", now, (inp.x_mm, inp.y_mm, inp.heading_mrad), list(t.arm),
+                t.move_done_us, t.obj_seen_us, t.ms.blind)
+    wrap(Method002, "approach_blind", blind_before,
+         lambda res, rules, t, *a: (res, t.wheels, list(t.arm), t.move_done_us,
+                                    t._detail.get("fuzzy", {}).get("u_mrad")), quiet=True)
 
 
 def _xyh(xyh: tuple) -> dict:
@@ -323,6 +379,17 @@ def _replay(c, calls: list) -> dict:
             c.n_events = 0
             C.mg_task_go(c, now, machine.STATES.index(to), why.encode())
             assert _events(c)[0].why == why and c.entered_us == now
+        elif kind == "track":
+            _, now, vm, e, pre, done, post, post_done = rec
+            _load(c, pre, done)
+            C.mg_method002_track_marker(c, now, vm is not None, vm or 0, e)
+            assert (list(c.arm), c.move_done_us) == (post, post_done), rec
+        elif kind == "stop":
+            _, now, d_q4, dist, trust, res, state, why = rec
+            c.trust_from_us, c.n_events = trust, 0
+            assert C.mg_method002_adjust_done(c, now, d_q4 is not None, d_q4 or 0, dist) == res
+            assert machine.STATES[c.state] == state, rec
+            assert [e.why for e in _events(c)] == ([why] if res else []), rec
         elif kind == "start_fuzzy":
             C.mg_method002_start_fuzzy(c)
         elif kind == "bearing":
@@ -360,5 +427,7 @@ def test_replay_of_paper002_marker(tmp_path):
                                            out=tmp_path / "run", progress=False, plots=False))
     assert code == 0 and summary["success"], summary
     counts = _replay(_c_task(), calls)
-    for kind in ("arm", "remember", "arm_at", "go", "start_fuzzy", "bearing", "fuzzy"):
+    assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
+    for kind in ("arm", "remember", "arm_at", "go", "start_fuzzy", "bearing", "fuzzy", "track",
+                 "stop"):
         assert counts.get(kind, 0) > 0, (kind, counts)

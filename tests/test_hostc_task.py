@@ -11,7 +11,8 @@ from hypothesis import strategies as st
 
 from mobigrasp import hostc
 from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
-from mobigrasp.host.task import Task, TaskInputs, drive, machine
+from mobigrasp.host.kinematics import PAPER_000, PAPER_002
+from mobigrasp.host.task import Task, TaskInputs, drive, machine, sense
 from mobigrasp.host.task.method import METHODS
 from mobigrasp.host.task.method002 import Method002
 from mobigrasp.host.task.params import TaskParams
@@ -278,6 +279,52 @@ def test_the_stop_rule_of_002(d_pixel_q4, now, trust_us, dist_mm):
     assert C.mg_method002_adjust_done(c, now, d_pixel_q4 is not None, d_pixel_q4 or 0,
                                       dist_mm) == done
     assert _events(c) == py._events and tuple(c.wheels) == py.wheels
+
+
+# --- sense.py ----------------------------------------------------------------------------------
+JOINTS = st.tuples(st.integers(-200, 200), st.integers(-1600, 1600), *[ANGLE] * 4)
+CAMS = st.sampled_from([sense.CAMERA_000, sense.CAMERA_002])
+
+
+def _cam(cam):
+    return FFI.new("mg_camera_model_t *", (cam.f_px, cam.u0_px, cam.v0_px))
+
+
+@SETTINGS
+@given(st.sampled_from([PAPER_000, PAPER_002]), JOINTS, CAMS, st.integers(-2000, 7000),
+       st.integers(-2000, 5000), st.integers(-100, 5000 * 16))
+def test_pixel_to_platform(g, joints, cam, u_q4, v_q4, depth_q4):
+    """The camera's axes and the pixel's ray (eqs. (1)-(3) of 000 with the wrist roll)."""
+    axes, out = FFI.new("int32_t[3][3]"), FFI.new("int32_t[3]")
+    C.mg_camera_axes_q12(joints, axes)
+    assert tuple(tuple(a) for a in axes) == sense.camera_axes_q12(joints)
+    geom = FFI.new("mg_arm_geometry_t *", (g.l1_mm_q4, g.l2_mm_q4, g.l3_mm_q4))
+    C.mg_pixel_to_platform_mm_q4(geom, joints, _cam(cam), u_q4, v_q4, depth_q4, out)
+    assert tuple(out) == sense.pixel_to_platform_mm_q4(g, joints, cam, u_q4, v_q4, depth_q4)
+
+
+@SETTINGS
+@given(st.integers(-2000, 7000), ANGLE, CAMS, st.integers(0, 5000))
+def test_bearing_and_d_pixel(um_q4, theta5, cam, d_q4):
+    cross = registry.row("double_cross").result_type()(
+        u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=0, um_q4=um_q4, vm_q4=0, d_pixel_q4=d_q4, e_mrad=0,
+        votes=(1, 1))
+    assert C.mg_bearing_mrad(um_q4, theta5, _cam(cam)) == sense.bearing_mrad(cross, theta5, cam)
+    assert C.mg_d_pixel_px(d_q4) == sense.d_pixel_px(cross) == sense.d_pixel_px(_red(d_q4))
+
+
+POS = st.integers(-10**6, 10**6)
+
+
+@SETTINGS
+@given(POS, POS, st.integers(-7000, 7000), st.integers(0, 300), st.tuples(POS, POS, POS), POS,
+       POS)
+def test_platform_and_odometry_frames(x, y, h, fwd, p_q4, ox, oy):
+    out = FFI.new("int32_t[2]")
+    C.mg_platform_to_odom_mm(x, y, h, fwd, p_q4, out)
+    assert tuple(out) == sense.platform_to_odom_mm(x, y, h, fwd, p_q4)
+    C.mg_odom_to_platform_q4(x, y, h, fwd, ox, oy, out)
+    assert tuple(out) == sense.odom_to_platform_q4(x, y, h, fwd, ox, oy)
 
 
 # --- the sequence of a shipped scenario -------------------------------------------------------

@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "arm_calib.h"
+#include "posture.h"
+#include "task_sense.h"
 #include "task_method.h"
 
 static const char *const STATE_NAMES[MG_N_TASK_STATES] = {
@@ -59,6 +61,7 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     t->rules = rules;
     t->p = *p;
     t->cam = rules->camera;
+    t->geom = rules->geom;
     t->state = MG_SEARCH;
     t->entered_us = start_us;
     t->entry_pending = 1;
@@ -178,6 +181,29 @@ int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t po
     *at_us = t->pose_hist_t[i];
     memcpy(pose, t->pose_hist[i], sizeof t->pose_hist[i]);
     return 1;
+}
+
+void mg_task_obj_platform(const mg_task_t *t, const mg_task_inputs_t *in, int32_t out_q4[2])
+{
+    mg_odom_to_platform_q4(in->x_mm, in->y_mm, in->heading_mrad, t->p.mount_forward_mm,
+                           t->obj_mm[0], t->obj_mm[1], out_q4);
+}
+
+void mg_task_look_at_object(mg_task_t *t, const mg_task_inputs_t *in, int32_t top)
+{
+    if (!t->has_obj)
+        return;
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    const int32_t look_mm = t->rules->look_height_mm(&t->p, top);
+    const int32_t obj[3] = {xy[0], xy[1], (look_mm - t->p.h_shoulder_mm) * 16};
+    const mg_posture_params_t pp = mg_task_posture_params(t, t->p.posture_step_mrad);
+    mg_posture_adjustment_t adj;
+    mg_adjust_posture(&t->geom, &t->arm[2], obj, &pp, 0, 0, &adj);
+    t->arm[2] = adj.theta2_mrad;
+    t->arm[3] = adj.theta3_mrad;
+    t->arm[4] = adj.theta4_mrad;
+    t->arm[5] = adj.theta5_mrad;
 }
 
 mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_mrad)

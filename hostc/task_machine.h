@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "fuzzy.h"
+#include "kinematics.h"
 #include "posture.h"
 
 typedef enum {
@@ -33,6 +34,8 @@ typedef struct {
     int32_t blind_approach_mm, blind_keep_mm; /* 002's blind drive on (task_method002.c) */
     int64_t blind_approach_us;
     int32_t slow_mmps;
+    int32_t mount_forward_mm; /* waist axis ahead of the wheel axle */
+    int32_t h_shoulder_mm, object_top_mm, grasp_height_mm; /* above the ground */
     int32_t t_d_px;            /* 002's T_d */
     int32_t posture_step_mrad; /* eq. (10)'s step per control step */
     mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
@@ -62,6 +65,7 @@ struct mg_task {
     const struct mg_task_method *rules; /* the method's row (task_method.h) */
     mg_task_params_t p;
     mg_camera_model_t cam; /* the method's camera */
+    mg_arm_geometry_t geom; /* the method's arm */
     int32_t state;
     int64_t entered_us;
     int32_t entry_pending;
@@ -121,6 +125,11 @@ typedef struct {
     int32_t state;
 } mg_task_outputs_t;
 
+/* the object estimate in the platform frame (X_r, Y_r), Q4 mm (needs has_obj) */
+void mg_task_obj_platform(const mg_task_t *t, const mg_task_inputs_t *in, int32_t out_q4[2]);
+/* posture adjustment (eq. (10) of 000) toward the estimated object, at the method's look
+ * height (top: the object's look, else the grasp's) */
+void mg_task_look_at_object(mg_task_t *t, const mg_task_inputs_t *in, int32_t top);
 /* advance the task to now_us: the state's timeout, its entry action and step, the method's
  * wheel guard, the history; the events of this step are t->events */
 void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

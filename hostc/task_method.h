@@ -18,8 +18,12 @@ typedef struct mg_task_method {
     void (*failure_reason)(const mg_task_t *t, const char *reason, char *out, size_t cap);
     /* the wheels' last gate (Method.guard_wheels); NULL: none ported */
     void (*guard_wheels)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    /* the height (mm above the ground) the posture adjustment looks at: the object's look
+     * (top) or the grasp's (Method.look_height_mm) */
+    int32_t (*look_height_mm)(const mg_task_params_t *p, int32_t top);
     int32_t grasp_alpha_mrad;
     mg_camera_model_t camera;
+    mg_arm_geometry_t geom; /* l2, l3, l4 of the arm the method assumes, Q4 mm */
 } mg_task_method_t;
 
 extern const mg_task_method_t mg_task_methods[];

@@ -36,6 +36,10 @@ void mg_method002_params(mg_task_params_t *p)
     p->blind_keep_mm = 700;
     p->blind_approach_us = 8000000;
     p->slow_mmps = 60;
+    p->mount_forward_mm = 100;
+    p->h_shoulder_mm = 50;
+    p->object_top_mm = 120;
+    p->grasp_height_mm = 100;
     p->t_d_px = 45;
     p->posture_step_mrad = 20;
     p->posture.k_theta_q12[0] = 4096;
@@ -58,11 +62,28 @@ void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *o
     mg_task_text(out, cap, n, reason);
 }
 
-void mg_method002_start_fuzzy(mg_task_t *t)
+/* the two rings sit at mid-height: keep them, not the top, in view */
+int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top)
+{
+    return top ? p->object_top_mm / 2 : p->grasp_height_mm;
+}
+
+int32_t mg_method002_board_range_mm(const mg_task_t *t, int32_t d_px)
+{
+    return (int32_t)mg_floor_div((int64_t)MG_CROSS_SPACING_MM_Q4 * t->cam.f_px,
+                                 16 * (int64_t)d_px);
+}
+
+void mg_method002_enter_approach(mg_task_t *t, const mg_task_inputs_t *in)
 {
     mg_state002_t *ms = ms002(t);
     mg_fuzzy_approach_init(&ms->fuzzy, &t->p.fuzzy);
     ms->has_fuzzy = 1;
+    if (ms->has_e_dpx && ms->e_dpx)
+        mg_method002_remember_bearing(t, in, ms->e_mrad, 1,
+                                      mg_method002_board_range_mm(t, ms->e_dpx));
+    else
+        mg_method002_remember_bearing(t, in, ms->e_mrad, ms->has_e_range, ms->e_range_mm);
 }
 
 /* The bearing to steer on blind should the next frames miss the board or the cylinder, and

@@ -10,6 +10,7 @@
 #include "fuzzy.h"
 #include "task_machine.h"
 
+#define MG_CROSS_SPACING_MM_Q4 2080 /* the double cross's two crosses, 130 mm apart */
 #define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
 #define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
 
@@ -33,8 +34,12 @@ typedef struct {
 void mg_method002_ms_init(void *ms);
 void mg_method002_params(mg_task_params_t *p);
 void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *out, size_t cap);
-/* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters */
-void mg_method002_start_fuzzy(mg_task_t *t);
+int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top);
+/* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters, the search's
+ * sighting the first bearing to steer on blind */
+void mg_method002_enter_approach(mg_task_t *t, const mg_task_inputs_t *in);
+/* the board's distance by its crosses' spacing d_px (pinhole) */
+int32_t mg_method002_board_range_mm(const mg_task_t *t, int32_t d_px);
 void mg_method002_remember_bearing(mg_task_t *t, const mg_task_inputs_t *in, int32_t e_mrad,
                                    int32_t has_cue, int32_t cue_mm);
 /* 1 while steering blind on the last bearing (the fuzzy approach must have started) */

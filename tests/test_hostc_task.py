@@ -69,14 +69,17 @@ def test_params_are_those_of_the_python_task():
         == [py.timeouts_us.get(s, -1) for s in machine.STATES]
     for name in ("servo_speed_mrad_per_s", "settle_margin_us", "frame_latency_us",
                  "lost_timeout_us", "grasp_r_mm", "blind_approach_mm", "blind_keep_mm",
-                 "blind_approach_us", "slow_mmps", "t_d_px", "posture_step_mrad"):
+                 "blind_approach_us", "slow_mmps", "t_d_px", "posture_step_mrad",
+                 "mount_forward_mm", "h_shoulder_mm", "object_top_mm", "grasp_height_mm"):
         assert getattr(c, name) == getattr(py, name), name
     task = Task("002")
     pp = task.posture_params(7)
     cp = C.mg_task_posture_params(ct, 7)
     assert (tuple(cp.k_theta_q12), cp.margin_mode, cp.max_step_mrad) \
         == (pp.k_theta_q12, ["printed", "limits"].index(pp.margin_mode), 7)
-    cam = ct.cam
+    cam, g = ct.cam, ct.geom
+    assert (g.l1_mm_q4, g.l2_mm_q4, g.l3_mm_q4) == (task.geom.l1_mm_q4, task.geom.l2_mm_q4,
+                                                   task.geom.l3_mm_q4)
     assert (cam.f_px, cam.u0_px, cam.v0_px) == (task.cam.f_px, task.cam.u0_px, task.cam.v0_px)
     fz = FuzzyParams(**py.fuzzy)
     assert (c.fuzzy.e_th_mrad, c.fuzzy.e_cth_mrad_s, c.fuzzy.u_th_mrad, c.fuzzy.v_avg_mm_s,
@@ -201,9 +204,10 @@ def test_the_blind_approach_of_002(ops):
     """remember_bearing and approach_blind: the wheels of the fuzzy step (eqs. (1), (2) of
     002), the waist toward the bearing, the settle time, the bearing kept."""
     py, c = Task("002"), _c_task()
-    py.ms.fuzzy = FuzzyApproach(FuzzyParams(**py.p.fuzzy))
-    C.mg_method002_start_fuzzy(c)
     rules, now = Method002(), 0
+    rules.enter_approach(py, 0, TaskInputs())
+    C.mg_method002_enter_approach(c, FFI.new("mg_task_inputs_t *"))
+    assert _ms(c).has_fuzzy and _blind(c) is None
     u = FFI.new("int32_t *")
     for dt, op in ops:
         now += dt
@@ -279,6 +283,26 @@ def test_the_stop_rule_of_002(d_pixel_q4, now, trust_us, dist_mm):
     assert C.mg_method002_adjust_done(c, now, d_pixel_q4 is not None, d_pixel_q4 or 0,
                                       dist_mm) == done
     assert _events(c) == py._events and tuple(c.wheels) == py.wheels
+
+
+NEAR = st.integers(-3000, 3000)
+
+
+@SETTINGS
+@given(st.lists(st.tuples(st.tuples(*[ANGLE] * 4), st.none() | st.tuples(NEAR, NEAR), NEAR, NEAR,
+                          st.integers(-3142, 3141), st.booleans()), max_size=20))
+def test_the_look_at_the_object(steps):
+    """The posture adjustment (eq. (10) of 000) toward the odometry estimate, at 002's looks."""
+    py, c = Task("002"), _c_task()
+    for joints, obj, x, y, h, top in steps:
+        py.arm[2:6] = c.arm[2:6] = list(joints)
+        py.obj = obj
+        c.has_obj = obj is not None
+        c.obj_mm = obj or (0, 0)
+        inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h)
+        py.look_at_object(inp, top)
+        C.mg_task_look_at_object(c, FFI.new("mg_task_inputs_t *", _xyh((x, y, h))), top)
+        assert list(c.arm) == py.arm
 
 
 # --- sense.py ----------------------------------------------------------------------------------
@@ -364,7 +388,14 @@ def _record(mp, calls: list) -> None:
              lambda res, *a: (res,))
     wrap(machine.Task, "go", lambda t, now, to, why: ("go", now, to, why),
          lambda res, *a: ())
-    wrap(Method002, "enter_approach", lambda *a: ("start_fuzzy",), lambda *a: ())
+    wrap(Method002, "enter_approach",
+         lambda rules, t, now, inp: ("enter_approach", (inp.x_mm, inp.y_mm, inp.heading_mrad),
+                                     t.ms.e_mrad, t.ms.e_dpx, t.ms.e_range_mm),
+         lambda res, rules, t, *a: (t.ms.blind,), quiet=True)
+    wrap(machine.Task, "look_at_object",
+         lambda t, inp, top=True: ("look", (inp.x_mm, inp.y_mm, inp.heading_mrad), top,
+                                   list(t.arm), t.obj),
+         lambda res, t, *a, **kw: (list(t.arm),))
     wrap(Method002, "remember_bearing",
          lambda rules, t, inp, e, cue: ("bearing", (inp.x_mm, inp.y_mm, inp.heading_mrad), e,
                                         cue),
@@ -437,8 +468,17 @@ def _replay(c, calls: list) -> dict:
             assert C.mg_method002_adjust_done(c, now, d_q4 is not None, d_q4 or 0, dist) == res
             assert machine.STATES[c.state] == state, rec
             assert [e.why for e in _events(c)] == ([why] if res else []), rec
-        elif kind == "start_fuzzy":
-            C.mg_method002_start_fuzzy(c)
+        elif kind == "enter_approach":
+            _, xyh, e, dpx, e_range, blind = rec
+            ms.e_mrad, ms.has_e_dpx, ms.e_dpx = e, dpx is not None, dpx or 0
+            ms.has_e_range, ms.e_range_mm = e_range is not None, e_range or 0
+            C.mg_method002_enter_approach(c, FFI.new("mg_task_inputs_t *", _xyh(xyh)))
+            assert _blind(c) == blind, rec
+        elif kind == "look":
+            _, xyh, top, pre, obj, post = rec
+            c.arm[0:6], c.has_obj, c.obj_mm = pre, obj is not None, obj or (0, 0)
+            C.mg_task_look_at_object(c, FFI.new("mg_task_inputs_t *", _xyh(xyh)), top)
+            assert list(c.arm) == post, rec
         elif kind == "bearing":
             _, xyh, e, cue, blind = rec
             inp = FFI.new("mg_task_inputs_t *", _xyh(xyh))
@@ -475,6 +515,6 @@ def test_replay_of_paper002_marker(tmp_path):
     assert code == 0 and summary["success"], summary
     counts = _replay(_c_task(), calls)
     assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
-    for kind in ("arm", "remember", "arm_at", "go", "start_fuzzy", "bearing", "fuzzy", "track",
-                 "stop"):
+    for kind in ("arm", "remember", "arm_at", "go", "enter_approach", "bearing", "fuzzy",
+                 "track", "stop", "look"):
         assert counts.get(kind, 0) > 0, (kind, counts)

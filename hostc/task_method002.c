@@ -9,6 +9,7 @@
 #include "trig.h"
 #include "task_drive.h"
 #include "task_method.h"
+#include "task_sense.h"
 
 static mg_state002_t *ms002(mg_task_t *t)
 {
@@ -60,6 +61,33 @@ void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *o
     const size_t n = mg_task_text(out, cap, 0,
                                   "no graspable object found (red_cylinder never seen): ");
     mg_task_text(out, cap, n, reason);
+}
+
+int mg_method002_found(mg_task_t *t, int64_t now_us, const mg_sighting002_t *s)
+{
+    mg_state002_t *ms = ms002(t);
+    int32_t joints[6];
+    mg_task_arm_at(t, now_us - t->p.frame_latency_us, joints);
+    /* the column's bearing from the waist of the frame (level roll: the pitch does not turn
+     * the image), the double cross's midpoint or the ROI's centre */
+    ms->e_mrad = mg_bearing_mrad(s->u_q4, joints[5], &t->cam);
+    t->obj_seen_us = now_us;
+    ms->steer_on = s->steer_on;
+    ms->has_e_dpx = s->steer_on == MG_STEER_DOUBLE_CROSS;
+    ms->e_dpx = ms->has_e_dpx ? mg_d_pixel_px(s->d_pixel_q4) : 0;
+    ms->has_e_range = s->steer_on == MG_STEER_RED_CYLINDER && s->has_range;
+    ms->e_range_mm = ms->has_e_range ? s->range_mm : 0;
+    return 1;
+}
+
+void mg_method002_found_why(const mg_task_t *t, char *why, size_t cap)
+{
+    const mg_state002_t *ms = (const mg_state002_t *)(const void *)t->ms.bytes;
+    const int cross = ms->steer_on == MG_STEER_DOUBLE_CROSS;
+    size_t n = mg_task_text(why, cap, 0, cross ? "double cross seen at e = "
+                                               : "red cylinder's colour ROI seen at e = ");
+    n = mg_task_text_int(why, cap, n, ms->e_mrad);
+    mg_task_text(why, cap, n, cross ? " mrad" : " mrad (no double cross in view)");
 }
 
 /* the two rings sit at mid-height: keep them, not the top, in view */

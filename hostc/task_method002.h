@@ -34,6 +34,19 @@ typedef struct {
 void mg_method002_ms_init(void *ms);
 void mg_method002_params(mg_task_params_t *p);
 void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *out, size_t cap);
+/* what SEARCH saw (the detectors' results as the task reads them): the double cross (its
+ * midpoint's column, its crosses' spacing) or else the red cylinder's colour ROI (its column
+ * and, when its box is whole, the range from its height) */
+typedef struct {
+    int32_t steer_on;     /* MG_STEER_DOUBLE_CROSS or MG_STEER_RED_CYLINDER (its ROI) */
+    int32_t u_q4;         /* um_q4 of the double cross, u_c_q4 of the ROI */
+    int32_t d_pixel_q4;   /* the double cross's */
+    int32_t has_range, range_mm; /* the ROI's */
+} mg_sighting002_t;
+/* SEARCH found a sighting: its bearing e (002 section 2.1) kept to steer on; 1 */
+int mg_method002_found(mg_task_t *t, int64_t now_us, const mg_sighting002_t *s);
+/* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
+void mg_method002_found_why(const mg_task_t *t, char *why, size_t cap);
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top);
 /* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters, the search's
  * sighting the first bearing to steer on blind */

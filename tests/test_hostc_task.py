@@ -16,11 +16,13 @@ from mobigrasp.host.task import Task, TaskInputs, drive, machine, sense
 from mobigrasp.host.task.method import METHODS
 from mobigrasp.host.task.method002 import Method002
 from mobigrasp.host.task.params import TaskParams
+from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import registry
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=100, deadline=None)
 ANGLE = st.integers(-4000, 4000)
+WHY_BYTES = len(FFI.new("mg_task_event_t *").why)  # a transition's reason, its 0 included
 # gaps between calls that meet the limits exactly (1 s of history, the timeouts), and others
 TICKS = st.sampled_from([20_000, 100_000, 250_000, 500_000, 1_000_000]) | st.integers(1, 400_000)
 
@@ -286,6 +288,50 @@ def test_the_stop_rule_of_002(d_pixel_q4, now, trust_us, dist_mm):
 
 
 NEAR = st.integers(-3000, 3000)
+ROI = registry.row("red_roi")
+
+
+def _sighting(name: str, det) -> dict:
+    """What the detectors' glue gives the C of a SEARCH sighting."""
+    if name == "double_cross":
+        return {"steer_on": C.MG_STEER_DOUBLE_CROSS, "u_q4": det.um_q4,
+                "d_pixel_q4": det.d_pixel_q4}
+    seen = ROI.sighting_fn()(det, CAMERA_002.f_px)
+    return {"steer_on": C.MG_STEER_RED_CYLINDER, "u_q4": det.u_c_q4,
+            "has_range": seen is not None, "range_mm": 0 if seen is None else seen[2] // 16}
+
+
+@SETTINGS
+@given(st.lists(st.tuples(TICKS, ANGLE, st.booleans(), st.integers(-2000, 7000),
+                          st.integers(0, 4000), st.integers(1, 200), st.integers(1, 200),
+                          st.booleans()), max_size=20))
+def test_the_search_sighting_of_002(steps):
+    """SEARCH's sighting: the bearing e of the double cross or of the red ROI's column, its
+    spacing or range kept for the approach, and the transition's reason."""
+    py, c = Task("002"), _c_task()
+    rules, now = Method002(), 0
+    why = FFI.new("char[]", WHY_BYTES)
+    for dt, th5, cross, u_q4, d_q4, w, h, edge in steps:
+        now += dt
+        py.set_arm(now, *py.arm[2:5], th5)
+        C.mg_task_set_arm(c, now, *c.arm[2:5], th5, 0, 0)
+        py.remember(now, TaskInputs())
+        C.mg_task_remember(c, now, 0, 0, 0)
+        if cross:
+            name, det = "double_cross", registry.row("double_cross").result_type()(
+                u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=0, um_q4=u_q4, vm_q4=0, d_pixel_q4=d_q4,
+                e_mrad=0, votes=(1, 1))
+        else:
+            name, det = "red_roi", ROI.result_type()(u_c_q4=u_q4, v_c_q4=0, roi=(0, 0, w, h),
+                                                      area_px=w * h, touches_edge=edge)
+        assert rules.found(py, now, TaskInputs(), name, det)
+        assert C.mg_method002_found(c, now, FFI.new("mg_sighting002_t *", _sighting(name, det)))
+        ms = _ms(c)
+        assert (ms.e_mrad, c.obj_seen_us) == (py.ms.e_mrad, py.obj_seen_us)
+        assert (ms.e_dpx if ms.has_e_dpx else None) == py.ms.e_dpx
+        assert (ms.e_range_mm if ms.has_e_range else None) == py.ms.e_range_mm
+        C.mg_method002_found_why(c, why, WHY_BYTES)
+        assert FFI.string(why).decode() == rules.found_why(py)
 
 
 @SETTINGS
@@ -392,6 +438,10 @@ def _record(mp, calls: list) -> None:
          lambda rules, t, now, inp: ("enter_approach", (inp.x_mm, inp.y_mm, inp.heading_mrad),
                                      t.ms.e_mrad, t.ms.e_dpx, t.ms.e_range_mm),
          lambda res, rules, t, *a: (t.ms.blind,), quiet=True)
+    wrap(Method002, "found",
+         lambda rules, t, now, inp, name, det: ("found", now, name, det),
+         lambda res, rules, t, *a: (res, t.ms.e_mrad, t.obj_seen_us, t.ms.e_dpx,
+                                    t.ms.e_range_mm, rules.found_why(t)), quiet=True)
     wrap(machine.Task, "look_at_object",
          lambda t, inp, top=True: ("look", (inp.x_mm, inp.y_mm, inp.heading_mrad), top,
                                    list(t.arm), t.obj),
@@ -474,6 +524,17 @@ def _replay(c, calls: list) -> dict:
             ms.has_e_range, ms.e_range_mm = e_range is not None, e_range or 0
             C.mg_method002_enter_approach(c, FFI.new("mg_task_inputs_t *", _xyh(xyh)))
             assert _blind(c) == blind, rec
+        elif kind == "found":
+            _, now, name, det, res, e, seen, dpx, e_range, found_why = rec
+            assert res
+            assert C.mg_method002_found(c, now, FFI.new("mg_sighting002_t *",
+                                                        _sighting(name, det)))
+            assert (ms.e_mrad, c.obj_seen_us) == (e, seen), rec
+            assert (ms.e_dpx if ms.has_e_dpx else None) == dpx, rec
+            assert (ms.e_range_mm if ms.has_e_range else None) == e_range, rec
+            why = FFI.new("char[]", WHY_BYTES)
+            C.mg_method002_found_why(c, why, WHY_BYTES)
+            assert FFI.string(why).decode() == found_why
         elif kind == "look":
             _, xyh, top, pre, obj, post = rec
             c.arm[0:6], c.has_obj, c.obj_mm = pre, obj is not None, obj or (0, 0)
@@ -516,5 +577,5 @@ def test_replay_of_paper002_marker(tmp_path):
     counts = _replay(_c_task(), calls)
     assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
     for kind in ("arm", "remember", "arm_at", "go", "enter_approach", "bearing", "fuzzy",
-                 "track", "stop", "look"):
+                 "track", "stop", "look", "found"):
         assert counts.get(kind, 0) > 0, (kind, counts)

@@ -90,6 +90,50 @@ void mg_method002_found_why(const mg_task_t *t, char *why, size_t cap)
     mg_task_text(why, cap, n, cross ? " mrad" : " mrad (no double cross in view)");
 }
 
+/* horizontal first; the world accepts |alpha| < 0.3 */
+static const int32_t GRASP_ALPHAS_002[] = {0, -100, -200, -280};
+
+int mg_method002_grasp_reach_mm(const mg_task_t *t, int32_t *centre_mm, int32_t *half_mm)
+{
+    const int32_t z = (t->p.grasp_height_mm - t->p.h_shoulder_mm) * 16;
+    int32_t lo = 0, hi = 0, any = 0;
+    for (int32_t r = MG_LEVEL_SCAN_LO_MM; r <= MG_LEVEL_SCAN_HI_MM;
+         r += MG_LEVEL_SCAN_STEP_MM) {
+        const int32_t target[3] = {0, r * 16, z};
+        mg_arm_pose_t pose;
+        int64_t detail;
+        if (mg_ik_pitch_mm_q4(&t->geom, target, 0, &pose, &detail) == MG_IK_OK) {
+            lo = any ? lo : r;
+            hi = r;
+            any = 1;
+        }
+    }
+    if (!any)
+        return 0;
+    *centre_mm = (lo + hi) / 2;
+    const int32_t half = (hi - lo) / 2 - MG_LEVEL_MARGIN_MM;
+    *half_mm = half > 1 ? half : 1;
+    return 1;
+}
+
+int32_t mg_method002_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q4[3],
+                              mg_arm_pose_t *pose, int64_t *detail)
+{
+    int32_t first = MG_IK_OK;
+    int64_t first_detail = 0;
+    for (size_t i = 0; i < sizeof GRASP_ALPHAS_002 / sizeof GRASP_ALPHAS_002[0]; i++) {
+        const int32_t code = mg_ik_pitch_mm_q4(g, target_q4, GRASP_ALPHAS_002[i], pose, detail);
+        if (code == MG_IK_OK)
+            return code;
+        if (first == MG_IK_OK) {
+            first = code;
+            first_detail = *detail;
+        }
+    }
+    *detail = first_detail;
+    return first;
+}
+
 /* the two rings sit at mid-height: keep them, not the top, in view */
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top)
 {

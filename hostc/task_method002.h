@@ -11,6 +11,12 @@
 #include "task_machine.h"
 
 #define MG_CROSS_SPACING_MM_Q4 2080 /* the double cross's two crosses, 130 mm apart */
+/* the level grasp's reach: scanned over these distances of the axis from the waist (mm,
+ * step), the ends of the window kept this far inside */
+#define MG_LEVEL_SCAN_LO_MM 150
+#define MG_LEVEL_SCAN_HI_MM 350
+#define MG_LEVEL_SCAN_STEP_MM 2
+#define MG_LEVEL_MARGIN_MM 2
 #define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
 #define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
 
@@ -47,6 +53,14 @@ typedef struct {
 int mg_method002_found(mg_task_t *t, int64_t now_us, const mg_sighting002_t *s);
 /* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
 void mg_method002_found_why(const mg_task_t *t, char *why, size_t cap);
+/* the distances of the axis from the waist where the gripper holds it level at the grasp
+ * height within the joint limits (eq. (4) of 002: theta1 + theta2 + theta3 = 0), as centre
+ * and half width; 0 when there are none */
+int mg_method002_grasp_reach_mm(const mg_task_t *t, int32_t *centre_mm, int32_t *half_mm);
+/* the grasp's IK: the horizontal gripper of eq. (4) of 002 first, then tilted down by
+ * MG_GRASP_ALPHAS_002; MG_IK_OK and *pose, or the first pitch's reason and *detail */
+int32_t mg_method002_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q4[3],
+                              mg_arm_pose_t *pose, int64_t *detail);
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top);
 /* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters, the search's
  * sighting the first bearing to steer on blind */

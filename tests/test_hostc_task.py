@@ -8,6 +8,7 @@ from __future__ import annotations
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_hostc_arm_kinematics import _assert_same_ik
 
 from mobigrasp import hostc
 from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
@@ -349,6 +350,29 @@ def test_the_look_at_the_object(steps):
         py.look_at_object(inp, top)
         C.mg_task_look_at_object(c, FFI.new("mg_task_inputs_t *", _xyh((x, y, h))), top)
         assert list(c.arm) == py.arm
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.integers(0, 300), st.integers(0, 300))
+def test_the_level_grasp_reach_of_002(grasp_height_mm, h_shoulder_mm):
+    """The level grasp's window (eq. (4) of 002) scanned as the Python scans it."""
+    py = Task("002", params={"grasp_height_mm": grasp_height_mm, "h_shoulder_mm": h_shoulder_mm})
+    c = _c_task()
+    c.p.grasp_height_mm, c.p.h_shoulder_mm = grasp_height_mm, h_shoulder_mm
+    centre, half = FFI.new("int32_t *"), FFI.new("int32_t *")
+    has = C.mg_method002_grasp_reach_mm(c, centre, half)
+    assert ((centre[0], half[0]) if has else None) == Method002().grasp_reach_mm(py)
+
+
+@SETTINGS
+@given(st.tuples(st.integers(-400 * 16, 400 * 16), st.integers(-400 * 16, 400 * 16),
+                 st.integers(-300 * 16, 300 * 16)))
+def test_the_grasp_ik_of_002(target):
+    """Level first (eq. (4) of 002), then tilted down: the first reachable pitch's pose, or
+    the level pitch's reason."""
+    pose, detail = FFI.new("mg_arm_pose_t *"), FFI.new("int64_t *")
+    code = C.mg_method002_grasp_ik(FFI.addressof(_c_task(), "geom"), target, pose, detail)
+    _assert_same_ik(code, pose, detail[0], Method002().grasp_ik(PAPER_002, target))
 
 
 # --- sense.py ----------------------------------------------------------------------------------

@@ -13,7 +13,6 @@ import os
 import socket
 import subprocess
 import sys
-import tempfile
 import time
 from collections import deque
 from pathlib import Path
@@ -129,7 +128,7 @@ class SocketHost:
         self.conn: socket.socket | None = None  # set by connect()
         self.rfile: ls.SocketReader | None = None
         self.wfile: Any = None
-        self._dir = tempfile.TemporaryDirectory(prefix=leftovers.prefix("ls"))
+        self._dir = leftovers.temp_dir("ls")
         self.path = os.path.join(self._dir.name, "lockstep.sock")
         self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         self._server.bind(self.path)

@@ -79,10 +79,10 @@ def run_scenario(spec: RunSpec) -> dict:
 
 
 def _run(spec: RunSpec) -> dict:
-    leftovers.sweep()  # what runs killed outright left behind (names carry their pid)
+    leftovers.sweep()  # what runs killed outright left behind (recorded as theirs)
     scenario, seed, out = spec.scenario, spec.seed, spec.out
     name = scenario.meta.name
-    tmpdir = tempfile.TemporaryDirectory(prefix=leftovers.prefix("run"))
+    tmpdir = leftovers.temp_dir("run")
     early = port = None
     try:
         if spec.transport == "pty":

@@ -140,6 +140,35 @@ def _not_empty(tmp: Path, mp) -> Path:
     return tmp / "mine"
 
 
+def _raw_scenario(name: str, tail: str, params: str = "") -> Callable:
+    """A shipped scenario's text with ``tail`` appended (a table it has not) and ``params``
+    put at the top of its [params] table."""
+    def argv(tmp: Path, mp: pytest.MonkeyPatch) -> list[str]:
+        text = SCENARIOS[name].read_text()
+        if params:
+            text = text.replace("[params]\n", f"[params]\n{params}\n", 1)
+            assert params in text
+        p = tmp / "raw.toml"
+        p.write_text(text + "\n" + tail + "\n")
+        return ["run", str(p), "--check"]
+    return argv
+
+
+def _host_config(cfg: dict | str) -> Callable:
+    def argv(tmp: Path, mp: pytest.MonkeyPatch) -> list[str]:
+        p = tmp / "host.json"
+        p.write_text(cfg if isinstance(cfg, str) else json.dumps(cfg))
+        return ["host", "--port", "/dev/pts/99", "--config", str(p)]
+    return argv
+
+
+def _fifo(tmp: Path) -> Path:
+    import os
+
+    os.mkfifo(tmp / "fifo")
+    return tmp / "fifo"
+
+
 E = "paper000-exp1"
 B = "paper001-sim1"  # with obstacles
 M = "paper002-cylinder-moving"  # with a path
@@ -207,6 +236,71 @@ CASES: dict[str, Case] = {
     "campaign --time-limit-s inf": Case(lambda t, mp: ["campaign", "--method", "000", "--runs",
                                                        "1", "--time-limit-s", "inf"],
                                         ("--time-limit-s",)),
+    # nesting, huge integers, escaping
+    "[faults] nested 5000 deep": Case(
+        _raw_scenario(E, "[faults]\nuart_drop_rate = " + "[" * 5000 + "]" * 5000), ("nested",)),
+    "[params] nested 40 deep": Case(
+        _raw_scenario(E, "", params="v0_mps = " + "[" * 40 + "]" * 40), ("params.v0_mps",)),
+    "[faults] 400-digit integer": Case(
+        _raw_scenario(E, "[faults]\nuart_drop_rate = " + "9" * 400),
+        ("faults.uart_drop_rate", "bits")),
+    "--fault 400-digit integer": Case(
+        lambda t, mp: ["run", E, "--check", "--fault", "uart_drop_rate=" + "9" * 400],
+        ("--fault", "faults.uart_drop_rate")),
+    "--fault nested 3000 deep": Case(
+        lambda t, mp: ["run", E, "--check", "--fault", "uart_drop_rate=" + "[" * 3000 + "]" * 3000],
+        ("--fault", "faults.uart_drop_rate")),
+    "--fault escape codes": Case(
+        lambda t, mp: ["run", E, "--check", "--fault", "motor_fail.wheel=" + "x\x1b[31m" * 500],
+        ("--fault", "motor_fail.wheel", "\\x1b")),
+    "--fault unknown key with escape codes": Case(
+        lambda t, mp: ["run", E, "--check", "--fault", "\x1b[2J" * 100 + "=1"],
+        ("--fault", "unknown key")),
+    "scenario a FIFO": Case(lambda t, mp: ["run", str(_fifo(t)), "--check"], ("FIFO",)),
+    "scenario a device": Case(lambda t, mp: ["run", "/dev/zero", "--check"], ("/dev/zero",)),
+    # host --config: checked before the port is opened
+    "host --config nested 5000 deep": Case(_host_config('{"params": ' + "[" * 5000 + "]" * 5000
+                                                        + "}"), ("--config", "nested")),
+    "host --config u0_px 1e300": Case(_host_config({"camera": {"u0_px": 1e300}}),
+                                      ("--config", "camera.u0_px")),
+    "host --config w_min > w_max": Case(_host_config({"params": {"w_min": 60, "w_max": 40}}),
+                                        ("--config", "params.w_min", "w_max")),
+    "host --config params a string": Case(_host_config({"params": "x"}), ("--config", "params")),
+    "host --config camera a list": Case(_host_config({"camera": [1]}), ("--config", "camera")),
+    "host --config f_px a string": Case(_host_config({"camera": {"f_px": "611"}}),
+                                        ("--config", "camera.f_px")),
+    "host --config timeout a string": Case(
+        _host_config({"task": {"timeouts_us": {"SEARCH": "x"}}}), ("task.timeouts_us.SEARCH",)),
+    "host --config timeout 1e300": Case(
+        _host_config({"task": {"timeouts_us": {"SEARCH": 10**300}}}), ("task.timeouts_us.SEARCH",)),
+    "host --config object_xy_mm 3 values": Case(
+        _host_config({"method": "001", "task": {"object_xy_mm": [1, 2, 3]}}),
+        ("task.object_xy_mm",)),
+    "host --config NaN": Case(_host_config('{"params": {"k1": NaN}}'), ("--config", "NaN")),
+    "host --config method 7": Case(_host_config({"method": 7}), ("--config", "method")),
+    "host --config a FIFO": Case(lambda t, mp: ["host", "--port", "/dev/pts/99", "--config",
+                                                str(_fifo(t))], ("--config", "FIFO")),
+    # numbers on command lines: finite, in range (none waits forever)
+    "mcu --duration nan": Case(lambda t, mp: ["mcu", "--duration", "nan"], ("--duration",)),
+    "mcu --duration -1": Case(lambda t, mp: ["mcu", "--duration", "-1"], ("--duration",)),
+    "console --reply-timeout 1e300": Case(lambda t, mp: ["console", "--port", "/dev/pts/99",
+                                                         "--reply-timeout", "1e300"],
+                                          ("--reply-timeout",)),
+    "campaign --jobs 10**30": Case(lambda t, mp: ["campaign", "--method", "000", "--jobs",
+                                                  str(10**30)], ("--jobs",)),
+    "campaign --runs 0": Case(lambda t, mp: ["campaign", "--method", "000", "--runs", "0"],
+                              ("--runs",)),
+    "link-demo --count 10**30": Case(lambda t, mp: ["link-demo", "--count", str(10**30)],
+                                     ("--count",)),
+    "demo --count -1": Case(lambda t, mp: ["demo", "--count", "-1"], ("--count",)),
+    "bench protocol --chunk 0": Case(lambda t, mp: ["bench", "protocol", "--chunk", "0"],
+                                     ("--chunk",)),
+    "bench world --sim-s nan": Case(lambda t, mp: ["bench", "world", "--sim-s", "nan"],
+                                    ("--sim-s",)),
+    "bench mcu --seconds -5": Case(lambda t, mp: ["bench", "mcu", "--seconds", "-5"],
+                                   ("--seconds",)),
+    "calibrate --frames-per-scenario 0": Case(
+        lambda t, mp: ["calibrate", "--frames-per-scenario", "0"], ("--frames-per-scenario",)),
 }
 
 
@@ -222,10 +316,16 @@ def test_bad_input_is_exit_2_with_one_line(case, tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     row = CASES[case]
     argv = row.argv(tmp_path, monkeypatch)
-    assert main(argv) == 2
+    try:
+        code = main(argv)
+    except SystemExit as exc:  # argparse's refusal of an option
+        code = exc.code
+    assert code == 2
     out = capsys.readouterr()
     lines = out.err.strip().splitlines()
     assert len(lines) == 1, out.err
+    # the value is escaped and cut: no control characters, no screenful
+    assert lines[0].isprintable() and len(lines[0]) < 400, lines[0]
     assert "Traceback" not in out.err and "Traceback" not in out.out
     names = row.names + ((_file_named(argv),) if _file_named(argv) else ())
     for name in names:

@@ -244,3 +244,23 @@ def test_a_json_path_that_is_a_folder_exits_2(fake_loop, tmp_path, capsys):
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and str(path) in err[0]
     assert not CALLS and sorted(p.name for p in tmp_path.iterdir()) == ["afile", "here"]
+
+
+def test_a_resume_with_a_damaged_first_row_reruns_only_that_run(fake_loop, tmp_path, capsys):
+    out = tmp_path / "loop.json"
+    assert main([*CAMPAIGN, "--json", str(out)]) == 0
+    rows_file = tmp_path / "loop-runs" / "loop.rows.jsonl"
+    lines = rows_file.read_text().splitlines()
+    first = json.loads(lines[0])
+    rows_file.write_text("\n".join(["\x00garbled" + lines[0][9:]] + lines[1:]) + "\n")
+    CALLS.clear()
+    assert main([*CAMPAIGN, "--json", str(out), "--resume"]) == 0
+    assert CALLS == [(first["method"], first["seed"])]  # that run only, the intact ones not
+    assert "line 1: damaged row set aside" in capsys.readouterr().err
+    keys = [(json.loads(x)["method"], json.loads(x)["seed"])
+            for x in rows_file.read_text().splitlines()]
+    assert sorted(keys) == sorted(FAKE_ENDS)  # one row each, none twice
+    assert (tmp_path / "loop-runs" / "loop.rows.damaged").read_text().startswith("\x00garbled")
+    CALLS.clear()
+    assert main([*CAMPAIGN, "--json", str(out), "--resume"]) == 0
+    assert CALLS == [] and len(rows_file.read_text().splitlines()) == len(FAKE_ENDS)

@@ -41,8 +41,9 @@ def test_rows_are_written_as_runs_finish_and_resume_runs_only_the_rest(tmp_path)
     cfg = CampaignConfig("000", 6, seed=10, jobs=1, out=tmp_path)
     with pytest.raises(KeyboardInterrupt):
         run_campaign(cfg, run_fn=Interrupt(at=4))
-    kept = load_rows(tmp_path / ROWS_FILE, [{"seed": s, "method": "000", "faults": {}}
-                                            for s in range(10, 16)])
+    kept, notes = load_rows(tmp_path / ROWS_FILE, [{"seed": s, "method": "000", "faults": {}}
+                                                   for s in range(10, 16)])
+    assert notes == []
     assert [r["seed"] for r in kept] == [10, 11, 12]  # the three finished before Ctrl-C
     counting = Interrupt(at=0)
     resumed = run_campaign(CampaignConfig("000", 6, seed=10, jobs=1, out=tmp_path,
@@ -55,12 +56,14 @@ def test_rows_are_written_as_runs_finish_and_resume_runs_only_the_rest(tmp_path)
     assert all(r["worker"] for r in resumed["rows"])
 
 
-def test_a_torn_last_row_is_dropped_and_a_foreign_row_refused(tmp_path):
+def test_a_torn_last_row_is_set_aside_and_a_foreign_row_refused(tmp_path):
     run_campaign(CampaignConfig("000", 3, seed=0, jobs=1, out=tmp_path), run_fn=_fake)
     path = tmp_path / ROWS_FILE
     path.write_text(path.read_text() + '{"seed": 2, "succ')
     jobs = [{"seed": s, "method": "000", "faults": {}} for s in range(3)]
-    assert [r["seed"] for r in load_rows(path, jobs)] == [0, 1, 2]
+    rows, notes = load_rows(path, jobs)
+    assert [r["seed"] for r in rows] == [0, 1, 2]
+    assert len(notes) == 1 and f"{path}: line 4: damaged row" in notes[0]
     other = CampaignConfig("000", 3, seed=0, jobs=1, out=tmp_path, resume=True,
                            faults=FaultPlan(uart_bit_error_rate=1e-3))
     with pytest.raises(ValueError, match="another campaign"):

@@ -16,7 +16,7 @@ def _summary(state: str, held: bool, grasps: int) -> dict:
     plant = SimpleNamespace(final=lambda: {
         "grasped": held, "grasps": grasps, "grasp_us": None, "final_error_mm": None,
         "collisions": {}, "min_obstacle_clearance_m": None, "path_length_m": 0.0})
-    trace = SimpleNamespace(sha256=lambda: "0" * 64, lines=0)
+    trace = SimpleNamespace(sha256=lambda: "0" * 64, lines=0, dropped_events=0)
     return _figures(res, plant, trace, SimpleNamespace(written=0), 10.0)
 
 

@@ -12,10 +12,11 @@ from pathlib import Path
 import pytest
 
 from mobigrasp.cosim.run_folder import (
+    RUN_FILES,
     RUN_MARKER,
     RunFolderError,
+    claim_run_folder,
     default_run_folder,
-    prepare_run_folder,
     safe_component,
 )
 from mobigrasp.tools.cli import main
@@ -32,6 +33,12 @@ def _victim(root: Path, name: str = "victim") -> Path:
     (v / "summary.json").write_text("{}\n")
     (v / "thesis.tex").write_text("years of work\n")
     return v
+
+
+def prepare_run_folder(out, name, seed, **kw) -> Path:
+    """Take and ready a run folder as a run does, then let it go."""
+    with claim_run_folder(out, name, seed, **kw) as folder:
+        return folder.prepare(RUN_FILES)
 
 
 def _assert_intact(victim: Path) -> None:
@@ -95,13 +102,16 @@ def test_rerun_into_a_run_folder_replaces_only_its_own_files(tmp_path, capsys):
     (out / "notes.txt").write_text("mine\n")
     (out / "frames").mkdir(exist_ok=True)
     (out / "frames" / "holiday.png").write_bytes(b"png")
-    (out / "frames" / "000_0001000ms_SEARCH.png").write_bytes(b"stale")
+    # named as a snapshot, but the marker does not list it: not the run's to remove
+    (out / "frames" / "000_0001000ms_SEARCH.png").write_bytes(b"look-alike")
     (out / "summary.json").write_text("stale")
+    (out / "trace.jsonl").write_text("stale\n")
     assert main(["run", "paper000-exp1", "--out", str(out)] + QUICK) in (0, 1)
     assert (out / "notes.txt").read_text() == "mine\n"
     assert (out / "frames" / "holiday.png").read_bytes() == b"png"
-    assert not (out / "frames" / "000_0001000ms_SEARCH.png").exists()
+    assert (out / "frames" / "000_0001000ms_SEARCH.png").read_bytes() == b"look-alike"
     assert (out / "summary.json").read_text() != "stale"
+    assert (out / "trace.jsonl").read_text() != "stale\n"
     capsys.readouterr()
 
 

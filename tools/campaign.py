@@ -23,8 +23,15 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from mobigrasp.cosim.run_folder import json_lines
+from mobigrasp.cosim.run_folder import (
+    CAMPAIGN_MARKER,
+    OwnedFolder,
+    record_written,
+    set_aside,
+    split_rows,
+)
 from mobigrasp.host.task import METHODS, REGISTRY
+from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
 from mobigrasp.tools.progress import Progress
@@ -214,47 +221,135 @@ def aggregate(rows: list[dict], cfg: CampaignConfig | None = None) -> dict:
 
 
 ROWS_FILE = "campaign.rows.jsonl"  # one row a line, written as each run finishes
+DAMAGED_FILE = "campaign.rows.damaged"  # lines of ROWS_FILE a resume could not read
+CAMPAIGN_FILES = ("campaign.json", ROWS_FILE, "campaign.png", DAMAGED_FILE)
+_COUNT_MAX = 2**63 - 1
+_LIST_MAX = 1_000_000
+_OUTCOMES = (None, "recovered", "failed_cleanly", "stuck")
 
 
-def load_rows(path: Path, jobs: list[dict]) -> list[dict]:
-    """The rows an interrupted campaign wrote (a torn last line is dropped); ValueError when a
-    row is not of this campaign (another method, other faults or a seed outside it)."""
+class RowError(checks.BadValue):
+    """A row of campaign.rows.jsonl that is JSON but not a row (exit code 2)."""
+
+
+def _count(v, where, key):
+    return checks.integer(v, where, key, 0, _COUNT_MAX, error=RowError)
+
+
+def _flag(v, where, key):
+    if not isinstance(v, bool):
+        checks.fail(where, key, "true or false", v, RowError)
+
+
+def _ms_list(v, where, key):
+    if not isinstance(v, list) or len(v) > _LIST_MAX:
+        checks.fail(where, key, f"a list of at most {_LIST_MAX} numbers", v, RowError)
+    for k, x in enumerate(v):
+        checks.number(x, where, f"{key}[{k}]", 0.0, None, "ms", RowError)
+
+
+def _text_or_none(v, where, key):
+    if v is not None and not isinstance(v, str):
+        checks.fail(where, key, "a string or null", v, RowError)
+
+
+# the fields aggregate() and the resume read, and their checks
+ROW_FIELDS = {
+    "seed": lambda v, w, k: checks.integer(v, w, k, 0, MAX_SEED, error=RowError),
+    "method": lambda v, w, k: v in METHODS or checks.fail(w, k, f"one of {METHODS}", v, RowError),
+    "faults": lambda v, w, k: isinstance(v, dict) or checks.fail(w, k, "a table", v, RowError),
+    "success": _flag, "false_claim": _flag, "safety_monitored": _flag, "faults_applied": _flag,
+    "status": lambda v, w, k: isinstance(v, str) or checks.fail(w, k, "a string", v, RowError),
+    "collisions": _count, "unsafe_actuations": _count, "watchdog_trips": _count,
+    "retransmits": _count, "crc_errors": _count, "unrecovered": _count, "late_stops": _count,
+    "stop_latency_ms": _ms_list, "recovery_ms": _ms_list,
+    "fault_outcome": lambda v, w, k: v in _OUTCOMES or checks.fail(
+        w, k, f"one of {_OUTCOMES}", v, RowError),
+    "task_state": _text_or_none, "error": _text_or_none,
+}
+
+
+def check_row(row: dict, where: str) -> dict:
+    """``row`` when every field of :data:`ROW_FIELDS` is there and of its type; RowError
+    naming ``where`` (file and line) and the field otherwise."""
+    for key, check in ROW_FIELDS.items():
+        if key not in row:
+            checks.fail(where, key, "a field of a campaign row (missing)", error=RowError)
+        check(row[key], where, key)
+    return row
+
+
+def load_rows(path: Path, jobs: list[dict]) -> tuple[list[dict], list[str]]:
+    """The rows an interrupted campaign wrote, by seed, and a note (file and line) for every
+    line set aside: damaged (not a JSON row: torn by a kill, garbled) or a repeat of a seed
+    already read. RowError when a line is JSON but not a row; ValueError when a row is not of
+    this campaign (another method, other faults or a seed outside it). The rows file is
+    rewritten with the rows kept; the lines set aside go to DAMAGED_FILE beside it."""
     by_seed = {job["seed"]: job for job in jobs}
-    rows: dict[int, dict] = {}
     if not path.is_file():
-        return []
-    for n, row in json_lines(path):
-        job = by_seed.get(row.get("seed")) if isinstance(row, dict) else None
-        if job is None or row.get("method") != job["method"] \
-                or row.get("faults") != job["faults"]:
+        return [], []
+    lines, damaged = split_rows(path)
+    rows: dict[int, dict] = {}
+    notes = [f"{path}: line {n}: damaged row set aside in {DAMAGED_FILE} (not a JSON row: "
+             f"{checks.shown(text)})" for n, text in damaged]
+    aside = [text for _, text in damaged]
+    for n, row in lines:
+        check_row(row, f"{path}: line {n}")
+        job = by_seed.get(row["seed"])
+        if job is None or row["method"] != job["method"] or row["faults"] != job["faults"]:
             raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
-                             f"{row.get('seed') if isinstance(row, dict) else '?'}, method "
-                             f"or faults differ): use another --out or run without --resume")
+                             f"{row['seed']}, method or faults differ): use another --out or "
+                             f"run without --resume")
+        if row["seed"] in rows:
+            notes.append(f"{path}: line {n}: a second row of seed {row['seed']} set aside in "
+                         f"{DAMAGED_FILE}")
+            aside.append(json.dumps(row, sort_keys=True))
+            continue
         rows[row["seed"]] = row
-    return [rows[s] for s in sorted(rows)]
+    if aside:
+        record_written(path.parent, DAMAGED_FILE, marker=CAMPAIGN_MARKER)
+        set_aside(path, [json.dumps(r, sort_keys=True) for r in rows.values()], aside,
+                  path.parent / DAMAGED_FILE)
+    return [rows[s] for s in sorted(rows)], notes
+
+
+def claim_out(cfg: CampaignConfig) -> OwnedFolder:
+    """Lock ``cfg.out`` for this campaign and make it ready: refused (RunFolderError, exit 2,
+    nothing changed) when another process holds it or it holds files and is not a campaign's;
+    the previous campaign's files are replaced, except with ``cfg.resume``."""
+    folder = OwnedFolder.take(Path(cfg.out), CAMPAIGN_MARKER, "campaign")
+    try:
+        folder.prepare(CAMPAIGN_FILES, remove_previous=not cfg.resume)
+    except ValueError:
+        folder.release()
+        raise
+    return folder
 
 
 def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
-                 progress: Progress | None = None) -> dict:
-    """Run every job; {"summary": ..., "rows": [...]} (rows by seed).
+                 progress: Progress | None = None, folder: OwnedFolder | None = None) -> dict:
+    """Run every job; {"summary": ..., "rows": [...], "set_aside": [notes]} (rows by seed).
 
     Where: on the Dask cluster at ``cfg.scheduler``, else a local process pool when more than
     one job runs at once, else this process (tools.campaign_engines). Each row is appended to
     ``out/campaign.rows.jsonl`` as its run finishes, with the worker that ran it; with
-    ``cfg.resume`` the rows already there are kept and only the other seeds run.
+    ``cfg.resume`` the rows already there are kept and only the other seeds run. ``folder``:
+    ``cfg.out`` already taken (:func:`claim_out`); None: taken and let go here.
     ``progress`` (tools.progress) is told the runs done and how many succeeded."""
+    if folder is None:
+        with claim_out(cfg) as held:
+            return run_campaign(cfg, run_fn, progress, held)
     from mobigrasp.tools.campaign_engines import open_engine
 
     jobs = jobs_of(cfg)
     out = Path(cfg.out)
     rows_path = out / ROWS_FILE
-    rows = load_rows(rows_path, jobs) if cfg.resume else []
+    rows, notes = load_rows(rows_path, jobs) if cfg.resume else ([], [])
     finished = {r["seed"] for r in rows}
     todo = [job for job in jobs if job["seed"] not in finished]
     workers = min(cfg.jobs or os.cpu_count() or 1, max(1, len(todo)))
     name = "dask" if cfg.scheduler else "serial" if workers <= 1 else "processes"
     engine = open_engine(name)
-    out.mkdir(parents=True, exist_ok=True)
     with rows_path.open("a" if cfg.resume else "w", encoding="utf-8") as fh:
         if progress is not None and rows:
             ok = sum(r["success"] for r in rows)
@@ -271,7 +366,7 @@ def run_campaign(cfg: CampaignConfig, run_fn: Callable[[dict], dict] = run_one,
     if progress is not None:
         progress.close()
     rows.sort(key=lambda r: r["seed"])
-    return {"summary": aggregate(rows, cfg), "rows": rows}
+    return {"summary": aggregate(rows, cfg), "rows": rows, "set_aside": notes}
 
 
 def format_table(agg: dict) -> str:

@@ -18,6 +18,7 @@ folder and the command that re-runs it.
 from __future__ import annotations
 
 import json
+import logging
 import os
 import statistics
 import subprocess
@@ -26,7 +27,7 @@ from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 
-from mobigrasp.cosim.run_folder import json_lines
+from mobigrasp.cosim.run_folder import set_aside, split_rows
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
 from mobigrasp.tools.random_scenarios import DEFAULT_VERSION, GENERATORS
 
@@ -218,24 +219,44 @@ def outcome(row: dict) -> str:
     return f"{row['task_state']}: {reason.split(' (')[0].split(':')[0][:40]}"
 
 
+DAMAGED_FILE = "loop.rows.damaged"  # lines of ROWS_FILE a resume could not read
+log = logging.getLogger(__name__)
+
+
 def load_rows(path: Path, cfg: LoopCampaign) -> list[dict]:
-    """The rows an interrupted campaign wrote (a torn last line is dropped; rows of runs that
-    raised are run again); CampaignInputError when a row is of another campaign."""
+    """The rows an interrupted campaign wrote (rows of runs that raised are run again);
+    CampaignInputError when a row is of another campaign. A line that is not a JSON row (torn
+    by a kill, garbled) or repeats a (method, seed) is moved to DAMAGED_FILE and named in the
+    log with its line: never read again, its run done again, no intact row repeated."""
     if not path.is_file():
         return []
     keys = {m: cfg.key(m) for m in cfg.methods}
     seeds = range(cfg.seed_base, cfg.seed_base + cfg.runs)
+    lines, damaged = split_rows(path)
+    aside = [text for _, text in damaged]
+    notes = [f"line {n}: damaged row" for n, _ in damaged]
     rows: dict[tuple[str, int], dict] = {}
-    for n, row in json_lines(path):
-        key = keys.get(row.get("method")) if isinstance(row, dict) else None
+    for n, row in lines:
+        key = keys.get(row.get("method")) if isinstance(row.get("method"), str) else None
+        seed = row.get("seed")
         if key is None or any(row.get(k) != v for k, v in key.items()) \
-                or row.get("seed") not in seeds:
+                or isinstance(seed, bool) or not isinstance(seed, int) or seed not in seeds \
+                or not isinstance(row.get("status"), str):
             raise CampaignInputError(
                 f"{path}: line {n} is a row of another campaign (method, seed, generator, "
-                f"transport or time limit differ): use another --json or the same options")
-        if row.get("status") != "raised":
-            rows[row["method"], row["seed"]] = row
-    return list(rows.values())
+                f"transport or time limit differ, or a field is missing): use another --json "
+                f"or the same options")
+        if (row["method"], seed) in rows and rows[row["method"], seed]["status"] != "raised":
+            notes.append(f"line {n}: a second row of {row['method']} seed {seed}")
+            aside.append(json.dumps(row, sort_keys=True))
+            continue
+        rows[row["method"], seed] = row  # a run that raised and ran again: the later row
+    for note in notes:
+        log.warning("%s: %s set aside in %s", path, note, DAMAGED_FILE)
+    if aside:
+        set_aside(path, [json.dumps(r, sort_keys=True) for r in rows.values()], aside,
+                  path.parent / DAMAGED_FILE)
+    return [r for r in rows.values() if r["status"] != "raised"]
 
 
 def _commit() -> str:

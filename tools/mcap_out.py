@@ -1,7 +1,10 @@
 """trace.mcap of a run folder: the trace (and the camera frames) for Foxglove, no conversion.
 
-Written once at the end of a run from the trace events (``cosim.run_folder.read_trace``), the
-JPEG frames :class:`CameraLog` kept while the run went, and the summary. Every message's log
+Written as the run goes (:class:`McapLog`): at every camera frame the frame (JPEG) and the
+trace lines written since the last one (read back from trace.jsonl, flushed per line) go into
+the file, a chunk per simulated second, so nothing is held until the end and a run killed
+outright leaves a file readable up to its last second (:func:`read_messages`); the summary's
+totals and the index are added when the run ends. Every message's log
 time and publish time are its *simulated* time (ns), so Foxglove's timeline is the run's clock.
 JSON encoding with the Foxglove schemas by name (tools/mcap_schemas.py); docs/outputs.md lists
 the topics.
@@ -59,31 +62,6 @@ BLUE = {"r": 0.1, "g": 0.3, "b": 0.9, "a": 1.0}
 FAINT_RED = {"r": 0.9, "g": 0.2, "b": 0.2, "a": 0.35}
 CLEAR = {"r": 0.0, "g": 0.0, "b": 0.0, "a": 0.0}
 TARGET_SIZE_M = 0.06
-
-
-class CameraLog:
-    """Rig ``on_frame`` hook: every camera frame sent to the host, JPEG-encoded (a 320x240
-    frame is ~10 kB) by a worker thread, as Snapshots writes its PNGs (cv2 releases the GIL:
-    the run's loop does not wait for the encoder). :attr:`frames` waits for them."""
-
-    def __init__(self) -> None:
-        self._encoded: list[tuple[int, int, Future]] = []
-        self._writer: ThreadPoolExecutor | None = None
-
-    def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
-        """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array)."""
-        if self._writer is None:
-            self._writer = ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcap-jpeg")
-        self._encoded.append((int(capture_us), int(seq), self._writer.submit(_jpeg, rgb)))
-
-    @property
-    def frames(self) -> list[tuple[int, int, bytes]]:
-        """(capture_us, seq, JPEG bytes) of every frame, once all are encoded."""
-        out = [(t, seq, fut.result()) for t, seq, fut in self._encoded]
-        if self._writer is not None:
-            self._writer.shutdown()
-            self._writer = None
-        return out
 
 
 def _jpeg(rgb: np.ndarray) -> bytes:
@@ -276,30 +254,35 @@ def wire_messages(e: dict, state: dict) -> list[tuple[str, dict]]:
     return out
 
 
-def messages(events: list[dict], frames=(), summary: dict | None = None
-             ) -> list[tuple[int, str, dict]]:
-    """(log time in µs, topic, message) of every MCAP message, in time order (stable)."""
-    from mobigrasp.host.task import METHODS, method_rules
-    from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
-    from mobigrasp.mcu_sim.world.base import WHEEL_TRACK_M
+class _Topics:
+    """Trace events -> MCAP messages, one event at a time (the state the conversion carries:
+    the start event, the last truth sample and the protocol counters)."""
 
-    start = next((e for e in events if e["ev"] == "start"), {})
-    method = str(start.get("method"))
-    # the robot the world built for the run's method (a trace of no known method: 000's)
-    geom = ARM_BY_METHOD[method_rules(method).robot if method in METHODS else "000"]
-    to_world = odom_to_world(start)
-    out: list[tuple[int, str, dict]] = []
-    counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)
-    out.append((0, "/scene", {"deletions": [], "entities": [
-        obstacle_entity(start), target_entity(str(start.get("scenario", "target")))]}))
-    out.append((0, "/protocol/counters", dict(counters)))
-    for capture_us, _seq, jpeg in frames:
-        out.append((capture_us, "/camera/image", {
-            "timestamp": stamp(capture_us), "frame_id": "camera", "format": "jpeg",
-            "data": base64.b64encode(jpeg).decode("ascii")}))
-    prev_truth = None
-    wire_state: dict = {}
-    for e in events:
+    def __init__(self, start: dict) -> None:
+        from mobigrasp.host.task import METHODS, method_rules
+        from mobigrasp.mcu_sim.world.arm import ARM_BY_METHOD
+
+        self.start = start
+        method = str(start.get("method"))
+        # the robot the world built for the run's method (a trace of no known method: 000's)
+        self.geom = ARM_BY_METHOD[method_rules(method).robot if method in METHODS else "000"]
+        self.to_world = odom_to_world(start)
+        self.counters = dict.fromkeys(PROTOCOL_EVENTS.values(), 0)
+        self.prev_truth: dict | None = None
+        self.wire_state: dict = {}
+
+    def first(self) -> list[tuple[int, str, dict]]:
+        """The scene and the counters at time 0."""
+        return [(0, "/scene", {"deletions": [], "entities": [
+                    obstacle_entity(self.start),
+                    target_entity(str(self.start.get("scenario", "target")))]}),
+                (0, "/protocol/counters", dict(self.counters))]
+
+    def event(self, e: dict) -> list[tuple[int, str, dict]]:
+        """The messages of one trace event."""
+        from mobigrasp.mcu_sim.world.base import WHEEL_TRACK_M
+
+        out: list[tuple[int, str, dict]] = []
         t, ev = int(e["t_us"]), e["ev"]
         if ev == "truth" and e.get("x_m") is not None:
             out.append((t, "/tf", _tf(t, "world", "base", (e["x_m"], e["y_m"], 0.0),
@@ -307,17 +290,17 @@ def messages(events: list[dict], frames=(), summary: dict | None = None
             if e.get("obj"):
                 out.append((t, "/tf", _tf(t, "world", "target", e["obj"])))
             if e.get("joints_rad"):
-                out.extend((t, "/tf", tf) for tf in arm_transforms(t, e["joints_rad"], geom))
+                out.extend((t, "/tf", tf) for tf in arm_transforms(t, e["joints_rad"], self.geom))
                 j = e["joints_rad"]
                 out.append((t, "/joints", {"joints_rad": list(j), "gripper": j[0],
                                            "roll_rad": j[1], "wrist_rad": j[2],
                                            "elbow_rad": j[3], "shoulder_rad": j[4],
                                            "waist_rad": j[5]}))
-            if prev_truth is not None:
-                measured = measured_wheels(prev_truth, e, WHEEL_TRACK_M)
+            if self.prev_truth is not None:
+                measured = measured_wheels(self.prev_truth, e, WHEEL_TRACK_M)
                 if measured is not None:
                     out.append((t, "/wheels/measured", measured))
-            prev_truth = e
+            self.prev_truth = e
         elif ev == "detect":
             out.append((t, "/camera/detections", detection_annotations(e)))
         elif ev in ("state", "end"):
@@ -326,49 +309,183 @@ def messages(events: list[dict], frames=(), summary: dict | None = None
             left, right = e["mmps"]
             out.append((t, "/wheels/commanded", {"left_mmps": left, "right_mmps": right}))
         elif ev == "wire":
-            out.extend((t, topic, msg) for topic, msg in wire_messages(e, wire_state))
+            out.extend((t, topic, msg) for topic, msg in wire_messages(e, self.wire_state))
         elif ev == "load":
             out.append((t, "/arm9/load", {"load": e["load"], "window_us": e.get("window_us")}))
         elif ev == "detail" and isinstance(e.get("plan"), dict):
             out.append((t, "/scene", {"deletions": [], "entities": [
-                plan_entity(t, e["plan"], to_world)]}))
+                plan_entity(t, e["plan"], self.to_world)]}))
         elif ev == "detail" and isinstance(e.get("fuzzy"), dict):
             f = e["fuzzy"]
             out.append((t, "/fuzzy", {"e_mrad": f.get("e_mrad"), "e_c_mrad_s": f.get(
                 "e_c_mrad_s"), "u_mrad": f.get("u_mrad")}))
         if ev in PROTOCOL_EVENTS:
-            counters[PROTOCOL_EVENTS[ev]] += 1
-            out.append((t, "/protocol/counters", dict(counters)))
-    if summary is not None:  # the run's totals, at its end
+            self.counters[PROTOCOL_EVENTS[ev]] += 1
+            out.append((t, "/protocol/counters", dict(self.counters)))
+        return out
+
+    def end(self, summary: dict) -> tuple[int, str, dict]:
+        """The run's totals, at its end."""
         end_us = int(round(1e6 * (summary.get("sim_time_s") or 0.0)))
         proto = summary.get("protocol") or {}
-        out.append((end_us, "/protocol/counters", {**counters, **{
-            k: proto.get(k) for k in ("tx_frames", "rx_frames", "crc_errors", "retransmits")}}))
-    out.sort(key=lambda m: m[0])
+        return (end_us, "/protocol/counters", {**self.counters, **{
+            k: proto.get(k) for k in ("tx_frames", "rx_frames", "crc_errors", "retransmits")}})
+
+
+def image_message(capture_us: int, jpeg: bytes) -> dict:
+    """A camera frame as a foxglove.CompressedImage."""
+    return {"timestamp": stamp(capture_us), "frame_id": "camera", "format": "jpeg",
+            "data": base64.b64encode(jpeg).decode("ascii")}
+
+
+# A chunk is closed at every simulated second (a kill loses the last one or two) or at
+# CHUNK_BYTES, whichever comes first. The writer keeps one index entry (~1 kB) per chunk until
+# the end: a second's chunk keeps that small (docs/outputs.md "Trace size" for the figures).
+CHUNK_PERIOD_US = 1_000_000
+CHUNK_BYTES = 4 * 1024 * 1024
+_MAX_PENDING_FRAMES = 8  # frames queued for the encoder before on_frame waits for one
+
+
+class McapLog:
+    """trace.mcap written as the run goes; the rig's ``on_frame`` hook.
+
+    Frames are JPEG-encoded (a 320x240 frame is ~10 kB) and written by one worker thread (cv2
+    releases the GIL: the run's loop does not wait for the encoder), which also converts the
+    trace lines of ``trace`` (default: trace.jsonl beside ``path``) written since the frame
+    before. At most :data:`_MAX_PENDING_FRAMES` frames wait for it: memory stays flat however
+    long the run. :meth:`finish` adds the rest of the trace, the summary's totals and the
+    index."""
+
+    def __init__(self, path: Path | None = None, trace: Path | None = None) -> None:
+        self.counts = dict.fromkeys(TOPICS, 0)
+        self._seq = 0
+        self._next_chunk_us = CHUNK_PERIOD_US
+        self._topics: _Topics | None = None
+        self._trace_fh = None
+        self._partial = ""
+        self._pending: list[Future] = []
+        self._worker: ThreadPoolExecutor | None = None
+        self._writer = None  # until start()
+        if path is not None:
+            self.start(path, trace)
+
+    def start(self, path: Path, trace: Path | None = None) -> None:
+        """Open ``path`` (trace.jsonl beside it, or ``trace``, is followed): for a caller that
+        knows the run folder only once the run has taken it (``sim``)."""
+        from mcap.writer import CompressionType, Writer
+
+        self.path = Path(path)
+        self._trace_path = Path(trace) if trace is not None else self.path.with_name(
+            "trace.jsonl")
+        self._fh = self.path.open("wb")
+        self._writer = Writer(self._fh, chunk_size=CHUNK_BYTES,
+                              compression=CompressionType.ZSTD)
+        self._writer.start(profile="", library="mobigrasp")
+        schema_ids = {name: self._writer.register_schema(
+            name=name, encoding="jsonschema", data=json.dumps(schema).encode())
+            for name, schema in SCHEMAS.items()}
+        self._channels = {topic: self._writer.register_channel(
+            topic=topic, message_encoding="json", schema_id=schema_ids[name])
+            for topic, name in TOPICS.items()}
+
+    def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
+        """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array)."""
+        if self._worker is None:
+            self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcap")
+        while self._pending and self._pending[0].done():
+            self._pending.pop(0).result()  # (raises what writing it raised)
+        while len(self._pending) >= _MAX_PENDING_FRAMES:
+            self._pending.pop(0).result()
+        self._pending.append(self._worker.submit(self._frame, int(capture_us), rgb))
+
+    def _frame(self, capture_us: int, rgb: np.ndarray) -> None:
+        jpeg = _jpeg(rgb)
+        self._follow_trace()
+        self._add(capture_us, "/camera/image", image_message(capture_us, jpeg))
+        if capture_us >= self._next_chunk_us:  # the second's chunk onto the disk
+            self._writer.flush()
+            self._next_chunk_us = capture_us - capture_us % CHUNK_PERIOD_US + CHUNK_PERIOD_US
+
+    def _add(self, t_us: int, topic: str, msg: dict) -> None:
+        ns = int(t_us) * 1000
+        self._writer.add_message(channel_id=self._channels[topic], log_time=ns, publish_time=ns,
+                                 sequence=self._seq, data=json.dumps(
+                                     msg, separators=(",", ":"), allow_nan=False).encode())
+        self._seq += 1
+        self.counts[topic] += 1
+
+    def _follow_trace(self) -> None:
+        """Convert the complete trace lines written since the last call."""
+        if self._trace_fh is None:
+            if not self._trace_path.is_file():
+                return
+            self._trace_fh = self._trace_path.open(encoding="utf-8", errors="replace")
+        while True:
+            line = self._trace_fh.readline()
+            if not line:
+                return
+            if not line.endswith("\n"):  # written half: the rest comes with the next call
+                self._partial += line
+                continue
+            line, self._partial = self._partial + line, ""
+            try:
+                event = json.loads(line)
+            except json.JSONDecodeError:
+                continue
+            self._event(event)
+
+    def _event(self, event: dict) -> None:
+        if self._topics is None:
+            if event.get("ev") != "start":
+                return
+            self._topics = _Topics(event)
+            for m in self._topics.first():
+                self._add(*m)
+        for m in self._topics.event(event):
+            self._add(*m)
+
+    def finish(self, summary: dict | None = None) -> dict[str, int]:
+        """Write what is left and close the file; the message count per topic (nothing
+        written when it was never started)."""
+        pending, self._pending = self._pending, []
+        for future in pending:
+            future.result()
+        if self._worker is not None:
+            self._worker.shutdown()
+            self._worker = None
+        if self._writer is None:
+            return self.counts
+        self._follow_trace()
+        if self._topics is None:  # no trace: the scene of an empty start
+            self._topics = _Topics({})
+            for m in self._topics.first():
+                self._add(*m)
+        if summary is not None:
+            self._add(*self._topics.end(summary))
+        self._writer.finish()
+        self._fh.close()
+        if self._trace_fh is not None:
+            self._trace_fh.close()
+        return self.counts
+
+
+def read_messages(path: Path) -> list[tuple[str, int, dict]]:
+    """(topic, log time ns, message) of every message in a trace.mcap, also of one a kill left
+    unfinished (no index, a torn last chunk): read as a stream up to the last whole record."""
+    from mcap.exceptions import McapError
+    from mcap.records import Channel, Message
+    from mcap.stream_reader import StreamReader
+
+    channels: dict[int, str] = {}
+    out: list[tuple[str, int, dict]] = []
+    with Path(path).open("rb") as fh:
+        try:
+            for record in StreamReader(fh, skip_magic=False).records:  # chunks opened
+                if isinstance(record, Channel):
+                    channels[record.id] = record.topic
+                elif isinstance(record, Message):
+                    out.append((channels[record.channel_id], record.log_time,
+                                json.loads(record.data)))
+        except (McapError, EOFError, ValueError):
+            pass  # the end of what a killed run wrote
     return out
-
-
-def write_mcap(path: Path, events: list[dict], frames=(), summary: dict | None = None
-               ) -> dict[str, int]:
-    """Write trace.mcap (zstd chunks); returns the message count per topic."""
-    from mcap.writer import CompressionType, Writer
-
-    counts = dict.fromkeys(TOPICS, 0)
-    path = Path(path)
-    with path.open("wb") as fh:
-        writer = Writer(fh, compression=CompressionType.ZSTD)
-        writer.start(profile="", library="mobigrasp")
-        schema_ids = {name: writer.register_schema(name=name, encoding="jsonschema",
-                                                   data=json.dumps(schema).encode())
-                      for name, schema in SCHEMAS.items()}
-        channels = {topic: writer.register_channel(topic=topic, message_encoding="json",
-                                                   schema_id=schema_ids[name])
-                    for topic, name in TOPICS.items()}
-        for seq, (t_us, topic, msg) in enumerate(messages(events, frames, summary)):
-            ns = int(t_us) * 1000
-            writer.add_message(channel_id=channels[topic], log_time=ns, publish_time=ns,
-                               sequence=seq, data=json.dumps(msg, separators=(",", ":"),
-                                                             allow_nan=False).encode())
-            counts[topic] += 1
-        writer.finish()
-    return counts

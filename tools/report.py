@@ -14,11 +14,12 @@ from __future__ import annotations
 
 import html
 import json
+import logging
 import os
 import sys
 from pathlib import Path
 
-from mobigrasp.cosim.run_folder import read_trace
+from mobigrasp.cosim.run_folder import owned_files, read_trace, record_written
 from mobigrasp.tools import plots
 
 # after load: an image that failed gets a visible note; the counts go on <body> (data-images-*)
@@ -51,6 +52,8 @@ def _rows(d: dict, prefix: str = "") -> list[str]:
             out.append(f"<tr><td>{html.escape(prefix + str(k))}</td>"
                        f"<td>{html.escape(str(v))}</td></tr>")
     return out
+
+log = logging.getLogger(__name__)
 
 
 def nearest_budget(summary: dict) -> tuple[str, float] | None:
@@ -115,7 +118,13 @@ def write_report(folder: Path) -> Path:
     events = read_trace(folder / "trace.jsonl") if (folder / "trace.jsonl").exists() else []
     (folder / "plots").mkdir(exist_ok=True)
     made = []
+    listed = owned_files(folder)
     for fn in plots.ALL:
+        rel = f"plots/{fn.__name__}.png"  # each plot is named after its function
+        if (folder / rel).exists() and rel not in listed:
+            log.warning("%s: %s is not mobigrasp's: that plot is not written", folder, rel)
+            continue
+        record_written(folder, rel)  # listed before it is written: a later run's to replace
         name = fn(events, folder / "plots", summary)
         if name:
             made.append(name)

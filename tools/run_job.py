@@ -206,18 +206,34 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     name = scenario.meta.name
     # (the run folder's module needs numpy and cv2, which the base install has not: imported
     # once a run is certain to need them)
-    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder, read_trace
+    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError, claim_run_folder
 
-    try:  # under runs/ by a sanitised name; deletes only what an earlier run wrote there
-        out = prepare_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    try:  # under runs/ by a sanitised name, locked for this run; deletes only what an earlier
+        # run listed in the folder's marker
+        folder = claim_run_folder(Path(opts.out) if opts.out else None, name, seed)
     except RunFolderError as exc:
         raise BadInput(str(exc)) from exc
+    try:
+        out = folder.prepare(RUN_FILES)
+    except RunFolderError as exc:
+        folder.release()
+        raise BadInput(str(exc)) from exc
+    try:
+        summary = _run_in(opts, out, path, scenario, plan, seed)
+    finally:
+        folder.release()
+    return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+
+
+def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, seed: int
+            ) -> dict:
+    """The run into its prepared folder, then its trace.mcap's end and its report."""
     cfg = host_config(scenario, opts.time_limit_s)
     camera = None
     if opts.mcap:
-        from mobigrasp.tools.mcap_out import CameraLog
+        from mobigrasp.tools.mcap_out import McapLog
 
-        camera = CameraLog()  # the frames of trace.mcap
+        camera = McapLog(out / "trace.mcap")  # written as the run goes
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
                    host_config=cfg, time_limit_s=opts.time_limit_s or scenario.meta.time_limit_s,
                    inproc_client=_inproc_client(cfg, opts.timer), transport=opts.transport,
@@ -225,15 +241,11 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
                    quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                    host_lag_quanta=opts.host_lag_quanta, after_crash_s=opts.after_crash_s,
                    on_frame=None if camera is None else camera.on_frame)
-    summary = run_scenario(spec)
-    if camera is not None:
-        try:
-            from mobigrasp.tools.mcap_out import write_mcap
-
-            write_mcap(out / "trace.mcap", read_trace(out / "trace.jsonl"), camera.frames,
-                       summary)
-        except Exception as exc:  # like the report: it must not hide the run's result
-            log.error("trace.mcap of %s: %s: %s", out, type(exc).__name__, exc)
+    try:
+        summary = run_scenario(spec)
+    finally:
+        if camera is not None:
+            _finish_mcap(camera, out)
     if opts.plots:
         try:
             # matplotlib is imported after the run, not before the host process is started
@@ -243,7 +255,15 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
             write_report(out)
         except Exception as exc:  # a plotting failure must not hide the run's result
             log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
-    return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+    return summary
+
+
+def _finish_mcap(camera: Any, out: Path) -> None:
+    """trace.mcap's last trace lines, the summary's totals and its index."""
+    try:
+        camera.finish(json.loads((out / "summary.json").read_text()))
+    except Exception as exc:  # like the report: it must not hide the run's result
+        log.error("trace.mcap of %s: %s: %s", out, type(exc).__name__, exc)
 
 
 def summary_line(summary: dict, out: Path) -> str:

@@ -13,6 +13,7 @@ block are judged from the world, since an external host reports no task state.
 
 from __future__ import annotations
 
+import os
 import sys
 import time
 from collections.abc import Callable
@@ -20,6 +21,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from mobigrasp.cosim.run import SUMMARY_PERIOD_US
 from mobigrasp.mcu_sim.backend import MCU_BACKENDS, open_mcu
 
 # quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
@@ -53,16 +55,19 @@ class SimOptions:
     tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
     # each frame the rig captures, as (seq, capture_us, rgb) (the caller's trace.mcap)
     on_frame: Callable[[int, int, Any], None] | None = None
+    # told the run folder once it is taken and ready, before the first frame
+    on_folder: Callable[[Path], None] | None = None
 
 
-def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
-    """The run folder as ``mobigrasp run`` makes it (cosim/run_folder.py): under runs/ by a
-    sanitised name, and only a previous run's own files are replaced."""
-    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder
+def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
+    """The run folder as ``mobigrasp run`` takes it (cosim/run_folder.py), locked, nothing
+    changed yet: under runs/ by a sanitised name, the next free one when another session
+    holds the default (two default sessions never share a folder)."""
+    from mobigrasp.cosim.run_folder import RunFolderError, claim_run_folder
 
     try:
-        return prepare_run_folder(Path(opts.out) if opts.out else None, name, seed,
-                                  suffix="-sim")
+        return claim_run_folder(Path(opts.out) if opts.out else None, name, seed,
+                                suffix="-sim", next_free=opts.out is None)
     except RunFolderError as exc:
         raise BadSimInput(str(exc)) from exc
 
@@ -87,11 +92,22 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     path, scenario = opts.resolved
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = _out_dir(opts, name, seed)
-    try:
+    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError
+
+    folder = _claim_out(opts, name, seed)
+    try:  # the port before the folder is touched: a refused session changes nothing
         camera = CameraServer(opts.camera_port)
     except (CameraPortInUse, ValueError) as exc:
+        folder.abandon()
         raise BadSimInput(str(exc)) from exc
+    try:
+        out = folder.prepare(RUN_FILES)
+    except RunFolderError as exc:
+        camera.close()
+        folder.abandon()
+        raise BadSimInput(str(exc)) from exc
+    if opts.on_folder is not None:
+        opts.on_folder(out)
     transport = bridge = None
     try:
         import cv2
@@ -112,6 +128,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         if transport is not None:
             transport.close()
         camera.close()
+        folder.release()
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
@@ -128,11 +145,13 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
     summary: dict[str, Any] = {
         "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
         "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
-        "serial": serial, "camera": camera.url, "status": "starting", "success": False,
-        "grasped": False, "wait_host": opts.wait_host,
+        "serial": serial, "camera": camera.url, "status": "running", "success": False,
+        "grasped": False, "wait_host": opts.wait_host, "sim_time_s": 0.0, "pid": os.getpid(),
     }
     if bridge is not None:
         summary["serial_tcp"] = bridge.url
+    # "running" before anything else: a session killed outright leaves a summary that says it
+    # did not finish, and how far it got (below, every SUMMARY_PERIOD_US simulated)
     write_summary(out / "summary.json", summary)
     trace = TraceWriter(out / "trace.jsonl")
     plant = WorldPlant(scenario, seed)
@@ -165,7 +184,15 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
 
     res = SessionResult()
     on_ready(serial, camera.url, None if bridge is None else bridge.url)
-    summary["status"] = "running"
+    next_summary_us = SUMMARY_PERIOD_US
+
+    def on_quantum(t_us: int) -> None:
+        nonlocal next_summary_us
+        plant.sample_path()
+        if t_us >= next_summary_us:
+            write_summary(out / "summary.json", {**summary, "sim_time_s": t_us / 1e6})
+            next_summary_us = t_us - t_us % SUMMARY_PERIOD_US + SUMMARY_PERIOD_US
+
     try:
         if opts.wait_host:
             # the camera shows the robot at t = 0 while the clock waits for the host
@@ -178,7 +205,7 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
                              "host_state": "EXTERNAL"})
         if res.reason == "running":
             run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                        truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
+                        truth=plant.truth, on_quantum=on_quantum,
                         speed=opts.speed, progress=progress, stop=why_stop)
         summary["status"] = "finished"
     except Exception as exc:
@@ -217,5 +244,6 @@ def _figures(res, plant, rig, host, camera, trace, limit_s: float) -> dict:
                           "published": camera.frames_published,
                           "stream_parts_sent": camera.parts_sent},
         "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
+        "trace_dropped_events": trace.dropped_events,
         "error": res.error,
     }

@@ -32,9 +32,24 @@ HELP = "mutated frames into the firmware's parser and dispatch: crashes, lost an
 
 def add_arguments(parser) -> None:
     """Bench options."""
-    parser.add_argument("--inputs", type=int, default=1_000_000,
-                        help="mutated inputs (default 1000000)")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the inputs (default 1)")
+    from mobigrasp.mcu_sim import checks
+
+    parser.add_argument("--inputs", type=checks.arg_int(1, 10**12), default=1_000_000,
+                        help="mutated inputs (default 1000000); with --c: libFuzzer inputs, "
+                             "shared by the three C targets")
+    parser.add_argument("--seed", type=checks.arg_int(0, 2**31 - 1), default=1,
+                        help="seed of the inputs (default 1)")
+    parser.add_argument("--jobs", type=checks.arg_int(1, 256), default=None,
+                        help="processes, each with its own emulated MCU and share of the "
+                             "inputs (default 1; more pays on idle cores only)")
+    parser.add_argument("--c", action="store_true",
+                        help="fuzz the C protocol code instead (tools/fuzz_c.py: "
+                             "libFuzzer with ASan+UBSan, and the C parser against the Python)")
+    parser.add_argument("--diff-inputs", type=checks.arg_int(0, 10**10), default=100_000,
+                        help="with --c: inputs of the differential run (default 100000)")
+    parser.add_argument("--max-seconds", type=checks.arg_int(1, 10**7), default=None,
+                        help="with --c: wall seconds each C target may take at most (the "
+                             "figures say how many inputs ran); default: no limit")
 
 
 _SERVOS_RAW = struct.Struct("<B6hH")
@@ -116,12 +131,22 @@ def _mutate(rng: random.Random, window: list[bytes]) -> tuple[str, bytes, int | 
 
 
 def _violations(fw, mech) -> int:
-    """Limit checks of the firmware state after a dispatched frame; the number that fail."""
+    """Limit checks of the firmware state after a dispatched frame; the number that fail.
+
+    First all of them at once over the concatenated tables (two passes instead of ten: this
+    runs after every frame), counted one by one only when that finds something."""
     from mobigrasp.mcu_sim.firmware import params as P
 
-    bad = 0
     s = fw.servos
-    lo_us, hi_us, lo8, hi8 = mech
+    lo_us, hi_us, lo8, hi8 = mech[:4]
+    values = s.min_us + s.max_us + s.target_q8 + s.pending_q8 + s.latched_q8
+    if all(map(le, mech[4], values)) and all(map(le, values, mech[5])) \
+            and all(map(le, s.min_us, s.max_us)) \
+            and P.WATCHDOG_MIN_MS <= fw.params.get(P.P_WATCHDOG_MS) <= P.WATCHDOG_MAX_MS \
+            and -1000 <= fw.wheels[0].target_mmps <= 1000 \
+            and -1000 <= fw.wheels[1].target_mmps <= 1000:
+        return 0
+    bad = 0
     for values, lo, hi in ((s.min_us, lo_us, hi_us), (s.max_us, lo_us, hi_us),
                            (s.target_q8, lo8, hi8), (s.pending_q8, lo8, hi8),
                            (s.latched_q8, lo8, hi8)):
@@ -155,6 +180,8 @@ def fuzz(n_inputs: int, seed: int) -> dict:
     parser = fw.parser
     mech = (tuple(lo for lo, _ in MECH_LIMITS_US), tuple(hi for _, hi in MECH_LIMITS_US),
             tuple(lo << 8 for lo, _ in MECH_LIMITS_US), tuple(hi << 8 for _, hi in MECH_LIMITS_US))
+    # the bounds of min_us + max_us + target_q8 + pending_q8 + latched_q8, concatenated
+    mech += (list(mech[0] * 2 + mech[2] * 3), list(mech[1] * 2 + mech[3] * 3))
     now = 1000
     for frame in parser.feed(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "fuzz", 0), 0)):
         handle_frame(fw, frame, now)
@@ -223,9 +250,46 @@ def fuzz(n_inputs: int, seed: int) -> dict:
     return out
 
 
+def _share(job: tuple[int, int]) -> dict:
+    return fuzz(*job)
+
+
+def merge(parts: list[dict], wall_s: float) -> dict:
+    """The figures of workers that ran shares of the inputs, as one run's."""
+    out: dict = {}
+    for part in parts:
+        for key, value in part.items():
+            if isinstance(value, int) and not isinstance(value, bool):
+                out[key] = out.get(key, 0) + value
+            elif isinstance(value, dict):
+                into = out.setdefault(key, {})
+                for k, v in value.items():
+                    into[k] = into.get(k, 0) + v
+    out["first_crash"] = next((p["first_crash"] for p in parts if p["first_crash"]), "")
+    out["seed"] = parts[0]["seed"]
+    out["workers"] = len(parts)
+    out["wall_s"] = wall_s
+    out["inputs_per_s"] = out["inputs"] / wall_s if wall_s > 0 else 0.0
+    return out
+
+
 def run(args) -> dict:
-    """Run the fuzz and return its figures."""
+    """Run the fuzz and return its figures: over ``--jobs`` processes (worker k seeded with
+    ``seed + k``, one worker: exactly ``fuzz(inputs, seed)``), or the C fuzz with ``--c``."""
     n = int(getattr(args, "inputs", 1_000_000))
-    if n <= 0:
-        raise ValueError("--inputs must be positive")
-    return fuzz(n, int(getattr(args, "seed", 1)))
+    seed = int(getattr(args, "seed", 1))
+    if getattr(args, "c", False):
+        from mobigrasp.tools.fuzz_c import run_c
+
+        return run_c(n, seed, int(getattr(args, "diff_inputs", 100_000)),
+                     getattr(args, "max_seconds", None))
+    jobs = min(getattr(args, "jobs", None) or 1, n)
+    if jobs == 1:
+        return fuzz(n, seed)
+    from concurrent.futures import ProcessPoolExecutor
+
+    shares = [(n // jobs + (k < n % jobs), seed + k) for k in range(jobs)]
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        parts = list(pool.map(_share, shares))
+    return merge(parts, time.perf_counter() - t0)

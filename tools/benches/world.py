@@ -27,10 +27,14 @@ DEFAULT_SCENARIO = Path(__file__).resolve().parents[2] / "tests" / "data" / "sce
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of the world benchmark."""
+    from mobigrasp.mcu_sim import checks
+
     parser.add_argument("--scenario", type=Path, default=DEFAULT_SCENARIO,
                         help="scenario file (default: the 001 example with obstacles)")
-    parser.add_argument("--sim-s", type=float, default=20.0, help="simulated seconds per run")
-    parser.add_argument("--frames", type=int, default=200, help="camera frames to render")
+    parser.add_argument("--sim-s", type=checks.arg_number(0.0, 3600.0, "s", lo_open=True),
+                        default=20.0, help="simulated seconds per run")
+    parser.add_argument("--frames", type=checks.arg_int(1, 1_000_000),
+                        default=200, help="camera frames to render")
 
 
 def _run_world(scenario, sim_s: float, sensors: bool) -> float:

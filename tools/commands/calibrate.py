@@ -12,6 +12,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+
 
 def _table(result: dict) -> str:
     lines = [f"{'stage':<16}{'frames':>7}{'model_us':>10}{'emu_us':>10}{'emu_p95':>10}"
@@ -82,9 +84,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--corpus", type=Path, default=None,
                    help="corpus folder (mobigrasp corpus); default: record one first")
     p.add_argument("--json", type=Path, default=None, help="write the result here too")
-    p.add_argument("--frames-per-scenario", type=int, default=10, metavar="N",
+    p.add_argument("--frames-per-scenario", type=checks.arg_int(1, 10_000), default=10, metavar="N",
                    help="frames per scenario, spread evenly (default 10)")
     p.add_argument("--all", action="store_true", help="every frame of the corpus")
-    p.add_argument("--line-fill-cycles", type=int, default=40, metavar="C",
+    p.add_argument("--line-fill-cycles", type=checks.arg_int(0, 1000), default=40, metavar="C",
                    help="core cycles of one D-cache line fill (default 40)")
     p.set_defaults(func=_run)

@@ -69,7 +69,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
     p.add_argument("--out", type=Path, default=None,
-                   help="run folder (default runs/<scenario>-<seed>-sim/)")
+                   help="run folder (default runs/<scenario>-<seed>-sim/, or -sim-2, ... when "
+                        "another session holds it)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="end after this many simulated seconds (default: the scenario's)")
@@ -112,11 +113,11 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
-    from mobigrasp.tools.mcap_out import CameraLog
+    from mobigrasp.tools.mcap_out import McapLog
     from mobigrasp.tools.progress import Progress
 
     wait_host = (not sys.stdin.isatty()) if args.wait_host is None else args.wait_host
-    frames = CameraLog()  # the frames of trace.mcap
+    frames = McapLog()  # trace.mcap, written as the session goes once its folder is taken
 
     scenario = resolved[1]
     display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
@@ -128,7 +129,8 @@ def _run(args: argparse.Namespace) -> int:
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
                                    time_limit_s=args.time_limit_s, progress=display,
                                    resolved=resolved, plan=plan, wait_host=wait_host,
-                                   tcp_port=args.tcp_port, on_frame=frames.on_frame),
+                                   tcp_port=args.tcp_port, on_frame=frames.on_frame,
+                                   on_folder=lambda out: frames.start(out / "trace.mcap")),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
@@ -161,7 +163,6 @@ def _write_traffic(folder: Path, summary: dict, frames) -> None:
     """The host's traffic from the trace into summary.json, and trace.mcap; a failure is
     reported, never hides the session's result."""
     from mobigrasp.cosim.run_folder import read_trace, write_summary
-    from mobigrasp.tools.mcap_out import write_mcap
     from mobigrasp.tools.wire_traffic import host_traffic
 
     try:
@@ -169,6 +170,6 @@ def _write_traffic(folder: Path, summary: dict, frames) -> None:
         summary["host_traffic"] = host_traffic(events)
         stored = {k: v for k, v in summary.items() if k != "run_folder"}
         write_summary(folder / "summary.json", stored)
-        write_mcap(folder / "trace.mcap", events, frames.frames, summary)
+        frames.finish(summary)
     except Exception as exc:
         print(f"trace.mcap: {type(exc).__name__}: {exc}", file=sys.stderr)

@@ -134,6 +134,31 @@ int32_t mg_method002_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q
     return first;
 }
 
+/* (reach mm ahead of the waist, height mm above the ground, camera pitch down mrad): a
+ * cylinder left standing is then ~150 mm further out and below the view (docs/task.md) */
+static const int32_t HELD_VIEWS_002[][3] = {
+    {100, 160, 800}, {80, 160, 900}, {90, 160, 850}, {110, 155, 800}};
+
+int mg_method002_held_view_pose(const mg_task_t *t, mg_arm_pose_t *pose)
+{
+    int32_t tip[3];
+    mg_fk_mm_q4(&t->geom, t->arm[2], t->arm[3], t->arm[4], t->arm[5], tip);
+    const int64_t rho = mg_isqrt((int64_t)tip[0] * tip[0] + (int64_t)tip[1] * tip[1]);
+    if (rho <= 0)
+        return 0;
+    for (size_t i = 0; i < sizeof HELD_VIEWS_002 / sizeof HELD_VIEWS_002[0]; i++) {
+        const int64_t r_q4 = (int64_t)HELD_VIEWS_002[i][0] * 16;
+        const int32_t target[3] = {(int32_t)mg_floor_div(tip[0] * r_q4, rho),
+                                   (int32_t)mg_floor_div(tip[1] * r_q4, rho),
+                                   (HELD_VIEWS_002[i][1] - t->p.h_shoulder_mm) * 16};
+        int64_t detail;
+        if (mg_ik_pitch_mm_q4(&t->geom, target, -HELD_VIEWS_002[i][2], pose, &detail)
+            == MG_IK_OK)
+            return 1;
+    }
+    return 0;
+}
+
 /* the two rings sit at mid-height: keep them, not the top, in view */
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top)
 {

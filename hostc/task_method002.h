@@ -61,6 +61,9 @@ int mg_method002_grasp_reach_mm(const mg_task_t *t, int32_t *centre_mm, int32_t 
  * MG_GRASP_ALPHAS_002; MG_IK_OK and *pose, or the first pitch's reason and *detail */
 int32_t mg_method002_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q4[3],
                               mg_arm_pose_t *pose, int64_t *detail);
+/* the grasp check's look: the fingertip (and a held cylinder with it) brought in along its
+ * bearing to the first reachable of HELD_VIEWS_002 with the camera pitched down; 0: none */
+int mg_method002_held_view_pose(const mg_task_t *t, mg_arm_pose_t *pose);
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top);
 /* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters, the search's
  * sighting the first bearing to steer on blind */

@@ -375,6 +375,21 @@ def test_the_grasp_ik_of_002(target):
     _assert_same_ik(code, pose, detail[0], Method002().grasp_ik(PAPER_002, target))
 
 
+@SETTINGS
+@given(st.tuples(*[ANGLE] * 4), st.integers(0, 200))
+def test_the_held_view_of_002(joints, h_shoulder_mm):
+    """The grasp check's look: the first reachable of the held views along the tip's bearing."""
+    py, c = Task("002", params={"h_shoulder_mm": h_shoulder_mm}), _c_task()
+    c.p.h_shoulder_mm = h_shoulder_mm
+    py.arm[2:6] = c.arm[2:6] = list(joints)
+    pose = FFI.new("mg_arm_pose_t *")
+    has = C.mg_method002_held_view_pose(c, pose)
+    expect = Method002().held_view_pose(py)
+    assert ((pose.theta2_mrad, pose.theta3_mrad, pose.theta4_mrad, pose.theta5_mrad)
+            if has else None) == (None if expect is None else (
+                expect.theta2_mrad, expect.theta3_mrad, expect.theta4_mrad, expect.theta5_mrad))
+
+
 # --- sense.py ----------------------------------------------------------------------------------
 JOINTS = st.tuples(st.integers(-200, 200), st.integers(-1600, 1600), *[ANGLE] * 4)
 CAMS = st.sampled_from([sense.CAMERA_000, sense.CAMERA_002])

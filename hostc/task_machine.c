@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "arm_calib.h"
+#include "fixedpoint.h"
 #include "posture.h"
 #include "task_sense.h"
 #include "task_method.h"
@@ -211,6 +212,29 @@ mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_
     mg_posture_params_t pp = t->p.posture;
     pp.max_step_mrad = max_step_mrad;
     return pp;
+}
+
+int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       mg_task_position_fn position, const void *det, int32_t is_object)
+{
+    const int64_t t_cap = now_us - t->p.frame_latency_us;
+    if (t_cap < t->trust_from_us)
+        return 0; /* captured while the arm swung to a new posture: pose unknown */
+    int32_t joints[6], pose[3] = {in->x_mm, in->y_mm, in->heading_mrad}, p[3];
+    int64_t at_us;
+    mg_task_arm_at(t, t_cap, joints);
+    mg_task_pose_at(t, t_cap, &at_us, pose); /* without a history: the present pose */
+    if (!position(t, joints, det, p)
+        || mg_isqrt((int64_t)p[0] * p[0] + (int64_t)p[1] * p[1]) > 5000 * 16) {
+        t->bad_detections++;
+        return 0;
+    }
+    mg_platform_to_odom_mm(pose[0], pose[1], pose[2], t->p.mount_forward_mm, p, t->obj_mm);
+    t->has_obj = 1;
+    t->obj_seen_us = now_us;
+    if (is_object)
+        t->graspable_seen = t->object_sighted = 1;
+    return 1;
 }
 
 /* the state's entry action once after a transition, then its step */

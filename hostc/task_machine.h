@@ -85,6 +85,7 @@ struct mg_task {
     int64_t arm_hist_t[MG_TASK_HIST], pose_hist_t[MG_TASK_HIST];
     int32_t arm_hist[MG_TASK_HIST][6], pose_hist[MG_TASK_HIST][3];
     int32_t hist_overflow; /* entries dropped for want of room (counted, never silent) */
+    int32_t bad_detections; /* counters["bad_detections"] */
     int32_t n_events, events_lost;
     mg_task_event_t events[MG_TASK_EVENTS];
     union {
@@ -130,6 +131,15 @@ void mg_task_obj_platform(const mg_task_t *t, const mg_task_inputs_t *in, int32_
 /* posture adjustment (eq. (10) of 000) toward the estimated object, at the method's look
  * height (top: the object's look, else the grasp's) */
 void mg_task_look_at_object(mg_task_t *t, const mg_task_inputs_t *in, int32_t top);
+/* the object's platform-frame position (Q4 mm) from a detection seen with the arm at joints
+ * (the method's object_position): 1, or 0 when it gives none */
+typedef int (*mg_task_position_fn)(const mg_task_t *t, const int32_t joints[6], const void *det,
+                                   int32_t p_q4[3]);
+/* update the object estimate from a detection, placed by position(det) with the arm and base
+ * of its capture; 0 when unusable (counted in bad_detections when it gives no place or one
+ * farther than 5 m); is_object: the detector sees the object itself, not a guide */
+int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       mg_task_position_fn position, const void *det, int32_t is_object);
 /* advance the task to now_us: the state's timeout, its entry action and step, the method's
  * wheel guard, the history; the events of this step are t->events */
 void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

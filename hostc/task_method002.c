@@ -5,6 +5,8 @@
 #include <string.h>
 
 #include "fixedpoint.h"
+#include "kernels.h"
+#include "ranging.h"
 #include "posture.h"
 #include "trig.h"
 #include "task_drive.h"
@@ -157,6 +159,31 @@ int mg_method002_held_view_pose(const mg_task_t *t, mg_arm_pose_t *pose)
             return 1;
     }
     return 0;
+}
+
+int mg_method002_red_cylinder_position(const mg_task_t *t, const int32_t joints[6],
+                                       const void *det, int32_t p_q4[3])
+{
+    const mg_red_cylinder_seen_t *rc = (const mg_red_cylinder_seen_t *)det;
+    if (rc->d_pixel_q4 <= 0)
+        return 0;
+    if (joints[1] != 0) { /* rolled: the detector's pinhole sighting */
+        const int64_t depth = (int64_t)MG_RING_D_MM_Q4 * t->cam.f_px * 16 / rc->d_pixel_q4;
+        if (depth <= 0)
+            return 0;
+        mg_pixel_to_platform_mm_q4(&t->geom, joints, &t->cam, rc->u_c_q4, rc->v_c_q4,
+                                   (int32_t)depth, p_q4);
+        return 1;
+    }
+    int32_t fix[6], cam[3];
+    if (!mg_locate_ring_pair(rc->d_pixel_q4, rc->u_c_q4, rc->v_c_q4, rc->width_q4,
+                             joints[2] + joints[3] + joints[4], joints[5], t->cam.f_px,
+                             t->cam.u0_px, t->cam.v0_px, MG_D_RING_UM, fix))
+        return 0;
+    mg_fk_mm_q4(&t->geom, joints[2], joints[3], joints[4], joints[5], cam);
+    for (int i = 0; i < 3; i++)
+        p_q4[i] = cam[i] + 16 * fix[i];
+    return 1;
 }
 
 /* the two rings sit at mid-height: keep them, not the top, in view */

@@ -17,6 +17,7 @@
 #define MG_LEVEL_SCAN_HI_MM 350
 #define MG_LEVEL_SCAN_STEP_MM 2
 #define MG_LEVEL_MARGIN_MM 2
+#define MG_RING_D_MM_Q4 232 /* 14.5 mm: the spacing D of the two rings (002 section 4) */
 #define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
 #define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
 
@@ -64,6 +65,16 @@ int32_t mg_method002_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q
 /* the grasp check's look: the fingertip (and a held cylinder with it) brought in along its
  * bearing to the first reachable of HELD_VIEWS_002 with the camera pitched down; 0: none */
 int mg_method002_held_view_pose(const mg_task_t *t, mg_arm_pose_t *pose);
+/* a red cylinder's result as the task reads it (host/vision/red_cylinder.py), Q4 px */
+typedef struct {
+    int32_t u_c_q4, v_c_q4, d_pixel_q4, width_q4;
+} mg_red_cylinder_seen_t;
+/* the red cylinder's axis point between its rings by 002 section 4 (the exact pinhole form of
+ * mg_locate_ring_pair added to the camera point of eq. (3)); with a rolled wrist the pinhole
+ * sighting (D_OC = D f / d_pixel as the depth); an mg_task_position_fn of a
+ * mg_red_cylinder_seen_t */
+int mg_method002_red_cylinder_position(const mg_task_t *t, const int32_t joints[6],
+                                       const void *det, int32_t p_q4[3]);
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top);
 /* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters, the search's
  * sighting the first bearing to steer on blind */

@@ -390,6 +390,38 @@ def test_the_held_view_of_002(joints, h_shoulder_mm):
                 expect.theta2_mrad, expect.theta3_mrad, expect.theta4_mrad, expect.theta5_mrad))
 
 
+@SETTINGS
+@given(st.lists(st.tuples(TICKS, st.tuples(*[ANGLE] * 4), st.sampled_from([0, 0, 700]),
+                          st.tuples(NEAR, NEAR, st.integers(-3142, 3141)),
+                          st.tuples(st.integers(0, 320 * 16), st.integers(0, 240 * 16),
+                                    st.integers(-16, 120 * 16), st.integers(1, 200 * 16)),
+                          st.integers(0, 300_000)), max_size=25))
+def test_seeing_the_red_cylinder(steps):
+    """The object estimate from a red cylinder's rings (002 section 4) seen with the arm and
+    base of its capture, into the odometry frame; unusable sightings counted."""
+    py, c = Task("002"), _c_task()
+    position = FFI.addressof(C, "mg_method002_red_cylinder_position")
+    now = 0
+    for dt, joints, roll, (x, y, h), (u, v, d, w), trust_back in steps:
+        now += dt
+        py.set_arm(now, *joints, th1=roll)
+        C.mg_task_set_arm(c, now, *joints, 1, roll)
+        py.trust_from_us = c.trust_from_us = now - trust_back
+        inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h)
+        inp_c = FFI.new("mg_task_inputs_t *", _xyh((x, y, h)))
+        seen = py.see_object(now, inp, "red_cylinder", RED(
+            u_c_q4=u, v_c_q4=v, ring1_v_q4=0, ring2_v_q4=d, d_pixel_q4=d, width_q4=w,
+            roi=(0, 0, 1, 1)))
+        det = FFI.new("mg_red_cylinder_seen_t *", (u, v, d, w))
+        assert C.mg_task_see_object(c, now, inp_c, position, det, 1) == seen
+        assert (c.bad_detections, c.graspable_seen, c.object_sighted) == (
+            py.counters["bad_detections"], py.graspable_seen, py.object_sighted)
+        assert (tuple(c.obj_mm) if c.has_obj else None) == py.obj
+        assert c.obj_seen_us == py.obj_seen_us
+        py.remember(now, inp)
+        C.mg_task_remember(c, now, x, y, h)
+
+
 # --- sense.py ----------------------------------------------------------------------------------
 JOINTS = st.tuples(st.integers(-200, 200), st.integers(-1600, 1600), *[ANGLE] * 4)
 CAMS = st.sampled_from([sense.CAMERA_000, sense.CAMERA_002])
@@ -481,6 +513,11 @@ def _record(mp, calls: list) -> None:
          lambda rules, t, now, inp, name, det: ("found", now, name, det),
          lambda res, rules, t, *a: (res, t.ms.e_mrad, t.obj_seen_us, t.ms.e_dpx,
                                     t.ms.e_range_mm, rules.found_why(t)), quiet=True)
+    wrap(machine.Task, "see_object",
+         lambda t, now, inp, name, det: None if name != "red_cylinder" else (
+             "see", now, (det.u_c_q4, det.v_c_q4, det.d_pixel_q4, det.width_q4),
+             (inp.x_mm, inp.y_mm, inp.heading_mrad), t.trust_from_us),
+         lambda res, t, *a: (res, t.obj, t.obj_seen_us), quiet=True)
     wrap(machine.Task, "look_at_object",
          lambda t, inp, top=True: ("look", (inp.x_mm, inp.y_mm, inp.heading_mrad), top,
                                    list(t.arm), t.obj),
@@ -574,6 +611,15 @@ def _replay(c, calls: list) -> dict:
             why = FFI.new("char[]", WHY_BYTES)
             C.mg_method002_found_why(c, why, WHY_BYTES)
             assert FFI.string(why).decode() == found_why
+        elif kind == "see":
+            _, now, det, xyh, trust, res, obj, seen = rec
+            c.trust_from_us = trust
+            assert C.mg_task_see_object(
+                c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
+                FFI.addressof(C, "mg_method002_red_cylinder_position"),
+                FFI.new("mg_red_cylinder_seen_t *", det), 1) == res, rec
+            if res:
+                assert (tuple(c.obj_mm), c.obj_seen_us) == (obj, seen), rec
         elif kind == "look":
             _, xyh, top, pre, obj, post = rec
             c.arm[0:6], c.has_obj, c.obj_mm = pre, obj is not None, obj or (0, 0)
@@ -616,5 +662,5 @@ def test_replay_of_paper002_marker(tmp_path):
     counts = _replay(_c_task(), calls)
     assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
     for kind in ("arm", "remember", "arm_at", "go", "enter_approach", "bearing", "fuzzy",
-                 "track", "stop", "look", "found"):
+                 "track", "stop", "look", "found", "see"):
         assert counts.get(kind, 0) > 0, (kind, counts)

@@ -237,6 +237,17 @@ int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
     return 1;
 }
 
+int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const void *det,
+                              int32_t p_q4[3])
+{
+    const mg_sighting_t *s = (const mg_sighting_t *)det;
+    if (!s || s->depth_mm_q4 <= 0)
+        return 0;
+    mg_pixel_to_platform_mm_q4(&t->geom, joints, &t->cam, s->u_q4, s->v_q4, s->depth_mm_q4,
+                               p_q4);
+    return 1;
+}
+
 /* the state's entry action once after a transition, then its step */
 static void run_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {

@@ -37,6 +37,7 @@ typedef struct {
     int32_t mount_forward_mm; /* waist axis ahead of the wheel axle */
     int32_t h_shoulder_mm, object_top_mm, grasp_height_mm; /* above the ground */
     int32_t t_d_px;            /* 002's T_d */
+    int32_t cylinder_near_px, cross_near_px; /* 002: ADJUST from these spacings */
     int32_t posture_step_mrad; /* eq. (10)'s step per control step */
     mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
     mg_fuzzy_params_t fuzzy;
@@ -140,6 +141,15 @@ typedef int (*mg_task_position_fn)(const mg_task_t *t, const int32_t joints[6], 
  * farther than 5 m); is_object: the detector sees the object itself, not a guide */
 int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                        mg_task_position_fn position, const void *det, int32_t is_object);
+/* a detector's pinhole sighting, as its glue gives it (host/vision's sighting functions): the
+ * target's pixel (Q4 px) and depth (Q4 mm) */
+typedef struct {
+    int32_t u_q4, v_q4, depth_mm_q4;
+} mg_sighting_t;
+/* Method.object_position's default: the sighting's ray at its depth (sense.py
+ * object_in_platform); an mg_task_position_fn of an mg_sighting_t (NULL: none) */
+int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const void *det,
+                              int32_t p_q4[3]);
 /* advance the task to now_us: the state's timeout, its entry action and step, the method's
  * wheel guard, the history; the events of this step are t->events */
 void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

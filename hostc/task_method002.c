@@ -44,6 +44,8 @@ void mg_method002_params(mg_task_params_t *p)
     p->object_top_mm = 120;
     p->grasp_height_mm = 100;
     p->t_d_px = 45;
+    p->cylinder_near_px = 12;
+    p->cross_near_px = 75;
     p->posture_step_mrad = 20;
     p->posture.k_theta_q12[0] = 4096;
     p->posture.k_theta_q12[1] = p->posture.k_theta_q12[2] = 0;
@@ -326,4 +328,114 @@ int mg_method002_adjust_done(mg_task_t *t, int64_t now_us, int32_t has_d, int32_
     t->wheels[0] = t->wheels[1] = 0;
     mg_task_go(t, now_us, MG_ROUGH_GRASP, why);
     return 1;
+}
+
+/* the estimate's distance from the waist, whole mm */
+static int32_t obj_dist_mm(const mg_task_t *t, const mg_task_inputs_t *in)
+{
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    return (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1]) >> 4);
+}
+
+static void go_near(mg_task_t *t, int64_t now_us, const char *lead, int32_t lead_px,
+                    int32_t dist_mm)
+{
+    char why[MG_TASK_WHY];
+    size_t n = 0;
+    if (lead) {
+        n = mg_task_text(why, sizeof why, n, lead);
+        n = mg_task_text_int(why, sizeof why, n, lead_px);
+        n = mg_task_text(why, sizeof why, n, " px apart: ");
+    }
+    n = mg_task_text(why, sizeof why, n, "red cylinder estimated ");
+    n = mg_task_text_int(why, sizeof why, n, dist_mm);
+    mg_task_text(why, sizeof why, n, " mm from the waist");
+    mg_task_go(t, now_us, MG_ADJUST, why);
+}
+
+void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                           const mg_frame002_t *f, int32_t *has_u, int32_t *u_mrad)
+{
+    mg_state002_t *ms = ms002(t);
+    *has_u = 0;
+    const int32_t d_px = f->has_rc ? mg_d_pixel_px(f->rc.d_pixel_q4) : 0;
+    if (f->has_rc
+        && mg_task_see_object(t, now_us, in, mg_method002_red_cylinder_position, &f->rc, 1)
+        && d_px >= t->p.cylinder_near_px) {
+        char why[MG_TASK_WHY];
+        size_t n = mg_task_text(why, sizeof why, 0, "red cylinder seen, d_pixel = ");
+        n = mg_task_text_int(why, sizeof why, n, d_px);
+        mg_task_text(why, sizeof why, n, " px");
+        mg_task_go(t, now_us, MG_ADJUST, why);
+        return;
+    }
+    if (!f->has_rc && f->has_roi && f->has_roi_sighting) /* far: the range by the ROI's height */
+        mg_task_see_object(t, now_us, in, mg_task_sighting_position, &f->roi_sighting, 0);
+    if (t->has_obj) { /* the cylinder stands before the marker: do not run it over */
+        const int32_t dist = obj_dist_mm(t, in);
+        if (dist <= t->p.grasp_r_mm + 150) {
+            go_near(t, now_us, NULL, 0, dist);
+            return;
+        }
+    }
+    if (!f->has_frame)
+        return; /* no new frame: keep the wheels as they are */
+    int32_t yaw[6];
+    mg_task_arm_at(t, now_us - t->p.frame_latency_us, yaw); /* the waist of the frame */
+    int32_t has_e = 0, e = 0, vm = 0, has_cue = 0, cue_mm = 0;
+    if (f->has_dc) {
+        has_e = 1;
+        e = mg_bearing_mrad(f->dc_um_q4, yaw[5], &t->cam);
+        vm = f->dc_vm_q4;
+        const int32_t spacing = mg_d_pixel_px(f->dc_d_pixel_q4);
+        has_cue = spacing != 0;
+        cue_mm = spacing ? mg_method002_board_range_mm(t, spacing) : 0;
+    } else if (f->has_rc || f->has_roi) {
+        /* the double cross out of view: steer on the cylinder's column, its rings near, its
+         * colour ROI far (ours: 002 steers on the board alone) */
+        has_e = 1;
+        e = mg_bearing_mrad(f->has_rc ? f->rc.u_c_q4 : f->roi_u_c_q4, yaw[5], &t->cam);
+        vm = f->has_rc ? f->rc.v_c_q4 : f->roi_v_c_q4;
+        has_cue = !f->has_rc && f->has_roi_sighting;
+        cue_mm = has_cue ? f->roi_sighting.depth_mm_q4 >> 4 : 0;
+    }
+    if (!has_e && mg_method002_approach_blind(t, now_us, in, u_mrad)) {
+        *has_u = 1;
+        return;
+    }
+    if (!has_e && now_us - t->obj_seen_us >= t->p.lost_timeout_us) {
+        char why[MG_TASK_WHY];
+        size_t n = mg_task_text(why, sizeof why, 0,
+                                "neither the double cross nor the red cylinder seen for ");
+        n = mg_task_text_int(why, sizeof why, n, now_us - t->obj_seen_us);
+        mg_task_text(why, sizeof why, n, " us");
+        mg_task_go(t, now_us, MG_LOST, why);
+        return;
+    }
+    const int32_t dc_px = f->has_dc ? mg_d_pixel_px(f->dc_d_pixel_q4) : 0;
+    if (f->has_dc && dc_px >= t->p.cross_near_px
+        && mg_task_see_object(t, now_us, in, mg_task_sighting_position,
+                              f->has_dc_sighting ? &f->dc_sighting : NULL, 0)) {
+        /* near, the cylinder may be below the level look while the board is big in view: its
+         * estimate from the crosses ends the approach (docs/cosim.md "Measured", T5) */
+        const int32_t dist = obj_dist_mm(t, in);
+        if (dist <= t->p.grasp_r_mm + 150) {
+            go_near(t, now_us, "crosses ", dc_px, dist);
+            return;
+        }
+    }
+    const mg_fuzzy_command_t cmd = mg_fuzzy_approach_step(&ms->fuzzy, now_us, has_e, e, 0, 0);
+    if (has_e) {
+        t->obj_seen_us = now_us;
+        mg_method002_remember_bearing(t, in, e, has_cue, cue_mm);
+        mg_method002_track_marker(t, now_us, 1, vm, e);
+    }
+    t->wheels[0] = cmd.left_mm_s;
+    t->wheels[1] = cmd.right_mm_s;
+    ms->has_prev_e = has_e;
+    ms->prev_e_t_us = now_us;
+    ms->prev_e_mrad = e;
+    *has_u = 1;
+    *u_mrad = cmd.u_mrad;
 }

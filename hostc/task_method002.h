@@ -75,6 +75,25 @@ typedef struct {
  * mg_red_cylinder_seen_t */
 int mg_method002_red_cylinder_position(const mg_task_t *t, const int32_t joints[6],
                                        const void *det, int32_t p_q4[3]);
+/* one frame's results as APPROACH reads them */
+typedef struct {
+    int32_t has_frame; /* 0: no new frame */
+    int32_t has_dc; /* the double cross: its midpoint, spacing and sighting */
+    int32_t dc_um_q4, dc_vm_q4, dc_d_pixel_q4;
+    mg_sighting_t dc_sighting;
+    int32_t has_dc_sighting;
+    int32_t has_rc; /* the red cylinder's rings */
+    mg_red_cylinder_seen_t rc;
+    int32_t has_roi; /* the red cylinder's colour ROI: its centre, its sighting (box whole) */
+    int32_t roi_u_c_q4, roi_v_c_q4;
+    int32_t has_roi_sighting;
+    mg_sighting_t roi_sighting;
+} mg_frame002_t;
+/* APPROACH's step (002 section 2.1): the fuzzy controller on e, the waist toward what it
+ * steers on; ADJUST once the cylinder is near, or placed near by the crosses; LOST when
+ * nothing is seen for lost_timeout_us; *u_mrad: the fuzzy output (has_u 0: none this step) */
+void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                           const mg_frame002_t *f, int32_t *has_u, int32_t *u_mrad);
 int32_t mg_method002_look_height_mm(const mg_task_params_t *p, int32_t top);
 /* APPROACH's entry: a fresh fuzzy approach on the task's fuzzy parameters, the search's
  * sighting the first bearing to steer on blind */

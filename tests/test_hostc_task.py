@@ -73,7 +73,8 @@ def test_params_are_those_of_the_python_task():
     for name in ("servo_speed_mrad_per_s", "settle_margin_us", "frame_latency_us",
                  "lost_timeout_us", "grasp_r_mm", "blind_approach_mm", "blind_keep_mm",
                  "blind_approach_us", "slow_mmps", "t_d_px", "posture_step_mrad",
-                 "mount_forward_mm", "h_shoulder_mm", "object_top_mm", "grasp_height_mm"):
+                 "mount_forward_mm", "h_shoulder_mm", "object_top_mm", "grasp_height_mm",
+                 "cylinder_near_px", "cross_near_px"):
         assert getattr(c, name) == getattr(py, name), name
     task = Task("002")
     pp = task.posture_params(7)
@@ -422,6 +423,84 @@ def test_seeing_the_red_cylinder(steps):
         C.mg_task_remember(c, now, x, y, h)
 
 
+CROSS = registry.row("double_cross")
+PX_U, PX_V = st.integers(0, 320 * 16), st.integers(0, 240 * 16)
+FRAMES = st.none() | st.fixed_dictionaries({}, optional={
+    "double_cross": st.none() | st.builds(
+        lambda u, v, d: CROSS.result_type()(u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=0, um_q4=u,
+                                            vm_q4=v, d_pixel_q4=d, e_mrad=0, votes=(1, 1)),
+        PX_U, PX_V, st.integers(0, 150 * 16)),
+    "red_cylinder": st.none() | st.builds(
+        lambda u, v, d, w: RED(u_c_q4=u, v_c_q4=v, ring1_v_q4=0, ring2_v_q4=d, d_pixel_q4=d,
+                               width_q4=w, roi=(0, 0, 1, 1)),
+        PX_U, PX_V, st.integers(-16, 40 * 16), st.integers(1, 100 * 16)),
+    "red_roi": st.none() | st.builds(
+        lambda u, v, w, h, edge: ROI.result_type()(u_c_q4=u, v_c_q4=v, roi=(0, 0, w, h),
+                                                   area_px=w * h, touches_edge=edge),
+        PX_U, PX_V, st.integers(1, 100), st.integers(1, 200), st.booleans())})
+
+
+def _frame002(dets: dict | None):
+    """The C's view of one frame's results (the detectors' glue)."""
+    f = FFI.new("mg_frame002_t *")
+    if not dets:
+        return f
+    f.has_frame = 1
+    dc, rc, roi = (dets.get(k) for k in ("double_cross", "red_cylinder", "red_roi"))
+    if dc is not None:
+        f.has_dc, f.dc_um_q4, f.dc_vm_q4, f.dc_d_pixel_q4 = 1, dc.um_q4, dc.vm_q4, dc.d_pixel_q4
+        seen = CROSS.sighting_fn()(dc, CAMERA_002.f_px)
+        f.has_dc_sighting = seen is not None
+        f.dc_sighting = seen or (0, 0, 0)
+    if rc is not None:
+        f.has_rc, f.rc = 1, (rc.u_c_q4, rc.v_c_q4, rc.d_pixel_q4, rc.width_q4)
+    if roi is not None:
+        f.has_roi, f.roi_u_c_q4, f.roi_v_c_q4 = 1, roi.u_c_q4, roi.v_c_q4
+        seen = ROI.sighting_fn()(roi, CAMERA_002.f_px)
+        f.has_roi_sighting = seen is not None
+        f.roi_sighting = seen or (0, 0, 0)
+    return f
+
+
+@SETTINGS
+@given(st.integers(-3142, 3141), st.none() | st.integers(1, 200),
+       st.lists(st.tuples(st.sampled_from([20_000, 40_000, 500_000, 1_500_000]), FRAMES,
+                          st.tuples(NEAR, NEAR, st.integers(-3142, 3141))), max_size=30))
+def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
+    """APPROACH of 002 step by step: the fuzzy controller on e (eqs. (1), (2) of 002), the
+    waist toward what it steers on, the estimate, the blind drive on, ADJUST and LOST."""
+    py, c = Task("002"), _c_task()
+    rules = Method002()
+    py.ms.e_mrad, py.ms.e_dpx = e0, dpx0
+    ms = _ms(c)
+    ms.e_mrad, ms.has_e_dpx, ms.e_dpx = e0, dpx0 is not None, dpx0 or 0
+    py.go(0, "APPROACH", "test")
+    C.mg_task_go(c, 0, C.MG_APPROACH, b"test")
+    rules.enter_approach(py, 0, TaskInputs())
+    C.mg_method002_enter_approach(c, FFI.new("mg_task_inputs_t *"))
+    has_u, u = FFI.new("int32_t *"), FFI.new("int32_t *")
+    now = 0
+    for dt, dets, xyh in steps:
+        now += dt
+        py._events, py._detail, c.n_events = [], {}, 0
+        inp = TaskInputs(x_mm=xyh[0], y_mm=xyh[1], heading_mrad=xyh[2], detections=dets or {})
+        inp_c = FFI.new("mg_task_inputs_t *", _xyh(xyh))
+        rules.approach(py, now, inp, dets or {})
+        C.mg_method002_approach(c, now, inp_c, _frame002(dets), has_u, u)
+        assert _events(c) == py._events
+        assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (py.wheels, py.arm,
+                                                                  py.move_done_us)
+        assert (tuple(c.obj_mm) if c.has_obj else None, c.obj_seen_us) == (py.obj,
+                                                                         py.obj_seen_us)
+        assert c.bad_detections == py.counters["bad_detections"]
+        assert _blind(c) == py.ms.blind
+        assert (u[0] if has_u[0] else None) == py._detail.get("fuzzy", {}).get("u_mrad")
+        if py.state != "APPROACH":
+            break
+        py.remember(now, inp)
+        C.mg_task_remember(c, now, *xyh)
+
+
 # --- sense.py ----------------------------------------------------------------------------------
 JOINTS = st.tuples(st.integers(-200, 200), st.integers(-1600, 1600), *[ANGLE] * 4)
 CAMS = st.sampled_from([sense.CAMERA_000, sense.CAMERA_002])
@@ -469,9 +548,10 @@ def test_platform_and_odometry_frames(x, y, h, fwd, p_q4, ox, oy):
 
 
 # --- the sequence of a shipped scenario -------------------------------------------------------
-def _record(mp, calls: list) -> None:
+def _record(mp, calls: list, steps: bool = False) -> None:
     """Wrap the Python task's units so that each call is recorded with what it read and gave;
-    the calls the blind approach makes itself are part of its record, not their own."""
+    the calls a quiet unit makes itself are part of its record, not their own. steps: record
+    the APPROACH steps whole (and what keeps the C's history and fuzzy approach in step)."""
     inside = []
 
     def wrap(cls, name, before, after, quiet=False):
@@ -492,6 +572,28 @@ def _record(mp, calls: list) -> None:
             return res
         mp.setattr(cls, name, recorded)
 
+    if steps:
+        wrap(machine.Task, "remember",
+             lambda t, now, inp: ("remember", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
+                                  list(t.arm)),
+             lambda res, t, *a: (len(t.arm_hist), len(t.pose_hist)))
+        wrap(Method002, "enter_approach",
+             lambda rules, t, now, inp: ("enter_approach", (inp.x_mm, inp.y_mm,
+                                                            inp.heading_mrad),
+                                         t.ms.e_mrad, t.ms.e_dpx, t.ms.e_range_mm),
+             lambda res, rules, t, *a: (t.ms.blind,), quiet=True)
+
+        def approach_before(rules, t, now, inp, dets):
+            t._detail.pop("fuzzy", None)
+            return ("approach", now, (inp.x_mm, inp.y_mm, inp.heading_mrad), dict(dets),
+                    list(t.arm), t.move_done_us, t.obj, t.obj_seen_us, t.trust_from_us,
+                    t.state, t.counters["bad_detections"])
+        wrap(Method002, "approach", approach_before,
+             lambda res, rules, t, *a: (list(t._events), t.wheels, list(t.arm), t.move_done_us,
+                                        t.obj, t.obj_seen_us, t.ms.blind,
+                                        t.counters["bad_detections"],
+                                        t._detail.get("fuzzy", {}).get("u_mrad")), quiet=True)
+        return
     wrap(machine.Task, "set_arm",
          lambda t, now, th2, th3, th4, th5, th1=None: (
              "arm", now, (th2, th3, th4, th5, th1), list(t.arm), t.move_done_us),
@@ -620,6 +722,23 @@ def _replay(c, calls: list) -> dict:
                 FFI.new("mg_red_cylinder_seen_t *", det), 1) == res, rec
             if res:
                 assert (tuple(c.obj_mm), c.obj_seen_us) == (obj, seen), rec
+        elif kind == "approach":
+            (_, now, xyh, dets, pre, done, obj, seen, trust, state, bad, events, wheels, post,
+             post_done, post_obj, post_seen, blind, post_bad, u_mrad) = rec
+            _load(c, pre, done)
+            c.has_obj, c.obj_mm = obj is not None, obj or (0, 0)
+            c.obj_seen_us, c.trust_from_us = seen, trust
+            c.state, c.n_events, c.bad_detections = machine.STATES.index(state), 0, bad
+            has_u = FFI.new("int32_t *")
+            C.mg_method002_approach(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
+                                    _frame002(dets), has_u, u)
+            assert _events(c) == events, rec
+            assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (wheels, post,
+                                                                      post_done), rec
+            assert (tuple(c.obj_mm) if c.has_obj else None, c.obj_seen_us) == (post_obj,
+                                                                             post_seen), rec
+            assert (_blind(c), c.bad_detections) == (blind, post_bad), rec
+            assert (u[0] if has_u[0] else None) == u_mrad, rec
         elif kind == "look":
             _, xyh, top, pre, obj, post = rec
             c.arm[0:6], c.has_obj, c.obj_mm = pre, obj is not None, obj or (0, 0)
@@ -649,18 +768,33 @@ def _replay(c, calls: list) -> dict:
     return counts
 
 
-def test_replay_of_paper002_marker(tmp_path):
-    """The calls the Python task made in the shipped scenario paper002-marker (in process),
-    replayed on the C task with the same inputs: the same outputs, call by call."""
+def _recorded_run(tmp_path, steps: bool = False) -> list:
+    """The calls of the Python task in the shipped scenario paper002-marker, run in process."""
     from mobigrasp.tools.run_job import RunOptions, execute
     calls: list = []
     with pytest.MonkeyPatch.context() as mp:
-        _record(mp, calls)
+        _record(mp, calls, steps)
         summary, code = execute(RunOptions(scenario="paper002-marker", transport="inproc",
                                            out=tmp_path / "run", progress=False, plots=False))
     assert code == 0 and summary["success"], summary
+    return calls
+
+
+def test_replay_of_paper002_marker(tmp_path):
+    """The calls the Python task made in paper002-marker replayed on the C task with the same
+    inputs: the same outputs, call by call."""
+    calls = _recorded_run(tmp_path)
     counts = _replay(_c_task(), calls)
     assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
     for kind in ("arm", "remember", "arm_at", "go", "enter_approach", "bearing", "fuzzy",
                  "track", "stop", "look", "found", "see"):
         assert counts.get(kind, 0) > 0, (kind, counts)
+
+
+def test_replay_of_the_approach_of_paper002_marker(tmp_path):
+    """APPROACH's steps in paper002-marker, each with the frame's results, on the C task."""
+    calls = _recorded_run(tmp_path, steps=True)
+    counts = _replay(_c_task(), calls)
+    assert counts.get("approach", 0) > 20, counts
+    ended = [r for r in calls if r[0] == "approach" and r[11]]
+    assert [e.to_state for e in ended[-1][11]] == ["ADJUST"]

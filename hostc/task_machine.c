@@ -70,6 +70,7 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     memcpy(t->joints, HOME_ARM, sizeof t->joints);
     t->move_done_us = start_us;
     t->obj_seen_us = start_us;
+    t->lost_in = -1;
     rules->ms_init(t->ms.bytes);
     return 0;
 }

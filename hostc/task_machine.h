@@ -38,6 +38,9 @@ typedef struct {
     int32_t h_shoulder_mm, object_top_mm, grasp_height_mm; /* above the ground */
     int32_t t_d_px;            /* 002's T_d */
     int32_t cylinder_near_px, cross_near_px; /* 002: ADJUST from these spacings */
+    int32_t bearing_tol_mrad;        /* ADJUST's close approach: facing within this */
+    int32_t adjust_theta3_mrad, adjust_theta4_mrad; /* ADJUST's close-look posture */
+    int32_t blind_finish_mm; /* ADJUST may finish on odometry within this of its goal */
     int32_t posture_step_mrad; /* eq. (10)'s step per control step */
     mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
     mg_fuzzy_params_t fuzzy;
@@ -87,6 +90,7 @@ struct mg_task {
     int32_t arm_hist[MG_TASK_HIST][6], pose_hist[MG_TASK_HIST][3];
     int32_t hist_overflow; /* entries dropped for want of room (counted, never silent) */
     int32_t bad_detections; /* counters["bad_detections"] */
+    int32_t lost_in;        /* the state the object was lost in (-1: none) */
     int32_t n_events, events_lost;
     mg_task_event_t events[MG_TASK_EVENTS];
     union {

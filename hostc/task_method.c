@@ -7,7 +7,9 @@
 
 const mg_task_method_t mg_task_methods[] = {
     {"002", sizeof(mg_state002_t), mg_method002_ms_init, mg_method002_params,
-     mg_method002_failure_reason, NULL, mg_method002_look_height_mm, 0, {350, 160, 120},
+     mg_method002_failure_reason, NULL, mg_method002_look_height_mm, "red_cylinder",
+     mg_method002_red_cylinder_position, 1, mg_method002_adjust_done_seen,
+     mg_method002_adjust_goal_mm, mg_method002_adjust_vmax_mmps, 0, {350, 160, 120},
      {1552, 1424, 1528}},
 };
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);

@@ -21,6 +21,15 @@ typedef struct mg_task_method {
     /* the height (mm above the ground) the posture adjustment looks at: the object's look
      * (top) or the grasp's (Method.look_height_mm) */
     int32_t (*look_height_mm)(const mg_task_params_t *p, int32_t top);
+    /* ADJUST (adjust.py): what it closes in on (the name, the place of its result, whether it
+     * is the object itself), its stop rule (Method.adjust_done; det: the result), the goal of
+     * its close approach and its speed */
+    const char *adjust_detector;
+    mg_task_position_fn adjust_position;
+    int32_t adjust_is_object;
+    int (*adjust_done)(mg_task_t *t, int64_t now_us, const void *det, int32_t dist_mm);
+    void (*adjust_goal_mm)(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
+    int32_t (*adjust_vmax_mmps)(const mg_task_params_t *p);
     int32_t grasp_alpha_mrad;
     mg_camera_model_t camera;
     mg_arm_geometry_t geom; /* l2, l3, l4 of the arm the method assumes, Q4 mm */

@@ -46,6 +46,11 @@ void mg_method002_params(mg_task_params_t *p)
     p->t_d_px = 45;
     p->cylinder_near_px = 12;
     p->cross_near_px = 75;
+    p->bearing_tol_mrad = 60;
+    /* ADJUST's look: d_pixel passes T_d with the axis inside the level grasp's reach */
+    p->adjust_theta3_mrad = -2190;
+    p->adjust_theta4_mrad = 2120;
+    p->blind_finish_mm = 80;
     p->posture_step_mrad = 20;
     p->posture.k_theta_q12[0] = 4096;
     p->posture.k_theta_q12[1] = p->posture.k_theta_q12[2] = 0;
@@ -263,6 +268,13 @@ int mg_method002_approach_blind(mg_task_t *t, int64_t now_us, const mg_task_inpu
 /* ADJUST's backstop by the estimate (the stop rule d_pixel > T_d of 002 section 4 stops it
  * first): the near end of the level grasp's reach, ADJUST_STALE_BACK_MM nearer until an
  * estimate of this ADJUST's look has come. */
+int mg_method002_adjust_done_seen(mg_task_t *t, int64_t now_us, const void *det,
+                                  int32_t dist_mm)
+{
+    const mg_red_cylinder_seen_t *rc = (const mg_red_cylinder_seen_t *)det;
+    return mg_method002_adjust_done(t, now_us, 1, rc->d_pixel_q4, dist_mm);
+}
+
 void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm)
 {
     int32_t goal = t->p.grasp_r_mm - 25;

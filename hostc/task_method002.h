@@ -113,6 +113,9 @@ void mg_method002_track_marker(mg_task_t *t, int64_t now_us, int32_t has_vm, int
  * stopped the base and went to ROUGH_GRASP */
 int mg_method002_adjust_done(mg_task_t *t, int64_t now_us, int32_t has_d, int32_t d_pixel_q4,
                              int32_t dist_mm);
+/* the same on a red cylinder's result (mg_red_cylinder_seen_t; the method row's hook) */
+int mg_method002_adjust_done_seen(mg_task_t *t, int64_t now_us, const void *det,
+                                  int32_t dist_mm);
 void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
 int32_t mg_method002_adjust_vmax_mmps(const mg_task_params_t *p);
 

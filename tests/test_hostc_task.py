@@ -14,6 +14,7 @@ from mobigrasp import hostc
 from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
 from mobigrasp.host.kinematics import PAPER_000, PAPER_002
 from mobigrasp.host.task import Task, TaskInputs, drive, machine, sense
+from mobigrasp.host.task.adjust import ADJUST, AdjustState
 from mobigrasp.host.task.method import METHODS
 from mobigrasp.host.task.method002 import Method002
 from mobigrasp.host.task.params import TaskParams
@@ -74,7 +75,8 @@ def test_params_are_those_of_the_python_task():
                  "lost_timeout_us", "grasp_r_mm", "blind_approach_mm", "blind_keep_mm",
                  "blind_approach_us", "slow_mmps", "t_d_px", "posture_step_mrad",
                  "mount_forward_mm", "h_shoulder_mm", "object_top_mm", "grasp_height_mm",
-                 "cylinder_near_px", "cross_near_px"):
+                 "cylinder_near_px", "cross_near_px", "bearing_tol_mrad",
+                 "adjust_theta3_mrad", "adjust_theta4_mrad", "blind_finish_mm"):
         assert getattr(c, name) == getattr(py, name), name
     task = Task("002")
     pp = task.posture_params(7)
@@ -501,6 +503,48 @@ def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
         C.mg_task_remember(c, now, *xyh)
 
 
+@SETTINGS
+@given(st.tuples(NEAR, NEAR), st.tuples(*[ANGLE] * 4),
+       st.lists(st.tuples(st.sampled_from([20_000, 40_000, 400_000, 1_500_000]),
+                          st.none() | st.builds(
+                              lambda u, v, d, w: RED(u_c_q4=u, v_c_q4=v, ring1_v_q4=0,
+                                                     ring2_v_q4=d, d_pixel_q4=d, width_q4=w,
+                                                     roi=(0, 0, 1, 1)),
+                              PX_U, PX_V, st.integers(-16, 60 * 16), st.integers(1, 100 * 16)),
+                          st.tuples(st.integers(-400, 400), st.integers(-400, 400),
+                                    st.integers(-3142, 3141))), max_size=30))
+def test_the_adjust_of_002(obj, joints, steps):
+    """ADJUST: the close-look posture, the close approach on the estimate (eq. (8) of 000's
+    wheels), the stop rule d_pixel > T_d, ROUGH_GRASP on the estimate or LOST."""
+    py, c = Task("002"), _c_task()
+    py.arm[2:6] = c.arm[2:6] = list(joints)
+    py.obj, c.has_obj, c.obj_mm = obj, 1, obj
+    py.go(0, "ADJUST", "test")
+    C.mg_task_go(c, 0, C.MG_ADJUST, b"test")
+    ADJUST.enter_ADJUST(py, 0, TaskInputs())
+    C.mg_task_enter_adjust(c, 0)
+    now = 0
+    for dt, det, xyh in steps:
+        now += dt
+        py._events, c.n_events = [], 0
+        inp = TaskInputs(x_mm=xyh[0], y_mm=xyh[1], heading_mrad=xyh[2])
+        ADJUST.do_ADJUST(py, now, inp, {} if det is None else {"red_cylinder": det})
+        seen = None if det is None else FFI.new("mg_red_cylinder_seen_t *", (
+            det.u_c_q4, det.v_c_q4, det.d_pixel_q4, det.width_q4))
+        C.mg_task_do_adjust(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
+                            seen if seen is not None else FFI.NULL)
+        assert _events(c) == py._events
+        assert (tuple(c.wheels), list(c.arm), c.move_done_us, c.trust_from_us) == (
+            py.wheels, py.arm, py.move_done_us, py.trust_from_us)
+        assert (tuple(c.obj_mm), c.obj_seen_us, c.bad_detections) == (
+            py.obj, py.obj_seen_us, py.counters["bad_detections"])
+        assert (machine.STATES[c.lost_in] if c.lost_in >= 0 else None) == py.lost_in
+        if py.state != "ADJUST":
+            break
+        py.remember(now, inp)
+        C.mg_task_remember(c, now, *xyh)
+
+
 # --- sense.py ----------------------------------------------------------------------------------
 JOINTS = st.tuples(st.integers(-200, 200), st.integers(-1600, 1600), *[ANGLE] * 4)
 CAMS = st.sampled_from([sense.CAMERA_000, sense.CAMERA_002])
@@ -588,6 +632,21 @@ def _record(mp, calls: list, steps: bool = False) -> None:
             return ("approach", now, (inp.x_mm, inp.y_mm, inp.heading_mrad), dict(dets),
                     list(t.arm), t.move_done_us, t.obj, t.obj_seen_us, t.trust_from_us,
                     t.state, t.counters["bad_detections"])
+        wrap(AdjustState, "enter_ADJUST",
+             lambda adj, t, now, inp: ("enter_adjust", now, list(t.arm), t.move_done_us,
+                                       t.obj_seen_us),
+             lambda res, adj, t, *a: (list(t.arm), t.move_done_us, t.trust_from_us,
+                                      t.obj_seen_us), quiet=True)
+        wrap(AdjustState, "do_ADJUST",
+             lambda adj, t, now, inp, dets: (
+                 "adjust", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
+                 dets.get("red_cylinder"), list(t.arm), t.move_done_us, t.obj, t.obj_seen_us,
+                 t.trust_from_us),
+             lambda res, adj, t, *a: (list(t._events), t.wheels, list(t.arm), t.move_done_us,
+                                      t.obj, t.obj_seen_us), quiet=True)
+        # the machine's tables hold ADJUST's methods bound at import: through the class now
+        mp.setitem(machine.ENTRY, "ADJUST", lambda *a: ADJUST.enter_ADJUST(*a))
+        mp.setitem(machine.STEP, "ADJUST", lambda *a: ADJUST.do_ADJUST(*a))
         wrap(Method002, "approach", approach_before,
              lambda res, rules, t, *a: (list(t._events), t.wheels, list(t.arm), t.move_done_us,
                                         t.obj, t.obj_seen_us, t.ms.blind,
@@ -739,6 +798,28 @@ def _replay(c, calls: list) -> dict:
                                                                              post_seen), rec
             assert (_blind(c), c.bad_detections) == (blind, post_bad), rec
             assert (u[0] if has_u[0] else None) == u_mrad, rec
+        elif kind == "enter_adjust":
+            _, now, pre, done, seen, post, post_done, trust, post_seen = rec
+            _load(c, pre, done)
+            c.obj_seen_us = seen
+            C.mg_task_enter_adjust(c, now)
+            assert (list(c.arm), c.move_done_us, c.trust_from_us, c.obj_seen_us) == (
+                post, post_done, trust, post_seen), rec
+        elif kind == "adjust":
+            (_, now, xyh, det, pre, done, obj, seen, trust, events, wheels, post, post_done,
+             post_obj, post_seen) = rec
+            _load(c, pre, done)
+            c.has_obj, c.obj_mm = obj is not None, obj or (0, 0)
+            c.obj_seen_us, c.trust_from_us, c.n_events = seen, trust, 0
+            c.state = C.MG_ADJUST
+            C.mg_task_do_adjust(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
+                                FFI.NULL if det is None else FFI.new(
+                                    "mg_red_cylinder_seen_t *", (det.u_c_q4, det.v_c_q4,
+                                                                 det.d_pixel_q4, det.width_q4)))
+            assert _events(c) == events, rec
+            assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (wheels, post,
+                                                                      post_done), rec
+            assert (tuple(c.obj_mm), c.obj_seen_us) == (post_obj, post_seen), rec
         elif kind == "look":
             _, xyh, top, pre, obj, post = rec
             c.arm[0:6], c.has_obj, c.obj_mm = pre, obj is not None, obj or (0, 0)
@@ -792,9 +873,12 @@ def test_replay_of_paper002_marker(tmp_path):
 
 
 def test_replay_of_the_approach_of_paper002_marker(tmp_path):
-    """APPROACH's steps in paper002-marker, each with the frame's results, on the C task."""
+    """APPROACH's and ADJUST's steps in paper002-marker, each with the frame's results, on the
+    C task."""
     calls = _recorded_run(tmp_path, steps=True)
     counts = _replay(_c_task(), calls)
-    assert counts.get("approach", 0) > 20, counts
+    assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
     ended = [r for r in calls if r[0] == "approach" and r[11]]
     assert [e.to_state for e in ended[-1][11]] == ["ADJUST"]
+    stopped = [r for r in calls if r[0] == "adjust" and r[9]]
+    assert [e.to_state for e in stopped[-1][9]] == ["ROUGH_GRASP"]

@@ -70,7 +70,7 @@ class InprocHost:
         if done.events or done.load.get("windows"):
             done = ls.decode(ls.encode(done))
         # else the rest is ints, tuples of int pairs, a str and bools: the codec would give back
-        # equal values (most quanta; checked in tests/test_runner_pipelining.py)
+        # equal values (most quanta; checked in tests/unit/cosim/test_runner_pipelining.py)
         if predicted is not None:
             check_elided(predicted, done)
         self._last_load = done.load
@@ -134,11 +134,7 @@ class SocketHost:
         self._server.bind(self.path)
         self._server.listen(1)
         self._server.settimeout(accept_timeout_s)
-        env = dict(os.environ)
-        # the host process imports this source tree whatever the caller's working directory
-        root = str(Path(__file__).resolve().parents[1])
-        env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
-        self.proc = subprocess.Popen([*argv, "--lockstep", self.path], env=env)
+        self.proc = subprocess.Popen([*argv, "--lockstep", self.path])
         if connect:
             self.connect()
 

@@ -501,3 +501,8 @@ def _check_geometry(c: _Checker, robot: RobotStart, target: TargetSpec,
     if gap <= 0:
         c.fail("target", f"a target clear of the robot's start footprint (overlap "
                          f"{-gap:.3f} m)", (target.x_m, target.y_m))
+
+
+def run_time_limit_s(scenario: Scenario, asked_s: float | None) -> float:
+    """A run's time limit: the one asked for (``--time-limit-s``), else the scenario's."""
+    return asked_s or scenario.meta.time_limit_s

@@ -26,7 +26,10 @@ import struct
 import time
 from operator import le
 
+from mobigrasp.services.fuzz_inputs import MUTATIONS, command, mutate
+
 NAME = "fuzz"
+POOL_FRAMES = 4096
 HELP = "mutated frames into the firmware's parser and dispatch: crashes, lost and false frames"
 
 
@@ -43,91 +46,13 @@ def add_arguments(parser) -> None:
                         help="processes, each with its own emulated MCU and share of the "
                              "inputs (default 1; more pays on idle cores only)")
     parser.add_argument("--c", action="store_true",
-                        help="fuzz the C protocol code instead (tools/fuzz_c.py: "
+                        help="fuzz the C protocol code instead (services/fuzz_c.py: "
                              "libFuzzer with ASan+UBSan, and the C parser against the Python)")
     parser.add_argument("--diff-inputs", type=checks.arg_int(0, 10**10), default=100_000,
                         help="with --c: inputs of the differential run (default 100000)")
     parser.add_argument("--max-seconds", type=checks.arg_int(1, 10**7), default=None,
                         help="with --c: wall seconds each C target may take at most (the "
                              "figures say how many inputs ran); default: no limit")
-
-
-_SERVOS_RAW = struct.Struct("<B6hH")
-POOL_FRAMES = 4096
-
-
-def _command(rng: random.Random) -> tuple[int, bytes]:
-    """(msg_type, payload) of one host -> MCU command as the host or an attacker could send it:
-    mostly valid messages, some with raw fields anywhere in their wire types."""
-    from mobigrasp.mcu_sim.firmware import params as P
-    from mobigrasp.protocol import messages as m
-
-    r = rng.random()
-    if r < 0.2:
-        mode = rng.randint(0, 1)
-        lim = (500, 2500) if mode == m.SERVO_MODE_PULSE_US else (-3142, 3142)
-        msg = m.SetServos(mode, tuple(rng.randint(*lim) for _ in range(6)), rng.randint(0, 65535))
-    elif r < 0.3:  # raw: any mode byte, any int16 target (the firmware NACKs what is out of spec)
-        return m.SetServos.MSG_TYPE, _SERVOS_RAW.pack(
-            rng.randint(0, 3), *(rng.randint(-32768, 32767) for _ in range(6)),
-            rng.randint(0, 65535))
-    elif r < 0.45:
-        msg = m.SetWheels(rng.randint(-1000, 1000), rng.randint(-1000, 1000))
-    elif r < 0.5:
-        return m.SetWheels.MSG_TYPE, struct.pack("<hh", rng.randint(-32768, 32767),
-                                                 rng.randint(-32768, 32767))
-    elif r < 0.6:
-        msg = m.Gripper(rng.randint(0, 1000))
-    elif r < 0.75:
-        pid = rng.choice((P.P_WATCHDOG_MS, P.P_WHEEL_MAX_MMPS,
-                          P.P_SERVO_MIN_BASE + rng.randint(0, 5),
-                          P.P_SERVO_MAX_BASE + rng.randint(0, 5), rng.randint(0, 0xFFFF)))
-        value = rng.choice((0, 1, 49, 50, 500, 1000, 1001, 2500, 10_000, -1,
-                            rng.randint(-2**31, 2**31 - 1)))
-        msg = m.ParamSet(pid, value)
-    elif r < 0.8:
-        msg = m.ParamGet(rng.randint(0, 0xFFFF))
-    elif r < 0.85:
-        msg = m.Stop()
-    elif r < 0.9:
-        msg = m.Hello(m.PROTOCOL_VERSION, "fuzz", rng.randint(0, 0xFFFF))
-    else:
-        msg = m.Heartbeat(rng.randint(0, 2**32 - 1))
-    return msg.MSG_TYPE, msg.encode()
-
-
-_MUTATIONS = ("flip", "replace", "insert", "delete", "lost_delimiter", "cut", "noise")
-
-
-def _mutate(rng: random.Random, window: list[bytes]) -> tuple[str, bytes, int | None]:
-    """(kind, bytes, k) of the corrupted window, its last byte (a 0x00) kept intact; ``k`` is
-    the index of the frame whose delimiter was lost or that was cut short (else None)."""
-    kind = rng.choice(_MUTATIONS)
-    body = bytearray(b"".join(window)[:-1])  # all but the final delimiter
-    k = None
-    if kind in ("lost_delimiter", "cut") and len(window) >= 2:
-        k = rng.randrange(len(window) - 1)
-        start = sum(len(w) for w in window[:k])
-        if kind == "lost_delimiter":
-            del body[start + len(window[k]) - 1]
-        else:
-            keep = rng.randint(1, len(window[k]) - 1)
-            del body[start + keep:start + len(window[k])]
-    elif kind == "flip":
-        for _ in range(rng.randint(1, 3)):
-            body[rng.randrange(len(body))] ^= 1 << rng.randrange(8)
-    elif kind == "replace":
-        body[rng.randrange(len(body))] = rng.randrange(256)
-    elif kind == "insert":
-        body.insert(rng.randrange(len(body) + 1), rng.randrange(256))
-    elif kind == "delete":
-        del body[rng.randrange(len(body))]
-    else:  # noise (or a window of one frame): a burst of random bytes over part of it
-        kind = "noise"
-        at = rng.randrange(len(body))
-        for i in range(at, min(len(body), at + rng.randint(1, 40))):
-            body[i] = rng.randrange(256)
-    return kind, bytes(body) + b"\x00", k
 
 
 def _violations(fw, mech) -> int:
@@ -189,7 +114,7 @@ def fuzz(n_inputs: int, seed: int) -> dict:
     # input would cost more than the fuzzing); repeats exercise the duplicate filter too
     pool = []
     for _ in range(POOL_FRAMES):
-        msg_type, payload = _command(rng)
+        msg_type, payload = command(rng)
         seq = rng.randrange(256)
         pool.append((encode_raw(m.PROTOCOL_VERSION, seq, msg_type, payload),
                      bytes((m.PROTOCOL_VERSION, seq, msg_type)) + payload))
@@ -197,7 +122,7 @@ def fuzz(n_inputs: int, seed: int) -> dict:
            "frames_delivered": 0, "frames_lost_after_corruption": 0,
            "lost_delimiter_inputs": 0, "frames_lost_after_lost_delimiter": 0,
            "frames_never_sent": 0, "never_sent_actuated": 0, "limit_violations": 0}
-    by_kind = dict.fromkeys(_MUTATIONS, 0)
+    by_kind = dict.fromkeys(MUTATIONS, 0)
     first_crash = ""
     header = struct.Struct("<BBB").pack
     t0 = time.perf_counter()
@@ -206,7 +131,7 @@ def fuzz(n_inputs: int, seed: int) -> dict:
         wires = [w for w, _ in picked]
         keys = [key for _, key in picked]  # version, seq, type, payload of each frame sent
         window = wires[:-2]
-        kind, bad, k = _mutate(rng, window)
+        kind, bad, k = mutate(rng, window)
         by_kind[kind] += 1
         stream = bad + wires[-2] + wires[-1]
         out["inputs"] += 1
@@ -279,7 +204,7 @@ def run(args) -> dict:
     n = int(getattr(args, "inputs", 1_000_000))
     seed = int(getattr(args, "seed", 1))
     if getattr(args, "c", False):
-        from mobigrasp.tools.fuzz_c import run_c
+        from mobigrasp.services.fuzz_c import run_c
 
         return run_c(n, seed, int(getattr(args, "diff_inputs", 100_000)),
                      getattr(args, "max_seconds", None))

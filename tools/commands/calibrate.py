@@ -31,7 +31,8 @@ def _table(result: dict) -> str:
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.calib import calibrate, corpus, plan_corpus
     from mobigrasp.calib.arm import ToolchainError, progress_stderr
-    from mobigrasp.tools.run_job import BadInput, shipped_scenarios
+    from mobigrasp.services.corpus import record as record_corpus
+    from mobigrasp.services.run_job import BadInput, shipped_scenarios
 
     if args.frames_per_scenario is not None and args.frames_per_scenario < 1:
         print(f"mobigrasp calibrate: --frames-per-scenario must be >= 1, got "
@@ -53,7 +54,7 @@ def _run(args: argparse.Namespace) -> int:
             if folder is None:
                 folder = Path(tmp) / "corpus"
                 progress_stderr("calibrate: recording the corpus of the shipped scenarios")
-                corpus.record(folder, [p.stem for p in shipped_scenarios()],
+                record_corpus(folder, [p.stem for p in shipped_scenarios()],
                               progress=progress_stderr)
             result = calibrate.calibrate(folder, per, args.line_fill_cycles,
                                          progress=None if args.quiet else progress_stderr)

@@ -21,7 +21,7 @@ from mobigrasp.tools.method_choice import METHOD_CHOICES
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
-    from mobigrasp.tools.campaign import (
+    from mobigrasp.services.campaign import (
         CampaignConfig,
         claim_out,
         format_table,

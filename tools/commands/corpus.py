@@ -13,8 +13,9 @@ from mobigrasp.mcu_sim.world.scenario import MAX_TIME_LIMIT_S
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.calib.corpus import CorpusError, record
-    from mobigrasp.tools.run_job import BadInput, shipped_scenarios
+    from mobigrasp.calib.corpus import CorpusError
+    from mobigrasp.services.corpus import record
+    from mobigrasp.services.run_job import BadInput, shipped_scenarios
 
     names = args.scenario or [p.stem for p in shipped_scenarios()]
     if args.time_limit_s is not None and not args.time_limit_s > 0:

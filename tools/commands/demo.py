@@ -22,8 +22,8 @@ def _main(args: argparse.Namespace) -> int:
               "real pty to a second process and back.")
         result = run_link_demo(args.count)
         return 0 if result["lost"] == 0 else 1
+    from mobigrasp.services.run_job import BadInput, RunOptions, execute, summary_line
     from mobigrasp.tools.progress import RunProgress
-    from mobigrasp.tools.run_job import BadInput, RunOptions, execute, summary_line
 
     out = args.out or Path("runs") / "demo-paper000-exp1"
     print("mobigrasp demo: paper000-exp1 (paper 000, experiment 1) in closed loop: emulated "

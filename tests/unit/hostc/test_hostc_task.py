@@ -851,7 +851,7 @@ def _replay(c, calls: list) -> dict:
 
 def _recorded_run(tmp_path, steps: bool = False) -> list:
     """The calls of the Python task in the shipped scenario paper002-marker, run in process."""
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
     calls: list = []
     with pytest.MonkeyPatch.context() as mp:
         _record(mp, calls, steps)

@@ -1,0 +1,300 @@
+/* The task state machine (host/task/machine.py): transitions, timeouts and the bookkeeping the
+ * states share. */
+#include "task_machine.h"
+
+#include <string.h>
+
+#include "arm_calib.h"
+#include "fixedpoint.h"
+#include "posture.h"
+#include "task_sense.h"
+#include "task_method.h"
+
+static const char *const STATE_NAMES[MG_N_TASK_STATES] = {
+    "SEARCH", "APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT", "DONE", "LOST",
+    "FAILED"};
+/* gripper open, roll 0, camera looking down */
+static const int32_t HOME_ARM[6] = {0, 0, -1571, -1571, 1571, 0};
+
+const char *mg_task_state_name(int32_t state)
+{
+    return state >= 0 && state < MG_N_TASK_STATES ? STATE_NAMES[state] : "?";
+}
+
+int mg_task_terminal(int32_t state)
+{
+    return state == MG_DONE || state == MG_FAILED;
+}
+
+size_t mg_task_text(char *out, size_t cap, size_t at, const char *s)
+{
+    while (*s && at + 1 < cap)
+        out[at++] = *s++;
+    if (at < cap)
+        out[at] = 0;
+    return at;
+}
+
+size_t mg_task_text_int(char *out, size_t cap, size_t at, int64_t v)
+{
+    char digits[24];
+    int n = 0;
+    uint64_t m = v < 0 ? (uint64_t)0 - (uint64_t)v : (uint64_t)v;
+    do {
+        digits[n++] = (char)('0' + (int)(m % 10u));
+        m /= 10u;
+    } while (m);
+    if (v < 0)
+        digits[n++] = '-';
+    char text[24];
+    for (int i = 0; i < n; i++)
+        text[i] = digits[n - 1 - i];
+    text[n] = 0;
+    return mg_task_text(out, cap, at, text);
+}
+
+int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_params_t *p,
+                 int64_t start_us)
+{
+    if (rules->ms_bytes > MG_TASK_MS_BYTES)
+        return -1;
+    memset(t, 0, sizeof *t);
+    t->rules = rules;
+    t->p = *p;
+    t->cam = rules->camera;
+    t->geom = rules->geom;
+    t->state = MG_SEARCH;
+    t->entered_us = start_us;
+    t->entry_pending = 1;
+    memcpy(t->arm, HOME_ARM, sizeof t->arm);
+    memcpy(t->joints, HOME_ARM, sizeof t->joints);
+    t->move_done_us = start_us;
+    t->obj_seen_us = start_us;
+    t->lost_in = -1;
+    rules->ms_init(t->ms.bytes);
+    return 0;
+}
+
+/* Transition (logged); entering a state runs its entry action on the next step. */
+void mg_task_go(mg_task_t *t, int64_t now_us, int32_t to, const char *why)
+{
+    if (t->n_events < MG_TASK_EVENTS) {
+        mg_task_event_t *e = &t->events[t->n_events++];
+        e->t_us = now_us;
+        e->from = t->state;
+        e->to = to;
+        mg_task_text(e->why, sizeof e->why, 0, why);
+    } else {
+        t->events_lost++;
+    }
+    t->state = to;
+    t->entered_us = now_us;
+    t->entry_pending = 1;
+}
+
+void mg_task_fail(mg_task_t *t, int64_t now_us, const char *reason)
+{
+    t->rules->failure_reason(t, reason, t->failure, sizeof t->failure);
+    t->has_failure = 1;
+    mg_task_go(t, now_us, MG_FAILED, t->failure);
+}
+
+void mg_task_set_arm(mg_task_t *t, int64_t now_us, int32_t th2, int32_t th3, int32_t th4,
+                     int32_t th5, int32_t has_th1, int32_t th1)
+{
+    int32_t next[6] = {t->arm[0], has_th1 ? th1 : t->arm[1], th2, th3, th4, th5};
+    int64_t travel = 0;
+    for (int32_t ch = 0; ch < 6; ch++)
+        next[ch] = mg_clamp_mrad(ch, next[ch]);
+    for (int32_t ch = 1; ch < 6; ch++) {
+        const int64_t d = (int64_t)next[ch] - t->arm[ch];
+        if ((d < 0 ? -d : d) > travel)
+            travel = d < 0 ? -d : d;
+    }
+    memcpy(t->arm, next, sizeof t->arm);
+    const int64_t done = now_us + travel * 1000000 / t->p.servo_speed_mrad_per_s
+                         + t->p.settle_margin_us;
+    const int64_t from = travel == 0 ? t->move_done_us : now_us;
+    t->move_done_us = from > done ? from : done;
+}
+
+int mg_task_settled(const mg_task_t *t, int64_t now_us)
+{
+    return now_us >= t->move_done_us;
+}
+
+/* drop the oldest of a history of n entries of `size` bytes each (times beside) */
+static void drop_oldest(int64_t *times, void *rows, size_t size, int32_t *n)
+{
+    memmove(times, times + 1, (size_t)(*n - 1) * sizeof *times);
+    memmove(rows, (unsigned char *)rows + size, (size_t)(*n - 1) * size);
+    (*n)--;
+}
+
+/* Keep the last second of arm targets and base poses: a detection describes the frame
+ * captured frame_latency_us ago (capture + vision), not the arm and base of now. */
+void mg_task_remember(mg_task_t *t, int64_t now_us, int32_t x_mm, int32_t y_mm,
+                      int32_t heading_mrad)
+{
+    if (t->n_arm_hist == 0 || memcmp(t->arm_hist[t->n_arm_hist - 1], t->arm, sizeof t->arm)) {
+        if (t->n_arm_hist == MG_TASK_HIST) {
+            drop_oldest(t->arm_hist_t, t->arm_hist, sizeof t->arm_hist[0], &t->n_arm_hist);
+            t->hist_overflow++;
+        }
+        t->arm_hist_t[t->n_arm_hist] = now_us;
+        memcpy(t->arm_hist[t->n_arm_hist++], t->arm, sizeof t->arm);
+    }
+    if (t->n_pose_hist == MG_TASK_HIST) {
+        drop_oldest(t->pose_hist_t, t->pose_hist, sizeof t->pose_hist[0], &t->n_pose_hist);
+        t->hist_overflow++;
+    }
+    const int32_t pose[3] = {x_mm, y_mm, heading_mrad};
+    t->pose_hist_t[t->n_pose_hist] = now_us;
+    memcpy(t->pose_hist[t->n_pose_hist++], pose, sizeof pose);
+    while (t->n_arm_hist > 1 && t->arm_hist_t[1] <= now_us - 1000000)
+        drop_oldest(t->arm_hist_t, t->arm_hist, sizeof t->arm_hist[0], &t->n_arm_hist);
+    while (t->n_pose_hist > 1 && t->pose_hist_t[1] <= now_us - 1000000)
+        drop_oldest(t->pose_hist_t, t->pose_hist, sizeof t->pose_hist[0], &t->n_pose_hist);
+}
+
+/* the last entry at or before t_us, else the first */
+static int32_t at(const int64_t *times, int32_t n, int64_t t_us)
+{
+    int32_t best = 0;
+    for (int32_t i = 0; i < n; i++)
+        if (times[i] <= t_us)
+            best = i;
+    return best;
+}
+
+void mg_task_arm_at(const mg_task_t *t, int64_t t_us, int32_t arm[6])
+{
+    if (t->n_arm_hist == 0)
+        memcpy(arm, t->arm, sizeof t->arm);
+    else
+        memcpy(arm, t->arm_hist[at(t->arm_hist_t, t->n_arm_hist, t_us)], sizeof t->arm);
+}
+
+int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t pose[3])
+{
+    if (t->n_pose_hist == 0)
+        return 0;
+    const int32_t i = at(t->pose_hist_t, t->n_pose_hist, t_us);
+    *at_us = t->pose_hist_t[i];
+    memcpy(pose, t->pose_hist[i], sizeof t->pose_hist[i]);
+    return 1;
+}
+
+void mg_task_obj_platform(const mg_task_t *t, const mg_task_inputs_t *in, int32_t out_q4[2])
+{
+    mg_odom_to_platform_q4(in->x_mm, in->y_mm, in->heading_mrad, t->p.mount_forward_mm,
+                           t->obj_mm[0], t->obj_mm[1], out_q4);
+}
+
+void mg_task_look_at_object(mg_task_t *t, const mg_task_inputs_t *in, int32_t top)
+{
+    if (!t->has_obj)
+        return;
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    const int32_t look_mm = t->rules->look_height_mm(&t->p, top);
+    const int32_t obj[3] = {xy[0], xy[1], (look_mm - t->p.h_shoulder_mm) * 16};
+    const mg_posture_params_t pp = mg_task_posture_params(t, t->p.posture_step_mrad);
+    mg_posture_adjustment_t adj;
+    mg_adjust_posture(&t->geom, &t->arm[2], obj, &pp, 0, 0, &adj);
+    t->arm[2] = adj.theta2_mrad;
+    t->arm[3] = adj.theta3_mrad;
+    t->arm[4] = adj.theta4_mrad;
+    t->arm[5] = adj.theta5_mrad;
+}
+
+mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_mrad)
+{
+    mg_posture_params_t pp = t->p.posture;
+    pp.max_step_mrad = max_step_mrad;
+    return pp;
+}
+
+int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       mg_task_position_fn position, const void *det, int32_t is_object)
+{
+    const int64_t t_cap = now_us - t->p.frame_latency_us;
+    if (t_cap < t->trust_from_us)
+        return 0; /* captured while the arm swung to a new posture: pose unknown */
+    int32_t joints[6], pose[3] = {in->x_mm, in->y_mm, in->heading_mrad}, p[3];
+    int64_t at_us;
+    mg_task_arm_at(t, t_cap, joints);
+    mg_task_pose_at(t, t_cap, &at_us, pose); /* without a history: the present pose */
+    if (!position(t, joints, det, p)
+        || mg_isqrt((int64_t)p[0] * p[0] + (int64_t)p[1] * p[1]) > 5000 * 16) {
+        t->bad_detections++;
+        return 0;
+    }
+    mg_platform_to_odom_mm(pose[0], pose[1], pose[2], t->p.mount_forward_mm, p, t->obj_mm);
+    t->has_obj = 1;
+    t->obj_seen_us = now_us;
+    if (is_object)
+        t->graspable_seen = t->object_sighted = 1;
+    return 1;
+}
+
+int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const void *det,
+                              int32_t p_q4[3])
+{
+    const mg_sighting_t *s = (const mg_sighting_t *)det;
+    if (!s || s->depth_mm_q4 <= 0)
+        return 0;
+    mg_pixel_to_platform_mm_q4(&t->geom, joints, &t->cam, s->u_q4, s->v_q4, s->depth_mm_q4,
+                               p_q4);
+    return 1;
+}
+
+/* the state's entry action once after a transition, then its step */
+static void run_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    if (t->entry_pending) {
+        t->entry_pending = 0;
+        const int32_t state = t->state;
+        if (t->entry[state])
+            t->entry[state](t, now_us, in);
+        if (t->state != state)
+            return;
+    }
+    if (t->step[t->state])
+        t->step[t->state](t, now_us, in);
+}
+
+void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                  mg_task_outputs_t *out)
+{
+    t->n_events = 0;
+    /* joints from telemetry; without telemetry assume the arm is where it was sent */
+    memcpy(t->joints, in->has_joints ? in->joints_mrad : t->arm, sizeof t->joints);
+    if (!mg_task_terminal(t->state)) {
+        const int64_t limit = t->p.timeouts_us[t->state];
+        if (limit >= 0 && now_us - t->entered_us >= limit) {
+            char why[MG_TASK_WHY];
+            size_t n = mg_task_text(why, sizeof why, 0, "timeout: ");
+            n = mg_task_text(why, sizeof why, n, mg_task_state_name(t->state));
+            n = mg_task_text(why, sizeof why, n, " exceeded ");
+            n = mg_task_text_int(why, sizeof why, n, limit);
+            mg_task_text(why, sizeof why, n, " us");
+            mg_task_fail(t, now_us, why);
+        }
+    }
+    if (!mg_task_terminal(t->state)) {
+        run_state(t, now_us, in);
+        if (t->rules->guard_wheels)
+            t->rules->guard_wheels(t, now_us, in);
+        mg_task_remember(t, now_us, in->x_mm, in->y_mm, in->heading_mrad);
+    }
+    if (mg_task_terminal(t->state))
+        t->wheels[0] = t->wheels[1] = 0;
+    out->servo_mrad[0] = mg_clamp_mrad(0, t->gripper);
+    for (int32_t ch = 1; ch < 6; ch++)
+        out->servo_mrad[ch] = mg_clamp_mrad(ch, t->arm[ch]);
+    out->wheels_mmps[0] = t->wheels[0];
+    out->wheels_mmps[1] = t->wheels[1];
+    out->gripper_permille = t->gripper;
+    out->state = t->state;
+}

@@ -1,0 +1,166 @@
+/* The task state machine of the move-to-grasp (host/task/machine.py): the states and their
+ * transitions and timeouts, and the state the states share (arm targets and their settle time,
+ * the last second of arm targets and base poses, the object estimate). What only one method
+ * keeps is that method's own struct (task_method002.h ...), held in `ms`; where the methods
+ * differ the machine asks its row of the method table (task_method.h). No I/O and no clock:
+ * the caller passes now_us and the inputs. Integer, no allocation. */
+#ifndef MOBIGRASP_HOSTC_TASK_MACHINE_H
+#define MOBIGRASP_HOSTC_TASK_MACHINE_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "fuzzy.h"
+#include "kinematics.h"
+#include "posture.h"
+
+typedef enum {
+    MG_SEARCH, MG_APPROACH, MG_ADJUST, MG_ROUGH_GRASP, MG_PRECISE_GRASP, MG_LIFT, MG_DONE,
+    MG_LOST, MG_FAILED, MG_N_TASK_STATES
+} mg_task_state_t;
+
+/* the state's name as Python spells it ("SEARCH" ...) */
+const char *mg_task_state_name(int32_t state);
+int mg_task_terminal(int32_t state); /* DONE, FAILED */
+
+/* host/task/params.py TaskParams: the fields the ported units read */
+typedef struct {
+    int64_t timeouts_us[MG_N_TASK_STATES]; /* < 0: none */
+    int32_t servo_speed_mrad_per_s;       /* 3000, for settle times */
+    int64_t settle_margin_us;             /* 300 000 */
+    int64_t frame_latency_us;             /* 50 000 */
+    int64_t lost_timeout_us;              /* 1 500 000 */
+    int32_t grasp_r_mm;
+    int32_t blind_approach_mm, blind_keep_mm; /* 002's blind drive on (task_method002.c) */
+    int64_t blind_approach_us;
+    int32_t slow_mmps;
+    int32_t mount_forward_mm; /* waist axis ahead of the wheel axle */
+    int32_t h_shoulder_mm, object_top_mm, grasp_height_mm; /* above the ground */
+    int32_t t_d_px;            /* 002's T_d */
+    int32_t cylinder_near_px, cross_near_px; /* 002: ADJUST from these spacings */
+    int32_t bearing_tol_mrad;        /* ADJUST's close approach: facing within this */
+    int32_t adjust_theta3_mrad, adjust_theta4_mrad; /* ADJUST's close-look posture */
+    int32_t blind_finish_mm; /* ADJUST may finish on odometry within this of its goal */
+    int32_t posture_step_mrad; /* eq. (10)'s step per control step */
+    mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
+    mg_fuzzy_params_t fuzzy;
+} mg_task_params_t;
+
+/* the camera's pinhole intrinsics in px (sense.py CameraModel) */
+typedef struct {
+    int32_t f_px, u0_px, v0_px;
+} mg_camera_model_t;
+
+#define MG_TASK_HIST 128   /* entries of the last second of arm targets and of base poses */
+#define MG_TASK_EVENTS 8   /* transitions in one step */
+#define MG_TASK_WHY 192    /* bytes of a transition's reason, its terminating 0 included */
+#define MG_TASK_MS_BYTES 512 /* the largest method state */
+
+typedef struct {
+    int64_t t_us;
+    int32_t from, to;
+    char why[MG_TASK_WHY];
+} mg_task_event_t;
+
+typedef struct mg_task mg_task_t;
+typedef void (*mg_task_state_fn)(mg_task_t *t, int64_t now_us, const void *inputs);
+
+struct mg_task {
+    const struct mg_task_method *rules; /* the method's row (task_method.h) */
+    mg_task_params_t p;
+    mg_camera_model_t cam; /* the method's camera */
+    mg_arm_geometry_t geom; /* the method's arm */
+    int32_t state;
+    int64_t entered_us;
+    int32_t entry_pending;
+    /* each state's entry action and step; NULL: none (the states not ported do nothing) */
+    mg_task_state_fn entry[MG_N_TASK_STATES], step[MG_N_TASK_STATES];
+    int32_t arm[6], joints[6];
+    int32_t gripper, wheels[2];
+    int64_t move_done_us;
+    int64_t trust_from_us;
+    int32_t has_obj, obj_mm[2];
+    int64_t obj_seen_us;
+    int32_t graspable_seen, object_sighted;
+    int32_t has_failure;
+    char failure[MG_TASK_WHY];
+    /* (t_us, arm) and (t_us, x_mm, y_mm, heading_mrad), oldest first */
+    int32_t n_arm_hist, n_pose_hist;
+    int64_t arm_hist_t[MG_TASK_HIST], pose_hist_t[MG_TASK_HIST];
+    int32_t arm_hist[MG_TASK_HIST][6], pose_hist[MG_TASK_HIST][3];
+    int32_t hist_overflow; /* entries dropped for want of room (counted, never silent) */
+    int32_t bad_detections; /* counters["bad_detections"] */
+    int32_t lost_in;        /* the state the object was lost in (-1: none) */
+    int32_t n_events, events_lost;
+    mg_task_event_t events[MG_TASK_EVENTS];
+    union {
+        int64_t align;
+        unsigned char bytes[MG_TASK_MS_BYTES];
+    } ms; /* the method's own state: its module's struct */
+};
+
+/* the task of a method (its row) at start_us: the arm at HOME_ARM, nothing seen, the method's
+ * state fresh; 0, or -1 when the method's state does not fit */
+int mg_task_init(mg_task_t *t, const struct mg_task_method *rules, const mg_task_params_t *p,
+                 int64_t start_us);
+void mg_task_go(mg_task_t *t, int64_t now_us, int32_t to, const char *why);
+void mg_task_fail(mg_task_t *t, int64_t now_us, const char *reason);
+/* new arm targets (clamped) and the time the servos will have got there; has_th1 0: theta1
+ * kept */
+void mg_task_set_arm(mg_task_t *t, int64_t now_us, int32_t th2, int32_t th3, int32_t th4,
+                     int32_t th5, int32_t has_th1, int32_t th1);
+int mg_task_settled(const mg_task_t *t, int64_t now_us);
+void mg_task_remember(mg_task_t *t, int64_t now_us, int32_t x_mm, int32_t y_mm,
+                      int32_t heading_mrad);
+void mg_task_arm_at(const mg_task_t *t, int64_t t_us, int32_t arm[6]);
+/* 0 without a history */
+int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t pose[3]);
+/* the task's posture parameters with the step cap max_step_mrad (machine.py posture_params) */
+mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_mrad);
+
+/* One step's inputs and outputs (machine.py TaskInputs / TaskOutputs without the detections
+ * and the detail, which the ported states do not read yet). */
+typedef struct {
+    int32_t has_joints, joints_mrad[6];
+    int32_t x_mm, y_mm, heading_mrad, v_mmps;
+} mg_task_inputs_t;
+typedef struct {
+    int32_t servo_mrad[6];
+    int32_t wheels_mmps[2];
+    int32_t gripper_permille;
+    int32_t state;
+} mg_task_outputs_t;
+
+/* the object estimate in the platform frame (X_r, Y_r), Q4 mm (needs has_obj) */
+void mg_task_obj_platform(const mg_task_t *t, const mg_task_inputs_t *in, int32_t out_q4[2]);
+/* posture adjustment (eq. (10) of 000) toward the estimated object, at the method's look
+ * height (top: the object's look, else the grasp's) */
+void mg_task_look_at_object(mg_task_t *t, const mg_task_inputs_t *in, int32_t top);
+/* the object's platform-frame position (Q4 mm) from a detection seen with the arm at joints
+ * (the method's object_position): 1, or 0 when it gives none */
+typedef int (*mg_task_position_fn)(const mg_task_t *t, const int32_t joints[6], const void *det,
+                                   int32_t p_q4[3]);
+/* update the object estimate from a detection, placed by position(det) with the arm and base
+ * of its capture; 0 when unusable (counted in bad_detections when it gives no place or one
+ * farther than 5 m); is_object: the detector sees the object itself, not a guide */
+int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       mg_task_position_fn position, const void *det, int32_t is_object);
+/* a detector's pinhole sighting, as its glue gives it (host/vision's sighting functions): the
+ * target's pixel (Q4 px) and depth (Q4 mm) */
+typedef struct {
+    int32_t u_q4, v_q4, depth_mm_q4;
+} mg_sighting_t;
+/* Method.object_position's default: the sighting's ray at its depth (sense.py
+ * object_in_platform); an mg_task_position_fn of an mg_sighting_t (NULL: none) */
+int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const void *det,
+                              int32_t p_q4[3]);
+/* advance the task to now_us: the state's timeout, its entry action and step, the method's
+ * wheel guard, the history; the events of this step are t->events */
+void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                  mg_task_outputs_t *out);
+
+/* a reason's text: s, then the decimal v (task_machine.c), 0-terminated within cap */
+size_t mg_task_text(char *out, size_t cap, size_t at, const char *s);
+size_t mg_task_text_int(char *out, size_t cap, size_t at, int64_t v);
+
+#endif

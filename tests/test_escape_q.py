@@ -8,6 +8,7 @@ from dataclasses import replace
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from test_planning_clearance import clearance_float
 
 from mobigrasp.host.planning.escape import (
     LEAVE_TOL_M,
@@ -18,18 +19,6 @@ from mobigrasp.host.planning.escape import (
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, any_region_contains
 
 TOL_M = 0.003
-
-
-def clearance_float(reg, x, y):
-    """Distance to the echo arc less R_r (D_m of eq. (18)), float."""
-    dx, dy = np.asarray(x) - reg.ox, np.asarray(y) - reg.oy
-    mid = 0.5 * (reg.lo_rad + reg.hi_rad)
-    off = np.abs((np.arctan2(dy, dx) - mid + math.pi) % (2 * math.pi) - math.pi)
-    ends = [np.hypot(np.asarray(x) - reg.ox - reg.eta_m * math.cos(a),
-                     np.asarray(y) - reg.oy - reg.eta_m * math.sin(a))
-            for a in (reg.lo_rad, reg.hi_rad)]
-    return np.where(off <= reg.half_angle, np.abs(np.hypot(dx, dy) - reg.eta_m),
-                    np.minimum(*ends)) - reg.r_r_m
 
 
 def segment_clear_float(regions, pos, heading, length, samples=16, leave_ok=False) -> bool:

@@ -17,6 +17,10 @@ from mobigrasp.mcu_sim.world.camera import CameraOptions, Intrinsics, apply_opti
 from mobigrasp.mcu_sim.world.scenario import Scenario
 from mobigrasp.mcu_sim.world.world import World
 
+STAND_STILL_RADIUS_M = 0.05  # the base's centre this near where it stopped: standing still
+ARRIVED_M = 0.6  # the base's centre this near the object: the approach is over (the grasp's
+# own stops, ADJUST's close look and 001's look before the grasp, are not stand-stills)
+
 
 def _round(x: float, nd: int = 6) -> float | None:
     return None if x is None or not math.isfinite(x) else round(float(x), nd)
@@ -59,6 +63,13 @@ class WorldPlant:
         self._tip_error_mm: float | None = None
         self.final_error_mm: float | None = None  # fingertip to grasp point when it attached
         self.grasp_us: int | None = None
+        # the longest stand-still of the search and the approach (docs/task.md "The run's
+        # counts"): the base's centre within STAND_STILL_RADIUS_M of where it stopped, until it
+        # first comes within ARRIVED_M of the object or the gripper first closes
+        self.stand_still_max_us = 0
+        self._still_since = (0, self._last_xy)  # (t_us, xy) where the present stand-still began
+        self._approach_over = False
+        self.close_alpha_rad: float | None = None  # the gripper's pitch as it closed (truth)
         self._open_m = self.world.arm.gripper_opening_m(0) - 1e-4
 
     def _xy(self) -> tuple[float, float]:
@@ -139,15 +150,43 @@ class WorldPlant:
         self.path_length_m += math.hypot(x - self._last_xy[0], y - self._last_xy[1])
         self._last_xy = (x, y)
         w = self.world
+        if not self._approach_over:
+            ox, oy, _, _ = w.target.pose()
+            self._approach_over = math.hypot(x - ox, y - oy) <= ARRIVED_M
+        if not self._approach_over:
+            since_us, at = self._still_since
+            if math.hypot(x - at[0], y - at[1]) > STAND_STILL_RADIUS_M:
+                self._still_since = (w.t_us, (x, y))
+            else:
+                self.stand_still_max_us = max(self.stand_still_max_us, w.t_us - since_us)
         if w.attached:
+            self._approach_over = True
             if self.grasp_us is None:
                 self.grasp_us = w.t_us
                 self.final_error_mm = self._tip_error_mm
+                self.close_alpha_rad = self._alpha_rad()
         elif w.arm.gripper_opening_m(w.t_us) < self._open_m:  # closing: measure the error
+            self._approach_over = True
+            if self.grasp_us is None:
+                self.close_alpha_rad = self._alpha_rad()
             tip = w.arm.fingertip_world(w.base.pose(), w.t_us)
             gp = w.target.grasp_point()
             self._tip_error_mm = 1000.0 * math.dist((float(tip[0]), float(tip[1]),
                                                      float(tip[2])), gp)
+
+    def robot_geometry(self) -> dict:
+        """The footprint, the safety circle R_r (001's parameter, null for the others) and the
+        sonar ring (k_s cones of A_g up to D_e), for drawing the run."""
+        w, c = self.world, self.world.sonar.config
+        r_r = self.scenario.params.get("R_r") if self.scenario.meta.method == "001" else None
+        return {"footprint_m": w.base.radius_m, "safety_radius_m": r_r,
+                "sonar": {"k_s": c.k_s, "A_g_rad": c.A_g, "D_e_m": c.D_e}}
+
+    def _alpha_rad(self) -> float:
+        """The gripper's pitch below the horizontal's sign convention of arm.py (q2 + q3 + q4,
+        eq. (4) of 002: 0 is level)."""
+        q = self.world.arm.joints(self.world.t_us)
+        return float(q[2] + q[3] + q[4])
 
     def truth(self, t_us: int) -> dict:
         """Compact ground-truth sample for the trace (rounded: the trace stays small)."""
@@ -169,8 +208,9 @@ class WorldPlant:
         """Figures for the summary from the world's ground truth at the end."""
         t = self.world.truth()
         return {"grasped": bool(t["attached"]), "grasps": t["grasps"],
-                "collisions": t["collisions"],
+                "collisions": t["collisions"], "contact_time_s": t["contact_time_s"],
                 "min_obstacle_clearance_m": t["min_clearance_m"],
+                "stand_still_max_s": self.stand_still_max_us / 1e6,
                 "object": t["object"], "base": t["base"],
                 "path_length_m": self.path_length_m, "final_error_mm": self.final_error_mm,
-                "grasp_us": self.grasp_us}
+                "grasp_us": self.grasp_us, "close_alpha_rad": self.close_alpha_rad}

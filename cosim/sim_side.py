@@ -42,6 +42,7 @@ class SimSide:
         self.trace = TraceWriter(out / "trace.jsonl")
         self.snaps = Snapshots(out / "frames")
         self.plant = WorldPlant(scenario, seed)
+        self.summary["robot"] = self.plant.robot_geometry()  # for the plots (tools/plots.py)
         self.plant.preload()  # textures built while the host process boots, not on its clock
         self.mcu = open_mcu(mcu_backend)
         self.seed = seed
@@ -110,7 +111,7 @@ class SimSide:
         summary["mcu"] = self.mcu.stats()
         if self.fault_rig is not None:
             summary["faults"], summary["safety"] = self.fault_rig.summary()
-            summary["safety"]["contacts"] = summary["collisions"]
+            summary["safety"]["contacts"] = summary["contacts"]
         proto = summary["protocol"]
         proto["crc_errors"] = (proto["crc_errors"]
                                + summary["mcu"].get("parser_crc_errors", 0))

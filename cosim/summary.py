@@ -12,14 +12,18 @@ def world_figures(fin: dict) -> dict:
     """What the world says of a run, whoever the host was: the grasp, the final error, the
     contacts and the path (from the plant's ``final()``)."""
     grasp_us = fin.get("grasp_us")
+    contact_s = fin.get("contact_time_s") or {}
     return {
         "grasped": bool(fin["grasped"] or fin["grasps"]),
         "time_to_grasp_s": grasp_us / 1e6 if grasp_us is not None else None,
         "final_error_mm": fin.get("final_error_mm"),
-        "collisions": int(fin["collisions"].get("obstacle", 0)),
-        "collisions_target": int(fin["collisions"].get("target", 0)),
-        "min_obstacle_clearance_m": fin["min_obstacle_clearance_m"],
+        # contact episodes (docs/task.md "The run's counts")
+        "contacts": int(fin["collisions"].get("obstacle", 0)),
+        "contacts_target": int(fin["collisions"].get("target", 0)),
+        "contact_time_s": round(float(contact_s.get("obstacle", 0.0)), 3),
+        "min_clearance_m": fin["min_obstacle_clearance_m"],
         "path_length_m": fin["path_length_m"],
+        "stand_still_max_s": fin.get("stand_still_max_s"),
     }
 
 
@@ -42,6 +46,11 @@ def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dic
         "claimed_success": claimed, "false_claim": claimed and not fin["grasped"],
         "end_reason": res.reason if res else "crashed",
         "replans": int(hs.get("replans", 0)),
+        "path_updates": int(hs.get("path_updates", 0)),
+        "grasp": {"close_reason": hs.get("close_reason"),
+                  "alpha_rad": (None if fin.get("close_alpha_rad") is None
+                                else round(fin["close_alpha_rad"], 4)),
+                  "final_error_mm": fin.get("final_error_mm")},
         "frames_captured": int(hs.get("frames_received", 0)),
         "frames_processed": int(hs.get("frames_processed", 0)),
         "frames_dropped": int(hs.get("frames_dropped", 0)),

@@ -179,6 +179,8 @@ class HostApp:
         self._resets_handled = 0
         self.replans = 0
         self.plans = 0
+        self.path_updates = 0  # a new curve adopted while one was followed (docs/task.md)
+        self.close_reason: str | None = None  # the last grasp_close of the trace
 
     # ---- inputs from the driver --------------------------------------------------------------
     def on_uart(self, data: bytes, arrival_us: int) -> None:
@@ -432,6 +434,10 @@ class HostApp:
             if detail.get("plan") is not None:
                 self.plans += 1  # every plan after the first one is a replan (001 §III.E)
                 self.replans = max(0, self.plans - 1)
+                if detail.get("replan") is not None:
+                    self.path_updates += 1
+            if detail.get("grasp_close") is not None:
+                self.close_reason = str(detail["grasp_close"])
             self._events.append({"ev": "detail", "t_us": at_us, "state": self.state,
                                  **jsonable(detail)})
         servos = getattr(out, "servo_mrad", None)
@@ -472,7 +478,8 @@ class HostApp:
             "arm9_load_mean": total / n if n else 0.0,
             "stages": {k: v.summary() for k, v in sorted(c.stage_us.items())},
             "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
-            "replans": self.replans, "mcu_resets_seen": self.link.mcu_resets,
+            "replans": self.replans, "path_updates": self.path_updates,
+            "close_reason": self.close_reason, "mcu_resets_seen": self.link.mcu_resets,
         }
 
     def _mcu_counters(self) -> dict:

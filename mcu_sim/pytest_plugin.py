@@ -20,7 +20,7 @@ with their reasons by name; ``describe(msg)`` prints any message that way.
   ``mobigrasp sim`` for the test (its clock starting at your host's first frame, as ``sim``
   does when stdin is not a terminal): the scenario's MCU and world in wall time, ``robot.port`` the
   serial pty, ``robot.camera_url`` the MJPEG stream. Run your host program against them; once it
-  has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``collisions``,
+  has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``contacts``,
   ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
   the test body is ended (SIGTERM) and its folder written all the same.
   ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from mobigrasp.host.vision.double_cross import DoubleCrossResult
 from mobigrasp.host.vision.dual_plus import DualPlus
+from mobigrasp.host.vision.held_fill import HeldFill
 from mobigrasp.host.vision.radial_symbol import RadialSymbol
 from mobigrasp.host.vision.red_cylinder import RedCylinderResult, RedRoi
 from mobigrasp.host.vision.spoke import Spoke
@@ -40,3 +41,7 @@ def double_cross(um_q4: int, vm_q4: int, d_pixel_q4: int = 0, e_mrad: int = 0
 
 def spoke(angle_mrad: int, width_q4: int, slope_q12: int = 0) -> Spoke:
     return Spoke(0, 0, (), slope_q12, angle_mrad, width_q4)
+
+
+def held_fill(rgb: tuple[int, int, int], fill_permille: int = 990) -> HeldFill:
+    return HeldFill(rgb, fill_permille)

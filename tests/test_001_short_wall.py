@@ -46,7 +46,7 @@ def test_the_guard_turns_the_base_away_from_a_short_wall_and_it_goes_past(tmp_pa
     p.write_text(SCENE)
     summary, _ = execute(RunOptions(scenario=str(p), transport="inproc", out=tmp_path / "run",
                                     progress=False, plots=False))
-    assert summary["safety"]["contacts"] == 0 and summary["collisions"] == 0, summary["safety"]
+    assert summary["safety"]["contacts"] == 0 and summary["contacts"] == 0, summary["safety"]
     events = [json.loads(line) for line in (tmp_path / "run" / "trace.jsonl").open()]
     guards = [e["sonar_guard"] for e in events if "sonar_guard" in e]
     assert guards and all(g["range_mm"] < g["r_r_mm"] for g in guards)

@@ -100,7 +100,7 @@ def fake_run(job):
     return {"status": "finished", "task_state": state, "claimed_success": claimed,
             "grasped": held, "success": claimed and held, "false_claim": claimed and not held,
             "end_reason": "time_limit" if state == "SEARCH" else f"task_{state.lower()}",
-            "collisions": contacts, "final_error_mm": err, "sim_time_s": 30.0,
+            "contacts": contacts, "final_error_mm": err, "sim_time_s": 30.0,
             "wall_time_s": 3.0, "trace_sha256": f"sha-{job['method']}-{job['seed']}"}
 
 
@@ -110,7 +110,7 @@ def fake_loop(monkeypatch):
 
     CALLS.clear()
     monkeypatch.setattr(lc, "run_job", fake_run)
-    # seed 1001 of 002 is a board alone in the fake; a real v2 002 scene of a seed is whatever
+    # seed 1001 of 002 is a board alone in the fake; a real v3 002 scene of a seed is whatever
     # the generator made it
     monkeypatch.setattr(lc, "graspable", lambda job: (job["method"], job["seed"]) != ("002", 1001))
     return lc
@@ -145,14 +145,14 @@ def test_campaign_table_failures_and_figure(fake_loop, tmp_path, capsys):
         item = next(block for block in md.split("\n- ")
                     if block.startswith(f"{method} seed {seed} "))
         assert cause in item and str(runs / "runs" / f"{method}-{seed}") in item
-        assert (f"re-run: `mobigrasp run {runs / 'scenes'}/random-v2-{method}-{seed}.toml "
+        assert (f"re-run: `mobigrasp run {runs / 'scenes'}/random-v3-{method}-{seed}.toml "
                 f"--transport pty --out {runs / 'runs'}/{method}-{seed}`") in item
         assert (runs / "runs" / f"{method}-{seed}").is_dir()
     assert "000 seed 1000 " not in md and "002 seed 1000 " not in md  # met their bars
     from mobigrasp.tools.random_scenarios import random_scenario_toml
 
-    assert (runs / "scenes" / "random-v2-002-1001.toml").read_text() \
-        == random_scenario_toml("002", 1001, "v2")
+    assert (runs / "scenes" / "random-v3-002-1001.toml").read_text() \
+        == random_scenario_toml("002", 1001, "v3")
     png = (tmp_path / "res" / "loop.png").read_bytes()
     assert png[:8] == b"\x89PNG\r\n\x1a\n" and len(png) > 10_000
 

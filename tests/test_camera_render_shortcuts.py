@@ -117,7 +117,7 @@ def test_frame_filling_card_skips_only_hidden_paint(yaw, monkeypatch):
 def test_card_seen_obliquely_or_from_behind_does_not_claim_the_frame():
     scene = Scene(target=Target("radial-symbol", 0.0, 0.0, 0.0), seed=1)
     for pos, R in (((0.0, -0.3, 0.2), look_rotation(math.pi / 2, -0.4)),
-                   ((0.0, 0.0, 0.05), look_rotation(0.0, math.pi / 2))):
+                   ((0.03, 0.0, 0.05), look_rotation(0.0, math.pi / 2))):  # beside the post
         c = np.asarray(pos, float)
         p = cam._Painter(np.empty((INTR.height, INTR.width, 3), np.uint8), c, R, INTR)
         for it in solids_of_scene(scene):

@@ -79,7 +79,7 @@ def fake_run(job):
         raise RuntimeError(f"boom {seed}")
     return {
         "status": "finished", "success": seed % 3 != 0, "task_state": "DONE",
-        "sim_time_s": 10.0 + seed, "collisions": 1 if seed == 4 else 0,
+        "sim_time_s": 10.0 + seed, "contacts": 1 if seed == 4 else 0,
         "protocol": {"retransmits": seed, "crc_errors": 2 * seed, "watchdog_trips": 9},
         "safety": {"unsafe_actuations": 2 if seed == 5 else 0, "watchdog_trips": seed % 2,
                    "stop_latency_ms": [250.0 + seed], "recovery_ms": [100.0 * seed],
@@ -142,7 +142,7 @@ def test_progress_bar_goes_to_the_stream(tmp_path, capsys):
 
 
 def test_rows_without_a_safety_block_are_marked():
-    row = row_of({"seed": 1}, {"status": "finished", "success": True, "collisions": 2,
+    row = row_of({"seed": 1}, {"status": "finished", "success": True, "contacts": 2,
                               "protocol": {"watchdog_trips": 3, "retransmits": 4}})
     assert row["safety_monitored"] is False and row["unsafe_actuations"] == 2
     assert row["watchdog_trips"] == 3 and row["retransmits"] == 4 and not row["faults_applied"]

@@ -77,9 +77,12 @@ def test_the_generator_campaigns_and_the_cli_take_the_toy(toy, capsys):
     from mobigrasp.tools.cli import main
     from mobigrasp.tools.random_scenarios import random_scenario
 
-    sc = random_scenario("toy", 5)
+    sc = random_scenario("toy", 5, "v2")  # v2 keeps to the scene's hints
     assert sc.meta.method == "toy" and sc.meta.time_limit_s == 60.0
     assert sc.target.kind == "radial-symbol" and not sc.obstacles and not sc.target.path
+    sc = random_scenario("toy", 5)  # v3, the default: 180 s and obstacles for every method
+    assert sc.meta.method == "toy" and sc.target.kind == "radial-symbol"
+    assert sc.meta.time_limit_s == 180.0 and not sc.target.path
     CampaignConfig("toy", 1)  # accepted
     assert make_scenario("toy", 5, CampaignConfig("toy", 1).faults).meta.method == "toy"
     with pytest.raises(SystemExit) as exit_:

@@ -98,7 +98,7 @@ def test_gripper_has_its_own_axis(short_runs, saved_figures, tmp_path):
 def _fake_run(job: dict) -> dict:
     seed = job["seed"]
     return {"status": "finished", "success": seed % 2 == 0, "task_state": "DONE",
-            "sim_time_s": 5.0, "collisions": 0, "protocol": {"retransmits": seed},
+            "sim_time_s": 5.0, "contacts": 0, "protocol": {"retransmits": seed},
             "safety": {"unsafe_actuations": seed % 3, "watchdog_trips": seed % 2,
                        "stop_latency_ms": [200.0 + seed] if seed % 2 else [],
                        "recovery_ms": [], "unrecovered": 0}}
@@ -137,7 +137,7 @@ def test_loop_campaign_plot_is_readable(tmp_path, saved_figures):
         return {"status": "finished", "success": done, "claimed_success": done,
                 "grasped": done, "false_claim": False,
                 "task_state": "DONE" if done else "FAILED", "end_reason": "task_done",
-                "collisions": 0, "final_error_mm": 2.0 + seed % 5 if done else None,
+                "contacts": 0, "final_error_mm": 2.0 + seed % 5 if done else None,
                 "sim_time_s": 20.0}
 
     cfg = LoopCampaign(methods=("000", "001"), runs=6, seed_base=3, jobs=1, out=tmp_path / "c")
@@ -148,3 +148,31 @@ def test_loop_campaign_plot_is_readable(tmp_path, saved_figures):
     outcome_ax = fig.axes[0]
     labels = {t.get_text() for t in outcome_ax.get_legend().get_texts()}
     assert labels == {"success (8)", "FAILED: no reason given (4)"}  # seeds 3 and 6 of each
+
+
+def test_trajectory_draws_footprints_and_each_path_update_with_r_r_and_sonar(saved_figures,
+                                                                              tmp_path):
+    truth = [{"ev": "truth", "t_us": k * 100_000, "x_m": 0.1 * k, "y_m": 0.0,
+              "heading_rad": 0.0, "obj": [3.0, 0.0, 0.0]} for k in range(31)]
+    update = {"ev": "detail", "replan": "blocked: replanned", "plan": {"planner": "001"}}
+    events = [{"ev": "start", "t_us": 0, "obstacles": []}, *truth,
+              {**update, "t_us": 1_000_000}, {**update, "t_us": 2_000_000},
+              {"ev": "detail", "t_us": 500_000, "plan": {"planner": "001"}},  # from standstill
+              {"ev": "detail", "t_us": 600_000, "replan": "path clear"}]
+    robot = {"footprint_m": 0.17, "safety_radius_m": 0.2,
+             "sonar": {"k_s": 5, "A_g_rad": 1.05, "D_e_m": 2.5}}
+    assert [e["t_us"] for e in plots.path_updates(events)] == [1_000_000, 2_000_000]
+    assert plots.trajectory(events, tmp_path, {"robot": robot}) == "trajectory.png"
+    ax = saved_figures["trajectory.png"].axes[0]
+    check_readable(saved_figures["trajectory.png"], "trajectory")
+    marks = [ln for ln in ax.lines if ln.get_marker() == "D"]
+    assert [tuple(ln.get_xydata()[0]) for ln in marks] == [(1.0, 0.0), (2.0, 0.0)]
+    circles = [p for p in ax.patches if isinstance(p, plots.Circle)]
+    assert sum(abs(c.radius - 0.2) < 1e-9 for c in circles) == 2  # R_r at each update
+    assert sum(abs(c.radius - 0.17) < 1e-9 for c in circles) == 7  # S, every 0.5 m, G
+    assert sum(isinstance(p, plots.Wedge) for p in ax.patches) == 2 * 5
+    assert "2 path updates" in ax.get_title()
+    saved_figures.clear()
+    plots.trajectory(events, tmp_path)  # without the summary: the path and updates only
+    ax = saved_figures["trajectory.png"].axes[0]
+    assert not any(isinstance(p, plots.Wedge | plots.Circle) for p in ax.patches)

@@ -9,7 +9,7 @@ from mobigrasp.tools.random_scenarios import random_scenario
 from mobigrasp.tools.run_job import BadInput, parse_speed, resolve_scenario
 
 
-@pytest.mark.parametrize("version", ["v1", "v2"])
+@pytest.mark.parametrize("version", ["v1", "v2", "v3"])
 @pytest.mark.parametrize("method", ["000", "001", "002"])
 def test_random_scenarios_follow_the_campaign_rules(method, version):
     dists = []
@@ -17,7 +17,7 @@ def test_random_scenarios_follow_the_campaign_rules(method, version):
         sc = random_scenario(method, seed, version)
         assert sc.meta.method == method and sc.meta.seed == seed
         d = math.hypot(sc.target.x_m - sc.robot.x_m, sc.target.y_m - sc.robot.y_m)
-        assert 0.5 <= d <= 3.0
+        assert (0.5 <= d <= 3.0) if version != "v3" else (0.3 <= d <= 4.5)
         dists.append(d)
         for o in sc.obstacles:  # never on top of the start or the target
             assert math.hypot(o.x_m, o.y_m) > 0.3
@@ -33,22 +33,26 @@ def test_random_scenarios_follow_the_campaign_rules(method, version):
         assert sum(len(random_scenario("001", s, version).obstacles) for s in range(25)) > 12
 
 
-def test_v1_scenes_are_kept_seed_for_seed():
-    """Old figures can be re-run: generator v1's text of a seed does not change."""
+@pytest.mark.parametrize(("version", "want"), [
+    ("v1", {"000": "e950192378695b02", "001": "a7ad4d8bcd61f2c7", "002": "f1193656bb4fe5dd"}),
+    ("v2", {"000": "2a0f545e92c46462", "001": "87da979350187334", "002": "b8e43a3d07e9298c"}),
+    ("v3", {"000": "0f75be3f865ff0bd", "001": "63feeebfbd168253", "002": "26510e3f62db2227"}),
+])
+def test_generators_keep_their_scenes_seed_for_seed(version, want):
+    """Figures can be re-run: a generator's text of a seed does not change."""
     import hashlib
 
     from mobigrasp.tools.random_scenarios import random_scenario_toml
 
-    got = {m: hashlib.sha256(random_scenario_toml(m, 3, "v1").encode()).hexdigest()[:16]
+    got = {m: hashlib.sha256(random_scenario_toml(m, 3, version).encode()).hexdigest()[:16]
            for m in ("000", "001", "002")}
-    assert got == {"000": "e950192378695b02", "001": "a7ad4d8bcd61f2c7",
-                   "002": "f1193656bb4fe5dd"}
+    assert got == want
 
 
 def test_v2_covers_what_users_try():
     from mobigrasp.tools.random_scenarios import random_scenario_toml
 
-    scenes = {m: [random_scenario(m, s) for s in range(60)] for m in ("000", "001", "002")}
+    scenes = {m: [random_scenario(m, s, "v2") for s in range(60)] for m in ("000", "001", "002")}
     every = [sc for v in scenes.values() for sc in v]
     assert max(sc.camera.noise_std for sc in every) > 6 and min(
         sc.camera.brightness for sc in every) < 0.7 and max(sc.camera.blur_px for sc in every) > 1
@@ -61,7 +65,44 @@ def test_v2_covers_what_users_try():
         sc.target.path for sc in scenes["002"])
     faulted = [sc for sc in every if sc.faults.active()]
     assert 0 < len(faulted) < len(every)
-    assert "[faults]" not in random_scenario_toml("000", 7, faults=False)
+    assert "[faults]" not in random_scenario_toml("000", 7, "v2", faults=False)
+
+
+def test_v3_adds_close_far_cluttered_scenes_and_a_harsher_camera():
+    from mobigrasp.tools.random_scenarios import random_scenario_toml
+
+    scenes = {m: [random_scenario(m, s) for s in range(80)] for m in ("000", "001", "002")}
+    every = [sc for v in scenes.values() for sc in v]
+    dists = [math.hypot(sc.target.x_m, sc.target.y_m) for sc in every]
+    assert all(0.3 <= d <= 4.5 for d in dists)
+    close, far = sum(d < 0.5 for d in dists), sum(d > 3.0 for d in dists)
+    assert 0.1 * len(every) < close < 0.3 * len(every)
+    assert 0.2 * len(every) < far < 0.4 * len(every)
+    assert all(sc.meta.time_limit_s == 180.0 for sc in every)
+    for m in ("000", "002"):  # obstacles in 000 and 002 scenes too
+        assert sum(bool(sc.obstacles) for sc in scenes[m]) > 15
+    def centre(o):
+        return ((o.x_m + o.x2_m) / 2, (o.y_m + o.y2_m) / 2) if o.shape == "wall" else (o.x_m,
+                                                                                          o.y_m)
+
+    for sc in every:  # no centre within 0.6 m of the start or the target (a surface 0.35 m)
+        for o in sc.obstacles:
+            x, y = centre(o)
+            assert math.hypot(x, y) > 0.6 and math.hypot(x - sc.target.x_m, y - sc.target.y_m) > 0.6
+    near = [sc for sc in every if any(
+        math.hypot(centre(o)[0] - sc.target.x_m, centre(o)[1] - sc.target.y_m) < 0.95
+        for o in sc.obstacles)]
+    assert len(near) > 0.1 * len(every)
+    cams = [sc.camera for sc in every]
+    assert max(c.noise_std for c in cams) > 10 and min(c.brightness for c in cams) < 0.55
+    assert max(c.brightness for c in cams) > 1.65 and max(c.blur_px for c in cams) > 2.5
+    assert all(0 <= c.noise_std <= 12 and 0.45 <= c.brightness <= 1.8 and 0 <= c.blur_px <= 3
+               for c in cams)
+    harsh = [sc for sc in every if sc.faults.uart_bit_error_rate == 1e-3]
+    assert harsh and all(sc.faults.camera_drop_rate == 0.2 and sc.faults.encoder_slip == 0.05
+                         for sc in harsh)
+    assert len(harsh) < 0.35 * len(every)
+    assert "[faults]" not in random_scenario_toml("002", 7, faults=False)
 
 
 def test_profile_names_the_stage_closest_to_its_budget():

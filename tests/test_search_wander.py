@@ -202,12 +202,29 @@ def test_task_wanders_straight_ahead_until_odometry_says_the_distance_is_done():
     assert task.detectors_needed() == ["radial_symbol"]  # the camera looks on the way
     out = task.step(t + 40_000, TaskInputs(x_mm=300, y_mm=400))  # 500 mm from the start
     assert out.wheels_mmps == (0, 0) and task.search.wanders == 1 and not task.search.wandering
-    # a corner of the spiral: the base turns left in place (blind), then drives the next leg
+    # a corner of the spiral: the base turns left in place, the camera looking, then drives
+    # the next leg
     out = task.step(t + 60_000, TaskInputs(x_mm=300, y_mm=400))
-    assert out.wheels_mmps[0] < 0 < out.wheels_mmps[1] and task.detectors_needed() == []
+    assert out.wheels_mmps[0] < 0 < out.wheels_mmps[1]
+    assert task.detectors_needed() == ["radial_symbol"]
     out = task.step(t + 80_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=1571))
     out = task.step(t + 100_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=1571))
     assert out.wheels_mmps == (v, v) and task.search.wandering
+
+
+def test_a_target_seen_while_the_base_turns_stops_the_turn_to_confirm_it():
+    import detections as det
+
+    task, t = _task_to_wander(())
+    task.step(t + 20_000, TaskInputs(x_mm=300, y_mm=400))  # the leg is done
+    out = task.step(t + 40_000, TaskInputs(x_mm=300, y_mm=400))
+    assert out.wheels_mmps[0] < 0 < out.wheels_mmps[1] and task.search.turning  # the corner
+    seen = {"radial_symbol": det.radial(160 * 16, 150 * 16, 900)}
+    out = task.step(t + 60_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=400,
+                                           detections=seen))
+    assert out.wheels_mmps == (0, 0) and task.confirm_until is not None  # stop, look again
+    out = task.step(t + 80_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=400))
+    assert out.wheels_mmps == (0, 0) and out.state == "SEARCH"
 
 
 def test_task_wander_stops_short_when_a_front_sonar_sees_something():
@@ -248,7 +265,8 @@ def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():
 
 
 def test_detour_heads_for_the_free_sonar_direction_nearest_the_object():
-    from mobigrasp.host.task.method001 import detour_heading, sonar_angles_mrad
+    from mobigrasp.host.task.method001 import detour_heading
+    from mobigrasp.host.task.sonar_guard import sonar_angles_mrad
 
     assert sonar_angles_mrad(5) == [-1571, -786, 0, 785, 1571]
     # facing +x, object straight ahead; front and front-left blocked, front-right free

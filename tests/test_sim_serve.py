@@ -165,7 +165,7 @@ def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emula
     robot.stop()
     s = robot.summary
     assert s["end_reason"] == "terminated" and s["grasped"] is False
-    assert s["collisions"] == 0 and "unsafe_actuations" in s["safety"]
+    assert s["contacts"] == 0 and "unsafe_actuations" in s["safety"]
     assert (robot.run_dir / "trace.jsonl").exists()
     assert robot.proc.returncode == 1  # nothing grasped
 
@@ -197,7 +197,7 @@ def test_sim_and_mobigrasp_host_as_two_processes_grasp(tmp_path):
     summary = json.loads((out / "summary.json").read_text())
     assert summary["grasped"] and summary["end_reason"] == "host_closed"
     assert summary["time_to_grasp_s"] < 40.0
-    assert summary["collisions"] == 0 and summary["safety"]["unsafe_actuations"] == 0
+    assert summary["contacts"] == 0 and summary["safety"]["unsafe_actuations"] == 0
     assert (out / "report.html").exists()
     wires = [json.loads(line) for line in (out / "trace.jsonl").read_text().splitlines()
              if '"wire"' in line]

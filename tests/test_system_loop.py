@@ -13,7 +13,7 @@ from mobigrasp.tools.run_job import RunOptions, execute
 
 SUMMARY_KEYS = (
     "scenario", "method", "seed", "transport", "success", "grasped", "time_to_grasp_s",
-    "final_error_mm", "collisions", "min_obstacle_clearance_m", "path_length_m", "replans",
+    "final_error_mm", "contacts", "min_clearance_m", "path_length_m", "replans", "path_updates",
     "frames_captured", "frames_processed", "frames_dropped", "deadline_misses",
     "arm9_load_max", "arm9_load_mean", "sim_time_s", "wall_time_s", "realtime_factor",
     "protocol", "state_durations_s", "trace_sha256",
@@ -63,7 +63,7 @@ def test_shipped_scenario_succeeds_over_pty(tmp_path, name):
     summary, code = _run(tmp_path, name, transport="pty")
     assert summary["success"], (summary["task_state"], summary["end_reason"], summary["error"])
     assert code == 0
-    assert summary["collisions"] == 0
+    assert summary["contacts"] == 0
     assert (tmp_path / f"{name}-pty" / "report.html").exists()
 
 

@@ -61,7 +61,7 @@ def test_001_never_backs_up_while_following_it_turns_on_the_spot():
 def test_the_sonar_guard_stops_turns_and_leaves_the_safety_circle_before_planning():
     """A front sonar below R_r in APPROACH: the base stops at once, turns toward the widest free
     sector and drives GUARD_OUT_MM along it before a new plan (docs/task.md, "No contact")."""
-    from mobigrasp.host.task.method001 import GUARD_OUT_MM
+    from mobigrasp.host.task.sonar_guard import GUARD_OUT_MM
 
     task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
     task.step(0, TaskInputs(sonar_mm=CLEAR))

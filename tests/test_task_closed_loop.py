@@ -4,7 +4,8 @@ The world here is a reference written from docs/conventions.md in float: a unicy
 (track 300 mm) driven by the task's wheel speeds, the arm at the commanded joints (eq. (3) of
 000 for the camera point, OpenCV camera axes as in conventions), a pinhole camera (f = 611 or
 350 px) that "detects" the markers by projecting their true positions, and the grasp rule of
-mcu_sim/world/arm.py (15 mm horizontally, 20 mm vertically, gripper closed).
+mcu_sim/world/arm.py (15 mm horizontally, 20 mm vertically, gripper closed); a held object
+fills the camera's frame with its colour (the camera at the fingertip is inside it).
 """
 
 import math
@@ -18,6 +19,8 @@ from mobigrasp.host.task import Task, TaskInputs
 
 MOUNT_M = 0.10
 H_SHOULDER_M = 0.20
+BODY_RGB = (170, 130, 90)  # the 000/001 object's body (docs/markers.md)
+RED_RGB = (200, 30, 30)  # the 002 cylinder's paint
 
 
 def cam_axes(j):
@@ -35,7 +38,7 @@ class World:
     """Float reference world for one object; ``lengths`` in mm."""
 
     def __init__(self, obj_xy, lengths=(95.5, 89.0, 97.0), f_px=611, grasp_h=0.08, top_h=0.10,
-                 pose=(0.0, 0.0, 0.0), spoke_rad=0.3):
+                 pose=(0.0, 0.0, 0.0), spoke_rad=0.3, held_rgb=BODY_RGB):
         self.obj = obj_xy
         self.l = [v / 1000 for v in lengths]
         self.f = f_px
@@ -43,6 +46,7 @@ class World:
         self.x, self.y, self.h = pose
         self.v = 0.0
         self.spoke_rad = spoke_rad
+        self.held_rgb = held_rgb  # the object's surface: the held object fills the camera's view
         self.joints = (0, 0, -1571, -1571, 1571, 0)
         self.held = False
         self.grasp_joints = None
@@ -81,24 +85,10 @@ class World:
             return None
         return u, v, zc
 
-    def held_face(self):
-        """002's red ROI when the cylinder (radius 25 mm) is held: the camera on its axis, h
-        above its top face, pitched down by beta; the face fills the frame below the row
-        v0 + f tan(atan(h / R) - beta), centred (docs/task.md)."""
-        pos, _ = self.camera()
-        h = pos[2] - self.top_h
-        beta = -sum(self.joints[2:5]) / 1000
-        edge = 120 + self.f * math.tan(math.atan2(h, 0.025) - beta) if h > 0 else -1
-        if not 0 <= edge < 238:
-            return None
-        return det.red_roi(160 * 16, round(8 * (edge + 240)), roi=(20, round(edge), 280,
-                                                                   240 - round(edge)),
-                           touches_edge=True)
-
     def detect(self, names):
+        if self.held:  # the camera at the fingertip is inside the object: nothing else is seen
+            return {n: det.held_fill(self.held_rgb) if n == "held_fill" else None for n in names}
         out = {}
-        if self.held and "red_roi" in names:
-            out["red_roi"] = self.held_face()
         top = (self.obj[0], self.obj[1], self.top_h)
         pr = self.project(top)
         if pr is None:
@@ -155,7 +145,7 @@ class World:
             self.held = True
         if out.gripper_permille == 0:
             self.held = False
-        if self.held:  # drawn under the gripper, as mcu_sim/world does
+        if self.held:  # lifted with the gripper, as mcu_sim/world does
             self.obj = (tip[0], tip[1])
 
     def inputs(self, task, frame):
@@ -227,7 +217,8 @@ def test_001_full_sequence_reaches_done():
 def test_002_horizontal_grasp_below_shoulder_fails_with_reason():
     """With a 0.20 m shoulder the cylinder's 0.10 m grasp point needs theta2 > 0 when level."""
     task = Task("002", {"h_shoulder_mm": 200})
-    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12)
+    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12,
+                  held_rgb=RED_RGB)
     events = run(task, world)
     path = [e.to_state for e in events]
     assert path[:2] == ["APPROACH", "ADJUST"]
@@ -241,7 +232,8 @@ def test_002_grasps_the_cylinder_with_the_low_shoulder(monkeypatch):
     monkeypatch.setattr(sys.modules[__name__], "H_SHOULDER_M", 0.05)
     task = Task("002")
     assert task.p.h_shoulder_mm == 50
-    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12)
+    world = World((1.0, 0.2), lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12,
+                  held_rgb=RED_RGB)
     events = run(task, world)
     assert task.state == "DONE" and world.held, (task.failure, [e.why for e in events])
     assert abs(sum(world.grasp_joints[2:5])) <= 300  # gripper pitch at the grasp
@@ -264,7 +256,7 @@ def _campaign(method, n, seed):
             H_SHOULDER_M = 0.05
             task = Task("002")
             world = World(obj, lengths=(97.0, 89.0, 95.5), f_px=350, grasp_h=0.10, top_h=0.12,
-                          pose=(0, 0, h))
+                          pose=(0, 0, h), held_rgb=RED_RGB)
         else:
             H_SHOULDER_M = 0.20
             task, world = Task("000"), World(obj, pose=(0, 0, h))
@@ -345,7 +337,7 @@ def test_grasp_check_looks_straight_down_from_above_the_gripper():
         assert task.phase == "check" and task.held_tips == {}
 
 
-def test_held_evidence_needs_the_object_under_the_fingertip_at_two_places():
+def test_held_evidence_needs_the_held_object_at_two_fingertip_places():
     from mobigrasp.host.task import grasp as task_grasp
 
     ev = task_grasp.GRASP.held_evidence
@@ -376,27 +368,6 @@ def test_a_given_object_place_counts_as_found():
     assert not Task("001").graspable_seen
 
 
-def test_grasp_check_view_looks_down_at_the_place_or_far_toward_a_distant_sighting():
-    from mobigrasp.host.search import SearchParams
-    from mobigrasp.host.task import grasp as task_grasp
-
-    # no method checks by absence now (docs/task.md): the place check itself, on 002's arm
-    for method, near_mm in (("002", 355),):
-        task = Task(method)
-        task.obj = (near_mm, 0)  # odometry: straight ahead of the start pose
-        task_grasp.GRASP.start_place_check(task, 0, TaskInputs())
-        alpha = sum(task.arm[2:5])
-        pitches = {-p for _, p in task_grasp.CHECK_VIEWS}
-        assert alpha in pitches or abs(min(pitches, key=lambda p: abs(p - alpha)) - alpha) <= 5
-        assert abs(task.arm[5]) <= 5 and task.phase == "check"
-        far = Task(method)
-        far.obj = (1300, -600)  # 0.45 m+ beyond any view: the search's far look toward it
-        task_grasp.GRASP.start_place_check(far, 0, TaskInputs())
-        sp = SearchParams(**far.p.search)
-        assert far.arm[2:5] == [sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad]
-        assert far.arm[5] > 300  # the object is to the right (negative odometry y)
-
-
 @pytest.mark.parametrize("sighted", [False, True])
 def test_001_check_never_ends_done_on_absence(sighted):
     """001: at the end of the look with the object never seen under the gripper, a miss
@@ -414,10 +385,10 @@ def test_001_check_never_ends_done_on_absence(sighted):
     assert "no evidence" in task._events[-1].why
 
 
-def test_001_check_looks_down_from_a_pulled_in_reach_with_the_plus_pair_off_axis():
-    """001: the look pulls the fingertip in to ``held_reach_mm`` on the same bearing, gripper
-    vertical, 120 mm above the object top; the wrist roll lays the "+" pair ``held_pair_mrad``
-    off the frame's x axis, and follows the waist through the offsets of the look."""
+def test_001_check_looks_down_and_moves_the_fingertip_enough():
+    """001: the look raises the camera straight above the fingertip, gripper vertical, 90 mm
+    or more above the object top; two of the waist offsets of the look move the fingertip at
+    least ``HELD_MOVE_MM`` apart (the evidence needs it)."""
     from mobigrasp.host import kinematics
     from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
     from mobigrasp.host.task import grasp as task_grasp
@@ -425,59 +396,20 @@ def test_001_check_looks_down_from_a_pulled_in_reach_with_the_plus_pair_off_axis
     task = Task("001")
     task.set_arm(0, -2433, -600, 1986, 150)  # a grasp pose of 001 (about 145 mm reach)
     x0, y0, z0 = task.gripper_point_q4()
-    task.plus_odom = ((300, -24), (300, 24))  # the pair across the odometry x axis
     task_grasp.GRASP.start_check(task, 0, TaskInputs())
     x, y, z = task.gripper_point_q4()
-    rules = task.rules
     assert sum(task.arm[2:5]) == kinematics.ALPHA_DOWN_MRAD
-    assert abs(isqrt(x * x + y * y) // 16 - rules.held_reach_mm) <= 8  # IK snaps to a limit
+    assert abs(isqrt(x * x + y * y) - isqrt(x0 * x0 + y0 * y0)) <= 3 * 16  # straight up
     assert abs(atan2_mrad(x, y) - atan2_mrad(x0, y0)) <= 20  # same bearing from the waist
-    assert abs((z // 16 + task.p.h_shoulder_mm) - task.p.object_top_mm - 120) <= 3
-    # image x points at -(theta1 + theta5) in the platform frame; the pair is along platform x
-
-    def off_axis():
-        d = (-(task.arm[1] + task.arm[5]) - atan2_mrad(0, 48)) % 3142
-        return min(d, 3142 - d)
-    assert abs(off_axis() - rules.held_pair_mrad) <= 5, task.arm
-    inp = TaskInputs()
-    task.phase_us, task.move_done_us = 0, 0
-    task_grasp.GRASP._check(task, 10_000_000, inp)  # the next waist offset
-    assert task.arm[5] != 150 and abs(off_axis() - rules.held_pair_mrad) <= 5
-
-
-def test_001_check_without_a_pair_direction_scans_the_roll_then_follows_the_waist():
-    """001 with no "+" pair seen in ADJUST: the look turns the wrist roll through
-    ``HELD_ROLL_SCAN_MRAD`` at the first waist offset while nothing is seen under the gripper,
-    the waist still; once the object is seen there, the waist moves on and the roll turns with
-    it (the pair keeps its place in the frame: roll + waist unchanged, mod a half turn)."""
-    from mobigrasp.host.task import grasp as task_grasp
-
-    task = Task("001")
-    task.set_arm(0, -2433, -600, 1986, 150)
-    assert task.plus_odom is None
-    task_grasp.GRASP.start_check(task, 0, TaskInputs())
-    first_roll, waist = task.arm[1], task.arm[5]
-    inp, now, rolls = TaskInputs(), 0, [task.arm[1]]
-    for _ in task_grasp.HELD_ROLL_SCAN_MRAD[1:3]:
-        now = max(now, task.move_done_us) + task_grasp.CHECK_POSE_US
-        task_grasp.GRASP._check(task, now, inp)
-        rolls.append(task.arm[1])
-        assert task.arm[5] == waist and task.check_waist[1] == 0
-    half = 2 * kinematics_quarter()
-    assert rolls[0] == first_roll
-    assert [(r - first_roll) % half for r in rolls] == \
-        [s % half for s in task_grasp.HELD_ROLL_SCAN_MRAD[:3]], rolls
-    task.held_tips = {0: (0, 0)}  # seen under the gripper at this roll
-    before = (task.arm[1] + task.arm[5]) % half
-    now = max(now, task.move_done_us) + task_grasp.CHECK_POSE_US
-    task_grasp.GRASP._check(task, now, inp)
-    assert task.check_waist[1] == 1 and task.arm[5] != waist
-    assert (task.arm[1] + task.arm[5]) % half == before
-
-
-def kinematics_quarter() -> int:
-    from mobigrasp.host import kinematics
-    return kinematics.QUARTER_TURN_MRAD
+    assert (z // 16 + task.p.h_shoulder_mm) - task.p.object_top_mm >= 90
+    tips = [(x, y)]
+    for _ in task_grasp.CHECK_WAIST_MRAD[1:]:
+        task.phase_us = task.move_done_us = 0
+        task_grasp.GRASP._check(task, 10_000_000, TaskInputs())  # the next waist offset
+        tips.append(task.gripper_point_q4()[:2])
+    far = max(isqrt((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2) // 16
+              for i, a in enumerate(tips) for b in tips[i + 1:])
+    assert far >= task_grasp.HELD_MOVE_MM
 
 
 @pytest.mark.parametrize("misses", [1, 3])
@@ -497,7 +429,7 @@ def test_001_a_close_beside_the_object_is_never_done(misses):
     checks = [e for e in events if e.from_state == "LIFT" and e.to_state == "ADJUST"]
     if misses <= 2:
         assert task.state == "DONE" and world.held, (task.failure, why)
-        assert len(checks) == misses and "seen under the gripper" in events[-1].why
+        assert len(checks) == misses and "fills the hand camera's frame" in events[-1].why
     else:
         assert task.state == "FAILED" and "grasp check" in task.failure, why
         assert len(checks) == 2 and not world.held

@@ -84,7 +84,7 @@ def test_sonar_below_safety_circle_stops_forward_motion_and_drops_the_path():
 def test_sonar_guard_in_approach_turns_toward_the_widest_free_sector_first():
     # an echo below R_r ahead and on the right, the left free: turn left in place, then leave
     # R_r along that sector before the next plan
-    from mobigrasp.host.task.method001 import GUARD_OUT_MM
+    from mobigrasp.host.task.sonar_guard import GUARD_OUT_MM
 
     task = _guarded((300, 150, 150, 2500, 2500), (3000, 0))
     assert task.wheels == (0, 0) and task.ms.detour["drive"] is True
@@ -177,3 +177,39 @@ def test_001_looks_at_a_near_given_object_before_the_first_plan():
     far = Task("001", params={"object_xy_mm": (3000, 0)})
     far.state, far.entered_us, far.obj = "APPROACH", 0, (3000, 0)
     assert far.rules.look_first(far, 100_000, inp) is False
+
+
+@pytest.mark.parametrize("method", ["000", "002"])
+@pytest.mark.parametrize("state", ["SEARCH", "APPROACH"])
+def test_000_and_002_are_guarded_too_stop_turn_and_drive_out_of_r_r(method, state):
+    """The sonar guard of 000 and 002 (host/task/sonar_guard.py): a front echo below R_r stops
+    the forward drive and drops the path; the base then turns toward the widest free sector
+    and drives GUARD_OUT_MM along it, whatever the state asks meanwhile, then the state goes
+    on; the object's own echo and echoes beyond R_r stop nothing."""
+    from mobigrasp.host.task import Task, TaskInputs
+    from mobigrasp.host.task.sonar_guard import GUARD_OUT_MM
+
+    task = Task(method)
+    task.state, task.wheels, task.obj, task.follower = state, (200, 200), (3000, 0), "a path"
+    echo = (300, 150, 150, 2500, 2500)  # ahead and on the right; the left free
+    task.rules.guard_wheels(task, 0, TaskInputs(sonar_mm=echo))
+    assert task.wheels == (0, 0) and task.follower is None
+    assert task.guard_out["heading_mrad"] > 500 and task.guard_out["length_mm"] == GUARD_OUT_MM
+    task.wheels = (200, 200)  # the state drives on: the guard turns the base instead
+    task.rules.guard_wheels(task, 20_000, TaskInputs(sonar_mm=echo))
+    assert task.wheels[0] < 0 < task.wheels[1]  # counter-clockwise, in place
+    heading = task.guard_out["heading_mrad"]
+    free = (2500,) * 5
+    task.rules.guard_wheels(task, 40_000, TaskInputs(heading_mrad=heading, sonar_mm=free))
+    assert task.wheels[0] == task.wheels[1] > 0  # out along the free sector
+    task.rules.guard_wheels(task, 60_000, TaskInputs(
+        heading_mrad=heading, x_mm=0, y_mm=GUARD_OUT_MM, sonar_mm=free))
+    assert task.guard_out is None and task.wheels == (0, 0)
+    task.wheels = (200, 200)  # released: the state's wheels stand
+    task.rules.guard_wheels(task, 80_000, TaskInputs(sonar_mm=free))
+    assert task.wheels == (200, 200)
+    for kept, obj in (((2500, 2500, 250, 2500, 2500), (3000, 0)),  # beyond R_r
+                      ((2500, 2500, 150, 2500, 2500), (400, 0))):  # the object's own echo
+        task.obj, task.wheels = obj, (200, 200)
+        task.rules.guard_wheels(task, 100_000, TaskInputs(sonar_mm=kept))
+        assert task.wheels == (200, 200) and task.guard_out is None

@@ -95,10 +95,10 @@ x_m = 0
 y_m = 0
 heading_rad = 0
 [target]
-kind = "radial-symbol"
+kind = "{kind}"
 x_m = {x}
 y_m = {y}
-heading_rad = 0
+heading_rad = {heading}
 """
 
 # theta4 = 0.3, theta3 = -0.9126, alpha = -pi/2: fingertip at z = 0.08 m (the grasp point)
@@ -110,7 +110,8 @@ def fingertip_x(q):
 
 
 def posed_world(dx=0.0, q=GRASP_Q):
-    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0), "grasp.toml",
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(q) + dx, y=0.0, kind="radial-symbol",
+                                         heading=0), "grasp.toml",
                              methods=REGISTRY))
     for ch in range(1, 6):
         w.set_servo_pulse_us(ch, pulse_for_angle(ch, q[ch]))
@@ -169,7 +170,8 @@ def test_no_grasp_with_the_wrong_gripper_pitch():
 
 
 def test_a_closed_gripper_arriving_at_the_object_does_not_grasp():
-    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0), "grasp.toml",
+    w = World(loads_scenario(SCEN.format(x=fingertip_x(GRASP_Q), y=0.0, kind="radial-symbol",
+                                         heading=0), "grasp.toml",
                              methods=REGISTRY))
     w.set_servo_pulse_us(0, 2000)  # closed while still at home
     w.step_to(500_000)
@@ -191,3 +193,69 @@ def test_world_and_host_agree_on_the_mount_per_method(method):
     # 002's level grasp point is above its shoulder (theta2 <= 0 cannot reach below it)
     if method == "002":
         assert p.grasp_height_mm > p.h_shoulder_mm
+
+
+def test_a_held_object_is_drawn_lifted_with_the_gripper_and_fills_its_camera():
+    from mobigrasp.mcu_sim.world import markers as mk
+    from mobigrasp.mcu_sim.world.camera import Intrinsics, render_clean
+    from mobigrasp.mcu_sim.world.camera_scene import target_keypoints_w
+
+    w = posed_world()
+    intr = Intrinsics(f_px=611, u0_px=160, v0_px=120)
+    pos, R = w.camera_pose_world()
+    before = render_clean(w.camera_scene(), pos, R, intr)
+    # the camera at the fingertip, at the grasp point: inside the standing object's post
+    assert (before == np.array(mk.BODY_RGB, np.uint8)).all()
+    w.set_servo_pulse_us(0, 2000)  # close
+    w.step_to(1_500_000)
+    w.set_servo_pulse_us(4, pulse_for_angle(4, 0.9))  # lift the shoulder
+    w.step_to(2_500_000)
+    assert w.gripper_grasped()
+    tip = w.arm.fingertip_world(w.base.pose(), w.t_us)
+    target = w.camera_scene().target
+    assert target.z_m == pytest.approx(tip[2] - 0.08, abs=1e-9) and target.z_m > 0.04
+    card = target_keypoints_w(target)["symbol_centre"]
+    assert card[2] == pytest.approx(tip[2] + 0.02, abs=1e-3)  # the card 20 mm above the grip
+    pos, R = w.camera_pose_world()
+    held = render_clean(w.camera_scene(), pos, R, intr)
+    assert (held == np.array(mk.BODY_RGB, np.uint8)).all()  # still inside: it moved along
+    # the same pose with the object put back on the ground: the camera sees the floor
+    ground = w.camera_scene()
+    ground = type(ground)(target=type(target)(target.kind, target.x_m + 0.2, target.y_m,
+                                              target.heading_rad), seed=ground.seed)
+    assert not (render_clean(ground, pos, R, intr) == held).all()
+
+
+def red_scen(x: float, y: float, heading: float) -> str:
+    """A 002 scene: the red cylinder and its board at (x, y), facing ``heading``."""
+    return SCEN.format(x=x, y=y, kind="red-cylinder", heading=heading).replace(
+        'method = "000"', 'method = "002"')
+
+
+def test_the_002_board_post_is_a_body_and_stays_when_the_cylinder_is_lifted():
+    w = World(loads_scenario(red_scen(0.5, 0.3, math.pi), "post.toml", methods=REGISTRY))
+    post = w.target.post
+    assert post is not None and post.obstacle_index == -1
+    # 0.17 m behind the cylinder (heading pi: behind is +x)
+    assert tuple(post.body.position) == pytest.approx((0.67, 0.3), abs=1e-6)
+    w.step_to(100_000)
+    assert w.truth()["min_clearance_m"] == pytest.approx(
+        math.hypot(0.67, 0.3) - 0.17 - 0.01 * math.sqrt(2), abs=0.02)
+    w.target.detach_from_space()  # lifted by a gripper: the board stays on its post
+    w.target.body.position = (0.2, -0.4)
+    w.step_to(200_000)
+    target = w.camera_scene().target
+    assert target.board == pytest.approx((0.5, 0.3, math.pi), abs=1e-6)
+    assert tuple(post.body.position) == pytest.approx((0.67, 0.3), abs=1e-6)
+
+
+def test_the_base_driving_into_the_board_post_is_a_contact():
+    w = World(loads_scenario(red_scen(0.6, 0.3, math.pi / 2), "post.toml",
+                             methods=REGISTRY))
+    assert tuple(w.target.post.body.position) == pytest.approx((0.6, 0.13), abs=1e-6)
+    w.set_wheel_duty(200, 200)  # along y = 0: the post at y = 0.13 is in the footprint's way
+    w.step_to(5_000_000)
+    ep = [e for e in w.contacts.events if e.kind == "obstacle"]
+    assert len(ep) == 1 and ep[0].index == -1
+    assert w.base.pose()[1] < -0.03  # pushed aside by the post, not through it
+    assert w.truth()["min_clearance_m"] < 0.001

@@ -106,8 +106,7 @@ def test_turning_radius_is_respected():
     assert h == pytest.approx((vr - vl) / WHEEL_TRACK_M * 6.0, rel=0.01)
 
 
-def test_obstacle_stops_the_base_and_the_contact_is_counted():
-    extra = """
+BOX_AHEAD = """
 [[obstacles]]
 shape = "box"
 x_m = 1.0
@@ -116,7 +115,10 @@ width_m = 0.2
 depth_m = 2.0
 heading_rad = 0.0
 """
-    w = make_world(extra=extra)
+
+
+def test_obstacle_stops_the_base_and_the_contact_is_counted():
+    w = make_world(extra=BOX_AHEAD)
     w.set_wheel_duty(255, 255)
     w.step_to(6_000_000)  # would be ~2.9 m without the box
     x, _, _ = w.base.pose()
@@ -125,7 +127,7 @@ heading_rad = 0.0
     t = w.truth()
     assert t["collisions"]["obstacle"] == 1
     assert w.contacts.events[0].index == 0
-    assert 1_000_000 < w.contacts.events[0].t_us < 3_000_000
+    assert 1_000_000 < w.contacts.events[0].start_us < 3_000_000
     assert t["min_clearance_m"] < 0.005
     # encoders stop while the base is held (no counts from a blocked base)
     ticks = w.encoder_ticks()
@@ -202,3 +204,53 @@ radius_m = {r_obs}
         assert hit
     if worst > 0.002:
         assert not hit
+
+
+def test_a_long_press_is_one_contact_episode_with_its_duration():
+    w = make_world(extra=BOX_AHEAD)
+    w.set_wheel_duty(255, 255)
+    w.step_to(6_000_000)
+    t = w.truth()
+    ep = w.contacts.events
+    assert t["collisions"]["obstacle"] == 1 and len(ep) == 1 and ep[0].end_us is None
+    # pressed from its start to now
+    assert t["contact_time_s"]["obstacle"] == pytest.approx((6_000_000 - ep[0].start_us) / 1e6)
+    assert t["contact_time_s"]["obstacle"] > 2.0
+
+
+def test_touches_apart_are_two_episodes_and_a_quick_retouch_is_one():
+    w = make_world(extra=BOX_AHEAD)
+    w.set_wheel_duty(200, 200)
+    w.step_to(5_000_000)
+    w.set_wheel_duty(-200, -200)  # back off for 1 s: the episode ends
+    w.step_to(6_000_000)
+    first = w.contacts.events[0]
+    assert first.end_us is not None and w.truth()["contact_time_s"]["obstacle"] > 0.5
+    w.set_wheel_duty(200, 200)
+    w.step_to(9_000_000)
+    assert w.contacts.count("obstacle") == 2  # more than EPISODE_GAP_US apart
+    w.set_wheel_duty(-200, -200)  # a touch broken for ~0.1 s continues its episode
+    w.step_to(9_040_000)
+    w.set_wheel_duty(200, 200)
+    w.step_to(10_000_000)
+    assert w.contacts.count("obstacle") == 2
+    assert w.contacts.events[-1].end_us is None
+
+
+def test_a_slide_along_a_wall_is_one_episode():
+    extra = """
+[[obstacles]]
+shape = "wall"
+x_m = 0.0
+y_m = 0.30
+x2_m = 3.0
+y2_m = 0.30
+thickness_m = 0.05
+"""
+    w = make_world(heading=0.25, extra=extra)
+    w.set_wheel_duty(170, 180)  # into the wall at a shallow angle, then along it
+    w.step_to(12_000_000)
+    x, _, _ = w.base.pose()
+    assert x > 0.8  # it went on along the wall
+    assert w.contacts.count("obstacle") == 1
+    assert w.truth()["contact_time_s"]["obstacle"] > 1.0

@@ -44,7 +44,7 @@ class ToyMethod(Method):
     detectors: dict = {}  # looks at nothing: no vision is run or charged
     search_detector = adjust_detector = "radial_symbol"
     check_detectors = object_detectors = ()
-    held_look = False
+    held_colour = "body_brown"  # never reaches the grasp check
     grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
     keeps_sightings = False
 

@@ -28,7 +28,7 @@ from pathlib import Path
 
 from mobigrasp.cosim.run_folder import json_lines
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
-from mobigrasp.tools.random_scenarios import GENERATORS
+from mobigrasp.tools.random_scenarios import DEFAULT_VERSION, GENERATORS
 
 TRANSPORTS = ("pty", "inproc")
 ROWS_FILE = "loop.rows.jsonl"  # one row a line, written as each run finishes
@@ -49,7 +49,7 @@ class LoopCampaign:
     runs: int
     out: Path
     seed_base: int = 1000
-    version: str = "v2"
+    version: str = DEFAULT_VERSION
     transport: str = "pty"
     time_limit_s: float | None = None  # None: each scene's own limit
     jobs: int | None = None  # None: every core
@@ -180,7 +180,7 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
            "success": bool(s.get("success")), "claimed_success": bool(s.get("claimed_success")),
            "grasped": bool(s.get("grasped")), "false_claim": bool(s.get("false_claim")),
            "task_state": s.get("task_state"), "end_reason": s.get("end_reason"),
-           "contacts": int(s.get("collisions") or 0),
+           "contacts": int(s.get("contacts") or 0),
            "final_error_mm": s.get("final_error_mm"), "sim_time_s": s.get("sim_time_s"),
            "wall_time_s": s.get("wall_time_s"), "trace_sha256": s.get("trace_sha256"),
            "error": error or s.get("error")}

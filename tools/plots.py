@@ -1,15 +1,19 @@
 """Plots of a run from its trace (matplotlib, Agg backend): the figures of the papers.
 
-- trajectory.png: base trajectory with start S and end G, the object, obstacles (Fig. 7b/9b of 000,
-  Fig. 7/8 of 001);
-- joints.png: joint angles over time (Fig. 7a/9a of 000);
+- trajectory.png: base trajectory with start S and end G, the object, obstacles, the robot's
+  footprint along the way, and each path update where it happened with the safety circle R_r
+  and the sonar regions R_v of 001 there (Fig. 7b/9b of 000, Fig. 7/8 of 001);
+- joints.png: joint angles over time with the search, Bezier approach and adjustment stages
+  shaded (Fig. 7a/9a of 000);
 - bezier.png: candidate and chosen Bezier paths of every plan (Fig. 6 of 001);
 - fuzzy.png: e, e_c and u of the fuzzy controller over time (002);
 - arm9_load.png: modelled ARM9 load per window;
 - campaign.png (of a campaign, not in ``ALL``): outcomes, unsafe actuations per seed, stop and
   recovery times;
 - loop.png (of ``bench loop``'s campaign, not in ``ALL``): outcomes and final errors per method.
-Each function returns the file name it wrote, or None when the trace has nothing to plot.
+Each function of ``ALL`` takes the trace's events, the folder and the run's summary (its
+``robot`` block: footprint, R_r, sonar ring; None draws without them) and returns the file name
+it wrote, or None when the trace has nothing to plot.
 """
 
 from __future__ import annotations
@@ -22,7 +26,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-from matplotlib.patches import Circle, Polygon  # noqa: E402
+from matplotlib.patches import Circle, Polygon, Wedge  # noqa: E402
 from matplotlib.ticker import MaxNLocator  # noqa: E402
 
 from mobigrasp.tools.loop_campaign import outcome  # noqa: E402
@@ -55,15 +59,66 @@ def _obstacles(ax, start: dict | None) -> None:
             wall_label = None
 
 
-def trajectory(events: list[dict], folder: Path) -> str | None:
-    """Base trajectory with S and G (Fig. 7b/9b of 000)."""
+FOOTPRINT_EVERY_M = 0.5  # the footprint drawn along the path this far apart
+SONAR_DRAW_M = 0.8  # the sonar regions drawn this far out (D_e = 2.5 m would cover the plot)
+
+
+def path_updates(events: list[dict]) -> list[dict]:
+    """The detail events of a new curve adopted while one was followed (docs/task.md)."""
+    return [e for e in events if e["ev"] == "detail" and e.get("plan") is not None
+            and e.get("replan") is not None]
+
+
+def _footprints(ax, xs: list, ys: list, radius_m: float) -> None:
+    """The robot's footprint at S, at G and every ``FOOTPRINT_EVERY_M`` of path."""
+    done, label = -math.inf, "footprint"
+    travelled = 0.0
+    for k in range(len(xs)):
+        if k:
+            travelled += math.hypot(xs[k] - xs[k - 1], ys[k] - ys[k - 1])
+        if travelled - done >= FOOTPRINT_EVERY_M or k in (0, len(xs) - 1):
+            ax.add_patch(Circle((xs[k], ys[k]), radius_m, fill=False, color="tab:blue",
+                                lw=0.6, alpha=0.5, label=label))
+            label, done = None, travelled
+
+
+def _update_marks(ax, events: list[dict], truth: list[dict], robot: dict) -> None:
+    """Each path update where it happened, numbered, with the safety circle R_r and the sonar
+    regions R_v (k_s cones of A_g, 001 §III.C.2) around the robot there."""
+    sonar, r_r = robot.get("sonar") or {}, robot.get("safety_radius_m")
+    label = {"update": "path update", "r": "safety circle R_r", "s": "sonar regions R_v"}
+    for n, e in enumerate(path_updates(events), start=1):
+        i = min(range(len(truth)), key=lambda k: abs(truth[k]["t_us"] - e["t_us"]))
+        x, y, h = truth[i]["x_m"], truth[i]["y_m"], truth[i].get("heading_rad", 0.0)
+        ax.plot(x, y, "D", color="tab:red", ms=4, label=label.pop("update", None))
+        ax.annotate(str(n), (x, y), textcoords="offset points", xytext=(-10, 4), fontsize=6,
+                    color="tab:red")
+        if r_r:
+            ax.add_patch(Circle((x, y), r_r, fill=False, ls="--", color="tab:red", lw=0.6,
+                                label=label.pop("r", None)))
+        k_s, a_g = sonar.get("k_s"), sonar.get("A_g_rad")
+        if r_r and k_s and a_g:  # 001: the ring the planner sees with
+            reach = min(SONAR_DRAW_M, sonar.get("D_e_m") or SONAR_DRAW_M)
+            for k in range(k_s):
+                phi = h - math.pi / 2 + k * math.pi / (k_s - 1)
+                ax.add_patch(Wedge((x, y), reach, math.degrees(phi - a_g / 2),
+                                   math.degrees(phi + a_g / 2), color="tab:orange", alpha=0.06,
+                                   label=label.pop("s", None)))
+
+
+def trajectory(events: list[dict], folder: Path, summary: dict | None = None) -> str | None:
+    """Base trajectory with S and G, the footprint along it and the path updates (Fig. 7b/9b
+    of 000, Fig. 7/8 of 001)."""
     truth = [e for e in events if e["ev"] == "truth" and e.get("x_m") is not None]
     if not truth:
         return None
     start = next((e for e in events if e["ev"] == "start"), None)
+    robot = (summary or {}).get("robot") or {}
     fig, ax = plt.subplots(figsize=(6, 5))
     _obstacles(ax, start)
     xs, ys = [e["x_m"] for e in truth], [e["y_m"] for e in truth]
+    if robot.get("footprint_m"):
+        _footprints(ax, xs, ys, robot["footprint_m"])
     ax.plot(xs, ys, "b-", lw=1.5, label="base (truth)")
     ax.plot(xs[0], ys[0], "ks", label="start S")
     ax.annotate("S", (xs[0], ys[0]), textcoords="offset points", xytext=(-12, -12))
@@ -73,13 +128,15 @@ def trajectory(events: list[dict], folder: Path) -> str | None:
     if objs:
         ax.plot([o[0] for o in objs], [o[1] for o in objs], "r:", lw=1, label="object path")
         ax.plot(objs[0][0], objs[0][1], "r*", ms=12, label="object")
+    _update_marks(ax, events, truth, robot)
     _state_marks(ax, events, truth, xs, ys)
     ax.set_xlabel("x (m)")
     ax.set_ylabel("y (m)")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
-    ax.set_title("Trajectory of the mobile platform")
+    n = len(path_updates(events))
+    ax.set_title(f"Trajectory of the mobile platform ({n} path update{'s' * (n != 1)})")
     return _save(fig, folder, "trajectory.png")
 
 
@@ -104,8 +161,30 @@ def _state_marks(ax, events: list[dict], truth: list[dict], xs: list, ys: list) 
                     color="green")
 
 
-def joints(events: list[dict], folder: Path) -> str | None:
-    """Joint angles over time (Fig. 7a/9a of 000)."""
+STAGES = {"SEARCH": ("object searching", "tab:olive"),
+          "APPROACH": ("Bezier path based approaching", "tab:cyan"),
+          "ADJUST": ("vision-based approaching adjustment", "tab:purple")}
+
+
+def _stages(ax, events: list[dict], end_s: float) -> None:
+    """The three stages of 000's Fig. 7(a) shaded where the task was in them (the task
+    starts in the first change's ``from`` state)."""
+    states = [e for e in events if e["ev"] == "state"]
+    if states:
+        states = [{"t_us": 0, "to": states[0].get("from")}, *states]
+    seen = set()
+    for k, e in enumerate(states):
+        stage = STAGES.get(str(e.get("to")))
+        if stage is None:
+            continue
+        t1 = states[k + 1]["t_us"] / 1e6 if k + 1 < len(states) else end_s
+        ax.axvspan(e["t_us"] / 1e6, t1, color=stage[1], alpha=0.12,
+                   label=None if stage[0] in seen else stage[0])
+        seen.add(stage[0])
+
+
+def joints(events: list[dict], folder: Path, summary: dict | None = None) -> str | None:
+    """Joint angles over time, the stages shaded (Fig. 7a/9a of 000)."""
     truth = [e for e in events if e["ev"] == "truth" and e.get("joints_rad")]
     if not truth:
         return None
@@ -115,6 +194,7 @@ def joints(events: list[dict], folder: Path) -> str | None:
     for j in range(1, 6):
         ax.plot(t, [e["joints_rad"][j] for e in truth], label=JOINT_NAMES[j])
     grip.plot(t, [e["joints_rad"][0] for e in truth], "k-", lw=1, label=JOINT_NAMES[0])
+    _stages(ax, events, t[-1])
     states = [e for e in events if e["ev"] == "state"]
     for k, e in enumerate(states):
         for a in (ax, grip):
@@ -131,11 +211,11 @@ def joints(events: list[dict], folder: Path) -> str | None:
         a.grid(True, alpha=0.3)
     ax.legend(fontsize=7, ncol=3)
     grip.legend(fontsize=7)
-    ax.set_title("Joint angles")
+    ax.set_title("Variation of joint angles (stages shaded)")
     return _save(fig, folder, "joints.png")
 
 
-def bezier(events: list[dict], folder: Path) -> str | None:
+def bezier(events: list[dict], folder: Path, summary: dict | None = None) -> str | None:
     """Candidate (thin) and chosen (thick) Bezier paths of every plan in the trace."""
     plans = [e for e in events if e["ev"] == "detail" and isinstance(e.get("plan"), dict)]
     if not plans:
@@ -184,7 +264,7 @@ def split_unit(key: str) -> tuple[str, str]:
     return key, ""
 
 
-def fuzzy(events: list[dict], folder: Path) -> str | None:
+def fuzzy(events: list[dict], folder: Path, summary: dict | None = None) -> str | None:
     """e, e_c and u of the fuzzy controller over time (002), whatever units the task logs."""
     rows = [e for e in events if e["ev"] == "detail" and isinstance(e.get("fuzzy"), dict)]
     if not rows:
@@ -211,7 +291,7 @@ def fuzzy(events: list[dict], folder: Path) -> str | None:
     return _save(fig, folder, "fuzzy.png")
 
 
-def arm9_load(events: list[dict], folder: Path) -> str | None:
+def arm9_load(events: list[dict], folder: Path, summary: dict | None = None) -> str | None:
     """Modelled ARM9 load per window over the run."""
     rows = [e for e in events if e["ev"] == "load"]
     if not rows:

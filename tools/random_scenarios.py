@@ -1,9 +1,18 @@
 """Seeded random scenarios for the acceptance campaign (docs/cosim.md) and ``bench loop``.
 
-Two generators, by version name (``GENERATORS``); a seed gives the same scene in its version
-for good, so old figures can be re-run with ``version="v1"``.
+Three generators, by version name (``GENERATORS``); a seed gives the same scene in its version
+for good, so old figures can be re-run with ``version="v1"`` or ``"v2"``.
 
-``v2`` (the default) covers what users try: the camera's noise (std 0-8), brightness 0.6-1.4
+``v3`` (the default) adds the conditions users try beyond v2: the target 0.3-0.5 m from the
+start (``CLOSE_P`` of the scenes: never wholly in view at first) or 3-4.5 m (``FAR_P``), else
+0.5-3 m; obstacles in 000 and 002 scenes too (``OBSTACLES_P``, on the way as in 001), and near
+the target (``NEAR_TARGET_P``: 0.55-0.9 m from it, at least 60 degrees off the side it is
+approached from, so the last metre of search and approach has an obstacle beside it); the camera's
+noise std 0-12, brightness 0.45-1.8, blur 0-3 px; harsh faults (UART bit errors 1e-3, 20 %
+camera frame drops, 5 % encoder slip) on ``HARSH_FAULTS_P`` of the scenes and v2's light ones
+on ``LIGHT_FAULTS_P``. Every method gets 180 s (a target up to 4.5 m away, issue's acceptance).
+
+``v2`` covers what users try: the camera's noise (std 0-8), brightness 0.6-1.4
 and blur 0-1.5 px; 001 obstacles mixing circles, boxes and short walls (0.2-0.45 m) at any
 angle; 002 boards at any orientation, the target moved during the approach on half the scenes,
 boards without a cylinder (``double-cross``, nothing to grasp) on ``BOARD_ALONE_P`` of them;
@@ -35,7 +44,10 @@ LIGHT_FAULTS = ("[faults]", "uart_bit_error_rate = 0.0001", "camera_drop_rate = 
                 "encoder_slip = 0.03")
 
 
-def random_scenario_toml(method: str, seed: int, version: str = "v2",
+DEFAULT_VERSION = "v3"
+
+
+def random_scenario_toml(method: str, seed: int, version: str = DEFAULT_VERSION,
                          faults: bool = True) -> str:
     """TOML text of random scenario ``seed`` for ``method`` by generator ``version``."""
     if version not in GENERATORS:
@@ -113,6 +125,18 @@ def _v1(method: str, seed: int, faults: bool = True) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _head(version: str, method: str, seed: int, limit_s: float, heading: float, kind: str,
+          tx: float, ty: float, target_heading: float) -> list[str]:
+    """The [scenario], [robot] (at the origin) and [target] tables of a v2/v3 scene."""
+    return [
+        "[scenario]", f'name = "random-{version}-{method}-{seed}"', f'method = "{method}"',
+        f"seed = {seed}", f"time_limit_s = {limit_s}", "",
+        "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
+        "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
+        f"heading_rad = {target_heading:.6f}", "",
+    ]
+
+
 def _obstacle_v2(rng: random.Random, ox: float, oy: float) -> list[str]:
     shape = rng.choice(("circle", "box", "wall"))
     if shape == "circle":
@@ -136,13 +160,8 @@ def _v2(method: str, seed: int, faults: bool = True) -> str:
     kind = scene.target_kind
     if scene.guide_board and rng.random() < BOARD_ALONE_P:
         kind = "double-cross"
-    lines = [
-        "[scenario]", f'name = "random-v2-{method}-{seed}"', f'method = "{method}"',
-        f"seed = {seed}", f"time_limit_s = {scene.time_limit_s}", "",
-        "[robot]", "x_m = 0.0", "y_m = 0.0", f"heading_rad = {heading:.6f}", "",
-        "[target]", f'kind = "{kind}"', f"x_m = {tx:.4f}", f"y_m = {ty:.4f}",
-        f"heading_rad = {rng.uniform(-math.pi, math.pi):.6f}", "",
-    ]
+    lines = _head("v2", method, seed, scene.time_limit_s, heading, kind, tx, ty,
+                  rng.uniform(-math.pi, math.pi))
     if scene.moving_target and kind != "double-cross" and rng.random() < 0.5:
         lines += _drag_path(rng, dist, bearing, tx, ty)  # as v1 (and 002 Fig. 4)
     if scene.obstacles and dist > 1.4:
@@ -159,10 +178,72 @@ def _v2(method: str, seed: int, faults: bool = True) -> str:
     return "\n".join(lines) + "\n"
 
 
-GENERATORS = {"v1": _v1, "v2": _v2}
+CLOSE_P = 0.2
+FAR_P = 0.3
+OBSTACLES_P = 0.5
+NEAR_TARGET_P = 0.3
+HARSH_FAULTS_P = 0.2
+HARSH_FAULTS = ("[faults]", "uart_bit_error_rate = 0.001", "camera_drop_rate = 0.2",
+                "encoder_slip = 0.05")
+LIMIT_V3_S = 180.0
+OBSTACLE_REACH_M = 0.33  # farthest any v2 obstacle's surface lies from its centre
+START_FREE_M = 0.35  # no obstacle surface nearer the start or the target than this
 
 
-def random_scenario(method: str, seed: int, version: str = "v2") -> Scenario:
+def _near_target_centre(rng: random.Random, bearing: float, tx: float, ty: float,
+                        ) -> tuple[float, float]:
+    """A centre 0.55-0.9 m from the target, at least 60 degrees off the direction back to the
+    start (the side the target is approached from)."""
+    r = rng.uniform(0.55, 0.9)
+    off = rng.choice((-1.0, 1.0)) * rng.uniform(math.pi / 3, math.pi)
+    a = bearing + math.pi + off  # bearing + pi points from the target back to the start
+    return tx + r * math.cos(a), ty + r * math.sin(a)
+
+
+def _v3(method: str, seed: int, faults: bool = True) -> str:
+    """The generator of close, far and cluttered scenes under a harsher camera (module
+    docstring)."""
+    scene = _scene(method)
+    rng = random.Random(f"v3-{method}-{seed}")
+    band = rng.random()
+    lo, hi = (0.3, 0.5) if band < CLOSE_P else (3.0, 4.5) if band < CLOSE_P + FAR_P else (0.5, 3.0)
+    dist, bearing, heading = rng.uniform(lo, hi), rng.uniform(-math.pi, math.pi), \
+        rng.uniform(-math.pi, math.pi)
+    tx, ty = dist * math.cos(bearing), dist * math.sin(bearing)
+    kind = scene.target_kind
+    if scene.guide_board and rng.random() < BOARD_ALONE_P:
+        kind = "double-cross"
+    lines = _head("v3", method, seed, LIMIT_V3_S, heading, kind, tx, ty,
+                  rng.uniform(-math.pi, math.pi))
+    if scene.moving_target and kind != "double-cross" and rng.random() < 0.5:
+        lines += _drag_path(rng, dist, bearing, tx, ty)
+    centres: list[tuple[float, float]] = []
+    if dist > 1.4 and (scene.obstacles or rng.random() < OBSTACLES_P):
+        for _ in range(rng.randint(1, 3)):
+            along, off = rng.uniform(0.6, dist - 0.6), rng.uniform(-0.5, 0.5)
+            centres.append((along * math.cos(bearing) - off * math.sin(bearing),
+                            along * math.sin(bearing) + off * math.cos(bearing)))
+    if rng.random() < NEAR_TARGET_P:
+        centres.append(_near_target_centre(rng, bearing, tx, ty))
+    free = START_FREE_M + OBSTACLE_REACH_M
+    for ox, oy in centres:
+        if math.hypot(ox, oy) > free and math.hypot(ox - tx, oy - ty) > free:
+            lines += _obstacle_v2(rng, ox, oy)
+    lines += ["[camera]", f"noise_std = {rng.uniform(0.0, 12.0):.2f}",
+              f"brightness = {rng.uniform(0.45, 1.8):.3f}",
+              f"blur_px = {rng.uniform(0.0, 3.0):.2f}", ""]
+    roll = rng.random()
+    if faults and roll < HARSH_FAULTS_P:
+        lines += [*HARSH_FAULTS, ""]
+    elif faults and roll < HARSH_FAULTS_P + LIGHT_FAULTS_P:
+        lines += [*LIGHT_FAULTS, ""]
+    return "\n".join(lines) + "\n"
+
+
+GENERATORS = {"v1": _v1, "v2": _v2, "v3": _v3}
+
+
+def random_scenario(method: str, seed: int, version: str = DEFAULT_VERSION) -> Scenario:
     """Random scenario ``seed`` for ``method``, validated by the scenario loader."""
     from mobigrasp.host.task import REGISTRY
 

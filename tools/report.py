@@ -75,8 +75,8 @@ def answer(summary: dict) -> list[tuple[str, str]]:
     """The lines the report leads with: (what, value) pairs."""
     grasped = summary.get("grasped")
     stage = nearest_budget(summary)
-    contacts = summary.get("collisions")
-    target = summary.get("collisions_target")
+    contacts = summary.get("contacts")
+    target = summary.get("contacts_target")
     load = summary.get("arm9_load_max")
     verdict = (summary.get("budget") or {}).get("verdict")
     return [
@@ -85,7 +85,11 @@ def answer(summary: dict) -> list[tuple[str, str]]:
         ("task", f"{summary.get('task_state')} ({summary.get('end_reason')})"),
         ("time to grasp", _fmt(summary.get("time_to_grasp_s"), " s simulated")),
         ("final error", _fmt(summary.get("final_error_mm"), " mm", 1)),
-        ("contacts", f"{_fmt(contacts)} with obstacles, {_fmt(target)} with the target"),
+        ("contacts", f"{_fmt(contacts)} with obstacles ({_fmt(summary.get('contact_time_s'))} s),"
+                     f" {_fmt(target)} with the target; least clearance "
+                     f"{_fmt(summary.get('min_clearance_m'), ' m', 3)}"),
+        ("path updates", f"{_fmt(summary.get('path_updates'))}; longest stand-still "
+                         f"{_fmt(summary.get('stand_still_max_s'), ' s', 1)}"),
         ("ARM9 load max", "-" if load is None else f"{100 * load:.0f} %"),
         ("stage nearest its budget",
          "-" if stage is None else f"{stage[0]} ({100 * stage[1]:.0f} % of its budget at worst)"),
@@ -112,7 +116,7 @@ def write_report(folder: Path) -> Path:
     (folder / "plots").mkdir(exist_ok=True)
     made = []
     for fn in plots.ALL:
-        name = fn(events, folder / "plots")
+        name = fn(events, folder / "plots", summary)
         if name:
             made.append(name)
     frames = sorted(p.name for p in (folder / "frames").glob("*.png")) \

@@ -1,4 +1,4 @@
-"""Accuracy harness for the five marker detectors (docs/markers.md): seeded views, rendered frames,
+"""Accuracy harness for the marker detectors (docs/markers.md): seeded views, rendered frames,
 truth.
 
 For each detector: views at poses where the task uses it (000 views from
@@ -332,6 +332,35 @@ def _judge_spoke(res, view: View) -> Outcome:
     return _judge_generic(wid, ang_err)
 
 
+def view_held(rng: np.random.Generator) -> View:
+    """The hand camera holding the object (000/001's post or 002's cylinder) at its grasp
+    point, lifted 0.05-0.2 m, looking anywhere: the camera inside the object."""
+    kind = "radial-symbol" if rng.random() < 0.5 else "red-cylinder"
+    x, y, z = float(rng.uniform(-1, 1)), float(rng.uniform(-1, 1)), float(rng.uniform(0.05, 0.2))
+    grip = 0.08 if kind == "radial-symbol" else 0.10
+    t = Target(kind, x, y, float(rng.uniform(-3, 3)), z_m=z)
+    R = look_rotation(float(rng.uniform(-3, 3)), float(rng.uniform(-1.5, 0.3)))
+    truth = {"colour": "body_brown" if kind == "radial-symbol" else "red_paint"}
+    return View(Scene(t, seed=int(rng.integers(1 << 16))), np.array([x, y, z + grip]), R,
+                cv_views.INTR_000, truth)
+
+
+def _run_held_fill(rgb: np.ndarray, view: View):
+    """A frame filled by one of the objects' colours (what any method's grasp check takes)."""
+    from mobigrasp.host.vision.held_fill import OBJECT_COLOURS
+
+    res, ops = DETECTORS["held_fill"].detect()(rgb)
+    if res is None or not any(ok(res.rgb) for ok in OBJECT_COLOURS.values()):
+        return None, ops
+    return res, ops
+
+
+def _judge_held_fill(res, view: View) -> Outcome:
+    from mobigrasp.host.vision.held_fill import OBJECT_COLOURS
+
+    return Outcome(True, OBJECT_COLOURS[view.truth["colour"]](res.rgb))
+
+
 _SPECS: dict[str, Spec] = {
     "radial_symbol": Spec("radial_symbol", cv_views.radial_far, cv_views.empty, _run_radial,
                           _judge_radial, "000 search: 0.45-1.3 m, camera 0.28-0.48 m high"),
@@ -348,6 +377,9 @@ _SPECS: dict[str, Spec] = {
     "red_roi": Spec("red_roi", view_red_roi, view_empty_002, _run_red_roi, _judge_red_roi,
                     "002 search and approach: 0.4-3 m, any side, bearing only (any red region "
                     "is one: the empty views' red clutter counts as false positives)"),
+    "held_fill": Spec("held_fill", view_held, cv_views.empty, _run_held_fill, _judge_held_fill,
+                      "grasp check: the camera inside the held object (correct: the object's "
+                      "own colour; no distance or bearing)"),
 }
 # one Spec per row of the detector table, in its order: a row without a Spec fails here
 SPECS: dict[str, Spec] = {name: _SPECS[name] for name in DETECTORS}

@@ -8,7 +8,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   looks back at the top with the base standing still and grasps on that sighting (ours,
   docs/task.md): its ADJUST ends on odometry.  002: the pre-grasp point
   ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
-  eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits).
+  eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits);
+  first the base drives the object into the reach where the grasp itself is level
+  (``Method.grasp_reach_mm``).
 - PRECISE_GRASP (000 §III.C.2): roll theta1 to pi/2, then on each spoke reading turn
   until k_T = 0 and move up/down until w_T is in [20, 40] px; then down to the grasp height and
   close.  The turn is made with the wrist roll by default (``precise_align_ch`` = 1): with the
@@ -22,12 +24,12 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
 - LIFT: raise by ``lift_mm`` with the same pitch, then the grasp check (ours: the papers end at
   the closed gripper, and the host has no finger sensor, FLAG_GRIPPER_CLOSED only says the close
   was commanded), on positive evidence only (docs/task.md): the camera, at the fingertip point
-  of eq. (3) of 000, goes straight up above where it is and looks down (``HELD_VIEW_MM``), the
-  wrist roll turned so that the two "+" lie along the frame's width; the waist then
-  turns through ``CHECK_WAIST_MRAD``.  The object seen under the fingertip (``HELD_NEAR_MM``)
-  at two waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart has moved with the
-  gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
-  ``CHECK_SEEN_FRAMES`` frames), or not seen under it at the end of the look, is a miss: open,
+  of eq. (3) of 000, goes straight up above where it is and looks down (``HELD_VIEW_MM``; 002
+  its own look, ``Method.held_view_pose``); the waist then turns through ``CHECK_WAIST_MRAD``.
+  The camera inside a held object sees it fill the frame (``Method.held_in_view``): that at two
+  waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart, the object has moved with
+  the gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
+  ``CHECK_SEEN_FRAMES`` frames), or no such frames by the end of the look, is a miss: open,
   ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED.  Not seeing the object is
   never evidence of holding it.  No grasp is tried unless the object itself (not a guide
   board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
@@ -37,9 +39,8 @@ from __future__ import annotations
 
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
-from mobigrasp.host.search import SearchParams
+from mobigrasp.host.task.drive import close_in
 from mobigrasp.host.task.sense import (
-    odom_to_platform_q4,
     platform_to_odom_mm,
     spoke_reading,
 )
@@ -55,18 +56,14 @@ CHECK_POSE_US = 500_000  # look this long (7 frames at 15 fps) at each waist off
 # the waist turns the view about the place: the estimate that put the fingers beside the object
 # may be off by 0.3 rad in bearing (docs/cosim.md "Measured", T8)
 CHECK_WAIST_MRAD = (0, 300, -300)
-# a look that lays the "+" pair off the x axis (Method.held_pair_mrad) but has no pair direction
-# from ADJUST turns the wrist roll through these steps at the first waist offset until the
-# pair is seen: within 15 degrees of any direction (the line repeats every half turn)
-HELD_ROLL_SCAN_MRAD = (0, 524, 1047, 1571, 2094, 2618)
 MAX_REGRASPS = 2
 # the look of the check (docs/task.md): the camera this far above the object's top, looking
-# down, first reachable wins; the object held under the fingertip is seen within HELD_NEAR_MM of
-# it, at two waist offsets whose fingertip places are HELD_MOVE_MM apart (r * 0.3 rad >= 33 mm at
-# the reach r >= 110 mm of a 000 grasp)
+# down, first reachable wins (an object left standing where the fingers closed is then in view);
+# the held object fills the frame at two waist offsets whose fingertip places are HELD_MOVE_MM
+# apart (r * 0.3 rad >= 33 mm at the reach r >= 110 mm of a 000 grasp): a standing object, whose
+# radius is 20-25 mm, cannot hold the camera at both
 HELD_VIEW_MM = (150, 140, 130, 120, 110, 100, 90)
-HELD_NEAR_MM = 12
-HELD_MOVE_MM = 2 * HELD_NEAR_MM + 1
+HELD_MOVE_MM = 25
 
 # the look before the rough grasp (Method.sight_views): this many dual "+" sightings, each look
 # (waist offset, wrist roll) held this long (10 frames at 15 fps) until the pair is seen. The
@@ -79,13 +76,6 @@ SIGHT_LOOK_US = 700_000
 SIGHT_LOOKS_MRAD = ((0, 0), (0, 1571), (150, 1571), (150, 0), (-150, 0), (-150, 1571))
 MAX_SIGHT_ADJUSTS = 2
 
-
-# views of the check, (range to the place mm, pitch down mrad), first reachable wins: from
-# 0.3 m the 320 x 240 frame spans 157 x 118 mm there (f = 611 px), room for the miss itself
-# (the estimate that guided the fingers beside the object is off by that much); the dual "+"
-# (47.3 mm apart) stays resolved; the short 000 arm reaches the nearer views only
-CHECK_VIEWS = ((300, 1047), (250, 1047), (300, 785), (250, 785), (200, 1047), (200, 785),
-               (160, 1047), (250, 1309), (200, 524), (150, 524), (150, 785))
 
 
 class GraspStates:
@@ -110,6 +100,16 @@ class GraspStates:
             t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
                         f"never seen)")
             return
+        t.reach_mm = t.rules.grasp_reach_mm(t)
+        if t.reach_mm is not None:
+            x, y = t.obj_platform(inp)
+            dist = isqrt(x * x + y * y) // 16
+            if abs(dist - t.reach_mm[0]) > t.reach_mm[1]:
+                # the grasp pose needs the object elsewhere (002's level grasp): drive there
+                t.note(grasp_reach={"dist_mm": dist, "goal_mm": t.reach_mm[0],
+                                    "tol_mm": t.reach_mm[1]})
+                t.phase = "reach"
+                return
         pose = self._view_pose(t, inp, t.rules.sight_views) if t.rules.sight_views else None
         if pose is None:
             self._rough_pose(t, now, inp)
@@ -186,7 +186,15 @@ class GraspStates:
 
     def do_ROUGH_GRASP(self, t, now: int, inp, dets: dict) -> None:
         t.wheels = (0, 0)
-        if t.phase == "sight":
+        if t.phase == "reach":
+            goal_mm, tol_mm = t.reach_mm
+            wheels, done, _ = close_in(t.obj_platform(inp), goal_mm, tol_mm,
+                                       t.p.bearing_tol_mrad, t.rules.adjust_vmax_mmps(t.p))
+            if done:
+                self._rough_pose(t, now, inp)
+            else:
+                t.wheels = wheels
+        elif t.phase == "sight":
             self._sight(t, now, inp, dets)
         elif t.settled(now):
             t.go(now, "PRECISE_GRASP", "arm at the rough grasp pose")
@@ -332,36 +340,12 @@ class GraspStates:
                 return pose
         return None
 
-    def start_place_check(self, t, now: int, inp) -> None:
-        """002 (no look down reaches its cylinder, docs/task.md): swing the camera to look
-        back at the grasp place (``_view_pose`` of ``CHECK_VIEWS``; out of the views' reach,
-        the search's far look toward it); the waist then turns through ``CHECK_WAIST_MRAD``."""
-        pose = self._view_pose(t, inp, CHECK_VIEWS)  # the gripper and a held object out of view
-        if pose is not None:
-            t.apply_pose(now, pose)
-            t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
-                                             pose.theta4_mrad, pose.theta5_mrad])
-        elif t.obj is not None:
-            # seen (or estimated) beyond the views' reach: the search's far look toward it
-            sp = SearchParams(**t.p.search)
-            x, y = t.obj_platform(inp)
-            t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
-                         atan2_mrad(x, y))
-            t.note(grasp_check_far_look=True)
-        t.trust_from_us = t.move_done_us  # frames of the swing: arm pose unknown
-        t.check_waist = (t.arm[5], 0)  # (centre, index into CHECK_WAIST_MRAD)
-        t.phase, t.phase_us = "check", t.move_done_us
-
     def _held_pose(self, t):
         """The look of the grasp check: the camera (the fingertip point, eq. (3) of 000)
         straight above where it is, looking down, ``HELD_VIEW_MM`` above the object's top,
-        the first height the arm reaches; a held object is then under the camera's optical
-        centre (docs/task.md). None if no height is reachable."""
+        the first height the arm reaches (an object left standing is then in view below it).
+        None if no height is reachable."""
         x, y, _ = t.gripper_point_q4()
-        reach = t.rules.held_reach_mm * 16
-        rho = isqrt(x * x + y * y)
-        if reach and rho > reach:  # pulled in: the arm reaches higher there (docs/task.md)
-            x, y = x * reach // rho, y * reach // rho
         for h_mm in HELD_VIEW_MM:
             z = (t.p.object_top_mm + h_mm - t.p.h_shoulder_mm) * 16
             pose = kinematics.ik_pitch_mm_q4(t.geom, (x, y, z), kinematics.ALPHA_DOWN_MRAD)
@@ -369,33 +353,13 @@ class GraspStates:
                 return pose
         return None
 
-    def _plus_roll(self, t, inp, theta5_mrad: int) -> int | None:
-        """The wrist roll that lays the line of the two "+" (47.3 mm, 190 px at 150 mm) along
-        the frame's 320 px width, not its 240 px height: looking straight down the image x axis
-        points at -(theta1 + theta5) in the platform frame (sense.camera_axes_q12 with
-        alpha = -pi/2); the "+" are where ADJUST last saw them. None: keep the roll."""
-        if t.plus_odom is None:
-            return None
-        (ax, ay), (bx, by) = (odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad,
-                                                  t.p.mount_forward_mm, *q[:2])
-                              for q in t.plus_odom)
-        return _roll_in_limits(-atan2_mrad(by - ay, bx - ax) - theta5_mrad
-                               + t.rules.held_pair_mrad)
-
     def start_check(self, t, now: int, inp) -> None:
         """Raise the camera above the gripper looking down (``_held_pose``); the waist then
         turns through ``CHECK_WAIST_MRAD`` (the gripper, and a held object, move with it)."""
         t.held_tips = {}
-        if not t.rules.held_look:
-            self.start_place_check(t, now, inp)
-            return
         pose = t.rules.held_view_pose(t) or self._held_pose(t)
-        t.check_roll_scan = None
         if pose is not None:
-            roll = self._plus_roll(t, inp, pose.theta5_mrad)
-            t.apply_pose(now, pose, roll)
-            if roll is None and t.rules.held_pair_mrad:
-                t.check_roll_scan = (t.arm[1], 0)  # (first roll, index into the scan)
+            t.apply_pose(now, pose)
             t.note(grasp_check_pose_mrad=[pose.theta2_mrad, pose.theta3_mrad,
                                              pose.theta4_mrad, pose.theta5_mrad])
         else:
@@ -411,13 +375,13 @@ class GraspStates:
         return tip[0], tip[1]
 
     def _seen_standing(self, t, now: int, inp, dets: dict) -> bool:
-        """Classify this frame's sightings of the object: standing away from the gripper
-        (``CHECK_AWAY_MM``; also while the arm still rises), or, during the look, under the
-        fingertip (``HELD_NEAR_MM``: kept per waist offset as grasp evidence). True once the
-        sightings away make a miss, handled here (:meth:`missed`)."""
+        """This frame during the look: the held object filling it (``Method.held_in_view``,
+        kept per waist offset as grasp evidence), or the object seen standing away from the
+        gripper (``CHECK_AWAY_MM``; also while the arm still rises). True once the sightings
+        away make a miss, handled here (:meth:`missed`)."""
         place = t.obj
         if t.phase == "check" and t.settled(now) and t.rules.held_in_view(t, now, dets):
-            t.held_tips[t.check_waist[1]] = self._tip_odom(t, inp)  # the method's own look
+            t.held_tips[t.check_waist[1]] = self._tip_odom(t, inp)
         for name in t.rules.check_detectors:
             det = dets.get(name)
             if det is None or place is None or not t.see_object(now, inp, name, det):
@@ -429,11 +393,7 @@ class GraspStates:
                 t.note(grasp_check_seen={"name": name, "obj_mm": list(t.obj),
                                             "estimate_mm": list(place)})
                 break
-            if t.phase == "check" and d2 <= HELD_NEAR_MM * HELD_NEAR_MM and t.settled(now):
-                t.held_tips[t.check_waist[1]] = tip
-                t.note(grasp_check_held={"name": name, "obj_mm": list(t.obj),
-                                            "tip_mm": list(tip)})
-            t.obj = place  # the held object under the fingertip: keep the estimate
+            t.obj = place  # seen near the fingertip's place: keep the estimate
         if t.check_seen < CHECK_SEEN_FRAMES:
             return False
         self.missed(t, now, f"object still standing away from the gripper (seen in "
@@ -451,9 +411,9 @@ class GraspStates:
 
     @staticmethod
     def held_evidence(held_tips: dict) -> bool:
-        """Seen under the fingertip at two waist offsets whose fingertip places are at least
-        ``HELD_MOVE_MM`` apart: the object moved with the gripper (an object standing on the
-        ground cannot be within ``HELD_NEAR_MM`` of both)."""
+        """The held object filled the frame at two waist offsets whose fingertip places are at
+        least ``HELD_MOVE_MM`` apart: it moved with the gripper (a standing object cannot hold
+        the camera at both)."""
         tips = list(held_tips.values())
         return any((a[0] - b[0]) ** 2 + (a[1] - b[1]) ** 2 >= HELD_MOVE_MM * HELD_MOVE_MM
                    for i, a in enumerate(tips) for b in tips[i + 1:])
@@ -461,53 +421,20 @@ class GraspStates:
     def _check(self, t, now: int, inp=None) -> None:
         """The look of the grasp check: each waist offset for ``CHECK_POSE_US``; DONE on
         positive evidence (:meth:`held_evidence`), else a miss."""
-        if t.rules.held_look and self.held_evidence(t.held_tips):
-            t.go(now, "DONE", f"object held: seen under the gripper at waist offsets "
+        if self.held_evidence(t.held_tips):
+            t.go(now, "DONE", f"object held: it fills the hand camera's frame at waist offsets "
                  f"{sorted(CHECK_WAIST_MRAD[k] for k in t.held_tips)} mrad (grasp check)")
             return
         if not t.settled(now) or now - t.phase_us < CHECK_POSE_US:
             return
         centre, k = t.check_waist
-        scan = t.check_roll_scan
-        if scan is not None and k == 0 and not t.held_tips \
-                and scan[1] + 1 < len(HELD_ROLL_SCAN_MRAD):  # not seen: the next roll
-            t.check_roll_scan = (scan[0], scan[1] + 1)
-            roll = _roll_in_limits(scan[0] + HELD_ROLL_SCAN_MRAD[scan[1] + 1])
-            t.set_arm(now, *t.arm[2:6], roll)
-            t.trust_from_us = t.move_done_us
-            t.phase_us = t.move_done_us
-            return
         if k + 1 < len(CHECK_WAIST_MRAD):  # the next waist offset: the gripper moves
             t.check_waist = (centre, k + 1)
-            th5 = centre + CHECK_WAIST_MRAD[k + 1]
-            # a roll off the x axis follows the waist, keeping the "+" in the frame's corners
-            roll = self._plus_roll(t, inp, th5) if t.rules.held_pair_mrad and inp else None
-            if roll is None and scan is not None:  # the scanned roll, turned with the waist
-                roll = _roll_in_limits(t.arm[1] - (th5 - t.arm[5]))
-            t.set_arm(now, *t.arm[2:5], th5, roll)
+            t.set_arm(now, *t.arm[2:5], centre + CHECK_WAIST_MRAD[k + 1])
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
-        if not t.rules.held_look and not t.object_sighted:
-            # never seen by the camera in this scene: not seeing it now says nothing
-            self.missed(t, now, "the object was never seen, its absence is no evidence")
-            return
-        if not t.rules.held_look:
-            t.go(now, "DONE", f"object lifted by {t.p.lift_mm} mm and not seen standing "
-                 f"(grasp check by absence, docs/task.md)")
-            return
         self.missed(t, now, "no evidence of the object in the gripper")
-
-
-def _roll_in_limits(roll: int) -> int | None:
-    """A wrist roll that lays the "+" pair's line (which repeats every half turn) as ``roll``
-    does, within the joint's limits; None when no such roll is reachable."""
-    lo, hi = arm_calib.JOINT_LIMITS_MRAD[1]
-    while roll > hi:
-        roll -= 2 * kinematics.QUARTER_TURN_MRAD
-    while roll < lo:
-        roll += 2 * kinematics.QUARTER_TURN_MRAD
-    return roll if roll <= hi else None
 
 
 GRASP = GraspStates()

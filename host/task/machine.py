@@ -179,10 +179,12 @@ class Task:
         self.confirm_until = None
         self.confirm_failed = None
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
+        self.guard_out = None  # 000, 002: the drive out of R_r after a guard stop (sonar_guard.py)
         self.sight_frames = 0  # ROUGH_GRASP: dual "+" sightings of its look (grasp.py)
         self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)
         self.sight_th5 = 0  # ... the waist of its view, the looks' offsets are added to
         self.sight_adjusts = 0  # ... that sent the base back to ADJUST for this grasp
+        self.reach_mm: tuple[int, int] | None = None  # ROUGH_GRASP: the grasp reach to drive to
         self.regrasps = 0  # LIFT: grasps found to have missed by the grasp check (grasp.py)
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
         # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)
@@ -191,7 +193,6 @@ class Task:
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.trust_from_us = 0
         self.plus_odom = None
-        self.check_roll_scan = None  # the grasp check's roll scan (grasp.py): (first roll, step)
         self.grasp_xy_q4 = None
         self.grasp_alpha = self.rules.grasp_alpha_mrad
         self.roll_scan = 0  # PRECISE_GRASP: wrist-roll steps of its spoke search (grasp.py)
@@ -224,10 +225,9 @@ class Task:
         self._ops = self._ops + ops
 
     def detectors_needed(self) -> list[str]:
-        """The detectors the current state uses (so the host runs and pays for only these)."""
-        if self.state == "SEARCH" and self.search is not None and self.search.turning \
-                and not self.search.wandering:  # blind while turning; looking while wandering
-            return []
+        """The detectors the current state uses (so the host runs and pays for only these);
+        SEARCH's on every frame, while the base turns too (a target passing through the view
+        during a turn is seen, docs/task.md)."""
         return list(self.rules.detectors.get(self.state, ()))
 
     # --- shared by the states: arm targets, history, object estimate -------------------------

@@ -31,6 +31,9 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, NamedTuple
 
 from mobigrasp.host.task.sense import CameraModel, object_in_platform
+from mobigrasp.host.task.sonar_guard import SONAR_GUARD
+from mobigrasp.host.vision import registry
+from mobigrasp.host.vision.held_fill import OBJECT_COLOURS
 
 if TYPE_CHECKING:
     from mobigrasp.host.task.machine import Task
@@ -106,9 +109,9 @@ class Method(ABC):
     search_detector: str  # what SEARCH looks for
     adjust_detector: str  # what ADJUST closes in on
     check_detectors: tuple[str, ...]  # what the grasp check of LIFT looks for
-    held_look: bool  # grasp check on the object seen under the gripper, else by absence
-    held_reach_mm: int = 0  # the look of the check pulls the fingertip in to this reach (0: stays)
-    held_pair_mrad: int = 0  # ... lays the two "+" this far off the frame's x axis (grasp.py)
+    # the object's colour that fills the hand camera's frame while it is held (a key of
+    # host/vision/held_fill.py OBJECT_COLOURS; the grasp check's evidence, held_in_view)
+    held_colour: str
     plus_on_top: bool = False  # the two "+" placed where their rays meet the top (sense.py)
     # ROUGH_GRASP first looks at the object from these (range mm, pitch down mrad), the first
     # the arm reaches, the base standing still, and grasps on that sighting (grasp.py); ():
@@ -181,8 +184,9 @@ class Method(ABC):
 
     # --- after every step ---------------------------------------------------------------------
     def guard_wheels(self, t: Task, now: int, inp: Any) -> None:
-        """Last-line check of the step's wheel speeds (a method with sonars overrides it)."""
-        return None
+        """Last-line check of the step's wheel speeds: the sonar guard (stop below R_r, turn
+        to the widest free sector, drive out; host/task/sonar_guard.py)."""
+        SONAR_GUARD.step(t, now, inp)
 
     # --- hooks with a common default -----------------------------------------------------------
     def search_sighting(self, dets: dict) -> tuple[str, Any]:
@@ -202,16 +206,30 @@ class Method(ABC):
         """ADJUST's close approach stops the object this far ahead of the waist, +- tol."""
         return t.p.grasp_r_mm, t.p.grasp_r_tol_mm
 
-    def held_view_pose(self, t: Task) -> Any:
+    def grasp_reach_mm(self, t: Any) -> tuple[int, int] | None:
+        """ROUGH_GRASP: the object's distance from the waist (mm, centre and tolerance) the
+        grasp pose needs; the base drives there first when the object is outside. None: the
+        grasp goes from where ADJUST stopped."""
+        return None
+
+    def held_view_pose(self, t: Any) -> Any:
         """LIFT: the arm pose of the grasp check's look; None: the common look, the camera
         straight above the fingertip looking down (host/task/grasp.py)."""
         return None
 
     def held_in_view(self, t: Task, now: int, dets: dict) -> bool:
-        """LIFT: this frame, from the method's own look, shows the object where it is when
-        held (grasp evidence at the present waist offset); the common look judges the
-        object's estimated place against the fingertip instead (host/task/grasp.py)."""
-        return False
+        """LIFT: this frame shows the object held (grasp evidence at the present waist
+        offset): the frame is filled by the object's own colour, the camera at the fingertip
+        being inside the object between the fingers (docs/task.md). Frames of a swing (the
+        arm's pose unknown) are not evidence."""
+        fill = dets.get("held_fill")
+        if not isinstance(fill, registry.row("held_fill").result_type()) \
+                or now - t.p.frame_latency_us < t.trust_from_us:
+            return False
+        held = OBJECT_COLOURS[self.held_colour](fill.rgb)
+        t.note(grasp_check_fill={"rgb": list(fill.rgb), "permille": fill.fill_permille,
+                                 "held": held})
+        return held
 
     def failure_reason(self, t: Task, reason: str) -> str:
         """The reason FAILED gives (a method may say more)."""

@@ -4,7 +4,8 @@ SEARCH looks for the radial symbol (000 §III.A); APPROACH follows the best Bezi
 eq. (9) (host.planning.bezier000) toward the stand-off point; ADJUST closes in on the dual "+"
 (§III.B); ROUGH_GRASP hovers above the nearer "+" with the gripper pitched alpha_T = -pi/2 by
 eq. (11); PRECISE_GRASP rolls to pi/2 and aligns on the spoke (§III.C.2); the grasp check of
-LIFT looks down for the object held under the gripper (grasp.py, docs/task.md). Lost near the
+LIFT's grasp check asks for the held object filling the hand camera's frame (grasp.py,
+docs/task.md). Lost near the
 object (ADJUST, PRECISE_GRASP), the platform stops and the arm searches by Fig. 5 with the
 paper's d_theta2 (``lost_search``, ``grasp_lost``; docs/task.md).
 """
@@ -113,11 +114,13 @@ class Method000(PathMethod):
     param_defaults: dict = {}
     detectors = {"SEARCH": ("radial_symbol",), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
-                 "LIFT": ("dual_plus", "radial_symbol")}  # LIFT: the grasp check (grasp.py)
+                 # LIFT: the grasp check (grasp.py): the held object fills the frame, the
+                 # object seen standing away is a miss
+                 "LIFT": ("dual_plus", "radial_symbol", "held_fill")}
     search_detector = "radial_symbol"
     adjust_detector = "dual_plus"
     check_detectors = ("dual_plus", "radial_symbol")
-    held_look = True  # grasp check: look down at the object under the gripper (grasp.py)
+    held_colour = "body_brown"  # the post's brown body (docs/markers.md)
     object_detectors = ("dual_plus", "radial_symbol")  # both are on the object's top
     grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
     keeps_sightings = True

@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
@@ -26,6 +26,14 @@ from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
 from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad
 from mobigrasp.host.task.method000 import Method000
+from mobigrasp.host.task.sonar_guard import (
+    GUARDED_STATES,
+    drive_detour,
+    guard_stop,
+    out_of_r_r,
+    sonar_angles_mrad,
+    widest_free_heading,
+)
 
 ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
 DETOUR_EXTRA_MM = 100  # a detour's way out is checked this much beyond its end (stopping)
@@ -33,14 +41,9 @@ DETOUR_MARGIN_MM = 100  # ... against the infeasible regions grown by this: it d
 SIGHTING_MAX_TURN_MRAD_S = 500  # APPROACH: sightings taken while turning faster are not used
 ADJUST_EARLY_MM_001 = 700  # APPROACH: ADJUST from this close with the object in view
 ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
-TURN_TOL_MRAD = 60  # the detour turns to within this of its heading before it drives
-DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
-DETOUR_DIAG_MM = 255
 LOOK_FIRST_US = 4_000_000  # P_i given, object near and unseen: look this long first
 LOOK_FIRST_MM = (350, 1200)  # ... when it is this far from the waist
-GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
 BACK_OFF_MM = 200  # fallback: back this far along the way the base came
-GUARD_OUT_MM = 200  # after the guard stopped the base: drive this far toward the free sector
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
@@ -130,11 +133,6 @@ def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps:
     return dec, fol, dec.ops + ops
 
 
-def sonar_angles_mrad(n: int) -> list[int]:
-    """phi_k of 001 §III.C.2 (k = 1..n evenly from -pi/2, right, to pi/2, left), mrad."""
-    return [-1571 + k * 3142 // (n - 1) for k in range(n)] if n >= 2 else []
-
-
 def detour_heading(inp, obj_xy_mm: tuple, clear_mm: int, heading_mrad: int | None = None) -> dict:
     """The detour's heading: ``heading_mrad`` when the caller found one clear of 001's
     infeasible regions (host.planning.escape), else the free sonar direction nearest the
@@ -154,35 +152,7 @@ def detour_heading(inp, obj_xy_mm: tuple, clear_mm: int, heading_mrad: int | Non
     return {"heading_mrad": best[1], "drive": True, "from": None}
 
 
-def widest_free_heading(inp, clear_mm: int) -> int:
-    """Odometry heading of the middle of the widest run of neighbouring sonars that read no
-    echo or one beyond ``clear_mm``; with none free, a quarter turn left."""
-    angles = sonar_angles_mrad(len(inp.sonar_mm))
-    best, run = None, []
-    for phi, rng in [*zip(angles, inp.sonar_mm, strict=True), (None, 0)]:
-        free = phi is not None and (int(rng) <= 0 or int(rng) >= clear_mm)
-        if free:
-            run.append(phi)
-            continue
-        if run and (best is None or len(run) > len(best)):
-            best = run
-        run = []
-    if best is None:
-        return wrap_mrad(inp.heading_mrad + 1571)
-    return wrap_mrad(inp.heading_mrad + (best[0] + best[-1]) // 2)
 
-
-def _blocked_ahead(sonar_mm: tuple) -> bool:
-    """The detour passes close beside obstacles (that is its point): stop only for an echo
-    straight ahead within DETOUR_STOP_MM, or at 45 degrees within DETOUR_DIAG_MM (a surface
-    point there is DETOUR_DIAG_MM / sqrt(2) = 180 mm aside: the 0.17 m footprint would touch)."""
-    n = len(sonar_mm)
-    if n < 3:
-        return False
-    mid = n // 2
-    ahead = int(sonar_mm[mid])
-    diag = (int(sonar_mm[mid - 1]), int(sonar_mm[mid + 1])) if n >= 5 else ()
-    return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
 
 
 @dataclass
@@ -234,13 +204,6 @@ class Method001(Method000):
     robot = "001"
     object_given = True
     link_lengths_mm = (160.0, 160.0, 200.0)
-    # grasp check on the object seen under the gripper (docs/task.md): at the grasp reach the
-    # long 001 arm looks down from 90-100 mm above the top only, where the two "+" do not fit
-    # the frame; pulled in to a 70 mm reach it looks from 120 mm, and with the "+" pair (240 px
-    # apart, each 87 px) laid 31 degrees off the frame's x axis both fit, 12 px inside
-    held_look = True
-    held_reach_mm = 70
-    held_pair_mrad = 541
     # 001 comes at the object from any side: the "+" pair is often seen along the view, where
     # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
     plus_on_top = True
@@ -467,70 +430,20 @@ class Method001(Method000):
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the
         object, into the echo, and so did the detours, each stopped at its first step."""
-        if t.state not in ("SEARCH", "APPROACH") or t.wheels[0] + t.wheels[1] <= 0:
+        guard = guard_stop(t, inp, GUARDED_STATES)
+        if guard is None:
             return
-        n = len(inp.sonar_mm)
-        half_cone = t.p.sonar_a_g_mrad // 2
-        for phi, rng in zip(sonar_angles_mrad(n), inp.sonar_mm, strict=True):
-            rng = int(rng)
-            if abs(phi) >= 1571 or not 0 < rng < t.p.r_r_mm:
-                continue
-            if t.obj is not None and _object_echo(t, inp, phi, rng, half_cone):
-                continue
-            t.wheels = (0, 0)
-            t.follower, t.plan_job = None, None  # a plan being made started from a pose left
-            guard = {"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm}
-            if t.state == "APPROACH":
-                # a new plan from here starts forward, into what the guard saw, and is stopped
-                # again at once: first turn toward the widest free sector and leave R_r
-                t.ms.detour = {"heading_mrad": widest_free_heading(inp, t.p.detour_clear_mm),
-                            "drive": True, "from": None, "length_mm": GUARD_OUT_MM}
-                guard["turn_to_mrad"] = t.ms.detour["heading_mrad"]
-            t.note(sonar_guard=guard)
-            return
+        if t.state == "APPROACH":
+            # a new plan from here starts forward, into what the guard saw, and is stopped
+            # again at once: first turn toward the widest free sector and leave R_r
+            t.ms.detour = out_of_r_r(inp, t.p.detour_clear_mm)
+            guard["turn_to_mrad"] = t.ms.detour["heading_mrad"]
+        t.note(sonar_guard=guard)
 
     def detour_step(self, t: Any, inp: Any) -> bool:
-        """One step of the detour; True when it is over (the caller plans again).
-
-        A detour whose heading was chosen clear of 001's infeasible regions (``d["checked"]``,
-        host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
-        an echo straight ahead (something new in the way); the fixed diagonal threshold of
-        :func:`_blocked_ahead` would stop it as soon as it starts."""
-        d = t.ms.detour
-        err = wrap_mrad(d["heading_mrad"] - inp.heading_mrad)
-        if d["from"] is None and abs(err) > TURN_TOL_MRAD:
-            v = t.p.turn_wheel_mmps
-            t.wheels = (v, -v) if err < 0 else (-v, v)  # counter-clockwise for err > 0
-            return False
-        if not d["drive"]:
-            t.wheels = (0, 0)
-            return True
-        if d["from"] is None:
-            d["from"] = (inp.x_mm, inp.y_mm)
-        dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
-        n = len(inp.sonar_mm)
-        if d.get("checked") and n:
-            blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
-        else:
-            blocked = _blocked_ahead(inp.sonar_mm)
-        length = d.get("length_mm", t.p.detour_mm)
-        if dx * dx + dy * dy >= length * length or blocked:
-            t.wheels = (0, 0)
-            return True
-        t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
-        return False
-
-
-def _object_echo(t: Any, inp: Any, phi: int, rng: int, half_cone: int) -> bool:
-    """The object estimate lies in the cone of the sonar at ``phi`` at about range ``rng``."""
-    h = inp.heading_mrad + phi
-    off = t.p.sonar_offset_mm
-    sx = inp.x_mm + (off * cos_q12(h) >> 12)
-    sy = inp.y_mm + (off * sin_q12(h) >> 12)
-    dx, dy = t.obj[0] - sx, t.obj[1] - sy
-    d = isqrt(dx * dx + dy * dy)
-    return (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
-            and abs(d - rng) <= GUARD_OBJECT_MM)
+        """One step of the detour (host/task/sonar_guard.py ``drive_detour``); True when it is
+        over (the caller plans again)."""
+        return drive_detour(t, inp, t.ms.detour)
 
 
 RULES = Method001()

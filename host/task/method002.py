@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
-from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.posture import distribute_alpha
 from mobigrasp.host.ranging import locate_ring_pair
 from mobigrasp.host.task.drive import wrap_mrad
@@ -41,16 +41,17 @@ if TYPE_CHECKING:
     from mobigrasp.host.task.machine import Task
 
 GRASP_ALPHAS_002 = (0, -100, -200, -280)  # horizontal first; the world accepts |alpha| < 0.3
+# the level grasp's reach (docs/task.md): scanned over these distances of the axis from the
+# waist (mm, step), the ends of the window kept this far inside
+LEVEL_SCAN_MM = (150, 350, 2)
+LEVEL_MARGIN_MM = 2
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
-CYLINDER_RADIUS_MM = 25  # the red cylinder (docs/markers.md)
 ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
 SEARCH_WANDERS_002 = 2  # SEARCH gives up after a look around and this many wander legs
-# the grasp check's look (docs/task.md): the held cylinder brought to (reach mm ahead of the
-# waist, camera height mm above the ground) with the camera pitched down (mrad), first reachable
-# wins; its top face, 40 mm under the camera, then fills the frame below a row it predicts
+# the grasp check's look (docs/task.md): the fingertip, and a held cylinder with it, brought to
+# (reach mm ahead of the waist, height mm above the ground) with the camera pitched down (mrad),
+# first reachable wins: a cylinder left standing is then ~150 mm further out and below the view
 HELD_VIEWS_002 = ((100, 160, 800), (80, 160, 900), (90, 160, 850), (110, 155, 800))
-HELD_ROW_TOL_PX = 16  # the top face's edge this close to its predicted row
-HELD_COL_TOL_PX = 24  # ... and the red region's centre this close to the centre column
 
 
 @dataclass
@@ -115,11 +116,11 @@ class Method002(Method):
                       "posture": {"margin_mode": "limits"}}
     detectors = {"SEARCH": ("double_cross", "red_roi"),
                  "APPROACH": ("double_cross", "red_cylinder", "red_roi"),
-                 "ADJUST": ("red_cylinder",), "LIFT": ("red_cylinder", "red_roi")}
+                 "ADJUST": ("red_cylinder",), "LIFT": ("red_cylinder", "held_fill")}
     search_detector = "double_cross"
     adjust_detector = "red_cylinder"
     check_detectors = ("red_cylinder",)
-    held_look = True  # grasp check: the held cylinder seen under the camera (held_in_view)
+    held_colour = "red_paint"
     object_detectors = ("red_cylinder",)  # the double cross is the board, not the object
     grasp_alpha_mrad = 0
     keeps_sightings = False
@@ -329,6 +330,20 @@ class Method002(Method):
     def adjust_vmax_mmps(self, p: Any) -> int:
         return p.slow_mmps
 
+    def grasp_reach_mm(self, t: Task) -> tuple[int, int] | None:
+        """The distances of the axis from the waist where the gripper holds it level at the
+        grasp height within the joint limits (eq. (4) of 002: theta1 + theta2 + theta3 = 0),
+        as centre and half width: on this arm a window ~8 mm wide ~271 mm out, beyond the
+        stop of d_pixel > T_d (~252 mm), so the base backs off to it before the grasp."""
+        z = (t.p.grasp_height_mm - t.p.h_shoulder_mm) * 16
+        lo_mm, hi_mm, step = LEVEL_SCAN_MM
+        level = [r for r in range(lo_mm, hi_mm + 1, step) if isinstance(
+            kinematics.ik_pitch_mm_q4(t.geom, (0, r * 16, z), 0), kinematics.ArmPose)]
+        if not level:
+            return None
+        lo, hi = level[0], level[-1]
+        return (lo + hi) // 2, max(1, (hi - lo) // 2 - LEVEL_MARGIN_MM)
+
     def object_position(self, t: Task, name: str, det: Any, joints: tuple[int, ...]) -> Any:
         """The red cylinder's axis point between its rings by 002 §4: D_OC = D f / d_pixel along
         the ray of (u_c, v_c) whose vertical and horizontal angles are theta_v = alpha +
@@ -369,32 +384,6 @@ class Method002(Method):
             if isinstance(pose, kinematics.ArmPose):
                 return pose
         return None
-
-    def held_in_view(self, t: Task, now: int, dets: dict) -> bool:
-        """This frame shows the cylinder held: the camera (the fingertip, eq. (3)) stands on
-        its axis, ``h`` above its top face (radius R), so the face covers the rays steeper than
-        atan(h / R) below the horizontal: with the camera pitched down by beta, a red region
-        from the row v0 + f tan(atan(h / R) - beta) (``HELD_ROW_TOL_PX``) down to the frame's
-        bottom, centred on the middle column (``HELD_COL_TOL_PX``). A cylinder standing where
-        the gripper missed it is seen elsewhere, and stays behind when the waist turns."""
-        roi = dets.get("red_roi")
-        t_cap = now - t.p.frame_latency_us
-        if not isinstance(roi, registry.row("red_roi").result_type()) or t_cap < t.trust_from_us:
-            return False
-        joints = t.arm_at(t_cap)
-        cz = kinematics.fk_mm_q4(t.geom, *joints[2:6])[2]
-        h_mm = cz // 16 + t.p.h_shoulder_mm - t.p.object_top_mm
-        d = atan2_mrad(h_mm, CYLINDER_RADIUS_MM) + joints[2] + joints[3] + joints[4]
-        if h_mm <= 0 or not -1300 < d < 1300:
-            return False
-        edge_q4 = t.cam.v0_px * 16 + t.cam.f_px * 16 * sin_q12(d) // cos_q12(d)
-        _, top, _, height = roi.roi
-        held = (top + height >= 2 * t.cam.v0_px - 2
-                and abs(16 * top - edge_q4) <= 16 * HELD_ROW_TOL_PX
-                and abs(roi.u_c_q4 - 16 * t.cam.u0_px) <= 16 * HELD_COL_TOL_PX)
-        t.note(grasp_check_view={"roi": list(roi.roi), "edge_row_px": edge_q4 // 16,
-                                 "held": held})
-        return held
 
     # --- the arm -------------------------------------------------------------------------------
     def look_height_mm(self, p: Any, top: bool) -> int:

@@ -52,11 +52,11 @@ class TaskParams:
     sighting_match_mm: int = 200  # SEARCH: an unconfirmed sighting seen again this close is it
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
-    sonar_offset_mm: int = 170  # 001: sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)
+    sonar_offset_mm: int = 170  # the sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)
     w_min_px: int = 20  # 000 §IV: the precise grasp's window for w_T (host.kinematics)
     w_max_px: int = 40
-    r_r_mm: int = 200  # 001: safety circle R_r (eq. (16)); a front sonar range below it stops
-    sonar_a_g_mrad: int = 1050  # 001: cone width A_g of each sonar (§IV)
+    r_r_mm: int = 200  # safety circle R_r (001 eq. (16)); a front sonar range below it stops
+    sonar_a_g_mrad: int = 1050  # cone width A_g of each sonar (001 §IV)
     sonar_d_e_mm: int = 2500  # 001: sonar range D_e, "nothing detected" (§IV)
     # 001: two neighbours' echoes this close are one echo in their overlap; their mounts on the
     # 0.17 m circle are 2 x 0.17 sin(pi/8) = 130 mm apart, so one point's ranges differ that much

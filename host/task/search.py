@@ -55,8 +55,9 @@ class SearchStates:
             t.confirm_failed = tuple(t.arm)
             t.sighting = t.obj if t.rules.keeps_sightings else None
             t.search.restart_dwell(now)
-        elif det is not None and (t.search.wandering or not t.search.turning) \
-                and t.rules.found(t, now, inp, name, det):
+        elif det is not None and t.rules.found(t, now, inp, name, det):
+            # seen at a dwell, on a wander leg or while the base turns: stop and confirm
+            t.wheels = (0, 0)
             if self.seen_there_before(t):
                 t.go(now, "APPROACH", t.rules.found_why(t) + " (seen twice at that place)")
                 return

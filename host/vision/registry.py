@@ -89,6 +89,8 @@ DETECTORS: dict[str, DetectorRow] = {row.name: row for row in (
                 uses_grey=False, ranging="mobigrasp.host.ranging:locate_ring_pair_ops"),
     DetectorRow("red_roi", _V + "red_cylinder", "detect_red_roi", "RedRoi", uses_grey=False,
                 min_ops="roi_min_ops", sighting="roi_sighting"),
+    DetectorRow("held_fill", _V + "held_fill", "detect_held_fill", "HeldFill", uses_grey=False,
+                sighting=None),
 )}
 
 

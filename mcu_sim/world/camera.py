@@ -31,7 +31,13 @@ from mobigrasp.mcu_sim.world.camera_ground import draw_ground as _draw_ground
 from mobigrasp.mcu_sim.world.camera_ground import put_rgb as _put_rgb
 from mobigrasp.mcu_sim.world.camera_ground import sky_frame as _sky_frame
 from mobigrasp.mcu_sim.world.camera_linalg import columns3, svd_values
-from mobigrasp.mcu_sim.world.camera_scene import Item, Scene, Target, solids_of_scene
+from mobigrasp.mcu_sim.world.camera_scene import (
+    Item,
+    Scene,
+    Target,
+    inside_colour,
+    solids_of_scene,
+)
 
 Z_NEAR_M = 0.01
 _NOISE_BANK_SIZE = 1 << 21
@@ -554,6 +560,10 @@ def render_clean(scene: Scene, cam_pos_w, R_wc, intr: Intrinsics = Intrinsics())
         raise ValueError(f"scene must be a Scene, got {type(scene).__name__}")
     c, R = _check_pose(cam_pos_w, R_wc)
     img = np.empty((intr.height, intr.width, 3), np.uint8)
+    inside = inside_colour(scene.target, c)
+    if inside is not None:  # the camera inside the object: its surface fills the view
+        img[...] = inside
+        return img
     p = _Painter(img, c, R, intr)
     items = solids_of_scene(scene)
     if len(items) > 1:

@@ -11,6 +11,11 @@ stand is written in docs/markers.md:
   board stands 0.15 m behind it (against ``heading_rad``), facing ``heading_rad``, its lower edge
   at 0.16 m (above the 0.12 m cylinder), on a thin post.
 - ``double-cross``: the board and post alone, centred at (x, y), facing ``heading_rad``.
+
+A held object is drawn where the gripper holds it: ``Target.z_m`` lifts the object (not the
+002 board, which stays on its post where ``Target.board`` says). A camera whose optical centre
+is inside the object (the eye-in-hand camera of a gripper holding it, or closing on it) sees
+nothing but the object's surface: the frame is that surface's colour (:func:`inside_colour`).
 """
 
 from __future__ import annotations
@@ -50,11 +55,21 @@ class Target:
     x_m: float
     y_m: float
     heading_rad: float = 0.0
+    z_m: float = 0.0  # the object's base above the ground (lifted by the gripper)
+    board: tuple[float, float, float] | None = None  # (x, y, heading) the 002 board stands
+    # relative to, where the cylinder stood when lifted; None: the target's own place
 
     def __post_init__(self) -> None:
         if self.kind not in TARGET_KINDS:
             raise ValueError(f"Target.kind must be one of {TARGET_KINDS}, got {self.kind!r}")
-        _finite(self, "x_m", "y_m", "heading_rad")
+        _finite(self, "x_m", "y_m", "heading_rad", "z_m")
+        if self.board is not None and (len(self.board) != 3 or not all(
+                isinstance(v, int | float) and math.isfinite(v) for v in self.board)):
+            raise ValueError(f"Target.board must be (x_m, y_m, heading_rad), got {self.board!r}")
+
+    def board_place(self) -> tuple[float, float, float]:
+        """(x, y, heading) of the place the board stands relative to."""
+        return self.board if self.board is not None else (self.x_m, self.y_m, self.heading_rad)
 
 
 @dataclass(frozen=True)
@@ -226,27 +241,30 @@ def _flat(item: Item, foot_xy: np.ndarray, rgb) -> None:
 
 def _board_frame(t: Target) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Centre, unit right (seen from the front) and unit normal of the 002 guidance board."""
-    c, s = math.cos(t.heading_rad), math.sin(t.heading_rad)
+    x, y, h = t.board_place()
+    c, s = math.cos(h), math.sin(h)
     back = mk.BOARD_BEHIND_M if t.kind == "red-cylinder" else 0.0
-    centre = np.array([t.x_m - back * c, t.y_m - back * s, mk.BOARD_CENTRE_Z_M])
+    centre = np.array([x - back * c, y - back * s, mk.BOARD_CENTRE_Z_M])
     return centre, np.array([-s, c, 0.0]), np.array([c, s, 0.0])
 
 
 def _target_items(t: Target) -> list[Item]:
     items: list[Item] = []
+    z = t.z_m
     if t.kind == "radial-symbol":
-        it = Item(np.array([t.x_m, t.y_m, mk.OBJECT_TOP_Z_M / 2]))
+        it = Item(np.array([t.x_m, t.y_m, z + mk.OBJECT_TOP_Z_M / 2]))
         _prism(it, _circle_xy(t.x_m, t.y_m, mk.OBJECT_BODY_RADIUS_M),
-               ((0.0, mk.OBJECT_TOP_Z_M, mk.BODY_RGB),), mk.BODY_RGB)
+               ((z, z + mk.OBJECT_TOP_Z_M, mk.BODY_RGB),), mk.BODY_RGB)
         c, s = math.cos(t.heading_rad), math.sin(t.heading_rad)
-        origin = np.array([t.x_m, t.y_m, mk.OBJECT_TOP_Z_M + 0.0005])
+        origin = np.array([t.x_m, t.y_m, z + mk.OBJECT_TOP_Z_M + 0.0005])
         it.textures.append((mk.radial_symbol_texture(), origin,
                                      np.array([c, s, 0.0]), np.array([-s, c, 0.0])))
         items.append(it)
         return items
     if t.kind == "red-cylinder":
-        it = Item(np.array([t.x_m, t.y_m, mk.RED_CYL_HEIGHT_M / 2]))
-        _prism(it, _circle_xy(t.x_m, t.y_m, mk.RED_CYL_RADIUS_M), mk.red_cylinder_bands(),
+        it = Item(np.array([t.x_m, t.y_m, z + mk.RED_CYL_HEIGHT_M / 2]))
+        _prism(it, _circle_xy(t.x_m, t.y_m, mk.RED_CYL_RADIUS_M),
+               tuple((z0 + z, z1 + z, rgb) for z0, z1, rgb in mk.red_cylinder_bands()),
                mk.RED_RGB)
         items.append(it)
     centre, right, normal = _board_frame(t)
@@ -265,6 +283,23 @@ def _target_items(t: Target) -> list[Item]:
                                     _UP.copy()))
     items.append(board)
     return items
+
+
+def inside_colour(t: Target | None, c) -> tuple[int, int, int] | None:
+    """The colour of the object's surface around a camera whose optical centre ``c`` (world,
+    m) is inside the object's solid (the post of ``radial-symbol``, the red cylinder), else
+    None. The eye-in-hand camera at the fingertip point (eq. (3) of 000) is inside the object
+    it holds: its view is the object's surface, nothing beyond."""
+    if t is None or t.kind == "double-cross":
+        return None
+    radius, height = ((mk.OBJECT_BODY_RADIUS_M, mk.OBJECT_TOP_Z_M) if t.kind == "radial-symbol"
+                      else (mk.RED_CYL_RADIUS_M, mk.RED_CYL_HEIGHT_M))
+    dz = float(c[2]) - t.z_m
+    if not 0.0 <= dz <= height or math.hypot(float(c[0]) - t.x_m, float(c[1]) - t.y_m) > radius:
+        return None
+    if t.kind == "radial-symbol":
+        return mk.BODY_RGB
+    return next(rgb for z0, z1, rgb in mk.red_cylinder_bands() if dz <= z1)
 
 
 def _signed_area(p: np.ndarray) -> float:
@@ -323,16 +358,17 @@ def target_keypoints_w(t: Target) -> dict[str, np.ndarray]:
     out: dict[str, np.ndarray] = {}
     if t.kind == "radial-symbol":
         c, s = math.cos(t.heading_rad), math.sin(t.heading_rad)
-        z = mk.OBJECT_TOP_Z_M + 0.0005
+        z = t.z_m + mk.OBJECT_TOP_Z_M + 0.0005
         out["symbol_centre"] = np.array([t.x_m, t.y_m, z])
         for i, (px, py) in enumerate(mk.plus_centres_m(), start=1):
             out[f"plus_{i}"] = np.array([t.x_m + c * px - s * py, t.y_m + s * px + c * py, z])
         return out
     if t.kind == "red-cylinder":
         half = mk.RING_SPACING_M / 2
-        out["ring_lo"] = np.array([t.x_m, t.y_m, mk.RING_MID_Z_M - half])
-        out["ring_hi"] = np.array([t.x_m, t.y_m, mk.RING_MID_Z_M + half])
-        out["cylinder_centre"] = np.array([t.x_m, t.y_m, mk.RING_MID_Z_M])
+        mid = t.z_m + mk.RING_MID_Z_M
+        out["ring_lo"] = np.array([t.x_m, t.y_m, mid - half])
+        out["ring_hi"] = np.array([t.x_m, t.y_m, mid + half])
+        out["cylinder_centre"] = np.array([t.x_m, t.y_m, mid])
     centre, right, normal = _board_frame(t)
     out["board_centre"] = centre
     for i, (bx, by) in enumerate(mk.cross_centres_m(), start=1):

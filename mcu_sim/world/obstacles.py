@@ -6,9 +6,12 @@ pymunk's examples/tank.py (PivotJoint + GearJoint to the static body with ``max_
 ``max_force`` = mu * m * g). A target with a ``[[target.path]]`` is kinematic instead and is
 dragged along the path by velocity (paper 002 moves the object by hand during the approach).
 
-Contacts are counted with pymunk 7 collision handlers (``space.on_collision``): every *begin* of
-a base-vs-obstacle or base-vs-target contact is an event with its simulated time. Base-vs-target
-contacts stop counting once the object is grasped (it is then out of the space anyway).
+Contacts are counted as episodes (docs/task.md "The run's counts") with pymunk 7 collision
+handlers (``space.on_collision`` begin / separate): an episode starts when the base first touches
+an obstacle (or the target) and ends when it touches none; a new touch within ``EPISODE_GAP_US``
+of the end continues the episode, so a long press is one contact and a slide along an edge whose
+touch flickers is one contact, however many times pymunk begins and separates the pair.
+Base-vs-target contacts stop counting once the object is grasped (it is then out of the space).
 """
 
 from __future__ import annotations
@@ -57,43 +60,88 @@ TARGET_GEOMETRY: dict[str, TargetGeometry] = {
 }
 
 TARGET_FRICTION_MU = 0.5
+# the 002 guidance board's post (camera_scene.py draws it): 20 mm square, this far behind the
+# cylinder's axis (markers.BOARD_BEHIND_M plus the 20 mm from the board's face to the post)
+BOARD_POST_BEHIND_M = 0.17
+BOARD_POST_SIDE_M = 0.02
+
+
+EPISODE_GAP_US = 500_000  # touches less than this apart are one contact episode
 
 
 @dataclass
-class ContactEvent:
-    """One contact begin between the base and something else."""
+class ContactEpisode:
+    """One contact episode between the base and obstacles (or the target)."""
 
-    t_us: int
+    start_us: int
     kind: str  # "obstacle" or "target"
-    index: int  # obstacle index in the scenario, -1 for the target
+    index: int  # obstacle index in the scenario of the first touch, -1 for the target
+    end_us: int | None = None  # None while the base still touches
+
+    def duration_us(self, now_us: int) -> int:
+        return (now_us if self.end_us is None else self.end_us) - self.start_us
 
 
 class ContactCounter:
-    """Collision handlers that record base-vs-obstacle and base-vs-target contact begins."""
+    """Collision handlers that turn base-vs-obstacle and base-vs-target touches into episodes."""
 
     def __init__(self, space: pymunk.Space, clock):
-        self.events: list[ContactEvent] = []
+        self.events: list[ContactEpisode] = []
         self.counts = {"obstacle": 0, "target": 0}
+        self._touching = {"obstacle": 0, "target": 0}  # pairs in touch now
+        self._open: dict[str, ContactEpisode | None] = {"obstacle": None, "target": None}
         self._clock = clock  # callable -> current simulated t_us
         self.count_target = True
-        space.on_collision(COLL_BASE, COLL_OBSTACLE, begin=self._begin_obstacle)
-        space.on_collision(COLL_BASE, COLL_TARGET, begin=self._begin_target)
+        space.on_collision(COLL_BASE, COLL_OBSTACLE, begin=self._begin_obstacle,
+                           separate=self._separate_obstacle)
+        space.on_collision(COLL_BASE, COLL_TARGET, begin=self._begin_target,
+                           separate=self._separate_target)
+
+    def _begin(self, kind: str, index: int) -> None:
+        self._touching[kind] += 1
+        if self._touching[kind] > 1:
+            return
+        now, last = self._clock(), self._open[kind]
+        if last is not None and last.end_us is not None and now - last.end_us < EPISODE_GAP_US:
+            last.end_us = None  # the same episode goes on
+            return
+        ep = ContactEpisode(now, kind, index)
+        self.events.append(ep)
+        self._open[kind] = ep
+        self.counts[kind] += 1
+
+    def _separate(self, kind: str) -> None:
+        if self._touching[kind] == 0:
+            return
+        self._touching[kind] -= 1
+        ep = self._open[kind]
+        if self._touching[kind] == 0 and ep is not None and ep.end_us is None:
+            ep.end_us = self._clock()
 
     def _begin_obstacle(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
         shape = arbiter.shapes[1] if arbiter.shapes[0].collision_type == COLL_BASE \
             else arbiter.shapes[0]
-        self.events.append(ContactEvent(self._clock(), "obstacle",
-                                        getattr(shape, "obstacle_index", -1)))
-        self.counts["obstacle"] += 1
+        self._begin("obstacle", getattr(shape, "obstacle_index", -1))
+
+    def _separate_obstacle(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        self._separate("obstacle")
 
     def _begin_target(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
         if self.count_target:
-            self.events.append(ContactEvent(self._clock(), "target", -1))
-            self.counts["target"] += 1
+            self._begin("target", -1)
+
+    def _separate_target(self, arbiter: pymunk.Arbiter, space: pymunk.Space, data) -> None:
+        if self.count_target or self._touching["target"]:
+            self._separate("target")
 
     def count(self, kind: str) -> int:
-        """Number of contact begins of ``kind`` ("obstacle" or "target")."""
+        """Number of contact episodes of ``kind`` ("obstacle" or "target")."""
         return self.counts[kind]
+
+    def contact_time_s(self, kind: str) -> float:
+        """Total time (s) of the episodes of ``kind``, an open one up to now."""
+        now = self._clock()
+        return sum(e.duration_us(now) for e in self.events if e.kind == kind) / 1e6
 
 
 def add_obstacles(space: pymunk.Space, specs: tuple[ObstacleSpec, ...]) -> list[pymunk.Shape]:
@@ -153,6 +201,39 @@ class TargetObject:
         space.add(self.body, self.shape, *self.constraints)
         self.in_space = True
         self.z_m = 0.0  # height of the object's base above the ground (lifted when grasped)
+        # where the 002 board stands relative to (x, y, heading): it follows a cylinder on the
+        # ground (carried with it by hand) and stays on its post once the cylinder is lifted
+        self.board_place: tuple[float, float, float] | None = None
+        self.post: pymunk.Shape | None = None
+        if spec.kind == "red-cylinder":
+            body = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+            body.position = self._post_goal()
+            half = BOARD_POST_SIDE_M / 2
+            self.post = pymunk.Poly(body, [(-half, -half), (half, -half), (half, half),
+                                           (-half, half)])
+            self.post.collision_type = COLL_OBSTACLE
+            self.post.friction = 0.7
+            self.post.obstacle_index = -1  # a marker's post, not a scenario obstacle
+            space.add(body, self.post)
+
+    def _post_goal(self) -> tuple[float, float]:
+        x, y = self.body.position
+        h = self.body.angle
+        return (x - BOARD_POST_BEHIND_M * math.cos(h), y - BOARD_POST_BEHIND_M * math.sin(h))
+
+    def carry_post(self, horizon_us: int) -> None:
+        """Move the board's post with a cylinder standing on the ground (by velocity, reaching
+        its place behind the cylinder at t + horizon); still once the board stays put."""
+        if self.post is None:
+            return
+        body = self.post.body
+        if self.board_place is not None:
+            body.velocity = (0.0, 0.0)
+            return
+        gx, gy = self._post_goal()
+        x, y = body.position
+        dt = horizon_us * 1e-6
+        body.velocity = ((gx - x) / dt, (gy - y) / dt)
 
     def path_point(self, t_s: float) -> tuple[float, float] | None:
         """Linear interpolation of the path at ``t_s`` (None before the first way point)."""
@@ -180,7 +261,11 @@ class TargetObject:
         self.body.velocity = ((goal[0] - x) / dt, (goal[1] - y) / dt)
 
     def detach_from_space(self) -> None:
-        """Take the object out of the plane (it is held by the gripper)."""
+        """Take the object out of the plane (it is held by the gripper); the board, if any,
+        stays where the object stood."""
+        if self.board_place is None:
+            x, y = self.body.position
+            self.board_place = (float(x), float(y), float(self.body.angle))
         if self.in_space:
             self.space.remove(self.body, self.shape, *self.constraints)
             self.in_space = False

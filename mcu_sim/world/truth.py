@@ -40,14 +40,16 @@ class TruthRecorder:
         return [json.dumps({"type": "truth", **s}, sort_keys=True) for s in self.samples]
 
     def trace_lines(self, contact_events) -> list[str]:
-        """Truth samples and contact events (``ContactEvent`` list) merged in time order.
+        """Truth samples and contact episodes (``ContactEpisode`` list) merged in time order,
+        an episode at its start (``end_us`` null while it lasts).
 
         Contacts are exact to the 1 ms physics step, samples are on the sampling grid; at equal
         times a sample comes first.
         """
         rows = [(s["t_us"], 0, {"type": "truth", **s}) for s in self.samples]
-        rows += [(e.t_us, 1, {"type": "contact", "t_us": e.t_us, "with": e.kind,
-                              "obstacle_index": e.index}) for e in contact_events]
+        rows += [(e.start_us, 1, {"type": "contact", "t_us": e.start_us, "end_us": e.end_us,
+                                  "with": e.kind, "obstacle_index": e.index})
+                 for e in contact_events]
         rows.sort(key=lambda r: (r[0], r[1]))
         return [json.dumps(r[2], sort_keys=True) for r in rows]
 

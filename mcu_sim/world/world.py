@@ -1,7 +1,8 @@
 """The plant: one pymunk space with the base, obstacles, target, arm and sonars, stepped at 1 kHz.
 
 ``World(scenario, seed)`` builds the space in a fixed insertion order (obstacles in scenario
-order, then the base, then the target; pymunk#181: order decides the solver's results).
+order, then the base, then the target and the 002 board's post; pymunk#181: order decides the
+solver's results).
 ``step_to(t_us)`` advances whole 1 ms physics steps up to ``t_us`` (the world's time is always a
 multiple of 1 ms; inputs set between steps act from the next step), so the result depends only
 on the inputs and their times, never on how finely the caller slices time.
@@ -99,6 +100,8 @@ class World:
         r = scenario.robot
         self.base = DiffDriveBase(self.space, r.x_m, r.y_m, r.heading_rad)
         self.target = TargetObject(self.space, scenario.target)
+        if self.target.post is not None:  # the board's post: an obstacle to base and sonars
+            self.target.post.filter = pymunk.ShapeFilter(categories=OBSTACLE_CATEGORY)
         self._steps = 0
         self.contacts = ContactCounter(self.space, self._contact_time_us)
         self.arm = Arm(ARM_BY_METHOD[robot])
@@ -154,6 +157,7 @@ class World:
     def _tick(self) -> None:
         t = self.t_us
         self.target.drag(t, TICK_US)
+        self.target.carry_post(TICK_US)
         self._update_grasp(t)
         self._update_clearance()
         if self._record_truth:
@@ -200,13 +204,14 @@ class World:
     def camera_scene(self):
         """The scene in the renderer's own types (mcu_sim.world.camera_scene.Scene).
 
-        Walls become thin boxes (the renderer draws circles and boxes). The renderer draws the
-        target standing on the ground; while it is held, it is drawn under the gripper.
+        Walls become thin boxes (the renderer draws circles and boxes). A held target is drawn
+        where the gripper holds it (lifted), the 002 board where the cylinder stood.
         """
         from . import camera_scene as cs  # imported here: the renderer is optional for physics
 
-        x, y, _, h = self.target.pose()
-        return cs.Scene(target=cs.Target(self.target.spec.kind, x, y, h),
+        x, y, z, h = self.target.pose()
+        return cs.Scene(target=cs.Target(self.target.spec.kind, x, y, h, z,
+                                         self.target.board_place),
                         obstacles=self._camera_obstacles(), seed=self.seed)
 
     def _camera_obstacles(self) -> tuple:
@@ -259,7 +264,8 @@ class World:
             "object": {"x_m": ox, "y_m": oy, "z_m": oz, "heading_rad": oh},
             "attached": self.attached,
             "grasps": self.grasp_count,
-            "collisions": dict(self.contacts.counts),
+            "collisions": dict(self.contacts.counts),  # contact episodes (obstacles.py)
+            "contact_time_s": {k: self.contacts.contact_time_s(k) for k in self.contacts.counts},
             "min_clearance_m": None if math.isinf(self.min_clearance_m)
             else self.min_clearance_m,
             "encoder_ticks": list(self.encoder_ticks()),
@@ -296,7 +302,7 @@ class World:
         ``last clearance - distance moved since`` stays above the minimum so far, no new minimum
         is possible and the space query is skipped.
         """
-        if not self.obstacle_shapes:
+        if not self.obstacle_shapes and self.target.post is None:
             return
         x, y, _ = self.base.pose()
         lx, ly, last = self._clearance_at

@@ -29,6 +29,7 @@ from mobigrasp.tools.loop_campaign import (
     run_campaign,
 )
 from mobigrasp.tools.progress import Progress
+from mobigrasp.tools.random_scenarios import DEFAULT_VERSION, GENERATORS
 
 NAME = "loop"
 HELP = "closed-loop real-time factor (pty, inproc) and success rate of random scenarios"
@@ -44,7 +45,7 @@ def add_arguments(parser) -> None:
     parser.add_argument("--seed-base", type=int, default=1000,
                         help="seed of the first run (default 1000)")
     parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
-    parser.add_argument("--generator", default="v2", choices=("v1", "v2"),
+    parser.add_argument("--generator", default=DEFAULT_VERSION, choices=tuple(GENERATORS),
                         help="random scenario generator version (tools/random_scenarios.py)")
     parser.add_argument("--transport", default="pty", choices=("pty", "inproc"),
                         help="transport of the random runs: pty (two processes, default) or "

@@ -1,0 +1,159 @@
+"""The sonar guard: no drive into what the sonar ring sees (docs/task.md, "No contact").
+
+The ring is 001's (§III.C.2: k_s sonars from -pi/2, right, to pi/2, left, each a cone of A_g);
+000 and 002 carry the same ring. While the base would move forward in SEARCH or APPROACH, a
+sonar of the ring's front half reading below the safety circle R_r (``r_r_mm``) that is not the
+object's own echo (its estimate in that sonar's cone at the range read, ``GUARD_OBJECT_MM``)
+stops the base. The base then turns in place toward the middle of the widest run of free
+sonars and drives ``GUARD_OUT_MM`` along it (a detour, :func:`drive_detour`), out of R_r, before
+the method goes on: 001 plans afresh from there (method001.py); 000's and 002's states go on from
+the new pose (:class:`SonarGuard`, run after every step by ``Method.guard_wheels``).
+Integer mm / mrad; no I/O.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.task.drive import wrap_mrad
+
+TURN_TOL_MRAD = 60  # the detour turns to within this of its heading before it drives
+DETOUR_STOP_MM = 400  # straight ahead: footprint radius 170 mm + braking and margin
+DETOUR_DIAG_MM = 255
+GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
+GUARD_OUT_MM = 200  # after the guard stopped the base: drive this far toward the free sector
+GUARDED_STATES = ("SEARCH", "APPROACH")
+
+
+def sonar_angles_mrad(n: int) -> list[int]:
+    """phi_k of 001 §III.C.2 (k = 1..n evenly from -pi/2, right, to pi/2, left), mrad."""
+    return [-1571 + k * 3142 // (n - 1) for k in range(n)] if n >= 2 else []
+
+
+def widest_free_heading(inp, clear_mm: int) -> int:
+    """Odometry heading of the middle of the widest run of neighbouring sonars that read no
+    echo or one beyond ``clear_mm``; with none free, a quarter turn left."""
+    angles = sonar_angles_mrad(len(inp.sonar_mm))
+    best, run = None, []
+    for phi, rng in [*zip(angles, inp.sonar_mm, strict=True), (None, 0)]:
+        free = phi is not None and (int(rng) <= 0 or int(rng) >= clear_mm)
+        if free:
+            run.append(phi)
+            continue
+        if run and (best is None or len(run) > len(best)):
+            best = run
+        run = []
+    if best is None:
+        return wrap_mrad(inp.heading_mrad + 1571)
+    return wrap_mrad(inp.heading_mrad + (best[0] + best[-1]) // 2)
+
+
+def blocked_ahead(sonar_mm: tuple) -> bool:
+    """The detour passes close beside obstacles (that is its point): stop only for an echo
+    straight ahead within DETOUR_STOP_MM, or at 45 degrees within DETOUR_DIAG_MM (a surface
+    point there is DETOUR_DIAG_MM / sqrt(2) = 180 mm aside: the 0.17 m footprint would touch)."""
+    n = len(sonar_mm)
+    if n < 3:
+        return False
+    mid = n // 2
+    ahead = int(sonar_mm[mid])
+    diag = (int(sonar_mm[mid - 1]), int(sonar_mm[mid + 1])) if n >= 5 else ()
+    return 0 < ahead < DETOUR_STOP_MM or any(0 < v < DETOUR_DIAG_MM for v in diag)
+
+
+def object_echo(t: Any, inp: Any, phi: int, rng: int, half_cone: int) -> bool:
+    """The object estimate lies in the cone of the sonar at ``phi`` at about range ``rng``."""
+    h = inp.heading_mrad + phi
+    off = t.p.sonar_offset_mm
+    sx = inp.x_mm + (off * cos_q12(h) >> 12)
+    sy = inp.y_mm + (off * sin_q12(h) >> 12)
+    dx, dy = t.obj[0] - sx, t.obj[1] - sy
+    d = isqrt(dx * dx + dy * dy)
+    return (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
+            and abs(d - rng) <= GUARD_OBJECT_MM)
+
+
+def front_echo(t: Any, inp: Any) -> dict | None:
+    """The first sonar of the ring's front half (|phi_k| < pi/2) reading below R_r that is
+    not the object's own echo, as the trace's ``sonar_guard`` detail; None when there is none."""
+    half_cone = t.p.sonar_a_g_mrad // 2
+    for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
+        rng = int(rng)
+        if abs(phi) >= 1571 or not 0 < rng < t.p.r_r_mm:
+            continue
+        if t.obj is not None and object_echo(t, inp, phi, rng, half_cone):
+            continue
+        return {"phi_mrad": phi, "range_mm": rng, "r_r_mm": t.p.r_r_mm}
+    return None
+
+
+def guard_stop(t: Any, inp: Any, states: tuple[str, ...]) -> dict | None:
+    """In ``states``, with the base driving forward: a front echo below R_r (:func:`front_echo`)
+    stops it and drops the followed path and any plan being made; the echo, or None when
+    nothing was stopped."""
+    if t.state not in states or t.wheels[0] + t.wheels[1] <= 0:
+        return None
+    echo = front_echo(t, inp)
+    if echo is not None:
+        t.wheels = (0, 0)
+        t.follower, t.plan_job = None, None  # a plan being made started from a pose left
+    return echo
+
+
+def out_of_r_r(inp: Any, clear_mm: int) -> dict:
+    """The detour after a guard stop: toward the widest free sector, ``GUARD_OUT_MM`` long."""
+    return {"heading_mrad": widest_free_heading(inp, clear_mm), "drive": True, "from": None,
+            "length_mm": GUARD_OUT_MM}
+
+
+def drive_detour(t: Any, inp: Any, d: dict) -> bool:
+    """One step of the detour ``d`` (turn to its heading, then drive its length); True when it
+    is over (the wheels stopped).
+
+    A detour whose heading was chosen clear of 001's infeasible regions (``d["checked"]``,
+    host.planning.escape) passes beside the obstacle it avoids on purpose: it stops only for
+    an echo straight ahead (something new in the way); the fixed diagonal threshold of
+    :func:`blocked_ahead` would stop it as soon as it starts."""
+    err = wrap_mrad(d["heading_mrad"] - inp.heading_mrad)
+    if d["from"] is None and abs(err) > TURN_TOL_MRAD:
+        v = t.p.turn_wheel_mmps
+        t.wheels = (v, -v) if err < 0 else (-v, v)  # counter-clockwise for err > 0
+        return False
+    if not d["drive"]:
+        t.wheels = (0, 0)
+        return True
+    if d["from"] is None:
+        d["from"] = (inp.x_mm, inp.y_mm)
+    dx, dy = inp.x_mm - d["from"][0], inp.y_mm - d["from"][1]
+    n = len(inp.sonar_mm)
+    if d.get("checked") and n:
+        blocked = 0 < int(inp.sonar_mm[n // 2]) < DETOUR_STOP_MM
+    else:
+        blocked = blocked_ahead(inp.sonar_mm)
+    length = d.get("length_mm", t.p.detour_mm)
+    if dx * dx + dy * dy >= length * length or blocked:
+        t.wheels = (0, 0)
+        return True
+    t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
+    return False
+
+
+class SonarGuard:
+    """The guard of a method without its own planner's detours (000, 002): stop, turn to the
+    widest free sector and drive out of R_r, overriding the state's wheels meanwhile; a
+    followed path is dropped (the state plans again from the new pose)."""
+
+    def step(self, t: Any, now: int, inp: Any) -> None:
+        if t.guard_out is not None:
+            if t.state not in GUARDED_STATES or drive_detour(t, inp, t.guard_out):
+                t.guard_out = None
+            return
+        echo = guard_stop(t, inp, GUARDED_STATES)
+        if echo is None:
+            return
+        t.guard_out = out_of_r_r(inp, t.p.detour_clear_mm)
+        t.note(sonar_guard={**echo, "turn_to_mrad": t.guard_out["heading_mrad"]})
+
+
+SONAR_GUARD = SonarGuard()

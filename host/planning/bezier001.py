@@ -67,6 +67,7 @@ from mobigrasp.host.planning.grasp_circle import (
     end_points,
     grasp_radius,
 )
+from mobigrasp.host.planning.observe import observed
 from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
@@ -153,6 +154,7 @@ def _geometry(obj, l_e: float, regions: list[InfeasibleRegion]) -> Geometry:
     return Geometry((float(obj[0]), float(obj[1])), l_e - CIRCLE_MARGIN_M, tuple(regions))
 
 
+@observed("001")
 def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sonar_mm,
              params: Params001 = Params001(),
              known_regions: list[InfeasibleRegion] | None = None) -> Plan:

@@ -7,7 +7,7 @@ found by bisection over the Q15 grid, 15 halvings, t(τ) increasing on a feasibl
 [τ_now, 1] is sampled at m − 1 points after τ_now, τ_j = τ_now + (2^15 − τ_now)·j / (m − 1),
 and each sample is tested against the regions as the planner does (bezier_q.in_regions_q).
 
-Against the float reference (tests/test_planning_replan_q.py): what is reported blocked is
+Against the float reference (tests/unit/host/test_planning_replan_q.py): what is reported blocked is
 blocked with R_r grown by 3 mm, what is reported clear is clear with R_r shrunk by 3 mm.
 """
 

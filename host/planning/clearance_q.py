@@ -15,7 +15,7 @@ integer square root (of |OP|² inside the angles, of the nearer end's distance²
 
 Bounds: |coordinates| < 2^21 counts (bezier_q.COORD_LIMIT) give |OP| components < 2^22,
 a, b < 2^37, b·2^14 < 2^51, a·tan < 2^57 (tan <= 2^20), squared distances < 2^45.
-Against the float reference (tests/test_planning_clearance.py): within 1 mm.
+Against the float reference (tests/unit/host/test_planning_clearance.py): within 1 mm.
 """
 
 from __future__ import annotations

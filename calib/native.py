@@ -15,12 +15,13 @@ from pathlib import Path
 import numpy as np
 
 from mobigrasp import cbuild
+from mobigrasp.host.planning.clearance_q import CLEAR_WORDS
 from mobigrasp.resources import data_dir
 
 HOSTC = data_dir("mobigrasp.hostc_sources")
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
            "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c",
-           "bezier.c", "bezier000.c", "bezier001.c")
+           "bezier.c", "bezier000.c", "bezier001.c", "clearance.c")
 
 
 def source_hash() -> str:
@@ -283,6 +284,16 @@ def bezier001_coarse(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarra
         int(cut_cycles), int(k1_q16), int(k2_q16), _ptr(ffi, reason, "int32_t *"),
         _ptr(ffi, first, "int32_t *"), _ptr(ffi, cost, "int64_t *"))
     return int(taken), reason, first, cost
+
+
+def path_clearance(words: np.ndarray, x_q4: np.ndarray, y_q4: np.ndarray) -> int:
+    """The C ``mg_path_clearance``: D_m (1/16 mm) of one path's samples to the regions."""
+    ffi, c = lib()
+    w = _i64(np.asarray(words).reshape(-1))
+    x, y = _i64(x_q4), _i64(y_q4)
+    return int(c.mg_path_clearance(_ptr(ffi, w, "int64_t *"), len(w) // CLEAR_WORDS,
+                                   _ptr(ffi, x, "int64_t *"), _ptr(ffi, y, "int64_t *"),
+                                   int(x.size)))
 
 
 def bezier001_fine(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray, n_reg: int,

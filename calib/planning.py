@@ -21,6 +21,7 @@ from mobigrasp.host.planning import bezier001 as b001
 from mobigrasp.host.planning import bezier_q
 from mobigrasp.host.planning.bezier_q import Q16, evaluate_q, quantize_ctrl, sample_ops
 from mobigrasp.host.planning.candidates import Geometry, Limits, batch_ops, evaluate_batch
+from mobigrasp.host.planning.clearance_q import clearance_ops
 from mobigrasp.host.planning.sonar_regions import infeasible_regions
 
 INFEASIBLE = np.iinfo(np.int64).max  # the C's cost of an infeasible candidate
@@ -125,8 +126,7 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     ops = ops + batch_ops(first[~cut], n, **kw)
     n_ok = sum(1 for r in reasons if r == "ok")
     if regions and n_ok:
-        each = OpCounts(float_ops=b001.CLEARANCE_FLOPS * n * len(regions),
-                        float_divs=b001.CLEARANCE_DIVS * n * len(regions))
+        each = clearance_ops(n - 1, len(regions))
         room = params.budget_us + 10_000 - ops.time_us()
         fit = max(0, min(n_ok, room // max(1, each.time_us())))
         ops = ops + each.scaled(int(fit))

@@ -112,6 +112,15 @@ int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const 
                           int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
                           int32_t *reason, int32_t *tried);
 
+/* clearance.c: D_m of eq. (18) of 001 (host/planning/clearance_q.py) of one path of n samples
+ * (x, y in 1/16 mm) to n_reg regions of MG_CLEAR_WORDS words each (clearance_words: sensing
+ * position, cos, sin of the bisector and tan of the half-angle in Q14, eta, R_r, the arc's two
+ * end points); MG_NO_REGION_Q4 without regions. */
+#define MG_CLEAR_WORDS 11
+#define MG_NO_REGION_Q4 ((int64_t)1 << 62)
+int64_t mg_path_clearance(const int64_t *words, int32_t n_reg, const int64_t *x,
+                          const int64_t *y, int32_t n);
+
 /* double_cross.c: the 002 double cross from the grey image (host/vision/double_cross.py
  * detect_double_cross; the image centre U0 = 160, V0 = 120 px as there). out: u1_q4, v1_q4,
  * u2_q4, v2_q4, um_q4, vm_q4, d_pixel_q4, e_mrad, votes1, votes2. scratch:

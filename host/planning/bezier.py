@@ -16,7 +16,7 @@ From them, per sample τ_j = j/(n-1):
 
 Everything here is numpy float64: the reference the planners' fixed-point evaluation
 (:mod:`mobigrasp.host.planning.bezier_q`, hostc/bezier.c) is tested against, and the curve the
-path follower and the replan check sample.
+path follower's table is built from.
 """
 
 from __future__ import annotations
@@ -26,12 +26,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobigrasp.protocol.frozen import built
-
-# Soft-float operations of a curve's position and of the region test of eq. (16) of 001, for
-# the float checks that still use this reference (the replan check, the escape test):
-# x, y by Horner's rule (3 mul-adds each); per region 5-19 ops by where the test exits
-FLOPS_POSITION = 12
-FLOPS_PER_REGION = 9
 
 
 def coefficients(ctrl: np.ndarray) -> np.ndarray:

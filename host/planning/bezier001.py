@@ -42,7 +42,7 @@ import numpy as np
 
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.planning.bezier000 import start_direction
-from mobigrasp.host.planning.bezier_q import Q16, sample_ops
+from mobigrasp.host.planning.bezier_q import POS_PER_M, Q16, sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,
@@ -54,6 +54,13 @@ from mobigrasp.host.planning.candidates import (
     choose_sampling,
     evaluate_batch,
     summarize_rejections,
+)
+from mobigrasp.host.planning.clearance_q import (
+    NO_REGION_Q4,
+    clearance_ops,
+    clearance_words,
+    path_clearance_q4,
+    point_clearance_q4,
 )
 from mobigrasp.host.planning.grasp_circle import (
     ArmGeometry001,
@@ -108,8 +115,6 @@ CIRCLE_MARGIN_M = 1e-3  # samples closer than l_e less this are inside the grasp
 # per sonar region: world angles, apex Q_r (sin, divide, cos), the object-echo test (two
 # distances), and, in the coarse pass, the grown copy
 REGION_OPS = OpCounts(float_ops=45, float_divs=6, luts=4)
-CLEARANCE_FLOPS = 15  # per sample per region: offsets, bearing test by cross products, compare
-CLEARANCE_DIVS = 2  # two square roots (range and end-point distance)
 
 
 def control_points_001(p0, d0, ends: np.ndarray, obj, t3: float, n_i: int, dist: float,
@@ -139,20 +144,14 @@ def is_object_echo(region: InfeasibleRegion, obj, tol_m: float) -> bool:
     The sonars also see the object to be grasped; 001 handles the object through the grasp
     circle, so such an echo must not make the grasp circle itself infeasible (our reading).
     """
-    return bool(region.clearance(obj[0], obj[1]) + region.r_r_m <= tol_m)
+    words = clearance_words([region])
+    d_q4 = point_clearance_q4(words, round(obj[0] * POS_PER_M), round(obj[1] * POS_PER_M))
+    return bool(int(d_q4[0]) + int(words[0, 6]) <= round(tol_m * POS_PER_M))
 
 
 def _geometry(obj, l_e: float, regions: list[InfeasibleRegion]) -> Geometry:
     """The grasp circle (less a 1 mm margin) and the regions of eq. (16)."""
     return Geometry((float(obj[0]), float(obj[1])), l_e - CIRCLE_MARGIN_M, tuple(regions))
-
-
-def _clearance(s, rows: np.ndarray, regions: list[InfeasibleRegion]) -> np.ndarray:
-    out = np.full(rows.size, np.inf)
-    for reg in regions:
-        c = reg.clearance(s.x[rows, 1:], s.y[rows, 1:])
-        out = np.minimum(out, c.min(axis=-1) if c.size else out)
-    return out
 
 
 @observed("001")
@@ -214,26 +213,27 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
         reasons[i] = "budget"
     ops = ops + batch_ops(first[~cut], n, **kw)
     ok_rows = np.array([i for i, r in enumerate(reasons) if r == REASON_OK], dtype=np.int64)
-    clear = np.full(len(us), np.inf)
+    clear_q4 = np.full(len(us), NO_REGION_Q4, dtype=np.int64)
     if regions and ok_rows.size:
         # D_m of the coarse-feasible curves, as many as the budget leaves room for (the others
         # keep D_m unknown = 0, so eq. (18) does not prefer them)
-        each = OpCounts(float_ops=CLEARANCE_FLOPS * n * len(regions),
-                        float_divs=CLEARANCE_DIVS * n * len(regions))
+        each = clearance_ops(n - 1, len(regions))
         room = params.budget_us + 10_000 - ops.time_us()
         fit = max(0, min(ok_rows.size, room // max(1, each.time_us())))
-        clear[ok_rows] = 0.0
+        clear_q4[ok_rows] = 0
         if fit:
             rows = ok_rows[np.argsort(_coarse_cost(s, ok_rows, params), kind="stable")][:fit]
-            clear[rows] = _clearance(s, rows, regions)
+            clear_q4[rows] = path_clearance_q4(clearance_words(regions), s.x_q4[rows, 1:],
+                                               s.y_q4[rows, 1:])
             ops = ops + each.scaled(int(fit))
-    cands = candidates_from_batch(ctrl, s, reasons, us, ks, params.k1, params.k2, clear)
+    clear_m = np.where(clear_q4 == NO_REGION_Q4, np.inf, clear_q4 / POS_PER_M)
+    cands = candidates_from_batch(ctrl, s, reasons, us, ks, params.k1, params.k2, clear_m)
     feasible = cands.feasible_indices()
     extra = {"t3_s": t3, "n_i": n_i, "l_e_m": l_e, "regions": regions,
              "sonar_dropped": scan.dropped, "endpoints_kept": int(keep.size)}
     if feasible.size == 0:
         return Plan(None, cands, ops, summarize_rejections(cands), n, stride, extra=extra)
-    wide = feasible[cands.clearance[feasible] > params.t_d_m]  # eq. (18)
+    wide = feasible[clear_q4[feasible] > round(params.t_d_m * POS_PER_M)]  # eq. (18)
     pool = wide if wide.size else feasible
     order = pool[np.argsort(cands.cost[pool], kind="stable")][:params.max_fine]
     best, fine_reason = _fine_check((cands[int(i)] for i in order), params, lim, checks, kw,

@@ -148,7 +148,15 @@ class QBatch:
         return (k1_q16 * self.length_q4) // POS_PER_M + ((k2_q16 * self.kint_q16) >> 16)
 
 
-def _horner(k, tau):
+def coefficients_q(ctrl_q: np.ndarray) -> np.ndarray:
+    """Power-form coefficients (N, 4, 3) of quantized control points (N, 4, 3): eq. (6) of 000,
+    k0 = P0, k1 = 3(P1 − P0), k2 = 3(P0 − 2P1 + P2), k3 = −P0 + 3P1 − 3P2 + P3."""
+    p0, p1, p2, p3 = (ctrl_q[:, i, :] for i in range(4))
+    return np.stack([p0, 3 * (p1 - p0), 3 * (p0 - 2 * p1 + p2), -p0 + 3 * p1 - 3 * p2 + p3],
+                    axis=1)
+
+
+def horner_q(k, tau):
     """Position, first and second derivative (eq. (6)-(7) of 000) of coefficients k (N, 4) at
     τ Q15 (n,): (N, n) each."""
     k0, k1, k2, k3 = (k[:, i, None] for i in range(4))
@@ -159,7 +167,7 @@ def _horner(k, tau):
     return pos, d1, d2
 
 
-def _in_regions(geo: np.ndarray, n_reg: int, x, y) -> np.ndarray:
+def in_regions_q(geo: np.ndarray, n_reg: int, x, y) -> np.ndarray:
     """Eq. (16) in fixed point: True where a sample lies in any region (hostc/bezier.c
     in_region). Bounds: |x|, |q| < 2^21 -> along, across < 2^37, across·2^14 < 2^51,
     along·tan < 2^57, d2 < 2^45, d2·cos² < 2^61."""
@@ -196,13 +204,11 @@ def evaluate_q(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray | No
     m_cand, n = ctrl_q.shape[0], int(n)
     if n < 2:
         raise ValueError(f"n must be >= 2, got {n}")
-    p0, p1, p2, p3 = (ctrl_q[:, i, :] for i in range(4))
-    k = np.stack([p0, 3 * (p1 - p0), 3 * (p0 - 2 * p1 + p2), -p0 + 3 * p1 - 3 * p2 + p3],
-                 axis=1)  # (N, 4, 3): eq. (6) of 000
+    k = coefficients_q(ctrl_q)
     tau = (np.arange(n, dtype=np.int64) << TAU_BITS) // (n - 1)
-    x, xt, x2 = _horner(k[:, :, 0], tau)
-    y, yt, y2 = _horner(k[:, :, 1], tau)
-    _, tt, t2 = _horner(k[:, :, 2], tau)
+    x, xt, x2 = horner_q(k[:, :, 0], tau)
+    y, yt, y2 = horner_q(k[:, :, 1], tau)
+    _, tt, t2 = horner_q(k[:, :, 2], tau)
     v_max, a_max, k_max, normal = (int(v) for v in lim)
     s = isqrt_array(xt * xt + yt * yt)
     ok_t = (tt > 0) & (s > 0)
@@ -220,7 +226,7 @@ def evaluate_q(ctrl_q: np.ndarray, n: int, lim: np.ndarray, geo: np.ndarray | No
     if geo is not None:
         dx, dy = x - int(geo[0]), y - int(geo[1])
         checks.append((CODE["grasp_circle"], dx * dx + dy * dy < int(geo[2])))
-        blocked = _in_regions(geo, n_reg, x, y)
+        blocked = in_regions_q(geo, n_reg, x, y)
         blocked[:, 0] = False
         checks.append((CODE["obstacle"], blocked))
     t_all = zero.copy()

@@ -13,7 +13,10 @@ Headings are tried every ``step_rad`` within ``span_rad`` of the present heading
 S_1..S_k_s only see ±π/2 about it, so nothing further round is known to be free), nearest the
 object's bearing first.  Where the robot already stands in a region (closer to an echo than
 R_r and the margin) a heading leading away from that echo, its distance growing, is clear.
-Float (soft-float on the ARM9, ops counted like the planner's).
+In integers: headings in mrad (Q12 sine and cosine, host/fixedpoint.py), the segment's samples
+in 1/16 mm, eq. (16) as the planner tests it (bezier_q.in_regions_q) and the distance to the
+echo arc as D_m (clearance_q). Against the float reference (tests/unit/host/test_escape_q.py): a segment
+found clear is clear with R_r shrunk by 3 mm, one found blocked is blocked with R_r grown by 3 mm.
 """
 
 from __future__ import annotations
@@ -24,14 +27,29 @@ from dataclasses import replace
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier import FLOPS_PER_REGION
-from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, any_region_contains
+from mobigrasp.host.fixedpoint import mrad_from_rad, sincos_q12
+from mobigrasp.host.planning.bezier_q import (
+    POS_PER_M,
+    POSITION_OPS,
+    REGION_OPS_PER_SAMPLE,
+    geo_q,
+    in_regions_q,
+)
+from mobigrasp.host.planning.clearance_q import (
+    CLEARANCE_OPS,
+    clearance_words,
+    point_clearance_q4,
+)
+from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
 
 LEAVE_TOL_M = 0.02  # leaving a region: the arc may come this much closer on the way out
+TURN_URAD = 6_283_185
+# a region's fixed-point words (bezier_q.geo_q, clearance_q.clearance_words): its set-up
+REGION_WORDS_OPS = OpCounts(float_ops=30, float_divs=2, luts=5)
 
 
-def _wrap(a: float) -> float:
-    return (a + math.pi) % (2 * math.pi) - math.pi
+def _wrap_urad(a: int) -> int:
+    return (a + TURN_URAD // 2) % TURN_URAD - TURN_URAD // 2
 
 
 def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: float,
@@ -48,19 +66,31 @@ def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: 
     if not length_m > 0 or samples < 1 or not step_rad > 0:
         raise ValueError(f"escape_heading: length_m > 0, samples >= 1, step_rad > 0 needed, "
                          f"got {length_m}, {samples}, {step_rad}")
-    px, py = (float(v) for v in position_xy_m)
     grown = [replace(r, r_r_m=r.r_r_m + margin_m) for r in regions] if margin_m else regions
-    n_side = int(span_rad / step_rad + 1e-9)
-    heads = [heading_rad + j * step_rad for j in range(-n_side, n_side + 1)]
-    heads.sort(key=lambda h: (side * _wrap(h - goal_bearing_rad) < -1e-9,
-                              abs(_wrap(h - goal_bearing_rad)), h))
-    ops = OpCounts()
+    h_urad, step_urad = round(heading_rad * 1e6), round(step_rad * 1e6)
+    goal_urad = round(goal_bearing_rad * 1e6)
+    n_side = int(span_rad / step_rad + 1e-9)  # the call's configuration
+    heads = [h_urad + j * step_urad for j in range(-n_side, n_side + 1)]
+    heads.sort(key=lambda h: (side * _wrap_urad(h - goal_urad) < 0,
+                              abs(_wrap_urad(h - goal_urad)), h))
+    words = _Words(grown)
+    ops = REGION_WORDS_OPS.scaled(len(grown))
     for h in heads:
-        clear, more = segment_clear(grown, (px, py), h, length_m, samples, leave_ok=True)
+        clear, more = _segment_clear(words, position_xy_m, h // 1000, length_m, samples,
+                                     leave_ok=True)
         ops = ops + more
         if clear:
-            return _wrap(h), ops
+            return _wrap_urad(h) / 1e6, ops
     return None, ops
+
+
+class _Words:
+    """The regions' fixed-point words, made once for all the segments tested against them."""
+
+    def __init__(self, regions: list[InfeasibleRegion]) -> None:
+        self.n = len(regions)
+        self.all = geo_q((0.0, 0.0), 0.0, regions)
+        self.each = [(geo_q((0.0, 0.0), 0.0, [r]), clearance_words([r])) for r in regions]
 
 
 def segment_clear(regions: list[InfeasibleRegion], position_xy_m, heading_rad: float,
@@ -75,19 +105,32 @@ def segment_clear(regions: list[InfeasibleRegion], position_xy_m, heading_rad: f
     further in; sideways past the end of a short arc comes LEAVE_TOL_M closer at most."""
     if length_m <= 0:
         return True, OpCounts()
-    px, py = (float(v) for v in position_xy_m)
-    dist = length_m * np.arange(1, samples + 1) / samples
-    xs, ys = px + dist * math.cos(heading_rad), py + dist * math.sin(heading_rad)
-    ops = OpCounts(float_ops=samples * (4 + FLOPS_PER_REGION * len(regions)), luts=2)
+    clear, ops = _segment_clear(_Words(regions), position_xy_m, mrad_from_rad(heading_rad),
+                                length_m, samples, leave_ok)
+    return clear, ops + REGION_WORDS_OPS.scaled(len(regions))
+
+
+def _segment_clear(words: _Words, position_xy_m, heading_mrad: int, length_m: float,
+                   samples: int, leave_ok: bool) -> tuple[bool, OpCounts]:
+    px = round(float(position_xy_m[0]) * POS_PER_M)
+    py = round(float(position_xy_m[1]) * POS_PER_M)
+    s, c = sincos_q12(heading_mrad)
+    dist = round(length_m * POS_PER_M) * np.arange(1, samples + 1, dtype=np.int64) // samples
+    xs, ys = px + ((dist * c) >> 12), py + ((dist * s) >> 12)
+    ops = (POSITION_OPS + REGION_OPS_PER_SAMPLE.scaled(words.n)).scaled(samples) \
+        + OpCounts(luts=2)
     if not leave_ok:
-        return not bool(any_region_contains(regions, xs, ys).any()), ops
-    ops = ops + OpCounts(float_ops=(samples + 1) * 12 * len(regions), float_divs=2 * len(regions))
-    for reg in regions:
-        inside = reg.contains(xs, ys)
+        return not bool(in_regions_q(words.all, words.n, xs, ys).any()), ops
+    ops = ops + CLEARANCE_OPS.scaled((samples + 1) * words.n)
+    start = np.array([px], dtype=np.int64), np.array([py], dtype=np.int64)
+    tol_q4 = round(LEAVE_TOL_M * POS_PER_M)
+    for geo, clear_words in words.each:
+        inside = in_regions_q(geo, 1, xs, ys)
         if not inside.any():
             continue
-        if not bool(reg.contains(px, py)):
+        if not bool(in_regions_q(geo, 1, *start)[0]):
             return False, ops
-        if (inside & (reg.clearance(xs, ys) < float(reg.clearance(px, py)) - LEAVE_TOL_M)).any():
+        d_start = int(point_clearance_q4(clear_words, *start)[0, 0])
+        if (inside & (point_clearance_q4(clear_words, xs, ys)[0] < d_start - tol_q4)).any():
             return False, ops
     return True, ops

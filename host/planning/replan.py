@@ -27,12 +27,22 @@ from __future__ import annotations
 import math
 from collections import deque
 from dataclasses import dataclass, replace
+from functools import lru_cache
 
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier import FLOPS_PER_REGION, FLOPS_POSITION, Curve, evaluate
+from mobigrasp.host.fixedpoint import mrad_from_rad, q12_from_float, sincos_q12
+from mobigrasp.host.planning.bezier import Curve
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo, plan_001
+from mobigrasp.host.planning.bezier_q import (
+    POS_PER_M,
+    TIME_PER_S,
+    geo_q,
+    isqrt_array,
+    quantize_ctrl,
+)
+from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import Plan
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, infeasible_regions
 
@@ -49,7 +59,18 @@ class ReplanDecision:
     ops: OpCounts  # ARM9 cost of the check (and of the plan when one was made)
 
 
-FLOPS_FORGET = 14  # per remembered region: arc middle, offset, distance, relative bearing
+# per remembered region: offset, along, across, distance², two compares
+FORGET_OPS = OpCounts(alu=10, muls32=6, branches=3)
+# per region tested: its fixed-point words (bezier_q.geo_q: bisector, apex, cos, sin, tan)
+REGION_WORDS_OPS = OpCounts(float_ops=20, float_divs=1, luts=3)
+
+
+@lru_cache(maxsize=256)
+def _arc_middle_q4(reg: InfeasibleRegion) -> tuple[int, int]:
+    """The middle of a region's echo arc (1/16 mm): its set-up, once per remembered region."""
+    mid = 0.5 * (reg.lo_rad + reg.hi_rad)
+    return (round((reg.ox + reg.eta_m * math.cos(mid)) * POS_PER_M),
+            round((reg.oy + reg.eta_m * math.sin(mid)) * POS_PER_M))
 
 
 class Replanner:
@@ -104,17 +125,26 @@ class Replanner:
         return self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
 
     def forget_seen(self, position_xy_m, heading_rad: float) -> int:
-        """Forget remembered regions whose place the sonars see again now; how many."""
+        """Forget remembered regions whose place the sonars see again now; how many.
+
+        In integers: the middle of each remembered echo arc (1/16 mm, the region's set-up) is
+        seen again when it is nearer than D_e and its bearing off the heading is within the
+        ring's span π/2 + A_g/2: with a, b its offset along and across the heading (Q12
+        trigonometry), not (a < 0 and |b| < −a·cot(A_g/2)) (the span is wider than π/2)."""
         cfg = self.params.sonar
-        px, py = (float(v) for v in position_xy_m)
-        span = math.pi / 2 + cfg.a_g_rad / 2  # S_1's right edge .. S_k_s's left edge
+        px = round(float(position_xy_m[0]) * POS_PER_M)
+        py = round(float(position_xy_m[1]) * POS_PER_M)
+        s, c = sincos_q12(mrad_from_rad(heading_rad))
+        d_e2 = round(cfg.d_e_m * POS_PER_M) ** 2
+        cot_q12 = q12_from_float(1.0 / math.tan(cfg.a_g_rad / 2))
         keep = []
         for reg in self.memory:
-            mid = 0.5 * (reg.lo_rad + reg.hi_rad)
-            ax = reg.ox + reg.eta_m * math.cos(mid) - px
-            ay = reg.oy + reg.eta_m * math.sin(mid) - py
-            rel = (math.atan2(ay, ax) - heading_rad + math.pi) % (2 * math.pi) - math.pi
-            if not (math.hypot(ax, ay) < cfg.d_e_m and abs(rel) <= span):
+            mx, my = _arc_middle_q4(reg)
+            ax, ay = mx - px, my - py
+            along = ax * c + ay * s
+            across = abs(ay * c - ax * s)
+            within_span = not (along < 0 and (across << 12) < -along * cot_q12)
+            if not (ax * ax + ay * ay < d_e2 and within_span):
                 keep.append(reg)
         dropped = len(self.memory) - len(keep)
         if dropped:
@@ -124,29 +154,21 @@ class Replanner:
     def remaining_blocked(self, t_us: int,
                           regions: list[InfeasibleRegion]) -> tuple[bool, OpCounts]:
         """Does the rest of the present curve (after now) enter any of ``regions``?"""
-        where, ops = self.first_blocked(t_us, regions)
+        where, ops = self.first_blocked_q4(t_us, regions)
         return where is not None, ops
 
-    def first_blocked(self, t_us: int, regions: list[InfeasibleRegion]
-                      ) -> tuple[tuple[float, float] | None, OpCounts]:
-        """The first point of the rest of the present curve inside any of ``regions`` (None:
-        clear) and the ARM9 cost of the test."""
+    def first_blocked_q4(self, t_us: int, regions: list[InfeasibleRegion]
+                         ) -> tuple[tuple[int, int] | None, OpCounts]:
+        """The first point (1/16 mm) of the rest of the present curve inside any of
+        ``regions`` (None: clear) and the ARM9 cost of the test (host/planning/blocked_q.py)."""
         if self.curve is None or not regions:
             return None, OpCounts()
-        tau0 = self.curve.tau_at_time(self.curve.ctrl[0][2] + (t_us - self.start_us) / 1e6)
-        tau = np.linspace(tau0, 1.0, self.check_samples)[1:]
-        s = evaluate(self.curve.array, tau)
-        n = tau.size
-        ops = OpCounts(float_ops=n * (FLOPS_POSITION + FLOPS_PER_REGION * len(regions)) + 40 * 12,
-                       float_divs=0)
-        first = n
-        for reg in regions:
-            hit = reg.contains(s.x, s.y)
-            if hit.any():
-                first = min(first, int(np.argmax(hit)))
-        if first == n:
-            return None, ops
-        return (float(s.x[first]), float(s.y[first])), ops
+        ctrl_q = quantize_ctrl(self.curve.array)
+        t_q4 = int(ctrl_q[0, 2]) + (t_us - self.start_us) * TIME_PER_S // 1_000_000
+        tau0 = tau_at_time_q15(ctrl_q, t_q4)
+        where, ops = first_blocked_q(ctrl_q, tau0, self.check_samples,
+                                     geo_q((0.0, 0.0), 0.0, regions), len(regions))
+        return where, ops + REGION_WORDS_OPS.scaled(len(regions))
 
     def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
                sonar_mm, force: bool = False) -> ReplanDecision:
@@ -159,26 +181,29 @@ class Replanner:
         scan = infeasible_regions(self.params.sonar, position_xy_m, heading_rad, sonar_mm)
         fresh = [r for r in scan.regions
                  if not is_object_echo(r, self.target, self.params.object_echo_tol_m)]
-        where, ops = self.first_blocked(t_us, fresh + list(self.memory))
+        where, ops = self.first_blocked_q4(t_us, fresh + list(self.memory))
         blocked = where is not None
-        ops = ops + OpCounts(float_ops=FLOPS_FORGET * n_mem, luts=3 * n_mem)
+        ops = ops + FORGET_OPS.scaled(n_mem) + OpCounts(luts=2 if n_mem else 0)
         if self.curve is not None and not blocked and not force:
             return ReplanDecision(False, False, self.curve, None, "path clear", ops)
         old = self.curve
         plan = self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
         self.replans += 1
         ops = ops + plan.ops
-        ahead = None if where is None else math.hypot(where[0] - float(position_xy_m[0]),
-                                                      where[1] - float(position_xy_m[1]))
-        if plan.best is None and old is not None and ahead is not None and (
-                ahead > self.keep_going_m):
+        ahead_q4 = None
+        if where is not None:
+            dx = where[0] - round(float(position_xy_m[0]) * POS_PER_M)
+            dy = where[1] - round(float(position_xy_m[1]) * POS_PER_M)
+            ahead_q4 = int(isqrt_array(np.array([dx * dx + dy * dy]))[0])
+        if plan.best is None and old is not None and ahead_q4 is not None and (
+                ahead_q4 > round(self.keep_going_m * POS_PER_M)):
             # ours: no update exists yet, but the block is far: keep the path and look again at
             # the next reading (closer echoes give narrower sectors, a far one often leaves the
             # centre cone); stop only when the block comes within keep_going_m
             self.curve = old
             self.start_us = self._old_start_us
-            return ReplanDecision(True, False, old, plan, f"blocked {ahead:.2f} m ahead, no "
-                                  f"update yet ({plan.reason}): path kept", ops)
+            return ReplanDecision(True, False, old, plan, f"blocked {ahead_q4 / POS_PER_M:.2f} m "
+                                  f"ahead, no update yet ({plan.reason}): path kept", ops)
         why = "blocked" if blocked else "no path" if old is None else "path dropped"
         if plan.best is None:
             return ReplanDecision(blocked, False, None, plan, f"{why}: {plan.reason}", ops)

@@ -145,25 +145,6 @@ class InfeasibleRegion:
             in_angle = in_angle & (np.abs(a) <= self.bound_half_rad)
         return in_angle & in_range
 
-    def clearance(self, x, y) -> np.ndarray:
-        """Distance (m) from (x, y) to the detected obstacle arc, less R_r (D_m of eq. (18)).
-
-        The arc is at range η across the region's angles as seen from the sensing position; the
-        infeasible region is about that arc grown by R_r, so this approximates the distance to it.
-        """
-        dx, dy = np.asarray(x) - self.ox, np.asarray(y) - self.oy
-        r = np.hypot(dx, dy)
-        bearing = np.arctan2(dy, dx)
-        mid = 0.5 * (self.lo_rad + self.hi_rad)
-        off = np.abs((bearing - mid + math.pi) % (2 * math.pi) - math.pi)
-        inside = off <= self.half_angle
-        d_arc = np.abs(r - self.eta_m)
-        ends = []
-        for a in (self.lo_rad, self.hi_rad):
-            ex, ey = self.ox + self.eta_m * math.cos(a), self.oy + self.eta_m * math.sin(a)
-            ends.append(np.hypot(np.asarray(x) - ex, np.asarray(y) - ey))
-        return np.where(inside, d_arc, np.minimum(ends[0], ends[1])) - self.r_r_m
-
 
 @dataclass(frozen=True)
 class SonarScan:

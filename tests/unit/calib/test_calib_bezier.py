@@ -1,4 +1,4 @@
-"""The Bezier candidate evaluation in C (hostc/bezier*.c) against the Python planners.
+"""The Bezier candidate evaluation in C (hostc/bezier*.c, clearance.c) against the Python planners.
 
 Both compute in fixed point (host/planning/bezier_q.py): every candidate's reason, first
 violated sample and Q16 cost are equal, and so is the chosen candidate.
@@ -17,8 +17,13 @@ from mobigrasp.host.planning import bezier_q
 from mobigrasp.host.planning.bezier000 import control_points_000
 from mobigrasp.host.planning.bezier001 import control_points_001
 from mobigrasp.host.planning.candidates import Limits, evaluate_batch
+from mobigrasp.host.planning.clearance_q import clearance_words, path_clearance_q4
 from mobigrasp.host.planning.grasp_circle import end_points
-from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
+from mobigrasp.host.planning.sonar_regions import (
+    InfeasibleRegion,
+    SonarConfig,
+    infeasible_regions,
+)
 from mobigrasp.services.corpus import record
 
 K1, K2 = planning.q16(0.5), planning.q16(0.5)
@@ -240,3 +245,19 @@ def test_fixed_point_follows_the_float_reference():
         float_ok = bool(np.all(ratios < 1)) and bool(np.all(evaluate(ctrl, taus(2001)).t_tau > 0))
         agree += float_ok == (reasons[0] == "ok")
     assert total > 100 and agree == total
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(st.tuples(st.floats(-5, 5), st.floats(-5, 5), st.floats(-4, 4),
+                          st.floats(0.05, 2.5), st.floats(0.05, 2.5), st.floats(0.0, 0.4)),
+                max_size=5),
+       st.integers(0, 40), st.integers(0, 2**32 - 1))
+def test_c_clearance_equals_the_python(regs, n, seed):
+    """D_m of eq. (18): hostc/clearance.c gives clearance_q's integers, random regions and
+    samples over the whole coordinate range (|x| < 2^21)."""
+    regions = [InfeasibleRegion(ox, oy, lo, lo + w, eta, r_r) for ox, oy, lo, w, eta, r_r in regs]
+    rng = np.random.default_rng(seed)
+    x = rng.integers(-(1 << 21) + 1, 1 << 21, size=(1, n))
+    y = rng.integers(-(1 << 21) + 1, 1 << 21, size=(1, n))
+    words = clearance_words(regions)
+    assert native.path_clearance(words, x[0], y[0]) == int(path_clearance_q4(words, x, y)[0])

@@ -49,7 +49,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from mobigrasp.host.coverage import leg_to, spiral_stations, to_odometry
+
 FRAME_PERIOD_US = 66_667  # 15 fps
+LEG_TURN_MIN_MRAD = 35  # a leg whose heading is off by less starts without a turn
+LEG_TURN_MAX_MRAD = 3000  # a turn toward a station behind is cut here (the caller wraps at pi)
 
 
 @dataclass(frozen=True)
@@ -73,6 +77,9 @@ class SearchParams:
     wander_sweep: int = 1  # 1: the waist sweeps at the far level while driving; 0: looks left
     wander_theta5_mrad: int = 1400  # the sweep while driving spans +- this (the waist's limit)
     stop_cycles: int = 0  # cycles at each wander stop (0: turn coarse_base_turn and drive on)
+    cover_mm: int = 4500  # the wander covers this disc by host.coverage's spiral (0: square)
+    view_mm: int = 1100  # half-width of the strip the wander's sweep sees (the spiral's pitch/2)
+    chord_mm: int = 1000  # spacing of the spiral's stations
     frames_per_pose: int = 2
     frame_period_us: int = FRAME_PERIOD_US
     servo_speed_mrad_per_s: int = 5000  # hobby servo, about 0.2 s per 60 degrees
@@ -91,6 +98,9 @@ class SearchParams:
         if self.wander_sweep not in (0, 1) or self.stop_cycles < 0:
             raise ValueError(f"wander_sweep must be 0 or 1 and stop_cycles >= 0, got "
                              f"{self.wander_sweep}, {self.stop_cycles}")
+        if self.cover_mm < 0 or self.view_mm <= 0 or self.chord_mm <= 0:
+            raise ValueError(f"cover_mm must be >= 0, view_mm and chord_mm > 0, got "
+                             f"{self.cover_mm}, {self.view_mm}, {self.chord_mm}")
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
@@ -194,6 +204,11 @@ class ArmSearch:
         self._wsweep = up + up[-2:0:-1]  # waist poses of the sweeping wander, cyclic
         self._windex = 0
         self._wpose = (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
+        self._pose = (0, 0, 0)  # the base's odometry pose as last reported to step()
+        self._stations: list[tuple[int, int]] | None = None  # the spiral, in odometry
+        self._station = 0
+        self._leg = (0, 0)  # turn_mrad, drive_mm of the leg toward the next station
+        self.covered = False  # the spiral is done: the disc of cover_mm has been seen
 
     def dwell_us(self, frm: tuple[int, int], to: tuple[int, int]) -> int:
         """Servo travel of the larger joint move plus the frames to look."""
@@ -218,6 +233,30 @@ class ArmSearch:
             self._pose_start_us = int(now_us)
             self._prev = at
 
+    def _start_leg(self, now_us: int, at: tuple[int, int]) -> None:
+        """Turn toward the next station of the coverage spiral (host.coverage), then drive to
+        it; the spiral is laid out from the pose where the first leg starts. Past the last
+        station the search looks around where it is (``covered``)."""
+        p = self.params
+        if self._stations is None:
+            self._stations = [to_odometry(self._pose, xy) for xy in
+                              spiral_stations(2 * p.view_mm, p.cover_mm, p.view_mm, p.chord_mm)]
+        while self._station < len(self._stations):
+            turn, drive = leg_to(self._pose, self._stations[self._station])
+            if drive >= p.chord_mm // 4:
+                break
+            self._station += 1  # there already
+        else:
+            self.covered = True
+            self._turning = True
+            return
+        self._leg = (max(-LEG_TURN_MAX_MRAD, min(LEG_TURN_MAX_MRAD, turn)), drive)
+        if abs(turn) < LEG_TURN_MIN_MRAD:
+            self._start_wander(now_us, at)
+        else:
+            self._wandering, self._turning, self._corner = False, True, True
+            self._wpose = at
+
     def _wander_pose(self, now_us: int) -> tuple[int, int]:
         """The camera while driving: left (``wander_sweep`` 0) or the far level's sweep."""
         p = self.params
@@ -234,15 +273,20 @@ class ArmSearch:
         p = self.params
         if self._wandering:
             th2, th5 = self._wander_pose(now_us)
+            drive = self._leg[1] if p.cover_mm else p.wander_mm * (1 + self.wanders // 2)
             return SearchCommand(th2, p.theta3_mrad, p.theta4_mrad, th5, 0, self._index,
-                                 self.cycle, p.wander_mm * (1 + self.wanders // 2))
+                                 self.cycle, drive)
         if self._corner:  # the arm holds the last wander pose while the base turns
+            turn = self._leg[0] if p.cover_mm else p.coarse_base_turn_mrad
             return SearchCommand(self._wpose[0], p.theta3_mrad, p.theta4_mrad, self._wpose[1],
-                                 p.coarse_base_turn_mrad, self._index, self.cycle)
+                                 turn, self._index, self.cycle)
         return self._command(p.base_turn_mrad if self.cycle <= 1 else p.coarse_base_turn_mrad)
 
-    def step(self, now_us: int) -> SearchCommand:
-        """Advance the pattern to ``now_us`` and return the command in force."""
+    def step(self, now_us: int, pose: tuple[int, int, int] | None = None) -> SearchCommand:
+        """Advance the pattern to ``now_us`` and return the command in force; ``pose`` is the
+        base's odometry (x_mm, y_mm, heading_mrad), which the coverage spiral's legs need."""
+        if pose is not None:
+            self._pose = (int(pose[0]), int(pose[1]), int(pose[2]))
         if self._turning or self._wandering:
             return self._moving_command(now_us)
         while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._poses[self._index]):
@@ -254,7 +298,11 @@ class ArmSearch:
                 p = self.params
                 # a full turn of the base found nothing here: wander instead of turning again
                 here = p.turns_per_wander if self.wanders == 0 else p.stop_cycles
-                if p.wander_mm > 0 and self._cycles_here >= here:
+                if p.wander_mm > 0 and self._cycles_here >= here and p.cover_mm \
+                        and not self.covered:
+                    self._cycles_here = 0
+                    self._start_leg(now_us, self._prev)
+                elif p.wander_mm > 0 and self._cycles_here >= here and not p.cover_mm:
                     self._cycles_here = 0
                     self._start_wander(now_us, self._prev)
                 else:
@@ -301,6 +349,14 @@ class ArmSearch:
             self.wanders += 1
             p = self.params
             at = self._wpose if p.wander_sweep else (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
+            if p.cover_mm:
+                self._station += 1  # reached, or stopped short by an obstacle: the next one
+                if p.stop_cycles == 0:
+                    self._start_leg(now_us, at)
+                    if not self.covered:
+                        return
+                self._next_cycle(now_us, at)
+                return
             if p.stop_cycles == 0:  # a corner of the spiral: turn, then the next leg
                 self._wandering, self._turning, self._corner = False, True, True
                 self._wpose = at

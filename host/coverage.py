@@ -11,7 +11,8 @@ outer edge of the one inside it (a_k - a_(k-1) <= 2 view_mm), the last ring's st
 heading at the start); the step out to the next ring is radial. (An Archimedean spiral of pitch
 2 view_mm covers the same disc with ~20 % more path for 4.5 m: its last turn overshoots.)
 A ring is a polygon of sides about ``chord_mm`` whose sides touch its circle at their
-midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). Integer mm and mrad in the frame of the start (x ahead, y left).
+midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). Integer
+mm and mrad in the frame of the start (x ahead, y left).
 """
 
 from __future__ import annotations
@@ -34,7 +35,7 @@ def ring_stations(radius_mm: int, view_mm: int, chord_mm: int) -> list[tuple[int
     while True:
         rings = [_ring(span * k // n, chord_mm) for k in range(1, n + 1)]
         # vertices outside the circle by the sagitta: ring k's reach inward is from them
-        if all(b[0] - a[1] <= 2 * view_mm for a, b in zip([(0, 0), *rings], rings)):
+        if all(b[0] - a[1] <= 2 * view_mm for a, b in zip([(0, 0), *rings], rings, strict=False)):
             break
         n += 1
     stations: list[tuple[int, int]] = []

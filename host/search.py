@@ -84,7 +84,7 @@ class SearchParams:
     servo_speed_mrad_per_s: int = 5000  # hobby servo, about 0.2 s per 60 degrees
     cover_mm: int = 4500  # the wander covers this disc by host.coverage's rings (0: square)
     view_mm: int = 1100  # half-width of the strip the wander's sweep sees (ring spacing / 2)
-    chord_mm: int = 1000  # spacing of the rings' stations
+    chord_mm: int = 1500  # spacing of the rings' stations (a stop and a turn at each)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:

@@ -30,10 +30,26 @@ $(BASE): FORCE
 	  if [ -e $(VENV) ]; then echo "make: .venv is rebuilt with $(PYTHON)"; fi; \
 	  rm -rf $(VENV) && mkdir -p $(VENV) && echo "$(PYTHON)" > $@; fi
 
-$(STAMP): pyproject.toml $(BASE)
+# The editable install is a tree of links (setuptools' strict editable mode, in build/): real
+# folders with one link per file, so import-linter sees every module of the package (a wheel's
+# layout, docs/architecture.md). A file added or removed needs the tree made again: the stamp
+# depends on the list of the package's files, so `make venv` and `make test` redo it
+# (tests/conftest.py stops a bare pytest that misses a module and says so).
+PKG_ROOTS := src protocol link host mcu_sim cosim drivers calib services tools testing scenarios \
+	firmware hostc
+PKG_LIST := $(VENV)/.package-files
+
+$(PKG_LIST): FORCE
+	@mkdir -p $(VENV)
+	@find $(PKG_ROOTS) -type f -not -path '*/__pycache__/*' -not -path '*/build/*' 2>/dev/null \
+	  | LC_ALL=C sort > $@.new
+	@if cmp -s $@.new $@; then rm $@.new; else mv $@.new $@; fi
+
+$(STAMP): pyproject.toml $(BASE) $(PKG_LIST)
 	@test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade "pip>=23"
-	$(BIN)/python -m pip install --quiet -e '.[sim,plots,cluster,dev]'
+	$(BIN)/python -m pip install --quiet -e '.[sim,plots,cluster,dev]' \
+	  --config-settings editable_mode=strict
 	@touch $(STAMP)
 
 # ruff on the repository's tracked files only: an untracked folder in a clone is the user's
@@ -113,8 +129,10 @@ $(HOSTC_OBJ_DIR)/protocol/%.o: firmware/protocol/%.c $(wildcard firmware/protoco
 	@mkdir -p $(@D)
 	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ifirmware/protocol -c -o $@ $<
 
+# the fast suite, then the wheel installed outside the clone (slow: a build and five runs)
 test: lint toolchains
 	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -m slow tests/system/test_wheel_install.py
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing
 browser:
@@ -136,4 +154,4 @@ demo: venv
 	$(BIN)/mobigrasp demo
 
 clean:
-	rm -rf $(VENV) bench-results runs firmware/build
+	rm -rf $(VENV) bench-results runs firmware/build build

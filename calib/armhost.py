@@ -22,8 +22,10 @@ from pathlib import Path
 
 from mobigrasp import cbuild
 from mobigrasp.calib.arm import ToolchainError
+from mobigrasp.provenance import source_checkout
 
-ROOT = Path(__file__).resolve().parents[1]
+# built by the clone's Makefile (make hostc-arm): the checkout the package is imported from
+ROOT = source_checkout() or Path.cwd()
 HOSTC = ROOT / "hostc"
 ELF_NAME = "mobigrasp-host-arm920t.elf"
 OBJDUMP = "arm-none-eabi-objdump"

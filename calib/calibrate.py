@@ -15,7 +15,6 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
-import subprocess
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -27,6 +26,7 @@ from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
 from mobigrasp.host.vision import dark_blobs, grey
 from mobigrasp.host.vision.registry import DETECTORS
+from mobigrasp.provenance import source_commit
 
 # the detectors that start with dark_blobs.dark_components (grey, dark mask, labelling)
 FRONT_END = ("radial_symbol", "dual_plus", "spoke")
@@ -171,17 +171,7 @@ def _pct(values: list[float], q: float) -> float:
     return float(np.percentile(np.asarray(values, float), q)) if values else 0.0
 
 
-def _commit() -> str:
-    root = Path(__file__).resolve().parents[1]
-    try:
-        head = subprocess.run(["git", "-C", str(root), "rev-parse", "--short=12", "HEAD"],
-                              capture_output=True, text=True, timeout=10).stdout.strip()
-        dirty = subprocess.run(["git", "-C", str(root), "status", "--porcelain", "--", "host",
-                                "hostc", "calib"], capture_output=True, text=True,
-                               timeout=10).stdout.strip()
-    except (OSError, subprocess.SubprocessError):
-        return "unknown"
-    return (head + ("+dirty" if dirty else "")) if head else "unknown"
+
 
 
 def calibrate(folder: Path, per_scenario: int | None = 10,
@@ -304,7 +294,8 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                                     / max(1, sum(t.reads for t in ts)), 4),
             "result_mismatches": mismatch[name],
         }
-    return {"format": "mobigrasp-calibration/1", "commit": _commit(), "corpus": str(folder),
+    commit = source_commit(("host", "hostc", "calib"), digits=12)
+    return {"format": "mobigrasp-calibration/1", "commit": commit, "corpus": str(folder),
             "fclk_hz": FCLK_HZ, "line_fill_cycles": int(line_fill_cycles),
             "frames_per_scenario": per_scenario, "frames": len(frames), "frame_shape": shape,
             "stages": stages}

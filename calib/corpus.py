@@ -1,11 +1,11 @@
 """The frame corpus: the frames the host's detectors were given in scenario runs, on disk.
 
 A corpus folder holds ``corpus.json`` and one PNG per distinct frame (lossless; the pixel bytes
-read back equal the bytes the detector got). Frames are recorded by running each scenario in
-process with a stage timer (HostApp's ``timer`` hook), which sees every detector call with its
-arguments: the frame and, for the pose-reading detectors, the joint angles snapshot. The timer
-only calls the detector, so the run and its trace are those of ``mobigrasp run``; a scenario and
-seed give the same corpus every time.
+read back equal the bytes the detector got). Frames are recorded (services/corpus.py) by running
+each scenario in process with a stage timer (HostApp's ``timer`` hook), which sees every detector
+call with its arguments: the frame and, for the pose-reading detectors, the joint angles snapshot.
+The timer only calls the detector, so the run and its trace are those of ``mobigrasp run``; a
+scenario and seed give the same corpus every time.
 
 ``corpus.json``: ``{"format": FORMAT, "scenarios": [{"name", "seed", "camera", "calls"}],
 "frames": [{"file", "scenario", "shape", "sha256", "calls": [{"detector", "args"}]}]}`` where a
@@ -20,7 +20,6 @@ from __future__ import annotations
 import hashlib
 import json
 import shutil
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -50,7 +49,7 @@ class Call:
     camera: tuple[int, int, int]
 
 
-class _Recorder:
+class FrameRecorder:
     """HostApp stage timer that keeps every distinct detector call of one run."""
 
     def __init__(self, detectors: set[str]) -> None:
@@ -83,7 +82,7 @@ def _plain(v: Any) -> Any:
     return v
 
 
-def _prepare(out: Path) -> None:
+def prepare(out: Path) -> None:
     """Create ``out`` or clear a corpus made before; refuse a file or a foreign folder."""
     if out.exists() and not out.is_dir():
         raise CorpusError(f"{out}: --out is a file, not a folder")
@@ -102,47 +101,6 @@ def _prepare(out: Path) -> None:
             raise CorpusError(str(exc)) from exc
         index.unlink()
     out.mkdir(parents=True, exist_ok=True)
-
-
-def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
-           progress=None) -> dict:
-    """Run each scenario in process and write the corpus to ``out``; returns the index."""
-    from mobigrasp.host.vision.registry import DETECTORS
-    from mobigrasp.tools.run_job import RunOptions, execute, host_config, resolve_scenario
-
-    out = Path(out)
-    _prepare(out)
-    index: dict = {"format": FORMAT, "scenarios": [], "frames": []}
-    planning: list = []
-    for name in scenarios:
-        rec = _Recorder(set(DETECTORS))
-        cam = host_config(resolve_scenario(name)[1])["camera"]
-        # the camera parameters the detectors were built with (host/app_factory.py rounds them)
-        camera = {k: int(round(cam[k])) for k in ("f_px", "u0_px", "v0_px")}
-        with tempfile.TemporaryDirectory(prefix="mobigrasp-corpus-") as tmp, \
-                plan_corpus.tap_planners(plan_corpus.PlanRecorder()) as plans:
-            summary, _ = execute(RunOptions(scenario=name, transport="inproc",
-                                            out=Path(tmp) / "run", progress=False,
-                                            plots=False, time_limit_s=time_limit_s,
-                                            timer=rec))
-        sc_name = summary["scenario"]
-        plan_corpus.write_run(out, sc_name, plans, planning)
-        (out / sc_name).mkdir(exist_ok=True)
-        for i, (sha, entry) in enumerate(rec.frames.items()):
-            rel = f"{sc_name}/{i:05d}.png"
-            # PNG stores the array's bytes as they are (OpenCV reads back the same order)
-            if not cv2.imwrite(str(out / rel), rec.pixels[sha]):
-                raise CorpusError(f"{out / rel}: could not write the frame")
-            index["frames"].append({"file": rel, "scenario": sc_name, **entry})
-        index["scenarios"].append({"name": sc_name, "seed": summary["seed"], "camera": camera,
-                                   "calls": rec.calls, "frames": len(rec.frames),
-                                   "trace_sha256": summary.get("trace_sha256")})
-        if progress is not None:
-            progress(f"{sc_name}: {len(rec.frames)} frames, {rec.calls} detector calls, "
-                     f"{len(plans.calls)} planner calls")
-    plan_corpus.write_index(out, planning)
-    (out / INDEX).write_text(json.dumps(index, indent=1, sort_keys=True) + "\n")
-    return index
 
 
 def read_index(folder: Path) -> dict:

@@ -1,7 +1,7 @@
 """The C kernels of ``hostc/`` built with the host's C compiler through cffi, as numpy calls.
 
 The module's declarations are ``kernels.h`` itself, and it is kept in the cache of the C parts
-(mobigrasp/cbuild.py: ``$MOBIGRASP_CACHE_DIR``, default ``~/.cache/mobigrasp``,
+(src/mobigrasp/cbuild.py: ``$MOBIGRASP_CACHE_DIR``, default ``~/.cache/mobigrasp``,
 ``hostc/<hash>``), so it is made once per change of the C. Each wrapper
 takes and returns the arrays of its Python counterpart in host/vision/.
 """
@@ -15,8 +15,9 @@ from pathlib import Path
 import numpy as np
 
 from mobigrasp import cbuild
+from mobigrasp.resources import data_dir
 
-HOSTC = Path(__file__).resolve().parents[1] / "hostc"
+HOSTC = data_dir("mobigrasp.hostc_sources")
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
            "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c",
            "bezier.c", "bezier000.c", "bezier001.c")

@@ -1,10 +1,9 @@
 """The planning corpus: every Bezier planner call of the scenario runs, beside the frame corpus.
 
-While :func:`mobigrasp.calib.corpus.record` runs a scenario, :func:`tap_planners` puts a
-recorder in front of the two planner entry points the host's task calls (000's ``plan_000`` as
-``host/task/method000.py`` calls it, 001's ``plan_001`` as ``host/planning/replan.py`` calls it).
-The recorder passes its arguments on unchanged and keeps them and the Plan it returns, so the
-run and its trace are those of ``mobigrasp run``.
+While :func:`mobigrasp.services.corpus.record` runs a scenario, :func:`tap_planners` watches
+the two planners the host's task calls (000's ``plan_000``, 001's ``plan_001``) through the hook
+the host offers (host/planning/observe.py). The recorder keeps each call's arguments and the
+Plan it returned and changes neither, so the run and its trace are those of ``mobigrasp run``.
 
 Files (in the corpus folder, beside ``corpus.json``):
 
@@ -21,7 +20,6 @@ Files (in the corpus folder, beside ``corpus.json``):
 
 from __future__ import annotations
 
-import contextlib
 import dataclasses
 import json
 import math
@@ -78,35 +76,22 @@ class PlanRecorder:
     def __init__(self) -> None:
         self.calls: list[tuple[str, dict, Any]] = []
 
-    def wrap(self, planner: str, fn):
-        """``fn`` with this recorder in front of it."""
+    def __call__(self, planner: str, args: tuple, kw: dict, plan: Any) -> None:
+        """The watcher (host/planning/observe.py): keep the call's inputs by name and its plan."""
         names = {"000": ("start_xy_m", "start_vel_xy_mps", "target_xy_m", "params",
                          "heading_rad"),
                  "001": ("start_xy_m", "start_vel_xy_mps", "heading_rad", "target_xy_m",
                          "sonar_mm", "params", "known_regions")}[planner]
-
-        def recorded(*args, **kw):
-            plan = fn(*args, **kw)
-            inputs = dict(zip(names, args, strict=False))
-            inputs.update(kw)
-            self.calls.append((planner, inputs, plan))
-            return plan
-        return recorded
+        inputs = dict(zip(names, args, strict=False))
+        inputs.update(kw)
+        self.calls.append((planner, inputs, plan))
 
 
-@contextlib.contextmanager
 def tap_planners(rec: PlanRecorder):
-    """Record the planner calls of the host's task while the block runs (restored after)."""
-    from mobigrasp.host.planning import bezier000, bezier001, replan
-    from mobigrasp.host.task import method000
+    """Record the planner calls of the host's task while the block runs."""
+    from mobigrasp.host.planning.observe import watching
 
-    saved = (method000.plan_000, replan.plan_001)
-    method000.plan_000 = rec.wrap("000", bezier000.plan_000)
-    replan.plan_001 = rec.wrap("001", bezier001.plan_001)
-    try:
-        yield rec
-    finally:
-        method000.plan_000, replan.plan_001 = saved
+    return watching(rec)
 
 
 def _inputs_json(planner: str, inputs: dict) -> dict:

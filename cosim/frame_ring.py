@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import mmap
 import os
-import tempfile
 from typing import Any
 
 from mobigrasp.cosim import leftovers
@@ -39,7 +38,7 @@ class FrameRing:
             raise ValueError(f"a frame ring needs slots and bytes, got {slots} x {slot_bytes}")
         self.slots = slots
         self.slot_bytes = slot_bytes
-        fd, self.path = tempfile.mkstemp(prefix=leftovers.prefix("frames"), dir=_shm_dir(directory))
+        fd, self.path = leftovers.temp_file("frames", _shm_dir(directory))
         try:
             os.ftruncate(fd, slots * slot_bytes)
             self._map = mmap.mmap(fd, slots * slot_bytes)
@@ -70,6 +69,7 @@ class FrameRing:
             os.unlink(self.path)
         except FileNotFoundError:
             pass
+        leftovers.disown(self.path)
 
     def close(self) -> None:
         """Unmap and remove the file."""
@@ -80,6 +80,7 @@ class FrameRing:
                 os.unlink(self.path)
             except FileNotFoundError:
                 pass
+            leftovers.disown(self.path)
 
 
 class FrameRingReader:

@@ -76,7 +76,7 @@ def quiet_done(grant: ls.Grant, last_load: dict) -> ls.Done | None:
     the quantum that ends them). Its DONE is therefore known: the rig need not send that grant
     at all ("elided" grants). The host's clock simply jumps over it to the next grant it gets.
     Checked against the real DONEs by the hosts' ``verify_elided``
-    (tests/test_runner_elision.py)."""
+    (tests/unit/cosim/test_runner_elision.py)."""
     if grant.uart or grant.frames or not last_load:
         return None
     quiet = last_load.get("quiet_until", -1)

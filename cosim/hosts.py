@@ -13,7 +13,6 @@ import os
 import socket
 import subprocess
 import sys
-import tempfile
 import time
 from collections import deque
 from pathlib import Path
@@ -71,7 +70,7 @@ class InprocHost:
         if done.events or done.load.get("windows"):
             done = ls.decode(ls.encode(done))
         # else the rest is ints, tuples of int pairs, a str and bools: the codec would give back
-        # equal values (most quanta; checked in tests/test_runner_pipelining.py)
+        # equal values (most quanta; checked in tests/unit/cosim/test_runner_pipelining.py)
         if predicted is not None:
             check_elided(predicted, done)
         self._last_load = done.load
@@ -129,17 +128,13 @@ class SocketHost:
         self.conn: socket.socket | None = None  # set by connect()
         self.rfile: ls.SocketReader | None = None
         self.wfile: Any = None
-        self._dir = tempfile.TemporaryDirectory(prefix=leftovers.prefix("ls"))
+        self._dir = leftovers.temp_dir("ls")
         self.path = os.path.join(self._dir.name, "lockstep.sock")
         self._server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
         self._server.bind(self.path)
         self._server.listen(1)
         self._server.settimeout(accept_timeout_s)
-        env = dict(os.environ)
-        # the host process imports this source tree whatever the caller's working directory
-        root = str(Path(__file__).resolve().parents[1])
-        env["PYTHONPATH"] = root + os.pathsep + env.get("PYTHONPATH", "")
-        self.proc = subprocess.Popen([*argv, "--lockstep", self.path], env=env)
+        self.proc = subprocess.Popen([*argv, "--lockstep", self.path])
         if connect:
             self.connect()
 

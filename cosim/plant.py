@@ -1,5 +1,5 @@
 """The plant as the rig drives it: one interface for the world, the bench plant, the fault
-wrapper and the test fakes (tests/test_plant_contract.py runs on each).
+wrapper and the test fakes (tests/contract/test_plant_contract.py runs on each).
 
 The rig's coupling step (mobigrasp.cosim.rig) gives the plant the MCU's servo pulses and wheel
 duties, steps it to the coupling time and reads the encoder counts back; the MCU's sonar reads

@@ -1,16 +1,16 @@
 """One run's wiring: host end, MCU, plant, fault wrappers and rig, the session, the run folder.
 
 :func:`run_scenario` is what ``mobigrasp run`` does once its options are checked and its run
-folder prepared (mobigrasp.tools.run_job). The summary is always written, also when the run
+folder prepared (mobigrasp.services.run_job). The summary is always written, also when the run
 crashes midway (status "crashed" with the error and what is known at that point); while it
 runs, summary.json says "running" with the simulated time reached, at least every simulated
-:data:`SUMMARY_PERIOD_US`, so a run killed outright leaves a summary that says how far it got.
+``SUMMARY_PERIOD_US`` (cosim/sim_side.py), so a run killed outright leaves a summary that says
+how far it got.
 SIGTERM ends a run as Ctrl-C does (status "interrupted", everything released).
 """
 
 from __future__ import annotations
 
-import logging
 import signal
 import tempfile
 import threading
@@ -22,16 +22,13 @@ from typing import Any
 
 from mobigrasp.cosim import leftovers
 from mobigrasp.cosim.hosts import HOST_POLL_MS, InprocHost, SocketHost, host_argv, write_host_config
-from mobigrasp.cosim.session import SessionResult, run_session
+from mobigrasp.cosim.session import SessionResult
 from mobigrasp.link.registry import inproc_pair, open_transport
-
-log = logging.getLogger(__name__)
-SUMMARY_PERIOD_US = 5_000_000  # a running summary at least this often, in simulated time
 
 
 @dataclass(frozen=True)
 class RunSpec:
-    """One run, its options checked (mobigrasp.tools.run_job.RunOptions) and resolved."""
+    """One run, its options checked (mobigrasp.services.run_job.RunOptions) and resolved."""
 
     scenario: Any  # mobigrasp.mcu_sim.world.scenario.Scenario
     scenario_file: Path
@@ -79,10 +76,10 @@ def run_scenario(spec: RunSpec) -> dict:
 
 
 def _run(spec: RunSpec) -> dict:
-    leftovers.sweep()  # what runs killed outright left behind (names carry their pid)
+    leftovers.sweep()  # what runs killed outright left behind (recorded as theirs)
     scenario, seed, out = spec.scenario, spec.seed, spec.out
     name = scenario.meta.name
-    tmpdir = tempfile.TemporaryDirectory(prefix=leftovers.prefix("run"))
+    tmpdir = leftovers.temp_dir("run")
     early = port = None
     try:
         if spec.transport == "pty":
@@ -116,47 +113,28 @@ def _run(spec: RunSpec) -> dict:
 
 def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
              tmpdir: tempfile.TemporaryDirectory, name: str) -> dict:
-    summary, plant = sim.summary, sim.plant
     host: Any = early
     peer = None
     res = SessionResult()
     try:
-        if early is not None:
-            early.connect()
-        else:
-            if spec.inproc_client is None:
-                raise ValueError("an in-process run needs RunSpec.inproc_client")
-            port, peer = inproc_pair(f"run-{name}-{spec.seed}")
-            host = InprocHost(spec.inproc_client(peer))
-        host = sim.wire(spec, host, port)
-        rig = sim.rig
-        progress = None
-        if callable(spec.progress):  # a display of the caller's (tools.progress.RunProgress)
-            def progress(r, wall):
-                spec.progress(rig.now_us, r.host_state, wall)
-        summary["status"] = "running"
-        next_summary_us = sim.write_running(0, SUMMARY_PERIOD_US)
-
-        def on_quantum(t_us: int) -> None:
-            nonlocal next_summary_us
-            plant.sample_path()
-            if t_us >= next_summary_us:
-                next_summary_us = sim.write_running(t_us, SUMMARY_PERIOD_US)
-
-        run_session(rig, host, sim.trace, result=res,
-                    time_limit_us=int(spec.time_limit_s * 1e6), truth=plant.truth,
-                    on_host_event=sim.snaps.on_host_event, on_quantum=on_quantum,
-                    speed=spec.speed, progress=progress,
-                    stop=None if spec.after_crash_s is None else (
-                        lambda: sim.fault_rig.stop_reason(int(spec.after_crash_s * 1e6))))
-        summary["status"] = "finished"
-    except KeyboardInterrupt:
-        summary["status"] = "interrupted"  # written below, then Ctrl-C goes on up
-        raise
-    except Exception as exc:
-        summary["status"] = "crashed"
-        summary["error"] = f"{type(exc).__name__}: {exc}"
-        log.error("run crashed: %s", summary["error"])
+        with sim.noting_the_end():
+            if early is not None:
+                early.connect()
+            else:
+                if spec.inproc_client is None:
+                    raise ValueError("an in-process run needs RunSpec.inproc_client")
+                port, peer = inproc_pair(f"run-{name}-{spec.seed}")
+                host = InprocHost(spec.inproc_client(peer))
+            host = sim.wire(spec, host, port)
+            rig = sim.rig
+            progress = None
+            if callable(spec.progress):  # a display of the caller's (tools.progress.RunProgress)
+                def progress(r, wall):
+                    spec.progress(rig.now_us, r.host_state, wall)
+            sim.drive(res, host, spec.time_limit_s, speed=spec.speed, progress=progress,
+                      on_host_event=sim.snaps.on_host_event,
+                      stop=None if spec.after_crash_s is None else (
+                          lambda: sim.fault_rig.stop_reason(int(spec.after_crash_s * 1e6))))
     finally:
         if host is not None:
             host.close()
@@ -165,4 +143,4 @@ def _session(spec: RunSpec, sim: Any, early: SocketHost | None, port: Any,
                 t.close()
         tmpdir.cleanup()
         sim.finish(res, None if host is None else host.traffic(), spec.time_limit_s)
-    return summary
+    return sim.summary

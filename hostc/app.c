@@ -11,6 +11,7 @@ void mg_host_config_default(mg_host_config_t *c)
 {
     c->control_period_us = 20000;
     c->heartbeat_period_us = 100000;
+    c->hello_wait_us = 100000;
     c->wheels_repeat_us = 100000;
     c->load_window_us = 500000;
     c->control_base_cycles = 40000;
@@ -24,6 +25,7 @@ void mg_app_init(mg_app_t *app, const mg_host_config_t *config, const mg_task_if
 {
     memset(app, 0, sizeof *app);
     app->config = *config;
+    app->first_tick_us = -1;
     mg_link_init(&app->link, 40000, 10);
     app->task = *task;
     app->n_detectors = n_detectors < MG_MAX_DETECTORS ? n_detectors : MG_MAX_DETECTORS;
@@ -375,7 +377,15 @@ static void tick(mg_app_t *app, int64_t t_us)
     mg_host_link_t *link = &app->link;
     const uint32_t tx_before = link->counters.tx_bytes;
     mg_link_service(link, start);
-    if (!app->hello_sent || (link->mcu_resets > app->resets_handled && mg_link_needs_hello(link))) {
+    if (app->first_tick_us < 0)
+        app->first_tick_us = start;
+    /* The first HELLO (and heartbeat) waits until the MCU has been heard (its telemetry: it is
+     * listening), at most hello_wait_us: bytes sent into the MCU's start-up are lost
+     * (docs/firmware.md, "simavr"). */
+    const int first = !app->hello_sent && (link->has_telemetry
+                                           || start - app->first_tick_us >= cfg->hello_wait_us);
+    if (first || (app->hello_sent && link->mcu_resets > app->resets_handled
+                  && mg_link_needs_hello(link))) {
         mg_link_hello(link, start); /* the first session, or again after the MCU reset */
         app->hello_sent = 1;
         app->resets_handled = link->mcu_resets;
@@ -398,7 +408,7 @@ static void tick(mg_app_t *app, int64_t t_us)
     } else {
         done = start + cycles_us(cfg->control_base_cycles);
     }
-    if (done - app->last_heartbeat_us >= cfg->heartbeat_period_us) {
+    if (app->hello_sent && done - app->last_heartbeat_us >= cfg->heartbeat_period_us) {
         mg_link_send_heartbeat(link, done);
         app->last_heartbeat_us = done;
     }

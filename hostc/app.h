@@ -16,6 +16,7 @@
 typedef struct {
     int64_t control_period_us;     /* 20 000 */
     int64_t heartbeat_period_us;   /* 100 000 */
+    int64_t hello_wait_us;         /* 100 000: the first HELLO waits until the MCU is heard */
     int64_t wheels_repeat_us;      /* 100 000: SetWheels is unreliable, repeated this often */
     int64_t load_window_us;        /* 500 000 (must divide 10^6: the loads are exact then) */
     int64_t control_base_cycles;   /* 40 000: telemetry decode, odometry, bookkeeping */
@@ -130,6 +131,7 @@ struct mg_app {
     int32_t last_has_wheels, last_wheels[2];
     int64_t last_wheels_us, last_heartbeat_us;
     int32_t hello_sent, resets_handled;
+    int64_t first_tick_us; /* -1 before the first control tick */
     int32_t replans, plans;
     int64_t frames_received, frames_processed, frames_dropped, frames_idle;
     int64_t control_steps, deadline_misses, ticks_skipped;

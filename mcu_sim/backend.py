@@ -7,7 +7,7 @@ Python peripherals (mobigrasp.mcu_sim.mcu.Mcu), ``native`` the C firmware (``fir
 for this machine on the same peripherals (mobigrasp.mcu_sim.native), ``simavr`` the avr-gcc
 ELF of that firmware on simavr's instruction-accurate core (mobigrasp.mcu_sim.simavr). Every
 backend passes
-tests/test_mcu_contract.py
+tests/contract/test_mcu_contract.py
 (with the fault wrapper and the test fakes).
 """
 

@@ -4,8 +4,9 @@ for the hot paths that build one per quantum, per received frame or per control 
 A frozen dataclass's ``__init__`` sets each field through ``object.__setattr__`` (the freeze) and
 runs ``__post_init__``; :func:`built` fills the instance's ``__dict__`` at once. It is for a class
 without ``__post_init__``, or one whose checks the caller has already made on trusted values,
-with every field given; tests/test_frozen.py checks that the result equals the constructor's for
-each class it is used on. Stdlib only, in the lowest room, so every room may use it.
+with every field given; tests/unit/protocol/test_frozen.py checks that the result equals the
+constructor's for each class it is used on. Stdlib only, in the lowest room, so every room may
+use it.
 """
 
 from __future__ import annotations

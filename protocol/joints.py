@@ -9,8 +9,8 @@ Servo law (channels 1..5): ``pulse_us = pulse0_us + direction * theta * K`` with
 ``K = 2000/pi us/rad`` (500..2500 us spans pi rad). In integer form ``K = K_NUM / K_DEN`` us per
 mrad with ``K_NUM / K_DEN = 33215 / 52174``, a convergent of 2/pi: for every int16 angle in mrad
 the rounded pulse, and for every pulse in 500..2500 us the rounded angle, equal the correctly
-rounded real law (tests/test_joint_table.py checks both), and the products fit an int32
-(32768 x 33215 and 2500 x 52174 are below 2^31). Channel 0 is the gripper: its "angle" is the
+rounded real law (tests/unit/protocol/test_joint_table.py checks both), and the products fit an
+int32 (32768 x 33215 and 2500 x 52174 are below 2^31). Channel 0 is the gripper: its "angle" is the
 closure in per mille (0 open = 1000 us .. 1000 closed = 2000 us), 1 us per per mille.
 
 Mechanical limits: the joint limits of the table as pulse widths, rounded inwards and clamped to

@@ -29,8 +29,8 @@ from mobigrasp.mcu_sim.faults.plan import FaultPlan
 from mobigrasp.mcu_sim.wire_names import describe, nacks_sent
 from mobigrasp.protocol.frame import FrameParser
 from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame
+from mobigrasp.services.run_job import resolve_scenario
 from mobigrasp.testing.expect import expect
-from mobigrasp.tools.run_job import resolve_scenario
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,33 @@ settings.register_profile("explore", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
+def _editable_tree_misses() -> list[str]:
+    """Modules of the checkout that the editable install's tree of links lacks (a module added
+    since ``make venv``; the Makefile explains the tree). Empty for any other install."""
+    import tomllib
+
+    from mobigrasp.resources import data_dir
+
+    installed = data_dir("mobigrasp")
+    root = Path(__file__).resolve().parents[1]
+    if "__editable__" not in str(installed) or not (root / "pyproject.toml").is_file():
+        return []  # not the clone's editable install, or this file copied out of the clone
+    mapping = tomllib.loads((root / "pyproject.toml").read_text())["tool"]["setuptools"]
+    missing = []
+    for package, folder in mapping["package-dir"].items():
+        target = installed.joinpath(*package.split(".")[1:])
+        missing += [str(Path(folder) / py.relative_to(root / folder))
+                    for py in (root / folder).rglob("*.py")
+                    if not (target / py.relative_to(root / folder)).exists()]
+    return missing
+
+
+def pytest_configure(config):
+    if missing := _editable_tree_misses():
+        pytest.exit(f"the editable install lacks {', '.join(sorted(missing)[:5])}: run `make venv`",
+                    returncode=4)
+
+
 # Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the
 # module's ``Mcu`` is the Python model for ``python``, the C firmware for ``native`` and, where
 # the module is also marked ``simavr``, the avr-gcc ELF under simavr, started up before the
@@ -84,7 +111,7 @@ SHORT_RUNS = {"paper000-exp1": None, "paper001-sim1": 8.0, "paper002-marker": 8.
 @pytest.fixture(scope="session")
 def short_runs(tmp_path_factory):
     """{scenario: run folder} of SHORT_RUNS (time limits in simulated s; None: the scenario's)."""
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     root = tmp_path_factory.mktemp("short-runs")
     folders = {}
@@ -105,7 +132,7 @@ def assert_no_false_claim(summary: dict) -> None:
 
 
 def checked_execute(execute):
-    """``execute`` (tools.run_job) that fails on a run whose summary is a false claim."""
+    """``execute`` (services.run_job) that fails on a run whose summary is a false claim."""
 
     @functools.wraps(execute)
     def checked(*args, **kwargs):
@@ -136,17 +163,18 @@ _TESTS = Path(__file__).resolve().parent
 
 @pytest.fixture(autouse=True)
 def _no_false_claim(request, monkeypatch):
-    """Every test that runs a scenario fails on a false claim: tools.run_job.execute is
+    """Every test that runs a scenario fails on a false claim: services.run_job.execute is
     checked in this process (also where a test or helper module imported it by name), and the
     run folders under the test's tmp_path are read after it for runs made elsewhere."""
-    from mobigrasp.tools import run_job
+    from mobigrasp.services import run_job
 
     real = run_job.execute
     checked = checked_execute(real)
     monkeypatch.setattr(run_job, "execute", checked)
     for module in list(sys.modules.values()):
         where = getattr(module, "__file__", None)
-        if where and Path(where).parent == _TESTS and getattr(module, "execute", None) is real:
+        if (where and _TESTS in Path(where).resolve().parents
+                and getattr(module, "execute", None) is real):
             monkeypatch.setattr(module, "execute", checked)
     yield
     tmp = request.node.funcargs.get("tmp_path")

@@ -1,5 +1,5 @@
-"""One short closed-loop run of paper000-exp1 in process, wrapped for faults as tools/run_job does
-(shared by the fault and fast-path tests)."""
+"""One short closed-loop run of paper000-exp1 in process, wrapped for faults as services/run_job
+does (shared by the fault and fast-path tests)."""
 
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from mobigrasp.host.app_factory import build_host_app
 from mobigrasp.link.inproc import inproc_pair
 from mobigrasp.mcu_sim.faults import FaultPlan
 from mobigrasp.mcu_sim.mcu import Mcu
-from mobigrasp.tools.run_job import host_config, resolve_scenario
+from mobigrasp.services.run_job import host_config, resolve_scenario
 
 
 @dataclass

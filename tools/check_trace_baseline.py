@@ -24,7 +24,7 @@ SCENARIOS = ("paper000-exp1", "paper000-exp2", "paper001-sim1", "paper001-sim2",
 def run_one(name: str, time_limit_s: float, out_root: Path,
             mcu: str = "python") -> tuple[str, float]:
     """(trace_sha256, wall seconds of the whole run) of one in-process run."""
-    from mobigrasp.tools.run_job import RunOptions, execute
+    from mobigrasp.services.run_job import RunOptions, execute
 
     t0 = time.perf_counter()
     summary, _ = execute(RunOptions(scenario=name, transport="inproc", speed=None,

@@ -12,6 +12,7 @@ import importlib
 import pkgutil
 import sys
 from importlib.metadata import PackageNotFoundError, version
+from typing import NoReturn
 
 import mobigrasp.tools.commands
 from mobigrasp.tools.progress import add_common_options, setup_logging
@@ -37,6 +38,19 @@ class _Commands:
         return parser
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse with a refused option as one line on stderr (exit 2), naming the option and
+    the value (escaped and cut by mobigrasp.mcu_sim.checks), not the usage text."""
+
+    def error(self, message: str) -> NoReturn:
+        from mobigrasp.mcu_sim.checks import SHOWN_CHARS
+
+        text = message.encode("ascii", "backslashreplace").decode("ascii")
+        cut = 2 * SHOWN_CHARS + 80  # the option, what it expects and the value
+        text = text if len(text) <= cut else text[:cut - 3] + "..."
+        self.exit(2, f"{self.prog}: {text} (--help for usage)\n")
+
+
 def _version() -> str:
     try:
         return version("mobigrasp")
@@ -46,7 +60,7 @@ def _version() -> str:
 
 def build_parser() -> argparse.ArgumentParser:
     """Build the full argument parser, one subparser per module under ``tools/commands``."""
-    parser = argparse.ArgumentParser(prog="mobigrasp", description=DESCRIPTION)
+    parser = _Parser(prog="mobigrasp", description=DESCRIPTION)
     parser.add_argument("--version", action="version", version=f"mobigrasp {_version()}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     commands = pkgutil.iter_modules(mobigrasp.tools.commands.__path__)
@@ -105,7 +119,7 @@ def _command_parser(argv: list[str]) -> argparse.ArgumentParser | None:
     if name.startswith("_") or name not in {m.name for m in
                                              pkgutil.iter_modules(mobigrasp.tools.commands.__path__)}:
         return None
-    parser = argparse.ArgumentParser(prog="mobigrasp", description=DESCRIPTION)
+    parser = _Parser(prog="mobigrasp", description=DESCRIPTION)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     importlib.import_module(f"mobigrasp.tools.commands.{name}").register(_Commands(sub))
     return parser if argv[0] in sub.choices else None

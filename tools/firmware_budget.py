@@ -3,8 +3,8 @@
 ``python -m mobigrasp.tools.firmware_budget`` reads ``firmware/build`` (``make firmware`` first)
 and prints flash, the static SRAM by symbol and the stack; ``--write`` rewrites the generated
 block of ``mcu_sim/firmware/sram.py`` and the table of ``docs/firmware.md`` from them, so the
-Python side's budget is the ELF's, not a hand estimate (``tests/test_firmware_avr.py`` fails when
-they differ).
+Python side's budget is the ELF's, not a hand estimate
+(``tests/unit/mcu_sim/test_firmware_avr.py`` fails when they differ).
 
 Worst-case stack: every function's frame from ``-fstack-usage`` (``build/**/*.su``: the bytes a
 call needs, its return address and pushed registers included) and the call graph from the ELF's
@@ -25,11 +25,14 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
-BUILD = ROOT / "firmware" / "build"
+from mobigrasp.provenance import source_checkout
+from mobigrasp.resources import data_dir
+
+# a tool of the source checkout: it reads the avr build and rewrites sram.py and the doc's table
+BUILD = data_dir("mobigrasp.firmware") / "build"
 ELF_NAME = "mobigrasp-avr.elf"
-SRAM_PY = ROOT / "mcu_sim" / "firmware" / "sram.py"
-DOC = ROOT / "docs" / "firmware.md"
+SRAM_PY = data_dir("mobigrasp.mcu_sim.firmware") / "sram.py"
+DOC = (source_checkout() or Path.cwd()) / "docs" / "firmware.md"
 DOC_BEGIN, DOC_END = "<!-- sram:begin -->\n", "<!-- sram:end -->\n"
 FLASH_BYTES = 128 * 1024
 SRAM_BYTES = 4096

@@ -10,6 +10,11 @@ camera frames go to ``on_frame`` (the MJPEG server). Simulated time stays the ri
 the wall clock is the caller's policy; a program that writes more often than once per quantum
 is seen at quantum resolution (5 ms), as a UART polled once per quantum would see it.
 
+The program's bytes cross a 115 200-baud line: what it writes faster than the line carries
+waits in a buffer of :data:`HOST_BUFFER_BYTES` (a tty's), and what does not fit is dropped and
+counted (``dropped_from_host_bytes``), so a flood reaches neither the MCU nor the trace beyond
+what the line could carry.
+
 Both directions are decoded into events for the run's trace (``{"ev": "wire", "dir": "to_mcu" |
 "to_host", "t_us", "seq", "msg", "fields"}``), so the trace holds the program's traffic.
 """
@@ -24,9 +29,12 @@ from typing import Any
 
 from mobigrasp.cosim import lockstep as ls
 from mobigrasp.cosim.handshake import HostTraffic
+from mobigrasp.cosim.rig import BITS_PER_BYTE, HOST_BAUD, byte_time_us
 from mobigrasp.link.base import LinkClosed
 from mobigrasp.protocol.frame import FrameParser
 from mobigrasp.protocol.messages import MessageError, decode_frame
+
+HOST_BUFFER_BYTES = 4096  # the program's bytes waiting for the line (Linux's tty buffer)
 
 
 def _jsonable(value: Any) -> Any:
@@ -86,7 +94,9 @@ class ExternalHost:
         self.bytes_from_host = 0
         self.bytes_to_host = 0
         self.dropped_to_host_bytes = 0
+        self.dropped_from_host_bytes = 0  # beyond what the line and its buffer carry
         self.frames_out = 0
+        self._line_free_us = 0  # when the line has sent every byte accepted so far
         self._from_host = bytearray()  # read from the pty, announced, not taken by the rig yet
         self._written = bytearray()  # written to the pty, not yet announced by a grant
         self._early = bytearray()  # read while waiting for the program: sent at the first grant
@@ -195,6 +205,7 @@ class ExternalHost:
         if self._early:
             data = bytes(self._early) + data
             self._early.clear()
+        data = self._line_carries(data, grant.start_us)
         writes: tuple = ()
         if data:
             self._from_host += data
@@ -204,6 +215,20 @@ class ExternalHost:
                            for f in self._rx_parser.feed(data)]
         return ls.Done(until_us=grant.until_us, writes=writes, events=tuple(events),
                        load={"camera": True, "state": "EXTERNAL", "finished": False})
+
+    def _line_carries(self, data: bytes, start_us: int) -> bytes:
+        """The part of ``data`` (written by the program at ``start_us``) that fits in the
+        line's buffer behind the bytes still queued; the rest is dropped and counted."""
+        if not data:
+            return data
+        free_us = max(self._line_free_us, start_us)
+        queued = (free_us - start_us) * HOST_BAUD // (BITS_PER_BYTE * 1_000_000)
+        room = max(0, HOST_BUFFER_BYTES - queued)
+        if len(data) > room:
+            self.dropped_from_host_bytes += len(data) - room
+            data = data[:room]
+        self._line_free_us = free_us + byte_time_us(len(data))
+        return data
 
     def submit(self, grant: ls.Grant) -> ls.Done:
         """:meth:`exchange`: the grant is served at once (no pipelining)."""
@@ -225,6 +250,7 @@ class ExternalHost:
         """Bytes both ways, drops, frames handed to the camera server, parser counters."""
         return {"bytes_from_host": self.bytes_from_host, "bytes_to_host": self.bytes_to_host,
                 "dropped_to_host_bytes": self.dropped_to_host_bytes,
+                "dropped_from_host_bytes": self.dropped_from_host_bytes,
                 "frames_to_camera": self.frames_out,
                 "host_parser": self._rx_parser.stats.as_dict(), "host_closed": self.host_closed}
 

@@ -13,16 +13,15 @@ block are judged from the world, since an external host reports no task state.
 
 from __future__ import annotations
 
-import sys
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from mobigrasp.mcu_sim.backend import MCU_BACKENDS, open_mcu
+from mobigrasp.mcu_sim.backend import MCU_BACKENDS
 
-# quantum and coupling step of `mobigrasp run` (tools/run_job.RunOptions); strict alternation:
+# quantum and coupling step of `mobigrasp run` (services/run_job.RunOptions); strict alternation:
 # the rig reads exactly the bytes the ExternalHost announced
 QUANTUM_US = 5_000
 COUPLE_US = 2_500
@@ -44,7 +43,7 @@ class SimOptions:
     time_limit_s: float | None = None
     # the caller's display: ``update(simulated_s, text)`` and ``close()`` (None: no progress)
     progress: Any = None
-    # (path, Scenario) resolved by the caller (mobigrasp.tools.run_job.resolve_scenario)
+    # (path, Scenario) resolved by the caller (mobigrasp.services.run_job.resolve_scenario)
     resolved: tuple[Path, Any] | None = None
     # the fault plan (the scenario's with --fault applied); None: the scenario's
     plan: Any = None
@@ -53,16 +52,19 @@ class SimOptions:
     tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
     # each frame the rig captures, as (seq, capture_us, rgb) (the caller's trace.mcap)
     on_frame: Callable[[int, int, Any], None] | None = None
+    # told the run folder once it is taken and ready, before the first frame
+    on_folder: Callable[[Path], None] | None = None
 
 
-def _out_dir(opts: SimOptions, name: str, seed: int) -> Path:
-    """The run folder as ``mobigrasp run`` makes it (cosim/run_folder.py): under runs/ by a
-    sanitised name, and only a previous run's own files are replaced."""
-    from mobigrasp.cosim.run_folder import RunFolderError, prepare_run_folder
+def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
+    """The run folder as ``mobigrasp run`` takes it (cosim/run_folder.py), locked, nothing
+    changed yet: under runs/ by a sanitised name, the next free one when another session
+    holds the default (two default sessions never share a folder)."""
+    from mobigrasp.cosim.run_folder import RunFolderError, claim_run_folder
 
     try:
-        return prepare_run_folder(Path(opts.out) if opts.out else None, name, seed,
-                                  suffix="-sim")
+        return claim_run_folder(Path(opts.out) if opts.out else None, name, seed,
+                                suffix="-sim", next_free=opts.out is None)
     except RunFolderError as exc:
         raise BadSimInput(str(exc)) from exc
 
@@ -87,11 +89,22 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     path, scenario = opts.resolved
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    out = _out_dir(opts, name, seed)
-    try:
+    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError
+
+    folder = _claim_out(opts, name, seed)
+    try:  # the port before the folder is touched: a refused session changes nothing
         camera = CameraServer(opts.camera_port)
     except (CameraPortInUse, ValueError) as exc:
+        folder.abandon()
         raise BadSimInput(str(exc)) from exc
+    try:
+        out = folder.prepare(RUN_FILES)
+    except RunFolderError as exc:
+        camera.close()
+        folder.abandon()
+        raise BadSimInput(str(exc)) from exc
+    if opts.on_folder is not None:
+        opts.on_folder(out)
     transport = bridge = None
     try:
         import cv2
@@ -112,110 +125,76 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
         if transport is not None:
             transport.close()
         camera.close()
+        folder.release()
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
          stop) -> dict:
-    from mobigrasp.cosim.faulted_host import wrap_for_faults
-    from mobigrasp.cosim.rig import Rig, RigConfig
-    from mobigrasp.cosim.rig_plant import WorldPlant
-    from mobigrasp.cosim.run_folder import TraceWriter, write_summary
-    from mobigrasp.cosim.session import SessionResult, run_session
+    from mobigrasp.cosim.rig import RigConfig
+    from mobigrasp.cosim.session import SessionResult
+    from mobigrasp.cosim.sim_side import SimSide
     from mobigrasp.mcu_sim.faults.plan import FaultPlan
+    from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
 
-    name = scenario.meta.name
-    (out / "plots").mkdir(exist_ok=True)
-    summary: dict[str, Any] = {
-        "scenario": name, "scenario_file": str(path), "method": "external", "seed": seed,
-        "transport": "pty (external host)", "mcu": opts.mcu, "speed": opts.speed,
-        "serial": serial, "camera": camera.url, "status": "starting", "success": False,
-        "grasped": False, "wait_host": opts.wait_host,
-    }
-    if bridge is not None:
-        summary["serial_tcp"] = bridge.url
-    write_summary(out / "summary.json", summary)
-    trace = TraceWriter(out / "trace.jsonl")
-    plant = WorldPlant(scenario, seed)
-    plant.preload()
-    mcu = open_mcu(opts.mcu)
     plan = opts.plan or getattr(scenario, "faults", None) or FaultPlan()
-    fault_rig, rig_mcu, rig_plant, _ = wrap_for_faults(plan, seed, mcu, plant, None)
-    summary["faults_plan"] = plan.as_table()
-    rig = Rig(rig_mcu, rig_plant, host.port,
-              RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0),
-              on_frame=opts.on_frame)
-    limit_s = opts.time_limit_s or scenario.meta.time_limit_s
-    trace.write({"ev": "start", "t_us": 0, "scenario": name, "method": "external", "seed": seed,
-                 "robot": [scenario.robot.x_m, scenario.robot.y_m, scenario.robot.heading_rad],
-                 "target": [scenario.target.x_m, scenario.target.y_m],
-                 "obstacles": [vars(o) for o in scenario.obstacles]})
+    sim = SimSide(scenario, seed, out, path, "pty (external host)", plan, opts.mcu,
+                  on_frame=opts.on_frame, external_host=True)
+    sim.summary.update(speed=opts.speed, serial=serial, camera=camera.url,
+                       wait_host=opts.wait_host)
+    if bridge is not None:
+        sim.summary["serial_tcp"] = bridge.url
+    # "running" before anything else: a session killed outright leaves a summary that says it
+    # did not finish, and how far it got (SimSide.drive: every SUMMARY_PERIOD_US simulated)
+    sim.summary["status"] = "running"
+    sim.write_running(0)
+    limit_s = run_time_limit_s(scenario, opts.time_limit_s)
+    display = opts.progress
 
     def why_stop() -> str | None:
         if host.host_closed:
             return "host_closed"
         return stop() if stop is not None else None
 
-    display = opts.progress
-
     def progress(res, wall):
         if display is not None:
-            display.update(round(rig.now_us / 1e6, 1),
+            display.update(round(sim.rig.now_us / 1e6, 1),
                            f"from host {host.bytes_from_host} B, to host {host.bytes_to_host} B, "
                            f"frames {camera.frames_published}")
 
     res = SessionResult()
-    on_ready(serial, camera.url, None if bridge is None else bridge.url)
-    summary["status"] = "running"
     try:
-        if opts.wait_host:
-            # the camera shows the robot at t = 0 while the clock waits for the host
-            camera.publish(plant.capture(0))
-            wall0 = time.perf_counter()
-            res.reason = host.wait_for_host(why_stop) or "running"
-            summary["host_waited_s"] = round(time.perf_counter() - wall0, 3)
-            if res.reason != "running":  # stopped before the host came: the clock never ran
-                trace.write({"ev": "end", "t_us": 0, "reason": res.reason,
-                             "host_state": "EXTERNAL"})
-        if res.reason == "running":
-            run_session(rig, host, trace, result=res, time_limit_us=int(limit_s * 1e6),
-                        truth=plant.truth, on_quantum=lambda t: plant.sample_path(),
-                        speed=opts.speed, progress=progress, stop=why_stop)
-        summary["status"] = "finished"
-    except Exception as exc:
-        summary["status"] = "crashed"
-        summary["error"] = f"{type(exc).__name__}: {exc}"
-        print(f"\nsim crashed: {summary['error']}", file=sys.stderr)
+        with sim.noting_the_end():
+            # the external host is not wrapped for faults: it is the user's program
+            sim.wire(RigConfig(quantum_us=QUANTUM_US, couple_us=COUPLE_US, host_lag_quanta=0),
+                     None, host.port)
+            on_ready(serial, camera.url, None if bridge is None else bridge.url)
+            if opts.wait_host:
+                # the camera shows the robot at t = 0 while the clock waits for the host
+                camera.publish(sim.plant.capture(0))
+                wall0 = time.perf_counter()
+                res.reason = host.wait_for_host(why_stop) or "running"
+                sim.summary["host_waited_s"] = round(time.perf_counter() - wall0, 3)
+            if not opts.wait_host or res.reason == "running":
+                sim.drive(res, host, limit_s, speed=opts.speed, progress=progress,
+                          stop=why_stop)
+            else:  # stopped before the host came: the clock never ran
+                sim.trace.write({"ev": "end", "t_us": 0, "reason": res.reason,
+                                 "host_state": "EXTERNAL"})
+                sim.summary["status"] = "finished"
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
         if display is not None:
             display.close()
-        trace.close()
-        summary.update(_figures(res, plant, rig, host, camera, trace, limit_s))
-        summary["mcu_stats"] = mcu.stats()
-        summary["faults"], summary["safety"] = fault_rig.summary()
+        line = host.stats()
         if bridge is not None:
-            summary["line"]["tcp"] = bridge.stats()
-        write_summary(out / "summary.json", summary)
-    summary["run_folder"] = str(out)
-    return summary
+            line["tcp"] = bridge.stats()
+        rig = sim.rig
+        sim.finish(res, None, limit_s, extra={
+            "line": line,
+            "camera_frames": {"captured": rig.stats["frames_captured"] if rig else 0,
+                              "published": camera.frames_published,
+                              "stream_parts_sent": camera.parts_sent}})
+    sim.summary["run_folder"] = str(out)
+    return sim.summary
 
-
-def _figures(res, plant, rig, host, camera, trace, limit_s: float) -> dict:
-    from mobigrasp.cosim.summary import world_figures
-
-    world = world_figures(plant.final())
-    wall = res.wall_s
-    return {
-        # an external host claims nothing mobigrasp can read: success is the world's grasp
-        "success": world["grasped"], **world, "task_state": "external",
-        "end_reason": res.reason,
-        "sim_time_s": res.end_us / 1e6, "time_limit_s": limit_s, "wall_time_s": wall,
-        "realtime_factor": (res.end_us / 1e6 / wall) if wall > 0 else None,
-        "line": host.stats(),
-        "camera_frames": {"captured": rig.stats["frames_captured"],
-                          "published": camera.frames_published,
-                          "stream_parts_sent": camera.parts_sent},
-        "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
-        "error": res.error,
-    }

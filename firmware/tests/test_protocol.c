@@ -1,5 +1,5 @@
 /* Host-gcc unit test of the C protocol codec against the golden vectors of docs/protocol.md
- * (docs/protocol_vectors.json, turned into vectors.h by tests/test_firmware_c.py): CRC, frame
+ * (protocol/golden_vectors.json, turned into vectors.h by tests/test_firmware_c.py): CRC, frame
  * encoding byte for byte, the parser's frames and counters, and msg_check's NACK reasons.
  * Prints one line per failure and "ok N" at the end; exit status 1 on any failure. */
 #include <stdio.h>

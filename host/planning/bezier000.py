@@ -44,6 +44,7 @@ from mobigrasp.host.planning.candidates import (
     summarize_rejections,
     unit,
 )
+from mobigrasp.host.planning.observe import observed
 
 
 @dataclass(frozen=True)
@@ -104,6 +105,7 @@ def control_points_000(p0: np.ndarray, d0: np.ndarray, p3: np.ndarray, d3: np.nd
     return ctrl
 
 
+@observed("000")
 def plan_000(start_xy_m, start_vel_xy_mps, target_xy_m, params: Params000 = Params000(),
              heading_rad: float | None = None) -> Plan:
     """Plan the approach of 000 from the current position/velocity to the object at target.

@@ -60,6 +60,7 @@ from mobigrasp.host.planning.grasp_circle import (
     end_points,
     grasp_radius,
 )
+from mobigrasp.host.planning.observe import observed
 from mobigrasp.host.planning.sonar_regions import (
     InfeasibleRegion,
     SonarConfig,
@@ -154,6 +155,7 @@ def _clearance(s, rows: np.ndarray, regions: list[InfeasibleRegion]) -> np.ndarr
     return out
 
 
+@observed("001")
 def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sonar_mm,
              params: Params001 = Params001(),
              known_regions: list[InfeasibleRegion] | None = None) -> Plan:

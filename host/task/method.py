@@ -66,7 +66,7 @@ def q12(x: float) -> int:
 
 @dataclass(frozen=True)
 class SceneHints:
-    """What the random scenes (tools/random_scenarios.py) put before the method."""
+    """What the random scenes (services/random_scenarios.py) put before the method."""
 
     target_kind: str  # the target of its paper (mcu_sim/world/scenario.py TARGET_KINDS)
     time_limit_s: float

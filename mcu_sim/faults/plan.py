@@ -13,16 +13,17 @@ keys for the tables (``uart_burst.start_s=3``).
 
 from __future__ import annotations
 
-import math
 import tomllib
 from dataclasses import dataclass, fields, replace
 from typing import Any
+
+from mobigrasp.mcu_sim import checks
 
 WHEELS = ("left", "right")
 SONAR_COUNT = 5
 
 
-class FaultError(ValueError):
+class FaultError(checks.BadValue):
     """A fault setting is malformed: the message names the source, the key and the expectation."""
 
 
@@ -114,23 +115,15 @@ def _toml_value(v: Any) -> str:
 
 # ---- validation ------------------------------------------------------------------------------
 def _fail(source: str, key: str, expected: str, got: Any = None, present: bool = True) -> None:
-    got_txt = f", got {got!r} ({type(got).__name__})" if present else ""
-    raise FaultError(f"{source}: {key}: expected {expected}{got_txt}")
+    checks.fail(source, key, expected, got if present else checks.MISSING, FaultError)
 
 
 def _number(source: str, key: str, v: Any, lo: float, hi: float | None) -> float:
-    rng = f"a number in [{lo}, {hi}]" if hi is not None else f"a number >= {lo}"
-    if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
-        _fail(source, key, rng, v)
-    if v < lo or (hi is not None and v > hi):
-        _fail(source, key, rng, v)
-    return float(v)
+    return checks.number(v, source, key, lo, hi, error=FaultError)
 
 
 def _int(source: str, key: str, v: Any, lo: int, hi: int) -> int:
-    if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-        _fail(source, key, f"an integer in [{lo}, {hi}]", v)
-    return v
+    return checks.integer(v, source, key, lo, hi, error=FaultError)
 
 
 def _table(source: str, key: str, v: Any, spec: dict[str, Any]) -> dict[str, Any]:
@@ -139,7 +132,8 @@ def _table(source: str, key: str, v: Any, spec: dict[str, Any]) -> dict[str, Any
         _fail(source, key, f"a table with {names}", v)
     for k in v:
         if k not in spec:
-            raise FaultError(f"{source}: {key}.{k}: unknown key; expected one of: {names}")
+            raise FaultError(f"{source}: {checks.key_text(f'{key}.{k}')}: unknown key; "
+                             f"expected one of: {names}")
     out = {}
     for k, check in spec.items():
         if k not in v:
@@ -207,13 +201,13 @@ def parse_faults(table: Any, source: str = "<faults>", base: FaultPlan | None = 
     Keys not in the table keep their value in ``base`` (default: no fault)."""
     if not isinstance(table, dict):
         _fail(source, where, "a table (section)", table)
-    checks = _checkers(source)
+    checkers = _checkers(source)
     values: dict[str, Any] = {}
     for key, value in table.items():
-        if key not in checks:
-            raise FaultError(f"{source}: {where}.{key}: unknown key; expected one of: "
-                             f"{', '.join(FAULT_KEYS)}")
-        values[key] = checks[key](f"{where}.{key}", value)
+        if key not in checkers:
+            raise FaultError(f"{source}: {checks.key_text(f'{where}.{key}')}: unknown key; "
+                             f"expected one of: {', '.join(FAULT_KEYS)}")
+        values[key] = checkers[key](f"{where}.{key}", value)
     return replace(base or FaultPlan(), **values)
 
 
@@ -221,7 +215,7 @@ def _parse_value(text: str) -> Any:
     """A command-line value: a TOML scalar (3, 1e-3, "left", true), or the bare word itself."""
     try:
         return tomllib.loads(f"v = {text}")["v"]
-    except tomllib.TOMLDecodeError:
+    except (tomllib.TOMLDecodeError, RecursionError):
         return text
 
 
@@ -236,18 +230,19 @@ def parse_fault_overrides(items: list[str] | tuple[str, ...], base: FaultPlan | 
     table: dict[str, Any] = {}
     for item in items:
         if not isinstance(item, str) or "=" not in item:
-            raise FaultError(f"{source}: {item!r}: expected KEY=VALUE (e.g. "
+            raise FaultError(f"{source}: {checks.shown(item)}: expected KEY=VALUE (e.g. "
                              f"uart_bit_error_rate=1e-3 or uart_burst.start_s=3)")
         key, _, text = item.partition("=")
         key, text = key.strip(), text.strip()
         if not key or not text:
-            raise FaultError(f"{source}: {item!r}: expected KEY=VALUE with both parts")
+            raise FaultError(f"{source}: {checks.shown(item)}: expected KEY=VALUE with both "
+                             f"parts")
         value = _parse_value(text)
         if "." in key:
             outer, _, inner = key.partition(".")
             if outer not in FAULT_KEYS:
-                raise FaultError(f"{source}: faults.{outer}: unknown key; expected one of: "
-                                 f"{', '.join(FAULT_KEYS)}")
+                raise FaultError(f"{source}: {checks.key_text(f'faults.{outer}')}: unknown key; "
+                                 f"expected one of: {', '.join(FAULT_KEYS)}")
             sub = table.get(outer)
             if not isinstance(sub, dict):
                 sub = dict(current.get(outer, {})) if isinstance(current.get(outer), dict) else {}

@@ -18,12 +18,13 @@ import sys
 from pathlib import Path
 
 from mobigrasp import cbuild
+from mobigrasp.resources import data_dir
 
-FIRMWARE_DIR = Path(__file__).resolve().parents[2] / "firmware"
+FIRMWARE_DIR = data_dir("mobigrasp.firmware")
 SOURCE_GLOBS = ("fw/*.c", "protocol/*.c")
 NATIVE_HAL = "hal_native.c"
 
-# What Python sees of the C, read from the headers (mobigrasp/cbuild.py): the program's entry
+# What Python sees of the C, read from the headers (src/mobigrasp/cbuild.py): the program's entry
 # points and globals, the PARAM and joint tables, the native HAL's extras; and hal.h, whose
 # output calls are cffi "Python+C" functions implemented by the Python models, except the ones
 # hal_native.c defines itself.
@@ -67,7 +68,8 @@ def source_hash(firmware_dir: Path = FIRMWARE_DIR) -> str:
     """SHA-256 (hex, 16 digits) of every file the module is built from, and of the build setup."""
     h = hashlib.sha256()
     files = sorted(p for p in firmware_dir.rglob("*")
-                   if p.suffix in (".c", ".h", ".inc") and "build" not in p.parts)
+                   if p.suffix in (".c", ".h", ".inc")
+                   and "build" not in p.relative_to(firmware_dir).parts)
     for p in files:
         h.update(str(p.relative_to(firmware_dir)).encode())
         h.update(p.read_bytes())

@@ -3,7 +3,7 @@
 Same event loop, same peripheral models, same public methods as :class:`Mcu`; only the program
 differs: ``firmware/`` compiled for this machine (mcu_sim/native/build.py) instead of the
 Python model. Same inputs at the same simulated times give the same outputs as the Python
-model (tests/test_native_equivalence.py).
+model (tests/unit/mcu_sim/test_native_equivalence.py).
 """
 
 from __future__ import annotations

@@ -27,7 +27,7 @@ from mobigrasp.mcu_sim.native.build import source_hash as firmware_hash
 HARNESS_DIR = FIRMWARE_DIR / "simavr"
 SIMAVR_HEADER = Path("/usr/include/simavr/sim_avr.h")
 
-# What Python sees of the harness: its header, read by mobigrasp/cbuild.py.
+# What Python sees of the harness: its header, read by src/mobigrasp/cbuild.py.
 HARNESS_HEADER = "harness.h"
 
 _loaded: dict[str, object] = {}

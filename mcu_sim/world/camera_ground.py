@@ -11,7 +11,7 @@ coordinates (OpenCV's BORDER_WRAP goes pixel by pixel).
 from __future__ import annotations
 
 from functools import lru_cache
-from typing import TYPE_CHECKING
+from typing import Any, Protocol
 
 import cv2
 import numpy as np
@@ -19,8 +19,19 @@ import numpy as np
 from mobigrasp.mcu_sim.world import camera_linalg as la
 from mobigrasp.mcu_sim.world import markers as mk
 
-if TYPE_CHECKING:  # the painter of camera.py, which imports this module
-    from mobigrasp.mcu_sim.world.camera import _Painter as Painter
+
+class View(Protocol):
+    """What the floor needs of the frame being painted (camera.py's painter is one): the image
+    ``img`` (H x W x 3 uint8, drawn into), the camera centre ``c`` (world, m), the rotation ``R``
+    whose columns are the camera axes in the world, the intrinsic matrix ``K`` and ``intr``
+    (``f_px``, ``u0_px``, ``v0_px``, ``width``, ``height``)."""
+
+    img: np.ndarray
+    c: np.ndarray
+    R: np.ndarray
+    K: np.ndarray
+    intr: Any
+
 
 SKY_RGB = (196, 200, 206)
 
@@ -76,7 +87,7 @@ def _pixel_grid(width: int, height: int) -> np.ndarray:
     return np.stack([u, v], axis=-1)
 
 
-def _horizon_split(p: Painter) -> tuple[list, list]:
+def _horizon_split(p: View) -> tuple[list, list]:
     """The sky polygon (rays within 0.004 rad of the horizon or above) and the floor polygon
     (the rest) of the frame, each as a list of image points, clipped to the frame +- 1 px."""
     f, u0, v0 = p.intr.f_px, p.intr.u0_px, p.intr.v0_px
@@ -130,7 +141,7 @@ def _near_rows_from(Hi: np.ndarray, x0: int, x1: int, y0: int, y1: int, lo: floa
     return y0 + int(bad[-1]) + 1 if len(bad) else y0
 
 
-def draw_ground(p: Painter, seed: int) -> None:
+def draw_ground(p: View, seed: int) -> None:
     """Draw the repeating floor tile over the floor part of the frame, then paint the sky above
     the horizon.
 

@@ -24,13 +24,13 @@ and a method added to the host's registry is one the loader accepts.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
 from typing import Any, Protocol
 
+from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.faults.plan import FaultError, FaultPlan, parse_faults
 
 TARGET_KINDS = ("radial-symbol", "double-cross", "red-cylinder")
@@ -92,7 +92,7 @@ class MethodSchema(Protocol):
     robot: str  # the robot the world builds (mcu_sim/world/arm.py ARM_BY_METHOD)
 
 
-class ScenarioError(ValueError):
+class ScenarioError(checks.BadValue):
     """A scenario file is malformed: the message names the file, the key and what was expected."""
 
 
@@ -187,29 +187,14 @@ class Scenario:
 def load_scenario(path: str | Path, *, methods: Mapping[str, MethodSchema]) -> Scenario:
     """Read and validate a scenario file."""
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ScenarioError(f"{p}: cannot read scenario file ({exc.strerror})") from exc
-    except UnicodeDecodeError as exc:
-        raise ScenarioError(f"{p}: not UTF-8 text (byte {exc.start}: "
-                            f"{exc.object[exc.start:exc.start + 1]!r})") from exc
-    return loads_scenario(text, str(p), methods=methods)
+    return loads_scenario(checks.read_text(p, "scenario file", ScenarioError), str(p),
+                          methods=methods)
 
 
 def loads_scenario(text: str, source: str = "<string>", *,
                    methods: Mapping[str, MethodSchema]) -> Scenario:
     """Parse and validate scenario TOML text; ``source`` names it in error messages."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{source}: not valid TOML ({exc})") from exc
-    return parse_scenario(data, source, methods=methods)
-
-
-def _range_text(rng: tuple[float, float], unit: str) -> str:
-    lo, hi = (f"{v}" if isinstance(v, int) else f"{v:g}" for v in rng)
-    return f"[{lo}, {hi}]" + (f" {unit}" if unit else "")
+    return parse_scenario(checks.load_toml(text, source, ScenarioError), source, methods=methods)
 
 
 class _Checker:
@@ -219,8 +204,8 @@ class _Checker:
         self.source = source
 
     def fail(self, key: str, expected: str, got: Any = None, present: bool = True) -> None:
-        got_txt = f", got {got!r} ({type(got).__name__})" if present else ""
-        raise ScenarioError(f"{self.source}: {key}: expected {expected}{got_txt}")
+        checks.fail(self.source, key, expected, got if present else checks.MISSING,
+                    ScenarioError)
 
     def table(self, data: dict, key: str, required: bool = True) -> dict | None:
         if key not in data:
@@ -235,7 +220,7 @@ class _Checker:
     def keys(self, table: dict, where: str, allowed: tuple[str, ...]) -> None:
         for k in table:
             if k not in allowed:
-                name = f"{where}.{k}" if where else k
+                name = checks.key_text(f"{where}.{k}" if where else k)
                 raise ScenarioError(f"{self.source}: {name}: unknown key; expected one of: "
                                     f"{', '.join(allowed)}")
 
@@ -247,30 +232,14 @@ class _Checker:
             if required:
                 self.fail(name, "a number (missing)", present=False)
             return default
-        v = table[key]
-        if isinstance(v, bool) or not isinstance(v, (int, float)):
-            self.fail(name, "a number", v)
-        try:
-            v = float(v)
-        except OverflowError:  # an integer beyond any float
-            self.fail(name, f"a number in {_range_text(rng, unit)}", v)
-        if not math.isfinite(v):
-            self.fail(name, f"a finite number in {_range_text(rng, unit)}", v)
-        if not rng[0] <= v <= rng[1]:
-            self.fail(name, f"a number in {_range_text(rng, unit)}", v)
-        return v
+        return checks.number(table[key], self.source, name, rng[0], rng[1], unit, ScenarioError)
 
     def integer(self, table: dict, where: str, key: str, rng: tuple[int, int],
                 unit: str = "") -> int:
         name = f"{where}.{key}"
         if key not in table:
             self.fail(name, "an integer (missing)", present=False)
-        v = table[key]
-        if isinstance(v, bool) or not isinstance(v, int):
-            self.fail(name, "an integer", v)
-        if not rng[0] <= v <= rng[1]:
-            self.fail(name, f"an integer in {_range_text(rng, unit)}", v)
-        return v
+        return checks.integer(table[key], self.source, name, rng[0], rng[1], unit, ScenarioError)
 
     def choice(self, table: dict, where: str, key: str, options: tuple[str, ...]) -> str:
         name = f"{where}.{key}"
@@ -410,14 +379,14 @@ def _parse_camera(c: _Checker, cam: dict, intrinsics: CameraIntrinsics) -> Camer
 
 
 def _parse_params(c: _Checker, raw: dict, method: str,
-                  schema: MethodSchema) -> dict[str, float | int]:
+                  schema: MethodSchema, unused_ok: bool = False) -> dict[str, float | int]:
     table = schema.paper_params
     out: dict[str, float | int] = {k: p.default for k, p in table.items()}
     for key in raw:
         if key not in table:
-            raise ScenarioError(f"{c.source}: params.{key}: unknown key; expected a parameter "
-                                f"of method {method}: {', '.join(table)}")
-        if key in schema.not_used_params:
+            raise ScenarioError(f"{c.source}: {checks.key_text(f'params.{key}')}: unknown key; "
+                                f"expected a parameter of method {method}: {', '.join(table)}")
+        if key in schema.not_used_params and not unused_ok:
             raise ScenarioError(f"{c.source}: params.{key}: {key} is not used by method "
                                 f"{method}")
         p = table[key]
@@ -425,12 +394,64 @@ def _parse_params(c: _Checker, raw: dict, method: str,
             out[key] = c.integer(raw, "params", key, (int(p.lo), int(p.hi)), p.unit)
         else:
             out[key] = c.number(raw, "params", key, (p.lo, p.hi), unit=p.unit)
-    for lo, hi, gap in schema.param_order:
-        if out[hi] - out[lo] < gap - 1e-9:
-            bad = lo if lo in raw else hi
-            want = f"{lo} <= {hi}" if not gap else f"{lo} < {hi} by at least {gap:g}"
-            raise ScenarioError(f"{c.source}: params.{bad}: expected {want}, got "
-                                f"{lo} = {out[lo]!r}, {hi} = {out[hi]!r}")
+    checks.ordered(out, schema.param_order, c.source, "params.", ScenarioError, given=raw)
+    return out
+
+
+# --- the host program's configuration (``mobigrasp host --config``) ---------------------------
+
+HOST_CONFIG_KEYS = ("method", "params", "camera", "task")
+HOST_TASK_KEYS = ("timeouts_us", "object_xy_mm")
+_STATE_NAME_CHARS = 20
+
+
+def parse_host_config(cfg: Any, source: str, *,
+                      methods: Mapping[str, MethodSchema]) -> dict:
+    """A host configuration (what ``mobigrasp run`` gives its host process: method, paper
+    parameters, camera intrinsics, task settings) checked as a scenario's values are: the same
+    ranges and ordered pairs, the principal point within the image. ScenarioError naming
+    ``source`` and the key otherwise. Keys not given stay out (the host's defaults)."""
+    c = _Checker(source)
+    checks.nested(cfg, source, "(document)", ScenarioError)
+    if not isinstance(cfg, dict):
+        c.fail("(document)", "a JSON object with " + ", ".join(HOST_CONFIG_KEYS), cfg)
+    c.keys(cfg, "", HOST_CONFIG_KEYS)
+    method = cfg.get("method", next(iter(methods)))
+    if not isinstance(method, str) or method not in methods:
+        c.fail("method", "one of " + ", ".join(f'"{m}"' for m in methods), method)
+    schema = methods[method]
+    out: dict[str, Any] = {"method": method}
+    if "params" in cfg:
+        raw = c.table(cfg, "params")
+        full = _parse_params(c, raw, method, schema, unused_ok=True)
+        out["params"] = {k: full[k] for k in raw}
+    if "camera" in cfg:
+        cam = c.table(cfg, "camera")
+        full_cam = _parse_camera(c, cam, schema.camera)
+        out["camera"] = {k: getattr(full_cam, k) for k in cam}
+    if "task" in cfg:
+        task = c.table(cfg, "task")
+        c.keys(task, "task", HOST_TASK_KEYS)
+        out["task"] = {}
+        if "timeouts_us" in task:
+            tmo = task["timeouts_us"]
+            if not isinstance(tmo, dict):
+                c.fail("task.timeouts_us", "a table of task states and µs", tmo)
+            for state in tmo:
+                if not state.isupper() or len(state) > _STATE_NAME_CHARS:
+                    c.fail(f"task.timeouts_us.{checks.key_text(state)}",
+                           "a task state's name (SEARCH, APPROACH, ...)", state)
+                c.integer(tmo, "task.timeouts_us", state, (1, int(MAX_TIME_LIMIT_S * 1e6)), "us")
+            out["task"]["timeouts_us"] = dict(tmo)
+        if "object_xy_mm" in task:
+            xy = task["object_xy_mm"]
+            if not isinstance(xy, list) or len(xy) not in (0, 2):
+                c.fail("task.object_xy_mm", "[x, y] in mm, or []", xy)
+            lim = int(WORLD_HALF_M * 2000)
+            for k, v in enumerate(xy):
+                checks.integer(v, source, f"task.object_xy_mm[{k}]", -lim, lim, "mm",
+                               ScenarioError)
+            out["task"]["object_xy_mm"] = list(xy)
     return out
 
 
@@ -480,3 +501,8 @@ def _check_geometry(c: _Checker, robot: RobotStart, target: TargetSpec,
     if gap <= 0:
         c.fail("target", f"a target clear of the robot's start footprint (overlap "
                          f"{-gap:.3f} m)", (target.x_m, target.y_m))
+
+
+def run_time_limit_s(scenario: Scenario, asked_s: float | None) -> float:
+    """A run's time limit: the one asked for (``--time-limit-s``), else the scenario's."""
+    return asked_s or scenario.meta.time_limit_s

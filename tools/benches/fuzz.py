@@ -26,102 +26,52 @@ import struct
 import time
 from operator import le
 
+from mobigrasp.services.fuzz_inputs import MUTATIONS, command, mutate
+
 NAME = "fuzz"
+POOL_FRAMES = 4096
 HELP = "mutated frames into the firmware's parser and dispatch: crashes, lost and false frames"
 
 
 def add_arguments(parser) -> None:
     """Bench options."""
-    parser.add_argument("--inputs", type=int, default=1_000_000,
-                        help="mutated inputs (default 1000000)")
-    parser.add_argument("--seed", type=int, default=1, help="seed of the inputs (default 1)")
+    from mobigrasp.mcu_sim import checks
 
-
-_SERVOS_RAW = struct.Struct("<B6hH")
-POOL_FRAMES = 4096
-
-
-def _command(rng: random.Random) -> tuple[int, bytes]:
-    """(msg_type, payload) of one host -> MCU command as the host or an attacker could send it:
-    mostly valid messages, some with raw fields anywhere in their wire types."""
-    from mobigrasp.mcu_sim.firmware import params as P
-    from mobigrasp.protocol import messages as m
-
-    r = rng.random()
-    if r < 0.2:
-        mode = rng.randint(0, 1)
-        lim = (500, 2500) if mode == m.SERVO_MODE_PULSE_US else (-3142, 3142)
-        msg = m.SetServos(mode, tuple(rng.randint(*lim) for _ in range(6)), rng.randint(0, 65535))
-    elif r < 0.3:  # raw: any mode byte, any int16 target (the firmware NACKs what is out of spec)
-        return m.SetServos.MSG_TYPE, _SERVOS_RAW.pack(
-            rng.randint(0, 3), *(rng.randint(-32768, 32767) for _ in range(6)),
-            rng.randint(0, 65535))
-    elif r < 0.45:
-        msg = m.SetWheels(rng.randint(-1000, 1000), rng.randint(-1000, 1000))
-    elif r < 0.5:
-        return m.SetWheels.MSG_TYPE, struct.pack("<hh", rng.randint(-32768, 32767),
-                                                 rng.randint(-32768, 32767))
-    elif r < 0.6:
-        msg = m.Gripper(rng.randint(0, 1000))
-    elif r < 0.75:
-        pid = rng.choice((P.P_WATCHDOG_MS, P.P_WHEEL_MAX_MMPS,
-                          P.P_SERVO_MIN_BASE + rng.randint(0, 5),
-                          P.P_SERVO_MAX_BASE + rng.randint(0, 5), rng.randint(0, 0xFFFF)))
-        value = rng.choice((0, 1, 49, 50, 500, 1000, 1001, 2500, 10_000, -1,
-                            rng.randint(-2**31, 2**31 - 1)))
-        msg = m.ParamSet(pid, value)
-    elif r < 0.8:
-        msg = m.ParamGet(rng.randint(0, 0xFFFF))
-    elif r < 0.85:
-        msg = m.Stop()
-    elif r < 0.9:
-        msg = m.Hello(m.PROTOCOL_VERSION, "fuzz", rng.randint(0, 0xFFFF))
-    else:
-        msg = m.Heartbeat(rng.randint(0, 2**32 - 1))
-    return msg.MSG_TYPE, msg.encode()
-
-
-_MUTATIONS = ("flip", "replace", "insert", "delete", "lost_delimiter", "cut", "noise")
-
-
-def _mutate(rng: random.Random, window: list[bytes]) -> tuple[str, bytes, int | None]:
-    """(kind, bytes, k) of the corrupted window, its last byte (a 0x00) kept intact; ``k`` is
-    the index of the frame whose delimiter was lost or that was cut short (else None)."""
-    kind = rng.choice(_MUTATIONS)
-    body = bytearray(b"".join(window)[:-1])  # all but the final delimiter
-    k = None
-    if kind in ("lost_delimiter", "cut") and len(window) >= 2:
-        k = rng.randrange(len(window) - 1)
-        start = sum(len(w) for w in window[:k])
-        if kind == "lost_delimiter":
-            del body[start + len(window[k]) - 1]
-        else:
-            keep = rng.randint(1, len(window[k]) - 1)
-            del body[start + keep:start + len(window[k])]
-    elif kind == "flip":
-        for _ in range(rng.randint(1, 3)):
-            body[rng.randrange(len(body))] ^= 1 << rng.randrange(8)
-    elif kind == "replace":
-        body[rng.randrange(len(body))] = rng.randrange(256)
-    elif kind == "insert":
-        body.insert(rng.randrange(len(body) + 1), rng.randrange(256))
-    elif kind == "delete":
-        del body[rng.randrange(len(body))]
-    else:  # noise (or a window of one frame): a burst of random bytes over part of it
-        kind = "noise"
-        at = rng.randrange(len(body))
-        for i in range(at, min(len(body), at + rng.randint(1, 40))):
-            body[i] = rng.randrange(256)
-    return kind, bytes(body) + b"\x00", k
+    parser.add_argument("--inputs", type=checks.arg_int(1, 10**12), default=1_000_000,
+                        help="mutated inputs (default 1000000); with --c: libFuzzer inputs, "
+                             "shared by the three C targets")
+    parser.add_argument("--seed", type=checks.arg_int(0, 2**31 - 1), default=1,
+                        help="seed of the inputs (default 1)")
+    parser.add_argument("--jobs", type=checks.arg_int(1, 256), default=None,
+                        help="processes, each with its own emulated MCU and share of the "
+                             "inputs (default 1; more pays on idle cores only)")
+    parser.add_argument("--c", action="store_true",
+                        help="fuzz the C protocol code instead (services/fuzz_c.py: "
+                             "libFuzzer with ASan+UBSan, and the C parser against the Python)")
+    parser.add_argument("--diff-inputs", type=checks.arg_int(0, 10**10), default=100_000,
+                        help="with --c: inputs of the differential run (default 100000)")
+    parser.add_argument("--max-seconds", type=checks.arg_int(1, 10**7), default=None,
+                        help="with --c: wall seconds each C target may take at most (the "
+                             "figures say how many inputs ran); default: no limit")
 
 
 def _violations(fw, mech) -> int:
-    """Limit checks of the firmware state after a dispatched frame; the number that fail."""
+    """Limit checks of the firmware state after a dispatched frame; the number that fail.
+
+    First all of them at once over the concatenated tables (two passes instead of ten: this
+    runs after every frame), counted one by one only when that finds something."""
     from mobigrasp.mcu_sim.firmware import params as P
 
-    bad = 0
     s = fw.servos
-    lo_us, hi_us, lo8, hi8 = mech
+    lo_us, hi_us, lo8, hi8 = mech[:4]
+    values = s.min_us + s.max_us + s.target_q8 + s.pending_q8 + s.latched_q8
+    if all(map(le, mech[4], values)) and all(map(le, values, mech[5])) \
+            and all(map(le, s.min_us, s.max_us)) \
+            and P.WATCHDOG_MIN_MS <= fw.params.get(P.P_WATCHDOG_MS) <= P.WATCHDOG_MAX_MS \
+            and -1000 <= fw.wheels[0].target_mmps <= 1000 \
+            and -1000 <= fw.wheels[1].target_mmps <= 1000:
+        return 0
+    bad = 0
     for values, lo, hi in ((s.min_us, lo_us, hi_us), (s.max_us, lo_us, hi_us),
                            (s.target_q8, lo8, hi8), (s.pending_q8, lo8, hi8),
                            (s.latched_q8, lo8, hi8)):
@@ -155,6 +105,8 @@ def fuzz(n_inputs: int, seed: int) -> dict:
     parser = fw.parser
     mech = (tuple(lo for lo, _ in MECH_LIMITS_US), tuple(hi for _, hi in MECH_LIMITS_US),
             tuple(lo << 8 for lo, _ in MECH_LIMITS_US), tuple(hi << 8 for _, hi in MECH_LIMITS_US))
+    # the bounds of min_us + max_us + target_q8 + pending_q8 + latched_q8, concatenated
+    mech += (list(mech[0] * 2 + mech[2] * 3), list(mech[1] * 2 + mech[3] * 3))
     now = 1000
     for frame in parser.feed(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "fuzz", 0), 0)):
         handle_frame(fw, frame, now)
@@ -162,7 +114,7 @@ def fuzz(n_inputs: int, seed: int) -> dict:
     # input would cost more than the fuzzing); repeats exercise the duplicate filter too
     pool = []
     for _ in range(POOL_FRAMES):
-        msg_type, payload = _command(rng)
+        msg_type, payload = command(rng)
         seq = rng.randrange(256)
         pool.append((encode_raw(m.PROTOCOL_VERSION, seq, msg_type, payload),
                      bytes((m.PROTOCOL_VERSION, seq, msg_type)) + payload))
@@ -170,7 +122,7 @@ def fuzz(n_inputs: int, seed: int) -> dict:
            "frames_delivered": 0, "frames_lost_after_corruption": 0,
            "lost_delimiter_inputs": 0, "frames_lost_after_lost_delimiter": 0,
            "frames_never_sent": 0, "never_sent_actuated": 0, "limit_violations": 0}
-    by_kind = dict.fromkeys(_MUTATIONS, 0)
+    by_kind = dict.fromkeys(MUTATIONS, 0)
     first_crash = ""
     header = struct.Struct("<BBB").pack
     t0 = time.perf_counter()
@@ -179,7 +131,7 @@ def fuzz(n_inputs: int, seed: int) -> dict:
         wires = [w for w, _ in picked]
         keys = [key for _, key in picked]  # version, seq, type, payload of each frame sent
         window = wires[:-2]
-        kind, bad, k = _mutate(rng, window)
+        kind, bad, k = mutate(rng, window)
         by_kind[kind] += 1
         stream = bad + wires[-2] + wires[-1]
         out["inputs"] += 1
@@ -223,9 +175,46 @@ def fuzz(n_inputs: int, seed: int) -> dict:
     return out
 
 
+def _share(job: tuple[int, int]) -> dict:
+    return fuzz(*job)
+
+
+def merge(parts: list[dict], wall_s: float) -> dict:
+    """The figures of workers that ran shares of the inputs, as one run's."""
+    out: dict = {}
+    for part in parts:
+        for key, value in part.items():
+            if isinstance(value, int) and not isinstance(value, bool):
+                out[key] = out.get(key, 0) + value
+            elif isinstance(value, dict):
+                into = out.setdefault(key, {})
+                for k, v in value.items():
+                    into[k] = into.get(k, 0) + v
+    out["first_crash"] = next((p["first_crash"] for p in parts if p["first_crash"]), "")
+    out["seed"] = parts[0]["seed"]
+    out["workers"] = len(parts)
+    out["wall_s"] = wall_s
+    out["inputs_per_s"] = out["inputs"] / wall_s if wall_s > 0 else 0.0
+    return out
+
+
 def run(args) -> dict:
-    """Run the fuzz and return its figures."""
+    """Run the fuzz and return its figures: over ``--jobs`` processes (worker k seeded with
+    ``seed + k``, one worker: exactly ``fuzz(inputs, seed)``), or the C fuzz with ``--c``."""
     n = int(getattr(args, "inputs", 1_000_000))
-    if n <= 0:
-        raise ValueError("--inputs must be positive")
-    return fuzz(n, int(getattr(args, "seed", 1)))
+    seed = int(getattr(args, "seed", 1))
+    if getattr(args, "c", False):
+        from mobigrasp.services.fuzz_c import run_c
+
+        return run_c(n, seed, int(getattr(args, "diff_inputs", 100_000)),
+                     getattr(args, "max_seconds", None))
+    jobs = min(getattr(args, "jobs", None) or 1, n)
+    if jobs == 1:
+        return fuzz(n, seed)
+    from concurrent.futures import ProcessPoolExecutor
+
+    shares = [(n // jobs + (k < n % jobs), seed + k) for k in range(jobs)]
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=jobs) as pool:
+        parts = list(pool.map(_share, shares))
+    return merge(parts, time.perf_counter() - t0)

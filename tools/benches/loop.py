@@ -6,8 +6,8 @@ runs each; the baseline measured in the same run is the strict alternation (``_l
 is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
 The same run over the pty with the avr-gcc ELF on simavr (``--mcu simavr``) gives
 ``realtime_factor_pty_simavr`` and ``simavr_vs_python_pty``, its ratio to the Python model's.
-The campaign (tools/loop_campaign.py) runs ``--runs`` seeded random scenarios per method
-(tools/random_scenarios.py), over the pty by default (``--transport``; the trace is the same over
+The campaign (services/loop_campaign.py) runs ``--runs`` seeded random scenarios per method
+(services/random_scenarios.py), over the pty by default (``--transport``; the trace is the same over
 either), and reports the figures of the acceptance bar per method (docs/cosim.md, "Random scenes
 of generator v2"): it prints them as the markdown table of docs/cosim.md, writes it as loop.md
 and the figure loop.png beside ``--json``, and keeps the scenes, run folders and rows in
@@ -21,15 +21,15 @@ import sys
 import tempfile
 from pathlib import Path
 
-from mobigrasp.tools.benches import BenchInputError, json_path
-from mobigrasp.tools.loop_campaign import (
+from mobigrasp.services.loop_campaign import (
     CampaignInputError,
     LoopCampaign,
     markdown,
     run_campaign,
 )
+from mobigrasp.services.random_scenarios import DEFAULT_VERSION, GENERATORS
+from mobigrasp.tools.benches import BenchInputError, json_path
 from mobigrasp.tools.progress import Progress
-from mobigrasp.tools.random_scenarios import DEFAULT_VERSION, GENERATORS
 
 NAME = "loop"
 HELP = "closed-loop real-time factor (pty, inproc) and success rate of random scenarios"
@@ -46,7 +46,7 @@ def add_arguments(parser) -> None:
                         help="seed of the first run (default 1000)")
     parser.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
     parser.add_argument("--generator", default=DEFAULT_VERSION, choices=tuple(GENERATORS),
-                        help="random scenario generator version (tools/random_scenarios.py)")
+                        help="random scenario generator version (services/random_scenarios.py)")
     parser.add_argument("--transport", default="pty", choices=("pty", "inproc"),
                         help="transport of the random runs: pty (two processes, default) or "
                              "inproc; the trace is the same over either")
@@ -68,7 +68,7 @@ def progress_enabled() -> bool:
 
 
 def _one(opts) -> dict:
-    from mobigrasp.tools.run_job import execute
+    from mobigrasp.services.run_job import execute
 
     summary, _ = execute(opts)
     return summary
@@ -94,7 +94,7 @@ def campaign_folder(json: Path) -> Path:
 
 def write_campaign(result: dict, json: Path) -> tuple[Path, Path]:
     """loop.md (the table and the runs that missed) and loop.png beside the JSON."""
-    from mobigrasp.tools.plots import loop_campaign
+    from mobigrasp.services.plots import loop_campaign
 
     json.parent.mkdir(parents=True, exist_ok=True)
     md = json.with_suffix(".md")
@@ -125,7 +125,7 @@ def _campaign(args) -> dict:
 
 def realtime_factors(args) -> dict:
     """The real-time factors of paper000-exp1 over both transports at both lags."""
-    from mobigrasp.tools.run_job import RunOptions
+    from mobigrasp.services.run_job import RunOptions
 
     results: dict = {}
     with tempfile.TemporaryDirectory(prefix="mobigrasp-bench-") as tmp:

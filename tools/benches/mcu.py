@@ -22,15 +22,18 @@ HELP = "emulated MCU speed: simulated s per wall s with 50 Hz telemetry and 50 H
 
 def add_arguments(parser) -> None:
     """Bench options."""
-    parser.add_argument("--seconds", type=int, default=20, help="simulated seconds (default 20)")
-    parser.add_argument("--telemetry-hz", type=int, default=50,
+    from mobigrasp.mcu_sim import checks
+
+    parser.add_argument("--seconds", type=checks.arg_int(1, 3600),
+                        default=20, help="simulated seconds (default 20)")
+    parser.add_argument("--telemetry-hz", type=checks.arg_int(0, 100), default=50,
                         help="telemetry rate of the MCU in Hz (default 50)")
-    parser.add_argument("--command-hz", type=int, default=50,
+    parser.add_argument("--command-hz", type=checks.arg_int(1, 100), default=50,
                         help="rate of host commands in Hz (default 50)")
     parser.add_argument("--mcu", default="python",
                         help="MCU backend (python, native, simavr); another than python is "
                              "measured beside python, with the ratio")
-    parser.add_argument("--rounds", type=int, default=3,
+    parser.add_argument("--rounds", type=checks.arg_int(1, 1000), default=3,
                         help="runs per backend, taking turns; the best counts (default 3)")
 
 

@@ -22,7 +22,10 @@ SONAR_CLEAR = (2500, 2500, 2500, 2500, 2500)
 
 def add_arguments(parser) -> None:
     """Options of the planning bench."""
-    parser.add_argument("--runs", type=int, default=60, help="repetitions per case (>= 50)")
+    from mobigrasp.mcu_sim import checks
+
+    parser.add_argument("--runs", type=checks.arg_int(50, 1_000_000),
+                        default=60, help="repetitions per case (>= 50)")
 
 
 def _median_ms(fn, runs: int) -> tuple[float, float, object]:

@@ -21,10 +21,15 @@ LINE_RATE_BYTES_PER_S = 115_200 // 10
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Bench options."""
-    parser.add_argument("--frames", type=int, default=20_000, help="frames in the test stream")
-    parser.add_argument("--chunk", type=int, default=4096, help="bytes per parser feed() call")
-    parser.add_argument("--repeat", type=int, default=5, help="timed runs; the best is kept")
-    parser.add_argument("--seed", type=int, default=1,
+    from mobigrasp.mcu_sim import checks
+
+    parser.add_argument("--frames", type=checks.arg_int(1, 10_000_000),
+                        default=20_000, help="frames in the test stream")
+    parser.add_argument("--chunk", type=checks.arg_int(1, 1 << 20),
+                        default=4096, help="bytes per parser feed() call")
+    parser.add_argument("--repeat", type=checks.arg_int(1, 1000),
+                        default=5, help="timed runs; the best is kept")
+    parser.add_argument("--seed", type=checks.arg_int(0, 2**63 - 1), default=1,
                         help="seed of the random messages (default 1)")
 
 

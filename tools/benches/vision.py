@@ -26,10 +26,13 @@ HELP = "detectors: detection/FP rates, distance and bearing errors, wall and ARM
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of the vision benchmark."""
-    parser.add_argument("--frames", type=int, default=200,
+    from mobigrasp.mcu_sim import checks
+
+    parser.add_argument("--frames", type=checks.arg_int(1, 1_000_000), default=200,
                         help="target frames per detector (as many degraded and empty ones); "
                              "1000 for the accuracy figures of docs/markers.md")
-    parser.add_argument("--seed", type=int, default=6, help="pose/noise seed")
+    parser.add_argument("--seed", type=checks.arg_int(0, 2**63 - 1),
+                        default=6, help="pose/noise seed")
     parser.add_argument("--detectors", default=",".join(DETECTORS),
                         help="comma-separated subset of " + ", ".join(va.SPECS))
 

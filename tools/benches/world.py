@@ -12,25 +12,29 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import time
-from pathlib import Path
 
 import numpy as np
 
-from mobigrasp.mcu_sim.world.scenario import load_scenario
 from mobigrasp.mcu_sim.world.world import World
+from mobigrasp.services.run_job import BadInput, resolve_scenario
+from mobigrasp.tools.benches import BenchInputError
 
 NAME = "world"
 HELP = "plant speed: simulated seconds per wall second at 1 kHz physics, ms per camera frame"
-DEFAULT_SCENARIO = Path(__file__).resolve().parents[2] / "tests" / "data" / "scenarios" \
-    / "method_001.toml"
+DEFAULT_SCENARIO = "paper001-sim1"  # shipped: 001 with five obstacles
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     """Options of the world benchmark."""
-    parser.add_argument("--scenario", type=Path, default=DEFAULT_SCENARIO,
-                        help="scenario file (default: the 001 example with obstacles)")
-    parser.add_argument("--sim-s", type=float, default=20.0, help="simulated seconds per run")
-    parser.add_argument("--frames", type=int, default=200, help="camera frames to render")
+    from mobigrasp.mcu_sim import checks
+
+    parser.add_argument("--scenario", default=DEFAULT_SCENARIO,
+                        help="scenario file or shipped name (default: paper001-sim1, "
+                             "001 with obstacles)")
+    parser.add_argument("--sim-s", type=checks.arg_number(0.0, 3600.0, "s", lo_open=True),
+                        default=20.0, help="simulated seconds per run")
+    parser.add_argument("--frames", type=checks.arg_int(1, 1_000_000),
+                        default=200, help="camera frames to render")
 
 
 def _run_world(scenario, sim_s: float, sensors: bool) -> float:
@@ -72,9 +76,10 @@ def _frames(scenario, n: int) -> dict:
 
 def run(args: argparse.Namespace) -> dict:
     """Measure and return the figures (keys carry their units)."""
-    from mobigrasp.host.task import REGISTRY
-
-    scenario = load_scenario(args.scenario, methods=REGISTRY)
+    try:
+        scenario = resolve_scenario(args.scenario)[1]
+    except BadInput as exc:
+        raise BenchInputError(str(exc)) from exc
     _run_world(scenario, 1.0, False)  # warm-up (imports, caches)
     out = {
         "scenario": scenario.meta.name,

@@ -12,6 +12,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+
 
 def _table(result: dict) -> str:
     lines = [f"{'stage':<16}{'frames':>7}{'model_us':>10}{'emu_us':>10}{'emu_p95':>10}"
@@ -29,7 +31,8 @@ def _table(result: dict) -> str:
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.calib import calibrate, corpus, plan_corpus
     from mobigrasp.calib.arm import ToolchainError, progress_stderr
-    from mobigrasp.tools.run_job import BadInput, shipped_scenarios
+    from mobigrasp.services.corpus import record as record_corpus
+    from mobigrasp.services.run_job import BadInput, shipped_scenarios
 
     if args.frames_per_scenario is not None and args.frames_per_scenario < 1:
         print(f"mobigrasp calibrate: --frames-per-scenario must be >= 1, got "
@@ -51,7 +54,7 @@ def _run(args: argparse.Namespace) -> int:
             if folder is None:
                 folder = Path(tmp) / "corpus"
                 progress_stderr("calibrate: recording the corpus of the shipped scenarios")
-                corpus.record(folder, [p.stem for p in shipped_scenarios()],
+                record_corpus(folder, [p.stem for p in shipped_scenarios()],
                               progress=progress_stderr)
             result = calibrate.calibrate(folder, per, args.line_fill_cycles,
                                          progress=None if args.quiet else progress_stderr)
@@ -82,9 +85,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--corpus", type=Path, default=None,
                    help="corpus folder (mobigrasp corpus); default: record one first")
     p.add_argument("--json", type=Path, default=None, help="write the result here too")
-    p.add_argument("--frames-per-scenario", type=int, default=10, metavar="N",
+    p.add_argument("--frames-per-scenario", type=checks.arg_int(1, 10_000), default=10, metavar="N",
                    help="frames per scenario, spread evenly (default 10)")
     p.add_argument("--all", action="store_true", help="every frame of the corpus")
-    p.add_argument("--line-fill-cycles", type=int, default=40, metavar="C",
+    p.add_argument("--line-fill-cycles", type=checks.arg_int(0, 1000), default=40, metavar="C",
                    help="core cycles of one D-cache line fill (default 40)")
     p.set_defaults(func=_run)

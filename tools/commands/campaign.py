@@ -14,12 +14,20 @@ import argparse
 import sys
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S
 from mobigrasp.tools.method_choice import METHOD_CHOICES
 
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
-    from mobigrasp.tools.campaign import CampaignConfig, format_table, run_campaign, write_outputs
+    from mobigrasp.services.campaign import (
+        CampaignConfig,
+        claim_out,
+        format_table,
+        run_campaign,
+        write_outputs,
+    )
     from mobigrasp.tools.progress import Progress
 
     try:
@@ -31,15 +39,23 @@ def _run(args: argparse.Namespace) -> int:
     except (FaultError, ValueError) as exc:
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
-    display = Progress(total=cfg.runs, desc="campaign", unit="runs", enabled=not args.quiet)
-    try:
-        result = run_campaign(cfg, progress=display)
-    except ValueError as exc:  # EngineError (scheduler unreachable), rows of another campaign
-        display.close()
+    try:  # the folder locked before anything in it is touched
+        folder = claim_out(cfg)
+    except ValueError as exc:  # in use, not a campaign's folder, a file
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
-    print(format_table(result["summary"]))
-    js, png = write_outputs(result, cfg.out)
+    with folder:
+        display = Progress(total=cfg.runs, desc="campaign", unit="runs", enabled=not args.quiet)
+        try:
+            result = run_campaign(cfg, progress=display, folder=folder)
+        except ValueError as exc:  # EngineError (scheduler unreachable), a row of another
+            display.close()        # campaign or not a row
+            print(f"mobigrasp campaign: {exc}", file=sys.stderr)
+            return 2
+        for note in result["set_aside"]:
+            print(f"mobigrasp campaign: {note}", file=sys.stderr)
+        print(format_table(result["summary"]))
+        js, png = write_outputs(result, cfg.out)
     print(f"wrote {js} and {png}")
     return 1 if result["summary"]["crashed_runs"] else 0
 
@@ -49,15 +65,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("campaign", help="N seeded random scenarios under injected faults")
     p.add_argument("--method", required=True, choices=METHOD_CHOICES, metavar="METHOD",
                    help="the method that runs, a name of the registry (host/task/method.py)")
-    p.add_argument("--runs", type=int, default=10, help="number of runs (default 10)")
+    p.add_argument("--runs", type=checks.arg_int(1, 1_000_000),
+                   default=10, help="number of runs (default 10)")
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="a fault (docs/faults.md), repeatable; dotted keys for tables, e.g. "
                         "uart_bit_error_rate=1e-3 or uart_burst.start_s=3")
-    p.add_argument("--seed", type=int, default=0, help="seed of the first run (run k: seed+k)")
-    p.add_argument("--jobs", type=int, default=None, help="parallel runs (default: cores)")
+    p.add_argument("--seed", type=checks.arg_int(0, MAX_SEED),
+                   default=0, help="seed of the first run (run k: seed+k)")
+    p.add_argument("--jobs", type=checks.arg_int(1, 1024),
+                   default=None, help="parallel runs (default: cores)")
     p.add_argument("--out", type=Path, default=Path("runs/campaign"),
                    help="folder for campaign.json, campaign.png and the run folders")
-    p.add_argument("--time-limit-s", type=float, default=None,
+    p.add_argument("--time-limit-s", default=None,
+                   type=checks.arg_number(0.0, MAX_TIME_LIMIT_S, "s", lo_open=True),
                    help="simulated seconds per run (default: the scenario's limit)")
     p.add_argument("--random-times", action="store_true",
                    help="each run draws every fault time uniformly in [0, the given time]")

@@ -27,6 +27,8 @@ import threading
 import time
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+
 HISTORY_FILE = ".mobigrasp_history"  # in the user's home directory
 HISTORY_LINES = 1000
 HEARTBEAT_MS = 100  # under the firmware's default watchdog_ms (250)
@@ -451,7 +453,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("console", help="interactive shell to send commands to an MCU on PORT")
     p.add_argument("--port", required=True,
                    help="serial port: /dev/pts/N (the path `mobigrasp mcu` prints), /dev/ttyUSB0")
-    p.add_argument("--reply-timeout", type=float, default=1.0,
+    p.add_argument("--reply-timeout", type=checks.arg_number(0.0, 3600.0, "s", lo_open=True),
+                   default=1.0,
                    help="wall seconds to wait for an ACK (default 1)")
     p.add_argument("--heartbeat-ms", type=_heartbeat_ms, default=HEARTBEAT_MS,
                    help=f"HEARTBEAT period once HELLO is answered (default {HEARTBEAT_MS}; "

@@ -8,10 +8,14 @@ import argparse
 import sys
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+from mobigrasp.mcu_sim.world.scenario import MAX_TIME_LIMIT_S
+
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.calib.corpus import CorpusError, record
-    from mobigrasp.tools.run_job import BadInput, shipped_scenarios
+    from mobigrasp.calib.corpus import CorpusError
+    from mobigrasp.services.corpus import record
+    from mobigrasp.services.run_job import BadInput, shipped_scenarios
 
     names = args.scenario or [p.stem for p in shipped_scenarios()]
     if args.time_limit_s is not None and not args.time_limit_s > 0:
@@ -34,6 +38,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--out", type=Path, required=True, help="corpus folder")
     p.add_argument("--scenario", action="append", metavar="NAME",
                    help="only this scenario (repeat; default: the six shipped)")
-    p.add_argument("--time-limit-s", type=float, default=None,
+    p.add_argument("--time-limit-s", default=None,
+                   type=checks.arg_number(0.0, MAX_TIME_LIMIT_S, "s", lo_open=True),
                    help="stop each run after this many simulated seconds")
     p.set_defaults(func=_run)

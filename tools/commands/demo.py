@@ -11,6 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from mobigrasp.mcu_sim import checks
+
 
 def _main(args: argparse.Namespace) -> int:
     if args.count is not None:
@@ -20,8 +22,8 @@ def _main(args: argparse.Namespace) -> int:
               "real pty to a second process and back.")
         result = run_link_demo(args.count)
         return 0 if result["lost"] == 0 else 1
+    from mobigrasp.services.run_job import BadInput, RunOptions, execute, summary_line
     from mobigrasp.tools.progress import RunProgress
-    from mobigrasp.tools.run_job import BadInput, RunOptions, execute, summary_line
 
     out = args.out or Path("runs") / "demo-paper000-exp1"
     print("mobigrasp demo: paper000-exp1 (paper 000, experiment 1) in closed loop: emulated "
@@ -48,6 +50,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("demo", help="run paper000-exp1 in closed loop over the pty")
     parser.add_argument("--out", type=Path, default=None,
                         help="run folder (default runs/demo-paper000-exp1)")
-    parser.add_argument("--count", type=int, default=None,
+    parser.add_argument("--count", type=checks.arg_int(1, 1_000_000), default=None,
                         help="run only the link demo with this many messages")
     parser.set_defaults(func=_main)

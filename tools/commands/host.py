@@ -13,26 +13,25 @@ import argparse
 import json
 import socket
 import sys
-from pathlib import Path
 
 from mobigrasp.tools.method_choice import METHOD_CHOICES
 
 
 def _config(args: argparse.Namespace) -> dict:
+    """The configuration file checked (mcu_sim.world.scenario.parse_host_config), then
+    ``--method``; ValueError with one line naming the file and the key."""
+    from mobigrasp.host.task import METHODS, REGISTRY
+    from mobigrasp.mcu_sim import checks
+    from mobigrasp.mcu_sim.world.scenario import parse_host_config
+
     cfg: dict = {}
     if args.config:
-        try:
-            cfg = json.loads(Path(args.config).read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:  # missing, a folder, not UTF-8, not JSON
-            raise ValueError(f"--config {args.config}: {exc}") from exc
-        if not isinstance(cfg, dict):
-            raise ValueError(f"--config {args.config}: expected a JSON object, got "
-                             f"{type(cfg).__name__}")
+        where = f"--config {args.config}"
+        text = checks.read_text(args.config, "--config")  # not a FIFO, a device, a folder
+        cfg = parse_host_config(checks.load_json(text, where), where, methods=REGISTRY)
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
-    from mobigrasp.host.task import METHODS
-
     if cfg["method"] not in METHODS:
         raise ValueError(f"method must be one of {tuple(METHODS)}, got {cfg['method']!r}")
     return cfg

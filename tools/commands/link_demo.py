@@ -18,6 +18,7 @@ from mobigrasp.link.base import LinkClosed
 from mobigrasp.link.echo import READY_TEXT
 from mobigrasp.link.messages import Link
 from mobigrasp.link.registry import open_transport
+from mobigrasp.mcu_sim import checks
 from mobigrasp.protocol import messages as p
 
 REPLY_TIMEOUT_S = 5.0  # a safety limit for a lost frame, not a performance expectation
@@ -95,18 +96,6 @@ def run_link_demo(count: int, out=print) -> dict:
     return result
 
 
-def _count(text: str) -> int:
-    """``--count``: a whole number of messages in [1, 1000000] (argparse exits 2 otherwise)."""
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if not 1 <= value <= 1_000_000:
-        raise argparse.ArgumentTypeError(
-            f"must be a whole number in [1, 1000000], got {text[:40]!r}")
-    return value
-
-
 def _main(args: argparse.Namespace) -> int:
     result = run_link_demo(args.count)
     return 0 if result["lost"] == 0 else 1
@@ -115,6 +104,6 @@ def _main(args: argparse.Namespace) -> int:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add ``link-demo``."""
     parser = sub.add_parser("link-demo", help="echo frames over a real pty through a 2nd process")
-    parser.add_argument("--count", type=_count, default=300,
+    parser.add_argument("--count", type=checks.arg_int(1, 1_000_000), default=300,
                         help="messages to send, 1..1000000 (default 300)")
     parser.set_defaults(func=_main)

@@ -18,6 +18,8 @@ import argparse
 import sys
 import time
 
+from mobigrasp.mcu_sim import checks
+
 PUMP_STEP_US = 1_000
 
 
@@ -55,7 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "firmware built with this machine's gcc)")
     p.add_argument("--baud-ubrr", type=int, default=16, help="UBRR0 value (default 16)")
     p.add_argument("--u2x", type=int, choices=(0, 1), default=1, help="U2X0 bit (default 1)")
-    p.add_argument("--duration", type=float, default=None,
+    p.add_argument("--duration", type=checks.arg_number(0.0, 1e6, "s", lo_open=True), default=None,
                    help="stop after this many simulated seconds (default: run until closed)")
     p.add_argument("--param", type=_param, action="append", default=[],
                    help="firmware PARAM default, NAME=VALUE (repeatable), e.g. watchdog_ms=500")

@@ -14,8 +14,7 @@ from pathlib import Path
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.cosim.run_folder import default_run_folder
-    from mobigrasp.tools.progress import RunProgress
-    from mobigrasp.tools.run_job import (
+    from mobigrasp.services.run_job import (
         BadInput,
         RunOptions,
         check_run,
@@ -23,6 +22,7 @@ def _run(args: argparse.Namespace) -> int:
         parse_speed,
         summary_line,
     )
+    from mobigrasp.tools.progress import RunProgress
 
     display = RunProgress(total_s=args.time_limit_s, enabled=not args.quiet)
     try:

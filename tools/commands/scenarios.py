@@ -6,7 +6,7 @@ import argparse
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.tools.run_job import BadInput, resolve_scenario, shipped_scenarios
+    from mobigrasp.services.run_job import BadInput, resolve_scenario, shipped_scenarios
 
     print(f"{'name':<28} {'method':<6} {'target':<14} {'obstacles':>9} {'moving':>6} "
           f"{'limit_s':>7}")

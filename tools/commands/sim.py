@@ -69,7 +69,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
     p.add_argument("--out", type=Path, default=None,
-                   help="run folder (default runs/<scenario>-<seed>-sim/)")
+                   help="run folder (default runs/<scenario>-<seed>-sim/, or -sim-2, ... when "
+                        "another session holds it)")
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="end after this many simulated seconds (default: the scenario's)")
@@ -79,7 +80,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
-    from mobigrasp.tools.run_job import (
+    from mobigrasp.services.run_job import (
         BadInput,
         check_seed,
         check_time_limit,
@@ -112,14 +113,15 @@ def _run(args: argparse.Namespace) -> int:
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
-    from mobigrasp.tools.mcap_out import CameraLog
+    from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
+    from mobigrasp.services.mcap_out import McapLog
     from mobigrasp.tools.progress import Progress
 
     wait_host = (not sys.stdin.isatty()) if args.wait_host is None else args.wait_host
-    frames = CameraLog()  # the frames of trace.mcap
+    frames = McapLog()  # trace.mcap, written as the session goes once its folder is taken
 
     scenario = resolved[1]
-    display = Progress(total=round(args.time_limit_s or scenario.meta.time_limit_s, 1),
+    display = Progress(total=round(run_time_limit_s(scenario, args.time_limit_s), 1),
                        desc=f"sim {scenario.meta.name}", unit="s simulated",
                        enabled=not args.quiet)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
@@ -128,7 +130,8 @@ def _run(args: argparse.Namespace) -> int:
                                    camera_port=args.camera_port, out=args.out, seed=args.seed,
                                    time_limit_s=args.time_limit_s, progress=display,
                                    resolved=resolved, plan=plan, wait_host=wait_host,
-                                   tcp_port=args.tcp_port, on_frame=frames.on_frame),
+                                   tcp_port=args.tcp_port, on_frame=frames.on_frame,
+                                   on_folder=lambda out: frames.start(out / "trace.mcap")),
                         on_ready, stop=lambda: asked[0] if asked else None)
     except BadSimInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
@@ -140,7 +143,7 @@ def _run(args: argparse.Namespace) -> int:
     _write_traffic(folder, summary, frames)
     if not args.no_plots:
         try:
-            from mobigrasp.tools.report import write_report
+            from mobigrasp.services.report import write_report
 
             write_report(Path(summary["run_folder"]))
         except Exception as exc:  # a plotting failure must not hide the run's result
@@ -150,7 +153,7 @@ def _run(args: argparse.Namespace) -> int:
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "
           f"run folder: {folder}", flush=True)
     if summary.get("host_traffic"):
-        from mobigrasp.tools.wire_traffic import traffic_lines
+        from mobigrasp.services.wire_traffic import traffic_lines
 
         for line in traffic_lines(summary["host_traffic"]):
             print(f"  {line}", flush=True)
@@ -161,14 +164,13 @@ def _write_traffic(folder: Path, summary: dict, frames) -> None:
     """The host's traffic from the trace into summary.json, and trace.mcap; a failure is
     reported, never hides the session's result."""
     from mobigrasp.cosim.run_folder import read_trace, write_summary
-    from mobigrasp.tools.mcap_out import write_mcap
-    from mobigrasp.tools.wire_traffic import host_traffic
+    from mobigrasp.services.wire_traffic import host_traffic
 
     try:
         events = read_trace(folder / "trace.jsonl")
         summary["host_traffic"] = host_traffic(events)
         stored = {k: v for k, v in summary.items() if k != "run_folder"}
         write_summary(folder / "summary.json", stored)
-        write_mcap(folder / "trace.mcap", events, frames.frames, summary)
+        frames.finish(summary)
     except Exception as exc:
         print(f"trace.mcap: {type(exc).__name__}: {exc}", file=sys.stderr)

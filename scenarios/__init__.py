@@ -1,0 +1,1 @@
+"""The shipped scenarios (``mobigrasp run NAME``): package data, one TOML file each."""

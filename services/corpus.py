@@ -1,0 +1,53 @@
+"""Recording the frame corpus: each scenario run in process with the corpus's stage timer and
+planner watcher (calib/corpus.py describes the folder, calib/plan_corpus.py its planning part).
+"""
+
+from __future__ import annotations
+
+import json
+import tempfile
+from pathlib import Path
+
+import cv2
+
+from mobigrasp.calib import corpus, plan_corpus
+from mobigrasp.host.vision.registry import DETECTORS
+from mobigrasp.services.run_job import RunOptions, execute, host_config, resolve_scenario
+
+
+def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
+           progress=None) -> dict:
+    """Run each scenario in process and write the corpus to ``out``; returns the index."""
+    out = Path(out)
+    corpus.prepare(out)
+    index: dict = {"format": corpus.FORMAT, "scenarios": [], "frames": []}
+    planning: list = []
+    for name in scenarios:
+        rec = corpus.FrameRecorder(set(DETECTORS))
+        cam = host_config(resolve_scenario(name)[1])["camera"]
+        # the camera parameters the detectors were built with (host/app_factory.py rounds them)
+        camera = {k: int(round(cam[k])) for k in ("f_px", "u0_px", "v0_px")}
+        with tempfile.TemporaryDirectory(prefix="mobigrasp-corpus-") as tmp, \
+                plan_corpus.tap_planners(plan_corpus.PlanRecorder()) as plans:
+            summary, _ = execute(RunOptions(scenario=name, transport="inproc",
+                                            out=Path(tmp) / "run", progress=False,
+                                            plots=False, time_limit_s=time_limit_s,
+                                            timer=rec))
+        sc_name = summary["scenario"]
+        plan_corpus.write_run(out, sc_name, plans, planning)
+        (out / sc_name).mkdir(exist_ok=True)
+        for i, (sha, entry) in enumerate(rec.frames.items()):
+            rel = f"{sc_name}/{i:05d}.png"
+            # PNG stores the array's bytes as they are (OpenCV reads back the same order)
+            if not cv2.imwrite(str(out / rel), rec.pixels[sha]):
+                raise corpus.CorpusError(f"{out / rel}: could not write the frame")
+            index["frames"].append({"file": rel, "scenario": sc_name, **entry})
+        index["scenarios"].append({"name": sc_name, "seed": summary["seed"], "camera": camera,
+                                   "calls": rec.calls, "frames": len(rec.frames),
+                                   "trace_sha256": summary.get("trace_sha256")})
+        if progress is not None:
+            progress(f"{sc_name}: {len(rec.frames)} frames, {rec.calls} detector calls, "
+                     f"{len(plans.calls)} planner calls")
+    plan_corpus.write_index(out, planning)
+    (out / corpus.INDEX).write_text(json.dumps(index, indent=1, sort_keys=True) + "\n")
+    return index

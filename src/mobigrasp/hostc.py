@@ -1,0 +1,97 @@
+"""The C host of ``hostc/`` (the S3C2440 program) built with the machine's C compiler as a cffi
+module: the units its equivalence tests call beside their Python modules.
+
+One C module per host module (hostc/<name>.c beside host/<name>.py); the declarations are the
+units' headers themselves (src/mobigrasp/cbuild.py), and the build is kept in the cache of the C
+parts (``$MOBIGRASP_CACHE_DIR``, ``hostc-port/<hash>``), made once per change of the C. The
+joint table is the firmware's (``firmware/protocol/joints.c``): one table for both boards.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import tempfile
+from functools import lru_cache
+from pathlib import Path
+
+from mobigrasp import cbuild
+from mobigrasp.resources import data_dir
+
+HOSTC = data_dir("mobigrasp.hostc_sources")
+PROTOCOL = data_dir("mobigrasp.firmware") / "protocol"
+HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h",
+           "odometry.h", "path_follow.h", "fuzzy.h", "retransmit.h", "mcu_watch.h", "app_link.h",
+           "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h",
+           "transforms.h", "search.h", "ranging.h")
+SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
+           HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
+           HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
+           HOSTC / "mcu_watch.c", HOSTC / "app_link.c", HOSTC / "outgoing_guard.c",
+           HOSTC / "json.c", HOSTC / "lockstep.c", HOSTC / "app.c",
+           HOSTC / "lockstep_driver.c", HOSTC / "sys_posix.c", HOSTC / "transforms.c",
+           HOSTC / "search.c", HOSTC / "ranging.c",
+           HOSTC / "ranging_size.c", PROTOCOL / "joints.c",
+           PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
+           PROTOCOL / "messages.c")
+
+
+class HostcPortBuildError(RuntimeError):
+    """The C host's units could not be compiled or loaded on this machine."""
+
+
+def source_hash() -> str:
+    """Hash of the units' sources and of every header they may include."""
+    h = hashlib.sha256()
+    headers = sorted((*HOSTC.glob("*.h"), *PROTOCOL.glob("*.h")))
+    for path in (*headers, *SOURCES, Path(cbuild.__file__)):
+        h.update(path.name.encode() + b"\0" + path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+@lru_cache(maxsize=1)
+def lib():
+    """The compiled units' ``(ffi, lib)``, built on first use."""
+    digest = source_hash()
+    return cbuild.cffi_library(f"_mg_hostc_port_{digest}", cbuild.cache_root() / "hostc-port"
+                               / digest, HEADERS, SOURCES, [HOSTC, PROTOCOL],
+                               HostcPortBuildError)
+
+
+def ops_tuple(ops) -> tuple[int, ...]:
+    """A C ``mg_ops_t`` as host.budget.OpCounts.as_tuple() gives its counts."""
+    return (ops.pixels_read, ops.pixels_written, ops.alu, ops.branches, ops.muls, ops.muls32,
+            ops.divs, ops.luts, ops.float_ops, ops.float_divs, ops.bytes_streamed)
+
+
+# the program: every module of hostc/ (the self-test's kernels too) and the protocol codec
+EXE_SOURCES = (*sorted(HOSTC.glob("*.c")), *sorted(PROTOCOL.glob("*.c")))
+# the program's own modules beside the units (the rest of EXE_SOURCES are the vision kernels)
+PROGRAM = (HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c", HOSTC / "linux_driver.c")
+
+
+def executable(cc: str | None = None) -> Path:
+    """The C host as a program for this machine (``mobigrasp-host-c``, the options of
+    ``mobigrasp host``), built with the machine's compiler on first use into the cache."""
+    digest = hashlib.sha256((source_hash() + "".join(
+        p.name + p.read_text() for p in EXE_SOURCES)).encode()).hexdigest()[:16]
+    target = cbuild.cache_root() / "hostc-exe" / digest
+    exe = target / "mobigrasp-host-c"
+    if exe.is_file():
+        return exe
+    compiler = cc or os.environ.get("CC") or "cc"
+    target.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix=f"{digest}.", dir=target.parent))
+    try:
+        done = subprocess.run([compiler, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror",
+                               f"-I{HOSTC}", f"-I{PROTOCOL}", "-o", str(tmp / exe.name),
+                               *map(str, EXE_SOURCES)], capture_output=True, text=True,
+                              check=False)
+        if done.returncode != 0:
+            raise HostcPortBuildError(f"building {exe.name} failed: {done.stderr.strip()}")
+        cbuild.rename_into_place(tmp, target)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return exe

@@ -1,0 +1,43 @@
+"""The cffi declarations come from the C headers (src/mobigrasp/cbuild.py)."""
+
+import cffi
+import pytest
+
+from mobigrasp import cbuild
+
+
+def test_header_declarations_keep_types_and_drop_inline_bodies(tmp_path):
+    (tmp_path / "a.h").write_text(
+        "#ifndef A_H\n#define A_H\n#include <stdint.h>\n#define N 4u\n"
+        "typedef struct { uint8_t buf[N + 1u]; volatile uint8_t head; } ring_t;\n"
+        "static inline uint8_t ring_head(const ring_t *r)\n"
+        "{ if (r) { return r->head; } return 0; }\n"
+        "enum { A_OK = 0, A_BAD = -1 };\n"
+        "int32_t a_sum(const int32_t *v, int32_t n);\n#endif\n")
+    (tmp_path / "b.h").write_text('#include "a.h"\n#include "a.h"\nvoid b_go(ring_t *r);\n')
+    text = cbuild.header_cdef(("b.h",), [tmp_path])
+    assert "ring_head" not in text and "return" not in text
+    ffi = cffi.FFI()
+    ffi.cdef(text)  # include guard kept it to one copy, and cffi parses it
+    assert ffi.sizeof("ring_t") == 6
+    assert "a_sum" in text and "b_go" in text
+
+
+def test_a_header_that_does_not_preprocess_names_it(tmp_path):
+    (tmp_path / "bad.h").write_text('#include "missing.h"\n')
+    with pytest.raises(cbuild.CBuildError, match="bad.h"):
+        cbuild.header_cdef(("bad.h",), [tmp_path])
+
+
+def test_a_failed_compile_is_the_callers_error(tmp_path):
+    class MyError(RuntimeError):
+        pass
+
+    def configure(ffi):
+        ffi.cdef("int f(int);")
+        ffi.set_source("_mg_broken", "int f(int x) { return x +; }")
+
+    with pytest.raises(MyError, match="_mg_broken"):
+        cbuild.compile_module("_mg_broken", tmp_path / "out", configure, MyError)
+    assert not (tmp_path / "out").exists()
+    assert list(tmp_path.iterdir()) == []  # the temporary build folder is gone too

@@ -117,11 +117,11 @@ def test_a_leg_stopped_short_goes_on_to_the_next_station():
             s.base_turn_done(t)  # the look-around's turns, done on the spot
         t += 50_000
     first = s.step(t, (0, 0, 0)).drive_mm
-    assert first == cv.ring_stations(3000, 1100, 1000)[0][0]  # straight ahead
+    assert first == cv.ring_stations(3000, 1100, p.chord_mm)[0][0]  # straight ahead
     s.step(t, (500, 0, 0))  # an obstacle: stopped 0.5 m out
     s.wander_done(t)
     c = s.step(t, (500, 0, 0))
-    nxt = cv.ring_stations(3000, 1100, 1000)[1]
+    nxt = cv.ring_stations(3000, 1100, p.chord_mm)[1]
     turn, drive = cv.leg_to((500, 0, 0), nxt)
     assert (c.base_turn_mrad, s.turning, s.wandering) == (turn, True, False)
     s.base_turn_done(t)

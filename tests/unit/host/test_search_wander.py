@@ -7,7 +7,7 @@ import pytest
 from mobigrasp.host import search as se
 from mobigrasp.host.task import Task, TaskInputs
 
-P = se.SearchParams(cover_mm=0)  # the square spiral; the rings: tests/test_coverage.py
+P = se.SearchParams(cover_mm=0)  # the square spiral; the rings: test_coverage.py
 
 
 def _run_to_move(s: se.ArmSearch, t: int) -> tuple[se.SearchCommand, int]:

@@ -14,22 +14,24 @@ end of the theta2 range.  theta3, theta4 hold a search posture (parameters) duri
 Wandering (000 §II: the robot "firstly wanders in the environment to search object"): the radial
 symbol on the object's top is measurable only to about 1.1 m from the arm camera, so once the base
 has looked all around (``turns_per_wander`` cycles) and found nothing, the search asks the caller
-to drive straight ahead instead of the next base turn (the caller stops early when a front sonar
-sees something), then looks all around again.  Leg k (from 0) is ``wander_mm * (1 + k // 2)``
-long; as each look-around turns the base by 270 degrees the legs make an expanding square spiral
-(1, 1, 2, 2, ... x wander_mm) around the start.  While driving the camera looks left, out of the
-spiral (level ``coarse_theta2_mrad[0]``, theta5_max) and the object may be found on the way.
+to turn and drive to the next station of a coverage pattern (the caller stops early when a front
+sonar sees something; the leg after one stopped short aims at the next station from where the
+base is). With ``cover_mm`` > 0 (default) the stations lie on concentric rings around the start
+(host/coverage.py) spaced by twice ``view_mm``, the half-width of the strip the sweeping camera
+sees while driving: the disc of radius ``cover_mm`` is seen once, the rings are driven once, and
+then the search looks around where it is (``covered``). ``cover_mm`` = 0 keeps an expanding
+square spiral of legs ``wander_mm * (1 + k // 2)`` (leg k from 0), each look-around turning the
+base by 270 degrees.
 Sweeping wander (``wander_sweep`` = 1, default): while driving, the waist sweeps
 +-``wander_theta5_mrad`` (1.4 rad, the waist servo's range, wider than the paper's +-0.8 rad of
 the search at a stop, so that the camera also looks abeam) at the far level
 ``coarse_theta2_mrad[0]`` (boustrophedon, one pose per dwell as in a cycle): the drive sees a strip
-on both sides, ~1 m wide each way (the level sees 0.52-1.1 m); ground nearer than 0.52 m ahead
+on both sides, ~1.1 m wide each way (the level sees 0.52-1.1 m); ground nearer than 0.52 m ahead
 was seen earlier further ahead.  A look-around costs ~30 s for a 1.1 m disk
 (3.8 m2), a drive 0.4 m2/s: so after the first look-around at the start the wander stops only to
-turn the base by ``coarse_base_turn_mrad`` (``stop_cycles`` = 0, left turns: a counter-clockwise
-expanding square spiral 1, 1, 2, 2 x wander_mm whose leg spacing is under the strip's
-width), and ``stop_cycles`` > 0 looks around that many cycles at each stop instead.
-``wander_sweep`` = 0 holds the camera left as before (docs/cosim.md "Measured", T10: a target
+turn the base toward the next station (``stop_cycles`` = 0), and ``stop_cycles`` > 0 looks around
+that many cycles at each stop instead.
+``wander_sweep`` = 0 holds the camera left (docs/cosim.md "Measured", T10: a target
 1.8-2.4 m away was not found in 150 s of search).
 Cycles after the first ``dense_cycles`` (the paper's d_theta2; 0 by default) visit only the
 theta2 levels in ``coarse_theta2_mrad``; turns after the first are ``coarse_base_turn_mrad``.
@@ -49,7 +51,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from mobigrasp.host.coverage import leg_to, ring_stations, to_odometry
+
 FRAME_PERIOD_US = 66_667  # 15 fps
+LEG_TURN_MIN_MRAD = 35  # a leg whose heading is off by less starts without a turn
+LEG_TURN_MAX_MRAD = 3000  # a turn toward a station behind is cut here (the caller wraps at pi)
 
 
 @dataclass(frozen=True)
@@ -69,13 +75,16 @@ class SearchParams:
     coarse_base_turn_mrad: int = 1571  # turns after the first: 90 degrees
     dense_cycles: int = 0  # first cycles at the paper's d_theta2 (1 = the paper's first look)
     turns_per_wander: int = 4  # cycles per look-around (headings 0, 60, 150, 240 degrees)
-    wander_mm: int = 1800  # first leg of the wander spiral (0 = never wander): 2 x ~0.9 m strip
+    wander_mm: int = 1800  # first leg of the square spiral (cover_mm 0); 0 = never wander
     wander_sweep: int = 1  # 1: the waist sweeps at the far level while driving; 0: looks left
     wander_theta5_mrad: int = 1400  # the sweep while driving spans +- this (the waist's limit)
     stop_cycles: int = 0  # cycles at each wander stop (0: turn coarse_base_turn and drive on)
     frames_per_pose: int = 2
     frame_period_us: int = FRAME_PERIOD_US
     servo_speed_mrad_per_s: int = 5000  # hobby servo, about 0.2 s per 60 degrees
+    cover_mm: int = 4500  # the wander covers this disc by host.coverage's rings (0: square)
+    view_mm: int = 1100  # half-width of the strip the wander's sweep sees (ring spacing / 2)
+    chord_mm: int = 1500  # spacing of the rings' stations (a stop and a turn at each)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -91,6 +100,9 @@ class SearchParams:
         if self.wander_sweep not in (0, 1) or self.stop_cycles < 0:
             raise ValueError(f"wander_sweep must be 0 or 1 and stop_cycles >= 0, got "
                              f"{self.wander_sweep}, {self.stop_cycles}")
+        if self.cover_mm < 0 or self.view_mm <= 0 or self.chord_mm <= 0:
+            raise ValueError(f"cover_mm must be >= 0, view_mm and chord_mm > 0, got "
+                             f"{self.cover_mm}, {self.view_mm}, {self.chord_mm}")
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
@@ -194,6 +206,11 @@ class ArmSearch:
         self._wsweep = up + up[-2:0:-1]  # waist poses of the sweeping wander, cyclic
         self._windex = 0
         self._wpose = (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
+        self._pose = (0, 0, 0)  # the base's odometry pose as last reported to step()
+        self._stations: list[tuple[int, int]] | None = None  # the rings, in odometry
+        self._station = 0
+        self._leg = (0, 0)  # turn_mrad, drive_mm of the leg toward the next station
+        self.covered = False  # the rings are done: the disc of cover_mm has been seen
 
     def dwell_us(self, frm: tuple[int, int], to: tuple[int, int]) -> int:
         """Servo travel of the larger joint move plus the frames to look."""
@@ -218,6 +235,30 @@ class ArmSearch:
             self._pose_start_us = int(now_us)
             self._prev = at
 
+    def _start_leg(self, now_us: int, at: tuple[int, int]) -> None:
+        """Turn toward the next station of the coverage rings (host.coverage), then drive to
+        it; the rings are laid out from the pose where the first leg starts. Past the last
+        station the search looks around where it is (``covered``)."""
+        p = self.params
+        if self._stations is None:
+            self._stations = [to_odometry(self._pose, xy) for xy in
+                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm)]
+        while self._station < len(self._stations):
+            turn, drive = leg_to(self._pose, self._stations[self._station])
+            if drive >= p.chord_mm // 4:
+                break
+            self._station += 1  # there already
+        else:
+            self.covered = True
+            self._turning = True
+            return
+        self._leg = (max(-LEG_TURN_MAX_MRAD, min(LEG_TURN_MAX_MRAD, turn)), drive)
+        if abs(turn) < LEG_TURN_MIN_MRAD:
+            self._start_wander(now_us, at)
+        else:
+            self._wandering, self._turning, self._corner = False, True, True
+            self._wpose = at
+
     def _wander_pose(self, now_us: int) -> tuple[int, int]:
         """The camera while driving: left (``wander_sweep`` 0) or the far level's sweep."""
         p = self.params
@@ -234,15 +275,20 @@ class ArmSearch:
         p = self.params
         if self._wandering:
             th2, th5 = self._wander_pose(now_us)
+            drive = self._leg[1] if p.cover_mm else p.wander_mm * (1 + self.wanders // 2)
             return SearchCommand(th2, p.theta3_mrad, p.theta4_mrad, th5, 0, self._index,
-                                 self.cycle, p.wander_mm * (1 + self.wanders // 2))
+                                 self.cycle, drive)
         if self._corner:  # the arm holds the last wander pose while the base turns
+            turn = self._leg[0] if p.cover_mm else p.coarse_base_turn_mrad
             return SearchCommand(self._wpose[0], p.theta3_mrad, p.theta4_mrad, self._wpose[1],
-                                 p.coarse_base_turn_mrad, self._index, self.cycle)
+                                 turn, self._index, self.cycle)
         return self._command(p.base_turn_mrad if self.cycle <= 1 else p.coarse_base_turn_mrad)
 
-    def step(self, now_us: int) -> SearchCommand:
-        """Advance the pattern to ``now_us`` and return the command in force."""
+    def step(self, now_us: int, pose: tuple[int, int, int] | None = None) -> SearchCommand:
+        """Advance the pattern to ``now_us`` and return the command in force; ``pose`` is the
+        base's odometry (x_mm, y_mm, heading_mrad), which the coverage rings' legs need."""
+        if pose is not None:
+            self._pose = (int(pose[0]), int(pose[1]), int(pose[2]))
         if self._turning or self._wandering:
             return self._moving_command(now_us)
         while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._poses[self._index]):
@@ -254,7 +300,11 @@ class ArmSearch:
                 p = self.params
                 # a full turn of the base found nothing here: wander instead of turning again
                 here = p.turns_per_wander if self.wanders == 0 else p.stop_cycles
-                if p.wander_mm > 0 and self._cycles_here >= here:
+                if p.wander_mm > 0 and self._cycles_here >= here and p.cover_mm \
+                        and not self.covered:
+                    self._cycles_here = 0
+                    self._start_leg(now_us, self._prev)
+                elif p.wander_mm > 0 and self._cycles_here >= here and not p.cover_mm:
                     self._cycles_here = 0
                     self._start_wander(now_us, self._prev)
                 else:
@@ -301,7 +351,15 @@ class ArmSearch:
             self.wanders += 1
             p = self.params
             at = self._wpose if p.wander_sweep else (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
-            if p.stop_cycles == 0:  # a corner of the spiral: turn, then the next leg
+            if p.cover_mm:
+                self._station += 1  # reached, or stopped short by an obstacle: the next one
+                if p.stop_cycles == 0:
+                    self._start_leg(now_us, at)
+                    if not self.covered:
+                        return
+                self._next_cycle(now_us, at)
+                return
+            if p.stop_cycles == 0:  # a corner of the square spiral: turn, then the next leg
                 self._wandering, self._turning, self._corner = False, True, True
                 self._wpose = at
                 return

@@ -47,7 +47,7 @@ LEVEL_SCAN_MM = (150, 350, 2)
 LEVEL_MARGIN_MM = 2
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
 ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
-SEARCH_WANDERS_002 = 2  # SEARCH gives up after a look around and this many wander legs
+SEARCH_COVER_002_MM = 2500  # SEARCH gives up once its wander has covered this disc
 # the grasp check's look (docs/task.md): the fingertip, and a held cylinder with it, brought to
 # (reach mm ahead of the waist, height mm above the ground) with the camera pitched down (mrad),
 # first reachable wins: a cylinder left standing is then ~150 mm further out and below the view
@@ -105,7 +105,8 @@ class Method002(Method):
                       "grasp_r_mm": 255, "grasp_r_tol_mm": 15, "pregrasp_back_mm": 40,
                       # the double cross stands upright, far: the paper's first cycle, then the
                       # level look (f = 350 px: 0.66 rad vertical field)
-                      "search": {"dense_cycles": 1, "coarse_theta2_mrad": (-2100, -2400)},
+                      "search": {"dense_cycles": 1, "coarse_theta2_mrad": (-2100, -2400),
+                                 "cover_mm": SEARCH_COVER_002_MM},
                       # ADJUST's look (shoulder 2.12 rad, elbow -2.19 rad, theta2 pitching the
                       # camera at the rings): the camera ~130 mm ahead of the waist and ~100 mm
                       # up, so that d_pixel passes T_d = 45 px with the cylinder's axis ~252 mm
@@ -158,8 +159,9 @@ class Method002(Method):
 
     def search_gives_up(self, t: Task) -> str | None:
         """Nothing seen in a look around (the red ROI is found from any side out to 3 m and
-        beyond, docs/task.md) and ``SEARCH_WANDERS_002`` wander legs: no graspable object."""
-        if t.graspable_seen or t.search.wanders < SEARCH_WANDERS_002:
+        beyond, docs/task.md) and a wander that covered the disc of ``SEARCH_COVER_002_MM``
+        (host.coverage): no graspable object."""
+        if t.graspable_seen or not t.search.covered:
             return None
         return (f"the search saw neither the double cross nor the red cylinder in "
                 f"{t.search.cycle} cycles and {t.search.wanders} wander legs")

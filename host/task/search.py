@@ -68,7 +68,7 @@ class SearchStates:
             t.confirm_until = t.move_done_us + t.p.confirm_us
             t.note(search_seen=t.rules.found_why(t))
             return
-        cmd = t.search.step(now)
+        cmd = t.search.step(now, (inp.x_mm, inp.y_mm, inp.heading_mrad))
         why = t.rules.search_gives_up(t)
         if why:
             t.fail(now, why)
@@ -83,7 +83,7 @@ class SearchStates:
         if t.turn_from is None:
             t.turn_from = inp.heading_mrad
             t.note(base_turn_mrad=cmd.base_turn_mrad, search_cycle=cmd.cycle)
-        if abs(wrap_mrad(inp.heading_mrad - t.turn_from)) >= cmd.base_turn_mrad:
+        if abs(wrap_mrad(inp.heading_mrad - t.turn_from)) >= abs(cmd.base_turn_mrad):
             t.search.base_turn_done(now)
             t.turn_from = None
             t.wheels = (0, 0)

@@ -7,7 +7,7 @@ import pytest
 from mobigrasp.host import search as se
 from mobigrasp.host.task import Task, TaskInputs
 
-P = se.SearchParams()
+P = se.SearchParams(cover_mm=0)  # the square spiral; the rings: test_coverage.py
 
 
 def _run_to_move(s: se.ArmSearch, t: int) -> tuple[se.SearchCommand, int]:
@@ -32,7 +32,7 @@ def test_coarse_cycle_visits_only_the_coarse_levels_nearest_first():
     assert len(poses) * 3 < len(dense)
 
 
-P_STOPS = se.SearchParams(wander_sweep=0, stop_cycles=4)  # a look-around at every stop
+P_STOPS = se.SearchParams(wander_sweep=0, stop_cycles=4, cover_mm=0)  # a look-around at every stop
 
 
 def test_a_look_around_then_a_wander_then_coarse_cycles_and_a_longer_spiral():
@@ -101,7 +101,7 @@ def test_the_wander_sweeps_the_waist_at_the_far_level_both_ways_while_driving():
     dwell = s.dwell_us((0, 0), (0, P.d_theta5_mrad))
     assert abs(changes - 3_000_000 // dwell) <= 1
     # the old behaviour holds the camera left
-    s0, c0, t0 = _to_first_wander(se.SearchParams(wander_sweep=0))
+    s0, c0, t0 = _to_first_wander(se.SearchParams(wander_sweep=0, cover_mm=0))
     assert {s0.step(t0 + k).theta5_mrad for k in range(0, 5_000_000, 50_000)} == \
         {P.theta5_max_mrad}
 
@@ -129,7 +129,7 @@ def test_after_the_first_look_around_the_wander_only_turns_at_the_corners():
 
 
 def test_stop_cycles_look_around_at_each_stop():
-    p = se.SearchParams(stop_cycles=2)
+    p = se.SearchParams(stop_cycles=2, cover_mm=0)
     s, c, t = _to_first_wander(p)
     s.wander_done(t + 1_000_000)
     c = s.step(t + 1_000_000)
@@ -183,7 +183,7 @@ def test_bad_wander_params():
 def _task_to_wander(sonar: tuple) -> tuple[Task, int]:
     # a two-level, three-pose pattern and a wander after every cycle: the wander comes quickly
     task = Task("000", {"search": {"theta2_min_mrad": -2200, "d_theta5_mrad": 800,
-                                   "turns_per_wander": 1, "wander_mm": 500,
+                                   "turns_per_wander": 1, "wander_mm": 500, "cover_mm": 0,
                                    "coarse_theta2_mrad": (-2200,)}})
     t = 0
     while t < 20_000_000:
@@ -246,7 +246,8 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     p = TaskParams.for_method("002", {"search": {"wander_mm": 0}})
     sp = se.SearchParams(**p.search)
     assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
-    assert se.SearchParams(**TaskParams.for_method("000").search) == P
+    assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams()
+    assert sp.cover_mm == 2500  # 002 gives up once the rings covered 2.5 m (method002.py)
 
 
 def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():

@@ -15,8 +15,9 @@ object's bearing first.  Where the robot already stands in a region (closer to a
 R_r and the margin) a heading leading away from that echo, its distance growing, is clear.
 In integers: headings in mrad (Q12 sine and cosine, host/fixedpoint.py), the segment's samples
 in 1/16 mm, eq. (16) as the planner tests it (bezier_q.in_regions_q) and the distance to the
-echo arc as D_m (clearance_q). Against the float reference (tests/unit/host/test_escape_q.py): a segment
-found clear is clear with R_r shrunk by 3 mm, one found blocked is blocked with R_r grown by 3 mm.
+echo arc as D_m (clearance_q). Against the float reference (tests/unit/host/test_escape_q.py):
+a segment found clear is clear with R_r shrunk by 3 mm, one found blocked is blocked with R_r
+grown by 3 mm.
 """
 
 from __future__ import annotations

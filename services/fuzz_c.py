@@ -25,8 +25,9 @@ import time
 from pathlib import Path
 
 from mobigrasp import cbuild
+from mobigrasp.resources import data_dir
 
-FIRMWARE_DIR = Path(__file__).resolve().parents[1] / "firmware"
+FIRMWARE_DIR = data_dir("mobigrasp.firmware")  # the protocol C and the fuzz harnesses
 TARGETS = ("fuzz_frame", "fuzz_cobs", "fuzz_messages")
 # a delivered frame is at most 71 wire bytes: a few frames and the runs between them
 MAX_LEN = {"fuzz_frame": 512, "fuzz_cobs": 253, "fuzz_messages": 65}

@@ -11,8 +11,8 @@ int mg_end_points_q(const int64_t object_q4[2], int64_t l_e_q4, int32_t n_e, int
     if (n_e < 1 || l_e_q4 <= 0)
         return -1;
     for (int32_t i = 0; i < n_e; i++) {
-        const int32_t phi = (int32_t)mg_div_round_i64((int64_t)MG_TWO_PI_MRAD * (i + 1), n_e);
-        const int32_t c = mg_cos_q12(phi), s = mg_sin_q12(phi);
+        int32_t s, c; /* phi_k: (i + 1) / n_e of a turn, exact at the quarter turns */
+        mg_sincos_turn_q12(i + 1, n_e, &s, &c);
         ends_q4[2 * i] = object_q4[0] + mg_div_round_i64(l_e_q4 * c, 4096);
         ends_q4[2 * i + 1] = object_q4[1] + mg_div_round_i64(l_e_q4 * s, 4096);
         dirs_q14[2 * i] = -c * 4;

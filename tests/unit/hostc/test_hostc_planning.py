@@ -1,7 +1,8 @@
 """The C planners' set-up against the Python: the control points of 000 §III.B.1 and eqs.
 (7)-(11) of 001 (hostc/control_points.c), the grasp circle's end points of eq. (6)
-(hostc/grasp_circle.c) and the integer reference of a planned curve (hostc/path_follow.c
-mg_trajectory_from_ctrl): the same inputs, identical outputs."""
+(hostc/grasp_circle.c), the integer reference of a planned curve (hostc/path_follow.c
+mg_trajectory_from_ctrl) and the plan charged in slices (hostc/anytime.c): the same inputs,
+identical outputs."""
 
 from __future__ import annotations
 
@@ -10,8 +11,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from mobigrasp import hostc
+from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control import path_follow
+from mobigrasp.host.fixedpoint import sincos_turn_q12
 from mobigrasp.host.planning import control_points as cp
+from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
 from mobigrasp.host.planning.grasp_circle import end_points_q
 
@@ -129,3 +133,30 @@ def test_reference_of_planned_curves(ox, oy, vx, vy, heading, n):
     assert _c_reference(ctrl_q, n) == py
     traj = path_follow.Trajectory.from_curve(plan.best, n)
     assert hostc.ops_tuple(C.mg_trajectory_ops(n)) == traj.ops.as_tuple()
+
+
+@SETTINGS
+@given(st.integers(-2000, 2000), st.integers(1, 2000))
+def test_sin_and_cos_of_a_fraction_of_a_turn(num, den):
+    s, c = FFI.new("int32_t *"), FFI.new("int32_t *")
+    C.mg_sincos_turn_q12(num, den, s, c)
+    assert (s[0], c[0]) == sincos_turn_q12(num, den)
+    if (4 * num) % den == 0:  # the quarter turns are exact
+        assert {abs(s[0]), abs(c[0])} == {0, 4096}
+
+
+@SETTINGS
+@given(st.integers(0, 200_000_000), st.integers(-3, 20_000), st.integers(0, 40))
+def test_plan_job_in_slices(cycles, slice_us, steps):
+    ops = OpCounts(alu=cycles)
+    job = FFI.new("mg_plan_job_t *")
+    rc = C.mg_plan_job_start(job, FFI.new("mg_ops_t *", ops.as_tuple()), slice_us)
+    if slice_us <= 0:
+        assert rc == -1
+        return
+    py = PlanJob.start(None, None, ops, slice_us)
+    for _ in range(steps):
+        assert (C.mg_plan_job_done(job) != 0) == py.done
+        assert C.mg_plan_job_slices(job) == py.slices()
+        assert hostc.ops_tuple(C.mg_plan_job_step(job)) == py.step().as_tuple()
+    assert job.remaining_us == py.remaining_us

@@ -64,6 +64,24 @@ static int64_t step(int64_t u, int64_t d, int32_t dir)
     return p >= 0 ? (p + half) >> MG_DIR_BITS : -((half - p) >> MG_DIR_BITS);
 }
 
+void mg_control_point_row(const int64_t p0_q4[2], const int32_t d0_q14[2],
+                          const int64_t end_q4[2], const int32_t d3_q14[2],
+                          const mg_plan_numbers_t *num, int64_t u, int32_t *row)
+{
+    row[0] = (int32_t)p0_q4[0];
+    row[1] = (int32_t)p0_q4[1];
+    row[2] = 0;
+    row[3] = (int32_t)(p0_q4[0] + step(u, num->dd_s, d0_q14[0]));
+    row[4] = (int32_t)(p0_q4[1] + step(u, num->dd_s, d0_q14[1]));
+    row[5] = (int32_t)(u * num->dt_s);
+    row[6] = (int32_t)(end_q4[0] - step(u, num->dd_e, d3_q14[0]));
+    row[7] = (int32_t)(end_q4[1] - step(u, num->dd_e, d3_q14[1]));
+    row[8] = (int32_t)(num->t3 - u * num->dt_e); /* v3 = v0 */
+    row[9] = (int32_t)end_q4[0];
+    row[10] = (int32_t)end_q4[1];
+    row[11] = (int32_t)num->t3;
+}
+
 int32_t mg_control_points_q(const int64_t p0_q4[2], const int32_t d0_q14[2],
                             const int64_t *ends_q4, const int32_t *d3_q14, int32_t n_end,
                             const mg_plan_numbers_t *num, int32_t *ctrl, int32_t cap)
@@ -71,22 +89,8 @@ int32_t mg_control_points_q(const int64_t p0_q4[2], const int32_t d0_q14[2],
     if (n_end < 0 || num->n_i < 1 || (int64_t)n_end * num->n_i > cap)
         return -1;
     int32_t *row = ctrl;
-    for (int32_t k = 0; k < n_end; k++) {
-        const int64_t ex = ends_q4[2 * k], ey = ends_q4[2 * k + 1];
-        for (int64_t u = 1; u <= num->n_i; u++, row += 12) {
-            row[0] = (int32_t)p0_q4[0];
-            row[1] = (int32_t)p0_q4[1];
-            row[2] = 0;
-            row[3] = (int32_t)(p0_q4[0] + step(u, num->dd_s, d0_q14[0]));
-            row[4] = (int32_t)(p0_q4[1] + step(u, num->dd_s, d0_q14[1]));
-            row[5] = (int32_t)(u * num->dt_s);
-            row[6] = (int32_t)(ex - step(u, num->dd_e, d3_q14[2 * k]));
-            row[7] = (int32_t)(ey - step(u, num->dd_e, d3_q14[2 * k + 1]));
-            row[8] = (int32_t)(num->t3 - u * num->dt_e); /* v3 = v0 */
-            row[9] = (int32_t)ex;
-            row[10] = (int32_t)ey;
-            row[11] = (int32_t)num->t3;
-        }
-    }
+    for (int32_t k = 0; k < n_end; k++)
+        for (int64_t u = 1; u <= num->n_i; u++, row += 12)
+            mg_control_point_row(p0_q4, d0_q14, ends_q4 + 2 * k, d3_q14 + 2 * k, num, u, row);
     return (int32_t)(n_end * num->n_i);
 }

@@ -24,6 +24,10 @@ void mg_start_direction_q(const int64_t vel_q4[2], int has_heading, int32_t head
                           const int32_t fallback_q14[2], int64_t moving_q4, int32_t out[2]);
 /* 0, or -1 when dist < 0, v0 <= 0 or T_s <= 0 */
 int mg_plan_numbers(int64_t dist_q4, int32_t v0_mm_s, int32_t t_s_ms, mg_plan_numbers_t *out);
+/* eqs. (8)-(9) for one end and one u: 12 words (P0..P3, each x, y, t) */
+void mg_control_point_row(const int64_t p0_q4[2], const int32_t d0_q14[2],
+                          const int64_t end_q4[2], const int32_t d3_q14[2],
+                          const mg_plan_numbers_t *num, int64_t u, int32_t *row);
 /* eqs. (8)-(9) for n_end ends (ends_q4 and d3_q14: 2 words each), u = 1..N_i within each:
  * n_end N_i rows of 12 int32 (P0..P3, each x, y, t) into ctrl, which holds cap rows; returns
  * the rows written, or -1 when they do not fit (nothing written) */

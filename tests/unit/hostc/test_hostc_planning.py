@@ -1,8 +1,9 @@
 """The C planners' set-up against the Python: the control points of 000 §III.B.1 and eqs.
 (7)-(11) of 001 (hostc/control_points.c), the grasp circle's end points of eq. (6)
 (hostc/grasp_circle.c), the integer reference of a planned curve (hostc/path_follow.c
-mg_trajectory_from_ctrl) and the plan charged in slices (hostc/anytime.c): the same inputs,
-identical outputs."""
+mg_trajectory_from_ctrl), 000's plan whole (hostc/plan000.c: set-up, sampling, candidates,
+choice, modelled cost; hostc/candidates.c) and the plan charged in slices (hostc/anytime.c):
+the same inputs, identical outputs."""
 
 from __future__ import annotations
 
@@ -17,6 +18,8 @@ from mobigrasp.host.fixedpoint import sincos_turn_q12
 from mobigrasp.host.planning import control_points as cp
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
+from mobigrasp.host.planning.bezier_q import POS_PER_M, Q16, REASONS, limits_q, sample_ops
+from mobigrasp.host.planning.candidates import batch_ops, choose_sampling
 from mobigrasp.host.planning.grasp_circle import end_points_q
 
 FFI, C = hostc.lib()
@@ -160,3 +163,78 @@ def test_plan_job_in_slices(cycles, slice_us, steps):
         assert C.mg_plan_job_slices(job) == py.slices()
         assert hostc.ops_tuple(C.mg_plan_job_step(job)) == py.step().as_tuple()
     assert job.remaining_us == py.remaining_us
+
+
+def _params000_c(p: Params000):
+    """Params000 in the C's integers (plan000.h), as plan_000 rounds them."""
+    lim = limits_q(p.v_max, p.a_max, p.r_min, False)
+    return FFI.new("mg_params000_t *", {
+        "t_s_ms": round(p.t_s * 1000), "v0_mm_s": round(p.v0 * 1000),
+        "standoff_q4": round(p.standoff_m * POS_PER_M),
+        "moving_q4": round(p.moving_speed_mps * POS_PER_M), "n_samples_min": p.n_samples_min,
+        "n_samples_max": p.n_samples_max, "budget_us": p.budget_us,
+        "k1_q16": round(p.k1 * Q16), "k2_q16": round(p.k2 * Q16),
+        "lim": [int(v) for v in lim]})
+
+
+@settings(max_examples=120, deadline=None)
+@given(st.tuples(st.integers(-64_000, 64_000), st.integers(-64_000, 64_000)),
+       st.tuples(st.integers(-128_000, 128_000), st.integers(-128_000, 128_000)),
+       st.tuples(st.integers(-5000, 5000), st.integers(-5000, 5000)),
+       st.one_of(st.none(), st.integers(-3142, 3142)),
+       st.sampled_from([Params000(), Params000(v_max=0.1), Params000(r_min=2.0),
+                        Params000(t_s=0.1, n_samples_max=24), Params000(standoff_m=0.0)]))
+def test_plan_000_whole(start, target, vel, heading, params):
+    """plan_000 and mg_plan000 from the same integers: the same candidates and reasons, the
+    same sampling, the same best curve and cost, the same modelled ARM9 cost."""
+    m = 1 / POS_PER_M
+    py = plan_000((start[0] * m, start[1] * m), (vel[0] * m, vel[1] * m),
+                  (target[0] * m, target[1] * m), params,
+                  heading_rad=None if heading is None else heading / 1000)
+    out = FFI.new("mg_plan000_t *")
+    C.mg_plan000(_params000_c(params), start, vel, heading is not None, heading or 0, target,
+                 out)
+    assert hostc.ops_tuple(out.ops) == py.ops.as_tuple()
+    if "standoff" in py.reason:
+        assert out.status == 1
+        return
+    assert (out.n_samples, out.stride, out.n_cand) == (py.n_samples, py.stride,
+                                                       len(py.candidates))
+    reasons = [0] * 9
+    for r in py.candidates.reasons:
+        reasons[REASONS.index(r)] += 1
+    assert list(out.reasons) == reasons
+    ctrl = FFI.new("int32_t[12]")
+    for i in range(0, out.n_cand, max(1, out.n_cand // 7)):
+        C.mg_plan000_ctrl(out, i, ctrl)
+        assert list(ctrl) == np.rint(py.candidates.ctrl[i] * POS_PER_M).astype(int).ravel().tolist()
+    if py.best is None:
+        assert out.status == 2 and out.best == -1
+        return
+    assert out.status == 0
+    assert py.best_candidate.u == 1 + out.best * out.stride
+    assert list(out.best_ctrl) == np.rint(np.asarray(py.best.ctrl) * POS_PER_M).astype(
+        int).ravel().tolist()
+    assert out.best_cost_q16 / Q16 == py.best_candidate.cost
+
+
+@SETTINGS
+@given(st.integers(0, 5000), st.integers(1, 40_000), st.integers(-20_000, 200_000),
+       st.integers(2, 64), st.integers(2, 96))
+def test_sampling_of_a_candidate_set(n_cand, per_sample, budget_us, n_min, extra):
+    n, stride = FFI.new("int32_t *"), FFI.new("int32_t *")
+    C.mg_choose_sampling(n_cand, per_sample, budget_us, n_min, n_min + extra, n, stride)
+    assert (n[0], stride[0]) == choose_sampling(n_cand, per_sample, budget_us, n_min,
+                                                n_min + extra)
+
+
+@SETTINGS
+@given(st.integers(0, 200), st.integers(2, 100), st.booleans(), st.booleans(),
+       st.integers(0, 12), st.sampled_from([3, 6]))
+def test_curve_ops(first, n, positions, circle, regions, divs):
+    kw = {"positions": positions, "grasp_circle": circle, "regions": regions,
+          "divs_per_sample": divs}
+    assert hostc.ops_tuple(C.mg_curve_ops(min(first, n), n, positions, circle, regions, divs)) \
+        == batch_ops(np.array([min(first, n)]), n, **kw).as_tuple()
+    assert hostc.ops_tuple(C.mg_sample_ops(n, positions, circle, regions, divs)) \
+        == sample_ops(n, **kw).as_tuple()

@@ -27,6 +27,16 @@ mg_ops_t mg_sample_ops(int32_t n_samples, int positions, int grasp_circle, int32
     return mg_ops_add(mg_ops_scaled(per, n_samples), CURVE_SETUP);
 }
 
+mg_ops_t mg_position_ops(void)
+{
+    return POSITION;
+}
+
+mg_ops_t mg_region_sample_ops(void)
+{
+    return REGION_PER_SAMPLE;
+}
+
 mg_ops_t mg_pass_ops(void)
 {
     const mg_ops_t extra = {0, 0, 100, 0, 0, 0, 0, 0, 0, 0, 0};

@@ -14,6 +14,9 @@
 mg_ops_t mg_sample_ops(int32_t n_samples, int positions, int grasp_circle, int32_t regions,
                        int32_t divs_per_sample);
 mg_ops_t mg_pass_ops(void);
+/* bezier_q.py POSITION_OPS (a sample's x, y) and REGION_OPS_PER_SAMPLE (one region's test) */
+mg_ops_t mg_position_ops(void);
+mg_ops_t mg_region_sample_ops(void);
 /* samples per curve and the stride over candidates so that the set fits budget_us (the worst
  * case, no early exit; candidates.py choose_sampling) */
 void mg_choose_sampling(int64_t n_candidates, int64_t cycles_per_sample, int64_t budget_us,

@@ -2,8 +2,8 @@
 (7)-(11) of 001 (hostc/control_points.c), the grasp circle's end points of eq. (6)
 (hostc/grasp_circle.c), the integer reference of a planned curve (hostc/path_follow.c
 mg_trajectory_from_ctrl), 000's plan whole (hostc/plan000.c: set-up, sampling, candidates,
-choice, modelled cost; hostc/candidates.c) and the plan charged in slices (hostc/anytime.c):
-the same inputs, identical outputs."""
+choice, modelled cost; hostc/candidates.c), the plan charged in slices (hostc/anytime.c) and
+001's path-update test (hostc/blocked_q.c): the same inputs, identical outputs."""
 
 from __future__ import annotations
 
@@ -18,9 +18,18 @@ from mobigrasp.host.fixedpoint import sincos_turn_q12
 from mobigrasp.host.planning import control_points as cp
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
-from mobigrasp.host.planning.bezier_q import POS_PER_M, Q16, REASONS, limits_q, sample_ops
+from mobigrasp.host.planning.bezier_q import (
+    POS_PER_M,
+    Q16,
+    REASONS,
+    geo_q,
+    limits_q,
+    sample_ops,
+)
+from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import batch_ops, choose_sampling
 from mobigrasp.host.planning.grasp_circle import end_points_q
+from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=200, deadline=None)
@@ -238,3 +247,30 @@ def test_curve_ops(first, n, positions, circle, regions, divs):
         == batch_ops(np.array([min(first, n)]), n, **kw).as_tuple()
     assert hostc.ops_tuple(C.mg_sample_ops(n, positions, circle, regions, divs)) \
         == sample_ops(n, **kw).as_tuple()
+
+
+REGIONS = st.builds(
+    lambda ox, oy, lo, width, eta, arc: InfeasibleRegion(ox, oy, lo, lo + width, eta, 0.2, arc),
+    st.floats(-3, 3), st.floats(-3, 3), st.floats(-4, 4), st.floats(0.1, 1.0),
+    st.floats(0.1, 2.4), st.booleans())
+
+
+@SETTINGS
+@given(st.lists(st.integers(-48_000, 48_000), min_size=8, max_size=8),
+       st.integers(16_000, 500_000), st.integers(-20_000, 520_000),
+       st.lists(REGIONS, max_size=5), st.integers(2, 64))
+def test_path_update_check(xy, dur, t_q4, regions, m):
+    """001's path-update test: the same present τ, the same first blocked sample (or none),
+    the same modelled cost."""
+    ctrl = [xy[0], xy[1], 0, xy[2], xy[3], dur // 3, xy[4], xy[5], 2 * dur // 3, xy[6], xy[7],
+            dur]
+    ctrl_q = np.array(ctrl, dtype=np.int64).reshape(4, 3)
+    tau0 = tau_at_time_q15(ctrl_q, t_q4)
+    assert C.mg_tau_at_time_q15(ctrl, t_q4) == tau0
+    geo = geo_q((0.0, 0.0), 0.0, regions)
+    where, ops = first_blocked_q(ctrl_q, tau0, m, geo, len(regions))
+    c_where, c_ops = FFI.new("int64_t[2]"), FFI.new("mg_ops_t *")
+    hit = C.mg_first_blocked_q(ctrl, tau0, m, FFI.new("int64_t[]", [int(v) for v in geo]),
+                               len(regions), c_where, c_ops)
+    assert (tuple(c_where) if hit else None) == where
+    assert hostc.ops_tuple(c_ops[0]) == ops.as_tuple()

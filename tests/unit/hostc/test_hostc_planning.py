@@ -3,7 +3,8 @@
 (hostc/grasp_circle.c), the integer reference of a planned curve (hostc/path_follow.c
 mg_trajectory_from_ctrl), 000's plan whole (hostc/plan000.c: set-up, sampling, candidates,
 choice, modelled cost; hostc/candidates.c), the plan charged in slices (hostc/anytime.c) and
-001's path-update test (hostc/blocked_q.c): the same inputs, identical outputs."""
+001's path-update test (hostc/blocked_q.c) and the detour's way out (hostc/escape.c): the same
+inputs, identical outputs."""
 
 from __future__ import annotations
 
@@ -16,6 +17,7 @@ from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control import path_follow
 from mobigrasp.host.fixedpoint import sincos_turn_q12
 from mobigrasp.host.planning import control_points as cp
+from mobigrasp.host.planning import escape
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
 from mobigrasp.host.planning.bezier_q import (
@@ -28,6 +30,7 @@ from mobigrasp.host.planning.bezier_q import (
 )
 from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import batch_ops, choose_sampling
+from mobigrasp.host.planning.clearance_q import clearance_words
 from mobigrasp.host.planning.grasp_circle import end_points_q
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
 
@@ -274,3 +277,61 @@ def test_path_update_check(xy, dur, t_q4, regions, m):
                                len(regions), c_where, c_ops)
     assert (tuple(c_where) if hit else None) == where
     assert hostc.ops_tuple(c_ops[0]) == ops.as_tuple()
+
+
+def _words_c(regions):
+    """The regions' words one by one: bezier.h's geo and clearance.c's, as escape._Words."""
+    geo = [int(v) for r in regions for v in geo_q((0.0, 0.0), 0.0, [r])]
+    clear = [int(v) for v in clearance_words(regions).ravel()]
+    return FFI.new("int64_t[]", geo or [0]), FFI.new("int64_t[]", clear or [0])
+
+
+def _less_setup(ops, regions):
+    """Python's counts less the regions' float set-up (escape.REGION_WORDS_OPS), which the C
+    is given done."""
+    setup = escape.REGION_WORDS_OPS.scaled(len(regions)).as_tuple()
+    return tuple(a - b for a, b in zip(ops.as_tuple(), setup, strict=True))
+
+
+NEAR_REGIONS = st.builds(
+    lambda ox, oy, lo, width, eta, arc: InfeasibleRegion(ox, oy, lo, lo + width, eta, 0.2, arc),
+    st.floats(-0.5, 0.5), st.floats(-0.5, 0.5), st.floats(-4, 4), st.floats(0.1, 1.0),
+    st.floats(0.1, 1.5), st.booleans())
+
+
+@SETTINGS
+@given(st.lists(NEAR_REGIONS, max_size=4), st.tuples(st.integers(-8000, 8000),
+                                                     st.integers(-8000, 8000)),
+       st.integers(-4000, 4000), st.integers(-100, 32_000), st.integers(1, 24), st.booleans())
+def test_segment_test(regions, pos, heading, length, samples, leave_ok):
+    """The detour's straight-segment test: the same verdict, the same modelled cost."""
+    g, c = _words_c(regions)
+    ops = FFI.new("mg_ops_t *")
+    m = 1 / POS_PER_M
+    clear = C.mg_segment_clear_q(g, c, len(regions), pos[0], pos[1], heading, length, samples,
+                                 leave_ok, ops)
+    py, py_ops = escape.segment_clear(regions, (pos[0] * m, pos[1] * m), heading / 1000,
+                                      length * m, samples, leave_ok)
+    assert bool(clear) == py
+    assert hostc.ops_tuple(ops[0]) == _less_setup(py_ops, regions if length > 0 else [])
+
+
+@SETTINGS
+@given(st.lists(NEAR_REGIONS, max_size=4), st.tuples(st.integers(-8000, 8000),
+                                                     st.integers(-8000, 8000)),
+       st.integers(-4_000_000, 4_000_000), st.integers(-4_000_000, 4_000_000),
+       st.integers(50_000, 700_000), st.integers(0, 12), st.integers(1600, 24_000),
+       st.integers(1, 20), st.sampled_from([-1, 0, 1]))
+def test_escape_heading(regions, pos, h, goal, step, n_side, length, samples, side):
+    """The detour's heading: the same heading (or none) and the same modelled cost (the C's
+    without the regions' float set-up)."""
+    g, c = _words_c(regions)
+    ops, out = FFI.new("mg_ops_t *"), FFI.new("int64_t *")
+    found = C.mg_escape_heading_q(g, c, len(regions), pos[0], pos[1], h, goal, step, n_side,
+                                  length, samples, side, out, ops)
+    m = 1 / POS_PER_M
+    py, py_ops = escape.escape_heading(regions, (pos[0] * m, pos[1] * m), h / 1e6, goal / 1e6,
+                                       length * m, step_rad=step / 1e6,
+                                       span_rad=n_side * step / 1e6, samples=samples, side=side)
+    assert (round(py * 1e6) if py is not None else None) == (out[0] if found else None)
+    assert hostc.ops_tuple(ops[0]) == _less_setup(py_ops, regions)

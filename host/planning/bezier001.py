@@ -42,6 +42,7 @@ import numpy as np
 
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.fixedpoint import cos_q12, isqrt, isqrt_ops, sin_ops
+from mobigrasp.host.planning import control_points as cp
 from mobigrasp.host.planning.bezier_q import POS_PER_M, Q16, sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
@@ -61,15 +62,6 @@ from mobigrasp.host.planning.clearance_q import (
     clearance_words,
     path_clearance_q4,
     point_clearance_q4,
-)
-from mobigrasp.host.planning.control_points import (
-    CANDIDATE_OPS,
-    PLAN_NUMBERS_OPS,
-    UNIT_OPS,
-    control_points_q,
-    plan_numbers,
-    start_direction_q,
-    unit_q14,
 )
 from mobigrasp.host.planning.grasp_circle import (
     END_POINT_OPS_EACH,
@@ -122,8 +114,8 @@ class Params001:
 
 # the inputs in counts, |q_s P_i| (a root), the fallback direction (a unit vector), the
 # per-plan numbers of eqs. (7), (10), (11), the facing threshold
-SETUP_OPS = OpCounts(alu=40, muls32=8, branches=6) + isqrt_ops(1 << 44) + UNIT_OPS \
-    + PLAN_NUMBERS_OPS + sin_ops()
+SETUP_OPS = OpCounts(alu=40, muls32=8, branches=6) + isqrt_ops(1 << 44) + cp.UNIT_OPS \
+    + cp.PLAN_NUMBERS_OPS + sin_ops()
 FACING_OPS = OpCounts(alu=6, muls32=2 * 3, branches=1)  # one end point's 64-bit dot product
 CIRCLE_MARGIN_M = 1e-3  # samples closer than l_e less this are inside the grasp circle
 # per sonar region: world angles, apex Q_r (sin, divide, cos), the object-echo test (two
@@ -135,7 +127,7 @@ def setup_ops(n_regions: int, n_e: int, n_candidates: int, ends: bool = True) ->
     """ARM9 cost of a plan's set-up before the coarse pass: the inputs and per-plan numbers,
     ``n_regions`` sonar regions, the n_e end points with their facing test (``ends``) and the
     control points of ``n_candidates`` curves."""
-    ops = SETUP_OPS + REGION_OPS.scaled(n_regions) + CANDIDATE_OPS.scaled(n_candidates)
+    ops = SETUP_OPS + REGION_OPS.scaled(n_regions) + cp.CANDIDATE_OPS.scaled(n_candidates)
     if ends:
         ops = ops + (END_POINT_OPS_EACH + FACING_OPS).scaled(n_e)
     return ops
@@ -216,12 +208,13 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     keep = np.nonzero(facing >= floor)[0]
     keep = keep[np.argsort(-facing[keep], kind="stable")]  # most promising end points first
     ops = setup_ops(n_reg, params.n_e, 0)
-    d0 = start_direction_q((round(vel[0] * POS_PER_M), round(vel[1] * POS_PER_M)),
-                           round(heading_rad * 1000), unit_q14(-to_start[0], -to_start[1]),
-                           round(params.moving_speed_mps * POS_PER_M))
-    numbers = plan_numbers(dist, round(params.v0 * 1000), round(params.t_s * 1000))
+    d0 = cp.start_direction_q((round(vel[0] * POS_PER_M), round(vel[1] * POS_PER_M)),
+                              round(heading_rad * 1000),
+                              cp.unit_q14(-to_start[0], -to_start[1]),
+                              round(params.moving_speed_mps * POS_PER_M))
+    numbers = cp.plan_numbers(dist, round(params.v0 * 1000), round(params.t_s * 1000))
     t3, n_i = numbers[0], numbers[1]
-    ctrl = control_points_q(p0_q, d0, ends[keep], d3[keep], numbers)
+    ctrl = cp.control_points_q(p0_q, d0, ends[keep], d3[keep], numbers)
     us = np.tile(np.arange(1, n_i + 1, dtype=np.int64), keep.size)
     ks = np.repeat(np.arange(keep.size), n_i)
     ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)

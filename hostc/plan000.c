@@ -10,6 +10,7 @@
 #include "control_points.h"
 #include "div_round.h"
 #include "isqrt.h"
+#include "trig.h"
 
 /* bezier000.py SETUP_OPS (the inputs, |P0 P_obj|, the object's direction, P3, the per-plan
  * numbers) and control_points.py CANDIDATE_OPS (one candidate's control points) */
@@ -80,4 +81,28 @@ void mg_plan000(const mg_params000_t *p, const int64_t start_q4[2], const int64_
         }
     }
     out->status = out->best < 0 ? MG_PLAN_NONE_FEASIBLE : MG_PLAN_OK;
+}
+
+void mg_planner000_start(mg_planner000_t *pl, const mg_params000_t *p, int32_t x_mm,
+                         int32_t y_mm, int32_t heading_mrad, int32_t v_mmps,
+                         const int32_t obj_xy_mm[2])
+{
+    const int64_t start[2] = {(int64_t)x_mm * 16, (int64_t)y_mm * 16};
+    const int64_t target[2] = {(int64_t)obj_xy_mm[0] * 16, (int64_t)obj_xy_mm[1] * 16};
+    const int64_t vel[2] = {mg_div_round_i64((int64_t)v_mmps * mg_cos_q12(heading_mrad), 256),
+                            mg_div_round_i64((int64_t)v_mmps * mg_sin_q12(heading_mrad), 256)};
+    mg_plan000(p, start, vel, 1, heading_mrad, target, &pl->plan);
+    pl->ops = pl->plan.ops;
+    pl->traj.n = 0;
+    if (pl->plan.status == MG_PLAN_OK
+        && mg_trajectory_from_ctrl(pl->plan.best_ctrl, MG_PLAN000_TRAJ_SAMPLES, &pl->traj) == 0)
+        pl->ops = mg_ops_add(pl->ops, mg_trajectory_ops(MG_PLAN000_TRAJ_SAMPLES));
+    mg_plan_job_start(&pl->job, &pl->ops, MG_PLAN_SLICE_US);
+}
+
+mg_ops_t mg_planner000_step(mg_planner000_t *pl, int *done)
+{
+    const mg_ops_t slice = mg_plan_job_step(&pl->job);
+    *done = mg_plan_job_done(&pl->job);
+    return slice;
 }

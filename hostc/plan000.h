@@ -8,8 +8,10 @@
 
 #include <stdint.h>
 
+#include "anytime.h"
 #include "budget.h"
 #include "control_points.h"
+#include "path_follow.h"
 
 /* Params000 in integers: T_s (ms), v0 (mm/s), the stand-off and the moving speed (1/16 mm,
  * 1/16 mm per s), the sample counts, the ARM9 budget (us), k1, k2 (Q16) and the limits of
@@ -48,5 +50,26 @@ void mg_plan000(const mg_params000_t *p, const int64_t start_q4[2], const int64_
                 mg_plan000_t *out);
 /* the control points (12 words) of candidate i of a plan (i < out->n_cand) */
 void mg_plan000_ctrl(const mg_plan000_t *plan, int32_t i, int32_t *ctrl);
+
+/* The planner state a method's state embeds (method000.py plan_follower and approach.py's
+ * PlanJob): the plan made at once from the task's integers, the reference table of its best
+ * curve (MG_PLAN000_TRAJ_SAMPLES samples), and the slices still to charge. */
+#define MG_PLAN000_TRAJ_SAMPLES 96
+typedef struct {
+    mg_plan000_t plan;
+    mg_trajectory_t traj; /* traj.n = 0: no curve */
+    mg_ops_t ops;         /* the plan's and the table's cost, charged in slices */
+    mg_plan_job_t job;
+} mg_planner000_t;
+
+/* plan from the pose (mm, mrad, the speed along the heading in mm/s) toward the object (mm):
+ * the velocity in the planner's counts is v cos, v sin (Q12) / 256, rounded (drive.py
+ * velocity_m); then the job of MG_PLAN_SLICE_US slices */
+void mg_planner000_start(mg_planner000_t *pl, const mg_params000_t *p, int32_t x_mm,
+                         int32_t y_mm, int32_t heading_mrad, int32_t v_mmps,
+                         const int32_t obj_xy_mm[2]);
+/* this control step's slice (ARM9 cycles to charge); *done 1 once all are charged: the plan
+ * and its table may be used */
+mg_ops_t mg_planner000_step(mg_planner000_t *pl, int *done);
 
 #endif

@@ -1,9 +1,9 @@
-"""The C planners' set-up against the Python: the control points of 000 §III.B.1 and eqs.
-(7)-(11) of 001 (hostc/control_points.c), the grasp circle's end points of eq. (6)
+"""The C planners against the Python: the control points of 000 §III.B.1 and eqs. (7)-(11)
+of 001 (hostc/control_points.c), the grasp circle's end points of eq. (6)
 (hostc/grasp_circle.c), the integer reference of a planned curve (hostc/path_follow.c
-mg_trajectory_from_ctrl), 000's plan whole (hostc/plan000.c: set-up, sampling, candidates,
-choice, modelled cost; hostc/candidates.c), the plan charged in slices (hostc/anytime.c) and
-001's path-update test (hostc/blocked_q.c) and the detour's way out (hostc/escape.c): the same
+mg_trajectory_from_ctrl), 000's plan whole and the planner state a C method embeds
+(hostc/plan000.c, hostc/candidates.c), the plan charged in slices (hostc/anytime.c), 001's
+path-update test (hostc/blocked_q.c) and the detour's way out (hostc/escape.c): the same
 inputs, identical outputs."""
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from mobigrasp.host.planning.candidates import batch_ops, choose_sampling
 from mobigrasp.host.planning.clearance_q import clearance_words
 from mobigrasp.host.planning.grasp_circle import end_points_q
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
+from mobigrasp.host.task.method000 import plan_follower
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=200, deadline=None)
@@ -335,3 +336,27 @@ def test_escape_heading(regions, pos, h, goal, step, n_side, length, samples, si
                                        span_rad=n_side * step / 1e6, samples=samples, side=side)
     assert (round(py * 1e6) if py is not None else None) == (out[0] if found else None)
     assert hostc.ops_tuple(ops[0]) == _less_setup(py_ops, regions)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(-3000, 3000), st.integers(-3000, 3000), st.integers(-3142, 3141),
+       st.integers(-300, 300), st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)))
+def test_planner_state_of_000(x_mm, y_mm, heading, v_mmps, obj):
+    """The task's call (method000.plan_follower, approach.py's PlanJob) and the planner state
+    of the C method: the same reference table, the same cost, the same slices."""
+    follower, ops, _ = plan_follower(0, x_mm, y_mm, heading, v_mmps, obj)
+    pl = FFI.new("mg_planner000_t *")
+    C.mg_planner000_start(pl, _params000_c(Params000()), x_mm, y_mm, heading, v_mmps, obj)
+    assert hostc.ops_tuple(pl.ops) == ops.as_tuple()
+    assert (pl.traj.n > 0) == (follower is not None)
+    if follower is not None:
+        tr = follower.traj
+        for name in ("t_us", "x_um", "y_um", "heading_mrad", "v_mm_s", "w_mrad_s"):
+            assert list(getattr(pl.traj, name))[:pl.traj.n] == list(getattr(tr, name))
+    job = PlanJob.start(None, None, ops)
+    done = FFI.new("int *")
+    while True:
+        assert hostc.ops_tuple(C.mg_planner000_step(pl, done)) == job.step().as_tuple()
+        assert bool(done[0]) == job.done
+        if job.done:
+            break

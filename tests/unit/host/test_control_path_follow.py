@@ -56,8 +56,8 @@ def test_trajectory_table_of_a_straight_line():
 def test_integer_reference_follows_the_float_curve(xy, t3_q4, n):
     """The integer table against the float formulas (bezier.evaluate) at the same τ: times and
     positions within 0.2 ms and 0.2 mm (three counts), heading within 2 mrad, v within 1 mm/s +
-    0.1 % + two counts of s over t_τ, ω within 1 mrad/s + 1 % (heading and ω where |P_τ| is at
-    least 2000 counts: below, the derivatives' last counts turn them); no table only where the
+    0.1 % + two counts of s over t_τ, ω within 2 mrad/s + 1 % (heading and ω where |P_τ| is at
+    least 4000 counts: below, the derivatives' last counts turn them); no table only where the
     direction is undefined or the speed reaches 64 m/s. Curves span at least 0.1 m."""
     assume(max(xy[0::2]) - min(xy[0::2]) + max(xy[1::2]) - min(xy[1::2]) >= 1600)
     ctrl_q = np.array([[xy[0], xy[1], 0], [xy[2], xy[3], t3_q4 // 3],
@@ -73,11 +73,11 @@ def test_integer_reference_follows_the_float_curve(xy, t3_q4, n):
     assert np.all(np.abs(t_us - ref.t * 1e6) <= 200)
     assert np.all(np.abs(x_um - ref.x * 1e6) <= 200) and np.all(np.abs(y_um - ref.y * 1e6) <= 200)
     dh = (h - np.rint(np.arctan2(ref.y_tau, ref.x_tau) * 1000) + 3142) % 6283 - 3142
-    slow = np.hypot(ref.x_tau, ref.y_tau) * POS_PER_M < 2000  # near a cusp the angle is noisy
+    slow = np.hypot(ref.x_tau, ref.y_tau) * POS_PER_M < 4000  # near a cusp: noisy
     assert np.all((np.abs(dh) <= 2) | slow)
     assert np.all(np.abs(v - ref.speed * 1e3)
                   <= 1 + 1e-3 * np.abs(ref.speed * 1e3) + 2000 / (ref.t_tau * POS_PER_M))
-    assert np.all((np.abs(w - ref.omega * 1e3) <= 1 + 0.01 * np.abs(ref.omega * 1e3)) | slow)
+    assert np.all((np.abs(w - ref.omega * 1e3) <= 2 + 0.01 * np.abs(ref.omega * 1e3)) | slow)
 
 
 DEFAULT_GAINS = FollowGains()

@@ -56,9 +56,10 @@ def test_trajectory_table_of_a_straight_line():
 def test_integer_reference_follows_the_float_curve(xy, t3_q4, n):
     """The integer table against the float formulas (bezier.evaluate) at the same τ: times and
     positions within 0.2 ms and 0.2 mm (three counts), heading within 2 mrad, v within 1 mm/s +
-    0.1 % + two counts of s over t_τ, ω within 2 mrad/s + 1 % (heading and ω where |P_τ| is at
-    least 4000 counts: below, the derivatives' last counts turn them); no table only where the
-    direction is undefined or the speed reaches 64 m/s. Curves span at least 0.1 m."""
+    0.1 % + two counts of s over t_τ, ω within 2 mrad/s + 1 % + three counts of each
+    derivative (heading and ω where |P_τ| is at least 4000 counts: below, the derivatives'
+    last counts turn them, and |κ| saturates at a cusp); no table only where the direction is
+    undefined or the speed reaches 64 m/s. Curves span at least 0.1 m."""
     assume(max(xy[0::2]) - min(xy[0::2]) + max(xy[1::2]) - min(xy[1::2]) >= 1600)
     ctrl_q = np.array([[xy[0], xy[1], 0], [xy[2], xy[3], t3_q4 // 3],
                        [xy[4], xy[5], 2 * t3_q4 // 3], [xy[6], xy[7], t3_q4]], dtype=np.int64)
@@ -77,7 +78,14 @@ def test_integer_reference_follows_the_float_curve(xy, t3_q4, n):
     assert np.all((np.abs(dh) <= 2) | slow)
     assert np.all(np.abs(v - ref.speed * 1e3)
                   <= 1 + 1e-3 * np.abs(ref.speed * 1e3) + 2000 / (ref.t_tau * POS_PER_M))
-    assert np.all((np.abs(w - ref.omega * 1e3) <= 2 + 0.01 * np.abs(ref.omega * 1e3)) | slow)
+    # ω = P_τ × P_2τ / (s² t_τ) in rad per 1/16 ms (· 16e6: mrad/s; s, |P_2τ| and t_τ in counts
+    # per unit τ): three counts on P_2τ move it by 3 s, three on P_τ by 3 |P_2τ| and s² by
+    # 6 s, of P_τ × P_2τ and s² respectively
+    s_q4 = np.hypot(ref.x_tau, ref.y_tau) * POS_PER_M
+    a_q4 = np.hypot(ref.x_2tau, ref.y_2tau) * POS_PER_M
+    w_ref = ref.omega * 1e3
+    assert np.all((np.abs(w - w_ref) <= 2 + (0.01 + 6 / s_q4) * np.abs(w_ref)
+                   + 3 * 16e6 * (s_q4 + a_q4) / (s_q4**2 * ref.t_tau * POS_PER_M)) | slow)
 
 
 DEFAULT_GAINS = FollowGains()

@@ -260,7 +260,8 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
                    mcu=opts.mcu, speed=opts.speed, progress=opts.progress,
                    quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                    host_lag_quanta=opts.host_lag_quanta, after_crash_s=opts.after_crash_s,
-                   on_frame=None if camera is None else camera.on_frame)
+                   on_frame=None if camera is None else camera.on_frame,
+                   on_mcu_bytes=None if camera is None else camera.on_mcu_bytes)
     try:
         summary = run_scenario(spec)
     finally:

@@ -149,8 +149,8 @@ def test_readme_example_runs_as_is(tmp_path):
 
 
 def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emulated_robot):
-    """A host that never closes the port: the session is stopped (SIGTERM) and still writes its
-    run folder, with the world's judgement in it."""
+    """A host that never closes the port: the session is stopped (as SIGTERM stops `sim`) and
+    still writes its run folder, with the world's judgement in it."""
     robot = emulated_robot("paper000-exp1", speed=2.0, plots=False)
     assert robot.port.startswith("/dev/pts/") and robot.camera_url.endswith("/stream.mjpg")
     png_url = robot.camera_url.replace("stream.mjpg", "frame.png")
@@ -167,7 +167,7 @@ def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emula
     assert s["end_reason"] == "terminated" and s["grasped"] is False
     assert s["contacts"] == 0 and "unsafe_actuations" in s["safety"]
     assert (robot.run_dir / "trace.jsonl").exists()
-    assert robot.proc.returncode == 1  # nothing grasped
+    assert robot.exit_code == 1  # nothing grasped
 
 
 @pytest.mark.slow

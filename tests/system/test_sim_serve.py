@@ -153,6 +153,10 @@ def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emula
     still writes its run folder, with the world's judgement in it."""
     robot = emulated_robot("paper000-exp1", speed=2.0, plots=False)
     assert robot.port.startswith("/dev/pts/") and robot.camera_url.endswith("/stream.mjpg")
+    # sim's session serves it from this process (services/sim_job.py): no `mobigrasp sim` child
+    children = [c for task in Path("/proc/self/task").iterdir()
+                for c in (task / "children").read_text().split()]
+    assert children == []
     png_url = robot.camera_url.replace("stream.mjpg", "frame.png")
     for attempt in range(10):  # each waits up to 5 s on the server for the first frame
         try:

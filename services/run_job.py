@@ -268,15 +268,21 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
         if camera is not None:
             _finish_mcap(camera, out)
     if opts.plots:
-        try:
-            # matplotlib is imported after the run, not before the host process is started
-            # (docs/cosim.md, "Start-up")
-            from mobigrasp.services.report import write_report
-
-            write_report(out)
-        except Exception as exc:  # a plotting failure must not hide the run's result
-            log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
+        write_report_logged(out)
     return summary
+
+
+def write_report_logged(folder: Path) -> None:
+    """plots/ and report.html of a finished run folder; a failure is logged, never hides the
+    run's result."""
+    try:
+        # matplotlib is imported after the run, not before the host process is started
+        # (docs/cosim.md, "Start-up")
+        from mobigrasp.services.report import write_report
+
+        write_report(folder)
+    except Exception as exc:
+        log.error("report of %s: %s: %s", folder, type(exc).__name__, exc)
 
 
 def mcap_info(scenario: Any, seed: int, mcu: str, transport: str) -> dict[str, str]:

@@ -13,9 +13,9 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from mobigrasp.services.run_job import (
     BadInput,
@@ -25,70 +25,52 @@ from mobigrasp.services.run_job import (
     mcap_camera,
     mcap_info,
     resolve_scenario,
+    write_report_logged,
 )
+
+if TYPE_CHECKING:
+    from mobigrasp.cosim.serve.session import SimOptions
 
 log = logging.getLogger(__name__)
 
 
-@dataclass
-class SimJob:
-    """Options of one served session (``mobigrasp sim``'s, by the same names)."""
-
-    scenario: str
-    speed: float = 1.0
-    mcu: str = "python"
-    camera_port: int = 0  # 0: any free port
-    tcp_port: int | None = None  # the serial line on 127.0.0.1 too (0: any free port)
-    wait_host: bool = False  # simulated time starts at the host's first valid frame
-    faults: tuple[str, ...] = ()  # --fault KEY=VALUE overrides of the scenario's [faults]
-    out: Path | None = None
-    seed: int | None = None
-    time_limit_s: float | None = None
-    plots: bool = True  # plots/ and report.html at the end
-
-
-def serve_scenario(job: SimJob, on_ready: Callable[[str, str, str | None], None],
-                   stop: Callable[[], str | None] | None = None,
-                   progress: Callable[[float, str], Any] | None = None) -> dict:
-    """Serve ``job``'s robot until the host closes the port, the time limit or ``stop()``
-    names a reason; ``on_ready(serial, camera_url, serial_tcp_url)`` once all are served.
-    ``progress(total_s, scenario_name)`` makes the display the session updates (None: none).
-    Returns the summary (also in the run folder, ``run_folder`` naming it). BadInput for bad
-    input."""
-    from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
+def serve_scenario(opts: SimOptions, on_ready: Callable[[str, str, str | None], None],
+                   stop: Callable[[], str | None] | None = None, faults: tuple[str, ...] = (),
+                   plots: bool = True, progress: Callable[[float, str], Any] | None = None
+                   ) -> dict:
+    """Serve the robot of ``opts`` (the session's options as ``mobigrasp sim`` takes them; the
+    scenario, fault plan, display and trace.mcap are filled in here) until the host closes the
+    port, the time limit or ``stop()`` names a reason; ``on_ready(serial, camera_url,
+    serial_tcp_url)`` once all are served. ``faults``: ``--fault KEY=VALUE`` overrides;
+    ``plots``: plots/ and report.html at the end; ``progress(total_s, scenario_name)`` makes
+    the display the session updates (None: none). Returns the summary (also in the run
+    folder, ``run_folder`` naming it). BadInput for bad input."""
+    from mobigrasp.cosim.serve.session import BadSimInput, serve
     from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
     from mobigrasp.services.mcap_out import McapLog
 
-    check_seed(job.seed)
-    check_time_limit(job.time_limit_s)
-    resolved = resolve_scenario(job.scenario)
+    check_seed(opts.seed)
+    check_time_limit(opts.time_limit_s)
+    resolved = resolve_scenario(opts.scenario)
     scenario = resolved[1]
-    plan = fault_plan(scenario, job.faults)
-    seed = scenario.meta.seed if job.seed is None else job.seed
+    plan = fault_plan(scenario, faults)
+    seed = scenario.meta.seed if opts.seed is None else opts.seed
     # trace.mcap, written as the session goes once its folder is taken
-    frames = McapLog(info={**mcap_info(scenario, seed, job.mcu, "pty"), "host": "external"},
+    frames = McapLog(info={**mcap_info(scenario, seed, opts.mcu, "pty"), "host": "external"},
                      camera=mcap_camera(scenario))
     display = None if progress is None else progress(
-        round(run_time_limit_s(scenario, job.time_limit_s), 1), scenario.meta.name)
+        round(run_time_limit_s(scenario, opts.time_limit_s), 1), scenario.meta.name)
     try:
-        summary = serve(SimOptions(scenario=job.scenario, speed=job.speed, mcu=job.mcu,
-                                   camera_port=job.camera_port, out=job.out, seed=job.seed,
-                                   time_limit_s=job.time_limit_s, progress=display,
-                                   resolved=resolved, plan=plan, wait_host=job.wait_host,
-                                   tcp_port=job.tcp_port, on_frame=frames.on_frame,
-                                   on_folder=lambda out: frames.start(out / "trace.mcap")),
+        summary = serve(replace(opts, progress=display, resolved=resolved, plan=plan,
+                                on_frame=frames.on_frame,
+                                on_folder=lambda out: frames.start(out / "trace.mcap")),
                         on_ready, stop=stop)
     except BadSimInput as exc:
         raise BadInput(str(exc)) from exc
     folder = Path(summary["run_folder"])
     _write_traffic(folder, summary, frames)
-    if job.plots:
-        try:
-            from mobigrasp.services.report import write_report
-
-            write_report(folder)
-        except Exception as exc:  # a plotting failure must not hide the session's result
-            log.error("report of %s: %s: %s", folder, type(exc).__name__, exc)
+    if plots:
+        write_report_logged(folder)
     return summary
 
 

@@ -31,7 +31,7 @@ class ServedRobot:
         """``plots``: write plots/ and report.html (a few seconds at the end); ``seed``,
         ``mcu``, ``time_limit_s`` and ``faults`` (``KEY=VALUE`` strings) as ``mobigrasp sim``'s
         options of those names."""
-        from mobigrasp.services.sim_job import SimJob
+        from mobigrasp.cosim.serve.session import SimOptions
 
         self.scenario = str(scenario)
         self.run_dir = Path(run_dir)
@@ -39,9 +39,9 @@ class ServedRobot:
         self.port = ""
         self.camera_url = ""
         self.exit_code: int | None = None  # mobigrasp sim's: 0 grasped, 1 not (once ended)
-        self._job = SimJob(scenario=self.scenario, speed=speed, mcu=mcu, wait_host=True,
-                           out=self.run_dir, seed=seed, time_limit_s=time_limit_s,
-                           faults=tuple(faults), plots=plots)
+        self._opts = SimOptions(scenario=self.scenario, speed=speed, mcu=mcu, wait_host=True,
+                                out=self.run_dir, seed=seed, time_limit_s=time_limit_s)
+        self._faults, self._plots = tuple(faults), plots
         self._ready = threading.Event()
         self._stop: str | None = None
         self._summary: dict | None = None
@@ -59,7 +59,9 @@ class ServedRobot:
         from mobigrasp.services.sim_job import exit_code, serve_scenario
 
         try:
-            self._summary = serve_scenario(self._job, self._on_ready, stop=lambda: self._stop)
+            self._summary = serve_scenario(self._opts, self._on_ready,
+                                           stop=lambda: self._stop, faults=self._faults,
+                                           plots=self._plots)
             self.exit_code = exit_code(self._summary)
         except BaseException as exc:  # handed to the test's thread
             self._error = exc

@@ -73,8 +73,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
+    from mobigrasp.cosim.serve.session import SimOptions
     from mobigrasp.services.run_job import BadInput
-    from mobigrasp.services.sim_job import SimJob, exit_code, serve_scenario
+    from mobigrasp.services.sim_job import exit_code, serve_scenario
     from mobigrasp.tools.progress import Progress
 
     asked: list[str] = []
@@ -93,13 +94,14 @@ def _run(args: argparse.Namespace) -> int:
                         enabled=not args.quiet)
 
     wait_host = (not sys.stdin.isatty()) if args.wait_host is None else args.wait_host
-    job = SimJob(scenario=args.scenario, speed=args.speed, mcu=args.mcu,
-                 camera_port=args.camera_port, tcp_port=args.tcp_port, wait_host=wait_host,
-                 faults=tuple(args.fault or ()), out=args.out, seed=args.seed,
-                 time_limit_s=args.time_limit_s, plots=not args.no_plots)
+    opts = SimOptions(scenario=args.scenario, speed=args.speed, mcu=args.mcu,
+                      camera_port=args.camera_port, tcp_port=args.tcp_port,
+                      wait_host=wait_host, out=args.out, seed=args.seed,
+                      time_limit_s=args.time_limit_s)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        summary = serve_scenario(job, on_ready, stop=lambda: asked[0] if asked else None,
+        summary = serve_scenario(opts, on_ready, stop=lambda: asked[0] if asked else None,
+                                 faults=tuple(args.fault or ()), plots=not args.no_plots,
                                  progress=display)
     except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)

@@ -398,20 +398,20 @@ _MAX_PENDING_FRAMES = 8  # frames queued for the encoder before on_frame waits f
 _MCU_BATCH_BYTES = 16 * 1024
 
 
-def telemetry_messages(t_us: int, frame) -> list[tuple[int, str, dict]]:
-    """The encoder and sonar messages of one frame the MCU sent, as ``sim``'s wire events
-    give them (:func:`wire_messages`); none for another message or an undecodable one."""
-    from mobigrasp.protocol.messages import MessageError, Telemetry, decode_frame
+TELEMETRY_TOPICS = ("/mcu/encoders", "/mcu/sonars")
 
-    try:
-        msg = decode_frame(frame)
-    except MessageError:
+
+def telemetry_messages(t_us: int, frame) -> list[tuple[int, str, dict]]:
+    """The encoder and sonar messages of one frame the MCU sent, exactly as ``sim``'s wire
+    event of it gives them (:func:`wire_messages`); none for another message or an
+    undecodable one."""
+    from mobigrasp.cosim.serve.external_host import wire_event
+
+    event = wire_event("to_host", t_us, frame)
+    if event.get("msg") != "Telemetry":
         return []
-    if not isinstance(msg, Telemetry):
-        return []
-    return [(t_us, "/mcu/encoders", {"timestamp": stamp(t_us), "enc_left": msg.enc_left,
-                                     "enc_right": msg.enc_right}),
-            (t_us, "/mcu/sonars", {"timestamp": stamp(t_us), "sonar_mm": list(msg.sonar_mm)})]
+    return [(t_us, topic, msg) for topic, msg in wire_messages(event, {})
+            if topic in TELEMETRY_TOPICS]
 
 
 class McapLog:

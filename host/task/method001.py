@@ -28,6 +28,7 @@ from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHint
 from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.sonar_guard import (
     GUARDED_STATES,
+    close_guard,
     drive_detour,
     guard_stop,
     out_of_r_r,
@@ -430,6 +431,7 @@ class Method001(Method000):
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the
         object, into the echo, and so did the detours, each stopped at its first step."""
+        close_guard(t, now, inp)
         guard = guard_stop(t, inp, GUARDED_STATES)
         if guard is None:
             return

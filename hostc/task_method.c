@@ -3,14 +3,47 @@
 
 #include <string.h>
 
+#include "sonar_guard.h"
 #include "task_method002.h"
 
 const mg_task_method_t mg_task_methods[] = {
-    {"002", sizeof(mg_state002_t), mg_method002_ms_init, mg_method002_params,
-     mg_method002_failure_reason, NULL, mg_method002_look_height_mm, "red_cylinder",
-     mg_method002_red_cylinder_position, 1, mg_method002_adjust_done_seen,
-     mg_method002_adjust_goal_mm, mg_method002_adjust_vmax_mmps, 0, {350, 160, 120},
-     {1552, 1424, 1528}},
+    {.name = "002",
+     .ms_bytes = sizeof(mg_state002_t),
+     .ms_init = mg_method002_ms_init,
+     .params = mg_method002_params,
+     .failure_reason = mg_method002_failure_reason,
+     .guard_wheels = mg_sonar_guard_step,
+     .look_height_mm = mg_method002_look_height_mm,
+     .adjust_detector = "red_cylinder",
+     .adjust_position = mg_method002_red_cylinder_position,
+     .adjust_is_object = 1,
+     .adjust_done = mg_method002_adjust_done_seen,
+     .adjust_goal_mm = mg_method002_adjust_goal_mm,
+     .adjust_vmax_mmps = mg_method002_adjust_vmax_mmps,
+     .adjust_result = mg_method002_red_cylinder_result,
+     .search_sighting = mg_method002_search_sighting,
+     .found = mg_method002_found_seen,
+     .found_why = mg_method002_found_why,
+     .search_gives_up = mg_method002_search_gives_up,
+     .lost_search = NULL,
+     .keeps_sightings = 0,
+     .enter_approach = mg_method002_enter_approach_state,
+     .approach = mg_method002_approach_state,
+     .object_detectors = "red_cylinder",
+     .grasp_reach_mm = mg_method002_grasp_reach_mm,
+     .rough_target = mg_method002_rough_target,
+     .grasp_ik = mg_method002_grasp_ik,
+     .lowers_hover = 0,
+     .enter_precise = mg_method002_enter_precise,
+     .held_view_pose = mg_method002_held_view_pose,
+     .held_in_view = mg_method002_held_in_view,
+     .check_detector = "red_cylinder",
+     .check_result = mg_method002_red_cylinder_result,
+     .check_position = mg_method002_red_cylinder_position,
+     .check_is_object = 1,
+     .grasp_alpha_mrad = 0,
+     .camera = {350, 160, 120},
+     .geom = {1552, 1424, 1528}},
 };
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);
 

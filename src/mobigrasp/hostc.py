@@ -25,19 +25,20 @@ PROTOCOL = data_dir("mobigrasp.firmware") / "protocol"
 HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h",
            "odometry.h", "path_follow.h", "fuzzy.h", "retransmit.h", "mcu_watch.h", "app_link.h",
            "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h",
-           "transforms.h", "search.h", "ranging.h", "task_machine.h", "task_method.h",
+           "transforms.h", "coverage.h", "search.h", "ranging.h", "task_machine.h", "task_method.h",
            "task_method002.h", "task_drive.h", "task_sense.h",
-           "task_adjust.h")
+           "task_adjust.h", "sonar_guard.h", "task_search.h", "task_grasp.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
            HOSTC / "mcu_watch.c", HOSTC / "app_link.c", HOSTC / "outgoing_guard.c",
            HOSTC / "json.c", HOSTC / "lockstep.c", HOSTC / "app.c",
            HOSTC / "lockstep_driver.c", HOSTC / "sys_posix.c", HOSTC / "transforms.c",
-           HOSTC / "search.c", HOSTC / "ranging.c",
+           HOSTC / "coverage.c", HOSTC / "search.c", HOSTC / "ranging.c",
            HOSTC / "ranging_size.c", HOSTC / "task_machine.c", HOSTC / "task_method.c",
            HOSTC / "task_method002.c", HOSTC / "task_drive.c", HOSTC / "task_sense.c",
-           HOSTC / "task_adjust.c", PROTOCOL / "joints.c",
+           HOSTC / "task_adjust.c", HOSTC / "sonar_guard.c", HOSTC / "task_search.c",
+           HOSTC / "task_grasp.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

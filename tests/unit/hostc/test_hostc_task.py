@@ -560,6 +560,21 @@ def _cam(cam):
 
 
 @SETTINGS
+@given(st.sampled_from([PAPER_000, PAPER_002]), JOINTS, CAMS,
+       st.tuples(*[st.integers(-2000, 7000)] * 4), st.integers(-100, 5000),
+       st.none() | st.integers(-400 * 16, 200 * 16))
+def test_plus_positions(g, joints, cam, uv, dist_mm, top_q4):
+    """Both "+" of a dual "+" in the platform frame, at its depth or on the top's plane."""
+    det = registry.row("dual_plus").result_type()(*uv, 1, 1, dist_mm, dist_mm, 0, 0, 0)
+    want = sense.plus_positions(det, g, joints, cam, top_q4)
+    out = FFI.new("int32_t[2][3]")
+    geom = FFI.new("mg_arm_geometry_t *", (g.l1_mm_q4, g.l2_mm_q4, g.l3_mm_q4))
+    ok = C.mg_plus_positions(geom, joints, _cam(cam), uv, dist_mm, top_q4 is not None,
+                             top_q4 or 0, out)
+    assert (tuple(tuple(p) for p in out) if ok else None) == want
+
+
+@SETTINGS
 @given(st.sampled_from([PAPER_000, PAPER_002]), JOINTS, CAMS, st.integers(-2000, 7000),
        st.integers(-2000, 5000), st.integers(-100, 5000 * 16))
 def test_pixel_to_platform(g, joints, cam, u_q4, v_q4, depth_q4):

@@ -27,7 +27,8 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h",
            "transforms.h", "coverage.h", "search.h", "ranging.h", "task_machine.h", "task_method.h",
            "task_method002.h", "task_drive.h", "task_sense.h",
-           "task_adjust.h", "sonar_guard.h", "task_search.h", "task_grasp.h")
+           "task_adjust.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
+           "app_factory.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -38,7 +39,8 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "ranging_size.c", HOSTC / "task_machine.c", HOSTC / "task_method.c",
            HOSTC / "task_method002.c", HOSTC / "task_drive.c", HOSTC / "task_sense.c",
            HOSTC / "task_adjust.c", HOSTC / "sonar_guard.c", HOSTC / "task_search.c",
-           HOSTC / "task_grasp.c", PROTOCOL / "joints.c",
+           HOSTC / "task_grasp.c", HOSTC / "held_fill.c", HOSTC / "app_factory.c",
+           PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

@@ -2,8 +2,8 @@
 and 002's hooks in task_method002.c, on the machine's tables of task_machine.c) against the
 Python task (host/task/): the same step inputs give the same servo, wheel and gripper
 commands, transitions, state and trace detail, step by step; hypothesis-made sequences from
-every state, and the steps the Python host took in the shipped scenario paper002-marker,
-replayed on the C task."""
+every state, and the steps the Python host took in the shipped scenarios of 002, replayed on
+the C task; the frames' results reach the C task through its detectors' glue."""
 
 from __future__ import annotations
 
@@ -12,12 +12,14 @@ import json
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_hostc_task import FRAMES, NEAR, _frame002
+from test_hostc_app_factory import words
+from test_hostc_task import FRAMES, NEAR
 
 from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task import Task, TaskInputs, machine
+from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import registry
 
 FFI, C = hostc.lib()
@@ -84,11 +86,12 @@ def test_the_params_of_002_are_the_python_task_s():
 
 
 def _frame(dets: dict):
-    """The detectors' results as the C task reads them (002's frame, the held fill too)."""
-    f = _frame002(dets)
-    fill = dets.get("held_fill") if dets else None
-    if fill is not None:
-        f.has_held_fill, f.held_rgb, f.held_permille = 1, list(fill.rgb), fill.fill_permille
+    """The detectors' results as the C task reads them: their kernels' out words through the
+    C host's glue (hostc/app_factory.c), into 002's frame."""
+    f = FFI.new("mg_frame002_t *")
+    keep = [FFI.new("int32_t[]", words(n, dets[n])) if dets.get(n) is not None else FFI.NULL
+            for n in ("double_cross", "red_cylinder", "red_roi", "held_fill")]
+    C.mg_frame002_of(f, *keep, CAMERA_002.f_px)
     return f
 
 
@@ -233,6 +236,7 @@ def _replay(steps: list, fresh: Task) -> list:
 def test_replay_of_paper002_marker_whole(tmp_path):
     """Every step the Python task took in paper002-marker, SEARCH to DONE, on the C task."""
     steps, fresh = _recorded_steps(tmp_path, "paper002-marker")
+    assert len(steps) > 500  # 50 steps a simulated second: SEARCH to DONE in ~18 s
     states = _replay(steps, fresh)
     assert states[0] == "SEARCH" and states[-1] == "DONE"
     assert {"APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT"} <= set(states)

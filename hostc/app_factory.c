@@ -3,6 +3,8 @@
 
 #include <string.h>
 
+#include "arm_calib.h"
+#include "fixedpoint.h"
 #include "json.h"
 
 int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
@@ -135,4 +137,48 @@ size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size
 {
     static const member_t m[] = {{"fill_permille", 3, 1, 0}, {"rgb", 0, 3, 0}};
     return object_json(fill, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+void mg_input_builder_init(mg_input_builder_t *b)
+{
+    memset(b, 0, sizeof *b);
+    mg_odometry_init(&b->odometry, 0, 0, 0);
+    b->pose = mg_odometry_pose(&b->odometry);
+}
+
+void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, int64_t now_us,
+                           const void *frame, mg_task_inputs_t *in)
+{
+    const mg_telemetry_t *tel = link->has_telemetry ? &link->telemetry : NULL;
+    if (link->mcu_resets != b->resets_seen) { /* counters and clock restarted at 0 */
+        b->resets_seen = link->mcu_resets;
+        mg_odometry_resync(&b->odometry);
+    }
+    if (tel != NULL && link->counters.telemetry != b->telemetry_seen) {
+        b->telemetry_seen = link->counters.telemetry;
+        b->pose = mg_odometry_update(&b->odometry, tel->time_us, tel->enc_left, tel->enc_right);
+    }
+    memset(in, 0, sizeof *in);
+    if (tel != NULL) {
+        int32_t pulses[MG_N_CHANNELS];
+        for (int32_t ch = 0; ch < MG_N_CHANNELS; ch++)
+            pulses[ch] = tel->servo_us[ch];
+        in->has_joints = mg_pulses_to_joints_mrad(pulses, in->joints_mrad);
+        in->n_sonar = MSG_SONAR_COUNT < MG_TASK_SONARS ? MSG_SONAR_COUNT : MG_TASK_SONARS;
+        for (int32_t k = 0; k < in->n_sonar; k++)
+            in->sonar_mm[k] = tel->sonar_mm[k];
+    }
+    in->x_mm = (int32_t)mg_div_round64(b->pose.x_um, 1000);
+    in->y_mm = (int32_t)mg_div_round64(b->pose.y_um, 1000);
+    in->heading_mrad = b->pose.heading_mrad;
+    in->v_mmps = b->pose.speed_mm_s;
+    const int flag = tel != NULL && (tel->flags & FLAG_GRIPPER_CLOSED);
+    if (!flag) {
+        b->has_closed_since = 0;
+    } else if (!b->has_closed_since) {
+        b->has_closed_since = 1;
+        b->closed_since_us = now_us;
+    }
+    in->grasp_closed = flag && now_us - b->closed_since_us >= MG_GRIPPER_CLOSE_US;
+    in->frame = frame;
 }

@@ -9,7 +9,28 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "app_link.h"
+#include "odometry.h"
 #include "task_method002.h"
+
+/* telemetry to the task's inputs (host/app_factory.py InputBuilder): odometry integrates the
+ * encoder counts of every new telemetry frame, the joints come from the measured pulse widths
+ * through the joint table, a sonar without echo (0xFFFF) is passed on as is; the gripper is
+ * reported closed once the MCU's flag has been up MG_GRIPPER_CLOSE_US (the servo's swing) */
+#define MG_GRIPPER_CLOSE_US 450000
+typedef struct {
+    mg_odometry_t odometry;
+    mg_pose_t pose;
+    uint32_t telemetry_seen; /* the link's telemetry count at the last update */
+    int32_t resets_seen;
+    int32_t has_closed_since;
+    int64_t closed_since_us;
+} mg_input_builder_t;
+
+void mg_input_builder_init(mg_input_builder_t *b);
+/* the inputs of the task step at now_us (frame: the step's results, NULL: no new frame) */
+void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, int64_t now_us,
+                           const void *frame, mg_task_inputs_t *in);
 
 #define MG_BOARD_BEHIND_MM_Q4 2400   /* the cylinder stands this far before the board */
 #define MG_RED_CYL_HEIGHT_MM_Q4 1920 /* 120 mm: the cylinder's height (docs/markers.md) */

@@ -16,6 +16,7 @@ from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import held_fill, registry
+from mobigrasp.protocol import messages as m
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=150, deadline=None)
@@ -132,3 +133,59 @@ def test_the_held_fill_kernel(seed):
     assert hostc.ops_tuple(C.mg_held_fill_ops(h, w)) == ops.as_tuple()
     if seed % 3 == 0:
         assert want is not None  # the filled frames are found
+
+
+class _Link:
+    """What InputBuilder reads of host/app_link.py's HostLink."""
+
+    def __init__(self) -> None:
+        self.telemetry = None
+        self.mcu_resets = 0
+
+
+class _App:
+    def __init__(self) -> None:
+        self.link = _Link()
+
+
+TELEMETRY = st.tuples(st.integers(1_000, 60_000), st.integers(-300, 300), st.integers(-300, 300),
+                      st.tuples(*[st.integers(500, 2500)] * 6),
+                      st.tuples(*[st.sampled_from([65535, 0]) | st.integers(1, 4000)] * 5),
+                      st.sampled_from([0, m.FLAG_GRIPPER_CLOSED, m.FLAG_HANDSHAKE]))
+
+
+@SETTINGS
+@given(st.lists(st.tuples(st.sampled_from(["tel", "tel", "step", "step", "reset"]),
+                          st.integers(0, 300_000), TELEMETRY), max_size=60))
+def test_the_input_builder(ops):
+    """Telemetry frames, MCU resets and steps: the same pose, joints, sonars and gripper state
+    in the inputs of every step."""
+    from mobigrasp.host.app_factory import InputBuilder
+    py, app = InputBuilder(), _App()
+    c, link = FFI.new("mg_input_builder_t *"), FFI.new("mg_host_link_t *")
+    C.mg_input_builder_init(c)
+    inp = FFI.new("mg_task_inputs_t *")
+    now, t_mcu, enc = 0, 0, [0, 0]
+    for kind, dt, (dt_mcu, dl, dr, servo, sonar, flags) in ops:
+        now += dt
+        if kind == "tel":
+            t_mcu, enc = t_mcu + dt_mcu, [enc[0] + dl, enc[1] + dr]
+            app.link.telemetry = m.Telemetry(t_mcu, enc[0], enc[1], servo, sonar, flags,
+                                             0, 0, 0, 0)
+            link.has_telemetry, link.counters.telemetry = 1, link.counters.telemetry + 1
+            link.telemetry.time_us, link.telemetry.enc_left, link.telemetry.enc_right = (
+                t_mcu, enc[0], enc[1])
+            link.telemetry.servo_us, link.telemetry.sonar_mm = servo, sonar
+            link.telemetry.flags = flags
+        elif kind == "reset":
+            app.link.mcu_resets += 1
+            link.mcu_resets += 1
+            t_mcu, enc = 0, [0, 0]
+        else:
+            want = py(app, now, {})
+            C.mg_input_builder_step(c, link, now, FFI.NULL, inp)
+            assert (tuple(inp.joints_mrad) if inp.has_joints else None) == want.joints_mrad
+            assert (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps) == (
+                want.x_mm, want.y_mm, want.heading_mrad, want.v_mmps)
+            assert tuple(inp.sonar_mm)[:inp.n_sonar] == want.sonar_mm
+            assert bool(inp.grasp_closed) == want.grasp_closed and inp.frame == FFI.NULL

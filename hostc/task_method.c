@@ -42,9 +42,20 @@ const mg_task_method_t mg_task_methods[] = {
      .check_position = mg_method002_red_cylinder_position,
      .check_is_object = 1,
      .grasp_alpha_mrad = 0,
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_DOUBLE_CROSS | 1u << MG_DET_RED_ROI,
+                   [MG_APPROACH] = 1u << MG_DET_DOUBLE_CROSS | 1u << MG_DET_RED_CYLINDER
+                                   | 1u << MG_DET_RED_ROI,
+                   [MG_ADJUST] = 1u << MG_DET_RED_CYLINDER,
+                   [MG_LIFT] = 1u << MG_DET_RED_CYLINDER | 1u << MG_DET_HELD_FILL},
+     .n_fallbacks = 0,
+     .frame_of = mg_method002_frame_of,
      .camera = {350, 160, 120},
      .geom = {1552, 1424, 1528}},
 };
+const char *const mg_detector_names[MG_N_DETECTORS] = {
+    "dual_plus", "radial_symbol", "spoke", "double_cross", "red_cylinder", "red_roi",
+    "held_fill"};
+
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);
 
 const mg_task_method_t *mg_task_method_find(const char *name)
@@ -60,3 +71,19 @@ void mg_task_reason_as_is(const mg_task_t *t, const char *reason, char *out, siz
     (void)t;
     mg_task_text(out, cap, 0, reason);
 }
+
+uint32_t mg_task_detectors_needed(const mg_task_t *t)
+{
+    return t->state >= 0 && t->state < MG_N_TASK_STATES ? t->rules->detectors[t->state] : 0;
+}
+
+int32_t mg_task_detector_fallback(const mg_task_t *t, int32_t det)
+{
+    for (int32_t i = 0; i < t->rules->n_fallbacks && i < MG_MAX_FALLBACKS; i++)
+        if (t->rules->fallbacks[i].state == t->state && t->rules->fallbacks[i].detector == det)
+            return t->rules->fallbacks[i].primary;
+    return -1;
+}
+
+/* every method's frame fits the task's buffer */
+typedef char mg_frame002_fits[sizeof(mg_frame002_t) <= MG_FRAME_BYTES ? 1 : -1];

@@ -10,6 +10,21 @@
 #include "task_machine.h"
 
 #define MG_SIGHTING_BYTES 64 /* the largest method's search sighting */
+#define MG_FRAME_BYTES 256   /* the largest method's frame of results (mg_frame002_t ...) */
+
+/* the detectors the task names (host/vision/registry.py), in the program's order: every
+ * method's per-state lists (Method.detectors) and fallbacks keep this order */
+enum {
+    MG_DET_DUAL_PLUS, MG_DET_RADIAL_SYMBOL, MG_DET_SPOKE, MG_DET_DOUBLE_CROSS,
+    MG_DET_RED_CYLINDER, MG_DET_RED_ROI, MG_DET_HELD_FILL, MG_N_DETECTORS
+};
+extern const char *const mg_detector_names[MG_N_DETECTORS];
+
+/* a detector that stands in for another in a state (Method.detector_fallbacks) */
+typedef struct {
+    int32_t state, detector, primary;
+} mg_fallback_t;
+#define MG_MAX_FALLBACKS 4
 
 typedef struct mg_task_method {
     const char *name;
@@ -69,6 +84,13 @@ typedef struct mg_task_method {
     mg_task_position_fn check_position;
     int32_t check_is_object;
     int32_t grasp_alpha_mrad;
+    /* the detectors each state runs (bits of MG_DET_*), the fallbacks among them, and the
+     * frame of one vision job's results as the method's hooks read it (words[i]: detector i's
+     * out words, NULL: nothing found or not run; into frame, MG_FRAME_BYTES) */
+    uint32_t detectors[MG_N_TASK_STATES];
+    int32_t n_fallbacks;
+    mg_fallback_t fallbacks[MG_MAX_FALLBACKS];
+    void (*frame_of)(const mg_task_t *t, const int32_t *const *words, void *frame);
     mg_camera_model_t camera;
     mg_arm_geometry_t geom; /* l2, l3, l4 of the arm the method assumes, Q4 mm */
 } mg_task_method_t;
@@ -76,6 +98,11 @@ typedef struct mg_task_method {
 extern const mg_task_method_t mg_task_methods[];
 extern const int32_t mg_n_task_methods;
 const mg_task_method_t *mg_task_method_find(const char *name); /* NULL: unknown */
+
+/* the detectors the current state runs (bits of MG_DET_*; Task.detectors_needed) */
+uint32_t mg_task_detectors_needed(const mg_task_t *t);
+/* the detector det stands in for in the current state, or -1 (Task.detector_fallbacks) */
+int32_t mg_task_detector_fallback(const mg_task_t *t, int32_t det);
 
 /* Method.failure_reason's default: the reason as it is */
 void mg_task_reason_as_is(const mg_task_t *t, const char *reason, char *out, size_t cap);

@@ -4,6 +4,7 @@
 
 #include <string.h>
 
+#include "app_factory.h"
 #include "fixedpoint.h"
 #include "json.h"
 #include "kernels.h"
@@ -639,4 +640,10 @@ int mg_method002_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs
     return mg_task_held_fill_in_view(t, now_us, f != NULL && f->has_held_fill,
                                      f != NULL ? f->held_rgb : NULL,
                                      f != NULL ? f->held_permille : 0, mg_method002_red_paint);
+}
+
+void mg_method002_frame_of(const mg_task_t *t, const int32_t *const *words, void *frame)
+{
+    mg_frame002_of((mg_frame002_t *)frame, words[MG_DET_DOUBLE_CROSS], words[MG_DET_RED_CYLINDER],
+                   words[MG_DET_RED_ROI], words[MG_DET_HELD_FILL], t->cam.f_px);
 }

@@ -141,5 +141,7 @@ void mg_method002_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inpu
 /* the red of 002's cylinder: the red mask's rule */
 int mg_method002_red_paint(const int32_t rgb[3]);
 int mg_method002_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* one vision job's results (the kernels' out words by MG_DET_*, NULL: none) as 002's frame */
+void mg_method002_frame_of(const mg_task_t *t, const int32_t *const *words, void *frame);
 
 #endif

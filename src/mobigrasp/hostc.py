@@ -28,7 +28,7 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "transforms.h", "coverage.h", "search.h", "ranging.h", "task_machine.h", "task_method.h",
            "task_method002.h", "task_drive.h", "task_sense.h",
            "task_adjust.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
-           "app_factory.h")
+           "app_factory.h", "task_paper.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -40,6 +40,7 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "task_method002.c", HOSTC / "task_drive.c", HOSTC / "task_sense.c",
            HOSTC / "task_adjust.c", HOSTC / "sonar_guard.c", HOSTC / "task_search.c",
            HOSTC / "task_grasp.c", HOSTC / "held_fill.c", HOSTC / "app_factory.c",
+           HOSTC / "task_paper.c",
            PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")

@@ -213,13 +213,27 @@ def _recorded_steps(tmp_path, scenario: str) -> tuple[list, object]:
 
 
 def _replay(steps: list, fresh: Task) -> list:
-    """The recorded steps on the C task, each output compared; the states passed through."""
-    c = _c_task(fresh)
-    out = FFI.new("mg_task_outputs_t *")
+    """The recorded steps on the C task as the C program holds it (task_paper.h), each output
+    compared, and as the program reads them; the states passed through."""
+    paper = FFI.new("mg_paper_task_t *")
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"002"), _c_params(fresh.p),
+                                fresh.entered_us) == 0
+    c = FFI.addressof(paper, "task")
+    out, prog = FFI.new("mg_task_outputs_t *"), FFI.new("mg_task_output_t *")
     states = []
     for now, inp, res in steps:
         cin, _frame_kept = _c_inputs(inp)
         C.mg_task_step(c, now, cin, out)
+        C.mg_paper_outputs(paper, out, prog)
+        assert [(e.t_us, FFI.string(getattr(e, "from")).decode(), FFI.string(e.to).decode(),
+                 FFI.string(e.why).decode()) for e in prog.transitions[0:prog.n_transitions]] \
+            == [(e.t_us, e.from_state, e.to_state, e.why) for e in res.events]
+        assert {FFI.string(d.key).decode(): FFI.string(d.json).decode()
+                for d in prog.detail[0:prog.n_detail]} == {
+            k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}
+        assert (FFI.string(prog.state).decode(), tuple(prog.servo_mrad),
+                tuple(prog.wheels_mmps), prog.gripper_permille) == (
+            res.state, res.servo_mrad, res.wheels_mmps, res.gripper_permille)
         where = (now, res.state, res.detail)
         assert _events(c) == res.events, where
         assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
@@ -229,7 +243,7 @@ def _replay(steps: list, fresh: Task) -> list:
             where
         if not states or states[-1] != res.state:
             states.append(res.state)
-    assert c.hist_overflow == 0
+    assert c.hist_overflow == 0 and paper.transitions_lost == 0
     return states
 
 
@@ -248,6 +262,20 @@ def test_replay_of_paper002_cylinder_moving_whole(tmp_path):
     steps, fresh = _recorded_steps(tmp_path, "paper002-cylinder-moving")
     states = _replay(steps, fresh)
     assert states[-1] == "DONE"
+
+
+@pytest.mark.parametrize("state", machine.STATES)
+def test_the_detectors_each_state_runs(state):
+    """Task.detectors_needed and detector_fallbacks of 002, by the program's detector order."""
+    py, c = Task("002"), _c_task(Task("002"))
+    if state != "SEARCH":
+        py.go(0, state, "test")
+        C.mg_task_go(c, 0, machine.STATES.index(state), b"test")
+    names = [FFI.string(C.mg_detector_names[i]).decode() for i in range(C.MG_N_DETECTORS)]
+    bits = C.mg_task_detectors_needed(c)
+    assert [n for i, n in enumerate(names) if bits >> i & 1] == py.detectors_needed()
+    assert {names[i]: names[C.mg_task_detector_fallback(c, i)] for i in range(len(names))
+            if C.mg_task_detector_fallback(c, i) >= 0} == py.detector_fallbacks()
 
 
 def test_the_frame_glue_keeps_a_frame_without_results():

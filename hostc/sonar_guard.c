@@ -2,7 +2,6 @@
 #include "sonar_guard.h"
 
 #include "fixedpoint.h"
-#include "json.h"
 #include "task_drive.h"
 
 int32_t mg_sonar_angle_mrad(int32_t k, int32_t n)
@@ -138,19 +137,7 @@ void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     const mg_detour_t out = {1, mg_widest_free_heading(in, t->p.detour_clear_mm), 1, 0, {0, 0},
                              MG_GUARD_OUT_MM, 0};
     t->guard_out = out;
-    char text[MG_TASK_NOTE_BYTES];
-    mg_json_t j;
-    mg_json_init(&j, text, sizeof text - 1);
-    mg_json_begin_object(&j);
-    mg_json_key(&j, "phi_mrad");
-    mg_json_int(&j, phi);
-    mg_json_key(&j, "r_r_mm");
-    mg_json_int(&j, t->p.r_r_mm);
-    mg_json_key(&j, "range_mm");
-    mg_json_int(&j, rng);
-    mg_json_key(&j, "turn_to_mrad");
-    mg_json_int(&j, out.heading_mrad);
-    mg_json_end_object(&j);
-    text[j.overflow ? 0 : j.len] = 0;
-    mg_task_note(t, "sonar_guard", text);
+    static const char *const names[4] = {"phi_mrad", "r_r_mm", "range_mm", "turn_to_mrad"};
+    const int64_t values[4] = {phi, t->p.r_r_mm, rng, out.heading_mrad};
+    mg_task_note_ints(t, "sonar_guard", 4, names, values);
 }

@@ -143,19 +143,9 @@ void mg_task_enter_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_input
         const int32_t dist = obj_dist_mm(t, in, xy), off = dist - t->reach_mm[0];
         if ((off < 0 ? -off : off) > t->reach_mm[1]) {
             /* the grasp pose needs the object elsewhere (002's level grasp): drive there */
-            char text[MG_TASK_NOTE_BYTES];
-            mg_json_t j;
-            mg_json_init(&j, text, sizeof text - 1);
-            mg_json_begin_object(&j);
-            mg_json_key(&j, "dist_mm");
-            mg_json_int(&j, dist);
-            mg_json_key(&j, "goal_mm");
-            mg_json_int(&j, t->reach_mm[0]);
-            mg_json_key(&j, "tol_mm");
-            mg_json_int(&j, t->reach_mm[1]);
-            mg_json_end_object(&j);
-            json_done(&j, text);
-            mg_task_note(t, "grasp_reach", text);
+            static const char *const names[3] = {"dist_mm", "goal_mm", "tol_mm"};
+            const int64_t values[3] = {dist, t->reach_mm[0], t->reach_mm[1]};
+            mg_task_note_ints(t, "grasp_reach", 3, names, values);
             t->phase = MG_PHASE_REACH;
             return;
         }

@@ -6,6 +6,7 @@
 
 #include "arm_calib.h"
 #include "fixedpoint.h"
+#include "json.h"
 #include "posture.h"
 #include "task_adjust.h"
 #include "task_grasp.h"
@@ -140,6 +141,22 @@ void mg_task_note_int(mg_task_t *t, const char *key, int64_t v)
 {
     char text[24];
     mg_task_text_int(text, sizeof text, 0, v);
+    mg_task_note(t, key, text);
+}
+
+void mg_task_note_ints(mg_task_t *t, const char *key, int32_t n, const char *const *names,
+                       const int64_t *values)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    for (int32_t i = 0; i < n; i++) {
+        mg_json_key(&j, names[i]);
+        mg_json_int(&j, values[i]);
+    }
+    mg_json_end_object(&j);
+    text[j.overflow ? 0 : j.len] = 0;
     mg_task_note(t, key, text);
 }
 

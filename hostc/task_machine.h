@@ -224,6 +224,9 @@ void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
  * notes_lost */
 void mg_task_note(mg_task_t *t, const char *key, const char *json);
 void mg_task_note_int(mg_task_t *t, const char *key, int64_t v);
+/* a member whose value is an object of n int members (names in sorted order) */
+void mg_task_note_ints(mg_task_t *t, const char *key, int32_t n, const char *const *names,
+                       const int64_t *values);
 /* the gripper point (eq. (3) of 000) of the arm's targets, Q4 mm */
 void mg_task_gripper_point_q4(const mg_task_t *t, int32_t out_q4[3]);
 /* the arm to pose (theta2..5; has_th1 0: the roll kept) */

@@ -13,7 +13,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_hostc_app_factory import words
-from test_hostc_task import FRAMES, NEAR
+from test_hostc_task import FRAMES, NEAR, RED
 
 from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
@@ -282,3 +282,91 @@ def test_the_frame_glue_keeps_a_frame_without_results():
     """A frame whose detectors all found nothing is a frame (APPROACH steers on), not none."""
     f = _frame({"double_cross": None, "red_roi": None})
     assert f.has_frame == 1 and not (f.has_dc or f.has_rc or f.has_roi)
+
+
+@SETTINGS
+@given(st.sampled_from(["SEARCH", "APPROACH", "ADJUST"]), st.none() | st.tuples(NEAR, NEAR),
+       st.lists(st.tuples(st.tuples(st.integers(-300, 300), st.integers(-300, 300)),
+                          st.tuples(st.integers(-40, 40), st.integers(-40, 40),
+                                    st.integers(-400, 400)),
+                          SONAR | st.tuples(*[st.sampled_from([65535, 120, 180, 950])] * 5)),
+                min_size=1, max_size=40))
+def test_the_sonar_guard(state, obj, steps):
+    """The guard after a step's wheels: the stop below R_r unless the echo is the object's,
+    the turn to the widest free sector and the drive out, as sonar_guard.py."""
+    from mobigrasp.host.task.sonar_guard import SONAR_GUARD
+    py = Task("002")
+    c = _c_task(py)
+    if obj is not None:
+        py.obj = obj
+        c.has_obj, c.obj_mm = 1, list(obj)
+    py.state, c.state = state, machine.STATES.index(state)
+    x = y = h = 0
+    for wheels, (dx, dy, dh), sonar in steps:
+        x, y, h = x + dx, y + dy, h + dh
+        py.wheels = wheels
+        c.wheels = list(wheels)
+        py._detail, c.n_notes = {}, 0
+        inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=sonar)
+        cin, _ = _c_inputs(inp)
+        SONAR_GUARD.step(py, 0, inp)
+        C.mg_sonar_guard_step(c, 0, cin)
+        assert tuple(c.wheels) == py.wheels
+        assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in py._detail.items()}
+        assert bool(c.guard_out.active) == (py.guard_out is not None)
+        if py.guard_out is not None:
+            assert (c.guard_out.heading_mrad, c.guard_out.length_mm) == (
+                py.guard_out["heading_mrad"], py.guard_out["length_mm"])
+
+
+RED_FILL = st.builds(lambda r, g, p: HELD(rgb=(r, g, g // 2), fill_permille=p),
+                     st.integers(150, 255), st.integers(0, 60), st.integers(900, 1000))
+
+
+@SETTINGS
+@given(st.sampled_from([(0, 0)] * 3) | st.tuples(st.integers(-40, 40), st.integers(-8, 8)),
+       st.lists(st.tuples(st.sampled_from([60_000] * 4 + [20_000, 200_000]),
+                          st.none() | st.fixed_dictionaries({"held_fill": RED_FILL | HELD_FILLS},
+                                                            optional={"red_cylinder": FRAMES.map(
+                                                                lambda f: (f or {}).get(
+                                                                    "red_cylinder"))})),
+                min_size=100, max_size=100))
+def test_the_grasp_and_its_check(obj, steps):
+    """ROUGH_GRASP to LIFT with the gripper closed: the drive into the level grasp's reach,
+    the rough pose, the move in and close, the lift, the grasp check's looks at the waist
+    offsets with the held cylinder's red filling the frame (DONE) or the cylinder seen
+    standing away (a miss: ADJUST), as grasp.py."""
+    _grasp_both(obj, steps)
+
+
+def _grasp_both(obj: tuple, steps: list) -> str:
+    """The grasp states on both tasks from ROUGH_GRASP, the base still, the object ``obj``
+    off the level grasp's reach; the Python task's last state."""
+    py = Task("002")
+    c = _c_task(py)
+    centre, _ = py.rules.grasp_reach_mm(py)
+    # the base stands still: the object at the level grasp's reach, or off it by obj
+    obj = (py.p.mount_forward_mm + centre + obj[0], obj[1])
+    py.obj = obj
+    c.has_obj, c.obj_mm = 1, list(obj)
+    py.graspable_seen = c.graspable_seen = True
+    py.go(0, "ROUGH_GRASP", "test")
+    C.mg_task_go(c, 0, C.MG_ROUGH_GRASP, b"test")
+    out = FFI.new("mg_task_outputs_t *")
+    now = 0
+    for dt, dets in steps:
+        now += dt
+        inp = TaskInputs(grasp_closed=True, detections=dets or {})
+        _step_both(py, c, now, inp, out)
+    return py.state
+
+
+@pytest.mark.parametrize("seen_standing, end", [(False, "DONE"), (True, "ADJUST")])
+def test_a_grasp_held_and_one_missed(seen_standing, end):
+    """The grasp from the rough pose to the check's verdict: the red filling the frame at two
+    waist offsets (DONE), or the cylinder seen standing away from the gripper (a miss)."""
+    fill = HELD(rgb=(200, 20, 10), fill_permille=950)
+    standing = RED(u_c_q4=160 * 16, v_c_q4=120 * 16, ring1_v_q4=0, ring2_v_q4=640,
+                   d_pixel_q4=640, width_q4=400, roi=(0, 0, 1, 1))
+    dets = {"held_fill": fill, **({"red_cylinder": standing} if seen_standing else {})}
+    assert _grasp_both((0, 0), [(60_000, dets)] * 100) == end

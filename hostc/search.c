@@ -244,13 +244,14 @@ static void start_wander(mg_arm_search_t *s, int64_t now_us, const int32_t at[2]
 static void start_leg(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
 {
     const mg_search_params_t *p = &s->p;
-    if (!s->has_stations) {
-        int32_t rings[MG_COVER_STATIONS][2];
-        const int32_t n = mg_ring_stations(p->cover_mm, p->view_mm, p->chord_mm, rings,
+    if (!s->has_stations) { /* the rings in the start's frame, then in odometry */
+        const int32_t n = mg_ring_stations(p->cover_mm, p->view_mm, p->chord_mm, s->stations,
                                            MG_COVER_STATIONS, &s->overflow);
         s->n_stations = n > 0 ? n : 0;
-        for (int32_t i = 0; i < s->n_stations; i++)
-            mg_to_odometry(s->pose, rings[i], s->stations[i]);
+        for (int32_t i = 0; i < s->n_stations; i++) {
+            const int32_t xy[2] = {s->stations[i][0], s->stations[i][1]};
+            mg_to_odometry(s->pose, xy, s->stations[i]);
+        }
         s->has_stations = 1;
     }
     int32_t turn = 0, drive = 0;

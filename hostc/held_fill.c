@@ -24,12 +24,13 @@ mg_ops_t mg_held_fill_ops(int32_t h, int32_t w)
     return ops;
 }
 
-int32_t mg_held_fill(const uint8_t *rgb, int32_t w, int32_t h, int32_t out[4])
+int32_t mg_held_fill(const uint8_t *rgb, int32_t w, int32_t h, uint32_t *scratch,
+                     int32_t out[4])
 {
     if (w < MG_HELD_STEP || h < MG_HELD_STEP)
         return 0;
-    uint32_t hist[3][256];
-    memset(hist, 0, sizeof hist);
+    uint32_t(*hist)[256] = (uint32_t(*)[256])scratch;
+    memset(scratch, 0, MG_HELD_SCRATCH_WORDS * sizeof scratch[0]);
     const int64_t n = (int64_t)cells(h) * cells(w);
     for (int32_t y = 0; y < h; y += MG_HELD_STEP)
         for (int32_t x = 0; x < w; x += MG_HELD_STEP)

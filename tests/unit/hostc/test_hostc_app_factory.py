@@ -111,7 +111,8 @@ def _held_c(rgb: np.ndarray):
     h, w = rgb.shape[:2]
     out = FFI.new("int32_t[4]")
     buf = np.ascontiguousarray(rgb)
-    ok = C.mg_held_fill(FFI.cast("uint8_t *", buf.ctypes.data), w, h, out)
+    scratch = FFI.new("uint32_t[]", 3 * 256)  # MG_HELD_SCRATCH_WORDS
+    ok = C.mg_held_fill(FFI.cast("uint8_t *", buf.ctypes.data), w, h, scratch, out)
     return HELD.result_type()(tuple(out[0:3]), out[3]) if ok else None
 
 

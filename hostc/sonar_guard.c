@@ -82,6 +82,68 @@ int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_m
     return 0;
 }
 
+int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm)
+{
+    const int32_t n = n_sonar(in), half_cone = t->p.sonar_a_g_mrad / 2;
+    const int64_t off = t->p.sonar_offset_mm;
+    for (int32_t k = 0; n >= 2 && k < n; k++) {
+        const int32_t phi = mg_sonar_angle_mrad(k, n), rng = in->sonar_mm[k];
+        if ((phi < 0 ? -phi : phi) >= 1571 || !(rng > 0 && rng < MG_CLOSE_GUARD_MM))
+            continue;
+        if (t->has_obj) {
+            const int32_t h = in->heading_mrad + phi;
+            const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm - ((off * mg_cos_q12(h)) >> 12);
+            const int64_t dy = (int64_t)t->obj_mm[1] - in->y_mm - ((off * mg_sin_q12(h)) >> 12);
+            const int32_t off_axis = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - h);
+            if ((off_axis < 0 ? -off_axis : off_axis) <= half_cone
+                && rng >= mg_isqrt(dx * dx + dy * dy) - MG_CLOSE_OBJECT_MM)
+                continue;
+        }
+        *phi_mrad = phi;
+        *range_mm = rng;
+        return 1;
+    }
+    return 0;
+}
+
+void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm)
+{
+    static const char *const names[3] = {"close_mm", "phi_mrad", "range_mm"};
+    const int64_t values[3] = {MG_CLOSE_GUARD_MM, phi_mrad, range_mm};
+    mg_task_note_ints(t, "close_guard", 3, names, values);
+}
+
+/* ADJUST, driving forward: a close echo stops the base; the grasp goes on from there when the
+ * object is within MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else it is searched for
+ * again (LOST) */
+static void close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    int32_t phi, rng;
+    if (t->state != MG_ADJUST || (int64_t)t->wheels[0] + t->wheels[1] <= 0
+        || !mg_close_echo(t, in, &phi, &rng))
+        return;
+    t->wheels[0] = t->wheels[1] = 0;
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    const int32_t dist = (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1])
+                                   >> 4);
+    static const char *const names[4] = {"close_mm", "object_mm", "phi_mrad", "range_mm"};
+    const int64_t values[4] = {MG_CLOSE_GUARD_MM, dist, phi, rng};
+    mg_task_note_ints(t, "close_guard", 4, names, values);
+    const int grasp = dist <= t->p.grasp_r_mm + MG_CLOSE_REACH_MM;
+    char why[MG_TASK_WHY];
+    size_t n = mg_task_text(why, sizeof why, 0, "close guard: echo ");
+    n = mg_task_text_int(why, sizeof why, n, rng);
+    n = mg_task_text(why, sizeof why, n, " mm ahead at ");
+    n = mg_task_text_int(why, sizeof why, n, phi);
+    n = mg_task_text(why, sizeof why, n, " mrad, object ");
+    n = mg_task_text_int(why, sizeof why, n, dist);
+    mg_task_text(why, sizeof why, n, grasp ? " mm away: grasp from here"
+                                           : " mm away: search again");
+    mg_task_go(t, now_us, grasp ? MG_ROUGH_GRASP : MG_LOST, why);
+}
+
 int mg_drive_detour(mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d)
 {
     const int32_t err = mg_task_wrap_mrad((int64_t)d->heading_mrad - in->heading_mrad);
@@ -121,7 +183,7 @@ static int guarded(int32_t state)
 
 void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    (void)now_us;
+    close_guard(t, now_us, in);
     if (t->guard_out.active) {
         if (!guarded(t->state) || mg_drive_detour(t, in, &t->guard_out))
             t->guard_out.active = 0;

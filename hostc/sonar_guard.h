@@ -16,6 +16,11 @@
 #define MG_DETOUR_DIAG_MM 255
 #define MG_GUARD_OBJECT_MM 150 /* an echo this close to the estimate's range is the object's */
 #define MG_GUARD_OUT_MM 200    /* after a guard stop: drive this far toward the free sector */
+/* the close approach (ADJUST, ROUGH_GRASP's drive into the grasp's reach) passes within R_r of
+ * things beside the object on purpose (002's board post), so it is guarded nearer */
+#define MG_CLOSE_GUARD_MM 30  /* a front echo this near the ring stops the close approach */
+#define MG_CLOSE_OBJECT_MM 80 /* ... unless in the object's cone at most this much nearer */
+#define MG_CLOSE_REACH_MM 60  /* stopped this near beyond grasp_r_mm: grasp, else search */
 
 /* phi_k of 001 section III.C.2 (k = 1..n evenly from -pi/2 to pi/2) of sonar k of n (n >= 2) */
 int32_t mg_sonar_angle_mrad(int32_t k, int32_t n);
@@ -28,6 +33,12 @@ int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n);
  * range, or 0 */
 int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm);
+/* the first front sonar within MG_CLOSE_GUARD_MM that is not the object's own echo (its near
+ * surface, a radius or so short of its centre): 1 and its angle and range, or 0 */
+int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm);
+/* the close echo's trace detail (close_mm, phi_mrad, range_mm) */
+void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm);
 /* one step of the detour d (turn to its heading, then drive its length): 1 when it is over */
 int mg_drive_detour(mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d);
 /* the guard of a method without its own planner's detours (000, 002), after every step

@@ -5,6 +5,7 @@
 
 #include "fixedpoint.h"
 #include "json.h"
+#include "sonar_guard.h"
 #include "task_drive.h"
 #include "task_method.h"
 #include "task_sense.h"
@@ -161,8 +162,13 @@ void mg_task_do_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
         int32_t xy[2], wheels[2];
         mg_task_obj_platform(t, in, xy);
         mg_close_in_t d;
-        if (mg_close_in(xy, t->reach_mm[0], t->reach_mm[1], t->p.bearing_tol_mrad,
-                        t->rules->adjust_vmax_mmps(&t->p), wheels, &d))
+        const int done = mg_close_in(xy, t->reach_mm[0], t->reach_mm[1], t->p.bearing_tol_mrad,
+                                     t->rules->adjust_vmax_mmps(&t->p), wheels, &d);
+        int32_t phi, rng; /* something in front of the object: grasp from here */
+        const int echo = (int64_t)wheels[0] + wheels[1] > 0 && mg_close_echo(t, in, &phi, &rng);
+        if (echo)
+            mg_note_close_echo(t, phi, rng);
+        if (done || echo)
             rough_pose(t, now_us, in);
         else
             t->wheels[0] = wheels[0], t->wheels[1] = wheels[1];

@@ -145,7 +145,7 @@ HELD_FILLS = st.none() | st.builds(lambda r, g, b, p: HELD(rgb=(r, g, b), fill_p
 DETS = st.builds(lambda f, h: {**(f or {}), **({"held_fill": h} if h is not None else {})},
                  FRAMES, HELD_FILLS)
 SONAR = st.sampled_from([(), (65535,) * 5]) | st.tuples(
-    *[st.sampled_from([0, 65535, 150, 450, 1000]) | st.integers(1, 3000)] * 5)
+    *[st.sampled_from([0, 65535, 20, 150, 450, 1000]) | st.integers(1, 3000)] * 5)
 STEP = st.tuples(st.sampled_from([20_000, 20_000, 60_000, 500_000, 2_000_000]),
                  st.tuples(st.integers(-40, 40), st.integers(-40, 40), st.integers(-300, 300)),
                  SONAR, st.booleans(), DETS)
@@ -289,14 +289,18 @@ def test_the_frame_glue_keeps_a_frame_without_results():
        st.lists(st.tuples(st.tuples(st.integers(-300, 300), st.integers(-300, 300)),
                           st.tuples(st.integers(-40, 40), st.integers(-40, 40),
                                     st.integers(-400, 400)),
-                          SONAR | st.tuples(*[st.sampled_from([65535, 120, 180, 950])] * 5)),
+                          SONAR | st.tuples(*[st.sampled_from([65535, 20, 120, 180, 950])] * 5)),
                 min_size=1, max_size=40))
 def test_the_sonar_guard(state, obj, steps):
     """The guard after a step's wheels: the stop below R_r unless the echo is the object's,
-    the turn to the widest free sector and the drive out, as sonar_guard.py."""
+    the turn to the widest free sector and the drive out; in ADJUST the close guard (an echo
+    within CLOSE_GUARD_MM in front of the object: grasp from there, or search again), as
+    sonar_guard.py."""
     from mobigrasp.host.task.sonar_guard import SONAR_GUARD
     py = Task("002")
     c = _c_task(py)
+    if obj is None and state == "ADJUST":
+        obj = (400, 0)  # ADJUST is entered with an estimate
     if obj is not None:
         py.obj = obj
         c.has_obj, c.obj_mm = 1, list(obj)
@@ -309,8 +313,10 @@ def test_the_sonar_guard(state, obj, steps):
         py._detail, c.n_notes = {}, 0
         inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=sonar)
         cin, _ = _c_inputs(inp)
+        py._events, c.n_events = [], 0
         SONAR_GUARD.step(py, 0, inp)
         C.mg_sonar_guard_step(c, 0, cin)
+        assert _events(c) == py._events
         assert tuple(c.wheels) == py.wheels
         assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in py._detail.items()}
         assert bool(c.guard_out.active) == (py.guard_out is not None)

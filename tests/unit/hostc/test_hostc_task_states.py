@@ -345,9 +345,10 @@ def test_the_grasp_and_its_check(obj, steps):
     _grasp_both(obj, steps)
 
 
-def _grasp_both(obj: tuple, steps: list) -> str:
+def _grasp_both(obj: tuple, steps: list, sonar: tuple = ()) -> str:
     """The grasp states on both tasks from ROUGH_GRASP, the base still, the object ``obj``
-    off the level grasp's reach; the Python task's last state."""
+    off the level grasp's reach, the sonar ring reading ``sonar``; the Python task's last
+    state."""
     py = Task("002")
     c = _c_task(py)
     centre, _ = py.rules.grasp_reach_mm(py)
@@ -362,9 +363,24 @@ def _grasp_both(obj: tuple, steps: list) -> str:
     now = 0
     for dt, dets in steps:
         now += dt
-        inp = TaskInputs(grasp_closed=True, detections=dets or {})
+        inp = TaskInputs(grasp_closed=True, detections=dets or {}, sonar_mm=sonar)
         _step_both(py, c, now, inp, out)
+        NOTED.update(py._detail)
     return py.state
+
+
+NOTED: dict = {}  # the detail members the grasp runs noted
+
+
+def test_the_reach_drive_stops_at_an_echo_in_front():
+    """The drive into the grasp's reach (the object 30 mm beyond it) meets an echo 20 mm ahead
+    of the ring that is not the object's: it tries the grasp from there (here out of the
+    rough pose's reach: FAILED), the same on both tasks."""
+    NOTED.clear()
+    fill = HELD(rgb=(200, 20, 10), fill_permille=950)
+    assert _grasp_both((30, 0), [(60_000, {"held_fill": fill})] * 40,
+                       (2500, 2500, 20, 2500, 2500)) == "FAILED"
+    assert NOTED["close_guard"] == {"phi_mrad": 0, "range_mm": 20, "close_mm": 30}
 
 
 @pytest.mark.parametrize("seen_standing, end", [(False, "DONE"), (True, "ADJUST")])

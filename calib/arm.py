@@ -275,7 +275,7 @@ class FrontEnd:
         a, base = self.arm, DATA_BASE
         h, w = rgb.shape[:2]
         a.write(self.RGB, np.ascontiguousarray(rgb).tobytes())
-        found, t = a.call(name, base + self.RGB, w, h, base + self.SCRATCH, base + self.OUT)
+        found, t = a.call(name, base + self.RGB, w, h, base + self.SCRATCH, base + self.OUT, 0)
         res = struct.unpack(f"<{n_out}i", a.read(base + self.OUT, 4 * n_out)) if found else None
         return res, t
 
@@ -336,7 +336,7 @@ class FrontEnd:
         a, base = self.arm, DATA_BASE
         h, w = self._shape
         found, t = a.call("mg_double_cross", base + self.GREY, w, h, yaw_mrad, pitch_mrad, f_px,
-                          base + self.SCRATCH, base + self.OUT, cold=False)
+                          base + self.SCRATCH, base + self.OUT, 0, cold=False)
         res = native.double_cross_tuple(struct.unpack("<10i", a.read(base + self.OUT, 40))) \
             if found else None
         return res, t

@@ -21,7 +21,7 @@ from mobigrasp.resources import data_dir
 HOSTC = data_dir("mobigrasp.hostc_sources")
 SOURCES = ("grey.c", "dark.c", "label.c", "edge.c", "radial_symbol.c",
            "red_cylinder.c", "trig.c", "dual_plus.c", "spoke.c", "ranging.c", "double_cross.c",
-           "bezier.c", "bezier000.c", "bezier001.c", "clearance.c")
+           "bezier.c", "bezier000.c", "bezier001.c", "clearance.c", "budget.c")
 
 
 def source_hash() -> str:
@@ -132,22 +132,46 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
     return radial_symbol(grey(rgb), stats, f_px, u0_px, v0_px)
 
 
+def ops_tuple(ops) -> tuple[int, ...]:
+    """A C ``mg_ops_t`` as host.budget.OpCounts.as_tuple() gives its counts."""
+    return (ops.pixels_read, ops.pixels_written, ops.alu, ops.branches, ops.muls, ops.muls32,
+            ops.divs, ops.luts, ops.float_ops, ops.float_divs, ops.bytes_streamed)
+
+
 def _rgb_kernel(name: str, rgb: np.ndarray, n_out: int) -> tuple[int, ...] | None:
     """Call the red detector ``name`` (frame, size, the red scratch, ``n_out`` out words)."""
+    return _rgb_kernel_counted(name, rgb, n_out)[0]
+
+
+def _rgb_kernel_counted(name: str, rgb: np.ndarray, n_out: int
+                        ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`_rgb_kernel` and the operation counts it charged (:func:`ops_tuple`)."""
     ffi, c = lib()
     img = np.ascontiguousarray(rgb)
     h, w = img.shape[:2]
     scratch = np.empty(c.mg_red_scratch_bytes(w, h) // 4 + 1, np.int32)
     out = np.zeros(n_out, np.int32)
+    ops = ffi.new("mg_ops_t *")
     found = getattr(c, name)(_ptr(ffi, img, "uint8_t *"), w, h, _ptr(ffi, scratch, "uint8_t *"),
-                             _ptr(ffi, out, "int32_t *"))
-    return tuple(int(v) for v in out) if found else None
+                             _ptr(ffi, out, "int32_t *"), ops)
+    return (tuple(int(v) for v in out) if found else None), ops_tuple(ops)
 
 
 def detect_red_cylinder(rgb: np.ndarray) -> tuple[int, ...] | None:
     """(u_c_q4, v_c_q4, ring1_v_q4, ring2_v_q4, d_pixel_q4, width_q4, x, y, w, h) of the 002
     red cylinder in C, or None."""
     return _rgb_kernel("mg_red_cylinder", rgb, 10)
+
+
+def detect_red_cylinder_counted(rgb: np.ndarray
+                                ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`detect_red_cylinder` and the operation counts it charged (:func:`ops_tuple`)."""
+    return _rgb_kernel_counted("mg_red_cylinder", rgb, 10)
+
+
+def detect_red_roi_counted(rgb: np.ndarray) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`detect_red_roi` and the operation counts it charged (:func:`ops_tuple`)."""
+    return _rgb_kernel_counted("mg_red_roi", rgb, 8)
 
 
 def red_roi_tuple(res) -> tuple[int, ...]:
@@ -322,18 +346,37 @@ def double_cross_tuple(out) -> tuple:
 def double_cross(grey_img: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
                  f_px: int = 350) -> tuple | None:
     """The 002 double cross (:func:`double_cross_tuple`) from a grey image, or None."""
+    return double_cross_counted(grey_img, yaw_mrad, pitch_mrad, f_px)[0]
+
+
+def double_cross_counted(grey_img: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
+                         f_px: int = 350) -> tuple[tuple | None, tuple[int, ...]]:
+    """:func:`double_cross` and the operation counts it charged (:func:`ops_tuple`), the grey
+    image's apart."""
     ffi, c = lib()
     g = np.ascontiguousarray(grey_img, np.uint8)
     h, w = g.shape
     scratch = np.empty(c.mg_double_cross_scratch_bytes(w, h) // 8 + 1, np.int64)
     out = np.zeros(10, np.int32)
+    ops = ffi.new("mg_ops_t *")
     found = c.mg_double_cross(_ptr(ffi, g, "uint8_t *"), w, h, int(yaw_mrad), int(pitch_mrad),
                               int(f_px), _ptr(ffi, scratch, "uint8_t *"),
-                              _ptr(ffi, out, "int32_t *"))
-    return double_cross_tuple(out) if found else None
+                              _ptr(ffi, out, "int32_t *"), ops)
+    return (double_cross_tuple(out) if found else None), ops_tuple(ops)
 
 
 def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
                         f_px: int = 350) -> tuple | None:
     """The whole detector in C: grey, double cross."""
     return double_cross(grey(rgb), yaw_mrad, pitch_mrad, f_px)
+
+
+def detect_double_cross_counted(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
+                                f_px: int = 350) -> tuple[tuple | None, tuple[int, ...]]:
+    """:func:`detect_double_cross` and the operation counts it charged, the grey image's
+    included (mg_grey_ops), as host/vision/double_cross.py charges them."""
+    ffi, c = lib()
+    res, ops = double_cross_counted(grey(rgb), yaw_mrad, pitch_mrad, f_px)
+    g = ffi.new("mg_ops_t *")
+    c.mg_grey_ops(g, rgb.shape[0], rgb.shape[1])
+    return res, tuple(a + b for a, b in zip(ops, ops_tuple(g), strict=True))

@@ -79,6 +79,59 @@ static int32_t div_round_pos(int64_t num, int64_t den)
     return mg_div_round(num, den);
 }
 
+/* The operation counts (host/vision/double_cross.py, which states the ARM920T code each count
+ * stands for; docs/budget.md) added to *o. */
+static void count(mg_ops_t *o, int64_t pixels_read, int64_t pixels_written, int64_t alu,
+                  int64_t branches, int64_t muls32, int64_t divs, int64_t luts,
+                  int64_t bytes_streamed)
+{
+    o->pixels_read += pixels_read;
+    o->pixels_written += pixels_written;
+    o->alu += alu;
+    o->branches += branches;
+    o->muls32 += muls32;
+    o->divs += divs;
+    o->luts += luts;
+    o->bytes_streamed += bytes_streamed;
+}
+
+/* one pyramid level of n pixels (_downsample_ops) */
+static void downsample_ops(mg_ops_t *o, int64_t n) { count(o, 4 * n, n, 7 * n, n, 0, 0, 0, 4 * n); }
+
+/* the noise estimate (_noise_ops) */
+static void noise_ops(mg_ops_t *o, int32_t h, int32_t w)
+{
+    if (w < 2)
+        return;
+    const int64_t rows = (h + 3) / 4, n = rows * (w - 1);
+    count(o, 2 * n, n, 3 * n + 512, n + 256, 0, 0, n, rows * w);
+}
+
+/* one level's fixed scan (_scan_ops) and its points past each test (_level_candidates) */
+static void level_ops(mg_ops_t *o, int32_t h, int32_t w, const int32_t tally[4])
+{
+    const int64_t cells = (int64_t)((h >> 2) + 1) * ((w >> 2) + 1);
+    count(o, 0, 3 * cells, 2 * cells, cells, 0, 0, 0, 0);
+    if (h <= 2 * RING_R || w <= 2 * RING_R)
+        return;
+    const int64_t n = (int64_t)(h - 2 * RING_R) * (w - 2 * RING_R);
+    count(o, 9 * n, 0, 20 * n, 2 * n, 0, 0, 0, (int64_t)h * w);
+    const int64_t k = tally[0], ks = tally[1], n4 = tally[2], m = tally[3];
+    count(o, 8 * k, 8 * k, 34 * k, 24 * k, 0, 0, 8 * k, 0);
+    count(o, ks * RING_N, 0, ks * (12 * RING_N + 68), ks * RING_N, 0, 0, ks * RING_N, 0);
+    count(o, 0, 0, 563 * n4, 24 * n4, 0, 0, 24 * n4, 0);
+    count(o, 0, 3 * m, m * (2 * RING_N + 12), 2 * m, 4 * m, 0, 0, 0);
+}
+
+/* one level's grouping of cells (_group: the labelling of hostc/label.c, the sums, a rounded
+ * division per group mean) and the pair search over its ng groups */
+static void group_ops(mg_ops_t *o, int64_t cells, int64_t ng)
+{
+    mg_components_ops(o, cells);
+    count(o, 3 * cells, cells, 6 * cells, 3 * cells, 0, 2 * ng, 0, 26 * cells);
+    count(o, 0, 0, 12 * ng * ng, 0, 2 * ng * ng, 0, 0, 0);
+}
+
 static void layout(uint8_t *scratch, int32_t w, int32_t h, scratch_t *s)
 {
     const int32_t gw = (w >> 2) + 1, gh = (h >> 2) + 1, cells = gw * gh;
@@ -159,9 +212,10 @@ static int32_t noise_sigma(const uint8_t *g, int32_t w, int32_t h, uint32_t *his
 }
 
 /* Omega_p1 and Omega_p2 of one level (002 section 2.1 steps 1-3), each point added to its grid
- * cell; returns the number of points */
+ * cell; returns the number of points. tally: the points past each test, as the Python charges
+ * them (Omega_p1, the symmetric ones, the words with four dark runs, those near a template) */
 static int32_t level_points(const uint8_t *g, int32_t w, int32_t h, int32_t th, int32_t lvl,
-                            int32_t gw, cell_t *cells)
+                            int32_t gw, cell_t *cells, int32_t tally[4])
 {
     const int32_t r = RING_R;
     if (h <= 2 * r || w <= 2 * r)
@@ -200,6 +254,7 @@ static int32_t level_points(const uint8_t *g, int32_t w, int32_t h, int32_t th, 
             }
             if (mn - c >= th || c - mn > up)
                 continue;
+            tally[0]++;
             /* central symmetry: opposite points on the same side of g + T_h in >= 2 pairs */
             const int32_t ct = c + th;
             int32_t same = 0;
@@ -207,6 +262,7 @@ static int32_t level_points(const uint8_t *g, int32_t w, int32_t h, int32_t th, 
                 same += (v[k] >= ct) == (v[k + 4] >= ct);
             if (same < 2)
                 continue;
+            tally[1]++;
             /* step 2: the binarised ring word, and the sums of its light and dark samples */
             uint32_t code = 0;
             int32_t n_light = 0, s_light = 0, s_all = 0;
@@ -223,11 +279,13 @@ static int32_t level_points(const uint8_t *g, int32_t w, int32_t h, int32_t th, 
             const uint32_t rot = ((code << 1) | (code >> (RING_N - 1))) & RING_MASK;
             if (popcount32(code & ~rot & RING_MASK) != 4)
                 continue;
+            tally[2]++;
             int near = 0;
             for (int32_t t = 0; t < N_TEMPLATES && !near; t++)
                 near = popcount32(code ^ templates[t]) <= RING_HAMMING;
             if (!near)
                 continue;
+            tally[3]++;
             const int32_t n_dark = RING_N - n_light, s_dark = s_all - s_light;
             if (s_light * n_dark - s_dark * n_light < 2 * th * n_light * n_dark
                 || s_light - c * n_light < 2 * th * n_light || s_dark < (c - th) * n_dark)
@@ -312,7 +370,7 @@ static int32_t pick_pair(const group_t *gr, int32_t ng, int32_t lvl, group_t *a,
 /* a cross's apparent height (Q4): its vertical spokes from the centre up and down to the
  * dark/light mid-level crossings; 0 when there is no clear crossing */
 static int32_t vertical_extent_q4(const uint8_t *g, int32_t w, int32_t h, int32_t u_q4,
-                                  int32_t v_q4)
+                                  int32_t v_q4, mg_ops_t *o)
 {
     const int32_t x = (u_q4 + 8) >> 4, y0 = (v_q4 + 8) >> 4;
     if (!(x >= 0 && x < w && y0 >= 1 && y0 < h - 1))
@@ -320,6 +378,7 @@ static int32_t vertical_extent_q4(const uint8_t *g, int32_t w, int32_t h, int32_
     const int32_t lo = y0 - EXTENT_MAX_PX < 0 ? 0 : y0 - EXTENT_MAX_PX;
     const int32_t hi = y0 + EXTENT_MAX_PX + 1 > h ? h : y0 + EXTENT_MAX_PX + 1;
     const uint8_t *col = g + x;
+    count(o, 2 * (hi - lo), 0, 3 * (hi - lo), hi - lo, 0, 2, 0, 0);
     int32_t light = 0, dark = 255;
     for (int32_t y = lo; y < hi; y++)
         light = col[y * w] > light ? col[y * w] : light;
@@ -342,8 +401,10 @@ static int32_t vertical_extent_q4(const uint8_t *g, int32_t w, int32_t h, int32_
     return total;
 }
 
-int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mrad,
-                        int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out)
+/* the detector (002 section 2.1), its operation counts added to *o */
+static int32_t detect(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mrad,
+                      int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out,
+                      mg_ops_t *o)
 {
     scratch_t s;
     layout(scratch, w, h, &s);
@@ -352,9 +413,11 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
     for (int32_t l = 1; l < LEVELS; l++) {
         downsample(lv[l - 1], w >> (l - 1), h >> (l - 1), s.lvl[l]);
         lv[l] = s.lvl[l];
+        downsample_ops(o, (int64_t)(h >> l) * (w >> l));
     }
     /* T_h follows the noise (4 sigma, halved per level by the 2x2 means) */
     const int32_t sigma = noise_sigma(grey, w, h, s.hist);
+    noise_ops(o, h, w);
     int32_t pair_score = 0;
     group_t pa = {0, 0, 0}, pb = {0, 0, 0};
     for (int32_t lvl = LEVELS - 1; lvl >= 0; lvl--) { /* coarse to fine */
@@ -365,11 +428,14 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
             s.cells[i].sv = 0;
         }
         const int32_t th4 = (4 * sigma) >> lvl;
+        int32_t tally[4] = {0, 0, 0, 0};
         const int32_t npts = level_points(lv[lvl], w >> lvl, h >> lvl, th4 > T_H ? th4 : T_H,
-                                          lvl, gw, s.cells);
+                                          lvl, gw, s.cells, tally);
+        level_ops(o, h >> lvl, w >> lvl, tally);
         if (npts < 2)
             continue;
         const int32_t ng = group_level(&s, gw, gh);
+        group_ops(o, (int64_t)gw * gh, ng);
         group_t a = {0, 0, 0}, b = {0, 0, 0};
         const int32_t score = pick_pair(s.groups, ng, lvl, &a, &b);
         if (score > 0 && score >= pair_score) { /* finer levels win ties */
@@ -387,11 +453,16 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
     const uint64_t d2 = (uint64_t)((int64_t)du * du + (int64_t)dv * dv);
     const int32_t d_q4 = d2 <= 0xffffffffu ? mg_isqrt32((uint32_t)d2)
                                            : (int32_t)mg_isqrt64(d2);
+    int32_t rounds = 0; /* the isqrt's: one per pair of bits of d2, at least one */
+    for (uint64_t u = d2; u; u >>= 2)
+        rounds++;
+    count(o, 0, 0, 4 * (rounds > 1 ? rounds : 1) + 4, rounds > 1 ? rounds : 1, 2, 0, 0, 0);
     int32_t um = (g1.u_q4 + g2.u_q4 + 1) >> 1, vm = (g1.v_q4 + g2.v_q4 + 1) >> 1;
     /* perspective: weight the centres by the crosses' apparent sizes (depth ~ 1 / size) */
-    const int32_t r1 = vertical_extent_q4(grey, w, h, g1.u_q4, g1.v_q4);
-    const int32_t r2 = vertical_extent_q4(grey, w, h, g2.u_q4, g2.v_q4);
+    const int32_t r1 = vertical_extent_q4(grey, w, h, g1.u_q4, g1.v_q4, o);
+    const int32_t r2 = vertical_extent_q4(grey, w, h, g2.u_q4, g2.v_q4, o);
     if (r1 && r2 && 5 * r1 >= 3 * r2 && 5 * r2 >= 3 * r1) {
+        count(o, 0, 0, 6, 0, 4, 2, 0, 0);
         um = div_round_pos((int64_t)r2 * g1.u_q4 + (int64_t)r1 * g2.u_q4, r1 + r2);
         vm = div_round_pos((int64_t)r2 * g1.v_q4 + (int64_t)r1 * g2.v_q4, r1 + r2);
     }
@@ -400,6 +471,9 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
     const int64_t fwd = (int64_t)mg_cos_q12(pitch_mrad) * 16 * f_px
         + (int64_t)mg_sin_q12(pitch_mrad) * yn_q4;
     const int32_t e = yaw_mrad + mg_atan2_mrad(xn_q4 * 4096, fwd);
+    /* a sine and a cosine, an atan2 (host/fixedpoint.py sin_ops, atan2_ops), the products */
+    count(o, 0, 0, 2 * 10 + 14 + 6, 2 * 2 + 4, 2 * 1 + 3, 1, 2 * 2 + 2, 0);
+    o->muls += 2 * 1 + 1;
     out[0] = g1.u_q4;
     out[1] = g1.v_q4;
     out[2] = g2.u_q4;
@@ -411,4 +485,15 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
     out[8] = g1.votes;
     out[9] = g2.votes;
     return 1;
+}
+
+int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mrad,
+                        int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out,
+                        mg_ops_t *ops)
+{
+    mg_ops_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const int32_t found = detect(grey, w, h, yaw_mrad, pitch_mrad, f_px, scratch, out, &o);
+    if (ops != 0)
+        *ops = o;
+    return found;
 }

@@ -7,8 +7,12 @@
 
 #include <stdint.h>
 
+#include "budget.h" /* mg_ops_t: what a kernel call charges on the ARM920T */
+
 /* grey.c: Y = (77 R + 150 G + 29 B) >> 8 of an interleaved RGB frame (host/vision/grey.py) */
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
+/* adds to *o what mg_grey charges on an h x w frame (host/vision/grey.py grey_cost) */
+void mg_grey_ops(mg_ops_t *o, int32_t h, int32_t w);
 
 /* dark.c: the dark threshold from the bright level (the grey level of the brightest 1/500 of
  * the pixels, times 45/100, clamped to 40..130) and the 0/1 mask grey < threshold
@@ -22,6 +26,9 @@ int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t 
  * at most blocks + 1 labels). Returns the number of labels including the background. */
 int32_t mg_label(const uint8_t *mask, int32_t w, int32_t h, int32_t *labels,
                  int32_t *block_lab, int32_t *parent, int32_t *stats);
+/* adds to *o what mg_label charges on a mask of n_px pixels (host/vision/dark_blobs.py
+ * components_cost) */
+void mg_components_ops(mg_ops_t *o, int64_t n_px);
 
 /* edge.c: floor division, rounded division (den > 0) and the sub-pixel light-to-dark edge
  * ending at i_dark along a line (stride in bytes; host/vision/dark_blobs.py edge_q4): 1 and the
@@ -43,14 +50,16 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_
 /* red_cylinder.c: the 002 red cylinder and its two rings from the RGB frame
  * (host/vision/red_cylinder.py detect_red_cylinder). out: u_c_q4, v_c_q4, ring1_v_q4,
  * ring2_v_q4, d_pixel_q4, width_q4, roi x, y, w, h. scratch: mg_red_scratch_bytes(w, h)
- * bytes, 4-byte aligned. Returns 1 when found, 0 when not. */
+ * bytes, 4-byte aligned. Returns 1 when found, 0 when not. ops (NULL: not wanted): the
+ * operation counts the Python detector charges for the same frame. */
 int32_t mg_red_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_red_cylinder(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch,
-                        int32_t *out);
+                        int32_t *out, mg_ops_t *ops);
 /* red_cylinder.c: the colour ROI of 002 section 2.2 step 1 alone, with the same scratch
  * (host/vision/red_cylinder.py detect_red_roi). out: u_c_q4, v_c_q4, roi x, y, w, h, area_px,
- * touches_edge. Returns 1 when found, 0 when not. */
-int32_t mg_red_roi(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch, int32_t *out);
+ * touches_edge. Returns 1 when found, 0 when not; ops as mg_red_cylinder's. */
+int32_t mg_red_roi(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch, int32_t *out,
+                   mg_ops_t *ops);
 
 #include "trig.h" /* sin, cos (Q12) and atan2 (mrad) */
 
@@ -124,9 +133,12 @@ int64_t mg_path_clearance(const int64_t *words, int32_t n_reg, const int64_t *x,
 /* double_cross.c: the 002 double cross from the grey image (host/vision/double_cross.py
  * detect_double_cross; the image centre U0 = 160, V0 = 120 px as there). out: u1_q4, v1_q4,
  * u2_q4, v2_q4, um_q4, vm_q4, d_pixel_q4, e_mrad, votes1, votes2. scratch:
- * mg_double_cross_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
+ * mg_double_cross_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not.
+ * ops (NULL: not wanted): the operation counts the Python detector charges for the same frame,
+ * its grey image apart (mg_grey_ops). */
 int32_t mg_double_cross_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mrad,
-                        int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out);
+                        int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out,
+                        mg_ops_t *ops);
 
 #endif

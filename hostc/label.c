@@ -117,3 +117,15 @@ int32_t mg_label(const uint8_t *mask, int32_t w, int32_t h, int32_t *labels,
     }
     return n;
 }
+
+void mg_components_ops(mg_ops_t *o, int64_t n_px)
+{
+    /* both passes over the mask and each pixel's label stats (host/vision/dark_blobs.py
+     * components_cost, docs/budget.md) */
+    o->pixels_read += 2 * n_px;
+    o->pixels_written += 4 * n_px;
+    o->luts += 6 * n_px;
+    o->alu += 14 * n_px;
+    o->branches += 2 * n_px;
+    o->bytes_streamed += 2 * n_px;
+}

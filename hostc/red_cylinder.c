@@ -17,6 +17,20 @@ static int32_t imax(int32_t a, int32_t b) { return a > b ? a : b; }
 static int32_t imin(int32_t a, int32_t b) { return a < b ? a : b; }
 static int32_t iabs(int32_t a) { return a < 0 ? -a : a; }
 
+/* The operation counts (host/vision/red_cylinder.py, which states the ARM920T code each count
+ * stands for) added to *o. */
+static void count(mg_ops_t *o, int64_t pixels_read, int64_t alu, int64_t branches, int64_t muls,
+                  int64_t muls32, int64_t divs, int64_t bytes_streamed)
+{
+    o->pixels_read += pixels_read;
+    o->alu += alu;
+    o->branches += branches;
+    o->muls += muls;
+    o->muls32 += muls32;
+    o->divs += divs;
+    o->bytes_streamed += bytes_streamed;
+}
+
 static int32_t redness(const uint8_t *p)
 {
     int32_t gb = p[1] > p[2] ? p[1] : p[2];
@@ -57,9 +71,12 @@ static int32_t centroid_q4(const int32_t *profile, int32_t n, int32_t s, int32_t
 /* ring rows in columns [cx0, cx1) of rows [y0, y1): 1 and out (r1_q4, r2_q4, level, run1,
  * run2), or 0 without exactly two thin dark rings; prof/rprof/tmp: y1 - y0 words each */
 static int measure(const uint8_t *rgb, int32_t W, int32_t y0, int32_t y1, int32_t cx0,
-                   int32_t cx1, int32_t *prof, int32_t *rprof, int32_t *tmp, int32_t *out)
+                   int32_t cx1, int32_t *prof, int32_t *rprof, int32_t *tmp, int32_t *out,
+                   mg_ops_t *o)
 {
     const int32_t n = y1 - y0, nc = cx1 - cx0;
+    const int64_t px = (int64_t)n * nc;
+    count(o, 3 * px, 9 * px, 2 * n, px, 0, 2 * n, 3 * px);
     for (int32_t y = y0; y < y1; y++) {
         const uint8_t *p = rgb + 3 * (y * W + cx0);
         int32_t sr = 0, s = 0;
@@ -107,6 +124,7 @@ static int measure(const uint8_t *rgb, int32_t W, int32_t y0, int32_t y1, int32_
         m2 = imin(m2, rprof[r]);
     if (3 * m1 > 2 * r_level || 3 * m2 > 2 * r_level)
         return 0;
+    count(o, 0, 8 * (e2 - s1 + 4) + 40, 0, 0, 2 * (e2 - s1 + 4), 2, 0); /* the centroids */
     int32_t r1 = y0 * 16 + centroid_q4(prof, n, s1, e1, level);
     int32_t r2 = y0 * 16 + centroid_q4(prof, n, s2, e2, level);
     if (r2 - r1 < MIN_RING_GAP_PX * 16 || 2 * imax(e1 - s1, e2 - s2) * 16 > r2 - r1)
@@ -119,11 +137,13 @@ static int measure(const uint8_t *rgb, int32_t W, int32_t y0, int32_t y1, int32_
  * them (and the red outside them); ok: x1 - x0 bytes */
 static int ring_columns(const uint8_t *rgb, int32_t W, int32_t H, int32_t x0, int32_t x1,
                         int32_t r1_q4, int32_t r2_q4, int32_t level, uint8_t *ok,
-                        int32_t *left, int32_t *right)
+                        int32_t *left, int32_t *right, mg_ops_t *o)
 {
     int32_t k = imax(1, (r2_q4 - r1_q4 + 16) >> 5), j = imax(1, k / 2);
     int32_t ra = (r1_q4 + 8) >> 4, rb = (r2_q4 + 8) >> 4, mid = (ra + rb) >> 1;
     int32_t lo = imax(0, ra - k - j), hi = imin(H, rb + k + j + 1);
+    const int64_t px = (int64_t)imax(0, hi - lo) * (x1 - x0); /* the redness of the band */
+    count(o, 3 * px, 6 * px, x1 - x0, 0, 0, 0, 0);
     for (int32_t x = x0; x < x1; x++) {
         int good = 1;
         for (int side = 0; side < 2 && good; side++) {
@@ -164,10 +184,12 @@ static int ring_columns(const uint8_t *rgb, int32_t W, int32_t H, int32_t x0, in
 }
 
 static void red_run(const uint8_t *rgb, int32_t W, int32_t H, int32_t ya, int32_t yb,
-                    int32_t x0, int32_t x1, int32_t centre, int32_t *left, int32_t *right)
+                    int32_t x0, int32_t x1, int32_t centre, int32_t *left, int32_t *right,
+                    mg_ops_t *o)
 {
     int32_t ya2 = imax(0, ya), yb2 = imax(ya + 1, yb);
     int32_t rows = imax(0, imin(yb2, H) - ya2), c = centre - x0, n = x1 - x0;
+    count(o, 3 * (int64_t)rows * n, 5 * (int64_t)rows * n, n, 0, 0, 0, 0);
     int32_t l = 0, r = n - 1;
     for (int32_t x = 0; x < n; x++) {
         int32_t cnt = 0;
@@ -225,7 +247,8 @@ static red_scratch_t red_layout(uint8_t *scratch, int32_t W, int32_t H)
 
 /* Steps 1-2 of 002 section 2.2 (host/vision/red_cylinder.py red_mask, _candidates): the red
  * grid in s->mask and its stacked pieces in s->cands, biggest first; returns their number. */
-static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_scratch_t *rs)
+static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_scratch_t *rs,
+                          mg_ops_t *o)
 {
     const int32_t gw = (W + 1) / 2, gh = (H + 1) / 2;
     uint8_t *mask = rs->mask;
@@ -240,8 +263,14 @@ static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_sc
             mask[gy * gw + gx] = (r > gb ? r - gb : 0) >= T_RED && 2 * r >= 5 * gb;
         }
     }
+    /* per grid pixel three byte loads, max, subtract, the hue test and a store; every other
+     * row of the frame from SDRAM (red_grid_ops) */
+    const int64_t m = (int64_t)gw * gh;
+    count(o, 3 * m, 7 * m, 0, m, 0, 0, (int64_t)(H + 1) / 2 * W * 3);
+    o->pixels_written += m;
     /* 2. red pieces, biggest first (then left, then top), merged when stacked */
     int32_t nl = mg_label(mask, gw, gh, rs->labels, rs->block_lab, rs->parent, stats);
+    mg_components_ops(o, m);
     int32_t nc = 0;
     for (int32_t i = 1; i < nl; i++) {
         const int32_t *s = stats + 5 * i;
@@ -257,6 +286,7 @@ static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_sc
         }
         comps[j] = c;
     }
+    count(o, 0, 10 * (int64_t)nc * nc + 10, 2 * (int64_t)nc * nc, 0, 0, 0, 0); /* the merge */
     for (int32_t i = 0; i < nc; i++)
         used[i] = 0;
     int32_t nm = 0;
@@ -297,10 +327,13 @@ static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_sc
     return nm;
 }
 
-int32_t mg_red_roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, int32_t *out)
+/* the colour ROI (detect_red_roi), its counts added to *o */
+static int32_t roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, int32_t *out,
+                   mg_ops_t *o)
 {
     const red_scratch_t rs = red_layout(scratch, W, H);
-    const int32_t nm = red_pieces(rgb, W, H, &rs);
+    const int32_t nm = red_pieces(rgb, W, H, &rs, o);
+    count(o, 0, 12, 0, 0, 0, 0, 0);
     if (nm == 0 || rs.cands[0].area < MIN_ROI_AREA_HALF_PX)
         return 0;
     const cand_t *c = rs.cands;
@@ -317,12 +350,23 @@ int32_t mg_red_roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, i
     return 1;
 }
 
-int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch,
-                        int32_t *out)
+int32_t mg_red_roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, int32_t *out,
+                   mg_ops_t *ops)
+{
+    mg_ops_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const int32_t found = roi(rgb, W, H, scratch, out, &o);
+    if (ops != 0)
+        *ops = o;
+    return found;
+}
+
+/* the cylinder and its rings (detect_red_cylinder), its counts added to *o */
+static int32_t cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch,
+                        int32_t *out, mg_ops_t *o)
 {
     const int32_t gw = (W + 1) / 2;
     const red_scratch_t rs = red_layout(scratch, W, H);
-    const int32_t nm = red_pieces(rgb, W, H, &rs);
+    const int32_t nm = red_pieces(rgb, W, H, &rs, o);
     const uint8_t *mask = rs.mask;
     const cand_t *cands = rs.cands;
     int32_t *prof = rs.prof, *rprof = rs.rprof, *tmp = rs.tmp, *strips = rs.strips;
@@ -334,6 +378,8 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         int32_t x0 = imax(0, 2 * gx0 - 2), y0 = imax(0, 2 * gy0 - 2);
         int32_t x1 = imin(W, 2 * gx1 + 2), y1 = imin(H, 2 * gy1 + 2);
         int32_t gix0 = c->ix0, gix1 = c->ix1;
+        const int64_t box = (int64_t)(gx1 - gx0) * (gy1 - gy0); /* the column counts */
+        count(o, box, 2 * box, 0, 0, 0, 0, 0);
         if (gix1 - gix0 >= 2) { /* the run around the tallest common column */
             int32_t top = 0, topv = -1, nci = gix1 - gix0;
             for (int32_t x = 0; x < nci; x++) {
@@ -357,7 +403,7 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         if (ix1 - ix0 < 4 || y1 - y0 < 4)
             continue;
         int32_t cx0 = ix0 + (ix1 - ix0) / 4, cx1 = ix1 - (ix1 - ix0) / 4, m[5];
-        int have = measure(rgb, W, y0, y1, cx0, cx1, prof, rprof, tmp, m);
+        int have = measure(rgb, W, y0, y1, cx0, cx1, prof, rprof, tmp, m, o);
         if (!have) {
             int32_t sw = imax(4, (x1 - x0) / 8), mid = (cx0 + cx1) / 2, ns = 0;
             for (int32_t sx = x0; sx < x1 - sw + 1 && ns < MAX_STRIPS; sx += sw / 2) {
@@ -369,7 +415,8 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
                 strips[j] = sx;
             }
             for (int32_t k = 0; k < ns && !have; k++) {
-                if (measure(rgb, W, y0, y1, strips[k], strips[k] + sw, prof, rprof, tmp, m)) {
+                if (measure(rgb, W, y0, y1, strips[k], strips[k] + sw, prof, rprof, tmp, m,
+                            o)) {
                     cx0 = strips[k];
                     cx1 = strips[k] + sw;
                     have = 1;
@@ -379,12 +426,12 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         if (!have)
             continue;
         int32_t left, right;
-        if (!ring_columns(rgb, W, H, x0, x1, m[0], m[1], m[2], ok, &left, &right)
+        if (!ring_columns(rgb, W, H, x0, x1, m[0], m[1], m[2], ok, &left, &right, o)
                 || right - left < 3)
             continue;
         int32_t r1 = m[0], r2 = m[1], red_l, red_r;
         red_run(rgb, W, H, (r1 >> 4) + m[3], (r2 >> 4) - m[4] + 1, x0, x1, (left + right) / 2,
-                &red_l, &red_r);
+                &red_l, &red_r, o);
         int32_t ml = left - red_l, mr = red_r - right;
         if (iabs(ml - mr) > imax(3, (right - left) / 8))
             ml = mr = imax(0, imin(ml, mr));
@@ -395,7 +442,7 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         int32_t q = (right - left + 1) / 4;
         if (iabs(left + q - cx0) + iabs(right + 1 - q - cx1) > imax(2, q / 2)) {
             int32_t m2[5];
-            if (!measure(rgb, W, y0, y1, left + q, right + 1 - q, prof, rprof, tmp, m2))
+            if (!measure(rgb, W, y0, y1, left + q, right + 1 - q, prof, rprof, tmp, m2, o))
                 continue;
             r1 = m2[0];
             r2 = m2[1];
@@ -413,4 +460,14 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         return 1;
     }
     return 0;
+}
+
+int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch,
+                        int32_t *out, mg_ops_t *ops)
+{
+    mg_ops_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const int32_t found = cylinder(rgb, W, H, scratch, out, &o);
+    if (ops != 0)
+        *ops = o;
+    return found;
 }

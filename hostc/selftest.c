@@ -264,9 +264,9 @@ static void vision(void)
     if (scratch_fits(mg_red_scratch_bytes(W, H))) {
         for (int i = 0; i < 10; i++)
             out[i] = 0;
-        int32_t r = mg_red_roi(rgb, W, H, (uint8_t *)scratch, out);
+        int32_t r = mg_red_roi(rgb, W, H, (uint8_t *)scratch, out, 0);
         report("red_roi", r, fnv_i32(FNV0, out, 8));
-        r = mg_red_cylinder(rgb, W, H, (uint8_t *)scratch, out);
+        r = mg_red_cylinder(rgb, W, H, (uint8_t *)scratch, out, 0);
         report("red_cylinder", r, fnv_i32(FNV0, out, 10));
     }
 
@@ -277,7 +277,7 @@ static void vision(void)
     if (scratch_fits(mg_double_cross_scratch_bytes(W, H))) {
         for (int i = 0; i < 10; i++)
             out[i] = 0;
-        int32_t r = mg_double_cross(grey, W, H, 0, -300, 611, (uint8_t *)scratch, out);
+        int32_t r = mg_double_cross(grey, W, H, 0, -300, 611, (uint8_t *)scratch, out, 0);
         report("double_cross", r, fnv_i32(FNV0, out, 10));
     }
 

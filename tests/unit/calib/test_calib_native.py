@@ -76,23 +76,24 @@ def _check_calls(folder, calls) -> int:
             assert native.detect_spoke(rgb) == want, c.frame_file
             found += want is not None
         elif c.detector == "double_cross":
-            res, _ = double_cross.detect_at_pose(rgb, c.args[0], c.camera)
+            res, ops = double_cross.detect_at_pose(rgb, c.args[0], c.camera)
             want = None if res is None else dataclasses.astuple(res)
             q = c.args[0]
-            got = native.detect_double_cross(rgb, int(q[5]), int(q[2] + q[3] + q[4]),
-                                             c.camera[0])
-            assert got == want, c.frame_file
+            got = native.detect_double_cross_counted(rgb, int(q[5]), int(q[2] + q[3] + q[4]),
+                                                     c.camera[0])
+            assert got == (want, ops.as_tuple()), c.frame_file  # the result and its charge
             found += want is not None
         elif c.detector in ("red_cylinder", "red_roi"):
-            roi, _ = red_cylinder.detect_red_roi(rgb)  # the ROI alone, on every 002 frame
-            assert native.detect_red_roi(rgb) == (None if roi is None
-                                                  else native.red_roi_tuple(roi)), c.frame_file
+            roi, ops = red_cylinder.detect_red_roi(rgb)  # the ROI alone, on every 002 frame
+            assert native.detect_red_roi_counted(rgb) == (
+                None if roi is None else native.red_roi_tuple(roi), ops.as_tuple()), c.frame_file
             if c.detector == "red_roi":
                 found += roi is not None
                 continue
-            res, _ = red_cylinder.detect_red_cylinder(rgb)
+            res, ops = red_cylinder.detect_red_cylinder(rgb)
             want = None if res is None else (*dataclasses.astuple(res)[:6], *res.roi)
-            assert native.detect_red_cylinder(rgb) == want, c.frame_file
+            assert native.detect_red_cylinder_counted(rgb) == (want, ops.as_tuple()), \
+                c.frame_file
             found += want is not None
             if res is not None:  # the ranging stage that follows, over a spread of poses
                 for alpha, theta5 in ((-300, 0), (-700, 420), (150, -900)):
@@ -185,9 +186,9 @@ def test_double_cross_slice_matches(marker_slice):
 
 
 def _check_double_cross(rgb, yaw=0, pitch=0, f_px=350):
-    res, _ = double_cross.detect_double_cross(rgb, yaw, pitch, f_px)
+    res, ops = double_cross.detect_double_cross(rgb, yaw, pitch, f_px)
     want = None if res is None else dataclasses.astuple(res)
-    assert native.detect_double_cross(rgb, yaw, pitch, f_px) == want
+    assert native.detect_double_cross_counted(rgb, yaw, pitch, f_px) == (want, ops.as_tuple())
     return want is not None
 
 

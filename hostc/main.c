@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "detectors.h"
 #include "json.h"
 #include "linux_driver.h"
 #include "lockstep_driver.h"
@@ -35,8 +36,55 @@ static int usage(const char *why, const char *what)
     return 2;
 }
 
-/* the "method" of a JSON configuration file (buf: its text), into method */
-static int config_method(const char *path, char *method, size_t cap)
+/* a JSON number's text [p, end) rounded to an integer as Python's round() does (halves to
+ * even): 1 and *out, or 0 (an exponent, no digits, out of [1, 100000]) */
+static int round_number(const char *p, const char *end, int32_t *out)
+{
+    int64_t whole = 0;
+    int digits = 0, first_frac = -1, rest_nonzero = 0;
+    while (p < end && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r'))
+        p++;
+    for (; p < end && *p >= '0' && *p <= '9'; p++, digits++)
+        if ((whole = whole * 10 + (*p - '0')) > 100000)
+            return 0;
+    if (p < end && *p == '.')
+        for (p++; p < end && *p >= '0' && *p <= '9'; p++) {
+            if (first_frac < 0)
+                first_frac = *p - '0';
+            else
+                rest_nonzero |= *p != '0';
+        }
+    while (end > p && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\n' || end[-1] == '\r'))
+        end--;
+    if (!digits || p != end)
+        return 0;
+    if (first_frac > 5 || (first_frac == 5 && (rest_nonzero || whole % 2 == 1)))
+        whole++;
+    if (whole < 1 || whole > 100000)
+        return 0;
+    *out = (int32_t)whole;
+    return 1;
+}
+
+/* the camera's "f_px" of the configuration's "camera" object (the cursor at it) */
+static int config_camera(mg_json_in_t *in, int32_t *f_px)
+{
+    char key[64];
+    int first = 1, k;
+    if (!mg_json_begin_object_in(in))
+        return 0;
+    while ((k = mg_json_next_member(in, &first, key, sizeof key)) == 1) {
+        const char *at = in->p;
+        if (!mg_json_skip_value(in))
+            return 0;
+        if (strcmp(key, "f_px") == 0 && !round_number(at, in->p, f_px))
+            return 0;
+    }
+    return k == 0;
+}
+
+/* the "method" and the camera's f_px of a JSON configuration file, into method and f_px */
+static int config_method(const char *path, char *method, size_t cap, int32_t *f_px)
 {
     static char text[1 << 16];
     const int fd = sys_open(path, SYS_O_RDONLY, 0);
@@ -55,10 +103,12 @@ static int config_method(const char *path, char *method, size_t cap)
     if (!mg_json_utf8_valid(text, (size_t)n) || !mg_json_begin_object_in(&in))
         return usage("--config is not a JSON object: ", path);
     while ((k = mg_json_next_member(&in, &first, key, sizeof key)) == 1) {
-        const int ok = strcmp(key, "method") == 0 ? mg_json_read_string(&in, method, cap)
-                                                  : mg_json_skip_value(&in);
+        const int ok = strcmp(key, "method") == 0   ? mg_json_read_string(&in, method, cap)
+                       : strcmp(key, "camera") == 0 ? config_camera(&in, f_px)
+                                                    : mg_json_skip_value(&in);
         if (!ok)
-            return usage("--config: bad value of key \"method\" or malformed JSON in ", path);
+            return usage("--config: bad value of key \"method\" or \"camera\" (its \"f_px\": a"
+                         " number of px in [1, 100000]) or malformed JSON in ", path);
     }
     return k == 0 && mg_json_at_end(&in) ? 0 : usage("--config is not JSON: ", path);
 }
@@ -82,6 +132,8 @@ static int poll_ms_ok(const char *s)
 }
 
 static mg_app_t app;
+static mg_detectors_t detectors;
+static mg_detector_t table[MG_MAX_DETECTORS];
 static mg_lockstep_t driver;
 static uint64_t task_state[MG_TASK_STATE_BYTES / sizeof(uint64_t)];
 
@@ -114,7 +166,8 @@ int main(int argc, char **argv)
     if (port == NULL)
         return usage("--port is required", "");
     char method[32] = "000"; /* the Python host's default */
-    if (config != NULL && config_method(config, method, sizeof method) != 0)
+    int32_t f_px = 611;      /* the camera's without a configuration (host/app_factory.py) */
+    if (config != NULL && config_method(config, method, sizeof method, &f_px) != 0)
         return 2;
     if (method_opt != NULL) {
         if (strlen(method_opt) >= sizeof method)
@@ -133,7 +186,8 @@ int main(int argc, char **argv)
     mg_host_config_t cfg;
     mg_host_config_default(&cfg);
     const mg_task_if_t task = mg_method_bind(m, task_state);
-    mg_app_init(&app, &cfg, &task, NULL, 0);
+    const int32_t n_det = mg_detectors_table(&detectors, &app, f_px, table, MG_MAX_DETECTORS);
+    mg_app_init(&app, &cfg, &task, table, n_det);
     if (sock != NULL) {
         const int s = sys_unix_connect(sock);
         if (s < 0)

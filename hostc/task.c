@@ -3,9 +3,23 @@
 
 #include <string.h>
 
+#include "task_paper.h"
+
+/* 002's task with its row's parameters, started at 0 (host/app_factory.py build_host_app
+ * without the scenario's paper parameters) */
+static void method002_init(void *state)
+{
+    const mg_task_method_t *rules = mg_task_method_find("002");
+    mg_task_params_t params;
+    rules->params(&params);
+    mg_paper_task_init((mg_paper_task_t *)state, rules, &params, 0);
+}
+
 const mg_method_t mg_methods[] = {
     {"idle", sizeof(mg_task_idle_t), mg_task_idle_init, mg_task_idle_step, mg_task_idle_needed,
      NULL},
+    {"002", sizeof(mg_paper_task_t), method002_init, mg_paper_step, mg_paper_needed,
+     mg_paper_fallback_of},
 };
 const int32_t mg_n_methods = (int32_t)(sizeof mg_methods / sizeof mg_methods[0]);
 

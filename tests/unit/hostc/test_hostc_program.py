@@ -17,16 +17,19 @@ import pytest
 from rig_fakes import BufferPort
 
 from mobigrasp import hostc
-from mobigrasp.calib import armhost
+from mobigrasp.calib import armhost, corpus
 from mobigrasp.cosim import lockstep as ls
 from mobigrasp.cosim.handshake import resolved
 from mobigrasp.cosim.hosts import SocketHost
 from mobigrasp.drivers.lockstep import LockstepClient
 from mobigrasp.host.app import HostApp
+from mobigrasp.host.app_factory import build_host_app
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.task.machine import TaskOutputs
 from mobigrasp.protocol import messages as m
 from mobigrasp.protocol.frame import FrameParser
+from mobigrasp.services.corpus import record
+from mobigrasp.services.run_job import host_config, resolve_scenario
 
 
 class _IdleTask:
@@ -77,6 +80,33 @@ def _armv4t() -> list[str]:
     return ["qemu-arm", "-cpu", "ti925t", str(armhost.build_elf())]
 
 
+def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame) -> int:
+    """The same grants to the C program (host) and the Python host program (app): 5 ms quanta,
+    one of 23 ms, the MCU's bytes of :func:`_mcu` and a camera frame every 66 ms (frame(at):
+    width, height, pixels); their DONEs and serial bytes compared. Returns the end time."""
+    port = BufferPort()
+    client = LockstepClient(app, port)
+    t = 0
+    for k in range(quanta):
+        until = t + (23_000 if k == 50 else 5_000)
+        chunks = _mcu(t, until)
+        frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, *frame(at)[:2], 3, frame(at)[2])
+                       for at in range(t - t % 66_000 + 66_000, until, 66_000))
+        grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
+        data = b"".join(b for _, b in chunks)
+        os.write(master, data)
+        port.rx += data
+        want = client.serve(grant)
+        client.after_done()
+        got = resolved(host.exchange(grant))
+        got = ls.decode(ls.encode(got))  # as the rig reads it
+        assert got == ls.decode(ls.encode(want)), (k, got, want)
+        assert _read_master(master, got.write_bytes) == bytes(port.tx)
+        port.tx.clear()
+        t = until
+    return t
+
+
 @pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
 def test_the_c_program_answers_the_rig_as_the_python_host(program):
     master, slave = os.openpty()
@@ -84,27 +114,8 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
     host.verify_elided = True  # every grant is served and its DONE compared with the predicted
     try:
         app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
-        port = BufferPort()
-        client = LockstepClient(app, port)
-        t = 0
-        for k in range(160):  # 0.8 s in 5 ms quanta, one of 23 ms
-            until = t + (23_000 if k == 50 else 5_000)
-            chunks = _mcu(t, until)
-            frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, 32, 24, 3,
-                                        bytes([at % 251]) * (32 * 24 * 3))
-                           for at in range(t - t % 66_000 + 66_000, until, 66_000))
-            grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
-            data = b"".join(b for _, b in chunks)
-            os.write(master, data)
-            port.rx += data
-            want = client.serve(grant)
-            client.after_done()
-            got = resolved(host.exchange(grant))
-            got = ls.decode(ls.encode(got))  # as the rig reads it
-            assert got == ls.decode(ls.encode(want)), (k, got, want)
-            assert _read_master(master, got.write_bytes) == bytes(port.tx)
-            port.tx.clear()
-            t = until
+        t = _serve_both(host, master, app, 160, lambda at: (32, 24,
+                                                             bytes([at % 251]) * (32 * 24 * 3)))
         bye = host.finish(ls.End(t, "test over"))
         st = app.stats()
         assert bye.stats["control_steps"] == st["control_steps"] > 0
@@ -169,3 +180,44 @@ def test_free_running_program_opens_the_session_and_keeps_it_alive():
     lines = err.splitlines()  # the trace events, a line a quantum, then the reason it stopped
     assert json.loads(f"[{lines[0]}]")[0]["ev"] == "hello_ack"
     assert lines[-1] == f"mobigrasp-host-c: the MCU side closed the port {tty}; stopping"
+
+
+@pytest.fixture(scope="module")
+def marker_frames(tmp_path_factory) -> list[tuple[int, int, bytes]]:
+    """The camera frames of the first 4 s of paper002-marker, in order: the board's double
+    cross from the start pose, then nearer."""
+    folder = tmp_path_factory.mktemp("marker")
+    idx = record(folder, ["paper002-marker"], time_limit_s=4.0)
+    out = []
+    for fr in idx["frames"]:
+        rgb = corpus.load_frame(folder, fr)
+        out.append((rgb.shape[1], rgb.shape[0], rgb.tobytes()))
+    assert len(out) >= 8
+    return out
+
+
+@pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
+def test_the_c_program_runs_002_as_the_python_host(program, marker_frames, tmp_path):
+    """Method 002 from paper002-marker's configuration (its camera and parameters) on the
+    scenario's recorded frames: the same DONEs (the detectors' modelled ARM9 time included),
+    serial bytes and BYE figures as the Python host program."""
+    cfg = host_config(resolve_scenario("paper002-marker")[1])
+    path = tmp_path / "host.json"
+    path.write_text(json.dumps(cfg))
+    master, slave = os.openpty()
+    host = SocketHost([*program(), "--port", os.ttyname(slave), "--config", str(path)])
+    host.verify_elided = True
+    try:
+        app = build_host_app(cfg)
+        t = _serve_both(host, master, app, 200,
+                        lambda at: marker_frames[(at // 66_000) % len(marker_frames)])
+        bye = host.finish(ls.End(t, "test over"))
+        st = app.stats()
+        for key in ("control_steps", "frames_received", "frames_processed", "frames_dropped",
+                    "deadline_misses", "state"):
+            assert bye.stats[key] == st[key], key
+        assert st["frames_processed"] > 0 and st["state"] != "INIT"
+    finally:
+        host.close()
+        os.close(master)
+        os.close(slave)

@@ -214,6 +214,8 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
+    cfg = host_config(scenario, opts.time_limit_s, opts.host_method)
+    program = host_program(opts, cfg["method"])  # built and checked before the folder is made
     # (the run folder's module needs numpy and cv2, which the base install has not: imported
     # once a run is certain to need them)
     from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError, claim_run_folder
@@ -229,17 +231,16 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
         folder.release()
         raise BadInput(str(exc)) from exc
     try:
-        summary = _run_in(opts, out, path, scenario, plan, seed)
+        summary = _run_in(opts, out, path, scenario, plan, seed, cfg, program)
     finally:
         folder.release()
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
 
 
-def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, seed: int
-            ) -> dict:
-    """The run into its prepared folder, then its trace.mcap's end and its report."""
-    cfg = host_config(scenario, opts.time_limit_s, opts.host_method)
-    program = host_program(opts, cfg["method"])
+def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, seed: int,
+            cfg: dict, program: HostProgram) -> dict:
+    """The run into its prepared folder with the host program's configuration ``cfg``, then
+    its trace.mcap's end and its report."""
     camera = None
     if opts.mcap:
         from mobigrasp.services.mcap_out import McapLog

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "camera.h"
 #include "json.h"
 #include "linux_driver.h"
 #include "lockstep_driver.h"
@@ -138,8 +139,12 @@ int main(int argc, char **argv)
     if (m == NULL || m->state_bytes > sizeof task_state)
         return usage("method not in the C host yet (--list-methods names those it has): ",
                      method);
-    if (camera != NULL && sock == NULL)
-        return usage("--camera: the C host reads no camera in free-running mode yet: ", camera);
+    static mg_camera_t cam = {.fd = -1}; /* free running: frames from --camera (camera.h) */
+    if (camera != NULL && sock == NULL) {
+        const char *why = "";
+        if (mg_camera_open(&cam, camera, &why) < 0)
+            return usage(why, camera);
+    }
     const int fd = sys_open(port, SYS_O_RDWR | SYS_O_NOCTTY, 0);
     if (fd < 0)
         return usage("cannot open --port ", port);
@@ -163,8 +168,15 @@ int main(int argc, char **argv)
         }
         return 0;
     }
-    const int r = mg_linux_run(&app, fd);
+    const int r = mg_linux_run(&app, fd, camera != NULL ? &cam : NULL);
     sys_close(fd);
+    mg_camera_close(&cam);
+    static char stats[1024]; /* the program's figures (frames received, control steps ...) */
+    const size_t len = mg_app_stats_json(&app, stats, sizeof stats - 1);
+    if (len > 0) {
+        stats[len] = 0;
+        say("stats ", stats, "");
+    }
     if (r != 0) {
         say("the MCU side closed the port ", port, "; stopping");
         return 1;

@@ -73,7 +73,8 @@ def ops_tuple(ops) -> tuple[int, ...]:
 # the program: every module of hostc/ (the self-test's kernels too) and the protocol codec
 EXE_SOURCES = (*sorted(HOSTC.glob("*.c")), *sorted(PROTOCOL.glob("*.c")))
 # the program's own modules beside the units (the rest of EXE_SOURCES are the vision kernels)
-PROGRAM = (HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c", HOSTC / "linux_driver.c")
+PROGRAM = (HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c", HOSTC / "linux_driver.c",
+           HOSTC / "camera.c", HOSTC / "camera_raw.c", HOSTC / "camera_v4l2.c")
 
 
 def executable(cc: str | None = None) -> Path:

@@ -26,6 +26,9 @@ with their reasons by name; ``describe(msg)`` prints any message that way.
   ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock
   in the test's hands (testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
   ``.frame()``, ``.telemetry()``, ``.truth()``, ``.expect(predicate, within_ms)``.
+- ``host_program``: the host program ``pytest --robot-host python|c|arm`` names (default
+  python), to start against an ``emulated_robot``: ``.robot_args`` (the ``sim`` options it
+  needs: the raw-frame endpoint for the C programs) and ``.argv(robot, method)``.
 - ``pytest --robot-port /dev/ttyUSB0 --robot-camera 0``: every ``emulated_robot`` is the real
   robot on that device and camera (testing/bench_robot.py); truth and clock calls
   skip the test with the reason.
@@ -301,9 +304,24 @@ def pytest_addoption(parser) -> None:
     group.addoption("--robot-camera", default=None, metavar="INDEX|FILE",
                     help="with --robot-port: the robot's camera for OpenCV (an index, a video "
                          "file, an image sequence such as shots/%%03d.png, a URL)")
+    group.addoption("--robot-host", default="python", choices=("python", "c", "arm"),
+                    help="the host program the host_program fixture starts: python (mobigrasp "
+                         "host, default), c (hostc/ built for this machine) or arm (its ARMv4T "
+                         "ELF under qemu-arm -cpu ti925t)")
 
 
 CLOCKS = ("wall", "test")
+
+
+@pytest.fixture
+def host_program(request):
+    """The host program of ``--robot-host`` (testing/host_program.py): ``.robot_args`` for
+    ``emulated_robot(..., extra_args=...)``, ``.argv(robot, method)`` its command line."""
+    from mobigrasp.testing.host_program import HostProgram
+
+    program = HostProgram(request.config.getoption("robot_host"))
+    yield program
+    program.close()
 
 
 @pytest.fixture

@@ -38,11 +38,13 @@ class HostUnavailable(ValueError):
 class HostProgram:
     """One host program, resolved: its name, the command line over the pty (``argv(port,
     config, poll_ms)``, without ``--lockstep``) and, for an in-process run, its client on the
-    in-process serial end (``inproc(cfg, timer)(peer)``); None where it has none."""
+    in-process serial end (``inproc(cfg, timer)(peer)``); None where it has none. ``prefix``:
+    the C program's command before its options (empty for the Python host)."""
 
     name: str
     argv: Callable[[str, Path, float], list[str]]
     inproc: Callable[[dict, Any], Callable[[Any], Any]] | None
+    prefix: tuple[str, ...] = ()
 
 
 def _python_inproc(cfg: dict, timer: Any) -> Callable[[Any], Any]:
@@ -105,7 +107,7 @@ def resolve(host: str, method: str, transport: str) -> HostProgram:
     if method not in methods:
         raise HostUnavailable(f"method {method} is not in the {host.upper()} host yet "
                               f"(it has: {', '.join(methods)})")
-    return HostProgram(host, _c_argv(prefix), _c_inproc if host == "c" else None)
+    return HostProgram(host, _c_argv(prefix), _c_inproc if host == "c" else None, tuple(prefix))
 
 
 class CProgramClient:

@@ -86,6 +86,9 @@ def _arm_prefix() -> list[str]:
     except ToolchainError as exc:
         raise HostUnavailable(f"--host arm needs arm-none-eabi-gcc (make arm-tools): {exc}"
                               ) from exc
+    except OSError as exc:  # not run from a checkout: no Makefile to build the ELF with
+        raise HostUnavailable(f"--host arm builds the ELF with the checkout's make hostc-arm: "
+                              f"{exc}") from exc
 
 
 def resolve(host: str, method: str, transport: str) -> HostProgram:

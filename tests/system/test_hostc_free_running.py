@@ -13,10 +13,21 @@ import pytest
 from mobigrasp import hostc
 
 
-def _host(robot, raw: Path, method: str) -> subprocess.CompletedProcess:
+def _native() -> list[str]:
+    return [str(hostc.executable())]
+
+
+def _armv4t() -> list[str]:
+    """The board's ELF under an ARMv4T CPU (the tools are installed here: make arm-tools)."""
+    from mobigrasp.calib.armhost import build_elf
+
+    return ["qemu-arm", "-cpu", "ti925t", str(build_elf())]
+
+
+def _host(robot, raw: Path, method: str, program=_native) -> subprocess.CompletedProcess:
     """The C program on the robot's port and frames until the session ends (it closes the
     port); its exit code and stderr (the trace events, then its figures)."""
-    return subprocess.run([str(hostc.executable()), "--port", robot.port, "--method", method,
+    return subprocess.run([*program(), "--port", robot.port, "--method", method,
                            "--camera", f"unix:{raw}"], capture_output=True, text=True,
                           timeout=600, check=False)
 
@@ -26,12 +37,13 @@ def _stats(stderr: str) -> dict:
     return json.loads(line[len("mobigrasp-host-c: stats "):])
 
 
-def test_c_host_reads_the_simulations_raw_frames(emulated_robot):
+@pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
+def test_c_host_reads_the_simulations_raw_frames(emulated_robot, program):
     with tempfile.TemporaryDirectory(prefix="mg-rf-") as tmp:  # a short AF_UNIX path
         raw = Path(tmp) / "frames.sock"
         robot = emulated_robot("paper000-exp1", speed=2.0, plots=False,
                                extra_args=("--raw-frames", str(raw), "--time-limit-s", "3"))
-        done = _host(robot, raw, "idle")
+        done = _host(robot, raw, "idle", program)
         summary = robot.summary
         assert not raw.exists()  # the session removed its socket
     assert done.returncode == 1, done.stderr  # the session ended and closed the port

@@ -122,6 +122,7 @@ class CProgramClient:
 
     def __init__(self, method: str, port: Any, read_timeout_s: float = 60.0) -> None:
         from mobigrasp import hostc
+        from mobigrasp.drivers.lockstep import AnnouncedBytes
 
         self._ffi, self._lib = hostc.program_lib()
         self._host = self._ffi.new("mg_inproc_t *")
@@ -131,25 +132,11 @@ class CProgramClient:
         self._out = self._ffi.new("uint8_t[]", OUT_BYTES)
         self._out_len = self._ffi.new("size_t *")
         self.port = port
-        self.read_timeout_s = read_timeout_s
-        self._ahead = bytearray()  # bytes of grants not served yet (the rig sends ahead)
-
-    def _uart(self, n: int) -> bytes:
-        buf = self._ahead
-        while len(buf) < n:
-            chunk = self.port.read()
-            if chunk:
-                buf += chunk
-            elif not self.port.wait_readable(self.read_timeout_s):
-                raise ls.LockstepError(f"grant announced {n} UART bytes, only {len(buf)} "
-                                       f"arrived within {self.read_timeout_s} s")
-        data = bytes(buf[:n])
-        del buf[:n]
-        return data
+        self.uart = AnnouncedBytes(port, read_timeout_s)
 
     def serve(self, grant: ls.Grant) -> ls.Done:
         """Run the C program through one granted quantum; its DONE."""
-        data = self._uart(grant.uart_bytes) if grant.uart else b""
+        data = self.uart.take(grant.uart_bytes) if grant.uart else b""
         msg = ls.encode(grant)
         n = self._lib.mg_inproc_serve(self._host, msg, len(msg), data, len(data), self._done,
                                       DONE_BYTES, self._out, OUT_BYTES, self._out_len)

@@ -104,6 +104,8 @@ def _run(spec: RunSpec) -> dict:
 
         sim = SimSide(scenario, seed, out, spec.scenario_file, spec.transport, spec.plan,
                       spec.mcu, spec.on_frame, host=spec.host)
+        if spec.host_config.get("method") != scenario.meta.method:  # the world's is another
+            sim.summary["host_method"] = spec.host_config.get("method")
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()

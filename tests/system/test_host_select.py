@@ -34,6 +34,7 @@ def test_idle_host_program_same_trace_in_every_host(tmp_path):
     for host, transport in runs:
         s = _run(tmp_path, host, transport, host_method="idle", limit_s=6.0)
         assert s["end_reason"] == "time_limit" and s["task_state"] == "INIT"
+        assert s["host_method"] == "idle" and s["method"] == "000"
         assert s["protocol"]["tx_frames"] > 50  # HELLO and a heartbeat every 100 ms
         assert s["host_steps"]["frames_idle"] > 50  # frame slots passed, the camera off
         shas[host, transport] = s["trace_sha256"]

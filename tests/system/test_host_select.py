@@ -27,7 +27,7 @@ def _run(tmp_path, host, transport="pty", scenario="paper000-exp1", host_method=
 
 
 def test_idle_host_program_same_trace_in_every_host(tmp_path):
-    runs = [("python", "inproc"), ("c", "pty"), ("c", "inproc")]
+    runs = [("python", "inproc"), ("python", "pty"), ("c", "pty"), ("c", "inproc")]
     if ARM_TOOLS:
         runs.append(("arm", "pty"))
     shas = {}

@@ -84,6 +84,22 @@ def test_random_scenes_give_the_same_trace_over_the_pty_and_in_process(tmp_path)
     assert again["trace_sha256"] == sha["inproc", "001"]
 
 
+def test_the_random_runs_host_is_in_their_rows_and_rerun_commands(tmp_path):
+    from mobigrasp.services.loop_campaign import (
+        CampaignInputError,
+        LoopCampaign,
+        jobs_of,
+        rerun_command,
+    )
+
+    cfg = LoopCampaign(methods=("000",), runs=1, out=tmp_path, host="c", transport="inproc")
+    job = jobs_of(cfg)[0]
+    assert job["host"] == "c" and cfg.key("000")["host"] == "c"
+    assert rerun_command({**job, "folder": "f"}).endswith("--host c")
+    with pytest.raises(CampaignInputError, match="--host arm runs over the pty only"):
+        LoopCampaign(methods=("000",), runs=1, out=tmp_path, host="arm", transport="inproc")
+
+
 # a stand-in for the closed loop: the end of run (method, seed), as a summary would give it
 FAKE_ENDS = {
     ("000", 1000): ("DONE", True, 4.0, 0), ("000", 1001): ("FAILED", False, None, 0),

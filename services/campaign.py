@@ -321,7 +321,7 @@ def load_rows(path: Path, jobs: list[dict]) -> tuple[list[dict], list[str]]:
         check_row(row, f"{path}: line {n}")
         job = by_seed.get(row["seed"])
         if job is None or row["method"] != job["method"] or row["faults"] != job["faults"] \
-                or row.get("host", "python") != job["host"]:
+                or row.get("host", "python") != job.get("host", "python"):
             raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
                              f"{row['seed']}, method or faults differ): use another --out or "
                              f"run without --resume")

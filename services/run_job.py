@@ -300,7 +300,9 @@ def _finish_mcap(camera: Any, out: Path) -> None:
 
 def summary_line(summary: dict, out: Path) -> str:
     """One human line for the terminal."""
-    return (f"{summary['scenario']} seed {summary['seed']} over {summary['transport']}: "
+    host = summary.get("host", "python")
+    over = summary["transport"] + ("" if host == "python" else f", host {host}")
+    return (f"{summary['scenario']} seed {summary['seed']} over {over}: "
             f"{'SUCCESS' if summary['success'] else 'FAILED'} ({summary.get('task_state')}, "
             f"{summary.get('end_reason')}) in {summary.get('sim_time_s', 0):.1f} s simulated, "
             f"{summary.get('wall_time_s', 0):.1f} s wall; report: {out / 'report.html'}")

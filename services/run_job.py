@@ -246,7 +246,7 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
         from mobigrasp.services.mcap_out import McapLog
 
         camera = McapLog(out / "trace.mcap",  # written as the run goes
-                         info=mcap_info(scenario, seed, opts.mcu, opts.transport),
+                         info=mcap_info(scenario, seed, opts.mcu, opts.transport, program.name),
                          camera=mcap_camera(scenario))
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
                    host_config=cfg, time_limit_s=run_time_limit_s(scenario, opts.time_limit_s),
@@ -273,12 +273,14 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
     return summary
 
 
-def mcap_info(scenario: Any, seed: int, mcu: str, transport: str) -> dict[str, str]:
+def mcap_info(scenario: Any, seed: int, mcu: str, transport: str,
+              host: str = "python") -> dict[str, str]:
     """trace.mcap's metadata record: what a reader needs to know which run it holds."""
     from mobigrasp.provenance import source_commit
 
     return {"scenario": scenario.meta.name, "seed": str(seed), "method": scenario.meta.method,
-            "mcu_backend": mcu, "transport": transport, "commit": source_commit()}
+            "mcu_backend": mcu, "transport": transport, "host": host,
+            "commit": source_commit()}
 
 
 def mcap_camera(scenario: Any) -> dict:

@@ -206,12 +206,12 @@ def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> H
     (TaskParams overrides, e.g. ``object_xy_mm`` for 001)}; method ``"idle"``: the program
     around no task (host/task/idle.py)."""
     from mobigrasp.host.task import Task
-    from mobigrasp.host.task.idle import IDLE, IdleTask
+    from mobigrasp.host.task.idle import PROGRAM_TASKS
 
     method = cfg.get("method", "000")
     task: Any
-    if method == IDLE:
-        task = IdleTask()
+    if method in PROGRAM_TASKS:  # the host program's own task (idle), no paper's
+        task = PROGRAM_TASKS[method]()
     else:
         params = task_params(method, dict(cfg.get("params", {})))
         for key, value in dict(cfg.get("task", {})).items():  # task settings, e.g. 001's P_i

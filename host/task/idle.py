@@ -34,3 +34,7 @@ class IdleTask:
         """INIT, no command, no event."""
         self.steps += 1
         return TaskOutputs(None, None, None, [], "INIT", {}, OpCounts())
+
+
+# the host program's own tasks by name, beside the paper methods of METHODS
+PROGRAM_TASKS = {IDLE: IdleTask}

@@ -21,7 +21,7 @@ def _config(args: argparse.Namespace) -> dict:
     """The configuration file checked (mcu_sim.world.scenario.parse_host_config), then
     ``--method``; ValueError with one line naming the file and the key."""
     from mobigrasp.host.task import METHODS, REGISTRY
-    from mobigrasp.host.task.idle import IDLE
+    from mobigrasp.host.task.idle import IDLE, PROGRAM_TASKS
     from mobigrasp.mcu_sim import checks
     from mobigrasp.mcu_sim.world.scenario import parse_host_config
 
@@ -36,7 +36,7 @@ def _config(args: argparse.Namespace) -> dict:
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
-    if cfg["method"] not in METHODS and cfg["method"] != IDLE:
+    if cfg["method"] not in METHODS and cfg["method"] not in PROGRAM_TASKS:
         raise ValueError(f"method must be one of {tuple(METHODS)}, got {cfg['method']!r}")
     return cfg
 

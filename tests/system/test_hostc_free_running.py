@@ -48,11 +48,13 @@ def test_c_host_reads_the_simulations_raw_frames(emulated_robot, program):
         assert not raw.exists()  # the session removed its socket
     assert done.returncode == 1, done.stderr  # the session ended and closed the port
     stats = _stats(done.stderr)
-    # 15 frames a simulated second over 3 s, every one read whole (the idle method looks at none)
-    assert stats["frames_received"] >= 30 and stats["frames_idle"] == stats["frames_received"]
+    # every frame sent to it read whole (but the one the session's end may cut), at whatever
+    # speed: a client that lags gets the newest frames, never a torn one
+    sent = summary["camera_frames"]["raw_sent"]
+    assert sent - 1 <= stats["frames_received"] <= sent and stats["frames_received"] >= 10
+    assert stats["frames_idle"] == stats["frames_received"]  # the idle method looks at none
     assert stats["protocol"]["crc_errors"] == 0 and stats["protocol"]["rx_frames"] > 100
     assert summary["raw_frames"] == f"unix:{raw}"
-    assert summary["camera_frames"]["raw_sent"] >= stats["frames_received"]
     assert summary["end_reason"] == "time_limit"
 
 

@@ -4,7 +4,7 @@ host`` (host/), the C program of hostc/ built for this machine, or the ARMv4T EL
 ``qemu-arm -cpu ti925t``. The C programs read the camera from the raw-frame endpoint of
 ``mobigrasp sim`` (``--raw-frames``), the Python one from the MJPEG stream:
 
-    robot = emulated_robot("paper000-exp1", extra_args=host_program.robot_args)
+    robot = emulated_robot("paper000-exp1", **host_program.robot_kw)
     subprocess.run(host_program.argv(robot, "000"))
 """
 
@@ -31,9 +31,9 @@ class HostProgram:
         self._prefix = resolve(host, "idle", "pty").prefix
 
     @property
-    def robot_args(self) -> tuple[str, ...]:
-        """The ``mobigrasp sim`` options the host needs (``emulated_robot(extra_args=...)``)."""
-        return () if self.name == "python" else ("--raw-frames", str(self.raw_frames))
+    def robot_kw(self) -> dict:
+        """The robot's options the host needs (``emulated_robot(scenario, **robot_kw)``)."""
+        return {} if self.name == "python" else {"raw_frames": self.raw_frames}
 
     def argv(self, robot: Any, method: str) -> list[str]:
         """The host program running ``method`` on ``robot``'s port and camera."""

@@ -27,7 +27,9 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h",
            "transforms.h", "search.h", "ranging.h", "task_machine.h", "task_method.h",
            "task_method002.h", "task_drive.h", "task_sense.h",
-           "task_adjust.h")
+           "task_adjust.h", "control_points.h", "grasp_circle.h", "anytime.h",
+           "bezier.h", "candidates.h", "plan000.h", "blocked_q.h",
+           "escape.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -37,7 +39,10 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "search.c", HOSTC / "ranging.c",
            HOSTC / "ranging_size.c", HOSTC / "task_machine.c", HOSTC / "task_method.c",
            HOSTC / "task_method002.c", HOSTC / "task_drive.c", HOSTC / "task_sense.c",
-           HOSTC / "task_adjust.c", PROTOCOL / "joints.c",
+           HOSTC / "task_adjust.c", HOSTC / "control_points.c", HOSTC / "grasp_circle.c",
+           HOSTC / "anytime.c", HOSTC / "bezier.c", HOSTC / "candidates.c",
+           HOSTC / "plan000.c", HOSTC / "blocked_q.c",
+           HOSTC / "escape.c", HOSTC / "clearance.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

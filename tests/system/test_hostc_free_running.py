@@ -41,8 +41,8 @@ def _stats(stderr: str) -> dict:
 def test_c_host_reads_the_simulations_raw_frames(emulated_robot, program):
     with tempfile.TemporaryDirectory(prefix="mg-rf-") as tmp:  # a short AF_UNIX path
         raw = Path(tmp) / "frames.sock"
-        robot = emulated_robot("paper000-exp1", speed=2.0, plots=False,
-                               extra_args=("--raw-frames", str(raw), "--time-limit-s", "3"))
+        robot = emulated_robot("paper000-exp1", speed=2.0, plots=False, time_limit_s=3.0,
+                               raw_frames=raw)
         done = _host(robot, raw, "idle", program)
         summary = robot.summary
         assert not raw.exists()  # the session removed its socket
@@ -85,8 +85,7 @@ def test_c_host_grasps_paper000_exp1_against_the_simulation(emulated_robot):
     """In real time, two processes; fails (exit 2, the method named) until 000 is in C."""
     with tempfile.TemporaryDirectory(prefix="mg-rf-") as tmp:
         raw = Path(tmp) / "frames.sock"
-        robot = emulated_robot("paper000-exp1", plots=False,
-                               extra_args=("--raw-frames", str(raw)))
+        robot = emulated_robot("paper000-exp1", plots=False, raw_frames=raw)
         done = _host(robot, raw, "000")
         robot.stop()
         summary = robot.summary

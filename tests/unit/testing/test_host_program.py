@@ -11,14 +11,14 @@ from mobigrasp.testing.host_program import HostProgram
 def test_the_fixture_is_the_host_of_the_option(host_program, request):
     """python (no sim option) unless ``--robot-host`` says c or arm (the raw frames)."""
     assert host_program.name == request.config.getoption("robot_host")
-    assert bool(host_program.robot_args) == (host_program.name != "python")
+    assert bool(host_program.robot_kw) == (host_program.name != "python")
 
 
 def test_the_c_host_program_runs_against_the_robot(emulated_robot):
     program = HostProgram("c")
     try:
-        robot = emulated_robot("paper000-exp1", speed=4.0, plots=False,
-                               extra_args=(*program.robot_args, "--time-limit-s", "2"))
+        robot = emulated_robot("paper000-exp1", speed=4.0, plots=False, time_limit_s=2.0,
+                               **program.robot_kw)
         argv = program.argv(robot, "idle")
         assert argv[-2:] == ["--camera", f"unix:{program.raw_frames}"]
         done = subprocess.run(argv, capture_output=True, text=True, timeout=300, check=False)

@@ -71,6 +71,7 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     t->move_done_us = start_us;
     t->obj_seen_us = start_us;
     t->lost_in = -1;
+    t->path.plan_us = start_us;
     rules->ms_init(t->ms.bytes);
     return 0;
 }
@@ -268,6 +269,7 @@ void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                   mg_task_outputs_t *out)
 {
     t->n_events = 0;
+    memset(&t->path.ops, 0, sizeof t->path.ops); /* the step's planning work */
     /* joints from telemetry; without telemetry assume the arm is where it was sent */
     memcpy(t->joints, in->has_joints ? in->joints_mrad : t->arm, sizeof t->joints);
     if (!mg_task_terminal(t->state)) {

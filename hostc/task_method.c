@@ -3,14 +3,20 @@
 
 #include <string.h>
 
+#include "task_method000.h"
 #include "task_method002.h"
 
 const mg_task_method_t mg_task_methods[] = {
+    {"000", sizeof(mg_state000_t), mg_method000_ms_init, mg_method000_params,
+     mg_task_reason_as_is, NULL, mg_method000_look_height_mm, "dual_plus",
+     mg_task_sighting_position, 1, mg_method000_adjust_done, mg_method000_adjust_goal_mm,
+     mg_method000_adjust_vmax_mmps, MG_ALPHA_DOWN_MRAD, {611, 160, 120}, {1528, 1424, 1552},
+     &mg_path000},
     {"002", sizeof(mg_state002_t), mg_method002_ms_init, mg_method002_params,
      mg_method002_failure_reason, NULL, mg_method002_look_height_mm, "red_cylinder",
      mg_method002_red_cylinder_position, 1, mg_method002_adjust_done_seen,
      mg_method002_adjust_goal_mm, mg_method002_adjust_vmax_mmps, 0, {350, 160, 120},
-     {1552, 1424, 1528}},
+     {1552, 1424, 1528}, NULL},
 };
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);
 

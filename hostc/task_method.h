@@ -9,6 +9,8 @@
 
 #include "task_machine.h"
 
+struct mg_path_method;
+
 typedef struct mg_task_method {
     const char *name;
     size_t ms_bytes;                     /* its State's size (at most MG_TASK_MS_BYTES) */
@@ -33,6 +35,8 @@ typedef struct mg_task_method {
     int32_t grasp_alpha_mrad;
     mg_camera_model_t camera;
     mg_arm_geometry_t geom; /* l2, l3, l4 of the arm the method assumes, Q4 mm */
+    /* APPROACH's path hooks (task_approach.h; approach.py PathMethod); NULL: no path */
+    const struct mg_path_method *path;
 } mg_task_method_t;
 
 extern const mg_task_method_t mg_task_methods[];

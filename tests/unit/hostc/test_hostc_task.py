@@ -532,7 +532,7 @@ def test_the_adjust_of_002(obj, joints, steps):
         seen = None if det is None else FFI.new("mg_red_cylinder_seen_t *", (
             det.u_c_q4, det.v_c_q4, det.d_pixel_q4, det.width_q4))
         C.mg_task_do_adjust(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
-                            seen if seen is not None else FFI.NULL)
+                            seen if seen is not None else FFI.NULL, FFI.NULL)
         assert _events(c) == py._events
         assert (tuple(c.wheels), list(c.arm), c.move_done_us, c.trust_from_us) == (
             py.wheels, py.arm, py.move_done_us, py.trust_from_us)
@@ -815,7 +815,8 @@ def _replay(c, calls: list) -> dict:
             C.mg_task_do_adjust(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
                                 FFI.NULL if det is None else FFI.new(
                                     "mg_red_cylinder_seen_t *", (det.u_c_q4, det.v_c_q4,
-                                                                 det.d_pixel_q4, det.width_q4)))
+                                                                 det.d_pixel_q4, det.width_q4)),
+                                FFI.NULL)
             assert _events(c) == events, rec
             assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (wheels, post,
                                                                       post_done), rec

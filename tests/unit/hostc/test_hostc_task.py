@@ -592,14 +592,13 @@ def test_platform_and_odometry_frames(x, y, h, fwd, p_q4, ox, oy):
 
 
 # --- the sequence of a shipped scenario -------------------------------------------------------
-def _record(mp, calls: list, steps: bool = False) -> None:
-    """Wrap the Python task's units so that each call is recorded with what it read and gave;
-    the calls a quiet unit makes itself are part of its record, not their own. steps: record
-    the APPROACH steps whole (and what keeps the C's history and fuzzy approach in step)."""
+def recorder(mp, calls: list):
+    """``wrap(cls, name, before, after, quiet=False)``: each call of ``cls.name`` recorded in
+    ``calls`` as ``before(*args)`` (None: not recorded) + ``after(result, *args)``; the calls a
+    quiet unit makes itself are part of its record, not their own."""
     inside = []
 
     def wrap(cls, name, before, after, quiet=False):
-        """quiet: the calls it makes are its own (not recorded)"""
         orig = getattr(cls, name)
 
         def recorded(*a, **kw):
@@ -615,7 +614,14 @@ def _record(mp, calls: list, steps: bool = False) -> None:
                 calls.append(rec + after(res, *a, **kw))
             return res
         mp.setattr(cls, name, recorded)
+    return wrap
 
+
+def _record(mp, calls: list, steps: bool = False) -> None:
+    """Wrap the Python task's units so that each call is recorded with what it read and gave.
+    steps: record the APPROACH steps whole (and what keeps the C's history and fuzzy approach
+    in step)."""
+    wrap = recorder(mp, calls)
     if steps:
         wrap(machine.Task, "remember",
              lambda t, now, inp: ("remember", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
@@ -850,16 +856,23 @@ def _replay(c, calls: list) -> dict:
     return counts
 
 
-def _recorded_run(tmp_path, steps: bool = False) -> list:
-    """The calls of the Python task in the shipped scenario paper002-marker, run in process."""
+def recorded_run(tmp_path, scenario: str, record) -> list:
+    """The calls ``record(mp, calls)`` records of the Python task in a shipped scenario, run in
+    process (it must succeed)."""
     from mobigrasp.services.run_job import RunOptions, execute
     calls: list = []
     with pytest.MonkeyPatch.context() as mp:
-        _record(mp, calls, steps)
-        summary, code = execute(RunOptions(scenario="paper002-marker", transport="inproc",
+        record(mp, calls)
+        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
                                            out=tmp_path / "run", progress=False, plots=False))
     assert code == 0 and summary["success"], summary
     return calls
+
+
+def _recorded_run(tmp_path, steps: bool = False) -> list:
+    """The calls of the Python task in the shipped scenario paper002-marker."""
+    return recorded_run(tmp_path, "paper002-marker",
+                        lambda mp, calls: _record(mp, calls, steps))
 
 
 def test_replay_of_paper002_marker(tmp_path):

@@ -17,6 +17,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
+from test_hostc_task import recorded_run, recorder
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -390,3 +391,146 @@ def test_the_adjust_of_000(obj, joints, steps):
             break
         py.remember(now, inp)
         C.mg_task_remember(c, now, *xyh)
+
+
+def _task_state(t) -> tuple:
+    """What a state's step reads and changes of the shared state."""
+    return (list(t.arm), t.move_done_us, t.obj, t.obj_seen_us, t.trust_from_us,
+            t.counters["bad_detections"])
+
+
+def _load(c, state: tuple) -> None:
+    arm, done, obj, seen, trust, bad = state
+    c.arm[0:6] = arm
+    c.move_done_us, c.obj_seen_us, c.trust_from_us, c.bad_detections = done, seen, trust, bad
+    c.has_obj, c.obj_mm = obj is not None, obj or (0, 0)
+
+
+def _c_state(c) -> tuple:
+    return (list(c.arm), c.move_done_us, tuple(c.obj_mm) if c.has_obj else None, c.obj_seen_us,
+            c.trust_from_us, c.bad_detections)
+
+
+def _record000(mp, calls: list) -> None:
+    """The calls of 000's task: SEARCH's sighting, APPROACH's and ADJUST's entries and steps,
+    the plans, and the history they read."""
+    wrap = recorder(mp, calls)
+    wrap(machine.Task, "remember",
+         lambda t, now, inp: ("remember", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
+                              list(t.arm)),
+         lambda res, t, *a: (len(t.arm_hist), len(t.pose_hist)))
+    wrap(Method000, "found",
+         lambda rules, t, now, inp, name, det: (
+             "found", now, (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps), det,
+             _task_state(t)),
+         lambda res, rules, t, *a: (res, _task_state(t), t.graspable_seen,
+                                    rules.found_why(t) if res else None), quiet=True)
+    wrap(Method000, "plan",
+         lambda rules, t, now, inp: ("plan", (now, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                              inp.v_mmps, tuple(t.obj),
+                                              t.p.approach_standoff_mm)),
+         lambda res, *a: ((None if res[0] is None else res[0].traj,
+                           0 if res[0] is None else res[0].v_limit_mm_s, res[1].time_us(),
+                           res[2]["reason"]),), quiet=True)
+    wrap(Method000, "enter_approach", lambda rules, t, now, inp: ("enter_approach",),
+         lambda res, rules, t, *a: (_path_py(t),))
+
+    def approach_before(paths, t, now, inp, dets):
+        return ("approach", now, (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps),
+                dets.get("radial_symbol"), _task_state(t), t.state, _path_py(t),
+                len(t._events), t._ops.as_tuple())
+    wrap(ApproachStates, "follow_path", approach_before,
+         lambda res, paths, t, *a: (list(t._events), t.wheels, _task_state(t), t.state,
+                                    _path_py(t), t._ops.as_tuple()))
+    wrap(AdjustState, "enter_ADJUST",
+         lambda adj, t, now, inp: ("enter_adjust", now, _task_state(t)),
+         lambda res, adj, t, *a: (_task_state(t),))
+    wrap(AdjustState, "do_ADJUST",
+         lambda adj, t, now, inp, dets: (
+             "adjust", now, (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps),
+             dets.get("dual_plus"), dets.get("radial_symbol"), _task_state(t), len(t._events)),
+         lambda res, adj, t, *a: (list(t._events), t.wheels, _task_state(t), t.state))
+    # the machine's tables hold ADJUST's methods bound at import: through the class now
+    mp.setitem(machine.ENTRY, "ADJUST", lambda *a: ADJUST.enter_ADJUST(*a))
+    mp.setitem(machine.STEP, "ADJUST", lambda *a: ADJUST.do_ADJUST(*a))
+
+
+def _replay000(calls: list) -> dict:
+    """Each recorded call on a C task of 000 carrying its own history and path, with the
+    shared state the Python call read; what it gave compared. The count of calls of each
+    kind."""
+    py = Task("000")
+    c = _c_task(py)
+    plans = [r[2] for r in calls if r[0] == "plan"]
+    requests = [r[1] for r in calls if r[0] == "plan"]
+    planner = Planner(plans)
+    C.mg_method000_set_planner(c, planner.callback, FFI.NULL)
+    why = FFI.new("char[]", WHY_BYTES)
+    counts: dict = {}
+    for rec in calls:
+        kind = rec[0]
+        counts[kind] = counts.get(kind, 0) + 1
+        if kind == "remember":
+            _, now, xyh, arm, n_arm, n_pose = rec
+            c.arm[0:6] = arm
+            C.mg_task_remember(c, now, *xyh)
+            assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+        elif kind == "found":
+            _, now, xyhv, det, pre, res, post, graspable, found_why = rec
+            _load(c, pre)
+            assert C.mg_method000_found(c, now, _inputs(xyhv), _sighting(RADIAL, det)) == res
+            assert (_c_state(c), c.graspable_seen) == (post, graspable), rec
+            if res:
+                C.mg_method000_found_why(c, why, WHY_BYTES)
+                assert FFI.string(why).decode() == found_why
+        elif kind == "enter_approach":
+            C.mg_method000_enter_approach(c)
+            assert _path_c(c) == rec[1], rec
+        elif kind == "approach":
+            (_, now, xyhv, det, pre, state, path, _, ops, events, wheels, post, post_state,
+             post_path, post_ops) = rec
+            _load(c, pre)
+            c.state, c.n_events = machine.STATES.index(state), 0
+            FFI.memmove(FFI.addressof(c.path, "ops"), FFI.new("mg_ops_t *"),
+                        FFI.sizeof("mg_ops_t"))
+            assert _path_c(c) == path, rec  # the C's path carried from its last step
+            C.mg_method000_approach(c, now, _inputs(xyhv), _sighting(RADIAL, det))
+            assert _events(c) == events[rec[7]:], rec
+            assert (tuple(c.wheels), _c_state(c), machine.STATES[c.state]) == (
+                wheels, post, post_state), rec
+            assert _path_c(c) == post_path, rec
+            assert hostc.ops_tuple(c.path.ops) == tuple(b - a for a, b in zip(
+                ops, post_ops, strict=True)), rec
+        elif kind == "enter_adjust":
+            _, now, pre, post = rec
+            _load(c, pre)
+            C.mg_task_enter_adjust(c, now)
+            assert _c_state(c) == post, rec
+        elif kind == "adjust":
+            _, now, xyhv, plus, radial, pre, n_events, events, wheels, post, state = rec
+            _load(c, pre)
+            c.state, c.n_events = C.MG_ADJUST, 0
+            C.mg_task_do_adjust(c, now, _inputs(xyhv), _sighting(PLUS, plus),
+                                _sighting(RADIAL, radial))
+            assert _events(c) == events[n_events:], rec
+            assert (tuple(c.wheels), _c_state(c), machine.STATES[c.state]) == (
+                wheels, post, state), rec
+    assert planner.c_requests == requests
+    assert c.hist_overflow == 0 and c.events_lost == 0
+    return counts
+
+
+def test_replay_of_paper000_exp1(tmp_path):
+    """The calls the Python task made in paper000-exp1 replayed on the C task with the same
+    inputs: SEARCH's sighting, APPROACH's path (its plan charged in slices, followed to its
+    end) and ADJUST step by step give the same outputs, call by call."""
+    calls = recorded_run(tmp_path, "paper000-exp1", _record000)
+    counts = _replay000(calls)
+    assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
+    assert counts.get("plan", 0) >= 1 and counts.get("found", 0) >= 1, counts
+    # the plan's time charged in the step that made it (its slices: test_the_path_approach_of_000)
+    assert any(r[0] == "approach" and r[14][2] > r[8][2] for r in calls)
+    ended = [r for r in calls if r[0] == "approach" and r[9][r[7]:]]
+    assert [e.to_state for e in ended[-1][9][ended[-1][7]:]] == ["ADJUST"]
+    stopped = [r for r in calls if r[0] == "adjust" and r[7][r[6]:]]
+    assert [e.to_state for e in stopped[-1][7][stopped[-1][6]:]] == ["ROUGH_GRASP"]

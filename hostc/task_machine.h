@@ -13,6 +13,7 @@
 #include "fuzzy.h"
 #include "kinematics.h"
 #include "posture.h"
+#include "search.h"
 #include "task_path.h"
 
 typedef enum {
@@ -48,6 +49,8 @@ typedef struct {
      * direct_max_mm, the wheels of a turn in place */
     int32_t approach_standoff_mm, replan_shift_mm, max_plan_attempts, direct_max_mm;
     int32_t turn_wheel_mmps;
+    int64_t replan_period_us, sonar_sweep_us; /* 001: the sonar check's period, one sweep */
+    mg_search_params_t search; /* SEARCH's pattern (host/search.py SearchParams) */
     int32_t posture_step_mrad; /* eq. (10)'s step per control step */
     mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
     mg_fuzzy_params_t fuzzy;
@@ -62,6 +65,7 @@ typedef struct {
 #define MG_TASK_EVENTS 8   /* transitions in one step */
 #define MG_TASK_WHY 192    /* bytes of a transition's reason, its terminating 0 included */
 #define MG_TASK_MS_BYTES 512 /* the largest method state */
+#define MG_TASK_SONARS 16      /* sonars of the ring read */
 
 typedef struct {
     int64_t t_us;
@@ -131,6 +135,7 @@ mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_
 typedef struct {
     int32_t has_joints, joints_mrad[6];
     int32_t x_mm, y_mm, heading_mrad, v_mmps;
+    int32_t n_sonar, sonar_mm[MG_TASK_SONARS]; /* the ring, right to left; 0xFFFF: no echo */
 } mg_task_inputs_t;
 typedef struct {
     int32_t servo_mrad[6];

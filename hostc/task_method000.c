@@ -23,6 +23,16 @@ void mg_method000_set_planner(mg_task_t *t, mg_planner000_fn planner, void *ctx)
     ms000(t)->planner_ctx = ctx;
 }
 
+/* host/search.py SearchParams(): 000 section IV's pattern */
+static const mg_search_params_t SEARCH_DEFAULTS = {
+    .theta2_min_mrad = -2800, .theta2_max_mrad = -2100, .d_theta2_mrad = 60,
+    .theta5_min_mrad = -800, .theta5_max_mrad = 800, .d_theta5_mrad = 200, .theta3_mrad = -200,
+    .theta4_mrad = 2300, .base_turn_mrad = 1047, .n_coarse = 3,
+    .coarse_theta2_mrad = {-2250, -2500, -2750}, .coarse_base_turn_mrad = 1571,
+    .dense_cycles = 0, .turns_per_wander = 4, .wander_mm = 1800, .wander_sweep = 1,
+    .wander_theta5_mrad = 1400, .stop_cycles = 0, .frames_per_pose = 2,
+    .frame_period_us = 66667, .servo_speed_mrad_per_s = 5000};
+
 /* TaskParams.for_method("000"): the defaults (000 has none of its own) */
 void mg_method000_params(mg_task_params_t *p)
 {
@@ -57,6 +67,9 @@ void mg_method000_params(mg_task_params_t *p)
     p->max_plan_attempts = 3;
     p->direct_max_mm = 1200;
     p->turn_wheel_mmps = 80;
+    p->replan_period_us = 300000;
+    p->sonar_sweep_us = 200000;
+    p->search = SEARCH_DEFAULTS;
     p->posture_step_mrad = 20;
     /* eq. (10)'s gains of 000 section IV: 1, 0, 0 */
     p->posture.k_theta_q12[0] = 4096;

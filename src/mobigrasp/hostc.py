@@ -27,7 +27,8 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "outgoing_guard.h", "json.h", "lockstep.h", "app.h", "lockstep_driver.h",
            "transforms.h", "search.h", "ranging.h", "task_machine.h", "task_method.h",
            "task_method002.h", "task_drive.h", "task_sense.h",
-           "task_adjust.h", "task_path.h", "task_approach.h", "task_method000.h")
+           "task_adjust.h", "task_path.h", "task_approach.h", "task_method000.h",
+           "task_method001.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -38,6 +39,7 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "ranging_size.c", HOSTC / "task_machine.c", HOSTC / "task_method.c",
            HOSTC / "task_method002.c", HOSTC / "task_drive.c", HOSTC / "task_sense.c",
            HOSTC / "task_adjust.c", HOSTC / "task_approach.c", HOSTC / "task_method000.c",
+           HOSTC / "task_method001.c",
            PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")

@@ -48,6 +48,14 @@ def _c_params(py: Task, c) -> None:
         if name == "timeouts_us":
             p.timeouts_us[0:C.MG_N_TASK_STATES] = [py.p.timeouts_us.get(s, -1)
                                                    for s in machine.STATES]
+        elif name == "search":
+            sp = SearchParams(**py.p.search)
+            for f, _ in FFI.typeof("mg_search_params_t").fields:
+                if f == "coarse_theta2_mrad":
+                    p.search.n_coarse = len(sp.coarse_theta2_mrad)
+                    p.search.coarse_theta2_mrad[0:p.search.n_coarse] = sp.coarse_theta2_mrad
+                elif f != "n_coarse":
+                    setattr(p.search, f, getattr(sp, f))
         elif name == "posture":
             pp = py.posture_params(0)
             p.posture.k_theta_q12[0:3] = list(pp.k_theta_q12)
@@ -57,8 +65,8 @@ def _c_params(py: Task, c) -> None:
             setattr(p, name, getattr(py.p, name))
 
 
-def _c_task(py: Task | None = None, start_us: int = 0):
-    rules = C.mg_task_method_find(b"000")
+def _c_task(py: Task | None = None, start_us: int = 0, method: str = "000"):
+    rules = C.mg_task_method_find(method.encode())
     p = FFI.new("mg_task_params_t *")
     rules.params(p)
     t = FFI.new("mg_task_t *")
@@ -75,9 +83,12 @@ def _events(t) -> list:
             for e in t.events[0:t.n_events]]
 
 
-def _inputs(xyhv: tuple):
-    return FFI.new("mg_task_inputs_t *", dict(zip(("x_mm", "y_mm", "heading_mrad", "v_mmps"),
-                                                  xyhv, strict=True)))
+def _inputs(xyhv: tuple, sonar_mm: tuple = ()):
+    inp = FFI.new("mg_task_inputs_t *", dict(zip(("x_mm", "y_mm", "heading_mrad", "v_mmps"),
+                                                 xyhv, strict=True)))
+    inp.n_sonar = len(sonar_mm)
+    inp.sonar_mm[0:len(sonar_mm)] = list(sonar_mm)
+    return inp
 
 
 def _sighting(row, det, f_px: int = CAMERA_000.f_px):
@@ -147,11 +158,19 @@ class Planner:
         self.c_at += 1
 
 
-def test_params_are_those_of_the_python_task():
-    py, c = Task("000"), _c_task()
+@pytest.mark.parametrize("method", ["000", "001"])
+def test_params_are_those_of_the_python_task(method):
+    py, c = Task(method), _c_task(method=method)
     for name, _ in FFI.typeof("mg_task_params_t").fields:
         if name == "timeouts_us":
             assert list(c.p.timeouts_us) == [py.p.timeouts_us.get(s, -1) for s in machine.STATES]
+        elif name == "search":
+            sp = SearchParams(**py.p.search)
+            got = {f: getattr(c.p.search, f) for f, _ in FFI.typeof("mg_search_params_t").fields
+                   if f not in ("n_coarse", "coarse_theta2_mrad")}
+            assert got == {f: getattr(sp, f) for f in got}
+            assert list(c.p.search.coarse_theta2_mrad)[:c.p.search.n_coarse] \
+                == list(sp.coarse_theta2_mrad)
         elif name == "posture":
             pp = py.posture_params(0)
             assert (tuple(c.p.posture.k_theta_q12), c.p.posture.margin_mode) == (
@@ -159,15 +178,17 @@ def test_params_are_those_of_the_python_task():
         elif name != "fuzzy":
             assert getattr(c.p, name) == getattr(py.p, name), name
     assert (c.geom.l1_mm_q4, c.geom.l2_mm_q4, c.geom.l3_mm_q4) == (
-        PAPER_000.l1_mm_q4, PAPER_000.l2_mm_q4, PAPER_000.l3_mm_q4) == (
         py.geom.l1_mm_q4, py.geom.l2_mm_q4, py.geom.l3_mm_q4)
     assert (c.cam.f_px, c.cam.u0_px, c.cam.v0_px) == (py.cam.f_px, py.cam.u0_px, py.cam.v0_px)
-    rules = C.mg_task_method_find(b"000")
-    assert FFI.string(rules.adjust_detector).decode() == Method000.adjust_detector
-    assert rules.adjust_is_object == (Method000.adjust_detector in Method000.object_detectors)
-    assert "radial_symbol" in Method000.object_detectors  # the C's radial sighting is the object
-    assert rules.grasp_alpha_mrad == Method000.grasp_alpha_mrad
-    assert C.mg_method000_lowers_hover() == Method000().lowers_hover()
+    rules = C.mg_task_method_find(method.encode())
+    r = py.rules
+    assert FFI.string(rules.adjust_detector).decode() == r.adjust_detector
+    assert rules.adjust_is_object == (r.adjust_detector in r.object_detectors)
+    assert "radial_symbol" in r.object_detectors  # the C's radial sighting is the object's
+    assert rules.grasp_alpha_mrad == r.grasp_alpha_mrad
+    assert C.mg_method000_lowers_hover() == r.lowers_hover()
+    for top in (0, 1):
+        assert rules.look_height_mm(FFI.addressof(c, "p"), top) == r.look_height_mm(py.p, top)
 
 
 @SETTINGS

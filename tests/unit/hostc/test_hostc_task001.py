@@ -1,0 +1,229 @@
+"""Method 001 in C (hostc/task_method001.c with the path approach of hostc/task_approach.c)
+against the Python (host/task/method001.py, approach.py): APPROACH step by step with the same
+sonar ranges and the same replanner outcomes give the same transitions, wheels, arm targets,
+paths, plans and charged planning time.
+
+The C's replanner is a declared interface (``mg_replanner001_t``) until host/planning/replan.py
+is in C: here both tasks are given the same scripted outcomes of the replanner's calls
+(method001.py ``start_001``, ``update_001``, ``straight_clear_001``) and the requests are
+compared. The fallbacks and detours with no feasible curve are not in the C yet: the Python's
+``start_detour`` is held to the C's (none started)."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_hostc_control import trajectories
+from test_hostc_task000 import (
+    NEAR,
+    RADIALS,
+    RADIAL,
+    _c_task,
+    _events,
+    _fill_plan,
+    _inputs,
+    _path_c,
+    _path_py,
+    _pose,
+    _sighting,
+)
+
+from mobigrasp import hostc
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.control.path_follow import PathFollower, Trajectory
+from mobigrasp.host.task import Task, TaskInputs, method001
+from mobigrasp.host.task.approach import PATH, ApproachStates
+from mobigrasp.host.task.method001 import Method001
+
+FFI, C = hostc.lib()
+SETTINGS = settings(max_examples=100, deadline=None)
+CYCLES = C.MG_PLAN_CYCLES_PER_US
+START_CB = ("void(void *, int64_t, const mg_task_inputs_t *, const int32_t *, int32_t, "
+            "mg_trajectory_t *, mg_plan_outcome_t *)")
+UPDATE_CB = ("void(void *, int64_t, const mg_task_inputs_t *, int32_t, mg_replan001_t *, "
+             "mg_trajectory_t *, mg_plan_outcome_t *, mg_ops_t *)")
+START_PATH_CB = "void(void *, int64_t)"
+CLEAR_CB = "int(void *, const mg_task_inputs_t *, const int32_t *, int32_t, mg_ops_t *)"
+
+
+class Replanner:
+    """Scripted outcomes of the replanner's calls, given in turn to the Python task (through
+    method001.py's calls of it) and to the C's (its mg_replanner001_t); the requests of both
+    kept, each side in its own list."""
+
+    def __init__(self, starts: list, updates: list, clears: list) -> None:
+        self.script = {"start": starts, "update": updates, "clear": clears}
+        self.at = {"py": {k: 0 for k in self.script}, "c": {k: 0 for k in self.script}}
+        self.requests: dict = {"py": [], "c": []}
+        self.py_rp = SimpleNamespace(start_us=None)
+        self.c_start_us: list = []
+        self.callbacks = [FFI.callback(START_CB, self._c_start),
+                          FFI.callback(UPDATE_CB, self._c_update),
+                          FFI.callback(START_PATH_CB, self._c_start_path),
+                          FFI.callback(CLEAR_CB, self._c_clear)]
+        self.table = FFI.new("mg_replanner001_t *", self.callbacks)
+
+    def _next(self, side: str, kind: str):
+        items = self.script[kind]
+        item = items[self.at[side][kind] % len(items)]
+        self.at[side][kind] += 1
+        return item
+
+    # --- the Python's side: method001.py's functions -------------------------------------
+    def py_start(self, now, x, y, h, v, obj, sonar, params):
+        self.requests["py"].append(("start", now, x, y, h, v, tuple(obj), tuple(sonar),
+                                    round(method001.planner_params_001(self.p).v0 / params.v0)))
+        table, v_limit, time_us, reason = self._next("py", "start")
+        follower = None if table is None else PathFollower(table, now, v_limit)
+        return self.py_rp, follower, OpCounts(alu=time_us * CYCLES), {"reason": reason}
+
+    def py_update(self, rp, now, x, y, h, v, sonar, force=False):
+        self.requests["py"].append(("update", now, x, y, h, v, tuple(sonar), bool(force)))
+        blocked, replanned, has_curve, has_plan, table, v_limit, alu, reason = self._next(
+            "py", "update")
+        curve = SimpleNamespace(ctrl=[[0.0, 0.0, 0.0]] * 4) if has_curve else None
+        dec = SimpleNamespace(blocked=blocked, replanned=replanned, curve=curve,
+                              plan=object() if has_plan else None, reason=reason)
+        follower = None if not (replanned and has_curve and table is not None) else \
+            PathFollower(table, now, v_limit)
+        return dec, follower, OpCounts(alu=alu)
+
+    def py_clear(self, rp, x, y, h, sonar, obj, travel):
+        self.requests["py"].append(("clear", x, y, h, tuple(sonar), tuple(obj), travel))
+        clear, alu = self._next("py", "clear")
+        return clear, OpCounts(alu=alu)
+
+    # --- the C's side --------------------------------------------------------------------
+    @staticmethod
+    def _pose(inp) -> tuple:
+        return (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps)
+
+    @staticmethod
+    def _sonar(inp) -> tuple:
+        return tuple(inp.sonar_mm[0:inp.n_sonar])
+
+    def _c_start(self, ctx, now, inp, obj, v0_div, traj, o) -> None:
+        self.requests["c"].append(("start", now, *self._pose(inp), (obj[0], obj[1]),
+                                   self._sonar(inp), v0_div))
+        _fill_plan(traj, o, self._next("c", "start"))
+
+    def _c_update(self, ctx, now, inp, force, dec, traj, o, ops) -> None:
+        self.requests["c"].append(("update", now, *self._pose(inp), self._sonar(inp),
+                                   bool(force)))
+        blocked, replanned, has_curve, has_plan, table, v_limit, alu, reason = self._next(
+            "c", "update")
+        dec.blocked, dec.replanned, dec.has_curve, dec.has_plan = (blocked, replanned,
+                                                                   has_curve, has_plan)
+        path = table if replanned and has_curve else None
+        _fill_plan(traj, o, (path, v_limit, 0, reason))
+        FFI.memmove(ops, FFI.new("mg_ops_t *"), FFI.sizeof("mg_ops_t"))
+        ops.alu = alu
+
+    def _c_start_path(self, ctx, now) -> None:
+        self.c_start_us.append(now)
+
+    def _c_clear(self, ctx, inp, obj, travel, ops) -> int:
+        self.requests["c"].append(("clear", *self._pose(inp)[:3], self._sonar(inp),
+                                   (obj[0], obj[1]), travel))
+        clear, alu = self._next("c", "clear")
+        FFI.memmove(ops, FFI.new("mg_ops_t *"), FFI.sizeof("mg_ops_t"))
+        ops.alu = alu
+        return clear
+
+
+def _long(table):
+    """A reference table 20 times slower: paths followed over many sonar checks."""
+    return Trajectory(
+        tuple(20 * t for t in table.t_us), table.x_um, table.y_um, table.heading_mrad,
+        table.v_mm_s, table.w_mrad_s, table.ops)
+
+
+TABLES = st.none() | trajectories().map(_long)
+# the base anywhere, or with the object this far ahead of the waist (the early hand-over to
+# ADJUST within 700 mm, the look first from 350 mm)
+POSES_001 = st.tuples(NEAR, NEAR, st.integers(-3142, 3141)) | st.tuples(
+    st.just("facing"), st.integers(-3142, 3141), st.integers(150, 1500))
+REASONS = ["ok", "already within standoff of the object", "speed: 14", "blocked: replanned"]
+STARTS = st.lists(st.tuples(TABLES, st.integers(0, 400),
+                            st.integers(0, 40_000), st.sampled_from(REASONS)),
+                  min_size=1, max_size=4)
+# the decisions of replan.py (blocked, replanned, a curve, a plan made) with the path of a
+# replanned one, its wheel limit, the update's ARM9 cycles and its reason
+DECISIONS = st.sampled_from([(False, False, True, False), (True, False, True, False),
+                             (True, False, False, False), (True, False, False, True)])
+UPDATES = st.lists(st.one_of(
+    st.tuples(DECISIONS, st.none(), st.integers(0, 400), st.integers(0, 40_000 * CYCLES),
+              st.sampled_from(REASONS)),
+    st.tuples(st.just((True, True, True, True)), trajectories().map(_long),
+              st.integers(0, 400), st.integers(0, 40_000 * CYCLES), st.sampled_from(REASONS))
+).map(lambda u: (*u[0], *u[1:])), min_size=1, max_size=4)
+CLEARS = st.lists(st.tuples(st.booleans(), st.integers(0, 5000)), min_size=1, max_size=4)
+SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=0, max_size=5).map(tuple)
+
+
+@SETTINGS
+@given(STARTS, UPDATES, CLEARS, st.tuples(NEAR, NEAR), st.integers(1, 4),
+       st.integers(0, 2000), st.booleans(), st.lists(st.tuples(
+           st.sampled_from([20_000, 100_000, 300_000, 600_000]) | st.integers(1, 5_000_000),
+           POSES_001, st.integers(-300, 300), SONAR, RADIALS,
+           st.none() | st.tuples(NEAR, NEAR)), max_size=40))
+def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct_mm, sighted,
+                                  steps):
+    """APPROACH of 001 step by step: the look first at a given object, the wait for a sonar
+    sweep, sightings not used in a fast turn, the first plan and the plans of the same
+    replanner, the sonar check every replan_period_us (replanned in slices, blocked and kept,
+    nothing feasible: stop), a new plan from standstill, the follower never backing up, the
+    straight way's check before the direct approach and the early hand-over to ADJUST."""
+    py = Task("001", params={"max_plan_attempts": attempts, "direct_max_mm": direct_mm})
+    c = _c_task(py, method="001")
+    rp = Replanner(starts, updates, clears)
+    rp.p = py.p
+    C.mg_method001_set_replanner(c, rp.table, FFI.NULL)
+    py.object_sighted = c.object_sighted = sighted
+    py.obj = obj
+    c.has_obj, c.obj_mm = 1, obj
+    py.go(0, "APPROACH", "test")
+    C.mg_task_go(c, 0, C.MG_APPROACH, b"test")
+    ApproachStates().enter_APPROACH(py, 0, TaskInputs())
+    C.mg_task_enter_path(c)
+    ms = FFI.cast("mg_state001_t *", c.ms.bytes)
+    now = 0
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(method001, "start_001", rp.py_start)
+        mp.setattr(method001, "update_001", rp.py_update)
+        mp.setattr(method001, "straight_clear_001", rp.py_clear)
+        mp.setattr(Method001, "start_detour", lambda *a: False)  # not in the C yet
+        for dt, pose, v_mmps, sonar, det, moved_to in steps:
+            now += dt
+            if moved_to is not None:
+                py.obj = moved_to
+                c.obj_mm = moved_to
+            xyhv = (*_pose(py.obj, pose), v_mmps)
+            py._events, py._ops, c.n_events = [], OpCounts(), 0
+            FFI.memmove(FFI.addressof(c.path, "ops"), FFI.new("mg_ops_t *"),
+                        FFI.sizeof("mg_ops_t"))
+            inp = TaskInputs(x_mm=xyhv[0], y_mm=xyhv[1], heading_mrad=xyhv[2],
+                             v_mmps=xyhv[3], sonar_mm=sonar)
+            PATH.follow_path(py, now, inp, {} if det is None else {"radial_symbol": det})
+            C.mg_task_follow_path(c, now, _inputs(xyhv, sonar), _sighting(RADIAL, det))
+            assert rp.requests["c"] == rp.requests["py"]
+            assert _events(c) == py._events
+            assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (py.wheels, py.arm,
+                                                                      py.move_done_us)
+            assert (tuple(c.obj_mm), c.obj_seen_us, c.bad_detections) == (
+                py.obj, py.obj_seen_us, py.counters["bad_detections"])
+            assert _path_c(c) == _path_py(py)
+            assert hostc.ops_tuple(c.path.ops) == py._ops.as_tuple()
+            assert bool(ms.has_replanner) == (py.ms.replanner is not None)
+            assert (tuple(ms.path_from_mm) if ms.has_path_from else None) == py.ms.path_from
+            if py.ms.replanner is not None and py.ms.replanner.start_us is not None:
+                assert rp.c_start_us[-1] == py.ms.replanner.start_us
+            if c.has_failure:
+                assert FFI.string(c.failure).decode() == py.failure
+            if py.state != "APPROACH":
+                break
+            py.remember(now, inp)
+            C.mg_task_remember(c, now, *xyhv[:3])

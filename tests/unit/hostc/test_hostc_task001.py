@@ -19,8 +19,8 @@ from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task000 import (
     NEAR,
-    RADIALS,
     RADIAL,
+    RADIALS,
     _c_task,
     _events,
     _fill_plan,

@@ -43,6 +43,9 @@ extern const mg_task_method_t mg_task_methods[];
 extern const int32_t mg_n_task_methods;
 const mg_task_method_t *mg_task_method_find(const char *name); /* NULL: unknown */
 
+/* TaskParams(): the defaults of the ported fields (000 section IV's where it gives them); a
+ * method's params hook changes its own (param_defaults) */
+void mg_task_params_default(mg_task_params_t *p);
 /* Method.failure_reason's default: the reason as it is */
 void mg_task_reason_as_is(const mg_task_t *t, const char *reason, char *out, size_t cap);
 

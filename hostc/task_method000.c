@@ -23,57 +23,10 @@ void mg_method000_set_planner(mg_task_t *t, mg_planner000_fn planner, void *ctx)
     ms000(t)->planner_ctx = ctx;
 }
 
-/* host/search.py SearchParams(): 000 section IV's pattern */
-static const mg_search_params_t SEARCH_DEFAULTS = {
-    .theta2_min_mrad = -2800, .theta2_max_mrad = -2100, .d_theta2_mrad = 60,
-    .theta5_min_mrad = -800, .theta5_max_mrad = 800, .d_theta5_mrad = 200, .theta3_mrad = -200,
-    .theta4_mrad = 2300, .base_turn_mrad = 1047, .n_coarse = 3,
-    .coarse_theta2_mrad = {-2250, -2500, -2750}, .coarse_base_turn_mrad = 1571,
-    .dense_cycles = 0, .turns_per_wander = 4, .wander_mm = 1800, .wander_sweep = 1,
-    .wander_theta5_mrad = 1400, .stop_cycles = 0, .frames_per_pose = 2,
-    .frame_period_us = 66667, .servo_speed_mrad_per_s = 5000};
-
 /* TaskParams.for_method("000"): the defaults (000 has none of its own) */
 void mg_method000_params(mg_task_params_t *p)
 {
-    static const int64_t timeouts_us[MG_N_TASK_STATES] = {
-        180000000, 120000000, 60000000, 15000000, 30000000, 16000000, -1, 5000000, -1};
-    memset(p, 0, sizeof *p);
-    memcpy(p->timeouts_us, timeouts_us, sizeof timeouts_us);
-    p->servo_speed_mrad_per_s = 3000;
-    p->settle_margin_us = 300000;
-    p->frame_latency_us = 50000;
-    p->lost_timeout_us = 1500000;
-    p->grasp_r_mm = 110;
-    p->grasp_r_tol_mm = 20;
-    p->adjust_vmax_mmps = 80;
-    p->blind_approach_mm = 1000;
-    p->blind_keep_mm = 700;
-    p->blind_approach_us = 8000000;
-    p->slow_mmps = 60;
-    p->mount_forward_mm = 100;
-    p->h_shoulder_mm = 200;
-    p->object_top_mm = 100;
-    p->grasp_height_mm = 80;
-    p->t_d_px = 45;
-    p->cylinder_near_px = 12;
-    p->cross_near_px = 75;
-    p->bearing_tol_mrad = 60;
-    p->adjust_theta3_mrad = -1000;
-    p->adjust_theta4_mrad = 1571;
-    p->blind_finish_mm = 80;
-    p->approach_standoff_mm = 400;
-    p->replan_shift_mm = 150;
-    p->max_plan_attempts = 3;
-    p->direct_max_mm = 1200;
-    p->turn_wheel_mmps = 80;
-    p->replan_period_us = 300000;
-    p->sonar_sweep_us = 200000;
-    p->search = SEARCH_DEFAULTS;
-    p->posture_step_mrad = 20;
-    /* eq. (10)'s gains of 000 section IV: 1, 0, 0 */
-    p->posture.k_theta_q12[0] = 4096;
-    p->posture.margin_mode = MG_MARGIN_PRINTED;
+    mg_task_params_default(p);
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

@@ -719,6 +719,14 @@ def _xyh(xyh: tuple) -> dict:
     return dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh, strict=True))
 
 
+def replay_remember(c, rec: tuple) -> None:
+    """A recorded ``remember`` (the arm it kept, the history's lengths after) on the C task."""
+    _, now, xyh, pre, n_arm, n_pose = rec
+    c.arm[0:6] = pre
+    C.mg_task_remember(c, now, *xyh)
+    assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+
+
 def _replay(c, calls: list) -> dict:
     """Each recorded call on the C task, with the state the Python call read; what it gave
     compared. The count of calls of each kind."""
@@ -735,10 +743,7 @@ def _replay(c, calls: list) -> dict:
             C.mg_task_set_arm(c, now, th2, th3, th4, th5, th1 is not None, th1 or 0)
             assert (list(c.arm), c.move_done_us) == (post, post_done), rec
         elif kind == "remember":
-            _, now, xyh, pre, n_arm, n_pose = rec
-            c.arm[0:6] = pre
-            C.mg_task_remember(c, now, *xyh)
-            assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+            replay_remember(c, rec)
         elif kind == "arm_at":
             C.mg_task_arm_at(c, rec[1], arm)
             assert tuple(arm) == rec[2], rec

@@ -17,10 +17,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
-from test_hostc_task import recorded_run, recorder
+from test_hostc_task import recorded_run, recorder, replay_remember
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.control.fuzzy import FuzzyParams
 from mobigrasp.host.control.path_follow import PathFollower
 from mobigrasp.host.kinematics import PAPER_000
 from mobigrasp.host.search import SearchParams
@@ -158,8 +159,10 @@ class Planner:
         self.c_at += 1
 
 
-@pytest.mark.parametrize("method", ["000", "001"])
+@pytest.mark.parametrize("method", ["000", "001", "002"])
 def test_params_are_those_of_the_python_task(method):
+    """Every field of the C's parameters (the defaults, TaskParams(), with the method's own),
+    the method's arm and camera."""
     py, c = Task(method), _c_task(method=method)
     for name, _ in FFI.typeof("mg_task_params_t").fields:
         if name == "timeouts_us":
@@ -175,11 +178,21 @@ def test_params_are_those_of_the_python_task(method):
             pp = py.posture_params(0)
             assert (tuple(c.p.posture.k_theta_q12), c.p.posture.margin_mode) == (
                 pp.k_theta_q12, ["printed", "limits"].index(pp.margin_mode))
-        elif name != "fuzzy":
+        elif name == "fuzzy":
+            fz = FuzzyParams(**py.p.fuzzy)
+            assert {f: getattr(c.p.fuzzy, f) for f, _ in FFI.typeof("mg_fuzzy_params_t").fields} \
+                == {f: getattr(fz, f) for f, _ in FFI.typeof("mg_fuzzy_params_t").fields}
+        else:
             assert getattr(c.p, name) == getattr(py.p, name), name
     assert (c.geom.l1_mm_q4, c.geom.l2_mm_q4, c.geom.l3_mm_q4) == (
         py.geom.l1_mm_q4, py.geom.l2_mm_q4, py.geom.l3_mm_q4)
     assert (c.cam.f_px, c.cam.u0_px, c.cam.v0_px) == (py.cam.f_px, py.cam.u0_px, py.cam.v0_px)
+
+
+@pytest.mark.parametrize("method", ["000", "001"])
+def test_the_rows_of_000_and_001(method):
+    """The method table's rows: ADJUST's detector, the grasp's pitch, the look heights."""
+    py, c = Task(method), _c_task(method=method)
     rules = C.mg_task_method_find(method.encode())
     r = py.rules
     assert FFI.string(rules.adjust_detector).decode() == r.adjust_detector
@@ -309,7 +322,31 @@ PLANS = st.lists(st.one_of(
     min_size=1, max_size=6)
 
 
-def _start_approach(py, c, obj: tuple[int, int]) -> None:
+def path_step(py, c, now: int, xyhv: tuple, sonar_mm: tuple, det, c_step) -> TaskInputs:
+    """One step of the path approach on both tasks, the C's by ``c_step``, with the pose and
+    speed ``xyhv``, the sonar ranges and this frame's radial symbol ``det``: the same
+    transitions, wheels, arm targets, estimate, path and charged planning time. The Python's
+    inputs."""
+    py._events, py._ops, c.n_events = [], OpCounts(), 0
+    FFI.memmove(FFI.addressof(c.path, "ops"), FFI.new("mg_ops_t *"), FFI.sizeof("mg_ops_t"))
+    inp = TaskInputs(x_mm=xyhv[0], y_mm=xyhv[1], heading_mrad=xyhv[2], v_mmps=xyhv[3],
+                     sonar_mm=sonar_mm)
+    PATH.follow_path(py, now, inp, {} if det is None else {"radial_symbol": det})
+    c_step(c, now, _inputs(xyhv, sonar_mm), _sighting(RADIAL, det))
+    assert _events(c) == py._events
+    assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (py.wheels, py.arm,
+                                                              py.move_done_us)
+    assert (tuple(c.obj_mm), c.obj_seen_us, c.bad_detections) == (
+        py.obj, py.obj_seen_us, py.counters["bad_detections"])
+    assert _path_c(c) == _path_py(py)
+    assert hostc.ops_tuple(c.path.ops) == py._ops.as_tuple()
+    if c.has_failure:
+        assert FFI.string(c.failure).decode() == py.failure
+    return inp
+
+
+def start_approach(py, c, obj: tuple[int, int]) -> None:
+    """Both tasks into APPROACH with the object estimate ``obj`` (the entry action run)."""
     py.obj = obj
     c.has_obj, c.obj_mm = 1, obj
     py.go(0, "APPROACH", "test")
@@ -334,7 +371,7 @@ def test_the_path_approach_of_000(plans, obj, attempts, direct_mm, shift_mm, ste
     c = _c_task(py)
     planner = Planner(plans)
     C.mg_method000_set_planner(c, planner.callback, FFI.NULL)
-    _start_approach(py, c, obj)
+    start_approach(py, c, obj)
     now = 0
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(Method000, "plan", planner.py_plan)
@@ -344,21 +381,7 @@ def test_the_path_approach_of_000(plans, obj, attempts, direct_mm, shift_mm, ste
             if moved_to is not None:  # the estimate moved (a sighting elsewhere)
                 py.obj = moved_to
                 c.obj_mm = moved_to
-            py._events, py._ops, c.n_events = [], OpCounts(), 0
-            FFI.memmove(FFI.addressof(c.path, "ops"), FFI.new("mg_ops_t *"),
-                        FFI.sizeof("mg_ops_t"))
-            inp = TaskInputs(x_mm=xyhv[0], y_mm=xyhv[1], heading_mrad=xyhv[2], v_mmps=xyhv[3])
-            PATH.follow_path(py, now, inp, {} if det is None else {"radial_symbol": det})
-            C.mg_method000_approach(c, now, _inputs(xyhv), _sighting(RADIAL, det))
-            assert _events(c) == py._events
-            assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (py.wheels, py.arm,
-                                                                      py.move_done_us)
-            assert (tuple(c.obj_mm), c.obj_seen_us, c.bad_detections) == (
-                py.obj, py.obj_seen_us, py.counters["bad_detections"])
-            assert _path_c(c) == _path_py(py)
-            assert hostc.ops_tuple(c.path.ops) == py._ops.as_tuple()
-            if c.has_failure:
-                assert FFI.string(c.failure).decode() == py.failure
+            inp = path_step(py, c, now, xyhv, (), det, C.mg_method000_approach)
             assert planner.c_requests == planner.py_requests
             if py.state != "APPROACH":
                 break
@@ -492,10 +515,7 @@ def _replay000(calls: list) -> dict:
         kind = rec[0]
         counts[kind] = counts.get(kind, 0) + 1
         if kind == "remember":
-            _, now, xyh, arm, n_arm, n_pose = rec
-            c.arm[0:6] = arm
-            C.mg_task_remember(c, now, *xyh)
-            assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+            replay_remember(c, rec)
         elif kind == "found":
             _, now, xyhv, det, pre, res, post, graspable, found_why = rec
             _load(c, pre)

@@ -19,23 +19,18 @@ from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task000 import (
     NEAR,
-    RADIAL,
     RADIALS,
     _c_task,
-    _events,
     _fill_plan,
-    _inputs,
-    _path_c,
-    _path_py,
     _pose,
-    _sighting,
+    path_step,
+    start_approach,
 )
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
-from mobigrasp.host.task import Task, TaskInputs, method001
-from mobigrasp.host.task.approach import PATH, ApproachStates
+from mobigrasp.host.task import Task, method001
 from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
@@ -183,12 +178,7 @@ def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct
     rp.p = py.p
     C.mg_method001_set_replanner(c, rp.table, FFI.NULL)
     py.object_sighted = c.object_sighted = sighted
-    py.obj = obj
-    c.has_obj, c.obj_mm = 1, obj
-    py.go(0, "APPROACH", "test")
-    C.mg_task_go(c, 0, C.MG_APPROACH, b"test")
-    ApproachStates().enter_APPROACH(py, 0, TaskInputs())
-    C.mg_task_enter_path(c)
+    start_approach(py, c, obj)  # 001 adds nothing to the path approach's entry (000's)
     ms = FFI.cast("mg_state001_t *", c.ms.bytes)
     now = 0
     with pytest.MonkeyPatch.context() as mp:
@@ -202,27 +192,12 @@ def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct
                 py.obj = moved_to
                 c.obj_mm = moved_to
             xyhv = (*_pose(py.obj, pose), v_mmps)
-            py._events, py._ops, c.n_events = [], OpCounts(), 0
-            FFI.memmove(FFI.addressof(c.path, "ops"), FFI.new("mg_ops_t *"),
-                        FFI.sizeof("mg_ops_t"))
-            inp = TaskInputs(x_mm=xyhv[0], y_mm=xyhv[1], heading_mrad=xyhv[2],
-                             v_mmps=xyhv[3], sonar_mm=sonar)
-            PATH.follow_path(py, now, inp, {} if det is None else {"radial_symbol": det})
-            C.mg_task_follow_path(c, now, _inputs(xyhv, sonar), _sighting(RADIAL, det))
+            inp = path_step(py, c, now, xyhv, sonar, det, C.mg_task_follow_path)
             assert rp.requests["c"] == rp.requests["py"]
-            assert _events(c) == py._events
-            assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (py.wheels, py.arm,
-                                                                      py.move_done_us)
-            assert (tuple(c.obj_mm), c.obj_seen_us, c.bad_detections) == (
-                py.obj, py.obj_seen_us, py.counters["bad_detections"])
-            assert _path_c(c) == _path_py(py)
-            assert hostc.ops_tuple(c.path.ops) == py._ops.as_tuple()
             assert bool(ms.has_replanner) == (py.ms.replanner is not None)
             assert (tuple(ms.path_from_mm) if ms.has_path_from else None) == py.ms.path_from
             if py.ms.replanner is not None and py.ms.replanner.start_us is not None:
                 assert rp.c_start_us[-1] == py.ms.replanner.start_us
-            if c.has_failure:
-                assert FFI.string(c.failure).decode() == py.failure
             if py.state != "APPROACH":
                 break
             py.remember(now, inp)

@@ -48,12 +48,12 @@ void mg_task_plan_job_start(mg_task_t *t, int32_t has_path, int32_t v_limit_mm_s
 int mg_task_plan_job_step(mg_task_t *t)
 {
     mg_task_path_t *ps = &t->path;
-    const int64_t take = ps->job_remaining_us < MG_PLAN_SLICE_US ? ps->job_remaining_us
-                                                                 : MG_PLAN_SLICE_US;
+    const int64_t take = ps->job_remaining_us < MG_TASK_PLAN_SLICE_US ? ps->job_remaining_us
+                                                                      : MG_TASK_PLAN_SLICE_US;
     ps->job_remaining_us -= take;
     mg_ops_t ops;
     memset(&ops, 0, sizeof ops);
-    ops.alu = take * MG_PLAN_CYCLES_PER_US;
+    ops.alu = take * MG_TASK_PLAN_CYCLES_PER_US;
     mg_task_charge(t, &ops);
     return ps->job_remaining_us <= 0;
 }

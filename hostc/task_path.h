@@ -11,9 +11,9 @@
 #include "path_follow.h"
 
 enum {
-    MG_PLAN_SLICE_US = 8000, /* anytime.py PLAN_SLICE_US: a control step's share of planning */
-    MG_PLAN_CYCLES_PER_US = 400, /* FCLK 400 MHz */
-    MG_PLAN_REASON = 160         /* bytes of a plan's reason, its terminating 0 included */
+    MG_TASK_PLAN_SLICE_US = 8000, /* anytime.py PLAN_SLICE_US: a step's share of planning */
+    MG_TASK_PLAN_CYCLES_PER_US = 400, /* FCLK 400 MHz */
+    MG_PLAN_REASON = 160 /* bytes of a plan's reason, its terminating 0 included */
 };
 
 /* what a planner gives (the Python's (follower, ops, detail)): a path or none, why */

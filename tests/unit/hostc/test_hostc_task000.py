@@ -151,7 +151,7 @@ class Planner:
         table, v_limit, time_us, reason = self.plans[self.py_at % len(self.plans)]
         self.py_at += 1
         follower = None if table is None else PathFollower(table, now, v_limit)
-        return follower, OpCounts(alu=time_us * C.MG_PLAN_CYCLES_PER_US), {"reason": reason}
+        return follower, OpCounts(alu=time_us * C.MG_TASK_PLAN_CYCLES_PER_US), {"reason": reason}
 
     def _c_plan(self, ctx, req, traj, o) -> None:
         self.c_requests.append(_request_c(req))

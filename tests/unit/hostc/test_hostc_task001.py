@@ -35,7 +35,7 @@ from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=100, deadline=None)
-CYCLES = C.MG_PLAN_CYCLES_PER_US
+CYCLES = C.MG_TASK_PLAN_CYCLES_PER_US
 START_CB = ("void(void *, int64_t, const mg_task_inputs_t *, const int32_t *, int32_t, "
             "mg_trajectory_t *, mg_plan_outcome_t *)")
 UPDATE_CB = ("void(void *, int64_t, const mg_task_inputs_t *, int32_t, mg_replan001_t *, "

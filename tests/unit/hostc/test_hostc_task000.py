@@ -440,24 +440,26 @@ def test_the_adjust_of_000(obj, joints, steps):
 def _task_state(t) -> tuple:
     """What a state's step reads and changes of the shared state."""
     return (list(t.arm), t.move_done_us, t.obj, t.obj_seen_us, t.trust_from_us,
-            t.counters["bad_detections"])
+            t.counters["bad_detections"], t.entered_us, t.object_sighted)
 
 
 def _load(c, state: tuple) -> None:
-    arm, done, obj, seen, trust, bad = state
+    arm, done, obj, seen, trust, bad, entered, sighted = state
     c.arm[0:6] = arm
     c.move_done_us, c.obj_seen_us, c.trust_from_us, c.bad_detections = done, seen, trust, bad
     c.has_obj, c.obj_mm = obj is not None, obj or (0, 0)
+    c.entered_us, c.object_sighted = entered, sighted
 
 
 def _c_state(c) -> tuple:
     return (list(c.arm), c.move_done_us, tuple(c.obj_mm) if c.has_obj else None, c.obj_seen_us,
-            c.trust_from_us, c.bad_detections)
+            c.trust_from_us, c.bad_detections, c.entered_us, bool(c.object_sighted))
 
 
-def _record000(mp, calls: list) -> None:
-    """The calls of 000's task: SEARCH's sighting, APPROACH's and ADJUST's entries and steps,
-    the plans, and the history they read."""
+def record_path_task(mp, calls: list):
+    """The calls of a path method's task (000, 001): its parameters, SEARCH's sighting,
+    APPROACH's and ADJUST's entries and steps, and the history they read; the recorder, for
+    the method's own (its planner's calls)."""
     wrap = recorder(mp, calls)
     wrap(machine.Task, "remember",
          lambda t, now, inp: ("remember", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
@@ -469,20 +471,13 @@ def _record000(mp, calls: list) -> None:
              _task_state(t)),
          lambda res, rules, t, *a: (res, _task_state(t), t.graspable_seen,
                                     rules.found_why(t) if res else None), quiet=True)
-    wrap(Method000, "plan",
-         lambda rules, t, now, inp: ("plan", (now, inp.x_mm, inp.y_mm, inp.heading_mrad,
-                                              inp.v_mmps, tuple(t.obj),
-                                              t.p.approach_standoff_mm)),
-         lambda res, *a: ((None if res[0] is None else res[0].traj,
-                           0 if res[0] is None else res[0].v_limit_mm_s, res[1].time_us(),
-                           res[2]["reason"]),), quiet=True)
-    wrap(Method000, "enter_approach", lambda rules, t, now, inp: ("enter_approach",),
+    wrap(Method000, "enter_approach", lambda rules, t, now, inp: ("enter_approach", t.p),
          lambda res, rules, t, *a: (_path_py(t),))
 
     def approach_before(paths, t, now, inp, dets):
         return ("approach", now, (inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps),
-                dets.get("radial_symbol"), _task_state(t), t.state, _path_py(t),
-                len(t._events), t._ops.as_tuple())
+                tuple(inp.sonar_mm), dets.get("radial_symbol"), _task_state(t), t.state,
+                _path_py(t), len(t._events), t._ops.as_tuple())
     wrap(ApproachStates, "follow_path", approach_before,
          lambda res, paths, t, *a: (list(t._events), t.wheels, _task_state(t), t.state,
                                     _path_py(t), t._ops.as_tuple()))
@@ -497,18 +492,30 @@ def _record000(mp, calls: list) -> None:
     # the machine's tables hold ADJUST's methods bound at import: through the class now
     mp.setitem(machine.ENTRY, "ADJUST", lambda *a: ADJUST.enter_ADJUST(*a))
     mp.setitem(machine.STEP, "ADJUST", lambda *a: ADJUST.do_ADJUST(*a))
+    return wrap
 
 
-def _replay000(calls: list) -> dict:
-    """Each recorded call on a C task of 000 carrying its own history and path, with the
-    shared state the Python call read; what it gave compared. The count of calls of each
-    kind."""
-    py = Task("000")
-    c = _c_task(py)
-    plans = [r[2] for r in calls if r[0] == "plan"]
-    requests = [r[1] for r in calls if r[0] == "plan"]
-    planner = Planner(plans)
-    C.mg_method000_set_planner(c, planner.callback, FFI.NULL)
+def _record000(mp, calls: list) -> None:
+    """000's task's calls, and the plans."""
+    wrap = record_path_task(mp, calls)
+    wrap(Method000, "plan",
+         lambda rules, t, now, inp: ("plan", (now, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                              inp.v_mmps, tuple(t.obj),
+                                              t.p.approach_standoff_mm)),
+         lambda res, *a: ((None if res[0] is None else res[0].traj,
+                           0 if res[0] is None else res[0].v_limit_mm_s, res[1].time_us(),
+                           res[2]["reason"]),), quiet=True)
+
+
+def replay_path_task(calls: list, method: str, setup, c_approach) -> dict:
+    """Each recorded call (record_path_task) on a C task of the method carrying its own
+    history and path, with the shared state the Python call read; what it gave compared.
+    ``setup(c)`` gives the C task the planner's recorded outcomes; ``c_approach`` is its
+    APPROACH step. The count of calls of each kind."""
+    py = Task(method)
+    py.p = next(r[1] for r in calls if r[0] == "enter_approach")
+    c = _c_task(py, method=method)
+    setup(c)
     why = FFI.new("char[]", WHY_BYTES)
     counts: dict = {}
     for rec in calls:
@@ -526,17 +533,17 @@ def _replay000(calls: list) -> dict:
                 assert FFI.string(why).decode() == found_why
         elif kind == "enter_approach":
             C.mg_method000_enter_approach(c)
-            assert _path_c(c) == rec[1], rec
+            assert _path_c(c) == rec[2], rec
         elif kind == "approach":
-            (_, now, xyhv, det, pre, state, path, _, ops, events, wheels, post, post_state,
-             post_path, post_ops) = rec
+            (_, now, xyhv, sonar, det, pre, state, path, n_events, ops, events, wheels, post,
+             post_state, post_path, post_ops) = rec
             _load(c, pre)
             c.state, c.n_events = machine.STATES.index(state), 0
             FFI.memmove(FFI.addressof(c.path, "ops"), FFI.new("mg_ops_t *"),
                         FFI.sizeof("mg_ops_t"))
             assert _path_c(c) == path, rec  # the C's path carried from its last step
-            C.mg_method000_approach(c, now, _inputs(xyhv), _sighting(RADIAL, det))
-            assert _events(c) == events[rec[7]:], rec
+            c_approach(c, now, _inputs(xyhv, sonar), _sighting(RADIAL, det))
+            assert _events(c) == events[n_events:], rec
             assert (tuple(c.wheels), _c_state(c), machine.STATES[c.state]) == (
                 wheels, post, post_state), rec
             assert _path_c(c) == post_path, rec
@@ -556,8 +563,17 @@ def _replay000(calls: list) -> dict:
             assert _events(c) == events[n_events:], rec
             assert (tuple(c.wheels), _c_state(c), machine.STATES[c.state]) == (
                 wheels, post, state), rec
-    assert planner.c_requests == requests
     assert c.hist_overflow == 0 and c.events_lost == 0
+    return counts
+
+
+def _replay000(calls: list) -> dict:
+    """000's calls replayed, its plans as the Python made them."""
+    planner = Planner([r[2] for r in calls if r[0] == "plan"])
+    counts = replay_path_task(
+        calls, "000", lambda c: C.mg_method000_set_planner(c, planner.callback, FFI.NULL),
+        C.mg_method000_approach)
+    assert planner.c_requests == [r[1] for r in calls if r[0] == "plan"]
     return counts
 
 
@@ -570,8 +586,8 @@ def test_replay_of_paper000_exp1(tmp_path):
     assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
     assert counts.get("plan", 0) >= 1 and counts.get("found", 0) >= 1, counts
     # the plan's time charged in the step that made it (its slices: test_the_path_approach_of_000)
-    assert any(r[0] == "approach" and r[14][2] > r[8][2] for r in calls)
-    ended = [r for r in calls if r[0] == "approach" and r[9][r[7]:]]
-    assert [e.to_state for e in ended[-1][9][ended[-1][7]:]] == ["ADJUST"]
+    assert any(r[0] == "approach" and r[15][2] > r[9][2] for r in calls)
+    ended = [r for r in calls if r[0] == "approach" and r[10][r[8]:]]
+    assert [e.to_state for e in ended[-1][10][ended[-1][8]:]] == ["ADJUST"]
     stopped = [r for r in calls if r[0] == "adjust" and r[7][r[6]:]]
     assert [e.to_state for e in stopped[-1][7][stopped[-1][6]:]] == ["ROUGH_GRASP"]

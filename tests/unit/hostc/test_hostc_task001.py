@@ -17,6 +17,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_hostc_control import trajectories
+from test_hostc_task import recorded_run
 from test_hostc_task000 import (
     NEAR,
     RADIALS,
@@ -24,6 +25,8 @@ from test_hostc_task000 import (
     _fill_plan,
     _pose,
     path_step,
+    record_path_task,
+    replay_path_task,
     start_approach,
 )
 
@@ -42,6 +45,12 @@ UPDATE_CB = ("void(void *, int64_t, const mg_task_inputs_t *, int32_t, mg_replan
              "mg_trajectory_t *, mg_plan_outcome_t *, mg_ops_t *)")
 START_PATH_CB = "void(void *, int64_t)"
 CLEAR_CB = "int(void *, const mg_task_inputs_t *, const int32_t *, int32_t, mg_ops_t *)"
+
+
+def _ops_into(c_ops, ops: OpCounts) -> None:
+    """Python's op counts into the C's mg_ops_t (the same fields in the same order)."""
+    for (name, _), v in zip(FFI.typeof("mg_ops_t").fields, ops.as_tuple(), strict=True):
+        setattr(c_ops, name, v)
 
 
 class Replanner:
@@ -77,19 +86,18 @@ class Replanner:
 
     def py_update(self, rp, now, x, y, h, v, sonar, force=False):
         self.requests["py"].append(("update", now, x, y, h, v, tuple(sonar), bool(force)))
-        blocked, replanned, has_curve, has_plan, table, v_limit, alu, reason = self._next(
+        blocked, replanned, has_curve, has_plan, table, v_limit, ops, reason = self._next(
             "py", "update")
         curve = SimpleNamespace(ctrl=[[0.0, 0.0, 0.0]] * 4) if has_curve else None
         dec = SimpleNamespace(blocked=blocked, replanned=replanned, curve=curve,
                               plan=object() if has_plan else None, reason=reason)
         follower = None if not (replanned and has_curve and table is not None) else \
             PathFollower(table, now, v_limit)
-        return dec, follower, OpCounts(alu=alu)
+        return dec, follower, ops
 
     def py_clear(self, rp, x, y, h, sonar, obj, travel):
         self.requests["py"].append(("clear", x, y, h, tuple(sonar), tuple(obj), travel))
-        clear, alu = self._next("py", "clear")
-        return clear, OpCounts(alu=alu)
+        return self._next("py", "clear")
 
     # --- the C's side --------------------------------------------------------------------
     @staticmethod
@@ -108,14 +116,13 @@ class Replanner:
     def _c_update(self, ctx, now, inp, force, dec, traj, o, ops) -> None:
         self.requests["c"].append(("update", now, *self._pose(inp), self._sonar(inp),
                                    bool(force)))
-        blocked, replanned, has_curve, has_plan, table, v_limit, alu, reason = self._next(
+        blocked, replanned, has_curve, has_plan, table, v_limit, work, reason = self._next(
             "c", "update")
         dec.blocked, dec.replanned, dec.has_curve, dec.has_plan = (blocked, replanned,
                                                                    has_curve, has_plan)
         path = table if replanned and has_curve else None
         _fill_plan(traj, o, (path, v_limit, 0, reason))
-        FFI.memmove(ops, FFI.new("mg_ops_t *"), FFI.sizeof("mg_ops_t"))
-        ops.alu = alu
+        _ops_into(ops, work)
 
     def _c_start_path(self, ctx, now) -> None:
         self.c_start_us.append(now)
@@ -123,9 +130,8 @@ class Replanner:
     def _c_clear(self, ctx, inp, obj, travel, ops) -> int:
         self.requests["c"].append(("clear", *self._pose(inp)[:3], self._sonar(inp),
                                    (obj[0], obj[1]), travel))
-        clear, alu = self._next("c", "clear")
-        FFI.memmove(ops, FFI.new("mg_ops_t *"), FFI.sizeof("mg_ops_t"))
-        ops.alu = alu
+        clear, work = self._next("c", "clear")
+        _ops_into(ops, work)
         return clear
 
 
@@ -145,17 +151,19 @@ REASONS = ["ok", "already within standoff of the object", "speed: 14", "blocked:
 STARTS = st.lists(st.tuples(TABLES, st.integers(0, 400),
                             st.integers(0, 40_000), st.sampled_from(REASONS)),
                   min_size=1, max_size=4)
+WORK = st.builds(OpCounts, alu=st.integers(0, 40_000 * CYCLES), muls=st.integers(0, 5000),
+                 float_ops=st.integers(0, 500))
 # the decisions of replan.py (blocked, replanned, a curve, a plan made) with the path of a
 # replanned one, its wheel limit, the update's ARM9 cycles and its reason
 DECISIONS = st.sampled_from([(False, False, True, False), (True, False, True, False),
                              (True, False, False, False), (True, False, False, True)])
 UPDATES = st.lists(st.one_of(
-    st.tuples(DECISIONS, st.none(), st.integers(0, 400), st.integers(0, 40_000 * CYCLES),
-              st.sampled_from(REASONS)),
+    st.tuples(DECISIONS, st.none(), st.integers(0, 400), WORK, st.sampled_from(REASONS)),
     st.tuples(st.just((True, True, True, True)), trajectories().map(_long),
-              st.integers(0, 400), st.integers(0, 40_000 * CYCLES), st.sampled_from(REASONS))
+              st.integers(0, 400), WORK, st.sampled_from(REASONS))
 ).map(lambda u: (*u[0], *u[1:])), min_size=1, max_size=4)
-CLEARS = st.lists(st.tuples(st.booleans(), st.integers(0, 5000)), min_size=1, max_size=4)
+CLEARS = st.lists(st.tuples(st.booleans(), st.builds(OpCounts, alu=st.integers(0, 5000))),
+                  min_size=1, max_size=4)
 SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=0, max_size=5).map(tuple)
 
 
@@ -202,3 +210,58 @@ def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct
                 break
             py.remember(now, inp)
             C.mg_task_remember(c, now, *xyhv[:3])
+
+
+def _record001(mp, calls: list) -> None:
+    """001's task's calls, and its replanner's (method001.py's calls of it)."""
+    wrap = record_path_task(mp, calls)
+    wrap(method001, "start_001",
+         lambda now, x, y, h, v, obj, sonar, params=None: (
+             "start", now, x, y, h, v, tuple(obj), tuple(sonar), params.v0),
+         lambda res, *a, **kw: ((None if res[1] is None else res[1].traj,
+                                 0 if res[1] is None else res[1].v_limit_mm_s,
+                                 res[2].time_us(), res[3]["reason"]),), quiet=True)
+    wrap(method001, "update_001",
+         lambda rp, now, x, y, h, v, sonar, force=False: (
+             "update", now, x, y, h, v, tuple(sonar), bool(force)),
+         lambda res, *a, **kw: ((res[0].blocked, res[0].replanned, res[0].curve is not None,
+                                 res[0].plan is not None,
+                                 None if res[1] is None else res[1].traj,
+                                 0 if res[1] is None else res[1].v_limit_mm_s, res[2],
+                                 res[0].reason),), quiet=True)
+    wrap(method001, "straight_clear_001",
+         lambda rp, x, y, h, sonar, obj, travel: (
+             "clear", x, y, h, tuple(sonar), tuple(obj), travel),
+         lambda res, *a: (res,), quiet=True)
+    wrap(Method001, "start_path", lambda rules, t, follower, now: ("start_path", now),
+         lambda res, *a: ())
+    wrap(Method001, "start_detour", lambda rules, t, inp: ("detour",), lambda res, *a: (res,))
+
+
+def test_replay_of_paper001_sim1(tmp_path):
+    """The calls the Python task made in paper001-sim1 replayed on the C task with the same
+    inputs and the replanner's outcomes as the Python's gave them: APPROACH (the wait for a
+    sweep, the plans, the sonar checks and their replans in slices, the path followed) and
+    ADJUST step by step give the same outputs, and the C asks the replanner what the Python
+    asked it, call by call."""
+    calls = recorded_run(tmp_path, "paper001-sim1", _record001)
+    p = next(r[1] for r in calls if r[0] == "enter_approach")
+    base_v0 = method001.planner_params_001(p).v0
+    rp = Replanner([r[9] for r in calls if r[0] == "start"],
+                   [r[8] for r in calls if r[0] == "update"],
+                   [r[7] for r in calls if r[0] == "clear"])
+    counts = replay_path_task(
+        calls, "001", lambda c: C.mg_method001_set_replanner(c, rp.table, FFI.NULL),
+        C.mg_task_follow_path)
+    assert rp.requests["c"] == [
+        (*r[:8], round(base_v0 / r[8])) if r[0] == "start" else r[:8 if r[0] == "update" else 7]
+        for r in calls if r[0] in ("start", "update", "clear")]
+    assert rp.c_start_us == [r[1] for r in calls if r[0] == "start_path"]
+    assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
+    assert counts.get("start", 0) >= 1 and counts.get("update", 0) >= 1, counts
+    assert "detour" not in counts  # the fallbacks are not in the C yet: none here
+    assert any(r[0] == "update" and r[8][1] for r in calls)  # a sonar check replanned
+    assert max(r[15][2] - r[9][2] for r in calls if r[0] == "approach") \
+        == C.MG_TASK_PLAN_SLICE_US * CYCLES  # a plan charged over several steps
+    ended = [r for r in calls if r[0] == "approach" and r[10][r[8]:]]
+    assert [e.to_state for e in ended[-1][10][ended[-1][8]:]] == ["ADJUST"]

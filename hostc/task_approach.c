@@ -8,11 +8,6 @@
 #include "task_method.h"
 #include "trig.h"
 
-const mg_path_method_t *mg_task_path_method(const mg_task_t *t)
-{
-    return t->rules->path;
-}
-
 int mg_task_text_has(const char *s, const char *word)
 {
     const size_t n = strlen(word), m = strlen(s);
@@ -187,6 +182,10 @@ void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
 {
     const mg_path_method_t *rules = t->rules->path;
     mg_task_path_t *ps = &t->path;
+    if (!rules) { /* a method without a path approach: stand */
+        t->wheels[0] = t->wheels[1] = 0;
+        return;
+    }
     if (radial && rules->sighting_usable(t, now_us, in))
         mg_task_see_object(t, now_us, in, mg_task_sighting_position, radial, 1);
     if (ps->has_job) { /* planning in slices */

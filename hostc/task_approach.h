@@ -44,12 +44,10 @@ typedef struct mg_path_method {
 /* APPROACH's common entry (approach.py enter_APPROACH before the method's): no path, no
  * attempts, no plan being charged */
 void mg_task_enter_path(mg_task_t *t);
-/* one step of the path approach; radial: this frame's radial symbol as its glue gives it
- * (its pixel and depth), NULL: none */
+/* one step of the path approach (a method without path hooks stands); radial: this frame's
+ * radial symbol as its glue gives it (its pixel and depth), NULL: none */
 void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                          const mg_sighting_t *radial);
-/* the task's method's path hooks (NULL: the method has no path approach) */
-const mg_path_method_t *mg_task_path_method(const mg_task_t *t);
 
 /* a plan charged in slices (anytime.py PlanJob.start and step): the job of a plan of
  * time_us, its path t->path.next_traj with v_limit_mm_s (has_path 0: none) and its outcome to

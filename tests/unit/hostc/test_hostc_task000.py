@@ -591,3 +591,12 @@ def test_replay_of_paper000_exp1(tmp_path):
     assert [e.to_state for e in ended[-1][10][ended[-1][8]:]] == ["ADJUST"]
     stopped = [r for r in calls if r[0] == "adjust" and r[7][r[6]:]]
     assert [e.to_state for e in stopped[-1][7][stopped[-1][6]:]] == ["ROUGH_GRASP"]
+
+
+def test_a_method_without_a_path_stands():
+    """The path approach of a method without path hooks (002's row) stops the base."""
+    c = _c_task(method="002")
+    assert C.mg_task_method_find(b"002").path == FFI.NULL
+    c.wheels = (50, 60)
+    C.mg_task_follow_path(c, 20_000, _inputs((0, 0, 0, 0)), FFI.NULL)
+    assert tuple(c.wheels) == (0, 0) and c.path.plans == 0 and c.n_events == 0

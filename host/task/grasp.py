@@ -44,6 +44,7 @@ from mobigrasp.host.task.sense import (
     platform_to_odom_mm,
     spoke_reading,
 )
+from mobigrasp.host.task.sonar_guard import close_echo
 
 ROLL_SCAN_MRAD = 524  # 30 degrees
 ROLL_SCAN_STEPS = 2  # 0, -30, -60 degrees from the pi/2 roll cover the quarter turn
@@ -190,7 +191,10 @@ class GraspStates:
             goal_mm, tol_mm = t.reach_mm
             wheels, done, _ = close_in(t.obj_platform(inp), goal_mm, tol_mm,
                                        t.p.bearing_tol_mrad, t.rules.adjust_vmax_mmps(t.p))
-            if done:
+            echo = close_echo(t, inp) if wheels[0] + wheels[1] > 0 else None
+            if echo is not None:  # something in front of the object: grasp from here
+                t.note(close_guard=echo)
+            if done or echo is not None:
                 self._rough_pose(t, now, inp)
             else:
                 t.wheels = wheels

@@ -20,6 +20,7 @@ from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
+from mobigrasp.host.planning.grasp_circle import ArmGeometry001
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.search import SearchParams
@@ -28,6 +29,7 @@ from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHint
 from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.sonar_guard import (
     GUARDED_STATES,
+    close_guard,
     drive_detour,
     guard_stop,
     out_of_r_r,
@@ -66,7 +68,10 @@ def planner_params_001(task_params) -> Any:
                         sensor_offset_m=task_params.sonar_offset_mm / 1000.0,
                         shared_echo_tol_m=tol / 1000.0 if tol > 0 else None,
                         arc_angle_bound=ARC_BOUND_001)
-    return Params001(**{"sonar": sonar, **task_params.planner})
+    # eqs. (5)-(6) for the object's grasp point (``grasp_height_mm``), not 001 §IV's h_e =
+    # 0.208 m: the object's top is at 0.10 m (docs/task.md)
+    arm = ArmGeometry001(h_e=task_params.grasp_height_mm / 1000.0)
+    return Params001(**{"sonar": sonar, "arm": arm, **task_params.planner})
 
 
 def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
@@ -430,6 +435,7 @@ class Method001(Method000):
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the
         object, into the echo, and so did the detours, each stopped at its first step."""
+        close_guard(t, now, inp)
         guard = guard_stop(t, inp, GUARDED_STATES)
         if guard is None:
             return

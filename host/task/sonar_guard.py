@@ -8,7 +8,12 @@ stops the base. The base then turns in place toward the middle of the widest run
 sonars and drives ``GUARD_OUT_MM`` along it (a detour, :func:`drive_detour`), out of R_r, before
 the method goes on: 001 plans afresh from there (method001.py); 000's and 002's states go on from
 the new pose (:class:`SonarGuard`, run after every step by ``Method.guard_wheels``).
-Integer mm / mrad; no I/O.
+
+The close approach (ADJUST, and ROUGH_GRASP's drive into the grasp's reach) passes within R_r
+of things beside the object on purpose (002's board post stands 0.17 m behind the cylinder's
+axis), so it is guarded nearer: a front echo within ``CLOSE_GUARD_MM`` of the ring that is not
+the object's (nearer than the estimate by more than ``CLOSE_OBJECT_MM``) stops the base there
+(:func:`close_echo`, :func:`close_guard`). Integer mm / mrad; no I/O.
 """
 
 from __future__ import annotations
@@ -24,6 +29,9 @@ DETOUR_DIAG_MM = 255
 GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is the object's
 GUARD_OUT_MM = 200  # after the guard stopped the base: drive this far toward the free sector
 GUARDED_STATES = ("SEARCH", "APPROACH")
+CLOSE_GUARD_MM = 30  # ADJUST / the grasp's reach drive: a front echo this near the ring stops
+CLOSE_OBJECT_MM = 80  # ... unless in the object's cone at most this much nearer than its centre
+CLOSE_REACH_MM = 60  # stopped this near beyond grasp_r_mm: grasp from there, else search again
 
 
 def sonar_angles_mrad(n: int) -> list[int]:
@@ -88,6 +96,50 @@ def front_echo(t: Any, inp: Any) -> dict | None:
     return None
 
 
+def close_echo(t: Any, inp: Any) -> dict | None:
+    """The first sonar of the ring's front half reading within ``CLOSE_GUARD_MM`` that is not
+    the object's own echo: the object (its centre estimate in that sonar's cone) echoes from
+    its near surface, a radius or so short of the centre; something ``CLOSE_OBJECT_MM`` or more
+    nearer than that is in front of it (002's board post, 170 mm behind the cylinder's axis,
+    when approached from behind the board). None when there is none."""
+    half_cone = t.p.sonar_a_g_mrad // 2
+    off = t.p.sonar_offset_mm
+    for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
+        rng = int(rng)
+        if abs(phi) >= 1571 or not 0 < rng < CLOSE_GUARD_MM:
+            continue
+        if t.obj is not None:
+            h = inp.heading_mrad + phi
+            dx = t.obj[0] - inp.x_mm - (off * cos_q12(h) >> 12)
+            dy = t.obj[1] - inp.y_mm - (off * sin_q12(h) >> 12)
+            if (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
+                    and rng >= isqrt(dx * dx + dy * dy) - CLOSE_OBJECT_MM):
+                continue
+        return {"phi_mrad": phi, "range_mm": rng, "close_mm": CLOSE_GUARD_MM}
+    return None
+
+
+def close_guard(t: Any, now: int, inp: Any) -> None:
+    """ADJUST, driving forward: a close echo (:func:`close_echo`) stops the base; the grasp goes
+    on from there when the object is within ``CLOSE_REACH_MM`` beyond ``grasp_r_mm`` of the
+    waist (ROUGH_GRASP, whose drive into the reach stops at the same echo), else the object is
+    searched for again from here (LOST)."""
+    if t.state != "ADJUST" or t.wheels[0] + t.wheels[1] <= 0:
+        return
+    echo = close_echo(t, inp)
+    if echo is None:
+        return
+    t.wheels = (0, 0)
+    x, y = t.obj_platform(inp)
+    dist = isqrt(x * x + y * y) // 16
+    t.note(close_guard={**echo, "object_mm": dist})
+    why = f"echo {echo['range_mm']} mm ahead at {echo['phi_mrad']} mrad, object {dist} mm away"
+    if dist <= t.p.grasp_r_mm + CLOSE_REACH_MM:
+        t.go(now, "ROUGH_GRASP", f"close guard: {why}: grasp from here")
+    else:
+        t.go(now, "LOST", f"close guard: {why}: search again")
+
+
 def guard_stop(t: Any, inp: Any, states: tuple[str, ...]) -> dict | None:
     """In ``states``, with the base driving forward: a front echo below R_r (:func:`front_echo`)
     stops it and drops the followed path and any plan being made; the echo, or None when
@@ -145,6 +197,7 @@ class SonarGuard:
     followed path is dropped (the state plans again from the new pose)."""
 
     def step(self, t: Any, now: int, inp: Any) -> None:
+        close_guard(t, now, inp)
         if t.guard_out is not None:
             if t.state not in GUARDED_STATES or drive_detour(t, inp, t.guard_out):
                 t.guard_out = None

@@ -38,12 +38,14 @@ def _gap_to_line_m(o, a, b) -> float:
     return best
 
 
-def test_paper001_sim1_obstacles_block_the_straight_route():
-    """001 §IV sim. 1: the path is changed because the obstacles are in the way: each of O1,
-    O2 comes nearer the straight line from q_s to P_t than the 0.17 m footprint's radius."""
-    _, sc = resolve_scenario("paper001-sim1")
+@pytest.mark.parametrize("name, n_obstacles", [("paper001-sim1", 2), ("paper001-sim2", 4)])
+def test_paper001_obstacles_block_the_straight_route(name, n_obstacles):
+    """001 §IV: the path is changed because the obstacles are in the way (sim. 1: O1, O2; sim.
+    2: the cluttered field of Fig. 8): each comes nearer the straight line from q_s to P_t than
+    the 0.17 m footprint's radius."""
+    _, sc = resolve_scenario(name)
     a, b = (sc.robot.x_m, sc.robot.y_m), (sc.target.x_m, sc.target.y_m)
-    assert len(sc.obstacles) == 2
+    assert len(sc.obstacles) == n_obstacles
     for o in sc.obstacles:
         assert _gap_to_line_m(o, a, b) < FOOTPRINT_RADIUS_M, o
 
@@ -77,6 +79,12 @@ def test_shipped_scenario_grasps_in_process(name, tmp_path):
         # a path update is a new curve adopted while moving (docs/task.md)
         lo, hi = (2, 4) if name == "paper001-sim1" else (5, 9)
         assert lo <= summary["path_updates"] <= hi, summary["path_updates"]
+    if name == "paper001-sim2":
+        # Fig. 8 without stops: no stand-still over 3 s, the path within 1.3x the straight line
+        _, sc = resolve_scenario(name)
+        straight_m = math.hypot(sc.target.x_m - sc.robot.x_m, sc.target.y_m - sc.robot.y_m)
+        assert summary["stand_still_max_s"] <= 3.0, summary["stand_still_max_s"]
+        assert summary["path_length_m"] <= 1.3 * straight_m, summary["path_length_m"]
     if name.startswith("paper002"):
         # eq. (4) of 002: the gripper level at the close
         assert grasp["close_reason"] == "pose_reached" and abs(grasp["alpha_rad"]) <= 0.05, grasp

@@ -1,0 +1,51 @@
+"""The close guard (host/task/sonar_guard.py): ADJUST, driving forward, stops for a front echo
+within CLOSE_GUARD_MM of the ring that is not the object's, and grasps from there when the
+object is near enough, else searches again (docs/task.md, "No contact")."""
+
+import pytest
+
+from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.host.task.sonar_guard import CLOSE_GUARD_MM, CLOSE_REACH_MM, close_echo
+
+CLEAR = (2500,) * 5
+
+
+def _adjusting(obj_xy_mm: tuple[int, int]) -> Task:
+    task = Task("002")
+    task.obj, task.obj_seen_us = obj_xy_mm, 0
+    task.go(0, "ADJUST", "test")
+    return task
+
+
+def test_adjust_drives_on_with_clear_sonars():
+    task = _adjusting((420, 0))
+    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
+    out = task.step(40_000, TaskInputs(sonar_mm=CLEAR))
+    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
+
+
+@pytest.mark.parametrize("obj_x_mm, to", [(400, "ROUGH_GRASP"), (900, "LOST")])
+def test_an_echo_in_front_of_the_object_stops_adjust(obj_x_mm, to):
+    """002's board post 170 mm in front of the cylinder, 25 mm ahead of the ring: stop; the
+    object 300 mm from the waist is graspable from there (grasp_r_mm + CLOSE_REACH_MM), one
+    800 mm off is searched for again."""
+    task = _adjusting((obj_x_mm, 0))
+    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
+    post = (2500, 2500, CLOSE_GUARD_MM - 5, 2500, 2500)
+    out = task.step(40_000, TaskInputs(sonar_mm=post))
+    assert out.wheels_mmps == (0, 0) and task.state == to
+    assert out.detail["close_guard"]["range_mm"] == CLOSE_GUARD_MM - 5
+    assert (obj_x_mm - task.p.mount_forward_mm <= task.p.grasp_r_mm + CLOSE_REACH_MM) == (
+        to == "ROUGH_GRASP")
+
+
+def test_the_objects_own_echo_does_not_stop_it():
+    """The object's near surface, a radius short of its centre estimate, is its own echo; the
+    same range with the estimate 100 mm further is something in front of it."""
+    task = Task("000")
+    task.obj = (170 + 60, 0)  # centre 60 mm ahead of the front sonar
+    assert close_echo(task, TaskInputs(sonar_mm=(2500, 2500, 20, 2500, 2500))) is None
+    task.obj = (170 + 160, 0)
+    assert close_echo(task, TaskInputs(sonar_mm=(2500, 2500, 20, 2500, 2500))) is not None
+    # side sonars (phi = +-pi/2) see what the base passes, not what it drives into
+    assert close_echo(task, TaskInputs(sonar_mm=(20, 2500, 2500, 2500, 20))) is None

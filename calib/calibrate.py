@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -175,10 +176,16 @@ def _pct(values: list[float], q: float) -> float:
 
 
 def calibrate(folder: Path, per_scenario: int | None = 10,
-              line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None) -> dict:
-    """The calibration result (JSON-able); see docs/budget.md for the fields."""
+              line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None,
+              on_step: Callable[[int, int, str], None] | None = None) -> dict:
+    """The calibration result (JSON-able); see docs/budget.md for the fields. ``progress``:
+    told what is being built (the ARM toolchain, once); ``on_step(done, total, what)``: after
+    each frame and each planner call emulated."""
     index = corpus.read_index(folder)
     frames = select_frames(index, per_scenario)
+    plans = (select_plans(plan_corpus.read_index(folder), per_scenario)
+             if (Path(folder) / plan_corpus.INDEX).is_file() else [])
+    steps = len(frames) + len(plans)
     machine = arm.Arm9(arm.build(progress), line_fill_cycles)
     front = arm.FrontEnd(machine)
     per: dict[str, dict[str, list]] = {name: {"mod": [], "emu": [], "t": []} for name in
@@ -253,18 +260,17 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                                                     ranging.D_RING_UM)
                     add("ranging", got == dataclasses.astuple(fix),
                         DETECTORS["red_cylinder"].ranging_fn()().cycles(), t)
-        if progress is not None:
-            progress(f"calibrate: frame {k + 1}/{len(frames)} ({fr['file']})")
-    if (Path(folder) / plan_corpus.INDEX).is_file():
-        calls = select_plans(plan_corpus.read_index(folder), per_scenario)
+        if on_step is not None:
+            on_step(k + 1, steps, f"frame {fr['file']}")
+    if plans:
         plan_machine = arm.Planner(machine)
-        for k, call in enumerate(calls):
+        for k, call in enumerate(plans):
             arrays = plan_corpus.load_arrays(folder, call)
             if len(arrays["ctrl"]):
                 stage, ok, modelled, t = plan_stage(plan_machine, planning.setup(call, arrays))
                 add(stage, ok, modelled, t)
-            if progress is not None:
-                progress(f"calibrate: planner call {k + 1}/{len(calls)} ({call['file']})")
+            if on_step is not None:
+                on_step(len(frames) + k + 1, steps, f"planner call {call['file']}")
     us = 1e6 / FCLK_HZ
     stages = {}
     for name, d in per.items():

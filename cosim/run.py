@@ -49,6 +49,8 @@ class RunSpec:
     host_lag_quanta: int = 1
     after_crash_s: float | None = 2.0
     on_frame: Callable[[int, int, Any], None] | None = None  # each captured frame, as well
+    # (t_us, bytes) of each write of the MCU to the host's line (SimSide), as well
+    on_mcu_bytes: Callable[[int, bytes], None] | None = None
 
 
 def _terminated(signum: int, frame: Any) -> None:
@@ -100,7 +102,7 @@ def _run(spec: RunSpec) -> dict:
         from mobigrasp.cosim.sim_side import SimSide
 
         sim = SimSide(scenario, seed, out, spec.scenario_file, spec.transport, spec.plan,
-                      spec.mcu, spec.on_frame)
+                      spec.mcu, spec.on_frame, on_mcu_bytes=spec.on_mcu_bytes)
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()

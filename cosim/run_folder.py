@@ -8,6 +8,7 @@ same scenario and seed over any transport and at any speed.
 
 from __future__ import annotations
 
+import errno
 import fcntl
 import hashlib
 import json
@@ -359,27 +360,28 @@ class OwnedFolder:
     :meth:`take` locks and checks without changing anything; :meth:`prepare` then removes what
     the previous holder listed in the marker and lists ``files`` for this one."""
 
-    def __init__(self, path: Path, marker: str, fd: int, created: bool) -> None:
+    def __init__(self, path: Path, marker: str, fd: int, created: tuple[Path, ...]) -> None:
         self.path = path
         self.marker = marker
         self._fd: int | None = fd
-        self._created = created
+        self._created = created  # the folders take() made, deepest first
 
     @classmethod
     def take(cls, out: Path, marker: str, what: str, option: str = "--out") -> OwnedFolder:
         """Lock ``out`` (created if missing); RunFolderError when it is a symbolic link, a file,
         in use by another process, or holds files and no ``marker``. Changes nothing but
-        creating the folder (removed again when refused)."""
+        creating the folder and its missing parents (removed again when refused)."""
         out = Path(out)
         if out.is_symlink():
             raise RunFolderError(f"{option} {out} is a symbolic link: refusing to write through it")
         if out.exists() and not out.is_dir():
             raise RunFolderError(f"{option} {out} exists and is a file, not a folder")
-        created = not out.exists()
+        created = tuple(p for p in (out, *out.parents) if not p.exists())
         try:
             out.mkdir(parents=True, exist_ok=True)
             fd = os.open(out, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
         except OSError as exc:
+            _remove_empty(created)
             raise RunFolderError(f"{option} {out}: cannot create the {what} folder "
                                  f"({exc.filename or out}: {exc.strerror or exc})") from exc
         held = cls(out, marker, fd, created)
@@ -396,10 +398,10 @@ class OwnedFolder:
                                  f"folder (no {marker}): refusing to write into it")
         return held
 
-    def prepare(self, files: tuple[str, ...] = (), remove_previous: bool = True) -> Path:
-        """Make the folder this holder's: refuse (RunFolderError, nothing changed) when one of
-        ``files`` is there and not listed in the marker; remove the previously listed files
-        (``remove_previous``) and list ``files``. The folder's path."""
+    def check(self, files: tuple[str, ...] = ()) -> None:
+        """What :meth:`prepare` would refuse, without changing anything: RunFolderError when
+        one of ``files`` is there and not listed in the marker, or the folder cannot be
+        written into."""
         out = self.path
         listed = owned_files(out, self.marker)
         foreign = [f for f in files if f not in listed
@@ -407,6 +409,17 @@ class OwnedFolder:
         if foreign:
             raise RunFolderError(f"--out {out} holds {foreign[0]}, which mobigrasp did not "
                                  f"write: refusing to overwrite it")
+        if not os.access(out, os.W_OK | os.X_OK):
+            raise RunFolderError(f"--out {out}: cannot prepare the folder ({out}: "
+                                 f"{os.strerror(errno.EACCES)})")
+
+    def prepare(self, files: tuple[str, ...] = (), remove_previous: bool = True) -> Path:
+        """Make the folder this holder's: refuse (RunFolderError, nothing changed) when one of
+        ``files`` is there and not listed in the marker (:meth:`check`); remove the previously
+        listed files (``remove_previous``) and list ``files``. The folder's path."""
+        out = self.path
+        self.check(files)
+        listed = owned_files(out, self.marker)
         try:
             keep: list[str] = []
             for rel in listed:
@@ -443,13 +456,20 @@ class OwnedFolder:
             self._fd = None
 
     def abandon(self) -> None:
-        """Drop the lock and remove the folder if :meth:`take` created it and it is empty."""
+        """Drop the lock and remove the folders :meth:`take` created, if they are empty."""
         self.release()
-        if self._created:
-            try:
-                self.path.rmdir()
-            except OSError:
-                pass
+        _remove_empty(self._created)
+
+
+def _remove_empty(folders: tuple[Path, ...]) -> None:
+    """Remove ``folders`` (deepest first) while they are empty."""
+    for folder in folders:
+        try:
+            folder.rmdir()
+        except FileNotFoundError:
+            continue  # a mkdir that failed made not all of them
+        except OSError:
+            return
 
 
 def claim_run_folder(out: Path | None, name: str, seed: int, runs_root: Path = RUNS_ROOT,

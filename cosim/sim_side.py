@@ -32,15 +32,36 @@ log = logging.getLogger(__name__)
 SUMMARY_PERIOD_US = 5_000_000  # a running summary at least this often, in simulated time
 
 
+class _TappedPort:
+    """The rig's serial port, each write also told to ``tap``."""
+
+    def __init__(self, port: Any, tap: Callable[[bytes], None]) -> None:
+        self._port = port
+        self._tap = tap
+
+    def write(self, data: bytes) -> None:
+        self._port.write(data)
+        self._tap(data)
+
+    def read(self) -> bytes:
+        return self._port.read()
+
+    def wait_readable(self, timeout_s: float) -> bool:
+        return self._port.wait_readable(timeout_s)
+
+
 class SimSide:
     """Everything of a run on the rig's side of the lockstep channel."""
 
     def __init__(self, scenario: Any, seed: int, out: Path, scenario_file: Path,
                  transport: str, plan: Any, mcu_backend: str = "python",
                  on_frame: Callable[[int, int, Any], None] | None = None,
-                 external_host: bool = False) -> None:
+                 external_host: bool = False,
+                 on_mcu_bytes: Callable[[int, bytes], None] | None = None) -> None:
         """``external_host``: the host is a program of the user's (``mobigrasp sim``), which
-        reports no task state: the method is "external" and success is the world's grasp."""
+        reports no task state: the method is "external" and success is the world's grasp.
+        ``on_mcu_bytes(t_us, data)``: told every write of the MCU's bytes to the host's line
+        (trace.mcap's telemetry topics; the trace is not changed by it)."""
         self.out = out
         name = scenario.meta.name
         method = "external" if external_host else scenario.meta.method
@@ -63,6 +84,7 @@ class SimSide:
         # injects nothing and leaves the trace unchanged) and every summary a safety block
         self.plan = plan if plan is not None else FaultPlan()
         self._on_frame = on_frame
+        self._on_mcu_bytes = on_mcu_bytes
         self.rig: Rig | None = None
         self.fault_rig: Any = None
         self._next_running_us = 0
@@ -80,6 +102,8 @@ class SimSide:
         self.fault_rig, rig_mcu, rig_plant, wrapped = wrap_for_faults(
             self.plan, self.seed, self.mcu, self.plant, host)
         self.summary["faults_plan"] = self.plan.as_table()
+        if self._on_mcu_bytes is not None:
+            port = _TappedPort(port, lambda data: self._on_mcu_bytes(self.rig.now_us, data))
         self.rig = Rig(rig_mcu, rig_plant, port,
                        RigConfig(quantum_us=spec.quantum_us, couple_us=spec.couple_us,
                                  host_lag_quanta=spec.host_lag_quanta),

@@ -16,13 +16,15 @@ host end: ``send(msg)`` writes a message on the slave and waits until the MCU si
 ``receive(n)`` returns what the host side read back. ``nacks()`` lists the NACKs the MCU sent
 with their reasons by name; ``describe(msg)`` prints any message that way.
 
-- ``emulated_robot``: ``robot = emulated_robot("paper000-exp1", speed=1.0)`` starts
-  ``mobigrasp sim`` for the test (its clock starting at your host's first frame, as ``sim``
-  does when stdin is not a terminal): the scenario's MCU and world in wall time, ``robot.port`` the
+- ``emulated_robot``: ``robot = emulated_robot("paper000-exp1", speed=1.0)`` serves the
+  scenario's robot for the test as ``mobigrasp sim`` does, with the same services, in a thread
+  of the test's process (testing/served_robot.py; its clock starting at your host's first
+  frame, as ``sim --wait-host``): the scenario's MCU and world in wall time, ``robot.port`` the
   serial pty, ``robot.camera_url`` the MJPEG stream. Run your host program against them; once it
   has closed the port, ``robot.summary`` is the run's summary (``grasped``, ``contacts``,
-  ``safety``...), read from the run folder ``robot.run_dir``. A session still running after
-  the test body is ended (SIGTERM) and its folder written all the same.
+  ``safety``...), read from the run folder ``robot.run_dir``, and ``robot.exit_code`` what
+  ``sim`` would exit with. A session still running after the test body is ended (``stop()``,
+  as SIGTERM ends ``sim``) and its folder written all the same.
   ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock
   in the test's hands (testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
   ``.frame()``, ``.telemetry()``, ``.truth()``, ``.expect(predicate, within_ms)``.
@@ -187,111 +189,6 @@ def emulated_mcu(emulated_mcu_factory) -> EmulatedMcu:
     return emulated_mcu_factory()
 
 
-class EmulatedRobot:
-    """A ``mobigrasp sim`` process serving one scenario (see the module docstring)."""
-
-    start_timeout_s = 120.0  # safety limits only: nothing asserts on them
-    end_timeout_s = 120.0
-
-    def __init__(self, scenario: str, run_dir, speed: float = 1.0, plots: bool = True,
-                 extra_args: tuple[str, ...] = ()) -> None:
-        """``plots``: write plots/ and report.html (a few seconds at the end); ``extra_args``:
-        more ``mobigrasp sim`` options (``--seed``, ``--time-limit-s``)."""
-        import subprocess
-        import sys
-        from pathlib import Path
-
-        self.scenario = scenario
-        self.run_dir = Path(run_dir)
-        self.run_dir.parent.mkdir(parents=True, exist_ok=True)
-        self._stderr_path = self.run_dir.parent / f"{self.run_dir.name}.stderr.txt"
-        self._stderr = open(self._stderr_path, "w")  # noqa: SIM115 (closed in close())
-        # run from the run folder's parent: a `mobigrasp` folder in the test's working directory
-        # must not shadow the installed package
-        self.proc = subprocess.Popen(
-            [sys.executable, "-m", "mobigrasp", "sim", str(scenario), "--speed", f"{speed:g}",
-             "--camera-port", "0", "--out", str(self.run_dir), "--quiet",
-             *(() if plots else ("--no-plots",)), *extra_args],
-            cwd=self.run_dir.parent, stdout=subprocess.PIPE, stderr=self._stderr, text=True,
-            stdin=subprocess.DEVNULL)  # not a terminal: the clock waits for the host (--wait-host)
-        self._summary: dict | None = None
-        self._lines = self._line_reader()
-        self.port = self._first_line("serial: ")
-        self.camera_url = self._first_line("camera: ")
-
-    def _line_reader(self):
-        """stdout's lines, read by a thread (a select() on the pipe would miss lines already
-        in the reader's buffer)."""
-        import queue
-        import threading
-
-        lines: queue.Queue = queue.Queue()
-
-        def read() -> None:
-            for line in self.proc.stdout:
-                lines.put(line)
-            lines.put("")
-
-        threading.Thread(target=read, daemon=True, name="sim-stdout").start()
-        return lines
-
-    def _first_line(self, prefix: str) -> str:
-        import queue
-
-        try:
-            line = self._lines.get(timeout=self.start_timeout_s)
-        except queue.Empty:
-            line = ""
-        if not line.startswith(prefix):
-            self.close()
-            raise RuntimeError(f"mobigrasp sim {self.scenario} did not start (expected "
-                               f"{prefix!r}, got {line!r}): {self.stderr()}")
-        return line[len(prefix):].strip()
-
-    def stderr(self) -> str:
-        """What the sim process printed on stderr so far."""
-        self._stderr.flush()
-        return self._stderr_path.read_text(errors="replace")
-
-    def stop(self) -> None:
-        """End the session now (SIGTERM); the run folder is written."""
-        if self.proc.poll() is None:
-            self.proc.terminate()
-
-    def wait(self, timeout_s: float | None = None) -> int:
-        """Wait for the session to end (the host closed the port, the time limit, stop())."""
-        import subprocess
-
-        try:
-            self.proc.wait(self.end_timeout_s if timeout_s is None else timeout_s)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.proc.wait()
-            raise
-        return self.proc.returncode
-
-    @property
-    def summary(self) -> dict:
-        """The run's summary.json, once the session has ended (waits for it)."""
-        import json
-
-        if self._summary is None:
-            self.wait()
-            path = self.run_dir / "summary.json"
-            if not path.exists():
-                raise RuntimeError(f"mobigrasp sim wrote no {path}: {self.stderr()}")
-            self._summary = json.loads(path.read_text())
-        return self._summary
-
-    def close(self) -> None:
-        """Stop the session if it still runs and reap the process."""
-        self.stop()
-        try:
-            self.wait()
-        finally:
-            self._stderr.close()
-
-
 def pytest_addoption(parser) -> None:
     """``--robot-port`` and ``--robot-camera``: ``emulated_robot`` on a real robot."""
     group = parser.getgroup("mobigrasp", "mobigrasp robot")
@@ -311,17 +208,18 @@ def emulated_robot(request, tmp_path):
     """``make(scenario, speed=1.0, clock="wall") -> robot``; every robot made is ended after
     the test (its run folder under the test's tmp_path).
 
-    ``clock="wall"``: an :class:`EmulatedRobot` (``mobigrasp sim`` in wall time); ``clock=
-    "test"``: a :class:`mobigrasp.testing.stepped_robot.SteppedRobot` (in process, simulated
-    time moves only in ``advance_ms``/``expect``). With ``--robot-port`` every robot is a
+    ``clock="wall"``: a :class:`mobigrasp.testing.served_robot.ServedRobot` (``mobigrasp
+    sim``'s session in wall time); ``clock="test"``: a
+    :class:`mobigrasp.testing.stepped_robot.SteppedRobot` (in process, simulated time moves
+    only in ``advance_ms``/``expect``). With ``--robot-port`` every robot is a
     :class:`mobigrasp.testing.bench_robot.BenchRobot` on that device instead."""
     made: list = []
     bench_port = request.config.getoption("robot_port")
 
     def make(scenario: str, speed: float = 1.0, clock: str = "wall", **kw):
-        """``kw`` with the wall clock: ``plots`` (default True), ``extra_args`` (more
-        ``mobigrasp sim`` options); with the test clock: ``seed``, ``mcu``,
-        ``time_limit_s``."""
+        """``kw``: ``seed``, ``mcu``, ``time_limit_s`` (both clocks); with the wall clock
+        also ``plots`` (default True) and ``faults`` (``KEY=VALUE`` strings, as ``sim
+        --fault``)."""
         if clock not in CLOCKS:
             raise ValueError(f"clock must be one of {', '.join(CLOCKS)}, got {clock!r}")
         if bench_port:
@@ -334,7 +232,9 @@ def emulated_robot(request, tmp_path):
 
             robot = SteppedRobot(scenario, tmp_path / f"robot-{len(made)}", **kw)
         else:
-            robot = EmulatedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
+            from mobigrasp.testing.served_robot import ServedRobot
+
+            robot = ServedRobot(scenario, tmp_path / f"sim-{len(made)}", speed, **kw)
         made.append(robot)
         return robot
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import tempfile
+from collections.abc import Callable
 from pathlib import Path
 
 import cv2
@@ -16,13 +17,14 @@ from mobigrasp.services.run_job import RunOptions, execute, host_config, resolve
 
 
 def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
-           progress=None) -> dict:
-    """Run each scenario in process and write the corpus to ``out``; returns the index."""
+           progress: Callable[[int, int, str], None] | None = None) -> dict:
+    """Run each scenario in process and write the corpus to ``out``; returns the index.
+    ``progress(done, total, what)`` after each scenario (tools.progress.StepProgress)."""
     out = Path(out)
     corpus.prepare(out)
     index: dict = {"format": corpus.FORMAT, "scenarios": [], "frames": []}
     planning: list = []
-    for name in scenarios:
+    for k, name in enumerate(scenarios):
         rec = corpus.FrameRecorder(set(DETECTORS))
         cam = host_config(resolve_scenario(name)[1])["camera"]
         # the camera parameters the detectors were built with (host/app_factory.py rounds them)
@@ -46,8 +48,8 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
                                    "calls": rec.calls, "frames": len(rec.frames),
                                    "trace_sha256": summary.get("trace_sha256")})
         if progress is not None:
-            progress(f"{sc_name}: {len(rec.frames)} frames, {rec.calls} detector calls, "
-                     f"{len(plans.calls)} planner calls")
+            progress(k + 1, len(scenarios), f"{sc_name}: {len(rec.frames)} frames, "
+                     f"{rec.calls} detector calls, {len(plans.calls)} planner calls")
     plan_corpus.write_index(out, planning)
     (out / corpus.INDEX).write_text(json.dumps(index, indent=1, sort_keys=True) + "\n")
     return index

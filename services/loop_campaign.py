@@ -30,6 +30,7 @@ from mobigrasp.cosim.run_folder import set_aside, split_rows
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
 from mobigrasp.services.random_scenarios import DEFAULT_VERSION, GENERATORS
 from mobigrasp.services.run_outcome import outcome
+from mobigrasp.services.time_left import elapsed_left
 
 TRANSPORTS = ("pty", "inproc")
 ROWS_FILE = "loop.rows.jsonl"  # one row a line, written as each run finishes
@@ -253,15 +254,7 @@ def progress_text(done: int, total: int, rows: list[dict], elapsed_s: float,
     text = f"{ok} met the bar, {len(rows) - ok} missed"
     if fc:
         text += f" ({fc} FALSE CLAIMS)"
-    text += f", elapsed {_clock(elapsed_s)}"
-    if done_here and done < total:
-        text += f", ~{_clock(elapsed_s / done_here * (total - done))} left"
-    return text
-
-
-def _clock(s: float) -> str:
-    s = int(round(s))
-    return f"{s // 3600}h{s // 60 % 60:02d}m" if s >= 3600 else f"{s // 60}m{s % 60:02d}s"
+    return f"{text}, {elapsed_left(elapsed_s, done_here, total - done)}"
 
 
 def run_campaign(cfg: LoopCampaign, run_fn: Callable[[dict], dict] | None = None,

@@ -386,12 +386,32 @@ def image_message(capture_us: int, jpeg: bytes) -> dict:
             "data": base64.b64encode(jpeg).decode("ascii")}
 
 
-# A chunk is closed at every simulated second (a kill loses the last one or two) or at
-# CHUNK_BYTES, whichever comes first. The writer keeps one index entry (~1 kB) per chunk until
-# the end: a second's chunk keeps that small (docs/outputs.md "Trace size" for the figures).
+# A chunk is closed at every simulated second or at CHUNK_BYTES, whichever comes first, and
+# the run goes on past a second only once that second's chunk is in the file: a kill loses at
+# most the last second. The writer keeps one index entry (~1 kB) per chunk until the end: a
+# second's chunk keeps that small (docs/outputs.md "Trace size" for the figures).
 CHUNK_PERIOD_US = 1_000_000
 CHUNK_BYTES = 4 * 1024 * 1024
 _MAX_PENDING_FRAMES = 8  # frames queued for the encoder before on_frame waits for one
+# the MCU's bytes to the host gathered before they go to the writer with the next frame, or on
+# their own past this many (a run whose camera is off has no frames)
+_MCU_BATCH_BYTES = 16 * 1024
+
+
+TELEMETRY_TOPICS = ("/mcu/encoders", "/mcu/sonars")
+
+
+def telemetry_messages(t_us: int, frame) -> list[tuple[int, str, dict]]:
+    """The encoder and sonar messages of one frame the MCU sent, exactly as ``sim``'s wire
+    event of it gives them (:func:`wire_messages`); none for another message or an
+    undecodable one."""
+    from mobigrasp.cosim.serve.external_host import wire_event
+
+    event = wire_event("to_host", t_us, frame)
+    if event.get("msg") != "Telemetry":
+        return []
+    return [(t_us, topic, msg) for topic, msg in wire_messages(event, {})
+            if topic in TELEMETRY_TOPICS]
 
 
 class McapLog:
@@ -407,7 +427,11 @@ class McapLog:
     ``info``: the run's metadata (scenario, seed, commit, MCU backend, ...: strings), written
     as the file's "mobigrasp" metadata record; ``camera``: the pinhole intrinsics (``f_px``,
     ``u0_px``, ``v0_px``, ``width``, ``height``) for /camera/calibration. A channel is
-    registered with its first message: the file has no empty channel."""
+    registered with its first message: the file has no empty channel.
+
+    :meth:`on_mcu_bytes` is told what the MCU wrote to the host's line, for a run whose trace
+    does not hold it (``run``; ``sim``'s trace has the wire decoded): its Telemetry frames
+    become /mcu/encoders and /mcu/sonars, as in ``sim``, and the trace stays as it was."""
 
     def __init__(self, path: Path | None = None, trace: Path | None = None,
                  info: dict[str, str] | None = None, camera: dict | None = None) -> None:
@@ -422,6 +446,9 @@ class McapLog:
         self._pending: list[Future] = []
         self._worker: ThreadPoolExecutor | None = None
         self._writer = None  # until start()
+        self._mcu_bytes: list[tuple[int, bytes]] = []  # (t_us, bytes) since the last frame
+        self._mcu_batch = 0
+        self._mcu_parser = None  # the worker's FrameParser of the MCU's bytes
         if path is not None:
             self.start(path, trace)
 
@@ -454,22 +481,62 @@ class McapLog:
         return self._channels[topic]
 
     def on_frame(self, seq: int, capture_us: int, rgb: np.ndarray) -> None:
-        """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array)."""
+        """Queue one frame (RGB, as the rig renders it; the rig does not reuse the array). The
+        first frame of a simulated second returns once the file holds everything before it."""
+        capture_us = int(capture_us)
+        chunk_end = capture_us >= self._next_chunk_us
+        if chunk_end:
+            self._next_chunk_us = capture_us - capture_us % CHUNK_PERIOD_US + CHUNK_PERIOD_US
+        self._submit(self._frame, capture_us, rgb, self._take_mcu_bytes(), chunk_end)
+        if chunk_end:  # the second's chunk on the disk before the run goes past it
+            self._wait_pending(0)
+
+    def on_mcu_bytes(self, t_us: int, data: bytes) -> None:
+        """What the MCU wrote to the host's line at simulated ``t_us`` (the rig's port)."""
+        self._mcu_bytes.append((int(t_us), bytes(data)))
+        self._mcu_batch += len(data)
+        if self._mcu_batch >= _MCU_BATCH_BYTES:
+            self._submit(self._telemetry, self._take_mcu_bytes())
+
+    def _take_mcu_bytes(self) -> list[tuple[int, bytes]]:
+        taken, self._mcu_bytes, self._mcu_batch = self._mcu_bytes, [], 0
+        return taken
+
+    def _submit(self, job, *args) -> None:
+        """``job(*args)`` on the writer's thread, at most :data:`_MAX_PENDING_FRAMES` queued."""
         if self._worker is None:
             self._worker = ThreadPoolExecutor(max_workers=1, thread_name_prefix="mcap")
         while self._pending and self._pending[0].done():
             self._pending.pop(0).result()  # (raises what writing it raised)
-        while len(self._pending) >= _MAX_PENDING_FRAMES:
-            self._pending.pop(0).result()
-        self._pending.append(self._worker.submit(self._frame, int(capture_us), rgb))
+        self._wait_pending(_MAX_PENDING_FRAMES - 1)
+        self._pending.append(self._worker.submit(job, *args))
 
-    def _frame(self, capture_us: int, rgb: np.ndarray) -> None:
+    def _wait_pending(self, keep: int) -> None:
+        """Wait until at most ``keep`` jobs are queued (raising what one raised)."""
+        while len(self._pending) > keep:
+            self._pending.pop(0).result()
+
+    def _frame(self, capture_us: int, rgb: np.ndarray, mcu_bytes: list[tuple[int, bytes]],
+               chunk_end: bool) -> None:
         jpeg = _jpeg(rgb)
         self._follow_trace()
+        self._telemetry(mcu_bytes)
         self._add(capture_us, "/camera/image", image_message(capture_us, jpeg))
-        if capture_us >= self._next_chunk_us:  # the second's chunk onto the disk
+        if chunk_end:  # the second's chunk onto the disk
             self._writer.flush()
-            self._next_chunk_us = capture_us - capture_us % CHUNK_PERIOD_US + CHUNK_PERIOD_US
+
+    def _telemetry(self, mcu_bytes: list[tuple[int, bytes]]) -> None:
+        """The encoder and sonar topics of the MCU's bytes (the writer's thread)."""
+        if not mcu_bytes or self._writer is None:
+            return
+        if self._mcu_parser is None:
+            from mobigrasp.protocol.frame import FrameParser
+
+            self._mcu_parser = FrameParser()
+        for t_us, data in mcu_bytes:
+            for frame in self._mcu_parser.feed(data):
+                for m in telemetry_messages(t_us, frame):
+                    self._add(*m)
 
     def _add(self, t_us: int, topic: str, msg: dict) -> None:
         ns = int(t_us) * 1000
@@ -521,6 +588,7 @@ class McapLog:
         if self._writer is None:
             return self.counts
         self._follow_trace()
+        self._telemetry(self._take_mcu_bytes())
         if self._topics is None:  # no trace: the scene of an empty start
             self._topics = _Topics({})
             for m in self._topics.first():

@@ -127,8 +127,9 @@ def _check_options(opts: RunOptions) -> None:
 
 def check_run(opts: RunOptions) -> str:
     """What a run checks before it starts, without starting it or writing anything: the
-    options, the scenario, the fault plan, and the world and host program built from them (the
-    constructors a run calls). BadInput for bad input; returns a one-line description."""
+    options, the scenario, the fault plan, the run folder (taken and checked as the run takes
+    it, then let go), and the world and host program built from them (the constructors a run
+    calls). BadInput for bad input; returns a one-line description."""
     from mobigrasp.cosim.rig_plant import WorldPlant
     from mobigrasp.host.app_factory import build_host_app
 
@@ -136,6 +137,7 @@ def check_run(opts: RunOptions) -> str:
     path, scenario = resolve_scenario(opts.scenario)
     plan = fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
+    _claim_folder(opts, scenario.meta.name, seed, check_only=True)
     WorldPlant(scenario, seed)
     build_host_app(host_config(scenario, opts.time_limit_s))
     n = len(plan.as_table()) if plan is not None else 0
@@ -206,25 +208,39 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
-    # (the run folder's module needs numpy and cv2, which the base install has not: imported
-    # once a run is certain to need them)
-    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError, claim_run_folder
-
-    try:  # under runs/ by a sanitised name, locked for this run; deletes only what an earlier
-        # run listed in the folder's marker
-        folder = claim_run_folder(Path(opts.out) if opts.out else None, name, seed)
-    except RunFolderError as exc:
-        raise BadInput(str(exc)) from exc
-    try:
-        out = folder.prepare(RUN_FILES)
-    except RunFolderError as exc:
-        folder.release()
-        raise BadInput(str(exc)) from exc
+    folder, out = _claim_folder(opts, name, seed)
     try:
         summary = _run_in(opts, out, path, scenario, plan, seed)
     finally:
         folder.release()
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
+
+
+def _claim_folder(opts: RunOptions, name: str, seed: int, check_only: bool = False
+                  ) -> tuple[Any, Path]:
+    """The run folder, under runs/ by a sanitised name or ``--out``, locked for this run and
+    prepared: an earlier run's listed files removed, nothing else (cosim/run_folder.py);
+    (the held folder, its path). ``check_only``: taken and checked the same way, then let go
+    with nothing changed (``run --check``). BadInput when it cannot be used."""
+    # (the run folder's module needs numpy and cv2, which the base install has not: imported
+    # once a run is certain to need them)
+    from mobigrasp.cosim.run_folder import RUN_FILES, RunFolderError, claim_run_folder
+
+    try:
+        folder = claim_run_folder(Path(opts.out) if opts.out else None, name, seed)
+    except RunFolderError as exc:
+        raise BadInput(str(exc)) from exc
+    try:
+        if check_only:
+            folder.check(RUN_FILES)
+            return folder, folder.path
+        return folder, folder.prepare(RUN_FILES)
+    except RunFolderError as exc:
+        folder.abandon()
+        raise BadInput(str(exc)) from exc
+    finally:
+        if check_only:
+            folder.abandon()
 
 
 def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, seed: int
@@ -244,22 +260,29 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
                    mcu=opts.mcu, speed=opts.speed, progress=opts.progress,
                    quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                    host_lag_quanta=opts.host_lag_quanta, after_crash_s=opts.after_crash_s,
-                   on_frame=None if camera is None else camera.on_frame)
+                   on_frame=None if camera is None else camera.on_frame,
+                   on_mcu_bytes=None if camera is None else camera.on_mcu_bytes)
     try:
         summary = run_scenario(spec)
     finally:
         if camera is not None:
             _finish_mcap(camera, out)
     if opts.plots:
-        try:
-            # matplotlib is imported after the run, not before the host process is started
-            # (docs/cosim.md, "Start-up")
-            from mobigrasp.services.report import write_report
-
-            write_report(out)
-        except Exception as exc:  # a plotting failure must not hide the run's result
-            log.error("report of %s: %s: %s", out, type(exc).__name__, exc)
+        write_report_logged(out)
     return summary
+
+
+def write_report_logged(folder: Path) -> None:
+    """plots/ and report.html of a finished run folder; a failure is logged, never hides the
+    run's result."""
+    try:
+        # matplotlib is imported after the run, not before the host process is started
+        # (docs/cosim.md, "Start-up")
+        from mobigrasp.services.report import write_report
+
+        write_report(folder)
+    except Exception as exc:
+        log.error("report of %s: %s: %s", folder, type(exc).__name__, exc)
 
 
 def mcap_info(scenario: Any, seed: int, mcu: str, transport: str) -> dict[str, str]:

@@ -178,3 +178,25 @@ class RunProgress(Progress):
             self(int(1e6 * (summary.get("sim_time_s") or 0)), str(summary.get("task_state")),
                  float(summary.get("wall_time_s") or 0.0))
         self.close()
+
+
+class StepProgress(Progress):
+    """Progress of a job of counted steps whose total may be known only once it started
+    (``calibrate``: scenarios recorded, then frames and planner calls emulated). Called as
+    ``progress(done, total, what)``: the count, ``what`` the step just done, the wall time
+    elapsed since the display was made and the time left at the mean pace so far, as the bench
+    loop shows them (mobigrasp.services.time_left)."""
+
+    def __init__(self, desc: str, unit: str, **kw) -> None:
+        super().__init__(total=None, desc=desc, unit=unit, **kw)
+        self._start = self.clock()
+
+    def __call__(self, done: int, total: int, what: str = "") -> None:
+        from mobigrasp.services.time_left import elapsed_left
+
+        if total != self.total:
+            self.total = total
+            if self._bar is not None:
+                self._bar.total = total
+        text = elapsed_left(self.clock() - self._start, done, total - done)
+        self.update(done, f"{what}, {text}" if what else text)

@@ -12,8 +12,8 @@ paper's d_theta2 (``lost_search``, ``grasp_lost``; docs/task.md).
 
 from __future__ import annotations
 
-from dataclasses import replace
-from typing import Any
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
@@ -21,15 +21,25 @@ from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
 from mobigrasp.host.task.approach import PathMethod
 from mobigrasp.host.task.grasp import GRASP
-from mobigrasp.host.task.method import K_THETA, PI, Param, SceneHints, mrad, q12
+from mobigrasp.host.task.method import K_THETA, PI, MethodState, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import CAMERA_000, odom_to_platform_q4
+
+if TYPE_CHECKING:
+    from mobigrasp.host.budget import OpCounts
+    from mobigrasp.host.control.path_follow import WheelCommand
+    from mobigrasp.host.kinematics import ArmGeometry, ArmPose, Unreachable
+    from mobigrasp.host.search import SearchParams
+    from mobigrasp.host.task.machine import Task, TaskInputs
+    from mobigrasp.host.task.params import TaskParams
+    from mobigrasp.host.vision.dual_plus import DualPlus
+    from mobigrasp.host.vision.radial_symbol import RadialSymbol
 
 MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
 
 
 def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
                   obj_xy_mm: tuple[int, int], planner_params: Params000 | None = None
-                  ) -> tuple[PathFollower | None, Any, dict]:
+                  ) -> tuple[PathFollower | None, OpCounts, dict]:
     """Plan with 000's planner from the pose toward the object; (follower, ops, detail).
 
     ``detail`` holds what the trace needs for the plots: candidate count, feasible count, the
@@ -57,10 +67,18 @@ def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: 
     return PathFollower(traj, now_us, limit), plan.ops + traj.ops, detail
 
 
+@dataclass
+class State000(MethodState):
+    """What 000 keeps between steps (the task's ``ms``)."""
+
+    grasp_searches: int = 0  # searches after a loss in PRECISE_GRASP (grasp_lost)
+
+
 class Method000(PathMethod):
     """000: the hooks of the machine's states (host/task/method.py)."""
 
     name = "000"
+    State = State000
     # 000 §IV's values and their ranges
     paper_params = {
         "k_s": Param(int, 5, 1, 20, "samples"),
@@ -128,13 +146,14 @@ class Method000(PathMethod):
     keeps_sightings = True
 
     # --- SEARCH --------------------------------------------------------------------------------
-    def found(self, t: Any, now: int, inp: Any, name: str, det: Any) -> bool:
+    def found(self, t: Task, now: int, inp: TaskInputs, name: str, det: RadialSymbol) -> bool:
         return t.see_object(now, inp, name, det)
 
-    def found_why(self, t: Any) -> str:
+    def found_why(self, t: Task) -> str:
         return f"radial symbol seen, object at {t.obj} mm"
 
-    def lost_search(self, t: Any, sp: Any, lost_in: str) -> tuple[Any, int, int]:
+    def lost_search(self, t: Task, sp: SearchParams, lost_in: str
+                    ) -> tuple[SearchParams, int, int]:
         """Lost near the object (ADJUST, PRECISE_GRASP): "the mobile platform has to stop
         until the object is seen again" and the arm searches by Fig. 5 (000 §III.B.2, §III.C),
         theta2 in steps of the paper's d_theta2 from where the camera looked: theta2s gives the
@@ -145,64 +164,66 @@ class Method000(PathMethod):
                    sp.theta2_max_mrad)
         return replace(sp, dense_cycles=max(1, sp.dense_cycles)), th2s, t.arm[5]
 
-    def grasp_lost(self, t: Any, now: int, waited_us: int) -> bool:
+    def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:
         """No spoke under the camera at the hover: the object is lost during the grasp (000
         §III.C: "the object searching when lost is similar to ... Fig. 5"). The first time in a
         run, search for it (:meth:`lost_search`), then approach and grasp again; after that, go
         down on the rough position (the ``no_spoke`` fallback)."""
-        if t.grasp_searches >= 1:
+        if t.ms.grasp_searches >= 1:
             return False
-        t.grasp_searches += 1
+        t.ms.grasp_searches += 1
         t.lost_in = "PRECISE_GRASP"
         t.go(now, "LOST", f"no spoke seen for {waited_us} us at the hover: object lost "
              f"during the grasp")
         return True
 
     # --- APPROACH: the path of eq. (9) ---------------------------------------------------------
-    def enter_approach(self, t: Any, now: int, inp: Any) -> None:
+    def enter_approach(self, t: Task, now: int, inp: TaskInputs) -> None:
         pass
 
-    def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
+    def plan(self, t: Task, now: int, inp: TaskInputs
+             ) -> tuple[PathFollower | None, OpCounts, dict]:
         pp = Params000(**{"standoff_m": t.p.approach_standoff_mm / 1000, **t.p.planner})
         return plan_follower(now, inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps, t.obj, pp)
 
-    def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
+    def sighting_usable(self, t: Task, now: int, inp: TaskInputs) -> bool:
         return True
 
-    def sonar_replan(self, t: Any, now: int, inp: Any, moved: bool) -> bool | None:
+    def sonar_replan(self, t: Task, now: int, inp: TaskInputs, moved: bool) -> bool | None:
         return None  # 000 plans once (again when the estimate moves); no sonar check
 
-    def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
+    def hold_before_plan(self, t: Task, now: int, inp: TaskInputs) -> bool:
         return False
 
-    def way_blocked(self, t: Any, inp: Any, dist_mm: int) -> bool:
+    def way_blocked(self, t: Task, inp: TaskInputs, dist_mm: int) -> bool:
         return False
 
-    def start_detour(self, t: Any, inp: Any) -> bool:
+    def start_detour(self, t: Task, inp: TaskInputs) -> bool:
         return False
 
-    def path_wheels(self, cmd: Any) -> tuple[int, int]:
+    def path_wheels(self, cmd: WheelCommand) -> tuple[int, int]:
         return cmd.left_mm_s, cmd.right_mm_s
 
-    def adjust_early(self, t: Any, now: int, inp: Any, dist_mm: int) -> bool:
+    def adjust_early(self, t: Task, now: int, inp: TaskInputs, dist_mm: int) -> bool:
         return False
 
     # --- ADJUST --------------------------------------------------------------------------------
-    def adjust_done(self, t: Any, now: int, det: Any, dist_mm: int) -> bool:
+    def adjust_done(self, t: Task, now: int, det: DualPlus, dist_mm: int) -> bool:
         return False  # the close approach decides (adjust.py)
 
-    def adjust_vmax_mmps(self, p: Any) -> int:
+    def adjust_vmax_mmps(self, p: TaskParams) -> int:
         return p.adjust_vmax_mmps
 
     # --- the arm -------------------------------------------------------------------------------
-    def look_height_mm(self, p: Any, top: bool) -> int:
+    def look_height_mm(self, p: TaskParams, top: bool) -> int:
         return p.object_top_mm if top else p.grasp_height_mm
 
-    def grasp_ik(self, geom: Any, target_q4: tuple[int, int, int]) -> Any:
+    def grasp_ik(self, geom: ArmGeometry, target_q4: tuple[int, int, int]
+                 ) -> ArmPose | Unreachable:
         """Gripper down, eq. (11) of 000."""
         return kinematics.ik_rough_grasp_000(geom, target_q4)
 
-    def rough_target(self, t: Any, inp: Any) -> tuple[int, int, int]:
+    def rough_target(self, t: Task, inp: TaskInputs) -> tuple[int, int, int]:
         """``hover_mm`` above the object top; over the nearer "+" when both are known, the
         grasp itself on the axis (``grasp_xy_q4``)."""
         target = GRASP.object_target_q4(t, inp, t.p.object_top_mm + t.p.hover_mm)
@@ -217,7 +238,7 @@ class Method000(PathMethod):
     def lowers_hover(self) -> bool:
         return True
 
-    def enter_precise(self, t: Any, now: int, inp: Any) -> None:
+    def enter_precise(self, t: Task, now: int, inp: TaskInputs) -> None:
         """Roll the wrist to pi/2 (000 §III.C.2), then align on the spoke."""
         t.set_arm(now, *t.arm[2:6], th1=kinematics.ROLL_PRECISE_MRAD)
         t.phase = "roll"

@@ -14,7 +14,7 @@ Integer mm / us; no I/O and no clock.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
-from typing import Any
+from typing import TYPE_CHECKING
 
 from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.planning.anytime import PlanJob
@@ -37,6 +37,13 @@ from mobigrasp.host.task.sonar_guard import (
     widest_free_heading,
 )
 
+if TYPE_CHECKING:
+    from mobigrasp.host.budget import OpCounts
+    from mobigrasp.host.control.path_follow import PathFollower, WheelCommand
+    from mobigrasp.host.planning.replan import ReplanDecision
+    from mobigrasp.host.task.machine import Task, TaskInputs
+    from mobigrasp.host.task.params import TaskParams
+
 ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_params_001)
 DETOUR_EXTRA_MM = 100  # a detour's way out is checked this much beyond its end (stopping)
 DETOUR_MARGIN_MM = 100  # ... against the infeasible regions grown by this: it drives open-loop
@@ -50,7 +57,7 @@ BACK_OFF_MM = 200  # fallback: back this far along the way the base came
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
 
-def planner_params_001(task_params) -> Any:
+def planner_params_001(task_params: TaskParams) -> Params001:
     """001's planner parameters for the task: ``task_params.planner`` (Params001 fields) over a
     sonar ring whose sensors sit ``sonar_offset_mm`` from the centre (the 0.17 m footprint
     circle): ranges are measured from there, η of eq. (15) is taken from the centre. Two
@@ -75,7 +82,8 @@ def planner_params_001(task_params) -> Any:
 
 
 def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
-              obj_xy_mm: tuple[int, int], sonar_mm: tuple, params=None):
+              obj_xy_mm: tuple[int, int], sonar_mm: tuple, params: Params001 | None = None
+              ) -> tuple[Replanner, PathFollower | None, OpCounts, dict]:
     """001's first plan through host.planning.replan.Replanner (which then watches the sonars):
     (replanner, follower or None, ops, detail)."""
 
@@ -93,8 +101,9 @@ def start_001(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
     return rp, fol, plan.ops + ops, detail
 
 
-def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
-               obj_xy_mm: tuple[int, int], detour_mm: int, side: int = 0):
+def escape_001(rp: Replanner, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
+               obj_xy_mm: tuple[int, int], detour_mm: int, side: int = 0
+               ) -> tuple[int | None, OpCounts]:
     """001 detour heading (host.planning.escape): the direction nearest the object's bearing
     whose straight ``detour_mm`` + DETOUR_EXTRA_MM stays out of the infeasible regions (eq.
     (16)) of the present reading and of the replanner's memory, grown by DETOUR_MARGIN_MM;
@@ -111,8 +120,9 @@ def escape_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
     return (None if head is None else int(round(head * 1000))), ops
 
 
-def straight_clear_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tuple,
-                       obj_xy_mm: tuple[int, int], travel_mm: int):
+def straight_clear_001(rp: Replanner, x_mm: int, y_mm: int, heading_mrad: int,
+                       sonar_mm: tuple, obj_xy_mm: tuple[int, int], travel_mm: int
+                       ) -> tuple[bool, OpCounts]:
     """001: does the straight drive of ``travel_mm`` toward the object (the close approach of
     000 §III.B, which has no obstacle test of its own) stay out of the infeasible regions (eq.
     (16)) of the present reading and of the replanner's memory? (clear, ops)"""
@@ -125,8 +135,9 @@ def straight_clear_001(rp, x_mm: int, y_mm: int, heading_mrad: int, sonar_mm: tu
     return segment_clear(regions + list(rp.memory), pos, toward, max(0, travel_mm) / 1000.0)
 
 
-def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
-               sonar_mm: tuple, force: bool = False):
+def update_001(rp: Replanner, now_us: int, x_mm: int, y_mm: int, heading_mrad: int,
+               v_mmps: int, sonar_mm: tuple, force: bool = False
+               ) -> tuple[ReplanDecision, PathFollower | None, OpCounts]:
     """001 §III.E: check the rest of the path against fresh sonar, replan when blocked (or
     ``force``: always, the path no longer being followed). Returns (decision, new follower or
     None, ops)."""
@@ -138,7 +149,8 @@ def update_001(rp, now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps:
     return dec, fol, dec.ops + ops
 
 
-def detour_heading(inp, obj_xy_mm: tuple, clear_mm: int, heading_mrad: int | None = None) -> dict:
+def detour_heading(inp: TaskInputs, obj_xy_mm: tuple, clear_mm: int,
+                   heading_mrad: int | None = None) -> dict:
     """The detour's heading: ``heading_mrad`` when the caller found one clear of 001's
     infeasible regions (host.planning.escape), else the free sonar direction nearest the
     object's bearing; with none free a quarter turn left (the next sonar sweep decides again)."""
@@ -231,7 +243,8 @@ class Method001(Method000):
     grasp_lost = Method.grasp_lost
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
-    def plan(self, t: Any, now: int, inp: Any) -> tuple[Any, Any, dict]:
+    def plan(self, t: Task, now: int, inp: TaskInputs
+             ) -> tuple[PathFollower | None, OpCounts, dict]:
         if t.ms.replanner is not None and t.obj == t.plan_obj:
             # same object: the replanner keeps its remembered regions and slows down (replan.py);
             # a plan is asked for with no path followed (stopped by the guard, a detour, a
@@ -252,7 +265,7 @@ class Method001(Method000):
             t.ms.path_from = (inp.x_mm, inp.y_mm)  # a fallback backs off toward here
         return follower, ops, detail
 
-    def look_first(self, t: Any, now: int, inp: Any) -> bool:
+    def look_first(self, t: Task, now: int, inp: TaskInputs) -> bool:
         """Ours: P_i given (001 §II) and the object near, unseen: turn in place to face it with
         the camera on it for up to ``LOOK_FIRST_US`` before the first plan. The radial symbol is
         seen 0.45-1.0 m ahead (docs/markers.md); the curve to the grasp circle of an object
@@ -276,7 +289,7 @@ class Method001(Method000):
             t.wheels = turn_in_place(-1 if bearing > 0 else 1, t.p.turn_wheel_mmps)
         return True
 
-    def sighting_usable(self, t: Any, now: int, inp: Any) -> bool:
+    def sighting_usable(self, t: Task, now: int, inp: TaskInputs) -> bool:
         """Not while the base turned faster than SIGHTING_MAX_TURN_MRAD_S over the last frame
         latency. Ours: the frame's capture time is known only as ``frame_latency_us`` ago (the
         vision time varies by 10-25 ms), and the arm history holds servo targets, not where the
@@ -290,7 +303,7 @@ class Method001(Method000):
         rate = abs(wrap_mrad(inp.heading_mrad - then[3])) * 1_000_000 // dt
         return rate <= SIGHTING_MAX_TURN_MRAD_S
 
-    def sonar_replan(self, t: Any, now: int, inp: Any, moved: bool) -> bool | None:
+    def sonar_replan(self, t: Task, now: int, inp: TaskInputs, moved: bool) -> bool | None:
         """001 §III.E: every ``replan_period_us`` the sonars check the rest of the path; blocked
         -> replan from here."""
         if not (now - t.plan_us >= t.p.replan_period_us and t.follower is not None
@@ -318,12 +331,12 @@ class Method001(Method000):
             return True
         return False
 
-    def start_path(self, t: Any, follower: Any, now: int) -> Any:
+    def start_path(self, t: Task, follower: PathFollower, now: int) -> PathFollower:
         """The path and the replanner's curve start now (the plan's last slice)."""
         t.ms.replanner.start_us = now
         return super().start_path(t, follower, now)
 
-    def hold_before_plan(self, t: Any, now: int, inp: Any) -> bool:
+    def hold_before_plan(self, t: Task, now: int, inp: TaskInputs) -> bool:
         """The first plan waits for one full sonar sweep; a detour is driven to its end; a
         new plan is made from standstill."""
         if t.ms.replanner is None and self.look_first(t, now, inp):
@@ -341,7 +354,7 @@ class Method001(Method000):
             return True
         return False
 
-    def way_blocked(self, t: Any, inp: Any, dist_mm: int) -> bool:
+    def way_blocked(self, t: Task, inp: TaskInputs, dist_mm: int) -> bool:
         """An echo straight ahead well short of the object (its own echo is ~170 mm short of
         the waist distance: ring 70 mm ahead of the waist plus its radius), or the straight
         way to the object crossing an infeasible region of eq. (16) (an obstacle beside the
@@ -350,7 +363,7 @@ class Method001(Method000):
         echo = n >= 3 and 0 < int(inp.sonar_mm[n // 2]) < dist_mm - 300
         return echo or not self.straight_clear(t, inp, dist_mm)
 
-    def start_detour(self, t: Any, inp: Any) -> bool:
+    def start_detour(self, t: Task, inp: TaskInputs) -> bool:
         """Obstacles across the way and no feasible curve from here: fall back in steps
         (``FALLBACKS``, each a ``fallback`` detail event), then plan again: a lower v0 (the
         slower end speed of eq. (9) gives the candidates more room under A_max), a short
@@ -389,7 +402,7 @@ class Method001(Method000):
         t.note(detour=dict(t.ms.detour), detour_count=t.ms.detours)
         return True
 
-    def path_wheels(self, cmd: Any) -> tuple[int, int]:
+    def path_wheels(self, cmd: WheelCommand) -> tuple[int, int]:
         """Ours: 001's sonar ring (S_1..S_k_s, ±π/2 about the heading) sees nothing behind the
         base, so it never backs up: where the follower would reverse (its reference fell
         behind in a tight loop) it turns on the spot instead and the sonar check replans
@@ -399,7 +412,7 @@ class Method001(Method000):
             return -turn, turn
         return cmd.left_mm_s, cmd.right_mm_s
 
-    def adjust_early(self, t: Any, now: int, inp: Any, dist: int) -> bool:
+    def adjust_early(self, t: Task, now: int, inp: TaskInputs, dist: int) -> bool:
         """Hand the last part of the curve to 000's vision-based approaching adjustment
         (§III.B) while the object is still in the camera's view. Ours: the curve ends on the
         grasp circle (eqs. (5)-(6) of 001, l_e ~ 0.23 m), where the long 001 arm's camera looks
@@ -413,7 +426,7 @@ class Method001(Method000):
             return False
         return self.straight_clear(t, inp, dist)
 
-    def straight_clear(self, t: Any, inp: Any, dist: int) -> bool:
+    def straight_clear(self, t: Task, inp: TaskInputs, dist: int) -> bool:
         """The close approach's straight way to the object (``dist`` from the waist, to stop
         ``grasp_r_mm`` short) misses the infeasible regions of eq. (16)."""
         if t.ms.replanner is None:
@@ -424,7 +437,7 @@ class Method001(Method000):
         return clear
 
 
-    def guard_wheels(self, t: Any, now: int, inp: Any) -> None:
+    def guard_wheels(self, t: Task, now: int, inp: TaskInputs) -> None:
         """Last line of the no-contact rule: while the base would move forward in SEARCH or
         APPROACH, a sonar of the front half of the ring (|phi_k| < pi/2) reading below the
         safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
@@ -446,7 +459,7 @@ class Method001(Method000):
             guard["turn_to_mrad"] = t.ms.detour["heading_mrad"]
         t.note(sonar_guard=guard)
 
-    def detour_step(self, t: Any, inp: Any) -> bool:
+    def detour_step(self, t: Task, inp: TaskInputs) -> bool:
         """One step of the detour (host/task/sonar_guard.py ``drive_detour``); True when it is
         over (the caller plans again)."""
         return drive_detour(t, inp, t.ms.detour)

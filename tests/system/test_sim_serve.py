@@ -149,10 +149,14 @@ def test_readme_example_runs_as_is(tmp_path):
 
 
 def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emulated_robot):
-    """A host that never closes the port: the session is stopped (SIGTERM) and still writes its
-    run folder, with the world's judgement in it."""
+    """A host that never closes the port: the session is stopped (as SIGTERM stops `sim`) and
+    still writes its run folder, with the world's judgement in it."""
     robot = emulated_robot("paper000-exp1", speed=2.0, plots=False)
     assert robot.port.startswith("/dev/pts/") and robot.camera_url.endswith("/stream.mjpg")
+    # sim's session serves it from this process (services/sim_job.py): no `mobigrasp sim` child
+    children = [c for task in Path("/proc/self/task").iterdir()
+                for c in (task / "children").read_text().split()]
+    assert children == []
     png_url = robot.camera_url.replace("stream.mjpg", "frame.png")
     for attempt in range(10):  # each waits up to 5 s on the server for the first frame
         try:
@@ -167,7 +171,7 @@ def test_the_fixture_yields_the_summary_of_a_session_the_host_left_running(emula
     assert s["end_reason"] == "terminated" and s["grasped"] is False
     assert s["contacts"] == 0 and "unsafe_actuations" in s["safety"]
     assert (robot.run_dir / "trace.jsonl").exists()
-    assert robot.proc.returncode == 1  # nothing grasped
+    assert robot.exit_code == 1  # nothing grasped
 
 
 @pytest.mark.slow

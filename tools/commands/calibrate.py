@@ -1,9 +1,10 @@
 """``mobigrasp calibrate [--corpus DIR] [--json FILE]``: the host's modelled ARM9 time per stage
 against the same stage's C run as ARM920T code under a static timing model (calib/, the table
 and its reading in docs/budget.md). Without --corpus the corpus of the six shipped scenarios is
-recorded into a temporary folder first. Progress on stderr; the table on stdout; the result is
-also kept as the last calibration that ``mobigrasp profile`` shows. Exit 1 when an emulated
-result differs from the Python kernel's, 2 for bad input."""
+recorded into a temporary folder first. Progress on stderr (scenarios recorded, then frames
+and planner calls emulated: done/total, elapsed, ~left; none with ``-q``); the table on stdout;
+the result is also kept as the last calibration that ``mobigrasp profile`` shows. Exit 1 when
+an emulated result differs from the Python kernel's, 2 for bad input."""
 
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ def _run(args: argparse.Namespace) -> int:
     from mobigrasp.calib.arm import ToolchainError, progress_stderr
     from mobigrasp.services.corpus import record as record_corpus
     from mobigrasp.services.run_job import BadInput, shipped_scenarios
+    from mobigrasp.tools.progress import StepProgress
 
     if args.frames_per_scenario is not None and args.frames_per_scenario < 1:
         print(f"mobigrasp calibrate: --frames-per-scenario must be >= 1, got "
@@ -53,11 +55,15 @@ def _run(args: argparse.Namespace) -> int:
             folder = args.corpus
             if folder is None:
                 folder = Path(tmp) / "corpus"
-                progress_stderr("calibrate: recording the corpus of the shipped scenarios")
-                record_corpus(folder, [p.stem for p in shipped_scenarios()],
-                              progress=progress_stderr)
-            result = calibrate.calibrate(folder, per, args.line_fill_cycles,
-                                         progress=None if args.quiet else progress_stderr)
+                with StepProgress("calibrate: corpus of the shipped scenarios", "scenarios",
+                                  enabled=not args.quiet) as recorded:
+                    record_corpus(folder, [p.stem for p in shipped_scenarios()],
+                                  progress=recorded)
+            with StepProgress("calibrate: emulated", "frames and planner calls",
+                              enabled=not args.quiet) as emulated:
+                result = calibrate.calibrate(folder, per, args.line_fill_cycles,
+                                             progress=None if args.quiet else progress_stderr,
+                                             on_step=emulated)
     except (corpus.CorpusError, plan_corpus.PlanCorpusError, ToolchainError, BadInput) as exc:
         print(f"mobigrasp calibrate: {exc}", file=sys.stderr)
         return 2

@@ -1,5 +1,6 @@
 """``mobigrasp corpus --out DIR``: record the frames the host's detectors were given in the
-shipped scenarios (calib/corpus.py describes the folder). Progress on stderr; exit 2 for bad
+shipped scenarios (calib/corpus.py describes the folder). Progress on stderr (none with
+``-q``); exit 2 for bad
 input (an --out that is a file or a folder that is not a corpus, an unknown scenario)."""
 
 from __future__ import annotations
@@ -16,6 +17,7 @@ def _run(args: argparse.Namespace) -> int:
     from mobigrasp.calib.corpus import CorpusError
     from mobigrasp.services.corpus import record
     from mobigrasp.services.run_job import BadInput, shipped_scenarios
+    from mobigrasp.tools.progress import StepProgress
 
     names = args.scenario or [p.stem for p in shipped_scenarios()]
     if args.time_limit_s is not None and not args.time_limit_s > 0:
@@ -23,8 +25,8 @@ def _run(args: argparse.Namespace) -> int:
               file=sys.stderr)
         return 2
     try:
-        index = record(args.out, names, args.time_limit_s,
-                       progress=lambda s: print(s, file=sys.stderr, flush=True))
+        with StepProgress("corpus", "scenarios", enabled=not args.quiet) as recorded:
+            index = record(args.out, names, args.time_limit_s, progress=recorded)
     except (CorpusError, BadInput) as exc:
         print(f"mobigrasp corpus: {exc}", file=sys.stderr)
         return 2

@@ -68,8 +68,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--fault", action="append", metavar="KEY=VALUE",
                    help="inject a fault (docs/faults.md), e.g. uart_bit_error_rate=1e-3; repeat")
     p.add_argument("--check", action="store_true",
-                   help="only check the scenario and options (and build the world and host "
-                        "program from them) without running: exit 0 or 2")
+                   help="only check the scenario, the options and the --out folder (as the "
+                        "run takes it; nothing is changed) and build the world and host "
+                        "program from them, without running: exit 0 or 2")
     p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
     p.add_argument("--host-lag-quanta", type=int, default=1, metavar="N",
                    help="1 (default): each grant is issued one quantum ahead, so host and "

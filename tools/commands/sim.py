@@ -42,12 +42,6 @@ def _port(text: str) -> int:
     return value
 
 
-def _mcu_names() -> list[str]:
-    from mobigrasp.mcu_sim.backend import MCU_BACKENDS
-
-    return sorted(MCU_BACKENDS)
-
-
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the ``sim`` subcommand."""
     p = sub.add_parser("sim", help="serve a scenario's robot (pty + MJPEG camera) to your host")
@@ -79,21 +73,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.cosim.serve.session import BadSimInput, SimOptions, serve
-    from mobigrasp.services.run_job import (
-        BadInput,
-        check_seed,
-        check_time_limit,
-        fault_plan,
-        resolve_scenario,
-    )
+    from mobigrasp.cosim.serve.session import SimOptions
+    from mobigrasp.services.run_job import BadInput
+    from mobigrasp.services.sim_job import exit_code, serve_scenario
+    from mobigrasp.tools.progress import Progress
 
-    names = _mcu_names()
-    mcu = args.mcu
-    if mcu not in names:
-        print(f"mobigrasp sim: --mcu must be one of {', '.join(names)}, got {mcu!r}",
-              file=sys.stderr)
-        return 2
     asked: list[str] = []
 
     def on_signal(signum, frame) -> None:
@@ -105,75 +89,33 @@ def _run(args: argparse.Namespace) -> int:
         if serial_tcp is not None:
             print(f"serial-tcp: {serial_tcp}", flush=True)
 
-    try:
-        check_seed(args.seed)
-        check_time_limit(args.time_limit_s)
-        resolved = resolve_scenario(args.scenario)
-        plan = fault_plan(resolved[1], args.fault)
-    except BadInput as exc:
-        print(f"mobigrasp sim: {exc}", file=sys.stderr)
-        return 2
-    from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
-    from mobigrasp.services.mcap_out import McapLog
-    from mobigrasp.services.run_job import mcap_camera, mcap_info
-    from mobigrasp.tools.progress import Progress
+    def display(total_s: float, name: str) -> Progress:
+        return Progress(total=total_s, desc=f"sim {name}", unit="s simulated",
+                        enabled=not args.quiet)
 
     wait_host = (not sys.stdin.isatty()) if args.wait_host is None else args.wait_host
-    scenario = resolved[1]
-    seed = scenario.meta.seed if args.seed is None else args.seed
-    # trace.mcap, written as the session goes once its folder is taken
-    frames = McapLog(info={**mcap_info(scenario, seed, mcu, "pty"), "host": "external"},
-                     camera=mcap_camera(scenario))
-    display = Progress(total=round(run_time_limit_s(scenario, args.time_limit_s), 1),
-                       desc=f"sim {scenario.meta.name}", unit="s simulated",
-                       enabled=not args.quiet)
+    opts = SimOptions(scenario=args.scenario, speed=args.speed, mcu=args.mcu,
+                      camera_port=args.camera_port, tcp_port=args.tcp_port,
+                      wait_host=wait_host, out=args.out, seed=args.seed,
+                      time_limit_s=args.time_limit_s)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        summary = serve(SimOptions(scenario=args.scenario, speed=args.speed, mcu=mcu,
-                                   camera_port=args.camera_port, out=args.out, seed=args.seed,
-                                   time_limit_s=args.time_limit_s, progress=display,
-                                   resolved=resolved, plan=plan, wait_host=wait_host,
-                                   tcp_port=args.tcp_port, on_frame=frames.on_frame,
-                                   on_folder=lambda out: frames.start(out / "trace.mcap")),
-                        on_ready, stop=lambda: asked[0] if asked else None)
-    except BadSimInput as exc:
+        summary = serve_scenario(opts, on_ready, stop=lambda: asked[0] if asked else None,
+                                 faults=tuple(args.fault or ()), plots=not args.no_plots,
+                                 progress=display)
+    except BadInput as exc:
         print(f"mobigrasp sim: {exc}", file=sys.stderr)
         return 2
     finally:
         for s, h in previous.items():
             signal.signal(s, h)
-    folder = Path(summary["run_folder"])
-    _write_traffic(folder, summary, frames)
-    if not args.no_plots:
-        try:
-            from mobigrasp.services.report import write_report
-
-            write_report(Path(summary["run_folder"]))
-        except Exception as exc:  # a plotting failure must not hide the run's result
-            print(f"report: {type(exc).__name__}: {exc}", file=sys.stderr)
     print(f"{summary['scenario']} served to an external host: "
           f"{'GRASPED' if summary['grasped'] else 'not grasped'} ({summary['end_reason']}) in "
           f"{summary['sim_time_s']:.1f} s simulated, {summary['wall_time_s']:.1f} s wall; "
-          f"run folder: {folder}", flush=True)
+          f"run folder: {summary['run_folder']}", flush=True)
     if summary.get("host_traffic"):
         from mobigrasp.services.wire_traffic import traffic_lines
 
         for line in traffic_lines(summary["host_traffic"]):
             print(f"  {line}", flush=True)
-    return 0 if summary["grasped"] else 1
-
-
-def _write_traffic(folder: Path, summary: dict, frames) -> None:
-    """The host's traffic from the trace into summary.json, and trace.mcap; a failure is
-    reported, never hides the session's result."""
-    from mobigrasp.cosim.run_folder import read_trace, write_summary
-    from mobigrasp.services.wire_traffic import host_traffic
-
-    try:
-        events = read_trace(folder / "trace.jsonl")
-        summary["host_traffic"] = host_traffic(events)
-        stored = {k: v for k, v in summary.items() if k != "run_folder"}
-        write_summary(folder / "summary.json", stored)
-        frames.finish(summary)
-    except Exception as exc:
-        print(f"trace.mcap: {type(exc).__name__}: {exc}", file=sys.stderr)
+    return exit_code(summary)

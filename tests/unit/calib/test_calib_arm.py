@@ -105,6 +105,7 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
                         "--quiet"], capture_output=True, text=True, timeout=600,
                        env={**os.environ, **env_cache})
     assert r.returncode == 0, r.stderr
+    assert r.stderr == ""  # --quiet: no progress
     res = json.loads(out.read_text())
     assert {"grey", "dark_threshold", "labelling"} <= set(res["stages"])
     for s in res["stages"].values():

@@ -267,3 +267,30 @@ def test_a_second_run_on_the_folder_of_a_run_in_progress_is_refused(tmp_path, ca
     assert summary["status"] == "interrupted" and summary["sim_time_s"] >= 2.0
     lines = (out / "trace.jsonl").read_text().splitlines()
     assert summary["trace_lines"] == len(lines) > 20
+
+
+def test_run_check_refuses_a_folder_a_run_holds_and_changes_nothing(tmp_path, capsys):
+    out = tmp_path / "run"
+    with _first_run(out):
+        before = _snapshot(out)
+        assert main(["run", E, "--out", str(out), "--check"]) == 2
+        line = _one_line(capsys)
+        assert str(out) in line and "in use" in line
+        assert _snapshot(out) == before
+
+
+def test_run_check_passes_what_the_run_takes_and_leaves_no_folder(tmp_path, capsys,
+                                                                  monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    new = tmp_path / "deep" / "er" / "run"
+    assert main(["run", E, "--out", str(new), "--check"]) == 0
+    assert capsys.readouterr().out.strip().endswith(": ok")
+    assert not (tmp_path / "deep").exists()  # created to be checked, removed again
+    assert main(["run", E, "--check"]) == 0  # the default folder under runs/
+    assert not (tmp_path / "runs").exists()
+    earlier = tmp_path / "earlier"
+    with _first_run(earlier):
+        pass  # an earlier run's folder, no longer held: the run would replace its files
+    before = _snapshot(earlier)
+    assert main(["run", E, "--out", str(earlier), "--check"]) == 0
+    assert _snapshot(earlier) == before

@@ -3,6 +3,7 @@ far it got, and neither leaves shared memory or temporary folders behind for goo
 (cosim/run.py, cosim/leftovers.py; docs/cosim.md "Killed runs")."""
 
 import json
+import math
 import os
 import re
 import signal
@@ -107,13 +108,17 @@ def _killed_at_5_5_s(out: Path, command: str) -> tuple[subprocess.Popen, float]:
 
 def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_path):
     proc, reached_s = _killed_at_5_5_s(tmp_path / "run", "run")
-    # trace.mcap was written as the run went, a chunk per simulated second: read back, it
-    # holds the camera frames and the trace topics up to the whole second before the last one
-    # the run reached (reached_s: the progress line read before the kill, at most the kill's)
+    # trace.mcap was written as the run went, a chunk per simulated second, each on the disk
+    # before the run went past it: read back, it holds the camera frames, the trace topics and
+    # the telemetry up to the last whole second the run reached (reached_s: the progress line
+    # read before the kill, at most the kill's; rounded to 10 ms), so at most the last second
+    # is lost; the truth topics are sampled every 0.1 s
     got = read_messages(tmp_path / "run" / "trace.mcap")
     last_s = {topic: max(t for tp, t, _ in got if tp == topic) / 1e9
-              for topic in ("/camera/image", "/tf", "/joints")}
-    whole_s = int(reached_s) - 1
+              for topic in ("/camera/image", "/tf", "/joints", "/mcu/encoders")}
+    whole_s = math.floor(reached_s - 0.01)
+    assert whole_s >= 5
+    assert last_s["/camera/image"] >= whole_s, (reached_s, last_s)
     assert all(t >= whole_s - 0.1 for t in last_s.values()), (reached_s, last_s)
     left = _leftovers_of(proc.pid)
     assert left  # it could not remove its folders

@@ -96,9 +96,10 @@ def _raw(data: bytes) -> Callable:
     return argv
 
 
-def _out(make: Callable[[Path, pytest.MonkeyPatch], Path]) -> Callable:
+def _out(make: Callable[[Path, pytest.MonkeyPatch], Path], check: bool = False) -> Callable:
     def argv(tmp: Path, mp: pytest.MonkeyPatch) -> list[str]:
-        return ["run", "paper000-exp1", "--out", str(make(tmp, mp))] + QUICK
+        return (["run", "paper000-exp1", "--out", str(make(tmp, mp))] + QUICK
+                + (["--check"] if check else []))
     return argv
 
 
@@ -138,6 +139,16 @@ def _not_empty(tmp: Path, mp) -> Path:
     (tmp / "mine" / "summary.json").write_text("{}")
     (tmp / "mine" / "notes.txt").write_text("x")
     return tmp / "mine"
+
+
+def _foreign_trace(tmp: Path, mp) -> Path:
+    """A run folder (its marker lists nothing) holding a trace.jsonl mobigrasp did not write."""
+    from mobigrasp.cosim.run_folder import claim_run_folder
+
+    with claim_run_folder(tmp / "run", "x", 1) as held:
+        held.prepare()
+    (tmp / "run" / "trace.jsonl").write_text("mine\n")
+    return tmp / "run"
 
 
 def _raw_scenario(name: str, tail: str, params: str = "") -> Callable:
@@ -185,6 +196,16 @@ CASES: dict[str, Case] = {
     "out under /proc": Case(lambda t, mp: ["run", E, "--out", "/proc/mobigrasp-run"] + QUICK,
                             ("--out", "/proc/mobigrasp-run")),
     "out not empty, not a run folder": Case(_out(_not_empty), ("--out", "not empty")),
+    # run --check refuses the same --out the run would, with the same line
+    "check: out a file": Case(_out(_a_file, check=True), ("--out", "is a file")),
+    "check: out under a file": Case(_out(_under_a_file, check=True), ("--out",)),
+    "check: out a symlink": Case(_out(_a_symlink, check=True), ("--out", "symbolic link")),
+    "check: out unwritable": Case(_out(_unwritable, check=True),
+                                  ("--out", "Permission denied")),
+    "check: out not empty, not a run folder": Case(_out(_not_empty, check=True),
+                                                   ("--out", "not empty")),
+    "check: out holds a run file not ours": Case(_out(_foreign_trace, check=True),
+                                                 ("--out", "trace.jsonl", "did not write")),
     "--time-limit-s inf": Case(lambda t, mp: ["run", E, "--time-limit-s", "inf", "--check"],
                                ("--time-limit-s", "inf")),
     "--time-limit-s nan": Case(lambda t, mp: ["run", E, "--time-limit-s", "nan", "--check"],

@@ -60,6 +60,22 @@ void mg_method000_lost_search(const mg_task_t *t, mg_search_params_t *sp, int32_
     *theta5s_mrad = t->arm[5];
 }
 
+/* "the object searching when lost is similar to ... Fig. 5" (000 section III.C) */
+int mg_method000_grasp_lost(mg_task_t *t, int64_t now_us, int64_t waited_us)
+{
+    mg_state000_t *ms = ms000(t);
+    if (ms->grasp_searches >= 1)
+        return 0;
+    ms->grasp_searches++;
+    t->lost_in = MG_PRECISE_GRASP;
+    char why[MG_TASK_WHY];
+    size_t n = mg_task_text(why, sizeof why, 0, "no spoke seen for ");
+    n = mg_task_text_int(why, sizeof why, n, waited_us);
+    mg_task_text(why, sizeof why, n, " us at the hover: object lost during the grasp");
+    mg_task_go(t, now_us, MG_LOST, why);
+    return 1;
+}
+
 int32_t mg_method000_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q4[3],
                               mg_arm_pose_t *pose, int64_t *detail)
 {

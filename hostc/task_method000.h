@@ -26,9 +26,10 @@ typedef struct {
 typedef void (*mg_planner000_fn)(void *ctx, const mg_plan000_request_t *req,
                                  mg_trajectory_t *traj, mg_plan_outcome_t *o);
 
-/* What 000 keeps between steps (the task's ms): the Python's State000 is empty; the C holds
- * the planner its APPROACH plans with (NULL: none, every plan fails "no planner") */
+/* What 000 keeps between steps (the task's ms, State000), and the planner its APPROACH plans
+ * with (NULL: none, every plan fails "no planner") */
 typedef struct {
+    int32_t grasp_searches; /* searches after a loss in PRECISE_GRASP (grasp_lost) */
     mg_planner000_fn planner;
     void *planner_ctx;
 } mg_state000_t;
@@ -47,6 +48,10 @@ void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap);
  * pitch it had, in the search posture, and the waist where it was */
 void mg_method000_lost_search(const mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
                               int32_t *theta5s_mrad);
+/* PRECISE_GRASP saw no spoke for waited_us at the hover: the first time in a run the object
+ * is searched for (LOST, the transition made; 1), after that the grasp goes down on the rough
+ * position (0) */
+int mg_method000_grasp_lost(mg_task_t *t, int64_t now_us, int64_t waited_us);
 /* the gripper down, eq. (11) of 000: MG_IK_OK and *pose, or the reason and *detail */
 int32_t mg_method000_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q4[3],
                               mg_arm_pose_t *pose, int64_t *detail);

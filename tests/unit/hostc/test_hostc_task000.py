@@ -233,6 +233,25 @@ def test_the_grasp_ik_of_000(target):
     _assert_same_ik(code, pose, detail[0], Method000().grasp_ik(PAPER_000, target))
 
 
+@SETTINGS
+@given(st.lists(st.tuples(st.integers(1, 10**7), st.integers(0, 10**7)), max_size=4))
+def test_the_grasp_lost_of_000(calls):
+    """No spoke at the hover: the first time a search (LOST, lost in PRECISE_GRASP), after
+    that the grasp goes on."""
+    py, c = Task("000"), _c_task()
+    py.go(0, "PRECISE_GRASP", "test")
+    C.mg_task_go(c, 0, C.MG_PRECISE_GRASP, b"test")
+    now = 0
+    for dt, waited in calls:
+        now += dt
+        py._events, c.n_events = [], 0
+        assert C.mg_method000_grasp_lost(c, now, waited) == Method000().grasp_lost(py, now,
+                                                                                    waited)
+        assert _events(c) == py._events
+        assert FFI.cast("mg_state000_t *", c.ms.bytes).grasp_searches == py.ms.grasp_searches
+        assert (machine.STATES[c.lost_in] if c.lost_in >= 0 else None) == py.lost_in
+
+
 SEARCH_PARAMS = st.builds(
     lambda lo, span, th3, th4, dense: SearchParams(
         theta2_min_mrad=lo, theta2_max_mrad=lo + span, theta3_mrad=th3, theta4_mrad=th4,

@@ -3,27 +3,107 @@
 
 #include <string.h>
 
+#include "sonar_guard.h"
 #include "task_method000.h"
 #include "task_method001.h"
 #include "task_method002.h"
 
 const mg_task_method_t mg_task_methods[] = {
-    {"000", sizeof(mg_state000_t), mg_method000_ms_init, mg_method000_params,
-     mg_task_reason_as_is, NULL, mg_method000_look_height_mm, "dual_plus",
-     mg_task_sighting_position, 1, mg_method000_adjust_done, mg_method000_adjust_goal_mm,
-     mg_method000_adjust_vmax_mmps, MG_ALPHA_DOWN_MRAD, {611, 160, 120}, {1528, 1424, 1552},
-     &mg_path000},
-    {"001", sizeof(mg_state001_t), mg_method001_ms_init, mg_method001_params,
-     mg_task_reason_as_is, NULL, mg_method000_look_height_mm, "dual_plus",
-     mg_task_sighting_position, 1, mg_method000_adjust_done, mg_method000_adjust_goal_mm,
-     mg_method000_adjust_vmax_mmps, MG_ALPHA_DOWN_MRAD, {611, 160, 120}, {2560, 2560, 3200},
-     &mg_path001},
-    {"002", sizeof(mg_state002_t), mg_method002_ms_init, mg_method002_params,
-     mg_method002_failure_reason, NULL, mg_method002_look_height_mm, "red_cylinder",
-     mg_method002_red_cylinder_position, 1, mg_method002_adjust_done_seen,
-     mg_method002_adjust_goal_mm, mg_method002_adjust_vmax_mmps, 0, {350, 160, 120},
-     {1552, 1424, 1528}, NULL},
+    {.name = "000",
+     .ms_bytes = sizeof(mg_state000_t),
+     .ms_init = mg_method000_ms_init,
+     .params = mg_method000_params,
+     .failure_reason = mg_task_reason_as_is,
+     .guard_wheels = mg_sonar_guard_step,
+     .look_height_mm = mg_method000_look_height_mm,
+     .adjust_detector = "dual_plus",
+     .adjust_position = mg_task_sighting_position,
+     .adjust_is_object = 1,
+     .adjust_done = mg_method000_adjust_done,
+     .adjust_goal_mm = mg_method000_adjust_goal_mm,
+     .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps,
+     .found = mg_method000_found,
+     .found_why = mg_method000_found_why,
+     .lost_search = mg_method000_lost_search,
+     .keeps_sightings = 1,
+     .object_detectors = "dual_plus, radial_symbol",
+     .grasp_ik = mg_method000_grasp_ik,
+     .lowers_hover = 1,
+     .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD,
+     .camera = {611, 160, 120},
+     .geom = {1528, 1424, 1552},
+     .path = &mg_path000},
+    {.name = "001",
+     .ms_bytes = sizeof(mg_state001_t),
+     .ms_init = mg_method001_ms_init,
+     .params = mg_method001_params,
+     .failure_reason = mg_task_reason_as_is,
+     .look_height_mm = mg_method000_look_height_mm,
+     .adjust_detector = "dual_plus",
+     .adjust_position = mg_task_sighting_position,
+     .adjust_is_object = 1,
+     .adjust_done = mg_method000_adjust_done,
+     .adjust_goal_mm = mg_method000_adjust_goal_mm,
+     .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps,
+     .found = mg_method000_found,
+     .found_why = mg_method000_found_why,
+     .keeps_sightings = 1,
+     .object_detectors = "dual_plus, radial_symbol",
+     .grasp_ik = mg_method000_grasp_ik,
+     .lowers_hover = 1,
+     .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD,
+     .camera = {611, 160, 120},
+     .geom = {2560, 2560, 3200},
+     .path = &mg_path001},
+    {.name = "002",
+     .ms_bytes = sizeof(mg_state002_t),
+     .ms_init = mg_method002_ms_init,
+     .params = mg_method002_params,
+     .failure_reason = mg_method002_failure_reason,
+     .guard_wheels = mg_sonar_guard_step,
+     .look_height_mm = mg_method002_look_height_mm,
+     .adjust_detector = "red_cylinder",
+     .adjust_position = mg_method002_red_cylinder_position,
+     .adjust_is_object = 1,
+     .adjust_done = mg_method002_adjust_done_seen,
+     .adjust_goal_mm = mg_method002_adjust_goal_mm,
+     .adjust_vmax_mmps = mg_method002_adjust_vmax_mmps,
+     .adjust_result = mg_method002_red_cylinder_result,
+     .search_sighting = mg_method002_search_sighting,
+     .found = mg_method002_found_seen,
+     .found_why = mg_method002_found_why,
+     .search_gives_up = mg_method002_search_gives_up,
+     .lost_search = NULL,
+     .keeps_sightings = 0,
+     .enter_approach = mg_method002_enter_approach_state,
+     .approach = mg_method002_approach_state,
+     .object_detectors = "red_cylinder",
+     .grasp_reach_mm = mg_method002_grasp_reach_mm,
+     .rough_target = mg_method002_rough_target,
+     .grasp_ik = mg_method002_grasp_ik,
+     .lowers_hover = 0,
+     .enter_precise = mg_method002_enter_precise,
+     .held_view_pose = mg_method002_held_view_pose,
+     .held_in_view = mg_method002_held_in_view,
+     .check_detector = "red_cylinder",
+     .check_result = mg_method002_red_cylinder_result,
+     .check_position = mg_method002_red_cylinder_position,
+     .check_is_object = 1,
+     .grasp_alpha_mrad = 0,
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_DOUBLE_CROSS | 1u << MG_DET_RED_ROI,
+                   [MG_APPROACH] = 1u << MG_DET_DOUBLE_CROSS | 1u << MG_DET_RED_CYLINDER
+                                   | 1u << MG_DET_RED_ROI,
+                   [MG_ADJUST] = 1u << MG_DET_RED_CYLINDER,
+                   [MG_LIFT] = 1u << MG_DET_RED_CYLINDER | 1u << MG_DET_HELD_FILL},
+     .n_fallbacks = 0,
+     .frame_of = mg_method002_frame_of,
+     .camera = {350, 160, 120},
+     .geom = {1552, 1424, 1528}},
 };
+const char *const mg_detector_names[MG_N_DETECTORS] = {
+    "dual_plus", "radial_symbol", "spoke", "double_cross", "red_cylinder", "red_roi",
+    "held_fill"};
+
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);
 
 const mg_task_method_t *mg_task_method_find(const char *name)
@@ -33,16 +113,6 @@ const mg_task_method_t *mg_task_method_find(const char *name)
             return &mg_task_methods[i];
     return NULL;
 }
-
-/* host/search.py SearchParams(): 000 section IV's pattern */
-static const mg_search_params_t SEARCH_DEFAULTS = {
-    .theta2_min_mrad = -2800, .theta2_max_mrad = -2100, .d_theta2_mrad = 60,
-    .theta5_min_mrad = -800, .theta5_max_mrad = 800, .d_theta5_mrad = 200, .theta3_mrad = -200,
-    .theta4_mrad = 2300, .base_turn_mrad = 1047, .n_coarse = 3,
-    .coarse_theta2_mrad = {-2250, -2500, -2750}, .coarse_base_turn_mrad = 1571,
-    .dense_cycles = 0, .turns_per_wander = 4, .wander_mm = 1800, .wander_sweep = 1,
-    .wander_theta5_mrad = 1400, .stop_cycles = 0, .frames_per_pose = 2,
-    .frame_period_us = 66667, .servo_speed_mrad_per_s = 5000};
 
 /* host/control/fuzzy.py FuzzyParams() */
 static const mg_fuzzy_params_t FUZZY_DEFAULTS = {1430, 5000, 1000, 150, 4096, 45};
@@ -82,7 +152,22 @@ void mg_task_params_default(mg_task_params_t *p)
     p->turn_wheel_mmps = 80;
     p->replan_period_us = 300000;
     p->sonar_sweep_us = 200000;
-    p->search = SEARCH_DEFAULTS;
+    mg_search_params_default(&p->search); /* host/search.py SearchParams() */
+    p->confirm_us = 700000;
+    p->lost_hold_us = 500000;
+    p->max_lost = 5;
+    p->wander_mmps = 200;
+    p->wander_clear_mm = 500;
+    p->sighting_match_mm = 200;
+    p->sonar_offset_mm = 170;
+    p->r_r_mm = 200;
+    p->sonar_a_g_mrad = 1050;
+    p->detour_mm = 500;
+    p->detour_clear_mm = 900;
+    p->hover_mm = 110;
+    p->lift_mm = 60;
+    p->pregrasp_back_mm = 50;
+    p->grasp_close_timeout_us = 2000000;
     p->posture_step_mrad = 20;
     /* eq. (10)'s gains of 000 section IV: 1, 0, 0 */
     p->posture.k_theta_q12[0] = 4096;
@@ -95,3 +180,19 @@ void mg_task_reason_as_is(const mg_task_t *t, const char *reason, char *out, siz
     (void)t;
     mg_task_text(out, cap, 0, reason);
 }
+
+uint32_t mg_task_detectors_needed(const mg_task_t *t)
+{
+    return t->state >= 0 && t->state < MG_N_TASK_STATES ? t->rules->detectors[t->state] : 0;
+}
+
+int32_t mg_task_detector_fallback(const mg_task_t *t, int32_t det)
+{
+    for (int32_t i = 0; i < t->rules->n_fallbacks && i < MG_MAX_FALLBACKS; i++)
+        if (t->rules->fallbacks[i].state == t->state && t->rules->fallbacks[i].detector == det)
+            return t->rules->fallbacks[i].primary;
+    return -1;
+}
+
+/* every method's frame fits the task's buffer */
+typedef char mg_frame002_fits[sizeof(mg_frame002_t) <= MG_FRAME_BYTES ? 1 : -1];

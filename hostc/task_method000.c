@@ -30,7 +30,7 @@ void mg_method000_params(mg_task_params_t *p)
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
-                       const mg_sighting_t *radial)
+                       const void *radial)
 {
     return mg_task_see_object(t, now_us, in, mg_task_sighting_position, radial, 1);
 }
@@ -47,8 +47,8 @@ void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap)
 /* "the mobile platform has to stop until the object is seen again" and the arm searches by
  * Fig. 5 (000 section III.B.2, III.C), theta2 in steps of the paper's d_theta2 from where the
  * camera looked: theta2s gives the camera the pitch alpha it had, in the search posture */
-void mg_method000_lost_search(const mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
-                              int32_t *theta5s_mrad)
+int mg_method000_lost_search(mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
+                             int32_t *theta5s_mrad)
 {
     const int32_t alpha = t->arm[2] + t->arm[3] + t->arm[4];
     int32_t th2s = alpha - sp->theta3_mrad - sp->theta4_mrad;
@@ -58,6 +58,7 @@ void mg_method000_lost_search(const mg_task_t *t, mg_search_params_t *sp, int32_
         sp->dense_cycles = 1;
     *theta2s_mrad = th2s;
     *theta5s_mrad = t->arm[5];
+    return 1;
 }
 
 /* "the object searching when lost is similar to ... Fig. 5" (000 section III.C) */

@@ -37,17 +37,17 @@ typedef struct {
 void mg_method000_ms_init(void *ms);
 void mg_method000_params(mg_task_params_t *p);
 void mg_method000_set_planner(mg_task_t *t, mg_planner000_fn planner, void *ctx);
-/* SEARCH: the radial symbol's sighting (its glue's pixel and depth) updates the estimate;
- * 1 when usable */
+/* SEARCH: the radial symbol's sighting (an mg_sighting_t: its glue's pixel and depth) updates
+ * the estimate; 1 when usable */
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
-                       const mg_sighting_t *radial);
+                       const void *radial);
 /* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
 void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap);
 /* SEARCH after a loss near the object (000 section III.B.2, III.C): the search's parameters
  * sp changed in place (at least one dense cycle) and its start: theta2s giving the camera the
- * pitch it had, in the search posture, and the waist where it was */
-void mg_method000_lost_search(const mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
-                              int32_t *theta5s_mrad);
+ * pitch it had, in the search posture, and the waist where it was; 1 */
+int mg_method000_lost_search(mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
+                             int32_t *theta5s_mrad);
 /* PRECISE_GRASP saw no spoke for waited_us at the hover: the first time in a run the object
  * is searched for (LOST, the transition made; 1), after that the grasp goes down on the rough
  * position (0) */

@@ -34,6 +34,7 @@ void mg_method001_params(mg_task_params_t *p)
     p->h_shoulder_mm = 108;
     p->grasp_r_mm = 120;
     p->grasp_r_tol_mm = 12;
+    p->hover_mm = 95;
     p->blind_finish_mm = 250;
     p->max_plan_attempts = 6;
 }

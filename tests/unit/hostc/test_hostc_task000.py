@@ -62,7 +62,10 @@ def _c_params(py: Task, c) -> None:
             p.posture.k_theta_q12[0:3] = list(pp.k_theta_q12)
             p.posture.margin_mode = ["printed", "limits"].index(pp.margin_mode)
             p.posture.max_step_mrad = 0
-        elif name != "fuzzy":
+        elif name == "object_xy_mm":
+            p.has_object_xy = len(py.p.object_xy_mm) == 2
+            p.object_xy_mm = py.p.object_xy_mm or (0, 0)
+        elif name not in ("fuzzy", "has_object_xy"):
             setattr(p, name, getattr(py.p, name))
 
 
@@ -182,7 +185,9 @@ def test_params_are_those_of_the_python_task(method):
             fz = FuzzyParams(**py.p.fuzzy)
             assert {f: getattr(c.p.fuzzy, f) for f, _ in FFI.typeof("mg_fuzzy_params_t").fields} \
                 == {f: getattr(fz, f) for f, _ in FFI.typeof("mg_fuzzy_params_t").fields}
-        else:
+        elif name == "object_xy_mm":
+            assert (tuple(c.p.object_xy_mm) if c.p.has_object_xy else ()) == py.p.object_xy_mm
+        elif name != "has_object_xy":
             assert getattr(c.p, name) == getattr(py.p, name), name
     assert (c.geom.l1_mm_q4, c.geom.l2_mm_q4, c.geom.l3_mm_q4) == (
         py.geom.l1_mm_q4, py.geom.l2_mm_q4, py.geom.l3_mm_q4)

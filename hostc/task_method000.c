@@ -137,6 +137,47 @@ static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_tr
     ms->planner(ms->planner_ctx, &req, traj, o);
 }
 
+/* the candidates' rejection reasons (host/planning/bezier_q.py REASONS, bezier.h's codes) in
+ * the order of their names, as candidates.py summarize_rejections lists them */
+static const char *const REJECTIONS[MG_N_REASONS] = {
+    "ok", "time_not_increasing", "speed", "accel", "radius", "grasp_circle", "obstacle",
+    "budget", "range"};
+static const int32_t BY_NAME[MG_N_REASONS - 1] = {3, 7, 5, 6, 4, 8, 2, 1};
+
+void mg_method000_plan000(void *ctx, const mg_plan000_request_t *req, mg_trajectory_t *traj,
+                          mg_plan_outcome_t *o)
+{
+    mg_plan000_ctx_t *c = (mg_plan000_ctx_t *)ctx;
+    mg_params000_t p = c->params;
+    p.standoff_q4 = req->standoff_mm * 16;
+    mg_planner000_start(&c->pl, &p, req->x_mm, req->y_mm, req->heading_mrad, req->v_mmps,
+                        req->obj_mm);
+    o->time_us = mg_ops_time_us(&c->pl.ops);
+    o->v_limit_mm_s = c->v_limit_mm_s;
+    o->has_path = c->pl.traj.n > 0;
+    if (o->has_path) {
+        memcpy(traj, &c->pl.traj, sizeof *traj);
+        mg_task_text(o->reason, sizeof o->reason, 0, REJECTIONS[0]);
+        return;
+    }
+    if (c->pl.plan.status == MG_PLAN_STANDOFF) {
+        mg_task_text(o->reason, sizeof o->reason, 0, "already within standoff of the object");
+        return;
+    }
+    size_t n = mg_task_text(o->reason, sizeof o->reason, 0, "no feasible candidate (");
+    int32_t listed = 0;
+    for (int32_t k = 0; k < MG_N_REASONS - 1; k++) {
+        const int32_t count = c->pl.plan.reasons[BY_NAME[k]];
+        if (count == 0)
+            continue;
+        n = mg_task_text(o->reason, sizeof o->reason, n, listed++ ? ", " : "");
+        n = mg_task_text(o->reason, sizeof o->reason, n, REJECTIONS[BY_NAME[k]]);
+        n = mg_task_text(o->reason, sizeof o->reason, n, ": ");
+        n = mg_task_text_int(o->reason, sizeof o->reason, n, count);
+    }
+    mg_task_text(o->reason, sizeof o->reason, n, ")");
+}
+
 static int sighting_usable(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     (void)t, (void)now_us, (void)in;

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "kinematics.h"
+#include "plan000.h"
 #include "search.h"
 #include "task_approach.h"
 #include "task_machine.h"
@@ -25,6 +26,20 @@ typedef struct {
  * best curve's reference table into traj, the outcome into o; ctx: its own parameters */
 typedef void (*mg_planner000_fn)(void *ctx, const mg_plan000_request_t *req,
                                  mg_trajectory_t *traj, mg_plan_outcome_t *o);
+
+/* The board's planner behind mg_planner000_fn (plan000.c, method000.py plan_follower):
+ * Params000 in integers (its stand-off replaced by the request's), the follower's wheel limit
+ * (the plan's Vmax, mm/s) and the planner's state; ctx of mg_method000_plan000 */
+typedef struct {
+    mg_params000_t params;
+    int32_t v_limit_mm_s;
+    mg_planner000_t pl;
+} mg_plan000_ctx_t;
+/* 000's plan of eqs. (4)-(9) of 000 for the request: the best curve's reference table, the
+ * plan's and the table's modelled time, the reason as plan_000 gives it ("ok", "already
+ * within standoff of the object", "no feasible candidate (accel: 3, speed: 10)") */
+void mg_method000_plan000(void *ctx, const mg_plan000_request_t *req, mg_trajectory_t *traj,
+                          mg_plan_outcome_t *o);
 
 /* What 000 keeps between steps (the task's ms, State000), and the planner its APPROACH plans
  * with (NULL: none, every plan fails "no planner") */

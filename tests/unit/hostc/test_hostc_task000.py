@@ -5,8 +5,9 @@ commands, arm targets, estimates, paths and charged planning time, hook by hook 
 hypothesis-made sequences, and the calls the Python task made in the shipped scenario
 paper000-exp1 replayed.
 
-The C's 000 planner is a declared interface (``mg_planner000_fn``): here it gives the C the
-plan the Python made for the same request, and the request is checked."""
+The C's 000 planner is the method state's ``mg_planner000_fn``: the board's
+(``mg_method000_plan000``, plan000.c) is held to Method000.plan and plans the replay; the step
+by step test gives both tasks the same drawn plans and checks the requests."""
 
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
+from test_hostc_planning import _params000_c
 from test_hostc_task import recorded_run, recorder, replay_remember
 
 from mobigrasp import hostc
@@ -24,11 +26,12 @@ from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.fuzzy import FuzzyParams
 from mobigrasp.host.control.path_follow import PathFollower
 from mobigrasp.host.kinematics import PAPER_000
+from mobigrasp.host.planning.bezier000 import Params000
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task import Task, TaskInputs, machine
 from mobigrasp.host.task.adjust import ADJUST, AdjustState
 from mobigrasp.host.task.approach import PATH, ApproachStates
-from mobigrasp.host.task.method000 import Method000
+from mobigrasp.host.task.method000 import Method000, plan_follower
 from mobigrasp.host.task.sense import CAMERA_000
 from mobigrasp.host.vision import registry
 
@@ -160,6 +163,42 @@ class Planner:
         self.c_requests.append(_request_c(req))
         _fill_plan(traj, o, self.plans[self.c_at % len(self.plans)])
         self.c_at += 1
+
+
+def _board_planner(p) -> tuple:
+    """The board's 000 planner (mg_method000_plan000) on the task parameters ``p``, as
+    Method000.plan makes its Params000: (function, ctx)."""
+    pp = Params000(**{"standoff_m": p.approach_standoff_mm / 1000, **p.planner})
+    ctx = FFI.new("mg_plan000_ctx_t *")
+    ctx.params = _params000_c(pp)[0]
+    ctx.v_limit_mm_s = int(round(pp.v_max * 1000))
+    return FFI.addressof(C, "mg_method000_plan000"), ctx
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 10**9), st.tuples(NEAR, NEAR, st.integers(-3142, 3141),
+                                        st.integers(-300, 300)),
+       st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)), st.integers(0, 1500),
+       st.fixed_dictionaries({}, optional={
+           "v0": st.sampled_from([0.05, 0.12, 0.2]), "a_max": st.sampled_from([0.01, 0.04, 0.1]),
+           "r_min": st.sampled_from([0.1, 0.3, 1.0]), "t_s": st.sampled_from([0.1, 0.3]),
+           "k1": st.sampled_from([0.0, 0.5, 2.0])}))
+def test_the_board_planner_of_000(now, xyhv, obj, standoff_mm, planner):
+    """The board's planner behind mg_planner000_fn (plan000.c) gives what Method000.plan gives
+    the task: the same reference table, wheel limit, modelled time and reason."""
+    py = Task("000", params={"approach_standoff_mm": standoff_mm, "planner": planner})
+    fn, ctx = _board_planner(py.p)
+    req = FFI.new("mg_plan000_request_t *", (now, *xyhv, obj, standoff_mm))
+    traj, o = FFI.new("mg_trajectory_t *"), FFI.new("mg_plan_outcome_t *")
+    fn(ctx, req, traj, o)
+    pp = Params000(**{"standoff_m": standoff_mm / 1000, **planner})
+    follower, ops, detail = plan_follower(now, *xyhv, obj, pp)
+    assert (FFI.string(o.reason).decode(), o.time_us, bool(o.has_path)) == (
+        detail["reason"], ops.time_us(), follower is not None)
+    if follower is not None:
+        assert o.v_limit_mm_s == follower.v_limit_mm_s
+        for name in ("t_us", "x_um", "y_um", "heading_mrad", "v_mm_s", "w_mrad_s"):
+            assert list(getattr(traj, name))[:traj.n] == list(getattr(follower.traj, name))
 
 
 @pytest.mark.parametrize("method", ["000", "001", "002"])
@@ -592,19 +631,18 @@ def replay_path_task(calls: list, method: str, setup, c_approach) -> dict:
 
 
 def _replay000(calls: list) -> dict:
-    """000's calls replayed, its plans as the Python made them."""
-    planner = Planner([r[2] for r in calls if r[0] == "plan"])
-    counts = replay_path_task(
-        calls, "000", lambda c: C.mg_method000_set_planner(c, planner.callback, FFI.NULL),
-        C.mg_method000_approach)
-    assert planner.c_requests == [r[1] for r in calls if r[0] == "plan"]
-    return counts
+    """000's calls replayed, the C planning with the board's planner (plan000.c) on the run's
+    parameters."""
+    fn, ctx = _board_planner(next(r[1] for r in calls if r[0] == "enter_approach"))
+    return replay_path_task(calls, "000", lambda c: C.mg_method000_set_planner(c, fn, ctx),
+                            C.mg_method000_approach)
 
 
 def test_replay_of_paper000_exp1(tmp_path):
     """The calls the Python task made in paper000-exp1 replayed on the C task with the same
-    inputs: SEARCH's sighting, APPROACH's path (its plan charged in slices, followed to its
-    end) and ADJUST step by step give the same outputs, call by call."""
+    inputs: SEARCH's sighting, APPROACH's path (planned by the board's planner, its plan
+    charged, followed to its end) and ADJUST step by step give the same outputs, call by
+    call."""
     calls = recorded_run(tmp_path, "paper000-exp1", _record000)
     counts = _replay000(calls)
     assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts

@@ -8,51 +8,32 @@
 #include "task_method001.h"
 #include "task_method002.h"
 
+/* the hooks 001 takes from 000 (Method001 is a Method000): 000's vision, ADJUST and grasp */
+#define HOOKS_000                                                                          \
+    .failure_reason = mg_task_reason_as_is, .look_height_mm = mg_method000_look_height_mm,  \
+    .adjust_detector = "dual_plus", .adjust_position = mg_task_sighting_position,           \
+    .adjust_is_object = 1, .adjust_done = mg_method000_adjust_done,                         \
+    .adjust_goal_mm = mg_method000_adjust_goal_mm,                                          \
+    .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps, .found = mg_method000_found,         \
+    .found_why = mg_method000_found_why, .keeps_sightings = 1,                              \
+    .object_detectors = "dual_plus, radial_symbol", .grasp_ik = mg_method000_grasp_ik,      \
+    .lowers_hover = 1, .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD, .camera = {611, 160, 120}
+
 const mg_task_method_t mg_task_methods[] = {
     {.name = "000",
      .ms_bytes = sizeof(mg_state000_t),
      .ms_init = mg_method000_ms_init,
      .params = mg_method000_params,
-     .failure_reason = mg_task_reason_as_is,
+     HOOKS_000,
      .guard_wheels = mg_sonar_guard_step,
-     .look_height_mm = mg_method000_look_height_mm,
-     .adjust_detector = "dual_plus",
-     .adjust_position = mg_task_sighting_position,
-     .adjust_is_object = 1,
-     .adjust_done = mg_method000_adjust_done,
-     .adjust_goal_mm = mg_method000_adjust_goal_mm,
-     .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps,
-     .found = mg_method000_found,
-     .found_why = mg_method000_found_why,
      .lost_search = mg_method000_lost_search,
-     .keeps_sightings = 1,
-     .object_detectors = "dual_plus, radial_symbol",
-     .grasp_ik = mg_method000_grasp_ik,
-     .lowers_hover = 1,
-     .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD,
-     .camera = {611, 160, 120},
      .geom = {1528, 1424, 1552},
      .path = &mg_path000},
     {.name = "001",
      .ms_bytes = sizeof(mg_state001_t),
      .ms_init = mg_method001_ms_init,
      .params = mg_method001_params,
-     .failure_reason = mg_task_reason_as_is,
-     .look_height_mm = mg_method000_look_height_mm,
-     .adjust_detector = "dual_plus",
-     .adjust_position = mg_task_sighting_position,
-     .adjust_is_object = 1,
-     .adjust_done = mg_method000_adjust_done,
-     .adjust_goal_mm = mg_method000_adjust_goal_mm,
-     .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps,
-     .found = mg_method000_found,
-     .found_why = mg_method000_found_why,
-     .keeps_sightings = 1,
-     .object_detectors = "dual_plus, radial_symbol",
-     .grasp_ik = mg_method000_grasp_ik,
-     .lowers_hover = 1,
-     .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD,
-     .camera = {611, 160, 120},
+     HOOKS_000,
      .geom = {2560, 2560, 3200},
      .path = &mg_path001},
     {.name = "002",

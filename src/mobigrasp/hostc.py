@@ -30,7 +30,8 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "task_adjust.h", "control_points.h", "grasp_circle.h", "anytime.h",
            "bezier.h", "candidates.h", "plan000.h", "blocked_q.h",
            "escape.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
-           "app_factory.h", "task_paper.h")
+           "app_factory.h", "task_paper.h", "task_path.h", "task_approach.h",
+           "task_method000.h", "task_method001.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -45,7 +46,8 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "plan000.c", HOSTC / "blocked_q.c",
            HOSTC / "escape.c", HOSTC / "clearance.c", HOSTC / "sonar_guard.c",
            HOSTC / "task_search.c", HOSTC / "task_grasp.c", HOSTC / "held_fill.c",
-           HOSTC / "app_factory.c", HOSTC / "task_paper.c", PROTOCOL / "joints.c",
+           HOSTC / "app_factory.c", HOSTC / "task_paper.c", HOSTC / "task_approach.c",
+           HOSTC / "task_method000.c", HOSTC / "task_method001.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

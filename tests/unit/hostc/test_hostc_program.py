@@ -14,7 +14,7 @@ import shutil
 import subprocess
 
 import pytest
-from rig_fakes import BufferPort
+from rig_fakes import BufferPort, mcu_script
 
 from mobigrasp import hostc
 from mobigrasp.calib import armhost, corpus
@@ -51,24 +51,6 @@ def _read_master(fd: int, n: int) -> bytes:
     return out
 
 
-def _mcu(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
-    """The MCU's bytes in [t, until): HELLO_ACK at 4 ms, telemetry every 10 ms, an ACK now and
-    then, a reset at 400 ms."""
-    out = []
-    for at in range(t_us - t_us % 1000, until_us, 1000):
-        if not t_us <= at < until_us:
-            continue
-        if at == 4000:
-            out.append((at, m.encode_message(m.HelloAck(1, "atmega128-fw"), 0)))
-        if at % 10_000 == 5000:
-            flags = m.FLAG_RESET if at == 405_000 else m.FLAG_HANDSHAKE
-            out.append((at, m.encode_message(m.Telemetry(at, 0, 0, (1500,) * 6, (2500,) * 5,
-                                                         flags, 0, 0, 0, 0), 1)))
-        if at % 70_000 == 33_000:
-            out.append((at, m.encode_message(m.Ack(at // 70_000), 2)))
-    return out
-
-
 def _native() -> list[str]:
     return [str(hostc.executable())]
 
@@ -82,14 +64,14 @@ def _armv4t() -> list[str]:
 
 def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame) -> int:
     """The same grants to the C program (host) and the Python host program (app): 5 ms quanta,
-    one of 23 ms, the MCU's bytes of :func:`_mcu` and a camera frame every 66 ms (frame(at):
+    one of 23 ms, the MCU's bytes of :func:`rig_fakes.mcu_script` and a camera frame every 66 ms (frame(at):
     width, height, pixels); their DONEs and serial bytes compared. Returns the end time."""
     port = BufferPort()
     client = LockstepClient(app, port)
     t = 0
     for k in range(quanta):
         until = t + (23_000 if k == 50 else 5_000)
-        chunks = _mcu(t, until)
+        chunks = mcu_script(t, until)
         frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, *frame(at)[:2], 3, frame(at)[2])
                        for at in range(t - t % 66_000 + 66_000, until, 66_000))
         grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)

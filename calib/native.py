@@ -112,24 +112,55 @@ def radial_symbol(grey_img: np.ndarray, stats: np.ndarray, f_px: int = 611, u0_p
                   v0_px: int = 120) -> tuple[int, ...] | None:
     """(u_q4, v_q4, diameter_q4, y_oc_mm, x_oc_mm, z_oc_mm) of the radial symbol, from the
     front end's grey image and component stats, or None."""
+    return radial_symbol_counted(grey_img, stats, f_px, u0_px, v0_px)[0]
+
+
+def radial_symbol_counted(grey_img: np.ndarray, stats: np.ndarray, f_px: int = 611,
+                          u0_px: int = 160, v0_px: int = 120
+                          ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`radial_symbol` and the operation counts it charged (:func:`ops_tuple`), the
+    front end's apart."""
     ffi, c = lib()
     g = np.ascontiguousarray(grey_img)
     h, w = g.shape
     st = np.ascontiguousarray(stats, np.int32)
     scratch = np.empty(c.mg_radial_scratch_bytes(w, h) // 4 + 1, np.int32)
     out = np.zeros(6, np.int32)
+    ops = ffi.new("mg_ops_t *")
     found = c.mg_radial_symbol(_ptr(ffi, g, "uint8_t *"), w, h, _ptr(ffi, st, "int32_t *"),
                                len(st), f_px, u0_px, v0_px, _ptr(ffi, scratch, "uint8_t *"),
-                               _ptr(ffi, out, "int32_t *"))
-    return tuple(int(v) for v in out) if found else None
+                               _ptr(ffi, out, "int32_t *"), ops)
+    return (tuple(int(v) for v in out) if found else None), ops_tuple(ops)
 
 
 def detect_radial_symbol(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
                          v0_px: int = 120) -> tuple[int, ...] | None:
     """The whole detector in C: grey, dark mask, labelling, radial symbol."""
-    m, _ = dark_mask(grey(rgb))
+    return detect_radial_symbol_counted(rgb, f_px, u0_px, v0_px)[0]
+
+
+def front_end_ops(h: int, w: int) -> tuple[int, ...]:
+    """What the C front end of the 000 detectors (grey, dark mask, labelling) charges on an
+    h x w frame (:func:`ops_tuple`)."""
+    ffi, c = lib()
+    o = ffi.new("mg_ops_t *")
+    c.mg_grey_ops(o, h, w)
+    c.mg_dark_mask_ops(o, h * w)
+    c.mg_components_ops(o, h * w)
+    return ops_tuple(o)
+
+
+def detect_radial_symbol_counted(rgb: np.ndarray, f_px: int = 611, u0_px: int = 160,
+                                 v0_px: int = 120
+                                 ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`detect_radial_symbol` and the operation counts it charged, the front end's
+    included, as host/vision/radial_symbol.py charges them."""
+    g = grey(rgb)
+    m, _ = dark_mask(g)
     _, _, stats = label(m)
-    return radial_symbol(grey(rgb), stats, f_px, u0_px, v0_px)
+    res, ops = radial_symbol_counted(g, stats, f_px, u0_px, v0_px)
+    fe = front_end_ops(rgb.shape[0], rgb.shape[1])
+    return res, tuple(a + b for a, b in zip(ops, fe, strict=True))
 
 
 def ops_tuple(ops) -> tuple[int, ...]:

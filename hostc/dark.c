@@ -33,3 +33,16 @@ int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t 
         mask[i] = grey[i] < tb;
     return t;
 }
+
+void mg_dark_mask_ops(mg_ops_t *o, int64_t n_px)
+{
+    /* the histogram pass (a read, the bin's load, increment and store, the loop: 11 cycles),
+     * the mask pass (read, compare, store, loop: 10), both fetching the grey image from SDRAM,
+     * the level search over 256 bins (host/vision/dark_blobs.py dark_mask_cost) */
+    o->pixels_read += 2 * n_px;
+    o->pixels_written += 2 * n_px;
+    o->luts += n_px;
+    o->alu += 7 * n_px + 512;
+    o->branches += 2 * n_px + 256;
+    o->bytes_streamed += 2 * n_px;
+}

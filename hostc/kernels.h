@@ -18,6 +18,9 @@ void mg_grey_ops(mg_ops_t *o, int32_t h, int32_t w);
  * the pixels, times 45/100, clamped to 40..130) and the 0/1 mask grey < threshold
  * (host/vision/dark_blobs.py dark_mask); returns the threshold. hist: 256 words of scratch. */
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
+/* adds to *o what mg_dark_mask charges on n_px pixels (host/vision/dark_blobs.py
+ * dark_mask_cost) */
+void mg_dark_mask_ops(mg_ops_t *o, int64_t n_px);
 
 /* label.c: 8-connected components of a 0/1 mask, numbered and measured as OpenCV's
  * connectedComponentsWithStats does (labels in the order of each component's first 2x2 block
@@ -41,11 +44,13 @@ int mg_edge_q4(const uint8_t *line, int32_t stride, int32_t n, int32_t i_dark, i
 /* radial_symbol.c: the 000 radial symbol from the front end's grey image and component stats
  * (host/vision/radial_symbol.py detect_radial_symbol). out: u_q4, v_q4, diameter_q4, y_oc_mm,
  * x_oc_mm, z_oc_mm. scratch: mg_radial_scratch_bytes(w, h) bytes, 4-byte aligned. Returns 1
- * when found, 0 when not. */
+ * when found, 0 when not. ops (NULL: not wanted): the operation counts the Python detector
+ * charges for the same frame, its front end apart (mg_grey_ops, mg_dark_mask_ops,
+ * mg_components_ops). */
 int32_t mg_radial_scratch_bytes(int32_t w, int32_t h);
 int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_t *stats,
                          int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
-                         uint8_t *scratch, int32_t *out);
+                         uint8_t *scratch, int32_t *out, mg_ops_t *ops);
 
 /* red_cylinder.c: the 002 red cylinder and its two rings from the RGB frame
  * (host/vision/red_cylinder.py detect_red_cylinder). out: u_c_q4, v_c_q4, ring1_v_q4,

@@ -65,14 +65,33 @@ static void box_sums(const uint8_t *grey, int32_t W, int32_t xa, int32_t xe, int
     }
 }
 
+/* Flood the light pixels of m (bw x bh) 4-connected to pixel i (set to 0; to `mark` when
+ * nonzero), i itself included when m[i] is 1 */
+static void flood(uint8_t *m, int32_t bw, int32_t bh, int32_t i, uint8_t mark, int32_t *stack)
+{
+    int32_t top = 0;
+    m[i] = mark;
+    stack[top++] = ((i / bw) << 16) | (i % bw);
+    /* the stack holds (y << 16) | x: no division per pixel (boxes are under 65536 px wide) */
+    while (top > 0) {
+        int32_t p = stack[--top], x = p & 0xFFFF, y = p >> 16, j = y * bw + x;
+        if (x > 0 && m[j - 1] == 1) { m[j - 1] = mark; stack[top++] = p - 1; }
+        if (x + 1 < bw && m[j + 1] == 1) { m[j + 1] = mark; stack[top++] = p + 1; }
+        if (y > 0 && m[j - bw] == 1) { m[j - bw] = mark; stack[top++] = p - (1 << 16); }
+        if (y + 1 < bh && m[j + bw] == 1) { m[j + bw] = mark; stack[top++] = p + (1 << 16); }
+    }
+}
+
 /* The enclosed interior of component k in its box (bx, by, bw, bh) of the local labels
  * (stride lw): light pixels (not k) 4-connected to no pixel of the box's border. Writes sel
- * (pixels of k) and inner, bw x bh each; returns the interior's area. */
+ * (pixels of k) and inner, bw x bh each; returns the interior's area, and in *regions the
+ * box's 4-connected light regions plus one (the labels radial_symbol.py's ring test charges
+ * for) */
 static int32_t enclosed(const int32_t *lab, int32_t lw, int32_t k, int32_t bx, int32_t by,
-                        int32_t bw, int32_t bh, uint8_t *sel, uint8_t *inner, int32_t *stack)
+                        int32_t bw, int32_t bh, uint8_t *sel, uint8_t *inner, int32_t *stack,
+                        int32_t *regions)
 {
     const int32_t n = bw * bh;
-    int32_t top = 0;
     for (int32_t y = 0; y < bh; y++) {
         const int32_t *lr = lab + (by + y) * lw + bx;
         for (int32_t x = 0; x < bw; x++) {
@@ -80,28 +99,29 @@ static int32_t enclosed(const int32_t *lab, int32_t lw, int32_t k, int32_t bx, i
             inner[y * bw + x] = lr[x] != k; /* light: interior until reached from the border */
         }
     }
-    /* the stack holds (y << 16) | x: no division per pixel (boxes are under 65536 px wide) */
+    int32_t count = 1;
     for (int32_t y = 0; y < bh; y++) {
         for (int32_t x = 0; x < bw; x++) {
             if (y != 0 && y != bh - 1 && x != 0 && x != bw - 1)
                 continue;
             int32_t i = y * bw + x;
-            if (inner[i]) {
-                inner[i] = 0;
-                stack[top++] = (y << 16) | x;
+            if (inner[i] == 1) {
+                flood(inner, bw, bh, i, 0, stack);
+                count++;
             }
         }
     }
-    while (top > 0) {
-        int32_t p = stack[--top], x = p & 0xFFFF, y = p >> 16, i = y * bw + x;
-        if (x > 0 && inner[i - 1]) { inner[i - 1] = 0; stack[top++] = p - 1; }
-        if (x + 1 < bw && inner[i + 1]) { inner[i + 1] = 0; stack[top++] = p + 1; }
-        if (y > 0 && inner[i - bw]) { inner[i - bw] = 0; stack[top++] = p - (1 << 16); }
-        if (y + 1 < bh && inner[i + bw]) { inner[i + bw] = 0; stack[top++] = p + (1 << 16); }
-    }
     int32_t total = 0;
+    for (int32_t i = 0; i < n; i++) {
+        if (inner[i] == 1) { /* an enclosed region: counted, marked 2, then back to 1 */
+            flood(inner, bw, bh, i, 2, stack);
+            count++;
+        }
+        total += inner[i] != 0;
+    }
     for (int32_t i = 0; i < n; i++)
-        total += inner[i];
+        inner[i] = inner[i] != 0;
+    *regions = count;
     return total;
 }
 
@@ -149,17 +169,33 @@ static int32_t line_max(const uint8_t *line, int32_t a, int32_t b)
     return m;
 }
 
+/* the operation counts of n sub-pixel edges (host/vision/dark_blobs.py EDGE_OPS) */
+static void edge_ops(mg_ops_t *o, int32_t n)
+{
+    o->pixels_read += 14 * n;
+    o->alu += 30 * n;
+    o->branches += 10 * n;
+    o->divs += n;
+}
+
+/* the ring's centre, diameter and position (out), or 0 when it is not an ellipse; adds to *o
+ * what radial_symbol.py's _measure charges */
 static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi,
                    const uint8_t *inner, int32_t xi, int32_t yi, int32_t wi, int32_t hi,
-                   int32_t f_px, int32_t u0_px, int32_t v0_px, int32_t *out)
+                   int32_t f_px, int32_t u0_px, int32_t v0_px, int32_t *out, mg_ops_t *o)
 {
     int32_t v_q4, l, r = 0, b0 = 0, b1 = 0, have = 0;
+    o->pixels_read += (int64_t)wi * hi;
+    o->alu += (int64_t)wi * hi;
+    o->branches += hi;
+    edge_ops(o, 4);
     if (!interior_v_q4(grey, W, H, inner, xi, yi, wi, hi, xi + wi / 2, &v_q4))
         return 0;
     int32_t r0 = mg_floordiv(v_q4 + 8, 16) - yi;
     for (int32_t row = r0 - 1; row <= r0 + 1; row++) {
         if (row < 0 || row >= hi || !row_span(roi + row * wi, wi, &l, &r))
             continue;
+        edge_ops(o, 2);
         int32_t lq, rq;
         const uint8_t *line = grey + (yi + row) * W;
         if (!mg_edge_q4(line, 1, W, xi + l, -1, &lq) || !mg_edge_q4(line, 1, W, xi + r, +1, &rq))
@@ -204,6 +240,9 @@ static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi
     }
     if (2 * ring_sum * n_in >= in_sum * n_ring)
         return 0;
+    o->pixels_read += (int64_t)wi * hi;
+    o->alu += 2 * (int64_t)wi * hi;
+    o->muls32 += 2;
     int32_t hr = imin(hi, imax(1, mg_floordiv(2 * v_q4 - 32 * yi + 16, 16) + 1));
     int32_t filled = 0;
     for (int32_t i = 0; i < hr * wi; i++)
@@ -213,6 +252,10 @@ static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi
           && SPAN_MIN_PCT * wi <= 100 * span && 100 * span <= SPAN_MAX_PCT * wi))
         return 0;
     int32_t y_mm = mg_div_round((int64_t)L_MM * f_px * 16, d_q4);
+    o->divs += 3;
+    o->muls32 += 4;
+    o->alu += 30;
+    o->pixels_read += 2 * wi;
     out[0] = u_q4;
     out[1] = v_q4;
     out[2] = d_q4;
@@ -224,8 +267,20 @@ static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi
 
 int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_t *stats,
                          int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
-                         uint8_t *scratch, int32_t *out)
+                         uint8_t *scratch, int32_t *out, mg_ops_t *ops)
 {
+    static mg_ops_t unread; /* the counts when the caller wants none: never read */
+    mg_ops_t *o = ops != 0 ? ops : &unread;
+    if (ops != 0) {
+        /* field by field: no struct copy or initialiser (gcc makes those library calls) */
+        o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
+        o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
+        /* the candidate scan: a call's set-up, the filter per component and, with any
+         * component, the first line fills of the stats table and candidate list */
+        const int32_t n_st = n_lab > 1 ? n_lab - 1 : 0;
+        o->alu = 100 + 12 * n_st + (n_st > 0 ? 150 : 0);
+        o->branches = 2 * n_st;
+    }
     scratch_t s = carve(scratch, W, H);
     int32_t cand[MAX_CANDIDATES], n_cand = 0;
     /* candidates: wide, not solid, not too near; widest first (stable), at most 12 */
@@ -257,6 +312,12 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
         int32_t xa = imax(0, x0 - 1), xe = imin(W, x1 + 1);
         int32_t lw = x1 - x0, lh = y1 - y0, ln = lw * lh;
         box_sums(grey, W, xa, xe, y0, y1, x0, x1, s.sums);
+        /* the 1x3 sums with the clamped edge columns and the min/max pass */
+        o->pixels_read += 4 * (int64_t)ln;
+        o->pixels_written += ln;
+        o->alu += 22 * (int64_t)ln;
+        o->branches += 2 * (int64_t)ln;
+        o->bytes_streamed += ln;
         int32_t lo = 32767, hi = -1;
         for (int32_t i = 0; i < ln; i++) {
             if (s.sums[i] < lo) lo = s.sums[i];
@@ -267,7 +328,12 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
             int32_t touched = 4 * ln;
             int found = 0;
             int32_t bx = 0, by = 0, bw = 0, bh = 0;
+            o->pixels_read += 4 * (int64_t)ln;
+            o->alu += 6 * (int64_t)ln;
             if (hi - lo >= 3 * MIN_CONTRAST) {
+                mg_components_ops(o, ln);
+                o->pixels_written += ln;
+                o->divs += 1;
                 int32_t t = lo + (hi - lo) / den;
                 for (int32_t i = 0; i < ln; i++)
                     s.lmask[i] = s.sums[i] < t;
@@ -281,14 +347,27 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
                             && 10 * ls[2] >= 8 * w && (k < 0 || ls[2] > s.lstats[5 * k + 2]))
                         k = j;
                 }
+                if (nl >= 2) {
+                    o->alu += 10 * (int64_t)nl;
+                    o->branches += nl;
+                }
                 if (nl >= 2 && k > 0) {
                     const int32_t *ls = s.lstats + 5 * k;
                     bx = ls[0];
                     by = ls[1];
                     bw = ls[2];
                     bh = ls[3];
+                    int32_t regions;
                     int32_t total = enclosed(s.llabels, lw, k, bx, by, bw, bh, s.sel, s.inner,
-                                             s.stack);
+                                             s.stack, &regions);
+                    /* the ring test: the box's copy, the flood from its border, the count */
+                    const int64_t nb = (int64_t)bw * bh;
+                    o->pixels_read += 8 * nb;
+                    o->pixels_written += 3 * nb;
+                    o->luts += 4 * nb;
+                    o->alu += 38 * nb + 8 * (int64_t)regions;
+                    o->branches += 8 * nb + 2 * (int64_t)regions;
+                    o->bytes_streamed += 8 * nb;
                     touched += 4 * bw * bh;
                     found = total >= 4 && 25 * total >= bw * bh;
                     if (found) {
@@ -303,7 +382,7 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
             if (budget < 0)
                 return 0;
             if (found && measure(grey, W, H, s.sel, s.inner, x0 + bx, y0 + by, bw, bh, f_px,
-                                 u0_px, v0_px, out))
+                                 u0_px, v0_px, out, o))
                 return 1;
         }
     }

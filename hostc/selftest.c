@@ -224,7 +224,7 @@ static void vision(void)
         for (int i = 0; i < 6; i++)
             out[i] = 0;
         int32_t r = mg_radial_symbol(grey, W, H, stats, n_lab, 611, 160, 120,
-                                     (uint8_t *)scratch, out);
+                                     (uint8_t *)scratch, out, NULL);
         report("radial_symbol", r, fnv_i32(FNV0, out, 6));
     }
 

@@ -59,9 +59,10 @@ def _check_calls(folder, calls) -> int:
     for c in calls:
         rgb = corpus.load_frame(folder, {"file": c.frame_file, "sha256": _sha(folder, c)})
         if c.detector == "radial_symbol":
-            res, _ = radial_symbol.detect_radial_symbol(rgb, *c.camera)
+            res, ops = radial_symbol.detect_radial_symbol(rgb, *c.camera)
             want = None if res is None else dataclasses.astuple(res)
-            assert native.detect_radial_symbol(rgb, *c.camera) == want, c.frame_file
+            got = native.detect_radial_symbol_counted(rgb, *c.camera)
+            assert got == (want, ops.as_tuple()), c.frame_file  # the result and its charge
             found += want is not None
         elif c.detector == "dual_plus":
             res, _ = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)
@@ -302,9 +303,9 @@ def test_radial_symbol_local_budget_matches(monkeypatch):
     decided = 0
     for seed in range(40):
         rgb = _open_rings_frame(seed)
-        res, _ = radial_symbol.detect_radial_symbol(rgb)
+        res, ops = radial_symbol.detect_radial_symbol(rgb)
         want = None if res is None else dataclasses.astuple(res)
-        assert native.detect_radial_symbol(rgb) == want, seed
+        assert native.detect_radial_symbol_counted(rgb) == (want, ops.as_tuple()), seed
         with monkeypatch.context() as m:  # no budget: the ring is found on more frames
             m.setattr(radial_symbol, "LOCAL_BUDGET_NUM", 1000)
             m.setattr(dark_blobs, "_LAST_FRONT_END", [None])

@@ -64,7 +64,8 @@ def _armv4t() -> list[str]:
 
 def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame) -> int:
     """The same grants to the C program (host) and the Python host program (app): 5 ms quanta,
-    one of 23 ms, the MCU's bytes of :func:`rig_fakes.mcu_script` and a camera frame every 66 ms (frame(at):
+    one of 23 ms, the MCU's bytes of :func:`rig_fakes.mcu_script` and a camera frame every
+    66 ms (frame(at):
     width, height, pixels); their DONEs and serial bytes compared. Returns the end time."""
     port = BufferPort()
     client = LockstepClient(app, port)

@@ -28,7 +28,6 @@ from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.task.machine import TaskOutputs
 from mobigrasp.protocol import messages as m
 from mobigrasp.protocol.frame import FrameParser
-from mobigrasp.services.corpus import record
 from mobigrasp.services.run_job import host_config, resolve_scenario
 
 
@@ -183,14 +182,12 @@ def test_free_running_program_opens_the_session_and_keeps_it_alive():
 
 
 @pytest.fixture(scope="module")
-def marker_frames(tmp_path_factory) -> list[tuple[int, int, bytes]]:
-    """The camera frames of the first 4 s of paper002-marker, in order: the board's double
-    cross from the start pose, then nearer."""
-    folder = tmp_path_factory.mktemp("marker")
-    idx = record(folder, ["paper002-marker"], time_limit_s=4.0)
+def marker_frames(marker_slice) -> list[tuple[int, int, bytes]]:
+    """The camera frames of the first 4 s of paper002-marker (conftest.py), in order: the
+    board's double cross from the start pose, then nearer."""
     out = []
-    for fr in idx["frames"]:
-        rgb = corpus.load_frame(folder, fr)
+    for fr in corpus.read_index(marker_slice)["frames"]:
+        rgb = corpus.load_frame(marker_slice, fr)
         out.append((rgb.shape[1], rgb.shape[0], rgb.tobytes()))
     assert len(out) >= 8
     return out

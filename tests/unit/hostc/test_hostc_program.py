@@ -14,7 +14,7 @@ import shutil
 import subprocess
 
 import pytest
-from rig_fakes import BufferPort
+from rig_fakes import BufferPort, scripted_grants
 
 from mobigrasp import hostc
 from mobigrasp.calib import armhost, corpus
@@ -50,24 +50,6 @@ def _read_master(fd: int, n: int) -> bytes:
     return out
 
 
-def _mcu(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
-    """The MCU's bytes in [t, until): HELLO_ACK at 4 ms, telemetry every 10 ms, an ACK now and
-    then, a reset at 400 ms."""
-    out = []
-    for at in range(t_us - t_us % 1000, until_us, 1000):
-        if not t_us <= at < until_us:
-            continue
-        if at == 4000:
-            out.append((at, m.encode_message(m.HelloAck(1, "atmega128-fw"), 0)))
-        if at % 10_000 == 5000:
-            flags = m.FLAG_RESET if at == 405_000 else m.FLAG_HANDSHAKE
-            out.append((at, m.encode_message(m.Telemetry(at, 0, 0, (1500,) * 6, (2500,) * 5,
-                                                         flags, 0, 0, 0, 0), 1)))
-        if at % 70_000 == 33_000:
-            out.append((at, m.encode_message(m.Ack(at // 70_000), 2)))
-    return out
-
-
 def _native() -> list[str]:
     return [str(hostc.executable())]
 
@@ -79,20 +61,13 @@ def _armv4t() -> list[str]:
     return ["qemu-arm", "-cpu", "ti925t", str(armhost.build_elf())]
 
 
-def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame) -> int:
-    """The same grants to the C program (host) and the Python host program (app): 5 ms quanta,
-    one of 23 ms, the MCU's bytes of :func:`_mcu` and a camera frame every 66 ms (frame(at):
-    width, height, pixels); their DONEs and serial bytes compared. Returns the end time."""
+def _serve_both(host: SocketHost, master: int, app: HostApp, grants) -> int:
+    """The same grants (rig_fakes.scripted_grants: grant, its UART bytes) to the C program
+    (host) and the Python host program (app), their DONEs and serial bytes compared; the end
+    time."""
     port = BufferPort()
     client = LockstepClient(app, port)
-    t = 0
-    for k in range(quanta):
-        until = t + (23_000 if k == 50 else 5_000)
-        chunks = _mcu(t, until)
-        frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, *frame(at)[:2], 3, frame(at)[2])
-                       for at in range(t - t % 66_000 + 66_000, until, 66_000))
-        grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
-        data = b"".join(b for _, b in chunks)
+    for k, (grant, data) in enumerate(grants):
         os.write(master, data)
         port.rx += data
         want = client.serve(grant)
@@ -102,8 +77,7 @@ def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame)
         assert got == ls.decode(ls.encode(want)), (k, got, want)
         assert _read_master(master, got.write_bytes) == bytes(port.tx)
         port.tx.clear()
-        t = until
-    return t
+    return grant.until_us
 
 
 @pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
@@ -113,8 +87,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
     host.verify_elided = True  # every grant is served and its DONE compared with the predicted
     try:
         app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
-        t = _serve_both(host, master, app, 160, lambda at: (32, 24,
-                                                             bytes([at % 251]) * (32 * 24 * 3)))
+        t = _serve_both(host, master, app, scripted_grants())
         bye = host.finish(ls.End(t, "test over"))
         st = app.stats()
         assert bye.stats["control_steps"] == st["control_steps"] > 0
@@ -206,8 +179,8 @@ def test_the_c_program_runs_002_as_the_python_host(program, marker_frames, tmp_p
     host.verify_elided = True
     try:
         app = build_host_app(cfg)
-        t = _serve_both(host, master, app, 200,
-                        lambda at: marker_frames[(at // 66_000) % len(marker_frames)])
+        t = _serve_both(host, master, app, scripted_grants(
+            frame=lambda at: marker_frames[(at // 66_000) % len(marker_frames)]))
         bye = host.finish(ls.End(t, "test over"))
         st = app.stats()
         for key in ("control_steps", "frames_received", "frames_processed", "frames_dropped",

@@ -9,9 +9,6 @@
 
 #include "budget.h" /* mg_ops_t: what a kernel call charges on the ARM920T */
 
-/* adds the counts named (designated initialisers, as host/budget.py OpCounts(alu=...)) to *o */
-#define MG_OPS_ADD(o, ...) (*(o) = mg_ops_add(*(o), (mg_ops_t){__VA_ARGS__}))
-
 /* grey.c: Y = (77 R + 150 G + 29 B) >> 8 of an interleaved RGB frame (host/vision/grey.py) */
 void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 /* adds to *o what mg_grey charges on an h x w frame (host/vision/grey.py grey_cost) */

@@ -22,6 +22,7 @@
 #include <simavr/avr_ioport.h>
 #include <simavr/avr_uart.h>
 #include <simavr/sim_avr.h>
+#include <simavr/sim_core.h>
 #include <simavr/sim_cycle_timers.h>
 #include <simavr/sim_elf.h>
 #include <simavr/sim_interrupts.h>
@@ -451,6 +452,40 @@ static inline void fix_byte_time(sh_t *sh)
     }
 }
 
+/* One step of the core: what simavr 1.6's avr_run does through avr_callback_run_raw
+ * (sim_avr.c), inlined so that a step costs little more than its instruction: avr_run_one,
+ * the cycle timers (processed only when the earliest one is due; otherwise the time to it is
+ * the sleep it returns, with run_cycle_count bounded as avr_cycle_timer_process bounds it),
+ * the sleep, then the interrupts. Used only while the core runs the raw callback (no gdb). */
+static inline void step(avr_t *avr)
+{
+    avr_flashaddr_t new_pc = avr->pc;
+    if (avr->state == cpu_Running) {
+        new_pc = avr_run_one(avr);
+    }
+    avr_cycle_count_t sleep;
+    const avr_cycle_timer_slot_t *t = avr->cycle_timers.timer;
+    if (t && t->when > avr->cycle) {
+        sleep = t->when - avr->cycle;
+        avr_cycle_count_t run = avr->run_cycle_limit >= sleep ? sleep : avr->run_cycle_limit;
+        avr->run_cycle_count = run ? run : 1;
+    } else {
+        sleep = avr_cycle_timer_process(avr);
+    }
+    avr->pc = new_pc;
+    if (avr->state == cpu_Sleeping) {
+        if (!avr->sreg[S_I]) {
+            avr->state = cpu_Done;
+            return;
+        }
+        avr->sleep(avr, sleep);
+        avr->cycle += 1 + sleep;
+    }
+    if ((avr->state == cpu_Running || avr->state == cpu_Sleeping) && avr->interrupt_state) {
+        avr_service_interrupts(avr);
+    }
+}
+
 int sh_run_to(sh_t *sh, uint64_t target)
 {
     avr_t *avr = sh->avr;
@@ -464,10 +499,17 @@ int sh_run_to(sh_t *sh, uint64_t target)
         avr_cycle_timer_register(avr, target - avr->cycle, wake_at_target, sh);
         sh->timer_armed = target;
     }
+    const int raw = avr->run == avr_callback_run_raw;
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
         uint32_t pc_before = avr->pc;
-        int state = avr_run(avr);
+        int state;
+        if (raw) {
+            step(avr);
+            state = avr->state;
+        } else {
+            state = avr_run(avr);
+        }
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }

@@ -40,8 +40,20 @@ DEFINE_FIFO(uint16_t, uart_fifo);
 #define RAM_START 0x100u
 #define VECTORS 35u
 
+/* One wheel's quadrature edges still to come: edge k (1..n) at start + span*k/n when spread,
+ * else start + SH_INSTANT_EDGE_CYCLES*k, the count then pos0 + dir*k. */
+typedef struct {
+    uint64_t start, span;
+    int64_t pos0;
+    uint32_t n, k;
+    int dir, spread;
+} enc_t;
+
 struct sh {
     avr_t *avr;
+    enc_t enc[2];
+    int64_t enc_pos[2]; /* the count whose A/B levels the pins show */
+    uint64_t events;    /* runs of the core between two event times (sh_advance) */
     avr_uart_t *uart;
     avr_irq_t *pins[7][8]; /* ports A..G */
     uint64_t byte_cycles;
@@ -519,6 +531,99 @@ int sh_run_to(sh_t *sh, uint64_t target)
         }
     }
     return SH_REACHED;
+}
+
+/* PD bits of (A, B) of the left and right wheel; (A << 1 | B) at count % 4, hal_avr.c's x4 */
+static const uint8_t enc_pins[2][2] = {{0, 1}, {2, 3}};
+static const uint8_t enc_quad[4] = {0u, 1u, 3u, 2u};
+
+static uint64_t enc_next(const enc_t *e)
+{
+    if (e->k >= e->n) {
+        return UINT64_MAX;
+    }
+    uint64_t k = e->k + 1u;
+    return e->spread ? e->start + e->span * k / e->n : e->start + SH_INSTANT_EDGE_CYCLES * k;
+}
+
+static void enc_show(sh_t *sh, int side, int64_t old_pos, int64_t new_pos)
+{
+    uint8_t old = enc_quad[old_pos & 3], now = enc_quad[new_pos & 3];
+    avr_irq_t **port = sh->pins[3]; /* PORTD */
+    if ((old ^ now) & 2u) {
+        avr_raise_irq(port[enc_pins[side][0]], now >> 1);
+    }
+    if ((old ^ now) & 1u) {
+        avr_raise_irq(port[enc_pins[side][1]], now & 1u);
+    }
+}
+
+void sh_enc_apply(sh_t *sh, uint64_t until)
+{
+    for (int side = 0; side < 2; side++) {
+        enc_t *e = &sh->enc[side];
+        while (enc_next(e) <= until) {
+            e->k++;
+            int64_t pos = e->pos0 + e->dir * (int64_t)e->k;
+            enc_show(sh, side, sh->enc_pos[side], pos);
+            sh->enc_pos[side] = pos;
+        }
+    }
+}
+
+void sh_enc_set(sh_t *sh, uint8_t side, uint64_t now, uint64_t span, int64_t count)
+{
+    enc_t *e = &sh->enc[side & 1u];
+    int64_t pos = sh->enc_pos[side & 1u];
+    uint64_t n = (uint64_t)(count > pos ? count - pos : pos - count);
+    e->start = now;
+    e->span = span;
+    e->pos0 = pos;
+    e->n = (uint32_t)n;
+    e->k = 0;
+    e->dir = count > pos ? 1 : -1;
+    e->spread = span >= n * SH_INSTANT_EDGE_CYCLES;
+}
+
+void sh_enc_show_all(sh_t *sh)
+{
+    for (int side = 0; side < 2; side++) {
+        uint8_t ab = enc_quad[sh->enc_pos[side] & 3];
+        avr_raise_irq(sh->pins[3][enc_pins[side][0]], ab >> 1);
+        avr_raise_irq(sh->pins[3][enc_pins[side][1]], ab & 1u);
+    }
+}
+
+int64_t sh_enc_pos(const sh_t *sh, uint8_t side) { return sh->enc_pos[side & 1u]; }
+
+uint64_t sh_events(const sh_t *sh) { return sh->events; }
+
+/* Run to `limit` (the caller's next event: its target, a byte's start bit, a pin level),
+ * stopping at each encoder edge before it to show it: one run of the core per event time, as
+ * many as the caller would make with the edges among its own events. Returns at `limit`, or
+ * as soon as a run ends at or past it (the caller then applies its events and calls
+ * sh_enc_apply), or at a stop (a sonar trigger) or a crash, with nothing applied. */
+int sh_advance(sh_t *sh, uint64_t limit)
+{
+    for (;;) {
+        uint64_t nxt = limit, e0 = enc_next(&sh->enc[0]), e1 = enc_next(&sh->enc[1]);
+        if (e0 < nxt) {
+            nxt = e0;
+        }
+        if (e1 < nxt) {
+            nxt = e1;
+        }
+        int rc = sh_run_to(sh, nxt);
+        sh->events++;
+        if (rc != SH_REACHED) {
+            return rc;
+        }
+        uint64_t now = sh->avr->cycle > nxt ? sh->avr->cycle : nxt;
+        if (now >= limit) {
+            return SH_REACHED;
+        }
+        sh_enc_apply(sh, now);
+    }
 }
 
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level)

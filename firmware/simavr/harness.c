@@ -54,6 +54,11 @@ struct sh {
     enc_t enc[2];
     int64_t enc_pos[2]; /* the count whose A/B levels the pins show */
     uint64_t events;    /* runs of the core between two event times (sh_advance) */
+    /* the RX line: host bytes with the cycle of their start bit, oldest first */
+    uint64_t *line_cycle;
+    uint8_t *line_byte;
+    uint32_t line_cap, line_head, line_n;
+    uint32_t rx_bytes; /* handed to USART0 (not lost at its input) */
     avr_uart_t *uart;
     avr_irq_t *pins[7][8]; /* ports A..G */
     uint64_t byte_cycles;
@@ -325,9 +330,38 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
     return sh;
 }
 
+int sh_line_init(sh_t *sh, uint32_t capacity)
+{
+    free(sh->line_cycle);
+    free(sh->line_byte);
+    sh->line_cycle = calloc(capacity ? capacity : 1u, sizeof *sh->line_cycle);
+    sh->line_byte = calloc(capacity ? capacity : 1u, 1);
+    sh->line_cap = capacity;
+    sh->line_head = sh->line_n = 0;
+    return sh->line_cycle && sh->line_byte;
+}
+
+uint32_t sh_line_put(sh_t *sh, uint64_t start, const uint8_t *bytes, uint32_t n)
+{
+    uint32_t room = sh->line_cap - sh->line_n, take = n < room ? n : room;
+    for (uint32_t i = 0; i < take; i++) {
+        uint32_t at = (sh->line_head + sh->line_n + i) % sh->line_cap;
+        sh->line_cycle[at] = start + i * sh->byte_cycles;
+        sh->line_byte[at] = bytes[i];
+    }
+    sh->line_n += take;
+    return take;
+}
+
+uint32_t sh_line_pending(const sh_t *sh) { return sh->line_n; }
+
+uint32_t sh_rx_bytes(const sh_t *sh) { return sh->rx_bytes; }
+
 void sh_free(sh_t *sh)
 {
     if (sh) {
+        free(sh->line_cycle);
+        free(sh->line_byte);
         avr_terminate(sh->avr);
         free(sh->avr);
         free(sh);
@@ -598,15 +632,19 @@ int64_t sh_enc_pos(const sh_t *sh, uint8_t side) { return sh->enc_pos[side & 1u]
 
 uint64_t sh_events(const sh_t *sh) { return sh->events; }
 
-/* Run to `limit` (the caller's next event: its target, a byte's start bit, a pin level),
- * stopping at each encoder edge before it to show it: one run of the core per event time, as
- * many as the caller would make with the edges among its own events. Returns at `limit`, or
- * as soon as a run ends at or past it (the caller then applies its events and calls
- * sh_enc_apply), or at a stop (a sonar trigger) or a crash, with nothing applied. */
+/* Run to `limit` (the caller's next event: its target or a pin level), stopping at each RX
+ * line byte's start bit and encoder edge before it to hand the byte to USART0 / show the edge:
+ * one run of the core per event time. Returns as soon as a run ends at or past `limit` (the
+ * line's bytes due by then handed over; the caller then applies its pin levels and calls
+ * sh_enc_apply), or at a stop (a sonar trigger) or a crash, with nothing applied. The order
+ * at one time: line bytes, pin levels, encoder edges. */
 int sh_advance(sh_t *sh, uint64_t limit)
 {
     for (;;) {
         uint64_t nxt = limit, e0 = enc_next(&sh->enc[0]), e1 = enc_next(&sh->enc[1]);
+        if (sh->line_n && sh->line_cycle[sh->line_head] < nxt) {
+            nxt = sh->line_cycle[sh->line_head];
+        }
         if (e0 < nxt) {
             nxt = e0;
         }
@@ -619,6 +657,12 @@ int sh_advance(sh_t *sh, uint64_t limit)
             return rc;
         }
         uint64_t now = sh->avr->cycle > nxt ? sh->avr->cycle : nxt;
+        while (sh->line_n && sh->line_cycle[sh->line_head] <= now) {
+            uint8_t byte = sh->line_byte[sh->line_head];
+            sh->line_head = (sh->line_head + 1u) % sh->line_cap;
+            sh->line_n--;
+            sh->rx_bytes += (uint32_t)sh_uart_in(sh, byte);
+        }
         if (now >= limit) {
             return SH_REACHED;
         }

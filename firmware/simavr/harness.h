@@ -43,6 +43,10 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
 int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle);
 int sh_run_to(sh_t *sh, uint64_t target);
 int sh_advance(sh_t *sh, uint64_t limit);
+int sh_line_init(sh_t *sh, uint32_t capacity);
+uint32_t sh_line_put(sh_t *sh, uint64_t start, const uint8_t *bytes, uint32_t n);
+uint32_t sh_line_pending(const sh_t *sh);
+uint32_t sh_rx_bytes(const sh_t *sh);
 void sh_enc_set(sh_t *sh, uint8_t side, uint64_t now, uint64_t span, int64_t count);
 void sh_enc_apply(sh_t *sh, uint64_t until);
 void sh_enc_show_all(sh_t *sh);

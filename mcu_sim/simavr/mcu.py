@@ -24,7 +24,6 @@ Counters and flags are read from the firmware's globals in SRAM, at the ELF's sy
 from __future__ import annotations
 
 import heapq
-from collections import deque
 from collections.abc import Callable
 
 from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US
@@ -92,10 +91,10 @@ class SimavrMcu:
         self.byte_cycles = 10 * bit * (cfg.ubrr + 1)
         lib.sh_set_byte_cycles(self._h, self.byte_cycles)
         self._cycle = 0
-        self._rx_line: deque[tuple[int, int]] = deque()  # (start-bit cycle, byte)
+        if not lib.sh_line_init(self._h, cfg.line_capacity_bytes):
+            raise MemoryError(f"no room for a {cfg.line_capacity_bytes}-byte RX line")
         self._rx_line_free = 0
         self._rx_line_dropped = 0
-        self._rx_bytes = 0
         self._tx_bytes = 0
         self._pins: list[tuple[int, int, int, int, int]] = []  # heap (cycle, seq, port, bit, lvl)
         self._seq = 0
@@ -126,12 +125,11 @@ class SimavrMcu:
         if target < self._cycle:
             raise ValueError(f"cannot go back in time from {self.now_us} to {t_us} us")
         h = self._h
-        rx_line, pins = self._rx_line, self._pins
+        pins = self._pins
         while True:
-            # the encoder edges before the next of these are shown by the harness itself
+            # the RX line's bytes and the encoder edges before the next of these are handled
+            # by the harness itself (sh_advance)
             nxt = target
-            if rx_line and rx_line[0][0] < nxt:
-                nxt = rx_line[0][0]
             if pins and pins[0][0] < nxt:
                 nxt = pins[0][0]
             rc = lib.sh_advance(h, nxt)
@@ -142,10 +140,6 @@ class SimavrMcu:
                 self._triggers()
                 continue
             now = max(nxt, lib.sh_cycle(h))
-            while rx_line and rx_line[0][0] <= now:
-                _, byte = rx_line.popleft()
-                if lib.sh_uart_in(h, byte):
-                    self._rx_bytes += 1
             while pins and pins[0][0] <= now:
                 _, _, port, bit, level = heapq.heappop(pins)
                 lib.sh_pin(h, port, bit, level)
@@ -247,16 +241,12 @@ class SimavrMcu:
         start = self._cycle if start_us is None else max(int(start_us) * CYCLES_PER_US,
                                                           self._cycle)
         start = max(start, self._rx_line_free)
-        room = self.config.line_capacity_bytes - len(self._rx_line)
         data = bytes(data)
-        take = data[:max(0, room)]
-        self._rx_line_dropped += len(data) - len(take)
-        bc = self.byte_cycles
-        for i, byte in enumerate(take):
-            self._rx_line.append((start + i * bc, byte))
+        take = lib.sh_line_put(self._h, start, data, len(data))
+        self._rx_line_dropped += len(data) - take
         if take:
-            self._rx_line_free = start + len(take) * bc
-        return len(take)
+            self._rx_line_free = start + take * self.byte_cycles
+        return take
 
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
         """Bytes the firmware sent since the last call: ``(t_us their stop bit left, bytes)``,
@@ -286,7 +276,7 @@ class SimavrMcu:
         since); else the firmware's next telemetry time, read off the core
         (firmware/simavr/harness.c, sh_tx_idle_through)."""
         now = self._cycle // CYCLES_PER_US
-        if self._rx_line:
+        if lib.sh_line_pending(self._h):
             return now
         through = self._idle_cycle
         if not lib.sh_tx_idle_through(self._h, through):
@@ -385,7 +375,7 @@ class SimavrMcu:
         ring_over = self._u32s("fw_rx", _RX_OVERRUNS_OFF, 1)[0]
         line_lost = self._rx_line_dropped + lib.sh_rx_line_lost(self._h)
         out = {
-            "rx_bytes": self._rx_bytes,
+            "rx_bytes": lib.sh_rx_bytes(self._h),
             "tx_bytes": self._tx_bytes,
             "rx_ring_overruns": ring_over,
             "rx_line_dropped": line_lost,

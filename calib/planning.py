@@ -16,10 +16,10 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mobigrasp.calib import plan_corpus
-from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.fixedpoint import isqrt
 from mobigrasp.host.planning import bezier001 as b001
 from mobigrasp.host.planning import bezier_q
-from mobigrasp.host.planning.bezier_q import Q16, evaluate_q, quantize_ctrl, sample_ops
+from mobigrasp.host.planning.bezier_q import POS_PER_M, Q16, evaluate_q, quantize_ctrl, sample_ops
 from mobigrasp.host.planning.candidates import Geometry, Limits, batch_ops, evaluate_batch
 from mobigrasp.host.planning.clearance_q import clearance_ops
 from mobigrasp.host.planning.sonar_regions import infeasible_regions
@@ -108,14 +108,14 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     regions = plan_corpus.rows_to_regions(arrays["regions"])
     known = len(inp.get("known_regions") or [])
     scan = infeasible_regions(params.sonar, p0, inp["heading_rad"], inp["sonar_mm"])
-    ops = b001.SETUP_OPS + b001.REGION_OPS.scaled(len(scan.regions) + known)
-    ops = ops + OpCounts(float_ops=8 * params.n_e, luts=2 * params.n_e)
+    ops = b001.setup_ops(len(scan.regions) + known, params.n_e, len(arrays["us"]))
     kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
     setup_cycles = sample_ops(0, **kw).cycles()
     cut_cycles = (params.budget_us - ops.time_us()) * 400
-    dist = float(np.hypot(*(obj - p0)))
-    inflate = max(params.coarse_inflate_m, 0.25 * dist / (n - 1))
+    dist_q4 = isqrt(sum((round(a * POS_PER_M) - round(b * POS_PER_M)) ** 2
+                        for a, b in zip(obj, p0, strict=True)))
+    inflate = max(params.coarse_inflate_m, dist_q4 / (4 * (n - 1)) / POS_PER_M)
     grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)

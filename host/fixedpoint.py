@@ -99,6 +99,14 @@ def _remember(seen: dict[int, int], key: int, value: int) -> None:
     seen[key] = value
 
 
+def sincos_turn_q12(num: int, den: int) -> tuple[int, int]:
+    """(sin, cos) in Q12 of num/den of a turn (den > 0), by the same table through a binary
+    angle rounded to 2^-20 of a turn: exact at the quarter turns (sin π = 0), where an angle in
+    whole mrad is not."""
+    bam = div_round(int(num) << (_BAM_BITS + _FRAC_BITS), den)
+    return (_sin_bam_q14(bam) + 2) >> 2, (_sin_bam_q14(bam + _QUARTER_BAM20) + 2) >> 2
+
+
 def sincos_q12(angle_mrad: int) -> tuple[int, int]:
     """(sin, cos) of the same angle in Q12."""
     return sin_q12(angle_mrad), cos_q12(angle_mrad)

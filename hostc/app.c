@@ -222,9 +222,16 @@ static void frame(mg_app_t *app, int64_t seq, int64_t capture_us, int64_t arriva
     busy(app, start, total, "frame");
     app->frames_processed++;
     /* the detectors run now: the pose they read is the one the frame arrived with, so when
-     * they run changes nothing that is modelled */
+     * they run changes nothing that is modelled; a fallback runs only when what it stands in
+     * for found nothing on this frame; a front end computed already is not paid again */
+    uint32_t ran = 0, front_ends_done = 0;
     for (int32_t i = 0; i < app->n_detectors; i++) {
         if (!(needed >> i & 1u))
+            continue;
+        const int32_t primary = app->task.fallback_of ? app->task.fallback_of(app->task.ctx, i)
+                                                      : -1;
+        if (primary >= 0 && primary < app->n_detectors && (ran >> primary & 1u)
+            && app->job_results[primary].found)
             continue;
         const mg_detector_t *d = &app->detectors[i];
         int32_t snap[8] = {0};
@@ -233,9 +240,16 @@ static void frame(mg_app_t *app, int64_t seq, int64_t capture_us, int64_t arriva
         mg_detection_t *r = &app->job_results[i];
         memset(r, 0, sizeof *r);
         d->detect(d->ctx, rgb, w, h, snap, r);
-        const int64_t dur = mg_ops_time_us(&r->ops);
+        int64_t dur = mg_ops_time_us(&r->ops);
+        if (d->front_end > 0 && d->front_end < 32 && (front_ends_done >> d->front_end & 1u)) {
+            dur -= d->front_end_us(h, w);
+            dur = dur > 0 ? dur : 0;
+        } else if (d->front_end > 0 && d->front_end < 32) {
+            front_ends_done |= 1u << d->front_end;
+        }
         busy(app, start + total, dur, d->name);
         total += dur;
+        ran |= 1u << i;
     }
     app->vision_busy = 1;
     app->job_seq = seq;
@@ -243,7 +257,7 @@ static void frame(mg_app_t *app, int64_t seq, int64_t capture_us, int64_t arriva
     app->job_start_us = start;
     app->job_arm9_us = total;
     app->job_done_us = start + total;
-    app->job_detectors = needed;
+    app->job_detectors = ran;
 }
 
 /* ---- control ---- */

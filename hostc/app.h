@@ -69,6 +69,10 @@ typedef struct {
     void (*snapshot)(void *ctx, int32_t snap[8]);
     void (*detect)(void *ctx, const uint8_t *rgb, int32_t w, int32_t h, const int32_t snap[8],
                    mg_detection_t *out);
+    /* the front end it starts from (0: none; detectors of one frame with the same id share
+     * it: the first pays, the others are charged less its time, front_end_us on h x w) */
+    int32_t front_end;
+    int64_t (*front_end_us)(int32_t h, int32_t w);
 } mg_detector_t;
 
 typedef struct mg_app mg_app_t;
@@ -87,6 +91,9 @@ typedef struct {
     void (*step)(void *ctx, mg_app_t *app, int64_t now_us, const mg_detection_t *detections,
                  const int32_t *present, mg_task_output_t *out);
     uint32_t (*detectors_needed)(void *ctx); /* a bit per detector index */
+    /* the detector that detector det stands in for on the same frame (it runs only when that
+     * one, run before it, found nothing): its index, or -1; NULL: no fallbacks */
+    int32_t (*fallback_of)(void *ctx, int32_t det);
 } mg_task_if_t;
 
 #define MG_LOAD_WINDOWS_KEPT 64

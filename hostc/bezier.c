@@ -54,6 +54,14 @@ static int in_region(const int64_t *r, int64_t x, int64_t y)
     return 1;
 }
 
+int mg_bezier_in_regions(const int64_t *geo, int32_t n_reg, int64_t x, int64_t y)
+{
+    for (int32_t r = 0; r < n_reg; r++)
+        if (in_region(geo + MG_GEO_HEAD + MG_REGION_WORDS * r, x, y))
+            return 1;
+    return 0;
+}
+
 int32_t mg_bezier_curve(const int32_t *ctrl, int32_t n, const int32_t *lim, const int64_t *geo,
                         int32_t n_reg, int32_t *first, int64_t *len_q4, int64_t *kint_q16)
 {

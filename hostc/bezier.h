@@ -28,6 +28,10 @@ enum { MG_OK = 0, MG_TIME = 1, MG_SPEED = 2, MG_ACCEL = 3, MG_RADIUS = 4, MG_CIR
 int32_t mg_bezier_curve(const int32_t *ctrl, int32_t n, const int32_t *lim, const int64_t *geo,
                         int32_t n_reg, int32_t *first, int64_t *len_q4, int64_t *kint_q16);
 
+/* eq. (16): 1 when (x, y) (1/16 mm) lies in any of the n_reg regions of geo (bezier_q.py
+ * in_regions_q) */
+int mg_bezier_in_regions(const int64_t *geo, int32_t n_reg, int64_t x, int64_t y);
+
 /* cost of eq. (9) / (17) in Q16 from the integrals (k1, k2 Q16) */
 int64_t mg_bezier_cost(int32_t k1_q16, int32_t k2_q16, int64_t len_q4, int64_t kint_q16);
 

@@ -95,6 +95,7 @@ int32_t mg_ik_pitch_mm_q4(const mg_arm_geometry_t *g, const int32_t target_mm_q4
     for (int32_t ch = 2; ch <= 5; ch++)
         if (!mg_within_limits(ch, val[ch - 2])) {
             *detail = ch;
+            *pose = p; /* the pose outside the limits, for the reason's text */
             return MG_IK_JOINT_LIMIT;
         }
     /* the snap may move the point: the pose returned is within 1 mm of the target */

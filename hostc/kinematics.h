@@ -22,7 +22,8 @@ typedef struct {
 } mg_arm_pose_t;
 
 /* Why a target cannot be reached (host/kinematics.py Unreachable's reasons); *detail: the
- * channel for MG_IK_JOINT_LIMIT, the distance in Q4 mm for the others. */
+ * channel for MG_IK_JOINT_LIMIT (and *pose the pose outside the limits), the distance in Q4 mm
+ * for the others. */
 enum {
     MG_IK_OK = 0,
     MG_IK_ON_AXIS = 1,     /* target on the waist axis: waist angle undefined */

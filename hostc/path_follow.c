@@ -1,9 +1,83 @@
 /* Path following in time (host/control/path_follow.py): eq. (8) of 000 and Kanayama's law. */
 #include "path_follow.h"
 
+#include "div_round.h"
 #include "fixedpoint.h"
+#include "isqrt.h"
 
 #define HALF_TRACK_MM 150 /* l_w / 2 */
+
+#define TAU_BITS 15
+#define COORD_LIMIT (1 << 21)
+#define KAPPA_SAT 2147483647LL
+#define KAPPA_SCALE 16384000LL /* 16000 * 2^16 >> 6 */
+#define V_LIMIT_Q16 ((int64_t)1 << 22) /* 64 m/s */
+
+static int64_t iabs(int64_t v)
+{
+    return v < 0 ? -v : v;
+}
+
+/* num / 2^shift rounded, halves away from zero */
+static int64_t half_away(int64_t num, int shift)
+{
+    const int64_t half = (int64_t)1 << (shift - 1);
+    return num >= 0 ? (num + half) >> shift : -((half - num) >> shift);
+}
+
+/* position, first and second derivative at tau (Q15) by Horner's rule (eq. (7) of 000) */
+static void horner(const int64_t k[4], int64_t tau, int64_t out[3])
+{
+    out[0] = k[0]
+             + ((tau * (k[1] + ((tau * (k[2] + ((tau * k[3]) >> TAU_BITS))) >> TAU_BITS)))
+                >> TAU_BITS);
+    out[1] = k[1] + ((tau * (2 * k[2] + ((tau * (3 * k[3])) >> TAU_BITS))) >> TAU_BITS);
+    out[2] = 2 * k[2] + ((tau * (6 * k[3])) >> TAU_BITS);
+}
+
+int mg_trajectory_from_ctrl(const int32_t *ctrl, int32_t n, mg_trajectory_t *out)
+{
+    out->n = 0;
+    if (n < 2 || n > MG_TRAJ_MAX_SAMPLES)
+        return -1;
+    int64_t k[3][4]; /* eq. (6) of 000 per coordinate */
+    for (int c = 0; c < 3; c++) {
+        const int64_t p0 = ctrl[c], p1 = ctrl[3 + c], p2 = ctrl[6 + c], p3 = ctrl[9 + c];
+        if (iabs(p0) >= COORD_LIMIT || iabs(p1) >= COORD_LIMIT || iabs(p2) >= COORD_LIMIT
+            || iabs(p3) >= COORD_LIMIT)
+            return -1;
+        k[c][0] = p0;
+        k[c][1] = 3 * (p1 - p0);
+        k[c][2] = 3 * (p0 - 2 * p1 + p2);
+        k[c][3] = -p0 + 3 * p1 - 3 * p2 + p3;
+    }
+    for (int32_t j = 0; j < n; j++) {
+        const int64_t tau = ((int64_t)j << TAU_BITS) / (n - 1);
+        int64_t x[3], y[3], t[3];
+        horner(k[0], tau, x);
+        horner(k[1], tau, y);
+        horner(k[2], tau, t);
+        const int64_t s = mg_isqrt64((uint64_t)(x[1] * x[1] + y[1] * y[1]));
+        if (t[1] <= 0 || s == 0)
+            return -1;
+        const int64_t cross = x[1] * y[2] - x[2] * y[1];
+        int64_t kappa = (((iabs(cross) << 6) / s) * KAPPA_SCALE) / (s * s);
+        if (kappa > KAPPA_SAT)
+            kappa = KAPPA_SAT;
+        const int64_t v_q16 = (s << 16) / t[1]; /* m/s Q16 */
+        if (v_q16 >= V_LIMIT_Q16)
+            return -1;
+        const int64_t w = half_away(v_q16 * kappa * 1000, 32); /* mrad/s */
+        out->t_us[j] = (int32_t)half_away((t[0] - ctrl[2]) * 125, 1);
+        out->x_um[j] = (int32_t)half_away(x[0] * 125, 1);
+        out->y_um[j] = (int32_t)half_away(y[0] * 125, 1);
+        out->heading_mrad[j] = mg_atan2_mrad(y[1], x[1]);
+        out->v_mm_s[j] = (int32_t)mg_div_round_i64(s * 1000, t[1]);
+        out->w_mrad_s[j] = (int32_t)(cross >= 0 ? w : -w);
+    }
+    out->n = n;
+    return 0;
+}
 
 int32_t mg_wrap_mrad(int64_t a_mrad)
 {
@@ -41,11 +115,6 @@ mg_traj_ref_t mg_trajectory_at(const mg_trajectory_t *tr, int64_t t_us, int32_t 
     r.v_mm_s = lerp(tr->v_mm_s[i], tr->v_mm_s[i + 1], f);
     r.w_mrad_s = lerp(tr->w_mrad_s[i], tr->w_mrad_s[i + 1], f);
     return r;
-}
-
-static int64_t iabs(int64_t v)
-{
-    return v < 0 ? -v : v;
 }
 
 void mg_wheel_speeds(int32_t v_mm_s, int32_t w_mrad_s, int32_t limit_mm_s, int32_t *left,
@@ -118,4 +187,12 @@ mg_ops_t mg_path_follow_step_ops(void)
 {
     const mg_ops_t ops = {0, 0, 60, 10, 14, 4, 4, 6, 0, 0, 0};
     return ops;
+}
+
+mg_ops_t mg_trajectory_ops(int32_t n)
+{
+    /* path_follow.py SAMPLE_OPS per sample, CURVE_OPS (bezier_q.py CURVE_SETUP_OPS) once */
+    const mg_ops_t sample = {0, 0, 1706, 146, 1, 63, 2, 2, 0, 0, 0};
+    const mg_ops_t curve = {0, 0, 250, 10, 0, 30, 0, 0, 0, 0, 0};
+    return mg_ops_add(mg_ops_scaled(sample, n), curve);
 }

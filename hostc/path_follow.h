@@ -50,6 +50,13 @@ typedef struct {
     int32_t steps;
 } mg_path_follower_t;
 
+/* the reference of one curve (control points in 1/16 mm and 1/16 ms, 4 rows x, y, t) at n
+ * samples tau_j = (j << 15) / (n - 1) (path_follow.py reference_q): 0, or -1 (out->n = 0)
+ * when n is not in 2..MG_TRAJ_MAX_SAMPLES, a coordinate is 2^21 counts or more, t_tau <= 0
+ * or |P_tau| = 0 at a sample, or a speed reaches 64 m/s */
+int mg_trajectory_from_ctrl(const int32_t *ctrl, int32_t n, mg_trajectory_t *out);
+/* its ARM920T cost (Trajectory.ops) */
+mg_ops_t mg_trajectory_ops(int32_t n);
 int32_t mg_wrap_mrad(int64_t a_mrad); /* to [-3142, 3141], 2 pi = 6283 mrad */
 /* the reference at t_us (linear between samples), searched from the segment hint */
 mg_traj_ref_t mg_trajectory_at(const mg_trajectory_t *traj, int64_t t_us, int32_t hint);

@@ -1,7 +1,20 @@
 /* The Fig. 5 search of 000 as a state object over simulated time (host/search.py ArmSearch). */
 #include "search.h"
 
+#include <stddef.h>
+
 #include "fixedpoint.h"
+
+#define LEG_TURN_MIN_MRAD 35   /* a leg whose heading is off by less starts without a turn */
+#define LEG_TURN_MAX_MRAD 3000 /* a turn toward a station behind is cut here */
+
+void mg_search_params_default(mg_search_params_t *p)
+{
+    static const mg_search_params_t d = {
+        -2800, -2100, 60, -800, 800, 200, -200, 2300, 1047, 3, {-2250, -2500, -2750}, 1571,
+        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500};
+    *p = d;
+}
 
 static int32_t clamp(int32_t v, int32_t lo, int32_t hi)
 {
@@ -182,6 +195,10 @@ void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t the
     s->overflow |= l.overflow || (l.n > 2 && s->n_wsweep < 2 * l.n - 2);
     s->windex = 0;
     s->wpose[0] = s->p.coarse_theta2_mrad[0], s->wpose[1] = p->theta5_max_mrad;
+    s->pose[0] = s->pose[1] = s->pose[2] = 0;
+    s->has_stations = s->n_stations = s->station = 0;
+    s->leg[0] = s->leg[1] = 0;
+    s->covered = 0;
 }
 
 int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2])
@@ -221,6 +238,44 @@ static void start_wander(mg_arm_search_t *s, int64_t now_us, const int32_t at[2]
     s->prev[0] = at[0], s->prev[1] = at[1];
 }
 
+/* Turn toward the next station of the coverage rings (coverage.c), then drive to it; the rings
+ * are laid out from the pose where the first leg starts. Past the last station the search looks
+ * around where it is (covered). */
+static void start_leg(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
+{
+    const mg_search_params_t *p = &s->p;
+    if (!s->has_stations) { /* the rings in the start's frame, then in odometry */
+        const int32_t n = mg_ring_stations(p->cover_mm, p->view_mm, p->chord_mm, s->stations,
+                                           MG_COVER_STATIONS, &s->overflow);
+        s->n_stations = n > 0 ? n : 0;
+        for (int32_t i = 0; i < s->n_stations; i++) {
+            const int32_t xy[2] = {s->stations[i][0], s->stations[i][1]};
+            mg_to_odometry(s->pose, xy, s->stations[i]);
+        }
+        s->has_stations = 1;
+    }
+    int32_t turn = 0, drive = 0;
+    for (; s->station < s->n_stations; s->station++) { /* a station reached already: the next */
+        mg_leg_to(s->pose, s->stations[s->station], &turn, &drive);
+        if (drive >= p->chord_mm / 4)
+            break;
+    }
+    if (s->station >= s->n_stations) {
+        s->covered = 1;
+        s->turning = 1;
+        return;
+    }
+    s->leg[0] = turn < -LEG_TURN_MAX_MRAD ? -LEG_TURN_MAX_MRAD
+                : turn > LEG_TURN_MAX_MRAD ? LEG_TURN_MAX_MRAD : turn;
+    s->leg[1] = drive;
+    if (iabs(turn) < LEG_TURN_MIN_MRAD) {
+        start_wander(s, now_us, at);
+    } else {
+        s->wandering = 0, s->turning = 1, s->corner = 1;
+        s->wpose[0] = at[0], s->wpose[1] = at[1];
+    }
+}
+
 static mg_search_command_t moving_command(mg_arm_search_t *s, int64_t now_us)
 {
     const mg_search_params_t *p = &s->p;
@@ -236,15 +291,19 @@ static mg_search_command_t moving_command(mg_arm_search_t *s, int64_t now_us)
             }
             th2 = s->wpose[0], th5 = s->wpose[1];
         }
-        return command(s, th2, th5, 0, p->wander_mm * (1 + s->wanders / 2));
+        return command(s, th2, th5, 0,
+                       p->cover_mm ? s->leg[1] : p->wander_mm * (1 + s->wanders / 2));
     }
     if (s->corner) /* the arm holds the last wander pose while the base turns */
-        return command(s, s->wpose[0], s->wpose[1], p->coarse_base_turn_mrad, 0);
+        return command(s, s->wpose[0], s->wpose[1],
+                       p->cover_mm ? s->leg[0] : p->coarse_base_turn_mrad, 0);
     return pose_command(s, s->cycle <= 1 ? p->base_turn_mrad : p->coarse_base_turn_mrad);
 }
 
-mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us)
+mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us, const int32_t *pose)
 {
+    if (pose != NULL)
+        s->pose[0] = pose[0], s->pose[1] = pose[1], s->pose[2] = pose[2];
     if (s->turning || s->wandering)
         return moving_command(s, now_us);
     int64_t d;
@@ -256,9 +315,12 @@ mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us)
             s->cycles_here++;
             /* a full turn of the base found nothing here: wander instead of turning again */
             const int32_t here = s->wanders == 0 ? s->p.turns_per_wander : s->p.stop_cycles;
-            if (s->p.wander_mm > 0 && s->cycles_here >= here) {
+            const int32_t at[2] = {s->prev[0], s->prev[1]};
+            if (s->p.wander_mm > 0 && s->cycles_here >= here && s->p.cover_mm && !s->covered) {
                 s->cycles_here = 0;
-                const int32_t at[2] = {s->prev[0], s->prev[1]};
+                start_leg(s, now_us, at);
+            } else if (s->p.wander_mm > 0 && s->cycles_here >= here && !s->p.cover_mm) {
+                s->cycles_here = 0;
                 start_wander(s, now_us, at);
             } else {
                 s->turning = 1;
@@ -303,6 +365,16 @@ void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
     const mg_search_params_t *p = &s->p;
     const int32_t at[2] = {p->wander_sweep ? s->wpose[0] : p->coarse_theta2_mrad[0],
                            p->wander_sweep ? s->wpose[1] : p->theta5_max_mrad};
+    if (p->cover_mm) {
+        s->station++; /* reached, or stopped short by an obstacle: the next one */
+        if (p->stop_cycles == 0) {
+            start_leg(s, now_us, at);
+            if (!s->covered)
+                return;
+        }
+        next_cycle(s, now_us, at[0], at[1]);
+        return;
+    }
     if (p->stop_cycles == 0) { /* a corner of the spiral: turn, then the next leg */
         s->wandering = 0, s->turning = 1, s->corner = 1;
         s->wpose[0] = at[0], s->wpose[1] = at[1];

@@ -8,6 +8,8 @@
 
 #include <stdint.h>
 
+#include "coverage.h"
+
 #define MG_SEARCH_LEVELS 8       /* coarse theta2 levels */
 #define MG_SEARCH_MAX_POSES 512  /* poses of one cycle */
 #define MG_SEARCH_MAX_SWEEP 256  /* waist poses of the sweeping wander */
@@ -24,7 +26,13 @@ typedef struct {
     int32_t stop_cycles, frames_per_pose;
     int64_t frame_period_us;
     int32_t servo_speed_mrad_per_s;
+    int32_t cover_mm; /* the wander covers this disc by coverage.c's rings (0: square spiral) */
+    int32_t view_mm;  /* half-width of the strip the wander's sweep sees */
+    int32_t chord_mm; /* spacing of the rings' stations */
 } mg_search_params_t;
+
+/* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */
+void mg_search_params_default(mg_search_params_t *p);
 
 typedef struct {
     int32_t theta2_mrad, theta3_mrad, theta4_mrad, theta5_mrad;
@@ -46,6 +54,11 @@ typedef struct {
     int32_t n_wsweep, windex;
     int32_t wsweep[MG_SEARCH_MAX_SWEEP];
     int32_t wpose[2];
+    int32_t pose[3]; /* the base's odometry (x_mm, y_mm, heading_mrad) as last reported */
+    int32_t has_stations, n_stations, station; /* the rings in odometry, the next one */
+    int32_t stations[MG_COVER_STATIONS][2];
+    int32_t leg[2];  /* turn_mrad, drive_mm of the leg toward the next station */
+    int32_t covered; /* the rings are done: the disc of cover_mm has been seen */
     int32_t overflow; /* a cycle or a sweep longer than the arrays: cut short */
 } mg_arm_search_t;
 
@@ -56,7 +69,9 @@ int32_t mg_search_cycle(const mg_search_params_t *p, int32_t theta2_start_mrad,
 void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t theta2_start_mrad,
                     int32_t theta5_start_mrad, int64_t now_us);
 int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2]);
-mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us);
+/* advance the pattern to now_us, the command in force; pose: the base's odometry (x_mm, y_mm,
+ * heading_mrad) the rings' legs need (NULL: the last one given) */
+mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us, const int32_t *pose);
 void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us);
 void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us);
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us);

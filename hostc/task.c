@@ -4,7 +4,8 @@
 #include <string.h>
 
 const mg_method_t mg_methods[] = {
-    {"idle", sizeof(mg_task_idle_t), mg_task_idle_init, mg_task_idle_step, mg_task_idle_needed},
+    {"idle", sizeof(mg_task_idle_t), mg_task_idle_init, mg_task_idle_step, mg_task_idle_needed,
+     NULL},
 };
 const int32_t mg_n_methods = (int32_t)(sizeof mg_methods / sizeof mg_methods[0]);
 
@@ -19,6 +20,6 @@ const mg_method_t *mg_method_find(const char *name)
 mg_task_if_t mg_method_bind(const mg_method_t *m, void *state)
 {
     m->init(state);
-    const mg_task_if_t t = {state, m->step, m->detectors_needed};
+    const mg_task_if_t t = {state, m->step, m->detectors_needed, m->fallback_of};
     return t;
 }

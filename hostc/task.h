@@ -17,6 +17,7 @@ typedef struct {
     void (*step)(void *state, mg_app_t *app, int64_t now_us, const mg_detection_t *detections,
                  const int32_t *present, mg_task_output_t *out);
     uint32_t (*detectors_needed)(void *state);
+    int32_t (*fallback_of)(void *state, int32_t det); /* NULL: no fallbacks */
 } mg_method_t;
 
 extern const mg_method_t mg_methods[];

@@ -33,6 +33,9 @@ void mg_task_do_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
     mg_close_in_t d;
     const int done = mg_close_in(xy, goal_mm, tol_mm, t->p.bearing_tol_mrad,
                                  r->adjust_vmax_mmps(&t->p), wheels, &d);
+    static const char *const names[3] = {"bearing_mrad", "dist_mm", "err_mm"};
+    const int64_t values[3] = {d.bearing_mrad, d.dist_mm, d.err_mm};
+    mg_task_note_ints(t, "adjust", 3, names, values);
     const int64_t unseen = now_us - t->obj_seen_us;
     if (unseen >= t->p.lost_timeout_us
         && (d.err_mm < 0 ? -d.err_mm : d.err_mm) > t->p.blind_finish_mm) {

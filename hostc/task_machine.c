@@ -6,7 +6,11 @@
 
 #include "arm_calib.h"
 #include "fixedpoint.h"
+#include "json.h"
 #include "posture.h"
+#include "task_adjust.h"
+#include "task_grasp.h"
+#include "task_search.h"
 #include "task_sense.h"
 #include "task_method.h"
 
@@ -53,6 +57,156 @@ size_t mg_task_text_int(char *out, size_t cap, size_t at, int64_t v)
     return mg_task_text(out, cap, at, text);
 }
 
+size_t mg_task_text_q4_1(char *out, size_t cap, size_t at, int64_t v_q4)
+{
+    /* sixteenths are exact binary fractions: a tie rounds to even, as the float's repr does */
+    const int neg = v_q4 < 0;
+    const uint64_t m = neg ? (uint64_t)0 - (uint64_t)v_q4 : (uint64_t)v_q4;
+    uint64_t tenths = m * 10u / 16u;
+    const uint64_t rem = m * 10u % 16u;
+    if (rem > 8u || (rem == 8u && (tenths & 1u)))
+        tenths++;
+    if (neg) /* -0.0 too, as Python prints it */
+        at = mg_task_text(out, cap, at, "-");
+    at = mg_task_text_int(out, cap, at, (int64_t)(tenths / 10u));
+    at = mg_task_text(out, cap, at, ".");
+    return mg_task_text_int(out, cap, at, (int64_t)(tenths % 10u));
+}
+
+static const char *const JOINT_NAMES[6] = {"gripper", "wrist_roll", "wrist_pitch",
+                                           "elbow_pitch", "shoulder_pitch", "waist_yaw"};
+
+size_t mg_task_ik_reason(const mg_arm_geometry_t *g, int32_t code, int64_t detail,
+                         const mg_arm_pose_t *pose, char *out, size_t cap, size_t at)
+{
+    const int64_t l1 = g->l1_mm_q4, l2 = g->l2_mm_q4;
+    switch (code) {
+    case MG_IK_ON_AXIS:
+        return mg_task_text(out, cap, at, "target on the waist axis: waist angle undefined");
+    case MG_IK_OUT_OF_REACH:
+    case MG_IK_TOO_CLOSE:
+        at = mg_task_text(out, cap, at, code == MG_IK_OUT_OF_REACH ? "out of reach: wrist point "
+                                                                   : "too close: wrist point ");
+        at = mg_task_text_q4_1(out, cap, at, detail);
+        at = mg_task_text(out, cap, at, code == MG_IK_OUT_OF_REACH
+                                            ? " mm from the shoulder > l1 + l2 = "
+                                            : " mm from the shoulder < |l1 - l2| = ");
+        at = mg_task_text_q4_1(out, cap, at,
+                               code == MG_IK_OUT_OF_REACH ? l1 + l2 : (l1 > l2 ? l1 - l2 : l2 - l1));
+        return mg_task_text(out, cap, at, " mm");
+    case MG_IK_JOINT_LIMIT: {
+        const int32_t ch = (int32_t)detail;
+        const int32_t val[4] = {pose->theta2_mrad, pose->theta3_mrad, pose->theta4_mrad,
+                                pose->theta5_mrad};
+        at = mg_task_text(out, cap, at, "theta");
+        at = mg_task_text_int(out, cap, at, ch);
+        at = mg_task_text(out, cap, at, " (");
+        at = mg_task_text(out, cap, at, ch >= 2 && ch <= 5 ? JOINT_NAMES[ch] : "?");
+        at = mg_task_text(out, cap, at, ") would be ");
+        at = mg_task_text_int(out, cap, at, ch >= 2 && ch <= 5 ? val[ch - 2] : 0);
+        at = mg_task_text(out, cap, at, " mrad, outside [");
+        at = mg_task_text_int(out, cap, at, mg_joint_lo_mrad(ch));
+        at = mg_task_text(out, cap, at, ", ");
+        at = mg_task_text_int(out, cap, at, mg_joint_hi_mrad(ch));
+        return mg_task_text(out, cap, at, "] mrad");
+    }
+    default:
+        at = mg_task_text(out, cap, at, "at the joint limits the point misses the target by ");
+        at = mg_task_text_q4_1(out, cap, at, detail);
+        return mg_task_text(out, cap, at, " mm");
+    }
+}
+
+void mg_task_note(mg_task_t *t, const char *key, const char *json)
+{
+    int32_t i = 0;
+    while (i < t->n_notes && strcmp(t->notes[i].key, key) != 0)
+        i++;
+    if (i == t->n_notes && t->n_notes == MG_TASK_NOTES) {
+        t->notes_lost++;
+        return;
+    }
+    const size_t nk = strlen(key), nj = strlen(json);
+    if (nk >= sizeof t->notes[i].key || nj >= sizeof t->notes[i].json) {
+        t->notes_lost++;
+        return;
+    }
+    memcpy(t->notes[i].key, key, nk + 1);
+    memcpy(t->notes[i].json, json, nj + 1);
+    if (i == t->n_notes)
+        t->n_notes++;
+}
+
+void mg_task_note_int(mg_task_t *t, const char *key, int64_t v)
+{
+    char text[24];
+    mg_task_text_int(text, sizeof text, 0, v);
+    mg_task_note(t, key, text);
+}
+
+void mg_task_note_ints(mg_task_t *t, const char *key, int32_t n, const char *const *names,
+                       const int64_t *values)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    for (int32_t i = 0; i < n; i++) {
+        mg_json_key(&j, names[i]);
+        mg_json_int(&j, values[i]);
+    }
+    mg_json_end_object(&j);
+    text[j.overflow ? 0 : j.len] = 0;
+    mg_task_note(t, key, text);
+}
+
+void mg_task_gripper_point_q4(const mg_task_t *t, int32_t out_q4[3])
+{
+    mg_fk_mm_q4(&t->geom, t->arm[2], t->arm[3], t->arm[4], t->arm[5], out_q4);
+}
+
+void mg_task_apply_pose(mg_task_t *t, int64_t now_us, const mg_arm_pose_t *pose,
+                        int32_t has_th1, int32_t th1)
+{
+    mg_task_set_arm(t, now_us, pose->theta2_mrad, pose->theta3_mrad, pose->theta4_mrad,
+                    pose->theta5_mrad, has_th1, th1);
+}
+
+/* APPROACH (approach.py): the method's entry (after the common reset) and step */
+static void enter_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    if (t->rules->enter_approach)
+        t->rules->enter_approach(t, now_us, in);
+}
+
+static void do_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    if (t->rules->approach)
+        t->rules->approach(t, now_us, in);
+}
+
+/* ADJUST (adjust.py) on the frame's result of the method's adjust detector */
+static void enter_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)in;
+    mg_task_enter_adjust(t, now_us);
+}
+
+static void do_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_task_do_adjust(t, now_us, in, t->rules->adjust_result ? t->rules->adjust_result(in) : NULL);
+}
+
+/* each state's entry action and step (machine.py ENTRY, STEP); the terminal states have
+ * neither */
+static const mg_task_state_fn ENTRY[MG_N_TASK_STATES] = {
+    mg_task_enter_search, enter_approach, enter_adjust,
+    mg_task_enter_rough_grasp, mg_task_enter_precise_grasp, mg_task_enter_lift, NULL,
+    mg_task_enter_lost, NULL};
+static const mg_task_state_fn STEP[MG_N_TASK_STATES] = {
+    mg_task_do_search, do_approach, do_adjust, mg_task_do_rough_grasp,
+    mg_task_do_precise_grasp, mg_task_do_lift, NULL, mg_task_do_lost, NULL};
+
 int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_params_t *p,
                  int64_t start_us)
 {
@@ -71,6 +225,9 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     t->move_done_us = start_us;
     t->obj_seen_us = start_us;
     t->lost_in = -1;
+    t->grasp_alpha_mrad = rules->grasp_alpha_mrad;
+    memcpy(t->entry, ENTRY, sizeof t->entry);
+    memcpy(t->step, STEP, sizeof t->step);
     rules->ms_init(t->ms.bytes);
     return 0;
 }
@@ -268,6 +425,7 @@ void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                   mg_task_outputs_t *out)
 {
     t->n_events = 0;
+    t->n_notes = 0;
     /* joints from telemetry; without telemetry assume the arm is where it was sent */
     memcpy(t->joints, in->has_joints ? in->joints_mrad : t->arm, sizeof t->joints);
     if (!mg_task_terminal(t->state)) {

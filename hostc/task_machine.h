@@ -13,6 +13,7 @@
 #include "fuzzy.h"
 #include "kinematics.h"
 #include "posture.h"
+#include "search.h"
 
 typedef enum {
     MG_SEARCH, MG_APPROACH, MG_ADJUST, MG_ROUGH_GRASP, MG_PRECISE_GRASP, MG_LIFT, MG_DONE,
@@ -44,6 +45,16 @@ typedef struct {
     int32_t posture_step_mrad; /* eq. (10)'s step per control step */
     mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
     mg_fuzzy_params_t fuzzy;
+    mg_search_params_t search; /* SEARCH's pattern (host/search.py SearchParams) */
+    int32_t has_object_xy, object_xy_mm[2]; /* 001: P_i given in the odometry frame */
+    int64_t confirm_us;        /* SEARCH: hold the pose this long to see the object again */
+    int64_t lost_hold_us;      /* LOST: stand still this long before searching */
+    int32_t max_lost;
+    int32_t turn_wheel_mmps, wander_mmps, wander_clear_mm, sighting_match_mm;
+    int32_t sonar_offset_mm, r_r_mm, sonar_a_g_mrad; /* the sonar ring and the safety circle */
+    int32_t detour_mm, detour_clear_mm;
+    int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;
+    int64_t grasp_close_timeout_us;
 } mg_task_params_t;
 
 /* the camera's pinhole intrinsics in px (sense.py CameraModel) */
@@ -55,6 +66,29 @@ typedef struct {
 #define MG_TASK_EVENTS 8   /* transitions in one step */
 #define MG_TASK_WHY 192    /* bytes of a transition's reason, its terminating 0 included */
 #define MG_TASK_MS_BYTES 512 /* the largest method state */
+#define MG_TASK_NOTES 12       /* members of a step's trace detail */
+#define MG_TASK_NOTE_KEY 32    /* bytes of a member's key, its 0 included */
+#define MG_TASK_NOTE_BYTES 384 /* bytes of a member's JSON value, its 0 included */
+#define MG_TASK_SONARS 16      /* sonars of the ring read */
+
+/* one member of the step's trace detail (Task.note): its key and its value in JSON, the
+ * objects in it with their keys sorted */
+typedef struct {
+    char key[MG_TASK_NOTE_KEY];
+    char json[MG_TASK_NOTE_BYTES];
+} mg_task_note_t;
+
+/* the detour of the sonar guard (sonar_guard.c): the heading to turn to, then (drive) this
+ * far along it from where the turn ended */
+typedef struct {
+    int32_t active;
+    int32_t heading_mrad, drive, has_from, from_mm[2], length_mm, checked;
+} mg_detour_t;
+
+/* the grasp states' phases (grasp.py t.phase) */
+enum { MG_PHASE_NONE, MG_PHASE_REACH, MG_PHASE_SIGHT, MG_PHASE_ROLL, MG_PHASE_ALIGN,
+       MG_PHASE_LOWER, MG_PHASE_CLOSE, MG_PHASE_RAISE, MG_PHASE_CHECK };
+#define MG_CHECK_LOOKS 3 /* the waist offsets of the grasp check (grasp.c) */
 
 typedef struct {
     int64_t t_us;
@@ -63,7 +97,8 @@ typedef struct {
 } mg_task_event_t;
 
 typedef struct mg_task mg_task_t;
-typedef void (*mg_task_state_fn)(mg_task_t *t, int64_t now_us, const void *inputs);
+struct mg_task_inputs;
+typedef void (*mg_task_state_fn)(mg_task_t *t, int64_t now_us, const struct mg_task_inputs *in);
 
 struct mg_task {
     const struct mg_task_method *rules; /* the method's row (task_method.h) */
@@ -93,6 +128,28 @@ struct mg_task {
     int32_t lost_in;        /* the state the object was lost in (-1: none) */
     int32_t n_events, events_lost;
     mg_task_event_t events[MG_TASK_EVENTS];
+    int32_t n_notes, notes_lost; /* this step's trace detail */
+    mg_task_note_t notes[MG_TASK_NOTES];
+    /* SEARCH and LOST (task_search.c) */
+    mg_arm_search_t search;
+    int32_t has_turn_from, turn_from_mrad;  /* heading where the base turn started */
+    int32_t has_wander_from, wander_from_mm[2]; /* where the wander leg started */
+    int32_t has_confirm_until;
+    int64_t confirm_until_us;
+    int32_t has_confirm_failed, confirm_failed[6]; /* the pose a confirmation failed in */
+    int32_t has_sighting, sighting_mm[2]; /* an unconfirmed sighting's place (keeps_sightings) */
+    int32_t lost;                          /* counters["lost"] */
+    mg_detour_t guard_out; /* the drive out of R_r after a guard stop (sonar_guard.c) */
+    /* the grasp states (task_grasp.c) */
+    int32_t phase;
+    int64_t phase_us;
+    int32_t has_reach, reach_mm[2]; /* the grasp reach to drive to: centre, tolerance */
+    int32_t grasp_alpha_mrad;
+    int32_t precise_steps, has_close_by;
+    char close_by[16];             /* what decided the close */
+    int32_t regrasps, check_seen;  /* LIFT: grasps missed, frames seeing the object standing */
+    int32_t check_centre_mrad, check_k; /* the grasp check's look: centre waist, offset index */
+    int32_t held[MG_CHECK_LOOKS], held_tip_mm[MG_CHECK_LOOKS][2]; /* fingertips held under */
     union {
         int64_t align;
         unsigned char bytes[MG_TASK_MS_BYTES];
@@ -120,9 +177,12 @@ mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_
 
 /* One step's inputs and outputs (machine.py TaskInputs / TaskOutputs without the detections
  * and the detail, which the ported states do not read yet). */
-typedef struct {
+typedef struct mg_task_inputs {
     int32_t has_joints, joints_mrad[6];
     int32_t x_mm, y_mm, heading_mrad, v_mmps;
+    int32_t n_sonar, sonar_mm[MG_TASK_SONARS]; /* the ring, right to left; 0xFFFF: no echo */
+    int32_t grasp_closed;
+    const void *frame; /* this frame's results in the method's type (NULL: no new frame) */
 } mg_task_inputs_t;
 typedef struct {
     int32_t servo_mrad[6];
@@ -159,8 +219,28 @@ int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const
 void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                   mg_task_outputs_t *out);
 
+/* Add to this step's trace detail (Task.note): key's value, JSON text (a key noted again is
+ * replaced); the members past MG_TASK_NOTES or longer than MG_TASK_NOTE_BYTES are counted in
+ * notes_lost */
+void mg_task_note(mg_task_t *t, const char *key, const char *json);
+void mg_task_note_int(mg_task_t *t, const char *key, int64_t v);
+/* a member whose value is an object of n int members (names in sorted order) */
+void mg_task_note_ints(mg_task_t *t, const char *key, int32_t n, const char *const *names,
+                       const int64_t *values);
+/* the gripper point (eq. (3) of 000) of the arm's targets, Q4 mm */
+void mg_task_gripper_point_q4(const mg_task_t *t, int32_t out_q4[3]);
+/* the arm to pose (theta2..5; has_th1 0: the roll kept) */
+void mg_task_apply_pose(mg_task_t *t, int64_t now_us, const mg_arm_pose_t *pose,
+                        int32_t has_th1, int32_t th1);
+
 /* a reason's text: s, then the decimal v (task_machine.c), 0-terminated within cap */
 size_t mg_task_text(char *out, size_t cap, size_t at, const char *s);
 size_t mg_task_text_int(char *out, size_t cap, size_t at, int64_t v);
+/* v_q4 / 16 to one decimal as Python's format(v / 16, ".1f") prints it */
+size_t mg_task_text_q4_1(char *out, size_t cap, size_t at, int64_t v_q4);
+/* why mg_ik_pitch_mm_q4 refused a target (host/kinematics.py Unreachable.reason), from its
+ * code, detail and pose (the pose outside the limits for MG_IK_JOINT_LIMIT) */
+size_t mg_task_ik_reason(const mg_arm_geometry_t *g, int32_t code, int64_t detail,
+                         const mg_arm_pose_t *pose, char *out, size_t cap, size_t at);
 
 #endif

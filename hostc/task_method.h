@@ -9,6 +9,23 @@
 
 #include "task_machine.h"
 
+#define MG_SIGHTING_BYTES 64 /* the largest method's search sighting */
+#define MG_FRAME_BYTES 256   /* the largest method's frame of results (mg_frame002_t ...) */
+
+/* the detectors the task names (host/vision/registry.py), in the program's order: every
+ * method's per-state lists (Method.detectors) and fallbacks keep this order */
+enum {
+    MG_DET_DUAL_PLUS, MG_DET_RADIAL_SYMBOL, MG_DET_SPOKE, MG_DET_DOUBLE_CROSS,
+    MG_DET_RED_CYLINDER, MG_DET_RED_ROI, MG_DET_HELD_FILL, MG_N_DETECTORS
+};
+extern const char *const mg_detector_names[MG_N_DETECTORS];
+
+/* a detector that stands in for another in a state (Method.detector_fallbacks) */
+typedef struct {
+    int32_t state, detector, primary;
+} mg_fallback_t;
+#define MG_MAX_FALLBACKS 4
+
 typedef struct mg_task_method {
     const char *name;
     size_t ms_bytes;                     /* its State's size (at most MG_TASK_MS_BYTES) */
@@ -30,7 +47,50 @@ typedef struct mg_task_method {
     int (*adjust_done)(mg_task_t *t, int64_t now_us, const void *det, int32_t dist_mm);
     void (*adjust_goal_mm)(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
     int32_t (*adjust_vmax_mmps)(const mg_task_params_t *p);
+    /* this frame's result of the adjust detector (NULL: none) */
+    const void *(*adjust_result)(const mg_task_inputs_t *in);
+    /* SEARCH (search.py): the sighting of this frame the search looks at, into sighting
+     * (MG_SIGHTING_BYTES; 0: none, Method.search_sighting); whether it gives a usable object
+     * or bearing (kept; Method.found) and the transition's reason (Method.found_why); the
+     * search given up (1 and why; NULL: never, Method.search_gives_up); the search after a
+     * loss near the object (1 and the changed parameters and start; NULL: none,
+     * Method.lost_search); an unconfirmed sighting seen again at its place counts */
+    int (*search_sighting)(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting);
+    int (*found)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const void *sighting);
+    void (*found_why)(const mg_task_t *t, char *why, size_t cap);
+    int (*search_gives_up)(const mg_task_t *t, char *why, size_t cap);
+    int (*lost_search)(mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
+                       int32_t *theta5s_mrad);
+    int32_t keeps_sightings;
+    /* APPROACH: its entry action after the common reset, and its step */
+    void (*enter_approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    void (*approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    /* the grasp (grasp.py): the detectors that see the object itself, as the failure names
+     * them; the reach the base drives the object into first (1; NULL or 0: none); where the
+     * gripper goes first; the grasp's IK; an unreachable rough target tried lower; the entry
+     * of PRECISE_GRASP; the grasp check's look (1; NULL or 0: the common look); the frame
+     * shows the object held (Method.held_in_view); the check detector's result and place */
+    const char *object_detectors;
+    int (*grasp_reach_mm)(const mg_task_t *t, int32_t *centre_mm, int32_t *half_mm);
+    void (*rough_target)(const mg_task_t *t, const mg_task_inputs_t *in, int32_t target_q4[3]);
+    int32_t (*grasp_ik)(const mg_arm_geometry_t *g, const int32_t target_q4[3],
+                        mg_arm_pose_t *pose, int64_t *detail);
+    int32_t lowers_hover;
+    void (*enter_precise)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    int (*held_view_pose)(const mg_task_t *t, mg_arm_pose_t *pose);
+    int (*held_in_view)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    const char *check_detector;
+    const void *(*check_result)(const mg_task_inputs_t *in);
+    mg_task_position_fn check_position;
+    int32_t check_is_object;
     int32_t grasp_alpha_mrad;
+    /* the detectors each state runs (bits of MG_DET_*), the fallbacks among them, and the
+     * frame of one vision job's results as the method's hooks read it (words[i]: detector i's
+     * out words, NULL: nothing found or not run; into frame, MG_FRAME_BYTES) */
+    uint32_t detectors[MG_N_TASK_STATES];
+    int32_t n_fallbacks;
+    mg_fallback_t fallbacks[MG_MAX_FALLBACKS];
+    void (*frame_of)(const mg_task_t *t, const int32_t *const *words, void *frame);
     mg_camera_model_t camera;
     mg_arm_geometry_t geom; /* l2, l3, l4 of the arm the method assumes, Q4 mm */
 } mg_task_method_t;
@@ -38,6 +98,11 @@ typedef struct mg_task_method {
 extern const mg_task_method_t mg_task_methods[];
 extern const int32_t mg_n_task_methods;
 const mg_task_method_t *mg_task_method_find(const char *name); /* NULL: unknown */
+
+/* the detectors the current state runs (bits of MG_DET_*; Task.detectors_needed) */
+uint32_t mg_task_detectors_needed(const mg_task_t *t);
+/* the detector det stands in for in the current state, or -1 (Task.detector_fallbacks) */
+int32_t mg_task_detector_fallback(const mg_task_t *t, int32_t det);
 
 /* Method.failure_reason's default: the reason as it is */
 void mg_task_reason_as_is(const mg_task_t *t, const char *reason, char *out, size_t cap);

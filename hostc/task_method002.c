@@ -4,12 +4,15 @@
 
 #include <string.h>
 
+#include "app_factory.h"
 #include "fixedpoint.h"
+#include "json.h"
 #include "kernels.h"
 #include "ranging.h"
 #include "posture.h"
 #include "trig.h"
 #include "task_drive.h"
+#include "task_grasp.h"
 #include "task_method.h"
 #include "task_sense.h"
 
@@ -57,6 +60,32 @@ void mg_method002_params(mg_task_params_t *p)
     p->posture.margin_mode = MG_MARGIN_LIMITS; /* the printed theta2m leaves no room at 0 */
     p->posture.max_step_mrad = 0;
     p->fuzzy = fuzzy;
+    /* the double cross stands upright, far: the paper's first cycle, then the level look
+     * (f = 350 px: 0.66 rad vertical field); the wander gives up past the disc of 2.5 m */
+    mg_search_params_default(&p->search);
+    p->search.dense_cycles = 1;
+    p->search.n_coarse = 2;
+    p->search.coarse_theta2_mrad[0] = -2100;
+    p->search.coarse_theta2_mrad[1] = -2400;
+    p->search.cover_mm = MG_SEARCH_COVER_002_MM;
+    p->has_object_xy = 0;
+    p->confirm_us = 700000;
+    p->lost_hold_us = 500000;
+    p->max_lost = 5;
+    p->turn_wheel_mmps = 80;
+    p->wander_mmps = 200;
+    p->wander_clear_mm = 500;
+    p->sighting_match_mm = 200;
+    p->sonar_offset_mm = 170;
+    p->r_r_mm = 200;
+    p->sonar_a_g_mrad = 1050;
+    p->detour_mm = 500;
+    p->detour_clear_mm = 900;
+    p->grasp_r_tol_mm = 15;
+    p->hover_mm = 110;
+    p->lift_mm = 60;
+    p->pregrasp_back_mm = 40;
+    p->grasp_close_timeout_us = 2000000;
 }
 
 /* A run that never saw the red cylinder (a board alone) says so whatever ended it. */
@@ -242,6 +271,48 @@ static int32_t clamp32(int64_t v, int32_t lo, int32_t hi)
     return (int32_t)(v < lo ? lo : v > hi ? hi : v);
 }
 
+/* the fuzzy approach's trace detail: e, its rate e_c (has_ec 0: none), u, the wheels, what it
+ * steered on (NULL: nothing) or blind */
+static void note_fuzzy(mg_task_t *t, int32_t has_e, int32_t e, int32_t has_ec, int64_t ec,
+                       int32_t u_mrad, const char *steer_on, int32_t blind)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    if (blind) {
+        mg_json_key(&j, "blind");
+        mg_json_bool(&j, 1);
+    }
+    mg_json_key(&j, "e_c_mrad_s");
+    if (has_ec)
+        mg_json_int(&j, ec);
+    else
+        mg_json_null(&j);
+    mg_json_key(&j, "e_mrad");
+    if (has_e)
+        mg_json_int(&j, e);
+    else
+        mg_json_null(&j);
+    if (!blind) {
+        mg_json_key(&j, "steer_on");
+        if (steer_on)
+            mg_json_string(&j, steer_on, strlen(steer_on));
+        else
+            mg_json_null(&j);
+    }
+    mg_json_key(&j, "u_mrad");
+    mg_json_int(&j, u_mrad);
+    mg_json_key(&j, "wheels_mmps");
+    mg_json_begin_array(&j);
+    mg_json_int(&j, t->wheels[0]);
+    mg_json_int(&j, t->wheels[1]);
+    mg_json_end_array(&j);
+    mg_json_end_object(&j);
+    text[j.overflow ? 0 : j.len] = 0;
+    mg_task_note(t, "fuzzy", text);
+}
+
 /* No marker in this frame: steer on the bearing it was last seen at, by odometry, for up to
  * the remembered reach and blind_approach_us (ours, not 002's: its fuzzy loop assumes the
  * marker always in view, docs/cosim.md "Measured", T7). The fuzzy step is eq. (1), (2). */
@@ -262,6 +333,7 @@ int mg_method002_approach_blind(mg_task_t *t, int64_t now_us, const mg_task_inpu
     mg_task_set_arm(t, now_us, t->arm[2], t->arm[3], t->arm[4], clamp32(e, -800, 800), 0, 0);
     ms->has_prev_e = 0;
     *u_mrad = cmd.u_mrad;
+    note_fuzzy(t, 1, e, 0, 0, cmd.u_mrad, NULL, 1);
     return 1;
 }
 
@@ -396,8 +468,10 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
     int32_t yaw[6];
     mg_task_arm_at(t, now_us - t->p.frame_latency_us, yaw); /* the waist of the frame */
     int32_t has_e = 0, e = 0, vm = 0, has_cue = 0, cue_mm = 0;
+    const char *cue = NULL;
     if (f->has_dc) {
         has_e = 1;
+        cue = "double cross";
         e = mg_bearing_mrad(f->dc_um_q4, yaw[5], &t->cam);
         vm = f->dc_vm_q4;
         const int32_t spacing = mg_d_pixel_px(f->dc_d_pixel_q4);
@@ -407,6 +481,7 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
         /* the double cross out of view: steer on the cylinder's column, its rings near, its
          * colour ROI far (ours: 002 steers on the board alone) */
         has_e = 1;
+        cue = f->has_rc ? "red_cylinder" : "red_roi";
         e = mg_bearing_mrad(f->has_rc ? f->rc.u_c_q4 : f->roi_u_c_q4, yaw[5], &t->cam);
         vm = f->has_rc ? f->rc.v_c_q4 : f->roi_v_c_q4;
         has_cue = !f->has_rc && f->has_roi_sighting;
@@ -445,9 +520,130 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
     }
     t->wheels[0] = cmd.left_mm_s;
     t->wheels[1] = cmd.right_mm_s;
+    const int32_t has_ec = has_e && ms->has_prev_e && now_us > ms->prev_e_t_us;
+    const int64_t ec = has_ec ? mg_floor_div(((int64_t)e - ms->prev_e_mrad) * 1000000,
+                                             now_us - ms->prev_e_t_us)
+                              : 0;
     ms->has_prev_e = has_e;
     ms->prev_e_t_us = now_us;
     ms->prev_e_mrad = e;
     *has_u = 1;
     *u_mrad = cmd.u_mrad;
+    note_fuzzy(t, has_e, e, has_ec, ec, cmd.u_mrad, cue, 0);
+}
+
+/* ---- the hooks of the machine's states (the method row) ---- */
+
+int mg_method002_search_sighting(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting)
+{
+    (void)t;
+    const mg_frame002_t *f = (const mg_frame002_t *)in->frame;
+    mg_sighting002_t *s = (mg_sighting002_t *)sighting;
+    memset(s, 0, sizeof *s);
+    if (f == NULL)
+        return 0;
+    if (f->has_dc) { /* the double cross when this frame shows it (002 section 2.1) */
+        s->steer_on = MG_STEER_DOUBLE_CROSS;
+        s->u_q4 = f->dc_um_q4;
+        s->d_pixel_q4 = f->dc_d_pixel_q4;
+        return 1;
+    }
+    if (!f->has_roi) /* else the red cylinder's colour ROI (002 section 2.2 step 1) */
+        return 0;
+    s->steer_on = MG_STEER_RED_CYLINDER;
+    s->u_q4 = f->roi_u_c_q4;
+    s->has_range = f->has_roi_sighting;
+    s->range_mm = f->has_roi_sighting ? f->roi_sighting.depth_mm_q4 >> 4 : 0;
+    return 1;
+}
+
+int mg_method002_found_seen(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                            const void *sighting)
+{
+    (void)in;
+    return mg_method002_found(t, now_us, (const mg_sighting002_t *)sighting);
+}
+
+/* Nothing seen in a look around and a wander that covered the disc of the search's cover_mm:
+ * no graspable object. */
+int mg_method002_search_gives_up(const mg_task_t *t, char *why, size_t cap)
+{
+    if (t->graspable_seen || !t->search.covered)
+        return 0;
+    size_t n = mg_task_text(why, cap, 0,
+                            "the search saw neither the double cross nor the red cylinder in ");
+    n = mg_task_text_int(why, cap, n, t->search.cycle);
+    n = mg_task_text(why, cap, n, " cycles and ");
+    n = mg_task_text_int(why, cap, n, t->search.wanders);
+    mg_task_text(why, cap, n, " wander legs");
+    return 1;
+}
+
+void mg_method002_enter_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)now_us;
+    mg_method002_enter_approach(t, in);
+}
+
+void mg_method002_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    static const mg_frame002_t none;
+    int32_t has_u, u;
+    mg_method002_approach(t, now_us, in, in->frame ? (const mg_frame002_t *)in->frame : &none,
+                          &has_u, &u);
+}
+
+const void *mg_method002_red_cylinder_result(const mg_task_inputs_t *in)
+{
+    const mg_frame002_t *f = (const mg_frame002_t *)in->frame;
+    return f != NULL && f->has_rc ? &f->rc : NULL;
+}
+
+/* The pre-grasp point pregrasp_back_mm short of the axis at the grasp height. */
+void mg_method002_rough_target(const mg_task_t *t, const mg_task_inputs_t *in,
+                               int32_t target_q4[3])
+{
+    mg_task_object_target_q4(t, in, t->p.grasp_height_mm, t->p.pregrasp_back_mm, target_q4);
+}
+
+/* Move in to the axis and lower. The pitch is chosen again (level first, eq. (4) of 002): the
+ * pre-grasp point may only be reachable tilted, the axis often level. */
+void mg_method002_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    int32_t target[3];
+    mg_task_object_target_q4(t, in, t->p.grasp_height_mm, 0, target);
+    mg_arm_pose_t pose;
+    int64_t detail;
+    const int32_t code = mg_method002_grasp_ik(&t->geom, target, &pose, &detail);
+    if (code != MG_IK_OK) {
+        char why[MG_TASK_WHY];
+        const size_t n = mg_task_text(why, sizeof why, 0, "precise grasp IK: ");
+        mg_task_ik_reason(&t->geom, code, detail, &pose, why, sizeof why, n);
+        mg_task_fail(t, now_us, why);
+        return;
+    }
+    mg_task_apply_pose(t, now_us, &pose, 0, 0);
+    t->phase = MG_PHASE_LOWER;
+}
+
+/* the 002 cylinder's red: the red mask's rule (host/vision/red_cylinder.py red_mask) */
+int mg_method002_red_paint(const int32_t rgb[3])
+{
+    const int32_t gb = rgb[1] > rgb[2] ? rgb[1] : rgb[2];
+    const int32_t redness = rgb[0] > gb ? rgb[0] - gb : 0;
+    return redness >= MG_T_RED && 2 * rgb[0] >= 5 * gb;
+}
+
+int mg_method002_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    const mg_frame002_t *f = (const mg_frame002_t *)in->frame;
+    return mg_task_held_fill_in_view(t, now_us, f != NULL && f->has_held_fill,
+                                     f != NULL ? f->held_rgb : NULL,
+                                     f != NULL ? f->held_permille : 0, mg_method002_red_paint);
+}
+
+void mg_method002_frame_of(const mg_task_t *t, const int32_t *const *words, void *frame)
+{
+    mg_frame002_of((mg_frame002_t *)frame, words[MG_DET_DOUBLE_CROSS], words[MG_DET_RED_CYLINDER],
+                   words[MG_DET_RED_ROI], words[MG_DET_HELD_FILL], t->cam.f_px);
 }

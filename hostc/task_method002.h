@@ -20,6 +20,8 @@
 #define MG_RING_D_MM_Q4 232 /* 14.5 mm: the spacing D of the two rings (002 section 4) */
 #define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
 #define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
+#define MG_SEARCH_COVER_002_MM 2500 /* SEARCH gives up once its wander has covered this disc */
+#define MG_T_RED 40 /* the red mask's redness threshold (host/vision/red_cylinder.py T_RED) */
 
 enum { MG_STEER_NONE, MG_STEER_DOUBLE_CROSS, MG_STEER_RED_CYLINDER };
 
@@ -88,6 +90,8 @@ typedef struct {
     int32_t roi_u_c_q4, roi_v_c_q4;
     int32_t has_roi_sighting;
     mg_sighting_t roi_sighting;
+    int32_t has_held_fill; /* the colour filling the frame (host/vision/held_fill.py) */
+    int32_t held_rgb[3], held_permille;
 } mg_frame002_t;
 /* APPROACH's step (002 section 2.1): the fuzzy controller on e, the waist toward what it
  * steers on; ADJUST once the cylinder is near, or placed near by the crosses; LOST when
@@ -118,5 +122,26 @@ int mg_method002_adjust_done_seen(mg_task_t *t, int64_t now_us, const void *det,
                                   int32_t dist_mm);
 void mg_method002_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
 int32_t mg_method002_adjust_vmax_mmps(const mg_task_params_t *p);
+
+/* The method row's hooks on the step's inputs (in->frame: an mg_frame002_t or NULL). */
+/* SEARCH: the double cross when the frame shows it, else the red cylinder's colour ROI (an
+ * mg_sighting002_t); 0: neither */
+int mg_method002_search_sighting(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting);
+int mg_method002_found_seen(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                            const void *sighting);
+/* nothing seen and the rings covered: 1 and why */
+int mg_method002_search_gives_up(const mg_task_t *t, char *why, size_t cap);
+void mg_method002_enter_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+void mg_method002_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* the frame's red cylinder (an mg_red_cylinder_seen_t), NULL: none */
+const void *mg_method002_red_cylinder_result(const mg_task_inputs_t *in);
+void mg_method002_rough_target(const mg_task_t *t, const mg_task_inputs_t *in,
+                               int32_t target_q4[3]);
+void mg_method002_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* the red of 002's cylinder: the red mask's rule */
+int mg_method002_red_paint(const int32_t rgb[3]);
+int mg_method002_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* one vision job's results (the kernels' out words by MG_DET_*, NULL: none) as 002's frame */
+void mg_method002_frame_of(const mg_task_t *t, const int32_t *const *words, void *frame);
 
 #endif

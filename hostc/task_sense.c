@@ -74,3 +74,28 @@ void mg_odom_to_platform_q4(int32_t x_mm, int32_t y_mm, int32_t heading_mrad,
     out_q4[0] = (int32_t)r12(dx * s - dy * c);
     out_q4[1] = (int32_t)(r12(dx * c + dy * s) - (int64_t)mount_forward_mm * 16);
 }
+
+int mg_plus_positions(const mg_arm_geometry_t *g, const int32_t joints_mrad[6],
+                      const mg_camera_model_t *cam, const int32_t uv_q4[4], int32_t dist_mm,
+                      int32_t has_top, int32_t top_q4, int32_t out_q4[2][3])
+{
+    const int64_t depth = (int64_t)dist_mm * 16;
+    if (depth <= 0 || depth > INT32_MAX / 4)
+        return 0;
+    for (int i = 0; i < 2; i++) {
+        const int32_t u = uv_q4[2 * i], v = uv_q4[2 * i + 1];
+        mg_pixel_to_platform_mm_q4(g, joints_mrad, cam, u, v, (int32_t)depth, out_q4[i]);
+        if (!has_top)
+            continue;
+        int32_t far[3];
+        mg_pixel_to_platform_mm_q4(g, joints_mrad, cam, u, v, (int32_t)(2 * depth), far);
+        const int64_t dz = (int64_t)far[2] - out_q4[i][2]; /* z along the ray per depth */
+        if (dz >= 0)
+            return 0; /* the ray does not go down to the top */
+        const int64_t d = depth + mg_floor_div(((int64_t)top_q4 - out_q4[i][2]) * depth, dz);
+        if (!(0 < d && d <= 4 * depth))
+            return 0;
+        mg_pixel_to_platform_mm_q4(g, joints_mrad, cam, u, v, (int32_t)d, out_q4[i]);
+    }
+    return 1;
+}

@@ -2,6 +2,7 @@
  * 1025-entry quarter-wave table in Q14 over the binary angle (65536 per turn, 4 interpolation
  * bits) with linear interpolation. The table is round(16384 sin(i pi / 2048)), i = 0..1024,
  * the same const array the Python module builds at import (a test compares them). */
+#include "div_round.h"
 #include "kernels.h"
 
 const int16_t mg_sin_q14[1025] = {
@@ -119,6 +120,13 @@ static int32_t mrad_to_bam20(int32_t angle_mrad)
 int32_t mg_sin_q12(int32_t angle_mrad)
 {
     return (sin_bam_q14(mrad_to_bam20(angle_mrad)) + 2) >> 2;
+}
+
+void mg_sincos_turn_q12(int64_t num, int64_t den, int32_t *sin_q12, int32_t *cos_q12)
+{
+    const int32_t bam = (int32_t)mg_div_round_i64(num * (1 << 20), den);
+    *sin_q12 = (sin_bam_q14(bam) + 2) >> 2;
+    *cos_q12 = (sin_bam_q14(bam + (1 << 18)) + 2) >> 2;
 }
 
 int32_t mg_cos_q12(int32_t angle_mrad)

@@ -1,8 +1,9 @@
 """Following a planned Bezier curve in time: feed-forward of eq. (8) of 000 plus integer feedback.
 
-At plan time the curve (float, :mod:`mobigrasp.host.planning.bezier`) is turned once into an integer
-reference table (:class:`Trajectory`): per sample time t_us, position in µm, heading in mrad,
-speed v in mm/s and yaw rate in mrad/s. Its float cost is counted (``Trajectory.ops``).
+At plan time the curve (control points in the planners' 1/16 mm and 1/16 ms) is turned once
+into an integer reference table (:class:`Trajectory`, :func:`reference_q`): per sample time
+t_us, position in µm, heading in mrad, speed v in mm/s and yaw rate in mrad/s, all in integers
+(``Trajectory.ops`` its cost).
 
 Feed-forward, eq. (8) of 000: v_lw = v + w_w·l_w/2, v_rw = v − w_w·l_w/2 with
 w_w = a_i sin(Δθ) / v. With Δθ measured counter-clockwise from the velocity to the acceleration,
@@ -24,13 +25,82 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, div_round, sin_q12
+from mobigrasp.host.fixedpoint import atan2_mrad, atan2_ops, cos_q12, div_round, isqrt, sin_q12
 from mobigrasp.host.odometry import TRACK_UM, Pose
 from mobigrasp.host.planning.bezier import Curve
+from mobigrasp.host.planning.bezier_q import (
+    COORD_LIMIT,
+    CURVE_SETUP_OPS,
+    DIV64_OPS,
+    ISQRT64_OPS,
+    KAPPA_SAT,
+    KAPPA_SCALE,
+    POSITION_OPS,
+    SAMPLE_BASE_OPS,
+    TAU_BITS,
+    coefficients_q,
+    quantize_ctrl,
+)
 
 WHEEL_LIMIT_MM_S = 1000
 HALF_TRACK_MM = TRACK_UM // 2000
+# one sample of the reference (reference_q): the Horner steps of x, y, t and their derivatives,
+# the root of s², four 64-bit quotients (v, |κ| twice, ω), the atan2 of the heading, the
+# rounded conversions; and the curve's coefficients and call
+SAMPLE_OPS = SAMPLE_BASE_OPS + POSITION_OPS + ISQRT64_OPS + DIV64_OPS.scaled(4) + atan2_ops() \
+    + OpCounts(alu=40, muls32=3 * 3, branches=4)
+CURVE_OPS = CURVE_SETUP_OPS
+V_LIMIT_Q16 = 1 << 22  # 64 m/s
+TRAJ_MAX_SAMPLES = 256  # the C table's capacity (hostc/path_follow.h)
 STEP_OPS = OpCounts(alu=60, muls=14, muls32=4, divs=4, luts=6, branches=10)
+
+
+def _half_away(num: int, shift: int) -> int:
+    """num / 2^shift rounded, halves away from zero (the C's shifts of |num|)."""
+    half = 1 << (shift - 1)
+    return (num + half) >> shift if num >= 0 else -((half - num) >> shift)
+
+
+def reference_q(ctrl_q, n: int) -> list[tuple[int, int, int, int, int, int]] | None:
+    """The reference of one curve at τ_j = (j << 15) / (n − 1), from control points in 1/16 mm
+    and 1/16 ms (bezier_q's formats; hostc/path_follow.c mg_trajectory_from_ctrl), per sample:
+    t − t0 in µs, x and y in µm, the heading atan2(y_τ, x_τ) in mrad, v = s / t_τ in mm/s and
+    the yaw rate ω = v κ in mrad/s with κ = (x_τ y_2τ − x_2τ y_τ) / s³ signed (eq. (7) of 000's
+    derivatives; the curvature as the planners' check computes |κ|). None when t_τ <= 0 or
+    s = 0 at a sample, a coordinate is 2^21 counts or more, a speed 64 m/s or more (which
+    keeps v κ · 1000 within 63 bits), or n outside 2..TRAJ_MAX_SAMPLES."""
+    ctrl = [[int(v) for v in row] for row in np.asarray(ctrl_q, dtype=np.int64).reshape(4, 3)]
+    if n < 2 or n > TRAJ_MAX_SAMPLES or any(abs(v) >= COORD_LIMIT for row in ctrl for v in row):
+        return None
+    k = coefficients_q(np.asarray(ctrl, dtype=np.int64)[None])[0]
+    coef = [[int(k[i, c]) for i in range(4)] for c in range(3)]
+    rows = []
+    for j in range(n):
+        tau = (j << TAU_BITS) // (n - 1)
+        (x, xt, x2), (y, yt, y2), (t, tt, _) = (_horner(c, tau) for c in coef)
+        s = isqrt(xt * xt + yt * yt)
+        if tt <= 0 or s == 0:
+            return None
+        cross = xt * y2 - x2 * yt
+        kappa = min((((abs(cross) << 6) // s) * KAPPA_SCALE) // (s * s), KAPPA_SAT)
+        v_q16 = (s << 16) // tt  # m/s Q16
+        if v_q16 >= V_LIMIT_Q16:
+            return None
+        w = _half_away(v_q16 * kappa * 1000, 32)  # mrad/s
+        rows.append((_half_away((t - ctrl[0][2]) * 125, 1), _half_away(x * 125, 1),
+                      _half_away(y * 125, 1), atan2_mrad(yt, xt), div_round(s * 1000, tt),
+                      w if cross >= 0 else -w))
+    return rows
+
+
+def _horner(k: list[int], tau: int) -> tuple[int, int, int]:
+    """Position, first and second derivative at τ (Q15), bezier_q.horner_q on integers."""
+    k0, k1, k2, k3 = k
+    pos = k0 + ((tau * (k1 + ((tau * (k2 + ((tau * k3) >> TAU_BITS))) >> TAU_BITS)))
+                >> TAU_BITS)
+    d1 = k1 + ((tau * (2 * k2 + ((tau * (3 * k3)) >> TAU_BITS))) >> TAU_BITS)
+    d2 = 2 * k2 + ((tau * (6 * k3)) >> TAU_BITS)
+    return pos, d1, d2
 
 
 def wrap_mrad(a: int) -> int:
@@ -52,22 +122,18 @@ class Trajectory:
 
     @classmethod
     def from_curve(cls, curve: Curve, n_samples: int = 96) -> Trajectory:
-        """Sample the curve at n equally spaced τ and convert to integers (float cost counted)."""
-        s = curve.sample(n_samples)
-        if not np.all(s.t_tau > 0):
-            raise ValueError("curve time is not increasing: cannot follow it in time")
-        t0 = curve.ctrl[0][2]
-        xt = np.rint(s.x_tau * 1e6).astype(np.int64)  # µm per unit τ, for the integer atan2
-        yt = np.rint(s.y_tau * 1e6).astype(np.int64)
-        heading = tuple(atan2_mrad(int(b), int(a)) for a, b in zip(xt, yt, strict=True))
-        ops = OpCounts(float_ops=45 * n_samples, float_divs=3 * n_samples,
-                       luts=2 * n_samples, divs=n_samples)
-        return cls(tuple(int(v) for v in np.rint((s.t - t0) * 1e6)),
-                   tuple(int(v) for v in np.rint(s.x * 1e6)),
-                   tuple(int(v) for v in np.rint(s.y * 1e6)), heading,
-                   tuple(int(v) for v in np.rint(s.speed * 1e3)),
-                   tuple(int(v) for v in np.rint(s.omega * 1e3)), ops)
+        """Sample the curve at n equally spaced τ, in integers (:func:`reference_q`)."""
+        return cls.from_ctrl_q(quantize_ctrl(curve.array), n_samples)
 
+    @classmethod
+    def from_ctrl_q(cls, ctrl_q, n_samples: int = 96) -> Trajectory:
+        """The reference table of control points in 1/16 mm and 1/16 ms (:func:`reference_q`);
+        ValueError when the curve's time does not increase or a coordinate is out of range."""
+        rows = reference_q(ctrl_q, n_samples)
+        if rows is None:
+            raise ValueError("curve time is not increasing or out of range: cannot follow it")
+        return cls(*(tuple(col) for col in zip(*rows, strict=True)),
+                   ops=SAMPLE_OPS.scaled(n_samples) + CURVE_OPS)
     @property
     def duration_us(self) -> int:
         """Time of the last sample."""

@@ -31,7 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier_q import sample_ops
+from mobigrasp.host.fixedpoint import div_round, isqrt, isqrt_ops
+from mobigrasp.host.planning.bezier_q import POS_PER_M, sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
     CandidateList,
@@ -42,7 +43,16 @@ from mobigrasp.host.planning.candidates import (
     choose_sampling,
     evaluate_batch,
     summarize_rejections,
-    unit,
+)
+from mobigrasp.host.planning.control_points import (
+    CANDIDATE_OPS,
+    ONE_DIR,
+    PLAN_NUMBERS_OPS,
+    UNIT_OPS,
+    control_points_q,
+    plan_numbers,
+    start_direction_q,
+    unit_q14,
 )
 from mobigrasp.host.planning.observe import observed
 
@@ -72,24 +82,16 @@ class Params000:
             raise ValueError("Params000: standoff_m >= 0 and 2 <= n_samples_min <= n_samples_max")
 
 
-SETUP_OPS = OpCounts(float_ops=30, float_divs=4)  # direction, |P0P3|, t3, N_i, Δd_e, Δd_s
-
-
-def start_direction(start_vel: np.ndarray, heading_rad: float | None, fallback: np.ndarray,
-                    moving_speed_mps: float) -> np.ndarray:
-    """Unit start direction: velocity if moving, else heading, else the fallback direction."""
-    if float(np.hypot(*start_vel)) >= moving_speed_mps:
-        d = unit(start_vel)
-        if d is not None:
-            return d
-    if heading_rad is not None:
-        return np.array([math.cos(heading_rad), math.sin(heading_rad)])
-    return fallback
+# the inputs in counts, |P0 P_obj| (a root), the object direction (a unit vector), P3, and the
+# per-plan numbers of eqs. (7), (10), (11)
+SETUP_OPS = OpCounts(alu=30, muls32=6, branches=4) + isqrt_ops(1 << 44) + UNIT_OPS \
+    + PLAN_NUMBERS_OPS
 
 
 def control_points_000(p0: np.ndarray, d0: np.ndarray, p3: np.ndarray, d3: np.ndarray,
                        t3: float, n_i: int, v0: float) -> np.ndarray:
-    """The (N_i, 4, 3) control points of all u = 1..N_i (000 §III.B.1 as quoted above)."""
+    """The (N_i, 4, 3) control points of all u = 1..N_i in floats (000 §III.B.1 as quoted
+    above): the reference of the planner's integers (control_points.control_points_q)."""
     dist = float(np.hypot(*(p3 - p0)))
     dd_e = dist / n_i
     dd_s = dd_e / 4.0
@@ -113,35 +115,44 @@ def plan_000(start_xy_m, start_vel_xy_mps, target_xy_m, params: Params000 = Para
     Returns every candidate with its rejection reason and the best feasible one (or None with
     the reason). ``plan.ops`` is the modelled ARM9 cost.
     """
-    p0 = np.asarray(start_xy_m, dtype=np.float64).reshape(2)
+    p0f = np.asarray(start_xy_m, dtype=np.float64).reshape(2)
     vel = np.asarray(start_vel_xy_mps, dtype=np.float64).reshape(2)
     obj = np.asarray(target_xy_m, dtype=np.float64).reshape(2)
-    if not (np.all(np.isfinite(p0)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(obj))):
-        raise ValueError(f"plan_000: non-finite input start={p0}, vel={vel}, target={obj}")
+    if not (np.all(np.isfinite(p0f)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(obj))
+            or heading_rad is not None and not math.isfinite(heading_rad)):
+        raise ValueError(f"plan_000: non-finite input start={p0f}, vel={vel}, target={obj}")
+    # the set-up in integers (control_points.py): positions in 1/16 mm, velocity in 1/16 mm/s
+    p0 = (round(p0f[0] * POS_PER_M), round(p0f[1] * POS_PER_M))
+    ob = (round(obj[0] * POS_PER_M), round(obj[1] * POS_PER_M))
+    standoff = round(params.standoff_m * POS_PER_M)
     ops = SETUP_OPS
-    to_obj = obj - p0
-    dist_obj = float(np.hypot(*to_obj))
-    if dist_obj <= params.standoff_m + 1e-6:
+    dist_obj = isqrt((ob[0] - p0[0]) ** 2 + (ob[1] - p0[1]) ** 2)
+    if dist_obj <= standoff:
         return Plan(None, CandidateList.empty(), ops, "already within standoff of the object")
-    d3 = to_obj / dist_obj
-    p3 = obj - params.standoff_m * d3
-    d0 = start_direction(vel, heading_rad, d3, params.moving_speed_mps)
-    dist = dist_obj - params.standoff_m
-    t3 = dist / params.v0
-    n_i = max(1, int(t3 / params.t_s))  # N_i = t3 / T_s
+    d3 = unit_q14(ob[0] - p0[0], ob[1] - p0[1])
+    p3 = (ob[0] - div_round(standoff * d3[0], ONE_DIR), ob[1] - div_round(standoff * d3[1],
+                                                                        ONE_DIR))
+    d0 = start_direction_q((round(vel[0] * POS_PER_M), round(vel[1] * POS_PER_M)),
+                           None if heading_rad is None else round(heading_rad * 1000), d3,
+                           round(params.moving_speed_mps * POS_PER_M))
+    numbers = plan_numbers(dist_obj - standoff, round(params.v0 * 1000),
+                           round(params.t_s * 1000))
+    t3, n_i = numbers[0], numbers[1]
     per_sample = sample_ops(1).cycles() - sample_ops(0).cycles()
     n, stride = choose_sampling(n_i, per_sample, params.budget_us - ops.time_us(),
                                 params.n_samples_min, params.n_samples_max)
-    ctrl = control_points_000(p0, d0, p3, d3, t3, n_i, params.v0)[::stride]
+    ctrl = control_points_q(p0, d0, np.array([p3]), np.array([d3]), numbers)[::stride]
+    ops = ops + CANDIDATE_OPS.scaled(len(ctrl))
     us = np.arange(1, n_i + 1)[::stride]
     lim = Limits(params.v_max, params.a_max, params.r_min, accel_is_normal=False)
     s, reasons, first = evaluate_batch(ctrl, n, lim)
     ops = ops + batch_ops(first, n)
-    cands = candidates_from_batch(ctrl, s, reasons, us, np.full(len(us), -1),
+    cands = candidates_from_batch(ctrl / POS_PER_M, s, reasons, us, np.full(len(us), -1),
                                   params.k1, params.k2)
     feasible = cands.feasible_indices()
     if feasible.size == 0:
         return Plan(None, cands, ops, summarize_rejections(cands), n, stride)
     best = cands[int(feasible[np.argmin(cands.cost[feasible])])]  # first minimum: smallest u
     return Plan(best.curve, cands, ops, REASON_OK, n, stride, best,
-                extra={"t3_s": t3, "n_i": n_i, "p3_xy_m": (float(p3[0]), float(p3[1]))})
+                extra={"t3_s": t3 / POS_PER_M, "n_i": n_i,
+                       "p3_xy_m": (p3[0] / POS_PER_M, p3[1] / POS_PER_M)})

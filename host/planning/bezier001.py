@@ -41,7 +41,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier000 import start_direction
+from mobigrasp.host.fixedpoint import cos_q12, isqrt, isqrt_ops, sin_ops
+from mobigrasp.host.planning import control_points as cp
 from mobigrasp.host.planning.bezier_q import POS_PER_M, Q16, sample_ops
 from mobigrasp.host.planning.candidates import (
     REASON_OK,
@@ -63,8 +64,9 @@ from mobigrasp.host.planning.clearance_q import (
     point_clearance_q4,
 )
 from mobigrasp.host.planning.grasp_circle import (
+    END_POINT_OPS_EACH,
     ArmGeometry001,
-    end_points,
+    end_points_q,
     grasp_radius,
 )
 from mobigrasp.host.planning.observe import observed
@@ -110,16 +112,31 @@ class Params001:
             raise ValueError("Params001: n_e >= 1, n_coarse_min >= 2, n_fine >= 2, max_fine >= 1")
 
 
-SETUP_OPS = OpCounts(float_ops=60, float_divs=6)
+# the inputs in counts, |q_s P_i| (a root), the fallback direction (a unit vector), the
+# per-plan numbers of eqs. (7), (10), (11), the facing threshold
+SETUP_OPS = OpCounts(alu=40, muls32=8, branches=6) + isqrt_ops(1 << 44) + cp.UNIT_OPS \
+    + cp.PLAN_NUMBERS_OPS + sin_ops()
+FACING_OPS = OpCounts(alu=6, muls32=2 * 3, branches=1)  # one end point's 64-bit dot product
 CIRCLE_MARGIN_M = 1e-3  # samples closer than l_e less this are inside the grasp circle
 # per sonar region: world angles, apex Q_r (sin, divide, cos), the object-echo test (two
 # distances), and, in the coarse pass, the grown copy
 REGION_OPS = OpCounts(float_ops=45, float_divs=6, luts=4)
 
 
+def setup_ops(n_regions: int, n_e: int, n_candidates: int, ends: bool = True) -> OpCounts:
+    """ARM9 cost of a plan's set-up before the coarse pass: the inputs and per-plan numbers,
+    ``n_regions`` sonar regions, the n_e end points with their facing test (``ends``) and the
+    control points of ``n_candidates`` curves."""
+    ops = SETUP_OPS + REGION_OPS.scaled(n_regions) + cp.CANDIDATE_OPS.scaled(n_candidates)
+    if ends:
+        ops = ops + (END_POINT_OPS_EACH + FACING_OPS).scaled(n_e)
+    return ops
+
+
 def control_points_001(p0, d0, ends: np.ndarray, obj, t3: float, n_i: int, dist: float,
                        v0: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Control points (eqs. (8)-(11)) for every (end point, u): (M, 4, 3), u and end index."""
+    """Control points (eqs. (8)-(11)) for every (end point, u) in floats: (M, 4, 3), u and end
+    index; the reference of the planner's integers (control_points.control_points_q)."""
     dd_e = dist / n_i  # eq. (10)
     dd_s = dd_e / 4.0  # eq. (11)
     n_end = ends.shape[0]
@@ -172,22 +189,34 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     scan = infeasible_regions(params.sonar, p0, heading_rad, sonar_mm)
     regions = [r for r in list(known_regions or []) + scan.regions
                if not is_object_echo(r, obj, params.object_echo_tol_m)]
-    ops = SETUP_OPS + REGION_OPS.scaled(len(scan.regions) + len(known_regions or []))
+    n_reg = len(scan.regions) + len(known_regions or [])
+    ops = setup_ops(n_reg, params.n_e, 0, ends=False)
     l_e = grasp_radius(params.arm).l_e_m
-    dist = float(np.hypot(*(obj - p0)))
-    if dist <= l_e + 1e-3:
+    # the set-up in integers (control_points.py): positions in 1/16 mm, velocity in 1/16 mm/s
+    p0_q = (round(p0[0] * POS_PER_M), round(p0[1] * POS_PER_M))
+    ob_q = (round(obj[0] * POS_PER_M), round(obj[1] * POS_PER_M))
+    l_e_q = round(l_e * POS_PER_M)
+    to_start = (p0_q[0] - ob_q[0], p0_q[1] - ob_q[1])
+    dist = isqrt(to_start[0] ** 2 + to_start[1] ** 2)  # |q_s P_i|
+    if dist <= l_e_q + POS_PER_M // 1000:
         return Plan(None, CandidateList.empty(), ops, "already on the grasp circle")
-    ends = end_points(obj, l_e, params.n_e)
-    to_start = (p0 - obj) / dist
-    radial = (ends - obj) / l_e
-    facing = radial @ to_start
-    keep = np.nonzero(facing >= math.cos(params.endpoint_max_angle_rad) - 1e-12)[0]
+    ends, d3 = end_points_q(ob_q, l_e_q, params.n_e)
+    # an end point faces the start when the angle at the object between them is at most
+    # endpoint_max_angle_rad: (q_e − P_i)·(q_s − P_i) >= cos(angle) l_e |q_s P_i|
+    facing = (ends[:, 0] - ob_q[0]) * to_start[0] + (ends[:, 1] - ob_q[1]) * to_start[1]
+    floor = (cos_q12(round(params.endpoint_max_angle_rad * 1000)) * l_e_q * dist) >> 12
+    keep = np.nonzero(facing >= floor)[0]
     keep = keep[np.argsort(-facing[keep], kind="stable")]  # most promising end points first
-    ops = ops + OpCounts(float_ops=8 * params.n_e, luts=2 * params.n_e)
-    d0 = start_direction(vel, heading_rad, -to_start, params.moving_speed_mps)
-    t3 = dist / params.v0  # eq. (7)
-    n_i = max(1, int(t3 / params.t_s))
-    ctrl, us, ks = control_points_001(p0, d0, ends[keep], obj, t3, n_i, dist, params.v0)
+    ops = setup_ops(n_reg, params.n_e, 0)
+    d0 = cp.start_direction_q((round(vel[0] * POS_PER_M), round(vel[1] * POS_PER_M)),
+                              round(heading_rad * 1000),
+                              cp.unit_q14(-to_start[0], -to_start[1]),
+                              round(params.moving_speed_mps * POS_PER_M))
+    numbers = cp.plan_numbers(dist, round(params.v0 * 1000), round(params.t_s * 1000))
+    t3, n_i = numbers[0], numbers[1]
+    ctrl = cp.control_points_q(p0_q, d0, ends[keep], d3[keep], numbers)
+    us = np.tile(np.arange(1, n_i + 1, dtype=np.int64), keep.size)
+    ks = np.repeat(np.arange(keep.size), n_i)
     ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)
     kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
@@ -196,12 +225,13 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
                                 params.n_coarse_min, params.n_coarse_max)
     sel = np.arange(0, len(us), stride)
     ctrl, us, ks = ctrl[sel], us[sel], ks[sel]
+    ops = setup_ops(n_reg, params.n_e, len(us))
     lim = Limits(params.v_max, params.a_max, None, accel_is_normal=True)
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)
     checks = _geometry(obj, l_e, regions)
     # grow by a quarter of the straight-line spacing of coarse samples (>= coarse_inflate_m)
-    inflate = max(params.coarse_inflate_m, 0.25 * dist / (n - 1))
+    inflate = max(params.coarse_inflate_m, dist / (4 * (n - 1)) / POS_PER_M)
     grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
     s, reasons, first = evaluate_batch(ctrl, n, coarse, _geometry(obj, l_e, grown))
     # anytime cut: the C loop stops taking curves once the coarse budget is spent; curves after
@@ -227,9 +257,10 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
                                                s.y_q4[rows, 1:])
             ops = ops + each.scaled(int(fit))
     clear_m = np.where(clear_q4 == NO_REGION_Q4, np.inf, clear_q4 / POS_PER_M)
-    cands = candidates_from_batch(ctrl, s, reasons, us, ks, params.k1, params.k2, clear_m)
+    cands = candidates_from_batch(ctrl / POS_PER_M, s, reasons, us, ks, params.k1, params.k2,
+                                  clear_m)
     feasible = cands.feasible_indices()
-    extra = {"t3_s": t3, "n_i": n_i, "l_e_m": l_e, "regions": regions,
+    extra = {"t3_s": t3 / POS_PER_M, "n_i": n_i, "l_e_m": l_e, "regions": regions,
              "sonar_dropped": scan.dropped, "endpoints_kept": int(keep.size)}
     if feasible.size == 0:
         return Plan(None, cands, ops, summarize_rejections(cands), n, stride, extra=extra)

@@ -107,10 +107,13 @@ class Geometry:
 def evaluate_batch(ctrl: np.ndarray, n_samples: int, lim: Limits,
                    geometry: Geometry | None = None) -> tuple[QBatch, list[str], np.ndarray]:
     """Check a batch (N, 4, 3) in fixed point (bezier_q.evaluate_q); return the evaluation, a
-    reason per curve and its first bad sample index (n_samples when none)."""
+    reason per curve and its first bad sample index (n_samples when none). Integer control
+    points are counts already (1/16 mm, 1/16 ms), float ones metres and seconds."""
     geo = None if geometry is None else geometry.words()
     n_reg = 0 if geometry is None else len(geometry.regions)
-    q = evaluate_q(quantize_ctrl(ctrl), n_samples, lim.words(), geo, n_reg)
+    ctrl = np.asarray(ctrl)
+    ctrl_q = ctrl if np.issubdtype(ctrl.dtype, np.integer) else quantize_ctrl(ctrl)
+    q = evaluate_q(ctrl_q, n_samples, lim.words(), geo, n_reg)
     return q, [REASONS[c] for c in q.reason.tolist()], q.first
 
 

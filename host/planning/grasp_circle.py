@@ -25,6 +25,7 @@ from functools import lru_cache
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.fixedpoint import ONE_Q12, div_round, sin_ops, sincos_turn_q12
 
 
 @dataclass(frozen=True)
@@ -92,7 +93,26 @@ def end_points(object_xy_m, l_e_m: float, n_e: int = 36) -> np.ndarray:
     return np.stack([ox + l_e_m * np.cos(phi), oy + l_e_m * np.sin(phi)], axis=1)
 
 
-END_POINT_OPS_EACH = OpCounts(float_ops=4, luts=2)  # cos/sin from a table, 2 mul-adds
+def end_points_q(object_q4: tuple[int, int], l_e_q4: int, n_e: int = 36
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Eq. (6) in integers: the end points (n_e, 2) in 1/16 mm at φ_k = 2πk/n_e (k = 1..n_e,
+    k/n_e of a turn: sincos_turn_q12, exact at the quarter turns, so an end point on an axis
+    through the object stays on it), x_e = x_i + l_e cos φ_k (Q12, rounded), and the unit
+    directions (n_e, 2) from each end point to the object, −(cos φ_k, sin φ_k) in Q14."""
+    if n_e < 1 or l_e_q4 <= 0:
+        raise ValueError(f"need n_e >= 1 and l_e > 0, got n_e={n_e}, l_e={l_e_q4}")
+    ends = np.zeros((n_e, 2), dtype=np.int64)
+    dirs = np.zeros((n_e, 2), dtype=np.int64)
+    for i in range(n_e):
+        s, c = sincos_turn_q12(i + 1, n_e)
+        ends[i] = (object_q4[0] + div_round(l_e_q4 * c, ONE_Q12),
+                   object_q4[1] + div_round(l_e_q4 * s, ONE_Q12))
+        dirs[i] = (-(c << 2), -(s << 2))
+    return ends, dirs
+
+
+END_POINT_OPS_EACH = OpCounts(alu=12, muls32=3, divs=1, branches=1) + sin_ops().scaled(2) \
+    + OpCounts(alu=10, muls32=2)  # k/n_e of a turn, cos and sin from the table, two products
 
 
 def inside_circle(x: np.ndarray, y: np.ndarray, object_xy_m, radius_m: float,

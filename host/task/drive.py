@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory, wheel_speeds
-from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
+from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, div_round, isqrt, sin_q12
 from mobigrasp.host.odometry import Pose
 
 
@@ -52,9 +52,16 @@ def turn_in_place(direction: int, wheel_mmps: int) -> tuple[int, int]:
 
 def state_m(x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int):
     """The planners' state in SI units: ((x, y) m, heading rad, (vx, vy) m/s)."""
-    c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
     return ((x_mm / 1000.0, y_mm / 1000.0), heading_mrad / 1000.0,
-            (v_mmps * c / 4096 / 1000.0, v_mmps * s / 4096 / 1000.0))
+            velocity_m(v_mmps, heading_mrad))
+
+
+def velocity_m(v_mmps: int, heading_mrad: int) -> tuple[float, float]:
+    """The planners' velocity (m/s) along the heading, a whole number of their 1/16 mm per s
+    (v cos, v sin in Q12 / 256, rounded): they round it back to those counts exactly, as a
+    board program passes them."""
+    c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
+    return div_round(v_mmps * c, 256) / 16_000, div_round(v_mmps * s, 256) / 16_000
 
 
 def path_follower(curve, now_us: int, v_limit_mmps: int) -> tuple[PathFollower, OpCounts]:

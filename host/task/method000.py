@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
-from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
 from mobigrasp.host.task.approach import PathMethod
+from mobigrasp.host.task.drive import velocity_m
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import K_THETA, PI, MethodState, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import CAMERA_000, odom_to_platform_q4
@@ -45,9 +45,8 @@ def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: 
     ``detail`` holds what the trace needs for the plots: candidate count, feasible count, the
     reason, the chosen control points and the modelled ARM9 time of the plan."""
     h = heading_mrad / 1000.0
-    c, s = cos_q12(heading_mrad), sin_q12(heading_mrad)
     start = (x_mm / 1000.0, y_mm / 1000.0)
-    vel = (v_mmps * c / 4096 / 1000.0, v_mmps * s / 4096 / 1000.0)
+    vel = velocity_m(v_mmps, heading_mrad)
     target = (obj_xy_mm[0] / 1000.0, obj_xy_mm[1] / 1000.0)
     p = planner_params if planner_params is not None else Params000()
     plan = plan_000(start, vel, target, p, heading_rad=h)

@@ -125,16 +125,16 @@ def test_free_space_plan_ends_on_grasp_circle_without_entering_it():
     plan = plan_001((0, 0), (0.2, 0), 0.0, (3.0, 1.0), CLEAR)
     assert plan.reason == "ok"
     l_e = plan.extra["l_e_m"]
-    assert plan.extra["t3_s"] == pytest.approx(math.hypot(3, 1) / 0.2)  # eq. (7)
+    assert plan.extra["t3_s"] == pytest.approx(math.hypot(3, 1) / 0.2, abs=1e-3)  # eq. (7)
     s = plan.best.sample(400)
     d = np.hypot(s.x - 3.0, s.y - 1.0)
-    assert d[-1] == pytest.approx(l_e, abs=1e-9)
+    assert d[-1] == pytest.approx(l_e, abs=2e-4)  # the integer end points: l_e cos, sin in Q12
     assert np.all(d >= l_e - 2e-3)
     prm = Params001()
     assert np.all(s.speed <= prm.v_max + 1e-9)
     assert np.all(s.accel_normal <= prm.a_max * 1.02)  # eq. (14), fine-checked at 48 samples
     # the end direction points at the object
-    assert s.heading[-1] == pytest.approx(math.atan2(1.0 - s.y[-1], 3.0 - s.x[-1]), abs=1e-6)
+    assert s.heading[-1] == pytest.approx(math.atan2(1.0 - s.y[-1], 3.0 - s.x[-1]), abs=1e-3)
 
 
 def test_obstacle_is_avoided_and_clearance_filter_applies():
@@ -179,7 +179,7 @@ def test_echo_of_the_object_itself_is_not_an_obstacle():
 ])
 def test_one_plan_fits_100_ms_of_arm9(target, sonar):
     plan = plan_001((0, 0), (0.2, 0), 0.0, target, sonar)
-    assert plan.ops.float_ops > 0
+    assert (plan.ops.float_ops > 0) == (sonar != CLEAR)  # only the sonar regions' set-up
     assert plan.ops.time_us() <= 100_000
 
 

@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from mobigrasp.host.planning.bezier import Curve, evaluate
 from mobigrasp.host.planning.replan import Replanner
@@ -37,7 +38,7 @@ def test_forced_update_plans_from_here_although_the_path_is_clear():
     dec = rp.update(2_000_000, pos, hd, (0.0, 0.0), CLEAR, force=True)
     assert dec.replanned and dec.curve is not None and dec.curve is not plan.best
     assert not dec.blocked and dec.reason == "path dropped: replanned"
-    assert np.allclose(dec.curve.ctrl[0][:2], pos)
+    assert np.allclose(dec.curve.ctrl[0][:2], pos, atol=1 / 16000)  # in 1/16 mm
 
 
 def test_obstacle_on_the_path_triggers_a_replan_from_the_present_state():
@@ -51,9 +52,9 @@ def test_obstacle_on_the_path_triggers_a_replan_from_the_present_state():
     assert rp.replans == 1
     new = dec.curve
     assert new is not old and rp.curve is new and rp.start_us == 3_000_000
-    assert np.allclose(np.asarray(new.ctrl[0][:2]), pos)  # starts where the robot is
+    assert np.allclose(np.asarray(new.ctrl[0][:2]), pos, atol=1 / 16000)  # where the robot is
     s = new.sample(200)
-    assert abs(s.heading[0] - hd) < 1e-6  # and keeps its direction of motion
+    assert abs(s.heading[0] - hd) < 2e-4  # and keeps its direction of motion (Q14)
     assert dec.plan.extra["regions"]
     for reg in dec.plan.extra["regions"]:
         assert not reg.contains(s.x[1:], s.y[1:]).any()
@@ -101,7 +102,7 @@ def test_no_path_makes_the_next_plan_slower():
     assert first.best is None and rp.v0_mps == 0.1  # v0 = 0.2 found nothing
     dec = rp.update(100_000, (0.0, 0.0), 0.0, (0.0, 0.0), sonar)
     assert dec.replanned and dec.curve is not None
-    assert dec.curve.duration_s == math.hypot(*target) / 0.1  # t3 = dist / v0 (eq. (7))
+    assert dec.curve.duration_s == pytest.approx(math.hypot(*target) / 0.1, abs=1e-3)  # eq. (7)
     assert len(rp.memory) == len(set(rp.memory))  # the same echoes are remembered once
 
 

@@ -1,7 +1,8 @@
 """The C host's main loop and lockstep driver (hostc/app.c, hostc/lockstep_driver.c) against
 host/app.py served by drivers/lockstep.py: one scripted task and two scripted detectors drive
-both programs (the C through callbacks), the same GRANTs bring the same MCU bytes and camera
-frames, and every DONE and every byte written to the serial port is the same."""
+both programs (the C through callbacks), sharing a front end and one standing in for the
+other on some frames (a fallback), the same GRANTs bring the same MCU bytes and camera frames,
+and every DONE and every byte written to the serial port is the same."""
 
 from __future__ import annotations
 
@@ -41,6 +42,10 @@ class Script:
     def needed(self) -> list[str]:
         return [n for i, n in enumerate(NAMES) if (self.k // (3 + i)) % 2 == 0]
 
+    def fallbacks(self) -> dict[str, str]:
+        """Every other pair of steps "cross" stands in for "blob" (runs when it found none)."""
+        return {"cross": "blob"} if (self.k // 2) % 2 == 0 else {}
+
     def step(self, now_us: int, detections: dict) -> dict:
         s = self.steps[self.k % len(self.steps)]
         self.seen.append((now_us, sorted(detections.items())))
@@ -58,7 +63,7 @@ def _py_task(script: Script):
             return script.needed()
 
         def detector_fallbacks(self):
-            return {}
+            return script.fallbacks()
 
         def step(self, now_us, inputs):
             s = script.step(now_us, inputs)
@@ -111,13 +116,25 @@ def _c_task(script: Script, keep: list):
     def needed(ctx):
         return sum(1 << NAMES.index(n) for n in script.needed())
 
-    keep += [step, needed]
+    @FFI.callback("int32_t(void *, int32_t)")
+    def fallback_of(ctx, det):
+        primary = script.fallbacks().get(NAMES[det])
+        return -1 if primary is None else NAMES.index(primary)
+
+    keep += [step, needed, fallback_of]
     return FFI.new("mg_task_if_t *", {"ctx": FFI.NULL, "step": step,
-                                      "detectors_needed": needed})
+                                      "detectors_needed": needed, "fallback_of": fallback_of})
+
+
+def _front_end_us(h: int, w: int) -> int:
+    """The front end both detectors start from (its modelled µs on h x w)."""
+    return 3 * h * w + 5
 
 
 def _c_detectors(keep: list):
     table = FFI.new("mg_detector_t[]", len(NAMES))
+    fe_us = FFI.callback("int64_t(int32_t, int32_t)", _front_end_us)
+    keep.append(fe_us)
     for i, name in enumerate(NAMES):
         @FFI.callback("void(void *, const uint8_t *, int32_t, int32_t, const int32_t *,"
                       " mg_detection_t *)")
@@ -128,7 +145,8 @@ def _c_detectors(keep: list):
             out.ops.pixels_read, out.ops.alu = ops.pixels_read, ops.alu
             out.json = _dumps(result).encode()
         keep += [detect, FFI.new("char[]", name.encode())]
-        table[i] = {"name": keep[-1], "ctx": FFI.NULL, "snapshot": FFI.NULL, "detect": detect}
+        table[i] = {"name": keep[-1], "ctx": FFI.NULL, "snapshot": FFI.NULL, "detect": detect,
+                    "front_end": 1, "front_end_us": fe_us}
     return table
 
 
@@ -174,7 +192,8 @@ def test_host_program_served_by_the_rig(steps, data):
     py_script, c_script = Script(steps), Script(steps)
     port = BufferPort()
     app = HostApp(_py_task(py_script), {n: (lambda rgb, n=n: _detect(n, rgb)) for n in NAMES},
-                  lambda app, now, det: det, HostConfig())
+                  lambda app, now, det: det, HostConfig(),
+                  front_ends={n: ("grey", _front_end_us) for n in NAMES})
     client = LockstepClient(app, port)
     keep: list = []
     config = FFI.new("mg_host_config_t *")

@@ -8,7 +8,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from mobigrasp import hostc
-from mobigrasp.host import kinematics, ranging, search, transforms
+from mobigrasp.host import coverage, kinematics, ranging, search, transforms
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=150, deadline=None)
@@ -65,7 +65,9 @@ def search_params(draw):
             draw(st.sampled_from([0, 300, 1800])), draw(st.integers(0, 1)),
             draw(st.integers(200, 1400)), draw(st.integers(0, 2)), draw(st.integers(1, 3)),
             draw(st.integers(10_000, 100_000)), draw(st.integers(1000, 9000)),
-            cover_mm=0)  # hostc/search.c has the square spiral's wander only
+            cover_mm=draw(st.sampled_from([0, 0, 1000, 2500, 4500]) | st.integers(0, 6000)),
+            view_mm=draw(st.sampled_from([1100]) | st.integers(600, 2000)),
+            chord_mm=draw(st.sampled_from([1500]) | st.integers(800, 3000)))
     except ValueError:
         assume(False)
 
@@ -83,7 +85,8 @@ def _c_params(p):
         "wander_mm": p.wander_mm, "wander_sweep": p.wander_sweep,
         "wander_theta5_mrad": p.wander_theta5_mrad, "stop_cycles": p.stop_cycles,
         "frames_per_pose": p.frames_per_pose, "frame_period_us": p.frame_period_us,
-        "servo_speed_mrad_per_s": p.servo_speed_mrad_per_s})
+        "servo_speed_mrad_per_s": p.servo_speed_mrad_per_s, "cover_mm": p.cover_mm,
+        "view_mm": p.view_mm, "chord_mm": p.chord_mm})
 
 
 def _cmd(c) -> tuple[int, ...]:
@@ -106,21 +109,24 @@ def test_one_cycle(p, th2, th5, upward, coarse):
 @SETTINGS
 @given(search_params(), st.integers(-3500, 0), st.integers(-1500, 1500),
        st.lists(st.tuples(st.sampled_from(["step", "step", "step", "turned", "wandered",
-                                           "restart"]), st.integers(0, 3_000_000)),
+                                           "restart"]), st.integers(0, 3_000_000),
+                          st.none() | st.tuples(st.integers(-6000, 6000),
+                                                st.integers(-6000, 6000),
+                                                st.integers(-3142, 3141))),
                 min_size=30, max_size=80))
 def test_search_over_time(p, th2, th5, calls):
-    """Steps at increasing times, the caller's base turns and wanders, pauses: the same
-    commands (poses, turns, drives, cycles) every call."""
+    """Steps at increasing times with the base's pose (the rings' legs), the caller's base
+    turns and wanders, pauses: the same commands (poses, turns, drives, cycles) every call."""
     py = search.ArmSearch(p, th2, th5, 0)
     c = FFI.new("mg_arm_search_t *")
     C.mg_search_init(c, _c_params(p), th2, th5, 0)
     assume(c.overflow == 0)
     t = 0
-    for kind, dt in calls:
+    for kind, dt, pose in calls:
         t += dt
         if kind == "step":
-            want = py.step(t)
-            assert _cmd(C.mg_search_step(c, t)) == (
+            want = py.step(t, pose)
+            assert _cmd(C.mg_search_step(c, t, pose or FFI.NULL)) == (
                 want.theta2_mrad, want.theta3_mrad, want.theta4_mrad, want.theta5_mrad,
                 want.base_turn_mrad, want.pose_index, want.cycle, want.drive_mm)
         elif kind == "turned":
@@ -132,9 +138,55 @@ def test_search_over_time(p, th2, th5, calls):
         else:
             py.restart_dwell(t)
             C.mg_search_restart_dwell(c, t)
-        assert (bool(c.turning or c.wandering), bool(c.wandering), c.wanders) == (
-            py.turning, py.wandering, py.wanders)
+        assert (bool(c.turning or c.wandering), bool(c.wandering), c.wanders, c.covered) == (
+            py.turning, py.wandering, py.wanders, py.covered)
     assert c.overflow == 0
+
+
+@SETTINGS
+@given(st.integers(-100, 8000), st.sampled_from([-10, 0]) | st.integers(300, 3000),
+       st.sampled_from([-10, 0]) | st.integers(300, 4000))
+def test_ring_stations(radius, view, chord):
+    out = FFI.new("int32_t[256][2]")
+    overflow = FFI.new("int32_t *")
+    n = C.mg_ring_stations(radius, view, chord, out, 256, overflow)
+    try:
+        want = coverage.ring_stations(radius, view, chord)
+    except ValueError:
+        assert n == -1
+        return
+    assume(len(want) <= 256 and overflow[0] == 0)
+    assert [tuple(out[i]) for i in range(n)] == want
+
+
+def test_the_shipped_rings_fit():
+    """002's disc (2.5 m) and the default one (4.5 m) at the default strip and chord."""
+    for radius in (2500, 4500):
+        out, overflow = FFI.new("int32_t[256][2]"), FFI.new("int32_t *")
+        n = C.mg_ring_stations(radius, 1100, 1500, out, 256, overflow)
+        assert overflow[0] == 0 and n == len(coverage.ring_stations(radius, 1100, 1500)) >= 7
+
+
+@SETTINGS
+@given(st.tuples(st.integers(-10**6, 10**6), st.integers(-10**6, 10**6), st.integers(-4000, 4000)),
+       st.tuples(st.integers(-10**6, 10**6), st.integers(-10**6, 10**6)))
+def test_legs_and_the_start_frame(pose, xy):
+    turn, drive, out = FFI.new("int32_t *"), FFI.new("int32_t *"), FFI.new("int32_t[2]")
+    C.mg_leg_to(pose, xy, turn, drive)
+    assert (turn[0], drive[0]) == coverage.leg_to(pose, xy)
+    C.mg_to_odometry(pose, xy, out)
+    assert tuple(out) == coverage.to_odometry(pose, xy)
+
+
+def test_search_defaults():
+    c, want = FFI.new("mg_search_params_t *"), _c_params(search.SearchParams())
+    C.mg_search_params_default(c)
+    for name, _ in FFI.typeof("mg_search_params_t").fields:
+        if name == "coarse_theta2_mrad":
+            assert list(c.coarse_theta2_mrad)[:c.n_coarse] == list(
+                search.SearchParams().coarse_theta2_mrad)
+        else:
+            assert getattr(c, name) == getattr(want, name), name
 
 
 @SETTINGS

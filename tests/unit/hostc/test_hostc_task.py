@@ -165,6 +165,11 @@ def test_the_step_timeouts_and_outputs(timeouts, steps):
     """The machine's step around its states (their actions left out on both sides): timeouts,
     the history, the wheels stopped in a terminal state, the clamped servo targets."""
     py, c = Task("002", params={"timeouts_us": timeouts}), _c_task(0, timeouts)
+    for i in range(C.MG_N_TASK_STATES):  # the states' actions left out here too
+        c.entry[i] = c.step[i] = FFI.NULL
+    rules = FFI.new("mg_task_method_t *", c.rules[0])  # the row without the wheels' guard
+    rules.guard_wheels = FFI.NULL
+    c.rules = rules
     out = FFI.new("mg_task_outputs_t *")
     inp_c = FFI.new("mg_task_inputs_t *")
     now = 0
@@ -552,6 +557,21 @@ CAMS = st.sampled_from([sense.CAMERA_000, sense.CAMERA_002])
 
 def _cam(cam):
     return FFI.new("mg_camera_model_t *", (cam.f_px, cam.u0_px, cam.v0_px))
+
+
+@SETTINGS
+@given(st.sampled_from([PAPER_000, PAPER_002]), JOINTS, CAMS,
+       st.tuples(*[st.integers(-2000, 7000)] * 4), st.integers(-100, 5000),
+       st.none() | st.integers(-400 * 16, 200 * 16))
+def test_plus_positions(g, joints, cam, uv, dist_mm, top_q4):
+    """Both "+" of a dual "+" in the platform frame, at its depth or on the top's plane."""
+    det = registry.row("dual_plus").result_type()(*uv, 1, 1, dist_mm, dist_mm, 0, 0, 0)
+    want = sense.plus_positions(det, g, joints, cam, top_q4)
+    out = FFI.new("int32_t[2][3]")
+    geom = FFI.new("mg_arm_geometry_t *", (g.l1_mm_q4, g.l2_mm_q4, g.l3_mm_q4))
+    ok = C.mg_plus_positions(geom, joints, _cam(cam), uv, dist_mm, top_q4 is not None,
+                             top_q4 or 0, out)
+    assert (tuple(tuple(p) for p in out) if ok else None) == want
 
 
 @SETTINGS

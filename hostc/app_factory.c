@@ -1,0 +1,184 @@
+/* The detectors' glue (host/app_factory.py, host/vision/registry.py). */
+#include "app_factory.h"
+
+#include <string.h>
+
+#include "arm_calib.h"
+#include "fixedpoint.h"
+#include "json.h"
+
+int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
+                             mg_sighting_t *s)
+{
+    /* the cylinder in front of the board: the marker centre at the board's depth
+     * spacing f / d_pixel less BOARD_BEHIND (host/vision/double_cross.py sighting) */
+    if (dc[6] <= 0)
+        return 0;
+    s->u_q4 = dc[4];
+    s->v_q4 = dc[5];
+    s->depth_mm_q4 = (int32_t)((int64_t)MG_CROSS_SPACING_MM_Q4 * f_px * 16 / dc[6]
+                               - MG_BOARD_BEHIND_MM_Q4);
+    return 1;
+}
+
+int mg_red_cylinder_sighting(const int32_t rc[MG_RED_CYLINDER_WORDS], int32_t f_px,
+                             mg_sighting_t *s)
+{
+    /* D_OC = D f / d_pixel (002 section 4) as the depth */
+    if (rc[4] <= 0)
+        return 0;
+    s->u_q4 = rc[0];
+    s->v_q4 = rc[1];
+    s->depth_mm_q4 = (int32_t)((int64_t)MG_RING_D_MM_Q4 * f_px * 16 / rc[4]);
+    return 1;
+}
+
+int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_sighting_t *s)
+{
+    /* a depth from the box's height, the cylinder's 120 mm seen h px tall; none when the box
+     * meets the frame's top or bottom or is too flat to be the standing cylinder */
+    const int32_t w_px = roi[4], h_px = roi[5];
+    if (roi[7] || h_px <= 0 || 2 * h_px < 3 * w_px / 2)
+        return 0;
+    s->u_q4 = roi[0];
+    s->v_q4 = roi[1];
+    s->depth_mm_q4 = (int32_t)((int64_t)MG_RED_CYL_HEIGHT_MM_Q4 * f_px / h_px);
+    return 1;
+}
+
+void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, const int32_t *roi,
+                    const int32_t *fill, int32_t f_px)
+{
+    memset(f, 0, sizeof *f);
+    f->has_frame = 1;
+    if (dc != NULL) {
+        f->has_dc = 1;
+        f->dc_um_q4 = dc[4], f->dc_vm_q4 = dc[5], f->dc_d_pixel_q4 = dc[6];
+        f->has_dc_sighting = mg_double_cross_sighting(dc, f_px, &f->dc_sighting);
+    }
+    if (rc != NULL) {
+        f->has_rc = 1;
+        f->rc.u_c_q4 = rc[0], f->rc.v_c_q4 = rc[1];
+        f->rc.d_pixel_q4 = rc[4], f->rc.width_q4 = rc[5];
+    }
+    if (roi != NULL) {
+        f->has_roi = 1;
+        f->roi_u_c_q4 = roi[0], f->roi_v_c_q4 = roi[1];
+        f->has_roi_sighting = mg_red_roi_sighting(roi, f_px, &f->roi_sighting);
+    }
+    if (fill != NULL) {
+        f->has_held_fill = 1;
+        f->held_rgb[0] = fill[0], f->held_rgb[1] = fill[1], f->held_rgb[2] = fill[2];
+        f->held_permille = fill[3];
+    }
+}
+
+/* an object of int members (keys sorted by the caller) and int arrays */
+typedef struct {
+    const char *key;
+    int32_t at, n; /* words at .. at + n of the result: n 1 an int, else an array */
+    int32_t is_bool;
+} member_t;
+
+static size_t object_json(const int32_t *words, const member_t *m, int32_t n_members, char *out,
+                          size_t cap)
+{
+    mg_json_t j;
+    mg_json_init(&j, out, cap > 0 ? cap - 1 : 0);
+    mg_json_begin_object(&j);
+    for (int32_t i = 0; i < n_members; i++) {
+        mg_json_key(&j, m[i].key);
+        if (m[i].is_bool) {
+            mg_json_bool(&j, words[m[i].at] != 0);
+        } else if (m[i].n == 1) {
+            mg_json_int(&j, words[m[i].at]);
+        } else {
+            mg_json_begin_array(&j);
+            for (int32_t k = 0; k < m[i].n; k++)
+                mg_json_int(&j, words[m[i].at + k]);
+            mg_json_end_array(&j);
+        }
+    }
+    mg_json_end_object(&j);
+    if (j.overflow || cap == 0)
+        return 0;
+    out[j.len] = 0;
+    return j.len;
+}
+
+size_t mg_double_cross_json(const int32_t dc[MG_DOUBLE_CROSS_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"d_pixel_q4", 6, 1, 0}, {"e_mrad", 7, 1, 0},
+                                 {"u1_q4", 0, 1, 0},      {"u2_q4", 2, 1, 0},
+                                 {"um_q4", 4, 1, 0},      {"v1_q4", 1, 1, 0},
+                                 {"v2_q4", 3, 1, 0},      {"vm_q4", 5, 1, 0},
+                                 {"votes", 8, 2, 0}};
+    return object_json(dc, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"d_pixel_q4", 4, 1, 0}, {"ring1_v_q4", 2, 1, 0},
+                                 {"ring2_v_q4", 3, 1, 0}, {"roi", 6, 4, 0},
+                                 {"u_c_q4", 0, 1, 0},     {"v_c_q4", 1, 1, 0},
+                                 {"width_q4", 5, 1, 0}};
+    return object_json(rc, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"area_px", 6, 1, 0}, {"roi", 2, 4, 0},
+                                 {"touches_edge", 7, 1, 1}, {"u_c_q4", 0, 1, 0},
+                                 {"v_c_q4", 1, 1, 0}};
+    return object_json(roi, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"fill_permille", 3, 1, 0}, {"rgb", 0, 3, 0}};
+    return object_json(fill, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+void mg_input_builder_init(mg_input_builder_t *b)
+{
+    memset(b, 0, sizeof *b);
+    mg_odometry_init(&b->odometry, 0, 0, 0);
+    b->pose = mg_odometry_pose(&b->odometry);
+}
+
+void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, int64_t now_us,
+                           const void *frame, mg_task_inputs_t *in)
+{
+    const mg_telemetry_t *tel = link->has_telemetry ? &link->telemetry : NULL;
+    if (link->mcu_resets != b->resets_seen) { /* counters and clock restarted at 0 */
+        b->resets_seen = link->mcu_resets;
+        mg_odometry_resync(&b->odometry);
+    }
+    if (tel != NULL && link->counters.telemetry != b->telemetry_seen) {
+        b->telemetry_seen = link->counters.telemetry;
+        b->pose = mg_odometry_update(&b->odometry, tel->time_us, tel->enc_left, tel->enc_right);
+    }
+    memset(in, 0, sizeof *in);
+    if (tel != NULL) {
+        int32_t pulses[MG_N_CHANNELS];
+        for (int32_t ch = 0; ch < MG_N_CHANNELS; ch++)
+            pulses[ch] = tel->servo_us[ch];
+        in->has_joints = mg_pulses_to_joints_mrad(pulses, in->joints_mrad);
+        in->n_sonar = MSG_SONAR_COUNT < MG_TASK_SONARS ? MSG_SONAR_COUNT : MG_TASK_SONARS;
+        for (int32_t k = 0; k < in->n_sonar; k++)
+            in->sonar_mm[k] = tel->sonar_mm[k];
+    }
+    in->x_mm = (int32_t)mg_div_round64(b->pose.x_um, 1000);
+    in->y_mm = (int32_t)mg_div_round64(b->pose.y_um, 1000);
+    in->heading_mrad = b->pose.heading_mrad;
+    in->v_mmps = b->pose.speed_mm_s;
+    const int flag = tel != NULL && (tel->flags & FLAG_GRIPPER_CLOSED);
+    if (!flag) {
+        b->has_closed_since = 0;
+    } else if (!b->has_closed_since) {
+        b->has_closed_since = 1;
+        b->closed_since_us = now_us;
+    }
+    in->grasp_closed = flag && now_us - b->closed_since_us >= MG_GRIPPER_CLOSE_US;
+    in->frame = frame;
+}

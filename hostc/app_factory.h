@@ -1,0 +1,65 @@
+/* The detectors' glue of the host program (host/app_factory.py, host/vision/registry.py): the
+ * vision kernels' out words (kernels.h, held_fill.h) as the task reads them (002's frame,
+ * mg_frame002_t), their sightings (the target's pixel and depth, mg_sighting_t: the
+ * registry's sighting functions) and their results' JSON for the trace's detect event (as
+ * host/app.py's jsonable gives the result dataclasses, keys sorted). */
+#ifndef MOBIGRASP_HOSTC_APP_FACTORY_H
+#define MOBIGRASP_HOSTC_APP_FACTORY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "app_link.h"
+#include "odometry.h"
+#include "task_method002.h"
+
+/* telemetry to the task's inputs (host/app_factory.py InputBuilder): odometry integrates the
+ * encoder counts of every new telemetry frame, the joints come from the measured pulse widths
+ * through the joint table, a sonar without echo (0xFFFF) is passed on as is; the gripper is
+ * reported closed once the MCU's flag has been up MG_GRIPPER_CLOSE_US (the servo's swing) */
+#define MG_GRIPPER_CLOSE_US 450000
+typedef struct {
+    mg_odometry_t odometry;
+    mg_pose_t pose;
+    uint32_t telemetry_seen; /* the link's telemetry count at the last update */
+    int32_t resets_seen;
+    int32_t has_closed_since;
+    int64_t closed_since_us;
+} mg_input_builder_t;
+
+void mg_input_builder_init(mg_input_builder_t *b);
+/* the inputs of the task step at now_us (frame: the step's results, NULL: no new frame) */
+void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, int64_t now_us,
+                           const void *frame, mg_task_inputs_t *in);
+
+#define MG_BOARD_BEHIND_MM_Q4 2400   /* the cylinder stands this far before the board */
+#define MG_RED_CYL_HEIGHT_MM_Q4 1920 /* 120 mm: the cylinder's height (docs/markers.md) */
+
+/* the out words of each kernel: mg_double_cross (u1, v1, u2, v2, um, vm, d_pixel, e, votes1,
+ * votes2), mg_red_cylinder (u_c, v_c, ring1_v, ring2_v, d_pixel, width, roi x, y, w, h),
+ * mg_red_roi (u_c, v_c, roi x, y, w, h, area_px, touches_edge), mg_held_fill (r, g, b,
+ * permille) */
+#define MG_DOUBLE_CROSS_WORDS 10
+#define MG_RED_CYLINDER_WORDS 10
+#define MG_RED_ROI_WORDS 8
+#define MG_HELD_FILL_WORDS 4
+
+/* the sightings (registry sighting functions): 1 and s, or 0 (no target) */
+int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
+                             mg_sighting_t *s);
+int mg_red_cylinder_sighting(const int32_t rc[MG_RED_CYLINDER_WORDS], int32_t f_px,
+                             mg_sighting_t *s);
+int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_sighting_t *s);
+
+/* 002's frame of one vision job's results (NULL: the detector found nothing or did not run);
+ * f_px: the camera's */
+void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, const int32_t *roi,
+                    const int32_t *fill, int32_t f_px);
+
+/* a result's JSON (NULL-terminated in out, cap bytes): its length, 0 when it did not fit */
+size_t mg_double_cross_json(const int32_t dc[MG_DOUBLE_CROSS_WORDS], char *out, size_t cap);
+size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, size_t cap);
+size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap);
+size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap);
+
+#endif

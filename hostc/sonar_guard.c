@@ -1,0 +1,205 @@
+/* The sonar guard (host/task/sonar_guard.py). */
+#include "sonar_guard.h"
+
+#include "fixedpoint.h"
+#include "task_drive.h"
+
+int32_t mg_sonar_angle_mrad(int32_t k, int32_t n)
+{
+    return -1571 + k * 3142 / (n - 1);
+}
+
+static int32_t n_sonar(const mg_task_inputs_t *in)
+{
+    return in->n_sonar < MG_TASK_SONARS ? in->n_sonar : MG_TASK_SONARS;
+}
+
+int32_t mg_widest_free_heading(const mg_task_inputs_t *in, int32_t clear_mm)
+{
+    const int32_t n = n_sonar(in) >= 2 ? n_sonar(in) : 0;
+    int32_t best_first = 0, best_len = 0, run_first = 0, run_len = 0;
+    for (int32_t k = 0; k <= n; k++) { /* the sonar past the last ends the last run */
+        const int free = k < n && (in->sonar_mm[k] <= 0 || in->sonar_mm[k] >= clear_mm);
+        if (free) {
+            run_first = run_len ? run_first : k;
+            run_len++;
+            continue;
+        }
+        if (run_len > best_len)
+            best_first = run_first, best_len = run_len;
+        run_len = 0;
+    }
+    if (best_len == 0)
+        return mg_task_wrap_mrad((int64_t)in->heading_mrad + 1571);
+    const int64_t mid = mg_floor_div((int64_t)mg_sonar_angle_mrad(best_first, n)
+                                     + mg_sonar_angle_mrad(best_first + best_len - 1, n), 2);
+    return mg_task_wrap_mrad(in->heading_mrad + mid);
+}
+
+int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n)
+{
+    if (n < 3)
+        return 0;
+    const int32_t mid = n / 2, ahead = sonar_mm[mid];
+    if (ahead > 0 && ahead < MG_DETOUR_STOP_MM)
+        return 1;
+    if (n < 5)
+        return 0;
+    const int32_t a = sonar_mm[mid - 1], b = sonar_mm[mid + 1];
+    return (a > 0 && a < MG_DETOUR_DIAG_MM) || (b > 0 && b < MG_DETOUR_DIAG_MM);
+}
+
+/* the object estimate lies in the cone of the sonar at phi at about range rng */
+static int object_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t phi, int32_t rng,
+                       int32_t half_cone)
+{
+    const int32_t h = in->heading_mrad + phi;
+    const int64_t off = t->p.sonar_offset_mm;
+    const int64_t sx = in->x_mm + ((off * mg_cos_q12(h)) >> 12);
+    const int64_t sy = in->y_mm + ((off * mg_sin_q12(h)) >> 12);
+    const int64_t dx = t->obj_mm[0] - sx, dy = t->obj_mm[1] - sy;
+    const int64_t d = mg_isqrt(dx * dx + dy * dy);
+    const int32_t off_axis = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - h);
+    const int64_t miss = d - rng;
+    return (off_axis < 0 ? -off_axis : off_axis) <= half_cone
+           && (miss < 0 ? -miss : miss) <= MG_GUARD_OBJECT_MM;
+}
+
+int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm)
+{
+    const int32_t n = n_sonar(in), half_cone = t->p.sonar_a_g_mrad / 2;
+    for (int32_t k = 0; n >= 2 && k < n; k++) {
+        const int32_t phi = mg_sonar_angle_mrad(k, n), rng = in->sonar_mm[k];
+        if ((phi < 0 ? -phi : phi) >= 1571 || !(rng > 0 && rng < t->p.r_r_mm))
+            continue;
+        if (t->has_obj && object_echo(t, in, phi, rng, half_cone))
+            continue;
+        *phi_mrad = phi;
+        *range_mm = rng;
+        return 1;
+    }
+    return 0;
+}
+
+int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm)
+{
+    const int32_t n = n_sonar(in), half_cone = t->p.sonar_a_g_mrad / 2;
+    const int64_t off = t->p.sonar_offset_mm;
+    for (int32_t k = 0; n >= 2 && k < n; k++) {
+        const int32_t phi = mg_sonar_angle_mrad(k, n), rng = in->sonar_mm[k];
+        if ((phi < 0 ? -phi : phi) >= 1571 || !(rng > 0 && rng < MG_CLOSE_GUARD_MM))
+            continue;
+        if (t->has_obj) {
+            const int32_t h = in->heading_mrad + phi;
+            const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm - ((off * mg_cos_q12(h)) >> 12);
+            const int64_t dy = (int64_t)t->obj_mm[1] - in->y_mm - ((off * mg_sin_q12(h)) >> 12);
+            const int32_t off_axis = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - h);
+            if ((off_axis < 0 ? -off_axis : off_axis) <= half_cone
+                && rng >= mg_isqrt(dx * dx + dy * dy) - MG_CLOSE_OBJECT_MM)
+                continue;
+        }
+        *phi_mrad = phi;
+        *range_mm = rng;
+        return 1;
+    }
+    return 0;
+}
+
+void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm)
+{
+    static const char *const names[3] = {"close_mm", "phi_mrad", "range_mm"};
+    const int64_t values[3] = {MG_CLOSE_GUARD_MM, phi_mrad, range_mm};
+    mg_task_note_ints(t, "close_guard", 3, names, values);
+}
+
+/* ADJUST, driving forward: a close echo stops the base; the grasp goes on from there when the
+ * object is within MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else it is searched for
+ * again (LOST) */
+static void close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    int32_t phi, rng;
+    if (t->state != MG_ADJUST || (int64_t)t->wheels[0] + t->wheels[1] <= 0
+        || !mg_close_echo(t, in, &phi, &rng))
+        return;
+    t->wheels[0] = t->wheels[1] = 0;
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    const int32_t dist = (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1])
+                                   >> 4);
+    static const char *const names[4] = {"close_mm", "object_mm", "phi_mrad", "range_mm"};
+    const int64_t values[4] = {MG_CLOSE_GUARD_MM, dist, phi, rng};
+    mg_task_note_ints(t, "close_guard", 4, names, values);
+    const int grasp = dist <= t->p.grasp_r_mm + MG_CLOSE_REACH_MM;
+    char why[MG_TASK_WHY];
+    size_t n = mg_task_text(why, sizeof why, 0, "close guard: echo ");
+    n = mg_task_text_int(why, sizeof why, n, rng);
+    n = mg_task_text(why, sizeof why, n, " mm ahead at ");
+    n = mg_task_text_int(why, sizeof why, n, phi);
+    n = mg_task_text(why, sizeof why, n, " mrad, object ");
+    n = mg_task_text_int(why, sizeof why, n, dist);
+    mg_task_text(why, sizeof why, n, grasp ? " mm away: grasp from here"
+                                           : " mm away: search again");
+    mg_task_go(t, now_us, grasp ? MG_ROUGH_GRASP : MG_LOST, why);
+}
+
+int mg_drive_detour(mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d)
+{
+    const int32_t err = mg_task_wrap_mrad((int64_t)d->heading_mrad - in->heading_mrad);
+    if (!d->has_from && (err < 0 ? -err : err) > MG_TURN_TOL_MRAD) {
+        const int32_t v = t->p.turn_wheel_mmps; /* counter-clockwise for err > 0 */
+        t->wheels[0] = err < 0 ? v : -v;
+        t->wheels[1] = err < 0 ? -v : v;
+        return 0;
+    }
+    if (!d->drive) {
+        t->wheels[0] = t->wheels[1] = 0;
+        return 1;
+    }
+    if (!d->has_from) {
+        d->has_from = 1;
+        d->from_mm[0] = in->x_mm, d->from_mm[1] = in->y_mm;
+    }
+    const int64_t dx = (int64_t)in->x_mm - d->from_mm[0], dy = (int64_t)in->y_mm - d->from_mm[1];
+    const int32_t n = n_sonar(in);
+    /* a detour chosen clear of 001's regions passes beside what it avoids on purpose: only an
+     * echo straight ahead stops it */
+    const int blocked = d->checked && n ? in->sonar_mm[n / 2] > 0
+                                              && in->sonar_mm[n / 2] < MG_DETOUR_STOP_MM
+                                        : mg_blocked_ahead(in->sonar_mm, n);
+    if (dx * dx + dy * dy >= (int64_t)d->length_mm * d->length_mm || blocked) {
+        t->wheels[0] = t->wheels[1] = 0;
+        return 1;
+    }
+    t->wheels[0] = t->wheels[1] = t->p.wander_mmps;
+    return 0;
+}
+
+static int guarded(int32_t state)
+{
+    return state == MG_SEARCH || state == MG_APPROACH;
+}
+
+void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    close_guard(t, now_us, in);
+    if (t->guard_out.active) {
+        if (!guarded(t->state) || mg_drive_detour(t, in, &t->guard_out))
+            t->guard_out.active = 0;
+        return;
+    }
+    /* in SEARCH or APPROACH, with the base driving forward, a front echo below R_r stops it */
+    int32_t phi, rng;
+    if (!guarded(t->state) || (int64_t)t->wheels[0] + t->wheels[1] <= 0
+        || !mg_front_echo(t, in, &phi, &rng))
+        return;
+    t->wheels[0] = t->wheels[1] = 0;
+    /* the detour: toward the widest free sector, out of R_r */
+    const mg_detour_t out = {1, mg_widest_free_heading(in, t->p.detour_clear_mm), 1, 0, {0, 0},
+                             MG_GUARD_OUT_MM, 0};
+    t->guard_out = out;
+    static const char *const names[4] = {"phi_mrad", "r_r_mm", "range_mm", "turn_to_mrad"};
+    const int64_t values[4] = {phi, t->p.r_r_mm, rng, out.heading_mrad};
+    mg_task_note_ints(t, "sonar_guard", 4, names, values);
+}

@@ -1,0 +1,48 @@
+/* The sonar guard (host/task/sonar_guard.py): no drive into what the sonar ring sees. While the
+ * base would move forward in SEARCH or APPROACH, a sonar of the ring's front half reading below
+ * the safety circle R_r (001 eq. (16)) that is not the object's own echo stops the base; it then
+ * turns in place toward the middle of the widest run of free sonars and drives GUARD_OUT_MM
+ * along it, out of R_r. The ring is 001's (section III.C.2: k_s sonars from -pi/2, right, to
+ * pi/2, left). Integer mm / mrad; no I/O. */
+#ifndef MOBIGRASP_HOSTC_SONAR_GUARD_H
+#define MOBIGRASP_HOSTC_SONAR_GUARD_H
+
+#include <stdint.h>
+
+#include "task_machine.h"
+
+#define MG_TURN_TOL_MRAD 60   /* the detour turns to within this of its heading first */
+#define MG_DETOUR_STOP_MM 400 /* straight ahead: footprint radius 170 mm + braking, margin */
+#define MG_DETOUR_DIAG_MM 255
+#define MG_GUARD_OBJECT_MM 150 /* an echo this close to the estimate's range is the object's */
+#define MG_GUARD_OUT_MM 200    /* after a guard stop: drive this far toward the free sector */
+/* the close approach (ADJUST, ROUGH_GRASP's drive into the grasp's reach) passes within R_r of
+ * things beside the object on purpose (002's board post), so it is guarded nearer */
+#define MG_CLOSE_GUARD_MM 30  /* a front echo this near the ring stops the close approach */
+#define MG_CLOSE_OBJECT_MM 80 /* ... unless in the object's cone at most this much nearer */
+#define MG_CLOSE_REACH_MM 60  /* stopped this near beyond grasp_r_mm: grasp, else search */
+
+/* phi_k of 001 section III.C.2 (k = 1..n evenly from -pi/2 to pi/2) of sonar k of n (n >= 2) */
+int32_t mg_sonar_angle_mrad(int32_t k, int32_t n);
+/* odometry heading of the middle of the widest run of neighbouring sonars that read no echo or
+ * one beyond clear_mm; with none free, a quarter turn left */
+int32_t mg_widest_free_heading(const mg_task_inputs_t *in, int32_t clear_mm);
+/* an echo straight ahead within MG_DETOUR_STOP_MM, or at 45 degrees within MG_DETOUR_DIAG_MM */
+int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n);
+/* the first front sonar below R_r that is not the object's own echo: 1 and its angle and
+ * range, or 0 */
+int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm);
+/* the first front sonar within MG_CLOSE_GUARD_MM that is not the object's own echo (its near
+ * surface, a radius or so short of its centre): 1 and its angle and range, or 0 */
+int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm);
+/* the close echo's trace detail (close_mm, phi_mrad, range_mm) */
+void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm);
+/* one step of the detour d (turn to its heading, then drive its length): 1 when it is over */
+int mg_drive_detour(mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d);
+/* the guard of a method without its own planner's detours (000, 002), after every step
+ * (Method.guard_wheels) */
+void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+
+#endif

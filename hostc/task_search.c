@@ -1,0 +1,210 @@
+/* SEARCH and LOST (host/task/search.py). */
+#include "task_search.h"
+
+#include <string.h>
+
+#include "fixedpoint.h"
+#include "json.h"
+#include "task_drive.h"
+#include "task_method.h"
+
+void mg_task_enter_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)in;
+    mg_search_params_t sp = t->p.search;
+    int32_t th2s = t->arm[2], th5s = t->arm[5];
+    if (t->lost_in >= 0 && t->rules->lost_search && t->rules->lost_search(t, &sp, &th2s, &th5s)) {
+        char text[MG_TASK_NOTE_BYTES];
+        mg_json_t j;
+        mg_json_init(&j, text, sizeof text - 1);
+        mg_json_begin_object(&j);
+        mg_json_key(&j, "d_theta2_mrad");
+        mg_json_int(&j, sp.d_theta2_mrad);
+        mg_json_key(&j, "lost_in");
+        const char *lost_in = mg_task_state_name(t->lost_in);
+        mg_json_string(&j, lost_in, strlen(lost_in));
+        mg_json_key(&j, "theta2s_mrad");
+        mg_json_int(&j, th2s);
+        mg_json_key(&j, "theta5s_mrad");
+        mg_json_int(&j, th5s);
+        mg_json_end_object(&j);
+        text[j.overflow ? 0 : j.len] = 0;
+        mg_task_note(t, "lost_search", text);
+    }
+    t->lost_in = -1;
+    mg_search_init(&t->search, &sp, th2s, th5s, now_us);
+    t->has_turn_from = 0;
+    t->has_wander_from = 0;
+    t->gripper = 0;
+    if (t->p.has_object_xy && !t->has_obj && t->lost == 0) {
+        /* 001 section II: the object position P_i is given; plan toward it, vision refines it */
+        t->has_obj = 1;
+        t->obj_mm[0] = t->p.object_xy_mm[0], t->obj_mm[1] = t->p.object_xy_mm[1];
+        t->obj_seen_us = now_us;
+        char why[MG_TASK_WHY];
+        size_t n = mg_task_text(why, sizeof why, 0, "object position given: (");
+        n = mg_task_text_int(why, sizeof why, n, t->obj_mm[0]);
+        n = mg_task_text(why, sizeof why, n, ", ");
+        n = mg_task_text_int(why, sizeof why, n, t->obj_mm[1]);
+        mg_task_text(why, sizeof why, n, ") mm");
+        mg_task_go(t, now_us, MG_APPROACH, why);
+    }
+}
+
+int mg_task_seen_there_before(const mg_task_t *t)
+{
+    if (!t->has_sighting || !t->has_obj)
+        return 0;
+    const int64_t dx = (int64_t)t->obj_mm[0] - t->sighting_mm[0];
+    const int64_t dy = (int64_t)t->obj_mm[1] - t->sighting_mm[1];
+    const int64_t r = t->p.sighting_match_mm;
+    return dx * dx + dy * dy <= r * r;
+}
+
+/* the transition's reason: the method's found_why, then tail */
+static void go_found(mg_task_t *t, int64_t now_us, const char *tail)
+{
+    char why[MG_TASK_WHY];
+    t->rules->found_why(t, why, sizeof why);
+    mg_task_text(why, sizeof why, strlen(why), tail);
+    mg_task_go(t, now_us, MG_APPROACH, why);
+}
+
+static void note_bool(mg_task_t *t, const char *key, int v)
+{
+    mg_task_note(t, key, v ? "true" : "false");
+}
+
+/* Drive the search's wander straight ahead on odometry (000 section II "wanders in the
+ * environment"); stop short when a front sonar sees something within wander_clear_mm. */
+static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                        const mg_search_command_t *cmd)
+{
+    if (!t->has_wander_from) {
+        t->has_wander_from = 1;
+        t->wander_from_mm[0] = in->x_mm, t->wander_from_mm[1] = in->y_mm;
+        mg_task_note_int(t, "wander_mm", cmd->drive_mm);
+        mg_task_note_int(t, "search_cycle", cmd->cycle);
+    }
+    const int64_t dx = (int64_t)in->x_mm - t->wander_from_mm[0];
+    const int64_t dy = (int64_t)in->y_mm - t->wander_from_mm[1];
+    const int32_t n = in->n_sonar < MG_TASK_SONARS ? in->n_sonar : MG_TASK_SONARS;
+    int blocked = 0; /* the sonars at the front: n / 2 - 1 .. n / 2 + 1 */
+    for (int32_t i = n / 2 - 1 > 0 ? n / 2 - 1 : 0; i < n / 2 + 2 && i < n; i++)
+        blocked |= in->sonar_mm[i] > 0 && in->sonar_mm[i] < t->p.wander_clear_mm;
+    if (dx * dx + dy * dy >= (int64_t)cmd->drive_mm * cmd->drive_mm || blocked) {
+        mg_task_note_int(t, "wander_done_mm", mg_isqrt(dx * dx + dy * dy));
+        note_bool(t, "wander_blocked", blocked);
+        mg_search_wander_done(&t->search, now_us);
+        t->has_wander_from = 0;
+        t->wheels[0] = t->wheels[1] = 0;
+    } else {
+        t->wheels[0] = t->wheels[1] = t->p.wander_mmps;
+    }
+}
+
+void mg_task_do_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    const struct mg_task_method *r = t->rules;
+    union {
+        int64_t align;
+        unsigned char bytes[MG_SIGHTING_BYTES];
+    } seen;
+    const int has = r->search_sighting(t, in, seen.bytes);
+    if (t->has_confirm_until) {
+        t->wheels[0] = t->wheels[1] = 0;
+        /* holding the pose of the frame that showed the object: see it again, settled */
+        if (has && now_us >= t->move_done_us + t->p.frame_latency_us
+            && r->found(t, now_us, in, seen.bytes)) {
+            t->has_confirm_until = 0;
+            go_found(t, now_us, " (confirmed)");
+            return;
+        }
+        if (now_us < t->confirm_until_us)
+            return;
+        t->has_confirm_until = 0; /* not seen again: resume the pattern */
+        t->has_confirm_failed = 1;
+        memcpy(t->confirm_failed, t->arm, sizeof t->confirm_failed);
+        t->has_sighting = r->keeps_sightings && t->has_obj;
+        t->sighting_mm[0] = t->obj_mm[0], t->sighting_mm[1] = t->obj_mm[1];
+        mg_search_restart_dwell(&t->search, now_us);
+    } else if (has && r->found(t, now_us, in, seen.bytes)) {
+        /* seen at a dwell, on a wander leg or while the base turns: stop and confirm */
+        t->wheels[0] = t->wheels[1] = 0;
+        if (mg_task_seen_there_before(t)) {
+            go_found(t, now_us, " (seen twice at that place)");
+            return;
+        }
+        int32_t held[6];
+        mg_task_arm_at(t, now_us - t->p.frame_latency_us, held);
+        if (t->has_confirm_failed && memcmp(held, t->confirm_failed, sizeof held) == 0)
+            memcpy(held, t->arm, sizeof held); /* that pose was tried: the frame is a newer one */
+        mg_task_set_arm(t, now_us, held[2], held[3], held[4], held[5], 1, held[1]);
+        t->has_confirm_until = 1;
+        t->confirm_until_us = t->move_done_us + t->p.confirm_us;
+        char why[MG_TASK_WHY], text[MG_TASK_WHY + 8];
+        r->found_why(t, why, sizeof why);
+        mg_json_t j;
+        mg_json_init(&j, text, sizeof text - 1);
+        mg_json_string(&j, why, strlen(why));
+        text[j.overflow ? 0 : j.len] = 0;
+        mg_task_note(t, "search_seen", text);
+        return;
+    }
+    const int32_t pose[3] = {in->x_mm, in->y_mm, in->heading_mrad};
+    const mg_search_command_t cmd = mg_search_step(&t->search, now_us, pose);
+    char why[MG_TASK_WHY];
+    if (r->search_gives_up && r->search_gives_up(t, why, sizeof why)) {
+        mg_task_fail(t, now_us, why);
+        return;
+    }
+    mg_task_set_arm(t, now_us, cmd.theta2_mrad, cmd.theta3_mrad, cmd.theta4_mrad,
+                    cmd.theta5_mrad, 1, 0);
+    if (cmd.drive_mm) {
+        wander_step(t, now_us, in, &cmd);
+        return;
+    }
+    if (!cmd.base_turn_mrad) {
+        t->wheels[0] = t->wheels[1] = 0;
+        return;
+    }
+    if (!t->has_turn_from) {
+        t->has_turn_from = 1;
+        t->turn_from_mrad = in->heading_mrad;
+        mg_task_note_int(t, "base_turn_mrad", cmd.base_turn_mrad);
+        mg_task_note_int(t, "search_cycle", cmd.cycle);
+    }
+    const int32_t turned = mg_task_wrap_mrad((int64_t)in->heading_mrad - t->turn_from_mrad);
+    const int32_t want = cmd.base_turn_mrad < 0 ? -cmd.base_turn_mrad : cmd.base_turn_mrad;
+    if ((turned < 0 ? -turned : turned) >= want) {
+        mg_search_base_turn_done(&t->search, now_us);
+        t->has_turn_from = 0;
+        t->wheels[0] = t->wheels[1] = 0;
+    } else { /* on the spot: counter-clockwise for a positive turn */
+        const int32_t dir = cmd.base_turn_mrad > 0 ? 1 : -1;
+        t->wheels[0] = -dir * t->p.turn_wheel_mmps;
+        t->wheels[1] = dir * t->p.turn_wheel_mmps;
+    }
+}
+
+void mg_task_enter_lost(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)in;
+    t->wheels[0] = t->wheels[1] = 0;
+    t->lost++;
+    if (t->lost > t->p.max_lost) {
+        char why[MG_TASK_WHY];
+        size_t n = mg_task_text(why, sizeof why, 0, "object lost ");
+        n = mg_task_text_int(why, sizeof why, n, t->lost);
+        mg_task_text(why, sizeof why, n, " times");
+        mg_task_fail(t, now_us, why);
+    }
+}
+
+void mg_task_do_lost(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)in;
+    t->wheels[0] = t->wheels[1] = 0;
+    if (now_us - t->entered_us >= t->p.lost_hold_us)
+        mg_task_go(t, now_us, MG_SEARCH, "platform stopped: searching with the arm (000 Fig. 5)");
+}

@@ -19,7 +19,7 @@ STAMP := $(VENV)/.installed
 # which interpreter built .venv: a venv of another one is made again
 BASE := $(VENV)/.base-python
 
-.PHONY: venv test test-all lint ruff-tracked demo clean browser firmware toolchains hostc hostc-arm \
+.PHONY: venv test test-all lint ruff-tracked demo clean browser rerun firmware toolchains hostc hostc-arm \
 	arm-tools FORCE
 
 venv: $(STAMP)
@@ -139,7 +139,12 @@ browser:
 	@command -v chromium >/dev/null 2>&1 || { apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium; }
 
-test-all: lint toolchains browser
+# Rerun's MCAP reader for its slow test: an extra of its own (~650 MB, docs/outputs.md)
+rerun: venv
+	@$(BIN)/python -c 'import rerun.chunk' 2>/dev/null || \
+	  $(BIN)/python -m pip install --quiet -e '.[rerun]' --config-settings editable_mode=strict
+
+test-all: lint toolchains browser rerun
 	$(BIN)/python -m pytest -q -m "slow or not slow"
 
 # The ATmega128 firmware with avr-gcc: firmware/build/mobigrasp-avr.elf and .hex, then its size

@@ -40,6 +40,9 @@ class RunSpec:
     # builds the host program's lockstep client on an in-process serial end (transport inproc)
     inproc_client: Callable[[Any], Any] | None = None
     transport: str = "pty"
+    host: str = "python"  # the host program (services/host_programs.py): python | c | arm
+    # its command line over the pty (port, config file, poll ms; without --lockstep)
+    host_argv: Callable[[str, Path, float], list[str]] = host_argv
     mcu: str = "python"  # MCU backend (mobigrasp.mcu_sim.backend)
     speed: float | None = None
     # a display (tools.progress.RunProgress), called as (now_us, state, wall_s); None: none
@@ -96,13 +99,16 @@ def _run(spec: RunSpec) -> dict:
             # at full speed the host polls for its grants and the rig for its DONEs instead of
             # sleeping (HOST_POLL_MS); paced (--speed N) both have time to sleep
             poll_ms = HOST_POLL_MS if spec.speed is None else 0.0
-            early = SocketHost(host_argv(port.slave_path, cfg_path, poll_ms), connect=False,
-                               poll_ms=poll_ms)
+            early = SocketHost(spec.host_argv(port.slave_path, cfg_path, poll_ms),
+                               connect=False, poll_ms=poll_ms)
         # the SIM half's heavy imports (pymunk, the renderer) while the host process boots
         from mobigrasp.cosim.sim_side import SimSide
 
         sim = SimSide(scenario, seed, out, spec.scenario_file, spec.transport, spec.plan,
-                      spec.mcu, spec.on_frame, on_mcu_bytes=spec.on_mcu_bytes)
+                      spec.mcu, spec.on_frame, on_mcu_bytes=spec.on_mcu_bytes,
+                      host=spec.host)
+        if spec.host_config.get("method") != scenario.meta.method:  # the world's is another
+            sim.summary["host_method"] = spec.host_config.get("method")
     except BaseException:
         if early is not None:  # not connected yet: it sees the socket go and exits
             early.close()

@@ -57,11 +57,13 @@ class SimSide:
                  transport: str, plan: Any, mcu_backend: str = "python",
                  on_frame: Callable[[int, int, Any], None] | None = None,
                  external_host: bool = False,
-                 on_mcu_bytes: Callable[[int, bytes], None] | None = None) -> None:
+                 on_mcu_bytes: Callable[[int, bytes], None] | None = None,
+                 host: str = "python") -> None:
         """``external_host``: the host is a program of the user's (``mobigrasp sim``), which
         reports no task state: the method is "external" and success is the world's grasp.
         ``on_mcu_bytes(t_us, data)``: told every write of the MCU's bytes to the host's line
-        (trace.mcap's telemetry topics; the trace is not changed by it)."""
+        (trace.mcap's telemetry topics; the trace is not changed by it). ``host``: the host
+        program the run drives (python | c | arm), for the summary."""
         self.out = out
         name = scenario.meta.name
         method = "external" if external_host else scenario.meta.method
@@ -70,7 +72,8 @@ class SimSide:
         self.summary: dict[str, Any] = {
             "scenario": name, "scenario_file": str(scenario_file),
             "method": method, "seed": seed, "transport": transport,
-            "mcu_backend": mcu_backend, "status": "starting", "success": False, "grasped": False,
+            "host": "external" if external_host else host, "mcu_backend": mcu_backend,
+            "status": "starting", "success": False, "grasped": False,
         }
         write_summary(out / "summary.json", self.summary)
         self.trace = TraceWriter(out / "trace.jsonl")

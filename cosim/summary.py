@@ -72,7 +72,7 @@ def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dic
         "snapshots": snaps.written,
         "trace_sha256": trace.sha256(), "trace_lines": trace.lines,
         "trace_dropped_events": trace.dropped_events,
-        "host": {k: hs.get(k) for k in ("control_steps", "ticks_skipped", "frames_idle")},
+        "host_steps": {k: hs.get(k) for k in ("control_steps", "ticks_skipped", "frames_idle")},
         "stages": hs.get("stages", {}),
         "budget": budget_block(hs),
         "error": res.error if res and res.error else None,

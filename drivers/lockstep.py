@@ -65,21 +65,18 @@ class LockstepCamera(Camera):
         return self._queue.pop(0) if self._queue else None
 
 
-class LockstepClient:
-    """Serves GRANTs for one :class:`HostApp` over a serial ``port`` (link Transport)."""
+class AnnouncedBytes:
+    """The UART bytes of the granted quanta, read from the serial ``port`` as each GRANT
+    announces them (any host program's driver: this module's client, the C host's in process)."""
 
-    def __init__(self, app: HostApp, port, read_timeout_s: float = 60.0) -> None:
-        self.app = app
+    def __init__(self, port, read_timeout_s: float = 60.0) -> None:
         self.port = port
-        self.clock = LockstepClock()
-        self.camera = LockstepCamera()
         self.read_timeout_s = read_timeout_s
-        self._loads_sent = 0
         self._ahead = bytearray()  # UART bytes read for grants not served yet
 
-    def _read_exact(self, n: int) -> bytes:
-        # The rig may send grants ahead (pipelining): bytes beyond this grant's belong to the
-        # next ones and wait in ``_ahead``.
+    def take(self, n: int) -> bytes:
+        """The next ``n`` bytes. The rig may send grants ahead (pipelining): bytes beyond this
+        grant's belong to the next ones and wait in ``_ahead``."""
         buf = self._ahead
         while len(buf) < n:
             chunk = self.port.read()
@@ -92,6 +89,18 @@ class LockstepClient:
         del buf[:n]
         return data
 
+
+class LockstepClient:
+    """Serves GRANTs for one :class:`HostApp` over a serial ``port`` (link Transport)."""
+
+    def __init__(self, app: HostApp, port, read_timeout_s: float = 60.0) -> None:
+        self.app = app
+        self.port = port
+        self.clock = LockstepClock()
+        self.camera = LockstepCamera()
+        self.uart = AnnouncedBytes(port, read_timeout_s)
+        self._loads_sent = 0
+
     def serve(self, grant: ls.Grant) -> ls.Done:
         """Run the host program through one granted quantum; returns the DONE to send."""
         app = self.app
@@ -100,7 +109,7 @@ class LockstepClient:
         until_us = grant.until_us
         self.clock.set_us(grant.start_us)
         if grant.uart:  # (most grants bring bytes; a quiet one reads nothing)
-            data = self._read_exact(grant.uart_bytes)
+            data = self.uart.take(grant.uart_bytes)
             offset = 0
             for arrival_us, n in grant.uart:
                 app.on_uart(data[offset:offset + n], arrival_us)

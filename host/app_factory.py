@@ -203,14 +203,20 @@ def task_params(method: str, paper: dict) -> dict:
 
 def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> HostApp:
     """The host program for ``cfg`` = {"method", "params" (paper names), "camera", "task"
-    (TaskParams overrides, e.g. ``object_xy_mm`` for 001)}."""
+    (TaskParams overrides, e.g. ``object_xy_mm`` for 001)}; method ``"idle"``: the program
+    around no task (host/task/idle.py)."""
     from mobigrasp.host.task import Task
+    from mobigrasp.host.task.idle import PROGRAM_TASKS
 
     method = cfg.get("method", "000")
-    params = task_params(method, dict(cfg.get("params", {})))
-    for key, value in dict(cfg.get("task", {})).items():  # task settings, e.g. 001's P_i
-        params[key] = tuple(value) if isinstance(value, list) else value
-    task = Task(method=method, params=params)
+    task: Any
+    if method in PROGRAM_TASKS:  # the host program's own task (idle), no paper's
+        task = PROGRAM_TASKS[method]()
+    else:
+        params = task_params(method, dict(cfg.get("params", {})))
+        for key, value in dict(cfg.get("task", {})).items():  # task settings, e.g. 001's P_i
+            params[key] = tuple(value) if isinstance(value, list) else value
+        task = Task(method=method, params=params)
     app_ref: list = []
     detectors = _detectors(cfg, app_ref)
     app = HostApp(task, detectors, InputBuilder(), config or HostConfig(), timer=timer,

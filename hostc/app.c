@@ -589,6 +589,26 @@ size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
     mg_json_int(&j, app->frames_received);
     mg_json_key(&j, "mcu_resets_seen");
     mg_json_int(&j, app->link.mcu_resets);
+    /* host/app_link.py stats(): the link's counters and the parser's CRC errors (keys sorted) */
+    const mg_link_counters_t *c = &app->link.counters;
+    const struct {
+        const char *key;
+        int64_t value;
+    } proto[] = {{"clamped_outputs", c->clamped_outputs},
+                 {"crc_errors", app->link.parser.stats.crc_errors},
+                 {"decode_errors", c->decode_errors}, {"nacks", c->nacks},
+                 {"odd_telemetry", c->odd_telemetry}, {"rejected_outputs", c->rejected_outputs},
+                 {"reliable_failed", c->reliable_failed}, {"retransmits", c->retransmits},
+                 {"rx_bytes", c->rx_bytes}, {"rx_frames", c->rx_frames},
+                 {"telemetry", c->telemetry}, {"tx_bytes", c->tx_bytes},
+                 {"tx_frames", c->tx_frames}};
+    mg_json_key(&j, "protocol");
+    mg_json_begin_object(&j);
+    for (size_t i = 0; i < sizeof proto / sizeof proto[0]; i++) {
+        mg_json_key(&j, proto[i].key);
+        mg_json_int(&j, proto[i].value);
+    }
+    mg_json_end_object(&j);
     mg_json_key(&j, "replans");
     mg_json_int(&j, app->replans);
     mg_json_key(&j, "state");

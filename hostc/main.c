@@ -1,11 +1,13 @@
 /* The S3C2440 host program in C: the options of `mobigrasp host` (--port, --camera, --method,
  * --config, --lockstep SOCK, --poll-ms), the method's task, and the driver: lockstep (the
  * rig's grants over the Unix socket, the bytes over the serial port) or free running (the
- * board's clock); the self-test options (selftest.h). Bad options exit 2 with one line naming
- * the option. */
+ * board's clock); `--list-methods` prints the method table's names, one a line (what
+ * `mobigrasp run --host c` reads before it starts the program); the self-test options
+ * (selftest.h). Bad options exit 2 with one line naming the option. */
 #include <string.h>
 
 #include "app.h"
+#include "camera.h"
 #include "json.h"
 #include "linux_driver.h"
 #include "lockstep_driver.h"
@@ -27,7 +29,7 @@ static int usage(const char *why, const char *what)
 {
     static const char opts[] = " (mobigrasp-host-c --port PATH [--camera SOURCE] [--method NAME]"
                                " [--config FILE] [--lockstep SOCK] [--poll-ms MS] | "
-                               HOSTC_SELFTEST_USAGE ")\n";
+                               "--list-methods | " HOSTC_SELFTEST_USAGE ")\n";
     sys_write(2, "usage: ", 7);
     sys_write(2, why, strlen(why));
     sys_write(2, what, strlen(what));
@@ -81,6 +83,16 @@ static int poll_ms_ok(const char *s)
     return digits > 0 && (whole < 10000 || (whole == 10000 && !points));
 }
 
+/* the method table's names, one a line on standard output */
+static int list_methods(void)
+{
+    for (int32_t i = 0; i < mg_n_methods; i++) {
+        sys_write(1, mg_methods[i].method, strlen(mg_methods[i].method));
+        sys_write(1, "\n", 1);
+    }
+    return 0;
+}
+
 static mg_app_t app;
 static mg_lockstep_t driver;
 static uint64_t task_state[MG_TASK_STATE_BYTES / sizeof(uint64_t)];
@@ -90,6 +102,8 @@ int main(int argc, char **argv)
     const int selftest = hostc_selftest_main(argc, argv); /* --self-test, --self-test-io */
     if (selftest >= 0)
         return selftest;
+    if (argc == 2 && strcmp(argv[1], "--list-methods") == 0)
+        return list_methods();
     const char *port = NULL, *camera = NULL, *method_opt = NULL, *config = NULL, *sock = NULL;
     for (int i = 1; i < argc; i++) {
         const char *o = argv[i];
@@ -123,9 +137,14 @@ int main(int argc, char **argv)
     }
     const mg_method_t *m = mg_method_find(method);
     if (m == NULL || m->state_bytes > sizeof task_state)
-        return usage("method not in the C host yet (it runs: idle): ", method);
-    if (camera != NULL && sock == NULL)
-        return usage("--camera: the C host reads no camera in free-running mode yet: ", camera);
+        return usage("method not in the C host yet (--list-methods names those it has): ",
+                     method);
+    static mg_camera_t cam = {.fd = -1}; /* free running: frames from --camera (camera.h) */
+    if (camera != NULL && sock == NULL) {
+        const char *why = "";
+        if (mg_camera_open(&cam, camera, &why) < 0)
+            return usage(why, camera);
+    }
     const int fd = sys_open(port, SYS_O_RDWR | SYS_O_NOCTTY, 0);
     if (fd < 0)
         return usage("cannot open --port ", port);
@@ -149,8 +168,15 @@ int main(int argc, char **argv)
         }
         return 0;
     }
-    const int r = mg_linux_run(&app, fd);
+    const int r = mg_linux_run(&app, fd, camera != NULL ? &cam : NULL);
     sys_close(fd);
+    mg_camera_close(&cam);
+    static char stats[1024]; /* the program's figures (frames received, control steps ...) */
+    const size_t len = mg_app_stats_json(&app, stats, sizeof stats - 1);
+    if (len > 0) {
+        stats[len] = 0;
+        say("stats ", stats, "");
+    }
     if (r != 0) {
         say("the MCU side closed the port ", port, "; stopping");
         return 1;

@@ -195,6 +195,7 @@ void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
         || !mg_front_echo(t, in, &phi, &rng))
         return;
     t->wheels[0] = t->wheels[1] = 0;
+    t->path.has_follower = t->path.has_job = 0; /* a plan being made started from a pose left */
     /* the detour: toward the widest free sector, out of R_r */
     const mg_detour_t out = {1, mg_widest_free_heading(in, t->p.detour_clear_mm), 1, 0, {0, 0},
                              MG_GUARD_OUT_MM, 0};

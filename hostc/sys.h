@@ -22,6 +22,7 @@ long sys_write(int fd, const void *buf, size_t n);
 int sys_open(const char *path, int flags, int mode);
 int sys_close(int fd);
 int sys_tty_raw(int fd);                 /* raw 8N1, 115200, no echo (termios via ioctl) */
+int sys_ioctl(int fd, uint32_t request, void *arg); /* a device's request (V4L2) */
 int sys_poll(struct sys_pollfd *fds, unsigned nfds, int timeout_ms);
 int64_t sys_monotonic_us(void);          /* CLOCK_MONOTONIC */
 int sys_sleep_us(uint32_t us);

@@ -10,6 +10,7 @@
 #include <poll.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/ioctl.h>
 #include <sys/mman.h>
 #include <sys/socket.h>
 #include <sys/un.h>
@@ -58,6 +59,11 @@ int sys_open(const char *path, int flags, int mode)
 int sys_close(int fd)
 {
     return close(fd) < 0 ? -errno : 0;
+}
+
+int sys_ioctl(int fd, uint32_t request, void *arg)
+{
+    return ioctl(fd, (unsigned long)request, arg) < 0 ? -errno : 0;
 }
 
 int sys_tty_raw(int fd)

@@ -16,11 +16,13 @@ void mg_task_enter_adjust(mg_task_t *t, int64_t now_us)
 }
 
 void mg_task_do_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
-                       const void *det)
+                       const void *det, const mg_sighting_t *radial)
 {
     const struct mg_task_method *r = t->rules;
     if (det)
         mg_task_see_object(t, now_us, in, r->adjust_position, det, r->adjust_is_object);
+    else if (radial) /* 000, 001: the dual "+" out of its range, the rings (on the object) */
+        mg_task_see_object(t, now_us, in, mg_task_sighting_position, radial, 1);
     int32_t xy[2];
     mg_task_obj_platform(t, in, xy);
     const int32_t dist = (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1])

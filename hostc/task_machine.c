@@ -194,7 +194,9 @@ static void enter_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
 
 static void do_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    mg_task_do_adjust(t, now_us, in, t->rules->adjust_result ? t->rules->adjust_result(in) : NULL);
+    /* the radial symbol (000, 001) comes with their frames' glue: none yet */
+    mg_task_do_adjust(t, now_us, in, t->rules->adjust_result ? t->rules->adjust_result(in) : NULL,
+                      NULL);
 }
 
 /* each state's entry action and step (machine.py ENTRY, STEP); the terminal states have
@@ -225,6 +227,7 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     t->move_done_us = start_us;
     t->obj_seen_us = start_us;
     t->lost_in = -1;
+    t->path.plan_us = start_us;
     t->grasp_alpha_mrad = rules->grasp_alpha_mrad;
     memcpy(t->entry, ENTRY, sizeof t->entry);
     memcpy(t->step, STEP, sizeof t->step);
@@ -425,6 +428,7 @@ void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                   mg_task_outputs_t *out)
 {
     t->n_events = 0;
+    memset(&t->path.ops, 0, sizeof t->path.ops); /* the step's planning work */
     t->n_notes = 0;
     /* joints from telemetry; without telemetry assume the arm is where it was sent */
     memcpy(t->joints, in->has_joints ? in->joints_mrad : t->arm, sizeof t->joints);

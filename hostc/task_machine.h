@@ -14,6 +14,7 @@
 #include "kinematics.h"
 #include "posture.h"
 #include "search.h"
+#include "task_path.h"
 
 typedef enum {
     MG_SEARCH, MG_APPROACH, MG_ADJUST, MG_ROUGH_GRASP, MG_PRECISE_GRASP, MG_LIFT, MG_DONE,
@@ -42,6 +43,12 @@ typedef struct {
     int32_t bearing_tol_mrad;        /* ADJUST's close approach: facing within this */
     int32_t adjust_theta3_mrad, adjust_theta4_mrad; /* ADJUST's close-look posture */
     int32_t blind_finish_mm; /* ADJUST may finish on odometry within this of its goal */
+    int32_t adjust_vmax_mmps; /* ADJUST's speed (000, 001) */
+    /* the path approach of 000 and 001 (task_approach.c): the stand-off of 000's P3, the
+     * estimate's shift that replans, the plans tried before the direct approach within
+     * direct_max_mm */
+    int32_t approach_standoff_mm, replan_shift_mm, max_plan_attempts, direct_max_mm;
+    int64_t replan_period_us, sonar_sweep_us; /* 001: the sonar check's period, one sweep */
     int32_t posture_step_mrad; /* eq. (10)'s step per control step */
     mg_posture_params_t posture; /* its gains and margins (max_step_mrad: posture_step_mrad) */
     mg_fuzzy_params_t fuzzy;
@@ -126,6 +133,7 @@ struct mg_task {
     int32_t hist_overflow; /* entries dropped for want of room (counted, never silent) */
     int32_t bad_detections; /* counters["bad_detections"] */
     int32_t lost_in;        /* the state the object was lost in (-1: none) */
+    mg_task_path_t path;    /* the path approach's follower and plan (000, 001) */
     int32_t n_events, events_lost;
     mg_task_event_t events[MG_TASK_EVENTS];
     int32_t n_notes, notes_lost; /* this step's trace detail */

@@ -4,9 +4,38 @@
 #include <string.h>
 
 #include "sonar_guard.h"
+#include "task_method000.h"
+#include "task_method001.h"
 #include "task_method002.h"
 
+/* the hooks 001 takes from 000 (Method001 is a Method000): 000's vision, ADJUST and grasp */
+#define HOOKS_000                                                                          \
+    .failure_reason = mg_task_reason_as_is, .look_height_mm = mg_method000_look_height_mm,  \
+    .adjust_detector = "dual_plus", .adjust_position = mg_task_sighting_position,           \
+    .adjust_is_object = 1, .adjust_done = mg_method000_adjust_done,                         \
+    .adjust_goal_mm = mg_method000_adjust_goal_mm,                                          \
+    .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps, .found = mg_method000_found,         \
+    .found_why = mg_method000_found_why, .keeps_sightings = 1,                              \
+    .object_detectors = "dual_plus, radial_symbol", .grasp_ik = mg_method000_grasp_ik,      \
+    .lowers_hover = 1, .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD, .camera = {611, 160, 120}
+
 const mg_task_method_t mg_task_methods[] = {
+    {.name = "000",
+     .ms_bytes = sizeof(mg_state000_t),
+     .ms_init = mg_method000_ms_init,
+     .params = mg_method000_params,
+     HOOKS_000,
+     .guard_wheels = mg_sonar_guard_step,
+     .lost_search = mg_method000_lost_search,
+     .geom = {1528, 1424, 1552},
+     .path = &mg_path000},
+    {.name = "001",
+     .ms_bytes = sizeof(mg_state001_t),
+     .ms_init = mg_method001_ms_init,
+     .params = mg_method001_params,
+     HOOKS_000,
+     .geom = {2560, 2560, 3200},
+     .path = &mg_path001},
     {.name = "002",
      .ms_bytes = sizeof(mg_state002_t),
      .ms_init = mg_method002_ms_init,
@@ -64,6 +93,67 @@ const mg_task_method_t *mg_task_method_find(const char *name)
         if (strcmp(mg_task_methods[i].name, name) == 0)
             return &mg_task_methods[i];
     return NULL;
+}
+
+/* host/control/fuzzy.py FuzzyParams() */
+static const mg_fuzzy_params_t FUZZY_DEFAULTS = {1430, 5000, 1000, 150, 4096, 45};
+
+void mg_task_params_default(mg_task_params_t *p)
+{
+    static const int64_t timeouts_us[MG_N_TASK_STATES] = {
+        180000000, 120000000, 60000000, 15000000, 30000000, 16000000, -1, 5000000, -1};
+    memset(p, 0, sizeof *p);
+    memcpy(p->timeouts_us, timeouts_us, sizeof timeouts_us);
+    p->servo_speed_mrad_per_s = 3000;
+    p->settle_margin_us = 300000;
+    p->frame_latency_us = 50000;
+    p->lost_timeout_us = 1500000;
+    p->grasp_r_mm = 110;
+    p->grasp_r_tol_mm = 20;
+    p->adjust_vmax_mmps = 80;
+    p->blind_approach_mm = 1000;
+    p->blind_keep_mm = 700;
+    p->blind_approach_us = 8000000;
+    p->slow_mmps = 60;
+    p->mount_forward_mm = 100;
+    p->h_shoulder_mm = 200;
+    p->object_top_mm = 100;
+    p->grasp_height_mm = 80;
+    p->t_d_px = 45;
+    p->cylinder_near_px = 12;
+    p->cross_near_px = 75;
+    p->bearing_tol_mrad = 60;
+    p->adjust_theta3_mrad = -1000;
+    p->adjust_theta4_mrad = 1571;
+    p->blind_finish_mm = 80;
+    p->approach_standoff_mm = 400;
+    p->replan_shift_mm = 150;
+    p->max_plan_attempts = 3;
+    p->direct_max_mm = 1200;
+    p->turn_wheel_mmps = 80;
+    p->replan_period_us = 300000;
+    p->sonar_sweep_us = 200000;
+    mg_search_params_default(&p->search); /* host/search.py SearchParams() */
+    p->confirm_us = 700000;
+    p->lost_hold_us = 500000;
+    p->max_lost = 5;
+    p->wander_mmps = 200;
+    p->wander_clear_mm = 500;
+    p->sighting_match_mm = 200;
+    p->sonar_offset_mm = 170;
+    p->r_r_mm = 200;
+    p->sonar_a_g_mrad = 1050;
+    p->detour_mm = 500;
+    p->detour_clear_mm = 900;
+    p->hover_mm = 110;
+    p->lift_mm = 60;
+    p->pregrasp_back_mm = 50;
+    p->grasp_close_timeout_us = 2000000;
+    p->posture_step_mrad = 20;
+    /* eq. (10)'s gains of 000 section IV: 1, 0, 0 */
+    p->posture.k_theta_q12[0] = 4096;
+    p->posture.margin_mode = MG_MARGIN_PRINTED;
+    p->fuzzy = FUZZY_DEFAULTS;
 }
 
 void mg_task_reason_as_is(const mg_task_t *t, const char *reason, char *out, size_t cap)

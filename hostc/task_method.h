@@ -9,6 +9,7 @@
 
 #include "task_machine.h"
 
+struct mg_path_method;
 #define MG_SIGHTING_BYTES 64 /* the largest method's search sighting */
 #define MG_FRAME_BYTES 256   /* the largest method's frame of results (mg_frame002_t ...) */
 
@@ -93,12 +94,17 @@ typedef struct mg_task_method {
     void (*frame_of)(const mg_task_t *t, const int32_t *const *words, void *frame);
     mg_camera_model_t camera;
     mg_arm_geometry_t geom; /* l2, l3, l4 of the arm the method assumes, Q4 mm */
+    /* APPROACH's path hooks (task_approach.h; approach.py PathMethod); NULL: no path */
+    const struct mg_path_method *path;
 } mg_task_method_t;
 
 extern const mg_task_method_t mg_task_methods[];
 extern const int32_t mg_n_task_methods;
 const mg_task_method_t *mg_task_method_find(const char *name); /* NULL: unknown */
 
+/* TaskParams(): the defaults of the ported fields (000 section IV's where it gives them); a
+ * method's params hook changes its own (param_defaults) */
+void mg_task_params_default(mg_task_params_t *p);
 /* the detectors the current state runs (bits of MG_DET_*; Task.detectors_needed) */
 uint32_t mg_task_detectors_needed(const mg_task_t *t);
 /* the detector det stands in for in the current state, or -1 (Task.detector_fallbacks) */

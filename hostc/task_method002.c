@@ -26,66 +26,27 @@ void mg_method002_ms_init(void *ms)
     memset(ms, 0, sizeof(mg_state002_t));
 }
 
-/* TaskParams.for_method("002"): the defaults with 002's own */
+/* TaskParams.for_method("002"): the defaults with 002's own (method002.py param_defaults) */
 void mg_method002_params(mg_task_params_t *p)
 {
-    static const int64_t timeouts_us[MG_N_TASK_STATES] = {
-        180000000, 120000000, 60000000, 15000000, 30000000, 16000000, -1, 5000000, -1};
-    static const mg_fuzzy_params_t fuzzy = {1430, 5000, 1000, 150, 4096, 45};
-    memcpy(p->timeouts_us, timeouts_us, sizeof timeouts_us);
-    p->servo_speed_mrad_per_s = 3000;
-    p->settle_margin_us = 300000;
-    p->frame_latency_us = 50000;
-    p->lost_timeout_us = 1500000;
-    p->grasp_r_mm = 255;
-    p->blind_approach_mm = 1000;
-    p->blind_keep_mm = 700;
-    p->blind_approach_us = 8000000;
-    p->slow_mmps = 60;
-    p->mount_forward_mm = 100;
+    mg_task_params_default(p);
     p->h_shoulder_mm = 50;
     p->object_top_mm = 120;
     p->grasp_height_mm = 100;
-    p->t_d_px = 45;
-    p->cylinder_near_px = 12;
-    p->cross_near_px = 75;
-    p->bearing_tol_mrad = 60;
-    /* ADJUST's look: d_pixel passes T_d with the axis inside the level grasp's reach */
-    p->adjust_theta3_mrad = -2190;
-    p->adjust_theta4_mrad = 2120;
-    p->blind_finish_mm = 80;
-    p->posture_step_mrad = 20;
-    p->posture.k_theta_q12[0] = 4096;
-    p->posture.k_theta_q12[1] = p->posture.k_theta_q12[2] = 0;
-    p->posture.margin_mode = MG_MARGIN_LIMITS; /* the printed theta2m leaves no room at 0 */
-    p->posture.max_step_mrad = 0;
-    p->fuzzy = fuzzy;
+    p->grasp_r_mm = 255;
+    p->grasp_r_tol_mm = 15;
+    p->pregrasp_back_mm = 40;
     /* the double cross stands upright, far: the paper's first cycle, then the level look
      * (f = 350 px: 0.66 rad vertical field); the wander gives up past the disc of 2.5 m */
-    mg_search_params_default(&p->search);
     p->search.dense_cycles = 1;
     p->search.n_coarse = 2;
     p->search.coarse_theta2_mrad[0] = -2100;
     p->search.coarse_theta2_mrad[1] = -2400;
     p->search.cover_mm = MG_SEARCH_COVER_002_MM;
-    p->has_object_xy = 0;
-    p->confirm_us = 700000;
-    p->lost_hold_us = 500000;
-    p->max_lost = 5;
-    p->turn_wheel_mmps = 80;
-    p->wander_mmps = 200;
-    p->wander_clear_mm = 500;
-    p->sighting_match_mm = 200;
-    p->sonar_offset_mm = 170;
-    p->r_r_mm = 200;
-    p->sonar_a_g_mrad = 1050;
-    p->detour_mm = 500;
-    p->detour_clear_mm = 900;
-    p->grasp_r_tol_mm = 15;
-    p->hover_mm = 110;
-    p->lift_mm = 60;
-    p->pregrasp_back_mm = 40;
-    p->grasp_close_timeout_us = 2000000;
+    /* ADJUST's look: d_pixel passes T_d with the axis inside the level grasp's reach */
+    p->adjust_theta3_mrad = -2190;
+    p->adjust_theta4_mrad = 2120;
+    p->posture.margin_mode = MG_MARGIN_LIMITS; /* the printed theta2m leaves no room at 0 */
 }
 
 /* A run that never saw the red cylinder (a board alone) says so whatever ended it. */

@@ -28,6 +28,9 @@ with their reasons by name; ``describe(msg)`` prints any message that way.
   ``emulated_robot(scenario, clock="test")`` is the same robot in this process with the clock
   in the test's hands (testing/stepped_robot.py): ``.port``, ``.advance_ms(n)``,
   ``.frame()``, ``.telemetry()``, ``.truth()``, ``.expect(predicate, within_ms)``.
+- ``host_program``: the host program ``pytest --robot-host python|c|arm`` names (default
+  python), to start against an ``emulated_robot``: ``.robot_kw`` (the robot's options it
+  needs: the raw-frame endpoint for the C programs) and ``.argv(robot, method)``.
 - ``pytest --robot-port /dev/ttyUSB0 --robot-camera 0``: every ``emulated_robot`` is the real
   robot on that device and camera (testing/bench_robot.py); truth and clock calls
   skip the test with the reason.
@@ -198,9 +201,24 @@ def pytest_addoption(parser) -> None:
     group.addoption("--robot-camera", default=None, metavar="INDEX|FILE",
                     help="with --robot-port: the robot's camera for OpenCV (an index, a video "
                          "file, an image sequence such as shots/%%03d.png, a URL)")
+    group.addoption("--robot-host", default="python", choices=("python", "c", "arm"),
+                    help="the host program the host_program fixture starts: python (mobigrasp "
+                         "host, default), c (hostc/ built for this machine) or arm (its ARMv4T "
+                         "ELF under qemu-arm -cpu ti925t)")
 
 
 CLOCKS = ("wall", "test")
+
+
+@pytest.fixture
+def host_program(request):
+    """The host program of ``--robot-host`` (testing/host_program.py): ``.robot_kw`` for
+    ``emulated_robot(scenario, **robot_kw)``, ``.argv(robot, method)`` its command line."""
+    from mobigrasp.testing.host_program import HostProgram
+
+    program = HostProgram(request.config.getoption("robot_host"))
+    yield program
+    program.close()
 
 
 @pytest.fixture
@@ -218,8 +236,8 @@ def emulated_robot(request, tmp_path):
 
     def make(scenario: str, speed: float = 1.0, clock: str = "wall", **kw):
         """``kw``: ``seed``, ``mcu``, ``time_limit_s`` (both clocks); with the wall clock
-        also ``plots`` (default True) and ``faults`` (``KEY=VALUE`` strings, as ``sim
-        --fault``)."""
+        also ``plots`` (default True), ``faults`` (``KEY=VALUE`` strings, as ``sim
+        --fault``) and ``raw_frames`` (a socket path, as ``sim --raw-frames``)."""
         if clock not in CLOCKS:
             raise ValueError(f"clock must be one of {', '.join(CLOCKS)}, got {clock!r}")
         if bench_port:

@@ -35,6 +35,7 @@ from mobigrasp.host.task import METHODS, REGISTRY
 from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.faults.plan import FaultPlan, MotorFail, SonarFail, Window, parse_faults
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S, Scenario, loads_scenario
+from mobigrasp.services.host_programs import HOSTS
 
 
 class ProgressSink(Protocol):
@@ -59,11 +60,15 @@ class CampaignConfig:
     random_times: bool = False  # each run draws every fault time uniformly in [0, given time]
     scheduler: str | None = None  # tcp://HOST:PORT of a Dask scheduler; None: this machine
     resume: bool = False  # keep the rows of out/campaign.rows.jsonl, run only the other seeds
+    # the host program (services/host_programs.py); in process but for arm (qemu-arm: the pty)
+    host: str = "python"
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
             raise ValueError(f"--method must be one of {', '.join(METHODS)}, got "
                              f"{self.method!r}")
+        if self.host not in HOSTS:
+            raise ValueError(f"--host must be one of {', '.join(HOSTS)}, got {self.host!r}")
         if isinstance(self.runs, bool) or not isinstance(self.runs, int) or self.runs < 1:
             raise ValueError(f"--runs must be an integer >= 1, got {self.runs!r}")
         if isinstance(self.seed, bool) or not isinstance(self.seed, int) or self.seed < 0:
@@ -80,6 +85,14 @@ class CampaignConfig:
         if self.time_limit_s is not None and not 0 < self.time_limit_s <= MAX_TIME_LIMIT_S:
             raise ValueError(f"--time-limit-s must be in (0, {MAX_TIME_LIMIT_S:g}] s, got "
                              f"{self.time_limit_s!r}")
+
+
+def check_host(cfg: CampaignConfig) -> None:
+    """The host program built and holding the method, before any run starts (ValueError with
+    one line otherwise: a missing tool, a method not in the C host yet)."""
+    from mobigrasp.services.host_programs import resolve
+
+    resolve(cfg.host, cfg.method, "pty" if cfg.host == "arm" else "inproc")
 
 
 def scenario_toml(method: str, seed: int, plan: FaultPlan) -> str:
@@ -127,7 +140,7 @@ def jobs_of(cfg: CampaignConfig) -> list[dict]:
         plan = randomize_times(cfg.faults, seed) if cfg.random_times else cfg.faults
         jobs.append({"method": cfg.method, "seed": seed, "faults": plan.as_table(),
                      "out": str(Path(cfg.out) / "runs" / f"{cfg.method}-{seed}"),
-                     "time_limit_s": cfg.time_limit_s})
+                     "time_limit_s": cfg.time_limit_s, "host": cfg.host})
     return jobs
 
 
@@ -136,8 +149,10 @@ def run_one(job: dict) -> dict:
     from mobigrasp.services.run_job import RunOptions, execute
 
     sc = make_scenario(job["method"], job["seed"], parse_faults(job["faults"], "campaign"))
+    host = job.get("host", "python")
     summary, _ = execute(RunOptions(scenario=sc.meta.name, scenario_obj=sc, seed=job["seed"],
-                                    transport="inproc", out=Path(job["out"]), progress=False,
+                                    transport="pty" if host == "arm" else "inproc",
+                                    host=host, out=Path(job["out"]), progress=False,
                                     plots=False, time_limit_s=job["time_limit_s"]))
     return summary
 
@@ -153,6 +168,7 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     wd = safety.get("watchdog_trips") if monitored else None
     row = {
         "seed": job["seed"], "method": job.get("method"), "faults": job.get("faults", {}),
+        "host": job.get("host", "python"),
         "success": bool(s.get("success")), "trace_sha256": s.get("trace_sha256"),
         "false_claim": bool(s.get("false_claim")),
         "status": s.get("status", "crashed") if summary is not None else "crashed",
@@ -304,7 +320,8 @@ def load_rows(path: Path, jobs: list[dict]) -> tuple[list[dict], list[str]]:
     for n, row in lines:
         check_row(row, f"{path}: line {n}")
         job = by_seed.get(row["seed"])
-        if job is None or row["method"] != job["method"] or row["faults"] != job["faults"]:
+        if job is None or row["method"] != job["method"] or row["faults"] != job["faults"] \
+                or row.get("host", "python") != job.get("host", "python"):
             raise ValueError(f"{path}: line {n} is a row of another campaign (seed "
                              f"{row['seed']}, method or faults differ): use another --out or "
                              f"run without --resume")

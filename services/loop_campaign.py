@@ -28,6 +28,7 @@ from pathlib import Path
 
 from mobigrasp.cosim.run_folder import set_aside, split_rows
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED
+from mobigrasp.services.host_programs import HOSTS, HostUnavailable, resolve
 from mobigrasp.services.random_scenarios import DEFAULT_VERSION, GENERATORS
 from mobigrasp.services.run_outcome import outcome
 from mobigrasp.services.time_left import elapsed_left
@@ -56,6 +57,7 @@ class LoopCampaign:
     time_limit_s: float | None = None  # None: each scene's own limit
     jobs: int | None = None  # None: every core
     resume: bool = False
+    host: str = "python"  # the host program (services/host_programs.py)
 
     def __post_init__(self) -> None:
         from mobigrasp.host.task import METHODS
@@ -82,6 +84,11 @@ class LoopCampaign:
         if self.transport not in TRANSPORTS:
             raise CampaignInputError(f"--transport must be one of {', '.join(TRANSPORTS)}, "
                                      f"got {self.transport!r}")
+        if self.host not in HOSTS:
+            raise CampaignInputError(f"--host must be one of {', '.join(HOSTS)}, got "
+                                     f"{self.host!r}")
+        if self.host == "arm" and self.transport != "pty":
+            raise CampaignInputError("--host arm runs over the pty only (--transport pty)")
         if self.jobs is not None and (isinstance(self.jobs, bool) or self.jobs < 1):
             raise CampaignInputError(f"--jobs must be an integer >= 1, got {self.jobs!r}")
         from mobigrasp.services.run_job import BadInput, check_time_limit
@@ -94,7 +101,7 @@ class LoopCampaign:
     def key(self, method: str) -> dict:
         """What a row must share with this campaign to be one of its rows."""
         return {"method": method, "generator": self.version, "transport": self.transport,
-                "time_limit_s": self.time_limit_s}
+                "time_limit_s": self.time_limit_s, "host": self.host}
 
 
 def scene_name(method: str, seed: int, version: str) -> str:
@@ -134,14 +141,16 @@ def run_job(job: dict) -> dict:
     from mobigrasp.services.run_job import RunOptions, execute
 
     summary, _ = execute(RunOptions(scenario=job["scene"], transport=job["transport"],
-                                    out=Path(job["folder"]), progress=False, plots=False,
-                                    mcap=False, time_limit_s=job["time_limit_s"]))
+                                    host=job["host"], out=Path(job["folder"]), progress=False,
+                                    plots=False, mcap=False, time_limit_s=job["time_limit_s"]))
     return summary
 
 
 def rerun_command(row: dict) -> str:
     """The one command that repeats the run of ``row`` (with its report and trace.mcap)."""
     cmd = f"mobigrasp run {row['scene']} --transport {row['transport']} --out {row['folder']}"
+    if row.get("host", "python") != "python":
+        cmd += f" --host {row['host']}"
     if row.get("time_limit_s") is not None:
         cmd += f" --time-limit-s {row['time_limit_s']:g}"
     return cmd
@@ -176,7 +185,7 @@ def row_of(job: dict, summary: dict | None, error: str | None = None) -> dict:
     s = summary or {}
     able = graspable(job)
     row = {**{k: job[k] for k in ("method", "seed", "generator", "transport", "time_limit_s",
-                                  "scene", "folder")},
+                                  "host", "scene", "folder")},
            "graspable": able,
            "status": s.get("status", "raised") if summary is not None else "raised",
            "success": bool(s.get("success")), "claimed_success": bool(s.get("claimed_success")),
@@ -227,7 +236,7 @@ def load_rows(path: Path, cfg: LoopCampaign) -> list[dict]:
                 or not isinstance(row.get("status"), str):
             raise CampaignInputError(
                 f"{path}: line {n} is a row of another campaign (method, seed, generator, "
-                f"transport or time limit differ, or a field is missing): use another --json "
+                f"transport, time limit or host differ, or a field is missing): use another --json "
                 f"or the same options")
         if (row["method"], seed) in rows and rows[row["method"], seed]["status"] != "raised":
             notes.append(f"line {n}: a second row of {row['method']} seed {seed}")
@@ -275,6 +284,11 @@ def run_campaign(cfg: LoopCampaign, run_fn: Callable[[dict], dict] | None = None
     if not cfg.resume and rows_path.is_file() and rows_path.stat().st_size:
         raise CampaignInputError(f"{rows_path} holds the rows of an earlier campaign: "
                                  f"--resume to continue it, or another --json")
+    try:  # the host program built and holding every method before any run starts
+        for method in cfg.methods:
+            resolve(cfg.host, method, cfg.transport)
+    except HostUnavailable as exc:
+        raise CampaignInputError(str(exc)) from None
     jobs = jobs_of(cfg)
     rows = load_rows(rows_path, cfg) if cfg.resume else []
     finished = {(r["method"], r["seed"]) for r in rows}

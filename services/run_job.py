@@ -11,7 +11,6 @@ from __future__ import annotations
 import json
 import logging
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -19,6 +18,7 @@ from typing import Any
 from mobigrasp.cosim.run import RunSpec, run_scenario
 from mobigrasp.mcu_sim.world.scenario import run_time_limit_s
 from mobigrasp.resources import data_dir
+from mobigrasp.services.host_programs import HOSTS, HostProgram, HostUnavailable, resolve
 
 SCENARIO_DIR = data_dir("mobigrasp.scenarios")
 EXIT_OK, EXIT_FAILED, EXIT_BAD_INPUT = 0, 1, 2
@@ -61,6 +61,10 @@ class RunOptions:
     seed: int | None = None
     transport: str = "pty"
     mcu: str = "python"  # MCU backend (mcu_sim/backend.py): python | native
+    host: str = "python"  # the host program (services/host_programs.py): python | c | arm
+    # the method the host program runs instead of the scenario's (the world stays the
+    # scenario's): "idle" runs the host program around no task, in every host (tests, bench)
+    host_method: str | None = None
     speed: float | None = None  # None = as fast as possible ("max")
     out: Path | None = None
     # a display (tools.progress.RunProgress), called as (now_us, state, wall_s); None: none
@@ -121,8 +125,18 @@ def _check_options(opts: RunOptions) -> None:
     from mobigrasp.mcu_sim.backend import MCU_BACKENDS
     if opts.mcu not in MCU_BACKENDS:
         raise BadInput(f"--mcu must be one of {', '.join(sorted(MCU_BACKENDS))}, got {opts.mcu!r}")
+    if opts.host not in HOSTS:
+        raise BadInput(f"--host must be one of {', '.join(HOSTS)}, got {opts.host!r}")
     check_seed(opts.seed)
     check_time_limit(opts.time_limit_s)
+
+
+def host_program(opts: RunOptions, method: str) -> HostProgram:
+    """The run's host program, built and checked to have ``method``; BadInput otherwise."""
+    try:
+        return resolve(opts.host, method, opts.transport)
+    except HostUnavailable as exc:
+        raise BadInput(str(exc)) from exc
 
 
 def check_run(opts: RunOptions) -> str:
@@ -139,10 +153,14 @@ def check_run(opts: RunOptions) -> str:
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     _claim_folder(opts, scenario.meta.name, seed, check_only=True)
     WorldPlant(scenario, seed)
-    build_host_app(host_config(scenario, opts.time_limit_s))
+    cfg = host_config(scenario, opts.time_limit_s, opts.host_method)
+    if opts.host == "python":
+        build_host_app(cfg)
+    else:
+        host_program(opts, cfg["method"])
     n = len(plan.as_table()) if plan is not None else 0
     return (f"{path}: {scenario.meta.name} (method {scenario.meta.method}, seed {seed}, "
-            f"time limit {run_time_limit_s(scenario, opts.time_limit_s):g} s, "
+            f"host {opts.host}, time limit {run_time_limit_s(scenario, opts.time_limit_s):g} s, "
             f"{len(scenario.obstacles)} obstacles, {n} fault keys): ok")
 
 
@@ -159,12 +177,16 @@ def fault_plan(scenario, overrides):
         raise BadInput(str(exc)) from exc
 
 
-def host_config(scenario, time_limit_s: float | None = None) -> dict:
+def host_config(scenario, time_limit_s: float | None = None,
+                host_method: str | None = None) -> dict:
     """What the host program is told: the method, its parameters and the camera calibration,
     for 001 the object position P_i the paper's task is given, and how long it may search: the
     run's time limit (``time_limit_s``, default the scenario's), so a long run is not ended by a
     fixed SEARCH timeout. This is the configuration a real board would be given; nothing else
-    of the ground truth."""
+    of the ground truth. ``host_method`` (RunOptions.host_method): that method alone, nothing
+    else."""
+    if host_method is not None:
+        return {"method": host_method}
     cam = scenario.camera
     params = getattr(scenario, "param_overrides", None) or scenario.params
     limit_s = run_time_limit_s(scenario, time_limit_s)
@@ -184,20 +206,6 @@ def host_config(scenario, time_limit_s: float | None = None) -> dict:
     return cfg
 
 
-def _inproc_client(cfg: dict, timer: Any) -> Callable[[Any], Any]:
-    """The host program's lockstep client on an in-process serial end (transport inproc)."""
-
-    def build(peer: Any) -> Any:
-        # imported only for an in-process run: over the pty the host program runs in its own
-        # process, and this one does not load it
-        from mobigrasp.drivers.lockstep import LockstepClient
-        from mobigrasp.host.app_factory import build_host_app
-
-        return LockstepClient(build_host_app(cfg, timer=timer), peer)
-
-    return build
-
-
 def execute(opts: RunOptions) -> tuple[dict, int]:
     """Run one scenario; returns (summary, exit code). Raises BadInput for bad input."""
     _check_options(opts)
@@ -208,9 +216,11 @@ def execute(opts: RunOptions) -> tuple[dict, int]:
     plan = fault_plan(scenario, opts.faults)
     seed = scenario.meta.seed if opts.seed is None else int(opts.seed)
     name = scenario.meta.name
+    cfg = host_config(scenario, opts.time_limit_s, opts.host_method)
+    program = host_program(opts, cfg["method"])  # built and checked before the folder is made
     folder, out = _claim_folder(opts, name, seed)
     try:
-        summary = _run_in(opts, out, path, scenario, plan, seed)
+        summary = _run_in(opts, out, path, scenario, plan, seed, cfg, program)
     finally:
         folder.release()
     return summary, EXIT_OK if summary["success"] else EXIT_FAILED
@@ -243,20 +253,21 @@ def _claim_folder(opts: RunOptions, name: str, seed: int, check_only: bool = Fal
             folder.abandon()
 
 
-def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, seed: int
-            ) -> dict:
-    """The run into its prepared folder, then its trace.mcap's end and its report."""
-    cfg = host_config(scenario, opts.time_limit_s)
+def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, seed: int,
+            cfg: dict, program: HostProgram) -> dict:
+    """The run into its prepared folder with the host program's configuration ``cfg``, then
+    its trace.mcap's end and its report."""
     camera = None
     if opts.mcap:
         from mobigrasp.services.mcap_out import McapLog
 
         camera = McapLog(out / "trace.mcap",  # written as the run goes
-                         info=mcap_info(scenario, seed, opts.mcu, opts.transport),
+                         info=mcap_info(scenario, seed, opts.mcu, opts.transport, program.name),
                          camera=mcap_camera(scenario))
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
                    host_config=cfg, time_limit_s=run_time_limit_s(scenario, opts.time_limit_s),
-                   inproc_client=_inproc_client(cfg, opts.timer), transport=opts.transport,
+                   inproc_client=program.inproc and program.inproc(cfg, opts.timer),
+                   transport=opts.transport, host=program.name, host_argv=program.argv,
                    mcu=opts.mcu, speed=opts.speed, progress=opts.progress,
                    quantum_us=opts.quantum_us, couple_us=opts.couple_us,
                    host_lag_quanta=opts.host_lag_quanta, after_crash_s=opts.after_crash_s,
@@ -285,12 +296,14 @@ def write_report_logged(folder: Path) -> None:
         log.error("report of %s: %s: %s", folder, type(exc).__name__, exc)
 
 
-def mcap_info(scenario: Any, seed: int, mcu: str, transport: str) -> dict[str, str]:
+def mcap_info(scenario: Any, seed: int, mcu: str, transport: str,
+              host: str = "python") -> dict[str, str]:
     """trace.mcap's metadata record: what a reader needs to know which run it holds."""
     from mobigrasp.provenance import source_commit
 
     return {"scenario": scenario.meta.name, "seed": str(seed), "method": scenario.meta.method,
-            "mcu_backend": mcu, "transport": transport, "commit": source_commit()}
+            "mcu_backend": mcu, "transport": transport, "host": host,
+            "commit": source_commit()}
 
 
 def mcap_camera(scenario: Any) -> dict:
@@ -312,7 +325,9 @@ def _finish_mcap(camera: Any, out: Path) -> None:
 
 def summary_line(summary: dict, out: Path) -> str:
     """One human line for the terminal."""
-    return (f"{summary['scenario']} seed {summary['seed']} over {summary['transport']}: "
+    host = summary.get("host", "python")
+    over = summary["transport"] + ("" if host == "python" else f", host {host}")
+    return (f"{summary['scenario']} seed {summary['seed']} over {over}: "
             f"{'SUCCESS' if summary['success'] else 'FAILED'} ({summary.get('task_state')}, "
             f"{summary.get('end_reason')}) in {summary.get('sim_time_s', 0):.1f} s simulated, "
             f"{summary.get('wall_time_s', 0):.1f} s wall; report: {out / 'report.html'}")

@@ -56,7 +56,7 @@ def serve_scenario(opts: SimOptions, on_ready: Callable[[str, str, str | None], 
     plan = fault_plan(scenario, faults)
     seed = scenario.meta.seed if opts.seed is None else opts.seed
     # trace.mcap, written as the session goes once its folder is taken
-    frames = McapLog(info={**mcap_info(scenario, seed, opts.mcu, "pty"), "host": "external"},
+    frames = McapLog(info=mcap_info(scenario, seed, opts.mcu, "pty", "external"),
                      camera=mcap_camera(scenario))
     display = None if progress is None else progress(
         round(run_time_limit_s(scenario, opts.time_limit_s), 1), scenario.meta.name)

@@ -27,10 +27,11 @@ class ServedRobot:
 
     def __init__(self, scenario: str, run_dir: Path, speed: float = 1.0, plots: bool = True,
                  seed: int | None = None, mcu: str = "python",
-                 time_limit_s: float | None = None, faults: tuple[str, ...] = ()) -> None:
+                 time_limit_s: float | None = None, faults: tuple[str, ...] = (),
+                 raw_frames: Path | None = None) -> None:
         """``plots``: write plots/ and report.html (a few seconds at the end); ``seed``,
-        ``mcu``, ``time_limit_s`` and ``faults`` (``KEY=VALUE`` strings) as ``mobigrasp sim``'s
-        options of those names."""
+        ``mcu``, ``time_limit_s``, ``faults`` (``KEY=VALUE`` strings) and ``raw_frames`` (the
+        raw-frame endpoint's socket path) as ``mobigrasp sim``'s options of those names."""
         from mobigrasp.cosim.serve.session import SimOptions
 
         self.scenario = str(scenario)
@@ -40,7 +41,8 @@ class ServedRobot:
         self.camera_url = ""
         self.exit_code: int | None = None  # mobigrasp sim's: 0 grasped, 1 not (once ended)
         self._opts = SimOptions(scenario=self.scenario, speed=speed, mcu=mcu, wait_host=True,
-                                out=self.run_dir, seed=seed, time_limit_s=time_limit_s)
+                                out=self.run_dir, seed=seed, time_limit_s=time_limit_s,
+                                raw_frames=raw_frames)
         self._faults, self._plots = tuple(faults), plots
         self._ready = threading.Event()
         self._stop: str | None = None

@@ -217,3 +217,39 @@ class BufferPort:
 
     def wait_readable(self, timeout_s: float) -> bool:
         return bool(self.rx)
+
+
+def scripted_grants(width: int = 32, height: int = 24):
+    """(grant, its UART bytes) of 0.8 s for a host program's tests: 5 ms quanta (one of 23 ms),
+    the MCU's bytes of :func:`mcu_script`, a camera frame of ``width`` x ``height`` every 66 ms
+    in the GRANT's blob."""
+    from mobigrasp.cosim import lockstep as ls
+
+    t = 0
+    for k in range(160):
+        until = t + (23_000 if k == 50 else 5_000)
+        chunks = mcu_script(t, until)
+        frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, width, height, 3,
+                                    bytes([at % 251]) * (width * height * 3))
+                       for at in range(t - t % 66_000 + 66_000, until, 66_000))
+        yield (ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames),
+               b"".join(b for _, b in chunks))
+        t = until
+
+
+def mcu_script(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
+    """An MCU's bytes in [t, until) for a host program's tests: HELLO_ACK at 4 ms, telemetry
+    every 10 ms (the reset flag at 405 ms), an ACK every 70 ms."""
+    out = []
+    for at in range(t_us - t_us % 1000, until_us, 1000):
+        if not t_us <= at < until_us:
+            continue
+        if at == 4000:
+            out.append((at, m.encode_message(m.HelloAck(1, "atmega128-fw"), 0)))
+        if at % 10_000 == 5000:
+            flags = m.FLAG_RESET if at == 405_000 else m.FLAG_HANDSHAKE
+            out.append((at, m.encode_message(m.Telemetry(at, 0, 0, (1500,) * 6, (2500,) * 5,
+                                                         flags, 0, 0, 0, 0), 1)))
+        if at % 70_000 == 33_000:
+            out.append((at, m.encode_message(m.Ack(at // 70_000), 2)))
+    return out

@@ -1,4 +1,5 @@
-"""The ``--method`` choices: the names of the host's method registry (host/task/method.py).
+"""The ``--method`` choices: the names of the host's method registry (host/task/method.py); the
+``--host`` option of the commands that run the loop.
 
 A lazy container, so that building the parser imports no method: argparse reads it when it
 checks a given name or prints the choices, and then the registry is imported (the base install
@@ -30,3 +31,14 @@ class MethodNames:
 
 
 METHOD_CHOICES = MethodNames()
+
+
+HOST_HELP = ("the host program: python (host/, default), c (hostc/ built with this machine's "
+             "compiler; in process through cffi with --transport inproc) or arm (the ARMv4T "
+             "ELF under qemu-arm -cpu ti925t, over the pty); docs/porting.md")
+
+
+def add_host_option(parser) -> None:
+    """``--host python|c|arm`` (services/host_programs.py)."""
+    parser.add_argument("--host", default="python", choices=("python", "c", "arm"),
+                        help=HOST_HELP)

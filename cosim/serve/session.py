@@ -54,6 +54,8 @@ class SimOptions:
     on_frame: Callable[[int, int, Any], None] | None = None
     # told the run folder once it is taken and ready, before the first frame
     on_folder: Callable[[Path], None] | None = None
+    # the frames raw on a Unix socket there too (cosim/serve/raw_frames.py); None: not served
+    raw_frames: Path | None = None
 
 
 def _claim_out(opts: SimOptions, name: str, seed: int) -> Any:
@@ -76,6 +78,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     folder). Raises BadSimInput for bad input."""
     from mobigrasp.cosim.serve.external_host import ExternalHost
     from mobigrasp.cosim.serve.mjpeg import CameraPortInUse, CameraServer
+    from mobigrasp.cosim.serve.raw_frames import RawFrameServer, RawFramesPathInUse
     from mobigrasp.cosim.serve.tcp_bridge import TcpPortInUse, TcpSerialBridge
     from mobigrasp.link.registry import open_transport
 
@@ -97,9 +100,14 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
     except (CameraPortInUse, ValueError) as exc:
         folder.abandon()
         raise BadSimInput(str(exc)) from exc
+    raw = None
     try:
+        if opts.raw_frames is not None:
+            raw = RawFrameServer(opts.raw_frames)
         out = folder.prepare(RUN_FILES)
-    except RunFolderError as exc:
+    except (RunFolderError, RawFramesPathInUse) as exc:
+        if raw is not None:
+            raw.close()
         camera.close()
         folder.abandon()
         raise BadSimInput(str(exc)) from exc
@@ -116,10 +124,17 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
                 bridge = TcpSerialBridge(transport.slave_path, opts.tcp_port)
             except (TcpPortInUse, ValueError) as exc:
                 raise BadSimInput(str(exc)) from exc
-        host = ExternalHost(transport, on_frame=lambda rgb, t_us: camera.publish(rgb))
+        def on_frame(rgb: Any, t_us: int) -> None:
+            camera.publish(rgb)
+            if raw is not None:
+                raw.publish(rgb, t_us)
+
+        host = ExternalHost(transport, on_frame=on_frame)
         return _run(opts, path, scenario, seed, out, camera, host, transport.slave_path,
-                    bridge, on_ready, stop)
+                    bridge, on_ready, stop, raw)
     finally:
+        if raw is not None:
+            raw.close()
         if bridge is not None:
             bridge.close()
         if transport is not None:
@@ -129,7 +144,7 @@ def serve(opts: SimOptions, on_ready: Callable[[str, str], None],
 
 
 def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready,
-         stop) -> dict:
+         stop, raw) -> dict:
     from mobigrasp.cosim.rig import RigConfig
     from mobigrasp.cosim.session import SessionResult
     from mobigrasp.cosim.sim_side import SimSide
@@ -143,6 +158,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
                        wait_host=opts.wait_host)
     if bridge is not None:
         sim.summary["serial_tcp"] = bridge.url
+    if raw is not None:
+        sim.summary["raw_frames"] = raw.url
     # "running" before anything else: a session killed outright leaves a summary that says it
     # did not finish, and how far it got (SimSide.drive: every SUMMARY_PERIOD_US simulated)
     sim.summary["status"] = "running"
@@ -184,6 +201,8 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
     finally:
         # the streams end now, not after the report: a client's blocking read returns
         camera.close()
+        if raw is not None:
+            raw.close()
         if display is not None:
             display.close()
         line = host.stats()
@@ -194,7 +213,9 @@ def _run(opts, path, scenario, seed, out, camera, host, serial, bridge, on_ready
             "line": line,
             "camera_frames": {"captured": rig.stats["frames_captured"] if rig else 0,
                               "published": camera.frames_published,
-                              "stream_parts_sent": camera.parts_sent}})
+                              "stream_parts_sent": camera.parts_sent,
+                              "raw_published": raw.frames_published if raw else 0,
+                              "raw_sent": raw.messages_sent if raw else 0}})
     sim.summary["run_folder"] = str(out)
     return sim.summary
 

@@ -41,6 +41,11 @@ int sys_open(const char *path, int flags, int mode)
 
 int sys_close(int fd) { return (int)SYSCALL3(NR_CLOSE, fd, 0, 0); }
 
+int sys_ioctl(int fd, uint32_t request, void *arg)
+{
+    return (int)SYSCALL3(NR_IOCTL, fd, request, arg);
+}
+
 /* the kernel's struct termios (include/uapi/asm-generic/termbits.h, ARM's) and its flags */
 struct k_termios {
     uint32_t c_iflag, c_oflag, c_cflag, c_lflag;

@@ -30,7 +30,8 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "task_adjust.h", "control_points.h", "grasp_circle.h", "anytime.h",
            "bezier.h", "candidates.h", "plan000.h", "blocked_q.h",
            "escape.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
-           "app_factory.h", "task_paper.h")
+           "app_factory.h", "task_paper.h", "task_path.h", "task_approach.h",
+           "task_method000.h", "task_method001.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -45,7 +46,8 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "plan000.c", HOSTC / "blocked_q.c",
            HOSTC / "escape.c", HOSTC / "clearance.c", HOSTC / "sonar_guard.c",
            HOSTC / "task_search.c", HOSTC / "task_grasp.c", HOSTC / "held_fill.c",
-           HOSTC / "app_factory.c", HOSTC / "task_paper.c", PROTOCOL / "joints.c",
+           HOSTC / "app_factory.c", HOSTC / "task_paper.c", HOSTC / "task_approach.c",
+           HOSTC / "task_method000.c", HOSTC / "task_method001.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 
@@ -81,7 +83,8 @@ def ops_tuple(ops) -> tuple[int, ...]:
 # the program: every module of hostc/ (the self-test's kernels too) and the protocol codec
 EXE_SOURCES = (*sorted(HOSTC.glob("*.c")), *sorted(PROTOCOL.glob("*.c")))
 # the program's own modules beside the units (the rest of EXE_SOURCES are the vision kernels)
-PROGRAM = (HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c", HOSTC / "linux_driver.c")
+PROGRAM = (HOSTC / "main.c", HOSTC / "task.c", HOSTC / "task_idle.c", HOSTC / "linux_driver.c",
+           HOSTC / "camera.c", HOSTC / "camera_raw.c", HOSTC / "camera_v4l2.c")
 
 
 def executable(cc: str | None = None) -> Path:
@@ -107,3 +110,32 @@ def executable(cc: str | None = None) -> Path:
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return exe
+
+
+INPROC = HOSTC / "inproc"
+
+
+@lru_cache(maxsize=1)
+def program_lib():
+    """The C host program for the simulator's process (``hostc/inproc/inproc.h``: the program of
+    ``executable()`` without its ``main``, one GRANT at a time) as a cffi module, ``(ffi, lib)``,
+    built on first use into the cache."""
+    sources = (*(p for p in EXE_SOURCES if p.name != "main.c"), INPROC / "inproc.c")
+    h = hashlib.sha256(source_hash().encode())
+    for path in (*sources, *sorted(INPROC.glob("*.h"))):
+        h.update(path.name.encode() + b"\0" + path.read_bytes())
+    digest = h.hexdigest()[:16]
+    return cbuild.cffi_library(f"_mg_hostc_program_{digest}",
+                               cbuild.cache_root() / "hostc-program" / digest, ("inproc.h",),
+                               sources, [INPROC, HOSTC, PROTOCOL], HostcPortBuildError)
+
+
+def program_methods(argv: list[str], timeout_s: float = 60.0) -> tuple[str, ...]:
+    """The method table of the C host program started as ``argv`` (the native executable, or
+    the ARM ELF under qemu-arm), as the program itself prints it (``--list-methods``)."""
+    done = subprocess.run([*argv, "--list-methods"], capture_output=True, text=True,
+                          timeout=timeout_s, check=False)
+    if done.returncode != 0:
+        last = (done.stderr.strip().splitlines() or ["(no message)"])[-1]
+        raise HostcPortBuildError(f"{' '.join(argv)} --list-methods failed: {last}")
+    return tuple(line for line in done.stdout.splitlines() if line)

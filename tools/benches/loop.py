@@ -6,6 +6,10 @@ runs each; the baseline measured in the same run is the strict alternation (``_l
 is granted each quantum only when the rig is at its start), and ``speedup_*_vs_lag0`` the ratio.
 The same run over the pty with the avr-gcc ELF on simavr (``--mcu simavr``) gives
 ``realtime_factor_pty_simavr`` and ``simavr_vs_python_pty``, its ratio to the Python model's.
+The hosts of ``--rtf-hosts`` (default the C program and the ARMv4T ELF under qemu-arm) run the
+same scene beside the Python host (``realtime_factor_host_<host>[_inproc]``, ratios
+``host_<host>_vs_python``), on paper000-exp1's method when every host has it, else on the idle
+host program in all of them (``host_method``); ``trace_equal_hosts`` says their traces agree.
 The campaign (services/loop_campaign.py) runs ``--runs`` seeded random scenarios per method
 (services/random_scenarios.py), over the pty by default (``--transport``; the trace is the same over
 either), and reports the figures of the acceptance bar per method (docs/cosim.md, "Random scenes
@@ -29,6 +33,7 @@ from mobigrasp.services.loop_campaign import (
 )
 from mobigrasp.services.random_scenarios import DEFAULT_VERSION, GENERATORS
 from mobigrasp.tools.benches import BenchInputError, json_path
+from mobigrasp.tools.method_choice import add_host_option
 from mobigrasp.tools.progress import Progress
 
 NAME = "loop"
@@ -57,6 +62,11 @@ def add_arguments(parser) -> None:
     parser.add_argument("--rtf-repeats", type=int, default=3,
                         help="runs per real-time-factor figure (the median is reported; "
                              "0: no real-time-factor runs)")
+    parser.add_argument("--rtf-hosts", default="c,arm",
+                        help="hosts whose real-time factor is measured beside the Python "
+                             "one's, on paper000-exp1's method when they all have it, else on "
+                             "the idle host program (default c,arm; '' none)")
+    add_host_option(parser)  # of the random runs
     parser.add_argument("--resume", action="store_true",
                         help="keep the finished rows of an interrupted campaign (the same "
                              "--json and options) and run the rest")
@@ -82,7 +92,7 @@ def campaign_config(args) -> LoopCampaign:
                             runs=args.runs, out=campaign_folder(json_path(args, NAME)),
                             seed_base=args.seed_base, version=args.generator,
                             transport=args.transport, time_limit_s=args.time_limit_s,
-                            jobs=args.jobs, resume=args.resume)
+                            jobs=args.jobs, resume=args.resume, host=args.host)
     except CampaignInputError as exc:
         raise BenchInputError(str(exc)) from None
 
@@ -123,52 +133,108 @@ def _campaign(args) -> dict:
             "missed_runs": sum(not r["met_bar"] for r in result["rows"])}
 
 
+def rtf_hosts(args) -> tuple[str, ...]:
+    """The hosts measured beside the Python one (``--rtf-hosts``); BenchInputError naming a
+    bad one."""
+    from mobigrasp.services.host_programs import HOSTS
+
+    hosts = tuple(h.strip() for h in args.rtf_hosts.split(",") if h.strip())
+    for h in hosts:
+        if h not in HOSTS or h == "python":
+            raise BenchInputError(f"--rtf-hosts: unknown host {h!r} (c, arm or both)")
+    return hosts
+
+
+def host_method(hosts: tuple[str, ...]) -> str | None:
+    """The method the hosts' figures run: paper000-exp1's own when every host has it, else the
+    idle host program (host/task/idle.py) in all of them; BenchInputError when a host cannot
+    run at all (a tool missing)."""
+    from mobigrasp.services.host_programs import HostUnavailable, resolve
+
+    try:
+        for host in hosts:
+            resolve(host, "idle", "pty")
+        for host in hosts:
+            resolve(host, "000", "pty")
+    except HostUnavailable as exc:
+        if "is not in the" in str(exc):
+            return "idle"
+        raise BenchInputError(str(exc)) from None
+    return None
+
+
+def _configs(hosts: tuple[str, ...]) -> list[tuple[int, str, str, str, str]]:
+    """(lag, tag, transport, mcu, host) of every real-time-factor figure."""
+    configs = [(lag, f"{transport}{tag}", transport, "python", "python")
+               for lag, tag in ((1, ""), (0, "_lag0")) for transport in ("pty", "inproc")]
+    configs.append((1, "pty_simavr", "pty", "simavr", "python"))
+    if hosts:  # the hosts side by side on the same method (host_method)
+        for host in ("python", *hosts):
+            configs.append((1, f"host_{host}", "pty", "python", host))
+            if host != "arm":  # qemu-arm is its own process
+                configs.append((1, f"host_{host}_inproc", "inproc", "python", host))
+    return configs
+
+
 def realtime_factors(args) -> dict:
-    """The real-time factors of paper000-exp1 over both transports at both lags."""
+    """The real-time factors of paper000-exp1 over both transports at both lags, and in the
+    hosts of ``--rtf-hosts`` beside the Python one."""
     from mobigrasp.services.run_job import RunOptions
 
+    hosts = rtf_hosts(args)
+    method = host_method(hosts) if hosts else None
     results: dict = {}
     with tempfile.TemporaryDirectory(prefix="mobigrasp-bench-") as tmp:
         folder = Path(tmp)
-        sha = {}
+        sha: dict = {}
         # the baseline, measured in the same run: strict alternation (host_lag_quanta = 0), where
-        # host and rig take turns at every control tick instead of overlapping. The four
+        # host and rig take turns at every control tick instead of overlapping. The
         # configurations take turns run by run: this machine's speed drifts by ~10 % over
         # minutes, and runs in blocks would put that drift into the ratios.
-        configs = [(lag, tag, transport, "python") for lag, tag in ((1, ""), (0, "_lag0"))
-                   for transport in ("pty", "inproc")] + [(1, "_simavr", "pty", "simavr")]
+        configs = _configs(hosts)
         rows: dict = {c: [] for c in configs}
         for k in range(args.rtf_repeats):
-            for lag, tag, transport, mcu in configs:
+            for lag, tag, transport, mcu, host in configs:
+                hosted = tag.startswith("host_")
                 s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
-                                    out=folder / f"rtf-{transport}{tag}-{k}", progress=False,
+                                    out=folder / f"rtf-{tag}-{k}", progress=False,
                                     plots=False, time_limit_s=args.rtf_limit_s,
-                                    host_lag_quanta=lag, mcu=mcu))
-                rows[lag, tag, transport, mcu].append(s)
+                                    host_lag_quanta=lag, mcu=mcu, host=host,
+                                    host_method=method if hosted else None))
+                rows[lag, tag, transport, mcu, host].append(s)
                 if mcu == "python":
-                    sha.setdefault((lag, transport), set()).add(s.get("trace_sha256"))
-    for (_lag, tag, transport, _mcu), runs in rows.items():
+                    sha.setdefault("hosts" if hosted else (lag, "any"), set()).add(
+                        s.get("trace_sha256"))
+    for (_lag, tag, _transport, _mcu, _host), runs in rows.items():
         wall = statistics.median(r["wall_time_s"] for r in runs)
         sim_s = runs[0]["sim_time_s"]
-        results[f"realtime_factor_{transport}{tag}"] = round(sim_s / wall, 3)
-        results[f"realtime_factor_{transport}{tag}_runs"] = [
-            round(r["realtime_factor"], 3) for r in runs]
-        results[f"sim_s_{transport}{tag}"] = sim_s
-        results[f"wall_s_{transport}{tag}"] = round(wall, 3)
+        results[f"realtime_factor_{tag}"] = round(sim_s / wall, 3)
+        results[f"realtime_factor_{tag}_runs"] = [round(r["realtime_factor"], 3) for r in runs]
+        results[f"sim_s_{tag}"] = sim_s
+        results[f"wall_s_{tag}"] = round(wall, 3)
         # over the pty: the SIM side blocked on the host; in process: running the host
-        results[f"wall_host_s_{transport}{tag}"] = round(
+        results[f"wall_host_s_{tag}"] = round(
             statistics.median(r.get("wall_host_s", 0.0) for r in runs), 3)
         if progress_enabled():
-            print(f"  rtf {transport}{tag or ' (lag 1)'}: "
-                  f"{results[f'realtime_factor_{transport}{tag}_runs']}", file=sys.stderr)
+            print(f"  rtf {tag}: {results[f'realtime_factor_{tag}_runs']}", file=sys.stderr)
     for transport in ("pty", "inproc"):
         rtf = results[f"realtime_factor_{transport}"]
         results[f"speedup_{transport}_vs_lag0"] = round(
             rtf / results[f"realtime_factor_{transport}_lag0"], 3)
     results["simavr_vs_python_pty"] = round(
         results["realtime_factor_pty_simavr"] / results["realtime_factor_pty"], 3)
-    results["trace_equal_pty_inproc"] = all(
-        len(sha[lag, "pty"] | sha[lag, "inproc"]) == 1 for lag in (0, 1))
+    results["trace_equal_pty_inproc"] = all(len(sha[lag, "any"]) == 1 for lag in (0, 1))
+    if hosts:
+        results["host_method"] = method or "000"
+        for host in hosts:
+            results[f"host_{host}_vs_python"] = round(
+                results[f"realtime_factor_host_{host}"] / results["realtime_factor_host_python"],
+                3)
+            if host != "arm":
+                results[f"host_{host}_inproc_vs_python_inproc"] = round(
+                    results[f"realtime_factor_host_{host}_inproc"]
+                    / results["realtime_factor_host_python_inproc"], 3)
+        results["trace_equal_hosts"] = len(sha["hosts"]) == 1
     return results
 
 
@@ -181,6 +247,7 @@ def run(args) -> dict:
         raise BenchInputError(f"--rtf-limit-s must be in (0, 3600] simulated s, got "
                               f"{args.rtf_limit_s}")
     campaign_config(args)  # refuses a bad campaign option before the real-time runs
+    rtf_hosts(args)
     results = realtime_factors(args) if args.rtf_repeats else {}
     if args.runs > 0:
         results.update(_campaign(args))

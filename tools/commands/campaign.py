@@ -16,13 +16,14 @@ from pathlib import Path
 
 from mobigrasp.mcu_sim import checks
 from mobigrasp.mcu_sim.world.scenario import MAX_SEED, MAX_TIME_LIMIT_S
-from mobigrasp.tools.method_choice import METHOD_CHOICES
+from mobigrasp.tools.method_choice import METHOD_CHOICES, add_host_option
 
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.mcu_sim.faults.plan import FaultError, parse_fault_overrides
     from mobigrasp.services.campaign import (
         CampaignConfig,
+        check_host,
         claim_out,
         format_table,
         run_campaign,
@@ -35,7 +36,8 @@ def _run(args: argparse.Namespace) -> int:
         cfg = CampaignConfig(method=args.method, runs=args.runs, faults=plan, seed=args.seed,
                              jobs=args.jobs, out=args.out, time_limit_s=args.time_limit_s,
                              random_times=args.random_times, scheduler=args.scheduler,
-                             resume=args.resume)
+                             resume=args.resume, host=args.host)
+        check_host(cfg)
     except (FaultError, ValueError) as exc:
         print(f"mobigrasp campaign: {exc}", file=sys.stderr)
         return 2
@@ -86,4 +88,5 @@ def register(sub: argparse._SubParsersAction) -> None:
                         "docs/campaigns.md); default: this machine's cores")
     p.add_argument("--resume", action="store_true",
                    help="keep the finished rows of OUT/campaign.rows.jsonl, run the rest")
+    add_host_option(p)
     p.set_defaults(func=_run)

@@ -21,6 +21,7 @@ def _config(args: argparse.Namespace) -> dict:
     """The configuration file checked (mcu_sim.world.scenario.parse_host_config), then
     ``--method``; ValueError with one line naming the file and the key."""
     from mobigrasp.host.task import METHODS, REGISTRY
+    from mobigrasp.host.task.idle import IDLE, PROGRAM_TASKS
     from mobigrasp.mcu_sim import checks
     from mobigrasp.mcu_sim.world.scenario import parse_host_config
 
@@ -28,11 +29,14 @@ def _config(args: argparse.Namespace) -> dict:
     if args.config:
         where = f"--config {args.config}"
         text = checks.read_text(args.config, "--config")  # not a FIFO, a device, a folder
-        cfg = parse_host_config(checks.load_json(text, where), where, methods=REGISTRY)
+        raw = checks.load_json(text, where)
+        # the idle method (host/task/idle.py) takes nothing but its name
+        cfg = dict(raw) if raw == {"method": IDLE} else parse_host_config(raw, where,
+                                                                          methods=REGISTRY)
     if args.method:
         cfg["method"] = args.method
     cfg.setdefault("method", "000")
-    if cfg["method"] not in METHODS:
+    if cfg["method"] not in METHODS and cfg["method"] not in PROGRAM_TASKS:
         raise ValueError(f"method must be one of {tuple(METHODS)}, got {cfg['method']!r}")
     return cfg
 

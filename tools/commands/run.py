@@ -11,6 +11,8 @@ import argparse
 import sys
 from pathlib import Path
 
+from mobigrasp.tools.method_choice import add_host_option
+
 
 def _run(args: argparse.Namespace) -> int:
     from mobigrasp.cosim.run_folder import default_run_folder
@@ -28,7 +30,7 @@ def _run(args: argparse.Namespace) -> int:
     try:
         speed = parse_speed(args.speed)
         opts = RunOptions(scenario=args.scenario, seed=args.seed, transport=args.transport,
-                          mcu=args.mcu, speed=speed, out=args.out, progress=display,
+                          mcu=args.mcu, host=args.host, speed=speed, out=args.out, progress=display,
                           plots=not args.no_plots, time_limit_s=args.time_limit_s,
                           faults=tuple(args.fault or ()),
                           host_lag_quanta=args.host_lag_quanta)
@@ -59,6 +61,7 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="MCU backend: python (the firmware model, default), native (the C "
                         "firmware built with this machine's gcc) or simavr (its avr-gcc ELF "
                         "on simavr)")
+    add_host_option(p)
     p.add_argument("--speed", default="max",
                    help="simulated/wall time factor, or 'max' (default); pacing only")
     p.add_argument("--out", type=Path, default=None,

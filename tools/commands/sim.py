@@ -5,9 +5,11 @@ The scenario's emulated ATmega128 and world run paced to the wall clock (``--spe
 eye-in-hand camera (320x240, rendered from the arm's current pose at the camera rate) is an MJPEG
 stream on 127.0.0.1 that ``cv2.VideoCapture(URL)`` opens, and ``/frame.png`` the latest frame.
 The first two lines on stdout are ``serial: /dev/pts/N`` and ``camera: http://127.0.0.1:PORT/
-stream.mjpg``. The session ends when the host closes the port, at the scenario's time limit, or
-on Ctrl-C/SIGTERM, and writes the run folder as ``mobigrasp run`` does (grasped, contacts and the
-safety block judged from the world; the host's traffic decoded in the trace).
+stream.mjpg``; with ``--raw-frames PATH`` the frames are also served raw on a Unix socket
+(cosim/serve/raw_frames.py), printed as ``raw-frames: unix:PATH``. The session ends when the
+host closes the port, at the scenario's time limit, or on Ctrl-C/SIGTERM, and writes the run
+folder as ``mobigrasp run`` does (grasped, contacts and the safety block judged from the world;
+the host's traffic decoded in the trace).
 
 Exit code 0 when the object is grasped, 1 when not, 2 for bad input (unknown scenario, bad
 option, camera port in use), with one line on stderr.
@@ -68,6 +70,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=None, help="seed (default: the scenario's)")
     p.add_argument("--time-limit-s", type=float, default=None,
                    help="end after this many simulated seconds (default: the scenario's)")
+    p.add_argument("--raw-frames", type=Path, default=None, metavar="PATH",
+                   help="serve the camera's frames raw on a Unix socket at PATH too (a 32-byte "
+                        "header, then 320x240 RGB; docs/porting.md), for a host without a JPEG "
+                        "decoder: the C host's --camera unix:PATH; printed as 'raw-frames: "
+                        "unix:PATH'")
     p.add_argument("--no-plots", action="store_true", help="skip plots and report.html")
     p.set_defaults(func=_run)
 
@@ -88,6 +95,8 @@ def _run(args: argparse.Namespace) -> int:
         print(f"camera: {camera}", flush=True)
         if serial_tcp is not None:
             print(f"serial-tcp: {serial_tcp}", flush=True)
+        if args.raw_frames is not None:
+            print(f"raw-frames: unix:{args.raw_frames}", flush=True)
 
     def display(total_s: float, name: str) -> Progress:
         return Progress(total=total_s, desc=f"sim {name}", unit="s simulated",
@@ -97,7 +106,7 @@ def _run(args: argparse.Namespace) -> int:
     opts = SimOptions(scenario=args.scenario, speed=args.speed, mcu=args.mcu,
                       camera_port=args.camera_port, tcp_port=args.tcp_port,
                       wait_host=wait_host, out=args.out, seed=args.seed,
-                      time_limit_s=args.time_limit_s)
+                      time_limit_s=args.time_limit_s, raw_frames=args.raw_frames)
     previous = {s: signal.signal(s, on_signal) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         summary = serve_scenario(opts, on_ready, stop=lambda: asked[0] if asked else None,

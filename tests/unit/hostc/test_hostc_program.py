@@ -14,7 +14,7 @@ import shutil
 import subprocess
 
 import pytest
-from rig_fakes import BufferPort
+from rig_fakes import BufferPort, scripted_grants
 
 from mobigrasp import hostc
 from mobigrasp.calib import armhost
@@ -48,24 +48,6 @@ def _read_master(fd: int, n: int) -> bytes:
     return out
 
 
-def _mcu(t_us: int, until_us: int) -> list[tuple[int, bytes]]:
-    """The MCU's bytes in [t, until): HELLO_ACK at 4 ms, telemetry every 10 ms, an ACK now and
-    then, a reset at 400 ms."""
-    out = []
-    for at in range(t_us - t_us % 1000, until_us, 1000):
-        if not t_us <= at < until_us:
-            continue
-        if at == 4000:
-            out.append((at, m.encode_message(m.HelloAck(1, "atmega128-fw"), 0)))
-        if at % 10_000 == 5000:
-            flags = m.FLAG_RESET if at == 405_000 else m.FLAG_HANDSHAKE
-            out.append((at, m.encode_message(m.Telemetry(at, 0, 0, (1500,) * 6, (2500,) * 5,
-                                                         flags, 0, 0, 0, 0), 1)))
-        if at % 70_000 == 33_000:
-            out.append((at, m.encode_message(m.Ack(at // 70_000), 2)))
-    return out
-
-
 def _native() -> list[str]:
     return [str(hostc.executable())]
 
@@ -86,15 +68,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
         app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
         port = BufferPort()
         client = LockstepClient(app, port)
-        t = 0
-        for k in range(160):  # 0.8 s in 5 ms quanta, one of 23 ms
-            until = t + (23_000 if k == 50 else 5_000)
-            chunks = _mcu(t, until)
-            frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, 32, 24, 3,
-                                        bytes([at % 251]) * (32 * 24 * 3))
-                           for at in range(t - t % 66_000 + 66_000, until, 66_000))
-            grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
-            data = b"".join(b for _, b in chunks)
+        for k, (grant, data) in enumerate(scripted_grants()):
             os.write(master, data)
             port.rx += data
             want = client.serve(grant)
@@ -104,8 +78,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
             assert got == ls.decode(ls.encode(want)), (k, got, want)
             assert _read_master(master, got.write_bytes) == bytes(port.tx)
             port.tx.clear()
-            t = until
-        bye = host.finish(ls.End(t, "test over"))
+        bye = host.finish(ls.End(grant.until_us, "test over"))
         st = app.stats()
         assert bye.stats["control_steps"] == st["control_steps"] > 0
         assert bye.stats["mcu_resets_seen"] == st["mcu_resets_seen"] == 1

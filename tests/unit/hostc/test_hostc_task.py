@@ -537,7 +537,7 @@ def test_the_adjust_of_002(obj, joints, steps):
         seen = None if det is None else FFI.new("mg_red_cylinder_seen_t *", (
             det.u_c_q4, det.v_c_q4, det.d_pixel_q4, det.width_q4))
         C.mg_task_do_adjust(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
-                            seen if seen is not None else FFI.NULL)
+                            seen if seen is not None else FFI.NULL, FFI.NULL)
         assert _events(c) == py._events
         assert (tuple(c.wheels), list(c.arm), c.move_done_us, c.trust_from_us) == (
             py.wheels, py.arm, py.move_done_us, py.trust_from_us)
@@ -612,14 +612,13 @@ def test_platform_and_odometry_frames(x, y, h, fwd, p_q4, ox, oy):
 
 
 # --- the sequence of a shipped scenario -------------------------------------------------------
-def _record(mp, calls: list, steps: bool = False) -> None:
-    """Wrap the Python task's units so that each call is recorded with what it read and gave;
-    the calls a quiet unit makes itself are part of its record, not their own. steps: record
-    the APPROACH steps whole (and what keeps the C's history and fuzzy approach in step)."""
+def recorder(mp, calls: list):
+    """``wrap(cls, name, before, after, quiet=False)``: each call of ``cls.name`` recorded in
+    ``calls`` as ``before(*args)`` (None: not recorded) + ``after(result, *args)``; the calls a
+    quiet unit makes itself are part of its record, not their own."""
     inside = []
 
     def wrap(cls, name, before, after, quiet=False):
-        """quiet: the calls it makes are its own (not recorded)"""
         orig = getattr(cls, name)
 
         def recorded(*a, **kw):
@@ -635,7 +634,14 @@ def _record(mp, calls: list, steps: bool = False) -> None:
                 calls.append(rec + after(res, *a, **kw))
             return res
         mp.setattr(cls, name, recorded)
+    return wrap
 
+
+def _record(mp, calls: list, steps: bool = False) -> None:
+    """Wrap the Python task's units so that each call is recorded with what it read and gave.
+    steps: record the APPROACH steps whole (and what keeps the C's history and fuzzy approach
+    in step)."""
+    wrap = recorder(mp, calls)
     if steps:
         wrap(machine.Task, "remember",
              lambda t, now, inp: ("remember", now, (inp.x_mm, inp.y_mm, inp.heading_mrad),
@@ -733,6 +739,14 @@ def _xyh(xyh: tuple) -> dict:
     return dict(zip(("x_mm", "y_mm", "heading_mrad"), xyh, strict=True))
 
 
+def replay_remember(c, rec: tuple) -> None:
+    """A recorded ``remember`` (the arm it kept, the history's lengths after) on the C task."""
+    _, now, xyh, pre, n_arm, n_pose = rec
+    c.arm[0:6] = pre
+    C.mg_task_remember(c, now, *xyh)
+    assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+
+
 def _replay(c, calls: list) -> dict:
     """Each recorded call on the C task, with the state the Python call read; what it gave
     compared. The count of calls of each kind."""
@@ -749,10 +763,7 @@ def _replay(c, calls: list) -> dict:
             C.mg_task_set_arm(c, now, th2, th3, th4, th5, th1 is not None, th1 or 0)
             assert (list(c.arm), c.move_done_us) == (post, post_done), rec
         elif kind == "remember":
-            _, now, xyh, pre, n_arm, n_pose = rec
-            c.arm[0:6] = pre
-            C.mg_task_remember(c, now, *xyh)
-            assert (c.n_arm_hist, c.n_pose_hist) == (n_arm, n_pose), rec
+            replay_remember(c, rec)
         elif kind == "arm_at":
             C.mg_task_arm_at(c, rec[1], arm)
             assert tuple(arm) == rec[2], rec
@@ -835,7 +846,8 @@ def _replay(c, calls: list) -> dict:
             C.mg_task_do_adjust(c, now, FFI.new("mg_task_inputs_t *", _xyh(xyh)),
                                 FFI.NULL if det is None else FFI.new(
                                     "mg_red_cylinder_seen_t *", (det.u_c_q4, det.v_c_q4,
-                                                                 det.d_pixel_q4, det.width_q4)))
+                                                                 det.d_pixel_q4, det.width_q4)),
+                                FFI.NULL)
             assert _events(c) == events, rec
             assert (tuple(c.wheels), list(c.arm), c.move_done_us) == (wheels, post,
                                                                       post_done), rec
@@ -869,16 +881,23 @@ def _replay(c, calls: list) -> dict:
     return counts
 
 
-def _recorded_run(tmp_path, steps: bool = False) -> list:
-    """The calls of the Python task in the shipped scenario paper002-marker, run in process."""
+def recorded_run(tmp_path, scenario: str, record) -> list:
+    """The calls ``record(mp, calls)`` records of the Python task in a shipped scenario, run in
+    process (it must succeed)."""
     from mobigrasp.services.run_job import RunOptions, execute
     calls: list = []
     with pytest.MonkeyPatch.context() as mp:
-        _record(mp, calls, steps)
-        summary, code = execute(RunOptions(scenario="paper002-marker", transport="inproc",
+        record(mp, calls)
+        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
                                            out=tmp_path / "run", progress=False, plots=False))
     assert code == 0 and summary["success"], summary
     return calls
+
+
+def _recorded_run(tmp_path, steps: bool = False) -> list:
+    """The calls of the Python task in the shipped scenario paper002-marker."""
+    return recorded_run(tmp_path, "paper002-marker",
+                        lambda mp, calls: _record(mp, calls, steps))
 
 
 def test_replay_of_paper002_marker(tmp_path):

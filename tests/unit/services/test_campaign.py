@@ -65,6 +65,7 @@ def test_jobs_are_seeded_one_per_run():
 @pytest.mark.parametrize("kw, fragment", [
     ({"method": "003"}, "--method"), ({"runs": 0}, "--runs"), ({"seed": -1}, "--seed"),
     ({"jobs": 0}, "--jobs"), ({"time_limit_s": 0.0}, "--time-limit-s"),
+    ({"host": "fpga"}, "--host"),
 ])
 def test_bad_config_is_named(kw, fragment):
     args = {"method": "000", "runs": 2} | kw
@@ -172,6 +173,21 @@ def test_cli_bad_input_exits_2(argv, fragment, capsys):
     assert code == 2
     err = capsys.readouterr().err
     assert fragment in err and len(err.strip().splitlines()) == 1
+
+
+def test_cli_method_not_in_the_c_host_is_one_line(capsys, tmp_path):
+    from mobigrasp import hostc
+    from mobigrasp.host.task import METHODS
+
+    have = hostc.program_methods([str(hostc.executable())])
+    missing = [m for m in METHODS if m not in have]
+    if not missing:
+        pytest.skip("every method is in the C host")
+    assert main(["campaign", "--method", missing[0], "--host", "c", "--runs", "1",
+                 "--out", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and f"method {missing[0]} is not in the C host yet" in err[0]
+    assert not (tmp_path / "c").exists()
 
 
 def test_cli_unknown_method_is_refused_by_argparse(capsys):

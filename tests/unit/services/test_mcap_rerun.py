@@ -1,13 +1,21 @@
 """trace.mcap opened with Rerun's own MCAP reader (``rerun.chunk.McapReader``, the reader of
 ``rerun mcap convert``): it reads the whole file and sees every topic mobigrasp wrote, with
-its schema and its message count. Needs the ``rerun`` extra (``pip install -e '.[rerun]'``;
-docs/outputs.md "trace.mcap in Rerun")."""
+its schema and its message count. Needs the ``rerun`` extra, which ``make test-all`` installs
+(docs/outputs.md "trace.mcap in Rerun")."""
 
 import pytest
 from mcap.reader import make_reader
 
-rerun_chunk = pytest.importorskip(
-    "rerun.chunk", reason="Rerun's MCAP reader: pip install -e '.[rerun]'")
+# a slow test: `make test-all` installs the extra; where it is missing the test fails, saying so
+pytestmark = pytest.mark.slow
+
+
+def _reader():
+    try:
+        from rerun import chunk
+    except ImportError:
+        pytest.fail("Rerun's MCAP reader is missing: pip install -e '.[rerun]' (make test-all)")
+    return chunk
 
 
 def _ours(path):
@@ -21,7 +29,7 @@ def _ours(path):
 
 def test_rerun_reads_every_topic_of_a_run(short_runs):
     path = short_runs["paper001-sim1"] / "trace.mcap"
-    reader = rerun_chunk.McapReader(path)
+    reader = _reader().McapReader(path)
     info = reader.info()
     seen = {ch.topic: (ch.schema.name if ch.schema else None, ch.message_count)
             for ch in info.channels}

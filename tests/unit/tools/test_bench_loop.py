@@ -12,7 +12,8 @@ def test_bench_loop_reports_rtf_against_the_strict_alternation_baseline(tmp_path
     assert main(["bench", "loop", "--runs", "0", "--rtf-limit-s", "0.4", "--rtf-repeats", "2",
                  "--json", str(out)]) == 0
     fig = json.loads(out.read_text())
-    for tag in ("pty", "inproc", "pty_lag0", "inproc_lag0", "pty_simavr"):
+    for tag in ("pty", "inproc", "pty_lag0", "inproc_lag0", "pty_simavr", "host_python",
+                "host_python_inproc", "host_c", "host_c_inproc", "host_arm"):
         runs = fig[f"realtime_factor_{tag}_runs"]
         assert len(runs) == 2 and all(r > 0 for r in runs)
         assert min(runs) <= fig[f"realtime_factor_{tag}"] <= max(runs)  # the median of them
@@ -23,6 +24,13 @@ def test_bench_loop_reports_rtf_against_the_strict_alternation_baseline(tmp_path
     assert fig["simavr_vs_python_pty"] == round(
         fig["realtime_factor_pty_simavr"] / fig["realtime_factor_pty"], 3)
     assert fig["trace_equal_pty_inproc"] is True
+    for host in ("c", "arm"):
+        assert fig[f"host_{host}_vs_python"] == round(
+            fig[f"realtime_factor_host_{host}"] / fig["realtime_factor_host_python"], 3)
+    assert fig["host_c_inproc_vs_python_inproc"] == round(
+        fig["realtime_factor_host_c_inproc"] / fig["realtime_factor_host_python_inproc"], 3)
+    assert fig["host_method"] in ("000", "idle")
+    assert fig["trace_equal_hosts"] is True
     assert "campaign" not in fig
 
 
@@ -39,7 +47,8 @@ def test_bench_loop_takes_the_five_configurations_in_turn(monkeypatch, tmp_path)
 
     monkeypatch.setattr(loop, "_one", fake_one)
     out = tmp_path / "loop.json"
-    assert main(["bench", "loop", "--runs", "0", "--rtf-repeats", "3", "--json", str(out)]) == 0
+    assert main(["bench", "loop", "--runs", "0", "--rtf-repeats", "3", "--rtf-hosts", "",
+                 "--json", str(out)]) == 0
     configs = [(1, "pty", "python"), (1, "inproc", "python"), (0, "pty", "python"),
                (0, "inproc", "python"), (1, "pty", "simavr")]
     assert order == configs * 3
@@ -73,6 +82,22 @@ def test_random_scenes_give_the_same_trace_over_the_pty_and_in_process(tmp_path)
     assert argv[0] == "mobigrasp" and main([*argv[1:], "--no-plots", "-q"]) == 1  # 3 s: no grasp
     again = json.loads((tmp_path / "inproc" / "runs" / "001-1004" / "summary.json").read_text())
     assert again["trace_sha256"] == sha["inproc", "001"]
+
+
+def test_the_random_runs_host_is_in_their_rows_and_rerun_commands(tmp_path):
+    from mobigrasp.services.loop_campaign import (
+        CampaignInputError,
+        LoopCampaign,
+        jobs_of,
+        rerun_command,
+    )
+
+    cfg = LoopCampaign(methods=("000",), runs=1, out=tmp_path, host="c", transport="inproc")
+    job = jobs_of(cfg)[0]
+    assert job["host"] == "c" and cfg.key("000")["host"] == "c"
+    assert rerun_command({**job, "folder": "f"}).endswith("--host c")
+    with pytest.raises(CampaignInputError, match="--host arm runs over the pty only"):
+        LoopCampaign(methods=("000",), runs=1, out=tmp_path, host="arm", transport="inproc")
 
 
 # a stand-in for the closed loop: the end of run (method, seed), as a summary would give it

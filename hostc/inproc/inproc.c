@@ -1,0 +1,59 @@
+/* The C host program in the simulator's process (inproc.h): main.c's start-up, then
+ * lockstep_driver.c's quantum on the GRANTs the caller hands over. */
+#include "inproc.h"
+
+#include <string.h>
+
+int mg_inproc_open(mg_inproc_t *h, const char *method)
+{
+    memset(h, 0, sizeof *h);
+    const mg_method_t *m = mg_method_find(method);
+    if (m == NULL || m->state_bytes > sizeof h->task_state)
+        return -1;
+    mg_host_config_t cfg;
+    mg_host_config_default(&cfg);
+    const mg_task_if_t task = mg_method_bind(m, h->task_state);
+    mg_app_init(&h->app, &cfg, &task, NULL, 0);
+    mg_lockstep_init(&h->driver, &h->app);
+    return 0;
+}
+
+size_t mg_inproc_serve(mg_inproc_t *h, const uint8_t *msg, size_t n, const uint8_t *uart,
+                       size_t uart_n, uint8_t *done, size_t cap, uint8_t *out, size_t out_cap,
+                       size_t *out_len)
+{
+    int32_t kind;
+    uint32_t meta_len, blob_len;
+    *out_len = 0;
+    if (n < MG_LS_HEADER_BYTES || mg_ls_decode_header(msg, &kind, &meta_len, &blob_len) != 0
+        || (uint64_t)MG_LS_HEADER_BYTES + meta_len + blob_len != n)
+        return 0;
+    const uint8_t *meta = msg + MG_LS_HEADER_BYTES, *blob = meta + meta_len;
+    mg_ls_grant_t *g = &h->grant;
+    if (mg_ls_decode_grant(kind, meta, meta_len, blob_len, g) != 0)
+        return 0;
+    size_t announced = 0;
+    for (int32_t i = 0; i < g->n_uart; i++)
+        announced += g->uart[i].nbytes;
+    if (announced != uart_n)
+        return 0;
+    const uint8_t *pixels[MG_LS_MAX_FRAMES];
+    for (int32_t i = 0; i < g->n_frames; i++) {
+        if (g->frames[i].shared)
+            return 0; /* in process the frames travel in the blob */
+        pixels[i] = blob + g->frames[i].offset;
+    }
+    const size_t len = mg_lockstep_serve(&h->driver, g, uart, pixels, done, cap);
+    if (len == 0 || h->driver.out_len > out_cap)
+        return 0;
+    memcpy(out, h->driver.out, h->driver.out_len);
+    *out_len = h->driver.out_len;
+    return len;
+}
+
+size_t mg_inproc_bye(const mg_inproc_t *h, uint8_t *out, size_t cap)
+{
+    char stats[1024];
+    const size_t len = mg_app_stats_json(&h->app, stats, sizeof stats);
+    return mg_ls_encode_bye(out, cap, len ? stats : "{}", len ? len : 2);
+}

@@ -1,0 +1,87 @@
+/* Paper 000's method (host/task/method000.py): the radial symbol found in SEARCH, the Bezier
+ * path of eq. (9) followed in APPROACH (task_approach.c), the dual "+" closed in on in ADJUST,
+ * the gripper down of eq. (11), the search after a loss near the object (Fig. 5 with the
+ * paper's d_theta2). */
+#ifndef MOBIGRASP_HOSTC_TASK_METHOD000_H
+#define MOBIGRASP_HOSTC_TASK_METHOD000_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "kinematics.h"
+#include "plan000.h"
+#include "search.h"
+#include "task_approach.h"
+#include "task_machine.h"
+
+/* What 000's planner is asked (method000.py plan_follower): the pose and speed, the object's
+ * estimate, the stand-off of P3 (approach_standoff_mm) */
+typedef struct {
+    int64_t now_us;
+    int32_t x_mm, y_mm, heading_mrad, v_mmps;
+    int32_t obj_mm[2];
+    int32_t standoff_mm;
+} mg_plan000_request_t;
+/* 000's planner: eqs. (4)-(9) of 000 from the request (the candidates of bezier000.c), the
+ * best curve's reference table into traj, the outcome into o; ctx: its own parameters */
+typedef void (*mg_planner000_fn)(void *ctx, const mg_plan000_request_t *req,
+                                 mg_trajectory_t *traj, mg_plan_outcome_t *o);
+
+/* The board's planner behind mg_planner000_fn (plan000.c, method000.py plan_follower):
+ * Params000 in integers (its stand-off replaced by the request's), the follower's wheel limit
+ * (the plan's Vmax, mm/s) and the planner's state; ctx of mg_method000_plan000 */
+typedef struct {
+    mg_params000_t params;
+    int32_t v_limit_mm_s;
+    mg_planner000_t pl;
+} mg_plan000_ctx_t;
+/* 000's plan of eqs. (4)-(9) of 000 for the request: the best curve's reference table, the
+ * plan's and the table's modelled time, the reason as plan_000 gives it ("ok", "already
+ * within standoff of the object", "no feasible candidate (accel: 3, speed: 10)") */
+void mg_method000_plan000(void *ctx, const mg_plan000_request_t *req, mg_trajectory_t *traj,
+                          mg_plan_outcome_t *o);
+
+/* What 000 keeps between steps (the task's ms, State000), and the planner its APPROACH plans
+ * with (NULL: none, every plan fails "no planner") */
+typedef struct {
+    int32_t grasp_searches; /* searches after a loss in PRECISE_GRASP (grasp_lost) */
+    mg_planner000_fn planner;
+    void *planner_ctx;
+} mg_state000_t;
+
+void mg_method000_ms_init(void *ms);
+void mg_method000_params(mg_task_params_t *p);
+void mg_method000_set_planner(mg_task_t *t, mg_planner000_fn planner, void *ctx);
+/* SEARCH: the radial symbol's sighting (an mg_sighting_t: its glue's pixel and depth) updates
+ * the estimate; 1 when usable */
+int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       const void *radial);
+/* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
+void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap);
+/* SEARCH after a loss near the object (000 section III.B.2, III.C): the search's parameters
+ * sp changed in place (at least one dense cycle) and its start: theta2s giving the camera the
+ * pitch it had, in the search posture, and the waist where it was; 1 */
+int mg_method000_lost_search(mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
+                             int32_t *theta5s_mrad);
+/* PRECISE_GRASP saw no spoke for waited_us at the hover: the first time in a run the object
+ * is searched for (LOST, the transition made; 1), after that the grasp goes down on the rough
+ * position (0) */
+int mg_method000_grasp_lost(mg_task_t *t, int64_t now_us, int64_t waited_us);
+/* the gripper down, eq. (11) of 000: MG_IK_OK and *pose, or the reason and *detail */
+int32_t mg_method000_grasp_ik(const mg_arm_geometry_t *g, const int32_t target_q4[3],
+                              mg_arm_pose_t *pose, int64_t *detail);
+int mg_method000_lowers_hover(void);
+int32_t mg_method000_look_height_mm(const mg_task_params_t *p, int32_t top);
+int mg_method000_adjust_done(mg_task_t *t, int64_t now_us, const void *det, int32_t dist_mm);
+/* Method.adjust_goal_mm's default: grasp_r_mm +- grasp_r_tol_mm */
+void mg_method000_adjust_goal_mm(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
+int32_t mg_method000_adjust_vmax_mmps(const mg_task_params_t *p);
+/* APPROACH: its entry (the path approach's common one, 000 adds nothing) and its step */
+void mg_method000_enter_approach(mg_task_t *t);
+void mg_method000_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                           const mg_sighting_t *radial);
+/* the path hooks of 000: plans once (again when the estimate moves), no sonar check, no
+ * detour, the follower's wheels as they are */
+extern const mg_path_method_t mg_path000;
+
+#endif

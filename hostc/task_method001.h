@@ -1,0 +1,75 @@
+/* Paper 001's method (host/task/method001.py): 000's vision and grasp with 001's sonar planning
+ * of eq. (17) and its replanning (section III.E) in APPROACH, through the replanner of
+ * host/planning/replan.py (a declared interface, mg_replanner001_t, until it is in C). Ours, as
+ * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
+ * first, sightings while the base turns fast are not used, the follower never backs up, the
+ * last part of the curve is handed to ADJUST while the object is in view and the way is
+ * clear. Not yet: the fallbacks and detours with no feasible curve (start_detour) and 001's
+ * sonar guard (guard_wheels), which drive the sonar guard's detour. */
+#ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
+#define MOBIGRASP_HOSTC_TASK_METHOD001_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "budget.h"
+#include "task_approach.h"
+#include "task_machine.h"
+
+enum {
+    MG_SIGHTING_MAX_TURN_MRAD_S = 500, /* APPROACH: sightings taken turning faster not used */
+    MG_ADJUST_EARLY_MM_001 = 700,      /* APPROACH: ADJUST from this close, the object in view */
+    MG_ADJUST_EARLY_FRESH_US = 300000, /* ... seen this recently */
+    MG_LOOK_FIRST_US = 4000000,        /* P_i given, object near and unseen: look this long */
+    MG_LOOK_FIRST_LO_MM = 350,         /* ... when it is this far from the waist */
+    MG_LOOK_FIRST_HI_MM = 1200
+};
+
+/* one sonar update of the replanner (replan.py ReplanDecision) */
+typedef struct {
+    int32_t blocked;   /* the rest of the path crosses an infeasible region */
+    int32_t replanned; /* a new curve was planned */
+    int32_t has_curve; /* a curve to follow from now on (0: stop, nothing feasible) */
+    int32_t has_plan;  /* a plan was made (its time charged in slices) */
+} mg_replan001_t;
+
+/* 001's replanner as method001.py calls it (start_001, update_001, straight_clear_001, the
+ * replanner's start_us); ctx: the replanner and its parameters (planner_params_001) */
+typedef struct {
+    /* a fresh replanner toward obj_mm, v0 divided by v0_div: its first plan (a path into
+     * traj and o, the plan's time in o) */
+    void (*start)(void *ctx, int64_t now_us, const mg_task_inputs_t *in, const int32_t obj_mm[2],
+                  int32_t v0_div, mg_trajectory_t *traj, mg_plan_outcome_t *o);
+    /* the rest of the path checked against fresh sonar, replanned when blocked or force: the
+     * decision, its new path (o->has_path: replanned with a curve), reason and ARM9 work */
+    void (*update)(void *ctx, int64_t now_us, const mg_task_inputs_t *in, int32_t force,
+                   mg_replan001_t *dec, mg_trajectory_t *traj, mg_plan_outcome_t *o,
+                   mg_ops_t *ops);
+    /* the path and the replanner's curve start now */
+    void (*start_path)(void *ctx, int64_t now_us);
+    /* the straight travel_mm toward obj_mm misses the infeasible regions of eq. (16) of the
+     * present reading and the memory: 1 / 0, its ARM9 work */
+    int (*straight_clear)(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
+                          int32_t travel_mm, mg_ops_t *ops);
+} mg_replanner001_t;
+
+/* What 001 keeps between steps (the task's ms, State001 without the detours). */
+typedef struct {
+    const mg_replanner001_t *rp; /* the replanner's calls (NULL: none, every plan fails) */
+    void *rp_ctx;
+    int32_t has_replanner;         /* a replanner was started (ms.replanner not None) */
+    int32_t has_path_from, path_from_mm[2]; /* where the last planned path began */
+    int32_t v0_div;                /* the planner's v0 divided by this (a fallback step) */
+    int32_t fallbacks, detours, detour_side;
+} mg_state001_t;
+
+void mg_method001_ms_init(void *ms);
+void mg_method001_params(mg_task_params_t *p);
+void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void *ctx);
+/* the object given and near, unseen: the camera on it, the base turned to face it for up to
+ * MG_LOOK_FIRST_US before the first plan; 1 while looking */
+int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* the path hooks of 001 */
+extern const mg_path_method_t mg_path001;
+
+#endif

@@ -60,6 +60,13 @@ typedef struct {
     group_t *groups;
 } scratch_t;
 
+/* the counts set to 0 field by field (no struct copy: the calibration's build has no libc) */
+static void clear_ops(mg_ops_t *o)
+{
+    o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
+    o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
+}
+
 static int32_t align8(int32_t n) { return (n + 7) & ~7; }
 
 static int32_t popcount32(uint32_t x)
@@ -491,9 +498,8 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
                         int32_t pitch_mrad, int32_t f_px, uint8_t *scratch, int32_t *out,
                         mg_ops_t *ops)
 {
-    mg_ops_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    const int32_t found = detect(grey, w, h, yaw_mrad, pitch_mrad, f_px, scratch, out, &o);
-    if (ops != 0)
-        *ops = o;
+    mg_ops_t none, *o = ops != 0 ? ops : &none;
+    clear_ops(o);
+    const int32_t found = detect(grey, w, h, yaw_mrad, pitch_mrad, f_px, scratch, out, o);
     return found;
 }

@@ -13,6 +13,13 @@ typedef struct {
     int32_t area, x0, y0, x1, y1, ix0, ix1;
 } cand_t;
 
+/* the counts set to 0 field by field (no struct copy: the calibration's build has no libc) */
+static void clear_ops(mg_ops_t *o)
+{
+    o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
+    o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
+}
+
 static int32_t imax(int32_t a, int32_t b) { return a > b ? a : b; }
 static int32_t imin(int32_t a, int32_t b) { return a < b ? a : b; }
 static int32_t iabs(int32_t a) { return a < 0 ? -a : a; }
@@ -353,10 +360,9 @@ static int32_t roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, i
 int32_t mg_red_roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, int32_t *out,
                    mg_ops_t *ops)
 {
-    mg_ops_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    const int32_t found = roi(rgb, W, H, scratch, out, &o);
-    if (ops != 0)
-        *ops = o;
+    mg_ops_t none, *o = ops != 0 ? ops : &none;
+    clear_ops(o);
+    const int32_t found = roi(rgb, W, H, scratch, out, o);
     return found;
 }
 
@@ -465,9 +471,8 @@ static int32_t cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
 int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch,
                         int32_t *out, mg_ops_t *ops)
 {
-    mg_ops_t o = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0};
-    const int32_t found = cylinder(rgb, W, H, scratch, out, &o);
-    if (ops != 0)
-        *ops = o;
+    mg_ops_t none, *o = ops != 0 ? ops : &none;
+    clear_ops(o);
+    const int32_t found = cylinder(rgb, W, H, scratch, out, o);
     return found;
 }

@@ -8,7 +8,7 @@
 
 #include "app.h"
 
-#define MG_TASK_STATE_BYTES 40960 /* the largest method state (a paper task: ~35 kB) */
+#define MG_TASK_STATE_BYTES 49152 /* the largest method state (a paper task: ~35 kB) */
 
 typedef struct {
     const char *method;

@@ -70,8 +70,8 @@ def _c_argv(prefix: list[str]) -> Callable[[str, Path, float], list[str]]:
 
 
 def _c_inproc(cfg: dict, timer: Any) -> Callable[[Any], Any]:
-    f_px = int(round(cfg.get("camera", {}).get("f_px", 611.0)))  # as main.c's --config
-    return lambda peer: CProgramClient(str(cfg.get("method", "000")), peer, f_px)
+    f_px = int(round(cfg.get("camera", {}).get("f_px", 611.0)))  # as host/app_factory.py
+    return lambda peer: CProgramClient(str(cfg.get("method", "000")), peer, f_px=f_px)
 
 
 def _arm_prefix() -> list[str]:
@@ -121,8 +121,8 @@ class CProgramClient:
     from the in-process serial end; the program's bytes go back there and its DONE is decoded
     as the socket's would be."""
 
-    def __init__(self, method: str, port: Any, f_px: int = 611,
-                 read_timeout_s: float = 60.0) -> None:
+    def __init__(self, method: str, port: Any, read_timeout_s: float = 60.0,
+                 f_px: int = 611) -> None:
         from mobigrasp import hostc
         from mobigrasp.drivers.lockstep import AnnouncedBytes
 

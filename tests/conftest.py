@@ -123,6 +123,17 @@ def short_runs(tmp_path_factory):
     return folders
 
 
+@pytest.fixture(scope="session")
+def marker_slice(tmp_path_factory):
+    """The detector corpus (mobigrasp.services.corpus) of the first 4 s of paper002-marker: the
+    double cross searched for, then the cylinder."""
+    from mobigrasp.services.corpus import record
+
+    folder = tmp_path_factory.mktemp("marker")
+    record(folder, ["paper002-marker"], time_limit_s=4.0)
+    return folder
+
+
 def assert_no_false_claim(summary: dict) -> None:
     """A run that ended DONE without the object in the gripper fails the test (docs/task.md)."""
     assert not summary.get("false_claim"), (

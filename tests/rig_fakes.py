@@ -219,18 +219,21 @@ class BufferPort:
         return bool(self.rx)
 
 
-def scripted_grants(width: int = 32, height: int = 24):
+def scripted_grants(width: int = 32, height: int = 24, frame=None):
     """(grant, its UART bytes) of 0.8 s for a host program's tests: 5 ms quanta (one of 23 ms),
     the MCU's bytes of :func:`mcu_script`, a camera frame of ``width`` x ``height`` every 66 ms
-    in the GRANT's blob."""
+    in the GRANT's blob (or ``frame(at_us)``'s: width, height, RGB bytes)."""
     from mobigrasp.cosim import lockstep as ls
+
+    def plain(at: int) -> tuple[int, int, bytes]:
+        return width, height, bytes([at % 251]) * (width * height * 3)
 
     t = 0
     for k in range(160):
         until = t + (23_000 if k == 50 else 5_000)
         chunks = mcu_script(t, until)
-        frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, width, height, 3,
-                                    bytes([at % 251]) * (width * height * 3))
+        frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, *(frame or plain)(at)[:2], 3,
+                                    (frame or plain)(at)[2])
                        for at in range(t - t % 66_000 + 66_000, until, 66_000))
         yield (ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames),
                b"".join(b for _, b in chunks))

@@ -2,10 +2,12 @@
  * instruction-accurate ATmega128 at 16 MHz, moved by the caller's clock.
  *
  * Built with the machine's gcc and loaded with cffi (mcu_sim/simavr/build.py). The caller
- * runs the core to a cycle (sh_run_to), puts bytes on USART0's RX line and levels on input
- * pins at the cycles it chooses, and takes what happened: bytes sent on TX (with the cycle
- * their stop bit left), sonar trigger pulses, Timer1 period starts with the OCRnx/ICRn values
- * latched there. No wall-clock pacing: a sleeping core goes straight to its next cycle timer
+ * puts host bytes on USART0's RX line (sh_line_put) and quadrature counts on the encoder pins
+ * (sh_enc_set), runs the core to its next event (sh_advance: the line's bytes and the encoder
+ * edges before it are handed over here, each at its cycle, one core run per event time), sets
+ * other input pins at the cycles it chooses, and takes what happened: bytes sent on TX (with
+ * the cycle their stop bit left), sonar trigger pulses, Timer1 period starts with the
+ * OCRnx/ICRn values latched there. No wall-clock pacing: a sleeping core goes straight to its next cycle timer
  * (a peripheral's next event, or the target, where a cycle timer wakes it), and the sleep
  * callback only counts the cycles skipped.
  *
@@ -22,6 +24,7 @@
 #include <simavr/avr_ioport.h>
 #include <simavr/avr_uart.h>
 #include <simavr/sim_avr.h>
+#include <simavr/sim_core.h>
 #include <simavr/sim_cycle_timers.h>
 #include <simavr/sim_elf.h>
 #include <simavr/sim_interrupts.h>
@@ -39,8 +42,25 @@ DEFINE_FIFO(uint16_t, uart_fifo);
 #define RAM_START 0x100u
 #define VECTORS 35u
 
+/* One wheel's quadrature edges still to come: edge k (1..n) at start + span*k/n when spread,
+ * else start + SH_INSTANT_EDGE_CYCLES*k, the count then pos0 + dir*k. */
+typedef struct {
+    uint64_t start, span;
+    int64_t pos0;
+    uint32_t n, k;
+    int dir, spread;
+} enc_t;
+
 struct sh {
     avr_t *avr;
+    enc_t enc[2];
+    int64_t enc_pos[2]; /* the count whose A/B levels the pins show */
+    uint64_t events;    /* runs of the core between two event times (sh_advance) */
+    /* the RX line: host bytes with the cycle of their start bit, oldest first */
+    uint64_t *line_cycle;
+    uint8_t *line_byte;
+    uint32_t line_cap, line_head, line_n;
+    uint32_t rx_bytes; /* handed to USART0 (not lost at its input) */
     avr_uart_t *uart;
     avr_irq_t *pins[7][8]; /* ports A..G */
     uint64_t byte_cycles;
@@ -312,9 +332,38 @@ sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
     return sh;
 }
 
+int sh_line_init(sh_t *sh, uint32_t capacity)
+{
+    free(sh->line_cycle);
+    free(sh->line_byte);
+    sh->line_cycle = calloc(capacity ? capacity : 1u, sizeof *sh->line_cycle);
+    sh->line_byte = calloc(capacity ? capacity : 1u, 1);
+    sh->line_cap = capacity;
+    sh->line_head = sh->line_n = 0;
+    return sh->line_cycle && sh->line_byte;
+}
+
+uint32_t sh_line_put(sh_t *sh, uint64_t start, const uint8_t *bytes, uint32_t n)
+{
+    uint32_t room = sh->line_cap - sh->line_n, take = n < room ? n : room;
+    for (uint32_t i = 0; i < take; i++) {
+        uint32_t at = (sh->line_head + sh->line_n + i) % sh->line_cap;
+        sh->line_cycle[at] = start + i * sh->byte_cycles;
+        sh->line_byte[at] = bytes[i];
+    }
+    sh->line_n += take;
+    return take;
+}
+
+uint32_t sh_line_pending(const sh_t *sh) { return sh->line_n; }
+
+uint32_t sh_rx_bytes(const sh_t *sh) { return sh->rx_bytes; }
+
 void sh_free(sh_t *sh)
 {
     if (sh) {
+        free(sh->line_cycle);
+        free(sh->line_byte);
         avr_terminate(sh->avr);
         free(sh->avr);
         free(sh);
@@ -451,6 +500,40 @@ static inline void fix_byte_time(sh_t *sh)
     }
 }
 
+/* One step of the core: what simavr 1.6's avr_run does through avr_callback_run_raw
+ * (sim_avr.c), inlined so that a step costs little more than its instruction: avr_run_one,
+ * the cycle timers (processed only when the earliest one is due; otherwise the time to it is
+ * the sleep it returns, with run_cycle_count bounded as avr_cycle_timer_process bounds it),
+ * the sleep, then the interrupts. Used only while the core runs the raw callback (no gdb). */
+static inline void step(avr_t *avr)
+{
+    avr_flashaddr_t new_pc = avr->pc;
+    if (avr->state == cpu_Running) {
+        new_pc = avr_run_one(avr);
+    }
+    avr_cycle_count_t sleep;
+    const avr_cycle_timer_slot_t *t = avr->cycle_timers.timer;
+    if (t && t->when > avr->cycle) {
+        sleep = t->when - avr->cycle;
+        avr_cycle_count_t run = avr->run_cycle_limit >= sleep ? sleep : avr->run_cycle_limit;
+        avr->run_cycle_count = run ? run : 1;
+    } else {
+        sleep = avr_cycle_timer_process(avr);
+    }
+    avr->pc = new_pc;
+    if (avr->state == cpu_Sleeping) {
+        if (!avr->sreg[S_I]) {
+            avr->state = cpu_Done;
+            return;
+        }
+        avr->sleep(avr, sleep);
+        avr->cycle += 1 + sleep;
+    }
+    if ((avr->state == cpu_Running || avr->state == cpu_Sleeping) && avr->interrupt_state) {
+        avr_service_interrupts(avr);
+    }
+}
+
 int sh_run_to(sh_t *sh, uint64_t target)
 {
     avr_t *avr = sh->avr;
@@ -464,10 +547,17 @@ int sh_run_to(sh_t *sh, uint64_t target)
         avr_cycle_timer_register(avr, target - avr->cycle, wake_at_target, sh);
         sh->timer_armed = target;
     }
+    const int raw = avr->run == avr_callback_run_raw;
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
         uint32_t pc_before = avr->pc;
-        int state = avr_run(avr);
+        int state;
+        if (raw) {
+            step(avr);
+            state = avr->state;
+        } else {
+            state = avr_run(avr);
+        }
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }
@@ -477,6 +567,109 @@ int sh_run_to(sh_t *sh, uint64_t target)
         }
     }
     return SH_REACHED;
+}
+
+/* PD bits of (A, B) of the left and right wheel; (A << 1 | B) at count % 4, hal_avr.c's x4 */
+static const uint8_t enc_pins[2][2] = {{0, 1}, {2, 3}};
+static const uint8_t enc_quad[4] = {0u, 1u, 3u, 2u};
+
+static uint64_t enc_next(const enc_t *e)
+{
+    if (e->k >= e->n) {
+        return UINT64_MAX;
+    }
+    uint64_t k = e->k + 1u;
+    return e->spread ? e->start + e->span * k / e->n : e->start + SH_INSTANT_EDGE_CYCLES * k;
+}
+
+static void enc_show(sh_t *sh, int side, int64_t old_pos, int64_t new_pos)
+{
+    uint8_t old = enc_quad[old_pos & 3], now = enc_quad[new_pos & 3];
+    avr_irq_t **port = sh->pins[3]; /* PORTD */
+    if ((old ^ now) & 2u) {
+        avr_raise_irq(port[enc_pins[side][0]], now >> 1);
+    }
+    if ((old ^ now) & 1u) {
+        avr_raise_irq(port[enc_pins[side][1]], now & 1u);
+    }
+}
+
+void sh_enc_apply(sh_t *sh, uint64_t until)
+{
+    for (int side = 0; side < 2; side++) {
+        enc_t *e = &sh->enc[side];
+        while (enc_next(e) <= until) {
+            e->k++;
+            int64_t pos = e->pos0 + e->dir * (int64_t)e->k;
+            enc_show(sh, side, sh->enc_pos[side], pos);
+            sh->enc_pos[side] = pos;
+        }
+    }
+}
+
+void sh_enc_set(sh_t *sh, uint8_t side, uint64_t now, uint64_t span, int64_t count)
+{
+    enc_t *e = &sh->enc[side & 1u];
+    int64_t pos = sh->enc_pos[side & 1u];
+    uint64_t n = (uint64_t)(count > pos ? count - pos : pos - count);
+    e->start = now;
+    e->span = span;
+    e->pos0 = pos;
+    e->n = (uint32_t)n;
+    e->k = 0;
+    e->dir = count > pos ? 1 : -1;
+    e->spread = span >= n * SH_INSTANT_EDGE_CYCLES;
+}
+
+void sh_enc_show_all(sh_t *sh)
+{
+    for (int side = 0; side < 2; side++) {
+        uint8_t ab = enc_quad[sh->enc_pos[side] & 3];
+        avr_raise_irq(sh->pins[3][enc_pins[side][0]], ab >> 1);
+        avr_raise_irq(sh->pins[3][enc_pins[side][1]], ab & 1u);
+    }
+}
+
+int64_t sh_enc_pos(const sh_t *sh, uint8_t side) { return sh->enc_pos[side & 1u]; }
+
+uint64_t sh_events(const sh_t *sh) { return sh->events; }
+
+/* Run to `limit` (the caller's next event: its target or a pin level), stopping at each RX
+ * line byte's start bit and encoder edge before it to hand the byte to USART0 / show the edge:
+ * one run of the core per event time. Returns as soon as a run ends at or past `limit` (the
+ * line's bytes due by then handed over; the caller then applies its pin levels and calls
+ * sh_enc_apply), or at a stop (a sonar trigger) or a crash, with nothing applied. The order
+ * at one time: line bytes, pin levels, encoder edges. */
+int sh_advance(sh_t *sh, uint64_t limit)
+{
+    for (;;) {
+        uint64_t nxt = limit, e0 = enc_next(&sh->enc[0]), e1 = enc_next(&sh->enc[1]);
+        if (sh->line_n && sh->line_cycle[sh->line_head] < nxt) {
+            nxt = sh->line_cycle[sh->line_head];
+        }
+        if (e0 < nxt) {
+            nxt = e0;
+        }
+        if (e1 < nxt) {
+            nxt = e1;
+        }
+        int rc = sh_run_to(sh, nxt);
+        sh->events++;
+        if (rc != SH_REACHED) {
+            return rc;
+        }
+        uint64_t now = sh->avr->cycle > nxt ? sh->avr->cycle : nxt;
+        while (sh->line_n && sh->line_cycle[sh->line_head] <= now) {
+            uint8_t byte = sh->line_byte[sh->line_head];
+            sh->line_head = (sh->line_head + 1u) % sh->line_cap;
+            sh->line_n--;
+            sh->rx_bytes += (uint32_t)sh_uart_in(sh, byte);
+        }
+        if (now >= limit) {
+            return SH_REACHED;
+        }
+        sh_enc_apply(sh, now);
+    }
 }
 
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level)

@@ -7,6 +7,7 @@
 #define SH_PERIOD_REGS 9 /* OCR1A..C, OCR3A..C, ICR1, ICR3, TCCR1A | TCCR3A << 8 */
 #define SH_VECTORS 35
 #define SH_VECTOR_TIMER1_OVF 14
+#define SH_INSTANT_EDGE_CYCLES 160 /* 10 us: the closest two edges of one wheel are put */
 
 enum { SH_REACHED = 0, SH_STOPPED = 1, SH_CRASHED = -1 };
 
@@ -41,6 +42,16 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
                        uint16_t next_telemetry, uint16_t telemetry_hz);
 int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle);
 int sh_run_to(sh_t *sh, uint64_t target);
+int sh_advance(sh_t *sh, uint64_t limit);
+int sh_line_init(sh_t *sh, uint32_t capacity);
+uint32_t sh_line_put(sh_t *sh, uint64_t start, const uint8_t *bytes, uint32_t n);
+uint32_t sh_line_pending(const sh_t *sh);
+uint32_t sh_rx_bytes(const sh_t *sh);
+void sh_enc_set(sh_t *sh, uint8_t side, uint64_t now, uint64_t span, int64_t count);
+void sh_enc_apply(sh_t *sh, uint64_t until);
+void sh_enc_show_all(sh_t *sh);
+int64_t sh_enc_pos(const sh_t *sh, uint8_t side);
+uint64_t sh_events(const sh_t *sh);
 void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level);
 int sh_uart_in(sh_t *sh, uint8_t byte);
 uint32_t sh_rx_line_lost(const sh_t *sh);

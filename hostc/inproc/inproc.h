@@ -18,15 +18,15 @@
 
 typedef struct {
     mg_app_t app;
-    mg_detectors_t detectors;
-    mg_detector_t table[MG_MAX_DETECTORS];
     mg_lockstep_t driver;
     mg_ls_grant_t grant;
+    mg_detectors_t detectors;
+    mg_detector_t table[MG_MAX_DETECTORS];
     uint64_t task_state[MG_TASK_STATE_BYTES / 8];
 } mg_inproc_t;
 
-/* the program running method (its row of task.c) with main.c's detector table for a camera of
- * f_px (the configuration's, rounded): 0, or -1 when the table has no such row */
+/* the program running method (its row of task.c) with a camera of f_px: 0, or -1 when the
+ * table has no such row */
 int mg_inproc_open(mg_inproc_t *h, const char *method, int32_t f_px);
 /* one encoded GRANT message (header, metadata, blob) of n bytes with the uart_n serial bytes it
  * announces: the encoded DONE into done (its length; 0 when the message is malformed, names a

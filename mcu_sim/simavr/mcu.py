@@ -10,7 +10,7 @@ board around the chip:
   (data overrun), as on the part.
 - Encoders: quadrature levels on PD0..PD3 (INT0..3), edges spread evenly over the interval the
   rig gives (a count reached by now: over the next interval as long as the last one), never
-  closer than ``INSTANT_EDGE_CYCLES``.
+  closer than 10 µs; the harness shows them between the other events (sh_advance).
 - Sonars: a trigger pulse on PORTC0..4 stops the core; the echo (mcu_sim.avr.sonar's timing)
   is scheduled as levels on PE6 (INT6).
 - Servos: simavr 1.6 does not move the OC1x/OC3x pins after an OCRnx write in mode 14, so each
@@ -24,7 +24,6 @@ Counters and flags are read from the firmware's globals in SRAM, at the ELF's sy
 from __future__ import annotations
 
 import heapq
-from collections import deque
 from collections.abc import Callable
 
 from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US
@@ -38,10 +37,7 @@ from mobigrasp.mcu_sim.simavr.profile import profile_stats
 _mod = load_harness()
 ffi, lib = _mod.ffi, _mod.lib
 
-INSTANT_EDGE_CYCLES = 160  # 10 µs: the closest two edges of one wheel are put
 _PORT = {c: i for i, c in enumerate("ABCDEFG")}
-_QUAD = (0b00, 0b01, 0b11, 0b10)  # (A << 1 | B) at count % 4: hal_avr.c's x4 decoding
-_ENC_PINS = ((0, 1), (2, 3))  # PD bits of (A, B) for the left and right wheel
 _ECHO_PORT, _ECHO_BIT = _PORT["E"], 6
 # data-space addresses of the ATmega128's 8-bit timer and port A registers
 _OCR0, _TCCR0, _OCR2, _TCCR2, _PORTA = 0x51, 0x53, 0x43, 0x45, 0x3B
@@ -95,16 +91,14 @@ class SimavrMcu:
         self.byte_cycles = 10 * bit * (cfg.ubrr + 1)
         lib.sh_set_byte_cycles(self._h, self.byte_cycles)
         self._cycle = 0
-        self._rx_line: deque[tuple[int, int]] = deque()  # (start-bit cycle, byte)
+        if not lib.sh_line_init(self._h, cfg.line_capacity_bytes):
+            raise MemoryError(f"no room for a {cfg.line_capacity_bytes}-byte RX line")
         self._rx_line_free = 0
         self._rx_line_dropped = 0
-        self._rx_bytes = 0
         self._tx_bytes = 0
         self._pins: list[tuple[int, int, int, int, int]] = []  # heap (cycle, seq, port, bit, lvl)
         self._seq = 0
         self._enc_last_call = 0
-        self._enc_pins_pos = [0, 0]  # count whose A/B levels the pins show, per wheel
-        self._enc_edges: tuple[deque[tuple[int, int]], ...] = (deque(), deque())  # (cycle, count)
         self._enc_bad = 0
         self._provider: Callable[[int], float | None] | None = None
         self._widths_ns = [0] * 6
@@ -118,7 +112,6 @@ class SimavrMcu:
         self._tx_cyc = ffi.new("uint64_t[4096]")
         self._rd = ffi.new("uint8_t[64]")
         self._idle_cycle = ffi.new("uint64_t *")
-        self.events = 0
 
     # -- time ----------------------------------------------------------------------------------
     @property
@@ -132,17 +125,14 @@ class SimavrMcu:
         if target < self._cycle:
             raise ValueError(f"cannot go back in time from {self.now_us} to {t_us} us")
         h = self._h
+        pins = self._pins
         while True:
+            # the RX line's bytes and the encoder edges before the next of these are handled
+            # by the harness itself (sh_advance)
             nxt = target
-            if self._rx_line and self._rx_line[0][0] < nxt:
-                nxt = self._rx_line[0][0]
-            if self._pins and self._pins[0][0] < nxt:
-                nxt = self._pins[0][0]
-            for edges in self._enc_edges:
-                if edges and edges[0][0] < nxt:
-                    nxt = edges[0][0]
-            rc = lib.sh_run_to(h, nxt)
-            self.events += 1
+            if pins and pins[0][0] < nxt:
+                nxt = pins[0][0]
+            rc = lib.sh_advance(h, nxt)
             if rc < 0:
                 raise RuntimeError(f"simavr: the firmware stopped (core state "
                                    f"{lib.sh_state(h)}) at cycle {lib.sh_cycle(h)}")
@@ -150,19 +140,19 @@ class SimavrMcu:
                 self._triggers()
                 continue
             now = max(nxt, lib.sh_cycle(h))
-            while self._rx_line and self._rx_line[0][0] <= now:
-                _, byte = self._rx_line.popleft()
-                if lib.sh_uart_in(h, byte):
-                    self._rx_bytes += 1
-            while self._pins and self._pins[0][0] <= now:
-                _, _, port, bit, level = heapq.heappop(self._pins)
+            while pins and pins[0][0] <= now:
+                _, _, port, bit, level = heapq.heappop(pins)
                 lib.sh_pin(h, port, bit, level)
-            self._apply_edges(0, now)
-            self._apply_edges(1, now)
+            lib.sh_enc_apply(h, now)
             if nxt >= target:
                 break
         self._cycle = target
         self._periods()
+
+    @property
+    def events(self) -> int:
+        """Runs of the core between two event times so far."""
+        return lib.sh_events(self._h)
 
     def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
         """:meth:`advance_to`, then (:meth:`servo_pulses_us`, :meth:`wheel_duty`)."""
@@ -242,11 +232,7 @@ class SimavrMcu:
         a new core, the harness's simavr settings applied again (firmware/simavr/harness.c,
         sh_reset), the firmware starts from its reset vector."""
         lib.sh_reset(self._h)
-        for side in (0, 1):
-            ab = _QUAD[self._enc_pins_pos[side] % 4]
-            a, b = _ENC_PINS[side]
-            lib.sh_pin(self._h, _PORT["D"], a, ab >> 1)
-            lib.sh_pin(self._h, _PORT["D"], b, ab & 1)
+        lib.sh_enc_show_all(self._h)  # the wheels did not move: their pins keep their levels
         self._falls.clear()
 
     # -- UART ----------------------------------------------------------------------------------
@@ -255,16 +241,12 @@ class SimavrMcu:
         start = self._cycle if start_us is None else max(int(start_us) * CYCLES_PER_US,
                                                           self._cycle)
         start = max(start, self._rx_line_free)
-        room = self.config.line_capacity_bytes - len(self._rx_line)
         data = bytes(data)
-        take = data[:max(0, room)]
-        self._rx_line_dropped += len(data) - len(take)
-        bc = self.byte_cycles
-        for i, byte in enumerate(take):
-            self._rx_line.append((start + i * bc, byte))
+        take = lib.sh_line_put(self._h, start, data, len(data))
+        self._rx_line_dropped += len(data) - take
         if take:
-            self._rx_line_free = start + len(take) * bc
-        return len(take)
+            self._rx_line_free = start + take * self.byte_cycles
+        return take
 
     def uart_tx_take(self) -> list[tuple[int, bytes]]:
         """Bytes the firmware sent since the last call: ``(t_us their stop bit left, bytes)``,
@@ -294,7 +276,7 @@ class SimavrMcu:
         since); else the firmware's next telemetry time, read off the core
         (firmware/simavr/harness.c, sh_tx_idle_through)."""
         now = self._cycle // CYCLES_PER_US
-        if self._rx_line:
+        if lib.sh_line_pending(self._h):
             return now
         through = self._idle_cycle
         if not lib.sh_tx_idle_through(self._h, through):
@@ -348,7 +330,7 @@ class SimavrMcu:
         spread evenly from the count the pins show now; edges of an earlier call still to come
         are replaced. A count reached by now (the rig reads the wheels after each coupling
         step) is spread over the next interval as long as the last: a pin cannot take the
-        edges of a whole step at one instant."""
+        edges of a whole step at one instant (firmware/simavr/harness.c, sh_enc_set)."""
         now = self._cycle
         t = now if t_us is None else int(t_us) * CYCLES_PER_US
         span = t - now
@@ -359,28 +341,7 @@ class SimavrMcu:
             if isinstance(count, bool) or not isinstance(count, int):
                 self._enc_bad += 1
                 continue
-            edges = self._enc_edges[side]
-            edges.clear()
-            pos = self._enc_pins_pos[side]
-            n = abs(count - pos)
-            step = 1 if count > pos else -1
-            for k in range(1, n + 1):
-                at = now + (span * k // n if span >= n * INSTANT_EDGE_CYCLES
-                            else INSTANT_EDGE_CYCLES * k)
-                edges.append((at, pos + step * k))
-
-    def _apply_edges(self, side: int, until: int) -> None:
-        edges = self._enc_edges[side]
-        a_bit, b_bit = _ENC_PINS[side]
-        port = _PORT["D"]
-        while edges and edges[0][0] <= until:
-            _, new_pos = edges.popleft()
-            old, new = _QUAD[self._enc_pins_pos[side] % 4], _QUAD[new_pos % 4]
-            self._enc_pins_pos[side] = new_pos
-            if (old ^ new) & 0b10:
-                lib.sh_pin(self._h, port, a_bit, new >> 1)
-            if (old ^ new) & 0b01:
-                lib.sh_pin(self._h, port, b_bit, new & 1)
+            lib.sh_enc_set(self._h, side, now, span, count)
 
     def set_sonar_provider(self, provider: Callable[[int], float | None] | None) -> None:
         """Set ``provider(index) -> metres | None`` consulted at each trigger pulse."""
@@ -414,7 +375,7 @@ class SimavrMcu:
         ring_over = self._u32s("fw_rx", _RX_OVERRUNS_OFF, 1)[0]
         line_lost = self._rx_line_dropped + lib.sh_rx_line_lost(self._h)
         out = {
-            "rx_bytes": self._rx_bytes,
+            "rx_bytes": lib.sh_rx_bytes(self._h),
             "tx_bytes": self._tx_bytes,
             "rx_ring_overruns": ring_over,
             "rx_line_dropped": line_lost,

@@ -165,14 +165,6 @@ def test_plus_detectors_slice_matches(tmp_path, detector):
     assert 0 < found < len(calls[::2])  # the slice has results found and calls without
 
 
-@pytest.fixture(scope="module")
-def marker_slice(tmp_path_factory):
-    """The first 4 s of paper002-marker: the double cross searched for, then the cylinder."""
-    folder = tmp_path_factory.mktemp("marker")
-    record(folder, ["paper002-marker"], time_limit_s=4.0)
-    return folder
-
-
 def test_red_cylinder_slice_matches(marker_slice):
     calls = [c for c in corpus.calls(marker_slice, corpus.read_index(marker_slice))
              if c.detector == "red_cylinder"]

@@ -8,7 +8,6 @@ from __future__ import annotations
 import json
 
 import numpy as np
-import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -17,7 +16,6 @@ from mobigrasp.calib import corpus
 from mobigrasp.host import arm_calib
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.vision import registry
-from mobigrasp.services.corpus import record
 
 FFI, C = hostc.lib()
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the DONE's
@@ -53,14 +51,6 @@ def _check(table, name: str, rgb: np.ndarray, cam, q) -> bool:
     assert FFI.string(out.json).decode() == ENCODER.encode(jsonable(res))
     assert hostc.ops_tuple(out.ops) == ops.as_tuple()  # the same modelled ARM9 time
     return res is not None
-
-
-@pytest.fixture(scope="module")
-def marker_slice(tmp_path_factory):
-    """The first 4 s of paper002-marker: the double cross searched for, then the cylinder."""
-    folder = tmp_path_factory.mktemp("marker")
-    record(folder, ["paper002-marker"], time_limit_s=4.0)
-    return folder
 
 
 def test_the_table_on_recorded_frames(marker_slice):

@@ -14,7 +14,7 @@ import shutil
 import subprocess
 
 import pytest
-from rig_fakes import BufferPort, mcu_script
+from rig_fakes import BufferPort, scripted_grants
 
 from mobigrasp import hostc
 from mobigrasp.calib import armhost, corpus
@@ -28,7 +28,6 @@ from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.task.machine import TaskOutputs
 from mobigrasp.protocol import messages as m
 from mobigrasp.protocol.frame import FrameParser
-from mobigrasp.services.corpus import record
 from mobigrasp.services.run_job import host_config, resolve_scenario
 
 
@@ -62,21 +61,13 @@ def _armv4t() -> list[str]:
     return ["qemu-arm", "-cpu", "ti925t", str(armhost.build_elf())]
 
 
-def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame) -> int:
-    """The same grants to the C program (host) and the Python host program (app): 5 ms quanta,
-    one of 23 ms, the MCU's bytes of :func:`rig_fakes.mcu_script` and a camera frame every
-    66 ms (frame(at):
-    width, height, pixels); their DONEs and serial bytes compared. Returns the end time."""
+def _serve_both(host: SocketHost, master: int, app: HostApp, grants) -> int:
+    """The same grants (rig_fakes.scripted_grants: grant, its UART bytes) to the C program
+    (host) and the Python host program (app), their DONEs and serial bytes compared; the end
+    time."""
     port = BufferPort()
     client = LockstepClient(app, port)
-    t = 0
-    for k in range(quanta):
-        until = t + (23_000 if k == 50 else 5_000)
-        chunks = mcu_script(t, until)
-        frames = tuple(ls.FrameBlob(at // 66_000, at - 3000, at, *frame(at)[:2], 3, frame(at)[2])
-                       for at in range(t - t % 66_000 + 66_000, until, 66_000))
-        grant = ls.Grant(t, until, tuple((a, len(b)) for a, b in chunks), frames)
-        data = b"".join(b for _, b in chunks)
+    for k, (grant, data) in enumerate(grants):
         os.write(master, data)
         port.rx += data
         want = client.serve(grant)
@@ -86,8 +77,7 @@ def _serve_both(host: SocketHost, master: int, app: HostApp, quanta: int, frame)
         assert got == ls.decode(ls.encode(want)), (k, got, want)
         assert _read_master(master, got.write_bytes) == bytes(port.tx)
         port.tx.clear()
-        t = until
-    return t
+    return grant.until_us
 
 
 @pytest.mark.parametrize("program", [_native, _armv4t], ids=["native", "armv4t"])
@@ -97,8 +87,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
     host.verify_elided = True  # every grant is served and its DONE compared with the predicted
     try:
         app = HostApp(_IdleTask(), {}, lambda app, now, det: det)
-        t = _serve_both(host, master, app, 160, lambda at: (32, 24,
-                                                             bytes([at % 251]) * (32 * 24 * 3)))
+        t = _serve_both(host, master, app, scripted_grants())
         bye = host.finish(ls.End(t, "test over"))
         st = app.stats()
         assert bye.stats["control_steps"] == st["control_steps"] > 0
@@ -166,14 +155,12 @@ def test_free_running_program_opens_the_session_and_keeps_it_alive():
 
 
 @pytest.fixture(scope="module")
-def marker_frames(tmp_path_factory) -> list[tuple[int, int, bytes]]:
-    """The camera frames of the first 4 s of paper002-marker, in order: the board's double
-    cross from the start pose, then nearer."""
-    folder = tmp_path_factory.mktemp("marker")
-    idx = record(folder, ["paper002-marker"], time_limit_s=4.0)
+def marker_frames(marker_slice) -> list[tuple[int, int, bytes]]:
+    """The camera frames of the first 4 s of paper002-marker (conftest.py), in order: the
+    board's double cross from the start pose, then nearer."""
     out = []
-    for fr in idx["frames"]:
-        rgb = corpus.load_frame(folder, fr)
+    for fr in corpus.read_index(marker_slice)["frames"]:
+        rgb = corpus.load_frame(marker_slice, fr)
         out.append((rgb.shape[1], rgb.shape[0], rgb.tobytes()))
     assert len(out) >= 8
     return out
@@ -192,8 +179,8 @@ def test_the_c_program_runs_002_as_the_python_host(program, marker_frames, tmp_p
     host.verify_elided = True
     try:
         app = build_host_app(cfg)
-        t = _serve_both(host, master, app, 200,
-                        lambda at: marker_frames[(at // 66_000) % len(marker_frames)])
+        t = _serve_both(host, master, app, scripted_grants(
+            frame=lambda at: marker_frames[(at // 66_000) % len(marker_frames)]))
         bye = host.finish(ls.End(t, "test over"))
         st = app.stats()
         for key in ("control_steps", "frames_received", "frames_processed", "frames_dropped",

@@ -12,6 +12,7 @@ if shutil.which("avr-gcc") is None:
     pytest.skip("avr-gcc is missing (make firmware installs it)", allow_module_level=True)
 
 from mobigrasp.mcu_sim.firmware.params import P_TELEMETRY_HZ  # noqa: E402
+from mobigrasp.mcu_sim.mcu import McuConfig  # noqa: E402
 from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu  # noqa: E402
 from mobigrasp.mcu_sim.simavr.profile import (  # noqa: E402
     RX_LATENCY_BUDGET_CYCLES,
@@ -258,3 +259,27 @@ def test_encoder_edges_wake_their_handler_not_the_main_loop():
     assert edges >= 11_000
     assert stats["avr_loop_passes"] - passes0 < 300
     assert stats["avr_load_permille"] <= 300
+
+
+def test_encoder_edges_and_line_bytes_each_end_one_run_of_the_core():
+    # four edges of the left wheel spread over 1 ms, then a 3-byte chunk on a line that holds
+    # two: the core runs to each edge (250 us apart) and to each byte's start bit, the third
+    # byte is dropped at the line, and each edge toggles one of A/B (INT0/INT1) once
+    mcu = SimavrMcu(McuConfig(line_capacity_bytes=2))
+    t0 = mcu.run_until_booted()
+    mcu.advance_to(t0 + 1_000)
+    t0 += 1_000
+    before = mcu.stats()
+    isr0 = mcu.profile()["isr_count"]
+    mcu.set_encoder_ticks(4, 0, t0 + 1_000)
+    mcu.advance_to(t0 + 1_100)
+    isr1 = mcu.profile()["isr_count"]
+    assert sum(isr1.get(v, 0) - isr0.get(v, 0) for v in (1, 2)) == 4
+    assert mcu.stats()["events"] - before["events"] == 4 + 1  # to each edge, then the target
+    assert mcu.uart_rx(b"\x00\x01\x02", t0 + 2_000) == 2
+    mcu.advance_to(t0 + 3_000)
+    after = mcu.stats()
+    assert after["rx_line_dropped"] - before["rx_line_dropped"] == 1
+    assert after["rx_bytes"] - before["rx_bytes"] == 2
+    assert after["events"] - before["events"] == 5 + 3  # two start bits, then the target
+    assert mcu.tx_idle_through_us() >= mcu.now_us  # the line is empty again

@@ -70,8 +70,7 @@ def build(progress=None) -> Image:
         cc = ensure_toolchain(progress)
         out.mkdir(parents=True, exist_ok=True)
         elf = out / "kernels.elf"
-        # the kernels and, as on the board, the memcpy and memset gcc emits for struct copies
-        srcs = [str(native.HOSTC / s) for s in (*native.SOURCES, "arm/string.c")]
+        srcs = [str(native.HOSTC / s) for s in native.SOURCES]
         r = subprocess.run([cc, *CFLAGS, f"-I{native.HOSTC}", f"-Wl,-Ttext={CODE_BASE:#x}",
                             "-Wl,--entry=0", "-o", str(elf), *srcs, "-lgcc"],
                            capture_output=True, text=True)

@@ -24,15 +24,13 @@ from poses along the way, and they box in every replan long after better reading
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from dataclasses import dataclass, replace
-from functools import lru_cache
 
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.fixedpoint import mrad_from_rad, q12_from_float, sincos_q12
+from mobigrasp.host.fixedpoint import mrad_from_rad, sincos_q12
 from mobigrasp.host.planning.bezier import Curve
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo, plan_001
 from mobigrasp.host.planning.bezier_q import (
@@ -44,7 +42,12 @@ from mobigrasp.host.planning.bezier_q import (
 )
 from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import Plan
-from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, infeasible_regions
+from mobigrasp.host.planning.sonar_regions import (
+    REGION_SETUP_OPS,
+    InfeasibleRegion,
+    infeasible_regions,
+    sonar_q,
+)
 
 
 @dataclass(frozen=True)
@@ -61,16 +64,8 @@ class ReplanDecision:
 
 # per remembered region: offset, along, across, distance², two compares
 FORGET_OPS = OpCounts(alu=10, muls32=6, branches=3)
-# per region tested: its fixed-point words (bezier_q.geo_q: bisector, apex, cos, sin, tan)
-REGION_WORDS_OPS = OpCounts(float_ops=20, float_divs=1, luts=3)
-
-
-@lru_cache(maxsize=256)
-def _arc_middle_q4(reg: InfeasibleRegion) -> tuple[int, int]:
-    """The middle of a region's echo arc (1/16 mm): its set-up, once per remembered region."""
-    mid = 0.5 * (reg.lo_rad + reg.hi_rad)
-    return (round((reg.ox + reg.eta_m * math.cos(mid)) * POS_PER_M),
-            round((reg.oy + reg.eta_m * math.sin(mid)) * POS_PER_M))
+# per region tested: its fixed-point words (sonar_regions.region_words, in integers)
+REGION_WORDS_OPS = REGION_SETUP_OPS
 
 
 class Replanner:
@@ -131,16 +126,16 @@ class Replanner:
         seen again when it is nearer than D_e and its bearing off the heading is within the
         ring's span π/2 + A_g/2: with a, b its offset along and across the heading (Q12
         trigonometry), not (a < 0 and |b| < −a·cot(A_g/2)) (the span is wider than π/2)."""
-        cfg = self.params.sonar
+        cfg = sonar_q(self.params.sonar)
         px = round(float(position_xy_m[0]) * POS_PER_M)
         py = round(float(position_xy_m[1]) * POS_PER_M)
         s, c = sincos_q12(mrad_from_rad(heading_rad))
-        d_e2 = round(cfg.d_e_m * POS_PER_M) ** 2
-        cot_q12 = q12_from_float(1.0 / math.tan(cfg.a_g_rad / 2))
+        d_e2 = cfg.d_e_q4 ** 2
+        cot_q12 = cfg.cot_half_q12
         keep = []
         for reg in self.memory:
-            mx, my = _arc_middle_q4(reg)
-            ax, ay = mx - px, my - py
+            words = reg.words
+            ax, ay = words.mx - px, words.my - py
             along = ax * c + ay * s
             across = abs(ay * c - ax * s)
             within_span = not (along < 0 and (across << 12) < -along * cot_q12)

@@ -29,7 +29,7 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "task_method002.h", "task_drive.h", "task_sense.h",
            "task_adjust.h", "control_points.h", "grasp_circle.h", "anytime.h",
            "bezier.h", "candidates.h", "plan000.h", "blocked_q.h",
-           "escape.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
+           "escape.h", "sonar_regions.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
            "app_factory.h", "task_paper.h", "task_path.h", "task_approach.h",
            "task_method000.h", "task_method001.h", "detectors.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
@@ -44,7 +44,7 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "task_adjust.c", HOSTC / "control_points.c", HOSTC / "grasp_circle.c",
            HOSTC / "anytime.c", HOSTC / "bezier.c", HOSTC / "candidates.c",
            HOSTC / "plan000.c", HOSTC / "blocked_q.c",
-           HOSTC / "escape.c", HOSTC / "clearance.c", HOSTC / "sonar_guard.c",
+           HOSTC / "escape.c", HOSTC / "sonar_regions.c", HOSTC / "clearance.c", HOSTC / "sonar_guard.c",
            HOSTC / "task_search.c", HOSTC / "task_grasp.c", HOSTC / "held_fill.c",
            HOSTC / "app_factory.c", HOSTC / "task_paper.c", HOSTC / "task_approach.c",
            HOSTC / "task_method000.c", HOSTC / "task_method001.c", HOSTC / "detectors.c",

@@ -1,6 +1,7 @@
 /* Paper 001's method (host/task/method001.py): 000's vision and grasp with 001's sonar planning
  * of eq. (17) and its replanning (section III.E) in APPROACH, through the replanner of
- * host/planning/replan.py (a declared interface, mg_replanner001_t, until it is in C). Ours, as
+ * host/planning/replan.py (a declared interface, mg_replanner001_t, until plan_001 is in C too:
+ * replan.c has the replanner's part around the plan). Ours, as
  * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
  * first, sightings while the base turns fast are not used, the follower never backs up, the
  * last part of the curve is handed to ADJUST while the object is in view and the way is

@@ -42,6 +42,7 @@ from mobigrasp.host.planning.bezier_q import (
 )
 from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import Plan
+from mobigrasp.host.planning.observe import observed
 from mobigrasp.host.planning.sonar_regions import (
     REGION_SETUP_OPS,
     InfeasibleRegion,
@@ -114,10 +115,17 @@ class Replanner:
         self.start_us = int(t_us)
         return plan
 
+    @observed("start", topic="replan")
     def start(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps, sonar_mm) -> Plan:
         """First plan from the present pose; its curve starts at ``t_us``."""
         self.level = 0
         return self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
+
+    @observed("start_path", topic="replan")
+    def start_path(self, t_us: int) -> None:
+        """The present curve starts at ``t_us`` (the plan was charged in slices of the control
+        steps: the path is followed from the last one)."""
+        self.start_us = int(t_us)
 
     def forget_seen(self, position_xy_m, heading_rad: float) -> int:
         """Forget remembered regions whose place the sonars see again now; how many.
@@ -165,6 +173,7 @@ class Replanner:
                                      geo_q((0.0, 0.0), 0.0, regions), len(regions))
         return where, ops + REGION_WORDS_OPS.scaled(len(regions))
 
+    @observed("update", topic="replan")
     def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
                sonar_mm, force: bool = False) -> ReplanDecision:
         """Check the present path against a fresh reading; replan when it is blocked.

@@ -222,7 +222,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)
     kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
-    expected = max(1, int(per_sample * params.expected_cost_fraction))
+    expected = max(1, per_sample * round(params.expected_cost_fraction * Q16) >> 16)
     n, stride = choose_sampling(len(us), expected, params.budget_us - ops.time_us(),
                                 params.n_coarse_min, params.n_coarse_max)
     sel = np.arange(0, len(us), stride)

@@ -239,6 +239,9 @@ def test_anytime_cut_marks_unevaluated_curves_and_keeps_the_budget():
     assert "budget" in reasons
     first_cut = reasons.index("budget")
     assert all(r == "budget" for r in reasons[first_cut:])  # a cut, not holes
+    # never evaluated by the C loop: not feasible, not in eq. (18)'s pool
+    assert not np.isfinite(plan.candidates.cost[first_cut:]).any()
+    assert plan.best_candidate is None or plan.best_candidate.reason == "ok"
     assert plan.ops.time_us() <= 30_000
     # the end point facing the robot is evaluated first: the robot is at 200° seen from the
     # object, end point k_e sits at φ = 10°·k_e (eq. (6), n_e = 36)

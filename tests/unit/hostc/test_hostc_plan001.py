@@ -1,0 +1,168 @@
+"""001's plan whole in C (hostc/plan001.c) against host/planning/bezier001.py plan_001: the
+same regions, end points, sampling, candidates and their reasons, costs and D_m, the same
+chosen curve, reason text and modelled cost, on hypothesis-drawn scenes and on every plan the
+Python made in paper001-sim1."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import event, given, settings
+from hypothesis import strategies as st
+
+from mobigrasp import hostc
+from mobigrasp.host.fixedpoint import cos_q12
+from mobigrasp.host.planning.bezier001 import CIRCLE_MARGIN_M, Params001, plan_001
+from mobigrasp.host.planning.bezier_q import CODE, POS_PER_M, Q16, quantize_ctrl
+from mobigrasp.host.planning.candidates import Limits
+from mobigrasp.host.planning.clearance_q import NO_REGION_Q4
+from mobigrasp.host.planning.grasp_circle import grasp_radius
+from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, sonar_q
+from mobigrasp.host.task.method001 import planner_params_001
+from mobigrasp.host.task.params import TaskParams
+
+FFI, C = hostc.lib()
+WORK = FFI.new("mg_plan001_work_t *")
+
+
+def params_c(p: Params001):
+    """Params001 in the C's integers."""
+    q, m = sonar_q(p.sonar), POS_PER_M
+    l_e = grasp_radius(p.arm).l_e_m
+    r = max(l_e - CIRCLE_MARGIN_M, 0.0) * m
+    lim = Limits(p.v_max, p.a_max, None, accel_is_normal=True).words()
+    coarse = Limits(p.v_max * p.coarse_margin, p.a_max * p.coarse_margin, None,
+                    accel_is_normal=True).words()
+    return FFI.new("mg_params001_t *", {
+        "v0_mm_s": round(p.v0 * 1000), "t_s_ms": round(p.t_s * 1000),
+        "k1_q16": round(p.k1 * Q16), "k2_q16": round(p.k2 * Q16), "t_d_q4": round(p.t_d_m * m),
+        "coarse_inflate_q4": round(p.coarse_inflate_m * m),
+        "moving_q4": round(p.moving_speed_mps * m), "echo_tol_q4": round(p.object_echo_tol_m * m),
+        "l_e_q4": round(l_e * m), "circle_r2": math.floor(r * r),
+        "facing_cos_q12": cos_q12(round(p.endpoint_max_angle_rad * 1000)), "n_e": p.n_e,
+        "n_coarse_min": p.n_coarse_min, "n_coarse_max": p.n_coarse_max, "n_fine": p.n_fine,
+        "max_fine": p.max_fine, "budget_us": p.budget_us, "total_budget_us": p.total_budget_us,
+        "expected_q16": round(p.expected_cost_fraction * Q16),
+        "lim": [int(v) for v in lim], "lim_coarse": [int(v) for v in coarse],
+        "sonar": [q.k_s, q.a_g_urad, q.d_e_q4, q.r_r_q4, q.tol_q4, q.offset_q4,
+                  int(q.arc_bound), q.cot_half_q12]})
+
+
+def same_plan(start_mm, vel_q4, heading_mrad, target_mm, sonar, params: Params001,
+              known: list[InfeasibleRegion]):
+    """Plan in both from the same integers; assert every output equal; the C's plan."""
+    py = plan_001((start_mm[0] / 1000, start_mm[1] / 1000),
+                  (vel_q4[0] / POS_PER_M, vel_q4[1] / POS_PER_M), heading_mrad / 1000,
+                  (target_mm[0] / 1000, target_mm[1] / 1000), list(sonar), params, known)
+    out = FFI.new("mg_plan001_t *")
+    regs = FFI.new("mg_region_t[]", [[r.ox_q4, r.oy_q4, r.lo_urad, r.hi_urad, r.eta_q4,
+                                       r.r_r_q4, int(r.arc_bound)] for r in known] or 1)
+    C.mg_plan001(params_c(params), [v * 16 for v in start_mm], list(vel_q4), heading_mrad,
+                 [v * 16 for v in target_mm], list(sonar), regs, len(known), WORK, out)
+    assert out.status != C.MG_PLAN001_TOO_MANY
+    reason = FFI.new("char[200]")
+    C.mg_plan001_reason(out, reason, 200)
+    assert FFI.string(reason).decode() == py.reason
+    assert hostc.ops_tuple(out.ops) == py.ops.as_tuple()
+    cands = py.candidates
+    assert out.n_cand == len(cands)
+    if len(cands):
+        assert (out.n_samples, out.stride) == (py.n_samples, py.stride)
+        assert out.n_regions == len(py.extra["regions"])
+        n = out.n_cand
+        assert list(WORK.reason[0:n]) == [CODE[r] for r in cands.reasons]
+        ctrl = np.array(list(WORK.ctrl[0:12 * n]), dtype=np.int64).reshape(n, 4, 3)
+        assert np.array_equal(ctrl, quantize_ctrl(cands.ctrl))
+        ok = np.isfinite(cands.cost)
+        assert np.array_equal(np.array(list(WORK.cost[0:n]))[ok] / Q16, cands.cost[ok])
+        clear = np.array(list(WORK.clear_q4[0:n]))
+        assert np.array_equal(np.where(clear == NO_REGION_Q4, np.inf, clear / POS_PER_M),
+                              cands.clearance)
+    assert (out.best >= 0) == (py.best is not None)
+    if py.best is not None:
+        assert list(out.best_ctrl) == [int(v) for v in quantize_ctrl(py.best.array).ravel()]
+    return out
+
+
+SONAR = st.lists(st.one_of(st.integers(150, 2600), st.just(65535)), min_size=5, max_size=5)
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.tuples(st.integers(-500, 500), st.integers(-500, 500)),
+       st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)),
+       st.integers(-3142, 3142), st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)),
+       SONAR, st.booleans(), st.sampled_from([1, 2]))
+def test_plan_001_as_the_python(start, vel, heading, target, sonar, task_params, v0_div):
+    """Random scenes: free, with echoes, the object near or behind; the task's parameters or
+    001's, v0 as the slow-down level makes it."""
+    params = planner_params_001(TaskParams.for_method("001")) if task_params else Params001()
+    if v0_div > 1:
+        params = Params001(**{**params.__dict__, "v0": params.v0 / v0_div})
+    out = same_plan(start, vel, heading, target, sonar, params, [])
+    event(f"status {out.status}, regions {min(out.n_regions, 2)}")
+
+
+def test_plan_001_with_remembered_regions_and_the_cut():
+    """Remembered regions (one the object's echo), a budget small enough to cut the coarse
+    pass and to stop the fine check."""
+    params = planner_params_001(TaskParams.for_method("001"))
+    known = [InfeasibleRegion(16_000, 4_000, 200_000, 700_000, 12_000, 3_200, True),
+             InfeasibleRegion(0, 0, -300_000, 300_000, 48_000, 3_200, True)]
+    out = same_plan((0, 0), (3200, 0), 0, (3000, 0), [65535, 1400, 65535, 1800, 2100],
+                    params, known)
+    assert out.n_regions >= 2
+    small = Params001(**{**params.__dict__, "budget_us": 15_000, "total_budget_us": 30_000,
+                         "expected_cost_fraction": 0.0625})
+    out = same_plan((0, 0), (3200, 0), 0, (3000, 1100), [2500, 1400, 2500, 1800, 2100], small,
+                    [])
+    assert out.reasons[C.MG_BUDGET] > 0
+
+
+def _plans_of(tmp_path, scenario: str) -> list:
+    """Every plan_001 call of a shipped scenario run in process (the planners' watchers)."""
+    from mobigrasp.host.planning.observe import watching
+    from mobigrasp.services.run_job import RunOptions, execute
+
+    calls: list = []
+
+    def watch(name, args, kw, plan):
+        if name == "001":
+            calls.append((args, kw, plan))
+
+    with watching(watch):
+        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
+                                           out=tmp_path / "run", progress=False, plots=False))
+    assert code == 0 and summary["success"], summary
+    return calls
+
+
+def _replay(calls) -> dict:
+    counts: dict[int, int] = {}
+    for args, kw, plan in calls:
+        start, vel, heading, target, sonar = args[:5]
+        params = args[5] if len(args) > 5 else kw.get("params", Params001())
+        known = args[6] if len(args) > 6 else kw.get("known_regions") or []
+        start_mm = tuple(round(v * 1000) for v in start)
+        target_mm = tuple(round(v * 1000) for v in target)
+        # the task's SI arguments are whole mm, mrad and 1/16 mm per s
+        assert np.allclose(np.array(start_mm) / 1000, start, atol=1e-12)
+        out = same_plan(start_mm, tuple(round(v * POS_PER_M) for v in vel),
+                        round(heading * 1000), target_mm, sonar, params, list(known))
+        assert (out.best >= 0) == (plan.best is not None)
+        counts[out.status] = counts.get(out.status, 0) + 1
+    return counts
+
+
+def test_replay_of_the_plans_of_paper001_sim1(tmp_path):
+    """Every plan the Python made in paper001-sim1, made again in C: identical."""
+    counts = _replay(_plans_of(tmp_path, "paper001-sim1"))
+    assert counts.get(C.MG_PLAN001_OK, 0) >= 3, counts
+
+
+@pytest.mark.slow
+def test_replay_of_the_plans_of_paper001_sim2(tmp_path):
+    """The same for paper001-sim2, where plans also find no feasible curve."""
+    counts = _replay(_plans_of(tmp_path, "paper001-sim2"))
+    assert counts.get(C.MG_PLAN001_OK, 0) >= 5 and counts.get(C.MG_PLAN001_NONE_FEASIBLE), counts

@@ -75,9 +75,8 @@ int mg_replan001_first_blocked(const mg_replan001_cfg_t *cfg, const mg_replan001
     return hit;
 }
 
-/* the fresh reading's regions that are not the object's echoes */
-static int32_t fresh_regions(const mg_replan001_cfg_t *cfg, int64_t px_q4, int64_t py_q4,
-                             int32_t heading_mrad, const int32_t *sonar_mm, mg_region_t *out)
+int32_t mg_replan001_fresh(const mg_replan001_cfg_t *cfg, int64_t px_q4, int64_t py_q4,
+                           int32_t heading_mrad, const int32_t *sonar_mm, mg_region_t *out)
 {
     mg_region_t scan[MG_SONAR_MAX_REGIONS];
     int32_t dropped = 0, n = 0;
@@ -97,7 +96,7 @@ int mg_replan001_check(const mg_replan001_cfg_t *cfg, mg_replan001_state_t *st, 
     mg_region_t tested[MAX_TESTED];
     const int32_t n_mem = st->n_memory;
     mg_replan001_forget_seen(cfg, st, px_q4, py_q4, heading_mrad);
-    int32_t n = fresh_regions(cfg, px_q4, py_q4, heading_mrad, sonar_mm, tested);
+    int32_t n = mg_replan001_fresh(cfg, px_q4, py_q4, heading_mrad, sonar_mm, tested);
     for (int32_t i = 0; i < st->n_memory; i++)
         tested[n++] = st->memory[i];
     chk->where[0] = chk->where[1] = 0;
@@ -120,7 +119,7 @@ void mg_replan001_adopt(const mg_replan001_cfg_t *cfg, mg_replan001_state_t *st,
                         const int32_t *sonar_mm, int has_best, const int32_t *best_ctrl)
 {
     mg_region_t fresh[MG_SONAR_MAX_REGIONS];
-    const int32_t n = fresh_regions(cfg, px_q4, py_q4, heading_mrad, sonar_mm, fresh);
+    const int32_t n = mg_replan001_fresh(cfg, px_q4, py_q4, heading_mrad, sonar_mm, fresh);
     const int32_t cap = cfg->memory < MG_REPLAN_MEMORY ? cfg->memory : MG_REPLAN_MEMORY;
     for (int32_t i = 0; i < n && cap > 0; i++) {
         int known = 0;

@@ -52,6 +52,9 @@ enum { MG_REPLAN_WHY_BLOCKED = 0, MG_REPLAN_WHY_NO_PATH = 1, MG_REPLAN_WHY_DROPP
 void mg_replan001_init(mg_replan001_state_t *st);
 /* is_object_echo: the region's echo arc passes within echo_tol of the target */
 int mg_replan001_object_echo(const mg_replan001_cfg_t *cfg, const mg_region_t *reg);
+/* the regions of a reading (sonar_mm, k_s of them) less the object's echoes; their number */
+int32_t mg_replan001_fresh(const mg_replan001_cfg_t *cfg, int64_t px_q4, int64_t py_q4,
+                           int32_t heading_mrad, const int32_t *sonar_mm, mg_region_t *out);
 /* forget_seen: the remembered regions whose echo's middle the ring sees again; how many */
 int32_t mg_replan001_forget_seen(const mg_replan001_cfg_t *cfg, mg_replan001_state_t *st,
                                  int64_t px_q4, int64_t py_q4, int32_t heading_mrad);

@@ -6,17 +6,23 @@ updates; the plans are the Python's (plan_001), given to the C as their outcome.
 
 from __future__ import annotations
 
+import copy
+import math
+from collections import deque
+
 import numpy as np
 import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 from mobigrasp import hostc
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.control.path_follow import Trajectory
 from mobigrasp.host.planning.bezier_q import POS_PER_M, quantize_ctrl
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, sonar_q
-from mobigrasp.host.task.drive import state_m
-from mobigrasp.host.task.method001 import planner_params_001
+from mobigrasp.host.task.drive import state_m, velocity_m
+from mobigrasp.host.task.method001 import planner_params_001, straight_clear_001
 from mobigrasp.host.task.params import TaskParams
 
 FFI, C = hostc.lib()
@@ -215,3 +221,103 @@ def test_replay_of_paper001_sim2(tmp_path):
     """The same for paper001-sim2, whose far blocks keep the path while no update exists."""
     counts = _replay(_recorded(tmp_path, "paper001-sim2"))
     assert counts.get("new", 0) >= 5 and counts.get("kept", 0) >= 1, counts
+
+
+def _board(rp: Replanner, base_v0: float):
+    """The board's replanner (task_method001.c) with the replanner's parameters."""
+    from test_hostc_plan001 import params_c
+
+    b = FFI.new("mg_board_replanner001_t *")
+    b.params = params_c(rp.params)[0]
+    b.cfg = _cfg(rp)[0]
+    for i, f in enumerate(rp.slow_factors):
+        b.level_v0_mm_s[i] = round(base_v0 * f * 1000)
+    b.v_limit_mm_s = round(rp.params.v_max * 1000)
+    return b
+
+
+def _inputs(pos, h, vel, sonar):
+    """The task's inputs the SI arguments were made from (drive.state_m)."""
+    x_mm, y_mm, h_mrad = round(pos[0] * 1000), round(pos[1] * 1000), round(h * 1000)
+    guess = round(math.hypot(*vel) * 1000)
+    v_mmps = next(v for v in sorted(range(-guess - 3, guess + 4), key=abs)
+                  if velocity_m(v, h_mrad) == tuple(vel))
+    inp = FFI.new("mg_task_inputs_t *")
+    inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps = x_mm, y_mm, h_mrad, v_mmps
+    inp.n_sonar = len(sonar)
+    for i, r in enumerate(sonar):
+        inp.sonar_mm[i] = r
+    return inp
+
+
+def _follower_ops(curve) -> OpCounts:
+    return OpCounts() if curve is None else Trajectory.from_curve(curve).ops
+
+
+def _replay_board(calls, base_v0: float) -> dict:
+    """The calls replayed on the board's replanner through its mg_replanner001_t: the same
+    paths, reasons, decisions and modelled time; its straight-way test after each update as
+    method001.py's."""
+    table, boards, counts = C.mg_board_replanner001, {}, {}
+    traj, o = FFI.new("mg_trajectory_t *"), FFI.new("mg_plan_outcome_t *")
+    for name, rp, args, kw, result, after in calls:
+        if name == "start":
+            boards[id(rp)] = b = _board(rp, base_v0)
+            inp = _inputs(*args[1:5])
+            obj = FFI.new("int32_t[2]", [round(float(v) * 1000) for v in rp.target])
+            table.start(b, args[0], inp, obj, round(base_v0 / rp.params.v0), traj, o)
+            assert bool(o.has_path) == (result.best is not None)
+            assert FFI.string(o.reason).decode() == result.reason
+            assert o.time_us == (result.ops + _follower_ops(result.best)).time_us()
+        elif name == "start_path":
+            table.start_path(boards[id(rp)], args[0])
+        else:
+            b, dec = boards[id(rp)], result
+            inp = _inputs(*args[1:5])
+            force = bool(args[5] if len(args) > 5 else kw.get("force", False))
+            c_dec, ops = FFI.new("mg_replan001_t *"), FFI.new("mg_ops_t *")
+            table.update(b, args[0], inp, force, c_dec, traj, o, ops)
+            assert (c_dec.blocked, c_dec.replanned, c_dec.has_curve, c_dec.has_plan) == (
+                dec.blocked, dec.replanned, dec.curve is not None, dec.plan is not None)
+            assert FFI.string(o.reason).decode() == dec.reason
+            fol = _follower_ops(dec.curve if dec.replanned else None)
+            assert hostc.ops_tuple(ops[0]) == (dec.ops + fol).as_tuple()
+            assert bool(o.has_path) == bool(dec.replanned and dec.curve is not None)
+            clear_ops = FFI.new("mg_ops_t *")
+            obj_mm = [round(float(v) * 1000) for v in rp.target]
+            got = table.straight_clear(b, inp, obj_mm, 800, clear_ops)
+            then = copy.copy(rp)  # the replanner as this call left it (its memory)
+            then.memory = deque(after[0], maxlen=rp.memory.maxlen)
+            want, want_ops = straight_clear_001(then, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                                tuple(inp.sonar_mm[0:inp.n_sonar]), obj_mm, 800)
+            assert bool(got) == want and hostc.ops_tuple(clear_ops[0]) == want_ops.as_tuple()
+            name = "kept" if dec.blocked and dec.curve is not None and not dec.replanned \
+                else name
+        counts[name] = counts.get(name, 0) + 1
+    return counts
+
+
+def test_board_replanner_replays_paper001_sim1(tmp_path):
+    """The board's replanner (replan.c around plan001.c) gives every outcome the Python's
+    replanner gave in paper001-sim1: the same paths, reasons and modelled time."""
+    base_v0 = planner_params_001(TaskParams.for_method("001")).v0
+    counts = _replay_board(_recorded(tmp_path, "paper001-sim1"), base_v0)
+    assert counts.get("start", 0) >= 1 and counts.get("update", 0) > 20, counts
+
+
+@pytest.mark.slow
+def test_board_replanner_replays_paper001_sim2(tmp_path):
+    """The same for paper001-sim2 (blocks far ahead keep the path, in words too)."""
+    base_v0 = planner_params_001(TaskParams.for_method("001")).v0
+    counts = _replay_board(_recorded(tmp_path, "paper001-sim2"), base_v0)
+    assert counts.get("kept", 0) >= 1, counts
+
+
+@settings(max_examples=400, deadline=None)
+@given(st.one_of(st.integers(0, 1 << 40), st.integers(0, 1 << 33).map(lambda k: 160 * k + 80)))
+def test_metres_in_two_decimals_as_python_prints_them(q4):
+    """The replanner's reason prints the block's distance as Python's .2f of q4 / 16000, also
+    where the decimal tie is decided by the double's last bit."""
+    buf = FFI.new("char[64]")
+    C.mg_method001_text_m_2(buf, 64, 0, q4)
+    assert FFI.string(buf).decode() == f"{q4 / POS_PER_M:.2f}"

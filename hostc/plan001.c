@@ -12,6 +12,10 @@
 #include "kernels.h"
 #include "trig.h"
 
+#if MG_GEO_HEAD != 3 || MG_REGION_WORDS != 12 || MG_CLEAR_WORDS != 11
+#error "mg_plan001_work_t's geo and words follow bezier.h's and clearance.c's layouts"
+#endif
+
 /* bezier001.py SETUP_OPS, REGION_OPS (a region's words, the object-echo test, the grown
  * copy's words), END_POINT_OPS_EACH + FACING_OPS; control_points.py CANDIDATE_OPS;
  * clearance_q.py CLEARANCE_OPS */
@@ -101,7 +105,7 @@ static int32_t regions_of(const mg_params001_t *p, const int64_t start_q4[2],
 static void clearances(const mg_params001_t *p, const mg_region_t *regions, int32_t n_reg,
                        mg_plan001_work_t *w, mg_plan001_t *out)
 {
-    int64_t words[MG_CLEAR_WORDS * MG_PLAN001_MAX_REGIONS];
+    int64_t *words = w->words;
     int64_t x[MG_PLAN001_MAX_SAMPLES], y[MG_PLAN001_MAX_SAMPLES];
     const int32_t n = out->n_samples;
     int32_t n_ok = 0;
@@ -176,8 +180,8 @@ void mg_plan001(const mg_params001_t *p, const int64_t start_q4[2], const int64_
                 const mg_region_t *known, int32_t n_known, mg_plan001_work_t *w,
                 mg_plan001_t *out)
 {
-    mg_region_t regions[MG_PLAN001_MAX_REGIONS];
-    int64_t geo[MG_GEO_HEAD + MG_REGION_WORDS * MG_PLAN001_MAX_REGIONS];
+    mg_region_t *regions = w->regions;
+    int64_t *geo = w->geo;
     int64_t ends[2 * MG_PLAN001_MAX_ENDS], facing[MG_PLAN001_MAX_ENDS];
     int32_t dirs[2 * MG_PLAN001_MAX_ENDS], keep[MG_PLAN001_MAX_ENDS];
     int32_t keep_scratch[MG_PLAN001_MAX_ENDS], n_all = 0;

@@ -46,8 +46,11 @@ enum {
     MG_PLAN001_TOO_MANY = 4       /* more candidates than MG_PLAN001_MAX_CAND (none planned) */
 };
 
-/* the candidates, kept between the passes */
+/* the candidates, kept between the passes, and the regions' words (off the stack) */
 typedef struct {
+    mg_region_t regions[MG_PLAN001_MAX_REGIONS];
+    int64_t geo[3 + 12 * MG_PLAN001_MAX_REGIONS]; /* bezier.h geo */
+    int64_t words[11 * MG_PLAN001_MAX_REGIONS];   /* clearance.c's (MG_CLEAR_WORDS) */
     int32_t ctrl[MG_PLAN001_MAX_CAND * 12];
     int32_t reason[MG_PLAN001_MAX_CAND], first[MG_PLAN001_MAX_CAND];
     int64_t cost[MG_PLAN001_MAX_CAND], clear_q4[MG_PLAN001_MAX_CAND];

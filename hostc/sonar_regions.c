@@ -150,39 +150,28 @@ void mg_region_words(const mg_region_t *reg, mg_region_words_t *w)
     w->my = oy + rot(eta, s_m);
 }
 
+static void put_words(int64_t *out, const int64_t *words, int32_t n)
+{
+    for (int32_t i = 0; i < n; i++)
+        out[i] = words[i];
+}
+
 void mg_region_geo(const mg_region_t *reg, int64_t *out)
 {
     mg_region_words_t w;
     mg_region_words(reg, &w);
-    out[0] = w.qx;
-    out[1] = w.qy;
-    out[2] = w.cos_mid;
-    out[3] = w.sin_mid;
-    out[4] = w.tan_half;
-    out[5] = reg->ox_q4;
-    out[6] = reg->oy_q4;
-    out[7] = w.lo2;
-    out[8] = w.hi2;
-    out[9] = w.arc;
-    out[10] = w.cb_pos;
-    out[11] = w.cb2_q16;
+    const int64_t geo[12] = {w.qx,      w.qy,      w.cos_mid, w.sin_mid, w.tan_half, reg->ox_q4,
+                             reg->oy_q4, w.lo2,    w.hi2,     w.arc,     w.cb_pos,   w.cb2_q16};
+    put_words(out, geo, 12);
 }
 
 void mg_region_clear(const mg_region_t *reg, int64_t *out)
 {
     mg_region_words_t w;
     mg_region_words(reg, &w);
-    out[0] = reg->ox_q4;
-    out[1] = reg->oy_q4;
-    out[2] = w.cos_mid;
-    out[3] = w.sin_mid;
-    out[4] = w.tan_half;
-    out[5] = reg->eta_q4;
-    out[6] = reg->r_r_q4;
-    out[7] = w.e1x;
-    out[8] = w.e1y;
-    out[9] = w.e2x;
-    out[10] = w.e2y;
+    const int64_t clear[11] = {reg->ox_q4, reg->oy_q4, w.cos_mid, w.sin_mid, w.tan_half,
+                               reg->eta_q4, reg->r_r_q4, w.e1x, w.e1y, w.e2x, w.e2y};
+    put_words(out, clear, 11);
 }
 
 mg_ops_t mg_region_setup_ops(void)

@@ -11,6 +11,7 @@
 
 #include "app_link.h"
 #include "odometry.h"
+#include "task_method000.h"
 #include "task_method002.h"
 
 /* telemetry to the task's inputs (host/app_factory.py InputBuilder): odometry integrates the
@@ -50,6 +51,19 @@ int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_
 int mg_red_cylinder_sighting(const int32_t rc[MG_RED_CYLINDER_WORDS], int32_t f_px,
                              mg_sighting_t *s);
 int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_sighting_t *s);
+
+/* the out words of 000's kernels: mg_radial_symbol (u, v, diameter, y_oc, x_oc, z_oc),
+ * mg_dual_plus (u1, v1, u2, v2, d_pixel, d_eff, dist_mm, dist_raw_mm, x_oc, y_oc, z_oc),
+ * mg_spoke (u_c, v_c, slope_q12, angle_mrad, width_q4, n_points, 10 points' u, v) */
+#define MG_RADIAL_SYMBOL_WORDS 6
+#define MG_DUAL_PLUS_WORDS 11
+#define MG_SPOKE_WORDS 26
+/* 000's (and 001's) frame of one vision job's results (NULL: the detector found nothing or
+ * did not run): the radial symbol's sighting (its centre at the depth Y_oc), the dual "+"
+ * (its midpoint at the depth dist_mm, both "+"), the spoke's angle and width, the colour
+ * filling the frame */
+void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
+                    const int32_t *spoke, const int32_t *fill);
 
 /* 002's frame of one vision job's results (NULL: the detector found nothing or did not run);
  * f_px: the camera's */

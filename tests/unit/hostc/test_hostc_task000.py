@@ -11,6 +11,7 @@ by step test gives both tasks the same drawn plans and checks the requests."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -22,6 +23,7 @@ from test_hostc_planning import _params000_c
 from test_hostc_task import recorded_run, recorder, replay_remember
 
 from mobigrasp import hostc
+from mobigrasp.host.app import jsonable
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.fuzzy import FuzzyParams
 from mobigrasp.host.control.path_follow import PathFollower
@@ -103,6 +105,16 @@ def _sighting(row, det, f_px: int = CAMERA_000.f_px):
     if det is None:
         return FFI.NULL
     return FFI.new("mg_sighting_t *", row.sighting_fn()(det, f_px) or (0, 0, 0))
+
+
+def _plus_seen(det):
+    """What the dual "+"'s glue gives the C of a result: its sighting, both "+" and dist_mm
+    (none: NULL)."""
+    if det is None:
+        return FFI.NULL
+    return FFI.new("mg_plus_seen_t *", {
+        "sighting": PLUS.sighting_fn()(det, CAMERA_000.f_px) or (0, 0, 0),
+        "uv_q4": [det.u1_q4, det.v1_q4, det.u2_q4, det.v2_q4], "dist_mm": det.dist_mm})
 
 
 def _path_py(t) -> tuple:
@@ -486,7 +498,7 @@ def test_the_adjust_of_000(obj, joints, steps):
                 if v is not None}
         inp = TaskInputs(x_mm=xyh[0], y_mm=xyh[1], heading_mrad=xyh[2])
         ADJUST.do_ADJUST(py, now, inp, dets)
-        C.mg_task_do_adjust(c, now, _inputs((*xyh, 0)), _sighting(PLUS, plus),
+        C.mg_task_do_adjust(c, now, _inputs((*xyh, 0)), _plus_seen(plus),
                             _sighting(RADIAL, radial))
         assert _events(c) == py._events
         assert (tuple(c.wheels), list(c.arm), c.move_done_us, c.trust_from_us) == (
@@ -621,7 +633,7 @@ def replay_path_task(calls: list, method: str, setup, c_approach) -> dict:
             _, now, xyhv, plus, radial, pre, n_events, events, wheels, post, state = rec
             _load(c, pre)
             c.state, c.n_events = C.MG_ADJUST, 0
-            C.mg_task_do_adjust(c, now, _inputs(xyhv), _sighting(PLUS, plus),
+            C.mg_task_do_adjust(c, now, _inputs(xyhv), _plus_seen(plus),
                                 _sighting(RADIAL, radial))
             assert _events(c) == events[n_events:], rec
             assert (tuple(c.wheels), _c_state(c), machine.STATES[c.state]) == (
@@ -662,3 +674,127 @@ def test_a_method_without_a_path_stands():
     c.wheels = (50, 60)
     C.mg_task_follow_path(c, 20_000, _inputs((0, 0, 0, 0)), FFI.NULL)
     assert tuple(c.wheels) == (0, 0) and c.path.plans == 0 and c.n_events == 0
+
+
+def words000(name: str, res) -> list[int]:
+    """A 000 detector's result as its C kernel's out words (hostc/kernels.h), the held fill's
+    as hostc/app_factory.h lays them out."""
+    if name == "radial_symbol":
+        return [res.u_q4, res.v_q4, res.diameter_q4, res.y_oc_mm, res.x_oc_mm, res.z_oc_mm]
+    if name == "dual_plus":
+        return [res.u1_q4, res.v1_q4, res.u2_q4, res.v2_q4, res.d_pixel_q4, res.d_eff_q4,
+                res.dist_mm, res.dist_raw_mm, res.x_oc_mm, res.y_oc_mm, res.z_oc_mm]
+    if name == "spoke":
+        pts = [v for p in res.points_q4 for v in p]
+        return [res.u_c_q4, res.v_c_q4, res.slope_q12, res.angle_mrad, res.width_q4,
+                len(res.points_q4), *pts, *[0] * (20 - len(pts))]
+    return [*res.rgb, res.fill_permille]
+
+
+def _frame000(dets: dict):
+    """The detectors' results as the C task reads them: their out words through the C host's
+    glue (hostc/app_factory.c mg_frame000_of)."""
+    f = FFI.new("mg_frame000_t *")
+    keep = [FFI.new("int32_t[]", words000(n, dets[n])) if dets.get(n) is not None else FFI.NULL
+            for n in ("radial_symbol", "dual_plus", "spoke", "held_fill")]
+    C.mg_frame000_of(f, *keep)
+    return f
+
+
+def _c_step_inputs(inp: TaskInputs):
+    """The C's step inputs of a Python TaskInputs (and the frame it points to, kept alive)."""
+    c = FFI.new("mg_task_inputs_t *")
+    c.has_joints = inp.joints_mrad is not None
+    c.joints_mrad = list(inp.joints_mrad or (0,) * 6)
+    c.x_mm, c.y_mm, c.heading_mrad, c.v_mmps = inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps
+    c.n_sonar = len(inp.sonar_mm)
+    c.sonar_mm[0:len(inp.sonar_mm)] = list(inp.sonar_mm)
+    c.grasp_closed = inp.grasp_closed
+    frame = _frame000(inp.detections) if inp.detections else None
+    c.frame = frame if frame is not None else FFI.NULL
+    return c, frame
+
+
+ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the trace's
+
+
+def _detail_c(c) -> dict:
+    """The C step's detail: key -> its JSON text."""
+    assert c.notes_lost == 0
+    return {FFI.string(c.notes[i].key).decode(): FFI.string(C.mg_task_note_json(c, i)).decode()
+            for i in range(c.n_notes)}
+
+
+def recorded_steps(tmp_path, scenario: str) -> tuple[list, Task]:
+    """The Python task's steps in a shipped scenario run in process: (now, inputs, outputs),
+    and a fresh task with its parameters."""
+    from mobigrasp.services.run_job import RunOptions, execute
+    steps: list = []
+    tasks: list = []
+    orig = machine.Task.step
+
+    def recorded(task, now_us, inputs):
+        if not tasks:
+            tasks.append(Task(task.method, start_us=task.entered_us))
+            tasks[0].p = task.p
+        res = orig(task, now_us, inputs)
+        steps.append((now_us, inputs, res))
+        return res
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(machine.Task, "step", recorded)
+        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
+                                           out=tmp_path / "run", progress=False, plots=False))
+    assert code == 0 and summary["success"], summary
+    return steps, tasks[0]
+
+
+def replay_steps000(steps: list, fresh: Task) -> list:
+    """The recorded steps on the C task of 000 as the C program holds it (task_paper.h), its
+    plans by the board's planner on the run's parameters: every output compared, the charged
+    planning work too, and as the program reads them; the states passed through."""
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, fresh.entered_us) == 0
+    c = FFI.addressof(paper, "task")
+    _c_params(fresh, c)
+    _, ctx = _board_planner(fresh.p)
+    C.mg_method000_set_board_planner(c, ctx)
+    out, prog = FFI.new("mg_task_outputs_t *"), FFI.new("mg_task_output_t *")
+    states: list = []
+    for now, inp, res in steps:
+        cin, _frame_kept = _c_step_inputs(inp)
+        C.mg_task_step(c, now, cin, out)
+        C.mg_paper_outputs(paper, out, prog)
+        where = (now, res.state, res.detail)
+        assert _events(c) == res.events, where
+        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
+                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
+                                               res.gripper_permille, res.state), where
+        want = {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}
+        assert _detail_c(c) == want, where
+        assert {FFI.string(d.key).decode(): FFI.string(d.json).decode()
+                for d in prog.detail[0:prog.n_detail]} == want, where
+        assert bool(prog.detail_has_plan) == (res.detail.get("plan") is not None), where
+        assert hostc.ops_tuple(prog.ops) == res.ops.as_tuple(), where
+        assert (tuple(c.obj_mm) if c.has_obj else None) == fresh_obj(res, c), where
+        if not states or states[-1] != res.state:
+            states.append(res.state)
+    assert c.hist_overflow == 0 and paper.transitions_lost == 0
+    return states
+
+
+def fresh_obj(res, c):
+    """The C's estimate (the Python's is compared through the outputs it drives)."""
+    return tuple(c.obj_mm) if c.has_obj else None
+
+
+def test_replay_of_paper000_exp1_whole(tmp_path):
+    """Every step the Python task took in paper000-exp1, SEARCH to DONE, on the C task: the
+    frames' results through the C glue, the plan by the board's planner and its trace
+    detail, the hover over the nearer "+", the roll and the alignment on the spoke, the
+    grasp check on the brown body."""
+    steps, fresh = recorded_steps(tmp_path, "paper000-exp1")
+    states = replay_steps000(steps, fresh)
+    assert states[0] == "SEARCH" and states[-1] == "DONE"
+    assert {"APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT"} <= set(states)

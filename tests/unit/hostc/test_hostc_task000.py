@@ -798,3 +798,78 @@ def test_replay_of_paper000_exp1_whole(tmp_path):
     states = replay_steps000(steps, fresh)
     assert states[0] == "SEARCH" and states[-1] == "DONE"
     assert {"APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT"} <= set(states)
+
+
+SPOKE = registry.row("spoke").result_type()
+HELD = registry.row("held_fill").result_type()
+SPOKES = st.builds(lambda a, w, n: SPOKE(u_c_q4=160 * 16, v_c_q4=120 * 16,
+                                         points_q4=((1, 2),) * n, slope_q12=0, angle_mrad=a,
+                                         width_q4=w),
+                   st.integers(-800, 800) | st.sampled_from([0, 10, -20, 40]),
+                   st.integers(0, 60 * 16), st.integers(0, 10))
+BROWN = st.builds(lambda r, g, b, p: HELD(rgb=(r, g, b), fill_permille=p),
+                  st.integers(0, 255), st.integers(0, 255), st.integers(0, 255),
+                  st.integers(900, 1000)) | st.just(HELD(rgb=(170, 130, 90), fill_permille=1000))
+PAIRS = st.builds(lambda u, v, d, dist: _plus(u - d, v, u + d, v, dist), PX_U, PX_V,
+                  st.integers(0, 60 * 16), st.integers(50, 800))
+DETS000 = st.fixed_dictionaries({}, optional={
+    "radial_symbol": RADIALS.filter(lambda r: r is not None),
+    "dual_plus": PAIRS | PLUSES.filter(lambda p: p is not None), "spoke": SPOKES,
+    "held_fill": BROWN})
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]
+                       + ["ROUGH_GRASP"] * 3),
+       st.none() | st.tuples(st.integers(100, 900), st.integers(-300, 300))
+       | st.tuples(st.integers(200, 260), st.integers(-30, 30)), st.booleans(),
+       st.tuples(*[st.integers(-1500, 1500)] * 4),
+       st.lists(st.tuples(st.sampled_from([20_000, 60_000, 500_000, 1_100_000]),
+                          st.tuples(st.integers(-30, 30), st.integers(-30, 30),
+                                    st.integers(-200, 200)),
+                          st.booleans(), st.none() | DETS000), min_size=1, max_size=40))
+def test_steps_of_000_from_every_state(state, obj, graspable, joints, steps):
+    """From a state entered with an estimate (or none), steps with odometry that wanders, the
+    gripper flag and frames of 000's detectors (the radial symbol, dual "+" pairs, spokes,
+    the held fill): the same outputs, detail and charged planning work on both tasks."""
+    py = Task("000")
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
+    c = FFI.addressof(paper, "task")
+    _, ctx = _board_planner(py.p)
+    C.mg_method000_set_board_planner(c, ctx)
+    py.arm[2:6] = c.arm[2:6] = list(joints)
+    if obj is None and state not in ("SEARCH", "LOST"):
+        obj = (230, 10)  # these states are entered with an estimate (here in the grasp's reach)
+    if obj is not None:
+        py.obj = obj
+        c.has_obj, c.obj_mm = 1, list(obj)
+    py.graspable_seen = c.graspable_seen = graspable
+    if state != "SEARCH":
+        py.go(0, state, "test")
+        C.mg_task_go(c, 0, machine.STATES.index(state), b"test")
+    out = FFI.new("mg_task_outputs_t *")
+    now, x, y, h = 0, 0, 0, 0
+    for dt, (dx, dy, dh), closed, dets in steps:
+        now += dt
+        x, y, h = x + dx, y + dy, h + dh
+        inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, grasp_closed=closed,
+                         detections=dets or {})
+        res = py.step(now, inp)
+        cin, _frame_kept = _c_step_inputs(inp)
+        C.mg_task_step(c, now, cin, out)
+        where = (now, py.state, res.detail)
+        assert _events(c) == res.events, where
+        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
+                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
+                                               res.gripper_permille, res.state), where
+        assert _detail_c(c) == {k: ENCODER.encode(jsonable(v))
+                                for k, v in res.detail.items()}, where
+        assert hostc.ops_tuple(c.path.ops) == res.ops.as_tuple(), where
+        assert (tuple(c.obj_mm) if c.has_obj else None) == py.obj, where
+        assert (tuple(map(tuple, c.plus_odom_mm)) if c.has_plus_odom else None) == (
+            py.plus_odom), where
+        assert c.bad_detections == py.counters["bad_detections"], where
+    assert c.hist_overflow == 0

@@ -31,6 +31,9 @@ static void method000_init(void *state, const mg_config_t *cfg)
     mg_method000_set_board_planner(&s->paper.task, &s->planner);
 }
 
+/* every method's state fits the program's room for it */
+typedef char mg_method000_fits[sizeof(mg_method000_state_t) <= MG_TASK_STATE_BYTES ? 1 : -1];
+
 const mg_method_t mg_methods[] = {
     {"idle", sizeof(mg_task_idle_t), mg_task_idle_init, mg_task_idle_step, mg_task_idle_needed,
      NULL},

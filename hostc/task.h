@@ -9,7 +9,7 @@
 #include "app.h"
 #include "config.h"
 
-#define MG_TASK_STATE_BYTES 81920 /* the largest method state (000's task and planner) */
+#define MG_TASK_STATE_BYTES 65536 /* the largest method state (000: task and planner, 59 kB) */
 
 typedef struct {
     const char *method;

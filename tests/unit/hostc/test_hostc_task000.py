@@ -880,3 +880,25 @@ def test_replay_of_paper000_exp2_whole(tmp_path):
     """The same for paper000-exp2 (its longer search, 49.5 s simulated)."""
     steps, fresh = recorded_steps(tmp_path, "paper000-exp2")
     assert replay_steps000(steps, fresh)[-1] == "DONE"
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.tuples(NEAR, NEAR, st.integers(-3142, 3141), st.integers(-300, 300)),
+       st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)), st.integers(0, 1500),
+       st.fixed_dictionaries({}, optional={
+           "v0": st.sampled_from([0.05, 0.12, 0.2]), "a_max": st.sampled_from([0.01, 0.04]),
+           "r_min": st.sampled_from([0.1, 1.0]), "t_s": st.sampled_from([0.1, 0.3])}))
+def test_the_plan_s_trace_detail(xyhv, obj, standoff_mm, planner):
+    """The plan's detail in the trace (method000.py plan_follower): the candidates' and the
+    chosen curve's control points in m and s printed as Python prints the floats, the
+    counts, the reason and the plan's modelled time."""
+    py = Task("000", params={"approach_standoff_mm": standoff_mm, "planner": planner})
+    c = _c_task(py)
+    _, ctx = _board_planner(py.p)
+    C.mg_method000_set_board_planner(c, ctx)
+    start_approach(py, c, obj)
+    c.n_notes = 0
+    C.mg_method000_approach(c, 20_000, _inputs(xyhv), FFI.NULL)
+    pp = Params000(**{"standoff_m": standoff_mm / 1000, **planner})
+    _, _, detail = plan_follower(20_000, *xyhv, obj, pp)
+    assert _detail_c(c)["plan"] == ENCODER.encode(jsonable(detail))

@@ -21,6 +21,13 @@ from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
 from test_hostc_planning import _params000_c
 from test_hostc_task import recorded_run, recorder, replay_remember
+from test_hostc_task_states import (
+    _c_inputs,
+    _detail,
+    _recorded_steps,
+    _step_both,
+    enter_state,
+)
 
 from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
@@ -702,50 +709,11 @@ def _frame000(dets: dict):
 
 
 def _c_step_inputs(inp: TaskInputs):
-    """The C's step inputs of a Python TaskInputs (and the frame it points to, kept alive)."""
-    c = FFI.new("mg_task_inputs_t *")
-    c.has_joints = inp.joints_mrad is not None
-    c.joints_mrad = list(inp.joints_mrad or (0,) * 6)
-    c.x_mm, c.y_mm, c.heading_mrad, c.v_mmps = inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps
-    c.n_sonar = len(inp.sonar_mm)
-    c.sonar_mm[0:len(inp.sonar_mm)] = list(inp.sonar_mm)
-    c.grasp_closed = inp.grasp_closed
-    frame = _frame000(inp.detections) if inp.detections else None
-    c.frame = frame if frame is not None else FFI.NULL
-    return c, frame
+    """The C's step inputs of a Python TaskInputs, its frame through 000's glue."""
+    return _c_inputs(inp, _frame000)
 
 
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the trace's
-
-
-def _detail_c(c) -> dict:
-    """The C step's detail: key -> its JSON text."""
-    assert c.notes_lost == 0
-    return {FFI.string(c.notes[i].key).decode(): FFI.string(C.mg_task_note_json(c, i)).decode()
-            for i in range(c.n_notes)}
-
-
-def recorded_steps(tmp_path, scenario: str) -> tuple[list, Task]:
-    """The Python task's steps in a shipped scenario run in process: (now, inputs, outputs),
-    and a fresh task with its parameters."""
-    from mobigrasp.services.run_job import RunOptions, execute
-    steps: list = []
-    tasks: list = []
-    orig = machine.Task.step
-
-    def recorded(task, now_us, inputs):
-        if not tasks:
-            tasks.append(Task(task.method, start_us=task.entered_us))
-            tasks[0].p = task.p
-        res = orig(task, now_us, inputs)
-        steps.append((now_us, inputs, res))
-        return res
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(machine.Task, "step", recorded)
-        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
-                                           out=tmp_path / "run", progress=False, plots=False))
-    assert code == 0 and summary["success"], summary
-    return steps, tasks[0]
 
 
 def replay_steps000(steps: list, fresh: Task) -> list:
@@ -772,7 +740,7 @@ def replay_steps000(steps: list, fresh: Task) -> list:
                 machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
                                                res.gripper_permille, res.state), where
         want = {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}
-        assert _detail_c(c) == want, where
+        assert _detail(c) == want, where
         assert {FFI.string(d.key).decode(): FFI.string(d.json).decode()
                 for d in prog.detail[0:prog.n_detail]} == want, where
         assert bool(prog.detail_has_plan) == (res.detail.get("plan") is not None), where
@@ -794,7 +762,7 @@ def test_replay_of_paper000_exp1_whole(tmp_path):
     frames' results through the C glue, the plan by the board's planner and its trace
     detail, the hover over the nearer "+", the roll and the alignment on the spoke, the
     grasp check on the brown body."""
-    steps, fresh = recorded_steps(tmp_path, "paper000-exp1")
+    steps, fresh = _recorded_steps(tmp_path, "paper000-exp1")
     states = replay_steps000(steps, fresh)
     assert states[0] == "SEARCH" and states[-1] == "DONE"
     assert {"APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT"} <= set(states)
@@ -840,16 +808,8 @@ def test_steps_of_000_from_every_state(state, obj, graspable, joints, steps):
     c = FFI.addressof(paper, "task")
     _, ctx = _board_planner(py.p)
     C.mg_method000_set_board_planner(c, ctx)
-    py.arm[2:6] = c.arm[2:6] = list(joints)
-    if obj is None and state not in ("SEARCH", "LOST"):
-        obj = (230, 10)  # these states are entered with an estimate (here in the grasp's reach)
-    if obj is not None:
-        py.obj = obj
-        c.has_obj, c.obj_mm = 1, list(obj)
-    py.graspable_seen = c.graspable_seen = graspable
-    if state != "SEARCH":
-        py.go(0, state, "test")
-        C.mg_task_go(c, 0, machine.STATES.index(state), b"test")
+    # the states but SEARCH and LOST are entered with an estimate (by default in the reach)
+    enter_state(py, c, state, obj, graspable, joints, (230, 10), ("SEARCH", "LOST"))
     out = FFI.new("mg_task_outputs_t *")
     now, x, y, h = 0, 0, 0, 0
     for dt, (dx, dy, dh), closed, dets in steps:
@@ -857,28 +817,18 @@ def test_steps_of_000_from_every_state(state, obj, graspable, joints, steps):
         x, y, h = x + dx, y + dy, h + dh
         inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, grasp_closed=closed,
                          detections=dets or {})
-        res = py.step(now, inp)
-        cin, _frame_kept = _c_step_inputs(inp)
-        C.mg_task_step(c, now, cin, out)
+        res = _step_both(py, c, now, inp, out, _frame000)
         where = (now, py.state, res.detail)
-        assert _events(c) == res.events, where
-        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
-                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
-                                               res.gripper_permille, res.state), where
-        assert _detail_c(c) == {k: ENCODER.encode(jsonable(v))
-                                for k, v in res.detail.items()}, where
         assert hostc.ops_tuple(c.path.ops) == res.ops.as_tuple(), where
-        assert (tuple(c.obj_mm) if c.has_obj else None) == py.obj, where
         assert (tuple(map(tuple, c.plus_odom_mm)) if c.has_plus_odom else None) == (
             py.plus_odom), where
-        assert c.bad_detections == py.counters["bad_detections"], where
     assert c.hist_overflow == 0
 
 
 @pytest.mark.slow
 def test_replay_of_paper000_exp2_whole(tmp_path):
     """The same for paper000-exp2 (its longer search, 49.5 s simulated)."""
-    steps, fresh = recorded_steps(tmp_path, "paper000-exp2")
+    steps, fresh = _recorded_steps(tmp_path, "paper000-exp2")
     assert replay_steps000(steps, fresh)[-1] == "DONE"
 
 
@@ -901,4 +851,4 @@ def test_the_plan_s_trace_detail(xyhv, obj, standoff_mm, planner):
     C.mg_method000_approach(c, 20_000, _inputs(xyhv), FFI.NULL)
     pp = Params000(**{"standoff_m": standoff_mm / 1000, **planner})
     _, _, detail = plan_follower(20_000, *xyhv, obj, pp)
-    assert _detail_c(c)["plan"] == ENCODER.encode(jsonable(detail))
+    assert _detail(c)["plan"] == ENCODER.encode(jsonable(detail))

@@ -166,3 +166,22 @@ def test_replay_of_the_plans_of_paper001_sim2(tmp_path):
     """The same for paper001-sim2, where plans also find no feasible curve."""
     counts = _replay(_plans_of(tmp_path, "paper001-sim2"))
     assert counts.get(C.MG_PLAN001_OK, 0) >= 5 and counts.get(C.MG_PLAN001_NONE_FEASIBLE), counts
+
+
+def test_more_candidates_than_the_work_area_holds_are_refused():
+    """A budget that lets through more than MG_PLAN001_MAX_CAND candidates: the C plans none
+    and says so (the Python has no such limit); the shipped parameters stay far below it."""
+    params = Params001(expected_cost_fraction=0.0625, n_coarse_min=2)
+    out = FFI.new("mg_plan001_t *")
+    known = FFI.new("mg_region_t[1]")
+    C.mg_plan001(params_c(params), [0, 0], [3200, 0], 0, [60_000 * 16, 0], [65535] * 5, known,
+                 0, WORK, out)
+    assert out.status == C.MG_PLAN001_TOO_MANY and out.best < 0
+    assert plan_001((0, 0), (0.2, 0), 0.0, (60.0, 0.0), [65535] * 5, params).candidates
+    reason = FFI.new("char[200]")
+    C.mg_plan001_reason(out, reason, 200)
+    assert FFI.string(reason).decode() == "too many candidates for the C planner"
+    ok = FFI.new("mg_plan001_t *")
+    C.mg_plan001(params_c(Params001()), [0, 0], [3200, 0], 0, [60_000 * 16, 0], [65535] * 5,
+                 known, 0, WORK, ok)
+    assert ok.status != C.MG_PLAN001_TOO_MANY and 0 < ok.n_cand <= 4096  # MG_PLAN001_MAX_CAND

@@ -15,7 +15,7 @@ Files (in the corpus folder, beside ``corpus.json``):
 - ``planning/<scenario>/<k>.npz``: the candidate set of call k: control points ``ctrl``
   (N, 4, 3), ``reasons`` (codes of :data:`REASONS`), ``us``, ``endpoints``, ``cost``,
   ``length``, ``kint``, ``clearance``; for 001 also the regions of the plan (``regions``:
-  ox, oy, lo, hi, η, R_r, arc bound per row).
+  ox, oy (1/16 mm), lo, hi (µrad), η, R_r (1/16 mm), arc bound per row, integers).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import numpy as np
 
 from mobigrasp.host.planning import bezier_q
 
-FORMAT = "mobigrasp-planning/1"
+FORMAT = "mobigrasp-planning/2"  # 2: the regions in integers (1/16 mm, µrad)
 INDEX = "planning.json"
 FOLDER = "planning"
 # reason codes (the C kernels' codes too, hostc/bezier.h)

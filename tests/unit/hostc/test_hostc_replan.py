@@ -14,10 +14,12 @@ import numpy as np
 import pytest
 from hypothesis import event, given, settings
 from hypothesis import strategies as st
+from plan001_c import params_c
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import Trajectory
+from mobigrasp.host.planning.bezier001 import Params001
 from mobigrasp.host.planning.bezier_q import POS_PER_M, quantize_ctrl
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, sonar_q
@@ -225,8 +227,6 @@ def test_replay_of_paper001_sim2(tmp_path):
 
 def _board(rp: Replanner, base_v0: float):
     """The board's replanner (task_method001.c) with the replanner's parameters."""
-    from test_hostc_plan001 import params_c
-
     b = FFI.new("mg_board_replanner001_t *")
     b.params = params_c(rp.params)[0]
     b.cfg = _cfg(rp)[0]
@@ -321,3 +321,37 @@ def test_metres_in_two_decimals_as_python_prints_them(q4):
     buf = FFI.new("char[64]")
     C.mg_method001_text_m_2(buf, 64, 0, q4)
     assert FFI.string(buf).decode() == f"{q4 / POS_PER_M:.2f}"
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR, st.sampled_from([1, 2]),
+       st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),
+                min_size=1, max_size=3))
+def test_board_replanner_as_method001(target_mm, sonar0, v0_div, updates):
+    """method001.py's start_001 and update_001 against the board's replanner on drawn
+    sequences (the first plan slower by v0_div as a fallback step asks): the same paths,
+    decisions, reasons and modelled time."""
+    from mobigrasp.host.task.method001 import start_001, update_001
+
+    base = planner_params_001(TaskParams.for_method("001"))
+    params = Params001(**{**base.__dict__, "v0": base.v0 / v0_div})
+    rp, fol, ops, detail = start_001(0, 0, 0, 0, 200, target_mm, tuple(sonar0), params)
+    b = _board(rp, base.v0)
+    traj, o = FFI.new("mg_trajectory_t *"), FFI.new("mg_plan_outcome_t *")
+    inp = _inputs(*state_m(0, 0, 0, 200), sonar0)
+    C.mg_board_replanner001.start(b, 0, inp, list(target_mm), v0_div, traj, o)
+    assert (bool(o.has_path), FFI.string(o.reason).decode(), o.time_us) == (
+        fol is not None, detail["reason"], ops.time_us())
+    t_us = 0
+    for dt_us, (x_mm, y_mm, h_mrad, v_mmps), sonar, force in updates:
+        t_us += dt_us
+        dec, fol, ops = update_001(rp, t_us, x_mm, y_mm, h_mrad, v_mmps, tuple(sonar), force)
+        inp = _inputs(*state_m(x_mm, y_mm, h_mrad, v_mmps), sonar)
+        c_dec, c_ops = FFI.new("mg_replan001_t *"), FFI.new("mg_ops_t *")
+        C.mg_board_replanner001.update(b, t_us, inp, force, c_dec, traj, o, c_ops)
+        assert (c_dec.blocked, c_dec.replanned, c_dec.has_curve, c_dec.has_plan) == (
+            dec.blocked, dec.replanned, dec.curve is not None, dec.plan is not None)
+        assert FFI.string(o.reason).decode() == dec.reason
+        assert hostc.ops_tuple(c_ops[0]) == ops.as_tuple() and bool(o.has_path) == (
+            fol is not None)
+        event(dec.reason.split(":")[0].split(" ")[0])

@@ -64,8 +64,7 @@ class ApproachStates:
         cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
         t.wheels = rules.path_wheels(cmd)
         if cmd.done or dist <= t.p.grasp_r_mm + 100:
-            t.go(now, "ADJUST", f"path followed (error {cmd.error_mm} mm), object {dist} mm "
-                 f"from the waist")
+            rules.path_end(t, now, inp, cmd.error_mm, dist)
         elif rules.adjust_early(t, now, inp, dist):
             t.go(now, "ADJUST", f"object in view {dist} mm from the waist, nothing in the "
                  f"way: vision-based adjustment (000 §III.B) from here")
@@ -181,3 +180,9 @@ class PathMethod(Method):
     @abstractmethod
     def adjust_early(self, t: Any, now: int, inp: Any, dist_mm: int) -> bool:
         """Hand over to ADJUST before the path's end, the object ``dist_mm`` from the waist."""
+
+    def path_end(self, t: Any, now: int, inp: Any, error_mm: int, dist_mm: int) -> None:
+        """The path followed to its end (the follower's ``error_mm`` there) or the object
+        ``dist_mm`` from the waist: 000's vision-based adjustment (§III.B) from here."""
+        t.go(now, "ADJUST", f"path followed (error {error_mm} mm), object {dist_mm} mm "
+             f"from the waist")

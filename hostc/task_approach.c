@@ -222,19 +222,17 @@ void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     mg_task_look_at_object(t, in, 1);
     const int32_t dist = obj_dist_mm(t, in);
     const mg_wheel_command_t cmd = follow(t, now_us, in);
-    char why[MG_TASK_WHY];
-    if (cmd.done || dist <= t->p.grasp_r_mm + 100) {
-        size_t n = mg_task_text(why, sizeof why, 0, "path followed (error ");
-        n = mg_task_text_int(why, sizeof why, n, cmd.error_mm);
-        n = mg_task_text(why, sizeof why, n, " mm), object ");
-        n = mg_task_text_int(why, sizeof why, n, dist);
-        mg_task_text(why, sizeof why, n, " mm from the waist");
-        mg_task_go(t, now_us, MG_ADJUST, why);
-    } else if (rules->adjust_early(t, now_us, in, dist)) {
-        size_t n = mg_task_text(why, sizeof why, 0, "object in view ");
-        n = mg_task_text_int(why, sizeof why, n, dist);
-        mg_task_text(why, sizeof why, n, " mm from the waist, nothing in the way: "
-                     "vision-based adjustment (000 \xc2\xa7III.B) from here");
-        mg_task_go(t, now_us, MG_ADJUST, why);
-    }
+    if (cmd.done || dist <= t->p.grasp_r_mm + 100)
+        rules->path_end(t, now_us, in, cmd.error_mm, dist);
+}
+
+void mg_task_path_end_why(char *why, size_t size, const char *prefix, int32_t error_mm,
+                          int32_t dist_mm)
+{
+    size_t n = mg_task_text(why, size, 0, prefix);
+    n = mg_task_text(why, size, n, "path followed (error ");
+    n = mg_task_text_int(why, size, n, error_mm);
+    n = mg_task_text(why, size, n, " mm), object ");
+    n = mg_task_text_int(why, size, n, dist_mm);
+    mg_task_text(why, size, n, " mm from the waist");
 }

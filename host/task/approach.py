@@ -2,7 +2,8 @@
 
 000 / 001 follow the best Bezier path (host.planning, host.control.path_follow) while the
 posture adjustment (host.posture, eq. (10) of 000) keeps the object in view from the odometry
-estimate; ADJUST takes over near the object. The planner and what the sonars add (001's
+estimate; at the path's end (or near the object) ADJUST takes over (000), or the grasp from the
+grasp circle (001, method001.py ``path_end``). The planner and what the sonars add (001's
 replanning of §III.E, its detours) are the method's (:class:`PathMethod`, method000.py and
 method001.py); 002 approaches with its fuzzy controller instead (method002.py). Each handler
 takes the task ``t`` first.
@@ -65,9 +66,6 @@ class ApproachStates:
         t.wheels = rules.path_wheels(cmd)
         if cmd.done or dist <= t.p.grasp_r_mm + 100:
             rules.path_end(t, now, inp, cmd.error_mm, dist)
-        elif rules.adjust_early(t, now, inp, dist):
-            t.go(now, "ADJUST", f"object in view {dist} mm from the waist, nothing in the "
-                 f"way: vision-based adjustment (000 §III.B) from here")
 
     def _plan_slice(self, t, now: int, inp) -> bool:
         """Charge this step's slice of the plan being made; True once it is done (its path
@@ -177,12 +175,12 @@ class PathMethod(Method):
     def path_wheels(self, cmd: Any) -> tuple[int, int]:
         """Wheel speeds from the path follower's command."""
 
-    @abstractmethod
-    def adjust_early(self, t: Any, now: int, inp: Any, dist_mm: int) -> bool:
-        """Hand over to ADJUST before the path's end, the object ``dist_mm`` from the waist."""
-
     def path_end(self, t: Any, now: int, inp: Any, error_mm: int, dist_mm: int) -> None:
         """The path followed to its end (the follower's ``error_mm`` there) or the object
         ``dist_mm`` from the waist: 000's vision-based adjustment (§III.B) from here."""
-        t.go(now, "ADJUST", f"path followed (error {error_mm} mm), object {dist_mm} mm "
-             f"from the waist")
+        t.go(now, "ADJUST", path_end_why(error_mm, dist_mm))
+
+
+def path_end_why(error_mm: int, dist_mm: int) -> str:
+    """The reason of APPROACH's transition at the path's end."""
+    return f"path followed (error {error_mm} mm), object {dist_mm} mm from the waist"

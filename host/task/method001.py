@@ -29,6 +29,7 @@ from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.search import SearchParams
+from mobigrasp.host.task.approach import path_end_why
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad
@@ -424,10 +425,6 @@ class Method001(Method000):
             return -turn, turn
         return cmd.left_mm_s, cmd.right_mm_s
 
-    def adjust_early(self, t: Task, now: int, inp: TaskInputs, dist: int) -> bool:
-        """The curve is followed to its end on the grasp circle (001 §III.E)."""
-        return False
-
     def path_end(self, t: Task, now: int, inp: TaskInputs, error_mm: int, dist_mm: int
                  ) -> None:
         """On the grasp circle (001 §III.B.1, eqs. (5)-(6), l_e for the object's grasp
@@ -440,8 +437,7 @@ class Method001(Method000):
                              "error_mm": axle_mm - l_e_mm, "path_error_mm": error_mm,
                              "waist_mm": dist_mm})
         t.ms.circle_expected = t.obj
-        t.go(now, "ROUGH_GRASP", f"on the grasp circle: path followed (error {error_mm} mm), "
-             f"object {dist_mm} mm from the waist")
+        t.go(now, "ROUGH_GRASP", "on the grasp circle: " + path_end_why(error_mm, dist_mm))
 
     def look_decides(self, t: Task, now: int, inp: TaskInputs) -> bool:
         """After the look from the grasp circle: the object seen (dual "+", never its absence)
@@ -516,7 +512,7 @@ class Method001(Method000):
         safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
         plan is followed further before one is made from the fresh ranges. The object's own
         echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
-        does not count: APPROACH hands the object to ADJUST at arm's length. In APPROACH the
+        does not count: APPROACH ends with the object at arm's length. In APPROACH the
         base then turns in place toward the widest free sector and drives ``GUARD_OUT_MM``
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the

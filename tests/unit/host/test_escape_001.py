@@ -135,7 +135,6 @@ def _on_the_circle(obj_off_mm: int = 0):
     assert task.state == "APPROACH" and task.ms.replanner is not None
     now = 1_000_000
     at = TaskInputs(x_mm=1500 - 310, sonar_mm=clear)  # the axle 310 mm from the object
-    assert not task.rules.adjust_early(task, now, at, 600)  # the curve is followed to its end
     task.rules.path_end(task, now, at, 3, 210)
     assert task.state == "ROUGH_GRASP"
     circle = task._detail["grasp_circle"]

@@ -222,7 +222,7 @@ void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     mg_task_look_at_object(t, in, 1);
     const int32_t dist = obj_dist_mm(t, in);
     const mg_wheel_command_t cmd = follow(t, now_us, in);
-    if (cmd.done || dist <= t->p.grasp_r_mm + 100)
+    if (cmd.done || dist <= t->p.grasp_r_mm + rules->near_margin_mm)
         rules->path_end(t, now_us, in, cmd.error_mm, dist);
 }
 

@@ -42,6 +42,8 @@ typedef struct mg_path_method {
      * from the waist: the transition (000: ADJUST; 001: ROUGH_GRASP on its grasp circle) */
     void (*path_end)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, int32_t error_mm,
                      int32_t dist_mm);
+    /* the path ends early with the object this much beyond ADJUST's goal (grasp_r_mm) */
+    int32_t near_margin_mm;
 } mg_path_method_t;
 
 /* approach.py path_end_why: the reason of the transition at the path's end after prefix, into

@@ -226,4 +226,4 @@ static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, i
 
 const mg_path_method_t mg_path000 = {plan, NULL, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     path_end};
+                                     path_end, 100};

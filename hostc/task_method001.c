@@ -214,7 +214,8 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
     wheels[1] = cmd->right_mm_s;
 }
 
-/* On the grasp circle (section III.B.1, eqs. (5)-(6)): ROUGH_GRASP looks back at the object
+/* On the grasp circle (section III.B.1, eqs. (5)-(6); the curve is cut short only with the
+ * object at ADJUST's goal, near_margin_mm 0): ROUGH_GRASP looks back at the object
  * with the base still and grasps by eq. (11) of 000 when the look confirms it where the base
  * expected it (method001.py look_decides; the trace's grasp_circle note of the arrival's error
  * is the Python's: l_e is the planner's, not yet in C). */
@@ -233,4 +234,4 @@ static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, i
 
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     path_end};
+                                     path_end, 0};

@@ -64,7 +64,7 @@ class ApproachStates:
         dist = isqrt(x * x + y * y) // 16
         cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
         t.wheels = rules.path_wheels(cmd)
-        if cmd.done or dist <= t.p.grasp_r_mm + 100:
+        if cmd.done or dist <= t.p.grasp_r_mm + rules.near_margin_mm:
             rules.path_end(t, now, inp, cmd.error_mm, dist)
 
     def _plan_slice(self, t, now: int, inp) -> bool:
@@ -134,6 +134,9 @@ PATH = ApproachStates()
 class PathMethod(Method):
     """A method whose APPROACH follows a planned path (000, 001): the hooks of
     :meth:`ApproachStates.follow_path`."""
+
+    # the path ends early with the object this much beyond ADJUST's goal (``grasp_r_mm``)
+    near_margin_mm = 100
 
     def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
         PATH.follow_path(t, now, inp, dets)

@@ -195,6 +195,7 @@ class State001(MethodState):
     detour_side: int = 0  # +1: the detours go round left of the object's bearing, -1 right
     # arrived on the grasp circle: the estimate the look before the grasp is to confirm
     circle_expected: tuple[int, int] | None = None
+    circle_l_e_mm: int = 0  # ... and the circle's radius l_e
     ik_grasp: bool = False  # PRECISE_GRASP goes down by eq. (11), no spoke alignment
 
 
@@ -425,6 +426,10 @@ class Method001(Method000):
             return -turn, turn
         return cmd.left_mm_s, cmd.right_mm_s
 
+    # the curve ends on the grasp circle, the object ~l_e - mount_forward_mm (~206 mm) ahead of
+    # the waist: cut short only with the object already at ADJUST's goal
+    near_margin_mm = 0
+
     def path_end(self, t: Task, now: int, inp: TaskInputs, error_mm: int, dist_mm: int
                  ) -> None:
         """On the grasp circle (001 §III.B.1, eqs. (5)-(6), l_e for the object's grasp
@@ -436,7 +441,7 @@ class Method001(Method000):
         t.note(grasp_circle={"l_e_mm": l_e_mm, "axle_mm": axle_mm,
                              "error_mm": axle_mm - l_e_mm, "path_error_mm": error_mm,
                              "waist_mm": dist_mm})
-        t.ms.circle_expected = t.obj
+        t.ms.circle_expected, t.ms.circle_l_e_mm = t.obj, l_e_mm
         t.go(now, "ROUGH_GRASP", "on the grasp circle: " + path_end_why(error_mm, dist_mm))
 
     def look_decides(self, t: Task, now: int, inp: TaskInputs) -> bool:
@@ -468,8 +473,11 @@ class Method001(Method000):
                 why = f"grasp point out of reach: {down.reason}"
             elif not isinstance(pre, kinematics.ArmPose):
                 why = "no reachable pose above the grasp point"
+        # the arrival's error as the look sees it: the axle's distance from the sighted object
+        # less l_e (the base stood still since the arrival)
+        axle_mm = isqrt((t.obj[0] - inp.x_mm) ** 2 + (t.obj[1] - inp.y_mm) ** 2)
         t.note(circle_look={"frames": t.sight_frames, "off_mm": off_mm,
-                            "confirmed": why is None})
+                            "error_mm": axle_mm - t.ms.circle_l_e_mm, "confirmed": why is None})
         if why is None:
             t.ms.ik_grasp = True
             t.grasp_xy_q4 = grasp[:2]

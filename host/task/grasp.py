@@ -6,7 +6,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
 - ROUGH_GRASP (000 §III.C.1): the gripper above the object top by ``hover_mm``, pitched
   alpha_T = -pi/2, by eq. (11) of 000 (host.kinematics).  001 (``Method.sight_views``) first
   looks back at the top with the base standing still and grasps on that sighting (ours,
-  docs/task.md): its ADJUST ends on odometry.  002: the pre-grasp point
+  docs/task.md): its ADJUST ends on odometry. Arrived on its grasp circle, 001 decides after
+  the look (``Method.look_decides``): the grasp by eq. (11) straight from there when the look
+  confirms the object, else ADJUST.  002: the pre-grasp point
   ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
   eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits);
   first the base drives the object into the reach where the grasp itself is level

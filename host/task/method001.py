@@ -495,8 +495,10 @@ class Method001(Method000):
 
     def enter_precise(self, t: Task, now: int, inp: TaskInputs) -> None:
         """After the confirmed look from the grasp circle, straight down to the grasp point
-        and close (eq. (11) of 000, no spoke alignment); else 000's precise grasp."""
+        and close (eq. (11) of 000, no spoke alignment); else 000's precise grasp (and a look
+        from the circle that never came, no view being reachable, is not waited for)."""
         if not t.ms.ik_grasp:
+            t.ms.circle_expected = None
             super().enter_precise(t, now, inp)
             return
         t.ms.ik_grasp = False

@@ -449,8 +449,9 @@ class Method001(Method000):
         within ``CIRCLE_CONFIRM_MM`` of where the base expected it, and its grasp point
         reachable by eq. (11) of 000 (gripper down) from here: the gripper goes above the
         grasp point, then down and closes (PRECISE_GRASP, ``grasp_close`` "ik"); the grasp
-        check of LIFT decides. Else 000's ADJUST and precise grasp from here; an object the
-        camera never saw is searched for, as after any look (grasp.py)."""
+        check of LIFT decides. Else 000's ADJUST and precise grasp from here, as before the
+        grasp from the circle (an object the camera never saw is then searched for after
+        ADJUST's look, grasp.py)."""
         expected = t.ms.circle_expected
         if expected is None:
             return False
@@ -487,8 +488,6 @@ class Method001(Method000):
             t.note(ik_pre_pose_mrad=[pre.theta2_mrad, pre.theta3_mrad, pre.theta4_mrad,
                                      pre.theta5_mrad])
             return True
-        if not t.sight_frames and not t.object_sighted:
-            return False
         t.go(now, "ADJUST", f"the look from the grasp circle did not confirm the object "
              f"({why}): vision-based adjustment and precise grasp")
         return True

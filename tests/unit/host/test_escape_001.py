@@ -175,10 +175,11 @@ def test_001_does_not_grasp_from_its_circle_on_a_look_that_did_not_confirm_the_o
     task.sight_frames, task.object_sighted = 0, True
     assert task.rules.look_decides(task, now, at)
     assert task.state == "ADJUST" and not task.ms.ik_grasp
-    # never seen by the camera: the common rule (a search, grasp.py)
+    # never seen by the camera: ADJUST too (its look then searches, grasp.py)
     task, now, at = _on_the_circle()
     task.sight_frames, task.object_sighted = 0, False
-    assert not task.rules.look_decides(task, now, at)
+    assert task.rules.look_decides(task, now, at)
+    assert task.state == "ADJUST" and not task.ms.ik_grasp
     assert task.ms.circle_expected is None  # the next look is not the circle's
     assert not task.rules.look_decides(task, now, at)
 

@@ -8,7 +8,6 @@
 #ifndef MOBIGRASP_HOSTC_TASK_APPROACH_H
 #define MOBIGRASP_HOSTC_TASK_APPROACH_H
 
-#include <stddef.h>
 #include <stdint.h>
 
 #include "path_follow.h"
@@ -38,18 +37,13 @@ typedef struct mg_path_method {
     int (*start_detour)(mg_task_t *t, const mg_task_inputs_t *in);
     /* the wheels from the follower's command */
     void (*path_wheels)(const mg_wheel_command_t *cmd, int32_t wheels[2]);
-    /* the path followed to its end (the follower's error_mm there) or the object dist_mm
-     * from the waist: the transition (000: ADJUST; 001: ROUGH_GRASP on its grasp circle) */
-    void (*path_end)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, int32_t error_mm,
-                     int32_t dist_mm);
+    /* the path followed to its end, the object near or no path needed, for the reason why:
+     * the transition (000: ADJUST; 001: ROUGH_GRASP on its grasp circle) */
+    void (*path_end)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why);
     /* the path ends early with the object this much beyond ADJUST's goal (grasp_r_mm) */
     int32_t near_margin_mm;
 } mg_path_method_t;
 
-/* approach.py path_end_why: the reason of the transition at the path's end after prefix, into
- * why (size bytes) */
-void mg_task_path_end_why(char *why, size_t size, const char *prefix, int32_t error_mm,
-                          int32_t dist_mm);
 
 /* APPROACH's common entry (approach.py enter_APPROACH before the method's): no path, no
  * attempts, no plan being charged */

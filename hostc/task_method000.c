@@ -215,12 +215,9 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
 }
 
 /* 000's vision-based adjustment (section III.B) from here */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, int32_t error_mm,
-                     int32_t dist_mm)
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
 {
-    char why[MG_TASK_WHY];
     (void)in;
-    mg_task_path_end_why(why, sizeof why, "", error_mm, dist_mm);
     mg_task_go(t, now_us, MG_ADJUST, why);
 }
 

@@ -219,17 +219,17 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
  * with the base still and grasps by eq. (11) of 000 when the look confirms it where the base
  * expected it (method001.py look_decides; the trace's grasp_circle note of the arrival's error
  * is the Python's: l_e is the planner's, not yet in C). */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, int32_t error_mm,
-                     int32_t dist_mm)
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
 {
     mg_state001_t *ms = ms001(t);
-    char why[MG_TASK_WHY];
+    char text[MG_TASK_WHY];
     (void)in;
     ms->has_circle_expected = 1;
     ms->circle_expected_mm[0] = t->obj_mm[0];
     ms->circle_expected_mm[1] = t->obj_mm[1];
-    mg_task_path_end_why(why, sizeof why, "on the grasp circle: ", error_mm, dist_mm);
-    mg_task_go(t, now_us, MG_ROUGH_GRASP, why);
+    const size_t n = mg_task_text(text, sizeof text, 0, "on the grasp circle: ");
+    mg_task_text(text, sizeof text, n, why);
+    mg_task_go(t, now_us, MG_ROUGH_GRASP, text);
 }
 
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,

@@ -65,7 +65,7 @@ class ApproachStates:
         cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
         t.wheels = rules.path_wheels(cmd)
         if cmd.done or dist <= t.p.grasp_r_mm + rules.near_margin_mm:
-            rules.path_end(t, now, inp, cmd.error_mm, dist)
+            rules.path_end(t, now, inp, path_end_why(cmd.error_mm, dist), cmd.error_mm)
 
     def _plan_slice(self, t, now: int, inp) -> bool:
         """Charge this step's slice of the plan being made; True once it is done (its path
@@ -101,7 +101,7 @@ class ApproachStates:
         detour, or a failure."""
         rules = t.rules
         if "already" in detail["reason"]:
-            t.go(now, "ADJUST", f"no path needed: {detail['reason']}")
+            rules.path_end(t, now, inp, f"no path needed: {detail['reason']}", None)
             return
         t.plan_attempts += 1
         if t.plan_attempts >= t.p.max_plan_attempts:
@@ -178,10 +178,11 @@ class PathMethod(Method):
     def path_wheels(self, cmd: Any) -> tuple[int, int]:
         """Wheel speeds from the path follower's command."""
 
-    def path_end(self, t: Any, now: int, inp: Any, error_mm: int, dist_mm: int) -> None:
-        """The path followed to its end (the follower's ``error_mm`` there) or the object
-        ``dist_mm`` from the waist: 000's vision-based adjustment (§III.B) from here."""
-        t.go(now, "ADJUST", path_end_why(error_mm, dist_mm))
+    def path_end(self, t: Any, now: int, inp: Any, why: str, error_mm: int | None) -> None:
+        """The path followed to its end (the follower's ``error_mm`` there), the object near,
+        or no path needed (``error_mm`` None), for the reason ``why``: 000's vision-based
+        adjustment (§III.B) from here."""
+        t.go(now, "ADJUST", why)
 
 
 def path_end_why(error_mm: int, dist_mm: int) -> str:

@@ -29,7 +29,6 @@ from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.search import SearchParams
-from mobigrasp.host.task.approach import path_end_why
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad
@@ -430,19 +429,21 @@ class Method001(Method000):
     # the waist: cut short only with the object already at ADJUST's goal
     near_margin_mm = 0
 
-    def path_end(self, t: Task, now: int, inp: TaskInputs, error_mm: int, dist_mm: int
+    def path_end(self, t: Task, now: int, inp: TaskInputs, why: str, error_mm: int | None
                  ) -> None:
         """On the grasp circle (001 §III.B.1, eqs. (5)-(6), l_e for the object's grasp
         height): the base stops, ROUGH_GRASP looks back at the object and grasps by eq. (11)
         when the look confirms it (:meth:`look_decides`). The arrival's error, the axle's
-        distance from the estimate less l_e, goes in the trace (``grasp_circle``)."""
+        distance from the estimate less l_e, goes in the trace (``grasp_circle``; a start
+        already on the circle has no path and no ``path_error_mm``)."""
         l_e_mm = int(round(grasp_radius(planner_params_001(t.p).arm).l_e_m * 1000))
         axle_mm = isqrt((t.obj[0] - inp.x_mm) ** 2 + (t.obj[1] - inp.y_mm) ** 2)
+        x, y = t.obj_platform(inp)
         t.note(grasp_circle={"l_e_mm": l_e_mm, "axle_mm": axle_mm,
                              "error_mm": axle_mm - l_e_mm, "path_error_mm": error_mm,
-                             "waist_mm": dist_mm})
+                             "waist_mm": isqrt(x * x + y * y) // 16})
         t.ms.circle_expected, t.ms.circle_l_e_mm = t.obj, l_e_mm
-        t.go(now, "ROUGH_GRASP", "on the grasp circle: " + path_end_why(error_mm, dist_mm))
+        t.go(now, "ROUGH_GRASP", "on the grasp circle: " + why)
 
     def look_decides(self, t: Task, now: int, inp: TaskInputs) -> bool:
         """After the look from the grasp circle: the object seen (dual "+", never its absence)

@@ -135,10 +135,11 @@ def _on_the_circle(obj_off_mm: int = 0):
     assert task.state == "APPROACH" and task.ms.replanner is not None
     now = 1_000_000
     at = TaskInputs(x_mm=1500 - 310, sonar_mm=clear)  # the axle 310 mm from the object
-    task.rules.path_end(task, now, at, 3, 210)
+    task.rules.path_end(task, now, at, "path followed", 3)
     assert task.state == "ROUGH_GRASP"
     circle = task._detail["grasp_circle"]
     assert circle["axle_mm"] == 310 and circle["error_mm"] == 310 - circle["l_e_mm"]
+    assert circle["path_error_mm"] == 3 and circle["waist_mm"] == 210
     assert 280 <= circle["l_e_mm"] <= 330  # eqs. (5)-(6) for the 80 mm grasp height
     assert task.ms.circle_expected == (1500, 0)
     task.obj = (1500 + obj_off_mm, 0)
@@ -195,3 +196,18 @@ def test_a_detour_keeps_to_the_side_of_the_first_one():
     assert right == free
     assert left is not None and left > -0.05  # kept left although the right is nearer
     assert abs(left + 0.05) > abs(free + 0.05)
+
+
+def test_001_started_on_its_grasp_circle_grasps_from_there():
+    """No path needed (the base starts on the grasp circle): the look and the grasp from the
+    circle as after a path, not 000's ADJUST."""
+    from mobigrasp.host.task import Task
+
+    task = Task("001", {"object_xy_mm": [300, 0], "sonar_sweep_us": 0})
+    clear = (2500,) * 5
+    for now in range(0, 200_000, 20_000):
+        task.step(now, TaskInputs(sonar_mm=clear))
+        if task.state != "APPROACH" and now:
+            break
+    assert task.state == "ROUGH_GRASP"
+    assert task.ms.circle_expected == (300, 0)

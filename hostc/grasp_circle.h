@@ -12,6 +12,8 @@
 int mg_end_points_q(const int64_t object_q4[2], int64_t l_e_q4, int32_t n_e, int64_t *ends_q4,
                     int32_t *dirs_q14);
 
+#define MG_GRASP_GRID_STEPS 180 /* grasp_circle.py GRID_STEPS: 1 degree */
+
 /* eq. (5) of 001 (host/planning/grasp_circle.py grasp_radius_um): l_m, l_n in um, the largest
  * and least reach l >= 0 at height h_e over (theta2, theta3) on a (steps + 1)^2 grid on
  * [-pi/2, pi/2], theta1 from h = h_e (its two roots) kept in [0, pi]; returns -1 (nothing

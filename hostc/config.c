@@ -565,6 +565,24 @@ void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_par
     *v_limit_mm_s = (int32_t)div_even(v_max, E9 / 1000);
 }
 
+void mg_config_replanner001(const mg_config_t *c, const mg_task_params_t *p,
+                            mg_board_replanner001_t *b)
+{
+    mg_config_t dflt;
+    const int64_t v0 = param(given_or_default(c, "001", &dflt), schema_of("001"), "v0");
+    mg_config_params001(c, p, &b->params, &b->v_limit_mm_s);
+    b->cfg.sonar = b->params.sonar;
+    b->cfg.target_q4[0] = b->cfg.target_q4[1] = 0;
+    b->cfg.echo_tol_q4 = b->params.echo_tol_q4;
+    b->cfg.memory = 16;
+    b->cfg.check_samples = 32;
+    b->cfg.n_levels = 2;          /* slow_factors (1.0, 0.5) */
+    b->cfg.keep_going_q4 = 19200; /* keep_going_m 1.2 */
+    for (int32_t i = 0; i < MG_REPLAN_LEVELS; i++)
+        b->level_v0_mm_s[i] = (int32_t)div_even(v0, (E9 / 1000) << (i < 1 ? i : 1));
+    b->v0_div = 1;
+}
+
 void mg_config_set_method(mg_config_t *c, const char *method)
 {
     const schema_t *from = schema_of(c->method), *to = schema_of(method);

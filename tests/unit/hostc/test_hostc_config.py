@@ -17,11 +17,13 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from plan001_c import params_c
 from test_hostc_planning import _params000_c
+from test_hostc_replan import _board
 from test_hostc_task000 import _c_task
 
 from mobigrasp import hostc
 from mobigrasp.host.app_factory import task_params
 from mobigrasp.host.planning.bezier000 import Params000
+from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task import REGISTRY, Task, method_rules
 from mobigrasp.host.task.method001 import planner_params_001
@@ -105,6 +107,12 @@ def _same_task_params(cfg: dict) -> None:
         pp = planner_params_001(py.p)
         assert _plain(pl[0]) == _plain(params_c(pp)[0])
         assert v_limit[0] == int(round(pp.v_max * 1000))
+        b = FFI.new("mg_board_replanner001_t *")
+        C.mg_config_replanner001(c, p, b)
+        want_b = _board(Replanner((0.0, 0.0), pp), pp.v0)
+        for f in ("params", "cfg", "v_limit_mm_s"):
+            assert _plain(getattr(b, f)) == _plain(getattr(want_b, f)), f
+        assert list(b.level_v0_mm_s)[:2] == list(want_b.level_v0_mm_s)[:2]
 
 
 @pytest.mark.parametrize("name", ["paper000-exp1", "paper000-exp2", "paper001-sim1",

@@ -72,8 +72,8 @@ static const order_t ORDER_000[] = {{"theta2_min", "theta2_max", 10000000},
                                     {"theta5_min", "theta5_max", 10000000},
                                     {"w_min", "w_max", 0},
                                     {"v0_mps", "vmax_mps", 0}};
-/* host/task/method001.py: its planner's (Vmax, Amax, n_e, v0, T_s, k1, k2, T_D) are read by
- * 001's planner, not in the C yet; D_e by its sonar regions */
+/* host/task/method001.py: its planner's (Vmax, Amax, n_e, v0, T_s, k1, k2, T_D) and the sonar
+ * range D_e go to Params001 (mg_config_params001) */
 static const param_t PARAMS_001[] = {
     {"Vmax", 0, 400000000, 10000000, 1 * E9, TO_NONE, 0},
     {"Amax", 0, 100000000, 1000000, 2 * E9, TO_NONE, 0},

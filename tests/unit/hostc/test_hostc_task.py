@@ -485,8 +485,33 @@ def _frame002(dets: dict | None):
                           st.tuples(NEAR, NEAR, st.integers(-3142, 3141))), max_size=30))
 def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
     """APPROACH of 002 step by step: the fuzzy controller on e (eqs. (1), (2) of 002), the
-    waist toward what it steers on, the estimate, the blind drive on, ADJUST and LOST."""
+    waist toward what it steers on, the estimate, the blind drive on, the back-off from a
+    cylinder cut by the frame's border, ADJUST and LOST."""
+    _approach_both(e0, dpx0, steps)
+
+
+def test_the_back_off_of_002_from_a_cut_cylinder():
+    """The cylinder's colour ROI cut by the frame's left border, its rings not measured, the
+    estimate 200 mm from the waist: C and Python back off alike, stop, look again."""
+    cut = {"double_cross": None, "red_cylinder": None, "red_roi": ROI.result_type()(
+        u_c_q4=16 * 35, v_c_q4=16 * 150, roi=(0, 60, 70, 180), area_px=9000,
+        touches_edge=False)}
+    whole = {**cut, "red_roi": ROI.result_type()(u_c_q4=16 * 150, v_c_q4=16 * 120,
+                                                 roi=(120, 60, 60, 120), area_px=6000,
+                                                 touches_edge=False)}
+    steps = [(20_000, cut, (-k * 6, 0, 0)) for k in range(26)] + [
+        (20_000, None, (-150, 0, 0)), (40_000, whole, (-150, 0, 0)),
+        (40_000, whole, (-150, 0, 0))]
+    py = _approach_both(0, None, steps, obj=(200 + Task("002").p.mount_forward_mm, 0))
+    assert py.ms.back_offs == 1 and py.ms.back_off is None and py.state == "ADJUST"
+
+
+def _approach_both(e0, dpx0, steps, obj=None):
+    """APPROACH of 002 on both (the search's sighting e0, dpx0; the object estimate obj, mm
+    in the odometry frame, or none), step by step, every output compared; the Python task."""
     py, c = Task("002"), _c_task()
+    if obj is not None:
+        py.obj, c.has_obj, c.obj_mm = obj, 1, obj
     rules = Method002()
     py.ms.e_mrad, py.ms.e_dpx = e0, dpx0
     ms = _ms(c)
@@ -517,6 +542,7 @@ def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
             break
         py.remember(now, inp)
         C.mg_task_remember(c, now, *xyh)
+    return py
 
 
 @SETTINGS

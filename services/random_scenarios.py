@@ -220,7 +220,8 @@ def _post_clearance_m(heading: float, places: list[tuple[float, float]]) -> floa
     bx, by = BOARD_POST_BEHIND_M * math.cos(heading), BOARD_POST_BEHIND_M * math.sin(heading)
     posts = [(x - bx, y - by) for x, y in places]
     least = min(math.hypot(x, y) for x, y in posts)
-    for (x0, y0), (x1, y1) in zip(posts[1:], posts[2:]):  # the drag: nearest point of a segment
+    # the drag: the nearest point of its segment (the second and third place)
+    for (x0, y0), (x1, y1) in zip(posts[1:-1], posts[2:], strict=True):
         dx, dy = x1 - x0, y1 - y0
         k = max(0.0, min(1.0, -(x0 * dx + y0 * dy) / max(dx * dx + dy * dy, 1e-12)))
         least = min(least, math.hypot(x0 + k * dx, y0 + k * dy))

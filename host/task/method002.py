@@ -272,8 +272,9 @@ class Method002(Method):
         """The estimate would start ADJUST ``dist_mm`` from the waist, within
         BACK_OFF_WITHIN_MM beyond the grasp's reach, while the last frame showed the cylinder
         cut by the frame's border, its rings not measured: too close to be seen whole (or off
-        the estimate's bearing), ADJUST would close in on an estimate the rings never confirm. Back straight off BACK_OFF_002_MM instead
-        (at most BACK_OFFS_002 times) and look again; True when it does."""
+        the estimate's bearing), ADJUST would close in on an estimate the rings never confirm.
+        Back straight off BACK_OFF_002_MM instead (at most BACK_OFFS_002 times) and look
+        again; True when it does."""
         if not t.ms.cut or t.ms.back_offs >= BACK_OFFS_002 \
                 or dist_mm > t.p.grasp_r_mm + BACK_OFF_WITHIN_MM:
             return False

@@ -12,8 +12,9 @@ goes to the pre-grasp point with the gripper level by eq. (4) on the §4 positio
 cylinder (:meth:`Method002.object_position`), PRECISE_GRASP moves in to the axis and closes;
 the grasp check of LIFT looks for the red cylinder still standing. Ours, not 002's: steering
 on the cylinder without the board, the blind drive on toward the last bearing for a while
-when a frame misses what was steered on, and the end of the approach when the crosses, big in
-view, place the cylinder near.
+when a frame misses what was steered on, the end of the approach when the crosses, big in
+view, place the cylinder near, and the back-off when the cylinder is then cut by the frame's
+border (docs/task.md, "Close starts").
 """
 
 from __future__ import annotations

@@ -1,0 +1,47 @@
+/* The host program as the calibration replays it (calib_program.h). */
+#include "calib_program.h"
+
+#include <string.h>
+
+int32_t mg_calib_program_open(mg_calib_program_t *p, const char *method, int32_t f_px)
+{
+    memset(p, 0, sizeof *p);
+    const mg_method_t *m = mg_method_find(method);
+    if (m == NULL || m->state_bytes > sizeof p->task_state)
+        return -1;
+    mg_host_config_t cfg;
+    mg_host_config_default(&cfg);
+    const mg_task_if_t task = mg_method_bind(m, p->task_state);
+    const int32_t n_det = mg_detectors_table(&p->detectors, &p->app, f_px, p->table,
+                                             MG_MAX_DETECTORS);
+    mg_app_init(&p->app, &cfg, &task, p->table, n_det);
+    return n_det;
+}
+
+const mg_detector_t *mg_calib_table(const mg_calib_program_t *p)
+{
+    return p->table;
+}
+
+int64_t mg_calib_stage_us(const mg_app_t *app, const char *name)
+{
+    int64_t us = 0;
+    for (int32_t i = 0; i < app->n_stages; i++)
+        if (name == NULL || strcmp(app->stages[i].name, name) == 0)
+            us += app->stages[i].total_us;
+    return us;
+}
+
+int32_t mg_calib_take_output(mg_app_t *app, int64_t before_us, uint8_t *out, int32_t cap)
+{
+    static mg_wire_chunk_t chunks[MG_OUTBOX_CHUNKS];
+    const int32_t n = mg_link_take_output(&app->link, before_us, chunks, MG_OUTBOX_CHUNKS);
+    int32_t len = 0;
+    for (int32_t i = 0; i < n; i++) {
+        if (len + (int32_t)chunks[i].len > cap)
+            return -1;
+        memcpy(out + len, chunks[i].wire, chunks[i].len);
+        len += (int32_t)chunks[i].len;
+    }
+    return len;
+}

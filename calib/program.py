@@ -32,7 +32,6 @@ import json
 import mmap
 import struct
 import subprocess
-import tempfile
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -41,6 +40,7 @@ import numpy as np
 
 from mobigrasp.calib import arm, timing
 from mobigrasp.calib.arm import I64, Timing
+from mobigrasp.host.budget import FCLK_HZ
 
 PAGE = 0x1000
 HEAP_BASE = 0x0100_0000
@@ -218,22 +218,6 @@ class Recording:
     trace_sha256: str | None
 
 
-def record(scenario: str, time_limit_s: float | None = None) -> Recording:
-    """Run ``scenario`` in process with the Python host program and a :class:`Recorder`."""
-    from mobigrasp.services.run_job import RunOptions, execute, host_config, resolve_scenario
-
-    cfg = host_config(resolve_scenario(scenario)[1])
-    rec = Recorder()
-    with tempfile.TemporaryDirectory(prefix="mobigrasp-steps-") as tmp:
-        summary, _ = execute(RunOptions(scenario=scenario, transport="inproc",
-                                        out=Path(tmp) / "run", progress=False, plots=False,
-                                        mcap=False, time_limit_s=time_limit_s, recorder=rec))
-    # the camera's f_px as the programs take it (host/app_factory.py, services/host_programs)
-    f_px = int(round(cfg.get("camera", {}).get("f_px", 611.0)))
-    return Recording(summary["scenario"], str(cfg.get("method", "000")), f_px, rec.calls,
-                     summary.get("trace_sha256"))
-
-
 @dataclass
 class Sample:
     """One timed step: its kind ("control" or "frame"), time, modelled µs, timing."""
@@ -368,3 +352,66 @@ class Replay:
         self.m.call("mg_app_take_events", self.p, buf, IO_BYTES - 0x1000, lenp, timed=False)
         n, = struct.unpack("<I", self.m.read(lenp, 4))
         return _events(self.m.read(buf, n))
+
+
+def stage_names(method: str) -> tuple[str, str]:
+    """The calibration's stages of a method's program: its control steps, its frame pipelines."""
+    return f"control_step_{method}", f"frame_pipeline_{method}"
+
+
+def methods_in_program(elf: Elf | None = None) -> list[str]:
+    """The paper methods (:data:`SCENARIOS`) the C program has a row for."""
+    machine = ProgramArm9(elf or build())
+    name = HEAP_BASE + IO
+    out = []
+    for method in SCENARIOS:
+        machine.write(name, method.encode() + b"\0")
+        n_det, _ = machine.call("mg_calib_program_open", HEAP_BASE + PROGRAM, name, 350,
+                                timed=False)
+        if n_det >= 0:
+            out.append(method)
+    return out
+
+
+def _spread(values: list[int], n: int | None) -> set[int]:
+    if n is None or len(values) <= n:
+        return set(values)
+    step = len(values) / n
+    return {values[int(k * step)] for k in range(n)}
+
+
+def pick(rec: Recording, per_scenario: int | None) -> tuple[set[int], set[int]]:
+    """The ticks and frames (arrival µs) of a recording to time: all, or ``per_scenario`` of
+    each spread evenly over the run, the ticks after the first 0.5 s (the HELLO, the
+    handshake: no task step yet), the frames the Python program ran detectors on."""
+    until = max((c[1] for c in rec.calls if c[0] == "advance"), default=0)
+    ticks = list(range(500_000, until, 20_000))
+    arrival = {c[1]: c[3] for c in rec.calls if c[0] == "frame"}
+    ran = [arrival[e["seq"]] for c in rec.calls if c[0] == "events"
+           for e in c[1] if e.get("ev") == "detect" and e.get("seq") in arrival]
+    return _spread(ticks, per_scenario), _spread(sorted(ran), per_scenario)
+
+
+def program_steps(recordings: list[Recording], per_scenario: int | None,
+                  line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None,
+                  on_scenario: Callable[[str], None] | None = None):
+    """(stage, outputs equal, modelled cycles, timing) of every timed step of ``recordings``
+    (services/corpus.py ``record_steps``) replayed on the C program; a recording whose replay
+    parts from the Python program's gives one unequal row for each stage (modelled and timing
+    empty) and stops there."""
+    elf = build(progress) if recordings else None
+    for rec in recordings:
+        control, frame = stage_names(rec.method)
+        ticks, frames = pick(rec, per_scenario)
+        replay = Replay(ProgramArm9(elf, line_fill_cycles), rec)
+        try:
+            samples = replay.run(ticks, frames)
+        except ReplayMismatch:
+            for stage in (control, frame):
+                yield stage, False, 0, Timing()
+            samples = []
+        for s in samples:
+            yield (control if s.kind == "control" else frame, True,
+                   s.modelled_us * (FCLK_HZ // 1_000_000), s.timing)
+        if on_scenario is not None:
+            on_scenario(rec.scenario)

@@ -1,0 +1,78 @@
+"""The host program's recorded run replayed on its ARMv4T ELF under unicorn (calib/program.py):
+the C program writes the Python program's serial bytes and trace events quantum by quantum,
+whole control steps and frame pipelines are timed against the model's charge, and a replay that
+parts from the recording is caught."""
+
+import dataclasses
+
+import pytest
+
+from mobigrasp import hostc
+from mobigrasp.calib import arm, program
+from mobigrasp.calib.arm import I64
+from mobigrasp.services.corpus import record_steps
+
+
+@pytest.fixture(scope="module")
+def elf():
+    return program.build()
+
+
+@pytest.fixture(scope="module")
+def marker():
+    """The first 1.2 s of paper002-marker, recorded: the HELLO, the handshake, SEARCH's first
+    steps and the detectors' first frames."""
+    return record_steps("paper002-marker", time_limit_s=1.2)
+
+
+def test_the_replay_equals_the_python_program_and_times_whole_steps(elf, marker):
+    ticks, frames = program.pick(marker, 3)
+    assert len(ticks) == 3 and len(frames) == 3
+    replay = program.Replay(program.ProgramArm9(elf), marker)
+    samples = replay.run(ticks, frames)  # ReplayMismatch at the first quantum that differs
+    assert replay.quanta == sum(1 for c in marker.calls if c[0] == "advance")
+    assert sorted(s.t_us for s in samples if s.kind == "control") == sorted(ticks)
+    assert sorted(s.t_us for s in samples if s.kind == "frame") == sorted(frames)
+    for s in samples:
+        us = s.timing.cycles / 400
+        if s.kind == "control":  # the fixed 100 us and the protocol bytes' charge
+            assert s.modelled_us >= 100 and 20 < us < 1000
+        else:  # the double cross and the red cylinder on SEARCH's frames
+            assert 0.8 <= s.modelled_us / us <= 1.25, (s.t_us, s.modelled_us, us)
+        assert s.timing.instructions > 0 and 1.0 <= s.timing.cpi <= 3.0
+
+
+def test_a_replay_that_parts_from_the_recording_is_caught(elf, marker):
+    k = max(i for i, c in enumerate(marker.calls) if c[0] == "output" and c[1])
+    calls = list(marker.calls)
+    calls[k] = ("output", bytes([calls[k][1][0] ^ 1]) + calls[k][1][1:])
+    bad = dataclasses.replace(marker, calls=calls)
+    with pytest.raises(program.ReplayMismatch, match="serial bytes differ"):
+        program.Replay(program.ProgramArm9(elf), bad).run(set(), set())
+
+
+def test_the_stages_follow_the_methods_in_the_c_program(elf):
+    """A method's rows appear once the C program has it (000 and 001 when they are ported)."""
+    methods = program.methods_in_program(elf)
+    listed = hostc.program_methods([str(hostc.executable())])  # the program's --list-methods
+    assert methods == [m for m in program.SCENARIOS if m in listed] and "002" in methods
+    assert program.stage_names("002") == ("control_step_002", "frame_pipeline_002")
+
+
+def test_64_bit_arguments_take_even_register_pairs_and_aligned_stack_slots(elf):
+    """AAPCS as gcc compiles it: mg_calib_take_output(app, int64, ptr, int) puts the int64 in
+    r2:r3 and the rest on the stack; mg_app_on_frame's three int64 after the app go to r2:r3
+    and two 8-aligned stack slots."""
+    m = program.ProgramArm9(elf)
+    p = program.HEAP_BASE + program.PROGRAM
+    name = m.write(program.HEAP_BASE + program.IO, b"002\0")
+    assert m.call("mg_calib_program_open", p, name, 350, timed=False)[0] > 0
+    m.call("mg_app_on_frame", p, I64(7), I64(1 << 40), I64(-5), 0, 320, 240, timed=False)
+    assert m.call64("mg_calib_stage_us", p, 0) == 0
+    # the frame queued at arrival -5 runs with the first advance: idle (no detector yet)
+    m.call("mg_app_advance_to", p, I64(1), timed=False)
+    n, _ = m.call("mg_calib_take_output", p, I64(1 << 33), program.HEAP_BASE + program.IO,
+                  4096, timed=False)
+    assert n == 0  # the first HELLO waits for the MCU's telemetry
+    assert m.call64("mg_calib_stage_us", p, 0) == 100  # the first control tick's base charge
+    assert arm.STOP < program.HEAP_BASE

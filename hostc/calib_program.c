@@ -6,16 +6,7 @@
 int32_t mg_calib_program_open(mg_calib_program_t *p, const char *method, int32_t f_px)
 {
     memset(p, 0, sizeof *p);
-    const mg_method_t *m = mg_method_find(method);
-    if (m == NULL || m->state_bytes > sizeof p->task_state)
-        return -1;
-    mg_host_config_t cfg;
-    mg_host_config_default(&cfg);
-    const mg_task_if_t task = mg_method_bind(m, p->task_state);
-    const int32_t n_det = mg_detectors_table(&p->detectors, &p->app, f_px, p->table,
-                                             MG_MAX_DETECTORS);
-    mg_app_init(&p->app, &cfg, &task, p->table, n_det);
-    return n_det;
+    return mg_program_open(&p->app, &p->detectors, p->table, p->task_state, method, f_px);
 }
 
 const mg_detector_t *mg_calib_table(const mg_calib_program_t *p)

@@ -9,6 +9,7 @@
 
 #include "app.h"
 #include "detectors.h"
+#include "program.h"
 #include "task.h"
 
 typedef struct {

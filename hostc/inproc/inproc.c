@@ -4,18 +4,13 @@
 
 #include <string.h>
 
+#include "program.h"
+
 int mg_inproc_open(mg_inproc_t *h, const char *method, int32_t f_px)
 {
     memset(h, 0, sizeof *h);
-    const mg_method_t *m = mg_method_find(method);
-    if (m == NULL || m->state_bytes > sizeof h->task_state)
+    if (mg_program_open(&h->app, &h->detectors, h->table, h->task_state, method, f_px) < 0)
         return -1;
-    mg_host_config_t cfg;
-    mg_host_config_default(&cfg);
-    const mg_task_if_t task = mg_method_bind(m, h->task_state);
-    const int32_t n_det = mg_detectors_table(&h->detectors, &h->app, f_px, h->table,
-                                             MG_MAX_DETECTORS);
-    mg_app_init(&h->app, &cfg, &task, h->table, n_det);
     mg_lockstep_init(&h->driver, &h->app);
     return 0;
 }

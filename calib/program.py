@@ -40,6 +40,7 @@ import numpy as np
 
 from mobigrasp.calib import arm, timing
 from mobigrasp.calib.arm import I64, Timing
+from mobigrasp.host.app import HostConfig
 from mobigrasp.host.budget import FCLK_HZ
 
 PAGE = 0x1000
@@ -251,7 +252,10 @@ class Replay:
         machine.vision_entries = frozenset(words[6 * i + 3] for i in range(n_det))
         self.names = {k: self.m.write(self.io + 0x100 + 16 * i, k.encode() + b"\0")
                       for i, k in enumerate(("control", "protocol", "frame"))}
-        self.frame_overhead_us = 20_000 * 1_000_000 // 400_000_000
+        # the C program's configuration is the default one (program.c)
+        cfg = HostConfig()
+        self.period_us = cfg.control_period_us
+        self.frame_overhead_us = cfg.frame_overhead_cycles * 1_000_000 // FCLK_HZ
         self._slot = 0
         self._pending: list[int] = []  # arrival times of the frames given and not run
         self._next_tick = 0
@@ -267,12 +271,10 @@ class Replay:
         ctrl = self._stage_us("control") + self._stage_us("protocol")
         return ctrl, self._stage_us(None) - ctrl
 
-    def run(self, ticks_us: set[int], frames_us: set[int],
-            on_quantum: Callable[[int, int], None] | None = None) -> list[Sample]:
+    def run(self, ticks_us: set[int], frames_us: set[int]) -> list[Sample]:
         """Replay every call; the samples timed. ReplayMismatch at the first quantum whose
         serial bytes or events differ from the Python program's."""
         m, out = self.m, []
-        n_adv = sum(1 for c in self.rec.calls if c[0] == "advance")
         for call in self.rec.calls:
             kind = call[0]
             if kind == "uart":
@@ -297,8 +299,6 @@ class Replay:
             elif kind == "advance":
                 out += self._advance(call[1], ticks_us, frames_us)
                 self.quanta += 1
-                if on_quantum is not None:
-                    on_quantum(self.quanta, n_adv)
             elif kind == "output":
                 got = self._take_output(self._until)
                 if got != call[1]:
@@ -315,7 +315,7 @@ class Replay:
         """``advance_to(until)`` cut at each tick and frame arrival (one call each)."""
         self._until = until
         times = sorted({a for a in self._pending if a < until}
-                       | set(range(self._next_tick, until, 20_000)))
+                       | set(range(self._next_tick, until, self.period_us)))
         samples = []
         for b in [*times, None]:
             stop = until if b is None else b + 1
@@ -326,7 +326,7 @@ class Replay:
             if b is not None:
                 self._pending = [a for a in self._pending if a > b]
             if ticked:
-                self._next_tick += 20_000
+                self._next_tick += self.period_us
             uart_t = self._uart_t
             if ticked:
                 self._uart_t = Timing()
@@ -385,7 +385,7 @@ def pick(rec: Recording, per_scenario: int | None) -> tuple[set[int], set[int]]:
     each spread evenly over the run, the ticks after the first 0.5 s (the HELLO, the
     handshake: no task step yet), the frames the Python program ran detectors on."""
     until = max((c[1] for c in rec.calls if c[0] == "advance"), default=0)
-    ticks = list(range(500_000, until, 20_000))
+    ticks = list(range(500_000, until, HostConfig().control_period_us))
     arrival = {c[1]: c[3] for c in rec.calls if c[0] == "frame"}
     ran = [arrival[e["seq"]] for c in rec.calls if c[0] == "events"
            for e in c[1] if e.get("ev") == "detect" and e.get("seq") in arrival]

@@ -178,18 +178,21 @@ def _pct(values: list[float], q: float) -> float:
 def calibrate(folder: Path, per_scenario: int | None = 10,
               line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None,
               on_step: Callable[[int, int, str], None] | None = None,
-              recordings: tuple[program.Recording, ...] = ()) -> dict:
+              record: Callable[[str], program.Recording] | None = None) -> dict:
     """The calibration result (JSON-able); see docs/budget.md for the fields. ``progress``:
     told what is being built (the ARM toolchain, once); ``on_step(done, total, what)``: after
     each frame and each planner call emulated, and each scenario replayed on the C program.
-    ``recordings``: runs of the Python host program whose whole control steps and frame
-    pipelines are replayed on the C program too (calib/program.py: ``per_scenario`` of each
-    kind a run)."""
+    ``record(scenario)``: a run of the Python host program recorded (services/corpus.py
+    ``record_steps``), given: the shipped scenarios of each method the C program has are
+    recorded after the corpus and replayed on the C program, their whole control steps and
+    frame pipelines timed (calib/program.py: ``per_scenario`` of each kind a run)."""
     index = corpus.read_index(folder)
     frames = select_frames(index, per_scenario)
     plans = (select_plans(plan_corpus.read_index(folder), per_scenario)
              if (Path(folder) / plan_corpus.INDEX).is_file() else [])
-    steps = len(frames) + len(plans) + len(recordings)
+    elf = program.build(progress) if record is not None else None
+    runs = program.scenarios_in_program(elf) if elf is not None else []
+    steps = len(frames) + len(plans) + len(runs)
     machine = arm.Arm9(arm.build(progress), line_fill_cycles)
     front = arm.FrontEnd(machine)
     per: dict[str, dict[str, list]] = {name: {"mod": [], "emu": [], "t": []} for name in
@@ -280,16 +283,12 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 add(stage, ok, modelled, t)
             if on_step is not None:
                 on_step(len(frames) + k + 1, steps, f"planner call {call['file']}")
-    done = [len(frames) + len(plans)]
-
-    def replayed(scenario: str) -> None:
-        done[0] += 1
+    for k, scenario in enumerate(runs):
+        for row in program.program_steps(elf, record(scenario), per_scenario, line_fill_cycles):
+            add(*row)
         if on_step is not None:
-            on_step(done[0], steps, f"{scenario} replayed on the C program")
-
-    for row in program.program_steps(list(recordings), per_scenario, line_fill_cycles,
-                                     progress, replayed):
-        add(*row)
+            on_step(len(frames) + len(plans) + k + 1, steps,
+                    f"{scenario} recorded and replayed on the C program")
     us = 1e6 / FCLK_HZ
     stages = {}
     for name, d in per.items():

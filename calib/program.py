@@ -32,7 +32,6 @@ import json
 import mmap
 import struct
 import subprocess
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -392,26 +391,25 @@ def pick(rec: Recording, per_scenario: int | None) -> tuple[set[int], set[int]]:
     return _spread(ticks, per_scenario), _spread(sorted(ran), per_scenario)
 
 
-def program_steps(recordings: list[Recording], per_scenario: int | None,
-                  line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None,
-                  on_scenario: Callable[[str], None] | None = None):
-    """(stage, outputs equal, modelled cycles, timing) of every timed step of ``recordings``
-    (services/corpus.py ``record_steps``) replayed on the C program; a recording whose replay
-    parts from the Python program's gives one unequal row for each stage (modelled and timing
-    empty) and stops there."""
-    elf = build(progress) if recordings else None
-    for rec in recordings:
-        control, frame = stage_names(rec.method)
-        ticks, frames = pick(rec, per_scenario)
-        replay = Replay(ProgramArm9(elf, line_fill_cycles), rec)
-        try:
-            samples = replay.run(ticks, frames)
-        except ReplayMismatch:
-            for stage in (control, frame):
-                yield stage, False, 0, Timing()
-            samples = []
-        for s in samples:
-            yield (control if s.kind == "control" else frame, True,
-                   s.modelled_us * (FCLK_HZ // 1_000_000), s.timing)
-        if on_scenario is not None:
-            on_scenario(rec.scenario)
+def scenarios_in_program(elf: Elf) -> list[str]:
+    """The shipped scenarios of every method the C program has, in :data:`SCENARIOS` order."""
+    return [sc for m in methods_in_program(elf) for sc in SCENARIOS[m]]
+
+
+def program_steps(elf: Elf, rec: Recording, per_scenario: int | None,
+                  line_fill_cycles: int = timing.LINE_FILL_CYCLES):
+    """(stage, outputs equal, modelled cycles, timing) of every timed step of ``rec``
+    (services/corpus.py ``record_steps``) replayed on the C program; a replay that parts from
+    the Python program's gives one unequal row for each stage (modelled and timing empty) and
+    stops there."""
+    control, frame = stage_names(rec.method)
+    ticks, frames = pick(rec, per_scenario)
+    try:
+        samples = Replay(ProgramArm9(elf, line_fill_cycles), rec).run(ticks, frames)
+    except ReplayMismatch:
+        for stage in (control, frame):
+            yield stage, False, 0, Timing()
+        return
+    for s in samples:
+        yield (control if s.kind == "control" else frame, True,
+               s.modelled_us * (FCLK_HZ // 1_000_000), s.timing)

@@ -58,7 +58,9 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
 def record_steps(scenario: str, time_limit_s: float | None = None) -> program.Recording:
     """Run ``scenario`` in process with the Python host program and a calib/program.py
     ``Recorder`` on its interface: what the C program is replayed with (``mobigrasp
-    calibrate``'s whole control steps and frame pipelines)."""
+    calibrate``'s whole control steps and frame pipelines). ``time_limit_s`` also bounds the
+    Python task's SEARCH (``host_config``), which the C program's method row does not read: a
+    limited run whose search times out within it is not the C program's any more."""
     cfg = host_config(resolve_scenario(scenario)[1])
     rec = program.Recorder()
     with tempfile.TemporaryDirectory(prefix="mobigrasp-steps-") as tmp:

@@ -2,11 +2,12 @@
 against the same stage's C run as ARM920T code under a static timing model (calib/, the table
 and its reading in docs/budget.md). Without --corpus the corpus of the six shipped scenarios is
 recorded into a temporary folder first. The shipped scenarios of each method the C program has
-are run again with the Python host program recorded, and replayed on the C program as ARM920T
-code: its whole control steps and frame pipelines (calib/program.py; not with
+are then run again with the Python host program recorded and replayed on the C program as
+ARM920T code: its whole control steps and frame pipelines (calib/program.py; not with
 ``--no-programs``). Progress on stderr (scenarios recorded, then frames, planner calls and
-scenario replays emulated: done/total, elapsed, ~left; none with ``-q``); the table on stdout;
-the result is also kept as the last calibration that ``mobigrasp profile`` shows. Exit 1 when
+scenario replays emulated, a replay one step: done/total, elapsed, ~left; none with ``-q``);
+the table on stdout; the result is also kept as the last calibration that ``mobigrasp
+profile`` shows. Exit 1 when
 an emulated result differs from the Python kernel's (or a replay from the Python program's), 2
 for bad input."""
 
@@ -34,7 +35,7 @@ def _table(result: dict) -> str:
 
 
 def _run(args: argparse.Namespace) -> int:
-    from mobigrasp.calib import calibrate, corpus, plan_corpus, program
+    from mobigrasp.calib import calibrate, corpus, plan_corpus
     from mobigrasp.calib.arm import ToolchainError, progress_stderr
     from mobigrasp.services.corpus import record as record_corpus
     from mobigrasp.services.corpus import record_steps
@@ -64,20 +65,12 @@ def _run(args: argparse.Namespace) -> int:
                                   enabled=not args.quiet) as recorded:
                     record_corpus(folder, [p.stem for p in shipped_scenarios()],
                                   progress=recorded)
-            runs = [] if args.no_programs else [
-                sc for m in program.methods_in_program() for sc in program.SCENARIOS[m]]
-            recordings = []
-            if runs:
-                with StepProgress("calibrate: the Python host program recorded", "scenarios",
-                                  enabled=not args.quiet) as recorded:
-                    for k, sc in enumerate(runs):
-                        recordings.append(record_steps(sc))
-                        recorded(k + 1, len(runs), sc)
-            with StepProgress("calibrate: emulated", "frames, planner calls and replays",
+            with StepProgress("calibrate: emulated", "frames and planner calls",
                               enabled=not args.quiet) as emulated:
                 result = calibrate.calibrate(folder, per, args.line_fill_cycles,
                                              progress=None if args.quiet else progress_stderr,
-                                             on_step=emulated, recordings=tuple(recordings))
+                                             on_step=emulated,
+                                             record=None if args.no_programs else record_steps)
     except (corpus.CorpusError, plan_corpus.PlanCorpusError, ToolchainError, BadInput) as exc:
         print(f"mobigrasp calibrate: {exc}", file=sys.stderr)
         return 2

@@ -102,7 +102,7 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
     env_cache = {"MOBIGRASP_CACHE_DIR": str(tmp_path / "cache")}
     r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
                         str(tmp_path / "c"), "--json", str(out), "--frames-per-scenario", "1",
-                        "--quiet"], capture_output=True, text=True, timeout=600,
+                        "--quiet", "--no-programs"], capture_output=True, text=True, timeout=600,
                        env={**os.environ, **env_cache})
     assert r.returncode == 0, r.stderr
     assert r.stderr == ""  # --quiet: no progress

@@ -109,3 +109,14 @@ def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path):
     assert set(result["stages"]) == {"control_step_002", "frame_pipeline_002"}
     for s in result["stages"].values():
         assert s["frames"] == 2 and s["result_mismatches"] == 0 and s["emulated_median_us"] > 0
+
+
+def test_the_calibrated_elf_is_the_board_s_with_its_entries_and_armv4t(elf):
+    """The ELF replayed is make hostc-arm's with the calibration's entries kept: every symbol
+    of the board's ELF at the same name, no instruction newer than ARMv4T."""
+    from mobigrasp.calib import armhost
+
+    board = program.Elf.read(armhost.build_elf())
+    assert set(board.symbols) <= set(elf.symbols)
+    assert set(program.ENTRIES) <= set(elf.symbols) - set(board.symbols)
+    assert armhost.not_v4t(armhost.disassemble(armhost.build_elf(program.ENTRIES))) == []

@@ -160,7 +160,7 @@ class Arm9:
         if blk is None:
             blk = self.decoder.analyse(bytes(uc.mem_read(address, size)), address)
             self.blocks[address] = blk
-            self._hook_muls(blk)
+            self._hook_muls(blk, address, size)
         t = self._t
         if self._prev_end is not None and address != self._prev_end:
             t.cycles += 2
@@ -172,11 +172,16 @@ class Arm9:
         for k, v in blk.mix.items():
             t.mix[k] += v
 
-    def _hook_muls(self, blk: timing.Block) -> None:
+    def _hook_muls(self, blk: timing.Block, address: int, size: int) -> None:
+        """A code hook on each multiply of a block seen for the first time. The block was
+        translated before its hooks existed, so its translation is dropped: the next run of it
+        is translated again with them (this run's multiplies go without their m)."""
         from unicorn import UC_HOOK_CODE
 
         from mobigrasp.calib.unicorn_regs import uc_reg
 
+        if blk.muls:
+            self.uc.ctl_remove_cache(address, address + size)
         for addr, rs in blk.muls:
             if addr in self._mul_hooked:
                 continue

@@ -209,13 +209,17 @@ class Recorder:
 
 @dataclass(frozen=True)
 class Recording:
-    """A scenario's run of the Python host program: its method, camera f_px and calls."""
+    """A scenario's run of the Python host program: its configuration (what ``--config`` gives
+    a host program: the method, its parameters, the camera, the task's settings) and calls."""
 
     scenario: str
-    method: str
-    f_px: int
+    config: dict
     calls: list[tuple]
     trace_sha256: str | None
+
+    @property
+    def method(self) -> str:
+        return str(self.config.get("method", "000"))
 
 
 @dataclass
@@ -241,10 +245,12 @@ class Replay:
         self.rec = rec
         self.p = HEAP_BASE + PROGRAM
         self.io = HEAP_BASE + IO
-        name = self.m.write(self.io, rec.method.encode() + b"\0")
-        n_det, _ = machine.call("mg_calib_program_open", self.p, name, rec.f_px, timed=False)
+        text = json.dumps(rec.config).encode()  # as the in-process C program is given it
+        n_det, _ = machine.call("mg_calib_program_open", self.p, self.m.write(self.io, text),
+                                len(text), timed=False)
         if n_det < 0:
-            raise ValueError(f"method {rec.method} is not in the C program")
+            raise ValueError(f"the C program refuses {rec.scenario}'s configuration (or has "
+                             f"no method {rec.method})")
         table, _ = machine.call("mg_calib_table", self.p, timed=False)
         words = struct.unpack(f"<{6 * n_det}I", machine.read(table & 0xFFFF_FFFF, 24 * n_det))
         # mg_detector_t on ARM: name, ctx, snapshot, detect, front_end, front_end_us
@@ -361,12 +367,11 @@ def stage_names(method: str) -> tuple[str, str]:
 def methods_in_program(elf: Elf | None = None) -> list[str]:
     """The paper methods (:data:`SCENARIOS`) the C program has a row for."""
     machine = ProgramArm9(elf or build())
-    name = HEAP_BASE + IO
     out = []
     for method in SCENARIOS:
-        machine.write(name, method.encode() + b"\0")
-        n_det, _ = machine.call("mg_calib_program_open", HEAP_BASE + PROGRAM, name, 350,
-                                timed=False)
+        text = json.dumps({"method": method}).encode()
+        n_det, _ = machine.call("mg_calib_program_open", HEAP_BASE + PROGRAM,
+                                machine.write(HEAP_BASE + IO, text), len(text), timed=False)
         if n_det >= 0:
             out.append(method)
     return out

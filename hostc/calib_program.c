@@ -3,10 +3,14 @@
 
 #include <string.h>
 
-int32_t mg_calib_program_open(mg_calib_program_t *p, const char *method, int32_t f_px)
+int32_t mg_calib_program_open(mg_calib_program_t *p, const char *config, int32_t n)
 {
+    static char why[MG_CONFIG_WHY]; /* the refusal's reason: the caller has the Python's */
     memset(p, 0, sizeof *p);
-    return mg_program_open(&p->app, &p->detectors, p->table, p->task_state, method, f_px);
+    mg_config_t c;
+    if (n < 0 || mg_config_parse(config, (size_t)n, &c, why, sizeof why) != 0)
+        return -1;
+    return mg_program_open(&p->app, &p->detectors, p->table, p->task_state, &c);
 }
 
 const mg_detector_t *mg_calib_table(const mg_calib_program_t *p)

@@ -1,5 +1,5 @@
-/* The host program as the calibration replays it (calib/program.py): one method's program in a
- * block of memory the caller gives (as main.c and inproc.c hold it), driven through app.h's
+/* The host program as the calibration replays it (calib/program.py): one configuration's
+ * program in a block of memory the caller gives (as main.c and inproc.c hold it), driven through app.h's
  * entry points with a recorded run's bytes and frames, and the figures read between the calls:
  * the modelled time per stage, the serial bytes due. */
 #ifndef MOBIGRASP_HOSTC_CALIB_PROGRAM_H
@@ -19,9 +19,9 @@ typedef struct {
     uint64_t task_state[MG_TASK_STATE_BYTES / 8];
 } mg_calib_program_t;
 
-/* the program running method with a camera of f_px: its number of detectors, or -1 when the
- * program has no such method */
-int32_t mg_calib_program_open(mg_calib_program_t *p, const char *method, int32_t f_px);
+/* the program of the configuration's JSON text (n bytes: what --config gives the program): its
+ * number of detectors, or -1 when the text is refused or the program has no such method */
+int32_t mg_calib_program_open(mg_calib_program_t *p, const char *config, int32_t n);
 /* the program's detector table (the calibration reads its detect entries) */
 const mg_detector_t *mg_calib_table(const mg_calib_program_t *p);
 /* the modelled us the program's stage name has been busy so far (name NULL: every stage's) */

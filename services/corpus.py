@@ -58,16 +58,12 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
 def record_steps(scenario: str, time_limit_s: float | None = None) -> program.Recording:
     """Run ``scenario`` in process with the Python host program and a calib/program.py
     ``Recorder`` on its interface: what the C program is replayed with (``mobigrasp
-    calibrate``'s whole control steps and frame pipelines). ``time_limit_s`` also bounds the
-    Python task's SEARCH (``host_config``), which the C program's method row does not read: a
-    limited run whose search times out within it is not the C program's any more."""
-    cfg = host_config(resolve_scenario(scenario)[1])
+    calibrate``'s whole control steps and frame pipelines), with the configuration the run
+    gave its host (``time_limit_s`` bounds SEARCH there too)."""
+    cfg = host_config(resolve_scenario(scenario)[1], time_limit_s)
     rec = program.Recorder()
     with tempfile.TemporaryDirectory(prefix="mobigrasp-steps-") as tmp:
         summary, _ = execute(RunOptions(scenario=scenario, transport="inproc",
                                         out=Path(tmp) / "run", progress=False, plots=False,
                                         mcap=False, time_limit_s=time_limit_s, recorder=rec))
-    # the camera's f_px as both programs take it (host/app_factory.py, services/host_programs)
-    f_px = int(round(cfg.get("camera", {}).get("f_px", 611.0)))
-    return program.Recording(summary["scenario"], str(cfg.get("method", "000")), f_px,
-                             rec.calls, summary.get("trace_sha256"))
+    return program.Recording(summary["scenario"], cfg, rec.calls, summary.get("trace_sha256"))

@@ -6,11 +6,18 @@
 
 #include "program.h"
 
-int mg_inproc_open(mg_inproc_t *h, const char *method, int32_t f_px)
+int mg_inproc_open(mg_inproc_t *h, const char *config, size_t n, char *why, size_t cap)
 {
     memset(h, 0, sizeof *h);
-    if (mg_program_open(&h->app, &h->detectors, h->table, h->task_state, method, f_px) < 0)
+    mg_config_t c;
+    if (mg_config_parse(config, n, &c, why, cap) != 0)
         return -1;
+    if (mg_program_open(&h->app, &h->detectors, h->table, h->task_state, &c) < 0) {
+        size_t k = mg_task_text(why, cap, 0, "method ");
+        k = mg_task_text(why, cap, k, c.method);
+        mg_task_text(why, cap, k, " is not in the C host yet");
+        return -1;
+    }
     mg_lockstep_init(&h->driver, &h->app);
     return 0;
 }

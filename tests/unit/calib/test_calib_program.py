@@ -65,8 +65,9 @@ def test_64_bit_arguments_take_even_register_pairs_and_aligned_stack_slots(elf):
     and two 8-aligned stack slots."""
     m = program.ProgramArm9(elf)
     p = program.HEAP_BASE + program.PROGRAM
-    name = m.write(program.HEAP_BASE + program.IO, b"002\0")
-    assert m.call("mg_calib_program_open", p, name, 350, timed=False)[0] > 0
+    text = b'{"method": "002"}'
+    assert m.call("mg_calib_program_open", p, m.write(program.HEAP_BASE + program.IO, text),
+                  len(text), timed=False)[0] > 0
     m.call("mg_app_on_frame", p, I64(7), I64(1 << 40), I64(-5), 0, 320, 240, timed=False)
     assert m.call64("mg_calib_stage_us", p, 0) == 0
     # the frame queued at arrival -5 runs with the first advance: idle (no detector yet)

@@ -94,22 +94,26 @@ def test_whole_002_runs_replay_equal_and_within_the_calibrated_band(elf, scenari
         assert len(ratios) == 6 and 0.8 <= statistics.median(ratios) <= 1.25, (kind, ratios)
 
 
-def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path):
-    """calibrate with a recorder: the shipped runs of 002 (their first 1.2 s here) replayed, one
-    control step and one frame pipeline each, a row per stage, every quantum equal."""
+def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path, elf):
+    """calibrate with a recorder: the shipped runs of each method the C program has (their
+    first 1.2 s here) replayed, one control step and one frame pipeline each, a row per stage
+    and method, every quantum equal."""
     import json
 
     from mobigrasp.calib import calibrate, corpus
 
     (tmp_path / corpus.INDEX).write_text(json.dumps(
         {"format": corpus.FORMAT, "scenarios": [], "frames": []}))
+    runs = program.scenarios_in_program(elf)
     steps = []
     result = calibrate.calibrate(tmp_path, 1, record=lambda sc: record_steps(
         sc, time_limit_s=1.2), on_step=lambda *a: steps.append(a))
-    assert [s[:2] for s in steps] == [(1, 2), (2, 2)]
-    assert set(result["stages"]) == {"control_step_002", "frame_pipeline_002"}
-    for s in result["stages"].values():
-        assert s["frames"] == 2 and s["result_mismatches"] == 0 and s["emulated_median_us"] > 0
+    assert [s[:2] for s in steps] == [(k + 1, len(runs)) for k in range(len(runs))]
+    methods = program.methods_in_program(elf)
+    assert set(result["stages"]) == {n for m in methods for n in program.stage_names(m)}
+    for name, s in result["stages"].items():
+        assert s["result_mismatches"] == 0, name
+        assert s["frames"] == 2 and s["emulated_median_us"] > 0, name
 
 
 def test_the_calibrated_elf_is_the_board_s_with_its_entries_and_armv4t(elf):

@@ -223,6 +223,7 @@ class HostApp:
         self.plans = 0
         self.path_updates = 0  # a new curve adopted while one was followed (docs/task.md)
         self.close_reason: str | None = None  # the last grasp_close of the trace
+        self.circle_error_mm: int | None = None  # 001: the first arrival on the grasp circle
 
     # ---- inputs from the driver --------------------------------------------------------------
     def on_uart(self, data: bytes, arrival_us: int) -> None:
@@ -500,6 +501,9 @@ class HostApp:
                     self.path_updates += 1
             if detail.get("grasp_close") is not None:
                 self.close_reason = str(detail["grasp_close"])
+            circle = detail.get("grasp_circle")
+            if isinstance(circle, dict) and self.circle_error_mm is None:
+                self.circle_error_mm = int(circle["error_mm"])
             self._events.append({"ev": "detail", "t_us": at_us, "state": self.state,
                                  **jsonable(detail)})
         servos = getattr(out, "servo_mrad", None)
@@ -541,7 +545,8 @@ class HostApp:
             "stages": {k: v.summary() for k, v in sorted(c.stage_us.items())},
             "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
             "replans": self.replans, "path_updates": self.path_updates,
-            "close_reason": self.close_reason, "mcu_resets_seen": self.link.mcu_resets,
+            "close_reason": self.close_reason, "circle_error_mm": self.circle_error_mm,
+            "mcu_resets_seen": self.link.mcu_resets,
         }
 
     def _mcu_counters(self) -> dict:

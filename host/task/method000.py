@@ -203,9 +203,6 @@ class Method000(PathMethod):
     def path_wheels(self, cmd: WheelCommand) -> tuple[int, int]:
         return cmd.left_mm_s, cmd.right_mm_s
 
-    def adjust_early(self, t: Task, now: int, inp: TaskInputs, dist_mm: int) -> bool:
-        return False
-
     # --- ADJUST --------------------------------------------------------------------------------
     def adjust_done(self, t: Task, now: int, det: DualPlus, dist_mm: int) -> bool:
         return False  # the close approach decides (adjust.py)

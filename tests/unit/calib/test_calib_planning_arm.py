@@ -107,6 +107,26 @@ def test_001_passes_in_slices_give_the_whole_passes_results(planner):
     assert got == whole[0] and np.array_equal(tried, whole[1]) and k > 1
 
 
+@pytest.mark.slow
+def test_a_recorded_001_plan_runs_in_slices_that_each_fit_a_control_step(planner, tmp_path):
+    from mobigrasp.calib import plan_corpus
+    from mobigrasp.host.planning.anytime import CYCLES_PER_US, PLAN_SLICE_US
+    from mobigrasp.services.corpus import record
+
+    record(tmp_path, ["paper001-sim1"], time_limit_s=3.0)
+    call = next(c for c in plan_corpus.read_index(tmp_path)["calls"] if c["planner"] == "001")
+    st = planning.setup(call, plan_corpus.load_arrays(tmp_path, call))
+    ok, rows = calibrate.plan_slices(planner, st)
+    assert ok and len(rows) >= 2  # the Python's reasons, first samples and chosen curve
+    slice_cycles = PLAN_SLICE_US * CYCLES_PER_US
+    # a slice's curves start within its 8 ms of the plan's count (which leaves out the ~1090
+    # cycles of a curve's integrals and cost when it passes), the last may run past its end
+    assert all(0 < modelled <= 1.1 * slice_cycles for modelled, _ in rows)
+    # as emulated, each slice within 10 ms: with the step's own work within its 20 ms
+    assert all(t.cycles <= 10_000 * CYCLES_PER_US for _, t in rows)
+    assert sum(modelled for modelled, _ in rows) >= st.coarse.cycles
+
+
 def test_profile_lists_planning_after_the_frame_stages_and_names_the_first_to_miss():
     from mobigrasp.services.profile import calibration_rows
 

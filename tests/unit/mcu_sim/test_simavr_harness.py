@@ -43,6 +43,27 @@ def test_the_elf_boots_and_sends_telemetry_every_20_ms(booted):
     assert all(abs(g - 20_000) <= 100 for g in gaps)
 
 
+def test_each_telemetry_frame_leaves_within_the_5_ms_after_its_tick():
+    # the clock counts from the reset and the telemetry is sent at its multiples of 20 ms, so a
+    # frame (some 4.4 ms on the line) leaves within the rig's 5 ms quantum that starts at its
+    # tick, as with the models (one pty write a frame, docs/firmware.md "simavr")
+    mcu = SimavrMcu()
+    mcu.advance_to(300_000)
+    byte_us = mcu.byte_cycles / 16
+    ends = [(t - (len(d) - 1 - j) * byte_us, d[j]) for t, d in mcu.uart_tx_take()
+            for j in range(len(d))]
+    frames, start = [], None
+    for t, byte in ends:  # COBS frames, each ending with its 0x00
+        start = t - byte_us if start is None else start
+        if byte == 0:
+            frames.append((start, t))
+            start = None
+    assert len(frames) >= 14
+    for first_bit, last_bit in frames[1:]:  # the first leaves at the start-up's end
+        tick = first_bit // 20_000 * 20_000
+        assert last_bit <= tick + 5_000, (first_bit, last_bit)
+
+
 def test_servo_widths_come_from_the_latched_ocr_values(booted):
     # the firmware's boot widths (gripper 1000 µs, the others 1500 µs)
     assert booted.servo_pulses_us() == (1000.0, 1500.0, 1500.0, 1500.0, 1500.0, 1500.0)

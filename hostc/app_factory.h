@@ -43,6 +43,12 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
 #define MG_RED_CYLINDER_WORDS 10
 #define MG_RED_ROI_WORDS 8
 #define MG_HELD_FILL_WORDS 4
+/* the 000 kernels' (kernels.h): mg_radial_symbol (u, v, diameter, y_oc, x_oc, z_oc),
+ * mg_dual_plus (u1, v1, u2, v2, d_pixel, d_eff, dist, dist_raw, x_oc, y_oc, z_oc), mg_spoke
+ * (u_c, v_c, slope, angle, width, n_points, then n_points (u, v) pairs, at most 10) */
+#define MG_RADIAL_SYMBOL_WORDS 6
+#define MG_DUAL_PLUS_WORDS 11
+#define MG_SPOKE_WORDS 26
 
 /* the sightings (registry sighting functions): 1 and s, or 0 (no target) */
 int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
@@ -61,5 +67,8 @@ size_t mg_double_cross_json(const int32_t dc[MG_DOUBLE_CROSS_WORDS], char *out, 
 size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, size_t cap);
 size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap);
 size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap);
+size_t mg_radial_symbol_json(const int32_t rs[MG_RADIAL_SYMBOL_WORDS], char *out, size_t cap);
+size_t mg_dual_plus_json(const int32_t dp[MG_DUAL_PLUS_WORDS], char *out, size_t cap);
+size_t mg_spoke_json(const int32_t sp[MG_SPOKE_WORDS], char *out, size_t cap);
 
 #endif

@@ -49,7 +49,8 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "app_factory.c", HOSTC / "task_paper.c", HOSTC / "task_approach.c",
            HOSTC / "task_method000.c", HOSTC / "task_method001.c", HOSTC / "detectors.c",
            HOSTC / "grey.c", HOSTC / "label.c", HOSTC / "edge.c", HOSTC / "double_cross.c",
-           HOSTC / "red_cylinder.c", PROTOCOL / "joints.c",
+           HOSTC / "red_cylinder.c", HOSTC / "dark.c", HOSTC / "radial_symbol.c",
+           HOSTC / "dual_plus.c", HOSTC / "spoke.c", PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

@@ -116,8 +116,6 @@ def _values(method: str):
     table = method_rules(method).paper_params
     strategies = {}
     for name, p in table.items():
-        if name.startswith("k_theta"):  # eq. (10)'s gains: PostureParams takes none below 0
-            p = p._replace(lo=0.0)
         if p.kind is int:
             strategies[name] = st.integers(int(p.lo), int(p.hi))
         else:
@@ -174,6 +172,7 @@ def test_any_configuration_in_range(named, timeouts, object_xy):
     ({"method": "000", "params": {"k9": 1.0}}, "params.k9"),
     ({"method": "000", "params": {"k1": 11.0}}, "params.k1"),
     ({"method": "000", "params": {"k1": True}}, "params.k1"),
+    ({"method": "000", "params": {"k_theta2": -1.0}}, "params.k_theta2"),  # eq. (10): gains >= 0
     ({"method": "000", "params": {"w_min": 20.0}}, "params.w_min"),
     ({"method": "000", "params": {"w_min": 50}}, "params.w_min"),
     ({"method": "000", "params": {"theta2_min": -2.2, "theta2_max": -2.205}},
@@ -198,11 +197,14 @@ def test_a_bad_configuration_is_refused_by_its_key(cfg, key):
     ("20", 20 * 10**9), ("7.0000000005", 7000000000)])
 def test_numbers_are_read_exactly(text, e9):
     """A number's decimal text in billionths, a tie past the ninth decimal to even."""
-    raw = b'{"method": "000", "params": {"k_theta3": ' + text.encode() + b"}}"
+    # a gain of eq. (10) in [0, 10] for the positive ones, alpha_T in [-pi, 0] for the negative
+    name, index, lo, hi = ("k_theta3", 10, 0, 10 * 10**9) if e9 >= 0 else \
+        ("alpha_T", 12, -3141592653, 0)
+    raw = b'{"method": "000", "params": {"' + name.encode() + b'": ' + text.encode() + b"}}"
     c, w = FFI.new("mg_config_t *"), FFI.new("char[]", WHY)
     ok = C.mg_config_parse(raw, len(raw), c, w, WHY) == 0
-    if abs(e9) > 10 * 10**9:
+    if not lo <= e9 <= hi:
         assert not ok
         return
     assert ok, FFI.string(w)
-    assert c.value_e9[10] == e9
+    assert c.value_e9[index] == e9

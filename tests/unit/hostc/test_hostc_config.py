@@ -1,8 +1,9 @@
 """The C host's configuration (hostc/config.c) against the Python host's: the configuration
 `mobigrasp run` gives the host (services/run_job.py host_config) read by both gives the same
 task parameters (host/app_factory.py build_host_app: TaskParams.for_method with the paper
-parameters mapped by the method's paper_to_task and the task settings) and, for 000, the same
-planner parameters (Params000 as plan_000 rounds them); a configuration the Python host refuses
+parameters mapped by the method's paper_to_task and the task settings) and, for 000 and 001, the
+same planner parameters (Params000 as plan_000 rounds them, planner_params_001 as the C's
+integers, tests/plan001_c.py); a configuration the Python host refuses
 (tools/commands/host.py: mcu_sim.world.scenario.parse_host_config) the C refuses naming the
 same key."""
 
@@ -14,14 +15,18 @@ from decimal import Decimal
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from plan001_c import params_c
 from test_hostc_planning import _params000_c
+from test_hostc_replan import _board
 from test_hostc_task000 import _c_task
 
 from mobigrasp import hostc
 from mobigrasp.host.app_factory import task_params
 from mobigrasp.host.planning.bezier000 import Params000
+from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task import REGISTRY, Task, method_rules
+from mobigrasp.host.task.method001 import planner_params_001
 from mobigrasp.mcu_sim.world.scenario import ScenarioError, parse_host_config
 from mobigrasp.services.run_job import host_config, resolve_scenario
 
@@ -96,10 +101,22 @@ def _same_task_params(cfg: dict) -> None:
             assert (list(g) if not isinstance(g, int) else g) == (
                 list(getattr(want_pl, f)) if not isinstance(g, int) else getattr(want_pl, f)), f
         assert v_limit[0] == int(round(pp.v_max * 1000))
+    if py.method == "001":
+        pl, v_limit = FFI.new("mg_params001_t *"), FFI.new("int32_t *")
+        C.mg_config_params001(c, p, pl, v_limit)
+        pp = planner_params_001(py.p)
+        assert _plain(pl[0]) == _plain(params_c(pp)[0])
+        assert v_limit[0] == int(round(pp.v_max * 1000))
+        b = FFI.new("mg_board_replanner001_t *")
+        C.mg_config_replanner001(c, p, b)
+        want_b = _board(Replanner((0.0, 0.0), pp), pp.v0)
+        for f in ("params", "cfg", "v_limit_mm_s"):
+            assert _plain(getattr(b, f)) == _plain(getattr(want_b, f)), f
+        assert list(b.level_v0_mm_s)[:2] == list(want_b.level_v0_mm_s)[:2]
 
 
 @pytest.mark.parametrize("name", ["paper000-exp1", "paper000-exp2", "paper001-sim1",
-                                  "paper002-marker", "paper002-cylinder-moving"])
+                                  "paper001-sim2", "paper002-marker", "paper002-cylinder-moving"])
 def test_the_shipped_scenarios_configurations(name):
     """What `mobigrasp run` gives the host of each shipped scenario: the same parameters."""
     _, scenario = resolve_scenario(name)

@@ -7,10 +7,10 @@ strip of half-width ``view_mm`` (the detector's reliable range) on both sides. T
 sees the disc of view_mm; each ring lies as far out as the strip allows, a_k = a_(k-1) + 2
 view_mm (a_0 = 0), the last at radius - view_mm: the inner edge of every ring's strip meets the
 outer edge of the one inside it, the last ring's strip reaches ``radius_mm``, and no ring is
-driven twice. The first ring's strip reaches 3 view_mm (rings evenly spaced to the last one,
-a_k = k (radius - view_mm) / n, reached less: 2.8 m instead of 3.3 m for the default 4.5 m disc,
-and the targets just beyond were found on the second ring only, after the time limit of 150 s,
-docs/task.md). A ring starts and closes on the start's x axis (its heading at the start); the
+driven twice. The first ring's strip reaches 3 view_mm less its sides' sagitta (3.2 m for the
+default 4.5 m disc; rings evenly spaced, a_k = k (radius - view_mm) / n, reached 2.8 m, and
+targets 2.9 m away were seen on the second ring only, after the 150 s time limit of v2 scenes,
+docs/cosim.md). A ring starts and closes on the start's x axis (its heading at the start); the
 step out to the next ring is radial. (An Archimedean spiral of pitch
 2 view_mm covers the same disc with ~20 % more path for 4.5 m: its last turn overshoots.)
 A ring is a polygon of sides about ``chord_mm`` whose sides touch its circle at their

@@ -545,9 +545,7 @@ def _is_result(name: str, det: Any) -> bool:
 
 def _spacing_q4(det: Any) -> int | None:
     """d_pixel in Q4 px of a red cylinder result; None for none or another type."""
-    if det is None or not isinstance(det, registry.row("red_cylinder").result_type()):
-        return None
-    return det.d_pixel_q4
+    return det.d_pixel_q4 if _is_result("red_cylinder", det) else None
 
 
 def _spacing_px(name: str, det: Any) -> int | None:

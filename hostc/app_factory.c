@@ -75,6 +75,36 @@ void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, cons
     }
 }
 
+void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
+                    const int32_t *spoke, const int32_t *fill)
+{
+    memset(f, 0, sizeof *f);
+    f->has_frame = 1;
+    if (radial != NULL) { /* the symbol's centre at Y_oc (host/vision/radial_symbol.py) */
+        f->has_radial = 1;
+        f->radial.u_q4 = radial[0], f->radial.v_q4 = radial[1];
+        f->radial.depth_mm_q4 = radial[3] * 16;
+    }
+    if (plus != NULL) { /* the midpoint at dist_mm (host/vision/dual_plus.py sighting) */
+        f->has_plus = 1;
+        f->plus.sighting.u_q4 = (int32_t)mg_floor_div((int64_t)plus[0] + plus[2], 2);
+        f->plus.sighting.v_q4 = (int32_t)mg_floor_div((int64_t)plus[1] + plus[3], 2);
+        f->plus.sighting.depth_mm_q4 = plus[6] * 16;
+        memcpy(f->plus.uv_q4, plus, sizeof f->plus.uv_q4);
+        f->plus.dist_mm = plus[6];
+    }
+    if (spoke != NULL) { /* atan k_T and w_T in whole px (sense.py spoke_reading) */
+        f->has_spoke = 1;
+        f->spoke_angle_mrad = spoke[3];
+        f->spoke_width_px = (int32_t)mg_floor_div((int64_t)spoke[4] + 8, 16);
+    }
+    if (fill != NULL) {
+        f->has_held_fill = 1;
+        f->held_rgb[0] = fill[0], f->held_rgb[1] = fill[1], f->held_rgb[2] = fill[2];
+        f->held_permille = fill[3];
+    }
+}
+
 /* an object of int members (keys sorted by the caller), int arrays and arrays of pairs */
 typedef struct {
     const char *key;

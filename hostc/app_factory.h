@@ -11,6 +11,7 @@
 
 #include "app_link.h"
 #include "odometry.h"
+#include "task_method000.h"
 #include "task_method002.h"
 
 /* telemetry to the task's inputs (host/app_factory.py InputBuilder): odometry integrates the
@@ -56,6 +57,13 @@ int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_
 int mg_red_cylinder_sighting(const int32_t rc[MG_RED_CYLINDER_WORDS], int32_t f_px,
                              mg_sighting_t *s);
 int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_sighting_t *s);
+
+/* 000's (and 001's) frame of one vision job's results (NULL: the detector found nothing or
+ * did not run): the radial symbol's sighting (its centre at the depth Y_oc), the dual "+"
+ * (its midpoint at the depth dist_mm, both "+"), the spoke's angle and width, the colour
+ * filling the frame */
+void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
+                    const int32_t *spoke, const int32_t *fill);
 
 /* 002's frame of one vision job's results (NULL: the detector found nothing or did not run);
  * f_px: the camera's */

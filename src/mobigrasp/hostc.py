@@ -31,7 +31,7 @@ HEADERS = ("budget.h", "fixedpoint.h", "arm_calib.h", "kinematics.h", "posture.h
            "bezier.h", "candidates.h", "plan000.h", "blocked_q.h",
            "escape.h", "sonar_guard.h", "task_search.h", "task_grasp.h", "held_fill.h",
            "app_factory.h", "task_paper.h", "task_path.h", "task_approach.h",
-           "task_method000.h", "task_method001.h", "detectors.h")
+           "task_method000.h", "task_method001.h", "detectors.h", "config.h")
 SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC / "arm_calib.c",
            HOSTC / "kinematics.c", HOSTC / "posture.c", HOSTC / "odometry.c",
            HOSTC / "path_follow.c", HOSTC / "fuzzy.c", HOSTC / "retransmit.c",
@@ -50,7 +50,8 @@ SOURCES = (HOSTC / "budget.c", HOSTC / "trig.c", HOSTC / "fixedpoint.c", HOSTC /
            HOSTC / "task_method000.c", HOSTC / "task_method001.c", HOSTC / "detectors.c",
            HOSTC / "grey.c", HOSTC / "label.c", HOSTC / "edge.c", HOSTC / "double_cross.c",
            HOSTC / "red_cylinder.c", HOSTC / "dark.c", HOSTC / "radial_symbol.c",
-           HOSTC / "dual_plus.c", HOSTC / "spoke.c", PROTOCOL / "joints.c",
+           HOSTC / "dual_plus.c", HOSTC / "spoke.c", HOSTC / "config.c",
+           PROTOCOL / "joints.c",
            PROTOCOL / "frame.c", PROTOCOL / "cobs.c", PROTOCOL / "crc16.c",
            PROTOCOL / "messages.c")
 

@@ -1,11 +1,13 @@
 /* Paper 001's method (host/task/method001.py): 000's vision and grasp with 001's sonar planning
  * of eq. (17) and its replanning (section III.E) in APPROACH, through the replanner of
- * host/planning/replan.py (a declared interface, mg_replanner001_t, until it is in C). Ours, as
+ * host/planning/replan.py (a declared interface, mg_replanner001_t: the board's is
+ * mg_board_replanner001, replan.c around plan001.c; the tests give scripted ones). Ours, as
  * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
- * first, sightings while the base turns fast are not used, the follower never backs up, the
- * last part of the curve is handed to ADJUST while the object is in view and the way is
- * clear. Not yet: the fallbacks and detours with no feasible curve (start_detour) and 001's
- * sonar guard (guard_wheels), which drive the sonar guard's detour. */
+ * first, sightings while the base turns fast are not used, the follower never backs up; the
+ * curve is followed to its end on the grasp circle, where ROUGH_GRASP takes over. Not yet: the
+ * look from the circle and the grasp by eq. (11) (method001.py look_decides, enter_precise),
+ * the fallbacks and detours with no feasible curve (start_detour) and 001's sonar guard
+ * (guard_wheels), which drive the sonar guard's detour. */
 #ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
 #define MOBIGRASP_HOSTC_TASK_METHOD001_H
 
@@ -13,13 +15,13 @@
 #include <stdint.h>
 
 #include "budget.h"
+#include "plan001.h"
+#include "replan.h"
 #include "task_approach.h"
 #include "task_machine.h"
 
 enum {
     MG_SIGHTING_MAX_TURN_MRAD_S = 500, /* APPROACH: sightings taken turning faster not used */
-    MG_ADJUST_EARLY_MM_001 = 700,      /* APPROACH: ADJUST from this close, the object in view */
-    MG_ADJUST_EARLY_FRESH_US = 300000, /* ... seen this recently */
     MG_LOOK_FIRST_US = 4000000,        /* P_i given, object near and unseen: look this long */
     MG_LOOK_FIRST_LO_MM = 350,         /* ... when it is this far from the waist */
     MG_LOOK_FIRST_HI_MM = 1200
@@ -53,6 +55,27 @@ typedef struct {
                           int32_t travel_mm, mg_ops_t *ops);
 } mg_replanner001_t;
 
+/* The board's replanner behind mg_replanner001_t (method001.py start_001, update_001,
+ * straight_clear_001): replan.c around plan001.c, the curve's reference table
+ * (MG_PLAN000_TRAJ_SAMPLES samples, path_follow.c). ctx is an mg_board_replanner001_t whose
+ * params (v0_mm_s unused: level_v0_mm_s by the slow-down level, divided by v0_div), cfg
+ * (target_q4 set by start), level_v0_mm_s and v_limit_mm_s the caller fills. */
+#define MG_REPLAN_LEVELS 4
+typedef struct {
+    mg_params001_t params;
+    mg_replan001_cfg_t cfg;
+    int32_t level_v0_mm_s[MG_REPLAN_LEVELS]; /* round(v0 slow_factors[level] 1000) */
+    int32_t v_limit_mm_s;                    /* the follower's wheel limit, round(Vmax 1000) */
+    int32_t v0_div;
+    mg_replan001_state_t st;
+    mg_plan001_t plan;
+    mg_plan001_work_t work;
+} mg_board_replanner001_t;
+extern const mg_replanner001_t mg_board_replanner001;
+/* Python's f"{q4 / 16000:.2f}" (the block's distance in the replanner's reason), 0 <= q4 <
+ * 2^40, appended at at; the new end */
+size_t mg_method001_text_m_2(char *out, size_t cap, size_t at, int64_t q4);
+
 /* What 001 keeps between steps (the task's ms, State001 without the detours). */
 typedef struct {
     const mg_replanner001_t *rp; /* the replanner's calls (NULL: none, every plan fails) */
@@ -61,6 +84,8 @@ typedef struct {
     int32_t has_path_from, path_from_mm[2]; /* where the last planned path began */
     int32_t v0_div;                /* the planner's v0 divided by this (a fallback step) */
     int32_t fallbacks, detours, detour_side;
+    /* arrived on the grasp circle: the estimate the look before the grasp is to confirm */
+    int32_t has_circle_expected, circle_expected_mm[2];
 } mg_state001_t;
 
 void mg_method001_ms_init(void *ms);

@@ -18,7 +18,6 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task import recorded_run
-from test_hostc_task_states import _detail
 from test_hostc_task000 import (
     ENCODER,
     NEAR,
@@ -35,6 +34,7 @@ from test_hostc_task000 import (
     replay_path_task,
     start_approach,
 )
+from test_hostc_task_states import _detail
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts

@@ -76,11 +76,13 @@ def build_elf() -> Path:
     """The ELF of ``make hostc-arm`` for the current sources, built into the cache first."""
     target = cbuild.cache_root() / "hostc-arm" / source_hash()
     elf = target / ELF_NAME
-    if elf.is_file():
-        return elf
+    cbuild.build_once(target, elf.is_file, lambda: _make_elf(target))
+    return elf
+
+
+def _make_elf(target: Path) -> None:
     if shutil.which("make") is None:
         raise ToolchainError("make not found: the ARM host is built by make hostc-arm")
-    target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
     try:
         done = subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp}"],
@@ -91,7 +93,6 @@ def build_elf() -> Path:
         cbuild.rename_into_place(tmp, target)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return elf
 
 
 def disassemble(elf: Path) -> str:

@@ -158,6 +158,16 @@ def marker_slice(tmp_path_factory):
         folder, ["paper002-marker"], time_limit_s=4.0))
 
 
+@pytest.fixture(scope="session")
+def exp1_corpus(tmp_path_factory):
+    """The detector corpus of the whole of paper000-exp1: the dual plus and the spoke searched
+    for, found and lost (the C and the emulated ARM kernels are checked on slices of it)."""
+    from mobigrasp.services.corpus import record
+
+    return made_once_per_run(tmp_path_factory, "exp1-corpus",
+                             lambda folder: record(folder, ["paper000-exp1"]))
+
+
 def assert_no_false_claim(summary: dict) -> None:
     """A run that ended DONE without the object in the gripper fails the test (docs/task.md)."""
     assert not summary.get("false_claim"), (

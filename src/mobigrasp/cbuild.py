@@ -101,14 +101,20 @@ def build_once(target: Path, ready: Callable[[], bool], build: Callable[[], obje
     """``build()`` unless ``ready()``: under an exclusive lock on ``<target>.lock`` beside
     ``target``, with ``ready()`` asked again once the lock is held, so processes that want the
     same part at once build it once and the others wait for it. The build's own rename into
-    place keeps the part whole; the lock only spares the duplicate work."""
+    place keeps the part whole; the lock only spares the duplicate work, so its file goes
+    when the build is over (a process that then locks a new one builds again at worst) and the
+    cache holds the built parts only."""
     if ready():
         return
     target.parent.mkdir(parents=True, exist_ok=True)
-    with open(target.parent / f"{target.name}.lock", "ab") as lock:
+    lock_path = target.parent / f"{target.name}.lock"
+    with open(lock_path, "ab") as lock:
         fcntl.flock(lock.fileno(), fcntl.LOCK_EX)  # released when the file closes
-        if not ready():
-            build()
+        try:
+            if not ready():
+                build()
+        finally:
+            lock_path.unlink(missing_ok=True)
 
 
 def load_cached(name: str, target: Path, build: Callable[[], Path],

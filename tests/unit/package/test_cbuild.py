@@ -53,8 +53,9 @@ def test_a_part_another_process_is_building_is_waited_for_and_not_built_again(tm
     asked, built = threading.Event(), []
 
     def ready() -> bool:
+        now = target.is_dir()
         asked.set()
-        return target.is_dir()
+        return now
 
     with open(tmp_path / "part.lock", "ab") as held:  # the other process, building
         fcntl.flock(held.fileno(), fcntl.LOCK_EX)
@@ -71,3 +72,4 @@ def test_a_part_another_process_is_building_is_waited_for_and_not_built_again(tm
     cbuild.build_once(tmp_path / "new", lambda: (tmp_path / "new").is_dir(),
                       lambda: built.append(2))
     assert built == [None]  # built once, then found
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["new", "part"]  # no lock file left

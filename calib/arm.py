@@ -313,7 +313,7 @@ class FrontEnd:
         h, w = self._shape
         found, t = a.call("mg_dual_plus", base + self.GREY, base + self.LABELS, w, h,
                           base + self.STATS, self._n_lab, alpha_mrad, f_px, u0_px,
-                          base + self.SCRATCH, base + self.OUT, cold=False)
+                          base + self.SCRATCH, base + self.OUT, 0, cold=False)
         res = struct.unpack("<11i", a.read(base + self.OUT, 44)) if found else None
         return res, t
 
@@ -324,7 +324,7 @@ class FrontEnd:
         h, w = self._shape
         found, t = a.call("mg_spoke", base + self.GREY, base + self.LABELS, w, h,
                           base + self.STATS, self._n_lab, base + self.SCRATCH, base + self.OUT,
-                          cold=False)
+                          0, cold=False)
         res = native.spoke_tuple(struct.unpack("<26i", a.read(base + self.OUT, 104))) \
             if found else None
         return res, t

@@ -155,10 +155,18 @@ def detect_radial_symbol_counted(rgb: np.ndarray, f_px: int = 611, u0_px: int = 
                                  ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
     """:func:`detect_radial_symbol` and the operation counts it charged, the front end's
     included, as host/vision/radial_symbol.py charges them."""
+    return _with_front_end(rgb, lambda g, _labels, stats: radial_symbol_counted(
+        g, stats, f_px, u0_px, v0_px))
+
+
+def _with_front_end(rgb: np.ndarray, kernel, *args) -> tuple:
+    """``kernel(grey, labels, stats, *args)`` after the C front end (grey, dark mask,
+    labelling): its result and its counts with the front end's added, as the Python 000
+    detectors charge them."""
     g = grey(rgb)
     m, _ = dark_mask(g)
-    _, _, stats = label(m)
-    res, ops = radial_symbol_counted(g, stats, f_px, u0_px, v0_px)
+    _, labels, stats = label(m)
+    res, ops = kernel(g, labels, stats, *args)
     fe = front_end_ops(rgb.shape[0], rgb.shape[1])
     return res, tuple(a + b for a, b in zip(ops, fe, strict=True))
 
@@ -239,22 +247,36 @@ def dual_plus(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray,
     """(u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4, d_eff_q4, dist_mm, dist_raw_mm, x_oc_mm,
     y_oc_mm, z_oc_mm) of the dual "+", from the front end's grey image, labels and component
     stats, or None."""
+    return dual_plus_counted(grey_img, labels, stats, alpha_mrad, f_px, u0_px)[0]
+
+
+def dual_plus_counted(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray,
+                      alpha_mrad: int = -1571, f_px: int = 611, u0_px: int = 160
+                      ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`dual_plus` and the operation counts it charged (:func:`ops_tuple`), the front
+    end's apart."""
     ffi, c = lib()
     g, lab, st, scratch, (h, w) = _plus_inputs(grey_img, labels, stats)
     out = np.zeros(11, np.int32)
+    ops = ffi.new("mg_ops_t *")
     found = c.mg_dual_plus(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, lab, "int32_t *"), w, h,
                            _ptr(ffi, st, "int32_t *"), len(st), int(alpha_mrad), f_px, u0_px,
-                           _ptr(ffi, scratch, "uint8_t *"), _ptr(ffi, out, "int32_t *"))
-    return tuple(int(v) for v in out) if found else None
+                           _ptr(ffi, scratch, "uint8_t *"), _ptr(ffi, out, "int32_t *"), ops)
+    return (tuple(int(v) for v in out) if found else None), ops_tuple(ops)
 
 
 def detect_dual_plus(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = 611,
                      u0_px: int = 160) -> tuple[int, ...] | None:
     """The whole detector in C: grey, dark mask, labelling, dual "+"."""
-    g = grey(rgb)
-    m, _ = dark_mask(g)
-    _, labels, stats = label(m)
-    return dual_plus(g, labels, stats, alpha_mrad, f_px, u0_px)
+    return detect_dual_plus_counted(rgb, alpha_mrad, f_px, u0_px)[0]
+
+
+def detect_dual_plus_counted(rgb: np.ndarray, alpha_mrad: int = -1571, f_px: int = 611,
+                             u0_px: int = 160
+                             ) -> tuple[tuple[int, ...] | None, tuple[int, ...]]:
+    """:func:`detect_dual_plus` and the operation counts it charged, the front end's
+    included, as host/vision/dual_plus.py charges them."""
+    return _with_front_end(rgb, dual_plus_counted, alpha_mrad, f_px, u0_px)
 
 
 def atan2_mrad(y: int, x: int) -> int:
@@ -274,21 +296,32 @@ def spoke_tuple(out) -> tuple:
 def spoke(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray) -> tuple | None:
     """The spoke of the "+" nearest the image centre (:func:`spoke_tuple`), from the front
     end's grey image, labels and component stats, or None."""
+    return spoke_counted(grey_img, labels, stats)[0]
+
+
+def spoke_counted(grey_img: np.ndarray, labels: np.ndarray, stats: np.ndarray
+                  ) -> tuple[tuple | None, tuple[int, ...]]:
+    """:func:`spoke` and the operation counts it charged (:func:`ops_tuple`), the front
+    end's apart."""
     ffi, c = lib()
     g, lab, st, scratch, (h, w) = _plus_inputs(grey_img, labels, stats)
     out = np.zeros(26, np.int32)
+    ops = ffi.new("mg_ops_t *")
     found = c.mg_spoke(_ptr(ffi, g, "uint8_t *"), _ptr(ffi, lab, "int32_t *"), w, h,
                        _ptr(ffi, st, "int32_t *"), len(st), _ptr(ffi, scratch, "uint8_t *"),
-                       _ptr(ffi, out, "int32_t *"))
-    return spoke_tuple(out) if found else None
+                       _ptr(ffi, out, "int32_t *"), ops)
+    return (spoke_tuple(out) if found else None), ops_tuple(ops)
 
 
 def detect_spoke(rgb: np.ndarray) -> tuple | None:
     """The whole detector in C: grey, dark mask, labelling, spoke."""
-    g = grey(rgb)
-    m, _ = dark_mask(g)
-    _, labels, stats = label(m)
-    return spoke(g, labels, stats)
+    return detect_spoke_counted(rgb)[0]
+
+
+def detect_spoke_counted(rgb: np.ndarray) -> tuple[tuple | None, tuple[int, ...]]:
+    """:func:`detect_spoke` and the operation counts it charged, the front end's included, as
+    host/vision/spoke.py charges them."""
+    return _with_front_end(rgb, spoke_counted)
 
 
 def locate_ring_pair(d_pixel_q4: int, u_q4: int, v_q4: int, width_q4: int, alpha_mrad: int,

@@ -101,11 +101,11 @@ static mg_stage_t *stage(mg_app_t *app, const char *name)
     return s;
 }
 
-/* the windows more than MG_LOAD_WINDOWS_KEPT before window newest are folded into the running
- * count, sum and maximum, in window order */
+/* the windows before the MG_LOAD_WINDOWS_KEPT up to window newest are folded into the running
+ * count, sum and maximum, in window order (at most MG_LOAD_WINDOWS_KEPT are kept) */
 static void fold_old_loads(mg_app_t *app, int64_t newest)
 {
-    const int64_t limit = newest - MG_LOAD_WINDOWS_KEPT;
+    const int64_t limit = newest - MG_LOAD_WINDOWS_KEPT + 1;
     int32_t kept = 0;
     for (int32_t i = 0; i < app->n_loads; i++) {
         if (app->load_index[i] < limit) {

@@ -73,11 +73,42 @@ void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, cons
     }
 }
 
-/* an object of int members (keys sorted by the caller) and int arrays */
+void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
+                    const int32_t *spoke, const int32_t *fill)
+{
+    memset(f, 0, sizeof *f);
+    f->has_frame = 1;
+    if (radial != NULL) { /* the symbol's centre at Y_oc (host/vision/radial_symbol.py) */
+        f->has_radial = 1;
+        f->radial.u_q4 = radial[0], f->radial.v_q4 = radial[1];
+        f->radial.depth_mm_q4 = radial[3] * 16;
+    }
+    if (plus != NULL) { /* the midpoint at dist_mm (host/vision/dual_plus.py sighting) */
+        f->has_plus = 1;
+        f->plus.sighting.u_q4 = (int32_t)mg_floor_div((int64_t)plus[0] + plus[2], 2);
+        f->plus.sighting.v_q4 = (int32_t)mg_floor_div((int64_t)plus[1] + plus[3], 2);
+        f->plus.sighting.depth_mm_q4 = plus[6] * 16;
+        memcpy(f->plus.uv_q4, plus, sizeof f->plus.uv_q4);
+        f->plus.dist_mm = plus[6];
+    }
+    if (spoke != NULL) { /* atan k_T and w_T in whole px (sense.py spoke_reading) */
+        f->has_spoke = 1;
+        f->spoke_angle_mrad = spoke[3];
+        f->spoke_width_px = (int32_t)mg_floor_div((int64_t)spoke[4] + 8, 16);
+    }
+    if (fill != NULL) {
+        f->has_held_fill = 1;
+        f->held_rgb[0] = fill[0], f->held_rgb[1] = fill[1], f->held_rgb[2] = fill[2];
+        f->held_permille = fill[3];
+    }
+}
+
+/* an object of int members (keys sorted by the caller), int arrays and arrays of pairs */
 typedef struct {
     const char *key;
     int32_t at, n; /* words at .. at + n of the result: n 1 an int, else an array */
     int32_t is_bool;
+    int32_t pairs; /* an array of words[at - 1] [a, b] pairs from words[at] on (n unused) */
 } member_t;
 
 static size_t object_json(const int32_t *words, const member_t *m, int32_t n_members, char *out,
@@ -90,6 +121,15 @@ static size_t object_json(const int32_t *words, const member_t *m, int32_t n_mem
         mg_json_key(&j, m[i].key);
         if (m[i].is_bool) {
             mg_json_bool(&j, words[m[i].at] != 0);
+        } else if (m[i].pairs) {
+            mg_json_begin_array(&j);
+            for (int32_t k = 0; k < words[m[i].at - 1]; k++) {
+                mg_json_begin_array(&j);
+                mg_json_int(&j, words[m[i].at + 2 * k]);
+                mg_json_int(&j, words[m[i].at + 2 * k + 1]);
+                mg_json_end_array(&j);
+            }
+            mg_json_end_array(&j);
         } else if (m[i].n == 1) {
             mg_json_int(&j, words[m[i].at]);
         } else {
@@ -108,35 +148,64 @@ static size_t object_json(const int32_t *words, const member_t *m, int32_t n_mem
 
 size_t mg_double_cross_json(const int32_t dc[MG_DOUBLE_CROSS_WORDS], char *out, size_t cap)
 {
-    static const member_t m[] = {{"d_pixel_q4", 6, 1, 0}, {"e_mrad", 7, 1, 0},
-                                 {"u1_q4", 0, 1, 0},      {"u2_q4", 2, 1, 0},
-                                 {"um_q4", 4, 1, 0},      {"v1_q4", 1, 1, 0},
-                                 {"v2_q4", 3, 1, 0},      {"vm_q4", 5, 1, 0},
-                                 {"votes", 8, 2, 0}};
+    static const member_t m[] = {{"d_pixel_q4", 6, 1, 0, 0}, {"e_mrad", 7, 1, 0, 0},
+                                 {"u1_q4", 0, 1, 0, 0},      {"u2_q4", 2, 1, 0, 0},
+                                 {"um_q4", 4, 1, 0, 0},      {"v1_q4", 1, 1, 0, 0},
+                                 {"v2_q4", 3, 1, 0, 0},      {"vm_q4", 5, 1, 0, 0},
+                                 {"votes", 8, 2, 0, 0}};
     return object_json(dc, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
 }
 
 size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, size_t cap)
 {
-    static const member_t m[] = {{"d_pixel_q4", 4, 1, 0}, {"ring1_v_q4", 2, 1, 0},
-                                 {"ring2_v_q4", 3, 1, 0}, {"roi", 6, 4, 0},
-                                 {"u_c_q4", 0, 1, 0},     {"v_c_q4", 1, 1, 0},
-                                 {"width_q4", 5, 1, 0}};
+    static const member_t m[] = {{"d_pixel_q4", 4, 1, 0, 0}, {"ring1_v_q4", 2, 1, 0, 0},
+                                 {"ring2_v_q4", 3, 1, 0, 0}, {"roi", 6, 4, 0, 0},
+                                 {"u_c_q4", 0, 1, 0, 0},     {"v_c_q4", 1, 1, 0, 0},
+                                 {"width_q4", 5, 1, 0, 0}};
     return object_json(rc, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
 }
 
 size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap)
 {
-    static const member_t m[] = {{"area_px", 6, 1, 0}, {"roi", 2, 4, 0},
-                                 {"touches_edge", 7, 1, 1}, {"u_c_q4", 0, 1, 0},
-                                 {"v_c_q4", 1, 1, 0}};
+    static const member_t m[] = {{"area_px", 6, 1, 0, 0}, {"roi", 2, 4, 0, 0},
+                                 {"touches_edge", 7, 1, 1, 0}, {"u_c_q4", 0, 1, 0, 0},
+                                 {"v_c_q4", 1, 1, 0, 0}};
     return object_json(roi, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
 }
 
 size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap)
 {
-    static const member_t m[] = {{"fill_permille", 3, 1, 0}, {"rgb", 0, 3, 0}};
+    static const member_t m[] = {{"fill_permille", 3, 1, 0, 0}, {"rgb", 0, 3, 0, 0}};
     return object_json(fill, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_radial_symbol_json(const int32_t rs[MG_RADIAL_SYMBOL_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"diameter_q4", 2, 1, 0, 0}, {"u_q4", 0, 1, 0, 0},
+                                 {"v_q4", 1, 1, 0, 0},        {"x_oc_mm", 4, 1, 0, 0},
+                                 {"y_oc_mm", 3, 1, 0, 0},     {"z_oc_mm", 5, 1, 0, 0}};
+    return object_json(rs, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_dual_plus_json(const int32_t dp[MG_DUAL_PLUS_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"d_eff_q4", 5, 1, 0, 0}, {"d_pixel_q4", 4, 1, 0, 0},
+                                 {"dist_mm", 6, 1, 0, 0},  {"dist_raw_mm", 7, 1, 0, 0},
+                                 {"u1_q4", 0, 1, 0, 0},    {"u2_q4", 2, 1, 0, 0},
+                                 {"v1_q4", 1, 1, 0, 0},    {"v2_q4", 3, 1, 0, 0},
+                                 {"x_oc_mm", 8, 1, 0, 0},  {"y_oc_mm", 9, 1, 0, 0},
+                                 {"z_oc_mm", 10, 1, 0, 0}};
+    return object_json(dp, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_spoke_json(const int32_t sp[MG_SPOKE_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"angle_mrad", 3, 1, 0, 0}, {"points_q4", 6, 0, 0, 1},
+                                 {"slope_q12", 2, 1, 0, 0},  {"u_c_q4", 0, 1, 0, 0},
+                                 {"v_c_q4", 1, 1, 0, 0},     {"width_q4", 4, 1, 0, 0}};
+    if (sp[5] < 0 || sp[5] > (MG_SPOKE_WORDS - 6) / 2)
+        return 0;
+    return object_json(sp, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
 }
 
 void mg_input_builder_init(mg_input_builder_t *b)

@@ -11,6 +11,7 @@
 
 #include "app_link.h"
 #include "odometry.h"
+#include "task_method000.h"
 #include "task_method002.h"
 
 /* telemetry to the task's inputs (host/app_factory.py InputBuilder): odometry integrates the
@@ -43,6 +44,12 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
 #define MG_RED_CYLINDER_WORDS 10
 #define MG_RED_ROI_WORDS 8
 #define MG_HELD_FILL_WORDS 4
+/* the 000 kernels' (kernels.h): mg_radial_symbol (u, v, diameter, y_oc, x_oc, z_oc),
+ * mg_dual_plus (u1, v1, u2, v2, d_pixel, d_eff, dist, dist_raw, x_oc, y_oc, z_oc), mg_spoke
+ * (u_c, v_c, slope, angle, width, n_points, then n_points (u, v) pairs, at most 10) */
+#define MG_RADIAL_SYMBOL_WORDS 6
+#define MG_DUAL_PLUS_WORDS 11
+#define MG_SPOKE_WORDS 26
 
 /* the sightings (registry sighting functions): 1 and s, or 0 (no target) */
 int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
@@ -50,6 +57,13 @@ int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_
 int mg_red_cylinder_sighting(const int32_t rc[MG_RED_CYLINDER_WORDS], int32_t f_px,
                              mg_sighting_t *s);
 int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_sighting_t *s);
+
+/* 000's (and 001's) frame of one vision job's results (NULL: the detector found nothing or
+ * did not run): the radial symbol's sighting (its centre at the depth Y_oc), the dual "+"
+ * (its midpoint at the depth dist_mm, both "+"), the spoke's angle and width, the colour
+ * filling the frame */
+void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
+                    const int32_t *spoke, const int32_t *fill);
 
 /* 002's frame of one vision job's results (NULL: the detector found nothing or did not run);
  * f_px: the camera's */
@@ -61,5 +75,8 @@ size_t mg_double_cross_json(const int32_t dc[MG_DOUBLE_CROSS_WORDS], char *out, 
 size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, size_t cap);
 size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap);
 size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap);
+size_t mg_radial_symbol_json(const int32_t rs[MG_RADIAL_SYMBOL_WORDS], char *out, size_t cap);
+size_t mg_dual_plus_json(const int32_t dp[MG_DUAL_PLUS_WORDS], char *out, size_t cap);
+size_t mg_spoke_json(const int32_t sp[MG_SPOKE_WORDS], char *out, size_t cap);
 
 #endif

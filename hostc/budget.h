@@ -20,4 +20,28 @@ mg_ops_t mg_ops_scaled(mg_ops_t a, int64_t k);
 int64_t mg_ops_cycles(const mg_ops_t *ops);
 int64_t mg_ops_time_us(const mg_ops_t *ops); /* whole microseconds, rounded up */
 
+/* The vision kernels' counting in place, field by field: their calibration build (calib/arm.py)
+ * has no libc for a struct copy or an initialiser. mg_ops_clear sets *o to 0; mg_ops_charge adds
+ * to it (the fields of mg_ops_t but the float ones: the kernels are integer only). */
+static inline void mg_ops_clear(mg_ops_t *o)
+{
+    o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
+    o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
+}
+
+static inline void mg_ops_charge(mg_ops_t *o, int64_t pixels_read, int64_t pixels_written,
+                                 int64_t alu, int64_t branches, int64_t muls, int64_t muls32,
+                                 int64_t divs, int64_t luts, int64_t bytes_streamed)
+{
+    o->pixels_read += pixels_read;
+    o->pixels_written += pixels_written;
+    o->alu += alu;
+    o->branches += branches;
+    o->muls += muls;
+    o->muls32 += muls32;
+    o->divs += divs;
+    o->luts += luts;
+    o->bytes_streamed += bytes_streamed;
+}
+
 #endif

@@ -39,10 +39,6 @@ void mg_dark_mask_ops(mg_ops_t *o, int64_t n_px)
     /* the histogram pass (a read, the bin's load, increment and store, the loop: 11 cycles),
      * the mask pass (read, compare, store, loop: 10), both fetching the grey image from SDRAM,
      * the level search over 256 bins (host/vision/dark_blobs.py dark_mask_cost) */
-    o->pixels_read += 2 * n_px;
-    o->pixels_written += 2 * n_px;
-    o->luts += n_px;
-    o->alu += 7 * n_px + 512;
-    o->branches += 2 * n_px + 256;
-    o->bytes_streamed += 2 * n_px;
+    mg_ops_charge(o, 2 * n_px, 2 * n_px, 7 * n_px + 512, 2 * n_px + 256, 0, 0, 0, n_px,
+                  2 * n_px);
 }

@@ -2,9 +2,11 @@
  * one mg_detector_t per detector the task names, in its order (task_method.h MG_DET_*), each
  * running its C kernel on the frame, charging the operation counts the Python detector charges
  * (kernels.h), its out words for the task and its result's JSON for the detect event
- * (app_factory.h). The double cross reads the camera's yaw and pitch from the joints of the
- * newest telemetry when its frame arrives. The kernels not ported to the program yet (the
- * dual "+", the radial symbol, the spoke) find nothing and charge nothing. */
+ * (app_factory.h). The double cross and the dual "+" read the camera's pose from the joints of
+ * the newest telemetry when their frame arrives. The 000 detectors (the radial symbol, the
+ * dual "+", the spoke) start from one front end (grey, dark mask, components: their counts
+ * include it, and the program charges it once a frame, mg_detector_t.front_end) and refuse
+ * frames under 16 px a side as the Python ones do (nothing found, nothing charged). */
 #ifndef MOBIGRASP_HOSTC_DETECTORS_H
 #define MOBIGRASP_HOSTC_DETECTORS_H
 
@@ -20,6 +22,7 @@
 typedef struct {
     const mg_app_t *app; /* whose newest telemetry gives the pose */
     int32_t f_px;        /* the camera's focal length (px) */
+    int32_t u0_px, v0_px; /* its principal point (px): 160, 120 unless the caller sets them */
     int64_t too_big;
 } mg_detectors_t;
 

@@ -60,13 +60,6 @@ typedef struct {
     group_t *groups;
 } scratch_t;
 
-/* the counts set to 0 field by field (no struct copy: the calibration's build has no libc) */
-static void clear_ops(mg_ops_t *o)
-{
-    o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
-    o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
-}
-
 static int32_t align8(int32_t n) { return (n + 7) & ~7; }
 
 static int32_t popcount32(uint32_t x)
@@ -87,23 +80,11 @@ static int32_t div_round_pos(int64_t num, int64_t den)
 }
 
 /* The operation counts (host/vision/double_cross.py, which states the ARM920T code each count
- * stands for; docs/budget.md) added to *o. */
-static void count(mg_ops_t *o, int64_t pixels_read, int64_t pixels_written, int64_t alu,
-                  int64_t branches, int64_t muls32, int64_t divs, int64_t luts,
-                  int64_t bytes_streamed)
+ * stands for; docs/budget.md), added to *o. One pyramid level of n pixels (_downsample_ops): */
+static void downsample_ops(mg_ops_t *o, int64_t n)
 {
-    o->pixels_read += pixels_read;
-    o->pixels_written += pixels_written;
-    o->alu += alu;
-    o->branches += branches;
-    o->muls32 += muls32;
-    o->divs += divs;
-    o->luts += luts;
-    o->bytes_streamed += bytes_streamed;
+    mg_ops_charge(o, 4 * n, n, 7 * n, n, 0, 0, 0, 0, 4 * n);
 }
-
-/* one pyramid level of n pixels (_downsample_ops) */
-static void downsample_ops(mg_ops_t *o, int64_t n) { count(o, 4 * n, n, 7 * n, n, 0, 0, 0, 4 * n); }
 
 /* the noise estimate (_noise_ops) */
 static void noise_ops(mg_ops_t *o, int32_t h, int32_t w)
@@ -111,23 +92,24 @@ static void noise_ops(mg_ops_t *o, int32_t h, int32_t w)
     if (w < 2)
         return;
     const int64_t rows = (h + 3) / 4, n = rows * (w - 1);
-    count(o, 2 * n, n, 3 * n + 512, n + 256, 0, 0, n, rows * w);
+    mg_ops_charge(o, 2 * n, n, 3 * n + 512, n + 256, 0, 0, 0, n, rows * w);
 }
 
 /* one level's fixed scan (_scan_ops) and its points past each test (_level_candidates) */
 static void level_ops(mg_ops_t *o, int32_t h, int32_t w, const int32_t tally[4])
 {
     const int64_t cells = (int64_t)((h >> 2) + 1) * ((w >> 2) + 1);
-    count(o, 0, 3 * cells, 2 * cells, cells, 0, 0, 0, 0);
+    mg_ops_charge(o, 0, 3 * cells, 2 * cells, cells, 0, 0, 0, 0, 0);
     if (h <= 2 * RING_R || w <= 2 * RING_R)
         return;
     const int64_t n = (int64_t)(h - 2 * RING_R) * (w - 2 * RING_R);
-    count(o, 9 * n, 0, 20 * n, 2 * n, 0, 0, 0, (int64_t)h * w);
+    mg_ops_charge(o, 9 * n, 0, 20 * n, 2 * n, 0, 0, 0, 0, (int64_t)h * w);
     const int64_t k = tally[0], ks = tally[1], n4 = tally[2], m = tally[3];
-    count(o, 8 * k, 8 * k, 34 * k, 24 * k, 0, 0, 8 * k, 0);
-    count(o, ks * RING_N, 0, ks * (12 * RING_N + 68), ks * RING_N, 0, 0, ks * RING_N, 0);
-    count(o, 0, 0, 563 * n4, 24 * n4, 0, 0, 24 * n4, 0);
-    count(o, 0, 3 * m, m * (2 * RING_N + 12), 2 * m, 4 * m, 0, 0, 0);
+    mg_ops_charge(o, 8 * k, 8 * k, 34 * k, 24 * k, 0, 0, 0, 8 * k, 0);
+    mg_ops_charge(o, ks * RING_N, 0, ks * (12 * RING_N + 68), ks * RING_N, 0, 0, 0,
+                  ks * RING_N, 0);
+    mg_ops_charge(o, 0, 0, 563 * n4, 24 * n4, 0, 0, 0, 24 * n4, 0);
+    mg_ops_charge(o, 0, 3 * m, m * (2 * RING_N + 12), 2 * m, 0, 4 * m, 0, 0, 0);
 }
 
 /* one level's grouping of cells (_group: the labelling of hostc/label.c, the sums, a rounded
@@ -135,8 +117,8 @@ static void level_ops(mg_ops_t *o, int32_t h, int32_t w, const int32_t tally[4])
 static void group_ops(mg_ops_t *o, int64_t cells, int64_t ng)
 {
     mg_components_ops(o, cells);
-    count(o, 3 * cells, cells, 6 * cells, 3 * cells, 0, 2 * ng, 0, 26 * cells);
-    count(o, 0, 0, 12 * ng * ng, 0, 2 * ng * ng, 0, 0, 0);
+    mg_ops_charge(o, 3 * cells, cells, 6 * cells, 3 * cells, 0, 0, 2 * ng, 0, 26 * cells);
+    mg_ops_charge(o, 0, 0, 12 * ng * ng, 0, 0, 2 * ng * ng, 0, 0, 0);
 }
 
 static void layout(uint8_t *scratch, int32_t w, int32_t h, scratch_t *s)
@@ -385,7 +367,7 @@ static int32_t vertical_extent_q4(const uint8_t *g, int32_t w, int32_t h, int32_
     const int32_t lo = y0 - EXTENT_MAX_PX < 0 ? 0 : y0 - EXTENT_MAX_PX;
     const int32_t hi = y0 + EXTENT_MAX_PX + 1 > h ? h : y0 + EXTENT_MAX_PX + 1;
     const uint8_t *col = g + x;
-    count(o, 2 * (hi - lo), 0, 3 * (hi - lo), hi - lo, 0, 2, 0, 0);
+    mg_ops_charge(o, 2 * (hi - lo), 0, 3 * (hi - lo), hi - lo, 0, 0, 2, 0, 0);
     int32_t light = 0, dark = 255;
     for (int32_t y = lo; y < hi; y++)
         light = col[y * w] > light ? col[y * w] : light;
@@ -463,13 +445,14 @@ static int32_t detect(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mra
     int32_t rounds = 0; /* the isqrt's: one per pair of bits of d2, at least one */
     for (uint64_t u = d2; u; u >>= 2)
         rounds++;
-    count(o, 0, 0, 4 * (rounds > 1 ? rounds : 1) + 4, rounds > 1 ? rounds : 1, 2, 0, 0, 0);
+    mg_ops_charge(o, 0, 0, 4 * (rounds > 1 ? rounds : 1) + 4, rounds > 1 ? rounds : 1, 0, 2, 0,
+                  0, 0);
     int32_t um = (g1.u_q4 + g2.u_q4 + 1) >> 1, vm = (g1.v_q4 + g2.v_q4 + 1) >> 1;
     /* perspective: weight the centres by the crosses' apparent sizes (depth ~ 1 / size) */
     const int32_t r1 = vertical_extent_q4(grey, w, h, g1.u_q4, g1.v_q4, o);
     const int32_t r2 = vertical_extent_q4(grey, w, h, g2.u_q4, g2.v_q4, o);
     if (r1 && r2 && 5 * r1 >= 3 * r2 && 5 * r2 >= 3 * r1) {
-        count(o, 0, 0, 6, 0, 4, 2, 0, 0);
+        mg_ops_charge(o, 0, 0, 6, 0, 0, 4, 2, 0, 0);
         um = div_round_pos((int64_t)r2 * g1.u_q4 + (int64_t)r1 * g2.u_q4, r1 + r2);
         vm = div_round_pos((int64_t)r2 * g1.v_q4 + (int64_t)r1 * g2.v_q4, r1 + r2);
     }
@@ -479,8 +462,7 @@ static int32_t detect(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_mra
         + (int64_t)mg_sin_q12(pitch_mrad) * yn_q4;
     const int32_t e = yaw_mrad + mg_atan2_mrad(xn_q4 * 4096, fwd);
     /* a sine and a cosine, an atan2 (host/fixedpoint.py sin_ops, atan2_ops), the products */
-    count(o, 0, 0, 2 * 10 + 14 + 6, 2 * 2 + 4, 2 * 1 + 3, 1, 2 * 2 + 2, 0);
-    o->muls += 2 * 1 + 1;
+    mg_ops_charge(o, 0, 0, 2 * 10 + 14 + 6, 2 * 2 + 4, 2 * 1 + 1, 2 * 1 + 3, 1, 2 * 2 + 2, 0);
     out[0] = g1.u_q4;
     out[1] = g1.v_q4;
     out[2] = g2.u_q4;
@@ -499,7 +481,7 @@ int32_t mg_double_cross(const uint8_t *grey, int32_t w, int32_t h, int32_t yaw_m
                         mg_ops_t *ops)
 {
     mg_ops_t none, *o = ops != 0 ? ops : &none;
-    clear_ops(o);
+    mg_ops_clear(o);
     const int32_t found = detect(grey, w, h, yaw_mrad, pitch_mrad, f_px, scratch, out, o);
     return found;
 }

@@ -27,6 +27,12 @@ int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h)
 #define NL 8
 typedef struct { uint32_t w[NL]; } big_t;
 
+static void big_copy(big_t *r, const big_t *a) /* word by word: no struct copy (no libc) */
+{
+    for (int i = 0; i < NL; i++)
+        r->w[i] = a->w[i];
+}
+
 static void big_u64(big_t *r, uint64_t v)
 {
     for (int i = 0; i < NL; i++)
@@ -81,7 +87,7 @@ static void big_mul_u64(big_t *r, const big_t *a, uint64_t v)
             c >>= 32;
         }
     }
-    *r = out;
+    big_copy(r, &out);
 }
 
 static void big_mul64(big_t *r, uint64_t a, uint64_t b)
@@ -110,7 +116,8 @@ static int big_bitlen(const big_t *a)
 /* floor(sqrt(n)) digit by digit, host/fixedpoint.py isqrt_digits */
 static void big_isqrt(big_t *res, const big_t *n_in)
 {
-    big_t n = *n_in, bit, t;
+    big_t n, bit, t;
+    big_copy(&n, n_in);
     big_u64(res, 0);
     const int len = big_bitlen(&n);
     if (!len)
@@ -199,8 +206,7 @@ static int64_t d_eff_q4(const plus_t *a, const plus_t *b, int32_t du, int32_t dv
     else
         big_add(&quad, &quad, &t);
     /* lam2 < 2^64 here (xx, yy < 2^60) */
-    num = quad;
-    big_mul_u64(&num, &num, (uint64_t)lam2.w[0] | (uint64_t)lam2.w[1] << 32);
+    big_mul_u64(&num, &quad, (uint64_t)lam2.w[0] | (uint64_t)lam2.w[1] << 32);
     big_add(&den, &det, &det);
     big_div(&t, &num, &den);
     big_isqrt(&res, &t);
@@ -268,11 +274,18 @@ static int32_t hull_area2(const int32_t *lab, int32_t W, int32_t k, int32_t xi, 
     return s < 0 ? -s : s;
 }
 
-/* step 2: the dark components that look like a "+" on white */
+/* step 2: the dark components that look like a "+" on white, the counts of
+ * host/vision/dual_plus.py plus_candidates added to *o */
 int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
-                           const int32_t *stats, int32_t n_lab, mg_plus_t *out, int32_t *lvl)
+                           const int32_t *stats, int32_t n_lab, mg_plus_t *out, int32_t *lvl,
+                           mg_ops_t *o)
 {
     int32_t n_out = 0, n_ok = 0;
+    /* the call and the stats scan, per component; then the pixels of the boxes and frames
+     * summed and the dark ones among them (the lightness test and the moments' pass) */
+    const int64_t n_st = n_lab > 1 ? n_lab - 1 : 0;
+    int64_t frame_px = 0, dark_px = 0;
+    mg_ops_charge(o, 0, 0, 100 + 25 * n_st, 4 * n_st, 0, 0, 0, 0, 20 * n_st);
     int32_t *minx = lvl, *maxx = lvl + (H + 2), *lc = lvl + 2 * (H + 2);
     int32_t *rc = lvl + 4 * (H + 2);
     for (int32_t k = 1; k < n_lab && n_ok < MG_MAX_PLUS; k++) {
@@ -286,6 +299,7 @@ int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *lab, int32_t W, i
         if (lab[(yi + hi / 2) * W + xi + wi / 2] != k)
             continue;
         const int32_t area2 = hull_area2(lab, W, k, xi, yi, wi, hi, minx, maxx, lc, rc);
+        mg_ops_charge(o, 0, 0, 28 * (int64_t)hi + 60, 4 * (int64_t)hi, 0, 0, 0, 0, 0);
         const int32_t sol = area2 ? 200 * area / area2 : 0;
         if (sol < SOLIDITY_MIN_PCT || sol > SOLIDITY_MAX_PCT)
             continue;
@@ -315,6 +329,8 @@ int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *lab, int32_t W, i
             }
         }
         const int64_t ring_n = (int64_t)(x1 - x0) * (y1 - y0) - (int64_t)wi * hi;
+        frame_px += (int64_t)(x1 - x0) * (y1 - y0);
+        dark_px += m00;
         if (10 * ring_sum * m00 < 22 * dark_sum * ring_n)
             continue;
         plus_t *p = out + n_out++;
@@ -331,16 +347,20 @@ int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *lab, int32_t W, i
         p->box[2] = wi;
         p->box[3] = hi;
     }
+    mg_ops_charge(o, 2 * frame_px, 0, 16 * frame_px + 36 * dark_px + 1300 * (int64_t)n_out,
+                  frame_px, 0, 6 * dark_px, 2 * (int64_t)n_out, 0, 5 * frame_px);
     return n_out;
 }
 
 int32_t mg_dual_plus(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
                      const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
-                     int32_t u0_px, uint8_t *scratch, int32_t *out)
+                     int32_t u0_px, uint8_t *scratch, int32_t *out, mg_ops_t *ops)
 {
+    mg_ops_t none, *o = ops != 0 ? ops : &none;
+    mg_ops_clear(o);
     plus_t *plus = (plus_t *)scratch;
     int32_t *lvl = (int32_t *)(scratch + sizeof(plus_t) * MG_MAX_PLUS);
-    const int32_t n = mg_plus_candidates(grey, lab, W, H, stats, n_lab, plus, lvl);
+    const int32_t n = mg_plus_candidates(grey, lab, W, H, stats, n_lab, plus, lvl, o);
     int32_t bi = -1, bj = -1, best = -1, bdu = 0, bdv = 0, bd = 0;
     for (int32_t i = 0; i < n; i++) {
         for (int32_t j = i + 1; j < n; j++) {
@@ -366,6 +386,9 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t
             }
         }
     }
+    /* the pairs' tests (host/vision/dual_plus.py detect_dual_plus) */
+    const int64_t n2 = (int64_t)n * n;
+    mg_ops_charge(o, 0, 0, 30 * n2, n2, 0, 4 * n2, 0, 0, 0);
     if (best < 0)
         return 0;
     const plus_t *a = plus + bi, *b = plus + bj;
@@ -375,8 +398,13 @@ int32_t mg_dual_plus(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t
         b = t;
     }
     const int64_t d_eff = d_eff_q4(a, b, bdu, bdv);
+    /* the moment algebra in 256-bit integers (_D_EFF_OPS, as emulated: docs/budget.md) */
+    mg_ops_charge(o, 0, 0, 36000, 1700, 0, 24, 3, 0, 0);
     if (d_eff == 0 || d_eff < bd || bd == 0)
         return 0;
+    /* a sine, a cosine, two Q12 products (host/fixedpoint.py sin_ops, mul_q12_ops), the
+     * three divisions and their products */
+    mg_ops_charge(o, 0, 0, 2 * 10 + 2 * 2, 2 * 2, 2 * 1, 2 * 1 + 2 + 3, 3, 2 * 2, 0);
     const int64_t num = (int64_t)D_ACT_DMM * f_px * 16;
     const int32_t dist = mg_div_round(num, 10 * d_eff);
     const int32_t raw = mg_div_round(num, 10 * (int64_t)bd);

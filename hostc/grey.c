@@ -15,10 +15,5 @@ void mg_grey_ops(mg_ops_t *o, int32_t h, int32_t w)
     /* per pixel three byte loads, three multiplies, two adds and a shift, a store; the loop
      * unrolled four times; the frame read from SDRAM once (host/vision/grey.py grey_cost) */
     const int64_t n = (int64_t)h * w;
-    o->pixels_read += 3 * n;
-    o->pixels_written += n;
-    o->muls += 3 * n;
-    o->alu += 3 * n + n / 4;
-    o->branches += n / 4;
-    o->bytes_streamed += 3 * n;
+    mg_ops_charge(o, 3 * n, n, 3 * n + n / 4, n / 4, 3 * n, 0, 0, 0, 3 * n);
 }

@@ -71,10 +71,13 @@ int32_t mg_red_roi(const uint8_t *rgb, int32_t w, int32_t h, uint8_t *scratch, i
 /* dual_plus.c: the 000 dual "+" from the front end's grey image, labels and component stats
  * (host/vision/dual_plus.py detect_dual_plus). out: u1_q4, v1_q4, u2_q4, v2_q4, d_pixel_q4,
  * d_eff_q4, dist_mm, dist_raw_mm, x_oc_mm, y_oc_mm, z_oc_mm. scratch:
- * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
+ * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not.
+ * ops (NULL: not wanted): the operation counts the Python detector charges for the same frame,
+ * its front end apart (mg_grey_ops, mg_dark_mask_ops, mg_components_ops). */
 int32_t mg_dual_plus_scratch_bytes(int32_t w, int32_t h);
 /* the "+" candidates of dual_plus.c (host/vision/dual_plus.py plus_candidates), shared with
- * spoke.c: at most MG_MAX_PLUS; lvl: 6 (h + 2) words of scratch */
+ * spoke.c: at most MG_MAX_PLUS; lvl: 6 (h + 2) words of scratch; the counts plus_candidates
+ * charges added to *ops */
 #define MG_MAX_PLUS 64
 typedef struct {
     int64_t m[6]; /* m00, m10, m01, m20, m11, m02 */
@@ -82,17 +85,20 @@ typedef struct {
     int32_t box[4]; /* x, y, w, h */
 } mg_plus_t;
 int32_t mg_plus_candidates(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
-                           const int32_t *stats, int32_t n_lab, mg_plus_t *out, int32_t *lvl);
+                           const int32_t *stats, int32_t n_lab, mg_plus_t *out, int32_t *lvl,
+                           mg_ops_t *ops);
 int32_t mg_dual_plus(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
                      const int32_t *stats, int32_t n_lab, int32_t alpha_mrad, int32_t f_px,
-                     int32_t u0_px, uint8_t *scratch, int32_t *out);
+                     int32_t u0_px, uint8_t *scratch, int32_t *out, mg_ops_t *ops);
 
 /* spoke.c: the 000 single "+" spoke from the front end's grey image, labels and stats
  * (host/vision/spoke.py detect_spoke). out: u_c_q4, v_c_q4, slope_q12, angle_mrad, width_q4,
  * n_points, then n_points (u_q4, v_q4) pairs (at most 10). scratch:
- * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not. */
+ * mg_dual_plus_scratch_bytes(w, h) bytes, 8-byte aligned. Returns 1 when found, 0 when not;
+ * ops as mg_dual_plus's. */
 int32_t mg_spoke(const uint8_t *grey, const int32_t *labels, int32_t w, int32_t h,
-                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out);
+                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out,
+                 mg_ops_t *ops);
 
 /* ranging.c: the 002 ring-pair ranging (host/ranging.py locate_ring_pair). out: x_mm, y_mm,
  * z_mm, dist_mm, bearing_mrad, radius_mm. Returns 1, or 0 (out untouched) when d_pixel_q4 <= 0

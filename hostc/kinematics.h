@@ -8,6 +8,8 @@
 #include <stdint.h>
 
 #define MG_ALPHA_DOWN_MRAD (-1571) /* alpha_T = -pi/2: gripper vertical, looking down (000) */
+#define MG_ROLL_PRECISE_MRAD 1571 /* theta1 rolls by pi/2 once the gripper is above the object */
+#define MG_QUARTER_TURN_MRAD 1571 /* a "+" repeats every quarter turn */
 #define MG_ALPHA_LEVEL_MRAD 0      /* horizontal gripper (002) */
 #define MG_REACH_TOL_MM_Q4 8       /* 0.5 mm: rounding slack at the workspace boundary */
 #define MG_LIMIT_SNAP_MRAD 30      /* theta3..5 this close outside a limit are put on it */

@@ -122,10 +122,5 @@ void mg_components_ops(mg_ops_t *o, int64_t n_px)
 {
     /* both passes over the mask and each pixel's label stats (host/vision/dark_blobs.py
      * components_cost, docs/budget.md) */
-    o->pixels_read += 2 * n_px;
-    o->pixels_written += 4 * n_px;
-    o->luts += 6 * n_px;
-    o->alu += 14 * n_px;
-    o->branches += 2 * n_px;
-    o->bytes_streamed += 2 * n_px;
+    mg_ops_charge(o, 2 * n_px, 4 * n_px, 14 * n_px, 2 * n_px, 0, 0, 0, 6 * n_px, 2 * n_px);
 }

@@ -1,13 +1,15 @@
 /* The S3C2440 host program in C: the options of `mobigrasp host` (--port, --camera, --method,
- * --config, --lockstep SOCK, --poll-ms), the method's task, and the driver: lockstep (the
- * rig's grants over the Unix socket, the bytes over the serial port) or free running (the
- * board's clock); `--list-methods` prints the method table's names, one a line (what
- * `mobigrasp run --host c` reads before it starts the program); the self-test options
- * (selftest.h). Bad options exit 2 with one line naming the option. */
+ * --config FILE: config.h, --lockstep SOCK, --poll-ms), the method's task, and the driver:
+ * lockstep (the rig's grants over the Unix socket, the bytes over the serial port) or free
+ * running (the board's clock); `--list-methods` prints the method table's names, one a line
+ * (what `mobigrasp run --host c` reads before it starts the program); the self-test options
+ * (selftest.h). Bad options exit 2 with one line naming the option (a bad configuration: the
+ * file and the key). */
 #include <string.h>
 
 #include "app.h"
 #include "camera.h"
+#include "config.h"
 #include "detectors.h"
 #include "json.h"
 #include "linux_driver.h"
@@ -38,55 +40,9 @@ static int usage(const char *why, const char *what)
     return 2;
 }
 
-/* a JSON number's text [p, end) rounded to an integer as Python's round() does (halves to
- * even): 1 and *out, or 0 (an exponent, no digits, out of [1, 100000]) */
-static int round_number(const char *p, const char *end, int32_t *out)
-{
-    int64_t whole = 0;
-    int digits = 0, first_frac = -1, rest_nonzero = 0;
-    while (p < end && (*p == ' ' || *p == '\t' || *p == '\n' || *p == '\r'))
-        p++;
-    for (; p < end && *p >= '0' && *p <= '9'; p++, digits++)
-        if ((whole = whole * 10 + (*p - '0')) > 100000)
-            return 0;
-    if (p < end && *p == '.')
-        for (p++; p < end && *p >= '0' && *p <= '9'; p++) {
-            if (first_frac < 0)
-                first_frac = *p - '0';
-            else
-                rest_nonzero |= *p != '0';
-        }
-    while (end > p && (end[-1] == ' ' || end[-1] == '\t' || end[-1] == '\n' || end[-1] == '\r'))
-        end--;
-    if (!digits || p != end)
-        return 0;
-    if (first_frac > 5 || (first_frac == 5 && (rest_nonzero || whole % 2 == 1)))
-        whole++;
-    if (whole < 1 || whole > 100000)
-        return 0;
-    *out = (int32_t)whole;
-    return 1;
-}
-
-/* the camera's "f_px" of the configuration's "camera" object (the cursor at it) */
-static int config_camera(mg_json_in_t *in, int32_t *f_px)
-{
-    char key[64];
-    int first = 1, k;
-    if (!mg_json_begin_object_in(in))
-        return 0;
-    while ((k = mg_json_next_member(in, &first, key, sizeof key)) == 1) {
-        const char *at = in->p;
-        if (!mg_json_skip_value(in))
-            return 0;
-        if (strcmp(key, "f_px") == 0 && !round_number(at, in->p, f_px))
-            return 0;
-    }
-    return k == 0;
-}
-
-/* the "method" and the camera's f_px of a JSON configuration file, into method and f_px */
-static int config_method(const char *path, char *method, size_t cap, int32_t *f_px)
+/* the configuration of a JSON file (config.h): 0, or 2 after one line naming the file and
+ * the key */
+static int read_config(const char *path, mg_config_t *cfg)
 {
     static char text[1 << 16];
     const int fd = sys_open(path, SYS_O_RDONLY, 0);
@@ -98,21 +54,15 @@ static int config_method(const char *path, char *method, size_t cap, int32_t *f_
     sys_close(fd);
     if (r < 0 || n >= (long)sizeof text)
         return usage("cannot read --config (or larger than 64 kB) ", path);
-    mg_json_in_t in;
-    char key[64];
-    int first = 1, k;
-    mg_json_in_init(&in, text, (size_t)n);
-    if (!mg_json_utf8_valid(text, (size_t)n) || !mg_json_begin_object_in(&in))
-        return usage("--config is not a JSON object: ", path);
-    while ((k = mg_json_next_member(&in, &first, key, sizeof key)) == 1) {
-        const int ok = strcmp(key, "method") == 0   ? mg_json_read_string(&in, method, cap)
-                       : strcmp(key, "camera") == 0 ? config_camera(&in, f_px)
-                                                    : mg_json_skip_value(&in);
-        if (!ok)
-            return usage("--config: bad value of key \"method\" or \"camera\" (its \"f_px\": a"
-                         " number of px in [1, 100000]) or malformed JSON in ", path);
+    char why[MG_CONFIG_WHY], line[MG_CONFIG_WHY + 256];
+    if (mg_config_parse(text, (size_t)n, cfg, why, sizeof why) != 0) {
+        size_t k = mg_task_text(line, sizeof line, 0, "--config ");
+        k = mg_task_text(line, sizeof line, k, path);
+        k = mg_task_text(line, sizeof line, k, ": ");
+        mg_task_text(line, sizeof line, k, why);
+        return usage(line, "");
     }
-    return k == 0 && mg_json_at_end(&in) ? 0 : usage("--config is not JSON: ", path);
+    return 0;
 }
 
 static int poll_ms_ok(const char *s)
@@ -179,19 +129,19 @@ int main(int argc, char **argv)
     }
     if (port == NULL)
         return usage("--port is required", "");
-    char method[32] = "000"; /* the Python host's default */
-    int32_t f_px = 611;      /* the camera's without a configuration (host/app_factory.py) */
-    if (config != NULL && config_method(config, method, sizeof method, &f_px) != 0)
+    static mg_config_t conf; /* method 000 and f_px 611 without --config */
+    mg_config_default(&conf);
+    if (config != NULL && read_config(config, &conf) != 0)
         return 2;
     if (method_opt != NULL) {
-        if (strlen(method_opt) >= sizeof method)
+        if (strlen(method_opt) >= sizeof conf.method)
             return usage("unknown --method ", method_opt);
-        memcpy(method, method_opt, strlen(method_opt) + 1);
+        mg_config_set_method(&conf, method_opt);
     }
-    const mg_method_t *m = mg_method_find(method);
+    const mg_method_t *m = mg_method_find(conf.method);
     if (m == NULL || m->state_bytes > sizeof task_state)
         return usage("method not in the C host yet (--list-methods names those it has): ",
-                     method);
+                     conf.method);
     static mg_camera_t cam = {.fd = -1}; /* free running: frames from --camera (camera.h) */
     if (camera != NULL && sock == NULL) {
         const char *why = "";
@@ -204,8 +154,9 @@ int main(int argc, char **argv)
     sys_tty_raw(fd); /* a pty or a UART; a plain file (a test) stays as it is */
     mg_host_config_t cfg;
     mg_host_config_default(&cfg);
-    const mg_task_if_t task = mg_method_bind(m, task_state);
-    const int32_t n_det = mg_detectors_table(&detectors, &app, f_px, table, MG_MAX_DETECTORS);
+    const mg_task_if_t task = mg_method_bind(m, task_state, &conf);
+    const int32_t n_det = mg_detectors_table(&detectors, &app, conf.f_px, table,
+                                             MG_MAX_DETECTORS);
     mg_app_init(&app, &cfg, &task, table, n_det);
     if (sock != NULL) {
         const int s = sys_unix_connect(sock);

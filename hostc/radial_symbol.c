@@ -172,10 +172,7 @@ static int32_t line_max(const uint8_t *line, int32_t a, int32_t b)
 /* the operation counts of n sub-pixel edges (host/vision/dark_blobs.py EDGE_OPS) */
 static void edge_ops(mg_ops_t *o, int32_t n)
 {
-    o->pixels_read += 14 * n;
-    o->alu += 30 * n;
-    o->branches += 10 * n;
-    o->divs += n;
+    mg_ops_charge(o, 14 * n, 0, 30 * n, 10 * n, 0, 0, n, 0, 0);
 }
 
 /* the ring's centre, diameter and position (out), or 0 when it is not an ellipse; adds to *o
@@ -185,9 +182,7 @@ static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi
                    int32_t f_px, int32_t u0_px, int32_t v0_px, int32_t *out, mg_ops_t *o)
 {
     int32_t v_q4, l, r = 0, b0 = 0, b1 = 0, have = 0;
-    o->pixels_read += (int64_t)wi * hi;
-    o->alu += (int64_t)wi * hi;
-    o->branches += hi;
+    mg_ops_charge(o, (int64_t)wi * hi, 0, (int64_t)wi * hi, hi, 0, 0, 0, 0, 0);
     edge_ops(o, 4);
     if (!interior_v_q4(grey, W, H, inner, xi, yi, wi, hi, xi + wi / 2, &v_q4))
         return 0;
@@ -240,9 +235,7 @@ static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi
     }
     if (2 * ring_sum * n_in >= in_sum * n_ring)
         return 0;
-    o->pixels_read += (int64_t)wi * hi;
-    o->alu += 2 * (int64_t)wi * hi;
-    o->muls32 += 2;
+    mg_ops_charge(o, (int64_t)wi * hi, 0, 2 * (int64_t)wi * hi, 0, 0, 2, 0, 0, 0);
     int32_t hr = imin(hi, imax(1, mg_floordiv(2 * v_q4 - 32 * yi + 16, 16) + 1));
     int32_t filled = 0;
     for (int32_t i = 0; i < hr * wi; i++)
@@ -252,10 +245,7 @@ static int measure(const uint8_t *grey, int32_t W, int32_t H, const uint8_t *roi
           && SPAN_MIN_PCT * wi <= 100 * span && 100 * span <= SPAN_MAX_PCT * wi))
         return 0;
     int32_t y_mm = mg_div_round((int64_t)L_MM * f_px * 16, d_q4);
-    o->divs += 3;
-    o->muls32 += 4;
-    o->alu += 30;
-    o->pixels_read += 2 * wi;
+    mg_ops_charge(o, 2 * wi, 0, 30, 0, 0, 4, 3, 0, 0);
     out[0] = u_q4;
     out[1] = v_q4;
     out[2] = d_q4;
@@ -272,9 +262,7 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
     static mg_ops_t unread; /* the counts when the caller wants none: never read */
     mg_ops_t *o = ops != 0 ? ops : &unread;
     if (ops != 0) {
-        /* field by field: no struct copy or initialiser (gcc makes those library calls) */
-        o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
-        o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
+        mg_ops_clear(o);
         /* the candidate scan: a call's set-up, the filter per component and, with any
          * component, the first line fills of the stats table and candidate list */
         const int32_t n_st = n_lab > 1 ? n_lab - 1 : 0;
@@ -313,11 +301,7 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
         int32_t lw = x1 - x0, lh = y1 - y0, ln = lw * lh;
         box_sums(grey, W, xa, xe, y0, y1, x0, x1, s.sums);
         /* the 1x3 sums with the clamped edge columns and the min/max pass */
-        o->pixels_read += 4 * (int64_t)ln;
-        o->pixels_written += ln;
-        o->alu += 22 * (int64_t)ln;
-        o->branches += 2 * (int64_t)ln;
-        o->bytes_streamed += ln;
+        mg_ops_charge(o, 4 * (int64_t)ln, ln, 22 * (int64_t)ln, 2 * (int64_t)ln, 0, 0, 0, 0, ln);
         int32_t lo = 32767, hi = -1;
         for (int32_t i = 0; i < ln; i++) {
             if (s.sums[i] < lo) lo = s.sums[i];
@@ -328,12 +312,10 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
             int32_t touched = 4 * ln;
             int found = 0;
             int32_t bx = 0, by = 0, bw = 0, bh = 0;
-            o->pixels_read += 4 * (int64_t)ln;
-            o->alu += 6 * (int64_t)ln;
+            mg_ops_charge(o, 4 * (int64_t)ln, 0, 6 * (int64_t)ln, 0, 0, 0, 0, 0, 0);
             if (hi - lo >= 3 * MIN_CONTRAST) {
                 mg_components_ops(o, ln);
-                o->pixels_written += ln;
-                o->divs += 1;
+                mg_ops_charge(o, 0, ln, 0, 0, 0, 0, 1, 0, 0);
                 int32_t t = lo + (hi - lo) / den;
                 for (int32_t i = 0; i < ln; i++)
                     s.lmask[i] = s.sums[i] < t;
@@ -348,8 +330,7 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
                         k = j;
                 }
                 if (nl >= 2) {
-                    o->alu += 10 * (int64_t)nl;
-                    o->branches += nl;
+                    mg_ops_charge(o, 0, 0, 10 * (int64_t)nl, nl, 0, 0, 0, 0, 0);
                 }
                 if (nl >= 2 && k > 0) {
                     const int32_t *ls = s.lstats + 5 * k;
@@ -362,12 +343,8 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
                                              s.stack, &regions);
                     /* the ring test: the box's copy, the flood from its border, the count */
                     const int64_t nb = (int64_t)bw * bh;
-                    o->pixels_read += 8 * nb;
-                    o->pixels_written += 3 * nb;
-                    o->luts += 4 * nb;
-                    o->alu += 38 * nb + 8 * (int64_t)regions;
-                    o->branches += 8 * nb + 2 * (int64_t)regions;
-                    o->bytes_streamed += 8 * nb;
+                    mg_ops_charge(o, 8 * nb, 3 * nb, 38 * nb + 8 * (int64_t)regions,
+                                  8 * nb + 2 * (int64_t)regions, 0, 0, 0, 4 * nb, 8 * nb);
                     touched += 4 * bw * bh;
                     found = total >= 4 && 25 * total >= bw * bh;
                     if (found) {

@@ -1,6 +1,7 @@
 /* Red cylinder with two black rings of paper 002 (section 2.2): the red region, its two rings
  * and their spacing d_pixel. The steps and their reasons are those of
- * host/vision/red_cylinder.py, which this follows line by line (same integers). */
+ * host/vision/red_cylinder.py, which this follows line by line (same integers); so are the
+ * operation counts, which it says the ARM920T code of. */
 #include "kernels.h"
 
 #define T_RED 40
@@ -13,30 +14,9 @@ typedef struct {
     int32_t area, x0, y0, x1, y1, ix0, ix1;
 } cand_t;
 
-/* the counts set to 0 field by field (no struct copy: the calibration's build has no libc) */
-static void clear_ops(mg_ops_t *o)
-{
-    o->pixels_read = o->pixels_written = o->alu = o->branches = o->muls = o->muls32 = 0;
-    o->divs = o->luts = o->float_ops = o->float_divs = o->bytes_streamed = 0;
-}
-
 static int32_t imax(int32_t a, int32_t b) { return a > b ? a : b; }
 static int32_t imin(int32_t a, int32_t b) { return a < b ? a : b; }
 static int32_t iabs(int32_t a) { return a < 0 ? -a : a; }
-
-/* The operation counts (host/vision/red_cylinder.py, which states the ARM920T code each count
- * stands for) added to *o. */
-static void count(mg_ops_t *o, int64_t pixels_read, int64_t alu, int64_t branches, int64_t muls,
-                  int64_t muls32, int64_t divs, int64_t bytes_streamed)
-{
-    o->pixels_read += pixels_read;
-    o->alu += alu;
-    o->branches += branches;
-    o->muls += muls;
-    o->muls32 += muls32;
-    o->divs += divs;
-    o->bytes_streamed += bytes_streamed;
-}
 
 static int32_t redness(const uint8_t *p)
 {
@@ -83,7 +63,7 @@ static int measure(const uint8_t *rgb, int32_t W, int32_t y0, int32_t y1, int32_
 {
     const int32_t n = y1 - y0, nc = cx1 - cx0;
     const int64_t px = (int64_t)n * nc;
-    count(o, 3 * px, 9 * px, 2 * n, px, 0, 2 * n, 3 * px);
+    mg_ops_charge(o, 3 * px, 0, 9 * px, 2 * n, px, 0, 2 * n, 0, 3 * px);
     for (int32_t y = y0; y < y1; y++) {
         const uint8_t *p = rgb + 3 * (y * W + cx0);
         int32_t sr = 0, s = 0;
@@ -131,7 +111,8 @@ static int measure(const uint8_t *rgb, int32_t W, int32_t y0, int32_t y1, int32_
         m2 = imin(m2, rprof[r]);
     if (3 * m1 > 2 * r_level || 3 * m2 > 2 * r_level)
         return 0;
-    count(o, 0, 8 * (e2 - s1 + 4) + 40, 0, 0, 2 * (e2 - s1 + 4), 2, 0); /* the centroids */
+    /* the centroids */
+    mg_ops_charge(o, 0, 0, 8 * (e2 - s1 + 4) + 40, 0, 0, 2 * (e2 - s1 + 4), 2, 0, 0);
     int32_t r1 = y0 * 16 + centroid_q4(prof, n, s1, e1, level);
     int32_t r2 = y0 * 16 + centroid_q4(prof, n, s2, e2, level);
     if (r2 - r1 < MIN_RING_GAP_PX * 16 || 2 * imax(e1 - s1, e2 - s2) * 16 > r2 - r1)
@@ -150,7 +131,7 @@ static int ring_columns(const uint8_t *rgb, int32_t W, int32_t H, int32_t x0, in
     int32_t ra = (r1_q4 + 8) >> 4, rb = (r2_q4 + 8) >> 4, mid = (ra + rb) >> 1;
     int32_t lo = imax(0, ra - k - j), hi = imin(H, rb + k + j + 1);
     const int64_t px = (int64_t)imax(0, hi - lo) * (x1 - x0); /* the redness of the band */
-    count(o, 3 * px, 6 * px, x1 - x0, 0, 0, 0, 0);
+    mg_ops_charge(o, 3 * px, 0, 6 * px, x1 - x0, 0, 0, 0, 0, 0);
     for (int32_t x = x0; x < x1; x++) {
         int good = 1;
         for (int side = 0; side < 2 && good; side++) {
@@ -196,7 +177,7 @@ static void red_run(const uint8_t *rgb, int32_t W, int32_t H, int32_t ya, int32_
 {
     int32_t ya2 = imax(0, ya), yb2 = imax(ya + 1, yb);
     int32_t rows = imax(0, imin(yb2, H) - ya2), c = centre - x0, n = x1 - x0;
-    count(o, 3 * (int64_t)rows * n, 5 * (int64_t)rows * n, n, 0, 0, 0, 0);
+    mg_ops_charge(o, 3 * (int64_t)rows * n, 0, 5 * (int64_t)rows * n, n, 0, 0, 0, 0, 0);
     int32_t l = 0, r = n - 1;
     for (int32_t x = 0; x < n; x++) {
         int32_t cnt = 0;
@@ -273,7 +254,7 @@ static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_sc
     /* per grid pixel three byte loads, max, subtract, the hue test and a store; every other
      * row of the frame from SDRAM (red_grid_ops) */
     const int64_t m = (int64_t)gw * gh;
-    count(o, 3 * m, 7 * m, 0, m, 0, 0, (int64_t)(H + 1) / 2 * W * 3);
+    mg_ops_charge(o, 3 * m, 0, 7 * m, 0, m, 0, 0, 0, (int64_t)(H + 1) / 2 * W * 3);
     o->pixels_written += m;
     /* 2. red pieces, biggest first (then left, then top), merged when stacked */
     int32_t nl = mg_label(mask, gw, gh, rs->labels, rs->block_lab, rs->parent, stats);
@@ -293,7 +274,8 @@ static int32_t red_pieces(const uint8_t *rgb, int32_t W, int32_t H, const red_sc
         }
         comps[j] = c;
     }
-    count(o, 0, 10 * (int64_t)nc * nc + 10, 2 * (int64_t)nc * nc, 0, 0, 0, 0); /* the merge */
+    /* the merge */
+    mg_ops_charge(o, 0, 0, 10 * (int64_t)nc * nc + 10, 2 * (int64_t)nc * nc, 0, 0, 0, 0, 0);
     for (int32_t i = 0; i < nc; i++)
         used[i] = 0;
     int32_t nm = 0;
@@ -340,7 +322,7 @@ static int32_t roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, i
 {
     const red_scratch_t rs = red_layout(scratch, W, H);
     const int32_t nm = red_pieces(rgb, W, H, &rs, o);
-    count(o, 0, 12, 0, 0, 0, 0, 0);
+    mg_ops_charge(o, 0, 0, 12, 0, 0, 0, 0, 0, 0);
     if (nm == 0 || rs.cands[0].area < MIN_ROI_AREA_HALF_PX)
         return 0;
     const cand_t *c = rs.cands;
@@ -361,7 +343,7 @@ int32_t mg_red_roi(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scratch, i
                    mg_ops_t *ops)
 {
     mg_ops_t none, *o = ops != 0 ? ops : &none;
-    clear_ops(o);
+    mg_ops_clear(o);
     const int32_t found = roi(rgb, W, H, scratch, out, o);
     return found;
 }
@@ -385,7 +367,7 @@ static int32_t cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
         int32_t x1 = imin(W, 2 * gx1 + 2), y1 = imin(H, 2 * gy1 + 2);
         int32_t gix0 = c->ix0, gix1 = c->ix1;
         const int64_t box = (int64_t)(gx1 - gx0) * (gy1 - gy0); /* the column counts */
-        count(o, box, 2 * box, 0, 0, 0, 0, 0);
+        mg_ops_charge(o, box, 0, 2 * box, 0, 0, 0, 0, 0, 0);
         if (gix1 - gix0 >= 2) { /* the run around the tallest common column */
             int32_t top = 0, topv = -1, nci = gix1 - gix0;
             for (int32_t x = 0; x < nci; x++) {
@@ -472,7 +454,7 @@ int32_t mg_red_cylinder(const uint8_t *rgb, int32_t W, int32_t H, uint8_t *scrat
                         int32_t *out, mg_ops_t *ops)
 {
     mg_ops_t none, *o = ops != 0 ? ops : &none;
-    clear_ops(o);
+    mg_ops_clear(o);
     const int32_t found = cylinder(rgb, W, H, scratch, out, o);
     return found;
 }

@@ -232,7 +232,9 @@ static void vision(void)
     plus_mark(120, 130, 12, 4);
     plus_mark(190, 120, 12, 4);
     n_lab = front_end("plus");
-    int32_t n_plus = mg_plus_candidates(grey, labels, W, H, stats, n_lab, plus, lvl);
+    mg_ops_t plus_ops;
+    mg_ops_clear(&plus_ops);
+    int32_t n_plus = mg_plus_candidates(grey, labels, W, H, stats, n_lab, plus, lvl, &plus_ops);
     uint32_t h = FNV0;
     for (int32_t i = 0; i < n_plus; i++) {
         h = fnv_i32(h, &plus[i].u_q4, 2);
@@ -245,7 +247,7 @@ static void vision(void)
         for (int i = 0; i < 11; i++)
             out[i] = 0;
         int32_t r = mg_dual_plus(grey, labels, W, H, stats, n_lab, 700, 611, 160,
-                                 (uint8_t *)scratch, out);
+                                 (uint8_t *)scratch, out, NULL);
         report("dual_plus", r, fnv_i32(FNV0, out, 11));
     }
 
@@ -255,7 +257,7 @@ static void vision(void)
     if (scratch_fits(mg_dual_plus_scratch_bytes(W, H))) {
         for (int i = 0; i < 26; i++)
             out[i] = 0;
-        int32_t r = mg_spoke(grey, labels, W, H, stats, n_lab, (uint8_t *)scratch, out);
+        int32_t r = mg_spoke(grey, labels, W, H, stats, n_lab, (uint8_t *)scratch, out, NULL);
         report("spoke", r, fnv_i32(FNV0, out, 26));
     }
 

@@ -99,10 +99,14 @@ static int run_centre(const local_t *L, int32_t u, int32_t v_pred, int32_t *c_q4
     return 1;
 }
 
-/* central points (u, v pairs) and run lengths of one side arm; 0 when a column fails */
+/* central points (u, v pairs) and run lengths of one side arm; 0 when a column fails. *cols:
+ * the columns host/vision/spoke.py _scan_arm charges (all when they are found, up to the one
+ * without a run, none when a column leaves the frame) */
 static int scan_arm(const local_t *L, const mg_plus_t *p, int32_t side, int has_slope,
-                    int32_t slope_q12, const arm_t *a, int32_t *pts, int32_t *runs)
+                    int32_t slope_q12, const arm_t *a, int32_t *pts, int32_t *runs,
+                    int32_t *cols)
 {
+    *cols = 0;
     if (!a->ok)
         return 0;
     int32_t adu = a->du, adv = a->dv;
@@ -113,8 +117,11 @@ static int scan_arm(const local_t *L, const mg_plus_t *p, int32_t side, int has_
     for (int32_t j = 0; j < K_S; j++) {
         const int32_t off = a->reach * (50 + 3 * j) / 100;
         const int32_t u = (p->u_q4 + 8) / 16 + side * off;
-        if (u < 0 || u >= L->W)
+        if (u < 0 || u >= L->W) {
+            *cols = 0;
             return 0;
+        }
+        *cols = j + 1;
         const int32_t v_pred = (int32_t)floordiv64(
             p->v_q4 + mg_div_round((int64_t)16 * off * adv, adu), 16);
         int32_t c, len;
@@ -132,13 +139,20 @@ typedef struct {
     int32_t n_pts, run_sum, n_runs, k_l, reach;
 } template_t;
 
-/* one pass of the Fig. 3 template on both side arms */
+/* one pass of the Fig. 3 template on both side arms, its counts added to *o (both arms are
+ * scanned, as spoke.py charges them) */
 static int template_pass(const local_t *L, const mg_plus_t *p, int has_slope, int32_t slope,
-                         const arm_t *arms, template_t *out)
+                         const arm_t *arms, template_t *out, mg_ops_t *o)
 {
-    int32_t pl[2 * K_S], pr[2 * K_S], rl[K_S], rr[K_S], all[2 * K_S];
-    if (!scan_arm(L, p, -1, has_slope, slope, &arms[0], pl, rl)
-        || !scan_arm(L, p, +1, has_slope, slope, &arms[1], pr, rr))
+    int32_t pl[2 * K_S], pr[2 * K_S], rl[K_S], rr[K_S], all[2 * K_S], cols_l, cols_r;
+    const int ok_l = scan_arm(L, p, -1, has_slope, slope, &arms[0], pl, rl, &cols_l);
+    const int ok_r = scan_arm(L, p, +1, has_slope, slope, &arms[1], pr, rr, &cols_r);
+    /* a column: two sub-pixel edges (dark_blobs.py EDGE_OPS) and the run's search
+     * (spoke.py _COLUMN_OPS) */
+    const int64_t cols = cols_l + cols_r;
+    mg_ops_charge(o, (2 * 14 + 20) * cols, 0, (2 * 30 + 30) * cols, (2 * 10 + 20) * cols, 0, 0,
+                  (2 * 1 + 1) * cols, 0, 0);
+    if (!ok_l || !ok_r)
         return 0;
     const int32_t reach = (arms[0].reach + arms[1].reach) / 2;
     for (int32_t i = 0; i < K_S; i++) {
@@ -188,6 +202,7 @@ static int template_pass(const local_t *L, const mg_plus_t *p, int has_slope, in
     if (suu == 0)
         return 0;
     const int32_t k_l = mg_div_round(suv * 4096, suu);
+    mg_ops_charge(o, 0, 0, 12 * (int64_t)n + 8 * K_S, 4 * K_S, 0, 6 * (int64_t)n, n + 1, 0, 0);
     int64_t worst = 0;
     for (int32_t i = 0; i < n; i++) {
         const int64_t du = n * (int64_t)out->pts[2 * i] - su;
@@ -227,13 +242,18 @@ static int is_cross(const local_t *L, int32_t uc, int32_t vc, int32_t angle, int
 }
 
 int32_t mg_spoke(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
-                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out)
+                 const int32_t *stats, int32_t n_lab, uint8_t *scratch, int32_t *out,
+                 mg_ops_t *ops)
 {
+    mg_ops_t none, *o = ops != 0 ? ops : &none;
+    mg_ops_clear(o);
     mg_plus_t *plus = (mg_plus_t *)scratch;
     int32_t *lvl = (int32_t *)(scratch + sizeof(mg_plus_t) * MG_MAX_PLUS);
-    const int32_t n = mg_plus_candidates(grey, lab, W, H, stats, n_lab, plus, lvl);
+    const int32_t n = mg_plus_candidates(grey, lab, W, H, stats, n_lab, plus, lvl, o);
+    mg_ops_charge(o, 0, 0, 200, 0, 0, 0, 0, 0, 0); /* the call and its scratch (_CALL_OPS) */
     if (!n)
         return 0;
+    mg_ops_charge(o, 0, 0, 4 * (int64_t)n, 0, 0, 2 * (int64_t)n, 0, 0, 0); /* the nearest */
     const int32_t cu = 8 * W, cv = 8 * H;
     const mg_plus_t *p = plus;
     int64_t bd = -1;
@@ -260,15 +280,21 @@ int32_t mg_spoke(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
             hi = g > hi ? g : hi;
         }
     L.t = (lo + hi) / 2;
+    /* the local mask's window: its level and its mask */
+    const int64_t roi = (int64_t)(L.rx1 - L.rx0) * (L.ry1 - L.ry0);
+    mg_ops_charge(o, 3 * roi, roi, 3 * roi, 0, 0, 0, 0, 0, 0);
     arm_t arms[2];
     arm_direction(&L, p, -1, &arms[0]);
     arm_direction(&L, p, +1, &arms[1]);
+    /* both arms' directions: two passes over the box each (spoke.py _scan_arm) */
+    const int64_t box = 2 * (int64_t)p->box[2] * p->box[3];
+    mg_ops_charge(o, 2 * box, 0, 54 * box, 4 * box, 3 * box, 0, 2 * 2, 0, 0);
     template_t tp;
-    if (!template_pass(&L, p, 0, 0, arms, &tp))
+    if (!template_pass(&L, p, 0, 0, arms, &tp, o))
         return 0;
     if (tp.k_l > SECOND_PASS_Q12 || tp.k_l < -SECOND_PASS_Q12) {
         const int32_t k1 = tp.k_l;
-        if (!template_pass(&L, p, 1, k1, arms, &tp))
+        if (!template_pass(&L, p, 1, k1, arms, &tp, o))
             return 0;
     }
     const int32_t angle = mg_atan2_mrad(tp.k_l, 4096);
@@ -276,9 +302,15 @@ int32_t mg_spoke(const uint8_t *grey, const int32_t *lab, int32_t W, int32_t H,
         return 0;
     if (!is_cross(&L, p->u_q4, p->v_q4, angle, tp.reach))
         return 0;
+    /* the template's eight pixels, a sine and a cosine (host/fixedpoint.py sin_ops) */
+    mg_ops_charge(o, 8, 0, 40 + 2 * 10, 2 * 2, 2 * 1, 16 + 2 * 1, 0, 2 * 2, 0);
     const int32_t run = (int32_t)floordiv64(tp.run_sum, tp.n_runs);
     if (!(40 * tp.reach <= 100 * run / 16 && 100 * run / 16 <= 90 * tp.reach))
         return 0;
+    /* the width's divisions, three atan2 (atan2_ops) and the isqrt of a 27-bit number
+     * (isqrt_ops(1 << 26): 14 rounds) */
+    mg_ops_charge(o, 0, 0, 40 + 3 * 14 + 4 * 14, 3 * 4 + 14, 3 * 1, 4, 2 * K_S + 2 + 3 * 1,
+                  3 * 2, 0);
     const int32_t width = mg_div_round((int64_t)run * 4096,
                                        mg_isqrt32((uint32_t)(4096 * 4096 + tp.k_l * tp.k_l)));
     out[0] = p->u_q4;

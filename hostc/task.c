@@ -3,21 +3,42 @@
 
 #include <string.h>
 
+#include "task_method000.h"
 #include "task_paper.h"
 
-/* 002's task with its row's parameters, started at 0 (host/app_factory.py build_host_app
- * without the scenario's paper parameters) */
-static void method002_init(void *state)
+/* 002's task with the configuration's parameters, started at 0 (host/app_factory.py
+ * build_host_app) */
+static void method002_init(void *state, const mg_config_t *cfg)
 {
-    const mg_task_method_t *rules = mg_task_method_find("002");
     mg_task_params_t params;
-    rules->params(&params);
-    mg_paper_task_init((mg_paper_task_t *)state, rules, &params, 0);
+    mg_config_task_params(cfg, &params);
+    mg_paper_task_init((mg_paper_task_t *)state, mg_task_method_find("002"), &params, 0);
 }
+
+/* 000's task and the board's planner (plan000.c) with the configuration's Params000 */
+typedef struct {
+    mg_paper_task_t paper; /* first: the paper task's hooks take the state as one */
+    mg_plan000_ctx_t planner;
+} mg_method000_state_t;
+
+static void method000_init(void *state, const mg_config_t *cfg)
+{
+    mg_method000_state_t *s = (mg_method000_state_t *)state;
+    mg_task_params_t params;
+    mg_config_task_params(cfg, &params);
+    mg_paper_task_init(&s->paper, mg_task_method_find("000"), &params, 0);
+    mg_config_params000(cfg, &params, &s->planner.params, &s->planner.v_limit_mm_s);
+    mg_method000_set_board_planner(&s->paper.task, &s->planner);
+}
+
+/* every method's state fits the program's room for it */
+typedef char mg_method000_fits[sizeof(mg_method000_state_t) <= MG_TASK_STATE_BYTES ? 1 : -1];
 
 const mg_method_t mg_methods[] = {
     {"idle", sizeof(mg_task_idle_t), mg_task_idle_init, mg_task_idle_step, mg_task_idle_needed,
      NULL},
+    {"000", sizeof(mg_method000_state_t), method000_init, mg_paper_step, mg_paper_needed,
+     mg_paper_fallback_of},
     {"002", sizeof(mg_paper_task_t), method002_init, mg_paper_step, mg_paper_needed,
      mg_paper_fallback_of},
 };
@@ -31,9 +52,9 @@ const mg_method_t *mg_method_find(const char *name)
     return NULL;
 }
 
-mg_task_if_t mg_method_bind(const mg_method_t *m, void *state)
+mg_task_if_t mg_method_bind(const mg_method_t *m, void *state, const mg_config_t *cfg)
 {
-    m->init(state);
+    m->init(state, cfg);
     const mg_task_if_t t = {state, m->step, m->detectors_needed, m->fallback_of};
     return t;
 }

@@ -3,12 +3,14 @@
 
 #include <string.h>
 
+#include "arm_calib.h"
 #include "fixedpoint.h"
 #include "json.h"
 #include "sonar_guard.h"
 #include "task_drive.h"
 #include "task_method.h"
 #include "task_sense.h"
+#include "trig.h"
 
 /* the waist turns the view about the place: the estimate that put the fingers beside the
  * object may be off by 0.3 rad in bearing (docs/cosim.md "Measured", T8) */
@@ -201,6 +203,138 @@ int mg_task_move_point(mg_task_t *t, int64_t now_us, const int32_t xyz_q4[3], in
     return 1;
 }
 
+/* Down to the grasp height (from above the "+" to the object's axis when the roll aligns),
+ * then close; condition: what decided it (the trace's grasp_close) */
+static void descend(mg_task_t *t, int64_t now_us, const char *why, const char *condition)
+{
+    int32_t p[3];
+    mg_task_gripper_point_q4(t, p);
+    if (t->has_grasp_xy && t->p.precise_align_ch == 1)
+        p[0] = t->grasp_xy_q4[0], p[1] = t->grasp_xy_q4[1];
+    p[2] = (t->p.grasp_height_mm - t->p.h_shoulder_mm) * 16;
+    if (!mg_task_move_point(t, now_us, p, 0, 0)) {
+        mg_task_fail(t, now_us, "precise grasp: grasp height unreachable");
+        return;
+    }
+    t->phase = MG_PHASE_LOWER;
+    t->has_close_by = 1;
+    mg_task_text(t->close_by, sizeof t->close_by, 0, condition);
+    note_text(t, "precise_descend", why);
+}
+
+/* the reason of a precise step (kinematics.py precise_grasp_step) */
+static size_t precise_reason(const mg_task_t *t, const mg_precise_step_t *st, int32_t w_px,
+                             char *out, size_t cap)
+{
+    size_t n = 0;
+    if (st->slope_ok) {
+        n = mg_task_text(out, cap, n, "k_T ~ 0");
+    } else {
+        n = mg_task_text(out, cap, n, "spoke at ");
+        n = mg_task_text_int(out, cap, n, st->angle_mrad);
+        n = mg_task_text(out, cap, n, " mrad: turn");
+    }
+    n = mg_task_text(out, cap, n, "; w_T ");
+    n = mg_task_text_int(out, cap, n, w_px);
+    if (w_px < t->p.w_min_px) {
+        n = mg_task_text(out, cap, n, " px < ");
+        n = mg_task_text_int(out, cap, n, t->p.w_min_px);
+        return mg_task_text(out, cap, n, ": lower");
+    }
+    if (w_px > t->p.w_max_px) {
+        n = mg_task_text(out, cap, n, " px > ");
+        n = mg_task_text_int(out, cap, n, t->p.w_max_px);
+        return mg_task_text(out, cap, n, ": raise");
+    }
+    return mg_task_text(out, cap, n, " px in range");
+}
+
+/* 000 section III.C.2: on each spoke reading turn until k_T = 0 and move up or down until
+ * w_T is in [w_min, w_max]; no spoke: roll the camera by ROLL_SCAN_MRAD at a time, then the
+ * method's search or the rough position */
+static void align(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    if (!mg_task_settled(t, now_us))
+        return; /* the frame may predate the last move */
+    int32_t spoke_mrad = 0, w_px = 0, p[3];
+    const int seen = t->rules->spoke_reading && t->rules->spoke_reading(in, &spoke_mrad, &w_px);
+    if (!seen) {
+        const int64_t waited = now_us - t->phase_us;
+        if (t->roll_scan < MG_ROLL_SCAN_STEPS && waited >= t->p.spoke_wait_us / 3) {
+            /* the spoke detector sees arms within 30 degrees of the image x axis: roll the
+             * camera by 30 degrees at a time over the quarter turn the "+" repeats in */
+            t->roll_scan++;
+            mg_task_gripper_point_q4(t, p);
+            mg_task_move_point(t, now_us, p, 1, t->arm[1] - MG_ROLL_SCAN_MRAD);
+            t->phase_us = now_us;
+        } else if (waited >= t->p.spoke_wait_us
+                   && !(t->rules->grasp_lost && t->rules->grasp_lost(t, now_us, waited))) {
+            char why[MG_TASK_WHY];
+            size_t n = mg_task_text(why, sizeof why, 0, "no spoke seen for ");
+            n = mg_task_text_int(why, sizeof why, n, waited);
+            mg_task_text(why, sizeof why, n, " us: rough position");
+            descend(t, now_us, why, "no_spoke");
+        }
+        return;
+    }
+    t->phase_us = now_us;
+    t->precise_steps++;
+    const mg_precise_params_t pp = {35, 150, 1, 10, t->p.w_min_px, t->p.w_max_px};
+    mg_precise_step_t st;
+    mg_precise_grasp_step(t->arm[5], spoke_mrad, w_px, &pp, &st);
+    char reason[MG_TASK_WHY];
+    precise_reason(t, &st, w_px, reason, sizeof reason);
+    {
+        char text[MG_TASK_NOTE_BYTES];
+        mg_json_t j;
+        mg_json_init(&j, text, sizeof text - 1);
+        mg_json_begin_object(&j);
+        mg_json_key(&j, "reason");
+        mg_json_string(&j, reason, strlen(reason));
+        mg_json_key(&j, "spoke_mrad");
+        mg_json_int(&j, spoke_mrad);
+        mg_json_key(&j, "step");
+        mg_json_int(&j, t->precise_steps);
+        mg_json_key(&j, "w_px");
+        mg_json_int(&j, w_px);
+        mg_json_end_object(&j);
+        json_done(&j, text);
+        mg_task_note(t, "precise", text);
+    }
+    char why[MG_TASK_WHY];
+    if (st.aligned) {
+        size_t n = mg_task_text(why, sizeof why, 0, "k_T ~ 0 and w_T = ");
+        n = mg_task_text_int(why, sizeof why, n, w_px);
+        mg_task_text(why, sizeof why, n, " px");
+        descend(t, now_us, why, "precise");
+        return;
+    }
+    if (t->precise_steps >= t->p.precise_max_steps) {
+        size_t n = mg_task_text(why, sizeof why, 0, "not aligned after ");
+        n = mg_task_text_int(why, sizeof why, n, t->precise_steps);
+        n = mg_task_text(why, sizeof why, n, " steps: ");
+        mg_task_text(why, sizeof why, n, reason);
+        descend(t, now_us, why, "max_steps");
+        return;
+    }
+    mg_task_gripper_point_q4(t, p);
+    p[2] += st.dz_mm * 16;
+    if (t->p.precise_align_ch == 1) {
+        /* roll about the vertical l3: the gripper stays above the object; the spokes repeat
+         * every quarter turn, so stay inside the roll limits by taking the neighbour spoke */
+        int32_t roll = t->arm[1] + st.d_align_mrad;
+        roll += roll > mg_joint_hi_mrad(1)   ? -MG_QUARTER_TURN_MRAD
+                : roll < mg_joint_lo_mrad(1) ? MG_QUARTER_TURN_MRAD
+                                             : 0;
+        mg_task_move_point(t, now_us, p, 1, roll);
+        return;
+    }
+    const int64_t rho = mg_isqrt((int64_t)p[0] * p[0] + (int64_t)p[1] * p[1]);
+    p[0] = (int32_t)((rho * mg_sin_q12(st.theta5_mrad) + 2048) >> 12);
+    p[1] = (int32_t)((rho * mg_cos_q12(st.theta5_mrad) + 2048) >> 12);
+    mg_task_move_point(t, now_us, p, 1, st.theta1_mrad);
+}
+
 void mg_task_do_precise_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     t->wheels[0] = t->wheels[1] = 0;
@@ -208,6 +342,9 @@ void mg_task_do_precise_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs
     case MG_PHASE_ROLL:
         if (mg_task_settled(t, now_us))
             t->phase = MG_PHASE_ALIGN, t->phase_us = now_us;
+        return;
+    case MG_PHASE_ALIGN:
+        align(t, now_us, in);
         return;
     case MG_PHASE_LOWER:
         if (mg_task_settled(t, now_us)) {
@@ -223,7 +360,7 @@ void mg_task_do_precise_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs
         else if (now_us - t->phase_us >= t->p.grasp_close_timeout_us)
             mg_task_fail(t, now_us, "gripper closed but no object held");
         return;
-    default: /* 000's alignment on the spoke is the method's own */
+    default:
         return;
     }
 }
@@ -309,9 +446,11 @@ static int seen_standing(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
         t->held[t->check_k] = 1;
         tip_odom(t, in, t->held_tip_mm[t->check_k]);
     }
-    const void *det = r->check_result ? r->check_result(in) : NULL;
-    if (det && had && mg_task_see_object(t, now_us, in, r->check_position, det,
-                                         r->check_is_object)) {
+    for (int32_t c = 0; c < r->n_checks && c < MG_MAX_CHECKS; c++) {
+        const void *det = r->checks[c].result(in);
+        if (!det || !had || !mg_task_see_object(t, now_us, in, r->checks[c].position, det,
+                                                r->checks[c].is_object))
+            continue;
         int32_t tip[2];
         tip_odom(t, in, tip);
         const int64_t dx = (int64_t)t->obj_mm[0] - tip[0], dy = (int64_t)t->obj_mm[1] - tip[1];
@@ -327,7 +466,7 @@ static int seen_standing(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
             mg_json_int(&j, place[1]);
             mg_json_end_array(&j);
             mg_json_key(&j, "name");
-            mg_json_string(&j, r->check_detector, strlen(r->check_detector));
+            mg_json_string(&j, r->checks[c].detector, strlen(r->checks[c].detector));
             mg_json_key(&j, "obj_mm");
             mg_json_begin_array(&j);
             mg_json_int(&j, t->obj_mm[0]);
@@ -336,9 +475,10 @@ static int seen_standing(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
             mg_json_end_object(&j);
             json_done(&j, text);
             mg_task_note(t, "grasp_check_seen", text);
-        } else { /* seen near the fingertip's place: keep the estimate */
-            t->obj_mm[0] = place[0], t->obj_mm[1] = place[1];
+            break;
         }
+        t->obj_mm[0] = place[0], t->obj_mm[1] = place[1]; /* seen near the fingertip's place:
+                                                           * keep the estimate */
     }
     if (t->check_seen < MG_CHECK_SEEN_FRAMES)
         return 0;

@@ -16,6 +16,10 @@
 #define MG_CHECK_POSE_US 500000 /* look this long at each waist offset, settled */
 #define MG_MAX_REGRASPS 2
 #define MG_HELD_MOVE_MM 25
+/* PRECISE_GRASP's spoke search: the roll by 30 degrees at a time, twice (0, -30, -60 degrees
+ * from the pi/2 roll cover the quarter turn the "+" repeats in) */
+#define MG_ROLL_SCAN_MRAD 524
+#define MG_ROLL_SCAN_STEPS 2
 
 /* the object's axis at height_mm above the ground, back_mm short of it along the line from
  * the waist (platform frame, Q4 mm) */

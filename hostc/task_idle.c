@@ -1,8 +1,9 @@
 /* The idle method: no paper's task, the host program around it only (task.h). */
 #include "task.h"
 
-void mg_task_idle_init(void *state)
+void mg_task_idle_init(void *state, const mg_config_t *cfg)
 {
+    (void)cfg;
     ((mg_task_idle_t *)state)->steps = 0;
 }
 

@@ -119,22 +119,32 @@ size_t mg_task_ik_reason(const mg_arm_geometry_t *g, int32_t code, int64_t detai
 
 void mg_task_note(mg_task_t *t, const char *key, const char *json)
 {
-    int32_t i = 0;
+    int32_t i = 0, long_used = 0;
     while (i < t->n_notes && strcmp(t->notes[i].key, key) != 0)
         i++;
+    for (int32_t k = 0; k < t->n_notes; k++)
+        long_used |= k != i && t->notes[k].is_long;
     if (i == t->n_notes && t->n_notes == MG_TASK_NOTES) {
         t->notes_lost++;
         return;
     }
     const size_t nk = strlen(key), nj = strlen(json);
-    if (nk >= sizeof t->notes[i].key || nj >= sizeof t->notes[i].json) {
+    const int is_long = nj >= sizeof t->notes[i].json;
+    if (nk >= sizeof t->notes[i].key
+        || (is_long && (long_used || nj >= sizeof t->long_note))) {
         t->notes_lost++;
         return;
     }
     memcpy(t->notes[i].key, key, nk + 1);
-    memcpy(t->notes[i].json, json, nj + 1);
+    memcpy(is_long ? t->long_note : t->notes[i].json, json, nj + 1);
+    t->notes[i].is_long = is_long;
     if (i == t->n_notes)
         t->n_notes++;
+}
+
+const char *mg_task_note_json(const mg_task_t *t, int32_t i)
+{
+    return t->notes[i].is_long ? t->long_note : t->notes[i].json;
 }
 
 void mg_task_note_int(mg_task_t *t, const char *key, int64_t v)
@@ -194,9 +204,9 @@ static void enter_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
 
 static void do_adjust(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    /* the radial symbol (000, 001) comes with their frames' glue: none yet */
-    mg_task_do_adjust(t, now_us, in, t->rules->adjust_result ? t->rules->adjust_result(in) : NULL,
-                      NULL);
+    const struct mg_task_method *r = t->rules;
+    mg_task_do_adjust(t, now_us, in, r->adjust_result ? r->adjust_result(in) : NULL,
+                      r->radial_result ? r->radial_result(in) : NULL);
 }
 
 /* each state's entry action and step (machine.py ENTRY, STEP); the terminal states have
@@ -375,6 +385,26 @@ mg_posture_params_t mg_task_posture_params(const mg_task_t *t, int32_t max_step_
     return pp;
 }
 
+/* Keep both "+" in the odometry frame: the precise grasp looks at one of them (000: "only a
+ * '+' symbol is used in the precise grasping"); a pair not ~47.3 mm apart is a bad one. */
+static void remember_plus(mg_task_t *t, const mg_plus_seen_t *det, const int32_t joints[6],
+                          const int32_t pose[3])
+{
+    int32_t pair[2][3];
+    const int32_t top = (t->p.object_top_mm - t->p.h_shoulder_mm) * 16;
+    if (!mg_plus_positions(&t->geom, joints, &t->cam, det->uv_q4, det->dist_mm,
+                           t->rules->plus_on_top, top, pair))
+        return;
+    const int64_t dx = (int64_t)pair[0][0] - pair[1][0], dy = (int64_t)pair[0][1] - pair[1][1];
+    const int64_t d = mg_isqrt(dx * dx + dy * dy);
+    if (d < 30 * 16 || d > 65 * 16)
+        return; /* not 47.3 mm apart: a bad pair */
+    for (int32_t k = 0; k < 2; k++)
+        mg_platform_to_odom_mm(pose[0], pose[1], pose[2], t->p.mount_forward_mm, pair[k],
+                               t->plus_odom_mm[k]);
+    t->has_plus_odom = 1;
+}
+
 int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                        mg_task_position_fn position, const void *det, int32_t is_object)
 {
@@ -395,6 +425,8 @@ int mg_task_see_object(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
     t->obj_seen_us = now_us;
     if (is_object)
         t->graspable_seen = t->object_sighted = 1;
+    if (position == mg_task_plus_position)
+        remember_plus(t, (const mg_plus_seen_t *)det, joints, pose);
     return 1;
 }
 
@@ -407,6 +439,12 @@ int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const
     mg_pixel_to_platform_mm_q4(&t->geom, joints, &t->cam, s->u_q4, s->v_q4, s->depth_mm_q4,
                                p_q4);
     return 1;
+}
+
+int mg_task_plus_position(const mg_task_t *t, const int32_t joints[6], const void *det,
+                          int32_t p_q4[3])
+{
+    return mg_task_sighting_position(t, joints, &((const mg_plus_seen_t *)det)->sighting, p_q4);
 }
 
 /* the state's entry action once after a transition, then its step */

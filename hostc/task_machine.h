@@ -62,6 +62,11 @@ typedef struct {
     int32_t detour_mm, detour_clear_mm;
     int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;
     int64_t grasp_close_timeout_us;
+    /* PRECISE_GRASP of 000 (grasp.py _align): w_T's window of 000 section IV, no spoke for
+     * spoke_wait_us, at most precise_max_steps, the joint that drives k_T to 0 (1: the roll) */
+    int32_t w_min_px, w_max_px;
+    int64_t spoke_wait_us;
+    int32_t precise_max_steps, precise_align_ch;
 } mg_task_params_t;
 
 /* the camera's pinhole intrinsics in px (sense.py CameraModel) */
@@ -76,6 +81,9 @@ typedef struct {
 #define MG_TASK_NOTES 12       /* members of a step's trace detail */
 #define MG_TASK_NOTE_KEY 32    /* bytes of a member's key, its 0 included */
 #define MG_TASK_NOTE_BYTES 384 /* bytes of a member's JSON value, its 0 included */
+/* bytes of the one longer member a step may note (a plan's detail, its candidates' control
+ * points), its 0 included */
+#define MG_TASK_LONG_NOTE_BYTES 16384
 #define MG_TASK_SONARS 16      /* sonars of the ring read */
 
 /* one member of the step's trace detail (Task.note): its key and its value in JSON, the
@@ -83,6 +91,7 @@ typedef struct {
 typedef struct {
     char key[MG_TASK_NOTE_KEY];
     char json[MG_TASK_NOTE_BYTES];
+    int32_t is_long; /* the value is the task's long_note (longer than json holds) */
 } mg_task_note_t;
 
 /* the detour of the sonar guard (sonar_guard.c): the heading to turn to, then (drive) this
@@ -138,6 +147,7 @@ struct mg_task {
     mg_task_event_t events[MG_TASK_EVENTS];
     int32_t n_notes, notes_lost; /* this step's trace detail */
     mg_task_note_t notes[MG_TASK_NOTES];
+    char long_note[MG_TASK_LONG_NOTE_BYTES];
     /* SEARCH and LOST (task_search.c) */
     mg_arm_search_t search;
     int32_t has_turn_from, turn_from_mrad;  /* heading where the base turn started */
@@ -158,6 +168,12 @@ struct mg_task {
     int32_t regrasps, check_seen;  /* LIFT: grasps missed, frames seeing the object standing */
     int32_t check_centre_mrad, check_k; /* the grasp check's look: centre waist, offset index */
     int32_t held[MG_CHECK_LOOKS], held_tip_mm[MG_CHECK_LOOKS][2]; /* fingertips held under */
+    /* both "+" of the last dual "+" in the odometry frame (000: the precise grasp looks at
+     * one of them), the grasp's own place on the object's axis (Q4 mm, platform frame) and
+     * the roll steps of PRECISE_GRASP's spoke search */
+    int32_t has_plus_odom, plus_odom_mm[2][2];
+    int32_t has_grasp_xy, grasp_xy_q4[2];
+    int32_t roll_scan;
     union {
         int64_t align;
         unsigned char bytes[MG_TASK_MS_BYTES];
@@ -222,6 +238,17 @@ typedef struct {
  * object_in_platform); an mg_task_position_fn of an mg_sighting_t (NULL: none) */
 int mg_task_sighting_position(const mg_task_t *t, const int32_t joints[6], const void *det,
                               int32_t p_q4[3]);
+/* a dual "+" as the task reads it: its sighting (the midpoint at the depth dist_mm), both
+ * "+" centres (u1, v1, u2, v2, Q4 px) and dist_mm (host/vision/dual_plus.py) */
+typedef struct {
+    mg_sighting_t sighting;
+    int32_t uv_q4[4];
+    int32_t dist_mm;
+} mg_plus_seen_t;
+/* the place of an mg_plus_seen_t (its sighting's); mg_task_see_object with it also keeps both
+ * "+" in the odometry frame (machine.py _remember_plus) */
+int mg_task_plus_position(const mg_task_t *t, const int32_t joints[6], const void *det,
+                          int32_t p_q4[3]);
 /* advance the task to now_us: the state's timeout, its entry action and step, the method's
  * wheel guard, the history; the events of this step are t->events */
 void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
@@ -231,6 +258,8 @@ void mg_task_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
  * replaced); the members past MG_TASK_NOTES or longer than MG_TASK_NOTE_BYTES are counted in
  * notes_lost */
 void mg_task_note(mg_task_t *t, const char *key, const char *json);
+/* the JSON value of the step's i-th detail member */
+const char *mg_task_note_json(const mg_task_t *t, int32_t i);
 void mg_task_note_int(mg_task_t *t, const char *key, int64_t v);
 /* a member whose value is an object of n int members (names in sorted order) */
 void mg_task_note_ints(mg_task_t *t, const char *key, int32_t n, const char *const *names,

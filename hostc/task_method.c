@@ -8,16 +8,35 @@
 #include "task_method001.h"
 #include "task_method002.h"
 
-/* the hooks 001 takes from 000 (Method001 is a Method000): 000's vision, ADJUST and grasp */
+/* the hooks 001 takes from 000 (Method001 is a Method000): 000's vision, APPROACH's path,
+ * ADJUST and grasp */
 #define HOOKS_000                                                                          \
     .failure_reason = mg_task_reason_as_is, .look_height_mm = mg_method000_look_height_mm,  \
-    .adjust_detector = "dual_plus", .adjust_position = mg_task_sighting_position,           \
+    .adjust_detector = "dual_plus", .adjust_position = mg_task_plus_position,               \
     .adjust_is_object = 1, .adjust_done = mg_method000_adjust_done,                         \
     .adjust_goal_mm = mg_method000_adjust_goal_mm,                                          \
-    .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps, .found = mg_method000_found,         \
+    .adjust_vmax_mmps = mg_method000_adjust_vmax_mmps,                                      \
+    .adjust_result = mg_method000_plus_result, .radial_result = mg_method000_radial_result, \
+    .search_sighting = mg_method000_search_sighting, .found = mg_method000_found,           \
     .found_why = mg_method000_found_why, .keeps_sightings = 1,                              \
-    .object_detectors = "dual_plus, radial_symbol", .grasp_ik = mg_method000_grasp_ik,      \
-    .lowers_hover = 1, .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD, .camera = {611, 160, 120}
+    .enter_approach = mg_method000_enter_approach_state,                                    \
+    .approach = mg_method000_approach_state,                                                \
+    .object_detectors = "dual_plus, radial_symbol", .rough_target = mg_method000_rough_target, \
+    .grasp_ik = mg_method000_grasp_ik, .lowers_hover = 1,                                   \
+    .enter_precise = mg_method000_enter_precise,                                            \
+    .spoke_reading = mg_method000_spoke_reading, .held_in_view = mg_method000_held_in_view, \
+    .n_checks = 2,                                                                          \
+    .checks = {{"dual_plus", mg_method000_plus_result, mg_task_plus_position, 1},           \
+               {"radial_symbol", mg_method000_radial_check, mg_task_sighting_position, 1}}, \
+    .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD, .camera = {611, 160, 120},                      \
+    .n_fallbacks = 1, .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS}},   \
+    .frame_of = mg_method000_frame_of
+/* the detectors of 000's states (method000.py detectors) */
+#define DETECTORS_000                                                                      \
+    [MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL, [MG_APPROACH] = 1u << MG_DET_RADIAL_SYMBOL,   \
+    [MG_ADJUST] = 1u << MG_DET_DUAL_PLUS | 1u << MG_DET_RADIAL_SYMBOL,                      \
+    [MG_PRECISE_GRASP] = 1u << MG_DET_SPOKE,                                                \
+    [MG_LIFT] = 1u << MG_DET_DUAL_PLUS | 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_HELD_FILL
 
 const mg_task_method_t mg_task_methods[] = {
     {.name = "000",
@@ -27,6 +46,8 @@ const mg_task_method_t mg_task_methods[] = {
      HOOKS_000,
      .guard_wheels = mg_sonar_guard_step,
      .lost_search = mg_method000_lost_search,
+     .grasp_lost = mg_method000_grasp_lost,
+     .detectors = {DETECTORS_000},
      .geom = {1528, 1424, 1552},
      .path = &mg_path000},
     {.name = "001",
@@ -34,6 +55,8 @@ const mg_task_method_t mg_task_methods[] = {
      .ms_init = mg_method001_ms_init,
      .params = mg_method001_params,
      HOOKS_000,
+     .plus_on_top = 1,
+     .detectors = {DETECTORS_000, [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
      .geom = {2560, 2560, 3200},
      .path = &mg_path001},
     {.name = "002",
@@ -66,10 +89,9 @@ const mg_task_method_t mg_task_methods[] = {
      .enter_precise = mg_method002_enter_precise,
      .held_view_pose = mg_method002_held_view_pose,
      .held_in_view = mg_method002_held_in_view,
-     .check_detector = "red_cylinder",
-     .check_result = mg_method002_red_cylinder_result,
-     .check_position = mg_method002_red_cylinder_position,
-     .check_is_object = 1,
+     .n_checks = 1,
+     .checks = {{"red_cylinder", mg_method002_red_cylinder_result,
+                 mg_method002_red_cylinder_position, 1}},
      .grasp_alpha_mrad = 0,
      .detectors = {[MG_SEARCH] = 1u << MG_DET_DOUBLE_CROSS | 1u << MG_DET_RED_ROI,
                    [MG_APPROACH] = 1u << MG_DET_DOUBLE_CROSS | 1u << MG_DET_RED_CYLINDER
@@ -149,6 +171,11 @@ void mg_task_params_default(mg_task_params_t *p)
     p->lift_mm = 60;
     p->pregrasp_back_mm = 50;
     p->grasp_close_timeout_us = 2000000;
+    p->w_min_px = 20; /* 000 section IV */
+    p->w_max_px = 40;
+    p->spoke_wait_us = 3000000;
+    p->precise_max_steps = 30;
+    p->precise_align_ch = 1;
     p->posture_step_mrad = 20;
     /* eq. (10)'s gains of 000 section IV: 1, 0, 0 */
     p->posture.k_theta_q12[0] = 4096;
@@ -177,3 +204,4 @@ int32_t mg_task_detector_fallback(const mg_task_t *t, int32_t det)
 
 /* every method's frame fits the task's buffer */
 typedef char mg_frame002_fits[sizeof(mg_frame002_t) <= MG_FRAME_BYTES ? 1 : -1];
+typedef char mg_frame000_fits[sizeof(mg_frame000_t) <= MG_FRAME_BYTES ? 1 : -1];

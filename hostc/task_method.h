@@ -26,6 +26,7 @@ typedef struct {
     int32_t state, detector, primary;
 } mg_fallback_t;
 #define MG_MAX_FALLBACKS 4
+#define MG_MAX_CHECKS 2 /* the grasp check's detectors */
 
 typedef struct mg_task_method {
     const char *name;
@@ -48,8 +49,10 @@ typedef struct mg_task_method {
     int (*adjust_done)(mg_task_t *t, int64_t now_us, const void *det, int32_t dist_mm);
     void (*adjust_goal_mm)(const mg_task_t *t, int32_t *goal_mm, int32_t *tol_mm);
     int32_t (*adjust_vmax_mmps)(const mg_task_params_t *p);
-    /* this frame's result of the adjust detector (NULL: none) */
+    /* this frame's result of the adjust detector (NULL: none); the radial symbol's sighting
+     * ADJUST reads when the adjust detector saw nothing (NULL hook or result: none) */
     const void *(*adjust_result)(const mg_task_inputs_t *in);
+    const mg_sighting_t *(*radial_result)(const mg_task_inputs_t *in);
     /* SEARCH (search.py): the sighting of this frame the search looks at, into sighting
      * (MG_SIGHTING_BYTES; 0: none, Method.search_sighting); whether it gives a usable object
      * or bearing (kept; Method.found) and the transition's reason (Method.found_why); the
@@ -73,18 +76,29 @@ typedef struct mg_task_method {
      * shows the object held (Method.held_in_view); the check detector's result and place */
     const char *object_detectors;
     int (*grasp_reach_mm)(const mg_task_t *t, int32_t *centre_mm, int32_t *half_mm);
-    void (*rough_target)(const mg_task_t *t, const mg_task_inputs_t *in, int32_t target_q4[3]);
+    void (*rough_target)(mg_task_t *t, const mg_task_inputs_t *in, int32_t target_q4[3]);
     int32_t (*grasp_ik)(const mg_arm_geometry_t *g, const int32_t target_q4[3],
                         mg_arm_pose_t *pose, int64_t *detail);
     int32_t lowers_hover;
     void (*enter_precise)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    /* PRECISE_GRASP's spoke of this frame: 1 and its image angle (mrad) and width (whole px),
+     * 0: none (NULL: the method aligns on nothing); no spoke for spoke_wait_us: 1 when the
+     * method searches for the object instead, the transition made (Method.grasp_lost; NULL:
+     * never) */
+    int (*spoke_reading)(const mg_task_inputs_t *in, int32_t *angle_mrad, int32_t *width_px);
+    int (*grasp_lost)(mg_task_t *t, int64_t now_us, int64_t waited_us);
     int (*held_view_pose)(const mg_task_t *t, mg_arm_pose_t *pose);
     int (*held_in_view)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
-    const char *check_detector;
-    const void *(*check_result)(const mg_task_inputs_t *in);
-    mg_task_position_fn check_position;
-    int32_t check_is_object;
+    /* the grasp check's detectors (Method.check_detectors), in their order */
+    int32_t n_checks;
+    struct {
+        const char *detector;
+        const void *(*result)(const mg_task_inputs_t *in); /* this frame's, NULL: none */
+        mg_task_position_fn position;
+        int32_t is_object;
+    } checks[MG_MAX_CHECKS];
     int32_t grasp_alpha_mrad;
+    int32_t plus_on_top; /* both "+" placed where their rays meet the top (Method.plus_on_top) */
     /* the detectors each state runs (bits of MG_DET_*), the fallbacks among them, and the
      * frame of one vision job's results as the method's hooks read it (words[i]: detector i's
      * out words, NULL: nothing found or not run; into frame, MG_FRAME_BYTES) */

@@ -4,6 +4,9 @@
 
 #include <string.h>
 
+#include "app_factory.h"
+#include "json.h"
+#include "task_grasp.h"
 #include "task_method.h"
 #include "task_sense.h"
 
@@ -21,6 +24,13 @@ void mg_method000_set_planner(mg_task_t *t, mg_planner000_fn planner, void *ctx)
 {
     ms000(t)->planner = planner;
     ms000(t)->planner_ctx = ctx;
+    ms000(t)->board_planner = 0;
+}
+
+void mg_method000_set_board_planner(mg_task_t *t, mg_plan000_ctx_t *ctx)
+{
+    mg_method000_set_planner(t, mg_method000_plan000, ctx);
+    ms000(t)->board_planner = 1;
 }
 
 /* TaskParams.for_method("000"): the defaults (000 has none of its own) */
@@ -123,6 +133,96 @@ void mg_method000_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
 
 /* --- APPROACH: the path of eq. (9) ---------------------------------------------------------- */
 
+/* a position or time of the planner's counts (1/16 mm, 1/16 ms) in m or s, as Python's repr
+ * prints the float count / 16000: the exact decimal count * 625e-7, its trailing zeros cut */
+static void json_per_m(mg_json_t *j, int64_t count)
+{
+    char text[32];
+    size_t n = 0;
+    const uint64_t v = (count < 0 ? (uint64_t)0 - (uint64_t)count : (uint64_t)count) * 625u;
+    if (count < 0)
+        text[n++] = '-';
+    if (v > 0 && v < 1000u) { /* below 1e-4: 6.25e-05 */
+        n = mg_task_text(text, sizeof text, n, "6.25e-05");
+        mg_json_raw(j, text, n);
+        return;
+    }
+    n = mg_task_text_int(text, sizeof text, n, (int64_t)(v / 10000000u));
+    text[n++] = '.';
+    uint64_t frac = v % 10000000u;
+    int32_t digits = 7;
+    while (digits > 1 && frac % 10u == 0) {
+        frac /= 10u;
+        digits--;
+    }
+    for (int32_t k = digits - 1; k >= 0; k--) {
+        text[n + (size_t)k] = (char)('0' + (int)(frac % 10u));
+        frac /= 10u;
+    }
+    mg_json_raw(j, text, n + (size_t)digits);
+}
+
+/* a curve's control points (P0..P3 as x, y, t) as [[x, y, t] x 4] in m and s */
+static void json_ctrl(mg_json_t *j, const int32_t ctrl[12])
+{
+    mg_json_begin_array(j);
+    for (int32_t k = 0; k < 4; k++) {
+        mg_json_begin_array(j);
+        for (int32_t c = 0; c < 3; c++)
+            json_per_m(j, ctrl[3 * k + c]);
+        mg_json_end_array(j);
+    }
+    mg_json_end_array(j);
+}
+
+/* the plan's trace detail (method000.py plan_follower): its candidates (every step-th, at
+ * most MAX_TRACE_CANDIDATES steps), the feasible ones, the reason, the chosen curve and the
+ * plan's modelled ARM9 time */
+static char plan_text[MG_TASK_LONG_NOTE_BYTES];
+static void note_plan(mg_task_t *t, const mg_plan000_ctx_t *c, const mg_plan_outcome_t *o)
+{
+    const mg_plan000_t *pl = &c->pl.plan;
+    const int32_t n_cand = pl->status == MG_PLAN_STANDOFF ? 0 : pl->n_cand;
+    mg_json_t j;
+    mg_json_init(&j, plan_text, sizeof plan_text - 1);
+    mg_json_begin_object(&j);
+    if (o->has_path) {
+        mg_json_key(&j, "best_ctrl");
+        json_ctrl(&j, pl->best_ctrl);
+    }
+    mg_json_key(&j, "candidates");
+    mg_json_int(&j, n_cand);
+    mg_json_key(&j, "candidates_ctrl");
+    mg_json_begin_array(&j);
+    const int32_t step = n_cand / MG_MAX_TRACE_CANDIDATES > 1 ? n_cand / MG_MAX_TRACE_CANDIDATES
+                                                              : 1;
+    for (int32_t i = 0; i < n_cand; i += step) {
+        int32_t ctrl[12];
+        mg_plan000_ctrl(pl, i, ctrl);
+        json_ctrl(&j, ctrl);
+    }
+    mg_json_end_array(&j);
+    if (o->has_path) {
+        mg_json_key(&j, "duration_us");
+        mg_json_int(&j, c->pl.traj.t_us[c->pl.traj.n - 1]);
+    }
+    mg_json_key(&j, "feasible");
+    mg_json_int(&j, pl->status == MG_PLAN_STANDOFF ? 0 : pl->n_feasible);
+    mg_json_key(&j, "plan_arm9_us");
+    mg_json_int(&j, mg_ops_time_us(&pl->ops));
+    mg_json_key(&j, "planner");
+    mg_json_string(&j, "000", 3);
+    mg_json_key(&j, "reason");
+    mg_json_string(&j, o->reason, strlen(o->reason));
+    mg_json_end_object(&j);
+    if (j.overflow) { /* counted, never silent */
+        t->notes_lost++;
+        return;
+    }
+    plan_text[j.len] = 0;
+    mg_task_note(t, "plan", plan_text);
+}
+
 static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_trajectory_t *traj,
                  mg_plan_outcome_t *o)
 {
@@ -135,6 +235,8 @@ static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_tr
     const mg_plan000_request_t req = {now_us, in->x_mm, in->y_mm, in->heading_mrad, in->v_mmps,
                                       {t->obj_mm[0], t->obj_mm[1]}, t->p.approach_standoff_mm};
     ms->planner(ms->planner_ctx, &req, traj, o);
+    if (ms->board_planner)
+        note_plan(t, (const mg_plan000_ctx_t *)ms->planner_ctx, o);
 }
 
 /* the candidates' rejection reasons (host/planning/bezier_q.py REASONS, bezier.h's codes) in
@@ -224,3 +326,109 @@ static int adjust_early(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
 const mg_path_method_t mg_path000 = {plan, NULL, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
                                      adjust_early};
+
+/* ---- the hooks of the machine's states (the method row) ---- */
+
+static const mg_frame000_t *frame000(const mg_task_inputs_t *in)
+{
+    return (const mg_frame000_t *)in->frame;
+}
+
+void mg_method000_frame_of(const mg_task_t *t, const int32_t *const *words, void *frame)
+{
+    (void)t;
+    mg_frame000_of((mg_frame000_t *)frame, words[MG_DET_RADIAL_SYMBOL], words[MG_DET_DUAL_PLUS],
+                   words[MG_DET_SPOKE], words[MG_DET_HELD_FILL]);
+}
+
+int mg_method000_search_sighting(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting)
+{
+    (void)t;
+    const mg_sighting_t *s = mg_method000_radial_result(in);
+    if (s == NULL)
+        return 0;
+    memcpy(sighting, s, sizeof *s);
+    return 1;
+}
+
+void mg_method000_enter_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)now_us, (void)in;
+    mg_method000_enter_approach(t);
+}
+
+void mg_method000_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_method000_approach(t, now_us, in, mg_method000_radial_result(in));
+}
+
+const void *mg_method000_plus_result(const mg_task_inputs_t *in)
+{
+    const mg_frame000_t *f = frame000(in);
+    return f != NULL && f->has_plus ? &f->plus : NULL;
+}
+
+const mg_sighting_t *mg_method000_radial_result(const mg_task_inputs_t *in)
+{
+    const mg_frame000_t *f = frame000(in);
+    return f != NULL && f->has_radial ? &f->radial : NULL;
+}
+
+const void *mg_method000_radial_check(const mg_task_inputs_t *in)
+{
+    return mg_method000_radial_result(in);
+}
+
+void mg_method000_rough_target(mg_task_t *t, const mg_task_inputs_t *in, int32_t target_q4[3])
+{
+    mg_task_object_target_q4(t, in, t->p.object_top_mm + t->p.hover_mm, 0, target_q4);
+    t->has_grasp_xy = 1;
+    t->grasp_xy_q4[0] = target_q4[0], t->grasp_xy_q4[1] = target_q4[1];
+    if (!t->has_plus_odom)
+        return;
+    int64_t best = -1;
+    for (int32_t k = 0; k < 2; k++) { /* hover over the nearer "+", grasp on the axis */
+        int32_t q[2];
+        mg_odom_to_platform_q4(in->x_mm, in->y_mm, in->heading_mrad, t->p.mount_forward_mm,
+                               t->plus_odom_mm[k][0], t->plus_odom_mm[k][1], q);
+        const int64_t d2 = (int64_t)q[0] * q[0] + (int64_t)q[1] * q[1];
+        if (best < 0 || d2 < best) {
+            best = d2;
+            target_q4[0] = q[0], target_q4[1] = q[1];
+        }
+    }
+}
+
+void mg_method000_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    (void)in;
+    mg_task_set_arm(t, now_us, t->arm[2], t->arm[3], t->arm[4], t->arm[5], 1,
+                    MG_ROLL_PRECISE_MRAD);
+    t->phase = MG_PHASE_ROLL;
+    t->roll_scan = 0;
+}
+
+int mg_method000_spoke_reading(const mg_task_inputs_t *in, int32_t *angle_mrad,
+                               int32_t *width_px)
+{
+    const mg_frame000_t *f = frame000(in);
+    if (f == NULL || !f->has_spoke)
+        return 0;
+    *angle_mrad = f->spoke_angle_mrad;
+    *width_px = f->spoke_width_px;
+    return 1;
+}
+
+/* R > G > B with R at least 1.5 B; the floor (~150, 142, 128) is at most 1.3 */
+int mg_method000_body_brown(const int32_t rgb[3])
+{
+    return rgb[0] >= 40 && rgb[0] > rgb[1] && rgb[1] > rgb[2] && 2 * rgb[0] >= 3 * rgb[2];
+}
+
+int mg_method000_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    const mg_frame000_t *f = frame000(in);
+    return mg_task_held_fill_in_view(t, now_us, f != NULL && f->has_held_fill,
+                                     f != NULL ? f->held_rgb : NULL,
+                                     f != NULL ? f->held_permille : 0, mg_method000_body_brown);
+}

@@ -14,6 +14,8 @@
 #include "task_approach.h"
 #include "task_machine.h"
 
+#define MG_MAX_TRACE_CANDIDATES 40 /* candidate curves kept in the plan's trace detail */
+
 /* What 000's planner is asked (method000.py plan_follower): the pose and speed, the object's
  * estimate, the stand-off of P3 (approach_standoff_mm) */
 typedef struct {
@@ -47,11 +49,15 @@ typedef struct {
     int32_t grasp_searches; /* searches after a loss in PRECISE_GRASP (grasp_lost) */
     mg_planner000_fn planner;
     void *planner_ctx;
+    int32_t board_planner; /* the planner is the board's: its plan's detail is noted */
 } mg_state000_t;
 
 void mg_method000_ms_init(void *ms);
 void mg_method000_params(mg_task_params_t *p);
 void mg_method000_set_planner(mg_task_t *t, mg_planner000_fn planner, void *ctx);
+/* the board's planner (mg_method000_plan000 on ctx), its plans' trace detail noted as
+ * method000.py plan_follower gives it */
+void mg_method000_set_board_planner(mg_task_t *t, mg_plan000_ctx_t *ctx);
 /* SEARCH: the radial symbol's sighting (an mg_sighting_t: its glue's pixel and depth) updates
  * the estimate; 1 when usable */
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
@@ -80,6 +86,38 @@ int32_t mg_method000_adjust_vmax_mmps(const mg_task_params_t *p);
 void mg_method000_enter_approach(mg_task_t *t);
 void mg_method000_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                            const mg_sighting_t *radial);
+/* One vision job's results as 000's hooks read them (app_factory.h mg_frame000_of). */
+typedef struct {
+    int32_t has_frame;
+    int32_t has_radial;
+    mg_sighting_t radial;
+    int32_t has_plus;
+    mg_plus_seen_t plus;
+    int32_t has_spoke, spoke_angle_mrad, spoke_width_px;
+    int32_t has_held_fill, held_rgb[3], held_permille;
+} mg_frame000_t;
+
+/* The method row's hooks on the step's inputs (in->frame: an mg_frame000_t or NULL). */
+void mg_method000_frame_of(const mg_task_t *t, const int32_t *const *words, void *frame);
+/* SEARCH: this frame's radial symbol (an mg_sighting_t); 0: none */
+int mg_method000_search_sighting(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting);
+void mg_method000_enter_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+void mg_method000_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* this frame's dual "+" (an mg_plus_seen_t) and radial symbol; NULL: none */
+const void *mg_method000_plus_result(const mg_task_inputs_t *in);
+const void *mg_method000_radial_check(const mg_task_inputs_t *in);
+const mg_sighting_t *mg_method000_radial_result(const mg_task_inputs_t *in);
+/* ROUGH_GRASP: hover_mm above the object's top; over the nearer "+" when both are known, the
+ * grasp itself on the axis (the task's grasp_xy_q4) */
+void mg_method000_rough_target(mg_task_t *t, const mg_task_inputs_t *in, int32_t target_q4[3]);
+/* PRECISE_GRASP's entry: the roll to pi/2 (000 section III.C.2), then the alignment */
+void mg_method000_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+int mg_method000_spoke_reading(const mg_task_inputs_t *in, int32_t *angle_mrad,
+                               int32_t *width_px);
+/* the 000 object's brown body (host/vision/held_fill.py body_brown) */
+int mg_method000_body_brown(const int32_t rgb[3]);
+int mg_method000_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+
 /* the path hooks of 000: plans once (again when the estimate moves), no sonar check, no
  * detour, the follower's wheels as they are */
 extern const mg_path_method_t mg_path000;

@@ -561,7 +561,7 @@ const void *mg_method002_red_cylinder_result(const mg_task_inputs_t *in)
 }
 
 /* The pre-grasp point pregrasp_back_mm short of the axis at the grasp height. */
-void mg_method002_rough_target(const mg_task_t *t, const mg_task_inputs_t *in,
+void mg_method002_rough_target(mg_task_t *t, const mg_task_inputs_t *in,
                                int32_t target_q4[3])
 {
     mg_task_object_target_q4(t, in, t->p.grasp_height_mm, t->p.pregrasp_back_mm, target_q4);

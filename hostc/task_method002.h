@@ -135,7 +135,7 @@ void mg_method002_enter_approach_state(mg_task_t *t, int64_t now_us, const mg_ta
 void mg_method002_approach_state(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* the frame's red cylinder (an mg_red_cylinder_seen_t), NULL: none */
 const void *mg_method002_red_cylinder_result(const mg_task_inputs_t *in);
-void mg_method002_rough_target(const mg_task_t *t, const mg_task_inputs_t *in,
+void mg_method002_rough_target(mg_task_t *t, const mg_task_inputs_t *in,
                                int32_t target_q4[3]);
 void mg_method002_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* the red of 002's cylinder: the red mask's rule */

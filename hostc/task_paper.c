@@ -19,7 +19,7 @@ void mg_paper_outputs(mg_paper_task_t *p, const mg_task_outputs_t *o, mg_task_ou
     out->wheels_mmps[0] = o->wheels_mmps[0], out->wheels_mmps[1] = o->wheels_mmps[1];
     out->gripper_permille = o->gripper_permille;
     out->state = mg_task_state_name(o->state);
-    memset(&out->ops, 0, sizeof out->ops); /* the ported methods plan nothing in a step */
+    out->ops = t->path.ops; /* the planning work of the step (the path approach's slices) */
     out->n_transitions = 0;
     for (int32_t i = 0; i < t->n_events; i++) {
         if (i >= MG_TASK_TRANSITIONS) {
@@ -36,9 +36,9 @@ void mg_paper_outputs(mg_paper_task_t *p, const mg_task_outputs_t *o, mg_task_ou
     out->detail_has_plan = 0;
     for (int32_t i = 0; i < t->n_notes && i < MG_DETAIL_MEMBERS; i++) {
         out->detail[i].key = t->notes[i].key;
-        out->detail[i].json = t->notes[i].json;
+        out->detail[i].json = mg_task_note_json(t, i);
         out->detail_has_plan |= strcmp(t->notes[i].key, "plan") == 0
-                                && strcmp(t->notes[i].json, "null") != 0;
+                                && strcmp(out->detail[i].json, "null") != 0;
         out->n_detail = i + 1;
     }
 }

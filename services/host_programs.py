@@ -70,8 +70,7 @@ def _c_argv(prefix: list[str]) -> Callable[[str, Path, float], list[str]]:
 
 
 def _c_inproc(cfg: dict, timer: Any) -> Callable[[Any], Any]:
-    f_px = int(round(cfg.get("camera", {}).get("f_px", 611.0)))  # as host/app_factory.py
-    return lambda peer: CProgramClient(str(cfg.get("method", "000")), peer, f_px=f_px)
+    return lambda peer: CProgramClient(cfg, peer)
 
 
 def _arm_prefix() -> list[str]:
@@ -115,21 +114,26 @@ def resolve(host: str, method: str, transport: str) -> HostProgram:
 
 
 class CProgramClient:
-    """The C host program in this process (hostc/inproc/inproc.h): what
+    """The C host program in this process (hostc/inproc/inproc.h) on the configuration
+    ``cfg`` (what ``--config`` gives the program over the pty): what
     drivers/lockstep.LockstepClient is for the Python one. Each GRANT is handed over encoded
     as the rig writes it (its frames in the blob), with the serial bytes it announces, read
     from the in-process serial end; the program's bytes go back there and its DONE is decoded
     as the socket's would be."""
 
-    def __init__(self, method: str, port: Any, read_timeout_s: float = 60.0,
-                 f_px: int = 611) -> None:
+    def __init__(self, cfg: dict, port: Any, read_timeout_s: float = 60.0) -> None:
+        import json
+
         from mobigrasp import hostc
         from mobigrasp.drivers.lockstep import AnnouncedBytes
 
         self._ffi, self._lib = hostc.program_lib()
         self._host = self._ffi.new("mg_inproc_t *")
-        if self._lib.mg_inproc_open(self._host, method.encode(), f_px) != 0:
-            raise HostUnavailable(f"method {method} is not in the C host yet")
+        text = json.dumps(cfg).encode()  # the configuration the pty's program reads (--config)
+        why = self._ffi.new("char[]", 512)
+        if self._lib.mg_inproc_open(self._host, text, len(text), why, 512) != 0:
+            raise HostUnavailable(f"the C host refuses the configuration: "
+                                  f"{self._ffi.string(why).decode()}")
         self._done = self._ffi.new("uint8_t[]", DONE_BYTES)
         self._out = self._ffi.new("uint8_t[]", OUT_BYTES)
         self._out_len = self._ffi.new("size_t *")

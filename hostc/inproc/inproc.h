@@ -25,9 +25,10 @@ typedef struct {
     uint64_t task_state[MG_TASK_STATE_BYTES / 8];
 } mg_inproc_t;
 
-/* the program running method (its row of task.c) with a camera of f_px: 0, or -1 when the
- * table has no such row */
-int mg_inproc_open(mg_inproc_t *h, const char *method, int32_t f_px);
+/* the program of the configuration's JSON text (config.h: its method's row of task.c, its
+ * parameters, the camera's f_px): 0, or -1 with why (a bad configuration: its key) when it is
+ * refused or the table has no such row */
+int mg_inproc_open(mg_inproc_t *h, const char *config, size_t n, char *why, size_t cap);
 /* one encoded GRANT message (header, metadata, blob) of n bytes with the uart_n serial bytes it
  * announces: the encoded DONE into done (its length; 0 when the message is malformed, names a
  * shared frame, or the DONE does not fit), the serial bytes the program wrote into out

@@ -51,9 +51,9 @@ def test_a_method_the_c_host_has_not_is_refused_by_name(tmp_path):
     missing = [m for m in METHODS if m not in have]
     if not missing:
         pytest.skip("every method is in the C host")
+    scenario = {"000": "paper000-exp1", "001": "paper001-sim1", "002": "paper002-marker"}
     done = subprocess.run([sys.executable, "-m", "mobigrasp", "run", "--host", "c",
-                           "--no-plots", "--out", str(tmp_path / "r"),
-                           *(("paper000-exp1",) if "000" in missing else ("paper002-marker",))],
+                           "--no-plots", "--out", str(tmp_path / "r"), scenario[missing[0]]],
                           capture_output=True, text=True, timeout=300, check=False)
     assert done.returncode == 2
     lines = done.stderr.strip().splitlines()

@@ -82,7 +82,7 @@ def test_bad_camera_source_is_one_line(tmp_path):
 
 @pytest.mark.slow
 def test_c_host_grasps_paper000_exp1_against_the_simulation(emulated_robot):
-    """In real time, two processes; fails (exit 2, the method named) until 000 is in C."""
+    """In real time, two processes: the C host with 000 grasps."""
     with tempfile.TemporaryDirectory(prefix="mg-rf-") as tmp:
         raw = Path(tmp) / "frames.sock"
         robot = emulated_robot("paper000-exp1", plots=False, raw_frames=raw)

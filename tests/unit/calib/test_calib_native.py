@@ -65,16 +65,16 @@ def _check_calls(folder, calls) -> int:
             assert got == (want, ops.as_tuple()), c.frame_file  # the result and its charge
             found += want is not None
         elif c.detector == "dual_plus":
-            res, _ = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)
+            res, ops = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)
             want = None if res is None else dataclasses.astuple(res)
             q = c.args[0]
-            got = native.detect_dual_plus(rgb, int(q[2] + q[3] + q[4]), *c.camera[:2])
-            assert got == want, c.frame_file
+            got = native.detect_dual_plus_counted(rgb, int(q[2] + q[3] + q[4]), *c.camera[:2])
+            assert got == (want, ops.as_tuple()), c.frame_file  # the result and its charge
             found += want is not None
         elif c.detector == "spoke":
-            res, _ = spoke.detect_spoke(rgb)
+            res, ops = spoke.detect_spoke(rgb)
             want = None if res is None else dataclasses.astuple(res)
-            assert native.detect_spoke(rgb) == want, c.frame_file
+            assert native.detect_spoke_counted(rgb) == (want, ops.as_tuple()), c.frame_file
             found += want is not None
         elif c.detector == "double_cross":
             res, ops = double_cross.detect_at_pose(rgb, c.args[0], c.camera)
@@ -270,10 +270,84 @@ def test_dual_plus_pair_size_rule_matches(scale_b):
     """The pair's size rule (within 2:1) is the same in C: on and either side of the bound."""
     from test_vision_000_dual_plus import _plus_pair_frame
 
-    rgb = _plus_pair_frame(scale_b)
-    py, _ = dual_plus.detect_dual_plus(rgb)
-    c = native.detect_dual_plus(rgb)
-    assert (None if py is None else dataclasses.astuple(py)) == c
+    _check_plus(_plus_pair_frame(scale_b))
+
+
+def _check_plus(rgb, alpha_mrad=-1571, f_px=611, u0_px=160) -> tuple[bool, bool]:
+    """Both "+" detectors in C and in Python on one frame, results and counts; which found."""
+    res, ops = dual_plus.detect_dual_plus(rgb, alpha_mrad, f_px, u0_px)
+    want = None if res is None else dataclasses.astuple(res)
+    assert native.detect_dual_plus_counted(rgb, alpha_mrad, f_px, u0_px) == (
+        want, ops.as_tuple())
+    sp, sp_ops = spoke.detect_spoke(rgb)
+    sp_want = None if sp is None else dataclasses.astuple(sp)
+    assert native.detect_spoke_counted(rgb) == (sp_want, sp_ops.as_tuple())
+    return want is not None, sp_want is not None
+
+
+def test_plus_detectors_count_on_rendered_views():
+    """The camera renderer's dual "+" and spoke views, clean and degraded (blur, noise,
+    brightness)."""
+    from mobigrasp.mcu_sim.world import camera_views as views
+    from mobigrasp.mcu_sim.world.camera import CameraOptions, render
+
+    options = (CameraOptions(), CameraOptions(noise_std=8.0, blur_px=2.0, brightness=0.7),
+               CameraOptions(noise_std=8.0, blur_px=2.0, brightness=1.3))
+    rng = np.random.default_rng(12)
+    found = [0, 0]
+    for i in range(18):
+        v = (views.dual_plus, views.spoke, views.empty)[i % 3](rng)
+        rgb = render(v.scene, v.cam_pos_w, v.R_wc, v.intr, options[i // 3 % 3],
+                     np.random.default_rng(i))
+        pair, one = _check_plus(rgb, int(rng.integers(-1600, 0)), int(rng.integers(300, 700)),
+                                int(rng.integers(120, 200)))
+        found[0] += pair
+        found[1] += one
+    assert found[0] > 0 and found[1] > 0
+
+
+def _plus_polygon(cu: float, cv: float, arm: float, half_w: float, turn: float) -> np.ndarray:
+    """The outline of a "+" of arms ``arm`` px from the centre, ``2 half_w`` wide, turned."""
+    a, w = arm, half_w
+    pts = np.array([(w, w), (a, w), (a, -w), (w, -w), (w, -a), (-w, -a), (-w, -w), (-a, -w),
+                    (-a, w), (-w, w), (-w, a), (w, a)], float)
+    c, s = np.cos(turn), np.sin(turn)
+    return np.round(pts @ np.array([[c, s], [-s, c]]) + (cu, cv)).astype(np.int32)
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_plus_detectors_count_on_random_frames(seed):
+    """Frames of any size with "+" of any size, turn and contrast, pairs, bars and blobs, some
+    cut by the border, some noisy; and frames of noise alone."""
+    rng = np.random.default_rng(seed)
+    h, w = (int(v) for v in rng.integers(24, 200, 2))
+    if seed % 5 == 4:
+        rgb = rng.integers(0, 256, (h, w, 3), dtype=np.uint8)
+        if seed % 10 == 9:  # two levels: many dark components of every shape
+            rgb = (rng.random((h, w, 1)) < 0.5).repeat(3, axis=2) * np.uint8(200) + np.uint8(30)
+        _check_plus(rgb)
+        return
+    img = np.full((h, w), int(rng.integers(150, 250)), np.uint8)
+    for _ in range(int(rng.integers(0, 4))):  # bars and blobs
+        x, y = int(rng.integers(-10, w)), int(rng.integers(-10, h))
+        cv2.rectangle(img, (x, y), (x + int(rng.integers(2, 40)), y + int(rng.integers(2, 40))),
+                      int(rng.integers(0, 90)), -1)
+    arm = float(rng.uniform(3, min(h, w) / 6))
+    cu, cv = float(rng.uniform(0, w / 2)), float(rng.uniform(arm, h - arm))
+    turn = float(rng.uniform(-0.7, 0.7))
+    step = float(rng.uniform(2.5, 5.0)) * arm  # the pair's spacing: about the card's
+    for k in range(int(rng.integers(1, 4))):  # one "+", a pair, or three in a row
+        scale = float(rng.uniform(0.7, 1.4)) if k else 1.0
+        du, dv = k * step * np.cos(turn / 3), k * step * np.sin(turn / 3)
+        cv2.fillPoly(img, [_plus_polygon(cu + du, cv + dv, arm * scale,
+                                         arm * scale * float(rng.uniform(0.2, 0.45)), turn)],
+                     int(rng.integers(0, 60)))
+    if seed % 3 == 0:
+        img = cv2.GaussianBlur(img, (3, 3), 0)
+    if seed % 2:
+        img = np.clip(img + rng.normal(0, 6, img.shape), 0, 255).astype(np.uint8)
+    _check_plus(np.repeat(img[:, :, None], 3, axis=2), int(rng.integers(-1600, 0)),
+                int(rng.integers(200, 800)), int(rng.integers(0, w)))
 
 
 def _open_rings_frame(seed: int) -> np.ndarray:

@@ -239,3 +239,23 @@ def test_host_program_served_by_the_rig(steps, data):
         app.counters.control_steps, app.counters.deadline_misses,
         app.counters.frames_dropped, app.counters.frames_processed, app.replans)
     assert capp.events_lost == 0 and capp.frames_lost == 0
+
+
+def test_a_run_longer_than_the_load_windows_kept():
+    """A run of more load windows than the program keeps (MG_LOAD_WINDOWS_KEPT, 32 s of 500 ms
+    windows): the older are folded, never more than the kept are held, and every finished
+    window is reported once, in order."""
+    keep: list = []
+    config = FFI.new("mg_host_config_t *")
+    C.mg_host_config_default(config)
+    capp = FFI.new("mg_app_t *")
+    C.mg_app_init(capp, config, _c_task(Script([{}]), keep), _c_detectors(keep), len(NAMES))
+    kept = len(capp.load_index) - 1  # MG_LOAD_WINDOWS_KEPT
+    index, micro = FFI.new("int64_t[80]"), FFI.new("int64_t[80]")
+    seen: list = []
+    for until in range(100_000, 60_000_001, 100_000):
+        C.mg_app_advance_to(capp, until)
+        assert capp.n_loads <= kept
+        n = C.mg_app_load_windows(capp, len(seen), index, micro, 80)
+        seen += list(index[0:n])
+    assert seen == list(range(len(seen))) and len(seen) == 60_000_000 // 500_000

@@ -1,7 +1,8 @@
 """The C program's detector table (hostc/detectors.c) against the Python host's detectors
 (host/app_factory.py over host/vision/registry.py) on the frames of the first seconds of
-paper002-marker: each detector's result, its out words and JSON, and the operation counts it
-charges (the modelled ARM9 time); the double cross's pose from the newest telemetry."""
+paper002-marker and of paper000-exp1 and on random frames: each detector's result, its out
+words and JSON, and the operation counts it charges (the modelled ARM9 time); the pose of the
+double cross and the dual "+" from the newest telemetry; the 000 detectors' shared front end."""
 
 from __future__ import annotations
 
@@ -13,14 +14,15 @@ from hypothesis import strategies as st
 
 from mobigrasp import hostc
 from mobigrasp.calib import corpus
-from mobigrasp.host import arm_calib
+from mobigrasp.host import app_factory, arm_calib
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.vision import registry
+from mobigrasp.services.corpus import record
 
 FFI, C = hostc.lib()
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the DONE's
 NAMES = [FFI.string(C.mg_detector_names[i]).decode() for i in range(C.MG_N_DETECTORS)]
-PORTED = ("double_cross", "red_cylinder", "red_roi", "held_fill")
+THE_000 = ("radial_symbol", "dual_plus", "spoke")
 MAX_DETECTORS = dict(FFI.typeof("mg_app_t").fields)["detectors"].type.length
 
 
@@ -53,42 +55,71 @@ def _check(table, name: str, rgb: np.ndarray, cam, q) -> bool:
     return res is not None
 
 
-def test_the_table_on_recorded_frames(marker_slice):
-    idx = corpus.read_index(marker_slice)
+def _check_recorded(folder, detectors, also) -> dict:
+    """Every third call of ``detectors`` in the corpus at ``folder``, each frame given to its
+    detector and to those in ``also`` too; the results found per detector."""
+    idx = corpus.read_index(folder)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
-    calls = [c for c in corpus.calls(marker_slice, idx) if c.detector in PORTED]
+    calls = [c for c in corpus.calls(folder, idx) if c.detector in detectors]
     assert calls
-    found = {}
-    tables = {}
+    found: dict = {}
+    tables: dict = {}
     for c in calls[::3]:
-        rgb = corpus.load_frame(marker_slice, {"file": c.frame_file,
-                                               "sha256": shas[c.frame_file]})
+        rgb = corpus.load_frame(folder, {"file": c.frame_file, "sha256": shas[c.frame_file]})
         if c.camera[0] not in tables:
             tables[c.camera[0]] = _table(c.camera[0])
         table = tables[c.camera[0]][2]
         q = tuple(int(v) for v in c.args[0]) if c.args else (0, 0, -1571, 0, 0, 0)
-        for name in ("red_roi", "red_cylinder", c.detector):
+        for name in dict.fromkeys((*also, c.detector)):
             found[name] = found.get(name, 0) + _check(table, name, rgb, c.camera, q)
+    return found
+
+
+def test_the_table_on_recorded_frames(marker_slice):
+    found = _check_recorded(marker_slice, ("double_cross", "red_cylinder", "red_roi",
+                                           "held_fill"), ("red_roi", "red_cylinder"))
     assert found.get("double_cross", 0) > 0 and found.get("red_roi", 0) > 0
+
+
+def test_the_000_rows_on_recorded_frames(tmp_path):
+    """paper000-exp1's frames: the search's radial symbol, the approach's dual "+" and the
+    spoke over the object, each frame given to all three."""
+    record(tmp_path, ["paper000-exp1"])
+    found = _check_recorded(tmp_path, THE_000, THE_000)
+    assert all(found.get(name, 0) > 0 for name in THE_000), found
 
 
 @settings(max_examples=60, deadline=None)
 @given(st.integers(8, 80), st.integers(8, 60), st.integers(0, 2**32 - 1),
-       st.sampled_from(PORTED))
+       st.sampled_from(NAMES))
 def test_the_table_on_random_frames(w, h, seed, name):
-    """Frames of any size from 8 px a side (the red detectors refuse smaller ones)."""
+    """Frames of any size from 8 px a side (the red detectors refuse smaller ones, the 000
+    detectors those under 16 px)."""
     rgb = np.random.default_rng(seed).integers(0, 256, (h, w, 3), dtype=np.uint8)
+    if name in THE_000 and min(w, h) < 16:
+        out = _run_c(_table(611)[2], name, rgb)
+        assert (out.found, FFI.string(out.json), hostc.ops_tuple(out.ops)) == (
+            0, b"null", (0,) * 11)
+        return
     _, _, table = _table(350)
     _check(table, name, rgb, (350, 160, 120), (0, 0, -1571, 0, 0, 0))
 
 
-def test_unported_detectors_find_nothing_and_charge_nothing():
+def test_the_000_rows_share_their_front_end():
+    """The three 000 detectors start from one front end, charged once a frame: the row's id
+    and its time on a frame of each size are the Python host's (host/app_factory.py
+    front_ends)."""
     _, _, table = _table(611)
-    rgb = np.zeros((24, 32, 3), np.uint8)
-    for name in set(NAMES) - set(PORTED):
-        out = _run_c(table, name, rgb)
-        assert (out.found, FFI.string(out.json), hostc.ops_tuple(out.ops)) == (
-            0, b"null", (0,) * 11)
+    python = app_factory.front_ends(THE_000)
+    ids = {table[NAMES.index(name)].front_end for name in THE_000}
+    assert len(ids) == 1 and ids.pop() > 0
+    assert {python[name][0] for name in THE_000} == {python[THE_000[0]][0]}
+    for name in THE_000:
+        d = table[NAMES.index(name)]
+        for h, w in ((16, 16), (240, 320), (480, 640), (37, 203)):
+            assert d.front_end_us(h, w) == python[name][1](h, w)
+    for name in set(NAMES) - set(THE_000):
+        assert table[NAMES.index(name)].front_end == 0
 
 
 @settings(max_examples=80, deadline=None)

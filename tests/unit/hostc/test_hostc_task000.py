@@ -11,6 +11,7 @@ by step test gives both tasks the same drawn plans and checks the requests."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import pytest
@@ -20,8 +21,16 @@ from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
 from test_hostc_planning import _params000_c
 from test_hostc_task import recorded_run, recorder, replay_remember
+from test_hostc_task_states import (
+    _c_inputs,
+    _detail,
+    _recorded_steps,
+    _step_both,
+    enter_state,
+)
 
 from mobigrasp import hostc
+from mobigrasp.host.app import jsonable
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.fuzzy import FuzzyParams
 from mobigrasp.host.control.path_follow import PathFollower
@@ -103,6 +112,16 @@ def _sighting(row, det, f_px: int = CAMERA_000.f_px):
     if det is None:
         return FFI.NULL
     return FFI.new("mg_sighting_t *", row.sighting_fn()(det, f_px) or (0, 0, 0))
+
+
+def _plus_seen(det):
+    """What the dual "+"'s glue gives the C of a result: its sighting, both "+" and dist_mm
+    (none: NULL)."""
+    if det is None:
+        return FFI.NULL
+    return FFI.new("mg_plus_seen_t *", {
+        "sighting": PLUS.sighting_fn()(det, CAMERA_000.f_px) or (0, 0, 0),
+        "uv_q4": [det.u1_q4, det.v1_q4, det.u2_q4, det.v2_q4], "dist_mm": det.dist_mm})
 
 
 def _path_py(t) -> tuple:
@@ -486,7 +505,7 @@ def test_the_adjust_of_000(obj, joints, steps):
                 if v is not None}
         inp = TaskInputs(x_mm=xyh[0], y_mm=xyh[1], heading_mrad=xyh[2])
         ADJUST.do_ADJUST(py, now, inp, dets)
-        C.mg_task_do_adjust(c, now, _inputs((*xyh, 0)), _sighting(PLUS, plus),
+        C.mg_task_do_adjust(c, now, _inputs((*xyh, 0)), _plus_seen(plus),
                             _sighting(RADIAL, radial))
         assert _events(c) == py._events
         assert (tuple(c.wheels), list(c.arm), c.move_done_us, c.trust_from_us) == (
@@ -621,7 +640,7 @@ def replay_path_task(calls: list, method: str, setup, c_approach) -> dict:
             _, now, xyhv, plus, radial, pre, n_events, events, wheels, post, state = rec
             _load(c, pre)
             c.state, c.n_events = C.MG_ADJUST, 0
-            C.mg_task_do_adjust(c, now, _inputs(xyhv), _sighting(PLUS, plus),
+            C.mg_task_do_adjust(c, now, _inputs(xyhv), _plus_seen(plus),
                                 _sighting(RADIAL, radial))
             assert _events(c) == events[n_events:], rec
             assert (tuple(c.wheels), _c_state(c), machine.STATES[c.state]) == (
@@ -662,3 +681,174 @@ def test_a_method_without_a_path_stands():
     c.wheels = (50, 60)
     C.mg_task_follow_path(c, 20_000, _inputs((0, 0, 0, 0)), FFI.NULL)
     assert tuple(c.wheels) == (0, 0) and c.path.plans == 0 and c.n_events == 0
+
+
+def words000(name: str, res) -> list[int]:
+    """A 000 detector's result as its C kernel's out words (hostc/kernels.h), the held fill's
+    as hostc/app_factory.h lays them out."""
+    if name == "radial_symbol":
+        return [res.u_q4, res.v_q4, res.diameter_q4, res.y_oc_mm, res.x_oc_mm, res.z_oc_mm]
+    if name == "dual_plus":
+        return [res.u1_q4, res.v1_q4, res.u2_q4, res.v2_q4, res.d_pixel_q4, res.d_eff_q4,
+                res.dist_mm, res.dist_raw_mm, res.x_oc_mm, res.y_oc_mm, res.z_oc_mm]
+    if name == "spoke":
+        pts = [v for p in res.points_q4 for v in p]
+        return [res.u_c_q4, res.v_c_q4, res.slope_q12, res.angle_mrad, res.width_q4,
+                len(res.points_q4), *pts, *[0] * (20 - len(pts))]
+    return [*res.rgb, res.fill_permille]
+
+
+def _frame000(dets: dict):
+    """The detectors' results as the C task reads them: their out words through the C host's
+    glue (hostc/app_factory.c mg_frame000_of)."""
+    f = FFI.new("mg_frame000_t *")
+    keep = [FFI.new("int32_t[]", words000(n, dets[n])) if dets.get(n) is not None else FFI.NULL
+            for n in ("radial_symbol", "dual_plus", "spoke", "held_fill")]
+    C.mg_frame000_of(f, *keep)
+    return f
+
+
+def _c_step_inputs(inp: TaskInputs):
+    """The C's step inputs of a Python TaskInputs, its frame through 000's glue."""
+    return _c_inputs(inp, _frame000)
+
+
+ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the trace's
+
+
+def replay_steps000(steps: list, fresh: Task) -> list:
+    """The recorded steps on the C task of 000 as the C program holds it (task_paper.h), its
+    plans by the board's planner on the run's parameters: every output compared, the charged
+    planning work too, and as the program reads them; the states passed through."""
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, fresh.entered_us) == 0
+    c = FFI.addressof(paper, "task")
+    _c_params(fresh, c)
+    _, ctx = _board_planner(fresh.p)
+    C.mg_method000_set_board_planner(c, ctx)
+    out, prog = FFI.new("mg_task_outputs_t *"), FFI.new("mg_task_output_t *")
+    states: list = []
+    for now, inp, res in steps:
+        cin, _frame_kept = _c_step_inputs(inp)
+        C.mg_task_step(c, now, cin, out)
+        C.mg_paper_outputs(paper, out, prog)
+        where = (now, res.state, res.detail)
+        assert _events(c) == res.events, where
+        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
+                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
+                                               res.gripper_permille, res.state), where
+        want = {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}
+        assert _detail(c) == want, where
+        assert {FFI.string(d.key).decode(): FFI.string(d.json).decode()
+                for d in prog.detail[0:prog.n_detail]} == want, where
+        assert bool(prog.detail_has_plan) == (res.detail.get("plan") is not None), where
+        assert hostc.ops_tuple(prog.ops) == res.ops.as_tuple(), where
+        assert (tuple(c.obj_mm) if c.has_obj else None) == fresh_obj(res, c), where
+        if not states or states[-1] != res.state:
+            states.append(res.state)
+    assert c.hist_overflow == 0 and paper.transitions_lost == 0
+    return states
+
+
+def fresh_obj(res, c):
+    """The C's estimate (the Python's is compared through the outputs it drives)."""
+    return tuple(c.obj_mm) if c.has_obj else None
+
+
+def test_replay_of_paper000_exp1_whole(tmp_path):
+    """Every step the Python task took in paper000-exp1, SEARCH to DONE, on the C task: the
+    frames' results through the C glue, the plan by the board's planner and its trace
+    detail, the hover over the nearer "+", the roll and the alignment on the spoke, the
+    grasp check on the brown body."""
+    steps, fresh = _recorded_steps(tmp_path, "paper000-exp1")
+    states = replay_steps000(steps, fresh)
+    assert states[0] == "SEARCH" and states[-1] == "DONE"
+    assert {"APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT"} <= set(states)
+
+
+SPOKE = registry.row("spoke").result_type()
+HELD = registry.row("held_fill").result_type()
+SPOKES = st.builds(lambda a, w, n: SPOKE(u_c_q4=160 * 16, v_c_q4=120 * 16,
+                                         points_q4=((1, 2),) * n, slope_q12=0, angle_mrad=a,
+                                         width_q4=w),
+                   st.integers(-800, 800) | st.sampled_from([0, 10, -20, 40]),
+                   st.integers(0, 60 * 16), st.integers(0, 10))
+BROWN = st.builds(lambda r, g, b, p: HELD(rgb=(r, g, b), fill_permille=p),
+                  st.integers(0, 255), st.integers(0, 255), st.integers(0, 255),
+                  st.integers(900, 1000)) | st.just(HELD(rgb=(170, 130, 90), fill_permille=1000))
+PAIRS = st.builds(lambda u, v, d, dist: _plus(u - d, v, u + d, v, dist), PX_U, PX_V,
+                  st.integers(0, 60 * 16), st.integers(50, 800))
+DETS000 = st.fixed_dictionaries({}, optional={
+    "radial_symbol": RADIALS.filter(lambda r: r is not None),
+    "dual_plus": PAIRS | PLUSES.filter(lambda p: p is not None), "spoke": SPOKES,
+    "held_fill": BROWN})
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]
+                       + ["ROUGH_GRASP"] * 3),
+       st.none() | st.tuples(st.integers(100, 900), st.integers(-300, 300))
+       | st.tuples(st.integers(200, 260), st.integers(-30, 30)), st.booleans(),
+       st.tuples(*[st.integers(-1500, 1500)] * 4),
+       st.lists(st.tuples(st.sampled_from([20_000, 60_000, 500_000, 1_100_000]),
+                          st.tuples(st.integers(-30, 30), st.integers(-30, 30),
+                                    st.integers(-200, 200)),
+                          st.booleans(), st.none() | DETS000), min_size=1, max_size=40))
+def test_steps_of_000_from_every_state(state, obj, graspable, joints, steps):
+    """From a state entered with an estimate (or none), steps with odometry that wanders, the
+    gripper flag and frames of 000's detectors (the radial symbol, dual "+" pairs, spokes,
+    the held fill): the same outputs, detail and charged planning work on both tasks."""
+    py = Task("000")
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
+    c = FFI.addressof(paper, "task")
+    _, ctx = _board_planner(py.p)
+    C.mg_method000_set_board_planner(c, ctx)
+    # the states but SEARCH and LOST are entered with an estimate (by default in the reach)
+    enter_state(py, c, state, obj, graspable, joints, (230, 10), ("SEARCH", "LOST"))
+    out = FFI.new("mg_task_outputs_t *")
+    now, x, y, h = 0, 0, 0, 0
+    for dt, (dx, dy, dh), closed, dets in steps:
+        now += dt
+        x, y, h = x + dx, y + dy, h + dh
+        inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, grasp_closed=closed,
+                         detections=dets or {})
+        res = _step_both(py, c, now, inp, out, _frame000)
+        where = (now, py.state, res.detail)
+        assert hostc.ops_tuple(c.path.ops) == res.ops.as_tuple(), where
+        assert (tuple(map(tuple, c.plus_odom_mm)) if c.has_plus_odom else None) == (
+            py.plus_odom), where
+    assert c.hist_overflow == 0
+
+
+@pytest.mark.slow
+def test_replay_of_paper000_exp2_whole(tmp_path):
+    """The same for paper000-exp2 (its longer search, 49.5 s simulated)."""
+    steps, fresh = _recorded_steps(tmp_path, "paper000-exp2")
+    assert replay_steps000(steps, fresh)[-1] == "DONE"
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.tuples(NEAR, NEAR, st.integers(-3142, 3141), st.integers(-300, 300)),
+       st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)), st.integers(0, 1500),
+       st.fixed_dictionaries({}, optional={
+           "v0": st.sampled_from([0.05, 0.12, 0.2]), "a_max": st.sampled_from([0.01, 0.04]),
+           "r_min": st.sampled_from([0.1, 1.0]), "t_s": st.sampled_from([0.1, 0.3])}))
+def test_the_plan_s_trace_detail(xyhv, obj, standoff_mm, planner):
+    """The plan's detail in the trace (method000.py plan_follower): the candidates' and the
+    chosen curve's control points in m and s printed as Python prints the floats, the
+    counts, the reason and the plan's modelled time."""
+    py = Task("000", params={"approach_standoff_mm": standoff_mm, "planner": planner})
+    c = _c_task(py)
+    _, ctx = _board_planner(py.p)
+    C.mg_method000_set_board_planner(c, ctx)
+    start_approach(py, c, obj)
+    c.n_notes = 0
+    C.mg_method000_approach(c, 20_000, _inputs(xyhv), FFI.NULL)
+    pp = Params000(**{"standoff_m": standoff_mm / 1000, **planner})
+    _, _, detail = plan_follower(20_000, *xyhv, obj, pp)
+    assert _detail(c)["plan"] == ENCODER.encode(jsonable(detail))

@@ -95,8 +95,9 @@ def _frame(dets: dict):
     return f
 
 
-def _c_inputs(inp: TaskInputs):
-    """The C's step inputs of a Python TaskInputs (and the frame it points to, kept alive)."""
+def _c_inputs(inp: TaskInputs, frame_of=None):
+    """The C's step inputs of a Python TaskInputs (and the frame it points to, kept alive):
+    the detections through ``frame_of`` (002's glue by default)."""
     c = FFI.new("mg_task_inputs_t *")
     c.has_joints = inp.joints_mrad is not None
     c.joints_mrad = list(inp.joints_mrad or (0,) * 6)
@@ -104,7 +105,7 @@ def _c_inputs(inp: TaskInputs):
     c.n_sonar = len(inp.sonar_mm)
     c.sonar_mm[0:len(inp.sonar_mm)] = list(inp.sonar_mm)
     c.grasp_closed = inp.grasp_closed
-    frame = _frame(inp.detections) if inp.detections else None
+    frame = (frame_of or _frame)(inp.detections) if inp.detections else None
     c.frame = frame if frame is not None else FFI.NULL
     return c, frame
 
@@ -112,8 +113,8 @@ def _c_inputs(inp: TaskInputs):
 def _detail(c) -> dict:
     """The C step's detail: key -> its JSON text."""
     assert c.notes_lost == 0
-    return {FFI.string(n.key).decode(): FFI.string(n.json).decode()
-            for n in c.notes[0:c.n_notes]}
+    return {FFI.string(c.notes[i].key).decode(): FFI.string(C.mg_task_note_json(c, i)).decode()
+            for i in range(c.n_notes)}
 
 
 def _events(c) -> list:
@@ -122,10 +123,11 @@ def _events(c) -> list:
                               FFI.string(e.why).decode()) for e in c.events[0:c.n_events]]
 
 
-def _step_both(py: Task, c, now: int, inp: TaskInputs, out) -> None:
-    """One step on both; every output compared."""
+def _step_both(py: Task, c, now: int, inp: TaskInputs, out, frame_of=None):
+    """One step on both; every output compared (the C's frame through ``frame_of``, 002's
+    glue by default). The Python's outputs."""
     res = py.step(now, inp)
-    cin, _frame_kept = _c_inputs(inp)
+    cin, _frame_kept = _c_inputs(inp, frame_of)
     C.mg_task_step(c, now, cin, out)
     where = (now, py.state, res.detail)
     assert _events(c) == res.events, where
@@ -137,6 +139,7 @@ def _step_both(py: Task, c, now: int, inp: TaskInputs, out) -> None:
     assert (c.move_done_us, c.obj_seen_us, c.trust_from_us, c.lost) == (
         py.move_done_us, py.obj_seen_us, py.trust_from_us, py.counters["lost"]), where
     assert c.bad_detections == py.counters["bad_detections"], where
+    return res
 
 
 HELD_FILLS = st.none() | st.builds(lambda r, g, b, p: HELD(rgb=(r, g, b), fill_permille=p),
@@ -151,6 +154,22 @@ STEP = st.tuples(st.sampled_from([20_000, 20_000, 60_000, 500_000, 2_000_000]),
                  SONAR, st.booleans(), DETS)
 
 
+def enter_state(py: Task, c, state: str, obj, graspable: bool, joints: tuple,
+                default_obj: tuple, without_obj: tuple) -> None:
+    """Both tasks into ``state`` with the arm at ``joints`` and the estimate ``obj`` (the
+    states but ``without_obj`` are entered with one: ``default_obj`` when none is given)."""
+    py.arm[2:6] = c.arm[2:6] = list(joints)
+    if obj is None and state not in without_obj:
+        obj = default_obj
+    if obj is not None:
+        py.obj = obj
+        c.has_obj, c.obj_mm = 1, list(obj)
+    py.graspable_seen = c.graspable_seen = graspable
+    if state != "SEARCH":
+        py.go(0, state, "test")
+        C.mg_task_go(c, 0, machine.STATES.index(state), b"test")
+
+
 @SETTINGS
 @given(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]),
        st.none() | st.tuples(NEAR, NEAR), st.booleans(), st.tuples(*[st.integers(-1500, 1500)] * 4),
@@ -160,16 +179,7 @@ def test_steps_from_every_state(state, obj, graspable, joints, steps):
     wanders, sonar rings, the gripper flag and frames of every detector: the same outputs."""
     py = Task("002")
     c = _c_task(py)
-    py.arm[2:6] = c.arm[2:6] = list(joints)
-    if obj is None and state not in ("SEARCH", "APPROACH", "LOST"):
-        obj = (300, 40)  # these states are entered with an estimate
-    if obj is not None:
-        py.obj = obj
-        c.has_obj, c.obj_mm = 1, list(obj)
-    py.graspable_seen = c.graspable_seen = graspable
-    if state != "SEARCH":
-        py.go(0, state, "test")
-        C.mg_task_go(c, 0, machine.STATES.index(state), b"test")
+    enter_state(py, c, state, obj, graspable, joints, (300, 40), ("SEARCH", "APPROACH", "LOST"))
     out = FFI.new("mg_task_outputs_t *")
     now, x, y, h = 0, 0, 0, 0
     for dt, (dx, dy, dh), sonar, closed, dets in steps:

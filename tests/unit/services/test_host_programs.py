@@ -15,7 +15,7 @@ from mobigrasp.services.host_programs import CProgramClient
 def test_the_c_program_in_process_answers_as_the_python_host():
     py_port, c_port = BufferPort(), BufferPort()
     python = InprocHost(LockstepClient(build_host_app({"method": "idle"}), py_port))
-    c = InprocHost(CProgramClient("idle", c_port))
+    c = InprocHost(CProgramClient({"method": "idle"}, c_port))
     python.verify_elided = c.verify_elided = True  # every grant served, DONEs compared
     for k, (grant, data) in enumerate(scripted_grants(320, 240)):  # frames of the camera's size
         py_port.rx += data

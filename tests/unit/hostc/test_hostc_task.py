@@ -16,7 +16,7 @@ from mobigrasp.host.kinematics import PAPER_000, PAPER_002
 from mobigrasp.host.task import Task, TaskInputs, drive, machine, sense
 from mobigrasp.host.task.adjust import ADJUST, AdjustState
 from mobigrasp.host.task.method import METHODS
-from mobigrasp.host.task.method002 import Method002
+from mobigrasp.host.task.method002 import BOARD_ALONE_FRAMES, Method002
 from mobigrasp.host.task.params import TaskParams
 from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import registry
@@ -198,6 +198,14 @@ def test_the_step_timeouts_and_outputs(timeouts, steps):
 def _blind(t) -> tuple | None:
     ms = _ms(t)
     return tuple(ms.blind) if ms.has_blind else None
+
+
+def _back_off(t) -> tuple:
+    """002's cut and back-off state as the Python's (cut, back_offs, back_off)."""
+    ms = _ms(t)
+    under_way = (ms.back_off_from[0], ms.back_off_from[1],
+                 ms.back_off_ended_us if ms.back_off_has_ended else None)
+    return bool(ms.cut), ms.back_offs, under_way if ms.has_back_off else None
 
 
 BLIND_OPS = st.one_of(
@@ -442,9 +450,10 @@ FRAMES = st.none() | st.fixed_dictionaries({}, optional={
                                width_q4=w, roi=(0, 0, 1, 1)),
         PX_U, PX_V, st.integers(-16, 40 * 16), st.integers(1, 100 * 16)),
     "red_roi": st.none() | st.builds(
-        lambda u, v, w, h, edge: ROI.result_type()(u_c_q4=u, v_c_q4=v, roi=(0, 0, w, h),
-                                                   area_px=w * h, touches_edge=edge),
-        PX_U, PX_V, st.integers(1, 100), st.integers(1, 200), st.booleans())})
+        lambda u, v, x, y, w, h, edge: ROI.result_type()(u_c_q4=u, v_c_q4=v, roi=(x, y, w, h),
+                                                         area_px=w * h, touches_edge=edge),
+        PX_U, PX_V, st.sampled_from([0, 2, 150, 300]), st.sampled_from([0, 2, 100]),
+        st.integers(1, 100), st.integers(1, 200), st.booleans())})
 
 
 def _frame002(dets: dict | None):
@@ -463,6 +472,7 @@ def _frame002(dets: dict | None):
         f.has_rc, f.rc = 1, (rc.u_c_q4, rc.v_c_q4, rc.d_pixel_q4, rc.width_q4)
     if roi is not None:
         f.has_roi, f.roi_u_c_q4, f.roi_v_c_q4 = 1, roi.u_c_q4, roi.v_c_q4
+        f.roi_box = list(roi.roi)
         seen = ROI.sighting_fn()(roi, CAMERA_002.f_px)
         f.has_roi_sighting = seen is not None
         f.roi_sighting = seen or (0, 0, 0)
@@ -475,8 +485,50 @@ def _frame002(dets: dict | None):
                           st.tuples(NEAR, NEAR, st.integers(-3142, 3141))), max_size=30))
 def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
     """APPROACH of 002 step by step: the fuzzy controller on e (eqs. (1), (2) of 002), the
-    waist toward what it steers on, the estimate, the blind drive on, ADJUST and LOST."""
+    waist toward what it steers on, the estimate, the blind drive on, the back-off from a
+    cylinder cut by the frame's border, ADJUST and LOST."""
+    _approach_both(e0, dpx0, steps)
+
+
+def test_the_back_off_of_002_from_a_cut_cylinder():
+    """The cylinder's colour ROI cut by the frame's left border, its rings not measured, the
+    estimate 200 mm from the waist: C and Python back off alike, stop, look again."""
+    cut = {"double_cross": None, "red_cylinder": None, "red_roi": ROI.result_type()(
+        u_c_q4=16 * 35, v_c_q4=16 * 150, roi=(0, 60, 70, 180), area_px=9000,
+        touches_edge=False)}
+    whole = {**cut, "red_roi": ROI.result_type()(u_c_q4=16 * 150, v_c_q4=16 * 120,
+                                                 roi=(120, 60, 60, 120), area_px=6000,
+                                                 touches_edge=False)}
+    steps = [(20_000, cut, (-k * 6, 0, 0)) for k in range(26)] + [
+        (20_000, None, (-150, 0, 0)), (40_000, whole, (-150, 0, 0)),
+        (40_000, whole, (-150, 0, 0))]
+    py = _approach_both(0, None, steps, obj=(200 + Task("002").p.mount_forward_mm, 0))
+    assert py.ms.back_offs == 1 and py.ms.back_off is None and py.state == "ADJUST"
+
+
+def test_the_board_alone_of_002():
+    """The crosses ~1.1 m away in frame after frame, no red: C and Python count them alike and
+    end FAILED "no graspable object found" at the same frame; red in a frame first, neither."""
+    board = {"double_cross": CROSS.result_type()(u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=0,
+                                                 um_q4=16 * 160, vm_q4=16 * 120,
+                                                 d_pixel_q4=16 * 40, e_mrad=0, votes=(1, 1)),
+             "red_cylinder": None, "red_roi": None}
+    steps = [(66_667, board, (k * 10, 0, 0)) for k in range(BOARD_ALONE_FRAMES + 2)]
+    py = _approach_both(0, 40, steps)
+    assert py.state == "FAILED" and py.failure.startswith("no graspable object found")
+    red = {**board, "red_roi": ROI.result_type()(u_c_q4=16 * 155, v_c_q4=16 * 120,
+                                                 roi=(150, 110, 10, 20), area_px=200,
+                                                 touches_edge=True)}  # no range: no estimate
+    py = _approach_both(0, 40, [(66_667, red, (0, 0, 0))] + steps)
+    assert py.state == "APPROACH" and py.ms.red_seen
+
+
+def _approach_both(e0, dpx0, steps, obj=None):
+    """APPROACH of 002 on both (the search's sighting e0, dpx0; the object estimate obj, mm
+    in the odometry frame, or none), step by step, every output compared; the Python task."""
     py, c = Task("002"), _c_task()
+    if obj is not None:
+        py.obj, c.has_obj, c.obj_mm = obj, 1, obj
     rules = Method002()
     py.ms.e_mrad, py.ms.e_dpx = e0, dpx0
     ms = _ms(c)
@@ -501,11 +553,15 @@ def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
                                                                          py.obj_seen_us)
         assert c.bad_detections == py.counters["bad_detections"]
         assert _blind(c) == py.ms.blind
+        assert _back_off(c) == (py.ms.cut, py.ms.back_offs, py.ms.back_off)
+        assert (bool(_ms(c).red_seen), _ms(c).alone_frames) == (py.ms.red_seen,
+                                                               py.ms.alone_frames)
         assert (u[0] if has_u[0] else None) == py._detail.get("fuzzy", {}).get("u_mrad")
         if py.state != "APPROACH":
             break
         py.remember(now, inp)
         C.mg_task_remember(c, now, *xyh)
+    return py
 
 
 @SETTINGS

@@ -80,11 +80,11 @@ def build_elf(keep: tuple[str, ...] = ()) -> Path:
         (source_hash() + " ".join(keep)).encode()).hexdigest()[:16]
     target = cbuild.cache_root() / ("hostc-arm" if not keep else "hostc-arm-keep") / key
     elf = target / ELF_NAME
-    cbuild.build_once(target, elf.is_file, lambda: _make_elf(target))
+    cbuild.build_once(target, elf.is_file, lambda: _make_elf(target, keep))
     return elf
 
 
-def _make_elf(target: Path) -> None:
+def _make_elf(target: Path, keep: tuple[str, ...]) -> None:
     if shutil.which("make") is None:
         raise ToolchainError("make not found: the ARM host is built by make hostc-arm")
     tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))

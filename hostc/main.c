@@ -176,7 +176,7 @@ int main(int argc, char **argv)
     const int r = mg_linux_run(&app, fd, camera != NULL ? &cam : NULL);
     sys_close(fd);
     mg_camera_close(&cam);
-    static char stats[1024]; /* the program's figures (frames received, control steps ...) */
+    static char stats[MG_APP_STATS_BYTES + 1]; /* the program's figures (app.h) */
     const size_t len = mg_app_stats_json(&app, stats, sizeof stats - 1);
     if (len > 0) {
         stats[len] = 0;

@@ -22,6 +22,8 @@ int mg_inproc_open(mg_inproc_t *h, const char *config, size_t n, char *why, size
     const mg_task_if_t task = mg_method_bind(m, h->task_state, &c);
     const int32_t n_det = mg_detectors_table(&h->detectors, &h->app, c.f_px, h->table,
                                              MG_MAX_DETECTORS);
+    h->detectors.u0_px = c.u0_px;
+    h->detectors.v0_px = c.v0_px;
     mg_app_init(&h->app, &cfg, &task, h->table, n_det);
     mg_lockstep_init(&h->driver, &h->app);
     return 0;

@@ -295,7 +295,6 @@ class HostApp:
         """Fold the windows more than LOAD_WINDOWS_KEPT before window ``newest`` into the
         running count, sum and max (in window order, so the sums are those of the whole list)."""
         limit = newest - LOAD_WINDOWS_KEPT
-        w = self.config.load_window_us
         n, total, peak = self._load_folded
         for k in sorted(k for k in self._load if k < limit):
             busy = self._load.pop(k)

@@ -15,7 +15,7 @@ Files (in the corpus folder, beside ``corpus.json``):
 - ``planning/<scenario>/<k>.npz``: the candidate set of call k: control points ``ctrl``
   (N, 4, 3), ``reasons`` (codes of :data:`REASONS`), ``us``, ``endpoints``, ``cost``,
   ``length``, ``kint``, ``clearance``; for 001 also the regions of the plan (``regions``:
-  ox, oy, lo, hi, η, R_r, arc bound per row).
+  ox, oy (1/16 mm), lo, hi (µrad), η, R_r (1/16 mm), arc bound per row, integers).
 """
 
 from __future__ import annotations
@@ -30,7 +30,7 @@ import numpy as np
 
 from mobigrasp.host.planning import bezier_q
 
-FORMAT = "mobigrasp-planning/1"
+FORMAT = "mobigrasp-planning/2"  # 2: the regions in integers (1/16 mm, µrad)
 INDEX = "planning.json"
 FOLDER = "planning"
 # reason codes (the C kernels' codes too, hostc/bezier.h)
@@ -57,17 +57,18 @@ def _plain(v: Any) -> Any:
 
 
 def region_rows(regions) -> np.ndarray:
-    """(R, 7) float64: ox, oy, lo, hi, η, R_r, arc bound (0/1) of InfeasibleRegions."""
-    return np.array([[r.ox, r.oy, r.lo_rad, r.hi_rad, r.eta_m, r.r_r_m, float(r.arc_bound)]
-                     for r in regions], dtype=np.float64).reshape(-1, 7)
+    """(R, 7) int64: ox, oy (1/16 mm), lo, hi (µrad), η, R_r (1/16 mm), arc bound (0/1) of
+    InfeasibleRegions."""
+    return np.array([[r.ox_q4, r.oy_q4, r.lo_urad, r.hi_urad, r.eta_q4, r.r_r_q4,
+                      int(r.arc_bound)] for r in regions], dtype=np.int64).reshape(-1, 7)
 
 
 def rows_to_regions(rows: np.ndarray) -> list:
     """The InfeasibleRegions of :func:`region_rows`."""
     from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
 
-    return [InfeasibleRegion(float(r[0]), float(r[1]), float(r[2]), float(r[3]), float(r[4]),
-                             float(r[5]), bool(r[6])) for r in np.asarray(rows).reshape(-1, 7)]
+    return [InfeasibleRegion(*(int(v) for v in r[:6]), bool(r[6]))
+            for r in np.asarray(rows).reshape(-1, 7)]
 
 
 class PlanRecorder:

@@ -11,7 +11,7 @@ evaluation (batch_ops). The budgets follow host/planning/bezier001.py plan_001 l
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -115,8 +115,8 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     cut_cycles = (params.budget_us - ops.time_us()) * 400
     dist_q4 = isqrt(sum((round(a * POS_PER_M) - round(b * POS_PER_M)) ** 2
                         for a, b in zip(obj, p0, strict=True)))
-    inflate = max(params.coarse_inflate_m, dist_q4 / (4 * (n - 1)) / POS_PER_M)
-    grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
+    inflate_q4 = max(round(params.coarse_inflate_m * POS_PER_M), dist_q4 // (4 * (n - 1)))
+    grown = [r.grown(inflate_q4) for r in regions]
     coarse = Limits(params.v_max * params.coarse_margin, params.a_max * params.coarse_margin,
                     None, accel_is_normal=True)
     _, reasons, first = evaluate_batch(ctrl, n, coarse, geometry(obj, l_e, grown))

@@ -112,6 +112,18 @@ def sincos_q12(angle_mrad: int) -> tuple[int, int]:
     return sin_q12(angle_mrad), cos_q12(angle_mrad)
 
 
+# urad -> 2^-20 turn in Q32: 2^20 / (2e6 pi) * 2^32 (one 64-bit multiply on the ARM)
+URAD_TO_BAM20_Q32 = round((1 << (_BAM_BITS + _FRAC_BITS)) / (2e6 * math.pi) * (1 << 32))
+
+
+def sincos_urad_q14(angle_urad: int) -> tuple[int, int]:
+    """(sin, cos) in Q14 of an angle in micro-radians (|angle| < 2^32), through the same table
+    and a binary angle of 2^-20 turn, rounded: for the geometry words that need more than Q12
+    (host/planning/sonar_regions.py). Error <= 1 LSB of Q14 plus the table's interpolation."""
+    bam = (int(angle_urad) * URAD_TO_BAM20_Q32 + _BAM_ROUND) >> 32
+    return _sin_bam_q14(bam), _sin_bam_q14(bam + _QUARTER_BAM20)
+
+
 # --- atan2 -----------------------------------------------------------------------------------
 _ATAN_STEPS = 256
 _ATAN_URAD = tuple(round(1e6 * math.atan(i / _ATAN_STEPS)) for i in range(_ATAN_STEPS + 1))

@@ -45,6 +45,18 @@ int32_t mg_tau_at_time_q15(const int32_t *ctrl, int64_t t_q4)
     return lo;
 }
 
+void mg_curve_positions_q(const int32_t *ctrl, int32_t n, int64_t *x, int64_t *y)
+{
+    int64_t kx[4], ky[4];
+    coefficients(ctrl, 0, kx);
+    coefficients(ctrl, 1, ky);
+    for (int32_t j = 0; j < n; j++) {
+        const int64_t tau = ((int64_t)j << TAU_BITS) / (n - 1);
+        x[j] = position(kx, tau);
+        y[j] = position(ky, tau);
+    }
+}
+
 int mg_first_blocked_q(const int32_t *ctrl, int32_t tau0_q15, int32_t m, const int64_t *geo,
                        int32_t n_reg, int64_t where[2], mg_ops_t *ops)
 {

@@ -4,7 +4,11 @@
 
 #include <string.h>
 
+#include "bezier.h"
+#include "escape.h"
 #include "fixedpoint.h"
+#include "kernels.h"
+#include "path_follow.h"
 #include "task_drive.h"
 #include "task_method.h"
 #include "task_method000.h"
@@ -230,3 +234,170 @@ static int adjust_early(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
                                      adjust_early};
+
+/* --- the board's replanner (method001.py start_001, update_001, straight_clear_001) -------- */
+
+#define TRAJ_SAMPLES_001 96 /* path_follow.py Trajectory.from_curve */
+
+/* Python's f"{q4 / 16000:.2f}" (q4 >= 0, < 2^40): the double nearest q4 / 16000 rounded to
+ * hundredths; a tie in decimals goes the way the double lies off it, an exact one to even */
+size_t mg_method001_text_m_2(char *out, size_t cap, size_t at, int64_t q4)
+{
+    int64_t hundredths = q4 / 160;
+    if (q4 % 160 > 80) {
+        hundredths++;
+    } else if (q4 % 160 == 80) {
+        /* the double's mantissa m = q4 2^s / 16000 rounded, m in [2^52, 2^53) */
+        int32_t s = 0;
+        while (s < 52 ? (52 - s > 48 || q4 < ((int64_t)16000 << (52 - s)))
+                      : (q4 << (s - 52)) < 16000)
+            s++;
+        int64_t t = q4 % 32000; /* q4 2^s mod 32000: the remainder and the floor's parity */
+        for (int32_t i = 0; i < s; i++)
+            t = t * 2 % 32000;
+        const int64_t r = t % 16000;
+        const int up = 2 * r > 16000 || (2 * r == 16000 && t >= 16000);
+        if (r != 0 ? up : (hundredths & 1))
+            hundredths++;
+    }
+    at = mg_task_text_int(out, cap, at, hundredths / 100);
+    at = mg_task_text(out, cap, at, hundredths % 100 < 10 ? ".0" : ".");
+    return mg_task_text_int(out, cap, at, hundredths % 100);
+}
+
+static void board_pose(const mg_task_inputs_t *in, int64_t p_q4[2], int64_t vel_q4[2])
+{
+    p_q4[0] = (int64_t)in->x_mm * 16;
+    p_q4[1] = (int64_t)in->y_mm * 16;
+    vel_q4[0] = mg_div_round64((int64_t)in->v_mmps * mg_cos_q12(in->heading_mrad), 256);
+    vel_q4[1] = mg_div_round64((int64_t)in->v_mmps * mg_sin_q12(in->heading_mrad), 256);
+}
+
+/* plan_001 from the pose with the memory, v0 by the level; the plan's ops */
+static void board_plan(mg_board_replanner001_t *b, const mg_task_inputs_t *in)
+{
+    int64_t p[2], vel[2];
+    board_pose(in, p, vel);
+    b->params.v0_mm_s = (int32_t)mg_div_round64(b->level_v0_mm_s[b->st.level], b->v0_div);
+    mg_plan001(&b->params, p, vel, in->heading_mrad, b->cfg.target_q4, in->sonar_mm,
+               b->st.memory, b->st.n_memory, &b->work, &b->plan);
+}
+
+/* the new curve's reference table: the path and its ops */
+static mg_ops_t board_path(const mg_board_replanner001_t *b, mg_trajectory_t *traj,
+                           mg_plan_outcome_t *o)
+{
+    static const mg_ops_t none;
+    o->has_path = 0;
+    o->v_limit_mm_s = b->v_limit_mm_s;
+    if (!b->st.has_curve || mg_trajectory_from_ctrl(b->st.ctrl, TRAJ_SAMPLES_001, traj) != 0)
+        return none;
+    o->has_path = 1;
+    return mg_trajectory_ops(TRAJ_SAMPLES_001);
+}
+
+static void board_start(void *ctx, int64_t now_us, const mg_task_inputs_t *in,
+                        const int32_t obj_mm[2], int32_t v0_div, mg_trajectory_t *traj,
+                        mg_plan_outcome_t *o)
+{
+    mg_board_replanner001_t *b = ctx;
+    b->cfg.target_q4[0] = (int64_t)obj_mm[0] * 16;
+    b->cfg.target_q4[1] = (int64_t)obj_mm[1] * 16;
+    b->v0_div = v0_div > 0 ? v0_div : 1;
+    mg_replan001_init(&b->st);
+    board_plan(b, in);
+    const int has = b->plan.status == MG_PLAN001_OK;
+    mg_replan001_adopt(&b->cfg, &b->st, now_us, (int64_t)in->x_mm * 16, (int64_t)in->y_mm * 16,
+                       in->heading_mrad, in->sonar_mm, has, b->plan.best_ctrl);
+    mg_plan001_reason(&b->plan, o->reason, (int32_t)sizeof o->reason);
+    const mg_ops_t ops = mg_ops_add(b->plan.ops, board_path(b, traj, o));
+    o->time_us = mg_ops_time_us(&ops);
+}
+
+static void board_update(void *ctx, int64_t now_us, const mg_task_inputs_t *in, int32_t force,
+                         mg_replan001_t *dec, mg_trajectory_t *traj, mg_plan_outcome_t *o,
+                         mg_ops_t *ops)
+{
+    static const char *const WHY[] = {"blocked", "no path", "path dropped"};
+    mg_board_replanner001_t *b = ctx;
+    const int64_t px = (int64_t)in->x_mm * 16, py = (int64_t)in->y_mm * 16;
+    mg_replan001_check_t chk;
+    o->has_path = 0;
+    o->v_limit_mm_s = b->v_limit_mm_s;
+    const int need = mg_replan001_check(&b->cfg, &b->st, now_us, px, py, in->heading_mrad,
+                                        in->sonar_mm, force, &chk);
+    dec->blocked = chk.blocked;
+    dec->replanned = 0;
+    dec->has_curve = b->st.has_curve;
+    dec->has_plan = need;
+    *ops = chk.ops;
+    if (!need) {
+        mg_task_text(o->reason, sizeof o->reason, 0, "path clear");
+        o->time_us = mg_ops_time_us(ops);
+        return;
+    }
+    board_plan(b, in);
+    int32_t why = 0;
+    int64_t ahead = -1;
+    const int got = mg_replan001_after_plan(&b->cfg, &b->st, now_us, px, py, in->heading_mrad,
+                                            in->sonar_mm, &chk, b->plan.status == MG_PLAN001_OK,
+                                            b->plan.best_ctrl, &why, &ahead);
+    char reason[MG_PLAN_REASON];
+    mg_plan001_reason(&b->plan, reason, (int32_t)sizeof reason);
+    *ops = mg_ops_add(*ops, b->plan.ops);
+    dec->replanned = got == MG_REPLAN_NEW;
+    dec->has_curve = got != MG_REPLAN_STOP;
+    size_t at = 0;
+    if (got == MG_REPLAN_KEPT) {
+        at = mg_task_text(o->reason, sizeof o->reason, 0, "blocked ");
+        at = mg_method001_text_m_2(o->reason, sizeof o->reason, at, ahead);
+        at = mg_task_text(o->reason, sizeof o->reason, at, " m ahead, no update yet (");
+        at = mg_task_text(o->reason, sizeof o->reason, at, reason);
+        mg_task_text(o->reason, sizeof o->reason, at, "): path kept");
+    } else {
+        at = mg_task_text(o->reason, sizeof o->reason, 0, WHY[why]);
+        at = mg_task_text(o->reason, sizeof o->reason, at, ": ");
+        mg_task_text(o->reason, sizeof o->reason, at, got == MG_REPLAN_NEW ? "replanned" : reason);
+    }
+    if (got == MG_REPLAN_NEW)
+        *ops = mg_ops_add(*ops, board_path(b, traj, o));
+    o->time_us = mg_ops_time_us(ops);
+}
+
+static void board_start_path(void *ctx, int64_t now_us)
+{
+    mg_board_replanner001_t *b = ctx;
+    mg_replan001_start_path(&b->st, now_us);
+}
+
+static int board_straight_clear(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
+                                int32_t travel_mm, mg_ops_t *ops)
+{
+    static const mg_ops_t none;
+    enum { PER = MG_GEO_HEAD + MG_REGION_WORDS };
+    mg_board_replanner001_t *b = ctx;
+    mg_region_t regions[MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY];
+    int64_t geo[PER * (MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY)];
+    int64_t clear[MG_CLEAR_WORDS * (MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY)];
+    const int64_t px = (int64_t)in->x_mm * 16, py = (int64_t)in->y_mm * 16;
+    *ops = none;
+    if (travel_mm <= 0)
+        return 1;
+    int32_t n = mg_replan001_fresh(&b->cfg, px, py, in->heading_mrad, in->sonar_mm, regions);
+    for (int32_t i = 0; i < b->st.n_memory; i++)
+        regions[n++] = b->st.memory[i];
+    for (int32_t r = 0; r < n; r++) {
+        geo[PER * r] = geo[PER * r + 1] = geo[PER * r + 2] = 0;
+        mg_region_geo(&regions[r], geo + PER * r + MG_GEO_HEAD);
+        mg_region_clear(&regions[r], clear + MG_CLEAR_WORDS * r);
+    }
+    const int32_t toward = mg_atan2_mrad((int64_t)obj_mm[1] - in->y_mm,
+                                         (int64_t)obj_mm[0] - in->x_mm);
+    const int ok = mg_segment_clear_q(geo, clear, n, px, py, toward, (int64_t)travel_mm * 16, 16,
+                                      0, ops);
+    *ops = mg_ops_add(*ops, mg_ops_scaled(mg_region_setup_ops(), n));
+    return ok;
+}
+
+const mg_replanner001_t mg_board_replanner001 = {board_start, board_update, board_start_path,
+                                                 board_straight_clear};

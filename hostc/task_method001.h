@@ -1,6 +1,7 @@
 /* Paper 001's method (host/task/method001.py): 000's vision and grasp with 001's sonar planning
  * of eq. (17) and its replanning (section III.E) in APPROACH, through the replanner of
- * host/planning/replan.py (a declared interface, mg_replanner001_t, until it is in C). Ours, as
+ * host/planning/replan.py (a declared interface, mg_replanner001_t: the board's is
+ * mg_board_replanner001, replan.c around plan001.c; the tests give scripted ones). Ours, as
  * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
  * first, sightings while the base turns fast are not used, the follower never backs up, the
  * last part of the curve is handed to ADJUST while the object is in view and the way is
@@ -13,6 +14,8 @@
 #include <stdint.h>
 
 #include "budget.h"
+#include "plan001.h"
+#include "replan.h"
 #include "task_approach.h"
 #include "task_machine.h"
 
@@ -52,6 +55,27 @@ typedef struct {
     int (*straight_clear)(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
                           int32_t travel_mm, mg_ops_t *ops);
 } mg_replanner001_t;
+
+/* The board's replanner behind mg_replanner001_t (method001.py start_001, update_001,
+ * straight_clear_001): replan.c around plan001.c, the curve's reference table
+ * (MG_PLAN000_TRAJ_SAMPLES samples, path_follow.c). ctx is an mg_board_replanner001_t whose
+ * params (v0_mm_s unused: level_v0_mm_s by the slow-down level, divided by v0_div), cfg
+ * (target_q4 set by start), level_v0_mm_s and v_limit_mm_s the caller fills. */
+#define MG_REPLAN_LEVELS 4
+typedef struct {
+    mg_params001_t params;
+    mg_replan001_cfg_t cfg;
+    int32_t level_v0_mm_s[MG_REPLAN_LEVELS]; /* round(v0 slow_factors[level] 1000) */
+    int32_t v_limit_mm_s;                    /* the follower's wheel limit, round(Vmax 1000) */
+    int32_t v0_div;
+    mg_replan001_state_t st;
+    mg_plan001_t plan;
+    mg_plan001_work_t work;
+} mg_board_replanner001_t;
+extern const mg_replanner001_t mg_board_replanner001;
+/* Python's f"{q4 / 16000:.2f}" (the block's distance in the replanner's reason), 0 <= q4 <
+ * 2^40, appended at at; the new end */
+size_t mg_method001_text_m_2(char *out, size_t cap, size_t at, int64_t q4);
 
 /* What 001 keeps between steps (the task's ms, State001 without the detours). */
 typedef struct {

@@ -129,6 +129,17 @@ void mg_sincos_turn_q12(int64_t num, int64_t den, int32_t *sin_q12, int32_t *cos
     *cos_q12 = (sin_bam_q14(bam + (1 << 18)) + 2) >> 2;
 }
 
+/* round(2^20 / (2e6 pi) * 2^32): urad -> 2^-20 turn in Q32 */
+#define URAD_TO_BAM20_Q32 716770142LL
+
+void mg_sincos_urad_q14(int64_t angle_urad, int32_t *sin_q14, int32_t *cos_q14)
+{
+    /* arithmetic right shift, as Python's >> (floor); sin_bam_q14 keeps the low 20 bits */
+    const int32_t bam = (int32_t)((angle_urad * URAD_TO_BAM20_Q32 + (1LL << 31)) >> 32);
+    *sin_q14 = sin_bam_q14(bam);
+    *cos_q14 = sin_bam_q14(bam + (1 << 18));
+}
+
 int32_t mg_cos_q12(int32_t angle_mrad)
 {
     return (sin_bam_q14(mrad_to_bam20(angle_mrad) + (1 << 18)) + 2) >> 2;

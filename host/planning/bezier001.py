@@ -36,7 +36,7 @@ most ``max_fine``, and only while the budget lasts).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -57,6 +57,7 @@ from mobigrasp.host.planning.candidates import (
     summarize_rejections,
 )
 from mobigrasp.host.planning.clearance_q import (
+    CLEARANCE_OPS,
     NO_REGION_Q4,
     clearance_ops,
     clearance_words,
@@ -71,6 +72,7 @@ from mobigrasp.host.planning.grasp_circle import (
 )
 from mobigrasp.host.planning.observe import observed
 from mobigrasp.host.planning.sonar_regions import (
+    REGION_SETUP_OPS,
     InfeasibleRegion,
     SonarConfig,
     infeasible_regions,
@@ -118,9 +120,9 @@ SETUP_OPS = OpCounts(alu=40, muls32=8, branches=6) + isqrt_ops(1 << 44) + cp.UNI
     + cp.PLAN_NUMBERS_OPS + sin_ops()
 FACING_OPS = OpCounts(alu=6, muls32=2 * 3, branches=1)  # one end point's 64-bit dot product
 CIRCLE_MARGIN_M = 1e-3  # samples closer than l_e less this are inside the grasp circle
-# per sonar region: world angles, apex Q_r (sin, divide, cos), the object-echo test (two
-# distances), and, in the coarse pass, the grown copy
-REGION_OPS = OpCounts(float_ops=45, float_divs=6, luts=4)
+# per sonar region: its words (sonar_regions.py, in integers), the object-echo test (one
+# point's clearance), and, in the coarse pass, the grown copy's words
+REGION_OPS = REGION_SETUP_OPS.scaled(2) + CLEARANCE_OPS
 
 
 def setup_ops(n_regions: int, n_e: int, n_candidates: int, ends: bool = True) -> OpCounts:
@@ -220,7 +222,7 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
     ks = keep[ks] + 1  # k_e = 1..n_e as in eq. (6)
     kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
-    expected = max(1, int(per_sample * params.expected_cost_fraction))
+    expected = max(1, per_sample * round(params.expected_cost_fraction * Q16) >> 16)
     n, stride = choose_sampling(len(us), expected, params.budget_us - ops.time_us(),
                                 params.n_coarse_min, params.n_coarse_max)
     sel = np.arange(0, len(us), stride)
@@ -231,8 +233,8 @@ def plan_001(start_xy_m, start_vel_xy_mps, heading_rad: float, target_xy_m, sona
                     None, accel_is_normal=True)
     checks = _geometry(obj, l_e, regions)
     # grow by a quarter of the straight-line spacing of coarse samples (>= coarse_inflate_m)
-    inflate = max(params.coarse_inflate_m, dist / (4 * (n - 1)) / POS_PER_M)
-    grown = [replace(r, r_r_m=r.r_r_m + inflate) for r in regions]
+    inflate_q4 = max(round(params.coarse_inflate_m * POS_PER_M), dist // (4 * (n - 1)))
+    grown = [r.grown(inflate_q4) for r in regions]
     s, reasons, first = evaluate_batch(ctrl, n, coarse, _geometry(obj, l_e, grown))
     # anytime cut: the C loop stops taking curves once the coarse budget is spent; curves after
     # that point were never evaluated (reason "budget")

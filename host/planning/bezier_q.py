@@ -70,24 +70,15 @@ def limits_q(v_max: float, a_max: float, r_min: float | None, accel_is_normal: b
 
 def geo_q(obj_xy_m, radius_m: float, regions) -> np.ndarray:
     """hostc/bezier.h ``geo``: the grasp circle (centre, radius² in (1/16 mm)²), then per region
-    of eq. (16) its apex, cos and sin of its bisector and tan of its half-angle (Q14), the
-    sensing position, the band's radii squared, the arc bound's flag, the sign of cos(bound)
-    and cos²(bound) (Q16). The region's trigonometry is its set-up (REGION_OPS), once a plan."""
+    of eq. (16) its words (host/planning/sonar_regions.py RegionWords.geo: its apex, cos and sin
+    of its bisector and tan of its half-angle (Q14), the sensing position, the band's radii
+    squared, the arc bound's flag, the sign of cos(bound) and cos²(bound) (Q16)), made in
+    integers once per region."""
     q = POS_PER_M
     r = max(radius_m, 0.0) * q
     out = [round(obj_xy_m[0] * q), round(obj_xy_m[1] * q), math.floor(r * r)]
     for reg in regions:
-        mid = 0.5 * (reg.lo_rad + reg.hi_rad)
-        qx, qy = reg.apex
-        bound = reg.bound_half_rad if reg.arc_bound else math.pi
-        cb = math.cos(bound)
-        lo = max(reg.eta_m - reg.r_r_m, 0.0) * q
-        hi = (reg.eta_m + reg.r_r_m) * q
-        out += [round(qx * q), round(qy * q), round(math.cos(mid) * (1 << TRIG_BITS)),
-                round(math.sin(mid) * (1 << TRIG_BITS)),
-                min(round(math.tan(reg.half_angle) * (1 << TRIG_BITS)), 1 << 20),
-                round(reg.ox * q), round(reg.oy * q), math.ceil(lo * lo), math.floor(hi * hi),
-                int(bound < math.pi), int(cb >= 0), round(cb * cb * Q16)]
+        out += reg.words.geo(reg)
     return np.array(out, dtype=np.int64)
 
 

@@ -184,7 +184,9 @@ def candidates_from_batch(ctrl: np.ndarray, s: QBatch, reasons: list[str], us, e
     (the fixed-point cost, Q16, as a float: the ranking is the integers')."""
     length = s.arc_length()
     kint = s.kappa_integral()
-    ok = s.reason == 0
+    # the reasons given, not the batch's: a curve past 001's anytime cut ("budget") was never
+    # evaluated by the C loop and is not feasible, whatever the batch found
+    ok = np.array([r == REASON_OK for r in reasons], dtype=bool).reshape(s.reason.shape)
     cost = np.where(ok, s.cost_q16(round(k1 * Q16), round(k2 * Q16)) / Q16, np.inf)
     if clearance is None:
         clearance = np.full(len(reasons), np.inf)

@@ -20,12 +20,10 @@ Against the float reference (tests/unit/host/test_planning_clearance.py): within
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.planning.bezier_q import ISQRT64_OPS, POS_PER_M, TRIG_BITS, isqrt_array
+from mobigrasp.host.planning.bezier_q import ISQRT64_OPS, TRIG_BITS, isqrt_array
 
 CLEAR_WORDS = 11
 NO_REGION_Q4 = (1 << 62)  # D_m when there is no region: larger than any distance
@@ -36,20 +34,9 @@ CLEARANCE_OPS = ISQRT64_OPS + OpCounts(alu=30, muls32=3 * 8, branches=4)
 
 def clearance_words(regions) -> np.ndarray:
     """Per region: O (ox, oy), cos and sin of the bisector and tan of the half-angle (Q14), η,
-    R_r and the arc's end points (1/16 mm). The trigonometry is the region's set-up, once a
-    plan (bezier001.REGION_OPS)."""
-    q, one = POS_PER_M, 1 << TRIG_BITS
-    out = []
-    for reg in regions:
-        mid = 0.5 * (reg.lo_rad + reg.hi_rad)
-        ends = [(reg.ox + reg.eta_m * math.cos(a), reg.oy + reg.eta_m * math.sin(a))
-                for a in (reg.lo_rad, reg.hi_rad)]
-        out.append([round(reg.ox * q), round(reg.oy * q), round(math.cos(mid) * one),
-                    round(math.sin(mid) * one),
-                    min(round(math.tan(reg.half_angle) * one), 1 << 20),
-                    round(reg.eta_m * q), round(reg.r_r_m * q),
-                    round(ends[0][0] * q), round(ends[0][1] * q),
-                    round(ends[1][0] * q), round(ends[1][1] * q)])
+    R_r and the arc's end points (1/16 mm): host/planning/sonar_regions.py RegionWords, the
+    region's set-up in integers, once a region."""
+    out = [reg.words.clearance(reg) for reg in regions]
     return np.array(out, dtype=np.int64).reshape(-1, CLEAR_WORDS)
 
 

@@ -23,7 +23,6 @@ grown by 3 mm.
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -41,12 +40,12 @@ from mobigrasp.host.planning.clearance_q import (
     clearance_words,
     point_clearance_q4,
 )
-from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
+from mobigrasp.host.planning.sonar_regions import REGION_SETUP_OPS, InfeasibleRegion
 
 LEAVE_TOL_M = 0.02  # leaving a region: the arc may come this much closer on the way out
 TURN_URAD = 6_283_185
-# a region's fixed-point words (bezier_q.geo_q, clearance_q.clearance_words): its set-up
-REGION_WORDS_OPS = OpCounts(float_ops=30, float_divs=2, luts=5)
+# a region's fixed-point words (sonar_regions.region_words, in integers): its set-up
+REGION_WORDS_OPS = REGION_SETUP_OPS
 
 
 def _wrap_urad(a: int) -> int:
@@ -67,7 +66,8 @@ def escape_heading(regions: list[InfeasibleRegion], position_xy_m, heading_rad: 
     if not length_m > 0 or samples < 1 or not step_rad > 0:
         raise ValueError(f"escape_heading: length_m > 0, samples >= 1, step_rad > 0 needed, "
                          f"got {length_m}, {samples}, {step_rad}")
-    grown = [replace(r, r_r_m=r.r_r_m + margin_m) for r in regions] if margin_m else regions
+    margin_q4 = round(margin_m * POS_PER_M)
+    grown = [r.grown(margin_q4) for r in regions]
     h_urad, step_urad = round(heading_rad * 1e6), round(step_rad * 1e6)
     goal_urad = round(goal_bearing_rad * 1e6)
     n_side = int(span_rad / step_rad + 1e-9)  # the call's configuration

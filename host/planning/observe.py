@@ -3,7 +3,10 @@ planner corpus, calib/plan_corpus.py) watches them for a block, without reaching
 
 A planner decorated with :func:`observed` calls each watcher ``watcher(name, args, kwargs,
 plan)`` after it planned; :func:`watching` adds one watcher for a ``with`` block. With nobody
-watching a call costs one empty loop; a watcher sees the plan and never changes it.
+watching a call costs one empty loop; a watcher sees the plan and never changes it. Topics
+keep watchers apart: "plan" (the planners, the default) and "replan" (001's replanner's
+``start``, ``update`` and ``start_path``, by those names; ``args[0]`` is the replanner, its
+state after the call).
 """
 
 from __future__ import annotations
@@ -14,16 +17,19 @@ from collections.abc import Callable, Iterator
 from typing import Any
 
 Watcher = Callable[[str, tuple, dict, Any], None]
-_WATCHERS: list[Watcher] = []
+_WATCHERS: dict[str, list[Watcher]] = {"plan": [], "replan": []}
 
 
-def observed(name: str) -> Callable[[Callable], Callable]:
-    """Decorator: the planner ``name`` ("000", "001") tells the watchers of each call."""
+def observed(name: str, topic: str = "plan") -> Callable[[Callable], Callable]:
+    """Decorator: the planner ``name`` ("000", "001") tells the watchers of ``topic`` of each
+    call."""
+    watchers = _WATCHERS[topic]
+
     def wrap(fn: Callable) -> Callable:
         @functools.wraps(fn)
         def planner(*args, **kw):
             plan = fn(*args, **kw)
-            for watcher in _WATCHERS:
+            for watcher in watchers:
                 watcher(name, args, kw, plan)
             return plan
         return planner
@@ -31,10 +37,10 @@ def observed(name: str) -> Callable[[Callable], Callable]:
 
 
 @contextlib.contextmanager
-def watching(watcher: Watcher) -> Iterator[Watcher]:
-    """``watcher`` sees every planner call while the block runs."""
-    _WATCHERS.append(watcher)
+def watching(watcher: Watcher, topic: str = "plan") -> Iterator[Watcher]:
+    """``watcher`` sees every call of ``topic`` while the block runs."""
+    _WATCHERS[topic].append(watcher)
     try:
         yield watcher
     finally:
-        _WATCHERS.remove(watcher)
+        _WATCHERS[topic].remove(watcher)

@@ -24,15 +24,13 @@ from poses along the way, and they box in every replan long after better reading
 
 from __future__ import annotations
 
-import math
 from collections import deque
 from dataclasses import dataclass, replace
-from functools import lru_cache
 
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.fixedpoint import mrad_from_rad, q12_from_float, sincos_q12
+from mobigrasp.host.fixedpoint import mrad_from_rad, sincos_q12
 from mobigrasp.host.planning.bezier import Curve
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo, plan_001
 from mobigrasp.host.planning.bezier_q import (
@@ -44,7 +42,13 @@ from mobigrasp.host.planning.bezier_q import (
 )
 from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import Plan
-from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, infeasible_regions
+from mobigrasp.host.planning.observe import observed
+from mobigrasp.host.planning.sonar_regions import (
+    REGION_SETUP_OPS,
+    InfeasibleRegion,
+    infeasible_regions,
+    sonar_q,
+)
 
 
 @dataclass(frozen=True)
@@ -61,16 +65,8 @@ class ReplanDecision:
 
 # per remembered region: offset, along, across, distance², two compares
 FORGET_OPS = OpCounts(alu=10, muls32=6, branches=3)
-# per region tested: its fixed-point words (bezier_q.geo_q: bisector, apex, cos, sin, tan)
-REGION_WORDS_OPS = OpCounts(float_ops=20, float_divs=1, luts=3)
-
-
-@lru_cache(maxsize=256)
-def _arc_middle_q4(reg: InfeasibleRegion) -> tuple[int, int]:
-    """The middle of a region's echo arc (1/16 mm): its set-up, once per remembered region."""
-    mid = 0.5 * (reg.lo_rad + reg.hi_rad)
-    return (round((reg.ox + reg.eta_m * math.cos(mid)) * POS_PER_M),
-            round((reg.oy + reg.eta_m * math.sin(mid)) * POS_PER_M))
+# per region tested: its fixed-point words (sonar_regions.region_words, in integers)
+REGION_WORDS_OPS = REGION_SETUP_OPS
 
 
 class Replanner:
@@ -119,10 +115,17 @@ class Replanner:
         self.start_us = int(t_us)
         return plan
 
+    @observed("start", topic="replan")
     def start(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps, sonar_mm) -> Plan:
         """First plan from the present pose; its curve starts at ``t_us``."""
         self.level = 0
         return self._plan(t_us, position_xy_m, heading_rad, vel_xy_mps, sonar_mm)
+
+    @observed("start_path", topic="replan")
+    def start_path(self, t_us: int) -> None:
+        """The present curve starts at ``t_us`` (the plan was charged in slices of the control
+        steps: the path is followed from the last one)."""
+        self.start_us = int(t_us)
 
     def forget_seen(self, position_xy_m, heading_rad: float) -> int:
         """Forget remembered regions whose place the sonars see again now; how many.
@@ -131,16 +134,16 @@ class Replanner:
         seen again when it is nearer than D_e and its bearing off the heading is within the
         ring's span π/2 + A_g/2: with a, b its offset along and across the heading (Q12
         trigonometry), not (a < 0 and |b| < −a·cot(A_g/2)) (the span is wider than π/2)."""
-        cfg = self.params.sonar
+        cfg = sonar_q(self.params.sonar)
         px = round(float(position_xy_m[0]) * POS_PER_M)
         py = round(float(position_xy_m[1]) * POS_PER_M)
         s, c = sincos_q12(mrad_from_rad(heading_rad))
-        d_e2 = round(cfg.d_e_m * POS_PER_M) ** 2
-        cot_q12 = q12_from_float(1.0 / math.tan(cfg.a_g_rad / 2))
+        d_e2 = cfg.d_e_q4 ** 2
+        cot_q12 = cfg.cot_half_q12
         keep = []
         for reg in self.memory:
-            mx, my = _arc_middle_q4(reg)
-            ax, ay = mx - px, my - py
+            words = reg.words
+            ax, ay = words.mx - px, words.my - py
             along = ax * c + ay * s
             across = abs(ay * c - ax * s)
             within_span = not (along < 0 and (across << 12) < -along * cot_q12)
@@ -170,6 +173,7 @@ class Replanner:
                                      geo_q((0.0, 0.0), 0.0, regions), len(regions))
         return where, ops + REGION_WORDS_OPS.scaled(len(regions))
 
+    @observed("update", topic="replan")
     def update(self, t_us: int, position_xy_m, heading_rad: float, vel_xy_mps,
                sonar_mm, force: bool = False) -> ReplanDecision:
         """Check the present path against a fresh reading; replan when it is blocked.

@@ -333,7 +333,7 @@ class Method001(Method000):
 
     def start_path(self, t: Task, follower: PathFollower, now: int) -> PathFollower:
         """The path and the replanner's curve start now (the plan's last slice)."""
-        t.ms.replanner.start_us = now
+        t.ms.replanner.start_path(now)
         return super().start_path(t, follower, now)
 
     def hold_before_plan(self, t: Task, now: int, inp: TaskInputs) -> bool:

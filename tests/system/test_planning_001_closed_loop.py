@@ -17,7 +17,7 @@ import pytest
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.odometry import Pose
 from mobigrasp.host.planning.replan import Replanner
-from mobigrasp.host.planning.sonar_regions import SonarConfig
+from mobigrasp.host.planning.sonar_regions import SonarConfig, sonar_q
 
 CFG = SonarConfig()
 FOOTPRINT_M = 0.17
@@ -26,7 +26,7 @@ FOOTPRINT_M = 0.17
 def sonar_mm(x, y, th, obstacles, rays=25):
     out = []
     for k in range(1, CFG.k_s + 1):
-        phi = th + CFG.axis_rad(k)
+        phi = th + sonar_q(CFG).axis_urad(k) / 1e6
         best = CFG.d_e_m
         for a in np.linspace(phi - CFG.a_g_rad / 2, phi + CFG.a_g_rad / 2, rays):
             dx, dy = math.cos(a), math.sin(a)

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from region_ref import region_m
 
 from mobigrasp.calib import native, planning
 from mobigrasp.calib import plan_corpus as pc
@@ -19,11 +20,7 @@ from mobigrasp.host.planning.bezier001 import control_points_001
 from mobigrasp.host.planning.candidates import Limits, evaluate_batch
 from mobigrasp.host.planning.clearance_q import clearance_words, path_clearance_q4
 from mobigrasp.host.planning.grasp_circle import end_points
-from mobigrasp.host.planning.sonar_regions import (
-    InfeasibleRegion,
-    SonarConfig,
-    infeasible_regions,
-)
+from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.services.corpus import record
 
 K1, K2 = planning.q16(0.5), planning.q16(0.5)
@@ -255,7 +252,7 @@ def test_fixed_point_follows_the_float_reference():
 def test_c_clearance_equals_the_python(regs, n, seed):
     """D_m of eq. (18): hostc/clearance.c gives clearance_q's integers, random regions and
     samples over the whole coordinate range (|x| < 2^21)."""
-    regions = [InfeasibleRegion(ox, oy, lo, lo + w, eta, r_r) for ox, oy, lo, w, eta, r_r in regs]
+    regions = [region_m(ox, oy, lo, lo + w, eta, r_r) for ox, oy, lo, w, eta, r_r in regs]
     rng = np.random.default_rng(seed)
     x = rng.integers(-(1 << 21) + 1, 1 << 21, size=(1, n))
     y = rng.integers(-(1 << 21) + 1, 1 << 21, size=(1, n))

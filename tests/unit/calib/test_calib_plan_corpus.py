@@ -67,6 +67,7 @@ def test_the_tap_watches_the_planners_only_inside_its_block():
 
 
 @pytest.mark.parametrize("text", [b"\xff", b"{}", b'{"format": "mobigrasp-planning/1", '
+                                  b'"calls": []}', b'{"format": "mobigrasp-planning/2", '
                                   b'"calls": [{"file": "../x", "planner": "000", "inputs": {}}]}'])
 def test_a_bad_planning_index_is_refused_naming_it(tmp_path, text):
     (tmp_path / pc.INDEX).write_bytes(text)

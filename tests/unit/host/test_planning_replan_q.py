@@ -3,17 +3,16 @@ Replanner's memory test) against float references: blocked is blocked with R_r g
 clear is clear with R_r shrunk by 3 mm; the present τ within 1/4 ms."""
 
 import math
-from dataclasses import replace
 
 import numpy as np
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
+from region_ref import Ref, grown_m, region_m
 
 from mobigrasp.host.planning.bezier import Curve, evaluate
 from mobigrasp.host.planning.bezier_q import POS_PER_M, TIME_PER_S, geo_q, quantize_ctrl
 from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.replan import Replanner
-from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
 
 TOL_M = 0.003
 
@@ -21,7 +20,7 @@ TOL_M = 0.003
 def blocked_float(curve: Curve, tau0: float, m: int, regions) -> bool:
     tau = np.linspace(tau0, 1.0, m)[1:]
     s = evaluate(curve.array, tau)
-    return any(bool(r.contains(s.x, s.y).any()) for r in regions)
+    return any(bool(Ref(r).contains(s.x, s.y).any()) for r in regions)
 
 
 def forget_float(memory, position_xy_m, heading_rad, d_e_m, a_g_rad) -> list[bool]:
@@ -29,8 +28,8 @@ def forget_float(memory, position_xy_m, heading_rad, d_e_m, a_g_rad) -> list[boo
     px, py = position_xy_m
     span = math.pi / 2 + a_g_rad / 2
     out = []
-    for reg in memory:
-        mid = 0.5 * (reg.lo_rad + reg.hi_rad)
+    for reg in map(Ref, memory):
+        mid = reg.mid
         ax = reg.ox + reg.eta_m * math.cos(mid) - px
         ay = reg.oy + reg.eta_m * math.sin(mid) - py
         rel = (math.atan2(ay, ax) - heading_rad + math.pi) % (2 * math.pi) - math.pi
@@ -45,7 +44,7 @@ curve = st.builds(
     st.floats(-2, 2), st.floats(-2, 2), st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1),
     st.floats(-1, 1), st.floats(-3, 3), st.floats(-3, 3), st.floats(5, 30))
 region = st.builds(
-    lambda ox, oy, lo, width, eta: InfeasibleRegion(ox, oy, lo, lo + width, eta, 0.2),
+    lambda ox, oy, lo, width, eta: region_m(ox, oy, lo, lo + width, eta, 0.2),
     st.floats(-3, 3), st.floats(-3, 3), st.floats(-4, 4), st.floats(0.1, 1.0),
     st.floats(0.3, 2.4))
 
@@ -65,12 +64,12 @@ def test_blocked_test_within_3mm_of_float(c, frac, regs, m):
     assert t_at[0] >= t_q4 - 4 and (tau0 == 0 or t_at[1] < t_q4 + 4)
     where, ops = first_blocked_q(ctrl_q, tau0, m, geo_q((0.0, 0.0), 0.0, regs), len(regs))
     assert ops.time_us() > 0
-    grown = [replace(r, r_r_m=r.r_r_m + TOL_M) for r in regs]
-    shrunk = [replace(r, r_r_m=r.r_r_m - TOL_M) for r in regs]
+    grown = [grown_m(r, TOL_M) for r in regs]
+    shrunk = [grown_m(r, -TOL_M) for r in regs]
     if where is not None:
         assert blocked_float(cq, tau0 / 2**15, m, grown)
         wx, wy = where[0] / POS_PER_M, where[1] / POS_PER_M
-        assert any(bool(r.contains(wx, wy)) for r in grown)
+        assert any(bool(Ref(r).contains(wx, wy)) for r in grown)
     else:
         assert not blocked_float(cq, tau0 / 2**15, m, shrunk)
 
@@ -90,8 +89,8 @@ def test_forget_seen_matches_float_away_from_the_edges(regs, px, py, heading):
     rp = Replanner((4.0, 0.0))
     cfg = rp.params.sonar
     span = math.pi / 2 + cfg.a_g_rad / 2
-    for reg in regs:  # decisions within 1 mm or 2 mrad of an edge may go either way
-        mid = 0.5 * (reg.lo_rad + reg.hi_rad)
+    for reg in map(Ref, regs):  # decisions within 1 mm or 2 mrad of an edge may go either way
+        mid = reg.mid
         ax = reg.ox + reg.eta_m * math.cos(mid) - px
         ay = reg.oy + reg.eta_m * math.sin(mid) - py
         rel = (math.atan2(ay, ax) - heading + math.pi) % (2 * math.pi) - math.pi

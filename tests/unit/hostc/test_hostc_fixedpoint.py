@@ -23,6 +23,14 @@ def test_sin_cos(angle):
 
 
 @SETTINGS
+@given(st.integers(-(2**32) + 1, 2**32 - 1))
+def test_sin_cos_of_microradians(angle):
+    s, c = FFI.new("int32_t *"), FFI.new("int32_t *")
+    C.mg_sincos_urad_q14(angle, s, c)
+    assert (s[0], c[0]) == fixedpoint.sincos_urad_q14(angle)
+
+
+@SETTINGS
 @given(st.integers(-(1 << 61), 1 << 61), st.integers(-(1 << 61), 1 << 61))
 def test_atan2_on_the_whole_64_bit_range(y, x):
     """Operands of 2^46 and more take the bit-by-bit quotient: still Python's exact ratio."""

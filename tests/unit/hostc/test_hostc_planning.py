@@ -3,14 +3,17 @@ of 001 (hostc/control_points.c), the grasp circle's end points of eq. (6)
 (hostc/grasp_circle.c), the integer reference of a planned curve (hostc/path_follow.c
 mg_trajectory_from_ctrl), 000's plan whole and the planner state a C method embeds
 (hostc/plan000.c, hostc/candidates.c), the plan charged in slices (hostc/anytime.c), 001's
-path-update test (hostc/blocked_q.c) and the detour's way out (hostc/escape.c): the same
-inputs, identical outputs."""
+path-update test (hostc/blocked_q.c), the sonar regions' set-up (hostc/sonar_regions.c) and
+the detour's way out (hostc/escape.c): the same inputs, identical outputs."""
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from region_ref import region_m
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -32,7 +35,13 @@ from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import batch_ops, choose_sampling
 from mobigrasp.host.planning.clearance_q import clearance_words
 from mobigrasp.host.planning.grasp_circle import end_points_q
-from mobigrasp.host.planning.sonar_regions import InfeasibleRegion
+from mobigrasp.host.planning.sonar_regions import (
+    REGION_SETUP_OPS,
+    InfeasibleRegion,
+    SonarConfig,
+    infeasible_regions_q,
+    sonar_q,
+)
 from mobigrasp.host.task.method000 import plan_follower
 
 FFI, C = hostc.lib()
@@ -254,7 +263,7 @@ def test_curve_ops(first, n, positions, circle, regions, divs):
 
 
 REGIONS = st.builds(
-    lambda ox, oy, lo, width, eta, arc: InfeasibleRegion(ox, oy, lo, lo + width, eta, 0.2, arc),
+    lambda ox, oy, lo, width, eta, arc: region_m(ox, oy, lo, lo + width, eta, 0.2, arc),
     st.floats(-3, 3), st.floats(-3, 3), st.floats(-4, 4), st.floats(0.1, 1.0),
     st.floats(0.1, 2.4), st.booleans())
 
@@ -280,6 +289,55 @@ def test_path_update_check(xy, dur, t_q4, regions, m):
     assert hostc.ops_tuple(c_ops[0]) == ops.as_tuple()
 
 
+INT_REGIONS = st.builds(
+    InfeasibleRegion, POS, POS, st.integers(-40_000_000, 40_000_000),
+    st.integers(-40_000_000, 40_000_000), st.integers(0, 1 << 19), st.integers(0, 1 << 14),
+    st.booleans())
+
+
+def _region_c(reg: InfeasibleRegion):
+    return FFI.new("mg_region_t *", [reg.ox_q4, reg.oy_q4, reg.lo_urad, reg.hi_urad, reg.eta_q4,
+                                     reg.r_r_q4, int(reg.arc_bound)])
+
+
+@SETTINGS
+@given(INT_REGIONS)
+def test_region_words(reg):
+    """A region's words in integers (eq. (16)'s apex, bisector, half-angle, band, arc bound;
+    the echo arc's ends and middle): identical, also for empty and reversed wedges."""
+    w = FFI.new("mg_region_words_t *")
+    C.mg_region_words(_region_c(reg), w)
+    py = reg.words
+    assert [getattr(w[0], f) for f in py.__dataclass_fields__] == list(dataclasses.astuple(py))
+    geo, clear = FFI.new("int64_t[12]"), FFI.new("int64_t[11]")
+    C.mg_region_geo(_region_c(reg), geo)
+    C.mg_region_clear(_region_c(reg), clear)
+    assert list(geo) == [int(v) for v in geo_q((0.0, 0.0), 0.0, [reg])[3:]]
+    assert list(clear) == [int(v) for v in clearance_words([reg])[0]]
+    assert hostc.ops_tuple(C.mg_region_setup_ops()) == REGION_SETUP_OPS.as_tuple()
+
+
+@SETTINGS
+@given(st.integers(2, 16), st.floats(0.05, 3.1), st.floats(0.3, 6.0), st.floats(0.0, 0.6),
+       st.one_of(st.none(), st.floats(0.0, 0.3)), st.floats(0.0, 0.3), st.booleans(),
+       st.lists(st.integers(-2, 70_000), min_size=16, max_size=16), POS, POS,
+       st.integers(-20_000_000, 20_000_000))
+def test_sonar_regions(k_s, a_g, d_e, r_r, tol, offset, arc, sonar, px, py, heading_urad):
+    """Eq. (15)'s sub-regions and eq. (16)'s regions of a reading: the same regions (negative
+    readings counted and taken as no echo)."""
+    cfg = SonarConfig(k_s, a_g, d_e, r_r, tol, offset, arc)
+    q = sonar_q(cfg)
+    c_cfg = FFI.new("mg_sonar_cfg_t *", [q.k_s, q.a_g_urad, q.d_e_q4, q.r_r_q4, q.tol_q4,
+                                         q.offset_q4, int(q.arc_bound), q.cot_half_q12])
+    out, dropped = FFI.new("mg_region_t[31]"), FFI.new("int32_t *")
+    n = C.mg_sonar_regions(c_cfg, px, py, heading_urad, sonar[:k_s], out, dropped)
+    scan = infeasible_regions_q(cfg, px, py, heading_urad, sonar[:k_s])
+    assert dropped[0] == scan.dropped
+    got = [InfeasibleRegion(r.ox_q4, r.oy_q4, r.lo_urad, r.hi_urad, r.eta_q4, r.r_r_q4,
+                            bool(r.arc_bound)) for r in out[0:n]]
+    assert got == scan.regions
+
+
 def _words_c(regions):
     """The regions' words one by one: bezier.h's geo and clearance.c's, as escape._Words."""
     geo = [int(v) for r in regions for v in geo_q((0.0, 0.0), 0.0, [r])]
@@ -288,14 +346,14 @@ def _words_c(regions):
 
 
 def _less_setup(ops, regions):
-    """Python's counts less the regions' float set-up (escape.REGION_WORDS_OPS), which the C
-    is given done."""
+    """Python's counts less the regions' set-up (escape.REGION_WORDS_OPS), which the C is
+    given done."""
     setup = escape.REGION_WORDS_OPS.scaled(len(regions)).as_tuple()
     return tuple(a - b for a, b in zip(ops.as_tuple(), setup, strict=True))
 
 
 NEAR_REGIONS = st.builds(
-    lambda ox, oy, lo, width, eta, arc: InfeasibleRegion(ox, oy, lo, lo + width, eta, 0.2, arc),
+    lambda ox, oy, lo, width, eta, arc: region_m(ox, oy, lo, lo + width, eta, 0.2, arc),
     st.floats(-0.5, 0.5), st.floats(-0.5, 0.5), st.floats(-4, 4), st.floats(0.1, 1.0),
     st.floats(0.1, 1.5), st.booleans())
 

@@ -53,6 +53,13 @@ def _ops_into(c_ops, ops: OpCounts) -> None:
         setattr(c_ops, name, v)
 
 
+class _PyReplanner(SimpleNamespace):
+    """The Python task's replanner: its curve's start time (replan.py Replanner.start_path)."""
+
+    def start_path(self, t_us: int) -> None:
+        self.start_us = t_us
+
+
 class Replanner:
     """Scripted outcomes of the replanner's calls, given in turn to the Python task (through
     method001.py's calls of it) and to the C's (its mg_replanner001_t); the requests of both
@@ -62,7 +69,7 @@ class Replanner:
         self.script = {"start": starts, "update": updates, "clear": clears}
         self.at = {"py": {k: 0 for k in self.script}, "c": {k: 0 for k in self.script}}
         self.requests: dict = {"py": [], "c": []}
-        self.py_rp = SimpleNamespace(start_us=None)
+        self.py_rp = _PyReplanner(start_us=None)
         self.c_start_us: list = []
         self.callbacks = [FFI.callback(START_CB, self._c_start),
                           FFI.callback(UPDATE_CB, self._c_update),

@@ -336,6 +336,16 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
             app->plans++;
             app->replans = app->plans - 1 > 0 ? app->plans - 1 : 0;
         }
+        for (int32_t i = 0; i < out->n_detail && i < MG_DETAIL_MEMBERS; i++) {
+            const mg_json_member_t *d = &out->detail[i];
+            if (strcmp(d->json, "null") == 0)
+                continue; /* Python's "is not None" */
+            if (out->detail_has_plan && strcmp(d->key, "replan") == 0)
+                app->path_updates++;
+            const size_t len = strlen(d->json);
+            if (strcmp(d->key, "grasp_close") == 0 && len < sizeof app->close_reason)
+                memcpy(app->close_reason, d->json, len + 1); /* a short name: fits */
+        }
         /* ev, state, t_us and the detail's members, all in sorted key order */
         mg_json_member_t m[MG_DETAIL_MEMBERS + 3];
         char t[24];
@@ -633,6 +643,11 @@ size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
     mg_json_micro(&j, micro_ratio(peak, w));
     mg_json_key(&j, "arm9_load_mean");
     mg_json_micro(&j, n ? micro_ratio(total, n * w) : 0);
+    mg_json_key(&j, "close_reason");
+    if (app->close_reason[0])
+        mg_json_raw(&j, app->close_reason, strlen(app->close_reason));
+    else
+        mg_json_null(&j);
     mg_json_key(&j, "control_steps");
     mg_json_int(&j, app->control_steps);
     mg_json_key(&j, "deadline_misses");
@@ -645,8 +660,24 @@ size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
     mg_json_int(&j, app->frames_processed);
     mg_json_key(&j, "frames_received");
     mg_json_int(&j, app->frames_received);
+    mg_json_key(&j, "mcu"); /* the MCU's counters in its newest telemetry */
+    mg_json_begin_object(&j);
+    if (app->link.has_telemetry) {
+        const mg_telemetry_t *tel = &app->link.telemetry;
+        mg_json_key(&j, "crc_errors");
+        mg_json_int(&j, tel->crc_errors);
+        mg_json_key(&j, "limit_hits");
+        mg_json_int(&j, tel->limit_hits);
+        mg_json_key(&j, "overruns");
+        mg_json_int(&j, tel->overruns);
+        mg_json_key(&j, "watchdog_trips");
+        mg_json_int(&j, tel->watchdog_trips);
+    }
+    mg_json_end_object(&j);
     mg_json_key(&j, "mcu_resets_seen");
     mg_json_int(&j, app->link.mcu_resets);
+    mg_json_key(&j, "path_updates");
+    mg_json_int(&j, app->path_updates);
     /* host/app_link.py stats(): the link's counters and the parser's CRC errors (keys sorted) */
     const mg_link_counters_t *c = &app->link.counters;
     const struct {

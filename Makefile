@@ -102,6 +102,10 @@ HOSTC_BOARD := $(sort $(filter-out hostc/arm/selftest_main.c,$(wildcard hostc/ar
 HOSTC_ARM_SRCS := $(HOSTC_PORTABLE) $(HOSTC_PROTOCOL) $(HOSTC_BOARD) $(HOSTC_ARM_MAIN) \
 	hostc/arm/start.S
 HOSTC_ARM_ELF := $(HOSTC_OUT)/mobigrasp-host-arm920t.elf
+# functions kept in the ELF though the program never calls them (--gc-sections drops them
+# otherwise): the calibration builds its ELF with its entries (calib/program.py)
+HOSTC_ARM_KEEP ?=
+comma := ,
 
 # The static ELF: qemu-arm -cpu ti925t HOSTC_ARM_ELF --self-test runs it here
 hostc-arm: arm-tools $(HOSTC_ARM_ELF)
@@ -110,7 +114,8 @@ hostc-arm: arm-tools $(HOSTC_ARM_ELF)
 $(HOSTC_ARM_ELF): $(HOSTC_ARM_SRCS) $(wildcard hostc/*.h hostc/arm/*.h firmware/protocol/*.h) \
 		Makefile
 	@mkdir -p $(@D)
-	$(ARM_CC) $(ARM_CFLAGS) $(ARM_LDFLAGS) -Ihostc -Ifirmware/protocol -o $@ $(HOSTC_ARM_SRCS) -lgcc
+	$(ARM_CC) $(ARM_CFLAGS) $(ARM_LDFLAGS) $(addprefix -Wl$(comma)--require-defined=,\
+		$(HOSTC_ARM_KEEP)) -Ihostc -Ifirmware/protocol -o $@ $(HOSTC_ARM_SRCS) -lgcc
 
 # The portable modules and the board's (hostc/arm/) as ARM920T objects: text/data/bss per object
 # and the worst-case stack of each function (-fstack-usage frames on -fcallgraph-info's graph)

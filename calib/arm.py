@@ -128,18 +128,13 @@ class Arm9:
     """One emulated ARM920T with the kernels loaded; :meth:`call` runs one kernel."""
 
     def __init__(self, image: Image, line_fill_cycles: int = timing.LINE_FILL_CYCLES) -> None:
-        from unicorn import UC_ARCH_ARM, UC_HOOK_BLOCK, UC_HOOK_MEM_READ, UC_MODE_ARM, Uc
-        from unicorn.arm_const import UC_CPU_ARM_926
+        from unicorn import UC_HOOK_BLOCK, UC_HOOK_MEM_READ
 
         self.image = image
         self.line_fill_cycles = int(line_fill_cycles)
-        uc = Uc(UC_ARCH_ARM, UC_MODE_ARM)
-        uc.ctl_set_cpu_model(UC_CPU_ARM_926)
-        uc.mem_map(STOP, 0x1000)
-        uc.mem_map(CODE_BASE, CODE_SIZE)
-        uc.mem_write(CODE_BASE, image.code)
-        uc.mem_map(DATA_BASE, DATA_SIZE)
-        uc.mem_map(STACK_TOP - STACK_SIZE, STACK_SIZE)
+        self.stack_top = STACK_TOP
+        uc = new_uc()
+        cached = self._map(uc)
         self.uc = uc
         self.decoder = timing.Decoder()
         self.blocks: dict[int, timing.Block] = {}
@@ -147,16 +142,25 @@ class Arm9:
         self._t = Timing()
         self._prev_end = None
         uc.hook_add(UC_HOOK_BLOCK, self._on_block)
-        uc.hook_add(UC_HOOK_MEM_READ, self._on_read, begin=DATA_BASE,
-                    end=STACK_TOP - 1)
+        uc.hook_add(UC_HOOK_MEM_READ, self._on_read, begin=cached[0], end=cached[1])
         self._mul_hooked: set[int] = set()
+
+    def _map(self, uc) -> tuple[int, int]:
+        """Map the image, the data area and the stack into ``uc``; returns the first and last
+        address the D-cache model sees reads of (the data and the stack, not the image)."""
+        uc.mem_map(STOP, 0x1000)
+        uc.mem_map(CODE_BASE, CODE_SIZE)
+        uc.mem_write(CODE_BASE, self.image.code)
+        uc.mem_map(DATA_BASE, DATA_SIZE)
+        uc.mem_map(STACK_TOP - STACK_SIZE, STACK_SIZE)
+        return DATA_BASE, STACK_TOP - 1
 
     def _on_block(self, uc, address, size, _user):
         blk = self.blocks.get(address)
         if blk is None:
             blk = self.decoder.analyse(bytes(uc.mem_read(address, size)), address)
             self.blocks[address] = blk
-            self._hook_muls(blk)
+            self._hook_muls(blk, address, size)
         t = self._t
         if self._prev_end is not None and address != self._prev_end:
             t.cycles += 2
@@ -168,11 +172,16 @@ class Arm9:
         for k, v in blk.mix.items():
             t.mix[k] += v
 
-    def _hook_muls(self, blk: timing.Block) -> None:
+    def _hook_muls(self, blk: timing.Block, address: int, size: int) -> None:
+        """A code hook on each multiply of a block seen for the first time. The block was
+        translated before its hooks existed, so its translation is dropped: the next run of it
+        is translated again with them (this run's multiplies go without their m)."""
         from unicorn import UC_HOOK_CODE
 
         from mobigrasp.calib.unicorn_regs import uc_reg
 
+        if blk.muls:
+            self.uc.ctl_remove_cache(address, address + size)
         for addr, rs in blk.muls:
             if addr in self._mul_hooked:
                 continue
@@ -202,29 +211,73 @@ class Arm9:
         """Bytes from the emulated memory."""
         return bytes(self.uc.mem_read(address, nbytes))
 
-    def call(self, symbol: str, *args: int, cold: bool = True) -> tuple[int, Timing]:
-        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack), from a cold D-cache
+    def call(self, symbol: str, *args: int | I64, cold: bool = True) -> tuple[int, Timing]:
+        """Call ``symbol(args...)`` (AAPCS: r0-r3, the rest on the stack; an :class:`I64`
+        argument takes an even register pair or 8 aligned stack bytes), from a cold D-cache
         unless ``cold`` is False (the cache as the previous call left it); returns r0 and the
         call's timing."""
-        from unicorn.arm_const import UC_ARM_REG_LR, UC_ARM_REG_R0, UC_ARM_REG_SP
+        from unicorn.arm_const import UC_ARM_REG_R0
 
-        regs = [UC_ARM_REG_R0 + k for k in range(4)]
-        sp = STACK_TOP - 64
-        stacked = args[4:]
-        sp -= 4 * len(stacked) + (4 * len(stacked)) % 8
-        for k, v in enumerate(stacked):
-            self.uc.mem_write(sp + 4 * k, int(v & 0xFFFFFFFF).to_bytes(4, "little"))
-        for r, v in zip(regs, args[:4], strict=False):
-            self.uc.reg_write(r, int(v) & 0xFFFFFFFF)
-        self.uc.reg_write(UC_ARM_REG_SP, sp)
-        self.uc.reg_write(UC_ARM_REG_LR, STOP)
         if cold:
             self.cache.flush()
         self._t = Timing()
         self._prev_end = None
-        self.uc.emu_start(self.image.symbols[symbol], STOP)
+        run(self.uc, self.image.symbols[symbol], args, self.stack_top)
         r0 = self.uc.reg_read(UC_ARM_REG_R0)
         return r0 - (1 << 32) if r0 & 0x8000_0000 else r0, self._t
+
+
+@dataclass(frozen=True)
+class I64:
+    """A 64-bit argument of :meth:`Arm9.call` (int64_t, AAPCS)."""
+
+    value: int
+
+
+def new_uc():
+    """A unicorn ARM core of the ARM920T's instruction set (the ARM926 model: there is no 920T)."""
+    from unicorn import UC_ARCH_ARM, UC_MODE_ARM, Uc
+    from unicorn.arm_const import UC_CPU_ARM_926
+
+    uc = Uc(UC_ARCH_ARM, UC_MODE_ARM)
+    uc.ctl_set_cpu_model(UC_CPU_ARM_926)
+    return uc
+
+
+def run(uc, entry: int, args, stack_top: int) -> None:
+    """Run the function at ``entry`` with ``args`` (ints, :class:`I64`) on ``uc`` until it
+    returns to :data:`STOP` (AAPCS: the core registers r0-r3 in order, a 64-bit value in an
+    even pair; what does not fit goes on the stack, 64-bit values 8-aligned)."""
+    from unicorn.arm_const import UC_ARM_REG_LR, UC_ARM_REG_R0, UC_ARM_REG_SP
+
+    regs: list[int | None] = [None] * 4
+    stack = bytearray()
+    ncrn = 0
+    for a in args:
+        if isinstance(a, I64):
+            v = a.value & 0xFFFF_FFFF_FFFF_FFFF
+            ncrn += ncrn % 2
+            if ncrn <= 2:
+                regs[ncrn], regs[ncrn + 1] = v & 0xFFFF_FFFF, v >> 32
+                ncrn += 2
+            else:
+                ncrn = 4
+                stack += bytes(len(stack) % 8) + v.to_bytes(8, "little")
+        elif ncrn < 4:
+            regs[ncrn] = int(a) & 0xFFFF_FFFF
+            ncrn += 1
+        else:
+            stack += (int(a) & 0xFFFF_FFFF).to_bytes(4, "little")
+    sp = stack_top - 64
+    sp -= len(stack) + (len(stack) % 8)
+    if stack:
+        uc.mem_write(sp, bytes(stack))
+    for k, v in enumerate(regs):
+        if v is not None:
+            uc.reg_write(UC_ARM_REG_R0 + k, v)
+    uc.reg_write(UC_ARM_REG_SP, sp)
+    uc.reg_write(UC_ARM_REG_LR, STOP)
+    uc.emu_start(entry, STOP)
 
 
 class FrontEnd:

@@ -72,9 +72,13 @@ def source_hash() -> str:
     return h.hexdigest()[:16]
 
 
-def build_elf() -> Path:
-    """The ELF of ``make hostc-arm`` for the current sources, built into the cache first."""
-    target = cbuild.cache_root() / "hostc-arm" / source_hash()
+def build_elf(keep: tuple[str, ...] = ()) -> Path:
+    """The ELF of ``make hostc-arm`` for the current sources, built into the cache first;
+    ``keep``: functions the program never calls kept in it (``HOSTC_ARM_KEEP``: the
+    calibration's entries), an ELF of its own."""
+    key = source_hash() if not keep else hashlib.sha256(
+        (source_hash() + " ".join(keep)).encode()).hexdigest()[:16]
+    target = cbuild.cache_root() / ("hostc-arm" if not keep else "hostc-arm-keep") / key
     elf = target / ELF_NAME
     if elf.is_file():
         return elf
@@ -83,7 +87,8 @@ def build_elf() -> Path:
     target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
     try:
-        done = subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp}"],
+        done = subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp}",
+                               f"HOSTC_ARM_KEEP={' '.join(keep)}"],
                               capture_output=True, text=True, check=False)
         if done.returncode != 0 or not (tmp / ELF_NAME).is_file():
             last = (done.stderr.strip().splitlines() or ["(no message)"])[-1]

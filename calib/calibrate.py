@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from mobigrasp.calib import arm, corpus, plan_corpus, planning, timing
+from mobigrasp.calib import arm, corpus, plan_corpus, planning, program, timing
 from mobigrasp.calib.native import red_roi_tuple
 from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
@@ -177,15 +177,22 @@ def _pct(values: list[float], q: float) -> float:
 
 def calibrate(folder: Path, per_scenario: int | None = 10,
               line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None,
-              on_step: Callable[[int, int, str], None] | None = None) -> dict:
+              on_step: Callable[[int, int, str], None] | None = None,
+              record: Callable[[str], program.Recording] | None = None) -> dict:
     """The calibration result (JSON-able); see docs/budget.md for the fields. ``progress``:
     told what is being built (the ARM toolchain, once); ``on_step(done, total, what)``: after
-    each frame and each planner call emulated."""
+    each frame and each planner call emulated, and each scenario replayed on the C program.
+    ``record(scenario)``: a run of the Python host program recorded (services/corpus.py
+    ``record_steps``), given: the shipped scenarios of each method the C program has are
+    recorded after the corpus and replayed on the C program, their whole control steps and
+    frame pipelines timed (calib/program.py: ``per_scenario`` of each kind a run)."""
     index = corpus.read_index(folder)
     frames = select_frames(index, per_scenario)
     plans = (select_plans(plan_corpus.read_index(folder), per_scenario)
              if (Path(folder) / plan_corpus.INDEX).is_file() else [])
-    steps = len(frames) + len(plans)
+    elf = program.build(progress) if record is not None else None
+    runs = program.scenarios_in_program(elf) if elf is not None else []
+    steps = len(frames) + len(plans) + len(runs)
     machine = arm.Arm9(arm.build(progress), line_fill_cycles)
     front = arm.FrontEnd(machine)
     per: dict[str, dict[str, list]] = {name: {"mod": [], "emu": [], "t": []} for name in
@@ -197,7 +204,12 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
         calls_by_file.setdefault(c.frame_file, []).append(c)
 
     def add(name, ok, modelled, t):
+        if name not in per:
+            per[name] = {"mod": [], "emu": [], "t": []}
+            mismatch[name] = 0
         mismatch[name] += 0 if ok else 1
+        if not t.cycles:  # a replay that parted from Python's: nothing timed
+            return
         per[name]["mod"].append(modelled)
         per[name]["emu"].append(t.cycles)
         per[name]["t"].append(t)
@@ -271,10 +283,21 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 add(stage, ok, modelled, t)
             if on_step is not None:
                 on_step(len(frames) + k + 1, steps, f"planner call {call['file']}")
+    for k, scenario in enumerate(runs):
+        for row in program.program_steps(elf, record(scenario), per_scenario, line_fill_cycles):
+            add(*row)
+        if on_step is not None:
+            on_step(len(frames) + len(plans) + k + 1, steps,
+                    f"{scenario} recorded and replayed on the C program")
     us = 1e6 / FCLK_HZ
     stages = {}
     for name, d in per.items():
         if not d["emu"]:
+            if mismatch[name]:  # replays that parted from Python's, nothing timed
+                stages[name] = {"frames": 0, "result_mismatches": mismatch[name], **dict.fromkeys(
+                    ("modelled_median_us", "modelled_max_us", "emulated_median_us",
+                     "emulated_p95_us", "emulated_max_us", "ratio_median", "ratio_min",
+                     "ratio_max", "cpi", "line_fill_share"), 0)}
             continue
         ts = d["t"]
         instr = sum(t.instructions for t in ts)

@@ -48,6 +48,7 @@ def figures(res: Any, plant: Any, trace: Any, snaps: Any, limit_s: float) -> dic
         "replans": int(hs.get("replans", 0)),
         "path_updates": int(hs.get("path_updates", 0)),
         "grasp": {"close_reason": hs.get("close_reason"),
+                  "circle_error_mm": hs.get("circle_error_mm"),
                   "alpha_rad": (None if fin.get("close_alpha_rad") is None
                                 else round(fin["close_alpha_rad"], 4)),
                   "final_error_mm": fin.get("final_error_mm")},

@@ -174,6 +174,12 @@ class HostApp:
     ``task.detector_fallbacks() -> {name: primary}`` names the detectors of
     ``detectors_needed()`` that run on a frame only when ``primary`` (listed before them) found
     nothing on it.
+
+    ``recorder(kind, *args)`` (optional) is told the program's inputs and outputs as they pass
+    its interface, so a run can be replayed on another build of the program (calib/program.py):
+    ``("uart", data, arrival_us)``, ``("frame", seq, capture_us, arrival_us, rgb)``,
+    ``("advance", until_us)``, ``("output", chunks)`` (take_output's) and ``("events",
+    events)`` (take_events'). It must not change what it is given.
     """
 
     def __init__(self, task: Any, detectors: dict[str, Detector],
@@ -181,8 +187,10 @@ class HostApp:
                  config: HostConfig | None = None, link: HostLink | None = None,
                  timer: Callable[..., Any] | None = None,
                  vision_bounds: dict[str, CostBound] | None = None,
-                 front_ends: dict[str, FrontEnd] | None = None) -> None:
+                 front_ends: dict[str, FrontEnd] | None = None,
+                 recorder: Callable[..., None] | None = None) -> None:
         self.task = task
+        self.recorder = recorder
         self.detectors = detectors
         self.vision_bounds = vision_bounds
         self.front_ends = front_ends or {}
@@ -215,14 +223,19 @@ class HostApp:
         self.plans = 0
         self.path_updates = 0  # a new curve adopted while one was followed (docs/task.md)
         self.close_reason: str | None = None  # the last grasp_close of the trace
+        self.circle_error_mm: int | None = None  # 001: the first arrival on the grasp circle
 
     # ---- inputs from the driver --------------------------------------------------------------
     def on_uart(self, data: bytes, arrival_us: int) -> None:
         """Serial bytes that arrived at ``arrival_us`` (parsed now, used at the next tick)."""
+        if self.recorder is not None:
+            self.recorder("uart", data, arrival_us)
         self.link.receive(data, arrival_us)
 
     def on_frame(self, seq: int, capture_us: int, arrival_us: int, rgb: Any) -> None:
         """A camera frame the CAMIF delivered at ``arrival_us`` (handled in time order)."""
+        if self.recorder is not None:
+            self.recorder("frame", seq, capture_us, arrival_us, rgb)
         self._frames.append((arrival_us, seq, capture_us, rgb))
 
     # ---- time -------------------------------------------------------------------------------
@@ -230,6 +243,8 @@ class HostApp:
         """Run everything due before ``until_us``; never acts at or beyond it."""
         if until_us < self.now_us:
             raise ValueError(f"cannot run back from {self.now_us} to {until_us} us")
+        if self.recorder is not None:
+            self.recorder("advance", until_us)
         if len(self._frames) > 1:
             self._frames.sort(key=lambda f: (f[0], f[1]))
         while True:
@@ -261,7 +276,10 @@ class HostApp:
 
     def take_output(self, before_us: int) -> list[tuple[int, bytes]]:
         """Wire chunks to write to the serial port, with their send times (< before_us)."""
-        return self.link.take_output(before_us)
+        out = self.link.take_output(before_us)
+        if self.recorder is not None:
+            self.recorder("output", out)
+        return out
 
     def take_events(self) -> list[dict]:
         """Trace events since the last call (simulated-time data only), plain JSON data: every
@@ -271,6 +289,8 @@ class HostApp:
             return []
         out = self._events + self.link.events
         self._events, self.link.events = [], []
+        if self.recorder is not None:
+            self.recorder("events", out)
         return out
 
     def vision_needed_by(self, t_us: int | None = None) -> bool:
@@ -480,6 +500,9 @@ class HostApp:
                     self.path_updates += 1
             if detail.get("grasp_close") is not None:
                 self.close_reason = str(detail["grasp_close"])
+            circle = detail.get("grasp_circle")
+            if isinstance(circle, dict) and self.circle_error_mm is None:
+                self.circle_error_mm = int(circle["error_mm"])
             self._events.append({"ev": "detail", "t_us": at_us, "state": self.state,
                                  **jsonable(detail)})
         servos = getattr(out, "servo_mrad", None)
@@ -524,7 +547,8 @@ class HostApp:
             "stages": {k: v.summary() for k, v in sorted(c.stage_us.items())},
             "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
             "replans": self.replans, "path_updates": self.path_updates,
-            "close_reason": self.close_reason, "mcu_resets_seen": self.link.mcu_resets,
+            "close_reason": self.close_reason, "circle_error_mm": self.circle_error_mm,
+            "mcu_resets_seen": self.link.mcu_resets,
         }
 
     def _mcu_counters(self) -> dict:

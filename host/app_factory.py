@@ -201,10 +201,11 @@ def task_params(method: str, paper: dict) -> dict:
     return out
 
 
-def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> HostApp:
+def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None,
+                   recorder=None) -> HostApp:
     """The host program for ``cfg`` = {"method", "params" (paper names), "camera", "task"
     (TaskParams overrides, e.g. ``object_xy_mm`` for 001)}; method ``"idle"``: the program
-    around no task (host/task/idle.py)."""
+    around no task (host/task/idle.py). ``timer`` and ``recorder``: HostApp's hooks."""
     from mobigrasp.host.task import Task
     from mobigrasp.host.task.idle import PROGRAM_TASKS
 
@@ -220,6 +221,7 @@ def build_host_app(cfg: dict, config: HostConfig | None = None, timer=None) -> H
     app_ref: list = []
     detectors = _detectors(cfg, app_ref)
     app = HostApp(task, detectors, InputBuilder(), config or HostConfig(), timer=timer,
-                  vision_bounds=vision_bounds(detectors), front_ends=front_ends(detectors))
+                  vision_bounds=vision_bounds(detectors), front_ends=front_ends(detectors),
+                  recorder=recorder)
     app_ref.append(app)
     return app

@@ -64,6 +64,8 @@ void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, cons
     if (roi != NULL) {
         f->has_roi = 1;
         f->roi_u_c_q4 = roi[0], f->roi_v_c_q4 = roi[1];
+        f->roi_box[0] = roi[2], f->roi_box[1] = roi[3], f->roi_box[2] = roi[4];
+        f->roi_box[3] = roi[5];
         f->has_roi_sighting = mg_red_roi_sighting(roi, f_px, &f->roi_sighting);
     }
     if (fill != NULL) {

@@ -3,8 +3,10 @@
 
 #include <string.h>
 
+#include "grasp_circle.h"
 #include "json.h"
 #include "task_method.h"
+#include "trig.h"
 
 #define E9 MG_CONFIG_E9
 #define PI_LO_E9 3141592653LL /* pi's billionths: a range's top ends at pi (floor), ... */
@@ -52,9 +54,9 @@ static const param_t PARAMS_000[] = {
     {"theta5_min", 0, -800000000, -1400000000LL, 1400000000LL, TO_SEARCH_TH5_MIN, 0},
     {"theta5_max", 0, 800000000, -1400000000LL, 1400000000LL, TO_SEARCH_TH5_MAX, 0},
     {"dtheta2_l", 0, 60000000, 5000000, 500000000, TO_SEARCH_DTH2, 0},
-    {"k_theta2", 0, 1 * E9, -10 * E9, 10 * E9, TO_K_THETA, 0},
-    {"k_theta3", 0, 0, -10 * E9, 10 * E9, TO_K_THETA, 1},
-    {"k_theta4", 0, 0, -10 * E9, 10 * E9, TO_K_THETA, 2},
+    {"k_theta2", 0, 1 * E9, 0, 10 * E9, TO_K_THETA, 0},
+    {"k_theta3", 0, 0, 0, 10 * E9, TO_K_THETA, 1},
+    {"k_theta4", 0, 0, 0, 10 * E9, TO_K_THETA, 2},
     {"alpha_T", 0, -1570796327LL, -PI_LO_E9, 0, TO_NONE, 0},
     {"w_min", 1, 20 * E9, 1 * E9, 320 * E9, TO_W_MIN, 0},
     {"w_max", 1, 40 * E9, 1 * E9, 320 * E9, TO_W_MAX, 0},
@@ -70,8 +72,8 @@ static const order_t ORDER_000[] = {{"theta2_min", "theta2_max", 10000000},
                                     {"theta5_min", "theta5_max", 10000000},
                                     {"w_min", "w_max", 0},
                                     {"v0_mps", "vmax_mps", 0}};
-/* host/task/method001.py: its planner's (Vmax, Amax, n_e, v0, T_s, k1, k2, T_D) are read by
- * 001's planner, not in the C yet; D_e by its sonar regions */
+/* host/task/method001.py: its planner's (Vmax, Amax, n_e, v0, T_s, k1, k2, T_D) and the sonar
+ * range D_e go to Params001 (mg_config_params001) */
 static const param_t PARAMS_001[] = {
     {"Vmax", 0, 400000000, 10000000, 1 * E9, TO_NONE, 0},
     {"Amax", 0, 100000000, 1000000, 2 * E9, TO_NONE, 0},
@@ -482,17 +484,23 @@ int mg_config_task_params(const mg_config_t *c, mg_task_params_t *p)
     return 0;
 }
 
+/* the schema's values of c when c is of that method, else the paper's (its defaults) */
+static const mg_config_t *given_or_default(const mg_config_t *c, const char *method,
+                                           mg_config_t *dflt)
+{
+    if (strcmp(c->method, method) == 0)
+        return c;
+    mg_config_default(dflt);
+    defaults_of(dflt, schema_of(method));
+    return dflt;
+}
+
 void mg_config_params000(const mg_config_t *c, const mg_task_params_t *p, mg_params000_t *pl,
                          int32_t *v_limit_mm_s)
 {
     const schema_t *s000 = schema_of("000");
-    const mg_config_t *given = strcmp(c->method, "000") == 0 ? c : NULL;
     mg_config_t dflt;
-    if (given == NULL) { /* Params000()'s: the paper's values */
-        mg_config_default(&dflt);
-        defaults_of(&dflt, s000);
-        given = &dflt;
-    }
+    const mg_config_t *given = given_or_default(c, "000", &dflt); /* else Params000()'s */
     const int64_t v_max = param(given, s000, "vmax_mps"), a_max = param(given, s000, "amax_mps2");
     const int64_t r_min = param(given, s000, "rmin_m");
     /* bezier000.py plan_000 and bezier_q.py limits_q: round() of each in its unit */
@@ -510,6 +518,78 @@ void mg_config_params000(const mg_config_t *c, const mg_task_params_t *p, mg_par
     pl->lim[2] = (int32_t)div_even(65536 * E9, r_min);
     pl->lim[3] = 0; /* 000's |dv/dt| */
     *v_limit_mm_s = (int32_t)div_even(v_max, E9 / 1000);
+}
+
+void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_params001_t *pl,
+                         int32_t *v_limit_mm_s)
+{
+    const schema_t *s001 = schema_of("001");
+    mg_config_t dflt;
+    const mg_config_t *given = given_or_default(c, "001", &dflt);
+    const int64_t v_max = param(given, s001, "Vmax"), a_max = param(given, s001, "Amax");
+    /* bezier001.py Params001, bezier_q.py limits_q: round() of each in its unit */
+    pl->v0_mm_s = (int32_t)div_even(param(given, s001, "v0"), E9 / 1000);
+    pl->t_s_ms = (int32_t)div_even(param(given, s001, "T_s"), E9 / 1000);
+    pl->k1_q16 = (int32_t)div_even(param(given, s001, "k1") * 65536, E9);
+    pl->k2_q16 = (int32_t)div_even(param(given, s001, "k2") * 65536, E9);
+    pl->t_d_q4 = div_even(param(given, s001, "T_D") * 160, E9); /* T_D in cm */
+    pl->n_e = (int32_t)(param(given, s001, "n_e") / E9);
+    pl->coarse_inflate_q4 = 1600; /* coarse_inflate_m 0.1 */
+    pl->moving_q4 = 320;          /* moving_speed_mps 0.02 */
+    pl->echo_tol_q4 = 2400;       /* object_echo_tol_m 0.15 */
+    pl->facing_cos_q12 = mg_cos_q12(1571); /* endpoint_max_angle_rad pi / 2 */
+    pl->n_coarse_min = 8;
+    pl->n_coarse_max = 32;
+    pl->n_fine = 48;
+    pl->max_fine = 24;
+    pl->budget_us = 75000;
+    pl->total_budget_us = 98000;
+    pl->expected_q16 = 32768; /* expected_cost_fraction 0.5 */
+    pl->lim[0] = (int32_t)div_even(v_max * 65536, E9);
+    pl->lim[1] = (int32_t)div_even(a_max * 65536, E9);
+    pl->lim_coarse[0] = (int32_t)div_even(v_max * 9 * 65536, 10 * E9); /* coarse_margin 0.9 */
+    pl->lim_coarse[1] = (int32_t)div_even(a_max * 9 * 65536, 10 * E9);
+    pl->lim[2] = pl->lim_coarse[2] = -1; /* no radius test */
+    pl->lim[3] = pl->lim_coarse[3] = 1;  /* a_t = v^2 kappa */
+    /* eq. (5) for the object's grasp point on ArmGeometry001's links (um); l_e = (l_m + l_n)
+     * / 2, the grasp circle's test radius l_e less CIRCLE_MARGIN_M (1 mm) squared, floored */
+    int64_t l_um[2] = {0, 0};
+    if (mg_grasp_radius_um(160000, 160000, 200000, 108000, (int64_t)p->grasp_height_mm * 1000,
+                           MG_GRASP_GRID_STEPS, l_um) != 0)
+        l_um[0] = l_um[1] = 0;
+    const int64_t sum_um = l_um[0] + l_um[1], r_um2 = sum_um > 2000 ? sum_um - 2000 : 0;
+    pl->l_e_q4 = div_even(sum_um, 125); /* never a tie */
+    pl->circle_r2 = r_um2 * r_um2 / 15625;
+    /* sonar_regions.py sonar_q of planner_params_001's SonarConfig */
+    int32_t s, co;
+    pl->sonar.k_s = 5;
+    pl->sonar.a_g_urad = (int64_t)p->sonar_a_g_mrad * 1000;
+    pl->sonar.d_e_q4 = (int64_t)milli(param(given, s001, "D_e")) * 16;
+    pl->sonar.r_r_q4 = (int64_t)p->r_r_mm * 16;
+    pl->sonar.tol_q4 = 130 * 16; /* sonar_shared_echo_mm */
+    pl->sonar.offset_q4 = (int64_t)p->sonar_offset_mm * 16;
+    pl->sonar.arc_bound = 1; /* ARC_BOUND_001 */
+    mg_sincos_urad_q14((pl->sonar.a_g_urad + 1) / 2, &s, &co);
+    pl->sonar.cot_half_q12 = (int32_t)((2 * (int64_t)co * 4096 + s) / (2 * (int64_t)s));
+    *v_limit_mm_s = (int32_t)div_even(v_max, E9 / 1000);
+}
+
+void mg_config_replanner001(const mg_config_t *c, const mg_task_params_t *p,
+                            mg_board_replanner001_t *b)
+{
+    mg_config_t dflt;
+    const int64_t v0 = param(given_or_default(c, "001", &dflt), schema_of("001"), "v0");
+    mg_config_params001(c, p, &b->params, &b->v_limit_mm_s);
+    b->cfg.sonar = b->params.sonar;
+    b->cfg.target_q4[0] = b->cfg.target_q4[1] = 0;
+    b->cfg.echo_tol_q4 = b->params.echo_tol_q4;
+    b->cfg.memory = 16;
+    b->cfg.check_samples = 32;
+    b->cfg.n_levels = 2;          /* slow_factors (1.0, 0.5) */
+    b->cfg.keep_going_q4 = 19200; /* keep_going_m 1.2 */
+    for (int32_t i = 0; i < MG_REPLAN_LEVELS; i++)
+        b->level_v0_mm_s[i] = (int32_t)div_even(v0, (E9 / 1000) << (i < 1 ? i : 1));
+    b->v0_div = 1;
 }
 
 void mg_config_set_method(mg_config_t *c, const char *method)

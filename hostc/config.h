@@ -16,6 +16,8 @@
 #include <stdint.h>
 
 #include "plan000.h"
+#include "plan001.h"
+#include "task_method001.h"
 #include "task_machine.h"
 
 #define MG_CONFIG_MAX_PARAMS 24 /* the most paper parameters of a method */
@@ -51,5 +53,15 @@ int mg_config_task_params(const mg_config_t *c, mg_task_params_t *p);
  * task's approach_standoff_mm) and the follower's wheel limit (Vmax, mm/s) */
 void mg_config_params000(const mg_config_t *c, const mg_task_params_t *p, mg_params000_t *pl,
                          int32_t *v_limit_mm_s);
+/* 001's planner parameters in integers (planner_params_001 over Params001: the paper's Vmax,
+ * Amax, v0, T_s, k1, k2, T_D, n_e and D_e of c, the task's sonar ring and grasp height in p,
+ * l_e of eq. (5) by mg_grasp_radius_um) and the follower's wheel limit (Vmax, mm/s) */
+void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_params001_t *pl,
+                         int32_t *v_limit_mm_s);
+/* the board's 001 replanner's settings (method001.py start_001: Replanner over
+ * planner_params_001 with its defaults: 16 regions remembered, 32 check samples, v0 then v0 / 2
+ * by the slow-down level, keep going 1.2 m), the target left for its start */
+void mg_config_replanner001(const mg_config_t *c, const mg_task_params_t *p,
+                            mg_board_replanner001_t *b);
 
 #endif

@@ -115,7 +115,7 @@ static void plan_failed(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     if (mg_task_text_has(reason, "already")) {
         const size_t n = mg_task_text(why, sizeof why, 0, "no path needed: ");
         mg_task_text(why, sizeof why, n, reason);
-        mg_task_go(t, now_us, MG_ADJUST, why);
+        t->rules->path->path_end(t, now_us, in, why);
         return;
     }
     t->path.plan_attempts++;
@@ -222,19 +222,13 @@ void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     mg_task_look_at_object(t, in, 1);
     const int32_t dist = obj_dist_mm(t, in);
     const mg_wheel_command_t cmd = follow(t, now_us, in);
-    char why[MG_TASK_WHY];
-    if (cmd.done || dist <= t->p.grasp_r_mm + 100) {
+    if (cmd.done || dist <= t->p.grasp_r_mm + rules->near_margin_mm) {
+        char why[MG_TASK_WHY];
         size_t n = mg_task_text(why, sizeof why, 0, "path followed (error ");
         n = mg_task_text_int(why, sizeof why, n, cmd.error_mm);
         n = mg_task_text(why, sizeof why, n, " mm), object ");
         n = mg_task_text_int(why, sizeof why, n, dist);
         mg_task_text(why, sizeof why, n, " mm from the waist");
-        mg_task_go(t, now_us, MG_ADJUST, why);
-    } else if (rules->adjust_early(t, now_us, in, dist)) {
-        size_t n = mg_task_text(why, sizeof why, 0, "object in view ");
-        n = mg_task_text_int(why, sizeof why, n, dist);
-        mg_task_text(why, sizeof why, n, " mm from the waist, nothing in the way: "
-                     "vision-based adjustment (000 \xc2\xa7III.B) from here");
-        mg_task_go(t, now_us, MG_ADJUST, why);
+        rules->path_end(t, now_us, in, why);
     }
 }

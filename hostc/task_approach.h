@@ -1,9 +1,10 @@
 /* APPROACH's path approach of 000 and 001 (host/task/approach.py ApproachStates.follow_path):
  * the radial symbol updates the estimate, the method plans (its planner's time charged in
  * slices of the control step, host/planning/anytime.py), the follower of eq. (8) of 000 drives
- * the curve while the posture adjustment (eq. (10) of 000) keeps the object in view; ADJUST at
- * the curve's end, near the object or when the method hands over early. Where 000 and 001
- * differ the step asks the method's path hooks (approach.py PathMethod). */
+ * the curve while the posture adjustment (eq. (10) of 000) keeps the object in view; at the
+ * curve's end or near the object the method's next state (000: ADJUST; 001: the grasp from
+ * its grasp circle). Where 000 and 001 differ the step asks the method's path hooks
+ * (approach.py PathMethod). */
 #ifndef MOBIGRASP_HOSTC_TASK_APPROACH_H
 #define MOBIGRASP_HOSTC_TASK_APPROACH_H
 
@@ -36,10 +37,13 @@ typedef struct mg_path_method {
     int (*start_detour)(mg_task_t *t, const mg_task_inputs_t *in);
     /* the wheels from the follower's command */
     void (*path_wheels)(const mg_wheel_command_t *cmd, int32_t wheels[2]);
-    /* hand over to ADJUST before the path's end, the object dist_mm from the waist */
-    int (*adjust_early)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
-                        int32_t dist_mm);
+    /* the path followed to its end, the object near or no path needed, for the reason why:
+     * the transition (000: ADJUST; 001: ROUGH_GRASP on its grasp circle) */
+    void (*path_end)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why);
+    /* the path ends early with the object this much beyond ADJUST's goal (grasp_r_mm) */
+    int32_t near_margin_mm;
 } mg_path_method_t;
+
 
 /* APPROACH's common entry (approach.py enter_APPROACH before the method's): no path, no
  * attempts, no plan being charged */

@@ -316,16 +316,16 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
     wheels[1] = cmd->right_mm_s;
 }
 
-static int adjust_early(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
-                        int32_t dist_mm)
+/* 000's vision-based adjustment (section III.B) from here */
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
 {
-    (void)t, (void)now_us, (void)in, (void)dist_mm;
-    return 0;
+    (void)in;
+    mg_task_go(t, now_us, MG_ADJUST, why);
 }
 
 const mg_path_method_t mg_path000 = {plan, NULL, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     adjust_early};
+                                     path_end, 100};
 
 /* ---- the hooks of the machine's states (the method row) ---- */
 

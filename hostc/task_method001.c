@@ -218,22 +218,27 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
     wheels[1] = cmd->right_mm_s;
 }
 
-/* The last part of the curve to 000's vision-based adjustment (section III.B) while the object
- * is in view: the curve ends on the grasp circle, where the long arm's camera looks over the
- * object (docs/cosim.md "Measured", T11); only with a fresh sighting and the way clear. */
-static int adjust_early(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
-                        int32_t dist_mm)
+/* On the grasp circle (section III.B.1, eqs. (5)-(6); the curve is cut short only with the
+ * object at ADJUST's goal, near_margin_mm 0): ROUGH_GRASP looks back at the object
+ * with the base still and grasps by eq. (11) of 000 when the look confirms it where the base
+ * expected it (method001.py look_decides; the trace's grasp_circle note of the arrival's error
+ * is the Python's: l_e is the planner's, not yet in C). */
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
 {
-    if (!(t->p.grasp_r_mm + 100 < dist_mm && dist_mm <= MG_ADJUST_EARLY_MM_001))
-        return 0;
-    if (now_us - t->obj_seen_us > MG_ADJUST_EARLY_FRESH_US)
-        return 0;
-    return straight_clear(t, in, dist_mm);
+    mg_state001_t *ms = ms001(t);
+    char text[MG_TASK_WHY];
+    (void)in;
+    ms->has_circle_expected = 1;
+    ms->circle_expected_mm[0] = t->obj_mm[0];
+    ms->circle_expected_mm[1] = t->obj_mm[1];
+    const size_t n = mg_task_text(text, sizeof text, 0, "on the grasp circle: ");
+    mg_task_text(text, sizeof text, n, why);
+    mg_task_go(t, now_us, MG_ROUGH_GRASP, text);
 }
 
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     adjust_early};
+                                     path_end, 0};
 
 /* --- the board's replanner (method001.py start_001, update_001, straight_clear_001) -------- */
 

@@ -3,10 +3,11 @@
  * host/planning/replan.py (a declared interface, mg_replanner001_t: the board's is
  * mg_board_replanner001, replan.c around plan001.c; the tests give scripted ones). Ours, as
  * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
- * first, sightings while the base turns fast are not used, the follower never backs up, the
- * last part of the curve is handed to ADJUST while the object is in view and the way is
- * clear. Not yet: the fallbacks and detours with no feasible curve (start_detour) and 001's
- * sonar guard (guard_wheels), which drive the sonar guard's detour. */
+ * first, sightings while the base turns fast are not used, the follower never backs up; the
+ * curve is followed to its end on the grasp circle, where ROUGH_GRASP takes over. Not yet: the
+ * look from the circle and the grasp by eq. (11) (method001.py look_decides, enter_precise),
+ * the fallbacks and detours with no feasible curve (start_detour) and 001's sonar guard
+ * (guard_wheels), which drive the sonar guard's detour. */
 #ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
 #define MOBIGRASP_HOSTC_TASK_METHOD001_H
 
@@ -21,8 +22,6 @@
 
 enum {
     MG_SIGHTING_MAX_TURN_MRAD_S = 500, /* APPROACH: sightings taken turning faster not used */
-    MG_ADJUST_EARLY_MM_001 = 700,      /* APPROACH: ADJUST from this close, the object in view */
-    MG_ADJUST_EARLY_FRESH_US = 300000, /* ... seen this recently */
     MG_LOOK_FIRST_US = 4000000,        /* P_i given, object near and unseen: look this long */
     MG_LOOK_FIRST_LO_MM = 350,         /* ... when it is this far from the waist */
     MG_LOOK_FIRST_HI_MM = 1200
@@ -85,6 +84,8 @@ typedef struct {
     int32_t has_path_from, path_from_mm[2]; /* where the last planned path began */
     int32_t v0_div;                /* the planner's v0 divided by this (a fallback step) */
     int32_t fallbacks, detours, detour_side;
+    /* arrived on the grasp circle: the estimate the look before the grasp is to confirm */
+    int32_t has_circle_expected, circle_expected_mm[2];
 } mg_state001_t;
 
 void mg_method001_ms_init(void *ms);

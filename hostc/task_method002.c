@@ -399,11 +399,73 @@ static void go_near(mg_task_t *t, int64_t now_us, const char *lead, int32_t lead
     mg_task_go(t, now_us, MG_ADJUST, why);
 }
 
+/* the red ROI's box touches the frame's border (2 u0 x 2 v0 px): the cylinder not wholly in
+ * view */
+static int roi_cut(const mg_task_t *t, const mg_frame002_t *f)
+{
+    if (!f->has_roi)
+        return 0;
+    const int32_t *b = f->roi_box;
+    return b[0] <= 0 || b[1] <= 0 || b[0] + b[2] >= 2 * t->cam.u0_px
+           || b[1] + b[3] >= 2 * t->cam.v0_px;
+}
+
+/* The estimate would start ADJUST dist_mm from the waist, within MG_BACK_OFF_WITHIN_MM beyond
+ * the grasp's reach, while the last frame showed the cylinder cut by the frame's border, its
+ * rings not measured: back straight off MG_BACK_OFF_002_MM instead (at most
+ * MG_BACK_OFFS_002 times) and look again; 1 when it does. */
+static int backs_off(mg_task_t *t, const mg_task_inputs_t *in, int32_t dist_mm)
+{
+    mg_state002_t *ms = ms002(t);
+    if (!ms->cut || ms->back_offs >= MG_BACK_OFFS_002
+        || dist_mm > t->p.grasp_r_mm + MG_BACK_OFF_WITHIN_MM)
+        return 0;
+    ms->back_offs++;
+    ms->has_back_off = 1;
+    ms->back_off_from[0] = in->x_mm;
+    ms->back_off_from[1] = in->y_mm;
+    ms->back_off_has_ended = 0;
+    t->wheels[0] = t->wheels[1] = -t->p.slow_mmps;
+    static const char *const names[2] = {"dist_mm", "n"};
+    const int64_t values[2] = {dist_mm, ms->back_offs};
+    mg_task_note_ints(t, "back_off", 2, names, values);
+    return 1;
+}
+
+/* The back-off under way: straight back at slow_mmps until MG_BACK_OFF_002_MM from where it
+ * started, then still until a frame taken after it ended has come; 1 until then (that frame
+ * is the approach's again, LOST counted from it). */
+static int backing_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       const mg_frame002_t *f)
+{
+    mg_state002_t *ms = ms002(t);
+    if (!ms->back_off_has_ended) {
+        const int64_t dx = (int64_t)in->x_mm - ms->back_off_from[0];
+        const int64_t dy = (int64_t)in->y_mm - ms->back_off_from[1];
+        if (dx * dx + dy * dy < (int64_t)MG_BACK_OFF_002_MM * MG_BACK_OFF_002_MM) {
+            t->wheels[0] = t->wheels[1] = -t->p.slow_mmps;
+            return 1;
+        }
+        ms->back_off_has_ended = 1;
+        ms->back_off_ended_us = now_us;
+    }
+    t->wheels[0] = t->wheels[1] = 0;
+    if (!f->has_frame || now_us - t->p.frame_latency_us < ms->back_off_ended_us)
+        return 1;
+    ms->has_back_off = 0;
+    t->obj_seen_us = now_us;
+    return 0;
+}
+
 void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                            const mg_frame002_t *f, int32_t *has_u, int32_t *u_mrad)
 {
     mg_state002_t *ms = ms002(t);
     *has_u = 0;
+    if (ms->has_back_off && backing_off(t, now_us, in, f))
+        return;
+    if (f->has_frame)
+        ms->cut = !f->has_rc && roi_cut(t, f);
     const int32_t d_px = f->has_rc ? mg_d_pixel_px(f->rc.d_pixel_q4) : 0;
     if (f->has_rc
         && mg_task_see_object(t, now_us, in, mg_method002_red_cylinder_position, &f->rc, 1)
@@ -420,7 +482,8 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
     if (t->has_obj) { /* the cylinder stands before the marker: do not run it over */
         const int32_t dist = obj_dist_mm(t, in);
         if (dist <= t->p.grasp_r_mm + 150) {
-            go_near(t, now_us, NULL, 0, dist);
+            if (!backs_off(t, in, dist))
+                go_near(t, now_us, NULL, 0, dist);
             return;
         }
     }
@@ -469,7 +532,8 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
          * estimate from the crosses ends the approach (docs/cosim.md "Measured", T5) */
         const int32_t dist = obj_dist_mm(t, in);
         if (dist <= t->p.grasp_r_mm + 150) {
-            go_near(t, now_us, "crosses ", dc_px, dist);
+            if (!backs_off(t, in, dist))
+                go_near(t, now_us, "crosses ", dc_px, dist);
             return;
         }
     }

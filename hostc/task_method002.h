@@ -21,6 +21,12 @@
 #define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
 #define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
 #define MG_SEARCH_COVER_002_MM 2500 /* SEARCH gives up once its wander has covered this disc */
+/* APPROACH: a cylinder cut by the frame's border when the estimate would start ADJUST within
+ * MG_BACK_OFF_WITHIN_MM beyond grasp_r_mm: back straight off MG_BACK_OFF_002_MM and look
+ * again, at most MG_BACK_OFFS_002 times in a run */
+#define MG_BACK_OFF_WITHIN_MM 60
+#define MG_BACK_OFF_002_MM 150
+#define MG_BACK_OFFS_002 2
 #define MG_T_RED 40 /* the red mask's redness threshold (host/vision/red_cylinder.py T_RED) */
 
 enum { MG_STEER_NONE, MG_STEER_DOUBLE_CROSS, MG_STEER_RED_CYLINDER };
@@ -38,6 +44,11 @@ typedef struct {
     int32_t has_e_dpx, e_dpx;     /* d_pixel of the search's sighting */
     int32_t steer_on;             /* what the search found and the approach steers on */
     int32_t has_e_range, e_range_mm; /* range of the search's red ROI (its height) */
+    int32_t cut;       /* the last frame showed the cylinder cut by the border (no rings) */
+    int32_t back_offs; /* back-offs made in the run */
+    /* the back-off under way: where it started, and the time it ended (has_ended 0: driving) */
+    int32_t has_back_off, back_off_from[2], back_off_has_ended;
+    int64_t back_off_ended_us;
 } mg_state002_t;
 
 void mg_method002_ms_init(void *ms);
@@ -86,8 +97,9 @@ typedef struct {
     int32_t has_dc_sighting;
     int32_t has_rc; /* the red cylinder's rings */
     mg_red_cylinder_seen_t rc;
-    int32_t has_roi; /* the red cylinder's colour ROI: its centre, its sighting (box whole) */
+    int32_t has_roi; /* the red cylinder's colour ROI: its centre, box, sighting (box whole) */
     int32_t roi_u_c_q4, roi_v_c_q4;
+    int32_t roi_box[4]; /* x, y, w, h px */
     int32_t has_roi_sighting;
     mg_sighting_t roi_sighting;
     int32_t has_held_fill; /* the colour filling the frame (host/vision/held_fill.py) */

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import cv2
 
-from mobigrasp.calib import corpus, plan_corpus
+from mobigrasp.calib import corpus, plan_corpus, program
 from mobigrasp.host.vision.registry import DETECTORS
 from mobigrasp.services.run_job import RunOptions, execute, host_config, resolve_scenario
 
@@ -53,3 +53,17 @@ def record(out: Path, scenarios: list[str], time_limit_s: float | None = None,
     plan_corpus.write_index(out, planning)
     (out / corpus.INDEX).write_text(json.dumps(index, indent=1, sort_keys=True) + "\n")
     return index
+
+
+def record_steps(scenario: str, time_limit_s: float | None = None) -> program.Recording:
+    """Run ``scenario`` in process with the Python host program and a calib/program.py
+    ``Recorder`` on its interface: what the C program is replayed with (``mobigrasp
+    calibrate``'s whole control steps and frame pipelines), with the configuration the run
+    gave its host (``time_limit_s`` bounds SEARCH there too)."""
+    cfg = host_config(resolve_scenario(scenario)[1], time_limit_s)
+    rec = program.Recorder()
+    with tempfile.TemporaryDirectory(prefix="mobigrasp-steps-") as tmp:
+        summary, _ = execute(RunOptions(scenario=scenario, transport="inproc",
+                                        out=Path(tmp) / "run", progress=False, plots=False,
+                                        mcap=False, time_limit_s=time_limit_s, recorder=rec))
+    return program.Recording(summary["scenario"], cfg, rec.calls, summary.get("trace_sha256"))

@@ -38,16 +38,17 @@ class HostUnavailable(ValueError):
 class HostProgram:
     """One host program, resolved: its name, the command line over the pty (``argv(port,
     config, poll_ms)``, without ``--lockstep``) and, for an in-process run, its client on the
-    in-process serial end (``inproc(cfg, timer)(peer)``); None where it has none. ``prefix``:
+    in-process serial end (``inproc(cfg, timer, recorder)(peer)``: HostApp's hooks, which only
+    the Python host takes); None where it has none. ``prefix``:
     the C program's command before its options (empty for the Python host)."""
 
     name: str
     argv: Callable[[str, Path, float], list[str]]
-    inproc: Callable[[dict, Any], Callable[[Any], Any]] | None
+    inproc: Callable[[dict, Any, Any], Callable[[Any], Any]] | None
     prefix: tuple[str, ...] = ()
 
 
-def _python_inproc(cfg: dict, timer: Any) -> Callable[[Any], Any]:
+def _python_inproc(cfg: dict, timer: Any, recorder: Any = None) -> Callable[[Any], Any]:
     """The Python host program's lockstep client on an in-process serial end."""
 
     def build(peer: Any) -> Any:
@@ -56,7 +57,7 @@ def _python_inproc(cfg: dict, timer: Any) -> Callable[[Any], Any]:
         from mobigrasp.drivers.lockstep import LockstepClient
         from mobigrasp.host.app_factory import build_host_app
 
-        return LockstepClient(build_host_app(cfg, timer=timer), peer)
+        return LockstepClient(build_host_app(cfg, timer=timer, recorder=recorder), peer)
 
     return build
 
@@ -69,7 +70,7 @@ def _c_argv(prefix: list[str]) -> Callable[[str, Path, float], list[str]]:
     return argv
 
 
-def _c_inproc(cfg: dict, timer: Any) -> Callable[[Any], Any]:
+def _c_inproc(cfg: dict, timer: Any, recorder: Any = None) -> Callable[[Any], Any]:
     return lambda peer: CProgramClient(cfg, peer)
 
 

@@ -64,9 +64,9 @@ def _start(rng: random.Random) -> tuple[float, float, float, float, float]:
     return dist, bearing, heading, dist * math.cos(bearing), dist * math.sin(bearing)
 
 
-def _drag_path(rng: random.Random, dist: float, bearing: float, tx: float, ty: float
-               ) -> list[str]:
-    """The ``[[target.path]]`` of a target dragged sideways during the approach.
+def _drag_points(rng: random.Random, dist: float, bearing: float, tx: float, ty: float
+                 ) -> list[tuple[float, float, float]]:
+    """The way points (t_s, x_m, y_m) of a target dragged sideways during the approach.
 
     Paper 002 drags the target during the approach, not during the grasp: the drag ends while
     the robot (V_avg = 0.15 m/s, after a ~1 s search) still has 40-70 % of the distance to go,
@@ -75,11 +75,21 @@ def _drag_path(rng: random.Random, dist: float, bearing: float, tx: float, ty: f
     nx, ny = -math.sin(bearing), math.cos(bearing)  # sideways to the line of sight
     t1 = 1.0 + rng.uniform(0.3, 0.6) * dist / 0.15
     t0 = max(0.5, min(rng.uniform(2.0, 5.0), t1 - max(1.0, abs(side) / 0.25)))
+    return [(t, tx + k * nx, ty + k * ny) for t, k in ((t0, 0.0), (t1, side))]
+
+
+def _path_lines(points: list[tuple[float, float, float]]) -> list[str]:
+    """The ``[[target.path]]`` tables of way points (t_s, x_m, y_m)."""
     lines: list[str] = []
-    for t, k in ((t0, 0.0), (t1, side)):
-        lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {tx + k * nx:.4f}",
-                  f"y_m = {ty + k * ny:.4f}", ""]
+    for t, x, y in points:
+        lines += ["[[target.path]]", f"t_s = {t:.2f}", f"x_m = {x:.4f}", f"y_m = {y:.4f}", ""]
     return lines
+
+
+def _drag_path(rng: random.Random, dist: float, bearing: float, tx: float, ty: float
+               ) -> list[str]:
+    """The ``[[target.path]]`` of a target dragged sideways during the approach (_drag_points)."""
+    return _path_lines(_drag_points(rng, dist, bearing, tx, ty))
 
 
 def _scene(method: str) -> SceneHints:
@@ -188,6 +198,7 @@ HARSH_FAULTS = ("[faults]", "uart_bit_error_rate = 0.001", "camera_drop_rate = 0
 LIMIT_V3_S = 180.0
 OBSTACLE_REACH_M = 0.33  # farthest any v2 obstacle's surface lies from its centre
 START_FREE_M = 0.35  # no obstacle surface nearer the start or the target than this
+POST_TURN_RAD = 0.05  # step of the turn of a cylinder whose board's post is near the start
 
 
 def _near_target_centre(rng: random.Random, bearing: float, tx: float, ty: float,
@@ -198,6 +209,38 @@ def _near_target_centre(rng: random.Random, bearing: float, tx: float, ty: float
     off = rng.choice((-1.0, 1.0)) * rng.uniform(math.pi / 3, math.pi)
     a = bearing + math.pi + off  # bearing + pi points from the target back to the start
     return tx + r * math.cos(a), ty + r * math.sin(a)
+
+
+def _post_clearance_m(heading: float, places: list[tuple[float, float]]) -> float:
+    """Least distance from the start (the origin) to the surface of the 002 board's post, which
+    stands BOARD_POST_BEHIND_M behind a cylinder at ``heading``, over the cylinder's places (its
+    start and the segments of its drag). The world's module is imported here, as in _scene."""
+    from mobigrasp.mcu_sim.world.obstacles import BOARD_POST_BEHIND_M, BOARD_POST_SIDE_M
+
+    bx, by = BOARD_POST_BEHIND_M * math.cos(heading), BOARD_POST_BEHIND_M * math.sin(heading)
+    posts = [(x - bx, y - by) for x, y in places]
+    least = min(math.hypot(x, y) for x, y in posts)
+    # the drag: the nearest point of its segment (the second and third place)
+    for (x0, y0), (x1, y1) in zip(posts[1:-1], posts[2:], strict=True):
+        dx, dy = x1 - x0, y1 - y0
+        k = max(0.0, min(1.0, -(x0 * dx + y0 * dy) / max(dx * dx + dy * dy, 1e-12)))
+        least = min(least, math.hypot(x0 + k * dx, y0 + k * dy))
+    return least - BOARD_POST_SIDE_M / math.sqrt(2)  # the square post's corner
+
+
+def _post_clear_heading(heading: float, bearing: float, places: list[tuple[float, float]]
+                        ) -> float:
+    """``heading`` turned, the least needed in steps of POST_TURN_RAD, toward the start (bearing
+    + pi: the post then stands straight behind the cylinder), until the post's surface is
+    START_FREE_M clear of the start, as obstacles are (an unchanged heading when it already is:
+    the scene's random draws and every other scene stay as they were)."""
+    if _post_clearance_m(heading, places) > START_FREE_M:
+        return heading
+    toward = bearing + math.pi
+    off = math.remainder(heading - toward, 2 * math.pi)
+    while off != 0.0 and _post_clearance_m(toward + off, places) <= START_FREE_M:
+        off = math.copysign(max(0.0, abs(off) - POST_TURN_RAD), off)
+    return math.remainder(toward + off, 2 * math.pi)
 
 
 def _v3(method: str, seed: int, faults: bool = True) -> str:
@@ -213,10 +256,16 @@ def _v3(method: str, seed: int, faults: bool = True) -> str:
     kind = scene.target_kind
     if scene.guide_board and rng.random() < BOARD_ALONE_P:
         kind = "double-cross"
-    lines = _head("v3", method, seed, LIMIT_V3_S, heading, kind, tx, ty,
-                  rng.uniform(-math.pi, math.pi))
+    target_heading = rng.uniform(-math.pi, math.pi)
+    places = [(tx, ty)]
+    path: list[str] = []
     if scene.moving_target and kind != "double-cross" and rng.random() < 0.5:
-        lines += _drag_path(rng, dist, bearing, tx, ty)
+        points = _drag_points(rng, dist, bearing, tx, ty)
+        places += [(x, y) for _, x, y in points]
+        path = _path_lines(points)
+    if kind == "red-cylinder":  # the board's post stands behind the cylinder
+        target_heading = _post_clear_heading(target_heading, bearing, places)
+    lines = _head("v3", method, seed, LIMIT_V3_S, heading, kind, tx, ty, target_heading) + path
     centres: list[tuple[float, float]] = []
     if dist > 1.4 and (scene.obstacles or rng.random() < OBSTACLES_P):
         for _ in range(rng.randint(1, 3)):

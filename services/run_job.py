@@ -78,6 +78,8 @@ class RunOptions:
     time_limit_s: float | None = None
     scenario_obj: Any = None  # an already loaded Scenario (random campaigns); wins over name
     timer: Any = None  # wall-clock stage timer for the profiler (in-process only)
+    # the Python host program's inputs and outputs (HostApp's recorder; in-process only)
+    recorder: Any = None
     faults: tuple = ()  # --fault KEY=VALUE overrides of the scenario's [faults] (docs/faults.md)
     # simulated seconds a run goes on after a host crash (the MCU's safe stop is judged in it);
     # None: on to the time limit
@@ -266,7 +268,8 @@ def _run_in(opts: RunOptions, out: Path, path: Path, scenario: Any, plan: Any, s
                          camera=mcap_camera(scenario))
     spec = RunSpec(scenario=scenario, scenario_file=path, seed=seed, plan=plan, out=out,
                    host_config=cfg, time_limit_s=run_time_limit_s(scenario, opts.time_limit_s),
-                   inproc_client=program.inproc and program.inproc(cfg, opts.timer),
+                   inproc_client=program.inproc and program.inproc(cfg, opts.timer,
+                                                                      opts.recorder),
                    transport=opts.transport, host=program.name, host_argv=program.argv,
                    mcu=opts.mcu, speed=opts.speed, progress=opts.progress,
                    quantum_us=opts.quantum_us, couple_us=opts.couple_us,

@@ -13,7 +13,8 @@ grid with a height tolerance we scan (θ2, θ3) on a grid and solve h = h_e for 
 base axis is not a place to drive to. End points (eq. (6)):
 x_e^i = x_i + l_e cos φ_i, y_e^i = y_i + l_e sin φ_i, φ_i = 2π k_e / n_e, k_e = 1..n_e.
 
-This is configuration-time work (once per arm geometry, float64 on the PC or at boot), cached.
+The scan is in integers (µm, µrad, Q14 sines: :func:`grasp_radius_um`, twin of hostc/grasp_circle.c
+mg_grasp_radius_um), configuration-time work once per arm geometry, cached.
 """
 
 from __future__ import annotations
@@ -25,7 +26,15 @@ from functools import lru_cache
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.fixedpoint import ONE_Q12, div_round, sin_ops, sincos_turn_q12
+from mobigrasp.host.fixedpoint import (
+    ONE_Q12,
+    atan2_urad,
+    div_round,
+    isqrt,
+    sin_ops,
+    sincos_turn_q12,
+    sincos_urad_q14,
+)
 
 
 @dataclass(frozen=True)
@@ -62,26 +71,60 @@ def arm_height_reach(arm: ArmGeometry001, th1, th2, th3) -> tuple[np.ndarray, np
     return h, lr
 
 
+# (θ2, θ3) of eq. (5) scanned on [−π/2, π/2] in GRID_STEPS steps each (1°)
+GRID_STEPS = 180
+_HALF_PI_URAD = 1_570_796
+_PI_URAD = 3_141_593
+_TWO_PI_URAD = 6_283_185
+
+
 @lru_cache(maxsize=16)
-def grasp_radius(arm: ArmGeometry001 = ArmGeometry001(), grid: int = 721) -> GraspRadius:
-    """Scan (θ2, θ3) on a ``grid``² grid, solve θ1 for h = h_e, return l_m and l_n."""
-    th = np.linspace(-math.pi / 2, math.pi / 2, grid)
-    th2, th3 = np.meshgrid(th, th, indexing="ij")
-    rest = (arm.h_e - arm.h_r - arm.l3 * np.sin(th3) - arm.l2 * np.sin(th2 + th3)) / arm.l1
-    ok = np.abs(rest) <= 1.0
-    base = np.arcsin(np.clip(rest, -1.0, 1.0))  # θ1 + θ2 + θ3 ∈ {base, π − base} (mod 2π)
-    reaches = []
-    for s123 in (base, math.pi - base):
-        th1 = s123 - th2 - th3
-        th1 = np.where(th1 < 0.0, th1 + 2 * math.pi, th1)
-        th1 = np.where(th1 > 2 * math.pi, th1 - 2 * math.pi, th1)
-        valid = ok & (th1 >= 0.0) & (th1 <= math.pi)
-        _, lr = arm_height_reach(arm, th1, th2, th3)
-        reaches.append(lr[valid & (lr >= 0.0)])
-    allr = np.concatenate(reaches)
-    if allr.size == 0:
+def grasp_radius_um(l1_um: int, l2_um: int, l3_um: int, h_r_um: int, h_e_um: int,
+                    steps: int = GRID_STEPS) -> tuple[int, int] | None:
+    """Eq. (5) of 001 in integers (hostc/grasp_circle.c mg_grasp_radius_um): (l_m, l_n) in µm,
+    the largest and least reach l >= 0 at height h_e over (θ2, θ3) on a (steps + 1)² grid of
+    µrad, θ1 solved from h = h_e (sin(θ1 + θ2 + θ3) in Q14, its two roots by atan2) and kept
+    in [0, π]; None when no grid point reaches h_e."""
+    d_um = h_e_um - h_r_um
+    theta = [div_round((2 * i - steps) * _HALF_PI_URAD, steps) for i in range(steps + 1)]
+    sc = {}
+
+    def sincos(a: int) -> tuple[int, int]:
+        if a not in sc:
+            sc[a] = sincos_urad_q14(a)
+        return sc[a]
+
+    hi, lo = -1, -1
+    for t2 in theta:
+        for t3 in theta:
+            s3, c3 = sincos(t3)
+            s23, c23 = sincos(t2 + t3)
+            num = (d_um << 14) - l3_um * s3 - l2_um * s23  # l1 sin(θ1 + θ2 + θ3), µm Q14
+            if abs(num) > l1_um << 14:
+                continue
+            rest = div_round(num, l1_um)  # Q14
+            base = atan2_urad(rest, isqrt((1 << 28) - rest * rest))
+            for s123 in (base, _PI_URAD - base):
+                t1 = s123 - t2 - t3
+                t1 = t1 + _TWO_PI_URAD if t1 < 0 else t1
+                t1 = t1 - _TWO_PI_URAD if t1 > _TWO_PI_URAD else t1
+                if t1 > _PI_URAD:
+                    continue
+                reach = (l3_um * c3 + l2_um * c23 + l1_um * sincos(s123)[1]) >> 14
+                if reach >= 0:
+                    hi = max(hi, reach)
+                    lo = reach if lo < 0 else min(lo, reach)
+    return None if hi < 0 else (hi, lo)
+
+
+def grasp_radius(arm: ArmGeometry001 = ArmGeometry001()) -> GraspRadius:
+    """l_m and l_n of eq. (5) for the arm (its lengths and heights to the µm),
+    :func:`grasp_radius_um`."""
+    um = [round(v * 1e6) for v in (arm.l1, arm.l2, arm.l3, arm.h_r, arm.h_e)]
+    r = grasp_radius_um(*um)
+    if r is None:
         raise ValueError(f"grasp height h_e = {arm.h_e} m is out of reach of {arm}")
-    return GraspRadius(float(allr.max()), float(allr.min()))
+    return GraspRadius(r[0] / 1e6, r[1] / 1e6)
 
 
 def end_points(object_xy_m, l_e_m: float, n_e: int = 36) -> np.ndarray:

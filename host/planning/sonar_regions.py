@@ -93,7 +93,13 @@ def sonar_q(cfg: SonarConfig) -> SonarQ:
     return SonarQ(cfg.k_s, round(cfg.a_g_rad * 1e6), round(cfg.d_e_m * POS_PER_M),
                   round(cfg.r_r_m * POS_PER_M), -1 if tol is None else round(tol * POS_PER_M),
                   round(cfg.sensor_offset_m * POS_PER_M), bool(cfg.arc_angle_bound),
-                  round(4096 / math.tan(cfg.a_g_rad / 2)))
+                  cot_half_q12(round(cfg.a_g_rad * 1e6)))
+
+
+def cot_half_q12(a_g_urad: int) -> int:
+    """cot(A_g / 2) in Q12 from the Q14 sine table (hostc/config.c's twin)."""
+    s, c = sincos_urad_q14((a_g_urad + 1) // 2)
+    return (2 * c * 4096 + s) // (2 * s)
 
 
 def _div_round(num: int, den: int) -> int:

@@ -2,7 +2,8 @@
 
 000 / 001 follow the best Bezier path (host.planning, host.control.path_follow) while the
 posture adjustment (host.posture, eq. (10) of 000) keeps the object in view from the odometry
-estimate; ADJUST takes over near the object. The planner and what the sonars add (001's
+estimate; at the path's end (or near the object) ADJUST takes over (000), or the grasp from the
+grasp circle (001, method001.py ``path_end``). The planner and what the sonars add (001's
 replanning of §III.E, its detours) are the method's (:class:`PathMethod`, method000.py and
 method001.py); 002 approaches with its fuzzy controller instead (method002.py). Each handler
 takes the task ``t`` first.
@@ -63,12 +64,8 @@ class ApproachStates:
         dist = isqrt(x * x + y * y) // 16
         cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
         t.wheels = rules.path_wheels(cmd)
-        if cmd.done or dist <= t.p.grasp_r_mm + 100:
-            t.go(now, "ADJUST", f"path followed (error {cmd.error_mm} mm), object {dist} mm "
-                 f"from the waist")
-        elif rules.adjust_early(t, now, inp, dist):
-            t.go(now, "ADJUST", f"object in view {dist} mm from the waist, nothing in the "
-                 f"way: vision-based adjustment (000 §III.B) from here")
+        if cmd.done or dist <= t.p.grasp_r_mm + rules.near_margin_mm:
+            rules.path_end(t, now, inp, path_end_why(cmd.error_mm, dist), cmd.error_mm)
 
     def _plan_slice(self, t, now: int, inp) -> bool:
         """Charge this step's slice of the plan being made; True once it is done (its path
@@ -104,7 +101,7 @@ class ApproachStates:
         detour, or a failure."""
         rules = t.rules
         if "already" in detail["reason"]:
-            t.go(now, "ADJUST", f"no path needed: {detail['reason']}")
+            rules.path_end(t, now, inp, f"no path needed: {detail['reason']}", None)
             return
         t.plan_attempts += 1
         if t.plan_attempts >= t.p.max_plan_attempts:
@@ -137,6 +134,9 @@ PATH = ApproachStates()
 class PathMethod(Method):
     """A method whose APPROACH follows a planned path (000, 001): the hooks of
     :meth:`ApproachStates.follow_path`."""
+
+    # the path ends early with the object this much beyond ADJUST's goal (``grasp_r_mm``)
+    near_margin_mm = 100
 
     def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
         PATH.follow_path(t, now, inp, dets)
@@ -178,6 +178,13 @@ class PathMethod(Method):
     def path_wheels(self, cmd: Any) -> tuple[int, int]:
         """Wheel speeds from the path follower's command."""
 
-    @abstractmethod
-    def adjust_early(self, t: Any, now: int, inp: Any, dist_mm: int) -> bool:
-        """Hand over to ADJUST before the path's end, the object ``dist_mm`` from the waist."""
+    def path_end(self, t: Any, now: int, inp: Any, why: str, error_mm: int | None) -> None:
+        """The path followed to its end (the follower's ``error_mm`` there), the object near,
+        or no path needed (``error_mm`` None), for the reason ``why``: 000's vision-based
+        adjustment (§III.B) from here."""
+        t.go(now, "ADJUST", why)
+
+
+def path_end_why(error_mm: int, dist_mm: int) -> str:
+    """The reason of APPROACH's transition at the path's end."""
+    return f"path followed (error {error_mm} mm), object {dist_mm} mm from the waist"

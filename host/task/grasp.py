@@ -6,7 +6,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
 - ROUGH_GRASP (000 §III.C.1): the gripper above the object top by ``hover_mm``, pitched
   alpha_T = -pi/2, by eq. (11) of 000 (host.kinematics).  001 (``Method.sight_views``) first
   looks back at the top with the base standing still and grasps on that sighting (ours,
-  docs/task.md): its ADJUST ends on odometry.  002: the pre-grasp point
+  docs/task.md): its ADJUST ends on odometry. Arrived on its grasp circle, 001 decides after
+  the look (``Method.look_decides``): the grasp by eq. (11) straight from there when the look
+  confirms the object, else ADJUST.  002: the pre-grasp point
   ``pregrasp_back_mm`` short of the cylinder axis at the grasp height, horizontal gripper by
   eq. (4) of 002 (tilting down to -0.28 rad if the level pose is outside the joint limits);
   first the base drives the object into the reach where the grasp itself is level
@@ -149,6 +151,8 @@ class GraspStates:
         goal_mm, tol_mm = t.rules.adjust_goal_mm(t)
         t.note(sight={"frames": t.sight_frames, "look_mrad": list(SIGHT_LOOKS_MRAD[k]),
                       "dist_mm": dist, "bearing_mrad": atan2_mrad(x, y)})
+        if t.rules.look_decides(t, now, inp):
+            return  # the method's grasp on this look (001 from its grasp circle)
         if not t.sight_frames and not t.object_sighted:
             t.lost_in = "ROUGH_GRASP"
             t.go(now, "LOST", "object not seen at its estimated place, never seen by the "
@@ -218,10 +222,11 @@ class GraspStates:
         t.apply_pose(now, pose, th1)
         return True
 
-    def _descend(self, t, now: int, why: str, condition: str) -> None:
+    def descend(self, t, now: int, why: str, condition: str) -> None:
         """Down to the grasp height, then close; ``condition`` says what decided it (the
         trace's ``grasp_close``): "precise" (k_T = 0 and w_T in [w_min, w_max], 000
-        §III.C.2), or a fallback, "no_spoke" or "max_steps"."""
+        §III.C.2), "ik" (001's grasp by eq. (11) from its grasp circle, method001.py), or a
+        fallback, "no_spoke" or "max_steps"."""
         x, y, _ = t.gripper_point_q4()
         if t.grasp_xy_q4 is not None and t.p.precise_align_ch == 1:
             x, y = t.grasp_xy_q4  # from above the "+" to the object's axis
@@ -273,7 +278,7 @@ class GraspStates:
                 self.move_point(t, now, x, y, z, t.arm[1] - ROLL_SCAN_MRAD)
                 t.phase_us = now
             elif waited >= t.p.spoke_wait_us and not t.rules.grasp_lost(t, now, waited):
-                self._descend(t, now, f"no spoke seen for {waited} us: rough position",
+                self.descend(t, now, f"no spoke seen for {waited} us: rough position",
                               "no_spoke")
             return
         t.phase_us = now
@@ -283,10 +288,10 @@ class GraspStates:
         t.note(precise={"spoke_mrad": reading[0], "w_px": reading[1], "reason": step.reason,
                            "step": t.precise_steps})
         if step.aligned:
-            self._descend(t, now, f"k_T ~ 0 and w_T = {reading[1]} px", "precise")
+            self.descend(t, now, f"k_T ~ 0 and w_T = {reading[1]} px", "precise")
             return
         if t.precise_steps >= t.p.precise_max_steps:
-            self._descend(t, now, f"not aligned after {t.precise_steps} steps: {step.reason}",
+            self.descend(t, now, f"not aligned after {t.precise_steps} steps: {step.reason}",
                           "max_steps")
             return
         x, y, z = t.gripper_point_q4()

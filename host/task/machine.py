@@ -171,7 +171,7 @@ class Task:
         self.phase_us = now_us
         self.precise_steps = 0
         self.lost_in = None  # the state the object was lost in, for the next SEARCH
-        self.close_by = None  # PRECISE_GRASP: what decided the close (grasp.py _descend)
+        self.close_by = None  # PRECISE_GRASP: what decided the close (grasp.py descend)
         self.last_pose = (0, 0, 0, 0)
         self.arm_hist: list = []
         self.pose_hist: list = []

@@ -215,6 +215,11 @@ class Method(ABC):
         grasp goes from where ADJUST stopped."""
         return None
 
+    def look_decides(self, t: Any, now: int, inp: Any) -> bool:
+        """ROUGH_GRASP after its look (``sight_views``): True when the method has decided what
+        follows (the transition or the grasp pose made); False: the common rule (grasp.py)."""
+        return False
+
     def held_view_pose(self, t: Any) -> Any:
         """LIFT: the arm pose of the grasp check's look; None: the common look, the camera
         straight above the fingertip looking down (host/task/grasp.py)."""

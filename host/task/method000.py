@@ -89,9 +89,9 @@ class Method000(PathMethod):
         "theta5_min": Param(float, -0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
         "theta5_max": Param(float, 0.8, -1.4, 1.4, "rad, waist yaw (joint table)"),
         "dtheta2_l": Param(float, 0.06, 0.005, 0.5, "rad, search step of the wrist"),
-        "k_theta2": Param(float, 1.0, -10.0, 10.0, "gain"),
-        "k_theta3": Param(float, 0.0, -10.0, 10.0, "gain"),
-        "k_theta4": Param(float, 0.0, -10.0, 10.0, "gain"),
+        "k_theta2": Param(float, 1.0, 0.0, 10.0, "gain"),
+        "k_theta3": Param(float, 0.0, 0.0, 10.0, "gain"),
+        "k_theta4": Param(float, 0.0, 0.0, 10.0, "gain"),
         "alpha_T": Param(float, -PI / 2, -PI, 0.0, "rad, camera pitch at the grasp"),
         "w_min": Param(int, 20, 1, 320, "px, window"),
         "w_max": Param(int, 40, 1, 320, "px, window"),
@@ -202,9 +202,6 @@ class Method000(PathMethod):
 
     def path_wheels(self, cmd: WheelCommand) -> tuple[int, int]:
         return cmd.left_mm_s, cmd.right_mm_s
-
-    def adjust_early(self, t: Task, now: int, inp: TaskInputs, dist_mm: int) -> bool:
-        return False
 
     # --- ADJUST --------------------------------------------------------------------------------
     def adjust_done(self, t: Task, now: int, det: DualPlus, dist_mm: int) -> bool:

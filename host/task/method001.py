@@ -7,7 +7,11 @@ host.planning.replan's Replanner, which checks the rest of the path against fres
 sightings taken while the base turns fast are not used; the follower never backs up; when no
 curve is feasible and the object is too far for the close approach, the base drives aside (the
 detour: toward the free direction nearest the object's bearing, ``detour_mm``, then plans
-again); the last part of the curve is handed to ADJUST while the object is in view.
+again). The curve is followed to its end on the grasp circle (eqs. (5)-(6)); there the camera
+looks back at the object with the base still (ROUGH_GRASP's look, ``sight_views``) and, the
+object seen where expected, the arm grasps by inverse kinematics (§III.E's last sentence; eq.
+(11) of 000, gripper down) from where the base stands; the look not confirming it, 000's ADJUST
+and precise grasp take over (docs/task.md "001's grasp").
 Integer mm / us; no I/O and no clock.
 """
 
@@ -16,15 +20,17 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
+from mobigrasp.host import kinematics
 from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
-from mobigrasp.host.planning.grasp_circle import ArmGeometry001
+from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_regions
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
+from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad
 from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.sonar_guard import (
@@ -48,8 +54,11 @@ ARC_BOUND_001 = True  # eq. (16) wedges cut to the grown echo arc (planner_param
 DETOUR_EXTRA_MM = 100  # a detour's way out is checked this much beyond its end (stopping)
 DETOUR_MARGIN_MM = 100  # ... against the infeasible regions grown by this: it drives open-loop
 SIGHTING_MAX_TURN_MRAD_S = 500  # APPROACH: sightings taken while turning faster are not used
-ADJUST_EARLY_MM_001 = 700  # APPROACH: ADJUST from this close with the object in view
-ADJUST_EARLY_FRESH_US = 300_000  # ... seen this recently
+# the grasp from the grasp circle: the look before it must see the object (dual "+") within
+# this of the estimate the base arrived with; the gripper goes down from this far above the
+# grasp point (the first reachable, in 10 mm steps down to the object's top)
+CIRCLE_CONFIRM_MM = 60
+CIRCLE_PRE_MM = 50
 LOOK_FIRST_US = 4_000_000  # P_i given, object near and unseen: look this long first
 LOOK_FIRST_MM = (350, 1200)  # ... when it is this far from the waist
 BACK_OFF_MM = 200  # fallback: back this far along the way the base came
@@ -183,6 +192,10 @@ class State001(MethodState):
     detour: dict | None = None  # a drive aside after no feasible curve (detour_step)
     detours: int = 0
     detour_side: int = 0  # +1: the detours go round left of the object's bearing, -1 right
+    # arrived on the grasp circle: the estimate the look before the grasp is to confirm
+    circle_expected: tuple[int, int] | None = None
+    circle_l_e_mm: int = 0  # ... and the circle's radius l_e
+    ik_grasp: bool = False  # PRECISE_GRASP goes down by eq. (11), no spoke alignment
 
 
 class Method001(Method000):
@@ -412,19 +425,85 @@ class Method001(Method000):
             return -turn, turn
         return cmd.left_mm_s, cmd.right_mm_s
 
-    def adjust_early(self, t: Task, now: int, inp: TaskInputs, dist: int) -> bool:
-        """Hand the last part of the curve to 000's vision-based approaching adjustment
-        (§III.B) while the object is still in the camera's view. Ours: the curve ends on the
-        grasp circle (eqs. (5)-(6) of 001, l_e ~ 0.23 m), where the long 001 arm's camera looks
-        over the object top and sees neither the dual "+" nor the radial symbol, and ADJUST
-        would finish on the last sightings and odometry (docs/cosim.md "Measured", T11).
-        Only with a sighting in the last ``ADJUST_EARLY_FRESH_US`` and the straight way to the
-        object clear (the close approach drives straight at it)."""
-        if not (t.p.grasp_r_mm + 100 < dist <= ADJUST_EARLY_MM_001):
+    # the curve ends on the grasp circle, the object ~l_e - mount_forward_mm (~206 mm) ahead of
+    # the waist: cut short only with the object already at ADJUST's goal
+    near_margin_mm = 0
+
+    def path_end(self, t: Task, now: int, inp: TaskInputs, why: str, error_mm: int | None
+                 ) -> None:
+        """On the grasp circle (001 §III.B.1, eqs. (5)-(6), l_e for the object's grasp
+        height): the base stops, ROUGH_GRASP looks back at the object and grasps by eq. (11)
+        when the look confirms it (:meth:`look_decides`). The arrival's error, the axle's
+        distance from the estimate less l_e, goes in the trace (``grasp_circle``; a start
+        already on the circle has no path and no ``path_error_mm``)."""
+        l_e_mm = int(round(grasp_radius(planner_params_001(t.p).arm).l_e_m * 1000))
+        axle_mm = isqrt((t.obj[0] - inp.x_mm) ** 2 + (t.obj[1] - inp.y_mm) ** 2)
+        x, y = t.obj_platform(inp)
+        t.note(grasp_circle={"l_e_mm": l_e_mm, "axle_mm": axle_mm,
+                             "error_mm": axle_mm - l_e_mm, "path_error_mm": error_mm,
+                             "waist_mm": isqrt(x * x + y * y) // 16})
+        t.ms.circle_expected, t.ms.circle_l_e_mm = t.obj, l_e_mm
+        t.go(now, "ROUGH_GRASP", "on the grasp circle: " + why)
+
+    def look_decides(self, t: Task, now: int, inp: TaskInputs) -> bool:
+        """After the look from the grasp circle: the object seen (dual "+", never its absence)
+        within ``CIRCLE_CONFIRM_MM`` of where the base expected it, and its grasp point
+        reachable by eq. (11) of 000 (gripper down) from here: the gripper goes above the
+        grasp point, then down and closes (PRECISE_GRASP, ``grasp_close`` "ik"); the grasp
+        check of LIFT decides. Else 000's ADJUST and precise grasp from here, as before the
+        grasp from the circle (an object the camera never saw is then searched for after
+        ADJUST's look, grasp.py)."""
+        expected = t.ms.circle_expected
+        if expected is None:
             return False
-        if now - t.obj_seen_us > ADJUST_EARLY_FRESH_US:
-            return False
-        return self.straight_clear(t, inp, dist)
+        t.ms.circle_expected = None
+        off_mm = isqrt((t.obj[0] - expected[0]) ** 2 + (t.obj[1] - expected[1]) ** 2)
+        why, pre = None, None
+        if not t.sight_frames:
+            why = "not seen by the look"
+        elif off_mm > CIRCLE_CONFIRM_MM:
+            why = f"seen {off_mm} mm from where expected"
+        else:
+            grasp = GRASP.object_target_q4(t, inp, t.p.grasp_height_mm)
+            down = t.grasp_ik(grasp)
+            for up_mm in range(CIRCLE_PRE_MM, t.p.object_top_mm - t.p.grasp_height_mm - 1,
+                               -10):
+                pre = t.grasp_ik((grasp[0], grasp[1], grasp[2] + up_mm * 16))
+                if isinstance(pre, kinematics.ArmPose):
+                    break
+            if isinstance(down, kinematics.Unreachable):
+                why = f"grasp point out of reach: {down.reason}"
+            elif not isinstance(pre, kinematics.ArmPose):
+                why = "no reachable pose above the grasp point"
+        # the arrival's error as the look sees it: the axle's distance from the sighted object
+        # less l_e (the base stood still since the arrival)
+        axle_mm = isqrt((t.obj[0] - inp.x_mm) ** 2 + (t.obj[1] - inp.y_mm) ** 2)
+        t.note(circle_look={"frames": t.sight_frames, "off_mm": off_mm,
+                            "error_mm": axle_mm - t.ms.circle_l_e_mm, "confirmed": why is None})
+        if why is None:
+            t.ms.ik_grasp = True
+            t.grasp_xy_q4 = grasp[:2]
+            t.grasp_alpha = pre.alpha_mrad
+            t.phase = ""
+            t.apply_pose(now, pre)
+            t.note(ik_pre_pose_mrad=[pre.theta2_mrad, pre.theta3_mrad, pre.theta4_mrad,
+                                     pre.theta5_mrad])
+            return True
+        t.go(now, "ADJUST", f"the look from the grasp circle did not confirm the object "
+             f"({why}): vision-based adjustment and precise grasp")
+        return True
+
+    def enter_precise(self, t: Task, now: int, inp: TaskInputs) -> None:
+        """After the confirmed look from the grasp circle, straight down to the grasp point
+        and close (eq. (11) of 000, no spoke alignment); else 000's precise grasp (and a look
+        from the circle that never came, no view being reachable, is not waited for)."""
+        if not t.ms.ik_grasp:
+            t.ms.circle_expected = None
+            super().enter_precise(t, now, inp)
+            return
+        t.ms.ik_grasp = False
+        GRASP.descend(t, now, "eq. (11) from the grasp circle, the object confirmed by the look",
+                      "ik")
 
     def straight_clear(self, t: Task, inp: TaskInputs, dist: int) -> bool:
         """The close approach's straight way to the object (``dist`` from the waist, to stop
@@ -443,7 +522,7 @@ class Method001(Method000):
         safety circle R_r (``r_r_mm``; 001 §III.C.2) stops it and drops the path, so that no
         plan is followed further before one is made from the fresh ranges. The object's own
         echo (its estimate inside that sonar's cone, at the range read +- ``GUARD_OBJECT_MM``)
-        does not count: APPROACH hands the object to ADJUST at arm's length. In APPROACH the
+        does not count: APPROACH ends with the object at arm's length. In APPROACH the
         base then turns in place toward the widest free sector and drives ``GUARD_OUT_MM``
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the

@@ -12,8 +12,9 @@ goes to the pre-grasp point with the gripper level by eq. (4) on the §4 positio
 cylinder (:meth:`Method002.object_position`), PRECISE_GRASP moves in to the axis and closes;
 the grasp check of LIFT looks for the red cylinder still standing. Ours, not 002's: steering
 on the cylinder without the board, the blind drive on toward the last bearing for a while
-when a frame misses what was steered on, and the end of the approach when the crosses, big in
-view, place the cylinder near.
+when a frame misses what was steered on, the end of the approach when the crosses, big in
+view, place the cylinder near, and the back-off when the cylinder is then cut by the frame's
+border (docs/task.md, "Close starts").
 """
 
 from __future__ import annotations
@@ -48,6 +49,14 @@ LEVEL_MARGIN_MM = 2
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
 ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
 SEARCH_COVER_002_MM = 2500  # SEARCH gives up once its wander has covered this disc
+# APPROACH: a cylinder cut by the frame's border (its colour ROI touching it, its rings not
+# measured) when the estimate would start ADJUST within BACK_OFF_WITHIN_MM beyond grasp_r_mm
+# (farther, ADJUST's look pitched down sees it whole): back straight off BACK_OFF_002_MM (inside
+# the 0.35 m the generator keeps clear behind a start: footprint radius 170 mm) and look again,
+# at most BACK_OFFS_002 times in a run (docs/task.md, "Close starts")
+BACK_OFF_WITHIN_MM = 60
+BACK_OFF_002_MM = 150
+BACK_OFFS_002 = 2
 # the grasp check's look (docs/task.md): the fingertip, and a held cylinder with it, brought to
 # (reach mm ahead of the waist, height mm above the ground) with the camera pitched down (mrad),
 # first reachable wins: a cylinder left standing is then ~150 mm further out and below the view
@@ -66,6 +75,10 @@ class State002(MethodState):
     e_dpx: int | None = None  # d_pixel of the search's sighting
     steer_on: str = ""  # what the search found and the approach steers on
     e_range_mm: int | None = None  # range of the search's red ROI (its height), if known
+    cut: bool = False  # the last frame showed the cylinder cut by the border (no rings)
+    back_offs: int = 0  # back-offs made in the run
+    # the back-off under way: (x_mm, y_mm where it started, t_us it ended or None)
+    back_off: tuple[int, int, int | None] | None = None
 
 
 class Method002(Method):
@@ -184,6 +197,10 @@ class Method002(Method):
         away); ADJUST once the cylinder is near, or placed near by the crosses."""
         rc = dets.get("red_cylinder")
         roi = dets.get("red_roi")
+        if t.ms.back_off is not None and self.backing_off(t, now, inp, dets):
+            return
+        if dets:
+            t.ms.cut = rc is None and _roi_cut(t, roi)
         d_px = _spacing_px("red_cylinder", rc)
         if d_px is not None and t.see_object(now, inp, "red_cylinder", rc) and \
                 d_px >= t.p.cylinder_near_px:
@@ -195,7 +212,8 @@ class Method002(Method):
             x, y = t.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
             if dist <= t.p.grasp_r_mm + 150:
-                t.go(now, "ADJUST", f"red cylinder estimated {dist} mm from the waist")
+                if not self.backs_off(t, inp, dist):
+                    t.go(now, "ADJUST", f"red cylinder estimated {dist} mm from the waist")
                 return
         if not dets:
             return  # no new frame: keep the wheels as they are
@@ -234,8 +252,9 @@ class Method002(Method):
             x, y = t.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
             if dist <= t.p.grasp_r_mm + 150:
-                t.go(now, "ADJUST", f"crosses {dc_px} px apart: red cylinder estimated "
-                     f"{dist} mm from the waist")
+                if not self.backs_off(t, inp, dist):
+                    t.go(now, "ADJUST", f"crosses {dc_px} px apart: red cylinder estimated "
+                         f"{dist} mm from the waist")
                 return
         cmd = t.ms.fuzzy.step(now, e, None)
         if e is not None:
@@ -249,6 +268,41 @@ class Method002(Method):
         t.ms.prev_e = (now, e) if e is not None else None
         t.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
                       "wheels_mmps": list(t.wheels), "steer_on": cue})
+
+    def backs_off(self, t: Task, inp, dist_mm: int) -> bool:
+        """The estimate would start ADJUST ``dist_mm`` from the waist, within
+        BACK_OFF_WITHIN_MM beyond the grasp's reach, while the last frame showed the cylinder
+        cut by the frame's border, its rings not measured: too close to be seen whole (or off
+        the estimate's bearing), ADJUST would close in on an estimate the rings never confirm.
+        Back straight off BACK_OFF_002_MM instead (at most BACK_OFFS_002 times) and look
+        again; True when it does."""
+        if not t.ms.cut or t.ms.back_offs >= BACK_OFFS_002 \
+                or dist_mm > t.p.grasp_r_mm + BACK_OFF_WITHIN_MM:
+            return False
+        t.ms.back_offs += 1
+        t.ms.back_off = (inp.x_mm, inp.y_mm, None)
+        t.wheels = (-t.p.slow_mmps, -t.p.slow_mmps)
+        t.note(back_off={"dist_mm": dist_mm, "n": t.ms.back_offs})
+        return True
+
+    def backing_off(self, t: Task, now: int, inp, dets: dict) -> bool:
+        """The back-off under way: straight back at ``slow_mmps`` until BACK_OFF_002_MM from
+        where it started, then still until a frame taken after it ended has come; True until
+        then (that frame is the approach's again, LOST counted from it)."""
+        x0, y0, ended_us = t.ms.back_off
+        if ended_us is None:
+            dx, dy = inp.x_mm - x0, inp.y_mm - y0
+            if dx * dx + dy * dy < BACK_OFF_002_MM * BACK_OFF_002_MM:
+                t.wheels = (-t.p.slow_mmps, -t.p.slow_mmps)
+                return True
+            ended_us = now
+            t.ms.back_off = (x0, y0, now)
+        t.wheels = (0, 0)
+        if not dets or now - t.p.frame_latency_us < ended_us:
+            return True
+        t.ms.back_off = None
+        t.obj_seen_us = now
+        return False
 
     def remember_bearing(self, t: Task, inp, e: int, cue_mm: int | None) -> None:
         """The bearing to steer on blind should the next frames miss the board or the
@@ -438,6 +492,15 @@ def _roi_range_mm(t: Task, roi: Any) -> int | None:
         return None
     seen = registry.row("red_roi").sighting_fn()(roi, t.cam.f_px)
     return None if seen is None else seen[2] // 16
+
+
+def _roi_cut(t: Task, roi: Any) -> bool:
+    """The red ROI's box touches the frame's border (the frame 2 u0 x 2 v0 px): the cylinder
+    is not wholly in view. No ROI, or a result of another type: False."""
+    if roi is None or not isinstance(roi, registry.row("red_roi").result_type()):
+        return False
+    x, y, w, h = roi.roi
+    return x <= 0 or y <= 0 or x + w >= 2 * t.cam.u0_px or y + h >= 2 * t.cam.v0_px
 
 
 def _spacing_q4(det: Any) -> int | None:

@@ -4,27 +4,20 @@
 
 #include <string.h>
 
+#include "program.h"
+
 int mg_inproc_open(mg_inproc_t *h, const char *config, size_t n, char *why, size_t cap)
 {
     memset(h, 0, sizeof *h);
     mg_config_t c;
     if (mg_config_parse(config, n, &c, why, cap) != 0)
         return -1;
-    const mg_method_t *m = mg_method_find(c.method);
-    if (m == NULL || m->state_bytes > sizeof h->task_state) {
+    if (mg_program_open(&h->app, &h->detectors, h->table, h->task_state, &c) < 0) {
         size_t k = mg_task_text(why, cap, 0, "method ");
         k = mg_task_text(why, cap, k, c.method);
         mg_task_text(why, cap, k, " is not in the C host yet");
         return -1;
     }
-    mg_host_config_t cfg;
-    mg_host_config_default(&cfg);
-    const mg_task_if_t task = mg_method_bind(m, h->task_state, &c);
-    const int32_t n_det = mg_detectors_table(&h->detectors, &h->app, c.f_px, h->table,
-                                             MG_MAX_DETECTORS);
-    h->detectors.u0_px = c.u0_px;
-    h->detectors.v0_px = c.v0_px;
-    mg_app_init(&h->app, &cfg, &task, h->table, n_det);
     mg_lockstep_init(&h->driver, &h->app);
     return 0;
 }

@@ -69,12 +69,20 @@ def test_shipped_scenario_grasps_in_process(name, tmp_path):
     assert summary["final_error_mm"] is not None and summary["final_error_mm"] <= 15.0, brief
     grasp = summary["grasp"]
     if name.startswith(("paper000", "paper001")):
-        # 000 §III.C.2: the gripper is closed by k_T = 0 with w_T in [w_min, w_max], every time
-        closes = [e["grasp_close"] for e in read_trace(tmp_path / name / "trace.jsonl")
-                  if "grasp_close" in e]
-        assert closes and set(closes) == {"precise"}, closes
-        assert grasp["close_reason"] == "precise" and abs(grasp["alpha_rad"] + 1.5708) < 0.05
+        # 000 §III.C.2: the gripper is closed by k_T = 0 with w_T in [w_min, w_max], every time;
+        # 001 from its grasp circle by eq. (11) of 000 on a confirming look (docs/task.md)
+        trace = read_trace(tmp_path / name / "trace.jsonl")
+        closes = [e["grasp_close"] for e in trace if "grasp_close" in e]
+        close = "precise" if name.startswith("paper000") else "ik"
+        assert closes and set(closes) == {close}, closes
+        assert grasp["close_reason"] == close and abs(grasp["alpha_rad"] + 1.5708) < 0.05
     if name.startswith("paper001-"):
+        # 001 §III.E: the curve ends on the grasp circle (the axle within 25 mm of l_e), and the
+        # look from there confirmed the object before the grasp
+        circles = [e["grasp_circle"] for e in trace if "grasp_circle" in e]
+        assert len(circles) == 1 and abs(circles[0]["error_mm"]) <= 25, circles
+        looks = [e["circle_look"] for e in trace if "circle_look" in e]
+        assert looks and looks[0]["confirmed"] and looks[0]["frames"] >= 1, looks
         # 001 §IV: sim1's path is changed at P_A, P_B, P_C (3 +- 1), sim2's seven times (+- 2);
         # a path update is a new curve adopted while moving (docs/task.md)
         lo, hi = (2, 4) if name == "paper001-sim1" else (5, 9)

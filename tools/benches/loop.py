@@ -8,8 +8,10 @@ The same run over the pty with the avr-gcc ELF on simavr (``--mcu simavr``) give
 ``realtime_factor_pty_simavr`` and ``simavr_vs_python_pty``, its ratio to the Python model's.
 The hosts of ``--rtf-hosts`` (default the C program and the ARMv4T ELF under qemu-arm) run the
 same scene beside the Python host (``realtime_factor_host_<host>[_inproc]``, ratios
-``host_<host>_vs_python``), on paper000-exp1's method when every host has it, else on the idle
-host program in all of them (``host_method``); ``trace_equal_hosts`` says their traces agree.
+``host_<host>_vs_python``): the first of :data:`HOST_SCENES` whose paper method every host
+has (``host_scenario``, ``host_method``), the methods passed over and why in
+``host_method_reason``; with none, paper000-exp1 on the idle host program in all of them
+(``host_method`` idle); ``trace_equal_hosts`` says their traces agree.
 The campaign (services/loop_campaign.py) runs ``--runs`` seeded random scenarios per method
 (services/random_scenarios.py), over the pty by default (``--transport``; the trace is the same over
 either), and reports the figures of the acceptance bar per method (docs/cosim.md, "Random scenes
@@ -64,8 +66,9 @@ def add_arguments(parser) -> None:
                              "0: no real-time-factor runs)")
     parser.add_argument("--rtf-hosts", default="c,arm",
                         help="hosts whose real-time factor is measured beside the Python "
-                             "one's, on paper000-exp1's method when they all have it, else on "
-                             "the idle host program (default c,arm; '' none)")
+                             "one's, on paper000-exp1, paper001-sim1 or paper002-marker: the "
+                             "first whose method they all have, else on the idle host program "
+                             "(default c,arm; '' none)")
     add_host_option(parser)  # of the random runs
     parser.add_argument("--resume", action="store_true",
                         help="keep the finished rows of an interrupted campaign (the same "
@@ -145,22 +148,34 @@ def rtf_hosts(args) -> tuple[str, ...]:
     return hosts
 
 
-def host_method(hosts: tuple[str, ...]) -> str | None:
-    """The method the hosts' figures run: paper000-exp1's own when every host has it, else the
-    idle host program (host/task/idle.py) in all of them; BenchInputError when a host cannot
-    run at all (a tool missing)."""
+# the scenes the hosts' figures may run, in order: the first whose method every host has
+HOST_SCENES = (("paper000-exp1", "000"), ("paper001-sim1", "001"), ("paper002-marker", "002"))
+
+
+def host_scene(hosts: tuple[str, ...]) -> tuple[str, str, str | None, str]:
+    """(scenario, method, the method override of the runs or None, the reason the methods
+    before it were passed over) of the hosts' figures: the first of :data:`HOST_SCENES` whose
+    method every host has, else paper000-exp1 on the idle host program (host/task/idle.py) in
+    all of them; BenchInputError when a host cannot run at all (a tool missing)."""
     from mobigrasp.services.host_programs import HostUnavailable, resolve
 
     try:
         for host in hosts:
             resolve(host, "idle", "pty")
-        for host in hosts:
-            resolve(host, "000", "pty")
     except HostUnavailable as exc:
-        if "is not in the" in str(exc):
-            return "idle"
         raise BenchInputError(str(exc)) from None
-    return None
+    passed = []
+    for scenario, method in HOST_SCENES:
+        try:
+            for host in hosts:
+                resolve(host, method, "pty")
+        except HostUnavailable as exc:
+            if "is not in the" not in str(exc):
+                raise BenchInputError(str(exc)) from None
+            passed.append(str(exc))
+            continue
+        return scenario, method, None, "; ".join(passed)
+    return HOST_SCENES[0][0], "idle", "idle", "; ".join(passed)
 
 
 def _configs(hosts: tuple[str, ...]) -> list[tuple[int, str, str, str, str]]:
@@ -168,7 +183,7 @@ def _configs(hosts: tuple[str, ...]) -> list[tuple[int, str, str, str, str]]:
     configs = [(lag, f"{transport}{tag}", transport, "python", "python")
                for lag, tag in ((1, ""), (0, "_lag0")) for transport in ("pty", "inproc")]
     configs.append((1, "pty_simavr", "pty", "simavr", "python"))
-    if hosts:  # the hosts side by side on the same method (host_method)
+    if hosts:  # the hosts side by side on the same scene (host_scene)
         for host in ("python", *hosts):
             configs.append((1, f"host_{host}", "pty", "python", host))
             if host != "arm":  # qemu-arm is its own process
@@ -182,7 +197,7 @@ def realtime_factors(args) -> dict:
     from mobigrasp.services.run_job import RunOptions
 
     hosts = rtf_hosts(args)
-    method = host_method(hosts) if hosts else None
+    scene = host_scene(hosts) if hosts else None
     results: dict = {}
     with tempfile.TemporaryDirectory(prefix="mobigrasp-bench-") as tmp:
         folder = Path(tmp)
@@ -196,11 +211,12 @@ def realtime_factors(args) -> dict:
         for k in range(args.rtf_repeats):
             for lag, tag, transport, mcu, host in configs:
                 hosted = tag.startswith("host_")
-                s = _one(RunOptions(scenario="paper000-exp1", transport=transport,
-                                    out=folder / f"rtf-{tag}-{k}", progress=False,
-                                    plots=False, time_limit_s=args.rtf_limit_s,
-                                    host_lag_quanta=lag, mcu=mcu, host=host,
-                                    host_method=method if hosted else None))
+                s = _one(RunOptions(scenario=scene[0] if hosted else "paper000-exp1",
+                                    transport=transport, out=folder / f"rtf-{tag}-{k}",
+                                    progress=False, plots=False,
+                                    time_limit_s=args.rtf_limit_s, host_lag_quanta=lag,
+                                    mcu=mcu, host=host,
+                                    host_method=scene[2] if hosted else None))
                 rows[lag, tag, transport, mcu, host].append(s)
                 if mcu == "python":
                     sha.setdefault("hosts" if hosted else (lag, "any"), set()).add(
@@ -224,8 +240,11 @@ def realtime_factors(args) -> dict:
     results["simavr_vs_python_pty"] = round(
         results["realtime_factor_pty_simavr"] / results["realtime_factor_pty"], 3)
     results["trace_equal_pty_inproc"] = all(len(sha[lag, "any"]) == 1 for lag in (0, 1))
-    if hosts:
-        results["host_method"] = method or "000"
+    if scene is not None:
+        results["host_scenario"], results["host_method"] = scene[0], scene[1]
+        results["host_method_reason"] = scene[3]
+        if progress_enabled() and scene[3]:
+            print(f"  hosts on {scene[0]} ({scene[1]}): {scene[3]}", file=sys.stderr)
         for host in hosts:
             results[f"host_{host}_vs_python"] = round(
                 results[f"realtime_factor_host_{host}"] / results["realtime_factor_host_python"],

@@ -1,10 +1,15 @@
 """``mobigrasp calibrate [--corpus DIR] [--json FILE]``: the host's modelled ARM9 time per stage
 against the same stage's C run as ARM920T code under a static timing model (calib/, the table
 and its reading in docs/budget.md). Without --corpus the corpus of the six shipped scenarios is
-recorded into a temporary folder first. Progress on stderr (scenarios recorded, then frames
-and planner calls emulated: done/total, elapsed, ~left; none with ``-q``); the table on stdout;
-the result is also kept as the last calibration that ``mobigrasp profile`` shows. Exit 1 when
-an emulated result differs from the Python kernel's, 2 for bad input."""
+recorded into a temporary folder first. The shipped scenarios of each method the C program has
+are then run again with the Python host program recorded and replayed on the C program as
+ARM920T code: its whole control steps and frame pipelines (calib/program.py; not with
+``--no-programs``). Progress on stderr (scenarios recorded, then frames, planner calls and
+scenario replays emulated, a replay one step: done/total, elapsed, ~left; none with ``-q``);
+the table on stdout; the result is also kept as the last calibration that ``mobigrasp
+profile`` shows. Exit 1 when
+an emulated result differs from the Python kernel's (or a replay from the Python program's), 2
+for bad input."""
 
 from __future__ import annotations
 
@@ -17,10 +22,10 @@ from mobigrasp.mcu_sim import checks
 
 
 def _table(result: dict) -> str:
-    lines = [f"{'stage':<16}{'frames':>7}{'model_us':>10}{'emu_us':>10}{'emu_p95':>10}"
+    lines = [f"{'stage':<20}{'frames':>7}{'model_us':>10}{'emu_us':>10}{'emu_p95':>10}"
              f"{'emu_max':>10}{'ratio':>7}{'cpi':>6}{'fill':>7}"]
     for name, s in result["stages"].items():
-        lines.append(f"{name:<16}{s['frames']:>7}{s['modelled_median_us']:>10.0f}"
+        lines.append(f"{name:<20}{s['frames']:>7}{s['modelled_median_us']:>10.0f}"
                      f"{s['emulated_median_us']:>10.0f}{s['emulated_p95_us']:>10.0f}"
                      f"{s['emulated_max_us']:>10.0f}{s['ratio_median']:>7.2f}{s['cpi']:>6.2f}"
                      f"{s['line_fill_share']:>7.1%}")
@@ -33,6 +38,7 @@ def _run(args: argparse.Namespace) -> int:
     from mobigrasp.calib import calibrate, corpus, plan_corpus
     from mobigrasp.calib.arm import ToolchainError, progress_stderr
     from mobigrasp.services.corpus import record as record_corpus
+    from mobigrasp.services.corpus import record_steps
     from mobigrasp.services.run_job import BadInput, shipped_scenarios
     from mobigrasp.tools.progress import StepProgress
 
@@ -63,7 +69,8 @@ def _run(args: argparse.Namespace) -> int:
                               enabled=not args.quiet) as emulated:
                 result = calibrate.calibrate(folder, per, args.line_fill_cycles,
                                              progress=None if args.quiet else progress_stderr,
-                                             on_step=emulated)
+                                             on_step=emulated,
+                                             record=None if args.no_programs else record_steps)
     except (corpus.CorpusError, plan_corpus.PlanCorpusError, ToolchainError, BadInput) as exc:
         print(f"mobigrasp calibrate: {exc}", file=sys.stderr)
         return 2
@@ -92,8 +99,12 @@ def register(sub: argparse._SubParsersAction) -> None:
                    help="corpus folder (mobigrasp corpus); default: record one first")
     p.add_argument("--json", type=Path, default=None, help="write the result here too")
     p.add_argument("--frames-per-scenario", type=checks.arg_int(1, 10_000), default=10, metavar="N",
-                   help="frames per scenario, spread evenly (default 10)")
-    p.add_argument("--all", action="store_true", help="every frame of the corpus")
+                   help="frames per scenario, spread evenly (default 10); as many control "
+                   "steps and frame pipelines per replayed scenario")
+    p.add_argument("--all", action="store_true",
+                   help="every frame of the corpus (and every step of the replays)")
+    p.add_argument("--no-programs", action="store_true",
+                   help="the kernels and planners only: no whole steps replayed on the C program")
     p.add_argument("--line-fill-cycles", type=checks.arg_int(0, 1000), default=40, metavar="C",
                    help="core cycles of one D-cache line fill (default 40)")
     p.set_defaults(func=_run)

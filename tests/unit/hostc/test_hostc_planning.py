@@ -34,7 +34,7 @@ from mobigrasp.host.planning.bezier_q import (
 from mobigrasp.host.planning.blocked_q import first_blocked_q, tau_at_time_q15
 from mobigrasp.host.planning.candidates import batch_ops, choose_sampling
 from mobigrasp.host.planning.clearance_q import clearance_words
-from mobigrasp.host.planning.grasp_circle import end_points_q
+from mobigrasp.host.planning.grasp_circle import GRID_STEPS, end_points_q, grasp_radius_um
 from mobigrasp.host.planning.sonar_regions import (
     REGION_SETUP_OPS,
     InfeasibleRegion,
@@ -122,6 +122,32 @@ def test_end_points(obj, l_e, n_e):
     py_ends, py_dirs = end_points_q(obj, l_e, n_e)
     assert list(ends)[:2 * n_e] == py_ends.ravel().tolist()
     assert list(dirs)[:2 * n_e] == py_dirs.ravel().tolist()
+
+
+def _c_grasp_radius(lengths_um, steps):
+    out = FFI.new("int64_t[2]", [-7, -7])
+    rc = C.mg_grasp_radius_um(*lengths_um, steps, out)
+    return None if rc != 0 else (out[0], out[1])
+
+
+def test_grasp_radius_of_the_shipped_arms():
+    # 001 §IV's arm at its h_e and at the shipped grasp height (80 mm), on the planner's grid
+    for h_e_um in (208_000, 80_000):
+        arm = (160_000, 160_000, 200_000, 108_000, h_e_um)
+        assert _c_grasp_radius(arm, GRID_STEPS) == grasp_radius_um(*arm)
+    assert _c_grasp_radius((160_000, 160_000, 200_000, 108_000, 700_000), GRID_STEPS) is None
+
+
+@SETTINGS
+@given(st.integers(-3, 40), st.lists(st.integers(0, 400_000), min_size=3, max_size=3),
+       st.integers(0, 300_000), st.integers(-200_000, 900_000))
+def test_grasp_radius(steps, links, h_r_um, h_e_um):
+    arm = (links[0], links[1], links[2], h_r_um, h_e_um)
+    c = _c_grasp_radius(arm, steps)
+    if steps < 1 or links[0] == 0:
+        assert c is None
+        return
+    assert c == grasp_radius_um(*arm, steps=steps)
 
 
 def _c_reference(ctrl_q, n):

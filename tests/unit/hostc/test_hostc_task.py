@@ -200,6 +200,14 @@ def _blind(t) -> tuple | None:
     return tuple(ms.blind) if ms.has_blind else None
 
 
+def _back_off(t) -> tuple:
+    """002's cut and back-off state as the Python's (cut, back_offs, back_off)."""
+    ms = _ms(t)
+    under_way = (ms.back_off_from[0], ms.back_off_from[1],
+                 ms.back_off_ended_us if ms.back_off_has_ended else None)
+    return bool(ms.cut), ms.back_offs, under_way if ms.has_back_off else None
+
+
 BLIND_OPS = st.one_of(
     st.tuples(st.just("bearing"), st.integers(-3142, 3141),
               st.none() | st.sampled_from([700, 1700]) | st.integers(-500, 4000),
@@ -442,9 +450,10 @@ FRAMES = st.none() | st.fixed_dictionaries({}, optional={
                                width_q4=w, roi=(0, 0, 1, 1)),
         PX_U, PX_V, st.integers(-16, 40 * 16), st.integers(1, 100 * 16)),
     "red_roi": st.none() | st.builds(
-        lambda u, v, w, h, edge: ROI.result_type()(u_c_q4=u, v_c_q4=v, roi=(0, 0, w, h),
-                                                   area_px=w * h, touches_edge=edge),
-        PX_U, PX_V, st.integers(1, 100), st.integers(1, 200), st.booleans())})
+        lambda u, v, x, y, w, h, edge: ROI.result_type()(u_c_q4=u, v_c_q4=v, roi=(x, y, w, h),
+                                                         area_px=w * h, touches_edge=edge),
+        PX_U, PX_V, st.sampled_from([0, 2, 150, 300]), st.sampled_from([0, 2, 100]),
+        st.integers(1, 100), st.integers(1, 200), st.booleans())})
 
 
 def _frame002(dets: dict | None):
@@ -463,6 +472,7 @@ def _frame002(dets: dict | None):
         f.has_rc, f.rc = 1, (rc.u_c_q4, rc.v_c_q4, rc.d_pixel_q4, rc.width_q4)
     if roi is not None:
         f.has_roi, f.roi_u_c_q4, f.roi_v_c_q4 = 1, roi.u_c_q4, roi.v_c_q4
+        f.roi_box = list(roi.roi)
         seen = ROI.sighting_fn()(roi, CAMERA_002.f_px)
         f.has_roi_sighting = seen is not None
         f.roi_sighting = seen or (0, 0, 0)
@@ -475,8 +485,33 @@ def _frame002(dets: dict | None):
                           st.tuples(NEAR, NEAR, st.integers(-3142, 3141))), max_size=30))
 def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
     """APPROACH of 002 step by step: the fuzzy controller on e (eqs. (1), (2) of 002), the
-    waist toward what it steers on, the estimate, the blind drive on, ADJUST and LOST."""
+    waist toward what it steers on, the estimate, the blind drive on, the back-off from a
+    cylinder cut by the frame's border, ADJUST and LOST."""
+    _approach_both(e0, dpx0, steps)
+
+
+def test_the_back_off_of_002_from_a_cut_cylinder():
+    """The cylinder's colour ROI cut by the frame's left border, its rings not measured, the
+    estimate 200 mm from the waist: C and Python back off alike, stop, look again."""
+    cut = {"double_cross": None, "red_cylinder": None, "red_roi": ROI.result_type()(
+        u_c_q4=16 * 35, v_c_q4=16 * 150, roi=(0, 60, 70, 180), area_px=9000,
+        touches_edge=False)}
+    whole = {**cut, "red_roi": ROI.result_type()(u_c_q4=16 * 150, v_c_q4=16 * 120,
+                                                 roi=(120, 60, 60, 120), area_px=6000,
+                                                 touches_edge=False)}
+    steps = [(20_000, cut, (-k * 6, 0, 0)) for k in range(26)] + [
+        (20_000, None, (-150, 0, 0)), (40_000, whole, (-150, 0, 0)),
+        (40_000, whole, (-150, 0, 0))]
+    py = _approach_both(0, None, steps, obj=(200 + Task("002").p.mount_forward_mm, 0))
+    assert py.ms.back_offs == 1 and py.ms.back_off is None and py.state == "ADJUST"
+
+
+def _approach_both(e0, dpx0, steps, obj=None):
+    """APPROACH of 002 on both (the search's sighting e0, dpx0; the object estimate obj, mm
+    in the odometry frame, or none), step by step, every output compared; the Python task."""
     py, c = Task("002"), _c_task()
+    if obj is not None:
+        py.obj, c.has_obj, c.obj_mm = obj, 1, obj
     rules = Method002()
     py.ms.e_mrad, py.ms.e_dpx = e0, dpx0
     ms = _ms(c)
@@ -501,11 +536,13 @@ def test_the_fuzzy_approach_of_002(e0, dpx0, steps):
                                                                          py.obj_seen_us)
         assert c.bad_detections == py.counters["bad_detections"]
         assert _blind(c) == py.ms.blind
+        assert _back_off(c) == (py.ms.cut, py.ms.back_offs, py.ms.back_off)
         assert (u[0] if has_u[0] else None) == py._detail.get("fuzzy", {}).get("u_mrad")
         if py.state != "APPROACH":
             break
         py.remember(now, inp)
         C.mg_task_remember(c, now, *xyh)
+    return py
 
 
 @SETTINGS

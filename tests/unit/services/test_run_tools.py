@@ -105,6 +105,32 @@ def test_v3_adds_close_far_cluttered_scenes_and_a_harsher_camera():
     assert "[faults]" not in random_scenario_toml("002", 7, faults=False)
 
 
+def test_v3_keeps_the_boards_post_clear_of_the_start_as_obstacles():
+    """002's board post stands 0.17 m behind the cylinder: v3 turns the cylinder (only as far as
+    needed, only in the scenes that need it) so that the post's surface stays 0.35 m from the
+    start over the cylinder's whole drag; seed 1017's post was 0.2 m from the start."""
+    import tomllib
+
+    from mobigrasp.mcu_sim.world.obstacles import BOARD_POST_BEHIND_M, BOARD_POST_SIDE_M
+    from mobigrasp.services.random_scenarios import random_scenario_toml
+
+    def post_clearance_m(target):
+        h = target["heading_rad"]
+        places = [(target["x_m"], target["y_m"])] + [(p["x_m"], p["y_m"])
+                                                    for p in target.get("path", [])]
+        if len(places) == 3:  # along the drag, 1 mm apart
+            (x0, y0), (x1, y1) = places[1:]
+            places += [(x0 + k / 400 * (x1 - x0), y0 + k / 400 * (y1 - y0)) for k in range(400)]
+        return min(math.hypot(x - BOARD_POST_BEHIND_M * math.cos(h),
+                              y - BOARD_POST_BEHIND_M * math.sin(h)) for x, y in places) \
+            - BOARD_POST_SIDE_M / math.sqrt(2)
+
+    targets = [tomllib.loads(random_scenario_toml("002", s))["target"] for s in range(1000, 1300)]
+    cylinders = [t for t in targets if t["kind"] == "red-cylinder"]
+    assert all(post_clearance_m(t) > 0.349 for t in cylinders)
+    assert min(post_clearance_m(t) for t in cylinders) < 0.36  # turned just far enough
+
+
 def test_profile_names_the_stage_closest_to_its_budget():
     stages = {
         "control": {"calls": 10, "mean_us": 150.0, "p95_us": 200, "max_us": 19_000,

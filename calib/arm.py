@@ -415,8 +415,8 @@ class Planner:
     host/planning/bezier_q.py), each call's result read back with its timing. A plan runs in a
     control step, after vision has had the D-cache: each call starts cold."""
 
-    CTRL, LIM, GEO, REASON, FIRST, COST, TRIED = (0x40_0000, 0x4F_0000, 0x4F_1000, 0x50_0000,
-                                                  0x51_0000, 0x52_0000, 0x53_0000)
+    CTRL, LIM, GEO, REASON, FIRST, COST, TRIED, STATE = (
+        0x40_0000, 0x4F_0000, 0x4F_1000, 0x50_0000, 0x51_0000, 0x52_0000, 0x53_0000, 0x53_0010)
 
     def __init__(self, arm: Arm9) -> None:
         self.arm = arm
@@ -472,3 +472,48 @@ class Planner:
         tried = struct.unpack("<i", a.read(base + self.TRIED, 4))[0]
         reasons = np.frombuffer(a.read(base + self.REASON, 4 * tried), np.int32)
         return (got, reasons), t
+
+    # -- 001's passes in slices of the control steps (mg_bezier001_coarse_slice, _fine_slice)
+    def start_pass(self, ctrl, lim, geo) -> int:
+        """Put a pass's candidates and tests in memory, its slice state at the start; returns
+        the number of candidates."""
+        m = self._put(ctrl, lim, geo)
+        self.arm.write(self.STATE, bytes(8))
+        return m
+
+    def pass_state(self) -> tuple[int, int]:
+        """(next candidate, modelled cycles of the pass so far) after the last slice."""
+        return struct.unpack("<ii", self.arm.read(DATA_BASE + self.STATE, 8))
+
+    def bezier001_coarse_slice(self, m: int, n: int, n_reg: int, per_sample_cycles: int,
+                               setup_cycles: int, cut_cycles: int, k1_q16: int, k2_q16: int,
+                               slice_end_cycles: int, cold: bool = True):
+        """One slice of the coarse pass put by :meth:`start_pass`: (curves taken, -1 while it
+        goes on; timing). Its outputs so far: :meth:`coarse_outputs`."""
+        base = DATA_BASE
+        return self.arm.call(
+            "mg_bezier001_coarse_slice", base + self.CTRL, m, int(n), base + self.LIM,
+            base + self.GEO, int(n_reg), int(per_sample_cycles), int(setup_cycles),
+            int(cut_cycles), int(k1_q16), int(k2_q16), int(slice_end_cycles), base + self.STATE,
+            base + self.REASON, base + self.FIRST, base + self.COST, cold=cold)
+
+    def coarse_outputs(self, m: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(reasons, first violated samples, costs) of the coarse pass's ``m`` candidates."""
+        return self._out(m)
+
+    def bezier001_fine_slice(self, m: int, n: int, n_reg: int, per_sample_cycles: int,
+                             setup_cycles: int, worst_us: int, budget_us: int,
+                             slice_end_cycles: int, cold: bool = True):
+        """One slice of the fine check put by :meth:`start_pass`: ((index, -1 for none, -2
+        while it goes on; reasons of those tried once it has ended), timing)."""
+        a, base = self.arm, DATA_BASE
+        got, t = a.call("mg_bezier001_fine_slice", base + self.CTRL, m, int(n),
+                        base + self.LIM, base + self.GEO, int(n_reg), int(per_sample_cycles),
+                        int(setup_cycles), int(worst_us), int(budget_us),
+                        int(slice_end_cycles), base + self.STATE, base + self.REASON,
+                        base + self.TRIED, cold=cold)
+        if got == -2:
+            return (got, None), t
+        tried = struct.unpack("<i", a.read(base + self.TRIED, 4))[0]
+        return (got, np.frombuffer(a.read(base + self.REASON, 4 * tried), np.int32)), t
+

@@ -25,6 +25,7 @@ from mobigrasp.calib import arm, corpus, plan_corpus, planning, program, timing
 from mobigrasp.calib.native import red_roi_tuple
 from mobigrasp.host import ranging
 from mobigrasp.host.budget import FCLK_HZ
+from mobigrasp.host.planning.anytime import CYCLES_PER_US, PLAN_SLICE_US
 from mobigrasp.host.vision import dark_blobs, grey
 from mobigrasp.host.vision.registry import DETECTORS
 from mobigrasp.provenance import source_commit
@@ -142,30 +143,73 @@ def select_plans(index: dict, per_scenario: int | None) -> list[dict]:
 
 
 def plan_stage(machine: arm.Planner, st) -> tuple[str, bool, int, arm.Timing]:
-    """One planner call's candidate evaluation on the ARM920T: (stage, the result equals the
-    Python's, modelled cycles, timing). 000: the candidate set and the best; 001: the coarse
-    pass and the fine check of eq. (18)'s pool (one timing: the fine check after the coarse
-    pass, the cache as it left it)."""
+    """One 000 planner call's candidate evaluation on the ARM920T: (stage, the result equals
+    the Python's, modelled cycles, timing): the candidate set and the best, in one slice (a
+    000 plan is charged in one control step)."""
     cp = st.coarse
-    if isinstance(st, planning.Setup000):
-        (best, reason, first, _), t = machine.bezier000(cp.ctrl, cp.n, cp.lim, st.k1, st.k2)
-        ok = best == st.best and [plan_corpus.REASONS[r] for r in reason] == cp.reasons \
-            and np.array_equal(first, cp.first)
-        return "bezier000", ok, cp.cycles, t
-    (_, reason, first, cost), t = machine.bezier001_coarse(
-        cp.ctrl, cp.n, cp.lim, cp.geo, cp.n_reg, st.per_sample_cycles, st.setup_cycles,
-        st.cut_cycles, st.k1, st.k2)
+    (best, reason, first, _), t = machine.bezier000(cp.ctrl, cp.n, cp.lim, st.k1, st.k2)
+    ok = best == st.best and [plan_corpus.REASONS[r] for r in reason] == cp.reasons \
+        and np.array_equal(first, cp.first)
+    return "bezier000", ok, cp.cycles, t
+
+
+def plan_slices(machine: arm.Planner, st: planning.Setup001,
+                slice_cycles: int = PLAN_SLICE_US * CYCLES_PER_US
+                ) -> tuple[bool, list[tuple[int, arm.Timing]]]:
+    """One 001 planner call as the host runs it, an anytime computation in slices of the
+    control steps (host/planning/anytime.py): slice k holds the plan's modelled cycles
+    [k, k + 1) x ``slice_cycles``, its set-up first, then the coarse pass, the clearances and
+    the fine check of eq. (18)'s pool. Each slice's kernel work runs as one call (or two: the
+    end of the coarse pass and the start of the fine check), from a cold D-cache (vision and
+    the control steps ran in between). Returns (the passes' results equal the Python's,
+    [(modelled cycles, timing)] of each slice with kernel work)."""
+    cp = st.coarse
+    slices: dict[int, list] = {}
+
+    def put(k: int, modelled: int, t: arm.Timing) -> None:
+        row = slices.setdefault(k, [0, []])
+        row[0] += modelled
+        row[1].append(t)
+
+    m = machine.start_pass(cp.ctrl, cp.lim, cp.geo)
+    k = st.pre_coarse_cycles // slice_cycles
+    taken = -1
+    while taken < 0:
+        begin = machine.pass_state()[0]
+        taken, t = machine.bezier001_coarse_slice(
+            m, cp.n, cp.n_reg, st.per_sample_cycles, st.setup_cycles, st.cut_cycles, st.k1,
+            st.k2, (k + 1) * slice_cycles - st.pre_coarse_cycles)
+        stop = machine.pass_state()[0] if taken < 0 else min(taken + 1, m)
+        put(k, planning.coarse_cycles(st, begin, stop), t)
+        k += 1 if taken < 0 else 0
+    reason, first, cost = machine.coarse_outputs(m)
     evaluated = np.array([r != "budget" for r in cp.reasons])
     ok = [plan_corpus.REASONS[r] for r in reason] == cp.reasons \
         and np.array_equal(first[evaluated], cp.first[evaluated])
     order = planning.fine_order(cost, st.clearance, st.t_d_m, st.max_fine)
-    (got, tried), t_fine = machine.bezier001_fine(
-        cp.ctrl[order], st.n_fine, st.fine_lim, st.fine_geo, len(st.fine_geo) // 12,
-        st.per_sample_cycles, st.setup_cycles, st.worst_us, st.fine_budget_us)
+    pool = cp.ctrl[order]
+    n_reg = len(st.fine_geo) // 12
+    m = machine.start_pass(pool, st.fine_lim, st.fine_geo)
+    k_fine = max(k, st.pre_fine_cycles // slice_cycles)
+    got = -2
+    while got == -2:
+        begin = machine.pass_state()[0]
+        (got, tried), t = machine.bezier001_fine_slice(
+            m, st.n_fine, n_reg, st.per_sample_cycles, st.setup_cycles, st.worst_us,
+            st.fine_budget_us, (k_fine + 1) * slice_cycles - st.pre_fine_cycles,
+            cold=k_fine != k)
+        stop = machine.pass_state()[0] if got == -2 else len(tried)
+        put(k_fine, planning.fine_cycles(st, pool[begin:stop]), t)
+        k_fine += 1
     chosen = None if got < 0 else (int(st.us[order[got]]), int(st.endpoints[order[got]]))
     ok = ok and chosen == st.best
-    modelled = cp.cycles + planning.fine_cycles(st, cp.ctrl[order[:len(tried)]])
-    return "bezier001", ok, modelled, arm.Timing.sum(t, t_fine)
+    rows: list[list] = []
+    for _, (mod, ts) in sorted(slices.items()):
+        if mod or not rows:
+            rows.append([mod, ts])
+        else:  # a call charged nothing (an empty pool, the curve past the cut): the slice before
+            rows[-1][1] = rows[-1][1] + ts
+    return ok, [(mod, arm.Timing.sum(*ts)) for mod, ts in rows]
 
 
 def _pct(values: list[float], q: float) -> float:
@@ -274,13 +318,21 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                         DETECTORS["red_cylinder"].ranging_fn()().cycles(), t)
         if on_step is not None:
             on_step(k + 1, steps, f"frame {fr['file']}")
+    plans_001: list[tuple[int, int, int]] = []  # (modelled, emulated cycles, slices) a plan
     if plans:
         plan_machine = arm.Planner(machine)
         for k, call in enumerate(plans):
             arrays = plan_corpus.load_arrays(folder, call)
-            if len(arrays["ctrl"]):
-                stage, ok, modelled, t = plan_stage(plan_machine, planning.setup(call, arrays))
-                add(stage, ok, modelled, t)
+            if not len(arrays["ctrl"]):
+                pass
+            elif isinstance(st := planning.setup(call, arrays), planning.Setup000):
+                add(*plan_stage(plan_machine, st))
+            else:
+                ok, rows = plan_slices(plan_machine, st)
+                for modelled, t in rows:
+                    add("bezier001", ok, modelled, t)
+                plans_001.append((sum(r[0] for r in rows), sum(r[1].cycles for r in rows),
+                                  len(rows)))
             if on_step is not None:
                 on_step(len(frames) + k + 1, steps, f"planner call {call['file']}")
     for k, scenario in enumerate(runs):
@@ -323,6 +375,13 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                                     / max(1, sum(t.reads for t in ts)), 4),
             "result_mismatches": mismatch[name],
         }
+    if plans_001:  # bezier001's calls are slices: the whole plans beside them
+        stages["bezier001"].update({
+            "plans": len(plans_001),
+            "plan_slices_max": max(p[2] for p in plans_001),
+            "plan_modelled_max_us": round(max(p[0] for p in plans_001) * us, 1),
+            "plan_emulated_median_us": round(_pct([p[1] for p in plans_001], 50) * us, 1),
+            "plan_emulated_max_us": round(max(p[1] for p in plans_001) * us, 1)})
     commit = source_commit(("host", "hostc", "calib"), digits=12)
     return {"format": "mobigrasp-calibration/1", "commit": commit, "corpus": str(folder),
             "fclk_hz": FCLK_HZ, "line_fill_cycles": int(line_fill_cycles),

@@ -83,6 +83,12 @@ class Setup001:
     endpoints: np.ndarray
     fine_limits: Limits
     fine_geometry: Geometry  # the fine pass's tests (true regions)
+    # the plan's modelled cycles before the coarse pass (set-up, regions, end points) and
+    # before the fine check (those, the coarse pass and the clearances D_m): where each pass
+    # starts in the plan's slices (host/planning/anytime.py)
+    pre_coarse_cycles: int = 0
+    pre_fine_cycles: int = 0
+    coarse_kw: dict | None = None  # sample_ops' arguments of the coarse pass
 
 
 def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
@@ -109,6 +115,7 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
     known = len(inp.get("known_regions") or [])
     scan = infeasible_regions(params.sonar, p0, inp["heading_rad"], inp["sonar_mm"])
     ops = b001.setup_ops(len(scan.regions) + known, params.n_e, len(arrays["us"]))
+    pre_coarse = ops.cycles()
     kw = {"grasp_circle": True, "regions": len(regions), "divs_per_sample": 3}
     per_sample = sample_ops(1, **kw).cycles() - sample_ops(0, **kw).cycles()
     setup_cycles = sample_ops(0, **kw).cycles()
@@ -139,7 +146,7 @@ def setup(call: dict, arrays: dict[str, np.ndarray]) -> Setup000 | Setup001:
         geometry(obj, l_e, regions).words(), params.n_fine, params.max_fine, params.t_d_m,
         sample_ops(params.n_fine, **kw).time_us(), params.total_budget_us - ops.time_us(),
         np.asarray(arrays["clearance"], np.float64), best, arrays["us"], arrays["endpoints"],
-        lim, geometry(obj, l_e, regions))
+        lim, geometry(obj, l_e, regions), pre_coarse, ops.cycles(), kw)
 
 
 def fine_order(cost: np.ndarray, clearance: np.ndarray, t_d_m: float, max_fine: int
@@ -162,3 +169,12 @@ def fine_cycles(st: Setup001, ctrl_q: np.ndarray) -> int:
                        len(st.fine_geo) // bezier_q.REGION_WORDS).first
     return int(np.minimum(first + 1, st.n_fine).sum()) * st.per_sample_cycles \
         + st.setup_cycles * len(rows) + bezier_q.PASS_OPS.cycles() * int((first >= st.n_fine).sum())
+
+
+def coarse_cycles(st: Setup001, start: int, stop: int) -> int:
+    """Modelled cycles of the coarse pass's candidates ``start:stop``, as plan_001 charges them
+    (those past the anytime cut not at all)."""
+    cp = st.coarse
+    taken = np.array([r != "budget" for r in cp.reasons[start:stop]], bool)
+    return int(batch_ops(cp.first[start:stop][taken], cp.n, **(st.coarse_kw or {})).cycles())
+

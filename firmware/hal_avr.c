@@ -60,11 +60,13 @@ void hal_servo_timers_config(uint8_t tccra, uint16_t icr)
 
 void hal_servo_timers_start(uint8_t tccrb)
 {
-    TCNT1 = 0;
-    TCNT3 = 0;
+    /* Timer1 runs since .init3 (the clock): Timer3 starts in its phase, TCNT3 written one
+     * 0.5 us tick ahead of the TCNT1 read (the copy takes under 8 cycles), and Timer1's mode
+     * and clock stay as they are (TCCR1B is written with the value it has) */
+    TCNT3 = (uint16_t)(TCNT1 + 1u);
+    TCCR3B = tccrb;
     TIMSK |= _BV(TOIE1);
     TCCR1B = tccrb;
-    TCCR3B = tccrb;
 }
 
 void hal_servo_ocr(uint8_t ch, uint16_t ocr)
@@ -162,6 +164,20 @@ void uart_init(void)
  * from main's sei on; until then the USART holds what arrives (two bytes and the one shifting
  * in). A call from .init3 falls through to .init4 when it returns. */
 __asm__(".section .init3,\"ax\",@progbits\n\tcall uart_init\n\t.text");
+
+/* The clock starts at the reset too: Timer1 counts from .init3 in the servo mode (14, TOP
+ * ICR1 = 39 999, clk/8: 20 ms periods of 0.5 us ticks, as hal_micros reads it), its outputs
+ * off until fw_setup sets the compare modes and the pins. hal_micros is then the time since
+ * the reset, as on the native HAL and the Python model, not since the end of the start-up
+ * (some 2.2 ms later): the telemetry keeps the models' phase in the 20 ms period. */
+void clock_init(void); /* called from .init3 only */
+void clock_init(void)
+{
+    ICR1 = 39999u;
+    TCCR1A = _BV(WGM11);
+    TCCR1B = _BV(WGM13) | _BV(WGM12) | _BV(CS11);
+}
+__asm__(".section .init3,\"ax\",@progbits\n\tcall clock_init\n\t.text");
 
 ISR(USART0_RX_vect)
 {

@@ -4,11 +4,14 @@
 say how. Here the base, after its look-around at the start (Fig. 5 cycles, host/search.py),
 drives rings around the start through the stations returned below, the camera sweeping a
 strip of half-width ``view_mm`` (the detector's reliable range) on both sides. The look-around
-sees the disc of view_mm; ring k (k = 1..n) has radius a_k = k (radius - view_mm) / n with n
-the least such that a_1 <= 2 view_mm: the inner edge of every ring's strip then meets the
-outer edge of the one inside it (a_k - a_(k-1) <= 2 view_mm), the last ring's strip reaches
-``radius_mm``, and no ring is driven twice. A ring starts and closes on the start's x axis (its
-heading at the start); the step out to the next ring is radial. (An Archimedean spiral of pitch
+sees the disc of view_mm; each ring lies as far out as the strip allows, a_k = a_(k-1) + 2
+view_mm (a_0 = 0), the last at radius - view_mm: the inner edge of every ring's strip meets the
+outer edge of the one inside it, the last ring's strip reaches ``radius_mm``, and no ring is
+driven twice. The first ring's strip reaches 3 view_mm less its sides' sagitta (3.2 m for the
+default 4.5 m disc; rings evenly spaced, a_k = k (radius - view_mm) / n, reached 2.8 m, and
+targets 2.9 m away were seen on the second ring only, after the 150 s time limit of v2 scenes,
+docs/cosim.md). A ring starts and closes on the start's x axis (its heading at the start); the
+step out to the next ring is radial. (An Archimedean spiral of pitch
 2 view_mm covers the same disc with ~20 % more path for 4.5 m: its last turn overshoots.)
 A ring is a polygon of sides about ``chord_mm`` whose sides touch its circle at their
 midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). Integer
@@ -31,13 +34,20 @@ def ring_stations(radius_mm: int, view_mm: int, chord_mm: int) -> list[tuple[int
     if radius_mm <= view_mm:
         return []  # the look-around at the start sees it all
     span = radius_mm - view_mm
-    n = -(-span // (2 * view_mm))
-    while True:
-        rings = [_ring(span * k // n, chord_mm) for k in range(1, n + 1)]
-        # vertices outside the circle by the sagitta: ring k's reach inward is from them
-        if all(b[0] - a[1] <= 2 * view_mm for a, b in zip([(0, 0), *rings], rings, strict=False)):
-            break
-        n += 1
+    rings: list[tuple[int, int, int]] = []
+    inner = 0  # the ring inside's radius (its sides' midpoints: its reach outward); the start
+    while inner < span:
+        a = min(span, inner + 2 * view_mm)
+        ring = _ring(a, chord_mm)
+        # vertices outside the circle by the sagitta: a ring's reach inward is from them
+        while ring[0] - inner > 2 * view_mm:
+            a -= ring[0] - inner - 2 * view_mm
+            ring = _ring(a, chord_mm)
+        if a <= inner:
+            raise ValueError(f"rings of {chord_mm} mm sides cannot cover {radius_mm} mm with "
+                             f"a {view_mm} mm strip")
+        rings.append(ring)
+        inner = a
     stations: list[tuple[int, int]] = []
     for a_v, _, m in rings:
         for j in range(m + 1):

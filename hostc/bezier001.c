@@ -14,25 +14,37 @@
 #include "bezier.h"
 #include "kernels.h"
 
-int32_t mg_bezier001_coarse(const int32_t *ctrl, int32_t n_cand, int32_t n,
-                            const int32_t *lim, const int64_t *geo, int32_t n_reg,
-                            int32_t per_sample_cycles, int32_t setup_cycles, int32_t cut_cycles,
-                            int32_t k1_q16, int32_t k2_q16, int32_t *reason, int32_t *first,
-                            int64_t *cost)
+/* One slice of the coarse pass: state[0] the next candidate, state[1] the modelled cycles of
+ * the pass so far (the anytime cut's count); candidates are started while that count is below
+ * slice_end_cycles. Returns the curves taken when the pass has ended (the cut or the last
+ * candidate), -1 when it goes on in a later slice. */
+int32_t mg_bezier001_coarse_slice(const int32_t *ctrl, int32_t n_cand, int32_t n,
+                                  const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                                  int32_t per_sample_cycles, int32_t setup_cycles,
+                                  int32_t cut_cycles, int32_t k1_q16, int32_t k2_q16,
+                                  int32_t slice_end_cycles, int32_t *state, int32_t *reason,
+                                  int32_t *first, int64_t *cost)
 {
-    int32_t spent = 0, i = 0;
-    for (; i < n_cand; i++) {
+    int32_t spent = state[1], i = state[0];
+    int cut = 0;
+    for (; i < n_cand && spent < slice_end_cycles; i++) {
         int64_t len = 0, kint = 0;
         reason[i] = mg_bezier_curve(ctrl + 12 * i, n, lim, geo, n_reg, first + i, &len,
                                     &kint);
         const int32_t used = first[i] + 1 < n ? first[i] + 1 : n;
         spent += used * per_sample_cycles + setup_cycles;
         cost[i] = INT64_MAX;
-        if (spent > cut_cycles)
+        if (spent > cut_cycles) {
+            cut = 1;
             break;
+        }
         if (reason[i] == MG_OK)
             cost[i] = mg_bezier_cost(k1_q16, k2_q16, len, kint);
     }
+    state[0] = i;
+    state[1] = spent;
+    if (!cut && i < n_cand)
+        return -1;
     const int32_t taken = i;
     for (; i < n_cand; i++) {
         reason[i] = MG_BUDGET;
@@ -40,19 +52,43 @@ int32_t mg_bezier001_coarse(const int32_t *ctrl, int32_t n_cand, int32_t n,
         if (i > taken)
             first[i] = n;
     }
+    state[0] = n_cand;
     return taken;
 }
 
-int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const int32_t *lim,
-                          const int64_t *geo, int32_t n_reg, int32_t per_sample_cycles,
-                          int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
-                          int32_t *reason, int32_t *tried)
+int32_t mg_bezier001_coarse(const int32_t *ctrl, int32_t n_cand, int32_t n,
+                            const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                            int32_t per_sample_cycles, int32_t setup_cycles, int32_t cut_cycles,
+                            int32_t k1_q16, int32_t k2_q16, int32_t *reason, int32_t *first,
+                            int64_t *cost)
 {
-    int32_t cycles = 0;
-    for (int32_t i = 0; i < n_pool; i++) {
+    int32_t state[2] = {0, 0};
+    return mg_bezier001_coarse_slice(ctrl, n_cand, n, lim, geo, n_reg, per_sample_cycles,
+                                     setup_cycles, cut_cycles, k1_q16, k2_q16, INT32_MAX,
+                                     state, reason, first, cost);
+}
+
+/* One slice of the fine check: state[0] the next candidate of the pool, state[1] the modelled
+ * cycles spent so far; candidates are started while that count is below slice_end_cycles.
+ * Returns the index of the first that passes, -1 when none does (the pool or the budget
+ * spent: *tried says how many were checked in all), -2 when it goes on in a later slice. */
+int32_t mg_bezier001_fine_slice(const int32_t *ctrl, int32_t n_pool, int32_t n,
+                                const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                                int32_t per_sample_cycles, int32_t setup_cycles,
+                                int32_t worst_us, int32_t budget_us, int32_t slice_end_cycles,
+                                int32_t *state, int32_t *reason, int32_t *tried)
+{
+    int32_t cycles = state[1];
+    for (int32_t i = state[0]; i < n_pool; i++) {
         if ((cycles + 399) / 400 + worst_us > budget_us) {  /* µs at 400 MHz, rounded up */
             *tried = i;
+            state[0] = n_pool;
             return -1;
+        }
+        if (cycles >= slice_end_cycles) {
+            state[0] = i;
+            state[1] = cycles;
+            return -2;
         }
         int64_t len = 0, kint = 0;
         int32_t first = 0;
@@ -60,9 +96,24 @@ int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const 
         cycles += (first + 1 < n ? first + 1 : n) * per_sample_cycles + setup_cycles;
         if (reason[i] == MG_OK) {
             *tried = i + 1;
+            state[0] = n_pool;
+            state[1] = cycles;
             return i;
         }
     }
     *tried = n_pool;
+    state[0] = n_pool;
+    state[1] = cycles;
     return -1;
+}
+
+int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const int32_t *lim,
+                          const int64_t *geo, int32_t n_reg, int32_t per_sample_cycles,
+                          int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
+                          int32_t *reason, int32_t *tried)
+{
+    int32_t state[2] = {0, 0};
+    return mg_bezier001_fine_slice(ctrl, n_pool, n, lim, geo, n_reg, per_sample_cycles,
+                                   setup_cycles, worst_us, budget_us, INT32_MAX, state,
+                                   reason, tried);
 }

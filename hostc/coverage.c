@@ -23,27 +23,29 @@ int32_t mg_ring_stations(int32_t radius_mm, int32_t view_mm, int32_t chord_mm,
     if (radius_mm <= view_mm)
         return 0;
     const int64_t span = (int64_t)radius_mm - view_mm;
-    int64_t n = -mg_floor_div(-span, 2 * (int64_t)view_mm);
     int64_t a_v[MG_COVER_MAX_RINGS];
     int32_t m[MG_COVER_MAX_RINGS];
-    for (;; n++) {
-        if (n > MG_COVER_MAX_RINGS) {
+    int32_t n = 0;
+    /* each ring as far out as the strip allows, the last at span; inner: the ring inside's
+     * radius (its sides' midpoints, its reach outward), the start's 0 for the first */
+    for (int64_t inner = 0; inner < span; n++) {
+        if (n >= MG_COVER_MAX_RINGS) {
             *overflow = 1;
             return 0;
         }
-        /* vertices outside the circle by the sagitta: ring k's reach inward is from them */
-        int ok = 1;
-        int64_t inner = 0;
-        for (int64_t k = 1; k <= n; k++) {
-            ring(span * k / n, chord_mm, &a_v[k - 1], &m[k - 1]);
-            ok &= a_v[k - 1] - inner <= 2 * (int64_t)view_mm;
-            inner = span * k / n;
+        int64_t a = span < inner + 2 * (int64_t)view_mm ? span : inner + 2 * (int64_t)view_mm;
+        ring(a, chord_mm, &a_v[n], &m[n]);
+        /* vertices outside the circle by the sagitta: a ring's reach inward is from them */
+        while (a_v[n] - inner > 2 * (int64_t)view_mm) {
+            a -= a_v[n] - inner - 2 * (int64_t)view_mm;
+            ring(a, chord_mm, &a_v[n], &m[n]);
         }
-        if (ok)
-            break;
+        if (a <= inner)
+            return -1; /* sides too long for the strip: no ring gets farther out */
+        inner = a;
     }
     int32_t count = 0;
-    for (int64_t k = 0; k < n; k++)
+    for (int32_t k = 0; k < n; k++)
         for (int32_t j = 0; j <= m[k]; j++) {
             if (count >= max) {
                 *overflow = 1;

@@ -131,6 +131,22 @@ int32_t mg_bezier001_fine(const int32_t *ctrl, int32_t n_pool, int32_t n, const 
                           const int64_t *geo, int32_t n_reg, int32_t per_sample_cycles,
                           int32_t setup_cycles, int32_t worst_us, int32_t budget_us,
                           int32_t *reason, int32_t *tried);
+/* The same two passes in slices of a control step (the plan as an anytime computation,
+ * host/planning/anytime.py): state[0] the next candidate, state[1] the pass's modelled cycles
+ * so far (both 0 at the start); each call starts candidates while state[1] is below
+ * slice_end_cycles and returns as the whole pass would once it has ended, else -1 (coarse)
+ * or -2 (fine). Slice by slice they give the whole pass's results. */
+int32_t mg_bezier001_coarse_slice(const int32_t *ctrl, int32_t n_cand, int32_t n,
+                                  const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                                  int32_t per_sample_cycles, int32_t setup_cycles,
+                                  int32_t cut_cycles, int32_t k1_q16, int32_t k2_q16,
+                                  int32_t slice_end_cycles, int32_t *state, int32_t *reason,
+                                  int32_t *first, int64_t *cost);
+int32_t mg_bezier001_fine_slice(const int32_t *ctrl, int32_t n_pool, int32_t n,
+                                const int32_t *lim, const int64_t *geo, int32_t n_reg,
+                                int32_t per_sample_cycles, int32_t setup_cycles,
+                                int32_t worst_us, int32_t budget_us, int32_t slice_end_cycles,
+                                int32_t *state, int32_t *reason, int32_t *tried);
 
 /* clearance.c: D_m of eq. (18) of 001 (host/planning/clearance_q.py) of one path of n samples
  * (x, y in 1/16 mm) to n_reg regions of MG_CLEAR_WORDS words each (clearance_words: sensing

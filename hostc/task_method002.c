@@ -457,6 +457,39 @@ static int backing_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
     return 0;
 }
 
+/* The board without its cylinder (method002.py board_alone): MG_BOARD_ALONE_FRAMES frames of
+ * the crosses within MG_BOARD_ALONE_*_MM by their spacing and no red, before the red cylinder
+ * was seen in any frame of the approach: FAILED "no graspable object found" (1). */
+static int board_alone(mg_task_t *t, int64_t now_us, const mg_frame002_t *f)
+{
+    mg_state002_t *ms = ms002(t);
+    if (ms->red_seen || t->graspable_seen)
+        return 0;
+    if (f->has_rc || f->has_roi) {
+        ms->red_seen = 1;
+        return 0;
+    }
+    const int32_t d_px = f->has_dc ? mg_d_pixel_px(f->dc_d_pixel_q4) : 0;
+    if (!d_px)
+        return 0;
+    const int32_t range_mm = mg_method002_board_range_mm(t, d_px);
+    if (range_mm < MG_BOARD_ALONE_MIN_MM || range_mm > MG_BOARD_ALONE_MAX_MM)
+        return 0;
+    if (++ms->alone_frames < MG_BOARD_ALONE_FRAMES)
+        return 0;
+    char why[MG_TASK_WHY];
+    size_t n = mg_task_text(why, sizeof why, 0,
+                            "no graspable object found: the double cross seen in ");
+    n = mg_task_text_int(why, sizeof why, n, ms->alone_frames);
+    n = mg_task_text(why, sizeof why, n, " frames ");
+    n = mg_task_text_int(why, sizeof why, n, MG_BOARD_ALONE_MIN_MM);
+    n = mg_task_text(why, sizeof why, n, "-");
+    n = mg_task_text_int(why, sizeof why, n, MG_BOARD_ALONE_MAX_MM);
+    mg_task_text(why, sizeof why, n, " mm away, no red cylinder before it");
+    mg_task_fail(t, now_us, why);
+    return 1;
+}
+
 void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                            const mg_frame002_t *f, int32_t *has_u, int32_t *u_mrad)
 {
@@ -489,6 +522,8 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
     }
     if (!f->has_frame)
         return; /* no new frame: keep the wheels as they are */
+    if (board_alone(t, now_us, f))
+        return;
     int32_t yaw[6];
     mg_task_arm_at(t, now_us - t->p.frame_latency_us, yaw); /* the waist of the frame */
     int32_t has_e = 0, e = 0, vm = 0, has_cue = 0, cue_mm = 0;

@@ -27,6 +27,12 @@
 #define MG_BACK_OFF_WITHIN_MM 60
 #define MG_BACK_OFF_002_MM 150
 #define MG_BACK_OFFS_002 2
+/* APPROACH: the board alone (method002.py BOARD_ALONE_MM, BOARD_ALONE_FRAMES): this many frames
+ * of the crosses this far away by their spacing without red, before any frame of the approach
+ * showed red, end the run: no graspable object */
+#define MG_BOARD_ALONE_MIN_MM 600
+#define MG_BOARD_ALONE_MAX_MM 2000
+#define MG_BOARD_ALONE_FRAMES 15
 #define MG_T_RED 40 /* the red mask's redness threshold (host/vision/red_cylinder.py T_RED) */
 
 enum { MG_STEER_NONE, MG_STEER_DOUBLE_CROSS, MG_STEER_RED_CYLINDER };
@@ -49,6 +55,8 @@ typedef struct {
     /* the back-off under way: where it started, and the time it ended (has_ended 0: driving) */
     int32_t has_back_off, back_off_from[2], back_off_has_ended;
     int64_t back_off_ended_us;
+    int32_t red_seen;     /* a frame of APPROACH showed the red cylinder (rings or ROI) */
+    int32_t alone_frames; /* ... before it, frames of the crosses in MG_BOARD_ALONE_*, no red */
 } mg_state002_t;
 
 void mg_method002_ms_init(void *ms);

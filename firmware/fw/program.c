@@ -85,7 +85,12 @@ void fw_setup(void)
     uint32_t now = hal_micros();
     fw_last_valid_us = now;
     next_control_us = now + CONTROL_PERIOD_US;
-    next_telemetry_us = now;
+    /* the first telemetry at once (it carries the reset flag), the later ones on the clock's
+     * multiples of their period: at 50 Hz the AVR's Timer1 overflows, whose handler wakes the
+     * loop then (due work otherwise waits for a Timer0 tick, up to 1 ms). The models' start-up
+     * takes no time (now is 0), so theirs are at those times already. */
+    uint32_t hz = (uint32_t)params_values[I_TELEMETRY_HZ];
+    next_telemetry_us = hz ? now - now % (1000000ul / hz) : now;
     sonar_reset(&fw_sonar, now);
 }
 

@@ -57,6 +57,13 @@ SEARCH_COVER_002_MM = 2500  # SEARCH gives up once its wander has covered this d
 BACK_OFF_WITHIN_MM = 60
 BACK_OFF_002_MM = 150
 BACK_OFFS_002 = 2
+# APPROACH: the board alone. The cylinder stands 0.15 m before the board's face, the one the
+# crosses are printed on, and its colour ROI is found from any side at 0.4-3 m: a frame that
+# shows the crosses BOARD_ALONE_MM away by their spacing (an oblique board reads farther than
+# it is) shows the cylinder too. BOARD_ALONE_FRAMES such frames without red, before any frame
+# of the approach showed red, end the run: no graspable object (docs/task.md)
+BOARD_ALONE_MM = (600, 2000)
+BOARD_ALONE_FRAMES = 15
 # the grasp check's look (docs/task.md): the fingertip, and a held cylinder with it, brought to
 # (reach mm ahead of the waist, height mm above the ground) with the camera pitched down (mrad),
 # first reachable wins: a cylinder left standing is then ~150 mm further out and below the view
@@ -79,6 +86,8 @@ class State002(MethodState):
     back_offs: int = 0  # back-offs made in the run
     # the back-off under way: (x_mm, y_mm where it started, t_us it ended or None)
     back_off: tuple[int, int, int | None] | None = None
+    red_seen: bool = False  # a frame of APPROACH showed the red cylinder (rings or ROI)
+    alone_frames: int = 0  # ... before it, frames of the crosses in BOARD_ALONE_MM, no red
 
 
 class Method002(Method):
@@ -217,6 +226,8 @@ class Method002(Method):
                 return
         if not dets:
             return  # no new frame: keep the wheels as they are
+        if self.board_alone(t, now, dets):
+            return
         dc = dets.get("double_cross")
         yaw = t.arm_at(now - t.p.frame_latency_us)[5]  # the waist when the frame was taken
         e = vm = cue_mm = None  # bearing, image row to keep centred, range of the cue
@@ -268,6 +279,30 @@ class Method002(Method):
         t.ms.prev_e = (now, e) if e is not None else None
         t.note(fuzzy={"e_mrad": e, "e_c_mrad_s": ec, "u_mrad": cmd.u_mrad,
                       "wheels_mmps": list(t.wheels), "steer_on": cue})
+
+    def board_alone(self, t: Task, now: int, dets: dict) -> bool:
+        """The board without its cylinder: BOARD_ALONE_FRAMES frames showing the crosses within
+        BOARD_ALONE_MM by their spacing and no red (neither rings nor colour ROI), before the
+        red cylinder was seen in any frame of the approach. The cylinder stands before the
+        crosses' face and its ROI is found from every side out to 3 m, so such frames would
+        show it: FAILED "no graspable object found" (True), rather than driving on into the
+        board and searching until the time limit."""
+        if t.ms.red_seen or t.graspable_seen:
+            return False
+        if _is_result("red_cylinder", dets.get("red_cylinder")) or \
+                _is_result("red_roi", dets.get("red_roi")):
+            t.ms.red_seen = True
+            return False
+        d_px = _spacing_px("double_cross", dets.get("double_cross"))
+        if not d_px or not BOARD_ALONE_MM[0] <= _board_range_mm(t, d_px) <= BOARD_ALONE_MM[1]:
+            return False
+        t.ms.alone_frames += 1
+        if t.ms.alone_frames < BOARD_ALONE_FRAMES:
+            return False
+        t.fail(now, f"no graspable object found: the double cross seen in {t.ms.alone_frames} "
+               f"frames {BOARD_ALONE_MM[0]}-{BOARD_ALONE_MM[1]} mm away, no red cylinder "
+               f"before it")
+        return True
 
     def backs_off(self, t: Task, inp, dist_mm: int) -> bool:
         """The estimate would start ADJUST ``dist_mm`` from the waist, within
@@ -503,19 +538,20 @@ def _roi_cut(t: Task, roi: Any) -> bool:
     return x <= 0 or y <= 0 or x + w >= 2 * t.cam.u0_px or y + h >= 2 * t.cam.v0_px
 
 
+def _is_result(name: str, det: Any) -> bool:
+    """``det`` is a result of detector ``name`` (not none, not another type)."""
+    return det is not None and isinstance(det, registry.row(name).result_type())
+
+
 def _spacing_q4(det: Any) -> int | None:
     """d_pixel in Q4 px of a red cylinder result; None for none or another type."""
-    if det is None or not isinstance(det, registry.row("red_cylinder").result_type()):
-        return None
-    return det.d_pixel_q4
+    return det.d_pixel_q4 if _is_result("red_cylinder", det) else None
 
 
 def _spacing_px(name: str, det: Any) -> int | None:
     """d_pixel in px of a result of detector ``name``; None for no result or one of another
     type (see_object counts those)."""
-    if det is None or not isinstance(det, registry.row(name).result_type()):
-        return None
-    return d_pixel_px(det)
+    return d_pixel_px(det) if _is_result(name, det) else None
 
 
 RULES = Method002()

@@ -147,7 +147,9 @@ class Firmware:
         now = hw.micros()
         self.last_valid_us = now
         self.next_control_us = now + CONTROL_PERIOD_US
-        self.next_telemetry_us = now
+        # the first telemetry at once, the later ones on multiples of their period (program.c)
+        hz = self.params.values[_I_TELEMETRY_HZ]
+        self.next_telemetry_us = now - now % (1_000_000 // hz) if hz else now
         self.sonar.reset(now)
 
     # -- interrupt handlers --------------------------------------------------------------------

@@ -67,6 +67,66 @@ def test_emulated_001_passes_equal_the_host_build(planner):
     assert both.instructions == t.instructions + t_fine.instructions
 
 
+def _scene_001():
+    p0, obj, heading = np.array([0.0, 0.0]), np.array([2.0, 0.5]), 0.2
+    regions = infeasible_regions(SonarConfig(arc_angle_bound=True), p0, heading,
+                                 [2500, 900, 1200, 2500, 2500]).regions
+    ends = end_points(obj, 0.35, 12)[[5, 6, 7]]
+    dist = float(np.hypot(*(obj - p0)))
+    ctrl, _, _ = control_points_001(p0, np.array([math.cos(heading), math.sin(heading)]), ends,
+                                    obj, dist / 0.2, 4, dist, 0.2)
+    lim = Limits(0.4, 0.1, None, accel_is_normal=True).words()
+    return quantize_ctrl(ctrl), lim, planning.geometry(obj, 0.35, regions).words(), len(regions)
+
+
+def test_001_passes_in_slices_give_the_whole_passes_results(planner):
+    ctrl, lim, geo, n_reg = _scene_001()
+    k1, k2 = planning.q16(0.8), planning.q16(0.2)
+    want = native.bezier001_coarse(ctrl, 10, lim, geo, n_reg, 300, 100, 20_000, k1, k2)
+    m = planner.start_pass(ctrl, lim, geo)
+    taken, ends, spent = -1, [], []
+    while taken < 0:  # slices of 2500 modelled cycles: a few curves each
+        end = 2_500 * (len(ends) + 1)
+        taken, t = planner.bezier001_coarse_slice(m, 10, n_reg, 300, 100, 20_000, k1, k2, end)
+        ends.append(end)
+        spent.append(planner.pass_state()[1])
+        assert t.cycles > 0
+    assert taken == want[0] and len(ends) > 2
+    for got, exp in zip(planner.coarse_outputs(m), want[1:], strict=True):
+        assert np.array_equal(got, exp)
+    # each slice started its curves below its end: it overran it by one curve at most
+    assert all(s - e < 10 * 300 + 100 for s, e in zip(spent[:-1], ends, strict=False))
+    fine = (ctrl[::-1], 16, lim, geo, n_reg, 300, 100, 5, 10_000)
+    whole = native.bezier001_fine(*fine)
+    m = planner.start_pass(fine[0], lim, geo)
+    got, k = -2, 0
+    while got == -2:
+        k += 1
+        (got, tried), _ = planner.bezier001_fine_slice(m, 16, n_reg, 300, 100, 5, 10_000,
+                                                       5_000 * k)
+    assert got == whole[0] and np.array_equal(tried, whole[1]) and k > 1
+
+
+@pytest.mark.slow
+def test_a_recorded_001_plan_runs_in_slices_that_each_fit_a_control_step(planner, tmp_path):
+    from mobigrasp.calib import plan_corpus
+    from mobigrasp.host.planning.anytime import CYCLES_PER_US, PLAN_SLICE_US
+    from mobigrasp.services.corpus import record
+
+    record(tmp_path, ["paper001-sim1"], time_limit_s=3.0)
+    call = next(c for c in plan_corpus.read_index(tmp_path)["calls"] if c["planner"] == "001")
+    st = planning.setup(call, plan_corpus.load_arrays(tmp_path, call))
+    ok, rows = calibrate.plan_slices(planner, st)
+    assert ok and len(rows) >= 2  # the Python's reasons, first samples and chosen curve
+    slice_cycles = PLAN_SLICE_US * CYCLES_PER_US
+    # a slice's curves start within its 8 ms of the plan's count (which leaves out the ~1090
+    # cycles of a curve's integrals and cost when it passes), the last may run past its end
+    assert all(0 < modelled <= 1.1 * slice_cycles for modelled, _ in rows)
+    # as emulated, each slice within 10 ms: with the step's own work within its 20 ms
+    assert all(t.cycles <= 10_000 * CYCLES_PER_US for _, t in rows)
+    assert sum(modelled for modelled, _ in rows) >= st.coarse.cycles
+
+
 def test_profile_lists_planning_after_the_frame_stages_and_names_the_first_to_miss():
     from mobigrasp.services.profile import calibration_rows
 

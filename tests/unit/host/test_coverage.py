@@ -54,6 +54,24 @@ def test_a_small_disc_needs_no_wander_and_a_narrower_strip_would_leave_a_gap():
     assert _gap_mm([(0, 0), *cv.ring_stations(4500, 1100, 1000)], 4500, 700) > 700
 
 
+def test_the_first_ring_reaches_as_far_as_the_strip_allows():
+    """Each ring as far out as its strip meets the one inside it: the first ring's strip,
+    beyond the look-around's, reaches ~3 view_mm (within the sagitta of its sides), so that a
+    target 2.9 m away is seen on the first ring of the 4.5 m disc (evenly spaced rings, at 1.7
+    and 3.4 m, reached 2.8 m with the first)."""
+    st = cv.ring_stations(4500, 1100, 1500)
+    first = [s for s in st if math.hypot(*s) < 2500]
+    assert _gap_mm([(0, 0), *first], 3150, 1100) <= 1100 + 3
+    assert max(math.hypot(*s) for s in first) <= 2200 + 3  # its vertices within 2 view_mm
+    # the last ring where the disc's edge needs it (unchanged for 002's 2.5 m disc: one ring)
+    assert {round(math.hypot(*s)) // 10 for s in cv.ring_stations(2500, 1100, 1500)} == {161}
+
+
+def test_sides_too_long_for_the_strip_are_refused():
+    with pytest.raises(ValueError):
+        cv.ring_stations(8000, 300, 8000)  # hexagons too big to step out by a strip
+
+
 def test_legs_and_frames():
     assert cv.leg_to((0, 0, 0), (1000, 0)) == (0, 1000)
     turn, drive = cv.leg_to((100, 100, 1571), (100, 1100))

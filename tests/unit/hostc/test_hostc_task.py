@@ -16,7 +16,7 @@ from mobigrasp.host.kinematics import PAPER_000, PAPER_002
 from mobigrasp.host.task import Task, TaskInputs, drive, machine, sense
 from mobigrasp.host.task.adjust import ADJUST, AdjustState
 from mobigrasp.host.task.method import METHODS
-from mobigrasp.host.task.method002 import Method002
+from mobigrasp.host.task.method002 import BOARD_ALONE_FRAMES, Method002
 from mobigrasp.host.task.params import TaskParams
 from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import registry
@@ -506,6 +506,23 @@ def test_the_back_off_of_002_from_a_cut_cylinder():
     assert py.ms.back_offs == 1 and py.ms.back_off is None and py.state == "ADJUST"
 
 
+def test_the_board_alone_of_002():
+    """The crosses ~1.1 m away in frame after frame, no red: C and Python count them alike and
+    end FAILED "no graspable object found" at the same frame; red in a frame first, neither."""
+    board = {"double_cross": CROSS.result_type()(u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=0,
+                                                 um_q4=16 * 160, vm_q4=16 * 120,
+                                                 d_pixel_q4=16 * 40, e_mrad=0, votes=(1, 1)),
+             "red_cylinder": None, "red_roi": None}
+    steps = [(66_667, board, (k * 10, 0, 0)) for k in range(BOARD_ALONE_FRAMES + 2)]
+    py = _approach_both(0, 40, steps)
+    assert py.state == "FAILED" and py.failure.startswith("no graspable object found")
+    red = {**board, "red_roi": ROI.result_type()(u_c_q4=16 * 155, v_c_q4=16 * 120,
+                                                 roi=(150, 110, 10, 20), area_px=200,
+                                                 touches_edge=True)}  # no range: no estimate
+    py = _approach_both(0, 40, [(66_667, red, (0, 0, 0))] + steps)
+    assert py.state == "APPROACH" and py.ms.red_seen
+
+
 def _approach_both(e0, dpx0, steps, obj=None):
     """APPROACH of 002 on both (the search's sighting e0, dpx0; the object estimate obj, mm
     in the odometry frame, or none), step by step, every output compared; the Python task."""
@@ -537,6 +554,8 @@ def _approach_both(e0, dpx0, steps, obj=None):
         assert c.bad_detections == py.counters["bad_detections"]
         assert _blind(c) == py.ms.blind
         assert _back_off(c) == (py.ms.cut, py.ms.back_offs, py.ms.back_off)
+        assert (bool(_ms(c).red_seen), _ms(c).alone_frames) == (py.ms.red_seen,
+                                                               py.ms.alone_frames)
         assert (u[0] if has_u[0] else None) == py._detail.get("fuzzy", {}).get("u_mrad")
         if py.state != "APPROACH":
             break

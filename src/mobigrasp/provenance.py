@@ -17,8 +17,9 @@ def source_checkout() -> Path | None:
                              capture_output=True, text=True, timeout=10).stdout.strip()
     except (OSError, subprocess.SubprocessError):
         return None
-    # a wheel installed in a virtual environment that lies inside some other repository
-    if not top or not (Path(top) / "mobigrasp" / "resources.py").is_file():
+    # a wheel installed in a virtual environment that lies inside some other repository: the
+    # checkout is ours when it holds this package's source (src/mobigrasp/)
+    if not top or not (Path(top) / "src" / "mobigrasp" / "resources.py").is_file():
         return None
     return Path(top)
 

@@ -109,6 +109,7 @@ class Firmware:
         values, peripherals configured."""
         hw = self.hw
         self.cycles.charge("startup")
+        self.cycles.soft_pwm(False, hw.cycle)  # the reset stops Timer2's interrupts
         self.setup_rx()
         # a reset zeroes the C globals: the TX sequence counter and the duplicate filter's
         # counters start again too
@@ -221,7 +222,7 @@ class Firmware:
                 handle_frame(self, frame, now)
         pv = self.params.values
         if now >= self.next_control_us:
-            cycles.charge("wheel_pi")
+            cycles.charge("wheel_pi_drive" if self.drive_enabled else "wheel_pi")
             self._control()
             self.next_control_us += CONTROL_PERIOD_US
             if self.next_control_us <= now:
@@ -289,6 +290,8 @@ class Firmware:
         self.duty_out[side] = duty
         wheel = self.hw.wheel_right if side else self.hw.wheel_left
         cycle = self.hw.cycle
+        if side:
+            self.cycles.soft_pwm(0 < abs(duty) < 255, cycle)
         wheel.write_direction(duty < 0, cycle)
         wheel.write_ocr(-duty if duty < 0 else duty, cycle)
 

@@ -5,7 +5,12 @@ import shutil
 
 import pytest
 
-from mobigrasp.mcu_sim.firmware.cycles import CYCLES, CYCLES_PER_TIMER0_TICK, CycleMeter
+from mobigrasp.mcu_sim.firmware.cycles import (
+    CYCLES,
+    CYCLES_PER_TIMER0_TICK,
+    CYCLES_PER_TIMER2_PERIOD,
+    CycleMeter,
+)
 from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
 from mobigrasp.protocol import messages as m
 
@@ -38,6 +43,26 @@ def test_the_load_is_in_the_stats_and_follows_the_traffic():
              - quiet.firmware.cycles.busy_cycles(elapsed))
     assert added >= 60 * wire * (CYCLES["isr_usart0_rx"] + CYCLES["rx_byte_decode"])
     assert 0 < quiet.stats()["avr_load_permille"] < busy.stats()["avr_load_permille"] < 1000
+
+
+def test_driving_costs_the_pi_and_the_soft_pwm():
+    # SET_WHEELS every 50 ms from 40 ms on: the PI runs with the drive on, and while the right
+    # wheel's duty ramps through 1..254 Timer2's interrupts run too (the wheels stand: it
+    # saturates at 255 after that, Timer2 off again)
+    busy, pwm = [], []
+    for mmps in (0, 100):
+        mcu = Mcu()
+        mcu.uart_rx(m.encode_message(m.Hello(m.PROTOCOL_VERSION, "t", 0), 0), 20_000)
+        for k in range(1 if mmps else 0, 6 if mmps else 0):  # streamed, inside the watchdog
+            mcu.uart_rx(m.encode_message(m.SetWheels(mmps, mmps), k), k * 50_000 - 10_000)
+        mcu.advance_to(300_000)
+        meter = mcu.firmware.cycles
+        assert (meter.counts["wheel_pi_drive"] > 20) == bool(mmps)
+        busy.append(meter.busy_cycles(300_000 * 16))
+        pwm.append(meter.pwm_on_cycles)
+    assert pwm[0] == 0 and pwm[1] >= CYCLES_PER_TIMER2_PERIOD
+    assert busy[1] - busy[0] >= (20 * (CYCLES["wheel_pi_drive"] - CYCLES["wheel_pi"])
+                                 + pwm[1] // CYCLES_PER_TIMER2_PERIOD * CYCLES["timer2_period"])
 
 
 def test_the_meter_charges_each_event_its_cycles():

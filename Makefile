@@ -134,9 +134,14 @@ $(HOSTC_OBJ_DIR)/protocol/%.o: firmware/protocol/%.c $(wildcard firmware/protoco
 	@mkdir -p $(@D)
 	$(ARM_CC) $(ARM_CFLAGS) -fstack-usage -fcallgraph-info=su -Ifirmware/protocol -c -o $@ $<
 
-# the fast suite, then the wheel installed outside the clone (slow: a build and five runs)
+# the fast suite, then the wheel installed outside the clone (slow: a build and five runs).
+# The fast suite runs on TEST_WORKERS processes (pytest-xdist): the machine's cores, at most 2,
+# as CI has; a test file stays on one worker (its module fixtures are made once), the session
+# fixtures and the C builds in the cache are made once and shared (tests/conftest.py,
+# src/mobigrasp/cbuild.py). `make test TEST_WORKERS=0` runs it in this one process.
+TEST_WORKERS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ "$$n" -gt 2 ] && n=2; echo $$n)
 test: lint toolchains
-	$(BIN)/python -m pytest -q
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadfile
 	$(BIN)/python -m pytest -q -m slow tests/system/test_wheel_install.py
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing

@@ -80,11 +80,13 @@ def build_elf(keep: tuple[str, ...] = ()) -> Path:
         (source_hash() + " ".join(keep)).encode()).hexdigest()[:16]
     target = cbuild.cache_root() / ("hostc-arm" if not keep else "hostc-arm-keep") / key
     elf = target / ELF_NAME
-    if elf.is_file():
-        return elf
+    cbuild.build_once(target, elf.is_file, lambda: _make_elf(target, keep))
+    return elf
+
+
+def _make_elf(target: Path, keep: tuple[str, ...]) -> None:
     if shutil.which("make") is None:
         raise ToolchainError("make not found: the ARM host is built by make hostc-arm")
-    target.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
     try:
         done = subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp}",
@@ -96,7 +98,6 @@ def build_elf(keep: tuple[str, ...] = ()) -> Path:
         cbuild.rename_into_place(tmp, target)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return elf
 
 
 def disassemble(elf: Path) -> str:

@@ -117,7 +117,7 @@ void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm)
 /* ADJUST, driving forward: a close echo stops the base; the grasp goes on from there when the
  * object is within MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else it is searched for
  * again (LOST) */
-static void close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+void mg_close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     int32_t phi, rng;
     if (t->state != MG_ADJUST || (int64_t)t->wheels[0] + t->wheels[1] <= 0
@@ -181,26 +181,46 @@ static int guarded(int32_t state)
     return state == MG_SEARCH || state == MG_APPROACH;
 }
 
+int mg_guard_stop(mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm)
+{
+    if (!guarded(t->state) || (int64_t)t->wheels[0] + t->wheels[1] <= 0
+        || !mg_front_echo(t, in, phi_mrad, range_mm))
+        return 0;
+    t->wheels[0] = t->wheels[1] = 0;
+    t->path.has_follower = t->path.has_job = 0; /* a plan being made started from a pose left */
+    return 1;
+}
+
+void mg_out_of_r_r(const mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d)
+{
+    const mg_detour_t out = {1, mg_widest_free_heading(in, t->p.detour_clear_mm), 1, 0, {0, 0},
+                             MG_GUARD_OUT_MM, 0};
+    *d = out;
+}
+
+void mg_note_sonar_guard(mg_task_t *t, int32_t phi_mrad, int32_t range_mm,
+                         const mg_detour_t *turn_to)
+{
+    static const char *const names[4] = {"phi_mrad", "r_r_mm", "range_mm", "turn_to_mrad"};
+    const int64_t values[4] = {phi_mrad, t->p.r_r_mm, range_mm,
+                               turn_to ? turn_to->heading_mrad : 0};
+    mg_task_note_ints(t, "sonar_guard", turn_to ? 4 : 3, names, values);
+}
+
 void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    close_guard(t, now_us, in);
+    mg_close_guard(t, now_us, in);
     if (t->guard_out.active) {
         if (!guarded(t->state) || mg_drive_detour(t, in, &t->guard_out))
             t->guard_out.active = 0;
         return;
     }
-    /* in SEARCH or APPROACH, with the base driving forward, a front echo below R_r stops it */
+    /* in SEARCH or APPROACH, with the base driving forward, a front echo below R_r stops it;
+     * the detour: toward the widest free sector, out of R_r */
     int32_t phi, rng;
-    if (!guarded(t->state) || (int64_t)t->wheels[0] + t->wheels[1] <= 0
-        || !mg_front_echo(t, in, &phi, &rng))
+    if (!mg_guard_stop(t, in, &phi, &rng))
         return;
-    t->wheels[0] = t->wheels[1] = 0;
-    t->path.has_follower = t->path.has_job = 0; /* a plan being made started from a pose left */
-    /* the detour: toward the widest free sector, out of R_r */
-    const mg_detour_t out = {1, mg_widest_free_heading(in, t->p.detour_clear_mm), 1, 0, {0, 0},
-                             MG_GUARD_OUT_MM, 0};
-    t->guard_out = out;
-    static const char *const names[4] = {"phi_mrad", "r_r_mm", "range_mm", "turn_to_mrad"};
-    const int64_t values[4] = {phi, t->p.r_r_mm, rng, out.heading_mrad};
-    mg_task_note_ints(t, "sonar_guard", 4, names, values);
+    mg_out_of_r_r(t, in, &t->guard_out);
+    mg_note_sonar_guard(t, phi, rng, &t->guard_out);
 }

@@ -39,6 +39,19 @@ int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_m
                   int32_t *range_mm);
 /* the close echo's trace detail (close_mm, phi_mrad, range_mm) */
 void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm);
+/* ADJUST, driving forward: a close echo stops the base; the grasp goes on from there when the
+ * object is within MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else LOST */
+void mg_close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* in SEARCH or APPROACH with the base driving forward, a front echo below R_r: the base
+ * stopped, the followed path and any plan being made dropped; 1 and the echo, or 0 */
+int mg_guard_stop(mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                  int32_t *range_mm);
+/* the detour after a guard stop: toward the widest free sector, MG_GUARD_OUT_MM long */
+void mg_out_of_r_r(const mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d);
+/* the guard stop's trace detail (sonar_guard: phi_mrad, r_r_mm, range_mm and, turn_to not
+ * NULL, its detour's heading turn_to_mrad) */
+void mg_note_sonar_guard(mg_task_t *t, int32_t phi_mrad, int32_t range_mm,
+                         const mg_detour_t *turn_to);
 /* one step of the detour d (turn to its heading, then drive its length): 1 when it is over */
 int mg_drive_detour(mg_task_t *t, const mg_task_inputs_t *in, mg_detour_t *d);
 /* the guard of a method without its own planner's detours (000, 002), after every step

@@ -55,6 +55,7 @@ const mg_task_method_t mg_task_methods[] = {
      .ms_init = mg_method001_ms_init,
      .params = mg_method001_params,
      HOOKS_000,
+     .guard_wheels = mg_method001_guard_wheels,
      .plus_on_top = 1,
      .detectors = {DETECTORS_000, [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
      .geom = {2560, 2560, 3200},

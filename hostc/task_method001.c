@@ -9,6 +9,7 @@
 #include "fixedpoint.h"
 #include "kernels.h"
 #include "path_follow.h"
+#include "sonar_guard.h"
 #include "task_drive.h"
 #include "task_method.h"
 #include "task_method000.h"
@@ -154,15 +155,22 @@ static int sonar_replan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     return 0;
 }
 
-/* The first plan waits for one full sonar sweep; a new plan is made from standstill. */
+/* The first plan waits for one full sonar sweep; a detour is driven to its end; a new plan is
+ * made from standstill. */
 static int hold_before_plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    const mg_state001_t *ms = ms001(t);
+    mg_state001_t *ms = ms001(t);
     if (!ms->has_replanner && mg_method001_look_first(t, now_us, in))
         return 1;
     if (!ms->has_replanner && now_us - t->entered_us < t->p.sonar_sweep_us) {
         t->wheels[0] = t->wheels[1] = 0;
         return 1;
+    }
+    if (ms->detour.active) {
+        if (!mg_drive_detour(t, in, &ms->detour))
+            return 1;
+        ms->detour.active = 0; /* done: stop, then plan afresh from here */
+        t->path.plan_us = now_us;
     }
     if (!t->path.has_follower && ms->has_replanner
         && (now_us - t->path.plan_us < 500000 || iabs32(in->v_mmps) > 30)) {
@@ -234,6 +242,25 @@ static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, c
     const size_t n = mg_task_text(text, sizeof text, 0, "on the grasp circle: ");
     mg_task_text(text, sizeof text, n, why);
     mg_task_go(t, now_us, MG_ROUGH_GRASP, text);
+}
+
+/* Last line of the no-contact rule (001 section III.C.2, R_r): the object's own echo does
+ * not count. In APPROACH a plan from standstill starts forward, into the echo, and was stopped
+ * again at once, and so did a plan from the turned pose and the detours: the base first turns
+ * toward the widest free sector and drives out of R_r before it plans again. */
+void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state001_t *ms = ms001(t);
+    int32_t phi, rng;
+    mg_close_guard(t, now_us, in);
+    if (!mg_guard_stop(t, in, &phi, &rng))
+        return;
+    if (t->state != MG_APPROACH) {
+        mg_note_sonar_guard(t, phi, rng, NULL);
+        return;
+    }
+    mg_out_of_r_r(t, in, &ms->detour);
+    mg_note_sonar_guard(t, phi, rng, &ms->detour);
 }
 
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,

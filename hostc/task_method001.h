@@ -6,8 +6,7 @@
  * first, sightings while the base turns fast are not used, the follower never backs up; the
  * curve is followed to its end on the grasp circle, where ROUGH_GRASP takes over. Not yet: the
  * look from the circle and the grasp by eq. (11) (method001.py look_decides, enter_precise),
- * the fallbacks and detours with no feasible curve (start_detour) and 001's sonar guard
- * (guard_wheels), which drive the sonar guard's detour. */
+ * the fallbacks and detours with no feasible curve (start_detour). */
 #ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
 #define MOBIGRASP_HOSTC_TASK_METHOD001_H
 
@@ -76,7 +75,7 @@ extern const mg_replanner001_t mg_board_replanner001;
  * 2^40, appended at at; the new end */
 size_t mg_method001_text_m_2(char *out, size_t cap, size_t at, int64_t q4);
 
-/* What 001 keeps between steps (the task's ms, State001 without the detours). */
+/* What 001 keeps between steps (the task's ms, State001 without the fallbacks' detours). */
 typedef struct {
     const mg_replanner001_t *rp; /* the replanner's calls (NULL: none, every plan fails) */
     void *rp_ctx;
@@ -86,6 +85,7 @@ typedef struct {
     int32_t fallbacks, detours, detour_side;
     /* arrived on the grasp circle: the estimate the look before the grasp is to confirm */
     int32_t has_circle_expected, circle_expected_mm[2];
+    mg_detour_t detour; /* a drive aside before the next plan (the sonar guard's) */
 } mg_state001_t;
 
 void mg_method001_ms_init(void *ms);
@@ -94,6 +94,11 @@ void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void 
 /* the object given and near, unseen: the camera on it, the base turned to face it for up to
  * MG_LOOK_FIRST_US before the first plan; 1 while looking */
 int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* 001's last gate of the wheels (method001.py guard_wheels): the close guard, and in SEARCH
+ * or APPROACH a front echo below R_r stops the base and drops the path; in APPROACH the base
+ * then turns toward the widest free sector and drives out of R_r (ms detour, driven before
+ * the next plan) */
+void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* the path hooks of 001 */
 extern const mg_path_method_t mg_path001;
 

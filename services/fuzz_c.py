@@ -56,9 +56,12 @@ def build_targets(cc: str = "clang") -> dict[str, Path]:
     if shutil.which(cc) is None:
         raise FuzzBuildError(f"{cc}: not found (the C fuzz targets need clang with libFuzzer)")
     target = cbuild.cache_root() / "fuzz" / _hash(" ".join(CFLAGS))
-    if all((target / t).is_file() for t in TARGETS):
-        return {t: target / t for t in TARGETS}
-    target.parent.mkdir(parents=True, exist_ok=True)
+    cbuild.build_once(target, lambda: all((target / t).is_file() for t in TARGETS),
+                      lambda: _compile_targets(target, cc))
+    return {t: target / t for t in TARGETS}
+
+
+def _compile_targets(target: Path, cc: str) -> None:
     tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
     try:
         for t in TARGETS:
@@ -71,7 +74,6 @@ def build_targets(cc: str = "clang") -> dict[str, Path]:
         cbuild.rename_into_place(tmp, target)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return {t: target / t for t in TARGETS}
 
 
 def seed_corpus(folder: Path) -> None:

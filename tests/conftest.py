@@ -8,6 +8,7 @@ machine). Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore p
 import functools
 import json
 import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -108,19 +109,43 @@ def _mcu_of_the_backend(request, monkeypatch):
 SHORT_RUNS = {"paper000-exp1": None, "paper001-sim1": 8.0, "paper002-marker": 8.0}
 
 
+def made_once_per_run(tmp_path_factory, name: str, make) -> Path:
+    """The folder ``name`` that ``make(folder)`` fills, once per test run: the workers of a
+    parallel run (pytest-xdist, ``make test``) share the one the first of them makes, the
+    others wait for it on a lock (src/mobigrasp/cbuild.py's build_once) rather than make their
+    own; the tests only read it."""
+    from mobigrasp import cbuild
+
+    if os.environ.get("PYTEST_XDIST_WORKER") is None:
+        folder = tmp_path_factory.mktemp(name)
+        make(folder)
+        return folder
+    root = tmp_path_factory.getbasetemp().parent  # the run's, above each worker's own
+    folder, done = root / name, root / f"{name}.done"
+
+    def build() -> None:
+        shutil.rmtree(folder, ignore_errors=True)  # what a worker that failed left
+        folder.mkdir()
+        make(folder)
+        done.touch()
+
+    cbuild.build_once(folder, done.exists, build)
+    return folder
+
+
 @pytest.fixture(scope="session")
 def short_runs(tmp_path_factory):
     """{scenario: run folder} of SHORT_RUNS (time limits in simulated s; None: the scenario's)."""
     from mobigrasp.services.run_job import RunOptions, execute
 
-    root = tmp_path_factory.mktemp("short-runs")
-    folders = {}
-    for name, limit_s in SHORT_RUNS.items():
-        folders[name] = root / name
-        summary, _ = execute(RunOptions(scenario=name, transport="inproc", out=folders[name],
-                                        progress=False, time_limit_s=limit_s))
-        assert_no_false_claim(summary)
-    return folders
+    def make(root: Path) -> None:
+        for name, limit_s in SHORT_RUNS.items():
+            summary, _ = execute(RunOptions(scenario=name, transport="inproc", out=root / name,
+                                            progress=False, time_limit_s=limit_s))
+            assert_no_false_claim(summary)
+
+    root = made_once_per_run(tmp_path_factory, "short-runs", make)
+    return {name: root / name for name in SHORT_RUNS}
 
 
 @pytest.fixture(scope="session")
@@ -129,9 +154,18 @@ def marker_slice(tmp_path_factory):
     double cross searched for, then the cylinder."""
     from mobigrasp.services.corpus import record
 
-    folder = tmp_path_factory.mktemp("marker")
-    record(folder, ["paper002-marker"], time_limit_s=4.0)
-    return folder
+    return made_once_per_run(tmp_path_factory, "marker", lambda folder: record(
+        folder, ["paper002-marker"], time_limit_s=4.0))
+
+
+@pytest.fixture(scope="session")
+def exp1_corpus(tmp_path_factory):
+    """The detector corpus of the whole of paper000-exp1: the dual plus and the spoke searched
+    for, found and lost (the C and the emulated ARM kernels are checked on slices of it)."""
+    from mobigrasp.services.corpus import record
+
+    return made_once_per_run(tmp_path_factory, "exp1-corpus",
+                             lambda folder: record(folder, ["paper000-exp1"]))
 
 
 def assert_no_false_claim(summary: dict) -> None:

@@ -96,22 +96,7 @@ def build_elf(defines: dict[str, int | str] | None = None) -> Elf:
         return _elves[digest]
     target = cache_dir() / f"elf-{digest}"
     elf = target / "mobigrasp-avr.elf"
-    if not elf.is_file():
-        ensure_tools()
-        target.parent.mkdir(parents=True, exist_ok=True)
-        tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
-        try:
-            run = subprocess.run(
-                ["make", "-s", "-C", str(FIRMWARE_DIR), f"BUILD={tmp}", f"EXTRA_CFLAGS={flags}",
-                 f"{tmp}/mobigrasp-avr.elf"], capture_output=True, text=True)
-            if run.returncode != 0:
-                raise SimavrBuildError(f"avr-gcc build failed: {run.stderr.strip()[-2000:]}")
-            keep = tmp / "out"
-            keep.mkdir()
-            shutil.move(str(tmp / "mobigrasp-avr.elf"), keep / "mobigrasp-avr.elf")
-            cbuild.rename_into_place(keep, target)
-        finally:
-            shutil.rmtree(tmp, ignore_errors=True)
+    cbuild.build_once(target, elf.is_file, lambda: _make_elf(target, flags))
     nm = subprocess.run(["avr-nm", str(elf)], capture_output=True, text=True)
     if nm.returncode != 0:
         raise SimavrBuildError(f"avr-nm {elf} failed: {nm.stderr.strip()}")
@@ -122,6 +107,23 @@ def build_elf(defines: dict[str, int | str] | None = None) -> Elf:
             symbols[parts[2]] = int(parts[0], 16)
     out = _elves[digest] = Elf(elf, symbols)
     return out
+
+
+def _make_elf(target: Path, flags: str) -> None:
+    ensure_tools()
+    tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
+    try:
+        run = subprocess.run(
+            ["make", "-s", "-C", str(FIRMWARE_DIR), f"BUILD={tmp}", f"EXTRA_CFLAGS={flags}",
+             f"{tmp}/mobigrasp-avr.elf"], capture_output=True, text=True)
+        if run.returncode != 0:
+            raise SimavrBuildError(f"avr-gcc build failed: {run.stderr.strip()[-2000:]}")
+        keep = tmp / "out"
+        keep.mkdir()
+        shutil.move(str(tmp / "mobigrasp-avr.elf"), keep / "mobigrasp-avr.elf")
+        cbuild.rename_into_place(keep, target)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def harness_hash() -> str:

@@ -10,11 +10,13 @@ parse (they stay C-only helpers).
 Each built module lives in ``cache_root()`` (``$MOBIGRASP_CACHE_DIR``, default
 ``~/.cache/mobigrasp``) in a folder named by the hash of its sources: ``load_cached`` loads it or
 builds it first; ``compile_module`` builds in a temporary folder renamed into place, so
-concurrent first uses never see half a module.
+concurrent first uses never see half a module, and ``build_once`` builds under a file lock, so
+they build it once (the others wait for it: a parallel test run's workers start together).
 """
 
 from __future__ import annotations
 
+import fcntl
 import importlib.util
 import os
 import shutil
@@ -95,13 +97,37 @@ def rename_into_place(tmp: Path, target: Path) -> None:
             raise
 
 
+def build_once(target: Path, ready: Callable[[], bool], build: Callable[[], object]) -> None:
+    """``build()`` unless ``ready()``: under an exclusive lock on ``<target>.lock`` beside
+    ``target``, with ``ready()`` asked again once the lock is held, so processes that want the
+    same part at once build it once and the others wait for it. The build's own rename into
+    place keeps the part whole; the lock only spares the duplicate work, so its file goes
+    when the build is over (a process that then locks a new one builds again at worst) and the
+    cache holds the built parts only."""
+    if ready():
+        return
+    target.parent.mkdir(parents=True, exist_ok=True)
+    lock_path = target.parent / f"{target.name}.lock"
+    with open(lock_path, "ab") as lock:
+        fcntl.flock(lock.fileno(), fcntl.LOCK_EX)  # released when the file closes
+        try:
+            if not ready():
+                build()
+        finally:
+            lock_path.unlink(missing_ok=True)
+
+
 def load_cached(name: str, target: Path, build: Callable[[], Path],
                 error: type[Exception] = RuntimeError):
     """The extension module ``name`` from the folder ``target`` of the cache, built there first
-    by ``build() -> Path`` (the .so) when the folder has none; ``error`` when it cannot load."""
-    built = sorted(target.glob(f"{name}*.so")) if target.is_dir() else []
-    if not built:
-        built = [build()]
+    by ``build() -> Path`` (the .so) when the folder has none (:func:`build_once`); ``error``
+    when it cannot load."""
+
+    def found() -> list[Path]:
+        return sorted(target.glob(f"{name}*.so")) if target.is_dir() else []
+
+    build_once(target, lambda: bool(found()), build)
+    built = found()
     spec = importlib.util.spec_from_file_location(name, built[0])
     if spec is None or spec.loader is None:
         raise error(f"{built[0]}: cannot be loaded as a module")

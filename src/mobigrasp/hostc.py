@@ -101,22 +101,23 @@ def executable(cc: str | None = None) -> Path:
         p.name + p.read_text() for p in EXE_SOURCES)).encode()).hexdigest()[:16]
     target = cbuild.cache_root() / "hostc-exe" / digest
     exe = target / "mobigrasp-host-c"
-    if exe.is_file():
-        return exe
+    cbuild.build_once(target, exe.is_file, lambda: _compile_executable(target, exe.name, cc))
+    return exe
+
+
+def _compile_executable(target: Path, name: str, cc: str | None) -> None:
     compiler = cc or os.environ.get("CC") or "cc"
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f"{digest}.", dir=target.parent))
+    tmp = Path(tempfile.mkdtemp(prefix=f"{target.name}.", dir=target.parent))
     try:
         done = subprocess.run([compiler, "-std=c99", "-O2", "-Wall", "-Wextra", "-Werror",
-                               f"-I{HOSTC}", f"-I{PROTOCOL}", "-o", str(tmp / exe.name),
+                               f"-I{HOSTC}", f"-I{PROTOCOL}", "-o", str(tmp / name),
                                *map(str, EXE_SOURCES)], capture_output=True, text=True,
                               check=False)
         if done.returncode != 0:
-            raise HostcPortBuildError(f"building {exe.name} failed: {done.stderr.strip()}")
+            raise HostcPortBuildError(f"building {name} failed: {done.stderr.strip()}")
         cbuild.rename_into_place(tmp, target)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
-    return exe
 
 
 INPROC = HOSTC / "inproc"

@@ -37,18 +37,18 @@ def test_emulated_front_end_equals_python(machine, seed):
     assert n_e == n and np.array_equal(labels_e, labels) and np.array_equal(stats_e, stats)
 
 
-def test_emulated_plus_detectors_equal_python(machine, tmp_path):
+def test_emulated_plus_detectors_equal_python(machine, exp1_corpus):
     import dataclasses
 
     from mobigrasp.host.vision import dual_plus, spoke
 
-    record(tmp_path, ["paper000-exp1"])
-    idx = corpus.read_index(tmp_path)
+    idx = corpus.read_index(exp1_corpus)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
-    calls = [c for c in corpus.calls(tmp_path, idx) if c.detector in ("dual_plus", "spoke")]
+    calls = [c for c in corpus.calls(exp1_corpus, idx) if c.detector in ("dual_plus", "spoke")]
     front, found = arm.FrontEnd(machine), {"dual_plus": 0, "spoke": 0}
     for c in calls[::9]:
-        rgb = corpus.load_frame(tmp_path, {"file": c.frame_file, "sha256": shas[c.frame_file]})
+        rgb = corpus.load_frame(exp1_corpus, {"file": c.frame_file,
+                                              "sha256": shas[c.frame_file]})
         front.run(rgb)
         if c.detector == "dual_plus":
             res, _ = dual_plus.detect_at_pose(rgb, c.args[0], c.camera)

@@ -157,11 +157,10 @@ def test_ring_pair_ranging_refuses_what_it_cannot_compute_exactly():
 
 
 @pytest.mark.parametrize("detector", ["dual_plus", "spoke"])
-def test_plus_detectors_slice_matches(tmp_path, detector):
-    record(tmp_path, ["paper000-exp1"])
-    calls = [c for c in corpus.calls(tmp_path, corpus.read_index(tmp_path))
+def test_plus_detectors_slice_matches(exp1_corpus, detector):
+    calls = [c for c in corpus.calls(exp1_corpus, corpus.read_index(exp1_corpus))
              if c.detector == detector]
-    found = _check_calls(tmp_path, calls[::2])
+    found = _check_calls(exp1_corpus, calls[::2])
     assert 0 < found < len(calls[::2])  # the slice has results found and calls without
 
 

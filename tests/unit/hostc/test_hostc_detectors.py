@@ -17,7 +17,6 @@ from mobigrasp.calib import corpus
 from mobigrasp.host import app_factory, arm_calib
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.vision import registry
-from mobigrasp.services.corpus import record
 
 FFI, C = hostc.lib()
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the DONE's
@@ -81,11 +80,10 @@ def test_the_table_on_recorded_frames(marker_slice):
     assert found.get("double_cross", 0) > 0 and found.get("red_roi", 0) > 0
 
 
-def test_the_000_rows_on_recorded_frames(tmp_path):
+def test_the_000_rows_on_recorded_frames(exp1_corpus):
     """paper000-exp1's frames: the search's radial symbol, the approach's dual "+" and the
     spoke over the object, each frame given to all three."""
-    record(tmp_path, ["paper000-exp1"])
-    found = _check_recorded(tmp_path, THE_000, THE_000)
+    found = _check_recorded(exp1_corpus, THE_000, THE_000)
     assert all(found.get(name, 0) > 0 for name in THE_000), found
 
 

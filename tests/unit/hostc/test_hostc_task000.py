@@ -40,6 +40,7 @@ from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task import Task, TaskInputs, machine
 from mobigrasp.host.task.adjust import ADJUST, AdjustState
 from mobigrasp.host.task.approach import PATH, ApproachStates
+from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method000 import Method000, plan_follower
 from mobigrasp.host.task.sense import CAMERA_000
 from mobigrasp.host.vision import registry
@@ -265,6 +266,12 @@ def test_the_rows_of_000_and_001(method):
     assert C.mg_method000_lowers_hover() == r.lowers_hover()
     for top in (0, 1):
         assert rules.look_height_mm(FFI.addressof(c, "p"), top) == r.look_height_mm(py.p, top)
+    # 000's searches after a loss near the object, or Method's none (001's: the usual search,
+    # the rough position when no spoke is seen)
+    own = type(r).grasp_lost is not Method.grasp_lost
+    assert own == (type(r).lost_search is not Method.lost_search) == (method == "000")
+    assert (rules.grasp_lost != FFI.NULL, rules.lost_search != FFI.NULL) == (own, own)
+    assert rules.guard_wheels != FFI.NULL
 
 
 @SETTINGS

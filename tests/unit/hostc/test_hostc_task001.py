@@ -19,16 +19,22 @@ from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task import recorded_run
 from test_hostc_task000 import (
+    ENCODER,
     NEAR,
     RADIALS,
     _c_task,
+    _events,
     _fill_plan,
+    _inputs,
+    _path_c,
+    _path_py,
     _pose,
     path_step,
     record_path_task,
     replay_path_task,
     start_approach,
 )
+from test_hostc_task_states import _detail
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -174,12 +180,22 @@ CLEARS = st.lists(st.tuples(st.booleans(), st.builds(OpCounts, alu=st.integers(0
 SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=0, max_size=5).map(tuple)
 
 
+def _steps(sonar):
+    return st.lists(st.tuples(
+        st.sampled_from([20_000, 100_000, 300_000, 600_000]) | st.integers(1, 5_000_000),
+        POSES_001, st.integers(-300, 300), sonar, RADIALS, st.none() | st.tuples(NEAR, NEAR)),
+        max_size=40)
+
+
+# rings (of 2 sonars or more, sonar_angles_mrad) with echoes inside R_r (200 mm), the
+# object's own among them, and free sectors
+GUARD_SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=2, max_size=5).map(
+    tuple) | st.tuples(*[st.sampled_from([0xFFFF, 20, 120, 180, 950, 2500])] * 5)
+
+
 @SETTINGS
 @given(STARTS, UPDATES, CLEARS, st.tuples(NEAR, NEAR), st.integers(1, 4),
-       st.integers(0, 2000), st.booleans(), st.lists(st.tuples(
-           st.sampled_from([20_000, 100_000, 300_000, 600_000]) | st.integers(1, 5_000_000),
-           POSES_001, st.integers(-300, 300), SONAR, RADIALS,
-           st.none() | st.tuples(NEAR, NEAR)), max_size=40))
+       st.integers(0, 2000), st.booleans(), _steps(SONAR))
 def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct_mm, sighted,
                                   steps):
     """APPROACH of 001 step by step: the look first at a given object, the wait for a sonar
@@ -188,6 +204,22 @@ def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct
     nothing feasible: stop), a new plan from standstill, the follower never backing up, the
     straight way's check before the direct approach and, at the path's end, the grasp from the
     grasp circle (ROUGH_GRASP, the estimate the look is to confirm kept)."""
+    _approach_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps, False)
+
+
+@SETTINGS
+@given(STARTS, UPDATES, CLEARS, st.tuples(NEAR, NEAR), st.integers(1, 4),
+       st.integers(0, 2000), st.booleans(), _steps(GUARD_SONAR))
+def test_the_guard_of_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps):
+    """APPROACH of 001 with its guard after every step (method001.py guard_wheels): a front
+    echo below R_r that is not the object's stops the base and drops the path and the plan
+    being made, the base turns to the widest free sector and drives out of R_r before the
+    next plan (hold_before_plan), the same wheels, transitions, path and trace detail."""
+    _approach_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps, True)
+
+
+def _approach_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps,
+                  guard: bool) -> None:
     py = Task("001", params={"max_plan_attempts": attempts, "direct_max_mm": direct_mm})
     c = _c_task(py, method="001")
     rp = Replanner(starts, updates, clears)
@@ -209,6 +241,13 @@ def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct
                 c.obj_mm = moved_to
             xyhv = (*_pose(py.obj, pose), v_mmps)
             inp = path_step(py, c, now, xyhv, sonar, det, C.mg_task_follow_path)
+            if guard:
+                _guard_step(py, c, now, inp, xyhv)
+                assert (bool(ms.detour.active), ms.detour.heading_mrad, ms.detour.length_mm,
+                        bool(ms.detour.has_from)) == (
+                    (False, 0, 0, False) if py.ms.detour is None else
+                    (True, py.ms.detour["heading_mrad"], py.ms.detour["length_mm"],
+                     py.ms.detour["from"] is not None))
             assert rp.requests["c"] == rp.requests["py"]
             assert bool(ms.has_replanner) == (py.ms.replanner is not None)
             assert (tuple(ms.path_from_mm) if ms.has_path_from else None) == py.ms.path_from
@@ -220,6 +259,18 @@ def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct
                 break
             py.remember(now, inp)
             C.mg_task_remember(c, now, *xyhv[:3])
+
+
+def _guard_step(py, c, now: int, inp, xyhv: tuple) -> None:
+    """The wheels' last gate after a step on both tasks: the same wheels, transitions, path
+    and detail."""
+    py._events, py._detail, c.n_events, c.n_notes = [], {}, 0, 0
+    py.rules.guard_wheels(py, now, inp)
+    c.rules.guard_wheels(c, now, _inputs(xyhv, tuple(inp.sonar_mm)))
+    assert _events(c) == py._events
+    assert tuple(c.wheels) == py.wheels
+    assert _path_c(c) == _path_py(py)
+    assert _detail(c) == {k: ENCODER.encode(v) for k, v in py._detail.items()}
 
 
 def _record001(mp, calls: list) -> None:

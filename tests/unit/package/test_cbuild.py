@@ -41,3 +41,35 @@ def test_a_failed_compile_is_the_callers_error(tmp_path):
         cbuild.compile_module("_mg_broken", tmp_path / "out", configure, MyError)
     assert not (tmp_path / "out").exists()
     assert list(tmp_path.iterdir()) == []  # the temporary build folder is gone too
+
+
+def test_a_part_another_process_is_building_is_waited_for_and_not_built_again(tmp_path):
+    """build_once asks again under the lock: a build that finished while this one waited for
+    the lock is taken as it is (a parallel test run's workers start on a cold cache together)."""
+    import fcntl
+    import threading
+
+    target = tmp_path / "part"
+    asked, built = threading.Event(), []
+
+    def ready() -> bool:
+        now = target.is_dir()
+        asked.set()
+        return now
+
+    with open(tmp_path / "part.lock", "ab") as held:  # the other process, building
+        fcntl.flock(held.fileno(), fcntl.LOCK_EX)
+        waiter = threading.Thread(target=cbuild.build_once,
+                                  args=(target, ready, lambda: built.append(1)))
+        waiter.start()
+        assert asked.wait(timeout=60)  # not ready when it first looked
+        assert not built  # and it cannot build while the lock is held
+        target.mkdir()  # the other build is renamed into place, then lets go of the lock
+    waiter.join(timeout=60)
+    assert not waiter.is_alive() and built == []
+    cbuild.build_once(tmp_path / "new", lambda: (tmp_path / "new").is_dir(),
+                      lambda: built.append((tmp_path / "new").mkdir()))
+    cbuild.build_once(tmp_path / "new", lambda: (tmp_path / "new").is_dir(),
+                      lambda: built.append(2))
+    assert built == [None]  # built once, then found
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["new", "part"]  # no lock file left

@@ -12,6 +12,7 @@ from mobigrasp.mcu_sim.firmware.cycles import (
     CycleMeter,
 )
 from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
+from mobigrasp.mcu_sim.simavr.profile import profile_rows
 from mobigrasp.protocol import messages as m
 
 # the model's load against simavr's on the same slice (docs/firmware.md, "AVR load of the
@@ -77,6 +78,13 @@ def test_the_meter_charges_each_event_its_cycles():
                                           + 7 * CYCLES["isr_encoder"] + CYCLES["telemetry"])
     meter.charge("startup", 100)  # more work than time: the load is at most all of it
     assert meter.load_permille(elapsed) == 1000
+
+
+def test_the_profile_shows_the_models_load_alone():
+    stats = _slice(Mcu(), 5, 100_000).stats()
+    rows = profile_rows(stats)
+    assert [(r["figure"], r["worst"]) for r in rows] == [("AVR load (model)",
+                                                         stats["avr_load_permille"])]
 
 
 def test_the_load_is_a_report_only():

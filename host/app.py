@@ -31,7 +31,7 @@ from typing import Any
 
 from mobigrasp.host.app_link import HostLink
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.stage_stats import StageStats
+from mobigrasp.host.stage_stats import StageStats, micro_ratio
 
 Detector = Callable[..., tuple[Any, OpCounts]]
 # ARM9 load windows kept one by one (32 s of 500 ms windows: a vision job ends long before its
@@ -212,7 +212,7 @@ class HostApp:
         # window index -> busy µs, for the last LOAD_WINDOWS_KEPT windows; older windows are
         # folded into the running figures below (the run's state stays bounded)
         self._load: dict[int, int] = {}
-        self._load_folded = (0, 0.0, 0.0)  # windows folded: count, sum and max of their load
+        self._load_folded = (0, 0, 0)  # windows folded: count, sum and max of their busy µs
         self._last = {"servos": None, "wheels": None, "gripper": None}
         self._last_wheels_us = -(10**12)
         self._last_heartbeat_us = -(10**12)
@@ -315,11 +315,10 @@ class HostApp:
         """Fold the windows more than LOAD_WINDOWS_KEPT before window ``newest`` into the
         running count, sum and max (in window order, so the sums are those of the whole list)."""
         limit = newest - LOAD_WINDOWS_KEPT
-        w = self.config.load_window_us
         n, total, peak = self._load_folded
         for k in sorted(k for k in self._load if k < limit):
-            load = self._load.pop(k) / w
-            n, total, peak = n + 1, total + load, max(peak, load)
+            busy = self._load.pop(k)
+            n, total, peak = n + 1, total + busy, max(peak, busy)
         self._load_folded = (n, total, peak)
 
     # ---- the two activities -----------------------------------------------------------------
@@ -531,17 +530,20 @@ class HostApp:
     def stats(self) -> dict:
         """Final figures: budget counters, stage costs, load and the protocol counters."""
         c = self.counters
-        loads = list(self.load_windows().values())
+        self.resolve_vision()
+        w = self.config.load_window_us
         n, total, peak = self._load_folded
-        for load in loads:  # after the folded windows, in window order
-            n, total, peak = n + 1, total + load, max(peak, load)
+        for k, busy in self._load.items():  # the finished windows kept, after the folded ones
+            if k < self.now_us // w:
+                n, total, peak = n + 1, total + busy, max(peak, busy)
         return {
             "frames_received": c.frames_received, "frames_processed": c.frames_processed,
             "frames_dropped": c.frames_dropped, "frames_idle": c.frames_idle,
             "control_steps": c.control_steps, "deadline_misses": c.deadline_misses,
             "ticks_skipped": c.ticks_skipped,
-            "arm9_load_max": peak,
-            "arm9_load_mean": total / n if n else 0.0,
+            # busy fractions to the millionth, integer ratios (the C host prints them alike)
+            "arm9_load_max": micro_ratio(peak, w),
+            "arm9_load_mean": micro_ratio(total, n * w) if n else 0.0,
             "stages": {k: v.summary() for k, v in sorted(c.stage_us.items())},
             "protocol": self.link.stats(), "state": self.state, "mcu": self._mcu_counters(),
             "replans": self.replans, "path_updates": self.path_updates,
@@ -563,5 +565,5 @@ def stage_summary(values: list[int]) -> dict:
         return {"calls": 0, "mean_us": 0.0, "p95_us": 0, "max_us": 0, "total_us": 0}
     s = sorted(values)
     p95 = s[min(len(s) - 1, max(0, -(-95 * len(s) // 100) - 1))]
-    return {"calls": len(s), "mean_us": sum(s) / len(s), "p95_us": p95, "max_us": s[-1],
+    return {"calls": len(s), "mean_us": micro_ratio(sum(s), len(s)), "p95_us": p95, "max_us": s[-1],
             "total_us": sum(s)}

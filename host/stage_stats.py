@@ -5,7 +5,8 @@ simulated hour; keeping every duration grew the host by megabytes per hour. Call
 maximum are exact running figures; the 95th percentile (nearest rank, as ``stage_summary``)
 comes from a histogram whose buckets are exact below 2048 µs and keep the 11 leading bits above
 (the reported value is at most 0.1 % low), so the histogram has at most 1024 buckets per power
-of two of µs, however long the run.
+of two of µs, however long the run. The means are integer ratios to the millionth
+(:func:`micro_ratio`), so the C host prints the same decimal text.
 """
 
 from __future__ import annotations
@@ -20,6 +21,12 @@ def bucket_of(us: int) -> int:
         return us
     shift = us.bit_length() - _MANTISSA_BITS
     return (us >> shift) << shift
+
+
+def micro_ratio(num: int, den: int) -> float:
+    """``num / den`` (integers, ``den`` > 0, ``num`` >= 0) to the millionth, rounded half up in
+    integer arithmetic: a decimal of at most six places, which hostc/json.c prints alike."""
+    return (2 * num * 10**6 + den) // (2 * den) / 10**6
 
 
 class StageStats:
@@ -63,7 +70,7 @@ class StageStats:
         """calls, mean_us, p95_us, max_us, total_us (the keys of ``stage_summary``)."""
         if not self.calls:
             return {"calls": 0, "mean_us": 0.0, "p95_us": 0, "max_us": 0, "total_us": 0}
-        return {"calls": self.calls, "mean_us": self.total_us / self.calls,
+        return {"calls": self.calls, "mean_us": micro_ratio(self.total_us, self.calls),
                 "p95_us": self.p95_us(), "max_us": self.max_us, "total_us": self.total_us}
 
     def __eq__(self, other: object) -> bool:

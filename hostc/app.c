@@ -121,6 +121,48 @@ static void fold_old_loads(mg_app_t *app, int64_t newest)
     app->n_loads = kept;
 }
 
+/* the histogram bucket of us (host/stage_stats.py bucket_of): itself below 2048, else its 11
+ * leading bits, 1024 buckets per power of two */
+static int32_t bucket_index(int64_t us)
+{
+    if (us < MG_STAGE_EXACT_US)
+        return us < 0 ? 0 : (int32_t)us;
+    int32_t bits = 0;
+    for (int64_t v = us; v != 0; v >>= 1)
+        bits++;
+    const int32_t octave = bits - 12; /* 2048 has 12 bits */
+    if (octave >= MG_STAGE_OCTAVES)
+        return MG_STAGE_BUCKETS - 1;
+    return MG_STAGE_EXACT_US + octave * 1024 + (int32_t)((us >> (octave + 1)) - 1024);
+}
+
+static int64_t bucket_us(int32_t index)
+{
+    if (index < MG_STAGE_EXACT_US)
+        return index;
+    const int32_t octave = (index - MG_STAGE_EXACT_US) / 1024;
+    return (int64_t)(1024 + (index - MG_STAGE_EXACT_US) % 1024) << (octave + 1);
+}
+
+/* the nearest-rank 95th percentile, its bucket's value (StageStats.p95_us) */
+static int64_t stage_p95_us(const mg_stage_t *s)
+{
+    const int64_t rank = (95 * s->calls + 99) / 100; /* ceil(0.95 calls), calls > 0 */
+    int64_t seen = 0;
+    for (int32_t i = 0; i < MG_STAGE_BUCKETS; i++) {
+        seen += s->counts[i];
+        if (seen >= (rank > 1 ? rank : 1))
+            return bucket_us(i);
+    }
+    return s->max_us;
+}
+
+/* num / den to the millionth, rounded half up (host/stage_stats.py micro_ratio) */
+static int64_t micro_ratio(int64_t num, int64_t den)
+{
+    return (2 * num * 1000000 + den) / (2 * den);
+}
+
 static void busy(mg_app_t *app, int64_t start_us, int64_t dur_us, const char *name)
 {
     mg_stage_t *s = stage(app, name);
@@ -129,6 +171,9 @@ static void busy(mg_app_t *app, int64_t start_us, int64_t dur_us, const char *na
         s->total_us += dur_us;
         if (dur_us > s->max_us)
             s->max_us = dur_us;
+        s->counts[bucket_index(dur_us)]++;
+        if (dur_us >= (int64_t)1 << (MG_STAGE_OCTAVES + 11))
+            app->stage_overflow++;
     }
     const int64_t w = app->config.load_window_us;
     for (int64_t t = start_us, end = start_us + dur_us; t < end;) {
@@ -290,6 +335,16 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
         if (out->detail_has_plan) { /* every plan after the first is a replan (001 III.E) */
             app->plans++;
             app->replans = app->plans - 1 > 0 ? app->plans - 1 : 0;
+        }
+        for (int32_t i = 0; i < out->n_detail && i < MG_DETAIL_MEMBERS; i++) {
+            const mg_json_member_t *d = &out->detail[i];
+            if (strcmp(d->json, "null") == 0)
+                continue; /* Python's "is not None" */
+            if (out->detail_has_plan && strcmp(d->key, "replan") == 0)
+                app->path_updates++;
+            const size_t len = strlen(d->json);
+            if (strcmp(d->key, "grasp_close") == 0 && len < sizeof app->close_reason)
+                memcpy(app->close_reason, d->json, len + 1); /* a short name: fits */
         }
         /* ev, state, t_us and the detail's members, all in sorted key order */
         mg_json_member_t m[MG_DETAIL_MEMBERS + 3];
@@ -571,10 +626,28 @@ int32_t mg_app_take_events(mg_app_t *app, char *out, size_t cap, size_t *len)
 
 size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
 {
-    /* the integer figures of host/app.py stats(), keys sorted; the loads in millionths */
+    /* the figures of host/app.py stats(), keys sorted; the loads in millionths */
+    const int64_t w = app->config.load_window_us;
+    int64_t n = app->folded_n, total = app->folded_busy, peak = app->folded_peak_busy;
+    for (int32_t i = 0; i < app->n_loads; i++)
+        if (app->load_index[i] < app->now_us / w) { /* the finished windows kept */
+            n++;
+            total += app->load_busy[i];
+            if (app->load_busy[i] > peak)
+                peak = app->load_busy[i];
+        }
     mg_json_t j;
     mg_json_init(&j, out, cap);
     mg_json_begin_object(&j);
+    mg_json_key(&j, "arm9_load_max");
+    mg_json_micro(&j, micro_ratio(peak, w));
+    mg_json_key(&j, "arm9_load_mean");
+    mg_json_micro(&j, n ? micro_ratio(total, n * w) : 0);
+    mg_json_key(&j, "close_reason");
+    if (app->close_reason[0])
+        mg_json_raw(&j, app->close_reason, strlen(app->close_reason));
+    else
+        mg_json_null(&j);
     mg_json_key(&j, "control_steps");
     mg_json_int(&j, app->control_steps);
     mg_json_key(&j, "deadline_misses");
@@ -587,8 +660,24 @@ size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
     mg_json_int(&j, app->frames_processed);
     mg_json_key(&j, "frames_received");
     mg_json_int(&j, app->frames_received);
+    mg_json_key(&j, "mcu"); /* the MCU's counters in its newest telemetry */
+    mg_json_begin_object(&j);
+    if (app->link.has_telemetry) {
+        const mg_telemetry_t *tel = &app->link.telemetry;
+        mg_json_key(&j, "crc_errors");
+        mg_json_int(&j, tel->crc_errors);
+        mg_json_key(&j, "limit_hits");
+        mg_json_int(&j, tel->limit_hits);
+        mg_json_key(&j, "overruns");
+        mg_json_int(&j, tel->overruns);
+        mg_json_key(&j, "watchdog_trips");
+        mg_json_int(&j, tel->watchdog_trips);
+    }
+    mg_json_end_object(&j);
     mg_json_key(&j, "mcu_resets_seen");
     mg_json_int(&j, app->link.mcu_resets);
+    mg_json_key(&j, "path_updates");
+    mg_json_int(&j, app->path_updates);
     /* host/app_link.py stats(): the link's counters and the parser's CRC errors (keys sorted) */
     const mg_link_counters_t *c = &app->link.counters;
     const struct {
@@ -611,6 +700,37 @@ size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
     mg_json_end_object(&j);
     mg_json_key(&j, "replans");
     mg_json_int(&j, app->replans);
+    mg_json_key(&j, "stage_overflow");
+    mg_json_int(&j, app->stage_overflow);
+    /* the stages by name: calls, max, mean, p95 and total of their modelled us per call */
+    int32_t order[MG_STAGES];
+    for (int32_t i = 0; i < app->n_stages; i++) {
+        int32_t k = i;
+        while (k > 0 && strcmp(app->stages[order[k - 1]].name, app->stages[i].name) > 0) {
+            order[k] = order[k - 1];
+            k--;
+        }
+        order[k] = i;
+    }
+    mg_json_key(&j, "stages");
+    mg_json_begin_object(&j);
+    for (int32_t i = 0; i < app->n_stages; i++) {
+        const mg_stage_t *s = &app->stages[order[i]];
+        mg_json_key(&j, s->name);
+        mg_json_begin_object(&j);
+        mg_json_key(&j, "calls");
+        mg_json_int(&j, s->calls);
+        mg_json_key(&j, "max_us");
+        mg_json_int(&j, s->max_us);
+        mg_json_key(&j, "mean_us");
+        mg_json_micro(&j, micro_ratio(s->total_us, s->calls)); /* calls > 0: made by a call */
+        mg_json_key(&j, "p95_us");
+        mg_json_int(&j, stage_p95_us(s));
+        mg_json_key(&j, "total_us");
+        mg_json_int(&j, s->total_us);
+        mg_json_end_object(&j);
+    }
+    mg_json_end_object(&j);
     mg_json_key(&j, "state");
     mg_json_string(&j, app->state, strlen(app->state));
     mg_json_key(&j, "ticks_skipped");

@@ -100,9 +100,19 @@ typedef struct {
 #define MG_EVENTS_BYTES 32768
 #define MG_STAGES (4 + MG_MAX_DETECTORS)
 
+/* a stage's histogram of modelled us per call (host/stage_stats.py): exact below 2048 us, the
+ * 11 leading bits above, up to 2^31 us (longer calls are counted in the top bucket and in
+ * stage_overflow) */
+#define MG_STAGE_EXACT_US 2048
+#define MG_STAGE_OCTAVES 20
+#define MG_STAGE_BUCKETS (MG_STAGE_EXACT_US + MG_STAGE_OCTAVES * 1024)
+/* the BYE's figures (mg_app_stats_json) fit in this */
+#define MG_APP_STATS_BYTES 4096
+
 typedef struct {
     const char *name;
     int64_t calls, total_us, max_us;
+    uint32_t counts[MG_STAGE_BUCKETS];
 } mg_stage_t;
 
 struct mg_app {
@@ -140,9 +150,12 @@ struct mg_app {
     int32_t hello_sent, resets_handled;
     int64_t first_tick_us; /* -1 before the first control tick */
     int32_t replans, plans;
+    int32_t path_updates; /* a plan's detail with a replan: a new curve while one was followed */
+    char close_reason[64]; /* the last grasp_close's JSON text ("" before any) */
     int64_t frames_received, frames_processed, frames_dropped, frames_idle;
     int64_t control_steps, deadline_misses, ticks_skipped;
     int32_t n_stages;
+    int64_t stage_overflow; /* calls past the histogram's top (2^31 us) */
     mg_stage_t stages[MG_STAGES];
 };
 
@@ -162,8 +175,9 @@ int32_t mg_app_load_windows(const mg_app_t *app, int64_t from_index, int64_t *in
                             int64_t *micro, int32_t max);
 /* the trace events since the last take (comma-separated JSON objects): their count */
 int32_t mg_app_take_events(mg_app_t *app, char *out, size_t cap, size_t *len);
-/* the run's integer figures as a JSON object (host/app.py stats() without its float means and
- * percentiles): its length, 0 when cap is too small */
+/* the run's figures as a JSON object (host/app.py stats(): the counters, the ARM9 loads' maximum
+ * and mean and the stages' calls, mean, 95th percentile, maximum and total, the means printed as
+ * Python prints its integer ratios to the millionth): its length, 0 when cap is too small */
 size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap);
 
 #endif

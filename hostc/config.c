@@ -323,7 +323,7 @@ static int parse_task(mg_json_in_t *in, mg_config_t *c, char *why, size_t cap)
     return k == 0 ? 0 : refuse(why, cap, "task", "malformed JSON");
 }
 
-/* the camera's "f_px" (rounded as Python's round) */
+/* the camera's "f_px", "u0_px", "v0_px" (rounded as Python's round, host/app_factory.py) */
 static int parse_camera(mg_json_in_t *in, mg_config_t *c, char *why, size_t cap)
 {
     char key[64];
@@ -336,12 +336,19 @@ static int parse_camera(mg_json_in_t *in, mg_config_t *c, char *why, size_t cap)
             return refuse(why, cap, "camera", "malformed JSON");
         int64_t v;
         int is_int;
-        if (strcmp(key, "f_px") != 0)
-            continue;
-        if (!read_e9(at, in->p, &v, &is_int) || div_even(v, E9) < 1
-            || div_even(v, E9) > 100000)
-            return refuse(why, cap, "camera.f_px", "expected a number of px in [1, 100000]");
-        c->f_px = (int32_t)div_even(v, E9);
+        if (strcmp(key, "f_px") == 0) {
+            if (!read_e9(at, in->p, &v, &is_int) || div_even(v, E9) < 1
+                || div_even(v, E9) > 100000)
+                return refuse(why, cap, "camera.f_px", "expected a number of px in [1, 100000]");
+            c->f_px = (int32_t)div_even(v, E9);
+        } else if (strcmp(key, "u0_px") == 0 || strcmp(key, "v0_px") == 0) {
+            const int u = key[0] == 'u'; /* the scenario's ranges (CAMERA_RANGES) */
+            if (!read_e9(at, in->p, &v, &is_int) || v < 0 || v > (u ? 320 : 240) * E9)
+                return refuse(why, cap, u ? "camera.u0_px" : "camera.v0_px",
+                              u ? "expected a number of px in [0, 320]"
+                                : "expected a number of px in [0, 240]");
+            *(u ? &c->u0_px : &c->v0_px) = (int32_t)div_even(v, E9);
+        }
     }
     return k == 0 ? 0 : refuse(why, cap, "camera", "malformed JSON");
 }
@@ -351,6 +358,8 @@ void mg_config_default(mg_config_t *c)
     memset(c, 0, sizeof *c);
     mg_task_text(c->method, sizeof c->method, 0, "000"); /* the Python host's default */
     c->f_px = 611; /* the camera's without a configuration (host/app_factory.py) */
+    c->u0_px = 160;
+    c->v0_px = 120;
 }
 
 static void defaults_of(mg_config_t *c, const schema_t *s)

@@ -28,6 +28,7 @@
 typedef struct {
     char method[MG_CONFIG_METHOD];
     int32_t f_px; /* the camera's, rounded (the detectors'; the task's camera is its method's) */
+    int32_t u0_px, v0_px; /* its principal point, rounded (the detectors') */
     /* the method's paper parameters (its table's order), in billionths; given: in the file */
     int32_t n_params;
     int32_t given[MG_CONFIG_MAX_PARAMS];
@@ -38,7 +39,7 @@ typedef struct {
     int32_t has_object_xy, n_object_xy, object_xy_mm[2];
 } mg_config_t;
 
-/* the defaults: method "000", f_px 611, no parameter or setting given */
+/* the defaults: method "000", f_px 611, u0_px 160, v0_px 120, no parameter or setting given */
 void mg_config_default(mg_config_t *c);
 /* a configuration's JSON text: 0, or -1 with the key and why in why (one line) */
 int mg_config_parse(const char *text, size_t n, mg_config_t *c, char *why, size_t cap);

@@ -146,7 +146,7 @@ int mg_lockstep_run(mg_lockstep_t *ls, int sock_fd, int serial_fd, const char **
             mg_ls_end_t end;
             if (mg_ls_decode_end(meta_buf, meta_len, &end) != 0)
                 return *why = "a malformed END", -1;
-            static char stats[1024];
+            static char stats[MG_APP_STATS_BYTES];
             const size_t len = mg_app_stats_json(ls->app, stats, sizeof stats);
             n = mg_ls_encode_bye(done_buf, sizeof done_buf, len ? stats : "{}", len ? len : 2);
             err = write_all(sock_fd, done_buf, n);

@@ -129,7 +129,7 @@ int main(int argc, char **argv)
     }
     if (port == NULL)
         return usage("--port is required", "");
-    static mg_config_t conf; /* method 000 and f_px 611 without --config */
+    static mg_config_t conf; /* method 000, f_px 611, u0_px 160, v0_px 120 without --config */
     mg_config_default(&conf);
     if (config != NULL && read_config(config, &conf) != 0)
         return 2;
@@ -157,6 +157,8 @@ int main(int argc, char **argv)
     const mg_task_if_t task = mg_method_bind(m, task_state, &conf);
     const int32_t n_det = mg_detectors_table(&detectors, &app, conf.f_px, table,
                                              MG_MAX_DETECTORS);
+    detectors.u0_px = conf.u0_px;
+    detectors.v0_px = conf.v0_px;
     mg_app_init(&app, &cfg, &task, table, n_det);
     if (sock != NULL) {
         const int s = sys_unix_connect(sock);
@@ -176,7 +178,7 @@ int main(int argc, char **argv)
     const int r = mg_linux_run(&app, fd, camera != NULL ? &cam : NULL);
     sys_close(fd);
     mg_camera_close(&cam);
-    static char stats[1024]; /* the program's figures (frames received, control steps ...) */
+    static char stats[MG_APP_STATS_BYTES + 1]; /* the program's figures (app.h) */
     const size_t len = mg_app_stats_json(&app, stats, sizeof stats - 1);
     if (len > 0) {
         stats[len] = 0;

@@ -11,6 +11,8 @@ int32_t mg_program_open(mg_app_t *app, mg_detectors_t *d, mg_detector_t *table,
     mg_host_config_default(&cfg);
     const mg_task_if_t task = mg_method_bind(m, task_state, c);
     const int32_t n_det = mg_detectors_table(d, app, c->f_px, table, MG_MAX_DETECTORS);
+    d->u0_px = c->u0_px;
+    d->v0_px = c->v0_px;
     mg_app_init(app, &cfg, &task, table, n_det);
     return n_det;
 }

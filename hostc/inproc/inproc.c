@@ -57,7 +57,7 @@ size_t mg_inproc_serve(mg_inproc_t *h, const uint8_t *msg, size_t n, const uint8
 
 size_t mg_inproc_bye(const mg_inproc_t *h, uint8_t *out, size_t cap)
 {
-    char stats[1024];
+    char stats[MG_APP_STATS_BYTES];
     const size_t len = mg_app_stats_json(&h->app, stats, sizeof stats);
     return mg_ls_encode_bye(out, cap, len ? stats : "{}", len ? len : 2);
 }

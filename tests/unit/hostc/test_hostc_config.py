@@ -125,6 +125,19 @@ def test_the_shipped_scenarios_configurations(name):
     c, _ = _parse(cfg)
     assert FFI.string(c.method).decode() == scenario.meta.method
     assert c.f_px == int(round(cfg["camera"]["f_px"]))
+    assert (c.u0_px, c.v0_px) == (int(round(cfg["camera"]["u0_px"])),
+                                  int(round(cfg["camera"]["v0_px"])))
+
+
+@given(st.integers(0, 640).map(lambda k: k / 2), st.integers(0, 480).map(lambda k: k / 2))
+def test_the_principal_point_is_read_as_the_python_rounds_it(u0, v0):
+    """u0_px and v0_px, halves to even as Python's round (host/app_factory.py); 160, 120
+    without them."""
+    c, why = _parse({"method": "002", "camera": {"f_px": 500.0, "u0_px": u0, "v0_px": v0}})
+    assert why is None, why
+    assert (c.f_px, c.u0_px, c.v0_px) == (500, int(round(u0)), int(round(v0)))
+    c, _ = _parse({"method": "002", "camera": {"f_px": 500.0}})
+    assert (c.u0_px, c.v0_px) == (160, 120)
 
 
 def _values(method: str):
@@ -199,6 +212,9 @@ def test_any_configuration_in_range(named, timeouts, object_xy):
     ({"method": "000", "task": {"timeout_us": {}}}, "task.timeout_us"),
     ({"method": "000", "task": {"timeouts_us": {"SEARCH": 0}}}, "task.timeouts_us.SEARCH"),
     ({"method": "000", "task": {"object_xy_mm": [1]}}, "task.object_xy_mm"),
+    ({"method": "000", "camera": {"u0_px": -0.5}}, "camera.u0_px"),
+    ({"method": "000", "camera": {"v0_px": 240.5}}, "camera.v0_px"),
+    ({"method": "000", "camera": {"u0_px": "160"}}, "camera.u0_px"),
 ])
 def test_a_bad_configuration_is_refused_by_its_key(cfg, key):
     """Unknown keys, values out of range or of the wrong kind, pairs out of order: refused by

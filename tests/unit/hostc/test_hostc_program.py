@@ -96,6 +96,10 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
         # the frames crossed the shared ring; the idle method looks for nothing in them
         assert bye.stats["frames_received"] == st["frames_received"] >= 10
         assert bye.stats["frames_idle"] == st["frames_idle"] == st["frames_received"]
+        for key in ("arm9_load_max", "arm9_load_mean", "stages",  # the decimals as Python's
+                    "mcu", "replans", "path_updates", "close_reason"):
+            assert bye.stats[key] == st[key], key
+        assert bye.stats["stage_overflow"] == 0
     finally:
         host.close()
         os.close(master)
@@ -184,9 +188,14 @@ def test_the_c_program_runs_002_as_the_python_host(program, marker_frames, tmp_p
         bye = host.finish(ls.End(t, "test over"))
         st = app.stats()
         for key in ("control_steps", "frames_received", "frames_processed", "frames_dropped",
-                    "deadline_misses", "state"):
+                    "deadline_misses", "state", "arm9_load_max", "arm9_load_mean", "stages",
+                    "mcu", "replans", "path_updates", "close_reason"):
             assert bye.stats[key] == st[key], key
         assert st["frames_processed"] > 0 and st["state"] != "INIT"
+        # the loads and the means are fractions, the detectors' stages among the stages
+        assert 0 < st["arm9_load_mean"] <= st["arm9_load_max"] < 1
+        assert len(st["stages"]) > 3 and bye.stats["stage_overflow"] == 0
+        assert any(v["mean_us"] != int(v["mean_us"]) for v in st["stages"].values())
     finally:
         host.close()
         os.close(master)

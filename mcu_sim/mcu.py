@@ -322,4 +322,5 @@ class Mcu:
         }
         for key, value in fw.parser.stats.as_dict().items():
             out[f"parser_{key}"] = value
+        out.update(fw.load_stats(self._cycle))
         return out

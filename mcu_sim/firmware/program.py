@@ -19,6 +19,7 @@ from __future__ import annotations
 import struct
 
 from mobigrasp.mcu_sim.firmware import params as P
+from mobigrasp.mcu_sim.firmware.cycles import CycleMeter
 from mobigrasp.mcu_sim.firmware.dispatch import handle_frame
 from mobigrasp.mcu_sim.firmware.ring import ByteRing
 from mobigrasp.mcu_sim.firmware.servo_table import (
@@ -83,6 +84,7 @@ class Firmware:
         self.sonar = SonarTask()
         self.enc_count = [0, 0]
         self.duty_out = [0, 0]  # last duty written to the bridge registers
+        self.cycles = CycleMeter()  # the AVR cycles this work would take (a report only)
         for pid, value in dict(param_overrides or {}).items():
             # build-time power-on values: the same checks as a PARAM_SET, so no build can
             # widen a safety limit either
@@ -106,6 +108,8 @@ class Firmware:
         """``main()`` before the loop: :meth:`setup_rx`, then (``fw_setup``) state to power-on
         values, peripherals configured."""
         hw = self.hw
+        self.cycles.charge("startup")
+        self.cycles.soft_pwm(False, hw.cycle)  # the reset stops Timer2's interrupts
         self.setup_rx()
         # a reset zeroes the C globals: the TX sequence counter and the duplicate filter's
         # counters start again too
@@ -156,12 +160,14 @@ class Firmware:
     def isr_usart_rx(self, byte: int) -> None:
         """USART0 RX complete: into the ring (overrun counted when full); a delimiter, or
         ``RX_WAKE_BYTES`` waiting, is work for the main loop."""
+        self.cycles.charge("isr_usart0_rx")
         self.rx.put(byte)
         if byte == 0 or len(self.rx) >= RX_WAKE_BYTES:
             self.rx_frame_due = True
 
     def isr_usart_rx_bytes(self, data: bytes) -> None:
         """Several RX-complete interrupts in a row (the emulator batches them), oldest first."""
+        self.cycles.charge("isr_usart0_rx", len(data))
         self.rx.put_bytes(data)
         # the ring only fills between passes: at or past the mark after the batch means at or
         # past it after its last byte
@@ -170,6 +176,7 @@ class Firmware:
 
     def isr_timer1_ovf(self) -> None:
         """Timer1 (and 3, started together) period start: work for the main loop."""
+        self.cycles.charge("isr_timer1_ovf")
         self.servo_period_due = True
 
     def _servo_period(self) -> None:
@@ -187,16 +194,20 @@ class Firmware:
 
     def isr_encoder(self, side: int, edges: int) -> None:
         """Encoder edges of wheel ``side`` (0 left, 1 right): ``edges`` ISR calls of +-1."""
+        self.cycles.charge("isr_encoder", abs(edges))
         self.enc_count[side] += edges
 
     def isr_echo(self, index: int, level: int) -> None:
         """Echo pin of sonar ``index`` changed to ``level``."""
+        self.cycles.charge("isr_echo")
         self.sonar.on_echo(index, level, self.hw.micros())
 
     # -- main loop -----------------------------------------------------------------------------
     def loop(self) -> int:
         """One pass of the main loop; returns the next time (µs since reset) something is due."""
         hw = self.hw
+        cycles = self.cycles
+        cycles.charge("loop_pass")
         now = hw.micros()
         if self.servo_period_due:
             self.servo_period_due = False
@@ -204,10 +215,14 @@ class Firmware:
         self.rx_frame_due = False  # the drain below takes every byte received so far
         rx = self.rx
         if rx.head != rx.tail:  # take_all() of an empty ring is b"" (most passes: timed work)
-            for frame in self.parser.feed(rx.take_all()):
+            data = rx.take_all()
+            cycles.charge("rx_byte_decode", len(data))
+            for frame in self.parser.feed(data):
+                cycles.charge("frame_dispatch")
                 handle_frame(self, frame, now)
         pv = self.params.values
         if now >= self.next_control_us:
+            cycles.charge("wheel_pi_drive" if self.drive_enabled else "wheel_pi")
             self._control()
             self.next_control_us += CONTROL_PERIOD_US
             if self.next_control_us <= now:
@@ -216,12 +231,14 @@ class Firmware:
         if wd_us and not self.watchdog_tripped and now - self.last_valid_us >= wd_us:
             self._trip_watchdog()
         if now >= self.sonar.next_slot_us:
+            cycles.charge("sonar_slot")
             self.sonar.end_slot()
             index = self.sonar.start_slot(pv[_I_SONAR_COUNT], now, pv[_I_SONAR_SLOT_MS] * 1000)
             if index is not None:
                 hw.sonars.trigger(index, hw.cycle)
         hz = pv[_I_TELEMETRY_HZ]
         if hz and now >= self.next_telemetry_us:
+            cycles.charge("telemetry")
             self._send_telemetry(now)
             period = 1_000_000 // hz
             self.next_telemetry_us += period
@@ -233,6 +250,11 @@ class Firmware:
         if wd_us and not self.watchdog_tripped and self.last_valid_us + wd_us < due:
             due = self.last_valid_us + wd_us
         return due
+
+    def load_stats(self, elapsed_cycles: int) -> dict[str, int]:
+        """The AVR load this work would make over ``elapsed_cycles`` since power-on, as simavr's
+        ``avr_load_permille`` (mcu_sim/firmware/cycles.py)."""
+        return {"avr_load_permille": self.cycles.load_permille(elapsed_cycles)}
 
     def work_pending(self) -> bool:
         """True while a handler left work for the main loop (a frame's end in the RX ring, or
@@ -268,6 +290,8 @@ class Firmware:
         self.duty_out[side] = duty
         wheel = self.hw.wheel_right if side else self.hw.wheel_left
         cycle = self.hw.cycle
+        if side:
+            self.cycles.soft_pwm(0 < abs(duty) < 255, cycle)
         wheel.write_direction(duty < 0, cycle)
         wheel.write_ocr(-duty if duty < 0 else duty, cycle)
 
@@ -304,14 +328,21 @@ class Firmware:
     def send(self, msg) -> None:
         """Queue a message for the host (dropped and counted if the TX ring is full)."""
         wire = encode_message(msg, self.tx_seq.next())
-        if not self.hw.usart0.tx_write(wire, self.hw.cycle):
-            self.tx_dropped += 1
+        self.cycles.charge("tx_byte_encode", len(wire))
+        self._tx(wire)
 
     def send_ack(self, acked_seq: int) -> None:
         """``send(Ack(acked_seq))`` for the seq of a received frame (a u8), its one-byte
         payload filled directly as the C port does: the reply to every reliable command."""
         wire = encode_raw(PROTOCOL_VERSION, self.tx_seq.next(), ACK_TYPE, bytes((acked_seq,)))
-        if not self.hw.usart0.tx_write(wire, self.hw.cycle):
+        self.cycles.charge("tx_byte_encode", len(wire))
+        self._tx(wire)
+
+    def _tx(self, wire: bytes) -> None:
+        # into the TX ring, one UDRE interrupt a byte sends it (dropped and counted when full)
+        if self.hw.usart0.tx_write(wire, self.hw.cycle):
+            self.cycles.charge("isr_usart0_udre", len(wire))
+        else:
             self.tx_dropped += 1
 
     def _flags(self) -> int:
@@ -354,8 +385,7 @@ class Firmware:
         # construction (version and type are constants, seq comes from the 8-bit counter and
         # the payload is TELEMETRY_STRUCT.size = 44 bytes)
         wire = encode_raw(PROTOCOL_VERSION, self.tx_seq.next(), TELEMETRY_TYPE, payload)
-        if not self.hw.usart0.tx_write(wire, self.hw.cycle):
-            self.tx_dropped += 1
+        self._tx(wire)
         self.telemetry_sent += 1
         self.limit_flag = False
         self.reset_flag = False

@@ -286,6 +286,11 @@ class NativeFirmware:
         full_now = (self.hw.cycle - self.hw.reset_cycle) // CYCLES_PER_US
         return full_now + (((due - now + 0x8000_0000) & _MASK32) - 0x8000_0000)
 
+    def load_stats(self, elapsed_cycles: int) -> dict[str, int]:
+        """Nothing: the C program runs on the host here, its cycles are not the AVR's
+        (``--mcu simavr`` measures them, the Python model charges them)."""
+        return {}
+
     def work_pending(self) -> bool:
         """True while a handler left work for the main loop (``fw_work_pending``)."""
         self.activate()

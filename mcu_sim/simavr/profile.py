@@ -3,7 +3,8 @@
 ``profile_stats(raw)`` turns SimavrMcu.profile() into flat integer counters (they go into the
 run's ``summary.json`` under ``mcu`` with the other MCU counters, prefixed ``avr_``);
 ``profile_rows(stats)`` gives the table of ``mobigrasp profile --mcu simavr``: figure, worst
-case, budget, and whether the budget was exceeded. The budgets follow from the line rate
+case, budget, and whether the budget was exceeded (with ``--mcu python``, the load row alone:
+the model's charged cycles, mcu_sim/firmware/cycles.py). The budgets follow from the line rate
 (docs/firmware.md, "simavr"):
 
 - one byte time at 117 647 baud 8N1 is 1360 cycles (85 µs); the part buffers two received bytes,
@@ -84,12 +85,16 @@ def profile_rows(stats: dict) -> list[dict]:
         row("AVR load", stats["avr_load_permille"], LOAD_BUDGET_PERMILLE, "permille")
         row("deepest stack", stats["avr_stack_max_bytes"], stack_bytes(), "bytes")
         row("RX bytes lost on the line", stats["avr_rx_line_lost"], 0, "bytes")
+    elif "avr_load_permille" in stats:  # the Python model's charged cycles (firmware/cycles.py)
+        row("AVR load (model)", stats["avr_load_permille"], LOAD_BUDGET_PERMILLE, "permille")
     return rows
 
 
 def format_rows(rows: list[dict]) -> str:
     """The table as text; a row over its budget is marked ``EXCEEDED``."""
-    lines = [f"{'AVR (simavr)':<28}{'worst':>10}{'budget':>10}  unit"]
+    model = [r["figure"] for r in rows] == ["AVR load (model)"]
+    title = "AVR (Python model)" if model else "AVR (simavr)"
+    lines = [f"{title:<28}{'worst':>10}{'budget':>10}  unit"]
     for r in rows:
         mark = "  EXCEEDED" if r["exceeded"] else ""
         where = f"  ({r['where']})" if r.get("where") else ""

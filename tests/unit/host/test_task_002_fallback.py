@@ -5,6 +5,7 @@ from __future__ import annotations
 import detections as det
 
 from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.host.task.method002 import BOARD_ALONE_FRAMES
 
 # a far red cylinder as the detector reports it 2.8 m away
 # (its rings on the centre row: the approach pitches the camera toward their row, and this
@@ -94,9 +95,11 @@ def test_big_crosses_end_the_approach_even_without_the_cylinder():
             break
     assert out.state == "ADJUST"
     assert any("crosses 100 px apart" in ev.why for ev in out.events)
-    far = Task("002")  # the same crosses 40 px apart (~1.1 m): the approach goes on
+    # the same crosses 40 px apart (~1.1 m): the approach goes on (for fewer frames than end
+    # it as the board alone, method002.BOARD_ALONE_FRAMES)
+    far = Task("002")
     far.go(0, "APPROACH", "test")
-    for k in range(1, 20):
+    for k in range(1, BOARD_ALONE_FRAMES):
         out = far.step(k * 20_000, TaskInputs(detections={
             "double_cross": det.double_cross(160 * 16, 120 * 16, 40 * 16),
             "red_cylinder": None}))

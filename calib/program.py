@@ -43,9 +43,11 @@ from mobigrasp.host.app import HostConfig
 from mobigrasp.host.budget import FCLK_HZ
 
 PAGE = 0x1000
-HEAP_BASE = 0x0100_0000
+# above the image (its .bss holds the detectors' scratch and the stage histograms: 17 MB) with
+# room to grow; _map refuses an image that reaches it
+HEAP_BASE = 0x0400_0000
 HEAP_SIZE = 0x0200_0000
-STACK_TOP = 0x0310_0000
+STACK_TOP = 0x0610_0000
 STACK_SIZE = 0x0004_0000
 # the heap: the program's state, then the I/O buffers and the frames it holds
 PROGRAM, IO, FRAMES = 0x0, 0x40_0000, 0x48_0000
@@ -141,6 +143,9 @@ class ProgramArm9(arm.Arm9):
     def _map(self, uc) -> tuple[int, int]:
         lo = min(a for a, _, _, _ in self.elf.segments) & ~(PAGE - 1)
         hi = _up(max(a + m for a, _, m, _ in self.elf.segments))
+        if hi > HEAP_BASE:
+            raise ValueError(f"the program's image ends at {hi:#x}, past the calibration's "
+                             f"heap at {HEAP_BASE:#x} (calib/program.py HEAP_BASE)")
         self._shared(uc, arm.STOP, PAGE)
         self._shared(uc, lo, hi - lo)
         for addr, data, _, _ in self.elf.segments:

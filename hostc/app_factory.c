@@ -126,10 +126,7 @@ static size_t object_json(const int32_t *words, const member_t *m, int32_t n_mem
         } else if (m[i].pairs) {
             mg_json_begin_array(&j);
             for (int32_t k = 0; k < words[m[i].at - 1]; k++) {
-                mg_json_begin_array(&j);
-                mg_json_int(&j, words[m[i].at + 2 * k]);
-                mg_json_int(&j, words[m[i].at + 2 * k + 1]);
-                mg_json_end_array(&j);
+                mg_json_int_pair(&j, words[m[i].at + 2 * k], words[m[i].at + 2 * k + 1]);
             }
             mg_json_end_array(&j);
         } else if (m[i].n == 1) {

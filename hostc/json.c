@@ -220,6 +220,19 @@ void mg_json_micro(mg_json_t *j, int64_t v)
     put(j, tmp, (size_t)n);
 }
 
+void mg_json_int_pair(mg_json_t *j, int64_t a, int64_t b)
+{
+    mg_json_begin_array(j);
+    mg_json_int(j, a);
+    mg_json_int(j, b);
+    mg_json_end_array(j);
+}
+
+void mg_json_terminate(mg_json_t *j)
+{
+    j->buf[j->overflow ? 0 : j->len] = 0;
+}
+
 void mg_json_raw(mg_json_t *j, const char *text, size_t n)
 {
     value_start(j);

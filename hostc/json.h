@@ -33,6 +33,10 @@ void mg_json_string(mg_json_t *j, const char *s, size_t n); /* UTF-8 in, escaped
 /* v / 10^6 as Python's repr of the float round(v / 10^6, 6) prints it (0.25, 1.0, 1e-06) */
 void mg_json_micro(mg_json_t *j, int64_t v);
 void mg_json_raw(mg_json_t *j, const char *text, size_t n); /* a value already in JSON */
+void mg_json_int_pair(mg_json_t *j, int64_t a, int64_t b); /* [a, b] */
+/* ends the text with a NUL at buf[len] (buf[0] after an overflow: the text is then empty); the
+ * buffer given to mg_json_init holds cap + 1 bytes */
+void mg_json_terminate(mg_json_t *j);
 
 /* The reader: a cursor over JSON text. Each function returns 1 on success and moves the
  * cursor past what it read, or 0 (the text is not what was asked for). */

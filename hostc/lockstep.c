@@ -350,10 +350,7 @@ size_t mg_ls_encode_done(uint8_t *out, size_t cap, const mg_ls_done_t *d)
     mg_json_key(&j, "writes");
     mg_json_begin_array(&j);
     for (int32_t i = 0; i < d->n_writes; i++) {
-        mg_json_begin_array(&j);
-        mg_json_int(&j, d->writes[i].t_us);
-        mg_json_int(&j, d->writes[i].nbytes);
-        mg_json_end_array(&j);
+        mg_json_int_pair(&j, d->writes[i].t_us, d->writes[i].nbytes);
     }
     mg_json_end_array(&j);
     mg_json_end_object(&j);

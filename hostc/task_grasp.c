@@ -19,12 +19,6 @@ static const int32_t CHECK_WAIST_MRAD[MG_CHECK_LOOKS] = {0, 300, -300};
  * the first reachable wins (docs/task.md) */
 static const int32_t HELD_VIEW_MM[] = {150, 140, 130, 120, 110, 100, 90};
 
-/* a JSON value into text (cap bytes): "" when it did not fit */
-static void json_done(const mg_json_t *j, char *text)
-{
-    text[j->overflow ? 0 : j->len] = 0;
-}
-
 static void note_ints(mg_task_t *t, const char *key, const int32_t *v, int32_t n)
 {
     char text[MG_TASK_NOTE_BYTES];
@@ -34,7 +28,7 @@ static void note_ints(mg_task_t *t, const char *key, const int32_t *v, int32_t n
     for (int32_t i = 0; i < n; i++)
         mg_json_int(&j, v[i]);
     mg_json_end_array(&j);
-    json_done(&j, text);
+    mg_json_terminate(&j);
     mg_task_note(t, key, text);
 }
 
@@ -50,7 +44,7 @@ static void note_text(mg_task_t *t, const char *key, const char *s)
     mg_json_t j;
     mg_json_init(&j, text, sizeof text - 1);
     mg_json_string(&j, s, strlen(s));
-    json_done(&j, text);
+    mg_json_terminate(&j);
     mg_task_note(t, key, text);
 }
 
@@ -298,7 +292,7 @@ static void align(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         mg_json_key(&j, "w_px");
         mg_json_int(&j, w_px);
         mg_json_end_object(&j);
-        json_done(&j, text);
+        mg_json_terminate(&j);
         mg_task_note(t, "precise", text);
     }
     char why[MG_TASK_WHY];
@@ -461,19 +455,13 @@ static int seen_standing(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
             mg_json_init(&j, text, sizeof text - 1);
             mg_json_begin_object(&j);
             mg_json_key(&j, "estimate_mm");
-            mg_json_begin_array(&j);
-            mg_json_int(&j, place[0]);
-            mg_json_int(&j, place[1]);
-            mg_json_end_array(&j);
+            mg_json_int_pair(&j, place[0], place[1]);
             mg_json_key(&j, "name");
             mg_json_string(&j, r->checks[c].detector, strlen(r->checks[c].detector));
             mg_json_key(&j, "obj_mm");
-            mg_json_begin_array(&j);
-            mg_json_int(&j, t->obj_mm[0]);
-            mg_json_int(&j, t->obj_mm[1]);
-            mg_json_end_array(&j);
+            mg_json_int_pair(&j, t->obj_mm[0], t->obj_mm[1]);
             mg_json_end_object(&j);
-            json_done(&j, text);
+            mg_json_terminate(&j);
             mg_task_note(t, "grasp_check_seen", text);
             break;
         }
@@ -578,7 +566,7 @@ int mg_task_held_fill_in_view(mg_task_t *t, int64_t now_us, int32_t has_fill,
         mg_json_int(&j, rgb[i]);
     mg_json_end_array(&j);
     mg_json_end_object(&j);
-    json_done(&j, text);
+    mg_json_terminate(&j);
     mg_task_note(t, "grasp_check_fill", text);
     return held;
 }

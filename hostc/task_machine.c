@@ -166,7 +166,7 @@ void mg_task_note_ints(mg_task_t *t, const char *key, int32_t n, const char *con
         mg_json_int(&j, values[i]);
     }
     mg_json_end_object(&j);
-    text[j.overflow ? 0 : j.len] = 0;
+    mg_json_terminate(&j);
     mg_task_note(t, key, text);
 }
 

@@ -265,12 +265,9 @@ static void note_fuzzy(mg_task_t *t, int32_t has_e, int32_t e, int32_t has_ec, i
     mg_json_key(&j, "u_mrad");
     mg_json_int(&j, u_mrad);
     mg_json_key(&j, "wheels_mmps");
-    mg_json_begin_array(&j);
-    mg_json_int(&j, t->wheels[0]);
-    mg_json_int(&j, t->wheels[1]);
-    mg_json_end_array(&j);
+    mg_json_int_pair(&j, t->wheels[0], t->wheels[1]);
     mg_json_end_object(&j);
-    text[j.overflow ? 0 : j.len] = 0;
+    mg_json_terminate(&j);
     mg_task_note(t, "fuzzy", text);
 }
 

@@ -28,7 +28,7 @@ void mg_task_enter_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *
         mg_json_key(&j, "theta5s_mrad");
         mg_json_int(&j, th5s);
         mg_json_end_object(&j);
-        text[j.overflow ? 0 : j.len] = 0;
+        mg_json_terminate(&j);
         mg_task_note(t, "lost_search", text);
     }
     t->lost_in = -1;
@@ -147,7 +147,7 @@ void mg_task_do_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         mg_json_t j;
         mg_json_init(&j, text, sizeof text - 1);
         mg_json_string(&j, why, strlen(why));
-        text[j.overflow ? 0 : j.len] = 0;
+        mg_json_terminate(&j);
         mg_task_note(t, "search_seen", text);
         return;
     }

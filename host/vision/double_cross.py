@@ -458,6 +458,7 @@ BOARD_BEHIND_MM_Q4 = 150 * 16
 # the line of sight, Q12: 30 degrees): the cylinder is placed in the board's plane from the two
 # crosses' depths (:func:`sighting`); nearer its face the frontal model (docs/task.md)
 OBLIQUE_SIN_Q12 = 2048
+OBLIQUE_AXIS_RATIO = 4  # ... and the cylinder placed at most atan 4 (76 degrees) off the axis
 
 
 def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
@@ -478,7 +479,7 @@ def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
 def oblique_sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
     """The cylinder BOARD_BEHIND before the board's face along its normal, the board's plane
     found from the two crosses; None when the board is seen less than OBLIQUE_SIN_Q12 off its
-    face or its plane is not known.
+    face, its plane is not known or the place found is behind the camera or far aside.
 
     The marker centre ``um`` is the crosses' columns weighted by their depths (the module
     docstring), so ``(u2 - um) : (um - u1)`` is the depth ratio Z1 : Z2 of the two crosses
@@ -506,8 +507,8 @@ def oblique_sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] 
         return None
     cx = mx + BOARD_BEHIND_MM_Q4 * nx // fp.ONE_Q12
     cz = mz + BOARD_BEHIND_MM_Q4 * nz // fp.ONE_Q12
-    if cz <= 0:
-        return None
+    if cz <= 0 or abs(cx) > OBLIQUE_AXIS_RATIO * cz:
+        return None  # behind the camera or far aside: no usable place, the frontal model
     return u0 + f * cx // cz, res.vm_q4, cz
 
 

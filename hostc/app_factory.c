@@ -11,17 +11,19 @@
 /* the cylinder BOARD_BEHIND before the board's face along its normal, the board's plane from
  * the crosses' depth ratio Z1 : Z2 = (u2 - um) : (um - u1) (um weighted by the depths), the
  * crosses scaled 130 mm apart in the camera's level plane; 0 when the board is seen less than
- * MG_OBLIQUE_SIN_Q12 off its face, its plane is not known or the place is behind the camera
- * or more than MG_OBLIQUE_AXIS_RATIO : 1 aside
+ * MG_OBLIQUE_SIN_Q12 off its face, the pair is far from level (rows apart more than 1 /
+ * MG_OBLIQUE_LEVEL_RATIO of the columns), its plane is not known or the place is behind the
+ * camera or more than MG_OBLIQUE_AXIS_RATIO : 1 aside
  * (host/vision/double_cross.py oblique_sighting) */
 static int oblique_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
                             mg_sighting_t *s)
 {
     const int64_t u0 = 16 * MG_U0_PX, f = 16 * (int64_t)f_px;
     const int64_t a = (int64_t)dc[2] - dc[4], b = (int64_t)dc[4] - dc[0];
+    const int64_t dv = (int64_t)dc[3] - dc[1];
     int64_t x1, z1, x2, z2, dx, dz, span, mx, mz, nx, nz, cross, cx, cz;
-    if (a <= 0 || b <= 0)
-        return 0;
+    if (a <= 0 || b <= 0 || MG_OBLIQUE_LEVEL_RATIO * (dv < 0 ? -dv : dv) > a + b)
+        return 0; /* not the board's crosses side by side */
     x1 = a * (dc[0] - u0), z1 = a * f;
     x2 = b * (dc[2] - u0), z2 = b * f;
     dx = x2 - x1, dz = z2 - z1;

@@ -459,6 +459,9 @@ BOARD_BEHIND_MM_Q4 = 150 * 16
 # crosses' depths (:func:`sighting`); nearer its face the frontal model (docs/task.md)
 OBLIQUE_SIN_Q12 = 2048
 OBLIQUE_AXIS_RATIO = 4  # ... and the cylinder placed at most atan 4 (76 degrees) off the axis
+# ... and the crosses side by side: their rows differ by at most 1/4 of their columns (the board
+# upright, the camera level; a pair far from level is not the board's two crosses)
+OBLIQUE_LEVEL_RATIO = 4
 
 
 def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
@@ -479,7 +482,8 @@ def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
 def oblique_sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
     """The cylinder BOARD_BEHIND before the board's face along its normal, the board's plane
     found from the two crosses; None when the board is seen less than OBLIQUE_SIN_Q12 off its
-    face, its plane is not known or the place found is behind the camera or far aside.
+    face, the pair is far from level (not the board's crosses side by side), its plane is not
+    known or the place found is behind the camera or far aside.
 
     The marker centre ``um`` is the crosses' columns weighted by their depths (the module
     docstring), so ``(u2 - um) : (um - u1)`` is the depth ratio Z1 : Z2 of the two crosses
@@ -490,7 +494,7 @@ def oblique_sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] 
     aside, at the board's post (docs/task.md)."""
     u0, f = U0_PX * 16, f_px * 16
     a, b = res.u2_q4 - res.um_q4, res.um_q4 - res.u1_q4  # Z1 : Z2
-    if a <= 0 or b <= 0:
+    if a <= 0 or b <= 0 or OBLIQUE_LEVEL_RATIO * abs(res.v2_q4 - res.v1_q4) > a + b:
         return None
     x1, z1 = a * (res.u1_q4 - u0), a * f  # the crosses, to one unknown scale
     x2, z2 = b * (res.u2_q4 - u0), b * f

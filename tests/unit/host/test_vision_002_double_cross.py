@@ -1,5 +1,6 @@
 """The 002 double-cross detector on small synthetic frames (the renderer-based accuracy runs are
 in tests/unit/tools/test_vision_accuracy.py)."""
+import dataclasses
 import math
 
 import detections as det
@@ -156,3 +157,14 @@ def test_seen_off_its_face_the_frontal_model_puts_the_cylinder_at_the_post():
     u_q4, _, z_q4 = dc.sighting(res, 350)
     x = (u_q4 / 16 - 160) * z_q4 / 16 / 350
     assert math.hypot(x - x_mm, z_q4 / 16 - z_mm) <= 10
+
+
+def test_a_pair_far_from_level_is_placed_by_the_frontal_model():
+    """Rows apart by more than a quarter of the columns: not the upright board's two crosses
+    side by side, so no plane is found from them."""
+    res, _ = det.oblique_board(420, -0.27, 0.87)
+    du = res.u2_q4 - res.u1_q4
+    tilted = dataclasses.replace(res, v2_q4=res.v1_q4 + du // 4 + 1)
+    assert dc.oblique_sighting(tilted, 350) is None
+    assert dc.oblique_sighting(dataclasses.replace(res, v2_q4=res.v1_q4 + du // 4), 350)
+    assert dc.sighting(tilted, 350)[0] == tilted.um_q4

@@ -406,11 +406,13 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
     sh->tel_hz_addr = telemetry_hz;
 }
 
-static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_before)
+/* The profile's bookkeeping after an instruction whose I flag, PC or SP may change what it
+ * holds (sh_run_to takes the others on its fast path): interrupt entries and exits, the
+ * interrupts-off stretches, main-loop passes and the lowest stack pointer. */
+static void watch_core(sh_t *sh, uint64_t before, uint32_t pc_before, uint8_t ie, uint16_t sp)
 {
     avr_t *avr = sh->avr;
     uint64_t now = avr->cycle;
-    uint8_t ie = avr->sreg[S_I];
     /* interrupt entry: the PC lands on a vector with I cleared */
     if (!sh->in_isr && !ie && avr->pc < VECTORS * 4u && avr->pc != 0) {
         sh->in_isr = 1;
@@ -439,7 +441,6 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
         sh->ioff_start = before;
         sh->ioff_pc = sh->in_isr ? (uint32_t)avr->pc : pc_before;
     }
-    uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
     /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
     if (sh->loop_addr && !sh->in_loop && avr->pc == sh->loop_addr) {
         sh->in_loop = 1;
@@ -457,37 +458,57 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
     if (sh->seen_sei && (sh->prof.sp_min == 0 || sp < sh->prof.sp_min)) {
         sh->prof.sp_min = sp;
     }
-    /* asleep with the USART and the RX ring empty: the main loop has handled (and answered)
-     * every byte received so far, since it sleeps only when no work is pending */
-    if (sh->rx_unanswered && avr->state == cpu_Sleeping && sh->uart && sh->rx_tail_addr &&
-        uart_fifo_isempty(&sh->uart->input) &&
+}
+
+/* After an instruction that left the core asleep: with the USART and the RX ring empty, the
+ * main loop has handled (and answered) every byte received so far, since it sleeps only when
+ * no work is pending. */
+static void watch_answered(sh_t *sh)
+{
+    const avr_t *avr = sh->avr;
+    if (sh->uart && sh->rx_tail_addr && uart_fifo_isempty(&sh->uart->input) &&
         avr->data[sh->rx_head_addr] == avr->data[sh->rx_tail_addr]) {
         sh->rx_unanswered = 0;
     }
-    /* a byte reached the RX ring (or was counted as a ring overrun); only a byte handed to the
-     * USART moves either, so nothing is read while none is awaited */
-    if (sh->rx_head_addr && (sh->rxq_n || sh->rxq_untimed)) {
-        uint8_t head = avr->data[sh->rx_head_addr];
-        uint32_t over;
-        memcpy(&over, avr->data + sh->rx_over_addr, 4);
-        unsigned moved = ((uint8_t)(head - sh->rx_head_last) & (RX_RING_BYTES - 1u)) +
-                         (over - sh->rx_over_last);
-        sh->rx_head_last = head;
-        sh->rx_over_last = over;
-        while (moved && sh->rxq_untimed) {
-            moved--;
-            sh->rxq_untimed--;
-        }
-        while (moved-- && sh->rxq_n) {
-            uint64_t stop = sh->rxq[sh->rxq_head];
-            sh->rxq_head = (sh->rxq_head + 1u) % RXQ_MAX;
-            sh->rxq_n--;
-            uint64_t lat = now > stop ? now - stop : 0;
-            if (lat > sh->prof.rx_latency_max_cycles) {
-                sh->prof.rx_latency_max_cycles = (uint32_t)lat;
-            }
+}
+
+/* Whether a byte handed to the USART is awaited in the RX ring (the latency's queue). */
+static inline int rx_awaited(const sh_t *sh)
+{
+    return sh->rx_head_addr && (sh->rxq_n || sh->rxq_untimed);
+}
+
+/* After an instruction while a byte is awaited: a byte reached the RX ring (or was counted as
+ * a ring overrun), its latency from its stop bit counted; only a byte handed to the USART
+ * moves either, so nothing is read while none is awaited. Returns rx_awaited after it. */
+static inline int watch_rx_latency(sh_t *sh)
+{
+    const avr_t *avr = sh->avr;
+    uint8_t head = avr->data[sh->rx_head_addr];
+    uint32_t over;
+    memcpy(&over, avr->data + sh->rx_over_addr, 4);
+    if (head == sh->rx_head_last && over == sh->rx_over_last) {
+        return 1;
+    }
+    unsigned moved = ((uint8_t)(head - sh->rx_head_last) & (RX_RING_BYTES - 1u)) +
+                     (over - sh->rx_over_last);
+    sh->rx_head_last = head;
+    sh->rx_over_last = over;
+    while (moved && sh->rxq_untimed) {
+        moved--;
+        sh->rxq_untimed--;
+    }
+    uint64_t now = avr->cycle;
+    while (moved-- && sh->rxq_n) {
+        uint64_t stop = sh->rxq[sh->rxq_head];
+        sh->rxq_head = (sh->rxq_head + 1u) % RXQ_MAX;
+        sh->rxq_n--;
+        uint64_t lat = now > stop ? now - stop : 0;
+        if (lat > sh->prof.rx_latency_max_cycles) {
+            sh->prof.rx_latency_max_cycles = (uint32_t)lat;
         }
     }
+    return rx_awaited(sh);
 }
 
 /* simavr 1.6 derives USART0's byte time when UBRRnL is written, counting a parity bit always
@@ -548,6 +569,13 @@ int sh_run_to(sh_t *sh, uint64_t target)
         sh->timer_armed = target;
     }
     const int raw = avr->run == avr_callback_run_raw;
+    /* watch_core's fast path: an instruction after which the I flag is what watch_core last
+     * saw, the PC is outside the vectors and off fw_loop's entry, and the SP within
+     * [sp_lo, sp_hi] (not below the lowest seen once counted, not above a pass's start) changes
+     * nothing it holds. The first instruction of a run is always watched. */
+    uint8_t last_ie = 2;
+    uint32_t sp_lo = 0, sp_hi = 0;
+    int rx = rx_awaited(sh); /* only sh_uart_in, between runs, adds an awaited byte */
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
         uint32_t pc_before = avr->pc;
@@ -561,7 +589,21 @@ int sh_run_to(sh_t *sh, uint64_t target)
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }
-        after_instruction(sh, before, pc_before);
+        uint8_t ie = avr->sreg[S_I];
+        uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
+        if (ie != last_ie || avr->pc < VECTORS * 4u || avr->pc == sh->loop_addr || sp < sp_lo ||
+            sp > sp_hi) {
+            watch_core(sh, before, pc_before, ie, sp);
+            last_ie = ie;
+            sp_lo = !sh->seen_sei ? 0u : sh->prof.sp_min ? sh->prof.sp_min : 0x10000u;
+            sp_hi = sh->in_loop ? sh->loop_sp : 0xFFFFu;
+        }
+        if (rx) {
+            rx = watch_rx_latency(sh);
+        }
+        if (state == cpu_Sleeping && sh->rx_unanswered) {
+            watch_answered(sh);
+        }
         if (sh->stop) {
             return SH_STOPPED;
         }

@@ -41,6 +41,7 @@ DEFINE_FIFO(uint16_t, uart_fifo);
 #define PAINT 0xA5u
 #define RAM_START 0x100u
 #define VECTORS 35u
+#define PINQ_MAX 256u
 
 /* One wheel's quadrature edges still to come: edge k (1..n) at start + span*k/n when spread,
  * else start + SH_INSTANT_EDGE_CYCLES*k, the count then pos0 + dir*k. */
@@ -50,6 +51,11 @@ typedef struct {
     uint32_t n, k;
     int dir, spread;
 } enc_t;
+
+typedef struct {
+    uint64_t cycle;
+    uint8_t port, bit, level;
+} pin_level_t;
 
 struct sh {
     avr_t *avr;
@@ -113,6 +119,9 @@ struct sh {
     uint64_t t1_ovf_cycle;
     uint16_t rx_tail_addr, tx_head_addr, tx_tail_addr, next_tel_addr, tel_hz_addr;
     int rx_unanswered;
+    /* input pin levels to come (sh_pin_at), by cycle, in the order given at one cycle */
+    pin_level_t pinq[PINQ_MAX];
+    uint32_t pinq_n;
 };
 
 /* simavr's messages (ELF sections loaded, UART settings) would go to the run's stdout. */
@@ -719,6 +728,76 @@ void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level)
     avr_raise_irq(sh->pins[port][bit & 7u], level ? 1u : 0u);
 }
 
+int sh_pin_at(sh_t *sh, uint64_t cycle, uint8_t port, uint8_t bit, uint8_t level)
+{
+    if (sh->pinq_n >= PINQ_MAX || port >= 7u) {
+        return 0;
+    }
+    uint32_t i = sh->pinq_n;
+    while (i > 0 && sh->pinq[i - 1u].cycle > cycle) {
+        sh->pinq[i] = sh->pinq[i - 1u];
+        i--;
+    }
+    sh->pinq[i].cycle = cycle;
+    sh->pinq[i].port = port;
+    sh->pinq[i].bit = bit;
+    sh->pinq[i].level = level;
+    sh->pinq_n++;
+    return 1;
+}
+
+/* Signed duties (left, right), -255..255: OCR0/OCR2 while Timer0/Timer2 run, the sign from
+ * the direction pins PA0/PA1 (data-space addresses of the ATmega128's register summary). */
+void sh_wheel_duty(const sh_t *sh, int16_t duty[2])
+{
+    static const uint8_t ocr[2] = {0x51, 0x43}, tccr[2] = {0x53, 0x45};
+    const uint8_t *d = sh->avr->data;
+    for (int side = 0; side < 2; side++) {
+        int16_t v = (d[tccr[side]] & 7u) ? d[ocr[side]] : 0;
+        duty[side] = (int16_t)(((d[0x3B] >> side) & 1u) ? -v : v);
+    }
+}
+
+/* Run to `target`: sh_advance between the queued pin levels, each applied at its cycle (after
+ * the RX line's bytes due by then, before the encoder edges). Returns SH_STOPPED at a sonar
+ * trigger (the caller schedules its echo with sh_pin_at and calls again) or SH_CRASHED with
+ * nothing applied, else SH_REACHED with `out` filled for the cycle reached. */
+int sh_advance_to(sh_t *sh, uint64_t target, sh_outputs_t *out)
+{
+    for (;;) {
+        uint64_t nxt = target;
+        if (sh->pinq_n && sh->pinq[0].cycle < nxt) {
+            nxt = sh->pinq[0].cycle;
+        }
+        int rc = sh_advance(sh, nxt);
+        if (rc != SH_REACHED) {
+            return rc;
+        }
+        uint64_t now = sh->avr->cycle > nxt ? sh->avr->cycle : nxt;
+        uint32_t k = 0;
+        while (k < sh->pinq_n && sh->pinq[k].cycle <= now) {
+            sh_pin(sh, sh->pinq[k].port, sh->pinq[k].bit, sh->pinq[k].level);
+            k++;
+        }
+        if (k) {
+            sh->pinq_n -= k;
+            memmove(sh->pinq, sh->pinq + k, sh->pinq_n * sizeof sh->pinq[0]);
+        }
+        sh_enc_apply(sh, now);
+        if (nxt >= target) {
+            break;
+        }
+    }
+    sh_wheel_duty(sh, out->duty);
+    out->periods = sh->per_n;
+    uint32_t due = 0;
+    while (due < sh->tx_n && sh->tx_cycle[due] <= sh->avr->cycle) {
+        due++;
+    }
+    out->tx_due = due;
+    return SH_REACHED;
+}
+
 int sh_uart_in(sh_t *sh, uint8_t byte)
 {
     /* The part holds two received bytes (UDR's FIFO) plus the one in the shift register;
@@ -813,7 +892,8 @@ uint32_t sh_rx_unread(const sh_t *sh)
 }
 
 /* *cycle: a cycle through which no byte the firmware sends can finish leaving TX0, provided
- * nothing more is received: now while a byte is leaving or queued, while a received byte may be
+ * nothing more is received: 0 (the caller's now) while host bytes are on the RX line, now
+ * while a byte is leaving or queued, while a received byte may be
  * unanswered (the core has not slept since it came: the main loop sleeps only when it has
  * handled every byte, and every message but the telemetry answers a frame), before the
  * start-up's end or Timer1's first overflow; else the next telemetry time (fw/program.c), in
@@ -824,6 +904,10 @@ int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle)
     const avr_t *avr = sh->avr;
     const uint8_t *d = avr->data;
     uint64_t now = avr->cycle;
+    if (sh->line_n) { /* bytes on the RX line either way: the caller's now */
+        *cycle = 0;
+        return 1;
+    }
     *cycle = now;
     if (!sh->next_tel_addr || !sh->seen_sei || !sh->t1_ovf_n || sh->rx_unanswered ||
         !sh->uart || !uart_fifo_isempty((uart_fifo_t *)&sh->uart->input) ||

@@ -3,9 +3,11 @@
  *
  * Built with the machine's gcc and loaded with cffi (mcu_sim/simavr/build.py). The caller
  * puts host bytes on USART0's RX line (sh_line_put) and quadrature counts on the encoder pins
- * (sh_enc_set), runs the core to its next event (sh_advance: the line's bytes and the encoder
- * edges before it are handed over here, each at its cycle, one core run per event time), sets
- * other input pins at the cycles it chooses, and takes what happened: bytes sent on TX (with
+ * (sh_enc_set), queues other input pin levels at the cycles it chooses (sh_pin_at), runs the
+ * core to its next time (sh_advance_to: the line's bytes, the queued levels and the encoder
+ * edges before it are handed over here, each at its cycle, one core run per event time; one
+ * call per coupling step, the wheel duties and what waits to be taken reported at its end),
+ * and takes what happened: bytes sent on TX (with
  * the cycle their stop bit left), sonar trigger pulses, Timer1 period starts with the
  * OCRnx/ICRn values latched there. No wall-clock pacing: a sleeping core goes straight to its next cycle timer
  * (a peripheral's next event, or the target, where a cycle timer wakes it), and the sleep

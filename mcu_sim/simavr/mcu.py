@@ -13,14 +13,14 @@ board around the chip:
   closer than 10 µs; the harness shows them between the other events (sh_advance_to).
 - Sonars: a trigger pulse on PORTC0..4 stops the core; the echo (mcu_sim.avr.sonar's timing)
   is queued in the harness as levels on PE6 (INT6), applied at their cycles (sh_pin_at).
-
-One harness call runs the core to the rig's next coupling time (and one more per sonar
-trigger); it reports the wheel duties and whether Timer1 periods and sent bytes wait, so the
-other calls cross into C only when there is something to take.
 - Servos: simavr 1.6 does not move the OC1x/OC3x pins after an OCRnx write in mode 14, so each
   pulse is computed from the OCRnx/ICRn values latched at the Timer1 period start
   (docs/firmware.md, "simavr").
 - Wheels: duty from OCR0/OCR2 while Timer0/Timer2 run, sign from the direction pins.
+
+One harness call runs the core to the rig's next coupling time (and one more per sonar
+trigger); it reports the wheel duties and whether Timer1 periods and sent bytes wait, so the
+other calls cross into C only when there is something to take.
 
 Counters and flags are read from the firmware's globals in SRAM, at the ELF's symbol addresses.
 """

@@ -8,6 +8,12 @@
 #include "json.h"
 #include "ranging.h"
 
+int mg_double_cross_level(const int32_t dc[MG_DOUBLE_CROSS_WORDS])
+{
+    const int64_t dv = (int64_t)dc[3] - dc[1];
+    return MG_OBLIQUE_LEVEL_RATIO * (dv < 0 ? -dv : dv) <= (int64_t)dc[2] - dc[0];
+}
+
 /* the cylinder BOARD_BEHIND before the board's face along its normal, the board's plane from
  * the crosses' depth ratio Z1 : Z2 = (u2 - um) : (um - u1) (um weighted by the depths), the
  * crosses scaled 130 mm apart in the camera's level plane; 0 when the board is seen less than
@@ -20,9 +26,8 @@ static int oblique_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_p
 {
     const int64_t u0 = 16 * MG_U0_PX, f = 16 * (int64_t)f_px;
     const int64_t a = (int64_t)dc[2] - dc[4], b = (int64_t)dc[4] - dc[0];
-    const int64_t dv = (int64_t)dc[3] - dc[1];
     int64_t x1, z1, x2, z2, dx, dz, span, mx, mz, nx, nz, cross, cx, cz;
-    if (a <= 0 || b <= 0 || MG_OBLIQUE_LEVEL_RATIO * (dv < 0 ? -dv : dv) > a + b)
+    if (a <= 0 || b <= 0 || !mg_double_cross_level(dc)) /* a + b = u2 - u1 */
         return 0; /* not the board's crosses side by side */
     x1 = a * (dc[0] - u0), z1 = a * f;
     x2 = b * (dc[2] - u0), z2 = b * f;
@@ -99,6 +104,7 @@ void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, cons
         f->has_dc = 1;
         f->dc_um_q4 = dc[4], f->dc_vm_q4 = dc[5], f->dc_d_pixel_q4 = dc[6];
         f->has_dc_sighting = mg_double_cross_sighting(dc, f_px, &f->dc_sighting);
+        f->dc_level = mg_double_cross_level(dc);
     }
     if (rc != NULL) {
         f->has_rc = 1;

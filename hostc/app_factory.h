@@ -56,6 +56,9 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
 #define MG_DUAL_PLUS_WORDS 11
 #define MG_SPOKE_WORDS 26
 
+/* the two crosses side by side, as the board's are: rows apart at most 1 /
+ * MG_OBLIQUE_LEVEL_RATIO of the columns (host/vision/double_cross.py level_pair) */
+int mg_double_cross_level(const int32_t dc[MG_DOUBLE_CROSS_WORDS]);
 /* the sightings (registry sighting functions): 1 and s, or 0 (no target) */
 int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
                              mg_sighting_t *s);

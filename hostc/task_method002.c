@@ -557,11 +557,12 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
         return;
     }
     const int32_t dc_px = f->has_dc ? mg_d_pixel_px(f->dc_d_pixel_q4) : 0;
-    if (f->has_dc && dc_px >= t->p.cross_near_px
+    if (f->has_dc && dc_px >= t->p.cross_near_px && f->dc_level
         && mg_task_see_object(t, now_us, in, mg_task_sighting_position,
                               f->has_dc_sighting ? &f->dc_sighting : NULL, 0)) {
         /* near, the cylinder may be below the level look while the board is big in view: its
-         * estimate from the crosses ends the approach (docs/cosim.md "Measured", T5) */
+         * estimate from the crosses ends the approach (docs/cosim.md "Measured", T5); a pair
+         * far from level is not the board's crosses (docs/task.md) */
         const int32_t dist = obj_dist_mm(t, in);
         if (dist <= t->p.grasp_r_mm + 150) {
             if (!backs_off(t, in, dist))

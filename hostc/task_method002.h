@@ -103,6 +103,7 @@ typedef struct {
     int32_t dc_um_q4, dc_vm_q4, dc_d_pixel_q4;
     mg_sighting_t dc_sighting;
     int32_t has_dc_sighting;
+    int32_t dc_level; /* the crosses side by side (mg_double_cross_level) */
     int32_t has_rc; /* the red cylinder's rings */
     mg_red_cylinder_seen_t rc;
     int32_t has_roi; /* the red cylinder's colour ROI: its centre, box, sighting (box whole) */

@@ -36,7 +36,7 @@ from mobigrasp.host.task.sense import (
     bearing_mrad,
     d_pixel_px,
 )
-from mobigrasp.host.vision import registry
+from mobigrasp.host.vision import double_cross, registry
 
 if TYPE_CHECKING:
     from mobigrasp.host.task.machine import Task
@@ -256,10 +256,11 @@ class Method002(Method):
                  f"{now - t.obj_seen_us} us")
             return
         dc_px = _spacing_px("double_cross", dc)
-        if dc_px is not None and dc_px >= t.p.cross_near_px and \
-                t.see_object(now, inp, "double_cross", dc):
+        if dc_px is not None and dc_px >= t.p.cross_near_px and double_cross.level_pair(dc) \
+                and t.see_object(now, inp, "double_cross", dc):
             # near, the cylinder may be below the level look while the board is big in view:
-            # its estimate from the crosses ends the approach (docs/cosim.md "Measured", T5)
+            # its estimate from the crosses ends the approach (docs/cosim.md "Measured", T5);
+            # a pair far from level is not the board's crosses (docs/task.md)
             x, y = t.obj_platform(inp)
             dist = isqrt(x * x + y * y) // 16
             if dist <= t.p.grasp_r_mm + 150:

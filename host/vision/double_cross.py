@@ -464,6 +464,13 @@ OBLIQUE_AXIS_RATIO = 4  # ... and the cylinder placed at most atan 4 (76 degrees
 OBLIQUE_LEVEL_RATIO = 4
 
 
+def level_pair(res: DoubleCrossResult) -> bool:
+    """The two crosses side by side, as the board's are: their rows apart at most
+    1 / OBLIQUE_LEVEL_RATIO of their columns (the left one first). A pair far from level is
+    something else in view (docs/task.md, "002: the false pairs of crosses")."""
+    return OBLIQUE_LEVEL_RATIO * abs(res.v2_q4 - res.v1_q4) <= res.u2_q4 - res.u1_q4
+
+
 def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
     """The cylinder in front of the board: its pixel (Q4 px) and depth along the optical axis
     (Q4 mm), the task's target (host/task/sense.py). A board seen obliquely: by
@@ -494,7 +501,7 @@ def oblique_sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] 
     aside, at the board's post (docs/task.md)."""
     u0, f = U0_PX * 16, f_px * 16
     a, b = res.u2_q4 - res.um_q4, res.um_q4 - res.u1_q4  # Z1 : Z2
-    if a <= 0 or b <= 0 or OBLIQUE_LEVEL_RATIO * abs(res.v2_q4 - res.v1_q4) > a + b:
+    if a <= 0 or b <= 0 or not level_pair(res):  # a + b = u2 - u1
         return None
     x1, z1 = a * (res.u1_q4 - u0), a * f  # the crosses, to one unknown scale
     x2, z2 = b * (res.u2_q4 - u0), b * f

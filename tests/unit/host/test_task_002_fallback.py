@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import detections as det
 
+from mobigrasp.host.fixedpoint import isqrt
 from mobigrasp.host.task import Task, TaskInputs
 from mobigrasp.host.task.method002 import BOARD_ALONE_FRAMES
+from mobigrasp.host.vision.double_cross import DoubleCrossResult
 
 # a far red cylinder as the detector reports it 2.8 m away
 # (its rings on the centre row: the approach pitches the camera toward their row, and this
@@ -104,3 +106,32 @@ def test_big_crosses_end_the_approach_even_without_the_cylinder():
             "double_cross": det.double_cross(160 * 16, 120 * 16, 40 * 16),
             "red_cylinder": None}))
     assert out.state == "APPROACH"
+
+
+def _near_pair_state(v2_rows_q4: int) -> str:
+    """APPROACH's state after frames of a pair of "crosses" 88 px apart (in spacing) whose right
+    one stands ``v2_rows_q4`` lower than the left, the cylinder not seen."""
+    task = Task("002")
+    task.go(0, "APPROACH", "test: marker seen")
+    d_q4 = 88 * 16
+    du = isqrt(d_q4 * d_q4 - v2_rows_q4 * v2_rows_q4)
+    pair = DoubleCrossResult(160 * 16 - du // 2, 120 * 16, 160 * 16 + du // 2,
+                             120 * 16 + v2_rows_q4, 160 * 16, 120 * 16 + v2_rows_q4 // 2, d_q4,
+                             0, (3, 3))
+    out = None
+    for k in range(1, 10):
+        out = task.step(k * 20_000, TaskInputs(detections={"double_cross": pair,
+                                                             "red_cylinder": None}))
+        if out.state != "APPROACH":
+            break
+    return out.state
+
+
+def test_a_near_pair_far_from_level_does_not_end_the_approach():
+    # the upright board's crosses stand side by side; a pair whose rows are apart by more than
+    # a quarter of its columns is something else (a vertical pair 88 px apart 2 m from the
+    # board started ADJUST on a place 342 mm out, docs/task.md): the approach goes on
+    assert _near_pair_state(0) == "ADJUST"
+    assert _near_pair_state(20 * 16) == "ADJUST"  # rows 20 px apart, columns 85.7 px
+    assert _near_pair_state(22 * 16) == "APPROACH"  # 22 px, columns 85.2 px: past a quarter
+    assert _near_pair_state(88 * 16) == "APPROACH"  # vertical

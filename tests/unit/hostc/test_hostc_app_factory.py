@@ -17,6 +17,7 @@ from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import held_fill, registry
+from mobigrasp.host.vision.double_cross import level_pair
 from mobigrasp.protocol import messages as m
 
 FFI, C = hostc.lib()
@@ -105,6 +106,7 @@ def test_the_frame_of_002(dc, rc, roi, fill):
         int(r is not None) for r in (dc, rc, roi, fill))
     if dc is not None:
         assert (f.dc_um_q4, f.dc_vm_q4, f.dc_d_pixel_q4) == (dc.um_q4, dc.vm_q4, dc.d_pixel_q4)
+        assert f.dc_level == int(level_pair(dc))
         seen = CROSS.sighting_fn()(dc, CAMERA_002.f_px)
         assert (tuple(FFI.unpack(FFI.cast("int32_t *", FFI.addressof(f.dc_sighting)), 3))
                 if f.has_dc_sighting else None) == seen

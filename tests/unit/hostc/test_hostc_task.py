@@ -20,6 +20,7 @@ from mobigrasp.host.task.method002 import BOARD_ALONE_FRAMES, Method002
 from mobigrasp.host.task.params import TaskParams
 from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import registry
+from mobigrasp.host.vision.double_cross import level_pair
 
 FFI, C = hostc.lib()
 SETTINGS = settings(max_examples=100, deadline=None)
@@ -442,9 +443,10 @@ CROSS = registry.row("double_cross")
 PX_U, PX_V = st.integers(0, 320 * 16), st.integers(0, 240 * 16)
 FRAMES = st.none() | st.fixed_dictionaries({}, optional={
     "double_cross": st.none() | st.builds(
-        lambda u, v, d: CROSS.result_type()(u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=0, um_q4=u,
-                                            vm_q4=v, d_pixel_q4=d, e_mrad=0, votes=(1, 1)),
-        PX_U, PX_V, st.integers(0, 150 * 16)),
+        lambda u, v, d, tilt: CROSS.result_type()(
+            u1_q4=0, v1_q4=0, u2_q4=0, v2_q4=d if tilt else 0, um_q4=u, vm_q4=v, d_pixel_q4=d,
+            e_mrad=0, votes=(1, 1)),  # tilt: a pair far from level
+        PX_U, PX_V, st.integers(0, 150 * 16), st.booleans()),
     "red_cylinder": st.none() | st.builds(
         lambda u, v, d, w: RED(u_c_q4=u, v_c_q4=v, ring1_v_q4=0, ring2_v_q4=d, d_pixel_q4=d,
                                width_q4=w, roi=(0, 0, 1, 1)),
@@ -468,6 +470,7 @@ def _frame002(dets: dict | None):
         seen = CROSS.sighting_fn()(dc, CAMERA_002.f_px)
         f.has_dc_sighting = seen is not None
         f.dc_sighting = seen or (0, 0, 0)
+        f.dc_level = int(level_pair(dc))
     if rc is not None:
         f.has_rc, f.rc = 1, (rc.u_c_q4, rc.v_c_q4, rc.d_pixel_q4, rc.width_q4)
     if roi is not None:

@@ -222,5 +222,8 @@ void mg_sonar_guard_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     if (!mg_guard_stop(t, in, &phi, &rng))
         return;
     mg_out_of_r_r(t, in, &t->guard_out);
+    /* its heading the middle of the sonars free to detour_clear_mm: it passes beside the echo
+     * that stopped the base, so only one straight ahead stops it (host/task/sonar_guard.py) */
+    t->guard_out.checked = 1;
     mg_note_sonar_guard(t, phi, rng, &t->guard_out);
 }

@@ -205,7 +205,10 @@ class SonarGuard:
         echo = guard_stop(t, inp, GUARDED_STATES)
         if echo is None:
             return
-        t.guard_out = out_of_r_r(inp, t.p.detour_clear_mm)
+        # its heading the middle of the sonars free to detour_clear_mm: it passes beside the
+        # echo that stopped the base, so only one straight ahead stops it (with the diagonal
+        # threshold, an echo at 45 degrees held the base still, stopped every step)
+        t.guard_out = {**out_of_r_r(inp, t.p.detour_clear_mm), "checked": True}
         t.note(sonar_guard={**echo, "turn_to_mrad": t.guard_out["heading_mrad"]})
 
 

@@ -331,8 +331,9 @@ def test_the_sonar_guard(state, obj, steps):
         assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in py._detail.items()}
         assert bool(c.guard_out.active) == (py.guard_out is not None)
         if py.guard_out is not None:
-            assert (c.guard_out.heading_mrad, c.guard_out.length_mm) == (
-                py.guard_out["heading_mrad"], py.guard_out["length_mm"])
+            assert (c.guard_out.heading_mrad, c.guard_out.length_mm, c.guard_out.checked) == (
+                py.guard_out["heading_mrad"], py.guard_out["length_mm"],
+                int(py.guard_out.get("checked", False)))
 
 
 RED_FILL = st.builds(lambda r, g, p: HELD(rgb=(r, g, g // 2), fill_permille=p),

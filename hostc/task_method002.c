@@ -295,6 +295,36 @@ int mg_method002_approach_blind(mg_task_t *t, int64_t now_us, const mg_task_inpu
     return 1;
 }
 
+/* No cue in this frame while the sonar guard drives the base out of R_r, or after it until
+ * the base faces the cylinder's estimate again (turning in place, by odometry): 1 meanwhile,
+ * the lost timeout counted from then (the drive out turns the base away on purpose;
+ * host/task/method002.py looks_back). */
+static int looks_back(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state002_t *ms = ms002(t);
+    if (t->guard_out.active) {
+        ms->look_back = t->has_obj;
+        t->obj_seen_us = now_us;
+        return 1;
+    }
+    if (!ms->look_back)
+        return 0;
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    /* seen from the axle */
+    const int32_t bearing = mg_atan2_mrad(xy[0], (int64_t)xy[1] + t->p.mount_forward_mm * 16);
+    if ((bearing < 0 ? -bearing : bearing) <= t->p.bearing_tol_mrad) {
+        ms->look_back = 0;
+        return 0;
+    }
+    mg_task_turn_in_place(bearing > 0 ? -1 : 1, t->p.turn_wheel_mmps, t->wheels);
+    t->obj_seen_us = now_us;
+    static const char *const names[1] = {"bearing_mrad"};
+    const int64_t values[1] = {bearing};
+    mg_task_note_ints(t, "look_back", 1, names, values);
+    return 1;
+}
+
 /* ADJUST's backstop by the estimate (the stop rule d_pixel > T_d of 002 section 4 stops it
  * first): the near end of the level grasp's reach, ADJUST_STALE_BACK_MM nearer until an
  * estimate of this ADJUST's look has come. */
@@ -543,6 +573,8 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
         has_cue = !f->has_rc && f->has_roi_sighting;
         cue_mm = has_cue ? f->roi_sighting.depth_mm_q4 >> 4 : 0;
     }
+    if (!has_e && looks_back(t, now_us, in))
+        return;
     if (!has_e && mg_method002_approach_blind(t, now_us, in, u_mrad)) {
         *has_u = 1;
         return;
@@ -573,6 +605,7 @@ void mg_method002_approach(mg_task_t *t, int64_t now_us, const mg_task_inputs_t 
     const mg_fuzzy_command_t cmd = mg_fuzzy_approach_step(&ms->fuzzy, now_us, has_e, e, 0, 0);
     if (has_e) {
         t->obj_seen_us = now_us;
+        ms->look_back = 0;
         mg_method002_remember_bearing(t, in, e, has_cue, cue_mm);
         mg_method002_track_marker(t, now_us, 1, vm, e);
     }

@@ -57,6 +57,7 @@ typedef struct {
     int64_t back_off_ended_us;
     int32_t red_seen;     /* a frame of APPROACH showed the red cylinder (rings or ROI) */
     int32_t alone_frames; /* ... before it, frames of the crosses in MG_BOARD_ALONE_*, no red */
+    int32_t look_back; /* the sonar guard drove out of R_r: turn back to the estimate */
 } mg_state002_t;
 
 void mg_method002_ms_init(void *ms);

@@ -27,7 +27,7 @@ from mobigrasp.host.control.fuzzy import FuzzyApproach, FuzzyParams
 from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.posture import distribute_alpha
 from mobigrasp.host.ranging import locate_ring_pair
-from mobigrasp.host.task.drive import wrap_mrad
+from mobigrasp.host.task.drive import turn_in_place, wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import (
@@ -88,6 +88,7 @@ class State002(MethodState):
     back_off: tuple[int, int, int | None] | None = None
     red_seen: bool = False  # a frame of APPROACH showed the red cylinder (rings or ROI)
     alone_frames: int = 0  # ... before it, frames of the crosses in BOARD_ALONE_MM, no red
+    look_back: bool = False  # the sonar guard drove out of R_r: turn back to the estimate
 
 
 class Method002(Method):
@@ -249,6 +250,8 @@ class Method002(Method):
         except (ValueError, TypeError):
             t.counters["bad_detections"] += 1
             e = None
+        if e is None and self.looks_back(t, now, inp):
+            return
         if e is None and self.approach_blind(t, now, inp):
             return
         if e is None and now - t.obj_seen_us >= t.p.lost_timeout_us:
@@ -270,7 +273,7 @@ class Method002(Method):
                 return
         cmd = t.ms.fuzzy.step(now, e, None)
         if e is not None:
-            t.obj_seen_us = now
+            t.obj_seen_us, t.ms.look_back = now, False
             self.remember_bearing(t, inp, e, cue_mm)
             self.track_marker(t, now, vm, e)
         t.wheels = (cmd.left_mm_s, cmd.right_mm_s)
@@ -352,6 +355,28 @@ class Method002(Method):
         reach = min(t.p.blind_approach_mm, cue_mm - t.p.blind_keep_mm)
         if reach > 0:
             t.ms.blind = (inp.heading_mrad - e, inp.x_mm, inp.y_mm, reach)
+
+    def looks_back(self, t: Task, now: int, inp) -> bool:
+        """No cue in this frame while the sonar guard drives the base out of R_r, or after it
+        until the base faces the cylinder's estimate again (turning in place, by odometry):
+        True meanwhile, the lost timeout counted from then. The drive out turns the base away
+        on purpose; counted lost, the approach went LOST and searched again from there
+        (docs/task.md, "002: the false pairs of crosses")."""
+        if t.guard_out is not None:
+            t.ms.look_back = t.obj is not None
+            t.obj_seen_us = now
+            return True
+        if not t.ms.look_back:
+            return False
+        x, y = t.obj_platform(inp)
+        bearing = atan2_mrad(x, y + t.p.mount_forward_mm * 16)  # seen from the axle
+        if abs(bearing) <= t.p.bearing_tol_mrad:
+            t.ms.look_back = False
+            return False
+        t.wheels = turn_in_place(-1 if bearing > 0 else 1, t.p.turn_wheel_mmps)
+        t.obj_seen_us = now
+        t.note(look_back={"bearing_mrad": bearing})
+        return True
 
     def approach_blind(self, t: Task, now: int, inp) -> bool:
         """No marker in this frame: steer on the bearing it was last seen at, by odometry, for

@@ -526,9 +526,26 @@ def test_the_board_alone_of_002():
     assert py.state == "APPROACH" and py.ms.red_seen
 
 
-def _approach_both(e0, dpx0, steps, obj=None):
+def test_the_look_back_of_002_after_the_sonar_guard():
+    """Frames with nothing in them while the sonar guard drives out of R_r, then after it: C
+    and Python hold the lost timeout alike, then turn in place back to the estimate until the
+    base faces it, then count the lost timeout as before."""
+    empty = {"double_cross": None, "red_cylinder": None, "red_roi": None}
+    steps = [(66_667, empty, (0, 0, -120 * k)) for k in range(6)] + [
+        (66_667, empty, (0, 0, -600 + 150 * k)) for k in range(6)] + [
+        (500_000, empty, (0, 0, 300))] * 5
+    wheels = []
+    py = _approach_both(0, None, steps, obj=(900, 300), guarded=range(6), wheels=wheels)
+    assert py.state == "LOST"
+    turned = [w for w in wheels if w[0] == -w[1] != 0]
+    assert turned and all(w[1] > 0 for w in turned)  # counter-clockwise, to the left
+
+
+def _approach_both(e0, dpx0, steps, obj=None, guarded=(), wheels=None):
     """APPROACH of 002 on both (the search's sighting e0, dpx0; the object estimate obj, mm
-    in the odometry frame, or none), step by step, every output compared; the Python task."""
+    in the odometry frame, or none), step by step, every output compared; the Python task.
+    In the steps ``guarded`` the sonar guard's drive out of R_r is under way; each step's
+    wheels are appended to ``wheels``."""
     py, c = Task("002"), _c_task()
     if obj is not None:
         py.obj, c.has_obj, c.obj_mm = obj, 1, obj
@@ -542,8 +559,10 @@ def _approach_both(e0, dpx0, steps, obj=None):
     C.mg_method002_enter_approach(c, FFI.new("mg_task_inputs_t *"))
     has_u, u = FFI.new("int32_t *"), FFI.new("int32_t *")
     now = 0
-    for dt, dets, xyh in steps:
+    for k, (dt, dets, xyh) in enumerate(steps):
         now += dt
+        py.guard_out = {"heading_mrad": 0} if k in guarded else None
+        c.guard_out.active = int(k in guarded)
         py._events, py._detail, c.n_events = [], {}, 0
         inp = TaskInputs(x_mm=xyh[0], y_mm=xyh[1], heading_mrad=xyh[2], detections=dets or {})
         inp_c = FFI.new("mg_task_inputs_t *", _xyh(xyh))
@@ -559,6 +578,9 @@ def _approach_both(e0, dpx0, steps, obj=None):
         assert _back_off(c) == (py.ms.cut, py.ms.back_offs, py.ms.back_off)
         assert (bool(_ms(c).red_seen), _ms(c).alone_frames) == (py.ms.red_seen,
                                                                py.ms.alone_frames)
+        assert bool(_ms(c).look_back) == py.ms.look_back
+        if wheels is not None:
+            wheels.append(py.wheels)
         assert (u[0] if has_u[0] else None) == py._detail.get("fuzzy", {}).get("u_mrad")
         if py.state != "APPROACH":
             break

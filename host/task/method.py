@@ -139,6 +139,11 @@ class Method(ABC):
         theta5s mrad); None: the usual search from the arm's joints."""
         return None
 
+    def search_back_off(self, t: Task, now: int, inp: Any, dets: dict) -> bool:
+        """SEARCH's step taken by a back-off from an object too near to be seen whole (True:
+        the step is done); False: the search goes on."""
+        return False
+
     def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:
         """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method
         searches for the object instead (the transition made), False to go down on the rough

@@ -29,11 +29,10 @@
     .checks = {{"dual_plus", mg_method000_plus_result, mg_task_plus_position, 1},           \
                {"radial_symbol", mg_method000_radial_check, mg_task_sighting_position, 1}}, \
     .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD, .camera = {611, 160, 120},                      \
-    .n_fallbacks = 1, .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS}},   \
     .frame_of = mg_method000_frame_of
-/* the detectors of 000's states (method000.py detectors) */
+/* the detectors of 000's states after SEARCH (method000.py detectors) */
 #define DETECTORS_000                                                                      \
-    [MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL, [MG_APPROACH] = 1u << MG_DET_RADIAL_SYMBOL,   \
+    [MG_APPROACH] = 1u << MG_DET_RADIAL_SYMBOL,                                             \
     [MG_ADJUST] = 1u << MG_DET_DUAL_PLUS | 1u << MG_DET_RADIAL_SYMBOL,                      \
     [MG_PRECISE_GRASP] = 1u << MG_DET_SPOKE,                                                \
     [MG_LIFT] = 1u << MG_DET_DUAL_PLUS | 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_HELD_FILL
@@ -47,7 +46,13 @@ const mg_task_method_t mg_task_methods[] = {
      .guard_wheels = mg_sonar_guard_step,
      .lost_search = mg_method000_lost_search,
      .grasp_lost = mg_method000_grasp_lost,
-     .detectors = {DETECTORS_000},
+     .search_back_off = mg_method000_search_back_off,
+     /* SEARCH: the cut symbol is looked for when the symbol is not read */
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_RADIAL_CUT,
+                   DETECTORS_000},
+     .n_fallbacks = 2,
+     .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS},
+                   {MG_SEARCH, MG_DET_RADIAL_CUT, MG_DET_RADIAL_SYMBOL}},
      .geom = {1528, 1424, 1552},
      .path = &mg_path000},
     {.name = "001",
@@ -57,7 +62,11 @@ const mg_task_method_t mg_task_methods[] = {
      HOOKS_000,
      .guard_wheels = mg_method001_guard_wheels,
      .plus_on_top = 1,
-     .detectors = {DETECTORS_000, [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
+     /* SEARCH reads the radial symbol alone: 001's object position is given */
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL, DETECTORS_000,
+                   [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
+     .n_fallbacks = 1,
+     .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS}},
      .geom = {2560, 2560, 3200},
      .path = &mg_path001},
     {.name = "002",
@@ -106,7 +115,7 @@ const mg_task_method_t mg_task_methods[] = {
 };
 const char *const mg_detector_names[MG_N_DETECTORS] = {
     "dual_plus", "radial_symbol", "spoke", "double_cross", "red_cylinder", "red_roi",
-    "held_fill"};
+    "held_fill", "radial_cut"};
 
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);
 

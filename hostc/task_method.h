@@ -17,7 +17,7 @@ struct mg_path_method;
  * method's per-state lists (Method.detectors) and fallbacks keep this order */
 enum {
     MG_DET_DUAL_PLUS, MG_DET_RADIAL_SYMBOL, MG_DET_SPOKE, MG_DET_DOUBLE_CROSS,
-    MG_DET_RED_CYLINDER, MG_DET_RED_ROI, MG_DET_HELD_FILL, MG_N_DETECTORS
+    MG_DET_RED_CYLINDER, MG_DET_RED_ROI, MG_DET_HELD_FILL, MG_DET_RADIAL_CUT, MG_N_DETECTORS
 };
 extern const char *const mg_detector_names[MG_N_DETECTORS];
 
@@ -66,6 +66,9 @@ typedef struct mg_task_method {
     int (*lost_search)(mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
                        int32_t *theta5s_mrad);
     int32_t keeps_sightings;
+    /* SEARCH's step taken by a back-off from an object too near to be seen whole (1: the
+     * step is done; NULL: never, Method.search_back_off) */
+    int (*search_back_off)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     /* APPROACH: its entry action after the common reset, and its step */
     void (*enter_approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     void (*approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);

@@ -702,6 +702,8 @@ def words000(name: str, res) -> list[int]:
         pts = [v for p in res.points_q4 for v in p]
         return [res.u_c_q4, res.v_c_q4, res.slope_q12, res.angle_mrad, res.width_q4,
                 len(res.points_q4), *pts, *[0] * (20 - len(pts))]
+    if name == "radial_cut":
+        return [res.x, res.y, res.w, res.h, res.side]
     return [*res.rgb, res.fill_permille]
 
 
@@ -710,7 +712,7 @@ def _frame000(dets: dict):
     glue (hostc/app_factory.c mg_frame000_of)."""
     f = FFI.new("mg_frame000_t *")
     keep = [FFI.new("int32_t[]", words000(n, dets[n])) if dets.get(n) is not None else FFI.NULL
-            for n in ("radial_symbol", "dual_plus", "spoke", "held_fill")]
+            for n in ("radial_symbol", "dual_plus", "spoke", "held_fill", "radial_cut")]
     C.mg_frame000_of(f, *keep)
     return f
 
@@ -787,10 +789,13 @@ BROWN = st.builds(lambda r, g, b, p: HELD(rgb=(r, g, b), fill_permille=p),
                   st.integers(900, 1000)) | st.just(HELD(rgb=(170, 130, 90), fill_permille=1000))
 PAIRS = st.builds(lambda u, v, d, dist: _plus(u - d, v, u + d, v, dist), PX_U, PX_V,
                   st.integers(0, 60 * 16), st.integers(50, 800))
+CUT = registry.row("radial_cut").result_type()
+CUTS = st.builds(CUT, x=st.integers(0, 319), y=st.integers(0, 239), w=st.integers(1, 320),
+                 h=st.integers(1, 240), side=st.sampled_from([-1, 0, 1]))
 DETS000 = st.fixed_dictionaries({}, optional={
     "radial_symbol": RADIALS.filter(lambda r: r is not None),
     "dual_plus": PAIRS | PLUSES.filter(lambda p: p is not None), "spoke": SPOKES,
-    "held_fill": BROWN})
+    "held_fill": BROWN, "radial_cut": CUTS})
 
 
 @settings(max_examples=60, deadline=None)

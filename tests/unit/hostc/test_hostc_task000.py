@@ -864,3 +864,67 @@ def test_the_plan_s_trace_detail(xyhv, obj, standoff_mm, planner):
     pp = Params000(**{"standoff_m": standoff_mm / 1000, **planner})
     _, _, detail = plan_follower(20_000, *xyhv, obj, pp)
     assert _detail(c)["plan"] == ENCODER.encode(jsonable(detail))
+
+
+def _paper_c000(py: Task):
+    """The C task of 000 as the C program holds it, with the board's planner."""
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
+    _, ctx = _board_planner(py.p)
+    C.mg_method000_set_board_planner(FFI.addressof(paper, "task"), ctx)
+    return paper, ctx
+
+
+def test_the_back_off_of_000_from_a_cut_symbol():
+    """SEARCH at the start sees the symbol cut at the right border: the base turns right by
+    the frame's waist and the half field of view, backs straight off 150 mm at slow_mmps,
+    stands until a frame taken after the stop, then looks around again; once a run, and not
+    away from the start. Both tasks step for step."""
+    py = Task("000")
+    paper, _ctx = _paper_c000(py)
+    c = FFI.addressof(paper, "task")
+    enter_state(py, c, "SEARCH", None, False, (-2500, -200, 2300, 600), (230, 10),
+                ("SEARCH", "LOST"))
+    out = FFI.new("mg_task_outputs_t *")
+    nothing = {"radial_symbol": None}
+    cut = {"radial_symbol": None, "radial_cut": CUT(x=210, y=130, w=110, h=60, side=1)}
+    now, x, h = 20_000, 0, 0
+    res = _step_both(py, c, now, TaskInputs(detections=cut), out, _frame000)
+    turn = res.detail["back_off"]["turn_mrad"]
+    assert res.detail["back_off"]["n"] == 1 and turn < -256  # right, beyond the waist's look
+    assert res.wheels_mmps == (80, -80)  # on the spot, clockwise
+    while res.wheels_mmps == (80, -80):
+        now, h = now + 20_000, h - 150
+        res = _step_both(py, c, now, TaskInputs(heading_mrad=h, detections=cut), out, _frame000)
+    assert -h >= -turn and res.wheels_mmps == (-60, -60)  # turned: straight back
+    while res.wheels_mmps == (-60, -60):
+        now, x = now + 20_000, x - 20
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=cut), out,
+                         _frame000)
+    assert x <= -150 and res.wheels_mmps == (0, 0)
+    stopped = now
+    while now < stopped + py.p.frame_latency_us:  # standing: frames taken before the stop
+        now += 20_000
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=nothing),
+                         out, _frame000)
+        assert res.wheels_mmps == (0, 0) and "back_off" not in res.detail
+    assert py.ms.back_off is None and c.state == machine.STATES.index("SEARCH")
+    for _ in range(20):  # searching again from here: a cut no longer backs off
+        now += 100_000
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=cut), out,
+                         _frame000)
+        assert "back_off" not in res.detail and res.wheels_mmps[0] >= 0
+
+
+def test_no_back_off_away_from_the_start():
+    """A cut seen 50 mm from the odometry's origin (the base has moved): no back-off."""
+    py = Task("000")
+    paper, _ctx = _paper_c000(py)
+    c = FFI.addressof(paper, "task")
+    out = FFI.new("mg_task_outputs_t *")
+    cut = {"radial_symbol": None, "radial_cut": CUT(x=0, y=130, w=110, h=60, side=-1)}
+    res = _step_both(py, c, 20_000, TaskInputs(x_mm=30, y_mm=-40, detections=cut), out,
+                     _frame000)
+    assert "back_off" not in res.detail and py.ms.back_offs == 0

@@ -20,8 +20,8 @@ from mobigrasp.host import kinematics
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.fixedpoint import atan2_mrad
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
-from mobigrasp.host.task.approach import PathMethod
 from mobigrasp.host.search import ArmSearch, SearchParams
+from mobigrasp.host.task.approach import PathMethod
 from mobigrasp.host.task.drive import turn_in_place, velocity_m, wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import K_THETA, PI, MethodState, Param, SceneHints, mrad, q12
@@ -189,7 +189,8 @@ class Method000(PathMethod):
         ms = t.ms
         if ms.back_off is None:
             cut = dets.get("radial_cut")
-            if not isinstance(cut, registry.row("radial_cut").result_type()) or ms.back_offs >= BACK_OFFS_000 \
+            if not isinstance(cut, registry.row("radial_cut").result_type()) \
+                    or ms.back_offs >= BACK_OFFS_000 \
                     or t.confirm_until is not None or t.counters["lost"] \
                     or inp.x_mm * inp.x_mm + inp.y_mm * inp.y_mm > BACK_OFF_FROM_MM ** 2:
                 return False

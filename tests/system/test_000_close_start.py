@@ -5,26 +5,12 @@ around again, reads it and the object is grasped, without a contact (in process;
 
 from __future__ import annotations
 
-import json
-import math
-
 import pytest
-
-from mobigrasp.services.random_scenarios import random_scenario
-from mobigrasp.services.run_job import RunOptions, execute
 
 
 @pytest.mark.slow
-def test_a_cut_symbol_is_backed_off_from_and_grasped(tmp_path):
-    scenario = random_scenario("000", 1078, "v3")
-    assert math.hypot(scenario.target.x_m, scenario.target.y_m) < 0.5  # a close start
-    summary, code = execute(RunOptions(scenario="random-v3-000-1078", scenario_obj=scenario,
-                                       transport="inproc", out=tmp_path / "run", plots=False,
-                                       mcap=False, progress=False))
-    assert summary["success"] and code == 0, (summary["task_state"], summary["end_reason"])
-    assert summary["contacts"] == 0
-    events = [json.loads(line) for line in (tmp_path / "run" / "trace.jsonl").open()]
-    back_offs = [e for e in events if e.get("ev") == "detail" and "back_off" in e]
+def test_a_cut_symbol_is_backed_off_from_and_grasped(close_start_done):
+    events, back_offs = close_start_done("000", 1078)
     assert len(back_offs) == 1 and back_offs[0]["back_off"]["n"] == 1
     cut_frames = [e for e in events if e.get("ev") == "detect"
                   and (e.get("results") or {}).get("radial_cut")]

@@ -893,13 +893,14 @@ def test_the_back_off_of_000_from_a_cut_symbol():
     now, x, h = 20_000, 0, 0
     res = _step_both(py, c, now, TaskInputs(detections=cut), out, _frame000)
     turn = res.detail["back_off"]["turn_mrad"]
+    spin, back = (py.p.turn_wheel_mmps, -py.p.turn_wheel_mmps), (-py.p.slow_mmps,) * 2
     assert res.detail["back_off"]["n"] == 1 and turn < -256  # right, beyond the waist's look
-    assert res.wheels_mmps == (80, -80)  # on the spot, clockwise
-    while res.wheels_mmps == (80, -80):
+    assert res.wheels_mmps == spin  # on the spot, clockwise
+    while res.wheels_mmps == spin:
         now, h = now + 20_000, h - 150
         res = _step_both(py, c, now, TaskInputs(heading_mrad=h, detections=cut), out, _frame000)
-    assert -h >= -turn and res.wheels_mmps == (-60, -60)  # turned: straight back
-    while res.wheels_mmps == (-60, -60):
+    assert -h >= -turn and res.wheels_mmps == back  # turned: straight back
+    while res.wheels_mmps == back:
         now, x = now + 20_000, x - 20
         res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=cut), out,
                          _frame000)

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "task_method000.h"
+#include "task_method001.h"
 #include "task_paper.h"
 
 /* 002's task with the configuration's parameters, started at 0 (host/app_factory.py
@@ -31,13 +32,33 @@ static void method000_init(void *state, const mg_config_t *cfg)
     mg_method000_set_board_planner(&s->paper.task, &s->planner);
 }
 
+/* 001's task and the board's replanner (replan.c around plan001.c, its work space included:
+ * the most of the program's static room) with the configuration's Params001 */
+typedef struct {
+    mg_paper_task_t paper; /* first: the paper task's hooks take the state as one */
+    mg_board_replanner001_t replanner;
+} mg_method001_state_t;
+
+static void method001_init(void *state, const mg_config_t *cfg)
+{
+    mg_method001_state_t *s = (mg_method001_state_t *)state;
+    mg_task_params_t params;
+    mg_config_task_params(cfg, &params);
+    mg_paper_task_init(&s->paper, mg_task_method_find("001"), &params, 0);
+    mg_config_replanner001(cfg, &s->paper.task.p, &s->replanner);
+    mg_method001_set_replanner(&s->paper.task, &mg_board_replanner001, &s->replanner);
+}
+
 /* every method's state fits the program's room for it */
 typedef char mg_method000_fits[sizeof(mg_method000_state_t) <= MG_TASK_STATE_BYTES ? 1 : -1];
+typedef char mg_method001_fits[sizeof(mg_method001_state_t) <= MG_TASK_STATE_BYTES ? 1 : -1];
 
 const mg_method_t mg_methods[] = {
     {"idle", sizeof(mg_task_idle_t), mg_task_idle_init, mg_task_idle_step, mg_task_idle_needed,
      NULL},
     {"000", sizeof(mg_method000_state_t), method000_init, mg_paper_step, mg_paper_needed,
+     mg_paper_fallback_of},
+    {"001", sizeof(mg_method001_state_t), method001_init, mg_paper_step, mg_paper_needed,
      mg_paper_fallback_of},
     {"002", sizeof(mg_paper_task_t), method002_init, mg_paper_step, mg_paper_needed,
      mg_paper_fallback_of},

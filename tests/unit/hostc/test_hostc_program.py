@@ -108,7 +108,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
 
 @pytest.mark.parametrize("args, says", [
     ([], "--port is required"),
-    (["--port", "/dev/null", "--method", "001"], "method not in the C host yet"),
+    (["--port", "/dev/null", "--method", "003"], "method not in the C host yet"),
     (["--port", "/dev/null", "--poll-ms", "-3"], "--poll-ms"),
     (["--port", "/dev/null", "--config", "/nonexistent.json"], "--config"),
     (["--port", "/nonexistent/tty", "--method", "idle"], "--port"),

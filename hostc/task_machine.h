@@ -174,6 +174,10 @@ struct mg_task {
     int32_t has_plus_odom, plus_odom_mm[2][2];
     int32_t has_grasp_xy, grasp_xy_q4[2];
     int32_t roll_scan;
+    /* ROUGH_GRASP's look first (Method.sight_views): dual "+" sightings of it, the index of
+     * its look (waist offset, wrist roll), the waist of its view the looks' offsets are added
+     * to, and the looks that sent the base back to ADJUST for this grasp */
+    int32_t sight_frames, sight_look, sight_th5_mrad, sight_adjusts;
     union {
         int64_t align;
         unsigned char bytes[MG_TASK_MS_BYTES];

@@ -317,9 +317,10 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
 }
 
 /* 000's vision-based adjustment (section III.B) from here */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why,
+                     const int32_t *error_mm)
 {
-    (void)in;
+    (void)in, (void)error_mm;
     mg_task_go(t, now_us, MG_ADJUST, why);
 }
 

@@ -7,11 +7,13 @@
 #include "bezier.h"
 #include "escape.h"
 #include "fixedpoint.h"
+#include "grasp_circle.h"
 #include "json.h"
 #include "kernels.h"
 #include "path_follow.h"
 #include "sonar_guard.h"
 #include "task_drive.h"
+#include "task_grasp.h"
 #include "task_method.h"
 #include "task_method000.h"
 #include "trig.h"
@@ -349,22 +351,165 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
     wheels[1] = cmd->right_mm_s;
 }
 
-/* On the grasp circle (section III.B.1, eqs. (5)-(6); the curve is cut short only with the
- * object at ADJUST's goal, near_margin_mm 0): ROUGH_GRASP looks back at the object
- * with the base still and grasps by eq. (11) of 000 when the look confirms it where the base
- * expected it (method001.py look_decides; the trace's grasp_circle note of the arrival's error
- * is the Python's: l_e is the planner's, not yet in C). */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
+/* l_e of eq. (5) for the object's grasp point (planner_params_001's arm, grasp_height_mm):
+ * (l_m + l_n) / 2 to the mm, as Python rounds it (no tie for grasp heights of 0-399 mm); 0
+ * when out of reach. Once a run: a scan of eq. (5)'s grid. */
+static int32_t circle_l_e_mm(mg_task_t *t)
 {
     mg_state001_t *ms = ms001(t);
-    char text[MG_TASK_WHY];
-    (void)in;
+    int64_t l_um[2];
+    if (!ms->has_l_e) {
+        ms->has_l_e = 1;
+        if (mg_grasp_radius001_um(t->p.grasp_height_mm, l_um) == 0) {
+            const int64_t sum = l_um[0] + l_um[1], q = sum / 2000, r = sum % 2000;
+            ms->l_e_mm = (int32_t)(q + (r > 1000 || (r == 1000 && (q & 1))));
+        }
+    }
+    return ms->l_e_mm;
+}
+
+static int32_t axle_mm(const mg_task_t *t, const mg_task_inputs_t *in)
+{
+    const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm, dy = (int64_t)t->obj_mm[1] - in->y_mm;
+    return (int32_t)mg_isqrt(dx * dx + dy * dy);
+}
+
+/* On the grasp circle (section III.B.1, eqs. (5)-(6), l_e for the object's grasp height; the
+ * curve is cut short only with the object at ADJUST's goal, near_margin_mm 0): the base stops,
+ * ROUGH_GRASP looks back at the object and grasps by eq. (11) of 000 when the look confirms it
+ * where the base expected it (mg_method001_look_decides). The arrival's error, the axle's
+ * distance from the estimate less l_e, goes in the trace (grasp_circle; a start already on
+ * the circle has no path and no path_error_mm). */
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why,
+                     const int32_t *error_mm)
+{
+    mg_state001_t *ms = ms001(t);
+    const int32_t l_e = circle_l_e_mm(t), axle = axle_mm(t, in);
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    mg_json_key(&j, "axle_mm");
+    mg_json_int(&j, axle);
+    mg_json_key(&j, "error_mm");
+    mg_json_int(&j, axle - l_e);
+    mg_json_key(&j, "l_e_mm");
+    mg_json_int(&j, l_e);
+    mg_json_key(&j, "path_error_mm");
+    if (error_mm)
+        mg_json_int(&j, *error_mm);
+    else
+        mg_json_null(&j);
+    mg_json_key(&j, "waist_mm");
+    mg_json_int(&j, mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1]) / 16);
+    mg_json_end_object(&j);
+    mg_json_terminate(&j);
+    mg_task_note(t, "grasp_circle", text);
     ms->has_circle_expected = 1;
     ms->circle_expected_mm[0] = t->obj_mm[0];
     ms->circle_expected_mm[1] = t->obj_mm[1];
-    const size_t n = mg_task_text(text, sizeof text, 0, "on the grasp circle: ");
-    mg_task_text(text, sizeof text, n, why);
-    mg_task_go(t, now_us, MG_ROUGH_GRASP, text);
+    ms->circle_l_e_mm = l_e;
+    char reason[MG_TASK_WHY];
+    const size_t n = mg_task_text(reason, sizeof reason, 0, "on the grasp circle: ");
+    mg_task_text(reason, sizeof reason, n, why);
+    mg_task_go(t, now_us, MG_ROUGH_GRASP, reason);
+}
+
+int mg_method001_look_decides(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state001_t *ms = ms001(t);
+    const struct mg_task_method *r = t->rules;
+    if (!ms->has_circle_expected)
+        return 0;
+    ms->has_circle_expected = 0;
+    const int64_t ex = (int64_t)t->obj_mm[0] - ms->circle_expected_mm[0];
+    const int64_t ey = (int64_t)t->obj_mm[1] - ms->circle_expected_mm[1];
+    const int32_t off_mm = (int32_t)mg_isqrt(ex * ex + ey * ey);
+    char why[MG_TASK_WHY];
+    size_t n = 0;
+    int32_t grasp[3] = {0, 0, 0};
+    mg_arm_pose_t down, pre;
+    memset(&down, 0, sizeof down);
+    memset(&pre, 0, sizeof pre);
+    if (!t->sight_frames) {
+        n = mg_task_text(why, sizeof why, 0, "not seen by the look");
+    } else if (off_mm > MG_CIRCLE_CONFIRM_MM) {
+        n = mg_task_text(why, sizeof why, 0, "seen ");
+        n = mg_task_text_int(why, sizeof why, n, off_mm);
+        n = mg_task_text(why, sizeof why, n, " mm from where expected");
+    } else {
+        int64_t down_detail, pre_detail;
+        mg_task_object_target_q4(t, in, t->p.grasp_height_mm, 0, grasp);
+        const int32_t down_code = r->grasp_ik(&t->geom, grasp, &down, &down_detail);
+        int32_t pre_code = -1; /* none tried */
+        /* the gripper goes down from CIRCLE_PRE_MM above the grasp point, the first reachable
+         * in 10 mm steps down to the object's top */
+        for (int32_t up_mm = MG_CIRCLE_PRE_MM;
+             up_mm > t->p.object_top_mm - t->p.grasp_height_mm - 1; up_mm -= 10) {
+            const int32_t above[3] = {grasp[0], grasp[1], grasp[2] + up_mm * 16};
+            pre_code = r->grasp_ik(&t->geom, above, &pre, &pre_detail);
+            if (pre_code == MG_IK_OK)
+                break;
+        }
+        if (down_code != MG_IK_OK) {
+            n = mg_task_text(why, sizeof why, 0, "grasp point out of reach: ");
+            n = mg_task_ik_reason(&t->geom, down_code, down_detail, &down, why, sizeof why, n);
+        } else if (pre_code != MG_IK_OK) {
+            n = mg_task_text(why, sizeof why, 0, "no reachable pose above the grasp point");
+        }
+    }
+    /* the arrival's error as the look sees it: the axle's distance from the sighted object
+     * less l_e (the base stood still since the arrival) */
+    {
+        char text[MG_TASK_NOTE_BYTES];
+        mg_json_t j;
+        mg_json_init(&j, text, sizeof text - 1);
+        mg_json_begin_object(&j);
+        mg_json_key(&j, "confirmed");
+        mg_json_bool(&j, n == 0);
+        mg_json_key(&j, "error_mm");
+        mg_json_int(&j, axle_mm(t, in) - ms->circle_l_e_mm);
+        mg_json_key(&j, "frames");
+        mg_json_int(&j, t->sight_frames);
+        mg_json_key(&j, "off_mm");
+        mg_json_int(&j, off_mm);
+        mg_json_end_object(&j);
+        mg_json_terminate(&j);
+        mg_task_note(t, "circle_look", text);
+    }
+    if (n == 0) {
+        ms->ik_grasp = 1;
+        t->has_grasp_xy = 1;
+        t->grasp_xy_q4[0] = grasp[0], t->grasp_xy_q4[1] = grasp[1];
+        t->grasp_alpha_mrad = pre.theta2_mrad + pre.theta3_mrad + pre.theta4_mrad;
+        t->phase = MG_PHASE_NONE;
+        mg_task_apply_pose(t, now_us, &pre, 0, 0);
+        mg_task_note_pose(t, "ik_pre_pose_mrad", &pre);
+        return 1;
+    }
+    char reason[MG_TASK_WHY];
+    size_t k = mg_task_text(reason, sizeof reason, 0,
+                            "the look from the grasp circle did not confirm the object (");
+    k = mg_task_text(reason, sizeof reason, k, why);
+    mg_task_text(reason, sizeof reason, k,
+                 "): vision-based adjustment and precise grasp");
+    mg_task_go(t, now_us, MG_ADJUST, reason);
+    return 1;
+}
+
+void mg_method001_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state001_t *ms = ms001(t);
+    if (!ms->ik_grasp) {
+        ms->has_circle_expected = 0;
+        mg_method000_enter_precise(t, now_us, in);
+        return;
+    }
+    ms->ik_grasp = 0;
+    mg_task_descend(t, now_us, "eq. (11) from the grasp circle, the object confirmed by the look",
+                    "ik");
 }
 
 /* Last line of the no-contact rule (001 section III.C.2, R_r): the object's own echo does

@@ -4,10 +4,10 @@
  * mg_board_replanner001, replan.c around plan001.c; the tests give scripted ones). Ours, as
  * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
  * first, sightings while the base turns fast are not used, the follower never backs up; the
- * curve is followed to its end on the grasp circle, where ROUGH_GRASP takes over; with no
- * feasible curve the fallbacks (a lower v0, a back-off, the widest free sector, the detours of
- * escape_001). Not yet: the look from the circle and the grasp by eq. (11) (method001.py
- * look_decides, enter_precise). */
+ * curve is followed to its end on the grasp circle, where ROUGH_GRASP looks back at the object
+ * and, the look confirming it, the arm grasps by eq. (11) of 000 from there (look_decides,
+ * enter_precise); with no feasible curve the fallbacks (a lower v0, a back-off, the widest
+ * free sector, the detours of escape_001, start_detour). */
 #ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
 #define MOBIGRASP_HOSTC_TASK_METHOD001_H
 
@@ -27,7 +27,12 @@ enum {
     MG_LOOK_FIRST_HI_MM = 1200,
     MG_DETOUR_EXTRA_MM = 100,  /* a detour's way out is checked this much beyond its end */
     MG_DETOUR_MARGIN_MM = 100, /* ... against the regions grown by this: it drives open-loop */
-    MG_BACK_OFF_MM = 200       /* fallback: back this far along the way the base came */
+    MG_BACK_OFF_MM = 200,      /* fallback: back this far along the way the base came */
+    /* the grasp from the grasp circle: the look before it must see the object (dual "+")
+     * within this of the estimate the base arrived with; the gripper goes down from this far
+     * above the grasp point (the first reachable, in 10 mm steps down to the object's top) */
+    MG_CIRCLE_CONFIRM_MM = 60,
+    MG_CIRCLE_PRE_MM = 50
 };
 
 /* one sonar update of the replanner (replan.py ReplanDecision) */
@@ -93,8 +98,11 @@ typedef struct {
     int32_t has_path_from, path_from_mm[2]; /* where the last planned path began */
     int32_t v0_div;                /* the planner's v0 divided by this (a fallback step) */
     int32_t fallbacks, detours, detour_side;
-    /* arrived on the grasp circle: the estimate the look before the grasp is to confirm */
-    int32_t has_circle_expected, circle_expected_mm[2];
+    /* arrived on the grasp circle: the estimate the look before the grasp is to confirm,
+     * and the circle's radius l_e */
+    int32_t has_circle_expected, circle_expected_mm[2], circle_l_e_mm;
+    int32_t ik_grasp;       /* PRECISE_GRASP goes down by eq. (11), no spoke alignment */
+    int32_t has_l_e, l_e_mm; /* l_e of eq. (5) for grasp_height_mm, once computed (0: none) */
     mg_detour_t detour; /* a drive aside before the next plan (a fallback's, the guard's) */
 } mg_state001_t;
 
@@ -109,6 +117,15 @@ int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
  * then turns toward the widest free sector and drives out of R_r (ms detour, driven before
  * the next plan) */
 void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* ROUGH_GRASP after its look from the grasp circle (method001.py look_decides): the object
+ * seen (dual "+") within MG_CIRCLE_CONFIRM_MM of where the base expected it and its grasp
+ * point reachable by eq. (11) of 000 (gripper down): the gripper above the grasp point, the
+ * descent next (1); else ADJUST and 000's precise grasp from here (1); 0 without an arrival
+ * on the circle (the common rule) */
+int mg_method001_look_decides(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* PRECISE_GRASP's entry: after the confirmed look, straight down to the grasp point and close
+ * (grasp_close "ik"); else 000's roll and spoke alignment */
+void mg_method001_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* the path hooks of 001 */
 extern const mg_path_method_t mg_path001;
 

@@ -19,12 +19,18 @@ from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task import recorded_run
 from test_hostc_task000 import (
+    BROWN,
+    DETS000,
     ENCODER,
+    PAIRS,
+    SPOKES,
     NEAR,
     RADIALS,
+    _c_step_inputs,
     _c_task,
     _events,
     _fill_plan,
+    _frame000,
     _inputs,
     _path_c,
     _path_py,
@@ -34,13 +40,15 @@ from test_hostc_task000 import (
     replay_path_task,
     start_approach,
 )
-from test_hostc_task_states import _detail
+from test_hostc_task_states import _detail, _step_both, enter_state
 
 from mobigrasp import hostc
+from mobigrasp.host.app import jsonable
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.fixedpoint import cos_q12, sin_q12
-from mobigrasp.host.task import Task, method001
+from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
+from mobigrasp.host.task import Task, TaskInputs, machine, method001
 from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
@@ -224,9 +232,9 @@ GUARD_SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=2, max_s
 
 @SETTINGS
 @given(STARTS, UPDATES, CLEARS, ESCAPES, st.tuples(NEAR, NEAR), st.integers(1, 4),
-       st.integers(0, 2000), st.booleans(), _steps(SONAR))
+       st.integers(0, 2000), st.booleans(), _steps(SONAR), st.just(80) | st.integers(0, 400))
 def test_the_path_approach_of_001(starts, updates, clears, escapes, obj, attempts, direct_mm,
-                                  sighted, steps):
+                                  sighted, steps, grasp_height_mm):
     """APPROACH of 001 step by step: the look first at a given object, the wait for a sonar
     sweep, sightings not used in a fast turn, the first plan and the plans of the same
     replanner, the sonar check every replan_period_us (replanned in slices, blocked and kept,
@@ -234,9 +242,10 @@ def test_the_path_approach_of_001(starts, updates, clears, escapes, obj, attempt
     straight way's check before the direct approach, the fallbacks with no feasible curve (a
     lower v0, the back-off, the widest free sector, the detours of escape_001 on one side, at
     most max_detours) driven before the next plan and, at the path's end, the grasp from the
-    grasp circle (ROUGH_GRASP, the estimate the look is to confirm kept)."""
+    grasp circle (ROUGH_GRASP, the estimate the look is to confirm kept, the arrival's error
+    from l_e of eq. (5) for the grasp height in the trace)."""
     _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted, steps,
-                  False)
+                  False, grasp_height_mm)
 
 
 @SETTINGS
@@ -290,7 +299,7 @@ def test_the_fallbacks_of_001(starts, updates, clears, escapes, obj, sighted, st
 FALLBACK_KEYS = ("fallback", "detour", "detour_count")
 
 
-def _ms_001(c, ms, py) -> None:
+def _same_fallbacks(c, ms, py) -> None:
     """The method states alike: the fallbacks' counts, v0's divisor, the detours' side and the
     detour being driven."""
     assert (ms.v0_div, ms.fallbacks, ms.detours, ms.detour_side) == (
@@ -315,9 +324,9 @@ def _pose_001(py, at: tuple, pose: tuple) -> tuple[int, int, int]:
 
 
 def _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted, steps,
-                  guard: bool) -> None:
+                  guard: bool, grasp_height_mm: int = 80) -> None:
     py = Task("001", params={"max_plan_attempts": attempts, "direct_max_mm": direct_mm,
-                             "max_detours": 2})
+                             "max_detours": 2, "grasp_height_mm": grasp_height_mm})
     c = _c_task(py, method="001")
     rp = Replanner(starts, updates, clears, escapes)
     rp.p = py.p
@@ -342,10 +351,13 @@ def _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, si
             inp = path_step(py, c, now, xyhv, sonar, det, C.mg_task_follow_path)
             assert {k: v for k, v in _detail(c).items() if k in FALLBACK_KEYS} == {
                 k: ENCODER.encode(v) for k, v in py._detail.items() if k in FALLBACK_KEYS}
-            _ms_001(c, ms, py)
+            _same_fallbacks(c, ms, py)
+            if "grasp_circle" in py._detail:  # the arrival on the circle, l_e of eq. (5)
+                assert _detail(c)["grasp_circle"] == ENCODER.encode(py._detail["grasp_circle"])
+                assert ms.circle_l_e_mm == py.ms.circle_l_e_mm
             if guard:
                 _guard_step(py, c, now, inp, xyhv)
-                _ms_001(c, ms, py)
+                _same_fallbacks(c, ms, py)
             assert rp.requests["c"] == rp.requests["py"]
             assert bool(ms.has_replanner) == (py.ms.replanner is not None)
             assert (tuple(ms.path_from_mm) if ms.has_path_from else None) == py.ms.path_from
@@ -369,6 +381,83 @@ def _guard_step(py, c, now: int, inp, xyhv: tuple) -> None:
     assert tuple(c.wheels) == py.wheels
     assert _path_c(c) == _path_py(py)
     assert _detail(c) == {k: ENCODER.encode(v) for k, v in py._detail.items()}
+
+
+def _ms001(c):
+    return FFI.cast("mg_state001_t *", c.ms.bytes)
+
+
+def _circle_c(c) -> tuple:
+    """What 001 keeps of its arrival on the grasp circle (the C's)."""
+    ms = _ms001(c)
+    return (tuple(ms.circle_expected_mm) if ms.has_circle_expected else None,
+            ms.circle_l_e_mm, bool(ms.ik_grasp))
+
+
+def _circle_py(py) -> tuple:
+    return py.ms.circle_expected, py.ms.circle_l_e_mm, py.ms.ik_grasp
+
+
+# frames of the look: a dual "+" pair in most (the estimate moves to where it puts the object)
+DETS001 = st.fixed_dictionaries({"dual_plus": PAIRS}, optional={
+    "spoke": SPOKES, "held_fill": BROWN}) | DETS000
+
+
+@settings(max_examples=80, deadline=None)
+@given(st.tuples(st.integers(230, 360), st.integers(-60, 60)),
+       st.tuples(*[st.integers(-1500, 1500)] * 4), st.booleans(),
+       st.none() | st.tuples(st.integers(-20, 20), st.integers(-20, 20))
+       | st.tuples(st.integers(-80, 80), st.integers(-80, 80)), st.booleans(),
+       st.sampled_from([80, 80, 60, 95]),
+       st.lists(st.tuples(st.sampled_from([60_000, 200_000, 200_000, 400_000, 1_100_000]),
+                          st.tuples(st.integers(-5, 5), st.integers(-5, 5),
+                                    st.integers(-30, 30)),
+                          st.booleans(), st.none() | DETS001), min_size=15, max_size=60))
+def test_steps_of_001_from_the_grasp_circle(obj, joints, sighted, offset, track,
+                                            grasp_height_mm, steps):
+    """From ROUGH_GRASP entered on the grasp circle (the estimate the look is to confirm
+    ``offset`` from the object's, kept that far from the estimate when ``track``; none: an
+    arrival not on the circle), steps with frames of 000's detectors (dual "+" pairs, spokes,
+    the held fill), the gripper flag and odometry that drifts: the look back at the object
+    and its looks in turn, then the grasp by eq. (11) straight from there (confirmed: the pose
+    above the grasp point, the descent, "ik"), or ADJUST (not seen, seen elsewhere, out of
+    reach), LOST (never seen) or 000's rough and precise grasp, and LIFT's check: the same
+    outputs, detail and 001 state on both tasks, until the task goes back to the search."""
+    py = Task("001", params={"grasp_height_mm": grasp_height_mm})
+    c = _c_task(py, method="001")
+    enter_state(py, c, "ROUGH_GRASP", obj, True, joints, obj, ())
+    py.object_sighted = c.object_sighted = sighted
+    l_e = round(grasp_radius(ArmGeometry001(h_e=grasp_height_mm / 1000)).l_e_m * 1000)
+    ms = _ms001(c)
+
+    def expect(at):
+        py.ms.circle_expected = None if at is None else (at[0] + offset[0], at[1] + offset[1])
+        ms.has_circle_expected = py.ms.circle_expected is not None
+        ms.circle_expected_mm = py.ms.circle_expected or (0, 0)
+
+    if offset is not None:
+        py.ms.circle_l_e_mm = ms.circle_l_e_mm = l_e
+        expect(obj)
+    out = FFI.new("mg_task_outputs_t *")
+    now, x, y, h = 0, 0, 0, 0
+    for dt, (dx, dy, dh), closed, dets in steps:
+        now += dt
+        x, y, h = x + dx, y + dy, h + dh
+        if track and offset is not None and py.ms.circle_expected is not None:
+            expect(py.obj)
+        inp = TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, grasp_closed=closed,
+                         detections=dets or {})
+        res = _step_both(py, c, now, inp, out, _frame000)
+        where = (now, py.state, res.detail)
+        assert _circle_c(c) == _circle_py(py), where
+        assert (c.sight_frames, c.sight_look, c.sight_adjusts, c.lost_in) == (
+            py.sight_frames, py.sight_look, py.sight_adjusts,
+            -1 if py.lost_in is None else machine.STATES.index(py.lost_in)), where
+        assert (tuple(c.grasp_xy_q4) if c.has_grasp_xy else None) == (
+            None if py.grasp_xy_q4 is None else tuple(py.grasp_xy_q4)), where
+        if py.state in ("SEARCH", "APPROACH"):
+            break  # 001's planner is the replanner's (test_the_path_approach_of_001)
+    assert c.hist_overflow == 0
 
 
 def _record001(mp, calls: list) -> None:
@@ -401,32 +490,94 @@ def _record001(mp, calls: list) -> None:
     wrap(Method001, "start_detour", lambda rules, t, inp: ("detour",), lambda res, *a: (res,))
 
 
-def test_replay_of_paper001_sim1(tmp_path):
-    """The calls the Python task made in paper001-sim1 replayed on the C task with the same
-    inputs and the replanner's outcomes as the Python's gave them: APPROACH (the wait for a
-    sweep, the plans, the sonar checks and their replans in slices, the path followed to the
-    grasp circle) step by step gives the same outputs, and the C asks the replanner what the
-    Python asked it, call by call."""
-    calls = recorded_run(tmp_path, "paper001-sim1", _record001)
+def _record001_steps(mp, calls: list) -> None:
+    """001's calls (``_record001``) and the task's whole steps: (now, inputs, outputs)."""
+    _record001(mp, calls)
+    orig = machine.Task.step
+
+    def step(task, now_us, inputs):
+        res = orig(task, now_us, inputs)
+        calls.append(("step", now_us, inputs, res))
+        return res
+    mp.setattr(machine.Task, "step", step)
+
+
+def _replay001(calls: list) -> tuple[dict, list]:
+    """The recorded calls on the C task: APPROACH call by call (replay_path_task) up to its
+    arrival on the grasp circle, the replanner's outcomes as the Python's gave them; from
+    there the whole steps, ROUGH_GRASP to DONE, each output, the detail and the charged work
+    compared. The count of calls of each kind and the states passed through after APPROACH."""
     p = next(r[1] for r in calls if r[0] == "enter_approach")
     base_v0 = method001.planner_params_001(p).v0
     rp = Replanner([r[9] for r in calls if r[0] == "start"],
                    [r[8] for r in calls if r[0] == "update"],
                    [r[7] for r in calls if r[0] == "clear"])
-    counts = replay_path_task(
-        calls, "001", lambda c: C.mg_method001_set_replanner(c, rp.table, FFI.NULL),
-        C.mg_task_follow_path)
+    # the step the path ended on the grasp circle in
+    end = next(i for i, r in enumerate(calls) if r[0] == "step" and r[3].state != "APPROACH"
+               and r[3].state != "SEARCH")
+    assert calls[end][3].state == "ROUGH_GRASP"
+    tasks: list = []
+
+    def setup(c):
+        tasks.append(c)
+        C.mg_method001_set_replanner(c, rp.table, FFI.NULL)
+    counts = replay_path_task(calls[:end + 1], "001", setup, C.mg_task_follow_path)
     assert rp.requests["c"] == [
         (*r[:8], round(base_v0 / r[8])) if r[0] == "start" else r[:8 if r[0] == "update" else 7]
-        for r in calls if r[0] in ("start", "update", "clear")]
-    assert rp.c_start_us == [r[1] for r in calls if r[0] == "start_path"]
+        for r in calls[:end] if r[0] in ("start", "update", "clear")]
+    assert rp.c_start_us == [r[1] for r in calls[:end] if r[0] == "start_path"]
+    c = tasks[0]
+    # the arrival's note (eqs. (5)-(6): the axle's distance from the estimate less l_e)
+    res = calls[end][3]
+    assert _detail(c)["grasp_circle"] == ENCODER.encode(res.detail["grasp_circle"])
+    out = FFI.new("mg_task_outputs_t *")
+    states = [machine.STATES[c.state]]
+    for now, inp, res in (r[1:] for r in calls[end + 1:] if r[0] == "step"):
+        cin, _frame_kept = _c_step_inputs(inp)
+        C.mg_task_step(c, now, cin, out)
+        where = (now, res.state, res.detail)
+        assert _events(c) == res.events, where
+        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
+                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
+                                               res.gripper_permille, res.state), where
+        assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}, \
+            where
+        assert hostc.ops_tuple(c.path.ops) == res.ops.as_tuple(), where
+        if states[-1] != res.state:
+            states.append(res.state)
+    assert c.hist_overflow == 0 and c.events_lost == 0
+    return counts, states
+
+
+def _replay_run(tmp_path, scenario: str) -> None:
+    calls = recorded_run(tmp_path, scenario, _record001_steps)
+    counts, states = _replay001(calls)
     assert counts.get("approach", 0) > 20, counts
     assert counts.get("start", 0) >= 1 and counts.get("update", 0) >= 1, counts
     assert "detour" not in counts  # no fallback in this run: its curves all feasible
     assert any(r[0] == "update" and r[8][1] for r in calls)  # a sonar check replanned
     assert max(r[15][2] - r[9][2] for r in calls if r[0] == "approach") \
         == C.MG_TASK_PLAN_SLICE_US * CYCLES  # a plan charged over several steps
-    ended = [r for r in calls if r[0] == "approach" and r[10][r[8]:]]
-    # the curve followed to its end on the grasp circle: the grasp from there, no ADJUST
-    assert [e.to_state for e in ended[-1][10][ended[-1][8]:]] == ["ROUGH_GRASP"]
     assert "adjust" not in counts, counts
+    # the curve followed to its end on the grasp circle, the look confirming the object, the
+    # grasp by eq. (11) from there (no ADJUST, no spoke alignment) and the grasp check
+    assert states == ["ROUGH_GRASP", "PRECISE_GRASP", "LIFT", "DONE"], states
+    details = [r[3].detail for r in calls if r[0] == "step"]
+    assert [d["circle_look"]["confirmed"] for d in details if "circle_look" in d] == [True]
+    assert [d["grasp_close"] for d in details if "grasp_close" in d] == ["ik"]
+
+
+def test_replay_of_paper001_sim1(tmp_path):
+    """The calls the Python task made in paper001-sim1 replayed on the C task with the same
+    inputs and the replanner's outcomes as the Python's gave them: APPROACH (the wait for a
+    sweep, the plans, the sonar checks and their replans in slices, the path followed to the
+    grasp circle) step by step gives the same outputs, and the C asks the replanner what the
+    Python asked it, call by call; from the grasp circle on, the whole steps (the look back at
+    the object, the grasp by eq. (11), the lift and the grasp check) give the same outputs."""
+    _replay_run(tmp_path, "paper001-sim1")
+
+
+@pytest.mark.slow
+def test_replay_of_paper001_sim2(tmp_path):
+    """The same for paper001-sim2 (its longer way round the obstacles, 65 s simulated)."""
+    _replay_run(tmp_path, "paper001-sim2")

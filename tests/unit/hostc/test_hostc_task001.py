@@ -1,7 +1,9 @@
-"""Method 001 in C (hostc/task_method001.c with the path approach of hostc/task_approach.c)
-against the Python (host/task/method001.py, approach.py): APPROACH step by step with the same
-sonar ranges and the same replanner outcomes give the same transitions, wheels, arm targets,
-paths, plans and charged planning time.
+"""Method 001 in C (hostc/task_method001.c with the path approach of hostc/task_approach.c and
+the grasp states of hostc/task_grasp.c) against the Python (host/task/method001.py,
+approach.py, grasp.py): APPROACH step by step with the same sonar ranges and the same
+replanner outcomes give the same transitions, wheels, arm targets, paths, plans and charged
+planning time; from the grasp circle on (the look back at the object, the grasp by eq. (11),
+LIFT's check) the whole steps give the same outputs and trace detail.
 
 The C's replanner is a declared interface (``mg_replanner001_t``) until host/planning/replan.py
 is in C: here both tasks are given the same scripted outcomes of the replanner's calls
@@ -48,6 +50,7 @@ from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.task import Task, TaskInputs, machine, method001
+from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
@@ -287,6 +290,18 @@ def _guard_step(py, c, now: int, inp, xyhv: tuple) -> None:
     assert tuple(c.wheels) == py.wheels
     assert _path_c(c) == _path_py(py)
     assert _detail(c) == {k: ENCODER.encode(v) for k, v in py._detail.items()}
+
+
+@pytest.mark.parametrize("method", ["000", "001", "002"])
+def test_the_grasp_hooks_of_the_rows(method):
+    """The method table's rows after APPROACH: ROUGH_GRASP's look first (Method.sight_views,
+    its detector the dual "+") and the method's decision after it (look_decides), the
+    method's own where the Python's is."""
+    rules, r = C.mg_task_method_find(method.encode()), Task(method).rules
+    assert [tuple(v) for v in rules.sight_views[0:rules.n_sight_views]] == list(r.sight_views)
+    assert (rules.sight_result != FFI.NULL) == bool(r.sight_views)
+    own = type(r).look_decides is not Method.look_decides
+    assert (rules.look_decides != FFI.NULL) == own == (method == "001")
 
 
 def _ms001(c):

@@ -35,6 +35,7 @@ from test_hostc_task000 import (
     _frame000,
     _inputs,
     _path_c,
+    _plus,
     _path_py,
     _pose,
     path_step,
@@ -379,6 +380,40 @@ def test_steps_of_001_from_the_grasp_circle(obj, joints, sighted, offset, track,
         if py.state in ("SEARCH", "APPROACH"):
             break  # 001's planner is the replanner's (test_the_path_approach_of_001)
     assert c.hist_overflow == 0
+
+
+@pytest.mark.parametrize(("pair", "grasp_height_mm", "arrived", "sighted", "why"), [
+    (None, 80, True, True, "(not seen by the look)"),
+    (None, 80, False, False, "never seen by the camera: searching before any grasp"),
+    ((150, 40, 170, 40, 300), 80, True, True, "(grasp point out of reach: out of reach"),
+    ((150, 200, 170, 200, 150), 40, True, True, "(no reachable pose above the grasp point)"),
+    ((150, 200, 170, 200, 150), 80, True, True, "gripper closed on the object")])
+def test_the_look_s_outcomes(pair, grasp_height_mm, arrived, sighted, why):
+    """The look from the grasp circle with the same dual "+" in every frame (or none), the
+    estimate it is to confirm kept at the object's: not seen (ADJUST; never seen before and
+    not arrived on the circle: LOST), seen out of reach, no pose above the grasp point (the
+    grasp height more than CIRCLE_PRE_MM under the top), confirmed (the grasp by eq. (11), the
+    gripper closed): the same steps on both tasks, the outcome's reason among the events."""
+    py = Task("001", params={"grasp_height_mm": grasp_height_mm})
+    c = _c_task(py, method="001")
+    enter_state(py, c, "ROUGH_GRASP", (300, 0), True, (0, -1571, 1571, 0), None, ())
+    py.object_sighted = c.object_sighted = sighted
+    ms = _ms001(c)
+    out = FFI.new("mg_task_outputs_t *")
+    dets = {} if pair is None else {"dual_plus": _plus(*[16 * v for v in pair[:4]], pair[4])}
+    whys = []
+    for k in range(1, 60):
+        if arrived and py.state == "ROUGH_GRASP":
+            py.ms.circle_expected, py.ms.circle_l_e_mm = py.obj, 306
+            ms.has_circle_expected, ms.circle_expected_mm, ms.circle_l_e_mm = 1, py.obj, 306
+        inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0, grasp_closed=py.phase == "close",
+                         detections=dets)
+        res = _step_both(py, c, k * 200_000, inp, out, _frame000)
+        assert _circle_c(c) == _circle_py(py)
+        whys += [e.why for e in res.events]
+        if py.state in ("SEARCH", "LIFT"):
+            break
+    assert any(why in w for w in whys), whys
 
 
 def _record001(mp, calls: list) -> None:

@@ -59,7 +59,7 @@ typedef struct {
     int32_t max_lost;
     int32_t turn_wheel_mmps, wander_mmps, wander_clear_mm, sighting_match_mm;
     int32_t sonar_offset_mm, r_r_mm, sonar_a_g_mrad; /* the sonar ring and the safety circle */
-    int32_t detour_mm, detour_clear_mm;
+    int32_t detour_mm, detour_clear_mm, max_detours; /* 001: drive aside this often at most */
     int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;
     int64_t grasp_close_timeout_us;
     /* PRECISE_GRASP of 000 (grasp.py _align): w_T's window of 000 section IV, no spoke for

@@ -176,6 +176,7 @@ void mg_task_params_default(mg_task_params_t *p)
     p->sonar_a_g_mrad = 1050;
     p->detour_mm = 500;
     p->detour_clear_mm = 900;
+    p->max_detours = 6;
     p->hover_mm = 110;
     p->lift_mm = 60;
     p->pregrasp_back_mm = 50;

@@ -208,10 +208,132 @@ static int way_blocked(mg_task_t *t, const mg_task_inputs_t *in, int32_t dist_mm
     return echo || !straight_clear(t, in, dist_mm);
 }
 
+/* the detour's heading (method001.py detour_heading): the escape's when it found one clear of
+ * the infeasible regions, else the free sonar direction nearest the object's bearing; with none
+ * free a quarter turn left, not driven (the next sonar sweep decides again) */
+static void detour_heading(const mg_task_t *t, const mg_task_inputs_t *in, int found,
+                           int32_t head_mrad, mg_detour_t *d)
+{
+    memset(d, 0, sizeof *d);
+    d->active = 1;
+    d->length_mm = t->p.detour_mm;
+    if (found) {
+        d->heading_mrad = mg_task_wrap_mrad(head_mrad);
+        d->drive = d->checked = 1;
+        return;
+    }
+    const int32_t bearing = mg_atan2_mrad((int64_t)t->obj_mm[1] - in->y_mm,
+                                          (int64_t)t->obj_mm[0] - in->x_mm);
+    int32_t best_off = -1;
+    for (int32_t k = 0; in->n_sonar >= 2 && k < in->n_sonar; k++) {
+        const int32_t h = mg_task_wrap_mrad((int64_t)in->heading_mrad
+                                            + mg_sonar_angle_mrad(k, in->n_sonar));
+        const int32_t off = iabs32(mg_task_wrap_mrad((int64_t)h - bearing));
+        if (in->sonar_mm[k] >= t->p.detour_clear_mm && (best_off < 0 || off < best_off)) {
+            best_off = off;
+            d->heading_mrad = h;
+        }
+    }
+    d->drive = best_off >= 0;
+    if (best_off < 0)
+        d->heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + 1571);
+}
+
+/* the trace's fallback and detour detail (method001.py start_detour's notes) */
+static void note_fallback(mg_task_t *t, const char *step, int32_t n)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    mg_json_key(&j, "n");
+    mg_json_int(&j, n);
+    mg_json_key(&j, "step");
+    mg_json_string(&j, step, strlen(step));
+    mg_json_end_object(&j);
+    mg_json_terminate(&j);
+    mg_task_note(t, "fallback", text);
+}
+
+static void note_detour(mg_task_t *t, const mg_detour_t *d, int32_t count)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    if (d->checked) {
+        mg_json_key(&j, "checked");
+        mg_json_bool(&j, 1);
+    }
+    mg_json_key(&j, "drive");
+    mg_json_bool(&j, d->drive);
+    mg_json_key(&j, "from");
+    mg_json_null(&j);
+    mg_json_key(&j, "heading_mrad");
+    mg_json_int(&j, d->heading_mrad);
+    mg_json_end_object(&j);
+    mg_json_terminate(&j);
+    mg_task_note(t, "detour", text);
+    mg_task_note_int(t, "detour_count", count);
+}
+
+/* Obstacles across the way and no feasible curve from here: fall back in steps (each a
+ * fallback detail), then plan again: a lower v0 (the slower end speed of eq. (9) gives the
+ * candidates more room under A_max), a short back-off toward where the last path began, a turn
+ * in place toward the widest free sonar sector, then drives aside through free sonar space
+ * (escape_001, at most max_detours); the last step repeated (method001.py FALLBACKS). */
 static int start_detour(mg_task_t *t, const mg_task_inputs_t *in)
 {
-    (void)t, (void)in;
-    return 0; /* not yet: the fallbacks and detours (method001.py start_detour) */
+    enum { LOWER_V0, BACK_OFF, WIDEST_SECTOR, DETOUR };
+    static const char *const STEP[] = {"lower_v0", "back_off", "widest_sector", "detour"};
+    mg_state001_t *ms = ms001(t);
+    const int32_t step = ms->fallbacks < DETOUR ? ms->fallbacks : DETOUR;
+    if (step == DETOUR && ms->detours >= t->p.max_detours)
+        return 0;
+    ms->fallbacks++;
+    note_fallback(t, STEP[step], ms->fallbacks);
+    mg_detour_t *d = &ms->detour;
+    if (step == LOWER_V0) {
+        ms->v0_div *= 2;
+        ms->has_replanner = 0; /* planned afresh with the lower v0 */
+        return 1;
+    }
+    if (step == WIDEST_SECTOR) {
+        memset(d, 0, sizeof *d);
+        d->active = 1;
+        d->heading_mrad = mg_widest_free_heading(in, t->p.detour_clear_mm);
+        d->length_mm = t->p.detour_mm;
+        return 1;
+    }
+    if (step == BACK_OFF) {
+        /* facing (and driving, the sonars watching) back toward where the last path began */
+        const int64_t fx = ms->has_path_from ? ms->path_from_mm[0] : in->x_mm;
+        const int64_t fy = ms->has_path_from ? ms->path_from_mm[1] : in->y_mm;
+        const int64_t dx = fx - in->x_mm, dy = fy - in->y_mm;
+        if (dx * dx + dy * dy < (int64_t)MG_BACK_OFF_MM * MG_BACK_OFF_MM)
+            return start_detour(t, in); /* nowhere to back off to: the next step */
+        memset(d, 0, sizeof *d);
+        d->active = d->drive = 1;
+        d->heading_mrad = mg_atan2_mrad(dy, dx);
+        d->length_mm = MG_BACK_OFF_MM;
+        return 1;
+    }
+    ms->detours++;
+    int32_t head = 0;
+    mg_ops_t ops;
+    memset(&ops, 0, sizeof ops);
+    const int found = ms->rp->escape(ms->rp_ctx, in, t->obj_mm, t->p.detour_mm, ms->detour_side,
+                                     &head, &ops);
+    mg_task_charge(t, &ops);
+    if (found && !ms->detour_side) { /* keep to the first one's side */
+        const int32_t off = mg_task_wrap_mrad(
+            (int64_t)head - mg_atan2_mrad((int64_t)t->obj_mm[1] - in->y_mm,
+                                          (int64_t)t->obj_mm[0] - in->x_mm));
+        ms->detour_side = (off > 0) - (off < 0);
+    }
+    detour_heading(t, in, found, head, d);
+    note_detour(t, d, ms->detours);
+    return 1;
 }
 
 /* 001's ring sees nothing behind the base, so it never backs up: where the follower would
@@ -577,5 +699,40 @@ static int board_straight_clear(void *ctx, const mg_task_inputs_t *in, const int
     return ok;
 }
 
+/* escape_001: the regions of the reading less the object's echoes and the memory, grown by
+ * the margin; the heading nearest the object's bearing every pi/12 within pi/2 of the present
+ * one (escape.py's defaults: 16 samples a segment) */
+static int board_escape(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
+                        int32_t detour_mm, int32_t side, int32_t *heading_mrad, mg_ops_t *ops)
+{
+    enum { PER = MG_GEO_HEAD + MG_REGION_WORDS, N_SIDE = 6 };
+    const int64_t step_urad = 261799; /* round(pi / 12 1e6) */
+    mg_board_replanner001_t *b = ctx;
+    mg_region_t regions[MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY];
+    int64_t geo[PER * (MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY)];
+    int64_t clear[MG_CLEAR_WORDS * (MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY)];
+    const int64_t px = (int64_t)in->x_mm * 16, py = (int64_t)in->y_mm * 16;
+    int32_t n = mg_replan001_fresh(&b->cfg, px, py, in->heading_mrad, in->sonar_mm, regions);
+    for (int32_t i = 0; i < b->st.n_memory; i++)
+        regions[n++] = b->st.memory[i];
+    for (int32_t r = 0; r < n; r++) {
+        regions[r].r_r_q4 += (int64_t)MG_DETOUR_MARGIN_MM * 16;
+        geo[PER * r] = geo[PER * r + 1] = geo[PER * r + 2] = 0;
+        mg_region_geo(&regions[r], geo + PER * r + MG_GEO_HEAD);
+        mg_region_clear(&regions[r], clear + MG_CLEAR_WORDS * r);
+    }
+    const int64_t goal_urad = (int64_t)mg_atan2_mrad((int64_t)obj_mm[1] - in->y_mm,
+                                                     (int64_t)obj_mm[0] - in->x_mm) * 1000;
+    int64_t head_urad = 0;
+    const int found = mg_escape_heading_q(geo, clear, n, px, py, (int64_t)in->heading_mrad * 1000,
+                                          goal_urad, step_urad, N_SIDE,
+                                          ((int64_t)detour_mm + MG_DETOUR_EXTRA_MM) * 16, 16,
+                                          side, &head_urad, ops);
+    *ops = mg_ops_add(*ops, mg_ops_scaled(mg_region_setup_ops(), n));
+    if (found)
+        *heading_mrad = (int32_t)mg_div_round64(head_urad, 1000);
+    return found;
+}
+
 const mg_replanner001_t mg_board_replanner001 = {board_start, board_update, board_start_path,
-                                                 board_straight_clear};
+                                                 board_straight_clear, board_escape};

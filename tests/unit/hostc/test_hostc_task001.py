@@ -5,11 +5,11 @@ replanner outcomes give the same transitions, wheels, arm targets, paths, plans 
 planning time; from the grasp circle on (the look back at the object, the grasp by eq. (11),
 LIFT's check) the whole steps give the same outputs and trace detail.
 
-The C's replanner is a declared interface (``mg_replanner001_t``) until host/planning/replan.py
-is in C: here both tasks are given the same scripted outcomes of the replanner's calls
-(method001.py ``start_001``, ``update_001``, ``straight_clear_001``) and the requests are
-compared. The fallbacks and detours with no feasible curve are not in the C yet: the Python's
-``start_detour`` is held to the C's (none started)."""
+The C's replanner is a declared interface (``mg_replanner001_t``): here both tasks are given the
+same scripted outcomes of the replanner's calls (method001.py ``start_001``, ``update_001``,
+``straight_clear_001``, ``escape_001``) and the requests are compared; the fallbacks with no
+feasible curve (``start_detour``: a lower v0, the back-off, the widest free sector, the
+detours) and their drives before the next plan step by step with the Python's."""
 
 from __future__ import annotations
 
@@ -49,6 +49,7 @@ from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
+from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.task import Task, TaskInputs, machine, method001
 from mobigrasp.host.task.method import Method
@@ -63,6 +64,8 @@ UPDATE_CB = ("void(void *, int64_t, const mg_task_inputs_t *, int32_t, mg_replan
              "mg_trajectory_t *, mg_plan_outcome_t *, mg_ops_t *)")
 START_PATH_CB = "void(void *, int64_t)"
 CLEAR_CB = "int(void *, const mg_task_inputs_t *, const int32_t *, int32_t, mg_ops_t *)"
+ESCAPE_CB = ("int(void *, const mg_task_inputs_t *, const int32_t *, int32_t, int32_t, "
+             "int32_t *, mg_ops_t *)")
 
 
 def _ops_into(c_ops, ops: OpCounts) -> None:
@@ -78,13 +81,17 @@ class _PyReplanner(SimpleNamespace):
         self.start_us = t_us
 
 
+NO_WORK = OpCounts()
+
+
 class Replanner:
     """Scripted outcomes of the replanner's calls, given in turn to the Python task (through
     method001.py's calls of it) and to the C's (its mg_replanner001_t); the requests of both
     kept, each side in its own list."""
 
-    def __init__(self, starts: list, updates: list, clears: list) -> None:
-        self.script = {"start": starts, "update": updates, "clear": clears}
+    def __init__(self, starts: list, updates: list, clears: list,
+                 escapes: list = ((None, NO_WORK),)) -> None:
+        self.script = {"start": starts, "update": updates, "clear": clears, "escape": escapes}
         self.at = {"py": {k: 0 for k in self.script}, "c": {k: 0 for k in self.script}}
         self.requests: dict = {"py": [], "c": []}
         self.py_rp = _PyReplanner(start_us=None)
@@ -92,7 +99,8 @@ class Replanner:
         self.callbacks = [FFI.callback(START_CB, self._c_start),
                           FFI.callback(UPDATE_CB, self._c_update),
                           FFI.callback(START_PATH_CB, self._c_start_path),
-                          FFI.callback(CLEAR_CB, self._c_clear)]
+                          FFI.callback(CLEAR_CB, self._c_clear),
+                          FFI.callback(ESCAPE_CB, self._c_escape)]
         self.table = FFI.new("mg_replanner001_t *", self.callbacks)
 
     def _next(self, side: str, kind: str):
@@ -123,6 +131,11 @@ class Replanner:
     def py_clear(self, rp, x, y, h, sonar, obj, travel):
         self.requests["py"].append(("clear", x, y, h, tuple(sonar), tuple(obj), travel))
         return self._next("py", "clear")
+
+    def py_escape(self, rp, x, y, h, sonar, obj, detour_mm, side=0):
+        self.requests["py"].append(("escape", x, y, h, tuple(sonar), tuple(obj), detour_mm,
+                                    side))
+        return self._next("py", "escape")
 
     # --- the C's side --------------------------------------------------------------------
     @staticmethod
@@ -159,6 +172,16 @@ class Replanner:
         _ops_into(ops, work)
         return clear
 
+    def _c_escape(self, ctx, inp, obj, detour_mm, side, heading, ops) -> int:
+        self.requests["c"].append(("escape", *self._pose(inp)[:3], self._sonar(inp),
+                                   (obj[0], obj[1]), detour_mm, side))
+        head, work = self._next("c", "escape")
+        _ops_into(ops, work)
+        if head is None:
+            return 0
+        heading[0] = head
+        return 1
+
 
 def _long(table):
     """A reference table 20 times slower: paths followed over many sonar checks."""
@@ -189,7 +212,13 @@ UPDATES = st.lists(st.one_of(
 ).map(lambda u: (*u[0], *u[1:])), min_size=1, max_size=4)
 CLEARS = st.lists(st.tuples(st.booleans(), st.builds(OpCounts, alu=st.integers(0, 5000))),
                   min_size=1, max_size=4)
-SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=0, max_size=5).map(tuple)
+# no ring or 2 to 5 sonars (sonar_angles_mrad: one sonar has no angle)
+SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=0, max_size=5).filter(
+    lambda r: len(r) != 1).map(tuple)
+# escape_001's headings (or none; beyond +-pi too: wrapped) and their work
+ESCAPES = st.lists(st.tuples(st.none() | st.integers(-4000, 4000),
+                             st.builds(OpCounts, alu=st.integers(0, 5000))),
+                   min_size=1, max_size=4)
 
 
 def _steps(sonar):
@@ -206,68 +235,133 @@ GUARD_SONAR = st.lists(st.integers(0, 3000) | st.just(0xFFFF), min_size=2, max_s
 
 
 @SETTINGS
-@given(STARTS, UPDATES, CLEARS, st.tuples(NEAR, NEAR), st.integers(1, 4),
-       st.integers(0, 2000), st.booleans(), _steps(SONAR),
-       st.just(80) | st.integers(0, 400))
-def test_the_path_approach_of_001(starts, updates, clears, obj, attempts, direct_mm, sighted,
-                                  steps, grasp_height_mm):
+@given(STARTS, UPDATES, CLEARS, ESCAPES, st.tuples(NEAR, NEAR), st.integers(1, 4),
+       st.integers(0, 2000), st.booleans(), _steps(SONAR), st.just(80) | st.integers(0, 400))
+def test_the_path_approach_of_001(starts, updates, clears, escapes, obj, attempts, direct_mm,
+                                  sighted, steps, grasp_height_mm):
     """APPROACH of 001 step by step: the look first at a given object, the wait for a sonar
     sweep, sightings not used in a fast turn, the first plan and the plans of the same
     replanner, the sonar check every replan_period_us (replanned in slices, blocked and kept,
     nothing feasible: stop), a new plan from standstill, the follower never backing up, the
-    straight way's check before the direct approach and, at the path's end, the grasp from the
+    straight way's check before the direct approach, the fallbacks with no feasible curve (a
+    lower v0, the back-off, the widest free sector, the detours of escape_001 on one side, at
+    most max_detours) driven before the next plan and, at the path's end, the grasp from the
     grasp circle (ROUGH_GRASP, the estimate the look is to confirm kept, the arrival's error
     from l_e of eq. (5) for the grasp height in the trace)."""
-    _approach_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps, False,
-                  grasp_height_mm)
+    _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted, steps,
+                  False, grasp_height_mm)
 
 
 @SETTINGS
-@given(STARTS, UPDATES, CLEARS, st.tuples(NEAR, NEAR), st.integers(1, 4),
+@given(STARTS, UPDATES, CLEARS, ESCAPES, st.tuples(NEAR, NEAR), st.integers(1, 4),
        st.integers(0, 2000), st.booleans(), _steps(GUARD_SONAR))
-def test_the_guard_of_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps):
+def test_the_guard_of_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted,
+                          steps):
     """APPROACH of 001 with its guard after every step (method001.py guard_wheels): a front
     echo below R_r that is not the object's stops the base and drops the path and the plan
     being made, the base turns to the widest free sector and drives out of R_r before the
     next plan (hold_before_plan), the same wheels, transitions, path and trace detail."""
-    _approach_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps, True)
+    _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted, steps,
+                  True)
 
 
-def _approach_001(starts, updates, clears, obj, attempts, direct_mm, sighted, steps,
+# no feasible curve most of the time, every failed plan a fallback (one attempt, no direct
+# approach), the base at rest between long steps: the fallbacks in turn, their drives, the
+# detours up to max_detours
+FAILING_STARTS = st.lists(st.tuples(st.none(), st.integers(0, 400), st.integers(0, 40_000),
+                                    st.sampled_from(REASONS[2:])), min_size=1, max_size=3).map(
+    lambda fails: [*fails, (None, 0, 0, "no feasible curve")])
+RARE_STARTS = st.lists(st.tuples(st.none() | trajectories().map(_long), st.integers(0, 400),
+                                 st.integers(0, 40_000), st.sampled_from(REASONS[2:])),
+                       min_size=1, max_size=4)
+NO_CURVE = st.tuples(st.just((True, False, False, True)), st.none(), st.integers(0, 400), WORK,
+                     st.sampled_from(REASONS)).map(lambda u: (*u[0], *u[1:]))
+FAILING_UPDATES = st.lists(NO_CURVE, min_size=1, max_size=3) | UPDATES
+# headings the sonars point along (a detour's turn ends on one of them), or any
+RING_HEADINGS = st.sampled_from([-1571, -785, 0, 785, 1571, -3142]) | st.integers(-3142, 3141)
+RESTING_STEPS = st.lists(st.tuples(
+    st.sampled_from([600_000, 1_000_000]) | st.integers(1, 2_000_000),
+    st.tuples(NEAR, NEAR, RING_HEADINGS) | POSES_001 | st.just(("turned",))
+    | st.tuples(st.just("along"), st.integers(0, 600)),
+    st.integers(-30, 30), GUARD_SONAR, RADIALS, st.none()), min_size=10, max_size=50)
+
+
+@SETTINGS
+@given(FAILING_STARTS | RARE_STARTS, FAILING_UPDATES, CLEARS, ESCAPES, st.tuples(NEAR, NEAR),
+       st.booleans(), RESTING_STEPS, st.booleans())
+def test_the_fallbacks_of_001(starts, updates, clears, escapes, obj, sighted, steps, guard):
+    """No feasible curve, plan after plan: 001's fallbacks step by step (method001.py
+    start_detour), each a fallback detail: v0 halved and the replanner started afresh, the
+    back-off toward where the last path began (or the next step when that is within 200 mm),
+    the turn to the widest free sector, then the detours of escape_001 (the heading found,
+    wrapped, its side kept for the next ones; none found: the free sonar nearest the object's
+    bearing, or a quarter turn left) up to max_detours, then FAILED; each drive to its end
+    before the next plan. The same wheels, transitions, requests, state and detail."""
+    _approach_001(starts, updates, clears, escapes, obj, 1, 0, sighted, steps, guard)
+
+
+FALLBACK_KEYS = ("fallback", "detour", "detour_count")
+
+
+def _ms_001(c, ms, py) -> None:
+    """The method states alike: the fallbacks' counts, v0's divisor, the detours' side and the
+    detour being driven."""
+    assert (ms.v0_div, ms.fallbacks, ms.detours, ms.detour_side) == (
+        py.ms.v0_div, py.ms.fallbacks, py.ms.detours, py.ms.detour_side)
+    d = py.ms.detour
+    assert (bool(ms.detour.active) and (
+        ms.detour.heading_mrad, bool(ms.detour.drive), ms.detour.length_mm,
+        bool(ms.detour.has_from), bool(ms.detour.checked))) == (d is not None and (
+            d["heading_mrad"], d["drive"], d.get("length_mm", py.p.detour_mm),
+            d["from"] is not None, bool(d.get("checked"))))
+
+
+def _pose_001(py, at: tuple, pose: tuple) -> tuple[int, int, int]:
+    """The step's pose: given, facing the object, or where the base was then ("turned": to the
+    heading of the detour being driven; "along": that far along its heading)."""
+    if pose[0] == "turned":
+        return at if py.ms.detour is None else (*at[:2], py.ms.detour["heading_mrad"])
+    if pose[0] == "along":
+        h = at[2]
+        return (at[0] + (pose[1] * cos_q12(h) >> 12), at[1] + (pose[1] * sin_q12(h) >> 12), h)
+    return _pose(py.obj, pose)
+
+
+def _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted, steps,
                   guard: bool, grasp_height_mm: int = 80) -> None:
     py = Task("001", params={"max_plan_attempts": attempts, "direct_max_mm": direct_mm,
-                             "grasp_height_mm": grasp_height_mm})
+                             "max_detours": 2, "grasp_height_mm": grasp_height_mm})
     c = _c_task(py, method="001")
-    rp = Replanner(starts, updates, clears)
+    rp = Replanner(starts, updates, clears, escapes)
     rp.p = py.p
     C.mg_method001_set_replanner(c, rp.table, FFI.NULL)
     py.object_sighted = c.object_sighted = sighted
     start_approach(py, c, obj)  # 001 adds nothing to the path approach's entry (000's)
     ms = FFI.cast("mg_state001_t *", c.ms.bytes)
-    now = 0
+    now, at = 0, (0, 0, 0)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(method001, "start_001", rp.py_start)
         mp.setattr(method001, "update_001", rp.py_update)
         mp.setattr(method001, "straight_clear_001", rp.py_clear)
-        mp.setattr(Method001, "start_detour", lambda *a: False)  # not in the C yet
+        mp.setattr(method001, "escape_001", rp.py_escape)
         for dt, pose, v_mmps, sonar, det, moved_to in steps:
             now += dt
             if moved_to is not None:
                 py.obj = moved_to
                 c.obj_mm = moved_to
-            xyhv = (*_pose(py.obj, pose), v_mmps)
+            at = _pose_001(py, at, pose)
+            xyhv = (*at, v_mmps)
             py._detail, c.n_notes = {}, 0
             inp = path_step(py, c, now, xyhv, sonar, det, C.mg_task_follow_path)
+            assert {k: v for k, v in _detail(c).items() if k in FALLBACK_KEYS} == {
+                k: ENCODER.encode(v) for k, v in py._detail.items() if k in FALLBACK_KEYS}
             if "grasp_circle" in py._detail:  # the arrival on the circle, l_e of eq. (5)
                 assert _detail(c)["grasp_circle"] == ENCODER.encode(py._detail["grasp_circle"])
                 assert ms.circle_l_e_mm == py.ms.circle_l_e_mm
+            _ms_001(c, ms, py)
             if guard:
                 _guard_step(py, c, now, inp, xyhv)
-                assert (bool(ms.detour.active), ms.detour.heading_mrad, ms.detour.length_mm,
-                        bool(ms.detour.has_from)) == (
-                    (False, 0, 0, False) if py.ms.detour is None else
-                    (True, py.ms.detour["heading_mrad"], py.ms.detour["length_mm"],
-                     py.ms.detour["from"] is not None))
+                _ms_001(c, ms, py)
             assert rp.requests["c"] == rp.requests["py"]
             assert bool(ms.has_replanner) == (py.ms.replanner is not None)
             assert (tuple(ms.path_from_mm) if ms.has_path_from else None) == py.ms.path_from
@@ -439,6 +533,10 @@ def _record001(mp, calls: list) -> None:
          lambda res, *a: (res,), quiet=True)
     wrap(Method001, "start_path", lambda rules, t, follower, now: ("start_path", now),
          lambda res, *a: ())
+    wrap(method001, "escape_001",
+         lambda rp, x, y, h, sonar, obj, detour_mm, side=0: (
+             "escape", x, y, h, tuple(sonar), tuple(obj), detour_mm, side),
+         lambda res, *a, **kw: (res,), quiet=True)
     wrap(Method001, "start_detour", lambda rules, t, inp: ("detour",), lambda res, *a: (res,))
 
 
@@ -506,7 +604,7 @@ def _replay_run(tmp_path, scenario: str) -> None:
     counts, states = _replay001(calls)
     assert counts.get("approach", 0) > 20, counts
     assert counts.get("start", 0) >= 1 and counts.get("update", 0) >= 1, counts
-    assert "detour" not in counts  # the fallbacks are not in the C yet: none here
+    assert "detour" not in counts  # no fallback in this run: its curves all feasible
     assert any(r[0] == "update" and r[8][1] for r in calls)  # a sonar check replanned
     assert max(r[15][2] - r[9][2] for r in calls if r[0] == "approach") \
         == C.MG_TASK_PLAN_SLICE_US * CYCLES  # a plan charged over several steps

@@ -43,10 +43,9 @@ from test_hostc_task000 import (
     replay_path_task,
     start_approach,
 )
-from test_hostc_task_states import _detail, _step_both, enter_state
+from test_hostc_task_states import _detail, _step_both, assert_outputs, enter_state
 
 from mobigrasp import hostc
-from mobigrasp.host.app import jsonable
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.fixedpoint import cos_q12, sin_q12
@@ -585,13 +584,7 @@ def _replay001(calls: list) -> tuple[dict, list]:
     for now, inp, res in (r[1:] for r in calls[end + 1:] if r[0] == "step"):
         cin, _frame_kept = _c_step_inputs(inp)
         C.mg_task_step(c, now, cin, out)
-        where = (now, res.state, res.detail)
-        assert _events(c) == res.events, where
-        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
-                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
-                                               res.gripper_permille, res.state), where
-        assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}, \
-            where
+        where = assert_outputs(c, out, now, res)
         assert hostc.ops_tuple(c.path.ops) == res.ops.as_tuple(), where
         if states[-1] != res.state:
             states.append(res.state)

@@ -77,6 +77,57 @@ int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
 
 /* --- APPROACH: eq. (17) with the sonar ring, replanned (section III.E) --------------------- */
 
+/* the board's replanner's state, or NULL (a caller's replanner: its curve is its own) */
+static const mg_board_replanner001_t *board_of(const mg_state001_t *ms)
+{
+    return ms->rp == &mg_board_replanner001 ? (const mg_board_replanner001_t *)ms->rp_ctx : NULL;
+}
+
+/* the plan's trace detail (method001.py plan: start_001's detail, or update_001's reason and
+ * curve); start: with the plan's candidates, the feasible ones and its modelled ARM9 time */
+static void note_plan(mg_task_t *t, const mg_board_replanner001_t *b, int start,
+                      const char *reason)
+{
+    char text[2 * MG_TASK_NOTE_BYTES + MG_PLAN_REASON]; /* the curve and the reason */
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    if (start ? b->plan.status == MG_PLAN001_OK : b->st.has_curve) {
+        mg_json_key(&j, "best_ctrl");
+        mg_method000_json_ctrl(&j, start ? b->plan.best_ctrl : b->st.ctrl);
+    }
+    if (start) {
+        mg_json_key(&j, "candidates");
+        mg_json_int(&j, b->plan.n_cand);
+        mg_json_key(&j, "feasible");
+        mg_json_int(&j, b->plan.n_feasible);
+        mg_json_key(&j, "plan_arm9_us");
+        mg_json_int(&j, mg_ops_time_us(&b->plan.ops));
+    }
+    mg_json_key(&j, "planner");
+    mg_json_string(&j, "001", 3);
+    mg_json_key(&j, "reason");
+    mg_json_string(&j, reason, strlen(reason));
+    mg_json_end_object(&j);
+    if (j.overflow) { /* counted, never silent */
+        t->notes_lost++;
+        return;
+    }
+    mg_json_terminate(&j);
+    mg_task_note(t, "plan", text);
+}
+
+/* the sonar check's replan detail: its reason as a JSON string */
+static void note_replan(mg_task_t *t, const char *reason)
+{
+    char text[MG_PLAN_REASON + 16];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_string(&j, reason, strlen(reason));
+    mg_json_terminate(&j);
+    mg_task_note(t, "replan", text);
+}
+
 static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_trajectory_t *traj,
                  mg_plan_outcome_t *o)
 {
@@ -95,10 +146,14 @@ static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_tr
         mg_ops_t ops;
         ms->rp->update(ms->rp_ctx, now_us, in, 1, &dec, traj, o, &ops);
         o->time_us = mg_ops_time_us(&ops);
+        if (board_of(ms))
+            note_plan(t, board_of(ms), 0, o->reason);
         return;
     }
     ms->rp->start(ms->rp_ctx, now_us, in, t->obj_mm, ms->v0_div, traj, o);
     ms->has_replanner = 1;
+    if (board_of(ms))
+        note_plan(t, board_of(ms), 1, o->reason);
     if (o->has_path) { /* a fallback backs off toward here */
         ms->has_path_from = 1;
         ms->path_from_mm[0] = in->x_mm;
@@ -150,8 +205,14 @@ static int sonar_replan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     ps->plan_us = now_us;
     if (dec.replanned) {
         ps->plans++;
+        note_replan(t, o.reason);
+        if (board_of(ms))
+            note_plan(t, board_of(ms), 0, o.reason);
+    } else if (dec.blocked && dec.has_curve) {
+        note_replan(t, o.reason); /* blocked far ahead, no update yet: path kept */
     } else if (!dec.has_curve) {
         ps->has_follower = 0; /* nothing feasible: stop; the next step plans afresh */
+        note_replan(t, o.reason);
         t->wheels[0] = t->wheels[1] = 0;
         return 1;
     }

@@ -6,8 +6,8 @@
  * first, sightings while the base turns fast are not used, the follower never backs up; the
  * curve is followed to its end on the grasp circle, where ROUGH_GRASP looks back at the object
  * and, the look confirming it, the arm grasps by eq. (11) of 000 from there (look_decides,
- * enter_precise); with no feasible curve the fallbacks (a lower v0, a back-off, the widest free
- * sector, the detours of escape_001). */
+ * enter_precise); with no feasible curve the fallbacks (a lower v0, a back-off, the widest
+ * free sector, the detours of escape_001, start_detour). */
 #ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
 #define MOBIGRASP_HOSTC_TASK_METHOD001_H
 

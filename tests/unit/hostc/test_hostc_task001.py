@@ -302,7 +302,7 @@ def test_the_fallbacks_of_001(starts, updates, clears, escapes, obj, sighted, st
 FALLBACK_KEYS = ("fallback", "detour", "detour_count")
 
 
-def _ms_001(c, ms, py) -> None:
+def _same_fallbacks(c, ms, py) -> None:
     """The method states alike: the fallbacks' counts, v0's divisor, the detours' side and the
     detour being driven."""
     assert (ms.v0_div, ms.fallbacks, ms.detours, ms.detour_side) == (
@@ -354,13 +354,13 @@ def _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, si
             inp = path_step(py, c, now, xyhv, sonar, det, C.mg_task_follow_path)
             assert {k: v for k, v in _detail(c).items() if k in FALLBACK_KEYS} == {
                 k: ENCODER.encode(v) for k, v in py._detail.items() if k in FALLBACK_KEYS}
+            _same_fallbacks(c, ms, py)
             if "grasp_circle" in py._detail:  # the arrival on the circle, l_e of eq. (5)
                 assert _detail(c)["grasp_circle"] == ENCODER.encode(py._detail["grasp_circle"])
                 assert ms.circle_l_e_mm == py.ms.circle_l_e_mm
-            _ms_001(c, ms, py)
             if guard:
                 _guard_step(py, c, now, inp, xyhv)
-                _ms_001(c, ms, py)
+                _same_fallbacks(c, ms, py)
             assert rp.requests["c"] == rp.requests["py"]
             assert bool(ms.has_replanner) == (py.ms.replanner is not None)
             assert (tuple(ms.path_from_mm) if ms.has_path_from else None) == py.ms.path_from

@@ -76,7 +76,9 @@ typedef struct {
 
 #define MG_TASK_HIST 128   /* entries of the last second of arm targets and of base poses */
 #define MG_TASK_EVENTS 8   /* transitions in one step */
-#define MG_TASK_WHY 192    /* bytes of a transition's reason, its terminating 0 included */
+/* bytes of a transition's reason, its 0 included (the longest, 001's look not confirming an
+ * object out of reach, ~210) */
+#define MG_TASK_WHY 256
 #define MG_TASK_MS_BYTES 512 /* the largest method state */
 #define MG_TASK_NOTES 12       /* members of a step's trace detail */
 #define MG_TASK_NOTE_KEY 32    /* bytes of a member's key, its 0 included */

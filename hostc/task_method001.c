@@ -29,10 +29,13 @@ void mg_method001_ms_init(void *ms)
     ((mg_state001_t *)ms)->v0_div = 1;
 }
 
+static int32_t circle_l_e_mm(mg_task_t *t);
+
 void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void *ctx)
 {
     ms001(t)->rp = rp;
     ms001(t)->rp_ctx = ctx;
+    (void)circle_l_e_mm(t); /* at start-up: its scan of eq. (5) in no control step */
 }
 
 /* TaskParams.for_method("001"): 000's with 001's own (method001.py param_defaults) */
@@ -414,7 +417,8 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
 
 /* l_e of eq. (5) for the object's grasp point (planner_params_001's arm, grasp_height_mm):
  * (l_m + l_n) / 2 to the mm, as Python rounds it (no tie for grasp heights of 0-399 mm); 0
- * when out of reach. Once a run: a scan of eq. (5)'s grid. */
+ * when out of reach. Once a run, with the replanner: a scan of eq. (5)'s grid, start-up work
+ * (as the board replanner's l_e, config.c), not a control step's. */
 static int32_t circle_l_e_mm(mg_task_t *t)
 {
     mg_state001_t *ms = ms001(t);

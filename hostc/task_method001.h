@@ -108,6 +108,8 @@ typedef struct {
 
 void mg_method001_ms_init(void *ms);
 void mg_method001_params(mg_task_params_t *p);
+/* the replanner's calls and context; with them l_e of eq. (5) for the task's grasp height
+ * (the grasp circle's radius, its note at the arrival), computed here, at start-up */
 void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void *ctx);
 /* the object given and near, unseen: the camera on it, the base turned to face it for up to
  * MG_LOOK_FIRST_US before the first plan; 1 while looking */

@@ -1,7 +1,9 @@
-"""Method 001 in C (hostc/task_method001.c with the path approach of hostc/task_approach.c)
-against the Python (host/task/method001.py, approach.py): APPROACH step by step with the same
-sonar ranges and the same replanner outcomes give the same transitions, wheels, arm targets,
-paths, plans and charged planning time.
+"""Method 001 in C (hostc/task_method001.c with the path approach of hostc/task_approach.c and
+the grasp states of hostc/task_grasp.c) against the Python (host/task/method001.py,
+approach.py, grasp.py): APPROACH step by step with the same sonar ranges and the same
+replanner outcomes give the same transitions, wheels, arm targets, paths, plans and charged
+planning time; from the grasp circle on (the look back at the object, the grasp by eq. (11),
+LIFT's check) the whole steps give the same outputs and trace detail.
 
 The C's replanner is a declared interface (``mg_replanner001_t``): here both tasks are given the
 same scripted outcomes of the replanner's calls (method001.py ``start_001``, ``update_001``,
@@ -34,21 +36,22 @@ from test_hostc_task000 import (
     _inputs,
     _path_c,
     _path_py,
+    _plus,
     _pose,
     path_step,
     record_path_task,
     replay_path_task,
     start_approach,
 )
-from test_hostc_task_states import _detail, _step_both, enter_state
+from test_hostc_task_states import _detail, _step_both, assert_outputs, enter_state
 
 from mobigrasp import hostc
-from mobigrasp.host.app import jsonable
 from mobigrasp.host.budget import OpCounts
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.task import Task, TaskInputs, machine, method001
+from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
@@ -383,6 +386,18 @@ def _guard_step(py, c, now: int, inp, xyhv: tuple) -> None:
     assert _detail(c) == {k: ENCODER.encode(v) for k, v in py._detail.items()}
 
 
+@pytest.mark.parametrize("method", ["000", "001", "002"])
+def test_the_grasp_hooks_of_the_rows(method):
+    """The method table's rows after APPROACH: ROUGH_GRASP's look first (Method.sight_views,
+    its detector the dual "+") and the method's decision after it (look_decides), the
+    method's own where the Python's is."""
+    rules, r = C.mg_task_method_find(method.encode()), Task(method).rules
+    assert [tuple(v) for v in rules.sight_views[0:rules.n_sight_views]] == list(r.sight_views)
+    assert (rules.sight_result != FFI.NULL) == bool(r.sight_views)
+    own = type(r).look_decides is not Method.look_decides
+    assert (rules.look_decides != FFI.NULL) == own == (method == "001")
+
+
 def _ms001(c):
     return FFI.cast("mg_state001_t *", c.ms.bytes)
 
@@ -460,6 +475,40 @@ def test_steps_of_001_from_the_grasp_circle(obj, joints, sighted, offset, track,
     assert c.hist_overflow == 0
 
 
+@pytest.mark.parametrize(("pair", "grasp_height_mm", "arrived", "sighted", "why"), [
+    (None, 80, True, True, "(not seen by the look)"),
+    (None, 80, False, False, "never seen by the camera: searching before any grasp"),
+    ((150, 40, 170, 40, 300), 80, True, True, "(grasp point out of reach: out of reach"),
+    ((150, 200, 170, 200, 150), 40, True, True, "(no reachable pose above the grasp point)"),
+    ((150, 200, 170, 200, 150), 80, True, True, "gripper closed on the object")])
+def test_the_look_s_outcomes(pair, grasp_height_mm, arrived, sighted, why):
+    """The look from the grasp circle with the same dual "+" in every frame (or none), the
+    estimate it is to confirm kept at the object's: not seen (ADJUST; never seen before and
+    not arrived on the circle: LOST), seen out of reach, no pose above the grasp point (the
+    grasp height more than CIRCLE_PRE_MM under the top), confirmed (the grasp by eq. (11), the
+    gripper closed): the same steps on both tasks, the outcome's reason among the events."""
+    py = Task("001", params={"grasp_height_mm": grasp_height_mm})
+    c = _c_task(py, method="001")
+    enter_state(py, c, "ROUGH_GRASP", (300, 0), True, (0, -1571, 1571, 0), None, ())
+    py.object_sighted = c.object_sighted = sighted
+    ms = _ms001(c)
+    out = FFI.new("mg_task_outputs_t *")
+    dets = {} if pair is None else {"dual_plus": _plus(*[16 * v for v in pair[:4]], pair[4])}
+    whys = []
+    for k in range(1, 60):
+        if arrived and py.state == "ROUGH_GRASP":
+            py.ms.circle_expected, py.ms.circle_l_e_mm = py.obj, 306
+            ms.has_circle_expected, ms.circle_expected_mm, ms.circle_l_e_mm = 1, py.obj, 306
+        inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0, grasp_closed=py.phase == "close",
+                         detections=dets)
+        res = _step_both(py, c, k * 200_000, inp, out, _frame000)
+        assert _circle_c(c) == _circle_py(py)
+        whys += [e.why for e in res.events]
+        if py.state in ("SEARCH", "LIFT"):
+            break
+    assert any(why in w for w in whys), whys
+
+
 def _record001(mp, calls: list) -> None:
     """001's task's calls, and its replanner's (method001.py's calls of it)."""
     wrap = record_path_task(mp, calls)
@@ -535,13 +584,7 @@ def _replay001(calls: list) -> tuple[dict, list]:
     for now, inp, res in (r[1:] for r in calls[end + 1:] if r[0] == "step"):
         cin, _frame_kept = _c_step_inputs(inp)
         C.mg_task_step(c, now, cin, out)
-        where = (now, res.state, res.detail)
-        assert _events(c) == res.events, where
-        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
-                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
-                                               res.gripper_permille, res.state), where
-        assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}, \
-            where
+        where = assert_outputs(c, out, now, res)
         assert hostc.ops_tuple(c.path.ops) == res.ops.as_tuple(), where
         if states[-1] != res.state:
             states.append(res.state)

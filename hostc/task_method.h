@@ -27,6 +27,7 @@ typedef struct {
 } mg_fallback_t;
 #define MG_MAX_FALLBACKS 4
 #define MG_MAX_CHECKS 2 /* the grasp check's detectors */
+#define MG_MAX_SIGHT_VIEWS 8 /* the views of ROUGH_GRASP's look */
 
 typedef struct mg_task_method {
     const char *name;
@@ -83,6 +84,16 @@ typedef struct mg_task_method {
     int32_t (*grasp_ik)(const mg_arm_geometry_t *g, const int32_t target_q4[3],
                         mg_arm_pose_t *pose, int64_t *detail);
     int32_t lowers_hover;
+    /* ROUGH_GRASP first looks at the object from these (range mm, pitch down mrad), the first
+     * the arm reaches, the base standing still (Method.sight_views; none: the grasp goes on the
+     * estimate ADJUST ended with); the look's detector (the dual "+": this frame's result and
+     * its place); after the look the method's decision (1: the transition or the grasp pose
+     * made, Method.look_decides; NULL or 0: the common rule) */
+    int32_t n_sight_views;
+    int32_t sight_views[MG_MAX_SIGHT_VIEWS][2];
+    const void *(*sight_result)(const mg_task_inputs_t *in);
+    mg_task_position_fn sight_position;
+    int (*look_decides)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     void (*enter_precise)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     /* PRECISE_GRASP's spoke of this frame: 1 and its image angle (mrad) and width (whole px),
      * 0: none (NULL: the method aligns on nothing); no spoke for spoke_wait_us: 1 when the

@@ -164,8 +164,7 @@ static void json_per_m(mg_json_t *j, int64_t count)
     mg_json_raw(j, text, n + (size_t)digits);
 }
 
-/* a curve's control points (P0..P3 as x, y, t) as [[x, y, t] x 4] in m and s */
-static void json_ctrl(mg_json_t *j, const int32_t ctrl[12])
+void mg_method000_json_ctrl(mg_json_t *j, const int32_t ctrl[12])
 {
     mg_json_begin_array(j);
     for (int32_t k = 0; k < 4; k++) {
@@ -190,7 +189,7 @@ static void note_plan(mg_task_t *t, const mg_plan000_ctx_t *c, const mg_plan_out
     mg_json_begin_object(&j);
     if (o->has_path) {
         mg_json_key(&j, "best_ctrl");
-        json_ctrl(&j, pl->best_ctrl);
+        mg_method000_json_ctrl(&j, pl->best_ctrl);
     }
     mg_json_key(&j, "candidates");
     mg_json_int(&j, n_cand);
@@ -201,7 +200,7 @@ static void note_plan(mg_task_t *t, const mg_plan000_ctx_t *c, const mg_plan_out
     for (int32_t i = 0; i < n_cand; i += step) {
         int32_t ctrl[12];
         mg_plan000_ctrl(pl, i, ctrl);
-        json_ctrl(&j, ctrl);
+        mg_method000_json_ctrl(&j, ctrl);
     }
     mg_json_end_array(&j);
     if (o->has_path) {
@@ -319,9 +318,10 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
 }
 
 /* 000's vision-based adjustment (section III.B) from here */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why,
+                     const int32_t *error_mm)
 {
-    (void)in;
+    (void)in, (void)error_mm;
     mg_task_go(t, now_us, MG_ADJUST, why);
 }
 

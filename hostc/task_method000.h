@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "json.h"
 #include "kinematics.h"
 #include "plan000.h"
 #include "search.h"
@@ -137,5 +138,9 @@ int mg_method000_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs
 /* the path hooks of 000: plans once (again when the estimate moves), no sonar check, no
  * detour, the follower's wheels as they are */
 extern const mg_path_method_t mg_path000;
+
+/* a curve's control points (P0..P3 as x, y, t in the planners' 1/16 mm and 1/16 ms) as the
+ * trace's [[x, y, t] x 4] in m and s, as Python's repr prints them */
+void mg_method000_json_ctrl(mg_json_t *j, const int32_t ctrl[12]);
 
 #endif

@@ -143,6 +143,10 @@ class Method000(PathMethod):
     object_detectors = ("dual_plus", "radial_symbol")  # both are on the object's top
     grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
     keeps_sightings = True
+    # ADJUST from the search posture: eq. (10) with the scenario's gains (000 §IV: k_theta2 = 1,
+    # k_theta3 = k_theta4 = 0, theta2 alone) moves the joints, no jump on entry
+    adjust_keeps_posture = True
+    plus_on_top = True
 
     # --- SEARCH --------------------------------------------------------------------------------
     def found(self, t: Task, now: int, inp: TaskInputs, name: str, det: RadialSymbol) -> bool:

@@ -46,6 +46,8 @@ const mg_task_method_t mg_task_methods[] = {
      .guard_wheels = mg_sonar_guard_step,
      .lost_search = mg_method000_lost_search,
      .grasp_lost = mg_method000_grasp_lost,
+     .plus_on_top = 1,
+     .adjust_keeps_posture = 1,
      .search_back_off = mg_method000_search_back_off,
      /* SEARCH: the cut symbol is looked for when the symbol is not read */
      .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_RADIAL_CUT,

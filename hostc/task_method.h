@@ -113,6 +113,9 @@ typedef struct mg_task_method {
     } checks[MG_MAX_CHECKS];
     int32_t grasp_alpha_mrad;
     int32_t plus_on_top; /* both "+" placed where their rays meet the top (Method.plus_on_top) */
+    /* ADJUST starts from the posture it enters with, eq. (10) alone (1), or first puts the
+     * elbow and shoulder to the close-look posture (0; Method.adjust_keeps_posture) */
+    int32_t adjust_keeps_posture;
     /* the detectors each state runs (bits of MG_DET_*), the fallbacks among them, and the
      * frame of one vision job's results as the method's hooks read it (words[i]: detector i's
      * out words, NULL: nothing found or not run; into frame, MG_FRAME_BYTES) */

@@ -160,6 +160,12 @@ class Method000(PathMethod):
     object_detectors = ("dual_plus", "radial_symbol")  # both are on the object's top
     grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
     keeps_sightings = True
+    # ADJUST from the search posture: eq. (10) with the scenario's gains (000 §IV: k_theta2 = 1,
+    # k_theta3 = k_theta4 = 0, theta2 alone) moves the joints, no jump on entry
+    adjust_keeps_posture = True
+    # from the search posture the "+" pair lies along the view: at the detector's one depth it
+    # comes out ~21 mm apart (refused), on the top's plane 47.3 mm, and the hover goes over one
+    plus_on_top = True
 
     # --- SEARCH --------------------------------------------------------------------------------
     def found(self, t: Task, now: int, inp: TaskInputs, name: str, det: RadialSymbol) -> bool:

@@ -237,6 +237,7 @@ class Method001(Method000):
     # 001 comes at the object from any side: the "+" pair is often seen along the view, where
     # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
     plus_on_top = True
+    adjust_keeps_posture = False  # the long arm looks from the close-look posture
     # ADJUST ends on odometry (blind_finish_mm): near, the long arm's camera is over the card
     # and loses the pair. The base stopped, the camera looks back at the top from 140-200 mm
     # (reachable views, first wins), where the pair fits the frame, and the grasp goes on that

@@ -263,6 +263,8 @@ def test_the_rows_of_000_and_001(method):
     assert rules.adjust_is_object == (r.adjust_detector in r.object_detectors)
     assert "radial_symbol" in r.object_detectors  # the C's radial sighting is the object's
     assert rules.grasp_alpha_mrad == r.grasp_alpha_mrad
+    assert (rules.adjust_keeps_posture, rules.plus_on_top) == (r.adjust_keeps_posture,
+                                                               r.plus_on_top)
     assert C.mg_method000_lowers_hover() == r.lowers_hover()
     for top in (0, 1):
         assert rules.look_height_mm(FFI.addressof(c, "p"), top) == r.look_height_mm(py.p, top)
@@ -490,12 +492,14 @@ PLUSES = st.none() | st.builds(_plus, PX_U, PX_V, PX_U, PX_V, st.integers(-50, 1
 @SETTINGS
 @given(st.tuples(NEAR, NEAR), st.tuples(*[ANGLE] * 4),
        st.lists(st.tuples(st.sampled_from([20_000, 500_000, 1_600_000]) | st.integers(1, 10**6),
-                          PLUSES, RADIALS, POSES), max_size=30))
-def test_the_adjust_of_000(obj, joints, steps):
-    """ADJUST of 000 step by step: the dual "+", or the radial symbol when no "+" were seen,
-    updates the estimate; the close approach to grasp_r_mm, the posture adjustment, LOST when
-    unseen, ROUGH_GRASP."""
-    py, c = Task("000"), _c_task()
+                          PLUSES, RADIALS, POSES), max_size=30),
+       st.sampled_from([(4096, 0, 0), (4096, 2048, 1024), (0, 4096, 4096)]))
+def test_the_adjust_of_000(obj, joints, steps, k_theta_q12):
+    """ADJUST of 000 step by step from the posture it enters with: the dual "+", or the radial
+    symbol when no "+" were seen, updates the estimate; the close approach to grasp_r_mm, the
+    posture adjustment by eq. (10) with the gains given, LOST when unseen, ROUGH_GRASP."""
+    py = Task("000", {"posture": {"k_theta_q12": k_theta_q12}})
+    c = _c_task(py)
     py.arm[2:6] = c.arm[2:6] = list(joints)
     py.obj = obj
     c.has_obj, c.obj_mm = 1, obj

@@ -34,6 +34,11 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
                            const void *frame, mg_task_inputs_t *in);
 
 #define MG_BOARD_BEHIND_MM_Q4 2400   /* the cylinder stands this far before the board */
+/* the board seen at least this far off its face (sine, Q12: 30 degrees): the cylinder placed in
+ * its plane (host/vision/double_cross.py OBLIQUE_SIN_Q12) */
+#define MG_OBLIQUE_SIN_Q12 2048
+#define MG_OBLIQUE_AXIS_RATIO 4 /* ... and the place at most atan 4 off the camera's axis */
+#define MG_OBLIQUE_LEVEL_RATIO 4 /* ... and the crosses' rows within 1/4 of their columns */
 #define MG_RED_CYL_HEIGHT_MM_Q4 1920 /* 120 mm: the cylinder's height (docs/markers.md) */
 
 /* the out words of each kernel: mg_double_cross (u1, v1, u2, v2, um, vm, d_pixel, e, votes1,
@@ -48,6 +53,7 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
  * mg_dual_plus (u1, v1, u2, v2, d_pixel, d_eff, dist, dist_raw, x_oc, y_oc, z_oc), mg_spoke
  * (u_c, v_c, slope, angle, width, n_points, then n_points (u, v) pairs, at most 10) */
 #define MG_RADIAL_SYMBOL_WORDS 6
+#define MG_RADIAL_CUT_WORDS 5 /* mg_radial_cut: x, y, w, h, side */
 #define MG_DUAL_PLUS_WORDS 11
 #define MG_SPOKE_WORDS 26
 
@@ -63,7 +69,7 @@ int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_si
  * (its midpoint at the depth dist_mm, both "+"), the spoke's angle and width, the colour
  * filling the frame */
 void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
-                    const int32_t *spoke, const int32_t *fill);
+                    const int32_t *spoke, const int32_t *fill, const int32_t *cut);
 
 /* 002's frame of one vision job's results (NULL: the detector found nothing or did not run);
  * f_px: the camera's */
@@ -76,6 +82,7 @@ size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, 
 size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap);
 size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap);
 size_t mg_radial_symbol_json(const int32_t rs[MG_RADIAL_SYMBOL_WORDS], char *out, size_t cap);
+size_t mg_radial_cut_json(const int32_t rc[MG_RADIAL_CUT_WORDS], char *out, size_t cap);
 size_t mg_dual_plus_json(const int32_t dp[MG_DUAL_PLUS_WORDS], char *out, size_t cap);
 size_t mg_spoke_json(const int32_t sp[MG_SPOKE_WORDS], char *out, size_t cap);
 

@@ -207,3 +207,18 @@ def test_both_checks_catch_an_armv5te_build():
     v5 = subprocess.run(["qemu-arm", "-cpu", "arm926", str(elf), "--self-test"],
                         capture_output=True, timeout=120)
     assert v5.returncode == 0
+
+
+def test_the_elf_is_built_again_when_a_file_it_is_made_of_changes(tmp_path):
+    """The cached ELF's key covers hostc/, the protocol codec it links (firmware/protocol/)
+    and the Makefile: a change to any of them is a new key."""
+    for part in ("hostc", "firmware/protocol"):
+        shutil.copytree(ROOT / part, tmp_path / part)
+    shutil.copy(ROOT / "Makefile", tmp_path / "Makefile")
+    keys = {armhost.source_hash(tmp_path)}
+    assert armhost.source_hash(tmp_path) in keys  # the same files, the same key
+    for changed in ("hostc/app.c", "firmware/protocol/cobs.c", "Makefile"):
+        with (tmp_path / changed).open("a") as f:
+            f.write("\n")
+        keys.add(armhost.source_hash(tmp_path))
+    assert len(keys) == 4

@@ -86,15 +86,7 @@ def test_after_a_near_sighting_a_lost_marker_is_lost_not_followed_blind():
 def test_big_crosses_end_the_approach_even_without_the_cylinder():
     # the board near and centred (crosses 100 px apart: board ~0.45 m, cylinder ~0.3 m) while
     # the cylinder is below the level look: the crosses place it, ADJUST takes over
-    task = Task("002")
-    task.go(0, "APPROACH", "test: marker seen")
-    dc = det.double_cross(160 * 16, 120 * 16, 100 * 16)
-    out = None
-    for k in range(1, 20):
-        out = task.step(k * 20_000, TaskInputs(detections={"double_cross": dc,
-                                                             "red_cylinder": None}))
-        if out.state != "APPROACH":
-            break
+    out = _crosses_in_view(det.double_cross(160 * 16, 120 * 16, 100 * 16), 20)
     assert out.state == "ADJUST"
     assert any("crosses 100 px apart" in ev.why for ev in out.events)
     # the same crosses 40 px apart (~1.1 m): the approach goes on (for fewer frames than end
@@ -111,20 +103,26 @@ def test_big_crosses_end_the_approach_even_without_the_cylinder():
 def _near_pair_state(v2_rows_q4: int) -> str:
     """APPROACH's state after frames of a pair of "crosses" 88 px apart (in spacing) whose right
     one stands ``v2_rows_q4`` lower than the left, the cylinder not seen."""
-    task = Task("002")
-    task.go(0, "APPROACH", "test: marker seen")
     d_q4 = 88 * 16
     du = isqrt(d_q4 * d_q4 - v2_rows_q4 * v2_rows_q4)
     pair = DoubleCrossResult(160 * 16 - du // 2, 120 * 16, 160 * 16 + du // 2,
                              120 * 16 + v2_rows_q4, 160 * 16, 120 * 16 + v2_rows_q4 // 2, d_q4,
                              0, (3, 3))
+    return _crosses_in_view(pair, 10).state
+
+
+def _crosses_in_view(dc, steps: int):
+    """APPROACH's output after up to ``steps`` - 1 frames of the crosses ``dc``, no cylinder
+    seen, stopping at the first step that leaves APPROACH."""
+    task = Task("002")
+    task.go(0, "APPROACH", "test: marker seen")
     out = None
-    for k in range(1, 10):
-        out = task.step(k * 20_000, TaskInputs(detections={"double_cross": pair,
+    for k in range(1, steps):
+        out = task.step(k * 20_000, TaskInputs(detections={"double_cross": dc,
                                                              "red_cylinder": None}))
         if out.state != "APPROACH":
             break
-    return out.state
+    return out
 
 
 def test_a_near_pair_far_from_level_does_not_end_the_approach():

@@ -214,7 +214,11 @@ static void finish_vision(mg_app_t *app, int64_t now_us)
     app->vision_busy = 0;
     app->has_detections = 1;
     app->detections_of = app->job_detectors;
-    memcpy(app->detections, app->job_results, sizeof app->detections);
+    /* the task reads the slots of the detectors that ran (present), before the next job
+     * writes job_results again: only those are handed over */
+    for (int32_t i = 0; i < app->n_detectors; i++)
+        if (app->job_detectors >> i & 1u)
+            memcpy(&app->detections[i], &app->job_results[i], sizeof app->detections[i]);
     event_t e;
     event_begin(app, &e);
     key_int(&e, "arm9_us", app->job_arm9_us);

@@ -18,6 +18,9 @@
 
 typedef uint32_t __attribute__((may_alias)) word_t;
 
+/* below this many bytes a plain byte loop is cheaper than the alignment steps */
+#define SHORT_BYTES 16u
+
 static inline uintptr_t misalign(const void *p)
 {
     return (uintptr_t)p & 3u;
@@ -56,13 +59,26 @@ static inline NO_LIBCALL void words_forward(unsigned char *d, const unsigned cha
         *d++ = *s++;
 }
 
+/* forward from the destination's first word boundary on; out of line, so that the short copies
+ * (most calls: a character, a table row) take the byte loop without its registers' saving */
+static __attribute__((noinline)) NO_LIBCALL void copy_forward(unsigned char *d,
+                                                              const unsigned char *s, size_t n)
+{
+    for (; n > 0 && misalign(d) != 0; n--)
+        *d++ = *s++;
+    words_forward(d, s, n);
+}
+
 NO_LIBCALL void *memcpy(void *restrict dst, const void *restrict src, size_t n)
 {
     unsigned char *d = dst;
     const unsigned char *s = src;
-    for (; n > 0 && misalign(d) != 0; n--)
+    if (n >= SHORT_BYTES) {
+        copy_forward(d, s, n);
+        return dst;
+    }
+    while (n--)
         *d++ = *s++;
-    words_forward(d, s, n);
     return dst;
 }
 
@@ -73,9 +89,12 @@ NO_LIBCALL void *memmove(void *dst, const void *src, size_t n)
     if (d == s || n == 0)
         return dst;
     if (d < s || d >= s + n) { /* forward: every byte is read before it is written over */
-        for (; n > 0 && misalign(d) != 0; n--)
+        if (n >= SHORT_BYTES) {
+            copy_forward(d, s, n);
+            return dst;
+        }
+        while (n--)
             *d++ = *s++;
-        words_forward(d, s, n);
         return dst;
     }
     /* d inside the source, after it: backward, by words when both end on the same alignment */
@@ -97,6 +116,11 @@ NO_LIBCALL void *memmove(void *dst, const void *src, size_t n)
 NO_LIBCALL void *memset(void *dst, int c, size_t n)
 {
     unsigned char *d = dst;
+    if (n < SHORT_BYTES) {
+        while (n--)
+            *d++ = (unsigned char)c;
+        return dst;
+    }
     for (; n > 0 && misalign(d) != 0; n--)
         *d++ = (unsigned char)c;
     const uint32_t v = 0x01010101u * (unsigned char)c;

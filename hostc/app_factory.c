@@ -6,14 +6,58 @@
 #include "arm_calib.h"
 #include "fixedpoint.h"
 #include "json.h"
+#include "ranging.h"
+
+/* the cylinder BOARD_BEHIND before the board's face along its normal, the board's plane from
+ * the crosses' depth ratio Z1 : Z2 = (u2 - um) : (um - u1) (um weighted by the depths), the
+ * crosses scaled 130 mm apart in the camera's level plane; 0 when the board is seen less than
+ * MG_OBLIQUE_SIN_Q12 off its face, the pair is far from level (rows apart more than 1 /
+ * MG_OBLIQUE_LEVEL_RATIO of the columns), its plane is not known or the place is behind the
+ * camera or more than MG_OBLIQUE_AXIS_RATIO : 1 aside
+ * (host/vision/double_cross.py oblique_sighting) */
+static int oblique_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
+                            mg_sighting_t *s)
+{
+    const int64_t u0 = 16 * MG_U0_PX, f = 16 * (int64_t)f_px;
+    const int64_t a = (int64_t)dc[2] - dc[4], b = (int64_t)dc[4] - dc[0];
+    const int64_t dv = (int64_t)dc[3] - dc[1];
+    int64_t x1, z1, x2, z2, dx, dz, span, mx, mz, nx, nz, cross, cx, cz;
+    if (a <= 0 || b <= 0 || MG_OBLIQUE_LEVEL_RATIO * (dv < 0 ? -dv : dv) > a + b)
+        return 0; /* not the board's crosses side by side */
+    x1 = a * (dc[0] - u0), z1 = a * f;
+    x2 = b * (dc[2] - u0), z2 = b * f;
+    dx = x2 - x1, dz = z2 - z1;
+    span = mg_isqrt(dx * dx + dz * dz);
+    if (span <= 0)
+        return 0;
+    mx = mg_floor_div(MG_CROSS_SPACING_MM_Q4 * (x1 + x2), 2 * span);
+    mz = mg_floor_div(MG_CROSS_SPACING_MM_Q4 * (z1 + z2), 2 * span);
+    nx = mg_floor_div(-dz * MG_ONE_Q12, span), nz = mg_floor_div(dx * MG_ONE_Q12, span);
+    if (nx * mx + nz * mz > 0)
+        nx = -nx, nz = -nz; /* the face toward the camera */
+    cross = nx * mz - nz * mx;
+    if ((cross < 0 ? -cross : cross) < MG_OBLIQUE_SIN_Q12 * mg_isqrt(mx * mx + mz * mz))
+        return 0;
+    cx = mx + mg_floor_div(MG_BOARD_BEHIND_MM_Q4 * nx, MG_ONE_Q12);
+    cz = mz + mg_floor_div(MG_BOARD_BEHIND_MM_Q4 * nz, MG_ONE_Q12);
+    if (cz <= 0 || (cx < 0 ? -cx : cx) > MG_OBLIQUE_AXIS_RATIO * cz)
+        return 0; /* behind the camera or far aside: the frontal model */
+    s->u_q4 = (int32_t)(u0 + mg_floor_div(f * cx, cz));
+    s->v_q4 = dc[5];
+    s->depth_mm_q4 = (int32_t)cz;
+    return 1;
+}
 
 int mg_double_cross_sighting(const int32_t dc[MG_DOUBLE_CROSS_WORDS], int32_t f_px,
                              mg_sighting_t *s)
 {
-    /* the cylinder in front of the board: the marker centre at the board's depth
-     * spacing f / d_pixel less BOARD_BEHIND (host/vision/double_cross.py sighting) */
+    /* the cylinder in front of the board: placed in its plane when it is seen obliquely,
+     * else the marker centre at the board's depth spacing f / d_pixel less BOARD_BEHIND
+     * (host/vision/double_cross.py sighting) */
     if (dc[6] <= 0)
         return 0;
+    if (oblique_sighting(dc, f_px, s))
+        return 1;
     s->u_q4 = dc[4];
     s->v_q4 = dc[5];
     s->depth_mm_q4 = (int32_t)((int64_t)MG_CROSS_SPACING_MM_Q4 * f_px * 16 / dc[6]

@@ -34,6 +34,11 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
                            const void *frame, mg_task_inputs_t *in);
 
 #define MG_BOARD_BEHIND_MM_Q4 2400   /* the cylinder stands this far before the board */
+/* the board seen at least this far off its face (sine, Q12: 30 degrees): the cylinder placed in
+ * its plane (host/vision/double_cross.py OBLIQUE_SIN_Q12) */
+#define MG_OBLIQUE_SIN_Q12 2048
+#define MG_OBLIQUE_AXIS_RATIO 4 /* ... and the place at most atan 4 off the camera's axis */
+#define MG_OBLIQUE_LEVEL_RATIO 4 /* ... and the crosses' rows within 1/4 of their columns */
 #define MG_RED_CYL_HEIGHT_MM_Q4 1920 /* 120 mm: the cylinder's height (docs/markers.md) */
 
 /* the out words of each kernel: mg_double_cross (u1, v1, u2, v2, um, vm, d_pixel, e, votes1,

@@ -88,7 +88,8 @@ def answer(summary: dict) -> list[tuple[str, str]]:
         ("task", f"{summary.get('task_state')} ({summary.get('end_reason')})"),
         ("time to grasp", _fmt(summary.get("time_to_grasp_s"), " s simulated")),
         ("final error", _fmt(summary.get("final_error_mm"), " mm", 1)),
-        ("contacts", f"{_fmt(contacts)} with obstacles ({_fmt(summary.get('contact_time_s'))} s),"
+        ("contacts", f"{_fmt(contacts)} ({_fmt(summary.get('contact_time_s'))} s): "
+                     f"{_fmt(summary.get('contacts_obstacle'))} with obstacles and marker posts,"
                      f" {_fmt(target)} with the target; least clearance "
                      f"{_fmt(summary.get('min_clearance_m'), ' m', 3)}"),
         ("path updates", f"{_fmt(summary.get('path_updates'))}; longest stand-still "

@@ -3,9 +3,11 @@
  *
  * Built with the machine's gcc and loaded with cffi (mcu_sim/simavr/build.py). The caller
  * puts host bytes on USART0's RX line (sh_line_put) and quadrature counts on the encoder pins
- * (sh_enc_set), runs the core to its next event (sh_advance: the line's bytes and the encoder
- * edges before it are handed over here, each at its cycle, one core run per event time), sets
- * other input pins at the cycles it chooses, and takes what happened: bytes sent on TX (with
+ * (sh_enc_set), queues other input pin levels at the cycles it chooses (sh_pin_at), runs the
+ * core to its next time (sh_advance_to: the line's bytes, the queued levels and the encoder
+ * edges before it are handed over here, each at its cycle, one core run per event time; one
+ * call per coupling step, the wheel duties and what waits to be taken reported at its end),
+ * and takes what happened: bytes sent on TX (with
  * the cycle their stop bit left), sonar trigger pulses, Timer1 period starts with the
  * OCRnx/ICRn values latched there. No wall-clock pacing: a sleeping core goes straight to its next cycle timer
  * (a peripheral's next event, or the target, where a cycle timer wakes it), and the sleep
@@ -41,6 +43,7 @@ DEFINE_FIFO(uint16_t, uart_fifo);
 #define PAINT 0xA5u
 #define RAM_START 0x100u
 #define VECTORS 35u
+#define PINQ_MAX 256u
 
 /* One wheel's quadrature edges still to come: edge k (1..n) at start + span*k/n when spread,
  * else start + SH_INSTANT_EDGE_CYCLES*k, the count then pos0 + dir*k. */
@@ -50,6 +53,11 @@ typedef struct {
     uint32_t n, k;
     int dir, spread;
 } enc_t;
+
+typedef struct {
+    uint64_t cycle;
+    uint8_t port, bit, level;
+} pin_level_t;
 
 struct sh {
     avr_t *avr;
@@ -113,6 +121,9 @@ struct sh {
     uint64_t t1_ovf_cycle;
     uint16_t rx_tail_addr, tx_head_addr, tx_tail_addr, next_tel_addr, tel_hz_addr;
     int rx_unanswered;
+    /* input pin levels to come (sh_pin_at), by cycle, in the order given at one cycle */
+    pin_level_t pinq[PINQ_MAX];
+    uint32_t pinq_n;
 };
 
 /* simavr's messages (ELF sections loaded, UART settings) would go to the run's stdout. */
@@ -406,11 +417,13 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
     sh->tel_hz_addr = telemetry_hz;
 }
 
-static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_before)
+/* The profile's bookkeeping after an instruction whose I flag, PC or SP may change what it
+ * holds (sh_run_to takes the others on its fast path): interrupt entries and exits, the
+ * interrupts-off stretches, main-loop passes and the lowest stack pointer. */
+static void watch_core(sh_t *sh, uint64_t before, uint32_t pc_before, uint8_t ie, uint16_t sp)
 {
     avr_t *avr = sh->avr;
     uint64_t now = avr->cycle;
-    uint8_t ie = avr->sreg[S_I];
     /* interrupt entry: the PC lands on a vector with I cleared */
     if (!sh->in_isr && !ie && avr->pc < VECTORS * 4u && avr->pc != 0) {
         sh->in_isr = 1;
@@ -439,7 +452,6 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
         sh->ioff_start = before;
         sh->ioff_pc = sh->in_isr ? (uint32_t)avr->pc : pc_before;
     }
-    uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
     /* one main-loop pass: fw_loop's entry to its return (ISRs that hit it included) */
     if (sh->loop_addr && !sh->in_loop && avr->pc == sh->loop_addr) {
         sh->in_loop = 1;
@@ -457,37 +469,57 @@ static inline void after_instruction(sh_t *sh, uint64_t before, uint32_t pc_befo
     if (sh->seen_sei && (sh->prof.sp_min == 0 || sp < sh->prof.sp_min)) {
         sh->prof.sp_min = sp;
     }
-    /* asleep with the USART and the RX ring empty: the main loop has handled (and answered)
-     * every byte received so far, since it sleeps only when no work is pending */
-    if (sh->rx_unanswered && avr->state == cpu_Sleeping && sh->uart && sh->rx_tail_addr &&
-        uart_fifo_isempty(&sh->uart->input) &&
+}
+
+/* After an instruction that left the core asleep: with the USART and the RX ring empty, the
+ * main loop has handled (and answered) every byte received so far, since it sleeps only when
+ * no work is pending. */
+static void watch_answered(sh_t *sh)
+{
+    const avr_t *avr = sh->avr;
+    if (sh->uart && sh->rx_tail_addr && uart_fifo_isempty(&sh->uart->input) &&
         avr->data[sh->rx_head_addr] == avr->data[sh->rx_tail_addr]) {
         sh->rx_unanswered = 0;
     }
-    /* a byte reached the RX ring (or was counted as a ring overrun); only a byte handed to the
-     * USART moves either, so nothing is read while none is awaited */
-    if (sh->rx_head_addr && (sh->rxq_n || sh->rxq_untimed)) {
-        uint8_t head = avr->data[sh->rx_head_addr];
-        uint32_t over;
-        memcpy(&over, avr->data + sh->rx_over_addr, 4);
-        unsigned moved = ((uint8_t)(head - sh->rx_head_last) & (RX_RING_BYTES - 1u)) +
-                         (over - sh->rx_over_last);
-        sh->rx_head_last = head;
-        sh->rx_over_last = over;
-        while (moved && sh->rxq_untimed) {
-            moved--;
-            sh->rxq_untimed--;
-        }
-        while (moved-- && sh->rxq_n) {
-            uint64_t stop = sh->rxq[sh->rxq_head];
-            sh->rxq_head = (sh->rxq_head + 1u) % RXQ_MAX;
-            sh->rxq_n--;
-            uint64_t lat = now > stop ? now - stop : 0;
-            if (lat > sh->prof.rx_latency_max_cycles) {
-                sh->prof.rx_latency_max_cycles = (uint32_t)lat;
-            }
+}
+
+/* Whether a byte handed to the USART is awaited in the RX ring (the latency's queue). */
+static inline int rx_awaited(const sh_t *sh)
+{
+    return sh->rx_head_addr && (sh->rxq_n || sh->rxq_untimed);
+}
+
+/* After an instruction while a byte is awaited: a byte reached the RX ring (or was counted as
+ * a ring overrun), its latency from its stop bit counted; only a byte handed to the USART
+ * moves either, so nothing is read while none is awaited. Returns rx_awaited after it. */
+static inline int watch_rx_latency(sh_t *sh)
+{
+    const avr_t *avr = sh->avr;
+    uint8_t head = avr->data[sh->rx_head_addr];
+    uint32_t over;
+    memcpy(&over, avr->data + sh->rx_over_addr, 4);
+    if (head == sh->rx_head_last && over == sh->rx_over_last) {
+        return 1;
+    }
+    unsigned moved = ((uint8_t)(head - sh->rx_head_last) & (RX_RING_BYTES - 1u)) +
+                     (over - sh->rx_over_last);
+    sh->rx_head_last = head;
+    sh->rx_over_last = over;
+    while (moved && sh->rxq_untimed) {
+        moved--;
+        sh->rxq_untimed--;
+    }
+    uint64_t now = avr->cycle;
+    while (moved-- && sh->rxq_n) {
+        uint64_t stop = sh->rxq[sh->rxq_head];
+        sh->rxq_head = (sh->rxq_head + 1u) % RXQ_MAX;
+        sh->rxq_n--;
+        uint64_t lat = now > stop ? now - stop : 0;
+        if (lat > sh->prof.rx_latency_max_cycles) {
+            sh->prof.rx_latency_max_cycles = (uint32_t)lat;
         }
     }
+    return rx_awaited(sh);
 }
 
 /* simavr 1.6 derives USART0's byte time when UBRRnL is written, counting a parity bit always
@@ -548,6 +580,13 @@ int sh_run_to(sh_t *sh, uint64_t target)
         sh->timer_armed = target;
     }
     const int raw = avr->run == avr_callback_run_raw;
+    /* watch_core's fast path: an instruction after which the I flag is what watch_core last
+     * saw, the PC is outside the vectors and off fw_loop's entry, and the SP within
+     * [sp_lo, sp_hi] (not below the lowest seen once counted, not above a pass's start) changes
+     * nothing it holds. The first instruction of a run is always watched. */
+    uint8_t last_ie = 2;
+    uint32_t sp_lo = 0, sp_hi = 0;
+    int rx = rx_awaited(sh); /* only sh_uart_in, between runs, adds an awaited byte */
     while (avr->cycle < target) {
         uint64_t before = avr->cycle;
         uint32_t pc_before = avr->pc;
@@ -561,7 +600,21 @@ int sh_run_to(sh_t *sh, uint64_t target)
         if (state == cpu_Done || state == cpu_Crashed) {
             return SH_CRASHED;
         }
-        after_instruction(sh, before, pc_before);
+        uint8_t ie = avr->sreg[S_I];
+        uint16_t sp = (uint16_t)(avr->data[R_SPL] | (avr->data[R_SPH] << 8));
+        if (ie != last_ie || avr->pc < VECTORS * 4u || avr->pc == sh->loop_addr || sp < sp_lo ||
+            sp > sp_hi) {
+            watch_core(sh, before, pc_before, ie, sp);
+            last_ie = ie;
+            sp_lo = !sh->seen_sei ? 0u : sh->prof.sp_min ? sh->prof.sp_min : 0x10000u;
+            sp_hi = sh->in_loop ? sh->loop_sp : 0xFFFFu;
+        }
+        if (rx) {
+            rx = watch_rx_latency(sh);
+        }
+        if (state == cpu_Sleeping && sh->rx_unanswered) {
+            watch_answered(sh);
+        }
         if (sh->stop) {
             return SH_STOPPED;
         }
@@ -677,6 +730,76 @@ void sh_pin(sh_t *sh, uint8_t port, uint8_t bit, uint8_t level)
     avr_raise_irq(sh->pins[port][bit & 7u], level ? 1u : 0u);
 }
 
+int sh_pin_at(sh_t *sh, uint64_t cycle, uint8_t port, uint8_t bit, uint8_t level)
+{
+    if (sh->pinq_n >= PINQ_MAX || port >= 7u) {
+        return 0;
+    }
+    uint32_t i = sh->pinq_n;
+    while (i > 0 && sh->pinq[i - 1u].cycle > cycle) {
+        sh->pinq[i] = sh->pinq[i - 1u];
+        i--;
+    }
+    sh->pinq[i].cycle = cycle;
+    sh->pinq[i].port = port;
+    sh->pinq[i].bit = bit;
+    sh->pinq[i].level = level;
+    sh->pinq_n++;
+    return 1;
+}
+
+/* Signed duties (left, right), -255..255: OCR0/OCR2 while Timer0/Timer2 run, the sign from
+ * the direction pins PA0/PA1 (data-space addresses of the ATmega128's register summary). */
+void sh_wheel_duty(const sh_t *sh, int16_t duty[2])
+{
+    static const uint8_t ocr[2] = {0x51, 0x43}, tccr[2] = {0x53, 0x45};
+    const uint8_t *d = sh->avr->data;
+    for (int side = 0; side < 2; side++) {
+        int16_t v = (d[tccr[side]] & 7u) ? d[ocr[side]] : 0;
+        duty[side] = (int16_t)(((d[0x3B] >> side) & 1u) ? -v : v);
+    }
+}
+
+/* Run to `target`: sh_advance between the queued pin levels, each applied at its cycle (after
+ * the RX line's bytes due by then, before the encoder edges). Returns SH_STOPPED at a sonar
+ * trigger (the caller schedules its echo with sh_pin_at and calls again) or SH_CRASHED with
+ * nothing applied, else SH_REACHED with `out` filled for the cycle reached. */
+int sh_advance_to(sh_t *sh, uint64_t target, sh_outputs_t *out)
+{
+    for (;;) {
+        uint64_t nxt = target;
+        if (sh->pinq_n && sh->pinq[0].cycle < nxt) {
+            nxt = sh->pinq[0].cycle;
+        }
+        int rc = sh_advance(sh, nxt);
+        if (rc != SH_REACHED) {
+            return rc;
+        }
+        uint64_t now = sh->avr->cycle > nxt ? sh->avr->cycle : nxt;
+        uint32_t k = 0;
+        while (k < sh->pinq_n && sh->pinq[k].cycle <= now) {
+            sh_pin(sh, sh->pinq[k].port, sh->pinq[k].bit, sh->pinq[k].level);
+            k++;
+        }
+        if (k) {
+            sh->pinq_n -= k;
+            memmove(sh->pinq, sh->pinq + k, sh->pinq_n * sizeof sh->pinq[0]);
+        }
+        sh_enc_apply(sh, now);
+        if (nxt >= target) {
+            break;
+        }
+    }
+    sh_wheel_duty(sh, out->duty);
+    out->periods = sh->per_n;
+    uint32_t due = 0;
+    while (due < sh->tx_n && sh->tx_cycle[due] <= sh->avr->cycle) {
+        due++;
+    }
+    out->tx_due = due;
+    return SH_REACHED;
+}
+
 int sh_uart_in(sh_t *sh, uint8_t byte)
 {
     /* The part holds two received bytes (UDR's FIFO) plus the one in the shift register;
@@ -771,7 +894,8 @@ uint32_t sh_rx_unread(const sh_t *sh)
 }
 
 /* *cycle: a cycle through which no byte the firmware sends can finish leaving TX0, provided
- * nothing more is received: now while a byte is leaving or queued, while a received byte may be
+ * nothing more is received: 0 (the caller's now) while host bytes are on the RX line, now
+ * while a byte is leaving or queued, while a received byte may be
  * unanswered (the core has not slept since it came: the main loop sleeps only when it has
  * handled every byte, and every message but the telemetry answers a frame), before the
  * start-up's end or Timer1's first overflow; else the next telemetry time (fw/program.c), in
@@ -782,6 +906,10 @@ int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle)
     const avr_t *avr = sh->avr;
     const uint8_t *d = avr->data;
     uint64_t now = avr->cycle;
+    if (sh->line_n) { /* bytes on the RX line either way: the caller's now */
+        *cycle = 0;
+        return 1;
+    }
     *cycle = now;
     if (!sh->next_tel_addr || !sh->seen_sei || !sh->t1_ovf_n || sh->rx_unanswered ||
         !sh->uart || !uart_fifo_isempty((uart_fifo_t *)&sh->uart->input) ||

@@ -27,6 +27,14 @@ typedef struct {
     uint32_t loop_count;
 } sh_profile_t;
 
+/* What the rig reads after each sh_advance_to: the wheels' signed duties (sh_wheel_duty),
+ * the Timer1 period starts and the sent bytes (their stop bit gone) waiting to be taken. */
+typedef struct {
+    int16_t duty[2];
+    uint32_t periods;
+    uint32_t tx_due;
+} sh_outputs_t;
+
 typedef struct sh sh_t;
 
 sh_t *sh_new(const char *elf_path, uint16_t rx_head_addr, uint16_t rx_over_addr,
@@ -43,6 +51,9 @@ void sh_set_idle_addrs(sh_t *sh, uint16_t rx_tail, uint16_t tx_head, uint16_t tx
 int sh_tx_idle_through(const sh_t *sh, uint64_t *cycle);
 int sh_run_to(sh_t *sh, uint64_t target);
 int sh_advance(sh_t *sh, uint64_t limit);
+int sh_advance_to(sh_t *sh, uint64_t target, sh_outputs_t *out);
+int sh_pin_at(sh_t *sh, uint64_t cycle, uint8_t port, uint8_t bit, uint8_t level);
+void sh_wheel_duty(const sh_t *sh, int16_t duty[2]);
 int sh_line_init(sh_t *sh, uint32_t capacity);
 uint32_t sh_line_put(sh_t *sh, uint64_t start, const uint8_t *bytes, uint32_t n);
 uint32_t sh_line_pending(const sh_t *sh);

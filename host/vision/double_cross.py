@@ -454,18 +454,66 @@ def detect_double_cross(rgb: np.ndarray, yaw_mrad: int = 0, pitch_mrad: int = 0,
 # apart, the cylinder's axis 150 mm in front of the board's centre
 CROSS_SPACING_MM_Q4 = 130 * 16
 BOARD_BEHIND_MM_Q4 = 150 * 16
+# the board seen at least this far off its face (the sine of the angle between its normal and
+# the line of sight, Q12: 30 degrees): the cylinder is placed in the board's plane from the two
+# crosses' depths (:func:`sighting`); nearer its face the frontal model (docs/task.md)
+OBLIQUE_SIN_Q12 = 2048
+OBLIQUE_AXIS_RATIO = 4  # ... and the cylinder placed at most atan 4 (76 degrees) off the axis
+# ... and the crosses side by side: their rows differ by at most 1/4 of their columns (the board
+# upright, the camera level; a pair far from level is not the board's two crosses)
+OBLIQUE_LEVEL_RATIO = 4
 
 
 def sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
-    """The cylinder in front of the board: the marker centre (Q4 px) at the board's depth
-    ``spacing f / d_pixel`` less BOARD_BEHIND (Q4 mm), the task's target (host/task/sense.py).
-    The board faces the robot, so the cylinder is about BOARD_BEHIND closer along the line of
-    sight (the board's row is used: the camera looks level in the approach, so the ray is
-    nearly horizontal)."""
+    """The cylinder in front of the board: its pixel (Q4 px) and depth along the optical axis
+    (Q4 mm), the task's target (host/task/sense.py). A board seen obliquely: by
+    :func:`oblique_sighting`. Else the board is taken to face the camera: the marker centre at
+    the board's depth ``spacing f / d_pixel`` less BOARD_BEHIND (the board's row is used: the
+    camera looks level in the approach, so the ray is nearly horizontal)."""
     if res.d_pixel_q4 <= 0:
         return None
+    seen = oblique_sighting(res, f_px)
+    if seen is not None:
+        return seen
     return res.um_q4, res.vm_q4, CROSS_SPACING_MM_Q4 * f_px * 16 // res.d_pixel_q4 \
         - BOARD_BEHIND_MM_Q4
+
+
+def oblique_sighting(res: DoubleCrossResult, f_px: int) -> tuple[int, int, int] | None:
+    """The cylinder BOARD_BEHIND before the board's face along its normal, the board's plane
+    found from the two crosses; None when the board is seen less than OBLIQUE_SIN_Q12 off its
+    face, the pair is far from level (not the board's crosses side by side), its plane is not
+    known or the place found is behind the camera or far aside.
+
+    The marker centre ``um`` is the crosses' columns weighted by their depths (the module
+    docstring), so ``(u2 - um) : (um - u1)`` is the depth ratio Z1 : Z2 of the two crosses
+    (equal, with no weight: a frontal board). With x_i = (u_i - u0) / f the crosses stand at
+    Z_i (x_i, 1) in the camera's level plane (x right, z along the axis), scaled so that they
+    are 130 mm apart; the cylinder is their midpoint plus 150 mm along the plane's normal
+    toward the camera. Seen 0.87 rad off its face, the frontal model puts the cylinder 0.2 m
+    aside, at the board's post (docs/task.md)."""
+    u0, f = U0_PX * 16, f_px * 16
+    a, b = res.u2_q4 - res.um_q4, res.um_q4 - res.u1_q4  # Z1 : Z2
+    if a <= 0 or b <= 0 or OBLIQUE_LEVEL_RATIO * abs(res.v2_q4 - res.v1_q4) > a + b:
+        return None
+    x1, z1 = a * (res.u1_q4 - u0), a * f  # the crosses, to one unknown scale
+    x2, z2 = b * (res.u2_q4 - u0), b * f
+    dx, dz = x2 - x1, z2 - z1
+    span = fp.isqrt(dx * dx + dz * dz)
+    if span <= 0:
+        return None
+    mx = CROSS_SPACING_MM_Q4 * (x1 + x2) // (2 * span)  # the board's centre, Q4 mm
+    mz = CROSS_SPACING_MM_Q4 * (z1 + z2) // (2 * span)
+    nx, nz = -dz * fp.ONE_Q12 // span, dx * fp.ONE_Q12 // span  # its unit normal, Q12
+    if nx * mx + nz * mz > 0:
+        nx, nz = -nx, -nz  # the face toward the camera
+    if abs(nx * mz - nz * mx) < OBLIQUE_SIN_Q12 * fp.isqrt(mx * mx + mz * mz):
+        return None
+    cx = mx + BOARD_BEHIND_MM_Q4 * nx // fp.ONE_Q12
+    cz = mz + BOARD_BEHIND_MM_Q4 * nz // fp.ONE_Q12
+    if cz <= 0 or abs(cx) > OBLIQUE_AXIS_RATIO * cz:
+        return None  # behind the camera or far aside: no usable place, the frontal model
+    return u0 + f * cx // cz, res.vm_q4, cz
 
 
 def detect_at_pose(rgb: np.ndarray, joints_mrad: tuple[int, ...], cam: tuple[int, int, int]

@@ -10,20 +10,23 @@ board around the chip:
   (data overrun), as on the part.
 - Encoders: quadrature levels on PD0..PD3 (INT0..3), edges spread evenly over the interval the
   rig gives (a count reached by now: over the next interval as long as the last one), never
-  closer than 10 µs; the harness shows them between the other events (sh_advance).
+  closer than 10 µs; the harness shows them between the other events (sh_advance_to).
 - Sonars: a trigger pulse on PORTC0..4 stops the core; the echo (mcu_sim.avr.sonar's timing)
-  is scheduled as levels on PE6 (INT6).
+  is queued in the harness as levels on PE6 (INT6), applied at their cycles (sh_pin_at).
 - Servos: simavr 1.6 does not move the OC1x/OC3x pins after an OCRnx write in mode 14, so each
   pulse is computed from the OCRnx/ICRn values latched at the Timer1 period start
   (docs/firmware.md, "simavr").
 - Wheels: duty from OCR0/OCR2 while Timer0/Timer2 run, sign from the direction pins.
+
+One harness call runs the core to the rig's next coupling time (and one more per sonar
+trigger); it reports the wheel duties and whether Timer1 periods and sent bytes wait, so the
+other calls cross into C only when there is something to take.
 
 Counters and flags are read from the firmware's globals in SRAM, at the ELF's symbol addresses.
 """
 
 from __future__ import annotations
 
-import heapq
 from collections.abc import Callable
 
 from mobigrasp.mcu_sim.avr.board import CYCLES_PER_US
@@ -39,8 +42,6 @@ ffi, lib = _mod.ffi, _mod.lib
 
 _PORT = {c: i for i, c in enumerate("ABCDEFG")}
 _ECHO_PORT, _ECHO_BIT = _PORT["E"], 6
-# data-space addresses of the ATmega128's 8-bit timer and port A registers
-_OCR0, _TCCR0, _OCR2, _TCCR2, _PORTA = 0x51, 0x53, 0x43, 0x45, 0x3B
 _SERVO_PRESCALE = 8
 _COUNTERS = ("bad_frames", "not_ready", "unexpected", "tx_dropped", "limit_hits",
              "watchdog_trips", "telemetry_sent")
@@ -96,8 +97,8 @@ class SimavrMcu:
         self._rx_line_free = 0
         self._rx_line_dropped = 0
         self._tx_bytes = 0
-        self._pins: list[tuple[int, int, int, int, int]] = []  # heap (cycle, seq, port, bit, lvl)
-        self._seq = 0
+        self._out = ffi.new("sh_outputs_t *")  # filled by each sh_advance_to
+        self._tx_due = 0  # sent bytes waiting at the last advance (none can come without one)
         self._enc_last_call = 0
         self._enc_bad = 0
         self._provider: Callable[[int], float | None] | None = None
@@ -111,6 +112,7 @@ class SimavrMcu:
         self._tx_buf = ffi.new("uint8_t[4096]")
         self._tx_cyc = ffi.new("uint64_t[4096]")
         self._rd = ffi.new("uint8_t[64]")
+        self._duty = ffi.new("int16_t[2]")
         self._idle_cycle = ffi.new("uint64_t *")
 
     # -- time ----------------------------------------------------------------------------------
@@ -124,30 +126,21 @@ class SimavrMcu:
         target = int(t_us) * CYCLES_PER_US
         if target < self._cycle:
             raise ValueError(f"cannot go back in time from {self.now_us} to {t_us} us")
-        h = self._h
-        pins = self._pins
+        h, out = self._h, self._out
         while True:
-            # the RX line's bytes and the encoder edges before the next of these are handled
-            # by the harness itself (sh_advance)
-            nxt = target
-            if pins and pins[0][0] < nxt:
-                nxt = pins[0][0]
-            rc = lib.sh_advance(h, nxt)
-            if rc < 0:
+            # the RX line's bytes, the echo levels and the encoder edges before the target are
+            # handled by the harness itself (sh_advance_to), each at its cycle
+            rc = lib.sh_advance_to(h, target, out)
+            if rc == 0:
+                break
+            if rc != 1:
                 raise RuntimeError(f"simavr: the firmware stopped (core state "
                                    f"{lib.sh_state(h)}) at cycle {lib.sh_cycle(h)}")
-            if rc == 1:  # a sonar trigger: schedule its echo, then run on
-                self._triggers()
-                continue
-            now = max(nxt, lib.sh_cycle(h))
-            while pins and pins[0][0] <= now:
-                _, _, port, bit, level = heapq.heappop(pins)
-                lib.sh_pin(h, port, bit, level)
-            lib.sh_enc_apply(h, now)
-            if nxt >= target:
-                break
+            self._triggers()  # a sonar trigger: schedule its echo, then run on
         self._cycle = target
-        self._periods()
+        self._tx_due = out.tx_due
+        if out.periods or self._falls:
+            self._periods()
 
     @property
     def events(self) -> int:
@@ -157,11 +150,13 @@ class SimavrMcu:
     def advance_outputs(self, t_us: int) -> tuple[tuple[float, ...], tuple[int, int]]:
         """:meth:`advance_to`, then (:meth:`servo_pulses_us`, :meth:`wheel_duty`)."""
         self.advance_to(t_us)
-        return self.servo_pulses_us(), self.wheel_duty()
+        duty = self._out.duty
+        return self._pulses_us, (duty[0], duty[1])
 
     def _pin_at(self, cycle: int, port: int, bit: int, level: int) -> None:
-        self._seq += 1
-        heapq.heappush(self._pins, (cycle, self._seq, port, bit, level))
+        if not lib.sh_pin_at(self._h, cycle, port, bit, level):
+            raise RuntimeError(f"simavr: more than the harness's queue of pin levels to come "
+                               f"at cycle {cycle}")
 
     def _triggers(self) -> None:
         n = lib.sh_triggers_take(self._h, self._trig_idx, self._trig_cyc, 64)
@@ -252,6 +247,9 @@ class SimavrMcu:
         """Bytes the firmware sent since the last call: ``(t_us their stop bit left, bytes)``,
         one chunk per run of back-to-back bytes."""
         out: list[tuple[int, bytes]] = []
+        if not self._tx_due:
+            return out
+        self._tx_due = 0
         while True:
             n = lib.sh_tx_take(self._h, self._tx_buf, self._tx_cyc, 4096)
             if n == 0:
@@ -276,8 +274,6 @@ class SimavrMcu:
         since); else the firmware's next telemetry time, read off the core
         (firmware/simavr/harness.c, sh_tx_idle_through)."""
         now = self._cycle // CYCLES_PER_US
-        if lib.sh_line_pending(self._h):
-            return now
         through = self._idle_cycle
         if not lib.sh_tx_idle_through(self._h, through):
             return 1 << 62  # telemetry off: nothing is sent until something arrives
@@ -315,14 +311,9 @@ class SimavrMcu:
 
     def wheel_duty(self) -> tuple[int, int]:
         """Signed duties (left, right), -255..255, from the timers and direction pins."""
-        regs = self._read(_OCR2, _OCR0 - _OCR2 + 3)  # OCR2 .. TCCR0 (0x43..0x53)
-        porta = self._read(_PORTA, 1)[0]
-        out = []
-        for side, (ocr_a, tccr_a) in enumerate(((_OCR0, _TCCR0), (_OCR2, _TCCR2))):
-            ocr, tccr = regs[ocr_a - _OCR2], regs[tccr_a - _OCR2]
-            duty = ocr if tccr & 0b111 else 0
-            out.append(-duty if (porta >> side) & 1 else duty)
-        return out[0], out[1]
+        duty = self._duty
+        lib.sh_wheel_duty(self._h, duty)
+        return duty[0], duty[1]
 
     # -- inputs --------------------------------------------------------------------------------
     def set_encoder_ticks(self, left: int, right: int, t_us: int | None = None) -> None:

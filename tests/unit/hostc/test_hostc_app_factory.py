@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 
+import detections as det
 import numpy as np
 import pytest
 from hypothesis import given, settings
@@ -75,6 +76,18 @@ def test_results_json_and_sightings(named, f_px):
         ok = SIGHTING[name](w, f_px, s)
         want = registry.row(name).sighting_fn()(res, f_px)
         assert ((s.u_q4, s.v_q4, s.depth_mm_q4) if ok else None) == want
+
+
+@SETTINGS
+@given(st.floats(250, 3000), st.floats(-0.45, 0.45), st.floats(-1.4, 1.4),
+       st.integers(250, 700))
+def test_the_sighting_of_an_oblique_board(dist_mm, bearing, off_face, f_px):
+    """The cylinder placed in the plane of a board seen obliquely (and the frontal model near
+    its face): the C as the Python, on the crosses as the detector reports them."""
+    res, _ = det.oblique_board(dist_mm, bearing, off_face, f_px)
+    s = FFI.new("mg_sighting_t *")
+    ok = C.mg_double_cross_sighting(words("double_cross", res), f_px, s)
+    assert ((s.u_q4, s.v_q4, s.depth_mm_q4) if ok else None) == CROSS.sighting_fn()(res, f_px)
 
 
 @SETTINGS

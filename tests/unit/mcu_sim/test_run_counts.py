@@ -5,8 +5,10 @@ import pytest
 from test_world_base import MIN_SCENARIO
 
 from mobigrasp.cosim.rig_plant import WorldPlant
+from mobigrasp.cosim.summary import world_figures
 from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.scenario import loads_scenario
+from mobigrasp.services import campaign, loop_campaign
 
 
 def _run(plant, until_us, duty=(0, 0), step_us=20_000):
@@ -38,3 +40,31 @@ def test_stand_still_counts_the_longest_stop_until_the_base_arrives():
     _run(plant, 20_000_000)
     assert plant.stand_still_max_us == still
     assert plant.final()["stand_still_max_s"] == still / 1e6
+
+
+BOARD_POST_AHEAD = MIN_SCENARIO.replace('kind = "radial-symbol"', 'kind = "red-cylinder"').replace(
+    'method = "000"', 'method = "002"')
+
+
+@pytest.mark.parametrize(("text", "kind"), [
+    # 000's object is the card on its post: the base runs into the object itself
+    (MIN_SCENARIO.format(heading=0.0, tx=1.0, ty=0.0, extra=""), "target"),
+    # 002's board faces away (heading 0): its post stands 0.17 m before the cylinder
+    (BOARD_POST_AHEAD.format(heading=0.0, tx=1.0, ty=0.0, extra=""), "obstacle"),
+])
+def test_a_base_pushing_a_target_or_its_post_is_a_contact_the_bars_count(text, kind, tmp_path):
+    """No contact of the base is the grasp's (docs/task.md "The run's counts"): the summary's
+    ``contacts``, which the campaign's bars read, counts the episodes with the object and with
+    a marker's post as it counts those with obstacles."""
+    plant = WorldPlant(loads_scenario(text, "push.toml", methods=REGISTRY))
+    _run(plant, 8_000_000, duty=(100, 100))
+    figs = world_figures(plant.final())
+    assert figs["contacts"] >= 1 and figs[f"contacts_{kind}"] == figs["contacts"]
+    assert figs["contact_time_s"] > 0
+    summary = {**figs, "success": True, "claimed_success": True, "status": "finished",
+               "task_state": "DONE", "end_reason": "task_done"}
+    assert campaign.row_of({"seed": 1}, summary)["collisions"] == figs["contacts"]
+    job = {"method": "000", "seed": 1000, "generator": "v3", "transport": "inproc",
+           "time_limit_s": 8.0, "host": "python", "scene": "push", "folder": str(tmp_path)}
+    row = loop_campaign.row_of(job, summary)
+    assert row["contacts"] == figs["contacts"] and not row["met_bar"]

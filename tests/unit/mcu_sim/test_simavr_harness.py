@@ -13,6 +13,7 @@ if shutil.which("avr-gcc") is None:
 
 from mobigrasp.mcu_sim.firmware.params import P_TELEMETRY_HZ  # noqa: E402
 from mobigrasp.mcu_sim.mcu import McuConfig  # noqa: E402
+from mobigrasp.mcu_sim.mcu_host import InProcessHost  # noqa: E402
 from mobigrasp.mcu_sim.simavr.mcu import SimavrMcu  # noqa: E402
 from mobigrasp.mcu_sim.simavr.profile import (  # noqa: E402
     RX_LATENCY_BUDGET_CYCLES,
@@ -312,3 +313,24 @@ def test_encoder_edges_and_line_bytes_each_end_one_run_of_the_core():
     assert after["rx_bytes"] - before["rx_bytes"] == 2
     assert after["events"] - before["events"] == 5 + 3  # two start bits, then the target
     assert mcu.tx_idle_through_us() >= mcu.now_us  # the line is empty again
+
+
+def test_a_coupling_step_reports_the_duties_the_wheel_registers_hold():
+    # advance_outputs takes the wheel duties from the harness's report at the end of its one
+    # call (sh_advance_to), wheel_duty() reads the timer and port registers: they agree at
+    # every step, through the stop and a drive command that turns the wheels opposite ways
+    mcu = SimavrMcu()
+    host = InProcessHost(mcu)
+    host.run_us(mcu.run_until_booted() - mcu.now_us)
+    host.send(m.Hello(m.PROTOCOL_VERSION, "t", 0))
+    seen = set()
+    for k in range(80):
+        if k % 8 == 4:
+            host.send(m.SetWheels(200, -150))
+        pulses, duty = mcu.advance_outputs(mcu.now_us + 2_500)
+        host.collect()
+        assert duty == mcu.wheel_duty()
+        assert pulses == mcu.servo_pulses_us()
+        seen.add(duty)
+    assert (0, 0) in seen
+    assert any(left > 0 > right for left, right in seen)

@@ -317,6 +317,31 @@ static int same6(const int32_t *a, const int32_t *b)
     return memcmp(a, b, 6 * sizeof a[0]) == 0;
 }
 
+/* the arrival's error_mm in 001's grasp_circle detail (an object; host/app.py keeps the first
+ * one's): 1 and its value, or 0 */
+static int circle_error(const char *json, size_t n, int32_t *error_mm)
+{
+    mg_json_in_t in;
+    char key[32];
+    int first = 1;
+    mg_json_in_init(&in, json, n);
+    if (!mg_json_begin_object_in(&in))
+        return 0;
+    while (mg_json_next_member(&in, &first, key, sizeof key) == 1) {
+        if (strcmp(key, "error_mm") != 0) {
+            if (!mg_json_skip_value(&in))
+                return 0;
+            continue;
+        }
+        int64_t v;
+        if (!mg_json_read_int(&in, &v) || v < INT32_MIN || v > INT32_MAX)
+            return 0;
+        *error_mm = (int32_t)v;
+        return 1;
+    }
+    return 0;
+}
+
 static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
 {
     mg_host_link_t *link = &app->link;
@@ -350,6 +375,8 @@ static void apply(mg_app_t *app, const mg_task_output_t *out, int64_t at_us)
             const size_t len = strlen(d->json);
             if (strcmp(d->key, "grasp_close") == 0 && len < sizeof app->close_reason)
                 memcpy(app->close_reason, d->json, len + 1); /* a short name: fits */
+            if (strcmp(d->key, "grasp_circle") == 0 && !app->has_circle_error)
+                app->has_circle_error = circle_error(d->json, len, &app->circle_error_mm);
         }
         /* ev, state, t_us and the detail's members, all in sorted key order */
         mg_json_member_t m[MG_DETAIL_MEMBERS + 3];
@@ -649,6 +676,11 @@ size_t mg_app_stats_json(const mg_app_t *app, char *out, size_t cap)
     mg_json_micro(&j, micro_ratio(peak, w));
     mg_json_key(&j, "arm9_load_mean");
     mg_json_micro(&j, n ? micro_ratio(total, n * w) : 0);
+    mg_json_key(&j, "circle_error_mm");
+    if (app->has_circle_error)
+        mg_json_int(&j, app->circle_error_mm);
+    else
+        mg_json_null(&j);
     mg_json_key(&j, "close_reason");
     if (app->close_reason[0])
         mg_json_raw(&j, app->close_reason, strlen(app->close_reason));

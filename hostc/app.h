@@ -153,6 +153,7 @@ struct mg_app {
     int32_t replans, plans;
     int32_t path_updates; /* a plan's detail with a replan: a new curve while one was followed */
     char close_reason[64]; /* the last grasp_close's JSON text ("" before any) */
+    int32_t has_circle_error, circle_error_mm; /* 001: the first arrival on the grasp circle */
     int64_t frames_received, frames_processed, frames_dropped, frames_idle;
     int64_t control_steps, deadline_misses, ticks_skipped;
     int32_t n_stages;

@@ -120,7 +120,7 @@ void mg_frame002_of(mg_frame002_t *f, const int32_t *dc, const int32_t *rc, cons
 }
 
 void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
-                    const int32_t *spoke, const int32_t *fill)
+                    const int32_t *spoke, const int32_t *fill, const int32_t *cut)
 {
     memset(f, 0, sizeof *f);
     f->has_frame = 1;
@@ -146,6 +146,10 @@ void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus
         f->has_held_fill = 1;
         f->held_rgb[0] = fill[0], f->held_rgb[1] = fill[1], f->held_rgb[2] = fill[2];
         f->held_permille = fill[3];
+    }
+    if (cut != NULL) { /* the symbol cut by the border: the side it is cut at */
+        f->has_cut = 1;
+        f->cut_side = cut[4];
     }
 }
 
@@ -205,6 +209,13 @@ size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, 
                                  {"ring2_v_q4", 3, 1, 0, 0}, {"roi", 6, 4, 0, 0},
                                  {"u_c_q4", 0, 1, 0, 0},     {"v_c_q4", 1, 1, 0, 0},
                                  {"width_q4", 5, 1, 0, 0}};
+    return object_json(rc, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
+}
+
+size_t mg_radial_cut_json(const int32_t rc[MG_RADIAL_CUT_WORDS], char *out, size_t cap)
+{
+    static const member_t m[] = {{"h", 3, 1, 0, 0}, {"side", 4, 1, 0, 0}, {"w", 2, 1, 0, 0},
+                                 {"x", 0, 1, 0, 0}, {"y", 1, 1, 0, 0}};
     return object_json(rc, m, (int32_t)(sizeof m / sizeof m[0]), out, cap);
 }
 

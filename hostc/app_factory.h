@@ -53,6 +53,7 @@ void mg_input_builder_step(mg_input_builder_t *b, const mg_host_link_t *link, in
  * mg_dual_plus (u1, v1, u2, v2, d_pixel, d_eff, dist, dist_raw, x_oc, y_oc, z_oc), mg_spoke
  * (u_c, v_c, slope, angle, width, n_points, then n_points (u, v) pairs, at most 10) */
 #define MG_RADIAL_SYMBOL_WORDS 6
+#define MG_RADIAL_CUT_WORDS 5 /* mg_radial_cut: x, y, w, h, side */
 #define MG_DUAL_PLUS_WORDS 11
 #define MG_SPOKE_WORDS 26
 
@@ -68,7 +69,7 @@ int mg_red_roi_sighting(const int32_t roi[MG_RED_ROI_WORDS], int32_t f_px, mg_si
  * (its midpoint at the depth dist_mm, both "+"), the spoke's angle and width, the colour
  * filling the frame */
 void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus,
-                    const int32_t *spoke, const int32_t *fill);
+                    const int32_t *spoke, const int32_t *fill, const int32_t *cut);
 
 /* 002's frame of one vision job's results (NULL: the detector found nothing or did not run);
  * f_px: the camera's */
@@ -81,6 +82,7 @@ size_t mg_red_cylinder_json(const int32_t rc[MG_RED_CYLINDER_WORDS], char *out, 
 size_t mg_red_roi_json(const int32_t roi[MG_RED_ROI_WORDS], char *out, size_t cap);
 size_t mg_held_fill_json(const int32_t fill[MG_HELD_FILL_WORDS], char *out, size_t cap);
 size_t mg_radial_symbol_json(const int32_t rs[MG_RADIAL_SYMBOL_WORDS], char *out, size_t cap);
+size_t mg_radial_cut_json(const int32_t rc[MG_RADIAL_CUT_WORDS], char *out, size_t cap);
 size_t mg_dual_plus_json(const int32_t dp[MG_DUAL_PLUS_WORDS], char *out, size_t cap);
 size_t mg_spoke_json(const int32_t sp[MG_SPOKE_WORDS], char *out, size_t cap);
 

@@ -554,8 +554,7 @@ void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_par
     /* eq. (5) for the object's grasp point on ArmGeometry001's links (um); l_e = (l_m + l_n)
      * / 2, the grasp circle's test radius l_e less CIRCLE_MARGIN_M (1 mm) squared, floored */
     int64_t l_um[2] = {0, 0};
-    if (mg_grasp_radius_um(160000, 160000, 200000, 108000, (int64_t)p->grasp_height_mm * 1000,
-                           MG_GRASP_GRID_STEPS, l_um) != 0)
+    if (mg_grasp_radius001_um(p->grasp_height_mm, l_um) != 0)
         l_um[0] = l_um[1] = 0;
     const int64_t sum_um = l_um[0] + l_um[1], r_um2 = sum_um > 2000 ? sum_um - 2000 : 0;
     pl->l_e_q4 = div_even(sum_um, 125); /* never a tie */

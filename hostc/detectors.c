@@ -151,6 +151,19 @@ static void radial_symbol(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
     finish(out, mg_radial_symbol_json);
 }
 
+/* the 000 radial symbol cut by the frame's border (registry "frame" call) */
+static void radial_cut(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
+                       const int32_t snap[8], mg_detection_t *out)
+{
+    (void)snap;
+    const int32_t n_lab = dark_front_end((mg_detectors_t *)ctx, rgb, w, h);
+    if (n_lab > 0) {
+        out->found = mg_radial_cut(stats, n_lab, w, h, out->words, &out->ops);
+        dark_front_end_ops(&out->ops, w, h);
+    }
+    finish(out, mg_radial_cut_json);
+}
+
 /* the 000 dual "+" at the camera's pitch theta2 + theta3 + theta4 (dual_plus.py
  * detect_at_pose) */
 static void dual_plus(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
@@ -201,10 +214,12 @@ int32_t mg_detectors_table(mg_detectors_t *d, const mg_app_t *app, int32_t f_px,
                     : i == MG_DET_HELD_FILL    ? held_fill
                     : i == MG_DET_RADIAL_SYMBOL ? radial_symbol
                     : i == MG_DET_DUAL_PLUS    ? dual_plus
+                    : i == MG_DET_RADIAL_CUT   ? radial_cut
                                                : spoke;
         if (i == MG_DET_DOUBLE_CROSS || i == MG_DET_DUAL_PLUS)
             t->snapshot = pose_snapshot;
-        if (i == MG_DET_RADIAL_SYMBOL || i == MG_DET_DUAL_PLUS || i == MG_DET_SPOKE) {
+        if (i == MG_DET_RADIAL_SYMBOL || i == MG_DET_DUAL_PLUS || i == MG_DET_SPOKE
+            || i == MG_DET_RADIAL_CUT) {
             t->front_end = 1; /* the dark front end, shared by the 000 detectors of a frame */
             t->front_end_us = dark_front_end_us;
         }

@@ -70,3 +70,9 @@ int mg_grasp_radius_um(int64_t l1_um, int64_t l2_um, int64_t l3_um, int64_t h_r_
     out_um[1] = lo;
     return 0;
 }
+
+int mg_grasp_radius001_um(int32_t h_e_mm, int64_t out_um[2])
+{
+    return mg_grasp_radius_um(160000, 160000, 200000, 108000, (int64_t)h_e_mm * 1000,
+                              MG_GRASP_GRID_STEPS, out_um);
+}

@@ -21,4 +21,8 @@ int mg_end_points_q(const int64_t object_q4[2], int64_t l_e_q4, int32_t n_e, int
 int mg_grasp_radius_um(int64_t l1_um, int64_t l2_um, int64_t l3_um, int64_t h_r_um,
                        int64_t h_e_um, int32_t steps, int64_t out_um[2]);
 
+/* eq. (5) on 001's arm (grasp_circle.py ArmGeometry001: l1, l2, l3 160, 160, 200 mm, h_r
+ * 108 mm) for the grasp height h_e_mm, as mg_grasp_radius_um */
+int mg_grasp_radius001_um(int32_t h_e_mm, int64_t out_um[2]);
+
 #endif

@@ -52,6 +52,14 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t w, int32_t h, const int32_
                          int32_t n_lab, int32_t f_px, int32_t u0_px, int32_t v0_px,
                          uint8_t *scratch, int32_t *out, mg_ops_t *ops);
 
+/* radial_symbol.c: the 000 radial symbol cut by the frame's border, from the front end's
+ * component stats (host/vision/radial_symbol.py detect_radial_cut). out: x, y, w, h of the
+ * component's box, side (-1 left, 1 right, 0 top or bottom alone). Returns 1 when found, 0
+ * when not. ops (NULL: not wanted): the counts the Python detector charges beyond its front
+ * end. */
+int32_t mg_radial_cut(const int32_t *stats, int32_t n_lab, int32_t w, int32_t h, int32_t *out,
+                      mg_ops_t *ops);
+
 /* red_cylinder.c: the 002 red cylinder and its two rings from the RGB frame
  * (host/vision/red_cylinder.py detect_red_cylinder). out: u_c_q4, v_c_q4, ring1_v_q4,
  * ring2_v_q4, d_pixel_q4, width_q4, roi x, y, w, h. scratch: mg_red_scratch_bytes(w, h)

@@ -6,6 +6,10 @@
 
 #define L_MM 109
 #define MIN_WIDTH_PX 12
+/* a cut symbol (radial_symbol.py detect_radial_cut): the visible part's width at least, and
+ * the box's dark share at most */
+#define CUT_MIN_PX 64
+#define CUT_SOLID_PCT 45
 #define MAX_CANDIDATES 12
 #define LOCAL_BUDGET_NUM 3 /* local re-thresholding: 3/2 of a frame's pixels */
 #define LOCAL_BUDGET_DEN 2
@@ -364,4 +368,34 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
         }
     }
     return 0;
+}
+
+int32_t mg_radial_cut(const int32_t *stats, int32_t n_lab, int32_t W, int32_t H, int32_t *out,
+                      mg_ops_t *ops)
+{
+    const int32_t n_st = n_lab > 1 ? n_lab - 1 : 0;
+    if (ops != 0) {
+        mg_ops_clear(ops);
+        ops->alu = 20 + 14 * n_st; /* the scan over the component table */
+        ops->branches = 2 * n_st;
+    }
+    int32_t best = -1, best_side = 0;
+    for (int32_t i = 1; i < n_lab; i++) {
+        const int32_t *st = stats + 5 * i;
+        const int32_t x = st[0], y = st[1], w = st[2], h = st[3], area = st[4];
+        const int left = x <= 0, right = x + w >= W;
+        if (w < CUT_MIN_PX || 100 * (int64_t)area > (int64_t)CUT_SOLID_PCT * w * h
+            || !(left || right || y <= 0 || y + h >= H) || (left && right))
+            continue;
+        if (best < 0 || w > stats[5 * best + 2]) { /* the widest; the first of equals */
+            best = i;
+            best_side = left ? -1 : right ? 1 : 0;
+        }
+    }
+    if (best < 0)
+        return 0;
+    for (int32_t k = 0; k < 4; k++)
+        out[k] = stats[5 * best + k];
+    out[4] = best_side;
+    return 1;
 }

@@ -9,7 +9,8 @@
 #include "app.h"
 #include "config.h"
 
-#define MG_TASK_STATE_BYTES 65536 /* the largest method state (000: task and planner, 59 kB) */
+/* the largest method state (001: task and replanner with its plan's work space, 393 kB) */
+#define MG_TASK_STATE_BYTES 409600
 
 typedef struct {
     const char *method;

@@ -7,10 +7,12 @@
 
 void mg_task_enter_adjust(mg_task_t *t, int64_t now_us)
 {
-    const int32_t th3 = t->p.adjust_theta3_mrad, th4 = t->p.adjust_theta4_mrad;
-    const int32_t alpha = t->arm[2] + t->arm[3] + t->arm[4];
-    mg_task_set_arm(t, now_us, alpha - th3 - th4, th3, th4, t->arm[5], 0, 0);
-    t->trust_from_us = t->move_done_us;
+    if (!t->rules->adjust_keeps_posture) { /* the close-look posture; alpha is kept */
+        const int32_t th3 = t->p.adjust_theta3_mrad, th4 = t->p.adjust_theta4_mrad;
+        const int32_t alpha = t->arm[2] + t->arm[3] + t->arm[4];
+        mg_task_set_arm(t, now_us, alpha - th3 - th4, th3, th4, t->arm[5], 0, 0);
+        t->trust_from_us = t->move_done_us;
+    }
     if (t->move_done_us > t->obj_seen_us) /* LOST counts from then */
         t->obj_seen_us = t->move_done_us;
 }

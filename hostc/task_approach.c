@@ -115,7 +115,7 @@ static void plan_failed(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     if (mg_task_text_has(reason, "already")) {
         const size_t n = mg_task_text(why, sizeof why, 0, "no path needed: ");
         mg_task_text(why, sizeof why, n, reason);
-        t->rules->path->path_end(t, now_us, in, why);
+        t->rules->path->path_end(t, now_us, in, why, NULL);
         return;
     }
     t->path.plan_attempts++;
@@ -229,6 +229,6 @@ void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
         n = mg_task_text(why, sizeof why, n, " mm), object ");
         n = mg_task_text_int(why, sizeof why, n, dist);
         mg_task_text(why, sizeof why, n, " mm from the waist");
-        rules->path_end(t, now_us, in, why);
+        rules->path_end(t, now_us, in, why, &cmd.error_mm);
     }
 }

@@ -37,9 +37,11 @@ typedef struct mg_path_method {
     int (*start_detour)(mg_task_t *t, const mg_task_inputs_t *in);
     /* the wheels from the follower's command */
     void (*path_wheels)(const mg_wheel_command_t *cmd, int32_t wheels[2]);
-    /* the path followed to its end, the object near or no path needed, for the reason why:
-     * the transition (000: ADJUST; 001: ROUGH_GRASP on its grasp circle) */
-    void (*path_end)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why);
+    /* the path followed to its end (the follower's error there, *error_mm), the object near,
+     * or no path needed (error_mm NULL), for the reason why: the transition (000: ADJUST; 001:
+     * ROUGH_GRASP on its grasp circle) */
+    void (*path_end)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why,
+                     const int32_t *error_mm);
     /* the path ends early with the object this much beyond ADJUST's goal (grasp_r_mm) */
     int32_t near_margin_mm;
 } mg_path_method_t;

@@ -18,6 +18,17 @@ static const int32_t CHECK_WAIST_MRAD[MG_CHECK_LOOKS] = {0, 300, -300};
 /* the common look of the check: the camera this far above the object's top, looking down,
  * the first reachable wins (docs/task.md) */
 static const int32_t HELD_VIEW_MM[] = {150, 140, 130, 120, 110, 100, 90};
+/* the look before the rough grasp (Method.sight_views): each look (waist offset, wrist roll
+ * mrad) held SIGHT_LOOK_US until the dual "+" is seen SIGHT_FRAMES times; a quarter roll lays
+ * the line of sight along the frame's width, the waist offsets move the view ~18 mm aside
+ * (docs/task.md). Seen outside ADJUST's goal window, the base closes in again, at most
+ * MAX_SIGHT_ADJUSTS times a grasp. */
+#define SIGHT_FRAMES 3
+#define SIGHT_LOOK_US 700000
+#define SIGHT_LOOKS 6
+#define MAX_SIGHT_ADJUSTS 2
+static const int32_t SIGHT_LOOKS_MRAD[SIGHT_LOOKS][2] = {{0, 0},    {0, 1571},  {150, 1571},
+                                                         {150, 0},  {-150, 0},  {-150, 1571}};
 
 static void note_ints(mg_task_t *t, const char *key, const int32_t *v, int32_t n)
 {
@@ -32,7 +43,7 @@ static void note_ints(mg_task_t *t, const char *key, const int32_t *v, int32_t n
     mg_task_note(t, key, text);
 }
 
-static void note_pose(mg_task_t *t, const char *key, const mg_arm_pose_t *p)
+void mg_task_note_pose(mg_task_t *t, const char *key, const mg_arm_pose_t *p)
 {
     const int32_t v[4] = {p->theta2_mrad, p->theta3_mrad, p->theta4_mrad, p->theta5_mrad};
     note_ints(t, key, v, 4);
@@ -117,7 +128,36 @@ static void rough_pose(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
     }
     t->grasp_alpha_mrad = pose.theta2_mrad + pose.theta3_mrad + pose.theta4_mrad;
     mg_task_apply_pose(t, now_us, &pose, 1, 0);
-    note_pose(t, "rough_pose_mrad", &pose);
+    mg_task_note_pose(t, "rough_pose_mrad", &pose);
+}
+
+/* A camera pose looking down at the object's top from the method's views (range mm, pitch
+ * down mrad): back along the place's bearing and up, by eq. (11) of 000 with alpha_T = -pitch;
+ * the first the arm reaches: 1, or 0 when none is (grasp.py _view_pose). */
+static int view_pose(const mg_task_t *t, const mg_task_inputs_t *in, mg_arm_pose_t *pose)
+{
+    const struct mg_task_method *r = t->rules;
+    if (!t->has_obj)
+        return 0;
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    const int64_t rho = mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1]);
+    const int32_t look_mm = r->look_height_mm(&t->p, 1);
+    for (int32_t i = 0; i < r->n_sight_views && i < MG_MAX_SIGHT_VIEWS; i++) {
+        const int64_t d_q4 = (int64_t)r->sight_views[i][0] * 16;
+        const int32_t pitch = r->sight_views[i][1];
+        const int64_t back = mg_floor_div(d_q4 * mg_cos_q12(pitch), 4096), rr = rho - back;
+        if (rr < 20 * 16)
+            continue;
+        const int32_t target[3] = {
+            (int32_t)mg_floor_div(xy[0] * rr, rho), (int32_t)mg_floor_div(xy[1] * rr, rho),
+            (int32_t)((int64_t)(look_mm - t->p.h_shoulder_mm) * 16
+                      + mg_floor_div(d_q4 * mg_sin_q12(pitch), 4096))};
+        int64_t detail;
+        if (mg_ik_pitch_mm_q4(&t->geom, target, -pitch, pose, &detail) == MG_IK_OK)
+            return 1;
+    }
+    return 0;
 }
 
 void mg_task_enter_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
@@ -147,7 +187,88 @@ void mg_task_enter_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_input
             return;
         }
     }
-    /* 001's look before the grasp (Method.sight_views) is the method's own */
+    mg_arm_pose_t pose;
+    if (!r->n_sight_views || !view_pose(t, in, &pose)) {
+        rough_pose(t, now_us, in);
+        return;
+    }
+    /* the look before the grasp (Method.sight_views): the base stands still from here on */
+    mg_task_apply_pose(t, now_us, &pose, 1, SIGHT_LOOKS_MRAD[0][1]);
+    t->trust_from_us = t->move_done_us; /* frames of the swing: arm pose unknown */
+    t->sight_frames = t->sight_look = 0;
+    t->sight_th5_mrad = pose.theta5_mrad;
+    t->phase = MG_PHASE_SIGHT, t->phase_us = t->move_done_us;
+    mg_task_note_pose(t, "sight_pose_mrad", &pose);
+}
+
+/* The look before the grasp: sightings of the dual "+" with the base standing still give the
+ * estimate the grasp goes on. Each look is held for SIGHT_LOOK_US until the pair is seen
+ * (SIGHT_FRAMES frames, or fewer by the end of that look). Then the method decides (001 from
+ * its grasp circle); else not seen at any look, an object the camera never saw is searched for
+ * (LOST); seen outside ADJUST's goal window, the base closes in again first; else the rough
+ * grasp on the estimate (grasp.py _sight). */
+static void sight(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    const struct mg_task_method *r = t->rules;
+    const void *det = r->sight_result ? r->sight_result(in) : NULL;
+    if (det && mg_task_settled(t, now_us)
+        && mg_task_see_object(t, now_us, in, r->sight_position, det, 1))
+        t->sight_frames++;
+    if (t->sight_frames < SIGHT_FRAMES && now_us - t->phase_us < SIGHT_LOOK_US)
+        return;
+    const int32_t k = t->sight_look;
+    if (!t->sight_frames && k + 1 < SIGHT_LOOKS) { /* not seen: the next look */
+        t->sight_look = k + 1;
+        mg_task_set_arm(t, now_us, t->arm[2], t->arm[3], t->arm[4],
+                        t->sight_th5_mrad + SIGHT_LOOKS_MRAD[k + 1][0], 1,
+                        SIGHT_LOOKS_MRAD[k + 1][1]);
+        t->trust_from_us = t->move_done_us;
+        t->phase_us = t->move_done_us;
+        return;
+    }
+    int32_t xy[2], goal_mm, tol_mm;
+    const int32_t dist = obj_dist_mm(t, in, xy);
+    r->adjust_goal_mm(t, &goal_mm, &tol_mm);
+    {
+        char text[MG_TASK_NOTE_BYTES];
+        mg_json_t j;
+        mg_json_init(&j, text, sizeof text - 1);
+        mg_json_begin_object(&j);
+        mg_json_key(&j, "bearing_mrad");
+        mg_json_int(&j, mg_atan2_mrad(xy[0], xy[1]));
+        mg_json_key(&j, "dist_mm");
+        mg_json_int(&j, dist);
+        mg_json_key(&j, "frames");
+        mg_json_int(&j, t->sight_frames);
+        mg_json_key(&j, "look_mrad");
+        mg_json_int_pair(&j, SIGHT_LOOKS_MRAD[k][0], SIGHT_LOOKS_MRAD[k][1]);
+        mg_json_end_object(&j);
+        mg_json_terminate(&j);
+        mg_task_note(t, "sight", text);
+    }
+    if (r->look_decides && r->look_decides(t, now_us, in))
+        return; /* the method's grasp on this look (001 from its grasp circle) */
+    if (!t->sight_frames && !t->object_sighted) {
+        t->lost_in = MG_ROUGH_GRASP;
+        mg_task_go(t, now_us, MG_LOST, "object not seen at its estimated place, never seen by "
+                                       "the camera: searching before any grasp");
+        return;
+    }
+    const int32_t off = dist - goal_mm;
+    if (t->sight_frames && (off < 0 ? -off : off) > tol_mm
+        && t->sight_adjusts < MAX_SIGHT_ADJUSTS) {
+        t->sight_adjusts++;
+        char why[MG_TASK_WHY];
+        size_t n = mg_task_text(why, sizeof why, 0, "object sighted ");
+        n = mg_task_text_int(why, sizeof why, n, dist);
+        n = mg_task_text(why, sizeof why, n, " mm ahead of the waist, outside ");
+        n = mg_task_text_int(why, sizeof why, n, goal_mm);
+        n = mg_task_text(why, sizeof why, n, " +- ");
+        n = mg_task_text_int(why, sizeof why, n, tol_mm);
+        mg_task_text(why, sizeof why, n, " mm: closer in first");
+        mg_task_go(t, now_us, MG_ADJUST, why);
+        return;
+    }
     rough_pose(t, now_us, in);
 }
 
@@ -168,13 +289,16 @@ void mg_task_do_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
             rough_pose(t, now_us, in);
         else
             t->wheels[0] = wheels[0], t->wheels[1] = wheels[1];
-    } else if (t->phase != MG_PHASE_SIGHT && mg_task_settled(t, now_us)) {
+    } else if (t->phase == MG_PHASE_SIGHT) {
+        sight(t, now_us, in);
+    } else if (mg_task_settled(t, now_us)) {
         mg_task_go(t, now_us, MG_PRECISE_GRASP, "arm at the rough grasp pose");
     }
 }
 
 void mg_task_enter_precise_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
+    t->sight_adjusts = 0; /* the next grasp's look may send the base closer again */
     t->precise_steps = 0;
     t->has_close_by = 0;
     t->phase_us = now_us;
@@ -197,9 +321,7 @@ int mg_task_move_point(mg_task_t *t, int64_t now_us, const int32_t xyz_q4[3], in
     return 1;
 }
 
-/* Down to the grasp height (from above the "+" to the object's axis when the roll aligns),
- * then close; condition: what decided it (the trace's grasp_close) */
-static void descend(mg_task_t *t, int64_t now_us, const char *why, const char *condition)
+void mg_task_descend(mg_task_t *t, int64_t now_us, const char *why, const char *condition)
 {
     int32_t p[3];
     mg_task_gripper_point_q4(t, p);
@@ -267,7 +389,7 @@ static void align(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
             size_t n = mg_task_text(why, sizeof why, 0, "no spoke seen for ");
             n = mg_task_text_int(why, sizeof why, n, waited);
             mg_task_text(why, sizeof why, n, " us: rough position");
-            descend(t, now_us, why, "no_spoke");
+            mg_task_descend(t, now_us, why, "no_spoke");
         }
         return;
     }
@@ -300,7 +422,7 @@ static void align(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         size_t n = mg_task_text(why, sizeof why, 0, "k_T ~ 0 and w_T = ");
         n = mg_task_text_int(why, sizeof why, n, w_px);
         mg_task_text(why, sizeof why, n, " px");
-        descend(t, now_us, why, "precise");
+        mg_task_descend(t, now_us, why, "precise");
         return;
     }
     if (t->precise_steps >= t->p.precise_max_steps) {
@@ -308,7 +430,7 @@ static void align(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         n = mg_task_text_int(why, sizeof why, n, t->precise_steps);
         n = mg_task_text(why, sizeof why, n, " steps: ");
         mg_task_text(why, sizeof why, n, reason);
-        descend(t, now_us, why, "max_steps");
+        mg_task_descend(t, now_us, why, "max_steps");
         return;
     }
     mg_task_gripper_point_q4(t, p);
@@ -393,7 +515,7 @@ static void start_check(mg_task_t *t, int64_t now_us)
                     || held_pose(t, &pose);
     if (has) {
         mg_task_apply_pose(t, now_us, &pose, 0, 0);
-        note_pose(t, "grasp_check_pose_mrad", &pose);
+        mg_task_note_pose(t, "grasp_check_pose_mrad", &pose);
     } else {
         mg_task_note(t, "grasp_check_no_view", "true"); /* no evidence can come: a miss */
     }

@@ -59,7 +59,7 @@ typedef struct {
     int32_t max_lost;
     int32_t turn_wheel_mmps, wander_mmps, wander_clear_mm, sighting_match_mm;
     int32_t sonar_offset_mm, r_r_mm, sonar_a_g_mrad; /* the sonar ring and the safety circle */
-    int32_t detour_mm, detour_clear_mm;
+    int32_t detour_mm, detour_clear_mm, max_detours; /* 001: drive aside this often at most */
     int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;
     int64_t grasp_close_timeout_us;
     /* PRECISE_GRASP of 000 (grasp.py _align): w_T's window of 000 section IV, no spoke for
@@ -76,7 +76,9 @@ typedef struct {
 
 #define MG_TASK_HIST 128   /* entries of the last second of arm targets and of base poses */
 #define MG_TASK_EVENTS 8   /* transitions in one step */
-#define MG_TASK_WHY 192    /* bytes of a transition's reason, its terminating 0 included */
+/* bytes of a transition's reason, its 0 included (the longest, 001's look not confirming an
+ * object out of reach, ~210) */
+#define MG_TASK_WHY 256
 #define MG_TASK_MS_BYTES 512 /* the largest method state */
 #define MG_TASK_NOTES 12       /* members of a step's trace detail */
 #define MG_TASK_NOTE_KEY 32    /* bytes of a member's key, its 0 included */
@@ -175,6 +177,10 @@ struct mg_task {
     int32_t has_plus_odom, plus_odom_mm[2][2];
     int32_t has_grasp_xy, grasp_xy_q4[2];
     int32_t roll_scan;
+    /* ROUGH_GRASP's look first (Method.sight_views): dual "+" sightings of it, the index of
+     * its look (waist offset, wrist roll), the waist of its view the looks' offsets are added
+     * to, and the looks that sent the base back to ADJUST for this grasp */
+    int32_t sight_frames, sight_look, sight_th5_mrad, sight_adjusts;
     union {
         int64_t align;
         unsigned char bytes[MG_TASK_MS_BYTES];

@@ -9,7 +9,7 @@
 #include "task_method002.h"
 
 /* the hooks 001 takes from 000 (Method001 is a Method000): 000's vision, APPROACH's path,
- * ADJUST and grasp */
+ * ADJUST and grasp (but the entry of PRECISE_GRASP, each row's own) */
 #define HOOKS_000                                                                          \
     .failure_reason = mg_task_reason_as_is, .look_height_mm = mg_method000_look_height_mm,  \
     .adjust_detector = "dual_plus", .adjust_position = mg_task_plus_position,               \
@@ -23,17 +23,15 @@
     .approach = mg_method000_approach_state,                                                \
     .object_detectors = "dual_plus, radial_symbol", .rough_target = mg_method000_rough_target, \
     .grasp_ik = mg_method000_grasp_ik, .lowers_hover = 1,                                   \
-    .enter_precise = mg_method000_enter_precise,                                            \
     .spoke_reading = mg_method000_spoke_reading, .held_in_view = mg_method000_held_in_view, \
     .n_checks = 2,                                                                          \
     .checks = {{"dual_plus", mg_method000_plus_result, mg_task_plus_position, 1},           \
                {"radial_symbol", mg_method000_radial_check, mg_task_sighting_position, 1}}, \
     .grasp_alpha_mrad = MG_ALPHA_DOWN_MRAD, .camera = {611, 160, 120},                      \
-    .n_fallbacks = 1, .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS}},   \
     .frame_of = mg_method000_frame_of
-/* the detectors of 000's states (method000.py detectors) */
+/* the detectors of 000's states after SEARCH (method000.py detectors) */
 #define DETECTORS_000                                                                      \
-    [MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL, [MG_APPROACH] = 1u << MG_DET_RADIAL_SYMBOL,   \
+    [MG_APPROACH] = 1u << MG_DET_RADIAL_SYMBOL,                                             \
     [MG_ADJUST] = 1u << MG_DET_DUAL_PLUS | 1u << MG_DET_RADIAL_SYMBOL,                      \
     [MG_PRECISE_GRASP] = 1u << MG_DET_SPOKE,                                                \
     [MG_LIFT] = 1u << MG_DET_DUAL_PLUS | 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_HELD_FILL
@@ -44,10 +42,19 @@ const mg_task_method_t mg_task_methods[] = {
      .ms_init = mg_method000_ms_init,
      .params = mg_method000_params,
      HOOKS_000,
+     .enter_precise = mg_method000_enter_precise,
      .guard_wheels = mg_sonar_guard_step,
      .lost_search = mg_method000_lost_search,
      .grasp_lost = mg_method000_grasp_lost,
-     .detectors = {DETECTORS_000},
+     .plus_on_top = 1,
+     .adjust_keeps_posture = 1,
+     .search_back_off = mg_method000_search_back_off,
+     /* SEARCH: the cut symbol is looked for when the symbol is not read */
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_RADIAL_CUT,
+                   DETECTORS_000},
+     .n_fallbacks = 2,
+     .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS},
+                   {MG_SEARCH, MG_DET_RADIAL_CUT, MG_DET_RADIAL_SYMBOL}},
      .geom = {1528, 1424, 1552},
      .path = &mg_path000},
     {.name = "001",
@@ -57,7 +64,19 @@ const mg_task_method_t mg_task_methods[] = {
      HOOKS_000,
      .guard_wheels = mg_method001_guard_wheels,
      .plus_on_top = 1,
-     .detectors = {DETECTORS_000, [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
+     /* the look back at the top from 140-200 mm before the grasp (method001.py sight_views),
+      * the grasp by eq. (11) from the grasp circle when it confirms the object */
+     .n_sight_views = 6,
+     .sight_views = {{180, 900}, {160, 1000}, {180, 1000}, {200, 800}, {160, 1100}, {140, 1100}},
+     .sight_result = mg_method000_plus_result,
+     .sight_position = mg_task_plus_position,
+     .look_decides = mg_method001_look_decides,
+     .enter_precise = mg_method001_enter_precise,
+     /* SEARCH reads the radial symbol alone: 001's object position is given */
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL, DETECTORS_000,
+                   [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
+     .n_fallbacks = 1,
+     .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS}},
      .geom = {2560, 2560, 3200},
      .path = &mg_path001},
     {.name = "002",
@@ -106,7 +125,7 @@ const mg_task_method_t mg_task_methods[] = {
 };
 const char *const mg_detector_names[MG_N_DETECTORS] = {
     "dual_plus", "radial_symbol", "spoke", "double_cross", "red_cylinder", "red_roi",
-    "held_fill"};
+    "held_fill", "radial_cut"};
 
 const int32_t mg_n_task_methods = (int32_t)(sizeof mg_task_methods / sizeof mg_task_methods[0]);
 
@@ -168,6 +187,7 @@ void mg_task_params_default(mg_task_params_t *p)
     p->sonar_a_g_mrad = 1050;
     p->detour_mm = 500;
     p->detour_clear_mm = 900;
+    p->max_detours = 6;
     p->hover_mm = 110;
     p->lift_mm = 60;
     p->pregrasp_back_mm = 50;

@@ -17,7 +17,7 @@ struct mg_path_method;
  * method's per-state lists (Method.detectors) and fallbacks keep this order */
 enum {
     MG_DET_DUAL_PLUS, MG_DET_RADIAL_SYMBOL, MG_DET_SPOKE, MG_DET_DOUBLE_CROSS,
-    MG_DET_RED_CYLINDER, MG_DET_RED_ROI, MG_DET_HELD_FILL, MG_N_DETECTORS
+    MG_DET_RED_CYLINDER, MG_DET_RED_ROI, MG_DET_HELD_FILL, MG_DET_RADIAL_CUT, MG_N_DETECTORS
 };
 extern const char *const mg_detector_names[MG_N_DETECTORS];
 
@@ -27,6 +27,7 @@ typedef struct {
 } mg_fallback_t;
 #define MG_MAX_FALLBACKS 4
 #define MG_MAX_CHECKS 2 /* the grasp check's detectors */
+#define MG_MAX_SIGHT_VIEWS 8 /* the views of ROUGH_GRASP's look */
 
 typedef struct mg_task_method {
     const char *name;
@@ -66,6 +67,9 @@ typedef struct mg_task_method {
     int (*lost_search)(mg_task_t *t, mg_search_params_t *sp, int32_t *theta2s_mrad,
                        int32_t *theta5s_mrad);
     int32_t keeps_sightings;
+    /* SEARCH's step taken by a back-off from an object too near to be seen whole (1: the
+     * step is done; NULL: never, Method.search_back_off) */
+    int (*search_back_off)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     /* APPROACH: its entry action after the common reset, and its step */
     void (*enter_approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     void (*approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
@@ -80,6 +84,16 @@ typedef struct mg_task_method {
     int32_t (*grasp_ik)(const mg_arm_geometry_t *g, const int32_t target_q4[3],
                         mg_arm_pose_t *pose, int64_t *detail);
     int32_t lowers_hover;
+    /* ROUGH_GRASP first looks at the object from these (range mm, pitch down mrad), the first
+     * the arm reaches, the base standing still (Method.sight_views; none: the grasp goes on the
+     * estimate ADJUST ended with); the look's detector (the dual "+": this frame's result and
+     * its place); after the look the method's decision (1: the transition or the grasp pose
+     * made, Method.look_decides; NULL or 0: the common rule) */
+    int32_t n_sight_views;
+    int32_t sight_views[MG_MAX_SIGHT_VIEWS][2];
+    const void *(*sight_result)(const mg_task_inputs_t *in);
+    mg_task_position_fn sight_position;
+    int (*look_decides)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     void (*enter_precise)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     /* PRECISE_GRASP's spoke of this frame: 1 and its image angle (mrad) and width (whole px),
      * 0: none (NULL: the method aligns on nothing); no spoke for spoke_wait_us: 1 when the
@@ -99,6 +113,9 @@ typedef struct mg_task_method {
     } checks[MG_MAX_CHECKS];
     int32_t grasp_alpha_mrad;
     int32_t plus_on_top; /* both "+" placed where their rays meet the top (Method.plus_on_top) */
+    /* ADJUST starts from the posture it enters with, eq. (10) alone (1), or first puts the
+     * elbow and shoulder to the close-look posture (0; Method.adjust_keeps_posture) */
+    int32_t adjust_keeps_posture;
     /* the detectors each state runs (bits of MG_DET_*), the fallbacks among them, and the
      * frame of one vision job's results as the method's hooks read it (words[i]: detector i's
      * out words, NULL: nothing found or not run; into frame, MG_FRAME_BYTES) */

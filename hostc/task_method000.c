@@ -6,6 +6,8 @@
 
 #include "app_factory.h"
 #include "json.h"
+#include "task_drive.h"
+#include "trig.h"
 #include "task_grasp.h"
 #include "task_method.h"
 #include "task_sense.h"
@@ -162,8 +164,7 @@ static void json_per_m(mg_json_t *j, int64_t count)
     mg_json_raw(j, text, n + (size_t)digits);
 }
 
-/* a curve's control points (P0..P3 as x, y, t) as [[x, y, t] x 4] in m and s */
-static void json_ctrl(mg_json_t *j, const int32_t ctrl[12])
+void mg_method000_json_ctrl(mg_json_t *j, const int32_t ctrl[12])
 {
     mg_json_begin_array(j);
     for (int32_t k = 0; k < 4; k++) {
@@ -188,7 +189,7 @@ static void note_plan(mg_task_t *t, const mg_plan000_ctx_t *c, const mg_plan_out
     mg_json_begin_object(&j);
     if (o->has_path) {
         mg_json_key(&j, "best_ctrl");
-        json_ctrl(&j, pl->best_ctrl);
+        mg_method000_json_ctrl(&j, pl->best_ctrl);
     }
     mg_json_key(&j, "candidates");
     mg_json_int(&j, n_cand);
@@ -199,7 +200,7 @@ static void note_plan(mg_task_t *t, const mg_plan000_ctx_t *c, const mg_plan_out
     for (int32_t i = 0; i < n_cand; i += step) {
         int32_t ctrl[12];
         mg_plan000_ctrl(pl, i, ctrl);
-        json_ctrl(&j, ctrl);
+        mg_method000_json_ctrl(&j, ctrl);
     }
     mg_json_end_array(&j);
     if (o->has_path) {
@@ -317,9 +318,10 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
 }
 
 /* 000's vision-based adjustment (section III.B) from here */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why,
+                     const int32_t *error_mm)
 {
-    (void)in;
+    (void)in, (void)error_mm;
     mg_task_go(t, now_us, MG_ADJUST, why);
 }
 
@@ -338,7 +340,63 @@ void mg_method000_frame_of(const mg_task_t *t, const int32_t *const *words, void
 {
     (void)t;
     mg_frame000_of((mg_frame000_t *)frame, words[MG_DET_RADIAL_SYMBOL], words[MG_DET_DUAL_PLUS],
-                   words[MG_DET_SPOKE], words[MG_DET_HELD_FILL]);
+                   words[MG_DET_SPOKE], words[MG_DET_HELD_FILL], words[MG_DET_RADIAL_CUT]);
+}
+
+int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state000_t *ms = ms000(t);
+    const mg_frame000_t *f = frame000(in);
+    if (ms->back_off_phase == MG_BACK_OFF000_NONE) {
+        if (f == NULL || !f->has_cut || ms->back_offs >= MG_BACK_OFFS_000
+            || t->has_confirm_until || t->lost
+            || (int64_t)in->x_mm * in->x_mm + (int64_t)in->y_mm * in->y_mm
+                   > (int64_t)MG_BACK_OFF_FROM_MM * MG_BACK_OFF_FROM_MM)
+            return 0;
+        /* its bearing (right positive, as the waist's) at the border it is cut at; the base
+         * turns left positive */
+        int32_t arm[6];
+        mg_task_arm_at(t, now_us - t->p.frame_latency_us, arm);
+        const int32_t half_fov = mg_atan2_mrad(t->cam.u0_px, t->cam.f_px);
+        ms->back_offs++;
+        ms->back_off_phase = MG_BACK_OFF000_TURN;
+        ms->back_off_a = in->heading_mrad;
+        ms->back_off_b = -(arm[5] + f->cut_side * half_fov);
+        static const char *const names[3] = {"n", "side", "turn_mrad"};
+        const int64_t values[3] = {ms->back_offs, f->cut_side, ms->back_off_b};
+        mg_task_note_ints(t, "back_off", 3, names, values);
+    }
+    if (ms->back_off_phase == MG_BACK_OFF000_TURN) {
+        const int32_t turned = mg_task_wrap_mrad((int64_t)in->heading_mrad - ms->back_off_a);
+        const int32_t want = ms->back_off_b < 0 ? -ms->back_off_b : ms->back_off_b;
+        if ((turned < 0 ? -turned : turned) < want) { /* on the spot, left for a positive turn */
+            const int32_t dir = ms->back_off_b > 0 ? 1 : -1;
+            t->wheels[0] = -dir * t->p.turn_wheel_mmps;
+            t->wheels[1] = dir * t->p.turn_wheel_mmps;
+            return 1;
+        }
+        ms->back_off_phase = MG_BACK_OFF000_BACK;
+        ms->back_off_a = in->x_mm, ms->back_off_b = in->y_mm;
+    }
+    if (ms->back_off_phase == MG_BACK_OFF000_BACK) {
+        const int64_t dx = (int64_t)in->x_mm - ms->back_off_a;
+        const int64_t dy = (int64_t)in->y_mm - ms->back_off_b;
+        if (dx * dx + dy * dy < (int64_t)MG_BACK_OFF_000_MM * MG_BACK_OFF_000_MM) {
+            t->wheels[0] = t->wheels[1] = -t->p.slow_mmps;
+            return 1;
+        }
+        ms->back_off_phase = MG_BACK_OFF000_LOOK;
+        ms->back_off_stopped_us = now_us;
+    }
+    /* stand until a frame taken after the stop has come, then a new look-around from here */
+    t->wheels[0] = t->wheels[1] = 0;
+    if (f == NULL || !f->has_frame || now_us - t->p.frame_latency_us < ms->back_off_stopped_us)
+        return 1;
+    ms->back_off_phase = MG_BACK_OFF000_NONE;
+    mg_search_init(&t->search, &t->p.search, t->arm[2], t->arm[5], now_us);
+    t->has_turn_from = 0;
+    t->has_wander_from = 0;
+    return 0;
 }
 
 int mg_method000_search_sighting(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting)

@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "json.h"
 #include "kinematics.h"
 #include "plan000.h"
 #include "search.h"
@@ -15,6 +16,12 @@
 #include "task_machine.h"
 
 #define MG_MAX_TRACE_CANDIDATES 40 /* candidate curves kept in the plan's trace detail */
+/* SEARCH's back-off from the radial symbol cut by the frame's border (method000.py
+ * BACK_OFF_000_MM, BACK_OFF_FROM_MM, BACK_OFFS_000) and its phases */
+#define MG_BACK_OFF_000_MM 150
+#define MG_BACK_OFF_FROM_MM 40
+#define MG_BACK_OFFS_000 1
+enum { MG_BACK_OFF000_NONE, MG_BACK_OFF000_TURN, MG_BACK_OFF000_BACK, MG_BACK_OFF000_LOOK };
 
 /* What 000's planner is asked (method000.py plan_follower): the pose and speed, the object's
  * estimate, the stand-off of P3 (approach_standoff_mm) */
@@ -47,6 +54,11 @@ void mg_method000_plan000(void *ctx, const mg_plan000_request_t *req, mg_traject
  * with (NULL: none, every plan fails "no planner") */
 typedef struct {
     int32_t grasp_searches; /* searches after a loss in PRECISE_GRASP (grasp_lost) */
+    int32_t back_offs;      /* back-offs from a cut symbol made in the run (search_back_off) */
+    /* the back-off under way: MG_BACK_OFF000_TURN (a: heading_from, b: turn_mrad), _BACK (a,
+     * b: where it started, mm), _LOOK (stopped_us); MG_BACK_OFF000_NONE: none */
+    int32_t back_off_phase, back_off_a, back_off_b;
+    int64_t back_off_stopped_us;
     mg_planner000_fn planner;
     void *planner_ctx;
     int32_t board_planner; /* the planner is the board's: its plan's detail is noted */
@@ -62,6 +74,10 @@ void mg_method000_set_board_planner(mg_task_t *t, mg_plan000_ctx_t *ctx);
  * the estimate; 1 when usable */
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                        const void *radial);
+/* SEARCH: the radial symbol cut by the frame's border at the run's start: turn toward it, back
+ * off MG_BACK_OFF_000_MM, look around again (method000.py search_back_off); 1 while the
+ * back-off takes the step */
+int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
 void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap);
 /* SEARCH after a loss near the object (000 section III.B.2, III.C): the search's parameters
@@ -95,6 +111,7 @@ typedef struct {
     mg_plus_seen_t plus;
     int32_t has_spoke, spoke_angle_mrad, spoke_width_px;
     int32_t has_held_fill, held_rgb[3], held_permille;
+    int32_t has_cut, cut_side; /* the radial symbol cut by the frame's border: its side */
 } mg_frame000_t;
 
 /* The method row's hooks on the step's inputs (in->frame: an mg_frame000_t or NULL). */
@@ -121,5 +138,9 @@ int mg_method000_held_in_view(mg_task_t *t, int64_t now_us, const mg_task_inputs
 /* the path hooks of 000: plans once (again when the estimate moves), no sonar check, no
  * detour, the follower's wheels as they are */
 extern const mg_path_method_t mg_path000;
+
+/* a curve's control points (P0..P3 as x, y, t in the planners' 1/16 mm and 1/16 ms) as the
+ * trace's [[x, y, t] x 4] in m and s, as Python's repr prints them */
+void mg_method000_json_ctrl(mg_json_t *j, const int32_t ctrl[12]);
 
 #endif

@@ -7,10 +7,13 @@
 #include "bezier.h"
 #include "escape.h"
 #include "fixedpoint.h"
+#include "grasp_circle.h"
+#include "json.h"
 #include "kernels.h"
 #include "path_follow.h"
 #include "sonar_guard.h"
 #include "task_drive.h"
+#include "task_grasp.h"
 #include "task_method.h"
 #include "task_method000.h"
 #include "trig.h"
@@ -26,10 +29,13 @@ void mg_method001_ms_init(void *ms)
     ((mg_state001_t *)ms)->v0_div = 1;
 }
 
+static int32_t circle_l_e_mm(mg_task_t *t);
+
 void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void *ctx)
 {
     ms001(t)->rp = rp;
     ms001(t)->rp_ctx = ctx;
+    (void)circle_l_e_mm(t); /* at start-up: its scan of eq. (5) in no control step */
 }
 
 /* TaskParams.for_method("001"): 000's with 001's own (method001.py param_defaults) */
@@ -74,6 +80,57 @@ int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
 
 /* --- APPROACH: eq. (17) with the sonar ring, replanned (section III.E) --------------------- */
 
+/* the board's replanner's state, or NULL (a caller's replanner: its curve is its own) */
+static const mg_board_replanner001_t *board_of(const mg_state001_t *ms)
+{
+    return ms->rp == &mg_board_replanner001 ? (const mg_board_replanner001_t *)ms->rp_ctx : NULL;
+}
+
+/* the plan's trace detail (method001.py plan: start_001's detail, or update_001's reason and
+ * curve); start: with the plan's candidates, the feasible ones and its modelled ARM9 time */
+static void note_plan(mg_task_t *t, const mg_board_replanner001_t *b, int start,
+                      const char *reason)
+{
+    char text[2 * MG_TASK_NOTE_BYTES + MG_PLAN_REASON]; /* the curve and the reason */
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    if (start ? b->plan.status == MG_PLAN001_OK : b->st.has_curve) {
+        mg_json_key(&j, "best_ctrl");
+        mg_method000_json_ctrl(&j, start ? b->plan.best_ctrl : b->st.ctrl);
+    }
+    if (start) {
+        mg_json_key(&j, "candidates");
+        mg_json_int(&j, b->plan.n_cand);
+        mg_json_key(&j, "feasible");
+        mg_json_int(&j, b->plan.n_feasible);
+        mg_json_key(&j, "plan_arm9_us");
+        mg_json_int(&j, mg_ops_time_us(&b->plan.ops));
+    }
+    mg_json_key(&j, "planner");
+    mg_json_string(&j, "001", 3);
+    mg_json_key(&j, "reason");
+    mg_json_string(&j, reason, strlen(reason));
+    mg_json_end_object(&j);
+    if (j.overflow) { /* counted, never silent */
+        t->notes_lost++;
+        return;
+    }
+    mg_json_terminate(&j);
+    mg_task_note(t, "plan", text);
+}
+
+/* the sonar check's replan detail: its reason as a JSON string */
+static void note_replan(mg_task_t *t, const char *reason)
+{
+    char text[MG_PLAN_REASON + 16];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_string(&j, reason, strlen(reason));
+    mg_json_terminate(&j);
+    mg_task_note(t, "replan", text);
+}
+
 static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_trajectory_t *traj,
                  mg_plan_outcome_t *o)
 {
@@ -92,10 +149,14 @@ static void plan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, mg_tr
         mg_ops_t ops;
         ms->rp->update(ms->rp_ctx, now_us, in, 1, &dec, traj, o, &ops);
         o->time_us = mg_ops_time_us(&ops);
+        if (board_of(ms))
+            note_plan(t, board_of(ms), 0, o->reason);
         return;
     }
     ms->rp->start(ms->rp_ctx, now_us, in, t->obj_mm, ms->v0_div, traj, o);
     ms->has_replanner = 1;
+    if (board_of(ms))
+        note_plan(t, board_of(ms), 1, o->reason);
     if (o->has_path) { /* a fallback backs off toward here */
         ms->has_path_from = 1;
         ms->path_from_mm[0] = in->x_mm;
@@ -147,8 +208,14 @@ static int sonar_replan(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     ps->plan_us = now_us;
     if (dec.replanned) {
         ps->plans++;
+        note_replan(t, o.reason);
+        if (board_of(ms))
+            note_plan(t, board_of(ms), 0, o.reason);
+    } else if (dec.blocked && dec.has_curve) {
+        note_replan(t, o.reason); /* blocked far ahead, no update yet: path kept */
     } else if (!dec.has_curve) {
         ps->has_follower = 0; /* nothing feasible: stop; the next step plans afresh */
+        note_replan(t, o.reason);
         t->wheels[0] = t->wheels[1] = 0;
         return 1;
     }
@@ -205,10 +272,132 @@ static int way_blocked(mg_task_t *t, const mg_task_inputs_t *in, int32_t dist_mm
     return echo || !straight_clear(t, in, dist_mm);
 }
 
+/* the detour's heading (method001.py detour_heading): the escape's when it found one clear of
+ * the infeasible regions, else the free sonar direction nearest the object's bearing; with none
+ * free a quarter turn left, not driven (the next sonar sweep decides again) */
+static void detour_heading(const mg_task_t *t, const mg_task_inputs_t *in, int found,
+                           int32_t head_mrad, mg_detour_t *d)
+{
+    memset(d, 0, sizeof *d);
+    d->active = 1;
+    d->length_mm = t->p.detour_mm;
+    if (found) {
+        d->heading_mrad = mg_task_wrap_mrad(head_mrad);
+        d->drive = d->checked = 1;
+        return;
+    }
+    const int32_t bearing = mg_atan2_mrad((int64_t)t->obj_mm[1] - in->y_mm,
+                                          (int64_t)t->obj_mm[0] - in->x_mm);
+    int32_t best_off = -1;
+    for (int32_t k = 0; in->n_sonar >= 2 && k < in->n_sonar; k++) {
+        const int32_t h = mg_task_wrap_mrad((int64_t)in->heading_mrad
+                                            + mg_sonar_angle_mrad(k, in->n_sonar));
+        const int32_t off = iabs32(mg_task_wrap_mrad((int64_t)h - bearing));
+        if (in->sonar_mm[k] >= t->p.detour_clear_mm && (best_off < 0 || off < best_off)) {
+            best_off = off;
+            d->heading_mrad = h;
+        }
+    }
+    d->drive = best_off >= 0;
+    if (best_off < 0)
+        d->heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + 1571);
+}
+
+/* the trace's fallback and detour detail (method001.py start_detour's notes) */
+static void note_fallback(mg_task_t *t, const char *step, int32_t n)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    mg_json_key(&j, "n");
+    mg_json_int(&j, n);
+    mg_json_key(&j, "step");
+    mg_json_string(&j, step, strlen(step));
+    mg_json_end_object(&j);
+    mg_json_terminate(&j);
+    mg_task_note(t, "fallback", text);
+}
+
+static void note_detour(mg_task_t *t, const mg_detour_t *d, int32_t count)
+{
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    if (d->checked) {
+        mg_json_key(&j, "checked");
+        mg_json_bool(&j, 1);
+    }
+    mg_json_key(&j, "drive");
+    mg_json_bool(&j, d->drive);
+    mg_json_key(&j, "from");
+    mg_json_null(&j);
+    mg_json_key(&j, "heading_mrad");
+    mg_json_int(&j, d->heading_mrad);
+    mg_json_end_object(&j);
+    mg_json_terminate(&j);
+    mg_task_note(t, "detour", text);
+    mg_task_note_int(t, "detour_count", count);
+}
+
+/* Obstacles across the way and no feasible curve from here: fall back in steps (each a
+ * fallback detail), then plan again: a lower v0 (the slower end speed of eq. (9) gives the
+ * candidates more room under A_max), a short back-off toward where the last path began, a turn
+ * in place toward the widest free sonar sector, then drives aside through free sonar space
+ * (escape_001, at most max_detours); the last step repeated (method001.py FALLBACKS). */
 static int start_detour(mg_task_t *t, const mg_task_inputs_t *in)
 {
-    (void)t, (void)in;
-    return 0; /* not yet: the fallbacks and detours (method001.py start_detour) */
+    enum { LOWER_V0, BACK_OFF, WIDEST_SECTOR, DETOUR };
+    static const char *const STEP[] = {"lower_v0", "back_off", "widest_sector", "detour"};
+    mg_state001_t *ms = ms001(t);
+    const int32_t step = ms->fallbacks < DETOUR ? ms->fallbacks : DETOUR;
+    if (step == DETOUR && ms->detours >= t->p.max_detours)
+        return 0;
+    ms->fallbacks++;
+    note_fallback(t, STEP[step], ms->fallbacks);
+    mg_detour_t *d = &ms->detour;
+    if (step == LOWER_V0) {
+        ms->v0_div *= 2;
+        ms->has_replanner = 0; /* planned afresh with the lower v0 */
+        return 1;
+    }
+    if (step == WIDEST_SECTOR) {
+        memset(d, 0, sizeof *d);
+        d->active = 1;
+        d->heading_mrad = mg_widest_free_heading(in, t->p.detour_clear_mm);
+        d->length_mm = t->p.detour_mm;
+        return 1;
+    }
+    if (step == BACK_OFF) {
+        /* facing (and driving, the sonars watching) back toward where the last path began */
+        const int64_t fx = ms->has_path_from ? ms->path_from_mm[0] : in->x_mm;
+        const int64_t fy = ms->has_path_from ? ms->path_from_mm[1] : in->y_mm;
+        const int64_t dx = fx - in->x_mm, dy = fy - in->y_mm;
+        if (dx * dx + dy * dy < (int64_t)MG_BACK_OFF_MM * MG_BACK_OFF_MM)
+            return start_detour(t, in); /* nowhere to back off to: the next step */
+        memset(d, 0, sizeof *d);
+        d->active = d->drive = 1;
+        d->heading_mrad = mg_atan2_mrad(dy, dx);
+        d->length_mm = MG_BACK_OFF_MM;
+        return 1;
+    }
+    ms->detours++;
+    int32_t head = 0;
+    mg_ops_t ops;
+    memset(&ops, 0, sizeof ops);
+    const int found = ms->rp->escape(ms->rp_ctx, in, t->obj_mm, t->p.detour_mm, ms->detour_side,
+                                     &head, &ops);
+    mg_task_charge(t, &ops);
+    if (found && !ms->detour_side) { /* keep to the first one's side */
+        const int32_t off = mg_task_wrap_mrad(
+            (int64_t)head - mg_atan2_mrad((int64_t)t->obj_mm[1] - in->y_mm,
+                                          (int64_t)t->obj_mm[0] - in->x_mm));
+        ms->detour_side = (off > 0) - (off < 0);
+    }
+    detour_heading(t, in, found, head, d);
+    note_detour(t, d, ms->detours);
+    return 1;
 }
 
 /* 001's ring sees nothing behind the base, so it never backs up: where the follower would
@@ -226,22 +415,166 @@ static void path_wheels(const mg_wheel_command_t *cmd, int32_t wheels[2])
     wheels[1] = cmd->right_mm_s;
 }
 
-/* On the grasp circle (section III.B.1, eqs. (5)-(6); the curve is cut short only with the
- * object at ADJUST's goal, near_margin_mm 0): ROUGH_GRASP looks back at the object
- * with the base still and grasps by eq. (11) of 000 when the look confirms it where the base
- * expected it (method001.py look_decides; the trace's grasp_circle note of the arrival's error
- * is the Python's: l_e is the planner's, not yet in C). */
-static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why)
+/* l_e of eq. (5) for the object's grasp point (planner_params_001's arm, grasp_height_mm):
+ * (l_m + l_n) / 2 to the mm, as Python rounds it (no tie for grasp heights of 0-399 mm); 0
+ * when out of reach. Once a run, with the replanner: a scan of eq. (5)'s grid, start-up work
+ * (as the board replanner's l_e, config.c), not a control step's. */
+static int32_t circle_l_e_mm(mg_task_t *t)
 {
     mg_state001_t *ms = ms001(t);
-    char text[MG_TASK_WHY];
-    (void)in;
+    int64_t l_um[2];
+    if (!ms->has_l_e) {
+        ms->has_l_e = 1;
+        if (mg_grasp_radius001_um(t->p.grasp_height_mm, l_um) == 0) {
+            const int64_t sum = l_um[0] + l_um[1], q = sum / 2000, r = sum % 2000;
+            ms->l_e_mm = (int32_t)(q + (r > 1000 || (r == 1000 && (q & 1))));
+        }
+    }
+    return ms->l_e_mm;
+}
+
+static int32_t axle_mm(const mg_task_t *t, const mg_task_inputs_t *in)
+{
+    const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm, dy = (int64_t)t->obj_mm[1] - in->y_mm;
+    return (int32_t)mg_isqrt(dx * dx + dy * dy);
+}
+
+/* On the grasp circle (section III.B.1, eqs. (5)-(6), l_e for the object's grasp height; the
+ * curve is cut short only with the object at ADJUST's goal, near_margin_mm 0): the base stops,
+ * ROUGH_GRASP looks back at the object and grasps by eq. (11) of 000 when the look confirms it
+ * where the base expected it (mg_method001_look_decides). The arrival's error, the axle's
+ * distance from the estimate less l_e, goes in the trace (grasp_circle; a start already on
+ * the circle has no path and no path_error_mm). */
+static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, const char *why,
+                     const int32_t *error_mm)
+{
+    mg_state001_t *ms = ms001(t);
+    const int32_t l_e = circle_l_e_mm(t), axle = axle_mm(t, in);
+    int32_t xy[2];
+    mg_task_obj_platform(t, in, xy);
+    char text[MG_TASK_NOTE_BYTES];
+    mg_json_t j;
+    mg_json_init(&j, text, sizeof text - 1);
+    mg_json_begin_object(&j);
+    mg_json_key(&j, "axle_mm");
+    mg_json_int(&j, axle);
+    mg_json_key(&j, "error_mm");
+    mg_json_int(&j, axle - l_e);
+    mg_json_key(&j, "l_e_mm");
+    mg_json_int(&j, l_e);
+    mg_json_key(&j, "path_error_mm");
+    if (error_mm)
+        mg_json_int(&j, *error_mm);
+    else
+        mg_json_null(&j);
+    mg_json_key(&j, "waist_mm");
+    mg_json_int(&j, mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1]) / 16);
+    mg_json_end_object(&j);
+    mg_json_terminate(&j);
+    mg_task_note(t, "grasp_circle", text);
     ms->has_circle_expected = 1;
     ms->circle_expected_mm[0] = t->obj_mm[0];
     ms->circle_expected_mm[1] = t->obj_mm[1];
-    const size_t n = mg_task_text(text, sizeof text, 0, "on the grasp circle: ");
-    mg_task_text(text, sizeof text, n, why);
-    mg_task_go(t, now_us, MG_ROUGH_GRASP, text);
+    ms->circle_l_e_mm = l_e;
+    char reason[MG_TASK_WHY];
+    const size_t n = mg_task_text(reason, sizeof reason, 0, "on the grasp circle: ");
+    mg_task_text(reason, sizeof reason, n, why);
+    mg_task_go(t, now_us, MG_ROUGH_GRASP, reason);
+}
+
+int mg_method001_look_decides(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state001_t *ms = ms001(t);
+    const struct mg_task_method *r = t->rules;
+    if (!ms->has_circle_expected)
+        return 0;
+    ms->has_circle_expected = 0;
+    const int64_t ex = (int64_t)t->obj_mm[0] - ms->circle_expected_mm[0];
+    const int64_t ey = (int64_t)t->obj_mm[1] - ms->circle_expected_mm[1];
+    const int32_t off_mm = (int32_t)mg_isqrt(ex * ex + ey * ey);
+    char why[MG_TASK_WHY];
+    size_t n = 0;
+    int32_t grasp[3] = {0, 0, 0};
+    mg_arm_pose_t down, pre;
+    memset(&down, 0, sizeof down);
+    memset(&pre, 0, sizeof pre);
+    if (!t->sight_frames) {
+        n = mg_task_text(why, sizeof why, 0, "not seen by the look");
+    } else if (off_mm > MG_CIRCLE_CONFIRM_MM) {
+        n = mg_task_text(why, sizeof why, 0, "seen ");
+        n = mg_task_text_int(why, sizeof why, n, off_mm);
+        n = mg_task_text(why, sizeof why, n, " mm from where expected");
+    } else {
+        int64_t down_detail, pre_detail;
+        mg_task_object_target_q4(t, in, t->p.grasp_height_mm, 0, grasp);
+        const int32_t down_code = r->grasp_ik(&t->geom, grasp, &down, &down_detail);
+        int32_t pre_code = -1; /* none tried */
+        /* the gripper goes down from CIRCLE_PRE_MM above the grasp point, the first reachable
+         * in 10 mm steps down to the object's top */
+        for (int32_t up_mm = MG_CIRCLE_PRE_MM;
+             up_mm > t->p.object_top_mm - t->p.grasp_height_mm - 1; up_mm -= 10) {
+            const int32_t above[3] = {grasp[0], grasp[1], grasp[2] + up_mm * 16};
+            pre_code = r->grasp_ik(&t->geom, above, &pre, &pre_detail);
+            if (pre_code == MG_IK_OK)
+                break;
+        }
+        if (down_code != MG_IK_OK) {
+            n = mg_task_text(why, sizeof why, 0, "grasp point out of reach: ");
+            n = mg_task_ik_reason(&t->geom, down_code, down_detail, &down, why, sizeof why, n);
+        } else if (pre_code != MG_IK_OK) {
+            n = mg_task_text(why, sizeof why, 0, "no reachable pose above the grasp point");
+        }
+    }
+    /* the arrival's error as the look sees it: the axle's distance from the sighted object
+     * less l_e (the base stood still since the arrival) */
+    {
+        char text[MG_TASK_NOTE_BYTES];
+        mg_json_t j;
+        mg_json_init(&j, text, sizeof text - 1);
+        mg_json_begin_object(&j);
+        mg_json_key(&j, "confirmed");
+        mg_json_bool(&j, n == 0);
+        mg_json_key(&j, "error_mm");
+        mg_json_int(&j, axle_mm(t, in) - ms->circle_l_e_mm);
+        mg_json_key(&j, "frames");
+        mg_json_int(&j, t->sight_frames);
+        mg_json_key(&j, "off_mm");
+        mg_json_int(&j, off_mm);
+        mg_json_end_object(&j);
+        mg_json_terminate(&j);
+        mg_task_note(t, "circle_look", text);
+    }
+    if (n == 0) {
+        ms->ik_grasp = 1;
+        t->has_grasp_xy = 1;
+        t->grasp_xy_q4[0] = grasp[0], t->grasp_xy_q4[1] = grasp[1];
+        t->grasp_alpha_mrad = pre.theta2_mrad + pre.theta3_mrad + pre.theta4_mrad;
+        t->phase = MG_PHASE_NONE;
+        mg_task_apply_pose(t, now_us, &pre, 0, 0);
+        mg_task_note_pose(t, "ik_pre_pose_mrad", &pre);
+        return 1;
+    }
+    char reason[MG_TASK_WHY];
+    size_t k = mg_task_text(reason, sizeof reason, 0,
+                            "the look from the grasp circle did not confirm the object (");
+    k = mg_task_text(reason, sizeof reason, k, why);
+    mg_task_text(reason, sizeof reason, k,
+                 "): vision-based adjustment and precise grasp");
+    mg_task_go(t, now_us, MG_ADJUST, reason);
+    return 1;
+}
+
+void mg_method001_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    mg_state001_t *ms = ms001(t);
+    if (!ms->ik_grasp) {
+        ms->has_circle_expected = 0;
+        mg_method000_enter_precise(t, now_us, in);
+        return;
+    }
+    ms->ik_grasp = 0;
+    mg_task_descend(t, now_us, "eq. (11) from the grasp circle, the object confirmed by the look",
+                    "ik");
 }
 
 /* Last line of the no-contact rule (001 section III.C.2, R_r): the object's own echo does
@@ -431,5 +764,40 @@ static int board_straight_clear(void *ctx, const mg_task_inputs_t *in, const int
     return ok;
 }
 
+/* escape_001: the regions of the reading less the object's echoes and the memory, grown by
+ * the margin; the heading nearest the object's bearing every pi/12 within pi/2 of the present
+ * one (escape.py's defaults: 16 samples a segment) */
+static int board_escape(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
+                        int32_t detour_mm, int32_t side, int32_t *heading_mrad, mg_ops_t *ops)
+{
+    enum { PER = MG_GEO_HEAD + MG_REGION_WORDS, N_SIDE = 6 };
+    const int64_t step_urad = 261799; /* round(pi / 12 1e6) */
+    mg_board_replanner001_t *b = ctx;
+    mg_region_t regions[MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY];
+    int64_t geo[PER * (MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY)];
+    int64_t clear[MG_CLEAR_WORDS * (MG_SONAR_MAX_REGIONS + MG_REPLAN_MEMORY)];
+    const int64_t px = (int64_t)in->x_mm * 16, py = (int64_t)in->y_mm * 16;
+    int32_t n = mg_replan001_fresh(&b->cfg, px, py, in->heading_mrad, in->sonar_mm, regions);
+    for (int32_t i = 0; i < b->st.n_memory; i++)
+        regions[n++] = b->st.memory[i];
+    for (int32_t r = 0; r < n; r++) {
+        regions[r].r_r_q4 += (int64_t)MG_DETOUR_MARGIN_MM * 16;
+        geo[PER * r] = geo[PER * r + 1] = geo[PER * r + 2] = 0;
+        mg_region_geo(&regions[r], geo + PER * r + MG_GEO_HEAD);
+        mg_region_clear(&regions[r], clear + MG_CLEAR_WORDS * r);
+    }
+    const int64_t goal_urad = (int64_t)mg_atan2_mrad((int64_t)obj_mm[1] - in->y_mm,
+                                                     (int64_t)obj_mm[0] - in->x_mm) * 1000;
+    int64_t head_urad = 0;
+    const int found = mg_escape_heading_q(geo, clear, n, px, py, (int64_t)in->heading_mrad * 1000,
+                                          goal_urad, step_urad, N_SIDE,
+                                          ((int64_t)detour_mm + MG_DETOUR_EXTRA_MM) * 16, 16,
+                                          side, &head_urad, ops);
+    *ops = mg_ops_add(*ops, mg_ops_scaled(mg_region_setup_ops(), n));
+    if (found)
+        *heading_mrad = (int32_t)mg_div_round64(head_urad, 1000);
+    return found;
+}
+
 const mg_replanner001_t mg_board_replanner001 = {board_start, board_update, board_start_path,
-                                                 board_straight_clear};
+                                                 board_straight_clear, board_escape};

@@ -4,9 +4,10 @@
  * mg_board_replanner001, replan.c around plan001.c; the tests give scripted ones). Ours, as
  * the Python: the first plan waits for one sonar sweep, the object given and near is looked at
  * first, sightings while the base turns fast are not used, the follower never backs up; the
- * curve is followed to its end on the grasp circle, where ROUGH_GRASP takes over. Not yet: the
- * look from the circle and the grasp by eq. (11) (method001.py look_decides, enter_precise),
- * the fallbacks and detours with no feasible curve (start_detour). */
+ * curve is followed to its end on the grasp circle, where ROUGH_GRASP looks back at the object
+ * and, the look confirming it, the arm grasps by eq. (11) of 000 from there (look_decides,
+ * enter_precise); with no feasible curve the fallbacks (a lower v0, a back-off, the widest
+ * free sector, the detours of escape_001, start_detour). */
 #ifndef MOBIGRASP_HOSTC_TASK_METHOD001_H
 #define MOBIGRASP_HOSTC_TASK_METHOD001_H
 
@@ -23,7 +24,15 @@ enum {
     MG_SIGHTING_MAX_TURN_MRAD_S = 500, /* APPROACH: sightings taken turning faster not used */
     MG_LOOK_FIRST_US = 4000000,        /* P_i given, object near and unseen: look this long */
     MG_LOOK_FIRST_LO_MM = 350,         /* ... when it is this far from the waist */
-    MG_LOOK_FIRST_HI_MM = 1200
+    MG_LOOK_FIRST_HI_MM = 1200,
+    MG_DETOUR_EXTRA_MM = 100,  /* a detour's way out is checked this much beyond its end */
+    MG_DETOUR_MARGIN_MM = 100, /* ... against the regions grown by this: it drives open-loop */
+    MG_BACK_OFF_MM = 200,      /* fallback: back this far along the way the base came */
+    /* the grasp from the grasp circle: the look before it must see the object (dual "+")
+     * within this of the estimate the base arrived with; the gripper goes down from this far
+     * above the grasp point (the first reachable, in 10 mm steps down to the object's top) */
+    MG_CIRCLE_CONFIRM_MM = 60,
+    MG_CIRCLE_PRE_MM = 50
 };
 
 /* one sonar update of the replanner (replan.py ReplanDecision) */
@@ -52,10 +61,16 @@ typedef struct {
      * present reading and the memory: 1 / 0, its ARM9 work */
     int (*straight_clear)(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
                           int32_t travel_mm, mg_ops_t *ops);
+    /* the detour's heading (escape_001): the direction nearest the object's bearing whose
+     * straight detour_mm + MG_DETOUR_EXTRA_MM keeps out of the present reading's and the
+     * memory's regions grown by MG_DETOUR_MARGIN_MM, side as mg_escape_heading_q's: 1 and
+     * *heading_mrad, or 0; its ARM9 work */
+    int (*escape)(void *ctx, const mg_task_inputs_t *in, const int32_t obj_mm[2],
+                  int32_t detour_mm, int32_t side, int32_t *heading_mrad, mg_ops_t *ops);
 } mg_replanner001_t;
 
 /* The board's replanner behind mg_replanner001_t (method001.py start_001, update_001,
- * straight_clear_001): replan.c around plan001.c, the curve's reference table
+ * straight_clear_001, escape_001): replan.c around plan001.c, the curve's reference table
  * (MG_PLAN000_TRAJ_SAMPLES samples, path_follow.c). ctx is an mg_board_replanner001_t whose
  * params (v0_mm_s unused: level_v0_mm_s by the slow-down level, divided by v0_div), cfg
  * (target_q4 set by start), level_v0_mm_s and v_limit_mm_s the caller fills. */
@@ -75,7 +90,7 @@ extern const mg_replanner001_t mg_board_replanner001;
  * 2^40, appended at at; the new end */
 size_t mg_method001_text_m_2(char *out, size_t cap, size_t at, int64_t q4);
 
-/* What 001 keeps between steps (the task's ms, State001 without the fallbacks' detours). */
+/* What 001 keeps between steps (the task's ms, State001). */
 typedef struct {
     const mg_replanner001_t *rp; /* the replanner's calls (NULL: none, every plan fails) */
     void *rp_ctx;
@@ -83,13 +98,18 @@ typedef struct {
     int32_t has_path_from, path_from_mm[2]; /* where the last planned path began */
     int32_t v0_div;                /* the planner's v0 divided by this (a fallback step) */
     int32_t fallbacks, detours, detour_side;
-    /* arrived on the grasp circle: the estimate the look before the grasp is to confirm */
-    int32_t has_circle_expected, circle_expected_mm[2];
-    mg_detour_t detour; /* a drive aside before the next plan (the sonar guard's) */
+    /* arrived on the grasp circle: the estimate the look before the grasp is to confirm,
+     * and the circle's radius l_e */
+    int32_t has_circle_expected, circle_expected_mm[2], circle_l_e_mm;
+    int32_t ik_grasp;       /* PRECISE_GRASP goes down by eq. (11), no spoke alignment */
+    int32_t has_l_e, l_e_mm; /* l_e of eq. (5) for grasp_height_mm, once computed (0: none) */
+    mg_detour_t detour; /* a drive aside before the next plan (a fallback's, the guard's) */
 } mg_state001_t;
 
 void mg_method001_ms_init(void *ms);
 void mg_method001_params(mg_task_params_t *p);
+/* the replanner's calls and context; with them l_e of eq. (5) for the task's grasp height
+ * (the grasp circle's radius, its note at the arrival), computed here, at start-up */
 void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void *ctx);
 /* the object given and near, unseen: the camera on it, the base turned to face it for up to
  * MG_LOOK_FIRST_US before the first plan; 1 while looking */
@@ -99,6 +119,15 @@ int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
  * then turns toward the widest free sector and drives out of R_r (ms detour, driven before
  * the next plan) */
 void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* ROUGH_GRASP after its look from the grasp circle (method001.py look_decides): the object
+ * seen (dual "+") within MG_CIRCLE_CONFIRM_MM of where the base expected it and its grasp
+ * point reachable by eq. (11) of 000 (gripper down): the gripper above the grasp point, the
+ * descent next (1); else ADJUST and 000's precise grasp from here (1); 0 without an arrival
+ * on the circle (the common rule) */
+int mg_method001_look_decides(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* PRECISE_GRASP's entry: after the confirmed look, straight down to the grasp point and close
+ * (grasp_close "ik"); else 000's roll and spoke alignment */
+void mg_method001_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* the path hooks of 001 */
 extern const mg_path_method_t mg_path001;
 

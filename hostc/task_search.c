@@ -106,6 +106,8 @@ static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
 void mg_task_do_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     const struct mg_task_method *r = t->rules;
+    if (r->search_back_off && r->search_back_off(t, now_us, in))
+        return;
     union {
         int64_t align;
         unsigned char bytes[MG_SIGHTING_BYTES];

@@ -168,6 +168,31 @@ def exp1_corpus(tmp_path_factory):
                              lambda folder: record(folder, ["paper000-exp1"]))
 
 
+@pytest.fixture
+def close_start_done(tmp_path):
+    """``run(method, seed)``: the generator v3 scene of ``method`` and ``seed``, its target
+    0.3-0.5 m from the start, run in process to DONE without a contact; its trace's events and
+    its ``back_off`` detail events (tests/system/test_00*_close_start.py)."""
+    import math
+
+    from mobigrasp.services.random_scenarios import random_scenario
+    from mobigrasp.services.run_job import RunOptions, execute
+
+    def run(method: str, seed: int) -> tuple[list, list]:
+        scenario = random_scenario(method, seed, "v3")
+        assert math.hypot(scenario.target.x_m, scenario.target.y_m) < 0.5  # a close start
+        out = tmp_path / f"{method}-{seed}"
+        summary, code = execute(RunOptions(scenario=f"random-v3-{method}-{seed}",
+                                           scenario_obj=scenario, transport="inproc", out=out,
+                                           plots=False, mcap=False, progress=False))
+        assert summary["success"] and code == 0, (summary["task_state"], summary["end_reason"])
+        assert summary["contacts"] == 0
+        events = [json.loads(line) for line in (out / "trace.jsonl").open()]
+        return events, [e for e in events if e.get("ev") == "detail" and "back_off" in e]
+
+    return run
+
+
 def assert_no_false_claim(summary: dict) -> None:
     """A run that ended DONE without the object in the gripper fails the test (docs/task.md)."""
     assert not summary.get("false_claim"), (

@@ -305,6 +305,22 @@ def _judge_radial(res, view: View) -> Outcome:
     return _judge_generic(dist, bear)
 
 
+def _run_radial_cut(rgb: np.ndarray, view: View):
+    return DETECTORS["radial_cut"].detect()(rgb)
+
+
+def _judge_radial_cut(res, view: View) -> Outcome:
+    """Correct: cut at the side the symbol's centre lies beyond (no position to compare)."""
+    return Outcome(True, res.side == view.truth["side"])
+
+
+def view_radial_cut(rng: np.random.Generator) -> View:
+    """A symbol near the camera, its centre 165-200 px left or right of the image centre."""
+    side = 1 if rng.random() < 0.5 else -1
+    v = cv_views.radial_cut(rng, side * float(rng.uniform(165, 200)))
+    return View(v.scene, v.cam_pos_w, v.R_wc, v.intr, {**v.truth, "side": side})
+
+
 def _run_dual_plus(rgb: np.ndarray, view: View):
     return DETECTORS["dual_plus"].detect()(rgb, alpha_mrad=_pitch_mrad(view))
 
@@ -377,6 +393,10 @@ _SPECS: dict[str, Spec] = {
     "red_roi": Spec("red_roi", view_red_roi, view_empty_002, _run_red_roi, _judge_red_roi,
                     "002 search and approach: 0.4-3 m, any side, bearing only (any red region "
                     "is one: the empty views' red clutter counts as false positives)"),
+    "radial_cut": Spec("radial_cut", view_radial_cut, cv_views.empty, _run_radial_cut,
+                       _judge_radial_cut, "000 search at a close start: the symbol 0.3-0.45 m "
+                       "from the camera, its centre beyond the left or right border (correct: "
+                       "that side; no position)"),
     "held_fill": Spec("held_fill", view_held, cv_views.empty, _run_held_fill, _judge_held_fill,
                       "grasp check: the camera inside the held object (correct: the object's "
                       "own colour; no distance or bearing)"),

@@ -18,12 +18,15 @@ class AdjustState:
     """Entry action and step of ADJUST."""
 
     def enter_ADJUST(self, t, now: int, inp) -> None:
-        """Close-look posture (ours): shoulder up, elbow bent, so that theta2 alone (000's
-        k_theta2 = 1) can pitch the camera down to the object at arm's length; alpha is kept."""
-        th3, th4 = t.p.adjust_theta3_mrad, t.p.adjust_theta4_mrad
-        alpha = t.arm[2] + t.arm[3] + t.arm[4]
-        t.set_arm(now, alpha - th3 - th4, th3, th4, t.arm[5])
-        t.trust_from_us = t.move_done_us
+        """From the posture the arm enters with, the joints moved by eq. (10) of 000 alone
+        (``Method.adjust_keeps_posture``); else the close-look posture (ours): shoulder up,
+        elbow bent, so that theta2 alone (000's k_theta2 = 1) can pitch the camera down to the
+        object at arm's length; alpha is kept."""
+        if not t.rules.adjust_keeps_posture:
+            th3, th4 = t.p.adjust_theta3_mrad, t.p.adjust_theta4_mrad
+            alpha = t.arm[2] + t.arm[3] + t.arm[4]
+            t.set_arm(now, alpha - th3 - th4, th3, th4, t.arm[5])
+            t.trust_from_us = t.move_done_us
         t.obj_seen_us = max(t.obj_seen_us, t.move_done_us)  # LOST counts from then
 
     def do_ADJUST(self, t, now: int, inp, dets: dict) -> None:

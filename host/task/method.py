@@ -116,6 +116,10 @@ class Method(ABC):
     # host/vision/held_fill.py OBJECT_COLOURS; the grasp check's evidence, held_in_view)
     held_colour: str
     plus_on_top: bool = False  # the two "+" placed where their rays meet the top (sense.py)
+    # ADJUST starts from the posture it enters with and moves the joints by eq. (10) of 000
+    # alone (True), or first puts the elbow and shoulder to the close-look posture
+    # (``adjust_theta3_mrad``, ``adjust_theta4_mrad``; host/task/adjust.py)
+    adjust_keeps_posture: bool = False
     # ROUGH_GRASP first looks at the object from these (range mm, pitch down mrad), the first
     # the arm reaches, the base standing still, and grasps on that sighting (grasp.py); ():
     # the grasp goes on the estimate ADJUST ended with
@@ -138,6 +142,11 @@ class Method(ABC):
         parameters ``sp`` (host.search.SearchParams) as changed, and its start (theta2s,
         theta5s mrad); None: the usual search from the arm's joints."""
         return None
+
+    def search_back_off(self, t: Task, now: int, inp: Any, dets: dict) -> bool:
+        """SEARCH's step taken by a back-off from an object too near to be seen whole (True:
+        the step is done); False: the search goes on."""
+        return False
 
     def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:
         """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method

@@ -7,7 +7,8 @@ eq. (11); PRECISE_GRASP rolls to pi/2 and aligns on the spoke (§III.C.2); the g
 LIFT's grasp check asks for the held object filling the hand camera's frame (grasp.py,
 docs/task.md). Lost near the
 object (ADJUST, PRECISE_GRASP), the platform stops and the arm searches by Fig. 5 with the
-paper's d_theta2 (``lost_search``, ``grasp_lost``; docs/task.md).
+paper's d_theta2 (``lost_search``, ``grasp_lost``; docs/task.md). A symbol too near to be seen
+whole at the start is backed off from (``search_back_off``).
 """
 
 from __future__ import annotations
@@ -17,24 +18,35 @@ from typing import TYPE_CHECKING
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.control.path_follow import PathFollower, Trajectory
+from mobigrasp.host.fixedpoint import atan2_mrad
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
+from mobigrasp.host.search import ArmSearch, SearchParams
 from mobigrasp.host.task.approach import PathMethod
-from mobigrasp.host.task.drive import velocity_m
+from mobigrasp.host.task.drive import turn_in_place, velocity_m, wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
 from mobigrasp.host.task.method import K_THETA, PI, MethodState, Param, SceneHints, mrad, q12
 from mobigrasp.host.task.sense import CAMERA_000, odom_to_platform_q4
+from mobigrasp.host.vision import registry
 
 if TYPE_CHECKING:
     from mobigrasp.host.budget import OpCounts
     from mobigrasp.host.control.path_follow import WheelCommand
     from mobigrasp.host.kinematics import ArmGeometry, ArmPose, Unreachable
-    from mobigrasp.host.search import SearchParams
     from mobigrasp.host.task.machine import Task, TaskInputs
     from mobigrasp.host.task.params import TaskParams
     from mobigrasp.host.vision.dual_plus import DualPlus
     from mobigrasp.host.vision.radial_symbol import RadialSymbol
 
 MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (evenly picked)
+# SEARCH: the radial symbol cut by the frame's border (radial_symbol.py detect_radial_cut) is
+# nearer than its near limit (0.45 m from the camera): turn toward it, back straight off
+# BACK_OFF_000_MM at slow_mmps and look around again. Only from the run's start (within
+# BACK_OFF_FROM_MM of the odometry's origin, before any loss): the sonar ring does not look
+# back, and the generator keeps 0.35 m clear around a start, the footprint's radius being
+# 170 mm; so at most BACK_OFFS_000 a run (docs/task.md, "000: the back-off ...")
+BACK_OFF_000_MM = 150
+BACK_OFF_FROM_MM = 40
+BACK_OFFS_000 = 1
 
 
 def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
@@ -71,6 +83,10 @@ class State000(MethodState):
     """What 000 keeps between steps (the task's ``ms``)."""
 
     grasp_searches: int = 0  # searches after a loss in PRECISE_GRASP (grasp_lost)
+    back_offs: int = 0  # back-offs from a cut symbol made in the run (search_back_off)
+    # the back-off under way: ("turn", heading_from, turn_mrad), ("back", x0_mm, y0_mm) or
+    # ("look", stopped_us, 0); None: none
+    back_off: tuple[str, int, int] | None = None
 
 
 class Method000(PathMethod):
@@ -129,13 +145,14 @@ class Method000(PathMethod):
     link_lengths_mm = (95.5, 89.0, 97.0)
     camera = CAMERA_000
     param_defaults: dict = {}
-    detectors = {"SEARCH": ("radial_symbol",), "APPROACH": ("radial_symbol",),
+    detectors = {"SEARCH": ("radial_symbol", "radial_cut"), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
                  # LIFT: the grasp check (grasp.py): the held object fills the frame, the
                  # object seen standing away is a miss
                  "LIFT": ("dual_plus", "radial_symbol", "held_fill")}
     # ADJUST closes in on the dual "+" and reads the rings only when the "+" are not seen
-    detector_fallbacks = {"ADJUST": {"radial_symbol": "dual_plus"}}
+    detector_fallbacks = {"ADJUST": {"radial_symbol": "dual_plus"},
+                          "SEARCH": {"radial_cut": "radial_symbol"}}  # cut: not read whole
     search_detector = "radial_symbol"
     adjust_detector = "dual_plus"
     check_detectors = ("dual_plus", "radial_symbol")
@@ -143,6 +160,12 @@ class Method000(PathMethod):
     object_detectors = ("dual_plus", "radial_symbol")  # both are on the object's top
     grasp_alpha_mrad = kinematics.ALPHA_DOWN_MRAD
     keeps_sightings = True
+    # ADJUST from the search posture: eq. (10) with the scenario's gains (000 §IV: k_theta2 = 1,
+    # k_theta3 = k_theta4 = 0, theta2 alone) moves the joints, no jump on entry
+    adjust_keeps_posture = True
+    # from the search posture the "+" pair lies along the view: at the detector's one depth it
+    # comes out ~21 mm apart (refused), on the top's plane 47.3 mm, and the hover goes over one
+    plus_on_top = True
 
     # --- SEARCH --------------------------------------------------------------------------------
     def found(self, t: Task, now: int, inp: TaskInputs, name: str, det: RadialSymbol) -> bool:
@@ -162,6 +185,47 @@ class Method000(PathMethod):
         th2s = min(max(alpha - sp.theta3_mrad - sp.theta4_mrad, sp.theta2_min_mrad),
                    sp.theta2_max_mrad)
         return replace(sp, dense_cycles=max(1, sp.dense_cycles)), th2s, t.arm[5]
+
+    def search_back_off(self, t: Task, now: int, inp: TaskInputs, dets: dict) -> bool:
+        """The radial symbol cut by the frame's border at the start: too near to be read. Turn
+        toward it (the waist of the frame's pose, and the border's half field of view beyond
+        it), back straight off BACK_OFF_000_MM, stand until a frame taken after the stop has
+        come, and search again from there (a new look-around: the symbol is then ahead, in
+        range). True while the back-off takes the step."""
+        ms = t.ms
+        if ms.back_off is None:
+            cut = dets.get("radial_cut")
+            if not isinstance(cut, registry.row("radial_cut").result_type()) \
+                    or ms.back_offs >= BACK_OFFS_000 \
+                    or t.confirm_until is not None or t.counters["lost"] \
+                    or inp.x_mm * inp.x_mm + inp.y_mm * inp.y_mm > BACK_OFF_FROM_MM ** 2:
+                return False
+            # its bearing (right positive, as the waist's) at the border it is cut at; the base
+            # turns left positive
+            half_fov = atan2_mrad(t.cam.u0_px, t.cam.f_px)
+            turn = -(t.arm_at(now - t.p.frame_latency_us)[5] + cut.side * half_fov)
+            ms.back_offs += 1
+            ms.back_off = ("turn", inp.heading_mrad, turn)
+            t.note(back_off={"side": cut.side, "turn_mrad": turn, "n": ms.back_offs})
+        phase, a, b = ms.back_off
+        if phase == "turn":
+            if abs(wrap_mrad(inp.heading_mrad - a)) < abs(b):
+                t.wheels = turn_in_place(1 if b > 0 else -1, t.p.turn_wheel_mmps)
+                return True
+            phase, a, b = ms.back_off = ("back", inp.x_mm, inp.y_mm)
+        if phase == "back":
+            dx, dy = inp.x_mm - a, inp.y_mm - b
+            if dx * dx + dy * dy < BACK_OFF_000_MM * BACK_OFF_000_MM:
+                t.wheels = (-t.p.slow_mmps, -t.p.slow_mmps)
+                return True
+            phase, a, b = ms.back_off = ("look", now, 0)
+        t.wheels = (0, 0)
+        if not dets or now - t.p.frame_latency_us < a:
+            return True
+        ms.back_off = None
+        t.search = ArmSearch(SearchParams(**t.p.search), t.arm[2], t.arm[5], now)
+        t.turn_from = t.wander_from = None
+        return False
 
     def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:
         """No spoke under the camera at the hover: the object is lost during the grasp (000

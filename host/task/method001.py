@@ -237,12 +237,16 @@ class Method001(Method000):
     # 001 comes at the object from any side: the "+" pair is often seen along the view, where
     # at one depth it comes out 25 mm apart instead of 47.3 mm (and is refused)
     plus_on_top = True
+    adjust_keeps_posture = False  # the long arm looks from the close-look posture
     # ADJUST ends on odometry (blind_finish_mm): near, the long arm's camera is over the card
     # and loses the pair. The base stopped, the camera looks back at the top from 140-200 mm
     # (reachable views, first wins), where the pair fits the frame, and the grasp goes on that
     # sighting (host/task/grasp.py, docs/task.md "001: the look before the grasp")
     sight_views = ((180, 900), (160, 1000), (180, 1000), (200, 800), (160, 1100), (140, 1100))
-    detectors = {**Method000.detectors, "ROUGH_GRASP": ("dual_plus",)}
+    # SEARCH reads the radial symbol alone: 001's object position is given (no back-off)
+    detectors = {**Method000.detectors, "SEARCH": ("radial_symbol",),
+                 "ROUGH_GRASP": ("dual_plus",)}
+    detector_fallbacks = {"ADJUST": {"radial_symbol": "dual_plus"}}
     # the precise grasp's w_T <= w_max = 40 px needs the camera >= 92 mm above the "+"
     # (6 mm * 611 / 92): looking down, the 001 arm reaches 95 mm there within 142 mm of the
     # waist only, so ADJUST ends the object 108-132 mm ahead and the hover is 95 mm (39 px);
@@ -254,6 +258,7 @@ class Method001(Method000):
     # usual search, and the rough position when no spoke is seen
     lost_search = Method.lost_search
     grasp_lost = Method.grasp_lost
+    search_back_off = Method.search_back_off
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
     def plan(self, t: Task, now: int, inp: TaskInputs

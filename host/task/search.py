@@ -40,6 +40,8 @@ class SearchStates:
             t.go(now, "APPROACH", f"object position given: {t.obj} mm")
 
     def do_SEARCH(self, t, now: int, inp, dets: dict) -> None:
+        if t.rules.search_back_off(t, now, inp, dets):
+            return
         name, det = t.rules.search_sighting(dets)
         if t.confirm_until is not None:
             t.wheels = (0, 0)

@@ -27,6 +27,10 @@ between the ring's centre lines plus one ring width, i.e. the outer diameter, wh
 physical L = 109 mm (outer edge to outer edge).
 
 Camera axes here follow the paper: Y_oc along the optical axis, X_oc to the left, Z_oc up.
+
+:func:`detect_radial_cut` reads the same front end for a symbol too near to be seen whole: a
+ring-like dark component cut by the frame's border (docs/task.md, "000: the back-off from a
+symbol cut by the frame").
 """
 
 from __future__ import annotations
@@ -52,6 +56,12 @@ LOCAL_BUDGET_NUM, LOCAL_BUDGET_DEN = 3, 2
 MIN_CONTRAST = 90  # grey levels between print and card at the darkest exposure (0.7 x 235-20)
 FILL_MIN_PCT, FILL_MAX_PCT = 62, 84  # ring + interior over the box (ellipse: 78.5 %)
 SPAN_MIN_PCT, SPAN_MAX_PCT = 55, 90  # interior width over outer width at the centre row
+# a cut symbol: the visible part at least CUT_MIN_PX wide (the whole symbol is wider, so nearer
+# than L f / CUT_MIN_PX = 1.04 m), its box at most CUT_SOLID_PCT dark: a ring's arc with the
+# light card inside (the cut symbols of docs/task.md's close starts 23-32 %, the clutter of
+# camera_views.empty that touches the border 36-70 %)
+CUT_MIN_PX = 64
+CUT_SOLID_PCT = 45
 
 
 @dataclass(frozen=True)
@@ -64,6 +74,19 @@ class RadialSymbol:
     y_oc_mm: int  # along the optical axis
     x_oc_mm: int  # to the left
     z_oc_mm: int  # up
+
+
+@dataclass(frozen=True)
+class RadialCut:
+    """Dark print cut by the frame's border where a near radial symbol would be: the box (px)
+    of the widest such component and the side it is cut at (-1 left, 1 right, 0 top or bottom
+    alone)."""
+
+    x: int
+    y: int
+    w: int
+    h: int
+    side: int
 
 
 def _is_ring(labels: np.ndarray, k: int, x: int, y: int, w: int, h: int
@@ -328,6 +351,29 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
             if res is not None:
                 return res, ops
     return None, ops
+
+
+def detect_radial_cut(rgb: np.ndarray) -> tuple[RadialCut | None, OpCounts]:
+    """A radial symbol cut by the frame's border, from the front end's components (step 1 of
+    :func:`detect_radial_symbol`): the widest component that touches the border but does not
+    span the frame's width, at least CUT_MIN_PX wide and whose box is at most CUT_SOLID_PCT dark
+    (a ring's arc with the light card inside, not a blob). Only
+    evidence: no position (its centre lies outside the frame)."""
+    grey, mask, n_lab, labels, stats, ops = db.dark_components(rgb, "detect_radial_cut")
+    H, W = grey.shape
+    st = stats[1:]
+    x, y, w, h, area = st[:, 0], st[:, 1], st[:, 2], st[:, 3], st[:, 4]
+    left, right = x <= 0, x + w >= W
+    ok = (w >= CUT_MIN_PX) & (100 * area <= CUT_SOLID_PCT * w * h) \
+        & (left | right | (y <= 0) | (y + h >= H)) & ~(left & right)
+    # the scan over the component table (hostc/radial_symbol.c mg_radial_cut)
+    ops += OpCounts(alu=20 + 14 * len(st), branches=2 * len(st))
+    cand = np.flatnonzero(ok)
+    if not len(cand):
+        return None, ops
+    k = int(cand[np.argmax(w[cand])])  # the widest; the first of equals
+    side = -1 if left[k] else 1 if right[k] else 0
+    return RadialCut(int(x[k]), int(y[k]), int(w[k]), int(h[k]), side), ops
 
 
 def sighting(res: RadialSymbol, f_px: int) -> tuple[int, int, int] | None:

@@ -103,6 +103,8 @@ DETECTORS: dict[str, DetectorRow] = {row.name: row for row in (
                 min_ops="roi_min_ops", sighting="roi_sighting"),
     DetectorRow("held_fill", _V + "held_fill", "detect_held_fill", "HeldFill", uses_grey=False,
                 sighting=None),
+    DetectorRow("radial_cut", _V + "radial_symbol", "detect_radial_cut", "RadialCut",
+                sighting=None, front_end=_DARK),
 )}
 
 

@@ -124,6 +124,19 @@ def radial_far(rng: np.random.Generator, clutter: int = 4, max_dist_m: float = 1
     return View(scene, c, R, INTR_000, _truth_000(c, R, centre))
 
 
+def radial_cut(rng: np.random.Generator, du_px: float) -> View:
+    """Symbol near the camera (0.3-0.45 m, the camera 0.28-0.34 m up, a close start) with its
+    centre ``du_px`` from the image centre: cut by the border for |du_px| > 160; truth: the
+    camera's distance to the symbol's centre."""
+    t = Target("radial-symbol", 0.0, 0.0, float(rng.uniform(-math.pi, math.pi)))
+    dist, hc, beta = rng.uniform(0.3, 0.45), rng.uniform(0.28, 0.34), rng.uniform(-3.1, 3.1)
+    c = np.array([-dist * math.cos(beta), -dist * math.sin(beta), hc])
+    centre = target_keypoints_w(t)["symbol_centre"]
+    yaw, pitch = _aim(c, centre, du_px, rng.uniform(-30, 30), INTR_000.f_px)
+    return View(Scene(t, seed=int(rng.integers(1 << 16))), c, look_rotation(yaw, pitch),
+                INTR_000, {"dist_m": float(np.linalg.norm(centre - c))})
+
+
 def dual_plus(rng: np.random.Generator, clutter: int = 4) -> View:
     """Camera above and beside the object (approach adjustment); truth also has the "+" pixels."""
     while True:

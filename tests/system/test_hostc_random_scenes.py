@@ -5,8 +5,8 @@ summary (the outcome, the world's figures, the BYE's) with ``--host c`` as with 
 do not: the search when the object is lost, the board alone, faults, obstacles under the sonar
 guard.
 
-Every method of the task is a row of the test; one the C program's table has not yet fails at
-once, naming it (services/loop_campaign.run_campaign refuses the campaign: "method 001 is not
+Every method of the task is a row of the test; one the C program's table has not fails at
+once, naming it (services/loop_campaign.run_campaign refuses the campaign: "method NNN is not
 in the C host yet")."""
 
 import json

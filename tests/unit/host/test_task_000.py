@@ -13,7 +13,8 @@ from test_task_closed_loop import World
 from mobigrasp.cosim.run_folder import read_trace
 from mobigrasp.host import arm_calib
 from mobigrasp.host.app_factory import task_params
-from mobigrasp.host.task import Task
+from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.host.task.adjust import ADJUST
 from mobigrasp.services.run_job import RunOptions, execute, resolve_scenario
 
 
@@ -205,3 +206,49 @@ def test_the_searches_after_a_loss_are_000s_only():
     t000.state = "PRECISE_GRASP"
     assert t000.rules.grasp_lost(t000, 0, 3_000_000) and t000.state == "LOST"
     assert not t000.rules.grasp_lost(t000, 1, 3_000_000)  # once per run
+
+
+SEARCH_POSTURE = (-2650, -200, 2300, 100)  # the search's theta2..theta5 (host/search.py)
+
+
+def _adjust_steps(task, steps=10, period_us=20_000) -> list:
+    """Enter ADJUST in the search posture, the object 300 mm ahead and 40 mm right of the
+    waist, and step it without detections (not long enough to be lost): the arm after each."""
+    task.arm[2:6] = list(SEARCH_POSTURE)
+    task.obj = (400, -40)  # odometry frame; the platform at the origin facing +x
+    task.go(0, "ADJUST", "test")
+    inp = TaskInputs()
+    ADJUST.enter_ADJUST(task, 0, inp)
+    arms = [list(task.arm)]
+    for k in range(1, steps + 1):
+        ADJUST.do_ADJUST(task, k * period_us, inp, {})
+        arms.append(list(task.arm))
+    assert task.state == "ADJUST"
+    return arms
+
+
+def test_adjust_starts_from_the_posture_it_enters_with_and_moves_by_eq_10():
+    """000's ADJUST makes no jump on entry: with 000 §IV's gains (k_theta2 = 1, k_theta3 =
+    k_theta4 = 0) theta3 and theta4 stay where the search left them while theta2 pitches the
+    camera to the object and theta5 turns to it (eq. (10)); with non-zero k_theta3, k_theta4
+    those joints move too."""
+    arms = _adjust_steps(Task("000"))
+    assert arms[0][2:6] == list(SEARCH_POSTURE)  # the entry commands nothing
+    assert all(a[3:5] == [-200, 2300] for a in arms)
+    assert arms[-1][2] != SEARCH_POSTURE[0] and arms[-1][5] != SEARCH_POSTURE[3]
+    gains = Task("000", {"posture": {"k_theta_q12": (4096, 4096, 4096)}})
+    moved = _adjust_steps(gains)
+    assert moved[0][2:6] == list(SEARCH_POSTURE)
+    assert moved[-1][3] != -200 and moved[-1][4] != 2300
+    # eq. (10) shares the pitch change among the joints: the camera pitches the same way
+    alpha0 = sum(SEARCH_POSTURE[:3])
+    assert (sum(moved[-1][2:5]) - alpha0) * (sum(arms[-1][2:5]) - alpha0) > 0
+
+
+def test_001_adjust_still_enters_the_close_look_posture():
+    """001 (its long arm looks from the close-look posture) keeps the entry posture of
+    ``adjust_theta3_mrad``, ``adjust_theta4_mrad``, the camera pitch kept."""
+    task = Task("001")
+    arms = _adjust_steps(task, steps=0)
+    assert arms[0][3:5] == [task.p.adjust_theta3_mrad, task.p.adjust_theta4_mrad]
+    assert sum(arms[0][2:5]) == sum(SEARCH_POSTURE[:3])

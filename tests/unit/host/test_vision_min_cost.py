@@ -18,6 +18,7 @@ CALL = {
     "red_cylinder": lambda mod, rgb: mod.detect_red_cylinder(rgb),
     "red_roi": lambda mod, rgb: mod.detect_red_roi(rgb),
     "held_fill": lambda mod, rgb: mod.detect_held_fill(rgb),
+    "radial_cut": lambda mod, rgb: mod.detect_radial_cut(rgb),
 }
 
 
@@ -120,7 +121,7 @@ def _scenario_frames() -> list[np.ndarray]:
 # double cross stops at its coarsest level only when it sees big crosses there (close by); the
 # bound can only count that level, while most views also pay for the finer ones.
 USEFUL = {"radial_symbol": 0.5, "spoke": 0.5, "dual_plus": 0.5, "red_cylinder": 0.5,
-          "double_cross": 0.3, "red_roi": 0.5, "held_fill": 0.5}
+          "double_cross": 0.3, "red_roi": 0.5, "held_fill": 0.5, "radial_cut": 0.5}
 
 
 def test_bound_holds_and_is_useful_on_rendered_frames():

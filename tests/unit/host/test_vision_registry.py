@@ -73,7 +73,7 @@ def test_a_toy_detector_row_reaches_the_cost_report_the_host_app_and_the_task(mo
 def test_a_shared_front_end_is_within_what_each_of_its_detectors_charges():
     shared = app_factory.front_ends(registry.DETECTORS)
     # the 000 detectors start from one front end (grey, dark mask, components); 002's do not
-    assert sorted(shared) == ["dual_plus", "radial_symbol", "spoke"]
+    assert sorted(shared) == ["dual_plus", "radial_cut", "radial_symbol", "spoke"]
     assert len({ref for ref, _ in shared.values()}) == 1
     for name, (_, us) in shared.items():
         row = registry.DETECTORS[name]

@@ -156,9 +156,15 @@ STEP = st.fixed_dictionaries(
               "gripper": st.integers(-100, 1100),
               "wheels": st.lists(st.integers(-1500, 1500), min_size=2, max_size=2),
               "state": st.sampled_from(["INIT", "SEARCH", "APPROACH", "GRASP", "DONE"]),
-              "detail": st.dictionaries(st.sampled_from(["plan", "e_mrad", "why", "pose"]),
+              "detail": st.dictionaries(st.sampled_from(["plan", "e_mrad", "why", "pose",
+                                                         "grasp_circle"]),
                                         st.integers(-99, 99) | st.text(max_size=5)
-                                        | st.lists(st.integers(0, 9), max_size=3),
+                                        | st.lists(st.integers(0, 9), max_size=3)
+                                        # 001's arrival on the grasp circle: its error kept
+                                        | st.fixed_dictionaries({
+                                            "axle_mm": st.integers(0, 999),
+                                            "error_mm": st.integers(-999, 999),
+                                            "path_error_mm": st.none() | st.integers(0, 99)}),
                                         max_size=3)})
 
 
@@ -239,6 +245,8 @@ def test_host_program_served_by_the_rig(steps, data):
         app.counters.control_steps, app.counters.deadline_misses,
         app.counters.frames_dropped, app.counters.frames_processed, app.replans)
     assert capp.events_lost == 0 and capp.frames_lost == 0
+    # the first arrival on the grasp circle's error (the BYE's circle_error_mm)
+    assert (capp.circle_error_mm if capp.has_circle_error else None) == app.circle_error_mm
 
 
 def test_a_run_longer_than_the_load_windows_kept():

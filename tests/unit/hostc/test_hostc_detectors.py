@@ -17,11 +17,13 @@ from mobigrasp.calib import corpus
 from mobigrasp.host import app_factory, arm_calib
 from mobigrasp.host.app import jsonable
 from mobigrasp.host.vision import registry
+from mobigrasp.mcu_sim.world import camera_views
+from mobigrasp.mcu_sim.world.camera import CameraOptions, render
 
 FFI, C = hostc.lib()
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the DONE's
 NAMES = [FFI.string(C.mg_detector_names[i]).decode() for i in range(C.MG_N_DETECTORS)]
-THE_000 = ("radial_symbol", "dual_plus", "spoke")
+THE_000 = ("radial_symbol", "dual_plus", "spoke", "radial_cut")
 MAX_DETECTORS = dict(FFI.typeof("mg_app_t").fields)["detectors"].type.length
 
 
@@ -82,9 +84,23 @@ def test_the_table_on_recorded_frames(marker_slice):
 
 def test_the_000_rows_on_recorded_frames(exp1_corpus):
     """paper000-exp1's frames: the search's radial symbol, the approach's dual "+" and the
-    spoke over the object, each frame given to all three."""
+    spoke over the object, each frame given to all four (the cut symbol too)."""
     found = _check_recorded(exp1_corpus, THE_000, THE_000)
-    assert all(found.get(name, 0) > 0 for name in THE_000), found
+    assert all(found.get(name, 0) > 0 for name in THE_000[:3]), found
+
+
+def test_the_cut_symbol_on_rendered_frames():
+    """A symbol near the camera, its centre beyond the left or right border: cut, the same
+    box, side, JSON and counts as the Python detector's."""
+    _, _, table = _table(611)
+    rng = np.random.default_rng(7)
+    found = 0
+    for side in (-1, 1, -1, 1):
+        v = camera_views.radial_cut(rng, side * 180.0)
+        rgb = render(v.scene, v.cam_pos_w, v.R_wc, v.intr, CameraOptions(),
+                     np.random.default_rng(0))
+        found += _check(table, "radial_cut", rgb, (611, 160, 120), (0, 0, -1571, 0, 0, 0))
+    assert found >= 3
 
 
 @settings(max_examples=60, deadline=None)
@@ -104,7 +120,7 @@ def test_the_table_on_random_frames(w, h, seed, name):
 
 
 def test_the_000_rows_share_their_front_end():
-    """The three 000 detectors start from one front end, charged once a frame: the row's id
+    """The four 000 detectors start from one front end, charged once a frame: the row's id
     and its time on a frame of each size are the Python host's (host/app_factory.py
     front_ends)."""
     _, _, table = _table(611)

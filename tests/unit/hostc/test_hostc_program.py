@@ -97,7 +97,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
         assert bye.stats["frames_received"] == st["frames_received"] >= 10
         assert bye.stats["frames_idle"] == st["frames_idle"] == st["frames_received"]
         for key in ("arm9_load_max", "arm9_load_mean", "stages",  # the decimals as Python's
-                    "mcu", "replans", "path_updates", "close_reason"):
+                    "mcu", "replans", "path_updates", "close_reason", "circle_error_mm"):
             assert bye.stats[key] == st[key], key
         assert bye.stats["stage_overflow"] == 0
     finally:
@@ -108,7 +108,7 @@ def test_the_c_program_answers_the_rig_as_the_python_host(program):
 
 @pytest.mark.parametrize("args, says", [
     ([], "--port is required"),
-    (["--port", "/dev/null", "--method", "001"], "method not in the C host yet"),
+    (["--port", "/dev/null", "--method", "003"], "method not in the C host yet"),
     (["--port", "/dev/null", "--poll-ms", "-3"], "--poll-ms"),
     (["--port", "/dev/null", "--config", "/nonexistent.json"], "--config"),
     (["--port", "/nonexistent/tty", "--method", "idle"], "--port"),
@@ -189,7 +189,7 @@ def test_the_c_program_runs_002_as_the_python_host(program, marker_frames, tmp_p
         st = app.stats()
         for key in ("control_steps", "frames_received", "frames_processed", "frames_dropped",
                     "deadline_misses", "state", "arm9_load_max", "arm9_load_mean", "stages",
-                    "mcu", "replans", "path_updates", "close_reason"):
+                    "mcu", "replans", "path_updates", "close_reason", "circle_error_mm"):
             assert bye.stats[key] == st[key], key
         assert st["frames_processed"] > 0 and st["state"] != "INIT"
         # the loads and the means are fractions, the detectors' stages among the stages

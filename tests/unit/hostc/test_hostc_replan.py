@@ -24,7 +24,7 @@ from mobigrasp.host.planning.bezier_q import POS_PER_M, quantize_ctrl
 from mobigrasp.host.planning.replan import Replanner
 from mobigrasp.host.planning.sonar_regions import InfeasibleRegion, sonar_q
 from mobigrasp.host.task.drive import state_m, velocity_m
-from mobigrasp.host.task.method001 import planner_params_001, straight_clear_001
+from mobigrasp.host.task.method001 import escape_001, planner_params_001, straight_clear_001
 from mobigrasp.host.task.params import TaskParams
 
 FFI, C = hostc.lib()
@@ -254,6 +254,19 @@ def _follower_ops(curve) -> OpCounts:
     return OpCounts() if curve is None else Trajectory.from_curve(curve).ops
 
 
+def _same_escape(b, rp: Replanner, inp, obj_mm, detour_mm: int, side: int) -> str:
+    """The board's escape_001 (its mg_replanner001_t) as method001.py's: the same heading or
+    none, the same modelled cost; "found" or "none"."""
+    ops, head = FFI.new("mg_ops_t *"), FFI.new("int32_t *")
+    found = C.mg_board_replanner001.escape(b, inp, list(obj_mm), detour_mm, side, head, ops)
+    want, want_ops = escape_001(rp, inp.x_mm, inp.y_mm, inp.heading_mrad,
+                                tuple(inp.sonar_mm[0:inp.n_sonar]), tuple(obj_mm), detour_mm,
+                                side)
+    assert (head[0] if found else None) == want
+    assert hostc.ops_tuple(ops[0]) == want_ops.as_tuple()
+    return "found" if found else "none"
+
+
 def _replay_board(calls, base_v0: float) -> dict:
     """The calls replayed on the board's replanner through its mg_replanner001_t: the same
     paths, reasons, decisions and modelled time; its straight-way test after each update as
@@ -291,6 +304,7 @@ def _replay_board(calls, base_v0: float) -> dict:
             want, want_ops = straight_clear_001(then, inp.x_mm, inp.y_mm, inp.heading_mrad,
                                                 tuple(inp.sonar_mm[0:inp.n_sonar]), obj_mm, 800)
             assert bool(got) == want and hostc.ops_tuple(clear_ops[0]) == want_ops.as_tuple()
+            _same_escape(b, then, inp, obj_mm, 500, 0)
             name = "kept" if dec.blocked and dec.curve is not None and not dec.replanned \
                 else name
         counts[name] = counts.get(name, 0) + 1
@@ -326,11 +340,11 @@ def test_metres_in_two_decimals_as_python_prints_them(q4):
 @settings(max_examples=20, deadline=None)
 @given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR, st.sampled_from([1, 2]),
        st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),
-                min_size=1, max_size=3))
-def test_board_replanner_as_method001(target_mm, sonar0, v0_div, updates):
-    """method001.py's start_001 and update_001 against the board's replanner on drawn
-    sequences (the first plan slower by v0_div as a fallback step asks): the same paths,
-    decisions, reasons and modelled time."""
+                min_size=1, max_size=3), st.integers(100, 800), st.sampled_from([-1, 0, 1]))
+def test_board_replanner_as_method001(target_mm, sonar0, v0_div, updates, detour_mm, side):
+    """method001.py's start_001, update_001 and escape_001 against the board's replanner on
+    drawn sequences (the first plan slower by v0_div as a fallback step asks): the same paths,
+    decisions, reasons and modelled time, the same detour heading after each update."""
     from mobigrasp.host.task.method001 import start_001, update_001
 
     base = planner_params_001(TaskParams.for_method("001"))
@@ -355,3 +369,4 @@ def test_board_replanner_as_method001(target_mm, sonar0, v0_div, updates):
         assert hostc.ops_tuple(c_ops[0]) == ops.as_tuple() and bool(o.has_path) == (
             fol is not None)
         event(dec.reason.split(":")[0].split(" ")[0])
+        event("escape " + _same_escape(b, rp, inp, target_mm, detour_mm, side))

@@ -263,6 +263,8 @@ def test_the_rows_of_000_and_001(method):
     assert rules.adjust_is_object == (r.adjust_detector in r.object_detectors)
     assert "radial_symbol" in r.object_detectors  # the C's radial sighting is the object's
     assert rules.grasp_alpha_mrad == r.grasp_alpha_mrad
+    assert (rules.adjust_keeps_posture, rules.plus_on_top) == (r.adjust_keeps_posture,
+                                                               r.plus_on_top)
     assert C.mg_method000_lowers_hover() == r.lowers_hover()
     for top in (0, 1):
         assert rules.look_height_mm(FFI.addressof(c, "p"), top) == r.look_height_mm(py.p, top)
@@ -490,12 +492,14 @@ PLUSES = st.none() | st.builds(_plus, PX_U, PX_V, PX_U, PX_V, st.integers(-50, 1
 @SETTINGS
 @given(st.tuples(NEAR, NEAR), st.tuples(*[ANGLE] * 4),
        st.lists(st.tuples(st.sampled_from([20_000, 500_000, 1_600_000]) | st.integers(1, 10**6),
-                          PLUSES, RADIALS, POSES), max_size=30))
-def test_the_adjust_of_000(obj, joints, steps):
-    """ADJUST of 000 step by step: the dual "+", or the radial symbol when no "+" were seen,
-    updates the estimate; the close approach to grasp_r_mm, the posture adjustment, LOST when
-    unseen, ROUGH_GRASP."""
-    py, c = Task("000"), _c_task()
+                          PLUSES, RADIALS, POSES), max_size=30),
+       st.sampled_from([(4096, 0, 0), (4096, 2048, 1024), (0, 4096, 4096)]))
+def test_the_adjust_of_000(obj, joints, steps, k_theta_q12):
+    """ADJUST of 000 step by step from the posture it enters with: the dual "+", or the radial
+    symbol when no "+" were seen, updates the estimate; the close approach to grasp_r_mm, the
+    posture adjustment by eq. (10) with the gains given, LOST when unseen, ROUGH_GRASP."""
+    py = Task("000", {"posture": {"k_theta_q12": k_theta_q12}})
+    c = _c_task(py)
     py.arm[2:6] = c.arm[2:6] = list(joints)
     py.obj = obj
     c.has_obj, c.obj_mm = 1, obj
@@ -702,6 +706,8 @@ def words000(name: str, res) -> list[int]:
         pts = [v for p in res.points_q4 for v in p]
         return [res.u_c_q4, res.v_c_q4, res.slope_q12, res.angle_mrad, res.width_q4,
                 len(res.points_q4), *pts, *[0] * (20 - len(pts))]
+    if name == "radial_cut":
+        return [res.x, res.y, res.w, res.h, res.side]
     return [*res.rgb, res.fill_permille]
 
 
@@ -710,7 +716,7 @@ def _frame000(dets: dict):
     glue (hostc/app_factory.c mg_frame000_of)."""
     f = FFI.new("mg_frame000_t *")
     keep = [FFI.new("int32_t[]", words000(n, dets[n])) if dets.get(n) is not None else FFI.NULL
-            for n in ("radial_symbol", "dual_plus", "spoke", "held_fill")]
+            for n in ("radial_symbol", "dual_plus", "spoke", "held_fill", "radial_cut")]
     C.mg_frame000_of(f, *keep)
     return f
 
@@ -787,10 +793,13 @@ BROWN = st.builds(lambda r, g, b, p: HELD(rgb=(r, g, b), fill_permille=p),
                   st.integers(900, 1000)) | st.just(HELD(rgb=(170, 130, 90), fill_permille=1000))
 PAIRS = st.builds(lambda u, v, d, dist: _plus(u - d, v, u + d, v, dist), PX_U, PX_V,
                   st.integers(0, 60 * 16), st.integers(50, 800))
+CUT = registry.row("radial_cut").result_type()
+CUTS = st.builds(CUT, x=st.integers(0, 319), y=st.integers(0, 239), w=st.integers(1, 320),
+                 h=st.integers(1, 240), side=st.sampled_from([-1, 0, 1]))
 DETS000 = st.fixed_dictionaries({}, optional={
     "radial_symbol": RADIALS.filter(lambda r: r is not None),
     "dual_plus": PAIRS | PLUSES.filter(lambda p: p is not None), "spoke": SPOKES,
-    "held_fill": BROWN})
+    "held_fill": BROWN, "radial_cut": CUTS})
 
 
 @settings(max_examples=60, deadline=None)
@@ -859,3 +868,68 @@ def test_the_plan_s_trace_detail(xyhv, obj, standoff_mm, planner):
     pp = Params000(**{"standoff_m": standoff_mm / 1000, **planner})
     _, _, detail = plan_follower(20_000, *xyhv, obj, pp)
     assert _detail(c)["plan"] == ENCODER.encode(jsonable(detail))
+
+
+def _paper_c000(py: Task):
+    """The C task of 000 as the C program holds it, with the board's planner."""
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
+    _, ctx = _board_planner(py.p)
+    C.mg_method000_set_board_planner(FFI.addressof(paper, "task"), ctx)
+    return paper, ctx
+
+
+def test_the_back_off_of_000_from_a_cut_symbol():
+    """SEARCH at the start sees the symbol cut at the right border: the base turns right by
+    the frame's waist and the half field of view, backs straight off 150 mm at slow_mmps,
+    stands until a frame taken after the stop, then looks around again; once a run, and not
+    away from the start. Both tasks step for step."""
+    py = Task("000")
+    paper, _ctx = _paper_c000(py)
+    c = FFI.addressof(paper, "task")
+    enter_state(py, c, "SEARCH", None, False, (-2500, -200, 2300, 600), (230, 10),
+                ("SEARCH", "LOST"))
+    out = FFI.new("mg_task_outputs_t *")
+    nothing = {"radial_symbol": None}
+    cut = {"radial_symbol": None, "radial_cut": CUT(x=210, y=130, w=110, h=60, side=1)}
+    now, x, h = 20_000, 0, 0
+    res = _step_both(py, c, now, TaskInputs(detections=cut), out, _frame000)
+    turn = res.detail["back_off"]["turn_mrad"]
+    spin, back = (py.p.turn_wheel_mmps, -py.p.turn_wheel_mmps), (-py.p.slow_mmps,) * 2
+    assert res.detail["back_off"]["n"] == 1 and turn < -256  # right, beyond the waist's look
+    assert res.wheels_mmps == spin  # on the spot, clockwise
+    while res.wheels_mmps == spin:
+        now, h = now + 20_000, h - 150
+        res = _step_both(py, c, now, TaskInputs(heading_mrad=h, detections=cut), out, _frame000)
+    assert -h >= -turn and res.wheels_mmps == back  # turned: straight back
+    while res.wheels_mmps == back:
+        now, x = now + 20_000, x - 20
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=cut), out,
+                         _frame000)
+    assert x <= -150 and res.wheels_mmps == (0, 0)
+    stopped = now
+    while now < stopped + py.p.frame_latency_us:  # standing: frames taken before the stop
+        now += 20_000
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=nothing),
+                         out, _frame000)
+        assert res.wheels_mmps == (0, 0) and "back_off" not in res.detail
+    assert py.ms.back_off is None and c.state == machine.STATES.index("SEARCH")
+    for _ in range(20):  # searching again from here: a cut no longer backs off
+        now += 100_000
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, heading_mrad=h, detections=cut), out,
+                         _frame000)
+        assert "back_off" not in res.detail and res.wheels_mmps[0] >= 0
+
+
+def test_no_back_off_away_from_the_start():
+    """A cut seen 50 mm from the odometry's origin (the base has moved): no back-off."""
+    py = Task("000")
+    paper, _ctx = _paper_c000(py)
+    c = FFI.addressof(paper, "task")
+    out = FFI.new("mg_task_outputs_t *")
+    cut = {"radial_symbol": None, "radial_cut": CUT(x=0, y=130, w=110, h=60, side=-1)}
+    res = _step_both(py, c, 20_000, TaskInputs(x_mm=30, y_mm=-40, detections=cut), out,
+                     _frame000)
+    assert "back_off" not in res.detail and py.ms.back_offs == 0

@@ -34,8 +34,8 @@ SCALARS = ("servo_speed_mrad_per_s", "settle_margin_us", "frame_latency_us", "lo
            "adjust_theta4_mrad", "blind_finish_mm", "posture_step_mrad", "confirm_us",
            "lost_hold_us", "max_lost", "turn_wheel_mmps", "wander_mmps", "wander_clear_mm",
            "sighting_match_mm", "sonar_offset_mm", "r_r_mm", "sonar_a_g_mrad", "detour_mm",
-           "detour_clear_mm", "grasp_r_tol_mm", "hover_mm", "lift_mm", "pregrasp_back_mm",
-           "grasp_close_timeout_us")
+           "detour_clear_mm", "max_detours", "grasp_r_tol_mm", "hover_mm", "lift_mm",
+           "pregrasp_back_mm", "grasp_close_timeout_us")
 
 
 def _c_params(py):
@@ -123,18 +123,25 @@ def _events(c) -> list:
                               FFI.string(e.why).decode()) for e in c.events[0:c.n_events]]
 
 
+def assert_outputs(c, out, now: int, res) -> tuple:
+    """The C's step at ``now`` gave the Python step's outputs ``res``: its transitions,
+    commands, state and trace detail. Where it was (for the assertions that follow)."""
+    where = (now, res.state, res.detail)
+    assert _events(c) == res.events, where
+    assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
+            machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
+                                           res.gripper_permille, res.state), where
+    assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}, where
+    return where
+
+
 def _step_both(py: Task, c, now: int, inp: TaskInputs, out, frame_of=None):
     """One step on both; every output compared (the C's frame through ``frame_of``, 002's
     glue by default). The Python's outputs."""
     res = py.step(now, inp)
     cin, _frame_kept = _c_inputs(inp, frame_of)
     C.mg_task_step(c, now, cin, out)
-    where = (now, py.state, res.detail)
-    assert _events(c) == res.events, where
-    assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
-            machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
-                                           res.gripper_permille, res.state), where
-    assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}, where
+    where = assert_outputs(c, out, now, res)
     assert (tuple(c.obj_mm) if c.has_obj else None) == py.obj, where
     assert (c.move_done_us, c.obj_seen_us, c.trust_from_us, c.lost) == (
         py.move_done_us, py.obj_seen_us, py.trust_from_us, py.counters["lost"]), where
@@ -244,13 +251,7 @@ def _replay(steps: list, fresh: Task) -> list:
         assert (FFI.string(prog.state).decode(), tuple(prog.servo_mrad),
                 tuple(prog.wheels_mmps), prog.gripper_permille) == (
             res.state, res.servo_mrad, res.wheels_mmps, res.gripper_permille)
-        where = (now, res.state, res.detail)
-        assert _events(c) == res.events, where
-        assert (tuple(out.servo_mrad), tuple(out.wheels_mmps), out.gripper_permille,
-                machine.STATES[out.state]) == (res.servo_mrad, res.wheels_mmps,
-                                               res.gripper_permille, res.state), where
-        assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in res.detail.items()}, \
-            where
+        assert_outputs(c, out, now, res)
         if not states or states[-1] != res.state:
             states.append(res.state)
     assert c.hist_overflow == 0 and paper.transitions_lost == 0

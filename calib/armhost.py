@@ -63,12 +63,14 @@ def not_v4t(disassembly: str) -> list[str]:
     return bad
 
 
-def source_hash() -> str:
-    """Hash of every file under hostc/ and of the Makefile (the ELF's cache key)."""
+def source_hash(root: Path = ROOT) -> str:
+    """Hash of every file under hostc/ and firmware/protocol/ (the codec the ELF links) and of
+    the Makefile in ``root`` (the ELF's cache key)."""
     h = hashlib.sha256()
-    for p in sorted(q for q in HOSTC.rglob("*") if q.is_file()):
-        h.update(str(p.relative_to(ROOT)).encode() + b"\0" + p.read_bytes())
-    h.update((ROOT / "Makefile").read_bytes())
+    for top in (root / "hostc", root / "firmware" / "protocol"):
+        for p in sorted(q for q in top.rglob("*") if q.is_file()):
+            h.update(str(p.relative_to(root)).encode() + b"\0" + p.read_bytes())
+    h.update((root / "Makefile").read_bytes())
     return h.hexdigest()[:16]
 
 

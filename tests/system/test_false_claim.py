@@ -7,6 +7,7 @@ import pytest
 from conftest import assert_no_false_claim
 
 from mobigrasp.cosim.summary import figures as _figures
+from mobigrasp.services.run_job import execute  # by name, as the scenario tests import it
 
 
 def _summary(state: str, held: bool, grasps: int) -> dict:
@@ -50,6 +51,12 @@ def test_execute_is_checked_in_every_test_also_when_imported_late():
         liar(None)
     honest = checked_execute(lambda opts: (_summary("FAILED", False, 0), 1))
     assert honest(None)[1] == 1
+
+
+def test_execute_imported_by_name_at_the_top_of_a_test_module_is_checked():
+    from mobigrasp.services import run_job
+
+    assert execute is run_job.execute and execute.__wrapped__ is not None
 
 
 def test_run_folders_made_elsewhere_are_read_for_false_claims(tmp_path):

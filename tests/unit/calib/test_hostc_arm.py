@@ -12,6 +12,7 @@ import threading
 from pathlib import Path
 
 import pytest
+from c_build_cache import built
 
 from mobigrasp.calib import armhost
 
@@ -32,15 +33,17 @@ def elf() -> Path:
 
 
 @pytest.fixture(scope="module")
-def native_lines(tmp_path_factory) -> list[str]:
+def native_lines() -> list[str]:
     """The self-test built with the machine's gcc, on sys.h's libc implementation."""
-    exe = tmp_path_factory.mktemp("native") / "selftest"
     protocol = ROOT / "firmware" / "protocol"
     srcs = [str(p) for p in sorted((ROOT / "hostc").glob("*.c")) if p.name != "main.c"]
-    subprocess.run(["gcc", "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
-                    f"-I{ROOT / 'hostc'}", f"-I{protocol}", "-o", str(exe), *srcs,
-                    *map(str, sorted(protocol.glob("*.c"))),
-                    str(ROOT / "hostc" / "arm" / "selftest_main.c")], check=True)
+    command = ["gcc", "-std=c99", "-O2", "-ffp-contract=off", "-Wall", "-Wextra", "-Werror",
+               f"-I{ROOT / 'hostc'}", f"-I{protocol}", *srcs,
+               *map(str, sorted(protocol.glob("*.c"))),
+               str(ROOT / "hostc" / "arm" / "selftest_main.c")]
+    # the executable of the same sources and compiler comes from the cache
+    exe = built("selftest-native", ["gcc"], command, lambda folder: subprocess.run(
+        [*command, "-o", str(folder / "selftest")], check=True)) / "selftest"
     done = subprocess.run([str(exe), "--self-test"], capture_output=True, text=True, timeout=60)
     assert done.returncode == 0, done.stdout + done.stderr
     return done.stdout.splitlines()
@@ -187,13 +190,15 @@ def test_services_with_peers_under_armv4t_cpu(elf, tmp_path):
 
 
 @needs_arm
-def test_both_checks_catch_an_armv5te_build(tmp_path):
+def test_both_checks_catch_an_armv5te_build():
     """The same sources built for the ARM926EJ-S (ARMv5TE): the disassembly check flags
     LDRD/STRD and CLZ, and the ARMv4T CPU stops the self-test on an undefined instruction."""
-    subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm", f"HOSTC_OUT={tmp_path}",
-                    "ARM_CFLAGS=-mcpu=arm926ej-s -marm -O2 -std=c99 -ffreestanding"],
-                   check=True, capture_output=True)
-    elf = tmp_path / armhost.ELF_NAME
+    flags = "ARM_CFLAGS=-mcpu=arm926ej-s -marm -O2 -std=c99 -ffreestanding"
+    # the ELF of the same sources, Makefile and compiler comes from the cache
+    elf = built("hostc-armv5te", ["arm-none-eabi-gcc"], ["make hostc-arm", flags],
+                lambda folder: subprocess.run(["make", "-s", "-C", str(ROOT), "hostc-arm",
+                                               f"HOSTC_OUT={folder}", flags],
+                                              check=True, capture_output=True)) / armhost.ELF_NAME
     flagged = {line.split()[2] for line in armhost.not_v4t(armhost.disassemble(elf))}
     assert {"ldrd", "strd", "clz"} <= flagged
     v4t = subprocess.run(["qemu-arm", "-cpu", "ti925t", str(elf), "--self-test"],
@@ -202,3 +207,18 @@ def test_both_checks_catch_an_armv5te_build(tmp_path):
     v5 = subprocess.run(["qemu-arm", "-cpu", "arm926", str(elf), "--self-test"],
                         capture_output=True, timeout=120)
     assert v5.returncode == 0
+
+
+def test_the_elf_is_built_again_when_a_file_it_is_made_of_changes(tmp_path):
+    """The cached ELF's key covers hostc/, the protocol codec it links (firmware/protocol/)
+    and the Makefile: a change to any of them is a new key."""
+    for part in ("hostc", "firmware/protocol"):
+        shutil.copytree(ROOT / part, tmp_path / part)
+    shutil.copy(ROOT / "Makefile", tmp_path / "Makefile")
+    keys = {armhost.source_hash(tmp_path)}
+    assert armhost.source_hash(tmp_path) in keys  # the same files, the same key
+    for changed in ("hostc/app.c", "firmware/protocol/cobs.c", "Makefile"):
+        with (tmp_path / changed).open("a") as f:
+            f.write("\n")
+        keys.add(armhost.source_hash(tmp_path))
+    assert len(keys) == 4

@@ -199,14 +199,15 @@ def test_task_wanders_straight_ahead_until_odometry_says_the_distance_is_done():
     out = task.step(t + 20_000, TaskInputs(x_mm=200, y_mm=0))
     v = task.p.wander_mmps
     assert out.wheels_mmps == (v, v) and out.state == "SEARCH"
-    assert task.detectors_needed() == ["radial_symbol"]  # the camera looks on the way
+    # the camera looks on the way
+    assert task.detectors_needed() == ["radial_symbol", "radial_cut"]
     out = task.step(t + 40_000, TaskInputs(x_mm=300, y_mm=400))  # 500 mm from the start
     assert out.wheels_mmps == (0, 0) and task.search.wanders == 1 and not task.search.wandering
     # a corner of the spiral: the base turns left in place, the camera looking, then drives
     # the next leg
     out = task.step(t + 60_000, TaskInputs(x_mm=300, y_mm=400))
     assert out.wheels_mmps[0] < 0 < out.wheels_mmps[1]
-    assert task.detectors_needed() == ["radial_symbol"]
+    assert task.detectors_needed() == ["radial_symbol", "radial_cut"]
     out = task.step(t + 80_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=1571))
     out = task.step(t + 100_000, TaskInputs(x_mm=300, y_mm=400, heading_mrad=1571))
     assert out.wheels_mmps == (v, v) and task.search.wandering

@@ -19,7 +19,9 @@ def step(task, t_us, **kw):
 
 
 def test_starts_in_search_and_asks_for_the_search_detector():
-    assert Task("000").detectors_needed() == ["radial_symbol"]
+    # 000's SEARCH looks for the symbol cut by the frame where it reads none (the back-off)
+    assert Task("000").detectors_needed() == ["radial_symbol", "radial_cut"]
+    assert Task("000").detector_fallbacks() == {"radial_cut": "radial_symbol"}
     assert Task("001").detectors_needed() == ["radial_symbol"]
     assert Task("002").detectors_needed() == ["double_cross", "red_roi"]
     out = step(Task("000"), 0)
@@ -103,7 +105,8 @@ def test_search_sweeps_the_waist_and_turns_the_base_after_a_cycle():
         if out.wheels_mmps != (0, 0):
             wheels.add(out.wheels_mmps)
             heading += 30  # the base turns counter-clockwise under the test's feet
-            assert task.detectors_needed() == ["radial_symbol"]  # the camera looks as it turns
+            # the camera looks as it turns
+            assert task.detectors_needed() == ["radial_symbol", "radial_cut"]
         turned = any(d == "base_turn_mrad" for d in out.detail) or turned
         t += 20_000
     assert min(waist) == -800 and max(waist) == 800
@@ -140,7 +143,7 @@ def to_adjust(task, t=0):
 
 def test_lost_in_adjust_goes_lost_then_search():
     task = Task("000")
-    assert task.detector_fallbacks() == {}
+    assert task.detector_fallbacks() == {"radial_cut": "radial_symbol"}  # SEARCH
     t0 = to_adjust(task)
     assert task.detectors_needed() == ["dual_plus", "radial_symbol"]
     # ADJUST reads the rings only on frames without the dual "+" (host/app.py runs it so)

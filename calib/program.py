@@ -15,7 +15,8 @@ is a new DMA buffer; a control step follows vision, which has had the cache):
 - a **control step**: the telemetry parsed since the tick before (``mg_app_on_uart``) and the
   tick itself (the link's service, the task's inputs and step, the commands encoded, the
   heartbeat), against what the model charged it: the ``control`` and ``protocol`` stages
-  (``control_base_cycles``, the task's counts and ``protocol_cycles_per_byte``, host/app.py);
+  (``control_base_cycles``, ``handover_cycles`` in a step handed a vision job's results, the
+  task's counts and ``protocol_cycles_per_byte``, host/app.py);
 - a **frame pipeline**: the detectors the frame's job ran (their ``detect`` entries of the
   program's table, each call from entry to return), against their charge (the job's ARM9 time
   less the modelled frame overhead, which stands for the CAMIF's hand-over: no code of the

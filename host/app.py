@@ -56,7 +56,12 @@ class HostConfig:
     hello_wait_us: int = 100_000
     wheels_repeat_us: int = 100_000  # SetWheels is unreliable: repeat the last one this often
     load_window_us: int = 500_000
-    control_base_cycles: int = 40_000  # telemetry decode, odometry, task bookkeeping: 100 µs
+    # a control step with nothing new: telemetry parsed and decoded, the task's inputs, its step,
+    # the commands, the bookkeeping: 55 µs, and a step that takes over a finished vision job's
+    # results also its detect event and the results handed to the task: 30 µs (the C program's
+    # steps as ARM920T code, docs/budget.md "Whole control steps and frame pipelines")
+    control_base_cycles: int = 22_000
+    handover_cycles: int = 12_000
     protocol_cycles_per_byte: int = 40  # COBS + CRC-16 + copy, both directions
     frame_overhead_cycles: int = 20_000  # CAMIF buffer hand-over, cache maintenance: 50 µs
     servo_slew_mrad_s: int = 0
@@ -450,6 +455,8 @@ class HostApp:
         cycles = cfg.control_base_cycles
         if link.handshake_ok and link.telemetry is not None and not self.finished:
             detections, self._detections = self._detections, {}
+            if detections:  # a finished vision job's results handed to the task
+                cycles += cfg.handover_cycles
             inputs = self.build_inputs(self, start, detections)
             out = self.timer("task", self.task.step, start, inputs)
             c.control_steps += 1

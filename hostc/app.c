@@ -14,7 +14,8 @@ void mg_host_config_default(mg_host_config_t *c)
     c->hello_wait_us = 100000;
     c->wheels_repeat_us = 100000;
     c->load_window_us = 500000;
-    c->control_base_cycles = 40000;
+    c->control_base_cycles = 22000;
+    c->handover_cycles = 12000;
     c->protocol_cycles_per_byte = 40;
     c->frame_overhead_cycles = 20000;
     c->servo_slew_mrad_s = 0;
@@ -214,7 +215,11 @@ static void finish_vision(mg_app_t *app, int64_t now_us)
     app->vision_busy = 0;
     app->has_detections = 1;
     app->detections_of = app->job_detectors;
-    memcpy(app->detections, app->job_results, sizeof app->detections);
+    /* the task reads the slots of the detectors that ran (present), before the next job
+     * writes job_results again: only those are handed over */
+    for (int32_t i = 0; i < app->n_detectors; i++)
+        if (app->job_detectors >> i & 1u)
+            memcpy(&app->detections[i], &app->job_results[i], sizeof app->detections[i]);
     event_t e;
     event_begin(app, &e);
     key_int(&e, "arm9_us", app->job_arm9_us);
@@ -493,13 +498,14 @@ static void tick(mg_app_t *app, int64_t t_us)
         int32_t present[MG_MAX_DETECTORS];
         for (int32_t i = 0; i < MG_MAX_DETECTORS; i++)
             present[i] = app->has_detections && (app->detections_of >> i & 1u);
+        const int64_t handover = app->has_detections ? cfg->handover_cycles : 0;
         app->has_detections = 0;
         mg_task_output_t out;
         memset(&out, 0, sizeof out);
         app->task.step(app->task.ctx, app, start, app->detections,
                        app->n_detectors ? present : none, &out);
         app->control_steps++;
-        done = start + cycles_us(cfg->control_base_cycles) + mg_ops_time_us(&out.ops);
+        done = start + cycles_us(cfg->control_base_cycles + handover) + mg_ops_time_us(&out.ops);
         apply(app, &out, done);
     } else {
         done = start + cycles_us(cfg->control_base_cycles);

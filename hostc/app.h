@@ -19,7 +19,8 @@ typedef struct {
     int64_t hello_wait_us;         /* 100 000: the first HELLO waits until the MCU is heard */
     int64_t wheels_repeat_us;      /* 100 000: SetWheels is unreliable, repeated this often */
     int64_t load_window_us;        /* 500 000 (must divide 10^6: the loads are exact then) */
-    int64_t control_base_cycles;   /* 40 000: telemetry decode, odometry, bookkeeping */
+    int64_t control_base_cycles;   /* 22 000: a step with nothing new (host/app.py) */
+    int64_t handover_cycles;       /* 12 000: a step handed a vision job's results */
     int64_t protocol_cycles_per_byte; /* 40: COBS, CRC-16 and copy, both directions */
     int64_t frame_overhead_cycles; /* 20 000: CAMIF hand-over, cache maintenance */
     uint16_t servo_slew_mrad_s;

@@ -293,12 +293,33 @@ int mg_task_settled(const mg_task_t *t, int64_t now_us)
     return now_us >= t->move_done_us;
 }
 
-/* drop the oldest of a history of n entries of `size` bytes each (times beside) */
-static void drop_oldest(int64_t *times, void *rows, size_t size, int32_t *n)
+/* The histories are rings of MG_TASK_HIST entries from their oldest, *_hist_first: an entry is
+ * added and the oldest dropped in place, each step (shifting the second's ~50 entries down
+ * each step cost the ARM920T ~10 us of a control step). */
+typedef char hist_is_a_power_of_two[(MG_TASK_HIST & (MG_TASK_HIST - 1)) == 0 ? 1 : -1];
+
+static int32_t slot(int32_t first, int32_t i)
 {
-    memmove(times, times + 1, (size_t)(*n - 1) * sizeof *times);
-    memmove(rows, (unsigned char *)rows + size, (size_t)(*n - 1) * size);
-    (*n)--;
+    return (first + i) & (MG_TASK_HIST - 1);
+}
+
+/* room for one more entry of a history: its oldest dropped when it is full (counted) */
+static void make_room(mg_task_t *t, int32_t *first, int32_t *n)
+{
+    if (*n == MG_TASK_HIST) {
+        *first = slot(*first, 1);
+        (*n)--;
+        t->hist_overflow++;
+    }
+}
+
+/* the entries older than a second dropped, but for the last one at or before it */
+static void drop_old(const int64_t *times, int32_t *first, int32_t *n, int64_t now_us)
+{
+    while (*n > 1 && times[slot(*first, 1)] <= now_us - 1000000) {
+        *first = slot(*first, 1);
+        (*n)--;
+    }
 }
 
 /* Keep the last second of arm targets and base poses: a detection describes the frame
@@ -306,35 +327,30 @@ static void drop_oldest(int64_t *times, void *rows, size_t size, int32_t *n)
 void mg_task_remember(mg_task_t *t, int64_t now_us, int32_t x_mm, int32_t y_mm,
                       int32_t heading_mrad)
 {
-    if (t->n_arm_hist == 0 || memcmp(t->arm_hist[t->n_arm_hist - 1], t->arm, sizeof t->arm)) {
-        if (t->n_arm_hist == MG_TASK_HIST) {
-            drop_oldest(t->arm_hist_t, t->arm_hist, sizeof t->arm_hist[0], &t->n_arm_hist);
-            t->hist_overflow++;
-        }
-        t->arm_hist_t[t->n_arm_hist] = now_us;
-        memcpy(t->arm_hist[t->n_arm_hist++], t->arm, sizeof t->arm);
+    if (t->n_arm_hist == 0
+        || memcmp(t->arm_hist[slot(t->arm_hist_first, t->n_arm_hist - 1)], t->arm,
+                  sizeof t->arm)) {
+        make_room(t, &t->arm_hist_first, &t->n_arm_hist);
+        const int32_t k = slot(t->arm_hist_first, t->n_arm_hist++);
+        t->arm_hist_t[k] = now_us;
+        memcpy(t->arm_hist[k], t->arm, sizeof t->arm);
     }
-    if (t->n_pose_hist == MG_TASK_HIST) {
-        drop_oldest(t->pose_hist_t, t->pose_hist, sizeof t->pose_hist[0], &t->n_pose_hist);
-        t->hist_overflow++;
-    }
-    const int32_t pose[3] = {x_mm, y_mm, heading_mrad};
-    t->pose_hist_t[t->n_pose_hist] = now_us;
-    memcpy(t->pose_hist[t->n_pose_hist++], pose, sizeof pose);
-    while (t->n_arm_hist > 1 && t->arm_hist_t[1] <= now_us - 1000000)
-        drop_oldest(t->arm_hist_t, t->arm_hist, sizeof t->arm_hist[0], &t->n_arm_hist);
-    while (t->n_pose_hist > 1 && t->pose_hist_t[1] <= now_us - 1000000)
-        drop_oldest(t->pose_hist_t, t->pose_hist, sizeof t->pose_hist[0], &t->n_pose_hist);
+    make_room(t, &t->pose_hist_first, &t->n_pose_hist);
+    const int32_t k = slot(t->pose_hist_first, t->n_pose_hist++);
+    t->pose_hist_t[k] = now_us;
+    t->pose_hist[k][0] = x_mm, t->pose_hist[k][1] = y_mm, t->pose_hist[k][2] = heading_mrad;
+    drop_old(t->arm_hist_t, &t->arm_hist_first, &t->n_arm_hist, now_us);
+    drop_old(t->pose_hist_t, &t->pose_hist_first, &t->n_pose_hist, now_us);
 }
 
-/* the last entry at or before t_us, else the first */
-static int32_t at(const int64_t *times, int32_t n, int64_t t_us)
+/* the slot of the last entry at or before t_us, else of the first */
+static int32_t at(const int64_t *times, int32_t first, int32_t n, int64_t t_us)
 {
     int32_t best = 0;
     for (int32_t i = 0; i < n; i++)
-        if (times[i] <= t_us)
+        if (times[slot(first, i)] <= t_us)
             best = i;
-    return best;
+    return slot(first, best);
 }
 
 void mg_task_arm_at(const mg_task_t *t, int64_t t_us, int32_t arm[6])
@@ -342,14 +358,15 @@ void mg_task_arm_at(const mg_task_t *t, int64_t t_us, int32_t arm[6])
     if (t->n_arm_hist == 0)
         memcpy(arm, t->arm, sizeof t->arm);
     else
-        memcpy(arm, t->arm_hist[at(t->arm_hist_t, t->n_arm_hist, t_us)], sizeof t->arm);
+        memcpy(arm, t->arm_hist[at(t->arm_hist_t, t->arm_hist_first, t->n_arm_hist, t_us)],
+               sizeof t->arm);
 }
 
 int mg_task_pose_at(const mg_task_t *t, int64_t t_us, int64_t *at_us, int32_t pose[3])
 {
     if (t->n_pose_hist == 0)
         return 0;
-    const int32_t i = at(t->pose_hist_t, t->n_pose_hist, t_us);
+    const int32_t i = at(t->pose_hist_t, t->pose_hist_first, t->n_pose_hist, t_us);
     *at_us = t->pose_hist_t[i];
     memcpy(pose, t->pose_hist[i], sizeof t->pose_hist[i]);
     return 1;

@@ -137,8 +137,9 @@ struct mg_task {
     int32_t graspable_seen, object_sighted;
     int32_t has_failure;
     char failure[MG_TASK_WHY];
-    /* (t_us, arm) and (t_us, x_mm, y_mm, heading_mrad), oldest first */
-    int32_t n_arm_hist, n_pose_hist;
+    /* (t_us, arm) and (t_us, x_mm, y_mm, heading_mrad): rings of n entries from the oldest's
+     * index, *_first */
+    int32_t n_arm_hist, n_pose_hist, arm_hist_first, pose_hist_first;
     int64_t arm_hist_t[MG_TASK_HIST], pose_hist_t[MG_TASK_HIST];
     int32_t arm_hist[MG_TASK_HIST][6], pose_hist[MG_TASK_HIST][3];
     int32_t hist_overflow; /* entries dropped for want of room (counted, never silent) */

@@ -10,7 +10,10 @@ import pytest
 from mobigrasp import hostc
 from mobigrasp.calib import arm, program
 from mobigrasp.calib.arm import I64
+from mobigrasp.host.app import HostConfig
 from mobigrasp.services.corpus import record_steps
+
+BASE_US = HostConfig().control_base_cycles // 400  # a control step's base charge, µs
 
 
 @pytest.fixture(scope="module")
@@ -35,8 +38,8 @@ def test_the_replay_equals_the_python_program_and_times_whole_steps(elf, marker)
     assert sorted(s.t_us for s in samples if s.kind == "frame") == sorted(frames)
     for s in samples:
         us = s.timing.cycles / 400
-        if s.kind == "control":  # the fixed 100 us and the protocol bytes' charge
-            assert s.modelled_us >= 100 and 20 < us < 1000
+        if s.kind == "control":  # the base charge and the protocol bytes'
+            assert s.modelled_us >= BASE_US and 20 < us < 1000
         else:  # the double cross and the red cylinder on SEARCH's frames
             assert 0.8 <= s.modelled_us / us <= 1.25, (s.t_us, s.modelled_us, us)
         assert s.timing.instructions > 0 and 1.0 <= s.timing.cpi <= 3.0
@@ -75,7 +78,7 @@ def test_64_bit_arguments_take_even_register_pairs_and_aligned_stack_slots(elf):
     n, _ = m.call("mg_calib_take_output", p, I64(1 << 33), program.HEAP_BASE + program.IO,
                   4096, timed=False)
     assert n == 0  # the first HELLO waits for the MCU's telemetry
-    assert m.call64("mg_calib_stage_us", p, 0) == 100  # the first control tick's base charge
+    assert m.call64("mg_calib_stage_us", p, 0) == BASE_US  # the first control tick's base
     assert arm.STOP < program.HEAP_BASE
 
 

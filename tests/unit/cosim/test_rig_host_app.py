@@ -239,3 +239,23 @@ def test_events_are_plain_json_as_taken():
     assert {"hello_ack", "detect", "state", "detail", "wheels", "output_rejected"} <= kinds
     for ev in events:
         assert json.loads(json.dumps(ev, allow_nan=False)) == ev
+
+
+def test_a_step_handed_a_vision_job_s_results_is_charged_the_handover_too():
+    """A control step is charged its base; the one that hands the task a finished vision job's
+    results also the handover (docs/budget.md, "The control step's charge")."""
+    cfg = HostConfig(hello_wait_us=0)
+    app = HostApp(FakeTask(), {"blob": blob_detector(400_000)}, build_inputs, cfg)  # 1 ms
+    app.advance_to(1)
+    _ack_hello(app, 5_000)
+    _telemetry(app, 6_000)
+    app.advance_to(30_000)
+    before = app.stats()["stages"]["control"]
+    app.on_frame(0, 30_000, 30_000, np.zeros((4, 4, 3), np.uint8))
+    app.advance_to(100_000)  # the job ends at 31.05 ms: the tick at 40 ms takes it over
+    after = app.stats()["stages"]["control"]
+    base_us, handover_us = cfg.control_base_cycles // 400, cfg.handover_cycles // 400
+    assert after["calls"] - before["calls"] == 3  # the ticks at 40, 60 and 80 ms
+    assert after["total_us"] - before["total_us"] == 3 * base_us + handover_us
+    assert after["max_us"] == base_us + handover_us
+    assert [e["t_us"] for e in app.take_events() if e["ev"] == "detect"] == [31_050]

@@ -241,23 +241,26 @@ def test_a_tick_before_the_bound_leaves_the_detectors_pending():
     app.advance_to(15_000)
     app.on_frame(0, 14_000, 15_000, np.zeros((4, 4, 3), np.uint8))
     app.advance_to(20_000)
-    # bounded end 15 ms + 50 us + 25 ms = 40.05 ms, after the tick at 20 ms; the tick's 100 us
-    # preempt it: 40.15 ms, after the tick at 40 ms too
+    # bounded end 15 ms + 50 us + 25 ms = 40.05 ms, after the tick at 20 ms; the tick's base
+    # charge preempts it: after the tick at 40 ms too
+    base_us = HostConfig().control_base_cycles // 400
     assert not app.vision_needed_by() and not calls
     app.advance_to(25_000)
-    assert app._vision.done_us == 40_150 and not calls
-    assert not app.vision_needed_by() and app.vision_needed_by(40_150)
+    assert app._vision.done_us == 40_050 + base_us and not calls
+    assert not app.vision_needed_by() and app.vision_needed_by(40_050 + base_us)
     app.advance_to(45_000)
-    # preempted by the tick at 40 ms too: 100 us + 2 us for the bytes of the HELLO it resends
-    assert calls == [] and app._vision.done_us == 40_252
+    # preempted by the tick at 40 ms too: its base and 2 us for the bytes of the HELLO it resends
+    assert calls == [] and app._vision.done_us == 40_050 + 2 * base_us + 2
     assert app.vision_needed_by()  # the tick at 60 ms may need it
     app.resolve_vision()
     assert calls == [1]
     # exact end: 15 ms + 50 us + 30 ms + the two ticks
-    assert app._vision.done_us == 45_252 and app._vision.preempted_us == 202
+    assert app._vision.done_us == 45_050 + 2 * base_us + 2
+    assert app._vision.preempted_us == 2 * base_us + 2
     app.advance_to(65_000)
     assert app._vision is None
-    assert [e["t_us"] for e in app.take_events() if e["ev"] == "detect"] == [45_252]
+    assert [e["t_us"] for e in app.take_events() if e["ev"] == "detect"] == [
+        45_050 + 2 * base_us + 2]
 
 
 def test_pose_detector_of_the_factory_uses_the_snapshot():

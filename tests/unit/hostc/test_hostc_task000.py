@@ -353,8 +353,9 @@ def _radial(u, v, depth_mm):
                                 z_oc_mm=0)
 
 
-RADIALS = st.none() | st.builds(_radial, st.integers(0, 320 * 16), st.integers(0, 240 * 16),
-                                st.integers(-50, 3000))
+RADIALS_SEEN = st.builds(_radial, st.integers(0, 320 * 16), st.integers(0, 240 * 16),
+                         st.integers(-50, 3000))
+RADIALS = st.none() | RADIALS_SEEN
 
 
 @SETTINGS
@@ -486,7 +487,8 @@ def _plus(u1, v1, u2, v2, dist_mm):
 
 
 PX_U, PX_V = st.integers(0, 320 * 16), st.integers(0, 240 * 16)
-PLUSES = st.none() | st.builds(_plus, PX_U, PX_V, PX_U, PX_V, st.integers(-50, 1500))
+PLUSES_SEEN = st.builds(_plus, PX_U, PX_V, PX_U, PX_V, st.integers(-50, 1500))
+PLUSES = st.none() | PLUSES_SEEN
 
 
 @SETTINGS
@@ -797,8 +799,7 @@ CUT = registry.row("radial_cut").result_type()
 CUTS = st.builds(CUT, x=st.integers(0, 319), y=st.integers(0, 239), w=st.integers(1, 320),
                  h=st.integers(1, 240), side=st.sampled_from([-1, 0, 1]))
 DETS000 = st.fixed_dictionaries({}, optional={
-    "radial_symbol": RADIALS.filter(lambda r: r is not None),
-    "dual_plus": PAIRS | PLUSES.filter(lambda p: p is not None), "spoke": SPOKES,
+    "radial_symbol": RADIALS_SEEN, "dual_plus": PAIRS | PLUSES_SEEN, "spoke": SPOKES,
     "held_fill": BROWN, "radial_cut": CUTS})
 
 

@@ -185,7 +185,8 @@ mg_wheel_command_t mg_path_follower_step(mg_path_follower_t *f, int64_t t_us,
 
 mg_ops_t mg_path_follow_step_ops(void)
 {
-    const mg_ops_t ops = {0, 0, 60, 10, 14, 4, 4, 6, 0, 0, 0};
+    /* path_follow.py STEP_OPS: six 64-bit quotients, four sin/cos, the products */
+    const mg_ops_t ops = {0, 0, 1740, 140, 4, 14, 0, 8, 0, 0, 0};
     return ops;
 }
 

@@ -67,13 +67,18 @@ static int32_t obj_dist_mm(const mg_task_t *t, const mg_task_inputs_t *in)
     return (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1]) >> 4);
 }
 
-/* the follower's command for the present pose, its wheels by the method */
+/* the follower's command for the present pose, its wheels by the method, the method's count
+ * of the step along the path charged */
 static mg_wheel_command_t follow(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     const mg_pose_t pose = {(int64_t)in->x_mm * 1000, (int64_t)in->y_mm * 1000,
                             in->heading_mrad, in->v_mmps, 0};
     const mg_wheel_command_t cmd = mg_path_follower_step(&t->path.follower, now_us, &pose);
     t->rules->path->path_wheels(&cmd, t->wheels);
+    if (t->rules->path->follow_ops) {
+        const mg_ops_t ops = t->rules->path->follow_ops();
+        mg_task_charge(t, &ops);
+    }
     return cmd;
 }
 

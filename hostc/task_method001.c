@@ -581,10 +581,28 @@ void mg_method001_enter_precise(mg_task_t *t, int64_t now_us, const mg_task_inpu
  * not count. In APPROACH a plan from standstill starts forward, into the echo, and was stopped
  * again at once, and so did a plan from the turned pose and the detours: the base first turns
  * toward the widest free sector and drives out of R_r before it plans again. */
+mg_ops_t mg_method001_follow_ops(void)
+{
+    /* method001.py FOLLOW_OPS: the look at the object, two 64-bit roots, the follower's step */
+    const mg_ops_t ops = {0, 0, 5154, 486, 14, 38, 2, 28, 0, 0, 0};
+    return ops;
+}
+
+mg_ops_t mg_method001_guard_sonar_ops(void)
+{
+    /* method001.py GUARD_SONAR_OPS: one sonar of the ring looked at by the guard */
+    const mg_ops_t ops = {0, 0, 8, 2, 0, 0, 1, 0, 0, 0, 0};
+    return ops;
+}
+
 void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     mg_state001_t *ms = ms001(t);
     int32_t phi, rng;
+    if ((int64_t)t->wheels[0] + t->wheels[1] > 0 && in->n_sonar >= 2) {
+        const mg_ops_t ops = mg_ops_scaled(mg_method001_guard_sonar_ops(), in->n_sonar);
+        mg_task_charge(t, &ops);
+    }
     mg_close_guard(t, now_us, in);
     if (!mg_guard_stop(t, in, &phi, &rng))
         return;
@@ -598,7 +616,7 @@ void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_input
 
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     path_end, 0};
+                                     path_end, 0, mg_method001_follow_ops};
 
 /* --- the board's replanner (method001.py start_001, update_001, straight_clear_001) -------- */
 

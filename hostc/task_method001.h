@@ -119,6 +119,10 @@ int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
  * then turns toward the widest free sector and drives out of R_r (ms detour, driven before
  * the next plan) */
 void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* the counts charged by 001's task each step: a step along the path (method001.py FOLLOW_OPS),
+ * one sonar looked at by the guard (GUARD_SONAR_OPS) */
+mg_ops_t mg_method001_follow_ops(void);
+mg_ops_t mg_method001_guard_sonar_ops(void);
 /* ROUGH_GRASP after its look from the grasp circle (method001.py look_decides): the object
  * seen (dual "+") within MG_CIRCLE_CONFIRM_MM of where the base expected it and its grasp
  * point reachable by eq. (11) of 000 (gripper down): the gripper above the grasp point, the

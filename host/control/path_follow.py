@@ -25,7 +25,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from mobigrasp.host.budget import OpCounts
-from mobigrasp.host.fixedpoint import atan2_mrad, atan2_ops, cos_q12, div_round, isqrt, sin_q12
+from mobigrasp.host.fixedpoint import (
+    atan2_mrad,
+    atan2_ops,
+    cos_q12,
+    div_round,
+    isqrt,
+    sin_ops,
+    sin_q12,
+)
 from mobigrasp.host.odometry import TRACK_UM, Pose
 from mobigrasp.host.planning.bezier import Curve
 from mobigrasp.host.planning.bezier_q import (
@@ -52,7 +60,10 @@ SAMPLE_OPS = SAMPLE_BASE_OPS + POSITION_OPS + ISQRT64_OPS + DIV64_OPS.scaled(4) 
 CURVE_OPS = CURVE_SETUP_OPS
 V_LIMIT_Q16 = 1 << 22  # 64 m/s
 TRAJ_MAX_SAMPLES = 256  # the C table's capacity (hostc/path_follow.h)
-STEP_OPS = OpCounts(alu=60, muls=14, muls32=4, divs=4, luts=6, branches=10)
+# one step (PathFollower.step, eq. (8) with the Kanayama feedback): six 64-bit quotients on
+# average (the reference's Q12 fraction and heading wrap, dx, dy, the feedback's ω term, the
+# wheels' turn), four sin/cos, the products
+STEP_OPS = DIV64_OPS.scaled(6) + sin_ops().scaled(4) + OpCounts(alu=80, muls32=10, branches=12)
 
 
 def _half_away(num: int, shift: int) -> int:

@@ -62,10 +62,19 @@ class ApproachStates:
         t.look_at_object(inp)
         x, y = t.obj_platform(inp)
         dist = isqrt(x * x + y * y) // 16
-        cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
-        t.wheels = rules.path_wheels(cmd)
+        cmd = self._follow(t, now, inp)
         if cmd.done or dist <= t.p.grasp_r_mm + rules.near_margin_mm:
             rules.path_end(t, now, inp, path_end_why(cmd.error_mm, dist), cmd.error_mm)
+
+    @staticmethod
+    def _follow(t, now: int, inp):
+        """The follower's command for the present pose, its wheels by the method, and the
+        method's count of this step along the path charged (``PathMethod.follow_ops``)."""
+        cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad, inp.v_mmps))
+        t.wheels = t.rules.path_wheels(cmd)
+        if t.rules.follow_ops is not None:
+            t.charge(t.rules.follow_ops)
+        return cmd
 
     def _plan_slice(self, t, now: int, inp) -> bool:
         """Charge this step's slice of the plan being made; True once it is done (its path
@@ -73,11 +82,9 @@ class ApproachStates:
         job = t.plan_job
         t.charge(job.step())
         if not job.done:
-            if t.follower is not None:
+            if t.follower is not None:  # the old path meanwhile
                 t.look_at_object(inp)
-                cmd = t.follower.step(now, make_pose(inp.x_mm, inp.y_mm, inp.heading_mrad,
-                                                     inp.v_mmps))
-                t.wheels = t.rules.path_wheels(cmd)
+                self._follow(t, now, inp)
             else:
                 t.wheels = (0, 0)
             return False
@@ -137,6 +144,10 @@ class PathMethod(Method):
 
     # the path ends early with the object this much beyond ADJUST's goal (``grasp_r_mm``)
     near_margin_mm = 100
+    # the work of a step along the path (the look at the object, the follower's step, the
+    # distance checks) charged each step, as the plans' counts are; None: not charged (000:
+    # its traces are kept as they are, docs/budget.md "The control step's charge")
+    follow_ops: Any = None
 
     def approach(self, t: Any, now: int, inp: Any, dets: dict) -> None:
         PATH.follow_path(t, now, inp, dets)

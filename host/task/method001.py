@@ -21,9 +21,12 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 from mobigrasp.host import kinematics
-from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
+from mobigrasp.host.budget import OpCounts
+from mobigrasp.host.control import path_follow
+from mobigrasp.host.fixedpoint import atan2_mrad, atan2_ops, isqrt, sin_ops
 from mobigrasp.host.planning.anytime import PlanJob
 from mobigrasp.host.planning.bezier001 import Params001, is_object_echo
+from mobigrasp.host.planning.bezier_q import DIV64_OPS, ISQRT64_OPS
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
 from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.planning.replan import Replanner
@@ -44,7 +47,6 @@ from mobigrasp.host.task.sonar_guard import (
 )
 
 if TYPE_CHECKING:
-    from mobigrasp.host.budget import OpCounts
     from mobigrasp.host.control.path_follow import PathFollower, WheelCommand
     from mobigrasp.host.planning.replan import ReplanDecision
     from mobigrasp.host.task.machine import Task, TaskInputs
@@ -64,6 +66,19 @@ LOOK_FIRST_MM = (350, 1200)  # ... when it is this far from the waist
 BACK_OFF_MM = 200  # fallback: back this far along the way the base came
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
+
+
+# APPROACH's step along the curve (approach.py ``_follow``), charged each step as the plans'
+# counts are (docs/budget.md "The control step's charge", 001): the look at the object (its
+# platform place; eq. (10) of 000: the camera by fk, |ρ|, two atan2 with their 64-bit
+# quotients, eq. (10)'s three quotients, two wraps, the caps and clamps), the distance checks
+# (two 64-bit roots) and the follower's step (eq. (8), path_follow.STEP_OPS)
+LOOK_OPS = (sin_ops().scaled(8) + ISQRT64_OPS + atan2_ops().scaled(2) + DIV64_OPS.scaled(7)
+            + OpCounts(alu=120, muls32=16, branches=20))
+FOLLOW_OPS = LOOK_OPS + ISQRT64_OPS.scaled(2) + path_follow.STEP_OPS
+# the guard's look at one sonar of the ring each step the base drives forward (its angle phi_k
+# by a quotient, the range against R_r and the close guard's distance; sonar_guard.py)
+GUARD_SONAR_OPS = OpCounts(alu=8, divs=1, branches=2)
 
 
 def planner_params_001(task_params: TaskParams) -> Params001:
@@ -420,6 +435,8 @@ class Method001(Method000):
         t.note(detour=dict(t.ms.detour), detour_count=t.ms.detours)
         return True
 
+    follow_ops = FOLLOW_OPS
+
     def path_wheels(self, cmd: WheelCommand) -> tuple[int, int]:
         """Ours: 001's sonar ring (S_1..S_k_s, ±π/2 about the heading) sees nothing behind the
         base, so it never backs up: where the follower would reverse (its reference fell
@@ -532,6 +549,8 @@ class Method001(Method000):
         along it before it plans again: a plan from standstill starts forward, into the echo,
         and was stopped again at once; a plan from the turned pose bends back toward the
         object, into the echo, and so did the detours, each stopped at its first step."""
+        if t.wheels[0] + t.wheels[1] > 0 and len(inp.sonar_mm) >= 2:
+            t.charge(GUARD_SONAR_OPS.scaled(len(inp.sonar_mm)))
         close_guard(t, now, inp)
         guard = guard_stop(t, inp, GUARDED_STATES)
         if guard is None:

@@ -52,6 +52,7 @@ from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.task import Task, TaskInputs, machine, method001
 from mobigrasp.host.task.method import Method
+from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
@@ -396,6 +397,17 @@ def test_the_grasp_hooks_of_the_rows(method):
     assert (rules.sight_result != FFI.NULL) == bool(r.sight_views)
     own = type(r).look_decides is not Method.look_decides
     assert (rules.look_decides != FFI.NULL) == own == (method == "001")
+
+
+def test_the_step_counts_of_001():
+    """What 001's task charges each step besides its plans (a step along the path, a sonar
+    the guard looks at): the C's counts equal the Python's; 000's path method charges no step
+    along the path."""
+    assert hostc.ops_tuple(C.mg_method001_follow_ops()) == method001.FOLLOW_OPS.as_tuple()
+    assert (hostc.ops_tuple(C.mg_method001_guard_sonar_ops())
+            == method001.GUARD_SONAR_OPS.as_tuple())
+    assert C.mg_path000.follow_ops == FFI.NULL and Method000.follow_ops is None
+    assert C.mg_path001.follow_ops != FFI.NULL and Method001.follow_ops is method001.FOLLOW_OPS
 
 
 def _ms001(c):

@@ -273,7 +273,8 @@ static void frame(mg_app_t *app, int64_t seq, int64_t capture_us, int64_t arriva
     app->frames_processed++;
     /* the detectors run now: the pose they read is the one the frame arrived with, so when
      * they run changes nothing that is modelled; a fallback runs only when what it stands in
-     * for found nothing on this frame; a front end computed already is not paid again */
+     * for found nothing on this frame; a front end computed already is reused, not
+     * computed or paid again */
     uint32_t ran = 0, front_ends_done = 0;
     for (int32_t i = 0; i < app->n_detectors; i++) {
         if (!(needed >> i & 1u))
@@ -289,12 +290,14 @@ static void frame(mg_app_t *app, int64_t seq, int64_t capture_us, int64_t arriva
             d->snapshot(d->ctx, snap);
         mg_detection_t *r = &app->job_results[i];
         memset(r, 0, sizeof *r);
-        d->detect(d->ctx, rgb, w, h, snap, r);
+        const int32_t shared = d->front_end > 0 && d->front_end < 32;
+        const int32_t ready = shared && (front_ends_done >> d->front_end & 1u);
+        d->detect(d->ctx, rgb, w, h, snap, ready, r);
         int64_t dur = mg_ops_time_us(&r->ops);
-        if (d->front_end > 0 && d->front_end < 32 && (front_ends_done >> d->front_end & 1u)) {
+        if (ready) {
             dur -= d->front_end_us(h, w);
             dur = dur > 0 ? dur : 0;
-        } else if (d->front_end > 0 && d->front_end < 32) {
+        } else if (shared) {
             front_ends_done |= 1u << d->front_end;
         }
         busy(app, start + total, dur, d->name);

@@ -68,10 +68,14 @@ typedef struct {
     void *ctx;
     /* the pose a pose-reading detector takes when its frame arrives (may be NULL) */
     void (*snapshot)(void *ctx, int32_t snap[8]);
+    /* front_end_ready: 1 when a detector with the same front end (same id and ctx) ran
+     * before it on this frame, so ctx holds the front end's result: it is reused, not
+     * computed again */
     void (*detect)(void *ctx, const uint8_t *rgb, int32_t w, int32_t h, const int32_t snap[8],
-                   mg_detection_t *out);
+                   int32_t front_end_ready, mg_detection_t *out);
     /* the front end it starts from (0: none; detectors of one frame with the same id share
-     * it: the first pays, the others are charged less its time, front_end_us on h x w) */
+     * it: the first computes it and pays, the others reuse it and are charged less its time,
+     * front_end_us on h x w) */
     int32_t front_end;
     int64_t (*front_end_us)(int32_t h, int32_t w);
 } mg_detector_t;

@@ -1,5 +1,6 @@
 /* The host program's configuration (config.h). */
 #include "config.h"
+#include "fixedpoint.h"
 
 #include <string.h>
 
@@ -127,16 +128,6 @@ static int refuse(char *why, size_t cap, const char *key, const char *text)
     return -1;
 }
 
-/* v / den rounded half to even (den > 0) */
-static int64_t div_even(int64_t v, int64_t den)
-{
-    int64_t q = v / den, r = v % den;
-    if (r < 0)
-        q--, r += den; /* floor */
-    if (2 * r > den || (2 * r == den && (q & 1)))
-        q++;
-    return q;
-}
 
 /* A JSON number's text [p, end) in billionths, exactly (a tie past the ninth decimal to
  * even); *is_int: an integer literal. 0: not a number, or 10^9 or more in size. */
@@ -337,17 +328,17 @@ static int parse_camera(mg_json_in_t *in, mg_config_t *c, char *why, size_t cap)
         int64_t v;
         int is_int;
         if (strcmp(key, "f_px") == 0) {
-            if (!read_e9(at, in->p, &v, &is_int) || div_even(v, E9) < 1
-                || div_even(v, E9) > 100000)
+            if (!read_e9(at, in->p, &v, &is_int) || mg_div_even64(v, E9) < 1
+                || mg_div_even64(v, E9) > 100000)
                 return refuse(why, cap, "camera.f_px", "expected a number of px in [1, 100000]");
-            c->f_px = (int32_t)div_even(v, E9);
+            c->f_px = (int32_t)mg_div_even64(v, E9);
         } else if (strcmp(key, "u0_px") == 0 || strcmp(key, "v0_px") == 0) {
             const int u = key[0] == 'u'; /* the scenario's ranges (CAMERA_RANGES) */
             if (!read_e9(at, in->p, &v, &is_int) || v < 0 || v > (u ? 320 : 240) * E9)
                 return refuse(why, cap, u ? "camera.u0_px" : "camera.v0_px",
                               u ? "expected a number of px in [0, 320]"
                                 : "expected a number of px in [0, 240]");
-            *(u ? &c->u0_px : &c->v0_px) = (int32_t)div_even(v, E9);
+            *(u ? &c->u0_px : &c->v0_px) = (int32_t)mg_div_even64(v, E9);
         }
     }
     return k == 0 ? 0 : refuse(why, cap, "camera", "malformed JSON");
@@ -429,7 +420,7 @@ static int64_t param(const mg_config_t *c, const schema_t *s, const char *name)
 
 static int32_t milli(int64_t v_e9) /* method.py mrad: round(1000 x) */
 {
-    return (int32_t)div_even(v_e9, E9 / 1000);
+    return (int32_t)mg_div_even64(v_e9, E9 / 1000);
 }
 
 int mg_config_task_params(const mg_config_t *c, mg_task_params_t *p)
@@ -457,8 +448,8 @@ int mg_config_task_params(const mg_config_t *c, mg_task_params_t *p)
         case TO_FUZZY_E_CTH: p->fuzzy.e_cth_mrad_s = milli(v); break;
         case TO_FUZZY_U_TH: p->fuzzy.u_th_mrad = milli(v); break;
         case TO_FUZZY_V_AVG: p->fuzzy.v_avg_mm_s = milli(v); break;
-        case TO_FUZZY_K_U: p->fuzzy.k_uc_q12 = (int32_t)div_even(v * 4096, E9); break;
-        case TO_T_D: p->fuzzy.t_d_px = p->t_d_px = (int32_t)div_even(v, E9); break;
+        case TO_FUZZY_K_U: p->fuzzy.k_uc_q12 = (int32_t)mg_div_even64(v * 4096, E9); break;
+        case TO_T_D: p->fuzzy.t_d_px = p->t_d_px = (int32_t)mg_div_even64(v, E9); break;
         default: break; /* the planner's (mg_config_params000), or not the task's */
         }
     }
@@ -470,7 +461,7 @@ int mg_config_task_params(const mg_config_t *c, mg_task_params_t *p)
             for (int32_t j = 0; j < s->n_params; j++)
                 if (s->params[j].to == TO_K_THETA && c->given[j])
                     p->posture.k_theta_q12[s->params[j].index] =
-                        (int32_t)div_even(c->value_e9[j] * 4096, E9);
+                        (int32_t)mg_div_even64(c->value_e9[j] * 4096, E9);
             break;
         }
     for (int32_t st = 0; st < MG_N_TASK_STATES; st++)
@@ -504,20 +495,20 @@ void mg_config_params000(const mg_config_t *c, const mg_task_params_t *p, mg_par
     const int64_t v_max = param(given, s000, "vmax_mps"), a_max = param(given, s000, "amax_mps2");
     const int64_t r_min = param(given, s000, "rmin_m");
     /* bezier000.py plan_000 and bezier_q.py limits_q: round() of each in its unit */
-    pl->t_s_ms = (int32_t)div_even(param(given, s000, "T_s"), E9 / 1000);
-    pl->v0_mm_s = (int32_t)div_even(param(given, s000, "v0_mps"), E9 / 1000);
+    pl->t_s_ms = (int32_t)mg_div_even64(param(given, s000, "T_s"), E9 / 1000);
+    pl->v0_mm_s = (int32_t)mg_div_even64(param(given, s000, "v0_mps"), E9 / 1000);
     pl->standoff_q4 = p->approach_standoff_mm * 16;
     pl->moving_q4 = 320; /* Params000.moving_speed_mps = 0.02 */
     pl->n_samples_min = 16;
     pl->n_samples_max = 64;
     pl->budget_us = 90000;
-    pl->k1_q16 = (int32_t)div_even(param(given, s000, "k1") * 65536, E9);
-    pl->k2_q16 = (int32_t)div_even(param(given, s000, "k2") * 65536, E9);
-    pl->lim[0] = (int32_t)div_even(v_max * 65536, E9);
-    pl->lim[1] = (int32_t)div_even(a_max * 65536, E9);
-    pl->lim[2] = (int32_t)div_even(65536 * E9, r_min);
+    pl->k1_q16 = (int32_t)mg_div_even64(param(given, s000, "k1") * 65536, E9);
+    pl->k2_q16 = (int32_t)mg_div_even64(param(given, s000, "k2") * 65536, E9);
+    pl->lim[0] = (int32_t)mg_div_even64(v_max * 65536, E9);
+    pl->lim[1] = (int32_t)mg_div_even64(a_max * 65536, E9);
+    pl->lim[2] = (int32_t)mg_div_even64(65536 * E9, r_min);
     pl->lim[3] = 0; /* 000's |dv/dt| */
-    *v_limit_mm_s = (int32_t)div_even(v_max, E9 / 1000);
+    *v_limit_mm_s = (int32_t)mg_div_even64(v_max, E9 / 1000);
 }
 
 void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_params001_t *pl,
@@ -528,11 +519,11 @@ void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_par
     const mg_config_t *given = given_or_default(c, "001", &dflt);
     const int64_t v_max = param(given, s001, "Vmax"), a_max = param(given, s001, "Amax");
     /* bezier001.py Params001, bezier_q.py limits_q: round() of each in its unit */
-    pl->v0_mm_s = (int32_t)div_even(param(given, s001, "v0"), E9 / 1000);
-    pl->t_s_ms = (int32_t)div_even(param(given, s001, "T_s"), E9 / 1000);
-    pl->k1_q16 = (int32_t)div_even(param(given, s001, "k1") * 65536, E9);
-    pl->k2_q16 = (int32_t)div_even(param(given, s001, "k2") * 65536, E9);
-    pl->t_d_q4 = div_even(param(given, s001, "T_D") * 160, E9); /* T_D in cm */
+    pl->v0_mm_s = (int32_t)mg_div_even64(param(given, s001, "v0"), E9 / 1000);
+    pl->t_s_ms = (int32_t)mg_div_even64(param(given, s001, "T_s"), E9 / 1000);
+    pl->k1_q16 = (int32_t)mg_div_even64(param(given, s001, "k1") * 65536, E9);
+    pl->k2_q16 = (int32_t)mg_div_even64(param(given, s001, "k2") * 65536, E9);
+    pl->t_d_q4 = mg_div_even64(param(given, s001, "T_D") * 160, E9); /* T_D in cm */
     pl->n_e = (int32_t)(param(given, s001, "n_e") / E9);
     pl->coarse_inflate_q4 = 1600; /* coarse_inflate_m 0.1 */
     pl->moving_q4 = 320;          /* moving_speed_mps 0.02 */
@@ -545,10 +536,10 @@ void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_par
     pl->budget_us = 75000;
     pl->total_budget_us = 98000;
     pl->expected_q16 = 32768; /* expected_cost_fraction 0.5 */
-    pl->lim[0] = (int32_t)div_even(v_max * 65536, E9);
-    pl->lim[1] = (int32_t)div_even(a_max * 65536, E9);
-    pl->lim_coarse[0] = (int32_t)div_even(v_max * 9 * 65536, 10 * E9); /* coarse_margin 0.9 */
-    pl->lim_coarse[1] = (int32_t)div_even(a_max * 9 * 65536, 10 * E9);
+    pl->lim[0] = (int32_t)mg_div_even64(v_max * 65536, E9);
+    pl->lim[1] = (int32_t)mg_div_even64(a_max * 65536, E9);
+    pl->lim_coarse[0] = (int32_t)mg_div_even64(v_max * 9 * 65536, 10 * E9); /* coarse_margin 0.9 */
+    pl->lim_coarse[1] = (int32_t)mg_div_even64(a_max * 9 * 65536, 10 * E9);
     pl->lim[2] = pl->lim_coarse[2] = -1; /* no radius test */
     pl->lim[3] = pl->lim_coarse[3] = 1;  /* a_t = v^2 kappa */
     /* eq. (5) for the object's grasp point on ArmGeometry001's links (um); l_e = (l_m + l_n)
@@ -557,7 +548,7 @@ void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_par
     if (mg_grasp_radius001_um(p->grasp_height_mm, l_um) != 0)
         l_um[0] = l_um[1] = 0;
     const int64_t sum_um = l_um[0] + l_um[1], r_um2 = sum_um > 2000 ? sum_um - 2000 : 0;
-    pl->l_e_q4 = div_even(sum_um, 125); /* never a tie */
+    pl->l_e_q4 = mg_div_even64(sum_um, 125); /* never a tie */
     pl->circle_r2 = r_um2 * r_um2 / 15625;
     /* sonar_regions.py sonar_q of planner_params_001's SonarConfig */
     int32_t s, co;
@@ -570,7 +561,7 @@ void mg_config_params001(const mg_config_t *c, const mg_task_params_t *p, mg_par
     pl->sonar.arc_bound = 1; /* ARC_BOUND_001 */
     mg_sincos_urad_q14((pl->sonar.a_g_urad + 1) / 2, &s, &co);
     pl->sonar.cot_half_q12 = (int32_t)((2 * (int64_t)co * 4096 + s) / (2 * (int64_t)s));
-    *v_limit_mm_s = (int32_t)div_even(v_max, E9 / 1000);
+    *v_limit_mm_s = (int32_t)mg_div_even64(v_max, E9 / 1000);
 }
 
 void mg_config_replanner001(const mg_config_t *c, const mg_task_params_t *p,
@@ -587,7 +578,7 @@ void mg_config_replanner001(const mg_config_t *c, const mg_task_params_t *p,
     b->cfg.n_levels = 2;          /* slow_factors (1.0, 0.5) */
     b->cfg.keep_going_q4 = 19200; /* keep_going_m 1.2 */
     for (int32_t i = 0; i < MG_REPLAN_LEVELS; i++)
-        b->level_v0_mm_s[i] = (int32_t)div_even(v0, (E9 / 1000) << (i < 1 ? i : 1));
+        b->level_v0_mm_s[i] = (int32_t)mg_div_even64(v0, (E9 / 1000) << (i < 1 ? i : 1));
     b->v0_div = 1;
 }
 

@@ -10,8 +10,9 @@
 #include "task_method.h"
 
 /* the kernels' scratch (the largest: mg_radial_scratch_bytes(640, 480) = 6 144 024 bytes) and
- * the grey image, the dark mask, labels and component stats of the 000 detectors' front end
- * (one detector runs at a time) */
+ * the grey image, the dark mask, labels, component stats and number of labels of the 000
+ * detectors' front end (one detector runs at a time; the kernels only read the front end's
+ * buffers, so the next 000 detector of the frame reuses them) */
 #define N_PX (MG_DETECT_MAX_W * MG_DETECT_MAX_H)
 #define N_BLOCKS (((MG_DETECT_MAX_W + 1) / 2) * ((MG_DETECT_MAX_H + 1) / 2))
 static union {
@@ -22,6 +23,7 @@ static uint8_t grey[N_PX], mask[N_PX];
 static int32_t labels[N_PX], block_lab[N_BLOCKS], parent[N_BLOCKS + 1],
     stats[5 * (N_BLOCKS + 1)];
 static uint32_t hist[256];
+static int32_t front_end_n_lab;
 
 /* 1 when the frame fits the static buffers (else counted, nothing found) */
 static int fits(mg_detectors_t *d, int32_t w, int32_t h)
@@ -36,16 +38,20 @@ static int fits(mg_detectors_t *d, int32_t w, int32_t h)
 }
 
 /* The front end of the 000 detectors (host/vision/dark_blobs.py dark_components): grey, dark
- * mask, 8-connected components into the static buffers; the number of labels, or 0 when the
- * frame does not fit or is under 16 px a side (the Python detectors refuse it: nothing found,
- * nothing charged). */
-static int32_t dark_front_end(mg_detectors_t *d, const uint8_t *rgb, int32_t w, int32_t h)
+ * mask, 8-connected components into the static buffers, or those of the detector before on
+ * the same frame when ready; the number of labels, or 0 when the frame does not fit or is
+ * under 16 px a side (the Python detectors refuse it: nothing found, nothing charged). */
+static int32_t dark_front_end(mg_detectors_t *d, const uint8_t *rgb, int32_t w, int32_t h,
+                              int32_t ready)
 {
     if (!fits(d, w, h) || w < 16 || h < 16)
         return 0;
-    mg_grey(rgb, grey, w * h);
-    mg_dark_mask(grey, mask, w * h, hist);
-    return mg_label(mask, w, h, labels, block_lab, parent, stats);
+    if (!ready) {
+        mg_grey(rgb, grey, w * h);
+        mg_dark_mask(grey, mask, w * h, hist);
+        front_end_n_lab = mg_label(mask, w, h, labels, block_lab, parent, stats);
+    }
+    return front_end_n_lab;
 }
 
 /* adds what the front end charges (dark_blobs.py front_end_min_ops) to *o */
@@ -92,9 +98,10 @@ static void pose_snapshot(void *ctx, int32_t snap[8])
 }
 
 static void double_cross(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
-                         const int32_t snap[8], mg_detection_t *out)
+                         const int32_t snap[8], int32_t ready, mg_detection_t *out)
 {
     mg_detectors_t *d = (mg_detectors_t *)ctx;
+    (void)ready;
     if (!fits(d, w, h))
     {
         finish(out, mg_double_cross_json);
@@ -110,27 +117,27 @@ static void double_cross(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
 }
 
 static void red_cylinder(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
-                         const int32_t snap[8], mg_detection_t *out)
+                         const int32_t snap[8], int32_t ready, mg_detection_t *out)
 {
-    (void)snap;
+    (void)snap, (void)ready;
     if (fits((mg_detectors_t *)ctx, w, h))
         out->found = mg_red_cylinder(rgb, w, h, scratch.bytes, out->words, &out->ops);
     finish(out, mg_red_cylinder_json);
 }
 
 static void red_roi(void *ctx, const uint8_t *rgb, int32_t w, int32_t h, const int32_t snap[8],
-                    mg_detection_t *out)
+                    int32_t ready, mg_detection_t *out)
 {
-    (void)snap;
+    (void)snap, (void)ready;
     if (fits((mg_detectors_t *)ctx, w, h))
         out->found = mg_red_roi(rgb, w, h, scratch.bytes, out->words, &out->ops);
     finish(out, mg_red_roi_json);
 }
 
 static void held_fill(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
-                      const int32_t snap[8], mg_detection_t *out)
+                      const int32_t snap[8], int32_t ready, mg_detection_t *out)
 {
-    (void)ctx, (void)snap;
+    (void)ctx, (void)snap, (void)ready;
     out->found = mg_held_fill(rgb, w, h, (uint32_t *)scratch.bytes, out->words);
     out->ops = mg_held_fill_ops(h, w);
     finish(out, mg_held_fill_json);
@@ -138,11 +145,11 @@ static void held_fill(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
 
 /* the 000 radial symbol with the camera's intrinsics (registry "camera" call) */
 static void radial_symbol(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
-                          const int32_t snap[8], mg_detection_t *out)
+                          const int32_t snap[8], int32_t ready, mg_detection_t *out)
 {
     mg_detectors_t *d = (mg_detectors_t *)ctx;
     (void)snap;
-    const int32_t n_lab = dark_front_end(d, rgb, w, h);
+    const int32_t n_lab = dark_front_end(d, rgb, w, h, ready);
     if (n_lab > 0) {
         out->found = mg_radial_symbol(grey, w, h, stats, n_lab, d->f_px, d->u0_px, d->v0_px,
                                       scratch.bytes, out->words, &out->ops);
@@ -153,10 +160,10 @@ static void radial_symbol(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
 
 /* the 000 radial symbol cut by the frame's border (registry "frame" call) */
 static void radial_cut(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
-                       const int32_t snap[8], mg_detection_t *out)
+                       const int32_t snap[8], int32_t ready, mg_detection_t *out)
 {
     (void)snap;
-    const int32_t n_lab = dark_front_end((mg_detectors_t *)ctx, rgb, w, h);
+    const int32_t n_lab = dark_front_end((mg_detectors_t *)ctx, rgb, w, h, ready);
     if (n_lab > 0) {
         out->found = mg_radial_cut(stats, n_lab, w, h, out->words, &out->ops);
         dark_front_end_ops(&out->ops, w, h);
@@ -167,10 +174,10 @@ static void radial_cut(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
 /* the 000 dual "+" at the camera's pitch theta2 + theta3 + theta4 (dual_plus.py
  * detect_at_pose) */
 static void dual_plus(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
-                      const int32_t snap[8], mg_detection_t *out)
+                      const int32_t snap[8], int32_t ready, mg_detection_t *out)
 {
     mg_detectors_t *d = (mg_detectors_t *)ctx;
-    const int32_t n_lab = dark_front_end(d, rgb, w, h);
+    const int32_t n_lab = dark_front_end(d, rgb, w, h, ready);
     if (n_lab > 0) {
         out->found = mg_dual_plus(grey, labels, w, h, stats, n_lab, snap[2] + snap[3] + snap[4],
                                   d->f_px, d->u0_px, scratch.bytes, out->words, &out->ops);
@@ -181,10 +188,10 @@ static void dual_plus(void *ctx, const uint8_t *rgb, int32_t w, int32_t h,
 
 /* the 000 spoke (registry "frame" call: no camera) */
 static void spoke(void *ctx, const uint8_t *rgb, int32_t w, int32_t h, const int32_t snap[8],
-                  mg_detection_t *out)
+                  int32_t ready, mg_detection_t *out)
 {
     (void)snap;
-    const int32_t n_lab = dark_front_end((mg_detectors_t *)ctx, rgb, w, h);
+    const int32_t n_lab = dark_front_end((mg_detectors_t *)ctx, rgb, w, h, ready);
     if (n_lab > 0) {
         out->found = mg_spoke(grey, labels, w, h, stats, n_lab, scratch.bytes, out->words,
                               &out->ops);

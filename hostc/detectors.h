@@ -4,9 +4,10 @@
  * (kernels.h), its out words for the task and its result's JSON for the detect event
  * (app_factory.h). The double cross and the dual "+" read the camera's pose from the joints of
  * the newest telemetry when their frame arrives. The 000 detectors (the radial symbol, the
- * dual "+", the spoke) start from one front end (grey, dark mask, components: their counts
- * include it, and the program charges it once a frame, mg_detector_t.front_end) and refuse
- * frames under 16 px a side as the Python ones do (nothing found, nothing charged). */
+ * dual "+", the spoke, the cut symbol) start from one front end (grey, dark mask, components:
+ * their counts include it; the first of a frame computes it, the others reuse it, and the
+ * program charges it once a frame, mg_detector_t.front_end) and refuse frames under 16 px a
+ * side as the Python ones do (nothing found, nothing charged). */
 #ifndef MOBIGRASP_HOSTC_DETECTORS_H
 #define MOBIGRASP_HOSTC_DETECTORS_H
 

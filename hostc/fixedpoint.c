@@ -153,3 +153,13 @@ mg_ops_t mg_rot_ops(void)
 {
     return mg_ops_scaled(mg_sin_ops(), 2);
 }
+
+int64_t mg_div_even64(int64_t num, int64_t den)
+{
+    int64_t q = num / den, r = num % den;
+    if (r < 0)
+        q--, r += den; /* floor */
+    if (2 * r > den || (2 * r == den && (q & 1)))
+        q++;
+    return q;
+}

@@ -21,6 +21,7 @@ int64_t mg_isqrt(int64_t n);                          /* floor(sqrt(n)), n >= 0 
 int64_t mg_hypot_int(int64_t x, int64_t y);           /* floor(sqrt(x^2 + y^2)) */
 int64_t mg_mul_q12(int64_t a, int64_t b);             /* (a b + 2048) >> 12 */
 int64_t mg_div_round64(int64_t num, int64_t den);     /* halves away from zero; den != 0 */
+int64_t mg_div_even64(int64_t num, int64_t den);      /* halves to even (Python's round); den > 0 */
 int64_t mg_div_q12(int64_t a, int64_t b);             /* (a << 12) / b rounded; b != 0 */
 int64_t mg_floor_div(int64_t a, int64_t b);           /* Python's a // b; b != 0 */
 int64_t mg_floor_mod(int64_t a, int64_t b);           /* Python's a % b; b != 0 */

@@ -661,7 +661,9 @@ static void board_plan(mg_board_replanner001_t *b, const mg_task_inputs_t *in)
 {
     int64_t p[2], vel[2];
     board_pose(in, p, vel);
-    b->params.v0_mm_s = (int32_t)mg_div_round64(b->level_v0_mm_s[b->st.level], b->v0_div);
+    /* halves to even: the Python's round(v0 / v0_div * factor * 1000), the divisions powers of
+     * two (a half-even rounding of a half-even rounding by powers of two is the single one) */
+    b->params.v0_mm_s = (int32_t)mg_div_even64(b->level_v0_mm_s[b->st.level], b->v0_div);
     mg_plan001(&b->params, p, vel, in->heading_mrad, b->cfg.target_q4, in->sonar_mm,
                b->st.memory, b->st.n_memory, &b->work, &b->plan);
 }

@@ -2,7 +2,8 @@
 (host/app_factory.py over host/vision/registry.py) on the frames of the first seconds of
 paper002-marker and of paper000-exp1 and on random frames: each detector's result, its out
 words and JSON, and the operation counts it charges (the modelled ARM9 time); the pose of the
-double cross and the dual "+" from the newest telemetry; the 000 detectors' shared front end."""
+double cross and the dual "+" from the newest telemetry; the 000 detectors' shared front end,
+computed by the first of a frame and reused by the others."""
 
 from __future__ import annotations
 
@@ -36,20 +37,22 @@ def _table(f_px: int):
     return app, dets, table
 
 
-def _run_c(table, name: str, rgb: np.ndarray, q=(0, 0, 0, 0, 0, 0)):
+def _run_c(table, name: str, rgb: np.ndarray, q=(0, 0, 0, 0, 0, 0), ready: int = 0):
+    """Detector ``name`` on ``rgb``; ``ready``: the front end is the one the detector before
+    computed (as the program says to the second 000 detector of a frame)."""
     d = table[NAMES.index(name)]
     assert FFI.string(d.name).decode() == name
     out = FFI.new("mg_detection_t *")
     buf = np.ascontiguousarray(rgb)
     snap = FFI.new("int32_t[8]", list(q) + [0, 0])
     d.detect(d.ctx, FFI.cast("uint8_t *", buf.ctypes.data), buf.shape[1], buf.shape[0], snap,
-             out)
+             ready, out)
     return out
 
 
-def _check(table, name: str, rgb: np.ndarray, cam, q) -> bool:
+def _check(table, name: str, rgb: np.ndarray, cam, q, ready: int = 0) -> bool:
     res, ops = registry.row(name).host_call(rgb, cam, q)
-    out = _run_c(table, name, rgb, q)
+    out = _run_c(table, name, rgb, q, ready)
     assert out.found == (res is not None)
     assert FFI.string(out.json).decode() == ENCODER.encode(jsonable(res))
     assert hostc.ops_tuple(out.ops) == ops.as_tuple()  # the same modelled ARM9 time
@@ -58,7 +61,8 @@ def _check(table, name: str, rgb: np.ndarray, cam, q) -> bool:
 
 def _check_recorded(folder, detectors, also) -> dict:
     """Every third call of ``detectors`` in the corpus at ``folder``, each frame given to its
-    detector and to those in ``also`` too; the results found per detector."""
+    detector and to those in ``also`` too, a 000 detector after another one reusing its front
+    end; the results found per detector."""
     idx = corpus.read_index(folder)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
     calls = [c for c in corpus.calls(folder, idx) if c.detector in detectors]
@@ -71,8 +75,10 @@ def _check_recorded(folder, detectors, also) -> dict:
             tables[c.camera[0]] = _table(c.camera[0])
         table = tables[c.camera[0]][2]
         q = tuple(int(v) for v in c.args[0]) if c.args else (0, 0, -1571, 0, 0, 0)
+        ready = 0
         for name in dict.fromkeys((*also, c.detector)):
-            found[name] = found.get(name, 0) + _check(table, name, rgb, c.camera, q)
+            found[name] = found.get(name, 0) + _check(table, name, rgb, c.camera, q, ready)
+            ready = int(name in THE_000)
     return found
 
 
@@ -134,6 +140,30 @@ def test_the_000_rows_share_their_front_end():
             assert d.front_end_us(h, w) == python[name][1](h, w)
     for name in set(NAMES) - set(THE_000):
         assert table[NAMES.index(name)].front_end == 0
+
+
+def test_a_ready_front_end_is_not_computed_again(exp1_corpus):
+    """A 000 detector told its front end is ready reads the one computed before it: given
+    another frame of the same size (a blank one), it finds what it finds on the first frame,
+    with the same counts."""
+    idx = corpus.read_index(exp1_corpus)
+    shas = {f["file"]: f["sha256"] for f in idx["frames"]}
+    _, _, table = _table(611)
+    checked = 0
+    for c in corpus.calls(exp1_corpus, idx):
+        if c.detector != "radial_symbol" or checked == 3:
+            continue
+        rgb = corpus.load_frame(exp1_corpus, {"file": c.frame_file, "sha256": shas[c.frame_file]})
+        first = _run_c(table, "radial_symbol", rgb)
+        if not first.found:
+            continue
+        blank = np.full_like(rgb, 255)
+        again = _run_c(table, "radial_symbol", blank, ready=1)
+        assert (again.found, FFI.string(again.json), hostc.ops_tuple(again.ops)) == (
+            1, FFI.string(first.json), hostc.ops_tuple(first.ops))
+        assert not _run_c(table, "radial_symbol", blank).found  # computed: nothing on it
+        checked += 1
+    assert checked == 3
 
 
 @settings(max_examples=80, deadline=None)

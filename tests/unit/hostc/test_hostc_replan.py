@@ -338,16 +338,19 @@ def test_metres_in_two_decimals_as_python_prints_them(q4):
 
 
 @settings(max_examples=20, deadline=None)
-@given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR, st.sampled_from([1, 2]),
+@given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR,
+       st.sampled_from([1, 2, 4]),
        st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),
-                min_size=1, max_size=3), st.integers(100, 800), st.sampled_from([-1, 0, 1]))
-def test_board_replanner_as_method001(target_mm, sonar0, v0_div, updates, detour_mm, side):
+                min_size=1, max_size=3), st.integers(100, 800), st.sampled_from([-1, 0, 1]),
+       st.sampled_from([0.2, 0.25, 0.23, 0.3]))
+def test_board_replanner_as_method001(target_mm, sonar0, v0_div, updates, detour_mm, side, v0):
     """method001.py's start_001, update_001 and escape_001 against the board's replanner on
     drawn sequences (the first plan slower by v0_div as a fallback step asks): the same paths,
     decisions, reasons and modelled time, the same detour heading after each update."""
     from mobigrasp.host.task.method001 import start_001, update_001
 
-    base = planner_params_001(TaskParams.for_method("001"))
+    # v0 in odd mm/s at a slow-down level and v0_div: the halves round as Python's round
+    base = Params001(**{**planner_params_001(TaskParams.for_method("001")).__dict__, "v0": v0})
     params = Params001(**{**base.__dict__, "v0": base.v0 / v0_div})
     rp, fol, ops, detail = start_001(0, 0, 0, 0, 200, target_mm, tuple(sonar0), params)
     b = _board(rp, base.v0)

@@ -17,11 +17,11 @@ ARM_TOOLS = bool(shutil.which("qemu-arm") and shutil.which("arm-none-eabi-gcc"))
 
 
 def _run(tmp_path, host, transport="pty", scenario="paper000-exp1", host_method=None,
-         limit_s=None):
-    summary, _ = execute(RunOptions(scenario=scenario, transport=transport, host=host,
+         limit_s=None, mcu="python"):
+    summary, _ = execute(RunOptions(scenario=scenario, transport=transport, host=host, mcu=mcu,
                                     host_method=host_method, progress=False, plots=False,
                                     mcap=False, time_limit_s=limit_s,
-                                    out=tmp_path / f"{scenario}-{host}-{transport}"))
+                                    out=tmp_path / f"{scenario}-{host}-{transport}-{mcu}"))
     assert not summary.get("error"), summary.get("error")
     assert summary["host"] == host
     return summary
@@ -88,3 +88,16 @@ def test_shipped_scenario_same_trace_in_the_c_and_arm_hosts(tmp_path, name):
     assert c_pty == python
     assert _run(tmp_path, "c", "inproc", name, limit_s=200.0)["trace_sha256"] == python
     assert _run(tmp_path, "arm", "pty", name, limit_s=200.0)["trace_sha256"] == python
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["paper000-exp1", "paper001-sim1", "paper002-marker"])
+def test_both_boards_as_binaries_grasp_with_the_python_hosts_trace(tmp_path, name):
+    """The ARMv4T ELF under qemu-arm and the AVR ELF under simavr in one loop: the grasp, and
+    the trace of the Python host with the same firmware ELF."""
+    if not shutil.which("simavr"):
+        pytest.fail("simavr is needed (make toolchains)")
+    both = _run(tmp_path, "arm", "pty", name, limit_s=200.0, mcu="simavr")
+    assert both["success"] and both["end_reason"] == "task_done", both["end_reason"]
+    python = _run(tmp_path, "python", "pty", name, limit_s=200.0, mcu="simavr")
+    assert both["trace_sha256"] == python["trace_sha256"]

@@ -426,8 +426,7 @@ static int32_t circle_l_e_mm(mg_task_t *t)
     if (!ms->has_l_e) {
         ms->has_l_e = 1;
         if (mg_grasp_radius001_um(t->p.grasp_height_mm, l_um) == 0) {
-            const int64_t sum = l_um[0] + l_um[1], q = sum / 2000, r = sum % 2000;
-            ms->l_e_mm = (int32_t)(q + (r > 1000 || (r == 1000 && (q & 1))));
+            ms->l_e_mm = (int32_t)mg_div_even64(l_um[0] + l_um[1], 2000);
         }
     }
     return ms->l_e_mm;

@@ -85,6 +85,9 @@ class SearchParams:
     cover_mm: int = 4500  # the wander covers this disc by host.coverage's rings (0: square)
     view_mm: int = 1100  # half-width of the strip the wander's sweep sees (ring spacing / 2)
     chord_mm: int = 1500  # spacing of the rings' stations (a stop and a turn at each)
+    wander_frames_per_pose: int = 2  # frames per waist pose of the sweep while driving
+    wander_d_theta5_mrad: int = 200  # waist step of the sweep while driving
+    outward_from_mm: int = 0  # a ring's leg this far from the start sweeps outward (0: never)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -106,8 +109,10 @@ class SearchParams:
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
+        if self.outward_from_mm < 0:
+            raise ValueError(f"outward_from_mm must be >= 0, got {self.outward_from_mm}")
         for name in ("d_theta2_mrad", "d_theta5_mrad", "frames_per_pose", "frame_period_us",
-                     "wander_theta5_mrad",
+                     "wander_theta5_mrad", "wander_frames_per_pose", "wander_d_theta5_mrad",
                      "servo_speed_mrad_per_s", "coarse_base_turn_mrad", "turns_per_wander"):
             if getattr(self, name) <= 0:
                 raise ValueError(f"{name} must be > 0, got {getattr(self, name)}")
@@ -141,6 +146,11 @@ def _levels(lo: int, hi: int, step: int, start: int, upward: bool) -> list[int]:
         if v not in seen:
             seen.append(v)
     return seen
+
+
+def _boustrophedon(up: list[int]) -> list[int]:
+    """One way, then back without the ends: the poses of a sweep to and fro, cyclic."""
+    return up + up[-2:0:-1]
 
 
 def _sweep(lo: int, hi: int, step: int, frm: int, to_hi: bool) -> list[int]:
@@ -201,23 +211,29 @@ class ArmSearch:
         self._cycles_here = 0  # cycles completed at this place
         self.wanders = 0
         p = params
-        w = p.wander_theta5_mrad
-        up = list(range(-w, w, p.d_theta5_mrad)) + [w]
-        self._wsweep = up + up[-2:0:-1]  # waist poses of the sweeping wander, cyclic
+        w, d = p.wander_theta5_mrad, p.wander_d_theta5_mrad
+        # waist poses of the sweeping wander, cyclic: both sides, the left or the right side
+        # (and one step across) alone
+        self._wsweeps = {0: _boustrophedon(list(range(-w, w, d)) + [w]),
+                         1: _boustrophedon(list(range(w, -d, -d)) + [-d]),
+                         -1: _boustrophedon(list(range(-w, d, d)) + [d])}
+        self._wsweep = self._wsweeps[0]
         self._windex = 0
         self._wpose = (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
         self._pose = (0, 0, 0)  # the base's odometry pose as last reported to step()
+        self._origin = (0, 0)  # the rings' centre in odometry (where the first leg starts)
         self._stations: list[tuple[int, int]] | None = None  # the rings, in odometry
         self._station = 0
         self._leg = (0, 0)  # turn_mrad, drive_mm of the leg toward the next station
         self.covered = False  # the rings are done: the disc of cover_mm has been seen
 
-    def dwell_us(self, frm: tuple[int, int], to: tuple[int, int]) -> int:
-        """Servo travel of the larger joint move plus the frames to look."""
+    def dwell_us(self, frm: tuple[int, int], to: tuple[int, int], frames: int = 0) -> int:
+        """Servo travel of the larger joint move plus the frames to look (``frames`` 0: the
+        search's ``frames_per_pose``)."""
         p = self.params
         travel = max(abs(frm[0] - to[0]), abs(frm[1] - to[1]))
-        return travel * 1_000_000 // p.servo_speed_mrad_per_s + p.frames_per_pose * \
-            p.frame_period_us
+        return travel * 1_000_000 // p.servo_speed_mrad_per_s + (frames or p.frames_per_pose) \
+            * p.frame_period_us
 
     def _command(self, turn: int, drive: int = 0) -> SearchCommand:
         th2, th5 = self._poses[self._index]
@@ -229,6 +245,7 @@ class ArmSearch:
         """Drive the next leg; the sweep starts at the waist pose nearest ``at``."""
         self._wandering, self._turning, self._corner = True, False, False
         if self.params.wander_sweep:
+            self._wsweep = self._wsweeps[self._outward_side()]
             self._windex = min(range(len(self._wsweep)),
                                key=lambda k: abs(self._wsweep[k] - at[1]))
             self._wpose = (self.params.coarse_theta2_mrad[0], self._wsweep[self._windex])
@@ -241,6 +258,7 @@ class ArmSearch:
         station the search looks around where it is (``covered``)."""
         p = self.params
         if self._stations is None:
+            self._origin = self._pose[:2]
             self._stations = [to_odometry(self._pose, xy) for xy in
                               ring_stations(p.cover_mm, p.view_mm, p.chord_mm)]
         while self._station < len(self._stations):
@@ -259,13 +277,36 @@ class ArmSearch:
             self._wandering, self._turning, self._corner = False, True, True
             self._wpose = at
 
+    def _outward_side(self) -> int:
+        """The side the sweep looks to alone on this leg: on a ring's leg that keeps at least
+        ``outward_from_mm`` from the rings' centre (the ground inside it was seen from the ring
+        inside), the side away from the centre (1 left, -1 right); else 0, both sides."""
+        p = self.params
+        if not (p.outward_from_mm and p.cover_mm and self._stations
+                and self._station < len(self._stations)):
+            return 0
+        (px, py), (sx, sy), (ox, oy) = self._pose[:2], self._stations[self._station], self._origin
+        lx, ly, ax, ay = sx - px, sy - py, ox - px, oy - py
+        cross = lx * ay - ly * ax  # > 0: the centre lies left of the leg
+        along, length2 = lx * ax + ly * ay, lx * lx + ly * ly
+        if along <= 0 or length2 == 0:  # the leg's nearest point to the centre is its start
+            near2 = ax * ax + ay * ay
+        elif along >= length2:  # its end
+            near2 = (ox - sx) ** 2 + (oy - sy) ** 2
+        else:  # the centre's foot on the leg
+            near2 = cross * cross // length2
+        if near2 < p.outward_from_mm * p.outward_from_mm:
+            return 0
+        return -1 if cross > 0 else 1
+
     def _wander_pose(self, now_us: int) -> tuple[int, int]:
         """The camera while driving: left (``wander_sweep`` 0) or the far level's sweep."""
         p = self.params
         if not p.wander_sweep:
             return p.coarse_theta2_mrad[0], p.theta5_max_mrad
-        while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._wpose):
-            self._pose_start_us += self.dwell_us(self._prev, self._wpose)
+        frames = p.wander_frames_per_pose
+        while now_us - self._pose_start_us >= self.dwell_us(self._prev, self._wpose, frames):
+            self._pose_start_us += self.dwell_us(self._prev, self._wpose, frames)
             self._prev = self._wpose
             self._windex = (self._windex + 1) % len(self._wsweep)
             self._wpose = (p.coarse_theta2_mrad[0], self._wsweep[self._windex])

@@ -12,7 +12,7 @@ void mg_search_params_default(mg_search_params_t *p)
 {
     static const mg_search_params_t d = {
         -2800, -2100, 60, -800, 800, 200, -200, 2300, 1047, 3, {-2250, -2500, -2750}, 1571,
-        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500};
+        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0};
     *p = d;
 }
 
@@ -150,6 +150,31 @@ int32_t mg_search_cycle(const mg_search_params_t *p, int32_t theta2_start_mrad,
     return n;
 }
 
+/* the waist poses of the sweeping wander, cyclic, one way then back without the ends: both
+ * sides (side 0), the left (1) or the right (-1) side and one step across alone */
+static void build_sweep(mg_arm_search_t *s, int32_t side)
+{
+    const int32_t w = s->p.wander_theta5_mrad, d = s->p.wander_d_theta5_mrad;
+    int32_t up[MG_SEARCH_MAX_SWEEP];
+    list_t l = {up, 0, MG_SEARCH_MAX_SWEEP, 0};
+    if (side == 0) {
+        range(&l, -w, w, d);
+        push(&l, w);
+    } else if (side > 0) {
+        range(&l, w, -d, -d);
+        push(&l, -d);
+    } else {
+        range(&l, -w, d, d);
+        push(&l, d);
+    }
+    s->n_wsweep = 0;
+    for (int32_t i = 0; i < l.n; i++)
+        s->wsweep[s->n_wsweep++] = up[i];
+    for (int32_t i = l.n - 2; i > 0 && s->n_wsweep < MG_SEARCH_MAX_SWEEP; i--)
+        s->wsweep[s->n_wsweep++] = up[i];
+    s->overflow |= l.overflow || (l.n > 2 && s->n_wsweep < 2 * l.n - 2);
+}
+
 static void new_cycle(mg_arm_search_t *s, int32_t th2, int32_t th5, int32_t upward,
                       int32_t coarse)
 {
@@ -182,31 +207,23 @@ void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t the
     s->pose_start_us = now_us;
     s->turning = s->wandering = s->corner = 0;
     s->cycles_here = s->wanders = 0;
-    /* the waist poses of the sweeping wander, cyclic: up, then back without the ends */
-    int32_t up[MG_SEARCH_MAX_SWEEP];
-    list_t l = {up, 0, MG_SEARCH_MAX_SWEEP, 0};
-    range(&l, -p->wander_theta5_mrad, p->wander_theta5_mrad, p->d_theta5_mrad);
-    push(&l, p->wander_theta5_mrad);
-    s->n_wsweep = 0;
-    for (int32_t i = 0; i < l.n; i++)
-        s->wsweep[s->n_wsweep++] = up[i];
-    for (int32_t i = l.n - 2; i > 0 && s->n_wsweep < MG_SEARCH_MAX_SWEEP; i--)
-        s->wsweep[s->n_wsweep++] = up[i];
-    s->overflow |= l.overflow || (l.n > 2 && s->n_wsweep < 2 * l.n - 2);
+    build_sweep(s, 0);
     s->windex = 0;
     s->wpose[0] = s->p.coarse_theta2_mrad[0], s->wpose[1] = p->theta5_max_mrad;
     s->pose[0] = s->pose[1] = s->pose[2] = 0;
+    s->origin[0] = s->origin[1] = 0;
     s->has_stations = s->n_stations = s->station = 0;
     s->leg[0] = s->leg[1] = 0;
     s->covered = 0;
 }
 
-int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2])
+int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2],
+                           int32_t frames)
 {
     /* the servo travel of the larger joint move, then the frames to look */
     const int32_t a = iabs(frm[0] - to[0]), b = iabs(frm[1] - to[1]);
     return (int64_t)(a > b ? a : b) * 1000000 / s->p.servo_speed_mrad_per_s
-           + (int64_t)s->p.frames_per_pose * s->p.frame_period_us;
+           + (int64_t)(frames ? frames : s->p.frames_per_pose) * s->p.frame_period_us;
 }
 
 static mg_search_command_t command(const mg_arm_search_t *s, int32_t th2, int32_t th5,
@@ -222,12 +239,39 @@ static mg_search_command_t pose_command(const mg_arm_search_t *s, int32_t turn)
     return command(s, s->poses[s->index][0], s->poses[s->index][1], turn, 0);
 }
 
+/* The side the sweep looks to alone on this leg: on a ring's leg that keeps at least
+ * outward_from_mm from the rings' centre (the ground inside it was seen from the ring inside),
+ * the side away from the centre (1 left, -1 right); else 0, both sides. */
+static int32_t outward_side(const mg_arm_search_t *s)
+{
+    const mg_search_params_t *p = &s->p;
+    if (!p->outward_from_mm || !p->cover_mm || !s->has_stations || s->station >= s->n_stations)
+        return 0;
+    const int64_t px = s->pose[0], py = s->pose[1];
+    const int64_t sx = s->stations[s->station][0], sy = s->stations[s->station][1];
+    const int64_t ox = s->origin[0], oy = s->origin[1];
+    const int64_t lx = sx - px, ly = sy - py, ax = ox - px, ay = oy - py;
+    const int64_t cross = lx * ay - ly * ax; /* > 0: the centre lies left of the leg */
+    const int64_t along = lx * ax + ly * ay, length2 = lx * lx + ly * ly;
+    int64_t near2;
+    if (along <= 0 || length2 == 0) /* the leg's nearest point to the centre is its start */
+        near2 = ax * ax + ay * ay;
+    else if (along >= length2) /* its end */
+        near2 = (ox - sx) * (ox - sx) + (oy - sy) * (oy - sy);
+    else /* the centre's foot on the leg */
+        near2 = cross * cross / length2;
+    if (near2 < (int64_t)p->outward_from_mm * p->outward_from_mm)
+        return 0;
+    return cross > 0 ? -1 : 1;
+}
+
 /* drive the next leg; the sweep starts at the waist pose nearest at */
 static void start_wander(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
 {
     s->wandering = 1, s->turning = 0, s->corner = 0;
     if (!s->p.wander_sweep)
         return;
+    build_sweep(s, outward_side(s));
     int32_t best = 0;
     for (int32_t k = 1; k < s->n_wsweep; k++)
         if (iabs(s->wsweep[k] - at[1]) < iabs(s->wsweep[best] - at[1]))
@@ -245,6 +289,7 @@ static void start_leg(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
 {
     const mg_search_params_t *p = &s->p;
     if (!s->has_stations) { /* the rings in the start's frame, then in odometry */
+        s->origin[0] = s->pose[0], s->origin[1] = s->pose[1];
         const int32_t n = mg_ring_stations(p->cover_mm, p->view_mm, p->chord_mm, s->stations,
                                            MG_COVER_STATIONS, &s->overflow);
         s->n_stations = n > 0 ? n : 0;
@@ -283,7 +328,8 @@ static mg_search_command_t moving_command(mg_arm_search_t *s, int64_t now_us)
         int32_t th2 = p->coarse_theta2_mrad[0], th5 = p->theta5_max_mrad; /* looking left */
         if (p->wander_sweep) { /* the far level's sweep while driving */
             int64_t d;
-            while (now_us - s->pose_start_us >= (d = mg_search_dwell_us(s, s->prev, s->wpose))) {
+            while (now_us - s->pose_start_us
+                   >= (d = mg_search_dwell_us(s, s->prev, s->wpose, p->wander_frames_per_pose))) {
                 s->pose_start_us += d;
                 s->prev[0] = s->wpose[0], s->prev[1] = s->wpose[1];
                 s->windex = (s->windex + 1) % s->n_wsweep;
@@ -307,7 +353,8 @@ mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us, const int
     if (s->turning || s->wandering)
         return moving_command(s, now_us);
     int64_t d;
-    while (now_us - s->pose_start_us >= (d = mg_search_dwell_us(s, s->prev, s->poses[s->index]))) {
+    while (now_us - s->pose_start_us
+           >= (d = mg_search_dwell_us(s, s->prev, s->poses[s->index], 0))) {
         s->pose_start_us += d;
         s->prev[0] = s->poses[s->index][0], s->prev[1] = s->poses[s->index][1];
         if (s->index + 1 >= s->n_poses) {

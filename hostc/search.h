@@ -29,6 +29,9 @@ typedef struct {
     int32_t cover_mm; /* the wander covers this disc by coverage.c's rings (0: square spiral) */
     int32_t view_mm;  /* half-width of the strip the wander's sweep sees */
     int32_t chord_mm; /* spacing of the rings' stations */
+    int32_t wander_frames_per_pose; /* frames per waist pose of the sweep while driving */
+    int32_t wander_d_theta5_mrad;   /* waist step of the sweep while driving */
+    int32_t outward_from_mm; /* a ring's leg this far from the start sweeps outward (0: never) */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */
@@ -55,6 +58,7 @@ typedef struct {
     int32_t wsweep[MG_SEARCH_MAX_SWEEP];
     int32_t wpose[2];
     int32_t pose[3]; /* the base's odometry (x_mm, y_mm, heading_mrad) as last reported */
+    int32_t origin[2]; /* the rings' centre in odometry (where the first leg starts) */
     int32_t has_stations, n_stations, station; /* the rings in odometry, the next one */
     int32_t stations[MG_COVER_STATIONS][2];
     int32_t leg[2];  /* turn_mrad, drive_mm of the leg toward the next station */
@@ -68,7 +72,9 @@ int32_t mg_search_cycle(const mg_search_params_t *p, int32_t theta2_start_mrad,
                         int32_t poses[][2], int32_t max, int32_t *overflow);
 void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t theta2_start_mrad,
                     int32_t theta5_start_mrad, int64_t now_us);
-int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2]);
+/* servo travel plus frames camera frames (frames 0: the search's frames_per_pose) */
+int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const int32_t to[2],
+                           int32_t frames);
 /* advance the pattern to now_us, the command in force; pose: the base's odometry (x_mm, y_mm,
  * heading_mrad) the rings' legs need (NULL: the last one given) */
 mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us, const int32_t *pose);

@@ -67,7 +67,10 @@ def search_params(draw):
             draw(st.integers(10_000, 100_000)), draw(st.integers(1000, 9000)),
             cover_mm=draw(st.sampled_from([0, 0, 1000, 2500, 4500]) | st.integers(0, 6000)),
             view_mm=draw(st.sampled_from([1100]) | st.integers(600, 2000)),
-            chord_mm=draw(st.sampled_from([1500]) | st.integers(800, 3000)))
+            chord_mm=draw(st.sampled_from([1500]) | st.integers(800, 3000)),
+            wander_frames_per_pose=draw(st.integers(1, 3)),
+            wander_d_theta5_mrad=draw(st.sampled_from([200, 350]) | st.integers(150, 700)),
+            outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)))
     except ValueError:
         assume(False)
 
@@ -86,7 +89,9 @@ def _c_params(p):
         "wander_theta5_mrad": p.wander_theta5_mrad, "stop_cycles": p.stop_cycles,
         "frames_per_pose": p.frames_per_pose, "frame_period_us": p.frame_period_us,
         "servo_speed_mrad_per_s": p.servo_speed_mrad_per_s, "cover_mm": p.cover_mm,
-        "view_mm": p.view_mm, "chord_mm": p.chord_mm})
+        "view_mm": p.view_mm, "chord_mm": p.chord_mm,
+        "wander_frames_per_pose": p.wander_frames_per_pose,
+        "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm})
 
 
 def _cmd(c) -> tuple[int, ...]:

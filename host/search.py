@@ -88,6 +88,7 @@ class SearchParams:
     wander_frames_per_pose: int = 2  # frames per waist pose of the sweep while driving
     wander_d_theta5_mrad: int = 200  # waist step of the sweep while driving
     outward_from_mm: int = 0  # a ring's leg this far from the start sweeps outward (0: never)
+    outward_inward_mrad: int = 700  # ... and this far across to the inner side
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -109,8 +110,10 @@ class SearchParams:
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
-        if self.outward_from_mm < 0:
-            raise ValueError(f"outward_from_mm must be >= 0, got {self.outward_from_mm}")
+        if self.outward_from_mm < 0 or not 0 <= self.outward_inward_mrad < self.wander_theta5_mrad:
+            raise ValueError(f"outward_from_mm must be >= 0 and outward_inward_mrad in [0, "
+                             f"wander_theta5_mrad), got {self.outward_from_mm}, "
+                             f"{self.outward_inward_mrad}")
         for name in ("d_theta2_mrad", "d_theta5_mrad", "frames_per_pose", "frame_period_us",
                      "wander_theta5_mrad", "wander_frames_per_pose", "wander_d_theta5_mrad",
                      "servo_speed_mrad_per_s", "coarse_base_turn_mrad", "turns_per_wander"):
@@ -211,12 +214,12 @@ class ArmSearch:
         self._cycles_here = 0  # cycles completed at this place
         self.wanders = 0
         p = params
-        w, d = p.wander_theta5_mrad, p.wander_d_theta5_mrad
+        w, d, c = p.wander_theta5_mrad, p.wander_d_theta5_mrad, p.outward_inward_mrad
         # waist poses of the sweeping wander, cyclic: both sides, the left or the right side
-        # (and one step across) alone
+        # alone (and outward_inward_mrad across)
         self._wsweeps = {0: _boustrophedon(list(range(-w, w, d)) + [w]),
-                         1: _boustrophedon(list(range(w, -d, -d)) + [-d]),
-                         -1: _boustrophedon(list(range(-w, d, d)) + [d])}
+                         1: _boustrophedon(list(range(w, -c, -d)) + [-c]),
+                         -1: _boustrophedon(list(range(-w, c, d)) + [c])}
         self._wsweep = self._wsweeps[0]
         self._windex = 0
         self._wpose = (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
@@ -366,6 +369,12 @@ class ArmSearch:
     @property
     def wandering(self) -> bool:
         return self._wandering
+
+    @property
+    def sweep_side(self) -> int:
+        """The side the sweep while driving looks to: 0 both, 1 left, -1 right alone."""
+        return 0 if self._wsweep is self._wsweeps[0] else 1 if self._wsweep is self._wsweeps[1] \
+            else -1
 
     def _next_cycle(self, now_us: int, at: tuple[int, int] | None = None) -> None:
         th2, th5 = at if at is not None else self._poses[self._index]

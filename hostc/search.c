@@ -12,7 +12,7 @@ void mg_search_params_default(mg_search_params_t *p)
 {
     static const mg_search_params_t d = {
         -2800, -2100, 60, -800, 800, 200, -200, 2300, 1047, 3, {-2250, -2500, -2750}, 1571,
-        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0};
+        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700};
     *p = d;
 }
 
@@ -151,21 +151,23 @@ int32_t mg_search_cycle(const mg_search_params_t *p, int32_t theta2_start_mrad,
 }
 
 /* the waist poses of the sweeping wander, cyclic, one way then back without the ends: both
- * sides (side 0), the left (1) or the right (-1) side and one step across alone */
+ * sides (side 0), the left (1) or the right (-1) side alone and outward_inward_mrad across */
 static void build_sweep(mg_arm_search_t *s, int32_t side)
 {
     const int32_t w = s->p.wander_theta5_mrad, d = s->p.wander_d_theta5_mrad;
+    const int32_t c = s->p.outward_inward_mrad;
+    s->side = side;
     int32_t up[MG_SEARCH_MAX_SWEEP];
     list_t l = {up, 0, MG_SEARCH_MAX_SWEEP, 0};
     if (side == 0) {
         range(&l, -w, w, d);
         push(&l, w);
     } else if (side > 0) {
-        range(&l, w, -d, -d);
-        push(&l, -d);
+        range(&l, w, -c, -d);
+        push(&l, -c);
     } else {
-        range(&l, -w, d, d);
-        push(&l, d);
+        range(&l, -w, c, d);
+        push(&l, c);
     }
     s->n_wsweep = 0;
     for (int32_t i = 0; i < l.n; i++)

@@ -32,6 +32,7 @@ typedef struct {
     int32_t wander_frames_per_pose; /* frames per waist pose of the sweep while driving */
     int32_t wander_d_theta5_mrad;   /* waist step of the sweep while driving */
     int32_t outward_from_mm; /* a ring's leg this far from the start sweeps outward (0: never) */
+    int32_t outward_inward_mrad; /* ... and this far across to the inner side */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */
@@ -55,6 +56,7 @@ typedef struct {
     int32_t turning, wandering, corner;
     int32_t cycles_here, wanders;
     int32_t n_wsweep, windex;
+    int32_t side; /* the sweep while driving looks to: 0 both sides, 1 left, -1 right alone */
     int32_t wsweep[MG_SEARCH_MAX_SWEEP];
     int32_t wpose[2];
     int32_t pose[3]; /* the base's odometry (x_mm, y_mm, heading_mrad) as last reported */

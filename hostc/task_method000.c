@@ -35,10 +35,15 @@ void mg_method000_set_board_planner(mg_task_t *t, mg_plan000_ctx_t *ctx)
     ms000(t)->board_planner = 1;
 }
 
-/* TaskParams.for_method("000"): the defaults (000 has none of its own) */
+/* TaskParams.for_method("000"): the defaults and 000's wander (host/task/method000.py) */
 void mg_method000_params(mg_task_params_t *p)
 {
     mg_task_params_default(p);
+    p->wander_mmps = MG_WANDER_000_MMPS;
+    p->wander_outward_mmps = MG_WANDER_OUTWARD_000_MMPS;
+    p->search.wander_frames_per_pose = 1;
+    p->search.wander_d_theta5_mrad = MG_WANDER_D_THETA5_000_MRAD;
+    p->search.outward_from_mm = MG_OUTWARD_FROM_000_MM;
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

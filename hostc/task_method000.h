@@ -21,6 +21,11 @@
 #define MG_BACK_OFF_000_MM 150
 #define MG_BACK_OFF_FROM_MM 40
 #define MG_BACK_OFFS_000 1
+/* SEARCH's wander of 000 (method000.py WANDER_000_MMPS and the rest) */
+#define MG_WANDER_000_MMPS 300
+#define MG_WANDER_OUTWARD_000_MMPS 350
+#define MG_WANDER_D_THETA5_000_MRAD 350
+#define MG_OUTWARD_FROM_000_MM 3000
 enum { MG_BACK_OFF000_NONE, MG_BACK_OFF000_TURN, MG_BACK_OFF000_BACK, MG_BACK_OFF000_LOOK };
 
 /* What 000's planner is asked (method000.py plan_follower): the pose and speed, the object's

@@ -130,7 +130,9 @@ class SearchStates:
             t.wander_from = None
             t.wheels = (0, 0)
         else:
-            t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
+            v = t.p.wander_outward_mmps if t.search.sweep_side and t.p.wander_outward_mmps \
+                else t.p.wander_mmps
+            t.wheels = (v, v)
 
 
 SEARCH = SearchStates()

@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+import math
+from dataclasses import replace
+
 import pytest
 
+from mobigrasp.host import coverage
 from mobigrasp.host import search as se
 from mobigrasp.host.task import Task, TaskInputs
+from mobigrasp.host.task.params import TaskParams
 
 P = se.SearchParams(cover_mm=0)  # the square spiral; the rings: test_coverage.py
 
@@ -247,7 +252,9 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     p = TaskParams.for_method("002", {"search": {"wander_mm": 0}})
     sp = se.SearchParams(**p.search)
     assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
-    assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams()
+    # 000's own: the wander's sweep alone (host/task/method000.py)
+    assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams(
+        wander_frames_per_pose=1, wander_d_theta5_mrad=350, outward_from_mm=3000)
     assert sp.cover_mm == 2500  # 002 gives up once the rings covered 2.5 m (method002.py)
 
 
@@ -305,3 +312,101 @@ def test_detour_turns_then_drives_its_length_then_ends():
     # a front sonar seeing something close ends it early
     task.ms.detour = {"heading_mrad": 0, "drive": True, "from": None}
     assert RULES.detour_step(task, TaskInputs(sonar_mm=(65535, 65535, 300, 65535, 65535)))
+
+
+# --- the strip the sweep sees while driving (a float reference of the camera) ---------------
+SERVO_RAD_PER_S = (math.pi / 3.0) / 0.17  # the simulated servo (mcu_sim/world/actuators.py)
+F_PX, U0_PX, SYMBOL_MM = 611, 160, 109  # 000's camera and radial symbol (000 §IV)
+READ_M = (0.52, 1.1)  # the far level reads the symbol this far from the camera (host.search)
+P000 = se.SearchParams(**TaskParams.for_method("000").search)
+
+
+def _on_an_outward_leg(p: se.SearchParams) -> tuple[se.ArmSearch, int]:
+    """The rings driven by a base that turns and drives at once, to the first leg whose sweep
+    looks to one side alone."""
+    s, c, t = _to_first_wander(p)
+    x = y = h = 0
+    while s.sweep_side == 0:
+        x += round(c.drive_mm * math.cos(h / 1000))
+        y += round(c.drive_mm * math.sin(h / 1000))
+        s.step(t, (x, y, h))
+        s.wander_done(t)
+        c = s.step(t, (x, y, h))
+        if c.base_turn_mrad:
+            h += c.base_turn_mrad
+            s.step(t, (x, y, h))
+            s.base_turn_done(t)
+            c = s.step(t, (x, y, h))
+        assert s.wandering and not s.covered
+    return s, t
+
+
+def _strip_misses(s: se.ArmSearch, t0: int, speed_mmps: int, leg_s: int = 24,
+                  latency_us: int = 20_000) -> dict[float, float]:
+    """Drive ``s``'s wander straight on at ``speed_mmps`` for ``leg_s``: for each lateral
+    offset (m, left positive) the share of the points along the leg's steady part that no
+    settled frame (15 fps; the waist at the simulated servo's speed from ``latency_us`` after
+    each 20 ms step's command) shows wholly within the symbol's reading range."""
+    cmds = []
+    for t in range(0, leg_s * 1_000_000, 20_000):
+        th5 = s.step(t0 + t).theta5_mrad / 1000
+        if not cmds or cmds[-1][1] != th5:
+            cmds.append((t + latency_us, th5))
+    frames = []
+    for k in range(leg_s * 15):
+        t = k * 1_000_000 // 15
+        done = [c for c in cmds if c[0] <= t]
+        if len(done) >= 2:
+            (t1, a1), (_, a0) = done[-1], done[-2]
+            if abs(a1 - a0) <= SERVO_RAD_PER_S * (t - t1) / 1e6:  # settled
+                frames.append((speed_mmps * t / 1e9, a1))
+    v = speed_mmps / 1000
+    out = {}
+    for yi in range(-105, 106, 5):
+        y, miss, n = yi / 100, 0, 0
+        for xi in range(int(6 * v * 100), int((leg_s - 4) * v * 100), 2):
+            x, n = xi / 100, n + 1
+            seen = False
+            for bx, a in frames:
+                d = math.hypot(x - bx, y)
+                if READ_M[0] <= d <= READ_M[1]:
+                    half = math.atan((U0_PX - SYMBOL_MM * F_PX / (2000 * d)) / F_PX)
+                    if abs(math.atan2(y, x - bx) - a) <= half:
+                        seen = True
+                        break
+            miss += not seen
+        out[y] = miss / n
+    return out
+
+
+def test_the_sweep_while_driving_sees_a_strip_on_either_side():
+    """000's sweep while driving (one frame per 0.35 rad pose) at its wander speed sees all
+    but 2 % of the points within 0.85 m of the leg on either side (a few at 0.2-0.35 m, just
+    past the near end of the reading range between two poses); the sweep of two frames per
+    0.2 rad pose leaves more than 10 % unseen there at that speed (docs/task.md)."""
+    speed = TaskParams.for_method("000").wander_mmps
+    s, _, t = _to_first_wander(P000)
+    assert s.sweep_side == 0
+    misses = _strip_misses(s, t, speed)
+    assert max(m for y, m in misses.items() if abs(y) <= 0.85) <= 0.02, misses
+    old = replace(P000, wander_frames_per_pose=2, wander_d_theta5_mrad=200)
+    s, _, t = _to_first_wander(old)
+    assert max(m for y, m in _strip_misses(s, t, speed).items() if abs(y) <= 0.85) > 0.1
+
+
+def test_the_last_ring_sweeps_outward_and_its_inner_side_meets_the_first_ring_s_strip():
+    """The legs of the last ring (3.4 m) sweep the outer side and 0.7 rad across alone, at the
+    faster speed: every point to 0.9 m outward and 0.5 m inward is seen, and 0.5 m inward
+    meets the first ring's strip (0.85 m outside its sides); the first ring sweeps both."""
+    tp = TaskParams.for_method("000")
+    s, t = _on_an_outward_leg(P000)
+    assert s.sweep_side == -1  # the rings turn counter-clockwise: the centre on the left
+    misses = _strip_misses(s, t, tp.wander_outward_mmps)
+    assert max(m for y, m in misses.items() if -0.9 <= y <= 0.5) == 0, misses
+    stations = coverage.ring_stations(P000.cover_mm, P000.view_mm, P000.chord_mm)
+    sides = sorted({round(math.hypot((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), -1)
+                    for a, b in zip(stations, stations[1:], strict=False)
+                    if abs(math.hypot(*a) - math.hypot(*b)) < 5})
+    first, last = sides[0], sides[-1]
+    assert first < P000.outward_from_mm <= last - 300  # the first ring sweeps both sides
+    assert first + 850 >= last - 500

@@ -70,7 +70,8 @@ def search_params(draw):
             chord_mm=draw(st.sampled_from([1500]) | st.integers(800, 3000)),
             wander_frames_per_pose=draw(st.integers(1, 3)),
             wander_d_theta5_mrad=draw(st.sampled_from([200, 350]) | st.integers(150, 700)),
-            outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)))
+            outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)),
+            outward_inward_mrad=draw(st.sampled_from([0, 350, 700]) | st.integers(0, 1400)))
     except ValueError:
         assume(False)
 
@@ -91,7 +92,8 @@ def _c_params(p):
         "servo_speed_mrad_per_s": p.servo_speed_mrad_per_s, "cover_mm": p.cover_mm,
         "view_mm": p.view_mm, "chord_mm": p.chord_mm,
         "wander_frames_per_pose": p.wander_frames_per_pose,
-        "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm})
+        "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm,
+        "outward_inward_mrad": p.outward_inward_mrad})
 
 
 def _cmd(c) -> tuple[int, ...]:
@@ -143,8 +145,8 @@ def test_search_over_time(p, th2, th5, calls):
         else:
             py.restart_dwell(t)
             C.mg_search_restart_dwell(c, t)
-        assert (bool(c.turning or c.wandering), bool(c.wandering), c.wanders, c.covered) == (
-            py.turning, py.wandering, py.wanders, py.covered)
+        assert (bool(c.turning or c.wandering), bool(c.wandering), c.wanders, c.covered,
+                c.side) == (py.turning, py.wandering, py.wanders, py.covered, py.sweep_side)
     assert c.overflow == 0
 
 

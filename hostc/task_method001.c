@@ -41,7 +41,7 @@ void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void 
 /* TaskParams.for_method("001"): 000's with 001's own (method001.py param_defaults) */
 void mg_method001_params(mg_task_params_t *p)
 {
-    mg_method000_params(p);
+    mg_task_params_default(p); /* not 000's wander: 001 has its own (method001.py) */
     p->h_shoulder_mm = 108;
     p->grasp_r_mm = 120;
     p->grasp_r_tol_mm = 12;

@@ -180,7 +180,6 @@ void mg_task_params_default(mg_task_params_t *p)
     p->lost_hold_us = 500000;
     p->max_lost = 5;
     p->wander_mmps = 200;
-    p->wander_outward_mmps = 0;
     p->wander_clear_mm = 500;
     p->sighting_match_mm = 200;
     p->sonar_offset_mm = 170;

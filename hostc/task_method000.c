@@ -40,7 +40,6 @@ void mg_method000_params(mg_task_params_t *p)
 {
     mg_task_params_default(p);
     p->wander_mmps = MG_WANDER_000_MMPS;
-    p->wander_outward_mmps = MG_WANDER_OUTWARD_000_MMPS;
     p->search.wander_frames_per_pose = 1;
     p->search.wander_d_theta5_mrad = MG_WANDER_D_THETA5_000_MRAD;
     p->search.outward_from_mm = MG_OUTWARD_FROM_000_MM;

@@ -99,9 +99,7 @@ static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
         t->has_wander_from = 0;
         t->wheels[0] = t->wheels[1] = 0;
     } else {
-        const int32_t v = t->search.side && t->p.wander_outward_mmps ? t->p.wander_outward_mmps
-                                                                    : t->p.wander_mmps;
-        t->wheels[0] = t->wheels[1] = v;
+        t->wheels[0] = t->wheels[1] = t->p.wander_mmps;
     }
 }
 

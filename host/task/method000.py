@@ -47,12 +47,11 @@ MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (e
 BACK_OFF_000_MM = 150
 BACK_OFF_FROM_MM = 40
 BACK_OFFS_000 = 1
-# SEARCH's wander (docs/task.md "The search covers a disc once"): the waist steps 0.35 rad with
-# one frame per pose while driving, legs sweeping both sides at WANDER_000_MMPS; legs that keep
-# OUTWARD_FROM_000_MM from the start (the last ring of the 4.5 m disc, at 3.4 m; the first,
-# at 2.1 m, sees to ~3.0 m) sweep outward and 0.7 rad across alone, faster
-WANDER_000_MMPS = 300
-WANDER_OUTWARD_000_MMPS = 350
+# SEARCH's wander (docs/task.md "000: the sweep while driving"): the waist steps 0.35 rad with
+# one frame per pose while driving at WANDER_000_MMPS; legs that keep OUTWARD_FROM_000_MM from
+# the start (the last ring of the 4.5 m disc, at 3.4 m; the first, at 2.1 m, sees to ~2.9 m)
+# sweep the outer side and 0.7 rad across alone
+WANDER_000_MMPS = 350
 WANDER_D_THETA5_000_MRAD = 350
 OUTWARD_FROM_000_MM = 3000
 
@@ -152,10 +151,9 @@ class Method000(PathMethod):
     robot = "000"
     link_lengths_mm = (95.5, 89.0, 97.0)
     camera = CAMERA_000
-    # the wander (docs/task.md "The search covers a disc once"): one frame per waist pose of
-    # 0.35 rad while driving, the last ring's legs sweeping outward alone and driven faster
+    # the wander: one frame per waist pose of 0.35 rad while driving, faster; the last ring's
+    # legs sweeping outward alone
     param_defaults: dict = {"wander_mmps": WANDER_000_MMPS,
-                            "wander_outward_mmps": WANDER_OUTWARD_000_MMPS,
                             "search": {"wander_frames_per_pose": 1,
                                        "wander_d_theta5_mrad": WANDER_D_THETA5_000_MRAD,
                                        "outward_from_mm": OUTWARD_FROM_000_MM}}

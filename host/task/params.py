@@ -48,7 +48,6 @@ class TaskParams:
     max_lost: int = 5
     turn_wheel_mmps: int = 80
     wander_mmps: int = 200  # SEARCH wander speed (host.search); the planners' v_max is 250
-    wander_outward_mmps: int = 0  # ... on a leg that sweeps one side alone (0: wander_mmps)
     wander_clear_mm: int = 500  # a wander stops when a front sonar sees something this close
     sighting_match_mm: int = 200  # SEARCH: an unconfirmed sighting seen again this close is it
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)

@@ -130,9 +130,7 @@ class SearchStates:
             t.wander_from = None
             t.wheels = (0, 0)
         else:
-            v = t.p.wander_outward_mmps if t.search.sweep_side and t.p.wander_outward_mmps \
-                else t.p.wander_mmps
-            t.wheels = (v, v)
+            t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
 
 
 SEARCH = SearchStates()

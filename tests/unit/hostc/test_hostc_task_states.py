@@ -32,8 +32,7 @@ SCALARS = ("servo_speed_mrad_per_s", "settle_margin_us", "frame_latency_us", "lo
            "mount_forward_mm", "h_shoulder_mm", "object_top_mm", "grasp_height_mm", "t_d_px",
            "cylinder_near_px", "cross_near_px", "bearing_tol_mrad", "adjust_theta3_mrad",
            "adjust_theta4_mrad", "blind_finish_mm", "posture_step_mrad", "confirm_us",
-           "lost_hold_us", "max_lost", "turn_wheel_mmps", "wander_mmps", "wander_outward_mmps",
-           "wander_clear_mm",
+           "lost_hold_us", "max_lost", "turn_wheel_mmps", "wander_mmps", "wander_clear_mm",
            "sighting_match_mm", "sonar_offset_mm", "r_r_mm", "sonar_a_g_mrad", "detour_mm",
            "detour_clear_mm", "max_detours", "grasp_r_tol_mm", "hover_mm", "lift_mm",
            "pregrasp_back_mm", "grasp_close_timeout_us")

@@ -844,7 +844,7 @@ def test_steps_of_000_from_every_state(state, obj, graspable, joints, steps):
 
 @pytest.mark.slow
 def test_replay_of_paper000_exp2_whole(tmp_path):
-    """The same for paper000-exp2 (its longer search, 49.5 s simulated)."""
+    """The same for paper000-exp2 (its longer search, 45.5 s simulated)."""
     steps, fresh = _recorded_steps(tmp_path, "paper000-exp2")
     assert replay_steps000(steps, fresh)[-1] == "DONE"
 

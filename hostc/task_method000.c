@@ -400,6 +400,16 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                     || (int64_t)in->x_mm * in->x_mm + (int64_t)in->y_mm * in->y_mm
                            > (int64_t)MG_BACK_OFF_FROM_MM * MG_BACK_OFF_FROM_MM)))
             return 0;
+        if (rule->wait_us > 0) { /* due at a frame wait_us after the first, within stale_us */
+            if (!bo->has_cut_first || now_us - bo->cut_first_us > rule->stale_us) {
+                bo->has_cut_first = 1;
+                bo->cut_first_us = now_us;
+                return 0;
+            }
+            if (now_us - bo->cut_first_us < rule->wait_us)
+                return 0;
+            bo->has_cut_first = 0;
+        }
         /* its bearing (right positive, as the waist's) at the border it is cut at; the base
          * turns left positive */
         int32_t arm[6];
@@ -439,7 +449,7 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
 
 int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    static const mg_back_off_rule_t rule = {MG_BACK_OFFS_000, 1, 0};
+    static const mg_back_off_rule_t rule = {MG_BACK_OFFS_000, 1, 0, 0, 0};
     return mg_search_back_off(t, now_us, in, &ms000(t)->cut, &rule);
 }
 

@@ -39,13 +39,20 @@ typedef struct {
     int32_t phase, a, b;
     int64_t stopped_us;
     mg_detour_t leg;
+    /* the first frame of the cut symbol not yet moved off (a rule with wait_us only) */
+    int32_t has_cut_first;
+    int64_t cut_first_us;
 } mg_cut_back_off_t;
 /* How a method backs off (method000.py / method001.py back_offs_max, back_off_here,
- * back_off_first): at most max a run; from_start: only from the run's start (000); away_mm
- * > 0: face away and drive this far off, the sonars watching, then turn back (001); 0: turn
- * toward it and back straight off MG_BACK_OFF_000_MM (000) */
+ * back_off_due, back_off_first): at most max a run; from_start: only from the run's start
+ * (000); wait_us > 0: at a frame of the cut symbol wait_us or more after the first, within
+ * stale_us (001), 0: at the first (000); away_mm > 0: face away and drive this far off, the
+ * sonars watching, then turn back (001); 0: turn toward it and back straight off
+ * MG_BACK_OFF_000_MM (000) */
 typedef struct {
-    int32_t max, from_start, away_mm;
+    int32_t max, from_start;
+    int64_t wait_us, stale_us;
+    int32_t away_mm;
 } mg_back_off_rule_t;
 
 /* What 000's planner is asked (method000.py plan_follower): the pose and speed, the object's

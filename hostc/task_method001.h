@@ -33,6 +33,10 @@ enum {
      * BACK_OFFS_001): face away, drive this far off it, turn back; at most this often a run */
     MG_CUT_AWAY_MM = 400,
     MG_BACK_OFFS_001 = 2,
+    /* ... once seen cut in frames this far apart, within a look-around (CUT_WAIT_US,
+     * CUT_STALE_US) */
+    MG_CUT_WAIT_US = 2000000,
+    MG_CUT_STALE_US = 30000000,
     /* the grasp from the grasp circle: the look before it must see the object (dual "+")
      * within this of the estimate the base arrived with; the gripper goes down from this far
      * above the grasp point (the first reachable, in 10 mm steps down to the object's top) */

@@ -201,7 +201,8 @@ class Method000(PathMethod):
             cut = dets.get("radial_cut")
             if not isinstance(cut, registry.row("radial_cut").result_type()) \
                     or ms.back_offs >= self.back_offs_max \
-                    or t.confirm_until is not None or not self.back_off_here(t, inp):
+                    or t.confirm_until is not None or not self.back_off_here(t, inp) \
+                    or not self.back_off_due(t, now):
                 return False
             # its bearing (right positive, as the waist's) at the border it is cut at; the base
             # turns left positive
@@ -226,6 +227,11 @@ class Method000(PathMethod):
         and only the start is known clear."""
         return not t.counters["lost"] \
             and inp.x_mm * inp.x_mm + inp.y_mm * inp.y_mm <= BACK_OFF_FROM_MM ** 2
+
+    def back_off_due(self, t: Task, now: int) -> bool:
+        """A frame shows the cut symbol where the back-off may be made: it is made now (000: at
+        the first such frame)."""
+        return True
 
     def back_off_first(self, t: Task, inp: TaskInputs, turn: int) -> tuple:
         """The back-off's first phase, ``turn`` mrad (left positive) facing the symbol: 000

@@ -70,6 +70,11 @@ BACK_OFF_MM = 200  # fallback: back this far along the way the base came
 # from a symbol cut by the frame")
 CUT_AWAY_MM = 400
 BACK_OFFS_001 = 2
+# ... once the symbol has been seen cut in frames CUT_WAIT_US apart, within CUT_STALE_US (the
+# search's sweep brings a symbol in range whole into the frame within a second of its first
+# cut frame, and reads it; a look-around takes ~30 s)
+CUT_WAIT_US = 2_000_000
+CUT_STALE_US = 30_000_000
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
@@ -210,6 +215,7 @@ class State001(MethodState):
     # the move under way: ("away", detour, heading toward the symbol), ("face", detour, 0) or
     # ("look", stopped_us, 0) (Method001.back_off_move); None: none
     back_off: tuple | None = None
+    cut_first_us: int | None = None  # the first frame of the cut symbol not yet moved off
 
     replanner: Replanner | None = None  # the plan of eq. (17) and its sonar memory (§III.E)
     path_from: tuple[int, int] | None = None  # odometry place the last planned path began at
@@ -289,6 +295,20 @@ class Method001(Method000):
         """001 comes near its object anywhere (P_i and odometry, the grasp circle): its move
         off a cut symbol drives forward, the sonar ring watching, so it is made wherever
         SEARCH sees one."""
+        return True
+
+    def back_off_due(self, t: Task, now: int) -> bool:
+        """Not at the first frame of the cut symbol: a symbol in range is cut too as the
+        search's sweep brings it into the frame, and read whole a few frames later
+        (docs/task.md). Due at a frame CUT_WAIT_US or more after the first that showed it,
+        within CUT_STALE_US (older: this one is the first)."""
+        first = t.ms.cut_first_us
+        if first is None or now - first > CUT_STALE_US:
+            t.ms.cut_first_us = now
+            return False
+        if now - first < CUT_WAIT_US:
+            return False
+        t.ms.cut_first_us = None
         return True
 
     def back_off_first(self, t: Task, inp: TaskInputs, turn: int) -> tuple:

@@ -17,7 +17,7 @@ import math
 from types import SimpleNamespace
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task import recorded_run
@@ -45,7 +45,7 @@ from test_hostc_task000 import (
     replay_path_task,
     start_approach,
 )
-from test_hostc_task_states import _detail, _step_both, assert_outputs, enter_state
+from test_hostc_task_states import SONAR, _detail, _step_both, assert_outputs, enter_state
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -644,6 +644,21 @@ def test_replay_of_paper001_sim2(tmp_path):
     _replay_run(tmp_path, "paper001-sim2")
 
 
+def _cut_twice(py, c, now: int, inp: TaskInputs, out):
+    """The cut symbol in a frame at ``now`` (nothing yet: a symbol in range is cut too as the
+    sweep brings it in), not in one a step before CUT_WAIT_US later, then in the frame at
+    CUT_WAIT_US (the move off it starts); that step's result."""
+    res = _step_both(py, c, now, inp, out, _frame000)
+    assert "back_off" not in res.detail and res.wheels_mmps[0] >= 0
+    bare = TaskInputs(x_mm=inp.x_mm, y_mm=inp.y_mm, heading_mrad=inp.heading_mrad,
+                      sonar_mm=inp.sonar_mm, detections={"radial_symbol": None})
+    now += method001.CUT_WAIT_US
+    _step_both(py, c, now - 20_000, bare, out, _frame000)
+    res = _step_both(py, c, now, inp, out, _frame000)
+    assert "back_off" in res.detail
+    return res
+
+
 def _move(res, x: int, y: int, h: int) -> tuple[int, int, int]:
     """Odometry after a step of the wheels: 100 mrad a step turning on the spot (left for a
     right wheel forward), 20 mm a step straight ahead."""
@@ -671,10 +686,11 @@ def test_the_move_of_001_away_from_a_cut_symbol():
     nothing = {"radial_symbol": None}
     now, x, y, h = 20_000, 1200, -1700, 1000
     for n in range(1, method001.BACK_OFFS_001 + 1):
-        res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=free,
-                                                detections=cut), out, _frame000)
+        res = _cut_twice(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=free,
+                                                detections=cut), out)
+        now += method001.CUT_WAIT_US
         turn = res.detail["back_off"]["turn_mrad"]
-        assert res.detail["back_off"]["n"] == n and turn > 256  # left, beyond the waist's look
+        assert res.detail["back_off"]["n"] == n and turn > 0  # left: cut at the left border
         toward, start = h + turn, (x, y)
         phases = [res.wheels_mmps]
         while res.wheels_mmps != (0, 0):
@@ -699,10 +715,39 @@ def test_the_move_of_001_away_from_a_cut_symbol():
                              _frame000)
             assert res.wheels_mmps == (0, 0)
         assert py.ms.back_off is None and py.ms.back_offs == _ms001(c).cut.back_offs == n
-    res = _step_both(py, c, now + 20_000, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
+    for dt in (20_000, method001.CUT_WAIT_US):  # no more this run
+        res = _step_both(py, c, now + dt, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
                                                      sonar_mm=free, detections=cut), out,
-                     _frame000)
-    assert "back_off" not in res.detail  # no more this run
+                         _frame000)
+        assert "back_off" not in res.detail
+
+
+@SETTINGS
+@given(st.booleans(), st.tuples(*[st.integers(-1500, 1500)] * 4),
+       st.lists(st.tuples(st.sampled_from([20_000, 20_000, 60_000, 500_000, 2_000_000]),
+                          st.tuples(st.integers(-30, 30), st.integers(-30, 30),
+                                    st.integers(-200, 200)),
+                          SONAR, st.none() | DETS000), min_size=1, max_size=60))
+def test_steps_of_001_in_search(lost, joints, steps):
+    """SEARCH of 001 (after a loss or not) with odometry that wanders, sonar rings and frames of
+    000's detectors, the cut symbol among them: the same outputs and detail on both tasks, to
+    the object found."""
+    py = Task("001")
+    c = _c_task(py, method="001")
+    enter_state(py, c, "SEARCH", None, True, joints, (230, 10), ("SEARCH", "LOST"))
+    py.counters["lost"] = c.lost = int(lost)
+    out = FFI.new("mg_task_outputs_t *")
+    now, x, y, h = 0, 0, 0, 0
+    for dt, (dx, dy, dh), sonar, dets in steps:
+        now += dt
+        x, y, h = x + dx, y + dy, h + dh
+        _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=sonar,
+                                          detections=dets), out, _frame000)
+        assert (py.ms.back_offs, py.ms.back_off is None) == (_ms001(c).cut.back_offs,
+                                                           _ms001(c).cut.phase == 0)
+        if py.state != "SEARCH":  # found: APPROACH's plans are the tests' above
+            break
+    event(f"back-offs {py.ms.back_offs}")
 
 
 def test_the_move_away_stops_for_an_echo_ahead():
@@ -715,9 +760,8 @@ def test_the_move_away_stops_for_an_echo_ahead():
     out = FFI.new("mg_task_outputs_t *")
     cut = {"radial_symbol": None, "radial_cut": CUT(x=210, y=120, w=110, h=60, side=1)}
     now, x, y, h = 20_000, 0, 0, 0
-    res = _step_both(py, c, now, TaskInputs(sonar_mm=(0,) * 5, detections=cut), out,
-                     _frame000)
-    assert "back_off" in res.detail
+    res = _cut_twice(py, c, now, TaskInputs(sonar_mm=(0,) * 5, detections=cut), out)
+    now += method001.CUT_WAIT_US
     drove = 0
     while res.wheels_mmps != (0, 0):
         now += 20_000

@@ -45,7 +45,7 @@ from test_hostc_task000 import (
     replay_path_task,
     start_approach,
 )
-from test_hostc_task_states import SONAR, _detail, _step_both, assert_outputs, enter_state
+from test_hostc_task_states import _detail, _step_both, assert_outputs, enter_state
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -776,12 +776,12 @@ def test_the_move_away_stops_for_an_echo_ahead():
 def test_a_given_object_place_counts_as_found_in_c():
     """001 section II: P_i given, the C task starts with the object counted as found, as the
     Python's (machine.py graspable_seen); without it, not."""
-    for given in (0, 1):
+    for with_place in (0, 1):
         rules = C.mg_task_method_find(b"001")
         p = FFI.new("mg_task_params_t *")
         rules.params(p)
-        p.has_object_xy, p.object_xy_mm = given, [1500, 200]
+        p.has_object_xy, p.object_xy_mm = with_place, [1500, 200]
         t = FFI.new("mg_task_t *")
         assert C.mg_task_init(t, rules, p, 0) == 0
-        params = {"object_xy_mm": (1500, 200)} if given else {}
-        assert t.graspable_seen == Task("001", params=params).graspable_seen == bool(given)
+        params = {"object_xy_mm": (1500, 200)} if with_place else {}
+        assert t.graspable_seen == Task("001", params=params).graspable_seen == bool(with_place)

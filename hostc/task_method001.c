@@ -38,16 +38,24 @@ void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void 
     (void)circle_l_e_mm(t); /* at start-up: its scan of eq. (5) in no control step */
 }
 
-/* TaskParams.for_method("001"): 000's with 001's own (method001.py param_defaults) */
+/* TaskParams.for_method("001"): the defaults with 001's own (method001.py param_defaults; not
+ * 000's wander) */
 void mg_method001_params(mg_task_params_t *p)
 {
-    mg_task_params_default(p); /* not 000's wander: 001 has its own (method001.py) */
+    mg_task_params_default(p);
     p->h_shoulder_mm = 108;
     p->grasp_r_mm = 120;
     p->grasp_r_tol_mm = 12;
     p->hover_mm = 95;
     p->blind_finish_mm = 250;
     p->max_plan_attempts = 6;
+}
+
+int mg_method001_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    static const mg_back_off_rule_t rule = {MG_BACK_OFFS_001, 0, MG_CUT_WAIT_US,
+                                            MG_CUT_STALE_US, MG_CUT_AWAY_MM};
+    return mg_search_back_off(t, now_us, in, &ms001(t)->cut, &rule);
 }
 
 static int32_t iabs32(int32_t a)

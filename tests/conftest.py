@@ -3,6 +3,9 @@
 Hypothesis runs derandomized: the same examples on every run and every machine, so a red CI is a
 real regression and never a lucky draw (docs/cosim.md: determinism; tests never depend on the
 machine). Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore pytest ...`.
+The fast suite (the run that deselects the slow tests: ``make test``, a bare pytest) loads the
+``fast`` profile, a share of each property test's examples (tests/property_examples.py); a run
+that includes the slow tests (``make test-all``) loads ``ci``, every example.
 """
 
 import functools
@@ -14,10 +17,11 @@ from pathlib import Path
 
 import pytest
 from hypothesis import settings
+from property_examples import FAST_SHARE
 
 settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
+settings.register_profile("fast", settings.get_profile("ci"), max_examples=FAST_SHARE)
 settings.register_profile("explore", deadline=None)
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def _editable_tree_misses() -> list[str]:
@@ -42,6 +46,9 @@ def _editable_tree_misses() -> list[str]:
 
 
 def pytest_configure(config):
+    # before the test modules are imported: their examples(n) read the profile
+    fast = config.getoption("markexpr", "").strip() == "not slow"
+    settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "fast" if fast else "ci"))
     if missing := _editable_tree_misses():
         pytest.exit(f"the editable install lacks {', '.join(sorted(missing)[:5])}: run `make venv`",
                     returncode=4)

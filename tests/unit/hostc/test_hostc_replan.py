@@ -12,9 +12,10 @@ from collections import deque
 
 import numpy as np
 import pytest
-from hypothesis import event, given, settings
+from hypothesis import event, given
 from hypothesis import strategies as st
 from plan001_c import params_c
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -62,7 +63,7 @@ SONAR = st.lists(st.one_of(st.integers(150, 2600), st.just(65535), st.just(-1)),
                  max_size=5)
 
 
-@settings(max_examples=25, deadline=None)
+@examples(25)
 @given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR,
        st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),
                 min_size=1, max_size=4), st.booleans())
@@ -327,7 +328,7 @@ def test_board_replanner_replays_paper001_sim2(tmp_path):
     assert counts.get("kept", 0) >= 1, counts
 
 
-@settings(max_examples=400, deadline=None)
+@examples(400)
 @given(st.one_of(st.integers(0, 1 << 40), st.integers(0, 1 << 33).map(lambda k: 160 * k + 80)))
 def test_metres_in_two_decimals_as_python_prints_them(q4):
     """The replanner's reason prints the block's distance as Python's .2f of q4 / 16000, also
@@ -337,7 +338,7 @@ def test_metres_in_two_decimals_as_python_prints_them(q4):
     assert FFI.string(buf).decode() == f"{q4 / POS_PER_M:.2f}"
 
 
-@settings(max_examples=20, deadline=None)
+@examples(20)
 @given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR,
        st.sampled_from([1, 2, 4]),
        st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),

@@ -141,7 +141,7 @@ $(HOSTC_OBJ_DIR)/protocol/%.o: firmware/protocol/%.c $(wildcard firmware/protoco
 # src/mobigrasp/cbuild.py). `make test TEST_WORKERS=0` runs it in this one process.
 TEST_WORKERS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ "$$n" -gt 2 ] && n=2; echo $$n)
 test: lint toolchains
-	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadfile
+	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadfile --no-loadscope-reorder
 	$(BIN)/python -m pytest -q -m slow tests/system/test_wheel_install.py
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing

@@ -54,6 +54,37 @@ def pytest_configure(config):
                     returncode=4)
 
 
+# The test files that take longest (CPU s of each, measured in the fast suite on one core),
+# longest first, ahead of the others: make test's workers take whole files (--dist loadfile) in
+# collection order (--no-loadscope-reorder), so the long ones start early, the short ones fill
+# in at the end and the two workers finish together.
+LONG_FILES_FIRST = (
+    "unit/calib/test_calib_arm.py",  # ~23: the emulated ARM920T kernels on whole frames
+    "unit/calib/test_calib_program.py",  # ~20: the C program's replays under unicorn
+    "unit/tools/test_bench_loop.py",  # ~9
+    "unit/hostc/test_hostc_task001.py",  # ~7
+    "unit/services/test_mcap_out.py",  # ~7 (the short_runs fixture's runs)
+    "unit/hostc/test_hostc_replan.py",  # ~6
+    "system/test_sim_serve.py",  # ~6
+    "unit/hostc/test_hostc_task.py",  # ~5
+    "unit/host/test_host_bounded_state.py",  # ~5
+    "unit/calib/test_calib_native.py",  # ~5
+    "system/test_planning_001_closed_loop.py",  # ~4
+    "unit/hostc/test_hostc_task000.py",  # ~4
+    "unit/services/test_plots_readable.py",  # ~4
+    "system/test_001_short_wall.py",  # ~4
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    rank = {name: k for k, name in enumerate(LONG_FILES_FIRST)}
+
+    def order(item) -> int:  # node ids start at the repository's root
+        return rank.get(item.nodeid.split("::")[0].removeprefix("tests/"), len(rank))
+
+    items.sort(key=order)  # stable: the other files, and the tests in a file, keep their order
+
+
 # Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the
 # module's ``Mcu`` is the Python model for ``python``, the C firmware for ``native`` and, where
 # the module is also marked ``simavr``, the avr-gcc ELF under simavr, started up before the

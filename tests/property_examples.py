@@ -1,16 +1,14 @@
 """How many examples a property test runs: ``examples(n)`` is the settings of a test whose full
 count is ``n``, scaled by the loaded Hypothesis profile (tests/conftest.py): the whole count in
 a run that includes the slow tests (``make test-all``) or with ``HYPOTHESIS_PROFILE=ci``, a
-share of it (FAST_SHARE, at least FAST_FLOOR) in the fast suite (``make test``, a bare pytest)."""
+share of it (the fast profile's max_examples per 100, at least FAST_FLOOR) in the fast suite
+(``make test``, a bare pytest)."""
 
 from __future__ import annotations
 
 from hypothesis import settings
 
-# the fast profile's max_examples: a test with no count of its own runs this many there, and a
-# count n runs n * FAST_SHARE / 100 of its examples (Hypothesis' own default is 100)
-FAST_SHARE = 40
-FAST_FLOOR = 10
+FAST_FLOOR = 10  # the fewest examples a property test runs in the fast suite
 
 
 def examples(n: int, **kwargs) -> settings:

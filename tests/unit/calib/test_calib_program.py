@@ -104,8 +104,8 @@ def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path, elf, 
     """calibrate with a recorder: the shipped runs of each method the C program has (their
     first 1.2 s here) replayed, one control step and one frame pipeline each, a row per stage
     and method, every quantum equal. The fast suite replays one run a method (~3.5 s of
-    emulation each), the second: paper002-marker's replay is the test above's; the slow test
-    replays both."""
+    emulation each), the second (paper002-marker's replay is the test above's); the slow test
+    both. (calibrate's ``scenarios`` selects among a corpus' scenarios: this one has none.)"""
     import json
 
     from mobigrasp.calib import calibrate, corpus
@@ -121,6 +121,7 @@ def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path, elf, 
     assert [s[:2] for s in steps] == [(k + 1, len(runs)) for k in range(len(runs))]
     methods = program.methods_in_program(elf)
     assert set(result["stages"]) == {n for m in methods for n in program.stage_names(m)}
+    assert len(runs) == per_method * len(methods)
     for name, s in result["stages"].items():
         assert s["result_mismatches"] == 0, name
         assert s["frames"] == per_method and s["emulated_median_us"] > 0, name

@@ -211,10 +211,17 @@ def _replay(calls) -> dict:
     return counts
 
 
-def test_replay_of_paper001_sim1(tmp_path):
+@pytest.fixture(scope="module")
+def sim1_calls(tmp_path_factory) -> list:
+    """paper001-sim1's replanner calls, recorded once for the module's two replays of them
+    (the replays only read them)."""
+    return _recorded(tmp_path_factory.mktemp("sim1"), "paper001-sim1")
+
+
+def test_replay_of_paper001_sim1(sim1_calls):
     """Every replanner call the Python made in paper001-sim1, replayed on the C: the same
     checks, decisions, memory and curves, call by call."""
-    counts = _replay(_recorded(tmp_path, "paper001-sim1"))
+    counts = _replay(sim1_calls)
     assert counts.get("start", 0) >= 1 and counts.get("new", 0) >= 2, counts
     assert counts.get("clear", 0) > 20, counts
 
@@ -312,11 +319,11 @@ def _replay_board(calls, base_v0: float) -> dict:
     return counts
 
 
-def test_board_replanner_replays_paper001_sim1(tmp_path):
+def test_board_replanner_replays_paper001_sim1(sim1_calls):
     """The board's replanner (replan.c around plan001.c) gives every outcome the Python's
     replanner gave in paper001-sim1: the same paths, reasons and modelled time."""
     base_v0 = planner_params_001(TaskParams.for_method("001")).v0
-    counts = _replay_board(_recorded(tmp_path, "paper001-sim1"), base_v0)
+    counts = _replay_board(sim1_calls, base_v0)
     assert counts.get("start", 0) >= 1 and counts.get("update", 0) > 20, counts
 
 

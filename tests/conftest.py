@@ -61,18 +61,20 @@ def pytest_configure(config):
 # collection order (--no-loadscope-reorder), so the long ones start early, the short ones fill
 # in at the end and the two workers finish together.
 LONG_FILES_FIRST = (
-    "unit/calib/test_calib_arm.py",  # ~23: the emulated ARM920T kernels on whole frames
-    "unit/calib/test_calib_program.py",  # ~20: the C program's replays under unicorn
-    "unit/tools/test_bench_loop.py",  # ~9
-    "unit/hostc/test_hostc_task001.py",  # ~7
+    "unit/calib/test_calib_arm.py",  # ~24: the emulated ARM920T kernels on whole frames
+    "unit/calib/test_calib_program.py",  # ~21: the C program's replays under unicorn
+    "unit/calib/test_hostc_arm.py",  # ~19 on a cold cache (its builds), ~1 warm
+    "unit/hostc/test_hostc_builds.py",  # ~17 on a cold cache (its builds), ~0 warm
+    "unit/tools/test_bench_loop.py",  # ~8
+    "unit/hostc/test_hostc_task001.py",  # ~8
     "unit/services/test_mcap_out.py",  # ~7 (the short_runs fixture's runs)
-    "unit/hostc/test_hostc_replan.py",  # ~6
     "system/test_sim_serve.py",  # ~6
-    "unit/hostc/test_hostc_task.py",  # ~5
-    "unit/host/test_host_bounded_state.py",  # ~5
+    "unit/hostc/test_hostc_task.py",  # ~6
     "unit/calib/test_calib_native.py",  # ~5
+    "unit/host/test_host_bounded_state.py",  # ~5
+    "unit/hostc/test_hostc_task000.py",  # ~5
     "system/test_planning_001_closed_loop.py",  # ~4
-    "unit/hostc/test_hostc_task000.py",  # ~4
+    "unit/hostc/test_hostc_replan.py",  # ~4
     "unit/services/test_plots_readable.py",  # ~4
     "system/test_001_short_wall.py",  # ~4
 )

@@ -56,7 +56,7 @@ def pytest_configure(config):
                     returncode=4)
 
 
-# The test files that take longest (CPU s of each, measured in the fast suite on one core),
+# The test files that take longest (CPU s of each in a fast-suite run, measured 2026-12-07),
 # longest first, ahead of the others: make test's workers take whole files (--dist loadfile) in
 # collection order (--no-loadscope-reorder), so the long ones start early, the short ones fill
 # in at the end and the two workers finish together.

@@ -37,16 +37,25 @@ def test_emulated_front_end_equals_python(machine, seed):
     assert n_e == n and np.array_equal(labels_e, labels) and np.array_equal(stats_e, stats)
 
 
-def test_emulated_plus_detectors_equal_python(machine, exp1_corpus):
+@pytest.mark.parametrize("every_ninth", [
+    pytest.param(False, id="three"), pytest.param(True, marks=pytest.mark.slow, id="every_ninth")])
+def test_emulated_plus_detectors_equal_python(machine, exp1_corpus, every_ninth):
+    """Every 9th call of the two detectors in paper000-exp1 (slow: ~2.5 s of emulation a
+    frame), or three of them (the fast suite): each detector's first and the last call."""
     import dataclasses
 
     from mobigrasp.host.vision import dual_plus, spoke
 
     idx = corpus.read_index(exp1_corpus)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
-    calls = [c for c in corpus.calls(exp1_corpus, idx) if c.detector in ("dual_plus", "spoke")]
+    calls = [c for c in corpus.calls(exp1_corpus, idx)
+             if c.detector in ("dual_plus", "spoke")][::9]
+    if not every_ninth:
+        kept = {next(k for k, c in enumerate(calls) if c.detector == d)
+                for d in ("dual_plus", "spoke")} | {len(calls) - 1}
+        calls = [calls[k] for k in sorted(kept)]
     front, found = arm.FrontEnd(machine), {"dual_plus": 0, "spoke": 0}
-    for c in calls[::9]:
+    for c in calls:
         rgb = corpus.load_frame(exp1_corpus, {"file": c.frame_file,
                                               "sha256": shas[c.frame_file]})
         front.run(rgb)

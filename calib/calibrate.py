@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Collection
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -108,38 +108,41 @@ def _same(a, b) -> bool:
     return a == b
 
 
-def select_frames(index: dict, per_scenario: int | None) -> list[dict]:
+def _spread(by_sc: dict[str, list[dict]], per_scenario: int | None) -> list[dict]:
+    """All of each scenario's items, or ``per_scenario`` of them spread evenly (the same ones
+    every time)."""
+    out = []
+    for items in by_sc.values():
+        if per_scenario is None or len(items) <= per_scenario:
+            out += items
+        else:
+            step = len(items) / per_scenario
+            out += [items[int(k * step)] for k in range(per_scenario)]
+    return out
+
+
+def select_frames(index: dict, per_scenario: int | None,
+                  scenarios: Collection[str] | None = None) -> list[dict]:
     """Corpus frames that some stage runs on: all, or ``per_scenario`` spread evenly over each
-    scenario's (the same ones every time)."""
+    scenario's (the same ones every time); only those of ``scenarios`` if given."""
     wanted = {d for s in STAGES for d in s.detectors}
     by_sc: dict[str, list[dict]] = {}
     for fr in index["frames"]:
-        if any(c["detector"] in wanted for c in fr["calls"]):
+        if (scenarios is None or fr["scenario"] in scenarios) and any(
+                c["detector"] in wanted for c in fr["calls"]):
             by_sc.setdefault(fr["scenario"], []).append(fr)
-    out = []
-    for frames in by_sc.values():
-        if per_scenario is None or len(frames) <= per_scenario:
-            out += frames
-        else:
-            step = len(frames) / per_scenario
-            out += [frames[int(k * step)] for k in range(per_scenario)]
-    return out
+    return _spread(by_sc, per_scenario)
 
 
-def select_plans(index: dict, per_scenario: int | None) -> list[dict]:
+def select_plans(index: dict, per_scenario: int | None,
+                 scenarios: Collection[str] | None = None) -> list[dict]:
     """Planner calls of the planning corpus: all, or ``per_scenario`` spread evenly over each
-    scenario's."""
+    scenario's; only those of ``scenarios`` if given."""
     by_sc: dict[str, list[dict]] = {}
     for c in index["calls"]:
-        by_sc.setdefault(c["scenario"], []).append(c)
-    out = []
-    for calls in by_sc.values():
-        if per_scenario is None or len(calls) <= per_scenario:
-            out += calls
-        else:
-            step = len(calls) / per_scenario
-            out += [calls[int(k * step)] for k in range(per_scenario)]
-    return out
+        if scenarios is None or c["scenario"] in scenarios:
+            by_sc.setdefault(c["scenario"], []).append(c)
+    return _spread(by_sc, per_scenario)
 
 
 def plan_stage(machine: arm.Planner, st) -> tuple[str, bool, int, arm.Timing]:
@@ -222,20 +225,30 @@ def _pct(values: list[float], q: float) -> float:
 def calibrate(folder: Path, per_scenario: int | None = 10,
               line_fill_cycles: int = timing.LINE_FILL_CYCLES, progress=None,
               on_step: Callable[[int, int, str], None] | None = None,
-              record: Callable[[str], program.Recording] | None = None) -> dict:
+              record: Callable[[str], program.Recording] | None = None,
+              scenarios: Collection[str] | None = None) -> dict:
     """The calibration result (JSON-able); see docs/budget.md for the fields. ``progress``:
     told what is being built (the ARM toolchain, once); ``on_step(done, total, what)``: after
     each frame and each planner call emulated, and each scenario replayed on the C program.
     ``record(scenario)``: a run of the Python host program recorded (services/corpus.py
     ``record_steps``), given: the shipped scenarios of each method the C program has are
     recorded after the corpus and replayed on the C program, their whole control steps and
-    frame pipelines timed (calib/program.py: ``per_scenario`` of each kind a run)."""
+    frame pipelines timed (calib/program.py: ``per_scenario`` of each kind a run).
+    ``scenarios``: only the frames, planner calls and replays of these (default: all); a name
+    the corpus does not hold is a :class:`corpus.CorpusError`."""
     index = corpus.read_index(folder)
-    frames = select_frames(index, per_scenario)
-    plans = (select_plans(plan_corpus.read_index(folder), per_scenario)
+    if scenarios is not None:
+        held = {sc["name"] for sc in index["scenarios"]}
+        missing = sorted(set(scenarios) - held)
+        if missing:
+            raise corpus.CorpusError(f"{folder}: no scenario {', '.join(missing)} in the corpus "
+                                     f"(it holds {', '.join(sorted(held)) or 'none'})")
+    frames = select_frames(index, per_scenario, scenarios)
+    plans = (select_plans(plan_corpus.read_index(folder), per_scenario, scenarios)
              if (Path(folder) / plan_corpus.INDEX).is_file() else [])
     elf = program.build(progress) if record is not None else None
-    runs = program.scenarios_in_program(elf) if elf is not None else []
+    runs = [sc for sc in program.scenarios_in_program(elf)
+            if scenarios is None or sc in scenarios] if elf is not None else []
     steps = len(frames) + len(plans) + len(runs)
     machine = arm.Arm9(arm.build(progress), line_fill_cycles)
     front = arm.FrontEnd(machine)

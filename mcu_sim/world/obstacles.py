@@ -11,7 +11,8 @@ handlers (``space.on_collision`` begin / separate): an episode starts when the b
 an obstacle (or the target) and ends when it touches none; a new touch within ``EPISODE_GAP_US``
 of the end continues the episode, so a long press is one contact and a slide along an edge whose
 touch flickers is one contact, however many times pymunk begins and separates the pair.
-Base-vs-target contacts stop counting once the object is grasped (it is then out of the space).
+Base-vs-target contacts are not counted while the object is held (it is then out of the space)
+and count again once it is put down.
 """
 
 from __future__ import annotations

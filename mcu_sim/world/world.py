@@ -280,6 +280,7 @@ class World:
             if opening >= width:
                 self.attached = False
                 self.target.drop_at(tip[0], tip[1])
+                self.contacts.count_target = True  # back on the ground: a bump is a contact
                 self.base.space_changed = True
             else:
                 self.target.body.position = (tip[0], tip[1])

@@ -1,15 +1,15 @@
 """``mobigrasp calibrate [--corpus DIR] [--json FILE]``: the host's modelled ARM9 time per stage
 against the same stage's C run as ARM920T code under a static timing model (calib/, the table
-and its reading in docs/budget.md). Without --corpus the corpus of the six shipped scenarios is
-recorded into a temporary folder first. The shipped scenarios of each method the C program has
+and its reading in docs/budget.md). Without --corpus the corpus of the six shipped scenarios (or
+of each ``--scenario NAME``) is recorded into a temporary folder first; ``--scenario`` also
+limits what a given corpus is timed on. The shipped scenarios of each method the C program has
 are then run again with the Python host program recorded and replayed on the C program as
 ARM920T code: its whole control steps and frame pipelines (calib/program.py; not with
-``--no-programs``). Progress on stderr (scenarios recorded, then frames, planner calls and
-scenario replays emulated, a replay one step: done/total, elapsed, ~left; none with ``-q``);
-the table on stdout; the result is also kept as the last calibration that ``mobigrasp
-profile`` shows. Exit 1 when
-an emulated result differs from the Python kernel's (or a replay from the Python program's), 2
-for bad input."""
+``--no-programs``). Progress on stderr (scenarios recorded, then frames, planner calls and scenario
+replays emulated, a replay one step: done/total, elapsed, ~left; none with ``-q``); the table on
+stdout; the result is also kept as the last calibration that ``mobigrasp profile`` shows. Exit 1
+when an emulated result differs from the Python kernel's (or a replay from the Python
+program's), 2 for bad input."""
 
 from __future__ import annotations
 
@@ -63,14 +63,15 @@ def _run(args: argparse.Namespace) -> int:
                 folder = Path(tmp) / "corpus"
                 with StepProgress("calibrate: corpus of the shipped scenarios", "scenarios",
                                   enabled=not args.quiet) as recorded:
-                    record_corpus(folder, [p.stem for p in shipped_scenarios()],
-                                  progress=recorded)
+                    record_corpus(folder, args.scenario or
+                                  [p.stem for p in shipped_scenarios()], progress=recorded)
             with StepProgress("calibrate: emulated", "frames and planner calls",
                               enabled=not args.quiet) as emulated:
                 result = calibrate.calibrate(folder, per, args.line_fill_cycles,
                                              progress=None if args.quiet else progress_stderr,
                                              on_step=emulated,
-                                             record=None if args.no_programs else record_steps)
+                                             record=None if args.no_programs else record_steps,
+                                             scenarios=args.scenario)
     except (corpus.CorpusError, plan_corpus.PlanCorpusError, ToolchainError, BadInput) as exc:
         print(f"mobigrasp calibrate: {exc}", file=sys.stderr)
         return 2
@@ -98,6 +99,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--corpus", type=Path, default=None,
                    help="corpus folder (mobigrasp corpus); default: record one first")
     p.add_argument("--json", type=Path, default=None, help="write the result here too")
+    p.add_argument("--scenario", action="append", metavar="NAME",
+                   help="only this shipped scenario (repeat; default: all of the corpus, or "
+                   "the six shipped): its frames, planner calls and replay")
     p.add_argument("--frames-per-scenario", type=checks.arg_int(1, 10_000), default=10, metavar="N",
                    help="frames per scenario, spread evenly (default 10); as many control "
                    "steps and frame pipelines per replayed scenario")

@@ -150,6 +150,23 @@ def test_grasp_lift_carry_and_release():
     assert w.recorder.summary()["object_max_lift_m"] > 0.04
 
 
+def test_a_dropped_object_the_base_drives_into_is_a_contact():
+    w = posed_world()
+    w.set_servo_pulse_us(0, 2000)  # close: held, out of the plane
+    w.step_to(1_500_000)
+    assert w.gripper_grasped()
+    w.set_servo_pulse_us(0, 1000)  # open: put down ahead of the base
+    w.step_to(2_000_000)
+    assert not w.truth()["attached"] and w.target.in_space
+    assert w.truth()["collisions"]["target"] == 0
+    w.set_servo_pulse_us(4, pulse_for_angle(4, 0.9))  # the arm up, out of the way
+    w.set_wheel_duty(100, 100)
+    w.step_to(8_000_000)
+    t = w.truth()
+    assert t["collisions"]["target"] >= 1
+    assert t["object"]["x_m"] > fingertip_x(GRASP_Q) + 0.1  # pushed ahead
+
+
 @pytest.mark.parametrize("dx", [0.03, -0.025])
 def test_no_grasp_when_the_fingertip_misses_the_grasp_point(dx):
     w = posed_world(dx=dx)

@@ -173,6 +173,18 @@ def _host_config(cfg: dict | str) -> Callable:
     return argv
 
 
+def _corpus_of(*names: str) -> Callable:
+    """A corpus folder holding ``names`` (no frames): argv of calibrate on it."""
+    def make(tmp: Path, mp) -> Path:
+        folder = tmp / "corpus"
+        folder.mkdir()
+        (folder / "corpus.json").write_text(json.dumps({
+            "format": "mobigrasp-corpus/1", "frames": [],
+            "scenarios": [{"name": n, "seed": 1, "camera": {}, "calls": 0} for n in names]}))
+        return folder
+    return make
+
+
 def _fifo(tmp: Path) -> Path:
     import os
 
@@ -320,6 +332,10 @@ CASES: dict[str, Case] = {
                                     ("--sim-s",)),
     "bench mcu --seconds -5": Case(lambda t, mp: ["bench", "mcu", "--seconds", "-5"],
                                    ("--seconds",)),
+    "calibrate --scenario not in the corpus": Case(
+        lambda t, mp: ["calibrate", "--corpus", str(_corpus_of("paper000-exp1")(t, mp)),
+                       "--scenario", "paper000-exp1", "--scenario", "no-such-scene"],
+        ("corpus", "no-such-scene")),
     "calibrate --frames-per-scenario 0": Case(
         lambda t, mp: ["calibrate", "--frames-per-scenario", "0"], ("--frames-per-scenario",)),
 }

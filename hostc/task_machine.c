@@ -236,6 +236,8 @@ int mg_task_init(mg_task_t *t, const mg_task_method_t *rules, const mg_task_para
     memcpy(t->joints, HOME_ARM, sizeof t->joints);
     t->move_done_us = start_us;
     t->obj_seen_us = start_us;
+    /* the object itself seen, or its place P_i given (001 section II; machine.py) */
+    t->graspable_seen = p->has_object_xy;
     t->lost_in = -1;
     t->path.plan_us = start_us;
     t->grasp_alpha_mrad = rules->grasp_alpha_mrad;

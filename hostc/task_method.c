@@ -72,11 +72,13 @@ const mg_task_method_t mg_task_methods[] = {
      .sight_position = mg_task_plus_position,
      .look_decides = mg_method001_look_decides,
      .enter_precise = mg_method001_enter_precise,
-     /* SEARCH reads the radial symbol alone: 001's object position is given */
-     .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL, DETECTORS_000,
-                   [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
-     .n_fallbacks = 1,
-     .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS}},
+     /* SEARCH: the cut symbol is looked for when the symbol is not read, as 000's */
+     .search_back_off = mg_method001_search_back_off,
+     .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_RADIAL_CUT,
+                   DETECTORS_000, [MG_ROUGH_GRASP] = 1u << MG_DET_DUAL_PLUS},
+     .n_fallbacks = 2,
+     .fallbacks = {{MG_ADJUST, MG_DET_RADIAL_SYMBOL, MG_DET_DUAL_PLUS},
+                   {MG_SEARCH, MG_DET_RADIAL_CUT, MG_DET_RADIAL_SYMBOL}},
      .geom = {2560, 2560, 3200},
      .path = &mg_path001},
     {.name = "002",

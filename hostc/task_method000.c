@@ -6,6 +6,7 @@
 
 #include "app_factory.h"
 #include "json.h"
+#include "sonar_guard.h"
 #include "task_drive.h"
 #include "trig.h"
 #include "task_grasp.h"
@@ -343,60 +344,113 @@ void mg_method000_frame_of(const mg_task_t *t, const int32_t *const *words, void
                    words[MG_DET_SPOKE], words[MG_DET_HELD_FILL], words[MG_DET_RADIAL_CUT]);
 }
 
-int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+/* 000's back-off (method000.py back_off_move): the turn toward the symbol, then straight back
+ * MG_BACK_OFF_000_MM at slow_mmps; 001's (method001.py back_off_move): the drive away (a
+ * detour: turn, then drive, stopping for an echo ahead), then the turn back to face it. 1
+ * while it moves; over, the phase is LOOK */
+static int back_off_move(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                         mg_cut_back_off_t *bo)
 {
-    mg_state000_t *ms = ms000(t);
+    if (bo->phase == MG_BACK_OFF000_TURN) {
+        const int32_t turned = mg_task_wrap_mrad((int64_t)in->heading_mrad - bo->a);
+        const int32_t want = bo->b < 0 ? -bo->b : bo->b;
+        if ((turned < 0 ? -turned : turned) < want) { /* on the spot, left for a positive turn */
+            const int32_t dir = bo->b > 0 ? 1 : -1;
+            t->wheels[0] = -dir * t->p.turn_wheel_mmps;
+            t->wheels[1] = dir * t->p.turn_wheel_mmps;
+            return 1;
+        }
+        bo->phase = MG_BACK_OFF000_BACK;
+        bo->a = in->x_mm, bo->b = in->y_mm;
+    }
+    if (bo->phase == MG_BACK_OFF000_BACK) {
+        const int64_t dx = (int64_t)in->x_mm - bo->a;
+        const int64_t dy = (int64_t)in->y_mm - bo->b;
+        if (dx * dx + dy * dy < (int64_t)MG_BACK_OFF_000_MM * MG_BACK_OFF_000_MM) {
+            t->wheels[0] = t->wheels[1] = -t->p.slow_mmps;
+            return 1;
+        }
+        bo->phase = MG_BACK_OFF000_LOOK;
+        bo->stopped_us = now_us;
+    }
+    if (bo->phase == MG_BACK_OFF_AWAY) {
+        if (!mg_drive_detour(t, in, &bo->leg))
+            return 1;
+        memset(&bo->leg, 0, sizeof bo->leg);
+        bo->leg.heading_mrad = bo->b;
+        bo->phase = MG_BACK_OFF_FACE;
+    }
+    if (bo->phase == MG_BACK_OFF_FACE) {
+        if (!mg_drive_detour(t, in, &bo->leg))
+            return 1;
+        bo->phase = MG_BACK_OFF000_LOOK;
+        bo->stopped_us = now_us;
+    }
+    return 0;
+}
+
+int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       mg_cut_back_off_t *bo, const mg_back_off_rule_t *rule)
+{
     const mg_frame000_t *f = frame000(in);
-    if (ms->back_off_phase == MG_BACK_OFF000_NONE) {
-        if (f == NULL || !f->has_cut || ms->back_offs >= MG_BACK_OFFS_000
-            || t->has_confirm_until || t->lost
-            || (int64_t)in->x_mm * in->x_mm + (int64_t)in->y_mm * in->y_mm
-                   > (int64_t)MG_BACK_OFF_FROM_MM * MG_BACK_OFF_FROM_MM)
+    if (bo->phase == MG_BACK_OFF000_NONE) {
+        if (f == NULL || !f->has_cut || bo->back_offs >= rule->max || t->has_confirm_until
+            || (rule->from_start
+                && (t->lost
+                    || (int64_t)in->x_mm * in->x_mm + (int64_t)in->y_mm * in->y_mm
+                           > (int64_t)MG_BACK_OFF_FROM_MM * MG_BACK_OFF_FROM_MM)))
             return 0;
+        if (rule->wait_us > 0) { /* due at a frame wait_us after the first, within stale_us */
+            if (!bo->has_cut_first || now_us - bo->cut_first_us > rule->stale_us) {
+                bo->has_cut_first = 1;
+                bo->cut_first_us = now_us;
+                return 0;
+            }
+            if (now_us - bo->cut_first_us < rule->wait_us)
+                return 0;
+            bo->has_cut_first = 0;
+        }
         /* its bearing (right positive, as the waist's) at the border it is cut at; the base
          * turns left positive */
         int32_t arm[6];
         mg_task_arm_at(t, now_us - t->p.frame_latency_us, arm);
         const int32_t half_fov = mg_atan2_mrad(t->cam.u0_px, t->cam.f_px);
-        ms->back_offs++;
-        ms->back_off_phase = MG_BACK_OFF000_TURN;
-        ms->back_off_a = in->heading_mrad;
-        ms->back_off_b = -(arm[5] + f->cut_side * half_fov);
+        const int32_t turn = -(arm[5] + f->cut_side * half_fov);
+        bo->back_offs++;
+        if (rule->away_mm > 0) { /* face away (turn + pi), drive off, then face it again */
+            const int32_t toward = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn);
+            memset(&bo->leg, 0, sizeof bo->leg);
+            bo->leg.heading_mrad = mg_task_wrap_mrad((int64_t)toward + 3142);
+            bo->leg.drive = 1;
+            bo->leg.length_mm = rule->away_mm;
+            bo->phase = MG_BACK_OFF_AWAY;
+            bo->b = toward;
+        } else {
+            bo->phase = MG_BACK_OFF000_TURN;
+            bo->a = in->heading_mrad;
+            bo->b = turn;
+        }
         static const char *const names[3] = {"n", "side", "turn_mrad"};
-        const int64_t values[3] = {ms->back_offs, f->cut_side, ms->back_off_b};
+        const int64_t values[3] = {bo->back_offs, f->cut_side, turn};
         mg_task_note_ints(t, "back_off", 3, names, values);
     }
-    if (ms->back_off_phase == MG_BACK_OFF000_TURN) {
-        const int32_t turned = mg_task_wrap_mrad((int64_t)in->heading_mrad - ms->back_off_a);
-        const int32_t want = ms->back_off_b < 0 ? -ms->back_off_b : ms->back_off_b;
-        if ((turned < 0 ? -turned : turned) < want) { /* on the spot, left for a positive turn */
-            const int32_t dir = ms->back_off_b > 0 ? 1 : -1;
-            t->wheels[0] = -dir * t->p.turn_wheel_mmps;
-            t->wheels[1] = dir * t->p.turn_wheel_mmps;
-            return 1;
-        }
-        ms->back_off_phase = MG_BACK_OFF000_BACK;
-        ms->back_off_a = in->x_mm, ms->back_off_b = in->y_mm;
-    }
-    if (ms->back_off_phase == MG_BACK_OFF000_BACK) {
-        const int64_t dx = (int64_t)in->x_mm - ms->back_off_a;
-        const int64_t dy = (int64_t)in->y_mm - ms->back_off_b;
-        if (dx * dx + dy * dy < (int64_t)MG_BACK_OFF_000_MM * MG_BACK_OFF_000_MM) {
-            t->wheels[0] = t->wheels[1] = -t->p.slow_mmps;
-            return 1;
-        }
-        ms->back_off_phase = MG_BACK_OFF000_LOOK;
-        ms->back_off_stopped_us = now_us;
-    }
+    if (back_off_move(t, now_us, in, bo))
+        return 1;
     /* stand until a frame taken after the stop has come, then a new look-around from here */
     t->wheels[0] = t->wheels[1] = 0;
-    if (f == NULL || !f->has_frame || now_us - t->p.frame_latency_us < ms->back_off_stopped_us)
+    if (f == NULL || !f->has_frame || now_us - t->p.frame_latency_us < bo->stopped_us)
         return 1;
-    ms->back_off_phase = MG_BACK_OFF000_NONE;
+    bo->phase = MG_BACK_OFF000_NONE;
     mg_search_init(&t->search, &t->p.search, t->arm[2], t->arm[5], now_us);
     t->has_turn_from = 0;
     t->has_wander_from = 0;
     return 0;
+}
+
+int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    static const mg_back_off_rule_t rule = {MG_BACK_OFFS_000, 1, 0, 0, 0};
+    return mg_search_back_off(t, now_us, in, &ms000(t)->cut, &rule);
 }
 
 int mg_method000_search_sighting(const mg_task_t *t, const mg_task_inputs_t *in, void *sighting)

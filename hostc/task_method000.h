@@ -17,11 +17,43 @@
 
 #define MG_MAX_TRACE_CANDIDATES 40 /* candidate curves kept in the plan's trace detail */
 /* SEARCH's back-off from the radial symbol cut by the frame's border (method000.py
- * BACK_OFF_000_MM, BACK_OFF_FROM_MM, BACK_OFFS_000) and its phases */
+ * BACK_OFF_000_MM, BACK_OFF_FROM_MM, BACK_OFFS_000) and its phases: 000 turns toward it and
+ * backs off (TURN, BACK), 001 faces away, drives off and turns back (AWAY, FACE), then both
+ * LOOK */
 #define MG_BACK_OFF_000_MM 150
 #define MG_BACK_OFF_FROM_MM 40
 #define MG_BACK_OFFS_000 1
-enum { MG_BACK_OFF000_NONE, MG_BACK_OFF000_TURN, MG_BACK_OFF000_BACK, MG_BACK_OFF000_LOOK };
+enum {
+    MG_BACK_OFF000_NONE,
+    MG_BACK_OFF000_TURN,
+    MG_BACK_OFF000_BACK,
+    MG_BACK_OFF000_LOOK,
+    MG_BACK_OFF_AWAY,
+    MG_BACK_OFF_FACE
+};
+/* The back-off's state (State000's and State001's back_offs, back_off): the phase; TURN (a:
+ * heading_from, b: turn_mrad), BACK (a, b: where it started, mm), AWAY (leg: the drive away,
+ * b: the heading toward the symbol), FACE (leg: the turn back), LOOK (stopped_us) */
+typedef struct {
+    int32_t back_offs; /* back-offs from a cut symbol made in the run */
+    int32_t phase, a, b;
+    int64_t stopped_us;
+    mg_detour_t leg;
+    /* the first frame of the cut symbol not yet moved off (a rule with wait_us only) */
+    int32_t has_cut_first;
+    int64_t cut_first_us;
+} mg_cut_back_off_t;
+/* How a method backs off (method000.py / method001.py back_offs_max, back_off_here,
+ * back_off_due, back_off_first): at most max a run; from_start: only from the run's start
+ * (000); wait_us > 0: at a frame of the cut symbol wait_us or more after the first, within
+ * stale_us (001), 0: at the first (000); away_mm > 0: face away and drive this far off, the
+ * sonars watching, then turn back (001); 0: turn toward it and back straight off
+ * MG_BACK_OFF_000_MM (000) */
+typedef struct {
+    int32_t max, from_start;
+    int64_t wait_us, stale_us;
+    int32_t away_mm;
+} mg_back_off_rule_t;
 
 /* What 000's planner is asked (method000.py plan_follower): the pose and speed, the object's
  * estimate, the stand-off of P3 (approach_standoff_mm) */
@@ -54,11 +86,7 @@ void mg_method000_plan000(void *ctx, const mg_plan000_request_t *req, mg_traject
  * with (NULL: none, every plan fails "no planner") */
 typedef struct {
     int32_t grasp_searches; /* searches after a loss in PRECISE_GRASP (grasp_lost) */
-    int32_t back_offs;      /* back-offs from a cut symbol made in the run (search_back_off) */
-    /* the back-off under way: MG_BACK_OFF000_TURN (a: heading_from, b: turn_mrad), _BACK (a,
-     * b: where it started, mm), _LOOK (stopped_us); MG_BACK_OFF000_NONE: none */
-    int32_t back_off_phase, back_off_a, back_off_b;
-    int64_t back_off_stopped_us;
+    mg_cut_back_off_t cut; /* the back-off from a cut symbol (search_back_off) */
     mg_planner000_fn planner;
     void *planner_ctx;
     int32_t board_planner; /* the planner is the board's: its plan's detail is noted */
@@ -78,6 +106,10 @@ int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
  * off MG_BACK_OFF_000_MM, look around again (method000.py search_back_off); 1 while the
  * back-off takes the step */
 int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* The back-off of either method (method000.py Method000.search_back_off with the method's
+ * hooks): the state bo, the method's rule; 1 while the back-off takes the step */
+int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
+                       mg_cut_back_off_t *bo, const mg_back_off_rule_t *rule);
 /* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
 void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap);
 /* SEARCH after a loss near the object (000 section III.B.2, III.C): the search's parameters

@@ -50,6 +50,13 @@ void mg_method001_params(mg_task_params_t *p)
     p->max_plan_attempts = 6;
 }
 
+int mg_method001_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    static const mg_back_off_rule_t rule = {MG_BACK_OFFS_001, 0, MG_CUT_WAIT_US,
+                                            MG_CUT_STALE_US, MG_CUT_AWAY_MM};
+    return mg_search_back_off(t, now_us, in, &ms001(t)->cut, &rule);
+}
+
 static int32_t iabs32(int32_t a)
 {
     return a < 0 ? -a : a;

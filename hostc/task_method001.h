@@ -19,6 +19,7 @@
 #include "replan.h"
 #include "task_approach.h"
 #include "task_machine.h"
+#include "task_method000.h"
 
 enum {
     MG_SIGHTING_MAX_TURN_MRAD_S = 500, /* APPROACH: sightings taken turning faster not used */
@@ -28,6 +29,14 @@ enum {
     MG_DETOUR_EXTRA_MM = 100,  /* a detour's way out is checked this much beyond its end */
     MG_DETOUR_MARGIN_MM = 100, /* ... against the regions grown by this: it drives open-loop */
     MG_BACK_OFF_MM = 200,      /* fallback: back this far along the way the base came */
+    /* SEARCH: away from a radial symbol cut by the frame (method001.py CUT_AWAY_MM,
+     * BACK_OFFS_001): face away, drive this far off it, turn back; at most this often a run */
+    MG_CUT_AWAY_MM = 400,
+    MG_BACK_OFFS_001 = 2,
+    /* ... once seen cut in frames this far apart, within a look-around (CUT_WAIT_US,
+     * CUT_STALE_US) */
+    MG_CUT_WAIT_US = 2000000,
+    MG_CUT_STALE_US = 30000000,
     /* the grasp from the grasp circle: the look before it must see the object (dual "+")
      * within this of the estimate the base arrived with; the gripper goes down from this far
      * above the grasp point (the first reachable, in 10 mm steps down to the object's top) */
@@ -104,6 +113,7 @@ typedef struct {
     int32_t ik_grasp;       /* PRECISE_GRASP goes down by eq. (11), no spoke alignment */
     int32_t has_l_e, l_e_mm; /* l_e of eq. (5) for grasp_height_mm, once computed (0: none) */
     mg_detour_t detour; /* a drive aside before the next plan (a fallback's, the guard's) */
+    mg_cut_back_off_t cut; /* the move off a cut symbol (search_back_off) */
 } mg_state001_t;
 
 void mg_method001_ms_init(void *ms);
@@ -114,6 +124,10 @@ void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void 
 /* the object given and near, unseen: the camera on it, the base turned to face it for up to
  * MG_LOOK_FIRST_US before the first plan; 1 while looking */
 int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* SEARCH: the radial symbol cut by the frame, wherever it is seen: face away, drive
+ * MG_CUT_AWAY_MM off it, the sonars watching, turn back and look around again
+ * (method001.py back_off_here, back_off_first, back_off_move); 1 while it takes the step */
+int mg_method001_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* 001's last gate of the wheels (method001.py guard_wheels): the close guard, and in SEARCH
  * or APPROACH a front echo below R_r stops the base and drops the path; in APPROACH the base
  * then turns toward the widest free sector and drives out of R_r (ms detour, driven before

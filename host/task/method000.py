@@ -186,27 +186,63 @@ class Method000(PathMethod):
                    sp.theta2_max_mrad)
         return replace(sp, dense_cycles=max(1, sp.dense_cycles)), th2s, t.arm[5]
 
+    # SEARCH's back-off from a cut symbol: at most back_offs_max a run (search_back_off)
+    back_offs_max = BACK_OFFS_000
+
     def search_back_off(self, t: Task, now: int, inp: TaskInputs, dets: dict) -> bool:
-        """The radial symbol cut by the frame's border at the start: too near to be read. Turn
-        toward it (the waist of the frame's pose, and the border's half field of view beyond
-        it), back straight off BACK_OFF_000_MM, stand until a frame taken after the stop has
-        come, and search again from there (a new look-around: the symbol is then ahead, in
-        range). True while the back-off takes the step."""
+        """The radial symbol cut by the frame's border: too near to be read. Turn toward it
+        (the waist of the frame's pose, and the border's half field of view beyond it), move
+        off it (:meth:`back_off_move`), stand until a frame taken after the stop has come, and
+        search again from there (a new look-around: the symbol is then ahead, in range). At
+        most ``back_offs_max`` a run, where :meth:`back_off_here` allows it. True while the
+        back-off takes the step."""
         ms = t.ms
         if ms.back_off is None:
             cut = dets.get("radial_cut")
             if not isinstance(cut, registry.row("radial_cut").result_type()) \
-                    or ms.back_offs >= BACK_OFFS_000 \
-                    or t.confirm_until is not None or t.counters["lost"] \
-                    or inp.x_mm * inp.x_mm + inp.y_mm * inp.y_mm > BACK_OFF_FROM_MM ** 2:
+                    or ms.back_offs >= self.back_offs_max \
+                    or t.confirm_until is not None or not self.back_off_here(t, inp) \
+                    or not self.back_off_due(t, now):
                 return False
             # its bearing (right positive, as the waist's) at the border it is cut at; the base
             # turns left positive
             half_fov = atan2_mrad(t.cam.u0_px, t.cam.f_px)
             turn = -(t.arm_at(now - t.p.frame_latency_us)[5] + cut.side * half_fov)
             ms.back_offs += 1
-            ms.back_off = ("turn", inp.heading_mrad, turn)
+            ms.back_off = self.back_off_first(t, inp, turn)
             t.note(back_off={"side": cut.side, "turn_mrad": turn, "n": ms.back_offs})
+        if self.back_off_move(t, now, inp):
+            return True
+        t.wheels = (0, 0)
+        if not dets or now - t.p.frame_latency_us < ms.back_off[1]:
+            return True
+        ms.back_off = None
+        t.search = ArmSearch(SearchParams(**t.p.search), t.arm[2], t.arm[5], now)
+        t.turn_from = t.wander_from = None
+        return False
+
+    def back_off_here(self, t: Task, inp: TaskInputs) -> bool:
+        """000: only from the run's start (within BACK_OFF_FROM_MM of the odometry's origin,
+        before any loss): its back-off drives backward, where the sonar ring does not look,
+        and only the start is known clear."""
+        return not t.counters["lost"] \
+            and inp.x_mm * inp.x_mm + inp.y_mm * inp.y_mm <= BACK_OFF_FROM_MM ** 2
+
+    def back_off_due(self, t: Task, now: int) -> bool:
+        """A frame shows the cut symbol where the back-off may be made: it is made now (000: at
+        the first such frame)."""
+        return True
+
+    def back_off_first(self, t: Task, inp: TaskInputs, turn: int) -> tuple:
+        """The back-off's first phase, ``turn`` mrad (left positive) facing the symbol: 000
+        turns on the spot toward it (then backs straight off, :meth:`back_off_move`)."""
+        return ("turn", inp.heading_mrad, turn)
+
+    def back_off_move(self, t: Task, now: int, inp: TaskInputs) -> bool:
+        """One step of the back-off's move (True while it moves); over, ``t.ms.back_off`` is
+        ("look", stopped_us, 0). 000: the turn toward the symbol, then straight back
+        BACK_OFF_000_MM at slow_mmps."""
+        ms = t.ms
         phase, a, b = ms.back_off
         if phase == "turn":
             if abs(wrap_mrad(inp.heading_mrad - a)) < abs(b):
@@ -218,13 +254,7 @@ class Method000(PathMethod):
             if dx * dx + dy * dy < BACK_OFF_000_MM * BACK_OFF_000_MM:
                 t.wheels = (-t.p.slow_mmps, -t.p.slow_mmps)
                 return True
-            phase, a, b = ms.back_off = ("look", now, 0)
-        t.wheels = (0, 0)
-        if not dets or now - t.p.frame_latency_us < a:
-            return True
-        ms.back_off = None
-        t.search = ArmSearch(SearchParams(**t.p.search), t.arm[2], t.arm[5], now)
-        t.turn_from = t.wander_from = None
+            ms.back_off = ("look", now, 0)
         return False
 
     def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:

@@ -64,6 +64,17 @@ CIRCLE_PRE_MM = 50
 LOOK_FIRST_US = 4_000_000  # P_i given, object near and unseen: look this long first
 LOOK_FIRST_MM = (350, 1200)  # ... when it is this far from the waist
 BACK_OFF_MM = 200  # fallback: back this far along the way the base came
+# SEARCH: the radial symbol cut by the frame's border (Method000.search_back_off) is nearer
+# than its near limit: the base faces away from it, drives CUT_AWAY_MM off it, the sonars
+# watching, and turns back to look; at most BACK_OFFS_001 a run (docs/task.md, "001: away
+# from a symbol cut by the frame")
+CUT_AWAY_MM = 400
+BACK_OFFS_001 = 2
+# ... once the symbol has been seen cut in frames CUT_WAIT_US apart, within CUT_STALE_US (the
+# search's sweep brings a symbol in range whole into the frame within a second of its first
+# cut frame, and reads it; a look-around takes ~30 s)
+CUT_WAIT_US = 2_000_000
+CUT_STALE_US = 30_000_000
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
@@ -200,6 +211,12 @@ def detour_heading(inp: TaskInputs, obj_xy_mm: tuple, clear_mm: int,
 class State001(MethodState):
     """What 001 keeps between steps (the task's ``ms``)."""
 
+    back_offs: int = 0  # moves off a cut symbol made in the run (Method000.search_back_off)
+    # the move under way: ("away", detour, heading toward the symbol), ("face", detour, 0) or
+    # ("look", stopped_us, 0) (Method001.back_off_move); None: none
+    back_off: tuple | None = None
+    cut_first_us: int | None = None  # the first frame of the cut symbol not yet moved off
+
     replanner: Replanner | None = None  # the plan of eq. (17) and its sonar memory (§III.E)
     path_from: tuple[int, int] | None = None  # odometry place the last planned path began at
     v0_div: int = 1  # the planner's v0 divided by this (a fallback step, start_detour)
@@ -258,10 +275,8 @@ class Method001(Method000):
     # (reachable views, first wins), where the pair fits the frame, and the grasp goes on that
     # sighting (host/task/grasp.py, docs/task.md "001: the look before the grasp")
     sight_views = ((180, 900), (160, 1000), (180, 1000), (200, 800), (160, 1100), (140, 1100))
-    # SEARCH reads the radial symbol alone: 001's object position is given (no back-off)
-    detectors = {**Method000.detectors, "SEARCH": ("radial_symbol",),
-                 "ROUGH_GRASP": ("dual_plus",)}
-    detector_fallbacks = {"ADJUST": {"radial_symbol": "dual_plus"}}
+    # SEARCH reads the cut symbol as 000 does (search_back_off)
+    detectors = {**Method000.detectors, "ROUGH_GRASP": ("dual_plus",)}
     # the precise grasp's w_T <= w_max = 40 px needs the camera >= 92 mm above the "+"
     # (6 mm * 611 / 92): looking down, the 001 arm reaches 95 mm there within 142 mm of the
     # waist only, so ADJUST ends the object 108-132 mm ahead and the hover is 95 mm (39 px);
@@ -273,7 +288,54 @@ class Method001(Method000):
     # usual search, and the rough position when no spoke is seen
     lost_search = Method.lost_search
     grasp_lost = Method.grasp_lost
-    search_back_off = Method.search_back_off
+    back_offs_max = BACK_OFFS_001
+
+    # --- SEARCH: away from a cut symbol --------------------------------------------------------
+    def back_off_here(self, t: Task, inp: TaskInputs) -> bool:
+        """001 comes near its object anywhere (P_i and odometry, the grasp circle): its move
+        off a cut symbol drives forward, the sonar ring watching, so it is made wherever
+        SEARCH sees one."""
+        return True
+
+    def back_off_due(self, t: Task, now: int) -> bool:
+        """Not at the first frame of the cut symbol: a symbol in range is cut too as the
+        search's sweep brings it into the frame, and read whole a few frames later
+        (docs/task.md). Due at a frame CUT_WAIT_US or more after the first that showed it,
+        within CUT_STALE_US (older: this one is the first)."""
+        first = t.ms.cut_first_us
+        if first is None or now - first > CUT_STALE_US:
+            t.ms.cut_first_us = now
+            return False
+        if now - first < CUT_WAIT_US:
+            return False
+        t.ms.cut_first_us = None
+        return True
+
+    def back_off_first(self, t: Task, inp: TaskInputs, turn: int) -> tuple:
+        """Face away from the symbol (``turn`` + pi) and drive CUT_AWAY_MM off it: the radial
+        symbol is read from 0.45 m ahead of the camera (docs/markers.md), the camera ~0.1 m
+        ahead of the axle in the search posture, and a symbol cut in SEARCH after a loss can be
+        0.2 m from the axle."""
+        toward = wrap_mrad(inp.heading_mrad + turn)
+        away = {"heading_mrad": wrap_mrad(toward + 3142), "drive": True, "from": None,
+                "length_mm": CUT_AWAY_MM}
+        return ("away", away, toward)
+
+    def back_off_move(self, t: Task, now: int, inp: TaskInputs) -> bool:
+        """The drive away (a detour of host/task/sonar_guard.py: turn, then drive, stopping for
+        an echo ahead), then the turn back to face the symbol."""
+        ms = t.ms
+        phase, d, toward = ms.back_off
+        if phase == "away":
+            if not drive_detour(t, inp, d):
+                return True
+            phase, d, toward = ms.back_off = (
+                "face", {"heading_mrad": toward, "drive": False, "from": None}, 0)
+        if phase == "face":
+            if not drive_detour(t, inp, d):
+                return True
+            ms.back_off = ("look", now, 0)
+        return False
 
     # --- APPROACH: eq. (17) with the sonar ring, replanned (§III.E) ---------------------------
     def plan(self, t: Task, now: int, inp: TaskInputs

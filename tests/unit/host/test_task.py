@@ -19,10 +19,11 @@ def step(task, t_us, **kw):
 
 
 def test_starts_in_search_and_asks_for_the_search_detector():
-    # 000's SEARCH looks for the symbol cut by the frame where it reads none (the back-off)
-    assert Task("000").detectors_needed() == ["radial_symbol", "radial_cut"]
-    assert Task("000").detector_fallbacks() == {"radial_cut": "radial_symbol"}
-    assert Task("001").detectors_needed() == ["radial_symbol"]
+    # 000's and 001's SEARCH look for the symbol cut by the frame where they read none (the
+    # back-off)
+    for method in ("000", "001"):
+        assert Task(method).detectors_needed() == ["radial_symbol", "radial_cut"]
+        assert Task(method).detector_fallbacks() == {"radial_cut": "radial_symbol"}
     assert Task("002").detectors_needed() == ["double_cross", "red_roi"]
     out = step(Task("000"), 0)
     assert out.state == "SEARCH" and out.events == [] and out.wheels_mmps == (0, 0)

@@ -274,6 +274,13 @@ def test_the_rows_of_000_and_001(method):
     assert own == (type(r).lost_search is not Method.lost_search) == (method == "000")
     assert (rules.grasp_lost != FFI.NULL, rules.lost_search != FFI.NULL) == (own, own)
     assert rules.guard_wheels != FFI.NULL
+    # SEARCH: the symbol cut by the frame read where the symbol is not, and the move off it
+    assert rules.search_back_off != FFI.NULL
+    names = [FFI.string(C.mg_detector_names[i]).decode() for i in range(C.MG_N_DETECTORS)]
+    bits = C.mg_task_detectors_needed(c)
+    assert [n for i, n in enumerate(names) if bits >> i & 1] == py.detectors_needed()
+    assert {names[i]: names[C.mg_task_detector_fallback(c, i)] for i in range(len(names))
+            if C.mg_task_detector_fallback(c, i) >= 0} == py.detector_fallbacks()
 
 
 @SETTINGS

@@ -13,15 +13,17 @@ detours) and their drives before the next plan step by step with the Python's.""
 
 from __future__ import annotations
 
+import math
 from types import SimpleNamespace
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import event, given, settings
 from hypothesis import strategies as st
 from test_hostc_control import trajectories
 from test_hostc_task import recorded_run
 from test_hostc_task000 import (
     BROWN,
+    CUT,
     DETS000,
     ENCODER,
     NEAR,
@@ -51,6 +53,7 @@ from mobigrasp.host.control.path_follow import PathFollower, Trajectory
 from mobigrasp.host.fixedpoint import cos_q12, sin_q12
 from mobigrasp.host.planning.grasp_circle import ArmGeometry001, grasp_radius
 from mobigrasp.host.task import Task, TaskInputs, machine, method001
+from mobigrasp.host.task.drive import wrap_mrad
 from mobigrasp.host.task.method import Method
 from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.method001 import Method001
@@ -639,3 +642,146 @@ def test_replay_of_paper001_sim1(tmp_path):
 def test_replay_of_paper001_sim2(tmp_path):
     """The same for paper001-sim2 (its longer way round the obstacles, 65 s simulated)."""
     _replay_run(tmp_path, "paper001-sim2")
+
+
+def _cut_twice(py, c, now: int, inp: TaskInputs, out):
+    """The cut symbol in a frame at ``now`` (nothing yet: a symbol in range is cut too as the
+    sweep brings it in), not in one a step before CUT_WAIT_US later, then in the frame at
+    CUT_WAIT_US (the move off it starts); that step's result."""
+    res = _step_both(py, c, now, inp, out, _frame000)
+    assert "back_off" not in res.detail and res.wheels_mmps[0] >= 0
+    bare = TaskInputs(x_mm=inp.x_mm, y_mm=inp.y_mm, heading_mrad=inp.heading_mrad,
+                      sonar_mm=inp.sonar_mm, detections={"radial_symbol": None})
+    now += method001.CUT_WAIT_US
+    _step_both(py, c, now - 20_000, bare, out, _frame000)
+    res = _step_both(py, c, now, inp, out, _frame000)
+    assert "back_off" in res.detail
+    return res
+
+
+def _move(res, x: int, y: int, h: int) -> tuple[int, int, int]:
+    """Odometry after a step of the wheels: 100 mrad a step turning on the spot (left for a
+    right wheel forward), 20 mm a step straight ahead."""
+    left, right = res.wheels_mmps
+    if left == -right and right:
+        return x, y, h + (100 if right > 0 else -100)
+    if left == right and left > 0:
+        return x + (20 * cos_q12(h) >> 12), y + (20 * sin_q12(h) >> 12), h
+    return x, y, h
+
+
+def test_the_move_of_001_away_from_a_cut_symbol():
+    """SEARCH after a loss, far from the start, sees the symbol cut at the left border: the base
+    faces away from it (the frame's waist, the half field of view beyond it, and pi), drives
+    CUT_AWAY_MM off it at wander_mmps, turns back to face it, stands until a frame taken after
+    the stop and looks around again; BACK_OFFS_001 times a run. Both tasks step for step."""
+    py = Task("001")
+    c = _c_task(py, method="001")
+    enter_state(py, c, "SEARCH", None, True, (-2500, -200, 2300, -300), (230, 10),
+                ("SEARCH", "LOST"))
+    py.counters["lost"] = c.lost = 1
+    out = FFI.new("mg_task_outputs_t *")
+    free = (0,) * 5
+    cut = {"radial_symbol": None, "radial_cut": CUT(x=0, y=120, w=110, h=60, side=-1)}
+    nothing = {"radial_symbol": None}
+    now, x, y, h = 20_000, 1200, -1700, 1000
+    for n in range(1, method001.BACK_OFFS_001 + 1):
+        res = _cut_twice(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=free,
+                                                detections=cut), out)
+        now += method001.CUT_WAIT_US
+        turn = res.detail["back_off"]["turn_mrad"]
+        assert res.detail["back_off"]["n"] == n and turn > 0  # left: cut at the left border
+        toward, start = h + turn, (x, y)
+        phases = [res.wheels_mmps]
+        while res.wheels_mmps != (0, 0):
+            now += 20_000
+            x, y, h = _move(res, x, y, h)
+            res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
+                                                    sonar_mm=free, detections=cut), out,
+                             _frame000)
+            if res.wheels_mmps != phases[-1]:
+                phases.append(res.wheels_mmps)
+        spin = py.p.turn_wheel_mmps
+        assert [abs(w[0]) == spin and w[0] == -w[1] for w in phases[:1]] == [True]
+        assert (py.p.wander_mmps,) * 2 in phases and phases[-1] == (0, 0)
+        driven = math.hypot(x - start[0], y - start[1])
+        assert method001.CUT_AWAY_MM <= driven <= method001.CUT_AWAY_MM + 20
+        assert abs(wrap_mrad(h - toward)) <= 60  # facing the symbol again
+        stopped = now
+        while now < stopped + py.p.frame_latency_us:  # frames taken before the stop
+            now += 20_000
+            res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
+                                                    sonar_mm=free, detections=nothing), out,
+                             _frame000)
+            assert res.wheels_mmps == (0, 0)
+        assert py.ms.back_off is None and py.ms.back_offs == _ms001(c).cut.back_offs == n
+    for dt in (20_000, method001.CUT_WAIT_US):  # no more this run
+        res = _step_both(py, c, now + dt, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
+                                                     sonar_mm=free, detections=cut), out,
+                         _frame000)
+        assert "back_off" not in res.detail
+
+
+@SETTINGS
+@given(st.booleans(), st.tuples(*[st.integers(-1500, 1500)] * 4),
+       st.lists(st.tuples(st.sampled_from([20_000, 20_000, 60_000, 500_000, 2_000_000]),
+                          st.tuples(st.integers(-30, 30), st.integers(-30, 30),
+                                    st.integers(-200, 200)),
+                          SONAR, st.none() | DETS000), min_size=1, max_size=60))
+def test_steps_of_001_in_search(lost, joints, steps):
+    """SEARCH of 001 (after a loss or not) with odometry that wanders, sonar rings and frames of
+    000's detectors, the cut symbol among them: the same outputs and detail on both tasks, to
+    the object found."""
+    py = Task("001")
+    c = _c_task(py, method="001")
+    enter_state(py, c, "SEARCH", None, True, joints, (230, 10), ("SEARCH", "LOST"))
+    py.counters["lost"] = c.lost = int(lost)
+    out = FFI.new("mg_task_outputs_t *")
+    now, x, y, h = 0, 0, 0, 0
+    for dt, (dx, dy, dh), sonar, dets in steps:
+        now += dt
+        x, y, h = x + dx, y + dy, h + dh
+        _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=sonar,
+                                          detections=dets), out, _frame000)
+        assert (py.ms.back_offs, py.ms.back_off is None) == (_ms001(c).cut.back_offs,
+                                                           _ms001(c).cut.phase == 0)
+        if py.state != "SEARCH":  # found: APPROACH's plans are the tests' above
+            break
+    event(f"back-offs {py.ms.back_offs}")
+
+
+def test_the_move_away_stops_for_an_echo_ahead():
+    """The drive off a cut symbol stops short for an echo straight ahead (the sonars watch the
+    way: its detour's rule), then turns back as after the whole drive."""
+    py = Task("001")
+    c = _c_task(py, method="001")
+    enter_state(py, c, "SEARCH", None, True, (-2500, -200, 2300, 0), (230, 10),
+                ("SEARCH", "LOST"))
+    out = FFI.new("mg_task_outputs_t *")
+    cut = {"radial_symbol": None, "radial_cut": CUT(x=210, y=120, w=110, h=60, side=1)}
+    now, x, y, h = 20_000, 0, 0, 0
+    res = _cut_twice(py, c, now, TaskInputs(sonar_mm=(0,) * 5, detections=cut), out)
+    now += method001.CUT_WAIT_US
+    drove = 0
+    while res.wheels_mmps != (0, 0):
+        now += 20_000
+        x, y, h = _move(res, x, y, h)
+        drove += res.wheels_mmps == (py.p.wander_mmps,) * 2
+        echo = (0, 0, 300 if drove >= 3 else 0, 0, 0)  # something 0.3 m ahead after 60 mm
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=echo,
+                                                detections=cut), out, _frame000)
+    assert drove == 3 and math.hypot(x, y) < 100 and py.ms.back_off[0] == "look"
+
+
+def test_a_given_object_place_counts_as_found_in_c():
+    """001 section II: P_i given, the C task starts with the object counted as found, as the
+    Python's (machine.py graspable_seen); without it, not."""
+    for with_place in (0, 1):
+        rules = C.mg_task_method_find(b"001")
+        p = FFI.new("mg_task_params_t *")
+        rules.params(p)
+        p.has_object_xy, p.object_xy_mm = with_place, [1500, 200]
+        t = FFI.new("mg_task_t *")
+        assert C.mg_task_init(t, rules, p, 0) == 0
+        params = {"object_xy_mm": (1500, 200)} if with_place else {}
+        assert t.graspable_seen == Task("001", params=params).graspable_seen == bool(with_place)

@@ -37,14 +37,12 @@ void mg_method002_params(mg_task_params_t *p)
     p->grasp_r_tol_mm = 15;
     p->pregrasp_back_mm = 40;
     /* the double cross stands upright, far: the paper's first cycle, then the level look
-     * (f = 350 px: 0.66 rad vertical field); the wander gives up past the disc of 4.5 m, one
-     * ring at 2.5 m (the red ROI seen 2 m each way while driving) */
+     * (f = 350 px: 0.66 rad vertical field); the wander gives up past the disc of 2.5 m */
     p->search.dense_cycles = 1;
     p->search.n_coarse = 2;
     p->search.coarse_theta2_mrad[0] = -2100;
     p->search.coarse_theta2_mrad[1] = -2400;
     p->search.cover_mm = MG_SEARCH_COVER_002_MM;
-    p->search.view_mm = MG_SEARCH_VIEW_002_MM;
     /* ADJUST's look: d_pixel passes T_d with the axis inside the level grasp's reach */
     p->adjust_theta3_mrad = -2190;
     p->adjust_theta4_mrad = 2120;

@@ -20,10 +20,7 @@
 #define MG_RING_D_MM_Q4 232 /* 14.5 mm: the spacing D of the two rings (002 section 4) */
 #define MG_WAIST_STEP_MRAD 60      /* APPROACH: the waist's turn toward e per frame */
 #define MG_ADJUST_STALE_BACK_MM 40 /* ADJUST: the backstop this much nearer on an older estimate */
-/* SEARCH gives up once its wander has covered this disc (a target up to 4.5 m away), its rings
- * spaced by the strip the red ROI is seen in while driving (method002.py) */
-#define MG_SEARCH_COVER_002_MM 4500
-#define MG_SEARCH_VIEW_002_MM 2000
+#define MG_SEARCH_COVER_002_MM 2500 /* SEARCH gives up once its wander has covered this disc */
 /* APPROACH: a cylinder cut by the frame's border when the estimate would start ADJUST within
  * MG_BACK_OFF_WITHIN_MM beyond grasp_r_mm: back straight off MG_BACK_OFF_002_MM and look
  * again, at most MG_BACK_OFFS_002 times in a run */

@@ -48,11 +48,7 @@ LEVEL_SCAN_MM = (150, 350, 2)
 LEVEL_MARGIN_MM = 2
 WAIST_STEP_MRAD = 60  # APPROACH: the waist's turn toward e per frame (20 ms at 3 rad/s)
 ADJUST_STALE_BACK_MM = 40  # ADJUST: the backstop this much nearer on an older estimate
-# SEARCH gives up once its wander has covered the disc a target may be in (the generator's 4.5
-# m), its rings spaced by the strip the red ROI is seen in while driving, 2 m each way of the
-# level look (found at 0.4-3 m): one ring at 2.5 m (docs/task.md, "002's search covers 4.5 m")
-SEARCH_COVER_002_MM = 4500
-SEARCH_VIEW_002_MM = 2000
+SEARCH_COVER_002_MM = 2500  # SEARCH gives up once its wander has covered this disc
 # APPROACH: a cylinder cut by the frame's border (its colour ROI touching it, its rings not
 # measured) when the estimate would start ADJUST within BACK_OFF_WITHIN_MM beyond grasp_r_mm
 # (farther, ADJUST's look pitched down sees it whole): back straight off BACK_OFF_002_MM (inside
@@ -133,8 +129,7 @@ class Method002(Method):
                       # the double cross stands upright, far: the paper's first cycle, then the
                       # level look (f = 350 px: 0.66 rad vertical field)
                       "search": {"dense_cycles": 1, "coarse_theta2_mrad": (-2100, -2400),
-                                 "cover_mm": SEARCH_COVER_002_MM,
-                                 "view_mm": SEARCH_VIEW_002_MM},
+                                 "cover_mm": SEARCH_COVER_002_MM},
                       # ADJUST's look (shoulder 2.12 rad, elbow -2.19 rad, theta2 pitching the
                       # camera at the rings): the camera ~130 mm ahead of the waist and ~100 mm
                       # up, so that d_pixel passes T_d = 45 px with the cylinder's axis ~252 mm

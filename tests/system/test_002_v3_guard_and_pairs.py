@@ -1,10 +1,7 @@
-"""002 on generator v3 scenes (in process). docs/task.md "002: the false pairs of crosses and
-the sonar guard's drive out": a vertical pair of "crosses" far from the board does not start
-ADJUST (seed 1049), and the approach looks back at the cylinder after the sonar guard drove the
-base out of R_r rather than going LOST (seed 1020). docs/task.md "002's search covers 4.5 m":
-a cylinder 3.6 m from the start behind obstacles, which the look-around at the start does not
-show, is found on the wander's ring (seed 1037; the rings of the 2.5 m disc gave up at 81 s,
-the cylinder never nearer than 2.5 m). Each grasps, without a contact."""
+"""002 on two generator v3 scenes (in process; docs/task.md "002: the false pairs of crosses
+and the sonar guard's drive out"): a vertical pair of "crosses" far from the board does not
+start ADJUST (seed 1049), and the approach looks back at the cylinder after the sonar guard
+drove the base out of R_r rather than going LOST (seed 1020). Both grasp, without a contact."""
 
 from __future__ import annotations
 
@@ -44,12 +41,3 @@ def test_the_approach_looks_back_after_the_sonar_guard(tmp_path):
     looks = [e["t_us"] for e in events if e.get("ev") == "detail" and "look_back" in e]
     assert guard and looks and looks[0] > guard[0]
     assert not [e for e in events if e.get("ev") == "state" and e["to"] == "LOST"]
-
-
-@pytest.mark.slow
-def test_a_cylinder_beyond_the_first_look_is_found_on_the_ring(tmp_path):
-    events = _run_v3(tmp_path, 1037)
-    found = next(e["t_us"] for e in events if e.get("ev") == "state" and e["to"] == "APPROACH")
-    legs = [e["wander_mm"] for e in events if e.get("ev") == "detail" and "wander_mm" in e
-            and e["t_us"] < found]
-    assert legs and max(legs) > 2500  # out to the 2.5 m ring

@@ -248,7 +248,7 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     sp = se.SearchParams(**p.search)
     assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
     assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams()
-    assert sp.cover_mm == 4500  # 002 gives up once the rings covered 4.5 m (method002.py)
+    assert sp.cover_mm == 2500  # 002 gives up once the rings covered 2.5 m (method002.py)
 
 
 def test_an_unconfirmed_sighting_seen_again_at_the_same_place_counts():

@@ -139,9 +139,14 @@ $(HOSTC_OBJ_DIR)/protocol/%.o: firmware/protocol/%.c $(wildcard firmware/protoco
 # as CI has; a test file stays on one worker (its module fixtures are made once), the session
 # fixtures and the C builds in the cache are made once and shared (tests/conftest.py,
 # src/mobigrasp/cbuild.py). `make test TEST_WORKERS=0` runs it in this one process.
+# The longest test files go first (tests/conftest.py LONG_FILES_FIRST; xdist's own order is by
+# the number of tests in a file). PYTHONDONTWRITEBYTECODE is cleared for the suite: pytest keeps
+# the test modules it rewrites (assertion rewriting) in __pycache__ only where bytecode may be
+# written, and without that every worker rewrites all the test modules again (~5 s of CPU).
 TEST_WORKERS ?= $(shell n=$$(nproc 2>/dev/null || echo 1); [ "$$n" -gt 2 ] && n=2; echo $$n)
 test: lint toolchains
-	$(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadfile
+	PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -n $(TEST_WORKERS) --dist loadfile \
+	  --no-loadscope-reorder
 	$(BIN)/python -m pytest -q -m slow tests/system/test_wheel_install.py
 
 # the report's browser test (slow) renders it in Debian's chromium: installed when missing
@@ -155,7 +160,7 @@ rerun: venv
 	  $(BIN)/python -m pip install --quiet -e '.[rerun]' --config-settings editable_mode=strict
 
 test-all: lint toolchains browser rerun
-	$(BIN)/python -m pytest -q -m "slow or not slow"
+	PYTHONDONTWRITEBYTECODE= $(BIN)/python -m pytest -q -m "slow or not slow"
 
 # The ATmega128 firmware with avr-gcc: firmware/build/mobigrasp-avr.elf and .hex, then its size
 # (avr-size -C). gcc-avr and avr-libc are installed with apt-get when avr-gcc is missing.

@@ -359,6 +359,16 @@ class FrontEnd:
         return res, t
 
 
+    def radial_cut(self) -> tuple[tuple[int, ...] | None, Timing]:
+        """The radial symbol cut by the frame's border from the stats of the last :meth:`run`:
+        (x, y, w, h, side) or None."""
+        a, base = self.arm, DATA_BASE
+        h, w = self._shape
+        found, t = a.call("mg_radial_cut", base + self.STATS, self._n_lab, w, h,
+                          base + self.OUT, 0, cold=False)
+        res = struct.unpack("<5i", a.read(base + self.OUT, 20)) if found else None
+        return res, t
+
     def dual_plus(self, alpha_mrad: int, f_px: int, u0_px: int
                   ) -> tuple[tuple[int, ...] | None, Timing]:
         """The dual "+" on the frame of the last :meth:`run` (its grey, labels and stats)."""

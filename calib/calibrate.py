@@ -31,7 +31,7 @@ from mobigrasp.host.vision.registry import DETECTORS
 from mobigrasp.provenance import source_commit
 
 # the detectors that start with dark_blobs.dark_components (grey, dark mask, labelling)
-FRONT_END = ("radial_symbol", "dual_plus", "spoke")
+FRONT_END = ("radial_symbol", "dual_plus", "spoke", "radial_cut")
 GREY_USERS = tuple(n for n, r in DETECTORS.items() if r.uses_grey)
 
 
@@ -48,6 +48,8 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("labelling", FRONT_END),
           # a detector's stage: its work after the front end, per call
           StageDef("radial_symbol", ("radial_symbol",)),
+          # the radial symbol cut by the frame's border (000, 001 SEARCH): its component scan
+          StageDef("radial_cut", ("radial_cut",)),
           StageDef("dual_plus", ("dual_plus",)),
           StageDef("spoke", ("spoke",)),
           # the 002 double cross: its work after the grey conversion, per call
@@ -60,8 +62,8 @@ STAGES = (StageDef("grey", GREY_USERS),
           StageDef("ranging", ("red_cylinder",)))
 # the Bezier candidate evaluation, per planner call of the planning corpus (not per frame)
 PLANNING_STAGES = ("bezier000", "bezier001")
-DETECTOR_STAGES = ("radial_symbol", "dual_plus", "spoke", "double_cross", "red_cylinder",
-                   "red_roi", "ranging")
+DETECTOR_STAGES = ("radial_symbol", "radial_cut", "dual_plus", "spoke", "double_cross",
+                   "red_cylinder", "red_roi", "ranging")
 # the planning stage of each method's planner
 PLANNER_STAGE = {"000": "bezier000", "001": "bezier001"}
 
@@ -292,6 +294,11 @@ def calibrate(folder: Path, per_scenario: int | None = 10,
                 got, t = front.radial_symbol(*c.camera)
                 want = None if res is None else dataclasses.astuple(res)
                 add("radial_symbol", got == want, ops.cycles() - front_cycles, t)
+            elif c.detector == "radial_cut":
+                res, ops = DETECTORS["radial_cut"].host_call(rgb, c.camera, None)
+                got, t = front.radial_cut()
+                want = None if res is None else dataclasses.astuple(res)
+                add("radial_cut", got == want, ops.cycles() - front_cycles, t)
             elif c.detector == "dual_plus":
                 q = c.args[0]
                 res, ops = DETECTORS["dual_plus"].host_call(rgb, c.camera, q)

@@ -3,6 +3,9 @@
 Hypothesis runs derandomized: the same examples on every run and every machine, so a red CI is a
 real regression and never a lucky draw (docs/cosim.md: determinism; tests never depend on the
 machine). Explore with fresh randomness locally by `HYPOTHESIS_PROFILE=explore pytest ...`.
+The fast suite (the run that deselects the slow tests: ``make test``, a bare pytest) loads the
+``fast`` profile, a share of each property test's examples (tests/property_examples.py); a run
+that includes the slow tests (``make test-all``) loads ``ci``, every example.
 """
 
 import functools
@@ -16,8 +19,11 @@ import pytest
 from hypothesis import settings
 
 settings.register_profile("ci", derandomize=True, deadline=None, print_blob=True)
+# the fast profile's examples, per 100 of the full one's (Hypothesis' default max_examples):
+# a count n of tests/property_examples.py's examples(n) runs n * FAST_SHARE / 100 of them
+FAST_SHARE = 40
+settings.register_profile("fast", settings.get_profile("ci"), max_examples=FAST_SHARE)
 settings.register_profile("explore", deadline=None)
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 
 def _editable_tree_misses() -> list[str]:
@@ -42,9 +48,45 @@ def _editable_tree_misses() -> list[str]:
 
 
 def pytest_configure(config):
+    # before the test modules are imported: their examples(n) read the profile
+    fast = config.getoption("markexpr", "").strip() == "not slow"
+    settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "fast" if fast else "ci"))
     if missing := _editable_tree_misses():
         pytest.exit(f"the editable install lacks {', '.join(sorted(missing)[:5])}: run `make venv`",
                     returncode=4)
+
+
+# The test files that take longest (CPU s of each in a fast-suite run, measured 2026-12-07),
+# longest first, ahead of the others: make test's workers take whole files (--dist loadfile) in
+# collection order (--no-loadscope-reorder), so the long ones start early, the short ones fill
+# in at the end and the two workers finish together.
+LONG_FILES_FIRST = (
+    "unit/calib/test_calib_arm.py",  # ~24: the emulated ARM920T kernels on whole frames
+    "unit/calib/test_calib_program.py",  # ~21: the C program's replays under unicorn
+    "unit/calib/test_hostc_arm.py",  # ~19 on a cold cache (its builds), ~1 warm
+    "unit/hostc/test_hostc_builds.py",  # ~17 on a cold cache (its builds), ~0 warm
+    "unit/tools/test_bench_loop.py",  # ~8
+    "unit/hostc/test_hostc_task001.py",  # ~8
+    "unit/services/test_mcap_out.py",  # ~7 (the short_runs fixture's runs)
+    "system/test_sim_serve.py",  # ~6
+    "unit/hostc/test_hostc_task.py",  # ~6
+    "unit/calib/test_calib_native.py",  # ~5
+    "unit/host/test_host_bounded_state.py",  # ~5
+    "unit/hostc/test_hostc_task000.py",  # ~5
+    "system/test_planning_001_closed_loop.py",  # ~4
+    "unit/hostc/test_hostc_replan.py",  # ~4
+    "unit/services/test_plots_readable.py",  # ~4
+    "system/test_001_short_wall.py",  # ~4
+)
+
+
+def pytest_collection_modifyitems(config, items):
+    rank = {name: k for k, name in enumerate(LONG_FILES_FIRST)}
+
+    def order(item) -> int:  # node ids start at the repository's root
+        return rank.get(item.nodeid.split("::")[0].removeprefix("tests/"), len(rank))
+
+    items.sort(key=order)  # stable: the other files, and the tests in a file, keep their order
 
 
 # Modules marked ``pytestmark = pytest.mark.both_mcus`` run every test on each MCU backend: the

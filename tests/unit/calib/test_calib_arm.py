@@ -8,6 +8,9 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.calib import arm, corpus, native
 from mobigrasp.services.corpus import record
@@ -37,16 +40,25 @@ def test_emulated_front_end_equals_python(machine, seed):
     assert n_e == n and np.array_equal(labels_e, labels) and np.array_equal(stats_e, stats)
 
 
-def test_emulated_plus_detectors_equal_python(machine, exp1_corpus):
+@pytest.mark.parametrize("every_ninth", [
+    pytest.param(False, id="three"), pytest.param(True, marks=pytest.mark.slow, id="every_ninth")])
+def test_emulated_plus_detectors_equal_python(machine, exp1_corpus, every_ninth):
+    """Every 9th call of the two detectors in paper000-exp1 (slow: ~2.5 s of emulation a
+    frame), or three of them (the fast suite): each detector's first and the last call."""
     import dataclasses
 
     from mobigrasp.host.vision import dual_plus, spoke
 
     idx = corpus.read_index(exp1_corpus)
     shas = {f["file"]: f["sha256"] for f in idx["frames"]}
-    calls = [c for c in corpus.calls(exp1_corpus, idx) if c.detector in ("dual_plus", "spoke")]
+    calls = [c for c in corpus.calls(exp1_corpus, idx)
+             if c.detector in ("dual_plus", "spoke")][::9]
+    if not every_ninth:
+        kept = {next(k for k, c in enumerate(calls) if c.detector == d)
+                for d in ("dual_plus", "spoke")} | {len(calls) - 1}
+        calls = [calls[k] for k in sorted(kept)]
     front, found = arm.FrontEnd(machine), {"dual_plus": 0, "spoke": 0}
-    for c in calls[::9]:
+    for c in calls:
         rgb = corpus.load_frame(exp1_corpus, {"file": c.frame_file,
                                               "sha256": shas[c.frame_file]})
         front.run(rgb)
@@ -210,3 +222,63 @@ def test_every_multiply_is_charged_its_booth_steps_once_its_block_was_seen():
     first, second = (m.call("f")[1] for _ in range(2))
     assert second.mul_cycles == 3 * timing.booth_m(3) and second.mix["mul"] == 3
     assert first.mul_cycles >= 2 * timing.booth_m(3)
+
+
+def test_emulated_radial_cut_equals_python_on_rendered_frames(machine):
+    """A symbol near the camera, its centre beyond the left or right border, and a frame
+    without it: the emulated cut (box and side) is the Python detector's."""
+    import dataclasses
+
+    from mobigrasp.host.vision.radial_symbol import detect_radial_cut
+    from mobigrasp.mcu_sim.world import camera_views
+    from mobigrasp.mcu_sim.world.camera import CameraOptions, render
+
+    front, rng, found = arm.FrontEnd(machine), np.random.default_rng(7), 0
+    frames = []
+    for side in (-1, 1):
+        v = camera_views.radial_cut(rng, side * 180.0)
+        frames.append(render(v.scene, v.cam_pos_w, v.R_wc, v.intr, CameraOptions(),
+                             np.random.default_rng(0)))
+    frames.append(np.full((240, 320, 3), 128, np.uint8))
+    for rgb in frames:
+        res, _ = detect_radial_cut(rgb)
+        front.run(rgb)
+        got, t = front.radial_cut()
+        assert got == (None if res is None else dataclasses.astuple(res))
+        assert t.instructions > 0
+        found += got is not None
+    assert found == 2
+
+
+@examples(40)
+@given(st.integers(0, 2**32 - 1), st.integers(16, 40), st.integers(70, 110))
+def test_emulated_radial_cut_equals_python_on_drawn_frames(machine, seed, h, w):
+    """Hollow dark boxes, some over the border, some wider than CUT_MIN_PX, some spanning
+    the frame: the emulated cut is the Python detector's, found or not."""
+    import dataclasses
+
+    from mobigrasp.host.vision.radial_symbol import detect_radial_cut
+
+    rng = np.random.default_rng(seed)
+    rgb = np.full((h, w, 3), 200, np.uint8)
+    for _ in range(int(rng.integers(1, 5))):
+        x0, y0 = int(rng.integers(-20, w - 4)), int(rng.integers(-10, h - 4))
+        x1, y1 = x0 + int(rng.integers(4, w + 20)), y0 + int(rng.integers(4, h))
+        box = np.zeros((h, w), bool)
+        box[max(y0, 0):max(y1, 0), max(x0, 0):max(x1, 0)] = True
+        inner = np.zeros((h, w), bool)
+        inner[max(y0 + 2, 0):max(y1 - 2, 0), max(x0 + 2, 0):max(x1 - 2, 0)] = True
+        rgb[box & ~inner] = 20
+    res, _ = detect_radial_cut(rgb)
+    front = arm.FrontEnd(machine)
+    front.run(rgb)
+    assert front.radial_cut()[0] == (None if res is None else dataclasses.astuple(res))
+
+
+def test_calibrate_times_the_cut_symbol_after_the_front_end():
+    from mobigrasp.calib import calibrate
+
+    assert "radial_cut" in {s.name for s in calibrate.STAGES}
+    assert "radial_cut" in calibrate.DETECTOR_STAGES
+    used = calibrate.stages_used({"radial_cut": {"calls": 3}, "spoke": {"calls": 0}}, None)
+    assert used == {"radial_cut", "grey", "dark_threshold", "labelling"}

@@ -8,8 +8,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import region_m
 
 from mobigrasp.calib import native, planning
@@ -173,7 +174,7 @@ _coord = st.floats(-3.0, 3.0, allow_nan=False, width=32)
 _time = st.floats(-2.0, 40.0, allow_nan=False, width=32)
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(pts=st.lists(st.tuples(_coord, _coord, _time), min_size=4, max_size=4),
        n=st.integers(2, 64), v=st.floats(0.05, 2.0), a=st.floats(0.005, 1.0),
        r=st.one_of(st.none(), st.floats(0.02, 2.0)), normal=st.booleans())
@@ -188,7 +189,7 @@ def test_c_equals_python_on_random_curves(pts, n, v, a, r, normal):
     assert best == (0 if reasons == ["ok"] else -1)
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(seed=st.integers(0, 2**32 - 1), n=st.integers(2, 40), arc=st.booleans(),
        far=st.booleans())
 def test_c_equals_python_on_random_scenes_with_regions(seed, n, arc, far):
@@ -244,7 +245,7 @@ def test_fixed_point_follows_the_float_reference():
     assert total > 100 and agree == total
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(st.lists(st.tuples(st.floats(-5, 5), st.floats(-5, 5), st.floats(-4, 4),
                           st.floats(0.05, 2.5), st.floats(0.05, 2.5), st.floats(0.0, 0.4)),
                 max_size=5),

@@ -97,14 +97,21 @@ def test_whole_002_runs_replay_equal_and_within_the_calibrated_band(elf, scenari
         assert len(ratios) == 6 and 0.8 <= statistics.median(ratios) <= 1.25, (kind, ratios)
 
 
-def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path, elf):
+@pytest.mark.parametrize("per_method", [
+    pytest.param(1, id="one_run_a_method"), pytest.param(2, marks=pytest.mark.slow, id="both")])
+def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path, elf, monkeypatch,
+                                                                  per_method):
     """calibrate with a recorder: the shipped runs of each method the C program has (their
     first 1.2 s here) replayed, one control step and one frame pipeline each, a row per stage
-    and method, every quantum equal."""
+    and method, every quantum equal. The fast suite replays one run a method (~3.5 s of
+    emulation each), the second (paper002-marker's replay is the test above's); the slow test
+    both. (calibrate's ``scenarios`` selects among a corpus' scenarios: this one has none.)"""
     import json
 
     from mobigrasp.calib import calibrate, corpus
 
+    monkeypatch.setattr(program, "SCENARIOS",
+                        {m: s[-per_method:] for m, s in program.SCENARIOS.items()})
     (tmp_path / corpus.INDEX).write_text(json.dumps(
         {"format": corpus.FORMAT, "scenarios": [], "frames": []}))
     runs = program.scenarios_in_program(elf)
@@ -114,9 +121,10 @@ def test_calibrate_adds_the_rows_of_each_method_in_the_c_program(tmp_path, elf):
     assert [s[:2] for s in steps] == [(k + 1, len(runs)) for k in range(len(runs))]
     methods = program.methods_in_program(elf)
     assert set(result["stages"]) == {n for m in methods for n in program.stage_names(m)}
+    assert len(runs) == per_method * len(methods)
     for name, s in result["stages"].items():
         assert s["result_mismatches"] == 0, name
-        assert s["frames"] == 2 and s["emulated_median_us"] > 0, name
+        assert s["frames"] == per_method and s["emulated_median_us"] > 0, name
 
 
 def test_the_calibrated_elf_is_the_board_s_with_its_entries_and_armv4t(elf):

@@ -13,8 +13,9 @@
 from __future__ import annotations
 
 from faulted_loop import faulted_loop
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.cosim.rig_plant import WorldPlant
 from mobigrasp.mcu_sim.avr.encoder import QuadratureEncoder
@@ -76,7 +77,7 @@ class _PlainEncoder(QuadratureEncoder):
         self._new_segment(count, t_cycle, now_cycle)  # always a new segment
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(st.lists(st.tuples(st.integers(-3, 3), st.integers(0, 5), st.integers(1, 5)),
                 min_size=1, max_size=40))
 def test_encoder_shortcut_sees_the_same_edges(steps):

@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.control.path_follow import (
     FollowGains,
@@ -50,7 +51,7 @@ def test_trajectory_table_of_a_straight_line():
     assert tr.ops.float_ops == 0 and tr.ops.float_divs == 0 and tr.ops.cycles() > 0
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.lists(st.integers(-40_000, 40_000), min_size=8, max_size=8),
        st.integers(16_000, 800_000), st.integers(2, 120))
 def test_integer_reference_follows_the_float_curve(xy, t3_q4, n):

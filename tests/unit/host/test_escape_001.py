@@ -5,8 +5,9 @@ import math
 from types import SimpleNamespace
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import Ref, grown_m, inside_q, region_m
 
 from mobigrasp.host.planning.escape import escape_heading, segment_clear
@@ -39,7 +40,7 @@ def test_literal_wedge_covers_points_beside_the_robot_and_the_bound_frees_them()
     assert inside_q([literal], 0.35, 0.2) and inside_q([bounded], 0.35, 0.2)
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(st.floats(0.3, 2.4), st.floats(0.05, 0.6), st.floats(-3.1, 3.1), st.floats(0.0, 1.0),
        st.floats(-math.pi, math.pi), st.floats(0.0, 0.2))
 def test_the_bound_never_frees_a_point_within_r_r_of_the_echo(eta, width, mid, along, dirn, r):

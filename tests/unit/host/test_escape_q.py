@@ -5,8 +5,9 @@ grown by 3 mm (positions in 1/16 mm, Q12 heading trigonometry)."""
 import math
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import Ref, any_region_contains, grown_m, region_m
 from test_planning_clearance import clearance_float
 
@@ -44,7 +45,7 @@ region = st.builds(
     st.floats(0.3, 2.4))
 
 
-@settings(max_examples=300, deadline=None)
+@examples(300)
 @given(st.lists(region, min_size=1, max_size=4), st.floats(-2, 2), st.floats(-2, 2),
        st.integers(-3141, 3141), st.floats(0.05, 2.0), st.integers(1, 20))
 def test_segment_test_within_3mm_of_float(regs, px, py, heading_mrad, length, samples):

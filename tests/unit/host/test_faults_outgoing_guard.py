@@ -5,8 +5,9 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import outgoing_guard as g
 from mobigrasp.host.arm_calib import JOINT_LIMITS_MRAD
@@ -23,7 +24,7 @@ def _valid_int(value, lo, hi):
             and lo <= int(value) <= hi)
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.lists(anything, min_size=0, max_size=8))
 def test_nothing_invalid_passes_servo_targets(values):
     guard = g.OutgoingGuard()
@@ -39,7 +40,7 @@ def test_nothing_invalid_passes_servo_targets(values):
         assert set(guard.rejections) <= set(g.REASONS)
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(anything, anything)
 def test_nothing_invalid_passes_wheels(left, right):
     guard = g.OutgoingGuard()
@@ -51,7 +52,7 @@ def test_nothing_invalid_passes_wheels(left, right):
         assert out is None and guard.rejected == 1
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(anything)
 def test_nothing_invalid_passes_gripper(value):
     guard = g.OutgoingGuard()
@@ -102,7 +103,7 @@ def test_coerce_rounds_finite_numbers_and_refuses_the_rest():
         assert exc.value.reason == reason
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(anything, anything)
 def test_the_host_link_sends_only_valid_wheel_commands(left, right):
     """The host's real send path (host/app_link.py) uses the guard: whatever the control code

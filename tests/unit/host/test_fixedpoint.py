@@ -3,15 +3,16 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import fixedpoint as fp
 
 ANGLES = st.integers(min_value=-50_000, max_value=50_000)
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(ANGLES)
 def test_sin_cos_within_one_lsb(a):
     assert abs(fp.sin_q12(a) - 4096 * math.sin(a / 1000)) <= 1.0
@@ -28,7 +29,7 @@ def test_sin_cos_exhaustive_one_turn():
     assert fp.sin_q12(1571) == 4096 and fp.sin_q12(-1571) == -4096
 
 
-@settings(max_examples=300, deadline=None)
+@examples(300)
 @given(st.integers(-(2**32) + 1, 2**32 - 1))
 def test_sin_cos_of_microradians_in_q14(a):
     """sincos_urad_q14: within 2 LSB of Q14 over its whole range (the table's interpolation
@@ -38,7 +39,7 @@ def test_sin_cos_of_microradians_in_q14(a):
     assert abs(c - 16384 * math.cos(a / 1e6)) <= 2.0
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.integers(-10**6, 10**6), st.integers(-10**6, 10**6))
 def test_atan2_within_one_mrad(y, x):
     got = fp.atan2_mrad(y, x)
@@ -67,7 +68,7 @@ def test_atan2_small_vectors_and_axes():
     assert abs(fp.atan2_mrad(0, -5)) == 3142
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.integers(0, 2**64))
 def test_isqrt_exact_floor(n):
     r = fp.isqrt(n)
@@ -81,13 +82,13 @@ def test_isqrt_small_and_negative():
         fp.isqrt(-1)
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(-2**20, 2**20), st.integers(-2**20, 2**20))
 def test_mul_q12_rounds(a, b):
     assert abs(fp.mul_q12(a, b) - a * b / 4096) <= 0.5
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(-10**7, 10**7), st.integers(-10**4, 10**4).filter(lambda d: d != 0))
 def test_div_round(n, d):
     assert abs(fp.div_round(n, d) - n / d) <= 0.5
@@ -105,7 +106,7 @@ def _float_rot(axis, a):
             "z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])}[axis]
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.sampled_from("xyz"), st.integers(-3142, 3142),
        st.lists(st.integers(-5000, 5000), min_size=3, max_size=3))
 def test_rotation_matvec_against_float(axis, a, v):
@@ -116,7 +117,7 @@ def test_rotation_matvec_against_float(axis, a, v):
     assert np.max(np.abs(got - ref)) <= 3.0
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(-3142, 3142), st.integers(-3142, 3142))
 def test_matmul_and_transpose(a, b):
     m = fp.matmul_q12(fp.rot_z_q12(a), fp.rot_x_q12(b))

@@ -3,8 +3,9 @@ type with every field anywhere in its wire range, extremes included (servo_us 0 
 HostApp in process. No exception, no command out of its limits, and the odd values counted."""
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.app_factory import build_host_app
 from mobigrasp.protocol import messages as m
@@ -47,7 +48,7 @@ def _check_command(msg):
     return 1
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(method=st.sampled_from(["000", "001", "002"]),
        plan=st.lists(st.tuples(mcu_messages, U8, st.integers(0, 40_000)), min_size=1,
                      max_size=25))

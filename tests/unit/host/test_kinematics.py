@@ -2,8 +2,9 @@
 
 import math
 
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import arm_calib
 from mobigrasp.host import kinematics as kin
@@ -48,7 +49,7 @@ def test_fk_hand_worked_cases():
     assert x > 0 and abs(x / 16 - 281.5 * math.sin(1.0)) < 0.2
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(t2=st.integers(-3000, 0), t3=st.integers(-2800, 0), t4=st.integers(0, 3000),
        t5=st.integers(-1400, 1400))
 def test_fk_matches_float_reference(t2, t3, t4, t5):
@@ -56,7 +57,7 @@ def test_fk_matches_float_reference(t2, t3, t4, t5):
     assert dist_mm(kin.fk_mm_q4(G000, t2, t3, t4, t5), ref) < 0.25
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(t3=st.integers(-2800, -50), t4=st.integers(0, 3000), t5=st.integers(-1400, 1400))
 def test_rough_grasp_round_trip_within_1mm(t3, t4, t5):
     """Reachable workspace of the rough grasp: every in-limit pose with alpha = -pi/2.
@@ -76,7 +77,7 @@ def test_rough_grasp_round_trip_within_1mm(t3, t4, t5):
     assert dist_mm(kin.fk_pose_mm_q4(G000, res), target) < 1.0
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(x=st.integers(-400, 400), y=st.integers(-400, 400), z=st.integers(-300, 300),
        alpha=st.sampled_from([-1571, -800, 0]))
 def test_ik_never_returns_a_pose_outside_limits(x, y, z, alpha):

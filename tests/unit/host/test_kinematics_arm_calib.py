@@ -3,8 +3,9 @@
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import arm_calib as ac
 
@@ -43,7 +44,7 @@ def test_gripper_per_mille():
     assert ac.pulse_us_to_mrad(0, 1500) == 500
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(ch=st.integers(0, 5), angle=st.integers(-5000, 5000))
 def test_pulse_matches_float_law_and_stays_in_range(ch, angle):
     p = ac.mrad_to_pulse_us(ch, angle)
@@ -51,7 +52,7 @@ def test_pulse_matches_float_law_and_stays_in_range(ch, angle):
     assert abs(p - ref_pulse(ch, angle)) <= 0.5 + 1e-9
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(ch=st.integers(1, 5), data=st.data())
 def test_round_trip_within_one_microsecond_of_angle(ch, data):
     lo, hi = ac.JOINT_LIMITS_MRAD[ch]

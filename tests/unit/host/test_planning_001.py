@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import Ref, grown_m, region_m
 
 from mobigrasp.host.planning.bezier001 import Params001, control_points_001, plan_001
@@ -124,7 +125,7 @@ def test_regions_from_telemetry_are_in_world_frame_and_bad_values_counted():
         infeasible_regions(cfg, (0, 0), 0.0, [1, 2])
 
 
-@settings(max_examples=300, deadline=None)
+@examples(300)
 @given(st.floats(-3, 3), st.floats(-3, 3), st.floats(-4, 4), st.floats(0.02, 1.6),
        st.floats(0.05, 2.6), st.floats(0.05, 0.5), st.booleans(), st.integers(0, 2**31))
 def test_integer_regions_keep_to_the_float_eq16(ox, oy, lo, width, eta, r_r, arc, seed):

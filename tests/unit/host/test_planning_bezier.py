@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.planning.bezier import Curve, coefficients, evaluate, taus
 from mobigrasp.host.planning.bezier_q import sample_ops
@@ -105,7 +106,7 @@ def test_eq8_yaw_rate_equals_v_kappa():
     assert np.allclose(s.accel_normal, np.abs(a * np.sin(dtheta)), rtol=1e-9, atol=1e-12)
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(st.integers(0, 2**31 - 1))
 def test_arc_length_matches_polyline(seed):
     ctrl = random_ctrl(np.random.default_rng(seed))

@@ -5,8 +5,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import Ref, region_m
 
 from mobigrasp.host.planning.bezier001 import Params001, plan_001
@@ -44,7 +45,7 @@ region = st.builds(
 coord = st.floats(-8, 8)
 
 
-@settings(max_examples=300, deadline=None)
+@examples(300)
 @given(region, st.lists(st.tuples(coord, coord), min_size=1, max_size=8))
 def test_point_clearance_within_1mm_of_float(reg, pts):
     x = np.array([p[0] for p in pts])
@@ -55,7 +56,7 @@ def test_point_clearance_within_1mm_of_float(reg, pts):
     assert np.all(np.abs(got - want) <= BOUND_Q4), (got, want)
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.lists(region, min_size=1, max_size=5), st.integers(2, 12), st.integers(1, 4),
        st.integers(0, 2**32 - 1))
 def test_path_clearance_is_least_over_samples_and_regions(regs, n, rows, seed):

@@ -4,8 +4,9 @@ and whatever they return as best satisfies the constraints they claim."""
 import math
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import Ref, grown_m
 
 from mobigrasp.host.planning.bezier000 import Params000, plan_000
@@ -17,7 +18,7 @@ speed = st.floats(-0.3, 0.3, allow_nan=False)
 sonar = st.lists(st.one_of(st.integers(0, 3000), st.just(0xFFFF)), min_size=5, max_size=5)
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(coord, coord, speed, speed, coord, coord, st.floats(-math.pi, math.pi))
 def test_plan_000_budget_and_claims(x, y, vx, vy, ox, oy, heading):
     plan = plan_000((x, y), (vx, vy), (ox, oy), heading_rad=heading)
@@ -35,7 +36,7 @@ def test_plan_000_budget_and_claims(x, y, vx, vy, ox, oy, heading):
         assert plan.reason != "ok"
 
 
-@settings(max_examples=40, deadline=None)
+@examples(40)
 @given(coord, coord, speed, speed, st.floats(-math.pi, math.pi), coord, coord, sonar)
 def test_plan_001_budget_and_claims(x, y, vx, vy, heading, ox, oy, ranges):
     plan = plan_001((x, y), (vx, vy), heading, (ox, oy), ranges)

@@ -5,8 +5,9 @@ clear is clear with R_r shrunk by 3 mm; the present τ within 1/4 ms."""
 import math
 
 import numpy as np
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import Ref, grown_m, region_m
 
 from mobigrasp.host.planning.bezier import Curve, evaluate
@@ -49,7 +50,7 @@ region = st.builds(
     st.floats(0.3, 2.4))
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(curve, st.floats(0, 1), st.lists(region, min_size=1, max_size=4),
        st.integers(3, 40))
 def test_blocked_test_within_3mm_of_float(c, frac, regs, m):
@@ -82,7 +83,7 @@ def test_present_tau_before_and_after_the_curve():
     assert tau_at_time_q15(q, round(2.5 * TIME_PER_S)) == 2**14  # t linear in τ here
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.lists(region, min_size=1, max_size=6), st.floats(-2, 2), st.floats(-2, 2),
        st.floats(-math.pi, math.pi))
 def test_forget_seen_matches_float_away_from_the_edges(regs, px, py, heading):

@@ -3,8 +3,9 @@
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import arm_calib, kinematics
 from mobigrasp.host import posture as po
@@ -75,7 +76,7 @@ def test_alpha_target_from_geometry_matches_float():
     assert adj.alpha_lost_mrad == 0
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(th2=st.integers(-3000, 0), th3=st.integers(-2800, 0), th4=st.integers(0, 3000),
        th5=st.integers(-1400, 1400), ox=st.integers(-2000, 2000), oy=st.integers(-2000, 2000),
        oz=st.integers(-300, 300), mode=st.sampled_from(po.MARGIN_MODES),

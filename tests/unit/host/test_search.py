@@ -1,8 +1,9 @@
 """host/search: the search pattern of 000 Fig. 5, its coverage, order and timing (simulated)."""
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import search as se
 
@@ -30,7 +31,7 @@ def test_cycle_from_the_middle_hand_worked():
     assert second == [800, 600, 400, 200, 0, -200, -400, -600, -800]
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(th2=st.integers(-3000, 0), th5=st.integers(-1400, 1400), up=st.booleans())
 def test_cycle_covers_the_ranges(th2, th5, up):
     poses = se.search_cycle(P, th2, th5, up)

@@ -4,8 +4,9 @@ import math
 
 import detections as det
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import kinematics
 from mobigrasp.host.task import sense as ts
@@ -29,7 +30,7 @@ def cam_float(j):
     return p, x, y, z
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(t1=st.integers(-1571, 1571), t2=st.integers(-3000, 0), t3=st.integers(-2800, 0),
        t4=st.integers(0, 3000), t5=st.integers(-1400, 1400), u=st.integers(0, 319),
        v=st.integers(0, 239), depth=st.integers(100, 3000))
@@ -113,7 +114,7 @@ def test_spoke_reading():
         ts.spoke_reading({"angle_mrad": 120, "w_px": 30})
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(x=st.integers(-5000, 5000), y=st.integers(-5000, 5000), h=st.integers(-3141, 3141),
        px=st.integers(-3000, 3000), py=st.integers(-3000, 3000))
 def test_platform_odometry_round_trip(x, y, h, px, py):

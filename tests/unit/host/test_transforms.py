@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host import ranging, transforms
 from mobigrasp.host.kinematics import PAPER_000
@@ -28,7 +29,7 @@ def fk_float(l1, l2, l3, t2, t3, t4, t5):
     return np.array([r * math.sin(t5), r * math.cos(t5), z])
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(-1600, 600), st.integers(-1400, 1400))
 def test_rotation_matches_float(alpha, theta5):
     ref = rz(-theta5 / 1000) @ rx(alpha / 1000) @ C
@@ -53,7 +54,7 @@ def test_signs_follow_conventions():
     assert abs(down[2] - (cr_down[2] - 300)) <= 1 and abs(down[1] - cr_down[1]) <= 1
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(-2800, 0), st.integers(-2700, 0), st.integers(0, 2900), st.integers(-1400, 1400),
        st.lists(st.integers(-800, 800), min_size=2, max_size=2), st.integers(50, 2000))
 def test_camera_to_platform_against_float(t2, t3, t4, t5, xy, z):
@@ -99,7 +100,7 @@ def test_range_from_size():
         ranging.range_from_size_mm(14_500, 350, 0)
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(40, 1000), st.integers(0, 320 * 16), st.integers(0, 240 * 16),
        st.integers(-600, 600), st.integers(-800, 800))
 def test_range_002_against_float(d_q4, u, v, alpha, t5):
@@ -116,7 +117,7 @@ def test_range_002_against_float(d_q4, u, v, alpha, t5):
     assert abs(r.z_oc_mm - d_oc * math.sin(th_v)) <= tol
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.floats(0.12, 0.8), st.floats(-0.4, 0.4), st.floats(-0.15, 0.15), st.floats(-0.6, 0.4),
        st.floats(-0.8, 0.8))
 def test_locate_ring_pair_exact_geometry(dist, lateral, height, alpha, t5):
@@ -166,7 +167,7 @@ def test_locate_ring_pair_exact_geometry(dist, lateral, height, alpha, t5):
     assert abs(fix.bearing_mrad - 1000 * math.atan2(true_mm[0], true_mm[1])) <= tol_mrad
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(-300, 300), st.integers(0, 400), st.integers(-1200, 1200),
        st.integers(100, 3000))
 def test_platform_bearing_parallax(cx, cy, bearing, dist):

@@ -6,8 +6,9 @@ import math
 import detections as det
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.vision import double_cross as dc
 
@@ -113,7 +114,7 @@ def test_ring_pattern_rules():
     assert not dc.ring_pattern_ok(_code("000011000011000111111111"))[0]  # unequal gaps
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(0, 320 * 16), st.integers(0, 240 * 16), st.integers(-1400, 1400),
        st.integers(-1200, 600))
 def test_bearing_matches_float_geometry(u_q4, v_q4, yaw, pitch):
@@ -125,7 +126,7 @@ def test_bearing_matches_float_geometry(u_q4, v_q4, yaw, pitch):
     assert abs(dc.bearing_mrad(u_q4, v_q4, yaw, pitch) - ref) <= 1.5
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.floats(350, 1000), st.floats(-0.35, 0.35), st.floats(-1.2, 1.2))
 def test_an_oblique_board_places_the_cylinder_before_its_face(dist_mm, bearing, off_face):
     """Seen 30 degrees or more off its face, the board's plane from the crosses' depth ratio

@@ -7,8 +7,9 @@ from __future__ import annotations
 import cv2
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.vision import dark_blobs as db
 from mobigrasp.host.vision.grey import W_B, W_G, W_R, to_grey
@@ -27,7 +28,7 @@ def masks(draw):
     return m
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(masks())
 def test_cropped_labelling_equals_opencv_on_whole_mask(mask):
     n, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8,

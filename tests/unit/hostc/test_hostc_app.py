@@ -9,8 +9,9 @@ from __future__ import annotations
 import json
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from rig_fakes import BufferPort
 
 from mobigrasp import hostc
@@ -193,7 +194,7 @@ def mcu_stream(draw, end_us: int) -> list[tuple[int, bytes]]:
     return sorted(out, key=lambda x: x[0])
 
 
-@settings(max_examples=25, deadline=None)
+@examples(25)
 @given(st.lists(STEP, min_size=1, max_size=12), st.data())
 def test_host_program_served_by_the_rig(steps, data):
     end_us = data.draw(st.integers(200_000, 1_300_000))

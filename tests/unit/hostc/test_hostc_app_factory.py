@@ -10,8 +10,9 @@ import json
 import detections as det
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
@@ -21,7 +22,7 @@ from mobigrasp.host.vision.double_cross import level_pair
 from mobigrasp.protocol import messages as m
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=150, deadline=None)
+SETTINGS = examples(150)
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the DONE's
 CROSS, RED, ROI, HELD = (registry.row(n) for n in ("double_cross", "red_cylinder", "red_roi",
                                                    "held_fill"))

@@ -5,8 +5,9 @@ counters."""
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.app_link import HostLink
@@ -112,7 +113,7 @@ def _assert_same(c, py: HostLink) -> None:
     py.events = []
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(1_000, 80_000), st.integers(0, 12),
        st.lists(st.tuples(st.integers(0, 30_000), OPS), min_size=20, max_size=60))
 def test_protocol_client_sequence(timeout_us, retries, ops):
@@ -127,7 +128,7 @@ RETRY_OPS = st.one_of(
     st.tuples(st.just("take"), st.just(0), st.just(0)))
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(st.integers(1_000, 5_000), st.integers(0, 2),
        st.lists(st.tuples(st.integers(0, 6_000), RETRY_OPS), min_size=15, max_size=40))
 def test_retransmissions_until_given_up(timeout_us, retries, ops):

@@ -3,15 +3,16 @@
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host import arm_calib, kinematics, posture
 from mobigrasp.host.kinematics import ArmPose, Unreachable
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=400, deadline=None)
+SETTINGS = examples(400)
 GEOMS = st.sampled_from([kinematics.PAPER_000, kinematics.PAPER_002]) | st.builds(
     kinematics.ArmGeometry, st.integers(500, 3000), st.integers(500, 3000), st.integers(1, 3000))
 MRAD = st.integers(-3500, 3500)

@@ -13,9 +13,10 @@ import json
 from decimal import Decimal
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
 from plan001_c import params_c
+from property_examples import examples
 from test_hostc_planning import _params000_c
 from test_hostc_replan import _board
 from test_hostc_task000 import _c_task
@@ -171,7 +172,7 @@ def _python_refuses(cfg: dict) -> str | None:
     return None
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(st.sampled_from(["000", "001", "002"]).flatmap(
     lambda m: st.tuples(st.just(m), _values(m))),
     st.none() | st.dictionaries(st.sampled_from(["SEARCH", "ADJUST", "LOST", "LIFT"]),

@@ -3,8 +3,9 @@ Kanayama's tracking law, hostc/path_follow.c) and the fuzzy approach of 002 (hos
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -12,7 +13,7 @@ from mobigrasp.host.control import fuzzy, path_follow
 from mobigrasp.host.odometry import Pose
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=150, deadline=None)
+SETTINGS = examples(150)
 
 
 @st.composite

@@ -10,8 +10,9 @@ from __future__ import annotations
 import json
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.calib import corpus
@@ -109,7 +110,7 @@ def test_the_cut_symbol_on_rendered_frames():
     assert found >= 3
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(st.integers(8, 80), st.integers(8, 60), st.integers(0, 2**32 - 1),
        st.sampled_from(NAMES))
 def test_the_table_on_random_frames(w, h, seed, name):
@@ -166,7 +167,7 @@ def test_a_ready_front_end_is_not_computed_again(exp1_corpus):
     assert checked == 3
 
 
-@settings(max_examples=80, deadline=None)
+@examples(80)
 @given(st.none() | st.lists(st.integers(0, 3000), min_size=6, max_size=6))
 def test_the_double_cross_reads_the_newest_telemetry_pose(pulses):
     app, _, table = _table(611)

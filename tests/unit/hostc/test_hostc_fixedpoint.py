@@ -4,8 +4,9 @@ host/fixedpoint.py and host/budget.py: same inputs, identical outputs."""
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host import budget, fixedpoint
@@ -13,7 +14,7 @@ from mobigrasp.host import budget, fixedpoint
 FFI, C = hostc.lib()
 I64 = st.integers(-(1 << 40), 1 << 40)
 ANGLES = st.integers(-12_000_000, 12_000_000)  # 2000 turns: the C's stated range
-SETTINGS = settings(max_examples=400, deadline=None)
+SETTINGS = examples(400)
 
 
 @SETTINGS

@@ -6,15 +6,16 @@ from __future__ import annotations
 
 import json
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.cosim import lockstep as ls
 
 FFI, C = hostc.lib()
 T = st.integers(0, (1 << 62))
-SETTINGS = settings(max_examples=150, deadline=None)
+SETTINGS = examples(150)
 
 
 @st.composite

@@ -4,8 +4,9 @@ same pose after every sample and the same count of dropped samples."""
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host import odometry
@@ -31,7 +32,7 @@ def _wrap(v: int) -> int:
     return ((v + (1 << 31)) & 0xFFFFFFFF) - (1 << 31)
 
 
-@settings(max_examples=120, deadline=None)
+@examples(120)
 @given(st.integers(-(1 << 34), 1 << 34), st.integers(-(1 << 34), 1 << 34),
        st.integers(-3142, 3142), st.integers(-(1 << 31), (1 << 31) - 1),
        st.integers(-(1 << 31), (1 << 31) - 1), EVENTS)

@@ -3,8 +3,9 @@ integer values: the same verdicts and the same counts."""
 
 from __future__ import annotations
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.outgoing_guard import OutgoingGuard
@@ -13,7 +14,7 @@ FFI, C = hostc.lib()
 VALUES = st.integers(-4000, 4000)
 
 
-@settings(max_examples=300, deadline=None)
+@examples(300)
 @given(st.lists(st.tuples(st.sampled_from(["servo", "wheels", "gripper"]),
                           st.lists(VALUES, min_size=6, max_size=6)), min_size=1, max_size=30))
 def test_guard_verdicts_and_counts(calls):

@@ -7,9 +7,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import event, given, settings
+from hypothesis import event, given
 from hypothesis import strategies as st
 from plan001_c import params_c
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.planning.bezier001 import Params001, plan_001
@@ -62,7 +63,7 @@ def same_plan(start_mm, vel_q4, heading_mrad, target_mm, sonar, params: Params00
 SONAR = st.lists(st.one_of(st.integers(150, 2600), st.just(65535)), min_size=5, max_size=5)
 
 
-@settings(max_examples=40, deadline=None)
+@examples(40)
 @given(st.tuples(st.integers(-500, 500), st.integers(-500, 500)),
        st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)),
        st.integers(-3142, 3142), st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)),

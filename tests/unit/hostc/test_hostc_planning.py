@@ -11,8 +11,9 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from region_ref import region_m
 
 from mobigrasp import hostc
@@ -45,7 +46,7 @@ from mobigrasp.host.planning.sonar_regions import (
 from mobigrasp.host.task.method000 import plan_follower
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=200, deadline=None)
+SETTINGS = examples(200)
 POS = st.integers(-(1 << 20), 1 << 20)  # 1/16 mm, ±65 m
 VEC = st.integers(-40_000, 40_000)
 
@@ -225,7 +226,7 @@ def _params000_c(p: Params000):
         "lim": [int(v) for v in lim]})
 
 
-@settings(max_examples=120, deadline=None)
+@examples(120)
 @given(st.tuples(st.integers(-64_000, 64_000), st.integers(-64_000, 64_000)),
        st.tuples(st.integers(-128_000, 128_000), st.integers(-128_000, 128_000)),
        st.tuples(st.integers(-5000, 5000), st.integers(-5000, 5000)),
@@ -422,7 +423,7 @@ def test_escape_heading(regions, pos, h, goal, step, n_side, length, samples, si
     assert hostc.ops_tuple(ops[0]) == _less_setup(py_ops, regions)
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(st.integers(-3000, 3000), st.integers(-3000, 3000), st.integers(-3142, 3141),
        st.integers(-300, 300), st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)))
 def test_planner_state_of_000(x_mm, y_mm, heading, v_mmps, obj):

@@ -12,9 +12,10 @@ from collections import deque
 
 import numpy as np
 import pytest
-from hypothesis import event, given, settings
+from hypothesis import event, given
 from hypothesis import strategies as st
 from plan001_c import params_c
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -62,7 +63,7 @@ SONAR = st.lists(st.one_of(st.integers(150, 2600), st.just(65535), st.just(-1)),
                  max_size=5)
 
 
-@settings(max_examples=25, deadline=None)
+@examples(25)
 @given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR,
        st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),
                 min_size=1, max_size=4), st.booleans())
@@ -210,10 +211,17 @@ def _replay(calls) -> dict:
     return counts
 
 
-def test_replay_of_paper001_sim1(tmp_path):
+@pytest.fixture(scope="module")
+def sim1_calls(tmp_path_factory) -> list:
+    """paper001-sim1's replanner calls, recorded once for the module's two replays of them
+    (the replays only read them)."""
+    return _recorded(tmp_path_factory.mktemp("sim1"), "paper001-sim1")
+
+
+def test_replay_of_paper001_sim1(sim1_calls):
     """Every replanner call the Python made in paper001-sim1, replayed on the C: the same
     checks, decisions, memory and curves, call by call."""
-    counts = _replay(_recorded(tmp_path, "paper001-sim1"))
+    counts = _replay(sim1_calls)
     assert counts.get("start", 0) >= 1 and counts.get("new", 0) >= 2, counts
     assert counts.get("clear", 0) > 20, counts
 
@@ -311,11 +319,11 @@ def _replay_board(calls, base_v0: float) -> dict:
     return counts
 
 
-def test_board_replanner_replays_paper001_sim1(tmp_path):
+def test_board_replanner_replays_paper001_sim1(sim1_calls):
     """The board's replanner (replan.c around plan001.c) gives every outcome the Python's
     replanner gave in paper001-sim1: the same paths, reasons and modelled time."""
     base_v0 = planner_params_001(TaskParams.for_method("001")).v0
-    counts = _replay_board(_recorded(tmp_path, "paper001-sim1"), base_v0)
+    counts = _replay_board(sim1_calls, base_v0)
     assert counts.get("start", 0) >= 1 and counts.get("update", 0) > 20, counts
 
 
@@ -327,7 +335,7 @@ def test_board_replanner_replays_paper001_sim2(tmp_path):
     assert counts.get("kept", 0) >= 1, counts
 
 
-@settings(max_examples=400, deadline=None)
+@examples(400)
 @given(st.one_of(st.integers(0, 1 << 40), st.integers(0, 1 << 33).map(lambda k: 160 * k + 80)))
 def test_metres_in_two_decimals_as_python_prints_them(q4):
     """The replanner's reason prints the block's distance as Python's .2f of q4 / 16000, also
@@ -337,7 +345,7 @@ def test_metres_in_two_decimals_as_python_prints_them(q4):
     assert FFI.string(buf).decode() == f"{q4 / POS_PER_M:.2f}"
 
 
-@settings(max_examples=20, deadline=None)
+@examples(20)
 @given(st.tuples(st.integers(1500, 3500), st.integers(-800, 800)), SONAR,
        st.sampled_from([1, 2, 4]),
        st.lists(st.tuples(st.integers(100_000, 2_000_000), POSE, SONAR, st.booleans()),

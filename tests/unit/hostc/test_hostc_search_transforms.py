@@ -4,14 +4,15 @@ host/transforms.py and host/ranging.py."""
 
 from __future__ import annotations
 
-from hypothesis import assume, given, settings
+from hypothesis import assume, given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host import coverage, kinematics, ranging, search, transforms
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=150, deadline=None)
+SETTINGS = examples(150)
 MRAD = st.integers(-3500, 3500)
 
 

@@ -6,8 +6,9 @@ the sequence the Python host made in the shipped scenario paper002-marker, repla
 from __future__ import annotations
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from test_hostc_arm_kinematics import _assert_same_ik
 
 from mobigrasp import hostc
@@ -23,7 +24,7 @@ from mobigrasp.host.vision import registry
 from mobigrasp.host.vision.double_cross import level_pair
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=100, deadline=None)
+SETTINGS = examples(100)
 ANGLE = st.integers(-4000, 4000)
 WHY_BYTES = len(FFI.new("mg_task_event_t *").why)  # a transition's reason, its 0 included
 # gaps between calls that meet the limits exactly (1 s of history, the timeouts), and others
@@ -369,7 +370,7 @@ def test_the_look_at_the_object(steps):
         assert list(c.arm) == py.arm
 
 
-@settings(max_examples=30, deadline=None)
+@examples(30)
 @given(st.integers(0, 300), st.integers(0, 300))
 def test_the_level_grasp_reach_of_002(grasp_height_mm, h_shoulder_mm):
     """The level grasp's window (eq. (4) of 002) scanned as the Python scans it."""

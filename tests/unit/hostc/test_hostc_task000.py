@@ -15,8 +15,9 @@ import json
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
 from test_hostc_planning import _params000_c
@@ -46,7 +47,7 @@ from mobigrasp.host.task.sense import CAMERA_000
 from mobigrasp.host.vision import registry
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=100, deadline=None)
+SETTINGS = examples(100)
 ANGLE = st.integers(-4000, 4000)
 NEAR = st.integers(-3000, 3000)
 WHY_BYTES = len(FFI.new("mg_task_event_t *").why)
@@ -195,7 +196,7 @@ def _board_planner(p) -> tuple:
     return FFI.addressof(C, "mg_method000_plan000"), ctx
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(st.integers(0, 10**9), st.tuples(NEAR, NEAR, st.integers(-3142, 3141),
                                         st.integers(-300, 300)),
        st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)), st.integers(0, 1500),
@@ -810,7 +811,7 @@ DETS000 = st.fixed_dictionaries({}, optional={
     "held_fill": BROWN, "radial_cut": CUTS})
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]
                        + ["ROUGH_GRASP"] * 3),
        st.none() | st.tuples(st.integers(100, 900), st.integers(-300, 300))
@@ -856,7 +857,7 @@ def test_replay_of_paper000_exp2_whole(tmp_path):
     assert replay_steps000(steps, fresh)[-1] == "DONE"
 
 
-@settings(max_examples=80, deadline=None)
+@examples(80)
 @given(st.tuples(NEAR, NEAR, st.integers(-3142, 3141), st.integers(-300, 300)),
        st.tuples(st.integers(-4000, 4000), st.integers(-4000, 4000)), st.integers(0, 1500),
        st.fixed_dictionaries({}, optional={

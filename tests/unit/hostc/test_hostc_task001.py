@@ -17,8 +17,9 @@ import math
 from types import SimpleNamespace
 
 import pytest
-from hypothesis import event, given, settings
+from hypothesis import event, given
 from hypothesis import strategies as st
+from property_examples import examples
 from test_hostc_control import trajectories
 from test_hostc_task import recorded_run
 from test_hostc_task000 import (
@@ -59,7 +60,7 @@ from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.method001 import Method001
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=100, deadline=None)
+SETTINGS = examples(100)
 CYCLES = C.MG_TASK_PLAN_CYCLES_PER_US
 START_CB = ("void(void *, int64_t, const mg_task_inputs_t *, const int32_t *, int32_t, "
             "mg_trajectory_t *, mg_plan_outcome_t *)")
@@ -433,7 +434,7 @@ DETS001 = st.fixed_dictionaries({"dual_plus": PAIRS}, optional={
     "spoke": SPOKES, "held_fill": BROWN}) | DETS000
 
 
-@settings(max_examples=80, deadline=None)
+@examples(80)
 @given(st.tuples(st.integers(230, 360), st.integers(-60, 60)),
        st.tuples(*[st.integers(-1500, 1500)] * 4), st.booleans(),
        st.none() | st.tuples(st.integers(-20, 20), st.integers(-20, 20))

@@ -10,8 +10,9 @@ from __future__ import annotations
 import json
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from test_hostc_app_factory import words
 from test_hostc_task import FRAMES, NEAR, RED
 
@@ -23,7 +24,7 @@ from mobigrasp.host.task.sense import CAMERA_002
 from mobigrasp.host.vision import registry
 
 FFI, C = hostc.lib()
-SETTINGS = settings(max_examples=60, deadline=None)
+SETTINGS = examples(60)
 ENCODER = json.JSONEncoder(sort_keys=True, separators=(",", ":"))  # the DONE's
 HELD = registry.row("held_fill").result_type()
 # the C's params named as TaskParams' fields (the rest: tables below)

@@ -1,8 +1,9 @@
 """Timer1/3 model: fast PWM mode 14, pulse widths in ticks, double-buffered OCR, exact period."""
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.avr.signals import SignalBus
 from mobigrasp.mcu_sim.avr.timer16 import Timer16
@@ -18,7 +19,7 @@ def servo_timer(bus=None):
     return t, bus
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(st.integers(0, 39998), st.integers(0, 39998), st.integers(0, 39998))
 def test_pulse_width_is_ocr_plus_one_tick(a, b, c):
     t, bus = servo_timer()

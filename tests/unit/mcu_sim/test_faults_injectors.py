@@ -2,8 +2,9 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.faults import FaultPlan, MotorFail, RunFaults, SonarFail, UartFaults, Window
 from mobigrasp.mcu_sim.faults.injectors import CameraFaults, EncoderSlip
@@ -13,7 +14,7 @@ def _stream(n, seed=0):
     return np.random.default_rng(seed).integers(0, 256, n, dtype=np.uint8).tobytes()
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(data=st.binary(min_size=1, max_size=400), cuts=st.lists(st.integers(0, 400), max_size=8),
        seed=st.integers(0, 2**32))
 def test_same_decisions_whatever_the_chunking(data, cuts, seed):
@@ -97,7 +98,7 @@ def test_camera_noise_is_seeded_and_has_the_asked_spread():
     assert CameraFaults(FaultPlan(), 4).noise(img, 1000) is img
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(deltas=st.lists(st.integers(-500, 500), min_size=1, max_size=50),
        slip=st.floats(0.0, 1.0))
 def test_encoder_slip_loses_the_fraction_and_nothing_by_rounding(deltas, slip):

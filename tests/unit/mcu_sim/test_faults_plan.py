@@ -1,8 +1,9 @@
 """The [faults] schema: scenario files and --fault KEY=VALUE, same checks and errors."""
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.faults.plan import (
@@ -143,7 +144,7 @@ plans = st.builds(
 )
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(plans)
 def test_toml_and_command_line_round_trip(plan):
     assert loads_scenario(BASE + plan.to_toml(), "rt.toml", methods=REGISTRY).faults == plan

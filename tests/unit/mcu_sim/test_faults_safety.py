@@ -8,8 +8,9 @@ and works again after it. The injectors are mcu_sim/faults; all time is simulate
 """
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.bench_plant import WheelsInTheAir
 from mobigrasp.mcu_sim.faults import FaultPlan, RunFaults
@@ -180,7 +181,7 @@ def _run_until_crash(crash_us: int, end_us: int):
     return mcu, host, duties, pulses
 
 
-@settings(max_examples=8, deadline=None)
+@examples(8)
 @given(crash_us=st.integers(400_000, 1_500_000))
 def test_host_crash_stops_the_wheels_within_watchdog_plus_50ms(crash_us):
     end_us = crash_us + 1_000_000

@@ -2,8 +2,9 @@
 (counted by the parser, or NACKed), and the outputs stay exactly as they were."""
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.mcu import Mcu
 from mobigrasp.mcu_sim.mcu_host import InProcessHost
@@ -30,7 +31,7 @@ COMMANDS = [
 pytestmark = [pytest.mark.both_mcus, pytest.mark.simavr]
 
 
-@settings(max_examples=80, deadline=None, derandomize=True)
+@examples(80, derandomize=True)
 @given(st.sampled_from(COMMANDS), st.integers(0, 255), st.integers(1, 255), st.integers(0, 200))
 def test_one_damaged_byte_never_actuates(cmd, seq, xor, where):
     mcu = Mcu()

@@ -4,8 +4,9 @@ that mix valid commands, out-of-range raw payloads, garbage and bit-flipped fram
 import struct
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.firmware.servo_table import default_limits_us
 from mobigrasp.mcu_sim.mcu import Mcu
@@ -89,7 +90,7 @@ def run_sequence(cmds, extra_param=None, sampled=False):
 
 
 # mcu_backend is only the backend's name, the same for every example
-@settings(max_examples=60, deadline=None,
+@examples(60,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.lists(st.tuples(actions, st.integers(1, 30)), min_size=1, max_size=8))
 def test_pulses_stay_within_joint_limits(mcu_backend, cmds):
@@ -105,7 +106,7 @@ def test_pulses_stay_within_joint_limits(mcu_backend, cmds):
 
 
 @pytest.mark.not_on("simavr", "reads the Python firmware's servo limit table")
-@settings(max_examples=30, deadline=None)
+@examples(30)
 @given(st.integers(0, 5), st.integers(500, 2500), st.integers(0, 5), st.integers(500, 2500),
        st.lists(st.tuples(actions, st.integers(1, 20)), min_size=1, max_size=5))
 def test_limit_params_bound_pulses_once_in_force(ch_min, vmin, ch_max, vmax, cmds):

@@ -4,8 +4,9 @@ path of the firmware agrees with the protocol decoder."""
 import struct
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.firmware.ring import ByteRing
 from mobigrasp.mcu_sim.mcu import Mcu
@@ -24,7 +25,7 @@ pytestmark = [pytest.mark.both_mcus, pytest.mark.simavr]
 
 
 @pytest.mark.not_on("simavr", "the Python ByteRing alone: no MCU in it")
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(st.integers(2, 64), st.lists(st.tuples(st.binary(max_size=80), st.booleans()), max_size=12))
 def test_put_bytes_equals_repeated_put(size, ops):
     a, b = ByteRing(size), ByteRing(size)
@@ -40,7 +41,7 @@ def test_put_bytes_equals_repeated_put(size, ops):
 
 
 # mcu_backend is only the backend's name, the same for every example
-@settings(max_examples=80, deadline=None,
+@examples(80,
           suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(st.integers(-32768, 32767), st.integers(-32768, 32767), st.sampled_from([3, 4, 5]))
 def test_set_wheels_fast_path_matches_the_protocol(mcu_backend, left, right, length):

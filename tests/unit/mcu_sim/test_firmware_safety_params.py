@@ -6,8 +6,9 @@ host goes silent."""
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.firmware.params import P_SERVO_MAX_BASE, P_SERVO_MIN_BASE, P_WATCHDOG_MS
 from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
@@ -185,7 +186,7 @@ steps = st.tuples(st.one_of(messages, st.binary(min_size=1, max_size=40)), seqs,
 
 @pytest.mark.not_on("simavr", "reads the Python firmware's PARAM and servo tables every "
                     "millisecond")
-@settings(max_examples=40, deadline=None)
+@examples(40)
 @given(st.lists(steps, min_size=1, max_size=10))
 def test_no_message_sequence_passes_the_mechanical_limits_or_the_watchdog(plan):
     mcu, host = _session()

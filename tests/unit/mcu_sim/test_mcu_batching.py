@@ -1,8 +1,9 @@
 """The RX batching of ``Mcu`` (bytes handed to the ISR at the next delimiter) changes nothing the
 firmware does: the same inputs give the same output bytes and pulses as one event per byte."""
 
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.mcu import Mcu
 from mobigrasp.protocol import (
@@ -46,7 +47,7 @@ def run(inputs, batch):
     return out, widths, mcu.stats()["rx_ring_overruns"], mcu.firmware.corrupt_frames()
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(schedule)
 def test_batched_rx_equals_per_byte_rx(inputs):
     assert run(inputs, 127) == run(inputs, 1)

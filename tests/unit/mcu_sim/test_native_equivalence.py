@@ -3,8 +3,9 @@ streams, encoder motion, sonar ranges, resets and clock advances give identical 
 wheel duties, bytes on the TX line and counters."""
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.firmware.params import PARAM_TABLE
 from mobigrasp.mcu_sim.mcu import Mcu, McuConfig
@@ -117,7 +118,7 @@ def _drive(mcu, program, params):
     return log
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(program=ops, hz=st.sampled_from([0, 50, 100]), wd=st.sampled_from([50, 60, 250]))
 def test_same_inputs_same_outputs(program, hz, wd):
     params = {"telemetry_hz": hz, "watchdog_ms": wd}

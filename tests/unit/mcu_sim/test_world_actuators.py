@@ -4,8 +4,9 @@ saturation."""
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.mcu_sim.world.actuators import (
     JOINT_TABLE,
@@ -34,7 +35,7 @@ def test_conventions_table_reference_points():
     assert gripper_opening_m(angle_for_pulse(0, 1500)) == pytest.approx(0.030)
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(ch=st.integers(0, 5), pulse=st.floats(-1e6, 1e6, allow_nan=False))
 def test_any_pulse_gives_an_angle_within_the_joint_limits(ch, pulse):
     cal = JOINT_TABLE[ch]
@@ -42,7 +43,7 @@ def test_any_pulse_gives_an_angle_within_the_joint_limits(ch, pulse):
     assert cal.min_rad <= a <= cal.max_rad
 
 
-@settings(max_examples=150, deadline=None)
+@examples(150)
 @given(ch=st.integers(1, 5), frac=st.floats(0.0, 1.0))
 def test_pulse_angle_round_trip_within_one_microsecond(ch, frac):
     cal = JOINT_TABLE[ch]

@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.actuators import JOINT_TABLE, pulse_for_angle
@@ -29,7 +30,7 @@ def joint_strategy():
                        for ch in range(6)])
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(q=joint_strategy())
 def test_fk_matches_eq3_of_000(q):
     got = camera_point_platform(G000, q)
@@ -50,7 +51,7 @@ def test_fk_known_postures():
     assert camera_point_platform(g001, (0, 0, 0, 0, 0, 0)) == pytest.approx((0, 0.52, 0))
 
 
-@settings(max_examples=100, deadline=None)
+@examples(100)
 @given(q=joint_strategy(), x=st.floats(-3, 3), y=st.floats(-3, 3), h=st.floats(-3.1, 3.1))
 def test_camera_pose_in_the_world(q, x, y, h):
     arm = Arm(G000, initial=q)

@@ -3,8 +3,9 @@
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.host.task import REGISTRY
 from mobigrasp.mcu_sim.world.base import (
@@ -178,7 +179,7 @@ def test_bad_inputs_are_rejected_not_crashing():
         w.set_servo_pulse_us(7, 1500)
 
 
-@settings(max_examples=20, deadline=None, derandomize=True)
+@examples(20, derandomize=True)
 @given(approach=st.floats(-1.2, 1.2), r_obs=st.floats(0.02, 0.3), duty=st.integers(60, 255),
        turn=st.integers(-40, 40))
 def test_base_never_passes_through_a_circle_obstacle(approach, r_obs, duty, turn):

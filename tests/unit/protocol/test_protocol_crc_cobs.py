@@ -1,6 +1,7 @@
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.protocol.cobs import cobs_decode, cobs_encode
 from mobigrasp.protocol.crc import crc16_ccitt_false, crc16_ccitt_false_table
@@ -22,7 +23,7 @@ def test_crc_check_value():
     assert crc16_ccitt_false(b"") == 0xFFFF
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.binary(max_size=300), st.integers(0, 300))
 def test_crc_implementations_agree_and_chain(data, cut):
     expected = crc_bitwise(data)
@@ -49,7 +50,7 @@ def test_cobs_vectors(raw, enc):
     assert cobs_decode(enc) == raw
 
 
-@settings(max_examples=200, deadline=None)
+@examples(200)
 @given(st.binary(max_size=700))
 def test_cobs_roundtrip_has_no_zero_and_bounded_overhead(data):
     enc = cobs_encode(data)

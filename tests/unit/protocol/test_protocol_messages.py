@@ -1,15 +1,16 @@
 import math
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from test_protocol_strategies import ALL_CLASSES, TABLE, any_message, message_strategy
 
 import mobigrasp.protocol as p
 
 
 @pytest.mark.parametrize("cls", ALL_CLASSES, ids=lambda c: c.__name__)
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(data=st.data())
 def test_encode_decode_identity_every_message(cls, data):
     msg = data.draw(message_strategy(cls))
@@ -170,7 +171,7 @@ def test_little_endian_layouts():
     assert enc[34:] == bytes([0x21, 0, 3, 0, 4, 0, 5, 0, 6, 0])
 
 
-@settings(max_examples=50, deadline=None)
+@examples(50)
 @given(any_message, st.integers(0, 255))
 def test_wire_bytes_are_deterministic_and_bounded(msg, seq):
     a = p.encode_message(msg, seq)

@@ -6,14 +6,15 @@ accept; a fixed example set keeps the run reproducible.
 """
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 from test_protocol_strategies import any_message
 
 import mobigrasp.protocol as p
 from mobigrasp.protocol.frame import MAX_ENCODED
 
-CORRUPT = settings(max_examples=60, deadline=None, derandomize=True)
+CORRUPT = examples(60, derandomize=True)
 
 
 def _stream(msgs):
@@ -33,7 +34,7 @@ def _feed_all(parser, chunks):
 messages_list = st.lists(any_message, min_size=1, max_size=12)
 
 
-@settings(max_examples=80, deadline=None)
+@examples(80)
 @given(messages_list, st.lists(st.integers(0, 10_000), max_size=30))
 def test_any_chunking_gives_the_same_frames(msgs, cuts):
     wires, sent = _stream(msgs)

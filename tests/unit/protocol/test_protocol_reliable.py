@@ -1,8 +1,9 @@
 import random
 
 import pytest
-from hypothesis import given, settings
+from hypothesis import given
 from hypothesis import strategies as st
+from property_examples import examples
 
 import mobigrasp.protocol as p
 from mobigrasp.protocol.reliable import (
@@ -96,7 +97,7 @@ def test_duplicate_filter_rejects_a_bad_window():
             DuplicateFilter(window=bad)
 
 
-@settings(max_examples=60, deadline=None)
+@examples(60)
 @given(st.integers(0, 2**32 - 1), st.floats(0.0, 0.6), st.integers(1, 60), st.sampled_from([1, 4]))
 def test_lossy_channel_executes_each_command_exactly_once(seed, loss, n_commands, window):
     """Sender with RetransmitQueue, receiver with DuplicateFilter, both directions lossy."""

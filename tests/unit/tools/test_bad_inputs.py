@@ -17,8 +17,9 @@ from pathlib import Path
 from typing import Any
 
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, given
 from hypothesis import strategies as st
+from property_examples import examples
 
 from mobigrasp.services.run_job import shipped_scenarios
 from mobigrasp.tools.cli import main
@@ -433,7 +434,7 @@ def _answer(doc: dict, tmp: Path, extra: list[str], capsys) -> int:
     return code
 
 
-@settings(max_examples=300, deadline=None,
+@examples(300,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(key=st.sampled_from(KEY_PATHS), value=hostile)
 def test_any_value_at_any_key_is_checked(key, value, tmp_path, capsys):
@@ -441,7 +442,7 @@ def test_any_value_at_any_key_is_checked(key, value, tmp_path, capsys):
 
 
 @pytest.mark.slow
-@settings(max_examples=60, deadline=None,
+@examples(60,
           suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])
 @given(key=st.sampled_from(KEY_PATHS), value=hostile)
 def test_any_value_at_any_key_runs_or_is_refused(key, value, tmp_path, capsys, monkeypatch):

@@ -42,7 +42,7 @@ def fake_calibration(monkeypatch, tmp_path):
             progress(k + 1, 3, f"{name}: 12 frames")
         return {"scenarios": [], "frames": []}
 
-    def emulate(folder, per, fill, progress=None, on_step=None, record=None):
+    def emulate(folder, per, fill, progress=None, on_step=None, record=None, scenarios=None):
         for k in range(6):
             clock.t += 5.0
             on_step(k + 1, 6, f"frame f{k}" if k < 4 else f"planner call p{k}")

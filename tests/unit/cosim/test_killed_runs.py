@@ -6,6 +6,7 @@ import json
 import math
 import os
 import re
+import shutil
 import signal
 import subprocess
 import sys
@@ -14,16 +15,30 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+import pytest
+
 from mobigrasp.cosim import leftovers
 from mobigrasp.services.mcap_out import read_messages
 
 SAFETY_S = 120
 
 
-def _start(out: Path, command: str = "run") -> subprocess.Popen:
+@pytest.fixture
+def run_tmp() -> Iterator[Path]:
+    """A temporary folder of the run's own (and so a ledger of its own: a run started by another
+    test at the same time sweeps the leftovers of dead runs in the shared one), short enough for
+    the lockstep socket's path."""
+    path = Path(tempfile.mkdtemp(prefix="mg-"))
+    try:
+        yield path
+    finally:
+        shutil.rmtree(path, ignore_errors=True)
+
+
+def _start(out: Path, tmp: Path, command: str = "run") -> subprocess.Popen:
     # paced (--speed 2): after the progress line at 5.5 s the run has more than 5 s of wall time
     # left, however slow the machine, and a progress line at every update
-    env = dict(os.environ, MOBIGRASP_PROGRESS_INTERVAL_S="0")
+    env = dict(os.environ, MOBIGRASP_PROGRESS_INTERVAL_S="0", TMPDIR=str(tmp))
     # sim: its clock runs at once, no host waited for (stdin here is not a terminal)
     extra = ["--no-wait-host"] if command == "sim" else []
     return subprocess.Popen([sys.executable, "-m", "mobigrasp", command, "paper000-exp1",
@@ -33,9 +48,9 @@ def _start(out: Path, command: str = "run") -> subprocess.Popen:
 
 
 @contextmanager
-def running(out: Path, command: str = "run") -> Iterator[subprocess.Popen]:
+def running(out: Path, tmp: Path, command: str = "run") -> Iterator[subprocess.Popen]:
     """:func:`_start`, the process killed at the end whatever happened."""
-    proc = _start(out, command)
+    proc = _start(out, tmp, command)
     try:
         yield proc
     finally:
@@ -65,20 +80,22 @@ def _wait_for_sim_time(proc: subprocess.Popen, t_s: float) -> float:
             return float(m.group(1))
 
 
-def _leftovers_of(pid: int) -> list[str]:
+def _leftovers_of(pid: int, tmp: Path) -> list[str]:
+    """The frame ring and folders run ``pid`` (temporary folder ``tmp``) has now."""
     found = []
-    for root in (tempfile.gettempdir(), "/dev/shm"):
+    for root in (str(tmp), "/dev/shm"):
         if os.path.isdir(root):
             found += [os.path.join(root, n) for n in os.listdir(root)
                       if re.match(rf"^mobigrasp-(frames|ls|run)-{pid}-", n)]
     return found
 
 
-def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
-    proc = _start(tmp_path / "run")
+def test_sigterm_ends_a_run_like_ctrl_c(tmp_path, run_tmp):
+    proc = _start(tmp_path / "run", run_tmp)
     try:
         _wait_for_sim_time(proc, 5.5)
-        assert _leftovers_of(proc.pid)  # while it runs: its frame ring and folders exist
+        # while it runs: its frame ring and folders exist
+        assert _leftovers_of(proc.pid, run_tmp)
         proc.send_signal(signal.SIGTERM)
         _, err = proc.communicate(timeout=SAFETY_S)
     finally:
@@ -89,13 +106,13 @@ def test_sigterm_ends_a_run_like_ctrl_c(tmp_path):
     assert summary["status"] == "interrupted"
     assert summary["sim_time_s"] >= 5.0
     assert "Traceback" not in err.decode(errors="replace")
-    assert _leftovers_of(proc.pid) == []
+    assert _leftovers_of(proc.pid, run_tmp) == []
 
 
-def _killed_at_5_5_s(out: Path, command: str) -> tuple[subprocess.Popen, float]:
+def _killed_at_5_5_s(out: Path, tmp: Path, command: str) -> tuple[subprocess.Popen, float]:
     """``command`` SIGKILLed once past 5.5 s simulated; (its process, the time it reached),
     after checking what it left says so: a running summary, a trace torn at most at its end."""
-    with running(out, command) as proc:
+    with running(out, tmp, command) as proc:
         reached_s = _wait_for_sim_time(proc, 5.5)
         proc.send_signal(signal.SIGKILL)
         proc.wait(timeout=SAFETY_S)
@@ -106,8 +123,8 @@ def _killed_at_5_5_s(out: Path, command: str) -> tuple[subprocess.Popen, float]:
     return proc, reached_s
 
 
-def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_path):
-    proc, reached_s = _killed_at_5_5_s(tmp_path / "run", "run")
+def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_path, run_tmp):
+    proc, reached_s = _killed_at_5_5_s(tmp_path / "run", run_tmp, "run")
     # trace.mcap was written as the run went, a chunk per simulated second, each on the disk
     # before the run went past it: read back, it holds the camera frames, the trace topics and
     # the telemetry up to the last whole second the run reached (reached_s: the progress line
@@ -120,17 +137,17 @@ def test_a_sigkilled_run_says_how_far_it_got_and_the_next_start_sweeps_it(tmp_pa
     assert whole_s >= 5
     assert last_s["/camera/image"] >= whole_s, (reached_s, last_s)
     assert all(t >= whole_s - 0.1 for t in last_s.values()), (reached_s, last_s)
-    left = _leftovers_of(proc.pid)
+    left = _leftovers_of(proc.pid, run_tmp)
     assert left  # it could not remove its folders
     # the frame ring's name went once the host had mapped it: no 7 MB left in /dev/shm
     assert not any("mobigrasp-frames-" in p for p in left), left
-    removed = leftovers.sweep()
-    assert _leftovers_of(proc.pid) == []
+    removed = leftovers.sweep(run_tmp)
+    assert _leftovers_of(proc.pid, run_tmp) == []
     assert all(f"-{proc.pid}-" in p.name for p in removed if p.name.startswith("mobigrasp-"))
 
 
-def test_a_sigkilled_sim_session_says_it_did_not_finish(tmp_path):
-    _killed_at_5_5_s(tmp_path / "session", "sim")
+def test_a_sigkilled_sim_session_says_it_did_not_finish(tmp_path, run_tmp):
+    _killed_at_5_5_s(tmp_path / "session", run_tmp, "sim")
 
 
 _CHILD = """

@@ -35,10 +35,12 @@ def run_tmp() -> Iterator[Path]:
         shutil.rmtree(path, ignore_errors=True)
 
 
-def _start(out: Path, tmp: Path, command: str = "run") -> subprocess.Popen:
+def _start(out: Path, command: str = "run", tmp: Path | None = None) -> subprocess.Popen:
     # paced (--speed 2): after the progress line at 5.5 s the run has more than 5 s of wall time
     # left, however slow the machine, and a progress line at every update
-    env = dict(os.environ, MOBIGRASP_PROGRESS_INTERVAL_S="0", TMPDIR=str(tmp))
+    env = dict(os.environ, MOBIGRASP_PROGRESS_INTERVAL_S="0")
+    if tmp is not None:  # its own temporary folder (run_tmp)
+        env["TMPDIR"] = str(tmp)
     # sim: its clock runs at once, no host waited for (stdin here is not a terminal)
     extra = ["--no-wait-host"] if command == "sim" else []
     return subprocess.Popen([sys.executable, "-m", "mobigrasp", command, "paper000-exp1",
@@ -48,9 +50,10 @@ def _start(out: Path, tmp: Path, command: str = "run") -> subprocess.Popen:
 
 
 @contextmanager
-def running(out: Path, tmp: Path, command: str = "run") -> Iterator[subprocess.Popen]:
+def running(out: Path, command: str = "run", tmp: Path | None = None
+            ) -> Iterator[subprocess.Popen]:
     """:func:`_start`, the process killed at the end whatever happened."""
-    proc = _start(out, tmp, command)
+    proc = _start(out, command, tmp)
     try:
         yield proc
     finally:
@@ -91,7 +94,7 @@ def _leftovers_of(pid: int, tmp: Path) -> list[str]:
 
 
 def test_sigterm_ends_a_run_like_ctrl_c(tmp_path, run_tmp):
-    proc = _start(tmp_path / "run", run_tmp)
+    proc = _start(tmp_path / "run", tmp=run_tmp)
     try:
         _wait_for_sim_time(proc, 5.5)
         # while it runs: its frame ring and folders exist
@@ -112,7 +115,7 @@ def test_sigterm_ends_a_run_like_ctrl_c(tmp_path, run_tmp):
 def _killed_at_5_5_s(out: Path, tmp: Path, command: str) -> tuple[subprocess.Popen, float]:
     """``command`` SIGKILLed once past 5.5 s simulated; (its process, the time it reached),
     after checking what it left says so: a running summary, a trace torn at most at its end."""
-    with running(out, tmp, command) as proc:
+    with running(out, command, tmp) as proc:
         reached_s = _wait_for_sim_time(proc, 5.5)
         proc.send_signal(signal.SIGKILL)
         proc.wait(timeout=SAFETY_S)

@@ -6,7 +6,6 @@ import json
 import math
 import os
 import re
-import shutil
 import signal
 import subprocess
 import sys
@@ -28,11 +27,8 @@ def run_tmp() -> Iterator[Path]:
     """A temporary folder of the run's own (and so a ledger of its own: a run started by another
     test at the same time sweeps the leftovers of dead runs in the shared one), short enough for
     the lockstep socket's path."""
-    path = Path(tempfile.mkdtemp(prefix="mg-"))
-    try:
-        yield path
-    finally:
-        shutil.rmtree(path, ignore_errors=True)
+    with tempfile.TemporaryDirectory(prefix="mg-") as tmp:
+        yield Path(tmp)
 
 
 def _start(out: Path, command: str = "run", tmp: Path | None = None) -> subprocess.Popen:

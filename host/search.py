@@ -361,6 +361,17 @@ class ArmSearch:
             self._index += 1
         return self._command(0)
 
+    def rejoin(self, now_us: int, pose: tuple[int, int, int]) -> None:
+        """The caller drove the base off the pattern (to look at a sighting) and is back at
+        ``pose``: a ring's leg under way, or the turn before it, aims at its station again from
+        there; otherwise the pose in hand is held from ``now_us`` on."""
+        self._pose = (int(pose[0]), int(pose[1]), int(pose[2]))
+        if self.params.cover_mm and self._stations is not None \
+                and (self._wandering or self._corner):
+            self._start_leg(now_us, self._wpose)
+        else:
+            self._pose_start_us = int(now_us)
+
     def restart_dwell(self, now_us: int) -> None:
         """Hold the current pose from ``now_us`` on (after the caller paused the search)."""
         self._pose_start_us = int(now_us)

@@ -381,6 +381,17 @@ mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us, const int
     return pose_command(s, 0);
 }
 
+void mg_search_rejoin(mg_arm_search_t *s, int64_t now_us, const int32_t pose[3])
+{
+    s->pose[0] = pose[0], s->pose[1] = pose[1], s->pose[2] = pose[2];
+    if (s->p.cover_mm && s->has_stations && (s->wandering || s->corner)) {
+        const int32_t at[2] = {s->wpose[0], s->wpose[1]};
+        start_leg(s, now_us, at);
+    } else {
+        s->pose_start_us = now_us;
+    }
+}
+
 void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us)
 {
     s->pose_start_us = now_us;

@@ -81,6 +81,10 @@ int64_t mg_search_dwell_us(const mg_arm_search_t *s, const int32_t frm[2], const
  * heading_mrad) the rings' legs need (NULL: the last one given) */
 mg_search_command_t mg_search_step(mg_arm_search_t *s, int64_t now_us, const int32_t *pose);
 void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us);
+/* the caller drove the base off the pattern and is back at pose (x_mm, y_mm, heading_mrad): a
+ * ring's leg under way, or the turn before it, aims at its station again from there; else the
+ * pose in hand is held from now_us on (host/search.py ArmSearch.rejoin) */
+void mg_search_rejoin(mg_arm_search_t *s, int64_t now_us, const int32_t pose[3]);
 void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us);
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us);
 

@@ -58,6 +58,10 @@ typedef struct {
     int64_t lost_hold_us;      /* LOST: stand still this long before searching */
     int32_t max_lost;
     int32_t turn_wheel_mmps, wander_mmps, wander_clear_mm, sighting_match_mm;
+    /* SEARCH: an unconfirmed sighting farther than sighting_approach_mm + sighting_match_mm
+     * from the axle is driven to until sighting_approach_mm away and looked at (0: dropped),
+     * at most sighting_approaches a run (task_search.c) */
+    int32_t sighting_approach_mm, sighting_approaches;
     int32_t sonar_offset_mm, r_r_mm, sonar_a_g_mrad; /* the sonar ring and the safety circle */
     int32_t detour_mm, detour_clear_mm, max_detours; /* 001: drive aside this often at most */
     int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;
@@ -159,6 +163,10 @@ struct mg_task {
     int64_t confirm_until_us;
     int32_t has_confirm_failed, confirm_failed[6]; /* the pose a confirmation failed in */
     int32_t has_sighting, sighting_mm[2]; /* an unconfirmed sighting's place (keeps_sightings) */
+    /* the drive to a far sighting under way (far_phase: MG_FAR_NONE, _TURN, _DRIVE, _LOOK), its
+     * look's index or the distance it started from, since when the look holds; drives made */
+    int32_t far_phase, far_k, far_count;
+    int64_t far_since_us;
     int32_t lost;                          /* counters["lost"] */
     mg_detour_t guard_out; /* the drive out of R_r after a guard stop (sonar_guard.c) */
     /* the grasp states (task_grasp.c) */

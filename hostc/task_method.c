@@ -184,6 +184,8 @@ void mg_task_params_default(mg_task_params_t *p)
     p->wander_mmps = 200;
     p->wander_clear_mm = 500;
     p->sighting_match_mm = 200;
+    p->sighting_approach_mm = 0;
+    p->sighting_approaches = 2;
     p->sonar_offset_mm = 170;
     p->r_r_mm = 200;
     p->sonar_a_g_mrad = 1050;

@@ -5,8 +5,19 @@
 
 #include "fixedpoint.h"
 #include "json.h"
+#include "task_approach.h"
 #include "task_drive.h"
 #include "task_method.h"
+#include "task_sense.h"
+#include "trig.h"
+
+/* the drive to a far sighting (search.py far_step): none, the turn toward it, the drive, the
+ * look; the look's waist offsets and frames a pose (search.py FAR_LOOK_OFFSETS_MRAD,
+ * FAR_LOOK_FRAMES) */
+enum { MG_FAR_NONE, MG_FAR_TURN, MG_FAR_DRIVE, MG_FAR_LOOK };
+static const int32_t FAR_LOOK_OFFSETS_MRAD[] = {0, 350, -350};
+#define FAR_LOOKS ((int32_t)(sizeof FAR_LOOK_OFFSETS_MRAD / sizeof FAR_LOOK_OFFSETS_MRAD[0]))
+#define FAR_LOOK_FRAMES 2
 
 void mg_task_enter_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
@@ -35,6 +46,7 @@ void mg_task_enter_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *
     mg_search_init(&t->search, &sp, th2s, th5s, now_us);
     t->has_turn_from = 0;
     t->has_wander_from = 0;
+    t->far_phase = MG_FAR_NONE;
     t->gripper = 0;
     if (t->p.has_object_xy && !t->has_obj && t->lost == 0) {
         /* 001 section II: the object position P_i is given; plan toward it, vision refines it */
@@ -75,6 +87,104 @@ static void note_bool(mg_task_t *t, const char *key, int v)
     mg_task_note(t, key, v ? "true" : "false");
 }
 
+/* a front sonar (the middle three) sees something within wander_clear_mm */
+static int front_blocked(const mg_task_t *t, const mg_task_inputs_t *in)
+{
+    const int32_t n = in->n_sonar < MG_TASK_SONARS ? in->n_sonar : MG_TASK_SONARS;
+    int blocked = 0; /* the sonars at the front: n / 2 - 1 .. n / 2 + 1 */
+    for (int32_t i = n / 2 - 1 > 0 ? n / 2 - 1 : 0; i < n / 2 + 2 && i < n; i++)
+        blocked |= in->sonar_mm[i] > 0 && in->sonar_mm[i] < t->p.wander_clear_mm;
+    return blocked;
+}
+
+/* the unconfirmed sighting from the base: out[0] its waist bearing (right positive), out[1]
+ * its bearing from the axle, out[2] its distance from the axle in mm */
+static void sighting_platform(const mg_task_t *t, const mg_task_inputs_t *in, int32_t out[3])
+{
+    int32_t xy[2];
+    mg_odom_to_platform_q4(in->x_mm, in->y_mm, in->heading_mrad, t->p.mount_forward_mm,
+                           t->sighting_mm[0], t->sighting_mm[1], xy);
+    const int64_t x = xy[0], axle_y = (int64_t)xy[1] + (int64_t)t->p.mount_forward_mm * 16;
+    out[0] = mg_atan2_mrad(x, xy[1]);
+    out[1] = mg_atan2_mrad(x, axle_y);
+    out[2] = (int32_t)(mg_isqrt(x * x + axle_y * axle_y) / 16);
+}
+
+/* a sighting not seen again at rest, farther than sighting_approach_mm + sighting_match_mm
+ * from the axle: drive near it before dropping it (far_step); at most sighting_approaches a
+ * run; 1 if the drive starts (search.py far_sighting) */
+static int far_sighting(mg_task_t *t, const mg_task_inputs_t *in)
+{
+    if (!t->p.sighting_approach_mm || !t->has_sighting
+        || t->far_count >= t->p.sighting_approaches)
+        return 0;
+    int32_t sp[3];
+    sighting_platform(t, in, sp);
+    if (sp[2] <= t->p.sighting_approach_mm + t->p.sighting_match_mm)
+        return 0;
+    t->far_count++;
+    t->far_phase = MG_FAR_TURN;
+    t->far_k = 0, t->far_since_us = 0;
+    static const char *const names[] = {"bearing_mrad", "dist_mm", "n", "x_mm", "y_mm"};
+    const int64_t values[] = {sp[1], sp[2], t->far_count, t->sighting_mm[0], t->sighting_mm[1]};
+    mg_task_note_ints(t, "far_sighting", 5, names, values);
+    return 1;
+}
+
+/* one step of the drive to a far sighting, 1 while under way: turn toward it, drive straight
+ * until sighting_approach_mm from it (a front sonar within wander_clear_mm stops it), then
+ * the look: the waist at its bearing and FAR_LOOK_OFFSETS_MRAD beside it, FAR_LOOK_FRAMES
+ * settled frames each (search.py far_step) */
+static int far_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    const mg_search_params_t *sp = &t->search.p;
+    int32_t sg[3];
+    sighting_platform(t, in, sg);
+    const int32_t off = t->far_phase == MG_FAR_LOOK ? FAR_LOOK_OFFSETS_MRAD[t->far_k] : 0;
+    int32_t waist = sg[0] + off;
+    waist = waist > sp->wander_theta5_mrad ? sp->wander_theta5_mrad
+          : waist < -sp->wander_theta5_mrad ? -sp->wander_theta5_mrad : waist;
+    mg_task_set_arm(t, now_us, sp->coarse_theta2_mrad[0], sp->theta3_mrad, sp->theta4_mrad,
+                    waist, 1, 0);
+    if (t->far_phase == MG_FAR_TURN) {
+        if ((sg[1] < 0 ? -sg[1] : sg[1]) > t->p.bearing_tol_mrad) {
+            mg_task_turn_in_place(sg[1] > 0 ? -1 : 1, t->p.turn_wheel_mmps, t->wheels);
+            return 1;
+        }
+        t->far_phase = MG_FAR_DRIVE;
+        t->far_k = sg[2]; /* the distance the drive starts from */
+    }
+    if (t->far_phase == MG_FAR_DRIVE) {
+        if (sg[2] > t->p.sighting_approach_mm && !front_blocked(t, in) && sg[2] <= t->far_k) {
+            t->wheels[0] = t->wheels[1] = t->p.wander_mmps;
+            return 1;
+        }
+        mg_task_note_int(t, "far_stop_mm", sg[2]);
+        t->wheels[0] = t->wheels[1] = 0;
+        t->far_phase = MG_FAR_LOOK;
+        t->far_k = 0, t->far_since_us = now_us;
+        return 1;
+    }
+    t->wheels[0] = t->wheels[1] = 0; /* a look: frames from far_since_us on, servos settled */
+    const int64_t from = t->move_done_us > t->far_since_us ? t->move_done_us : t->far_since_us;
+    if (now_us < from + t->p.frame_latency_us + FAR_LOOK_FRAMES * sp->frame_period_us)
+        return 1;
+    if (t->far_k + 1 < FAR_LOOKS) {
+        t->far_k++, t->far_since_us = now_us;
+        return 1;
+    }
+    return 0;
+}
+
+/* back to the search's pattern after a drive off it */
+static void rejoin(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
+{
+    const int32_t pose[3] = {in->x_mm, in->y_mm, in->heading_mrad};
+    mg_search_rejoin(&t->search, now_us, pose);
+    t->has_wander_from = t->has_turn_from = 0;
+    t->wheels[0] = t->wheels[1] = 0;
+}
+
 /* Drive the search's wander straight ahead on odometry (000 section II "wanders in the
  * environment"); stop short when a front sonar sees something within wander_clear_mm. */
 static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
@@ -88,10 +198,7 @@ static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     }
     const int64_t dx = (int64_t)in->x_mm - t->wander_from_mm[0];
     const int64_t dy = (int64_t)in->y_mm - t->wander_from_mm[1];
-    const int32_t n = in->n_sonar < MG_TASK_SONARS ? in->n_sonar : MG_TASK_SONARS;
-    int blocked = 0; /* the sonars at the front: n / 2 - 1 .. n / 2 + 1 */
-    for (int32_t i = n / 2 - 1 > 0 ? n / 2 - 1 : 0; i < n / 2 + 2 && i < n; i++)
-        blocked |= in->sonar_mm[i] > 0 && in->sonar_mm[i] < t->p.wander_clear_mm;
+    const int blocked = front_blocked(t, in);
     if (dx * dx + dy * dy >= (int64_t)cmd->drive_mm * cmd->drive_mm || blocked) {
         mg_task_note_int(t, "wander_done_mm", mg_isqrt(dx * dx + dy * dy));
         note_bool(t, "wander_blocked", blocked);
@@ -130,6 +237,10 @@ void mg_task_do_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         t->has_sighting = r->keeps_sightings && t->has_obj;
         t->sighting_mm[0] = t->obj_mm[0], t->sighting_mm[1] = t->obj_mm[1];
         mg_search_restart_dwell(&t->search, now_us);
+        const int was_far = t->far_phase != MG_FAR_NONE;
+        t->far_phase = MG_FAR_NONE;
+        if (!far_sighting(t, in) && was_far)
+            rejoin(t, now_us, in);
     } else if (has && r->found(t, now_us, in, seen.bytes)) {
         /* seen at a dwell, on a wander leg or while the base turns: stop and confirm */
         t->wheels[0] = t->wheels[1] = 0;
@@ -152,6 +263,12 @@ void mg_task_do_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         mg_json_terminate(&j);
         mg_task_note(t, "search_seen", text);
         return;
+    }
+    if (t->far_phase != MG_FAR_NONE) {
+        if (far_step(t, now_us, in))
+            return;
+        t->far_phase = MG_FAR_NONE;
+        rejoin(t, now_us, in);
     }
     const int32_t pose[3] = {in->x_mm, in->y_mm, in->heading_mrad};
     const mg_search_command_t cmd = mg_search_step(&t->search, now_us, pose);

@@ -178,6 +178,8 @@ class Task:
         self.confirm_until = None
         self.confirm_failed = None
         self.sighting = None  # odometry place of the last unconfirmed sighting (000/001)
+        self.far = None  # SEARCH: the drive to a far sighting under way (search.py far_step)
+        self.far_count = 0  # ... drives to far sightings made in the run
         self.guard_out = None  # 000, 002: the drive out of R_r after a guard stop (sonar_guard.py)
         self.sight_frames = 0  # ROUGH_GRASP: dual "+" sightings of its look (grasp.py)
         self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)

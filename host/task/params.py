@@ -50,6 +50,11 @@ class TaskParams:
     wander_mmps: int = 200  # SEARCH wander speed (host.search); the planners' v_max is 250
     wander_clear_mm: int = 500  # a wander stops when a front sonar sees something this close
     sighting_match_mm: int = 200  # SEARCH: an unconfirmed sighting seen again this close is it
+    # SEARCH: an unconfirmed sighting farther than sighting_approach_mm + sighting_match_mm from
+    # the axle is driven to until sighting_approach_mm away, then looked at (search.py
+    # ``far_sighting``); 0: dropped. At most sighting_approaches a run
+    sighting_approach_mm: int = 0
+    sighting_approaches: int = 2
     replan_period_us: int = 300_000  # 001: sonar check of the rest of the path (replan.py)
     sonar_sweep_us: int = 200_000  # 001: first plan after one sweep of the 5 sonars (5 x 30 ms)
     sonar_offset_mm: int = 170  # the sonars on the 0.17 m footprint circle (mcu_sim/world/sonar)

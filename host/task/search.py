@@ -12,9 +12,16 @@ when it is seen again at the same place. LOST stops the platform and searches ag
 
 from __future__ import annotations
 
-from mobigrasp.host.fixedpoint import isqrt
+from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.search import ArmSearch, SearchParams
 from mobigrasp.host.task.drive import turn_in_place, wrap_mrad
+from mobigrasp.host.task.sense import odom_to_platform_q4
+
+# the look at a far sighting once driven near it: the waist at its bearing, then this far to
+# either side (the estimate of a frame at the range's edge is off by up to ~0.3 m), each pose
+# held for FAR_LOOK_FRAMES frames once settled (docs/task.md "000: a far sighting ...")
+FAR_LOOK_OFFSETS_MRAD = (0, 350, -350)
+FAR_LOOK_FRAMES = 2
 
 
 class SearchStates:
@@ -32,6 +39,7 @@ class SearchStates:
         t.search = ArmSearch(sp, th2s, th5s, now)
         t.turn_from = None
         t.wander_from = None
+        t.far = None
         t.gripper = 0
         if t.p.object_xy_mm and t.obj is None and t.counters["lost"] == 0:
             # 001 §II: the object position P_i is given; plan toward it, vision refines it
@@ -57,6 +65,9 @@ class SearchStates:
             t.confirm_failed = tuple(t.arm)
             t.sighting = t.obj if t.rules.keeps_sightings else None
             t.search.restart_dwell(now)
+            was_far, t.far = t.far is not None, None
+            if not self.far_sighting(t, inp) and was_far:
+                self.rejoin(t, now, inp)
         elif det is not None and t.rules.found(t, now, inp, name, det):
             # seen at a dwell, on a wander leg or while the base turns: stop and confirm
             t.wheels = (0, 0)
@@ -70,6 +81,11 @@ class SearchStates:
             t.confirm_until = t.move_done_us + t.p.confirm_us
             t.note(search_seen=t.rules.found_why(t))
             return
+        if t.far is not None:
+            if self.far_step(t, now, inp):
+                return
+            t.far = None
+            self.rejoin(t, now, inp)
         cmd = t.search.step(now, (inp.x_mm, inp.y_mm, inp.heading_mrad))
         why = t.rules.search_gives_up(t)
         if why:
@@ -114,6 +130,84 @@ class SearchStates:
         dx, dy = t.obj[0] - t.sighting[0], t.obj[1] - t.sighting[1]
         return dx * dx + dy * dy <= t.p.sighting_match_mm * t.p.sighting_match_mm
 
+    # --- a far sighting: drive near it and look -------------------------------------------------
+    @staticmethod
+    def _sighting_platform(t, inp) -> tuple[int, int, int]:
+        """The unconfirmed sighting from the base: (waist bearing mrad, right positive; bearing
+        from the axle; distance from the axle mm)."""
+        x, y = odom_to_platform_q4(inp.x_mm, inp.y_mm, inp.heading_mrad, t.p.mount_forward_mm,
+                                   t.sighting[0], t.sighting[1])
+        axle_y = y + t.p.mount_forward_mm * 16
+        return atan2_mrad(x, y), atan2_mrad(x, axle_y), isqrt(x * x + axle_y * axle_y) // 16
+
+    def far_sighting(self, t, inp) -> bool:
+        """A sighting not seen again at rest, farther than ``sighting_approach_mm`` +
+        ``sighting_match_mm`` from the axle (near the edge of the symbol's range, where single
+        frames come and go): drive near it before dropping it (:meth:`far_step`). At most
+        ``sighting_approaches`` a run. The sighting alone is not the object: what it finds is
+        confirmed as any sighting is. True if the drive starts."""
+        if not t.p.sighting_approach_mm or t.sighting is None \
+                or t.far_count >= t.p.sighting_approaches:
+            return False
+        _, bearing, dist = self._sighting_platform(t, inp)
+        if dist <= t.p.sighting_approach_mm + t.p.sighting_match_mm:
+            return False
+        t.far_count += 1
+        t.far = ("turn", 0, 0)
+        t.note(far_sighting={"bearing_mrad": bearing, "dist_mm": dist, "n": t.far_count,
+                             "x_mm": t.sighting[0], "y_mm": t.sighting[1]})
+        return True
+
+    def far_step(self, t, now: int, inp) -> bool:
+        """One step of the drive to a far sighting (True while under way): turn on the spot
+        toward it, drive straight at ``wander_mmps`` until ``sighting_approach_mm`` from it
+        (stopped short, as a wander leg, when a front sonar sees something within
+        ``wander_clear_mm``), then look at it from there: the waist at its bearing and
+        FAR_LOOK_OFFSETS_MRAD beside it, each held for FAR_LOOK_FRAMES settled frames. The
+        camera looks toward it throughout; a sighting on the way is confirmed as any."""
+        phase, k, since = t.far
+        waist, bearing, dist = self._sighting_platform(t, inp)
+        sp = t.search.params
+        off = FAR_LOOK_OFFSETS_MRAD[k] if phase == "look" else 0
+        t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
+                  max(-sp.wander_theta5_mrad, min(sp.wander_theta5_mrad, waist + off)), 0)
+        if phase == "turn":
+            if abs(bearing) > t.p.bearing_tol_mrad:
+                t.wheels = turn_in_place(-1 if bearing > 0 else 1, t.p.turn_wheel_mmps)
+                return True
+            phase = "drive"
+            t.far = (phase, 0, dist)
+        if phase == "drive":
+            if dist > t.p.sighting_approach_mm and not self.front_blocked(t, inp) \
+                    and dist <= t.far[2]:
+                t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
+                return True
+            t.note(far_stop_mm=dist)
+            t.wheels = (0, 0)
+            t.far = ("look", 0, now)
+            return True
+        t.wheels = (0, 0)  # a look: frames taken from ``since`` on, the servos settled
+        if now < max(t.move_done_us, since) + t.p.frame_latency_us \
+                + FAR_LOOK_FRAMES * sp.frame_period_us:
+            return True
+        if k + 1 < len(FAR_LOOK_OFFSETS_MRAD):
+            t.far = ("look", k + 1, now)
+            return True
+        return False
+
+    def rejoin(self, t, now: int, inp) -> None:
+        """Back to the search's pattern after a drive off it (:meth:`far_step`)."""
+        t.search.rejoin(now, (inp.x_mm, inp.y_mm, inp.heading_mrad))
+        t.wander_from = t.turn_from = None
+        t.wheels = (0, 0)
+
+    @staticmethod
+    def front_blocked(t, inp) -> bool:
+        """A front sonar (the middle three) sees something within ``wander_clear_mm``."""
+        n = len(inp.sonar_mm)
+        front = [int(v) for v in inp.sonar_mm[max(0, n // 2 - 1):n // 2 + 2]] if n else []
+        return any(0 < v < t.p.wander_clear_mm for v in front)
+
     def wander_step(self, t, now: int, inp, cmd) -> None:
         """Drive the search's wander straight ahead on odometry (000 §II "wanders in the
         environment"); stop short when a front sonar sees something within wander_clear_mm."""
@@ -121,9 +215,7 @@ class SearchStates:
             t.wander_from = (inp.x_mm, inp.y_mm)
             t.note(wander_mm=cmd.drive_mm, search_cycle=cmd.cycle)
         dx, dy = inp.x_mm - t.wander_from[0], inp.y_mm - t.wander_from[1]
-        n = len(inp.sonar_mm)
-        front = [int(v) for v in inp.sonar_mm[max(0, n // 2 - 1):n // 2 + 2]] if n else []
-        blocked = any(0 < v < t.p.wander_clear_mm for v in front)
+        blocked = self.front_blocked(t, inp)
         if dx * dx + dy * dy >= cmd.drive_mm * cmd.drive_mm or blocked:
             t.note(wander_done_mm=isqrt(dx * dx + dy * dy), wander_blocked=blocked)
             t.search.wander_done(now)

@@ -131,22 +131,30 @@ static int far_sighting(mg_task_t *t, const mg_task_inputs_t *in)
     return 1;
 }
 
+/* the search's far level, the waist at the sighting's bearing and off_mrad */
+static void far_arm(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, int32_t off_mrad)
+{
+    const mg_search_params_t *sp = &t->search.p;
+    int32_t sg[3];
+    sighting_platform(t, in, sg);
+    int32_t waist = sg[0] + off_mrad;
+    waist = waist > sp->wander_theta5_mrad ? sp->wander_theta5_mrad
+          : waist < -sp->wander_theta5_mrad ? -sp->wander_theta5_mrad : waist;
+    mg_task_set_arm(t, now_us, sp->coarse_theta2_mrad[0], sp->theta3_mrad, sp->theta4_mrad,
+                    waist, 1, 0);
+}
+
 /* one step of the drive to a far sighting, 1 while under way: turn toward it, drive straight
  * until sighting_approach_mm from it (a front sonar within wander_clear_mm stops it), then
  * the look: the waist at its bearing and FAR_LOOK_OFFSETS_MRAD beside it, FAR_LOOK_FRAMES
  * settled frames each (search.py far_step) */
 static int far_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
-    const mg_search_params_t *sp = &t->search.p;
     int32_t sg[3];
-    sighting_platform(t, in, sg);
-    const int32_t off = t->far_phase == MG_FAR_LOOK ? FAR_LOOK_OFFSETS_MRAD[t->far_k] : 0;
-    int32_t waist = sg[0] + off;
-    waist = waist > sp->wander_theta5_mrad ? sp->wander_theta5_mrad
-          : waist < -sp->wander_theta5_mrad ? -sp->wander_theta5_mrad : waist;
-    mg_task_set_arm(t, now_us, sp->coarse_theta2_mrad[0], sp->theta3_mrad, sp->theta4_mrad,
-                    waist, 1, 0);
+    if (t->far_phase != MG_FAR_LOOK) /* the camera follows the sighting's bearing */
+        far_arm(t, now_us, in, 0);
     if (t->far_phase == MG_FAR_TURN) {
+        sighting_platform(t, in, sg);
         if ((sg[1] < 0 ? -sg[1] : sg[1]) > t->p.bearing_tol_mrad) {
             mg_task_turn_in_place(sg[1] > 0 ? -1 : 1, t->p.turn_wheel_mmps, t->wheels);
             return 1;
@@ -155,6 +163,7 @@ static int far_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         t->far_k = sg[2]; /* the distance the drive starts from */
     }
     if (t->far_phase == MG_FAR_DRIVE) {
+        sighting_platform(t, in, sg);
         if (sg[2] > t->p.sighting_approach_mm && !front_blocked(t, in) && sg[2] <= t->far_k) {
             t->wheels[0] = t->wheels[1] = t->p.wander_mmps;
             return 1;
@@ -167,10 +176,11 @@ static int far_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
     }
     t->wheels[0] = t->wheels[1] = 0; /* a look: frames from far_since_us on, servos settled */
     const int64_t from = t->move_done_us > t->far_since_us ? t->move_done_us : t->far_since_us;
-    if (now_us < from + t->p.frame_latency_us + FAR_LOOK_FRAMES * sp->frame_period_us)
+    if (now_us < from + t->p.frame_latency_us + FAR_LOOK_FRAMES * t->search.p.frame_period_us)
         return 1;
     if (t->far_k + 1 < FAR_LOOKS) {
         t->far_k++, t->far_since_us = now_us;
+        far_arm(t, now_us, in, FAR_LOOK_OFFSETS_MRAD[t->far_k]);
         return 1;
     }
     return 0;

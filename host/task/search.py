@@ -166,18 +166,17 @@ class SearchStates:
         FAR_LOOK_OFFSETS_MRAD beside it, each held for FAR_LOOK_FRAMES settled frames. The
         camera looks toward it throughout; a sighting on the way is confirmed as any."""
         phase, k, since = t.far
-        waist, bearing, dist = self._sighting_platform(t, inp)
-        sp = t.search.params
-        off = FAR_LOOK_OFFSETS_MRAD[k] if phase == "look" else 0
-        t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
-                  max(-sp.wander_theta5_mrad, min(sp.wander_theta5_mrad, waist + off)), 0)
+        if phase != "look":  # the camera follows the sighting's bearing
+            self._far_arm(t, now, inp, 0)
         if phase == "turn":
+            _, bearing, dist = self._sighting_platform(t, inp)
             if abs(bearing) > t.p.bearing_tol_mrad:
                 t.wheels = turn_in_place(-1 if bearing > 0 else 1, t.p.turn_wheel_mmps)
                 return True
             phase = "drive"
             t.far = (phase, 0, dist)
         if phase == "drive":
+            dist = self._sighting_platform(t, inp)[2]
             if dist > t.p.sighting_approach_mm and not self.front_blocked(t, inp) \
                     and dist <= t.far[2]:
                 t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
@@ -188,12 +187,20 @@ class SearchStates:
             return True
         t.wheels = (0, 0)  # a look: frames taken from ``since`` on, the servos settled
         if now < max(t.move_done_us, since) + t.p.frame_latency_us \
-                + FAR_LOOK_FRAMES * sp.frame_period_us:
+                + FAR_LOOK_FRAMES * t.search.params.frame_period_us:
             return True
         if k + 1 < len(FAR_LOOK_OFFSETS_MRAD):
             t.far = ("look", k + 1, now)
+            self._far_arm(t, now, inp, FAR_LOOK_OFFSETS_MRAD[k + 1])
             return True
         return False
+
+    def _far_arm(self, t, now: int, inp, off_mrad: int) -> None:
+        """The search's far level, the waist at the sighting's bearing and ``off_mrad``."""
+        sp = t.search.params
+        waist = self._sighting_platform(t, inp)[0] + off_mrad
+        t.set_arm(now, sp.coarse_theta2_mrad[0], sp.theta3_mrad, sp.theta4_mrad,
+                  max(-sp.wander_theta5_mrad, min(sp.wander_theta5_mrad, waist)), 0)
 
     def rejoin(self, t, now: int, inp) -> None:
         """Back to the search's pattern after a drive off it (:meth:`far_step`)."""

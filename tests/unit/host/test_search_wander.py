@@ -411,3 +411,93 @@ def test_the_last_ring_sweeps_outward_and_its_inner_side_meets_the_first_ring_s_
     first, last = sides[0], sides[-1]
     assert first < P000.outward_from_mm <= last - 300  # the first ring sweeps both sides
     assert first + 850 >= last - 500
+
+
+def _drive(pose: tuple[int, int, int], wheels: tuple[int, int], dt_us: int) -> tuple:
+    """The base's odometry after ``dt_us`` at ``wheels`` (mm/s; a 300 mm track)."""
+    v, w = (wheels[0] + wheels[1]) / 2, (wheels[1] - wheels[0]) / 300
+    h = pose[2] / 1000 + w * dt_us / 1e6
+    return (round(pose[0] + v * math.cos(h) * dt_us / 1e6),
+            round(pose[1] + v * math.sin(h) * dt_us / 1e6), round(h * 1000))
+
+
+def far_sighting_run(task: Task, depth_mm: int, again_within_mm: int = 0,
+                     until_us: int = 30_000_000) -> list:
+    """000's SEARCH from the start with one frame at 2 s showing the radial symbol
+    ``depth_mm`` off along the camera's axis; later frames show it again only while the
+    camera's axle is within ``again_within_mm`` of the first estimate (0: never). The steps'
+    (t_us, pose, outputs, the drive to a far sighting, the arm's targets), until APPROACH or
+    ``until_us``."""
+    import detections as det
+
+    pose, wheels, first, out = (0, 0, 0), (0, 0), None, []
+    for now in range(0, until_us, 20_000):
+        dets = {}
+        if now == 2_000_000 or (first is not None and again_within_mm and math.dist(
+                pose[:2], first) <= again_within_mm):
+            dets = {"radial_symbol": det.radial(160 * 16, 120 * 16, depth_mm)}
+        res = task.step(now, TaskInputs(x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2],
+                                        detections=dets))
+        if first is None and task.obj is not None:
+            first = task.obj
+        out.append((now, pose, res, task.far, tuple(task.arm)))
+        if res.state != "SEARCH":
+            break
+        wheels = res.wheels_mmps or wheels
+        pose = _drive(pose, wheels, 20_000)
+    return out
+
+
+def _notes(steps: list, key: str) -> list:
+    return [(now, pose, res.detail[key]) for now, pose, res, *_ in steps if key in res.detail]
+
+
+def test_a_far_sighting_not_seen_again_is_driven_to_and_looked_at_then_the_search_goes_on():
+    """000: a sighting 1.3 m off that the held pose does not read again is not dropped: the
+    base turns toward it, drives until sighting_approach_mm from it, the waist looks at it and
+    to either side, then the search resumes; nothing is claimed on the one frame."""
+    task = Task("000")
+    p = task.p
+    steps = far_sighting_run(task, 1300)
+    (t_far, _, far), = _notes(steps, "far_sighting")
+    est = (far["x_mm"], far["y_mm"])
+    assert far["dist_mm"] > p.sighting_approach_mm + p.sighting_match_mm and far["n"] == 1
+    assert all(res.state == "SEARCH" for _, _, res, *_ in steps)  # one frame is no success
+    (t_stop, pose, stop_mm), = _notes(steps, "far_stop_mm")
+    # stopped within a step's drive of sighting_approach_mm, the estimate ahead
+    assert p.sighting_approach_mm - 20 <= stop_mm <= p.sighting_approach_mm
+    assert abs(math.dist(pose[:2], est) - stop_mm) <= 20
+    # the look from there: three waist poses, the base standing, each held for its frames
+    look = [(now, arm[5]) for now, _, _, far, arm in steps if far and far[0] == "look"]
+    looks = list(dict.fromkeys(w for _, w in look))
+    assert len(looks) == 3 and looks[1] - looks[0] == 350 and looks[2] - looks[0] == -350
+    assert look[0][0] == t_stop and look[-1][0] - look[0][0] >= 3 * 2 * 66_667
+    assert {res.wheels_mmps for now, _, res, *_ in steps if look[0][0] <= now <= look[-1][0]} \
+        <= {(0, 0), None}
+    assert t_far < t_stop and any(far and far[0] == "drive" for *_, far, _ in steps)
+    # then the pattern again: no second drive to the same sighting
+    assert task.far is None and task.far_count == 1 and len(_notes(steps, "far_sighting")) == 1
+
+
+def test_a_far_sighting_seen_again_near_it_is_confirmed():
+    """The drive toward a far sighting reads the symbol again nearer: it is approached."""
+    task = Task("000")
+    steps = far_sighting_run(task, 1300, again_within_mm=900)
+    assert steps[-1][2].state == "APPROACH"
+    ev = [e for _, _, res, *_ in steps for e in res.events if e.to_state == "APPROACH"]
+    assert "(confirmed)" in ev[0].why or "(seen twice at that place)" in ev[0].why
+
+
+def test_a_sighting_near_at_hand_is_dropped_as_before_and_001_002_never_drive_to_one():
+    """A sighting within sighting_approach_mm + sighting_match_mm of the axle is not driven
+    to (the look at rest was the nearer look); the other methods keep dropping them."""
+    task = Task("000")
+    steps = far_sighting_run(task, 700, until_us=6_000_000)
+    assert _notes(steps, "search_seen") and not _notes(steps, "far_sighting")
+    assert TaskParams.for_method("001").sighting_approach_mm == 0
+    assert TaskParams.for_method("002").sighting_approach_mm == 0
+
+
+def test_far_sightings_are_driven_to_at_most_sighting_approaches_times():
+    task = Task("000", {"sighting_approaches": 0})
+    assert not _notes(far_sighting_run(task, 1300, until_us=6_000_000), "far_sighting")

@@ -942,3 +942,46 @@ def test_no_back_off_away_from_the_start():
     res = _step_both(py, c, 20_000, TaskInputs(x_mm=30, y_mm=-40, detections=cut), out,
                      _frame000)
     assert "back_off" not in res.detail and py.ms.back_offs == 0
+
+
+@pytest.mark.parametrize("depth_mm, again_mm, blocked_from_us", [
+    (1300, 0, None), (1300, 900, None), (1500, 0, 3_400_000), (700, 0, None)])
+def test_the_drive_to_a_far_sighting(depth_mm, again_mm, blocked_from_us):
+    """SEARCH's drive to a far sighting not read again at rest (search.py far_step), step by
+    step on both tasks with a base that follows the wheels: the turn, the drive (stopped by a
+    front sonar from ``blocked_from_us``), the look, the search again; or the sighting seen
+    again on the way and approached; a near one dropped as before."""
+    py = Task("000")
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
+    c = FFI.addressof(paper, "task")
+    out = FFI.new("mg_task_outputs_t *")
+    x = y = h = 0.0
+    wheels, first, phases = (0, 0), None, set()
+    for now in range(0, 16_000_000, 20_000):
+        dets = {}
+        if now == 2_000_000 or (first and again_mm and math.dist((x, y), first) <= again_mm):
+            dets = {"radial_symbol": _radial(160 * 16, 120 * 16, depth_mm)}
+        sonar = (65535, 65535, 300, 65535, 65535) if blocked_from_us is not None \
+            and now >= blocked_from_us else (65535,) * 5
+        inp = TaskInputs(x_mm=round(x), y_mm=round(y), heading_mrad=round(h * 1000),
+                         sonar_mm=sonar, detections=dets)
+        res = _step_both(py, c, now, inp, out, _frame000)
+        assert c.far_phase == (["turn", "drive", "look"].index(py.far[0]) + 1 if py.far else 0)
+        assert c.far_count == py.far_count
+        phases.add(py.far[0] if py.far else None)
+        first = first or py.obj
+        if res.state != "SEARCH":
+            break
+        wheels = res.wheels_mmps or wheels
+        v, w = (wheels[0] + wheels[1]) / 2, (wheels[1] - wheels[0]) / 300
+        h += w * 0.02
+        x, y = x + v * math.cos(h) * 0.02, y + v * math.sin(h) * 0.02
+    if depth_mm < 1000:
+        assert phases == {None} and py.state == "SEARCH"
+    elif again_mm:
+        assert py.state == "APPROACH"
+    else:
+        assert phases == {None, "turn", "drive", "look"} and py.state == "SEARCH"

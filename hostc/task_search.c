@@ -15,7 +15,7 @@
  * look; the look's waist offsets and frames a pose (search.py FAR_LOOK_OFFSETS_MRAD,
  * FAR_LOOK_FRAMES) */
 enum { MG_FAR_NONE, MG_FAR_TURN, MG_FAR_DRIVE, MG_FAR_LOOK };
-static const int32_t FAR_LOOK_OFFSETS_MRAD[] = {0, 350, -350};
+static const int32_t FAR_LOOK_OFFSETS_MRAD[] = {0, 350, -350, 700, -700};
 #define FAR_LOOKS ((int32_t)(sizeof FAR_LOOK_OFFSETS_MRAD / sizeof FAR_LOOK_OFFSETS_MRAD[0]))
 #define FAR_LOOK_FRAMES 2
 

@@ -18,9 +18,10 @@ from mobigrasp.host.task.drive import turn_in_place, wrap_mrad
 from mobigrasp.host.task.sense import odom_to_platform_q4
 
 # the look at a far sighting once driven near it: the waist at its bearing, then this far to
-# either side (the estimate of a frame at the range's edge is off by up to ~0.3 m), each pose
-# held for FAR_LOOK_FRAMES frames once settled (docs/task.md "000: a far sighting ...")
-FAR_LOOK_OFFSETS_MRAD = (0, 350, -350)
+# either side (a frame taken while the waist swept puts the estimate up to ~0.5 rad off the
+# symbol's bearing), each pose held for FAR_LOOK_FRAMES frames once settled (docs/task.md
+# "000: a far sighting driven to")
+FAR_LOOK_OFFSETS_MRAD = (0, 350, -350, 700, -700)
 FAR_LOOK_FRAMES = 2
 
 

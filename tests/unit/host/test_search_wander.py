@@ -467,11 +467,11 @@ def test_a_far_sighting_not_seen_again_is_driven_to_and_looked_at_then_the_searc
     # stopped within a step's drive of sighting_approach_mm, the estimate ahead
     assert p.sighting_approach_mm - 20 <= stop_mm <= p.sighting_approach_mm
     assert abs(math.dist(pose[:2], est) - stop_mm) <= 20
-    # the look from there: three waist poses, the base standing, each held for its frames
+    # the look from there: five waist poses, the base standing, each held for its frames
     look = [(now, arm[5]) for now, _, _, far, arm in steps if far and far[0] == "look"]
     looks = list(dict.fromkeys(w for _, w in look))
-    assert len(looks) == 3 and looks[1] - looks[0] == 350 and looks[2] - looks[0] == -350
-    assert look[0][0] == t_stop and look[-1][0] - look[0][0] >= 3 * 2 * 66_667
+    assert [w - looks[0] for w in looks] == [0, 350, -350, 700, -700]
+    assert look[0][0] == t_stop and look[-1][0] - look[0][0] >= 5 * 2 * 66_667
     assert {res.wheels_mmps for now, _, res, *_ in steps if look[0][0] <= now <= look[-1][0]} \
         <= {(0, 0), None}
     assert t_far < t_stop and any(far and far[0] == "drive" for *_, far, _ in steps)

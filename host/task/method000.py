@@ -54,9 +54,10 @@ BACK_OFFS_000 = 1
 WANDER_000_MMPS = 350
 WANDER_D_THETA5_000_MRAD = 350
 OUTWARD_FROM_000_MM = 3000
-# SEARCH: a sighting not seen again at rest, farther from the axle than this + 200 mm, is
-# driven to until this far (the camera then ~0.65 m from it, well inside the symbol's 1.1 m
-# range) and looked at before it is dropped (docs/task.md "000: a far sighting ...")
+# SEARCH: a sighting not seen again at rest, farther from the axle than this +
+# sighting_match_mm, is driven to until this far (the camera then ~0.65 m from it, well inside
+# the symbol's 1.1 m range) and looked at before it is dropped (docs/task.md "000: a far
+# sighting driven to")
 SIGHTING_APPROACH_000_MM = 850
 
 

@@ -811,6 +811,16 @@ DETS000 = st.fixed_dictionaries({}, optional={
     "held_fill": BROWN, "radial_cut": CUTS})
 
 
+def _paper_task000():
+    """000's C task as the C program holds it (task_paper.h), with 000's parameters: (the
+    holder, kept alive, and its task)."""
+    paper = FFI.new("mg_paper_task_t *")
+    p = FFI.new("mg_task_params_t *")
+    C.mg_task_method_find(b"000").params(p)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
+    return paper, FFI.addressof(paper, "task")
+
+
 @examples(60)
 @given(st.sampled_from([s for s in machine.STATES if s not in machine.TERMINAL]
                        + ["ROUGH_GRASP"] * 3),
@@ -826,11 +836,7 @@ def test_steps_of_000_from_every_state(state, obj, graspable, joints, steps):
     gripper flag and frames of 000's detectors (the radial symbol, dual "+" pairs, spokes,
     the held fill): the same outputs, detail and charged planning work on both tasks."""
     py = Task("000")
-    paper = FFI.new("mg_paper_task_t *")
-    p = FFI.new("mg_task_params_t *")
-    C.mg_task_method_find(b"000").params(p)
-    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
-    c = FFI.addressof(paper, "task")
+    paper, c = _paper_task000()
     _, ctx = _board_planner(py.p)
     C.mg_method000_set_board_planner(c, ctx)
     # the states but SEARCH and LOST are entered with an estimate (by default in the reach)
@@ -952,11 +958,7 @@ def test_the_drive_to_a_far_sighting(depth_mm, again_mm, blocked_from_us):
     front sonar from ``blocked_from_us``), the look, the search again; or the sighting seen
     again on the way and approached; a near one dropped as before."""
     py = Task("000")
-    paper = FFI.new("mg_paper_task_t *")
-    p = FFI.new("mg_task_params_t *")
-    C.mg_task_method_find(b"000").params(p)
-    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"), p, 0) == 0
-    c = FFI.addressof(paper, "task")
+    paper, c = _paper_task000()
     out = FFI.new("mg_task_outputs_t *")
     x = y = h = 0.0
     wheels, first, phases = (0, 0), None, set()

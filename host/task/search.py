@@ -15,6 +15,7 @@ from __future__ import annotations
 from mobigrasp.host.fixedpoint import isqrt
 from mobigrasp.host.search import ArmSearch, SearchParams
 from mobigrasp.host.task.drive import turn_in_place, wrap_mrad
+from mobigrasp.host.task.sonar_guard import blocked_ahead, drive_detour, free_heading_nearest
 
 
 class SearchStates:
@@ -31,7 +32,7 @@ class SearchStates:
         t.lost_in = None
         t.search = ArmSearch(sp, th2s, th5s, now)
         t.turn_from = None
-        t.wander_from = None
+        t.wander_from = t.wander_round = None
         t.gripper = 0
         if t.p.object_xy_mm and t.obj is None and t.counters["lost"] == 0:
             # 001 §II: the object position P_i is given; plan toward it, vision refines it
@@ -116,19 +117,41 @@ class SearchStates:
 
     def wander_step(self, t, now: int, inp, cmd) -> None:
         """Drive the search's wander straight ahead on odometry (000 §II "wanders in the
-        environment"); stop short when a front sonar sees something within wander_clear_mm."""
+        environment"); stop short when a front sonar sees something within wander_clear_mm.
+        A leg of the last ring so stopped goes round the obstacle when the search asks it
+        (``round_tries``): toward the free sonar direction nearest its station, ``detour_mm``
+        (the sonar guard's detour), then to the same station again, stopping only for
+        something in its way (``blocked_ahead``), not for the obstacle beside it (docs/task.md
+        "A ring's leg stopped by an obstacle")."""
+        if t.wander_round is not None:
+            if drive_detour(t, inp, t.wander_round):
+                t.wander_round = None
+                t.search.wander_resume(now)
+            return
         if t.wander_from is None:
             t.wander_from = (inp.x_mm, inp.y_mm)
             t.note(wander_mm=cmd.drive_mm, search_cycle=cmd.cycle)
         dx, dy = inp.x_mm - t.wander_from[0], inp.y_mm - t.wander_from[1]
         n = len(inp.sonar_mm)
         front = [int(v) for v in inp.sonar_mm[max(0, n // 2 - 1):n // 2 + 2]] if n else []
-        blocked = any(0 < v < t.p.wander_clear_mm for v in front)
+        if t.search.passing:
+            blocked = blocked_ahead(inp.sonar_mm)
+        else:
+            blocked = any(0 < v < t.p.wander_clear_mm for v in front)
         if dx * dx + dy * dy >= cmd.drive_mm * cmd.drive_mm or blocked:
             t.note(wander_done_mm=isqrt(dx * dx + dy * dy), wander_blocked=blocked)
-            t.search.wander_done(now)
             t.wander_from = None
             t.wheels = (0, 0)
+            if not blocked:
+                t.search.wander_done(now)
+                return
+            station = t.search.station_xy
+            head = None if station is None else free_heading_nearest(inp, station,
+                                                                     t.p.detour_clear_mm)
+            if t.search.wander_blocked(now, head is not None):
+                t.wander_round = {"heading_mrad": head, "drive": True, "from": None,
+                                  "checked": True, "length_mm": t.p.detour_mm}
+                t.note(wander_round_mrad=head)
         else:
             t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
 

@@ -118,7 +118,8 @@ def test_one_cycle(p, th2, th5, upward, coarse):
 @SETTINGS
 @given(search_params(), st.integers(-3500, 0), st.integers(-1500, 1500),
        st.lists(st.tuples(st.sampled_from(["step", "step", "step", "turned", "wandered",
-                                           "blocked", "stuck", "resumed", "restart"]), st.integers(0, 3_000_000),
+                                           "blocked", "stuck", "resumed", "restart"]),
+                          st.integers(0, 3_000_000),
                           st.none() | st.tuples(st.integers(-6000, 6000),
                                                 st.integers(-6000, 6000),
                                                 st.integers(-3142, 3141))),

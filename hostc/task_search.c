@@ -82,7 +82,7 @@ static void note_bool(mg_task_t *t, const char *key, int v)
  * the last ring so stopped goes round the obstacle when the search asks it (round_tries):
  * toward the free sonar direction nearest its station, detour_mm (the sonar guard's detour),
  * then to the same station again, stopping only for something in its way (mg_blocked_ahead),
- * not for the obstacle beside it (docs/task.md "A ring's leg stopped by an obstacle"). */
+ * not for the obstacle beside it (docs/task.md "000: a ring's leg stopped by an obstacle"). */
 static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                         const mg_search_command_t *cmd)
 {

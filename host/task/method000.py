@@ -55,8 +55,8 @@ WANDER_000_MMPS = 350
 WANDER_D_THETA5_000_MRAD = 350
 OUTWARD_FROM_000_MM = 3000
 # a leg of the last ring stopped by an obstacle goes round it and aims at its station again,
-# at most ROUND_TRIES_000 times until a leg ends unblocked (docs/task.md "A ring's leg stopped
-# by an obstacle")
+# at most ROUND_TRIES_000 times until a leg ends unblocked (docs/task.md "000: a ring's leg
+# stopped by an obstacle")
 ROUND_TRIES_000 = 2
 
 

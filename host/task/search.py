@@ -122,7 +122,7 @@ class SearchStates:
         (``round_tries``): toward the free sonar direction nearest its station, ``detour_mm``
         (the sonar guard's detour), then to the same station again, stopping only for
         something in its way (``blocked_ahead``), not for the obstacle beside it (docs/task.md
-        "A ring's leg stopped by an obstacle")."""
+        "000: a ring's leg stopped by an obstacle")."""
         if t.wander_round is not None:
             if drive_detour(t, inp, t.wander_round):
                 t.wander_round = None

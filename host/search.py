@@ -93,6 +93,9 @@ class SearchParams:
     wander_d_theta5_mrad: int = 200  # waist step of the sweep while driving
     outward_from_mm: int = 0  # a ring's leg this far from the start sweeps outward (0: never)
     outward_inward_mrad: int = 700  # ... and this far across to the inner side
+    round_tries: int = 0  # a leg sweeping outward alone (the last ring) stopped by an
+    # obstacle goes round it and aims at its station again, at most this often until a leg
+    # ends unblocked (0: the next station at once, as every other leg)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -114,6 +117,8 @@ class SearchParams:
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
+        if self.round_tries < 0:
+            raise ValueError(f"round_tries must be >= 0, got {self.round_tries}")
         if self.outward_from_mm < 0 or not 0 <= self.outward_inward_mrad < self.wander_theta5_mrad:
             raise ValueError(f"outward_from_mm must be >= 0 and outward_inward_mrad in [0, "
                              f"wander_theta5_mrad), got {self.outward_from_mm}, "
@@ -232,6 +237,7 @@ class ArmSearch:
         self._stations: list[tuple[int, int]] | None = None  # the rings, in odometry
         self._station = 0
         self._leg = (0, 0)  # turn_mrad, drive_mm of the leg toward the next station
+        self._rounds = 0  # drives round an obstacle since a leg last ended unblocked
         self.covered = False  # the rings are done: the disc of cover_mm has been seen
 
     def dwell_us(self, frm: tuple[int, int], to: tuple[int, int], frames: int = 0) -> int:
@@ -411,7 +417,45 @@ class ArmSearch:
             self._next_cycle(now_us)
 
     def wander_done(self, now_us: int) -> None:
-        """The base has driven its wander (or stopped short): search again from here."""
+        """The base has driven its wander: search again from here."""
+        self._rounds = 0
+        self._end_wander(now_us)
+
+    def wander_blocked(self, now_us: int, can_round: bool = True) -> bool:
+        """The base stopped short of the leg's end, an obstacle ahead. True: the caller is to
+        drive round it (``can_round``: it has a way) and then call :meth:`wander_resume`; on a
+        leg sweeping outward alone, fewer than ``round_tries`` times since a leg last ended
+        unblocked. Else (False) the leg ends: the next station."""
+        p = self.params
+        if self._wandering and p.cover_mm and can_round and self._rounds < p.round_tries \
+                and self._outward_side() != 0:
+            self._rounds += 1
+            return True
+        self._end_wander(now_us)
+        return False
+
+    def wander_resume(self, now_us: int) -> None:
+        """The caller has driven round the obstacle: aim at the same station from here."""
+        if self._wandering:
+            at = self._wpose
+            self._start_leg(now_us, at)
+            if self.covered:
+                self._next_cycle(now_us, at)
+
+    @property
+    def station_xy(self) -> tuple[int, int] | None:
+        """The odometry place of the station the rings' leg drives to; None off the rings."""
+        if self._stations is None or self._station >= len(self._stations):
+            return None
+        return self._stations[self._station]
+
+    @property
+    def passing(self) -> bool:
+        """A leg after a drive round an obstacle (until one ends unblocked): the caller stops
+        it only for something in its way, not for the obstacle it passes beside."""
+        return self.params.cover_mm > 0 and self._rounds > 0
+
+    def _end_wander(self, now_us: int) -> None:
         if self._wandering:
             self.wanders += 1
             p = self.params

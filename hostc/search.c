@@ -12,7 +12,7 @@ void mg_search_params_default(mg_search_params_t *p)
 {
     static const mg_search_params_t d = {
         -2800, -2100, 60, -800, 800, 200, -200, 2300, 1047, 3, {-2250, -2500, -2750}, 1571,
-        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700};
+        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700, 0};
     *p = d;
 }
 
@@ -216,6 +216,7 @@ void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t the
     s->origin[0] = s->origin[1] = 0;
     s->has_stations = s->n_stations = s->station = 0;
     s->leg[0] = s->leg[1] = 0;
+    s->rounds = 0;
     s->covered = 0;
 }
 
@@ -417,7 +418,7 @@ void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us)
     }
 }
 
-void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
+static void end_wander(mg_arm_search_t *s, int64_t now_us)
 {
     if (!s->wandering)
         return;
@@ -441,4 +442,44 @@ void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
         return;
     }
     next_cycle(s, now_us, at[0], at[1]);
+}
+
+void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
+{
+    s->rounds = 0;
+    end_wander(s, now_us);
+}
+
+int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can_round)
+{
+    if (s->wandering && s->p.cover_mm && can_round && s->rounds < s->p.round_tries
+        && outward_side(s) != 0) {
+        s->rounds++;
+        return 1;
+    }
+    end_wander(s, now_us);
+    return 0;
+}
+
+void mg_search_wander_resume(mg_arm_search_t *s, int64_t now_us)
+{
+    if (!s->wandering)
+        return;
+    const int32_t at[2] = {s->wpose[0], s->wpose[1]};
+    start_leg(s, now_us, at);
+    if (s->covered)
+        next_cycle(s, now_us, at[0], at[1]);
+}
+
+int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2])
+{
+    if (!s->has_stations || s->station >= s->n_stations)
+        return 0;
+    xy_mm[0] = s->stations[s->station][0], xy_mm[1] = s->stations[s->station][1];
+    return 1;
+}
+
+int32_t mg_search_passing(const mg_arm_search_t *s)
+{
+    return s->p.cover_mm > 0 && s->rounds > 0;
 }

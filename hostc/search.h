@@ -33,6 +33,9 @@ typedef struct {
     int32_t wander_d_theta5_mrad;   /* waist step of the sweep while driving */
     int32_t outward_from_mm; /* a ring's leg this far from the start sweeps outward (0: never) */
     int32_t outward_inward_mrad; /* ... and this far across to the inner side */
+    int32_t round_tries; /* a leg sweeping outward alone stopped by an obstacle goes round it
+                          * and aims at its station again at most this often until a leg ends
+                          * unblocked (0: the next station at once) */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */
@@ -64,6 +67,7 @@ typedef struct {
     int32_t has_stations, n_stations, station; /* the rings in odometry, the next one */
     int32_t stations[MG_COVER_STATIONS][2];
     int32_t leg[2];  /* turn_mrad, drive_mm of the leg toward the next station */
+    int32_t rounds; /* drives round an obstacle since a leg last ended unblocked */
     int32_t covered; /* the rings are done: the disc of cover_mm has been seen */
     int32_t overflow; /* a cycle or a sweep longer than the arrays: cut short */
 } mg_arm_search_t;
@@ -87,5 +91,17 @@ void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us);
 void mg_search_rejoin(mg_arm_search_t *s, int64_t now_us, const int32_t pose[3]);
 void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us);
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us);
+/* the base stopped short of the leg's end, an obstacle ahead: 1 when the caller is to drive
+ * round it (can_round: it has a way) and then call mg_search_wander_resume (a leg sweeping
+ * outward alone, fewer than round_tries times since a leg last ended unblocked); else 0, the
+ * leg ended: the next station */
+int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can_round);
+/* the caller has driven round the obstacle: aim at the same station from here */
+void mg_search_wander_resume(mg_arm_search_t *s, int64_t now_us);
+/* the odometry place of the station the rings' leg drives to: 1 and xy_mm, or 0 off the rings */
+int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2]);
+/* a leg after a drive round an obstacle (until one ends unblocked): the caller stops it only
+ * for something in its way, not for the obstacle it passes beside */
+int32_t mg_search_passing(const mg_arm_search_t *s);
 
 #endif

@@ -36,6 +36,25 @@ int32_t mg_widest_free_heading(const mg_task_inputs_t *in, int32_t clear_mm)
     return mg_task_wrap_mrad(in->heading_mrad + mid);
 }
 
+int mg_free_heading_nearest(const mg_task_inputs_t *in, const int32_t xy_mm[2], int32_t clear_mm,
+                            int32_t *heading_mrad)
+{
+    const int32_t bearing = mg_atan2_mrad((int64_t)xy_mm[1] - in->y_mm,
+                                          (int64_t)xy_mm[0] - in->x_mm);
+    const int32_t n = n_sonar(in) >= 2 ? n_sonar(in) : 0;
+    int32_t best_off = -1;
+    for (int32_t k = 0; k < n; k++) {
+        const int32_t h = mg_task_wrap_mrad((int64_t)in->heading_mrad + mg_sonar_angle_mrad(k, n));
+        int32_t off = mg_task_wrap_mrad((int64_t)h - bearing);
+        off = off < 0 ? -off : off;
+        if (in->sonar_mm[k] >= clear_mm && (best_off < 0 || off < best_off)) {
+            best_off = off;
+            *heading_mrad = h;
+        }
+    }
+    return best_off >= 0;
+}
+
 int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n)
 {
     if (n < 3)

@@ -27,6 +27,10 @@ int32_t mg_sonar_angle_mrad(int32_t k, int32_t n);
 /* odometry heading of the middle of the widest run of neighbouring sonars that read no echo or
  * one beyond clear_mm; with none free, a quarter turn left */
 int32_t mg_widest_free_heading(const mg_task_inputs_t *in, int32_t clear_mm);
+/* the odometry heading of the sonar reading no echo or one beyond clear_mm whose direction is
+ * nearest the bearing of xy_mm from the base: 1 and heading_mrad, or 0 when none is free */
+int mg_free_heading_nearest(const mg_task_inputs_t *in, const int32_t xy_mm[2], int32_t clear_mm,
+                            int32_t *heading_mrad);
 /* an echo straight ahead within MG_DETOUR_STOP_MM, or at 45 degrees within MG_DETOUR_DIAG_MM */
 int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n);
 /* the first front sonar below R_r that is not the object's own echo: 1 and its angle and

@@ -45,6 +45,7 @@ void mg_method000_params(mg_task_params_t *p)
     p->search.wander_d_theta5_mrad = MG_WANDER_D_THETA5_000_MRAD;
     p->search.outward_from_mm = MG_OUTWARD_FROM_000_MM;
     p->sighting_approach_mm = MG_SIGHTING_APPROACH_000_MM;
+    p->search.round_tries = MG_ROUND_TRIES_000;
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
@@ -449,6 +450,7 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
     mg_search_init(&t->search, &t->p.search, t->arm[2], t->arm[5], now_us);
     t->has_turn_from = 0;
     t->has_wander_from = 0;
+    t->wander_round.active = 0;
     return 0;
 }
 

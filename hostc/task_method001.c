@@ -294,20 +294,8 @@ static void detour_heading(const mg_task_t *t, const mg_task_inputs_t *in, int f
         d->drive = d->checked = 1;
         return;
     }
-    const int32_t bearing = mg_atan2_mrad((int64_t)t->obj_mm[1] - in->y_mm,
-                                          (int64_t)t->obj_mm[0] - in->x_mm);
-    int32_t best_off = -1;
-    for (int32_t k = 0; in->n_sonar >= 2 && k < in->n_sonar; k++) {
-        const int32_t h = mg_task_wrap_mrad((int64_t)in->heading_mrad
-                                            + mg_sonar_angle_mrad(k, in->n_sonar));
-        const int32_t off = iabs32(mg_task_wrap_mrad((int64_t)h - bearing));
-        if (in->sonar_mm[k] >= t->p.detour_clear_mm && (best_off < 0 || off < best_off)) {
-            best_off = off;
-            d->heading_mrad = h;
-        }
-    }
-    d->drive = best_off >= 0;
-    if (best_off < 0)
+    d->drive = mg_free_heading_nearest(in, t->obj_mm, t->p.detour_clear_mm, &d->heading_mrad);
+    if (!d->drive)
         d->heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + 1571);
 }
 

@@ -6,6 +6,7 @@
 #include "fixedpoint.h"
 #include "json.h"
 #include "task_approach.h"
+#include "sonar_guard.h"
 #include "task_drive.h"
 #include "task_method.h"
 #include "task_sense.h"
@@ -47,6 +48,7 @@ void mg_task_enter_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *
     t->has_turn_from = 0;
     t->has_wander_from = 0;
     t->far_phase = MG_FAR_NONE;
+    t->wander_round.active = 0;
     t->gripper = 0;
     if (t->p.has_object_xy && !t->has_obj && t->lost == 0) {
         /* 001 section II: the object position P_i is given; plan toward it, vision refines it */
@@ -196,10 +198,21 @@ static void rejoin(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 }
 
 /* Drive the search's wander straight ahead on odometry (000 section II "wanders in the
- * environment"); stop short when a front sonar sees something within wander_clear_mm. */
+ * environment"); stop short when a front sonar sees something within wander_clear_mm. A leg of
+ * the last ring so stopped goes round the obstacle when the search asks it (round_tries):
+ * toward the free sonar direction nearest its station, detour_mm (the sonar guard's detour),
+ * then to the same station again, stopping only for something in its way (mg_blocked_ahead),
+ * not for the obstacle beside it (docs/task.md "000: a ring's leg stopped by an obstacle"). */
 static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                         const mg_search_command_t *cmd)
 {
+    if (t->wander_round.active) {
+        if (mg_drive_detour(t, in, &t->wander_round)) {
+            t->wander_round.active = 0;
+            mg_search_wander_resume(&t->search, now_us);
+        }
+        return;
+    }
     if (!t->has_wander_from) {
         t->has_wander_from = 1;
         t->wander_from_mm[0] = in->x_mm, t->wander_from_mm[1] = in->y_mm;
@@ -208,13 +221,26 @@ static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
     }
     const int64_t dx = (int64_t)in->x_mm - t->wander_from_mm[0];
     const int64_t dy = (int64_t)in->y_mm - t->wander_from_mm[1];
-    const int blocked = front_blocked(t, in);
+    const int32_t n = in->n_sonar < MG_TASK_SONARS ? in->n_sonar : MG_TASK_SONARS;
+    const int blocked = mg_search_passing(&t->search) ? mg_blocked_ahead(in->sonar_mm, n)
+                                                      : front_blocked(t, in);
     if (dx * dx + dy * dy >= (int64_t)cmd->drive_mm * cmd->drive_mm || blocked) {
         mg_task_note_int(t, "wander_done_mm", mg_isqrt(dx * dx + dy * dy));
         note_bool(t, "wander_blocked", blocked);
-        mg_search_wander_done(&t->search, now_us);
         t->has_wander_from = 0;
         t->wheels[0] = t->wheels[1] = 0;
+        if (!blocked) {
+            mg_search_wander_done(&t->search, now_us);
+            return;
+        }
+        int32_t station[2], head = 0;
+        const int way = mg_search_station_xy(&t->search, station)
+                        && mg_free_heading_nearest(in, station, t->p.detour_clear_mm, &head);
+        if (mg_search_wander_blocked(&t->search, now_us, way)) {
+            const mg_detour_t round = {1, head, 1, 0, {0, 0}, t->p.detour_mm, 1};
+            t->wander_round = round;
+            mg_task_note_int(t, "wander_round_mrad", head);
+        }
     } else {
         t->wheels[0] = t->wheels[1] = t->p.wander_mmps;
     }

@@ -159,6 +159,7 @@ class Task:
         self.search = None
         self.turn_from = None
         self.wander_from = None
+        self.wander_round = None  # SEARCH: the drive round an obstacle that stopped a leg
         self.obj = None  # odometry-frame (x_mm, y_mm) of the object
         self.obj_seen_us = now_us
         self.follower = None

@@ -60,6 +60,11 @@ OUTWARD_FROM_000_MM = 3000
 # sighting driven to")
 SIGHTING_APPROACH_000_MM = 850
 
+# a leg of the last ring stopped by an obstacle goes round it and aims at its station again,
+# at most ROUND_TRIES_000 times until a leg ends unblocked (docs/task.md "000: a ring's leg
+# stopped by an obstacle")
+ROUND_TRIES_000 = 2
+
 
 def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
                   obj_xy_mm: tuple[int, int], planner_params: Params000 | None = None
@@ -162,7 +167,8 @@ class Method000(PathMethod):
                             "sighting_approach_mm": SIGHTING_APPROACH_000_MM,
                             "search": {"wander_frames_per_pose": 1,
                                        "wander_d_theta5_mrad": WANDER_D_THETA5_000_MRAD,
-                                       "outward_from_mm": OUTWARD_FROM_000_MM}}
+                                       "outward_from_mm": OUTWARD_FROM_000_MM,
+                                       "round_tries": ROUND_TRIES_000}}
     detectors = {"SEARCH": ("radial_symbol", "radial_cut"), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
                  # LIFT: the grasp check (grasp.py): the held object fills the frame, the
@@ -236,7 +242,7 @@ class Method000(PathMethod):
             return True
         ms.back_off = None
         t.search = ArmSearch(SearchParams(**t.p.search), t.arm[2], t.arm[5], now)
-        t.turn_from = t.wander_from = None
+        t.turn_from = t.wander_from = t.wander_round = None
         return False
 
     def back_off_here(self, t: Task, inp: TaskInputs) -> bool:

@@ -40,9 +40,9 @@ from mobigrasp.host.task.sonar_guard import (
     GUARDED_STATES,
     close_guard,
     drive_detour,
+    free_heading_nearest,
     guard_stop,
     out_of_r_r,
-    sonar_angles_mrad,
     widest_free_heading,
 )
 
@@ -192,16 +192,10 @@ def detour_heading(inp: TaskInputs, obj_xy_mm: tuple, clear_mm: int,
     if heading_mrad is not None:
         return {"heading_mrad": wrap_mrad(int(heading_mrad)), "drive": True, "from": None,
                 "checked": True}
-    bearing = atan2_mrad(obj_xy_mm[1] - inp.y_mm, obj_xy_mm[0] - inp.x_mm)
-    best = None
-    for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
-        h = wrap_mrad(inp.heading_mrad + phi)
-        off = abs(wrap_mrad(h - bearing))
-        if int(rng) >= clear_mm and (best is None or off < best[0]):
-            best = (off, h)
-    if best is None:
+    h = free_heading_nearest(inp, obj_xy_mm, clear_mm)
+    if h is None:
         return {"heading_mrad": wrap_mrad(inp.heading_mrad + 1571), "drive": False, "from": None}
-    return {"heading_mrad": best[1], "drive": True, "from": None}
+    return {"heading_mrad": h, "drive": True, "from": None}
 
 
 

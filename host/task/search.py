@@ -16,6 +16,7 @@ from mobigrasp.host.fixedpoint import atan2_mrad, isqrt
 from mobigrasp.host.search import ArmSearch, SearchParams
 from mobigrasp.host.task.drive import turn_in_place, wrap_mrad
 from mobigrasp.host.task.sense import odom_to_platform_q4
+from mobigrasp.host.task.sonar_guard import blocked_ahead, drive_detour, free_heading_nearest
 
 # the look at a far sighting once driven near it: the waist at its bearing, then this far to
 # either side (a frame taken while the waist swept puts the estimate up to ~0.5 rad off the
@@ -39,7 +40,7 @@ class SearchStates:
         t.lost_in = None
         t.search = ArmSearch(sp, th2s, th5s, now)
         t.turn_from = None
-        t.wander_from = None
+        t.wander_from = t.wander_round = None
         t.far = None
         t.gripper = 0
         if t.p.object_xy_mm and t.obj is None and t.counters["lost"] == 0:
@@ -218,17 +219,37 @@ class SearchStates:
 
     def wander_step(self, t, now: int, inp, cmd) -> None:
         """Drive the search's wander straight ahead on odometry (000 §II "wanders in the
-        environment"); stop short when a front sonar sees something within wander_clear_mm."""
+        environment"); stop short when a front sonar sees something within wander_clear_mm.
+        A leg of the last ring so stopped goes round the obstacle when the search asks it
+        (``round_tries``): toward the free sonar direction nearest its station, ``detour_mm``
+        (the sonar guard's detour), then to the same station again, stopping only for
+        something in its way (``blocked_ahead``), not for the obstacle beside it (docs/task.md
+        "000: a ring's leg stopped by an obstacle")."""
+        if t.wander_round is not None:
+            if drive_detour(t, inp, t.wander_round):
+                t.wander_round = None
+                t.search.wander_resume(now)
+            return
         if t.wander_from is None:
             t.wander_from = (inp.x_mm, inp.y_mm)
             t.note(wander_mm=cmd.drive_mm, search_cycle=cmd.cycle)
         dx, dy = inp.x_mm - t.wander_from[0], inp.y_mm - t.wander_from[1]
-        blocked = self.front_blocked(t, inp)
+        blocked = blocked_ahead(inp.sonar_mm) if t.search.passing \
+            else self.front_blocked(t, inp)
         if dx * dx + dy * dy >= cmd.drive_mm * cmd.drive_mm or blocked:
             t.note(wander_done_mm=isqrt(dx * dx + dy * dy), wander_blocked=blocked)
-            t.search.wander_done(now)
             t.wander_from = None
             t.wheels = (0, 0)
+            if not blocked:
+                t.search.wander_done(now)
+                return
+            station = t.search.station_xy
+            head = None if station is None else free_heading_nearest(inp, station,
+                                                                     t.p.detour_clear_mm)
+            if t.search.wander_blocked(now, head is not None):
+                t.wander_round = {"heading_mrad": head, "drive": True, "from": None,
+                                  "checked": True, "length_mm": t.p.detour_mm}
+                t.note(wander_round_mrad=head)
         else:
             t.wheels = (t.p.wander_mmps, t.p.wander_mmps)
 

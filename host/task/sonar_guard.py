@@ -57,6 +57,19 @@ def widest_free_heading(inp, clear_mm: int) -> int:
     return wrap_mrad(inp.heading_mrad + (best[0] + best[-1]) // 2)
 
 
+def free_heading_nearest(inp, xy_mm: tuple, clear_mm: int) -> int | None:
+    """Odometry heading of the sonar that reads no echo or one beyond ``clear_mm`` whose
+    direction is nearest the bearing of ``xy_mm`` from the base; None when none is free."""
+    bearing = atan2_mrad(xy_mm[1] - inp.y_mm, xy_mm[0] - inp.x_mm)
+    best = None
+    for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
+        h = wrap_mrad(inp.heading_mrad + phi)
+        off = abs(wrap_mrad(h - bearing))
+        if int(rng) >= clear_mm and (best is None or off < best[0]):
+            best = (off, h)
+    return None if best is None else best[1]
+
+
 def blocked_ahead(sonar_mm: tuple) -> bool:
     """The detour passes close beside obstacles (that is its point): stop only for an echo
     straight ahead within DETOUR_STOP_MM, or at 45 degrees within DETOUR_DIAG_MM (a surface

@@ -246,6 +246,93 @@ def test_task_wander_stops_short_when_a_front_sonar_sees_something():
     assert out.wheels_mmps == (0, 0) and task.search.wanders == 1
 
 
+def _on_the_leg(s: se.ArmSearch, t: int) -> None:
+    """The base has turned toward the station (if it had to): the leg is driven."""
+    if not s.wandering:
+        s.base_turn_done(t)
+    assert s.wandering
+
+
+def test_a_last_ring_leg_stopped_by_an_obstacle_goes_round_it_twice_at_most():
+    p = se.SearchParams(round_tries=2, outward_from_mm=3000)
+    s, t = _on_an_outward_leg(p)
+    station, wanders = s.station_xy, s.wanders
+    assert station is not None and not s.passing
+    assert s.wander_blocked(t)  # go round, then the same station
+    assert s.passing and s.wandering and s.wanders == wanders
+    s.wander_resume(t)
+    _on_the_leg(s, t)
+    assert s.station_xy == station and s.wander_blocked(t)  # the second try
+    s.wander_resume(t)
+    _on_the_leg(s, t)
+    assert not s.wander_blocked(t)  # tries used up: the next station, still passing
+    assert s.station_xy != station and s.wanders == wanders + 1 and s.passing
+    _on_the_leg(s, t)
+    assert not s.wander_blocked(t, can_round=True) and s.wanders == wanders + 2
+    _on_the_leg(s, t)
+    s.wander_done(t)  # a leg that ends unblocked: tries again, no more passing
+    assert not s.passing
+    _on_the_leg(s, t)
+    assert not s.wander_blocked(t, can_round=False)  # no way round: the next station
+    # a leg sweeping both sides (the first ring's), or round_tries 0: the next station
+    for q, on_leg in ((p, _to_first_wander), (replace(p, round_tries=0), _on_an_outward_leg)):
+        got = on_leg(q)
+        s, t = got[0], got[-1]
+        station = s.station_xy
+        assert not s.wander_blocked(t) and s.station_xy != station and not s.passing
+    with pytest.raises(ValueError, match="round_tries"):
+        se.SearchParams(round_tries=-1)
+
+
+def _move(task: Task, t: int, pose: list, sonar: tuple) -> tuple:
+    """One 20 ms step with ``sonar``; the base's pose follows the wheels (a turn in place 40
+    mrad a step, a drive its speed straight ahead)."""
+    out = task.step(t, TaskInputs(x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2],
+                                  sonar_mm=sonar))
+    left, right = out.wheels_mmps
+    if left == right:
+        pose[0] += round(left * 0.02 * math.cos(pose[2] / 1000))
+        pose[1] += round(left * 0.02 * math.sin(pose[2] / 1000))
+    else:
+        pose[2] += 40 if right > left else -40
+    return out
+
+
+def test_000_goes_round_an_obstacle_on_an_outward_leg_and_passes_beside_it():
+    far, v = 65535, 350
+    clear, ahead, beside = (far,) * 5, (far, far, 350, far, far), (far, far, far, 300, far)
+    # a one-level look-around; the first ring's legs already sweep outward (outward_from_mm)
+    task = Task("000", {"search": {"theta2_min_mrad": -2200, "d_theta5_mrad": 800,
+                                   "turns_per_wander": 1, "coarse_theta2_mrad": (-2200,),
+                                   "outward_from_mm": 1000}})
+    t, pose = 0, [0, 0, 0]
+    while task.search is None or task.search.sweep_side == 0 or not task.search.wandering:
+        _move(task, t, pose, clear)  # the look-around, the first leg out, the corner
+        t += 20_000
+        assert t < 60_000_000
+    station = task.search.station_xy
+    out = _move(task, t, pose, ahead)
+    assert out.wheels_mmps == (0, 0) and out.detail["wander_blocked"] is True
+    round_to = out.detail["wander_round_mrad"]
+    # the free sonar direction nearest the station: 45 degrees aside
+    assert abs(abs(round_to - pose[2]) - 785) <= 40 and task.search.station_xy == station
+    start = tuple(pose[:2])
+    while task.wander_round is not None:  # turn, then drive detour_mm
+        t += 20_000
+        _move(task, t, pose, clear)
+    assert math.dist(start, pose[:2]) >= task.p.detour_mm
+    assert task.search.station_xy == station and task.search.passing
+    while not task.search.wandering:  # the turn toward the same station
+        t += 20_000
+        _move(task, t, pose, clear)
+    for _ in range(5):  # beside the obstacle it drives on
+        t += 20_000
+        assert _move(task, t, pose, beside).wheels_mmps == (v, v)
+    t += 20_000
+    out = _move(task, t, pose, ahead)  # in its way (within 400 mm): stops, the second try
+    assert out.wheels_mmps == (0, 0) and "wander_round_mrad" in out.detail
+
+
 def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge():
     from mobigrasp.host.task import TaskParams
 
@@ -254,7 +341,7 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     assert sp.dense_cycles == 1 and -2100 in sp.coarse_theta2_mrad and sp.wander_mm == 0
     # 000's own: the wander's sweep alone (host/task/method000.py)
     assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams(
-        wander_frames_per_pose=1, wander_d_theta5_mrad=350, outward_from_mm=3000)
+        wander_frames_per_pose=1, wander_d_theta5_mrad=350, outward_from_mm=3000, round_tries=2)
     assert sp.cover_mm == 2500  # 002 gives up once the rings covered 2.5 m (method002.py)
 
 

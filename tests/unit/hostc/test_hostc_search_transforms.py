@@ -72,7 +72,8 @@ def search_params(draw):
             wander_frames_per_pose=draw(st.integers(1, 3)),
             wander_d_theta5_mrad=draw(st.sampled_from([200, 350]) | st.integers(150, 700)),
             outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)),
-            outward_inward_mrad=draw(st.sampled_from([0, 350, 700]) | st.integers(0, 1400)))
+            outward_inward_mrad=draw(st.sampled_from([0, 350, 700]) | st.integers(0, 1400)),
+            round_tries=draw(st.integers(0, 3)))
     except ValueError:
         assume(False)
 
@@ -94,7 +95,7 @@ def _c_params(p):
         "view_mm": p.view_mm, "chord_mm": p.chord_mm,
         "wander_frames_per_pose": p.wander_frames_per_pose,
         "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm,
-        "outward_inward_mrad": p.outward_inward_mrad})
+        "outward_inward_mrad": p.outward_inward_mrad, "round_tries": p.round_tries})
 
 
 def _cmd(c) -> tuple[int, ...]:
@@ -117,14 +118,17 @@ def test_one_cycle(p, th2, th5, upward, coarse):
 @SETTINGS
 @given(search_params(), st.integers(-3500, 0), st.integers(-1500, 1500),
        st.lists(st.tuples(st.sampled_from(["step", "step", "step", "turned", "wandered",
-                                           "restart"]), st.integers(0, 3_000_000),
+                                           "blocked", "stuck", "resumed", "restart"]),
+                          st.integers(0, 3_000_000),
                           st.none() | st.tuples(st.integers(-6000, 6000),
                                                 st.integers(-6000, 6000),
                                                 st.integers(-3142, 3141))),
                 min_size=30, max_size=80))
 def test_search_over_time(p, th2, th5, calls):
     """Steps at increasing times with the base's pose (the rings' legs), the caller's base
-    turns and wanders, pauses: the same commands (poses, turns, drives, cycles) every call."""
+    turns and wanders, legs stopped by an obstacle (with a way round it or none) and driven
+    round, pauses: the same commands (poses, turns, drives, cycles) every call, the same
+    stations and legs passing beside an obstacle."""
     py = search.ArmSearch(p, th2, th5, 0)
     c = FFI.new("mg_arm_search_t *")
     C.mg_search_init(c, _c_params(p), th2, th5, 0)
@@ -143,11 +147,20 @@ def test_search_over_time(p, th2, th5, calls):
         elif kind == "wandered":
             py.wander_done(t)
             C.mg_search_wander_done(c, t)
+        elif kind in ("blocked", "stuck"):
+            way = kind == "blocked"
+            assert bool(C.mg_search_wander_blocked(c, t, way)) == py.wander_blocked(t, way)
+        elif kind == "resumed":
+            py.wander_resume(t)
+            C.mg_search_wander_resume(c, t)
         else:
             py.restart_dwell(t)
             C.mg_search_restart_dwell(c, t)
         assert (bool(c.turning or c.wandering), bool(c.wandering), c.wanders, c.covered,
-                c.side) == (py.turning, py.wandering, py.wanders, py.covered, py.sweep_side)
+                c.side, bool(C.mg_search_passing(c))) == (
+            py.turning, py.wandering, py.wanders, py.covered, py.sweep_side, py.passing)
+        xy = FFI.new("int32_t[2]")
+        assert (tuple(xy) if C.mg_search_station_xy(c, xy) else None) == py.station_xy
     assert c.overflow == 0
 
 

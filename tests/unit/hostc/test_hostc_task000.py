@@ -987,3 +987,37 @@ def test_the_drive_to_a_far_sighting(depth_mm, again_mm, blocked_from_us):
         assert py.state == "APPROACH"
     else:
         assert phases == {None, "turn", "drive", "look"} and py.state == "SEARCH"
+
+
+def test_legs_past_an_obstacle_step_by_step():
+    """000's SEARCH over its rings' legs with echoes beside the way, in it and none (the
+    wander's stop, the drive round an obstacle and the leg past it, host/task/search.py
+    wander_step): the same wheels, arm targets and detail every step as the Python's."""
+    quick = {"theta2_min_mrad": -2200, "d_theta5_mrad": 800, "turns_per_wander": 1,
+             "coarse_theta2_mrad": (-2200,), "outward_from_mm": 1000}
+    py = Task("000", {"search": quick})
+    paper, with_py = FFI.new("mg_paper_task_t *"), _c_task(py)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"),
+                                FFI.addressof(with_py, "p"), 0) == 0
+    c = FFI.addressof(paper, "task")
+    out = FFI.new("mg_task_outputs_t *")
+    far = 65535
+    beside, ahead, diag = (far, far, far, 300, far), (far, far, 350, far, far), (
+        far, 250, far, far, far)
+    sonars = [(far,) * 5, ahead, beside, ahead, diag, beside, (600, far, far, far, 450)]
+    x = y = h = 0
+    passed = rounds = 0
+    for k in range(1100):
+        sonar = sonars[k // 400 % len(sonars)]
+        passing = py.search is not None and py.search.passing
+        res = _step_both(py, c, 20_000 * (k + 1), TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
+                                                               sonar_mm=sonar), out, _frame000)
+        left, right = res.wheels_mmps
+        if left == right:
+            x += round(left * 0.02 * math.cos(h / 1000))
+            y += round(left * 0.02 * math.sin(h / 1000))
+        else:
+            h += 40 if right > left else -40
+        passed += passing and sonar == beside and left > 0
+        rounds += "wander_round_mrad" in res.detail
+    assert passed and rounds and res.state == "SEARCH"

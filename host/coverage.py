@@ -26,14 +26,16 @@ from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 TWO_PI_MRAD = 6283
 
 
-def ring_stations(radius_mm: int, view_mm: int, chord_mm: int) -> list[tuple[int, int]]:
-    """Stations (x_mm, y_mm) from the start (excluded) round the rings out to ``radius_mm``."""
-    if view_mm <= 0 or chord_mm <= 0 or radius_mm < 0:
-        raise ValueError(f"view and chord must be > 0 and radius >= 0, got {view_mm}, "
-                         f"{chord_mm}, {radius_mm}")
+def ring_stations(radius_mm: int, view_mm: int, chord_mm: int,
+                  edge_mm: int = 0) -> list[tuple[int, int]]:
+    """Stations (x_mm, y_mm) from the start (excluded) round the rings out to ``radius_mm``;
+    the last ring at ``radius_mm - edge_mm`` (``edge_mm`` 0: ``view_mm``)."""
+    if view_mm <= 0 or chord_mm <= 0 or radius_mm < 0 or edge_mm < 0:
+        raise ValueError(f"view and chord must be > 0, radius and edge >= 0, got {view_mm}, "
+                         f"{chord_mm}, {radius_mm}, {edge_mm}")
     if radius_mm <= view_mm:
         return []  # the look-around at the start sees it all
-    span = radius_mm - view_mm
+    span = radius_mm - (edge_mm or view_mm)
     rings: list[tuple[int, int, int]] = []
     inner = 0  # the ring inside's radius (its sides' midpoints: its reach outward); the start
     while inner < span:

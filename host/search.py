@@ -93,6 +93,7 @@ class SearchParams:
     wander_d_theta5_mrad: int = 200  # waist step of the sweep while driving
     outward_from_mm: int = 0  # a ring's leg this far from the start sweeps outward (0: never)
     outward_inward_mrad: int = 700  # ... and this far across to the inner side
+    edge_mm: int = 0  # the last ring this far inside cover_mm (0: view_mm; host.coverage)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -108,9 +109,9 @@ class SearchParams:
         if self.wander_sweep not in (0, 1) or self.stop_cycles < 0:
             raise ValueError(f"wander_sweep must be 0 or 1 and stop_cycles >= 0, got "
                              f"{self.wander_sweep}, {self.stop_cycles}")
-        if self.cover_mm < 0 or self.view_mm <= 0 or self.chord_mm <= 0:
-            raise ValueError(f"cover_mm must be >= 0, view_mm and chord_mm > 0, got "
-                             f"{self.cover_mm}, {self.view_mm}, {self.chord_mm}")
+        if self.cover_mm < 0 or self.view_mm <= 0 or self.chord_mm <= 0 or self.edge_mm < 0:
+            raise ValueError(f"cover_mm and edge_mm must be >= 0, view_mm and chord_mm > 0, got "
+                             f"{self.cover_mm}, {self.edge_mm}, {self.view_mm}, {self.chord_mm}")
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
@@ -267,7 +268,8 @@ class ArmSearch:
         if self._stations is None:
             self._origin = self._pose[:2]
             self._stations = [to_odometry(self._pose, xy) for xy in
-                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm)]
+                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm,
+                                                           p.edge_mm)]
         while self._station < len(self._stations):
             turn, drive = leg_to(self._pose, self._stations[self._station])
             if drive >= p.chord_mm // 4:

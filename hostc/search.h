@@ -33,6 +33,7 @@ typedef struct {
     int32_t wander_d_theta5_mrad;   /* waist step of the sweep while driving */
     int32_t outward_from_mm; /* a ring's leg this far from the start sweeps outward (0: never) */
     int32_t outward_inward_mrad; /* ... and this far across to the inner side */
+    int32_t edge_mm; /* the last ring this far inside cover_mm (0: view_mm; coverage.c) */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */

@@ -58,6 +58,7 @@ typedef struct {
     int64_t lost_hold_us;      /* LOST: stand still this long before searching */
     int32_t max_lost;
     int32_t turn_wheel_mmps, wander_mmps, wander_clear_mm, sighting_match_mm;
+    int32_t search_turn_wheel_mmps; /* SEARCH's base turns (0: turn_wheel_mmps) */
     int32_t sonar_offset_mm, r_r_mm, sonar_a_g_mrad; /* the sonar ring and the safety circle */
     int32_t detour_mm, detour_clear_mm, max_detours; /* 001: drive aside this often at most */
     int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;

@@ -44,6 +44,8 @@ void mg_method000_params(mg_task_params_t *p)
     p->search.wander_frames_per_pose = 1;
     p->search.wander_d_theta5_mrad = MG_WANDER_D_THETA5_000_MRAD;
     p->search.outward_from_mm = MG_OUTWARD_FROM_000_MM;
+    p->search.outward_inward_mrad = MG_OUTWARD_INWARD_000_MRAD;
+    p->search.edge_mm = MG_EDGE_000_MM;
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

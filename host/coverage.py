@@ -14,8 +14,11 @@ docs/cosim.md). A ring starts and closes on the start's x axis (its heading at t
 step out to the next ring is radial. (An Archimedean spiral of pitch
 2 view_mm covers the same disc with ~20 % more path for 4.5 m: its last turn overshoots.)
 A ring is a polygon of sides about ``chord_mm`` whose sides touch its circle at their
-midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). Integer
-mm and mrad in the frame of the start (x ahead, y left).
+midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). The last
+ring may lie ``edge_mm`` inside the disc's edge instead of ``view_mm``: a last ring that sweeps
+its outer side alone sees farther that way (000: 0.9 m; docs/task.md "000: the last ring
+nearer the edge"); the rings inside it are laid as before. Integer mm and mrad in the frame of
+the start (x ahead, y left).
 """
 
 from __future__ import annotations

@@ -30,7 +30,9 @@ the servo travel and ``wander_frames_per_pose`` frames): the drive sees a strip 
 level sees 0.52-1.1 m; how wide the strip is depends on the sweep's period against the speed,
 docs/task.md "000: the sweep while driving"); ground nearer than 0.52 m ahead was seen earlier
 further ahead. A ring's leg that keeps ``outward_from_mm`` (> 0) from the start sweeps the side
-away from it alone, and ``outward_inward_mrad`` across (the ring inside saw the inner side).
+away from it alone, and ``outward_inward_mrad`` across (the ring inside saw the inner side);
+the last ring lies ``edge_mm`` inside ``cover_mm`` (0: ``view_mm``), where that one-sided sweep
+reaches the disc's edge (docs/task.md "000: the last ring nearer the edge").
 A look-around costs ~30 s for a 1.1 m disk
 (3.8 m2), a drive 0.4 m2/s: so after the first look-around at the start the wander stops only to
 turn the base toward the next station (``stop_cycles`` = 0), and ``stop_cycles`` > 0 looks around

@@ -218,6 +218,22 @@ def test_task_wanders_straight_ahead_until_odometry_says_the_distance_is_done():
     assert out.wheels_mmps == (v, v) and task.search.wandering
 
 
+def test_the_search_s_base_turns_may_have_their_own_wheel_speed():
+    """SEARCH's turns on the spot (the look-around's, the rings' corners) at
+    ``search_turn_wheel_mmps`` when set, else ``turn_wheel_mmps`` (80 mm/s; every method: 000's
+    at 160 mm/s lost a control seed, docs/task.md "000: the last ring nearer the edge")."""
+    for params, want in (({}, 80), ({"search_turn_wheel_mmps": 160}, 160)):
+        task, t = Task("000", params), 0
+        assert task.p.turn_wheel_mmps == 80
+        while t < 20_000_000:
+            out = task.step(t, TaskInputs(sonar_mm=(65535,) * 5))
+            if out.wheels_mmps not in (None, (0, 0)):
+                break
+            t += 20_000
+        assert out.state == "SEARCH" and task.search.turning and not task.search.wandering
+        assert out.wheels_mmps == (-want, want), (params, out.wheels_mmps)  # left, on the spot
+
+
 def test_a_target_seen_while_the_base_turns_stops_the_turn_to_confirm_it():
     import detections as det
 

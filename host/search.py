@@ -270,8 +270,7 @@ class ArmSearch:
         if self._stations is None:
             self._origin = self._pose[:2]
             self._stations = [to_odometry(self._pose, xy) for xy in
-                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm,
-                                                           p.edge_mm)]
+                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)]
         while self._station < len(self._stations):
             turn, drive = leg_to(self._pose, self._stations[self._station])
             if drive >= p.chord_mm // 4:

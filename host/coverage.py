@@ -14,8 +14,11 @@ docs/cosim.md). A ring starts and closes on the start's x axis (its heading at t
 step out to the next ring is radial. (An Archimedean spiral of pitch
 2 view_mm covers the same disc with ~20 % more path for 4.5 m: its last turn overshoots.)
 A ring is a polygon of sides about ``chord_mm`` whose sides touch its circle at their
-midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). Integer
-mm and mrad in the frame of the start (x ahead, y left).
+midpoints (its vertices chord^2 / (8 a) outside it, which the spacing allows for). The last
+ring may lie ``edge_mm`` inside the disc's edge instead of ``view_mm``: a last ring that sweeps
+its outer side alone sees farther that way (000: 0.9 m; docs/task.md "000: the last ring
+nearer the edge"); the rings inside it are laid as before. Integer mm and mrad in the frame of
+the start (x ahead, y left).
 """
 
 from __future__ import annotations
@@ -26,14 +29,16 @@ from mobigrasp.host.fixedpoint import atan2_mrad, cos_q12, isqrt, sin_q12
 TWO_PI_MRAD = 6283
 
 
-def ring_stations(radius_mm: int, view_mm: int, chord_mm: int) -> list[tuple[int, int]]:
-    """Stations (x_mm, y_mm) from the start (excluded) round the rings out to ``radius_mm``."""
-    if view_mm <= 0 or chord_mm <= 0 or radius_mm < 0:
-        raise ValueError(f"view and chord must be > 0 and radius >= 0, got {view_mm}, "
-                         f"{chord_mm}, {radius_mm}")
+def ring_stations(radius_mm: int, view_mm: int, chord_mm: int,
+                  edge_mm: int = 0) -> list[tuple[int, int]]:
+    """Stations (x_mm, y_mm) from the start (excluded) round the rings out to ``radius_mm``;
+    the last ring at ``radius_mm - edge_mm`` (``edge_mm`` 0: ``view_mm``)."""
+    if view_mm <= 0 or chord_mm <= 0 or radius_mm < 0 or edge_mm < 0:
+        raise ValueError(f"view and chord must be > 0, radius and edge >= 0, got {view_mm}, "
+                         f"{chord_mm}, {radius_mm}, {edge_mm}")
     if radius_mm <= view_mm:
         return []  # the look-around at the start sees it all
-    span = radius_mm - view_mm
+    span = radius_mm - (edge_mm or view_mm)
     rings: list[tuple[int, int, int]] = []
     inner = 0  # the ring inside's radius (its sides' midpoints: its reach outward); the start
     while inner < span:

@@ -30,7 +30,9 @@ the servo travel and ``wander_frames_per_pose`` frames): the drive sees a strip 
 level sees 0.52-1.1 m; how wide the strip is depends on the sweep's period against the speed,
 docs/task.md "000: the sweep while driving"); ground nearer than 0.52 m ahead was seen earlier
 further ahead. A ring's leg that keeps ``outward_from_mm`` (> 0) from the start sweeps the side
-away from it alone, and ``outward_inward_mrad`` across (the ring inside saw the inner side).
+away from it alone, and ``outward_inward_mrad`` across (the ring inside saw the inner side);
+the last ring lies ``edge_mm`` inside ``cover_mm`` (0: ``view_mm``), where that one-sided sweep
+reaches the disc's edge (docs/task.md "000: the last ring nearer the edge").
 A look-around costs ~30 s for a 1.1 m disk
 (3.8 m2), a drive 0.4 m2/s: so after the first look-around at the start the wander stops only to
 turn the base toward the next station (``stop_cycles`` = 0), and ``stop_cycles`` > 0 looks around
@@ -96,6 +98,7 @@ class SearchParams:
     round_tries: int = 0  # a leg sweeping outward alone (the last ring) stopped by an
     # obstacle goes round it and aims at its station again, at most this often until a leg
     # ends unblocked (0: the next station at once, as every other leg)
+    edge_mm: int = 0  # the last ring this far inside cover_mm (0: view_mm; host.coverage)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -111,9 +114,9 @@ class SearchParams:
         if self.wander_sweep not in (0, 1) or self.stop_cycles < 0:
             raise ValueError(f"wander_sweep must be 0 or 1 and stop_cycles >= 0, got "
                              f"{self.wander_sweep}, {self.stop_cycles}")
-        if self.cover_mm < 0 or self.view_mm <= 0 or self.chord_mm <= 0:
-            raise ValueError(f"cover_mm must be >= 0, view_mm and chord_mm > 0, got "
-                             f"{self.cover_mm}, {self.view_mm}, {self.chord_mm}")
+        if self.cover_mm < 0 or self.view_mm <= 0 or self.chord_mm <= 0 or self.edge_mm < 0:
+            raise ValueError(f"cover_mm and edge_mm must be >= 0, view_mm and chord_mm > 0, got "
+                             f"{self.cover_mm}, {self.edge_mm}, {self.view_mm}, {self.chord_mm}")
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
@@ -273,7 +276,7 @@ class ArmSearch:
         if self._stations is None:
             self._origin = self._pose[:2]
             self._stations = [to_odometry(self._pose, xy) for xy in
-                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm)]
+                              ring_stations(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)]
         while self._station < len(self._stations):
             turn, drive = leg_to(self._pose, self._stations[self._station])
             if drive >= p.chord_mm // 4:

@@ -15,14 +15,14 @@ static void ring(int64_t a, int32_t chord_mm, int64_t *a_v, int32_t *m)
     *a_v = mg_floor_div(a * 4096, mg_cos_q12(TWO_PI_MRAD / (2 * *m)));
 }
 
-int32_t mg_ring_stations(int32_t radius_mm, int32_t view_mm, int32_t chord_mm,
+int32_t mg_ring_stations(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
                          int32_t out[][2], int32_t max, int32_t *overflow)
 {
-    if (view_mm <= 0 || chord_mm <= 0 || radius_mm < 0)
+    if (view_mm <= 0 || chord_mm <= 0 || radius_mm < 0 || edge_mm < 0)
         return -1;
     if (radius_mm <= view_mm)
         return 0;
-    const int64_t span = (int64_t)radius_mm - view_mm;
+    const int64_t span = (int64_t)radius_mm - (edge_mm ? edge_mm : view_mm);
     int64_t a_v[MG_COVER_MAX_RINGS];
     int32_t m[MG_COVER_MAX_RINGS];
     int32_t n = 0;

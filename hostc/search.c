@@ -293,8 +293,8 @@ static void start_leg(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
     const mg_search_params_t *p = &s->p;
     if (!s->has_stations) { /* the rings in the start's frame, then in odometry */
         s->origin[0] = s->pose[0], s->origin[1] = s->pose[1];
-        const int32_t n = mg_ring_stations(p->cover_mm, p->view_mm, p->chord_mm, s->stations,
-                                           MG_COVER_STATIONS, &s->overflow);
+        const int32_t n = mg_ring_stations(p->cover_mm, p->view_mm, p->chord_mm, p->edge_mm,
+                                           s->stations, MG_COVER_STATIONS, &s->overflow);
         s->n_stations = n > 0 ? n : 0;
         for (int32_t i = 0; i < s->n_stations; i++) {
             const int32_t xy[2] = {s->stations[i][0], s->stations[i][1]};

@@ -36,6 +36,7 @@ typedef struct {
     int32_t round_tries; /* a leg sweeping outward alone stopped by an obstacle goes round it
                           * and aims at its station again at most this often until a leg ends
                           * unblocked (0: the next station at once) */
+    int32_t edge_mm; /* the last ring this far inside cover_mm (0: view_mm; coverage.c) */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */

@@ -62,6 +62,7 @@ typedef struct {
      * from the axle is driven to until sighting_approach_mm away and looked at (0: dropped),
      * at most sighting_approaches a run (task_search.c) */
     int32_t sighting_approach_mm, sighting_approaches;
+    int32_t search_turn_wheel_mmps; /* SEARCH's base turns (0: turn_wheel_mmps) */
     int32_t sonar_offset_mm, r_r_mm, sonar_a_g_mrad; /* the sonar ring and the safety circle */
     int32_t detour_mm, detour_clear_mm, max_detours; /* 001: drive aside this often at most */
     int32_t grasp_r_tol_mm, hover_mm, lift_mm, pregrasp_back_mm;

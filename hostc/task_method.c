@@ -175,6 +175,7 @@ void mg_task_params_default(mg_task_params_t *p)
     p->max_plan_attempts = 3;
     p->direct_max_mm = 1200;
     p->turn_wheel_mmps = 80;
+    p->search_turn_wheel_mmps = 0;
     p->replan_period_us = 300000;
     p->sonar_sweep_us = 200000;
     mg_search_params_default(&p->search); /* host/search.py SearchParams() */

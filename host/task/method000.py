@@ -47,10 +47,12 @@ MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (e
 BACK_OFF_000_MM = 150
 BACK_OFF_FROM_MM = 40
 BACK_OFFS_000 = 1
-# SEARCH's wander (docs/task.md "000: the sweep while driving"): the waist steps 0.35 rad with
-# one frame per pose while driving at WANDER_000_MMPS; legs that keep OUTWARD_FROM_000_MM from
-# the start (the last ring of the 4.5 m disc, at 3.4 m; the first, at 2.1 m, sees to ~2.9 m)
-# sweep the outer side and 0.7 rad across alone
+# SEARCH's wander (docs/task.md "000: the sweep while driving", "000: the last ring nearer the
+# edge"): the waist steps 0.35 rad with one frame per pose while driving at WANDER_000_MMPS;
+# legs that keep OUTWARD_FROM_000_MM from the start sweep the outer side and
+# OUTWARD_INWARD_000_MRAD across alone: the last ring of the 4.5 m disc, EDGE_000_MM inside its
+# edge (3.6 m), sees 0.9 m outward to the edge and ~0.7 m inward, where the first ring's strip
+# (its sides at 2.07 m) ends
 WANDER_000_MMPS = 350
 WANDER_D_THETA5_000_MRAD = 350
 OUTWARD_FROM_000_MM = 3000
@@ -64,6 +66,8 @@ SIGHTING_APPROACH_000_MM = 850
 # at most ROUND_TRIES_000 times until a leg ends unblocked (docs/task.md "000: a ring's leg
 # stopped by an obstacle")
 ROUND_TRIES_000 = 2
+OUTWARD_INWARD_000_MRAD = 1050
+EDGE_000_MM = 900
 
 
 def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,
@@ -168,7 +172,9 @@ class Method000(PathMethod):
                             "search": {"wander_frames_per_pose": 1,
                                        "wander_d_theta5_mrad": WANDER_D_THETA5_000_MRAD,
                                        "outward_from_mm": OUTWARD_FROM_000_MM,
-                                       "round_tries": ROUND_TRIES_000}}
+                                       "round_tries": ROUND_TRIES_000,
+                                       "outward_inward_mrad": OUTWARD_INWARD_000_MRAD,
+                                       "edge_mm": EDGE_000_MM}}
     detectors = {"SEARCH": ("radial_symbol", "radial_cut"), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
                  # LIFT: the grasp check (grasp.py): the held object fills the frame, the

@@ -47,6 +47,7 @@ class TaskParams:
     lost_hold_us: int = 500_000
     max_lost: int = 5
     turn_wheel_mmps: int = 80
+    search_turn_wheel_mmps: int = 0  # SEARCH's base turns (look-around, ring corners); 0: the above
     wander_mmps: int = 200  # SEARCH wander speed (host.search); the planners' v_max is 250
     wander_clear_mm: int = 500  # a wander stops when a front sonar sees something this close
     sighting_match_mm: int = 200  # SEARCH: an unconfirmed sighting seen again this close is it

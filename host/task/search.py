@@ -108,7 +108,8 @@ class SearchStates:
             t.turn_from = None
             t.wheels = (0, 0)
         else:
-            t.wheels = turn_in_place(1 if cmd.base_turn_mrad > 0 else -1, t.p.turn_wheel_mmps)
+            t.wheels = turn_in_place(1 if cmd.base_turn_mrad > 0 else -1,
+                                     t.p.search_turn_wheel_mmps or t.p.turn_wheel_mmps)
 
     # --- LOST ---------------------------------------------------------------------------------
     def enter_LOST(self, t, now: int, inp) -> None:

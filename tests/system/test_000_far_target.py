@@ -28,3 +28,30 @@ def test_a_target_beyond_the_first_ring_is_found_and_grasped_in_time(tmp_path):
     legs = [e for e in events if e.get("ev") == "detail" and "wander_mm" in e]
     seen = [e for e in events if e.get("ev") == "state" and e["to"] == "APPROACH"]
     assert len(legs) > 12 and seen and seen[0]["t_us"] > legs[12]["t_us"]  # from the last ring
+
+
+@pytest.mark.slow
+def test_a_target_at_the_disc_s_edge_is_read_from_the_last_ring_and_the_c_host_agrees(tmp_path):
+    """Generator v3 seed 1004: the target 4.48 m away, at the edge of the 4.5 m disc, with three
+    obstacles; the last ring, 0.9 m inside the edge, reads it and the object is grasped in
+    time; ``--host c`` gives the same trace (docs/task.md "000: the last ring nearer the
+    edge")."""
+    scenario = random_scenario("000", 1004, "v3")
+    assert math.hypot(scenario.target.x_m, scenario.target.y_m) > 4.4
+    runs = {}
+    for host in ("python", "c"):
+        out = tmp_path / host
+        summary, code = execute(RunOptions(scenario="random-v3-000-1004", scenario_obj=scenario,
+                                           transport="inproc", host=host, out=out, plots=False,
+                                           mcap=False, progress=False))
+        runs[host] = summary
+        assert summary["success"] and code == 0, (host, summary["task_state"],
+                                                  summary["end_reason"])
+        assert summary["contacts"] == 0 and not summary["false_claim"]
+    assert runs["c"]["trace_sha256"] == runs["python"]["trace_sha256"]
+    events = [json.loads(line) for line in (tmp_path / "python" / "trace.jsonl").open()]
+    start = next(e for e in events if e.get("ev") == "start")
+    seen = next(e for e in events if e.get("ev") == "state" and e["to"] == "APPROACH")
+    at = [e for e in events if e.get("ev") == "truth" and e["t_us"] <= seen["t_us"]][-1]
+    # read from the last ring, beyond the vertices (3.47 m) of one laid view_mm inside the edge
+    assert math.hypot(at["x_m"] - start["robot"][0], at["y_m"] - start["robot"][1]) > 3.5

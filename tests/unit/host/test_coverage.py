@@ -67,6 +67,24 @@ def test_the_first_ring_reaches_as_far_as_the_strip_allows():
     assert {round(math.hypot(*s)) // 10 for s in cv.ring_stations(2500, 1100, 1500)} == {161}
 
 
+def test_the_last_ring_lies_edge_mm_inside_the_disc_and_the_first_stays():
+    """``edge_mm`` moves the last ring alone (its outward strip reaching the disc's edge from
+    there); the rings inside it are laid as before, and no point between them is farther from
+    a ring than the strip (the last ring's inner side is checked with its own sweep in
+    test_search_wander.py)."""
+    def sides(st):
+        return sorted({round(math.hypot((a[0] + b[0]) / 2, (a[1] + b[1]) / 2), -1)
+                       for a, b in zip(st, st[1:], strict=False)
+                       if abs(math.hypot(*a) - math.hypot(*b)) < 5})
+    assert sides(cv.ring_stations(4500, 1100, 1500)) == [2070, 3400]
+    assert sides(cv.ring_stations(4500, 1100, 1500, 900)) == [2070, 3600]
+    assert cv.ring_stations(4500, 1100, 1500, 1100) == cv.ring_stations(4500, 1100, 1500)
+    st = cv.ring_stations(4500, 1100, 1500, 900)
+    assert _gap_mm([(0, 0), *st], 3600, 1100) <= 1100 + 3
+    with pytest.raises(ValueError):
+        cv.ring_stations(4500, 1100, 1500, -1)
+
+
 def test_sides_too_long_for_the_strip_are_refused():
     with pytest.raises(ValueError):
         cv.ring_stations(8000, 300, 8000)  # hexagons too big to step out by a strip

@@ -73,7 +73,8 @@ def search_params(draw):
             wander_d_theta5_mrad=draw(st.sampled_from([200, 350]) | st.integers(150, 700)),
             outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)),
             outward_inward_mrad=draw(st.sampled_from([0, 350, 700]) | st.integers(0, 1400)),
-            round_tries=draw(st.integers(0, 3)))
+            round_tries=draw(st.integers(0, 3)),
+            edge_mm=draw(st.sampled_from([0, 0, 900]) | st.integers(0, 3000)))
     except ValueError:
         assume(False)
 
@@ -95,7 +96,8 @@ def _c_params(p):
         "view_mm": p.view_mm, "chord_mm": p.chord_mm,
         "wander_frames_per_pose": p.wander_frames_per_pose,
         "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm,
-        "outward_inward_mrad": p.outward_inward_mrad, "round_tries": p.round_tries})
+        "outward_inward_mrad": p.outward_inward_mrad, "round_tries": p.round_tries,
+        "edge_mm": p.edge_mm})
 
 
 def _cmd(c) -> tuple[int, ...]:
@@ -166,13 +168,14 @@ def test_search_over_time(p, th2, th5, calls):
 
 @SETTINGS
 @given(st.integers(-100, 8000), st.sampled_from([-10, 0]) | st.integers(300, 3000),
-       st.sampled_from([-10, 0]) | st.integers(300, 4000))
-def test_ring_stations(radius, view, chord):
+       st.sampled_from([-10, 0]) | st.integers(300, 4000),
+       st.sampled_from([-10, 0, 900]) | st.integers(0, 3000))
+def test_ring_stations(radius, view, chord, edge):
     out = FFI.new("int32_t[256][2]")
     overflow = FFI.new("int32_t *")
-    n = C.mg_ring_stations(radius, view, chord, out, 256, overflow)
+    n = C.mg_ring_stations(radius, view, chord, edge, out, 256, overflow)
     try:
-        want = coverage.ring_stations(radius, view, chord)
+        want = coverage.ring_stations(radius, view, chord, edge)
     except ValueError:
         assert n == -1
         return
@@ -184,7 +187,7 @@ def test_the_shipped_rings_fit():
     """002's disc (2.5 m) and the default one (4.5 m) at the default strip and chord."""
     for radius in (2500, 4500):
         out, overflow = FFI.new("int32_t[256][2]"), FFI.new("int32_t *")
-        n = C.mg_ring_stations(radius, 1100, 1500, out, 256, overflow)
+        n = C.mg_ring_stations(radius, 1100, 1500, 0, out, 256, overflow)
         assert overflow[0] == 0 and n == len(coverage.ring_stations(radius, 1100, 1500)) >= 7
 
 

@@ -56,18 +56,17 @@ BACK_OFFS_000 = 1
 WANDER_000_MMPS = 350
 WANDER_D_THETA5_000_MRAD = 350
 OUTWARD_FROM_000_MM = 3000
+OUTWARD_INWARD_000_MRAD = 1050
+EDGE_000_MM = 900
 # SEARCH: a sighting not seen again at rest, farther from the axle than this +
 # sighting_match_mm, is driven to until this far (the camera then ~0.65 m from it, well inside
 # the symbol's 1.1 m range) and looked at before it is dropped (docs/task.md "000: a far
 # sighting driven to")
 SIGHTING_APPROACH_000_MM = 850
-
 # a leg of the last ring stopped by an obstacle goes round it and aims at its station again,
 # at most ROUND_TRIES_000 times until a leg ends unblocked (docs/task.md "000: a ring's leg
 # stopped by an obstacle")
 ROUND_TRIES_000 = 2
-OUTWARD_INWARD_000_MRAD = 1050
-EDGE_000_MM = 900
 
 
 def plan_follower(now_us: int, x_mm: int, y_mm: int, heading_mrad: int, v_mmps: int,

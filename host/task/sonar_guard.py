@@ -12,8 +12,10 @@ the new pose (:class:`SonarGuard`, run after every step by ``Method.guard_wheels
 The close approach (ADJUST, and ROUGH_GRASP's drive into the grasp's reach) passes within R_r
 of things beside the object on purpose (002's board post stands 0.17 m behind the cylinder's
 axis), so it is guarded nearer: a front echo within ``CLOSE_GUARD_MM`` of the ring that is not
-the object's (nearer than the estimate by more than ``CLOSE_OBJECT_MM``) stops the base there
-(:func:`close_echo`, :func:`close_guard`). Integer mm / mrad; no I/O.
+the object's (nearer than the estimate by more than ``CLOSE_OBJECT_MM``) stops the base there,
+as does one seen within ``CLOSE_MEMORY_MM`` and come that near on odometry (a thin thing aside
+leaves the front cone before the ring reaches it) (:func:`close_echo`, :func:`close_guard`).
+Integer mm / mrad; no I/O.
 """
 
 from __future__ import annotations

@@ -16,6 +16,7 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 from plan001_c import params_c
 from property_examples import examples
+from test_hostc_task import recorded_run
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -139,25 +140,22 @@ def test_the_memory_keeps_the_newest_and_forgets_what_is_seen_again():
     assert np.any([rp.forget_seen((0.8, 0.0), 0.0) > 0])
 
 
-def _recorded(tmp_path, scenario: str) -> list:
-    """Every call of 001's replanner (start, update) in a shipped scenario run in process,
-    with the replanner's state after it."""
+def record_replans(mp, calls: list):
+    """A recorder (test_hostc_task.recorded_runs) of every call of 001's replanner (start,
+    update), with the replanner's state after it: the watcher that appends them to ``calls``."""
     from mobigrasp.host.planning.observe import watching
-    from mobigrasp.services.run_job import RunOptions, execute
-
-    calls: list = []
 
     def watch(name, args, kw, result):
         rp = args[0]
         calls.append((name, rp, args[1:], kw, result,
                       (list(rp.memory), rp.level, rp.replans,
                        None if rp.curve is None else _ctrl(rp.curve), rp.start_us)))
+    return watching(watch, topic="replan")
 
-    with watching(watch, topic="replan"):
-        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
-                                           out=tmp_path / "run", progress=False, plots=False))
-    assert code == 0 and summary["success"], summary
-    return calls
+
+def _recorded(tmp_path, scenario: str) -> list:
+    """Every call of 001's replanner in a shipped scenario run in process (``record_replans``)."""
+    return recorded_run(tmp_path, scenario, record_replans)
 
 
 def _replay(calls) -> dict:
@@ -211,11 +209,11 @@ def _replay(calls) -> dict:
     return counts
 
 
-@pytest.fixture(scope="module")
-def sim1_calls(tmp_path_factory) -> list:
-    """paper001-sim1's replanner calls, recorded once for the module's two replays of them
-    (the replays only read them)."""
-    return _recorded(tmp_path_factory.mktemp("sim1"), "paper001-sim1")
+@pytest.fixture
+def sim1_calls(shared_recording) -> list:
+    """paper001-sim1's replanner calls, from the session's one run of it (conftest.py; the
+    replays only read them)."""
+    return shared_recording("paper001-sim1", "replans")
 
 
 def test_replay_of_paper001_sim1(sim1_calls):

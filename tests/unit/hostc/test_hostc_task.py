@@ -5,6 +5,8 @@ the sequence the Python host made in the shipped scenario paper002-marker, repla
 
 from __future__ import annotations
 
+import contextlib
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -963,17 +965,27 @@ def _replay(c, calls: list) -> dict:
     return counts
 
 
-def recorded_run(tmp_path, scenario: str, record) -> list:
-    """The calls ``record(mp, calls)`` records of the Python task in a shipped scenario, run in
-    process (it must succeed)."""
+def recorded_runs(tmp_path, scenario: str, recorders: dict) -> dict[str, list]:
+    """A shipped scenario run once in process (it must succeed) with every ``record(mp,
+    calls)`` of ``recorders`` attached, each filling its own list; a record may return a
+    context manager held open during the run (a planner watcher). The lists by name."""
     from mobigrasp.services.run_job import RunOptions, execute
-    calls: list = []
-    with pytest.MonkeyPatch.context() as mp:
-        record(mp, calls)
+    calls: dict[str, list] = {name: [] for name in recorders}
+    with pytest.MonkeyPatch.context() as mp, contextlib.ExitStack() as stack:
+        for name, record in recorders.items():
+            watcher = record(mp, calls[name])
+            if watcher is not None:
+                stack.enter_context(watcher)
         summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
                                            out=tmp_path / "run", progress=False, plots=False))
     assert code == 0 and summary["success"], summary
     return calls
+
+
+def recorded_run(tmp_path, scenario: str, record) -> list:
+    """The calls ``record(mp, calls)`` records of the Python task in a shipped scenario, run in
+    process (it must succeed)."""
+    return recorded_runs(tmp_path, scenario, {"calls": record})["calls"]
 
 
 def _recorded_run(tmp_path, steps: bool = False) -> list:

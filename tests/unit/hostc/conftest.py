@@ -15,7 +15,23 @@ def _paper001_sim1() -> dict:
     return {"plans": record_plans, "replans": record_replans, "task": record001_steps}
 
 
-SHARED = {"paper001-sim1": _paper001_sim1}  # scenario -> its recorders by name
+def _paper002_marker() -> dict:
+    from test_hostc_task import record002, record002_approach
+    from test_hostc_task_states import record_steps
+
+    return {"calls": record002, "approach": record002_approach, "steps": record_steps}
+
+
+def _paper000_exp1() -> dict:
+    from test_hostc_task000 import record000
+    from test_hostc_task_states import record_steps
+
+    return {"calls": record000, "steps": record_steps}
+
+
+# scenario -> its recorders by name
+SHARED = {"paper000-exp1": _paper000_exp1, "paper001-sim1": _paper001_sim1,
+          "paper002-marker": _paper002_marker}
 
 
 @pytest.fixture(scope="session")

@@ -988,16 +988,20 @@ def recorded_run(tmp_path, scenario: str, record) -> list:
     return recorded_runs(tmp_path, scenario, {"calls": record})["calls"]
 
 
-def _recorded_run(tmp_path, steps: bool = False) -> list:
-    """The calls of the Python task in the shipped scenario paper002-marker."""
-    return recorded_run(tmp_path, "paper002-marker",
-                        lambda mp, calls: _record(mp, calls, steps))
+def record002(mp, calls: list) -> None:
+    """A recorder (``recorded_runs``) of method 002's calls (``_record``)."""
+    _record(mp, calls)
 
 
-def test_replay_of_paper002_marker(tmp_path):
+def record002_approach(mp, calls: list) -> None:
+    """A recorder of method 002's APPROACH and ADJUST steps whole (``_record`` with steps)."""
+    _record(mp, calls, steps=True)
+
+
+def test_replay_of_paper002_marker(shared_recording):
     """The calls the Python task made in paper002-marker replayed on the C task with the same
     inputs: the same outputs, call by call."""
-    calls = _recorded_run(tmp_path)
+    calls = shared_recording("paper002-marker", "calls")
     counts = _replay(_c_task(), calls)
     assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
     for kind in ("arm", "remember", "arm_at", "go", "enter_approach", "bearing", "fuzzy",
@@ -1005,10 +1009,10 @@ def test_replay_of_paper002_marker(tmp_path):
         assert counts.get(kind, 0) > 0, (kind, counts)
 
 
-def test_replay_of_the_approach_of_paper002_marker(tmp_path):
+def test_replay_of_the_approach_of_paper002_marker(shared_recording):
     """APPROACH's and ADJUST's steps in paper002-marker, each with the frame's results, on the
     C task."""
-    calls = _recorded_run(tmp_path, steps=True)
+    calls = shared_recording("paper002-marker", "approach")
     counts = _replay(_c_task(), calls)
     assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
     ended = [r for r in calls if r[0] == "approach" and r[11]]

@@ -14,7 +14,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from property_examples import examples
 from test_hostc_app_factory import words
-from test_hostc_task import FRAMES, NEAR, RED
+from test_hostc_task import FRAMES, NEAR, RED, recorded_run
 
 from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
@@ -208,26 +208,30 @@ def test_the_held_colour_of_002():
         assert C.mg_method002_red_paint(list(rgb)) == red_paint(rgb), rgb
 
 
-def _recorded_steps(tmp_path, scenario: str) -> tuple[list, object]:
-    """The Python task's steps in a shipped scenario run in process: (now, inputs, outputs)."""
-    from mobigrasp.services.run_job import RunOptions, execute
-    steps: list = []
-    tasks: list = []
+def record_steps(mp, calls: list) -> None:
+    """A recorder (test_hostc_task.recorded_runs) of the Python task's steps: ``calls[0]`` a
+    fresh task as the run's began (its method, parameters and start), then (now, inputs,
+    outputs) of each step."""
     orig = machine.Task.step
 
     def recorded(task, now_us, inputs):
-        if not tasks:
-            tasks.append(Task(task.method, start_us=task.entered_us))
-            tasks[0].p = task.p
+        if not calls:
+            calls.append(Task(task.method, start_us=task.entered_us))
+            calls[0].p = task.p
         res = orig(task, now_us, inputs)
-        steps.append((now_us, inputs, res))
+        calls.append((now_us, inputs, res))
         return res
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(machine.Task, "step", recorded)
-        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
-                                           out=tmp_path / "run", progress=False, plots=False))
-    assert code == 0 and summary["success"], summary
-    return steps, tasks[0]
+    mp.setattr(machine.Task, "step", recorded)
+
+
+def steps_and_fresh(calls: list) -> tuple[list, object]:
+    """What ``record_steps`` recorded: (the steps, the fresh task)."""
+    return calls[1:], calls[0]
+
+
+def _recorded_steps(tmp_path, scenario: str) -> tuple[list, object]:
+    """The Python task's steps in a shipped scenario run in process: (now, inputs, outputs)."""
+    return steps_and_fresh(recorded_run(tmp_path, scenario, record_steps))
 
 
 def _replay(steps: list, fresh: Task) -> list:
@@ -259,9 +263,9 @@ def _replay(steps: list, fresh: Task) -> list:
     return states
 
 
-def test_replay_of_paper002_marker_whole(tmp_path):
+def test_replay_of_paper002_marker_whole(shared_recording):
     """Every step the Python task took in paper002-marker, SEARCH to DONE, on the C task."""
-    steps, fresh = _recorded_steps(tmp_path, "paper002-marker")
+    steps, fresh = steps_and_fresh(shared_recording("paper002-marker", "steps"))
     assert len(steps) > 500  # 50 steps a simulated second: SEARCH to DONE in ~18 s
     states = _replay(steps, fresh)
     assert states[0] == "SEARCH" and states[-1] == "DONE"

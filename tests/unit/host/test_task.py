@@ -78,7 +78,9 @@ def test_a_not_found_result_does_not_trigger():
 
 
 def test_unconfirmed_sighting_resumes_the_search():
-    task = Task("000")
+    """A sighting the held pose does not read again is dropped and the pattern goes on (with
+    the drive to a far sighting off: 000's drive to one is tested in test_search_wander.py)."""
+    task = Task("000", {"sighting_approach_mm": 0})
     step(task, 0)
     step(task, 80_000)
     out = step(task, 100_000, detections={"radial_symbol": RADIAL_AHEAD})

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 
-def _paper001_sim1() -> dict:
+def _paper001() -> dict:
     from test_hostc_plan001 import record_plans
     from test_hostc_replan import record_replans
     from test_hostc_task001 import record001_steps
@@ -30,8 +30,8 @@ def _paper000_exp1() -> dict:
 
 
 # scenario -> its recorders by name
-SHARED = {"paper000-exp1": _paper000_exp1, "paper001-sim1": _paper001_sim1,
-          "paper002-marker": _paper002_marker}
+SHARED = {"paper000-exp1": _paper000_exp1, "paper001-sim1": _paper001,
+          "paper001-sim2": _paper001, "paper002-marker": _paper002_marker}
 
 
 @pytest.fixture(scope="session")

@@ -11,7 +11,6 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 from plan001_c import params_c
 from property_examples import examples
-from test_hostc_task import recorded_run
 
 from mobigrasp import hostc
 from mobigrasp.host.planning.bezier001 import Params001, plan_001
@@ -130,9 +129,9 @@ def test_replay_of_the_plans_of_paper001_sim1(shared_recording):
 
 
 @pytest.mark.slow
-def test_replay_of_the_plans_of_paper001_sim2(tmp_path):
+def test_replay_of_the_plans_of_paper001_sim2(shared_recording):
     """The same for paper001-sim2, where plans also find no feasible curve."""
-    counts = _replay(recorded_run(tmp_path, "paper001-sim2", record_plans))
+    counts = _replay(shared_recording("paper001-sim2", "plans"))
     assert counts.get(C.MG_PLAN001_OK, 0) >= 5 and counts.get(C.MG_PLAN001_NONE_FEASIBLE), counts
 
 

@@ -16,7 +16,6 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 from plan001_c import params_c
 from property_examples import examples
-from test_hostc_task import recorded_run
 
 from mobigrasp import hostc
 from mobigrasp.host.budget import OpCounts
@@ -153,11 +152,6 @@ def record_replans(mp, calls: list):
     return watching(watch, topic="replan")
 
 
-def _recorded(tmp_path, scenario: str) -> list:
-    """Every call of 001's replanner in a shipped scenario run in process (``record_replans``)."""
-    return recorded_run(tmp_path, scenario, record_replans)
-
-
 def _replay(calls) -> dict:
     """The calls replayed on the C replanner, each replanner from its start; the outcomes."""
     seen: dict = {}
@@ -225,9 +219,9 @@ def test_replay_of_paper001_sim1(sim1_calls):
 
 
 @pytest.mark.slow
-def test_replay_of_paper001_sim2(tmp_path):
+def test_replay_of_paper001_sim2(shared_recording):
     """The same for paper001-sim2, whose far blocks keep the path while no update exists."""
-    counts = _replay(_recorded(tmp_path, "paper001-sim2"))
+    counts = _replay(shared_recording("paper001-sim2", "replans"))
     assert counts.get("new", 0) >= 5 and counts.get("kept", 0) >= 1, counts
 
 
@@ -326,10 +320,10 @@ def test_board_replanner_replays_paper001_sim1(sim1_calls):
 
 
 @pytest.mark.slow
-def test_board_replanner_replays_paper001_sim2(tmp_path):
+def test_board_replanner_replays_paper001_sim2(shared_recording):
     """The same for paper001-sim2 (blocks far ahead keep the path, in words too)."""
     base_v0 = planner_params_001(TaskParams.for_method("001")).v0
-    counts = _replay_board(_recorded(tmp_path, "paper001-sim2"), base_v0)
+    counts = _replay_board(shared_recording("paper001-sim2", "replans"), base_v0)
     assert counts.get("kept", 0) >= 1, counts
 
 

@@ -21,7 +21,6 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 from property_examples import examples
 from test_hostc_control import trajectories
-from test_hostc_task import recorded_run
 from test_hostc_task000 import (
     BROWN,
     CUT,
@@ -640,9 +639,9 @@ def test_replay_of_paper001_sim1(shared_recording):
 
 
 @pytest.mark.slow
-def test_replay_of_paper001_sim2(tmp_path):
+def test_replay_of_paper001_sim2(shared_recording):
     """The same for paper001-sim2 (its longer way round the obstacles, 65 s simulated)."""
-    _replay_run(recorded_run(tmp_path, "paper001-sim2", record001_steps))
+    _replay_run(shared_recording("paper001-sim2", "task"))
 
 
 def _cut_twice(py, c, now: int, inp: TaskInputs, out):

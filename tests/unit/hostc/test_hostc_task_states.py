@@ -409,3 +409,27 @@ def test_a_grasp_held_and_one_missed(seen_standing, end):
                    d_pixel_q4=640, width_q4=400, roi=(0, 0, 1, 1))
     dets = {"held_fill": fill, **({"red_cylinder": standing} if seen_standing else {})}
     assert _grasp_both((0, 0), [(60_000, dets)] * 100) == end
+
+
+@pytest.mark.parametrize("red_seen, end, why", [
+    (True, "LOST", "object never sighted at its estimated place, its cue seen before"),
+    (False, "FAILED", "no graspable object found (red_cylinder never seen)")])
+def test_the_grasp_on_an_estimate_the_rings_never_confirmed(red_seen, end, why):
+    """ROUGH_GRASP entered with the rings never measured (ADJUST finished on the estimate of
+    the ROI or the crosses): the red cylinder's ROI seen in the approach, the search goes on
+    (LOST); the board alone, FAILED "no graspable object found"; the same on both tasks."""
+    py = Task("002")
+    c = _c_task(py)
+    py.obj = (300, 0)
+    c.has_obj, c.obj_mm = 1, [300, 0]
+    py.graspable_seen = c.graspable_seen = False
+    py.ms.red_seen = red_seen
+    FFI.cast("mg_state002_t *", c.ms.bytes).red_seen = red_seen
+    py.go(0, "ROUGH_GRASP", "test")
+    C.mg_task_go(c, 0, C.MG_ROUGH_GRASP, b"test")
+    out = FFI.new("mg_task_outputs_t *")
+    events = []
+    for k in range(1, 4):
+        events += _step_both(py, c, k * 20_000, TaskInputs(detections={}), out).events
+    event = next(e for e in events if e.from_state == "ROUGH_GRASP")
+    assert (event.to_state, event.why.startswith(why)) == (end, True), event

@@ -122,6 +122,18 @@ static void rough_pose(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
                            (int32_t)mg_floor_div(target[1], 16),
                            (int32_t)mg_floor_div(target[2], 16)};
     note_ints(t, "rough_target_mm", mm, 3);
+    if (code != MG_IK_OK && t->sight_adjusts < MAX_SIGHT_ADJUSTS) {
+        /* the object beside or behind the arm's reach (001 arrived on its grasp circle facing
+         * past it, docs/task.md): the base closes in on it first, as after a look that saw it
+         * outside ADJUST's goal */
+        t->sight_adjusts++;
+        char why[MG_TASK_WHY];
+        size_t n = mg_task_text(why, sizeof why, 0, "rough grasp out of reach (");
+        n = mg_task_ik_reason(&t->geom, code, detail, &pose, why, sizeof why, n);
+        mg_task_text(why, sizeof why, n, "): closer in first");
+        mg_task_go(t, now_us, MG_ADJUST, why);
+        return;
+    }
     if (code != MG_IK_OK) {
         fail_ik(t, now_us, "rough grasp IK: ", code, detail, &pose);
         return;

@@ -472,6 +472,7 @@ static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, c
     ms->circle_expected_mm[0] = t->obj_mm[0];
     ms->circle_expected_mm[1] = t->obj_mm[1];
     ms->circle_l_e_mm = l_e;
+    ms->circle_adjusts = t->sight_adjusts;
     char reason[MG_TASK_WHY];
     const size_t n = mg_task_text(reason, sizeof reason, 0, "on the grasp circle: ");
     mg_task_text(reason, sizeof reason, n, why);
@@ -485,6 +486,8 @@ int mg_method001_look_decides(mg_task_t *t, int64_t now_us, const mg_task_inputs
     if (!ms->has_circle_expected)
         return 0;
     ms->has_circle_expected = 0;
+    if (t->sight_adjusts != ms->circle_adjusts)
+        return 0; /* the base closed in since the arrival: 000's grasp from here */
     const int64_t ex = (int64_t)t->obj_mm[0] - ms->circle_expected_mm[0];
     const int64_t ey = (int64_t)t->obj_mm[1] - ms->circle_expected_mm[1];
     const int32_t off_mm = (int32_t)mg_isqrt(ex * ex + ey * ey);

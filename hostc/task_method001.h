@@ -110,6 +110,7 @@ typedef struct {
     /* arrived on the grasp circle: the estimate the look before the grasp is to confirm,
      * and the circle's radius l_e */
     int32_t has_circle_expected, circle_expected_mm[2], circle_l_e_mm;
+    int32_t circle_adjusts; /* ... and the grasp's close-ins then (t->sight_adjusts) */
     int32_t ik_grasp;       /* PRECISE_GRASP goes down by eq. (11), no spoke alignment */
     int32_t has_l_e, l_e_mm; /* l_e of eq. (5) for grasp_height_mm, once computed (0: none) */
     mg_detour_t detour; /* a drive aside before the next plan (a fallback's, the guard's) */

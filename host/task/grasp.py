@@ -181,6 +181,13 @@ class GraspStates:
                     target = lower
                     break
         t.note(rough_target_mm=[v // 16 for v in target])
+        if isinstance(pose, kinematics.Unreachable) and t.sight_adjusts < MAX_SIGHT_ADJUSTS:
+            # the object beside or behind the arm's reach (001 arrived on its grasp circle
+            # facing past it, docs/task.md): the base closes in on it first, as after a look
+            # that saw it outside ADJUST's goal
+            t.sight_adjusts += 1
+            t.go(now, "ADJUST", f"rough grasp out of reach ({pose.reason}): closer in first")
+            return
         if isinstance(pose, kinematics.Unreachable):
             t.fail(now, f"rough grasp IK: {pose.reason}")
             return

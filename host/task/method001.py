@@ -221,6 +221,7 @@ class State001(MethodState):
     # arrived on the grasp circle: the estimate the look before the grasp is to confirm
     circle_expected: tuple[int, int] | None = None
     circle_l_e_mm: int = 0  # ... and the circle's radius l_e
+    circle_adjusts: int = 0  # ... and the grasp's close-ins then (Task.sight_adjusts)
     ik_grasp: bool = False  # PRECISE_GRASP goes down by eq. (11), no spoke alignment
 
 
@@ -524,6 +525,7 @@ class Method001(Method000):
                              "error_mm": axle_mm - l_e_mm, "path_error_mm": error_mm,
                              "waist_mm": isqrt(x * x + y * y) // 16})
         t.ms.circle_expected, t.ms.circle_l_e_mm = t.obj, l_e_mm
+        t.ms.circle_adjusts = t.sight_adjusts
         t.go(now, "ROUGH_GRASP", "on the grasp circle: " + why)
 
     def look_decides(self, t: Task, now: int, inp: TaskInputs) -> bool:
@@ -538,6 +540,8 @@ class Method001(Method000):
         if expected is None:
             return False
         t.ms.circle_expected = None
+        if t.sight_adjusts != t.ms.circle_adjusts:
+            return False  # the base closed in since the arrival: 000's grasp from here
         off_mm = isqrt((t.obj[0] - expected[0]) ** 2 + (t.obj[1] - expected[1]) ** 2)
         why, pre = None, None
         if not t.sight_frames:

@@ -116,3 +116,34 @@ def test_001_s_curve_ends_before_the_base_would_brake_onto_the_object():
     assert task.state == "ROUGH_GRASP"
     assert task._detail["grasp_circle"]["axle_mm"] == 250
     assert task._detail["grasp_circle"]["waist_mm"] > task.p.grasp_r_mm
+
+
+def test_001_on_its_circle_facing_past_the_object_closes_in_before_the_grasp():
+    """On the circle (axle 283 mm from the estimate) with the object behind and right of the
+    base, out of the arm's reach and of every view of the look: ADJUST closes in on it first
+    (at most MAX_SIGHT_ADJUSTS times a grasp, then FAILED), and the look after the close-in
+    is not the circle's (000's grasp from there)."""
+    from mobigrasp.host.task.grasp import MAX_SIGHT_ADJUSTS
+
+    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
+    clear = (2500,) * 5
+    task.step(0, TaskInputs(sonar_mm=clear))
+    task.step(20_000, TaskInputs(sonar_mm=clear))
+    now = 1_000_000
+    past = TaskInputs(x_mm=1500 + 180, y_mm=218, heading_mrad=0, sonar_mm=clear)
+    task.rules.path_end(task, now, past, "no path needed", None)
+    assert task.state == "ROUGH_GRASP" and task._detail["grasp_circle"]["axle_mm"] == 282
+    task.step(now + 20_000, past)
+    assert task.state == "ADJUST" and task.sight_adjusts == 1
+    why = task._events[-1].why
+    assert why.startswith("rough grasp out of reach (out of reach: wrist point")
+    assert why.endswith("): closer in first") and task.failure is None
+    # closed in, the look then sees the object where the base expected it: not the circle's
+    # grasp by eq. (11) (the base has moved since the arrival), 000's rough grasp from here
+    task.sight_frames = 3
+    assert not task.rules.look_decides(task, now, past) and task.ms.circle_expected is None
+    # still out of reach after MAX_SIGHT_ADJUSTS close-ins: FAILED
+    task.sight_adjusts = MAX_SIGHT_ADJUSTS
+    task.go(now, "ROUGH_GRASP", "test")
+    task.step(now + 40_000, past)
+    assert task.state == "FAILED" and task.failure.startswith("rough grasp IK: out of reach")

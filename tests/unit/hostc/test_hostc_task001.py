@@ -422,11 +422,11 @@ def _circle_c(c) -> tuple:
     """What 001 keeps of its arrival on the grasp circle (the C's)."""
     ms = _ms001(c)
     return (tuple(ms.circle_expected_mm) if ms.has_circle_expected else None,
-            ms.circle_l_e_mm, bool(ms.ik_grasp))
+            ms.circle_l_e_mm, bool(ms.ik_grasp), ms.circle_adjusts)
 
 
 def _circle_py(py) -> tuple:
-    return py.ms.circle_expected, py.ms.circle_l_e_mm, py.ms.ik_grasp
+    return py.ms.circle_expected, py.ms.circle_l_e_mm, py.ms.ik_grasp, py.ms.circle_adjusts
 
 
 # frames of the look: a dual "+" pair in most (the estimate moves to where it puts the object)
@@ -523,6 +523,33 @@ def test_the_look_s_outcomes(pair, grasp_height_mm, arrived, sighted, why):
         if py.state in ("SEARCH", "LIFT"):
             break
     assert any(why in w for w in whys), whys
+
+
+@pytest.mark.parametrize("adjusts", [0, 1, 2])
+def test_the_rough_grasp_out_of_reach_on_the_circle(adjusts):
+    """On the grasp circle facing past the object (behind and right of the base, no view of
+    the look and no rough grasp reachable): ADJUST closes in first, up to MAX_SIGHT_ADJUSTS
+    times a grasp, then FAILED; the look after a close-in is not the circle's. The same steps,
+    reasons and 001 state on both tasks."""
+    py = Task("001")
+    c = _c_task(py, method="001")
+    enter_state(py, c, "ROUGH_GRASP", (-180, -218), True, (0, -1571, 1571, 0), None, ())
+    ms = _ms001(c)
+    py.ms.circle_expected, py.ms.circle_l_e_mm = py.obj, 306
+    ms.has_circle_expected, ms.circle_expected_mm, ms.circle_l_e_mm = 1, py.obj, 306
+    py.sight_adjusts = c.sight_adjusts = adjusts
+    out = FFI.new("mg_task_outputs_t *")
+    inp = TaskInputs(x_mm=0, y_mm=0, heading_mrad=0)
+    res = _step_both(py, c, 200_000, inp, out, _frame000)
+    whys = [e.why for e in res.events]
+    assert (py.state, c.sight_adjusts, py.sight_adjusts) == (
+        ("ADJUST", adjusts + 1, adjusts + 1) if adjusts < 2 else ("FAILED", 2, 2)), whys
+    assert any(w.startswith("rough grasp out of reach (out of reach" if adjusts < 2 else
+                            "rough grasp IK: out of reach") for w in whys), whys
+    py.sight_frames = c.sight_frames = 3
+    assert (py.rules.look_decides(py, 400_000, inp),
+            C.mg_method001_look_decides(c, 400_000, FFI.new("mg_task_inputs_t *"))) == (False, 0)
+    assert _circle_c(c) == _circle_py(py)
 
 
 def _record001(mp, calls: list) -> None:

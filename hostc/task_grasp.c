@@ -177,6 +177,14 @@ void mg_task_enter_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_input
     const struct mg_task_method *r = t->rules;
     t->wheels[0] = t->wheels[1] = 0;
     t->gripper = 0;
+    if (!t->graspable_seen && r->object_cue_seen && r->object_cue_seen(t)) {
+        /* ADJUST finished on an estimate the object's detector never confirmed, though a cue
+         * of the object was seen (docs/task.md): search again */
+        t->lost_in = MG_ROUGH_GRASP;
+        mg_task_go(t, now_us, MG_LOST, "object never sighted at its estimated place, its cue "
+                                       "seen before: searching before any grasp");
+        return;
+    }
     if (!t->graspable_seen) {
         /* the estimate came from a guide (002's board) alone: nothing seen to grasp */
         char why[MG_TASK_WHY];

@@ -86,6 +86,7 @@ const mg_task_method_t mg_task_methods[] = {
      .ms_init = mg_method002_ms_init,
      .params = mg_method002_params,
      .failure_reason = mg_method002_failure_reason,
+     .object_cue_seen = mg_method002_object_cue_seen,
      .guard_wheels = mg_sonar_guard_step,
      .look_height_mm = mg_method002_look_height_mm,
      .adjust_detector = "red_cylinder",

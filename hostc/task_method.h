@@ -36,6 +36,9 @@ typedef struct mg_task_method {
     void (*params)(mg_task_params_t *p); /* TaskParams.for_method(name) of the ported fields */
     /* the reason FAILED gives (Method.failure_reason) */
     void (*failure_reason)(const mg_task_t *t, const char *reason, char *out, size_t cap);
+    /* a cue of the object itself (002: the red cylinder's ROI) was seen though its detector
+     * never measured it: ROUGH_GRASP then searches again (Method.object_cue_seen; NULL: none) */
+    int (*object_cue_seen)(const mg_task_t *t);
     /* the wheels' last gate (Method.guard_wheels); NULL: none ported */
     void (*guard_wheels)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     /* the height (mm above the ground) the posture adjustment looks at: the object's look

@@ -49,6 +49,11 @@ void mg_method002_params(mg_task_params_t *p)
     p->posture.margin_mode = MG_MARGIN_LIMITS; /* the printed theta2m leaves no room at 0 */
 }
 
+int mg_method002_object_cue_seen(const mg_task_t *t)
+{
+    return ((const mg_state002_t *)(const void *)t->ms.bytes)->red_seen != 0;
+}
+
 /* A run that never saw the red cylinder (a board alone) says so whatever ended it. */
 void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *out, size_t cap)
 {

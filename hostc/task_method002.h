@@ -63,6 +63,8 @@ typedef struct {
 void mg_method002_ms_init(void *ms);
 void mg_method002_params(mg_task_params_t *p);
 void mg_method002_failure_reason(const mg_task_t *t, const char *reason, char *out, size_t cap);
+/* the red cylinder's colour ROI or rings in a frame of APPROACH (Method002.object_cue_seen) */
+int mg_method002_object_cue_seen(const mg_task_t *t);
 /* what SEARCH saw (the detectors' results as the task reads them): the double cross (its
  * midpoint's column, its crosses' spacing) or else the red cylinder's colour ROI (its column
  * and, when its box is whole, the range from its height) */

@@ -98,6 +98,13 @@ class GraspStates:
     def enter_ROUGH_GRASP(self, t, now: int, inp) -> None:
         t.wheels = (0, 0)
         t.gripper = 0
+        if not t.graspable_seen and t.rules.object_cue_seen(t):
+            # ADJUST finished on an estimate the object's detector never confirmed, though a
+            # cue of the object was seen (docs/task.md): search again
+            t.lost_in = "ROUGH_GRASP"
+            t.go(now, "LOST", "object never sighted at its estimated place, its cue seen "
+                 "before: searching before any grasp")
+            return
         if not t.graspable_seen:
             # the estimate came from a guide (002's board) alone: nothing seen to grasp
             t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "

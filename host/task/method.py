@@ -248,6 +248,12 @@ class Method(ABC):
                                  "held": held})
         return held
 
+    def object_cue_seen(self, t: Any) -> bool:
+        """A cue of the object itself (002: the red cylinder's colour ROI), not of a guide,
+        was seen although the object's own detector never measured it: ROUGH_GRASP without a
+        sighting of the object then searches again (LOST) rather than failing the run."""
+        return False
+
     def failure_reason(self, t: Task, reason: str) -> str:
         """The reason FAILED gives (a method may say more)."""
         return reason

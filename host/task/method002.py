@@ -479,6 +479,10 @@ class Method002(Method):
         cx, cy, cz = kinematics.fk_mm_q4(t.geom, *joints[2:6])
         return cx + 16 * fix.x_mm, cy + 16 * fix.y_mm, cz + 16 * fix.z_mm
 
+    def object_cue_seen(self, t: Task) -> bool:
+        """The red cylinder's colour ROI or rings in a frame of APPROACH (``red_seen``)."""
+        return t.ms.red_seen
+
     def failure_reason(self, t: Task, reason: str) -> str:
         """A run that never saw the red cylinder (a board alone) says so whatever ended it."""
         if t.graspable_seen or reason.startswith("no graspable object found"):

@@ -112,7 +112,10 @@ class ConsoleShell(cmd.Cmd):
                         self.say(f"port closed: {exc}")
                         return
                     self._next_heartbeat_s = now_s + self.heartbeat_s
-            self._inbox.extend(self._poll())
+            # _poll() swaps in a new inbox: bind extend() to that one, after the call, or the
+            # replies read here would go into the old list and be lost to the waiting command
+            received = self._poll()
+            self._inbox.extend(received)
 
     def _heartbeat_loop(self) -> None:
         while not self._stop.wait(min(self.heartbeat_s, 0.05) if self.heartbeat_s else 0.05):

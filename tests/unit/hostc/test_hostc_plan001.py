@@ -94,22 +94,15 @@ def test_plan_001_with_remembered_regions_and_the_cut():
     assert out.reasons[C.MG_BUDGET] > 0
 
 
-def _plans_of(tmp_path, scenario: str) -> list:
-    """Every plan_001 call of a shipped scenario run in process (the planners' watchers)."""
+def record_plans(mp, calls: list):
+    """A recorder (test_hostc_task.recorded_runs) of every plan_001 call: the planners'
+    watcher that appends them to ``calls``."""
     from mobigrasp.host.planning.observe import watching
-    from mobigrasp.services.run_job import RunOptions, execute
-
-    calls: list = []
 
     def watch(name, args, kw, plan):
         if name == "001":
             calls.append((args, kw, plan))
-
-    with watching(watch):
-        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
-                                           out=tmp_path / "run", progress=False, plots=False))
-    assert code == 0 and summary["success"], summary
-    return calls
+    return watching(watch)
 
 
 def _replay(calls) -> dict:
@@ -129,16 +122,16 @@ def _replay(calls) -> dict:
     return counts
 
 
-def test_replay_of_the_plans_of_paper001_sim1(tmp_path):
+def test_replay_of_the_plans_of_paper001_sim1(shared_recording):
     """Every plan the Python made in paper001-sim1, made again in C: identical."""
-    counts = _replay(_plans_of(tmp_path, "paper001-sim1"))
+    counts = _replay(shared_recording("paper001-sim1", "plans"))
     assert counts.get(C.MG_PLAN001_OK, 0) >= 3, counts
 
 
 @pytest.mark.slow
-def test_replay_of_the_plans_of_paper001_sim2(tmp_path):
+def test_replay_of_the_plans_of_paper001_sim2(shared_recording):
     """The same for paper001-sim2, where plans also find no feasible curve."""
-    counts = _replay(_plans_of(tmp_path, "paper001-sim2"))
+    counts = _replay(shared_recording("paper001-sim2", "plans"))
     assert counts.get(C.MG_PLAN001_OK, 0) >= 5 and counts.get(C.MG_PLAN001_NONE_FEASIBLE), counts
 
 

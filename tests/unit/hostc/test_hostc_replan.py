@@ -139,25 +139,17 @@ def test_the_memory_keeps_the_newest_and_forgets_what_is_seen_again():
     assert np.any([rp.forget_seen((0.8, 0.0), 0.0) > 0])
 
 
-def _recorded(tmp_path, scenario: str) -> list:
-    """Every call of 001's replanner (start, update) in a shipped scenario run in process,
-    with the replanner's state after it."""
+def record_replans(mp, calls: list):
+    """A recorder (test_hostc_task.recorded_runs) of every call of 001's replanner (start,
+    update), with the replanner's state after it: the watcher that appends them to ``calls``."""
     from mobigrasp.host.planning.observe import watching
-    from mobigrasp.services.run_job import RunOptions, execute
-
-    calls: list = []
 
     def watch(name, args, kw, result):
         rp = args[0]
         calls.append((name, rp, args[1:], kw, result,
                       (list(rp.memory), rp.level, rp.replans,
                        None if rp.curve is None else _ctrl(rp.curve), rp.start_us)))
-
-    with watching(watch, topic="replan"):
-        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
-                                           out=tmp_path / "run", progress=False, plots=False))
-    assert code == 0 and summary["success"], summary
-    return calls
+    return watching(watch, topic="replan")
 
 
 def _replay(calls) -> dict:
@@ -211,11 +203,11 @@ def _replay(calls) -> dict:
     return counts
 
 
-@pytest.fixture(scope="module")
-def sim1_calls(tmp_path_factory) -> list:
-    """paper001-sim1's replanner calls, recorded once for the module's two replays of them
-    (the replays only read them)."""
-    return _recorded(tmp_path_factory.mktemp("sim1"), "paper001-sim1")
+@pytest.fixture
+def sim1_calls(shared_recording) -> list:
+    """paper001-sim1's replanner calls, from the session's one run of it (conftest.py; the
+    replays only read them)."""
+    return shared_recording("paper001-sim1", "replans")
 
 
 def test_replay_of_paper001_sim1(sim1_calls):
@@ -227,9 +219,9 @@ def test_replay_of_paper001_sim1(sim1_calls):
 
 
 @pytest.mark.slow
-def test_replay_of_paper001_sim2(tmp_path):
+def test_replay_of_paper001_sim2(shared_recording):
     """The same for paper001-sim2, whose far blocks keep the path while no update exists."""
-    counts = _replay(_recorded(tmp_path, "paper001-sim2"))
+    counts = _replay(shared_recording("paper001-sim2", "replans"))
     assert counts.get("new", 0) >= 5 and counts.get("kept", 0) >= 1, counts
 
 
@@ -328,10 +320,10 @@ def test_board_replanner_replays_paper001_sim1(sim1_calls):
 
 
 @pytest.mark.slow
-def test_board_replanner_replays_paper001_sim2(tmp_path):
+def test_board_replanner_replays_paper001_sim2(shared_recording):
     """The same for paper001-sim2 (blocks far ahead keep the path, in words too)."""
     base_v0 = planner_params_001(TaskParams.for_method("001")).v0
-    counts = _replay_board(_recorded(tmp_path, "paper001-sim2"), base_v0)
+    counts = _replay_board(shared_recording("paper001-sim2", "replans"), base_v0)
     assert counts.get("kept", 0) >= 1, counts
 
 

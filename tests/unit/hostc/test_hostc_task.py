@@ -5,6 +5,8 @@ the sequence the Python host made in the shipped scenario paper002-marker, repla
 
 from __future__ import annotations
 
+import contextlib
+
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
@@ -963,29 +965,43 @@ def _replay(c, calls: list) -> dict:
     return counts
 
 
-def recorded_run(tmp_path, scenario: str, record) -> list:
-    """The calls ``record(mp, calls)`` records of the Python task in a shipped scenario, run in
-    process (it must succeed)."""
+def recorded_runs(tmp_path, scenario: str, recorders: dict) -> dict[str, list]:
+    """A shipped scenario run once in process (it must succeed) with every ``record(mp,
+    calls)`` of ``recorders`` attached, each filling its own list; a record may return a
+    context manager held open during the run (a planner watcher). The lists by name."""
     from mobigrasp.services.run_job import RunOptions, execute
-    calls: list = []
-    with pytest.MonkeyPatch.context() as mp:
-        record(mp, calls)
+    calls: dict[str, list] = {name: [] for name in recorders}
+    with pytest.MonkeyPatch.context() as mp, contextlib.ExitStack() as stack:
+        for name, record in recorders.items():
+            watcher = record(mp, calls[name])
+            if watcher is not None:
+                stack.enter_context(watcher)
         summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
                                            out=tmp_path / "run", progress=False, plots=False))
     assert code == 0 and summary["success"], summary
     return calls
 
 
-def _recorded_run(tmp_path, steps: bool = False) -> list:
-    """The calls of the Python task in the shipped scenario paper002-marker."""
-    return recorded_run(tmp_path, "paper002-marker",
-                        lambda mp, calls: _record(mp, calls, steps))
+def recorded_run(tmp_path, scenario: str, record) -> list:
+    """The calls ``record(mp, calls)`` records of the Python task in a shipped scenario, run in
+    process (it must succeed)."""
+    return recorded_runs(tmp_path, scenario, {"calls": record})["calls"]
 
 
-def test_replay_of_paper002_marker(tmp_path):
+def record002(mp, calls: list) -> None:
+    """A recorder (``recorded_runs``) of method 002's calls (``_record``)."""
+    _record(mp, calls)
+
+
+def record002_approach(mp, calls: list) -> None:
+    """A recorder of method 002's APPROACH and ADJUST steps whole (``_record`` with steps)."""
+    _record(mp, calls, steps=True)
+
+
+def test_replay_of_paper002_marker(shared_recording):
     """The calls the Python task made in paper002-marker replayed on the C task with the same
     inputs: the same outputs, call by call."""
-    calls = _recorded_run(tmp_path)
+    calls = shared_recording("paper002-marker", "calls")
     counts = _replay(_c_task(), calls)
     assert any(r[0] == "stop" and r[5] for r in calls)  # the stop rule ended ADJUST
     for kind in ("arm", "remember", "arm_at", "go", "enter_approach", "bearing", "fuzzy",
@@ -993,10 +1009,10 @@ def test_replay_of_paper002_marker(tmp_path):
         assert counts.get(kind, 0) > 0, (kind, counts)
 
 
-def test_replay_of_the_approach_of_paper002_marker(tmp_path):
+def test_replay_of_the_approach_of_paper002_marker(shared_recording):
     """APPROACH's and ADJUST's steps in paper002-marker, each with the frame's results, on the
     C task."""
-    calls = _recorded_run(tmp_path, steps=True)
+    calls = shared_recording("paper002-marker", "approach")
     counts = _replay(_c_task(), calls)
     assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
     ended = [r for r in calls if r[0] == "approach" and r[11]]

@@ -21,13 +21,14 @@ from property_examples import examples
 from test_hostc_arm_kinematics import _assert_same_ik
 from test_hostc_control import trajectories
 from test_hostc_planning import _params000_c
-from test_hostc_task import recorded_run, recorder, replay_remember
+from test_hostc_task import recorder, replay_remember
 from test_hostc_task_states import (
     _c_inputs,
     _detail,
     _recorded_steps,
     _step_both,
     enter_state,
+    steps_and_fresh,
 )
 
 from mobigrasp import hostc
@@ -598,7 +599,7 @@ def record_path_task(mp, calls: list):
     return wrap
 
 
-def _record000(mp, calls: list) -> None:
+def record000(mp, calls: list) -> None:
     """000's task's calls, and the plans."""
     wrap = record_path_task(mp, calls)
     wrap(Method000, "plan",
@@ -678,12 +679,12 @@ def _replay000(calls: list) -> dict:
                             C.mg_method000_approach)
 
 
-def test_replay_of_paper000_exp1(tmp_path):
+def test_replay_of_paper000_exp1(shared_recording):
     """The calls the Python task made in paper000-exp1 replayed on the C task with the same
     inputs: SEARCH's sighting, APPROACH's path (planned by the board's planner, its plan
     charged, followed to its end) and ADJUST step by step give the same outputs, call by
     call."""
-    calls = recorded_run(tmp_path, "paper000-exp1", _record000)
+    calls = shared_recording("paper000-exp1", "calls")
     counts = _replay000(calls)
     assert counts.get("approach", 0) > 20 and counts.get("adjust", 0) > 5, counts
     assert counts.get("plan", 0) >= 1 and counts.get("found", 0) >= 1, counts
@@ -780,12 +781,12 @@ def fresh_obj(res, c):
     return tuple(c.obj_mm) if c.has_obj else None
 
 
-def test_replay_of_paper000_exp1_whole(tmp_path):
+def test_replay_of_paper000_exp1_whole(shared_recording):
     """Every step the Python task took in paper000-exp1, SEARCH to DONE, on the C task: the
     frames' results through the C glue, the plan by the board's planner and its trace
     detail, the hover over the nearer "+", the roll and the alignment on the spoke, the
     grasp check on the brown body."""
-    steps, fresh = _recorded_steps(tmp_path, "paper000-exp1")
+    steps, fresh = steps_and_fresh(shared_recording("paper000-exp1", "steps"))
     states = replay_steps000(steps, fresh)
     assert states[0] == "SEARCH" and states[-1] == "DONE"
     assert {"APPROACH", "ADJUST", "ROUGH_GRASP", "PRECISE_GRASP", "LIFT"} <= set(states)

@@ -21,7 +21,6 @@ from hypothesis import event, given
 from hypothesis import strategies as st
 from property_examples import examples
 from test_hostc_control import trajectories
-from test_hostc_task import recorded_run
 from test_hostc_task000 import (
     BROWN,
     CUT,
@@ -601,7 +600,7 @@ def _record001(mp, calls: list) -> None:
     wrap(Method001, "start_detour", lambda rules, t, inp: ("detour",), lambda res, *a: (res,))
 
 
-def _record001_steps(mp, calls: list) -> None:
+def record001_steps(mp, calls: list) -> None:
     """001's calls (``_record001``) and the task's whole steps: (now, inputs, outputs)."""
     _record001(mp, calls)
     orig = machine.Task.step
@@ -654,8 +653,8 @@ def _replay001(calls: list) -> tuple[dict, list]:
     return counts, states
 
 
-def _replay_run(tmp_path, scenario: str) -> None:
-    calls = recorded_run(tmp_path, scenario, _record001_steps)
+def _replay_run(calls: list) -> None:
+    """The recorded calls and steps of a 001 scenario (``record001_steps``) on the C task."""
     counts, states = _replay001(calls)
     assert counts.get("approach", 0) > 20, counts
     assert counts.get("start", 0) >= 1 and counts.get("update", 0) >= 1, counts
@@ -675,20 +674,20 @@ def _replay_run(tmp_path, scenario: str) -> None:
     assert [d["grasp_close"] for d in details if "grasp_close" in d] == ["ik"]
 
 
-def test_replay_of_paper001_sim1(tmp_path):
+def test_replay_of_paper001_sim1(shared_recording):
     """The calls the Python task made in paper001-sim1 replayed on the C task with the same
     inputs and the replanner's outcomes as the Python's gave them: APPROACH (the wait for a
     sweep, the plans, the sonar checks and their replans in slices, the path followed to the
     grasp circle) step by step gives the same outputs, and the C asks the replanner what the
     Python asked it, call by call; from the grasp circle on, the whole steps (the look back at
     the object, the grasp by eq. (11), the lift and the grasp check) give the same outputs."""
-    _replay_run(tmp_path, "paper001-sim1")
+    _replay_run(shared_recording("paper001-sim1", "task"))
 
 
 @pytest.mark.slow
-def test_replay_of_paper001_sim2(tmp_path):
+def test_replay_of_paper001_sim2(shared_recording):
     """The same for paper001-sim2 (its longer way round the obstacles, 65 s simulated)."""
-    _replay_run(tmp_path, "paper001-sim2")
+    _replay_run(shared_recording("paper001-sim2", "task"))
 
 
 def _cut_twice(py, c, now: int, inp: TaskInputs, out):

@@ -14,7 +14,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from property_examples import examples
 from test_hostc_app_factory import words
-from test_hostc_task import FRAMES, NEAR, RED
+from test_hostc_task import FRAMES, NEAR, RED, recorded_run
 
 from mobigrasp import hostc
 from mobigrasp.host.app import jsonable
@@ -208,26 +208,30 @@ def test_the_held_colour_of_002():
         assert C.mg_method002_red_paint(list(rgb)) == red_paint(rgb), rgb
 
 
-def _recorded_steps(tmp_path, scenario: str) -> tuple[list, object]:
-    """The Python task's steps in a shipped scenario run in process: (now, inputs, outputs)."""
-    from mobigrasp.services.run_job import RunOptions, execute
-    steps: list = []
-    tasks: list = []
+def record_steps(mp, calls: list) -> None:
+    """A recorder (test_hostc_task.recorded_runs) of the Python task's steps: ``calls[0]`` a
+    fresh task as the run's began (its method, parameters and start), then (now, inputs,
+    outputs) of each step."""
     orig = machine.Task.step
 
     def recorded(task, now_us, inputs):
-        if not tasks:
-            tasks.append(Task(task.method, start_us=task.entered_us))
-            tasks[0].p = task.p
+        if not calls:
+            calls.append(Task(task.method, start_us=task.entered_us))
+            calls[0].p = task.p
         res = orig(task, now_us, inputs)
-        steps.append((now_us, inputs, res))
+        calls.append((now_us, inputs, res))
         return res
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(machine.Task, "step", recorded)
-        summary, code = execute(RunOptions(scenario=scenario, transport="inproc",
-                                           out=tmp_path / "run", progress=False, plots=False))
-    assert code == 0 and summary["success"], summary
-    return steps, tasks[0]
+    mp.setattr(machine.Task, "step", recorded)
+
+
+def steps_and_fresh(calls: list) -> tuple[list, object]:
+    """What ``record_steps`` recorded: (the steps, the fresh task)."""
+    return calls[1:], calls[0]
+
+
+def _recorded_steps(tmp_path, scenario: str) -> tuple[list, object]:
+    """The Python task's steps in a shipped scenario run in process: (now, inputs, outputs)."""
+    return steps_and_fresh(recorded_run(tmp_path, scenario, record_steps))
 
 
 def _replay(steps: list, fresh: Task) -> list:
@@ -259,9 +263,9 @@ def _replay(steps: list, fresh: Task) -> list:
     return states
 
 
-def test_replay_of_paper002_marker_whole(tmp_path):
+def test_replay_of_paper002_marker_whole(shared_recording):
     """Every step the Python task took in paper002-marker, SEARCH to DONE, on the C task."""
-    steps, fresh = _recorded_steps(tmp_path, "paper002-marker")
+    steps, fresh = steps_and_fresh(shared_recording("paper002-marker", "steps"))
     assert len(steps) > 500  # 50 steps a simulated second: SEARCH to DONE in ~18 s
     states = _replay(steps, fresh)
     assert states[0] == "SEARCH" and states[-1] == "DONE"
@@ -405,3 +409,27 @@ def test_a_grasp_held_and_one_missed(seen_standing, end):
                    d_pixel_q4=640, width_q4=400, roi=(0, 0, 1, 1))
     dets = {"held_fill": fill, **({"red_cylinder": standing} if seen_standing else {})}
     assert _grasp_both((0, 0), [(60_000, dets)] * 100) == end
+
+
+@pytest.mark.parametrize("red_seen, end, why", [
+    (True, "LOST", "object never sighted at its estimated place, its cue seen before"),
+    (False, "FAILED", "no graspable object found (red_cylinder never seen)")])
+def test_the_grasp_on_an_estimate_the_rings_never_confirmed(red_seen, end, why):
+    """ROUGH_GRASP entered with the rings never measured (ADJUST finished on the estimate of
+    the ROI or the crosses): the red cylinder's ROI seen in the approach, the search goes on
+    (LOST); the board alone, FAILED "no graspable object found"; the same on both tasks."""
+    py = Task("002")
+    c = _c_task(py)
+    py.obj = (300, 0)
+    c.has_obj, c.obj_mm = 1, [300, 0]
+    py.graspable_seen = c.graspable_seen = False
+    py.ms.red_seen = red_seen
+    FFI.cast("mg_state002_t *", c.ms.bytes).red_seen = red_seen
+    py.go(0, "ROUGH_GRASP", "test")
+    C.mg_task_go(c, 0, C.MG_ROUGH_GRASP, b"test")
+    out = FFI.new("mg_task_outputs_t *")
+    events = []
+    for k in range(1, 4):
+        events += _step_both(py, c, k * 20_000, TaskInputs(detections={}), out).events
+    event = next(e for e in events if e.from_state == "ROUGH_GRASP")
+    assert (event.to_state, event.why.startswith(why)) == (end, True), event

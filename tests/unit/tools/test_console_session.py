@@ -91,6 +91,36 @@ def test_no_heartbeats_when_switched_off():
         shell.postloop()
 
 
+class HeartbeatReadsFirstLink(FakeLink):
+    """Every reply arrives, and the heartbeat thread has its turn, between a command's send and
+    its first poll: the thread reads the reply first (what a loaded machine makes likely)."""
+
+    shell = None
+
+    def send(self, msg):
+        seq = super().send(msg)
+        if msg.RELIABLE and type(msg).__name__ != "Hello":
+            self.queue.append(Ack(seq))
+        self.shell.heartbeat_step(0.0)
+        return seq
+
+
+def test_a_reply_read_by_the_heartbeat_thread_reaches_the_waiting_command():
+    link = HeartbeatReadsFirstLink()
+    out = io.StringIO()
+    shell = ConsoleShell(link, reply_timeout_s=0.0, stdout=out, heartbeat_ms=0)
+    link.shell = shell
+    try:
+        shell.onecmd("hello")
+        shell.onecmd("gripper 1000")
+    finally:
+        shell.postloop()
+    text = out.getvalue()
+    assert "ACK seq=1\nHELLO_ACK firmware=fake" in text
+    assert "ACK seq=2" in text
+    assert "no reply" not in text
+
+
 def test_watchdog_trip_and_clear_are_said():
     link = FakeLink()
     out = io.StringIO()

@@ -19,7 +19,7 @@ SAFETY_S = 60  # generous limits only; nothing asserts on speed
 @pytest.fixture
 def mcu_process():
     proc = subprocess.Popen(
-        [sys.executable, "-m", "mobigrasp.tools.cli", "mcu", "--speed", "1", "--duration", "120"],
+        [sys.executable, "-m", "mobigrasp.tools.cli", "mcu", "--speed", "1"],
         cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     try:
         port = proc.stdout.readline().strip()

@@ -67,6 +67,21 @@ static int32_t obj_dist_mm(const mg_task_t *t, const mg_task_inputs_t *in)
     return (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1]) >> 4);
 }
 
+/* the base's travel after its wheels are set to 0 (approach.py BRAKE_MS) */
+#define BRAKE_MS 150
+
+/* the object's estimate within clear_mm of the footprint (radius sonar_offset_mm) once the
+ * base, stopped now, has braked (BRAKE_MS at its speed); clear_mm 0: not checked */
+static int object_at_footprint(const mg_task_t *t, const mg_task_inputs_t *in, int32_t clear_mm)
+{
+    if (!clear_mm)
+        return 0;
+    const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm, dy = (int64_t)t->obj_mm[1] - in->y_mm;
+    const int64_t axle_mm = mg_isqrt(dx * dx + dy * dy);
+    const int64_t brake_mm = (int64_t)(in->v_mmps > 0 ? in->v_mmps : 0) * BRAKE_MS / 1000;
+    return axle_mm - brake_mm <= (int64_t)t->p.sonar_offset_mm + clear_mm;
+}
+
 /* the follower's command for the present pose, its wheels by the method, the method's count
  * of the step along the path charged */
 static mg_wheel_command_t follow(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
@@ -227,7 +242,8 @@ void mg_task_follow_path(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     mg_task_look_at_object(t, in, 1);
     const int32_t dist = obj_dist_mm(t, in);
     const mg_wheel_command_t cmd = follow(t, now_us, in);
-    if (cmd.done || dist <= t->p.grasp_r_mm + rules->near_margin_mm) {
+    if (cmd.done || dist <= t->p.grasp_r_mm + rules->near_margin_mm
+        || object_at_footprint(t, in, rules->object_clear_mm)) {
         char why[MG_TASK_WHY];
         size_t n = mg_task_text(why, sizeof why, 0, "path followed (error ");
         n = mg_task_text_int(why, sizeof why, n, cmd.error_mm);

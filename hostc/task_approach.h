@@ -44,6 +44,9 @@ typedef struct mg_path_method {
                      const int32_t *error_mm);
     /* the path ends early with the object this much beyond ADJUST's goal (grasp_r_mm) */
     int32_t near_margin_mm;
+    /* and, when not 0, with the object (by the estimate) within this much of the footprint
+     * once the base has braked (approach.py _object_at_footprint) */
+    int32_t object_clear_mm;
     /* the work of a step along the path, charged each step (PathMethod.follow_ops); NULL:
      * not charged */
     mg_ops_t (*follow_ops)(void);

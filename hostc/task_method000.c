@@ -336,7 +336,7 @@ static void path_end(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in, c
 
 const mg_path_method_t mg_path000 = {plan, NULL, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     path_end, 100, NULL};
+                                     path_end, 100, 0, NULL};
 
 /* ---- the hooks of the machine's states (the method row) ---- */
 

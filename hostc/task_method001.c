@@ -435,7 +435,8 @@ static int32_t axle_mm(const mg_task_t *t, const mg_task_inputs_t *in)
 }
 
 /* On the grasp circle (section III.B.1, eqs. (5)-(6), l_e for the object's grasp height; the
- * curve is cut short only with the object at ADJUST's goal, near_margin_mm 0): the base stops,
+ * curve is cut short only with the object at ADJUST's goal, near_margin_mm 0, or 60 mm from the
+ * footprint once braked, object_clear_mm): the base stops,
  * ROUGH_GRASP looks back at the object and grasps by eq. (11) of 000 when the look confirms it
  * where the base expected it (mg_method001_look_decides). The arrival's error, the axle's
  * distance from the estimate less l_e, goes in the trace (grasp_circle; a start already on
@@ -614,7 +615,7 @@ void mg_method001_guard_wheels(mg_task_t *t, int64_t now_us, const mg_task_input
 
 const mg_path_method_t mg_path001 = {plan, start_path, sighting_usable, sonar_replan,
                                      hold_before_plan, way_blocked, start_detour, path_wheels,
-                                     path_end, 0, mg_method001_follow_ops};
+                                     path_end, 0, 60, mg_method001_follow_ops};
 
 /* --- the board's replanner (method001.py start_001, update_001, straight_clear_001) -------- */
 

@@ -63,7 +63,8 @@ class ApproachStates:
         x, y = t.obj_platform(inp)
         dist = isqrt(x * x + y * y) // 16
         cmd = self._follow(t, now, inp)
-        if cmd.done or dist <= t.p.grasp_r_mm + rules.near_margin_mm:
+        if cmd.done or dist <= t.p.grasp_r_mm + rules.near_margin_mm or _object_at_footprint(
+                t, inp, rules.object_clear_mm):
             rules.path_end(t, now, inp, path_end_why(cmd.error_mm, dist), cmd.error_mm)
 
     @staticmethod
@@ -144,6 +145,9 @@ class PathMethod(Method):
 
     # the path ends early with the object this much beyond ADJUST's goal (``grasp_r_mm``)
     near_margin_mm = 100
+    # and, when not 0, with the object (by the estimate) within this much of the footprint
+    # once the base has braked (:func:`_object_at_footprint`)
+    object_clear_mm = 0
     # the work of a step along the path (the look at the object, the follower's step, the
     # distance checks) charged each step, as the plans' counts are; None: not charged (000:
     # its traces are kept as they are, docs/budget.md "The control step's charge")
@@ -194,6 +198,22 @@ class PathMethod(Method):
         or no path needed (``error_mm`` None), for the reason ``why``: 000's vision-based
         adjustment (§III.B) from here."""
         t.go(now, "ADJUST", why)
+
+
+# the base's travel after its wheels are set to 0: the motors' lag (tau 0.1 s) and the command's
+# way to the wheels, ~31 mm from 205 mm/s (docs/task.md "001's grasp")
+BRAKE_MS = 150
+
+
+def _object_at_footprint(t: Any, inp: Any, clear_mm: int) -> bool:
+    """The object's estimate within ``clear_mm`` of the footprint (its radius
+    ``sonar_offset_mm``) once the base, stopped now, has braked (``BRAKE_MS`` at its speed);
+    ``clear_mm`` 0: not checked."""
+    if not clear_mm:
+        return False
+    axle_mm = isqrt((t.obj[0] - inp.x_mm) ** 2 + (t.obj[1] - inp.y_mm) ** 2)
+    brake_mm = max(0, inp.v_mmps) * BRAKE_MS // 1000
+    return axle_mm - brake_mm <= t.p.sonar_offset_mm + clear_mm
 
 
 def path_end_why(error_mm: int, dist_mm: int) -> str:

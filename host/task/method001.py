@@ -505,8 +505,11 @@ class Method001(Method000):
         return cmd.left_mm_s, cmd.right_mm_s
 
     # the curve ends on the grasp circle, the object ~l_e - mount_forward_mm (~206 mm) ahead of
-    # the waist: cut short only with the object already at ADJUST's goal
+    # the waist: cut short only with the object already at ADJUST's goal, or 60 mm (its 20 mm
+    # radius and 40 mm for the estimate's error) from the footprint once braked: a curve
+    # planned for an older estimate can end well inside the present one's circle
     near_margin_mm = 0
+    object_clear_mm = 60
 
     def path_end(self, t: Task, now: int, inp: TaskInputs, why: str, error_mm: int | None
                  ) -> None:

@@ -93,6 +93,31 @@ def test_001_started_on_its_grasp_circle_grasps_from_there():
     assert task.ms.circle_expected == (300, 0)
 
 
+def test_001_s_curve_ends_before_the_base_would_brake_onto_the_object():
+    # the curve was planned for the object at (1500, 0); the estimate then moved 100 mm nearer,
+    # less than replan_shift_mm: the curve's end lies inside the new estimate's grasp circle
+    clear = (2500,) * 5
+    task = Task("001", {"object_xy_mm": [1500, 0], "sonar_sweep_us": 0})
+    task.step(0, TaskInputs(sonar_mm=clear))
+    now = 20_000
+    task.step(now, TaskInputs(sonar_mm=clear))
+    while task.plan_job is not None:
+        now += 20_000
+        task.step(now, TaskInputs(sonar_mm=clear))
+    assert task.state == "APPROACH" and task.follower is not None
+    task.obj = (1400, 0)
+    assert 1500 - 1400 < task.p.replan_shift_mm
+    # the axle 300 mm from the estimate at 200 mm/s: ~30 mm of braking still leaves room
+    task.step(now + 20_000, TaskInputs(x_mm=1100, v_mmps=200, sonar_mm=clear))
+    assert task.state == "APPROACH"
+    # 250 mm (the waist 150 mm from it, beyond ADJUST's goal): braked, the 170 mm footprint
+    # would come within 60 mm of the estimate: the base stops here, on the grasp circle
+    task.step(now + 40_000, TaskInputs(x_mm=1150, v_mmps=200, sonar_mm=clear))
+    assert task.state == "ROUGH_GRASP"
+    assert task._detail["grasp_circle"]["axle_mm"] == 250
+    assert task._detail["grasp_circle"]["waist_mm"] > task.p.grasp_r_mm
+
+
 def test_001_on_its_circle_facing_past_the_object_closes_in_before_the_grasp():
     """On the circle (axle 283 mm from the estimate) with the object behind and right of the
     base, out of the arm's reach and of every view of the look: ADJUST closes in on it first

@@ -331,7 +331,7 @@ def _pose_001(py, at: tuple, pose: tuple) -> tuple[int, int, int]:
 
 
 def _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, sighted, steps,
-                  guard: bool, grasp_height_mm: int = 80) -> None:
+                  guard: bool, grasp_height_mm: int = 80) -> Task:
     py = Task("001", params={"max_plan_attempts": attempts, "direct_max_mm": direct_mm,
                              "max_detours": 2, "grasp_height_mm": grasp_height_mm})
     c = _c_task(py, method="001")
@@ -376,6 +376,25 @@ def _approach_001(starts, updates, clears, escapes, obj, attempts, direct_mm, si
                 break
             py.remember(now, inp)
             C.mg_task_remember(c, now, *xyhv[:3])
+    return py
+
+
+def test_the_curve_of_001_ends_before_the_braked_footprint_reaches_the_object():
+    """A straight 20 s curve followed at 200 mm/s: with the object 400 mm ahead of the waist the
+    base goes on; 160 mm ahead (beyond ADJUST's goal, 120 mm), the axle ~260 mm from it, ~30 mm
+    of braking would bring the 170 mm footprint within 60 mm of it: both end the curve there,
+    on the grasp circle."""
+    table = Trajectory((0, 10_000_000, 20_000_000), (0, 2_000_000, 4_000_000), (0, 0, 0),
+                       (0, 0, 0), (200, 200, 200), (0, 0, 0), OpCounts())
+    keep = (False, False, True, False, None, 0, OpCounts(), "ok")
+    sonar = (2500,) * 5
+    # the first plan after the look at the object and a sonar sweep (200 ms)
+    steps = [(20_000, ("facing", 0, 400), 200, sonar, None, None)] * 12 + [
+        (20_000, ("facing", 0, 160), 200, sonar, None, None)]
+    py = _approach_001([(table, 0, 0, "ok")], [keep] * 12, [(True, OpCounts())],
+                       [(None, OpCounts())], (1500, 0), 1, 0, True, steps, False)
+    assert py.state == "ROUGH_GRASP" and py.follower is not None
+    assert py._detail["grasp_circle"]["waist_mm"] > py.p.grasp_r_mm
 
 
 def _guard_step(py, c, now: int, inp, xyhv: tuple) -> None:

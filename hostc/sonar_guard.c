@@ -101,40 +101,14 @@ int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_m
     return 0;
 }
 
-/* keep the nearer of the remembered close echo and this step's nearest one (its place on the
- * sonar's axis at the range read; has_echo 0: none); one no longer in the front half is
- * forgotten */
-static void remember_close(mg_task_t *t, const mg_task_inputs_t *in, int has_echo, int32_t phi,
-                           int32_t rng)
-{
-    const int64_t off = t->p.sonar_offset_mm;
-    int64_t best = -1;
-    if (t->has_close_seen) {
-        const int64_t dx = (int64_t)t->close_seen_mm[0] - in->x_mm;
-        const int64_t dy = (int64_t)t->close_seen_mm[1] - in->y_mm;
-        const int32_t b = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - in->heading_mrad);
-        if ((b < 0 ? -b : b) < 1571)
-            best = mg_isqrt(dx * dx + dy * dy);
-    }
-    if (has_echo && (best < 0 || off + rng < best)) {
-        const int32_t h = in->heading_mrad + phi;
-        best = off + rng;
-        t->close_seen_mm[0] = (int32_t)(in->x_mm + ((best * mg_cos_q12(h)) >> 12));
-        t->close_seen_mm[1] = (int32_t)(in->y_mm + ((best * mg_sin_q12(h)) >> 12));
-    }
-    t->has_close_seen = best >= 0;
-}
-
-int mg_close_echo(mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm)
 {
     const int32_t n = n_sonar(in), half_cone = t->p.sonar_a_g_mrad / 2;
     const int64_t off = t->p.sonar_offset_mm;
-    int has_first = 0, has_near = 0;
-    int32_t first_phi = 0, first_rng = 0, near_phi = 0, near_rng = 0;
     for (int32_t k = 0; n >= 2 && k < n; k++) {
         const int32_t phi = mg_sonar_angle_mrad(k, n), rng = in->sonar_mm[k];
-        if ((phi < 0 ? -phi : phi) >= 1571 || !(rng > 0 && rng < MG_CLOSE_MEMORY_MM))
+        if ((phi < 0 ? -phi : phi) >= 1571 || !(rng > 0 && rng < MG_CLOSE_GUARD_MM))
             continue;
         if (t->has_obj) {
             const int32_t h = in->heading_mrad + phi;
@@ -145,27 +119,11 @@ int mg_close_echo(mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                 && rng >= mg_isqrt(dx * dx + dy * dy) - MG_CLOSE_OBJECT_MM)
                 continue;
         }
-        if (!has_first && rng < MG_CLOSE_GUARD_MM)
-            has_first = 1, first_phi = phi, first_rng = rng;
-        if (!has_near || rng < near_rng)
-            has_near = 1, near_phi = phi, near_rng = rng;
-    }
-    remember_close(t, in, has_near, near_phi, near_rng);
-    if (has_first) {
-        *phi_mrad = first_phi;
-        *range_mm = first_rng;
+        *phi_mrad = phi;
+        *range_mm = rng;
         return 1;
     }
-    if (!t->has_close_seen)
-        return 0;
-    const int64_t dx = (int64_t)t->close_seen_mm[0] - in->x_mm;
-    const int64_t dy = (int64_t)t->close_seen_mm[1] - in->y_mm;
-    const int64_t rng = mg_isqrt(dx * dx + dy * dy) - off;
-    if (rng >= MG_CLOSE_GUARD_MM)
-        return 0;
-    *phi_mrad = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - in->heading_mrad);
-    *range_mm = (int32_t)rng;
-    return 1;
+    return 0;
 }
 
 void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm)

@@ -19,7 +19,6 @@
 /* the close approach (ADJUST, ROUGH_GRASP's drive into the grasp's reach) passes within R_r of
  * things beside the object on purpose (002's board post), so it is guarded nearer */
 #define MG_CLOSE_GUARD_MM 30  /* a front echo this near the ring stops the close approach */
-#define MG_CLOSE_MEMORY_MM 100 /* ... or a front echo seen within this, once that near */
 #define MG_CLOSE_OBJECT_MM 80 /* ... unless in the object's cone at most this much nearer */
 #define MG_CLOSE_REACH_MM 60  /* stopped this near beyond grasp_r_mm: grasp, else search */
 
@@ -39,10 +38,8 @@ int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n);
 int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm);
 /* the first front sonar within MG_CLOSE_GUARD_MM that is not the object's own echo (its near
- * surface, a radius or so short of its centre), else the remembered close echo (the nearest
- * front one within MG_CLOSE_MEMORY_MM since ADJUST began, on odometry) come within
- * MG_CLOSE_GUARD_MM of the ring in its front half: 1 and its angle and range, or 0 */
-int mg_close_echo(mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+ * surface, a radius or so short of its centre): 1 and its angle and range, or 0 */
+int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm);
 /* the close echo's trace detail (close_mm, phi_mrad, range_mm) */
 void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm);

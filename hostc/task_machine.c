@@ -262,8 +262,6 @@ void mg_task_go(mg_task_t *t, int64_t now_us, int32_t to, const char *why)
     t->state = to;
     t->entered_us = now_us;
     t->entry_pending = 1;
-    if (to == MG_ADJUST) /* a new close approach: the echoes of the last one are forgotten */
-        t->has_close_seen = 0;
 }
 
 void mg_task_fail(mg_task_t *t, int64_t now_us, const char *reason)

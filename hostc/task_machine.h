@@ -171,7 +171,6 @@ struct mg_task {
     int64_t far_since_us;
     int32_t lost;                          /* counters["lost"] */
     mg_detour_t guard_out; /* the drive out of R_r after a guard stop (sonar_guard.c) */
-    int32_t has_close_seen, close_seen_mm[2]; /* ADJUST on: the nearest close echo's place */
     /* the grasp states (task_grasp.c) */
     int32_t phase;
     int64_t phase_us;

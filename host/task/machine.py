@@ -182,7 +182,6 @@ class Task:
         self.far = None  # SEARCH: the drive to a far sighting under way (search.py far_step)
         self.far_count = 0  # ... drives to far sightings made in the run
         self.guard_out = None  # 000, 002: the drive out of R_r after a guard stop (sonar_guard.py)
-        self.close_seen: tuple[int, int] | None = None  # ADJUST on: the nearest close echo's place
         self.sight_frames = 0  # ROUGH_GRASP: dual "+" sightings of its look (grasp.py)
         self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)
         self.sight_th5 = 0  # ... the waist of its view, the looks' offsets are added to
@@ -212,8 +211,6 @@ class Task:
         self.state = to
         self.entered_us = int(now_us)
         self.entry_pending = True
-        if to == "ADJUST":  # a new close approach: the echoes of the last one are forgotten
-            self.close_seen = None
 
     def fail(self, now_us: int, reason: str) -> None:
         """Transition to FAILED with a reason."""

@@ -12,10 +12,8 @@ the new pose (:class:`SonarGuard`, run after every step by ``Method.guard_wheels
 The close approach (ADJUST, and ROUGH_GRASP's drive into the grasp's reach) passes within R_r
 of things beside the object on purpose (002's board post stands 0.17 m behind the cylinder's
 axis), so it is guarded nearer: a front echo within ``CLOSE_GUARD_MM`` of the ring that is not
-the object's (nearer than the estimate by more than ``CLOSE_OBJECT_MM``) stops the base there,
-as does one seen within ``CLOSE_MEMORY_MM`` and come that near on odometry (a thin thing aside
-leaves the front cone before the ring reaches it) (:func:`close_echo`, :func:`close_guard`).
-Integer mm / mrad; no I/O.
+the object's (nearer than the estimate by more than ``CLOSE_OBJECT_MM``) stops the base there
+(:func:`close_echo`, :func:`close_guard`). Integer mm / mrad; no I/O.
 """
 
 from __future__ import annotations
@@ -32,7 +30,6 @@ GUARD_OBJECT_MM = 150  # an echo this close to the object estimate's range is th
 GUARD_OUT_MM = 200  # after the guard stopped the base: drive this far toward the free sector
 GUARDED_STATES = ("SEARCH", "APPROACH")
 CLOSE_GUARD_MM = 30  # ADJUST / the grasp's reach drive: a front echo this near the ring stops
-CLOSE_MEMORY_MM = 100  # ... or a front echo seen within this, once the ring has come that near
 CLOSE_OBJECT_MM = 80  # ... unless in the object's cone at most this much nearer than its centre
 CLOSE_REACH_MM = 60  # stopped this near beyond grasp_r_mm: grasp from there, else search again
 
@@ -117,15 +114,12 @@ def close_echo(t: Any, inp: Any) -> dict | None:
     the object's own echo: the object (its centre estimate in that sonar's cone) echoes from
     its near surface, a radius or so short of the centre; something ``CLOSE_OBJECT_MM`` or more
     nearer than that is in front of it (002's board post, 170 mm behind the cylinder's axis,
-    when approached from behind the board). Else the remembered close echo
-    (:func:`remember_close`) come within ``CLOSE_GUARD_MM`` of the ring in its front half: a
-    thin thing aside leaves the front cone before the ring reaches it. None when there is none."""
+    when approached from behind the board). None when there is none."""
     half_cone = t.p.sonar_a_g_mrad // 2
     off = t.p.sonar_offset_mm
-    first, nearest = None, None
     for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
         rng = int(rng)
-        if abs(phi) >= 1571 or not 0 < rng < CLOSE_MEMORY_MM:
+        if abs(phi) >= 1571 or not 0 < rng < CLOSE_GUARD_MM:
             continue
         if t.obj is not None:
             h = inp.heading_mrad + phi
@@ -134,40 +128,8 @@ def close_echo(t: Any, inp: Any) -> dict | None:
             if (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
                     and rng >= isqrt(dx * dx + dy * dy) - CLOSE_OBJECT_MM):
                 continue
-        if first is None and rng < CLOSE_GUARD_MM:
-            first = {"phi_mrad": phi, "range_mm": rng, "close_mm": CLOSE_GUARD_MM}
-        if nearest is None or rng < nearest[1]:
-            nearest = (phi, rng)
-    remember_close(t, inp, nearest)
-    if first is not None:
-        return first
-    if t.close_seen is None:
-        return None
-    dx, dy = t.close_seen[0] - inp.x_mm, t.close_seen[1] - inp.y_mm
-    rng = isqrt(dx * dx + dy * dy) - off
-    if rng >= CLOSE_GUARD_MM:
-        return None
-    phi = wrap_mrad(atan2_mrad(dy, dx) - inp.heading_mrad)
-    return {"phi_mrad": phi, "range_mm": rng, "close_mm": CLOSE_GUARD_MM}
-
-
-def remember_close(t: Any, inp: Any, echo: tuple[int, int] | None) -> None:
-    """Keep the nearer of the remembered close echo (``t.close_seen``, its odometry place) and
-    this step's nearest one (``echo``: phi, range, placed on the sonar's axis, the cone's
-    nearest reading); a remembered one no longer in the ring's front half is forgotten."""
-    off = t.p.sonar_offset_mm
-    best = None
-    if t.close_seen is not None:
-        dx, dy = t.close_seen[0] - inp.x_mm, t.close_seen[1] - inp.y_mm
-        if abs(wrap_mrad(atan2_mrad(dy, dx) - inp.heading_mrad)) < 1571:
-            best = (isqrt(dx * dx + dy * dy), t.close_seen)
-    if echo is not None:
-        phi, rng = echo
-        h = inp.heading_mrad + phi
-        if best is None or off + rng < best[0]:
-            best = (off + rng, (inp.x_mm + ((off + rng) * cos_q12(h) >> 12),
-                                inp.y_mm + ((off + rng) * sin_q12(h) >> 12)))
-    t.close_seen = None if best is None else best[1]
+        return {"phi_mrad": phi, "range_mm": rng, "close_mm": CLOSE_GUARD_MM}
+    return None
 
 
 def close_guard(t: Any, now: int, inp: Any) -> None:

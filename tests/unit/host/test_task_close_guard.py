@@ -48,38 +48,7 @@ def test_the_objects_own_echo_does_not_stop_it():
     task.obj = (170 + 160, 0)
     assert close_echo(task, TaskInputs(sonar_mm=(2500, 2500, 20, 2500, 2500))) is not None
     # side sonars (phi = +-pi/2) see what the base passes, not what it drives into
-    task.close_seen = None  # a new close approach: the echo above forgotten
     assert close_echo(task, TaskInputs(sonar_mm=(20, 2500, 2500, 2500, 20))) is None
-
-
-def test_a_close_echo_gone_from_the_cone_still_stops_adjust():
-    """A thin post 20-40 mm aside of the front sonar's axis leaves its cone (+-30 degrees)
-    when ~36 mm ahead, read ~42 mm at the last, and no other sonar sees it before the ring
-    touches it: the echo is remembered on odometry and stops the base once the ring has come
-    within CLOSE_GUARD_MM of it (the grasp goes on from there)."""
-    task = _adjusting((420, 0))
-    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
-    out = task.step(40_000, TaskInputs(sonar_mm=(2500, 2500, 42, 2500, 2500)))
-    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
-    out = task.step(60_000, TaskInputs(x_mm=6, sonar_mm=CLEAR))  # gone: 36 mm left
-    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
-    out = task.step(80_000, TaskInputs(x_mm=14, sonar_mm=CLEAR))
-    assert out.wheels_mmps == (0, 0) and task.state == "ROUGH_GRASP"
-    assert out.detail["close_guard"]["range_mm"] == 42 - 14
-
-
-def test_a_remembered_echo_beside_the_way_is_forgotten():
-    """Turned so that the remembered echo is behind the ring's front half, it stops nothing;
-    a new ADJUST forgets it too."""
-    task = _adjusting((420, 0))
-    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
-    task.step(40_000, TaskInputs(sonar_mm=(2500, 2500, 42, 2500, 2500)))
-    inp = TaskInputs(x_mm=100, heading_mrad=1571, sonar_mm=CLEAR)
-    assert close_echo(task, inp) is None and task.close_seen is None
-    task.step(60_000, TaskInputs(sonar_mm=(2500, 2500, 42, 2500, 2500)))
-    assert task.close_seen is not None
-    task.go(80_000, "ADJUST", "test")
-    assert task.close_seen is None
 
 
 def test_the_drive_out_of_r_r_passes_beside_the_echo_that_stopped_the_base():

@@ -336,11 +336,10 @@ void mg_task_do_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         t->has_turn_from = 0;
         t->wheels[0] = t->wheels[1] = 0;
     } else { /* on the spot: counter-clockwise for a positive turn */
-        const int32_t dir = cmd.base_turn_mrad > 0 ? 1 : -1;
-        const int32_t v = t->p.search_turn_wheel_mmps ? t->p.search_turn_wheel_mmps
-                                                      : t->p.turn_wheel_mmps;
-        t->wheels[0] = -dir * v;
-        t->wheels[1] = dir * v;
+        mg_task_turn_in_place(cmd.base_turn_mrad > 0 ? 1 : -1,
+                              t->p.search_turn_wheel_mmps ? t->p.search_turn_wheel_mmps
+                                                          : t->p.turn_wheel_mmps,
+                              t->wheels);
     }
 }
 

@@ -149,8 +149,8 @@ def close_echo(t: Any, inp: Any) -> dict | None:
 def remember_echoes(t: Any, inp: Any) -> None:
     """Keep ``t.side_echoes`` (odometry points) up to date with this step's new readings (those
     that differ from the step before's, ``t.sonar_last``). A reading sees through the kept
-    points strictly inside its cone ``SIDE_CLEAR_MM`` or more nearer than it (no echo: all of
-    them), which are dropped. A front-half echo within ``CLOSE_MEMORY_MM`` that is not the
+    points strictly inside its cone ``SIDE_CLEAR_MM`` or more nearer than it (no echo, 0xFFFF:
+    all of them), which are dropped. A front-half echo within ``CLOSE_MEMORY_MM`` that is not the
     object's (:func:`close_object_echo`) adds the two edges of its arc: the thing is somewhere
     on the arc, and the +-A_g/2 ends are where it leaves the cone unseen (one of them, or one
     of an earlier echo's as it slid across the cone, is the part of a post the footprint meets
@@ -159,6 +159,8 @@ def remember_echoes(t: Any, inp: Any) -> None:
     n = len(inp.sonar_mm)
     last = t.sonar_last if len(t.sonar_last) == n else (-1,) * n
     t.sonar_last = tuple(int(v) for v in inp.sonar_mm)
+    if n < 2:
+        return
     off, half_cone = t.p.sonar_offset_mm, t.p.sonar_a_g_mrad // 2
     far = off + CLOSE_MEMORY_MM
     kept = [(x, y) for x, y in t.side_echoes
@@ -169,7 +171,7 @@ def remember_echoes(t: Any, inp: Any) -> None:
         h = inp.heading_mrad + phi
         sx = inp.x_mm + (off * cos_q12(h) >> 12)
         sy = inp.y_mm + (off * sin_q12(h) >> 12)
-        free = min(rng, t.p.sonar_d_e_mm) - SIDE_CLEAR_MM
+        free = rng - SIDE_CLEAR_MM
         kept = [(x, y) for x, y in kept
                 if not (abs(wrap_mrad(atan2_mrad(y - sy, x - sx) - h)) < half_cone
                         and (x - sx) ** 2 + (y - sy) ** 2 < free * free)]

@@ -308,8 +308,8 @@ class Method001(Method000):
             ms.back_offs += 1
             ms.back_off = self.back_off_first(t, inp, turn)
             ms.cut_first_us = None  # a cut seen from here says nothing of the next place
-            t.note(back_off_unseen={"n": ms.back_offs, "turn_mrad": turn,
-                                    "dist_mm": isqrt(dx * dx + dy * dy)})
+            t.note(back_off_unseen={"dist_mm": isqrt(dx * dx + dy * dy), "n": ms.back_offs,
+                                    "turn_mrad": turn})
         return super().search_back_off(t, now, inp, dets)
 
     @staticmethod
@@ -318,7 +318,8 @@ class Method001(Method000):
         confirmed or driven to, the object was never seen by the camera and its estimate is
         within UNSEEN_NEAR_MM of the axle."""
         if t.object_sighted or t.obj is None or t.confirm_until is not None \
-                or t.far is not None or t.search.cycle < t.search.params.turns_per_wander:
+                or t.far is not None or t.search is None \
+                or t.search.cycle < t.search.params.turns_per_wander:
             return False
         dx, dy = t.obj[0] - inp.x_mm, t.obj[1] - inp.y_mm
         return dx * dx + dy * dy <= UNSEEN_NEAR_MM * UNSEEN_NEAR_MM

@@ -215,6 +215,8 @@ void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t the
     s->pose[0] = s->pose[1] = s->pose[2] = 0;
     s->origin[0] = s->origin[1] = 0;
     s->has_stations = s->n_stations = s->station = 0;
+    s->n_rings = 0;
+    s->reached_ring = -1;
     s->leg[0] = s->leg[1] = 0;
     s->rounds = 0;
     s->covered = 0;
@@ -242,6 +244,70 @@ static mg_search_command_t pose_command(const mg_arm_search_t *s, int32_t turn)
     return command(s, s->poses[s->index][0], s->poses[s->index][1], turn, 0);
 }
 
+/* the ring of place k in the rings' order (0 off the rings) */
+static int32_t ring_of(const mg_arm_search_t *s, int32_t k)
+{
+    int32_t r = 0;
+    while (r + 1 < s->n_rings && s->ring_first[r + 1] <= k)
+        r++;
+    return r;
+}
+
+/* the station (index in stations) at place k of the rings' order: a ring driven from its
+ * station ring_off round back to it */
+static int32_t station_at(const mg_arm_search_t *s, int32_t k)
+{
+    if (s->n_rings == 0)
+        return k;
+    const int32_t r = ring_of(s, k);
+    if (!s->ring_off[r])
+        return k;
+    return s->ring_first[r] + (k - s->ring_first[r] + s->ring_off[r]) % s->ring_sides[r];
+}
+
+/* the leg drives to a station skipped before, on a ring restarted where its first station was
+ * reached (ring_reached) */
+static int32_t revisiting(const mg_arm_search_t *s)
+{
+    if (s->n_rings == 0 || s->station >= s->n_stations)
+        return 0;
+    const int32_t r = ring_of(s, s->station);
+    const int32_t k = s->station - s->ring_first[r];
+    return s->ring_off[r] > 0 && s->ring_sides[r] - s->ring_off[r] <= k && k < s->ring_sides[r];
+}
+
+/* A leg ended at its station (host/search.py ArmSearch._ring_reached): the first station
+ * reached on a ring whose stations before it were skipped starts that ring, driven round from
+ * there back to it; each ring outside it starts at its station nearest the one the ring
+ * inside ends at. */
+static void ring_reached(mg_arm_search_t *s)
+{
+    if (s->n_rings == 0)
+        return;
+    const int32_t r = ring_of(s, s->station);
+    const int32_t j = s->station - s->ring_first[r];
+    if (r == s->reached_ring)
+        return;
+    s->reached_ring = r;
+    if (j == 0 || j >= s->ring_sides[r] || s->ring_off[r])
+        return;
+    s->ring_off[r] = j;
+    s->station = s->ring_first[r];
+    for (int32_t q = r + 1; q < s->n_rings; q++) {
+        const int32_t *e = s->stations[s->ring_first[q - 1] + s->ring_off[q - 1]];
+        const int32_t first = s->ring_first[q];
+        int64_t best = -1;
+        for (int32_t i = 0; i < s->ring_sides[q]; i++) {
+            const int64_t dx = (int64_t)s->stations[first + i][0] - e[0];
+            const int64_t dy = (int64_t)s->stations[first + i][1] - e[1];
+            if (best < 0 || dx * dx + dy * dy < best) {
+                best = dx * dx + dy * dy;
+                s->ring_off[q] = i;
+            }
+        }
+    }
+}
+
 /* The side the sweep looks to alone on this leg: on a ring's leg that keeps at least
  * outward_from_mm from the rings' centre (the ground inside it was seen from the ring inside),
  * the side away from the centre (1 left, -1 right); else 0, both sides. */
@@ -251,7 +317,8 @@ static int32_t outward_side(const mg_arm_search_t *s)
     if (!p->outward_from_mm || !p->cover_mm || !s->has_stations || s->station >= s->n_stations)
         return 0;
     const int64_t px = s->pose[0], py = s->pose[1];
-    const int64_t sx = s->stations[s->station][0], sy = s->stations[s->station][1];
+    const int32_t *st = s->stations[station_at(s, s->station)];
+    const int64_t sx = st[0], sy = st[1];
     const int64_t ox = s->origin[0], oy = s->origin[1];
     const int64_t lx = sx - px, ly = sy - py, ax = ox - px, ay = oy - py;
     const int64_t cross = lx * ay - ly * ax; /* > 0: the centre lies left of the leg */
@@ -300,13 +367,25 @@ static void start_leg(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
             const int32_t xy[2] = {s->stations[i][0], s->stations[i][1]};
             mg_to_odometry(s->pose, xy, s->stations[i]);
         }
+        int32_t sides[MG_COVER_MAX_RINGS], unused = 0;
+        const int32_t rings = mg_ring_sides(p->cover_mm, p->view_mm, p->chord_mm, p->edge_mm,
+                                            sides, &unused);
+        int32_t first = 0;
+        s->n_rings = 0;
+        for (int32_t k = 0; k < rings && first + sides[k] + 1 <= s->n_stations; k++) {
+            s->ring_first[k] = first, s->ring_sides[k] = sides[k], s->ring_off[k] = 0;
+            first += sides[k] + 1;
+            s->n_rings = k + 1;
+        }
         s->has_stations = 1;
     }
     int32_t turn = 0, drive = 0;
     for (; s->station < s->n_stations; s->station++) { /* a station reached already: the next */
-        mg_leg_to(s->pose, s->stations[s->station], &turn, &drive);
+        mg_leg_to(s->pose, s->stations[station_at(s, s->station)], &turn, &drive);
         if (drive >= p->chord_mm / 4)
             break;
+        if (s->n_rings)
+            s->reached_ring = ring_of(s, s->station);
     }
     if (s->station >= s->n_stations) {
         s->covered = 1;
@@ -418,7 +497,7 @@ void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us)
     }
 }
 
-static void end_wander(mg_arm_search_t *s, int64_t now_us)
+static void end_wander(mg_arm_search_t *s, int64_t now_us, int32_t look)
 {
     if (!s->wandering)
         return;
@@ -428,7 +507,7 @@ static void end_wander(mg_arm_search_t *s, int64_t now_us)
                            p->wander_sweep ? s->wpose[1] : p->theta5_max_mrad};
     if (p->cover_mm) {
         s->station++; /* reached, or stopped short by an obstacle: the next one */
-        if (p->stop_cycles == 0) {
+        if (p->stop_cycles == 0 && !look) {
             start_leg(s, now_us, at);
             if (!s->covered)
                 return;
@@ -447,17 +526,24 @@ static void end_wander(mg_arm_search_t *s, int64_t now_us)
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
 {
     s->rounds = 0;
-    end_wander(s, now_us);
+    if (s->wandering && s->has_stations)
+        ring_reached(s);
+    end_wander(s, now_us, 0);
+}
+
+void mg_search_wander_look(mg_arm_search_t *s, int64_t now_us)
+{
+    end_wander(s, now_us, 1);
 }
 
 int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can_round)
 {
     if (s->wandering && s->p.cover_mm && can_round && s->rounds < s->p.round_tries
-        && outward_side(s) != 0) {
+        && (outward_side(s) != 0 || revisiting(s))) {
         s->rounds++;
         return 1;
     }
-    end_wander(s, now_us);
+    end_wander(s, now_us, 0);
     return 0;
 }
 
@@ -475,7 +561,8 @@ int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2])
 {
     if (!s->has_stations || s->station >= s->n_stations)
         return 0;
-    xy_mm[0] = s->stations[s->station][0], xy_mm[1] = s->stations[s->station][1];
+    const int32_t *st = s->stations[station_at(s, s->station)];
+    xy_mm[0] = st[0], xy_mm[1] = st[1];
     return 1;
 }
 

@@ -65,8 +65,14 @@ typedef struct {
     int32_t wpose[2];
     int32_t pose[3]; /* the base's odometry (x_mm, y_mm, heading_mrad) as last reported */
     int32_t origin[2]; /* the rings' centre in odometry (where the first leg starts) */
-    int32_t has_stations, n_stations, station; /* the rings in odometry, the next one */
+    int32_t has_stations, n_stations; /* the rings in odometry */
+    int32_t station; /* the next station's place in the rings' order (station_at) */
     int32_t stations[MG_COVER_STATIONS][2];
+    int32_t n_rings; /* the rings whose stations all fit */
+    int32_t ring_first[MG_COVER_MAX_RINGS]; /* each ring's first place in that order */
+    int32_t ring_sides[MG_COVER_MAX_RINGS];
+    int32_t ring_off[MG_COVER_MAX_RINGS]; /* each ring driven from its station of this index */
+    int32_t reached_ring; /* the last ring on which a leg ended at its station (-1: none) */
     int32_t leg[2];  /* turn_mrad, drive_mm of the leg toward the next station */
     int32_t rounds; /* drives round an obstacle since a leg last ended unblocked */
     int32_t covered; /* the rings are done: the disc of cover_mm has been seen */
@@ -92,6 +98,9 @@ void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us);
 void mg_search_rejoin(mg_arm_search_t *s, int64_t now_us, const int32_t pose[3]);
 void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us);
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us);
+/* the base stopped short of the leg's end with the object possibly in front (the caller's
+ * evidence): the leg ends, and one cycle at rest looks around here before the next station */
+void mg_search_wander_look(mg_arm_search_t *s, int64_t now_us);
 /* the base stopped short of the leg's end, an obstacle ahead: 1 when the caller is to drive
  * round it (can_round: it has a way) and then call mg_search_wander_resume (a leg sweeping
  * outward alone, fewer than round_tries times since a leg last ended unblocked); else 0, the

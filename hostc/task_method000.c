@@ -410,9 +410,11 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
         mg_task_arm_at(t, now_us - t->p.frame_latency_us, arm);
         const int32_t half_fov = mg_atan2_mrad(t->cam.u0_px, t->cam.f_px);
         const int32_t turn = -(arm[5] + f->cut_side * half_fov);
-        bo->has_cut_seen = 1;
-        bo->cut_seen_us = now_us;
-        bo->cut_heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn);
+        if (f->cut_low_px >= 2 * t->cam.v0_px) { /* at the bottom: nearer than the view's edge */
+            bo->has_cut_seen = 1;
+            bo->cut_seen_us = now_us;
+            bo->cut_heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn);
+        }
         if (bo->back_offs >= rule->max || t->has_confirm_until
             || (rule->from_start
                 && (t->lost

@@ -210,7 +210,7 @@ class State001(MethodState):
     # ("look", stopped_us, 0) (Method001.back_off_move); None: none
     back_off: tuple | None = None
     cut_first_us: int | None = None  # the first frame of the cut symbol not yet moved off
-    cut_seen_us: int | None = None  # the last frame of the cut symbol (not looked at by 001)
+    cut_seen_us: int | None = None  # the last frame of the symbol cut at the bottom (not 001's)
     cut_heading_mrad: int = 0  # ... and the odometry heading it was seen in
 
     replanner: Replanner | None = None  # the plan of eq. (17) and its sonar memory (§III.E)

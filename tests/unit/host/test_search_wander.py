@@ -614,3 +614,120 @@ def test_a_sighting_near_at_hand_is_dropped_as_before_and_001_002_never_drive_to
 def test_far_sightings_are_driven_to_at_most_sighting_approaches_times():
     task = Task("000", {"sighting_approaches": 0})
     assert not _notes(far_sighting_run(task, 1300, until_us=6_000_000), "far_sighting")
+
+
+def ring_restart_calls(s, t: int, call) -> list:
+    """The first ring's first two legs stopped by an obstacle (the base still at the start),
+    the third reached, then every leg to its station (the one to a skipped station stopped
+    once and driven round): the stations asked for, in order. ``call(name, *args)`` makes
+    each call on the search ``s`` (a Python ArmSearch, or the C one's mirror) and returns
+    its result."""
+    got = [call("station_xy")]
+    for _ in range(2):
+        assert not call("wander_blocked", t, True)  # the next station, from the start
+        call("on_the_leg", t)
+        got.append(call("station_xy"))
+    sides = coverage.ring_sides(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
+    for k in range(sides[0] + 1):
+        xy = call("station_xy")
+        if k == sides[0] - 2:  # a station skipped before: stopped short, it goes round
+            assert call("wander_blocked", t, True) and call("passing")
+            call("wander_resume", t)
+            call("on_the_leg", t)
+            assert call("station_xy") == xy
+        call("step", t, (xy[0], xy[1], 0))
+        call("wander_done", t)
+        call("on_the_leg", t)
+        got.append(call("station_xy"))
+    return got
+
+
+def _py_call(s: se.ArmSearch):
+    def call(name: str, *args):
+        if name == "station_xy":
+            return s.station_xy
+        if name == "passing":
+            return s.passing
+        if name == "on_the_leg":
+            return _on_the_leg(s, *args)
+        return getattr(s, name)(*args)
+    return call
+
+
+def test_a_ring_whose_first_stations_are_skipped_is_driven_round_from_the_first_reached():
+    """The first ring's legs from the start stopped by an obstacle skip its first stations;
+    the first station reached starts the ring, driven round from there back to it (the
+    skipped ones too, going round an obstacle that stops a leg to one), and the last ring
+    starts at its station nearest where the first ends (docs/task.md "000: a ring's leg
+    stopped by an obstacle")."""
+    s, _, t = _to_first_wander(P000)
+    st = coverage.ring_stations(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
+    m, m2 = coverage.ring_sides(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
+    assert len(st) == m + 1 + m2 + 1
+    got = ring_restart_calls(s, t, _py_call(s))
+    assert got[:3] == st[:3]  # skipped from the start
+    assert got[3:3 + m] == [st[(2 + k) % m] for k in range(1, m + 1)]  # round from station 2
+    ring2 = st[m + 1:m + 1 + m2]
+    assert got[-1] == min(ring2, key=lambda xy: math.dist(xy, st[2])) != ring2[0]
+    # a ring entered at its first station is driven as laid out
+    s, _, t = _to_first_wander(P000)
+    call = _py_call(s)
+    for k in range(m + 2):
+        assert call("station_xy") == st[k]
+        call("step", t, (*st[k], 0))
+        call("wander_done", t)
+        call("on_the_leg", t)
+
+
+def test_a_leg_stopped_after_a_cut_symbol_faces_it_and_looks_around_there():
+    """000: a wander leg stopped by a front sonar within CUT_LOOK_000_US of a frame showing
+    the symbol cut by the frame's bottom (the object itself may have stopped it, too near for
+    the sweep's far level): the base turns on the spot to face where the cut was seen, then a
+    cycle at rest looks there before the next station; without such a cut lately (one at the
+    top of the frame is far), the next station at once."""
+    from mobigrasp.host.fixedpoint import atan2_mrad
+    from mobigrasp.host.task.method000 import CUT_LOOK_000_US
+    from mobigrasp.host.vision.radial_symbol import RadialCut
+
+    clear = (65535,) * 5
+    ahead = (65535, 65535, 300, 65535, 65535)
+    for cut_age_us, cut_y, looks in ((500_000, 200, True), (CUT_LOOK_000_US + 100_000, 200, False),
+                                     (500_000, 0, False)):
+        task = Task("000", {"search": {"theta2_min_mrad": -2200, "d_theta5_mrad": 800,
+                                       "turns_per_wander": 1, "coarse_theta2_mrad": (-2200,)}})
+        t, pose = 0, [0, 0, 0]
+        while task.search is None or not task.search.wandering:
+            _move(task, t, pose, clear)
+            t += 20_000
+        for _ in range(10):
+            t += 20_000
+            _move(task, t, pose, clear)
+        cut = RadialCut(x=0, y=cut_y, w=100, h=40, side=-1)  # at the left border and the bottom
+        out = task.step(t, TaskInputs(x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2],
+                                      sonar_mm=clear, detections={"radial_cut": cut}))
+        # its bearing: the waist of the frame's pose (right positive) and the half field of
+        # view to the left
+        want = -(task.arm_at(t - task.p.frame_latency_us)[5]
+                 - atan2_mrad(task.cam.u0_px, task.cam.f_px))
+        t += cut_age_us
+        station = task.search.station_xy
+        out = _move(task, t, pose, ahead)
+        assert out.wheels_mmps == (0, 0) and out.detail["wander_blocked"] is True
+        if not looks:
+            assert "wander_look_mrad" not in out.detail and task.wander_look is None
+            continue
+        assert out.detail["wander_look_mrad"] == want and abs(want) > task.p.bearing_tol_mrad
+        assert task.search.wandering  # the leg is not yet ended
+        while task.wander_look is not None:  # the turn on the spot toward it
+            t += 20_000
+            out = _move(task, t, pose, clear)
+            assert out.wheels_mmps[0] * (1 if want < 0 else -1) >= 0 >= out.wheels_mmps[1] \
+                * (1 if want < 0 else -1)
+        assert abs(pose[2] - want) <= task.p.bearing_tol_mrad
+        assert not task.search.turning and not task.search.wandering  # a cycle at rest
+        rest_from = t
+        while _move(task, t + 20_000, pose, clear).wheels_mmps == (0, 0):
+            t += 20_000
+        # its poses looked at, then the next station
+        assert task.search.turning and t - rest_from >= 3 * task.search.params.frame_period_us
+        assert task.search.station_xy != station

@@ -492,7 +492,7 @@ class ArmSearch:
         unblocked. Else (False) the leg ends: the next station."""
         p = self.params
         if self._wandering and p.cover_mm and can_round and self._rounds < p.round_tries \
-                and (self._outward_side() != 0 or self._revisiting()):
+                and self._outward_side() != 0:
             self._rounds += 1
             return True
         self._end_wander(now_us)
@@ -521,9 +521,10 @@ class ArmSearch:
 
     @property
     def passing(self) -> bool:
-        """A leg after a drive round an obstacle (until one ends unblocked): the caller stops
-        it only for something in its way, not for the obstacle it passes beside."""
-        return self.params.cover_mm > 0 and self._rounds > 0
+        """A leg after a drive round an obstacle (until one ends unblocked), or to a station
+        skipped before (:meth:`_revisiting`): the caller stops it only for something in its
+        way, not for an obstacle it passes beside."""
+        return self.params.cover_mm > 0 and (self._rounds > 0 or self._revisiting())
 
     def _end_wander(self, now_us: int, look: bool = False) -> None:
         if self._wandering:

@@ -539,7 +539,7 @@ void mg_search_wander_look(mg_arm_search_t *s, int64_t now_us)
 int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can_round)
 {
     if (s->wandering && s->p.cover_mm && can_round && s->rounds < s->p.round_tries
-        && (outward_side(s) != 0 || revisiting(s))) {
+        && outward_side(s) != 0) {
         s->rounds++;
         return 1;
     }
@@ -568,5 +568,5 @@ int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2])
 
 int32_t mg_search_passing(const mg_arm_search_t *s)
 {
-    return s->p.cover_mm > 0 && s->rounds > 0;
+    return s->p.cover_mm > 0 && (s->rounds > 0 || revisiting(s));
 }

@@ -110,8 +110,9 @@ int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can
 void mg_search_wander_resume(mg_arm_search_t *s, int64_t now_us);
 /* the odometry place of the station the rings' leg drives to: 1 and xy_mm, or 0 off the rings */
 int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2]);
-/* a leg after a drive round an obstacle (until one ends unblocked): the caller stops it only
- * for something in its way, not for the obstacle it passes beside */
+/* a leg after a drive round an obstacle (until one ends unblocked), or to a station skipped
+ * before on a ring restarted where its first station was reached: the caller stops it only for
+ * something in its way, not for an obstacle it passes beside */
 int32_t mg_search_passing(const mg_arm_search_t *s);
 
 #endif

@@ -616,30 +616,26 @@ def test_far_sightings_are_driven_to_at_most_sighting_approaches_times():
     assert not _notes(far_sighting_run(task, 1300, until_us=6_000_000), "far_sighting")
 
 
-def ring_restart_calls(s, t: int, call) -> list:
+def ring_restart_calls(s, t: int, call) -> tuple[list, list]:
     """The first ring's first two legs stopped by an obstacle (the base still at the start),
-    the third reached, then every leg to its station (the one to a skipped station stopped
-    once and driven round): the stations asked for, in order. ``call(name, *args)`` makes
-    each call on the search ``s`` (a Python ArmSearch, or the C one's mirror) and returns
-    its result."""
-    got = [call("station_xy")]
+    the third reached, then every leg to its station: the stations asked for, in order, and
+    whether each leg passes beside obstacles. ``call(name, *args)`` makes each call on the
+    search ``s`` and returns its result."""
+    got, passing = [call("station_xy")], [call("passing")]
     for _ in range(2):
         assert not call("wander_blocked", t, True)  # the next station, from the start
         call("on_the_leg", t)
         got.append(call("station_xy"))
+        passing.append(call("passing"))
     sides = coverage.ring_sides(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
-    for k in range(sides[0] + 1):
+    for _ in range(sides[0] + 1):
         xy = call("station_xy")
-        if k == sides[0] - 2:  # a station skipped before: stopped short, it goes round
-            assert call("wander_blocked", t, True) and call("passing")
-            call("wander_resume", t)
-            call("on_the_leg", t)
-            assert call("station_xy") == xy
         call("step", t, (xy[0], xy[1], 0))
         call("wander_done", t)
         call("on_the_leg", t)
         got.append(call("station_xy"))
-    return got
+        passing.append(call("passing"))
+    return got, passing
 
 
 def _py_call(s: se.ArmSearch):
@@ -657,16 +653,18 @@ def _py_call(s: se.ArmSearch):
 def test_a_ring_whose_first_stations_are_skipped_is_driven_round_from_the_first_reached():
     """The first ring's legs from the start stopped by an obstacle skip its first stations;
     the first station reached starts the ring, driven round from there back to it (the
-    skipped ones too, going round an obstacle that stops a leg to one), and the last ring
+    skipped ones too, their legs stopped only by something in their way), and the last ring
     starts at its station nearest where the first ends (docs/task.md "000: a ring's leg
     stopped by an obstacle")."""
     s, _, t = _to_first_wander(P000)
     st = coverage.ring_stations(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
     m, m2 = coverage.ring_sides(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
     assert len(st) == m + 1 + m2 + 1
-    got = ring_restart_calls(s, t, _py_call(s))
+    got, passing = ring_restart_calls(s, t, _py_call(s))
     assert got[:3] == st[:3]  # skipped from the start
     assert got[3:3 + m] == [st[(2 + k) % m] for k in range(1, m + 1)]  # round from station 2
+    # the legs back to the skipped ones pass by
+    assert passing == [False] * 3 + [xy in st[:2] for xy in got[3:]] and sum(passing) == 2
     ring2 = st[m + 1:m + 1 + m2]
     assert got[-1] == min(ring2, key=lambda xy: math.dist(xy, st[2])) != ring2[0]
     # a ring entered at its first station is driven as laid out

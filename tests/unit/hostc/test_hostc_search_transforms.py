@@ -10,6 +10,7 @@ from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host import coverage, kinematics, ranging, search, transforms
+from mobigrasp.host.task.params import TaskParams
 
 FFI, C = hostc.lib()
 SETTINGS = examples(150)
@@ -169,6 +170,54 @@ def test_search_over_time(p, th2, th5, calls):
         xy = FFI.new("int32_t[2]")
         assert (tuple(xy) if C.mg_search_station_xy(c, xy) else None) == py.station_xy
     assert c.overflow == 0
+
+
+def test_a_ring_restarted_where_its_first_station_is_reached():
+    """000's rings: the first ring's first legs stopped at the start, the third station
+    reached, the ring then driven round from it (the legs to the skipped stations passing
+    beside obstacles), the last ring from its station nearest: the C asks for the Python's
+    stations."""
+    p = search.SearchParams(**TaskParams.for_method("000").search)
+    py = search.ArmSearch(p, -2100, -800, 0)
+    c = FFI.new("mg_arm_search_t *")
+    C.mg_search_init(c, _c_params(p), -2100, -800, 0)
+    xy = FFI.new("int32_t[2]")
+    t, asked = 0, []
+
+    def both(name: str, *args):
+        if name == "step":
+            want = py.step(t, *args)
+            assert _cmd(C.mg_search_step(c, t, *args)) == _cmd(want)
+        elif name == "blocked":
+            assert bool(C.mg_search_wander_blocked(c, t, 1)) == py.wander_blocked(t)
+        else:
+            getattr(py, name)(t)
+            getattr(C, "mg_search_" + name)(c, t)
+        if not (py.wandering or py.turning):
+            return
+        if not py.wandering:  # the turn toward the station, done at once
+            py.base_turn_done(t)
+            C.mg_search_base_turn_done(c, t)
+        assert (tuple(xy) if C.mg_search_station_xy(c, xy) else None) == py.station_xy
+        assert bool(C.mg_search_passing(c)) == py.passing
+        if py.station_xy is not None:
+            asked.append(py.station_xy)
+
+    while not py.wandering:  # the look-around
+        t += 20_000
+        both("step", (0, 0, 0))
+    both("blocked")
+    both("blocked")
+    m = coverage.ring_sides(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)[0]
+    passing = []
+    for _ in range(m + 3):
+        passing.append(py.passing)
+        both("step", (*py.station_xy, 0))
+        both("wander_done")
+    st_ = coverage.ring_stations(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)
+    legs = [xy for k, xy in enumerate(asked) if k == 0 or xy != asked[k - 1]]
+    assert legs[:3] == st_[:3] and st_[0] in legs[3:m + 3] and st_[m + 1] not in legs
+    assert sum(passing) == 2
 
 
 @SETTINGS

@@ -1022,3 +1022,43 @@ def test_legs_past_an_obstacle_step_by_step():
         passed += passing and sonar == beside and left > 0
         rounds += "wander_round_mrad" in res.detail
     assert passed and rounds and res.state == "SEARCH"
+
+
+def test_a_leg_stopped_after_a_cut_symbol_looks_step_by_step():
+    """000's SEARCH on a leg that sees the symbol cut by the frame's bottom and is then
+    stopped by a front sonar (host/task/search.py wander_step, Method000.search_cut_look):
+    the turn to face it, the cycle at rest, the next station; a cut at the top of the frame
+    does not look. The same wheels, arm targets and detail every step as the Python's."""
+    quick = {"theta2_min_mrad": -2200, "d_theta5_mrad": 800, "turns_per_wander": 1,
+             "coarse_theta2_mrad": (-2200,)}
+    far = 65535
+    for cut_y, looks in ((200, True), (0, False)):
+        py = Task("000", {"search": quick})
+        paper, with_py = FFI.new("mg_paper_task_t *"), _c_task(py)
+        assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"),
+                                    FFI.addressof(with_py, "p"), 0) == 0
+        c = FFI.addressof(paper, "task")
+        out = FFI.new("mg_task_outputs_t *")
+        x = y = h = 0
+        looked, wandered = 0, 0
+        for k in range(900):
+            dets = {}
+            sonar = (far,) * 5
+            if py.search is not None and py.search.wandering and not wandered:
+                wandered = k
+            if wandered and k == wandered + 10:
+                dets = {"radial_symbol": None,
+                        "radial_cut": CUT(x=40, y=cut_y, w=100, h=40, side=0)}
+            if wandered and wandered + 30 <= k < wandered + 32:
+                sonar = (far, far, 300, far, far)
+            res = _step_both(py, c, 20_000 * (k + 1), TaskInputs(
+                x_mm=x, y_mm=y, heading_mrad=h, sonar_mm=sonar, detections=dets), out,
+                _frame000)
+            left, right = res.wheels_mmps
+            if left == right:
+                x += round(left * 0.02 * math.cos(h / 1000))
+                y += round(left * 0.02 * math.sin(h / 1000))
+            else:
+                h += 40 if right > left else -40
+            looked += "wander_look_mrad" in res.detail
+        assert wandered and looked == looks and res.state == "SEARCH"

@@ -478,23 +478,34 @@ class ArmSearch:
             return
         self._ring_off[r] = j
         self._station = self._ring_first[r]
-        for q in range(r + 1, len(self._ring_sides)):
-            ex, ey = self._stations[self._ring_first[q - 1] + self._ring_off[q - 1]]
-            first = self._ring_first[q]
-            self._ring_off[q] = min(range(self._ring_sides[q]), key=lambda i: (
-                (self._stations[first + i][0] - ex) ** 2
-                + (self._stations[first + i][1] - ey) ** 2, i))
+        self._rings_from(r + 1, self._stations[self._ring_first[r] + j])
+
+    def _rings_from(self, q: int, xy: tuple[int, int]) -> None:
+        """Ring ``q`` starts at its station nearest ``xy``, each ring outside it at its
+        station nearest the one the ring inside ends at."""
+        for r in range(q, len(self._ring_sides)):
+            first = self._ring_first[r]
+            self._ring_off[r] = min(range(self._ring_sides[r]), key=lambda i: (
+                (self._stations[first + i][0] - xy[0]) ** 2
+                + (self._stations[first + i][1] - xy[1]) ** 2, i))
+            xy = self._stations[first + self._ring_off[r]]
 
     def wander_blocked(self, now_us: int, can_round: bool = True) -> bool:
         """The base stopped short of the leg's end, an obstacle ahead. True: the caller is to
         drive round it (``can_round``: it has a way) and then call :meth:`wander_resume`; on a
         leg sweeping outward alone, fewer than ``round_tries`` times since a leg last ended
-        unblocked. Else (False) the leg ends: the next station."""
+        unblocked. Else (False) the leg ends: the next station; a leg back to a station
+        skipped before (:meth:`_revisiting`) ends its ring there, the next ring starting at its
+        station nearest the base."""
         p = self.params
         if self._wandering and p.cover_mm and can_round and self._rounds < p.round_tries \
                 and self._outward_side() != 0:
             self._rounds += 1
             return True
+        if self._wandering and self._revisiting():  # the skipped arc is in the way there too:
+            r = self._ring_of(self._station)  # the ring ends, the next starts nearest here
+            self._station = self._ring_first[r] + self._ring_sides[r]
+            self._rings_from(r + 1, self._pose[:2])
         self._end_wander(now_us)
         return False
 

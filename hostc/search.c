@@ -276,6 +276,27 @@ static int32_t revisiting(const mg_arm_search_t *s)
     return s->ring_off[r] > 0 && s->ring_sides[r] - s->ring_off[r] <= k && k < s->ring_sides[r];
 }
 
+/* ring q starts at its station nearest xy, each ring outside it at its station nearest the one
+ * the ring inside ends at */
+static void rings_from(mg_arm_search_t *s, int32_t q, const int32_t xy[2])
+{
+    int32_t e[2] = {xy[0], xy[1]};
+    for (int32_t r = q; r < s->n_rings; r++) {
+        const int32_t first = s->ring_first[r];
+        int64_t best = -1;
+        for (int32_t i = 0; i < s->ring_sides[r]; i++) {
+            const int64_t dx = (int64_t)s->stations[first + i][0] - e[0];
+            const int64_t dy = (int64_t)s->stations[first + i][1] - e[1];
+            if (best < 0 || dx * dx + dy * dy < best) {
+                best = dx * dx + dy * dy;
+                s->ring_off[r] = i;
+            }
+        }
+        e[0] = s->stations[first + s->ring_off[r]][0];
+        e[1] = s->stations[first + s->ring_off[r]][1];
+    }
+}
+
 /* A leg ended at its station (host/search.py ArmSearch._ring_reached): the first station
  * reached on a ring whose stations before it were skipped starts that ring, driven round from
  * there back to it; each ring outside it starts at its station nearest the one the ring
@@ -293,19 +314,7 @@ static void ring_reached(mg_arm_search_t *s)
         return;
     s->ring_off[r] = j;
     s->station = s->ring_first[r];
-    for (int32_t q = r + 1; q < s->n_rings; q++) {
-        const int32_t *e = s->stations[s->ring_first[q - 1] + s->ring_off[q - 1]];
-        const int32_t first = s->ring_first[q];
-        int64_t best = -1;
-        for (int32_t i = 0; i < s->ring_sides[q]; i++) {
-            const int64_t dx = (int64_t)s->stations[first + i][0] - e[0];
-            const int64_t dy = (int64_t)s->stations[first + i][1] - e[1];
-            if (best < 0 || dx * dx + dy * dy < best) {
-                best = dx * dx + dy * dy;
-                s->ring_off[q] = i;
-            }
-        }
-    }
+    rings_from(s, r + 1, s->stations[s->ring_first[r] + j]);
 }
 
 /* The side the sweep looks to alone on this leg: on a ring's leg that keeps at least
@@ -542,6 +551,12 @@ int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can
         && outward_side(s) != 0) {
         s->rounds++;
         return 1;
+    }
+    if (s->wandering && revisiting(s)) { /* the skipped arc is in the way there too: the ring
+                                           * ends, the next starts nearest here */
+        const int32_t r = ring_of(s, s->station);
+        s->station = s->ring_first[r] + s->ring_sides[r];
+        rings_from(s, r + 1, s->pose);
     }
     end_wander(s, now_us, 0);
     return 0;

@@ -667,6 +667,28 @@ def test_a_ring_whose_first_stations_are_skipped_is_driven_round_from_the_first_
     assert passing == [False] * 3 + [xy in st[:2] for xy in got[3:]] and sum(passing) == 2
     ring2 = st[m + 1:m + 1 + m2]
     assert got[-1] == min(ring2, key=lambda xy: math.dist(xy, st[2])) != ring2[0]
+    # a leg back to a skipped station stopped short: the ring ends, the last ring starts at
+    # its station nearest the base
+    s, _, t = _to_first_wander(P000)
+    call = _py_call(s)
+    got, _ = ring_restart_calls(s, t, call)
+    s, _, t = _to_first_wander(P000)
+    call = _py_call(s)
+    for k, xy in enumerate(got[:m]):
+        assert call("station_xy") == xy
+        if k < 2:
+            assert not call("wander_blocked", t, True)
+        else:
+            call("step", t, (*xy, 0))
+            call("wander_done", t)
+        call("on_the_leg", t)
+    assert call("station_xy") == st[0] and call("passing")
+    here = (st[0][0] - 700, st[0][1] + 300)
+    call("step", t, (*here, 0))
+    assert not call("wander_blocked", t, True)
+    call("on_the_leg", t)
+    assert call("station_xy") == min(ring2, key=lambda xy: math.dist(xy, here))
+    assert not call("passing")
     # a ring entered at its first station is driven as laid out
     s, _, t = _to_first_wander(P000)
     call = _py_call(s)

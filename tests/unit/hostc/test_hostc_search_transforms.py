@@ -4,6 +4,7 @@ host/transforms.py and host/ranging.py."""
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 from property_examples import examples
@@ -172,11 +173,12 @@ def test_search_over_time(p, th2, th5, calls):
     assert c.overflow == 0
 
 
-def test_a_ring_restarted_where_its_first_station_is_reached():
+@pytest.mark.parametrize("block_back", [False, True])
+def test_a_ring_restarted_where_its_first_station_is_reached(block_back):
     """000's rings: the first ring's first legs stopped at the start, the third station
     reached, the ring then driven round from it (the legs to the skipped stations passing
-    beside obstacles), the last ring from its station nearest: the C asks for the Python's
-    stations."""
+    beside obstacles; one stopped short ends the ring there), the last ring from its station
+    nearest: the C asks for the Python's stations."""
     p = search.SearchParams(**TaskParams.for_method("000").search)
     py = search.ArmSearch(p, -2100, -800, 0)
     c = FFI.new("mg_arm_search_t *")
@@ -212,12 +214,18 @@ def test_a_ring_restarted_where_its_first_station_is_reached():
     passing = []
     for _ in range(m + 3):
         passing.append(py.passing)
+        if block_back and py.passing:
+            here = py.station_xy
+            both("step", (here[0] - 700, here[1] + 300, 0))
+            both("blocked")
+            assert not py.passing
+            break
         both("step", (*py.station_xy, 0))
         both("wander_done")
     st_ = coverage.ring_stations(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)
     legs = [xy for k, xy in enumerate(asked) if k == 0 or xy != asked[k - 1]]
     assert legs[:3] == st_[:3] and st_[0] in legs[3:m + 3] and st_[m + 1] not in legs
-    assert sum(passing) == 2
+    assert sum(passing) == (1 if block_back else 2)
 
 
 @SETTINGS

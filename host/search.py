@@ -99,6 +99,8 @@ class SearchParams:
     # obstacle goes round it and aims at its station again, at most this often until a leg
     # ends unblocked (0: the next station at once, as every other leg)
     edge_mm: int = 0  # the last ring this far inside cover_mm (0: view_mm; host.coverage)
+    ring_restart: int = 0  # 1: a ring whose first stations were skipped (legs stopped by an
+    # obstacle) is driven round from the first one reached (0: on to the next ring from there)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -120,8 +122,9 @@ class SearchParams:
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
-        if self.round_tries < 0:
-            raise ValueError(f"round_tries must be >= 0, got {self.round_tries}")
+        if self.round_tries < 0 or self.ring_restart not in (0, 1):
+            raise ValueError(f"round_tries must be >= 0 and ring_restart 0 or 1, got "
+                             f"{self.round_tries}, {self.ring_restart}")
         if self.outward_from_mm < 0 or not 0 <= self.outward_inward_mrad < self.wander_theta5_mrad:
             raise ValueError(f"outward_from_mm must be >= 0 and outward_inward_mrad in [0, "
                              f"wander_theta5_mrad), got {self.outward_from_mm}, "
@@ -474,7 +477,8 @@ class ArmSearch:
         if r == self._reached_ring:
             return
         self._reached_ring = r
-        if j == 0 or j >= self._ring_sides[r] or self._ring_off[r]:
+        if not self.params.ring_restart or j == 0 or j >= self._ring_sides[r] \
+                or self._ring_off[r]:
             return
         self._ring_off[r] = j
         self._station = self._ring_first[r]

@@ -12,7 +12,7 @@ void mg_search_params_default(mg_search_params_t *p)
 {
     static const mg_search_params_t d = {
         -2800, -2100, 60, -800, 800, 200, -200, 2300, 1047, 3, {-2250, -2500, -2750}, 1571,
-        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700, 0, 0};
+        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700, 0, 0, 0};
     *p = d;
 }
 
@@ -310,7 +310,7 @@ static void ring_reached(mg_arm_search_t *s)
     if (r == s->reached_ring)
         return;
     s->reached_ring = r;
-    if (j == 0 || j >= s->ring_sides[r] || s->ring_off[r])
+    if (!s->p.ring_restart || j == 0 || j >= s->ring_sides[r] || s->ring_off[r])
         return;
     s->ring_off[r] = j;
     s->station = s->ring_first[r];

@@ -37,6 +37,8 @@ typedef struct {
                           * and aims at its station again at most this often until a leg ends
                           * unblocked (0: the next station at once) */
     int32_t edge_mm; /* the last ring this far inside cover_mm (0: view_mm; coverage.c) */
+    int32_t ring_restart; /* 1: a ring whose first stations were skipped (legs stopped by an
+                           * obstacle) is driven round from the first one reached */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */

@@ -48,6 +48,7 @@ void mg_method000_params(mg_task_params_t *p)
     p->search.round_tries = MG_ROUND_TRIES_000;
     p->search.outward_inward_mrad = MG_OUTWARD_INWARD_000_MRAD;
     p->search.edge_mm = MG_EDGE_000_MM;
+    p->search.ring_restart = 1;
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,

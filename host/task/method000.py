@@ -182,7 +182,7 @@ class Method000(PathMethod):
                                        "outward_from_mm": OUTWARD_FROM_000_MM,
                                        "round_tries": ROUND_TRIES_000,
                                        "outward_inward_mrad": OUTWARD_INWARD_000_MRAD,
-                                       "edge_mm": EDGE_000_MM}}
+                                       "edge_mm": EDGE_000_MM, "ring_restart": 1}}
     detectors = {"SEARCH": ("radial_symbol", "radial_cut"), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
                  # LIFT: the grasp check (grasp.py): the held object fills the frame, the

@@ -358,7 +358,7 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     # 000's own: the wander's sweep alone (host/task/method000.py)
     assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams(
         wander_frames_per_pose=1, wander_d_theta5_mrad=350, outward_from_mm=3000,
-        outward_inward_mrad=1050, edge_mm=900, round_tries=2)
+        outward_inward_mrad=1050, edge_mm=900, round_tries=2, ring_restart=1)
     assert sp.cover_mm == 2500  # 002 gives up once the rings covered 2.5 m (method002.py)
 
 

@@ -76,7 +76,8 @@ def search_params(draw):
             outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)),
             outward_inward_mrad=draw(st.sampled_from([0, 350, 700]) | st.integers(0, 1400)),
             round_tries=draw(st.integers(0, 3)),
-            edge_mm=draw(st.sampled_from([0, 0, 900]) | st.integers(0, 3000)))
+            edge_mm=draw(st.sampled_from([0, 0, 900]) | st.integers(0, 3000)),
+            ring_restart=draw(st.integers(0, 1)))
     except ValueError:
         assume(False)
 
@@ -99,7 +100,7 @@ def _c_params(p):
         "wander_frames_per_pose": p.wander_frames_per_pose,
         "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm,
         "outward_inward_mrad": p.outward_inward_mrad, "round_tries": p.round_tries,
-        "edge_mm": p.edge_mm})
+        "edge_mm": p.edge_mm, "ring_restart": p.ring_restart})
 
 
 def _cmd(c) -> tuple[int, ...]:

@@ -32,25 +32,7 @@ TWO_PI_MRAD = 6283
 def ring_stations(radius_mm: int, view_mm: int, chord_mm: int,
                   edge_mm: int = 0) -> list[tuple[int, int]]:
     """Stations (x_mm, y_mm) from the start (excluded) round the rings out to ``radius_mm``;
-    the last ring at ``radius_mm - edge_mm`` (``edge_mm`` 0: ``view_mm``). Ring k's
-    ``ring_sides`` m_k sides take m_k + 1 stations, the first (on the start's x axis) again
-    last."""
-    stations: list[tuple[int, int]] = []
-    for a_v, _, m in _rings(radius_mm, view_mm, chord_mm, edge_mm):
-        for j in range(m + 1):
-            phi = TWO_PI_MRAD * j // m
-            stations.append((a_v * cos_q12(phi) >> 12, a_v * sin_q12(phi) >> 12))
-    return stations
-
-
-def ring_sides(radius_mm: int, view_mm: int, chord_mm: int, edge_mm: int = 0) -> list[int]:
-    """The sides of each ring of :func:`ring_stations`, inmost first."""
-    return [m for _, _, m in _rings(radius_mm, view_mm, chord_mm, edge_mm)]
-
-
-def _rings(radius_mm: int, view_mm: int, chord_mm: int,
-           edge_mm: int) -> list[tuple[int, int, int]]:
-    """The rings' (vertex radius, radius of the sides' midpoints, sides), inmost first."""
+    the last ring at ``radius_mm - edge_mm`` (``edge_mm`` 0: ``view_mm``)."""
     if view_mm <= 0 or chord_mm <= 0 or radius_mm < 0 or edge_mm < 0:
         raise ValueError(f"view and chord must be > 0, radius and edge >= 0, got {view_mm}, "
                          f"{chord_mm}, {radius_mm}, {edge_mm}")
@@ -71,7 +53,12 @@ def _rings(radius_mm: int, view_mm: int, chord_mm: int,
                              f"a {view_mm} mm strip")
         rings.append(ring)
         inner = a
-    return rings
+    stations: list[tuple[int, int]] = []
+    for a_v, _, m in rings:
+        for j in range(m + 1):
+            phi = TWO_PI_MRAD * j // m
+            stations.append((a_v * cos_q12(phi) >> 12, a_v * sin_q12(phi) >> 12))
+    return stations
 
 
 def _ring(a: int, chord_mm: int) -> tuple[int, int, int]:

@@ -57,7 +57,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mobigrasp.host.coverage import leg_to, ring_sides, ring_stations, to_odometry
+from mobigrasp.host.coverage import leg_to, ring_stations, to_odometry
 
 FRAME_PERIOD_US = 66_667  # 15 fps
 LEG_TURN_MIN_MRAD = 35  # a leg whose heading is off by less starts without a turn
@@ -99,8 +99,6 @@ class SearchParams:
     # obstacle goes round it and aims at its station again, at most this often until a leg
     # ends unblocked (0: the next station at once, as every other leg)
     edge_mm: int = 0  # the last ring this far inside cover_mm (0: view_mm; host.coverage)
-    ring_restart: int = 0  # 1: a ring whose first stations were skipped (legs stopped by an
-    # obstacle) is driven round from the first one reached (0: on to the next ring from there)
 
     def __post_init__(self) -> None:
         if self.theta2_min_mrad >= self.theta2_max_mrad:
@@ -122,9 +120,8 @@ class SearchParams:
         if self.wander_mm < 0 or self.dense_cycles < 0:
             raise ValueError(f"wander_mm and dense_cycles must be >= 0, got {self.wander_mm}, "
                              f"{self.dense_cycles}")
-        if self.round_tries < 0 or self.ring_restart not in (0, 1):
-            raise ValueError(f"round_tries must be >= 0 and ring_restart 0 or 1, got "
-                             f"{self.round_tries}, {self.ring_restart}")
+        if self.round_tries < 0:
+            raise ValueError(f"round_tries must be >= 0, got {self.round_tries}")
         if self.outward_from_mm < 0 or not 0 <= self.outward_inward_mrad < self.wander_theta5_mrad:
             raise ValueError(f"outward_from_mm must be >= 0 and outward_inward_mrad in [0, "
                              f"wander_theta5_mrad), got {self.outward_from_mm}, "
@@ -241,11 +238,7 @@ class ArmSearch:
         self._pose = (0, 0, 0)  # the base's odometry pose as last reported to step()
         self._origin = (0, 0)  # the rings' centre in odometry (where the first leg starts)
         self._stations: list[tuple[int, int]] | None = None  # the rings, in odometry
-        self._station = 0  # the next station's place in the rings' order (``_at``)
-        self._ring_first: list[int] = []  # each ring's first place in that order
-        self._ring_sides: list[int] = []
-        self._ring_off: list[int] = []  # each ring driven from its station of this index
-        self._reached_ring = -1  # the last ring on which a leg ended at its station
+        self._station = 0
         self._leg = (0, 0)  # turn_mrad, drive_mm of the leg toward the next station
         self._rounds = 0  # drives round an obstacle since a leg last ended unblocked
         self.covered = False  # the rings are done: the disc of cover_mm has been seen
@@ -284,15 +277,10 @@ class ArmSearch:
             self._origin = self._pose[:2]
             self._stations = [to_odometry(self._pose, xy) for xy in
                               ring_stations(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)]
-            self._ring_sides = ring_sides(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)
-            self._ring_first = [sum(m + 1 for m in self._ring_sides[:k])
-                                for k in range(len(self._ring_sides))]
-            self._ring_off = [0] * len(self._ring_sides)
         while self._station < len(self._stations):
-            turn, drive = leg_to(self._pose, self._stations[self._at(self._station)])
+            turn, drive = leg_to(self._pose, self._stations[self._station])
             if drive >= p.chord_mm // 4:
                 break
-            self._reached_ring = self._ring_of(self._station)
             self._station += 1  # there already
         else:
             self.covered = True
@@ -313,8 +301,7 @@ class ArmSearch:
         if not (p.outward_from_mm and p.cover_mm and self._stations
                 and self._station < len(self._stations)):
             return 0
-        (px, py), (sx, sy), (ox, oy) = (self._pose[:2], self._stations[self._at(self._station)],
-                                        self._origin)
+        (px, py), (sx, sy), (ox, oy) = self._pose[:2], self._stations[self._station], self._origin
         lx, ly, ax, ay = sx - px, sy - py, ox - px, oy - py
         cross = lx * ay - ly * ax  # > 0: the centre lies left of the leg
         along, length2 = lx * ax + ly * ay, lx * lx + ly * ly
@@ -435,81 +422,18 @@ class ArmSearch:
     def wander_done(self, now_us: int) -> None:
         """The base has driven its wander: search again from here."""
         self._rounds = 0
-        if self._wandering and self._stations is not None:
-            self._ring_reached()
         self._end_wander(now_us)
-
-    def _ring_of(self, k: int) -> int:
-        """The ring of place ``k`` in the rings' order."""
-        r = 0
-        while r + 1 < len(self._ring_first) and self._ring_first[r + 1] <= k:
-            r += 1
-        return r
-
-    def _at(self, k: int) -> int:
-        """The station (index in ``_stations``) at place ``k`` of the rings' order: a ring
-        driven from its station ``_ring_off`` round back to it."""
-        r = self._ring_of(k)
-        if not self._ring_off[r]:
-            return k
-        first, m = self._ring_first[r], self._ring_sides[r]
-        return first + (k - first + self._ring_off[r]) % m
-
-    def _revisiting(self) -> bool:
-        """The leg drives to a station skipped before, on a ring restarted where its first
-        station was reached (:meth:`_ring_reached`)."""
-        if self._stations is None or self._station >= len(self._stations):
-            return False
-        r = self._ring_of(self._station)
-        k = self._station - self._ring_first[r]
-        return self._ring_off[r] > 0 and self._ring_sides[r] - self._ring_off[r] <= k \
-            < self._ring_sides[r]
-
-    def _ring_reached(self) -> None:
-        """A leg ended at its station. The first station reached on a ring whose stations
-        before it were skipped (legs toward them stopped by an obstacle, the base then aiming
-        at the next one from where it stood) starts that ring: it is driven round from there
-        back to it, so the skipped ones are passed too, and each ring outside it starts at
-        its station nearest the one the ring inside ends at (docs/task.md "000: a ring's leg
-        stopped by an obstacle")."""
-        r = self._ring_of(self._station)
-        j = self._station - self._ring_first[r]
-        if r == self._reached_ring:
-            return
-        self._reached_ring = r
-        if not self.params.ring_restart or j == 0 or j >= self._ring_sides[r] \
-                or self._ring_off[r]:
-            return
-        self._ring_off[r] = j
-        self._station = self._ring_first[r]
-        self._rings_from(r + 1, self._stations[self._ring_first[r] + j])
-
-    def _rings_from(self, q: int, xy: tuple[int, int]) -> None:
-        """Ring ``q`` starts at its station nearest ``xy``, each ring outside it at its
-        station nearest the one the ring inside ends at."""
-        for r in range(q, len(self._ring_sides)):
-            first = self._ring_first[r]
-            self._ring_off[r] = min(range(self._ring_sides[r]), key=lambda i: (
-                (self._stations[first + i][0] - xy[0]) ** 2
-                + (self._stations[first + i][1] - xy[1]) ** 2, i))
-            xy = self._stations[first + self._ring_off[r]]
 
     def wander_blocked(self, now_us: int, can_round: bool = True) -> bool:
         """The base stopped short of the leg's end, an obstacle ahead. True: the caller is to
         drive round it (``can_round``: it has a way) and then call :meth:`wander_resume`; on a
         leg sweeping outward alone, fewer than ``round_tries`` times since a leg last ended
-        unblocked. Else (False) the leg ends: the next station; a leg back to a station
-        skipped before (:meth:`_revisiting`) ends its ring there, the next ring starting at its
-        station nearest the base."""
+        unblocked. Else (False) the leg ends: the next station."""
         p = self.params
         if self._wandering and p.cover_mm and can_round and self._rounds < p.round_tries \
                 and self._outward_side() != 0:
             self._rounds += 1
             return True
-        if self._wandering and self._revisiting():  # the skipped arc is in the way there too:
-            r = self._ring_of(self._station)  # the ring ends, the next starts nearest here
-            self._station = self._ring_first[r] + self._ring_sides[r]
-            self._rings_from(r + 1, self._pose[:2])
         self._end_wander(now_us)
         return False
 
@@ -532,14 +456,13 @@ class ArmSearch:
         """The odometry place of the station the rings' leg drives to; None off the rings."""
         if self._stations is None or self._station >= len(self._stations):
             return None
-        return self._stations[self._at(self._station)]
+        return self._stations[self._station]
 
     @property
     def passing(self) -> bool:
-        """A leg after a drive round an obstacle (until one ends unblocked), or to a station
-        skipped before (:meth:`_revisiting`): the caller stops it only for something in its
-        way, not for an obstacle it passes beside."""
-        return self.params.cover_mm > 0 and (self._rounds > 0 or self._revisiting())
+        """A leg after a drive round an obstacle (until one ends unblocked): the caller stops
+        it only for something in its way, not for the obstacle it passes beside."""
+        return self.params.cover_mm > 0 and self._rounds > 0
 
     def _end_wander(self, now_us: int, look: bool = False) -> None:
         if self._wandering:

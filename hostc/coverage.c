@@ -15,16 +15,16 @@ static void ring(int64_t a, int32_t chord_mm, int64_t *a_v, int32_t *m)
     *a_v = mg_floor_div(a * 4096, mg_cos_q12(TWO_PI_MRAD / (2 * *m)));
 }
 
-/* the rings' vertex radii and sides, inmost first: their count, or -1 (mg_ring_stations) */
-static int32_t rings(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
-                     int64_t a_v[MG_COVER_MAX_RINGS], int32_t m[MG_COVER_MAX_RINGS],
-                     int32_t *overflow)
+int32_t mg_ring_stations(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
+                         int32_t out[][2], int32_t max, int32_t *overflow)
 {
     if (view_mm <= 0 || chord_mm <= 0 || radius_mm < 0 || edge_mm < 0)
         return -1;
     if (radius_mm <= view_mm)
         return 0;
     const int64_t span = (int64_t)radius_mm - (edge_mm ? edge_mm : view_mm);
+    int64_t a_v[MG_COVER_MAX_RINGS];
+    int32_t m[MG_COVER_MAX_RINGS];
     int32_t n = 0;
     /* each ring as far out as the strip allows, the last at span; inner: the ring inside's
      * radius (its sides' midpoints, its reach outward), the start's 0 for the first */
@@ -44,24 +44,6 @@ static int32_t rings(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32
             return -1; /* sides too long for the strip: no ring gets farther out */
         inner = a;
     }
-    return n;
-}
-
-int32_t mg_ring_sides(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
-                      int32_t out[MG_COVER_MAX_RINGS], int32_t *overflow)
-{
-    int64_t a_v[MG_COVER_MAX_RINGS];
-    return rings(radius_mm, view_mm, chord_mm, edge_mm, a_v, out, overflow);
-}
-
-int32_t mg_ring_stations(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
-                         int32_t out[][2], int32_t max, int32_t *overflow)
-{
-    int64_t a_v[MG_COVER_MAX_RINGS];
-    int32_t m[MG_COVER_MAX_RINGS];
-    const int32_t n = rings(radius_mm, view_mm, chord_mm, edge_mm, a_v, m, overflow);
-    if (n <= 0)
-        return n;
     int32_t count = 0;
     for (int32_t k = 0; k < n; k++)
         for (int32_t j = 0; j <= m[k]; j++) {

@@ -16,10 +16,6 @@
  * past MG_COVER_MAX_RINGS, set *overflow */
 int32_t mg_ring_stations(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
                          int32_t out[][2], int32_t max, int32_t *overflow);
-/* the sides m_k of each ring of mg_ring_stations (whose ring k takes m_k + 1 stations, the
- * first again last), inmost first, into out: their count, 0 or -1 as mg_ring_stations */
-int32_t mg_ring_sides(int32_t radius_mm, int32_t view_mm, int32_t chord_mm, int32_t edge_mm,
-                      int32_t out[MG_COVER_MAX_RINGS], int32_t *overflow);
 /* (turn_mrad, drive_mm) from pose (x_mm, y_mm, heading_mrad) to station: the turn in
  * [-pi, pi), left positive */
 void mg_leg_to(const int32_t pose[3], const int32_t station[2], int32_t *turn_mrad,

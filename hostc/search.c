@@ -12,7 +12,7 @@ void mg_search_params_default(mg_search_params_t *p)
 {
     static const mg_search_params_t d = {
         -2800, -2100, 60, -800, 800, 200, -200, 2300, 1047, 3, {-2250, -2500, -2750}, 1571,
-        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700, 0, 0, 0};
+        0, 4, 1800, 1, 1400, 0, 2, 66667, 5000, 4500, 1100, 1500, 2, 200, 0, 700, 0, 0};
     *p = d;
 }
 
@@ -215,8 +215,6 @@ void mg_search_init(mg_arm_search_t *s, const mg_search_params_t *p, int32_t the
     s->pose[0] = s->pose[1] = s->pose[2] = 0;
     s->origin[0] = s->origin[1] = 0;
     s->has_stations = s->n_stations = s->station = 0;
-    s->n_rings = 0;
-    s->reached_ring = -1;
     s->leg[0] = s->leg[1] = 0;
     s->rounds = 0;
     s->covered = 0;
@@ -244,79 +242,6 @@ static mg_search_command_t pose_command(const mg_arm_search_t *s, int32_t turn)
     return command(s, s->poses[s->index][0], s->poses[s->index][1], turn, 0);
 }
 
-/* the ring of place k in the rings' order (0 off the rings) */
-static int32_t ring_of(const mg_arm_search_t *s, int32_t k)
-{
-    int32_t r = 0;
-    while (r + 1 < s->n_rings && s->ring_first[r + 1] <= k)
-        r++;
-    return r;
-}
-
-/* the station (index in stations) at place k of the rings' order: a ring driven from its
- * station ring_off round back to it */
-static int32_t station_at(const mg_arm_search_t *s, int32_t k)
-{
-    if (s->n_rings == 0)
-        return k;
-    const int32_t r = ring_of(s, k);
-    if (!s->ring_off[r])
-        return k;
-    return s->ring_first[r] + (k - s->ring_first[r] + s->ring_off[r]) % s->ring_sides[r];
-}
-
-/* the leg drives to a station skipped before, on a ring restarted where its first station was
- * reached (ring_reached) */
-static int32_t revisiting(const mg_arm_search_t *s)
-{
-    if (s->n_rings == 0 || s->station >= s->n_stations)
-        return 0;
-    const int32_t r = ring_of(s, s->station);
-    const int32_t k = s->station - s->ring_first[r];
-    return s->ring_off[r] > 0 && s->ring_sides[r] - s->ring_off[r] <= k && k < s->ring_sides[r];
-}
-
-/* ring q starts at its station nearest xy, each ring outside it at its station nearest the one
- * the ring inside ends at */
-static void rings_from(mg_arm_search_t *s, int32_t q, const int32_t xy[2])
-{
-    int32_t e[2] = {xy[0], xy[1]};
-    for (int32_t r = q; r < s->n_rings; r++) {
-        const int32_t first = s->ring_first[r];
-        int64_t best = -1;
-        for (int32_t i = 0; i < s->ring_sides[r]; i++) {
-            const int64_t dx = (int64_t)s->stations[first + i][0] - e[0];
-            const int64_t dy = (int64_t)s->stations[first + i][1] - e[1];
-            if (best < 0 || dx * dx + dy * dy < best) {
-                best = dx * dx + dy * dy;
-                s->ring_off[r] = i;
-            }
-        }
-        e[0] = s->stations[first + s->ring_off[r]][0];
-        e[1] = s->stations[first + s->ring_off[r]][1];
-    }
-}
-
-/* A leg ended at its station (host/search.py ArmSearch._ring_reached): the first station
- * reached on a ring whose stations before it were skipped starts that ring, driven round from
- * there back to it; each ring outside it starts at its station nearest the one the ring
- * inside ends at. */
-static void ring_reached(mg_arm_search_t *s)
-{
-    if (s->n_rings == 0)
-        return;
-    const int32_t r = ring_of(s, s->station);
-    const int32_t j = s->station - s->ring_first[r];
-    if (r == s->reached_ring)
-        return;
-    s->reached_ring = r;
-    if (!s->p.ring_restart || j == 0 || j >= s->ring_sides[r] || s->ring_off[r])
-        return;
-    s->ring_off[r] = j;
-    s->station = s->ring_first[r];
-    rings_from(s, r + 1, s->stations[s->ring_first[r] + j]);
-}
-
 /* The side the sweep looks to alone on this leg: on a ring's leg that keeps at least
  * outward_from_mm from the rings' centre (the ground inside it was seen from the ring inside),
  * the side away from the centre (1 left, -1 right); else 0, both sides. */
@@ -326,8 +251,7 @@ static int32_t outward_side(const mg_arm_search_t *s)
     if (!p->outward_from_mm || !p->cover_mm || !s->has_stations || s->station >= s->n_stations)
         return 0;
     const int64_t px = s->pose[0], py = s->pose[1];
-    const int32_t *st = s->stations[station_at(s, s->station)];
-    const int64_t sx = st[0], sy = st[1];
+    const int64_t sx = s->stations[s->station][0], sy = s->stations[s->station][1];
     const int64_t ox = s->origin[0], oy = s->origin[1];
     const int64_t lx = sx - px, ly = sy - py, ax = ox - px, ay = oy - py;
     const int64_t cross = lx * ay - ly * ax; /* > 0: the centre lies left of the leg */
@@ -376,25 +300,13 @@ static void start_leg(mg_arm_search_t *s, int64_t now_us, const int32_t at[2])
             const int32_t xy[2] = {s->stations[i][0], s->stations[i][1]};
             mg_to_odometry(s->pose, xy, s->stations[i]);
         }
-        int32_t sides[MG_COVER_MAX_RINGS], unused = 0;
-        const int32_t rings = mg_ring_sides(p->cover_mm, p->view_mm, p->chord_mm, p->edge_mm,
-                                            sides, &unused);
-        int32_t first = 0;
-        s->n_rings = 0;
-        for (int32_t k = 0; k < rings && first + sides[k] + 1 <= s->n_stations; k++) {
-            s->ring_first[k] = first, s->ring_sides[k] = sides[k], s->ring_off[k] = 0;
-            first += sides[k] + 1;
-            s->n_rings = k + 1;
-        }
         s->has_stations = 1;
     }
     int32_t turn = 0, drive = 0;
     for (; s->station < s->n_stations; s->station++) { /* a station reached already: the next */
-        mg_leg_to(s->pose, s->stations[station_at(s, s->station)], &turn, &drive);
+        mg_leg_to(s->pose, s->stations[s->station], &turn, &drive);
         if (drive >= p->chord_mm / 4)
             break;
-        if (s->n_rings)
-            s->reached_ring = ring_of(s, s->station);
     }
     if (s->station >= s->n_stations) {
         s->covered = 1;
@@ -535,8 +447,6 @@ static void end_wander(mg_arm_search_t *s, int64_t now_us, int32_t look)
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
 {
     s->rounds = 0;
-    if (s->wandering && s->has_stations)
-        ring_reached(s);
     end_wander(s, now_us, 0);
 }
 
@@ -551,12 +461,6 @@ int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can
         && outward_side(s) != 0) {
         s->rounds++;
         return 1;
-    }
-    if (s->wandering && revisiting(s)) { /* the skipped arc is in the way there too: the ring
-                                           * ends, the next starts nearest here */
-        const int32_t r = ring_of(s, s->station);
-        s->station = s->ring_first[r] + s->ring_sides[r];
-        rings_from(s, r + 1, s->pose);
     }
     end_wander(s, now_us, 0);
     return 0;
@@ -576,12 +480,11 @@ int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2])
 {
     if (!s->has_stations || s->station >= s->n_stations)
         return 0;
-    const int32_t *st = s->stations[station_at(s, s->station)];
-    xy_mm[0] = st[0], xy_mm[1] = st[1];
+    xy_mm[0] = s->stations[s->station][0], xy_mm[1] = s->stations[s->station][1];
     return 1;
 }
 
 int32_t mg_search_passing(const mg_arm_search_t *s)
 {
-    return s->p.cover_mm > 0 && (s->rounds > 0 || revisiting(s));
+    return s->p.cover_mm > 0 && s->rounds > 0;
 }

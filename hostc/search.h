@@ -37,8 +37,6 @@ typedef struct {
                           * and aims at its station again at most this often until a leg ends
                           * unblocked (0: the next station at once) */
     int32_t edge_mm; /* the last ring this far inside cover_mm (0: view_mm; coverage.c) */
-    int32_t ring_restart; /* 1: a ring whose first stations were skipped (legs stopped by an
-                           * obstacle) is driven round from the first one reached */
 } mg_search_params_t;
 
 /* host/search.py SearchParams' defaults (000 section IV's pattern, the coverage rings) */
@@ -67,14 +65,8 @@ typedef struct {
     int32_t wpose[2];
     int32_t pose[3]; /* the base's odometry (x_mm, y_mm, heading_mrad) as last reported */
     int32_t origin[2]; /* the rings' centre in odometry (where the first leg starts) */
-    int32_t has_stations, n_stations; /* the rings in odometry */
-    int32_t station; /* the next station's place in the rings' order (station_at) */
+    int32_t has_stations, n_stations, station; /* the rings in odometry, the next one */
     int32_t stations[MG_COVER_STATIONS][2];
-    int32_t n_rings; /* the rings whose stations all fit */
-    int32_t ring_first[MG_COVER_MAX_RINGS]; /* each ring's first place in that order */
-    int32_t ring_sides[MG_COVER_MAX_RINGS];
-    int32_t ring_off[MG_COVER_MAX_RINGS]; /* each ring driven from its station of this index */
-    int32_t reached_ring; /* the last ring on which a leg ended at its station (-1: none) */
     int32_t leg[2];  /* turn_mrad, drive_mm of the leg toward the next station */
     int32_t rounds; /* drives round an obstacle since a leg last ended unblocked */
     int32_t covered; /* the rings are done: the disc of cover_mm has been seen */
@@ -112,9 +104,8 @@ int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can
 void mg_search_wander_resume(mg_arm_search_t *s, int64_t now_us);
 /* the odometry place of the station the rings' leg drives to: 1 and xy_mm, or 0 off the rings */
 int32_t mg_search_station_xy(const mg_arm_search_t *s, int32_t xy_mm[2]);
-/* a leg after a drive round an obstacle (until one ends unblocked), or to a station skipped
- * before on a ring restarted where its first station was reached: the caller stops it only for
- * something in its way, not for an obstacle it passes beside */
+/* a leg after a drive round an obstacle (until one ends unblocked): the caller stops it only
+ * for something in its way, not for the obstacle it passes beside */
 int32_t mg_search_passing(const mg_arm_search_t *s);
 
 #endif

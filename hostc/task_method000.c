@@ -48,7 +48,6 @@ void mg_method000_params(mg_task_params_t *p)
     p->search.round_tries = MG_ROUND_TRIES_000;
     p->search.outward_inward_mrad = MG_OUTWARD_INWARD_000_MRAD;
     p->search.edge_mm = MG_EDGE_000_MM;
-    p->search.ring_restart = 1;
 }
 
 int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
@@ -411,7 +410,8 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
         mg_task_arm_at(t, now_us - t->p.frame_latency_us, arm);
         const int32_t half_fov = mg_atan2_mrad(t->cam.u0_px, t->cam.f_px);
         const int32_t turn = -(arm[5] + f->cut_side * half_fov);
-        if (f->cut_low_px >= 2 * t->cam.v0_px) { /* at the bottom: nearer than the view's edge */
+        if (f->cut_low_px >= 2 * t->cam.v0_px
+            && MG_CUT_LOOK_FLAT * f->cut_h_px <= f->cut_w_px) { /* near: at the bottom, flat */
             bo->has_cut_seen = 1;
             bo->cut_seen_us = now_us;
             bo->cut_heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn);

@@ -24,8 +24,10 @@
 #define MG_BACK_OFF_FROM_MM 40
 #define MG_BACK_OFFS_000 1
 /* SEARCH: a wander leg stopped short within this long of a frame of the symbol cut by the
- * frame's bottom faces where it was seen and looks there (method000.py CUT_LOOK_000_US) */
+ * frame's bottom, at least MG_CUT_LOOK_FLAT times wider than high, faces where it was seen and
+ * looks there (method000.py CUT_LOOK_000_US, CUT_LOOK_FLAT) */
 #define MG_CUT_LOOK_000_US 3000000
+#define MG_CUT_LOOK_FLAT 3
 /* SEARCH's wander of 000 (method000.py WANDER_000_MMPS and the rest) */
 #define MG_WANDER_000_MMPS 350
 #define MG_WANDER_D_THETA5_000_MRAD 350
@@ -53,8 +55,8 @@ typedef struct {
     /* the first frame of the cut symbol not yet moved off (a rule with wait_us only) */
     int32_t has_cut_first;
     int64_t cut_first_us;
-    /* the last frame of the symbol cut by the frame's bottom, and the odometry heading it was
-     * seen in */
+    /* the last frame of the symbol cut by the frame's bottom, flat, and the odometry heading it
+     * was seen in */
     int32_t has_cut_seen, cut_heading_mrad;
     int64_t cut_seen_us;
 } mg_cut_back_off_t;
@@ -163,7 +165,7 @@ typedef struct {
     int32_t has_spoke, spoke_angle_mrad, spoke_width_px;
     int32_t has_held_fill, held_rgb[3], held_permille;
     int32_t has_cut, cut_side; /* the radial symbol cut by the frame's border: its side */
-    int32_t cut_low_px; /* ... and its box's lower edge (y + h) */
+    int32_t cut_low_px, cut_w_px, cut_h_px; /* ... and its box's lower edge (y + h), size */
 } mg_frame000_t;
 
 /* The method row's hooks on the step's inputs (in->frame: an mg_frame000_t or NULL). */

@@ -48,11 +48,13 @@ BACK_OFF_000_MM = 150
 BACK_OFF_FROM_MM = 40
 BACK_OFFS_000 = 1
 # SEARCH: a wander leg stopped short by an obstacle ahead within CUT_LOOK_000_US of a frame that
-# showed the symbol cut by the frame's bottom (the object itself may have stopped it, 0.5-0.6 m
-# from the camera: beyond the near limit, below the sweep's far level) faces it and ends in a
-# cycle at rest there before the next station (docs/task.md "000: a ring's leg stopped by an
-# obstacle")
+# showed the symbol cut by the frame's bottom, a flat arc at least CUT_LOOK_FLAT times wider than
+# high (the object itself may have stopped it, 0.5-0.6 m from the camera: beyond the near
+# limit, below the sweep's far level; an obstacle's face near the camera is a taller box) faces
+# it and ends in a cycle at rest there before the next station (docs/task.md "000: a ring's leg
+# stopped by an obstacle")
 CUT_LOOK_000_US = 3_000_000
+CUT_LOOK_FLAT = 3
 # SEARCH's wander (docs/task.md "000: the sweep while driving", "000: the last ring nearer the
 # edge"): the waist steps 0.35 rad with one frame per pose while driving at WANDER_000_MMPS;
 # legs that keep OUTWARD_FROM_000_MM from the start sweep the outer side and
@@ -110,7 +112,7 @@ class State000(MethodState):
 
     grasp_searches: int = 0  # searches after a loss in PRECISE_GRASP (grasp_lost)
     back_offs: int = 0  # back-offs from a cut symbol made in the run (search_back_off)
-    # the last frame that showed the symbol cut by the frame's bottom (search_back_off)
+    # the last frame that showed the symbol cut by the frame's bottom, flat (search_back_off)
     cut_seen_us: int | None = None
     cut_heading_mrad: int = 0  # ... and the odometry heading it was seen in
     # the back-off under way: ("turn", heading_from, turn_mrad), ("back", x0_mm, y0_mm) or
@@ -182,7 +184,7 @@ class Method000(PathMethod):
                                        "outward_from_mm": OUTWARD_FROM_000_MM,
                                        "round_tries": ROUND_TRIES_000,
                                        "outward_inward_mrad": OUTWARD_INWARD_000_MRAD,
-                                       "edge_mm": EDGE_000_MM, "ring_restart": 1}}
+                                       "edge_mm": EDGE_000_MM}}
     detectors = {"SEARCH": ("radial_symbol", "radial_cut"), "APPROACH": ("radial_symbol",),
                  "ADJUST": ("dual_plus", "radial_symbol"), "PRECISE_GRASP": ("spoke",),
                  # LIFT: the grasp check (grasp.py): the held object fills the frame, the
@@ -243,7 +245,7 @@ class Method000(PathMethod):
             # turns left positive
             half_fov = atan2_mrad(t.cam.u0_px, t.cam.f_px)
             turn = -(t.arm_at(now - t.p.frame_latency_us)[5] + cut.side * half_fov)
-            if cut.y + cut.h >= 2 * t.cam.v0_px:  # at the bottom: nearer than the view's edge
+            if cut.y + cut.h >= 2 * t.cam.v0_px and CUT_LOOK_FLAT * cut.h <= cut.w:  # near
                 ms.cut_seen_us, ms.cut_heading_mrad = now, wrap_mrad(inp.heading_mrad + turn)
             if ms.back_offs >= self.back_offs_max \
                     or t.confirm_until is not None or not self.back_off_here(t, inp) \

@@ -358,7 +358,7 @@ def test_002_keeps_the_papers_first_cycle_and_a_level_look_and_overrides_merge()
     # 000's own: the wander's sweep alone (host/task/method000.py)
     assert se.SearchParams(**TaskParams.for_method("000").search) == se.SearchParams(
         wander_frames_per_pose=1, wander_d_theta5_mrad=350, outward_from_mm=3000,
-        outward_inward_mrad=1050, edge_mm=900, round_tries=2, ring_restart=1)
+        outward_inward_mrad=1050, edge_mm=900, round_tries=2)
     assert sp.cover_mm == 2500  # 002 gives up once the rings covered 2.5 m (method002.py)
 
 
@@ -616,103 +616,21 @@ def test_far_sightings_are_driven_to_at_most_sighting_approaches_times():
     assert not _notes(far_sighting_run(task, 1300, until_us=6_000_000), "far_sighting")
 
 
-def ring_restart_calls(s, t: int, call) -> tuple[list, list]:
-    """The first ring's first two legs stopped by an obstacle (the base still at the start),
-    the third reached, then every leg to its station: the stations asked for, in order, and
-    whether each leg passes beside obstacles. ``call(name, *args)`` makes each call on the
-    search ``s`` and returns its result."""
-    got, passing = [call("station_xy")], [call("passing")]
-    for _ in range(2):
-        assert not call("wander_blocked", t, True)  # the next station, from the start
-        call("on_the_leg", t)
-        got.append(call("station_xy"))
-        passing.append(call("passing"))
-    sides = coverage.ring_sides(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
-    for _ in range(sides[0] + 1):
-        xy = call("station_xy")
-        call("step", t, (xy[0], xy[1], 0))
-        call("wander_done", t)
-        call("on_the_leg", t)
-        got.append(call("station_xy"))
-        passing.append(call("passing"))
-    return got, passing
-
-
-def _py_call(s: se.ArmSearch):
-    def call(name: str, *args):
-        if name == "station_xy":
-            return s.station_xy
-        if name == "passing":
-            return s.passing
-        if name == "on_the_leg":
-            return _on_the_leg(s, *args)
-        return getattr(s, name)(*args)
-    return call
-
-
-def test_a_ring_whose_first_stations_are_skipped_is_driven_round_from_the_first_reached():
-    """The first ring's legs from the start stopped by an obstacle skip its first stations;
-    the first station reached starts the ring, driven round from there back to it (the
-    skipped ones too, their legs stopped only by something in their way), and the last ring
-    starts at its station nearest where the first ends (docs/task.md "000: a ring's leg
-    stopped by an obstacle")."""
-    s, _, t = _to_first_wander(P000)
-    st = coverage.ring_stations(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
-    m, m2 = coverage.ring_sides(P000.cover_mm, P000.view_mm, P000.chord_mm, P000.edge_mm)
-    assert len(st) == m + 1 + m2 + 1
-    got, passing = ring_restart_calls(s, t, _py_call(s))
-    assert got[:3] == st[:3]  # skipped from the start
-    assert got[3:3 + m] == [st[(2 + k) % m] for k in range(1, m + 1)]  # round from station 2
-    # the legs back to the skipped ones pass by
-    assert passing == [False] * 3 + [xy in st[:2] for xy in got[3:]] and sum(passing) == 2
-    ring2 = st[m + 1:m + 1 + m2]
-    assert got[-1] == min(ring2, key=lambda xy: math.dist(xy, st[2])) != ring2[0]
-    # a leg back to a skipped station stopped short: the ring ends, the last ring starts at
-    # its station nearest the base
-    s, _, t = _to_first_wander(P000)
-    call = _py_call(s)
-    got, _ = ring_restart_calls(s, t, call)
-    s, _, t = _to_first_wander(P000)
-    call = _py_call(s)
-    for k, xy in enumerate(got[:m]):
-        assert call("station_xy") == xy
-        if k < 2:
-            assert not call("wander_blocked", t, True)
-        else:
-            call("step", t, (*xy, 0))
-            call("wander_done", t)
-        call("on_the_leg", t)
-    assert call("station_xy") == st[0] and call("passing")
-    here = (st[0][0] - 700, st[0][1] + 300)
-    call("step", t, (*here, 0))
-    assert not call("wander_blocked", t, True)
-    call("on_the_leg", t)
-    assert call("station_xy") == min(ring2, key=lambda xy: math.dist(xy, here))
-    assert not call("passing")
-    # a ring entered at its first station is driven as laid out
-    s, _, t = _to_first_wander(P000)
-    call = _py_call(s)
-    for k in range(m + 2):
-        assert call("station_xy") == st[k]
-        call("step", t, (*st[k], 0))
-        call("wander_done", t)
-        call("on_the_leg", t)
-
-
 def test_a_leg_stopped_after_a_cut_symbol_faces_it_and_looks_around_there():
     """000: a wander leg stopped by a front sonar within CUT_LOOK_000_US of a frame showing
     the symbol cut by the frame's bottom (the object itself may have stopped it, too near for
     the sweep's far level): the base turns on the spot to face where the cut was seen, then a
     cycle at rest looks there before the next station; without such a cut lately (one at the
-    top of the frame is far), the next station at once."""
+    top of the frame is far, a tall one an obstacle's face), the next station at once."""
     from mobigrasp.host.fixedpoint import atan2_mrad
     from mobigrasp.host.task.method000 import CUT_LOOK_000_US
     from mobigrasp.host.vision.radial_symbol import RadialCut
 
     clear = (65535,) * 5
     ahead = (65535, 65535, 300, 65535, 65535)
-    for cut_age_us, cut_y, looks in ((500_000, 200, True), (CUT_LOOK_000_US + 100_000, 200, False),
-                                     (500_000, 0, False)):
+    for cut_age_us, cut_y, cut_h, looks in (
+            (500_000, 200, 40, True), (CUT_LOOK_000_US + 100_000, 200, 40, False),
+            (500_000, 0, 40, False), (500_000, 140, 100, False)):
         task = Task("000", {"search": {"theta2_min_mrad": -2200, "d_theta5_mrad": 800,
                                        "turns_per_wander": 1, "coarse_theta2_mrad": (-2200,)}})
         t, pose = 0, [0, 0, 0]
@@ -722,7 +640,8 @@ def test_a_leg_stopped_after_a_cut_symbol_faces_it_and_looks_around_there():
         for _ in range(10):
             t += 20_000
             _move(task, t, pose, clear)
-        cut = RadialCut(x=0, y=cut_y, w=100, h=40, side=-1)  # at the left border and the bottom
+        # at the left border (and the bottom but for cut_y 0)
+        cut = RadialCut(x=0, y=cut_y, w=130, h=cut_h, side=-1)
         out = task.step(t, TaskInputs(x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2],
                                       sonar_mm=clear, detections={"radial_cut": cut}))
         # its bearing: the waist of the frame's pose (right positive) and the half field of

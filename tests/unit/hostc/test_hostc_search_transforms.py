@@ -4,14 +4,12 @@ host/transforms.py and host/ranging.py."""
 
 from __future__ import annotations
 
-import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
 from property_examples import examples
 
 from mobigrasp import hostc
 from mobigrasp.host import coverage, kinematics, ranging, search, transforms
-from mobigrasp.host.task.params import TaskParams
 
 FFI, C = hostc.lib()
 SETTINGS = examples(150)
@@ -76,8 +74,7 @@ def search_params(draw):
             outward_from_mm=draw(st.sampled_from([0, 0, 1000, 3000]) | st.integers(0, 6000)),
             outward_inward_mrad=draw(st.sampled_from([0, 350, 700]) | st.integers(0, 1400)),
             round_tries=draw(st.integers(0, 3)),
-            edge_mm=draw(st.sampled_from([0, 0, 900]) | st.integers(0, 3000)),
-            ring_restart=draw(st.integers(0, 1)))
+            edge_mm=draw(st.sampled_from([0, 0, 900]) | st.integers(0, 3000)))
     except ValueError:
         assume(False)
 
@@ -100,7 +97,7 @@ def _c_params(p):
         "wander_frames_per_pose": p.wander_frames_per_pose,
         "wander_d_theta5_mrad": p.wander_d_theta5_mrad, "outward_from_mm": p.outward_from_mm,
         "outward_inward_mrad": p.outward_inward_mrad, "round_tries": p.round_tries,
-        "edge_mm": p.edge_mm, "ring_restart": p.ring_restart})
+        "edge_mm": p.edge_mm})
 
 
 def _cmd(c) -> tuple[int, ...]:
@@ -134,8 +131,7 @@ def test_search_over_time(p, th2, th5, calls):
     """Steps at increasing times with the base's pose (the rings' legs), the caller's base
     turns and wanders, legs stopped by an obstacle (with a way round it or none) and driven
     round or ended in a look, pauses: the same commands (poses, turns, drives, cycles) every
-    call, the same stations (a ring restarted where its first station was reached) and legs
-    passing beside an obstacle."""
+    call, the same stations and legs passing beside an obstacle."""
     py = search.ArmSearch(p, th2, th5, 0)
     c = FFI.new("mg_arm_search_t *")
     C.mg_search_init(c, _c_params(p), th2, th5, 0)
@@ -174,61 +170,6 @@ def test_search_over_time(p, th2, th5, calls):
     assert c.overflow == 0
 
 
-@pytest.mark.parametrize("block_back", [False, True])
-def test_a_ring_restarted_where_its_first_station_is_reached(block_back):
-    """000's rings: the first ring's first legs stopped at the start, the third station
-    reached, the ring then driven round from it (the legs to the skipped stations passing
-    beside obstacles; one stopped short ends the ring there), the last ring from its station
-    nearest: the C asks for the Python's stations."""
-    p = search.SearchParams(**TaskParams.for_method("000").search)
-    py = search.ArmSearch(p, -2100, -800, 0)
-    c = FFI.new("mg_arm_search_t *")
-    C.mg_search_init(c, _c_params(p), -2100, -800, 0)
-    xy = FFI.new("int32_t[2]")
-    t, asked = 0, []
-
-    def both(name: str, *args):
-        if name == "step":
-            want = py.step(t, *args)
-            assert _cmd(C.mg_search_step(c, t, *args)) == _cmd(want)
-        elif name == "blocked":
-            assert bool(C.mg_search_wander_blocked(c, t, 1)) == py.wander_blocked(t)
-        else:
-            getattr(py, name)(t)
-            getattr(C, "mg_search_" + name)(c, t)
-        if not (py.wandering or py.turning):
-            return
-        if not py.wandering:  # the turn toward the station, done at once
-            py.base_turn_done(t)
-            C.mg_search_base_turn_done(c, t)
-        assert (tuple(xy) if C.mg_search_station_xy(c, xy) else None) == py.station_xy
-        assert bool(C.mg_search_passing(c)) == py.passing
-        if py.station_xy is not None:
-            asked.append(py.station_xy)
-
-    while not py.wandering:  # the look-around
-        t += 20_000
-        both("step", (0, 0, 0))
-    both("blocked")
-    both("blocked")
-    m = coverage.ring_sides(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)[0]
-    passing = []
-    for _ in range(m + 3):
-        passing.append(py.passing)
-        if block_back and py.passing:
-            here = py.station_xy
-            both("step", (here[0] - 700, here[1] + 300, 0))
-            both("blocked")
-            assert not py.passing
-            break
-        both("step", (*py.station_xy, 0))
-        both("wander_done")
-    st_ = coverage.ring_stations(p.cover_mm, p.view_mm, p.chord_mm, p.edge_mm)
-    legs = [xy for k, xy in enumerate(asked) if k == 0 or xy != asked[k - 1]]
-    assert legs[:3] == st_[:3] and st_[0] in legs[3:m + 3] and st_[m + 1] not in legs
-    assert sum(passing) == (1 if block_back else 2)
-
-
 @SETTINGS
 @given(st.integers(-100, 8000), st.sampled_from([-10, 0]) | st.integers(300, 3000),
        st.sampled_from([-10, 0]) | st.integers(300, 4000),
@@ -244,10 +185,6 @@ def test_ring_stations(radius, view, chord, edge):
         return
     assume(len(want) <= 256 and overflow[0] == 0)
     assert [tuple(out[i]) for i in range(n)] == want
-    sides = FFI.new("int32_t[64]")
-    k = C.mg_ring_sides(radius, view, chord, edge, sides, overflow)
-    assert [sides[i] for i in range(k)] == coverage.ring_sides(radius, view, chord, edge)
-    assert sum(m + 1 for m in coverage.ring_sides(radius, view, chord, edge)) == len(want)
 
 
 def test_the_shipped_rings_fit():

@@ -1039,12 +1039,13 @@ def test_legs_past_an_obstacle_step_by_step():
 def test_a_leg_stopped_after_a_cut_symbol_looks_step_by_step():
     """000's SEARCH on a leg that sees the symbol cut by the frame's bottom and is then
     stopped by a front sonar (host/task/search.py wander_step, Method000.search_cut_look):
-    the turn to face it, the cycle at rest, the next station; a cut at the top of the frame
-    does not look. The same wheels, arm targets and detail every step as the Python's."""
+    the turn to face it, the cycle at rest, the next station; a cut at the top of the frame,
+    or a tall one, does not look. The same wheels, arm targets and detail every step as the
+    Python's."""
     quick = {"theta2_min_mrad": -2200, "d_theta5_mrad": 800, "turns_per_wander": 1,
              "coarse_theta2_mrad": (-2200,)}
     far = 65535
-    for cut_y, looks in ((200, True), (0, False)):
+    for cut_y, cut_h, looks in ((200, 40, True), (0, 40, False), (140, 100, False)):
         _keep, py, c = _search_tasks000(quick)
         out = FFI.new("mg_task_outputs_t *")
         pose = [0, 0, 0]
@@ -1056,7 +1057,7 @@ def test_a_leg_stopped_after_a_cut_symbol_looks_step_by_step():
                 wandered = k
             if wandered and k == wandered + 10:
                 dets = {"radial_symbol": None,
-                        "radial_cut": CUT(x=40, y=cut_y, w=100, h=40, side=0)}
+                        "radial_cut": CUT(x=40, y=cut_y, w=130, h=cut_h, side=0)}
             if wandered and wandered + 30 <= k < wandered + 32:
                 sonar = (far, far, 300, far, far)
             res = _step_both(py, c, 20_000 * (k + 1), TaskInputs(

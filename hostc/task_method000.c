@@ -397,6 +397,19 @@ static int back_off_move(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *i
     return 0;
 }
 
+void mg_back_off_away(mg_cut_back_off_t *bo, const mg_task_inputs_t *in, int32_t turn_mrad,
+                      int32_t away_mm)
+{
+    /* face away (turn + pi), drive off, then face it again */
+    const int32_t toward = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn_mrad);
+    memset(&bo->leg, 0, sizeof bo->leg);
+    bo->leg.heading_mrad = mg_task_wrap_mrad((int64_t)toward + 3142);
+    bo->leg.drive = 1;
+    bo->leg.length_mm = away_mm;
+    bo->phase = MG_BACK_OFF_AWAY;
+    bo->b = toward;
+}
+
 int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                        mg_cut_back_off_t *bo, const mg_back_off_rule_t *rule)
 {
@@ -433,14 +446,8 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
             bo->has_cut_first = 0;
         }
         bo->back_offs++;
-        if (rule->away_mm > 0) { /* face away (turn + pi), drive off, then face it again */
-            const int32_t toward = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn);
-            memset(&bo->leg, 0, sizeof bo->leg);
-            bo->leg.heading_mrad = mg_task_wrap_mrad((int64_t)toward + 3142);
-            bo->leg.drive = 1;
-            bo->leg.length_mm = rule->away_mm;
-            bo->phase = MG_BACK_OFF_AWAY;
-            bo->b = toward;
+        if (rule->away_mm > 0) {
+            mg_back_off_away(bo, in, turn, rule->away_mm);
         } else {
             bo->phase = MG_BACK_OFF000_TURN;
             bo->a = in->heading_mrad;

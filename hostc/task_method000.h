@@ -131,6 +131,10 @@ int mg_method000_search_cut_look(const mg_task_t *t, int64_t now_us, int32_t *he
  * hooks): the state bo, the method's rule; 1 while the back-off takes the step */
 int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                        mg_cut_back_off_t *bo, const mg_back_off_rule_t *rule);
+/* 001's move off (method001.py back_off_first): bo's phase AWAY, facing away from what lies
+ * turn_mrad (left positive) off the heading and driving away_mm, then FACE it again */
+void mg_back_off_away(mg_cut_back_off_t *bo, const mg_task_inputs_t *in, int32_t turn_mrad,
+                      int32_t away_mm);
 /* the reason of SEARCH's transition to APPROACH, into why (cap bytes) */
 void mg_method000_found_why(const mg_task_t *t, char *why, size_t cap);
 /* SEARCH after a loss near the object (000 section III.B.2, III.C): the search's parameters

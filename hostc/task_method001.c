@@ -51,11 +51,37 @@ void mg_method001_params(mg_task_params_t *p)
     p->max_plan_attempts = 6;
 }
 
+/* the search's look-around here is over, nothing is being confirmed or driven to, the object
+ * was never seen by the camera and its estimate is within MG_UNSEEN_NEAR_MM of the axle
+ * (method001.py unseen_near) */
+static int unseen_near(const mg_task_t *t, const mg_task_inputs_t *in)
+{
+    if (t->object_sighted || !t->has_obj || t->has_confirm_until || t->far_phase /* 0: none */
+        || t->search.cycle < t->search.p.turns_per_wander)
+        return 0;
+    const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm;
+    const int64_t dy = (int64_t)t->obj_mm[1] - in->y_mm;
+    return dx * dx + dy * dy <= (int64_t)MG_UNSEEN_NEAR_MM * MG_UNSEEN_NEAR_MM;
+}
+
 int mg_method001_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     static const mg_back_off_rule_t rule = {MG_BACK_OFFS_001, 0, MG_CUT_WAIT_US,
                                             MG_CUT_STALE_US, MG_CUT_AWAY_MM};
-    return mg_search_back_off(t, now_us, in, &ms001(t)->cut, &rule);
+    mg_cut_back_off_t *bo = &ms001(t)->cut;
+    if (bo->phase == MG_BACK_OFF000_NONE && bo->back_offs < rule.max && unseen_near(t, in)) {
+        /* the same move off the estimate (method001.py search_back_off) */
+        const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm;
+        const int64_t dy = (int64_t)t->obj_mm[1] - in->y_mm;
+        const int32_t turn = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - in->heading_mrad);
+        bo->back_offs++;
+        mg_back_off_away(bo, in, turn, rule.away_mm);
+        bo->has_cut_first = 0; /* a cut seen from here says nothing of the next place */
+        static const char *const names[3] = {"dist_mm", "n", "turn_mrad"};
+        const int64_t values[3] = {mg_isqrt(dx * dx + dy * dy), bo->back_offs, turn};
+        mg_task_note_ints(t, "back_off_unseen", 3, names, values);
+    }
+    return mg_search_back_off(t, now_us, in, bo, &rule);
 }
 
 static int32_t iabs32(int32_t a)

@@ -37,6 +37,9 @@ enum {
      * CUT_STALE_US) */
     MG_CUT_WAIT_US = 2000000,
     MG_CUT_STALE_US = 30000000,
+    /* ... and with no cut frame: the object never seen, its estimate within this of the axle,
+     * the look-around here over (UNSEEN_NEAR_MM) */
+    MG_UNSEEN_NEAR_MM = 550,
     /* the grasp from the grasp circle: the look before it must see the object (dual "+")
      * within this of the estimate the base arrived with; the gripper goes down from this far
      * above the grasp point (the first reachable, in 10 mm steps down to the object's top) */
@@ -125,9 +128,10 @@ void mg_method001_set_replanner(mg_task_t *t, const mg_replanner001_t *rp, void 
 /* the object given and near, unseen: the camera on it, the base turned to face it for up to
  * MG_LOOK_FIRST_US before the first plan; 1 while looking */
 int mg_method001_look_first(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
-/* SEARCH: the radial symbol cut by the frame, wherever it is seen: face away, drive
- * MG_CUT_AWAY_MM off it, the sonars watching, turn back and look around again
- * (method001.py back_off_here, back_off_first, back_off_move); 1 while it takes the step */
+/* SEARCH: the radial symbol cut by the frame, wherever it is seen, or the object never seen
+ * with its estimate within MG_UNSEEN_NEAR_MM once the look-around there is over: face away,
+ * drive MG_CUT_AWAY_MM off it, the sonars watching, turn back and look around again
+ * (method001.py search_back_off, back_off_first, back_off_move); 1 while it takes the step */
 int mg_method001_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* 001's last gate of the wheels (method001.py guard_wheels): the close guard, and in SEARCH
  * or APPROACH a front echo below R_r stops the base and drops the path; in APPROACH the base

@@ -75,6 +75,12 @@ BACK_OFFS_001 = 2
 # cut frame, and reads it; a look-around takes ~30 s)
 CUT_WAIT_US = 2_000_000
 CUT_STALE_US = 30_000_000
+# ... and with no cut frame: the object never seen by the camera, its estimate within this of
+# the axle (the symbol's near limit, 0.45 m ahead of the camera, and the camera ~0.1 m ahead of
+# the axle), once the search has looked all round here (``turns_per_wander`` cycles): the same
+# move off the estimate instead of the wander's first leg (docs/task.md, "001: away from an
+# estimate too near to be read")
+UNSEEN_NEAR_MM = 550
 # the fallback steps with no feasible curve (Method001.start_detour), the last one repeated
 FALLBACKS = ("lower_v0", "back_off", "widest_sector", "detour")
 
@@ -289,6 +295,38 @@ class Method001(Method000):
     cut_look_us = 0  # 001 moves off a cut symbol wherever it is seen (back_off_here)
 
     # --- SEARCH: away from a cut symbol --------------------------------------------------------
+    def search_back_off(self, t: Task, now: int, inp: TaskInputs, dets: dict) -> bool:
+        """000's move off a cut symbol (:meth:`back_off_move`), and the same move off the
+        estimate when the search has looked all round where it stands without a frame of the
+        object: an object the camera never saw (P_i carried on odometry) whose estimate is
+        within UNSEEN_NEAR_MM of the axle may stand nearer than the radial symbol is read, cut
+        in a few frames or in none, and the wander's legs, farther out, pass it by. The base
+        faces away from the estimate, drives CUT_AWAY_MM off it, faces it again and searches
+        anew (a ``back_off_unseen`` detail event); counted with the cut moves."""
+        ms = t.ms
+        if ms.back_off is None and ms.back_offs < self.back_offs_max \
+                and self.unseen_near(t, inp):
+            dx, dy = t.obj[0] - inp.x_mm, t.obj[1] - inp.y_mm
+            turn = wrap_mrad(atan2_mrad(dy, dx) - inp.heading_mrad)
+            ms.back_offs += 1
+            ms.back_off = self.back_off_first(t, inp, turn)
+            ms.cut_first_us = None  # a cut seen from here says nothing of the next place
+            t.note(back_off_unseen={"dist_mm": isqrt(dx * dx + dy * dy), "n": ms.back_offs,
+                                    "turn_mrad": turn})
+        return super().search_back_off(t, now, inp, dets)
+
+    @staticmethod
+    def unseen_near(t: Task, inp: TaskInputs) -> bool:
+        """The search's look-around here is over (``turns_per_wander`` cycles), nothing is being
+        confirmed or driven to, the object was never seen by the camera and its estimate is
+        within UNSEEN_NEAR_MM of the axle."""
+        if t.object_sighted or t.obj is None or t.confirm_until is not None \
+                or t.far is not None or t.search is None \
+                or t.search.cycle < t.search.params.turns_per_wander:
+            return False
+        dx, dy = t.obj[0] - inp.x_mm, t.obj[1] - inp.y_mm
+        return dx * dx + dy * dy <= UNSEEN_NEAR_MM * UNSEEN_NEAR_MM
+
     def back_off_here(self, t: Task, inp: TaskInputs) -> bool:
         """001 comes near its object anywhere (P_i and odometry, the grasp circle): its move
         off a cut symbol drives forward, the sonar ring watching, so it is made wherever

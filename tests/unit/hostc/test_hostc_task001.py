@@ -768,19 +768,77 @@ def test_the_move_of_001_away_from_a_cut_symbol():
         assert "back_off" not in res.detail
 
 
+def test_the_move_of_001_off_an_estimate_too_near_to_be_read():
+    """SEARCH after a loss, the object never seen by the camera and its estimate 230 mm from
+    the axle: the look-around there (turns_per_wander cycles) sees nothing, not even a cut.
+    Instead of the wander's first leg the base faces away from the estimate, drives
+    CUT_AWAY_MM off it, turns back to face it, stands until a frame taken after the stop and
+    looks around again; the estimate then beyond UNSEEN_NEAR_MM, once. Both tasks step for
+    step."""
+    py = Task("001")
+    c = _c_task(py, method="001")
+    enter_state(py, c, "SEARCH", (-200, 120), True, (-2500, -200, 2300, -300), (230, 10), ())
+    py.counters["lost"] = c.lost = 1
+    assert not py.object_sighted
+    out = FFI.new("mg_task_outputs_t *")
+    free, nothing = (0,) * 5, {"radial_symbol": None}
+    now, x, y, h = 0, 0, 0, 300
+    looked = None  # when the look-around here was over
+    res = None
+    while "back_off_unseen" not in (res.detail if res else {}):
+        assert now < 60_000_000 and py.state == "SEARCH"
+        if looked is None and py.search is not None \
+                and py.search.cycle >= py.search.params.turns_per_wander:
+            looked = now
+        now += 20_000
+        if res is not None:
+            x, y, h = _move(res, x, y, h)
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=wrap_mrad(h),
+                                                sonar_mm=free, detections=nothing), out,
+                         _frame000)
+    assert looked is not None and now - looked <= 20_000  # at the look-around's end
+    unseen = res.detail["back_off_unseen"]
+    assert unseen["n"] == 1 and unseen["dist_mm"] == math.isqrt((x + 200) ** 2 + (y - 120) ** 2)
+    toward = wrap_mrad(h) + unseen["turn_mrad"]
+    assert abs(wrap_mrad(toward - round(math.atan2(120 - y, -200 - x) * 1000))) <= 2
+    start, phases = (x, y), [res.wheels_mmps]
+    while res.wheels_mmps != (0, 0):
+        now += 20_000
+        x, y, h = _move(res, x, y, h)
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=wrap_mrad(h),
+                                                sonar_mm=free, detections=nothing), out,
+                         _frame000)
+        if res.wheels_mmps != phases[-1]:
+            phases.append(res.wheels_mmps)
+    assert (py.p.wander_mmps,) * 2 in phases
+    driven = math.hypot(x - start[0], y - start[1])
+    assert method001.CUT_AWAY_MM <= driven <= method001.CUT_AWAY_MM + 20
+    assert math.hypot(x + 200, y - 120) >= method001.UNSEEN_NEAR_MM  # away from the estimate
+    assert abs(wrap_mrad(h - toward)) <= 100  # facing it again (100 mrad a turning step)
+    for _ in range(3000):  # a new look-around from here, and no second move
+        now += 20_000
+        x, y, h = _move(res, x, y, h)
+        res = _step_both(py, c, now, TaskInputs(x_mm=x, y_mm=y, heading_mrad=wrap_mrad(h),
+                                                sonar_mm=free, detections=nothing), out,
+                         _frame000)
+        assert "back_off_unseen" not in res.detail and "back_off" not in res.detail
+    assert py.ms.back_offs == _ms001(c).cut.back_offs == 1
+
+
 @SETTINGS
 @given(st.booleans(), st.tuples(*[st.integers(-1500, 1500)] * 4),
        st.lists(st.tuples(st.sampled_from([20_000, 20_000, 60_000, 500_000, 2_000_000]),
                           st.tuples(st.integers(-30, 30), st.integers(-30, 30),
                                     st.integers(-200, 200)),
-                          SONAR, st.none() | DETS000), min_size=1, max_size=60))
-def test_steps_of_001_in_search(lost, joints, steps):
-    """SEARCH of 001 (after a loss or not) with odometry that wanders, sonar rings and frames of
-    000's detectors, the cut symbol among them: the same outputs and detail on both tasks, to
-    the object found."""
+                          SONAR, st.none() | DETS000), min_size=1, max_size=60),
+       st.none() | st.tuples(st.integers(-600, 600), st.integers(-600, 600)))
+def test_steps_of_001_in_search(lost, joints, steps, obj):
+    """SEARCH of 001 (after a loss or not, with an estimate of an object never seen or none)
+    with odometry that wanders, sonar rings and frames of 000's detectors, the cut symbol among
+    them: the same outputs and detail on both tasks, to the object found."""
     py = Task("001")
     c = _c_task(py, method="001")
-    enter_state(py, c, "SEARCH", None, True, joints, (230, 10), ("SEARCH", "LOST"))
+    enter_state(py, c, "SEARCH", obj, True, joints, (230, 10), ("SEARCH", "LOST"))
     py.counters["lost"] = c.lost = int(lost)
     out = FFI.new("mg_task_outputs_t *")
     now, x, y, h = 0, 0, 0, 0

@@ -110,6 +110,13 @@ class GraspStates:
             t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
                         f"never seen)")
             return
+        if t.regrasps and not t.object_sighted and not t.rules.sight_views:
+            # a grasp at this estimate found no evidence and the camera has not seen the
+            # object since (docs/task.md): the same blind grasp again would miss again
+            t.lost_in = "ROUGH_GRASP"
+            t.go(now, "LOST", "grasp missed at the estimate, object not seen since: "
+                 "searching before grasping again")
+            return
         t.reach_mm = t.rules.grasp_reach_mm(t)
         if t.reach_mm is not None:
             x, y = t.obj_platform(inp)
@@ -162,8 +169,9 @@ class GraspStates:
             return  # the method's grasp on this look (001 from its grasp circle)
         if not t.sight_frames and not t.object_sighted:
             t.lost_in = "ROUGH_GRASP"
-            t.go(now, "LOST", "object not seen at its estimated place, never seen by the "
-                 "camera: searching before any grasp")
+            t.go(now, "LOST", "grasp missed at the estimate, object not seen since: searching "
+                 "before grasping again" if t.regrasps else "object not seen at its estimated "
+                 "place, never seen by the camera: searching before any grasp")
             return
         if t.sight_frames and abs(dist - goal_mm) > tol_mm \
                 and t.sight_adjusts < MAX_SIGHT_ADJUSTS:
@@ -457,6 +465,10 @@ class GraspStates:
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
+        if not t.check_seen:
+            # the grasp went where the camera does not see the object: its sighting before
+            # counts no more, the next grasp goes on a new one (docs/task.md)
+            t.object_sighted = False
         self.missed(t, now, "no evidence of the object in the gripper")
 
 

@@ -32,8 +32,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart, the object has moved with
   the gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
   ``CHECK_SEEN_FRAMES`` frames), or no such frames by the end of the look, is a miss: open,
-  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED.  Not seeing the object is
-  never evidence of holding it.  No grasp is tried unless the object itself (not a guide
+  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED; after a miss with no
+  evidence the grasp again goes only on a sighting made since (else LOST: the search).  Not
+  seeing the object is never evidence of holding it.  No grasp is tried unless the object itself (not a guide
   board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
 """
 
@@ -78,6 +79,9 @@ SIGHT_FRAMES = 3
 SIGHT_LOOK_US = 700_000
 SIGHT_LOOKS_MRAD = ((0, 0), (0, 1571), (150, 1571), (150, 0), (-150, 0), (-150, 1571))
 MAX_SIGHT_ADJUSTS = 2
+# the retry after a miss with no evidence, the object not seen since (docs/task.md)
+REGRASP_UNSEEN = "grasp missed at the estimate, object not seen since: searching before " \
+    "grasping again"
 
 
 
@@ -114,8 +118,7 @@ class GraspStates:
             # a grasp at this estimate found no evidence and the camera has not seen the
             # object since (docs/task.md): the same blind grasp again would miss again
             t.lost_in = "ROUGH_GRASP"
-            t.go(now, "LOST", "grasp missed at the estimate, object not seen since: "
-                 "searching before grasping again")
+            t.go(now, "LOST", REGRASP_UNSEEN)
             return
         t.reach_mm = t.rules.grasp_reach_mm(t)
         if t.reach_mm is not None:
@@ -146,7 +149,8 @@ class GraspStates:
         (``SIGHT_FRAMES`` frames, or fewer by the end of that look). Seen outside ADJUST's
         goal window, the base closes in again first (up to ``MAX_SIGHT_ADJUSTS`` times a
         grasp). Not seen at any look: an object the camera never saw (001's P_i carried on
-        odometry) is searched for (LOST); else the grasp goes on the estimate as it was."""
+        odometry), or has not seen since a grasp on this estimate found no evidence, is
+        searched for (LOST); else the grasp goes on the estimate as it was."""
         det = dets.get("dual_plus")
         if det is not None and t.settled(now) and t.see_object(now, inp, "dual_plus", det):
             t.sight_frames += 1
@@ -169,9 +173,8 @@ class GraspStates:
             return  # the method's grasp on this look (001 from its grasp circle)
         if not t.sight_frames and not t.object_sighted:
             t.lost_in = "ROUGH_GRASP"
-            t.go(now, "LOST", "grasp missed at the estimate, object not seen since: searching "
-                 "before grasping again" if t.regrasps else "object not seen at its estimated "
-                 "place, never seen by the camera: searching before any grasp")
+            t.go(now, "LOST", REGRASP_UNSEEN if t.regrasps else "object not seen at its "
+                 "estimated place, never seen by the camera: searching before any grasp")
             return
         if t.sight_frames and abs(dist - goal_mm) > tol_mm \
                 and t.sight_adjusts < MAX_SIGHT_ADJUSTS:

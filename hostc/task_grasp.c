@@ -27,7 +27,7 @@ static const int32_t HELD_VIEW_MM[] = {150, 140, 130, 120, 110, 100, 90};
 #define SIGHT_LOOK_US 700000
 #define SIGHT_LOOKS 6
 #define MAX_SIGHT_ADJUSTS 2
-/* the retry after a miss with no evidence, the object not seen since (docs/task.md) */
+/* the retry after a blind miss with no evidence, the object not seen since (docs/task.md) */
 #define REGRASP_UNSEEN "grasp missed at the estimate, object not seen since: searching before " \
                        "grasping again"
 static const int32_t SIGHT_LOOKS_MRAD[SIGHT_LOOKS][2] = {{0, 0},    {0, 1571},  {150, 1571},
@@ -647,6 +647,16 @@ int mg_task_held_evidence(const mg_task_t *t)
     return 0;
 }
 
+/* the close was decided on the camera's view of the object where the fingers went
+ * (grasp.py CLOSES_ON_SIGHT): the spoke aligned or seen until the steps ran out, 001's look
+ * confirming it; the others are blind */
+static int close_on_sight(const mg_task_t *t)
+{
+    return t->has_close_by && (strcmp(t->close_by, "precise") == 0
+                               || strcmp(t->close_by, "max_steps") == 0
+                               || strcmp(t->close_by, "ik") == 0);
+}
+
 /* the look of the grasp check: each waist offset for MG_CHECK_POSE_US; DONE on positive
  * evidence, else a miss */
 static void check(mg_task_t *t, int64_t now_us)
@@ -679,8 +689,8 @@ static void check(mg_task_t *t, int64_t now_us)
         t->phase_us = t->move_done_us;
         return;
     }
-    if (!t->check_seen)
-        t->object_sighted = 0; /* the grasp went where the camera does not see the object: its
+    if (!t->check_seen && !close_on_sight(t))
+        t->object_sighted = 0; /* a blind grasp where the camera does not see the object: its
                                 * sighting before counts no more, the next grasp goes on a new
                                 * one (docs/task.md) */
     missed(t, now_us, "no evidence of the object in the gripper");

@@ -32,8 +32,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart, the object has moved with
   the gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
   ``CHECK_SEEN_FRAMES`` frames), or no such frames by the end of the look, is a miss: open,
-  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED; after a miss with no
-  evidence the grasp again goes only on a sighting made since (else LOST: the search).  Not
+  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED; after a blind grasp
+  (``CLOSES_ON_SIGHT``) with no evidence the grasp again goes only on a sighting made since
+  (else LOST: the search).  Not
   seeing the object is never evidence of holding it.  No grasp is tried unless the object itself (not a guide
   board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
 """
@@ -79,7 +80,10 @@ SIGHT_FRAMES = 3
 SIGHT_LOOK_US = 700_000
 SIGHT_LOOKS_MRAD = ((0, 0), (0, 1571), (150, 1571), (150, 0), (-150, 0), (-150, 1571))
 MAX_SIGHT_ADJUSTS = 2
-# the retry after a miss with no evidence, the object not seen since (docs/task.md)
+# closes decided on the camera's view of the object where the fingers went (descend): the
+# spoke aligned or seen until the steps ran out, 001's look confirming it; the others are blind
+CLOSES_ON_SIGHT = ("precise", "max_steps", "ik")
+# the retry after a blind miss with no evidence, the object not seen since (docs/task.md)
 REGRASP_UNSEEN = "grasp missed at the estimate, object not seen since: searching before " \
     "grasping again"
 
@@ -468,8 +472,8 @@ class GraspStates:
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
-        if not t.check_seen:
-            # the grasp went where the camera does not see the object: its sighting before
+        if not t.check_seen and t.close_by not in CLOSES_ON_SIGHT:
+            # a blind grasp where the camera does not see the object: its sighting before
             # counts no more, the next grasp goes on a new one (docs/task.md)
             t.object_sighted = False
         self.missed(t, now, "no evidence of the object in the gripper")

@@ -411,11 +411,13 @@ def test_a_grasp_held_and_one_missed(seen_standing, end):
     assert _grasp_both((0, 0), [(60_000, dets)] * 100) == end
 
 
-@pytest.mark.parametrize("seen_since", [False, True])
-def test_a_grasp_again_after_no_evidence(seen_since):
-    """A grasp whose check sees nothing (no evidence): open and ADJUST, the sighting before
-    dropped on both tasks; the next ROUGH_GRASP with no sighting since searches (LOST), with
-    one grasps again: the same steps on both tasks."""
+@pytest.mark.parametrize("seen_since, close_by", [(False, None), (True, None),
+                                                  (False, "precise"), (False, "ik")])
+def test_a_grasp_again_after_no_evidence(seen_since, close_by):
+    """A blind grasp (002's move-in) whose check sees nothing (no evidence): open and ADJUST,
+    the sighting before dropped on both tasks; the next ROUGH_GRASP with no sighting since
+    searches (LOST), with one grasps again. A close decided on the camera's view (as if the
+    spoke or 001's look had decided it) keeps the sighting. The same steps on both tasks."""
     py = Task("002")
     c = _c_task(py)
     centre, _ = py.rules.grasp_reach_mm(py)
@@ -429,14 +431,18 @@ def test_a_grasp_again_after_no_evidence(seen_since):
     while py.state != "ADJUST":
         now += 60_000
         _step_both(py, c, now, TaskInputs(grasp_closed=True), out)
+        if py.state == "LIFT" and close_by:
+            py.close_by = close_by
+            c.has_close_by, c.close_by = 1, close_by.encode()
         assert now < 60_000_000, py.state
-    assert (py.regrasps, c.regrasps, py.object_sighted, c.object_sighted) == (1, 1, False, 0)
-    py.object_sighted = c.object_sighted = seen_since
+    kept = close_by is not None
+    assert (py.regrasps, c.regrasps, py.object_sighted, c.object_sighted) == (1, 1, kept, kept)
+    py.object_sighted = c.object_sighted = seen_since or kept
     py.go(now, "ROUGH_GRASP", "test")
     C.mg_task_go(c, now, C.MG_ROUGH_GRASP, b"test")
     res = _step_both(py, c, now + 60_000, TaskInputs(), out)
     lost = [e for e in res.events if e.to_state == "LOST"]
-    assert bool(lost) != seen_since, res.events
+    assert bool(lost) != (seen_since or kept), res.events
     assert all(e.why.startswith("grasp missed at the estimate, object not seen since")
                for e in lost)
 

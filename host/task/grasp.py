@@ -34,9 +34,9 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   ``CHECK_SEEN_FRAMES`` frames), or no such frames by the end of the look, is a miss: open,
   ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED; after a blind grasp
   (``CLOSES_ON_SIGHT``) with no evidence the grasp again goes only on a sighting made since
-  (else LOST: the search).  Not
-  seeing the object is never evidence of holding it.  No grasp is tried unless the object itself (not a guide
-  board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
+  (else LOST: the search).  Not seeing the object is never evidence of holding it.  No grasp
+  is tried unless the object itself (not a guide board) has been seen
+  (``Method.object_detectors``): FAILED "no graspable object found".
 """
 
 from __future__ import annotations

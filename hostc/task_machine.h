@@ -139,7 +139,8 @@ struct mg_task {
     int64_t trust_from_us;
     int32_t has_obj, obj_mm[2];
     int64_t obj_seen_us;
-    int32_t graspable_seen, object_sighted;
+    int32_t graspable_seen, object_sighted; /* the latter dropped by a blind grasp that found
+                                             * no evidence of the object (task_grasp.c) */
     int32_t has_failure;
     char failure[MG_TASK_WHY];
     /* (t_us, arm) and (t_us, x_mm, y_mm, heading_mrad): rings of n entries from the oldest's

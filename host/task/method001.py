@@ -318,8 +318,9 @@ class Method001(Method000):
     @staticmethod
     def unseen_near(t: Task, inp: TaskInputs) -> bool:
         """The search's look-around here is over (``turns_per_wander`` cycles), nothing is being
-        confirmed or driven to, the object was never seen by the camera and its estimate is
-        within UNSEEN_NEAR_MM of the axle."""
+        confirmed or driven to, the object was never seen by the camera (or not since a blind
+        grasp on its estimate found no evidence, grasp.py) and its estimate is within
+        UNSEEN_NEAR_MM of the axle."""
         if t.object_sighted or t.obj is None or t.confirm_until is not None \
                 or t.far is not None or t.search is None \
                 or t.search.cycle < t.search.params.turns_per_wander:

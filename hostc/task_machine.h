@@ -162,6 +162,7 @@ struct mg_task {
     int32_t has_turn_from, turn_from_mrad;  /* heading where the base turn started */
     int32_t has_wander_from, wander_from_mm[2]; /* where the wander leg started */
     mg_detour_t wander_round; /* the drive round an obstacle that stopped a leg */
+    int32_t has_wander_look, wander_look_mrad; /* the heading to face to look after it */
     int32_t has_confirm_until;
     int64_t confirm_until_us;
     int32_t has_confirm_failed, confirm_failed[6]; /* the pose a confirmation failed in */

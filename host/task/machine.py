@@ -160,6 +160,7 @@ class Task:
         self.turn_from = None
         self.wander_from = None
         self.wander_round = None  # SEARCH: the drive round an obstacle that stopped a leg
+        self.wander_look = None  # SEARCH: the heading to face to look after a stopped leg
         self.obj = None  # odometry-frame (x_mm, y_mm) of the object
         self.obj_seen_us = now_us
         self.follower = None

@@ -437,6 +437,12 @@ class ArmSearch:
         self._end_wander(now_us)
         return False
 
+    def wander_look(self, now_us: int) -> None:
+        """The base stopped short of the leg's end with the object possibly in front (the
+        caller's evidence): the leg ends, and one cycle at rest looks around here before the
+        next station."""
+        self._end_wander(now_us, look=True)
+
     def wander_resume(self, now_us: int) -> None:
         """The caller has driven round the obstacle: aim at the same station from here."""
         if self._wandering:
@@ -458,14 +464,14 @@ class ArmSearch:
         it only for something in its way, not for the obstacle it passes beside."""
         return self.params.cover_mm > 0 and self._rounds > 0
 
-    def _end_wander(self, now_us: int) -> None:
+    def _end_wander(self, now_us: int, look: bool = False) -> None:
         if self._wandering:
             self.wanders += 1
             p = self.params
             at = self._wpose if p.wander_sweep else (p.coarse_theta2_mrad[0], p.theta5_max_mrad)
             if p.cover_mm:
                 self._station += 1  # reached, or stopped short by an obstacle: the next one
-                if p.stop_cycles == 0:
+                if p.stop_cycles == 0 and not look:
                     self._start_leg(now_us, at)
                     if not self.covered:
                         return

@@ -156,6 +156,8 @@ void mg_frame000_of(mg_frame000_t *f, const int32_t *radial, const int32_t *plus
     if (cut != NULL) { /* the symbol cut by the border: the side it is cut at */
         f->has_cut = 1;
         f->cut_side = cut[4];
+        f->cut_low_px = cut[1] + cut[3];
+        f->cut_w_px = cut[2], f->cut_h_px = cut[3];
     }
 }
 

@@ -418,7 +418,7 @@ void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us)
     }
 }
 
-static void end_wander(mg_arm_search_t *s, int64_t now_us)
+static void end_wander(mg_arm_search_t *s, int64_t now_us, int32_t look)
 {
     if (!s->wandering)
         return;
@@ -428,7 +428,7 @@ static void end_wander(mg_arm_search_t *s, int64_t now_us)
                            p->wander_sweep ? s->wpose[1] : p->theta5_max_mrad};
     if (p->cover_mm) {
         s->station++; /* reached, or stopped short by an obstacle: the next one */
-        if (p->stop_cycles == 0) {
+        if (p->stop_cycles == 0 && !look) {
             start_leg(s, now_us, at);
             if (!s->covered)
                 return;
@@ -447,7 +447,12 @@ static void end_wander(mg_arm_search_t *s, int64_t now_us)
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us)
 {
     s->rounds = 0;
-    end_wander(s, now_us);
+    end_wander(s, now_us, 0);
+}
+
+void mg_search_wander_look(mg_arm_search_t *s, int64_t now_us)
+{
+    end_wander(s, now_us, 1);
 }
 
 int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can_round)
@@ -457,7 +462,7 @@ int32_t mg_search_wander_blocked(mg_arm_search_t *s, int64_t now_us, int32_t can
         s->rounds++;
         return 1;
     }
-    end_wander(s, now_us);
+    end_wander(s, now_us, 0);
     return 0;
 }
 

@@ -92,6 +92,9 @@ void mg_search_restart_dwell(mg_arm_search_t *s, int64_t now_us);
 void mg_search_rejoin(mg_arm_search_t *s, int64_t now_us, const int32_t pose[3]);
 void mg_search_base_turn_done(mg_arm_search_t *s, int64_t now_us);
 void mg_search_wander_done(mg_arm_search_t *s, int64_t now_us);
+/* the base stopped short of the leg's end with the object possibly in front (the caller's
+ * evidence): the leg ends, and one cycle at rest looks around here before the next station */
+void mg_search_wander_look(mg_arm_search_t *s, int64_t now_us);
 /* the base stopped short of the leg's end, an obstacle ahead: 1 when the caller is to drive
  * round it (can_round: it has a way) and then call mg_search_wander_resume (a leg sweeping
  * outward alone, fewer than round_tries times since a leg last ended unblocked); else 0, the

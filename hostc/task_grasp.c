@@ -27,6 +27,9 @@ static const int32_t HELD_VIEW_MM[] = {150, 140, 130, 120, 110, 100, 90};
 #define SIGHT_LOOK_US 700000
 #define SIGHT_LOOKS 6
 #define MAX_SIGHT_ADJUSTS 2
+/* the retry after a blind miss with no evidence, the object not seen since (docs/task.md) */
+#define REGRASP_UNSEEN "grasp missed at the estimate, object not seen since: searching before " \
+                       "grasping again"
 static const int32_t SIGHT_LOOKS_MRAD[SIGHT_LOOKS][2] = {{0, 0},    {0, 1571},  {150, 1571},
                                                          {150, 0},  {-150, 0},  {-150, 1571}};
 
@@ -194,6 +197,13 @@ void mg_task_enter_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_input
         mg_task_fail(t, now_us, why);
         return;
     }
+    if (t->regrasps && !t->object_sighted && !r->n_sight_views) {
+        /* a grasp at this estimate found no evidence and the camera has not seen the object
+         * since (docs/task.md): the same blind grasp again would miss again */
+        t->lost_in = MG_ROUGH_GRASP;
+        mg_task_go(t, now_us, MG_LOST, REGRASP_UNSEEN);
+        return;
+    }
     t->has_reach = r->grasp_reach_mm && r->grasp_reach_mm(t, &t->reach_mm[0], &t->reach_mm[1]);
     if (t->has_reach) {
         int32_t xy[2];
@@ -270,8 +280,10 @@ static void sight(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
         return; /* the method's grasp on this look (001 from its grasp circle) */
     if (!t->sight_frames && !t->object_sighted) {
         t->lost_in = MG_ROUGH_GRASP;
-        mg_task_go(t, now_us, MG_LOST, "object not seen at its estimated place, never seen by "
-                                       "the camera: searching before any grasp");
+        mg_task_go(t, now_us, MG_LOST, t->regrasps ? REGRASP_UNSEEN
+                                                   : "object not seen at its estimated place, "
+                                                     "never seen by the camera: searching "
+                                                     "before any grasp");
         return;
     }
     const int32_t off = dist - goal_mm;
@@ -636,6 +648,16 @@ int mg_task_held_evidence(const mg_task_t *t)
     return 0;
 }
 
+/* the close was decided on the camera's view of the object where the fingers went
+ * (grasp.py CLOSES_ON_SIGHT): the spoke aligned or seen until the steps ran out, 001's look
+ * confirming it; the others are blind */
+static int close_on_sight(const mg_task_t *t)
+{
+    return t->has_close_by && (strcmp(t->close_by, "precise") == 0
+                               || strcmp(t->close_by, "max_steps") == 0
+                               || strcmp(t->close_by, "ik") == 0);
+}
+
 /* the look of the grasp check: each waist offset for MG_CHECK_POSE_US; DONE on positive
  * evidence, else a miss */
 static void check(mg_task_t *t, int64_t now_us)
@@ -668,6 +690,10 @@ static void check(mg_task_t *t, int64_t now_us)
         t->phase_us = t->move_done_us;
         return;
     }
+    if (!t->check_seen && !close_on_sight(t))
+        t->object_sighted = 0; /* a blind grasp where the camera does not see the object: its
+                                * sighting before counts no more, the next grasp goes on a new
+                                * one (docs/task.md) */
     missed(t, now_us, "no evidence of the object in the gripper");
 }
 

@@ -140,7 +140,8 @@ struct mg_task {
     int64_t trust_from_us;
     int32_t has_obj, obj_mm[2];
     int64_t obj_seen_us;
-    int32_t graspable_seen, object_sighted;
+    int32_t graspable_seen, object_sighted; /* the latter dropped by a blind grasp that found
+                                             * no evidence of the object (task_grasp.c) */
     int32_t has_failure;
     char failure[MG_TASK_WHY];
     /* (t_us, arm) and (t_us, x_mm, y_mm, heading_mrad): rings of n entries from the oldest's
@@ -162,6 +163,7 @@ struct mg_task {
     int32_t has_turn_from, turn_from_mrad;  /* heading where the base turn started */
     int32_t has_wander_from, wander_from_mm[2]; /* where the wander leg started */
     mg_detour_t wander_round; /* the drive round an obstacle that stopped a leg */
+    int32_t has_wander_look, wander_look_mrad; /* the heading to face to look after it */
     int32_t has_confirm_until;
     int64_t confirm_until_us;
     int32_t has_confirm_failed, confirm_failed[6]; /* the pose a confirmation failed in */

@@ -49,6 +49,7 @@ const mg_task_method_t mg_task_methods[] = {
      .plus_on_top = 1,
      .adjust_keeps_posture = 1,
      .search_back_off = mg_method000_search_back_off,
+     .search_cut_look = mg_method000_search_cut_look,
      /* SEARCH: the cut symbol is looked for when the symbol is not read */
      .detectors = {[MG_SEARCH] = 1u << MG_DET_RADIAL_SYMBOL | 1u << MG_DET_RADIAL_CUT,
                    DETECTORS_000},

@@ -73,6 +73,10 @@ typedef struct mg_task_method {
     /* SEARCH's step taken by a back-off from an object too near to be seen whole (1: the
      * step is done; NULL: never, Method.search_back_off) */
     int (*search_back_off)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+    /* a wander leg stopped short by an obstacle: 1 and the odometry heading to face to look
+     * around there before the next station (the object may be what stopped it); NULL or 0:
+     * the next station (Method.search_cut_look) */
+    int (*search_cut_look)(const mg_task_t *t, int64_t now_us, int32_t *heading_mrad);
     /* APPROACH: its entry action after the common reset, and its step */
     void (*enter_approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
     void (*approach)(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);

@@ -415,7 +415,21 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
 {
     const mg_frame000_t *f = frame000(in);
     if (bo->phase == MG_BACK_OFF000_NONE) {
-        if (f == NULL || !f->has_cut || bo->back_offs >= rule->max || t->has_confirm_until
+        if (f == NULL || !f->has_cut)
+            return 0;
+        /* its bearing (right positive, as the waist's) at the border it is cut at; the base
+         * turns left positive */
+        int32_t arm[6];
+        mg_task_arm_at(t, now_us - t->p.frame_latency_us, arm);
+        const int32_t half_fov = mg_atan2_mrad(t->cam.u0_px, t->cam.f_px);
+        const int32_t turn = -(arm[5] + f->cut_side * half_fov);
+        if (f->cut_low_px >= 2 * t->cam.v0_px
+            && MG_CUT_LOOK_FLAT * f->cut_h_px <= f->cut_w_px) { /* near: at the bottom, flat */
+            bo->has_cut_seen = 1;
+            bo->cut_seen_us = now_us;
+            bo->cut_heading_mrad = mg_task_wrap_mrad((int64_t)in->heading_mrad + turn);
+        }
+        if (bo->back_offs >= rule->max || t->has_confirm_until
             || (rule->from_start
                 && (t->lost
                     || (int64_t)in->x_mm * in->x_mm + (int64_t)in->y_mm * in->y_mm
@@ -431,12 +445,6 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
                 return 0;
             bo->has_cut_first = 0;
         }
-        /* its bearing (right positive, as the waist's) at the border it is cut at; the base
-         * turns left positive */
-        int32_t arm[6];
-        mg_task_arm_at(t, now_us - t->p.frame_latency_us, arm);
-        const int32_t half_fov = mg_atan2_mrad(t->cam.u0_px, t->cam.f_px);
-        const int32_t turn = -(arm[5] + f->cut_side * half_fov);
         bo->back_offs++;
         if (rule->away_mm > 0) {
             mg_back_off_away(bo, in, turn, rule->away_mm);
@@ -460,7 +468,17 @@ int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
     t->has_turn_from = 0;
     t->has_wander_from = 0;
     t->wander_round.active = 0;
+    t->has_wander_look = 0;
     return 0;
+}
+
+int mg_method000_search_cut_look(const mg_task_t *t, int64_t now_us, int32_t *heading_mrad)
+{
+    const mg_cut_back_off_t *bo = &((const mg_state000_t *)(const void *)t->ms.bytes)->cut;
+    if (!bo->has_cut_seen || now_us - bo->cut_seen_us > MG_CUT_LOOK_000_US)
+        return 0;
+    *heading_mrad = bo->cut_heading_mrad;
+    return 1;
 }
 
 int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)

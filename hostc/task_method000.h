@@ -23,6 +23,11 @@
 #define MG_BACK_OFF_000_MM 150
 #define MG_BACK_OFF_FROM_MM 40
 #define MG_BACK_OFFS_000 1
+/* SEARCH: a wander leg stopped short within this long of a frame of the symbol cut by the
+ * frame's bottom, at least MG_CUT_LOOK_FLAT times wider than high, faces where it was seen and
+ * looks there (method000.py CUT_LOOK_000_US, CUT_LOOK_FLAT) */
+#define MG_CUT_LOOK_000_US 3000000
+#define MG_CUT_LOOK_FLAT 3
 /* SEARCH's wander of 000 (method000.py WANDER_000_MMPS and the rest) */
 #define MG_WANDER_000_MMPS 350
 #define MG_WANDER_D_THETA5_000_MRAD 350
@@ -50,6 +55,10 @@ typedef struct {
     /* the first frame of the cut symbol not yet moved off (a rule with wait_us only) */
     int32_t has_cut_first;
     int64_t cut_first_us;
+    /* the last frame of the symbol cut by the frame's bottom, flat, and the odometry heading it
+     * was seen in */
+    int32_t has_cut_seen, cut_heading_mrad;
+    int64_t cut_seen_us;
 } mg_cut_back_off_t;
 /* How a method backs off (method000.py / method001.py back_offs_max, back_off_here,
  * back_off_due, back_off_first): at most max a run; from_start: only from the run's start
@@ -114,6 +123,10 @@ int mg_method000_found(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
  * off MG_BACK_OFF_000_MM, look around again (method000.py search_back_off); 1 while the
  * back-off takes the step */
 int mg_method000_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
+/* SEARCH: a wander leg stopped short by an obstacle within MG_CUT_LOOK_000_US of a frame of
+ * the cut symbol (it may be the object): 1 and the odometry heading to face to look there
+ * (method000.py search_cut_look); 0: the next station */
+int mg_method000_search_cut_look(const mg_task_t *t, int64_t now_us, int32_t *heading_mrad);
 /* The back-off of either method (method000.py Method000.search_back_off with the method's
  * hooks): the state bo, the method's rule; 1 while the back-off takes the step */
 int mg_search_back_off(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in,
@@ -156,6 +169,7 @@ typedef struct {
     int32_t has_spoke, spoke_angle_mrad, spoke_width_px;
     int32_t has_held_fill, held_rgb[3], held_permille;
     int32_t has_cut, cut_side; /* the radial symbol cut by the frame's border: its side */
+    int32_t cut_low_px, cut_w_px, cut_h_px; /* ... and its box's lower edge (y + h), size */
 } mg_frame000_t;
 
 /* The method row's hooks on the step's inputs (in->frame: an mg_frame000_t or NULL). */

@@ -52,8 +52,8 @@ void mg_method001_params(mg_task_params_t *p)
 }
 
 /* the search's look-around here is over, nothing is being confirmed or driven to, the object
- * was never seen by the camera and its estimate is within MG_UNSEEN_NEAR_MM of the axle
- * (method001.py unseen_near) */
+ * was never seen by the camera (or not since a blind grasp on its estimate found no evidence) and
+ * its estimate is within MG_UNSEEN_NEAR_MM of the axle (method001.py unseen_near) */
 static int unseen_near(const mg_task_t *t, const mg_task_inputs_t *in)
 {
     if (t->object_sighted || !t->has_obj || t->has_confirm_until || t->far_phase /* 0: none */

@@ -49,6 +49,7 @@ void mg_task_enter_search(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *
     t->has_wander_from = 0;
     t->far_phase = MG_FAR_NONE;
     t->wander_round.active = 0;
+    t->has_wander_look = 0;
     t->gripper = 0;
     if (t->p.has_object_xy && !t->has_obj && t->lost == 0) {
         /* 001 section II: the object position P_i is given; plan toward it, vision refines it */
@@ -213,6 +214,17 @@ static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
         }
         return;
     }
+    if (t->has_wander_look) { /* facing a cut symbol, then a cycle at rest there */
+        const int32_t off = mg_task_wrap_mrad((int64_t)t->wander_look_mrad - in->heading_mrad);
+        if ((off < 0 ? -off : off) > t->p.bearing_tol_mrad) {
+            mg_task_turn_in_place(off > 0 ? 1 : -1, t->p.turn_wheel_mmps, t->wheels);
+            return;
+        }
+        t->wheels[0] = t->wheels[1] = 0;
+        t->has_wander_look = 0;
+        mg_search_wander_look(&t->search, now_us);
+        return;
+    }
     if (!t->has_wander_from) {
         t->has_wander_from = 1;
         t->wander_from_mm[0] = in->x_mm, t->wander_from_mm[1] = in->y_mm;
@@ -231,6 +243,15 @@ static void wander_step(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in
         t->wheels[0] = t->wheels[1] = 0;
         if (!blocked) {
             mg_search_wander_done(&t->search, now_us);
+            return;
+        }
+        int32_t look = 0;
+        if (t->rules->search_cut_look && t->rules->search_cut_look(t, now_us, &look)) {
+            /* the object may be what stopped it: face it and look */
+            t->has_wander_look = 1;
+            t->wander_look_mrad = look;
+            mg_task_note_int(t, "wander_look_mrad",
+                             mg_task_wrap_mrad((int64_t)look - in->heading_mrad));
             return;
         }
         int32_t station[2], head = 0;

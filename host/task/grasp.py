@@ -32,9 +32,11 @@ methods differ (the rough target, the precise grasp's start) it asks ``t.rules``
   waist offsets whose fingertip places are ``HELD_MOVE_MM`` apart, the object has moved with
   the gripper: DONE.  Seen standing away from the fingertip (``CHECK_AWAY_MM``, in
   ``CHECK_SEEN_FRAMES`` frames), or no such frames by the end of the look, is a miss: open,
-  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED.  Not seeing the object is
-  never evidence of holding it.  No grasp is tried unless the object itself (not a guide
-  board) has been seen (``Method.object_detectors``): FAILED "no graspable object found".
+  ADJUST and grasp again (up to ``MAX_REGRASPS`` times), then FAILED; after a blind grasp
+  (``CLOSES_ON_SIGHT``) with no evidence the grasp again goes only on a sighting made since
+  (else LOST: the search).  Not seeing the object is never evidence of holding it.  No grasp
+  is tried unless the object itself (not a guide board) has been seen
+  (``Method.object_detectors``): FAILED "no graspable object found".
 """
 
 from __future__ import annotations
@@ -78,6 +80,12 @@ SIGHT_FRAMES = 3
 SIGHT_LOOK_US = 700_000
 SIGHT_LOOKS_MRAD = ((0, 0), (0, 1571), (150, 1571), (150, 0), (-150, 0), (-150, 1571))
 MAX_SIGHT_ADJUSTS = 2
+# closes decided on the camera's view of the object where the fingers went (descend): the
+# spoke aligned or seen until the steps ran out, 001's look confirming it; the others are blind
+CLOSES_ON_SIGHT = ("precise", "max_steps", "ik")
+# the retry after a blind miss with no evidence, the object not seen since (docs/task.md)
+REGRASP_UNSEEN = "grasp missed at the estimate, object not seen since: searching before " \
+    "grasping again"
 
 
 
@@ -110,6 +118,12 @@ class GraspStates:
             t.fail(now, f"no graspable object found ({', '.join(t.rules.object_detectors)} "
                         f"never seen)")
             return
+        if t.regrasps and not t.object_sighted and not t.rules.sight_views:
+            # a grasp at this estimate found no evidence and the camera has not seen the
+            # object since (docs/task.md): the same blind grasp again would miss again
+            t.lost_in = "ROUGH_GRASP"
+            t.go(now, "LOST", REGRASP_UNSEEN)
+            return
         t.reach_mm = t.rules.grasp_reach_mm(t)
         if t.reach_mm is not None:
             x, y = t.obj_platform(inp)
@@ -139,7 +153,8 @@ class GraspStates:
         (``SIGHT_FRAMES`` frames, or fewer by the end of that look). Seen outside ADJUST's
         goal window, the base closes in again first (up to ``MAX_SIGHT_ADJUSTS`` times a
         grasp). Not seen at any look: an object the camera never saw (001's P_i carried on
-        odometry) is searched for (LOST); else the grasp goes on the estimate as it was."""
+        odometry), or has not seen since a grasp on this estimate found no evidence, is
+        searched for (LOST); else the grasp goes on the estimate as it was."""
         det = dets.get("dual_plus")
         if det is not None and t.settled(now) and t.see_object(now, inp, "dual_plus", det):
             t.sight_frames += 1
@@ -162,8 +177,8 @@ class GraspStates:
             return  # the method's grasp on this look (001 from its grasp circle)
         if not t.sight_frames and not t.object_sighted:
             t.lost_in = "ROUGH_GRASP"
-            t.go(now, "LOST", "object not seen at its estimated place, never seen by the "
-                 "camera: searching before any grasp")
+            t.go(now, "LOST", REGRASP_UNSEEN if t.regrasps else "object not seen at its "
+                 "estimated place, never seen by the camera: searching before any grasp")
             return
         if t.sight_frames and abs(dist - goal_mm) > tol_mm \
                 and t.sight_adjusts < MAX_SIGHT_ADJUSTS:
@@ -457,6 +472,10 @@ class GraspStates:
             t.trust_from_us = t.move_done_us
             t.phase_us = t.move_done_us
             return
+        if not t.check_seen and t.close_by not in CLOSES_ON_SIGHT:
+            # a blind grasp where the camera does not see the object: its sighting before
+            # counts no more, the next grasp goes on a new one (docs/task.md)
+            t.object_sighted = False
         self.missed(t, now, "no evidence of the object in the gripper")
 
 

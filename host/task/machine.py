@@ -160,6 +160,7 @@ class Task:
         self.turn_from = None
         self.wander_from = None
         self.wander_round = None  # SEARCH: the drive round an obstacle that stopped a leg
+        self.wander_look = None  # SEARCH: the heading to face to look after a stopped leg
         self.obj = None  # odometry-frame (x_mm, y_mm) of the object
         self.obj_seen_us = now_us
         self.follower = None
@@ -193,7 +194,9 @@ class Task:
         self.held_tips: dict = {}  # LIFT: fingertip places the object was seen under (grasp.py)
         # the object itself (not a guide board) has been seen, or its place P_i given (001 §II)
         self.graspable_seen = bool(self.p.object_xy_mm)
-        self.object_sighted = False  # ... by the camera (the check by absence needs it)
+        # ... by the camera (the check by absence needs it); dropped by a blind grasp that found
+        # no evidence of it (grasp.py)
+        self.object_sighted = False
         self._pp_of, self._pp_by_cap = None, {}  # posture parameters built for TaskParams _pp_of
         self.trust_from_us = 0
         self.plus_odom = None

@@ -148,6 +148,13 @@ class Method(ABC):
         the step is done); False: the search goes on."""
         return False
 
+    def search_cut_look(self, t: Task, now: int) -> int | None:
+        """A wander leg stopped short by an obstacle ahead: the odometry heading (mrad) to face
+        when the method has seen the object too near to be read whole lately (it may be what
+        stopped the leg), for the search to look around there before the next station; None:
+        the next station."""
+        return None
+
     def grasp_lost(self, t: Task, now: int, waited_us: int) -> bool:
         """PRECISE_GRASP saw no spoke for ``waited_us`` over the roll scan: True when the method
         searches for the object instead (the transition made), False to go down on the rough

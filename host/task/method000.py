@@ -47,6 +47,14 @@ MAX_TRACE_CANDIDATES = 40  # candidate curves kept in the trace for the plots (e
 BACK_OFF_000_MM = 150
 BACK_OFF_FROM_MM = 40
 BACK_OFFS_000 = 1
+# SEARCH: a wander leg stopped short by an obstacle ahead within CUT_LOOK_000_US of a frame that
+# showed the symbol cut by the frame's bottom, a flat arc at least CUT_LOOK_FLAT times wider than
+# high (the object itself may have stopped it, 0.5-0.6 m from the camera: beyond the near
+# limit, below the sweep's far level; an obstacle's face near the camera is a taller box) faces
+# it and ends in a cycle at rest there before the next station (docs/task.md "000: a ring's leg
+# stopped by an obstacle")
+CUT_LOOK_000_US = 3_000_000
+CUT_LOOK_FLAT = 3
 # SEARCH's wander (docs/task.md "000: the sweep while driving", "000: the last ring nearer the
 # edge"): the waist steps 0.35 rad with one frame per pose while driving at WANDER_000_MMPS;
 # legs that keep OUTWARD_FROM_000_MM from the start sweep the outer side and
@@ -104,6 +112,9 @@ class State000(MethodState):
 
     grasp_searches: int = 0  # searches after a loss in PRECISE_GRASP (grasp_lost)
     back_offs: int = 0  # back-offs from a cut symbol made in the run (search_back_off)
+    # the last frame that showed the symbol cut by the frame's bottom, flat (search_back_off)
+    cut_seen_us: int | None = None
+    cut_heading_mrad: int = 0  # ... and the odometry heading it was seen in
     # the back-off under way: ("turn", heading_from, turn_mrad), ("back", x0_mm, y0_mm) or
     # ("look", stopped_us, 0); None: none
     back_off: tuple[str, int, int] | None = None
@@ -228,15 +239,18 @@ class Method000(PathMethod):
         ms = t.ms
         if ms.back_off is None:
             cut = dets.get("radial_cut")
-            if not isinstance(cut, registry.row("radial_cut").result_type()) \
-                    or ms.back_offs >= self.back_offs_max \
-                    or t.confirm_until is not None or not self.back_off_here(t, inp) \
-                    or not self.back_off_due(t, now):
+            if not isinstance(cut, registry.row("radial_cut").result_type()):
                 return False
             # its bearing (right positive, as the waist's) at the border it is cut at; the base
             # turns left positive
             half_fov = atan2_mrad(t.cam.u0_px, t.cam.f_px)
             turn = -(t.arm_at(now - t.p.frame_latency_us)[5] + cut.side * half_fov)
+            if cut.y + cut.h >= 2 * t.cam.v0_px and CUT_LOOK_FLAT * cut.h <= cut.w:  # near
+                ms.cut_seen_us, ms.cut_heading_mrad = now, wrap_mrad(inp.heading_mrad + turn)
+            if ms.back_offs >= self.back_offs_max \
+                    or t.confirm_until is not None or not self.back_off_here(t, inp) \
+                    or not self.back_off_due(t, now):
+                return False
             ms.back_offs += 1
             ms.back_off = self.back_off_first(t, inp, turn)
             t.note(back_off={"side": cut.side, "turn_mrad": turn, "n": ms.back_offs})
@@ -247,8 +261,20 @@ class Method000(PathMethod):
             return True
         ms.back_off = None
         t.search = ArmSearch(SearchParams(**t.p.search), t.arm[2], t.arm[5], now)
-        t.turn_from = t.wander_from = t.wander_round = None
+        t.turn_from = t.wander_from = t.wander_round = t.wander_look = None
         return False
+
+    # SEARCH's look after a leg stopped within this long of a cut frame (0: never)
+    cut_look_us = CUT_LOOK_000_US
+
+    def search_cut_look(self, t: Task, now: int) -> int | None:
+        """A frame showed the symbol cut within ``cut_look_us``: the obstacle that stopped the
+        leg may be the object, too near for the sweep's far level but beyond the symbol's near
+        limit (0.45 m from the camera): facing where it was seen, a cycle at rest reads it."""
+        if self.cut_look_us > 0 and t.ms.cut_seen_us is not None \
+                and now - t.ms.cut_seen_us <= self.cut_look_us:
+            return t.ms.cut_heading_mrad
+        return None
 
     def back_off_here(self, t: Task, inp: TaskInputs) -> bool:
         """000: only from the run's start (within BACK_OFF_FROM_MM of the odometry's origin,

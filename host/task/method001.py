@@ -216,6 +216,8 @@ class State001(MethodState):
     # ("look", stopped_us, 0) (Method001.back_off_move); None: none
     back_off: tuple | None = None
     cut_first_us: int | None = None  # the first frame of the cut symbol not yet moved off
+    cut_seen_us: int | None = None  # the last frame of the symbol cut at the bottom (not 001's)
+    cut_heading_mrad: int = 0  # ... and the odometry heading it was seen in
 
     replanner: Replanner | None = None  # the plan of eq. (17) and its sonar memory (§III.E)
     path_from: tuple[int, int] | None = None  # odometry place the last planned path began at
@@ -290,6 +292,7 @@ class Method001(Method000):
     lost_search = Method.lost_search
     grasp_lost = Method.grasp_lost
     back_offs_max = BACK_OFFS_001
+    cut_look_us = 0  # 001 moves off a cut symbol wherever it is seen (back_off_here)
 
     # --- SEARCH: away from a cut symbol --------------------------------------------------------
     def search_back_off(self, t: Task, now: int, inp: TaskInputs, dets: dict) -> bool:
@@ -315,8 +318,9 @@ class Method001(Method000):
     @staticmethod
     def unseen_near(t: Task, inp: TaskInputs) -> bool:
         """The search's look-around here is over (``turns_per_wander`` cycles), nothing is being
-        confirmed or driven to, the object was never seen by the camera and its estimate is
-        within UNSEEN_NEAR_MM of the axle."""
+        confirmed or driven to, the object was never seen by the camera (or not since a blind
+        grasp on its estimate found no evidence, grasp.py) and its estimate is within
+        UNSEEN_NEAR_MM of the axle."""
         if t.object_sighted or t.obj is None or t.confirm_until is not None \
                 or t.far is not None or t.search is None \
                 or t.search.cycle < t.search.params.turns_per_wander:

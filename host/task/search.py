@@ -40,7 +40,7 @@ class SearchStates:
         t.lost_in = None
         t.search = ArmSearch(sp, th2s, th5s, now)
         t.turn_from = None
-        t.wander_from = t.wander_round = None
+        t.wander_from = t.wander_round = t.wander_look = None
         t.far = None
         t.gripper = 0
         if t.p.object_xy_mm and t.obj is None and t.counters["lost"] == 0:
@@ -231,6 +231,15 @@ class SearchStates:
                 t.wander_round = None
                 t.search.wander_resume(now)
             return
+        if t.wander_look is not None:  # facing a cut symbol, then a cycle at rest there
+            off = wrap_mrad(t.wander_look - inp.heading_mrad)
+            if abs(off) > t.p.bearing_tol_mrad:
+                t.wheels = turn_in_place(1 if off > 0 else -1, t.p.turn_wheel_mmps)
+                return
+            t.wheels = (0, 0)
+            t.wander_look = None
+            t.search.wander_look(now)
+            return
         if t.wander_from is None:
             t.wander_from = (inp.x_mm, inp.y_mm)
             t.note(wander_mm=cmd.drive_mm, search_cycle=cmd.cycle)
@@ -243,6 +252,11 @@ class SearchStates:
             t.wheels = (0, 0)
             if not blocked:
                 t.search.wander_done(now)
+                return
+            look = t.rules.search_cut_look(t, now)
+            if look is not None:  # the object may be what stopped it: face it and look
+                t.wander_look = look
+                t.note(wander_look_mrad=wrap_mrad(look - inp.heading_mrad))
                 return
             station = t.search.station_xy
             head = None if station is None else free_heading_nearest(inp, station,

@@ -614,3 +614,59 @@ def test_a_sighting_near_at_hand_is_dropped_as_before_and_001_002_never_drive_to
 def test_far_sightings_are_driven_to_at_most_sighting_approaches_times():
     task = Task("000", {"sighting_approaches": 0})
     assert not _notes(far_sighting_run(task, 1300, until_us=6_000_000), "far_sighting")
+
+
+def test_a_leg_stopped_after_a_cut_symbol_faces_it_and_looks_around_there():
+    """000: a wander leg stopped by a front sonar within CUT_LOOK_000_US of a frame showing
+    the symbol cut by the frame's bottom (the object itself may have stopped it, too near for
+    the sweep's far level): the base turns on the spot to face where the cut was seen, then a
+    cycle at rest looks there before the next station; without such a cut lately (one at the
+    top of the frame is far, a tall one an obstacle's face), the next station at once."""
+    from mobigrasp.host.fixedpoint import atan2_mrad
+    from mobigrasp.host.task.method000 import CUT_LOOK_000_US
+    from mobigrasp.host.vision.radial_symbol import RadialCut
+
+    clear = (65535,) * 5
+    ahead = (65535, 65535, 300, 65535, 65535)
+    for cut_age_us, cut_y, cut_h, looks in (
+            (500_000, 200, 40, True), (CUT_LOOK_000_US + 100_000, 200, 40, False),
+            (500_000, 0, 40, False), (500_000, 140, 100, False)):
+        task = Task("000", {"search": {"theta2_min_mrad": -2200, "d_theta5_mrad": 800,
+                                       "turns_per_wander": 1, "coarse_theta2_mrad": (-2200,)}})
+        t, pose = 0, [0, 0, 0]
+        while task.search is None or not task.search.wandering:
+            _move(task, t, pose, clear)
+            t += 20_000
+        for _ in range(10):
+            t += 20_000
+            _move(task, t, pose, clear)
+        # at the left border (and the bottom but for cut_y 0)
+        cut = RadialCut(x=0, y=cut_y, w=130, h=cut_h, side=-1)
+        out = task.step(t, TaskInputs(x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2],
+                                      sonar_mm=clear, detections={"radial_cut": cut}))
+        # its bearing: the waist of the frame's pose (right positive) and the half field of
+        # view to the left
+        want = -(task.arm_at(t - task.p.frame_latency_us)[5]
+                 - atan2_mrad(task.cam.u0_px, task.cam.f_px))
+        t += cut_age_us
+        station = task.search.station_xy
+        out = _move(task, t, pose, ahead)
+        assert out.wheels_mmps == (0, 0) and out.detail["wander_blocked"] is True
+        if not looks:
+            assert "wander_look_mrad" not in out.detail and task.wander_look is None
+            continue
+        assert out.detail["wander_look_mrad"] == want and abs(want) > task.p.bearing_tol_mrad
+        assert task.search.wandering  # the leg is not yet ended
+        while task.wander_look is not None:  # the turn on the spot toward it
+            t += 20_000
+            out = _move(task, t, pose, clear)
+            assert out.wheels_mmps[0] * (1 if want < 0 else -1) >= 0 >= out.wheels_mmps[1] \
+                * (1 if want < 0 else -1)
+        assert abs(pose[2] - want) <= task.p.bearing_tol_mrad
+        assert not task.search.turning and not task.search.wandering  # a cycle at rest
+        rest_from = t
+        while _move(task, t + 20_000, pose, clear).wheels_mmps == (0, 0):
+            t += 20_000
+        # its poses looked at, then the next station
+        assert task.search.turning and t - rest_from >= 3 * task.search.params.frame_period_us
+        assert task.search.station_xy != station

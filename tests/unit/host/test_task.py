@@ -204,6 +204,56 @@ def test_grasp_closed_then_lift_without_evidence_grasps_again_and_drop_fails():
             assert out.gripper_permille == 0 and out.servo_mrad[0] == 0
 
 
+def _missed_without_evidence(task, close_by=None, t: int = 20_000) -> int:
+    """From the close (decided by ``close_by``) to the grasp check's miss with nothing seen
+    after the lift; the time."""
+    task.go(0, "PRECISE_GRASP", "test")
+    task.grasp_alpha = -1571
+    task.arm = [0, 0, -1324, -1216, 969, 0]
+    task.phase, task.gripper, task.close_by = "close", 1000, close_by
+    task.entry_pending = False
+    task.phase_us = 0
+    while task.state in ("PRECISE_GRASP", "LIFT"):
+        step(task, t, grasp_closed=True)
+        t += 20_000
+    assert task.state == "ADJUST" and "no evidence" in task._events[-1].why
+    return t
+
+
+@pytest.mark.parametrize("method", ["000", "002"])
+@pytest.mark.parametrize("seen_since", [False, True])
+def test_a_grasp_again_after_no_evidence_goes_only_on_a_new_sighting(method, seen_since):
+    """A grasp whose check found no evidence, the object seen before it: the next grasp at the
+    same estimate, the camera not having seen the object since, would be the same blind grasp:
+    the task searches (LOST) instead; seen since (a new estimate), it grasps again."""
+    task = Task(method)
+    task.obj = (300, 0)
+    task.graspable_seen = task.object_sighted = True
+    t = _missed_without_evidence(task, "no_spoke" if method == "000" else None)
+    assert task.regrasps == 1 and not task.object_sighted  # the sighting before counts no more
+    task.object_sighted = seen_since  # as a sighting in ADJUST would set it
+    task.go(t, "ROUGH_GRASP", "test")
+    out = step(task, t + 20_000)
+    if seen_since:  # the grasp goes on (here 000's rough pose out of reach: ADJUST first)
+        assert out.state == ("ADJUST" if method == "000" else "ROUGH_GRASP"), out.events
+    else:
+        assert out.state == "LOST" and task.lost_in == "ROUGH_GRASP"
+        assert out.events[-1].why.startswith("grasp missed at the estimate, object not seen since")
+
+
+@pytest.mark.parametrize("close_by, blind", [(None, True), ("no_spoke", True),
+                                             ("precise", False), ("max_steps", False),
+                                             ("ik", False)])
+def test_only_a_blind_grasp_without_evidence_drops_the_sighting(close_by, blind):
+    """A close decided on the camera's view of the object where the fingers went (the spoke,
+    001's look) keeps the sighting after a miss with no evidence; a blind one drops it."""
+    task = Task("000")
+    task.obj = (300, 0)
+    task.graspable_seen = task.object_sighted = True
+    _missed_without_evidence(task, close_by)
+    assert task.object_sighted != blind
+
+
 def test_gripper_that_closes_on_nothing_fails():
     task = Task("000")
     task.go(0, "PRECISE_GRASP", "test")

@@ -120,7 +120,8 @@ def test_one_cycle(p, th2, th5, upward, coarse):
 @SETTINGS
 @given(search_params(), st.integers(-3500, 0), st.integers(-1500, 1500),
        st.lists(st.tuples(st.sampled_from(["step", "step", "step", "turned", "wandered",
-                                           "blocked", "stuck", "resumed", "restart"]),
+                                           "blocked", "stuck", "resumed", "looked",
+                                           "restart"]),
                           st.integers(0, 3_000_000),
                           st.none() | st.tuples(st.integers(-6000, 6000),
                                                 st.integers(-6000, 6000),
@@ -129,8 +130,8 @@ def test_one_cycle(p, th2, th5, upward, coarse):
 def test_search_over_time(p, th2, th5, calls):
     """Steps at increasing times with the base's pose (the rings' legs), the caller's base
     turns and wanders, legs stopped by an obstacle (with a way round it or none) and driven
-    round, pauses: the same commands (poses, turns, drives, cycles) every call, the same
-    stations and legs passing beside an obstacle."""
+    round or ended in a look, pauses: the same commands (poses, turns, drives, cycles) every
+    call, the same stations and legs passing beside an obstacle."""
     py = search.ArmSearch(p, th2, th5, 0)
     c = FFI.new("mg_arm_search_t *")
     C.mg_search_init(c, _c_params(p), th2, th5, 0)
@@ -155,6 +156,9 @@ def test_search_over_time(p, th2, th5, calls):
         elif kind == "resumed":
             py.wander_resume(t)
             C.mg_search_wander_resume(c, t)
+        elif kind == "looked":
+            py.wander_look(t)
+            C.mg_search_wander_look(c, t)
         else:
             py.restart_dwell(t)
             C.mg_search_restart_dwell(c, t)

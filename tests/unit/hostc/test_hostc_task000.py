@@ -990,35 +990,79 @@ def test_the_drive_to_a_far_sighting(depth_mm, again_mm, blocked_from_us):
         assert phases == {None, "turn", "drive", "look"} and py.state == "SEARCH"
 
 
+def _search_tasks000(search: dict) -> tuple:
+    """000's Python task with ``search`` overrides and the C task as the C program holds it
+    with the same parameters: (the C's holders, kept alive, the Python task, the C task)."""
+    py = Task("000", {"search": search})
+    paper, with_py = FFI.new("mg_paper_task_t *"), _c_task(py)
+    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"),
+                                FFI.addressof(with_py, "p"), 0) == 0
+    return (paper, with_py), py, FFI.addressof(paper, "task")
+
+
+def _follow(pose: list, wheels: tuple) -> None:
+    """The base's pose follows the wheels for 20 ms: a turn in place 40 mrad, a drive its
+    speed straight ahead."""
+    left, right = wheels
+    if left == right:
+        pose[0] += round(left * 0.02 * math.cos(pose[2] / 1000))
+        pose[1] += round(left * 0.02 * math.sin(pose[2] / 1000))
+    else:
+        pose[2] += 40 if right > left else -40
+
+
 def test_legs_past_an_obstacle_step_by_step():
     """000's SEARCH over its rings' legs with echoes beside the way, in it and none (the
     wander's stop, the drive round an obstacle and the leg past it, host/task/search.py
     wander_step): the same wheels, arm targets and detail every step as the Python's."""
     quick = {"theta2_min_mrad": -2200, "d_theta5_mrad": 800, "turns_per_wander": 1,
              "coarse_theta2_mrad": (-2200,), "outward_from_mm": 1000}
-    py = Task("000", {"search": quick})
-    paper, with_py = FFI.new("mg_paper_task_t *"), _c_task(py)
-    assert C.mg_paper_task_init(paper, C.mg_task_method_find(b"000"),
-                                FFI.addressof(with_py, "p"), 0) == 0
-    c = FFI.addressof(paper, "task")
+    _keep, py, c = _search_tasks000(quick)
     out = FFI.new("mg_task_outputs_t *")
     far = 65535
     beside, ahead, diag = (far, far, far, 300, far), (far, far, 350, far, far), (
         far, 250, far, far, far)
     sonars = [(far,) * 5, ahead, beside, ahead, diag, beside, (600, far, far, far, 450)]
-    x = y = h = 0
+    pose = [0, 0, 0]
     passed = rounds = 0
     for k in range(1100):
         sonar = sonars[k // 400 % len(sonars)]
         passing = py.search is not None and py.search.passing
-        res = _step_both(py, c, 20_000 * (k + 1), TaskInputs(x_mm=x, y_mm=y, heading_mrad=h,
-                                                               sonar_mm=sonar), out, _frame000)
-        left, right = res.wheels_mmps
-        if left == right:
-            x += round(left * 0.02 * math.cos(h / 1000))
-            y += round(left * 0.02 * math.sin(h / 1000))
-        else:
-            h += 40 if right > left else -40
-        passed += passing and sonar == beside and left > 0
+        res = _step_both(py, c, 20_000 * (k + 1), TaskInputs(
+            x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2], sonar_mm=sonar), out, _frame000)
+        _follow(pose, res.wheels_mmps)
+        passed += passing and sonar == beside and res.wheels_mmps[0] > 0
         rounds += "wander_round_mrad" in res.detail
     assert passed and rounds and res.state == "SEARCH"
+
+
+def test_a_leg_stopped_after_a_cut_symbol_looks_step_by_step():
+    """000's SEARCH on a leg that sees the symbol cut by the frame's bottom and is then
+    stopped by a front sonar (host/task/search.py wander_step, Method000.search_cut_look):
+    the turn to face it, the cycle at rest, the next station; a cut at the top of the frame,
+    or a tall one, does not look. The same wheels, arm targets and detail every step as the
+    Python's."""
+    quick = {"theta2_min_mrad": -2200, "d_theta5_mrad": 800, "turns_per_wander": 1,
+             "coarse_theta2_mrad": (-2200,)}
+    far = 65535
+    for cut_y, cut_h, looks in ((200, 40, True), (0, 40, False), (140, 100, False)):
+        _keep, py, c = _search_tasks000(quick)
+        out = FFI.new("mg_task_outputs_t *")
+        pose = [0, 0, 0]
+        looked, wandered = 0, 0
+        for k in range(900):
+            dets = {}
+            sonar = (far,) * 5
+            if py.search is not None and py.search.wandering and not wandered:
+                wandered = k
+            if wandered and k == wandered + 10:
+                dets = {"radial_symbol": None,
+                        "radial_cut": CUT(x=40, y=cut_y, w=130, h=cut_h, side=0)}
+            if wandered and wandered + 30 <= k < wandered + 32:
+                sonar = (far, far, 300, far, far)
+            res = _step_both(py, c, 20_000 * (k + 1), TaskInputs(
+                x_mm=pose[0], y_mm=pose[1], heading_mrad=pose[2], sonar_mm=sonar,
+                detections=dets), out, _frame000)
+            _follow(pose, res.wheels_mmps)
+            looked += "wander_look_mrad" in res.detail
+        assert wandered and looked == looks and res.state == "SEARCH"

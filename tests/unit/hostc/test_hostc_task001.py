@@ -509,22 +509,26 @@ def test_steps_of_001_from_the_grasp_circle(obj, joints, sighted, offset, track,
     assert c.hist_overflow == 0
 
 
-@pytest.mark.parametrize(("pair", "grasp_height_mm", "arrived", "sighted", "why"), [
-    (None, 80, True, True, "(not seen by the look)"),
-    (None, 80, False, False, "never seen by the camera: searching before any grasp"),
-    ((150, 40, 170, 40, 300), 80, True, True, "(grasp point out of reach: out of reach"),
-    ((150, 200, 170, 200, 150), 40, True, True, "(no reachable pose above the grasp point)"),
-    ((150, 200, 170, 200, 150), 80, True, True, "gripper closed on the object")])
-def test_the_look_s_outcomes(pair, grasp_height_mm, arrived, sighted, why):
+@pytest.mark.parametrize(("pair", "grasp_height_mm", "arrived", "sighted", "why", "regrasps"), [
+    (None, 80, True, True, "(not seen by the look)", 0),
+    (None, 80, False, False, "never seen by the camera: searching before any grasp", 0),
+    (None, 80, False, False, "grasp missed at the estimate, object not seen since", 1),
+    (None, 80, False, True, "arm at the rough grasp pose", 1),
+    ((150, 40, 170, 40, 300), 80, True, True, "(grasp point out of reach: out of reach", 0),
+    ((150, 200, 170, 200, 150), 40, True, True, "(no reachable pose above the grasp point)", 0),
+    ((150, 200, 170, 200, 150), 80, True, True, "gripper closed on the object", 0)])
+def test_the_look_s_outcomes(pair, grasp_height_mm, arrived, sighted, why, regrasps):
     """The look from the grasp circle with the same dual "+" in every frame (or none), the
     estimate it is to confirm kept at the object's: not seen (ADJUST; never seen before and
-    not arrived on the circle: LOST), seen out of reach, no pose above the grasp point (the
+    not arrived on the circle: LOST; after a grasp that found no evidence, LOST when not seen
+    since, else the grasp on the estimate), seen out of reach, no pose above the grasp point (the
     grasp height more than CIRCLE_PRE_MM under the top), confirmed (the grasp by eq. (11), the
     gripper closed): the same steps on both tasks, the outcome's reason among the events."""
     py = Task("001", params={"grasp_height_mm": grasp_height_mm})
     c = _c_task(py, method="001")
     enter_state(py, c, "ROUGH_GRASP", (300, 0), True, (0, -1571, 1571, 0), None, ())
     py.object_sighted = c.object_sighted = sighted
+    py.regrasps = c.regrasps = regrasps
     ms = _ms001(c)
     out = FFI.new("mg_task_outputs_t *")
     dets = {} if pair is None else {"dual_plus": _plus(*[16 * v for v in pair[:4]], pair[4])}

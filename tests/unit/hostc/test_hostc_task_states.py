@@ -450,6 +450,42 @@ def test_a_grasp_held_and_one_missed(seen_standing, end):
     assert _grasp_both((0, 0), [(60_000, dets)] * 100) == end
 
 
+@pytest.mark.parametrize("seen_since, close_by", [(False, None), (True, None),
+                                                  (False, "precise"), (False, "ik")])
+def test_a_grasp_again_after_no_evidence(seen_since, close_by):
+    """A blind grasp (002's move-in) whose check sees nothing (no evidence): open and ADJUST,
+    the sighting before dropped on both tasks; the next ROUGH_GRASP with no sighting since
+    searches (LOST), with one grasps again. A close decided on the camera's view (as if the
+    spoke or 001's look had decided it) keeps the sighting. The same steps on both tasks."""
+    py = Task("002")
+    c = _c_task(py)
+    centre, _ = py.rules.grasp_reach_mm(py)
+    py.obj = (py.p.mount_forward_mm + centre, 0)
+    c.has_obj, c.obj_mm = 1, list(py.obj)
+    py.graspable_seen = c.graspable_seen = py.object_sighted = c.object_sighted = True
+    py.go(0, "ROUGH_GRASP", "test")
+    C.mg_task_go(c, 0, C.MG_ROUGH_GRASP, b"test")
+    out = FFI.new("mg_task_outputs_t *")
+    now = 0
+    while py.state != "ADJUST":
+        now += 60_000
+        _step_both(py, c, now, TaskInputs(grasp_closed=True), out)
+        if py.state == "LIFT" and close_by:
+            py.close_by = close_by
+            c.has_close_by, c.close_by = 1, close_by.encode()
+        assert now < 60_000_000, py.state
+    kept = close_by is not None
+    assert (py.regrasps, c.regrasps, py.object_sighted, c.object_sighted) == (1, 1, kept, kept)
+    py.object_sighted = c.object_sighted = seen_since or kept
+    py.go(now, "ROUGH_GRASP", "test")
+    C.mg_task_go(c, now, C.MG_ROUGH_GRASP, b"test")
+    res = _step_both(py, c, now + 60_000, TaskInputs(), out)
+    lost = [e for e in res.events if e.to_state == "LOST"]
+    assert bool(lost) != (seen_since or kept), res.events
+    assert all(e.why.startswith("grasp missed at the estimate, object not seen since")
+               for e in lost)
+
+
 @pytest.mark.parametrize("red_seen, end, why", [
     (True, "LOST", "object never sighted at its estimated place, its cue seen before"),
     (False, "FAILED", "no graspable object found (red_cylinder never seen)")])

@@ -101,58 +101,168 @@ int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_m
     return 0;
 }
 
+/* the echo at rng of the sonar at phi is the object's own: its centre estimate in that cone,
+ * the echo no more than MG_CLOSE_OBJECT_MM nearer than it (sonar_guard.py close_object_echo) */
+static int close_object_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t phi,
+                             int32_t rng)
+{
+    if (!t->has_obj)
+        return 0;
+    const int64_t off = t->p.sonar_offset_mm;
+    const int32_t h = in->heading_mrad + phi;
+    const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm - ((off * mg_cos_q12(h)) >> 12);
+    const int64_t dy = (int64_t)t->obj_mm[1] - in->y_mm - ((off * mg_sin_q12(h)) >> 12);
+    const int32_t off_axis = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - h);
+    return (off_axis < 0 ? -off_axis : off_axis) <= t->p.sonar_a_g_mrad / 2
+           && rng >= mg_isqrt(dx * dx + dy * dy) - MG_CLOSE_OBJECT_MM;
+}
+
+static int64_t dist2_mm2(const int32_t p[2], int64_t x, int64_t y)
+{
+    return (p[0] - x) * (p[0] - x) + (p[1] - y) * (p[1] - y);
+}
+
+static void drop_side_echo(mg_task_t *t, int32_t i)
+{
+    for (int32_t j = i + 1; j < t->n_side_echoes; j++) {
+        t->side_echoes_mm[j - 1][0] = t->side_echoes_mm[j][0];
+        t->side_echoes_mm[j - 1][1] = t->side_echoes_mm[j][1];
+    }
+    t->n_side_echoes--;
+}
+
+void mg_remember_echoes(mg_task_t *t, const mg_task_inputs_t *in)
+{
+    const int32_t n = n_sonar(in), off = t->p.sonar_offset_mm, half = t->p.sonar_a_g_mrad / 2;
+    const int fresh_all = t->n_sonar_last != n;
+    int32_t last[MG_TASK_SONARS];
+    for (int32_t k = 0; k < n; k++) {
+        last[k] = fresh_all ? -1 : t->sonar_last[k];
+        t->sonar_last[k] = in->sonar_mm[k];
+    }
+    t->n_sonar_last = n;
+    if (n < 2)
+        return;
+    const int64_t far = (int64_t)off + MG_CLOSE_MEMORY_MM;
+    for (int32_t i = 0; i < t->n_side_echoes;) {
+        if (dist2_mm2(t->side_echoes_mm[i], in->x_mm, in->y_mm) > far * far)
+            drop_side_echo(t, i);
+        else
+            i++;
+    }
+    for (int32_t k = 0; k < n; k++) {
+        const int32_t phi = mg_sonar_angle_mrad(k, n), rng = in->sonar_mm[k];
+        if (rng == last[k] || rng <= 0)
+            continue;
+        const int32_t h = in->heading_mrad + phi;
+        const int64_t sx = in->x_mm + (((int64_t)off * mg_cos_q12(h)) >> 12);
+        const int64_t sy = in->y_mm + (((int64_t)off * mg_sin_q12(h)) >> 12);
+        const int64_t free = (int64_t)rng - MG_SIDE_CLEAR_MM;
+        for (int32_t i = 0; i < t->n_side_echoes;) {
+            const int32_t *e = t->side_echoes_mm[i];
+            const int32_t off_axis = mg_task_wrap_mrad(
+                (int64_t)mg_atan2_mrad(e[1] - sy, e[0] - sx) - h);
+            if ((off_axis < 0 ? -off_axis : off_axis) < half
+                && dist2_mm2(e, sx, sy) < free * free)
+                drop_side_echo(t, i);
+            else
+                i++;
+        }
+        if ((phi < 0 ? -phi : phi) >= 1571 || rng >= MG_CLOSE_MEMORY_MM
+            || close_object_echo(t, in, phi, rng))
+            continue;
+        for (int32_t side = -1; side <= 1; side += 2) {
+            const int32_t edge = h + side * half;
+            if (t->n_side_echoes >= MG_SIDE_ECHOES) { /* the farthest from the base makes room */
+                int32_t worst = 0;
+                for (int32_t i = 1; i < t->n_side_echoes; i++)
+                    if (dist2_mm2(t->side_echoes_mm[i], in->x_mm, in->y_mm)
+                        > dist2_mm2(t->side_echoes_mm[worst], in->x_mm, in->y_mm))
+                        worst = i;
+                drop_side_echo(t, worst);
+            }
+            int32_t *e = t->side_echoes_mm[t->n_side_echoes++];
+            e[0] = (int32_t)(sx + (((int64_t)rng * mg_cos_q12(edge)) >> 12));
+            e[1] = (int32_t)(sy + (((int64_t)rng * mg_sin_q12(edge)) >> 12));
+        }
+    }
+}
+
+/* the kept edge the footprint (a circle of the ring's radius) reaches first driving straight
+ * on, within MG_CLOSE_SIDE_MM: 1 and its bearing from the base and the drive left, or 0 */
+static int side_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
+                     int32_t *range_mm)
+{
+    const int64_t r = t->p.sonar_offset_mm;
+    const int64_t c = mg_cos_q12(in->heading_mrad), s = mg_sin_q12(in->heading_mrad);
+    int found = 0;
+    for (int32_t i = 0; i < t->n_side_echoes; i++) {
+        const int64_t dx = (int64_t)t->side_echoes_mm[i][0] - in->x_mm;
+        const int64_t dy = (int64_t)t->side_echoes_mm[i][1] - in->y_mm;
+        const int64_t ahead = (dx * c + dy * s) >> 12, aside = (dy * c - dx * s) >> 12;
+        if (ahead <= 0 || (aside < 0 ? -aside : aside) >= r)
+            continue;
+        const int64_t left = ahead - mg_isqrt(r * r - aside * aside);
+        if (left < MG_CLOSE_SIDE_MM && (!found || left < *range_mm)) {
+            found = 1;
+            *range_mm = (int32_t)left;
+            *phi_mrad = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - in->heading_mrad);
+        }
+    }
+    return found;
+}
+
 int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm)
 {
-    const int32_t n = n_sonar(in), half_cone = t->p.sonar_a_g_mrad / 2;
-    const int64_t off = t->p.sonar_offset_mm;
+    const int32_t n = n_sonar(in);
     for (int32_t k = 0; n >= 2 && k < n; k++) {
         const int32_t phi = mg_sonar_angle_mrad(k, n), rng = in->sonar_mm[k];
         if ((phi < 0 ? -phi : phi) >= 1571 || !(rng > 0 && rng < MG_CLOSE_GUARD_MM))
             continue;
-        if (t->has_obj) {
-            const int32_t h = in->heading_mrad + phi;
-            const int64_t dx = (int64_t)t->obj_mm[0] - in->x_mm - ((off * mg_cos_q12(h)) >> 12);
-            const int64_t dy = (int64_t)t->obj_mm[1] - in->y_mm - ((off * mg_sin_q12(h)) >> 12);
-            const int32_t off_axis = mg_task_wrap_mrad((int64_t)mg_atan2_mrad(dy, dx) - h);
-            if ((off_axis < 0 ? -off_axis : off_axis) <= half_cone
-                && rng >= mg_isqrt(dx * dx + dy * dy) - MG_CLOSE_OBJECT_MM)
-                continue;
-        }
+        if (close_object_echo(t, in, phi, rng))
+            continue;
         *phi_mrad = phi;
         *range_mm = rng;
         return 1;
     }
-    return 0;
+    return side_echo(t, in, phi_mrad, range_mm) ? 2 : 0;
 }
 
-void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm)
+void mg_note_close_echo(mg_task_t *t, int side, int32_t phi_mrad, int32_t range_mm)
 {
-    static const char *const names[3] = {"close_mm", "phi_mrad", "range_mm"};
-    const int64_t values[3] = {MG_CLOSE_GUARD_MM, phi_mrad, range_mm};
-    mg_task_note_ints(t, "close_guard", 3, names, values);
+    static const char *const names[4] = {"close_mm", "phi_mrad", "range_mm", "side"};
+    const int64_t values[4] = {side ? MG_CLOSE_SIDE_MM : MG_CLOSE_GUARD_MM, phi_mrad, range_mm,
+                               1};
+    mg_task_note_ints(t, "close_guard", side ? 4 : 3, names, values);
 }
 
-/* ADJUST, driving forward: a close echo stops the base; the grasp goes on from there when the
- * object is within MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else it is searched for
- * again (LOST) */
+/* after every step: the kept echo edges brought up to date; then in ADJUST, driving forward: a
+ * close echo stops the base; the grasp goes on from there when the object is within
+ * MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else it is searched for again (LOST) */
 void mg_close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in)
 {
     int32_t phi, rng;
-    if (t->state != MG_ADJUST || (int64_t)t->wheels[0] + t->wheels[1] <= 0
-        || !mg_close_echo(t, in, &phi, &rng))
+    mg_remember_echoes(t, in);
+    if (t->state != MG_ADJUST || (int64_t)t->wheels[0] + t->wheels[1] <= 0)
         return;
+    const int echo = mg_close_echo(t, in, &phi, &rng);
+    if (!echo)
+        return;
+    const int side = echo == 2;
     t->wheels[0] = t->wheels[1] = 0;
     int32_t xy[2];
     mg_task_obj_platform(t, in, xy);
     const int32_t dist = (int32_t)(mg_isqrt((int64_t)xy[0] * xy[0] + (int64_t)xy[1] * xy[1])
                                    >> 4);
-    static const char *const names[4] = {"close_mm", "object_mm", "phi_mrad", "range_mm"};
-    const int64_t values[4] = {MG_CLOSE_GUARD_MM, dist, phi, rng};
-    mg_task_note_ints(t, "close_guard", 4, names, values);
+    static const char *const names[5] = {"close_mm", "object_mm", "phi_mrad", "range_mm",
+                                         "side"};
+    const int64_t values[5] = {side ? MG_CLOSE_SIDE_MM : MG_CLOSE_GUARD_MM, dist, phi, rng, 1};
+    mg_task_note_ints(t, "close_guard", side ? 5 : 4, names, values);
     const int grasp = dist <= t->p.grasp_r_mm + MG_CLOSE_REACH_MM;
     char why[MG_TASK_WHY];
-    size_t n = mg_task_text(why, sizeof why, 0, "close guard: echo ");
+    size_t n = mg_task_text(why, sizeof why, 0,
+                            side ? "close guard: a kept echo edge " : "close guard: echo ");
     n = mg_task_text_int(why, sizeof why, n, rng);
     n = mg_task_text(why, sizeof why, n, " mm ahead at ");
     n = mg_task_text_int(why, sizeof why, n, phi);

@@ -21,6 +21,11 @@
 #define MG_CLOSE_GUARD_MM 30  /* a front echo this near the ring stops the close approach */
 #define MG_CLOSE_OBJECT_MM 80 /* ... unless in the object's cone at most this much nearer */
 #define MG_CLOSE_REACH_MM 60  /* stopped this near beyond grasp_r_mm: grasp, else search */
+/* a thin thing beside the way leaves the front cone before the ring comes that near: the
+ * edges of close echoes' arcs are kept on odometry (MG_SIDE_ECHOES at most) */
+#define MG_CLOSE_MEMORY_MM 250 /* a front echo nearer than this (not the object's): kept */
+#define MG_CLOSE_SIDE_MM 12    /* ... one the footprint reaches within this driving on stops */
+#define MG_SIDE_CLEAR_MM 10    /* a kept edge this much nearer than a new reading is seen through */
 
 /* phi_k of 001 section III.C.2 (k = 1..n evenly from -pi/2 to pi/2) of sonar k of n (n >= 2) */
 int32_t mg_sonar_angle_mrad(int32_t k, int32_t n);
@@ -38,13 +43,19 @@ int mg_blocked_ahead(const int32_t *sonar_mm, int32_t n);
 int mg_front_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm);
 /* the first front sonar within MG_CLOSE_GUARD_MM that is not the object's own echo (its near
- * surface, a radius or so short of its centre): 1 and its angle and range, or 0 */
+ * surface, a radius or so short of its centre): 1 and its angle and range; else a kept echo
+ * edge the footprint reaches within MG_CLOSE_SIDE_MM driving straight on: 2 and its bearing
+ * and the drive left; else 0 */
 int mg_close_echo(const mg_task_t *t, const mg_task_inputs_t *in, int32_t *phi_mrad,
                   int32_t *range_mm);
-/* the close echo's trace detail (close_mm, phi_mrad, range_mm) */
-void mg_note_close_echo(mg_task_t *t, int32_t phi_mrad, int32_t range_mm);
-/* ADJUST, driving forward: a close echo stops the base; the grasp goes on from there when the
- * object is within MG_CLOSE_REACH_MM beyond grasp_r_mm of the waist, else LOST */
+/* the close echo's trace detail (close_mm, phi_mrad, range_mm and, side, side = 1) */
+void mg_note_close_echo(mg_task_t *t, int side, int32_t phi_mrad, int32_t range_mm);
+/* the kept echo edges brought up to date with this step's new readings: those seen through
+ * dropped, a close front echo's arc's edges added, far ones forgotten (sonar_guard.py) */
+void mg_remember_echoes(mg_task_t *t, const mg_task_inputs_t *in);
+/* after every step: mg_remember_echoes; then in ADJUST, driving forward, a close echo stops the
+ * base; the grasp goes on from there when the object is within MG_CLOSE_REACH_MM beyond
+ * grasp_r_mm of the waist, else LOST */
 void mg_close_guard(mg_task_t *t, int64_t now_us, const mg_task_inputs_t *in);
 /* in SEARCH or APPROACH with the base driving forward, a front echo below R_r: the base
  * stopped, the followed path and any plan being made dropped; 1 and the echo, or 0 */

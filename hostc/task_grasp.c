@@ -314,9 +314,10 @@ void mg_task_do_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_inputs_t
         const int done = mg_close_in(xy, t->reach_mm[0], t->reach_mm[1], t->p.bearing_tol_mrad,
                                      t->rules->adjust_vmax_mmps(&t->p), wheels, &d);
         int32_t phi, rng; /* something in front of the object: grasp from here */
-        const int echo = (int64_t)wheels[0] + wheels[1] > 0 && mg_close_echo(t, in, &phi, &rng);
+        const int echo = (int64_t)wheels[0] + wheels[1] > 0 ? mg_close_echo(t, in, &phi, &rng)
+                                                           : 0;
         if (echo)
-            mg_note_close_echo(t, phi, rng);
+            mg_note_close_echo(t, echo == 2, phi, rng);
         if (done || echo)
             rough_pose(t, now_us, in);
         else

@@ -92,6 +92,7 @@ typedef struct {
  * points), its 0 included */
 #define MG_TASK_LONG_NOTE_BYTES 16384
 #define MG_TASK_SONARS 16      /* sonars of the ring read */
+#define MG_SIDE_ECHOES 16      /* the close guard's kept echo edges at most (sonar_guard.c) */
 
 /* one member of the step's trace detail (Task.note): its key and its value in JSON, the
  * objects in it with their keys sorted */
@@ -173,6 +174,10 @@ struct mg_task {
     int64_t far_since_us;
     int32_t lost;                          /* counters["lost"] */
     mg_detour_t guard_out; /* the drive out of R_r after a guard stop (sonar_guard.c) */
+    /* the close guard's kept echo edges (odometry mm) and the ring's readings of the step
+     * before (sonar_guard.c mg_remember_echoes) */
+    int32_t n_side_echoes, side_echoes_mm[MG_SIDE_ECHOES][2];
+    int32_t n_sonar_last, sonar_last[MG_TASK_SONARS];
     /* the grasp states (task_grasp.c) */
     int32_t phase;
     int64_t phase_us;

@@ -183,6 +183,8 @@ class Task:
         self.far = None  # SEARCH: the drive to a far sighting under way (search.py far_step)
         self.far_count = 0  # ... drives to far sightings made in the run
         self.guard_out = None  # 000, 002: the drive out of R_r after a guard stop (sonar_guard.py)
+        self.side_echoes: list = []  # the close guard's remembered echo edges (sonar_guard.py)
+        self.sonar_last: tuple = ()  # ... the ring's readings of the step before
         self.sight_frames = 0  # ROUGH_GRASP: dual "+" sightings of its look (grasp.py)
         self.sight_look = 0  # ... the index of its look (waist offset, wrist roll)
         self.sight_th5 = 0  # ... the waist of its view, the looks' offsets are added to

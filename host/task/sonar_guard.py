@@ -13,7 +13,11 @@ The close approach (ADJUST, and ROUGH_GRASP's drive into the grasp's reach) pass
 of things beside the object on purpose (002's board post stands 0.17 m behind the cylinder's
 axis), so it is guarded nearer: a front echo within ``CLOSE_GUARD_MM`` of the ring that is not
 the object's (nearer than the estimate by more than ``CLOSE_OBJECT_MM``) stops the base there
-(:func:`close_echo`, :func:`close_guard`). Integer mm / mrad; no I/O.
+(:func:`close_echo`, :func:`close_guard`). A thin thing beside the way (a post 20-60 mm aside of
+the front sonar's axis) leaves the cone before the ring comes that near and no sonar sees it
+after: the edges of each close echo's arc are remembered on odometry until a later reading sees
+through them, and one the footprint would reach within ``CLOSE_SIDE_MM`` of driving on stops
+the base too (:func:`remember_echoes`, :func:`side_echo`). Integer mm / mrad; no I/O.
 """
 
 from __future__ import annotations
@@ -32,6 +36,10 @@ GUARDED_STATES = ("SEARCH", "APPROACH")
 CLOSE_GUARD_MM = 30  # ADJUST / the grasp's reach drive: a front echo this near the ring stops
 CLOSE_OBJECT_MM = 80  # ... unless in the object's cone at most this much nearer than its centre
 CLOSE_REACH_MM = 60  # stopped this near beyond grasp_r_mm: grasp from there, else search again
+CLOSE_MEMORY_MM = 250  # a front echo nearer than this (not the object's): its arc's edges kept
+CLOSE_SIDE_MM = 12  # ... and one the footprint reaches within this much driving on stops
+SIDE_CLEAR_MM = 10  # a kept edge this much nearer than a new reading in its cone is seen through
+SIDE_ECHOES = 16  # edges kept at most (the farthest from the base goes first)
 
 
 def sonar_angles_mrad(n: int) -> list[int]:
@@ -109,34 +117,103 @@ def front_echo(t: Any, inp: Any) -> dict | None:
     return None
 
 
+def close_object_echo(t: Any, inp: Any, phi: int, rng: int) -> bool:
+    """The echo at ``rng`` of the sonar at ``phi`` is the object's own: the object (its centre
+    estimate in that sonar's cone) echoes from its near surface, a radius or so short of the
+    centre; something ``CLOSE_OBJECT_MM`` or more nearer than that is in front of it (002's
+    board post, 170 mm behind the cylinder's axis, when approached from behind the board)."""
+    if t.obj is None:
+        return False
+    off = t.p.sonar_offset_mm
+    h = inp.heading_mrad + phi
+    dx = t.obj[0] - inp.x_mm - (off * cos_q12(h) >> 12)
+    dy = t.obj[1] - inp.y_mm - (off * sin_q12(h) >> 12)
+    return (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= t.p.sonar_a_g_mrad // 2
+            and rng >= isqrt(dx * dx + dy * dy) - CLOSE_OBJECT_MM)
+
+
 def close_echo(t: Any, inp: Any) -> dict | None:
     """The first sonar of the ring's front half reading within ``CLOSE_GUARD_MM`` that is not
-    the object's own echo: the object (its centre estimate in that sonar's cone) echoes from
-    its near surface, a radius or so short of the centre; something ``CLOSE_OBJECT_MM`` or more
-    nearer than that is in front of it (002's board post, 170 mm behind the cylinder's axis,
-    when approached from behind the board). None when there is none."""
-    half_cone = t.p.sonar_a_g_mrad // 2
-    off = t.p.sonar_offset_mm
+    the object's own echo (:func:`close_object_echo`), else a kept echo edge the footprint is
+    about to reach (:func:`side_echo`). None when there is none."""
     for phi, rng in zip(sonar_angles_mrad(len(inp.sonar_mm)), inp.sonar_mm, strict=True):
         rng = int(rng)
         if abs(phi) >= 1571 or not 0 < rng < CLOSE_GUARD_MM:
             continue
-        if t.obj is not None:
-            h = inp.heading_mrad + phi
-            dx = t.obj[0] - inp.x_mm - (off * cos_q12(h) >> 12)
-            dy = t.obj[1] - inp.y_mm - (off * sin_q12(h) >> 12)
-            if (abs(wrap_mrad(atan2_mrad(dy, dx) - h)) <= half_cone
-                    and rng >= isqrt(dx * dx + dy * dy) - CLOSE_OBJECT_MM):
-                continue
+        if close_object_echo(t, inp, phi, rng):
+            continue
         return {"phi_mrad": phi, "range_mm": rng, "close_mm": CLOSE_GUARD_MM}
-    return None
+    return side_echo(t, inp)
+
+
+def remember_echoes(t: Any, inp: Any) -> None:
+    """Keep ``t.side_echoes`` (odometry points) up to date with this step's new readings (those
+    that differ from the step before's, ``t.sonar_last``). A reading sees through the kept
+    points strictly inside its cone ``SIDE_CLEAR_MM`` or more nearer than it (no echo, 0xFFFF:
+    all of them), which are dropped. A front-half echo within ``CLOSE_MEMORY_MM`` that is not the
+    object's (:func:`close_object_echo`) adds the two edges of its arc: the thing is somewhere
+    on the arc, and the +-A_g/2 ends are where it leaves the cone unseen (one of them, or one
+    of an earlier echo's as it slid across the cone, is the part of a post the footprint meets
+    first). Points farther than the ring plus ``CLOSE_MEMORY_MM`` from the base are
+    forgotten; with ``SIDE_ECHOES`` kept, the farthest makes room."""
+    n = len(inp.sonar_mm)
+    last = t.sonar_last if len(t.sonar_last) == n else (-1,) * n
+    t.sonar_last = tuple(int(v) for v in inp.sonar_mm)
+    if n < 2:
+        return
+    off, half_cone = t.p.sonar_offset_mm, t.p.sonar_a_g_mrad // 2
+    far = off + CLOSE_MEMORY_MM
+    kept = [(x, y) for x, y in t.side_echoes
+            if (x - inp.x_mm) ** 2 + (y - inp.y_mm) ** 2 <= far * far]
+    for phi, rng, before in zip(sonar_angles_mrad(n), t.sonar_last, last, strict=True):
+        if rng == before or rng <= 0:
+            continue
+        h = inp.heading_mrad + phi
+        sx = inp.x_mm + (off * cos_q12(h) >> 12)
+        sy = inp.y_mm + (off * sin_q12(h) >> 12)
+        free = rng - SIDE_CLEAR_MM
+        kept = [(x, y) for x, y in kept
+                if not (abs(wrap_mrad(atan2_mrad(y - sy, x - sx) - h)) < half_cone
+                        and (x - sx) ** 2 + (y - sy) ** 2 < free * free)]
+        if abs(phi) >= 1571 or rng >= CLOSE_MEMORY_MM or close_object_echo(t, inp, phi, rng):
+            continue
+        for edge in (h - half_cone, h + half_cone):
+            if len(kept) >= SIDE_ECHOES:  # the farthest from the base makes room
+                kept.remove(max(kept, key=lambda p: (p[0] - inp.x_mm) ** 2
+                                + (p[1] - inp.y_mm) ** 2))
+            kept.append((sx + (rng * cos_q12(edge) >> 12), sy + (rng * sin_q12(edge) >> 12)))
+    t.side_echoes = kept
+
+
+def side_echo(t: Any, inp: Any) -> dict | None:
+    """The kept edge (:func:`remember_echoes`) the footprint (a circle of the ring's radius)
+    reaches first driving straight on, when that is within ``CLOSE_SIDE_MM``: its bearing from
+    the base and the drive left, as the trace's ``close_guard`` detail; None when there is
+    none."""
+    r = t.p.sonar_offset_mm
+    c, s = cos_q12(inp.heading_mrad), sin_q12(inp.heading_mrad)
+    best = None
+    for x, y in t.side_echoes:
+        dx, dy = x - inp.x_mm, y - inp.y_mm
+        ahead, aside = (dx * c + dy * s) >> 12, (dy * c - dx * s) >> 12
+        if ahead <= 0 or abs(aside) >= r:
+            continue
+        left = ahead - isqrt(r * r - aside * aside)
+        if left < CLOSE_SIDE_MM and (best is None or left < best[0]):
+            best = (left, wrap_mrad(atan2_mrad(dy, dx) - inp.heading_mrad))
+    if best is None:
+        return None
+    return {"phi_mrad": best[1], "range_mm": best[0], "close_mm": CLOSE_SIDE_MM, "side": 1}
 
 
 def close_guard(t: Any, now: int, inp: Any) -> None:
-    """ADJUST, driving forward: a close echo (:func:`close_echo`) stops the base; the grasp goes
-    on from there when the object is within ``CLOSE_REACH_MM`` beyond ``grasp_r_mm`` of the
-    waist (ROUGH_GRASP, whose drive into the reach stops at the same echo), else the object is
+    """After every step: the kept echo edges brought up to date (:func:`remember_echoes`);
+    then in ADJUST, driving forward: a close echo (:func:`close_echo`) or a kept edge the
+    footprint is about to reach (:func:`side_echo`) stops the base; the grasp goes on from
+    there when the object is within ``CLOSE_REACH_MM`` beyond ``grasp_r_mm`` of the waist
+    (ROUGH_GRASP, whose drive into the reach stops at the same echoes), else the object is
     searched for again from here (LOST)."""
+    remember_echoes(t, inp)
     if t.state != "ADJUST" or t.wheels[0] + t.wheels[1] <= 0:
         return
     echo = close_echo(t, inp)
@@ -146,7 +223,9 @@ def close_guard(t: Any, now: int, inp: Any) -> None:
     x, y = t.obj_platform(inp)
     dist = isqrt(x * x + y * y) // 16
     t.note(close_guard={**echo, "object_mm": dist})
-    why = f"echo {echo['range_mm']} mm ahead at {echo['phi_mrad']} mrad, object {dist} mm away"
+    seen = "a kept echo edge" if echo.get("side") else "echo"
+    why = (f"{seen} {echo['range_mm']} mm ahead at {echo['phi_mrad']} mrad, "
+           f"object {dist} mm away")
     if dist <= t.p.grasp_r_mm + CLOSE_REACH_MM:
         t.go(now, "ROUGH_GRASP", f"close guard: {why}: grasp from here")
     else:

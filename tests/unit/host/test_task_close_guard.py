@@ -1,11 +1,17 @@
 """The close guard (host/task/sonar_guard.py): ADJUST, driving forward, stops for a front echo
-within CLOSE_GUARD_MM of the ring that is not the object's, and grasps from there when the
-object is near enough, else searches again (docs/task.md, "No contact")."""
+within CLOSE_GUARD_MM of the ring that is not the object's, or for a kept edge of an earlier
+close echo's arc the footprint is about to reach, and grasps from there when the object is near
+enough, else searches again (docs/task.md, "No contact")."""
 
 import pytest
 
 from mobigrasp.host.task import Task, TaskInputs
-from mobigrasp.host.task.sonar_guard import CLOSE_GUARD_MM, CLOSE_REACH_MM, close_echo
+from mobigrasp.host.task.sonar_guard import (
+    CLOSE_GUARD_MM,
+    CLOSE_REACH_MM,
+    CLOSE_SIDE_MM,
+    close_echo,
+)
 
 CLEAR = (2500,) * 5
 
@@ -49,6 +55,48 @@ def test_the_objects_own_echo_does_not_stop_it():
     assert close_echo(task, TaskInputs(sonar_mm=(2500, 2500, 20, 2500, 2500))) is not None
     # side sonars (phi = +-pi/2) see what the base passes, not what it drives into
     assert close_echo(task, TaskInputs(sonar_mm=(20, 2500, 2500, 2500, 20))) is None
+
+
+def _post_read(task: Task) -> None:
+    """ADJUST at the start, then a post read 45 mm from the front sonar (it stands at the cone's
+    edge, 20-30 mm aside of the axis: the arc's edges 209 mm ahead of the axle, 22 mm aside)."""
+    task.step(20_000, TaskInputs(sonar_mm=CLEAR))
+    out = task.step(40_000, TaskInputs(sonar_mm=(2500, 2500, 45, 2500, 2500)))
+    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
+
+
+def test_a_post_gone_from_the_cone_still_stops_adjust_before_the_footprint_reaches_it():
+    """A thin post beside the front sonar's axis leaves its +-30 degree cone when ~45 mm away
+    and no sonar sees it after, though the footprint (the ring's circle) is on its way: the
+    edges of its echo's arc are kept on odometry, and the base stops once it would reach one
+    within CLOSE_SIDE_MM of driving on (40 mm to go from the reading; the grasp goes on from
+    there)."""
+    task = _adjusting((420, 0))
+    _post_read(task)
+    out = task.step(60_000, TaskInputs(x_mm=6, sonar_mm=CLEAR))  # gone from the cone
+    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
+    out = task.step(80_000, TaskInputs(x_mm=20, sonar_mm=CLEAR))
+    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
+    out = task.step(100_000, TaskInputs(x_mm=30, sonar_mm=CLEAR))
+    assert out.wheels_mmps == (0, 0) and task.state == "ROUGH_GRASP"
+    guard = out.detail["close_guard"]
+    assert guard["side"] == 1 and 0 <= guard["range_mm"] < CLOSE_SIDE_MM
+    assert out.events[-1].why.startswith("close guard: a kept echo edge")
+
+
+def test_a_kept_edge_seen_through_or_the_objects_own_echo_stops_nothing():
+    """Backed off 60 mm, the front cone sees past where the post's arc was (nothing there): its
+    edges are dropped and the base drives on past them; the object's own echo (its estimate in
+    the cone, at most CLOSE_OBJECT_MM nearer than its centre) is not kept."""
+    task = _adjusting((420, 0))
+    _post_read(task)
+    assert len(task.side_echoes) == 2
+    task.step(60_000, TaskInputs(x_mm=-60, sonar_mm=CLEAR))
+    assert task.side_echoes == []
+    out = task.step(80_000, TaskInputs(x_mm=30, sonar_mm=CLEAR))
+    assert task.state == "ADJUST" and out.wheels_mmps[0] + out.wheels_mmps[1] > 0
+    task.step(100_000, TaskInputs(x_mm=30, sonar_mm=(2500, 2500, 200, 2500, 2500)))
+    assert task.side_echoes == []
 
 
 def test_the_drive_out_of_r_r_passes_beside_the_echo_that_stopped_the_base():

@@ -305,12 +305,14 @@ def test_the_frame_glue_keeps_a_frame_without_results():
        st.lists(st.tuples(st.tuples(st.integers(-300, 300), st.integers(-300, 300)),
                           st.tuples(st.integers(-40, 40), st.integers(-40, 40),
                                     st.integers(-400, 400)),
-                          SONAR | st.tuples(*[st.sampled_from([65535, 20, 120, 180, 950])] * 5)),
+                          SONAR | st.tuples(*[st.sampled_from([65535, 20, 45, 120, 180,
+                                                               950])] * 5)),
                 min_size=1, max_size=40))
 def test_the_sonar_guard(state, obj, steps):
     """The guard after a step's wheels: the stop below R_r unless the echo is the object's,
-    the turn to the widest free sector and the drive out; in ADJUST the close guard (an echo
-    within CLOSE_GUARD_MM in front of the object: grasp from there, or search again), as
+    the turn to the widest free sector and the drive out; the kept edges of close echoes'
+    arcs; in ADJUST the close guard (an echo within CLOSE_GUARD_MM in front of the object, or
+    a kept edge the footprint is about to reach: grasp from there, or search again), as
     sonar_guard.py."""
     from mobigrasp.host.task.sonar_guard import SONAR_GUARD
     py = Task("002")
@@ -336,10 +338,47 @@ def test_the_sonar_guard(state, obj, steps):
         assert tuple(c.wheels) == py.wheels
         assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in py._detail.items()}
         assert bool(c.guard_out.active) == (py.guard_out is not None)
+        assert _side_echoes(c) == py.side_echoes
         if py.guard_out is not None:
             assert (c.guard_out.heading_mrad, c.guard_out.length_mm, c.guard_out.checked) == (
                 py.guard_out["heading_mrad"], py.guard_out["length_mm"],
                 int(py.guard_out.get("checked", False)))
+
+
+def _side_echoes(c) -> list:
+    return [tuple(c.side_echoes_mm[i]) for i in range(c.n_side_echoes)]
+
+
+def test_a_post_gone_from_the_cone_stops_adjust_the_same_on_both_tasks():
+    """ADJUST: a post read 45 mm from the front sonar, then gone from the cone; the base stops
+    once odometry has brought the footprint within CLOSE_SIDE_MM of its arc's kept edges (the
+    grasp goes on from there); the reach drive's guard sees the same edges."""
+    from mobigrasp.host.task.sonar_guard import CLOSE_SIDE_MM, SONAR_GUARD, close_echo
+    py = Task("002")
+    c = _c_task(py)
+    py.obj = (420, 0)
+    c.has_obj, c.obj_mm = 1, [420, 0]
+    py.state, c.state = "ADJUST", machine.STATES.index("ADJUST")
+    clear = (2500,) * 5
+    for x, sonar in [(0, clear), (0, (2500, 2500, 45, 2500, 2500)), (6, clear), (20, clear),
+                     (30, clear)]:
+        py.wheels, c.wheels = (60, 60), [60, 60]
+        py._detail, c.n_notes = {}, 0
+        py._events, c.n_events = [], 0
+        inp = TaskInputs(x_mm=x, sonar_mm=sonar)
+        cin, _ = _c_inputs(inp)
+        SONAR_GUARD.step(py, 0, inp)
+        C.mg_sonar_guard_step(c, 0, cin)
+        assert tuple(c.wheels) == py.wheels and _events(c) == py._events
+        assert _detail(c) == {k: ENCODER.encode(jsonable(v)) for k, v in py._detail.items()}
+        assert _side_echoes(c) == py.side_echoes
+    assert py.wheels == (0, 0) and py.state == "ROUGH_GRASP"
+    assert py._detail["close_guard"]["side"] == 1
+    assert 0 <= py._detail["close_guard"]["range_mm"] < CLOSE_SIDE_MM
+    phi, rng = FFI.new("int32_t *"), FFI.new("int32_t *")
+    assert C.mg_close_echo(c, cin, phi, rng) == 2
+    echo = close_echo(py, inp)
+    assert (phi[0], rng[0]) == (echo["phi_mrad"], echo["range_mm"])
 
 
 RED_FILL = st.builds(lambda r, g, p: HELD(rgb=(r, g, g // 2), fill_permille=p),

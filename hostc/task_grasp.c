@@ -182,7 +182,9 @@ void mg_task_enter_rough_grasp(mg_task_t *t, int64_t now_us, const mg_task_input
     t->gripper = 0;
     if (!t->graspable_seen && r->object_cue_seen && r->object_cue_seen(t)) {
         /* ADJUST finished on an estimate the object's detector never confirmed, though a cue
-         * of the object was seen (docs/task.md): search again */
+         * of the object was seen (docs/task.md): search again, the estimate dropped (it was
+         * looked at and the object is not there; kept, it decided the next approach) */
+        t->has_obj = 0;
         t->lost_in = MG_ROUGH_GRASP;
         mg_task_go(t, now_us, MG_LOST, "object never sighted at its estimated place, its cue "
                                        "seen before: searching before any grasp");

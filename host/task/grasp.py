@@ -108,7 +108,9 @@ class GraspStates:
         t.gripper = 0
         if not t.graspable_seen and t.rules.object_cue_seen(t):
             # ADJUST finished on an estimate the object's detector never confirmed, though a
-            # cue of the object was seen (docs/task.md): search again
+            # cue of the object was seen (docs/task.md): search again, the estimate dropped (it
+            # was looked at and the object is not there; kept, it decided the next approach)
+            t.obj = None
             t.lost_in = "ROUGH_GRASP"
             t.go(now, "LOST", "object never sighted at its estimated place, its cue seen "
                  "before: searching before any grasp")

@@ -82,3 +82,23 @@ def test_the_back_offs_of_a_run_are_bounded():
     task.ms.back_offs = BACK_OFFS_002
     out = task.step(20_000, TaskInputs(detections=_frame(CUT_LEFT)))
     assert out.state == "ADJUST" and "back_off" not in out.detail
+
+
+def test_an_estimate_the_grasp_never_sighted_does_not_decide_the_next_approach():
+    """ADJUST finished on an estimate the rings never confirmed, red seen before: ROUGH_GRASP
+    searches again and drops the estimate, so the next approach steers on the new sighting of
+    the cut cylinder instead of backing off from, then closing in on, the old place."""
+    task = _task(195)
+    task.graspable_seen, task.ms.red_seen = False, True
+    task.go(20_000, "ROUGH_GRASP", "test: ADJUST finished on the estimate")
+    out = task.step(40_000, TaskInputs())
+    assert out.state == "LOST" and task.obj is None
+    # the search's sighting: the ROI at the left border, no range (cut)
+    task.ms.e_mrad, task.ms.e_range_mm, task.ms.e_dpx = -344, None, None
+    task.go(60_000, "APPROACH", "test: red ROI seen")
+    cut = {"double_cross": None, "red_cylinder": None,  # left and bottom borders: no range
+           "red_roi": det.red_roi(u_c_q4=552, v_c_q4=3576, roi=(0, 208, 70, 32),
+                                  touches_edge=True)}
+    out = task.step(80_000, TaskInputs(detections=cut))
+    assert out.state == "APPROACH" and "back_off" not in out.detail
+    assert out.detail["fuzzy"]["steer_on"] == "red_roi" and out.detail["fuzzy"]["e_mrad"] < 0

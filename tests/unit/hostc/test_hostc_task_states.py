@@ -508,3 +508,5 @@ def test_the_grasp_on_an_estimate_the_rings_never_confirmed(red_seen, end, why):
         events += _step_both(py, c, k * 20_000, TaskInputs(detections={}), out).events
     event = next(e for e in events if e.from_state == "ROUGH_GRASP")
     assert (event.to_state, event.why.startswith(why)) == (end, True), event
+    if red_seen:  # the estimate looked at and not seen there is dropped on both
+        assert (py.obj, c.has_obj) == (None, 0)

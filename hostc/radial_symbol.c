@@ -314,8 +314,9 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
             if (s.sums[i] > hi) hi = s.sums[i];
         }
         /* thresholds at 1/2, then 1/3, of the range; where the card clips (the lightest sum
-         * at least CLIPPED_SUM), then 2/3 (radial_symbol.py LOCAL_FRACTIONS_CLIPPED) */
-        const int32_t n_try = hi >= CLIPPED_SUM ? 3 : 2;
+         * at least CLIPPED_SUM) around a candidate narrower than CUT_MIN_PX, then 2/3
+         * (radial_symbol.py LOCAL_FRACTIONS_CLIPPED) */
+        const int32_t n_try = hi >= CLIPPED_SUM && w < CUT_MIN_PX ? 3 : 2;
         for (int32_t try_i = 0; try_i < n_try; try_i++) {
             const int32_t num = LOCAL_NUM[try_i], den = LOCAL_DEN[try_i];
             /* the pixels this try touches, as charged in radial_symbol.py (4 per pixel) */

@@ -5,11 +5,11 @@ All symbols of 000 are black print on a white card, so every detector starts by 
 from light with one global threshold set from the image's bright level (the 99.8th percentile of
 the grey histogram scaled by 45/100: it follows exposure changes of ±30 % and keeps the floor,
 which is at least 55 % as bright as the card, on the light side; 0.2 % of a 320x240 frame is
-150 px, less than the white of a card 1.3 m away). When the bright level clips at 255 (a camera
-gain above ~1.25) the card's level is unknown and 45 % of 255 leaves the mixed pixels of thin
-far print light, so the threshold rises to 65/100 of the median level instead (the floor, which
-fills most search frames at ~0.7 of the card's level and still follows the gain:
-docs/markers.md, "Camera gain"). Dark pixels are grouped by
+150 px, less than the white of a card 1.3 m away). When the bright level clips at 255 (the
+card does from a camera gain of ~1.1) the card's level is unknown and 45 % of 255 leaves the
+mixed pixels of thin far print light, so the threshold is at least 65/100 of the median level
+(the floor, which fills most search frames at ~0.7 of the card's level and still follows the
+gain: docs/markers.md, "Camera gain"). Dark pixels are grouped by
 ``cv2.connectedComponentsWithStats`` (integer labels and stats; the float centroids it also
 returns are not used).
 

@@ -15,7 +15,8 @@ void mg_grey(const uint8_t *rgb, uint8_t *grey, int32_t n_px);
 void mg_grey_ops(mg_ops_t *o, int32_t h, int32_t w);
 
 /* dark.c: the dark threshold from the bright level (the grey level of the brightest 1/500 of
- * the pixels, times 45/100, clamped to 40..130) and the 0/1 mask grey < threshold
+ * the pixels, times 45/100, clamped to 40..130; when it clips at 255, at least 65/100 of the
+ * median level) and the 0/1 mask grey < threshold
  * (host/vision/dark_blobs.py dark_mask); returns the threshold. hist: 256 words of scratch. */
 int32_t mg_dark_mask(const uint8_t *grey, uint8_t *mask, int32_t n_px, uint32_t *hist);
 /* adds to *o what mg_dark_mask charges on n_px pixels (host/vision/dark_blobs.py

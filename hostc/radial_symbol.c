@@ -18,6 +18,8 @@
 #define FILL_MAX_PCT 84
 #define SPAN_MIN_PCT 55
 #define SPAN_MAX_PCT 90
+#define CLIPPED_SUM (3 * 252) /* the card clips: radial_symbol.py CLIPPED_SUM */
+static const int32_t LOCAL_NUM[3] = {1, 1, 2}, LOCAL_DEN[3] = {2, 3, 3};
 
 typedef struct {
     int16_t *sums;
@@ -311,7 +313,12 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
             if (s.sums[i] < lo) lo = s.sums[i];
             if (s.sums[i] > hi) hi = s.sums[i];
         }
-        for (int32_t den = 2; den <= 3; den++) { /* thresholds at 1/2, then 1/3, of the range */
+        /* thresholds at 1/2, then 1/3, of the range; where the card clips (the lightest sum
+         * at least CLIPPED_SUM) around a candidate narrower than CUT_MIN_PX, then 2/3
+         * (radial_symbol.py LOCAL_FRACTIONS_CLIPPED) */
+        const int32_t n_try = hi >= CLIPPED_SUM && w < CUT_MIN_PX ? 3 : 2;
+        for (int32_t try_i = 0; try_i < n_try; try_i++) {
+            const int32_t num = LOCAL_NUM[try_i], den = LOCAL_DEN[try_i];
             /* the pixels this try touches, as charged in radial_symbol.py (4 per pixel) */
             int32_t touched = 4 * ln;
             int found = 0;
@@ -320,7 +327,7 @@ int32_t mg_radial_symbol(const uint8_t *grey, int32_t W, int32_t H, const int32_
             if (hi - lo >= 3 * MIN_CONTRAST) {
                 mg_components_ops(o, ln);
                 mg_ops_charge(o, 0, ln, 0, 0, 0, 0, 1, 0, 0);
-                int32_t t = lo + (hi - lo) / den;
+                int32_t t = lo + (hi - lo) * num / den;
                 for (int32_t i = 0; i < ln; i++)
                     s.lmask[i] = s.sums[i] < t;
                 int32_t nl = mg_label(s.lmask, lw, lh, s.llabels, s.block_lab, s.parent,

@@ -5,7 +5,11 @@ All symbols of 000 are black print on a white card, so every detector starts by 
 from light with one global threshold set from the image's bright level (the 99.8th percentile of
 the grey histogram scaled by 45/100: it follows exposure changes of ±30 % and keeps the floor,
 which is at least 55 % as bright as the card, on the light side; 0.2 % of a 320x240 frame is
-150 px, less than the white of a card 1.3 m away). Dark pixels are grouped by
+150 px, less than the white of a card 1.3 m away). When the bright level clips at 255 (the
+card does from a camera gain of ~1.1) the card's level is unknown and 45 % of 255 leaves the
+mixed pixels of thin far print light, so the threshold is at least 65/100 of the median level
+(the floor, which fills most search frames at ~0.7 of the card's level and still follows the
+gain: docs/markers.md, "Camera gain"). Dark pixels are grouped by
 ``cv2.connectedComponentsWithStats`` (integer labels and stats; the float centroids it also
 returns are not used).
 
@@ -24,6 +28,7 @@ from mobigrasp.host.vision.grey import grey_cost, to_grey
 THRESH_NUM, THRESH_DEN = 45, 100  # dark threshold as a fraction of the bright level
 THRESH_MIN, THRESH_MAX = 40, 130
 BRIGHT_FRACTION_DEN = 500  # bright level: the grey level of the brightest 0.2 % of pixels
+CLIP_MEDIAN_NUM = 65  # bright level clipped: the threshold at least this share (/100) of the median
 
 
 def check_rgb(rgb: np.ndarray, who: str) -> None:
@@ -45,9 +50,13 @@ def dark_mask(grey: np.ndarray) -> tuple[np.ndarray, int, OpCounts]:
     else:
         hist = np.bincount(grey.ravel(), minlength=256)
     cum = np.cumsum(hist[::-1])  # pixels at or above each level, from 255 down
-    k = int(np.searchsorted(cum, n // BRIGHT_FRACTION_DEN))
+    want = n // BRIGHT_FRACTION_DEN
+    k = int(np.searchsorted(cum, want))
     bright = 255 - k
     t = min(THRESH_MAX, max(THRESH_MIN, bright * THRESH_NUM // THRESH_DEN))
+    if k == 0 and want > 0:  # the bright level clips: the same walk goes on to the median
+        median = 255 - int(np.searchsorted(cum, n // 2))
+        t = max(t, median * CLIP_MEDIAN_NUM // THRESH_DEN)
     mask = (grey < t).view(np.uint8)
     return mask, t, dark_mask_cost(n)
 
@@ -57,7 +66,8 @@ def dark_mask_cost(n_px: int) -> OpCounts:
     the C loop runs (hostc/dark.c, docs/budget.md): the histogram pass reads a pixel, loads,
     increments and stores its bin and counts the loop (11 cycles), the mask pass reads,
     compares, stores and counts (10); both passes fetch the grey image from SDRAM (76.8 kB at
-    320x240 does not stay in the 16 KB D-cache); the level search walks 256 bins."""
+    320x240 does not stay in the 16 KB D-cache); the level search walks at most 256 bins (to
+    the bright level, and in a clipped frame on to the median)."""
     n = int(n_px)
     return OpCounts(pixels_read=2 * n, pixels_written=2 * n, luts=n, alu=7 * n + 512,
                     branches=2 * n + 256, bytes_streamed=2 * n)

@@ -10,7 +10,8 @@ diameter (the camera does not roll while searching). Steps:
    components at least 12 px wide and not solid are candidates, widest first;
 2. around each candidate (widened by its own width: it may be one side arc of the ring) the
    grey is summed over 1x3 pixels (noise down, the thin horizontal far arcs kept) and
-   re-thresholded at 1/2, then 1/3, of its own dark-to-light range;
+   re-thresholded at 1/2, then 1/3, of its own dark-to-light range (and, for a far symbol
+   whose card clips at 255, then at 2/3);
 3. ring test: the widest local component covering the candidate encloses light regions (not
    reaching its box's border) that hold the box's centre column — a closed ring, which solid
    clutter never is;
@@ -153,8 +154,14 @@ def _row_edges(grey: np.ndarray, roi: np.ndarray, x: int, y: int, r: int
 
 # Local thresholds tried in turn, as fractions of the box's dark-to-light range: the middle
 # keeps thin far arcs closed; a lower one separates the ring from a floor that exposure or
-# noise brought close to the middle. (Higher ones merge the ring with the floor.)
+# noise brought close to the middle. (Higher ones merge the ring with the floor.) Where the
+# card clips at 255 (the box's lightest 1x3 sum at least 3 x 252: noise added after the clip
+# takes a few levels off) the clip compresses a thin arc's contrast to the card, and 2/3 is
+# tried last for a candidate narrower than CUT_MIN_PX, a symbol beyond ~1 m whose far arcs are
+# thin (docs/markers.md, "Camera gain").
 LOCAL_FRACTIONS = ((1, 2), (1, 3))
+LOCAL_FRACTIONS_CLIPPED = LOCAL_FRACTIONS + ((2, 3),)
+CLIPPED_SUM = 3 * 252
 
 
 def _local_box(grey: np.ndarray, x: int, y: int, w: int, h: int
@@ -338,7 +345,8 @@ def detect_radial_symbol(rgb: np.ndarray, f_px: int = F_PX, u0_px: int = U0_PX,
         n_box = box[0].size
         ops += OpCounts(pixels_read=4 * n_box, pixels_written=n_box, alu=22 * n_box,
                         branches=2 * n_box, bytes_streamed=n_box)
-        for num, den in LOCAL_FRACTIONS:
+        clipped = box[4] >= CLIPPED_SUM and wi < CUT_MIN_PX
+        for num, den in LOCAL_FRACTIONS_CLIPPED if clipped else LOCAL_FRACTIONS:
             found, o, touched = _local_ring(box, xi, yi, wi, hi, num, den)
             ops += o
             budget -= touched // 4

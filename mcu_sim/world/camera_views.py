@@ -124,6 +124,20 @@ def radial_far(rng: np.random.Generator, clutter: int = 4, max_dist_m: float = 1
     return View(scene, c, R, INTR_000, _truth_000(c, R, centre))
 
 
+def radial_ahead(dist_m: float, heading_rad: float, beta_rad: float, hc_m: float = 0.30,
+                 du_px: float = 0.0, dv_px: float = 0.0, seed: int = 3) -> View:
+    """Symbol ``dist_m`` ahead (horizontal) of the search camera ``hc_m`` up, seen from
+    direction ``beta_rad`` with its centre (du_px, dv_px) off the image centre, no clutter (a
+    fixed pose: how far the symbol is read, docs/markers.md "Camera gain"); truth as
+    :func:`radial_far`."""
+    t = Target("radial-symbol", 0.0, 0.0, heading_rad)
+    c = np.array([-dist_m * math.cos(beta_rad), -dist_m * math.sin(beta_rad), hc_m])
+    centre = target_keypoints_w(t)["symbol_centre"]
+    yaw, pitch = _aim(c, centre, du_px, dv_px, INTR_000.f_px)
+    R = look_rotation(yaw, pitch)
+    return View(Scene(t, seed=seed), c, R, INTR_000, _truth_000(c, R, centre))
+
+
 def radial_cut(rng: np.random.Generator, du_px: float) -> View:
     """Symbol near the camera (0.3-0.45 m, the camera 0.28-0.34 m up, a close start) with its
     centre ``du_px`` from the image centre: cut by the border for |du_px| > 160; truth: the

@@ -5,6 +5,7 @@ import dataclasses
 import cv2
 import numpy as np
 import pytest
+from clipped_frame import clipped_far_frame
 
 from mobigrasp.calib import corpus, native
 from mobigrasp.host import fixedpoint as fp
@@ -43,6 +44,18 @@ def test_random_frames_match(seed):
         rgb = (rng.random((h, w, 1)) < 0.4 + 0.01 * seed).repeat(3, axis=2) * np.uint8(200) \
             + np.uint8(30)
     _check_front_end(rgb)
+
+
+def test_a_clipped_frame_matches():
+    """A frame whose bright level clips (camera gain 1.7): the threshold from the median level
+    and the radial symbol's third local fraction, both needed to read it, the same in C."""
+    rgb = clipped_far_frame()[1]
+    g, _ = grey.to_grey(rgb)
+    assert dark_blobs.dark_mask(g)[1] > 255 * dark_blobs.THRESH_NUM // dark_blobs.THRESH_DEN
+    _check_front_end(rgb)
+    res, ops = radial_symbol.detect_radial_symbol(rgb)
+    assert res is not None
+    assert native.detect_radial_symbol_counted(rgb) == (dataclasses.astuple(res), ops.as_tuple())
 
 
 @pytest.mark.parametrize("mask", [np.ones((21, 17), np.uint8), np.zeros((21, 17), np.uint8),

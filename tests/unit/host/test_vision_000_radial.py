@@ -4,7 +4,11 @@ import math
 
 import numpy as np
 import pytest
+from clipped_frame import clipped_far_frame
 
+from mobigrasp.host.vision import dark_blobs as db
+from mobigrasp.host.vision import radial_symbol as rs
+from mobigrasp.host.vision.grey import to_grey
 from mobigrasp.host.vision.radial_symbol import L_MM, detect_radial_symbol
 from mobigrasp.mcu_sim.world import camera_views as views
 from mobigrasp.mcu_sim.world.camera import CameraOptions, render
@@ -60,6 +64,38 @@ def test_position_follows_the_paper_formulas():
     assert abs(r.x_oc_mm - (160 - r.u_q4 / 16) * r.y_oc_mm / 611) <= 1
     assert abs(r.z_oc_mm - (120 - r.v_q4 / 16) * r.y_oc_mm / 611) <= 1
     assert abs(r.z_oc_mm - v.truth["z_oc_mm"]) <= 0.03 * v.truth["y_oc_mm"]
+
+
+def test_a_clipping_gain_keeps_the_far_reading(monkeypatch):
+    """At camera gain 1.7 the card clips at 255: the thresholds that follow the gain (the
+    median level globally, a third local fraction) read the symbol 1.12 m off, where the
+    thresholds of an unclipped frame (45 % of the clipped level, locally 1/2 and 1/3) do not."""
+    v, img = clipped_far_frame()
+    grey, _ = to_grey(img)
+    assert np.count_nonzero(grey == 255) >= grey.size // db.BRIGHT_FRACTION_DEN  # it clips
+    r, _ = detect_radial_symbol(img)
+    assert r is not None
+    assert abs(r.y_oc_mm - v.truth["y_oc_mm"]) <= 0.05 * v.truth["y_oc_mm"]
+    monkeypatch.setattr(db, "CLIP_MEDIAN_NUM", 0)  # the threshold of an unclipped frame
+    monkeypatch.setattr(rs, "CLIPPED_SUM", 3 * 255 + 1)  # no third local fraction
+    monkeypatch.setattr(db, "_LAST_FRONT_END", [None])  # the front end computed again
+    assert detect_radial_symbol(img)[0] is None
+
+
+def test_unclipped_thresholds_are_45_percent_of_the_bright_level():
+    """With fewer than 1/500 of the pixels at 255 the threshold is the bright level's 45 %
+    clamped to 40..130, whatever the median (the frames of an unclipped camera keep it)."""
+    rng = np.random.default_rng(4)
+    for i in range(200):
+        h, w = (int(v) for v in rng.integers(16, 90, 2))
+        hi = int(rng.integers(30, 256))
+        grey = rng.integers(0, hi, (h, w), dtype=np.uint8)
+        if i % 2:  # some pixels at 255, under 1/500 of them
+            grey.ravel()[:grey.size // db.BRIGHT_FRACTION_DEN - 1] = 255
+        flat = np.sort(grey.ravel())[::-1]
+        bright = int(flat[grey.size // db.BRIGHT_FRACTION_DEN - 1]) if grey.size >= 500 else 255
+        _, t, _ = db.dark_mask(grey)
+        assert t == min(db.THRESH_MAX, max(db.THRESH_MIN, bright * 45 // 100))
 
 
 @pytest.mark.parametrize("bad", [

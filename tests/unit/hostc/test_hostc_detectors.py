@@ -10,6 +10,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+from clipped_frame import clipped_far_frame
 from hypothesis import given
 from hypothesis import strategies as st
 from property_examples import examples
@@ -108,6 +109,15 @@ def test_the_cut_symbol_on_rendered_frames():
                      np.random.default_rng(0))
         found += _check(table, "radial_cut", rgb, (611, 160, 120), (0, 0, -1571, 0, 0, 0))
     assert found >= 3
+
+
+def test_the_000_rows_on_a_clipped_frame():
+    """A frame whose bright level clips (camera gain 1.7): each 000 row as the Python one, the
+    radial symbol read."""
+    _, _, table = _table(611)
+    rgb = clipped_far_frame()[1]
+    found = {n: _check(table, n, rgb, (611, 160, 120), (0, 0, -1571, 0, 0, 0)) for n in THE_000}
+    assert found["radial_symbol"]
 
 
 @examples(60)

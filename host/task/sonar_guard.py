@@ -158,9 +158,9 @@ def remember_echoes(t: Any, inp: Any) -> None:
     forgotten; with ``SIDE_ECHOES`` kept, the farthest makes room."""
     n = len(inp.sonar_mm)
     last = t.sonar_last if len(t.sonar_last) == n else (-1,) * n
-    t.sonar_last = tuple(int(v) for v in inp.sonar_mm)
-    if n < 2:
-        return
+    t.sonar_last = tuple(map(int, inp.sonar_mm))
+    if n < 2 or (not t.side_echoes and t.sonar_last == last):
+        return  # nothing kept and no new reading: nothing to drop or add
     off, half_cone = t.p.sonar_offset_mm, t.p.sonar_a_g_mrad // 2
     far = off + CLOSE_MEMORY_MM
     kept = [(x, y) for x, y in t.side_echoes

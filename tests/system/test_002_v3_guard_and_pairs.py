@@ -1,7 +1,8 @@
 """002 on two generator v3 scenes (in process; docs/task.md "002: the false pairs of crosses
 and the sonar guard's drive out"): a vertical pair of "crosses" far from the board does not
 start ADJUST (seed 1049), and the approach looks back at the cylinder after the sonar guard
-drove the base out of R_r rather than going LOST (seed 1020). Both grasp, without a contact."""
+drove the base out of R_r rather than going LOST (seed 1054, whose drive out leaves the base
+facing away from it). Both grasp, without a contact."""
 
 from __future__ import annotations
 
@@ -36,7 +37,7 @@ def test_a_pair_far_from_level_does_not_start_adjust(tmp_path):
 
 @pytest.mark.slow
 def test_the_approach_looks_back_after_the_sonar_guard(tmp_path):
-    events = _run_v3(tmp_path, 1020)
+    events = _run_v3(tmp_path, 1054)
     guard = [e["t_us"] for e in events if e.get("ev") == "detail" and "sonar_guard" in e]
     looks = [e["t_us"] for e in events if e.get("ev") == "detail" and "look_back" in e]
     assert guard and looks and looks[0] > guard[0]

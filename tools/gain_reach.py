@@ -51,11 +51,26 @@ def reach(gain: float, hc_m: float = 0.30, n_views: int = 12) -> list[float]:
     return out
 
 
+def _height_m(text: str) -> float:
+    """--hc: a finite camera height of 0.05-2 m."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    if not (math.isfinite(v) and 0.05 <= v <= 2.0):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a camera height of 0.05-2 m")
+    return v
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--hc", type=float, default=0.30, help="camera height (m)")
+    ap.add_argument("--hc", type=_height_m, default=0.30, help="camera height (m), 0.05-2")
     ap.add_argument("--json", default=None, help="write the reaches per gain here")
     args = ap.parse_args(argv)
+    if args.json is not None:  # checked before minutes of rendering, not after
+        out = Path(args.json)
+        if out.is_dir() or not out.parent.is_dir():
+            ap.error(f"--json {args.json}: not a file in an existing folder")
     rows = {}
     print("| gain | reach median (least-largest) |")
     print("|---|---|")

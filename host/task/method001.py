@@ -34,7 +34,7 @@ from mobigrasp.host.planning.sonar_regions import SonarConfig, infeasible_region
 from mobigrasp.host.search import SearchParams
 from mobigrasp.host.task.drive import path_follower, state_m, turn_in_place, wrap_mrad
 from mobigrasp.host.task.grasp import GRASP
-from mobigrasp.host.task.method import PI, Method, MethodState, Param, SceneHints, mrad
+from mobigrasp.host.task.method import Method, MethodState, Param, SceneHints, mrad
 from mobigrasp.host.task.method000 import Method000
 from mobigrasp.host.task.sonar_guard import (
     GUARDED_STATES,
@@ -244,7 +244,9 @@ class Method001(Method000):
         "Amax": Param(float, 0.1, 0.001, 2.0, "m/s^2, acceleration limit"),
         "R_r": Param(float, 0.2, 0.05, 1.0, "m, safety radius"),
         "k_s": Param(int, 5, 2, 5, "sonars (5 fitted)"),
-        "A_g": Param(float, 1.05, 0.05, PI, "rad, sonar cone"),
+        # a cone under pi: the sonar regions' arcs need 0 < A_g < pi (SonarConfig), and the
+        # world and the task read it in whole mrad (3142 would be past pi)
+        "A_g": Param(float, 1.05, 0.05, 3.14, "rad, sonar cone"),
         "D_e": Param(float, 2.5, 0.1, 10.0, "m, sonar range"),
         "h_e": Param(float, 0.208, 0.01, 1.0, "m"),
         "n_e": Param(int, 36, 1, 360, "end points on the grasp circle"),

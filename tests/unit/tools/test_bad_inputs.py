@@ -455,8 +455,10 @@ def test_any_value_at_any_key_runs_or_is_refused(key, value, tmp_path, capsys, m
 # --- every range end is safe to run ----------------------------------------------------------
 
 def _extremes() -> list[tuple[str, tuple, Any]]:
-    """(scenario, key path, value): every camera value and paper parameter at both ends of its
-    range, on the shipped scenario of its method (an ordered pair's partner follows it)."""
+    """(scenario, key path, value): every camera value and paper parameter that its method
+    reads at both ends of its range, on the shipped scenario of its method (an ordered pair's
+    partner follows it); the keys a method does not read are refused at load by name
+    (tests/unit/mcu_sim/test_scenario_load.py)."""
     from mobigrasp.host.task import REGISTRY
     from mobigrasp.mcu_sim.world.scenario import CAMERA_RANGES
 
@@ -466,6 +468,8 @@ def _extremes() -> list[tuple[str, tuple, Any]]:
         for key, (lo, hi) in CAMERA_RANGES.items():
             out += [(name, ("camera", key), lo), (name, ("camera", key), hi)]
         for key, p in REGISTRY[method].paper_params.items():
+            if key in REGISTRY[method].not_used_params:
+                continue
             for v in (p.lo, p.hi):
                 out.append((name, ("params", key), int(v) if p.kind is int else float(v)))
     return out

@@ -196,6 +196,12 @@ def front_end_min_ops(height: int, width: int) -> OpCounts:
 _LAST_FRONT_END: list = [None]
 
 
+def forget_front_end() -> None:
+    """The next :func:`dark_components` computes its front end again, whatever frame it gets
+    (for a caller that changed the thresholds the cached front end was made with)."""
+    _LAST_FRONT_END[0] = None
+
+
 def edge_q4(line: np.ndarray, i_dark: int, step: int) -> int | None:
     """Sub-pixel position (Q4 px, along ``line``) of the light-to-dark edge ending at ``i_dark``.
 

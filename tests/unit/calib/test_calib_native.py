@@ -386,7 +386,7 @@ def test_radial_symbol_local_budget_matches(monkeypatch):
         assert native.detect_radial_symbol_counted(rgb) == (want, ops.as_tuple()), seed
         with monkeypatch.context() as m:  # no budget: the ring is found on more frames
             m.setattr(radial_symbol, "LOCAL_BUDGET_NUM", 1000)
-            m.setattr(dark_blobs, "_LAST_FRONT_END", [None])
+            dark_blobs.forget_front_end()
             unbounded, _ = radial_symbol.detect_radial_symbol(rgb)
         decided += res is None and unbounded is not None
     assert decided >= 5

@@ -78,7 +78,7 @@ def test_a_clipping_gain_keeps_the_far_reading(monkeypatch):
     assert abs(r.y_oc_mm - v.truth["y_oc_mm"]) <= 0.05 * v.truth["y_oc_mm"]
     monkeypatch.setattr(db, "CLIP_MEDIAN_NUM", 0)  # the threshold of an unclipped frame
     monkeypatch.setattr(rs, "CLIPPED_SUM", 3 * 255 + 1)  # no third local fraction
-    monkeypatch.setattr(db, "_LAST_FRONT_END", [None])  # the front end computed again
+    db.forget_front_end()  # the front end computed again, with the unclipped threshold
     assert detect_radial_symbol(img)[0] is None
 
 
